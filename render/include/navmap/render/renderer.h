@@ -1,0 +1,112 @@
+#pragma once
+// The renderer's public face: create a backend, give it a scene, render frames offscreen and
+// read them back. No GL or EGL type appears here (render/README.md).
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "navmap/render/camera.h"
+#include "navmap/render/heightfield.h"
+#include "navmap/render/image.h"
+
+namespace navmap::render {
+
+/// Raised at setup when no usable EGL/GLES context can be made or a shader does not compile.
+/// The message names what is missing (extension, platform, shader file and line).
+class RenderError : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
+
+/// Which EGL platform provides the display.
+enum class Platform {
+    Auto,         ///< a hardware EGL device if one exists, else Mesa surfaceless, else any EGL device
+    Surfaceless,  ///< EGL_MESA_platform_surfaceless (Mesa: llvmpipe or any DRM GPU)
+    Device,       ///< EGL_EXT_platform_device (NVIDIA and Mesa devices)
+};
+
+/// Parses "auto", "surfaceless" or "device"; nullopt otherwise.
+std::optional<Platform> parsePlatform(const std::string& name);
+const char* platformName(Platform platform);
+
+struct RendererOptions {
+    /// Platform::Auto consults the environment variable NAVMAP_EGL_PLATFORM first.
+    Platform platform = Platform::Auto;
+    int width = 1280;
+    int height = 480;
+    int msaa_samples = 4;   ///< 0 or 1 disables MSAA; clamped to what the driver offers
+    int readback_ring = 3;  ///< pixel-pack buffers in flight for asynchronous readback
+};
+
+/// What the backend runs on, for logs and status.
+struct DeviceInfo {
+    std::string backend;     ///< "gles" or "noop"
+    std::string platform;    ///< EGL platform used
+    std::string vendor;
+    std::string renderer;
+    std::string version;
+    int gles_major = 0;
+    int gles_minor = 0;
+    int msaa_samples = 0;    ///< samples of the offscreen target actually used
+};
+
+/// Terrain shading parameters (kept separate so the shading is pluggable, DESIGN.md).
+struct TerrainStyle {
+    glm::vec3 light_dir{-0.5f, 0.6f, 0.62f};  ///< towards the light (north-west, as cartographers light relief)
+    glm::vec3 sky_color{0.62f, 0.75f, 0.90f};
+    float fog_start_m = 8000.0f;
+    float fog_end_m = 45000.0f;
+};
+
+/// A frame read back from the GPU, tagged with the caller's sequence number.
+struct Frame {
+    std::uint64_t sequence = 0;
+    Image image;
+};
+
+/// An offscreen renderer bound to the thread that created it (EGL context current there).
+/// Not thread-safe: create, use and destroy it on one thread.
+class Renderer {
+public:
+    /// Creates the OpenGL ES backend. Throws RenderError with a clear reason if EGL/GLES is unusable.
+    static std::unique_ptr<Renderer> create(const RendererOptions& options);
+    /// Creates the no-op backend: same API, no GL; frames come back blank (sky colour).
+    static std::unique_ptr<Renderer> createNoop(const RendererOptions& options);
+
+    virtual ~Renderer() = default;
+    Renderer(const Renderer&) = delete;
+    Renderer& operator=(const Renderer&) = delete;
+
+    [[nodiscard]] virtual const DeviceInfo& device() const = 0;
+    [[nodiscard]] virtual int width() const = 0;
+    [[nodiscard]] virtual int height() const = 0;
+
+    /// Changes the size of the offscreen target (pending readbacks are completed first).
+    virtual void resize(int width, int height) = 0;
+    /// Uploads a terrain mesh, replacing the previous one.
+    virtual void setTerrain(const HeightfieldMesh& mesh) = 0;
+    virtual void setTerrainStyle(const TerrainStyle& style) = 0;
+
+    /// Renders one frame into the offscreen target.
+    virtual void render(const Camera& camera) = 0;
+    /// Blocks until the GPU has finished all submitted work (for timing).
+    virtual void finish() = 0;
+
+    /// Synchronous readback of the last rendered frame.
+    virtual Image readSync() = 0;
+    /// Starts an asynchronous readback of the last rendered frame into the next buffer of the
+    /// ring. When the ring is full, the oldest readback is completed and returned; by then it
+    /// is ring-1 frames old, so the wait is normally zero.
+    virtual std::optional<Frame> readAsync(std::uint64_t sequence) = 0;
+    /// Completes and returns every pending asynchronous readback, oldest first.
+    virtual std::vector<Frame> drainReadbacks() = 0;
+
+protected:
+    Renderer() = default;
+};
+
+}  // namespace navmap::render

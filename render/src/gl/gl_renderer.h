@@ -1,0 +1,41 @@
+#pragma once
+// The OpenGL ES 3 backend of Renderer. Private to render/.
+
+#include <memory>
+
+#include "egl_context.h"
+#include "readback.h"
+#include "render_target.h"
+#include "terrain_layer.h"
+
+namespace navmap::render::gl {
+
+class GlRenderer final : public Renderer {
+public:
+    explicit GlRenderer(const RendererOptions& options);
+    ~GlRenderer() override;
+
+    [[nodiscard]] const DeviceInfo& device() const override { return m_device; }
+    [[nodiscard]] int width() const override { return m_target->width(); }
+    [[nodiscard]] int height() const override { return m_target->height(); }
+
+    void resize(int width, int height) override;
+    void setTerrain(const HeightfieldMesh& mesh) override;
+    void setTerrainStyle(const TerrainStyle& style) override { m_style = style; }
+    void render(const Camera& camera) override;
+    void finish() override;
+    Image readSync() override;
+    std::optional<Frame> readAsync(std::uint64_t sequence) override;
+    std::vector<Frame> drainReadbacks() override;
+
+private:
+    RendererOptions m_options;
+    EglContext m_egl;  // first member with GL state: constructed first, destroyed last
+    DeviceInfo m_device;
+    std::unique_ptr<RenderTarget> m_target;
+    std::unique_ptr<ReadbackRing> m_ring;
+    std::unique_ptr<TerrainLayer> m_terrain;
+    TerrainStyle m_style;
+};
+
+}  // namespace navmap::render::gl

@@ -1,0 +1,96 @@
+#include "readback.h"
+
+#include <cstring>
+
+namespace navmap::render::gl {
+
+namespace {
+
+// GL rows run bottom-up; images are top-down.
+void copyFlipped(const std::uint8_t* src, Image& dst) {
+    const std::size_t stride = static_cast<std::size_t>(dst.width) * 4;
+    for (int y = 0; y < dst.height; ++y) {
+        std::memcpy(&dst.rgba[static_cast<std::size_t>(dst.height - 1 - y) * stride],
+                    src + static_cast<std::size_t>(y) * stride, stride);
+    }
+}
+
+}  // namespace
+
+Image readPixelsSync(int width, int height) {
+    std::vector<std::uint8_t> raw(static_cast<std::size_t>(width) * height * 4);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glReadPixels(0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, raw.data());
+    Image image(width, height);
+    copyFlipped(raw.data(), image);
+    return image;
+}
+
+ReadbackRing::ReadbackRing(int width, int height, int slots) : m_width(width), m_height(height) {
+    m_slots.resize(static_cast<std::size_t>(slots < 1 ? 1 : slots));
+    const auto bytes = static_cast<GLsizeiptr>(width) * height * 4;
+    for (auto& slot : m_slots) {
+        glGenBuffers(1, &slot.pbo);
+        glBindBuffer(GL_PIXEL_PACK_BUFFER, slot.pbo);
+        glBufferData(GL_PIXEL_PACK_BUFFER, bytes, nullptr, GL_STREAM_READ);
+    }
+    glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
+}
+
+ReadbackRing::~ReadbackRing() {
+    for (auto& slot : m_slots) {
+        if (slot.fence) glDeleteSync(slot.fence);
+        glDeleteBuffers(1, &slot.pbo);
+    }
+}
+
+std::optional<Frame> ReadbackRing::submit(std::uint64_t sequence) {
+    std::optional<Frame> oldest;
+    if (m_pending.size() == m_slots.size()) {
+        oldest = complete(m_slots[m_pending.front()]);
+        m_pending.pop_front();
+    }
+    Slot& slot = m_slots[m_next];
+    glBindBuffer(GL_PIXEL_PACK_BUFFER, slot.pbo);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glReadPixels(0, 0, m_width, m_height, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
+    glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
+    slot.fence = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
+    slot.sequence = sequence;
+    glFlush();  // start the copy now rather than at the next submit
+    m_pending.push_back(m_next);
+    m_next = (m_next + 1) % m_slots.size();
+    return oldest;
+}
+
+std::vector<Frame> ReadbackRing::drain() {
+    std::vector<Frame> frames;
+    while (!m_pending.empty()) {
+        frames.push_back(complete(m_slots[m_pending.front()]));
+        m_pending.pop_front();
+    }
+    return frames;
+}
+
+Frame ReadbackRing::complete(Slot& slot) {
+    if (slot.fence) {
+        // Normally already signalled: the copy was queued ring-1 frames ago.
+        glClientWaitSync(slot.fence, GL_SYNC_FLUSH_COMMANDS_BIT, GL_TIMEOUT_IGNORED);
+        glDeleteSync(slot.fence);
+        slot.fence = nullptr;
+    }
+    Frame frame;
+    frame.sequence = slot.sequence;
+    frame.image = Image(m_width, m_height);
+    const auto bytes = static_cast<GLsizeiptr>(m_width) * m_height * 4;
+    glBindBuffer(GL_PIXEL_PACK_BUFFER, slot.pbo);
+    const void* mapped = glMapBufferRange(GL_PIXEL_PACK_BUFFER, 0, bytes, GL_MAP_READ_BIT);
+    if (mapped) {
+        copyFlipped(static_cast<const std::uint8_t*>(mapped), frame.image);
+        glUnmapBuffer(GL_PIXEL_PACK_BUFFER);
+    }
+    glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
+    return frame;
+}
+
+}  // namespace navmap::render::gl

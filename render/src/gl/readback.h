@@ -1,0 +1,46 @@
+#pragma once
+// Frame readback: synchronous glReadPixels, or a ring of pixel-pack buffers with fences so the
+// next frame renders while the last one is copied out. Private to render/.
+
+#include <GLES3/gl3.h>
+
+#include <cstdint>
+#include <deque>
+#include <optional>
+#include <vector>
+
+#include "navmap/render/renderer.h"
+
+namespace navmap::render::gl {
+
+/// Reads the currently bound GL_READ_FRAMEBUFFER into a top-down RGBA image.
+Image readPixelsSync(int width, int height);
+
+class ReadbackRing {
+public:
+    ReadbackRing(int width, int height, int slots);
+    ~ReadbackRing();
+    ReadbackRing(const ReadbackRing&) = delete;
+    ReadbackRing& operator=(const ReadbackRing&) = delete;
+
+    /// Queues a copy of the bound read framebuffer; returns the oldest frame if the ring was full.
+    std::optional<Frame> submit(std::uint64_t sequence);
+    /// Completes every pending copy, oldest first.
+    std::vector<Frame> drain();
+
+private:
+    struct Slot {
+        GLuint pbo = 0;
+        GLsync fence = nullptr;
+        std::uint64_t sequence = 0;
+    };
+    Frame complete(Slot& slot);
+
+    int m_width;
+    int m_height;
+    std::vector<Slot> m_slots;
+    std::deque<std::size_t> m_pending;  // indices into m_slots, oldest first
+    std::size_t m_next = 0;
+};
+
+}  // namespace navmap::render::gl

@@ -1,0 +1,124 @@
+#include "shader_program.h"
+
+#include <regex>
+#include <string>
+#include <vector>
+
+#include "navmap/render/renderer.h"
+#include "navmap_shaders.h"
+
+namespace navmap::render::gl {
+
+namespace {
+
+// shaders/ files carry no #version line: the preamble adds it, then resets the line counter
+// so the driver's line numbers are the file's own (STYLE.md: #line kept for error messages).
+constexpr std::string_view kPreamble =
+    "#version 300 es\n"
+    "precision highp float;\n"
+    "precision highp int;\n"
+    "#line 1 0\n";
+
+std::string_view findEmbedded(std::string_view file) {
+    for (const auto& s : shaders::all()) {
+        if (s.name == file) return s.text;
+    }
+    throw RenderError(std::string("shader '") + std::string(file) + "' is not among the embedded shaders/ files");
+}
+
+GLuint compile(GLenum stage, std::string_view file, std::string_view text) {
+    const GLuint shader = glCreateShader(stage);
+    const std::string source = std::string(kPreamble) + std::string(text);
+    const char* ptr = source.c_str();
+    glShaderSource(shader, 1, &ptr, nullptr);
+    glCompileShader(shader);
+    GLint ok = GL_FALSE;
+    glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
+    if (ok != GL_TRUE) {
+        GLint len = 0;
+        glGetShaderiv(shader, GL_INFO_LOG_LENGTH, &len);
+        std::string log(static_cast<std::size_t>(len > 0 ? len : 1), '\0');
+        glGetShaderInfoLog(shader, len, nullptr, log.data());
+        glDeleteShader(shader);
+        throw RenderError("shader compile failed:\n" + annotateShaderLog(log.c_str(), file));
+    }
+    return shader;
+}
+
+}  // namespace
+
+std::string annotateShaderLog(std::string_view log, std::string_view file) {
+    static const std::regex kMesa(R"((^|\n)\s*0:(\d+)\((\d+)\))");      // 0:12(5)
+    static const std::regex kNvidia(R"((^|\n)\s*0\((\d+)\))");            // 0(12)
+    static const std::regex kAngle(R"((^|\n)\s*(ERROR|WARNING): 0:(\d+))");  // ERROR: 0:12
+    const std::string f(file);
+    std::string out(log);
+    out = std::regex_replace(out, kMesa, "$1" + f + ":$2:$3");
+    out = std::regex_replace(out, kNvidia, "$1" + f + ":$2");
+    out = std::regex_replace(out, kAngle, "$1" + f + ":$3: $2");
+    while (!out.empty() && (out.back() == '\n' || out.back() == '\0')) out.pop_back();
+    return out;
+}
+
+ShaderProgram ShaderProgram::fromEmbedded(std::string_view vertex_file, std::string_view fragment_file) {
+    return fromSources(vertex_file, findEmbedded(vertex_file), fragment_file, findEmbedded(fragment_file));
+}
+
+ShaderProgram ShaderProgram::fromSources(std::string_view vertex_file, std::string_view vertex_text,
+                                         std::string_view fragment_file, std::string_view fragment_text) {
+    const GLuint vs = compile(GL_VERTEX_SHADER, vertex_file, vertex_text);
+    GLuint fs = 0;
+    try {
+        fs = compile(GL_FRAGMENT_SHADER, fragment_file, fragment_text);
+    } catch (...) {
+        glDeleteShader(vs);
+        throw;
+    }
+    const GLuint program = glCreateProgram();
+    glAttachShader(program, vs);
+    glAttachShader(program, fs);
+    glLinkProgram(program);
+    glDeleteShader(vs);
+    glDeleteShader(fs);
+    GLint ok = GL_FALSE;
+    glGetProgramiv(program, GL_LINK_STATUS, &ok);
+    if (ok != GL_TRUE) {
+        GLint len = 0;
+        glGetProgramiv(program, GL_INFO_LOG_LENGTH, &len);
+        std::string log(static_cast<std::size_t>(len > 0 ? len : 1), '\0');
+        glGetProgramInfoLog(program, len, nullptr, log.data());
+        glDeleteProgram(program);
+        throw RenderError("shader link failed (" + std::string(vertex_file) + " + " + std::string(fragment_file) +
+                          "):\n" + log.c_str());
+    }
+    return ShaderProgram(program);
+}
+
+ShaderProgram::~ShaderProgram() {
+    if (m_program) glDeleteProgram(m_program);
+}
+
+ShaderProgram::ShaderProgram(ShaderProgram&& other) noexcept
+    : m_program(other.m_program), m_uniforms(std::move(other.m_uniforms)) {
+    other.m_program = 0;
+}
+
+ShaderProgram& ShaderProgram::operator=(ShaderProgram&& other) noexcept {
+    if (this != &other) {
+        if (m_program) glDeleteProgram(m_program);
+        m_program = other.m_program;
+        m_uniforms = std::move(other.m_uniforms);
+        other.m_program = 0;
+    }
+    return *this;
+}
+
+GLint ShaderProgram::uniform(const char* name) {
+    auto it = m_uniforms.find(name);
+    if (it != m_uniforms.end()) return it->second;
+    const GLint loc = glGetUniformLocation(m_program, name);
+    m_uniforms.emplace(name, loc);
+    return loc;
+}
+
+}  // namespace navmap::render::gl

@@ -1,0 +1,14 @@
+#!/usr/bin/env bash
+# The test command: installs what is missing, builds everything with warnings as errors, and
+# runs the CTest suite. Exits non-zero on any failure. Long soak runs are opt-in:
+#   scripts/test.sh            everything except the label 'soak'
+#   NAVMAP_TEST_ARGS="-L soak" scripts/test.sh     only the soak tests
+set -euo pipefail
+root="$(cd "$(dirname "$0")/.." && pwd)"
+cd "$root"
+scripts/install-deps.sh
+build="${NAVMAP_BUILD_DIR:-$root/build}"
+NAVMAP_BUILD_DIR="$build" scripts/build.sh -DNAVMAP_WITH_WERROR=ON -DNAVMAP_WITH_TESTS=ON -DNAVMAP_WITH_BENCH=ON
+cd "$build"
+# shellcheck disable=SC2086
+ctest --output-on-failure --timeout 900 -j 2 ${NAVMAP_TEST_ARGS:--LE soak}

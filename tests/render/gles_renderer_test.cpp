@@ -1,0 +1,125 @@
+// GPU tests: need an EGL context (Mesa llvmpipe through the surfaceless platform in CI).
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+
+#include "gl/shader_program.h"
+#include "golden.h"
+#include "navmap/render/renderer.h"
+#include "navmap/render/terrain_scene.h"
+#include "test_paths.h"
+
+namespace {
+
+using navmap::render::Camera;
+using navmap::render::Renderer;
+using navmap::render::RendererOptions;
+using navmap::render::RenderError;
+
+RendererOptions smallOptions() {
+    RendererOptions o;
+    o.width = 160;
+    o.height = 96;
+    return o;
+}
+
+const navmap::render::TerrainScene& andorra() {
+    static const auto scene = navmap::render::loadTerrainScene(navmap::test::dataDir() / "N42E001.hgt");
+    return scene;
+}
+
+TEST(GlesRenderer, CreatesAHeadlessEs3ContextWithMsaa) {
+    auto r = Renderer::create(smallOptions());
+    const auto& dev = r->device();
+    EXPECT_EQ(dev.backend, "gles");
+    EXPECT_FALSE(dev.renderer.empty());
+    EXPECT_EQ(dev.gles_major, 3);
+    EXPECT_NE(dev.version.find("OpenGL ES 3"), std::string::npos) << dev.version;
+    EXPECT_GE(dev.msaa_samples, 2) << "Mesa llvmpipe and every ES 3.0 driver offer at least 4x MSAA";
+    std::printf("[ info     ] %s platform, %s, %s\n", dev.platform.c_str(), dev.renderer.c_str(), dev.version.c_str());
+}
+
+TEST(GlesRenderer, SurfacelessPlatformCanBeForced) {
+    RendererOptions o = smallOptions();
+    o.platform = navmap::render::Platform::Surfaceless;
+    auto r = Renderer::create(o);
+    EXPECT_EQ(r->device().platform, "surfaceless");
+}
+
+TEST(GlesRenderer, BadPlatformOverrideIsAClearError) {
+    ::setenv("NAVMAP_EGL_PLATFORM", "wayland", 1);
+    try {
+        (void)Renderer::create(smallOptions());
+        ::unsetenv("NAVMAP_EGL_PLATFORM");
+        FAIL() << "an unknown platform must be rejected";
+    } catch (const RenderError& e) {
+        ::unsetenv("NAVMAP_EGL_PLATFORM");
+        EXPECT_NE(std::string(e.what()).find("NAVMAP_EGL_PLATFORM=wayland"), std::string::npos) << e.what();
+    }
+}
+
+TEST(GlesRenderer, ShaderCompileErrorsNameFileAndLine) {
+    auto r = Renderer::create(smallOptions());  // makes a context current
+    const char* vert = "layout(location = 0) in vec3 p;\nvoid main() { gl_Position = vec4(p, 1.0); }\n";
+    const char* frag = "out vec4 o;\nvoid main() {\n  o = vec4(undefined_thing, 1.0);\n}\n";
+    try {
+        (void)navmap::render::gl::ShaderProgram::fromSources("test_ok.vert", vert, "test_broken.frag", frag);
+        FAIL() << "the broken shader compiled";
+    } catch (const RenderError& e) {
+        EXPECT_NE(std::string(e.what()).find("test_broken.frag:3"), std::string::npos) << e.what();
+    }
+}
+
+TEST(GlesRenderer, LooksAtTheSkyWhenTheTerrainIsBehind) {
+    auto r = Renderer::create(smallOptions());
+    r->setTerrain(andorra().mesh);
+    Camera up;
+    up.eye = {0.0, 0.0, 5000.0};
+    up.target = {0.0, 1.0, 9000.0};  // straight up-ish
+    r->render(up);
+    const auto image = r->readSync();
+    const auto* px = image.pixel(80, 48);
+    EXPECT_EQ(px[0], 158);
+    EXPECT_EQ(px[1], 191);
+    EXPECT_EQ(px[2], 230);
+}
+
+TEST(GlesRenderer, RingReadbackMatchesSynchronousReadback) {
+    RendererOptions o = smallOptions();
+    o.readback_ring = 3;
+    auto r = Renderer::create(o);
+    r->setTerrain(andorra().mesh);
+    std::vector<navmap::render::Image> sync;
+    for (int i = 0; i < 5; ++i) {
+        r->render(navmap::render::andorraFlyoverCamera(andorra().projection, i / 5.0));
+        sync.push_back(r->readSync());
+    }
+    std::vector<navmap::render::Frame> ring;
+    for (int i = 0; i < 5; ++i) {
+        r->render(navmap::render::andorraFlyoverCamera(andorra().projection, i / 5.0));
+        auto f = r->readAsync(static_cast<std::uint64_t>(i));
+        EXPECT_EQ(f.has_value(), i >= 3) << "the ring of 3 hands back frames from the 4th submit on";
+        if (f) ring.push_back(std::move(*f));
+    }
+    for (auto& f : r->drainReadbacks()) ring.push_back(std::move(f));
+    ASSERT_EQ(ring.size(), 5u);
+    for (int i = 0; i < 5; ++i) {
+        EXPECT_EQ(ring[i].sequence, static_cast<std::uint64_t>(i));
+        EXPECT_EQ(ring[i].image.rgba, sync[i].rgba) << "frame " << i;
+    }
+    EXPECT_NE(sync[0].rgba, sync[2].rgba) << "the fly-over moves";
+}
+
+TEST(GlesRenderer, AndorraHeightfieldMatchesGolden) {
+    RendererOptions o;
+    o.width = 1280;
+    o.height = 480;
+    auto r = Renderer::create(o);
+    r->setTerrain(andorra().mesh);
+    r->render(navmap::render::andorraOverviewCamera(andorra().projection));
+    const auto image = r->readSync();
+    // llvmpipe is deterministic on one Mesa version; the tolerance absorbs rounding across versions.
+    EXPECT_GOLDEN(image, "render/golden/andorra_heightfield.png", (navmap::test::GoldenTolerance{8, 0.005}));
+}
+
+}  // namespace
