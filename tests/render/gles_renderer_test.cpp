@@ -46,6 +46,21 @@ TEST(GlesRenderer, SurfacelessPlatformCanBeForced) {
     EXPECT_EQ(r->device().platform, "surfaceless");
 }
 
+TEST(GlesRenderer, DevicePlatformCanBeForced) {
+    RendererOptions o = smallOptions();
+    o.platform = navmap::render::Platform::Device;
+    try {
+        auto r = Renderer::create(o);
+        EXPECT_EQ(r->device().platform.rfind("device#", 0), 0u) << r->device().platform;
+        r->render({});
+        EXPECT_EQ(r->readSync().width, 160);
+    } catch (const RenderError& e) {
+        // Drivers without EGL_EXT_platform_device: the error must say so.
+        EXPECT_NE(std::string(e.what()).find("device"), std::string::npos) << e.what();
+        GTEST_SKIP() << "this EGL offers no usable device platform: " << e.what();
+    }
+}
+
 TEST(GlesRenderer, BadPlatformOverrideIsAClearError) {
     ::setenv("NAVMAP_EGL_PLATFORM", "wayland", 1);
     try {
