@@ -1,0 +1,54 @@
+#pragma once
+// navmap-compile's engine: OpenStreetMap PBF + SRTM DEM -> tile store (docs/tile-store.md).
+// Reads the OSM file in one libosmium pass of small handlers (roads, buildings, areas,
+// labels, graph; multipolygon relations are collected in a first relations-only pass),
+// projects to the store frame, builds the quadtree pyramid level by level and writes it.
+
+#include <array>
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace navmap::map {
+
+/// Raised when the input cannot be compiled; the message names the file and the problem.
+class CompileError : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
+
+struct CompileOptions {
+    std::filesystem::path osm;                ///< .osm.pbf (or any format libosmium reads)
+    std::vector<std::filesystem::path> dems;  ///< SRTM .hgt tiles, any number (may be empty)
+    std::filesystem::path out;                ///< store file to write
+    double leaf_tile_m = 2000.0;              ///< edge of the finest tiles
+    int dem_samples = 33;                     ///< DEM samples per tile side, every level
+    float default_building_height_m = 8.0f;
+    /// Progress and warnings, one line each; null = silent.
+    std::function<void(const std::string&)> log;
+};
+
+struct CompileStats {
+    std::size_t roads = 0, road_vertices = 0;
+    std::size_t buildings = 0, areas = 0;
+    std::size_t place_labels = 0, poi_labels = 0, road_labels = 0, area_labels = 0;
+    std::size_t graph_nodes = 0, graph_edges = 0;
+    std::size_t dem_files = 0, dem_voids_filled = 0, tiles_without_dem = 0;
+    std::size_t tiles = 0;
+    std::vector<std::size_t> tiles_per_level;
+    std::uint64_t store_bytes = 0;
+    double read_seconds = 0, total_seconds = 0;
+    std::vector<std::string> warnings;
+};
+
+/// Compiles; throws CompileError (bad OSM input, bad DEM, nothing to compile) or StoreError
+/// (cannot write). A DEM that does not cover part of the data is a warning: flat terrain.
+CompileStats compileStore(const CompileOptions& options);
+
+/// Human-readable multi-line summary (counts per layer, tiles, bytes, seconds).
+std::string formatSummary(const CompileStats& stats);
+
+}  // namespace navmap::map

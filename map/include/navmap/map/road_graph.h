@@ -1,0 +1,56 @@
+#pragma once
+// Directed road graph for routing and map matching, built by navmap-compile from the same
+// highway ways as the road layer. Nodes are OSM junctions (nodes shared by two or more ways,
+// or way ends); edges run between consecutive junctions along a way.
+
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "navmap/map/road_class.h"
+#include "navmap/map/tile.h"
+
+namespace navmap::map {
+
+struct GraphNode {
+    double x = 0;  ///< store-frame metres (east of the store origin)
+    double y = 0;  ///< store-frame metres (north of the store origin)
+    std::int64_t osm_id = 0;
+};
+
+namespace EdgeFlags {
+/// The edge runs against the order of its shape points (the reverse twin of a two-way road).
+inline constexpr std::uint8_t Reversed = 128;
+}  // namespace EdgeFlags
+
+struct GraphEdge {
+    std::uint32_t from = 0;
+    std::uint32_t to = 0;
+    float length_m = 0;    ///< geodesic length on WGS84 (GeographicLib), metres
+    float speed_kmh = 0;   ///< maxspeed, else the class default
+    RoadClass cls = RoadClass::Path;
+    std::uint8_t flags = 0;  ///< RoadFlags bits, plus EdgeFlags::Reversed
+    std::uint32_t shape_begin = 0;  ///< range in RoadGraph::shape (from the way's point of view)
+    std::uint32_t shape_end = 0;
+    std::int64_t way_id = 0;
+};
+
+/// Compressed sparse row graph: edges sorted by `from`; the out-edges of node n are
+/// edges[first_edge[n] .. first_edge[n + 1]). Two-way roads give two edges sharing one shape.
+struct RoadGraph {
+    std::vector<GraphNode> nodes;
+    std::vector<GraphEdge> edges;
+    std::vector<std::uint32_t> first_edge;  ///< nodes.size() + 1 entries
+    std::vector<LocalPoint> shape;          ///< store-frame metres as float (way geometry)
+
+    [[nodiscard]] std::span<const GraphEdge> outEdges(std::uint32_t node) const {
+        return std::span<const GraphEdge>(edges).subspan(first_edge[node], first_edge[node + 1] - first_edge[node]);
+    }
+};
+
+std::vector<std::uint8_t> encodeRoadGraph(const RoadGraph& graph);
+/// Decodes and validates (node indices, shape ranges, CSR offsets); false + error on bad input.
+bool decodeRoadGraph(std::span<const std::uint8_t> bytes, RoadGraph& out, std::string& error);
+
+}  // namespace navmap::map

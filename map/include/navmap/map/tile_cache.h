@@ -1,0 +1,103 @@
+#pragma once
+// Out-of-core tile cache: the render thread asks for the tiles it wants each frame and gets
+// what is resident immediately; one background thread loads the rest in priority order; an
+// LRU keeps resident bytes under a budget (seed 6.5: visible tiles are streamed from the
+// hierarchical database into main memory).
+
+#include <chrono>
+#include <condition_variable>
+#include <cstddef>
+#include <cstdint>
+#include <list>
+#include <memory>
+#include <mutex>
+#include <span>
+#include <string>
+#include <thread>
+#include <unordered_map>
+#include <unordered_set>
+#include <vector>
+
+#include "navmap/map/tile.h"
+#include "navmap/map/tile_store.h"
+
+namespace navmap::map {
+
+struct TileRequest {
+    TileId id;
+    float priority = 0;  ///< higher loads first
+};
+
+struct TileCacheOptions {
+    std::size_t budget_bytes = std::size_t{256} << 20;  ///< resident Tile::byteSize() limit
+    bool log_errors = true;  ///< print each corrupt tile once to stderr
+};
+
+struct TileCacheMetrics {
+    std::uint64_t hits = 0;       ///< requested tiles that were resident
+    std::uint64_t misses = 0;     ///< requested tiles not resident and newly queued for loading
+    std::uint64_t loads = 0;      ///< tiles read from the store
+    std::uint64_t evictions = 0;
+    std::uint64_t dropped_over_budget = 0;  ///< loaded tiles discarded: everything resident was wanted
+    std::uint64_t corrupt = 0;    ///< tiles that failed checksum/decoding (skipped afterwards)
+    double load_p50_ms = 0;       ///< over the last 4096 loads
+    double load_p99_ms = 0;
+    std::size_t resident_bytes = 0;
+    std::size_t peak_resident_bytes = 0;
+    std::size_t resident_tiles = 0;
+    std::size_t pending = 0;
+    std::size_t budget_bytes = 0;
+    std::string last_error;
+};
+
+class TileCache {
+public:
+    TileCache(std::shared_ptr<const TileStore> store, TileCacheOptions options = {});
+    ~TileCache();
+    TileCache(const TileCache&) = delete;
+    TileCache& operator=(const TileCache&) = delete;
+
+    /// Render thread: returns, for each wanted id in order, the resident tile or null, and
+    /// replaces the loader queue with the wanted tiles that are not resident (older requests
+    /// are superseded). Never does I/O; holds a mutex only for bookkeeping.
+    std::vector<std::shared_ptr<const Tile>> request(std::span<const TileRequest> wanted);
+
+    /// The resident tile or null; no bookkeeping.
+    [[nodiscard]] std::shared_ptr<const Tile> find(TileId id) const;
+    [[nodiscard]] TileCacheMetrics metrics() const;
+    [[nodiscard]] std::vector<TileId> corruptTiles() const;
+    /// Waits until the queue is empty and nothing is loading (tests, benchmarks, warm-up).
+    bool waitIdle(std::chrono::milliseconds timeout) const;
+    [[nodiscard]] const TileStore& store() const { return *m_store; }
+
+private:
+    struct Resident {
+        std::shared_ptr<const Tile> tile;
+        std::list<std::uint64_t>::iterator lru;
+        std::size_t bytes = 0;
+        std::uint64_t generation = 0;  ///< last request() generation that wanted it
+    };
+    void loaderLoop();
+    void touch(Resident& r);
+
+    std::shared_ptr<const TileStore> m_store;
+    TileCacheOptions m_options;
+    mutable std::mutex m_mutex;
+    std::condition_variable m_wake;
+    mutable std::condition_variable m_idle;
+    std::unordered_map<std::uint64_t, Resident> m_resident;
+    std::list<std::uint64_t> m_lru;  ///< front = most recently used
+    std::vector<TileRequest> m_pending;  ///< sorted, highest priority last (popped from back)
+    std::unordered_set<std::uint64_t> m_bad;      ///< corrupt or absent: never retried
+    std::unordered_set<std::uint64_t> m_dropped;  ///< dropped over budget until something is evicted
+    std::uint64_t m_in_flight = ~std::uint64_t{0};
+    std::uint64_t m_generation = 0;
+    std::vector<double> m_load_ms;  ///< ring of recent load times
+    std::size_t m_load_next = 0;
+    std::vector<TileId> m_corrupt_ids;
+    TileCacheMetrics m_metrics;
+    bool m_stop = false;
+    std::thread m_thread;
+};
+
+}  // namespace navmap::map

@@ -1,0 +1,64 @@
+#pragma once
+// Read side of a tile store file: validates the header at open, reads and verifies single
+// tiles on demand (thread-safe, pread), and loads the road graph.
+
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include "navmap/map/projection.h"
+#include "navmap/map/road_graph.h"
+#include "navmap/map/store_info.h"
+#include "navmap/map/tile.h"
+
+namespace navmap::map {
+
+class TileStore {
+public:
+    /// Opens and validates magic, format version, header and index checksums, and that every
+    /// blob lies inside the file. Throws StoreError ("<file>: <problem>") otherwise.
+    static std::shared_ptr<TileStore> open(const std::filesystem::path& path);
+    ~TileStore();
+    TileStore(const TileStore&) = delete;
+    TileStore& operator=(const TileStore&) = delete;
+
+    [[nodiscard]] const StoreInfo& info() const { return m_info; }
+    [[nodiscard]] const TileScheme& scheme() const { return m_info.scheme; }
+    [[nodiscard]] Projection projection() const { return Projection(m_info.origin_lat, m_info.origin_lon); }
+    [[nodiscard]] const std::filesystem::path& path() const { return m_path; }
+    [[nodiscard]] bool contains(TileId id) const { return m_index.count(id.key()) != 0; }
+    [[nodiscard]] std::vector<TileId> tileIds() const;
+    /// Stored (compressed) size of a tile blob, 0 if absent.
+    [[nodiscard]] std::uint32_t storedSize(TileId id) const;
+    /// File offset of a tile blob, 0 if absent (diagnostics and tests).
+    [[nodiscard]] std::uint64_t blobOffset(TileId id) const;
+
+    struct LoadResult {
+        std::shared_ptr<const Tile> tile;  ///< null on error
+        std::string error;                 ///< "<file>: tile L/X/Y: <problem>"
+        bool missing = false;              ///< the store has no such tile (not an error)
+    };
+    /// Reads, checks (CRC32, size), decompresses and decodes one tile. Never throws.
+    [[nodiscard]] LoadResult load(TileId id) const;
+
+    /// Loads the road graph; throws StoreError on a checksum or format problem.
+    [[nodiscard]] RoadGraph loadGraph() const;
+
+private:
+    struct Entry {
+        TileId id;
+        std::uint64_t offset;
+        std::uint32_t stored_size, raw_size, crc;
+    };
+    TileStore() = default;
+    std::filesystem::path m_path;
+    int m_fd = -1;
+    std::uint64_t m_file_size = 0;
+    StoreInfo m_info;
+    std::unordered_map<std::uint64_t, Entry> m_index;
+};
+
+}  // namespace navmap::map

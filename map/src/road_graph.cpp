@@ -1,0 +1,101 @@
+#include "navmap/map/road_graph.h"
+
+#include <cmath>
+
+#include "byte_io.h"
+
+namespace navmap::map {
+
+using detail::ByteReader;
+using detail::ByteWriter;
+
+namespace {
+constexpr std::uint32_t kGraphMagic = 0x31475247;  // "GRG1"
+}
+
+std::vector<std::uint8_t> encodeRoadGraph(const RoadGraph& g) {
+    ByteWriter w;
+    w.u32(kGraphMagic);
+    w.varint(g.nodes.size());
+    for (const auto& n : g.nodes) {
+        w.f64(n.x);
+        w.f64(n.y);
+        w.svarint(n.osm_id);
+    }
+    w.varint(g.edges.size());
+    for (const auto& e : g.edges) {
+        w.varint(e.from);
+        w.varint(e.to);
+        w.f32(e.length_m);
+        w.f32(e.speed_kmh);
+        w.u8(static_cast<std::uint8_t>(e.cls));
+        w.u8(e.flags);
+        w.varint(e.shape_begin);
+        w.varint(e.shape_end - e.shape_begin);
+        w.svarint(e.way_id);
+    }
+    w.varint(g.shape.size());
+    for (const auto& p : g.shape) {
+        w.f32(p.x);
+        w.f32(p.y);
+    }
+    return std::move(w.bytes());
+}
+
+bool decodeRoadGraph(std::span<const std::uint8_t> bytes, RoadGraph& g, std::string& error) {
+    ByteReader r(bytes);
+    g = RoadGraph{};
+    if (r.u32() != kGraphMagic) {
+        error = "not a road graph (bad magic)";
+        return false;
+    }
+    g.nodes.resize(r.count(17, "node"));
+    for (auto& n : g.nodes) {
+        n.x = r.f64();
+        n.y = r.f64();
+        n.osm_id = r.svarint();
+    }
+    g.edges.resize(r.count(14, "edge"));
+    for (auto& e : g.edges) {
+        e.from = static_cast<std::uint32_t>(r.varint());
+        e.to = static_cast<std::uint32_t>(r.varint());
+        e.length_m = r.f32();
+        e.speed_kmh = r.f32();
+        const std::uint8_t cls = r.u8();
+        if (cls >= kRoadClassCount) r.fail("bad road class");
+        e.cls = static_cast<RoadClass>(cls);
+        e.flags = r.u8();
+        e.shape_begin = static_cast<std::uint32_t>(r.varint());
+        e.shape_end = e.shape_begin + static_cast<std::uint32_t>(r.varint());
+        e.way_id = r.svarint();
+        if (r.failed()) break;
+    }
+    g.shape.resize(r.count(8, "shape point"));
+    for (auto& p : g.shape) {
+        p.x = r.f32();
+        p.y = r.f32();
+    }
+    if (!r.failed() && r.remaining() != 0) r.fail("trailing bytes");
+    if (r.failed()) {
+        error = r.error();
+        g = RoadGraph{};
+        return false;
+    }
+    // Validate references and build the CSR offsets (edges must be sorted by `from`).
+    g.first_edge.assign(g.nodes.size() + 1, 0);
+    std::uint32_t prev_from = 0;
+    for (const auto& e : g.edges) {
+        if (e.from >= g.nodes.size() || e.to >= g.nodes.size() || e.from < prev_from ||
+            e.shape_end < e.shape_begin || e.shape_end > g.shape.size()) {
+            error = "edge references out of range or unsorted";
+            g = RoadGraph{};
+            return false;
+        }
+        prev_from = e.from;
+        ++g.first_edge[e.from + 1];
+    }
+    for (std::size_t i = 1; i < g.first_edge.size(); ++i) g.first_edge[i] += g.first_edge[i - 1];
+    return true;
+}
+
+}  // namespace navmap::map

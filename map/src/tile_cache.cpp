@@ -1,0 +1,161 @@
+#include "navmap/map/tile_cache.h"
+
+#include <algorithm>
+#include <iostream>
+
+namespace navmap::map {
+
+namespace {
+constexpr std::uint64_t kNone = ~std::uint64_t{0};
+constexpr std::size_t kLoadWindow = 4096;
+}  // namespace
+
+TileCache::TileCache(std::shared_ptr<const TileStore> store, TileCacheOptions options)
+    : m_store(std::move(store)), m_options(options) {
+    m_metrics.budget_bytes = options.budget_bytes;
+    m_thread = std::thread([this] { loaderLoop(); });
+}
+
+TileCache::~TileCache() {
+    {
+        std::lock_guard lock(m_mutex);
+        m_stop = true;
+    }
+    m_wake.notify_all();
+    if (m_thread.joinable()) m_thread.join();
+}
+
+void TileCache::touch(Resident& r) {
+    m_lru.splice(m_lru.begin(), m_lru, r.lru);
+    r.generation = m_generation;
+}
+
+std::vector<std::shared_ptr<const Tile>> TileCache::request(std::span<const TileRequest> wanted) {
+    std::vector<std::shared_ptr<const Tile>> out(wanted.size());
+    {
+        std::lock_guard lock(m_mutex);
+        ++m_generation;
+        std::vector<TileRequest> pending;
+        std::unordered_set<std::uint64_t> queued_before;
+        for (const auto& p : m_pending) queued_before.insert(p.id.key());
+        for (std::size_t i = 0; i < wanted.size(); ++i) {
+            const std::uint64_t key = wanted[i].id.key();
+            if (auto it = m_resident.find(key); it != m_resident.end()) {
+                ++m_metrics.hits;
+                touch(it->second);
+                out[i] = it->second.tile;
+                continue;
+            }
+            if (m_bad.count(key) || m_dropped.count(key) || !m_store->contains(wanted[i].id)) continue;
+            if (key != m_in_flight) {
+                if (!queued_before.count(key)) ++m_metrics.misses;
+                pending.push_back(wanted[i]);
+            }
+        }
+        // Deduplicate (keep the highest priority) and order so the best is at the back.
+        std::sort(pending.begin(), pending.end(), [](const TileRequest& a, const TileRequest& b) {
+            return a.id.key() != b.id.key() ? a.id.key() < b.id.key() : a.priority > b.priority;
+        });
+        pending.erase(std::unique(pending.begin(), pending.end(),
+                                  [](const TileRequest& a, const TileRequest& b) { return a.id.key() == b.id.key(); }),
+                      pending.end());
+        std::stable_sort(pending.begin(), pending.end(),
+                         [](const TileRequest& a, const TileRequest& b) { return a.priority < b.priority; });
+        m_pending = std::move(pending);
+    }
+    m_wake.notify_one();
+    return out;
+}
+
+std::shared_ptr<const Tile> TileCache::find(TileId id) const {
+    std::lock_guard lock(m_mutex);
+    const auto it = m_resident.find(id.key());
+    return it == m_resident.end() ? nullptr : it->second.tile;
+}
+
+void TileCache::loaderLoop() {
+    std::unique_lock lock(m_mutex);
+    for (;;) {
+        m_wake.wait(lock, [&] { return m_stop || !m_pending.empty(); });
+        if (m_stop) return;
+        const TileRequest next = m_pending.back();
+        m_pending.pop_back();
+        const std::uint64_t key = next.id.key();
+        if (m_resident.count(key)) continue;
+        m_in_flight = key;
+        lock.unlock();
+
+        const auto start = std::chrono::steady_clock::now();
+        TileStore::LoadResult loaded = m_store->load(next.id);
+        const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+
+        lock.lock();
+        m_in_flight = kNone;
+        ++m_metrics.loads;
+        if (m_load_ms.size() < kLoadWindow) m_load_ms.push_back(ms);
+        else m_load_ms[m_load_next++ % kLoadWindow] = ms;
+        if (!loaded.tile) {
+            m_bad.insert(key);
+            if (!loaded.missing) {
+                ++m_metrics.corrupt;
+                m_metrics.last_error = loaded.error;
+                m_corrupt_ids.push_back(next.id);
+                if (m_options.log_errors) std::cerr << "navmap: " << loaded.error << " (tile skipped)\n";
+            }
+        } else {
+            const std::size_t bytes = loaded.tile->byteSize();
+            // Evict least recently used tiles that the latest request did not ask for.
+            while (m_metrics.resident_bytes + bytes > m_options.budget_bytes && !m_lru.empty()) {
+                const std::uint64_t victim = m_lru.back();
+                auto it = m_resident.find(victim);
+                if (it->second.generation == m_generation) break;  // wanted right now
+                m_metrics.resident_bytes -= it->second.bytes;
+                m_lru.pop_back();
+                m_resident.erase(it);
+                ++m_metrics.evictions;
+                m_dropped.clear();
+            }
+            if (m_metrics.resident_bytes + bytes > m_options.budget_bytes) {
+                ++m_metrics.dropped_over_budget;
+                m_dropped.insert(key);
+            } else {
+                m_lru.push_front(key);
+                Resident r{std::move(loaded.tile), m_lru.begin(), bytes, m_generation};
+                m_resident.emplace(key, std::move(r));
+                m_metrics.resident_bytes += bytes;
+                m_metrics.peak_resident_bytes = std::max(m_metrics.peak_resident_bytes, m_metrics.resident_bytes);
+            }
+        }
+        if (m_pending.empty()) m_idle.notify_all();
+    }
+}
+
+TileCacheMetrics TileCache::metrics() const {
+    std::lock_guard lock(m_mutex);
+    TileCacheMetrics m = m_metrics;
+    m.resident_tiles = m_resident.size();
+    m.pending = m_pending.size() + (m_in_flight != kNone ? 1 : 0);
+    if (!m_load_ms.empty()) {
+        std::vector<double> v = m_load_ms;
+        auto pct = [&](double q) {
+            const auto k = static_cast<std::size_t>(q * static_cast<double>(v.size() - 1) + 0.5);
+            std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
+            return v[k];
+        };
+        m.load_p50_ms = pct(0.50);
+        m.load_p99_ms = pct(0.99);
+    }
+    return m;
+}
+
+std::vector<TileId> TileCache::corruptTiles() const {
+    std::lock_guard lock(m_mutex);
+    return m_corrupt_ids;
+}
+
+bool TileCache::waitIdle(std::chrono::milliseconds timeout) const {
+    std::unique_lock lock(m_mutex);
+    return m_idle.wait_for(lock, timeout, [&] { return m_pending.empty() && m_in_flight == kNone; });
+}
+
+}  // namespace navmap::map

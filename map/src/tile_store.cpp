@@ -1,0 +1,154 @@
+#include "navmap/map/tile_store.h"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+#include <zlib.h>
+
+#include <cerrno>
+#include <cstring>
+
+#include "navmap/map/tile_codec.h"
+#include "store_header.h"
+
+namespace navmap::map {
+
+namespace {
+
+/// Reads exactly n bytes at offset; false on a short read or error (errno kept).
+bool preadAll(int fd, std::uint8_t* dst, std::size_t n, std::uint64_t offset) {
+    std::size_t done = 0;
+    while (done < n) {
+        const ssize_t r = ::pread(fd, dst + done, n - done, static_cast<off_t>(offset + done));
+        if (r < 0 && errno == EINTR) continue;
+        if (r <= 0) return false;
+        done += static_cast<std::size_t>(r);
+    }
+    return true;
+}
+
+bool inflate(std::span<const std::uint8_t> stored, std::vector<std::uint8_t>& raw, std::size_t raw_size) {
+    raw.resize(raw_size);
+    uLongf len = static_cast<uLongf>(raw_size);
+    const int rc = uncompress(raw.data(), &len, stored.data(), static_cast<uLong>(stored.size()));
+    return rc == Z_OK && len == raw_size;
+}
+
+}  // namespace
+
+std::shared_ptr<TileStore> TileStore::open(const std::filesystem::path& path) {
+    std::shared_ptr<TileStore> store(new TileStore());
+    store->m_path = path;
+    const std::string name = path.string();
+    store->m_fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    if (store->m_fd < 0) throw StoreError("open(" + name + "): " + std::strerror(errno));
+    struct stat st {};
+    if (::fstat(store->m_fd, &st) != 0) throw StoreError("fstat(" + name + "): " + std::strerror(errno));
+    store->m_file_size = static_cast<std::uint64_t>(st.st_size);
+
+    std::vector<std::uint8_t> header(detail::kHeaderSize);
+    const std::size_t head = std::min<std::uint64_t>(store->m_file_size, detail::kHeaderSize);
+    header.resize(head);
+    if (!preadAll(store->m_fd, header.data(), head, 0)) throw StoreError(name + ": cannot read header");
+    std::string error;
+    if (!detail::decodeHeader(header, store->m_info, error)) throw StoreError(name + ": " + error);
+
+    StoreInfo& info = store->m_info;
+    const std::uint64_t index_size = std::uint64_t{info.tile_count} * detail::kIndexEntrySize;
+    if (info.index_offset < detail::kHeaderSize || info.index_offset > store->m_file_size ||
+        index_size > store->m_file_size - info.index_offset) {
+        throw StoreError(name + ": truncated (tile index lies beyond the end of the file)");
+    }
+    std::vector<std::uint8_t> index(index_size);
+    if (!preadAll(store->m_fd, index.data(), index.size(), info.index_offset)) {
+        throw StoreError(name + ": cannot read tile index");
+    }
+    if (detail::crc32Of(index) != info.index_crc) throw StoreError(name + ": tile index checksum mismatch");
+    detail::ByteReader r(index);
+    for (std::uint32_t i = 0; i < info.tile_count; ++i) {
+        Entry e{};
+        e.id.level = r.u8();
+        e.id.x = r.u32();
+        e.id.y = r.u32();
+        e.offset = r.u64();
+        e.stored_size = r.u32();
+        e.raw_size = r.u32();
+        e.crc = r.u32();
+        if (!info.scheme.valid(e.id) || e.offset < detail::kHeaderSize || e.offset > info.index_offset ||
+            e.stored_size > info.index_offset - e.offset) {
+            throw StoreError(name + ": index entry " + std::to_string(i) + " (tile " + e.id.toString() + ") is invalid");
+        }
+        store->m_index.emplace(e.id.key(), e);
+    }
+    if (info.graph_stored_size > 0 &&
+        (info.graph_offset > store->m_file_size || info.graph_stored_size > store->m_file_size - info.graph_offset)) {
+        throw StoreError(name + ": truncated (road graph lies beyond the end of the file)");
+    }
+    return store;
+}
+
+TileStore::~TileStore() {
+    if (m_fd >= 0) ::close(m_fd);
+}
+
+std::vector<TileId> TileStore::tileIds() const {
+    std::vector<TileId> ids;
+    ids.reserve(m_index.size());
+    for (const auto& [key, e] : m_index) ids.push_back(e.id);
+    return ids;
+}
+
+std::uint32_t TileStore::storedSize(TileId id) const {
+    const auto it = m_index.find(id.key());
+    return it == m_index.end() ? 0 : it->second.stored_size;
+}
+
+std::uint64_t TileStore::blobOffset(TileId id) const {
+    const auto it = m_index.find(id.key());
+    return it == m_index.end() ? 0 : it->second.offset;
+}
+
+TileStore::LoadResult TileStore::load(TileId id) const {
+    LoadResult result;
+    const auto it = m_index.find(id.key());
+    if (it == m_index.end()) {
+        result.missing = true;
+        return result;
+    }
+    const Entry& e = it->second;
+    auto fail = [&](const std::string& what) {
+        result.error = m_path.string() + ": tile " + id.toString() + ": " + what;
+        return result;
+    };
+    std::vector<std::uint8_t> stored(e.stored_size);
+    if (!preadAll(m_fd, stored.data(), stored.size(), e.offset)) return fail(std::string("read failed: ") + std::strerror(errno));
+    if (detail::crc32Of(stored) != e.crc) return fail("checksum mismatch (corrupt tile)");
+    if (e.raw_size > (256u << 20)) return fail("implausible size");
+    std::vector<std::uint8_t> raw;
+    if (!inflate(stored, raw, e.raw_size)) return fail("decompression failed");
+    auto tile = std::make_shared<Tile>();
+    std::string error;
+    if (!decodeTile(raw, *tile, error)) return fail("malformed payload: " + error);
+    if (!(tile->id == id)) return fail("payload is for tile " + tile->id.toString());
+    result.tile = std::move(tile);
+    return result;
+}
+
+RoadGraph TileStore::loadGraph() const {
+    RoadGraph graph;
+    if (m_info.graph_stored_size == 0) return graph;
+    std::vector<std::uint8_t> stored(m_info.graph_stored_size);
+    if (!preadAll(m_fd, stored.data(), stored.size(), m_info.graph_offset)) {
+        throw StoreError(m_path.string() + ": cannot read road graph");
+    }
+    if (detail::crc32Of(stored) != m_info.graph_crc) throw StoreError(m_path.string() + ": road graph checksum mismatch");
+    std::vector<std::uint8_t> raw;
+    if (m_info.graph_raw_size > (std::uint64_t{4} << 30) || !inflate(stored, raw, m_info.graph_raw_size)) {
+        throw StoreError(m_path.string() + ": road graph decompression failed");
+    }
+    std::string error;
+    if (!decodeRoadGraph(raw, graph, error)) throw StoreError(m_path.string() + ": road graph: " + error);
+    return graph;
+}
+
+}  // namespace navmap::map

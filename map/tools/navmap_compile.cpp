@@ -1,0 +1,46 @@
+// navmap-compile: OpenStreetMap PBF + SRTM DEM tiles -> navmap tile store.
+//   navmap-compile --osm data/andorra-2021-04-14.osm.pbf --dem data/N42E001.hgt --out build/andorra.navmap
+// Exit status: 0 ok, 1 bad input (one line naming the file and the problem), 2 usage.
+
+#include <CLI/CLI.hpp>
+
+#include <iostream>
+
+#include "navmap/map/compiler.h"
+#include "navmap/map/dem.h"
+#include "navmap/map/store_info.h"
+
+int main(int argc, char** argv) {
+    CLI::App app{"navmap-compile: compile OpenStreetMap + SRTM DEM into a navmap tile store"};
+    navmap::map::CompileOptions opt;
+    std::vector<std::string> dems;
+    std::string osm, out;
+    bool quiet = false;
+    app.add_option("--osm", osm, "OpenStreetMap extract (.osm.pbf)")->required();
+    app.add_option("--dem", dems, "SRTM .hgt tile(s) (repeatable, 1201x1201 or 3601x3601)");
+    app.add_option("--out", out, "tile store file to write")->required();
+    app.add_option("--leaf-size", opt.leaf_tile_m, "edge of the finest tiles in metres")->capture_default_str();
+    app.add_option("--dem-samples", opt.dem_samples, "DEM samples per tile side")->capture_default_str();
+    app.add_option("--default-building-height", opt.default_building_height_m, "metres, when untagged")
+        ->capture_default_str();
+    app.add_flag("-q,--quiet", quiet, "no progress output (summary and errors only)");
+    CLI11_PARSE(app, argc, argv);
+
+    opt.osm = osm;
+    opt.out = out;
+    for (const auto& d : dems) opt.dems.emplace_back(d);
+    if (!quiet) opt.log = [](const std::string& line) { std::cerr << line << '\n'; };
+    try {
+        const auto stats = navmap::map::compileStore(opt);
+        std::cout << navmap::map::formatSummary(stats);
+        for (const auto& w : stats.warnings) std::cout << "warning: " << w << '\n';
+        return 0;
+    } catch (const navmap::map::CompileError& e) {
+        std::cerr << "navmap-compile: " << e.what() << '\n';
+    } catch (const navmap::map::DemError& e) {
+        std::cerr << "navmap-compile: " << e.what() << '\n';
+    } catch (const navmap::map::StoreError& e) {
+        std::cerr << "navmap-compile: " << e.what() << '\n';
+    }
+    return 1;
+}

@@ -1,0 +1,190 @@
+// navmap-compile on the real Andorra extract + SRTM tile (repo data/), and on bad input.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <random>
+
+#include "map_test_util.h"
+#include "navmap/map/compiler.h"
+#include "navmap/map/dem.h"
+#include "navmap/map/tile_store.h"
+
+using namespace navmap::map;
+using navmap::map::test::repoData;
+using navmap::map::test::ScratchDir;
+
+namespace {
+
+class AndorraStore : public ::testing::Test {
+protected:
+    static void SetUpTestSuite() {
+        s_dir = new ScratchDir("compile");
+        CompileOptions opt;
+        opt.osm = repoData("andorra-2021-04-14.osm.pbf");
+        opt.dems = {repoData("N42E001.hgt")};
+        opt.out = s_dir->path() / "andorra.navmap";
+        s_stats = new CompileStats(compileStore(opt));
+        s_store = TileStore::open(opt.out);
+    }
+    static void TearDownTestSuite() {
+        s_store.reset();
+        delete s_stats;
+        delete s_dir;
+    }
+    /// All tiles of one level.
+    static std::vector<std::shared_ptr<const Tile>> level(int l) {
+        std::vector<std::shared_ptr<const Tile>> out;
+        for (const auto& id : s_store->tileIds()) {
+            if (id.level != l) continue;
+            auto res = s_store->load(id);
+            EXPECT_TRUE(res.tile) << res.error;
+            if (res.tile) out.push_back(res.tile);
+        }
+        return out;
+    }
+    static inline ScratchDir* s_dir = nullptr;
+    static inline CompileStats* s_stats = nullptr;
+    static inline std::shared_ptr<TileStore> s_store;
+};
+
+}  // namespace
+
+TEST_F(AndorraStore, SummaryCountsMatchTheExtract) {
+    const CompileStats& s = *s_stats;
+    // SOURCES.md: 4,764 highway ways (a few are areas or non-roads), 4,894 + 12 buildings.
+    EXPECT_GT(s.roads, 4600u);
+    EXPECT_LE(s.roads, 4764u);
+    EXPECT_GT(s.road_vertices, 50000u);
+    EXPECT_GE(s.buildings, 4850u);
+    EXPECT_GT(s.areas, 300u);
+    EXPECT_GE(s.place_labels, 130u);
+    EXPECT_GT(s.poi_labels, 700u);
+    EXPECT_GT(s.road_labels, 900u);
+    EXPECT_GT(s.graph_nodes, 3000u);
+    EXPECT_GT(s.graph_edges, s.graph_nodes);
+    EXPECT_EQ(s.dem_voids_filled, 7652u);
+    EXPECT_EQ(s.tiles, s_store->info().tile_count);
+    EXPECT_EQ(s.tiles_per_level.size(), static_cast<std::size_t>(s_store->scheme().levelCount()));
+    EXPECT_EQ(s.tiles_per_level[0], 1u);
+    EXPECT_GT(s.store_bytes, 100000u);
+    // Nodes west of 1.0 E lie outside N42E001: warned about, rendered flat.
+    ASSERT_FALSE(s.warnings.empty());
+    EXPECT_NE(s.warnings.back().find("flat"), std::string::npos) << s.warnings.back();
+    EXPECT_NE(formatSummary(s).find("buildings:  "), std::string::npos);
+}
+
+TEST_F(AndorraStore, LeafTilesKeepNamesRoadsBuildingsAndTerrain) {
+    const auto leaves = level(s_store->scheme().leafLevel());
+    bool town = false, cg3 = false, levels_height = false, middle_dot = false, path = false;
+    for (const auto& t : leaves) {
+        for (std::size_t i = 1; i < t->roads.size(); ++i) EXPECT_LE(t->roads[i - 1].cls, t->roads[i].cls);
+        for (const auto& r : t->roads) {
+            if (r.ref == "CG-3" && r.cls == RoadClass::Primary) cg3 = true;
+            if (r.cls == RoadClass::Path) path = true;
+            ASSERT_GE(r.points.size(), 2u);
+            for (const auto& p : r.points) {
+                EXPECT_GE(p.x, -0.01f);
+                EXPECT_LE(p.x, t->size_m + 0.01);
+            }
+        }
+        for (const auto& b : t->buildings) {
+            EXPECT_GT(b.height_m, 0.0f);
+            if (b.height_m != 8.0f && std::fmod(b.height_m, 3.0f) == 0.0f) levels_height = true;
+            EXPECT_EQ(b.footprint.indices.size() % 3, 0u);
+        }
+        for (const auto& l : t->labels) {
+            if (l.name.find("l\xC2\xB7l") != std::string::npos) middle_dot = true;  // UTF-8 "l·l"
+            if (l.kind == LabelKind::Place && l.name == "Andorra la Vella") {
+                town = true;
+                EXPECT_EQ(l.subclass, static_cast<std::uint8_t>(PlaceClass::Town));
+                // SOURCES.md: SRTM reads about 1024 m at Andorra la Vella.
+                const int c = static_cast<int>(std::lround(l.anchor.x / t->dem.spacing_m));
+                const int r = static_cast<int>(std::lround(l.anchor.y / t->dem.spacing_m));
+                EXPECT_NEAR(t->dem.at(r, c), 1040.0f, 80.0f);
+                EXPECT_FLOAT_EQ(t->dem.coverage, 1.0f);
+            }
+        }
+    }
+    EXPECT_TRUE(town);
+    EXPECT_TRUE(cg3);
+    EXPECT_TRUE(levels_height);
+    EXPECT_TRUE(middle_dot);
+    EXPECT_TRUE(path);
+}
+
+TEST_F(AndorraStore, CoarseLevelsAreLighter) {
+    const auto root = level(0);
+    ASSERT_EQ(root.size(), 1u);
+    for (const auto& r : root[0]->roads) EXPECT_LE(r.cls, RoadClass::Primary) << roadClassName(r.cls);
+    EXPECT_TRUE(root[0]->buildings.empty());
+    std::size_t root_vertices = 0, leaf_vertices = 0;
+    for (const auto& r : root[0]->roads) root_vertices += r.points.size();
+    for (const auto& t : level(s_store->scheme().leafLevel())) {
+        for (const auto& r : t->roads) leaf_vertices += r.points.size();
+    }
+    EXPECT_GT(root_vertices, 0u);
+    EXPECT_LT(root_vertices * 10, leaf_vertices);
+}
+
+TEST_F(AndorraStore, RoadGraphLoads) {
+    const RoadGraph g = s_store->loadGraph();
+    EXPECT_EQ(g.nodes.size(), s_stats->graph_nodes);
+    EXPECT_EQ(g.edges.size(), s_stats->graph_edges);
+    double total = 0;
+    for (std::uint32_t n = 0; n < g.nodes.size(); ++n) {
+        for (const auto& e : g.outEdges(n)) {
+            EXPECT_EQ(e.from, n);
+            EXPECT_GT(e.length_m, 0.0f);
+            EXPECT_GE(e.shape_end - e.shape_begin, 2u);
+            total += e.length_m;
+        }
+    }
+    EXPECT_GT(total, 1e6);  // > 1000 km of directed road in Andorra
+}
+
+TEST(CompileBadInput, TruncatedRandomAndMissingPbf) {
+    ScratchDir dir("compile-bad");
+    std::ifstream in(repoData("andorra-2021-04-14.osm.pbf"), std::ios::binary);
+    std::vector<char> bytes{std::istreambuf_iterator<char>(in), {}};
+    const auto trunc = dir / "truncated.osm.pbf";
+    std::ofstream(trunc, std::ios::binary).write(bytes.data(), static_cast<std::streamsize>(bytes.size() / 3));
+    const auto junk = dir / "random.osm.pbf";
+    {
+        std::mt19937 rng(7);
+        std::ofstream out(junk, std::ios::binary);
+        for (int i = 0; i < 100000; ++i) out.put(static_cast<char>(rng()));
+    }
+    for (const auto& [path, what] : {std::pair{trunc, std::string("cannot read OSM data")},
+                                     std::pair{junk, std::string("cannot read OSM data")},
+                                     std::pair{dir / "absent.osm.pbf", std::string("no such file")}}) {
+        CompileOptions opt;
+        opt.osm = path;
+        opt.out = dir / "out.navmap";
+        try {
+            compileStore(opt);
+            ADD_FAILURE() << "expected CompileError for " << path;
+        } catch (const CompileError& e) {
+            const std::string msg = e.what();
+            EXPECT_NE(msg.find(path.string()), std::string::npos) << msg;
+            EXPECT_NE(msg.find(what), std::string::npos) << msg;
+        }
+        EXPECT_FALSE(std::filesystem::exists(dir / "out.navmap"));
+    }
+}
+
+TEST(CompileBadInput, DemOfWrongSizeNamesTheFile) {
+    ScratchDir dir("compile-dem");
+    const auto bad = dir / "N42E001.hgt";
+    std::ofstream(bad, std::ios::binary).write("\0\0\0\0", 4);
+    CompileOptions opt;
+    opt.osm = repoData("andorra-2021-04-14.osm.pbf");
+    opt.dems = {bad};
+    opt.out = dir / "out.navmap";
+    try {
+        compileStore(opt);
+        FAIL() << "expected DemError";
+    } catch (const DemError& e) {
+        EXPECT_NE(std::string(e.what()).find(bad.string() + ": 4 bytes is not an SRTM tile"), std::string::npos) << e.what();
+    }
+}

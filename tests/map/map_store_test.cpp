@@ -1,0 +1,371 @@
+// Tile codec and store round trip, bad stores (other version, truncated, corrupt tile), the
+// runtime cache (eviction under budget, corrupt tile skipped), tile selection, DEM input.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <fstream>
+#include <random>
+#include <thread>
+
+#include "map_test_util.h"
+#include "navmap/map/dem.h"
+#include "navmap/map/dem_mosaic.h"
+#include "navmap/map/store_writer.h"
+#include "navmap/map/tile_cache.h"
+#include "navmap/map/tile_codec.h"
+#include "navmap/map/tile_selection.h"
+#include "navmap/map/tile_store.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size);
+
+using namespace navmap::map;
+using navmap::map::test::sampleTile;
+using navmap::map::test::ScratchDir;
+
+namespace {
+
+StoreInfo smallInfo() {
+    StoreInfo info;
+    info.origin_lat = 42.5;
+    info.origin_lon = 1.5;
+    info.scheme = TileScheme(-4000, -4000, 8000, 3);  // 8 km root, 2 km leaves
+    info.dem_samples = 5;
+    info.south = 42.46;
+    info.north = 42.54;
+    info.west = 1.45;
+    info.east = 1.55;
+    return info;
+}
+
+/// Writes every tile of the 3-level pyramid (1 + 4 + 16) with sample content.
+void writeSmallStore(const std::filesystem::path& path, const RoadGraph* graph = nullptr) {
+    const StoreInfo info = smallInfo();
+    StoreWriter w(path, info);
+    for (int level = 0; level < 3; ++level) {
+        const std::uint32_t n = 1u << level;
+        for (std::uint32_t y = 0; y < n; ++y) {
+            for (std::uint32_t x = 0; x < n; ++x) {
+                const TileId id{static_cast<std::uint8_t>(level), x, y};
+                const Box b = info.scheme.bounds(id);
+                w.addTile(sampleTile(id, b.min_x, b.min_y, info.scheme.tileSize(level)));
+            }
+        }
+    }
+    if (graph) w.setGraph(*graph);
+    w.finish();
+}
+
+std::vector<std::uint8_t> readAll(const std::filesystem::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    return {std::istreambuf_iterator<char>(in), {}};
+}
+
+void writeAll(const std::filesystem::path& p, const std::vector<std::uint8_t>& bytes) {
+    std::ofstream out(p, std::ios::binary | std::ios::trunc);
+    out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+}
+
+std::string openError(const std::filesystem::path& p) {
+    try {
+        TileStore::open(p);
+    } catch (const StoreError& e) {
+        return e.what();
+    }
+    return "";
+}
+
+}  // namespace
+
+TEST(TileCodec, RoundTripKeepsValuesAtCentimetrePrecision) {
+    const Tile in = sampleTile({6, 40, 33}, 123456.789, -98765.4321, 2000);
+    const auto bytes = encodeTile(in);
+    Tile out;
+    std::string error;
+    ASSERT_TRUE(decodeTile(bytes, out, error)) << error;
+    EXPECT_EQ(out.id, in.id);
+    EXPECT_DOUBLE_EQ(out.origin_x, in.origin_x);
+    EXPECT_DOUBLE_EQ(out.origin_y, in.origin_y);
+    ASSERT_EQ(out.roads.size(), 1u);
+    const Road& r = out.roads[0];
+    EXPECT_EQ(r.name, "Carrer de la Unió");
+    EXPECT_EQ(r.ref, "CG-3");
+    EXPECT_EQ(r.cls, RoadClass::Primary);
+    EXPECT_EQ(r.flags, RoadFlags::Oneway | RoadFlags::Bridge);
+    EXPECT_EQ(r.layer, -2);
+    EXPECT_EQ(r.maxspeed_kmh, 50);
+    EXPECT_EQ(r.osm_id, 123456789);
+    ASSERT_EQ(r.points.size(), 3u);
+    for (std::size_t i = 0; i < 3; ++i) {
+        EXPECT_NEAR(r.points[i].x, in.roads[0].points[i].x, 0.0051);
+        EXPECT_NEAR(r.points[i].y, in.roads[0].points[i].y, 0.0051);
+    }
+    ASSERT_EQ(out.buildings.size(), 1u);
+    EXPECT_FLOAT_EQ(out.buildings[0].height_m, 12.5f);
+    EXPECT_FLOAT_EQ(out.buildings[0].min_height_m, 3.0f);
+    EXPECT_EQ(out.buildings[0].footprint.indices, in.buildings[0].footprint.indices);
+    EXPECT_EQ(out.buildings[0].osm_id, -42);
+    ASSERT_EQ(out.areas.size(), 1u);
+    EXPECT_EQ(out.areas[0].cls, AreaClass::Forest);
+    EXPECT_EQ(out.areas[0].name, "Bosc de l'Estany");
+    ASSERT_EQ(out.labels.size(), 1u);
+    EXPECT_EQ(out.labels[0].name, "Sant Julià de Lòria");
+    EXPECT_NEAR(out.labels[0].anchor.x, 500.25f, 0.0051);
+    EXPECT_FLOAT_EQ(out.labels[0].importance, 0.8f);
+    ASSERT_EQ(out.dem.size, 5);
+    for (std::size_t i = 0; i < 25; ++i) EXPECT_NEAR(out.dem.heights[i], in.dem.heights[i], 0.051);
+}
+
+TEST(TileCodec, RejectsTruncatedAndGarbledPayloads) {
+    const auto bytes = encodeTile(sampleTile({1, 0, 1}, 0, 0, 1000));
+    Tile out;
+    std::string error;
+    for (std::size_t cut : {std::size_t{0}, std::size_t{3}, std::size_t{40}, bytes.size() / 2, bytes.size() - 1}) {
+        EXPECT_FALSE(decodeTile(std::span(bytes).first(cut), out, error)) << cut;
+        EXPECT_FALSE(error.empty());
+    }
+    auto extra = bytes;
+    extra.push_back(0);
+    EXPECT_FALSE(decodeTile(extra, out, error));
+    EXPECT_NE(error.find("trailing"), std::string::npos) << error;
+}
+
+TEST(TileCodec, FuzzEntryOnBadInputs) {
+    // Corpus: empty, random bytes, every truncation and single-byte flips of a valid payload.
+    LLVMFuzzerTestOneInput(nullptr, 0);
+    const auto valid = encodeTile(sampleTile({2, 1, 3}, 10, 20, 500));
+    std::mt19937 rng(1234);
+    for (int i = 0; i < 200; ++i) {
+        std::vector<std::uint8_t> junk(rng() % 300);
+        for (auto& b : junk) b = static_cast<std::uint8_t>(rng());
+        LLVMFuzzerTestOneInput(junk.data(), junk.size());
+    }
+    for (std::size_t cut = 0; cut < valid.size(); ++cut) LLVMFuzzerTestOneInput(valid.data(), cut);
+    for (std::size_t i = 0; i < valid.size(); ++i) {
+        auto flipped = valid;
+        flipped[i] ^= static_cast<std::uint8_t>(1u << (i % 8));
+        LLVMFuzzerTestOneInput(flipped.data(), flipped.size());
+    }
+    SUCCEED() << "no crash on " << 201 + 2 * valid.size() << " bad inputs";
+}
+
+TEST(TileStore, RoundTripAllTilesAndGraph) {
+    ScratchDir dir("store-rt");
+    RoadGraph g;
+    g.nodes = {{0, 0, 1}, {100, 0, 2}};
+    g.shape = {{0, 0}, {50, 1}, {100, 0}};
+    g.edges = {{0, 1, 100.5f, 50, RoadClass::Primary, 0, 0, 3, 77}, {1, 0, 100.5f, 50, RoadClass::Primary, EdgeFlags::Reversed, 0, 3, 77}};
+    writeSmallStore(dir / "s.navmap", &g);
+    const auto store = TileStore::open(dir / "s.navmap");
+    EXPECT_EQ(store->info().tile_count, 21u);
+    EXPECT_EQ(store->scheme().levelCount(), 3);
+    EXPECT_DOUBLE_EQ(store->info().origin_lat, 42.5);
+    for (const TileId& id : store->tileIds()) {
+        const auto res = store->load(id);
+        ASSERT_TRUE(res.tile) << res.error;
+        EXPECT_EQ(res.tile->id, id);
+        EXPECT_DOUBLE_EQ(res.tile->origin_x, store->scheme().bounds(id).min_x);
+        EXPECT_EQ(res.tile->labels.at(0).name, "Sant Julià de Lòria");
+    }
+    const auto absent = store->load({2, 9, 9});
+    EXPECT_TRUE(absent.missing);
+    const RoadGraph back = store->loadGraph();
+    ASSERT_EQ(back.edges.size(), 2u);
+    EXPECT_EQ(back.outEdges(0).size(), 1u);
+    EXPECT_EQ(back.outEdges(1)[0].to, 0u);
+    EXPECT_EQ(back.outEdges(1)[0].flags, EdgeFlags::Reversed);
+    EXPECT_FLOAT_EQ(back.edges[0].length_m, 100.5f);
+    EXPECT_EQ(back.shape.size(), 3u);
+}
+
+TEST(TileStore, OtherVersionTruncatedAndNotAStoreAreClearErrors) {
+    ScratchDir dir("store-bad");
+    writeSmallStore(dir / "s.navmap");
+    auto bytes = readAll(dir / "s.navmap");
+
+    auto v2 = bytes;
+    v2[8] = 2;  // format version field
+    writeAll(dir / "v2.navmap", v2);
+    std::string e = openError(dir / "v2.navmap");
+    EXPECT_NE(e.find("v2.navmap"), std::string::npos) << e;
+    EXPECT_NE(e.find("format version 2, this build reads version 1"), std::string::npos) << e;
+
+    writeAll(dir / "trunc.navmap", std::vector<std::uint8_t>(bytes.begin(), bytes.begin() + static_cast<long>(bytes.size() / 2)));
+    e = openError(dir / "trunc.navmap");
+    EXPECT_NE(e.find("trunc.navmap: truncated"), std::string::npos) << e;
+
+    writeAll(dir / "junk.navmap", std::vector<std::uint8_t>(100, 0x41));
+    e = openError(dir / "junk.navmap");
+    EXPECT_NE(e.find("junk.navmap: not a navmap tile store"), std::string::npos) << e;
+
+    auto hdr = bytes;
+    hdr[20] ^= 0x10;  // inside origin_lat: header checksum must catch it
+    writeAll(dir / "hdr.navmap", hdr);
+    e = openError(dir / "hdr.navmap");
+    EXPECT_NE(e.find("header checksum mismatch"), std::string::npos) << e;
+
+    e = openError(dir / "missing.navmap");
+    EXPECT_NE(e.find("open(") , std::string::npos) << e;
+    EXPECT_NE(e.find("No such file"), std::string::npos) << e;
+}
+
+TEST(TileCache, CorruptTileIsSkippedAndReportedRestKeepsWorking) {
+    ScratchDir dir("store-corrupt");
+    writeSmallStore(dir / "s.navmap");
+    auto bytes = readAll(dir / "s.navmap");
+    const TileId victim{2, 1, 2};
+    std::uint64_t offset = 0;
+    {
+        const auto store = TileStore::open(dir / "s.navmap");
+        ASSERT_GT(store->storedSize(victim), 0u);
+        offset = store->blobOffset(victim) + store->storedSize(victim) / 2;
+    }
+    ASSERT_GT(offset, 0u);
+    bytes[offset] ^= 0xFF;
+    writeAll(dir / "c.navmap", bytes);
+    const auto store = TileStore::open(dir / "c.navmap");
+    const auto res = store->load(victim);
+    EXPECT_FALSE(res.tile);
+    EXPECT_NE(res.error.find("c.navmap: tile 2/1/2: checksum mismatch"), std::string::npos) << res.error;
+
+    TileCache cache(store, {std::size_t{64} << 20, false});
+    std::vector<TileRequest> want;
+    for (std::uint32_t y = 0; y < 4; ++y)
+        for (std::uint32_t x = 0; x < 4; ++x) want.push_back({{2, x, y}, 1.0f});
+    cache.request(want);
+    ASSERT_TRUE(cache.waitIdle(std::chrono::seconds(10)));
+    const auto got = cache.request(want);
+    int resident = 0;
+    for (std::size_t i = 0; i < want.size(); ++i) {
+        if (want[i].id == victim) EXPECT_FALSE(got[i]);
+        else if (got[i]) ++resident;
+    }
+    EXPECT_EQ(resident, 15);
+    const auto m = cache.metrics();
+    EXPECT_EQ(m.corrupt, 1u);
+    EXPECT_NE(m.last_error.find("2/1/2"), std::string::npos);
+    ASSERT_EQ(cache.corruptTiles().size(), 1u);
+    EXPECT_EQ(cache.corruptTiles()[0], victim);
+    // Not retried on later requests.
+    cache.request(want);
+    ASSERT_TRUE(cache.waitIdle(std::chrono::seconds(10)));
+    EXPECT_EQ(cache.metrics().loads, m.loads);
+}
+
+TEST(TileCache, EvictsLeastRecentlyUsedUnderBudget) {
+    ScratchDir dir("store-lru");
+    writeSmallStore(dir / "s.navmap");
+    const auto store = TileStore::open(dir / "s.navmap");
+    const std::size_t one = store->load({2, 0, 0}).tile->byteSize();
+    const std::size_t budget = one * 4 + one / 2;  // room for four tiles
+    TileCache cache(store, {budget, false});
+    std::size_t max_seen = 0;
+    // Fly over the 16 leaf tiles two at a time; each request wants 2 tiles.
+    for (std::uint32_t step = 0; step < 8; ++step) {
+        const std::vector<TileRequest> want{{{2, (2 * step) % 4, (2 * step) / 4}, 2.0f}, {{2, (2 * step + 1) % 4, (2 * step + 1) / 4}, 1.0f}};
+        cache.request(want);
+        ASSERT_TRUE(cache.waitIdle(std::chrono::seconds(10)));
+        const auto got = cache.request(want);
+        EXPECT_TRUE(got[0] && got[1]) << "step " << step;
+        const auto m = cache.metrics();
+        max_seen = std::max(max_seen, m.resident_bytes);
+        EXPECT_LE(m.resident_bytes, budget);
+        EXPECT_LE(m.resident_tiles, 4u);
+    }
+    const auto m = cache.metrics();
+    EXPECT_EQ(m.loads, 16u);
+    EXPECT_EQ(m.evictions, 12u);
+    EXPECT_EQ(m.misses, 16u);
+    EXPECT_EQ(m.hits, 16u);
+    EXPECT_LE(m.peak_resident_bytes, budget);
+    EXPECT_GT(m.load_p99_ms, 0.0);
+    EXPECT_GE(m.load_p99_ms, m.load_p50_ms);
+    // The first tiles were evicted (least recently used), the last ones are resident.
+    EXPECT_FALSE(cache.find({2, 0, 0}));
+    EXPECT_TRUE(cache.find({2, 3, 3}));
+}
+
+TEST(TileCache, WantedSetLargerThanBudgetStaysBounded) {
+    ScratchDir dir("store-over");
+    writeSmallStore(dir / "s.navmap");
+    const auto store = TileStore::open(dir / "s.navmap");
+    const std::size_t one = store->load({2, 0, 0}).tile->byteSize();
+    TileCache cache(store, {one * 3, false});
+    std::vector<TileRequest> want;
+    for (std::uint32_t i = 0; i < 16; ++i) want.push_back({{2, i % 4, i / 4}, static_cast<float>(16 - i)});
+    for (int frame = 0; frame < 3; ++frame) {
+        cache.request(want);
+        ASSERT_TRUE(cache.waitIdle(std::chrono::seconds(10)));
+    }
+    const auto got = cache.request(want);
+    const auto m = cache.metrics();
+    EXPECT_LE(m.resident_bytes, one * 3);
+    EXPECT_EQ(m.resident_tiles, 3u);
+    // The highest-priority tiles are the resident ones.
+    EXPECT_TRUE(got[0] && got[1] && got[2]);
+    EXPECT_GT(m.dropped_over_budget, 0u);
+    EXPECT_LT(m.loads, 20u);  // no load-evict thrash across frames
+}
+
+TEST(TileSelection, FootprintAndPrefetchAhead) {
+    const TileScheme s(0, 0, 16000, 4);  // 2 km leaves, 8x8
+    CameraFootprint cam;
+    cam.position = {3000, 3000};
+    cam.ground = {{2500, 2500}, {3500, 2500}, {3500, 3500}, {2500, 3500}};
+    cam.heading_deg = 90;  // east
+    cam.prefetch_m = 6000;
+    const auto req = selectTiles(s, 3, cam);
+    ASSERT_FALSE(req.empty());
+    EXPECT_EQ(req[0].id, (TileId{3, 1, 1}));  // the visible tile first
+    EXPECT_GE(req[0].priority, 1000.0f);
+    bool east_prefetched = false;
+    for (const auto& r : req) {
+        if (r.id == TileId{3, 4, 1}) {
+            east_prefetched = true;
+            EXPECT_LT(r.priority, 1000.0f);
+        }
+    }
+    EXPECT_TRUE(east_prefetched);
+    // A rotated footprint covering 4 tiles around the corner point (4000, 4000).
+    const std::vector<PlanarPoint> diamond{{4000, 3500}, {4500, 4000}, {4000, 4500}, {3500, 4000}};
+    EXPECT_EQ(tilesInPolygon(s, 3, diamond, {4000, 4000}, 1000).size(), 4u);
+    EXPECT_EQ(tilesInCircle(s, 3, {1000, 1000}, 100, 1000).size(), 1u);
+}
+
+TEST(Dem, VoidsAreFilledAndWrongSizeIsAnError) {
+    ScratchDir dir("dem");
+    // A synthetic SRTM3 tile: a tilted plane with a square void in the middle.
+    std::vector<std::uint8_t> bytes(1201u * 1201u * 2u);
+    std::size_t voids = 0;
+    for (int r = 0; r < 1201; ++r) {
+        for (int c = 0; c < 1201; ++c) {
+            std::int16_t v = static_cast<std::int16_t>(500 + c / 2);
+            if (r >= 500 && r < 520 && c >= 600 && c < 620) {
+                v = -32768;
+                ++voids;
+            }
+            const std::size_t i = (static_cast<std::size_t>(r) * 1201 + c) * 2;
+            bytes[i] = static_cast<std::uint8_t>(static_cast<std::uint16_t>(v) >> 8);
+            bytes[i + 1] = static_cast<std::uint8_t>(v & 0xff);
+        }
+    }
+    writeAll(dir / "N42E001.hgt", bytes);
+    Dem dem = loadHgt(dir / "N42E001.hgt");
+    EXPECT_EQ(dem.void_count, voids);
+    EXPECT_TRUE(std::isnan(dem.at(510, 610)));
+    EXPECT_EQ(fillVoids(dem), voids);
+    EXPECT_NEAR(dem.at(510, 610), 500 + 610 / 2, 5.0);  // smooth fill joins the rim
+    DemMosaic mosaic;
+    mosaic.add(std::move(dem));
+    ASSERT_TRUE(mosaic.sample(42.5, 1.5));
+    EXPECT_NEAR(*mosaic.sample(42.5, 1.5), 800.0f, 1.0f);
+    EXPECT_FALSE(mosaic.sample(41.5, 1.5));  // outside: the compiler renders it flat and warns
+
+    writeAll(dir / "N42E002.hgt", std::vector<std::uint8_t>(1000, 0));
+    try {
+        loadHgt(dir / "N42E002.hgt");
+        FAIL() << "expected DemError";
+    } catch (const DemError& e) {
+        EXPECT_NE(std::string(e.what()).find("N42E002.hgt: 1000 bytes is not an SRTM tile"), std::string::npos) << e.what();
+    }
+}
