@@ -1,0 +1,150 @@
+#pragma once
+// Temporally coherent force-based label layout (seed chapter 4), on the CPU, GL-free.
+// Hand-written after the seed; no Debian package implements it.
+
+#include <cstdint>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <glm/vec2.hpp>
+
+#include "navmap/render/labels/label_types.h"
+#include "navmap/render/labels/layout_params.h"
+#include "navmap/render/labels/oriented_box.h"
+#include "navmap/render/labels/spatial_grid.h"
+
+namespace navmap::render::labels {
+
+/// Thrown only at setup (invalid LayoutParams).
+class LabelLayoutError : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
+
+/// Counters of one layout, for tests, metrics and the status endpoint.
+struct LayoutStats {
+    std::uint64_t steps = 0;
+    std::size_t pending = 0;
+    std::size_t waiting = 0;
+    std::size_t fading_in = 0;
+    std::size_t visible = 0;
+    std::size_t fading_out = 0;
+    std::uint64_t placed = 0;            ///< successful initial placements
+    std::uint64_t placement_failures = 0;  ///< attempts without a free candidate
+    std::uint64_t removed_speed = 0;
+    std::uint64_t removed_constricted = 0;
+    std::uint64_t removed_overlap = 0;
+    std::uint64_t rejected_inputs = 0;   ///< candidates refused by setFrame() (bad values, duplicate ids)
+    std::size_t last_pairs = 0;          ///< broad-phase pairs in the last step
+    std::size_t last_collisions = 0;     ///< of those, colliding buffered boxes (eq. 4.2)
+};
+
+/// Result of setFrame(): what was refused and why (first problem only).
+struct FrameReport {
+    std::size_t accepted = 0;
+    std::size_t rejected = 0;
+    std::string first_error;  ///< e.g. "label id 42: non-finite anchor (nan, 3)"
+};
+
+/// Force-based layout of screen-space labels (seed 4.4-4.5):
+///  - initial placement by priority, a bounded number per step, four-position model for
+///    points/areas, three candidates for lines (horizontal or rotated by view angle), retry
+///    timer when no candidate is free, fade in/out (4.4.3);
+///  - collisions between buffered OOBBs by SAT (4.4.4) on a uniform grid broad phase, force
+///    of eq. 4.2-4.6; free/line/circle behaviors with friction (4.4.5); mass from priority,
+///    clamped Euler step (4.4.6, 4.5.1);
+///  - enhancements of 4.5.3: buffer zone, placement zone, speed-based and constriction
+///    removal with timed re-insertion; depth scaling with a readable minimum (4.3.3).
+///
+/// Use per frame: setFrame(candidates, camera) with the projected anchors, then
+/// advance(frame_dt), then read output(). The simulation runs in fixed steps of
+/// params.step_s, so the result depends only on the sequence of inputs and frame times,
+/// never on wall-clock time: the same inputs give the same layout bit for bit.
+/// Not thread-safe: one owner (the render thread).
+class LabelLayout {
+public:
+    explicit LabelLayout(LayoutParams params = {});
+
+    /// Replaces the set of candidates. Ids missing from the new set fade out; new ids queue
+    /// for placement. Candidates with non-finite values, a non-positive size or a duplicate
+    /// id are refused (counted, reported) and treated as absent.
+    FrameReport setFrame(std::span<const LabelCandidate> candidates, const CameraState& camera);
+
+    /// Advances the simulation by `dt_s` of frame time (fixed steps, remainder carried over)
+    /// and rebuilds output(). Returns the number of steps run. Negative or non-finite dt
+    /// runs nothing.
+    int advance(double dt_s);
+
+    /// Runs exactly one fixed step (tests, benchmarks); does not rebuild output().
+    void step();
+
+    /// Labels with alpha > 0 (fading in, visible, fading out) in id order, as of the last
+    /// advance().
+    [[nodiscard]] std::span<const PlacedLabel> output() const { return m_output; }
+    /// Rebuilds output() from the current state (advance() does this itself).
+    void updateOutput();
+
+    [[nodiscard]] LayoutStats stats() const;
+    [[nodiscard]] const LayoutParams& params() const { return m_params; }
+    /// Simulated time: steps run so far times step_s.
+    [[nodiscard]] double timeS() const { return static_cast<double>(m_stats.steps) * m_params.step_s; }
+
+private:
+    struct Label {
+        LabelCandidate in;
+        LabelState state = LabelState::Pending;
+        RemovalReason reason = RemovalReason::None;
+        bool present = true;
+        bool rotated = false;
+        bool dead = false;
+        std::uint8_t candidate = 0;
+        float angle = 0.0F;
+        glm::vec2 axis{1.0F, 0.0F};  ///< (cos angle, sin angle)
+        float scale = 1.0F;
+        float mass = 1.0F;
+        glm::vec2 half{0.0F};
+        glm::vec2 dir{1.0F, 0.0F};
+        glm::vec2 offset{0.0F};
+        glm::vec2 velocity{0.0F};
+        glm::vec2 anchor_prev{0.0F};
+        float anchor_speed = 0.0F;
+        float alpha = 0.0F;
+        float timer = 0.0F;
+        float overlap_time = 0.0F;
+        float constricted_time = 0.0F;
+    };
+
+    void updateShape(Label& l, bool placing) const;
+    [[nodiscard]] OrientedBox textBox(const Label& l) const;
+    void remove(Label& l, RemovalReason why);
+    void integrate(float dt);
+    void place();
+    void fade(float dt);
+    [[nodiscard]] float retryDelay(std::uint64_t id) const;
+
+    LayoutParams m_params;
+    CameraState m_camera;
+    double m_frame_time_s = 0.0;     ///< sum of advance() times
+    std::int64_t m_steps_done = 0;   ///< steps accounted for (run or dropped)
+    std::vector<Label> m_labels;  ///< sorted by id
+    std::vector<Label> m_next;    ///< merge buffer of setFrame()
+    std::vector<LabelCandidate> m_sorted;
+    std::vector<PlacedLabel> m_output;
+    LayoutStats m_stats;
+
+    // Per-step scratch (kept to avoid reallocation).
+    SpatialGrid m_grid;
+    std::vector<std::uint32_t> m_active;  ///< indices into m_labels of FadingIn/Visible labels
+    std::vector<OrientedBox> m_boxes;     ///< buffered boxes of the active labels
+    std::vector<glm::vec2> m_centers;
+    std::vector<glm::vec2> m_aabb;
+    std::vector<glm::vec2> m_force;
+    std::vector<float> m_force_abs;
+    std::vector<std::uint8_t> m_overlapped;
+    std::vector<std::uint32_t> m_queue;
+    std::vector<OrientedBox> m_placed_now;
+};
+
+}  // namespace navmap::render::labels

@@ -1,0 +1,75 @@
+#pragma once
+// Plain data exchanged between the renderer and the label layout (seed chapter 4).
+// Coordinates are screen pixels: origin top-left, x to the right, y down.
+
+#include <cstdint>
+
+#include <glm/vec2.hpp>
+
+#include "navmap/render/labels/oriented_box.h"
+
+namespace navmap::render::labels {
+
+/// Feature category of a label (seed 4.4.2) and the behavior it gets (seed 4.4.5).
+enum class LabelKind : std::uint8_t {
+    Point,   ///< four-position model, free behavior (eq. 4.7)
+    Area,    ///< four-position model at the projected barycenter, free behavior, always horizontal
+    Line,    ///< three candidates along the projected segment, line behavior (eq. 4.10-4.16)
+    Circle,  ///< circles around its anchor at a radius (eq. 4.17)
+};
+
+/// Life cycle of a label inside the layout.
+enum class LabelState : std::uint8_t {
+    Pending,    ///< known, waiting for its turn in the placement queue
+    Waiting,    ///< no free candidate or removed; retries when its timer expires (seed 4.4.3, 4.5.3)
+    FadingIn,   ///< placed, alpha rising (seed 4.4.3: smoothly alpha-blended into the layout)
+    Visible,    ///< placed, alpha 1
+    FadingOut,  ///< removed or gone from the input, alpha falling
+};
+
+/// Why a label was taken out of the layout (counted in LayoutStats).
+enum class RemovalReason : std::uint8_t {
+    None,
+    Gone,        ///< the caller no longer supplies it (off screen, culled)
+    Speed,       ///< seed 4.5.3 speed-based removal
+    Constricted, ///< seed 4.5.3: the forces on it cancel out
+    Overlap,     ///< its box kept overlapping a more important label
+};
+
+/// One label candidate for the current frame, already projected by the renderer.
+/// Size is the text extent at scale 1 (from the text metrics), in pixels.
+struct LabelCandidate {
+    std::uint64_t id = 0;        ///< stable feature id; unique within one frame
+    float priority = 0.0F;       ///< importance in [0, 1]; higher is placed first and is heavier
+    LabelKind kind = LabelKind::Point;
+    glm::vec2 anchor{0.0F};      ///< projected anchor p'_i (point, area barycenter, line center)
+    float depth = 0.0F;          ///< view distance of the anchor in metres; <= 0 disables depth scaling
+    glm::vec2 size{0.0F};        ///< label width and height in pixels at scale 1
+    glm::vec2 line_p0{0.0F};     ///< Line: projected longest straight segment s'_line (seed 4.4.2)
+    glm::vec2 line_p1{0.0F};
+    float circle_radius = 0.0F;  ///< Circle: radius r of eq. 4.17 in pixels; <= 0 picks one from the size
+};
+
+/// Camera state that matters to the layout.
+struct CameraState {
+    /// Angle between the camera look direction and the ground normal, degrees
+    /// (0 = looking straight down). Line labels are rotated along their segment only while
+    /// the view is not too oblique (seed 4.3.3, 4.4.3).
+    float tilt_deg = 0.0F;
+    /// Viewport in pixels; candidates must lie inside it. 0 x 0 means unbounded.
+    glm::vec2 viewport{0.0F};
+};
+
+/// One label in the layout output.
+struct PlacedLabel {
+    std::uint64_t id = 0;
+    LabelKind kind = LabelKind::Point;
+    LabelState state = LabelState::Visible;
+    OrientedBox box;          ///< the text box (scaled, without buffer zone), screen pixels
+    glm::vec2 anchor{0.0F};   ///< the projected anchor it belongs to
+    float alpha = 0.0F;       ///< fade in [0, 1]
+    float scale = 1.0F;       ///< depth scale applied to the text (seed 4.3.3)
+    std::uint8_t candidate = 0;  ///< chosen candidate position (0 = best association)
+};
+
+}  // namespace navmap::render::labels
