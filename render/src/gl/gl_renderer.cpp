@@ -28,6 +28,7 @@ GlRenderer::GlRenderer(const RendererOptions& options) : m_options(options), m_e
     m_device.gles_major = m_egl.glesMajor();
     m_device.gles_minor = m_egl.glesMinor();
     m_terrain = std::make_unique<TerrainLayer>();
+    m_map = std::make_unique<MapRenderer>(options);
     resize(options.width, options.height);
 }
 
@@ -36,6 +37,7 @@ GlRenderer::~GlRenderer() {
     m_ring.reset();
     m_target.reset();
     m_terrain.reset();
+    m_map.reset();
 }
 
 void GlRenderer::resize(int width, int height) {
@@ -48,11 +50,8 @@ void GlRenderer::resize(int width, int height) {
 void GlRenderer::setTerrain(const HeightfieldMesh& mesh) { m_terrain->upload(mesh); }
 
 void GlRenderer::render(const Camera& camera) {
-    m_target->bindForDrawing();
-    glClearColor(m_style.sky_color.r, m_style.sky_color.g, m_style.sky_color.b, 1.0f);
-    glClearDepthf(1.0f);
-    glClearStencil(0);
-    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT | GL_STENCIL_BUFFER_BIT);
+    m_target->clear(m_style.sky_color.r, m_style.sky_color.g, m_style.sky_color.b);
+    m_target->bindForDrawing(false);
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
     glEnable(GL_CULL_FACE);
@@ -61,6 +60,8 @@ void GlRenderer::render(const Camera& camera) {
     m_terrain->draw(camera, aspect, m_style);
     m_target->resolve();
 }
+
+void GlRenderer::renderMap(const MapFrame& frame) { m_map->render(frame, *m_target); }
 
 void GlRenderer::finish() { glFinish(); }
 

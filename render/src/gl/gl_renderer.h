@@ -4,6 +4,7 @@
 #include <memory>
 
 #include "egl_context.h"
+#include "map_renderer.h"
 #include "readback.h"
 #include "render_target.h"
 #include "terrain_layer.h"
@@ -23,6 +24,9 @@ public:
     void setTerrain(const HeightfieldMesh& mesh) override;
     void setTerrainStyle(const TerrainStyle& style) override { m_style = style; }
     void render(const Camera& camera) override;
+    void setMapStyle(const MapStyle& style) override { m_map->setStyle(style); }
+    void renderMap(const MapFrame& frame) override;
+    [[nodiscard]] const MapFrameStats& mapStats() const override { return m_map->stats(); }
     void finish() override;
     Image readSync() override;
     std::optional<Frame> readAsync(std::uint64_t sequence) override;
@@ -35,6 +39,7 @@ private:
     std::unique_ptr<RenderTarget> m_target;
     std::unique_ptr<ReadbackRing> m_ring;
     std::unique_ptr<TerrainLayer> m_terrain;
+    std::unique_ptr<MapRenderer> m_map;
     TerrainStyle m_style;
 };
 

@@ -1,6 +1,7 @@
 #include "render_target.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <string>
 
 #include "navmap/render/renderer.h"
@@ -12,9 +13,19 @@ namespace {
 void checkComplete(const char* what) {
     const GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
     if (status != GL_FRAMEBUFFER_COMPLETE) {
-        throw RenderError(std::string("offscreen framebuffer (") + what + ") incomplete: status 0x" +
-                          [&] { char b[16]; std::snprintf(b, sizeof b, "%04x", status); return std::string(b); }());
+        char code[16];
+        std::snprintf(code, sizeof code, "0x%04x", status);
+        throw RenderError(std::string("offscreen framebuffer (") + what + ") incomplete: status " + code);
     }
+}
+
+GLuint makeRenderbuffer(GLenum format, int samples, int w, int h) {
+    GLuint rb = 0;
+    glGenRenderbuffers(1, &rb);
+    glBindRenderbuffer(GL_RENDERBUFFER, rb);
+    if (samples > 0) glRenderbufferStorageMultisample(GL_RENDERBUFFER, samples, format, w, h);
+    else glRenderbufferStorage(GL_RENDERBUFFER, format, w, h);
+    return rb;
 }
 
 }  // namespace
@@ -25,54 +36,82 @@ RenderTarget::RenderTarget(int width, int height, int samples) : m_width(width),
     m_samples = samples > 1 ? std::min(samples, static_cast<int>(max_samples)) : 0;
     if (m_samples == 1) m_samples = 0;
 
+    // Drawing framebuffer: colour, road mask, depth + stencil.
+    m_color_rb = makeRenderbuffer(GL_RGBA8, m_samples, width, height);
+    m_mask_rb = makeRenderbuffer(GL_R8, m_samples, width, height);
+    m_depth_rb = makeRenderbuffer(GL_DEPTH24_STENCIL8, m_samples, width, height);
+    glGenFramebuffers(1, &m_draw_fbo);
+    glBindFramebuffer(GL_FRAMEBUFFER, m_draw_fbo);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, m_color_rb);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, GL_RENDERBUFFER, m_mask_rb);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER, m_depth_rb);
+    checkComplete(m_samples > 0 ? "multisampled" : "drawing");
+
+    // Resolved colour for readback.
+    m_resolve_color = makeRenderbuffer(GL_RGBA8, 0, width, height);
     glGenFramebuffers(1, &m_resolve_fbo);
-    glGenRenderbuffers(1, &m_resolve_color);
-    glBindRenderbuffer(GL_RENDERBUFFER, m_resolve_color);
-    glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, width, height);
     glBindFramebuffer(GL_FRAMEBUFFER, m_resolve_fbo);
     glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, m_resolve_color);
-    if (m_samples == 0) {
-        glGenRenderbuffers(1, &m_resolve_depth);
-        glBindRenderbuffer(GL_RENDERBUFFER, m_resolve_depth);
-        glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH24_STENCIL8, width, height);
-        glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER, m_resolve_depth);
-    }
     checkComplete("resolve");
 
-    if (m_samples > 0) {
-        glGenFramebuffers(1, &m_msaa_fbo);
-        glGenRenderbuffers(1, &m_msaa_color);
-        glGenRenderbuffers(1, &m_msaa_depth);
-        glBindRenderbuffer(GL_RENDERBUFFER, m_msaa_color);
-        glRenderbufferStorageMultisample(GL_RENDERBUFFER, m_samples, GL_RGBA8, width, height);
-        glBindRenderbuffer(GL_RENDERBUFFER, m_msaa_depth);
-        glRenderbufferStorageMultisample(GL_RENDERBUFFER, m_samples, GL_DEPTH24_STENCIL8, width, height);
-        glBindFramebuffer(GL_FRAMEBUFFER, m_msaa_fbo);
-        glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, m_msaa_color);
-        glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER, m_msaa_depth);
-        checkComplete("multisampled");
-    }
+    // Resolved mask as a texture for the outline pass.
+    glGenTextures(1, &m_mask_texture);
+    glBindTexture(GL_TEXTURE_2D, m_mask_texture);
+    glTexStorage2D(GL_TEXTURE_2D, 1, GL_R8, width, height);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    glBindTexture(GL_TEXTURE_2D, 0);
+    glGenFramebuffers(1, &m_mask_fbo);
+    glBindFramebuffer(GL_FRAMEBUFFER, m_mask_fbo);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, m_mask_texture, 0);
+    checkComplete("mask");
     glBindRenderbuffer(GL_RENDERBUFFER, 0);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }
 
 RenderTarget::~RenderTarget() {
-    const GLuint fbos[] = {m_msaa_fbo, m_resolve_fbo};
-    const GLuint rbs[] = {m_msaa_color, m_msaa_depth, m_resolve_color, m_resolve_depth};
-    glDeleteFramebuffers(2, fbos);
+    const GLuint fbos[] = {m_draw_fbo, m_resolve_fbo, m_mask_fbo};
+    const GLuint rbs[] = {m_color_rb, m_mask_rb, m_depth_rb, m_resolve_color};
+    glDeleteFramebuffers(3, fbos);
     glDeleteRenderbuffers(4, rbs);
+    glDeleteTextures(1, &m_mask_texture);
 }
 
-void RenderTarget::bindForDrawing() const {
-    glBindFramebuffer(GL_FRAMEBUFFER, m_samples > 0 ? m_msaa_fbo : m_resolve_fbo);
+void RenderTarget::bindForDrawing(bool with_mask) const {
+    glBindFramebuffer(GL_FRAMEBUFFER, m_draw_fbo);
+    const GLenum both[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+    const GLenum color_only[] = {GL_COLOR_ATTACHMENT0, GL_NONE};
+    glDrawBuffers(2, with_mask ? both : color_only);
     glViewport(0, 0, m_width, m_height);
 }
 
+void RenderTarget::clear(float r, float g, float b) const {
+    glBindFramebuffer(GL_FRAMEBUFFER, m_draw_fbo);
+    const GLenum both[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+    glDrawBuffers(2, both);
+    const GLfloat color[] = {r, g, b, 1.0f};
+    const GLfloat zero[] = {0.0f, 0.0f, 0.0f, 0.0f};
+    glClearBufferfv(GL_COLOR, 0, color);
+    glClearBufferfv(GL_COLOR, 1, zero);
+    glClearBufferfi(GL_DEPTH_STENCIL, 0, 1.0f, 0);
+}
+
+void RenderTarget::resolveMask() const {
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, m_draw_fbo);
+    glReadBuffer(GL_COLOR_ATTACHMENT1);
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, m_mask_fbo);
+    glBlitFramebuffer(0, 0, m_width, m_height, 0, 0, m_width, m_height, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    glReadBuffer(GL_COLOR_ATTACHMENT0);
+    bindForDrawing(false);
+}
+
 void RenderTarget::resolve() const {
-    if (m_samples > 0) {
-        glBindFramebuffer(GL_READ_FRAMEBUFFER, m_msaa_fbo);
-        glBindFramebuffer(GL_DRAW_FRAMEBUFFER, m_resolve_fbo);
-        glBlitFramebuffer(0, 0, m_width, m_height, 0, 0, m_width, m_height, GL_COLOR_BUFFER_BIT, GL_NEAREST);
-    }
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, m_draw_fbo);
+    glReadBuffer(GL_COLOR_ATTACHMENT0);
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, m_resolve_fbo);
+    glBlitFramebuffer(0, 0, m_width, m_height, 0, 0, m_width, m_height, GL_COLOR_BUFFER_BIT, GL_NEAREST);
     glBindFramebuffer(GL_READ_FRAMEBUFFER, m_resolve_fbo);
 }
 

@@ -1,6 +1,7 @@
 #pragma once
-// Offscreen framebuffer: colour + depth/stencil, multisampled where supported, with a
-// single-sampled resolve target that readback reads from. Private to render/.
+// Offscreen framebuffer: colour + road-intensity mask + depth/stencil, multisampled where
+// supported, with single-sampled resolve targets: colour for readback, mask as a texture for
+// the screen-space outline pass (seed 3.6.3). Private to render/.
 
 #include <GLES3/gl3.h>
 
@@ -8,17 +9,22 @@ namespace navmap::render::gl {
 
 class RenderTarget {
 public:
-    /// samples <= 1 renders straight into the resolve target. Throws RenderError when the
-    /// framebuffer is incomplete.
+    /// samples <= 1 disables MSAA. Throws RenderError when a framebuffer is incomplete.
     RenderTarget(int width, int height, int samples);
     ~RenderTarget();
     RenderTarget(const RenderTarget&) = delete;
     RenderTarget& operator=(const RenderTarget&) = delete;
 
-    void bindForDrawing() const;
-    /// Resolves MSAA into the single-sampled target and leaves it bound for reading.
+    /// Binds the drawing framebuffer; `with_mask` routes fragment output 1 to the mask.
+    void bindForDrawing(bool with_mask = false) const;
+    /// Clears colour (to `rgb`), mask (to 0), depth and stencil.
+    void clear(float r, float g, float b) const;
+    /// Copies (resolves) the mask into maskTexture() and rebinds the drawing framebuffer.
+    void resolveMask() const;
+    /// Resolves colour into the single-sampled target and leaves it bound for reading.
     void resolve() const;
 
+    [[nodiscard]] GLuint maskTexture() const { return m_mask_texture; }
     [[nodiscard]] int width() const { return m_width; }
     [[nodiscard]] int height() const { return m_height; }
     [[nodiscard]] int samples() const { return m_samples; }
@@ -27,12 +33,14 @@ private:
     int m_width;
     int m_height;
     int m_samples;
-    GLuint m_msaa_fbo = 0;
-    GLuint m_msaa_color = 0;
-    GLuint m_msaa_depth = 0;
+    GLuint m_draw_fbo = 0;
+    GLuint m_color_rb = 0;
+    GLuint m_mask_rb = 0;
+    GLuint m_depth_rb = 0;
     GLuint m_resolve_fbo = 0;
     GLuint m_resolve_color = 0;
-    GLuint m_resolve_depth = 0;
+    GLuint m_mask_fbo = 0;
+    GLuint m_mask_texture = 0;
 };
 
 }  // namespace navmap::render::gl

@@ -19,6 +19,12 @@ void NoopRenderer::resize(int width, int height) {
 
 void NoopRenderer::render(const Camera&) { ++m_frames; }
 
+void NoopRenderer::renderMap(const MapFrame& frame) {
+    ++m_frames;
+    m_stats = {};
+    m_stats.tiles_drawn = frame.tiles.size();
+}
+
 Image NoopRenderer::blank() const {
     Image image(m_width, m_height);
     const auto to8 = [](float v) { return static_cast<std::uint8_t>(std::clamp(v, 0.0f, 1.0f) * 255.0f + 0.5f); };

@@ -18,6 +18,9 @@ public:
     void setTerrain(const HeightfieldMesh& mesh) override { m_terrain_vertices = mesh.vertices.size(); }
     void setTerrainStyle(const TerrainStyle& style) override { m_style = style; }
     void render(const Camera& camera) override;
+    void setMapStyle(const MapStyle& style) override { m_style.sky_color = style.sky_color; }
+    void renderMap(const MapFrame& frame) override;
+    [[nodiscard]] const MapFrameStats& mapStats() const override { return m_stats; }
     void finish() override {}
     Image readSync() override;
     std::optional<Frame> readAsync(std::uint64_t sequence) override;
@@ -35,6 +38,7 @@ private:
     std::size_t m_terrain_vertices = 0;
     std::size_t m_frames = 0;
     TerrainStyle m_style;
+    MapFrameStats m_stats;
     std::deque<std::uint64_t> m_pending;
 };
 

@@ -12,6 +12,7 @@
 #include "navmap/render/camera.h"
 #include "navmap/render/heightfield.h"
 #include "navmap/render/image.h"
+#include "navmap/render/map_frame.h"
 
 namespace navmap::render {
 
@@ -40,6 +41,13 @@ struct RendererOptions {
     int height = 480;
     int msaa_samples = 4;   ///< 0 or 1 disables MSAA; clamped to what the driver offers
     int readback_ring = 3;  ///< pixel-pack buffers in flight for asynchronous readback
+    /// Tiles prepared and uploaded per map frame at most (0 = no limit). Tiles over the budget
+    /// are drawn from the next frames on.
+    int max_tile_uploads_per_frame = 0;
+    /// GPU tile resources kept for tiles not drawn recently.
+    int tile_resource_cache = 256;
+    /// Measure each pass (adds a glFinish per pass; benchmarks only).
+    bool profile_passes = false;
 };
 
 /// What the backend runs on, for logs and status.
@@ -91,8 +99,14 @@ public:
     virtual void setTerrain(const HeightfieldMesh& mesh) = 0;
     virtual void setTerrainStyle(const TerrainStyle& style) = 0;
 
-    /// Renders one frame into the offscreen target.
+    /// Renders one frame of the terrain-only scene (setTerrain) into the offscreen target.
     virtual void render(const Camera& camera) = 0;
+
+    virtual void setMapStyle(const MapStyle& style) = 0;
+    /// Renders one map frame from tiles: terrain with land cover, draped roads with casing and
+    /// outlines, buildings, route and vehicle marker (DESIGN.md pass order).
+    virtual void renderMap(const MapFrame& frame) = 0;
+    [[nodiscard]] virtual const MapFrameStats& mapStats() const = 0;
     /// Blocks until the GPU has finished all submitted work (for timing).
     virtual void finish() = 0;
 

@@ -1,0 +1,48 @@
+#pragma once
+// Cartographic road styling (seed 3.4 caps, 3.6.3 scaling and multi-colour roads): widths and
+// colours per functional road class, the analytic cap test and distance-based width scaling.
+// The shaders roads_geo.vert/.frag implement the same formulas; these CPU versions are the
+// reference the unit tests check.
+
+#include <array>
+
+#include <glm/glm.hpp>
+
+namespace navmap::render {
+
+/// Number of road classes styled (matches navmap::map::kRoadClassCount).
+inline constexpr int kStyledRoadClasses = 11;
+
+struct RoadClassStyle {
+    float width_m = 4.0f;        ///< fill width on the ground, metres
+    float casing_m = 0.0f;       ///< extra width of the casing on each side (0: no casing)
+    glm::vec3 fill{1.0f};
+    glm::vec3 casing{0.3f};
+};
+
+/// The style table, most important class first (index = map::RoadClass value).
+struct RoadStyle {
+    std::array<RoadClassStyle, kStyledRoadClasses> classes{};
+    float scale_threshold_m = 1500.0f;  ///< seed 3.6.3: no width scaling closer than this
+    float max_scale = 12.0f;            ///< distant roads grow at most this much
+    float z_offset_alpha = 0.02f;       ///< seed 3.6.2: view-space scale (1 - alpha)
+    glm::vec3 outline{0.12f, 0.12f, 0.14f};  ///< seed 3.6.3 dark outline colour
+    float outline_strength = 0.75f;
+
+    static RoadStyle day();
+    static RoadStyle night();
+};
+
+/// seed 3.6.3 "Scaling": widths grow linearly with the distance to the viewer beyond a
+/// threshold, so distant roads stay visible while near ones keep their true width.
+float distanceWidthScale(float distance_m, float threshold_m, float max_scale);
+
+/// seed 3.4: the cap ratio h = w / (d + w) for a segment of length d and width w.
+float capRatio(float segment_length, float width);
+
+/// seed 3.4: whether the quad-local point (x, y) in [-1, 1]^2 (x along the segment, y across)
+/// is covered by the road with rounded caps: x_cap = (|x| - 1) / h + 1, y_cap = |y|; outside the
+/// cap region (x_cap <= 0) always covered, inside covered when x_cap^2 + y_cap^2 <= 1.
+bool capCovers(float x, float y, float h);
+
+}  // namespace navmap::render

@@ -1,0 +1,480 @@
+#include "map_renderer.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstddef>
+#include <vector>
+
+#include <glm/gtc/type_ptr.hpp>
+
+namespace navmap::render::gl {
+
+namespace {
+
+constexpr int kLandCoverTextureSize = 256;
+
+using Clock = std::chrono::steady_clock;
+
+double msSince(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
+
+void setupRoadInstanceAttributes() {
+    // RoadInstance: p0 (3), p1 (3), class, flags, measure0, measure1: one instance per segment.
+    const auto stride = static_cast<GLsizei>(sizeof(RoadInstance));
+    glEnableVertexAttribArray(0);
+    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<const void*>(offsetof(RoadInstance, p0)));
+    glEnableVertexAttribArray(1);
+    glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<const void*>(offsetof(RoadInstance, p1)));
+    glEnableVertexAttribArray(2);
+    glVertexAttribPointer(2, 1, GL_FLOAT, GL_FALSE, stride,
+                          reinterpret_cast<const void*>(offsetof(RoadInstance, road_class)));
+    glEnableVertexAttribArray(3);
+    glVertexAttribPointer(3, 1, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<const void*>(offsetof(RoadInstance, flags)));
+    glEnableVertexAttribArray(4);
+    glVertexAttribPointer(4, 2, GL_FLOAT, GL_FALSE, stride,
+                          reinterpret_cast<const void*>(offsetof(RoadInstance, measure0)));
+    for (GLuint i = 0; i <= 4; ++i) glVertexAttribDivisor(i, 1);
+}
+
+}  // namespace
+
+struct MapRenderer::GpuTile {
+    const map::Tile* source = nullptr;  // identity of the uploaded tile object
+    glm::dvec3 origin{0.0};
+    float size_m = 0.0f;
+    GLuint terrain_vao = 0, terrain_vbo = 0, terrain_ibo = 0;
+    GLsizei terrain_index_count = 0;
+    GLuint land_cover = 0;  // 0: none (the shared empty texture is used)
+    GLuint roads_vao = 0, roads_vbo = 0;
+    GLsizei road_count = 0;
+    GLuint buildings_vao = 0, buildings_vbo = 0, buildings_ibo = 0;
+    GLsizei building_index_count = 0;
+    std::uint64_t last_used = 0;
+
+    ~GpuTile() {
+        const GLuint vaos[] = {terrain_vao, roads_vao, buildings_vao};
+        const GLuint bufs[] = {terrain_vbo, terrain_ibo, roads_vbo, buildings_vbo, buildings_ibo};
+        glDeleteVertexArrays(3, vaos);
+        glDeleteBuffers(5, bufs);
+        if (land_cover) glDeleteTextures(1, &land_cover);
+    }
+};
+
+struct MapRenderer::GpuRoute {
+    const RouteGeometry* source = nullptr;
+    std::size_t point_count = 0;
+    double last_measure = 0.0;
+    glm::dvec3 origin{0.0};
+    GLuint vao = 0, vbo = 0;
+    GLsizei count = 0;
+
+    ~GpuRoute() {
+        glDeleteVertexArrays(1, &vao);
+        glDeleteBuffers(1, &vbo);
+    }
+};
+
+MapRenderer::MapRenderer(const RendererOptions& options)
+    : m_options(options),
+      m_style(MapStyle::day()),
+      m_terrain(ShaderProgram::fromEmbedded("terrain_tile.vert", "terrain_tile.frag")),
+      m_land_cover(ShaderProgram::fromEmbedded("landcover_raster.vert", "landcover_raster.frag")),
+      m_roads(ShaderProgram::fromEmbedded("roads_geo.vert", "roads_geo.frag")),
+      m_outline(ShaderProgram::fromEmbedded("screen_outline.vert", "screen_outline.frag")),
+      m_buildings(ShaderProgram::fromEmbedded("buildings.vert", "buildings.frag")),
+      m_marker(ShaderProgram::fromEmbedded("marker.vert", "marker.frag")) {
+    const std::uint8_t transparent[4] = {0, 0, 0, 0};
+    glGenTextures(1, &m_empty_texture);
+    glBindTexture(GL_TEXTURE_2D, m_empty_texture);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, 1, 1, 0, GL_RGBA, GL_UNSIGNED_BYTE, transparent);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glBindTexture(GL_TEXTURE_2D, 0);
+    glGenFramebuffers(1, &m_raster_fbo);
+    glGenVertexArrays(1, &m_empty_vao);
+    // CCP arrow: tip at +y, notch at the back (marker units, about one unit across).
+    const float arrow[] = {0.0f, 1.0f, -0.6f, -0.7f, 0.0f, -0.35f, 0.0f, 1.0f, 0.0f, -0.35f, 0.6f, -0.7f};
+    glGenVertexArrays(1, &m_marker_vao);
+    glGenBuffers(1, &m_marker_vbo);
+    glBindVertexArray(m_marker_vao);
+    glBindBuffer(GL_ARRAY_BUFFER, m_marker_vbo);
+    glBufferData(GL_ARRAY_BUFFER, sizeof arrow, arrow, GL_STATIC_DRAW);
+    glEnableVertexAttribArray(0);
+    glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, 0, nullptr);
+    glBindVertexArray(0);
+}
+
+MapRenderer::~MapRenderer() {
+    m_tiles.clear();
+    m_route.reset();
+    glDeleteTextures(1, &m_empty_texture);
+    glDeleteFramebuffers(1, &m_raster_fbo);
+    glDeleteVertexArrays(1, &m_empty_vao);
+    glDeleteVertexArrays(1, &m_marker_vao);
+    glDeleteBuffers(1, &m_marker_vbo);
+}
+
+MapRenderer::GpuTile* MapRenderer::upload(const std::shared_ptr<const map::Tile>& tile) {
+    const TileMesh mesh = buildTileMesh(*tile);
+    auto gpu = std::make_unique<GpuTile>();
+    gpu->source = tile.get();
+    gpu->origin = mesh.origin;
+    gpu->size_m = mesh.size_m;
+
+    glGenVertexArrays(1, &gpu->terrain_vao);
+    glGenBuffers(1, &gpu->terrain_vbo);
+    glGenBuffers(1, &gpu->terrain_ibo);
+    glBindVertexArray(gpu->terrain_vao);
+    glBindBuffer(GL_ARRAY_BUFFER, gpu->terrain_vbo);
+    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(mesh.terrain.size() * sizeof(TerrainVertex)),
+                 mesh.terrain.data(), GL_STATIC_DRAW);
+    glEnableVertexAttribArray(0);
+    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, sizeof(TerrainVertex),
+                          reinterpret_cast<const void*>(offsetof(TerrainVertex, position)));
+    glEnableVertexAttribArray(1);
+    glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, sizeof(TerrainVertex),
+                          reinterpret_cast<const void*>(offsetof(TerrainVertex, normal)));
+    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, gpu->terrain_ibo);
+    glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(mesh.terrain_indices.size() * sizeof(std::uint32_t)),
+                 mesh.terrain_indices.data(), GL_STATIC_DRAW);
+    gpu->terrain_index_count = static_cast<GLsizei>(mesh.terrain_indices.size());
+
+    if (!mesh.roads.empty()) {
+        glGenVertexArrays(1, &gpu->roads_vao);
+        glGenBuffers(1, &gpu->roads_vbo);
+        glBindVertexArray(gpu->roads_vao);
+        glBindBuffer(GL_ARRAY_BUFFER, gpu->roads_vbo);
+        glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(mesh.roads.size() * sizeof(RoadInstance)),
+                     mesh.roads.data(), GL_STATIC_DRAW);
+        setupRoadInstanceAttributes();
+        gpu->road_count = static_cast<GLsizei>(mesh.roads.size());
+    }
+    if (!mesh.building_indices.empty()) {
+        glGenVertexArrays(1, &gpu->buildings_vao);
+        glGenBuffers(1, &gpu->buildings_vbo);
+        glGenBuffers(1, &gpu->buildings_ibo);
+        glBindVertexArray(gpu->buildings_vao);
+        glBindBuffer(GL_ARRAY_BUFFER, gpu->buildings_vbo);
+        glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(mesh.buildings.size() * sizeof(BuildingVertex)),
+                     mesh.buildings.data(), GL_STATIC_DRAW);
+        const auto stride = static_cast<GLsizei>(sizeof(BuildingVertex));
+        glEnableVertexAttribArray(0);
+        glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<const void*>(offsetof(BuildingVertex, position)));
+        glEnableVertexAttribArray(1);
+        glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<const void*>(offsetof(BuildingVertex, normal)));
+        glEnableVertexAttribArray(2);
+        glVertexAttribPointer(2, 3, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<const void*>(offsetof(BuildingVertex, color)));
+        glEnableVertexAttribArray(3);
+        glVertexAttribPointer(3, 1, GL_FLOAT, GL_FALSE, stride,
+                              reinterpret_cast<const void*>(offsetof(BuildingVertex, footprint_m)));
+        glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, gpu->buildings_ibo);
+        glBufferData(GL_ELEMENT_ARRAY_BUFFER,
+                     static_cast<GLsizeiptr>(mesh.building_indices.size() * sizeof(std::uint32_t)),
+                     mesh.building_indices.data(), GL_STATIC_DRAW);
+        gpu->building_index_count = static_cast<GLsizei>(mesh.building_indices.size());
+    }
+    glBindVertexArray(0);
+    if (!mesh.land_cover.empty()) rasterizeLandCover(*gpu, mesh);
+
+    GpuTile* raw = gpu.get();
+    m_tiles[tile->id.key()] = std::move(gpu);
+    return raw;
+}
+
+void MapRenderer::rasterizeLandCover(GpuTile& gpu, const TileMesh& mesh) {
+    glGenTextures(1, &gpu.land_cover);
+    glBindTexture(GL_TEXTURE_2D, gpu.land_cover);
+    const int levels = 1 + static_cast<int>(std::log2(kLandCoverTextureSize));
+    glTexStorage2D(GL_TEXTURE_2D, levels, GL_RGBA8, kLandCoverTextureSize, kLandCoverTextureSize);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    glBindFramebuffer(GL_FRAMEBUFFER, m_raster_fbo);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, gpu.land_cover, 0);
+    const GLenum c0 = GL_COLOR_ATTACHMENT0;
+    glDrawBuffers(1, &c0);
+    glViewport(0, 0, kLandCoverTextureSize, kLandCoverTextureSize);
+    const GLfloat clear[] = {0, 0, 0, 0};
+    glClearBufferfv(GL_COLOR, 0, clear);
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_CULL_FACE);
+    glDisable(GL_BLEND);
+
+    GLuint vao = 0, vbo = 0;
+    glGenVertexArrays(1, &vao);
+    glGenBuffers(1, &vbo);
+    glBindVertexArray(vao);
+    glBindBuffer(GL_ARRAY_BUFFER, vbo);
+    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(mesh.land_cover.size() * sizeof(LandCoverVertex)),
+                 mesh.land_cover.data(), GL_STREAM_DRAW);
+    glEnableVertexAttribArray(0);
+    glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, sizeof(LandCoverVertex),
+                          reinterpret_cast<const void*>(offsetof(LandCoverVertex, position)));
+    glEnableVertexAttribArray(1);
+    glVertexAttribPointer(1, 4, GL_FLOAT, GL_FALSE, sizeof(LandCoverVertex),
+                          reinterpret_cast<const void*>(offsetof(LandCoverVertex, color)));
+    glUseProgram(m_land_cover.id());
+    glUniform1f(m_land_cover.uniform("u_tile_size"), mesh.size_m);
+    glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(mesh.land_cover.size()));
+    glBindVertexArray(0);
+    glDeleteBuffers(1, &vbo);
+    glDeleteVertexArrays(1, &vao);
+    glGenerateMipmap(GL_TEXTURE_2D);
+    glBindTexture(GL_TEXTURE_2D, 0);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+}
+
+void MapRenderer::updateRoute(const RouteGeometry& route) {
+    const double last = route.measure_m.empty() ? 0.0 : route.measure_m.back();
+    if (m_route && m_route->source == &route && m_route->point_count == route.points.size() &&
+        m_route->last_measure == last) {
+        return;
+    }
+    m_route = std::make_unique<GpuRoute>();
+    m_route->source = &route;
+    m_route->point_count = route.points.size();
+    m_route->last_measure = last;
+    if (route.points.size() < 2 || route.measure_m.size() != route.points.size()) return;
+    m_route->origin = glm::dvec3(route.points.front().x, route.points.front().y, 0.0);
+    std::vector<RoadInstance> instances;
+    instances.reserve(route.points.size() - 1);
+    for (std::size_t i = 0; i + 1 < route.points.size(); ++i) {
+        instances.push_back({glm::vec3(route.points[i] - m_route->origin), glm::vec3(route.points[i + 1] - m_route->origin),
+                             0.0f, 0.0f, static_cast<float>(route.measure_m[i]), static_cast<float>(route.measure_m[i + 1])});
+    }
+    glGenVertexArrays(1, &m_route->vao);
+    glGenBuffers(1, &m_route->vbo);
+    glBindVertexArray(m_route->vao);
+    glBindBuffer(GL_ARRAY_BUFFER, m_route->vbo);
+    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(instances.size() * sizeof(RoadInstance)), instances.data(),
+                 GL_STATIC_DRAW);
+    setupRoadInstanceAttributes();
+    glBindVertexArray(0);
+    m_route->count = static_cast<GLsizei>(instances.size());
+}
+
+void MapRenderer::setRoadUniforms(ShaderProgram& p, int pass, bool route) {
+    const RoadStyle& rs = m_style.roads;
+    float widths[kStyledRoadClasses], casings[kStyledRoadClasses];
+    glm::vec3 fills[kStyledRoadClasses], casing_colors[kStyledRoadClasses];
+    for (int i = 0; i < kStyledRoadClasses; ++i) {
+        widths[i] = rs.classes[i].width_m;
+        casings[i] = rs.classes[i].casing_m;
+        fills[i] = rs.classes[i].fill;
+        casing_colors[i] = rs.classes[i].casing;
+    }
+    glUniform1fv(p.uniform("u_width"), kStyledRoadClasses, widths);
+    glUniform1fv(p.uniform("u_casing"), kStyledRoadClasses, casings);
+    glUniform3fv(p.uniform("u_fill"), kStyledRoadClasses, glm::value_ptr(fills[0]));
+    glUniform3fv(p.uniform("u_casing_color"), kStyledRoadClasses, glm::value_ptr(casing_colors[0]));
+    glUniform1i(p.uniform("u_pass"), pass);
+    glUniform1i(p.uniform("u_route"), route ? 1 : 0);
+    glUniform1f(p.uniform("u_route_width"), m_style.route_width_m);
+    glUniform3fv(p.uniform("u_route_color"), 1, glm::value_ptr(m_style.route_color));
+    glUniform3fv(p.uniform("u_route_casing"), 1, glm::value_ptr(m_style.route_casing));
+    // The route sits above the roads: a slightly larger view-space offset (seed 3.6.2).
+    glUniform3f(p.uniform("u_scale"), rs.scale_threshold_m, rs.max_scale, rs.z_offset_alpha * (route ? 1.5f : 1.0f));
+}
+
+void MapRenderer::evict() {
+    const auto keep = static_cast<std::size_t>(std::max(m_options.tile_resource_cache, 1));
+    if (m_tiles.size() <= keep) return;
+    std::vector<std::pair<std::uint64_t, std::uint64_t>> by_age;  // last_used, key
+    for (const auto& [key, t] : m_tiles) {
+        if (t->last_used != m_frame) by_age.emplace_back(t->last_used, key);
+    }
+    std::sort(by_age.begin(), by_age.end());
+    for (std::size_t i = 0; i < by_age.size() && m_tiles.size() > keep; ++i) m_tiles.erase(by_age[i].second);
+}
+
+void MapRenderer::render(const MapFrame& frame, const RenderTarget& target) {
+    ++m_frame;
+    m_stats = {};
+    const auto t_frame = Clock::now();
+    auto lap = [&](double& slot, Clock::time_point& t) {
+        if (!m_options.profile_passes) return;
+        glFinish();
+        slot = msSince(t);
+        t = Clock::now();
+    };
+    Clock::time_point t = Clock::now();
+
+    // Uploads (bounded per frame so a burst of new tiles does not stall one frame).
+    std::vector<GpuTile*> tiles;
+    tiles.reserve(frame.tiles.size());
+    int uploads = 0;
+    for (const auto& tile : frame.tiles) {
+        if (!tile) continue;
+        auto it = m_tiles.find(tile->id.key());
+        GpuTile* gpu = (it != m_tiles.end() && it->second->source == tile.get()) ? it->second.get() : nullptr;
+        if (!gpu) {
+            if (m_options.max_tile_uploads_per_frame > 0 && uploads >= m_options.max_tile_uploads_per_frame) {
+                ++m_stats.tiles_pending;
+                continue;
+            }
+            gpu = upload(tile);
+            ++uploads;
+        }
+        gpu->last_used = m_frame;
+        tiles.push_back(gpu);
+    }
+    m_stats.tiles_uploaded = static_cast<std::size_t>(uploads);
+    m_stats.tiles_drawn = tiles.size();
+    if (frame.route && frame.layers.route) updateRoute(*frame.route);
+    lap(m_stats.uploads_ms, t);
+
+    const double aspect = static_cast<double>(target.width()) / target.height();
+    const glm::mat4 projection = frame.camera.projection(aspect);
+    const glm::vec3 light = glm::normalize(m_style.light_dir);
+    target.clear(m_style.sky_color.r, m_style.sky_color.g, m_style.sky_color.b);
+    target.bindForDrawing(false);
+    glDisable(GL_BLEND);
+    glEnable(GL_DEPTH_TEST);
+    glDepthMask(GL_TRUE);
+
+    // Terrain.
+    if (frame.layers.terrain) {
+        glDepthFunc(GL_LESS);
+        glEnable(GL_CULL_FACE);
+        glCullFace(GL_BACK);
+        glUseProgram(m_terrain.id());
+        glUniformMatrix4fv(m_terrain.uniform("u_projection"), 1, GL_FALSE, glm::value_ptr(projection));
+        glUniform3fv(m_terrain.uniform("u_light_dir"), 1, glm::value_ptr(light));
+        glUniform3fv(m_terrain.uniform("u_sky_color"), 1, glm::value_ptr(m_style.sky_color));
+        glUniform2f(m_terrain.uniform("u_fog_range"), m_style.fog_start_m, m_style.fog_end_m);
+        glUniform1f(m_terrain.uniform("u_brightness"), m_style.brightness);
+        glUniform1i(m_terrain.uniform("u_land_cover"), 0);
+        glActiveTexture(GL_TEXTURE0);
+        for (GpuTile* g : tiles) {
+            const glm::mat4 view = frame.camera.viewRelativeTo(g->origin);
+            glUniformMatrix4fv(m_terrain.uniform("u_view"), 1, GL_FALSE, glm::value_ptr(view));
+            glUniform1f(m_terrain.uniform("u_tile_size"), g->size_m);
+            glBindTexture(GL_TEXTURE_2D, frame.layers.land_cover && g->land_cover ? g->land_cover : m_empty_texture);
+            glBindVertexArray(g->terrain_vao);
+            glDrawElements(GL_TRIANGLES, g->terrain_index_count, GL_UNSIGNED_INT, nullptr);
+            m_stats.terrain_triangles += static_cast<std::size_t>(g->terrain_index_count / 3);
+        }
+        lap(m_stats.terrain_ms, t);
+    }
+
+    // Buildings before roads: roads then test against terrain and buildings without writing
+    // depth, so junctions stay clean and buildings still hide the roads behind them.
+    if (frame.layers.buildings) {
+        glDepthFunc(GL_LESS);
+        glEnable(GL_CULL_FACE);
+        glUseProgram(m_buildings.id());
+        glUniformMatrix4fv(m_buildings.uniform("u_projection"), 1, GL_FALSE, glm::value_ptr(projection));
+        glUniform3fv(m_buildings.uniform("u_light_dir"), 1, glm::value_ptr(light));
+        glUniform3fv(m_buildings.uniform("u_sky_color"), 1, glm::value_ptr(m_style.sky_color));
+        glUniform2f(m_buildings.uniform("u_fog_range"), m_style.fog_start_m, m_style.fog_end_m);
+        glUniform1f(m_buildings.uniform("u_brightness"), m_style.brightness);
+        glUniform1f(m_buildings.uniform("u_cull_ratio"), m_style.building_cull_ratio);
+        for (GpuTile* g : tiles) {
+            if (!g->building_index_count) continue;
+            const glm::mat4 view = frame.camera.viewRelativeTo(g->origin);
+            glUniformMatrix4fv(m_buildings.uniform("u_view"), 1, GL_FALSE, glm::value_ptr(view));
+            glBindVertexArray(g->buildings_vao);
+            glDrawElements(GL_TRIANGLES, g->building_index_count, GL_UNSIGNED_INT, nullptr);
+            m_stats.building_triangles += static_cast<std::size_t>(g->building_index_count / 3);
+        }
+        lap(m_stats.buildings_ms, t);
+    }
+
+    // Roads (seed 3.6.3): no blending, least important first, casing pass then fill pass.
+    target.bindForDrawing(true);
+    glDisable(GL_CULL_FACE);
+    glDepthMask(GL_FALSE);
+    glDepthFunc(GL_LEQUAL);
+    if (frame.layers.roads) {
+        glUseProgram(m_roads.id());
+        glUniformMatrix4fv(m_roads.uniform("u_projection"), 1, GL_FALSE, glm::value_ptr(projection));
+        for (int pass = 0; pass < 2; ++pass) {
+            setRoadUniforms(m_roads, pass, false);
+            for (GpuTile* g : tiles) {
+                if (!g->road_count) continue;
+                const glm::mat4 view = frame.camera.viewRelativeTo(g->origin);
+                glUniformMatrix4fv(m_roads.uniform("u_view"), 1, GL_FALSE, glm::value_ptr(view));
+                glBindVertexArray(g->roads_vao);
+                glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, g->road_count);
+                if (pass == 1) m_stats.road_segments += static_cast<std::size_t>(g->road_count);
+            }
+        }
+        lap(m_stats.roads_ms, t);
+    }
+    if (frame.layers.route && m_route && m_route->count > 0) {
+        glUseProgram(m_roads.id());
+        glUniformMatrix4fv(m_roads.uniform("u_projection"), 1, GL_FALSE, glm::value_ptr(projection));
+        const glm::mat4 view = frame.camera.viewRelativeTo(m_route->origin);
+        glUniformMatrix4fv(m_roads.uniform("u_view"), 1, GL_FALSE, glm::value_ptr(view));
+        glUniform1f(m_roads.uniform("u_route_progress"), static_cast<float>(frame.route_progress_m));
+        glBindVertexArray(m_route->vao);
+        for (int pass = 0; pass < 2; ++pass) {
+            setRoadUniforms(m_roads, pass, true);
+            glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, m_route->count);
+        }
+        lap(m_stats.route_ms, t);
+    }
+    glDepthMask(GL_TRUE);
+
+    // Screen-space dark outlines around roads and route (seed 3.6.3).
+    if (frame.layers.outlines && (frame.layers.roads || frame.layers.route)) {
+        target.resolveMask();
+        glDisable(GL_DEPTH_TEST);
+        glEnable(GL_BLEND);
+        glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+        glUseProgram(m_outline.id());
+        glActiveTexture(GL_TEXTURE0);
+        glBindTexture(GL_TEXTURE_2D, target.maskTexture());
+        glUniform1i(m_outline.uniform("u_road_mask"), 0);
+        glUniform3fv(m_outline.uniform("u_outline_color"), 1, glm::value_ptr(m_style.roads.outline));
+        glUniform1f(m_outline.uniform("u_strength"), m_style.roads.outline_strength);
+        glBindVertexArray(m_empty_vao);
+        glDrawArrays(GL_TRIANGLES, 0, 3);
+        glDisable(GL_BLEND);
+        lap(m_stats.outlines_ms, t);
+    }
+
+    if (frame.layers.marker && frame.marker) drawMarker(frame, target);
+    lap(m_stats.marker_ms, t);
+
+    glBindVertexArray(0);
+    glBindTexture(GL_TEXTURE_2D, 0);
+    evict();
+    m_stats.total_ms = msSince(t_frame);
+}
+
+void MapRenderer::drawMarker(const MapFrame& frame, const RenderTarget& target) {
+    const MarkerState& m = *frame.marker;
+    const double aspect = static_cast<double>(target.width()) / target.height();
+    const glm::mat4 vp = frame.camera.projection(aspect) * frame.camera.viewRelativeTo(m.position);
+    const glm::vec4 anchor = vp * glm::vec4(0.0f, 0.0f, 0.0f, 1.0f);
+    if (anchor.w <= 0.0f) return;  // behind the camera
+    // Heading as it appears on screen: project a point a few metres ahead.
+    const double rad = glm::radians(m.heading_deg);
+    const glm::vec4 ahead = vp * glm::vec4(static_cast<float>(5.0 * std::sin(rad)), static_cast<float>(5.0 * std::cos(rad)), 0.0f, 1.0f);
+    const glm::vec2 a = glm::vec2(anchor) / anchor.w * glm::vec2(target.width(), target.height());
+    const glm::vec2 b = glm::vec2(ahead) / ahead.w * glm::vec2(target.width(), target.height());
+    glm::vec2 dir = b - a;
+    dir = glm::length(dir) > 1e-4f ? glm::normalize(dir) : glm::vec2(0.0f, 1.0f);
+    target.bindForDrawing(false);
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_CULL_FACE);
+    glUseProgram(m_marker.id());
+    glUniform4fv(m_marker.uniform("u_anchor_clip"), 1, glm::value_ptr(anchor));
+    glUniform2fv(m_marker.uniform("u_screen_dir"), 1, glm::value_ptr(dir));
+    glUniform2f(m_marker.uniform("u_viewport"), static_cast<float>(target.width()), static_cast<float>(target.height()));
+    // Outline first (slightly larger, dark), then the fill.
+    glBindVertexArray(m_marker_vao);
+    const glm::vec4 dark(0.1f, 0.1f, 0.1f, 1.0f);
+    glUniform1f(m_marker.uniform("u_size_px"), m_style.marker_size_px + 3.0f);
+    glUniform4fv(m_marker.uniform("u_color"), 1, glm::value_ptr(dark));
+    glDrawArrays(GL_TRIANGLES, 0, 6);
+    glUniform1f(m_marker.uniform("u_size_px"), m_style.marker_size_px);
+    const glm::vec4 color = m.stale ? m_style.marker_stale_color : m_style.marker_color;
+    glUniform4fv(m_marker.uniform("u_color"), 1, glm::value_ptr(color));
+    glDrawArrays(GL_TRIANGLES, 0, 6);
+    glEnable(GL_DEPTH_TEST);
+}
+
+}  // namespace navmap::render::gl

@@ -1,0 +1,58 @@
+#include "navmap/render/road_style.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace navmap::render {
+
+namespace {
+glm::vec3 rgb(unsigned hex) {
+    return glm::vec3((hex >> 16) & 0xff, (hex >> 8) & 0xff, hex & 0xff) / 255.0f;
+}
+}  // namespace
+
+RoadStyle RoadStyle::day() {
+    RoadStyle s;
+    // motorway, trunk, primary, secondary, tertiary, unclassified, residential, service,
+    // pedestrian, track, path. Casing on the three most important classes (issue: multi-colour).
+    s.classes = {{
+        {14.0f, 2.5f, rgb(0xe8925a), rgb(0x9c4a1c)},
+        {12.0f, 2.0f, rgb(0xf2b36b), rgb(0xa8652a)},
+        {10.0f, 1.8f, rgb(0xf7d27a), rgb(0xa0822e)},
+        {8.0f, 0.0f, rgb(0xf6e7a0), rgb(0x8a8a70)},
+        {7.0f, 0.0f, rgb(0xfafafa), rgb(0x808080)},
+        {6.0f, 0.0f, rgb(0xf2f2f2), rgb(0x808080)},
+        {5.5f, 0.0f, rgb(0xf0f0f0), rgb(0x808080)},
+        {4.0f, 0.0f, rgb(0xe4e4e4), rgb(0x808080)},
+        {4.0f, 0.0f, rgb(0xdcd6e8), rgb(0x808080)},
+        {3.0f, 0.0f, rgb(0xc8a878), rgb(0x806040)},
+        {2.0f, 0.0f, rgb(0xd8c8b0), rgb(0x806040)},
+    }};
+    return s;
+}
+
+RoadStyle RoadStyle::night() {
+    RoadStyle s = day();
+    for (auto& c : s.classes) {
+        c.fill *= 0.55f;
+        c.casing *= 0.5f;
+    }
+    s.outline = glm::vec3(0.02f);
+    return s;
+}
+
+float distanceWidthScale(float distance_m, float threshold_m, float max_scale) {
+    if (distance_m <= threshold_m || threshold_m <= 0.0f) return 1.0f;
+    return std::min(distance_m / threshold_m, max_scale);
+}
+
+float capRatio(float segment_length, float width) { return width / (segment_length + width); }
+
+bool capCovers(float x, float y, float h) {
+    const float x_cap = (std::abs(x) - 1.0f) / h + 1.0f;
+    const float y_cap = std::abs(y);
+    if (x_cap <= 0.0f) return y_cap <= 1.0f;
+    return x_cap * x_cap + y_cap * y_cap <= 1.0f;
+}
+
+}  // namespace navmap::render

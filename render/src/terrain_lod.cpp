@@ -1,0 +1,109 @@
+#include "navmap/render/terrain_lod.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+namespace navmap::render {
+
+namespace {
+
+struct Frustum {
+    std::array<glm::dvec4, 6> planes;  // inside: dot(plane.xyz, p) + plane.w >= 0
+};
+
+Frustum frustumOf(const glm::dmat4& m) {
+    // Gribb/Hartmann plane extraction from the view-projection matrix.
+    Frustum f;
+    const glm::dvec4 r0(m[0][0], m[1][0], m[2][0], m[3][0]);
+    const glm::dvec4 r1(m[0][1], m[1][1], m[2][1], m[3][1]);
+    const glm::dvec4 r2(m[0][2], m[1][2], m[2][2], m[3][2]);
+    const glm::dvec4 r3(m[0][3], m[1][3], m[2][3], m[3][3]);
+    f.planes = {r3 + r0, r3 - r0, r3 + r1, r3 - r1, r3 + r2, r3 - r2};
+    return f;
+}
+
+bool boxOutside(const Frustum& f, const glm::dvec3& lo, const glm::dvec3& hi) {
+    for (const auto& p : f.planes) {
+        const glm::dvec3 v{p.x >= 0 ? hi.x : lo.x, p.y >= 0 ? hi.y : lo.y, p.z >= 0 ? hi.z : lo.z};
+        if (p.x * v.x + p.y * v.y + p.z * v.z + p.w < 0) return true;
+    }
+    return false;
+}
+
+double distanceToBox(const glm::dvec3& p, const glm::dvec3& lo, const glm::dvec3& hi) {
+    const glm::dvec3 q = glm::clamp(p, lo, hi);
+    return glm::length(p - q);
+}
+
+}  // namespace
+
+double screenSpaceError(double error_m, double distance_m, double fov_y_deg, int viewport_height) {
+    const double d = std::max(distance_m, 1e-3);
+    return error_m * viewport_height / (2.0 * d * std::tan(glm::radians(fov_y_deg) / 2.0));
+}
+
+LodSelection selectLod(const map::TileScheme& scheme, const Camera& camera, double aspect, int viewport_height,
+                       const std::function<bool(map::TileId)>& exists,
+                       const std::function<std::shared_ptr<const map::Tile>(map::TileId)>& resident,
+                       const LodOptions& options) {
+    LodSelection out;
+    // Frustum in a frame centred on the camera (double), so far-away stores stay precise.
+    const glm::dmat4 view = glm::lookAt(glm::dvec3(0.0), camera.target - camera.eye, camera.up);
+    const glm::dmat4 proj = glm::dmat4(camera.projection(aspect));
+    const Frustum frustum = frustumOf(proj * view);
+    const int samples = std::max(options.dem_samples, 2);
+
+    std::vector<map::TileId> stack{map::TileId{0, 0, 0}};
+    while (!stack.empty()) {
+        const map::TileId id = stack.back();
+        stack.pop_back();
+        const map::Box b = scheme.bounds(id);
+        const glm::dvec3 lo = glm::dvec3(b.min_x, b.min_y, options.min_height_m) - camera.eye;
+        const glm::dvec3 hi = glm::dvec3(b.max_x, b.max_y, options.max_height_m) - camera.eye;
+        if (boxOutside(frustum, lo, hi)) {
+            ++out.culled;
+            continue;
+        }
+        const double distance = distanceToBox(glm::dvec3(0.0), lo, hi);
+        const double error_m = scheme.tileSize(id.level) / (samples - 1);
+        const double priority = 1000.0 + 100.0 * id.level - distance / scheme.tileSize(id.level);
+        auto self = resident(id);
+        if (!self) {
+            // Not loaded: ask for it; the caller's previous selection (parent) covers the gap.
+            if (exists(id)) out.wanted.push_back({id, static_cast<float>(priority)});
+            continue;
+        }
+        const bool refine = id.level < scheme.leafLevel() &&
+                            screenSpaceError(error_m, distance, camera.fov_y_deg, viewport_height) > options.max_error_px;
+        if (refine) {
+            std::array<map::TileId, 4> children;
+            bool all_ready = true;
+            int present = 0;
+            for (int i = 0; i < 4; ++i) {
+                children[i] = {static_cast<std::uint8_t>(id.level + 1), id.x * 2 + (i & 1), id.y * 2 + (i >> 1)};
+                if (!exists(children[i])) continue;
+                ++present;
+                if (!resident(children[i])) {
+                    all_ready = false;
+                    out.wanted.push_back({children[i], static_cast<float>(priority + 100.0)});
+                }
+            }
+            // Refine only when every existing child can be drawn (no holes) and the store has
+            // all four (a partial set would leave the parent's other quarters empty).
+            if (all_ready && present == 4) {
+                for (const auto& c : children) stack.push_back(c);
+                continue;
+            }
+        }
+        out.draw.push_back(std::move(self));
+        out.finest_level = std::max(out.finest_level, static_cast<int>(id.level));
+    }
+    // Deterministic draw order: by level then address.
+    std::sort(out.draw.begin(), out.draw.end(), [](const auto& a, const auto& b) { return a->id.key() < b->id.key(); });
+    return out;
+}
+
+}  // namespace navmap::render

@@ -1,0 +1,58 @@
+// Cartographic roads, geometric approach (seed 3.4): one quad per draped segment, expanded here
+// from the segment's end points (ES 3.0 has no geometry shader), large enough to hold both
+// rounded caps. Also draws the route (u_route = 1) with its own width and colour.
+layout(location = 0) in vec3 a_p0;
+layout(location = 1) in vec3 a_p1;
+layout(location = 2) in float a_class;
+layout(location = 3) in float a_flags;
+layout(location = 4) in vec2 a_measure;
+
+uniform mat4 u_view;
+uniform mat4 u_projection;
+uniform float u_width[11];      // fill width per road class, metres
+uniform float u_casing[11];     // extra casing width per side, metres (0: none)
+uniform int u_pass;             // 0 casing, 1 fill
+uniform int u_route;            // 1: route mode
+uniform float u_route_width;
+uniform vec3 u_scale;           // threshold m, max scale, z-offset alpha
+
+out vec2 v_local;               // quad-local coordinates in [-1, 1]^2 (x along, y across)
+out float v_h;                  // seed 3.4 cap ratio h = w / (d + w)
+out float v_measure;
+flat out int v_class;
+
+void main() {
+    int cls = int(a_class + 0.5);
+    float width = u_route == 1 ? u_route_width : u_width[cls];
+    if (u_pass == 0) {
+        if (u_route == 0 && u_casing[cls] <= 0.0) {
+            gl_Position = vec4(2.0, 2.0, 2.0, 1.0);  // no casing for this class: clipped away
+            return;
+        }
+        width += 2.0 * (u_route == 1 ? 0.25 * u_route_width : u_casing[cls]);
+    }
+    // seed 3.6.3: distance-based width scaling beyond a threshold.
+    vec3 mid = 0.5 * (a_p0 + a_p1);
+    float dist = length((u_view * vec4(mid, 1.0)).xyz);
+    width *= clamp(dist / u_scale.x, 1.0, u_scale.y);
+
+    vec2 d = a_p1.xy - a_p0.xy;
+    float len = length(d);
+    vec2 t = len > 1e-6 ? d / len : vec2(1.0, 0.0);
+    vec2 n = vec2(-t.y, t.x);
+    // Triangle strip corners: 0 (-,+) 1 (-,-) 2 (+,+) 3 (+,-).
+    float sx = gl_VertexID >= 2 ? 1.0 : -1.0;
+    float sy = (gl_VertexID == 0 || gl_VertexID == 2) ? 1.0 : -1.0;
+    vec3 base = sx < 0.0 ? a_p0 : a_p1;
+    // Q_i = P +- n' +- t' with n' = 0.5 w n, t' = 0.5 w t (seed 3.4).
+    vec3 pos = base + vec3(0.5 * width * (sy * n + sx * t), 0.0);
+    v_local = vec2(sx, sy);
+    v_h = width / (len + width);
+    v_measure = sx < 0.0 ? a_measure.x : a_measure.y;
+    v_class = cls;
+    vec4 view_pos = u_view * vec4(pos, 1.0);
+    // seed 3.6.2: scale in view space by (1 - alpha) against z-fighting; unlike a world-space
+    // offset this does not make roads hover when seen from close by.
+    view_pos.xyz *= (1.0 - u_scale.z);
+    gl_Position = u_projection * view_pos;
+}

@@ -1,0 +1,287 @@
+// Pixel assertions on map frames that do not depend on goldens: rounded caps, crack-free
+// joints, casing colours, roads on top of the terrain they lie on (issue: map rendering).
+// Synthetic tiles with known geometry; Mesa llvmpipe through EGL.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <memory>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "navmap/render/renderer.h"
+#include "navmap/render/tile_mesh.h"
+
+namespace {
+
+using namespace navmap::render;
+namespace map = navmap::map;
+
+constexpr int kW = 640, kH = 480;
+
+std::shared_ptr<map::Tile> makeTile(std::function<float(float, float)> height, int dem = 33) {
+    auto tile = std::make_shared<map::Tile>();
+    tile->id = {10, 5, 7};
+    tile->origin_x = 20000.0;  // away from the store origin: camera-relative rendering matters
+    tile->origin_y = -15000.0;
+    tile->size_m = 1000.0;
+    tile->dem.size = static_cast<std::uint16_t>(dem);
+    tile->dem.spacing_m = 1000.0f / (dem - 1);
+    tile->dem.coverage = 1.0f;
+    for (int r = 0; r < dem; ++r)
+        for (int c = 0; c < dem; ++c) tile->dem.heights.push_back(height(c * tile->dem.spacing_m, r * tile->dem.spacing_m));
+    return tile;
+}
+
+map::Road road(map::RoadClass cls, std::vector<map::LocalPoint> pts) {
+    map::Road r;
+    r.cls = cls;
+    r.points = std::move(pts);
+    return r;
+}
+
+struct Scene {
+    std::unique_ptr<Renderer> renderer;
+    Camera camera;
+    glm::dvec3 origin;
+    Image image;
+
+    glm::vec2 project(glm::dvec3 local) const {
+        const glm::mat4 vp = camera.projection(double(kW) / kH) * camera.viewRelativeTo(origin);
+        const glm::vec4 c = vp * glm::vec4(glm::vec3(local), 1.0f);
+        return {(c.x / c.w * 0.5f + 0.5f) * kW, (1.0f - (c.y / c.w * 0.5f + 0.5f)) * kH};
+    }
+    glm::ivec3 at(glm::dvec3 local) const {
+        const glm::vec2 p = project(local);
+        const auto* px = image.pixel(static_cast<int>(p.x), static_cast<int>(p.y));
+        return {px[0], px[1], px[2]};
+    }
+};
+
+glm::ivec3 to8(glm::vec3 c) { return glm::ivec3(glm::round(c * 255.0f)); }
+
+bool near(glm::ivec3 a, glm::ivec3 b, int tol = 6) {
+    return std::abs(a.x - b.x) <= tol && std::abs(a.y - b.y) <= tol && std::abs(a.z - b.z) <= tol;
+}
+
+// Looks straight down from `height_m` above the tile centre.
+Scene render(const std::shared_ptr<map::Tile>& tile, double height_m, MapStyle style, MapLayers layers = {}) {
+    Scene s;
+    RendererOptions o;
+    o.width = kW;
+    o.height = kH;
+    s.renderer = Renderer::create(o);
+    s.renderer->setMapStyle(style);
+    s.origin = glm::dvec3(tile->origin_x, tile->origin_y, 0.0);
+    s.camera.eye = s.origin + glm::dvec3(500.0, 500.0, 500.0 + height_m);
+    s.camera.target = s.origin + glm::dvec3(500.0, 500.0, 0.0);
+    s.camera.up = {0.0, 1.0, 0.0};
+    s.camera.near_m = 10.0;
+    s.camera.far_m = 5000.0;
+    MapFrame frame;
+    frame.camera = s.camera;
+    frame.tiles = {tile};
+    frame.layers = layers;
+    s.renderer->renderMap(frame);
+    s.image = s.renderer->readSync();
+    return s;
+}
+
+MapStyle wideRoads() {
+    MapStyle style = MapStyle::day();
+    for (auto& c : style.roads.classes) c.width_m = 40.0f;
+    style.roads.classes[0].casing_m = 8.0f;
+    style.roads.scale_threshold_m = 1e6f;  // no width scaling in these close-ups
+    return style;
+}
+
+TEST(MapRender, DeadEndCapIsRound) {
+    auto tile = makeTile([](float, float) { return 500.0f; });
+    tile->roads.push_back(road(map::RoadClass::Residential, {{380, 500}, {500, 500}}));
+    MapLayers no_outline;
+    no_outline.outlines = false;
+    const Scene s = render(tile, 300.0, wideRoads(), no_outline);
+    const glm::ivec3 fill = to8(wideRoads().roads.classes[static_cast<int>(map::RoadClass::Residential)].fill);
+    const double r = 20.0;  // cap radius = width / 2
+    // On the arc (inside by a margin): covered.
+    for (double a = -80.0; a <= 80.0; a += 20.0) {
+        const double rad = glm::radians(a);
+        const glm::dvec3 p{500.0 + 0.85 * r * std::cos(rad), 500.0 + 0.85 * r * std::sin(rad), 500.0};
+        EXPECT_TRUE(near(s.at(p), fill)) << "arc point at " << a << " deg not covered";
+    }
+    // The corners of the bounding quad (end + r along, +-r across), pulled in slightly: terrain.
+    for (double sy : {-1.0, 1.0}) {
+        const glm::dvec3 corner{500.0 + 0.9 * r, 500.0 + sy * 0.9 * r, 500.0};
+        EXPECT_FALSE(near(s.at(corner), fill, 30)) << "quad corner covered: the cap is not round";
+    }
+    // Beyond the cap tip: terrain; just before it: road.
+    EXPECT_TRUE(near(s.at({500.0 + 0.9 * r, 500.0, 500.0}), fill));
+    EXPECT_FALSE(near(s.at({500.0 + 1.2 * r, 500.0, 500.0}), fill, 30));
+}
+
+TEST(MapRender, NoCrackWhereSegmentsMeetAtAnAngle) {
+    auto tile = makeTile([](float, float) { return 500.0f; });
+    // A 70-degree turn at (500, 500).
+    const double turn = glm::radians(70.0);
+    const map::LocalPoint end{static_cast<float>(500.0 + 120.0 * std::cos(turn)), static_cast<float>(500.0 + 120.0 * std::sin(turn))};
+    tile->roads.push_back(road(map::RoadClass::Residential, {{380, 500}, {500, 500}, end}));
+    MapLayers no_outline;
+    no_outline.outlines = false;
+    const Scene s = render(tile, 300.0, wideRoads(), no_outline);
+    const glm::ivec3 fill = to8(wideRoads().roads.classes[static_cast<int>(map::RoadClass::Residential)].fill);
+    // On the outer side of the joint, along the bisector, inside the road width: a plain quad
+    // extrusion leaves a wedge here; the caps fill it.
+    const double bisector = (glm::radians(180.0) + turn) / 2.0 + glm::radians(180.0);  // outer side
+    for (double f : {0.3, 0.6, 0.85}) {
+        const glm::dvec3 p{500.0 + f * 20.0 * std::cos(bisector), 500.0 + f * 20.0 * std::sin(bisector), 500.0};
+        EXPECT_TRUE(near(s.at(p), fill)) << "crack at the joint, " << f << " of the half width out";
+    }
+}
+
+TEST(MapRender, MotorwayHasItsClassColourWithCasingAtTheEdge) {
+    auto tile = makeTile([](float, float) { return 500.0f; });
+    tile->roads.push_back(road(map::RoadClass::Motorway, {{300, 500}, {700, 500}}));
+    tile->roads.push_back(road(map::RoadClass::Residential, {{500, 300}, {500, 480}}));
+    const MapStyle style = wideRoads();
+    const Scene s = render(tile, 300.0, style);
+    const auto& mw = style.roads.classes[0];
+    EXPECT_TRUE(near(s.at({560.0, 500.0, 500.0}), to8(mw.fill))) << "motorway centre";
+    // Casing band: between the fill edge (20 m) and fill + casing (28 m) from the axis.
+    EXPECT_TRUE(near(s.at({560.0, 524.0, 500.0}), to8(mw.casing))) << "casing above";
+    EXPECT_TRUE(near(s.at({560.0, 476.0, 500.0}), to8(mw.casing))) << "casing below";
+    // Junction: the residential road ends under the motorway; the motorway is drawn over it
+    // (least important first, seed 3.6.3).
+    EXPECT_TRUE(near(s.at({500.0, 492.0, 500.0}), to8(mw.fill))) << "junction must show the motorway";
+    // Dark outline just outside the casing (seed 3.6.3 outlines).
+    const glm::ivec3 outside = s.at({560.0, 528.6, 500.0});
+    const glm::ivec3 terrain = s.at({560.0, 560.0, 500.0});
+    EXPECT_LT(outside.x + outside.y + outside.z, terrain.x + terrain.y + terrain.z - 60) << "no outline next to the road";
+    if (::testing::Test::HasFailure()) (void)writePng("map_render_motorway.png", s.image, nullptr);
+}
+
+TEST(MapRender, DrapedRoadsAreNeverHiddenByTheirTerrain) {
+    // Rolling hills (60 m amplitude, ~150 m wavelength) under a road that crosses them.
+    auto hills = [](float x, float y) { return 500.0f + 60.0f * std::sin(x / 48.0f) * std::cos(y / 61.0f); };
+    auto tile = makeTile(hills, 65);
+    tile->roads.push_back(road(map::RoadClass::Primary, {{100, 450}, {900, 560}}));
+    MapStyle style = MapStyle::day();
+    style.roads.classes[2].width_m = 14.0f;
+    style.roads.classes[2].casing_m = 0.0f;
+    // Oblique view from the south at ~45 degrees.
+    Scene s;
+    RendererOptions o;
+    o.width = kW;
+    o.height = kH;
+    s.renderer = Renderer::create(o);
+    s.renderer->setMapStyle(style);
+    s.origin = glm::dvec3(tile->origin_x, tile->origin_y, 0.0);
+    s.camera.eye = s.origin + glm::dvec3(500.0, -150.0, 1250.0);
+    s.camera.target = s.origin + glm::dvec3(500.0, 500.0, 500.0);
+    MapFrame frame;
+    frame.camera = s.camera;
+    frame.tiles = {tile};
+    s.renderer->renderMap(frame);
+    s.image = s.renderer->readSync();
+    const glm::ivec3 fill = to8(style.roads.classes[2].fill);
+    const TileMesh mesh = buildTileMesh(*tile);
+    const HeightGrid grid = mesh.grid();
+    int samples = 0, visible = 0;
+    for (double t = 0.05; t <= 0.95; t += 0.01) {
+        const double x = 100.0 + 800.0 * t, y = 450.0 + 110.0 * t;
+        const glm::dvec3 p{x, y, grid.heightAt(x, y)};
+        ++samples;
+        if (near(s.at(p), fill, 20)) ++visible;
+    }
+    EXPECT_EQ(visible, samples) << "road centreline pixels hidden by the terrain they lie on";
+}
+
+TEST(MapRender, TerrainOnlyLayerShowsNoRoads) {
+    auto tile = makeTile([](float, float) { return 500.0f; });
+    tile->roads.push_back(road(map::RoadClass::Residential, {{300, 500}, {700, 500}}));
+    MapLayers terrain_only;
+    terrain_only.roads = false;
+    const Scene s = render(tile, 300.0, wideRoads(), terrain_only);
+    EXPECT_EQ(s.at({500.0, 500.0, 500.0}), s.at({500.0, 560.0, 500.0}));
+    EXPECT_EQ(s.renderer->mapStats().road_segments, 0u);
+    EXPECT_EQ(s.renderer->mapStats().tiles_drawn, 1u);
+}
+
+TEST(MapRender, RouteIsDrawnAboveRoadsAndDimmedBehindTheCar) {
+    auto tile = makeTile([](float, float) { return 500.0f; });
+    tile->roads.push_back(road(map::RoadClass::Residential, {{300, 500}, {700, 500}}));
+    RouteGeometry route;
+    for (int i = 0; i <= 8; ++i) {
+        route.points.push_back({tile->origin_x + 300.0 + 50.0 * i, tile->origin_y + 500.0, 500.0});
+        route.measure_m.push_back(50.0 * i);
+    }
+    MapStyle style = wideRoads();
+    style.route_width_m = 24.0f;
+    Scene s;
+    RendererOptions o;
+    o.width = kW;
+    o.height = kH;
+    s.renderer = Renderer::create(o);
+    s.renderer->setMapStyle(style);
+    s.origin = glm::dvec3(tile->origin_x, tile->origin_y, 0.0);
+    s.camera.eye = s.origin + glm::dvec3(500.0, 500.0, 800.0);
+    s.camera.target = s.origin + glm::dvec3(500.0, 500.0, 0.0);
+    s.camera.up = {0.0, 1.0, 0.0};
+    MapFrame frame;
+    frame.camera = s.camera;
+    frame.tiles = {tile};
+    frame.route = &route;
+    frame.route_progress_m = 200.0;  // driven up to x = 500
+    frame.marker = MarkerState{s.origin + glm::dvec3(500.0, 500.0, 500.0), 90.0, false};
+    s.renderer->renderMap(frame);
+    s.image = s.renderer->readSync();
+    const glm::ivec3 ahead = s.at({620.0, 500.0, 500.0});
+    const glm::ivec3 behind = s.at({380.0, 500.0, 500.0});
+    EXPECT_TRUE(near(ahead, to8(style.route_color))) << "route colour ahead of the car";
+    EXPECT_FALSE(near(behind, to8(style.route_color), 20)) << "the driven part is dimmed";
+    EXPECT_GT(behind.x, to8(style.route_color).x) << "dimmed towards grey";
+    // The marker: its colour at the projected vehicle position, constant screen size.
+    const glm::vec2 c = s.project({500.0, 500.0, 500.0});
+    const auto* px = s.image.pixel(static_cast<int>(c.x), static_cast<int>(c.y));
+    EXPECT_TRUE(near({px[0], px[1], px[2]}, to8(glm::vec3(style.marker_color)), 10));
+}
+
+TEST(MapRender, StaleMarkerIsGrey) {
+    auto tile = makeTile([](float, float) { return 500.0f; });
+    Scene s;
+    RendererOptions o;
+    o.width = kW;
+    o.height = kH;
+    s.renderer = Renderer::create(o);
+    s.origin = glm::dvec3(tile->origin_x, tile->origin_y, 0.0);
+    s.camera.eye = s.origin + glm::dvec3(500.0, 500.0, 800.0);
+    s.camera.target = s.origin + glm::dvec3(500.0, 500.0, 0.0);
+    s.camera.up = {0.0, 1.0, 0.0};
+    MapFrame frame;
+    frame.camera = s.camera;
+    frame.tiles = {tile};
+    frame.marker = MarkerState{s.origin + glm::dvec3(500.0, 500.0, 500.0), 0.0, true};
+    s.renderer->renderMap(frame);
+    s.image = s.renderer->readSync();
+    EXPECT_TRUE(near(s.at({500.0, 500.0, 500.0}), to8(glm::vec3(MapStyle::day().marker_stale_color)), 10));
+}
+
+TEST(MapRender, BuildingsStandOnTheTerrainAndHideWhatIsBehind) {
+    auto tile = makeTile([](float, float) { return 500.0f; });
+    map::Building b;
+    b.footprint.vertices = {{480, 480}, {520, 480}, {520, 520}, {480, 520}};
+    b.footprint.ring_ends = {4};
+    b.footprint.indices = {0, 1, 2, 0, 2, 3};
+    b.height_m = 30.0f;
+    tile->buildings.push_back(b);
+    tile->roads.push_back(road(map::RoadClass::Residential, {{300, 500}, {700, 500}}));
+    const TileMesh mesh = buildTileMesh(*tile);
+    EXPECT_EQ(mesh.buildings.size(), 4u + 4u * 4u) << "roof + four walls";
+    EXPECT_EQ(mesh.building_indices.size(), 6u + 4u * 6u);
+    const Scene s = render(tile, 300.0, wideRoads());
+    // Seen from straight above the roof covers the road under it.
+    const glm::ivec3 roof = s.at({500.0, 500.0, 530.0});
+    const glm::ivec3 fill = to8(wideRoads().roads.classes[static_cast<int>(map::RoadClass::Residential)].fill);
+    EXPECT_FALSE(near(roof, fill, 10)) << "road drawn over the building roof";
+    EXPECT_TRUE(near(s.at({400.0, 500.0, 500.0}), fill));
+}
+
+}  // namespace

@@ -1,0 +1,162 @@
+// Unit tests of the road geometry: the analytic caps (seed 3.4), barycentric clipping against
+// the terrain grid (seed 3.6.1) and distance-based width scaling (seed 3.6.3).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "navmap/render/road_draping.h"
+#include "navmap/render/road_style.h"
+
+namespace {
+
+using namespace navmap::render;
+
+TEST(RoadCaps, PointsAgainstTheAnalyticCircle) {
+    // Segment of length d = 30 between caps of radius w/2 = 5: the quad spans 40 along the road.
+    const float d = 30.0f, w = 10.0f;
+    const float h = capRatio(d, w);
+    EXPECT_FLOAT_EQ(h, 0.25f);
+    // Quad-local x in [-1, 1] maps to road coordinates s = x * (d + w) / 2; the cap circle is
+    // centred on the end point s = d / 2 with radius w / 2. Check a dense set of points.
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+    int in_cap_region = 0;
+    for (int i = 0; i < 20000; ++i) {
+        const float x = u(rng), y = u(rng);
+        const float s = std::abs(x) * (d + w) / 2.0f;  // distance along the road from the centre
+        const float t = std::abs(y) * w / 2.0f;        // distance across
+        bool expected;
+        if (s <= d / 2.0f) {
+            expected = true;  // body of the segment
+        } else {
+            ++in_cap_region;
+            expected = std::hypot(s - d / 2.0f, t) <= w / 2.0f;
+        }
+        // Skip points within float noise of the circle.
+        if (s > d / 2.0f && std::abs(std::hypot(s - d / 2.0f, t) - w / 2.0f) < 1e-3f) continue;
+        EXPECT_EQ(capCovers(x, y, h), expected) << "x=" << x << " y=" << y;
+    }
+    EXPECT_GT(in_cap_region, 1000);
+    // The quad's corners are outside the caps; the tip on the axis is inside.
+    EXPECT_FALSE(capCovers(1.0f, 1.0f, h));
+    EXPECT_FALSE(capCovers(-0.99f, -0.99f, h));
+    EXPECT_TRUE(capCovers(0.999f, 0.0f, h));
+    EXPECT_TRUE(capCovers(0.0f, 0.999f, h));
+}
+
+TEST(RoadWidth, ScalesOnlyBeyondTheThreshold) {
+    EXPECT_FLOAT_EQ(distanceWidthScale(100.0f, 1500.0f, 12.0f), 1.0f);
+    EXPECT_FLOAT_EQ(distanceWidthScale(1500.0f, 1500.0f, 12.0f), 1.0f);
+    EXPECT_FLOAT_EQ(distanceWidthScale(3000.0f, 1500.0f, 12.0f), 2.0f);
+    EXPECT_FLOAT_EQ(distanceWidthScale(6000.0f, 1500.0f, 12.0f), 4.0f);
+    EXPECT_FLOAT_EQ(distanceWidthScale(1e6f, 1500.0f, 12.0f), 12.0f);
+    // Continuous at the threshold and monotonic.
+    float last = 0.0f;
+    for (float dist = 0.0f; dist < 40000.0f; dist += 250.0f) {
+        const float s = distanceWidthScale(dist, 1500.0f, 12.0f);
+        EXPECT_GE(s, last);
+        last = s;
+    }
+}
+
+struct Grid {
+    std::vector<float> heights;
+    HeightGrid view;
+};
+
+Grid bumpyGrid(int size, double spacing) {
+    Grid g;
+    g.heights.resize(static_cast<std::size_t>(size) * size);
+    for (int r = 0; r < size; ++r)
+        for (int c = 0; c < size; ++c)
+            g.heights[static_cast<std::size_t>(r) * size + c] =
+                static_cast<float>(1000.0 + 40.0 * std::sin(r * 0.7) * std::cos(c * 1.3) + 3.0 * r);
+    g.view = HeightGrid{size, spacing, g.heights.data()};
+    return g;
+}
+
+bool onGridEdge(const glm::dvec3& p, double spacing) {
+    const double fx = p.x / spacing, fy = p.y / spacing;
+    const double ex = std::abs(fx - std::round(fx)), ey = std::abs(fy - std::round(fy));
+    // Diagonals of the split: y - x = integer within a cell.
+    const double d = (p.y - p.x) / spacing;
+    const double ed = std::abs(d - std::round(d));
+    return ex < 1e-7 || ey < 1e-7 || ed < 1e-7;
+}
+
+TEST(RoadClipping, InsertedVerticesLieOnTriangleEdgesAndOnTheSurface) {
+    const Grid g = bumpyGrid(17, 30.0);
+    const std::vector<glm::dvec2> line{{5.0, 7.0}, {200.0, 130.0}, {410.0, 55.0}};
+    const auto draped = drapePolyline(g.view, line);
+    ASSERT_GT(draped.size(), 30u) << "crossing ~20 cells must insert many vertices";
+    // The original vertices are kept, in order.
+    EXPECT_DOUBLE_EQ(draped.front().x, 5.0);
+    EXPECT_DOUBLE_EQ(draped.back().x, 410.0);
+    bool saw_middle = false;
+    for (const auto& p : draped) saw_middle |= (p.x == 200.0 && p.y == 130.0);
+    EXPECT_TRUE(saw_middle);
+    for (std::size_t i = 1; i + 1 < draped.size(); ++i) {
+        const auto& p = draped[i];
+        if ((p.x == 200.0 && p.y == 130.0)) continue;
+        EXPECT_TRUE(onGridEdge(p, 30.0)) << "vertex " << i << " (" << p.x << ", " << p.y << ") is not on an edge";
+    }
+    // Every vertex lies on the triangulated surface, and so does the midpoint of every piece
+    // (a piece within one triangle is planar).
+    for (std::size_t i = 0; i < draped.size(); ++i) {
+        EXPECT_NEAR(draped[i].z, g.view.heightAt(draped[i].x, draped[i].y), 1e-6);
+        if (i + 1 < draped.size()) {
+            const glm::dvec3 m = (draped[i] + draped[i + 1]) * 0.5;
+            EXPECT_NEAR(m.z, g.view.heightAt(m.x, m.y), 1e-6) << "piece " << i << " leaves the surface";
+        }
+    }
+}
+
+TEST(RoadClipping, PreservesThePolylineShape) {
+    const Grid g = bumpyGrid(33, 10.0);
+    const std::vector<glm::dvec2> line{{3.0, 3.0}, {300.0, 17.0}, {150.0, 290.0}};
+    const auto draped = drapePolyline(g.view, line);
+    // Every inserted vertex lies on one of the original segments (2D distance ~0).
+    for (const auto& p : draped) {
+        double best = 1e9;
+        for (std::size_t i = 0; i + 1 < line.size(); ++i) {
+            const glm::dvec2 a = line[i], b = line[i + 1], q{p.x, p.y};
+            const double t = std::clamp(glm::dot(q - a, b - a) / glm::dot(b - a, b - a), 0.0, 1.0);
+            best = std::min(best, glm::length(q - (a + t * (b - a))));
+        }
+        EXPECT_LT(best, 1e-7);
+    }
+    // Same 2D length as the input.
+    double in_len = 0, out_len = 0;
+    for (std::size_t i = 0; i + 1 < line.size(); ++i) in_len += glm::length(line[i + 1] - line[i]);
+    for (std::size_t i = 0; i + 1 < draped.size(); ++i)
+        out_len += glm::length(glm::dvec2(draped[i + 1]) - glm::dvec2(draped[i]));
+    EXPECT_NEAR(out_len, in_len, 1e-6);
+}
+
+TEST(RoadClipping, AxisAlignedAndVertexCrossingLinesTerminate) {
+    const Grid g = bumpyGrid(9, 10.0);
+    // Along a grid line, along a diagonal through vertices, and starting on a vertex.
+    for (const auto& line : std::vector<std::vector<glm::dvec2>>{
+             {{0.0, 20.0}, {80.0, 20.0}}, {{0.0, 0.0}, {80.0, 80.0}}, {{10.0, 10.0}, {10.0, 70.0}},
+             {{80.0, 80.0}, {0.0, 0.0}}, {{40.0, 40.0}, {40.0, 40.0}}}) {
+        const auto draped = drapePolyline(g.view, line);
+        ASSERT_FALSE(draped.empty());
+        for (const auto& p : draped) EXPECT_NEAR(p.z, g.view.heightAt(p.x, p.y), 1e-6);
+        EXPECT_LE(draped.size(), 40u);
+    }
+}
+
+TEST(RoadClipping, GridIndicesUseTheSameSplit) {
+    const auto idx = gridTriangleIndices(3);
+    ASSERT_EQ(idx.size(), 2u * 2u * 6u);
+    // First cell: SW(0) SE(1) NE(4), SW(0) NE(4) NW(3).
+    EXPECT_EQ(idx[0], 0u);
+    EXPECT_EQ(idx[1], 1u);
+    EXPECT_EQ(idx[2], 4u);
+    EXPECT_EQ(idx[3], 0u);
+    EXPECT_EQ(idx[4], 4u);
+    EXPECT_EQ(idx[5], 3u);
+}
+
+}  // namespace

@@ -1,0 +1,131 @@
+// CPU preparation of tiles: skirts, draped roads, ordering, buildings, size growth of draping.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "navmap/render/tile_mesh.h"
+
+namespace {
+
+using namespace navmap;
+
+map::Tile bumpyTile() {
+    map::Tile t;
+    t.size_m = 800.0;
+    t.dem.size = 17;
+    t.dem.spacing_m = 50.0f;
+    for (int r = 0; r < 17; ++r)
+        for (int c = 0; c < 17; ++c) t.dem.heights.push_back(700.0f + 30.0f * std::sin(r * 0.9f) + 20.0f * std::cos(c * 0.7f));
+    return t;
+}
+
+TEST(TileMesh, TerrainHasGridAndSkirtsBelowTheBorder) {
+    const map::Tile t = bumpyTile();
+    const render::TileMesh m = render::buildTileMesh(t);
+    EXPECT_EQ(m.grid_size, 17);
+    const std::size_t grid = 17u * 17u, ring = 4u * 16u;
+    ASSERT_EQ(m.terrain.size(), grid + ring);
+    EXPECT_EQ(m.terrain_indices.size(), 16u * 16u * 6u + ring * 6u);
+    for (std::size_t i = grid; i < m.terrain.size(); ++i) {
+        const auto& s = m.terrain[i];
+        const bool on_border = s.position.x == 0.0f || s.position.y == 0.0f || s.position.x == 800.0f || s.position.y == 800.0f;
+        EXPECT_TRUE(on_border);
+        EXPECT_NEAR(s.position.z, m.grid().heightAt(s.position.x, s.position.y) - 60.0, 1e-3);
+    }
+}
+
+TEST(TileMesh, TileWithoutDemIsFlat) {
+    map::Tile t;
+    t.size_m = 500.0;
+    const render::TileMesh m = render::buildTileMesh(t);
+    EXPECT_EQ(m.grid_size, 2);
+    EXPECT_EQ(m.min_height, 0.0f);
+    EXPECT_EQ(m.max_height, 0.0f);
+}
+
+TEST(TileMesh, RoadsAreDrapedOrderedAndTunnelsHidden) {
+    map::Tile t = bumpyTile();
+    map::Road minor;
+    minor.cls = map::RoadClass::Residential;
+    minor.points = {{10, 10}, {790, 700}};
+    map::Road major;
+    major.cls = map::RoadClass::Motorway;
+    major.points = {{10, 400}, {790, 400}};
+    map::Road tunnel;
+    tunnel.cls = map::RoadClass::Primary;
+    tunnel.flags = map::RoadFlags::Tunnel;
+    tunnel.points = {{400, 10}, {400, 790}};
+    t.roads = {major, tunnel, minor};  // store order: most important first
+    const render::TileMesh m = render::buildTileMesh(t);
+    EXPECT_EQ(m.source_road_vertices, 6u);
+    ASSERT_GT(m.roads.size(), 40u) << "draping inserts a vertex per triangle edge crossed";
+    // Least important first, tunnels absent.
+    float last = 99.0f;
+    for (const auto& r : m.roads) {
+        EXPECT_NE(r.road_class, static_cast<float>(map::RoadClass::Primary));
+        EXPECT_LE(r.road_class, last);
+        last = r.road_class;
+    }
+    EXPECT_EQ(m.roads.front().road_class, static_cast<float>(map::RoadClass::Residential));
+    EXPECT_EQ(m.roads.back().road_class, static_cast<float>(map::RoadClass::Motorway));
+    // Every segment end lies on the terrain.
+    const auto grid = m.grid();
+    for (const auto& r : m.roads) {
+        EXPECT_NEAR(r.p0.z, grid.heightAt(r.p0.x, r.p0.y), 1e-2);
+        EXPECT_NEAR(r.p1.z, grid.heightAt(r.p1.x, r.p1.y), 1e-2);
+    }
+}
+
+TEST(TileMesh, BridgesSpanStraightBetweenTheirEnds) {
+    map::Tile t = bumpyTile();
+    map::Road bridge;
+    bridge.cls = map::RoadClass::Primary;
+    bridge.flags = map::RoadFlags::Bridge;
+    bridge.points = {{100, 100}, {300, 100}, {500, 100}};
+    t.roads = {bridge};
+    const render::TileMesh m = render::buildTileMesh(t);
+    ASSERT_EQ(m.roads.size(), 2u) << "bridges are not clipped to the terrain";
+    const auto grid = m.grid();
+    const double z0 = grid.heightAt(100, 100) + 2.0, z1 = grid.heightAt(500, 100) + 2.0;
+    EXPECT_NEAR(m.roads[0].p0.z, z0, 1e-3);
+    EXPECT_NEAR(m.roads[0].p1.z, (z0 + z1) / 2.0, 1e-3);
+    EXPECT_NEAR(m.roads[1].p1.z, z1, 1e-3);
+}
+
+TEST(TileMesh, BuildingWallsFaceOutwardAndStandOnTheLowestGround) {
+    map::Tile t = bumpyTile();
+    map::Building b;
+    b.footprint.vertices = {{100, 100}, {140, 100}, {140, 130}, {100, 130}};  // counter-clockwise
+    b.footprint.ring_ends = {4};
+    b.footprint.indices = {0, 1, 2, 0, 2, 3};
+    b.height_m = 12.0f;
+    t.buildings = {b};
+    const render::TileMesh m = render::buildTileMesh(t);
+    const auto grid = m.grid();
+    float base = 1e9f;
+    for (const auto& p : b.footprint.vertices) base = std::min(base, float(grid.heightAt(p.x, p.y)));
+    // Roof at base + height; the first wall (south edge) faces south.
+    EXPECT_NEAR(m.buildings[0].position.z, base + 12.0f, 1e-3);
+    const auto& south_wall = m.buildings[4];
+    EXPECT_NEAR(south_wall.normal.y, -1.0f, 1e-6);
+    EXPECT_NEAR(south_wall.position.z, base, 1e-3);
+}
+
+TEST(TileMesh, LandCoverKeepsWaterOnTop) {
+    map::Tile t = bumpyTile();
+    map::Area water, forest;
+    water.cls = map::AreaClass::Water;
+    forest.cls = map::AreaClass::Forest;
+    for (auto* a : {&water, &forest}) {
+        a->polygon.vertices = {{0, 0}, {100, 0}, {100, 100}};
+        a->polygon.ring_ends = {3};
+        a->polygon.indices = {0, 1, 2};
+    }
+    t.areas = {water, forest};
+    const render::TileMesh m = render::buildTileMesh(t);
+    ASSERT_EQ(m.land_cover.size(), 6u);
+    EXPECT_EQ(m.land_cover.front().color, render::landCoverColor(map::AreaClass::Forest));
+    EXPECT_EQ(m.land_cover.back().color, render::landCoverColor(map::AreaClass::Water));
+}
+
+}  // namespace
