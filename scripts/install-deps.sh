@@ -19,8 +19,8 @@ PACKAGES=(
   libtomlplusplus-dev nlohmann-json3-dev libcli11-dev libturbojpeg0-dev libsystemd-dev
   # tests and benchmarks
   libgtest-dev libgmock-dev libbenchmark-dev
-  # CAN tools (candump/canplayer) for the vcan tests
-  can-utils
+  # CAN tools (candump/canplayer) and a Debian kernel under qemu for the real SocketCAN (vcan) test
+  can-utils qemu-system-x86 linux-image-amd64 busybox-static cpio
 )
 
 missing=()

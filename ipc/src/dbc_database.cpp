@@ -1,0 +1,544 @@
+#include "navmap/ipc/dbc_database.hpp"
+
+#include <cctype>
+#include <charconv>
+#include <fstream>
+#include <optional>
+#include <sstream>
+
+namespace navmap::ipc {
+namespace {
+
+/// Cursor over one DBC statement (one line, or several when a quoted string spans lines).
+class Lexer {
+public:
+    explicit Lexer(std::string_view text) : m_text(text) {}
+
+    void skipWs() {
+        while (m_pos < m_text.size() && std::isspace(static_cast<unsigned char>(m_text[m_pos])) != 0) {
+            ++m_pos;
+        }
+    }
+    bool atEnd() {
+        skipWs();
+        return m_pos >= m_text.size();
+    }
+    char peek() {
+        skipWs();
+        return m_pos < m_text.size() ? m_text[m_pos] : '\0';
+    }
+    bool accept(char c) {
+        if (peek() == c) {
+            ++m_pos;
+            return true;
+        }
+        return false;
+    }
+    std::optional<std::string_view> ident() {
+        skipWs();
+        const std::size_t start = m_pos;
+        while (m_pos < m_text.size()) {
+            const auto c = static_cast<unsigned char>(m_text[m_pos]);
+            if (std::isalnum(c) == 0 && c != '_') {
+                break;
+            }
+            ++m_pos;
+        }
+        if (m_pos == start) {
+            return std::nullopt;
+        }
+        return m_text.substr(start, m_pos - start);
+    }
+    std::optional<std::uint64_t> unsignedInt() {
+        skipWs();
+        std::uint64_t v = 0;
+        const char* first = m_text.data() + m_pos;
+        const char* last = m_text.data() + m_text.size();
+        const auto [ptr, ec] = std::from_chars(first, last, v);
+        if (ec != std::errc{} || ptr == first) {
+            return std::nullopt;
+        }
+        m_pos += static_cast<std::size_t>(ptr - first);
+        return v;
+    }
+    std::optional<std::int64_t> signedInt() {
+        skipWs();
+        std::int64_t v = 0;
+        const char* first = m_text.data() + m_pos;
+        const char* last = m_text.data() + m_text.size();
+        const auto [ptr, ec] = std::from_chars(first, last, v);
+        if (ec != std::errc{} || ptr == first) {
+            return std::nullopt;
+        }
+        m_pos += static_cast<std::size_t>(ptr - first);
+        return v;
+    }
+    std::optional<double> number() {
+        skipWs();
+        if (m_pos < m_text.size() && m_text[m_pos] == '+') {
+            ++m_pos;  // from_chars does not take a leading '+'
+        }
+        double v = 0.0;
+        const char* first = m_text.data() + m_pos;
+        const char* last = m_text.data() + m_text.size();
+        const auto [ptr, ec] = std::from_chars(first, last, v);
+        if (ec != std::errc{} || ptr == first) {
+            return std::nullopt;
+        }
+        m_pos += static_cast<std::size_t>(ptr - first);
+        return v;
+    }
+    std::optional<std::string> quoted() {
+        if (!accept('"')) {
+            return std::nullopt;
+        }
+        std::string out;
+        while (m_pos < m_text.size()) {
+            const char c = m_text[m_pos++];
+            if (c == '\\' && m_pos < m_text.size()) {
+                out.push_back(m_text[m_pos++]);
+            } else if (c == '"') {
+                return out;
+            } else {
+                out.push_back(c);
+            }
+        }
+        return std::nullopt;  // unterminated
+    }
+    /// Rest of the statement (for receivers lists).
+    std::string_view rest() {
+        skipWs();
+        return m_text.substr(m_pos);
+    }
+
+private:
+    std::string_view m_text;
+    std::size_t m_pos = 0;
+};
+
+/// Counts '"' that are not escaped; odd means a string continues on the next line.
+bool quotesBalanced(std::string_view s) {
+    bool inString = false;
+    for (std::size_t i = 0; i < s.size(); ++i) {
+        if (s[i] == '\\' && inString) {
+            ++i;
+        } else if (s[i] == '"') {
+            inString = !inString;
+        }
+    }
+    return !inString;
+}
+
+}  // namespace
+
+/// The DBC parser proper: statement by statement, keeping the current BO_ for SG_ lines.
+class DbcParser {
+public:
+    DbcParser(DbcDatabase& db, DbcDatabase::Mode mode) : m_db(db), m_mode(mode) {}
+
+    /// Returns false when parsing must stop (strict mode error).
+    bool statement(std::string_view text, std::size_t line, bool indented) {
+        Lexer lex(text);
+        const auto keyword = lex.ident();
+        if (!keyword) {
+            // Lines that do not start with an identifier are not DBC statements we know.
+            return fail(line, "unexpected text '" + shorten(text) + "'");
+        }
+        if (m_inNsBlock && indented) {
+            return true;  // the symbol list after NS_
+        }
+        m_inNsBlock = false;
+        if (*keyword == "NS_") {
+            m_inNsBlock = true;
+            return true;
+        }
+        if (*keyword == "BO_") {
+            return message(lex, line);
+        }
+        if (*keyword == "SG_") {
+            return signal(lex, line);
+        }
+        if (*keyword == "VAL_") {
+            return valueNames(lex, line);
+        }
+        if (*keyword == "SIG_VALTYPE_") {
+            return valueType(lex, line);
+        }
+        // Everything else (VERSION, BS_, BU_, CM_, BA_DEF_, BA_, VAL_TABLE_, BO_TX_BU_, EV_, SG_MUL_VAL_,
+        // SIG_GROUP_, ...) is skipped. A statement ends a message's signal list.
+        m_current = -1;
+        return true;
+    }
+
+    bool finish() {
+        for (auto& msg : m_db.m_messages) {
+            for (const auto& s : msg.signals) {
+                if (s.muxRole == MuxRole::Multiplexed && msg.multiplexor < 0) {
+                    if (!fail(s.line, "SG_ " + s.name + ": multiplexed signal in message " + msg.name +
+                                          " which has no multiplexor (M) signal")) {
+                        return false;
+                    }
+                }
+            }
+        }
+        return true;
+    }
+
+    bool fail(std::size_t line, std::string what) {
+        ++m_db.m_diagnosticCount;
+        DbcDiagnostic d{line, m_db.m_sourceName + ":" + std::to_string(line) + ": " + std::move(what)};
+        if (m_mode == DbcDatabase::Mode::Strict) {
+            m_firstError = d.message;
+            return false;
+        }
+        if (m_db.m_diagnostics.size() < DbcDatabase::kMaxDiagnostics) {
+            m_db.m_diagnostics.push_back(std::move(d));
+        }
+        return true;
+    }
+
+    const std::string& firstError() const { return m_firstError; }
+
+private:
+    static std::string shorten(std::string_view s) {
+        std::string out(s.substr(0, 40));
+        for (char& c : out) {
+            if (std::isprint(static_cast<unsigned char>(c)) == 0) {
+                c = '?';
+            }
+        }
+        return s.size() > 40 ? out + "..." : out;
+    }
+
+    bool message(Lexer& lex, std::size_t line) {
+        m_current = -1;
+        const auto rawId = lex.unsignedInt();
+        if (!rawId) {
+            return fail(line, "BO_: expected a numeric message id");
+        }
+        const auto name = lex.ident();
+        if (!name) {
+            return fail(line, "BO_ " + std::to_string(*rawId) + ": expected a message name");
+        }
+        if (!lex.accept(':')) {
+            return fail(line, "BO_ " + std::string(*name) + ": expected ':' after the name");
+        }
+        const auto size = lex.unsignedInt();
+        if (!size || *size > kCanMaxFdLen) {
+            return fail(line, "BO_ " + std::string(*name) + ": size must be 0..64 bytes");
+        }
+        if (*name == "VECTOR__INDEPENDENT_SIG_MSG") {
+            m_current = -2;  // pseudo message of unassigned signals: skip its SG_ lines
+            return true;
+        }
+        DbcMessage msg;
+        msg.name = std::string(*name);
+        msg.size = static_cast<std::uint8_t>(*size);
+        msg.line = line;
+        if ((*rawId & 0x80000000U) != 0) {
+            msg.extended = true;
+            msg.id = static_cast<std::uint32_t>(*rawId & 0x7FFFFFFFU);
+        } else {
+            msg.id = static_cast<std::uint32_t>(*rawId);
+            msg.extended = *rawId > kCanMaxStandardId;  // cannot be an 11-bit id
+        }
+        if (*rawId > 0xFFFFFFFFULL || msg.id > kCanMaxExtendedId) {
+            return fail(line, "BO_ " + msg.name + ": id " + std::to_string(*rawId) + " is not a CAN id");
+        }
+        if (const auto tx = lex.ident()) {
+            msg.transmitter = std::string(*tx);
+        }
+        if (m_db.m_byKey.count(msg.key()) != 0) {
+            return fail(line, "BO_ " + msg.name + ": duplicate message id " + std::to_string(msg.id));
+        }
+        if (m_db.m_byName.count(msg.name) != 0) {
+            return fail(line, "BO_ " + msg.name + ": duplicate message name");
+        }
+        m_db.m_byKey.emplace(msg.key(), m_db.m_messages.size());
+        m_db.m_byName.emplace(msg.name, m_db.m_messages.size());
+        m_current = static_cast<int>(m_db.m_messages.size());
+        m_db.m_messages.push_back(std::move(msg));
+        return true;
+    }
+
+    bool signal(Lexer& lex, std::size_t line) {
+        if (m_current == -2) {
+            return true;
+        }
+        const auto name = lex.ident();
+        if (!name) {
+            return fail(line, "SG_: expected a signal name");
+        }
+        const std::string sg = "SG_ " + std::string(*name);
+        if (m_current < 0) {
+            return fail(line, sg + ": signal outside a BO_ message");
+        }
+        DbcMessage& msg = m_db.m_messages[static_cast<std::size_t>(m_current)];
+        DbcSignal s;
+        s.name = std::string(*name);
+        s.line = line;
+        if (lex.peek() != ':') {
+            const auto mux = lex.ident();
+            if (!mux) {
+                return fail(line, sg + ": expected ':' or a multiplexer indicator");
+            }
+            if (*mux == "M") {
+                s.muxRole = MuxRole::Multiplexor;
+            } else if (mux->size() >= 2 && (*mux)[0] == 'm') {
+                std::string_view digits = mux->substr(1);
+                if (digits.back() == 'M') {
+                    s.alsoMultiplexor = true;
+                    digits.remove_suffix(1);
+                }
+                std::uint32_t v = 0;
+                const auto [ptr, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), v);
+                if (ec != std::errc{} || ptr != digits.data() + digits.size() || digits.empty()) {
+                    return fail(line, sg + ": bad multiplexer indicator '" + std::string(*mux) + "'");
+                }
+                s.muxRole = MuxRole::Multiplexed;
+                s.muxValue = v;
+            } else {
+                return fail(line, sg + ": bad multiplexer indicator '" + std::string(*mux) + "'");
+            }
+        }
+        if (!lex.accept(':')) {
+            return fail(line, sg + ": expected ':'");
+        }
+        const auto start = lex.unsignedInt();
+        if (!start || !lex.accept('|')) {
+            return fail(line, sg + ": expected <start bit>|<length>");
+        }
+        const auto length = lex.unsignedInt();
+        if (!length || !lex.accept('@')) {
+            return fail(line, sg + ": expected <length>@<byte order>");
+        }
+        if (*length < 1 || *length > 64) {
+            return fail(line, sg + ": length " + std::to_string(*length) + " is not 1..64 bits");
+        }
+        if (*start >= 512) {
+            return fail(line, sg + ": start bit " + std::to_string(*start) + " is beyond 64 bytes");
+        }
+        s.startBit = static_cast<std::uint16_t>(*start);
+        s.length = static_cast<std::uint16_t>(*length);
+        if (lex.accept('0')) {
+            s.byteOrder = ByteOrder::Motorola;
+        } else if (lex.accept('1')) {
+            s.byteOrder = ByteOrder::Intel;
+        } else {
+            return fail(line, sg + ": byte order must be @0 (Motorola) or @1 (Intel)");
+        }
+        if (lex.accept('-')) {
+            s.isSigned = true;
+        } else if (!lex.accept('+')) {
+            return fail(line, sg + ": expected + (unsigned) or - (signed)");
+        }
+        if (!lex.accept('(')) {
+            return fail(line, sg + ": expected (factor,offset)");
+        }
+        const auto factor = lex.number();
+        if (!factor || !lex.accept(',')) {
+            return fail(line, sg + ": bad factor in (factor,offset)");
+        }
+        const auto offset = lex.number();
+        if (!offset || !lex.accept(')')) {
+            return fail(line, sg + ": bad offset in (factor,offset)");
+        }
+        if (!lex.accept('[')) {
+            return fail(line, sg + ": expected [min|max]");
+        }
+        const auto minimum = lex.number();
+        if (!minimum || !lex.accept('|')) {
+            return fail(line, sg + ": bad minimum in [min|max]");
+        }
+        const auto maximum = lex.number();
+        if (!maximum || !lex.accept(']')) {
+            return fail(line, sg + ": bad maximum in [min|max]");
+        }
+        const auto unit = lex.quoted();
+        if (!unit) {
+            return fail(line, sg + ": expected a quoted unit");
+        }
+        s.factor = *factor;
+        s.offset = *offset;
+        s.minimum = *minimum;
+        s.maximum = *maximum;
+        s.unit = *unit;
+        if (s.bytesNeeded() > msg.size) {
+            return fail(line, sg + ": bits " + std::to_string(s.startBit) + "|" + std::to_string(s.length) +
+                                  (s.byteOrder == ByteOrder::Intel ? "@1" : "@0") + " need " +
+                                  std::to_string(s.bytesNeeded()) + " bytes, message " + msg.name + " has " +
+                                  std::to_string(msg.size));
+        }
+        if (msg.findSignal(s.name) != nullptr) {
+            return fail(line, sg + ": duplicate signal in message " + msg.name);
+        }
+        if (s.muxRole == MuxRole::Multiplexor) {
+            if (msg.multiplexor >= 0) {
+                return fail(line, sg + ": second multiplexor in message " + msg.name +
+                                      " (extended multiplexing is not supported)");
+            }
+            msg.multiplexor = static_cast<int>(msg.signals.size());
+        }
+        msg.signals.push_back(std::move(s));
+        return true;
+    }
+
+    DbcSignal* findSignal(std::uint64_t rawId, std::string_view name) {
+        const std::uint32_t key = (rawId & 0x80000000U) != 0
+                                      ? static_cast<std::uint32_t>(rawId)
+                                      : (rawId > kCanMaxStandardId ? static_cast<std::uint32_t>(rawId | 0x80000000U)
+                                                                   : static_cast<std::uint32_t>(rawId));
+        const auto it = m_db.m_byKey.find(key);
+        if (it == m_db.m_byKey.end()) {
+            return nullptr;
+        }
+        for (auto& s : m_db.m_messages[it->second].signals) {
+            if (s.name == name) {
+                return &s;
+            }
+        }
+        return nullptr;
+    }
+
+    bool valueNames(Lexer& lex, std::size_t line) {
+        m_current = -1;
+        const auto rawId = lex.unsignedInt();
+        if (!rawId) {
+            return true;  // VAL_ of an environment variable: skipped
+        }
+        const auto name = lex.ident();
+        if (!name) {
+            return fail(line, "VAL_ " + std::to_string(*rawId) + ": expected a signal name");
+        }
+        DbcSignal* s = findSignal(*rawId, *name);
+        if (s == nullptr) {
+            return fail(line, "VAL_ " + std::to_string(*rawId) + " " + std::string(*name) + ": unknown signal");
+        }
+        while (!lex.accept(';') && !lex.atEnd()) {
+            const auto v = lex.signedInt();
+            const auto text = v ? lex.quoted() : std::nullopt;
+            if (!v || !text) {
+                return fail(line, "VAL_ " + std::string(*name) + ": expected <value> \"<text>\" pairs");
+            }
+            s->valueNames[*v] = *text;
+        }
+        return true;
+    }
+
+    bool valueType(Lexer& lex, std::size_t line) {
+        m_current = -1;
+        const auto rawId = lex.unsignedInt();
+        const auto name = rawId ? lex.ident() : std::nullopt;
+        if (!name || !lex.accept(':')) {
+            return fail(line, "SIG_VALTYPE_: expected <id> <signal> : <type>");
+        }
+        const auto type = lex.unsignedInt();
+        DbcSignal* s = findSignal(*rawId, *name);
+        if (s == nullptr) {
+            return fail(line, "SIG_VALTYPE_ " + std::string(*name) + ": unknown signal");
+        }
+        if (!type || *type > 2 || (*type == 1 && s->length != 32) || (*type == 2 && s->length != 64)) {
+            return fail(line, "SIG_VALTYPE_ " + std::string(*name) +
+                                  ": type must be 0, 1 (32-bit float) or 2 (64-bit double) matching the length");
+        }
+        s->valueType = *type == 1 ? ValueType::Float32 : (*type == 2 ? ValueType::Float64 : ValueType::Integer);
+        return true;
+    }
+
+    DbcDatabase& m_db;
+    DbcDatabase::Mode m_mode;
+    int m_current = -1;  // index of the BO_ that SG_ lines belong to; -1 none, -2 skipped pseudo message
+    bool m_inNsBlock = false;
+    std::string m_firstError;
+};
+
+Result<DbcDatabase> DbcDatabase::parse(std::string_view text, std::string_view sourceName, Mode mode) {
+    DbcDatabase db;
+    db.m_sourceName = std::string(sourceName);
+    DbcParser parser(db, mode);
+    std::size_t lineNo = 0;
+    std::size_t pos = 0;
+    std::string pending;  // a statement whose quoted string continues on following lines
+    std::size_t pendingLine = 0;
+    bool pendingIndented = false;
+    while (pos < text.size()) {
+        std::size_t end = text.find('\n', pos);
+        if (end == std::string_view::npos) {
+            end = text.size();
+        }
+        std::string_view line = text.substr(pos, end - pos);
+        pos = end + 1;
+        ++lineNo;
+        if (!line.empty() && line.back() == '\r') {
+            line.remove_suffix(1);
+        }
+        if (!pending.empty()) {
+            pending.push_back('\n');
+            pending.append(line);
+            if (!quotesBalanced(pending)) {
+                continue;
+            }
+            if (!parser.statement(pending, pendingLine, pendingIndented)) {
+                return Error{parser.firstError()};
+            }
+            pending.clear();
+            continue;
+        }
+        const bool indented = !line.empty() && (line[0] == ' ' || line[0] == '\t');
+        const auto first = line.find_first_not_of(" \t");
+        if (first == std::string_view::npos || line.substr(first, 2) == "//") {
+            continue;  // blank line or comment
+        }
+        if (!quotesBalanced(line)) {
+            pending.assign(line);
+            pendingLine = lineNo;
+            pendingIndented = indented;
+            continue;
+        }
+        if (!parser.statement(line, lineNo, indented)) {
+            return Error{parser.firstError()};
+        }
+    }
+    if (!pending.empty()) {
+        if (!parser.fail(pendingLine, "unterminated quoted string")) {
+            return Error{parser.firstError()};
+        }
+    }
+    if (!parser.finish()) {
+        return Error{parser.firstError()};
+    }
+    return db;
+}
+
+Result<DbcDatabase> DbcDatabase::load(const std::filesystem::path& path, Mode mode) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) {
+        return Error{"open(" + path.string() + "): cannot read DBC file"};
+    }
+    std::ostringstream ss;
+    ss << in.rdbuf();
+    if (in.bad()) {
+        return Error{"read(" + path.string() + "): I/O error"};
+    }
+    return parse(ss.str(), path.string(), mode);
+}
+
+DbcDatabase DbcDatabase::loadOrThrow(const std::filesystem::path& path, Mode mode) {
+    auto r = load(path, mode);
+    if (!r) {
+        throw DbcError(r.error().message);
+    }
+    return std::move(r).value();
+}
+
+const DbcMessage* DbcDatabase::findMessage(std::uint32_t key) const noexcept {
+    const auto it = m_byKey.find(key);
+    return it == m_byKey.end() ? nullptr : &m_messages[it->second];
+}
+
+const DbcMessage* DbcDatabase::findMessage(std::string_view name) const noexcept {
+    const auto it = m_byName.find(std::string(name));
+    return it == m_byName.end() ? nullptr : &m_messages[it->second];
+}
+
+}  // namespace navmap::ipc

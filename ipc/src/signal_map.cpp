@@ -1,0 +1,182 @@
+#include "navmap/ipc/signal_map.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <fstream>
+#include <numbers>
+#include <sstream>
+
+#include <toml++/toml.h>
+
+namespace navmap::ipc {
+namespace {
+
+enum class Dim { None, Speed, Angle, AngularRate, Length, Accel };
+
+Dim dimensionOf(VssSignal s) {
+    switch (s) {
+    case VssSignal::Latitude:
+    case VssSignal::Longitude:
+    case VssSignal::Heading:
+    case VssSignal::SteeringWheelAngle:
+        return Dim::Angle;
+    case VssSignal::Altitude:
+        return Dim::Length;
+    case VssSignal::Speed:
+        return Dim::Speed;
+    case VssSignal::YawRate:
+        return Dim::AngularRate;
+    case VssSignal::AccelLongitudinal:
+    case VssSignal::AccelLateral:
+        return Dim::Accel;
+    case VssSignal::FixType:
+    case VssSignal::GnssCounter:
+        return Dim::None;
+    }
+    return Dim::None;
+}
+
+struct UnitEntry {
+    std::string_view name;  // lower case
+    Dim dim;
+    double toCanonical;     // km/h, degrees, degrees/s, m, m/s^2
+};
+
+constexpr double kRadToDeg = 180.0 / std::numbers::pi;
+
+constexpr UnitEntry kUnits[] = {
+    {"km/h", Dim::Speed, 1.0}, {"kph", Dim::Speed, 1.0}, {"kmh", Dim::Speed, 1.0},
+    {"unit_kilometerperhour", Dim::Speed, 1.0}, {"m/s", Dim::Speed, 3.6}, {"mps", Dim::Speed, 3.6},
+    {"unit_meterpersecond", Dim::Speed, 3.6}, {"mph", Dim::Speed, 1.609344},
+    {"deg", Dim::Angle, 1.0}, {"degree", Dim::Angle, 1.0}, {"degrees", Dim::Angle, 1.0}, {"\xc2\xb0", Dim::Angle, 1.0},
+    {"unit_degreofarc", Dim::Angle, 1.0}, {"rad", Dim::Angle, kRadToDeg},
+    {"deg/s", Dim::AngularRate, 1.0}, {"degrees/s", Dim::AngularRate, 1.0}, {"\xc2\xb0/s", Dim::AngularRate, 1.0},
+    {"unit_degreofarcpersecon", Dim::AngularRate, 1.0}, {"unit_degreofarcpersecond", Dim::AngularRate, 1.0},
+    {"rad/s", Dim::AngularRate, kRadToDeg}, {"unit_radianpersecond", Dim::AngularRate, kRadToDeg},
+    {"m", Dim::Length, 1.0}, {"cm", Dim::Length, 0.01}, {"mm", Dim::Length, 0.001}, {"km", Dim::Length, 1000.0},
+    {"unit_meter", Dim::Length, 1.0}, {"m/s^2", Dim::Accel, 1.0}, {"m/s2", Dim::Accel, 1.0},
+    {"m/s\xc2\xb2", Dim::Accel, 1.0}, {"unit_meterpersecondsquar", Dim::Accel, 1.0}, {"g", Dim::Accel, 9.80665},
+};
+
+}  // namespace
+
+std::optional<double> unitConversion(std::string_view dbcUnit, VssSignal target) {
+    const Dim want = dimensionOf(target);
+    if (want == Dim::None) {
+        return 1.0;  // counters and codes: the unit does not matter
+    }
+    std::string lower;
+    for (const char c : dbcUnit) {
+        if (c != ' ') {
+            lower.push_back(static_cast<char>(std::tolower(static_cast<unsigned char>(c))));
+        }
+    }
+    for (const auto& u : kUnits) {
+        if (u.name == lower) {
+            if (u.dim != want) {
+                return std::nullopt;
+            }
+            return u.toCanonical;
+        }
+    }
+    return std::nullopt;
+}
+
+Result<SignalMap> SignalMap::fromToml(std::string_view text, std::string_view sourceName, std::string_view arrayKey) {
+    const std::string src(sourceName);
+    toml::table root;
+    try {
+        root = toml::parse(text, src);
+    } catch (const toml::parse_error& e) {
+        const auto& b = e.source().begin;
+        return Error{src + ":" + std::to_string(b.line) + ":" + std::to_string(b.column) + ": " +
+                     std::string(e.description())};
+    }
+    SignalMap map;
+    const toml::node_view<toml::node> node = root.at_path(arrayKey);
+    if (!node) {
+        return Error{src + ": no [[" + std::string(arrayKey) + "]] entries"};
+    }
+    const toml::array* arr = node.as_array();
+    if (arr == nullptr) {
+        return Error{src + ": '" + std::string(arrayKey) + "' must be an array of tables ([[" +
+                     std::string(arrayKey) + "]])"};
+    }
+    std::size_t index = 0;
+    for (const toml::node& entry : *arr) {
+        ++index;
+        const toml::table* t = entry.as_table();
+        const auto where = [&](const toml::node& n) {
+            const auto line = n.source().begin.line;
+            return src + ":" + std::to_string(line) + ": " + std::string(arrayKey) + " #" + std::to_string(index);
+        };
+        if (t == nullptr) {
+            return Error{where(entry) + ": entry is not a table"};
+        }
+        SignalMapping m;
+        for (const auto& [key, value] : *t) {
+            const std::string_view k = key.str();
+            if (k == "vss" || k == "message" || k == "signal" || k == "dbc" || k == "unit" || k == "sign_signal") {
+                const auto s = value.value<std::string>();
+                if (!s) {
+                    return Error{where(value) + ": '" + std::string(k) + "' must be a string"};
+                }
+                if (k == "vss") {
+                    const auto v = vssFromName(*s);
+                    if (!v) {
+                        return Error{where(value) + ": unknown VSS name '" + *s + "'"};
+                    }
+                    m.target = *v;
+                } else if (k == "message") {
+                    m.message = *s;
+                } else if (k == "signal") {
+                    m.signal = *s;
+                } else if (k == "dbc") {
+                    m.dbc = *s;
+                } else if (k == "unit") {
+                    m.unit = *s;
+                } else {
+                    m.signSignal = *s;
+                }
+            } else if (k == "scale" || k == "bias") {
+                const auto d = value.value<double>();
+                if (!d) {
+                    return Error{where(value) + ": '" + std::string(k) + "' must be a number"};
+                }
+                (k == "scale" ? m.scale : m.bias) = *d;
+            } else {
+                return Error{where(value) + ": unknown key '" + std::string(k) + "'"};
+            }
+        }
+        if (!t->contains("vss") || m.message.empty() || m.signal.empty()) {
+            return Error{where(entry) + ": 'vss', 'message' and 'signal' are required"};
+        }
+        map.add(std::move(m));
+    }
+    return map;
+}
+
+Result<SignalMap> SignalMap::loadToml(const std::filesystem::path& path, std::string_view arrayKey) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) {
+        return Error{"open(" + path.string() + "): cannot read signal map"};
+    }
+    std::ostringstream ss;
+    ss << in.rdbuf();
+    return fromToml(ss.str(), path.string(), arrayKey);
+}
+
+SignalMap SignalMap::navmapDefaults() {
+    SignalMap m;
+    m.add({VssSignal::Latitude, "NAV_Position", "NAV_Latitude", {}, {}, 1.0, 0.0, {}});
+    m.add({VssSignal::Longitude, "NAV_Position", "NAV_Longitude", {}, {}, 1.0, 0.0, {}});
+    m.add({VssSignal::Heading, "NAV_Motion", "NAV_Heading", {}, {}, 1.0, 0.0, {}});
+    m.add({VssSignal::Speed, "NAV_Motion", "NAV_Speed", {}, {}, 1.0, 0.0, {}});
+    m.add({VssSignal::YawRate, "NAV_Motion", "NAV_YawRate", {}, {}, 1.0, 0.0, {}});
+    m.add({VssSignal::FixType, "NAV_Motion", "NAV_FixType", {}, {}, 1.0, 0.0, {}});
+    m.add({VssSignal::GnssCounter, "NAV_Motion", "NAV_Counter", {}, {}, 1.0, 0.0, {}});
+    m.add({VssSignal::Altitude, "NAV_Info", "NAV_Altitude", {}, {}, 1.0, 0.0, {}});
+    return m;
+}
+
+}  // namespace navmap::ipc

@@ -1,0 +1,242 @@
+#include "navmap/ipc/socketcan_source.hpp"
+
+#include <linux/can.h>
+#include <linux/can/raw.h>
+#include <net/if.h>
+#include <poll.h>
+#include <sys/ioctl.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstring>
+
+#include "navmap/ipc/socketcan_codec.hpp"
+
+namespace navmap::ipc {
+namespace {
+
+std::string sysError(const char* call, const std::string& iface, int err) {
+    return std::string(call) + "(" + iface + "): " + std::strerror(err);
+}
+
+}  // namespace
+
+const char* SocketCanStatus::stateName(State s) noexcept {
+    switch (s) {
+    case State::Closed: return "closed";
+    case State::Open: return "open";
+    case State::Retrying: return "retrying";
+    }
+    return "?";
+}
+
+SocketCanSource::SocketCanSource(SocketCanOptions options)
+    : m_options(std::move(options)), m_backoff(m_options.backoffInitial, m_options.backoffMaximum) {}
+
+SocketCanSource::~SocketCanSource() { closeSocket(); }
+
+void SocketCanSource::closeSocket() {
+    if (m_fd >= 0) {
+        ::close(m_fd);
+        m_fd = -1;
+    }
+    m_dropsBefore = m_status.kernelDrops;
+    m_dropsAtOpen = 0;
+}
+
+void SocketCanSource::failOpen(std::string error) {
+    closeSocket();
+    ++m_status.openFailures;
+    m_status.lastError = std::move(error);
+    m_status.state = SocketCanStatus::State::Retrying;
+    m_backoff.failed(Backoff::Clock::now());
+}
+
+bool SocketCanSource::open() {
+    const std::string& name = m_options.interfaceName;
+    if (name.empty() || name.size() >= IFNAMSIZ) {
+        failOpen("interface name '" + name + "' must have 1.." + std::to_string(IFNAMSIZ - 1) + " characters");
+        return false;
+    }
+    m_fd = ::socket(PF_CAN, SOCK_RAW | SOCK_NONBLOCK | SOCK_CLOEXEC, CAN_RAW);
+    if (m_fd < 0) {
+        failOpen(sysError("socket(PF_CAN)", name, errno));
+        return false;
+    }
+    const unsigned index = ::if_nametoindex(name.c_str());
+    if (index == 0) {
+        failOpen(sysError("if_nametoindex", name, errno));
+        return false;
+    }
+    ifreq ifr{};
+    std::memcpy(ifr.ifr_name, name.c_str(), name.size() + 1);
+    if (::ioctl(m_fd, SIOCGIFFLAGS, &ifr) < 0) {
+        failOpen(sysError("ioctl(SIOCGIFFLAGS)", name, errno));
+        return false;
+    }
+    if ((ifr.ifr_flags & IFF_UP) == 0) {
+        failOpen("interface " + name + " is down");
+        return false;
+    }
+    const int one = 1;
+    if (m_options.receiveFd) {
+        // Older kernels or controllers without FD: keep going with classic frames.
+        m_status.fdEnabled = ::setsockopt(m_fd, SOL_CAN_RAW, CAN_RAW_FD_FRAMES, &one, sizeof one) == 0;
+    }
+    const auto filters = buildRawFilters(m_options.frameKeys);
+    if (!filters.empty() &&
+        ::setsockopt(m_fd, SOL_CAN_RAW, CAN_RAW_FILTER, filters.data(),
+                     static_cast<socklen_t>(filters.size() * sizeof(can_filter))) < 0) {
+        failOpen(sysError("setsockopt(CAN_RAW_FILTER)", name, errno));
+        return false;
+    }
+    if (m_options.receiveErrorFrames) {
+        const can_err_mask_t mask = CAN_ERR_MASK;
+        if (::setsockopt(m_fd, SOL_CAN_RAW, CAN_RAW_ERR_FILTER, &mask, sizeof mask) < 0) {
+            failOpen(sysError("setsockopt(CAN_RAW_ERR_FILTER)", name, errno));
+            return false;
+        }
+    }
+    if (::setsockopt(m_fd, SOL_SOCKET, SO_TIMESTAMPNS, &one, sizeof one) < 0) {
+        failOpen(sysError("setsockopt(SO_TIMESTAMPNS)", name, errno));
+        return false;
+    }
+    if (::setsockopt(m_fd, SOL_SOCKET, SO_RXQ_OVFL, &one, sizeof one) < 0) {
+        failOpen(sysError("setsockopt(SO_RXQ_OVFL)", name, errno));
+        return false;
+    }
+    if (m_options.receiveBufferBytes > 0) {
+        // Failure is not fatal: the default buffer still works, drops are counted.
+        (void)::setsockopt(m_fd, SOL_SOCKET, SO_RCVBUF, &m_options.receiveBufferBytes,
+                           sizeof m_options.receiveBufferBytes);
+    }
+    sockaddr_can addr{};
+    addr.can_family = AF_CAN;
+    addr.can_ifindex = static_cast<int>(index);
+    if (::bind(m_fd, reinterpret_cast<const sockaddr*>(&addr), sizeof addr) < 0) {
+        failOpen(sysError("bind", name, errno));
+        return false;
+    }
+    m_backoff.succeeded();
+    m_status.state = SocketCanStatus::State::Open;
+    ++m_status.opens;
+    return true;
+}
+
+std::size_t SocketCanSource::poll(const FrameSink& sink, std::size_t maxFrames) {
+    if (m_fd < 0) {
+        if (!m_backoff.due(Backoff::Clock::now()) || !open()) {
+            return 0;
+        }
+    }
+    std::size_t delivered = 0;
+    for (std::size_t i = 0; i < maxFrames; ++i) {
+        canfd_frame kframe{};
+        iovec iov{&kframe, sizeof kframe};
+        alignas(cmsghdr) char control[CMSG_SPACE(sizeof(timespec)) + CMSG_SPACE(sizeof(std::uint32_t))];
+        msghdr msg{};
+        msg.msg_iov = &iov;
+        msg.msg_iovlen = 1;
+        msg.msg_control = control;
+        msg.msg_controllen = sizeof control;
+        const ssize_t n = ::recvmsg(m_fd, &msg, MSG_DONTWAIT);
+        if (n < 0) {
+            const int err = errno;
+            if (err == EAGAIN || err == EWOULDBLOCK) {
+                break;
+            }
+            if (err == EINTR) {
+                continue;
+            }
+            // ENETDOWN (interface set down), ENODEV (interface removed), ...: re-open later.
+            failOpen(sysError("recvmsg", m_options.interfaceName, err));
+            break;
+        }
+        CanTime stamp{};
+        bool haveStamp = false;
+        for (cmsghdr* c = CMSG_FIRSTHDR(&msg); c != nullptr; c = CMSG_NXTHDR(&msg, c)) {
+            if (c->cmsg_level != SOL_SOCKET) {
+                continue;
+            }
+            if (c->cmsg_type == SO_TIMESTAMPNS) {
+                timespec ts{};
+                std::memcpy(&ts, CMSG_DATA(c), sizeof ts);
+                stamp = CanTime(std::chrono::seconds(ts.tv_sec) + std::chrono::nanoseconds(ts.tv_nsec));
+                haveStamp = true;
+            } else if (c->cmsg_type == SO_RXQ_OVFL) {
+                std::uint32_t drops = 0;
+                std::memcpy(&drops, CMSG_DATA(c), sizeof drops);
+                m_dropsAtOpen = drops;
+                m_status.kernelDrops = m_dropsBefore + drops;
+            }
+        }
+        if (!haveStamp) {
+            stamp = CanTime(std::chrono::duration_cast<std::chrono::nanoseconds>(CanClock::now().time_since_epoch()));
+        }
+        const auto frame = frameFromKernel(&kframe, static_cast<std::size_t>(n), stamp);
+        if (!frame) {
+            ++m_status.badFrames;
+            continue;
+        }
+        if (frame->error()) {
+            ++m_status.errorFrames;
+            const ErrorFrameInfo info = classifyErrorFrame(*frame);
+            if (info.busOff) {
+                ++m_status.busOff;
+            }
+            if (info.controllerProblem) {
+                ++m_status.controllerProblems;
+            }
+            if (info.protocolViolation || info.transceiver || info.noAck || info.lostArbitration || info.busError ||
+                info.txTimeout) {
+                ++m_status.otherErrors;
+            }
+            m_status.lastErrorFrame = info.describe();
+            m_status.lastErrorFrameTime = frame->timestamp;
+            continue;
+        }
+        ++m_status.frames;
+        if (frame->fd()) {
+            ++m_status.fdFrames;
+        }
+        sink(*frame);
+        ++delivered;
+    }
+    return delivered;
+}
+
+void SocketCanSource::waitReadable(std::chrono::milliseconds timeout) {
+    if (m_fd < 0) {
+        const auto now = Backoff::Clock::now();
+        // Round up: waking a little early would find the retry not yet due.
+        const auto untilRetry = std::chrono::ceil<std::chrono::milliseconds>(m_backoff.nextAttempt() - now);
+        const auto wait = std::max(std::chrono::milliseconds(0), std::min(timeout, untilRetry));
+        ::poll(nullptr, 0, static_cast<int>(wait.count()));
+        return;
+    }
+    pollfd p{m_fd, POLLIN, 0};
+    ::poll(&p, 1, static_cast<int>(timeout.count()));
+}
+
+Status SocketCanSource::send(const CanFrame& frame) {
+    if (m_fd < 0) {
+        return Error{"send(" + m_options.interfaceName + "): socket is not open"};
+    }
+    canfd_frame k{};
+    const std::size_t bytes = frameToKernel(frame, k);
+    if (bytes == CANFD_MTU && !m_status.fdEnabled) {
+        return Error{"send(" + m_options.interfaceName + "): CAN FD frames are not enabled on this socket"};
+    }
+    const ssize_t n = ::send(m_fd, &k, bytes, MSG_DONTWAIT);
+    if (n < 0) {
+        return Error{sysError("send", m_options.interfaceName, errno)};
+    }
+    if (static_cast<std::size_t>(n) != bytes) {
+        return Error{"send(" + m_options.interfaceName + "): short write"};
+    }
+    return {};
+}
+
+}  // namespace navmap::ipc

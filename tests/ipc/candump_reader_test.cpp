@@ -1,0 +1,218 @@
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <sstream>
+
+#include "navmap/ipc/candump_reader.hpp"
+#include "test_paths.h"
+
+using navmap::ipc::CandumpReader;
+using navmap::ipc::CandumpRecord;
+using navmap::ipc::CanFrame;
+
+namespace {
+
+CanFrame parseOk(std::string_view line) {
+    auto r = CandumpReader::parseLine(line);
+    EXPECT_TRUE(r.ok()) << line << ": " << (r.ok() ? "" : r.error().message);
+    return r.ok() ? r.value().frame : CanFrame{};
+}
+
+std::string parseError(std::string_view line) {
+    auto r = CandumpReader::parseLine(line);
+    EXPECT_FALSE(r.ok()) << line;
+    return r.ok() ? std::string() : r.error().message;
+}
+
+}  // namespace
+
+TEST(CandumpReader, ClassicFrameWithMicrosecondTimestamp) {
+    auto r = CandumpReader::parseLine("(1487342025.615950) can0 187#E21408C800100300");
+    ASSERT_TRUE(r.ok());
+    const CanFrame& f = r.value().frame;
+    EXPECT_EQ(r.value().interfaceName, "can0");
+    EXPECT_EQ(f.id, 0x187U);
+    EXPECT_FALSE(f.extended());
+    EXPECT_FALSE(f.fd());
+    EXPECT_EQ(f.len, 8);
+    EXPECT_EQ(f.data[0], 0xE2);
+    EXPECT_EQ(f.data[7], 0x00);
+    EXPECT_EQ(f.timestamp.time_since_epoch().count(), 1487342025615950000LL);
+}
+
+TEST(CandumpReader, TwoDecimalTimestampLowercaseHex) {
+    const CanFrame f = parseOk("(1484869955.91) can1 091#7ef47ef424f1f000");
+    EXPECT_EQ(f.id, 0x91U);
+    EXPECT_EQ(f.data[1], 0xF4);
+    EXPECT_EQ(f.timestamp.time_since_epoch().count(), 1484869955910000000LL);
+    EXPECT_EQ(parseOk("(5) vcan0 123#").timestamp.time_since_epoch().count(), 5000000000LL);
+    EXPECT_EQ(parseOk("(1.123456789123) vcan0 123#").timestamp.time_since_epoch().count(), 1123456789LL);
+}
+
+TEST(CandumpReader, ExtendedRemoteFdAndErrorFrames) {
+    CanFrame f = parseOk("(1.0) can0 1ABCDEF0#0102");
+    EXPECT_TRUE(f.extended());
+    EXPECT_EQ(f.id, 0x1ABCDEF0U);
+    EXPECT_EQ(f.len, 2);
+    EXPECT_EQ(f.key(), 0x9ABCDEF0U);
+
+    f = parseOk("(1.0) can0 123#R");
+    EXPECT_TRUE(f.rtr());
+    EXPECT_EQ(f.len, 0);
+    f = parseOk("(1.0) can0 123#R5");
+    EXPECT_TRUE(f.rtr());
+    EXPECT_EQ(f.len, 5);
+
+    f = parseOk("(1.0) can0 123##3112233445566778899AABBCC");
+    EXPECT_TRUE(f.fd());
+    EXPECT_EQ(f.len, 12);
+    EXPECT_EQ(f.flags & navmap::ipc::kCanBrs, navmap::ipc::kCanBrs);
+    EXPECT_EQ(f.flags & navmap::ipc::kCanEsi, navmap::ipc::kCanEsi);
+    EXPECT_EQ(f.data[11], 0xCC);
+    std::string big = "(1.0) can0 12345678##0";
+    for (int i = 0; i < 64; ++i) {
+        big += "A5";
+    }
+    f = parseOk(big);
+    EXPECT_EQ(f.len, 64);
+    EXPECT_TRUE(f.extended());
+
+    f = parseOk("(1.0) can0 20000040#0000000000000000");  // CAN_ERR_FLAG | CAN_ERR_BUSOFF
+    EXPECT_TRUE(f.error());
+    EXPECT_FALSE(f.extended());
+    EXPECT_EQ(f.id, 0x40U);
+
+    f = parseOk("(1.0) can0 123#11.22.33");
+    EXPECT_EQ(f.len, 3);
+    EXPECT_EQ(f.data[2], 0x33);
+    f = parseOk("(1.0) can0 123#1122334455667788_C");  // len8_dlc
+    EXPECT_EQ(f.len, 8);
+    f = parseOk("(1.0) can0 123#00 R");  // direction flag of newer candump
+    EXPECT_EQ(f.len, 1);
+    f = parseOk("(1.0) can0 123#00\r");
+    EXPECT_EQ(f.len, 1);
+}
+
+TEST(CandumpReader, FormatRoundTrip) {
+    for (const char* text : {"123#DEADBEEF", "1ABCDEF0#R", "123#R4", "123##1AABB", "7FF#", "20000004#0004000000000000"}) {
+        const CanFrame f = parseOk(std::string("(0.0) can0 ") + text);
+        EXPECT_EQ(navmap::ipc::formatCandumpPayload(f), text);
+    }
+}
+
+TEST(CandumpReader, MalformedLinesSayWhy) {
+    EXPECT_NE(parseError("(1487342025.615950) can0").find("truncated"), std::string::npos);
+    EXPECT_NE(parseError("(1487342025.6159").find("not closed"), std::string::npos);
+    EXPECT_NE(parseError("1487342025.615950 can0 123#00").find("expected '('"), std::string::npos);
+    EXPECT_NE(parseError("(abc) can0 123#00").find("bad timestamp"), std::string::npos);
+    EXPECT_NE(parseError("(1.) can0 123#00").find("no digits after"), std::string::npos);
+    EXPECT_NE(parseError("(1.0)can0 123#00").find("blank"), std::string::npos);
+    EXPECT_NE(parseError("(1.0) can0 123").find("no '#'"), std::string::npos);
+    EXPECT_NE(parseError("(1.0) can0 12#00").find("3 (11-bit) or 8 (29-bit)"), std::string::npos);
+    EXPECT_NE(parseError("(1.0) can0 1234#00").find("3 (11-bit) or 8 (29-bit)"), std::string::npos);
+    EXPECT_NE(parseError("(1.0) can0 80G#00").find("not hex"), std::string::npos);
+    EXPECT_NE(parseError("(1.0) can0 800#00").find("out of range (max 0x7FF)"), std::string::npos);
+    EXPECT_NE(parseError("(1.0) can0 40000000#00").find("out of range (max 0x1FFFFFFF)"), std::string::npos);
+    EXPECT_NE(parseError("(1.0) can0 123#0G").find("not hex"), std::string::npos);
+    EXPECT_NE(parseError("(1.0) can0 123#123").find("odd number"), std::string::npos);
+    EXPECT_NE(parseError("(1.0) can0 123#112233445566778899").find("more than 8"), std::string::npos);
+    EXPECT_NE(parseError("(1.0) can0 123##0112233445566778899").find("not a valid FD length"), std::string::npos);
+    EXPECT_NE(parseError("(1.0) can0 123##").find("flags nibble"), std::string::npos);
+    EXPECT_NE(parseError("(1.0) can0 123##X00").find("flags"), std::string::npos);
+    EXPECT_NE(parseError("(1.0) can0 123###00").find("XL"), std::string::npos);
+    EXPECT_NE(parseError("(1.0) can0 123#R9").find("0..8"), std::string::npos);
+    EXPECT_NE(parseError("(1.0) can0 123#RX").find("0..8"), std::string::npos);
+    EXPECT_NE(parseError("(1.0) can0 123#1122_C").find("len8_dlc"), std::string::npos);
+    EXPECT_NE(parseError("(1.0) can0 20000040#00").find("8 data bytes"), std::string::npos);
+    EXPECT_NE(parseError("(1.0) can0 123#00 extra").find("after the frame"), std::string::npos);
+    EXPECT_NE(parseError("(1.0) averyveryverylongname 123#00").find("1..15"), std::string::npos);
+    EXPECT_NE(parseError(std::string(600, 'x')).find("longer than 512"), std::string::npos);
+    EXPECT_NE(parseError("(1.0) can0 \xff\xfe#00").find("3 (11-bit)"), std::string::npos);
+    EXPECT_NE(parseError("(1.0) ca\x01n0 123#00").find("non-printable"), std::string::npos);
+}
+
+TEST(CandumpReader, CountsAndLineNumbersAndContinuesAfterBadLines) {
+    std::istringstream in(
+        "(1.000000) can0 100#01\n"
+        "\n"
+        "(1.000100) can0 1#01\n"          // line 3: bad id length
+        "# a comment\n"
+        "(1.000200) can1 101##100112233\n"  // line 5: not a valid FD length (4 is fine) -> ok
+        "(1.000300) can0 102#R\n"
+        "garbage \xff\xfe\n"              // line 7
+        "(1.000400) can0 20000004#0004000000000000\n"
+        "(1.000500) can0 103#0011");
+    CandumpReader reader("test.log");
+    const auto records = reader.readAll(in);
+    ASSERT_EQ(records.size(), 5U);
+    const auto& c = reader.counters();
+    EXPECT_EQ(c.lines, 9U);
+    EXPECT_EQ(c.frames, 5U);
+    EXPECT_EQ(c.malformed, 2U);
+    EXPECT_EQ(c.skipped, 2U);
+    EXPECT_EQ(c.fdFrames, 1U);
+    EXPECT_EQ(c.remoteFrames, 1U);
+    EXPECT_EQ(c.errorFrames, 1U);
+    ASSERT_EQ(reader.errors().size(), 2U);
+    EXPECT_EQ(reader.errors()[0].line, 3U);
+    EXPECT_EQ(reader.errors()[0].message.rfind("test.log:3: CAN id '1'", 0), 0U) << reader.errors()[0].message;
+    EXPECT_EQ(reader.errors()[1].line, 7U);
+    ASSERT_EQ(reader.interfaces().size(), 2U);
+    EXPECT_EQ(reader.interfaces()[records[1].interfaceIndex], "can1");
+    EXPECT_EQ(records.back().frame.id, 0x103U);
+}
+
+TEST(CandumpReader, ErrorListIsBoundedButCountIsNot) {
+    std::string text;
+    for (int i = 0; i < 1000; ++i) {
+        text += "bad line\n";
+    }
+    std::istringstream in(text);
+    CandumpReader reader;
+    EXPECT_TRUE(reader.readAll(in).empty());
+    EXPECT_EQ(reader.counters().malformed, 1000U);
+    EXPECT_EQ(reader.errors().size(), CandumpReader::kMaxErrors);
+}
+
+TEST(CandumpReader, MissingFile) {
+    auto r = navmap::ipc::loadCandumpFile("/nonexistent.candump");
+    ASSERT_FALSE(r.ok());
+    EXPECT_EQ(r.error().message, "open(/nonexistent.candump): cannot read candump file");
+}
+
+TEST(CandumpReader, RealFordLogsLoadCompletely) {
+    const auto dir = navmap::test::sharedDataDir();
+    if (!dir) {
+        GTEST_SKIP() << "../shared/data is absent: real candump logs not available";
+    }
+    struct Expect {
+        const char* name;
+        std::size_t frames;
+        const char* iface;
+    };
+    // Frame counts from ../shared/data/SOURCES.md.
+    const Expect logs[] = {
+        {"ford_fusion_2017_acc_on_going_at_50km_per_hour.candump", 10669, "can0"},
+        {"ford_fusion_2017_lane_keep_assist_on_red_lines.candump", 2841, "vcan0"},
+        {"ford_fusion_2017_lkas-long.candump", 46332, nullptr},
+    };
+    for (const auto& e : logs) {
+        auto r = navmap::ipc::loadCandumpFile(*dir / "can" / e.name);
+        ASSERT_TRUE(r.ok()) << r.error().message;
+        const auto& log = r.value();
+        EXPECT_EQ(log.counters.frames, e.frames) << e.name;
+        EXPECT_EQ(log.counters.malformed, 0U) << e.name;
+        if (e.iface != nullptr) {
+            ASSERT_EQ(log.interfaces.size(), 1U);
+            EXPECT_EQ(log.interfaces[0], e.iface);
+        } else {
+            // lkas-long: can1 45,350 frames and can0 982.
+            EXPECT_EQ(log.frames("can1").size(), 45350U);
+            EXPECT_EQ(log.frames("can0").size(), 982U);
+        }
+        for (const auto& rec : log.records) {
+            ASSERT_EQ(rec.frame.len, 8);
+            ASSERT_FALSE(rec.frame.extended());
+        }
+    }
+}

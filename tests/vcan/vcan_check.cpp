@@ -1,0 +1,253 @@
+// vcan_check: runs INSIDE the qemu guest started by sim/vcan/run_vcan_test.sh, against a real
+// Linux vcan interface. It replays a real Ford log into vcan0 with can-utils' canplayer and checks
+// what SocketCanSource + VehicleDecoder received: kernel-filtered ids, kernel timestamps, decoded
+// speed, error frames, CAN FD, kernel drop counts (SO_RXQ_OVFL) and re-open after down/up.
+// Prints "VCAN_CHECK <name>: ok|FAIL <details>" lines and exits 0 when all checks pass.
+//
+// usage: vcan_check <interface> <candump log> <canplayer> <dbc dir> <signal map toml> <navmap.dbc>
+
+#include <spawn.h>
+#include <sys/wait.h>
+
+#include <linux/can/error.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <set>
+#include <string>
+#include <thread>
+
+#include "navmap/ipc/candump_reader.hpp"
+#include "navmap/ipc/dbc_database.hpp"
+#include "navmap/ipc/signal_map.hpp"
+#include "navmap/ipc/socketcan_source.hpp"
+#include "navmap/ipc/vehicle_decoder.hpp"
+
+extern char** environ;
+
+namespace ipc = navmap::ipc;
+using namespace std::chrono_literals;
+
+namespace {
+
+int g_failures = 0;
+
+void check(const char* name, bool ok, const std::string& details) {
+    std::printf("VCAN_CHECK %s: %s %s\n", name, ok ? "ok" : "FAIL", details.c_str());
+    std::fflush(stdout);
+    if (!ok) {
+        ++g_failures;
+    }
+}
+
+std::shared_ptr<const ipc::DbcDatabase> load(const std::string& path) {
+    return std::make_shared<const ipc::DbcDatabase>(ipc::DbcDatabase::loadOrThrow(path));
+}
+
+int run(const std::string& cmd) {
+    const int rc = std::system(cmd.c_str());
+    return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    if (argc != 7) {
+        std::fprintf(stderr, "usage: %s <iface> <log> <canplayer> <dbc dir> <map.toml> <navmap.dbc>\n", argv[0]);
+        return 2;
+    }
+    const std::string iface = argv[1];
+    const std::string logPath = argv[2];
+    const std::string canplayer = argv[3];
+    const std::string dbcDir = argv[4];
+
+    auto map = ipc::SignalMap::loadToml(argv[5]).value();
+    for (const auto& m : ipc::SignalMap::navmapDefaults().mappings()) {
+        map.add(m);
+    }
+    auto decoder = ipc::VehicleDecoder::create({load(dbcDir + "/ford_lincoln_base_pt.dbc"),
+                                                load(dbcDir + "/ford_fusion_2018_pt.dbc"), load(argv[6])},
+                                               map)
+                       .value();
+    const auto keys = decoder.frameKeys();
+    const std::set<std::uint32_t> keySet(keys.begin(), keys.end());
+
+    // Expected: the log's frames whose id is mapped.
+    const auto log = ipc::loadCandumpFile(logPath).value();
+    std::size_t expectedFrames = 0;
+    for (const auto& r : log.records) {
+        expectedFrames += keySet.count(r.frame.key());
+    }
+
+    ipc::SocketCanOptions opt;
+    opt.interfaceName = iface;
+    opt.frameKeys = keys;
+    opt.backoffInitial = 50ms;
+    opt.backoffMaximum = 400ms;
+    ipc::SocketCanSource rx(opt);
+
+    double vmin = 1e9;
+    double vmax = -1e9;
+    std::size_t frames = 0;
+    std::size_t unmapped = 0;
+    ipc::CanTime firstStamp{};
+    ipc::CanTime lastStamp{};
+    bool monotonic = true;
+    std::size_t fdFrames = 0;
+    ipc::VehicleSample u;
+    const auto sink = [&](const ipc::CanFrame& f) {
+        ++frames;
+        if (keySet.count(f.key()) == 0) {
+            ++unmapped;
+        }
+        if (f.fd()) {
+            ++fdFrames;
+        }
+        if (firstStamp == ipc::CanTime{}) {
+            firstStamp = f.timestamp;
+        }
+        monotonic = monotonic && f.timestamp >= lastStamp;
+        lastStamp = f.timestamp;
+        if (decoder.decode(f, u)) {
+            if (const auto v = u.get(ipc::VssSignal::Speed)) {
+                vmin = std::min(vmin, *v);
+                vmax = std::max(vmax, *v);
+            }
+        }
+    };
+    rx.poll(sink);
+    check("open", rx.status().state == ipc::SocketCanStatus::State::Open,
+          "state=" + std::string(ipc::SocketCanStatus::stateName(rx.status().state)) + " " + rx.status().lastError +
+              " fd=" + (rx.status().fdEnabled ? "yes" : "no"));
+
+    // 1. Real log through canplayer with its original timing.
+    pid_t pid = 0;
+    std::string arg0 = canplayer;
+    std::string arg1 = "-I";
+    std::string arg2 = logPath;
+    char* args[] = {arg0.data(), arg1.data(), arg2.data(), nullptr};
+    const auto sent = ipc::CanClock::now();
+    if (posix_spawn(&pid, canplayer.c_str(), nullptr, nullptr, args, environ) != 0) {
+        check("canplayer", false, "posix_spawn(" + canplayer + ") failed");
+        return 1;
+    }
+    int status = 0;
+    bool exited = false;
+    auto idleSince = std::chrono::steady_clock::now();
+    while (true) {
+        rx.waitReadable(20ms);
+        if (rx.poll(sink, 1024) > 0) {
+            idleSince = std::chrono::steady_clock::now();
+        }
+        if (!exited && waitpid(pid, &status, WNOHANG) == pid) {
+            exited = true;
+        }
+        if (exited && std::chrono::steady_clock::now() - idleSince > 300ms) {
+            break;
+        }
+    }
+    check("canplayer", WIFEXITED(status) && WEXITSTATUS(status) == 0, "exit status " + std::to_string(status));
+    check("filter", frames == expectedFrames && unmapped == 0,
+          "received " + std::to_string(frames) + " of " + std::to_string(expectedFrames) + " mapped frames (log has " +
+              std::to_string(log.records.size()) + "), unmapped " + std::to_string(unmapped));
+    const double spanS = std::chrono::duration<double>(lastStamp - firstStamp).count();
+    const double skewS = std::chrono::duration<double>(firstStamp - sent).count();
+    check("timestamps", monotonic && spanS > 1.0 && spanS < 3.0 && skewS > -1.0 && skewS < 5.0,
+          "kernel timestamps span " + std::to_string(spanS) + " s, first " + std::to_string(skewS) +
+              " s after spawning canplayer");
+    check("speed", vmin > 102.6 && vmax < 103.8 && vmax > 102.6,
+          "decoded Vehicle.Speed " + std::to_string(vmin) + ".." + std::to_string(vmax) + " km/h (expected 102.7-103.7)");
+    check("kernel_drops_none", rx.status().kernelDrops == 0, std::to_string(rx.status().kernelDrops));
+
+    // 2. Error frame (bus-off) and a CAN FD frame through a second socket.
+    ipc::SocketCanOptions txOpt;
+    txOpt.interfaceName = iface;
+    ipc::SocketCanSource tx(txOpt);
+    tx.poll([](const ipc::CanFrame&) {});
+    ipc::CanFrame err;
+    err.flags = ipc::kCanError;
+    err.id = CAN_ERR_BUSOFF | CAN_ERR_CRTL;
+    err.len = 8;
+    err.data[1] = CAN_ERR_CRTL_RX_PASSIVE;
+    const auto errSent = tx.send(err);
+    ipc::CanFrame fd;
+    fd.id = 0x6A0;
+    fd.flags = ipc::kCanFd | ipc::kCanBrs;
+    fd.len = 64;
+    const auto nav = load(argv[6]);
+    const auto pos = nav->findMessage(std::string_view("NAV_Position"))
+                         ->encode({{"NAV_Latitude", 42.623636}, {"NAV_Longitude", 1.532909}})
+                         .value();
+    std::copy(pos.data.begin(), pos.data.begin() + 8, fd.data.begin());
+    const auto fdSent = tx.send(fd);
+    for (int i = 0; i < 20; ++i) {
+        rx.waitReadable(20ms);
+        rx.poll(sink);
+    }
+    check("error_frame", errSent.ok() && rx.status().busOff == 1 && rx.status().controllerProblems == 1,
+          (errSent.ok() ? std::string() : errSent.message() + " ") + "busOff=" + std::to_string(rx.status().busOff) +
+              " last='" + rx.status().lastErrorFrame + "'");
+    const auto lat = decoder.latest().get(ipc::VssSignal::Latitude);
+    check("can_fd", fdSent.ok() && fdFrames == 1 && lat && std::abs(*lat - 42.623636) < 1e-6,
+          (fdSent.ok() ? std::string() : fdSent.message() + " ") + "fd frames " + std::to_string(fdFrames));
+
+    // 3. Kernel drop counting: a receiver with a tiny buffer that does not read while 2000 frames
+    //    are sent.
+    ipc::SocketCanOptions smallOpt;
+    smallOpt.interfaceName = iface;
+    smallOpt.receiveBufferBytes = 1;  // the kernel rounds up to its minimum
+    ipc::SocketCanSource small(smallOpt);
+    small.poll([](const ipc::CanFrame&) {});
+    ipc::CanFrame burst;
+    burst.id = 0x415;
+    burst.len = 8;
+    int sentOk = 0;
+    for (int i = 0; i < 2000; ++i) {
+        burst.data[0] = static_cast<std::uint8_t>(i);
+        sentOk += tx.send(burst).ok() ? 1 : 0;
+    }
+    std::size_t smallFrames = 0;
+    small.poll([&](const ipc::CanFrame&) { ++smallFrames; }, 5000);
+    // The kernel attaches the drop count (SO_RXQ_OVFL) to frames queued after the drops, so one
+    // more frame brings the news.
+    sentOk += tx.send(burst).ok() ? 1 : 0;
+    small.waitReadable(100ms);
+    small.poll([&](const ipc::CanFrame&) { ++smallFrames; }, 5000);
+    check("kernel_drops", small.status().kernelDrops > 0 &&
+                              smallFrames + small.status().kernelDrops == static_cast<std::size_t>(sentOk),
+          "sent " + std::to_string(sentOk) + ", read " + std::to_string(smallFrames) + ", SO_RXQ_OVFL drops " +
+              std::to_string(small.status().kernelDrops));
+    rx.poll([](const ipc::CanFrame&) {}, 100000);  // drain
+
+    // 4. Interface down and up again: the source re-opens with backoff.
+    run("ip link set " + iface + " down");
+    for (int i = 0; i < 5; ++i) {
+        rx.poll(sink);
+        std::this_thread::sleep_for(10ms);
+    }
+    const auto downState = rx.status().state;
+    const std::string downError = rx.status().lastError;
+    run("ip link set " + iface + " up");
+    for (int i = 0; i < 100 && rx.status().state != ipc::SocketCanStatus::State::Open; ++i) {
+        rx.waitReadable(20ms);
+        rx.poll(sink);
+    }
+    ipc::SocketCanSource tx2(txOpt);
+    tx2.poll([](const ipc::CanFrame&) {});
+    const std::size_t before = frames;
+    ipc::CanFrame after = pos;
+    after.timestamp = {};
+    (void)tx2.send(after);
+    for (int i = 0; i < 10 && frames == before; ++i) {
+        rx.waitReadable(20ms);
+        rx.poll(sink);
+    }
+    check("reopen", downState == ipc::SocketCanStatus::State::Retrying && rx.status().opens >= 2 && frames == before + 1,
+          "after down: " + std::string(ipc::SocketCanStatus::stateName(downState)) + " '" + downError +
+              "'; opens=" + std::to_string(rx.status().opens) + " openFailures=" +
+              std::to_string(rx.status().openFailures) + " frame after up: " + (frames == before + 1 ? "yes" : "no"));
+
+    std::printf("VCAN_SUMMARY failures=%d\n", g_failures);
+    return g_failures == 0 ? 0 : 1;
+}
