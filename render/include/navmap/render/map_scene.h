@@ -1,0 +1,54 @@
+#pragma once
+// A map scene over a compiled tile store: the store, its tile cache, the projection, the road
+// graph, and helpers to place a vehicle on a road and to plan a drive (used by navmapd's
+// simulated drive, the golden tests and the benchmarks).
+
+#include <filesystem>
+#include <memory>
+#include <vector>
+
+#include "navmap/map/routing.h"
+#include "navmap/map/tile_cache.h"
+#include "navmap/map/tile_store.h"
+#include "navmap/render/camera_rig.h"
+#include "navmap/render/map_frame.h"
+#include "navmap/render/map_view.h"
+
+namespace navmap::render {
+
+struct MapScene {
+    std::shared_ptr<map::TileStore> store;
+    std::shared_ptr<map::TileCache> cache;
+    map::RoadGraph graph;
+
+    /// Opens a store (throws map::StoreError naming the file) with a cache of `budget_bytes`.
+    static MapScene open(const std::filesystem::path& store_path, std::size_t budget_bytes = std::size_t{128} << 20);
+
+    [[nodiscard]] map::Projection projection() const { return store->projection(); }
+    [[nodiscard]] map::PlanarPoint toPlanar(double lat, double lon) const { return projection().forward(lat, lon); }
+};
+
+/// A planned drive: the route polyline on the terrain, with measures, ready to draw.
+struct PlannedDrive {
+    std::vector<map::RoutePoint> line;
+    RouteGeometry geometry;  ///< z from the terrain when available
+};
+
+/// Fastest car route between two geographic points (nearest drivable graph nodes), or an
+/// empty drive when none exists. `terrain` (may be empty) gives heights for the geometry.
+PlannedDrive planDrive(const MapScene& scene, double from_lat, double from_lon, double to_lat, double to_lon,
+                       const CameraRig::TerrainHeight& terrain = {});
+
+/// Vehicle pose at `measure_m` along a drive.
+VehiclePose poseAlong(const PlannedDrive& drive, double measure_m, double speed_mps,
+                      const CameraRig::TerrainHeight& terrain = {});
+
+/// Named places of the embedded default data (degrees): used for drives and fixed views.
+struct GeoPoint {
+    double lat, lon;
+};
+inline constexpr GeoPoint kAndorraLaVella{42.5075, 1.5218};
+inline constexpr GeoPoint kEncamp{42.5347, 1.5801};
+inline constexpr GeoPoint kSantJulia{42.4637, 1.4913};
+
+}  // namespace navmap::render

@@ -1,0 +1,42 @@
+#include "navmap/render/map_scene.h"
+
+namespace navmap::render {
+
+MapScene MapScene::open(const std::filesystem::path& store_path, std::size_t budget_bytes) {
+    MapScene s;
+    s.store = map::TileStore::open(store_path);
+    map::TileCacheOptions options;
+    options.budget_bytes = budget_bytes;
+    s.cache = std::make_shared<map::TileCache>(s.store, options);
+    s.graph = s.store->loadGraph();
+    return s;
+}
+
+PlannedDrive planDrive(const MapScene& scene, double from_lat, double from_lon, double to_lat, double to_lon,
+                       const CameraRig::TerrainHeight& terrain) {
+    PlannedDrive drive;
+    const auto a = map::nearestDrivableNode(scene.graph, scene.toPlanar(from_lat, from_lon));
+    const auto b = map::nearestDrivableNode(scene.graph, scene.toPlanar(to_lat, to_lon));
+    if (!a || !b) return drive;
+    const auto route = map::fastestRoute(scene.graph, *a, *b);
+    if (!route) return drive;
+    drive.line = map::routePolyline(scene.graph, *route);
+    for (const auto& p : drive.line) {
+        const double z = terrain ? terrain(p.position.x, p.position.y) : 0.0;
+        drive.geometry.points.emplace_back(p.position.x, p.position.y, z);
+        drive.geometry.measure_m.push_back(p.measure_m);
+    }
+    return drive;
+}
+
+VehiclePose poseAlong(const PlannedDrive& drive, double measure_m, double speed_mps,
+                      const CameraRig::TerrainHeight& terrain) {
+    const map::RouteSample s = map::sampleRoute(drive.line, measure_m);
+    VehiclePose pose;
+    pose.position = {s.position.x, s.position.y, terrain ? terrain(s.position.x, s.position.y) : 0.0};
+    pose.heading_deg = s.heading_deg;
+    pose.speed_mps = speed_mps;
+    return pose;
+}
+
+}  // namespace navmap::render
