@@ -38,14 +38,15 @@ int main(int argc, char** argv) {
     std::string out_dir = "out/frames";
     std::string platform_name = "auto";
     int frames = 24;
-    int width = 1280, height = 480, msaa = 4;
+    int width = 1280, height = 480, msaa = -1;
     bool noop = false;
     app.add_option("--dem", dem_path, "SRTM .hgt tile")->capture_default_str();
     app.add_option("--out", out_dir, "directory for the PNG frames")->capture_default_str();
     app.add_option("--frames", frames, "frames of the fly-over to render")->capture_default_str()->check(CLI::Range(1, 100000));
     app.add_option("--width", width, "frame width")->capture_default_str()->check(CLI::Range(16, 8192));
     app.add_option("--height", height, "frame height")->capture_default_str()->check(CLI::Range(16, 8192));
-    app.add_option("--msaa", msaa, "MSAA samples (0 = off)")->capture_default_str()->check(CLI::Range(0, 16));
+    app.add_option("--msaa", msaa, "MSAA samples (0 = off, -1 = auto: off on software rasterizers)")
+        ->capture_default_str()->check(CLI::Range(-1, 16));
     app.add_option("--egl-platform", platform_name, "auto | surfaceless | device (env NAVMAP_EGL_PLATFORM)")
         ->capture_default_str()->check(CLI::IsMember({"auto", "surfaceless", "device"}));
     app.add_flag("--noop", noop, "use the no-op renderer (no GL; blank frames)");

@@ -68,7 +68,7 @@ LodSelection selectLod(const map::TileScheme& scheme, const Camera& camera, doub
             continue;
         }
         const double distance = distanceToBox(glm::dvec3(0.0), lo, hi);
-        const double error_m = scheme.tileSize(id.level) / (samples - 1);
+        const double error_m = options.error_per_spacing * scheme.tileSize(id.level) / (samples - 1);
         const double priority = 1000.0 + 100.0 * id.level - distance / scheme.tileSize(id.level);
         auto self = resident(id);
         if (!self) {
@@ -91,9 +91,9 @@ LodSelection selectLod(const map::TileScheme& scheme, const Camera& camera, doub
                     out.wanted.push_back({children[i], static_cast<float>(priority + 100.0)});
                 }
             }
-            // Refine only when every existing child can be drawn (no holes) and the store has
-            // all four (a partial set would leave the parent's other quarters empty).
-            if (all_ready && present == 4) {
+            // Refine only when every existing child can be drawn (no holes). The compiler writes
+            // no tile where there is no data, so a missing child is a quarter outside the data.
+            if (all_ready && present > 0) {
                 for (const auto& c : children) stack.push_back(c);
                 continue;
             }

@@ -29,7 +29,9 @@ const navmap::render::TerrainScene& andorra() {
 }
 
 TEST(GlesRenderer, CreatesAHeadlessEs3ContextWithMsaa) {
-    auto r = Renderer::create(smallOptions());
+    RendererOptions o = smallOptions();
+    o.msaa_samples = 4;
+    auto r = Renderer::create(o);
     const auto& dev = r->device();
     EXPECT_EQ(dev.backend, "gles");
     EXPECT_FALSE(dev.renderer.empty());
@@ -37,6 +39,16 @@ TEST(GlesRenderer, CreatesAHeadlessEs3ContextWithMsaa) {
     EXPECT_NE(dev.version.find("OpenGL ES 3"), std::string::npos) << dev.version;
     EXPECT_GE(dev.msaa_samples, 2) << "Mesa llvmpipe and every ES 3.0 driver offer at least 4x MSAA";
     std::printf("[ info     ] %s platform, %s, %s\n", dev.platform.c_str(), dev.renderer.c_str(), dev.version.c_str());
+}
+
+TEST(GlesRenderer, AutoMsaaIsOffOnlyOnSoftwareRasterizers) {
+    auto r = Renderer::create(smallOptions());  // msaa_samples = -1 (auto)
+    const auto& dev = r->device();
+    if (dev.software) {
+        EXPECT_EQ(dev.msaa_samples, 0) << dev.renderer;
+    } else {
+        EXPECT_GE(dev.msaa_samples, 2) << dev.renderer;
+    }
 }
 
 TEST(GlesRenderer, SurfacelessPlatformCanBeForced) {
@@ -129,6 +141,7 @@ TEST(GlesRenderer, AndorraHeightfieldMatchesGolden) {
     RendererOptions o;
     o.width = 1280;
     o.height = 480;
+    o.msaa_samples = 4;
     auto r = Renderer::create(o);
     r->setTerrain(andorra().mesh);
     r->render(navmap::render::andorraOverviewCamera(andorra().projection));

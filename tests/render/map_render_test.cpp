@@ -152,9 +152,14 @@ TEST(MapRender, MotorwayHasItsClassColourWithCasingAtTheEdge) {
     // (least important first, seed 3.6.3).
     EXPECT_TRUE(near(s.at({500.0, 492.0, 500.0}), to8(mw.fill))) << "junction must show the motorway";
     // Dark outline just outside the casing (seed 3.6.3 outlines).
-    const glm::ivec3 outside = s.at({560.0, 528.6, 500.0});
+    // Dark outline just outside the casing (seed 3.6.3, 3x3 max filter: about one pixel).
     const glm::ivec3 terrain = s.at({560.0, 560.0, 500.0});
-    EXPECT_LT(outside.x + outside.y + outside.z, terrain.x + terrain.y + terrain.z - 60) << "no outline next to the road";
+    int darkest = 3 * 255;
+    for (double y = 528.0; y <= 529.5; y += 0.1) {
+        const glm::ivec3 c = s.at({560.0, y, 500.0});
+        darkest = std::min(darkest, c.x + c.y + c.z);
+    }
+    EXPECT_LT(darkest, terrain.x + terrain.y + terrain.z - 60) << "no outline next to the road";
     if (::testing::Test::HasFailure()) (void)writePng("map_render_motorway.png", s.image, nullptr);
 }
 

@@ -27,8 +27,12 @@ GlRenderer::GlRenderer(const RendererOptions& options) : m_options(options), m_e
     m_device.version = glString(GL_VERSION);
     m_device.gles_major = m_egl.glesMajor();
     m_device.gles_minor = m_egl.glesMinor();
+    m_device.software = m_device.renderer.find("llvmpipe") != std::string::npos ||
+                        m_device.renderer.find("softpipe") != std::string::npos ||
+                        m_device.renderer.find("swrast") != std::string::npos;
+    if (m_options.msaa_samples < 0) m_options.msaa_samples = m_device.software ? 0 : 4;
     m_terrain = std::make_unique<TerrainLayer>();
-    m_map = std::make_unique<MapRenderer>(options);
+    m_map = std::make_unique<MapRenderer>(m_options);
     resize(options.width, options.height);
 }
 

@@ -1,6 +1,7 @@
 #include "map_renderer.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstddef>
@@ -12,27 +13,29 @@ namespace navmap::render::gl {
 
 namespace {
 
-constexpr int kLandCoverTextureSize = 256;
+// Land-cover raster per tile: 4 m per texel on 2 km leaf tiles, 256 texels on coarser ones.
+int landCoverTextureSize(float tile_size_m) { return tile_size_m <= 2100.0f ? 512 : 256; }
 
 using Clock = std::chrono::steady_clock;
 
 double msSince(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
 
-void setupRoadInstanceAttributes() {
-    // RoadInstance: p0 (3), p1 (3), class, flags, measure0, measure1: one instance per segment.
+// RoadInstance: p0 (3), p1 (3), class, flags, measure0, measure1: one instance per segment.
+// `first` offsets the pointers, since ES 3.0 has no base instance for instanced draws.
+void setupRoadInstanceAttributes(GLsizei first = 0) {
     const auto stride = static_cast<GLsizei>(sizeof(RoadInstance));
+    const std::size_t base = static_cast<std::size_t>(first) * sizeof(RoadInstance);
+    auto at = [&](std::size_t offset) { return reinterpret_cast<const void*>(base + offset); };
     glEnableVertexAttribArray(0);
-    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<const void*>(offsetof(RoadInstance, p0)));
+    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, stride, at(offsetof(RoadInstance, p0)));
     glEnableVertexAttribArray(1);
-    glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<const void*>(offsetof(RoadInstance, p1)));
+    glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, stride, at(offsetof(RoadInstance, p1)));
     glEnableVertexAttribArray(2);
-    glVertexAttribPointer(2, 1, GL_FLOAT, GL_FALSE, stride,
-                          reinterpret_cast<const void*>(offsetof(RoadInstance, road_class)));
+    glVertexAttribPointer(2, 1, GL_FLOAT, GL_FALSE, stride, at(offsetof(RoadInstance, road_class)));
     glEnableVertexAttribArray(3);
-    glVertexAttribPointer(3, 1, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<const void*>(offsetof(RoadInstance, flags)));
+    glVertexAttribPointer(3, 1, GL_FLOAT, GL_FALSE, stride, at(offsetof(RoadInstance, flags)));
     glEnableVertexAttribArray(4);
-    glVertexAttribPointer(4, 2, GL_FLOAT, GL_FALSE, stride,
-                          reinterpret_cast<const void*>(offsetof(RoadInstance, measure0)));
+    glVertexAttribPointer(4, 2, GL_FLOAT, GL_FALSE, stride, at(offsetof(RoadInstance, measure0)));
     for (GLuint i = 0; i <= 4; ++i) glVertexAttribDivisor(i, 1);
 }
 
@@ -47,6 +50,10 @@ struct MapRenderer::GpuTile {
     GLuint land_cover = 0;  // 0: none (the shared empty texture is used)
     GLuint roads_vao = 0, roads_vbo = 0;
     GLsizei road_count = 0;
+    // First instance of each class among non-bridge roads (instances run least important
+    // first, bridges last), so the casing pass can skip the classes drawn without casing.
+    std::array<GLsizei, kStyledRoadClasses> class_first{};
+    GLsizei bridge_first = 0;
     GLuint buildings_vao = 0, buildings_vbo = 0, buildings_ibo = 0;
     GLsizei building_index_count = 0;
     std::uint64_t last_used = 0;
@@ -148,6 +155,17 @@ MapRenderer::GpuTile* MapRenderer::upload(const std::shared_ptr<const map::Tile>
                      mesh.roads.data(), GL_STATIC_DRAW);
         setupRoadInstanceAttributes();
         gpu->road_count = static_cast<GLsizei>(mesh.roads.size());
+        gpu->class_first.fill(gpu->road_count);
+        gpu->bridge_first = gpu->road_count;
+        for (GLsizei i = gpu->road_count; i-- > 0;) {
+            const RoadInstance& r = mesh.roads[static_cast<std::size_t>(i)];
+            if (static_cast<int>(r.flags) & map::RoadFlags::Bridge) {
+                gpu->bridge_first = i;
+                continue;
+            }
+            const int c = std::clamp(static_cast<int>(r.road_class), 0, kStyledRoadClasses - 1);
+            gpu->class_first[static_cast<std::size_t>(c)] = i;
+        }
     }
     if (!mesh.building_indices.empty()) {
         glGenVertexArrays(1, &gpu->buildings_vao);
@@ -184,8 +202,9 @@ MapRenderer::GpuTile* MapRenderer::upload(const std::shared_ptr<const map::Tile>
 void MapRenderer::rasterizeLandCover(GpuTile& gpu, const TileMesh& mesh) {
     glGenTextures(1, &gpu.land_cover);
     glBindTexture(GL_TEXTURE_2D, gpu.land_cover);
-    const int levels = 1 + static_cast<int>(std::log2(kLandCoverTextureSize));
-    glTexStorage2D(GL_TEXTURE_2D, levels, GL_RGBA8, kLandCoverTextureSize, kLandCoverTextureSize);
+    const int size = landCoverTextureSize(mesh.size_m);
+    const int levels = 1 + static_cast<int>(std::log2(size));
+    glTexStorage2D(GL_TEXTURE_2D, levels, GL_RGBA8, size, size);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
@@ -194,7 +213,7 @@ void MapRenderer::rasterizeLandCover(GpuTile& gpu, const TileMesh& mesh) {
     glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, gpu.land_cover, 0);
     const GLenum c0 = GL_COLOR_ATTACHMENT0;
     glDrawBuffers(1, &c0);
-    glViewport(0, 0, kLandCoverTextureSize, kLandCoverTextureSize);
+    glViewport(0, 0, size, size);
     const GLfloat clear[] = {0, 0, 0, 0};
     glClearBufferfv(GL_COLOR, 0, clear);
     glDisable(GL_DEPTH_TEST);
@@ -396,8 +415,21 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target) {
                 const glm::mat4 view = frame.camera.viewRelativeTo(g->origin);
                 glUniformMatrix4fv(m_roads.uniform("u_view"), 1, GL_FALSE, glm::value_ptr(view));
                 glBindVertexArray(g->roads_vao);
-                glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, g->road_count);
-                if (pass == 1) m_stats.road_segments += static_cast<std::size_t>(g->road_count);
+                if (pass == 0) {
+                    // Casing: only from the first class that has one (bridges always).
+                    GLsizei first = g->bridge_first;
+                    for (int c = 0; c < kStyledRoadClasses; ++c) {
+                        if (m_style.roads.classes[c].casing_m > 0.0f) first = std::min(first, g->class_first[c]);
+                    }
+                    if (first >= g->road_count) continue;
+                    glBindBuffer(GL_ARRAY_BUFFER, g->roads_vbo);
+                    setupRoadInstanceAttributes(first);
+                    glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, g->road_count - first);
+                    setupRoadInstanceAttributes(0);
+                } else {
+                    glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, g->road_count);
+                    m_stats.road_segments += static_cast<std::size_t>(g->road_count);
+                }
             }
         }
         lap(m_stats.roads_ms, t);

@@ -39,7 +39,9 @@ struct RendererOptions {
     Platform platform = Platform::Auto;
     int width = 1280;
     int height = 480;
-    int msaa_samples = 4;   ///< 0 or 1 disables MSAA; clamped to what the driver offers
+    /// MSAA samples: 0 or 1 disables, clamped to what the driver offers; -1 (auto) uses 4 on
+    /// GPUs and none on software rasterizers (llvmpipe), where it doubles the frame time.
+    int msaa_samples = -1;
     int readback_ring = 3;  ///< pixel-pack buffers in flight for asynchronous readback
     /// Tiles prepared and uploaded per map frame at most (0 = no limit). Tiles over the budget
     /// are drawn from the next frames on.
@@ -60,6 +62,7 @@ struct DeviceInfo {
     int gles_major = 0;
     int gles_minor = 0;
     int msaa_samples = 0;    ///< samples of the offscreen target actually used
+    bool software = false;   ///< a software rasterizer (llvmpipe, softpipe, swrast)
 };
 
 /// Terrain shading parameters (kept separate so the shading is pluggable, DESIGN.md).

@@ -18,6 +18,9 @@ namespace navmap::render {
 struct LodOptions {
     double max_error_px = 3.0;  ///< screen-space error threshold
     int dem_samples = 65;       ///< DEM samples per tile side (store info)
+    /// Vertical error of a level as a fraction of its sample spacing: halving the resolution of
+    /// SRTM-like terrain moves the surface by about a tenth of the spacing on average.
+    double error_per_spacing = 0.1;
     double min_height_m = -500.0;  ///< vertical extent assumed for culling
     double max_height_m = 5000.0;
 };

@@ -1,0 +1,211 @@
+// Map-frame benchmarks over the real Andorra store along a fixed drive (Andorra la Vella ->
+// Encamp), per display profile: frame time p50/p95 for terrain only, +roads, +buildings and the
+// full scene; per-pass breakdown; and the roads/terrain ratio measured interleaved in one run.
+// Registered into navmap-bench (JSON).
+
+#include <benchmark/benchmark.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdlib>
+#include <memory>
+#include <vector>
+
+#include "navmap/render/map_scene.h"
+#include "navmap/render/renderer.h"
+
+namespace {
+
+using namespace navmap::render;
+using Clock = std::chrono::steady_clock;
+
+struct Profile {
+    const char* name;
+    int width, height;
+    ViewMode mode;
+};
+constexpr Profile kProfiles[] = {
+    {"cluster", 1280, 480, ViewMode::Snail},
+    {"hud", 800, 240, ViewMode::Snail},
+    {"center", 1280, 720, ViewMode::Bird},
+};
+
+struct Flight {
+    MapScene scene;
+    std::unique_ptr<MapView> view;
+    PlannedDrive drive;
+};
+
+Flight& flight() {
+    static Flight f = [] {
+        Flight x{MapScene::open(NAVMAP_DEFAULT_STORE, std::size_t{512} << 20), nullptr, {}};
+        x.view = std::make_unique<MapView>(x.scene.cache);
+        x.drive = planDrive(x.scene, kAndorraLaVella.lat, kAndorraLaVella.lon, kEncamp.lat, kEncamp.lon);
+        return x;
+    }();
+    return f;
+}
+
+// The cameras of one profile along the flight, with every tile they need resident.
+struct Shot {
+    Camera camera;
+    VehiclePose pose;
+};
+
+std::vector<Shot> shots(const Profile& p, int count) {
+    Flight& f = flight();
+    const auto terrain = [&](double x, double y) { return f.view->terrainHeight(x, y); };
+    CameraRig rig;
+    rig.setMode(p.mode);
+    std::vector<Shot> out;
+    const double length = f.drive.line.back().measure_m;
+    for (int i = 0; i < count; ++i) {
+        const double m = length * (0.05 + 0.9 * i / count);
+        VehiclePose pose = poseAlong(f.drive, m, 14.0, terrain);
+        Camera cam = rig.update(pose, 0.0, terrain);
+        for (int k = 0; k < 2; ++k) {
+            f.view->warmUp(cam, double(p.width) / p.height, p.height, std::chrono::seconds(30));
+            pose = poseAlong(f.drive, m, 14.0, terrain);
+            cam = rig.update(pose, 0.0, terrain);
+        }
+        out.push_back({cam, pose});
+    }
+    for (auto& pt : f.drive.geometry.points) pt.z = terrain(pt.x, pt.y);
+    return out;
+}
+
+MapLayers layersFor(int step) {
+    MapLayers l;
+    l.roads = l.outlines = step >= 1;
+    l.buildings = step >= 2;
+    l.route = l.marker = step >= 3;
+    return l;
+}
+const char* kSteps[] = {"terrain", "roads", "buildings", "full"};
+
+// NAVMAP_BENCH_MSAA overrides the sample count (default 4) to compare the cost of MSAA.
+RendererOptions optionsFor(const Profile& p) {
+    RendererOptions o;
+    o.width = p.width;
+    o.height = p.height;
+    if (const char* env = std::getenv("NAVMAP_BENCH_MSAA")) o.msaa_samples = std::atoi(env);
+    return o;
+}
+
+MapFrame frameFor(const Profile& p, const Shot& s, const MapLayers& layers) {
+    Flight& f = flight();
+    MapFrame frame;
+    frame.camera = s.camera;
+    frame.tiles = f.view->tilesFor(s.camera, double(p.width) / p.height, p.height);
+    frame.route = &f.drive.geometry;
+    frame.marker = MarkerState{s.pose.position, s.pose.heading_deg, false};
+    frame.layers = layers;
+    return frame;
+}
+
+double percentile(std::vector<double> v, double q) {
+    if (v.empty()) return 0.0;
+    std::sort(v.begin(), v.end());
+    return v[std::min(v.size() - 1, static_cast<std::size_t>(q * (v.size() - 1) + 0.5))];
+}
+
+void mapFrame(benchmark::State& state) {
+    const Profile& p = kProfiles[state.range(0)];
+    const int step = static_cast<int>(state.range(1));
+    const auto views = shots(p, 24);
+    RendererOptions o = optionsFor(p);
+    auto r = Renderer::create(o);
+    for (const auto& s : views) r->renderMap(frameFor(p, s, layersFor(step)));  // upload everything once
+    r->finish();
+    std::vector<double> ms;
+    std::size_t i = 0;
+    for (auto _ : state) {
+        const auto t0 = Clock::now();
+        r->renderMap(frameFor(p, views[i++ % views.size()], layersFor(step)));
+        r->finish();
+        const double dt = std::chrono::duration<double>(Clock::now() - t0).count();
+        state.SetIterationTime(dt);
+        ms.push_back(dt * 1000.0);
+    }
+    state.counters["p50_ms"] = percentile(ms, 0.5);
+    state.counters["p95_ms"] = percentile(ms, 0.95);
+    state.SetLabel(std::string(p.name) + "/" + kSteps[step]);
+}
+
+// Per-pass breakdown of the full scene (glFinish after each pass, so the total is higher).
+void mapPasses(benchmark::State& state) {
+    const Profile& p = kProfiles[state.range(0)];
+    const auto views = shots(p, 24);
+    RendererOptions o = optionsFor(p);
+    o.profile_passes = true;
+    auto r = Renderer::create(o);
+    for (const auto& s : views) r->renderMap(frameFor(p, s, layersFor(3)));
+    MapFrameStats sum;
+    std::size_t n = 0, i = 0;
+    for (auto _ : state) {
+        r->renderMap(frameFor(p, views[i++ % views.size()], layersFor(3)));
+        const auto& s = r->mapStats();
+        sum.terrain_ms += s.terrain_ms;
+        sum.roads_ms += s.roads_ms;
+        sum.outlines_ms += s.outlines_ms;
+        sum.buildings_ms += s.buildings_ms;
+        sum.route_ms += s.route_ms;
+        sum.marker_ms += s.marker_ms;
+        sum.tiles_drawn += s.tiles_drawn;
+        sum.road_segments += s.road_segments;
+        sum.terrain_triangles += s.terrain_triangles;
+        ++n;
+    }
+    const double k = n ? 1.0 / n : 0.0;
+    state.counters["terrain_ms"] = sum.terrain_ms * k;
+    state.counters["buildings_ms"] = sum.buildings_ms * k;
+    state.counters["roads_ms"] = sum.roads_ms * k;
+    state.counters["route_ms"] = sum.route_ms * k;
+    state.counters["outlines_ms"] = sum.outlines_ms * k;
+    state.counters["marker_ms"] = sum.marker_ms * k;
+    state.counters["tiles"] = double(sum.tiles_drawn) * k;
+    state.counters["road_segments"] = double(sum.road_segments) * k;
+    state.counters["terrain_triangles"] = double(sum.terrain_triangles) * k;
+    state.SetLabel(p.name);
+}
+
+// seed 3.7 / Fig. 3.14: the cost of roads relative to terrain alone, measured interleaved in one
+// run so machine noise hits both alike.
+void roadsVsTerrain(benchmark::State& state) {
+    const Profile& p = kProfiles[state.range(0)];
+    const auto views = shots(p, 24);
+    RendererOptions o = optionsFor(p);
+    auto r = Renderer::create(o);
+    for (const auto& s : views) r->renderMap(frameFor(p, s, layersFor(1)));
+    std::vector<double> terrain, roads;
+    std::size_t i = 0;
+    for (auto _ : state) {
+        const Shot& s = views[i++ % views.size()];
+        for (int step : {0, 1}) {
+            const auto t0 = Clock::now();
+            r->renderMap(frameFor(p, s, layersFor(step)));
+            r->finish();
+            (step == 0 ? terrain : roads).push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+        }
+    }
+    const double t = percentile(terrain, 0.5), rd = percentile(roads, 0.5);
+    state.counters["terrain_p50_ms"] = t;
+    state.counters["roads_p50_ms"] = rd;
+    state.counters["roads_cost_pct"] = t > 0 ? 100.0 * (rd - t) / t : 0.0;
+    state.SetLabel(p.name);
+}
+
+void profilesAndSteps(benchmark::internal::Benchmark* b) {
+    for (int p = 0; p < 3; ++p)
+        for (int s = 0; s < 4; ++s) b->Args({p, s});
+    b->ArgNames({"profile", "layers"})->UseManualTime()->Unit(benchmark::kMillisecond)->Iterations(48);
+}
+void profilesOnly(benchmark::internal::Benchmark* b) {
+    b->DenseRange(0, 2)->ArgName("profile")->Unit(benchmark::kMillisecond)->Iterations(48);
+}
+
+BENCHMARK(mapFrame)->Apply(profilesAndSteps);
+BENCHMARK(mapPasses)->Apply(profilesOnly);
+BENCHMARK(roadsVsTerrain)->Apply(profilesOnly);
+
+}  // namespace

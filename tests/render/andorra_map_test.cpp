@@ -1,0 +1,120 @@
+// Golden images of the real Andorra store at fixed poses, per view and layer set (issue: map
+// rendering). The store is compiled at build time (build/andorra.navmap).
+#include <gtest/gtest.h>
+
+#include <chrono>
+
+#include "golden.h"
+#include "navmap/render/map_scene.h"
+#include "navmap/render/renderer.h"
+#include "test_paths.h"
+
+namespace {
+
+using namespace navmap::render;
+
+constexpr int kW = 640, kH = 240;
+
+struct Fixture {
+    MapScene scene;
+    std::unique_ptr<MapView> view;
+    PlannedDrive drive;
+};
+
+Fixture& andorra() {
+    static Fixture f = [] {
+        Fixture x{MapScene::open(navmap::test::binaryDir() / "andorra.navmap"), nullptr, {}};
+        x.view = std::make_unique<MapView>(x.scene.cache);
+        x.drive = planDrive(x.scene, kAndorraLaVella.lat, kAndorraLaVella.lon, kEncamp.lat, kEncamp.lon);
+        return x;
+    }();
+    return f;
+}
+
+Image renderView(ViewMode mode, const MapLayers& layers, MapFrameStats* stats = nullptr) {
+    Fixture& f = andorra();
+    RendererOptions o;
+    o.width = kW;
+    o.height = kH;
+    auto renderer = Renderer::create(o);
+    CameraRig rig;
+    rig.setMode(mode);
+    // Place the car 1.8 km into the drive (Escaldes), camera settled.
+    const auto terrain = [&](double x, double y) { return f.view->terrainHeight(x, y); };
+    VehiclePose pose = poseAlong(f.drive, 1800.0, 13.0);
+    Camera cam = rig.update(pose, 0.0);
+    // Two rounds: the first loads the tiles the camera needs, the second has terrain heights.
+    for (int i = 0; i < 3; ++i) {
+        EXPECT_TRUE(f.view->warmUp(cam, double(kW) / kH, kH, std::chrono::seconds(20)));
+        pose = poseAlong(f.drive, 1800.0, 13.0, terrain);
+        cam = rig.update(pose, 0.0, terrain);
+    }
+    for (auto& p : f.drive.geometry.points) p.z = terrain(p.x, p.y);
+    MapFrame frame;
+    frame.camera = cam;
+    frame.tiles = f.view->tilesFor(cam, double(kW) / kH, kH);
+    frame.route = &f.drive.geometry;
+    frame.route_progress_m = 1800.0;
+    frame.marker = MarkerState{pose.position, pose.heading_deg, false};
+    frame.layers = layers;
+    renderer->renderMap(frame);
+    if (stats) *stats = renderer->mapStats();
+    return renderer->readSync();
+}
+
+MapLayers layersFor(int step) {
+    MapLayers l;
+    l.roads = step >= 1;
+    l.outlines = step >= 1;
+    l.buildings = step >= 2;
+    l.route = step >= 3;
+    l.marker = step >= 3;
+    return l;
+}
+
+const char* kStepNames[] = {"terrain", "roads", "buildings", "full"};
+
+TEST(AndorraMap, DriveIsPlannedOnTheRoadGraph) {
+    const auto& d = andorra().drive;
+    ASSERT_GT(d.line.size(), 20u);
+    // Andorra la Vella -> Encamp along the CG-2 is about 7-9 km.
+    EXPECT_GT(d.line.back().measure_m, 6000.0);
+    EXPECT_LT(d.line.back().measure_m, 12000.0);
+}
+
+class AndorraGolden : public ::testing::TestWithParam<std::tuple<ViewMode, int>> {};
+
+TEST_P(AndorraGolden, MatchesGolden) {
+    const auto [mode, step] = GetParam();
+    MapFrameStats stats;
+    const Image image = renderView(mode, layersFor(step), &stats);
+    EXPECT_GT(stats.tiles_drawn, 3u);
+    if (step >= 1) {
+        EXPECT_GT(stats.road_segments, 100u);
+    }
+    if (step >= 2) {
+        EXPECT_GT(stats.building_triangles, 100u);
+    }
+    const std::string name = std::string("render/golden/andorra_") + (mode == ViewMode::Bird ? "bird_" : "snail_") +
+                             kStepNames[step] + ".png";
+    EXPECT_GOLDEN(image, name, (navmap::test::GoldenTolerance{10, 0.01}));
+}
+
+INSTANTIATE_TEST_SUITE_P(Views, AndorraGolden,
+                         ::testing::Combine(::testing::Values(ViewMode::Bird, ViewMode::Snail), ::testing::Values(0, 1, 2, 3)),
+                         [](const ::testing::TestParamInfo<AndorraGolden::ParamType>& p) {
+                             return std::string(std::get<0>(p.param) == ViewMode::Bird ? "bird_" : "snail_") +
+                                    kStepNames[std::get<1>(p.param)];
+                         });
+
+TEST(AndorraMap, RoadsChangeTheImageOnlyWhereRoadsAre) {
+    const Image terrain = renderView(ViewMode::Bird, layersFor(0));
+    const Image roads = renderView(ViewMode::Bird, layersFor(1));
+    std::size_t changed = 0;
+    for (std::size_t i = 0; i < terrain.rgba.size(); i += 4) changed += terrain.rgba[i] != roads.rgba[i];
+    const double fraction = double(changed) / (kW * kH);
+    EXPECT_GT(fraction, 0.01) << "roads are visible";
+    EXPECT_LT(fraction, 0.5) << "roads cover only part of the view";
+}
+
+}  // namespace
