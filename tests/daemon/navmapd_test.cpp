@@ -1,4 +1,5 @@
-// navmapd as a whole program: the main job writes frames; bad input gives one clear error.
+// navmapd as a whole program: the main job renders a simulated drive per display profile and
+// records the frames; bad input gives one clear error.
 #include <gtest/gtest.h>
 
 #include <array>
@@ -27,30 +28,45 @@ RunResult runNavmapd(const std::string& args) {
     return r;
 }
 
-TEST(Navmapd, WritesTheFlyoverFramesAsPng) {
+TEST(Navmapd, RecordsASimulatedDrivePerProfile) {
     const auto dir = std::filesystem::temp_directory_path() / "navmapd_frames_test";
     std::filesystem::remove_all(dir);
-    const RunResult r = runNavmapd("--frames 4 --width 320 --height 120 --out " + dir.string());
+    const RunResult r = runNavmapd("--frames 4 --sim-step 5 --profiles hud,center --out " + dir.string());
     ASSERT_EQ(r.status, 0) << r.output;
-    EXPECT_NE(r.output.find("4 frames (320x120) written to"), std::string::npos) << r.output;
-    EXPECT_NE(r.output.find("<6>navmapd: renderer: gles"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("hud: 4 frames (800x240) in"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("center: 4 frames (1280x720) in"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("<6>navmapd: simulated drive: andorra-la-vella -> encamp"), std::string::npos) << r.output;
     navmap::render::Image first, last;
     std::string err;
-    ASSERT_TRUE(navmap::render::readImage(dir / "frame_0000.png", &first, &err)) << err;
-    ASSERT_TRUE(navmap::render::readImage(dir / "frame_0003.png", &last, &err)) << err;
-    EXPECT_EQ(first.width, 320);
-    EXPECT_EQ(first.height, 120);
-    EXPECT_NE(first.rgba, last.rgba);
-    // The lower half looks at terrain: not sky-blue.
-    const auto* px = first.pixel(160, 100);
-    EXPECT_FALSE(px[0] == 158 && px[1] == 191 && px[2] == 230);
+    ASSERT_TRUE(navmap::render::readImage(dir / "center" / "frame_0000.png", &first, &err)) << err;
+    ASSERT_TRUE(navmap::render::readImage(dir / "center" / "frame_0003.png", &last, &err)) << err;
+    EXPECT_EQ(first.width, 1280);
+    EXPECT_EQ(first.height, 720);
+    EXPECT_NE(first.rgba, last.rgba) << "the vehicle moved";
+    // The bird's-eye view shows the marker's red at the screen centre area.
+    int red = 0;
+    for (int y = 200; y < 520; ++y)
+        for (int x = 540; x < 740; ++x) {
+            const auto* px = first.pixel(x, y);
+            red += px[0] > 200 && px[1] < 90 && px[2] < 80;
+        }
+    EXPECT_GT(red, 20) << "vehicle marker not visible";
     std::filesystem::remove_all(dir);
 }
 
-TEST(Navmapd, MissingDemIsOneClearError) {
-    const RunResult r = runNavmapd("--frames 1 --dem /nonexistent/N42E001.hgt --out /tmp/navmapd_unused");
+TEST(Navmapd, MissingStoreIsOneClearError) {
+    const RunResult r = runNavmapd("--frames 1 --store /nonexistent/x.navmap --out /tmp/navmapd_unused");
     EXPECT_EQ(r.status, 1);
-    EXPECT_NE(r.output.find("<3>navmapd: /nonexistent/N42E001.hgt: cannot open"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("<3>navmapd: open(/nonexistent/x.navmap): No such file or directory"), std::string::npos) << r.output;
+}
+
+TEST(Navmapd, UnknownProfileAndPlaceAreRejected) {
+    RunResult r = runNavmapd("--frames 1 --profiles dashboard --out /tmp/navmapd_unused");
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.output.find("unknown profile 'dashboard'"), std::string::npos) << r.output;
+    r = runNavmapd("--frames 1 --from atlantis --out /tmp/navmapd_unused");
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.output.find("--from atlantis: expected lat,lon"), std::string::npos) << r.output;
 }
 
 TEST(Navmapd, BadOptionIsRejected) {

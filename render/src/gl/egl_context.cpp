@@ -130,12 +130,10 @@ bool EglContext::tryDisplay(EGLDisplay display, const std::string& name, std::st
     const char* ext = eglQueryString(display, EGL_EXTENSIONS);
     if (!hasExtension(ext, "EGL_KHR_surfaceless_context")) {
         why = "EGL_KHR_surfaceless_context not offered";
-        eglTerminate(display);
         return false;
     }
     if (!eglBindAPI(EGL_OPENGL_ES_API)) {
         why = "eglBindAPI(EGL_OPENGL_ES_API) failed: " + eglErrorName(eglGetError());
-        eglTerminate(display);
         return false;
     }
     const EGLint config_attribs[] = {EGL_RENDERABLE_TYPE, EGL_OPENGL_ES3_BIT, EGL_SURFACE_TYPE, 0,
@@ -145,7 +143,6 @@ bool EglContext::tryDisplay(EGLDisplay display, const std::string& name, std::st
     const bool have_config = eglChooseConfig(display, config_attribs, &config, 1, &num_configs) && num_configs > 0;
     if (!have_config && !hasExtension(ext, "EGL_KHR_no_config_context")) {
         why = "no EGL config with OpenGL ES 3 support";
-        eglTerminate(display);
         return false;
     }
     // Prefer ES 3.2, fall back to 3.1 and 3.0 (the minimum, DESIGN.md).
@@ -156,8 +153,7 @@ bool EglContext::tryDisplay(EGLDisplay display, const std::string& name, std::st
         if (!eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, ctx)) {
             why = "eglMakeCurrent (surfaceless) failed: " + eglErrorName(eglGetError());
             eglDestroyContext(display, ctx);
-            eglTerminate(display);
-            return false;
+                return false;
         }
         m_display = display;
         m_context = ctx;
@@ -167,8 +163,11 @@ bool EglContext::tryDisplay(EGLDisplay display, const std::string& name, std::st
         return true;
     }
     why = "eglCreateContext failed for OpenGL ES 3.2, 3.1 and 3.0: " + eglErrorName(eglGetError());
-    eglTerminate(display);
     return false;
+}
+
+void EglContext::makeCurrent() const {
+    if (eglGetCurrentContext() != m_context) eglMakeCurrent(m_display, EGL_NO_SURFACE, EGL_NO_SURFACE, m_context);
 }
 
 EglContext::~EglContext() {
@@ -177,7 +176,8 @@ EglContext::~EglContext() {
     if (m_context != EGL_NO_CONTEXT && !eglDestroyContext(m_display, m_context)) {
         std::fprintf(stderr, "<4>navmap: eglDestroyContext failed: %s\n", eglErrorName(eglGetError()).c_str());
     }
-    eglTerminate(m_display);
+    // No eglTerminate: an EGL display is one per platform and process, shared by every
+    // renderer (one per display profile); terminating it would invalidate the others.
 }
 
 }  // namespace navmap::render::gl

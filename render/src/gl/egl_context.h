@@ -18,6 +18,10 @@ public:
     EglContext(const EglContext&) = delete;
     EglContext& operator=(const EglContext&) = delete;
 
+    /// Makes this context current on the calling thread (several renderers, e.g. one per
+    /// display profile, share a thread). Cheap when it already is.
+    void makeCurrent() const;
+
     [[nodiscard]] const std::string& platformUsed() const { return m_platform; }
     [[nodiscard]] int glesMajor() const { return m_major; }
     [[nodiscard]] int glesMinor() const { return m_minor; }

@@ -37,6 +37,7 @@ GlRenderer::GlRenderer(const RendererOptions& options) : m_options(options), m_e
 }
 
 GlRenderer::~GlRenderer() {
+    m_egl.makeCurrent();
     // GL objects go before the context (m_egl is destroyed after the members declared below it).
     m_ring.reset();
     m_target.reset();
@@ -45,15 +46,20 @@ GlRenderer::~GlRenderer() {
 }
 
 void GlRenderer::resize(int width, int height) {
+    m_egl.makeCurrent();
     if (m_ring) m_ring->drain();
     m_target = std::make_unique<RenderTarget>(width, height, m_options.msaa_samples);
     m_ring = std::make_unique<ReadbackRing>(width, height, m_options.readback_ring);
     m_device.msaa_samples = m_target->samples();
 }
 
-void GlRenderer::setTerrain(const HeightfieldMesh& mesh) { m_terrain->upload(mesh); }
+void GlRenderer::setTerrain(const HeightfieldMesh& mesh) {
+    m_egl.makeCurrent();
+    m_terrain->upload(mesh);
+}
 
 void GlRenderer::render(const Camera& camera) {
+    m_egl.makeCurrent();
     m_target->clear(m_style.sky_color.r, m_style.sky_color.g, m_style.sky_color.b);
     m_target->bindForDrawing(false);
     glEnable(GL_DEPTH_TEST);
@@ -65,20 +71,33 @@ void GlRenderer::render(const Camera& camera) {
     m_target->resolve();
 }
 
-void GlRenderer::renderMap(const MapFrame& frame) { m_map->render(frame, *m_target); }
+void GlRenderer::renderMap(const MapFrame& frame) {
+    m_egl.makeCurrent();
+    m_map->render(frame, *m_target);
+}
 
-void GlRenderer::finish() { glFinish(); }
+void GlRenderer::setMapStyle(const MapStyle& style) { m_map->setStyle(style); }
+
+void GlRenderer::finish() {
+    m_egl.makeCurrent();
+    glFinish();
+}
 
 Image GlRenderer::readSync() {
+    m_egl.makeCurrent();
     m_target->resolve();
     return readPixelsSync(m_target->width(), m_target->height());
 }
 
 std::optional<Frame> GlRenderer::readAsync(std::uint64_t sequence) {
+    m_egl.makeCurrent();
     m_target->resolve();
     return m_ring->submit(sequence);
 }
 
-std::vector<Frame> GlRenderer::drainReadbacks() { return m_ring->drain(); }
+std::vector<Frame> GlRenderer::drainReadbacks() {
+    m_egl.makeCurrent();
+    return m_ring->drain();
+}
 
 }  // namespace navmap::render::gl

@@ -24,7 +24,7 @@ public:
     void setTerrain(const HeightfieldMesh& mesh) override;
     void setTerrainStyle(const TerrainStyle& style) override { m_style = style; }
     void render(const Camera& camera) override;
-    void setMapStyle(const MapStyle& style) override { m_map->setStyle(style); }
+    void setMapStyle(const MapStyle& style) override;
     void renderMap(const MapFrame& frame) override;
     [[nodiscard]] const MapFrameStats& mapStats() const override { return m_map->stats(); }
     void finish() override;

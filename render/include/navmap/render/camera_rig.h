@@ -37,7 +37,7 @@ struct CameraRigParams {
     // Snail's view: low behind the car, looking along the road.
     double snail_pitch_deg = 14.0;
     double snail_distance_m = 180.0;
-    double snail_look_ahead_m = 110.0;
+    double snail_look_ahead_m = 70.0;
     double fov_y_deg = 45.0;
     double smoothing_s = 0.6;       ///< time constant of the critically damped springs
     double ground_clearance_m = 8.0; ///< the eye stays this far above the DEM

@@ -1,0 +1,20 @@
+#include "profiles.h"
+
+namespace navmap::daemon {
+
+std::vector<DisplayProfile> defaultProfiles() {
+    return {
+        {"cluster", 1280, 480, 30.0, render::ViewMode::Snail, render::Orientation::HeadingUp},
+        {"hud", 800, 240, 30.0, render::ViewMode::Snail, render::Orientation::HeadingUp},
+        {"center", 1280, 720, 30.0, render::ViewMode::Bird, render::Orientation::HeadingUp},
+    };
+}
+
+std::optional<DisplayProfile> findProfile(const std::vector<DisplayProfile>& profiles, const std::string& name) {
+    for (const auto& p : profiles) {
+        if (p.name == name) return p;
+    }
+    return std::nullopt;
+}
+
+}  // namespace navmap::daemon

@@ -1,0 +1,28 @@
+#pragma once
+// Display profiles (DESIGN.md "Frame streaming"): who a client is and what it is rendered with.
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "navmap/render/camera_rig.h"
+
+namespace navmap::daemon {
+
+struct DisplayProfile {
+    std::string name;   ///< "cluster", "hud", "center" or a configured one
+    int width = 1280;
+    int height = 480;
+    double fps = 30.0;
+    render::ViewMode view = render::ViewMode::Snail;
+    render::Orientation orientation = render::Orientation::HeadingUp;
+};
+
+/// The defaults: cluster 1280x480 snail's view, HUD 800x240 snail's view (route and
+/// manoeuvre), center 1280x720 bird's-eye.
+std::vector<DisplayProfile> defaultProfiles();
+
+/// Looks a profile up by name among `profiles`.
+std::optional<DisplayProfile> findProfile(const std::vector<DisplayProfile>& profiles, const std::string& name);
+
+}  // namespace navmap::daemon
