@@ -10,10 +10,12 @@ NAVMAP_BUILD_DIR="$root/build" scripts/build.sh -DNAVMAP_WITH_TESTS=OFF -DNAVMAP
   || { tail -n 40 /tmp/navmap-demo-build.log; echo "demo: build failed (log: /tmp/navmap-demo-build.log)" >&2; exit 1; }
 echo "demo: built into build/ (log: /tmp/navmap-demo-build.log)"
 rm -rf out/frames
-build/daemon/navmapd --frames "${NAVMAP_DEMO_FRAMES:-24}" --out out/frames "$@"
+build/daemon/navmapd --frames "${NAVMAP_DEMO_FRAMES:-60}" --sim-step 2 --profiles cluster,center --out out/frames "$@"
 cat <<TXT
 
-demo: the frames are PNG files in $root/out/frames/
-      look at one:   xdg-open out/frames/frame_0000.png   (or any image viewer)
-      as a video:    ffmpeg -framerate 12 -i out/frames/frame_%04d.png andorra.mp4
+demo: the frames are PNG files, one folder per display profile:
+        $root/out/frames/cluster/   instrument cluster, 1280x480, snail's view
+        $root/out/frames/center/    center display, 1280x720, bird's-eye
+      look at one:   xdg-open out/frames/cluster/frame_0030.png   (or any image viewer)
+      as a video:    ffmpeg -framerate 10 -i out/frames/cluster/frame_%04d.png cluster.mp4
 TXT
