@@ -199,6 +199,22 @@ TEST(MapRender, DrapedRoadsAreNeverHiddenByTheirTerrain) {
     EXPECT_EQ(visible, samples) << "road centreline pixels hidden by the terrain they lie on";
 }
 
+TEST(MapRender, NightPaletteIsDarkerThanDay) {
+    auto tile = makeTile([](float x, float y) { return 500.0f + 0.1f * x + 0.05f * y; });
+    tile->roads.push_back(road(map::RoadClass::Primary, {{300, 500}, {700, 500}}));
+    const Scene day = render(tile, 300.0, MapStyle::day());
+    const Scene night = render(tile, 300.0, MapStyle::night());
+    auto luminance = [](const Image& im) {
+        double sum = 0;
+        for (std::size_t i = 0; i < im.rgba.size(); i += 4) sum += im.rgba[i] + im.rgba[i + 1] + im.rgba[i + 2];
+        return sum / (im.rgba.size() / 4);
+    };
+    EXPECT_LT(luminance(night.image), 0.6 * luminance(day.image));
+    // Roads stay brighter than the terrain at night.
+    const glm::ivec3 r = night.at({500.0, 500.0, 500.0}), t = night.at({500.0, 600.0, 500.0});
+    EXPECT_GT(r.x + r.y + r.z, t.x + t.y + t.z + 60);
+}
+
 TEST(MapRender, TerrainOnlyLayerShowsNoRoads) {
     auto tile = makeTile([](float, float) { return 500.0f; });
     tile->roads.push_back(road(map::RoadClass::Residential, {{300, 500}, {700, 500}}));
