@@ -1,0 +1,313 @@
+#include "config.h"
+
+#include <toml++/toml.h>
+
+#include <fstream>
+#include <set>
+#include <sstream>
+
+namespace navmap::daemon {
+
+namespace {
+
+std::string where(const std::string& source, const toml::source_region& r) {
+    return source + ":" + std::to_string(r.begin.line) + ":" + std::to_string(r.begin.column);
+}
+
+// Reads the keys of one table, rejecting unknown ones.
+class TableReader {
+public:
+    TableReader(const toml::table& t, std::string source, std::string prefix, ConfigError* err)
+        : m_t(t), m_source(std::move(source)), m_prefix(std::move(prefix)), m_err(err) {}
+
+    template <typename T>
+    bool get(const char* key, T& out) {
+        m_known.insert(key);
+        const toml::node* n = m_t.get(key);
+        if (!n) return true;
+        if constexpr (std::is_same_v<T, std::string> || std::is_same_v<T, std::filesystem::path>) {
+            if (auto v = n->value<std::string>()) {
+                out = *v;
+                return true;
+            }
+            return fail(*n, key, "a string");
+        } else if constexpr (std::is_same_v<T, bool>) {
+            if (auto v = n->value<bool>()) {
+                out = *v;
+                return true;
+            }
+            return fail(*n, key, "true or false");
+        } else if constexpr (std::is_floating_point_v<T>) {
+            if (auto v = n->value<double>()) {
+                out = static_cast<T>(*v);
+                return true;
+            }
+            return fail(*n, key, "a number");
+        } else {
+            if (auto v = n->value<std::int64_t>()) {
+                out = static_cast<T>(*v);
+                if (static_cast<std::int64_t>(out) != *v || (*v < 0 && std::is_unsigned_v<T>)) {
+                    return fail(*n, key, "an integer in range");
+                }
+                return true;
+            }
+            return fail(*n, key, "an integer");
+        }
+    }
+    bool range(const char* key, double value, double lo, double hi) {
+        if (value >= lo && value <= hi) return true;
+        const toml::node* n = m_t.get(key);
+        std::ostringstream msg;
+        msg << (n ? where(m_source, n->source()) : m_source) << ": " << m_prefix << key << " = " << value
+            << " out of range [" << lo << ", " << hi << "]";
+        m_err->message = msg.str();
+        return false;
+    }
+    bool noUnknownKeys() {
+        for (const auto& [k, v] : m_t) {
+            if (!m_known.count(std::string(k.str())) && !v.is_table() && !v.is_array_of_tables()) {
+                m_err->message = where(m_source, v.source()) + ": unknown key " + m_prefix + std::string(k.str());
+                return false;
+            }
+        }
+        return true;
+    }
+    void known(const char* key) { m_known.insert(key); }
+
+private:
+    bool fail(const toml::node& n, const char* key, const char* expected) {
+        m_err->message = where(m_source, n.source()) + ": " + m_prefix + key + " must be " + expected;
+        return false;
+    }
+    const toml::table& m_t;
+    std::string m_source, m_prefix;
+    ConfigError* m_err;
+    std::set<std::string> m_known;
+};
+
+}  // namespace
+
+std::optional<DaemonConfig> parseConfig(const std::string& text, const std::string& source_name, ConfigError* error) {
+    ConfigError local;
+    ConfigError* err = error ? error : &local;
+    toml::table root;
+    try {
+        root = toml::parse(text, source_name);
+    } catch (const toml::parse_error& e) {
+        err->message = where(source_name, e.source()) + ": " + std::string(e.description());
+        return std::nullopt;
+    }
+    DaemonConfig c;
+    const std::set<std::string> sections{"store", "input", "sim", "render", "profile", "control", "stream", "log", "can"};
+    for (const auto& [k, v] : root) {
+        if (!sections.count(std::string(k.str()))) {
+            err->message = where(source_name, v.source()) + ": unknown section or key '" + std::string(k.str()) + "'";
+            return std::nullopt;
+        }
+    }
+    auto table = [&](const char* name) -> const toml::table* {
+        const toml::node* n = root.get(name);
+        return n ? n->as_table() : nullptr;
+    };
+    static const toml::table kEmpty;
+    auto section = [&](const char* name) { const auto* t = table(name); return TableReader(t ? *t : kEmpty, source_name, std::string(name) + ".", err); };
+
+    {
+        auto r = section("store");
+        std::int64_t cache_mb = static_cast<std::int64_t>(c.cache_mb);
+        if (!r.get("path", c.store_path) || !r.get("cache_mb", cache_mb) || !r.range("cache_mb", double(cache_mb), 8, 65536) ||
+            !r.noUnknownKeys())
+            return std::nullopt;
+        c.cache_mb = static_cast<std::size_t>(cache_mb);
+    }
+    {
+        auto r = section("input");
+        std::string source = "sim";
+        toml::array* dbc = nullptr;
+        if (const auto* t = table("input")) dbc = const_cast<toml::table*>(t)->get_as<toml::array>("dbc");
+        r.known("dbc");
+        if (!r.get("source", source) || !r.get("replay_log", c.replay_log) || !r.get("replay_speed", c.replay_speed) ||
+            !r.range("replay_speed", c.replay_speed, 0.01, 1000.0) || !r.get("replay_loop", c.replay_loop) ||
+            !r.get("can_interface", c.can_interface) || !r.get("stale_after_s", c.stale_after_s) ||
+            !r.range("stale_after_s", c.stale_after_s, 0.05, 600.0) || !r.noUnknownKeys())
+            return std::nullopt;
+        if (source == "sim") c.input = InputSource::Sim;
+        else if (source == "replay") c.input = InputSource::Replay;
+        else if (source == "socketcan") c.input = InputSource::SocketCan;
+        else {
+            err->message = source_name + ": input.source = \"" + source + "\": expected sim, replay or socketcan";
+            return std::nullopt;
+        }
+        if (dbc) {
+            for (const auto& e : *dbc) {
+                if (auto s = e.value<std::string>()) c.dbc_files.emplace_back(*s);
+                else {
+                    err->message = where(source_name, e.source()) + ": input.dbc entries must be file names";
+                    return std::nullopt;
+                }
+            }
+        }
+    }
+    if (const auto* can = table("can")) {
+        // [[can.signal]] tables: handed to ipc::SignalMap as TOML text.
+        std::ostringstream s;
+        toml::table only;
+        only.insert("can", *can);
+        s << only;
+        c.signal_map_toml = s.str();
+    }
+    {
+        auto r = section("sim");
+        if (!r.get("from", c.sim_from) || !r.get("to", c.sim_to) || !r.get("speed_factor", c.sim_speed_factor) ||
+            !r.range("speed_factor", c.sim_speed_factor, 0.01, 1000.0) || !r.noUnknownKeys())
+            return std::nullopt;
+    }
+    {
+        auto r = section("render");
+        std::string style = "day";
+        if (!r.get("egl_platform", c.egl_platform) || !r.get("msaa", c.msaa) || !r.range("msaa", c.msaa, -1, 16) ||
+            !r.get("style", style) || !r.noUnknownKeys())
+            return std::nullopt;
+        if (c.egl_platform != "auto" && c.egl_platform != "surfaceless" && c.egl_platform != "device") {
+            err->message = source_name + ": render.egl_platform = \"" + c.egl_platform + "\": expected auto, surfaceless or device";
+            return std::nullopt;
+        }
+        if (style != "day" && style != "night") {
+            err->message = source_name + ": render.style = \"" + style + "\": expected day or night";
+            return std::nullopt;
+        }
+        c.night = style == "night";
+    }
+    if (const toml::node* n = root.get("profile")) {
+        const toml::array* arr = n->as_array();
+        if (!arr || !arr->is_array_of_tables()) {
+            err->message = where(source_name, n->source()) + ": profile must be an array of tables ([[profile]])";
+            return std::nullopt;
+        }
+        for (const auto& e : *arr) {
+            TableReader r(*e.as_table(), source_name, "profile.", err);
+            DisplayProfile p;
+            std::string view = "snail", orientation = "heading-up";
+            if (!r.get("name", p.name) || !r.get("width", p.width) || !r.range("width", p.width, 16, 8192) ||
+                !r.get("height", p.height) || !r.range("height", p.height, 16, 8192) || !r.get("fps", p.fps) ||
+                !r.range("fps", p.fps, 0.1, 240.0) || !r.get("view", view) || !r.get("orientation", orientation) ||
+                !r.noUnknownKeys())
+                return std::nullopt;
+            if (p.name.empty()) {
+                err->message = where(source_name, e.source()) + ": profile.name is required";
+                return std::nullopt;
+            }
+            if (view == "bird") p.view = render::ViewMode::Bird;
+            else if (view == "snail") p.view = render::ViewMode::Snail;
+            else {
+                err->message = where(source_name, e.source()) + ": profile.view = \"" + view + "\": expected bird or snail";
+                return std::nullopt;
+            }
+            if (orientation == "north-up") p.orientation = render::Orientation::NorthUp;
+            else if (orientation != "heading-up") {
+                err->message = where(source_name, e.source()) + ": profile.orientation = \"" + orientation +
+                               "\": expected heading-up or north-up";
+                return std::nullopt;
+            }
+            c.profiles.push_back(p);
+        }
+    } else {
+        c.profiles = defaultProfiles();
+    }
+    {
+        auto r = section("control");
+        std::int64_t mode = c.control_mode;
+        toml::array* uids = nullptr;
+        if (const auto* t = table("control")) uids = const_cast<toml::table*>(t)->get_as<toml::array>("allowed_uids");
+        r.known("allowed_uids");
+        if (!r.get("socket", c.control_socket) || !r.get("mode", mode) || !r.range("mode", double(mode), 0, 0777) ||
+            !r.noUnknownKeys())
+            return std::nullopt;
+        c.control_mode = static_cast<std::uint32_t>(mode);
+        if (uids) {
+            for (const auto& e : *uids) {
+                auto v = e.value<std::int64_t>();
+                if (!v || *v < 0) {
+                    err->message = where(source_name, e.source()) + ": control.allowed_uids entries must be uids";
+                    return std::nullopt;
+                }
+                c.control_uids.push_back(static_cast<std::uint32_t>(*v));
+            }
+        }
+    }
+    {
+        auto r = section("stream");
+        if (!r.get("socket", c.frame_socket) || !r.get("tcp_port", c.tcp_port) || !r.range("tcp_port", c.tcp_port, 0, 65535) ||
+            !r.get("http_port", c.http_port) || !r.range("http_port", c.http_port, 0, 65535) ||
+            !r.get("http_address", c.http_address) || !r.get("client_timeout_s", c.client_timeout_s) ||
+            !r.range("client_timeout_s", c.client_timeout_s, 0.1, 3600.0) || !r.noUnknownKeys())
+            return std::nullopt;
+    }
+    {
+        auto r = section("log");
+        std::string level = "info";
+        if (!r.get("level", level) || !r.get("watchdog_max_frame_s", c.watchdog_max_frame_s) ||
+            !r.range("watchdog_max_frame_s", c.watchdog_max_frame_s, 0.1, 600.0) || !r.noUnknownKeys())
+            return std::nullopt;
+        static const std::pair<const char*, int> kLevels[] = {{"error", 3}, {"warning", 4}, {"notice", 5}, {"info", 6}, {"debug", 7}};
+        bool ok = false;
+        for (const auto& [name, prio] : kLevels) {
+            if (level == name) {
+                c.log_level = prio;
+                ok = true;
+            }
+        }
+        if (!ok) {
+            err->message = source_name + ": log.level = \"" + level + "\": expected error, warning, notice, info or debug";
+            return std::nullopt;
+        }
+    }
+    return c;
+}
+
+std::optional<DaemonConfig> loadConfig(const std::filesystem::path& path, ConfigError* error) {
+    std::ifstream in(path);
+    if (!in) {
+        if (error) error->message = "open(" + path.string() + "): cannot read config file";
+        return std::nullopt;
+    }
+    std::ostringstream text;
+    text << in.rdbuf();
+    return parseConfig(text.str(), path.string(), error);
+}
+
+bool validateConfig(const DaemonConfig& c, ConfigError* error) {
+    auto fail = [&](std::string m) {
+        if (error) error->message = std::move(m);
+        return false;
+    };
+    if (c.profiles.empty()) return fail("no display profile configured");
+    std::set<std::string> names;
+    for (const auto& p : c.profiles) {
+        if (!names.insert(p.name).second) return fail("profile '" + p.name + "' defined twice");
+    }
+    if (c.input == InputSource::Replay && c.replay_log.empty()) return fail("input.source = \"replay\" needs input.replay_log");
+    if (c.input == InputSource::SocketCan && c.can_interface.empty()) return fail("input.source = \"socketcan\" needs input.can_interface");
+    if (c.store_path.empty()) return fail("store.path is empty");
+    return true;
+}
+
+std::string describeConfig(const DaemonConfig& c) {
+    std::ostringstream s;
+    s << "store: " << c.store_path.string() << " (cache " << c.cache_mb << " MiB)\n";
+    s << "input: " << (c.input == InputSource::Sim ? "sim " + c.sim_from + " -> " + c.sim_to
+                       : c.input == InputSource::Replay ? "replay " + c.replay_log.string()
+                                                        : "socketcan " + c.can_interface)
+      << ", position stale after " << c.stale_after_s << " s\n";
+    s << "render: egl " << c.egl_platform << ", msaa " << c.msaa << ", style " << (c.night ? "night" : "day") << "\n";
+    for (const auto& p : c.profiles) {
+        s << "profile " << p.name << ": " << p.width << "x" << p.height << " @ " << p.fps << " fps, "
+          << (p.view == render::ViewMode::Bird ? "bird" : "snail") << ", "
+          << (p.orientation == render::Orientation::NorthUp ? "north-up" : "heading-up") << "\n";
+    }
+    s << "control: " << c.control_socket.string() << " (mode " << std::oct << c.control_mode << std::dec << ")\n";
+    s << "stream: " << c.frame_socket.string() << ", tcp " << c.tcp_port << ", http " << c.http_address << ":" << c.http_port << "\n";
+    return s.str();
+}
+
+}  // namespace navmap::daemon

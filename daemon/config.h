@@ -1,0 +1,69 @@
+#pragma once
+// navmapd's configuration: one TOML file (toml++), every key optional with a documented default
+// (docs/navmapd.md, daemon/navmapd.toml), command-line overrides applied on top.
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "profiles.h"
+
+namespace navmap::daemon {
+
+enum class InputSource { Sim, Replay, SocketCan };
+
+struct DaemonConfig {
+    // [store]
+    std::filesystem::path store_path;          ///< compiled tile store
+    std::size_t cache_mb = 128;                ///< tile cache budget
+    // [input]
+    InputSource input = InputSource::Sim;
+    std::filesystem::path replay_log;          ///< candump log (input = "replay")
+    double replay_speed = 1.0;
+    bool replay_loop = true;
+    std::string can_interface = "can0";        ///< input = "socketcan"
+    std::vector<std::filesystem::path> dbc_files;  ///< empty: the shipped navmap.dbc
+    double stale_after_s = 2.0;                ///< position shown as lost after this
+    std::string signal_map_toml;               ///< [[can.signal]] tables (raw TOML), empty: navmap.dbc defaults
+    // [sim]
+    std::string sim_from = "andorra-la-vella";
+    std::string sim_to = "encamp";
+    double sim_speed_factor = 1.0;
+    // [render]
+    std::string egl_platform = "auto";
+    int msaa = -1;
+    bool night = false;
+    std::vector<DisplayProfile> profiles;      ///< [[profile]]; defaults: cluster, hud, center
+    // [control]
+    std::filesystem::path control_socket = "/run/navmap/control.sock";
+    std::uint32_t control_mode = 0660;
+    std::vector<std::uint32_t> control_uids;   ///< empty: same uid as the daemon, and root
+    // [stream]
+    std::filesystem::path frame_socket = "/run/navmap/frames.sock";
+    int tcp_port = 0;                          ///< 0: no TCP frame server
+    int http_port = 8080;                      ///< MJPEG, status page, /metrics; 0: off
+    std::string http_address = "127.0.0.1";
+    double client_timeout_s = 5.0;             ///< stalled clients are disconnected after this
+    // [log]
+    int log_level = 6;                         ///< syslog priority: 3 err .. 7 debug
+    double watchdog_max_frame_s = 2.0;         ///< WATCHDOG=1 only while a frame finished this recently
+};
+
+/// What went wrong in a config file: "<file>:<line>:<column>: <problem>".
+struct ConfigError {
+    std::string message;
+};
+
+/// Parses TOML text; unknown keys are errors (typos must not pass silently).
+std::optional<DaemonConfig> parseConfig(const std::string& text, const std::string& source_name, ConfigError* error);
+std::optional<DaemonConfig> loadConfig(const std::filesystem::path& path, ConfigError* error);
+
+/// Checks cross-field rules (profiles unique and sane, a replay log for input = replay, ...).
+bool validateConfig(const DaemonConfig& config, ConfigError* error);
+
+/// A human-readable dump of the effective configuration (navmapd --check-config).
+std::string describeConfig(const DaemonConfig& config);
+
+}  // namespace navmap::daemon

@@ -1,0 +1,119 @@
+// navmapd's TOML configuration: defaults, every section, and clear errors for wrong input.
+#include <gtest/gtest.h>
+
+#include "config.h"
+
+namespace {
+
+using namespace navmap::daemon;
+
+std::optional<DaemonConfig> parse(const std::string& text, std::string* message = nullptr) {
+    ConfigError err;
+    auto c = parseConfig(text, "navmapd.toml", &err);
+    if (message) *message = err.message;
+    return c;
+}
+
+TEST(DaemonConfig, EmptyFileGivesTheDocumentedDefaults) {
+    const auto c = parse("");
+    ASSERT_TRUE(c);
+    EXPECT_EQ(c->input, InputSource::Sim);
+    EXPECT_EQ(c->cache_mb, 128u);
+    ASSERT_EQ(c->profiles.size(), 3u);
+    EXPECT_EQ(c->profiles[0].name, "cluster");
+    EXPECT_EQ(c->profiles[0].width, 1280);
+    EXPECT_EQ(c->profiles[0].height, 480);
+    EXPECT_EQ(c->profiles[2].view, navmap::render::ViewMode::Bird);
+    EXPECT_EQ(c->http_port, 8080);
+    EXPECT_EQ(c->log_level, 6);
+}
+
+TEST(DaemonConfig, EverySectionIsRead) {
+    const auto c = parse(R"(
+[store]
+path = "/var/lib/navmap/andorra.navmap"
+cache_mb = 64
+[input]
+source = "replay"
+replay_log = "drive.candump"
+replay_speed = 2.0
+dbc = ["navmap.dbc", "ford_lincoln_base_pt.dbc"]
+[[can.signal]]
+vss = "Vehicle.Speed"
+message = "BrakeSysFeatures"
+signal = "Veh_V_ActlBrk"
+[render]
+style = "night"
+msaa = 0
+[[profile]]
+name = "cluster"
+width = 1280
+height = 480
+view = "snail"
+[[profile]]
+name = "hud"
+width = 800
+height = 240
+fps = 20
+orientation = "north-up"
+[control]
+socket = "/tmp/c.sock"
+mode = 0o600
+allowed_uids = [1000, 0]
+[stream]
+http_port = 0
+tcp_port = 7000
+[log]
+level = "debug"
+)");
+    ASSERT_TRUE(c);
+    EXPECT_EQ(c->store_path, "/var/lib/navmap/andorra.navmap");
+    EXPECT_EQ(c->cache_mb, 64u);
+    EXPECT_EQ(c->input, InputSource::Replay);
+    EXPECT_EQ(c->replay_speed, 2.0);
+    ASSERT_EQ(c->dbc_files.size(), 2u);
+    EXPECT_NE(c->signal_map_toml.find("Veh_V_ActlBrk"), std::string::npos);
+    EXPECT_TRUE(c->night);
+    EXPECT_EQ(c->msaa, 0);
+    ASSERT_EQ(c->profiles.size(), 2u);
+    EXPECT_EQ(c->profiles[1].fps, 20.0);
+    EXPECT_EQ(c->profiles[1].orientation, navmap::render::Orientation::NorthUp);
+    EXPECT_EQ(c->control_mode, 0600u);
+    EXPECT_EQ(c->control_uids, (std::vector<std::uint32_t>{1000, 0}));
+    EXPECT_EQ(c->tcp_port, 7000);
+    EXPECT_EQ(c->log_level, 7);
+    ConfigError err;
+    EXPECT_TRUE(validateConfig(*c, &err)) << err.message;
+}
+
+TEST(DaemonConfig, ErrorsNameFileLineAndProblem) {
+    std::string m;
+    EXPECT_FALSE(parse("[store]\ncache_mb = \"lots\"\n", &m));
+    EXPECT_EQ(m, "navmapd.toml:2:12: store.cache_mb must be an integer");
+    EXPECT_FALSE(parse("[store]\ncache_mb = 2\n", &m));
+    EXPECT_EQ(m, "navmapd.toml:2:12: store.cache_mb = 2 out of range [8, 65536]");
+    EXPECT_FALSE(parse("[render]\nmsaa = 4\nsytle = \"night\"\n", &m));
+    EXPECT_EQ(m, "navmapd.toml:3:9: unknown key render.sytle");
+    EXPECT_FALSE(parse("[rendr]\n", &m));
+    EXPECT_NE(m.find("unknown section or key 'rendr'"), std::string::npos) << m;
+    EXPECT_FALSE(parse("[input]\nsource = \"usb\"\n", &m));
+    EXPECT_NE(m.find("expected sim, replay or socketcan"), std::string::npos) << m;
+    EXPECT_FALSE(parse("[[profile]]\nname = \"x\"\nview = \"sky\"\n", &m));
+    EXPECT_NE(m.find("expected bird or snail"), std::string::npos) << m;
+    EXPECT_FALSE(parse("[store\npath = 1", &m));
+    EXPECT_EQ(m.rfind("navmapd.toml:1:", 0), 0u) << m;
+}
+
+TEST(DaemonConfig, ValidationCatchesCrossFieldMistakes) {
+    auto c = parse("[store]\npath = \"x.navmap\"\n[input]\nsource = \"replay\"\n");
+    ASSERT_TRUE(c);
+    ConfigError err;
+    EXPECT_FALSE(validateConfig(*c, &err));
+    EXPECT_EQ(err.message, "input.source = \"replay\" needs input.replay_log");
+    c = parse("[store]\npath = \"x\"\n[[profile]]\nname = \"a\"\n[[profile]]\nname = \"a\"\n");
+    ASSERT_TRUE(c);
+    EXPECT_FALSE(validateConfig(*c, &err));
+    EXPECT_EQ(err.message, "profile 'a' defined twice");
+}
+
+}  // namespace
