@@ -215,6 +215,17 @@ TEST(MapRender, NightPaletteIsDarkerThanDay) {
     EXPECT_GT(r.x + r.y + r.z, t.x + t.y + t.z + 60);
 }
 
+TEST(MapRender, TileWithoutElevationRendersFlatWithAWarning) {
+    auto tile = makeTile([](float, float) { return 0.0f; });
+    tile->dem.coverage = 0.25f;  // the compiler had DEM for a quarter of it
+    ::testing::internal::CaptureStderr();
+    const Scene s = render(tile, 300.0, MapStyle::day());
+    const std::string log = ::testing::internal::GetCapturedStderr();
+    EXPECT_NE(log.find("tile 10/5/7: 75% of its area has no elevation data and renders flat"), std::string::npos) << log;
+    EXPECT_EQ(s.renderer->mapStats().flat_tiles, 1u);
+    EXPECT_EQ(s.renderer->mapStats().tiles_drawn, 1u);
+}
+
 TEST(MapRender, TerrainOnlyLayerShowsNoRoads) {
     auto tile = makeTile([](float, float) { return 500.0f; });
     tile->roads.push_back(road(map::RoadClass::Residential, {{300, 500}, {700, 500}}));

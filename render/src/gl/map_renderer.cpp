@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstddef>
+#include <cstdio>
 #include <vector>
 
 #include <glm/gtc/type_ptr.hpp>
@@ -122,6 +123,12 @@ MapRenderer::~MapRenderer() {
 }
 
 MapRenderer::GpuTile* MapRenderer::upload(const std::shared_ptr<const map::Tile>& tile) {
+    if (tile->dem.coverage < 1.0f && m_warned_flat.insert(tile->id.key()).second) {
+        // The compiler found no DEM for part of this tile; that part renders flat at 0 m.
+        std::fprintf(stderr, "<4>navmap: tile %s: %.0f%% of its area has no elevation data and renders flat\n",
+                     tile->id.toString().c_str(), 100.0 * (1.0 - tile->dem.coverage));
+        ++m_stats_flat_tiles;
+    }
     const TileMesh mesh = buildTileMesh(*tile);
     auto gpu = std::make_unique<GpuTile>();
     gpu->source = tile.get();
@@ -339,6 +346,7 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target) {
         tiles.push_back(gpu);
     }
     m_stats.tiles_uploaded = static_cast<std::size_t>(uploads);
+    m_stats.flat_tiles = m_stats_flat_tiles;
     m_stats.tiles_drawn = tiles.size();
     if (frame.route && frame.layers.route) updateRoute(*frame.route);
     lap(m_stats.uploads_ms, t);

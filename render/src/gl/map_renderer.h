@@ -7,6 +7,7 @@
 
 #include <memory>
 #include <unordered_map>
+#include <unordered_set>
 
 #include "navmap/render/map_frame.h"
 #include "navmap/render/renderer.h"
@@ -55,6 +56,8 @@ private:
     std::unordered_map<std::uint64_t, std::unique_ptr<GpuTile>> m_tiles;
     std::unique_ptr<GpuRoute> m_route;
     std::uint64_t m_frame = 0;
+    std::unordered_set<std::uint64_t> m_warned_flat;  // tiles already reported as lacking DEM
+    std::size_t m_stats_flat_tiles = 0;
 };
 
 }  // namespace navmap::render::gl

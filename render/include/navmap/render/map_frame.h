@@ -75,6 +75,7 @@ struct MapFrameStats {
     std::size_t road_segments = 0;
     std::size_t terrain_triangles = 0;
     std::size_t building_triangles = 0;
+    std::size_t flat_tiles = 0;  ///< tiles seen so far with missing elevation data (warned once each)
 };
 
 }  // namespace navmap::render
