@@ -1,6 +1,9 @@
 # One INTERFACE target carries the warning and sanitizer flags; every navmap target links it.
 add_library(navmap_warnings INTERFACE)
-target_compile_options(navmap_warnings INTERFACE -Wall -Wextra -Wpedantic -Wshadow=local)
+target_compile_options(navmap_warnings INTERFACE -Wall -Wextra -Wpedantic)
+if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU")
+  target_compile_options(navmap_warnings INTERFACE -Wshadow=local)  # gcc only
+endif()
 if(NAVMAP_WITH_WERROR)
   target_compile_options(navmap_warnings INTERFACE -Werror)
 endif()

@@ -14,7 +14,7 @@ PACKAGES=(
   # OpenStreetMap input (libosmium and its PBF/XML codecs), polygon tessellation
   libosmium2-dev libprotozero-dev zlib1g-dev libbz2-dev libexpat1-dev liblz4-dev libglu1-mesa-dev libzstd-dev
   # text
-  libfreetype-dev libharfbuzz-dev fonts-dejavu-core
+  libfreetype-dev libharfbuzz-dev fonts-dejavu-core fonts-droid-fallback
   # config, JSON, command line, streaming, systemd
   libtomlplusplus-dev nlohmann-json3-dev libcli11-dev libturbojpeg0-dev libsystemd-dev
   # tests and benchmarks

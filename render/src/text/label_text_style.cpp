@@ -1,0 +1,73 @@
+#include "navmap/render/text/label_text_style.h"
+
+#include <algorithm>
+#include <array>
+
+#include "navmap/map/tag_rules.h"
+
+namespace navmap::render::text {
+
+namespace {
+
+// seed 4.5.2: a dark outline for contrast against any background (Fig. 4.7a) and a light halo
+// clearing the space around the label (Fig. 4.7c); large, light type for legibility.
+TextStyle baseStyle(glm::vec4 fill) {
+    TextStyle s;
+    s.fill = fill;
+    s.outline = glm::vec4(0.08f, 0.08f, 0.10f, 1.0f);
+    s.outline_px = 1.2f;
+    s.halo = glm::vec4(1.0f, 1.0f, 1.0f, 0.45f);
+    s.halo_px = 2.5f;
+    return s;
+}
+
+}  // namespace
+
+LabelTextStyle labelTextStyle(map::LabelKind kind, std::uint8_t subclass) {
+    LabelTextStyle l;
+    switch (kind) {
+    case map::LabelKind::Place: {
+        // Size by class, largest first (PlaceClass order): Country ... Other.
+        constexpr std::array<float, 12> kSizes = {24, 22, 21, 19, 16, 15, 14, 13, 13, 12, 14, 12};
+        l.font = subclass <= static_cast<std::uint8_t>(map::PlaceClass::Village) ? FontStyle::Bold : FontStyle::Regular;
+        l.size_px = kSizes[std::min<std::size_t>(subclass, kSizes.size() - 1)];
+        l.style = baseStyle(glm::vec4(1.0f, 1.0f, 1.0f, 1.0f));
+        break;
+    }
+    case map::LabelKind::Poi: {
+        // Symbols DejaVu Sans has: amenity ●, shop ■, tourism ★, leisure ♣, historic ⌂,
+        // office ◆, peak ▲ (PoiClass order).
+        constexpr std::array<const char*, 7> kIcons = {"\u25CF", "\u25A0", "\u2605", "\u2663", "\u2302", "\u25C6", "\u25B2"};
+        constexpr std::array<glm::vec4, 7> kColors = {
+            glm::vec4(0.85f, 0.45f, 0.15f, 1.0f), glm::vec4(0.65f, 0.35f, 0.75f, 1.0f),
+            glm::vec4(0.95f, 0.75f, 0.10f, 1.0f), glm::vec4(0.25f, 0.70f, 0.35f, 1.0f),
+            glm::vec4(0.60f, 0.45f, 0.30f, 1.0f), glm::vec4(0.35f, 0.50f, 0.80f, 1.0f),
+            glm::vec4(0.55f, 0.40f, 0.30f, 1.0f)};
+        const std::size_t i = std::min<std::size_t>(subclass, kIcons.size() - 1);
+        l.font = FontStyle::Regular;
+        l.size_px = 13.0f;
+        l.style = baseStyle(glm::vec4(1.0f, 0.96f, 0.88f, 1.0f));
+        l.style.icon = kColors[i];
+        l.icon = kIcons[i];
+        break;
+    }
+    case map::LabelKind::Road:
+        // Line labels: smaller, regular weight, pale yellow like the major road fill.
+        l.font = FontStyle::Regular;
+        l.size_px = subclass <= 2 ? 14.0f : 12.0f;
+        l.style = baseStyle(glm::vec4(1.0f, 0.98f, 0.80f, 1.0f));
+        break;
+    case map::LabelKind::Area:
+        // Water in blue tones, other areas in a pale green; thinner outline.
+        l.font = FontStyle::Regular;
+        l.size_px = 13.0f;
+        l.style = baseStyle(subclass == static_cast<std::uint8_t>(map::AreaClass::Water)
+                                ? glm::vec4(0.75f, 0.88f, 1.0f, 1.0f)
+                                : glm::vec4(0.86f, 0.95f, 0.84f, 1.0f));
+        l.style.outline_px = 1.0f;
+        break;
+    }
+    return l;
+}
+
+}  // namespace navmap::render::text

@@ -1,0 +1,33 @@
+// SDF label text: fill, dark outline and light halo in one pass (seed 4.5.2, Fig. 4.7).
+// Output is premultiplied (blend ONE, ONE_MINUS_SRC_ALPHA).
+
+uniform sampler2D u_atlas;
+
+in vec2 v_uv;
+in float v_dist_scale;
+flat in vec4 v_fill;
+flat in vec4 v_outline;
+flat in vec4 v_halo;
+flat in vec2 v_widths;
+flat in float v_alpha;
+
+out vec4 o_color;
+
+void main() {
+    float d = (texture(u_atlas, v_uv).r - 0.5) * v_dist_scale;  // px, positive inside the glyph
+    float w = 0.5 * clamp(fwidth(d), 0.5, 2.0);                  // about one pixel of antialiasing
+    float o = v_widths.x;
+    float h = v_widths.y;
+    float fill_a = smoothstep(-w, w, d);
+    float outline_a = o > 0.0 ? smoothstep(-w, w, d + o) : 0.0;
+    // The halo is opaque up to half its width and fades out over the other half.
+    float halo_a = h > 0.0 ? smoothstep(-(o + h), -(o + 0.5 * h), d) : 0.0;
+    vec4 color = vec4(v_halo.rgb, 1.0) * (v_halo.a * halo_a);
+    vec4 layer = vec4(v_outline.rgb, 1.0) * (v_outline.a * outline_a);
+    color = layer + color * (1.0 - layer.a);
+    layer = vec4(v_fill.rgb, 1.0) * (v_fill.a * fill_a);
+    color = layer + color * (1.0 - layer.a);
+    color *= v_alpha;
+    if (color.a < 1.0 / 512.0) discard;
+    o_color = color;
+}
