@@ -1,0 +1,58 @@
+#pragma once
+// MapMatcher: snaps a position onto the road graph: the nearest drivable edge segment with
+// heading agreement, with hysteresis towards the previously matched edge and its neighbours.
+// A uniform grid over the edge segments keeps a query near constant time. Immutable after
+// construction: share it between threads.
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "navmap/daemon/vehicle/vehicle_state_config.h"
+#include "navmap/map/projection.h"
+#include "navmap/map/road_graph.h"
+
+namespace navmap::daemon {
+
+struct RoadMatch {
+    std::uint32_t edge = 0;    ///< index into RoadGraph::edges (direction of travel)
+    map::PlanarPoint point;    ///< nearest point on the edge
+    double headingDeg = 0.0;   ///< direction of the edge there (clockwise from north)
+    double distanceM = 0.0;
+    double confidence = 0.0;   ///< 0..1: distance and heading agreement
+    double score = 0.0;        ///< lower is better (includes the hysteresis bonuses)
+};
+
+/// exp(-d^2/2s_d^2) * exp(-dh^2/2s_h^2): the confidence of a candidate (heading term only when
+/// `useHeading`).
+double matchConfidence(double distanceM, double headingDiffDeg, bool useHeading, const VehicleStateConfig& cfg);
+
+class MapMatcher {
+public:
+    explicit MapMatcher(std::shared_ptr<const map::RoadGraph> graph, double cellM = 50.0);
+
+    /// Best candidate within cfg.matchRadiusM, or nullopt. `headingDeg` counts when set;
+    /// `previousEdge` gets cfg.hysteresisBonus, edges continuing from it cfg.connectedBonus.
+    [[nodiscard]] std::optional<RoadMatch> match(map::PlanarPoint p, std::optional<double> headingDeg,
+                                                 std::optional<std::uint32_t> previousEdge,
+                                                 const VehicleStateConfig& cfg) const;
+
+    [[nodiscard]] const map::RoadGraph& graph() const { return *m_graph; }
+    [[nodiscard]] std::size_t segmentCount() const { return m_segments.size(); }
+
+private:
+    struct Seg {
+        map::PlanarPoint a, b;  // in the edge's direction of travel
+        std::uint32_t edge;
+    };
+    std::shared_ptr<const map::RoadGraph> m_graph;
+    std::vector<Seg> m_segments;
+    double m_cell;
+    double m_minX = 0, m_minY = 0;
+    int m_cols = 0, m_rows = 0;
+    std::vector<std::uint32_t> m_cellStart;  // CSR over cells
+    std::vector<std::uint32_t> m_cellSegs;
+};
+
+}  // namespace navmap::daemon

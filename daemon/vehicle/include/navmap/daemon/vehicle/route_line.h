@@ -1,0 +1,44 @@
+#pragma once
+// RouteLine: the active route as a store-frame polyline with measures, and matching a position
+// onto it (nearest segment with heading agreement, preferring the neighbourhood of the previous
+// match so that a route that passes the same place twice is followed in order). Immutable.
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "navmap/daemon/vehicle/vehicle_state_config.h"
+#include "navmap/map/projection.h"
+
+namespace navmap::daemon {
+
+struct RouteMatch {
+    map::PlanarPoint point;   ///< nearest point on the route
+    double headingDeg = 0.0;  ///< direction of the route there (clockwise from north)
+    double measureM = 0.0;    ///< distance from the route start
+    double distanceM = 0.0;   ///< from the query position
+    double confidence = 0.0;  ///< 0..1
+};
+
+class RouteLine {
+public:
+    /// `id` is the control protocol's route id; `points` in store-frame metres (duplicates dropped).
+    RouteLine(std::string id, const std::vector<map::PlanarPoint>& points);
+
+    [[nodiscard]] const std::string& id() const { return m_id; }
+    [[nodiscard]] double lengthM() const { return m_measures.empty() ? 0.0 : m_measures.back(); }
+    [[nodiscard]] const std::vector<map::PlanarPoint>& points() const { return m_points; }
+
+    /// Best match within cfg.matchRadiusM, or nullopt. `previousMeasure` (if any) penalises
+    /// jumps along the route.
+    [[nodiscard]] std::optional<RouteMatch> match(map::PlanarPoint p, std::optional<double> headingDeg,
+                                                  std::optional<double> previousMeasure,
+                                                  const VehicleStateConfig& cfg) const;
+
+private:
+    std::string m_id;
+    std::vector<map::PlanarPoint> m_points;
+    std::vector<double> m_measures;
+};
+
+}  // namespace navmap::daemon

@@ -1,0 +1,91 @@
+#pragma once
+// VehicleState: an immutable snapshot of the estimator (fused anchors at GNSS fix times, the
+// speed/yaw-rate samples since, the map-matching state). The input thread publishes it as
+// std::shared_ptr<const VehicleState>; the render thread asks it for the pose at frame time
+// with poseAt(), which interpolates between anchors or extrapolates by dead reckoning, then
+// snaps onto the route or the road. Deterministic: the same snapshot and time give the same pose.
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "navmap/daemon/vehicle/map_matcher.h"
+#include "navmap/daemon/vehicle/route_line.h"
+#include "navmap/daemon/vehicle/vehicle_state_config.h"
+#include "navmap/ipc/can_frame.hpp"
+
+namespace navmap::daemon {
+
+/// The pose at a requested time.
+struct EstimatedPose {
+    bool valid = false;          ///< false until the first accepted GNSS fix
+    double x = 0.0;              ///< store frame, metres east (snapped when matched)
+    double y = 0.0;              ///< store frame, metres north
+    double rawX = 0.0;           ///< fused position before map matching
+    double rawY = 0.0;
+    double headingDeg = 0.0;     ///< clockwise from north, [0, 360)
+    double speedMps = 0.0;
+    ipc::CanTime time{};         ///< the requested time
+    ipc::CanTime sourceTime{};   ///< CAN receive time of the newest input behind this pose
+    bool stale = false;          ///< no accepted fix for gnssTimeoutS: show "position lost"
+    double sinceFixS = 0.0;      ///< seconds since the newest accepted fix
+    double matchConfidence = 0.0;   ///< 0..1 (0: no road/route candidate)
+    double snapWeight = 0.0;        ///< 0 raw .. 1 fully on the road
+    std::optional<std::uint32_t> edge;  ///< matched graph edge
+    std::optional<double> roadHeadingDeg;  ///< direction of the matched route/road segment
+    bool onRoute = false;
+    double routeDrivenM = 0.0;      ///< along the route (when onRoute)
+    double routeRemainingM = 0.0;
+};
+
+/// A fused state at a GNSS fix (store frame).
+struct PoseAnchor {
+    ipc::CanTime time{};
+    double x = 0.0, y = 0.0;
+    double headingRad = 0.0;     ///< clockwise from north
+    double speedMps = 0.0;
+    double jumpX = 0.0, jumpY = 0.0;  ///< prediction minus anchor at `time`: faded out over blendS
+    double jumpHeadingRad = 0.0;
+};
+
+/// Speed and yaw rate at one time (yaw rate converted to clockwise radians per second).
+struct MotionSample {
+    ipc::CanTime time{};
+    double speedMps = 0.0;
+    double headingRateRadS = 0.0;  ///< d(heading)/dt, clockwise positive
+};
+
+class VehicleState {
+public:
+    struct Parts {
+        VehicleStateConfig config;
+        std::vector<PoseAnchor> anchors;   ///< ascending time
+        std::vector<MotionSample> motion;  ///< ascending time, from before the oldest anchor on
+        bool headingKnown = false;
+        std::shared_ptr<const MapMatcher> matcher;
+        std::shared_ptr<const RouteLine> route;
+        std::optional<std::uint32_t> matchedEdge;   ///< hysteresis state at the newest input
+        std::optional<double> routeMeasure;         ///< previous route match
+    };
+    explicit VehicleState(Parts parts) : m_p(std::move(parts)) {}
+
+    /// The pose at `t` (normally the frame time on the CAN clock).
+    [[nodiscard]] EstimatedPose poseAt(ipc::CanTime t) const { return compute(m_p, t); }
+    /// The same over the estimator's live parts.
+    static EstimatedPose compute(const Parts& parts, ipc::CanTime t);
+
+    [[nodiscard]] const Parts& parts() const { return m_p; }
+
+private:
+    Parts m_p;
+};
+
+/// Integrates speed and heading rate from `from` to `to` (to >= from) starting at (x, y, h),
+/// using the samples (trapezoid between samples, the last one held for at most holdS after it;
+/// before the first sample, `fallbackSpeed` without turning). Steps of at most 50 ms.
+void deadReckon(const std::vector<MotionSample>& motion, ipc::CanTime from, ipc::CanTime to, double holdS,
+                double fallbackSpeed, double& x, double& y, double& headingRad, double& speedMps);
+
+}  // namespace navmap::daemon

@@ -1,0 +1,77 @@
+#pragma once
+// VehicleStateEstimator: fuses GNSS fixes (1-10 Hz) with speed and yaw rate (50-100 Hz) from
+// ipc::VehicleDecoder into a smooth pose at any requested time, map-matched onto the active route
+// or the road graph, with a stale flag after a timeout. NaN, out-of-range, out-of-order and
+// jumping fixes are rejected and counted. Runs on the input thread; publishes immutable
+// VehicleState snapshots (snapshot()) for the render thread. Deterministic for the same input.
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "navmap/daemon/vehicle/map_matcher.h"
+#include "navmap/daemon/vehicle/route_line.h"
+#include "navmap/daemon/vehicle/vehicle_state.h"
+#include "navmap/daemon/vehicle/vehicle_state_config.h"
+#include "navmap/ipc/vehicle_sample.hpp"
+#include "navmap/map/projection.h"
+
+namespace navmap::daemon {
+
+struct VehicleStateCounters {
+    std::uint64_t fixes = 0;            ///< accepted GNSS fixes
+    std::uint64_t motionSamples = 0;    ///< accepted speed/yaw-rate samples
+    std::uint64_t rejectedNaN = 0;      ///< not finite
+    std::uint64_t rejectedRange = 0;    ///< outside the plausible range or far from the map region
+    std::uint64_t rejectedJump = 0;     ///< fix too far from the prediction
+    std::uint64_t rejectedOrder = 0;    ///< older than data already used
+    std::uint64_t rejectedNoFix = 0;    ///< GNSS fix type NONE
+    std::uint64_t relocations = 0;      ///< re-initialised after consecutive jumps or a stale period
+    std::string lastRejection;          ///< why the newest rejection happened
+};
+
+class VehicleStateEstimator {
+public:
+    /// `projection`: the store frame (TileStore::projection()). `matcher` may be null (no map matching).
+    VehicleStateEstimator(map::Projection projection, std::shared_ptr<const MapMatcher> matcher,
+                          VehicleStateConfig config = {});
+
+    /// One decoded update (VehicleDecoder::decode output): the quantities it carries are used.
+    void addSample(const ipc::VehicleSample& update);
+
+    /// Sets the active route (store frame) for matching and progress; null clears it.
+    void setRoute(std::shared_ptr<const RouteLine> route);
+    /// Route from WGS84 points (the control protocol's set_route), projected to the store frame.
+    void setRouteLatLon(const std::string& id, const std::vector<std::pair<double, double>>& latLon);
+
+    /// The latest immutable snapshot (rebuilt lazily after input). Never null.
+    [[nodiscard]] std::shared_ptr<const VehicleState> snapshot() const;
+    /// Shorthand for snapshot()->poseAt(t).
+    [[nodiscard]] EstimatedPose poseAt(ipc::CanTime t) const { return snapshot()->poseAt(t); }
+
+    [[nodiscard]] const VehicleStateCounters& counters() const { return m_counters; }
+    [[nodiscard]] const map::Projection& projection() const { return m_projection; }
+
+private:
+    void addMotion(const ipc::VehicleSample& update);
+    void addFix(ipc::CanTime t, double lat, double lon, std::optional<double> heading, std::optional<double> fixType);
+    void reject(std::uint64_t& counter, std::string why);
+    void prune();
+    void updateMatch(ipc::CanTime t);
+    void relocate(ipc::CanTime t, map::PlanarPoint p, std::optional<double> headingDeg);
+    void changed() { m_snapshot.reset(); }
+
+    map::Projection m_projection;
+    VehicleState::Parts m_state;  // config, anchors, motion, matcher, route, matching state
+    int m_consecutiveJumps = 0;
+    std::optional<ipc::CanTime> m_lastYawTime;
+    // Latitude and longitude may come in separate frames: paired when close in time.
+    std::optional<std::pair<double, ipc::CanTime>> m_lat, m_lon;
+    std::optional<std::pair<double, ipc::CanTime>> m_heading, m_fixType;
+    VehicleStateCounters m_counters;
+    mutable std::shared_ptr<const VehicleState> m_snapshot;
+};
+
+}  // namespace navmap::daemon

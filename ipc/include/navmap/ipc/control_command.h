@@ -1,0 +1,93 @@
+#pragma once
+// Typed commands of the control protocol (JSON lines over a Unix socket, docs/ipc.md), the
+// limits a parser enforces, and the events a subscriber receives. Plain values, no I/O.
+
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <variant>
+#include <vector>
+
+namespace navmap::ipc {
+
+/// Limits applied while parsing and serving (defaults as documented in docs/ipc.md).
+struct ControlLimits {
+    std::size_t maxLineBytes = std::size_t{1} << 20;  ///< a longer line disconnects the client
+    std::size_t maxRoutePoints = 20000;
+    std::size_t maxManeuvers = 2000;
+    std::size_t maxStringBytes = 256;                  ///< ids, display names, maneuver text
+};
+
+/// A geographic point, WGS84 degrees.
+struct GeoCoordinate {
+    double lat = 0.0;
+    double lon = 0.0;
+};
+
+enum class ManeuverType : std::uint8_t {
+    Depart, Arrive, Straight, TurnLeft, TurnRight, SlightLeft, SlightRight, SharpLeft, SharpRight,
+    UTurn, KeepLeft, KeepRight, Roundabout, Exit, Merge,
+};
+/// "turn_left" etc. (the protocol spelling).
+const char* maneuverTypeName(ManeuverType t) noexcept;
+std::optional<ManeuverType> maneuverTypeFromName(std::string_view name) noexcept;
+
+struct Maneuver {
+    std::size_t index = 0;  ///< index into the route points where the maneuver happens
+    ManeuverType type = ManeuverType::Straight;
+    std::string text;       ///< road name/ref or instruction, may be empty
+};
+
+enum class ViewMode : std::uint8_t { Bird, Snail, Auto };
+enum class ViewOrientation : std::uint8_t { HeadingUp, NorthUp };
+enum class MapStyle : std::uint8_t { Day, Night };
+const char* viewModeName(ViewMode m) noexcept;            ///< "bird" | "snail" | "auto"
+const char* viewOrientationName(ViewOrientation o) noexcept;  ///< "heading-up" | "north-up"
+const char* mapStyleName(MapStyle s) noexcept;            ///< "day" | "night"
+
+/// Event kinds a client can subscribe to (bit mask values).
+enum class ControlEventKind : std::uint8_t { RouteProgress = 1, PositionLost = 2, PositionRegained = 4 };
+inline constexpr std::uint8_t kAllControlEvents = 7;
+const char* controlEventName(ControlEventKind k) noexcept;  ///< "route_progress" etc.
+
+struct SetRouteCommand {
+    std::string routeId;
+    std::vector<GeoCoordinate> points;  ///< 2..maxRoutePoints, validated ranges
+    std::vector<Maneuver> maneuvers;    ///< indices valid and non-decreasing
+};
+struct ClearRouteCommand {};
+struct SetViewCommand {
+    std::string display;                        ///< "cluster", "hud", "center", ...
+    std::optional<ViewMode> mode;               ///< at least one of mode/orientation is set
+    std::optional<ViewOrientation> orientation;
+};
+struct SetStyleCommand {
+    MapStyle style = MapStyle::Day;
+};
+struct GetStatusCommand {};
+struct SubscribeCommand {
+    std::uint8_t events = kAllControlEvents;  ///< ControlEventKind bits
+};
+
+using ControlCommandBody = std::variant<SetRouteCommand, ClearRouteCommand, SetViewCommand, SetStyleCommand,
+                                        GetStatusCommand, SubscribeCommand>;
+
+/// One parsed request line. `requestId` is the optional "id" of a request other than set_route
+/// (for set_route, "id" is the route id and required); it is echoed in the reply.
+struct ControlCommand {
+    std::string cmd;  ///< protocol name, e.g. "set_route"
+    std::optional<std::string> requestId;
+    ControlCommandBody body;
+};
+
+/// An event pushed to subscribers.
+struct ControlEvent {
+    ControlEventKind kind = ControlEventKind::RouteProgress;
+    std::string routeId;      ///< route_progress
+    double drivenM = 0.0;     ///< route_progress: metres driven along the route
+    double remainingM = 0.0;  ///< route_progress: metres left
+    double sinceS = 0.0;      ///< position_lost: seconds since the last valid position
+};
+
+}  // namespace navmap::ipc

@@ -1,0 +1,108 @@
+#pragma once
+// ControlServer: the daemon's control socket (Unix stream socket, JSON lines, docs/ipc.md).
+// Non-blocking and poll()-driven: step it from the daemon loop with pollOnce(), or let it run
+// its own thread with start(). Valid commands go to a ControlHandler on that thread; malformed
+// lines get an error reply and change nothing; an over-long line disconnects its client with a
+// reason. Who may connect: the socket file mode and SO_PEERCRED (allowed uids/gids).
+
+#include <sys/types.h>
+
+#include <atomic>
+#include <chrono>
+#include <cstdint>
+#include <deque>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "navmap/ipc/control_command.h"
+#include "navmap/ipc/control_handler.h"
+#include "navmap/ipc/result.hpp"
+
+namespace navmap::ipc {
+
+struct ControlServerConfig {
+    std::string socketPath = "/run/navmap/control.sock";
+    mode_t socketMode = 0660;           ///< applied to the socket file after bind()
+    /// Peers whose uid is listed may connect; empty = the daemon's own effective uid. A peer
+    /// whose primary gid is in allowedGids is allowed too.
+    std::vector<uid_t> allowedUids;
+    std::vector<gid_t> allowedGids;
+    bool allowRoot = true;              ///< uid 0 may always connect
+    std::size_t maxClients = 16;        ///< further connections get an error line and are closed
+    std::size_t maxOutputBytes = std::size_t{4} << 20;  ///< a client not reading past this is dropped
+    ControlLimits limits;
+};
+
+/// Counters since start (read from any thread).
+struct ControlServerStats {
+    std::uint64_t connections = 0;     ///< accepted and allowed
+    std::uint64_t refusedPeer = 0;     ///< refused by SO_PEERCRED
+    std::uint64_t refusedFull = 0;     ///< refused because maxClients were connected
+    std::uint64_t lines = 0;           ///< request lines received
+    std::uint64_t commands = 0;        ///< lines applied successfully
+    std::uint64_t errors = 0;          ///< lines answered with an error
+    std::uint64_t overlongDisconnects = 0;
+    std::uint64_t slowDisconnects = 0; ///< output buffer over maxOutputBytes
+    std::uint64_t events = 0;          ///< event lines queued to subscribers
+    std::uint64_t clients = 0;         ///< connected now
+};
+
+class ControlServer {
+public:
+    /// Creates the socket: refuses a path that is in use by a live server, replaces a stale
+    /// socket file, binds, applies the mode, listens. Errors name the call and the path:
+    /// `bind(/run/navmap/control.sock): Permission denied`.
+    static Result<std::unique_ptr<ControlServer>> create(ControlServerConfig config, ControlHandler& handler);
+    /// Stops the thread, closes every client and removes the socket file. Never throws.
+    ~ControlServer();
+    ControlServer(const ControlServer&) = delete;
+    ControlServer& operator=(const ControlServer&) = delete;
+
+    /// Waits up to `timeout` for socket activity or published events and handles all of it.
+    /// Call from one thread only (and not while start() runs). Fails only if poll() fails.
+    Status pollOnce(std::chrono::milliseconds timeout);
+    /// Runs pollOnce() on an own thread until stop() or destruction.
+    Status start();
+    void stop() noexcept;
+
+    /// Queues an event for the subscribers of its kind; any thread, never blocks on a client.
+    void publish(const ControlEvent& event);
+
+    [[nodiscard]] ControlServerStats stats() const;
+    [[nodiscard]] const std::string& path() const { return m_config.socketPath; }
+
+private:
+    struct Client;
+    ControlServer(ControlServerConfig config, ControlHandler& handler);
+    void acceptClients();
+    void readClient(Client& c);
+    void handleLine(Client& c, std::string_view line);
+    void queue(Client& c, std::string line);
+    void flush(Client& c);
+    void deliverEvents();
+    void wake() noexcept;
+
+    ControlServerConfig m_config;
+    ControlHandler& m_handler;
+    int m_listenFd = -1;
+    int m_wakeFd = -1;  // eventfd: publish() and stop()
+    ino_t m_socketInode = 0;
+    std::vector<std::unique_ptr<Client>> m_clients;
+
+    std::mutex m_eventMutex;
+    std::deque<ControlEvent> m_pendingEvents;
+
+    std::thread m_thread;
+    std::atomic<bool> m_stop{false};
+
+    struct Counters {
+        std::atomic<std::uint64_t> connections{0}, refusedPeer{0}, refusedFull{0}, lines{0}, commands{0}, errors{0},
+            overlong{0}, slow{0}, events{0}, clients{0};
+    };
+    Counters m_counters;
+};
+
+}  // namespace navmap::ipc

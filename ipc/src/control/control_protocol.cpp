@@ -1,0 +1,501 @@
+// JSON-lines control protocol: validation of requests and formatting of replies/events.
+// Every check names the offending member so a client developer can fix the request from the
+// reply alone (docs/ipc.md lists the messages).
+
+#include "navmap/ipc/control_protocol.h"
+
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <utility>
+
+namespace navmap::ipc {
+
+namespace {
+
+using nlohmann::json;
+
+constexpr std::size_t kMaxDepth = 32;
+
+constexpr std::array<std::pair<ManeuverType, const char*>, 15> kManeuverNames{{
+    {ManeuverType::Depart, "depart"},         {ManeuverType::Arrive, "arrive"},
+    {ManeuverType::Straight, "straight"},     {ManeuverType::TurnLeft, "turn_left"},
+    {ManeuverType::TurnRight, "turn_right"},  {ManeuverType::SlightLeft, "slight_left"},
+    {ManeuverType::SlightRight, "slight_right"}, {ManeuverType::SharpLeft, "sharp_left"},
+    {ManeuverType::SharpRight, "sharp_right"}, {ManeuverType::UTurn, "u_turn"},
+    {ManeuverType::KeepLeft, "keep_left"},    {ManeuverType::KeepRight, "keep_right"},
+    {ManeuverType::Roundabout, "roundabout"}, {ManeuverType::Exit, "exit"},
+    {ManeuverType::Merge, "merge"},
+}};
+
+// Replies and events keep the member order of docs/ipc.md ("ok"/"event" first).
+using ojson = nlohmann::ordered_json;
+
+template <typename J>
+std::string dumpJson(const J& j) {
+    return j.dump(-1, ' ', false, J::error_handler_t::replace);
+}
+
+// Quoted, shortened copy of client text for error messages.
+std::string quote(std::string_view s) {
+    constexpr std::size_t kMax = 64;
+    std::string out = "\"";
+    out.append(s.substr(0, kMax));
+    if (s.size() > kMax) {
+        out.append("...");
+    }
+    out.push_back('"');
+    return out;
+}
+
+std::string typeName(const json& j) {
+    return j.type_name();
+}
+
+std::string number(double v) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.10g", v);
+    return buf;
+}
+
+// Bracket depth outside strings: the parser below keeps its own stack, but refusing absurd
+// nesting first bounds memory and the work of destroying the value.
+bool depthWithin(std::string_view s, std::size_t max_depth) {
+    std::size_t depth = 0;
+    bool in_string = false;
+    bool escaped = false;
+    for (const char c : s) {
+        if (in_string) {
+            if (escaped) {
+                escaped = false;
+            } else if (c == '\\') {
+                escaped = true;
+            } else if (c == '"') {
+                in_string = false;
+            }
+            continue;
+        }
+        if (c == '"') {
+            in_string = true;
+        } else if (c == '[' || c == '{') {
+            if (++depth > max_depth) {
+                return false;
+            }
+        } else if ((c == ']' || c == '}') && depth > 0) {
+            --depth;
+        }
+    }
+    return true;
+}
+
+struct Checker {
+    const json& obj;
+    std::string error;
+
+    bool allowOnly(std::initializer_list<const char*> names) {
+        for (const auto& [key, value] : obj.items()) {
+            bool known = false;
+            for (const char* n : names) {
+                known = known || key == n;
+            }
+            if (!known) {
+                error = "unknown field " + quote(key);
+                return false;
+            }
+        }
+        return true;
+    }
+
+    // Reads an optional string member; false (with error) when present but wrong.
+    bool string(const char* name, std::optional<std::string>& out, std::size_t max_bytes, bool required) {
+        const auto it = obj.find(name);
+        if (it == obj.end()) {
+            if (required) {
+                error = std::string("missing \"") + name + "\"";
+                return false;
+            }
+            return true;
+        }
+        if (!it->is_string()) {
+            error = std::string("\"") + name + "\" must be a string, not " + typeName(*it);
+            return false;
+        }
+        const auto& s = it->get_ref<const std::string&>();
+        if (s.empty()) {
+            error = std::string("\"") + name + "\" must not be empty";
+            return false;
+        }
+        if (s.size() > max_bytes) {
+            error = std::string("\"") + name + "\" longer than " + std::to_string(max_bytes) + " bytes";
+            return false;
+        }
+        out = s;
+        return true;
+    }
+};
+
+template <typename T, std::size_t N>
+std::optional<T> enumFrom(const json& j, const std::array<std::pair<T, const char*>, N>& names) {
+    if (!j.is_string()) {
+        return std::nullopt;
+    }
+    const auto& s = j.get_ref<const std::string&>();
+    for (const auto& [value, name] : names) {
+        if (s == name) {
+            return value;
+        }
+    }
+    return std::nullopt;
+}
+
+constexpr std::array<std::pair<ViewMode, const char*>, 3> kModeNames{
+    {{ViewMode::Bird, "bird"}, {ViewMode::Snail, "snail"}, {ViewMode::Auto, "auto"}}};
+constexpr std::array<std::pair<ViewOrientation, const char*>, 2> kOrientationNames{
+    {{ViewOrientation::HeadingUp, "heading-up"}, {ViewOrientation::NorthUp, "north-up"}}};
+constexpr std::array<std::pair<MapStyle, const char*>, 2> kStyleNames{
+    {{MapStyle::Day, "day"}, {MapStyle::Night, "night"}}};
+constexpr std::array<std::pair<ControlEventKind, const char*>, 3> kEventNames{
+    {{ControlEventKind::RouteProgress, "route_progress"},
+     {ControlEventKind::PositionLost, "position_lost"},
+     {ControlEventKind::PositionRegained, "position_regained"}}};
+
+template <typename T, std::size_t N>
+std::string choices(const std::array<std::pair<T, const char*>, N>& names) {
+    std::string out;
+    for (const auto& [value, name] : names) {
+        out += out.empty() ? "" : " | ";
+        out += name;
+    }
+    return out;
+}
+
+std::string parseRoute(const json& obj, const ControlLimits& limits, SetRouteCommand& out) {
+    Checker c{obj, {}};
+    if (!c.allowOnly({"cmd", "id", "points", "maneuvers"})) {
+        return c.error;
+    }
+    std::optional<std::string> id;
+    if (!c.string("id", id, limits.maxStringBytes, true)) {
+        return c.error;
+    }
+    out.routeId = *id;
+    const auto pts = obj.find("points");
+    if (pts == obj.end()) {
+        return "missing \"points\"";
+    }
+    if (!pts->is_array()) {
+        return "\"points\" must be an array of [lat, lon], not " + typeName(*pts);
+    }
+    if (pts->size() < 2) {
+        return "\"points\" needs at least 2 points, got " + std::to_string(pts->size());
+    }
+    if (pts->size() > limits.maxRoutePoints) {
+        return "\"points\" has " + std::to_string(pts->size()) + " points, more than the limit of " +
+               std::to_string(limits.maxRoutePoints);
+    }
+    out.points.reserve(pts->size());
+    for (std::size_t i = 0; i < pts->size(); ++i) {
+        const json& p = (*pts)[i];
+        const std::string where = "points[" + std::to_string(i) + "]";
+        if (!p.is_array() || p.size() != 2) {
+            return where + ": must be [lat, lon]";
+        }
+        if (!p[0].is_number() || !p[1].is_number()) {
+            return where + ": latitude and longitude must be numbers";
+        }
+        const double lat = p[0].get<double>();
+        const double lon = p[1].get<double>();
+        if (!std::isfinite(lat) || lat < -90.0 || lat > 90.0) {
+            return where + ": latitude " + number(lat) + " out of range [-90, 90]";
+        }
+        if (!std::isfinite(lon) || lon < -180.0 || lon > 180.0) {
+            return where + ": longitude " + number(lon) + " out of range [-180, 180]";
+        }
+        out.points.push_back({lat, lon});
+    }
+    const auto man = obj.find("maneuvers");
+    if (man == obj.end()) {
+        return {};
+    }
+    if (!man->is_array()) {
+        return "\"maneuvers\" must be an array, not " + typeName(*man);
+    }
+    if (man->size() > limits.maxManeuvers) {
+        return "\"maneuvers\" has " + std::to_string(man->size()) + " entries, more than the limit of " +
+               std::to_string(limits.maxManeuvers);
+    }
+    for (std::size_t i = 0; i < man->size(); ++i) {
+        const json& m = (*man)[i];
+        const std::string where = "maneuvers[" + std::to_string(i) + "]";
+        if (!m.is_object()) {
+            return where + ": must be an object";
+        }
+        Checker mc{m, {}};
+        if (!mc.allowOnly({"index", "type", "text"})) {
+            return where + ": " + mc.error;
+        }
+        Maneuver mv;
+        const auto idx = m.find("index");
+        if (idx == m.end()) {
+            return where + ": missing \"index\"";
+        }
+        if (!idx->is_number_integer()) {
+            return where + ".index: must be an integer";
+        }
+        if (idx->is_number_unsigned() ? idx->get<std::uint64_t>() >= out.points.size()
+                                      : (idx->get<std::int64_t>() < 0 ||
+                                         idx->get<std::int64_t>() >= static_cast<std::int64_t>(out.points.size()))) {
+            return where + ".index: " + idx->dump() + " out of range [0, " + std::to_string(out.points.size() - 1) + "]";
+        }
+        mv.index = idx->get<std::size_t>();
+        if (!out.maneuvers.empty() && mv.index < out.maneuvers.back().index) {
+            return where + ".index: " + std::to_string(mv.index) + " is before the previous maneuver's index " +
+                   std::to_string(out.maneuvers.back().index);
+        }
+        const auto type = m.find("type");
+        if (type == m.end()) {
+            return where + ": missing \"type\"";
+        }
+        const auto t = enumFrom(*type, kManeuverNames);
+        if (!t) {
+            return where + ".type: " + (type->is_string() ? "unknown maneuver " + quote(type->get_ref<const std::string&>())
+                                                          : "must be a string") +
+                   " (expected one of " + choices(kManeuverNames) + ")";
+        }
+        mv.type = *t;
+        const auto text = m.find("text");
+        if (text != m.end()) {
+            if (!text->is_string()) {
+                return where + ".text: must be a string";
+            }
+            if (text->get_ref<const std::string&>().size() > limits.maxStringBytes) {
+                return where + ".text: longer than " + std::to_string(limits.maxStringBytes) + " bytes";
+            }
+            mv.text = text->get<std::string>();
+        }
+        out.maneuvers.push_back(std::move(mv));
+    }
+    return {};
+}
+
+template <typename T, std::size_t N>
+std::string readEnum(const json& obj, const char* name, const std::array<std::pair<T, const char*>, N>& names,
+                     std::optional<T>& out) {
+    const auto it = obj.find(name);
+    if (it == obj.end()) {
+        return {};
+    }
+    out = enumFrom(*it, names);
+    if (!out) {
+        return std::string("\"") + name + "\": " +
+               (it->is_string() ? quote(it->get_ref<const std::string&>()) + " is not one of " : "must be one of ") +
+               choices(names);
+    }
+    return {};
+}
+
+}  // namespace
+
+const char* maneuverTypeName(ManeuverType t) noexcept {
+    for (const auto& [value, name] : kManeuverNames) {
+        if (value == t) {
+            return name;
+        }
+    }
+    return "straight";
+}
+
+std::optional<ManeuverType> maneuverTypeFromName(std::string_view name) noexcept {
+    for (const auto& [value, n] : kManeuverNames) {
+        if (name == n) {
+            return value;
+        }
+    }
+    return std::nullopt;
+}
+
+const char* viewModeName(ViewMode m) noexcept { return kModeNames[static_cast<std::size_t>(m)].second; }
+const char* viewOrientationName(ViewOrientation o) noexcept {
+    return kOrientationNames[static_cast<std::size_t>(o)].second;
+}
+const char* mapStyleName(MapStyle s) noexcept { return kStyleNames[static_cast<std::size_t>(s)].second; }
+const char* controlEventName(ControlEventKind k) noexcept {
+    for (const auto& [value, name] : kEventNames) {
+        if (value == k) {
+            return name;
+        }
+    }
+    return "route_progress";
+}
+
+ControlParse parseControlLine(std::string_view line, const ControlLimits& limits) {
+    ControlParse r;
+    if (line.size() > limits.maxLineBytes) {
+        r.error = "line longer than " + std::to_string(limits.maxLineBytes) + " bytes";
+        return r;
+    }
+    if (!depthWithin(line, kMaxDepth)) {
+        r.error = "JSON nested deeper than " + std::to_string(kMaxDepth) + " levels";
+        return r;
+    }
+    json obj;
+    try {
+        obj = json::parse(line.begin(), line.end());
+    } catch (const json::exception& e) {
+        // nlohmann's messages start with "[json.exception.parse_error.101] "; keep the rest.
+        std::string what = e.what();
+        const auto pos = what.find("] ");
+        r.error = "invalid JSON: " + (pos == std::string::npos ? what : what.substr(pos + 2));
+        return r;
+    }
+    if (!obj.is_object()) {
+        r.error = "request must be a JSON object, not " + typeName(obj);
+        return r;
+    }
+    const auto cmd = obj.find("cmd");
+    if (cmd != obj.end() && cmd->is_string() && cmd->get_ref<const std::string&>().size() <= limits.maxStringBytes) {
+        r.cmd = cmd->get<std::string>();
+    }
+    const auto id = obj.find("id");
+    if (id != obj.end() && id->is_string() && !id->get_ref<const std::string&>().empty() &&
+        id->get_ref<const std::string&>().size() <= limits.maxStringBytes) {
+        r.id = id->get<std::string>();
+    }
+    if (cmd == obj.end()) {
+        r.error = "missing \"cmd\"";
+        return r;
+    }
+    if (!cmd->is_string()) {
+        r.error = "\"cmd\" must be a string, not " + typeName(*cmd);
+        return r;
+    }
+    const std::string& name = cmd->get_ref<const std::string&>();
+    ControlCommand command;
+    command.cmd = r.cmd;
+    Checker c{obj, {}};
+    std::optional<std::string> request_id;
+    const auto needId = [&]() {
+        return c.string("id", request_id, limits.maxStringBytes, false);
+    };
+    if (name == "set_route") {
+        SetRouteCommand route;
+        r.error = parseRoute(obj, limits, route);
+        command.requestId = route.routeId.empty() ? std::nullopt : std::optional<std::string>(route.routeId);
+        command.body = std::move(route);
+    } else if (name == "clear_route" || name == "get_status") {
+        if (!c.allowOnly({"cmd", "id"}) || !needId()) {
+            r.error = c.error;
+        }
+        command.body = name == "clear_route" ? ControlCommandBody(ClearRouteCommand{}) : GetStatusCommand{};
+    } else if (name == "set_view") {
+        SetViewCommand view;
+        std::optional<std::string> display;
+        if (!c.allowOnly({"cmd", "id", "display", "mode", "orientation"}) || !needId() ||
+            !c.string("display", display, limits.maxStringBytes, true)) {
+            r.error = c.error;
+        } else {
+            view.display = *display;
+            r.error = readEnum(obj, "mode", kModeNames, view.mode);
+            if (r.error.empty()) {
+                r.error = readEnum(obj, "orientation", kOrientationNames, view.orientation);
+            }
+            if (r.error.empty() && !view.mode && !view.orientation) {
+                r.error = "set_view needs \"mode\" (" + choices(kModeNames) + ") or \"orientation\" (" +
+                          choices(kOrientationNames) + ")";
+            }
+        }
+        command.body = std::move(view);
+    } else if (name == "set_style") {
+        SetStyleCommand style;
+        std::optional<MapStyle> s;
+        if (!c.allowOnly({"cmd", "id", "style"}) || !needId()) {
+            r.error = c.error;
+        } else if (!obj.contains("style")) {
+            r.error = "missing \"style\" (" + choices(kStyleNames) + ")";
+        } else {
+            r.error = readEnum(obj, "style", kStyleNames, s);
+            style.style = s.value_or(MapStyle::Day);
+        }
+        command.body = style;
+    } else if (name == "subscribe") {
+        SubscribeCommand sub;
+        if (!c.allowOnly({"cmd", "id", "events"}) || !needId()) {
+            r.error = c.error;
+        } else if (const auto ev = obj.find("events"); ev != obj.end()) {
+            if (!ev->is_array() || ev->empty()) {
+                r.error = "\"events\" must be a non-empty array of " + choices(kEventNames);
+            } else {
+                sub.events = 0;
+                for (std::size_t i = 0; i < ev->size() && r.error.empty(); ++i) {
+                    const auto k = enumFrom((*ev)[i], kEventNames);
+                    if (!k) {
+                        r.error = "events[" + std::to_string(i) + "]: not one of " + choices(kEventNames);
+                    } else {
+                        sub.events = static_cast<std::uint8_t>(sub.events | static_cast<std::uint8_t>(*k));
+                    }
+                }
+            }
+        }
+        command.body = sub;
+    } else {
+        r.error = "unknown cmd " + quote(name) +
+                  " (expected set_route | clear_route | set_view | set_style | get_status | subscribe)";
+        return r;
+    }
+    if (!r.error.empty()) {
+        return r;
+    }
+    if (!std::holds_alternative<SetRouteCommand>(command.body)) {
+        command.requestId = request_id;
+    }
+    r.command = std::move(command);
+    return r;
+}
+
+std::string controlOkReply(std::string_view cmd, const std::optional<std::string>& id, const nlohmann::json& extra) {
+    ojson j = ojson::object();
+    j["ok"] = true;
+    j["cmd"] = std::string(cmd);
+    if (id) {
+        j["id"] = *id;
+    }
+    if (extra.is_object()) {
+        for (const auto& [key, value] : extra.items()) {
+            j[key] = ojson(value);
+        }
+    }
+    return dumpJson(j);
+}
+
+std::string controlErrorReply(std::string_view cmd, const std::optional<std::string>& id, std::string_view error) {
+    ojson j = ojson::object();
+    j["ok"] = false;
+    if (!cmd.empty()) {
+        j["cmd"] = std::string(cmd);
+    }
+    if (id) {
+        j["id"] = *id;
+    }
+    j["error"] = std::string(error);
+    return dumpJson(j);
+}
+
+std::string controlEventLine(const ControlEvent& event) {
+    ojson j = ojson::object();
+    j["event"] = controlEventName(event.kind);
+    switch (event.kind) {
+    case ControlEventKind::RouteProgress:
+        j["id"] = event.routeId;
+        j["driven_m"] = std::round(event.drivenM * 10.0) / 10.0;
+        j["remaining_m"] = std::round(event.remainingM * 10.0) / 10.0;
+        break;
+    case ControlEventKind::PositionLost:
+        j["since_s"] = std::round(event.sinceS * 100.0) / 100.0;
+        break;
+    case ControlEventKind::PositionRegained:
+        break;
+    }
+    return dumpJson(j);
+}
+
+}  // namespace navmap::ipc

@@ -1,0 +1,456 @@
+// Control socket server: a small poll() loop in the manner of Redis ae.c/anet.c. Each client has
+// an input buffer split into lines and an output buffer drained when the socket is writable, so
+// neither a slow nor a malicious client can block the daemon.
+
+#include "navmap/ipc/control_server.h"
+
+#include <poll.h>
+#include <sys/eventfd.h>
+#include <sys/socket.h>
+#include <sys/stat.h>
+#include <sys/un.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstring>
+#include <variant>
+
+#include "navmap/ipc/control_protocol.h"
+
+namespace navmap::ipc {
+
+namespace {
+
+constexpr std::size_t kReadChunk = 64 * 1024;
+constexpr std::size_t kMaxReadsPerPoll = 16;   // fairness between clients
+constexpr std::size_t kMaxPendingEvents = 1024;
+
+std::string sysError(const char* call, const std::string& object) {
+    return std::string(call) + "(" + object + "): " + std::strerror(errno);
+}
+
+}  // namespace
+
+struct ControlServer::Client {
+    int fd = -1;
+    uid_t uid = 0;
+    pid_t pid = 0;
+    std::string in;
+    std::size_t scanned = 0;  // bytes of `in` known to hold no newline
+    std::string out;
+    std::uint8_t events = 0;  // subscriptions
+    bool closeAfterFlush = false;
+    bool dead = false;
+};
+
+ControlServer::ControlServer(ControlServerConfig config, ControlHandler& handler)
+    : m_config(std::move(config)), m_handler(handler) {}
+
+Result<std::unique_ptr<ControlServer>> ControlServer::create(ControlServerConfig config, ControlHandler& handler) {
+    const std::string path = config.socketPath;
+    sockaddr_un addr{};
+    addr.sun_family = AF_UNIX;
+    if (path.empty() || path.size() >= sizeof(addr.sun_path)) {
+        return Error{"control socket path \"" + path + "\": length must be 1.." +
+                     std::to_string(sizeof(addr.sun_path) - 1) + " bytes"};
+    }
+    std::memcpy(addr.sun_path, path.data(), path.size());
+    std::unique_ptr<ControlServer> s(new ControlServer(std::move(config), handler));
+
+    s->m_listenFd = ::socket(AF_UNIX, SOCK_STREAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
+    if (s->m_listenFd < 0) {
+        return Error{sysError("socket", path)};
+    }
+    // A socket file left by a crashed daemon is replaced; one with a live server is not.
+    struct stat st {};
+    if (::lstat(path.c_str(), &st) == 0) {
+        if (!S_ISSOCK(st.st_mode)) {
+            return Error{"control socket path " + path + ": exists and is not a socket"};
+        }
+        const int probe = ::socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
+        if (probe < 0) {
+            return Error{sysError("socket", path)};
+        }
+        const bool live = ::connect(probe, reinterpret_cast<const sockaddr*>(&addr), sizeof addr) == 0;
+        ::close(probe);
+        if (live) {
+            return Error{"bind(" + path + "): Address in use (another server is listening)"};
+        }
+        if (::unlink(path.c_str()) != 0) {
+            return Error{sysError("unlink", path)};
+        }
+    }
+    if (::bind(s->m_listenFd, reinterpret_cast<const sockaddr*>(&addr), sizeof addr) != 0) {
+        return Error{sysError("bind", path)};
+    }
+    if (::chmod(path.c_str(), s->m_config.socketMode) != 0) {
+        const std::string err = sysError("chmod", path);
+        ::unlink(path.c_str());
+        return Error{err};
+    }
+    if (::lstat(path.c_str(), &st) == 0) {
+        s->m_socketInode = st.st_ino;
+    }
+    if (::listen(s->m_listenFd, 16) != 0) {
+        const std::string err = sysError("listen", path);
+        ::unlink(path.c_str());
+        return Error{err};
+    }
+    s->m_wakeFd = ::eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
+    if (s->m_wakeFd < 0) {
+        return Error{sysError("eventfd", path)};
+    }
+    return s;
+}
+
+ControlServer::~ControlServer() {
+    stop();
+    for (auto& c : m_clients) {
+        ::close(c->fd);
+    }
+    if (m_listenFd >= 0) {
+        ::close(m_listenFd);
+        // Remove the socket file only if it is still ours.
+        struct stat st {};
+        if (m_socketInode != 0 && ::lstat(m_config.socketPath.c_str(), &st) == 0 && st.st_ino == m_socketInode) {
+            ::unlink(m_config.socketPath.c_str());
+        }
+    }
+    if (m_wakeFd >= 0) {
+        ::close(m_wakeFd);
+    }
+}
+
+Status ControlServer::start() {
+    if (m_thread.joinable()) {
+        return Error{"control server " + m_config.socketPath + ": already running"};
+    }
+    m_stop = false;
+    m_thread = std::thread([this] {
+        while (!m_stop.load()) {
+            if (!pollOnce(std::chrono::milliseconds(500)).ok()) {
+                std::this_thread::sleep_for(std::chrono::milliseconds(10));
+            }
+        }
+    });
+    return {};
+}
+
+void ControlServer::stop() noexcept {
+    m_stop = true;
+    wake();
+    if (m_thread.joinable()) {
+        m_thread.join();
+    }
+}
+
+void ControlServer::wake() noexcept {
+    if (m_wakeFd >= 0) {
+        const std::uint64_t one = 1;
+        [[maybe_unused]] const auto n = ::write(m_wakeFd, &one, sizeof one);
+    }
+}
+
+void ControlServer::publish(const ControlEvent& event) {
+    {
+        std::lock_guard lock(m_eventMutex);
+        if (m_pendingEvents.size() >= kMaxPendingEvents) {
+            m_pendingEvents.pop_front();
+        }
+        m_pendingEvents.push_back(event);
+    }
+    wake();
+}
+
+ControlServerStats ControlServer::stats() const {
+    ControlServerStats s;
+    s.connections = m_counters.connections;
+    s.refusedPeer = m_counters.refusedPeer;
+    s.refusedFull = m_counters.refusedFull;
+    s.lines = m_counters.lines;
+    s.commands = m_counters.commands;
+    s.errors = m_counters.errors;
+    s.overlongDisconnects = m_counters.overlong;
+    s.slowDisconnects = m_counters.slow;
+    s.events = m_counters.events;
+    s.clients = m_counters.clients;
+    return s;
+}
+
+Status ControlServer::pollOnce(std::chrono::milliseconds timeout) {
+    std::vector<pollfd> fds;
+    fds.reserve(m_clients.size() + 2);
+    fds.push_back({m_listenFd, POLLIN, 0});
+    fds.push_back({m_wakeFd, POLLIN, 0});
+    for (const auto& c : m_clients) {
+        short ev = c->closeAfterFlush ? 0 : POLLIN;
+        if (!c->out.empty()) {
+            ev = static_cast<short>(ev | POLLOUT);
+        }
+        fds.push_back({c->fd, ev, 0});
+    }
+    const int n = ::poll(fds.data(), fds.size(), static_cast<int>(std::max<std::int64_t>(0, timeout.count())));
+    if (n < 0) {
+        if (errno == EINTR) {
+            return {};
+        }
+        return Error{sysError("poll", m_config.socketPath)};
+    }
+    if (fds[1].revents & POLLIN) {
+        std::uint64_t v = 0;
+        [[maybe_unused]] const auto r = ::read(m_wakeFd, &v, sizeof v);
+    }
+    // Clients first (indices stay valid), then new connections, then events.
+    for (std::size_t i = 0; i < m_clients.size(); ++i) {
+        Client& c = *m_clients[i];
+        const short re = fds[i + 2].revents;
+        if (re & (POLLIN | POLLHUP | POLLERR)) {
+            if (re & POLLIN || !(re & POLLOUT)) {
+                readClient(c);
+            }
+        }
+        if (!c.dead && !c.out.empty()) {
+            flush(c);
+        }
+        if (!c.dead && c.closeAfterFlush && c.out.empty()) {
+            c.dead = true;
+        }
+    }
+    if (fds[0].revents & POLLIN) {
+        acceptClients();
+    }
+    deliverEvents();
+    const auto before = m_clients.size();
+    std::erase_if(m_clients, [](const std::unique_ptr<Client>& c) {
+        if (c->dead) {
+            ::close(c->fd);
+        }
+        return c->dead;
+    });
+    if (before != m_clients.size()) {
+        m_counters.clients = m_clients.size();
+    }
+    return {};
+}
+
+void ControlServer::acceptClients() {
+    for (;;) {
+        const int fd = ::accept4(m_listenFd, nullptr, nullptr, SOCK_NONBLOCK | SOCK_CLOEXEC);
+        if (fd < 0) {
+            return;  // EAGAIN, or a transient error (EMFILE, ECONNABORTED): try again next poll
+        }
+        auto c = std::make_unique<Client>();
+        c->fd = fd;
+        ucred cred{};
+        socklen_t len = sizeof cred;
+        std::string refusal;
+        if (::getsockopt(fd, SOL_SOCKET, SO_PEERCRED, &cred, &len) != 0) {
+            refusal = sysError("getsockopt(SO_PEERCRED)", m_config.socketPath);
+        } else {
+            c->uid = cred.uid;
+            c->pid = cred.pid;
+            const auto& uids = m_config.allowedUids;
+            const auto& gids = m_config.allowedGids;
+            const bool uidOk = (m_config.allowRoot && cred.uid == 0) ||
+                               (uids.empty() ? cred.uid == ::geteuid()
+                                             : std::find(uids.begin(), uids.end(), cred.uid) != uids.end());
+            const bool gidOk = std::find(gids.begin(), gids.end(), cred.gid) != gids.end();
+            if (!uidOk && !gidOk) {
+                refusal = "peer uid " + std::to_string(cred.uid) + " (pid " + std::to_string(cred.pid) +
+                          ") is not allowed on " + m_config.socketPath;
+                ++m_counters.refusedPeer;
+            }
+        }
+        if (refusal.empty() && m_clients.size() >= m_config.maxClients) {
+            refusal = "too many clients (limit " + std::to_string(m_config.maxClients) + ")";
+            ++m_counters.refusedFull;
+        }
+        if (!refusal.empty()) {
+            const std::string line = controlErrorReply("", std::nullopt, refusal) + "\n";
+            [[maybe_unused]] const auto w = ::send(fd, line.data(), line.size(), MSG_NOSIGNAL | MSG_DONTWAIT);
+            ::close(fd);
+            continue;
+        }
+        ++m_counters.connections;
+        m_clients.push_back(std::move(c));
+        m_counters.clients = m_clients.size();
+    }
+}
+
+void ControlServer::readClient(Client& c) {
+    char buf[kReadChunk];
+    bool eof = false;
+    for (std::size_t k = 0; k < kMaxReadsPerPoll; ++k) {
+        const ssize_t n = ::recv(c.fd, buf, sizeof buf, MSG_DONTWAIT);
+        if (n > 0) {
+            c.in.append(buf, static_cast<std::size_t>(n));
+            // Lines complete so far are handled before reading more, so a client cannot make
+            // the buffer grow past one maximum line plus one chunk.
+            std::size_t start = 0;
+            for (;;) {
+                const auto nl = c.in.find('\n', std::max(start, c.scanned));
+                if (nl == std::string::npos) {
+                    break;
+                }
+                std::string_view line(c.in.data() + start, nl - start);
+                if (!line.empty() && line.back() == '\r') {
+                    line.remove_suffix(1);
+                }
+                if (line.size() > m_config.limits.maxLineBytes) {
+                    break;  // handled below as over-long
+                }
+                handleLine(c, line);
+                start = nl + 1;
+                c.scanned = start;
+                if (c.dead || c.closeAfterFlush) {
+                    return;
+                }
+            }
+            c.in.erase(0, start);
+            c.scanned = c.in.size();
+            if (c.in.size() > m_config.limits.maxLineBytes) {
+                ++m_counters.overlong;
+                ++m_counters.errors;
+                queue(c, controlErrorReply("", std::nullopt,
+                                           "line longer than " + std::to_string(m_config.limits.maxLineBytes) +
+                                               " bytes; disconnecting"));
+                c.in.clear();
+                c.closeAfterFlush = true;
+                return;
+            }
+            continue;
+        }
+        if (n == 0) {
+            eof = true;
+        } else if (errno == EINTR) {
+            continue;
+        } else if (errno != EAGAIN && errno != EWOULDBLOCK) {
+            c.dead = true;
+            return;
+        }
+        break;
+    }
+    if (eof) {
+        // The peer is done sending; answer what it sent (best effort) and close.
+        c.closeAfterFlush = true;
+    }
+}
+
+void ControlServer::handleLine(Client& c, std::string_view line) {
+    if (line.find_first_not_of(" \t") == std::string_view::npos) {
+        return;  // blank lines are keep-alives
+    }
+    ++m_counters.lines;
+    ControlParse p = parseControlLine(line, m_config.limits);
+    if (!p.command) {
+        ++m_counters.errors;
+        queue(c, controlErrorReply(p.cmd, p.id, p.error));
+        return;
+    }
+    const ControlCommand& cmd = *p.command;
+    Status st;
+    nlohmann::json extra = nullptr;
+    std::visit(
+        [&](const auto& body) {
+            using T = std::decay_t<decltype(body)>;
+            if constexpr (std::is_same_v<T, SetRouteCommand>) {
+                st = m_handler.setRoute(body);
+                if (st.ok()) {
+                    extra = {{"points", body.points.size()}, {"maneuvers", body.maneuvers.size()}};
+                }
+            } else if constexpr (std::is_same_v<T, ClearRouteCommand>) {
+                st = m_handler.clearRoute();
+            } else if constexpr (std::is_same_v<T, SetViewCommand>) {
+                st = m_handler.setView(body);
+            } else if constexpr (std::is_same_v<T, SetStyleCommand>) {
+                st = m_handler.setStyle(body);
+            } else if constexpr (std::is_same_v<T, GetStatusCommand>) {
+                nlohmann::json status = m_handler.status();
+                if (!status.is_object()) {
+                    st = Error{"internal: the daemon's status is not a JSON object"};
+                } else {
+                    nlohmann::json server = {{"clients", m_clients.size()},
+                                             {"lines", m_counters.lines.load()},
+                                             {"errors", m_counters.errors.load()},
+                                             {"refused_peer", m_counters.refusedPeer.load()}};
+                    if (!status.contains("control")) {
+                        status["control"] = std::move(server);
+                    }
+                    extra = {{"status", std::move(status)}};
+                }
+            } else if constexpr (std::is_same_v<T, SubscribeCommand>) {
+                c.events = body.events;
+                nlohmann::json names = nlohmann::json::array();
+                for (const auto k : {ControlEventKind::RouteProgress, ControlEventKind::PositionLost,
+                                     ControlEventKind::PositionRegained}) {
+                    if (body.events & static_cast<std::uint8_t>(k)) {
+                        names.push_back(controlEventName(k));
+                    }
+                }
+                extra = {{"events", std::move(names)}};
+            }
+        },
+        cmd.body);
+    if (!st.ok()) {
+        ++m_counters.errors;
+        queue(c, controlErrorReply(cmd.cmd, cmd.requestId, st.message()));
+        return;
+    }
+    ++m_counters.commands;
+    queue(c, controlOkReply(cmd.cmd, cmd.requestId, extra));
+}
+
+void ControlServer::queue(Client& c, std::string line) {
+    if (c.dead) {
+        return;
+    }
+    c.out += line;
+    c.out.push_back('\n');
+    if (c.out.size() > m_config.maxOutputBytes) {
+        ++m_counters.slow;
+        c.dead = true;  // not reading its replies/events: drop it rather than buffer forever
+    }
+}
+
+void ControlServer::flush(Client& c) {
+    while (!c.out.empty()) {
+        const ssize_t n = ::send(c.fd, c.out.data(), c.out.size(), MSG_NOSIGNAL | MSG_DONTWAIT);
+        if (n > 0) {
+            c.out.erase(0, static_cast<std::size_t>(n));
+            continue;
+        }
+        if (n < 0 && errno == EINTR) {
+            continue;
+        }
+        if (n < 0 && (errno == EAGAIN || errno == EWOULDBLOCK)) {
+            return;
+        }
+        c.dead = true;  // EPIPE, ECONNRESET: the client is gone
+        return;
+    }
+}
+
+void ControlServer::deliverEvents() {
+    std::deque<ControlEvent> events;
+    {
+        std::lock_guard lock(m_eventMutex);
+        events.swap(m_pendingEvents);
+    }
+    for (const auto& e : events) {
+        std::string line;
+        for (auto& c : m_clients) {
+            if (c->dead || c->closeAfterFlush || !(c->events & static_cast<std::uint8_t>(e.kind))) {
+                continue;
+            }
+            if (line.empty()) {
+                line = controlEventLine(e);
+            }
+            queue(*c, line);
+            ++m_counters.events;
+            flush(*c);
+        }
+    }
+}
+
+}  // namespace navmap::ipc

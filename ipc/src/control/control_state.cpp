@@ -1,0 +1,83 @@
+#include "navmap/ipc/control_state.h"
+
+#include "navmap/ipc/control_protocol.h"
+
+namespace navmap::ipc {
+
+ControlState::ControlState(std::set<std::string, std::less<>> displays) : m_allowedDisplays(std::move(displays)) {
+    auto view = std::make_shared<ViewState>();
+    for (const auto& d : m_allowedDisplays) {
+        view->displays.emplace(d, DisplayView{});
+    }
+    m_view.store(std::move(view));
+}
+
+Status ControlState::setRoute(const SetRouteCommand& command) {
+    auto route = std::make_shared<RouteState>();
+    route->id = command.routeId;
+    route->points = command.points;
+    route->maneuvers = command.maneuvers;
+    route->version = ++m_routeVersion;
+    m_route.store(std::move(route));
+    return {};
+}
+
+Status ControlState::clearRoute() {
+    ++m_routeVersion;
+    m_route.store(nullptr);
+    return {};
+}
+
+Status ControlState::setView(const SetViewCommand& command) {
+    if (!m_allowedDisplays.empty() && !m_allowedDisplays.contains(command.display)) {
+        std::string names;
+        for (const auto& d : m_allowedDisplays) {
+            names += names.empty() ? "" : " | ";
+            names += d;
+        }
+        return Error{"unknown display \"" + command.display + "\" (expected " + names + ")"};
+    }
+    const auto current = m_view.load();
+    auto next = std::make_shared<ViewState>(*current);
+    auto& d = next->displays[command.display];
+    if (command.mode) {
+        d.mode = *command.mode;
+    }
+    if (command.orientation) {
+        d.orientation = *command.orientation;
+    }
+    ++next->version;
+    m_view.store(std::move(next));
+    return {};
+}
+
+Status ControlState::setStyle(const SetStyleCommand& command) {
+    auto next = std::make_shared<ViewState>(*m_view.load());
+    next->style = command.style;
+    ++next->version;
+    m_view.store(std::move(next));
+    return {};
+}
+
+nlohmann::json ControlState::status() {
+    if (m_statusProvider) {
+        return m_statusProvider();
+    }
+    nlohmann::json j = nlohmann::json::object();
+    const auto route = m_route.load();
+    if (route) {
+        j["route"] = {{"id", route->id}, {"points", route->points.size()}, {"maneuvers", route->maneuvers.size()}};
+    } else {
+        j["route"] = nullptr;
+    }
+    const auto view = m_view.load();
+    j["style"] = mapStyleName(view->style);
+    nlohmann::json displays = nlohmann::json::object();
+    for (const auto& [name, d] : view->displays) {
+        displays[name] = {{"mode", viewModeName(d.mode)}, {"orientation", viewOrientationName(d.orientation)}};
+    }
+    j["displays"] = std::move(displays);
+    return j;
+}
+
+}  // namespace navmap::ipc

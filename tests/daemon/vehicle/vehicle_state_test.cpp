@@ -1,0 +1,414 @@
+// VehicleStateEstimator: a synthetic drive on a real route of the Andorra store (GNSS 5 Hz +
+// speed/yaw rate 50 Hz, with noise) stays within an error bound; dead reckoning between fixes;
+// stale after the timeout; NaN/out-of-range/jump/out-of-order rejection counted; snapping onto
+// the road with a confidence; route progress; determinism.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <algorithm>
+#include <cstdio>
+#include <limits>
+#include <random>
+
+#include "navmap/daemon/vehicle/vehicle_state_estimator.h"
+#include "navmap/map/routing.h"
+#include "navmap/map/tile_store.h"
+#include "test_paths.h"
+
+using namespace navmap;
+using namespace navmap::daemon;
+using ipc::CanTime;
+using ipc::VssSignal;
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+CanTime at(double s) {
+    return CanTime{} + std::chrono::duration_cast<CanTime::duration>(std::chrono::duration<double>(1.7e9 + s));
+}
+
+ipc::VehicleSample fix(const map::Projection& proj, double x, double y, double t, std::optional<double> heading = {},
+                       double fixType = 5) {
+    double lat = 0, lon = 0;
+    proj.reverse({x, y}, lat, lon);
+    ipc::VehicleSample u;
+    u.set(VssSignal::Latitude, lat, at(t));
+    u.set(VssSignal::Longitude, lon, at(t));
+    if (heading) {
+        u.set(VssSignal::Heading, *heading, at(t));
+    }
+    u.set(VssSignal::FixType, fixType, at(t));
+    return u;
+}
+
+ipc::VehicleSample motion(double speedMps, double yawDegS, double t) {
+    ipc::VehicleSample u;
+    u.set(VssSignal::Speed, speedMps * 3.6, at(t));
+    u.set(VssSignal::YawRate, yawDegS, at(t));
+    return u;
+}
+
+struct Store {
+    std::shared_ptr<map::TileStore> store;
+    std::shared_ptr<const map::RoadGraph> graph;
+    std::shared_ptr<const MapMatcher> matcher;
+};
+
+const Store* andorra() {
+    static const Store s = [] {
+        Store r;
+        const auto path = test::binaryDir() / "andorra.navmap";
+        if (!std::filesystem::exists(path)) {
+            return r;
+        }
+        r.store = map::TileStore::open(path);
+        r.graph = std::make_shared<const map::RoadGraph>(r.store->loadGraph());
+        r.matcher = std::make_shared<const MapMatcher>(r.graph);
+        return r;
+    }();
+    return s.store ? &s : nullptr;
+}
+
+#define REQUIRE_STORE()                                                                                \
+    const Store* st = andorra();                                                                       \
+    if (st == nullptr) {                                                                               \
+        GTEST_SKIP() << "no compiled store at " << (test::binaryDir() / "andorra.navmap")              \
+                     << " (build the navmap_default_store target)";                                    \
+    }
+
+// A drive along a real route: smoothed so that heading and yaw rate are continuous (a real car
+// does not turn in steps at polyline vertices).
+struct Truth {
+    std::vector<map::RoutePoint> line;
+    double length = 0;
+    map::PlanarPoint pos(double s) const {
+        map::PlanarPoint p{};
+        for (int k = -5; k <= 5; ++k) {
+            const auto q = map::sampleRoute(line, std::clamp(s + k * 1.5, 0.0, length)).position;
+            p.x += q.x / 11.0;
+            p.y += q.y / 11.0;
+        }
+        return p;
+    }
+    double heading(double s) const {  // radians clockwise from north
+        const auto a = pos(s - 0.5), b = pos(s + 0.5);
+        return std::atan2(b.x - a.x, b.y - a.y);
+    }
+};
+
+double speedAt(double t) { return 12.0 + 3.0 * std::sin(t / 9.0); }
+
+struct DriveResult {
+    std::vector<EstimatedPose> poses;
+    std::vector<map::PlanarPoint> truth;
+    std::vector<map::RoutePoint> road;  // the route's centreline
+    VehicleStateCounters counters;
+    double length = 0;
+};
+
+DriveResult drive(const Store& st, double seconds, bool withRoute, std::uint32_t seed = 1) {
+    const auto proj = st.store->projection();
+    const auto from = map::nearestDrivableNode(*st.graph, proj.forward(42.5075, 1.5218));
+    const auto to = map::nearestDrivableNode(*st.graph, proj.forward(42.5347, 1.5801));
+    const auto route = map::fastestRoute(*st.graph, *from, *to);
+    Truth truth{map::routePolyline(*st.graph, *route), 0};
+    truth.length = truth.line.back().measure_m;
+    VehicleStateEstimator est(proj, st.matcher);
+    if (withRoute) {
+        std::vector<map::PlanarPoint> pts;
+        for (const auto& p : truth.line) pts.push_back(p.position);
+        est.setRoute(std::make_shared<RouteLine>("r1", pts));
+    }
+    std::mt19937 rng(seed);
+    std::normal_distribution<double> n01(0.0, 1.0);
+    DriveResult out;
+    out.length = truth.length;
+    out.road = truth.line;
+    double s = 30.0;
+    const double dt = 0.02;
+    const double yawBias = 0.2;
+    for (int i = 0; i * dt < seconds && s < truth.length - 30; ++i) {
+        const double t = i * dt;
+        const double v = speedAt(t);
+        // Heading rate from the truth track (clockwise), reported as VSS yaw (counter-clockwise).
+        const double h0 = truth.heading(s - v * 0.01), h1 = truth.heading(s + v * 0.01);
+        double dh = h1 - h0;
+        dh = std::remainder(dh, 2 * kPi);
+        const double yawDegS = -(dh / 0.02) * 180.0 / kPi;
+        est.addSample(motion(v + 0.1 * n01(rng), yawDegS + yawBias + 0.3 * n01(rng), t));
+        if (i % 10 == 0) {  // 5 Hz GNSS, sigma 2.5 m, course sigma 2 deg
+            const auto p = truth.pos(s);
+            double hdeg = truth.heading(s) * 180.0 / kPi + 2.0 * n01(rng);
+            hdeg = std::fmod(hdeg + 720.0, 360.0);
+            est.addSample(fix(proj, p.x + 2.5 * n01(rng), p.y + 2.5 * n01(rng), t + 0.001, hdeg));
+        }
+        // Frames at ~60 Hz: 3 per input step, 10-25 ms ahead of the newest input.
+        for (const double ahead : {0.004, 0.011, 0.018}) {
+            const double sAhead = s + v * ahead;
+            out.poses.push_back(est.poseAt(at(t + ahead)));
+            out.truth.push_back(truth.pos(sAhead));
+        }
+        s += v * dt;
+    }
+    out.counters = est.counters();
+    return out;
+}
+
+}  // namespace
+
+TEST(VehicleState, SyntheticDriveStaysOnTheRoad) {
+    REQUIRE_STORE();
+    const auto r = drive(*st, 150.0, false);
+    ASSERT_GT(r.poses.size(), 10000U);
+    double sumRaw2 = 0, maxRaw = 0, sumSnap2 = 0, maxSnap = 0, conf = 0, maxStep = 0;
+    std::vector<double> snapErrors;
+    std::size_t n = 0;
+    for (std::size_t i = 0; i < r.poses.size(); ++i) {
+        const auto& p = r.poses[i];
+        ASSERT_TRUE(p.valid);
+        EXPECT_FALSE(p.stale);
+        if (i < 150) continue;  // settling after the first fix
+        const double eRaw = std::hypot(p.rawX - r.truth[i].x, p.rawY - r.truth[i].y);
+        const double eSnap = std::hypot(p.x - r.truth[i].x, p.y - r.truth[i].y);
+        sumRaw2 += eRaw * eRaw;
+        sumSnap2 += eSnap * eSnap;
+        maxRaw = std::max(maxRaw, eRaw);
+        maxSnap = std::max(maxSnap, eSnap);
+        // Distance of the snapped pose from the road actually driven (the route centreline).
+        double offRoad = 1e9;
+        for (std::size_t k = 0; k + 1 < r.road.size(); ++k) {
+            const auto a = r.road[k].position, b = r.road[k + 1].position;
+            const double dx = b.x - a.x, dy = b.y - a.y, l2 = dx * dx + dy * dy;
+            const double t = l2 > 0 ? std::clamp(((p.x - a.x) * dx + (p.y - a.y) * dy) / l2, 0.0, 1.0) : 0.0;
+            offRoad = std::min(offRoad, std::hypot(p.x - a.x - t * dx, p.y - a.y - t * dy));
+        }
+        snapErrors.push_back(offRoad);
+        conf += p.matchConfidence;
+        if (i > 0) {
+            // Smoothness: between consecutive frames the marker moves at most speed * dt + 0.5 m.
+            maxStep = std::max(maxStep, std::hypot(p.rawX - r.poses[i - 1].rawX, p.rawY - r.poses[i - 1].rawY));
+        }
+        ++n;
+    }
+    const double rmsRaw = std::sqrt(sumRaw2 / n), rmsSnap = std::sqrt(sumSnap2 / n);
+    std::sort(snapErrors.begin(), snapErrors.end());
+    const double p99Off = snapErrors[snapErrors.size() * 99 / 100];
+    const double p95Off = snapErrors[snapErrors.size() * 95 / 100];
+    std::printf("[ measured ] %zu poses over %.0f m: fused rms %.2f m max %.2f m; snapped rms %.2f m max %.2f m, off the driven road p95 %.2f m p99 %.2f m; "
+                "mean confidence %.2f; max frame step %.2f m; fixes %llu jumps %llu\n",
+                n, r.length, rmsRaw, maxRaw, rmsSnap, maxSnap, p95Off, p99Off, conf / n, maxStep,
+                static_cast<unsigned long long>(r.counters.fixes),
+                static_cast<unsigned long long>(r.counters.rejectedJump));
+    EXPECT_LT(rmsRaw, 2.0);
+    EXPECT_LT(maxRaw, 6.0);
+    EXPECT_LT(rmsSnap, 2.0);
+    EXPECT_LT(p95Off, 0.5);  // snapped onto the road that is driven
+    EXPECT_LT(p99Off, 3.0);
+    EXPECT_LT(maxSnap, 12.0);  // the smoothed truth cuts hairpin corners; snapping does not
+    EXPECT_GT(conf / n, 0.6);
+    EXPECT_LT(maxStep, 15.0 * 0.007 + 0.5);
+    EXPECT_EQ(r.counters.rejectedJump, 0U);
+}
+
+TEST(VehicleState, RouteProgressAndDeterminism) {
+    REQUIRE_STORE();
+    const auto a = drive(*st, 40.0, true, 3);
+    const auto b = drive(*st, 40.0, true, 3);
+    ASSERT_EQ(a.poses.size(), b.poses.size());
+    for (std::size_t i = 0; i < a.poses.size(); ++i) {
+        ASSERT_EQ(a.poses[i].x, b.poses[i].x) << i;
+        ASSERT_EQ(a.poses[i].headingDeg, b.poses[i].headingDeg) << i;
+    }
+    double prev = -1;
+    std::size_t onRoute = 0, backwards = 0;
+    for (std::size_t i = 150; i < a.poses.size(); ++i) {
+        const auto& p = a.poses[i];
+        if (!p.onRoute) continue;
+        ++onRoute;
+        EXPECT_NEAR(p.routeDrivenM + p.routeRemainingM, a.length, 1e-6);
+        // Inside a sharp corner the nearest route point sits on the vertex; position noise
+        // there moves the measure back by a few metres at most.
+        backwards += p.routeDrivenM < prev - 15.0;
+        prev = p.routeDrivenM;
+    }
+    EXPECT_GT(onRoute, (a.poses.size() - 150) * 95 / 100);
+    EXPECT_EQ(backwards, 0U);
+    EXPECT_GT(prev, 400.0);  // 40 s at ~12 m/s from measure 30
+}
+
+TEST(VehicleState, DeadReckoningBetweenFixes) {
+    const map::Projection proj(42.5, 1.5);
+    VehicleStateEstimator est(proj, nullptr);
+    // Eastwards at 10 m/s, fixes at 1 Hz exactly on the track, motion at 50 Hz.
+    for (int i = 0; i <= 150; ++i) {
+        const double t = i * 0.02;
+        est.addSample(motion(10.0, 0.0, t));
+        if (i % 50 == 0) est.addSample(fix(proj, 10.0 * t, 0.0, t, 90.0));
+    }
+    // Last fix at t = 3.0 (x = 30); at t = 3.5 dead reckoning gives x = 35.
+    auto p = est.poseAt(at(3.5));
+    ASSERT_TRUE(p.valid);
+    EXPECT_NEAR(p.x, 35.0, 0.05);
+    EXPECT_NEAR(p.y, 0.0, 0.05);
+    EXPECT_NEAR(p.headingDeg, 90.0, 0.01);
+    EXPECT_NEAR(p.speedMps, 10.0, 1e-9);
+    EXPECT_EQ(p.sourceTime, at(3.0));  // newest data behind it: the motion sample at 3.0
+    // The motion hold ends 0.5 s after the last sample: the pose stops there.
+    p = est.poseAt(at(4.0));
+    EXPECT_NEAR(p.x, 35.0, 0.05);
+    EXPECT_NEAR(p.speedMps, 0.0, 1e-9);
+
+    // Turning: 90 deg/s to the left (VSS positive) for 1 s from heading east -> heading north.
+    VehicleStateEstimator turn(proj, nullptr);
+    turn.addSample(motion(10.0, 90.0, 0.0));
+    turn.addSample(fix(proj, 0.0, 0.0, 0.0, 90.0));
+    for (int i = 1; i <= 50; ++i) turn.addSample(motion(10.0, 90.0, i * 0.02));
+    p = turn.poseAt(at(1.0));
+    EXPECT_NEAR(std::remainder(p.headingDeg, 360.0), 0.0, 0.5);
+    // Quarter circle of radius v/w = 10 / (pi/2): ends at (r, r).
+    const double radius = 10.0 / (kPi / 2);
+    EXPECT_NEAR(p.x, radius, 0.05);
+    EXPECT_NEAR(p.y, radius, 0.05);
+
+    // Interpolation into the past passes through the anchors.
+    const auto mid = est.poseAt(at(1.5));
+    EXPECT_NEAR(mid.x, 15.0, 0.05);
+    EXPECT_EQ(est.poseAt(at(2.0)).x, est.snapshot()->parts().anchors[est.snapshot()->parts().anchors.size() - 2].x);
+}
+
+TEST(VehicleState, CorrectionsAreFadedInNotJumped) {
+    const map::Projection proj(42.5, 1.5);
+    VehicleStateEstimator est(proj, nullptr);
+    est.addSample(motion(10.0, 0.0, 0.0));
+    est.addSample(fix(proj, 0.0, 0.0, 0.0, 90.0));
+    for (int i = 1; i <= 10; ++i) est.addSample(motion(10.0, 0.0, i * 0.02));
+    const auto before = est.poseAt(at(0.2));
+    est.addSample(fix(proj, 2.0 + 6.0, 0.0, 0.2, 90.0));  // 6 m ahead of the prediction (x = 2)
+    const auto after = est.poseAt(at(0.2));
+    EXPECT_NEAR(after.x, before.x, 1e-6);  // no visible step at the fix
+    const auto later = est.poseAt(at(0.2 + 0.5));  // after blendS: prediction + gain * innovation
+    EXPECT_NEAR(later.x, 2.0 + 0.3 * 6.0 + 5.0, 0.05);
+}
+
+TEST(VehicleState, StaleAfterTimeoutAndRegained) {
+    const map::Projection proj(42.5, 1.5);
+    VehicleStateEstimator est(proj, nullptr);
+    EXPECT_FALSE(est.poseAt(at(0)).valid);
+    EXPECT_TRUE(est.poseAt(at(0)).stale);
+    est.addSample(fix(proj, 0, 0, 0.0));
+    est.addSample(fix(proj, 1, 0, 1.0));
+    EXPECT_FALSE(est.poseAt(at(2.9)).stale);
+    const auto lost = est.poseAt(at(3.1));
+    EXPECT_TRUE(lost.stale);
+    EXPECT_NEAR(lost.sinceFixS, 2.1, 1e-6);
+    est.addSample(fix(proj, 50, 0, 10.0));  // regained far away: no jump rejection after a stale period
+    const auto back = est.poseAt(at(10.0));
+    EXPECT_FALSE(back.stale);
+    EXPECT_NEAR(back.x, 50.0, 1e-6);
+    EXPECT_EQ(est.counters().relocations, 1U);
+    EXPECT_EQ(est.counters().rejectedJump, 0U);
+}
+
+TEST(VehicleState, BadInputIsRejectedAndCounted) {
+    const map::Projection proj(42.5, 1.5);
+    VehicleStateEstimator est(proj, nullptr);
+    est.addSample(fix(proj, 0, 0, 0.0));
+    est.addSample(fix(proj, 0, 0, 0.2));
+    ipc::VehicleSample u;
+    u.set(VssSignal::Latitude, std::numeric_limits<double>::quiet_NaN(), at(0.4));
+    u.set(VssSignal::Longitude, 1.5, at(0.4));
+    est.addSample(u);
+    EXPECT_EQ(est.counters().rejectedNaN, 1U);
+    u = {};
+    u.set(VssSignal::Latitude, 95.0, at(0.6));
+    u.set(VssSignal::Longitude, 1.5, at(0.6));
+    est.addSample(u);
+    EXPECT_EQ(est.counters().rejectedRange, 1U);
+    EXPECT_EQ(est.counters().lastRejection, "GNSS fix: latitude 95 / longitude 1.5 out of range");
+    u = {};
+    u.set(VssSignal::Latitude, 10.0, at(0.8));  // valid WGS84, 3600 km from the map
+    u.set(VssSignal::Longitude, 1.5, at(0.8));
+    est.addSample(u);
+    EXPECT_EQ(est.counters().rejectedRange, 2U);
+    est.addSample(fix(proj, 0, 0, 0.9, {}, 0));
+    EXPECT_EQ(est.counters().rejectedNoFix, 1U);
+    est.addSample(fix(proj, 0, 0, 0.1));  // older than the newest fix
+    EXPECT_EQ(est.counters().rejectedOrder, 1U);
+    est.addSample(motion(std::numeric_limits<double>::infinity(), 0, 1.0));
+    EXPECT_EQ(est.counters().rejectedNaN, 2U);
+    est.addSample(motion(10, 5000.0, 1.0));
+    EXPECT_EQ(est.counters().rejectedRange, 3U);
+    EXPECT_EQ(est.counters().motionSamples, 0U);
+
+    // A single spike 500 m away is rejected and the pose does not move; three in a row relocate.
+    est.addSample(fix(proj, 500, 0, 1.0));
+    EXPECT_EQ(est.counters().rejectedJump, 1U);
+    EXPECT_NEAR(est.poseAt(at(1.0)).x, 0.0, 1e-6);
+    est.addSample(fix(proj, 0.5, 0, 1.2));
+    EXPECT_EQ(est.counters().fixes, 3U);
+    for (int k = 0; k < 3; ++k) est.addSample(fix(proj, 800, 0, 1.4 + 0.2 * k));
+    EXPECT_EQ(est.counters().rejectedJump, 3U);
+    EXPECT_EQ(est.counters().relocations, 1U);
+    EXPECT_NEAR(est.poseAt(at(1.8)).x, 800.0, 1e-6);
+}
+
+TEST(VehicleState, SnapsOntoTheNearestRoadWithConfidence) {
+    REQUIRE_STORE();
+    const auto proj = st->store->projection();
+    // A primary road edge with a long first segment.
+    const auto& g = *st->graph;
+    std::optional<std::uint32_t> chosen;
+    for (std::uint32_t e = 0; e < g.edges.size() && !chosen; ++e) {
+        const auto& ed = g.edges[e];
+        if (ed.cls != map::RoadClass::Primary || (ed.flags & map::EdgeFlags::Reversed) || ed.shape_end - ed.shape_begin < 2)
+            continue;
+        const auto a = g.shape[ed.shape_begin], b = g.shape[ed.shape_begin + 1];
+        if (std::hypot(b.x - a.x, b.y - a.y) > 80.0) chosen = e;
+    }
+    ASSERT_TRUE(chosen);
+    const auto& ed = g.edges[*chosen];
+    const auto a = g.shape[ed.shape_begin], b = g.shape[ed.shape_begin + 1];
+    const double len = std::hypot(b.x - a.x, b.y - a.y);
+    const double ux = (b.x - a.x) / len, uy = (b.y - a.y) / len;
+    const double mx = a.x + ux * len / 2, my = a.y + uy * len / 2;
+    const double heading = std::fmod(std::atan2(ux, uy) * 180.0 / kPi + 360.0, 360.0);
+
+    VehicleStateEstimator est(proj, st->matcher);
+    // 5 m to the side of the road, parked: snapped onto the centreline.
+    est.addSample(fix(proj, mx + 5 * uy, my - 5 * ux, 0.0, heading));
+    auto p = est.poseAt(at(0.0));
+    EXPECT_GT(p.matchConfidence, 0.5);
+    EXPECT_EQ(p.snapWeight, 1.0);
+    const double off = std::abs((p.x - a.x) * uy - (p.y - a.y) * ux);  // distance from the line
+    EXPECT_LT(off, 0.01);
+    EXPECT_NEAR(p.rawX, mx + 5 * uy, 1e-6);
+    ASSERT_TRUE(p.edge);
+    const auto& m = g.edges[*p.edge];
+    EXPECT_EQ(m.way_id, ed.way_id);
+
+    // 200 m from any road in the middle of nowhere: not snapped, confidence 0.
+    VehicleStateEstimator far(proj, st->matcher);
+    const auto summit = proj.forward(42.6, 1.72);
+    far.addSample(fix(proj, summit.x, summit.y, 0.0));
+    p = far.poseAt(at(0.0));
+    if (!p.edge) {
+        EXPECT_EQ(p.matchConfidence, 0.0);
+        EXPECT_EQ(p.x, p.rawX);
+        EXPECT_EQ(p.y, p.rawY);
+    }
+    // A point exactly on the road matches with confidence 1 (heading unknown at standstill).
+    const auto onRoad = st->matcher->match({mx, my}, heading, std::nullopt, VehicleStateConfig{});
+    ASSERT_TRUE(onRoad);
+    EXPECT_NEAR(onRoad->confidence, 1.0, 1e-6);
+    // The reversed heading picks the twin edge (two-way road) or loses confidence (one-way).
+    const auto back = st->matcher->match({mx, my}, std::fmod(heading + 180.0, 360.0), std::nullopt, VehicleStateConfig{});
+    ASSERT_TRUE(back);
+    if ((ed.flags & map::RoadFlags::Oneway) == 0) {
+        EXPECT_NE(back->edge, *chosen);
+        EXPECT_NEAR(back->confidence, 1.0, 1e-6);
+    } else {
+        EXPECT_LT(back->confidence, 0.01);
+    }
+}

@@ -1,0 +1,51 @@
+// Runs the control fuzz entry point (tests/fuzz/control_fuzz.cpp) on a corpus of broken lines:
+// every prefix and byte-flipped copy of valid requests, plus hand-written nasties.
+
+#include <gtest/gtest.h>
+
+#include <random>
+#include <string>
+#include <vector>
+
+int navmapFuzzControl(const std::uint8_t* data, std::size_t size);
+
+TEST(ControlFuzzCorpus, ParserSurvivesBrokenLines) {
+    const std::vector<std::string> seeds = {
+        R"({"cmd":"set_route","id":"r1","points":[[42.5075,1.5218],[42.51,1.53]],"maneuvers":[{"index":1,"type":"turn_left","text":"CG-2"}]})",
+        R"({"cmd":"set_view","display":"cluster","mode":"snail","orientation":"north-up","id":"x"})",
+        R"({"cmd":"subscribe","events":["route_progress","position_lost"]})",
+        R"({"cmd":"set_style","style":"night"})",
+    };
+    const std::vector<std::string> extra = {
+        "", "{", "}", "[]", "null", "1e400", "-0", "\"\\ud800\"", std::string(5000, '['), std::string(5000, '{'),
+        std::string("{\"cmd\":\"set_route\",\"id\":\"\0\",\"points\":[[0,0],[0,0]]}", 48),
+        R"({"cmd":"set_route","id":"r","points":[[1e308,1e308],[-1e308,5]]})",
+        R"({"cmd":"set_route","id":"r","points":[[0,0],[0,0]],"maneuvers":[{"index":18446744073709551615,"type":"exit"}]})",
+        R"({"cmd":"set_route","id":"r","points":[[0,0],[0,0]],"maneuvers":[{"index":-9223372036854775808,"type":"exit"}]})",
+        R"({"cmd":"set_style","style":"night","style":"day"})",
+        "{\"cmd\":\"set_view\",\"display\":\"" + std::string(1000, '\xc3') + "\",\"mode\":\"bird\"}",
+        "{\"cmd\":\"" + std::string(300, 'z') + "\"}",
+    };
+    std::size_t runs = 0;
+    const auto run = [&](const std::string& s) {
+        navmapFuzzControl(reinterpret_cast<const std::uint8_t*>(s.data()), s.size());
+        ++runs;
+    };
+    std::mt19937 rng(7);
+    for (const auto& seed : seeds) {
+        for (std::size_t n = 0; n <= seed.size(); ++n) {
+            run(seed.substr(0, n));
+        }
+        for (int i = 0; i < 300; ++i) {
+            std::string s = seed;
+            for (int k = 0; k < 3; ++k) {
+                s[rng() % s.size()] = static_cast<char>(rng());
+            }
+            run(s);
+        }
+    }
+    for (const auto& e : extra) {
+        run(e);
+    }
+    EXPECT_GT(runs, 1500U);
+}

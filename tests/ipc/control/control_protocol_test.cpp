@@ -1,0 +1,164 @@
+// Control protocol: the documented request/reply/event shapes, and an error naming the problem
+// for every kind of malformed or out-of-range request.
+
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "navmap/ipc/control_protocol.h"
+
+using namespace navmap::ipc;
+
+TEST(ControlProtocol, ParsesTheDocumentedSetRoute) {
+    const auto r = parseControlLine(
+        R"({"cmd":"set_route","id":"r1","points":[[42.5075,1.5218],[42.51,1.53]],"maneuvers":[{"index":1,"type":"turn_left","text":"CG-2"}]})");
+    ASSERT_TRUE(r.command) << r.error;
+    EXPECT_EQ(r.command->cmd, "set_route");
+    EXPECT_EQ(r.command->requestId, "r1");
+    const auto& route = std::get<SetRouteCommand>(r.command->body);
+    EXPECT_EQ(route.routeId, "r1");
+    ASSERT_EQ(route.points.size(), 2U);
+    EXPECT_DOUBLE_EQ(route.points[0].lat, 42.5075);
+    EXPECT_DOUBLE_EQ(route.points[1].lon, 1.53);
+    ASSERT_EQ(route.maneuvers.size(), 1U);
+    EXPECT_EQ(route.maneuvers[0].index, 1U);
+    EXPECT_EQ(route.maneuvers[0].type, ManeuverType::TurnLeft);
+    EXPECT_EQ(route.maneuvers[0].text, "CG-2");
+}
+
+TEST(ControlProtocol, ParsesTheOtherCommands) {
+    auto r = parseControlLine(R"({"cmd":"set_view","display":"cluster","mode":"snail","orientation":"north-up"})");
+    ASSERT_TRUE(r.command) << r.error;
+    const auto& v = std::get<SetViewCommand>(r.command->body);
+    EXPECT_EQ(v.display, "cluster");
+    EXPECT_EQ(v.mode, ViewMode::Snail);
+    EXPECT_EQ(v.orientation, ViewOrientation::NorthUp);
+
+    r = parseControlLine(R"({"cmd":"set_view","display":"hud","mode":"auto"})");
+    ASSERT_TRUE(r.command) << r.error;
+    EXPECT_FALSE(std::get<SetViewCommand>(r.command->body).orientation);
+
+    r = parseControlLine(R"({"cmd":"set_style","style":"night","id":"q7"})");
+    ASSERT_TRUE(r.command) << r.error;
+    EXPECT_EQ(std::get<SetStyleCommand>(r.command->body).style, MapStyle::Night);
+    EXPECT_EQ(r.command->requestId, "q7");
+
+    r = parseControlLine(R"({"cmd":"subscribe","events":["position_lost","position_regained"]})");
+    ASSERT_TRUE(r.command) << r.error;
+    EXPECT_EQ(std::get<SubscribeCommand>(r.command->body).events, 6);
+    r = parseControlLine(R"({"cmd":"subscribe"})");
+    ASSERT_TRUE(r.command) << r.error;
+    EXPECT_EQ(std::get<SubscribeCommand>(r.command->body).events, kAllControlEvents);
+
+    EXPECT_TRUE(parseControlLine(R"({"cmd":"get_status"})").command);
+    EXPECT_TRUE(parseControlLine(R"(  {"cmd":"clear_route"}  )").command);
+}
+
+TEST(ControlProtocol, RepliesAndEventsHaveTheDocumentedShape) {
+    EXPECT_EQ(controlOkReply("set_route", std::string("r1")), R"({"ok":true,"cmd":"set_route","id":"r1"})");
+    EXPECT_EQ(controlErrorReply("set_route", std::nullopt, "points[3]: latitude 95 out of range [-90, 90]"),
+              R"({"ok":false,"cmd":"set_route","error":"points[3]: latitude 95 out of range [-90, 90]"})");
+    EXPECT_EQ(controlOkReply("get_status", std::nullopt, {{"status", {{"fps", 30}}}}),
+              R"({"ok":true,"cmd":"get_status","status":{"fps":30}})");
+    ControlEvent e;
+    e.kind = ControlEventKind::RouteProgress;
+    e.routeId = "r1";
+    e.drivenM = 120.5;
+    e.remainingM = 3400.0;
+    EXPECT_EQ(controlEventLine(e), R"({"event":"route_progress","id":"r1","driven_m":120.5,"remaining_m":3400.0})");
+    e.kind = ControlEventKind::PositionLost;
+    e.sinceS = 2.0;
+    EXPECT_EQ(controlEventLine(e), R"({"event":"position_lost","since_s":2.0})");
+    e.kind = ControlEventKind::PositionRegained;
+    EXPECT_EQ(controlEventLine(e), R"({"event":"position_regained"})");
+}
+
+struct BadCase {
+    const char* line;
+    const char* error;  // exact expected error
+};
+
+TEST(ControlProtocol, EveryMalformedRequestGetsAnErrorNamingTheProblem) {
+    const BadCase cases[] = {
+        {R"({"cmd":"set_route","id":"r1","points":[[1,2],[3,4],[5,6],[95,1]]})",
+         "points[3]: latitude 95 out of range [-90, 90]"},
+        {R"({"cmd":"set_route","id":"r1","points":[[1,2],[3,-180.5]]})",
+         "points[1]: longitude -180.5 out of range [-180, 180]"},
+        {R"({"cmd":"set_route","id":"r1","points":[[1,2]]})", "\"points\" needs at least 2 points, got 1"},
+        {R"({"cmd":"set_route","id":"r1","points":[[1,2],[3]]})", "points[1]: must be [lat, lon]"},
+        {R"({"cmd":"set_route","id":"r1","points":[[1,2],["3",4]]})",
+         "points[1]: latitude and longitude must be numbers"},
+        {R"({"cmd":"set_route","id":"r1","points":{}})", "\"points\" must be an array of [lat, lon], not object"},
+        {R"({"cmd":"set_route","points":[[1,2],[3,4]]})", "missing \"id\""},
+        {R"({"cmd":"set_route","id":"","points":[[1,2],[3,4]]})", "\"id\" must not be empty"},
+        {R"({"cmd":"set_route","id":7,"points":[[1,2],[3,4]]})", "\"id\" must be a string, not number"},
+        {R"({"cmd":"set_route","id":"r1"})", "missing \"points\""},
+        {R"({"cmd":"set_route","id":"r1","points":[[1,2],[3,4]],"maneuvers":[{"index":2,"type":"turn_left"}]})",
+         "maneuvers[0].index: 2 out of range [0, 1]"},
+        {R"({"cmd":"set_route","id":"r1","points":[[1,2],[3,4]],"maneuvers":[{"index":-1,"type":"turn_left"}]})",
+         "maneuvers[0].index: -1 out of range [0, 1]"},
+        {R"({"cmd":"set_route","id":"r1","points":[[1,2],[3,4]],"maneuvers":[{"index":1,"type":"turn_left"},{"index":0,"type":"arrive"}]})",
+         "maneuvers[1].index: 0 is before the previous maneuver's index 1"},
+        {R"({"cmd":"set_route","id":"r1","points":[[1,2],[3,4]],"maneuvers":[{"index":0,"type":"fly"}]})",
+         "maneuvers[0].type: unknown maneuver \"fly\" (expected one of depart | arrive | straight | turn_left | "
+         "turn_right | slight_left | slight_right | sharp_left | sharp_right | u_turn | keep_left | keep_right | "
+         "roundabout | exit | merge)"},
+        {R"({"cmd":"set_route","id":"r1","points":[[1,2],[3,4]],"maneuvers":[{"index":0.5,"type":"exit"}]})",
+         "maneuvers[0].index: must be an integer"},
+        {R"({"cmd":"set_route","id":"r1","points":[[1,2],[3,4]],"extra":1})", "unknown field \"extra\""},
+        {R"({"cmd":"set_view","display":"cluster","mode":"helicopter"})",
+         "\"mode\": \"helicopter\" is not one of bird | snail | auto"},
+        {R"({"cmd":"set_view","display":"cluster","orientation":"up"})",
+         "\"orientation\": \"up\" is not one of heading-up | north-up"},
+        {R"({"cmd":"set_view","display":"cluster"})",
+         "set_view needs \"mode\" (bird | snail | auto) or \"orientation\" (heading-up | north-up)"},
+        {R"({"cmd":"set_view","mode":"bird"})", "missing \"display\""},
+        {R"({"cmd":"set_style","style":"dusk"})", "\"style\": \"dusk\" is not one of day | night"},
+        {R"({"cmd":"set_style"})", "missing \"style\" (day | night)"},
+        {R"({"cmd":"subscribe","events":["everything"]})",
+         "events[0]: not one of route_progress | position_lost | position_regained"},
+        {R"({"cmd":"subscribe","events":[]})",
+         "\"events\" must be a non-empty array of route_progress | position_lost | position_regained"},
+        {R"({"cmd":"get_status","verbose":true})", "unknown field \"verbose\""},
+        {R"({"cmd":"reboot"})",
+         "unknown cmd \"reboot\" (expected set_route | clear_route | set_view | set_style | get_status | subscribe)"},
+        {R"({"cmd":42})", "\"cmd\" must be a string, not number"},
+        {R"({"points":[]})", "missing \"cmd\""},
+        {R"([1,2,3])", "request must be a JSON object, not array"},
+        {R"("set_route")", "request must be a JSON object, not string"},
+    };
+    for (const auto& c : cases) {
+        const auto r = parseControlLine(c.line);
+        EXPECT_FALSE(r.command) << c.line;
+        EXPECT_EQ(r.error, c.error) << c.line;
+    }
+    // The reply of the issue's example.
+    const auto r = parseControlLine(R"({"cmd":"set_route","id":"r1","points":[[1,2],[3,4],[5,6],[95,1]]})");
+    EXPECT_EQ(controlErrorReply(r.cmd, std::nullopt, r.error),
+              R"({"ok":false,"cmd":"set_route","error":"points[3]: latitude 95 out of range [-90, 90]"})");
+}
+
+TEST(ControlProtocol, BrokenJsonAndLimits) {
+    auto r = parseControlLine(R"({"cmd":"set_route",)");
+    EXPECT_FALSE(r.command);
+    EXPECT_EQ(r.error, "invalid JSON: parse error at line 1, column 20: syntax error while parsing object key - "
+              "unexpected end of input; expected string literal");
+
+    r = parseControlLine(std::string(100, '[') + std::string(100, ']'));
+    EXPECT_EQ(r.error, "JSON nested deeper than 32 levels");
+
+    ControlLimits limits;
+    limits.maxRoutePoints = 3;
+    r = parseControlLine(R"({"cmd":"set_route","id":"r","points":[[1,2],[1,2],[1,2],[1,2]]})", limits);
+    EXPECT_EQ(r.error, "\"points\" has 4 points, more than the limit of 3");
+    limits.maxLineBytes = 10;
+    r = parseControlLine(R"({"cmd":"get_status"})", limits);
+    EXPECT_EQ(r.error, "line longer than 10 bytes");
+    r = parseControlLine("{\"cmd\":\"set_style\",\"style\":\"\xff\"}");
+    EXPECT_FALSE(r.command);
+    EXPECT_NE(r.error.find("invalid JSON"), std::string::npos) << r.error;
+    // An id that can be read is echoed even when the request fails.
+    r = parseControlLine(R"({"cmd":"set_style","id":"q1","style":"dusk"})");
+    EXPECT_EQ(r.id, "q1");
+    EXPECT_EQ(r.cmd, "set_style");
+}

@@ -1,0 +1,385 @@
+// ControlServer over a real Unix socket: round trips into ControlState snapshots, garbage and
+// over-long lines, subscriptions and events, SO_PEERCRED, socket mode, stale/live socket files,
+// client limits, slow subscribers, the own-thread mode, and no leaked fds.
+
+#include <gtest/gtest.h>
+
+#include <sys/socket.h>
+#include <sys/stat.h>
+#include <sys/un.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <cstring>
+#include <fstream>
+#include <future>
+#include <thread>
+
+#include <nlohmann/json.hpp>
+
+#include "control_test_util.h"
+#include "navmap/ipc/control_client.h"
+#include "navmap/ipc/control_protocol.h"
+#include "navmap/ipc/control_server.h"
+#include "navmap/ipc/control_state.h"
+
+using namespace navmap::ipc;
+using namespace std::chrono_literals;
+using navmap::test::countOpenFds;
+
+namespace {
+
+// Runs a ControlServer on its own thread for the test's lifetime.
+struct Fixture {
+    navmap::test::TempDir dir;
+    ControlState state{{"cluster", "hud", "center"}};
+    std::unique_ptr<ControlServer> server;
+
+    explicit Fixture(ControlServerConfig cfg = {}, bool threaded = true) {
+        cfg.socketPath = dir.file("control.sock");
+        auto r = ControlServer::create(cfg, state);
+        if (!r.ok()) {
+            ADD_FAILURE() << r.error().message;
+            return;
+        }
+        server = std::move(r.value());
+        if (threaded) {
+            EXPECT_TRUE(server->start().ok());
+        }
+    }
+    ControlClient connect() {
+        auto c = ControlClient::connect(server->path());
+        EXPECT_TRUE(c.ok()) << (c.ok() ? "" : c.error().message);
+        return std::move(c.value());
+    }
+};
+
+std::string req(ControlClient& c, const std::string& line) {
+    auto r = c.request(line, 3s);
+    EXPECT_TRUE(r.ok()) << (r.ok() ? "" : r.error().message);
+    return r.ok() ? r.value() : std::string();
+}
+
+}  // namespace
+
+TEST(ControlServer, CommandsReachTheSnapshotsAndRepliesAreExact) {
+    const int fds = countOpenFds();
+    {
+        Fixture f;
+        ASSERT_TRUE(f.server);
+        auto c = f.connect();
+        EXPECT_EQ(f.state.route(), nullptr);
+        EXPECT_EQ(req(c, R"({"cmd":"set_route","id":"r1","points":[[42.5075,1.5218],[42.51,1.53]],"maneuvers":[{"index":1,"type":"turn_left","text":"CG-2"}]})"),
+                  R"({"ok":true,"cmd":"set_route","id":"r1","maneuvers":1,"points":2})");
+        const auto route = f.state.route();
+        ASSERT_NE(route, nullptr);
+        EXPECT_EQ(route->id, "r1");
+        ASSERT_EQ(route->points.size(), 2U);
+        EXPECT_DOUBLE_EQ(route->points[1].lat, 42.51);
+        EXPECT_EQ(route->maneuvers.at(0).text, "CG-2");
+
+        EXPECT_EQ(req(c, R"({"cmd":"set_view","display":"hud","mode":"snail","orientation":"north-up"})"),
+                  R"({"ok":true,"cmd":"set_view"})");
+        EXPECT_EQ(req(c, R"({"cmd":"set_style","style":"night","id":"q2"})"),
+                  R"({"ok":true,"cmd":"set_style","id":"q2"})");
+        const auto view = f.state.view();
+        EXPECT_EQ(view->style, MapStyle::Night);
+        EXPECT_EQ(view->displays.at("hud").mode, ViewMode::Snail);
+        EXPECT_EQ(view->displays.at("hud").orientation, ViewOrientation::NorthUp);
+        EXPECT_EQ(view->displays.at("cluster").mode, ViewMode::Auto);
+
+        // Unknown display: rejected by the handler, nothing changes.
+        EXPECT_EQ(req(c, R"({"cmd":"set_view","display":"rear","mode":"bird"})"),
+                  R"j({"ok":false,"cmd":"set_view","error":"unknown display \"rear\" (expected center | cluster | hud)"})j");
+        EXPECT_EQ(f.state.view(), view);
+
+        const auto status = nlohmann::json::parse(req(c, R"({"cmd":"get_status"})"));
+        EXPECT_EQ(status["ok"], true);
+        EXPECT_EQ(status["status"]["route"]["id"], "r1");
+        EXPECT_EQ(status["status"]["style"], "night");
+        EXPECT_EQ(status["status"]["displays"]["hud"]["mode"], "snail");
+        EXPECT_EQ(status["status"]["control"]["clients"], 1);
+
+        EXPECT_EQ(req(c, R"({"cmd":"clear_route"})"), R"({"ok":true,"cmd":"clear_route"})");
+        EXPECT_EQ(f.state.route(), nullptr);
+        const auto st = f.server->stats();
+        EXPECT_EQ(st.commands, 5U);
+        EXPECT_EQ(st.errors, 1U);
+    }
+    EXPECT_EQ(countOpenFds(), fds);
+}
+
+TEST(ControlServer, GarbageGetsAnErrorPerLineAndChangesNothing) {
+    const int fds = countOpenFds();
+    {
+        Fixture f;
+        ASSERT_TRUE(f.server);
+        auto c = f.connect();
+        ASSERT_EQ(req(c, R"({"cmd":"set_route","id":"good","points":[[1,2],[3,4]]})").substr(0, 11), R"({"ok":true,)");
+        const auto route = f.state.route();
+        const auto view = f.state.view();
+        // Several lines in one write, CRLF, blank lines, binary junk.
+        ASSERT_TRUE(c.send("hello\r\n\n{\"cmd\":\"set_route\",\"id\":\"bad\",\"points\":[[1,2],[3,4],[5,6],[95,1]]}\n"
+                           "\x01\x02\xff\n{\"cmd\":\"set_style\",\"style\":\"dusk\"}")
+                        .ok());
+        auto l1 = c.readLine(3s);
+        auto l2 = c.readLine(3s);
+        auto l3 = c.readLine(3s);
+        auto l4 = c.readLine(3s);
+        ASSERT_TRUE(l1.ok() && l2.ok() && l3.ok() && l4.ok());
+        EXPECT_EQ(l1.value().rfind(R"({"ok":false,"error":"invalid JSON: parse error at line 1, column 1: syntax error while parsing value)", 0), 0U)
+            << l1.value();
+        EXPECT_EQ(l2.value(),
+                  R"({"ok":false,"cmd":"set_route","id":"bad","error":"points[3]: latitude 95 out of range [-90, 90]"})");
+        EXPECT_EQ(l3.value().rfind(R"({"ok":false,"error":"invalid JSON)", 0), 0U) << l3.value();
+        EXPECT_EQ(l4.value(), R"({"ok":false,"cmd":"set_style","error":"\"style\": \"dusk\" is not one of day | night"})");
+        // Still connected, state untouched.
+        EXPECT_EQ(req(c, R"({"cmd":"get_status","id":"after"})").substr(0, 42),
+                  R"({"ok":true,"cmd":"get_status","id":"after")");
+        EXPECT_EQ(f.state.route(), route);
+        EXPECT_EQ(f.state.view(), view);
+        EXPECT_EQ(f.server->stats().errors, 4U);
+    }
+    EXPECT_EQ(countOpenFds(), fds);
+}
+
+TEST(ControlServer, OverlongLineDisconnectsWithAReason) {
+    const int fds = countOpenFds();
+    {
+        ControlServerConfig cfg;
+        cfg.limits.maxLineBytes = 4096;
+        Fixture f(cfg);
+        ASSERT_TRUE(f.server);
+        auto c = f.connect();
+        auto other = f.connect();
+        // Raw writes without a newline: the first 3000 bytes are fine, 6000 are not.
+        const std::string chunk(3000, 'x');
+        ASSERT_EQ(::send(c.fd(), chunk.data(), chunk.size(), MSG_NOSIGNAL), 3000);
+        std::this_thread::sleep_for(20ms);
+        EXPECT_EQ(f.server->stats().overlongDisconnects, 0U);
+        ASSERT_EQ(::send(c.fd(), chunk.data(), chunk.size(), MSG_NOSIGNAL), 3000);
+        auto l = c.readLine(3s);
+        ASSERT_TRUE(l.ok()) << l.error().message;
+        EXPECT_EQ(l.value(), R"({"ok":false,"error":"line longer than 4096 bytes; disconnecting"})");
+        auto eof = c.readLine(3s);
+        ASSERT_FALSE(eof.ok());
+        EXPECT_NE(eof.error().message.find("connection closed by the server"), std::string::npos);
+        EXPECT_EQ(f.server->stats().overlongDisconnects, 1U);
+        // Other clients are unaffected; a line just under the limit is fine.
+        std::string padded = R"({"cmd":"get_status","id":")" + std::string(200, 'p') + "\"}";
+        padded += std::string(4096 - padded.size(), ' ');
+        EXPECT_EQ(req(other, padded).substr(0, 30), R"({"ok":true,"cmd":"get_status",)");
+    }
+    EXPECT_EQ(countOpenFds(), fds);
+}
+
+TEST(ControlServer, SubscribersReceiveTheirEvents) {
+    const int fds = countOpenFds();
+    {
+        Fixture f;
+        ASSERT_TRUE(f.server);
+        auto all = f.connect();
+        auto lost_only = f.connect();
+        auto none = f.connect();
+        EXPECT_EQ(req(all, R"({"cmd":"subscribe"})"),
+                  R"({"ok":true,"cmd":"subscribe","events":["route_progress","position_lost","position_regained"]})");
+        EXPECT_EQ(req(lost_only, R"({"cmd":"subscribe","events":["position_lost"]})"),
+                  R"({"ok":true,"cmd":"subscribe","events":["position_lost"]})");
+        std::thread publisher([&] {
+            ControlEvent e;
+            e.kind = ControlEventKind::RouteProgress;
+            e.routeId = "r1";
+            e.drivenM = 120.5;
+            e.remainingM = 3400.0;
+            f.server->publish(e);
+            e.kind = ControlEventKind::PositionLost;
+            e.sinceS = 2.0;
+            f.server->publish(e);
+            e.kind = ControlEventKind::PositionRegained;
+            f.server->publish(e);
+        });
+        publisher.join();
+        auto e1 = all.nextEvent(3s);
+        auto e2 = all.nextEvent(3s);
+        auto e3 = all.nextEvent(3s);
+        ASSERT_TRUE(e1.ok() && e2.ok() && e3.ok());
+        EXPECT_EQ(e1.value(), R"({"event":"route_progress","id":"r1","driven_m":120.5,"remaining_m":3400.0})");
+        EXPECT_EQ(e2.value(), R"({"event":"position_lost","since_s":2.0})");
+        EXPECT_EQ(e3.value(), R"({"event":"position_regained"})");
+        auto l1 = lost_only.nextEvent(3s);
+        ASSERT_TRUE(l1.ok());
+        EXPECT_EQ(l1.value(), R"({"event":"position_lost","since_s":2.0})");
+        EXPECT_FALSE(lost_only.nextEvent(100ms).ok());
+        EXPECT_FALSE(none.nextEvent(100ms).ok());
+        // A request while events are flowing: the reply is returned, events are kept.
+        f.server->publish({ControlEventKind::PositionRegained, {}, 0, 0, 0});
+        std::this_thread::sleep_for(50ms);
+        EXPECT_EQ(req(all, R"({"cmd":"clear_route"})"), R"({"ok":true,"cmd":"clear_route"})");
+        auto kept = all.nextEvent(1s);
+        ASSERT_TRUE(kept.ok());
+        EXPECT_EQ(kept.value(), R"({"event":"position_regained"})");
+        EXPECT_EQ(f.server->stats().events, 5U);
+    }
+    EXPECT_EQ(countOpenFds(), fds);
+}
+
+TEST(ControlServer, PeerCredentialsDecideWhoMayConnect) {
+    const int fds = countOpenFds();
+    {
+        ControlServerConfig cfg;
+        cfg.allowRoot = false;
+        cfg.allowedUids = {::geteuid() + 1000};
+        Fixture f(cfg);
+        ASSERT_TRUE(f.server);
+        auto c = f.connect();
+        auto l = c.readLine(3s);
+        ASSERT_TRUE(l.ok());
+        EXPECT_EQ(l.value(), R"({"ok":false,"error":"peer uid )" + std::to_string(::geteuid()) + " (pid " +
+                                 std::to_string(::getpid()) + ") is not allowed on " + f.server->path() + "\"}");
+        EXPECT_FALSE(c.readLine(3s).ok());  // closed
+        EXPECT_EQ(f.server->stats().refusedPeer, 1U);
+        EXPECT_EQ(f.server->stats().connections, 0U);
+    }
+    {
+        // The own uid is allowed by default, and a listed gid admits too.
+        ControlServerConfig cfg;
+        cfg.allowRoot = false;
+        cfg.allowedUids = {::geteuid() + 1000};
+        cfg.allowedGids = {::getegid()};
+        Fixture f(cfg);
+        auto c = f.connect();
+        EXPECT_EQ(req(c, R"({"cmd":"clear_route"})"), R"({"ok":true,"cmd":"clear_route"})");
+    }
+    EXPECT_EQ(countOpenFds(), fds);
+}
+
+TEST(ControlServer, SocketFileModeStaleFilesAndLiveServers) {
+    const int fds = countOpenFds();
+    {
+        ControlServerConfig cfg;
+        cfg.socketMode = 0640;
+        Fixture f(cfg, false);
+        ASSERT_TRUE(f.server);
+        struct stat st {};
+        ASSERT_EQ(::stat(f.server->path().c_str(), &st), 0);
+        EXPECT_TRUE(S_ISSOCK(st.st_mode));
+        EXPECT_EQ(st.st_mode & 0777, 0640U);
+
+        // A second server on a live path is refused.
+        ControlState other;
+        ControlServerConfig cfg2;
+        cfg2.socketPath = f.server->path();
+        auto second = ControlServer::create(cfg2, other);
+        ASSERT_FALSE(second.ok());
+        EXPECT_EQ(second.error().message, "bind(" + f.server->path() + "): Address in use (another server is listening)");
+
+        // A stale socket file (bound, never listening) is replaced.
+        const std::string stale = f.dir.file("stale.sock");
+        const int s = ::socket(AF_UNIX, SOCK_STREAM, 0);
+        sockaddr_un a{};
+        a.sun_family = AF_UNIX;
+        std::strcpy(a.sun_path, stale.c_str());
+        ASSERT_EQ(::bind(s, reinterpret_cast<sockaddr*>(&a), sizeof a), 0);
+        ::close(s);
+        cfg2.socketPath = stale;
+        auto replaced = ControlServer::create(cfg2, other);
+        ASSERT_TRUE(replaced.ok()) << replaced.error().message;
+        replaced.value().reset();
+        EXPECT_FALSE(std::filesystem::exists(stale));  // removed on destruction
+
+        // Not a socket / too long / missing directory.
+        const std::string plain = f.dir.file("plain");
+        { std::ofstream(plain) << "x"; }
+        cfg2.socketPath = plain;
+        auto r = ControlServer::create(cfg2, other);
+        ASSERT_FALSE(r.ok());
+        EXPECT_EQ(r.error().message, "control socket path " + plain + ": exists and is not a socket");
+        cfg2.socketPath = "/tmp/" + std::string(200, 'a');
+        r = ControlServer::create(cfg2, other);
+        ASSERT_FALSE(r.ok());
+        EXPECT_EQ(r.error().message, "control socket path \"" + cfg2.socketPath + "\": length must be 1..107 bytes");
+        cfg2.socketPath = f.dir.file("no/such/dir.sock");
+        r = ControlServer::create(cfg2, other);
+        ASSERT_FALSE(r.ok());
+        EXPECT_EQ(r.error().message, "bind(" + cfg2.socketPath + "): No such file or directory");
+        auto missing = ControlClient::connect(f.dir.file("absent.sock"));
+        ASSERT_FALSE(missing.ok());
+        EXPECT_EQ(missing.error().message, "connect(" + f.dir.file("absent.sock") + "): No such file or directory");
+    }
+    EXPECT_EQ(countOpenFds(), fds);
+}
+
+TEST(ControlServer, ClientLimitAndSlowSubscribers) {
+    const int fds = countOpenFds();
+    {
+        ControlServerConfig cfg;
+        cfg.maxClients = 2;
+        cfg.maxOutputBytes = 64 * 1024;
+        Fixture f(cfg, false);  // stepped from this thread with pollOnce()
+        ASSERT_TRUE(f.server);
+        auto a = f.connect();
+        auto b = f.connect();
+        ASSERT_TRUE(f.server->pollOnce(50ms).ok());
+        auto c = f.connect();
+        ASSERT_TRUE(f.server->pollOnce(50ms).ok());
+        auto l = c.readLine(1s);
+        ASSERT_TRUE(l.ok());
+        EXPECT_EQ(l.value(), R"j({"ok":false,"error":"too many clients (limit 2)"})j");
+        EXPECT_EQ(f.server->stats().refusedFull, 1U);
+
+        // `a` subscribes and never reads: once the kernel buffers and 64 KiB are full it is dropped.
+        ASSERT_TRUE(a.send(R"({"cmd":"subscribe"})").ok());
+        ASSERT_TRUE(f.server->pollOnce(50ms).ok());
+        ControlEvent e;
+        e.kind = ControlEventKind::RouteProgress;
+        e.routeId = std::string(200, 'r');
+        for (int round = 0; round < 200 && f.server->stats().slowDisconnects == 0; ++round) {
+            for (int k = 0; k < 500; ++k) {
+                f.server->publish(e);
+            }
+            ASSERT_TRUE(f.server->pollOnce(0ms).ok());
+        }
+        EXPECT_EQ(f.server->stats().slowDisconnects, 1U);
+        EXPECT_EQ(f.server->stats().clients, 1U);
+        ASSERT_TRUE(b.send(R"({"cmd":"clear_route"})").ok());
+        ASSERT_TRUE(f.server->pollOnce(100ms).ok());
+        auto rb = b.readLine(1s);
+        ASSERT_TRUE(rb.ok());
+        EXPECT_EQ(rb.value(), R"({"ok":true,"cmd":"clear_route"})");
+    }
+    EXPECT_EQ(countOpenFds(), fds);
+}
+
+TEST(ControlServer, ManyClientsConcurrently) {
+    const int fds = countOpenFds();
+    {
+        ControlServerConfig cfg;
+        cfg.maxClients = 8;
+        Fixture f(cfg);
+        ASSERT_TRUE(f.server);
+        std::atomic<int> ok{0};
+        std::vector<std::thread> threads;
+        for (int t = 0; t < 6; ++t) {
+            threads.emplace_back([&, t] {
+                auto c = ControlClient::connect(f.server->path());
+                if (!c.ok()) {
+                    return;
+                }
+                for (int i = 0; i < 50; ++i) {
+                    const std::string id = "t" + std::to_string(t) + "-" + std::to_string(i);
+                    auto r = c.value().request(R"({"cmd":"set_route","id":")" + id + R"(","points":[[1,2],[3,4]]})");
+                    if (r.ok() && r.value() == R"({"ok":true,"cmd":"set_route","id":")" + id +
+                                                    R"(","maneuvers":0,"points":2})") {
+                        ++ok;
+                    }
+                }
+            });
+        }
+        for (auto& t : threads) {
+            t.join();
+        }
+        EXPECT_EQ(ok.load(), 300);
+        EXPECT_EQ(f.state.route()->version, 300U);
+    }
+    EXPECT_EQ(countOpenFds(), fds);
+}
