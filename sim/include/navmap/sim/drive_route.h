@@ -1,0 +1,51 @@
+#pragma once
+// The route a simulated car drives: the polyline in the store frame with measures, the legal /
+// class speed of every segment, and the maneuvers at junctions (for the control IPC set_route).
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "navmap/ipc/result.hpp"
+#include "navmap/map/road_graph.h"
+#include "navmap/map/routing.h"
+
+namespace navmap::sim {
+
+/// A turn instruction at a point of the route polyline.
+struct Maneuver {
+    std::size_t point = 0;      ///< index into DriveRoute::line
+    double measure_m = 0.0;     ///< distance from the route start
+    /// Control-protocol name (docs/ipc.md): "depart", "arrive", "straight", "turn_left",
+    /// "slight_right", "sharp_left", "u_turn", "roundabout", ...
+    std::string type;
+    std::string text;           ///< instruction detail, e.g. "exit to the left" for roundabouts
+    double turn_deg = 0.0;      ///< signed heading change, positive = right (clockwise)
+};
+
+struct DriveRoute {
+    std::vector<map::RoutePoint> line;       ///< store frame, at least 2 points
+    /// Target (legal or class) speed of segment i = line[i] -> line[i + 1], km/h.
+    std::vector<float> segment_speed_kmh;
+    std::vector<map::RoadClass> segment_class;
+    std::vector<Maneuver> maneuvers;
+    double graph_duration_s = 0.0;           ///< A* travel-time estimate at the edges' speeds
+
+    [[nodiscard]] double length() const { return line.empty() ? 0.0 : line.back().measure_m; }
+};
+
+/// Fastest car route (map::fastestRoute, A* on travel time) between the drivable graph nodes
+/// nearest to two store-frame positions. Target speed per segment: the edge's maxspeed or class
+/// default (RoadGraph::speed_kmh), link ramps capped at 60 km/h. Fails naming the problem
+/// ("no route from node 12 to 345", "start and destination are the same junction").
+ipc::Result<DriveRoute> planDriveRoute(const map::RoadGraph& graph, map::PlanarPoint from, map::PlanarPoint to);
+
+/// The DriveRoute of a graph route (speeds, classes and maneuvers from the graph).
+DriveRoute driveRouteFromGraph(const map::RoadGraph& graph, const map::GraphRoute& route);
+
+/// A route over a bare polyline with one speed (tests, synthetic drives); no maneuvers except
+/// depart/arrive.
+DriveRoute driveRouteFromPolyline(const std::vector<map::PlanarPoint>& points, float speed_kmh,
+                                  map::RoadClass cls = map::RoadClass::Primary);
+
+}  // namespace navmap::sim
