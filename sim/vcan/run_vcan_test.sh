@@ -83,7 +83,7 @@ done
 /bin/busybox mount -t proc proc /host/proc
 /bin/busybox mount -t sysfs sys /host/sys
 /bin/busybox mount -t devtmpfs dev /host/dev
-/bin/busybox mount -t tmpfs tmp /host/tmp
+# /tmp stays the host's (read-only): the checkout and build may live there (CI clones).
 /bin/busybox chroot /host /bin/sh -c 'ip link add dev vcan0 type vcan && ip link set vcan0 mtu 72 && ip link set vcan0 up' \
     || echo "VCAN_SETUP creating vcan0 failed"
 /bin/busybox chroot /host "$CHECK" vcan0 "$LOG" /usr/bin/canplayer "$DATA/dbc" "$MAP" "$NAVDBC"
