@@ -95,6 +95,11 @@ std::optional<Frame> GlRenderer::readAsync(std::uint64_t sequence) {
     return m_ring->submit(sequence);
 }
 
+std::vector<Frame> GlRenderer::collectReadbacks() {
+    m_egl.makeCurrent();
+    return m_ring->collectReady();
+}
+
 std::vector<Frame> GlRenderer::drainReadbacks() {
     m_egl.makeCurrent();
     return m_ring->drain();

@@ -31,6 +31,7 @@ public:
     Image readSync() override;
     std::optional<Frame> readAsync(std::uint64_t sequence) override;
     std::vector<Frame> drainReadbacks() override;
+    std::vector<Frame> collectReadbacks() override;
 
 private:
     RendererOptions m_options;

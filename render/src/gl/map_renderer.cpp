@@ -14,8 +14,10 @@ namespace navmap::render::gl {
 
 namespace {
 
-// Land-cover raster per tile: 4 m per texel on 2 km leaf tiles, 256 texels on coarser ones.
-int landCoverTextureSize(float tile_size_m) { return tile_size_m <= 2100.0f ? 512 : 256; }
+// Land-cover raster per tile (8 m per texel on 2 km leaf tiles). Each renderer (display
+// profile) holds its own copy, so this dominates GPU memory: 256 texels keep three profiles
+// within about 100 MiB of textures.
+int landCoverTextureSize(float) { return 256; }
 
 using Clock = std::chrono::steady_clock;
 
@@ -124,9 +126,9 @@ MapRenderer::~MapRenderer() {
 
 MapRenderer::GpuTile* MapRenderer::upload(const std::shared_ptr<const map::Tile>& tile) {
     if (tile->dem.coverage < 1.0f && m_warned_flat.insert(tile->id.key()).second) {
-        // The compiler found no DEM for part of this tile; that part renders flat at 0 m.
-        std::fprintf(stderr, "<4>navmap: tile %s: %.0f%% of its area has no elevation data and renders flat\n",
-                     tile->id.toString().c_str(), 100.0 * (1.0 - tile->dem.coverage));
+        // The compiler found no DEM for part of this tile; that part renders flat at 0 m. The
+        // caller logs it (once per tile, whichever display met it first).
+        m_new_flat_tiles.push_back({tile->id, tile->dem.coverage});
         ++m_stats_flat_tiles;
     }
     const TileMesh mesh = buildTileMesh(*tile);
@@ -347,6 +349,8 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target) {
     }
     m_stats.tiles_uploaded = static_cast<std::size_t>(uploads);
     m_stats.flat_tiles = m_stats_flat_tiles;
+    m_stats.new_flat_tiles = std::move(m_new_flat_tiles);
+    m_new_flat_tiles.clear();
     m_stats.tiles_drawn = tiles.size();
     if (frame.route && frame.layers.route) updateRoute(*frame.route);
     lap(m_stats.uploads_ms, t);

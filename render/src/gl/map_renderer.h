@@ -8,6 +8,7 @@
 #include <memory>
 #include <unordered_map>
 #include <unordered_set>
+#include <vector>
 
 #include "navmap/render/map_frame.h"
 #include "navmap/render/renderer.h"
@@ -58,6 +59,7 @@ private:
     std::uint64_t m_frame = 0;
     std::unordered_set<std::uint64_t> m_warned_flat;  // tiles already reported as lacking DEM
     std::size_t m_stats_flat_tiles = 0;
+    std::vector<FlatTile> m_new_flat_tiles;
 };
 
 }  // namespace navmap::render::gl

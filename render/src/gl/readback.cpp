@@ -72,6 +72,20 @@ std::vector<Frame> ReadbackRing::drain() {
     return frames;
 }
 
+std::vector<Frame> ReadbackRing::collectReady() {
+    std::vector<Frame> frames;
+    while (!m_pending.empty()) {
+        Slot& slot = m_slots[m_pending.front()];
+        if (slot.fence) {
+            const GLenum r = glClientWaitSync(slot.fence, GL_SYNC_FLUSH_COMMANDS_BIT, 0);
+            if (r != GL_ALREADY_SIGNALED && r != GL_CONDITION_SATISFIED) break;
+        }
+        frames.push_back(complete(slot));
+        m_pending.pop_front();
+    }
+    return frames;
+}
+
 Frame ReadbackRing::complete(Slot& slot) {
     if (slot.fence) {
         // Normally already signalled: the copy was queued ring-1 frames ago.

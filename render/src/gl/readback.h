@@ -27,6 +27,8 @@ public:
     std::optional<Frame> submit(std::uint64_t sequence);
     /// Completes every pending copy, oldest first.
     std::vector<Frame> drain();
+    /// Completes the pending copies whose fence has signalled, oldest first, without waiting.
+    std::vector<Frame> collectReady();
 
 private:
     struct Slot {

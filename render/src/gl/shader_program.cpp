@@ -26,6 +26,16 @@ std::string_view findEmbedded(std::string_view file) {
     throw RenderError(std::string("shader '") + std::string(file) + "' is not among the embedded shaders/ files");
 }
 
+// The info log of a shader or program object (glGetShaderiv/glGetShaderInfoLog or the Program pair).
+template <typename GetIv, typename GetLog>
+std::string infoLog(GLuint object, GetIv get_iv, GetLog get_log) {
+    GLint len = 0;
+    get_iv(object, GL_INFO_LOG_LENGTH, &len);
+    std::string log(static_cast<std::size_t>(len > 0 ? len : 1), '\0');
+    get_log(object, len, nullptr, log.data());
+    return log.c_str();
+}
+
 GLuint compile(GLenum stage, std::string_view file, std::string_view text) {
     const GLuint shader = glCreateShader(stage);
     const std::string source = std::string(kPreamble) + std::string(text);
@@ -35,12 +45,9 @@ GLuint compile(GLenum stage, std::string_view file, std::string_view text) {
     GLint ok = GL_FALSE;
     glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
     if (ok != GL_TRUE) {
-        GLint len = 0;
-        glGetShaderiv(shader, GL_INFO_LOG_LENGTH, &len);
-        std::string log(static_cast<std::size_t>(len > 0 ? len : 1), '\0');
-        glGetShaderInfoLog(shader, len, nullptr, log.data());
+        const std::string log = infoLog(shader, glGetShaderiv, glGetShaderInfoLog);
         glDeleteShader(shader);
-        throw RenderError("shader compile failed:\n" + annotateShaderLog(log.c_str(), file));
+        throw RenderError("shader compile failed:\n" + annotateShaderLog(log, file));
     }
     return shader;
 }
@@ -83,13 +90,10 @@ ShaderProgram ShaderProgram::fromSources(std::string_view vertex_file, std::stri
     GLint ok = GL_FALSE;
     glGetProgramiv(program, GL_LINK_STATUS, &ok);
     if (ok != GL_TRUE) {
-        GLint len = 0;
-        glGetProgramiv(program, GL_INFO_LOG_LENGTH, &len);
-        std::string log(static_cast<std::size_t>(len > 0 ? len : 1), '\0');
-        glGetProgramInfoLog(program, len, nullptr, log.data());
+        const std::string log = infoLog(program, glGetProgramiv, glGetProgramInfoLog);
         glDeleteProgram(program);
         throw RenderError("shader link failed (" + std::string(vertex_file) + " + " + std::string(fragment_file) +
-                          "):\n" + log.c_str());
+                          "):\n" + log);
     }
     return ShaderProgram(program);
 }

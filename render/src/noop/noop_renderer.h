@@ -25,6 +25,7 @@ public:
     Image readSync() override;
     std::optional<Frame> readAsync(std::uint64_t sequence) override;
     std::vector<Frame> drainReadbacks() override;
+    std::vector<Frame> collectReadbacks() override { return drainReadbacks(); }
 
     [[nodiscard]] std::size_t framesRendered() const { return m_frames; }
 

@@ -64,6 +64,12 @@ struct MapFrame {
     MapLayers layers;
 };
 
+/// A tile drawn partly flat because the store had no elevation data for part of it.
+struct FlatTile {
+    map::TileId id;
+    float coverage = 0.0f;  ///< fraction of the tile that had elevation data
+};
+
 /// Milliseconds per pass of the last map frame (measured with glFinish between passes when
 /// RendererOptions::profile_passes is set, else zero) and what was drawn.
 struct MapFrameStats {
@@ -75,7 +81,8 @@ struct MapFrameStats {
     std::size_t road_segments = 0;
     std::size_t terrain_triangles = 0;
     std::size_t building_triangles = 0;
-    std::size_t flat_tiles = 0;  ///< tiles seen so far with missing elevation data (warned once each)
+    std::size_t flat_tiles = 0;  ///< tiles seen so far with missing elevation data
+    std::vector<FlatTile> new_flat_tiles;  ///< first seen in this frame: the caller warns about them
 };
 
 }  // namespace navmap::render

@@ -47,7 +47,7 @@ struct RendererOptions {
     /// are drawn from the next frames on.
     int max_tile_uploads_per_frame = 0;
     /// GPU tile resources kept for tiles not drawn recently.
-    int tile_resource_cache = 256;
+    int tile_resource_cache = 160;
     /// Measure each pass (adds a glFinish per pass; benchmarks only).
     bool profile_passes = false;
 };
@@ -119,6 +119,9 @@ public:
     /// ring. When the ring is full, the oldest readback is completed and returned; by then it
     /// is ring-1 frames old, so the wait is normally zero.
     virtual std::optional<Frame> readAsync(std::uint64_t sequence) = 0;
+    /// Returns the asynchronous readbacks that have already finished, oldest first, without
+    /// waiting (the frame loop calls it after rendering, so frames leave in the same tick).
+    virtual std::vector<Frame> collectReadbacks() = 0;
     /// Completes and returns every pending asynchronous readback, oldest first.
     virtual std::vector<Frame> drainReadbacks() = 0;
 
