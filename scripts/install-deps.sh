@@ -17,8 +17,8 @@ PACKAGES=(
   libfreetype-dev libharfbuzz-dev fonts-dejavu-core fonts-droid-fallback
   # config, JSON, command line, streaming, systemd
   libtomlplusplus-dev nlohmann-json3-dev libcli11-dev libturbojpeg0-dev libsystemd-dev
-  # tests and benchmarks
-  libgtest-dev libgmock-dev libbenchmark-dev
+  # tests and benchmarks (chromium: the browser test of the live stream page)
+  libgtest-dev libgmock-dev libbenchmark-dev chromium
   # CAN tools (candump/canplayer) and a Debian kernel under qemu for the real SocketCAN (vcan) test
   can-utils qemu-system-x86 linux-image-amd64 busybox-static cpio
 )

@@ -1,0 +1,88 @@
+#pragma once
+// FrameRing: a ring of frame slots in one memfd, written by the render thread and read by any
+// number of local client processes through a per-slot sequence lock (docs/frame-protocol.md).
+//
+// The writer never waits: it bumps the slot's lock word to odd, copies, bumps it to even. A
+// reader copies the slot and keeps the copy only if the lock word was even and unchanged around
+// the copy and the slot still holds the sequence it was told about, so it never keeps a frame
+// that was being overwritten (seqlock; Linux kernel `seqcount_t`, Wayland wl_shm for the fd).
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include "navmap/ipc/frame_format.hpp"
+#include "navmap/ipc/frame_header.hpp"
+#include "navmap/ipc/frame_view.hpp"
+#include "navmap/ipc/result.hpp"
+
+namespace navmap::ipc {
+
+/// Geometry of a ring mapping; the server sends it in the handshake reply.
+struct FrameRingLayout {
+    std::uint32_t slots = 0;
+    std::uint32_t width = 0;
+    std::uint32_t height = 0;
+    std::uint32_t stride = 0;
+    PixelFormat format = PixelFormat::Rgba8;
+    std::size_t slotBytes = 0;       ///< distance between slots (page multiple)
+    std::size_t totalBytes = 0;      ///< size of the memfd
+
+    /// Byte offset of slot `i` (its lock word) from the start of the mapping.
+    std::size_t slotOffset(std::uint32_t i) const noexcept;
+    std::size_t pixelBytes() const noexcept { return static_cast<std::size_t>(stride) * height; }
+    /// Computes slotBytes/totalBytes for the given geometry.
+    static FrameRingLayout make(std::uint32_t slots, std::uint32_t width, std::uint32_t height, PixelFormat format);
+    /// Checks a layout received from a peer against the size of the mapped file.
+    Status validate(std::size_t fileBytes) const;
+};
+
+/// Offsets inside a slot: lock word, then the FrameHeader, then the pixels.
+inline constexpr std::size_t kRingHeaderBytes = 4096;  ///< ring header page: magic + latest sequence
+inline constexpr std::size_t kSlotHeaderOffset = 64;
+inline constexpr std::size_t kSlotPixelOffset = 256;
+
+class FrameRing {
+public:
+    /// Creates the memfd (sealed against resizing) and maps it. Setup-time: returns an Error
+    /// naming memfd_create/ftruncate/mmap on failure.
+    static Result<std::unique_ptr<FrameRing>> create(const std::string& name, std::uint32_t slots, std::uint32_t width,
+                                                     std::uint32_t height, PixelFormat format);
+    ~FrameRing();
+    FrameRing(const FrameRing&) = delete;
+    FrameRing& operator=(const FrameRing&) = delete;
+
+    /// Render thread: copies `frame` (RGBA8 or the ring's format, same width/height) into the
+    /// next slot, converting the pixel format. Never blocks. Returns the new sequence (>= 1), or 0
+    /// when the frame does not fit this ring.
+    std::uint64_t write(const FrameView& frame) noexcept;
+
+    /// Newest complete sequence (0 before the first write). Any thread.
+    std::uint64_t latestSequence() const noexcept;
+
+    /// Copies frame `sequence` out of the ring into `pixels` (layout().pixelBytes() bytes, may be
+    /// null to read only the header). False when that frame is gone or being overwritten. Any thread.
+    bool read(std::uint64_t sequence, FrameHeader* header, std::uint8_t* pixels) const noexcept;
+
+    const FrameRingLayout& layout() const noexcept { return m_layout; }
+    /// Opens a new read-only descriptor of the memfd (for SCM_RIGHTS); the caller closes it.
+    Result<int> openReadOnly() const;
+    int fd() const noexcept { return m_fd; }
+
+    /// Reader side over any mapping (a client's read-only mmap): same contract as read().
+    static bool readMapped(const std::uint8_t* base, const FrameRingLayout& layout, std::uint64_t sequence,
+                           FrameHeader* header, std::uint8_t* pixels) noexcept;
+    /// Newest sequence recorded in a mapped ring header.
+    static std::uint64_t latestMapped(const std::uint8_t* base) noexcept;
+
+private:
+    FrameRing(int fd, std::uint8_t* base, FrameRingLayout layout) : m_fd(fd), m_base(base), m_layout(layout) {}
+
+    int m_fd = -1;
+    std::uint8_t* m_base = nullptr;
+    FrameRingLayout m_layout;
+    std::uint64_t m_nextSequence = 1;  // render thread only
+};
+
+}  // namespace navmap::ipc

@@ -1,0 +1,57 @@
+#pragma once
+// StreamProfile and the client handshake: one JSON line the client sends first on the Unix or
+// TCP socket (docs/frame-protocol.md). Parsing never throws; every problem is an Error.
+
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include "navmap/ipc/frame_format.hpp"
+#include "navmap/ipc/result.hpp"
+
+namespace navmap::ipc {
+
+/// What a display client wants: size, frame rate, view and pixel format.
+struct StreamProfile {
+    std::string name = "custom";      ///< "cluster", "hud", "center" or a free name
+    int width = 1280;
+    int height = 480;
+    int fps = 30;                     ///< most frames per second the client wants; 0 = every frame (recorders)
+    std::string view = "snail";       ///< "bird", "snail" or "hud"
+    PixelFormat format = PixelFormat::Rgba8;
+};
+
+/// The defaults of DESIGN.md: cluster 1280x480 snail, hud 800x240 hud, center 1280x720 bird
+/// (30 fps, RGBA8). nullopt for other names.
+std::optional<StreamProfile> defaultStreamProfile(std::string_view name);
+
+/// How the pixels travel.
+enum class StreamPayload {
+    Shm,   ///< shared-memory ring (Unix socket only)
+    Raw,   ///< on the socket, uncompressed
+    Zlib,  ///< on the socket, zlib-compressed
+};
+const char* streamPayloadName(StreamPayload payload) noexcept;
+
+struct StreamRequest {
+    StreamProfile profile;
+    StreamPayload payload = StreamPayload::Shm;
+};
+
+inline constexpr std::size_t kMaxHandshakeBytes = 4096;
+inline constexpr int kMinStreamDimension = 16;
+inline constexpr int kMaxStreamDimension = 4096;
+inline constexpr int kMaxStreamFps = 1000;  ///< displays need <= 240; recorders and benchmarks more
+
+/// Parses one handshake line (without or with the trailing '\n'):
+///   {"version":1,"profile":"cluster","width":1280,"height":480,"fps":30,"view":"snail",
+///    "format":"rgba8","payload":"shm"}
+/// "version" and either "profile" (a default name) or all of width/height/view are required;
+/// given fields override the named profile's. Unknown keys, wrong types and out-of-range values
+/// are errors naming the key.
+Result<StreamRequest> parseStreamRequest(std::string_view line);
+
+/// The handshake line for `request`, ending in '\n'. parseStreamRequest() reads it back equal.
+std::string formatStreamRequest(const StreamRequest& request);
+
+}  // namespace navmap::ipc

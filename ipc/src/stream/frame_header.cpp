@@ -1,0 +1,126 @@
+#include "navmap/ipc/frame_header.hpp"
+
+#include <string>
+
+namespace navmap::ipc {
+namespace {
+
+template <typename T>
+void put(std::uint8_t* out, std::size_t off, T v) noexcept {
+    for (std::size_t i = 0; i < sizeof(T); ++i) {
+        out[off + i] = static_cast<std::uint8_t>(static_cast<std::uint64_t>(v) >> (8 * i));
+    }
+}
+
+template <typename T>
+T get(const std::uint8_t* in, std::size_t off) noexcept {
+    std::uint64_t v = 0;
+    for (std::size_t i = 0; i < sizeof(T); ++i) {
+        v |= static_cast<std::uint64_t>(in[off + i]) << (8 * i);
+    }
+    return static_cast<T>(v);
+}
+
+}  // namespace
+
+// Layout (little-endian), docs/frame-protocol.md:
+//  0 magic u32 | 4 version u16 | 6 header bytes u16 | 8 kind u16 | 10 encoding u16 | 12 format u32
+// 16 sequence u64 | 24 render ns i64 | 32 source ns i64 | 40 width u32 | 44 height u32
+// 48 stride u32 | 52 payload bytes u32 | 56 dropped u64 | 64 slot u32 | 68..80 reserved (0)
+std::array<std::uint8_t, kFrameHeaderBytes> encodeFrameHeader(const FrameHeader& h) noexcept {
+    std::array<std::uint8_t, kFrameHeaderBytes> out{};
+    std::uint8_t* o = out.data();
+    put<std::uint32_t>(o, 0, kFrameMagic);
+    put<std::uint16_t>(o, 4, kFrameProtocolVersion);
+    put<std::uint16_t>(o, 6, static_cast<std::uint16_t>(kFrameHeaderBytes));
+    put<std::uint16_t>(o, 8, static_cast<std::uint16_t>(h.kind));
+    put<std::uint16_t>(o, 10, static_cast<std::uint16_t>(h.encoding));
+    put<std::uint32_t>(o, 12, static_cast<std::uint32_t>(h.format));
+    put<std::uint64_t>(o, 16, h.sequence);
+    put<std::int64_t>(o, 24, h.renderTimeNs);
+    put<std::int64_t>(o, 32, h.sourceTimeNs);
+    put<std::uint32_t>(o, 40, h.width);
+    put<std::uint32_t>(o, 44, h.height);
+    put<std::uint32_t>(o, 48, h.stride);
+    put<std::uint32_t>(o, 52, h.payloadBytes);
+    put<std::uint64_t>(o, 56, h.dropped);
+    put<std::uint32_t>(o, 64, h.slot);
+    return out;
+}
+
+Result<FrameHeader> decodeFrameHeader(const std::uint8_t* d, std::size_t size) {
+    if (size < kFrameHeaderBytes) {
+        return Error{"frame header: " + std::to_string(size) + " bytes, need " + std::to_string(kFrameHeaderBytes)};
+    }
+    if (get<std::uint32_t>(d, 0) != kFrameMagic) {
+        return Error{"frame header: bad magic (not a navmap frame stream)"};
+    }
+    const auto version = get<std::uint16_t>(d, 4);
+    if (version != kFrameProtocolVersion) {
+        return Error{"frame header: unsupported version " + std::to_string(version)};
+    }
+    if (get<std::uint16_t>(d, 6) != kFrameHeaderBytes) {
+        return Error{"frame header: header size " + std::to_string(get<std::uint16_t>(d, 6)) + ", expected 80"};
+    }
+    FrameHeader h;
+    const auto kind = get<std::uint16_t>(d, 8);
+    const auto encoding = get<std::uint16_t>(d, 10);
+    const auto format = get<std::uint32_t>(d, 12);
+    if (kind > 1) {
+        return Error{"frame header: unknown kind " + std::to_string(kind)};
+    }
+    h.kind = static_cast<FrameKind>(kind);
+    h.sequence = get<std::uint64_t>(d, 16);
+    h.renderTimeNs = get<std::int64_t>(d, 24);
+    h.sourceTimeNs = get<std::int64_t>(d, 32);
+    h.width = get<std::uint32_t>(d, 40);
+    h.height = get<std::uint32_t>(d, 44);
+    h.stride = get<std::uint32_t>(d, 48);
+    h.payloadBytes = get<std::uint32_t>(d, 52);
+    h.dropped = get<std::uint64_t>(d, 56);
+    h.slot = get<std::uint32_t>(d, 64);
+    if (h.kind == FrameKind::Error) {
+        if (h.payloadBytes > kMaxErrorPayloadBytes) {
+            return Error{"frame header: error message of " + std::to_string(h.payloadBytes) + " bytes"};
+        }
+        return h;
+    }
+    if (encoding > 2) {
+        return Error{"frame header: unknown encoding " + std::to_string(encoding)};
+    }
+    h.encoding = static_cast<FrameEncoding>(encoding);
+    if (!isKnownPixelFormat(format)) {
+        return Error{"frame header: unknown pixel format " + std::to_string(format)};
+    }
+    h.format = static_cast<PixelFormat>(format);
+    if (h.width == 0 || h.height == 0 || h.width > kMaxFrameDimension || h.height > kMaxFrameDimension) {
+        return Error{"frame header: bad size " + std::to_string(h.width) + "x" + std::to_string(h.height)};
+    }
+    if (static_cast<std::uint64_t>(h.stride) < static_cast<std::uint64_t>(h.width) * bytesPerPixel(h.format) ||
+        h.stride > 4 * kMaxFrameDimension) {
+        return Error{"frame header: stride " + std::to_string(h.stride) + " too small or too large for width " +
+                     std::to_string(h.width)};
+    }
+    switch (h.encoding) {
+        case FrameEncoding::Shm:
+            if (h.payloadBytes != 0) {
+                return Error{"frame header: shm frame with a socket payload"};
+            }
+            break;
+        case FrameEncoding::Raw:
+            if (h.payloadBytes != h.pixelBytes()) {
+                return Error{"frame header: raw payload " + std::to_string(h.payloadBytes) + " bytes, expected " +
+                             std::to_string(h.pixelBytes())};
+            }
+            break;
+        case FrameEncoding::Zlib:
+            // zlib's worst case expansion is tiny; anything beyond that is not a zlib of this frame.
+            if (h.payloadBytes == 0 || h.payloadBytes > h.pixelBytes() + h.pixelBytes() / 1000 + 64) {
+                return Error{"frame header: zlib payload of " + std::to_string(h.payloadBytes) + " bytes"};
+            }
+            break;
+    }
+    return h;
+}
+
+}  // namespace navmap::ipc

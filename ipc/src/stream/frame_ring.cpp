@@ -1,0 +1,217 @@
+#include "navmap/ipc/frame_ring.hpp"
+
+#include <fcntl.h>
+#include <sys/mman.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <chrono>
+#include <cstring>
+
+namespace navmap::ipc {
+namespace {
+
+constexpr std::uint32_t kRingMagic = 0x47524D4EU;  // "NMRG"
+constexpr std::size_t kLatestOffset = 64;
+constexpr std::size_t kPage = 4096;
+
+std::size_t roundUp(std::size_t v, std::size_t a) { return (v + a - 1) / a * a; }
+
+// The lock words live in shared memory that other processes map (read-only), so they are plain
+// 8-byte words accessed with the compiler's atomic builtins (lock-free and address-free, as
+// std::atomic<uint64_t> would be, but usable on a const mapping).
+std::uint64_t loadAcquire(const std::uint8_t* p) noexcept {
+    return __atomic_load_n(reinterpret_cast<const std::uint64_t*>(p), __ATOMIC_ACQUIRE);
+}
+
+std::int64_t realtimeNs() noexcept {
+    return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch())
+        .count();
+}
+
+}  // namespace
+
+std::size_t FrameRingLayout::slotOffset(std::uint32_t i) const noexcept { return kRingHeaderBytes + slotBytes * i; }
+
+FrameRingLayout FrameRingLayout::make(std::uint32_t slots, std::uint32_t width, std::uint32_t height, PixelFormat format) {
+    FrameRingLayout l;
+    l.slots = slots;
+    l.width = width;
+    l.height = height;
+    l.format = format;
+    l.stride = width * static_cast<std::uint32_t>(bytesPerPixel(format));
+    l.slotBytes = roundUp(kSlotPixelOffset + l.pixelBytes(), kPage);
+    l.totalBytes = kRingHeaderBytes + l.slotBytes * slots;
+    return l;
+}
+
+Status FrameRingLayout::validate(std::size_t fileBytes) const {
+    if (slots < 1 || slots > 64 || width == 0 || height == 0 || width > kMaxFrameDimension ||
+        height > kMaxFrameDimension || !isKnownPixelFormat(static_cast<std::uint32_t>(format))) {
+        return Error{"ring layout: bad geometry"};
+    }
+    const FrameRingLayout expect = make(slots, width, height, format);
+    if (stride != expect.stride || slotBytes != expect.slotBytes || totalBytes != expect.totalBytes) {
+        return Error{"ring layout: sizes do not match the geometry"};
+    }
+    if (fileBytes < totalBytes) {
+        return Error{"ring layout: shared memory has " + std::to_string(fileBytes) + " bytes, layout needs " +
+                     std::to_string(totalBytes)};
+    }
+    return {};
+}
+
+Result<std::unique_ptr<FrameRing>> FrameRing::create(const std::string& name, std::uint32_t slots, std::uint32_t width,
+                                                     std::uint32_t height, PixelFormat format) {
+    if (slots < 2 || slots > 64 || width == 0 || height == 0 || width > kMaxFrameDimension ||
+        height > kMaxFrameDimension || bytesPerPixel(format) == 0) {
+        return Error{"FrameRing(" + name + "): bad geometry"};
+    }
+    const FrameRingLayout layout = FrameRingLayout::make(slots, width, height, format);
+    const int fd = memfd_create(name.c_str(), MFD_CLOEXEC | MFD_ALLOW_SEALING);
+    if (fd < 0) {
+        return Error{"memfd_create(" + name + "): " + std::strerror(errno)};
+    }
+    if (ftruncate(fd, static_cast<off_t>(layout.totalBytes)) != 0) {
+        const int e = errno;
+        close(fd);
+        return Error{"ftruncate(" + name + "): " + std::strerror(e)};
+    }
+    // Clients can rely on the size: it can no longer change.
+    if (fcntl(fd, F_ADD_SEALS, F_SEAL_SHRINK | F_SEAL_GROW | F_SEAL_SEAL) != 0) {
+        const int e = errno;
+        close(fd);
+        return Error{"fcntl(" + name + ", F_ADD_SEALS): " + std::strerror(e)};
+    }
+    void* p = mmap(nullptr, layout.totalBytes, PROT_READ | PROT_WRITE, MAP_SHARED, fd, 0);
+    if (p == MAP_FAILED) {
+        const int e = errno;
+        close(fd);
+        return Error{"mmap(" + name + "): " + std::strerror(e)};
+    }
+    auto* base = static_cast<std::uint8_t*>(p);
+    // Touch every page now (server thread) so the render thread's first writes do not fault.
+    std::memset(base, 0, layout.totalBytes);
+    const std::uint32_t hdr[] = {kRingMagic, 1, slots, width, height, layout.stride, static_cast<std::uint32_t>(format)};
+    std::memcpy(base, hdr, sizeof(hdr));
+    return std::unique_ptr<FrameRing>(new FrameRing(fd, base, layout));
+}
+
+FrameRing::~FrameRing() {
+    if (m_base != nullptr) {
+        munmap(m_base, m_layout.totalBytes);
+    }
+    if (m_fd >= 0) {
+        close(m_fd);
+    }
+}
+
+std::uint64_t FrameRing::write(const FrameView& frame) noexcept {
+    if (frame.pixels == nullptr || frame.width != static_cast<int>(m_layout.width) ||
+        frame.height != static_cast<int>(m_layout.height) ||
+        (frame.format != PixelFormat::Rgba8 && frame.format != m_layout.format)) {
+        return 0;
+    }
+    const std::uint64_t seq = m_nextSequence++;
+    const std::uint32_t slot = static_cast<std::uint32_t>((seq - 1) % m_layout.slots);
+    std::uint8_t* s = m_base + m_layout.slotOffset(slot);
+    auto* lock = reinterpret_cast<std::uint64_t*>(s);
+
+    // Sequence lock, writer side: odd while the slot changes, even (and larger) when done.
+    const std::uint64_t l = __atomic_load_n(lock, __ATOMIC_RELAXED);
+    __atomic_store_n(lock, l + 1, __ATOMIC_RELAXED);
+    __atomic_thread_fence(__ATOMIC_RELEASE);
+
+    FrameHeader h;
+    h.kind = FrameKind::Frame;
+    h.encoding = FrameEncoding::Shm;
+    h.format = m_layout.format;
+    h.sequence = seq;
+    h.renderTimeNs = frame.renderTimeNs != 0 ? frame.renderTimeNs : realtimeNs();
+    h.sourceTimeNs = frame.sourceTimeNs;
+    h.width = m_layout.width;
+    h.height = m_layout.height;
+    h.stride = m_layout.stride;
+    h.slot = slot;
+    const auto bytes = encodeFrameHeader(h);
+    std::memcpy(s + kSlotHeaderOffset, bytes.data(), bytes.size());
+
+    const std::size_t srcStride =
+        frame.stride > 0 ? static_cast<std::size_t>(frame.stride)
+                         : static_cast<std::size_t>(frame.width) * static_cast<std::size_t>(bytesPerPixel(frame.format));
+    std::uint8_t* dst = s + kSlotPixelOffset;
+    if (frame.format == m_layout.format && srcStride == m_layout.stride) {
+        std::memcpy(dst, frame.pixels, m_layout.pixelBytes());
+    } else {
+        for (std::uint32_t y = 0; y < m_layout.height; ++y) {
+            const std::uint8_t* src = frame.pixels + srcStride * y;
+            if (frame.format == m_layout.format) {
+                std::memcpy(dst + static_cast<std::size_t>(m_layout.stride) * y, src, m_layout.stride);
+            } else {
+                convertRowFromRgba(src, m_layout.format, dst + static_cast<std::size_t>(m_layout.stride) * y,
+                                   static_cast<int>(m_layout.width));
+            }
+        }
+    }
+    __atomic_store_n(lock, l + 2, __ATOMIC_RELEASE);
+    __atomic_store_n(reinterpret_cast<std::uint64_t*>(m_base + kLatestOffset), seq, __ATOMIC_RELEASE);
+    return seq;
+}
+
+std::uint64_t FrameRing::latestSequence() const noexcept { return latestMapped(m_base); }
+
+bool FrameRing::read(std::uint64_t sequence, FrameHeader* header, std::uint8_t* pixels) const noexcept {
+    return readMapped(m_base, m_layout, sequence, header, pixels);
+}
+
+std::uint64_t FrameRing::latestMapped(const std::uint8_t* base) noexcept { return loadAcquire(base + kLatestOffset); }
+
+bool FrameRing::readMapped(const std::uint8_t* base, const FrameRingLayout& layout, std::uint64_t sequence,
+                           FrameHeader* header, std::uint8_t* pixels) noexcept {
+    if (sequence == 0 || layout.slots == 0) {
+        return false;
+    }
+    const std::uint32_t slot = static_cast<std::uint32_t>((sequence - 1) % layout.slots);
+    const std::uint8_t* s = base + layout.slotOffset(slot);
+    // Sequence lock, reader side: keep the copy only if the lock word was even and unchanged.
+    const std::uint64_t before = loadAcquire(s);
+    if (before == 0 || (before & 1U) != 0) {
+        return false;
+    }
+    std::uint8_t hb[kFrameHeaderBytes];
+    std::memcpy(hb, s + kSlotHeaderOffset, sizeof(hb));
+    // The sequence number is in the header; check it before paying for the pixel copy.
+    std::uint64_t seq = 0;
+    std::memcpy(&seq, hb + 16, sizeof(seq));  // little-endian host (x86-64, AArch64)
+    if (seq != sequence) {
+        return false;
+    }
+    if (pixels != nullptr) {
+        std::memcpy(pixels, s + kSlotPixelOffset, layout.pixelBytes());
+    }
+    __atomic_thread_fence(__ATOMIC_ACQUIRE);
+    const std::uint64_t after = __atomic_load_n(reinterpret_cast<const std::uint64_t*>(s), __ATOMIC_RELAXED);
+    if (after != before) {
+        return false;
+    }
+    auto h = decodeFrameHeader(hb, sizeof(hb));
+    if (!h.ok() || h.value().width != layout.width || h.value().height != layout.height ||
+        h.value().stride != layout.stride) {
+        return false;
+    }
+    if (header != nullptr) {
+        *header = h.value();
+    }
+    return true;
+}
+
+Result<int> FrameRing::openReadOnly() const {
+    const std::string proc = "/proc/self/fd/" + std::to_string(m_fd);
+    const int fd = open(proc.c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd < 0) {
+        return Error{"open(" + proc + ", O_RDONLY): " + std::strerror(errno)};
+    }
+    return fd;
+}
+
+}  // namespace navmap::ipc

@@ -1,0 +1,1124 @@
+#include "navmap/ipc/frame_server.hpp"
+
+#include <netinet/in.h>
+#include <netinet/tcp.h>
+#include <linux/sockios.h>
+#include <poll.h>
+#include <sys/ioctl.h>
+#include <sys/eventfd.h>
+#include <sys/socket.h>
+#include <turbojpeg.h>
+#include <unistd.h>
+#include <zlib.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cerrno>
+#include <cstring>
+#include <map>
+#include <mutex>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <thread>
+
+#include "navmap/ipc/frame_header.hpp"
+#include "navmap/ipc/frame_ring.hpp"
+#include "navmap/ipc/stream_http_request.hpp"
+#include "stream_page.hpp"
+#include "stream_socket.hpp"
+
+namespace navmap::ipc {
+
+using stream_detail::sysError;
+using stream_detail::UniqueFd;
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+enum class Via { Unix, Tcp, Http };
+enum class Phase { Handshake, Stream, HttpHead, Mjpeg, Draining };
+
+// One ring per (view, size, format), shared by all its clients. The caches hold the newest
+// frame in the forms the socket transports need, so N clients cost one copy/compression/encode.
+struct RingEntry {
+    std::string view;
+    std::shared_ptr<FrameRing> ring;
+    std::size_t clients = 0;
+    int maxFps = 0;
+    std::uint64_t handled = 0;
+    std::uint64_t rawSeq = 0;
+    FrameHeader rawHeader;
+    std::vector<std::uint8_t> raw;
+    std::uint64_t zlibSeq = 0;
+    std::vector<std::uint8_t> zlib;
+    std::uint64_t jpegSeq = 0;
+    std::vector<std::uint8_t> jpeg;
+};
+
+struct Conn {
+    UniqueFd fd;
+    Via via = Via::Unix;
+    Phase phase = Phase::Handshake;
+    std::string peer;
+    std::string in;
+    std::vector<std::uint8_t> out;
+    std::size_t outPos = 0;
+    bool closeWhenFlushed = false;
+    bool dead = false;
+    std::shared_ptr<RingEntry> ring;
+    StreamPayload payload = StreamPayload::Shm;
+    int fps = 0;
+    bool awaitingAck = false;
+    bool pending = false;
+    std::uint64_t lastSent = 0;
+    std::uint64_t dropped = 0;
+    Clock::time_point since;
+    Clock::time_point lastProgress;
+    Clock::time_point ackSince;
+    Clock::time_point lastOffer;
+    bool offered = false;
+    bool deferred = false;
+    Clock::time_point deferredUntil;
+    std::uint64_t bytesSent = 0;   // accepted by the kernel
+    std::uint64_t bytesAcked = 0;  // TCP: left the kernel's send queue (the peer took them)
+
+    bool outPending() const { return outPos < out.size(); }
+    bool busy() const { return outPending() || awaitingAck; }
+};
+
+struct PublishTarget {
+    std::string view;
+    std::shared_ptr<FrameRing> ring;
+};
+using PublishSet = std::vector<PublishTarget>;
+
+std::string jsonEscape(const std::string& s) {
+    return nlohmann::json(s).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+}
+
+// fps 0 asks for every frame: for scheduling that is the highest rate there is.
+int effectiveFps(int fps) { return fps == 0 ? kMaxStreamFps : fps; }
+
+// Control bytes other than tab, CR and LF: no JSON line or HTTP head contains them.
+bool hasControlBytes(const std::string& s) {
+    return std::any_of(s.begin(), s.end(), [](char ch) {
+        const auto b = static_cast<unsigned char>(ch);
+        return (b < 0x20 && b != '\t' && b != '\r' && b != '\n') || b == 0x7F;
+    });
+}
+
+}  // namespace
+
+class FrameServer::Impl {
+public:
+    explicit Impl(FrameServerOptions options) : m_options(std::move(options)) {}
+    ~Impl() { stop(); }
+
+    Status start();
+    void stop();
+    std::size_t publish(const std::string& view, const FrameView& frame);
+    FrameServerStats stats() const {
+        std::lock_guard lock(m_statsMutex);
+        FrameServerStats s = m_stats;
+        s.published = m_published.load(std::memory_order_relaxed);
+        s.publishMsLast = static_cast<double>(m_publishNsLast.load(std::memory_order_relaxed)) / 1e6;
+        s.publishMsMax = static_cast<double>(m_publishNsMax.load(std::memory_order_relaxed)) / 1e6;
+        return s;
+    }
+    std::vector<ActiveProfile> activeProfiles() const {
+        std::lock_guard lock(m_statsMutex);
+        return m_active;
+    }
+    std::string metricsText() const;
+
+    FrameServerOptions m_options;
+    int m_tcpPort = -1;
+    int m_httpPort = -1;
+
+private:
+    void run();
+    void acceptAll(int listenFd, Via via);
+    void onReadable(Conn& c);
+    void processInput(Conn& c);
+    void onHandshake(Conn& c, const std::string& line);
+    void onHttpRequest(Conn& c, const std::string& head);
+    void onStreamBytes(Conn& c);
+    void flush(Conn& c);
+    void queue(Conn& c, const void* data, std::size_t n);
+    void finishWith(Conn& c, const std::string& bytes);  // send, then half-close and drain
+    void handshakeError(Conn& c, const std::string& message);
+    void protocolError(Conn& c, const std::string& message);
+    void httpReply(Conn& c, int code, const char* reason, const char* contentType, const std::string& body);
+    Status attach(Conn& c, const StreamProfile& profile);
+    void offer(Conn& c, Clock::time_point now);
+    void sendFrame(Conn& c);
+    bool fillRaw(RingEntry& e, std::uint64_t seq);
+    bool fillJpeg(RingEntry& e, std::uint64_t seq);
+    void deliverNewFrames();
+    void checkTimeouts();
+    void reap();
+    void refreshRings();
+    std::string statusJson() const;
+
+    std::vector<std::unique_ptr<Conn>> m_conns;
+    std::vector<std::shared_ptr<RingEntry>> m_rings;  // server thread
+    UniqueFd m_unixFd;
+    UniqueFd m_tcpFd;
+    UniqueFd m_httpFd;
+    UniqueFd m_wakeFd;
+    std::thread m_thread;
+    std::atomic<bool> m_running{false};
+    tjhandle m_tj = nullptr;
+    std::uint64_t m_ringCounter = 0;
+
+    mutable std::mutex m_publishMutex;  // guards the pointer swap only, never I/O
+    std::shared_ptr<const PublishSet> m_publishSet = std::make_shared<PublishSet>();
+
+    mutable std::mutex m_statsMutex;
+    FrameServerStats m_stats;
+    std::vector<ActiveProfile> m_active;
+    std::atomic<std::uint64_t> m_published{0};
+    std::atomic<std::int64_t> m_publishNsLast{0};
+    std::atomic<std::int64_t> m_publishNsMax{0};
+};
+
+Status FrameServer::Impl::start() {
+    if (m_running) {
+        return {};
+    }
+    if (m_options.ringSlots < 2 || m_options.ringSlots > 64) {
+        return Error{"FrameServer: ringSlots must be in [2, 64]"};
+    }
+    const int wake = eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
+    if (wake < 0) {
+        return Error{sysError("eventfd", "frame server wake-up")};
+    }
+    m_wakeFd.reset(wake);
+    if (!m_options.unixPath.empty()) {
+        auto fd = stream_detail::listenUnix(m_options.unixPath);
+        if (!fd) {
+            return Error{fd.error().message};
+        }
+        m_unixFd.reset(fd.value());
+    }
+    if (m_options.tcpPort >= 0) {
+        auto fd = stream_detail::listenTcp(m_options.bindAddress, m_options.tcpPort);
+        if (!fd) {
+            return Error{fd.error().message};
+        }
+        m_tcpFd.reset(fd.value());
+        m_tcpPort = stream_detail::boundPort(fd.value());
+    }
+    if (m_options.httpPort >= 0) {
+        auto fd = stream_detail::listenTcp(m_options.bindAddress, m_options.httpPort);
+        if (!fd) {
+            return Error{fd.error().message};
+        }
+        m_httpFd.reset(fd.value());
+        m_httpPort = stream_detail::boundPort(fd.value());
+        m_tj = tjInitCompress();
+        if (m_tj == nullptr) {
+            return Error{std::string("tjInitCompress(MJPEG): ") + tjGetErrorStr2(nullptr)};
+        }
+    }
+    m_running = true;
+    m_thread = std::thread([this] { run(); });
+    return {};
+}
+
+void FrameServer::Impl::stop() {
+    if (m_running.exchange(false)) {
+        const std::uint64_t one = 1;
+        [[maybe_unused]] const auto n = ::write(m_wakeFd.get(), &one, sizeof(one));
+        m_thread.join();
+    }
+    m_conns.clear();
+    m_rings.clear();
+    {
+        std::lock_guard lock(m_publishMutex);
+        m_publishSet = std::make_shared<PublishSet>();
+    }
+    if (m_unixFd.valid()) {
+        m_unixFd.reset();
+        ::unlink(m_options.unixPath.c_str());
+    }
+    m_tcpFd.reset();
+    m_httpFd.reset();
+    m_wakeFd.reset();
+    if (m_tj != nullptr) {
+        tjDestroy(m_tj);
+        m_tj = nullptr;
+    }
+}
+
+std::size_t FrameServer::Impl::publish(const std::string& view, const FrameView& frame) {
+    const auto t0 = Clock::now();
+    std::shared_ptr<const PublishSet> set;
+    {
+        std::lock_guard lock(m_publishMutex);
+        set = m_publishSet;
+    }
+    std::size_t written = 0;
+    for (const auto& t : *set) {
+        if (t.view == view && t.ring->write(frame) != 0) {
+            ++written;
+        }
+    }
+    if (written > 0) {
+        m_published.fetch_add(1, std::memory_order_relaxed);
+        // Wake the server thread; eventfd writes never block (the counter saturates far away).
+        const std::uint64_t one = 1;
+        [[maybe_unused]] const auto n = ::write(m_wakeFd.get(), &one, sizeof(one));
+        const auto ns = std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - t0).count();
+        m_publishNsLast.store(ns, std::memory_order_relaxed);
+        if (ns > m_publishNsMax.load(std::memory_order_relaxed)) {
+            m_publishNsMax.store(ns, std::memory_order_relaxed);
+        }
+    }
+    return written;
+}
+
+void FrameServer::Impl::run() {
+    std::vector<pollfd> pfds;
+    while (m_running) {
+        pfds.clear();
+        pfds.push_back({m_wakeFd.get(), POLLIN, 0});
+        pfds.push_back({m_unixFd.get(), POLLIN, 0});  // fd -1 is ignored by poll()
+        pfds.push_back({m_tcpFd.get(), POLLIN, 0});
+        pfds.push_back({m_httpFd.get(), POLLIN, 0});
+        const std::size_t polled = m_conns.size();
+        for (const auto& c : m_conns) {
+            short ev = POLLIN;
+            if (c->outPending()) {
+                ev |= POLLOUT;
+            }
+            pfds.push_back({c->fd.get(), ev, 0});
+        }
+        // Wake at least every 20 ms (stall checks), earlier when a rate-capped frame falls due.
+        auto wait = std::chrono::milliseconds(20);
+        const auto now = Clock::now();
+        for (const auto& c : m_conns) {
+            if (c->deferred) {
+                wait = std::min(wait, std::chrono::ceil<std::chrono::milliseconds>(
+                                          std::max(c->deferredUntil - now, Clock::duration::zero())));
+            }
+        }
+        const int n = ::poll(pfds.data(), pfds.size(), static_cast<int>(wait.count()));
+        if (n < 0 && errno != EINTR) {
+            std::lock_guard lock(m_statsMutex);
+            m_stats.lastError = sysError("poll", "frame server");
+        }
+        if (n > 0) {
+            if ((pfds[0].revents & POLLIN) != 0) {
+                std::uint64_t v = 0;
+                [[maybe_unused]] const auto r = ::read(m_wakeFd.get(), &v, sizeof(v));
+            }
+            if ((pfds[1].revents & POLLIN) != 0) {
+                acceptAll(m_unixFd.get(), Via::Unix);
+            }
+            if ((pfds[2].revents & POLLIN) != 0) {
+                acceptAll(m_tcpFd.get(), Via::Tcp);
+            }
+            if ((pfds[3].revents & POLLIN) != 0) {
+                acceptAll(m_httpFd.get(), Via::Http);
+            }
+            for (std::size_t i = 0; i < polled; ++i) {
+                Conn& c = *m_conns[i];
+                const short re = pfds[4 + i].revents;
+                if (c.dead) {
+                    continue;
+                }
+                if ((re & (POLLIN | POLLHUP | POLLERR)) != 0) {
+                    onReadable(c);
+                }
+                if (!c.dead && (re & POLLOUT) != 0) {
+                    flush(c);
+                }
+            }
+        }
+        deliverNewFrames();
+        checkTimeouts();
+        reap();
+    }
+}
+
+void FrameServer::Impl::acceptAll(int listenFd, Via via) {
+    for (;;) {
+        const int fd = ::accept4(listenFd, nullptr, nullptr, SOCK_NONBLOCK | SOCK_CLOEXEC);
+        if (fd < 0) {
+            if (errno != EAGAIN && errno != EWOULDBLOCK && errno != EINTR) {
+                std::lock_guard lock(m_statsMutex);
+                m_stats.lastError = sysError("accept", via == Via::Unix ? m_options.unixPath : "tcp");
+            }
+            return;
+        }
+        auto c = std::make_unique<Conn>();
+        c->fd.reset(fd);
+        c->via = via;
+        c->phase = via == Via::Http ? Phase::HttpHead : Phase::Handshake;
+        c->since = c->lastProgress = Clock::now();
+        c->peer = (via == Via::Unix ? "unix#" : via == Via::Tcp ? "tcp#" : "http#") + std::to_string(fd);
+        if (via != Via::Unix) {
+            // A small kernel queue keeps frames fresh (a slow reader gets the newest frame, not a
+            // backlog) and lets a reader that stopped show up as a stall within a few frames.
+            const int sndbuf = 256 * 1024;
+            ::setsockopt(fd, SOL_SOCKET, SO_SNDBUF, &sndbuf, sizeof(sndbuf));
+            const int one = 1;
+            ::setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof(one));
+        }
+        {
+            std::lock_guard lock(m_statsMutex);
+            ++m_stats.accepted;
+        }
+        if (m_conns.size() >= m_options.maxClients) {
+            if (via == Via::Http) {
+                httpReply(*c, 503, "Service Unavailable", "text/plain", "too many clients\n");
+            } else {
+                handshakeError(*c, "too many clients (" + std::to_string(m_options.maxClients) + ")");
+            }
+        }
+        m_conns.push_back(std::move(c));
+        refreshRings();
+    }
+}
+
+void FrameServer::Impl::onReadable(Conn& c) {
+    char buf[65536];
+    for (int rounds = 0; rounds < 16; ++rounds) {
+        const ssize_t n = ::recv(c.fd.get(), buf, sizeof(buf), MSG_DONTWAIT);
+        if (n > 0) {
+            if (c.phase == Phase::Draining || c.phase == Phase::Mjpeg) {
+                continue;  // nothing more is expected from them; discard
+            }
+            c.in.append(buf, static_cast<std::size_t>(n));
+            processInput(c);
+            if (c.dead || c.phase == Phase::Draining) {
+                continue;
+            }
+        } else if (n == 0) {
+            c.dead = true;
+            return;
+        } else {
+            if (errno != EAGAIN && errno != EWOULDBLOCK && errno != EINTR) {
+                c.dead = true;
+            }
+            return;
+        }
+    }
+}
+
+void FrameServer::Impl::processInput(Conn& c) {
+    switch (c.phase) {
+        case Phase::Handshake: {
+            if (hasControlBytes(c.in)) {
+                handshakeError(c, "handshake: binary data (expected one JSON line)");
+                return;
+            }
+            const auto nl = c.in.find('\n');
+            if (nl == std::string::npos) {
+                if (c.in.size() > kMaxHandshakeBytes) {
+                    handshakeError(c, "handshake: longer than " + std::to_string(kMaxHandshakeBytes) + " bytes");
+                }
+                return;
+            }
+            const std::string line = c.in.substr(0, nl + 1);
+            c.in.erase(0, nl + 1);
+            onHandshake(c, line);
+            if (!c.dead && c.phase == Phase::Stream && !c.in.empty()) {
+                onStreamBytes(c);
+            }
+            return;
+        }
+        case Phase::Stream:
+            onStreamBytes(c);
+            return;
+        case Phase::HttpHead: {
+            if (hasControlBytes(c.in) || std::any_of(c.in.begin(), c.in.end(), [](char ch) {
+                    return static_cast<unsigned char>(ch) >= 0x80;
+                })) {
+                httpReply(c, 400, "Bad Request", "text/plain", "bad request: binary data\n");
+                return;
+            }
+            auto end = c.in.find("\r\n\r\n");
+            std::size_t endLen = 4;
+            if (end == std::string::npos) {
+                end = c.in.find("\n\n");
+                endLen = 2;
+            }
+            if ((end == std::string::npos ? c.in.size() : end) > kMaxHttpRequestBytes) {
+                httpReply(c, 431, "Request Header Fields Too Large", "text/plain", "request head too large\n");
+                return;
+            }
+            if (end == std::string::npos) {
+                if (c.in.size() >= 4 && c.in.compare(0, 4, "GET ") != 0 && c.in.find('\n') != std::string::npos &&
+                           c.in.find("HTTP/1.") == std::string::npos) {
+                    // The first line is complete and is no HTTP request line: answer now.
+                    httpReply(c, 400, "Bad Request", "text/plain", "bad request line\n");
+                }
+                return;
+            }
+            const std::string head = c.in.substr(0, end + endLen);
+            c.in.clear();
+            onHttpRequest(c, head);
+            return;
+        }
+        case Phase::Mjpeg:
+        case Phase::Draining:
+            c.in.clear();
+            return;
+    }
+}
+
+void FrameServer::Impl::onHandshake(Conn& c, const std::string& line) {
+    auto req = parseStreamRequest(line);
+    if (!req) {
+        handshakeError(c, req.error().message);
+        return;
+    }
+    const StreamRequest& r = req.value();
+    if (r.payload == StreamPayload::Shm && c.via != Via::Unix) {
+        handshakeError(c, "handshake: payload \"shm\" needs the Unix socket; use \"raw\" or \"zlib\" over TCP");
+        return;
+    }
+    if (auto s = attach(c, r.profile); !s) {
+        handshakeError(c, s.message());
+        return;
+    }
+    c.payload = r.payload;
+    c.fps = r.profile.fps;
+    c.ring->maxFps = std::max(c.ring->maxFps, effectiveFps(c.fps));
+    const FrameRingLayout& l = c.ring->ring->layout();
+    nlohmann::json reply;
+    reply["ok"] = true;
+    reply["version"] = 1;
+    reply["profile"] = {{"name", r.profile.name}, {"width", r.profile.width}, {"height", r.profile.height},
+                        {"fps", r.profile.fps}, {"view", r.profile.view},
+                        {"format", pixelFormatName(r.profile.format)}};
+    reply["payload"] = streamPayloadName(r.payload);
+    reply["stride"] = l.stride;
+    reply["header_bytes"] = kFrameHeaderBytes;
+    if (r.payload == StreamPayload::Shm) {
+        reply["ring"] = {{"slots", l.slots}, {"slot_bytes", l.slotBytes}, {"total_bytes", l.totalBytes},
+                         {"header_offset", kSlotHeaderOffset}, {"pixel_offset", kSlotPixelOffset}};
+    }
+    const std::string text = reply.dump() + "\n";
+    if (r.payload == StreamPayload::Shm) {
+        // The reply and the read-only memfd travel in one sendmsg() (SCM_RIGHTS), like wl_shm.
+        auto ro = c.ring->ring->openReadOnly();
+        if (!ro) {
+            handshakeError(c, ro.error().message);
+            return;
+        }
+        UniqueFd roFd(ro.value());
+        iovec iov{const_cast<char*>(text.data()), text.size()};
+        alignas(cmsghdr) char control[CMSG_SPACE(sizeof(int))] = {};
+        msghdr msg{};
+        msg.msg_iov = &iov;
+        msg.msg_iovlen = 1;
+        msg.msg_control = control;
+        msg.msg_controllen = sizeof(control);
+        cmsghdr* cm = CMSG_FIRSTHDR(&msg);
+        cm->cmsg_level = SOL_SOCKET;
+        cm->cmsg_type = SCM_RIGHTS;
+        cm->cmsg_len = CMSG_LEN(sizeof(int));
+        const int f = roFd.get();
+        std::memcpy(CMSG_DATA(cm), &f, sizeof(int));
+        const ssize_t n = ::sendmsg(c.fd.get(), &msg, MSG_NOSIGNAL | MSG_DONTWAIT);
+        if (n < 0) {
+            std::lock_guard lock(m_statsMutex);
+            m_stats.lastError = sysError("sendmsg", c.peer);
+            c.dead = true;
+            return;
+        }
+        if (static_cast<std::size_t>(n) < text.size()) {
+            queue(c, text.data() + n, text.size() - static_cast<std::size_t>(n));
+        }
+    } else {
+        queue(c, text.data(), text.size());
+    }
+    c.phase = Phase::Stream;
+    c.lastProgress = Clock::now();
+    refreshRings();
+    if (c.ring->ring->latestSequence() > 0) {
+        offer(c, Clock::now());
+    }
+}
+
+void FrameServer::Impl::onStreamBytes(Conn& c) {
+    // After the handshake a shm client sends one 'A' per frame it has copied (its credit back);
+    // socket-payload clients send nothing.
+    std::size_t i = 0;
+    for (; i < c.in.size(); ++i) {
+        const auto b = static_cast<unsigned char>(c.in[i]);
+        if (c.payload == StreamPayload::Shm && b == 'A' && c.awaitingAck) {
+            c.awaitingAck = false;
+            c.lastProgress = Clock::now();
+            if (c.pending && !c.busy()) {
+                sendFrame(c);
+            }
+            continue;
+        }
+        char msg[96];
+        std::snprintf(msg, sizeof(msg), "unexpected byte 0x%02x after the handshake%s", b,
+                      c.payload == StreamPayload::Shm && b == 'A' ? " (ack without a frame)" : "");
+        protocolError(c, msg);
+        return;
+    }
+    c.in.clear();
+}
+
+Status FrameServer::Impl::attach(Conn& c, const StreamProfile& profile) {
+    for (const auto& e : m_rings) {
+        const FrameRingLayout& l = e->ring->layout();
+        if (e->view == profile.view && static_cast<int>(l.width) == profile.width &&
+            static_cast<int>(l.height) == profile.height && l.format == profile.format) {
+            c.ring = e;
+            ++e->clients;
+            e->maxFps = std::max(e->maxFps, effectiveFps(profile.fps));
+            return {};
+        }
+    }
+    const std::string name = "navmap-ring-" + profile.view + "-" + std::to_string(profile.width) + "x" +
+                             std::to_string(profile.height) + "-" + pixelFormatName(profile.format) + "-" +
+                             std::to_string(++m_ringCounter);
+    auto ring = FrameRing::create(name, m_options.ringSlots, static_cast<std::uint32_t>(profile.width),
+                                  static_cast<std::uint32_t>(profile.height), profile.format);
+    if (!ring) {
+        return Error{ring.error().message};
+    }
+    auto e = std::make_shared<RingEntry>();
+    e->view = profile.view;
+    e->ring = std::shared_ptr<FrameRing>(std::move(ring.value()));
+    e->clients = 1;
+    e->maxFps = effectiveFps(profile.fps);
+    m_rings.push_back(e);
+    c.ring = e;
+    return {};
+}
+
+void FrameServer::Impl::queue(Conn& c, const void* data, std::size_t n) {
+    if (!c.outPending()) {
+        c.out.clear();
+        c.outPos = 0;
+        if (c.via == Via::Unix) {
+            c.lastProgress = Clock::now();
+        }
+    }
+    const auto* p = static_cast<const std::uint8_t*>(data);
+    c.out.insert(c.out.end(), p, p + n);
+}
+
+void FrameServer::Impl::flush(Conn& c) {
+    while (c.outPending()) {
+        const ssize_t n = ::send(c.fd.get(), c.out.data() + c.outPos, c.out.size() - c.outPos, MSG_NOSIGNAL | MSG_DONTWAIT);
+        if (n > 0) {
+            c.outPos += static_cast<std::size_t>(n);
+            c.bytesSent += static_cast<std::uint64_t>(n);
+            if (c.via == Via::Unix) {
+                c.lastProgress = Clock::now();  // Unix socket buffers are small: a send is progress
+            }
+            continue;
+        }
+        if (n < 0 && (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR)) {
+            return;
+        }
+        c.dead = true;
+        return;
+    }
+    c.out.clear();
+    c.outPos = 0;
+    if (c.closeWhenFlushed) {
+        // Half-close and read until the peer closes, so unread input cannot turn into a reset
+        // that destroys the reply on its way.
+        ::shutdown(c.fd.get(), SHUT_WR);
+        c.closeWhenFlushed = false;
+        c.phase = Phase::Draining;
+        c.since = Clock::now();
+        return;
+    }
+    if (c.pending && !c.busy() && (c.phase == Phase::Stream || c.phase == Phase::Mjpeg)) {
+        sendFrame(c);
+    }
+}
+
+void FrameServer::Impl::finishWith(Conn& c, const std::string& bytes) {
+    queue(c, bytes.data(), bytes.size());
+    c.closeWhenFlushed = true;
+    c.phase = Phase::Draining;
+    c.since = Clock::now();
+    flush(c);
+}
+
+void FrameServer::Impl::handshakeError(Conn& c, const std::string& message) {
+    {
+        std::lock_guard lock(m_statsMutex);
+        ++m_stats.handshakeErrors;
+        m_stats.lastError = c.peer + ": " + message;
+    }
+    finishWith(c, "{\"ok\":false,\"error\":" + jsonEscape(message) + "}\n");
+}
+
+void FrameServer::Impl::protocolError(Conn& c, const std::string& message) {
+    {
+        std::lock_guard lock(m_statsMutex);
+        ++m_stats.protocolErrors;
+        m_stats.lastError = c.peer + ": " + message;
+    }
+    // The error travels as a header of kind Error after whatever frame is in flight.
+    FrameHeader h;
+    h.kind = FrameKind::Error;
+    h.payloadBytes = static_cast<std::uint32_t>(message.size());
+    const auto hb = encodeFrameHeader(h);
+    c.in.clear();
+    c.pending = false;
+    c.awaitingAck = false;
+    finishWith(c, std::string(hb.begin(), hb.end()) + message);
+}
+
+void FrameServer::Impl::httpReply(Conn& c, int code, const char* reason, const char* contentType,
+                                  const std::string& body) {
+    if (code >= 400) {
+        std::lock_guard lock(m_statsMutex);
+        ++m_stats.httpErrors;
+        m_stats.lastError = c.peer + ": HTTP " + std::to_string(code) + " " + body;
+    }
+    std::ostringstream os;
+    os << "HTTP/1.0 " << code << ' ' << reason << "\r\nContent-Type: " << contentType
+       << "\r\nContent-Length: " << body.size() << "\r\nCache-Control: no-store\r\nConnection: close\r\n\r\n"
+       << body;
+    finishWith(c, os.str());
+}
+
+void FrameServer::Impl::onHttpRequest(Conn& c, const std::string& head) {
+    auto parsed = parseStreamHttpRequest(head);
+    if (!parsed) {
+        httpReply(c, 400, "Bad Request", "text/plain", parsed.error().message + "\n");
+        return;
+    }
+    const StreamHttpRequest& req = parsed.value();
+    if (req.method != "GET") {
+        httpReply(c, 405, "Method Not Allowed", "text/plain", "only GET\n");
+        return;
+    }
+    if (req.path == "/" || req.path == "/index.html") {
+        httpReply(c, 200, "OK", "text/html; charset=utf-8", stream_detail::viewerPage(m_options.mjpegProfile));
+    } else if (req.path == "/status") {
+        httpReply(c, 200, "OK", "application/json", statusJson());
+    } else if (req.path == "/metrics") {
+        std::string text = m_options.metricsText ? m_options.metricsText() : std::string();
+        if (!text.empty() && text.back() != '\n') {
+            text += '\n';
+        }
+        httpReply(c, 200, "OK", "text/plain; version=0.0.4", text + metricsText());
+    } else if (req.path == "/stream.mjpg") {
+        // The query selects the profile exactly like a handshake: ?profile=hud or
+        // ?width=640&height=240&view=bird&fps=10. It goes through the same validation.
+        nlohmann::json j;
+        j["version"] = 1;
+        bool hasProfile = false;
+        for (const auto& [k, v] : req.query) {
+            const bool numeric = !v.empty() && v.size() < 10 && std::all_of(v.begin(), v.end(), [](char ch) {
+                return ch >= '0' && ch <= '9';
+            });
+            if (numeric) {
+                j[k] = std::stoi(v);
+            } else {
+                j[k] = v;
+            }
+            hasProfile = hasProfile || k == "profile" || k == "width";
+        }
+        if (!hasProfile) {
+            j["profile"] = m_options.mjpegProfile;
+        }
+        j["format"] = "rgba8";
+        j["payload"] = "raw";
+        auto r = parseStreamRequest(j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace));
+        if (!r) {
+            httpReply(c, 400, "Bad Request", "text/plain", r.error().message + "\n");
+            return;
+        }
+        if (auto s = attach(c, r.value().profile); !s) {
+            httpReply(c, 500, "Internal Server Error", "text/plain", s.message() + "\n");
+            return;
+        }
+        c.fps = r.value().profile.fps;
+        c.phase = Phase::Mjpeg;
+        static const char kHead[] =
+            "HTTP/1.0 200 OK\r\nContent-Type: multipart/x-mixed-replace; boundary=navmapframe\r\n"
+            "Cache-Control: no-store\r\nConnection: close\r\n\r\n";
+        queue(c, kHead, sizeof(kHead) - 1);
+        flush(c);
+        refreshRings();
+        if (c.ring->ring->latestSequence() > 0) {
+            offer(c, Clock::now());
+        }
+    } else {
+        httpReply(c, 404, "Not Found", "text/plain", "no such page: " + req.path.substr(0, 128) + "\n");
+    }
+}
+
+void FrameServer::Impl::offer(Conn& c, Clock::time_point now) {
+    // Frame-rate cap per client, with 25% slack for render-time jitter.
+    if (c.fps > 0 && c.offered) {
+        const auto period = std::chrono::nanoseconds(1000000000LL / c.fps);
+        if (now - c.lastOffer < period * 3 / 4) {
+            // Too early for this client; if no newer frame comes, it still gets this one when due.
+            c.deferredUntil = c.lastOffer + period * 3 / 4;
+            c.deferred = true;
+            return;
+        }
+    }
+    c.deferred = false;
+    c.lastOffer = now;
+    c.offered = true;
+    if (c.busy()) {
+        if (c.pending) {
+            // The frame waiting for this client is replaced by a newer one: that one is dropped.
+            ++c.dropped;
+            std::lock_guard lock(m_statsMutex);
+            ++m_stats.framesDropped;
+        }
+        c.pending = true;
+        return;
+    }
+    c.pending = true;
+    sendFrame(c);
+}
+
+bool FrameServer::Impl::fillRaw(RingEntry& e, std::uint64_t seq) {
+    if (e.rawSeq == seq) {
+        return true;
+    }
+    e.raw.resize(e.ring->layout().pixelBytes());
+    if (!e.ring->read(seq, &e.rawHeader, e.raw.data())) {
+        return false;
+    }
+    e.rawSeq = seq;
+    return true;
+}
+
+bool FrameServer::Impl::fillJpeg(RingEntry& e, std::uint64_t seq) {
+    if (e.jpegSeq == seq) {
+        return true;
+    }
+    if (!fillRaw(e, seq)) {
+        return false;
+    }
+    const FrameRingLayout& l = e.ring->layout();
+    std::vector<std::uint8_t> rgba;
+    const std::uint8_t* src = e.raw.data();
+    int pitch = static_cast<int>(l.stride);
+    if (l.format != PixelFormat::Rgba8) {
+        rgba.resize(static_cast<std::size_t>(l.width) * l.height * 4);
+        for (std::uint32_t y = 0; y < l.height; ++y) {
+            convertRowToRgba(e.raw.data() + static_cast<std::size_t>(l.stride) * y, l.format,
+                             rgba.data() + static_cast<std::size_t>(l.width) * 4 * y, static_cast<int>(l.width));
+        }
+        src = rgba.data();
+        pitch = static_cast<int>(l.width * 4);
+    }
+    e.jpeg.resize(tjBufSize(static_cast<int>(l.width), static_cast<int>(l.height), TJSAMP_420));
+    unsigned char* out = e.jpeg.data();
+    unsigned long size = e.jpeg.size();
+    if (tjCompress2(m_tj, src, static_cast<int>(l.width), pitch, static_cast<int>(l.height), TJPF_RGBA, &out, &size,
+                    TJSAMP_420, std::clamp(m_options.jpegQuality, 1, 100), TJFLAG_NOREALLOC | TJFLAG_FASTDCT) != 0) {
+        std::lock_guard lock(m_statsMutex);
+        m_stats.lastError = std::string("tjCompress2(MJPEG): ") + tjGetErrorStr2(m_tj);
+        return false;
+    }
+    e.jpeg.resize(size);
+    e.jpegSeq = seq;
+    return true;
+}
+
+void FrameServer::Impl::sendFrame(Conn& c) {
+    RingEntry& e = *c.ring;
+    c.pending = false;
+    // The newest frame; if the render thread overwrites it meanwhile, take the one after.
+    std::uint64_t seq = 0;
+    bool ok = false;
+    FrameHeader h;
+    for (int attempt = 0; attempt < 4 && !ok; ++attempt) {
+        seq = e.ring->latestSequence();
+        if (seq == 0 || seq <= c.lastSent) {
+            return;
+        }
+        switch (c.phase == Phase::Mjpeg ? StreamPayload::Raw : c.payload) {
+            case StreamPayload::Shm:
+                ok = e.ring->read(seq, &h, nullptr);
+                break;
+            case StreamPayload::Raw:
+            case StreamPayload::Zlib:
+                ok = c.phase == Phase::Mjpeg ? fillJpeg(e, seq) : fillRaw(e, seq);
+                h = e.rawHeader;
+                break;
+        }
+    }
+    if (!ok) {
+        c.pending = true;  // try again on the next wake-up
+        return;
+    }
+    h.dropped = c.dropped;
+    if (c.phase == Phase::Mjpeg) {
+        std::ostringstream os;
+        os << "--navmapframe\r\nContent-Type: image/jpeg\r\nContent-Length: " << e.jpeg.size()
+           << "\r\nX-Navmap-Sequence: " << seq << "\r\nX-Navmap-Source-Time-Ns: " << h.sourceTimeNs
+           << "\r\nX-Navmap-Dropped: " << c.dropped << "\r\n\r\n";
+        const std::string partHead = os.str();
+        queue(c, partHead.data(), partHead.size());
+        queue(c, e.jpeg.data(), e.jpeg.size());
+        queue(c, "\r\n", 2);
+    } else if (c.payload == StreamPayload::Shm) {
+        h.encoding = FrameEncoding::Shm;
+        h.payloadBytes = 0;
+        const auto hb = encodeFrameHeader(h);
+        queue(c, hb.data(), hb.size());
+        c.awaitingAck = true;
+        c.ackSince = Clock::now();
+    } else if (c.payload == StreamPayload::Raw) {
+        h.encoding = FrameEncoding::Raw;
+        h.payloadBytes = static_cast<std::uint32_t>(e.raw.size());
+        const auto hb = encodeFrameHeader(h);
+        queue(c, hb.data(), hb.size());
+        queue(c, e.raw.data(), e.raw.size());
+    } else {
+        if (e.zlibSeq != seq) {
+            uLongf zlen = compressBound(static_cast<uLong>(e.raw.size()));
+            e.zlib.resize(zlen);
+            // Level 1: map frames have large flat areas; speed matters more than the last 10%.
+            if (compress2(e.zlib.data(), &zlen, e.raw.data(), static_cast<uLong>(e.raw.size()), 1) != Z_OK) {
+                protocolError(c, "compress2 failed");
+                return;
+            }
+            e.zlib.resize(zlen);
+            e.zlibSeq = seq;
+        }
+        h.encoding = FrameEncoding::Zlib;
+        h.payloadBytes = static_cast<std::uint32_t>(e.zlib.size());
+        const auto hb = encodeFrameHeader(h);
+        queue(c, hb.data(), hb.size());
+        queue(c, e.zlib.data(), e.zlib.size());
+    }
+    c.lastSent = seq;
+    {
+        std::lock_guard lock(m_statsMutex);
+        ++m_stats.framesSent;
+    }
+    flush(c);
+}
+
+void FrameServer::Impl::deliverNewFrames() {
+    const auto now = Clock::now();
+    for (const auto& c : m_conns) {
+        if (c->deferred && !c->dead && now >= c->deferredUntil) {
+            offer(*c, now);
+        }
+    }
+    for (const auto& e : m_rings) {
+        const std::uint64_t seq = e->ring->latestSequence();
+        if (seq <= e->handled) {
+            continue;
+        }
+        e->handled = seq;
+        for (const auto& c : m_conns) {
+            if (!c->dead && c->ring == e && (c->phase == Phase::Stream || c->phase == Phase::Mjpeg)) {
+                offer(*c, now);
+            }
+        }
+    }
+}
+
+void FrameServer::Impl::checkTimeouts() {
+    const auto now = Clock::now();
+    const auto limit = m_options.stallTimeout;
+    for (const auto& cp : m_conns) {
+        Conn& c = *cp;
+        if (c.dead) {
+            continue;
+        }
+        // TCP: a send() only proves the kernel had room (hundreds of kB); progress is the peer
+        // taking bytes out of the send queue (SIOCOUTQ = bytes not yet acknowledged).
+        int outq = 0;
+        if (c.via != Via::Unix && ::ioctl(c.fd.get(), SIOCOUTQ, &outq) == 0) {
+            const std::uint64_t acked = c.bytesSent - std::min<std::uint64_t>(c.bytesSent, static_cast<std::uint64_t>(outq));
+            if (acked > c.bytesAcked || (outq == 0 && !c.outPending())) {
+                c.bytesAcked = acked;
+                c.lastProgress = now;
+            }
+        }
+        std::string why;
+        if ((c.phase == Phase::Handshake || c.phase == Phase::HttpHead) && now - c.since > limit) {
+            why = "no complete handshake";
+        } else if (c.phase == Phase::Draining && now - c.since > limit) {
+            why = "did not close";
+        } else if (c.awaitingAck && now - c.ackSince > limit) {
+            why = "no ack";
+        } else if ((c.outPending() || outq > 0) && now - c.lastProgress > limit) {
+            why = "not reading";
+        }
+        if (why.empty()) {
+            continue;
+        }
+        std::lock_guard lock(m_statsMutex);
+        ++m_stats.stallDisconnects;
+        m_stats.lastError = c.peer + ": disconnected, " + why + " for " + std::to_string(limit.count()) + " ms";
+        c.dead = true;
+    }
+}
+
+void FrameServer::Impl::reap() {
+    bool changed = false;
+    for (auto it = m_conns.begin(); it != m_conns.end();) {
+        if ((*it)->dead) {
+            if ((*it)->ring) {
+                --(*it)->ring->clients;
+            }
+            it = m_conns.erase(it);  // closes the socket
+            changed = true;
+            std::lock_guard lock(m_statsMutex);
+            ++m_stats.disconnects;
+        } else {
+            ++it;
+        }
+    }
+    if (changed) {
+        const auto before = m_rings.size();
+        std::erase_if(m_rings, [](const auto& e) { return e->clients == 0; });
+        for (const auto& e : m_rings) {
+            int fps = 0;
+            for (const auto& c : m_conns) {
+                if (c->ring == e) {
+                    fps = std::max(fps, effectiveFps(c->fps));
+                }
+            }
+            e->maxFps = fps;
+        }
+        (void)before;
+        refreshRings();
+    }
+}
+
+void FrameServer::Impl::refreshRings() {
+    auto set = std::make_shared<PublishSet>();
+    std::vector<ActiveProfile> active;
+    for (const auto& e : m_rings) {
+        set->push_back({e->view, e->ring});
+        const FrameRingLayout& l = e->ring->layout();
+        bool merged = false;
+        for (auto& a : active) {
+            if (a.view == e->view && a.width == static_cast<int>(l.width) && a.height == static_cast<int>(l.height)) {
+                a.clients += e->clients;
+                a.maxFps = std::max(a.maxFps, e->maxFps);
+                merged = true;
+            }
+        }
+        if (!merged) {
+            active.push_back({e->view, static_cast<int>(l.width), static_cast<int>(l.height), e->maxFps, e->clients});
+        }
+    }
+    {
+        std::lock_guard lock(m_publishMutex);
+        m_publishSet = std::move(set);
+    }
+    std::lock_guard lock(m_statsMutex);
+    m_active = std::move(active);
+    m_stats.rings = m_rings.size();
+    m_stats.connections = m_conns.size();
+    m_stats.clients = m_stats.shmClients = m_stats.tcpClients = m_stats.mjpegClients = 0;
+    for (const auto& c : m_conns) {
+        if (c->dead || !c->ring) {
+            continue;
+        }
+        ++m_stats.clients;
+        if (c->phase == Phase::Mjpeg) {
+            ++m_stats.mjpegClients;
+        } else if (c->payload == StreamPayload::Shm) {
+            ++m_stats.shmClients;
+        } else {
+            ++m_stats.tcpClients;
+        }
+    }
+}
+
+std::string FrameServer::Impl::metricsText() const {
+    const FrameServerStats s = stats();
+    std::ostringstream os;
+    os << "# HELP navmap_stream_clients Frame-stream clients connected now, by transport.\n"
+          "# TYPE navmap_stream_clients gauge\n"
+       << "navmap_stream_clients{transport=\"shm\"} " << s.shmClients << "\n"
+       << "navmap_stream_clients{transport=\"tcp\"} " << s.tcpClients << "\n"
+       << "navmap_stream_clients{transport=\"mjpeg\"} " << s.mjpegClients << "\n"
+       << "# HELP navmap_stream_rings Shared-memory rings (one per profile with clients).\n"
+          "# TYPE navmap_stream_rings gauge\n"
+       << "navmap_stream_rings " << s.rings << "\n"
+       << "# HELP navmap_stream_frames_published_total Frames published by the render loop.\n"
+          "# TYPE navmap_stream_frames_published_total counter\n"
+       << "navmap_stream_frames_published_total " << s.published << "\n"
+       << "# HELP navmap_stream_frames_sent_total Frames handed to clients.\n"
+          "# TYPE navmap_stream_frames_sent_total counter\n"
+       << "navmap_stream_frames_sent_total " << s.framesSent << "\n"
+       << "# HELP navmap_stream_frames_dropped_total Frames skipped because a client was busy.\n"
+          "# TYPE navmap_stream_frames_dropped_total counter\n"
+       << "navmap_stream_frames_dropped_total " << s.framesDropped << "\n"
+       << "# HELP navmap_stream_connections_total Connections accepted.\n"
+          "# TYPE navmap_stream_connections_total counter\n"
+       << "navmap_stream_connections_total " << s.accepted << "\n"
+       << "# HELP navmap_stream_errors_total Rejected input, by kind.\n"
+          "# TYPE navmap_stream_errors_total counter\n"
+       << "navmap_stream_errors_total{kind=\"handshake\"} " << s.handshakeErrors << "\n"
+       << "navmap_stream_errors_total{kind=\"protocol\"} " << s.protocolErrors << "\n"
+       << "navmap_stream_errors_total{kind=\"http\"} " << s.httpErrors << "\n"
+       << "# HELP navmap_stream_stall_disconnects_total Clients disconnected after the stall timeout.\n"
+          "# TYPE navmap_stream_stall_disconnects_total counter\n"
+       << "navmap_stream_stall_disconnects_total " << s.stallDisconnects << "\n"
+       << "# HELP navmap_stream_publish_seconds Render-thread cost of publish().\n"
+          "# TYPE navmap_stream_publish_seconds gauge\n"
+       << "navmap_stream_publish_seconds{stat=\"last\"} " << s.publishMsLast / 1000.0 << "\n"
+       << "navmap_stream_publish_seconds{stat=\"max\"} " << s.publishMsMax / 1000.0 << "\n";
+    return os.str();
+}
+
+std::string FrameServer::Impl::statusJson() const {
+    const FrameServerStats s = stats();
+    nlohmann::json j;
+    j["stream"] = {{"clients", s.clients},
+                   {"shm_clients", s.shmClients},
+                   {"tcp_clients", s.tcpClients},
+                   {"mjpeg_clients", s.mjpegClients},
+                   {"rings", s.rings},
+                   {"published", s.published},
+                   {"sent", s.framesSent},
+                   {"dropped", s.framesDropped},
+                   {"stall_disconnects", s.stallDisconnects},
+                   {"publish_ms_last", s.publishMsLast}};
+    nlohmann::json profiles = nlohmann::json::array();
+    for (const auto& a : activeProfiles()) {
+        profiles.push_back({{"view", a.view}, {"width", a.width}, {"height", a.height}, {"fps", a.maxFps},
+                            {"clients", a.clients}});
+    }
+    j["stream"]["profiles"] = profiles;
+    j["daemon"] = nullptr;
+    if (m_options.statusJson) {
+        const std::string d = m_options.statusJson();
+        auto parsed = nlohmann::json::parse(d, nullptr, false);
+        j["daemon"] = parsed.is_discarded() ? nlohmann::json(d) : parsed;
+    }
+    return j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+}
+
+// --- FrameServer ---
+
+FrameServer::FrameServer(FrameServerOptions options) : m_impl(std::make_unique<Impl>(std::move(options))) {}
+FrameServer::~FrameServer() = default;
+Status FrameServer::start() { return m_impl->start(); }
+void FrameServer::stop() { m_impl->stop(); }
+std::size_t FrameServer::publish(const std::string& view, const FrameView& frame) { return m_impl->publish(view, frame); }
+std::vector<ActiveProfile> FrameServer::activeProfiles() const { return m_impl->activeProfiles(); }
+FrameServerStats FrameServer::stats() const { return m_impl->stats(); }
+std::string FrameServer::metricsText() const { return m_impl->metricsText(); }
+int FrameServer::tcpPort() const noexcept { return m_impl->m_tcpPort; }
+int FrameServer::httpPort() const noexcept { return m_impl->m_httpPort; }
+const FrameServerOptions& FrameServer::options() const noexcept { return m_impl->m_options; }
+
+}  // namespace navmap::ipc

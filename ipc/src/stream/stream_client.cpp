@@ -1,0 +1,360 @@
+#include "navmap/ipc/stream_client.hpp"
+
+#include <poll.h>
+#include <sys/mman.h>
+#include <sys/socket.h>
+#include <sys/stat.h>
+#include <unistd.h>
+#include <zlib.h>
+
+#include <cerrno>
+#include <cstring>
+#include <nlohmann/json.hpp>
+
+#include "navmap/ipc/frame_ring.hpp"
+#include "stream_socket.hpp"
+
+namespace navmap::ipc {
+
+using stream_detail::sysError;
+using stream_detail::UniqueFd;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+int msLeft(Clock::time_point deadline) {
+    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now()).count();
+    return left < 0 ? 0 : static_cast<int>(left);
+}
+
+Status sendAll(int fd, const char* data, std::size_t n, const std::string& peer) {
+    while (n > 0) {
+        const ssize_t w = ::send(fd, data, n, MSG_NOSIGNAL);
+        if (w < 0) {
+            if (errno == EINTR) {
+                continue;
+            }
+            return Error{sysError("send", peer)};
+        }
+        data += w;
+        n -= static_cast<std::size_t>(w);
+    }
+    return {};
+}
+
+}  // namespace
+
+Result<std::unique_ptr<StreamClient>> StreamClient::connectUnix(const std::string& path, const StreamRequest& request,
+                                                                std::chrono::milliseconds timeout) {
+    auto fd = stream_detail::connectUnixSocket(path);
+    if (!fd) {
+        return fd.error();
+    }
+    return handshake(fd.value(), path, request, timeout);
+}
+
+Result<std::unique_ptr<StreamClient>> StreamClient::connectTcp(const std::string& host, int port,
+                                                               const StreamRequest& request,
+                                                               std::chrono::milliseconds timeout) {
+    if (request.payload == StreamPayload::Shm) {
+        return Error{"connect(" + host + ":" + std::to_string(port) + "): payload shm needs the Unix socket"};
+    }
+    auto fd = stream_detail::connectTcpSocket(host, port, timeout);
+    if (!fd) {
+        return fd.error();
+    }
+    return handshake(fd.value(), host + ":" + std::to_string(port), request, timeout);
+}
+
+Result<std::unique_ptr<StreamClient>> StreamClient::handshake(int rawFd, std::string peer, const StreamRequest& request,
+                                                              std::chrono::milliseconds timeout) {
+    UniqueFd fd(rawFd);
+    const auto deadline = Clock::now() + timeout;
+    const std::string line = formatStreamRequest(request);
+    if (auto s = sendAll(fd.get(), line.data(), line.size(), peer); !s) {
+        return Error{s.message()};
+    }
+    // Read the reply line; the ring's memfd (shm) arrives with its first bytes (SCM_RIGHTS).
+    std::string reply;
+    UniqueFd memfd;
+    std::vector<std::uint8_t> rest;
+    for (;;) {
+        pollfd p{fd.get(), POLLIN, 0};
+        const int n = ::poll(&p, 1, msLeft(deadline));
+        if (n == 0) {
+            return Error{"handshake with " + peer + ": no reply within " + std::to_string(timeout.count()) + " ms"};
+        }
+        if (n < 0) {
+            if (errno == EINTR) {
+                continue;
+            }
+            return Error{sysError("poll", peer)};
+        }
+        char buf[8192];
+        iovec iov{buf, sizeof(buf)};
+        alignas(cmsghdr) char control[CMSG_SPACE(sizeof(int) * 4)] = {};
+        msghdr msg{};
+        msg.msg_iov = &iov;
+        msg.msg_iovlen = 1;
+        msg.msg_control = control;
+        msg.msg_controllen = sizeof(control);
+        const ssize_t r = ::recvmsg(fd.get(), &msg, MSG_CMSG_CLOEXEC);
+        if (r < 0) {
+            if (errno == EINTR) {
+                continue;
+            }
+            return Error{sysError("recvmsg", peer)};
+        }
+        for (cmsghdr* cm = CMSG_FIRSTHDR(&msg); cm != nullptr; cm = CMSG_NXTHDR(&msg, cm)) {
+            if (cm->cmsg_level == SOL_SOCKET && cm->cmsg_type == SCM_RIGHTS) {
+                const std::size_t count = (cm->cmsg_len - CMSG_LEN(0)) / sizeof(int);
+                for (std::size_t i = 0; i < count; ++i) {
+                    int f = -1;
+                    std::memcpy(&f, CMSG_DATA(cm) + i * sizeof(int), sizeof(int));
+                    if (i == 0 && !memfd.valid()) {
+                        memfd.reset(f);
+                    } else {
+                        ::close(f);  // unexpected extra descriptors: do not leak them
+                    }
+                }
+            }
+        }
+        if (r == 0) {
+            return Error{"handshake with " + peer + ": connection closed" + (reply.empty() ? "" : " after '" + reply + "'")};
+        }
+        reply.append(buf, static_cast<std::size_t>(r));
+        const auto nl = reply.find('\n');
+        if (nl != std::string::npos) {
+            rest.assign(reply.begin() + static_cast<std::ptrdiff_t>(nl) + 1, reply.end());
+            reply.resize(nl);
+            break;
+        }
+        if (reply.size() > kMaxHandshakeBytes) {
+            return Error{"handshake with " + peer + ": reply longer than " + std::to_string(kMaxHandshakeBytes) + " bytes"};
+        }
+    }
+    const auto j = nlohmann::json::parse(reply, nullptr, false);
+    if (j.is_discarded() || !j.is_object() || !j.contains("ok") || !j["ok"].is_boolean()) {
+        return Error{"handshake with " + peer + ": bad reply '" + reply.substr(0, 200) + "'"};
+    }
+    if (!j["ok"].get<bool>()) {
+        const std::string why = j.contains("error") && j["error"].is_string() ? j["error"].get<std::string>() : "?";
+        return Error{"handshake refused by " + peer + ": " + why};
+    }
+    auto client = std::unique_ptr<StreamClient>(new StreamClient());
+    client->m_peer = peer;
+    client->m_payload = request.payload;
+    client->m_profile = request.profile;
+    client->m_in = std::move(rest);
+    const auto& prof = j.value("profile", nlohmann::json::object());
+    if (prof.is_object()) {
+        client->m_profile.name = prof.value("name", request.profile.name);
+        client->m_profile.width = prof.value("width", request.profile.width);
+        client->m_profile.height = prof.value("height", request.profile.height);
+        client->m_profile.fps = prof.value("fps", request.profile.fps);
+        client->m_profile.view = prof.value("view", request.profile.view);
+        if (auto f = parsePixelFormat(prof.value("format", std::string("rgba8")))) {
+            client->m_profile.format = *f;
+        }
+    }
+    if (request.payload == StreamPayload::Shm) {
+        if (!memfd.valid()) {
+            return Error{"handshake with " + peer + ": no shared-memory descriptor in the reply"};
+        }
+        const auto& ring = j.value("ring", nlohmann::json::object());
+        FrameRingLayout l = FrameRingLayout::make(ring.value("slots", 0U), static_cast<std::uint32_t>(client->m_profile.width),
+                                                  static_cast<std::uint32_t>(client->m_profile.height),
+                                                  client->m_profile.format);
+        struct stat st {};
+        if (::fstat(memfd.get(), &st) != 0) {
+            return Error{sysError("fstat", peer + " ring")};
+        }
+        if (ring.value("total_bytes", std::size_t{0}) != l.totalBytes) {
+            return Error{"handshake with " + peer + ": ring size does not match the profile"};
+        }
+        if (auto s = l.validate(static_cast<std::size_t>(st.st_size)); !s) {
+            return Error{"handshake with " + peer + ": " + s.message()};
+        }
+        void* p = ::mmap(nullptr, l.totalBytes, PROT_READ, MAP_SHARED, memfd.get(), 0);
+        if (p == MAP_FAILED) {
+            return Error{sysError("mmap", peer + " ring")};
+        }
+        client->m_map = static_cast<const std::uint8_t*>(p);
+        client->m_mapBytes = l.totalBytes;
+        client->m_slots = l.slots;
+    }
+    client->m_fd = fd.release();
+    return client;
+}
+
+StreamClient::~StreamClient() {
+    if (m_map != nullptr) {
+        ::munmap(const_cast<std::uint8_t*>(m_map), m_mapBytes);
+    }
+    if (m_fd >= 0) {
+        ::close(m_fd);
+    }
+}
+
+Status StreamClient::readExact(std::uint8_t* dst, std::size_t n, Clock::time_point deadline, bool* timedOut) {
+    *timedOut = false;
+    const std::size_t buffered = std::min(n, m_in.size() - m_inPos);
+    if (buffered > 0) {
+        std::memcpy(dst, m_in.data() + m_inPos, buffered);
+        m_inPos += buffered;
+        dst += buffered;
+        n -= buffered;
+        if (m_inPos == m_in.size()) {
+            m_in.clear();
+            m_inPos = 0;
+        }
+    }
+    while (n > 0) {
+        pollfd p{m_fd, POLLIN, 0};
+        const int r = ::poll(&p, 1, msLeft(deadline));
+        if (r == 0) {
+            *timedOut = true;
+            return Error{"timeout"};
+        }
+        if (r < 0) {
+            if (errno == EINTR) {
+                continue;
+            }
+            return Error{sysError("poll", m_peer)};
+        }
+        const ssize_t got = ::recv(m_fd, dst, n, 0);
+        if (got == 0) {
+            return Error{"recv(" + m_peer + "): connection closed by the server"};
+        }
+        if (got < 0) {
+            if (errno == EINTR || errno == EAGAIN) {
+                continue;
+            }
+            return Error{sysError("recv", m_peer)};
+        }
+        dst += got;
+        n -= static_cast<std::size_t>(got);
+    }
+    return {};
+}
+
+Result<bool> StreamClient::next(ReceivedFrame& out, std::chrono::milliseconds timeout) {
+    const auto deadline = Clock::now() + timeout;
+    for (;;) {
+        // A header may arrive in pieces across calls; keep what we have.
+        if (m_headerHave < kFrameHeaderBytes) {
+            // Byte-wise progress is tracked, so a timeout never loses a partial header.
+            const std::size_t want = kFrameHeaderBytes - m_headerHave;
+            const std::size_t buffered = std::min(want, m_in.size() - m_inPos);
+            std::memcpy(m_headerBuf + m_headerHave, m_in.data() + m_inPos, buffered);
+            m_inPos += buffered;
+            m_headerHave += buffered;
+            if (m_inPos == m_in.size()) {
+                m_in.clear();
+                m_inPos = 0;
+            }
+            while (m_headerHave < kFrameHeaderBytes) {
+                pollfd p{m_fd, POLLIN, 0};
+                const int r = ::poll(&p, 1, msLeft(deadline));
+                if (r == 0) {
+                    return false;
+                }
+                if (r < 0) {
+                    if (errno == EINTR) {
+                        continue;
+                    }
+                    return Error{sysError("poll", m_peer)};
+                }
+                const ssize_t got = ::recv(m_fd, m_headerBuf + m_headerHave, kFrameHeaderBytes - m_headerHave, 0);
+                if (got == 0) {
+                    return Error{"recv(" + m_peer + "): connection closed by the server"};
+                }
+                if (got < 0) {
+                    if (errno == EINTR || errno == EAGAIN) {
+                        continue;
+                    }
+                    return Error{sysError("recv", m_peer)};
+                }
+                m_headerHave += static_cast<std::size_t>(got);
+            }
+        }
+        auto decoded = decodeFrameHeader(m_headerBuf, kFrameHeaderBytes);
+        m_headerHave = 0;
+        if (!decoded) {
+            return Error{m_peer + ": " + decoded.error().message};
+        }
+        FrameHeader h = decoded.value();
+        // Payloads are read to the end even past the deadline: the stream must stay in step.
+        const auto payloadDeadline = std::max(deadline, Clock::now() + std::chrono::seconds(5));
+        bool timedOut = false;
+        if (h.kind == FrameKind::Error) {
+            std::string message(h.payloadBytes, '\0');
+            if (auto s = readExact(reinterpret_cast<std::uint8_t*>(message.data()), message.size(), payloadDeadline,
+                                   &timedOut);
+                !s) {
+                message = "(message lost: " + s.message() + ")";
+            }
+            return Error{"server " + m_peer + " closed the stream: " + message};
+        }
+        const bool wantShm = m_payload == StreamPayload::Shm;
+        if ((h.encoding == FrameEncoding::Shm) != wantShm ||
+            h.width != static_cast<std::uint32_t>(m_profile.width) ||
+            h.height != static_cast<std::uint32_t>(m_profile.height) || h.format != m_profile.format) {
+            return Error{m_peer + ": frame header does not match the negotiated profile"};
+        }
+        out.pixels.resize(h.pixelBytes());
+        if (h.encoding == FrameEncoding::Shm) {
+            const FrameRingLayout l = FrameRingLayout::make(m_slots, h.width, h.height, h.format);
+            FrameHeader slotHeader;
+            bool ok = FrameRing::readMapped(m_map, l, h.sequence, &slotHeader, out.pixels.data());
+            if (!ok) {
+                // Overwritten while the notification waited in the socket: the newest frame is
+                // in the ring too, and the newest frame is what we want anyway.
+                const std::uint64_t latest = FrameRing::latestMapped(m_map);
+                if (latest > h.sequence && FrameRing::readMapped(m_map, l, latest, &slotHeader, out.pixels.data())) {
+                    h.sequence = latest;
+                    h.slot = static_cast<std::uint32_t>((latest - 1) % m_slots);
+                    ok = true;
+                }
+            }
+            // Give the credit back right away: the server may notify the next frame while we work.
+            const char ack = 'A';
+            if (auto s = sendAll(m_fd, &ack, 1, m_peer); !s) {
+                return Error{s.message()};
+            }
+            if (!ok) {
+                ++m_stats.lostLocally;  // overwritten before we copied it; wait for the next one
+                if (Clock::now() >= deadline) {
+                    return false;
+                }
+                continue;
+            }
+            h.renderTimeNs = slotHeader.renderTimeNs;
+            h.sourceTimeNs = slotHeader.sourceTimeNs;
+        } else if (h.encoding == FrameEncoding::Raw) {
+            if (auto s = readExact(out.pixels.data(), out.pixels.size(), payloadDeadline, &timedOut); !s) {
+                return Error{s.message()};
+            }
+        } else {
+            m_compressed.resize(h.payloadBytes);
+            if (auto s = readExact(m_compressed.data(), m_compressed.size(), payloadDeadline, &timedOut); !s) {
+                return Error{s.message()};
+            }
+            uLongf len = static_cast<uLongf>(out.pixels.size());
+            const int zr = uncompress(out.pixels.data(), &len, m_compressed.data(), static_cast<uLong>(m_compressed.size()));
+            if (zr != Z_OK || len != out.pixels.size()) {
+                return Error{m_peer + ": frame " + std::to_string(h.sequence) + ": zlib payload does not inflate to " +
+                             std::to_string(out.pixels.size()) + " bytes"};
+            }
+        }
+        m_stats.bytes += h.payloadBytes;
+        m_stats.serverDropped = h.dropped;
+        ++m_stats.frames;
+        h.dropped += m_stats.lostLocally;
+        out.header = h;
+        out.receiveTimeNs = stream_detail::realtimeNowNs();
+        return true;
+    }
+}
+
+}  // namespace navmap::ipc

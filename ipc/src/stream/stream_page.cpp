@@ -1,0 +1,42 @@
+#include "stream_page.hpp"
+
+namespace navmap::ipc::stream_detail {
+
+std::string viewerPage(const std::string& profile) {
+    std::string safe;
+    for (const char c : profile) {
+        if ((c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '-' || c == '_') {
+            safe += c;
+        }
+    }
+    return R"HTML(<!DOCTYPE html>
+<html lang="en"><head><meta charset="utf-8"><title>navmap live view</title>
+<style>
+body{margin:0;background:#1b1d21;color:#d8dde3;font:14px system-ui,sans-serif}
+header{padding:8px 12px;background:#25282e;display:flex;gap:12px;align-items:center}
+header b{font-size:16px} button{background:#3a3f47;color:#d8dde3;border:0;padding:4px 10px;border-radius:3px}
+main{display:flex;flex-wrap:wrap;gap:12px;padding:12px}
+img{max-width:100%;background:#000;border:1px solid #3a3f47}
+pre{margin:0;padding:8px;background:#25282e;min-width:320px;white-space:pre-wrap}
+#state{padding:2px 8px;border-radius:3px;background:#555}
+</style></head><body>
+<header><b>navmap</b>
+<button onclick="show('cluster')">cluster</button><button onclick="show('hud')">hud</button>
+<button onclick="show('center')">center</button><span id="state">connecting</span></header>
+<main><img id="view" alt="live map stream" src="/stream.mjpg?profile=)HTML" +
+           safe + R"HTML("><pre id="status">waiting for /status</pre></main>
+<script>
+function show(p){document.getElementById('view').src='/stream.mjpg?profile='+p;}
+async function poll(){
+  const st=document.getElementById('state');
+  try{const r=await fetch('/status',{cache:'no-store'});const j=await r.json();
+    document.getElementById('status').textContent=JSON.stringify(j,null,2);
+    st.textContent='live: '+j.stream.clients+' client(s), '+j.stream.published+' frames';st.style.background='#2e7d32';
+  }catch(e){st.textContent='no status: '+e;st.style.background='#b71c1c';}
+}
+poll();setInterval(poll,1000);
+</script></body></html>
+)HTML";
+}
+
+}  // namespace navmap::ipc::stream_detail

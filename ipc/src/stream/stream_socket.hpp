@@ -1,0 +1,45 @@
+#pragma once
+// Private socket helpers of ipc/src/stream (not installed): every error names the call and the
+// object, "connect(/run/navmap/stream.sock): No such file or directory".
+
+#include <chrono>
+#include <string>
+
+#include "navmap/ipc/result.hpp"
+
+namespace navmap::ipc::stream_detail {
+
+std::string sysError(const char* call, const std::string& object);
+
+/// Owns a descriptor; closes it on destruction.
+class UniqueFd {
+public:
+    UniqueFd() = default;
+    explicit UniqueFd(int fd) : m_fd(fd) {}
+    ~UniqueFd();
+    UniqueFd(UniqueFd&& o) noexcept : m_fd(o.release()) {}
+    UniqueFd& operator=(UniqueFd&& o) noexcept;
+    UniqueFd(const UniqueFd&) = delete;
+    UniqueFd& operator=(const UniqueFd&) = delete;
+    int get() const noexcept { return m_fd; }
+    int release() noexcept { const int f = m_fd; m_fd = -1; return f; }
+    void reset(int fd = -1) noexcept;
+    bool valid() const noexcept { return m_fd >= 0; }
+
+private:
+    int m_fd = -1;
+};
+
+/// Non-blocking listening Unix stream socket; a stale socket file at `path` is replaced.
+Result<int> listenUnix(const std::string& path);
+/// Non-blocking listening TCP socket on address:port (port 0 = any).
+Result<int> listenTcp(const std::string& address, int port);
+/// Port a TCP socket is bound to, -1 on error.
+int boundPort(int fd);
+/// Blocking connects (the timeout covers the TCP connect); the returned fd is blocking, CLOEXEC.
+Result<int> connectUnixSocket(const std::string& path);
+Result<int> connectTcpSocket(const std::string& host, int port, std::chrono::milliseconds timeout);
+
+std::int64_t realtimeNowNs() noexcept;
+
+}  // namespace navmap::ipc::stream_detail

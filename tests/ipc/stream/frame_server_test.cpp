@@ -1,0 +1,560 @@
+// FrameServer + StreamClient over real sockets in one process: shm ring, TCP raw/zlib, HTTP
+// (MJPEG, /status, /metrics), slow and stalled clients, malformed input, fd and memory stability.
+
+#include <gtest/gtest.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstring>
+#include <nlohmann/json.hpp>
+
+#include "navmap/ipc/frame_header.hpp"
+#include "navmap/ipc/frame_server.hpp"
+#include "navmap/ipc/stream_client.hpp"
+#include "stream_test_util.h"
+
+using namespace navmap::ipc;
+using namespace navmap::stream_test;
+using namespace std::chrono_literals;
+
+namespace {
+
+StreamRequest small(StreamPayload payload, int fps = 240, PixelFormat format = PixelFormat::Rgba8) {
+    StreamRequest r;
+    r.profile.name = "test";
+    r.profile.width = 64;
+    r.profile.height = 32;
+    r.profile.view = "bird";
+    r.profile.fps = fps;
+    r.profile.format = format;
+    r.payload = payload;
+    return r;
+}
+
+class StreamServerTest : public ::testing::Test {
+protected:
+    void SetUp() override {
+        m_fdsBefore = countFds();
+        FrameServerOptions o;
+        o.unixPath = uniqueSocketPath("stream-test");
+        o.tcpPort = 0;
+        o.httpPort = 0;
+        o.stallTimeout = 300ms;
+        o.mjpegProfile = "center";
+        o.metricsText = [] { return std::string("navmapd_frames_total 42"); };
+        o.statusJson = [] { return std::string(R"({"vehicle":{"speed":13.5}})"); };
+        m_server = std::make_unique<FrameServer>(o);
+        auto s = m_server->start();
+        ASSERT_TRUE(s.ok()) << s.message();
+    }
+    void TearDown() override {
+        m_server.reset();
+        EXPECT_EQ(countFds(), m_fdsBefore) << "descriptors leaked";
+    }
+    // Publishes one frame of the small profile with every pixel = seq.
+    void publishSeq(std::uint64_t seq, const std::string& view = "bird", int w = 64, int h = 32) {
+        const auto px = sequencePattern(w, h, seq);
+        FrameView f;
+        f.pixels = px.data();
+        f.width = w;
+        f.height = h;
+        f.sourceTimeNs = 1000 + static_cast<std::int64_t>(seq);
+        f.renderTimeNs = 5000 + static_cast<std::int64_t>(seq);
+        m_server->publish(view, f);
+    }
+    template <typename Pred>
+    bool waitFor(Pred pred, std::chrono::milliseconds limit = 3s) {
+        const auto until = std::chrono::steady_clock::now() + limit;
+        while (std::chrono::steady_clock::now() < until) {
+            if (pred()) {
+                return true;
+            }
+            std::this_thread::sleep_for(5ms);
+        }
+        return pred();
+    }
+    std::unique_ptr<StreamClient> connect(const StreamRequest& r) {
+        auto c = r.payload == StreamPayload::Shm ? StreamClient::connectUnix(m_server->options().unixPath, r)
+                                                 : StreamClient::connectTcp("127.0.0.1", m_server->tcpPort(), r);
+        EXPECT_TRUE(c.ok()) << (c.ok() ? "" : c.error().message);
+        return c.ok() ? std::move(c.value()) : nullptr;
+    }
+
+    int m_fdsBefore = 0;
+    std::unique_ptr<FrameServer> m_server;
+};
+
+void expectPattern(const ReceivedFrame& f, std::uint64_t seq) {
+    ASSERT_EQ(f.pixels.size(), f.header.pixelBytes());
+    const auto want = sequencePattern(static_cast<int>(f.header.width), static_cast<int>(f.header.height), seq);
+    ASSERT_EQ(0, std::memcmp(f.pixels.data(), want.data(), want.size()))
+        << "frame " << seq << " pixel 0 = " << int(f.pixels[0]) << "," << int(f.pixels[1]) << "," << int(f.pixels[2]);
+}
+
+// Torn-frame check for frames from a Publisher: all pixels of one frame carry one value.
+void expectUniform(const ReceivedFrame& f) {
+    ASSERT_EQ(f.pixels.size(), f.header.pixelBytes());
+    ASSERT_GE(f.pixels.size(), 4U);
+    for (std::size_t i = 4; i < f.pixels.size(); i += 4) {
+        ASSERT_EQ(0, std::memcmp(f.pixels.data(), f.pixels.data() + i, 4)) << "torn frame " << f.header.sequence;
+    }
+}
+
+}  // namespace
+
+TEST_F(StreamServerTest, EveryTransportDeliversTheSameFrameAndHeader) {
+    auto shm = connect(small(StreamPayload::Shm));
+    auto raw = connect(small(StreamPayload::Raw));
+    auto zl = connect(small(StreamPayload::Zlib));
+    ASSERT_TRUE(shm && raw && zl);
+    ASSERT_TRUE(waitFor([&] { return m_server->stats().clients == 3; }));
+    EXPECT_EQ(m_server->stats().rings, 1U);  // one ring per profile, shared by all transports
+    const auto active = m_server->activeProfiles();
+    ASSERT_EQ(active.size(), 1U);
+    EXPECT_EQ(active[0].view, "bird");
+    EXPECT_EQ(active[0].width, 64);
+    EXPECT_EQ(active[0].clients, 3U);
+    publishSeq(1);
+    for (StreamClient* c : {shm.get(), raw.get(), zl.get()}) {
+        ReceivedFrame f;
+        auto r = c->next(f, 3s);
+        ASSERT_TRUE(r.ok()) << r.error().message;
+        ASSERT_TRUE(r.value()) << "timeout on " << streamPayloadName(c->payload());
+        EXPECT_EQ(f.header.sequence, 1U);
+        EXPECT_EQ(f.header.width, 64U);
+        EXPECT_EQ(f.header.height, 32U);
+        EXPECT_EQ(f.header.stride, 256U);
+        EXPECT_EQ(f.header.format, PixelFormat::Rgba8);
+        EXPECT_EQ(f.header.sourceTimeNs, 1001);
+        EXPECT_EQ(f.header.renderTimeNs, 5001);
+        EXPECT_EQ(f.header.dropped, 0U);
+        expectPattern(f, 1);
+    }
+    EXPECT_LT(zl->stats().bytes, 64U * 32U * 4U / 10U);  // flat frames compress well
+}
+
+TEST_F(StreamServerTest, Rgb565IsConvertedOnPublish) {
+    auto shm = connect(small(StreamPayload::Shm, 240, PixelFormat::Rgb565));
+    auto tcp = connect(small(StreamPayload::Zlib, 240, PixelFormat::Rgb565));
+    ASSERT_TRUE(shm && tcp);
+    ASSERT_TRUE(waitFor([&] { return m_server->stats().clients == 2; }));
+    const std::uint64_t seq = 0x00F80480;  // R=0x80 G=0x04 B=0xF8
+    publishSeq(seq);
+    for (StreamClient* c : {shm.get(), tcp.get()}) {
+        ReceivedFrame f;
+        auto r = c->next(f, 3s);
+        ASSERT_TRUE(r.ok() && r.value());
+        EXPECT_EQ(f.header.format, PixelFormat::Rgb565);
+        EXPECT_EQ(f.header.stride, 128U);
+        // 0x80>>3=16, 0x04>>2=1, 0xF8>>3=31: 16<<11 | 1<<5 | 31 = 0x803F
+        EXPECT_EQ(f.pixels[0], 0x3F);
+        EXPECT_EQ(f.pixels[1], 0x80);
+    }
+}
+
+TEST_F(StreamServerTest, SlowShmReaderNeverGetsATornFrame) {
+    // Render as fast as possible into a 4-slot ring while the client dawdles after each frame:
+    // every frame it accepts must be one whole frame (all pixels carry the same sequence).
+    auto c = connect(small(StreamPayload::Shm));
+    ASSERT_TRUE(c);
+    ASSERT_TRUE(waitFor([&] { return m_server->stats().clients == 1; }));
+    Publisher pub(*m_server, "bird", 64, 32, 0);
+    ReceivedFrame f;
+    int got = 0;
+    std::uint64_t last = 0;
+    const auto until = std::chrono::steady_clock::now() + 500ms;
+    while (std::chrono::steady_clock::now() < until) {
+        auto r = c->next(f, 1s);
+        ASSERT_TRUE(r.ok()) << r.error().message;
+        if (!r.value()) {
+            continue;
+        }
+        ++got;
+        EXPECT_GT(f.header.sequence, last);
+        last = f.header.sequence;
+        expectUniform(f);
+        std::this_thread::sleep_for(10ms);  // 100 fps at best, though it asked for up to 240
+    }
+    pub.stop();
+    EXPECT_GT(got, 20);
+    EXPECT_GT(pub.published(), static_cast<std::uint64_t>(got));  // it really was lapped
+    EXPECT_GT(f.header.dropped, 0U);                              // and the drops are counted
+    std::printf("slow reader: %d frames of %llu published, dropped %llu (lost locally %llu)\n", got,
+                static_cast<unsigned long long>(pub.published()), static_cast<unsigned long long>(f.header.dropped),
+                static_cast<unsigned long long>(c->stats().lostLocally));
+}
+
+namespace {
+
+// Frames a fast shm client receives in `window` while frames are published at `fps`.
+int framesReceived(StreamClient& c, std::chrono::milliseconds window) {
+    ReceivedFrame f;
+    int n = 0;
+    const auto until = std::chrono::steady_clock::now() + window;
+    while (std::chrono::steady_clock::now() < until) {
+        auto r = c.next(f, 50ms);
+        if (!r.ok()) {
+            ADD_FAILURE() << r.error().message;
+            return -1;
+        }
+        n += r.value() ? 1 : 0;
+    }
+    return n;
+}
+
+}  // namespace
+
+TEST_F(StreamServerTest, ClientsThatNeverReadDoNotSlowTheOthers) {
+    auto fast = connect(small(StreamPayload::Shm));
+    ASSERT_TRUE(fast);
+    Publisher pub(*m_server, "bird", 64, 32, 100);
+    const int alone = framesReceived(*fast, 600ms);
+    ASSERT_GT(alone, 20);
+
+    // A shm client that never acks, a TCP client and an MJPEG viewer that never read, and a
+    // connection that never completes its handshake.
+    const int stuckShm = connectUnixRaw(m_server->options().unixPath);
+    ASSERT_TRUE(sendAllRaw(stuckShm, formatStreamRequest(small(StreamPayload::Shm))));
+    const int stuckTcp = connectTcpRaw(m_server->tcpPort());
+    int tiny = 4096;
+    setsockopt(stuckTcp, SOL_SOCKET, SO_RCVBUF, &tiny, sizeof(tiny));
+    ASSERT_TRUE(sendAllRaw(stuckTcp, formatStreamRequest(small(StreamPayload::Raw))));
+    const int stuckHttp = connectTcpRaw(m_server->httpPort());
+    setsockopt(stuckHttp, SOL_SOCKET, SO_RCVBUF, &tiny, sizeof(tiny));
+    ASSERT_TRUE(sendAllRaw(stuckHttp, "GET /stream.mjpg?profile=test&width=64&height=32&view=bird HTTP/1.1\r\n\r\n"));
+    const int silent = connectUnixRaw(m_server->options().unixPath);
+
+    const int withStuck = framesReceived(*fast, 600ms);
+    std::printf("fast client: %d frames alone, %d with four stuck clients\n", alone, withStuck);
+    EXPECT_GE(withStuck, alone * 9 / 10);
+    // The stalled ones are gone after the stall timeout (300 ms); the fast one, still reading,
+    // stays.
+    const auto until = std::chrono::steady_clock::now() + 3s;
+    while (std::chrono::steady_clock::now() < until &&
+           (m_server->stats().stallDisconnects < 4 || m_server->stats().clients != 1)) {
+        ASSERT_GE(framesReceived(*fast, 50ms), 0);
+    }
+    EXPECT_EQ(m_server->stats().stallDisconnects, 4U);
+    EXPECT_EQ(m_server->stats().clients, 1U);
+    EXPECT_GT(framesReceived(*fast, 200ms), 5);
+    pub.stop();
+    for (int fd : {stuckShm, stuckTcp, stuckHttp, silent}) {
+        close(fd);
+    }
+}
+
+TEST_F(StreamServerTest, DisconnectAndReconnect) {
+    Publisher pub(*m_server, "bird", 64, 32, 200);
+    for (int round = 0; round < 3; ++round) {
+        auto c = connect(small(round == 1 ? StreamPayload::Zlib : StreamPayload::Shm));
+        ASSERT_TRUE(c);
+        ReceivedFrame f;
+        int got = 0;
+        for (int i = 0; i < 50 && got < 5; ++i) {
+            auto r = c->next(f, 200ms);
+            ASSERT_TRUE(r.ok()) << r.error().message;
+            if (r.value()) {
+                expectUniform(f);
+                ++got;
+            }
+        }
+        EXPECT_EQ(got, 5) << "round " << round;
+        c.reset();
+        ASSERT_TRUE(waitFor([&] { return m_server->stats().clients == 0 && m_server->stats().rings == 0; }));
+        EXPECT_TRUE(m_server->activeProfiles().empty());
+    }
+    pub.stop();
+}
+
+TEST_F(StreamServerTest, MalformedHandshakesGetErrorsAndChangeNothing) {
+    auto good = connect(small(StreamPayload::Shm));
+    ASSERT_TRUE(good);
+    ASSERT_TRUE(waitFor([&] { return m_server->stats().clients == 1; }));
+    const std::vector<std::string> bad = {
+        "not json\n",
+        "{\"version\":1,\"profile\":\"hud\",\"width\":-5}\n",
+        "{\"version\":7,\"profile\":\"hud\"}\n",
+        "{\"version\":1,\"profile\":\"cluster\",\"payload\":\"carrier-pigeon\"}\n",
+        std::string("\x00\x01\x02\xff\xfe garbage", 14),
+        std::string(5000, 'x'),
+        "{\"version\":1,\"profile\":\"hud\"}{\"more\":1}\n",
+    };
+    for (const bool tcp : {false, true}) {
+        for (const auto& b : bad) {
+            const int fd = tcp ? connectTcpRaw(m_server->tcpPort()) : connectUnixRaw(m_server->options().unixPath);
+            ASSERT_GE(fd, 0);
+            sendAllRaw(fd, b);
+            const std::string reply = readUntilClose(fd, 3s);
+            close(fd);
+            const auto nl = reply.find('\n');
+            ASSERT_NE(nl, std::string::npos) << "no reply to " << b.substr(0, 40);
+            auto j = nlohmann::json::parse(reply.substr(0, nl), nullptr, false);
+            ASSERT_TRUE(j.is_object()) << reply;
+            EXPECT_EQ(j["ok"], false);
+            EXPECT_TRUE(j["error"].is_string() && !j["error"].get<std::string>().empty()) << reply;
+        }
+    }
+    // shm over TCP is refused with a reason.
+    {
+        const int fd = connectTcpRaw(m_server->tcpPort());
+        sendAllRaw(fd, formatStreamRequest(small(StreamPayload::Shm)));
+        const std::string reply = readUntilClose(fd, 3s);
+        close(fd);
+        EXPECT_NE(reply.find("needs the Unix socket"), std::string::npos) << reply;
+    }
+    const auto s = m_server->stats();
+    EXPECT_EQ(s.handshakeErrors, 2 * bad.size() + 1);
+    EXPECT_EQ(s.clients, 1U);
+    EXPECT_EQ(s.rings, 1U);
+    // The good client still streams.
+    publishSeq(9);
+    ReceivedFrame f;
+    auto r = good->next(f, 3s);
+    ASSERT_TRUE(r.ok() && r.value());
+    expectPattern(f, 9);
+}
+
+TEST_F(StreamServerTest, GarbageAfterTheHandshakeEndsWithAnErrorFrame) {
+    for (const auto payload : {StreamPayload::Shm, StreamPayload::Raw}) {
+        const int fd = payload == StreamPayload::Shm ? connectUnixRaw(m_server->options().unixPath)
+                                                     : connectTcpRaw(m_server->tcpPort());
+        ASSERT_TRUE(sendAllRaw(fd, formatStreamRequest(small(payload))));
+        ASSERT_TRUE(waitFor([&] { return m_server->stats().clients == 1; }));
+        ASSERT_TRUE(sendAllRaw(fd, "\x7fXYZ"));
+        const std::string all = readUntilClose(fd, 3s);
+        close(fd);
+        const auto nl = all.find('\n');
+        ASSERT_NE(nl, std::string::npos);
+        EXPECT_NE(all.find("\"ok\":true"), std::string::npos);
+        const std::string rest = all.substr(nl + 1);
+        ASSERT_GE(rest.size(), kFrameHeaderBytes);
+        auto h = decodeFrameHeader(reinterpret_cast<const std::uint8_t*>(rest.data()), rest.size());
+        ASSERT_TRUE(h.ok()) << h.error().message;
+        EXPECT_EQ(h.value().kind, FrameKind::Error);
+        EXPECT_EQ(rest.substr(kFrameHeaderBytes), "unexpected byte 0x7f after the handshake");
+        ASSERT_TRUE(waitFor([&] { return m_server->stats().clients == 0; }));
+    }
+    EXPECT_EQ(m_server->stats().protocolErrors, 2U);
+    // The client library reports the server's message.
+    auto c = connect(small(StreamPayload::Shm));
+    ASSERT_TRUE(c);
+    ASSERT_TRUE(sendAllRaw(c->fd(), "A"));  // an ack without a frame
+    ReceivedFrame f;
+    auto r = c->next(f, 3s);
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(r.error().message.find("ack without a frame"), std::string::npos) << r.error().message;
+}
+
+TEST_F(StreamServerTest, HttpPagesStatusAndMetrics) {
+    const std::string page = httpExchange(m_server->httpPort(), "GET / HTTP/1.1\r\nHost: x\r\n\r\n");
+    EXPECT_EQ(page.rfind("HTTP/1.0 200 OK\r\n", 0), 0U) << page.substr(0, 80);
+    EXPECT_NE(page.find("text/html"), std::string::npos);
+    EXPECT_NE(page.find("<img id=\"view\""), std::string::npos);
+    EXPECT_NE(page.find("/stream.mjpg?profile=center"), std::string::npos);
+
+    const std::string status = httpExchange(m_server->httpPort(), "GET /status HTTP/1.0\r\n\r\n");
+    ASSERT_NE(status.find("\r\n\r\n"), std::string::npos);
+    auto j = nlohmann::json::parse(status.substr(status.find("\r\n\r\n") + 4), nullptr, false);
+    ASSERT_TRUE(j.is_object()) << status;
+    EXPECT_EQ(j["daemon"]["vehicle"]["speed"], 13.5);
+    EXPECT_EQ(j["stream"]["clients"], 0);
+
+    const std::string metrics = httpExchange(m_server->httpPort(), "GET /metrics HTTP/1.1\r\n\r\n");
+    EXPECT_NE(metrics.find("text/plain; version=0.0.4"), std::string::npos);
+    EXPECT_NE(metrics.find("\r\n\r\nnavmapd_frames_total 42\n"), std::string::npos) << metrics;
+    EXPECT_NE(metrics.find("# TYPE navmap_stream_frames_published_total counter"), std::string::npos);
+    EXPECT_NE(metrics.find("navmap_stream_clients{transport=\"shm\"} 0"), std::string::npos);
+}
+
+TEST_F(StreamServerTest, HttpGarbageGetsErrors) {
+    const int port = m_server->httpPort();
+    const std::pair<std::string, std::string> cases[] = {
+        {"GET /nothing HTTP/1.1\r\n\r\n", "HTTP/1.0 404"},
+        {"POST /status HTTP/1.1\r\nContent-Length: 0\r\n\r\n", "HTTP/1.0 405"},
+        {"GET / HTTP/2.0\r\n\r\n", "HTTP/1.0 400"},
+        {"BLAH\r\n\r\n", "HTTP/1.0 400"},
+        {std::string("\x16\x03\x01\x02\x00\x01\x00\x01\xfc\x03\x03", 11), "HTTP/1.0 400"},  // a TLS hello
+        {"GET /" + std::string(9000, 'a') + " HTTP/1.1\r\n\r\n", "HTTP/1.0 431"},
+        {"GET /stream.mjpg?profile=warp HTTP/1.1\r\n\r\n", "HTTP/1.0 400"},
+        {"GET /stream.mjpg?profile=hud&fps=100000 HTTP/1.1\r\n\r\n", "HTTP/1.0 400"},
+    };
+    for (const auto& [req, want] : cases) {
+        const std::string reply = httpExchange(port, req);
+        EXPECT_EQ(reply.rfind(want, 0), 0U) << req.substr(0, 40) << " -> " << reply.substr(0, 80);
+    }
+    const auto s = m_server->stats();
+    EXPECT_EQ(s.httpErrors, std::size(cases));
+    EXPECT_EQ(s.clients, 0U);
+    EXPECT_EQ(s.rings, 0U);
+}
+
+TEST_F(StreamServerTest, MjpegOverHttpDecodesToThePublishedImage) {
+    MjpegReader reader(m_server->httpPort(), "/stream.mjpg?profile=side&width=96&height=48&view=bird&fps=60");
+    ASSERT_TRUE(reader.ok()) << reader.responseHead();
+    EXPECT_NE(reader.responseHead().find("multipart/x-mixed-replace; boundary=navmapframe"), std::string::npos);
+    ASSERT_TRUE(waitFor([&] { return m_server->stats().mjpegClients == 1; }));
+    // Left half red, right half blue.
+    std::vector<std::uint8_t> px(96 * 48 * 4);
+    for (int y = 0; y < 48; ++y) {
+        for (int x = 0; x < 96; ++x) {
+            std::uint8_t* p = &px[(static_cast<std::size_t>(y) * 96 + x) * 4];
+            p[0] = x < 48 ? 220 : 20;
+            p[1] = 30;
+            p[2] = x < 48 ? 20 : 200;
+            p[3] = 255;
+        }
+    }
+    for (int i = 0; i < 2; ++i) {
+        m_server->publish("bird", FrameView{px.data(), 96, 48, 0, PixelFormat::Rgba8, 0, 0});
+        std::uint64_t seq = 0;
+        const auto jpeg = reader.next(3s, &seq);
+        ASSERT_FALSE(jpeg.empty()) << "no JPEG part " << i;
+        EXPECT_EQ(seq, static_cast<std::uint64_t>(i + 1));
+        int w = 0, h = 0;
+        std::vector<std::uint8_t> rgba;
+        ASSERT_TRUE(decodeJpeg(jpeg, &w, &h, &rgba));
+        ASSERT_EQ(w, 96);
+        ASSERT_EQ(h, 48);
+        const auto at = [&](int x, int y, int c) { return static_cast<int>(rgba[(static_cast<std::size_t>(y) * 96 + x) * 4 + c]); };
+        EXPECT_NEAR(at(10, 24, 0), 220, 12);
+        EXPECT_NEAR(at(10, 24, 2), 20, 12);
+        EXPECT_NEAR(at(85, 24, 0), 20, 12);
+        EXPECT_NEAR(at(85, 24, 2), 200, 12);
+        std::this_thread::sleep_for(20ms);  // stay under the 60 fps cap
+    }
+}
+
+TEST_F(StreamServerTest, NoFdOrMemoryGrowthOver100ConnectDisconnectCycles) {
+    Publisher pub(*m_server, "bird", 64, 32, 200);
+    const auto cycle = [&](int i) {
+        switch (i % 4) {
+            case 0:
+            case 1: {
+                auto c = connect(small(i % 4 == 0 ? StreamPayload::Shm : StreamPayload::Zlib));
+                ASSERT_TRUE(c);
+                ReceivedFrame f;
+                auto r = c->next(f, 2s);
+                ASSERT_TRUE(r.ok() && r.value()) << "cycle " << i;
+                break;
+            }
+            case 2: {
+                MjpegReader m(m_server->httpPort(), "/stream.mjpg?profile=t&width=64&height=32&view=bird");
+                ASSERT_TRUE(m.ok());
+                ASSERT_FALSE(m.next(2s).empty()) << "cycle " << i;
+                break;
+            }
+            default: {
+                const int fd = connectUnixRaw(m_server->options().unixPath);
+                sendAllRaw(fd, "{\"broken\n");
+                readUntilClose(fd, 2s);
+                close(fd);
+                break;
+            }
+        }
+    };
+    for (int i = 0; i < 12; ++i) {  // warm-up: allocator pools, first rings
+        cycle(i);
+    }
+    ASSERT_TRUE(waitFor([&] { return m_server->stats().connections == 0; }));
+    const int fds = countFds();
+    const long rss = rssKb();
+    for (int i = 0; i < 100; ++i) {
+        cycle(i);
+    }
+    ASSERT_TRUE(waitFor([&] { return m_server->stats().connections == 0 && m_server->stats().rings == 0; }));
+    const int fdsAfter = countFds();
+    const long rssAfter = rssKb();
+    pub.stop();
+    EXPECT_EQ(fdsAfter, fds);
+    std::printf("100 cycles: fds %d -> %d, RSS %ld -> %ld kB\n", fds, fdsAfter, rss, rssAfter);
+    EXPECT_LT(rssAfter - rss, 4096) << "RSS grew by " << (rssAfter - rss) << " kB";
+}
+
+TEST_F(StreamServerTest, ActiveProfilesTellTheDaemonWhatToRender) {
+    StreamRequest a = small(StreamPayload::Shm, 10);
+    StreamRequest b = small(StreamPayload::Raw, 25, PixelFormat::Rgb565);
+    auto c1 = connect(a);
+    auto c2 = connect(b);
+    auto hud = parseStreamRequest(R"({"version":1,"profile":"hud","payload":"shm"})");
+    ASSERT_TRUE(hud.ok());
+    auto c3 = connect(hud.value());
+    ASSERT_TRUE(c1 && c2 && c3);
+    ASSERT_TRUE(waitFor([&] { return m_server->stats().clients == 3; }));
+    auto active = m_server->activeProfiles();
+    ASSERT_EQ(active.size(), 2U);  // the two formats of bird 64x32 render once
+    std::sort(active.begin(), active.end(), [](const auto& x, const auto& y) { return x.view < y.view; });
+    EXPECT_EQ(active[0].view, "bird");
+    EXPECT_EQ(active[0].maxFps, 25);
+    EXPECT_EQ(active[0].clients, 2U);
+    EXPECT_EQ(active[1].view, "hud");
+    EXPECT_EQ(active[1].width, 800);
+    EXPECT_EQ(active[1].height, 240);
+    EXPECT_EQ(m_server->stats().rings, 3U);
+}
+
+TEST(FrameServerSetup, BindErrorsNameTheCallAndTheObject) {
+    const int fds = countFds();
+    {
+        FrameServerOptions o;
+        o.unixPath = "/nonexistent-navmap-dir/stream.sock";
+        FrameServer s(o);
+        auto st = s.start();
+        ASSERT_FALSE(st.ok());
+        EXPECT_EQ(st.message(), "bind(/nonexistent-navmap-dir/stream.sock): No such file or directory");
+    }
+    {
+        FrameServerOptions o;
+        o.tcpPort = 0;
+        FrameServer first(o);
+        ASSERT_TRUE(first.start().ok());
+        FrameServerOptions o2;
+        o2.tcpPort = first.tcpPort();
+        FrameServer second(o2);
+        auto st = second.start();
+        ASSERT_FALSE(st.ok());
+        EXPECT_EQ(st.message(), "bind(127.0.0.1:" + std::to_string(first.tcpPort()) + "): Address already in use");
+    }
+    {
+        FrameServerOptions o;
+        o.bindAddress = "localhost-ish";
+        o.httpPort = 0;
+        FrameServer s(o);
+        auto st = s.start();
+        ASSERT_FALSE(st.ok());
+        EXPECT_NE(st.message().find("not a numeric"), std::string::npos);
+    }
+    EXPECT_EQ(countFds(), fds);
+}
+
+TEST(StreamClientSetup, ConnectErrorsNameThePeer) {
+    auto c = StreamClient::connectUnix("/nonexistent-navmap-dir/s.sock", StreamRequest{});
+    ASSERT_FALSE(c.ok());
+    EXPECT_EQ(c.error().message, "connect(/nonexistent-navmap-dir/s.sock): No such file or directory");
+    StreamRequest r;
+    r.payload = StreamPayload::Raw;
+    auto t = StreamClient::connectTcp("127.0.0.1", 1, r, 500ms);
+    ASSERT_FALSE(t.ok());
+    EXPECT_EQ(t.error().message, "connect(127.0.0.1:1): Connection refused");
+}
+
+TEST_F(StreamServerTest, FrameRateCapDelaysButNeverLosesTheNewestFrame) {
+    auto c = connect(small(StreamPayload::Shm, 10));  // at most one frame per 100 ms
+    ASSERT_TRUE(c);
+    ASSERT_TRUE(waitFor([&] { return m_server->stats().clients == 1; }));
+    publishSeq(1);
+    ReceivedFrame f;
+    auto r = c->next(f, 2s);
+    ASSERT_TRUE(r.ok() && r.value());
+    EXPECT_EQ(f.header.sequence, 1U);
+    const auto t0 = std::chrono::steady_clock::now();
+    publishSeq(2);  // too early for a 10 fps client; the render loop then goes quiet
+    r = c->next(f, 2s);
+    ASSERT_TRUE(r.ok() && r.value()) << "the capped frame never came";
+    const auto waited = std::chrono::steady_clock::now() - t0;
+    EXPECT_EQ(f.header.sequence, 2U);
+    expectPattern(f, 2);
+    EXPECT_GE(waited, 40ms);   // held back by the cap (3/4 of the period, minus scheduling)
+    EXPECT_LT(waited, 500ms);
+    EXPECT_EQ(f.header.dropped, 0U);  // a capped frame is not a drop
+}

@@ -1,0 +1,63 @@
+// Runs the stream fuzz entry (tests/fuzz/stream_handshake_fuzz.cpp) on a corpus of broken
+// handshakes, HTTP heads and frame headers: prefixes and byte flips of good ones plus nasties.
+
+#include <gtest/gtest.h>
+
+#include <random>
+#include <string>
+#include <vector>
+
+#include "navmap/ipc/frame_header.hpp"
+#include "navmap/ipc/stream_profile.hpp"
+
+int navmapFuzzStreamHandshake(const std::uint8_t* data, std::size_t size);
+
+TEST(StreamFuzzCorpus, HandshakeHttpAndHeaderParsersSurviveBrokenInputs) {
+    navmap::ipc::FrameHeader h;
+    h.width = 1280;
+    h.height = 480;
+    h.stride = 5120;
+    h.payloadBytes = 5120 * 480;
+    const auto hb = navmap::ipc::encodeFrameHeader(h);
+    navmap::ipc::StreamRequest req;
+    req.profile = *navmap::ipc::defaultStreamProfile("cluster");
+    const std::vector<std::string> seeds = {
+        navmap::ipc::formatStreamRequest(req),
+        "{\"version\":1,\"profile\":\"x\",\"width\":320,\"height\":200,\"view\":\"bird\",\"format\":\"rgb565\"}\n",
+        "GET /stream.mjpg?profile=hud&fps=5 HTTP/1.1\r\nHost: localhost\r\nAccept: */*\r\n\r\n",
+        std::string(hb.begin(), hb.end()),
+    };
+    const std::vector<std::string> extra = {
+        "{\"version\":1e999,\"profile\":\"hud\"}",
+        "{\"version\":1,\"profile\":\"hud\",\"width\":1.5}",
+        "{\"version\":1,\"profile\":\"hud\",\"width\":18446744073709551615}",
+        "{\"version\":1,\"profile\":\"hud\",\"width\":-9223372036854775808}",
+        "{\"version\":1,\"profile\":\"\\ud800\"}",
+        std::string(100000, '['),
+        std::string("{\"version\":1,\"profile\":\"hud\"\0}", 30),
+        "GET /?&&&==&a HTTP/1.1\r\n\r\n",
+        "GET / HTTP/1.1\r\n:\r\n\r\n",
+        std::string(80, '\xff'),
+        std::string(80, '\0'),
+    };
+    std::mt19937 rng(7);
+    const auto run = [](const std::string& s) {
+        navmapFuzzStreamHandshake(reinterpret_cast<const std::uint8_t*>(s.data()), s.size());
+    };
+    for (const auto& seed : seeds) {
+        for (std::size_t n = 0; n <= seed.size(); ++n) {
+            run(seed.substr(0, n));
+        }
+        for (int i = 0; i < 500; ++i) {
+            std::string s = seed;
+            for (int k = 0; k < 3; ++k) {
+                s[rng() % s.size()] = static_cast<char>(rng());
+            }
+            run(s);
+        }
+    }
+    for (const auto& e : extra) {
+        run(e);
+    }
+    SUCCEED();
+}

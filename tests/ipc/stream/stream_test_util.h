@@ -1,0 +1,66 @@
+#pragma once
+// Helpers for the frame-stream tests and benchmarks: raw sockets, a frame publisher thread,
+// an MJPEG-over-HTTP reader, fd and memory counters.
+
+#include <atomic>
+#include <chrono>
+#include <cstdint>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "navmap/ipc/frame_server.hpp"
+
+namespace navmap::stream_test {
+
+int countFds();
+long rssKb();
+std::string uniqueSocketPath(const std::string& tag);
+
+/// RGBA frame whose every pixel encodes `seq` (R,G,B = seq bytes 0..2, A = 255).
+std::vector<std::uint8_t> sequencePattern(int width, int height, std::uint64_t seq);
+
+/// Publishes frames of `view` at `fps` (0 = as fast as possible) on its own thread, like a render loop.
+class Publisher {
+public:
+    Publisher(ipc::FrameServer& server, std::string view, int width, int height, int fps);
+    ~Publisher();
+    void stop();
+    std::uint64_t published() const { return m_count.load(); }
+
+private:
+    std::atomic<bool> m_run{true};
+    std::atomic<std::uint64_t> m_count{0};
+    std::thread m_thread;
+};
+
+int connectUnixRaw(const std::string& path);
+int connectTcpRaw(int port);
+bool sendAllRaw(int fd, const std::string& data);
+/// Reads until the peer closes or `timeout` passes.
+std::string readUntilClose(int fd, std::chrono::milliseconds timeout);
+/// One HTTP request over a fresh connection; returns the whole response.
+std::string httpExchange(int port, const std::string& request, std::chrono::milliseconds timeout = std::chrono::seconds(5));
+
+/// Reads multipart/x-mixed-replace JPEG parts from /stream.mjpg.
+class MjpegReader {
+public:
+    MjpegReader(int port, const std::string& target);
+    ~MjpegReader();
+    bool ok() const { return m_fd >= 0 && m_headOk; }
+    /// Next JPEG (empty on timeout/close). `sequence` from X-Navmap-Sequence.
+    std::vector<std::uint8_t> next(std::chrono::milliseconds timeout, std::uint64_t* sequence = nullptr);
+    const std::string& responseHead() const { return m_head; }
+
+private:
+    bool fill(std::chrono::steady_clock::time_point deadline);
+    int m_fd = -1;
+    bool m_headOk = false;
+    std::string m_head;
+    std::string m_buf;
+};
+
+/// Decodes a JPEG to RGBA with libturbojpeg; false on error.
+bool decodeJpeg(const std::vector<std::uint8_t>& jpeg, int* width, int* height, std::vector<std::uint8_t>* rgba);
+
+}  // namespace navmap::stream_test
