@@ -199,8 +199,9 @@ std::optional<DaemonConfig> parseConfig(const std::string& text, const std::stri
             }
             if (view == "bird") p.view = render::ViewMode::Bird;
             else if (view == "snail") p.view = render::ViewMode::Snail;
+            else if (view == "hud") p.view = render::ViewMode::Snail;  // route-and-manoeuvre style, from behind
             else {
-                err->message = where(source_name, e.source()) + ": profile.view = \"" + view + "\": expected bird or snail";
+                err->message = where(source_name, e.source()) + ": profile.view = \"" + view + "\": expected bird, snail or hud";
                 return std::nullopt;
             }
             if (orientation == "north-up") p.orientation = render::Orientation::NorthUp;
@@ -209,6 +210,7 @@ std::optional<DaemonConfig> parseConfig(const std::string& text, const std::stri
                                "\": expected heading-up or north-up";
                 return std::nullopt;
             }
+            p.stream_view = view;
             c.profiles.push_back(p);
         }
     } else {

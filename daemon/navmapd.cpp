@@ -1,209 +1,98 @@
-// navmapd: the navigation-map renderer daemon. This version runs the main job on a compiled
-// tile store with an in-process simulated drive: each tick advances the vehicle, every display
-// profile in use renders its view once (camera rig -> level-of-detail tiles -> map frame), and
-// the frames are read back asynchronously and recorded as PNG. Vehicle input over CAN, the
-// control socket and frame streaming plug in at the marked places.
+// navmapd: the navigation-map renderer daemon. Reads its TOML configuration (optional; every key
+// has a default, docs/navmapd.md), applies command-line overrides and runs the main loop
+// (daemon.h) until SIGTERM. `--check-config` validates and prints the effective configuration.
 
 #include <CLI/CLI.hpp>
 
-#include <algorithm>
-#include <chrono>
-#include <cmath>
 #include <cstdio>
-#include <filesystem>
-#include <memory>
-#include <sstream>
-#include <string>
-#include <vector>
+#include <iostream>
 
-#include "navmap/render/map_scene.h"
-#include "navmap/render/renderer.h"
-#include "profiles.h"
-#include "simulated_drive.h"
-
-namespace {
-
-using navmap::daemon::DisplayProfile;
-
-// Log lines carry a syslog priority prefix that journald understands (sd-daemon(3)).
-template <typename... Args>
-void logf(int priority, const char* fmt, Args... args) {
-    std::fprintf(stderr, "<%d>navmapd: ", priority);
-    std::fprintf(stderr, fmt, args...);
-    std::fputc('\n', stderr);
-}
-constexpr int kErr = 3, kWarning = 4, kInfo = 6;
-
-double msSince(std::chrono::steady_clock::time_point t0) {
-    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-}
-
-// "42.5075,1.5218" or a built-in place name.
-bool parsePlace(const std::string& text, navmap::render::GeoPoint& out) {
-    struct Named {
-        const char* name;
-        navmap::render::GeoPoint p;
-    };
-    static const Named kPlaces[] = {{"andorra-la-vella", navmap::render::kAndorraLaVella},
-                                    {"encamp", navmap::render::kEncamp},
-                                    {"sant-julia", navmap::render::kSantJulia}};
-    for (const auto& n : kPlaces) {
-        if (text == n.name) {
-            out = n.p;
-            return true;
-        }
-    }
-    double lat = 0, lon = 0;
-    char comma = 0;
-    std::istringstream in(text);
-    if (in >> lat >> comma >> lon && comma == ',' && std::abs(lat) <= 90 && std::abs(lon) <= 180) {
-        out = {lat, lon};
-        return true;
-    }
-    return false;
-}
-
-struct View {
-    DisplayProfile profile;
-    std::unique_ptr<navmap::render::Renderer> renderer;
-    std::unique_ptr<navmap::render::MapView> map_view;
-    navmap::render::CameraRig rig;
-    std::filesystem::path out_dir;
-    std::vector<double> frame_ms;
-    std::size_t written = 0;
-};
-
-}  // namespace
+#include "config.h"
+#include "daemon.h"
 
 int main(int argc, char** argv) {
-    CLI::App app{"navmapd - headless 3D navigation-map renderer"};
-    std::string store_path = NAVMAP_DEFAULT_STORE;
-    std::string out_dir = "out/frames";
-    std::string platform_name = "auto";
-    std::string from = "andorra-la-vella", to = "encamp";
-    std::vector<std::string> profile_names{"cluster", "center"};
-    int frames = 60;
-    double sim_step = 1.0;
-    int msaa = -1;
-    bool noop = false;
-    app.add_option("--store", store_path, "compiled tile store (navmap-compile)")->capture_default_str();
-    app.add_option("--from", from, "drive start: lat,lon or andorra-la-vella|encamp|sant-julia")->capture_default_str();
-    app.add_option("--to", to, "drive destination")->capture_default_str();
-    app.add_option("--profiles", profile_names, "display profiles to render: cluster hud center")
-        ->capture_default_str()->delimiter(',');
-    app.add_option("--out", out_dir, "directory for the recorded frames (one folder per profile)")->capture_default_str();
-    app.add_option("--frames", frames, "ticks to run")->capture_default_str()->check(CLI::Range(1, 1000000));
-    app.add_option("--sim-step", sim_step, "simulated seconds per tick")->capture_default_str()->check(CLI::Range(0.001, 60.0));
-    app.add_option("--msaa", msaa, "MSAA samples (0 = off, -1 = auto: off on software rasterizers)")
-        ->capture_default_str()->check(CLI::Range(-1, 16));
-    app.add_option("--egl-platform", platform_name, "auto | surfaceless | device (env NAVMAP_EGL_PLATFORM)")
-        ->capture_default_str()->check(CLI::IsMember({"auto", "surfaceless", "device"}));
-    app.add_flag("--noop", noop, "use the no-op renderer (no GL; blank frames)");
+    using namespace navmap::daemon;
+    CLI::App app{"navmapd - headless 3D navigation-map renderer daemon"};
+    std::string config_path, store, input, replay, can_iface, from, to, control_socket, frame_socket, style, egl, log_level;
+    std::vector<std::string> profile_names;
+    std::optional<double> speed, run_for;
+    std::optional<int> http_port, tcp_port, msaa;
+    bool check = false, render_all = false, noop = false;
+    app.add_option("-c,--config", config_path, "TOML configuration file (defaults apply without one)");
+    app.add_flag("--check-config", check, "validate the configuration, print it and exit");
+    app.add_option("--store", store, "compiled tile store (navmap-compile)");
+    app.add_option("--input", input, "vehicle input: sim | replay | socketcan")->check(CLI::IsMember({"sim", "replay", "socketcan"}));
+    app.add_option("--replay", replay, "candump log to replay (implies --input replay)");
+    app.add_option("--can-interface", can_iface, "SocketCAN interface (implies --input socketcan)");
+    app.add_option("--from", from, "simulated drive start: lat,lon or a place name");
+    app.add_option("--to", to, "simulated drive destination");
+    app.add_option("--speed", speed, "replay / simulation speed factor")->check(CLI::Range(0.01, 1000.0));
+    app.add_option("--profiles", profile_names, "render only these profiles (cluster,hud,center)")->delimiter(',');
+    app.add_option("--control-socket", control_socket, "control socket path");
+    app.add_option("--frame-socket", frame_socket, "frame-stream socket path");
+    app.add_option("--http-port", http_port, "HTTP port (MJPEG, status page, /metrics); 0 = off")->check(CLI::Range(0, 65535));
+    app.add_option("--tcp-port", tcp_port, "TCP frame-stream port; 0 = off")->check(CLI::Range(0, 65535));
+    app.add_option("--style", style, "day | night")->check(CLI::IsMember({"day", "night"}));
+    app.add_option("--egl-platform", egl, "auto | surfaceless | device")->check(CLI::IsMember({"auto", "surfaceless", "device"}));
+    app.add_option("--msaa", msaa, "MSAA samples (0 off, -1 auto)")->check(CLI::Range(-1, 16));
+    app.add_option("--log-level", log_level, "error | warning | notice | info | debug")
+        ->check(CLI::IsMember({"error", "warning", "notice", "info", "debug"}));
+    app.add_option("--run-for", run_for, "stop after this many seconds")->check(CLI::Range(0.1, 1e7));
+    app.add_flag("--render-all", render_all, "render every profile even without clients");
+    app.add_flag("--noop", noop, "no GL: the no-op renderer (testing the loop)");
     CLI11_PARSE(app, argc, argv);
 
-    using namespace navmap;
-    try {
-        render::GeoPoint a{}, b{};
-        if (!parsePlace(from, a)) throw std::runtime_error("--from " + from + ": expected lat,lon or a known place");
-        if (!parsePlace(to, b)) throw std::runtime_error("--to " + to + ": expected lat,lon or a known place");
-        const auto t_open = std::chrono::steady_clock::now();
-        render::MapScene scene = render::MapScene::open(store_path);
-        logf(kInfo, "store: %s, %u tiles, %zu graph nodes (%.0f ms)", store_path.c_str(), scene.store->info().tile_count,
-             scene.graph.nodes.size(), msSince(t_open));
-
-        // Vehicle input. (CAN replay / SocketCAN and the pose estimator replace this simulated drive.)
-        daemon::SimulatedDrive drive(render::planDrive(scene, a.lat, a.lon, b.lat, b.lon));
-        if (drive.length() <= 0.0) throw std::runtime_error("no drivable route from " + from + " to " + to);
-        logf(kInfo, "simulated drive: %s -> %s, %.1f km on %zu route points", from.c_str(), to.c_str(),
-             drive.length() / 1000.0, drive.drive().line.size());
-
-        std::vector<View> views;
-        const auto all = daemon::defaultProfiles();
-        for (const auto& name : profile_names) {
-            auto profile = daemon::findProfile(all, name);
-            if (!profile) throw std::runtime_error("--profiles: unknown profile '" + name + "' (cluster, hud, center)");
-            View v;
-            v.profile = *profile;
-            render::RendererOptions options;
-            options.platform = *render::parsePlatform(platform_name);
-            options.width = profile->width;
-            options.height = profile->height;
-            options.msaa_samples = msaa;
-            v.renderer = noop ? render::Renderer::createNoop(options) : render::Renderer::create(options);
-            v.map_view = std::make_unique<render::MapView>(scene.cache);
-            v.rig.setMode(profile->view);
-            v.rig.setOrientation(profile->orientation);
-            v.out_dir = std::filesystem::path(out_dir) / name;
-            std::filesystem::create_directories(v.out_dir);
-            const auto& dev = v.renderer->device();
-            logf(kInfo, "profile %s %dx%d %s: %s on %s, %s, MSAA %dx", name.c_str(), profile->width, profile->height,
-                 profile->view == render::ViewMode::Bird ? "bird's-eye" : "snail's view", dev.backend.c_str(),
-                 dev.platform.c_str(), dev.renderer.c_str(), dev.msaa_samples);
-            views.push_back(std::move(v));
-        }
-
-        auto save = [&](View& v, const render::Frame& frame) {
-            char name[64];
-            std::snprintf(name, sizeof name, "frame_%04llu.png", static_cast<unsigned long long>(frame.sequence));
-            std::string error;
-            if (!render::writePng(v.out_dir / name, frame.image, &error)) {
-                logf(kErr, "cannot record frame: %s", error.c_str());
-                return;
-            }
-            ++v.written;
-        };
-        const auto terrain = [&](double x, double y) { return views.front().map_view->terrainHeight(x, y); };
-
-        // Warm the tile cache for the first pose so the first frame is complete.
-        for (auto& v : views) {
-            const auto pose = render::poseAlong(drive.drive(), 0.0, 0.0, terrain);
-            const auto cam = v.rig.update(pose, 0.0, terrain);
-            v.map_view->warmUp(cam, double(v.profile.width) / v.profile.height, v.profile.height, std::chrono::seconds(20));
-        }
-        for (auto& p : drive.drive().geometry.points) p.z = terrain(p.x, p.y);
-
-        for (int tick = 0; tick < frames; ++tick) {
-            if (tick > 0) drive.advance(sim_step);
-            const auto pose = render::poseAlong(drive.drive(), drive.measure(), drive.speed(), terrain);
-            for (auto& v : views) {
-                const auto t0 = std::chrono::steady_clock::now();
-                render::MapFrame frame;
-                frame.camera = v.rig.update(pose, tick == 0 ? 0.0 : sim_step, terrain);
-                const double aspect = double(v.profile.width) / v.profile.height;
-                frame.tiles = v.map_view->tilesFor(frame.camera, aspect, v.profile.height);
-                frame.route = &drive.drive().geometry;
-                frame.route_progress_m = drive.measure();
-                frame.marker = render::MarkerState{pose.position, pose.heading_deg, false};
-                v.renderer->renderMap(frame);
-                auto done = v.renderer->readAsync(static_cast<std::uint64_t>(tick));
-                v.frame_ms.push_back(msSince(t0));
-                if (done) save(v, *done);  // frame server publishes here
-            }
-            if ((tick + 1) % 20 == 0 || tick + 1 == frames) {
-                const auto m = scene.cache->metrics();
-                logf(kInfo, "tick %d/%d: %.2f of %.2f km, %.0f km/h; tiles resident %zu (%.1f MiB), loads %llu",
-                     tick + 1, frames, drive.measure() / 1000.0, drive.length() / 1000.0, drive.speed() * 3.6,
-                     m.resident_tiles, m.resident_bytes / 1048576.0, static_cast<unsigned long long>(m.loads));
-            }
-        }
-        int status = 0;
-        for (auto& v : views) {
-            for (const auto& f : v.renderer->drainReadbacks()) save(v, f);
-            std::sort(v.frame_ms.begin(), v.frame_ms.end());
-            logf(kInfo, "profile %s: frame (tiles + render + readback submit) median %.1f ms, p95 %.1f ms",
-                 v.profile.name.c_str(), v.frame_ms[v.frame_ms.size() / 2],
-                 v.frame_ms[std::min(v.frame_ms.size() - 1, v.frame_ms.size() * 95 / 100)]);
-            if (v.written != static_cast<std::size_t>(frames)) {
-                logf(kWarning, "profile %s: %zu of %d frames recorded", v.profile.name.c_str(), v.written, frames);
-                status = 1;
-            }
-            std::printf("%s: %zu frames (%dx%d) in %s/frame_0000.png ... frame_%04d.png\n", v.profile.name.c_str(),
-                        v.written, v.profile.width, v.profile.height,
-                        std::filesystem::absolute(v.out_dir).lexically_normal().c_str(), frames - 1);
-        }
-        return status;
-    } catch (const std::exception& e) {
-        logf(kErr, "%s", e.what());
+    ConfigError err;
+    std::optional<DaemonConfig> config = config_path.empty() ? parseConfig("", "<defaults>", &err) : loadConfig(config_path, &err);
+    if (!config) {
+        std::fprintf(stderr, "<3>navmapd: %s\n", err.message.c_str());
         return 1;
     }
+    DaemonConfig& c = *config;
+    if (c.store_path.empty()) c.store_path = NAVMAP_DEFAULT_STORE;
+    if (!store.empty()) c.store_path = store;
+    if (!input.empty()) c.input = input == "sim" ? InputSource::Sim : input == "replay" ? InputSource::Replay : InputSource::SocketCan;
+    if (!replay.empty()) c.replay_log = replay, c.input = InputSource::Replay;
+    if (!can_iface.empty()) c.can_interface = can_iface, c.input = InputSource::SocketCan;
+    if (!from.empty()) c.sim_from = from;
+    if (!to.empty()) c.sim_to = to;
+    if (speed) c.replay_speed = c.sim_speed_factor = *speed;
+    if (!control_socket.empty()) c.control_socket = control_socket;
+    if (!frame_socket.empty()) c.frame_socket = frame_socket;
+    if (http_port) c.http_port = *http_port;
+    if (tcp_port) c.tcp_port = *tcp_port;
+    if (!style.empty()) c.night = style == "night";
+    if (!egl.empty()) c.egl_platform = egl;
+    if (msaa) c.msaa = *msaa;
+    if (!log_level.empty()) {
+        const std::string l = log_level;
+        c.log_level = l == "error" ? 3 : l == "warning" ? 4 : l == "notice" ? 5 : l == "info" ? 6 : 7;
+    }
+    if (!profile_names.empty()) {
+        std::vector<DisplayProfile> chosen;
+        for (const auto& name : profile_names) {
+            auto p = findProfile(c.profiles, name);
+            if (!p) {
+                std::fprintf(stderr, "<3>navmapd: --profiles: unknown profile '%s'\n", name.c_str());
+                return 1;
+            }
+            chosen.push_back(*p);
+        }
+        c.profiles = chosen;
+    }
+    if (!validateConfig(c, &err)) {
+        std::fprintf(stderr, "<3>navmapd: %s\n", err.message.c_str());
+        return 1;
+    }
+    if (check) {
+        std::cout << "configuration OK\n" << describeConfig(c);
+        return 0;
+    }
+    RunOptions options;
+    options.run_for_s = run_for;
+    if (!config_path.empty()) options.config_path = config_path;
+    options.data_dir = NAVMAP_DATA_DIR;
+    options.noop_renderer = noop;
+    options.render_all_profiles = render_all;
+    return runDaemon(std::move(c), options);
 }

@@ -16,6 +16,8 @@ struct DisplayProfile {
     double fps = 30.0;
     render::ViewMode view = render::ViewMode::Snail;
     render::Orientation orientation = render::Orientation::HeadingUp;
+    /// The view name frame-stream clients ask for ("snail", "bird", "hud"; docs/frame-protocol.md).
+    std::string stream_view = "snail";
 };
 
 /// The defaults: cluster 1280x480 snail's view, HUD 800x240 snail's view (route and

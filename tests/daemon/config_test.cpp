@@ -99,7 +99,7 @@ TEST(DaemonConfig, ErrorsNameFileLineAndProblem) {
     EXPECT_FALSE(parse("[input]\nsource = \"usb\"\n", &m));
     EXPECT_NE(m.find("expected sim, replay or socketcan"), std::string::npos) << m;
     EXPECT_FALSE(parse("[[profile]]\nname = \"x\"\nview = \"sky\"\n", &m));
-    EXPECT_NE(m.find("expected bird or snail"), std::string::npos) << m;
+    EXPECT_NE(m.find("expected bird, snail or hud"), std::string::npos) << m;
     EXPECT_FALSE(parse("[store\npath = 1", &m));
     EXPECT_EQ(m.rfind("navmapd.toml:1:", 0), 0u) << m;
 }

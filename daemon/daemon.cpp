@@ -1,0 +1,434 @@
+#include "daemon.h"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <cstdarg>
+#include <cstdio>
+#include <deque>
+#include <map>
+#include <set>
+#include <sstream>
+#include <vector>
+
+#include "lifecycle.h"
+#include "navmap/ipc/control_server.h"
+#include "navmap/ipc/control_state.h"
+#include "navmap/ipc/frame_server.hpp"
+#include "navmap/render/map_scene.h"
+#include "navmap/render/renderer.h"
+#include "vehicle_input.h"
+
+namespace navmap::daemon {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// Log lines carry a syslog priority prefix that journald understands (sd-daemon(3)).
+struct Log {
+    int level = 6;
+    void operator()(int priority, const char* fmt, ...) const __attribute__((format(printf, 3, 4))) {
+        if (priority > level) return;
+        std::fprintf(stderr, "<%d>navmapd: ", priority);
+        va_list ap;
+        va_start(ap, fmt);
+        std::vfprintf(stderr, fmt, ap);
+        va_end(ap);
+        std::fputc('\n', stderr);
+    }
+};
+constexpr int kErr = 3, kWarning = 4, kNotice = 5, kInfo = 6;
+
+double percentile(std::vector<double> v, double q) {
+    if (v.empty()) return 0.0;
+    std::sort(v.begin(), v.end());
+    return v[std::min(v.size() - 1, static_cast<std::size_t>(q * (v.size() - 1) + 0.5))];
+}
+
+// A bounded window of recent samples for percentiles.
+struct Window {
+    std::deque<double> values;
+    void add(double v) {
+        values.push_back(v);
+        if (values.size() > 600) values.pop_front();
+    }
+    [[nodiscard]] double p(double q) const { return percentile({values.begin(), values.end()}, q); }
+};
+
+std::int64_t realtimeNs(ipc::CanTime t) { return std::chrono::duration_cast<std::chrono::nanoseconds>(t.time_since_epoch()).count(); }
+
+struct ProfileView {
+    DisplayProfile profile;
+    std::unique_ptr<render::Renderer> renderer;
+    std::unique_ptr<render::MapView> map_view;
+    render::CameraRig rig;
+    Clock::time_point next_due{};
+    Clock::time_point last_frame{};
+    std::uint64_t sequence = 0;
+    std::map<std::uint64_t, ipc::CanTime> source_times;  // sequence -> CAN time behind the pose
+    Window frame_ms, latency_ms;
+    std::uint64_t rendered = 0, published = 0, skipped_idle = 0;
+};
+
+render::ViewMode viewFor(const DisplayProfile& p, const ipc::ViewState* state) {
+    if (state) {
+        const auto it = state->displays.find(p.name);
+        if (it != state->displays.end()) {
+            if (it->second.mode == ipc::ViewMode::Bird) return render::ViewMode::Bird;
+            if (it->second.mode == ipc::ViewMode::Snail) return render::ViewMode::Snail;
+        }
+    }
+    return p.view;
+}
+
+render::Orientation orientationFor(const DisplayProfile& p, const ipc::ViewState* state) {
+    if (state) {
+        const auto it = state->displays.find(p.name);
+        if (it != state->displays.end()) {
+            return it->second.orientation == ipc::ViewOrientation::NorthUp ? render::Orientation::NorthUp
+                                                                           : render::Orientation::HeadingUp;
+        }
+    }
+    return p.orientation;
+}
+
+}  // namespace
+
+int runDaemon(DaemonConfig config, const RunOptions& options) {
+    Log log{config.log_level};
+    const auto t_start = Clock::now();
+    std::unique_ptr<Signals> signals;
+    SystemdNotifier systemd;
+    try {
+        signals = std::make_unique<Signals>();
+        ConfigError err;
+        if (!validateConfig(config, &err)) throw std::runtime_error("config: " + err.message);
+
+        render::MapScene scene = render::MapScene::open(config.store_path, config.cache_mb << 20);
+        log(kInfo, "store %s: %u tiles, cache %zu MiB", config.store_path.c_str(), scene.store->info().tile_count, config.cache_mb);
+
+        std::set<std::string, std::less<>> display_names;
+        for (const auto& p : config.profiles) display_names.insert(p.name);
+        auto control_state = std::make_shared<ipc::ControlState>(display_names);
+        if (config.night) {
+            ipc::SetStyleCommand night;
+            night.style = ipc::MapStyle::Night;
+            (void)control_state->setStyle(night);
+        }
+
+        // Status shared with the control socket's and the HTTP server's threads as snapshots.
+        std::atomic<std::shared_ptr<const nlohmann::json>> status_json{std::make_shared<const nlohmann::json>(nlohmann::json::object())};
+        std::atomic<std::shared_ptr<const std::string>> metrics_text{std::make_shared<const std::string>()};
+        control_state->setStatusProvider([&] { return *status_json.load(); });
+
+        VehicleInput input(config, scene, control_state, options.data_dir);
+
+        ipc::ControlServerConfig ccfg;
+        ccfg.socketPath = config.control_socket.string();
+        ccfg.socketMode = static_cast<mode_t>(config.control_mode);
+        for (auto uid : config.control_uids) ccfg.allowedUids.push_back(static_cast<uid_t>(uid));
+        auto control = ipc::ControlServer::create(ccfg, *control_state);
+        if (!control) throw std::runtime_error(control.error().message);
+        std::unique_ptr<ipc::ControlServer> control_server = std::move(control).value();
+
+        ipc::FrameServerOptions fopt;
+        fopt.unixPath = config.frame_socket.string();
+        fopt.bindAddress = config.http_address;
+        fopt.tcpPort = config.tcp_port > 0 ? config.tcp_port : -1;
+        fopt.httpPort = config.http_port > 0 ? config.http_port : -1;
+        fopt.stallTimeout = std::chrono::milliseconds(static_cast<int>(config.client_timeout_s * 1000));
+        fopt.mjpegProfile = "bird";
+        fopt.metricsText = [&] { return *metrics_text.load(); };
+        fopt.statusJson = [&] { return status_json.load()->dump(); };
+        ipc::FrameServer frames(fopt);
+        if (auto st = frames.start(); !st) throw std::runtime_error(st.message());
+
+        std::vector<ProfileView> views;
+        for (const auto& p : config.profiles) {
+            ProfileView v;
+            v.profile = p;
+            render::RendererOptions ro;
+            ro.platform = render::parsePlatform(config.egl_platform).value_or(render::Platform::Auto);
+            ro.width = p.width;
+            ro.height = p.height;
+            ro.msaa_samples = config.msaa;
+            ro.max_tile_uploads_per_frame = 8;  // a burst of new tiles spreads over frames
+            v.renderer = options.noop_renderer ? render::Renderer::createNoop(ro) : render::Renderer::create(ro);
+            v.map_view = std::make_unique<render::MapView>(scene.cache);
+            v.rig.setMode(p.view);
+            v.rig.setOrientation(p.orientation);
+            const auto& dev = v.renderer->device();
+            log(kInfo, "profile %s %dx%d @ %.0f fps (%s): %s on %s, %s, MSAA %dx", p.name.c_str(), p.width, p.height,
+                p.fps, p.stream_view.c_str(), dev.backend.c_str(), dev.platform.c_str(), dev.renderer.c_str(), dev.msaa_samples);
+            views.push_back(std::move(v));
+        }
+
+        input.start();
+        if (auto st = control_server->start(); !st) throw std::runtime_error(st.message());
+        std::string endpoints = "control " + config.control_socket.string() + ", frames " + config.frame_socket.string();
+        if (frames.httpPort() > 0) endpoints += ", http://" + config.http_address + ":" + std::to_string(frames.httpPort()) + "/";
+        if (frames.tcpPort() > 0) endpoints += ", tcp " + std::to_string(frames.tcpPort());
+        log(kNotice, "ready in %.0f ms: %s; input %s", std::chrono::duration<double, std::milli>(Clock::now() - t_start).count(),
+            endpoints.c_str(), input.stats().source.c_str());
+        systemd.ready("rendering " + std::to_string(views.size()) + " profiles; " + endpoints);
+
+        // Route geometry for the renderer, rebuilt when the control snapshot's version changes.
+        render::RouteGeometry route_geometry;
+        std::uint64_t route_version = ~std::uint64_t{0};
+        bool was_stale = false;
+        std::set<std::uint64_t> warned_flat;  // tiles reported as lacking elevation data
+        std::string route_id;
+        double route_driven_max = 0.0;
+        Clock::time_point last_progress_event{}, last_status{};
+        Clock::time_point last_frame_done = Clock::now();
+        const auto terrain = [&](double x, double y) { return views.front().map_view->terrainHeight(x, y); };
+
+        bool stop = false;
+        while (!stop) {
+            const auto now = Clock::now();
+            if (options.run_for_s && std::chrono::duration<double>(now - t_start).count() >= *options.run_for_s) break;
+
+            const auto state = input.state();
+            const ipc::CanTime can_now = ipc::CanClock::now();
+            const EstimatedPose pose = state->poseAt(can_now);
+            const auto view_state = control_state->view();
+            const auto route = control_state->route();
+            if (route && route->version != route_version) {
+                route_version = route->version;
+                route_geometry = {};
+                const map::Projection proj = scene.projection();
+                double measure = 0.0;
+                for (std::size_t i = 0; i < route->points.size(); ++i) {
+                    const auto p = proj.forward(route->points[i].lat, route->points[i].lon);
+                    if (i > 0) measure += std::hypot(p.x - route_geometry.points.back().x, p.y - route_geometry.points.back().y);
+                    route_geometry.points.emplace_back(p.x, p.y, 0.0);
+                    route_geometry.measure_m.push_back(measure);
+                }
+                route_id = route->id;
+                route_driven_max = 0.0;
+                log(kInfo, "route %s: %zu points, %.1f km", route_id.c_str(), route_geometry.points.size(), measure / 1000.0);
+            }
+            for (auto& p : route_geometry.points) p.z = terrain(p.x, p.y);  // heights improve as tiles load
+            if (pose.onRoute) route_driven_max = std::max(route_driven_max, pose.routeDrivenM);
+
+            // Position lost / regained and route progress go to subscribers.
+            if (pose.valid && pose.stale != was_stale) {
+                ipc::ControlEvent e;
+                e.kind = pose.stale ? ipc::ControlEventKind::PositionLost : ipc::ControlEventKind::PositionRegained;
+                e.sinceS = pose.sinceFixS;
+                control_server->publish(e);
+                if (pose.stale) log(kWarning, "position lost (%.1f s without a fix)", pose.sinceFixS);
+                else log(kInfo, "position regained");
+                was_stale = pose.stale;
+            }
+            if (!route_id.empty() && pose.onRoute && now - last_progress_event > std::chrono::seconds(1)) {
+                ipc::ControlEvent e;
+                e.kind = ipc::ControlEventKind::RouteProgress;
+                e.routeId = route_id;
+                e.drivenM = route_driven_max;
+                e.remainingM = std::max(0.0, (route_geometry.measure_m.empty() ? 0.0 : route_geometry.measure_m.back()) - route_driven_max);
+                control_server->publish(e);
+                last_progress_event = now;
+            }
+
+            const auto active = frames.activeProfiles();
+            render::MapStyle style = view_state && view_state->style == ipc::MapStyle::Night ? render::MapStyle::night()
+                                                                                               : render::MapStyle::day();
+            Clock::time_point next_wake = now + std::chrono::milliseconds(50);
+            for (auto& v : views) {
+                if (now < v.next_due) {
+                    next_wake = std::min(next_wake, v.next_due);
+                    continue;
+                }
+                v.next_due = std::max(v.next_due + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / v.profile.fps)), now);
+                next_wake = std::min(next_wake, v.next_due);
+                const bool wanted = options.render_all_profiles ||
+                                    std::any_of(active.begin(), active.end(), [&](const ipc::ActiveProfile& a) {
+                                        return a.view == v.profile.stream_view && a.width == v.profile.width && a.height == v.profile.height;
+                                    });
+                if (!wanted) {
+                    ++v.skipped_idle;  // nobody watches this profile: render nothing
+                    continue;
+                }
+                const auto t0 = Clock::now();
+                const double dt = v.last_frame == Clock::time_point{} ? 0.0 : std::chrono::duration<double>(t0 - v.last_frame).count();
+                v.last_frame = t0;
+                v.rig.setMode(viewFor(v.profile, view_state.get()));
+                v.rig.setOrientation(orientationFor(v.profile, view_state.get()));
+                render::VehiclePose vp;
+                if (pose.valid) {
+                    vp.position = {pose.x, pose.y, terrain(pose.x, pose.y)};
+                    vp.heading_deg = pose.headingDeg;
+                    vp.speed_mps = pose.speedMps;
+                } else {
+                    // No fix yet: look at the middle of the map.
+                    const auto& s = scene.store->info();
+                    const auto c = scene.toPlanar((s.south + s.north) / 2, (s.west + s.east) / 2);
+                    vp.position = {c.x, c.y, terrain(c.x, c.y)};
+                }
+                render::MapFrame frame;
+                frame.camera = v.rig.update(vp, std::min(dt, 0.5), terrain);
+                frame.tiles = v.map_view->tilesFor(frame.camera, double(v.profile.width) / v.profile.height, v.profile.height);
+                frame.route = route_geometry.points.size() >= 2 ? &route_geometry : nullptr;
+                frame.route_progress_m = route_driven_max;
+                if (pose.valid) frame.marker = render::MarkerState{vp.position, vp.heading_deg, pose.stale};
+                v.renderer->setMapStyle(style);
+                v.renderer->renderMap(frame);
+                for (const auto& flat : v.renderer->mapStats().new_flat_tiles) {
+                    if (warned_flat.insert(flat.id.key()).second) {
+                        log(kWarning, "tile %s: %.0f%% of its area has no elevation data and renders flat",
+                            flat.id.toString().c_str(), 100.0 * (1.0 - flat.coverage));
+                    }
+                }
+                const std::uint64_t seq = v.sequence++;
+                v.source_times[seq] = pose.sourceTime;
+                // The ring hands back a frame only when full; collect what has finished now so
+                // frames leave in the tick that rendered them.
+                std::vector<render::Frame> finished;
+                if (auto oldest = v.renderer->readAsync(seq)) finished.push_back(std::move(*oldest));
+                for (auto& f : v.renderer->collectReadbacks()) finished.push_back(std::move(f));
+                for (const auto& done : finished) {
+                    ipc::FrameView fv;
+                    fv.pixels = done.image.rgba.data();
+                    fv.width = done.image.width;
+                    fv.height = done.image.height;
+                    fv.format = ipc::PixelFormat::Rgba8;
+                    const auto it = v.source_times.find(done.sequence);
+                    const ipc::CanTime source = it != v.source_times.end() ? it->second : ipc::CanTime{};
+                    fv.sourceTimeNs = realtimeNs(source);
+                    frames.publish(v.profile.stream_view, fv);
+                    ++v.published;
+                    if (source != ipc::CanTime{}) {
+                        v.latency_ms.add(std::chrono::duration<double, std::milli>(ipc::CanClock::now() - source).count());
+                    }
+                    v.source_times.erase(v.source_times.begin(), v.source_times.upper_bound(done.sequence));
+                }
+                ++v.rendered;
+                v.frame_ms.add(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+                last_frame_done = Clock::now();
+            }
+
+            // Health: WATCHDOG=1 only while frames keep completing (or nobody needs any).
+            const bool rendering_wanted = options.render_all_profiles || !active.empty();
+            if (!rendering_wanted || std::chrono::duration<double>(Clock::now() - last_frame_done).count() < config.watchdog_max_frame_s) {
+                systemd.watchdog();
+            }
+
+            if (now - last_status > std::chrono::seconds(1)) {
+                last_status = now;
+                const auto in = input.stats();
+                const auto fs = frames.stats();
+                const auto cache = scene.cache->metrics();
+                const auto cs = control_server->stats();
+                nlohmann::json st;
+                st["uptime_s"] = std::chrono::duration<double>(now - t_start).count();
+                st["input"] = {{"source", in.source}, {"frames", in.frames}, {"decoded_values", in.decoder.values},
+                               {"rejected_values", in.decoder.rejected}, {"counter_gaps", in.decoder.counterGaps},
+                               {"rejected_fixes", in.estimator.rejectedJump + in.estimator.rejectedRange + in.estimator.rejectedNaN},
+                               {"can_error_frames", in.can_error_frames}, {"can_bus_off", in.can_bus_off},
+                               {"can_kernel_drops", in.can_kernel_drops}, {"can_state", in.can_state}};
+                st["position"] = {{"valid", pose.valid}, {"stale", pose.stale}, {"speed_kmh", pose.speedMps * 3.6},
+                                  {"heading_deg", pose.headingDeg}, {"match_confidence", pose.matchConfidence}};
+                if (!route_id.empty()) st["route"] = {{"id", route_id}, {"driven_m", route_driven_max}};
+                nlohmann::json profiles = nlohmann::json::array();
+                std::ostringstream m;
+                m << "# HELP navmap_frame_ms Frame time (tiles, render, readback submit), milliseconds.\n# TYPE navmap_frame_ms summary\n";
+                for (const auto& v : views) {
+                    profiles.push_back({{"name", v.profile.name}, {"rendered", v.rendered}, {"published", v.published},
+                                        {"frame_p50_ms", v.frame_ms.p(0.5)}, {"frame_p99_ms", v.frame_ms.p(0.99)},
+                                        {"latency_p50_ms", v.latency_ms.p(0.5)}, {"latency_p99_ms", v.latency_ms.p(0.99)}});
+                    m << "navmap_frame_ms{profile=\"" << v.profile.name << "\",quantile=\"0.5\"} " << v.frame_ms.p(0.5) << "\n";
+                    m << "navmap_frame_ms{profile=\"" << v.profile.name << "\",quantile=\"0.99\"} " << v.frame_ms.p(0.99) << "\n";
+                }
+                m << "# HELP navmap_latency_ms CAN receive time of the pose to frame published, milliseconds.\n# TYPE navmap_latency_ms summary\n";
+                for (const auto& v : views) {
+                    m << "navmap_latency_ms{profile=\"" << v.profile.name << "\",quantile=\"0.5\"} " << v.latency_ms.p(0.5) << "\n";
+                    m << "navmap_latency_ms{profile=\"" << v.profile.name << "\",quantile=\"0.99\"} " << v.latency_ms.p(0.99) << "\n";
+                }
+                m << "# TYPE navmap_frames_rendered_total counter\n";
+                for (const auto& v : views) m << "navmap_frames_rendered_total{profile=\"" << v.profile.name << "\"} " << v.rendered << "\n";
+                m << "# TYPE navmap_stream_clients gauge\nnavmap_stream_clients " << fs.clients << "\n";
+                m << "# TYPE navmap_stream_frames_dropped_total counter\nnavmap_stream_frames_dropped_total " << fs.framesDropped << "\n";
+                m << "# TYPE navmap_stream_frames_sent_total counter\nnavmap_stream_frames_sent_total " << fs.framesSent << "\n";
+                m << "# TYPE navmap_can_frames_total counter\nnavmap_can_frames_total " << in.frames << "\n";
+                m << "# TYPE navmap_can_rejected_values_total counter\nnavmap_can_rejected_values_total " << in.decoder.rejected << "\n";
+                m << "# TYPE navmap_can_error_frames_total counter\nnavmap_can_error_frames_total " << in.can_error_frames << "\n";
+                m << "# TYPE navmap_can_kernel_drops_total counter\nnavmap_can_kernel_drops_total " << in.can_kernel_drops << "\n";
+                m << "# TYPE navmap_position_stale gauge\nnavmap_position_stale " << (pose.stale ? 1 : 0) << "\n";
+                m << "# TYPE navmap_tile_cache_bytes gauge\nnavmap_tile_cache_bytes " << cache.resident_bytes << "\n";
+                m << "# TYPE navmap_tile_cache_hits_total counter\nnavmap_tile_cache_hits_total " << cache.hits << "\n";
+                m << "# TYPE navmap_tile_cache_misses_total counter\nnavmap_tile_cache_misses_total " << cache.misses << "\n";
+                m << "# TYPE navmap_tile_load_ms summary\nnavmap_tile_load_ms{quantile=\"0.5\"} " << cache.load_p50_ms
+                  << "\nnavmap_tile_load_ms{quantile=\"0.99\"} " << cache.load_p99_ms << "\n";
+                m << "# TYPE navmap_control_errors_total counter\nnavmap_control_errors_total " << cs.errors << "\n";
+                m << frames.metricsText();
+                st["profiles"] = profiles;
+                st["stream"] = {{"clients", fs.clients}, {"frames_sent", fs.framesSent}, {"frames_dropped", fs.framesDropped},
+                                {"stall_disconnects", fs.stallDisconnects}, {"handshake_errors", fs.handshakeErrors}};
+                st["tile_cache"] = {{"resident_bytes", cache.resident_bytes}, {"hits", cache.hits}, {"misses", cache.misses},
+                                    {"load_p99_ms", cache.load_p99_ms}, {"corrupt", cache.corrupt}};
+                status_json.store(std::make_shared<const nlohmann::json>(std::move(st)));
+                metrics_text.store(std::make_shared<const std::string>(m.str()));
+                std::ostringstream line;
+                line << fs.clients << " clients, " << (pose.valid ? (pose.stale ? "position lost" : "position ok") : "no position yet");
+                for (const auto& v : views) line << ", " << v.profile.name << " " << v.rendered << " frames";
+                systemd.status(line.str());
+            }
+
+            const auto wait = std::chrono::duration_cast<std::chrono::milliseconds>(next_wake - Clock::now());
+            switch (signals->wait(std::max(wait, std::chrono::milliseconds(0)))) {
+                case SignalEvent::Stop:
+                    stop = true;
+                    break;
+                case SignalEvent::Reload: {
+                    systemd.reloading();
+                    if (options.config_path) {
+                        ConfigError rerr;
+                        auto fresh = loadConfig(*options.config_path, &rerr);
+                        if (!fresh || !validateConfig(*fresh, &rerr)) {
+                            log(kErr, "reload: %s (keeping the running configuration)", rerr.message.c_str());
+                        } else {
+                            // Style and per-profile view settings change in place; clients stay connected.
+                            ipc::SetStyleCommand s;
+                            s.style = fresh->night ? ipc::MapStyle::Night : ipc::MapStyle::Day;
+                            (void)control_state->setStyle(s);
+                            for (auto& v : views) {
+                                if (auto p = findProfile(fresh->profiles, v.profile.name); p && p->width == v.profile.width &&
+                                                                                            p->height == v.profile.height) {
+                                    v.profile.fps = p->fps;
+                                    v.profile.view = p->view;
+                                    v.profile.orientation = p->orientation;
+                                }
+                            }
+                            log(kNotice, "reloaded %s", options.config_path->c_str());
+                        }
+                    }
+                    systemd.ready("reloaded");
+                    break;
+                }
+                case SignalEvent::None:
+                    break;
+            }
+        }
+
+        log(kNotice, "stopping");
+        systemd.stopping();
+        control_server->stop();
+        input.stop();
+        frames.stop();  // closes every client connection: they see the stream end
+        for (auto& v : views) {
+            log(kInfo, "profile %s: %llu frames rendered, %llu published, frame p50 %.1f ms p99 %.1f ms, latency p50 %.1f ms p99 %.1f ms",
+                v.profile.name.c_str(), static_cast<unsigned long long>(v.rendered), static_cast<unsigned long long>(v.published),
+                v.frame_ms.p(0.5), v.frame_ms.p(0.99), v.latency_ms.p(0.5), v.latency_ms.p(0.99));
+        }
+        return 0;
+    } catch (const std::exception& e) {
+        log(kErr, "%s", e.what());
+        return 1;
+    }
+}
+
+}  // namespace navmap::daemon

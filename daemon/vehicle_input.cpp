@@ -1,0 +1,152 @@
+#include "vehicle_input.h"
+
+#include <chrono>
+#include <stdexcept>
+
+#include "navmap/ipc/candump_reader.hpp"
+#include "navmap/ipc/dbc_database.hpp"
+#include "navmap/ipc/replayer.hpp"
+#include "navmap/ipc/signal_map.hpp"
+#include "navmap/ipc/socketcan_source.hpp"
+#include "navmap/sim/drive_simulator.h"
+
+namespace navmap::daemon {
+
+VehicleInput::VehicleInput(const DaemonConfig& config, const render::MapScene& scene,
+                           std::shared_ptr<ipc::ControlState> control, const std::filesystem::path& data_dir)
+    : m_control(std::move(control)) {
+    // DBC databases: the configured ones, else the shipped GNSS node.
+    std::vector<std::filesystem::path> dbc_files = config.dbc_files;
+    if (dbc_files.empty()) dbc_files.push_back(data_dir / "navmap.dbc");
+    std::vector<std::shared_ptr<const ipc::DbcDatabase>> databases;
+    for (const auto& f : dbc_files) {
+        auto db = ipc::DbcDatabase::load(f);
+        if (!db) throw std::runtime_error(db.error().message);
+        databases.push_back(std::make_shared<const ipc::DbcDatabase>(std::move(db).value()));
+    }
+    ipc::SignalMap signals = ipc::SignalMap::navmapDefaults();
+    if (!config.signal_map_toml.empty()) {
+        auto m = ipc::SignalMap::fromToml(config.signal_map_toml, "[[can.signal]]", "can.signal");
+        if (!m) throw std::runtime_error(m.error().message);
+        signals = std::move(m).value();
+    }
+    auto decoder = ipc::VehicleDecoder::create(databases, signals);
+    if (!decoder) throw std::runtime_error(decoder.error().message);
+    m_decoder = std::make_unique<ipc::VehicleDecoder>(std::move(decoder).value());
+
+    VehicleStateConfig vcfg;
+    vcfg.gnssTimeoutS = config.stale_after_s;
+    auto graph = std::make_shared<const map::RoadGraph>(scene.graph);
+    m_estimator = std::make_unique<VehicleStateEstimator>(scene.projection(), std::make_shared<const MapMatcher>(graph), vcfg);
+    m_state.store(m_estimator->snapshot());
+
+    ipc::ReplayOptions replay;
+    replay.loop = true;
+    replay.restamp = true;
+    switch (config.input) {
+        case InputSource::Replay: {
+            auto log = ipc::loadCandumpFile(config.replay_log);
+            if (!log) throw std::runtime_error(log.error().message);
+            const auto& l = log.value();
+            if (!l.errors.empty()) {
+                std::fprintf(stderr, "<4>navmapd: %s: %zu malformed lines skipped (first: line %zu: %s)\n",
+                             config.replay_log.c_str(), l.errors.size(), l.errors.front().line,
+                             l.errors.front().message.c_str());
+            }
+            replay.speed = config.replay_speed;
+            replay.loop = config.replay_loop;
+            m_replayer = std::make_unique<ipc::Replayer>(l.frames(), replay);
+            m_stats.source = "replay " + config.replay_log.string();
+            break;
+        }
+        case InputSource::Sim: {
+            sim::DriveRequest request;
+            request.store = scene.store->path();
+            request.dbc = data_dir / "navmap.dbc";
+            request.from = config.sim_from;
+            request.to = config.sim_to;
+            const sim::DriveSimulator simulator = sim::DriveSimulator::create(request);
+            replay.speed = config.sim_speed_factor;
+            m_replayer = simulator.replayer(replay);
+            // The simulated HMI sets the route it drives, as set_route over the control socket would.
+            ipc::SetRouteCommand route;
+            route.routeId = "sim";
+            const map::Projection projection = scene.projection();
+            for (const auto& p : simulator.route().line) {
+                double lat = 0, lon = 0;
+                projection.reverse(p.position, lat, lon);
+                route.points.push_back({lat, lon});
+            }
+            if (auto st = m_control->setRoute(route); !st) throw std::runtime_error("simulated route: " + st.message());
+            m_stats.source = "sim " + config.sim_from + " -> " + config.sim_to;
+            break;
+        }
+        case InputSource::SocketCan: {
+            ipc::SocketCanOptions o;
+            o.interfaceName = config.can_interface;
+            o.frameKeys = m_decoder->frameKeys();
+            m_can = std::make_unique<ipc::SocketCanSource>(o);
+            m_stats.source = "socketcan " + config.can_interface;
+            break;
+        }
+    }
+}
+
+VehicleInput::~VehicleInput() { stop(); }
+
+void VehicleInput::start() {
+    if (m_running.exchange(true)) return;
+    if (m_replayer) m_replayer->reset(ipc::CanClock::now());
+    m_thread = std::thread([this] { run(); });
+}
+
+void VehicleInput::stop() {
+    if (!m_running.exchange(false)) return;
+    if (m_thread.joinable()) m_thread.join();
+}
+
+void VehicleInput::consume(const ipc::CanFrame& frame) {
+    ++m_stats.frames;
+    if (m_decoder->decode(frame, m_update)) m_estimator->addSample(m_update);
+}
+
+void VehicleInput::run() {
+    const auto sink = [this](const ipc::CanFrame& f) { consume(f); };
+    while (m_running.load()) {
+        // Route changes from the control socket (applied here: the estimator's thread).
+        if (const auto route = m_control->route(); route && route->version != m_route_version) {
+            m_route_version = route->version;
+            std::vector<std::pair<double, double>> pts;
+            for (const auto& p : route->points) pts.emplace_back(p.lat, p.lon);
+            if (pts.size() >= 2) m_estimator->setRouteLatLon(route->id, pts);
+            else m_estimator->setRoute(nullptr);
+        }
+        {
+            std::lock_guard lock(m_stats_mutex);
+            if (m_replayer) {
+                m_replayer->advanceTo(ipc::CanClock::now(), sink);
+                m_stats.replay_loops = m_replayer->loops();
+            } else if (m_can) {
+                m_can->poll(sink);
+                const auto& st = m_can->status();
+                m_stats.can_error_frames = st.errorFrames;
+                m_stats.can_bus_off = st.busOff;
+                m_stats.can_kernel_drops = st.kernelDrops;
+                m_stats.can_state = st.state == ipc::SocketCanStatus::State::Open ? "open" : "retrying: " + st.lastError;
+            }
+            m_stats.decoder = m_decoder->counters();
+            m_stats.estimator = m_estimator->counters();
+        }
+        m_state.store(m_estimator->snapshot());
+        // 200 Hz is enough for 50-100 Hz CAN; SocketCAN wakes up as soon as frames arrive.
+        if (m_can) m_can->waitReadable(std::chrono::milliseconds(5));
+        else std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+}
+
+VehicleInputStats VehicleInput::stats() const {
+    std::lock_guard lock(m_stats_mutex);
+    return m_stats;
+}
+
+}  // namespace navmap::daemon

@@ -1,0 +1,72 @@
+#pragma once
+// The input thread: CAN frames from a candump replay, the in-process simulator or SocketCAN go
+// through the DBC decoder into the vehicle state estimator, which publishes immutable
+// snapshots; the render thread reads the newest one (never waits). The active route comes from
+// the control socket's snapshots and is applied on this thread (the estimator's only owner).
+
+#include <atomic>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+
+#include "config.h"
+#include "navmap/daemon/vehicle/vehicle_state.h"
+#include "navmap/daemon/vehicle/vehicle_state_estimator.h"
+#include "navmap/ipc/control_state.h"
+#include "navmap/ipc/vehicle_decoder.hpp"
+#include "navmap/render/map_scene.h"
+
+namespace navmap::ipc {
+class Replayer;
+class SocketCanSource;
+}  // namespace navmap::ipc
+
+namespace navmap::daemon {
+
+struct VehicleInputStats {
+    std::string source;               ///< "replay <file>", "sim <from> -> <to>", "socketcan can0"
+    std::uint64_t frames = 0;         ///< CAN frames received
+    ipc::DecoderCounters decoder;
+    VehicleStateCounters estimator;
+    std::uint64_t can_error_frames = 0, can_bus_off = 0, can_kernel_drops = 0;
+    std::string can_state;            ///< "open", "retrying: bind(can0): No such device", ...
+    std::uint64_t replay_loops = 0;
+};
+
+class VehicleInput {
+public:
+    /// Opens the DBC files, the signal map and the source; throws std::runtime_error naming the
+    /// file or interface on failure. In sim mode the simulated route is set on `control`.
+    VehicleInput(const DaemonConfig& config, const render::MapScene& scene, std::shared_ptr<ipc::ControlState> control,
+                 const std::filesystem::path& data_dir);
+    ~VehicleInput();
+    VehicleInput(const VehicleInput&) = delete;
+    VehicleInput& operator=(const VehicleInput&) = delete;
+
+    void start();
+    void stop();
+
+    /// The newest estimator snapshot (never null).
+    [[nodiscard]] std::shared_ptr<const VehicleState> state() const { return m_state.load(); }
+    [[nodiscard]] VehicleInputStats stats() const;
+
+private:
+    void run();
+    void consume(const ipc::CanFrame& frame);
+
+    std::shared_ptr<ipc::ControlState> m_control;
+    std::unique_ptr<ipc::VehicleDecoder> m_decoder;
+    std::unique_ptr<VehicleStateEstimator> m_estimator;
+    std::unique_ptr<ipc::Replayer> m_replayer;
+    std::unique_ptr<ipc::SocketCanSource> m_can;
+    std::atomic<std::shared_ptr<const VehicleState>> m_state;
+    std::uint64_t m_route_version = 0;
+    std::atomic<bool> m_running{false};
+    std::thread m_thread;
+    mutable std::mutex m_stats_mutex;
+    VehicleInputStats m_stats;
+    ipc::VehicleSample m_update;
+};
+
+}  // namespace navmap::daemon

@@ -1,0 +1,247 @@
+// navmap-soak: runs navmapd for a given duration on an accelerated, looping drive with CAN faults
+// (the shipped short-faults drive: GNSS dropouts and bursts of bad frames), while display clients
+// connect, read, stall and disconnect and the control socket gets valid and malformed commands.
+// It samples the daemon's RSS, open fds and threads and its frame-time percentiles, writes a JSON
+// report and fails when resources grow beyond the stated tolerances.
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <random>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "navmap/ipc/control_client.h"
+#include "navmap/ipc/stream_client.hpp"
+
+extern char** environ;
+
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+struct Sample {
+    double t_s = 0;
+    long rss_kb = 0;
+    int fds = 0;
+    int threads = 0;
+    double frame_p50_ms = 0, frame_p99_ms = 0;
+    int clients = 0;
+};
+
+long procStatus(pid_t pid, const char* key) {
+    std::ifstream in("/proc/" + std::to_string(pid) + "/status");
+    std::string line;
+    while (std::getline(in, line)) {
+        if (line.rfind(key, 0) == 0) return std::atol(line.c_str() + std::strlen(key));
+    }
+    return -1;
+}
+
+int countFds(pid_t pid) {
+    std::error_code ec;
+    int n = 0;
+    for (auto it = fs::directory_iterator("/proc/" + std::to_string(pid) + "/fd", ec); !ec && it != fs::directory_iterator(); ++it) ++n;
+    return n;
+}
+
+double median(std::vector<double> v) {
+    if (v.empty()) return 0;
+    std::sort(v.begin(), v.end());
+    return v[v.size() / 2];
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app{"navmap-soak - long-running stability test of navmapd"};
+    std::string navmapd, drive, report_path = "soak-report.json", work = "/tmp/navmap-soak";
+    double duration = 120, speed = 8, rss_tolerance = 0.25, rss_slack_mb = 24;
+    int fd_tolerance = 4, thread_tolerance = 2;
+    unsigned seed = 1;
+    app.add_option("--navmapd", navmapd, "navmapd binary")->required();
+    app.add_option("--drive", drive, "candump drive to loop (with faults)")->required();
+    app.add_option("--duration", duration, "seconds to run")->capture_default_str();
+    app.add_option("--speed", speed, "replay speed factor")->capture_default_str();
+    app.add_option("--report", report_path, "JSON report file")->capture_default_str();
+    app.add_option("--work-dir", work, "directory for sockets and logs")->capture_default_str();
+    app.add_option("--rss-tolerance", rss_tolerance, "allowed RSS growth (fraction) after warm-up")->capture_default_str();
+    app.add_option("--rss-slack-mb", rss_slack_mb, "plus this many MiB")->capture_default_str();
+    app.add_option("--fd-tolerance", fd_tolerance, "allowed growth of open fds")->capture_default_str();
+    app.add_option("--thread-tolerance", thread_tolerance, "allowed growth of threads")->capture_default_str();
+    app.add_option("--seed", seed, "random seed for the client schedule")->capture_default_str();
+    CLI11_PARSE(app, argc, argv);
+
+    fs::remove_all(work);
+    fs::create_directories(work);
+    const std::string control = work + "/control.sock", frames = work + "/frames.sock";
+    const std::string cmd = "exec " + navmapd + " --replay " + drive + " --speed " + std::to_string(speed) +
+                            " --control-socket " + control + " --frame-socket " + frames +
+                            " --http-port 0 --log-level notice > " + work + "/navmapd.log 2>&1";
+    const char* args[] = {"/bin/sh", "-c", cmd.c_str(), nullptr};
+    pid_t pid = -1;
+    if (posix_spawn(&pid, "/bin/sh", nullptr, nullptr, const_cast<char**>(args), environ) != 0) {
+        std::fprintf(stderr, "navmap-soak: cannot start %s\n", navmapd.c_str());
+        return 2;
+    }
+    for (int i = 0; i < 200 && !fs::exists(frames); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    if (!fs::exists(frames)) {
+        std::fprintf(stderr, "navmap-soak: navmapd did not come up (log: %s/navmapd.log)\n", work.c_str());
+        ::kill(pid, SIGKILL);
+        return 2;
+    }
+    std::printf("navmap-soak: navmapd pid %d, %.0f s, drive %s x%.0f\n", pid, duration, drive.c_str(), speed);
+
+    std::mt19937 rng(seed);
+    const char* profiles[] = {"cluster", "hud", "center"};
+    struct Client {
+        std::unique_ptr<navmap::ipc::StreamClient> stream;
+        bool stalled = false;
+        Clock::time_point until;
+    };
+    std::vector<Client> clients;
+    std::vector<Sample> samples;
+    std::uint64_t connects = 0, disconnects = 0, frames_received = 0, control_errors = 0, stream_errors = 0;
+    const auto t0 = Clock::now();
+    auto last_sample = t0 - std::chrono::seconds(10);
+    bool daemon_alive = true;
+    while (std::chrono::duration<double>(Clock::now() - t0).count() < duration) {
+        int status = 0;
+        if (::waitpid(pid, &status, WNOHANG) == pid) {
+            daemon_alive = false;
+            std::fprintf(stderr, "navmap-soak: navmapd exited during the run (status %d)\n", status);
+            break;
+        }
+        // Client churn: up to 4 clients, some stall (never read) until the server drops them.
+        if (clients.size() < 4 && rng() % 4 == 0) {
+            navmap::ipc::StreamRequest r;
+            r.profile = *navmap::ipc::defaultStreamProfile(profiles[rng() % 3]);
+            auto c = navmap::ipc::StreamClient::connectUnix(frames, r);
+            if (c) {
+                ++connects;
+                clients.push_back({std::move(c).value(), rng() % 5 == 0, Clock::now() + std::chrono::milliseconds(500 + rng() % 4000)});
+            } else {
+                ++stream_errors;
+            }
+        }
+        for (auto it = clients.begin(); it != clients.end();) {
+            if (Clock::now() > it->until) {
+                it = clients.erase(it);
+                ++disconnects;
+                continue;
+            }
+            if (!it->stalled) {
+                navmap::ipc::ReceivedFrame f;
+                auto got = it->stream->next(f, std::chrono::milliseconds(5));
+                if (!got) {
+                    ++stream_errors;
+                    it = clients.erase(it);
+                    ++disconnects;
+                    continue;
+                }
+                frames_received += got.value() ? 1 : 0;
+            }
+            ++it;
+        }
+        // Control traffic, valid and not.
+        if (rng() % 20 == 0) {
+            if (auto c = navmap::ipc::ControlClient::connect(control)) {
+                const char* lines[] = {R"({"cmd":"set_style","style":"night"})", R"({"cmd":"set_style","style":"day"})",
+                                       R"({"cmd":"set_view","display":"center","mode":"snail"})", "garbage {",
+                                       R"({"cmd":"set_route","id":"x","points":[[95,1]]})"};
+                auto reply = c.value().request(lines[rng() % 5]);
+                if (!reply) ++control_errors;
+            }
+        }
+        if (Clock::now() - last_sample >= std::chrono::seconds(2)) {
+            last_sample = Clock::now();
+            Sample s;
+            s.t_s = std::chrono::duration<double>(last_sample - t0).count();
+            s.rss_kb = procStatus(pid, "VmRSS:");
+            s.fds = countFds(pid);
+            s.threads = static_cast<int>(procStatus(pid, "Threads:"));
+            s.clients = static_cast<int>(clients.size());
+            if (auto c = navmap::ipc::ControlClient::connect(control)) {
+                if (auto reply = c.value().request(R"({"cmd":"get_status"})")) {
+                    const auto j = nlohmann::json::parse(reply.value(), nullptr, false);
+                    if (j.is_object() && j.contains("status") && j["status"].contains("profiles")) {
+                        std::vector<double> p50, p99;
+                        for (const auto& p : j["status"]["profiles"]) {
+                            if (p.value("rendered", 0) > 0) {
+                                p50.push_back(p.value("frame_p50_ms", 0.0));
+                                p99.push_back(p.value("frame_p99_ms", 0.0));
+                            }
+                        }
+                        s.frame_p50_ms = p50.empty() ? 0 : *std::max_element(p50.begin(), p50.end());
+                        s.frame_p99_ms = p99.empty() ? 0 : *std::max_element(p99.begin(), p99.end());
+                    }
+                }
+            }
+            samples.push_back(s);
+            std::printf("  t=%5.0fs rss=%6.1f MiB fds=%3d threads=%2d clients=%d frame p50 %.1f p99 %.1f ms\n", s.t_s,
+                        s.rss_kb / 1024.0, s.fds, s.threads, s.clients, s.frame_p50_ms, s.frame_p99_ms);
+            std::fflush(stdout);
+        }
+    }
+    clients.clear();
+    if (daemon_alive) ::kill(pid, SIGTERM);
+    int status = 0;
+    ::waitpid(pid, &status, 0);
+    const int exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+
+    // Compare the first third after warm-up with the last third.
+    nlohmann::json report;
+    std::vector<std::string> failures;
+    if (!daemon_alive) failures.push_back("navmapd exited during the run");
+    if (daemon_alive && exit_code != 0) failures.push_back("navmapd exit status " + std::to_string(exit_code) + " after SIGTERM");
+    if (samples.size() >= 6) {
+        const std::size_t third = samples.size() / 3;
+        std::vector<double> rss_a, rss_b, fd_a, fd_b, th_a, th_b;
+        for (std::size_t i = 1; i <= third; ++i) {  // skip the first sample (warm-up)
+            rss_a.push_back(samples[i].rss_kb), fd_a.push_back(samples[i].fds), th_a.push_back(samples[i].threads);
+        }
+        for (std::size_t i = samples.size() - third; i < samples.size(); ++i) {
+            rss_b.push_back(samples[i].rss_kb), fd_b.push_back(samples[i].fds), th_b.push_back(samples[i].threads);
+        }
+        const double rss0 = median(rss_a), rss1 = median(rss_b);
+        const double fd0 = median(fd_a), fd1 = median(fd_b), th0 = median(th_a), th1 = median(th_b);
+        report["rss_mib"] = {{"early", rss0 / 1024}, {"late", rss1 / 1024}};
+        report["fds"] = {{"early", fd0}, {"late", fd1}};
+        report["threads"] = {{"early", th0}, {"late", th1}};
+        if (rss1 > rss0 * (1 + rss_tolerance) + rss_slack_mb * 1024) failures.push_back("RSS grew beyond tolerance");
+        if (fd1 > fd0 + fd_tolerance) failures.push_back("open fds grew beyond tolerance");
+        if (th1 > th0 + thread_tolerance) failures.push_back("threads grew beyond tolerance");
+    } else {
+        failures.push_back("too few samples (run longer than 12 s)");
+    }
+    report["duration_s"] = duration;
+    report["tolerances"] = {{"rss_fraction", rss_tolerance}, {"rss_slack_mib", rss_slack_mb}, {"fds", fd_tolerance}, {"threads", thread_tolerance}};
+    report["clients"] = {{"connects", connects}, {"disconnects", disconnects}, {"frames_received", frames_received},
+                         {"stream_errors", stream_errors}, {"control_errors", control_errors}};
+    nlohmann::json js = nlohmann::json::array();
+    for (const auto& s : samples) {
+        js.push_back({{"t_s", s.t_s}, {"rss_kib", s.rss_kb}, {"fds", s.fds}, {"threads", s.threads},
+                      {"frame_p50_ms", s.frame_p50_ms}, {"frame_p99_ms", s.frame_p99_ms}, {"clients", s.clients}});
+    }
+    report["samples"] = js;
+    report["failures"] = failures;
+    report["passed"] = failures.empty();
+    std::ofstream(report_path) << report.dump(2) << "\n";
+    std::printf("navmap-soak: %s; %llu connects, %llu frames received; report %s\n", failures.empty() ? "PASSED" : "FAILED",
+                static_cast<unsigned long long>(connects), static_cast<unsigned long long>(frames_received), report_path.c_str());
+    for (const auto& f : failures) std::printf("navmap-soak: failure: %s\n", f.c_str());
+    return failures.empty() ? 0 : 1;
+}

@@ -1,0 +1,250 @@
+// End to end: navmapd with a replayed drive, a cluster client and a HUD client on the shared-memory
+// stream, the control socket, and a graceful stop (issue: frame streaming and the daemon).
+#include <gtest/gtest.h>
+
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <thread>
+
+#include "golden.h"
+#include "navmap/ipc/control_client.h"
+#include "navmap/ipc/stream_client.hpp"
+
+extern char** environ;
+
+namespace {
+
+namespace fs = std::filesystem;
+using namespace std::chrono_literals;
+
+std::int64_t nowNs() {
+    return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch()).count();
+}
+
+// A vehicle standing at a fixed point in Andorra la Vella: NAV_Position at 10 Hz and NAV_Motion at
+// 50 Hz (data/navmap.dbc, Intel byte order) for 20 s; the daemon loops it.
+void writeStandingLog(const fs::path& path) {
+    std::ofstream out(path);
+    const std::int32_t lat = static_cast<std::int32_t>(std::lround(42.50770 * 1e7));
+    const std::int32_t lon = static_cast<std::int32_t>(std::lround(1.52190 * 1e7));
+    char line[128];
+    int counter = 0;
+    for (int ms = 0; ms < 20000; ms += 20) {
+        const double t = 1618394400.0 + ms / 1000.0;
+        if (ms % 100 == 0) {
+            std::uint8_t b[8];
+            for (int i = 0; i < 4; ++i) b[i] = static_cast<std::uint8_t>((static_cast<std::uint32_t>(lat) >> (8 * i)) & 0xff);
+            for (int i = 0; i < 4; ++i) b[4 + i] = static_cast<std::uint8_t>((static_cast<std::uint32_t>(lon) >> (8 * i)) & 0xff);
+            std::snprintf(line, sizeof line, "(%.6f) vcan0 6A0#%02X%02X%02X%02X%02X%02X%02X%02X\n", t, b[0], b[1], b[2], b[3], b[4], b[5], b[6], b[7]);
+            out << line;
+        }
+        const std::uint16_t heading = 4500;  // 45.00 deg
+        const std::uint8_t fix_counter = static_cast<std::uint8_t>(3 | ((counter++ & 15) << 4));
+        std::snprintf(line, sizeof line, "(%.6f) vcan0 6A1#%02X%02X%02X%02X%02X%02X%02X%02X\n", t + 0.001, heading & 0xff,
+                      heading >> 8, 0, 0, 0, 0, fix_counter, 9);
+        out << line;
+    }
+}
+
+struct Daemon {
+    pid_t pid = -1;
+    fs::path dir, log;
+    Daemon() {
+        dir = fs::temp_directory_path() / ("navmapd-e2e-" + std::to_string(::getpid()));
+        fs::remove_all(dir);
+        fs::create_directories(dir);
+        log = dir / "navmapd.log";
+        writeStandingLog(dir / "standing.candump");
+        const std::string cmd = std::string(NAVMAPD_PATH) + " --replay " + (dir / "standing.candump").string() +
+                                " --control-socket " + (dir / "control.sock").string() + " --frame-socket " +
+                                (dir / "frames.sock").string() + " --http-port 0 --profiles cluster,hud --log-level info" +
+                                " > " + log.string() + " 2>&1";
+        const char* argv[] = {"/bin/sh", "-c", cmd.c_str(), nullptr};
+        // exec so that the pid is navmapd's own (SIGTERM goes to it, not to the shell).
+        const std::string exec_cmd = "exec " + cmd;
+        argv[2] = exec_cmd.c_str();
+        posix_spawn(&pid, "/bin/sh", nullptr, nullptr, const_cast<char**>(argv), environ);
+        for (int i = 0; i < 200 && !fs::exists(dir / "frames.sock"); ++i) std::this_thread::sleep_for(50ms);
+    }
+    int stop() {
+        if (pid <= 0) return -1;
+        ::kill(pid, SIGTERM);
+        int status = 0;
+        for (int i = 0; i < 100; ++i) {
+            if (::waitpid(pid, &status, WNOHANG) == pid) {
+                pid = -1;
+                return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+            }
+            std::this_thread::sleep_for(50ms);
+        }
+        ::kill(pid, SIGKILL);
+        ::waitpid(pid, &status, 0);
+        pid = -1;
+        return -2;
+    }
+    std::string output() const {
+        std::ifstream in(log);
+        return {std::istreambuf_iterator<char>(in), {}};
+    }
+    ~Daemon() {
+        stop();
+        fs::remove_all(dir);
+    }
+};
+
+navmap::ipc::StreamRequest request(const char* name) {
+    navmap::ipc::StreamRequest r;
+    r.profile = *navmap::ipc::defaultStreamProfile(name);
+    return r;
+}
+
+TEST(NavmapdEndToEnd, ClusterAndHudClientsGetFramesControlWorksAndStopIsGraceful) {
+    Daemon d;
+    ASSERT_TRUE(fs::exists(d.dir / "frames.sock")) << d.output();
+    const std::int64_t t0 = nowNs();
+    auto cluster = navmap::ipc::StreamClient::connectUnix((d.dir / "frames.sock").string(), request("cluster"));
+    ASSERT_TRUE(cluster) << cluster.error().message;
+    auto hud = navmap::ipc::StreamClient::connectUnix((d.dir / "frames.sock").string(), request("hud"));
+    ASSERT_TRUE(hud) << hud.error().message;
+
+    // Frames arrive for both, in order, with their sizes and sane timestamps.
+    navmap::ipc::ReceivedFrame f;
+    std::uint64_t last_seq[2] = {0, 0};
+    int counts[2] = {0, 0};
+    const auto until = std::chrono::steady_clock::now() + 5s;
+    while (std::chrono::steady_clock::now() < until) {
+        for (int i = 0; i < 2; ++i) {
+            auto& client = i == 0 ? cluster.value() : hud.value();
+            auto got = client->next(f, 20ms);
+            ASSERT_TRUE(got) << got.error().message << "\n" << d.output();
+            if (!got.value()) continue;
+            ++counts[i];
+            EXPECT_GT(f.header.sequence, last_seq[i]);
+            last_seq[i] = f.header.sequence;
+            EXPECT_EQ(f.header.width, i == 0 ? 1280u : 800u);
+            EXPECT_EQ(f.header.height, i == 0 ? 480u : 240u);
+            EXPECT_GE(f.header.renderTimeNs, t0);
+            EXPECT_LE(f.header.renderTimeNs, f.receiveTimeNs);
+            if (f.header.sourceTimeNs != 0) {
+                EXPECT_LE(f.header.sourceTimeNs, f.header.renderTimeNs);
+                EXPECT_GT(f.header.sourceTimeNs, f.header.renderTimeNs - 2'000'000'000) << "pose data older than 2 s";
+            }
+        }
+    }
+    EXPECT_GT(counts[0], 5) << d.output();
+    EXPECT_GT(counts[1], 5) << d.output();
+
+    // A settled cluster frame of the standing vehicle matches its golden.
+    navmap::ipc::ReceivedFrame settled;
+    for (int i = 0; i < 50; ++i) {
+        auto got = cluster.value()->next(settled, 200ms);
+        ASSERT_TRUE(got);
+        if (got.value()) break;
+    }
+    navmap::render::Image image(static_cast<int>(settled.header.width), static_cast<int>(settled.header.height));
+    for (std::uint32_t y = 0; y < settled.header.height; ++y) {
+        std::memcpy(&image.rgba[static_cast<std::size_t>(y) * settled.header.width * 4],
+                    &settled.pixels[static_cast<std::size_t>(y) * settled.header.stride], settled.header.width * 4);
+    }
+    EXPECT_GOLDEN(image, "daemon/golden/navmapd_cluster_standing.png", (navmap::test::GoldenTolerance{12, 0.02}));
+
+    // The control socket: status, a malformed line (error, nothing changes), a view change.
+    auto control = navmap::ipc::ControlClient::connect((d.dir / "control.sock").string());
+    ASSERT_TRUE(control) << control.error().message;
+    auto status = control.value().request(R"({"cmd":"get_status"})");
+    ASSERT_TRUE(status) << status.error().message;
+    EXPECT_NE(status.value().find("\"ok\":true"), std::string::npos) << status.value();
+    EXPECT_NE(status.value().find("\"valid\":true"), std::string::npos) << "the replayed fix is in use: " << status.value();
+    auto bad = control.value().request(R"({"cmd":"set_view","display":"cluster","mode":"sideways"})");
+    ASSERT_TRUE(bad);
+    EXPECT_NE(bad.value().find("\"ok\":false"), std::string::npos) << bad.value();
+    auto garbage = control.value().request("{{{ not json");
+    ASSERT_TRUE(garbage);
+    EXPECT_NE(garbage.value().find("\"ok\":false"), std::string::npos) << garbage.value();
+    auto view = control.value().request(R"({"cmd":"set_view","display":"cluster","mode":"bird"})");
+    ASSERT_TRUE(view);
+    EXPECT_NE(view.value().find("\"ok\":true"), std::string::npos) << view.value();
+    // The bird's-eye view looks down: the frame changes a lot.
+    std::this_thread::sleep_for(1500ms);
+    navmap::ipc::ReceivedFrame bird;
+    for (int i = 0; i < 50; ++i) {
+        auto got = cluster.value()->next(bird, 200ms);
+        ASSERT_TRUE(got);
+        if (got.value()) break;
+    }
+    std::size_t differing = 0;
+    for (std::size_t i = 0; i < std::min(bird.pixels.size(), settled.pixels.size()); i += 4) differing += bird.pixels[i] != settled.pixels[i];
+    EXPECT_GT(differing, settled.pixels.size() / 4 / 4) << "set_view bird did not change the cluster view";
+
+    // SIGTERM: exit status 0, clients see the stream end.
+    EXPECT_EQ(d.stop(), 0) << d.output();
+    navmap::ipc::ReceivedFrame after;
+    bool ended = false;
+    for (int i = 0; i < 20 && !ended; ++i) {
+        auto got = cluster.value()->next(after, 100ms);
+        ended = !got;
+    }
+    EXPECT_TRUE(ended) << "the client did not notice the daemon stopping";
+    const std::string out = d.output();
+    EXPECT_NE(out.find("<5>navmapd: ready in"), std::string::npos) << out;
+    EXPECT_NE(out.find("<5>navmapd: stopping"), std::string::npos) << out;
+}
+
+std::pair<int, std::string> runNavmapd(const std::string& args) {
+    const std::string cmd = std::string(NAVMAPD_PATH) + " " + args + " 2>&1";
+    FILE* p = ::popen(cmd.c_str(), "r");
+    std::string out;
+    char buf[512];
+    while (std::fgets(buf, sizeof buf, p)) out += buf;
+    const int st = ::pclose(p);
+    return {WIFEXITED(st) ? WEXITSTATUS(st) : -1, out};
+}
+
+TEST(NavmapdEndToEnd, BadInputIsOneClearErrorLine) {
+    auto [status, out] = runNavmapd("--store /nonexistent/x.navmap --run-for 1");
+    EXPECT_EQ(status, 1);
+    EXPECT_NE(out.find("<3>navmapd: open(/nonexistent/x.navmap): No such file or directory"), std::string::npos) << out;
+    std::tie(status, out) = runNavmapd("--profiles dashboard --run-for 1");
+    EXPECT_EQ(status, 1);
+    EXPECT_NE(out.find("<3>navmapd: --profiles: unknown profile 'dashboard'"), std::string::npos) << out;
+    std::tie(status, out) = runNavmapd("--replay /nonexistent/drive.candump --run-for 1 --control-socket /tmp/navmapd-bad-c.sock "
+                                       "--frame-socket /tmp/navmapd-bad-f.sock --http-port 0");
+    EXPECT_EQ(status, 1);
+    EXPECT_NE(out.find("/nonexistent/drive.candump"), std::string::npos) << out;
+    std::tie(status, out) = runNavmapd("--speed 0");
+    EXPECT_NE(status, 0);
+    EXPECT_NE(out.find("--speed"), std::string::npos) << out;
+}
+
+TEST(NavmapdEndToEnd, CheckConfigPrintsTheEffectiveConfiguration) {
+    const fs::path cfg = fs::temp_directory_path() / "navmapd-check.toml";
+    std::ofstream(cfg) << "[render]\nstyle = \"night\"\n[[profile]]\nname = \"cluster\"\nwidth = 1280\nheight = 480\n";
+    const std::string cmd = std::string(NAVMAPD_PATH) + " --check-config --config " + cfg.string() + " 2>&1";
+    FILE* p = ::popen(cmd.c_str(), "r");
+    std::string out;
+    char buf[512];
+    while (std::fgets(buf, sizeof buf, p)) out += buf;
+    EXPECT_EQ(::pclose(p), 0) << out;
+    EXPECT_NE(out.find("configuration OK"), std::string::npos) << out;
+    EXPECT_NE(out.find("style night"), std::string::npos) << out;
+    EXPECT_NE(out.find("profile cluster: 1280x480"), std::string::npos) << out;
+    std::ofstream(cfg) << "[render]\nstyle = \"dusk\"\n";
+    p = ::popen(cmd.c_str(), "r");
+    out.clear();
+    while (std::fgets(buf, sizeof buf, p)) out += buf;
+    EXPECT_NE(::pclose(p), 0);
+    EXPECT_NE(out.find("render.style = \"dusk\": expected day or night"), std::string::npos) << out;
+    fs::remove(cfg);
+}
+
+}  // namespace
