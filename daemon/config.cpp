@@ -166,7 +166,7 @@ std::optional<DaemonConfig> parseConfig(const std::string& text, const std::stri
         auto r = section("render");
         std::string style = "day";
         if (!r.get("egl_platform", c.egl_platform) || !r.get("msaa", c.msaa) || !r.range("msaa", c.msaa, -1, 16) ||
-            !r.get("style", style) || !r.noUnknownKeys())
+            !r.get("style", style) || !r.get("labels", c.labels) || !r.noUnknownKeys())
             return std::nullopt;
         if (c.egl_platform != "auto" && c.egl_platform != "surfaceless" && c.egl_platform != "device") {
             err->message = source_name + ": render.egl_platform = \"" + c.egl_platform + "\": expected auto, surfaceless or device";
@@ -301,7 +301,8 @@ std::string describeConfig(const DaemonConfig& c) {
                        : c.input == InputSource::Replay ? "replay " + c.replay_log.string()
                                                         : "socketcan " + c.can_interface)
       << ", position stale after " << c.stale_after_s << " s\n";
-    s << "render: egl " << c.egl_platform << ", msaa " << c.msaa << ", style " << (c.night ? "night" : "day") << "\n";
+    s << "render: egl " << c.egl_platform << ", msaa " << c.msaa << ", style " << (c.night ? "night" : "day")
+      << ", labels " << (c.labels ? "on" : "off") << "\n";
     for (const auto& p : c.profiles) {
         s << "profile " << p.name << ": " << p.width << "x" << p.height << " @ " << p.fps << " fps, "
           << (p.view == render::ViewMode::Bird ? "bird" : "snail") << ", "

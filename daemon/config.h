@@ -35,6 +35,7 @@ struct DaemonConfig {
     std::string egl_platform = "auto";
     int msaa = -1;
     bool night = false;
+    bool labels = true;                        ///< place, POI, road and area names
     std::vector<DisplayProfile> profiles;      ///< [[profile]]; defaults: cluster, hud, center
     // [control]
     std::filesystem::path control_socket = "/run/navmap/control.sock";

@@ -16,7 +16,7 @@
 #include "lifecycle.h"
 #include "navmap/ipc/control_server.h"
 #include "navmap/ipc/control_state.h"
-#include "navmap/ipc/frame_server.hpp"
+#include "navmap/ipc/frame_server.h"
 #include "navmap/render/map_scene.h"
 #include "navmap/render/renderer.h"
 #include "vehicle_input.h"
@@ -274,6 +274,8 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
                 frame.tiles = v.map_view->tilesFor(frame.camera, double(v.profile.width) / v.profile.height, v.profile.height);
                 frame.route = route_geometry.points.size() >= 2 ? &route_geometry : nullptr;
                 frame.route_progress_m = route_driven_max;
+                frame.layers.labels = config.labels;
+                frame.frame_dt_s = std::min(dt, 0.5);
                 if (pose.valid) frame.marker = render::MarkerState{vp.position, vp.heading_deg, pose.stale};
                 v.renderer->setMapStyle(style);
                 v.renderer->renderMap(frame);

@@ -17,7 +17,7 @@ int main(int argc, char** argv) {
     std::vector<std::string> profile_names;
     std::optional<double> speed, run_for;
     std::optional<int> http_port, tcp_port, msaa;
-    bool check = false, render_all = false, noop = false;
+    bool check = false, render_all = false, noop = false, no_labels = false;
     app.add_option("-c,--config", config_path, "TOML configuration file (defaults apply without one)");
     app.add_flag("--check-config", check, "validate the configuration, print it and exit");
     app.add_option("--store", store, "compiled tile store (navmap-compile)");
@@ -39,6 +39,7 @@ int main(int argc, char** argv) {
         ->check(CLI::IsMember({"error", "warning", "notice", "info", "debug"}));
     app.add_option("--run-for", run_for, "stop after this many seconds")->check(CLI::Range(0.1, 1e7));
     app.add_flag("--render-all", render_all, "render every profile even without clients");
+    app.add_flag("--no-labels", no_labels, "draw no labels");
     app.add_flag("--noop", noop, "no GL: the no-op renderer (testing the loop)");
     CLI11_PARSE(app, argc, argv);
 
@@ -64,6 +65,7 @@ int main(int argc, char** argv) {
     if (!style.empty()) c.night = style == "night";
     if (!egl.empty()) c.egl_platform = egl;
     if (msaa) c.msaa = *msaa;
+    if (no_labels) c.labels = false;
     if (!log_level.empty()) {
         const std::string l = log_level;
         c.log_level = l == "error" ? 3 : l == "warning" ? 4 : l == "notice" ? 5 : l == "info" ? 6 : 7;

@@ -3,11 +3,11 @@
 #include <chrono>
 #include <stdexcept>
 
-#include "navmap/ipc/candump_reader.hpp"
-#include "navmap/ipc/dbc_database.hpp"
-#include "navmap/ipc/replayer.hpp"
-#include "navmap/ipc/signal_map.hpp"
-#include "navmap/ipc/socketcan_source.hpp"
+#include "navmap/ipc/candump_reader.h"
+#include "navmap/ipc/dbc_database.h"
+#include "navmap/ipc/replayer.h"
+#include "navmap/ipc/signal_map.h"
+#include "navmap/ipc/socketcan_source.h"
 #include "navmap/sim/drive_simulator.h"
 
 namespace navmap::daemon {

@@ -14,7 +14,7 @@
 #include "navmap/daemon/vehicle/vehicle_state.h"
 #include "navmap/daemon/vehicle/vehicle_state_estimator.h"
 #include "navmap/ipc/control_state.h"
-#include "navmap/ipc/vehicle_decoder.hpp"
+#include "navmap/ipc/vehicle_decoder.h"
 #include "navmap/render/map_scene.h"
 
 namespace navmap::ipc {

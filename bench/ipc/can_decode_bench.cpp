@@ -12,12 +12,12 @@
 #include <sstream>
 #include <thread>
 
-#include "navmap/ipc/candump_reader.hpp"
-#include "navmap/ipc/dbc_database.hpp"
-#include "navmap/ipc/frame_queue.hpp"
-#include "navmap/ipc/replayer.hpp"
-#include "navmap/ipc/signal_map.hpp"
-#include "navmap/ipc/vehicle_decoder.hpp"
+#include "navmap/ipc/candump_reader.h"
+#include "navmap/ipc/dbc_database.h"
+#include "navmap/ipc/frame_queue.h"
+#include "navmap/ipc/replayer.h"
+#include "navmap/ipc/signal_map.h"
+#include "navmap/ipc/vehicle_decoder.h"
 
 namespace ipc = navmap::ipc;
 

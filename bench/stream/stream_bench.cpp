@@ -12,8 +12,8 @@
 #include <memory>
 #include <random>
 
-#include "navmap/ipc/frame_server.hpp"
-#include "navmap/ipc/stream_client.hpp"
+#include "navmap/ipc/frame_server.h"
+#include "navmap/ipc/stream_client.h"
 #include "stream_test_util.h"
 
 using namespace navmap::ipc;

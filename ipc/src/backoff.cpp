@@ -1,4 +1,4 @@
-#include "navmap/ipc/backoff.hpp"
+#include "navmap/ipc/backoff.h"
 
 #include <algorithm>
 

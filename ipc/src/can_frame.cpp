@@ -1,4 +1,4 @@
-#include "navmap/ipc/can_frame.hpp"
+#include "navmap/ipc/can_frame.h"
 
 #include <cstdio>
 

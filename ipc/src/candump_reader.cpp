@@ -1,4 +1,4 @@
-#include "navmap/ipc/candump_reader.hpp"
+#include "navmap/ipc/candump_reader.h"
 
 #include <charconv>
 #include <fstream>

@@ -1,4 +1,4 @@
-#include "navmap/ipc/dbc_database.hpp"
+#include "navmap/ipc/dbc_database.h"
 
 #include <cctype>
 #include <charconv>

@@ -1,4 +1,4 @@
-#include "navmap/ipc/dbc_message.hpp"
+#include "navmap/ipc/dbc_message.h"
 
 #include <cmath>
 

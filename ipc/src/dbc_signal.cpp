@@ -1,4 +1,4 @@
-#include "navmap/ipc/dbc_signal.hpp"
+#include "navmap/ipc/dbc_signal.h"
 
 #include <bit>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "navmap/ipc/frame_queue.hpp"
+#include "navmap/ipc/frame_queue.h"
 
 #include <algorithm>
 

@@ -1,4 +1,4 @@
-#include "navmap/ipc/replayer.hpp"
+#include "navmap/ipc/replayer.h"
 
 #include <algorithm>
 

@@ -1,4 +1,4 @@
-#include "navmap/ipc/signal_map.hpp"
+#include "navmap/ipc/signal_map.h"
 
 #include <algorithm>
 #include <cctype>

@@ -1,4 +1,4 @@
-#include "navmap/ipc/socketcan_codec.hpp"
+#include "navmap/ipc/socketcan_codec.h"
 
 #include <linux/can/error.h>
 #include <linux/can/raw.h>

@@ -1,4 +1,4 @@
-#include "navmap/ipc/socketcan_source.hpp"
+#include "navmap/ipc/socketcan_source.h"
 
 #include <linux/can.h>
 #include <linux/can/raw.h>
@@ -12,7 +12,7 @@
 #include <cerrno>
 #include <cstring>
 
-#include "navmap/ipc/socketcan_codec.hpp"
+#include "navmap/ipc/socketcan_codec.h"
 
 namespace navmap::ipc {
 namespace {

@@ -1,4 +1,4 @@
-#include "navmap/ipc/vehicle_decoder.hpp"
+#include "navmap/ipc/vehicle_decoder.h"
 
 #include <algorithm>
 #include <cctype>

@@ -1,4 +1,4 @@
-#include "navmap/ipc/vehicle_sample.hpp"
+#include "navmap/ipc/vehicle_sample.h"
 
 namespace navmap::ipc {
 namespace {

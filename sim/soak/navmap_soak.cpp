@@ -24,7 +24,7 @@
 #include <vector>
 
 #include "navmap/ipc/control_client.h"
-#include "navmap/ipc/stream_client.hpp"
+#include "navmap/ipc/stream_client.h"
 
 extern char** environ;
 

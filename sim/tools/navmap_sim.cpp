@@ -16,7 +16,7 @@
 #include <string>
 
 #include "navmap/ipc/control_client.h"
-#include "navmap/ipc/socketcan_source.hpp"
+#include "navmap/ipc/socketcan_source.h"
 #include "navmap/sim/candump_writer.h"
 #include "navmap/sim/drive_simulator.h"
 #include "navmap/sim/route_message.h"

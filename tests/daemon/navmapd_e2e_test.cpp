@@ -18,7 +18,7 @@
 
 #include "golden.h"
 #include "navmap/ipc/control_client.h"
-#include "navmap/ipc/stream_client.hpp"
+#include "navmap/ipc/stream_client.h"
 
 extern char** environ;
 
@@ -68,6 +68,9 @@ struct Daemon {
         const std::string cmd = std::string(NAVMAPD_PATH) + " --replay " + (dir / "standing.candump").string() +
                                 " --control-socket " + (dir / "control.sock").string() + " --frame-socket " +
                                 (dir / "frames.sock").string() + " --http-port 0 --profiles cluster,hud --log-level info" +
+                                // Labels fade in with wall-clock time: off, so the golden frame is deterministic
+                                // (their rendering has its own tests in tests/render).
+                                " --no-labels" +
                                 " > " + log.string() + " 2>&1";
         const char* argv[] = {"/bin/sh", "-c", cmd.c_str(), nullptr};
         // exec so that the pid is navmapd's own (SIGTERM goes to it, not to the shell).

@@ -8,9 +8,9 @@
 #include <string>
 #include <string_view>
 
-#include "navmap/ipc/frame_header.hpp"
-#include "navmap/ipc/stream_http_request.hpp"
-#include "navmap/ipc/stream_profile.hpp"
+#include "navmap/ipc/frame_header.h"
+#include "navmap/ipc/stream_http_request.h"
+#include "navmap/ipc/stream_profile.h"
 
 int navmapFuzzStreamHandshake(const std::uint8_t* data, std::size_t size) {
     const std::string_view text(reinterpret_cast<const char*>(data), size);

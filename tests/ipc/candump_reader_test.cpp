@@ -3,7 +3,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "navmap/ipc/candump_reader.hpp"
+#include "navmap/ipc/candump_reader.h"
 #include "test_paths.h"
 
 using navmap::ipc::CandumpReader;

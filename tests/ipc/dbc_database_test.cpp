@@ -1,6 +1,6 @@
 #include <gtest/gtest.h>
 
-#include "navmap/ipc/dbc_database.hpp"
+#include "navmap/ipc/dbc_database.h"
 #include "test_paths.h"
 
 using navmap::ipc::ByteOrder;

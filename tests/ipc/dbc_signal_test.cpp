@@ -4,7 +4,7 @@
 #include <cmath>
 #include <random>
 
-#include "navmap/ipc/dbc_signal.hpp"
+#include "navmap/ipc/dbc_signal.h"
 
 using navmap::ipc::ByteOrder;
 using navmap::ipc::DbcSignal;

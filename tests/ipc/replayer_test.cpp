@@ -2,9 +2,9 @@
 
 #include <thread>
 
-#include "navmap/ipc/candump_reader.hpp"
-#include "navmap/ipc/frame_queue.hpp"
-#include "navmap/ipc/replayer.hpp"
+#include "navmap/ipc/candump_reader.h"
+#include "navmap/ipc/frame_queue.h"
+#include "navmap/ipc/replayer.h"
 #include "test_paths.h"
 
 using namespace std::chrono_literals;

@@ -6,9 +6,9 @@
 
 #include <dirent.h>
 
-#include "navmap/ipc/backoff.hpp"
-#include "navmap/ipc/socketcan_codec.hpp"
-#include "navmap/ipc/socketcan_source.hpp"
+#include "navmap/ipc/backoff.h"
+#include "navmap/ipc/socketcan_codec.h"
+#include "navmap/ipc/socketcan_source.h"
 
 using namespace std::chrono_literals;
 using navmap::ipc::Backoff;

@@ -4,10 +4,10 @@
 #include <cmath>
 #include <numbers>
 
-#include "navmap/ipc/candump_reader.hpp"
-#include "navmap/ipc/dbc_database.hpp"
-#include "navmap/ipc/signal_map.hpp"
-#include "navmap/ipc/vehicle_decoder.hpp"
+#include "navmap/ipc/candump_reader.h"
+#include "navmap/ipc/dbc_database.h"
+#include "navmap/ipc/signal_map.h"
+#include "navmap/ipc/vehicle_decoder.h"
 #include "test_paths.h"
 
 using navmap::ipc::CanFrame;

@@ -6,7 +6,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "navmap/ipc/candump_reader.hpp"
+#include "navmap/ipc/candump_reader.h"
 #include "navmap/sim/candump_writer.h"
 
 namespace navmap::sim {

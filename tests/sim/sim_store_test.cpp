@@ -6,7 +6,7 @@
 #include <cmath>
 #include <filesystem>
 
-#include "navmap/ipc/candump_reader.hpp"
+#include "navmap/ipc/candump_reader.h"
 #include "navmap/ipc/control_protocol.h"
 #include "navmap/sim/drive_simulator.h"
 #include "navmap/sim/route_message.h"

@@ -6,8 +6,8 @@
 #include <numbers>
 #include <vector>
 
-#include "navmap/ipc/dbc_database.hpp"
-#include "navmap/ipc/vehicle_decoder.hpp"
+#include "navmap/ipc/dbc_database.h"
+#include "navmap/ipc/vehicle_decoder.h"
 #include "navmap/map/projection.h"
 #include "navmap/sim/drive_route.h"
 

@@ -18,11 +18,11 @@
 #include <string>
 #include <thread>
 
-#include "navmap/ipc/candump_reader.hpp"
-#include "navmap/ipc/dbc_database.hpp"
-#include "navmap/ipc/signal_map.hpp"
-#include "navmap/ipc/socketcan_source.hpp"
-#include "navmap/ipc/vehicle_decoder.hpp"
+#include "navmap/ipc/candump_reader.h"
+#include "navmap/ipc/dbc_database.h"
+#include "navmap/ipc/signal_map.h"
+#include "navmap/ipc/socketcan_source.h"
+#include "navmap/ipc/vehicle_decoder.h"
 
 extern char** environ;
 

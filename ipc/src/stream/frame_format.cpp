@@ -1,4 +1,4 @@
-#include "navmap/ipc/frame_format.hpp"
+#include "navmap/ipc/frame_format.h"
 
 #include <cstring>
 

@@ -1,4 +1,4 @@
-#include "navmap/ipc/frame_header.hpp"
+#include "navmap/ipc/frame_header.h"
 
 #include <string>
 

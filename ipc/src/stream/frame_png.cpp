@@ -1,4 +1,4 @@
-#include "navmap/ipc/frame_png.hpp"
+#include "navmap/ipc/frame_png.h"
 
 #include <zlib.h>
 

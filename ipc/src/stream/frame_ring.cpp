@@ -1,4 +1,4 @@
-#include "navmap/ipc/frame_ring.hpp"
+#include "navmap/ipc/frame_ring.h"
 
 #include <fcntl.h>
 #include <sys/mman.h>

@@ -1,4 +1,4 @@
-#include "navmap/ipc/frame_server.hpp"
+#include "navmap/ipc/frame_server.h"
 
 #include <netinet/in.h>
 #include <netinet/tcp.h>
@@ -21,11 +21,11 @@
 #include <sstream>
 #include <thread>
 
-#include "navmap/ipc/frame_header.hpp"
-#include "navmap/ipc/frame_ring.hpp"
-#include "navmap/ipc/stream_http_request.hpp"
-#include "stream_page.hpp"
-#include "stream_socket.hpp"
+#include "navmap/ipc/frame_header.h"
+#include "navmap/ipc/frame_ring.h"
+#include "navmap/ipc/stream_http_request.h"
+#include "stream_page.h"
+#include "stream_socket.h"
 
 namespace navmap::ipc {
 

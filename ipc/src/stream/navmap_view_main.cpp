@@ -13,8 +13,8 @@
 #include <string>
 #include <vector>
 
-#include "navmap/ipc/frame_png.hpp"
-#include "navmap/ipc/stream_client.hpp"
+#include "navmap/ipc/frame_png.h"
+#include "navmap/ipc/stream_client.h"
 
 namespace {
 

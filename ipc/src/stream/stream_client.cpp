@@ -1,4 +1,4 @@
-#include "navmap/ipc/stream_client.hpp"
+#include "navmap/ipc/stream_client.h"
 
 #include <poll.h>
 #include <sys/mman.h>
@@ -11,8 +11,8 @@
 #include <cstring>
 #include <nlohmann/json.hpp>
 
-#include "navmap/ipc/frame_ring.hpp"
-#include "stream_socket.hpp"
+#include "navmap/ipc/frame_ring.h"
+#include "stream_socket.h"
 
 namespace navmap::ipc {
 
@@ -329,6 +329,14 @@ Result<bool> StreamClient::next(ReceivedFrame& out, std::chrono::milliseconds ti
                 }
                 continue;
             }
+            if (h.sequence <= m_lastSequence) {
+                // Already handed out: we jumped ahead to the newest slot when an earlier
+                // notification had been overwritten, and this one announces that same frame.
+                if (Clock::now() >= deadline) {
+                    return false;
+                }
+                continue;
+            }
             h.renderTimeNs = slotHeader.renderTimeNs;
             h.sourceTimeNs = slotHeader.sourceTimeNs;
         } else if (h.encoding == FrameEncoding::Raw) {
@@ -347,6 +355,7 @@ Result<bool> StreamClient::next(ReceivedFrame& out, std::chrono::milliseconds ti
                              std::to_string(out.pixels.size()) + " bytes"};
             }
         }
+        m_lastSequence = h.sequence;
         m_stats.bytes += h.payloadBytes;
         m_stats.serverDropped = h.dropped;
         ++m_stats.frames;

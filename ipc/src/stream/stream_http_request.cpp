@@ -1,4 +1,4 @@
-#include "navmap/ipc/stream_http_request.hpp"
+#include "navmap/ipc/stream_http_request.h"
 
 namespace navmap::ipc {
 namespace {

@@ -1,4 +1,4 @@
-#include "stream_page.hpp"
+#include "stream_page.h"
 
 namespace navmap::ipc::stream_detail {
 

@@ -1,4 +1,4 @@
-#include "navmap/ipc/stream_profile.hpp"
+#include "navmap/ipc/stream_profile.h"
 
 #include <nlohmann/json.hpp>
 

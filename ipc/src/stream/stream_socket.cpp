@@ -1,4 +1,4 @@
-#include "stream_socket.hpp"
+#include "stream_socket.h"
 
 #include <arpa/inet.h>
 #include <fcntl.h>

@@ -59,6 +59,7 @@ struct MapRenderer::GpuTile {
     GLsizei bridge_first = 0;
     GLuint buildings_vao = 0, buildings_vbo = 0, buildings_ibo = 0;
     GLsizei building_index_count = 0;
+    std::vector<glm::vec3> label_points;  // labelPoints(): anchors and segments on the terrain
     std::uint64_t last_used = 0;
 
     ~GpuTile() {
@@ -136,6 +137,7 @@ MapRenderer::GpuTile* MapRenderer::upload(const std::shared_ptr<const map::Tile>
     gpu->source = tile.get();
     gpu->origin = mesh.origin;
     gpu->size_m = mesh.size_m;
+    if (!tile->labels.empty()) gpu->label_points = labelPoints(*tile, mesh.grid());
 
     glGenVertexArrays(1, &gpu->terrain_vao);
     glGenBuffers(1, &gpu->terrain_vbo);
@@ -477,6 +479,19 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target) {
         glDrawArrays(GL_TRIANGLES, 0, 3);
         glDisable(GL_BLEND);
         lap(m_stats.outlines_ms, t);
+    }
+
+    // Labels (seed ch. 4, 5.5): after the outlines so they lie above the roads, before the marker.
+    if (frame.layers.labels) {
+        if (!m_label_pass) m_label_pass = std::make_unique<LabelPass>();
+        m_tile_labels.clear();
+        for (const GpuTile* g : tiles) {
+            if (!g->label_points.empty()) m_tile_labels.push_back({g->source, g->origin, g->label_points});
+        }
+        target.bindForDrawing(false);
+        m_label_pass->run(frame, m_tile_labels, {target.width(), target.height()}, m_stats);
+        double label_gpu_ms = 0;  // labels_ms is the pass's own CPU time; keep it out of marker_ms
+        lap(label_gpu_ms, t);
     }
 
     if (frame.layers.marker && frame.marker) drawMarker(frame, target);

@@ -13,6 +13,7 @@
 #include "navmap/render/map_frame.h"
 #include "navmap/render/renderer.h"
 #include "navmap/render/tile_mesh.h"
+#include "label_pass.h"
 #include "render_target.h"
 #include "shader_program.h"
 
@@ -60,6 +61,8 @@ private:
     std::unordered_set<std::uint64_t> m_warned_flat;  // tiles already reported as lacking DEM
     std::size_t m_stats_flat_tiles = 0;
     std::vector<FlatTile> m_new_flat_tiles;
+    std::unique_ptr<LabelPass> m_label_pass;  // created on the first frame with labels on
+    std::vector<TileLabels> m_tile_labels;
 };
 
 }  // namespace navmap::render::gl

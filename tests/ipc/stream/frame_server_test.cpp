@@ -9,9 +9,9 @@
 #include <cstring>
 #include <nlohmann/json.hpp>
 
-#include "navmap/ipc/frame_header.hpp"
-#include "navmap/ipc/frame_server.hpp"
-#include "navmap/ipc/stream_client.hpp"
+#include "navmap/ipc/frame_header.h"
+#include "navmap/ipc/frame_server.h"
+#include "navmap/ipc/stream_client.h"
 #include "stream_test_util.h"
 
 using namespace navmap::ipc;

@@ -8,7 +8,7 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
-#include "navmap/ipc/frame_server.hpp"
+#include "navmap/ipc/frame_server.h"
 #include "navmap/render/image.h"
 #include "stream_test_util.h"
 

@@ -10,7 +10,7 @@
 #include <filesystem>
 #include <thread>
 
-#include "navmap/ipc/frame_server.hpp"
+#include "navmap/ipc/frame_server.h"
 #include "navmap/render/image.h"
 
 using namespace navmap::ipc;

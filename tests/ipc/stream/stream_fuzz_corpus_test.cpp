@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "navmap/ipc/frame_header.hpp"
-#include "navmap/ipc/stream_profile.hpp"
+#include "navmap/ipc/frame_header.h"
+#include "navmap/ipc/stream_profile.h"
 
 int navmapFuzzStreamHandshake(const std::uint8_t* data, std::size_t size);
 

@@ -9,7 +9,7 @@
 #include <thread>
 #include <vector>
 
-#include "navmap/ipc/frame_server.hpp"
+#include "navmap/ipc/frame_server.h"
 
 namespace navmap::stream_test {
 

@@ -8,11 +8,11 @@
 #include <filesystem>
 #include <thread>
 
-#include "navmap/ipc/frame_header.hpp"
-#include "navmap/ipc/frame_png.hpp"
-#include "navmap/ipc/frame_ring.hpp"
-#include "navmap/ipc/stream_http_request.hpp"
-#include "navmap/ipc/stream_profile.hpp"
+#include "navmap/ipc/frame_header.h"
+#include "navmap/ipc/frame_png.h"
+#include "navmap/ipc/frame_ring.h"
+#include "navmap/ipc/stream_http_request.h"
+#include "navmap/ipc/stream_profile.h"
 #include "navmap/render/image.h"
 #include "stream_test_util.h"
 

@@ -7,7 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "navmap/ipc/control_command.h"
-#include "navmap/ipc/result.hpp"
+#include "navmap/ipc/result.h"
 
 namespace navmap::ipc {
 

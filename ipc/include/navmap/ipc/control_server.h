@@ -19,7 +19,7 @@
 
 #include "navmap/ipc/control_command.h"
 #include "navmap/ipc/control_handler.h"
-#include "navmap/ipc/result.hpp"
+#include "navmap/ipc/result.h"
 
 namespace navmap::ipc {
 

@@ -8,6 +8,7 @@
 
 #include "navmap/map/tile.h"
 #include "navmap/render/camera.h"
+#include "navmap/render/labels/label_types.h"
 #include "navmap/render/road_style.h"
 
 namespace navmap::render {
@@ -21,6 +22,9 @@ struct MapLayers {
     bool buildings = true;
     bool route = true;
     bool marker = true;
+    /// Map labels (seed ch. 4, 5.5): screen-space in bird's-eye, world-space in snail's view.
+    /// Off by default so the label-free goldens stay valid; navmapd and the label tests turn it on.
+    bool labels = false;
 };
 
 /// The planned route as a polyline on the terrain (store-frame metres), with the distance
@@ -62,6 +66,9 @@ struct MapFrame {
     double route_progress_m = 0.0;
     std::optional<MarkerState> marker;
     MapLayers layers;
+    /// Time since the previous frame of this renderer, seconds: the label layout advances by it
+    /// (fixed simulation steps, so the result does not depend on the frame rate).
+    double frame_dt_s = 1.0 / 30.0;
 };
 
 /// A tile drawn partly flat because the store had no elevation data for part of it.
@@ -83,6 +90,13 @@ struct MapFrameStats {
     std::size_t building_triangles = 0;
     std::size_t flat_tiles = 0;  ///< tiles seen so far with missing elevation data
     std::vector<FlatTile> new_flat_tiles;  ///< first seen in this frame: the caller warns about them
+    // Labels (MapLayers::labels).
+    double labels_ms = 0;                  ///< CPU time of the label pass (collect, layout, text), always measured
+    std::size_t label_candidates = 0;      ///< labels of the frame's tiles projected inside the view
+    std::size_t labels_visible = 0;        ///< placed labels fading in or visible
+    std::size_t label_glyphs = 0;          ///< glyph quads drawn
+    float label_world_weight = 0;          ///< 0: screen-space labels, 1: world-space, between: cross-fading
+    std::vector<labels::PlacedLabel> placed_labels;  ///< layout output of this frame (quality metrics)
 };
 
 }  // namespace navmap::render

@@ -9,8 +9,8 @@
 #include <string>
 #include <string_view>
 
-#include "navmap/ipc/can_frame.hpp"
-#include "navmap/ipc/result.hpp"
+#include "navmap/ipc/can_frame.h"
+#include "navmap/ipc/result.h"
 
 namespace navmap::sim {
 

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "navmap/ipc/result.hpp"
+#include "navmap/ipc/result.h"
 #include "navmap/map/road_graph.h"
 #include "navmap/map/routing.h"
 

@@ -8,9 +8,9 @@
 #include <string>
 #include <vector>
 
-#include "navmap/ipc/can_frame.hpp"
-#include "navmap/ipc/dbc_database.hpp"
-#include "navmap/ipc/replayer.hpp"
+#include "navmap/ipc/can_frame.h"
+#include "navmap/ipc/dbc_database.h"
+#include "navmap/ipc/replayer.h"
 #include "navmap/map/tile_store.h"
 #include "navmap/sim/drive_route.h"
 #include "navmap/sim/frame_generator.h"

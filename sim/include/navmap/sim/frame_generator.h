@@ -15,9 +15,9 @@
 #include <random>
 #include <vector>
 
-#include "navmap/ipc/can_frame.hpp"
-#include "navmap/ipc/dbc_database.hpp"
-#include "navmap/ipc/result.hpp"
+#include "navmap/ipc/can_frame.h"
+#include "navmap/ipc/dbc_database.h"
+#include "navmap/ipc/result.h"
 #include "navmap/map/projection.h"
 #include "navmap/sim/speed_profile.h"
 

@@ -9,7 +9,7 @@
 #include <string_view>
 #include <vector>
 
-#include "navmap/ipc/result.hpp"
+#include "navmap/ipc/result.h"
 #include "navmap/map/tile_store.h"
 
 namespace navmap::sim {

@@ -12,11 +12,11 @@
 #include <unordered_map>
 #include <vector>
 
-#include "navmap/ipc/can_frame.hpp"
-#include "navmap/ipc/dbc_database.hpp"
-#include "navmap/ipc/result.hpp"
-#include "navmap/ipc/signal_map.hpp"
-#include "navmap/ipc/vehicle_sample.hpp"
+#include "navmap/ipc/can_frame.h"
+#include "navmap/ipc/dbc_database.h"
+#include "navmap/ipc/result.h"
+#include "navmap/ipc/signal_map.h"
+#include "navmap/ipc/vehicle_sample.h"
 
 namespace navmap::ipc {
 

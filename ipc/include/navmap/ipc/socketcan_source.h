@@ -14,10 +14,10 @@
 #include <string>
 #include <vector>
 
-#include "navmap/ipc/backoff.hpp"
-#include "navmap/ipc/can_frame.hpp"
-#include "navmap/ipc/replayer.hpp"  // FrameSink
-#include "navmap/ipc/result.hpp"
+#include "navmap/ipc/backoff.h"
+#include "navmap/ipc/can_frame.h"
+#include "navmap/ipc/replayer.h"  // FrameSink
+#include "navmap/ipc/result.h"
 
 namespace navmap::ipc {
 

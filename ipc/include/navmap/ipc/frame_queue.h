@@ -9,7 +9,7 @@
 #include <mutex>
 #include <vector>
 
-#include "navmap/ipc/can_frame.hpp"
+#include "navmap/ipc/can_frame.h"
 
 namespace navmap::ipc {
 

@@ -9,9 +9,9 @@
 #include <string>
 #include <vector>
 
-#include "navmap/ipc/frame_header.hpp"
-#include "navmap/ipc/result.hpp"
-#include "navmap/ipc/stream_profile.hpp"
+#include "navmap/ipc/frame_header.h"
+#include "navmap/ipc/result.h"
+#include "navmap/ipc/stream_profile.h"
 
 namespace navmap::ipc {
 
@@ -62,6 +62,7 @@ private:
     std::string m_peer;
     StreamProfile m_profile;
     StreamPayload m_payload = StreamPayload::Shm;
+    std::uint64_t m_lastSequence = 0;  ///< newest frame handed out (never hand one out twice)
     const std::uint8_t* m_map = nullptr;
     std::size_t m_mapBytes = 0;
     std::uint32_t m_slots = 0;

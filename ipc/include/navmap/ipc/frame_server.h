@@ -16,9 +16,9 @@
 #include <string>
 #include <vector>
 
-#include "navmap/ipc/frame_view.hpp"
-#include "navmap/ipc/result.hpp"
-#include "navmap/ipc/stream_profile.hpp"
+#include "navmap/ipc/frame_view.h"
+#include "navmap/ipc/result.h"
+#include "navmap/ipc/stream_profile.h"
 
 namespace navmap::ipc {
 

@@ -19,8 +19,8 @@
 #include <unordered_map>
 #include <vector>
 
-#include "navmap/ipc/dbc_message.hpp"
-#include "navmap/ipc/result.hpp"
+#include "navmap/ipc/dbc_message.h"
+#include "navmap/ipc/result.h"
 
 namespace navmap::ipc {
 

@@ -9,7 +9,7 @@
 #include <optional>
 #include <string_view>
 
-#include "navmap/ipc/can_frame.hpp"
+#include "navmap/ipc/can_frame.h"
 
 namespace navmap::ipc {
 

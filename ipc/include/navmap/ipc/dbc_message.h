@@ -10,9 +10,9 @@
 #include <string_view>
 #include <vector>
 
-#include "navmap/ipc/can_frame.hpp"
-#include "navmap/ipc/dbc_signal.hpp"
-#include "navmap/ipc/result.hpp"
+#include "navmap/ipc/can_frame.h"
+#include "navmap/ipc/dbc_signal.h"
+#include "navmap/ipc/result.h"
 
 namespace navmap::ipc {
 

@@ -3,7 +3,7 @@
 
 #include <cstdint>
 
-#include "navmap/ipc/frame_format.hpp"
+#include "navmap/ipc/frame_format.h"
 
 namespace navmap::ipc {
 

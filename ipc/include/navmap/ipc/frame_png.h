@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "navmap/ipc/frame_header.hpp"
-#include "navmap/ipc/result.hpp"
+#include "navmap/ipc/frame_header.h"
+#include "navmap/ipc/result.h"
 
 namespace navmap::ipc {
 

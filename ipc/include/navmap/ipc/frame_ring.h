@@ -12,10 +12,10 @@
 #include <memory>
 #include <string>
 
-#include "navmap/ipc/frame_format.hpp"
-#include "navmap/ipc/frame_header.hpp"
-#include "navmap/ipc/frame_view.hpp"
-#include "navmap/ipc/result.hpp"
+#include "navmap/ipc/frame_format.h"
+#include "navmap/ipc/frame_header.h"
+#include "navmap/ipc/frame_view.h"
+#include "navmap/ipc/result.h"
 
 namespace navmap::ipc {
 

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "navmap/ipc/can_frame.hpp"
+#include "navmap/ipc/can_frame.h"
 
 namespace navmap::ipc {
 

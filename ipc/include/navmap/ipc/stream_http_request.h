@@ -6,7 +6,7 @@
 #include <string>
 #include <string_view>
 
-#include "navmap/ipc/result.hpp"
+#include "navmap/ipc/result.h"
 
 namespace navmap::ipc {
 

@@ -1,6 +1,6 @@
 #pragma once
 // DbcSignal: one `SG_` entry of a DBC file and the bit-level codec for it.
-// Hand-written: no Debian package provides a C++ DBC parser/codec (see dbc_database.hpp).
+// Hand-written: no Debian package provides a C++ DBC parser/codec (see dbc_database.h).
 
 #include <cstdint>
 #include <map>
@@ -8,7 +8,7 @@
 #include <span>
 #include <string>
 
-#include "navmap/ipc/result.hpp"
+#include "navmap/ipc/result.h"
 
 namespace navmap::ipc {
 

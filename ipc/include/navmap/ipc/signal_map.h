@@ -18,8 +18,8 @@
 #include <string_view>
 #include <vector>
 
-#include "navmap/ipc/result.hpp"
-#include "navmap/ipc/vehicle_sample.hpp"
+#include "navmap/ipc/result.h"
+#include "navmap/ipc/vehicle_sample.h"
 
 namespace navmap::ipc {
 

@@ -14,8 +14,8 @@
 #include <string_view>
 #include <vector>
 
-#include "navmap/ipc/can_frame.hpp"
-#include "navmap/ipc/result.hpp"
+#include "navmap/ipc/can_frame.h"
+#include "navmap/ipc/result.h"
 
 namespace navmap::ipc {
 

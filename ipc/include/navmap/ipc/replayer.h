@@ -15,7 +15,7 @@
 #include <thread>
 #include <vector>
 
-#include "navmap/ipc/can_frame.hpp"
+#include "navmap/ipc/can_frame.h"
 
 namespace navmap::ipc {
 

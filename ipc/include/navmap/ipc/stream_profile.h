@@ -6,8 +6,8 @@
 #include <string>
 #include <string_view>
 
-#include "navmap/ipc/frame_format.hpp"
-#include "navmap/ipc/result.hpp"
+#include "navmap/ipc/frame_format.h"
+#include "navmap/ipc/result.h"
 
 namespace navmap::ipc {
 

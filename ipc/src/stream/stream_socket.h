@@ -5,7 +5,7 @@
 #include <chrono>
 #include <string>
 
-#include "navmap/ipc/result.hpp"
+#include "navmap/ipc/result.h"
 
 namespace navmap::ipc::stream_detail {
 

@@ -1,0 +1,80 @@
+// Text rendering cost per frame for the cluster view (issue 4 benchmark): the default cluster
+// profile (1280x480, snail's view) on the Andorra store, settled at Escaldes, one map frame
+// with and without labels. Counters: labels_ms (CPU time of the label pass: collect, layout,
+// shaping/layout of the text, draw submission), labels, glyphs. Prints JSON with
+// --benchmark_format=json.
+#include <benchmark/benchmark.h>
+
+#include <chrono>
+#include <memory>
+
+#include "navmap/render/map_scene.h"
+#include "navmap/render/renderer.h"
+
+namespace {
+
+using namespace navmap::render;
+
+constexpr int kW = 1280, kH = 480;
+
+struct Cluster {
+    MapScene scene;
+    std::unique_ptr<MapView> view;
+    PlannedDrive drive;
+    MapFrame frame;
+};
+
+Cluster& cluster() {
+    static Cluster c = [] {
+        Cluster x{MapScene::open(NAVMAP_DEFAULT_STORE), nullptr, {}, {}};
+        x.view = std::make_unique<MapView>(x.scene.cache);
+        x.drive = planDrive(x.scene, kAndorraLaVella.lat, kAndorraLaVella.lon, kEncamp.lat, kEncamp.lon);
+        const auto terrain = [&](double px, double py) { return x.view->terrainHeight(px, py); };
+        CameraRig rig;
+        rig.setMode(ViewMode::Snail);
+        VehiclePose pose = poseAlong(x.drive, 1800.0, 13.0);
+        Camera cam = rig.update(pose, 0.0);
+        for (int i = 0; i < 3; ++i) {
+            x.view->warmUp(cam, double(kW) / kH, kH, std::chrono::seconds(20));
+            pose = poseAlong(x.drive, 1800.0, 13.0, terrain);
+            cam = rig.update(pose, 0.0, terrain);
+        }
+        for (auto& p : x.drive.geometry.points) p.z = terrain(p.x, p.y);
+        x.frame.camera = cam;
+        x.frame.tiles = x.view->tilesFor(cam, double(kW) / kH, kH);
+        x.frame.route = &x.drive.geometry;
+        x.frame.route_progress_m = 1800.0;
+        x.frame.marker = MarkerState{pose.position, pose.heading_deg, false};
+        x.frame.frame_dt_s = 1.0 / 30.0;
+        return x;
+    }();
+    return c;
+}
+
+void BM_ClusterFrame(benchmark::State& state) {
+    Cluster& c = cluster();
+    RendererOptions o;
+    o.width = kW;
+    o.height = kH;
+    auto renderer = Renderer::create(o);
+    MapFrame frame = c.frame;
+    frame.layers.labels = state.range(0) != 0;
+    for (int i = 0; i < 60; ++i) renderer->renderMap(frame);  // tiles uploaded, labels settled
+    renderer->finish();
+    double labels_ms = 0;
+    for (auto _ : state) {
+        renderer->renderMap(frame);
+        renderer->finish();
+        labels_ms += renderer->mapStats().labels_ms;
+    }
+    const MapFrameStats& s = renderer->mapStats();
+    state.counters["labels_ms"] = labels_ms / static_cast<double>(state.iterations());
+    state.counters["labels"] = static_cast<double>(s.labels_visible);
+    state.counters["candidates"] = static_cast<double>(s.label_candidates);
+    state.counters["glyphs"] = static_cast<double>(s.label_glyphs);
+}
+BENCHMARK(BM_ClusterFrame)->ArgName("labels")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+}  // namespace
+
+BENCHMARK_MAIN();
