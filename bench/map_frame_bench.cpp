@@ -30,19 +30,10 @@ constexpr Profile kProfiles[] = {
     {"center", 1280, 720, ViewMode::Bird},
 };
 
-struct Flight {
-    MapScene scene;
-    std::unique_ptr<MapView> view;
-    PlannedDrive drive;
-};
+using Flight = DriveScene;
 
 Flight& flight() {
-    static Flight f = [] {
-        Flight x{MapScene::open(NAVMAP_DEFAULT_STORE, std::size_t{512} << 20), nullptr, {}};
-        x.view = std::make_unique<MapView>(x.scene.cache);
-        x.drive = planDrive(x.scene, kAndorraLaVella.lat, kAndorraLaVella.lon, kEncamp.lat, kEncamp.lon);
-        return x;
-    }();
+    static Flight f = DriveScene::open(NAVMAP_DEFAULT_STORE, kAndorraLaVella, kEncamp, std::size_t{512} << 20);
     return f;
 }
 

@@ -39,4 +39,11 @@ VehiclePose poseAlong(const PlannedDrive& drive, double measure_m, double speed_
     return pose;
 }
 
+DriveScene DriveScene::open(const std::filesystem::path& store_path, GeoPoint from, GeoPoint to, std::size_t budget_bytes) {
+    DriveScene d{MapScene::open(store_path, budget_bytes), nullptr, {}};
+    d.view = std::make_unique<MapView>(d.scene.cache);
+    d.drive = planDrive(d.scene, from.lat, from.lon, to.lat, to.lon);
+    return d;
+}
+
 }  // namespace navmap::render

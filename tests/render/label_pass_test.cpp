@@ -22,19 +22,10 @@ using namespace navmap::render;
 
 constexpr int kW = 640, kH = 240;
 
-struct Fixture {
-    MapScene scene;
-    std::unique_ptr<MapView> view;
-    PlannedDrive drive;
-};
+using Fixture = DriveScene;
 
 Fixture& andorra() {
-    static Fixture f = [] {
-        Fixture x{MapScene::open(navmap::test::binaryDir() / "andorra.navmap"), nullptr, {}};
-        x.view = std::make_unique<MapView>(x.scene.cache);
-        x.drive = planDrive(x.scene, kAndorraLaVella.lat, kAndorraLaVella.lon, kEncamp.lat, kEncamp.lon);
-        return x;
-    }();
+    static Fixture f = DriveScene::open(navmap::test::binaryDir() / "andorra.navmap", kAndorraLaVella, kEncamp);
     return f;
 }
 

@@ -18,36 +18,34 @@ using namespace navmap::render;
 constexpr int kW = 1280, kH = 480;
 
 struct Cluster {
-    MapScene scene;
-    std::unique_ptr<MapView> view;
-    PlannedDrive drive;
+    DriveScene d;
     MapFrame frame;
 };
 
 Cluster& cluster() {
     static Cluster c = [] {
-        Cluster x{MapScene::open(NAVMAP_DEFAULT_STORE), nullptr, {}, {}};
-        x.view = std::make_unique<MapView>(x.scene.cache);
-        x.drive = planDrive(x.scene, kAndorraLaVella.lat, kAndorraLaVella.lon, kEncamp.lat, kEncamp.lon);
-        const auto terrain = [&](double px, double py) { return x.view->terrainHeight(px, py); };
+        Cluster x{DriveScene::open(NAVMAP_DEFAULT_STORE, kAndorraLaVella, kEncamp), {}};
+        auto& view = x.d.view;
+        auto& drive = x.d.drive;
+        const auto terrain = [&](double px, double py) { return view->terrainHeight(px, py); };
         CameraRig rig;
         rig.setMode(ViewMode::Snail);
-        VehiclePose pose = poseAlong(x.drive, 1800.0, 13.0);
+        VehiclePose pose = poseAlong(drive, 1800.0, 13.0);
         Camera cam = rig.update(pose, 0.0);
         for (int i = 0; i < 3; ++i) {
-            x.view->warmUp(cam, double(kW) / kH, kH, std::chrono::seconds(20));
-            pose = poseAlong(x.drive, 1800.0, 13.0, terrain);
+            view->warmUp(cam, double(kW) / kH, kH, std::chrono::seconds(20));
+            pose = poseAlong(drive, 1800.0, 13.0, terrain);
             cam = rig.update(pose, 0.0, terrain);
         }
-        for (auto& p : x.drive.geometry.points) p.z = terrain(p.x, p.y);
+        for (auto& p : drive.geometry.points) p.z = terrain(p.x, p.y);
         x.frame.camera = cam;
-        x.frame.tiles = x.view->tilesFor(cam, double(kW) / kH, kH);
-        x.frame.route = &x.drive.geometry;
+        x.frame.tiles = view->tilesFor(cam, double(kW) / kH, kH);
         x.frame.route_progress_m = 1800.0;
         x.frame.marker = MarkerState{pose.position, pose.heading_deg, false};
         x.frame.frame_dt_s = 1.0 / 30.0;
         return x;
     }();
+    c.frame.route = &c.d.drive.geometry;  // after the move into the static: the address is final
     return c;
 }
 

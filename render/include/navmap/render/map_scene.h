@@ -47,6 +47,18 @@ VehiclePose poseAlong(const PlannedDrive& drive, double measure_m, double speed_
 struct GeoPoint {
     double lat, lon;
 };
+
+/// A store, one MapView over its cache and a planned drive: what the benchmarks, the label
+/// quality tool and the tests fly along.
+struct DriveScene {
+    MapScene scene;
+    std::unique_ptr<MapView> view;
+    PlannedDrive drive;
+
+    /// Throws map::StoreError naming the store when it cannot be opened.
+    static DriveScene open(const std::filesystem::path& store_path, GeoPoint from, GeoPoint to,
+                           std::size_t budget_bytes = std::size_t{128} << 20);
+};
 inline constexpr GeoPoint kAndorraLaVella{42.5075, 1.5218};
 inline constexpr GeoPoint kEncamp{42.5347, 1.5801};
 inline constexpr GeoPoint kSantJulia{42.4637, 1.4913};
