@@ -15,6 +15,10 @@ DATA=$(readlink -f "$2")
 MAP=$(readlink -f "$3")
 NAVDBC=$(readlink -f "$4")
 LOG="$DATA/can/ford_fusion_2017_lane_keep_assist_on_red_lines.candump"
+# Optional: the simulator's SocketCAN output is checked too (navmap-sim --socketcan into vcan0,
+# counted with candump) when its binary and a compiled store are given.
+SIM=${5:+$(readlink -f "$5")}
+STORE=${6:+$(readlink -f "$6")}
 
 skip() { echo "SKIPPED: $*"; exit 77; }
 
@@ -88,6 +92,13 @@ done
     || echo "VCAN_SETUP creating vcan0 failed"
 /bin/busybox chroot /host "$CHECK" vcan0 "$LOG" /usr/bin/canplayer "$DATA/dbc" "$MAP" "$NAVDBC"
 echo "VCAN_EXIT=\$?"
+if [ -n "$SIM" ]; then
+    /bin/busybox mount -t tmpfs run /host/run
+    /bin/busybox chroot /host /bin/sh -c '/usr/bin/candump -L vcan0 > /run/sim.log & sleep 0.5; \
+        "$SIM" --store "$STORE" --dbc "$NAVDBC" --from "Andorra la Vella" --to Encamp --iface vcan0 --socketcan \
+            --speed-factor 0 --duration 2 > /run/sim.out 2>&1; echo "VCAN_SIM_EXIT=\$?"; sleep 0.5; kill %1; \
+        echo "VCAN_SIM_FRAMES=\$(grep -c " vcan0 " /run/sim.log) VCAN_SIM_POSITION=\$(grep -c " vcan0 6A0#" /run/sim.log)"'
+fi
 /bin/busybox poweroff -f
 INIT
 chmod +x "$ROOT/init"
@@ -105,6 +116,16 @@ if ! grep -q "VCAN_EXIT=" "$OUT"; then
     echo "--- guest console (tail) ---"; tail -n 40 "$OUT"
     echo "FAIL: the guest did not finish (boot or 9p problem, or timeout)"
     exit 1
+fi
+if [ -n "$SIM" ]; then
+    # 2 s of drive: 20 position frames at 10 Hz, 100 motion frames at 50 Hz, 2 info frames (+ standstill).
+    frames=$(sed -n 's/.*VCAN_SIM_FRAMES=\([0-9]*\).*/\1/p' "$OUT" | tail -n 1)
+    position=$(sed -n 's/.*VCAN_SIM_POSITION=\([0-9]*\).*/\1/p' "$OUT" | tail -n 1)
+    if ! grep -q "VCAN_SIM_EXIT=0" "$OUT" || [ "${frames:-0}" -lt 100 ] || [ "${position:-0}" -lt 20 ]; then
+        echo "FAIL: navmap-sim into vcan0: exit $(grep -o 'VCAN_SIM_EXIT=[0-9]*' "$OUT"), ${frames:-0} frames, ${position:-0} NAV_Position"
+        exit 1
+    fi
+    echo "navmap-sim -> vcan0: $frames frames received by candump, $position NAV_Position"
 fi
 grep -q "VCAN_EXIT=0" "$OUT" && { echo "PASS"; exit 0; }
 echo "FAIL"
