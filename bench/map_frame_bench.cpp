@@ -45,23 +45,15 @@ struct Shot {
 
 std::vector<Shot> shots(const Profile& p, int count) {
     Flight& f = flight();
-    const auto terrain = [&](double x, double y) { return f.view->terrainHeight(x, y); };
     CameraRig rig;
     rig.setMode(p.mode);
     std::vector<Shot> out;
     const double length = f.drive.line.back().measure_m;
     for (int i = 0; i < count; ++i) {
         const double m = length * (0.05 + 0.9 * i / count);
-        VehiclePose pose = poseAlong(f.drive, m, 14.0, terrain);
-        Camera cam = rig.update(pose, 0.0, terrain);
-        for (int k = 0; k < 2; ++k) {
-            f.view->warmUp(cam, double(p.width) / p.height, p.height, std::chrono::seconds(30));
-            pose = poseAlong(f.drive, m, 14.0, terrain);
-            cam = rig.update(pose, 0.0, terrain);
-        }
-        out.push_back({cam, pose});
+        const auto shot = f.settle(rig, m, 14.0, double(p.width) / p.height, p.height, std::chrono::seconds(30));
+        out.push_back({shot.camera, shot.pose});
     }
-    for (auto& pt : f.drive.geometry.points) pt.z = terrain(pt.x, pt.y);
     return out;
 }
 

@@ -46,4 +46,19 @@ DriveScene DriveScene::open(const std::filesystem::path& store_path, GeoPoint fr
     return d;
 }
 
+DriveScene::Shot DriveScene::settle(CameraRig& rig, double measure_m, double speed_mps, double aspect,
+                                    int viewport_height, std::chrono::milliseconds timeout) {
+    const auto terrain = [&](double x, double y) { return view->terrainHeight(x, y); };
+    Shot shot;
+    shot.pose = poseAlong(drive, measure_m, speed_mps);
+    shot.camera = rig.update(shot.pose, 0.0);
+    for (int i = 0; i < 3; ++i) {
+        shot.complete = view->warmUp(shot.camera, aspect, viewport_height, timeout);
+        shot.pose = poseAlong(drive, measure_m, speed_mps, terrain);
+        shot.camera = rig.update(shot.pose, 0.0, terrain);
+    }
+    for (auto& p : drive.geometry.points) p.z = terrain(p.x, p.y);
+    return shot;
+}
+
 }  // namespace navmap::render

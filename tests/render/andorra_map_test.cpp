@@ -31,16 +31,10 @@ Image renderView(ViewMode mode, const MapLayers& layers, MapFrameStats* stats = 
     CameraRig rig;
     rig.setMode(mode);
     // Place the car 1.8 km into the drive (Escaldes), camera settled.
-    const auto terrain = [&](double x, double y) { return f.view->terrainHeight(x, y); };
-    VehiclePose pose = poseAlong(f.drive, 1800.0, 13.0);
-    Camera cam = rig.update(pose, 0.0);
-    // Two rounds: the first loads the tiles the camera needs, the second has terrain heights.
-    for (int i = 0; i < 3; ++i) {
-        EXPECT_TRUE(f.view->warmUp(cam, double(kW) / kH, kH, std::chrono::seconds(20)));
-        pose = poseAlong(f.drive, 1800.0, 13.0, terrain);
-        cam = rig.update(pose, 0.0, terrain);
-    }
-    for (auto& p : f.drive.geometry.points) p.z = terrain(p.x, p.y);
+    const auto shot = f.settle(rig, 1800.0, 13.0, double(kW) / kH, kH);
+    EXPECT_TRUE(shot.complete);
+    const Camera& cam = shot.camera;
+    const VehiclePose& pose = shot.pose;
     MapFrame frame;
     frame.camera = cam;
     frame.tiles = f.view->tilesFor(cam, double(kW) / kH, kH);

@@ -26,18 +26,11 @@ Cluster& cluster() {
     static Cluster c = [] {
         Cluster x{DriveScene::open(NAVMAP_DEFAULT_STORE, kAndorraLaVella, kEncamp), {}};
         auto& view = x.d.view;
-        auto& drive = x.d.drive;
-        const auto terrain = [&](double px, double py) { return view->terrainHeight(px, py); };
         CameraRig rig;
         rig.setMode(ViewMode::Snail);
-        VehiclePose pose = poseAlong(drive, 1800.0, 13.0);
-        Camera cam = rig.update(pose, 0.0);
-        for (int i = 0; i < 3; ++i) {
-            view->warmUp(cam, double(kW) / kH, kH, std::chrono::seconds(20));
-            pose = poseAlong(drive, 1800.0, 13.0, terrain);
-            cam = rig.update(pose, 0.0, terrain);
-        }
-        for (auto& p : drive.geometry.points) p.z = terrain(p.x, p.y);
+        const auto shot = x.d.settle(rig, 1800.0, 13.0, double(kW) / kH, kH);
+        const Camera& cam = shot.camera;
+        const VehiclePose& pose = shot.pose;
         x.frame.camera = cam;
         x.frame.tiles = view->tilesFor(cam, double(kW) / kH, kH);
         x.frame.route_progress_m = 1800.0;

@@ -28,9 +28,9 @@ LabelQualityReport measureLabelQuality(const LabelQualityOptions& o) {
     if (o.width <= 0 || o.height <= 0 || o.frames <= 0 || o.settle_frames < 0 || !(o.dt_s > 0.0)) {
         throw std::runtime_error("label quality: width, height, frames and dt must be positive");
     }
-    MapScene scene = MapScene::open(o.store);
-    MapView view(scene.cache);
-    PlannedDrive drive = planDrive(scene, o.from.lat, o.from.lon, o.to.lat, o.to.lon);
+    DriveScene scene = DriveScene::open(o.store, o.from, o.to);
+    MapView& view = *scene.view;
+    PlannedDrive& drive = scene.drive;
     if (drive.line.size() < 2) throw std::runtime_error("label quality: no route between the two places in " + o.store.string());
     const auto terrain = [&](double x, double y) { return view.terrainHeight(x, y); };
     const double aspect = static_cast<double>(o.width) / o.height;
@@ -44,14 +44,9 @@ LabelQualityReport measureLabelQuality(const LabelQualityOptions& o) {
     rig.setMode(o.view);
 
     // Settle the camera and load the tiles around the start (terrain heights need tiles).
-    VehiclePose pose = poseAlong(drive, o.start_m, o.speed_mps);
-    Camera cam = rig.update(pose, 0.0);
-    for (int i = 0; i < 3; ++i) {
-        view.warmUp(cam, aspect, o.height, std::chrono::seconds(20));
-        pose = poseAlong(drive, o.start_m, o.speed_mps, terrain);
-        cam = rig.update(pose, 0.0, terrain);
-    }
-    for (auto& p : drive.geometry.points) p.z = terrain(p.x, p.y);
+    const DriveScene::Shot shot = scene.settle(rig, o.start_m, o.speed_mps, aspect, o.height);
+    VehiclePose pose = shot.pose;
+    Camera cam = shot.camera;
 
     LabelQualityReport r;
     r.view = o.view == ViewMode::Bird ? "bird" : "snail";

@@ -3,6 +3,7 @@
 // graph, and helpers to place a vehicle on a road and to plan a drive (used by navmapd's
 // simulated drive, the golden tests and the benchmarks).
 
+#include <chrono>
 #include <filesystem>
 #include <memory>
 #include <vector>
@@ -54,6 +55,19 @@ struct DriveScene {
     MapScene scene;
     std::unique_ptr<MapView> view;
     PlannedDrive drive;
+
+    /// A camera settled on the vehicle with every tile it needs resident.
+    struct Shot {
+        Camera camera;
+        VehiclePose pose;
+        bool complete = false;  ///< all wanted tiles loaded within the timeout
+    };
+
+    /// Places the vehicle `measure_m` along the drive, snaps `rig` onto it and loads the tiles the
+    /// camera needs (three rounds: the first loads tiles, the later ones see terrain heights), then
+    /// drapes the route onto the loaded terrain.
+    Shot settle(CameraRig& rig, double measure_m, double speed_mps, double aspect, int viewport_height,
+                std::chrono::milliseconds timeout = std::chrono::seconds(20));
 
     /// Throws map::StoreError naming the store when it cannot be opened.
     static DriveScene open(const std::filesystem::path& store_path, GeoPoint from, GeoPoint to,
