@@ -36,6 +36,9 @@ struct DaemonConfig {
     int msaa = -1;
     bool night = false;
     bool labels = true;                        ///< place, POI, road and area names
+    /// GPU tile resources kept for tiles not drawn in the current frame (one renderer serves all
+    /// profiles); 0 = automatic (16 + 24 per profile).
+    int gpu_tile_cache = 0;
     std::vector<DisplayProfile> profiles;      ///< [[profile]]; defaults: cluster, hud, center
     // [control]
     std::filesystem::path control_socket = "/run/navmap/control.sock";

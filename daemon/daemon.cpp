@@ -58,11 +58,29 @@ struct Window {
     [[nodiscard]] double p(double q) const { return percentile({values.begin(), values.end()}, q); }
 };
 
+// VmRSS and VmHWM (peak) of this process from /proc/self/status, bytes; 0 when unreadable.
+struct Memory {
+    std::uint64_t rss = 0, peak = 0;
+};
+Memory processMemory() {
+    Memory m;
+    std::FILE* f = std::fopen("/proc/self/status", "r");
+    if (!f) return m;
+    char line[256];
+    while (std::fgets(line, sizeof line, f)) {
+        unsigned long long kb = 0;
+        if (std::sscanf(line, "VmRSS: %llu kB", &kb) == 1) m.rss = kb * 1024;
+        if (std::sscanf(line, "VmHWM: %llu kB", &kb) == 1) m.peak = kb * 1024;
+    }
+    std::fclose(f);
+    return m;
+}
+
 std::int64_t realtimeNs(ipc::CanTime t) { return std::chrono::duration_cast<std::chrono::nanoseconds>(t.time_since_epoch()).count(); }
 
 struct ProfileView {
     DisplayProfile profile;
-    std::unique_ptr<render::Renderer> renderer;
+    int target = 0;  // this profile's offscreen target in the one shared renderer
     std::unique_ptr<render::MapView> map_view;
     render::CameraRig rig;
     Clock::time_point next_due{};
@@ -70,6 +88,7 @@ struct ProfileView {
     std::uint64_t sequence = 0;
     std::map<std::uint64_t, ipc::CanTime> source_times;  // sequence -> CAN time behind the pose
     Window frame_ms, latency_ms;
+    std::size_t tiles_drawn = 0, tiles_pending = 0;  // last frame
     std::uint64_t rendered = 0, published = 0, skipped_idle = 0;
 };
 
@@ -146,23 +165,46 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
         ipc::FrameServer frames(fopt);
         if (auto st = frames.start(); !st) throw std::runtime_error(st.message());
 
+        // One renderer (one EGL context, one set of shaders and tile GPU resources) for every
+        // profile; each profile renders into its own offscreen target with its own readback ring
+        // and label layout. Separate contexts cost a copy of every tile per profile and their own
+        // llvmpipe JIT code: 270-330 MB peak RSS with three profiles (docs/navmapd.md).
+        std::unique_ptr<render::Renderer> renderer;
         std::vector<ProfileView> views;
         for (const auto& p : config.profiles) {
             ProfileView v;
             v.profile = p;
-            render::RendererOptions ro;
-            ro.platform = render::parsePlatform(config.egl_platform).value_or(render::Platform::Auto);
-            ro.width = p.width;
-            ro.height = p.height;
-            ro.msaa_samples = config.msaa;
-            ro.max_tile_uploads_per_frame = 8;  // a burst of new tiles spreads over frames
-            v.renderer = options.noop_renderer ? render::Renderer::createNoop(ro) : render::Renderer::create(ro);
+            if (!renderer) {
+                render::RendererOptions ro;
+                ro.platform = render::parsePlatform(config.egl_platform).value_or(render::Platform::Auto);
+                ro.width = p.width;
+                ro.height = p.height;
+                ro.msaa_samples = config.msaa;
+                ro.max_tile_uploads_per_frame = 8;  // a burst of new tiles spreads over frames
+                // GPU resources of tiles no view drew this frame: each costs about 0.5 MB (land-cover
+                // texture, terrain and road buffers), and without a cap they pile up along a drive.
+                // The three default views draw 15-25 tiles each (57 together on the Andorra drive);
+                // 16 + 24 per profile (88 for three) keeps every view's tiles plus a margin for
+                // level-of-detail changes and turns, without holding the whole drive.
+                ro.tile_resource_cache = config.gpu_tile_cache > 0
+                                             ? config.gpu_tile_cache
+                                             : 16 + 24 * static_cast<int>(config.profiles.size());
+                // Finished readbacks leave at once (collected after each render and polled while
+                // in flight), so two buffers per target suffice: one being copied out while the
+                // next frame renders. A third would cost 3.7 MB at 1280x720 for nothing.
+                ro.readback_ring = 2;
+                renderer = options.noop_renderer ? render::Renderer::createNoop(ro) : render::Renderer::create(ro);
+                v.target = renderer->currentTarget();
+            } else {
+                v.target = renderer->addTarget(p.width, p.height);
+            }
             v.map_view = std::make_unique<render::MapView>(scene.cache);
             v.rig.setMode(p.view);
             v.rig.setOrientation(p.orientation);
-            const auto& dev = v.renderer->device();
-            log(kInfo, "profile %s %dx%d @ %.0f fps (%s): %s on %s, %s, MSAA %dx", p.name.c_str(), p.width, p.height,
-                p.fps, p.stream_view.c_str(), dev.backend.c_str(), dev.platform.c_str(), dev.renderer.c_str(), dev.msaa_samples);
+            const auto& dev = renderer->device();
+            log(kInfo, "profile %s %dx%d @ %.0f fps (%s): target %d, %s on %s, %s, MSAA %dx", p.name.c_str(), p.width,
+                p.height, p.fps, p.stream_view.c_str(), v.target, dev.backend.c_str(), dev.platform.c_str(),
+                dev.renderer.c_str(), dev.msaa_samples);
             views.push_back(std::move(v));
         }
 
@@ -184,7 +226,29 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
         double route_driven_max = 0.0;
         Clock::time_point last_progress_event{}, last_status{};
         Clock::time_point last_frame_done = Clock::now();
+        std::uint64_t reloads = 0, reload_errors = 0;  // SIGHUP: applied / refused
+        std::string last_reload_error;
         const auto terrain = [&](double x, double y) { return views.front().map_view->terrainHeight(x, y); };
+
+        // Publishes finished readbacks of `v`, oldest first, with the CAN time behind each pose.
+        const auto publishFinished = [&](ProfileView& v, const std::vector<render::Frame>& finished) {
+            for (const auto& done : finished) {
+                ipc::FrameView fv;
+                fv.pixels = done.image.rgba.data();
+                fv.width = done.image.width;
+                fv.height = done.image.height;
+                fv.format = ipc::PixelFormat::Rgba8;
+                const auto it = v.source_times.find(done.sequence);
+                const ipc::CanTime source = it != v.source_times.end() ? it->second : ipc::CanTime{};
+                fv.sourceTimeNs = realtimeNs(source);
+                frames.publish(v.profile.stream_view, fv);
+                ++v.published;
+                if (source != ipc::CanTime{}) {
+                    v.latency_ms.add(std::chrono::duration<double, std::milli>(ipc::CanClock::now() - source).count());
+                }
+                v.source_times.erase(v.source_times.begin(), v.source_times.upper_bound(done.sequence));
+            }
+        };
 
         bool stop = false;
         while (!stop) {
@@ -198,7 +262,9 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
             const auto route = control_state->route();
             if (route && route->version != route_version) {
                 route_version = route->version;
+                const std::uint64_t geometry_version = route_geometry.version + 1;  // the renderers re-drape it
                 route_geometry = {};
+                route_geometry.version = geometry_version;
                 const map::Projection proj = scene.projection();
                 double measure = 0.0;
                 for (std::size_t i = 0; i < route->points.size(); ++i) {
@@ -211,7 +277,7 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
                 route_driven_max = 0.0;
                 log(kInfo, "route %s: %zu points, %.1f km", route_id.c_str(), route_geometry.points.size(), measure / 1000.0);
             }
-            for (auto& p : route_geometry.points) p.z = terrain(p.x, p.y);  // heights improve as tiles load
+            // No per-tick heights: each renderer drapes the route onto the tiles it draws.
             if (pose.onRoute) route_driven_max = std::max(route_driven_max, pose.routeDrivenM);
 
             // Position lost / regained and route progress go to subscribers.
@@ -271,15 +337,18 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
                 }
                 render::MapFrame frame;
                 frame.camera = v.rig.update(vp, std::min(dt, 0.5), terrain);
-                frame.tiles = v.map_view->tilesFor(frame.camera, double(v.profile.width) / v.profile.height, v.profile.height);
+                v.map_view->select(frame, double(v.profile.width) / v.profile.height, v.profile.height);  // tiles + geomorph
                 frame.route = route_geometry.points.size() >= 2 ? &route_geometry : nullptr;
                 frame.route_progress_m = route_driven_max;
                 frame.layers.labels = config.labels;
                 frame.frame_dt_s = std::min(dt, 0.5);
                 if (pose.valid) frame.marker = render::MarkerState{vp.position, vp.heading_deg, pose.stale};
-                v.renderer->setMapStyle(style);
-                v.renderer->renderMap(frame);
-                for (const auto& flat : v.renderer->mapStats().new_flat_tiles) {
+                renderer->useTarget(v.target);
+                renderer->setMapStyle(style);
+                renderer->renderMap(frame);
+                v.tiles_drawn = renderer->mapStats().tiles_drawn;
+                v.tiles_pending = renderer->mapStats().tiles_pending;
+                for (const auto& flat : renderer->mapStats().new_flat_tiles) {
                     if (warned_flat.insert(flat.id.key()).second) {
                         log(kWarning, "tile %s: %.0f%% of its area has no elevation data and renders flat",
                             flat.id.toString().c_str(), 100.0 * (1.0 - flat.coverage));
@@ -290,27 +359,24 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
                 // The ring hands back a frame only when full; collect what has finished now so
                 // frames leave in the tick that rendered them.
                 std::vector<render::Frame> finished;
-                if (auto oldest = v.renderer->readAsync(seq)) finished.push_back(std::move(*oldest));
-                for (auto& f : v.renderer->collectReadbacks()) finished.push_back(std::move(f));
-                for (const auto& done : finished) {
-                    ipc::FrameView fv;
-                    fv.pixels = done.image.rgba.data();
-                    fv.width = done.image.width;
-                    fv.height = done.image.height;
-                    fv.format = ipc::PixelFormat::Rgba8;
-                    const auto it = v.source_times.find(done.sequence);
-                    const ipc::CanTime source = it != v.source_times.end() ? it->second : ipc::CanTime{};
-                    fv.sourceTimeNs = realtimeNs(source);
-                    frames.publish(v.profile.stream_view, fv);
-                    ++v.published;
-                    if (source != ipc::CanTime{}) {
-                        v.latency_ms.add(std::chrono::duration<double, std::milli>(ipc::CanClock::now() - source).count());
-                    }
-                    v.source_times.erase(v.source_times.begin(), v.source_times.upper_bound(done.sequence));
-                }
+                if (auto oldest = renderer->readAsync(seq)) finished.push_back(std::move(*oldest));
+                for (auto& f : renderer->collectReadbacks()) finished.push_back(std::move(f));
+                publishFinished(v, finished);
                 ++v.rendered;
                 v.frame_ms.add(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
                 last_frame_done = Clock::now();
+            }
+
+            // Readbacks still in flight: the rasterizer finishes them on its own threads while the
+            // loop renders the next profiles or sleeps. Send each as soon as it is done (polled
+            // every few milliseconds, never waited for) instead of at that profile's next tick,
+            // which would add a frame interval to its CAN -> frame latency.
+            for (auto& v : views) {
+                if (v.source_times.empty()) continue;  // nothing in flight for this profile
+                renderer->useTarget(v.target);
+                auto done = renderer->collectReadbacks();
+                publishFinished(v, done);
+                if (!v.source_times.empty()) next_wake = std::min(next_wake, Clock::now() + std::chrono::milliseconds(3));
             }
 
             // Health: WATCHDOG=1 only while frames keep completing (or nobody needs any).
@@ -327,6 +393,11 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
                 const auto cs = control_server->stats();
                 nlohmann::json st;
                 st["uptime_s"] = std::chrono::duration<double>(now - t_start).count();
+                const Memory mem = processMemory();
+                st["memory"] = {{"rss_bytes", mem.rss}, {"peak_rss_bytes", mem.peak}};
+                st["config"] = {{"path", options.config_path ? options.config_path->string() : std::string()},
+                                {"reloads", reloads}, {"reload_errors", reload_errors},
+                                {"last_reload_error", last_reload_error}, {"style", config.night ? "night" : "day"}};
                 st["input"] = {{"source", in.source}, {"frames", in.frames}, {"decoded_values", in.decoder.values},
                                {"rejected_values", in.decoder.rejected}, {"counter_gaps", in.decoder.counterGaps},
                                {"rejected_fixes", in.estimator.rejectedJump + in.estimator.rejectedRange + in.estimator.rejectedNaN},
@@ -341,7 +412,8 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
                 for (const auto& v : views) {
                     profiles.push_back({{"name", v.profile.name}, {"rendered", v.rendered}, {"published", v.published},
                                         {"frame_p50_ms", v.frame_ms.p(0.5)}, {"frame_p99_ms", v.frame_ms.p(0.99)},
-                                        {"latency_p50_ms", v.latency_ms.p(0.5)}, {"latency_p99_ms", v.latency_ms.p(0.99)}});
+                                        {"latency_p50_ms", v.latency_ms.p(0.5)}, {"latency_p99_ms", v.latency_ms.p(0.99)},
+                                        {"tiles_drawn", v.tiles_drawn}, {"tiles_pending", v.tiles_pending}});
                     m << "navmap_frame_ms{profile=\"" << v.profile.name << "\",quantile=\"0.5\"} " << v.frame_ms.p(0.5) << "\n";
                     m << "navmap_frame_ms{profile=\"" << v.profile.name << "\",quantile=\"0.99\"} " << v.frame_ms.p(0.99) << "\n";
                 }
@@ -366,6 +438,10 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
                 m << "# TYPE navmap_tile_load_ms summary\nnavmap_tile_load_ms{quantile=\"0.5\"} " << cache.load_p50_ms
                   << "\nnavmap_tile_load_ms{quantile=\"0.99\"} " << cache.load_p99_ms << "\n";
                 m << "# TYPE navmap_control_errors_total counter\nnavmap_control_errors_total " << cs.errors << "\n";
+                m << "# TYPE navmap_process_resident_bytes gauge\nnavmap_process_resident_bytes " << mem.rss << "\n";
+                m << "# TYPE navmap_process_peak_resident_bytes gauge\nnavmap_process_peak_resident_bytes " << mem.peak << "\n";
+                m << "# TYPE navmap_config_reloads_total counter\nnavmap_config_reloads_total " << reloads << "\n";
+                m << "# TYPE navmap_config_reload_errors_total counter\nnavmap_config_reload_errors_total " << reload_errors << "\n";
                 m << frames.metricsText();
                 st["profiles"] = profiles;
                 st["stream"] = {{"clients", fs.clients}, {"frames_sent", fs.framesSent}, {"frames_dropped", fs.framesDropped},
@@ -390,25 +466,43 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
                     if (options.config_path) {
                         ConfigError rerr;
                         auto fresh = loadConfig(*options.config_path, &rerr);
+                        if (fresh) {
+                            // What a reload does not change (store, input, sockets, ...) keeps its
+                            // running value, command-line overrides and built-in defaults included,
+                            // so the file is validated as it will run.
+                            DaemonConfig merged = config;
+                            merged.night = fresh->night;
+                            merged.profiles = fresh->profiles;
+                            fresh = std::move(merged);
+                        }
                         if (!fresh || !validateConfig(*fresh, &rerr)) {
                             log(kErr, "reload: %s (keeping the running configuration)", rerr.message.c_str());
+                            ++reload_errors;
+                            last_reload_error = rerr.message;
                         } else {
                             // Style and per-profile view settings change in place; clients stay connected.
                             ipc::SetStyleCommand s;
                             s.style = fresh->night ? ipc::MapStyle::Night : ipc::MapStyle::Day;
                             (void)control_state->setStyle(s);
+                            config.night = fresh->night;
                             for (auto& v : views) {
-                                if (auto p = findProfile(fresh->profiles, v.profile.name); p && p->width == v.profile.width &&
-                                                                                            p->height == v.profile.height) {
+                                const auto p = findProfile(fresh->profiles, v.profile.name);
+                                if (p && p->width == v.profile.width && p->height == v.profile.height) {
                                     v.profile.fps = p->fps;
                                     v.profile.view = p->view;
                                     v.profile.orientation = p->orientation;
+                                    v.next_due = Clock::now();  // the new rate applies from the next tick
+                                } else if (p) {
+                                    log(kWarning, "reload: profile %s: a new size (%dx%d) needs a restart; keeping %dx%d",
+                                        v.profile.name.c_str(), p->width, p->height, v.profile.width, v.profile.height);
                                 }
                             }
-                            log(kNotice, "reloaded %s", options.config_path->c_str());
+                            ++reloads;
+                            log(kNotice, "reloaded %s: style %s", options.config_path->c_str(), fresh->night ? "night" : "day");
                         }
                     }
                     systemd.ready("reloaded");
+                    last_status = {};  // status and metrics show the reload at once
                     break;
                 }
                 case SignalEvent::None:
@@ -421,6 +515,9 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
         control_server->stop();
         input.stop();
         frames.stop();  // closes every client connection: they see the stream end
+        const Memory mem = processMemory();
+        log(kNotice, "peak RSS %.1f MiB (%zu profiles, one renderer with %zu targets)", static_cast<double>(mem.peak) / (1 << 20),
+            views.size(), renderer ? renderer->targetCount() : std::size_t{0});
         for (auto& v : views) {
             log(kInfo, "profile %s: %llu frames rendered, %llu published, frame p50 %.1f ms p99 %.1f ms, latency p50 %.1f ms p99 %.1f ms",
                 v.profile.name.c_str(), static_cast<unsigned long long>(v.rendered), static_cast<unsigned long long>(v.published),

@@ -12,6 +12,10 @@ uniform vec2 u_fog_range;
 uniform float u_brightness;  // 1 by day, lower at night
 
 layout(location = 0) out vec4 o_color;
+// Shadow-volume roads (seed 3.5.2): the terrain's view-space depth as a secondary target. Only
+// stored where a framebuffer binds draw buffer 3 (SvRoads); 1 / gl_FragCoord.w is the clip w,
+// i.e. the exact view depth of this fragment, without an extra varying.
+layout(location = 3) out vec4 o_terrain_depth;
 
 vec3 hypsometricTint(float h) {
     const vec3 c0 = vec3(0.45, 0.60, 0.36);
@@ -31,4 +35,5 @@ void main() {
     vec3 color = base * v_shade * u_brightness;
     float fog = smoothstep(u_fog_range.x, u_fog_range.y, v_distance);
     o_color = vec4(mix(color, u_sky_color, fog * 0.85), 1.0);
+    o_terrain_depth = vec4(1.0 / gl_FragCoord.w, 0.0, 0.0, 0.0);
 }

@@ -2,11 +2,23 @@
 // tile origin (computed in double on the CPU), so nothing jitters far from the store origin.
 layout(location = 0) in vec3 a_position;
 layout(location = 1) in vec3 a_normal;
+// Geomorph targets: the surfaces of the 4 coarser levels at this x, y (parent first), with
+// the x, y of their normals (z >= 0 follows).
+layout(location = 2) in vec4 a_ancestor_height;
+layout(location = 3) in vec4 a_ancestor_normal01;
+layout(location = 4) in vec4 a_ancestor_normal23;
 
 uniform mat4 u_view;
 uniform mat4 u_projection;
 uniform float u_tile_size;
 uniform vec3 u_light_dir;
+// Geomorphing (render/include/navmap/render/terrain_lod.h): per slot j (level L - j to L - j - 1)
+// the distances where the morph starts and ends (end <= start: none); the camera's x, y
+// tile-local and its vertical distance from the LOD height band.
+uniform vec4 u_morph_start;
+uniform vec4 u_morph_end;
+uniform vec2 u_morph_eye;
+uniform float u_morph_eye_dz;
 
 out vec2 v_uv;
 out float v_height;
@@ -30,13 +42,32 @@ float reliefShade(vec3 n, float h) {
     return clamp(0.72 + (shade - 0.72) * contrast, 0.0, 1.2);
 }
 
+vec3 unpackNormal(vec2 xy) { return vec3(xy, sqrt(max(1.0 - dot(xy, xy), 0.0))); }
+
 void main() {
-    vec4 view_pos = u_view * vec4(a_position, 1.0);
-    vec3 n = normalize(a_normal);
+    // terrain_lod.h: S_L(d) = mix(h_L, S_L-1(d), f_L(d)), from the coarsest level inwards, with
+    // the factors of morphFactor()/morphedHeight() in terrain_lod.cpp. The distance is taken as
+    // the selection measures boxes, from x, y only, so a skirt vertex morphs with its border vertex.
+    vec2 d = a_position.xy - u_morph_eye;
+    float dist = sqrt(dot(d, d) + u_morph_eye_dz * u_morph_eye_dz);
+    vec4 on = vec4(greaterThan(u_morph_end, u_morph_start));
+    vec4 f = on * clamp((dist - u_morph_start) / max(u_morph_end - u_morph_start, vec4(1e-3)), 0.0, 1.0);
+    float z = a_ancestor_height.w;
+    vec3 n = unpackNormal(a_ancestor_normal23.zw);
+    z = mix(a_ancestor_height.z, z, f.w);
+    n = mix(unpackNormal(a_ancestor_normal23.xy), n, f.w);
+    z = mix(a_ancestor_height.y, z, f.z);
+    n = mix(unpackNormal(a_ancestor_normal01.zw), n, f.z);
+    z = mix(a_ancestor_height.x, z, f.y);
+    n = mix(unpackNormal(a_ancestor_normal01.xy), n, f.y);
+    z = mix(a_position.z, z, f.x);
+    n = normalize(mix(a_normal, n, f.x));
+    vec3 p = vec3(a_position.xy, z);
+    vec4 view_pos = u_view * vec4(p, 1.0);
     float sky = 0.5 + 0.5 * n.z;
-    v_shade = 0.25 * sky + 0.85 * reliefShade(n, a_position.z);
+    v_shade = 0.25 * sky + 0.85 * reliefShade(n, p.z);
     v_uv = a_position.xy / u_tile_size;
-    v_height = a_position.z;
+    v_height = p.z;
     v_distance = length(view_pos.xyz);
     gl_Position = u_projection * view_pos;
 }

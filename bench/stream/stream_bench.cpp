@@ -2,7 +2,8 @@
 //  - BM_Deliver/<transport>/<w>/<h>: publish -> client has the pixels, in lock step; frames/s is
 //    items_per_second (the transport's ceiling on this machine, one client);
 //  - BM_Publish/<clients>/<format>/<w>/<h>: what publish() costs the render thread with a shm
-//    client attached (target: < 1 ms per frame at 1280x720).
+//    client attached (target: < 1 ms per frame at 1280x720);
+//  - BM_ConvertFrame/<format>/<w>/<h>: the RGBA8 -> ring format conversion alone, per frame.
 // Frames look like a map (flat land-cover areas, roads, some texture), so zlib and JPEG sizes are
 // realistic rather than best or worst case.
 
@@ -11,7 +12,9 @@
 #include <cmath>
 #include <memory>
 #include <random>
+#include <vector>
 
+#include "navmap/ipc/frame_format.h"
 #include "navmap/ipc/frame_server.h"
 #include "navmap/ipc/stream_client.h"
 #include "stream_test_util.h"
@@ -177,12 +180,39 @@ void publishArgs(benchmark::internal::Benchmark* b) {
     for (const int clients : {0, 1}) {
         b->Args({clients, 1, 1280, 480})->Args({clients, 1, 800, 240})->Args({clients, 1, 1280, 720});
     }
-    b->Args({1, 2, 1280, 480})->Args({1, 2, 1280, 720});
+    b->Args({1, 2, 1280, 480})->Args({1, 2, 800, 240})->Args({1, 2, 1280, 720});
+}
+
+// The pixel conversion alone (what publish() adds per ring for RGB565): one whole frame per
+// iteration; items are pixels, so items_per_second gives the cost per pixel.
+void BM_ConvertFrame(benchmark::State& state) {
+    const auto format = static_cast<PixelFormat>(state.range(0));
+    const int w = static_cast<int>(state.range(1));
+    const int h = static_cast<int>(state.range(2));
+    const auto px = mapLikeFrame(w, h, 5);
+    std::vector<std::uint8_t> out(static_cast<std::size_t>(w) * h * static_cast<std::size_t>(bytesPerPixel(format)));
+    const std::size_t outStride = static_cast<std::size_t>(w) * static_cast<std::size_t>(bytesPerPixel(format));
+    for (auto _ : state) {
+        for (int y = 0; y < h; ++y) {
+            convertRowFromRgba(px.data() + static_cast<std::size_t>(y) * w * 4, format, out.data() + outStride * y, w);
+        }
+        benchmark::DoNotOptimize(out.data());
+        benchmark::ClobberMemory();
+    }
+    state.SetItemsProcessed(state.iterations() * w * h);
+    state.SetLabel(pixelFormatName(format));
+}
+
+void convertArgs(benchmark::internal::Benchmark* b) {
+    for (const int format : {1, 2}) {
+        b->Args({format, 1280, 480})->Args({format, 800, 240})->Args({format, 1280, 720});
+    }
 }
 
 }  // namespace
 
 BENCHMARK(BM_Deliver)->Apply(deliverArgs)->Unit(benchmark::kMillisecond)->MinTime(1.0)->UseRealTime();
 BENCHMARK(BM_Publish)->Apply(publishArgs)->Unit(benchmark::kMicrosecond)->Iterations(300);
+BENCHMARK(BM_ConvertFrame)->Apply(convertArgs)->Unit(benchmark::kMicrosecond)->MinTime(0.3);
 
 BENCHMARK_MAIN();

@@ -11,6 +11,7 @@ MapStyle MapStyle::night() {
     s.roads = RoadStyle::night();
     s.route_color = {0.25f, 0.65f, 1.0f};
     s.route_casing = {0.05f, 0.15f, 0.35f};
+    s.glow_color = {0.35f, 0.95f, 1.0f};
     return s;
 }
 

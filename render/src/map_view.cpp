@@ -24,6 +24,11 @@ std::vector<std::shared_ptr<const map::Tile>> MapView::tilesFor(const Camera& ca
     return m_last.draw;
 }
 
+void MapView::select(MapFrame& frame, double aspect, int viewport_height) {
+    frame.tiles = tilesFor(frame.camera, aspect, viewport_height);
+    frame.tile_morph = m_last.morph;
+}
+
 bool MapView::warmUp(const Camera& camera, double aspect, int viewport_height, std::chrono::milliseconds timeout) {
     const auto deadline = std::chrono::steady_clock::now() + timeout;
     while (std::chrono::steady_clock::now() < deadline) {

@@ -45,6 +45,58 @@ double screenSpaceError(double error_m, double distance_m, double fov_y_deg, int
     return error_m * viewport_height / (2.0 * d * std::tan(glm::radians(fov_y_deg) / 2.0));
 }
 
+double levelError(const map::TileScheme& scheme, int level, const LodOptions& options) {
+    const int samples = std::max(options.dem_samples, 2);
+    return options.error_per_spacing * scheme.tileSize(level) / (samples - 1);
+}
+
+double refineDistance(const map::TileScheme& scheme, int level, double fov_y_deg, int viewport_height,
+                      const LodOptions& options) {
+    // screenSpaceError(e, d) = e * h / (2 d tan(fov / 2)) solved for d at max_error_px.
+    const double px = std::max(options.max_error_px, 1e-6);
+    return levelError(scheme, level, options) * viewport_height / (2.0 * px * std::tan(glm::radians(fov_y_deg) / 2.0));
+}
+
+TileMorph morphRange(const map::TileScheme& scheme, int level, double fov_y_deg, int viewport_height,
+                     const LodOptions& options) {
+    TileMorph m;
+    const double ratio = std::clamp(options.morph_start, 0.0, 0.99);
+    for (int j = 0; j < kMorphLevels; ++j) {
+        const int finer = level - j;
+        if (finer <= 0) break;
+        // The level above `finer` is refined (so `finer` drawn) only while its box is nearer than
+        // this: from here on a tile of `finer` must look exactly like that coarser level.
+        const double end = refineDistance(scheme, finer - 1, fov_y_deg, viewport_height, options);
+        m.end_m[static_cast<std::size_t>(j)] = static_cast<float>(end);
+        m.start_m[static_cast<std::size_t>(j)] = static_cast<float>(ratio * end);
+    }
+    return m;
+}
+
+double morphEyeDz(double eye_z, const LodOptions& options) {
+    return std::max({0.0, eye_z - options.max_height_m, options.min_height_m - eye_z});
+}
+
+float morphDistance(float dx, float dy, const TileMorph& morph) {
+    return std::sqrt(dx * dx + dy * dy + morph.eye_dz_m * morph.eye_dz_m);
+}
+
+float morphFactor(float distance_m, float start_m, float end_m) {
+    if (end_m <= start_m) return 0.0f;
+    return std::clamp((distance_m - start_m) / (end_m - start_m), 0.0f, 1.0f);
+}
+
+float morphedHeight(float distance_m, const TileMorph& morph, float own, const std::array<float, kMorphLevels>& ancestors) {
+    // From the coarsest level inwards: S_k = mix(h_k, S_k-1, f_k).
+    float s = ancestors[kMorphLevels - 1];
+    for (int j = kMorphLevels - 1; j >= 0; --j) {
+        const float h = j == 0 ? own : ancestors[static_cast<std::size_t>(j - 1)];
+        const auto k = static_cast<std::size_t>(j);
+        s = h + (s - h) * morphFactor(distance_m, morph.start_m[k], morph.end_m[k]);
+    }
+    return s;
+}
+
 LodSelection selectLod(const map::TileScheme& scheme, const Camera& camera, double aspect, int viewport_height,
                        const std::function<bool(map::TileId)>& exists,
                        const std::function<std::shared_ptr<const map::Tile>(map::TileId)>& resident,
@@ -54,7 +106,6 @@ LodSelection selectLod(const map::TileScheme& scheme, const Camera& camera, doub
     const glm::dmat4 view = glm::lookAt(glm::dvec3(0.0), camera.target - camera.eye, camera.up);
     const glm::dmat4 proj = glm::dmat4(camera.projection(aspect));
     const Frustum frustum = frustumOf(proj * view);
-    const int samples = std::max(options.dem_samples, 2);
 
     std::vector<map::TileId> stack{map::TileId{0, 0, 0}};
     while (!stack.empty()) {
@@ -68,7 +119,7 @@ LodSelection selectLod(const map::TileScheme& scheme, const Camera& camera, doub
             continue;
         }
         const double distance = distanceToBox(glm::dvec3(0.0), lo, hi);
-        const double error_m = options.error_per_spacing * scheme.tileSize(id.level) / (samples - 1);
+        const double error_m = levelError(scheme, id.level, options);
         const double priority = 1000.0 + 100.0 * id.level - distance / scheme.tileSize(id.level);
         auto self = resident(id);
         if (!self) {
@@ -103,6 +154,22 @@ LodSelection selectLod(const map::TileScheme& scheme, const Camera& camera, doub
     }
     // Deterministic draw order: by level then address.
     std::sort(out.draw.begin(), out.draw.end(), [](const auto& a, const auto& b) { return a->id.key() < b->id.key(); });
+    if (options.morph) {
+        // Geomorphing ranges (see the header). The ancestors are resident, since the traversal
+        // reached every drawn tile through them.
+        const auto eye_dz = static_cast<float>(morphEyeDz(camera.eye.z, options));
+        out.morph.reserve(out.draw.size());
+        for (const auto& t : out.draw) {
+            TileMorph m = morphRange(scheme, t->id.level, camera.fov_y_deg, viewport_height, options);
+            map::TileId up = t->id;
+            for (int j = 0; j < kMorphLevels && up.level > 0; ++j) {
+                up = up.parent();
+                m.ancestors[static_cast<std::size_t>(j)] = resident(up);
+            }
+            m.eye_dz_m = eye_dz;
+            out.morph.push_back(std::move(m));
+        }
+    }
     return out;
 }
 

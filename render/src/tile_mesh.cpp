@@ -1,8 +1,11 @@
 #include "navmap/render/tile_mesh.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numeric>
+
+#include "navmap/render/terrain_lod.h"
 
 namespace navmap::render {
 
@@ -31,7 +34,82 @@ int landCoverOrder(map::AreaClass c) {
     return 2;
 }
 
+// Central-difference normal of a grid sample (one-sided at the border), as the terrain mesh uses.
+glm::vec3 gridNormal(const HeightGrid& g, int r, int c) {
+    const int n = g.size;
+    const int c0 = std::max(c - 1, 0), c1 = std::min(c + 1, n - 1);
+    const int r0 = std::max(r - 1, 0), r1 = std::min(r + 1, n - 1);
+    const auto dzdx = static_cast<float>((g.at(r, c1) - g.at(r, c0)) / ((c1 - c0) * g.spacing));
+    const auto dzdy = static_cast<float>((g.at(r1, c) - g.at(r0, c)) / ((r1 - r0) * g.spacing));
+    return glm::normalize(glm::vec3(-dzdx, -dzdy, 1.0f));
+}
+
+// Barycentric weights of (x, y) in the grid triangle containing it (HeightGrid's split along
+// the cell's south-west -> north-east diagonal), with the three sample indices.
+struct GridWeights {
+    std::array<std::size_t, 3> index;
+    std::array<double, 3> weight;
+};
+
+GridWeights gridWeights(const HeightGrid& g, double x, double y) {
+    const int cells = g.size - 1;
+    const double u = std::clamp(x / g.spacing, 0.0, double(cells)), v = std::clamp(y / g.spacing, 0.0, double(cells));
+    const int col = std::clamp(static_cast<int>(std::floor(u)), 0, cells - 1);
+    const int row = std::clamp(static_cast<int>(std::floor(v)), 0, cells - 1);
+    const double fx = u - col, fy = v - row;
+    const auto at = [&](int r, int c) { return static_cast<std::size_t>(r) * g.size + c; };
+    if (fy <= fx) return {{at(row, col), at(row, col + 1), at(row + 1, col + 1)}, {1.0 - fx, fx - fy, fy}};  // SW SE NE
+    return {{at(row, col), at(row + 1, col + 1), at(row + 1, col)}, {1.0 - fy, fx, fy - fx}};                // SW NE NW
+}
+
 }  // namespace
+
+void ancestorSurface(const map::Tile& tile, int n, std::span<const float> heights, const map::Tile* ancestor,
+                     int levels_up, std::vector<float>& out_heights, std::vector<glm::vec3>& out_normals) {
+    const std::size_t count = static_cast<std::size_t>(n) * n;
+    out_heights.assign(count, 0.0f);
+    out_normals.assign(count, glm::vec3(0.0f, 0.0f, 1.0f));
+    if (n < 2 || heights.size() != count) return;
+    const double spacing = tile.size_m / (n - 1);
+    const int stride = 1 << std::clamp(levels_up, 0, 16);
+    // The ancestor's grid and where the tile's south-west corner sits in it.
+    std::vector<float> decimated;
+    HeightGrid ag;
+    glm::dvec2 offset(0.0);
+    const bool has_ancestor = ancestor && ancestor->dem.size >= 2 && ancestor->size_m > 0 &&
+                              ancestor->dem.heights.size() == std::size_t{ancestor->dem.size} * ancestor->dem.size;
+    if (has_ancestor) {
+        ag = HeightGrid{ancestor->dem.size, ancestor->size_m / (ancestor->dem.size - 1), ancestor->dem.heights.data()};
+        offset = {tile.origin_x - ancestor->origin_x, tile.origin_y - ancestor->origin_y};
+    } else if ((n - 1) % stride == 0 && n > stride) {
+        // Not at hand: the coarser grid of every stride-th own sample (CDLOD's usual target).
+        const int m = (n - 1) / stride + 1;
+        decimated.resize(static_cast<std::size_t>(m) * m);
+        for (int r = 0; r < m; ++r)
+            for (int c = 0; c < m; ++c)
+                decimated[static_cast<std::size_t>(r) * m + c] = heights[static_cast<std::size_t>(stride * r) * n + stride * c];
+        ag = HeightGrid{m, stride * spacing, decimated.data()};
+    } else {
+        ag = HeightGrid{n, spacing, heights.data()};  // too coarse a grid to decimate: its own surface
+    }
+    std::vector<glm::vec3> an(static_cast<std::size_t>(ag.size) * ag.size);
+    for (int r = 0; r < ag.size; ++r)
+        for (int c = 0; c < ag.size; ++c) an[static_cast<std::size_t>(r) * ag.size + c] = gridNormal(ag, r, c);
+    for (int r = 0; r < n; ++r) {
+        for (int c = 0; c < n; ++c) {
+            const GridWeights w = gridWeights(ag, offset.x + c * spacing, offset.y + r * spacing);
+            double h = 0.0;
+            glm::vec3 nrm(0.0f);
+            for (std::size_t k = 0; k < 3; ++k) {
+                h += w.weight[k] * ag.heights[w.index[k]];
+                nrm += static_cast<float>(w.weight[k]) * an[w.index[k]];
+            }
+            const std::size_t i = static_cast<std::size_t>(r) * n + c;
+            out_heights[i] = static_cast<float>(h);
+            out_normals[i] = glm::normalize(nrm);
+        }
+    }
+}
 
 glm::vec4 landCoverColor(map::AreaClass cls) {
     using A = map::AreaClass;
@@ -56,7 +134,7 @@ glm::vec4 landCoverColor(map::AreaClass cls) {
     return rgba(0xc8c8b0, 0.3f);
 }
 
-TileMesh buildTileMesh(const map::Tile& tile, const TileMeshOptions& options) {
+TileMesh buildTileMesh(const map::Tile& tile, const TileMeshOptions& options, std::span<const map::Tile* const> ancestors) {
     TileMesh mesh;
     mesh.id = tile.id;
     mesh.origin = glm::dvec3(tile.origin_x, tile.origin_y, 0.0);
@@ -91,6 +169,17 @@ TileMesh buildTileMesh(const map::Tile& tile, const TileMeshOptions& options) {
                 glm::normalize(glm::vec3(-dzdx, -dzdy, 1.0f))};
         }
     }
+    // Geomorph targets (terrain_lod.h): the coarser levels' surfaces at every grid vertex.
+    std::vector<glm::vec3> normals;
+    for (int j = 0; j < kMorphLevels; ++j) {
+        const auto k = static_cast<std::size_t>(j);
+        const map::Tile* ancestor = k < ancestors.size() ? ancestors[k] : nullptr;
+        ancestorSurface(tile, n, mesh.heights, ancestor, j + 1, mesh.ancestor_heights[k], normals);
+        for (std::size_t i = 0; i < mesh.terrain.size(); ++i) {
+            mesh.terrain[i].ancestor_heights[k] = mesh.ancestor_heights[k][i];
+            mesh.terrain[i].ancestor_normals[k] = glm::vec2(normals[i]);
+        }
+    }
     mesh.terrain_indices = gridTriangleIndices(n);
     // Skirts: a curtain hanging from every border vertex, so a coarser neighbour never shows a
     // crack through to the sky.
@@ -103,6 +192,7 @@ TileMesh buildTileMesh(const map::Tile& tile, const TileMeshOptions& options) {
     for (std::uint32_t v : ring) {
         TerrainVertex s = mesh.terrain[v];
         s.position.z -= options.skirt_depth_m;
+        for (float& a : s.ancestor_heights) a -= options.skirt_depth_m;  // morphs with its border vertex
         mesh.terrain.push_back(s);
     }
     for (std::size_t i = 0; i < ring.size(); ++i) {
@@ -215,6 +305,71 @@ TileMesh buildTileMesh(const map::Tile& tile, const TileMeshOptions& options) {
         }
     }
     return mesh;
+}
+
+std::vector<RoutePiece> drapeRoute(const RouteGeometry& route, const glm::dvec3& origin, const HeightGrid& grid,
+                                   const std::array<HeightGrid, kMorphLevels>& ancestors) {
+    std::vector<RoutePiece> out;
+    if (grid.size < 2 || route.points.size() < 2 || route.measure_m.size() != route.points.size()) return out;
+    const double e = grid.extent();
+    std::vector<glm::dvec2> seg(2);
+    for (std::size_t i = 0; i + 1 < route.points.size(); ++i) {
+        const glm::dvec2 a(route.points[i].x - origin.x, route.points[i].y - origin.y);
+        const glm::dvec2 b(route.points[i + 1].x - origin.x, route.points[i + 1].y - origin.y);
+        if (std::max(a.x, b.x) < 0.0 || std::min(a.x, b.x) > e || std::max(a.y, b.y) < 0.0 || std::min(a.y, b.y) > e) continue;
+        // Liang-Barsky clip of a -> b to the tile square.
+        const glm::dvec2 d = b - a;
+        double t0 = 0.0, t1 = 1.0;
+        bool inside = true;
+        const double p[4] = {-d.x, d.x, -d.y, d.y};
+        const double q[4] = {a.x, e - a.x, a.y, e - a.y};
+        for (int k = 0; k < 4 && inside; ++k) {
+            if (p[k] == 0.0) {
+                inside = q[k] >= 0.0;
+            } else {
+                const double t = q[k] / p[k];
+                if (p[k] < 0.0) t0 = std::max(t0, t);
+                else t1 = std::min(t1, t);
+            }
+        }
+        if (!inside || t1 - t0 <= 1e-12) continue;
+        const double len = glm::length(d);
+        if (len * (t1 - t0) < 1e-6) continue;
+        seg[0] = a + t0 * d;
+        seg[1] = a + t1 * d;
+        // seed 3.6.1: a vertex wherever the segment crosses a triangle edge of this tile's grid.
+        const std::vector<glm::dvec3> draped = drapePolyline(grid, seg);
+        const double m0 = route.measure_m[i], m1 = route.measure_m[i + 1];
+        auto measureAt = [&](const glm::dvec3& v) {
+            return static_cast<float>(m0 + (m1 - m0) * std::clamp(glm::length(glm::dvec2(v) - a) / len, 0.0, 1.0));
+        };
+        for (std::size_t k = 0; k + 1 < draped.size(); ++k) {
+            const glm::dvec3& q0 = draped[k];
+            const glm::dvec3& q1 = draped[k + 1];
+            RoutePiece piece{glm::vec3(q0), glm::vec3(q1), {}, {}, measureAt(q0), measureAt(q1)};
+            for (std::size_t j = 0; j < ancestors.size(); ++j) {
+                if (!ancestors[j].heights) continue;
+                piece.ancestor_z0[j] = static_cast<float>(ancestors[j].heightAt(q0.x, q0.y));
+                piece.ancestor_z1[j] = static_cast<float>(ancestors[j].heightAt(q1.x, q1.y));
+            }
+            out.push_back(piece);
+        }
+    }
+    return out;
+}
+
+void morphRoute(std::span<const RoutePiece> pieces, const TileMorph& morph, const glm::vec2& eye_local,
+                std::vector<RoadInstance>& out) {
+    out.clear();
+    out.reserve(pieces.size());
+    auto at = [&](glm::vec3 p, const std::array<float, kMorphLevels>& ancestor_z) {
+        const glm::vec2 d = glm::vec2(p) - eye_local;
+        p.z = morphedHeight(morphDistance(d.x, d.y, morph), morph, p.z, ancestor_z);
+        return p;
+    };
+    for (const RoutePiece& r : pieces) {
+        out.push_back({at(r.p0, r.ancestor_z0), at(r.p1, r.ancestor_z1), 0.0f, 0.0f, r.measure0, r.measure1});
+    }
 }
 
 }  // namespace navmap::render

@@ -36,6 +36,7 @@ using Clock = std::chrono::steady_clock;
 struct Sample {
     double t_s = 0;
     long rss_kb = 0;
+    long peak_kb = 0;  // VmHWM: the highest RSS so far
     int fds = 0;
     int threads = 0;
     double frame_p50_ms = 0, frame_p99_ms = 0;
@@ -69,7 +70,7 @@ double median(std::vector<double> v) {
 int main(int argc, char** argv) {
     CLI::App app{"navmap-soak - long-running stability test of navmapd"};
     std::string navmapd, drive, report_path = "soak-report.json", work = "/tmp/navmap-soak";
-    double duration = 120, speed = 8, rss_tolerance = 0.25, rss_slack_mb = 24;
+    double duration = 120, speed = 8, rss_tolerance = 0.25, rss_slack_mb = 24, max_peak_rss_mb = 0;
     int fd_tolerance = 4, thread_tolerance = 2;
     unsigned seed = 1;
     app.add_option("--navmapd", navmapd, "navmapd binary")->required();
@@ -80,6 +81,7 @@ int main(int argc, char** argv) {
     app.add_option("--work-dir", work, "directory for sockets and logs")->capture_default_str();
     app.add_option("--rss-tolerance", rss_tolerance, "allowed RSS growth (fraction) after warm-up")->capture_default_str();
     app.add_option("--rss-slack-mb", rss_slack_mb, "plus this many MiB")->capture_default_str();
+    app.add_option("--max-peak-rss-mb", max_peak_rss_mb, "peak RSS (VmHWM) limit in MiB, 0 = report only")->capture_default_str();
     app.add_option("--fd-tolerance", fd_tolerance, "allowed growth of open fds")->capture_default_str();
     app.add_option("--thread-tolerance", thread_tolerance, "allowed growth of threads")->capture_default_str();
     app.add_option("--seed", seed, "random seed for the client schedule")->capture_default_str();
@@ -171,6 +173,7 @@ int main(int argc, char** argv) {
             Sample s;
             s.t_s = std::chrono::duration<double>(last_sample - t0).count();
             s.rss_kb = procStatus(pid, "VmRSS:");
+            s.peak_kb = procStatus(pid, "VmHWM:");
             s.fds = countFds(pid);
             s.threads = static_cast<int>(procStatus(pid, "Threads:"));
             s.clients = static_cast<int>(clients.size());
@@ -197,6 +200,7 @@ int main(int argc, char** argv) {
         }
     }
     clients.clear();
+    const long peak_kb = daemon_alive ? procStatus(pid, "VmHWM:") : (samples.empty() ? 0 : samples.back().peak_kb);
     if (daemon_alive) ::kill(pid, SIGTERM);
     int status = 0;
     ::waitpid(pid, &status, 0);
@@ -227,13 +231,18 @@ int main(int argc, char** argv) {
     } else {
         failures.push_back("too few samples (run longer than 12 s)");
     }
+    report["peak_rss_mib"] = peak_kb / 1024.0;
+    if (max_peak_rss_mb > 0 && peak_kb > max_peak_rss_mb * 1024) {
+        failures.push_back("peak RSS " + std::to_string(peak_kb / 1024) + " MiB over " + std::to_string(static_cast<int>(max_peak_rss_mb)) + " MiB");
+    }
     report["duration_s"] = duration;
-    report["tolerances"] = {{"rss_fraction", rss_tolerance}, {"rss_slack_mib", rss_slack_mb}, {"fds", fd_tolerance}, {"threads", thread_tolerance}};
+    report["tolerances"] = {{"rss_fraction", rss_tolerance}, {"rss_slack_mib", rss_slack_mb}, {"fds", fd_tolerance}, {"threads", thread_tolerance},
+                            {"max_peak_rss_mib", max_peak_rss_mb}};
     report["clients"] = {{"connects", connects}, {"disconnects", disconnects}, {"frames_received", frames_received},
                          {"stream_errors", stream_errors}, {"control_errors", control_errors}};
     nlohmann::json js = nlohmann::json::array();
     for (const auto& s : samples) {
-        js.push_back({{"t_s", s.t_s}, {"rss_kib", s.rss_kb}, {"fds", s.fds}, {"threads", s.threads},
+        js.push_back({{"t_s", s.t_s}, {"rss_kib", s.rss_kb}, {"peak_rss_kib", s.peak_kb}, {"fds", s.fds}, {"threads", s.threads},
                       {"frame_p50_ms", s.frame_p50_ms}, {"frame_p99_ms", s.frame_p99_ms}, {"clients", s.clients}});
     }
     report["samples"] = js;

@@ -17,6 +17,7 @@
 #include <thread>
 
 #include "golden.h"
+#include "navmapd_process.h"
 #include "navmap/ipc/control_client.h"
 #include "navmap/ipc/stream_client.h"
 
@@ -31,30 +32,7 @@ std::int64_t nowNs() {
     return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch()).count();
 }
 
-// A vehicle standing at a fixed point in Andorra la Vella: NAV_Position at 10 Hz and NAV_Motion at
-// 50 Hz (data/navmap.dbc, Intel byte order) for 20 s; the daemon loops it.
-void writeStandingLog(const fs::path& path) {
-    std::ofstream out(path);
-    const std::int32_t lat = static_cast<std::int32_t>(std::lround(42.50770 * 1e7));
-    const std::int32_t lon = static_cast<std::int32_t>(std::lround(1.52190 * 1e7));
-    char line[128];
-    int counter = 0;
-    for (int ms = 0; ms < 20000; ms += 20) {
-        const double t = 1618394400.0 + ms / 1000.0;
-        if (ms % 100 == 0) {
-            std::uint8_t b[8];
-            for (int i = 0; i < 4; ++i) b[i] = static_cast<std::uint8_t>((static_cast<std::uint32_t>(lat) >> (8 * i)) & 0xff);
-            for (int i = 0; i < 4; ++i) b[4 + i] = static_cast<std::uint8_t>((static_cast<std::uint32_t>(lon) >> (8 * i)) & 0xff);
-            std::snprintf(line, sizeof line, "(%.6f) vcan0 6A0#%02X%02X%02X%02X%02X%02X%02X%02X\n", t, b[0], b[1], b[2], b[3], b[4], b[5], b[6], b[7]);
-            out << line;
-        }
-        const std::uint16_t heading = 4500;  // 45.00 deg
-        const std::uint8_t fix_counter = static_cast<std::uint8_t>(3 | ((counter++ & 15) << 4));
-        std::snprintf(line, sizeof line, "(%.6f) vcan0 6A1#%02X%02X%02X%02X%02X%02X%02X%02X\n", t + 0.001, heading & 0xff,
-                      heading >> 8, 0, 0, 0, 0, fix_counter, 9);
-        out << line;
-    }
-}
+using navmap::test::writeStandingLog;
 
 struct Daemon {
     pid_t pid = -1;

@@ -150,4 +150,63 @@ TEST(GlesRenderer, AndorraHeightfieldMatchesGolden) {
     EXPECT_GOLDEN(image, "render/golden/andorra_heightfield.png", (navmap::test::GoldenTolerance{8, 0.005}));
 }
 
+// One context serves several displays: each target has its size and readback ring; what a
+// target shows does not depend on what the others rendered in between.
+TEST(GlesRenderer, TargetsShareOneContextAndKeepTheirOwnFramesAndRings) {
+    RendererOptions o = smallOptions();
+    o.readback_ring = 2;
+    auto shared = Renderer::create(o);
+    shared->setTerrain(andorra().mesh);
+    const int wide = shared->addTarget(200, 60);
+    EXPECT_EQ(shared->currentTarget(), 0) << "addTarget does not switch";
+    EXPECT_EQ(shared->targetCount(), 2u);
+    EXPECT_THROW(shared->useTarget(42), RenderError);
+    EXPECT_THROW(shared->addTarget(0, 10), RenderError);
+
+    RendererOptions wo = o;
+    wo.width = 200;
+    wo.height = 60;
+    auto alone_small = Renderer::create(o);
+    auto alone_wide = Renderer::create(wo);
+    alone_small->setTerrain(andorra().mesh);
+    alone_wide->setTerrain(andorra().mesh);
+
+    std::vector<navmap::render::Frame> got_small, got_wide;
+    for (int i = 0; i < 4; ++i) {
+        const Camera a = navmap::render::andorraFlyoverCamera(andorra().projection, i / 4.0);
+        const Camera b = navmap::render::andorraFlyoverCamera(andorra().projection, 0.9 - i / 8.0);
+        shared->useTarget(0);
+        shared->render(a);
+        if (auto f = shared->readAsync(static_cast<std::uint64_t>(100 + i))) got_small.push_back(std::move(*f));
+        shared->useTarget(wide);
+        EXPECT_EQ(shared->width(), 200);
+        EXPECT_EQ(shared->height(), 60);
+        shared->render(b);
+        if (auto f = shared->readAsync(static_cast<std::uint64_t>(200 + i))) got_wide.push_back(std::move(*f));
+        alone_small->render(a);
+        alone_wide->render(b);
+        EXPECT_EQ(shared->readSync().rgba, alone_wide->readSync().rgba) << "wide target, frame " << i;
+        shared->useTarget(0);
+        EXPECT_EQ(shared->readSync().rgba, alone_small->readSync().rgba) << "first target, frame " << i;
+    }
+    shared->useTarget(0);
+    for (auto& f : shared->drainReadbacks()) got_small.push_back(std::move(f));
+    shared->useTarget(wide);
+    for (auto& f : shared->drainReadbacks()) got_wide.push_back(std::move(f));
+    ASSERT_EQ(got_small.size(), 4u);
+    ASSERT_EQ(got_wide.size(), 4u);
+    for (int i = 0; i < 4; ++i) {
+        EXPECT_EQ(got_small[i].sequence, static_cast<std::uint64_t>(100 + i));
+        EXPECT_EQ(got_wide[i].sequence, static_cast<std::uint64_t>(200 + i));
+        EXPECT_EQ(got_small[i].image.width, 160);
+        EXPECT_EQ(got_wide[i].image.width, 200);
+        EXPECT_EQ(got_wide[i].image.height, 60);
+    }
+    EXPECT_TRUE(shared->removeTarget(wide));
+    EXPECT_FALSE(shared->removeTarget(wide));
+    EXPECT_FALSE(shared->removeTarget(0)) << "target 0 stays";
+    EXPECT_EQ(shared->currentTarget(), 0);
+    EXPECT_EQ(shared->width(), 160);
+}
+
 }  // namespace

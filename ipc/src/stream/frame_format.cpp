@@ -35,16 +35,36 @@ bool isKnownPixelFormat(std::uint32_t value) noexcept {
            value == static_cast<std::uint32_t>(PixelFormat::Rgb565);
 }
 
+namespace {
+
+inline std::uint16_t rgbaWordTo565(std::uint32_t p) noexcept {  // little-endian: R is the low byte
+    return static_cast<std::uint16_t>(((p & 0xF8U) << 8) | ((p & 0xFC00U) >> 5) | ((p & 0xF80000U) >> 19));
+}
+
+}  // namespace
+
 void convertRowFromRgba(const std::uint8_t* rgba, PixelFormat to, std::uint8_t* dst, int width) noexcept {
     if (to == PixelFormat::Rgba8) {
         std::memcpy(dst, rgba, static_cast<std::size_t>(width) * 4);
         return;
     }
-    // Word-at-a-time so the compiler vectorises it (publish() runs this on the render thread).
-    for (int x = 0; x < width; ++x) {
+    // publish() runs this on the render thread, once per profile ring and frame. Blocks of a fixed
+    // 16 pixels through local arrays: the inner loop has a constant trip count and no aliasing, so
+    // GCC vectorises it even at -O2 (very-cheap cost model): 0.37 ms instead of 0.86 ms for
+    // 1280x720 on the development VM (min of 200, SSE2).
+    constexpr int kBlock = 16;
+    int x = 0;
+    for (; x + kBlock <= width; x += kBlock) {
+        std::uint32_t in[kBlock];
+        std::uint16_t out[kBlock];
+        std::memcpy(in, rgba + static_cast<std::size_t>(x) * 4, sizeof in);
+        for (int i = 0; i < kBlock; ++i) out[i] = rgbaWordTo565(in[i]);
+        std::memcpy(dst + static_cast<std::size_t>(x) * 2, out, sizeof out);
+    }
+    for (; x < width; ++x) {
         std::uint32_t p = 0;
-        std::memcpy(&p, rgba + static_cast<std::size_t>(x) * 4, 4);  // little-endian: R is the low byte
-        const auto v = static_cast<std::uint16_t>(((p & 0xF8U) << 8) | ((p & 0xFC00U) >> 5) | ((p & 0xF80000U) >> 19));
+        std::memcpy(&p, rgba + static_cast<std::size_t>(x) * 4, 4);
+        const std::uint16_t v = rgbaWordTo565(p);
         std::memcpy(dst + static_cast<std::size_t>(x) * 2, &v, 2);
     }
 }

@@ -7,9 +7,7 @@
 #include <sys/ioctl.h>
 #include <sys/eventfd.h>
 #include <sys/socket.h>
-#include <turbojpeg.h>
 #include <unistd.h>
-#include <zlib.h>
 
 #include <algorithm>
 #include <atomic>
@@ -24,11 +22,15 @@
 #include "navmap/ipc/frame_header.h"
 #include "navmap/ipc/frame_ring.h"
 #include "navmap/ipc/stream_http_request.h"
+#include "frame_encoder.h"
 #include "stream_page.h"
 #include "stream_socket.h"
 
 namespace navmap::ipc {
 
+using stream_detail::EncodedFrame;
+using stream_detail::EncodeKind;
+using stream_detail::FrameEncoder;
 using stream_detail::sysError;
 using stream_detail::UniqueFd;
 
@@ -41,19 +43,19 @@ enum class Phase { Handshake, Stream, HttpHead, Mjpeg, Draining };
 
 // One ring per (view, size, format), shared by all its clients. The caches hold the newest
 // frame in the forms the socket transports need, so N clients cost one copy/compression/encode.
+// zlib and JPEG come from the encoder thread (FrameEncoder), never from the I/O thread.
 struct RingEntry {
     std::string view;
     std::shared_ptr<FrameRing> ring;
     std::size_t clients = 0;
     int maxFps = 0;
-    std::uint64_t handled = 0;
     std::uint64_t rawSeq = 0;
     FrameHeader rawHeader;
     std::vector<std::uint8_t> raw;
-    std::uint64_t zlibSeq = 0;
-    std::vector<std::uint8_t> zlib;
-    std::uint64_t jpegSeq = 0;
-    std::vector<std::uint8_t> jpeg;
+    std::uint64_t zlibAsked = 0;  // newest sequence handed to the encoder
+    std::uint64_t jpegAsked = 0;
+    std::shared_ptr<const EncodedFrame> zlib;  // newest finished encodes
+    std::shared_ptr<const EncodedFrame> jpeg;
 };
 
 struct Conn {
@@ -72,6 +74,7 @@ struct Conn {
     bool awaitingAck = false;
     bool pending = false;
     std::uint64_t lastSent = 0;
+    std::uint64_t seen = 0;  // newest frame (in this client's encoding) it has been offered
     std::uint64_t dropped = 0;
     Clock::time_point since;
     Clock::time_point lastProgress;
@@ -112,7 +115,8 @@ bool hasControlBytes(const std::string& s) {
 
 class FrameServer::Impl {
 public:
-    explicit Impl(FrameServerOptions options) : m_options(std::move(options)) {}
+    explicit Impl(FrameServerOptions options)
+        : m_options(std::move(options)), m_encoder(m_options.jpegQuality, [this] { wake(); }) {}
     ~Impl() { stop(); }
 
     Status start();
@@ -154,7 +158,10 @@ private:
     void offer(Conn& c, Clock::time_point now);
     void sendFrame(Conn& c);
     bool fillRaw(RingEntry& e, std::uint64_t seq);
-    bool fillJpeg(RingEntry& e, std::uint64_t seq);
+    std::uint64_t available(const Conn& c) const;
+    void offerIfNew(Conn& c, Clock::time_point now);
+    void requestEncodes();
+    void wake() noexcept;
     void deliverNewFrames();
     void checkTimeouts();
     void reap();
@@ -169,7 +176,7 @@ private:
     UniqueFd m_wakeFd;
     std::thread m_thread;
     std::atomic<bool> m_running{false};
-    tjhandle m_tj = nullptr;
+    FrameEncoder m_encoder;  // zlib/JPEG off the I/O thread
     std::uint64_t m_ringCounter = 0;
 
     mutable std::mutex m_publishMutex;  // guards the pointer swap only, never I/O
@@ -217,10 +224,9 @@ Status FrameServer::Impl::start() {
         }
         m_httpFd.reset(fd.value());
         m_httpPort = stream_detail::boundPort(fd.value());
-        m_tj = tjInitCompress();
-        if (m_tj == nullptr) {
-            return Error{std::string("tjInitCompress(MJPEG): ") + tjGetErrorStr2(nullptr)};
-        }
+    }
+    if (auto st = m_encoder.start(); !st) {
+        return st;
     }
     m_running = true;
     m_thread = std::thread([this] { run(); });
@@ -233,6 +239,7 @@ void FrameServer::Impl::stop() {
         [[maybe_unused]] const auto n = ::write(m_wakeFd.get(), &one, sizeof(one));
         m_thread.join();
     }
+    m_encoder.stop();  // before the wake-up eventfd goes
     m_conns.clear();
     m_rings.clear();
     {
@@ -246,10 +253,12 @@ void FrameServer::Impl::stop() {
     m_tcpFd.reset();
     m_httpFd.reset();
     m_wakeFd.reset();
-    if (m_tj != nullptr) {
-        tjDestroy(m_tj);
-        m_tj = nullptr;
-    }
+}
+
+void FrameServer::Impl::wake() noexcept {
+    // eventfd writes never block (the counter saturates far away).
+    const std::uint64_t one = 1;
+    [[maybe_unused]] const auto n = ::write(m_wakeFd.get(), &one, sizeof(one));
 }
 
 std::size_t FrameServer::Impl::publish(const std::string& view, const FrameView& frame) {
@@ -540,9 +549,7 @@ void FrameServer::Impl::onHandshake(Conn& c, const std::string& line) {
     c.phase = Phase::Stream;
     c.lastProgress = Clock::now();
     refreshRings();
-    if (c.ring->ring->latestSequence() > 0) {
-        offer(c, Clock::now());
-    }
+    offerIfNew(c, Clock::now());
 }
 
 void FrameServer::Impl::onStreamBytes(Conn& c) {
@@ -750,9 +757,7 @@ void FrameServer::Impl::onHttpRequest(Conn& c, const std::string& head) {
         queue(c, kHead, sizeof(kHead) - 1);
         flush(c);
         refreshRings();
-        if (c.ring->ring->latestSequence() > 0) {
-            offer(c, Clock::now());
-        }
+        offerIfNew(c, Clock::now());
     } else {
         httpReply(c, 404, "Not Found", "text/plain", "no such page: " + req.path.substr(0, 128) + "\n");
     }
@@ -798,76 +803,69 @@ bool FrameServer::Impl::fillRaw(RingEntry& e, std::uint64_t seq) {
     return true;
 }
 
-bool FrameServer::Impl::fillJpeg(RingEntry& e, std::uint64_t seq) {
-    if (e.jpegSeq == seq) {
-        return true;
+std::uint64_t FrameServer::Impl::available(const Conn& c) const {
+    const RingEntry& e = *c.ring;
+    if (c.phase == Phase::Mjpeg) {
+        return e.jpeg ? e.jpeg->sequence : 0;
     }
-    if (!fillRaw(e, seq)) {
-        return false;
+    if (c.payload == StreamPayload::Zlib) {
+        return e.zlib ? e.zlib->sequence : 0;
     }
-    const FrameRingLayout& l = e.ring->layout();
-    std::vector<std::uint8_t> rgba;
-    const std::uint8_t* src = e.raw.data();
-    int pitch = static_cast<int>(l.stride);
-    if (l.format != PixelFormat::Rgba8) {
-        rgba.resize(static_cast<std::size_t>(l.width) * l.height * 4);
-        for (std::uint32_t y = 0; y < l.height; ++y) {
-            convertRowToRgba(e.raw.data() + static_cast<std::size_t>(l.stride) * y, l.format,
-                             rgba.data() + static_cast<std::size_t>(l.width) * 4 * y, static_cast<int>(l.width));
-        }
-        src = rgba.data();
-        pitch = static_cast<int>(l.width * 4);
+    return e.ring->latestSequence();
+}
+
+void FrameServer::Impl::offerIfNew(Conn& c, Clock::time_point now) {
+    const std::uint64_t seq = available(c);
+    if (seq > c.seen) {
+        c.seen = seq;
+        offer(c, now);
     }
-    e.jpeg.resize(tjBufSize(static_cast<int>(l.width), static_cast<int>(l.height), TJSAMP_420));
-    unsigned char* out = e.jpeg.data();
-    unsigned long size = e.jpeg.size();
-    if (tjCompress2(m_tj, src, static_cast<int>(l.width), pitch, static_cast<int>(l.height), TJPF_RGBA, &out, &size,
-                    TJSAMP_420, std::clamp(m_options.jpegQuality, 1, 100), TJFLAG_NOREALLOC | TJFLAG_FASTDCT) != 0) {
-        std::lock_guard lock(m_statsMutex);
-        m_stats.lastError = std::string("tjCompress2(MJPEG): ") + tjGetErrorStr2(m_tj);
-        return false;
-    }
-    e.jpeg.resize(size);
-    e.jpegSeq = seq;
-    return true;
 }
 
 void FrameServer::Impl::sendFrame(Conn& c) {
     RingEntry& e = *c.ring;
     c.pending = false;
-    // The newest frame; if the render thread overwrites it meanwhile, take the one after.
+    const bool mjpeg = c.phase == Phase::Mjpeg;
     std::uint64_t seq = 0;
-    bool ok = false;
     FrameHeader h;
-    for (int attempt = 0; attempt < 4 && !ok; ++attempt) {
-        seq = e.ring->latestSequence();
-        if (seq == 0 || seq <= c.lastSent) {
+    std::shared_ptr<const EncodedFrame> encoded;
+    if (mjpeg || c.payload == StreamPayload::Zlib) {
+        // Encoded by the encoder thread; the newest finished one.
+        encoded = mjpeg ? e.jpeg : e.zlib;
+        if (!encoded || encoded->sequence <= c.lastSent) {
             return;
         }
-        switch (c.phase == Phase::Mjpeg ? StreamPayload::Raw : c.payload) {
-            case StreamPayload::Shm:
+        seq = encoded->sequence;
+        h = encoded->header;
+    } else {
+        // The newest frame; if the render thread overwrites it meanwhile, take the one after.
+        bool ok = false;
+        for (int attempt = 0; attempt < 4 && !ok; ++attempt) {
+            seq = e.ring->latestSequence();
+            if (seq == 0 || seq <= c.lastSent) {
+                return;
+            }
+            if (c.payload == StreamPayload::Shm) {
                 ok = e.ring->read(seq, &h, nullptr);
-                break;
-            case StreamPayload::Raw:
-            case StreamPayload::Zlib:
-                ok = c.phase == Phase::Mjpeg ? fillJpeg(e, seq) : fillRaw(e, seq);
+            } else {
+                ok = fillRaw(e, seq);
                 h = e.rawHeader;
-                break;
+            }
+        }
+        if (!ok) {
+            c.pending = true;  // try again on the next wake-up
+            return;
         }
     }
-    if (!ok) {
-        c.pending = true;  // try again on the next wake-up
-        return;
-    }
     h.dropped = c.dropped;
-    if (c.phase == Phase::Mjpeg) {
+    if (mjpeg) {
         std::ostringstream os;
-        os << "--navmapframe\r\nContent-Type: image/jpeg\r\nContent-Length: " << e.jpeg.size()
+        os << "--navmapframe\r\nContent-Type: image/jpeg\r\nContent-Length: " << encoded->bytes.size()
            << "\r\nX-Navmap-Sequence: " << seq << "\r\nX-Navmap-Source-Time-Ns: " << h.sourceTimeNs
            << "\r\nX-Navmap-Dropped: " << c.dropped << "\r\n\r\n";
         const std::string partHead = os.str();
         queue(c, partHead.data(), partHead.size());
-        queue(c, e.jpeg.data(), e.jpeg.size());
+        queue(c, encoded->bytes.data(), encoded->bytes.size());
         queue(c, "\r\n", 2);
     } else if (c.payload == StreamPayload::Shm) {
         h.encoding = FrameEncoding::Shm;
@@ -883,22 +881,11 @@ void FrameServer::Impl::sendFrame(Conn& c) {
         queue(c, hb.data(), hb.size());
         queue(c, e.raw.data(), e.raw.size());
     } else {
-        if (e.zlibSeq != seq) {
-            uLongf zlen = compressBound(static_cast<uLong>(e.raw.size()));
-            e.zlib.resize(zlen);
-            // Level 1: map frames have large flat areas; speed matters more than the last 10%.
-            if (compress2(e.zlib.data(), &zlen, e.raw.data(), static_cast<uLong>(e.raw.size()), 1) != Z_OK) {
-                protocolError(c, "compress2 failed");
-                return;
-            }
-            e.zlib.resize(zlen);
-            e.zlibSeq = seq;
-        }
         h.encoding = FrameEncoding::Zlib;
-        h.payloadBytes = static_cast<std::uint32_t>(e.zlib.size());
+        h.payloadBytes = static_cast<std::uint32_t>(encoded->bytes.size());
         const auto hb = encodeFrameHeader(h);
         queue(c, hb.data(), hb.size());
-        queue(c, e.zlib.data(), e.zlib.size());
+        queue(c, encoded->bytes.data(), encoded->bytes.size());
     }
     c.lastSent = seq;
     {
@@ -908,6 +895,45 @@ void FrameServer::Impl::sendFrame(Conn& c) {
     flush(c);
 }
 
+void FrameServer::Impl::requestEncodes() {
+    // Results first: they become the rings' newest encoded frames.
+    for (auto& r : m_encoder.takeResults()) {
+        for (const auto& e : m_rings) {
+            if (e->ring.get() == r.ring) {
+                auto& slot = r.kind == EncodeKind::Zlib ? e->zlib : e->jpeg;
+                if (!slot || r.frame->sequence > slot->sequence) {
+                    slot = std::move(r.frame);
+                }
+                break;
+            }
+        }
+    }
+    // Then one request per ring and format that has clients and a newer frame than last asked.
+    for (const auto& e : m_rings) {
+        bool zlib = false;
+        bool jpeg = false;
+        for (const auto& c : m_conns) {
+            if (c->dead || c->ring != e) {
+                continue;
+            }
+            jpeg = jpeg || c->phase == Phase::Mjpeg;
+            zlib = zlib || (c->phase == Phase::Stream && c->payload == StreamPayload::Zlib);
+        }
+        const std::uint64_t seq = e->ring->latestSequence();
+        if (seq == 0) {
+            continue;
+        }
+        if (zlib && seq > e->zlibAsked) {
+            e->zlibAsked = seq;
+            m_encoder.request(e->ring, seq, EncodeKind::Zlib);
+        }
+        if (jpeg && seq > e->jpegAsked) {
+            e->jpegAsked = seq;
+            m_encoder.request(e->ring, seq, EncodeKind::Jpeg);
+        }
+    }
+}
+
 void FrameServer::Impl::deliverNewFrames() {
     const auto now = Clock::now();
     for (const auto& c : m_conns) {
@@ -915,16 +941,10 @@ void FrameServer::Impl::deliverNewFrames() {
             offer(*c, now);
         }
     }
-    for (const auto& e : m_rings) {
-        const std::uint64_t seq = e->ring->latestSequence();
-        if (seq <= e->handled) {
-            continue;
-        }
-        e->handled = seq;
-        for (const auto& c : m_conns) {
-            if (!c->dead && c->ring == e && (c->phase == Phase::Stream || c->phase == Phase::Mjpeg)) {
-                offer(*c, now);
-            }
+    requestEncodes();
+    for (const auto& c : m_conns) {
+        if (!c->dead && c->ring && (c->phase == Phase::Stream || c->phase == Phase::Mjpeg)) {
+            offerIfNew(*c, now);
         }
     }
 }
@@ -1076,6 +1096,20 @@ std::string FrameServer::Impl::metricsText() const {
           "# TYPE navmap_stream_publish_seconds gauge\n"
        << "navmap_stream_publish_seconds{stat=\"last\"} " << s.publishMsLast / 1000.0 << "\n"
        << "navmap_stream_publish_seconds{stat=\"max\"} " << s.publishMsMax / 1000.0 << "\n";
+    // zlib and JPEG run on the encoder thread, once per frame, ring and format.
+    const stream_detail::EncoderStats es = m_encoder.stats();
+    os << "# HELP navmap_stream_encodes_total Frames compressed (zlib) or JPEG-encoded by the encoder thread.\n"
+          "# TYPE navmap_stream_encodes_total counter\n"
+       << "navmap_stream_encodes_total " << es.encoded << "\n"
+       << "# HELP navmap_stream_encodes_superseded_total Encode requests replaced by a newer frame before they started.\n"
+          "# TYPE navmap_stream_encodes_superseded_total counter\n"
+       << "navmap_stream_encodes_superseded_total " << es.replaced << "\n"
+       << "# HELP navmap_stream_encode_seconds Encoder-thread time per frame.\n"
+          "# TYPE navmap_stream_encode_seconds gauge\n"
+       << "navmap_stream_encode_seconds{format=\"zlib\",stat=\"last\"} " << es.zlibMsLast / 1000.0 << "\n"
+       << "navmap_stream_encode_seconds{format=\"zlib\",stat=\"max\"} " << es.zlibMsMax / 1000.0 << "\n"
+       << "navmap_stream_encode_seconds{format=\"jpeg\",stat=\"last\"} " << es.jpegMsLast / 1000.0 << "\n"
+       << "navmap_stream_encode_seconds{format=\"jpeg\",stat=\"max\"} " << es.jpegMsMax / 1000.0 << "\n";
     return os.str();
 }
 

@@ -16,10 +16,7 @@ std::string glString(GLenum name) {
 }  // namespace
 
 GlRenderer::GlRenderer(const RendererOptions& options) : m_options(options), m_egl(options.platform) {
-    if (options.width <= 0 || options.height <= 0) {
-        throw RenderError("renderer: invalid size " + std::to_string(options.width) + "x" +
-                          std::to_string(options.height));
-    }
+    checkSize(options.width, options.height);
     m_device.backend = "gles";
     m_device.platform = m_egl.platformUsed();
     m_device.vendor = glString(GL_VENDOR);
@@ -33,24 +30,58 @@ GlRenderer::GlRenderer(const RendererOptions& options) : m_options(options), m_e
     if (m_options.msaa_samples < 0) m_options.msaa_samples = m_device.software ? 0 : 4;
     m_terrain = std::make_unique<TerrainLayer>();
     m_map = std::make_unique<MapRenderer>(m_options);
-    resize(options.width, options.height);
+    m_current = addTarget(options.width, options.height);
 }
 
 GlRenderer::~GlRenderer() {
     m_egl.makeCurrent();
     // GL objects go before the context (m_egl is destroyed after the members declared below it).
-    m_ring.reset();
-    m_target.reset();
+    m_targets.clear();
     m_terrain.reset();
     m_map.reset();
 }
 
-void GlRenderer::resize(int width, int height) {
+void GlRenderer::checkSize(int width, int height) {
+    if (width <= 0 || height <= 0) {
+        throw RenderError("renderer: invalid size " + std::to_string(width) + "x" + std::to_string(height));
+    }
+}
+
+int GlRenderer::addTarget(int width, int height) {
+    checkSize(width, height);
     m_egl.makeCurrent();
-    if (m_ring) m_ring->drain();
-    m_target = std::make_unique<RenderTarget>(width, height, m_options.msaa_samples);
-    m_ring = std::make_unique<ReadbackRing>(width, height, m_options.readback_ring);
-    m_device.msaa_samples = m_target->samples();
+    View view;
+    view.target = std::make_unique<RenderTarget>(width, height, m_options.msaa_samples);
+    view.ring = std::make_unique<ReadbackRing>(width, height, m_options.readback_ring);
+    m_device.msaa_samples = view.target->samples();
+    const int id = m_next_id++;
+    m_targets.emplace(id, std::move(view));
+    return id;
+}
+
+void GlRenderer::useTarget(int id) {
+    if (!m_targets.contains(id)) throw RenderError("renderer: no target " + std::to_string(id));
+    m_current = id;
+}
+
+bool GlRenderer::removeTarget(int id) {
+    if (id == 0 || !m_targets.contains(id)) return false;
+    m_egl.makeCurrent();
+    m_targets.erase(id);  // pending readbacks: their fences and buffers go with the ring
+    m_map->dropLabelState(id);
+    if (m_current == id) m_current = 0;
+    return true;
+}
+
+void GlRenderer::resize(int width, int height) {
+    checkSize(width, height);
+    m_egl.makeCurrent();
+    View& v = current();
+    if (v.ring) v.ring->drain();
+    v.ring.reset();
+    v.target = std::make_unique<RenderTarget>(width, height, m_options.msaa_samples);
+    v.ring = std::make_unique<ReadbackRing>(width, height, m_options.readback_ring);
+    m_device.msaa_samples = v.target->samples();
 }
 
 void GlRenderer::setTerrain(const HeightfieldMesh& mesh) {
@@ -60,20 +91,23 @@ void GlRenderer::setTerrain(const HeightfieldMesh& mesh) {
 
 void GlRenderer::render(const Camera& camera) {
     m_egl.makeCurrent();
-    m_target->clear(m_style.sky_color.r, m_style.sky_color.g, m_style.sky_color.b);
-    m_target->bindForDrawing(false);
+    const RenderTarget& target = *current().target;
+    target.clear(m_style.sky_color.r, m_style.sky_color.g, m_style.sky_color.b);
+    target.bindForDrawing(false);
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
     glEnable(GL_CULL_FACE);
     glCullFace(GL_BACK);
-    const double aspect = static_cast<double>(m_target->width()) / m_target->height();
+    const double aspect = static_cast<double>(target.width()) / target.height();
     m_terrain->draw(camera, aspect, m_style);
-    m_target->resolve();
+    target.resolve();
 }
 
 void GlRenderer::renderMap(const MapFrame& frame) {
     m_egl.makeCurrent();
-    m_map->render(frame, *m_target);
+    // Each target is a view of its own: its label layout continues from its own last frame.
+    m_map->selectLabelState(m_current);
+    m_map->render(frame, *current().target);
 }
 
 void GlRenderer::setMapStyle(const MapStyle& style) { m_map->setStyle(style); }
@@ -85,24 +119,26 @@ void GlRenderer::finish() {
 
 Image GlRenderer::readSync() {
     m_egl.makeCurrent();
-    m_target->resolve();
-    return readPixelsSync(m_target->width(), m_target->height());
+    const RenderTarget& target = *current().target;
+    target.resolve();
+    return readPixelsSync(target.width(), target.height());
 }
 
 std::optional<Frame> GlRenderer::readAsync(std::uint64_t sequence) {
     m_egl.makeCurrent();
-    m_target->resolve();
-    return m_ring->submit(sequence);
+    View& v = current();
+    v.target->resolve();
+    return v.ring->submit(sequence);
 }
 
 std::vector<Frame> GlRenderer::collectReadbacks() {
     m_egl.makeCurrent();
-    return m_ring->collectReady();
+    return current().ring->collectReady();
 }
 
 std::vector<Frame> GlRenderer::drainReadbacks() {
     m_egl.makeCurrent();
-    return m_ring->drain();
+    return current().ring->drain();
 }
 
 }  // namespace navmap::render::gl

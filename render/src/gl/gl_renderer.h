@@ -1,6 +1,7 @@
 #pragma once
 // The OpenGL ES 3 backend of Renderer. Private to render/.
 
+#include <map>
 #include <memory>
 
 #include "egl_context.h"
@@ -17,8 +18,14 @@ public:
     ~GlRenderer() override;
 
     [[nodiscard]] const DeviceInfo& device() const override { return m_device; }
-    [[nodiscard]] int width() const override { return m_target->width(); }
-    [[nodiscard]] int height() const override { return m_target->height(); }
+    [[nodiscard]] int width() const override { return current().target->width(); }
+    [[nodiscard]] int height() const override { return current().target->height(); }
+
+    int addTarget(int width, int height) override;
+    void useTarget(int id) override;
+    bool removeTarget(int id) override;
+    [[nodiscard]] int currentTarget() const override { return m_current; }
+    [[nodiscard]] std::size_t targetCount() const override { return m_targets.size(); }
 
     void resize(int width, int height) override;
     void setTerrain(const HeightfieldMesh& mesh) override;
@@ -34,11 +41,21 @@ public:
     std::vector<Frame> collectReadbacks() override;
 
 private:
+    // One display's offscreen state; everything else (context, shaders, tile resources) is shared.
+    struct View {
+        std::unique_ptr<RenderTarget> target;
+        std::unique_ptr<ReadbackRing> ring;
+    };
+    [[nodiscard]] View& current() { return m_targets.at(m_current); }
+    [[nodiscard]] const View& current() const { return m_targets.at(m_current); }
+    static void checkSize(int width, int height);
+
     RendererOptions m_options;
     EglContext m_egl;  // first member with GL state: constructed first, destroyed last
     DeviceInfo m_device;
-    std::unique_ptr<RenderTarget> m_target;
-    std::unique_ptr<ReadbackRing> m_ring;
+    std::map<int, View> m_targets;
+    int m_current = 0;
+    int m_next_id = 0;
     std::unique_ptr<TerrainLayer> m_terrain;
     std::unique_ptr<MapRenderer> m_map;
     TerrainStyle m_style;

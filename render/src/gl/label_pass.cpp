@@ -141,8 +141,8 @@ void LabelPass::collect(const MapFrame& frame, std::span<const TileLabels> tiles
     }
 }
 
-void LabelPass::run(const MapFrame& frame, std::span<const TileLabels> tiles, glm::ivec2 viewport,
-                    MapFrameStats& stats) {
+void LabelPass::layout(const MapFrame& frame, std::span<const TileLabels> tiles, glm::ivec2 viewport,
+                       MapFrameStats& stats) {
     const auto t0 = Clock::now();
     ++m_frame;
     const double aspect = static_cast<double>(viewport.x) / std::max(viewport.y, 1);
@@ -163,6 +163,7 @@ void LabelPass::run(const MapFrame& frame, std::span<const TileLabels> tiles, gl
     m_texts.clear();
     m_screen.clear();
     m_world.clear();
+    m_occluders.clear();
     m_texts.reserve(out.size());
     // View space with the camera at the origin: world-space labels are positioned there.
     const glm::mat4 view = frame.camera.viewRelativeTo(frame.camera.eye);
@@ -179,6 +180,9 @@ void LabelPass::run(const MapFrame& frame, std::span<const TileLabels> tiles, gl
                                          : m_engine.layoutWithIcon(m_engine.run(s.icon, s.font), run, s.size_px));
         const text::LaidOutText& t = m_texts.back();
         const float angle = p.box.angle();
+        // seed 5.5.1: the occluded label's depth for the aura; screen-space labels stand at their anchor.
+        const glm::vec3 anchor_view = glm::vec3(view * glm::vec4(glm::vec3(f.anchor - frame.camera.eye), 1.0f));
+        float occluder_depth = -anchor_view.z;
         if (world < 1.0f) {
             m_screen.push_back({t.quads, t.size_px, p.box.center, angle, p.scale, p.alpha * (1.0f - world), s.style});
         }
@@ -207,6 +211,10 @@ void LabelPass::run(const MapFrame& frame, std::span<const TileLabels> tiles, gl
             wd.alpha = p.alpha * world;
             wd.style = s.style;
             m_world.push_back(wd);
+            occluder_depth = w;
+        }
+        if (occluder_depth > static_cast<float>(frame.camera.near_m)) {
+            m_occluders.push_back({p.box, occluder_depth, p.alpha});
         }
     }
     // Forget features neither in this frame's input nor in the output any more.
@@ -219,6 +227,15 @@ void LabelPass::run(const MapFrame& frame, std::span<const TileLabels> tiles, gl
         }
     }
 
+    stats.label_candidates = m_candidates.size();
+    stats.labels_visible = visible;
+    stats.label_world_weight = world;
+    stats.placed_labels.assign(out.begin(), out.end());
+    stats.labels_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+void LabelPass::draw(glm::ivec2 viewport, MapFrameStats& stats) {
+    const auto t0 = Clock::now();
     std::size_t glyphs = 0;
     if (!m_world.empty()) {
         m_text->drawWorld(m_world, glm::mat4(1.0f), m_projection, viewport);
@@ -228,12 +245,8 @@ void LabelPass::run(const MapFrame& frame, std::span<const TileLabels> tiles, gl
         m_text->drawScreen(m_screen, viewport);
         glyphs += m_text->stats().glyphs;
     }
-    stats.label_candidates = m_candidates.size();
-    stats.labels_visible = visible;
     stats.label_glyphs = glyphs;
-    stats.label_world_weight = world;
-    stats.placed_labels.assign(out.begin(), out.end());
-    stats.labels_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+    stats.labels_ms += std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
 }
 
 }  // namespace navmap::render::gl

@@ -34,6 +34,14 @@ struct TileLabels {
     std::span<const glm::vec3> points;   ///< labelPoints() of the tile
 };
 
+/// A drawn label as the occlusion effects see it (seed 5.5.1): its screen OOBB and the depth of
+/// the plane it lies in.
+struct LabelOccluder {
+    labels::OrientedBox box;  ///< the layout box, screen pixels (origin top left, y down)
+    float depth_m = 0.0f;     ///< view-space depth of the label (world-space: its plane; screen-space: its anchor)
+    float alpha = 0.0f;       ///< the label's fade
+};
+
 /// Three tile-local points per label of `tile` (anchor, segment start, segment end), with z
 /// on the terrain surface of `grid` (the tile's DEM, HeightGrid of its mesh).
 std::vector<glm::vec3> labelPoints(const map::Tile& tile, const HeightGrid& grid);
@@ -52,7 +60,15 @@ public:
 
     /// Runs one frame: layout by frame.frame_dt_s, then draws into the bound framebuffer
     /// (depth buffer of the scene attached). Fills the label fields of `stats`.
-    void run(const MapFrame& frame, std::span<const TileLabels> tiles, glm::ivec2 viewport, MapFrameStats& stats);
+    void run(const MapFrame& frame, std::span<const TileLabels> tiles, glm::ivec2 viewport, MapFrameStats& stats) {
+        layout(frame, tiles, viewport, stats);
+        draw(viewport, stats);
+    }
+    /// run() in two halves, so passes that need the placed labels (the label aura) fit between.
+    void layout(const MapFrame& frame, std::span<const TileLabels> tiles, glm::ivec2 viewport, MapFrameStats& stats);
+    void draw(glm::ivec2 viewport, MapFrameStats& stats);
+    /// The labels of the last layout() that are drawn.
+    [[nodiscard]] std::span<const LabelOccluder> occluders() const { return m_occluders; }
 
 private:
     /// A label feature, kept while it is an input or still fading out.
@@ -75,6 +91,7 @@ private:
     std::vector<text::LaidOutText> m_texts;
     std::vector<text::TextDraw> m_screen;
     std::vector<text::WorldTextDraw> m_world;
+    std::vector<LabelOccluder> m_occluders;
     std::uint64_t m_frame = 0;
     std::unordered_map<std::uint64_t, glm::vec2> m_sizes;   ///< text extent at scale 1 by id
     glm::mat4 m_projection{1.0f};

@@ -1,4 +1,5 @@
 #include "map_renderer.h"
+#include "sv_roads.h"
 
 #include <algorithm>
 #include <array>
@@ -20,6 +21,11 @@ namespace {
 int landCoverTextureSize(float) { return 256; }
 
 using Clock = std::chrono::steady_clock;
+
+// seed 5.5: which occlusion effects a frame gets (glow needs something to hide roads and
+// roads to show; the aura needs labels and buildings to fade).
+bool wantsGlow(const MapLayers& l) { return l.glow_roads && l.buildings && (l.roads || l.route); }
+bool wantsAura(const MapLayers& l) { return l.label_aura && l.labels && l.buildings; }
 
 double msSince(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
 
@@ -61,27 +67,29 @@ struct MapRenderer::GpuTile {
     GLsizei building_index_count = 0;
     std::vector<glm::vec3> label_points;  // labelPoints(): anchors and segments on the terrain
     std::uint64_t last_used = 0;
+    // Geomorphing (terrain_lod.h): the ancestors the morph targets came from, this frame's ranges.
+    std::array<const map::Tile*, kMorphLevels> morph_ancestors{};
+    TileMorph morph;
+    // The route draped onto this tile's grid (seed 3.6.1), per route object and version.
+    int grid_size = 0;
+    std::vector<float> heights;                                       // grid_size^2, for draping
+    std::array<std::vector<float>, kMorphLevels> ancestor_heights;  // the same for the morph targets
+    const RouteGeometry* route_source = nullptr;
+    std::uint64_t route_version = 0;
+    std::size_t route_points = 0;
+    double route_last_measure = 0.0;
+    std::vector<RoutePiece> route_pieces;
+    std::vector<RoadInstance> route_instances;  // route_pieces with this frame's morph
+    GLuint route_vao = 0, route_vbo = 0;
+    GLsizei route_count = 0;
+    bool route_morphed = false;  // the buffer holds morphed heights
 
     ~GpuTile() {
-        const GLuint vaos[] = {terrain_vao, roads_vao, buildings_vao};
-        const GLuint bufs[] = {terrain_vbo, terrain_ibo, roads_vbo, buildings_vbo, buildings_ibo};
-        glDeleteVertexArrays(3, vaos);
-        glDeleteBuffers(5, bufs);
+        const GLuint vaos[] = {terrain_vao, roads_vao, buildings_vao, route_vao};
+        const GLuint bufs[] = {terrain_vbo, terrain_ibo, roads_vbo, buildings_vbo, buildings_ibo, route_vbo};
+        glDeleteVertexArrays(4, vaos);
+        glDeleteBuffers(6, bufs);
         if (land_cover) glDeleteTextures(1, &land_cover);
-    }
-};
-
-struct MapRenderer::GpuRoute {
-    const RouteGeometry* source = nullptr;
-    std::size_t point_count = 0;
-    double last_measure = 0.0;
-    glm::dvec3 origin{0.0};
-    GLuint vao = 0, vbo = 0;
-    GLsizei count = 0;
-
-    ~GpuRoute() {
-        glDeleteVertexArrays(1, &vao);
-        glDeleteBuffers(1, &vbo);
     }
 };
 
@@ -117,7 +125,6 @@ MapRenderer::MapRenderer(const RendererOptions& options)
 
 MapRenderer::~MapRenderer() {
     m_tiles.clear();
-    m_route.reset();
     glDeleteTextures(1, &m_empty_texture);
     glDeleteFramebuffers(1, &m_raster_fbo);
     glDeleteVertexArrays(1, &m_empty_vao);
@@ -125,16 +132,22 @@ MapRenderer::~MapRenderer() {
     glDeleteBuffers(1, &m_marker_vbo);
 }
 
-MapRenderer::GpuTile* MapRenderer::upload(const std::shared_ptr<const map::Tile>& tile) {
+MapRenderer::GpuTile* MapRenderer::upload(const std::shared_ptr<const map::Tile>& tile, const TileMorph* morph) {
     if (tile->dem.coverage < 1.0f && m_warned_flat.insert(tile->id.key()).second) {
         // The compiler found no DEM for part of this tile; that part renders flat at 0 m. The
         // caller logs it (once per tile, whichever display met it first).
         m_new_flat_tiles.push_back({tile->id, tile->dem.coverage});
         ++m_stats_flat_tiles;
     }
-    const TileMesh mesh = buildTileMesh(*tile);
+    std::array<const map::Tile*, kMorphLevels> ancestors{};
+    for (std::size_t j = 0; morph && j < ancestors.size(); ++j) ancestors[j] = morph->ancestors[j].get();
+    TileMesh mesh = buildTileMesh(*tile, {}, ancestors);
     auto gpu = std::make_unique<GpuTile>();
     gpu->source = tile.get();
+    gpu->morph_ancestors = ancestors;
+    gpu->grid_size = mesh.grid_size;
+    gpu->heights = mesh.heights;
+    gpu->ancestor_heights = mesh.ancestor_heights;
     gpu->origin = mesh.origin;
     gpu->size_m = mesh.size_m;
     if (!tile->labels.empty()) gpu->label_points = labelPoints(*tile, mesh.grid());
@@ -152,6 +165,17 @@ MapRenderer::GpuTile* MapRenderer::upload(const std::shared_ptr<const map::Tile>
     glEnableVertexAttribArray(1);
     glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, sizeof(TerrainVertex),
                           reinterpret_cast<const void*>(offsetof(TerrainVertex, normal)));
+    // Geomorph targets (terrain_tile.vert): 4 ancestor heights, then 4 normals' x, y as two vec4.
+    static_assert(kMorphLevels == 4, "terrain_tile.vert takes 4 ancestor levels");
+    glEnableVertexAttribArray(2);
+    glVertexAttribPointer(2, 4, GL_FLOAT, GL_FALSE, sizeof(TerrainVertex),
+                          reinterpret_cast<const void*>(offsetof(TerrainVertex, ancestor_heights)));
+    glEnableVertexAttribArray(3);
+    glVertexAttribPointer(3, 4, GL_FLOAT, GL_FALSE, sizeof(TerrainVertex),
+                          reinterpret_cast<const void*>(offsetof(TerrainVertex, ancestor_normals)));
+    glEnableVertexAttribArray(4);
+    glVertexAttribPointer(4, 4, GL_FLOAT, GL_FALSE, sizeof(TerrainVertex),
+                          reinterpret_cast<const void*>(offsetof(TerrainVertex, ancestor_normals) + 4 * sizeof(float)));
     glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, gpu->terrain_ibo);
     glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(mesh.terrain_indices.size() * sizeof(std::uint32_t)),
                  mesh.terrain_indices.data(), GL_STATIC_DRAW);
@@ -255,33 +279,58 @@ void MapRenderer::rasterizeLandCover(GpuTile& gpu, const TileMesh& mesh) {
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }
 
-void MapRenderer::updateRoute(const RouteGeometry& route) {
+void MapRenderer::updateRoute(GpuTile& g, const RouteGeometry& route, const Camera& camera) {
+    // Draped per tile against the grid it is drawn with (seed 3.6.1), so the route lies on the
+    // terrain at every level of detail; redone when the route or the tile's upload changes.
     const double last = route.measure_m.empty() ? 0.0 : route.measure_m.back();
-    if (m_route && m_route->source == &route && m_route->point_count == route.points.size() &&
-        m_route->last_measure == last) {
-        return;
+    if (g.route_source != &route || g.route_version != route.version || g.route_points != route.points.size() ||
+        g.route_last_measure != last) {
+        g.route_source = &route;
+        g.route_version = route.version;
+        g.route_points = route.points.size();
+        g.route_last_measure = last;
+        g.route_pieces.clear();
+        if (g.grid_size >= 2) {
+            const double spacing = g.size_m / double(g.grid_size - 1);
+            std::array<HeightGrid, kMorphLevels> ancestors;
+            for (std::size_t j = 0; j < ancestors.size(); ++j)
+                ancestors[j] = HeightGrid{g.grid_size, spacing, g.ancestor_heights[j].data()};
+            g.route_pieces = drapeRoute(route, g.origin, HeightGrid{g.grid_size, spacing, g.heights.data()}, ancestors);
+        }
+        g.route_count = 0;
+        g.route_instances.clear();
+        if (g.route_pieces.empty()) return;
+        if (!g.route_vao) {
+            glGenVertexArrays(1, &g.route_vao);
+            glGenBuffers(1, &g.route_vbo);
+            glBindVertexArray(g.route_vao);
+            glBindBuffer(GL_ARRAY_BUFFER, g.route_vbo);
+            setupRoadInstanceAttributes();
+            glBindVertexArray(0);
+        }
+    } else if (g.route_pieces.empty() || (g.morph.end_m[0] <= 0.0f && !g.route_morphed)) {
+        return;  // unchanged and unmorphed: the buffer is current
     }
-    m_route = std::make_unique<GpuRoute>();
-    m_route->source = &route;
-    m_route->point_count = route.points.size();
-    m_route->last_measure = last;
-    if (route.points.size() < 2 || route.measure_m.size() != route.points.size()) return;
-    m_route->origin = glm::dvec3(route.points.front().x, route.points.front().y, 0.0);
-    std::vector<RoadInstance> instances;
-    instances.reserve(route.points.size() - 1);
-    for (std::size_t i = 0; i + 1 < route.points.size(); ++i) {
-        instances.push_back({glm::vec3(route.points[i] - m_route->origin), glm::vec3(route.points[i + 1] - m_route->origin),
-                             0.0f, 0.0f, static_cast<float>(route.measure_m[i]), static_cast<float>(route.measure_m[i + 1])});
+    g.route_morphed = g.morph.end_m[0] > 0.0f;
+    // The pieces follow the terrain's geomorph (the same factor per vertex as terrain_tile.vert).
+    const glm::vec2 eye(static_cast<float>(camera.eye.x - g.origin.x), static_cast<float>(camera.eye.y - g.origin.y));
+    morphRoute(g.route_pieces, g.morph, eye, g.route_instances);
+    glBindBuffer(GL_ARRAY_BUFFER, g.route_vbo);
+    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(g.route_instances.size() * sizeof(RoadInstance)),
+                 g.route_instances.data(), GL_STREAM_DRAW);
+    glBindBuffer(GL_ARRAY_BUFFER, 0);
+    g.route_count = static_cast<GLsizei>(g.route_instances.size());
+}
+
+void MapRenderer::drawRoute(const std::vector<GpuTile*>& tiles, const Camera& camera) {
+    // With the road program bound and its uniforms set: the route pieces of every drawn tile.
+    for (const GpuTile* g : tiles) {
+        if (!g->route_count) continue;
+        const glm::mat4 view = camera.viewRelativeTo(g->origin);
+        glUniformMatrix4fv(m_roads.uniform("u_view"), 1, GL_FALSE, glm::value_ptr(view));
+        glBindVertexArray(g->route_vao);
+        glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, g->route_count);
     }
-    glGenVertexArrays(1, &m_route->vao);
-    glGenBuffers(1, &m_route->vbo);
-    glBindVertexArray(m_route->vao);
-    glBindBuffer(GL_ARRAY_BUFFER, m_route->vbo);
-    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(instances.size() * sizeof(RoadInstance)), instances.data(),
-                 GL_STATIC_DRAW);
-    setupRoadInstanceAttributes();
-    glBindVertexArray(0);
-    m_route->count = static_cast<GLsizei>(instances.size());
 }
 
 void MapRenderer::setRoadUniforms(ShaderProgram& p, int pass, bool route) {
@@ -334,18 +383,32 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target) {
     std::vector<GpuTile*> tiles;
     tiles.reserve(frame.tiles.size());
     int uploads = 0;
-    for (const auto& tile : frame.tiles) {
+    for (std::size_t ti = 0; ti < frame.tiles.size(); ++ti) {
+        const auto& tile = frame.tiles[ti];
         if (!tile) continue;
+        const TileMorph* morph = ti < frame.tile_morph.size() ? &frame.tile_morph[ti] : nullptr;
         auto it = m_tiles.find(tile->id.key());
         GpuTile* gpu = (it != m_tiles.end() && it->second->source == tile.get()) ? it->second.get() : nullptr;
-        if (!gpu) {
-            if (m_options.max_tile_uploads_per_frame > 0 && uploads >= m_options.max_tile_uploads_per_frame) {
-                ++m_stats.tiles_pending;
-                continue;
-            }
-            gpu = upload(tile);
-            ++uploads;
+        // Re-upload when a geomorph target (an ancestor tile) is new to this tile; until the
+        // upload budget allows, the tile is drawn with the targets it has.
+        bool new_targets = false;
+        for (std::size_t j = 0; gpu && morph && j < kMorphLevels; ++j) {
+            const map::Tile* a = morph->ancestors[j].get();
+            if (a && a != gpu->morph_ancestors[j]) new_targets = true;
         }
+        if (!gpu || new_targets) {
+            if (m_options.max_tile_uploads_per_frame > 0 && uploads >= m_options.max_tile_uploads_per_frame) {
+                if (!gpu) {
+                    ++m_stats.tiles_pending;
+                    continue;
+                }
+            } else {
+                gpu = upload(tile, morph);
+                ++uploads;
+            }
+        }
+        gpu->morph = morph ? *morph : TileMorph{};
+        gpu->morph.ancestors = {};  // identities kept in morph_ancestors; do not extend the tiles' life
         gpu->last_used = m_frame;
         tiles.push_back(gpu);
     }
@@ -354,12 +417,15 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target) {
     m_stats.new_flat_tiles = std::move(m_new_flat_tiles);
     m_new_flat_tiles.clear();
     m_stats.tiles_drawn = tiles.size();
-    if (frame.route && frame.layers.route) updateRoute(*frame.route);
+    if (frame.route && frame.layers.route) {
+        for (GpuTile* g : tiles) updateRoute(*g, *frame.route, frame.camera);
+    }
     lap(m_stats.uploads_ms, t);
 
     const double aspect = static_cast<double>(target.width()) / target.height();
     const glm::mat4 projection = frame.camera.projection(aspect);
     const glm::vec3 light = glm::normalize(m_style.light_dir);
+    SvRoads* sv = SvRoads::forFrame(m_sv_roads, frame, target);  // shadow-volume roads (seed 3.5), else null
     target.clear(m_style.sky_color.r, m_style.sky_color.g, m_style.sky_color.b);
     target.bindForDrawing(false);
     glDisable(GL_BLEND);
@@ -368,6 +434,7 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target) {
 
     // Terrain.
     if (frame.layers.terrain) {
+        if (sv) sv->beginTerrain(target);  // + the terrain depth target (seed 3.5.2)
         glDepthFunc(GL_LESS);
         glEnable(GL_CULL_FACE);
         glCullFace(GL_BACK);
@@ -383,12 +450,25 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target) {
             const glm::mat4 view = frame.camera.viewRelativeTo(g->origin);
             glUniformMatrix4fv(m_terrain.uniform("u_view"), 1, GL_FALSE, glm::value_ptr(view));
             glUniform1f(m_terrain.uniform("u_tile_size"), g->size_m);
+            glUniform4fv(m_terrain.uniform("u_morph_start"), 1, g->morph.start_m.data());
+            glUniform4fv(m_terrain.uniform("u_morph_end"), 1, g->morph.end_m.data());
+            glUniform1f(m_terrain.uniform("u_morph_eye_dz"), g->morph.eye_dz_m);
+            glUniform2f(m_terrain.uniform("u_morph_eye"), static_cast<float>(frame.camera.eye.x - g->origin.x),
+                        static_cast<float>(frame.camera.eye.y - g->origin.y));
             glBindTexture(GL_TEXTURE_2D, frame.layers.land_cover && g->land_cover ? g->land_cover : m_empty_texture);
             glBindVertexArray(g->terrain_vao);
             glDrawElements(GL_TRIANGLES, g->terrain_index_count, GL_UNSIGNED_INT, nullptr);
             m_stats.terrain_triangles += static_cast<std::size_t>(g->terrain_index_count / 3);
         }
+        if (sv) sv->endTerrain(target);
         lap(m_stats.terrain_ms, t);
+    }
+
+    // Glowing roads and the label aura (seed 5.5) keep the terrain alone (depth; the aura also
+    // its colour) before the buildings: runOcclusionEffects() uses it after the outlines.
+    if (wantsGlow(frame.layers) || wantsAura(frame.layers)) {
+        if (!m_effects) m_effects = std::make_unique<OcclusionEffects>();
+        m_effects->captureTerrainDepth(target, wantsGlow(frame.layers), wantsAura(frame.layers));
     }
 
     // Buildings before roads: roads then test against terrain and buildings without writing
@@ -419,7 +499,12 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target) {
     glDisable(GL_CULL_FACE);
     glDepthMask(GL_FALSE);
     glDepthFunc(GL_LEQUAL);
-    if (frame.layers.roads) {
+    if (sv) {
+        m_stats.road_segments += sv->draw(frame, projection, target, m_style.roads);
+        m_stats.sv_roads = true;
+        lap(m_stats.sv_roads_ms, t);
+    }
+    if (frame.layers.roads && !sv) {
         glUseProgram(m_roads.id());
         glUniformMatrix4fv(m_roads.uniform("u_projection"), 1, GL_FALSE, glm::value_ptr(projection));
         for (int pass = 0; pass < 2; ++pass) {
@@ -448,16 +533,13 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target) {
         }
         lap(m_stats.roads_ms, t);
     }
-    if (frame.layers.route && m_route && m_route->count > 0) {
+    if (frame.layers.route && frame.route) {
         glUseProgram(m_roads.id());
         glUniformMatrix4fv(m_roads.uniform("u_projection"), 1, GL_FALSE, glm::value_ptr(projection));
-        const glm::mat4 view = frame.camera.viewRelativeTo(m_route->origin);
-        glUniformMatrix4fv(m_roads.uniform("u_view"), 1, GL_FALSE, glm::value_ptr(view));
         glUniform1f(m_roads.uniform("u_route_progress"), static_cast<float>(frame.route_progress_m));
-        glBindVertexArray(m_route->vao);
         for (int pass = 0; pass < 2; ++pass) {
             setRoadUniforms(m_roads, pass, true);
-            glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, m_route->count);
+            drawRoute(tiles, frame.camera);
         }
         lap(m_stats.route_ms, t);
     }
@@ -481,6 +563,7 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target) {
         lap(m_stats.outlines_ms, t);
     }
 
+    if (!frame.layers.labels) runOcclusionEffects(frame, target, projection, tiles);
     // Labels (seed ch. 4, 5.5): after the outlines so they lie above the roads, before the marker.
     if (frame.layers.labels) {
         if (!m_label_pass) m_label_pass = std::make_unique<LabelPass>();
@@ -489,7 +572,10 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target) {
             if (!g->label_points.empty()) m_tile_labels.push_back({g->source, g->origin, g->label_points});
         }
         target.bindForDrawing(false);
-        m_label_pass->run(frame, m_tile_labels, {target.width(), target.height()}, m_stats);
+        m_label_pass->layout(frame, m_tile_labels, {target.width(), target.height()}, m_stats);
+        runOcclusionEffects(frame, target, projection, tiles);  // seed 5.5.2: composited before the labels
+        target.bindForDrawing(false);
+        m_label_pass->draw({target.width(), target.height()}, m_stats);
         double label_gpu_ms = 0;  // labels_ms is the pass's own CPU time; keep it out of marker_ms
         lap(label_gpu_ms, t);
     }
@@ -501,6 +587,94 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target) {
     glBindTexture(GL_TEXTURE_2D, 0);
     evict();
     m_stats.total_ms = msSince(t_frame);
+}
+
+void MapRenderer::runOcclusionEffects(const MapFrame& frame, const RenderTarget& target, const glm::mat4& projection,
+                                      const std::vector<GpuTile*>& tiles) {
+    const bool glow = wantsGlow(frame.layers), aura = wantsAura(frame.layers);
+    if (!m_effects || (!glow && !aura)) return;
+    if (m_options.profile_passes) glFinish();
+    auto t = Clock::now();
+    auto lap = [&](double& slot) {
+        if (!m_options.profile_passes) return;
+        glFinish();
+        slot = msSince(t);
+        t = Clock::now();
+    };
+    if (aura) {
+        // seed 5.5.1 step 2: the buildings (with the aura's program) and then the roads and the
+        // route over them, as the scene draws them, into the layer behind the labels.
+        const glm::vec3 light = glm::normalize(m_style.light_dir);
+        auto buildings = [&](ShaderProgram& p) {
+            glUniformMatrix4fv(p.uniform("u_projection"), 1, GL_FALSE, glm::value_ptr(projection));
+            glUniform3fv(p.uniform("u_light_dir"), 1, glm::value_ptr(light));
+            glUniform3fv(p.uniform("u_sky_color"), 1, glm::value_ptr(m_style.sky_color));
+            glUniform2f(p.uniform("u_fog_range"), m_style.fog_start_m, m_style.fog_end_m);
+            glUniform1f(p.uniform("u_brightness"), m_style.brightness);
+            glUniform1f(p.uniform("u_cull_ratio"), m_style.building_cull_ratio);
+            for (GpuTile* g : tiles) {
+                if (!g->building_index_count) continue;
+                const glm::mat4 view = frame.camera.viewRelativeTo(g->origin);
+                glUniformMatrix4fv(p.uniform("u_view"), 1, GL_FALSE, glm::value_ptr(view));
+                glBindVertexArray(g->buildings_vao);
+                glDrawElements(GL_TRIANGLES, g->building_index_count, GL_UNSIGNED_INT, nullptr);
+            }
+        };
+        auto roads = [&] {
+            glUseProgram(m_roads.id());
+            glUniformMatrix4fv(m_roads.uniform("u_projection"), 1, GL_FALSE, glm::value_ptr(projection));
+            for (int pass = 0; pass < 2 && frame.layers.roads; ++pass) {
+                setRoadUniforms(m_roads, pass, false);  // casing pass: roads_geo.vert drops classes without
+                for (GpuTile* g : tiles) {
+                    if (!g->road_count) continue;
+                    const glm::mat4 view = frame.camera.viewRelativeTo(g->origin);
+                    glUniformMatrix4fv(m_roads.uniform("u_view"), 1, GL_FALSE, glm::value_ptr(view));
+                    glBindVertexArray(g->roads_vao);
+                    glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, g->road_count);
+                }
+            }
+            if (frame.layers.route && frame.route) {
+                glUniform1f(m_roads.uniform("u_route_progress"), static_cast<float>(frame.route_progress_m));
+                for (int pass = 0; pass < 2; ++pass) {
+                    setRoadUniforms(m_roads, pass, true);
+                    drawRoute(tiles, frame.camera);
+                }
+            }
+        };
+        std::span<const LabelOccluder> labels;
+        if (frame.layers.labels && m_label_pass) labels = m_label_pass->occluders();
+        m_effects->aura(target, labels, projection, m_style, buildings, roads);
+        lap(m_stats.aura_ms);
+    }
+    if (glow) {
+        // seed 5.5.2: the fill of the roads and the route again, for the hidden parts.
+        auto roads = [&](ShaderProgram& p) {
+            if (frame.layers.roads) {
+                setRoadUniforms(p, 1, false);
+                for (GpuTile* g : tiles) {
+                    if (!g->road_count) continue;
+                    const glm::mat4 view = frame.camera.viewRelativeTo(g->origin);
+                    glUniformMatrix4fv(p.uniform("u_view"), 1, GL_FALSE, glm::value_ptr(view));
+                    glBindVertexArray(g->roads_vao);
+                    glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, g->road_count);
+                }
+            }
+            if (frame.layers.route && frame.route) {
+                setRoadUniforms(p, 1, true);
+                glUniform1f(p.uniform("u_route_progress"), static_cast<float>(frame.route_progress_m));
+                for (const GpuTile* g : tiles) {
+                    if (!g->route_count) continue;
+                    const glm::mat4 view = frame.camera.viewRelativeTo(g->origin);
+                    glUniformMatrix4fv(p.uniform("u_view"), 1, GL_FALSE, glm::value_ptr(view));
+                    glBindVertexArray(g->route_vao);
+                    glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, g->route_count);
+                }
+            }
+        };
+        m_effects->glow(target, frame.layers, m_style, projection, roads);
+        lap(m_stats.glow_ms);
+    }
+    target.bindForDrawing(false);
 }
 
 void MapRenderer::drawMarker(const MapFrame& frame, const RenderTarget& target) {

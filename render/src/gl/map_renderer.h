@@ -14,10 +14,13 @@
 #include "navmap/render/renderer.h"
 #include "navmap/render/tile_mesh.h"
 #include "label_pass.h"
+#include "occlusion_effects.h"
 #include "render_target.h"
 #include "shader_program.h"
 
 namespace navmap::render::gl {
+
+class SvRoads;
 
 class MapRenderer {
 public:
@@ -29,16 +32,36 @@ public:
     void setStyle(const MapStyle& style) { m_style = style; }
     void render(const MapFrame& frame, const RenderTarget& target);
     [[nodiscard]] const MapFrameStats& stats() const { return m_stats; }
+    /// Label layout state (temporal coherence, seed 4.3) belongs to one view: GlRenderer selects
+    /// the state of its current target before each render(); the others are kept aside.
+    void selectLabelState(int key) {
+        if (key == m_label_key) return;
+        m_label_parked[m_label_key] = std::move(m_label_pass);
+        auto it = m_label_parked.find(key);
+        if (it != m_label_parked.end()) {
+            m_label_pass = std::move(it->second);
+            m_label_parked.erase(it);
+        }
+        m_label_key = key;
+    }
+    void dropLabelState(int key) { m_label_parked.erase(key); }
 
 private:
     struct GpuTile;
-    struct GpuRoute;
 
-    GpuTile* upload(const std::shared_ptr<const map::Tile>& tile);
+    /// `morph` (may be null): the geomorph targets (TileMorph::ancestors).
+    GpuTile* upload(const std::shared_ptr<const map::Tile>& tile, const TileMorph* morph = nullptr);
     void rasterizeLandCover(GpuTile& gpu, const TileMesh& mesh);
-    void updateRoute(const RouteGeometry& route);
+    /// Drapes the route onto one tile (cached per route object and version) and applies the
+    /// tile's geomorph of this frame.
+    void updateRoute(GpuTile& tile, const RouteGeometry& route, const Camera& camera);
+    /// Route pieces of `tiles`, with the road program bound and its uniforms set.
+    void drawRoute(const std::vector<GpuTile*>& tiles, const Camera& camera);
     void setRoadUniforms(ShaderProgram& program, int pass, bool route);
     void drawMarker(const MapFrame& frame, const RenderTarget& target);
+    /// Label aura and glowing roads (seed 5.5), between the label layout and the label text.
+    void runOcclusionEffects(const MapFrame& frame, const RenderTarget& target, const glm::mat4& projection,
+                             const std::vector<GpuTile*>& tiles);
     void evict();
 
     RendererOptions m_options;
@@ -56,13 +79,16 @@ private:
     GLuint m_marker_vao = 0;
     GLuint m_marker_vbo = 0;
     std::unordered_map<std::uint64_t, std::unique_ptr<GpuTile>> m_tiles;
-    std::unique_ptr<GpuRoute> m_route;
     std::uint64_t m_frame = 0;
     std::unordered_set<std::uint64_t> m_warned_flat;  // tiles already reported as lacking DEM
     std::size_t m_stats_flat_tiles = 0;
     std::vector<FlatTile> m_new_flat_tiles;
     std::unique_ptr<LabelPass> m_label_pass;  // created on the first frame with labels on
+    int m_label_key = 0;  // target whose label state m_label_pass is (selectLabelState)
+    std::unordered_map<int, std::unique_ptr<LabelPass>> m_label_parked;  // other targets' states
     std::vector<TileLabels> m_tile_labels;
+    std::unique_ptr<OcclusionEffects> m_effects;  // glowing roads, label aura: created when first used
+    std::unique_ptr<SvRoads> m_sv_roads;  // shadow-volume roads (seed 3.5): created when first used
 };
 
 }  // namespace navmap::render::gl

@@ -25,6 +25,10 @@ public:
     void resolve() const;
 
     [[nodiscard]] GLuint maskTexture() const { return m_mask_texture; }
+    /// The drawing framebuffer and its depth-stencil renderbuffer: the occlusion effects (glowing
+    /// roads, label aura) attach the same depth to their own framebuffers and blit from it.
+    [[nodiscard]] GLuint drawFramebuffer() const { return m_draw_fbo; }
+    [[nodiscard]] GLuint depthStencilRenderbuffer() const { return m_depth_rb; }
     [[nodiscard]] int width() const { return m_width; }
     [[nodiscard]] int height() const { return m_height; }
     [[nodiscard]] int samples() const { return m_samples; }

@@ -1,20 +1,45 @@
 #include "noop_renderer.h"
 
 #include <algorithm>
+#include <string>
 
 namespace navmap::render::noop {
 
-NoopRenderer::NoopRenderer(const RendererOptions& options)
-    : m_width(options.width), m_height(options.height), m_ring(std::max(1, options.readback_ring)) {
+NoopRenderer::NoopRenderer(const RendererOptions& options) : m_ring(std::max(1, options.readback_ring)) {
     m_device.backend = "noop";
     m_device.platform = "none";
     m_device.renderer = "no-op";
+    m_current = addTarget(options.width, options.height);
+}
+
+int NoopRenderer::addTarget(int width, int height) {
+    if (width <= 0 || height <= 0) {
+        throw RenderError("renderer: invalid size " + std::to_string(width) + "x" + std::to_string(height));
+    }
+    const int id = m_next_id++;
+    m_targets.emplace(id, View{width, height, {}});
+    return id;
+}
+
+void NoopRenderer::useTarget(int id) {
+    if (!m_targets.contains(id)) throw RenderError("renderer: no target " + std::to_string(id));
+    m_current = id;
+}
+
+bool NoopRenderer::removeTarget(int id) {
+    if (id == 0 || m_targets.erase(id) == 0) return false;
+    if (m_current == id) m_current = 0;
+    return true;
 }
 
 void NoopRenderer::resize(int width, int height) {
-    m_pending.clear();
-    m_width = width;
-    m_height = height;
+    if (width <= 0 || height <= 0) {
+        throw RenderError("renderer: invalid size " + std::to_string(width) + "x" + std::to_string(height));
+    }
+    View& v = current();
+    v.pending.clear();
+    v.width = width;
+    v.height = height;
 }
 
 void NoopRenderer::render(const Camera&) { ++m_frames; }
@@ -26,7 +51,7 @@ void NoopRenderer::renderMap(const MapFrame& frame) {
 }
 
 Image NoopRenderer::blank() const {
-    Image image(m_width, m_height);
+    Image image(current().width, current().height);
     const auto to8 = [](float v) { return static_cast<std::uint8_t>(std::clamp(v, 0.0f, 1.0f) * 255.0f + 0.5f); };
     for (std::size_t i = 0; i < image.rgba.size(); i += 4) {
         image.rgba[i] = to8(m_style.sky_color.r);
@@ -40,19 +65,21 @@ Image NoopRenderer::blank() const {
 Image NoopRenderer::readSync() { return blank(); }
 
 std::optional<Frame> NoopRenderer::readAsync(std::uint64_t sequence) {
+    View& v = current();
     std::optional<Frame> oldest;
-    if (m_pending.size() == static_cast<std::size_t>(m_ring)) {
-        oldest = Frame{m_pending.front(), blank()};
-        m_pending.pop_front();
+    if (v.pending.size() == static_cast<std::size_t>(m_ring)) {
+        oldest = Frame{v.pending.front(), blank()};
+        v.pending.pop_front();
     }
-    m_pending.push_back(sequence);
+    v.pending.push_back(sequence);
     return oldest;
 }
 
 std::vector<Frame> NoopRenderer::drainReadbacks() {
     std::vector<Frame> frames;
-    for (auto seq : m_pending) frames.push_back(Frame{seq, blank()});
-    m_pending.clear();
+    View& v = current();
+    for (auto seq : v.pending) frames.push_back(Frame{seq, blank()});
+    v.pending.clear();
     return frames;
 }
 

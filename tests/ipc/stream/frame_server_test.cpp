@@ -558,3 +558,83 @@ TEST_F(StreamServerTest, FrameRateCapDelaysButNeverLosesTheNewestFrame) {
     EXPECT_LT(waited, 500ms);
     EXPECT_EQ(f.header.dropped, 0U);  // a capped frame is not a drop
 }
+
+// zlib and JPEG encoding run on the encoder thread, once per frame and format: shared-memory
+// clients keep their frame rate while a compressed TCP client and an MJPEG viewer take frames of
+// a size and content that cost the encoder tens of milliseconds each.
+TEST_F(StreamServerTest, ShmClientsKeepTheirRateWhileZlibAndMjpegClientsAreServed) {
+    constexpr int kW = 1280, kH = 720, kFps = 30;
+    std::vector<std::vector<std::uint8_t>> frames;
+    std::uint32_t noise = 12345;
+    for (int v = 0; v < 2; ++v) {
+        std::vector<std::uint8_t> px(static_cast<std::size_t>(kW) * kH * 4);
+        for (std::size_t i = 0; i < px.size(); ++i) {
+            noise = noise * 1664525U + 1013904223U;
+            px[i] = (i % 4 == 3) ? 255 : static_cast<std::uint8_t>((i / 4 % kW) / 5 + v * 40 + (noise >> 28));
+        }
+        frames.push_back(std::move(px));
+    }
+    std::atomic<bool> publishing{true};
+    std::thread publisher([&] {
+        auto next = std::chrono::steady_clock::now();
+        for (std::uint64_t i = 0; publishing; ++i) {
+            FrameView f;
+            f.pixels = frames[i % 2].data();
+            f.width = kW;
+            f.height = kH;
+            f.sourceTimeNs = 1;
+            m_server->publish("bird", f);
+            next += std::chrono::milliseconds(1000 / kFps);
+            std::this_thread::sleep_until(next);
+        }
+    });
+    StreamRequest shmReq = small(StreamPayload::Shm, 0);
+    shmReq.profile.width = kW;
+    shmReq.profile.height = kH;
+    auto shm = connect(shmReq);
+    ASSERT_TRUE(shm);
+    ASSERT_GT(framesReceived(*shm, 300ms), 0);
+    const int alone = framesReceived(*shm, 1500ms);
+
+    StreamRequest zReq = shmReq;
+    zReq.payload = StreamPayload::Zlib;
+    auto zlib = connect(zReq);
+    ASSERT_TRUE(zlib);
+    std::atomic<bool> reading{true};
+    std::atomic<int> zlibFrames{0}, jpegFrames{0};
+    std::thread zlibReader([&] {
+        ReceivedFrame f;
+        while (reading) {
+            auto r = zlib->next(f, 50ms);
+            if (!r.ok()) return;
+            zlibFrames += r.value() ? 1 : 0;
+        }
+    });
+    std::thread jpegReader([&] {
+        MjpegReader mjpeg(m_server->httpPort(), "/stream.mjpg?profile=test&width=1280&height=720&view=bird&fps=0");
+        while (reading) {
+            if (!mjpeg.next(200ms).empty()) ++jpegFrames;
+        }
+    });
+    // Both compressed clients get going (the shm client keeps reading meanwhile).
+    for (int i = 0; i < 100 && (zlibFrames == 0 || jpegFrames == 0); ++i) {
+        framesReceived(*shm, 50ms);
+    }
+    const int zlibBefore = zlibFrames, jpegBefore = jpegFrames;
+    const int withEncoders = framesReceived(*shm, 1500ms);
+    const int zlibDuring = zlibFrames - zlibBefore, jpegDuring = jpegFrames - jpegBefore;
+    reading = false;
+    zlibReader.join();
+    jpegReader.join();
+    publishing = false;
+    publisher.join();
+    const std::string metrics = m_server->metricsText();
+    std::printf("shm client: %d frames alone, %d with a zlib and an MJPEG client (%d zlib, %d JPEG frames meanwhile)\n",
+                alone, withEncoders, zlibDuring, jpegDuring);
+    EXPECT_GE(alone, kFps * 3 / 2 * 8 / 10) << "the shm client keeps up with the publisher";
+    EXPECT_GE(withEncoders, alone * 9 / 10);
+    EXPECT_GT(zlibDuring, 3) << m_server->stats().lastError;
+    EXPECT_GT(jpegDuring, 3) << m_server->stats().lastError;
+    EXPECT_EQ(metrics.find("navmap_stream_encodes_total 0\n"), std::string::npos) << metrics;
+    EXPECT_NE(metrics.find("navmap_stream_encode_seconds{format=\"zlib\",stat=\"max\"}"), std::string::npos) << metrics;
+}

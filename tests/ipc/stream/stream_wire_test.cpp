@@ -7,6 +7,7 @@
 #include <cstring>
 #include <filesystem>
 #include <thread>
+#include <vector>
 
 #include "navmap/ipc/frame_header.h"
 #include "navmap/ipc/frame_png.h"
@@ -94,6 +95,29 @@ TEST(PixelFormats, Rgb565RoundTripKeepsTheTopBits) {
     EXPECT_EQ(back[9], 0x04);
     EXPECT_EQ(back[10], 0x84);
     EXPECT_EQ(back[11], 255);
+}
+
+// The blocked (vectorised) conversion gives the bytes of the per-pixel formula for every width,
+// whole blocks of 16 and the tail alike, and writes nothing past the row.
+TEST(PixelFormats, Rgb565ConversionMatchesThePerPixelFormulaAtEveryWidth) {
+    std::vector<std::uint8_t> rgba(1283 * 4);
+    std::uint32_t v = 7;
+    for (auto& b : rgba) {
+        v = v * 1103515245U + 12345U;
+        b = static_cast<std::uint8_t>(v >> 16);
+    }
+    for (int width : {0, 1, 15, 16, 17, 31, 32, 33, 47, 800, 1280, 1283}) {
+        std::vector<std::uint8_t> out(static_cast<std::size_t>(width) * 2 + 2, 0xAB);
+        convertRowFromRgba(rgba.data(), PixelFormat::Rgb565, out.data(), width);
+        for (int x = 0; x < width; ++x) {
+            const std::uint8_t* p = &rgba[static_cast<std::size_t>(x) * 4];
+            const unsigned expect = ((p[0] >> 3) << 11) | ((p[1] >> 2) << 5) | (p[2] >> 3);
+            const unsigned got = out[2 * x] | (out[2 * x + 1] << 8);
+            ASSERT_EQ(got, expect) << "width " << width << ", pixel " << x;
+        }
+        EXPECT_EQ(out[out.size() - 2], 0xAB) << "width " << width;
+        EXPECT_EQ(out[out.size() - 1], 0xAB) << "width " << width;
+    }
 }
 
 TEST(Handshake, DefaultsAndOverrides) {

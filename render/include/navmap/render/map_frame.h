@@ -2,6 +2,8 @@
 // What one map frame shows: the camera, the tiles (already chosen by level of detail), the
 // route, the vehicle marker, the style and which layers are on.
 
+#include <array>
+#include <cstdint>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -12,6 +14,15 @@
 #include "navmap/render/road_style.h"
 
 namespace navmap::render {
+
+/// How roads are draped onto the terrain (seed ch. 3, issue #8): the geometric approach (3.4,
+/// roads clipped to the terrain triangles) or shadow volumes (3.5, pixel-exact on any DEM; needs
+/// the terrain layer). Auto takes shadow volumes when a drawn tile's DEM spacing is finer than
+/// kShadowVolumeAutoSpacingM (the shipped SRTM store, 62.5 m, stays geometric).
+enum class RoadTechnique { Geometric, ShadowVolume, Auto };
+/// RoadTechnique::Auto threshold, metres between DEM samples (seed 3.7: GEO is adequate on
+/// medium-resolution DEMs, SV is preferable on fine-grained ones).
+inline constexpr double kShadowVolumeAutoSpacingM = 20.0;
 
 /// Layer switches (benchmarks compare terrain only, +roads, +buildings, full).
 struct MapLayers {
@@ -25,6 +36,17 @@ struct MapLayers {
     /// Map labels (seed ch. 4, 5.5): screen-space in bird's-eye, world-space in snail's view.
     /// Off by default so the label-free goldens stay valid; navmapd and the label tests turn it on.
     bool labels = false;
+    /// Glowing roads (seed 5.3.5, 5.5.2): road and route parts hidden by buildings shine through.
+    /// Off by default so the existing goldens stay valid.
+    bool glow_roads = false;
+    /// Glow colour: MapStyle::glow_color, or the road's own fill colour (seed Table 5.1 variants).
+    enum class GlowMode { SingleColor, RoadColor } glow_mode = GlowMode::SingleColor;
+    bool glow_blur = false;  ///< separable blur of the glow at half resolution (seed 5.5.2, optional)
+    /// Transparency label aura (seed 5.3.3, 5.5.1): buildings in front of a label fade out in a
+    /// smooth region around it. Needs labels; off by default.
+    bool label_aura = false;
+    /// Road draping technique; Geometric by default (the existing goldens are geometric).
+    RoadTechnique road_technique = RoadTechnique::Geometric;
 };
 
 /// The planned route as a polyline on the terrain (store-frame metres), with the distance
@@ -32,6 +54,23 @@ struct MapLayers {
 struct RouteGeometry {
     std::vector<glm::dvec3> points;
     std::vector<double> measure_m;  ///< same size as points, increasing
+    /// Bumped by the owner whenever points or measures change: the renderer re-drapes the route
+    /// onto its tiles when this (or the object) changes. Point z is not used for drawing.
+    std::uint64_t version = 0;
+};
+
+/// Ancestor levels a terrain tile can morph through (terrain_lod.h: a tile reaches several
+/// morph ranges deep, since tiles are large against the level-of-detail distances).
+inline constexpr int kMorphLevels = 4;
+
+/// Geomorphing of one drawn terrain tile towards its coarser levels (CDLOD-style; the rule is in
+/// terrain_lod.h). Filled by MapView (lastSelection().morph), parallel to MapFrame::tiles.
+struct TileMorph {
+    /// ancestors[j]: the tile j + 1 levels up, parent first (null: none resident, or above the root).
+    std::array<std::shared_ptr<const map::Tile>, kMorphLevels> ancestors;
+    /// Slot j morphs level L - j to L - j - 1 between these camera distances; end 0: no morph.
+    std::array<float, kMorphLevels> start_m{}, end_m{};
+    float eye_dz_m = 0.0f;  ///< vertical distance of the camera from the LOD height band
 };
 
 struct MarkerState {
@@ -54,6 +93,10 @@ struct MapStyle {
     glm::vec4 marker_color{0.95f, 0.25f, 0.15f, 1.0f};
     glm::vec4 marker_stale_color{0.55f, 0.55f, 0.55f, 1.0f};
     float building_cull_ratio = 0.004f;  ///< far small buildings: footprint / distance below this are culled
+    glm::vec3 glow_color{0.45f, 1.0f, 0.35f};  ///< glowing roads, single-colour mode (seed 5.5.2: light green)
+    float glow_strength = 0.8f;                ///< opacity of the glow over the buildings
+    float aura_margin_px = 18.0f;              ///< seed 5.5.1: the label OOBB is enlarged by this much
+    float aura_min_alpha = 0.0f;               ///< building opacity at the centre of an aura
 
     static MapStyle day();
     static MapStyle night();
@@ -62,6 +105,8 @@ struct MapStyle {
 struct MapFrame {
     Camera camera;
     std::vector<std::shared_ptr<const map::Tile>> tiles;
+    /// Parallel to tiles (MapView::select fills both); empty: tiles switch level without a morph.
+    std::vector<TileMorph> tile_morph;
     const RouteGeometry* route = nullptr;
     double route_progress_m = 0.0;
     std::optional<MarkerState> marker;
@@ -82,6 +127,9 @@ struct FlatTile {
 struct MapFrameStats {
     double terrain_ms = 0, roads_ms = 0, outlines_ms = 0, buildings_ms = 0, route_ms = 0, marker_ms = 0,
            uploads_ms = 0, total_ms = 0;
+    double glow_ms = 0, aura_ms = 0;  ///< glowing roads and label aura passes (seed 5.5), profiled like the others
+    double sv_roads_ms = 0;  ///< shadow-volume road passes (seed 3.5; roads_ms stays the geometric pass)
+    bool sv_roads = false;   ///< this frame's roads were drawn as shadow volumes
     std::size_t tiles_drawn = 0;
     std::size_t tiles_uploaded = 0;
     std::size_t tiles_pending = 0;  ///< tiles not drawn yet because the upload budget was spent

@@ -21,6 +21,10 @@ public:
     /// Selects and requests tiles for `camera` and returns the frame's tile list.
     std::vector<std::shared_ptr<const map::Tile>> tilesFor(const Camera& camera, double aspect, int viewport_height);
 
+    /// tilesFor(frame.camera) into frame.tiles, with each tile's geomorph ranges and targets (its
+    /// resident ancestors) in frame.tile_morph (terrain_lod.h), so level switches do not pop.
+    void select(MapFrame& frame, double aspect, int viewport_height);
+
     /// Requests tiles for `camera` until everything it wants is resident or `timeout` passes
     /// (warm-up, tests, benchmarks). Returns true when complete.
     bool warmUp(const Camera& camera, double aspect, int viewport_height, std::chrono::milliseconds timeout);

@@ -2,6 +2,7 @@
 // The renderer's public face: create a backend, give it a scene, render frames offscreen and
 // read them back. No GL or EGL type appears here (render/README.md).
 
+#include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -81,6 +82,12 @@ struct Frame {
 
 /// An offscreen renderer bound to the thread that created it (EGL context current there).
 /// Not thread-safe: create, use and destroy it on one thread.
+///
+/// One renderer serves several displays: each has its own offscreen target (size, readback
+/// ring, label layout state), all share the one context, the shaders and the GPU resources of
+/// the tiles. Target 0 (options.width x options.height) exists from the start; addTarget()
+/// makes more and useTarget() picks the one that resize, render, renderMap, readSync, readAsync,
+/// collectReadbacks and drainReadbacks act on (mapStats() describes the last renderMap call).
 class Renderer {
 public:
     /// Creates the OpenGL ES backend. Throws RenderError with a clear reason if EGL/GLES is unusable.
@@ -93,10 +100,22 @@ public:
     Renderer& operator=(const Renderer&) = delete;
 
     [[nodiscard]] virtual const DeviceInfo& device() const = 0;
+    /// Size of the current target.
     [[nodiscard]] virtual int width() const = 0;
     [[nodiscard]] virtual int height() const = 0;
 
-    /// Changes the size of the offscreen target (pending readbacks are completed first).
+    /// Adds an offscreen target of its own size (own readback ring and label layout) and returns
+    /// its id; the current target does not change. Throws RenderError for an invalid size.
+    virtual int addTarget(int width, int height) = 0;
+    /// Makes target `id` current. Throws RenderError for an unknown id (a programming error).
+    virtual void useTarget(int id) = 0;
+    /// Frees target `id` (its pending readbacks are dropped); target 0 stays. Returns false for an
+    /// unknown id or 0. When `id` was current, target 0 becomes current.
+    virtual bool removeTarget(int id) = 0;
+    [[nodiscard]] virtual int currentTarget() const = 0;
+    [[nodiscard]] virtual std::size_t targetCount() const = 0;
+
+    /// Changes the size of the current target (its pending readbacks are completed first).
     virtual void resize(int width, int height) = 0;
     /// Uploads a terrain mesh, replacing the previous one.
     virtual void setTerrain(const HeightfieldMesh& mesh) = 0;

@@ -3,12 +3,15 @@
 // triangles, roads draped onto the terrain (seed 3.6.1) as one instance per segment (seed 3.4),
 // and extruded buildings. GL-free, so it can run off the render thread and be unit-tested.
 
+#include <array>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include <glm/glm.hpp>
 
 #include "navmap/map/tile.h"
+#include "navmap/render/map_frame.h"
 #include "navmap/render/road_draping.h"
 
 namespace navmap::render {
@@ -16,6 +19,11 @@ namespace navmap::render {
 struct TerrainVertex {
     glm::vec3 position;  ///< tile-local metres (x east, y north, z height)
     glm::vec3 normal;
+    /// Geomorphing (terrain_lod.h): heights of the coarser levels' surfaces at this x, y
+    /// (parent first), which the vertex shader blends through as the camera moves away.
+    std::array<float, kMorphLevels> ancestor_heights{};
+    /// x, y of those surfaces' unit normals (z = sqrt(1 - x^2 - y^2): they point up).
+    std::array<glm::vec2, kMorphLevels> ancestor_normals{};
 };
 
 /// One road segment, drawn as one quad with analytic caps (seed 3.4).
@@ -48,6 +56,10 @@ struct TileMesh {
     std::vector<TerrainVertex> terrain;         ///< grid (grid_size^2) then skirt vertices
     std::vector<std::uint32_t> terrain_indices;  ///< grid triangles then skirt triangles
     std::vector<float> heights;                  ///< grid_size^2, row 0 south (for draping queries)
+    /// Per coarser level (parent first), grid_size^2: that level's surface at each grid vertex
+    /// (the geomorph targets). The tile's triangles each lie inside one triangle of every coarser
+    /// level, so a fully morphed tile lies on that level's surface.
+    std::array<std::vector<float>, kMorphLevels> ancestor_heights;
     float min_height = 0.0f;
     float max_height = 0.0f;
     std::vector<LandCoverVertex> land_cover;     ///< triangles, drawn in order
@@ -57,6 +69,15 @@ struct TileMesh {
     std::vector<std::uint32_t> building_indices;
 
     [[nodiscard]] HeightGrid grid() const { return HeightGrid{grid_size, size_m / double(grid_size - 1), heights.data()}; }
+    /// The grid with the heights of ancestor level j + 1 (0: parent).
+    [[nodiscard]] HeightGrid ancestorGrid(int j) const {
+        return HeightGrid{grid_size, size_m / double(grid_size - 1), ancestor_heights[static_cast<std::size_t>(j)].data()};
+    }
+    [[nodiscard]] std::array<HeightGrid, kMorphLevels> ancestorGrids() const {
+        std::array<HeightGrid, kMorphLevels> g;
+        for (int j = 0; j < kMorphLevels; ++j) g[static_cast<std::size_t>(j)] = ancestorGrid(j);
+        return g;
+    }
 };
 
 struct TileMeshOptions {
@@ -67,6 +88,36 @@ struct TileMeshOptions {
 /// Land-cover colour of an area class (day palette; alpha = coverage strength).
 glm::vec4 landCoverColor(map::AreaClass cls);
 
-TileMesh buildTileMesh(const map::Tile& tile, const TileMeshOptions& options = {});
+/// `ancestors` (up to kMorphLevels, parent first, entries may be null): the tiles whose DEMs are
+/// the geomorph targets. A missing one is replaced by every 2^(j+1)-th sample of the tile's own grid.
+TileMesh buildTileMesh(const map::Tile& tile, const TileMeshOptions& options = {},
+                       std::span<const map::Tile* const> ancestors = {});
+
+/// The surface of the ancestor `levels_up` levels above a tile (heights, normals) at the vertices
+/// of the tile's grid, triangulated as that ancestor's mesh renders it (HeightGrid's split).
+/// `heights`: the tile's grid_size^2 samples; `ancestor` may be null (see buildTileMesh).
+void ancestorSurface(const map::Tile& tile, int grid_size, std::span<const float> heights, const map::Tile* ancestor,
+                     int levels_up, std::vector<float>& out_heights, std::vector<glm::vec3>& out_normals);
+
+/// One piece of the route draped onto one tile (seed 3.6.1): both ends lie on one triangle of the
+/// tile's grid, so the straight piece lies on the surface; with the coarser levels' heights at its
+/// ends the piece also follows the tile's geomorph (every level is linear on that triangle).
+struct RoutePiece {
+    glm::vec3 p0, p1;               ///< tile-local metres, on the tile's own surface
+    std::array<float, kMorphLevels> ancestor_z0{}, ancestor_z1{};  ///< coarser levels' surfaces at p0, p1
+    float measure0 = 0.0f, measure1 = 0.0f;  ///< distance along the route, metres
+};
+
+/// Clips the route (store frame; z is ignored) to the square of a tile (south-west corner
+/// `origin`, edge grid.extent()) and drapes it onto `grid` with barycentric tracing; `ancestors`
+/// (same layout as grid, TileMesh::ancestorGrids) give ancestor_z. Measures are interpolated
+/// per draped vertex.
+std::vector<RoutePiece> drapeRoute(const RouteGeometry& route, const glm::dvec3& origin, const HeightGrid& grid,
+                                   const std::array<HeightGrid, kMorphLevels>& ancestors);
+
+/// Route instances of a tile with heights morphed like the terrain (terrain_lod.h morphedHeight);
+/// eye_local: the camera's x, y relative to the tile origin.
+void morphRoute(std::span<const RoutePiece> pieces, const TileMorph& morph, const glm::vec2& eye_local,
+                std::vector<RoadInstance>& out);
 
 }  // namespace navmap::render

@@ -1,0 +1,531 @@
+#include "occlusion_effects.h"
+
+#include <algorithm>
+#include <cstddef>
+#include <cstdio>
+#include <string>
+
+#include <glm/gtc/type_ptr.hpp>
+
+#include "navmap/render/renderer.h"
+
+namespace navmap::render::gl {
+
+namespace {
+
+// Stencil bit of the frame that the direct glow uses so overlapping road segments blend once.
+constexpr GLuint kGlowStencilBit = 0x80;
+
+// Buffers kept for this many target sizes (one renderer may serve several displays).
+constexpr std::size_t kMaxBufferSets = 3;
+
+void checkComplete(const char* what) {
+    const GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
+    if (status != GL_FRAMEBUFFER_COMPLETE) {
+        char code[16];
+        std::snprintf(code, sizeof code, "0x%04x", status);
+        throw RenderError(std::string("occlusion effects framebuffer (") + what + ") incomplete: status " + code);
+    }
+}
+
+GLuint makeTexture(GLenum format, int w, int h, GLint filter) {
+    GLuint t = 0;
+    glGenTextures(1, &t);
+    glBindTexture(GL_TEXTURE_2D, t);
+    glTexStorage2D(GL_TEXTURE_2D, 1, format, w, h);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, filter);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, filter);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    glBindTexture(GL_TEXTURE_2D, 0);
+    return t;
+}
+
+GLuint makeRenderbuffer(GLenum format, int samples, int w, int h) {
+    GLuint rb = 0;
+    glGenRenderbuffers(1, &rb);
+    glBindRenderbuffer(GL_RENDERBUFFER, rb);
+    if (samples > 0) glRenderbufferStorageMultisample(GL_RENDERBUFFER, samples, format, w, h);
+    else glRenderbufferStorage(GL_RENDERBUFFER, format, w, h);
+    glBindRenderbuffer(GL_RENDERBUFFER, 0);
+    return rb;
+}
+
+// An RGBA8 colour layer: drawn at the target's sample count, read as a single-sampled texture.
+struct Layer {
+    GLuint texture = 0;
+    GLuint ms_color = 0;     // multisampled colour (targets with MSAA), else 0
+    GLuint fbo = 0;          // drawing framebuffer: ms_color or texture, plus a depth attachment
+    GLuint resolve_fbo = 0;  // texture (MSAA only)
+    int width = 0, height = 0;
+
+    void create(int w, int h, int samples, GLint filter) {
+        width = w;
+        height = h;
+        texture = makeTexture(GL_RGBA8, w, h, filter);
+        glGenFramebuffers(1, &fbo);
+        glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+        if (samples > 0) {
+            ms_color = makeRenderbuffer(GL_RGBA8, samples, w, h);
+            glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, ms_color);
+            glGenFramebuffers(1, &resolve_fbo);
+            glBindFramebuffer(GL_FRAMEBUFFER, resolve_fbo);
+            glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, texture, 0);
+            checkComplete("resolve");
+        } else {
+            glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, texture, 0);
+        }
+    }
+    void attachDepth(GLuint depth_rb) const {
+        glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+        glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER, depth_rb);
+    }
+    // Binds for drawing and clears the colour to transparent.
+    void begin() const {
+        glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+        const GLenum c0 = GL_COLOR_ATTACHMENT0;
+        glDrawBuffers(1, &c0);
+        glViewport(0, 0, width, height);
+        const GLfloat zero[] = {0, 0, 0, 0};
+        glClearBufferfv(GL_COLOR, 0, zero);
+    }
+    void resolve() const {
+        if (!ms_color) return;
+        glBindFramebuffer(GL_READ_FRAMEBUFFER, fbo);
+        glBindFramebuffer(GL_DRAW_FRAMEBUFFER, resolve_fbo);
+        glBlitFramebuffer(0, 0, width, height, 0, 0, width, height, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    }
+    void destroy() {
+        glDeleteTextures(1, &texture);
+        glDeleteRenderbuffers(1, &ms_color);
+        const GLuint fbos[] = {fbo, resolve_fbo};
+        glDeleteFramebuffers(2, fbos);
+        *this = {};
+    }
+};
+
+void bindFullscreen(GLuint vao) {
+    glBindVertexArray(vao);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+}
+
+// Blits the depth of the target's drawing framebuffer into `fbo` (same size).
+void blitDepth(const RenderTarget& target, GLuint fbo) {
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, target.drawFramebuffer());
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo);
+    glBlitFramebuffer(0, 0, target.width(), target.height(), 0, 0, target.width(), target.height(),
+                      GL_DEPTH_BUFFER_BIT, GL_NEAREST);
+}
+
+// GL state the effects change and give back (the map passes set the rest per pass).
+struct SavedState {
+    GLint depth_func = GL_LESS;
+    GLboolean depth_mask = GL_TRUE;
+    GLboolean depth_test = GL_TRUE, blend = GL_FALSE, cull = GL_FALSE;
+    SavedState() {
+        glGetIntegerv(GL_DEPTH_FUNC, &depth_func);
+        glGetBooleanv(GL_DEPTH_WRITEMASK, &depth_mask);
+        depth_test = glIsEnabled(GL_DEPTH_TEST);
+        blend = glIsEnabled(GL_BLEND);
+        cull = glIsEnabled(GL_CULL_FACE);
+    }
+    ~SavedState() {
+        glDepthFunc(static_cast<GLenum>(depth_func));
+        glDepthMask(depth_mask);
+        if (depth_test) glEnable(GL_DEPTH_TEST);
+        else glDisable(GL_DEPTH_TEST);
+        if (blend) glEnable(GL_BLEND);
+        else glDisable(GL_BLEND);
+        if (cull) glEnable(GL_CULL_FACE);
+        else glDisable(GL_CULL_FACE);
+        glBlendEquation(GL_FUNC_ADD);
+        glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+        glActiveTexture(GL_TEXTURE0);
+    }
+    SavedState(const SavedState&) = delete;
+    SavedState& operator=(const SavedState&) = delete;
+};
+
+// One enlarged label OOBB for aura_mask.vert.
+struct MaskInstance {
+    glm::vec4 box;     // center, axis
+    glm::vec4 extent;  // half extents (enlarged), margin, alpha
+    float depth;       // NDC z
+};
+
+}  // namespace
+
+struct OcclusionEffects::Buffers {
+    int width = 0, height = 0, samples = 0;
+    // Terrain-only depth, single-sampled (glow_roads.frag tests against it, the aura writes it
+    // inside the auras). Captured each frame a glow or aura is drawn.
+    GLuint terrain_depth = 0, terrain_fbo = 0;
+    // Glowing roads with blur: the glow layer (the scene's depth attached per frame) and the
+    // half-resolution blur pair.
+    Layer glow;
+    Layer blur[2];
+    // Label aura: the terrain colour before the buildings, the layer behind the labels (step 2)
+    // with its depth, and the label OOBB depth + gradient mask (steps 2 and 3).
+    Layer terrain_color;
+    Layer behind;
+    GLuint behind_depth = 0;
+    GLuint label_mask = 0, label_depth = 0, label_fbo = 0;
+
+    void makeTerrainDepth() {
+        if (terrain_fbo) return;
+        terrain_depth = makeTexture(GL_DEPTH24_STENCIL8, width, height, GL_NEAREST);
+        glGenFramebuffers(1, &terrain_fbo);
+        glBindFramebuffer(GL_FRAMEBUFFER, terrain_fbo);
+        glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_STENCIL_ATTACHMENT, GL_TEXTURE_2D, terrain_depth, 0);
+        const GLenum none = GL_NONE;
+        glDrawBuffers(1, &none);
+        glReadBuffer(GL_NONE);
+        checkComplete("terrain depth");
+    }
+
+    void makeGlowLayers() {  // blur only
+        if (glow.fbo) return;
+        glow.create(width, height, samples, GL_LINEAR);  // linear: the blur halves it
+        const int hw = std::max(width / 2, 1), hh = std::max(height / 2, 1);
+        for (Layer& l : blur) {
+            l.create(hw, hh, 0, GL_LINEAR);
+            checkComplete("glow blur");
+        }
+    }
+
+    void makeAura() {
+        makeTerrainDepth();
+        if (behind.fbo) return;
+        terrain_color.create(width, height, 0, GL_NEAREST);  // a resolve target only
+        checkComplete("aura terrain colour");
+        behind_depth = makeRenderbuffer(GL_DEPTH24_STENCIL8, samples, width, height);
+        behind.create(width, height, samples, GL_NEAREST);
+        behind.attachDepth(behind_depth);
+        checkComplete("aura scene behind labels");
+        label_mask = makeTexture(GL_R8, width, height, GL_NEAREST);
+        label_depth = makeTexture(GL_DEPTH_COMPONENT24, width, height, GL_NEAREST);
+        glGenFramebuffers(1, &label_fbo);
+        glBindFramebuffer(GL_FRAMEBUFFER, label_fbo);
+        glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, label_mask, 0);
+        glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, label_depth, 0);
+        checkComplete("aura label OOBBs");
+    }
+
+    ~Buffers() {
+        glow.destroy();
+        for (Layer& l : blur) l.destroy();
+        terrain_color.destroy();
+        behind.destroy();
+        const GLuint textures[] = {terrain_depth, label_mask, label_depth};
+        glDeleteTextures(3, textures);
+        glDeleteRenderbuffers(1, &behind_depth);
+        const GLuint fbos[] = {terrain_fbo, label_fbo};
+        glDeleteFramebuffers(2, fbos);
+    }
+};
+
+OcclusionEffects::OcclusionEffects()
+    : m_glow_roads(ShaderProgram::fromEmbedded("roads_geo.vert", "glow_roads.frag")),
+      m_glow_blur(ShaderProgram::fromEmbedded("screen_outline.vert", "glow_blur.frag")),
+      m_glow_composite(ShaderProgram::fromEmbedded("screen_outline.vert", "glow_composite.frag")),
+      m_aura_buildings(ShaderProgram::fromEmbedded("buildings.vert", "aura_buildings.frag")),
+      m_aura_mask(ShaderProgram::fromEmbedded("aura_mask.vert", "aura_mask.frag")),
+      m_aura_composite(ShaderProgram::fromEmbedded("aura_mask.vert", "aura_composite.frag")) {
+    glGenVertexArrays(1, &m_empty_vao);
+    glGenVertexArrays(1, &m_mask_vao);
+    glGenBuffers(1, &m_mask_vbo);
+    glBindVertexArray(m_mask_vao);
+    glBindBuffer(GL_ARRAY_BUFFER, m_mask_vbo);
+    const auto stride = static_cast<GLsizei>(sizeof(MaskInstance));
+    glEnableVertexAttribArray(0);
+    glVertexAttribPointer(0, 4, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<const void*>(offsetof(MaskInstance, box)));
+    glEnableVertexAttribArray(1);
+    glVertexAttribPointer(1, 4, GL_FLOAT, GL_FALSE, stride,
+                          reinterpret_cast<const void*>(offsetof(MaskInstance, extent)));
+    glEnableVertexAttribArray(2);
+    glVertexAttribPointer(2, 1, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<const void*>(offsetof(MaskInstance, depth)));
+    for (GLuint i = 0; i <= 2; ++i) glVertexAttribDivisor(i, 1);
+    glBindVertexArray(0);
+    glBindBuffer(GL_ARRAY_BUFFER, 0);
+}
+
+OcclusionEffects::~OcclusionEffects() {
+    m_buffers.clear();
+    const GLuint vaos[] = {m_empty_vao, m_mask_vao};
+    glDeleteVertexArrays(2, vaos);
+    glDeleteBuffers(1, &m_mask_vbo);
+}
+
+OcclusionEffects::Buffers& OcclusionEffects::buffersFor(const RenderTarget& target) {
+    const int samples = target.samples();
+    auto it = std::find_if(m_buffers.begin(), m_buffers.end(), [&](const auto& b) {
+        return b->width == target.width() && b->height == target.height() && b->samples == samples;
+    });
+    if (it == m_buffers.end()) {
+        auto b = std::make_unique<Buffers>();
+        b->width = target.width();
+        b->height = target.height();
+        b->samples = samples;
+        if (m_buffers.size() >= kMaxBufferSets) m_buffers.pop_back();
+        m_buffers.insert(m_buffers.begin(), std::move(b));
+    } else if (it != m_buffers.begin()) {
+        std::rotate(m_buffers.begin(), it, it + 1);
+    }
+    return *m_buffers.front();
+}
+
+void OcclusionEffects::captureTerrainDepth(const RenderTarget& target, bool glow, bool aura) {
+    if (!glow && !aura) return;
+    Buffers& b = buffersFor(target);
+    b.makeTerrainDepth();
+    if (aura) b.makeAura();
+    blitDepth(target, b.terrain_fbo);
+    if (aura) {
+        blitDepth(target, b.behind.fbo);
+        glBindFramebuffer(GL_READ_FRAMEBUFFER, target.drawFramebuffer());
+        glReadBuffer(GL_COLOR_ATTACHMENT0);
+        glBindFramebuffer(GL_DRAW_FRAMEBUFFER, b.terrain_color.fbo);
+        glBlitFramebuffer(0, 0, b.width, b.height, 0, 0, b.width, b.height, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    }
+    target.bindForDrawing(false);
+}
+
+void OcclusionEffects::aura(const RenderTarget& target, std::span<const LabelOccluder> labels,
+                            const glm::mat4& projection, const MapStyle& style, const DrawWith& draw_buildings,
+                            const std::function<void()>& draw_roads) {
+    // Step 1 of seed 5.5.1 (the occluding buildings in a buffer of their own) is the scene itself
+    // here: its buildings are already drawn, and the terrain colour under them was kept by
+    // captureTerrainDepth(). Outside the auras the frame stays exactly the baseline.
+    std::vector<MaskInstance> instances;
+    instances.reserve(labels.size());
+    std::vector<LabelOccluder> sorted(labels.begin(), labels.end());
+    std::sort(sorted.begin(), sorted.end(), [](const auto& a, const auto& c) { return a.depth_m > c.depth_m; });
+    for (const LabelOccluder& l : sorted) {
+        if (l.alpha <= 0.0f) continue;
+        const glm::vec4 clip = projection * glm::vec4(0.0f, 0.0f, -l.depth_m, 1.0f);
+        if (clip.w <= 0.0f) continue;
+        // seed 5.5.1: "we slightly enlarge the bounding-box of each label" so the referenced
+        // road stays visible around it; the margin grows a little with the text size.
+        const float margin = style.aura_margin_px + 0.5f * std::min(l.box.half_extents.x, l.box.half_extents.y);
+        instances.push_back({glm::vec4(l.box.center, l.box.axis), glm::vec4(l.box.half_extents + margin, margin, l.alpha),
+                             std::clamp(clip.z / clip.w, -1.0f, 1.0f)});
+    }
+    if (instances.empty()) return;  // no aura anywhere: the baseline frame
+    Buffers& b = buffersFor(target);
+    b.makeAura();
+    const SavedState saved;
+
+    // Steps 2 (label depth) and 3 (gradient mask) in one pass: every enlarged label OOBB at the
+    // depth of its label, farthest first, so the depth test keeps the nearest label and the
+    // MAX blend the strongest mask.
+    glBindFramebuffer(GL_FRAMEBUFFER, b.label_fbo);
+    const GLenum c0 = GL_COLOR_ATTACHMENT0;
+    glDrawBuffers(1, &c0);
+    glViewport(0, 0, b.width, b.height);
+    const GLfloat zero[] = {0, 0, 0, 0};
+    glClearBufferfv(GL_COLOR, 0, zero);
+    const GLfloat far_depth = 1.0f;
+    glClearBufferfv(GL_DEPTH, 0, &far_depth);
+    glBindBuffer(GL_ARRAY_BUFFER, m_mask_vbo);
+    if (instances.size() > m_mask_capacity) {
+        m_mask_capacity = std::max(instances.size(), std::size_t{64});
+        glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(m_mask_capacity * sizeof(MaskInstance)), nullptr,
+                     GL_DYNAMIC_DRAW);
+    }
+    glBufferSubData(GL_ARRAY_BUFFER, 0, static_cast<GLsizeiptr>(instances.size() * sizeof(MaskInstance)),
+                    instances.data());
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LEQUAL);
+    glDepthMask(GL_TRUE);
+    glDisable(GL_CULL_FACE);
+    glEnable(GL_BLEND);
+    glBlendEquation(GL_MAX);
+    glUseProgram(m_aura_mask.id());
+    glUniform2f(m_aura_mask.uniform("u_viewport"), static_cast<float>(b.width), static_cast<float>(b.height));
+    glBindVertexArray(m_mask_vao);
+    glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, static_cast<GLsizei>(instances.size()));
+    glDisable(GL_BLEND);
+    glBlendEquation(GL_FUNC_ADD);
+
+    // Step 2: the buildings again with the inverse depth test against the label OOBB depth (over
+    // the terrain depth, so hills still hide them), then the roads and the route over them: the
+    // scene as it looks without the buildings in front of the labels.
+    b.behind.begin();
+    // Only inside the auras: the enlarged OOBBs mark the stencil, the draws test it (most of
+    // the roads' fragments are then rejected before shading).
+    const GLint no_stencil = 0;
+    glStencilMask(0xFF);
+    glClearBufferiv(GL_STENCIL, 0, &no_stencil);
+    glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+    glDisable(GL_DEPTH_TEST);
+    glEnable(GL_STENCIL_TEST);
+    glStencilFunc(GL_ALWAYS, 1, 0xFF);
+    glStencilOp(GL_KEEP, GL_KEEP, GL_REPLACE);
+    glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, static_cast<GLsizei>(instances.size()));  // program, VAO still bound
+    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    glStencilFunc(GL_EQUAL, 1, 0xFF);
+    glStencilOp(GL_KEEP, GL_KEEP, GL_KEEP);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    glEnable(GL_CULL_FACE);
+    glCullFace(GL_BACK);
+    glUseProgram(m_aura_buildings.id());
+    glActiveTexture(GL_TEXTURE1);
+    glBindTexture(GL_TEXTURE_2D, b.label_depth);
+    glUniform1i(m_aura_buildings.uniform("u_label_depth"), 1);
+    glUniform1i(m_aura_buildings.uniform("u_inverse"), 1);
+    glActiveTexture(GL_TEXTURE0);
+    draw_buildings(m_aura_buildings);
+    glActiveTexture(GL_TEXTURE1);
+    glBindTexture(GL_TEXTURE_2D, 0);
+    glActiveTexture(GL_TEXTURE0);
+    glDisable(GL_CULL_FACE);
+    glDepthMask(GL_FALSE);
+    glDepthFunc(GL_LEQUAL);
+    draw_roads();
+    glDisable(GL_STENCIL_TEST);
+    glDepthMask(GL_TRUE);
+    b.behind.resolve();
+
+    // Step 4: composite by the mask; inside the auras the depth becomes the terrain's. Drawn as
+    // the enlarged OOBBs, so only the auras are shaded; each pixel by the nearest box only.
+    target.bindForDrawing(false);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_ALWAYS);
+    glDepthMask(GL_TRUE);
+    glEnable(GL_BLEND);
+    glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE);  // the frame stays opaque
+    glUseProgram(m_aura_composite.id());
+    glActiveTexture(GL_TEXTURE0);
+    glBindTexture(GL_TEXTURE_2D, b.behind.texture);
+    glActiveTexture(GL_TEXTURE1);
+    glBindTexture(GL_TEXTURE_2D, b.terrain_color.texture);
+    glActiveTexture(GL_TEXTURE2);
+    glBindTexture(GL_TEXTURE_2D, b.label_mask);
+    glActiveTexture(GL_TEXTURE3);
+    glBindTexture(GL_TEXTURE_2D, b.terrain_depth);
+    glUniform1i(m_aura_composite.uniform("u_behind"), 0);
+    glUniform1i(m_aura_composite.uniform("u_terrain"), 1);
+    glUniform1i(m_aura_composite.uniform("u_mask"), 2);
+    glUniform1i(m_aura_composite.uniform("u_terrain_depth"), 3);
+    glActiveTexture(GL_TEXTURE4);
+    glBindTexture(GL_TEXTURE_2D, b.label_depth);
+    glUniform1i(m_aura_composite.uniform("u_label_depth"), 4);
+    glUniform1f(m_aura_composite.uniform("u_min_alpha"), std::clamp(style.aura_min_alpha, 0.0f, 1.0f));
+    glUniform2f(m_aura_composite.uniform("u_viewport"), static_cast<float>(b.width), static_cast<float>(b.height));
+    glBindVertexArray(m_mask_vao);
+    glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, static_cast<GLsizei>(instances.size()));
+    for (GLenum unit : {GL_TEXTURE4, GL_TEXTURE3, GL_TEXTURE2, GL_TEXTURE1, GL_TEXTURE0}) {
+        glActiveTexture(unit);
+        glBindTexture(GL_TEXTURE_2D, 0);
+    }
+    glBindVertexArray(0);
+}
+
+void OcclusionEffects::glow(const RenderTarget& target, const MapLayers& layers, const MapStyle& style,
+                            const glm::mat4& projection, const DrawWith& draw_roads) {
+    Buffers& b = buffersFor(target);
+    b.makeTerrainDepth();
+    const bool direct = !layers.glow_blur;
+    if (!direct) b.makeGlowLayers();
+    const SavedState saved;
+
+    // seed 5.5.2 step 1: the road fragments behind what the scene depth holds (buildings, and
+    // the terrain, which the shader excludes with the terrain-only depth). Without blur they go
+    // straight into the frame: no glow buffer, no full-screen composite (the passes that cost
+    // most on software rasterizers). Where a road is visible nothing glows (road mask, already
+    // resolved when the outlines were drawn).
+    if (!(layers.outlines && (layers.roads || layers.route))) target.resolveMask();
+    if (direct) {
+        target.bindForDrawing(false);
+    } else {
+        b.glow.attachDepth(target.depthStencilRenderbuffer());
+        b.glow.begin();
+    }
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_GREATER);
+    glDepthMask(GL_FALSE);
+    glDisable(GL_CULL_FACE);
+    const float strength = std::clamp(style.glow_strength, 0.0f, 1.0f);
+    const bool blend_once = direct && strength < 1.0f;
+    if (blend_once) {
+        glEnable(GL_BLEND);
+        glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE);  // the frame stays opaque
+        // Overlapping segments (joints, junctions) blend once: stencil bit 7, cleared here.
+        const GLint zero = 0;
+        glStencilMask(kGlowStencilBit);
+        glClearBufferiv(GL_STENCIL, 0, &zero);
+        glEnable(GL_STENCIL_TEST);
+        glStencilFunc(GL_NOTEQUAL, kGlowStencilBit, kGlowStencilBit);
+        glStencilOp(GL_KEEP, GL_KEEP, GL_REPLACE);
+    } else {
+        glDisable(GL_BLEND);
+    }
+    glUseProgram(m_glow_roads.id());
+    glUniform1i(m_glow_roads.uniform("u_direct"), direct ? 1 : 0);
+    glUniform1f(m_glow_roads.uniform("u_alpha"), strength);
+    glActiveTexture(GL_TEXTURE2);
+    glBindTexture(GL_TEXTURE_2D, target.maskTexture());
+    glUniform1i(m_glow_roads.uniform("u_road_mask"), 2);
+    glUniformMatrix4fv(m_glow_roads.uniform("u_projection"), 1, GL_FALSE, glm::value_ptr(projection));
+    glActiveTexture(GL_TEXTURE1);
+    glBindTexture(GL_TEXTURE_2D, b.terrain_depth);
+    glUniform1i(m_glow_roads.uniform("u_terrain_depth"), 1);
+    glActiveTexture(GL_TEXTURE0);
+    glUniform1i(m_glow_roads.uniform("u_road_color"), layers.glow_mode == MapLayers::GlowMode::RoadColor ? 1 : 0);
+    glUniform3fv(m_glow_roads.uniform("u_glow_color"), 1, glm::value_ptr(style.glow_color));
+    draw_roads(m_glow_roads);
+    for (GLenum unit : {GL_TEXTURE2, GL_TEXTURE1, GL_TEXTURE0}) {
+        glActiveTexture(unit);
+        glBindTexture(GL_TEXTURE_2D, 0);
+    }
+    if (blend_once) {
+        glDisable(GL_STENCIL_TEST);
+        glStencilMask(0xFF);
+    }
+    if (direct) {
+        glBindVertexArray(0);
+        return;
+    }
+    b.glow.resolve();
+    glDisable(GL_DEPTH_TEST);
+
+    // seed 5.5.2 (optional): blur, horizontal while halving the resolution, then vertical.
+    {
+        glUseProgram(m_glow_blur.id());
+        glUniform1i(m_glow_blur.uniform("u_source"), 0);
+        glActiveTexture(GL_TEXTURE0);
+        b.blur[0].begin();
+        glBindTexture(GL_TEXTURE_2D, b.glow.texture);
+        glUniform2f(m_glow_blur.uniform("u_step"), 1.0f / static_cast<float>(b.blur[0].width), 0.0f);
+        bindFullscreen(m_empty_vao);
+        b.blur[1].begin();
+        glBindTexture(GL_TEXTURE_2D, b.blur[0].texture);
+        glUniform2f(m_glow_blur.uniform("u_step"), 0.0f, 1.0f / static_cast<float>(b.blur[1].height));
+        bindFullscreen(m_empty_vao);
+    }
+
+    // Composite over the scene, before the labels, except where a road is visible.
+    target.bindForDrawing(false);
+    glEnable(GL_BLEND);
+    glBlendFuncSeparate(GL_ONE, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE);  // the frame stays opaque
+    glUseProgram(m_glow_composite.id());
+    glActiveTexture(GL_TEXTURE0);
+    glBindTexture(GL_TEXTURE_2D, b.glow.texture);
+    glActiveTexture(GL_TEXTURE1);
+    glBindTexture(GL_TEXTURE_2D, b.blur[1].texture);
+    glUniform1i(m_glow_composite.uniform("u_glow"), 0);
+    glUniform1i(m_glow_composite.uniform("u_blurred"), 1);
+    glActiveTexture(GL_TEXTURE2);
+    glBindTexture(GL_TEXTURE_2D, target.maskTexture());
+    glUniform1i(m_glow_composite.uniform("u_road_mask"), 2);
+    glUniform1f(m_glow_composite.uniform("u_strength"), strength);
+    bindFullscreen(m_empty_vao);
+    for (GLenum unit : {GL_TEXTURE2, GL_TEXTURE1, GL_TEXTURE0}) {
+        glActiveTexture(unit);
+        glBindTexture(GL_TEXTURE_2D, 0);
+    }
+    glBindVertexArray(0);
+}
+
+}  // namespace navmap::render::gl

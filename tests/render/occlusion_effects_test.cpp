@@ -1,0 +1,405 @@
+// Glowing roads (seed 5.3.5, 5.5.2) and the transparency label aura (seed 5.3.3, 5.5.1) in
+// rendered map frames of the Andorra store: which pixels glow, that a world-space label behind
+// a building becomes readable with its road visible around it, and goldens of both techniques
+// in both views.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "golden.h"
+#include "navmap/render/map_scene.h"
+#include "navmap/render/renderer.h"
+#include "test_paths.h"
+
+namespace {
+
+using namespace navmap::render;
+using GlowMode = MapLayers::GlowMode;
+
+constexpr int kW = 640, kH = 240;
+// A pose found by OcclusionSearch.FindAuraPose (below): in snail's view this far along the drive,
+// a world-space road label stands behind buildings of Andorra la Vella.
+constexpr double kAuraMeasure = 1800.0;
+// Road and route parts pass behind buildings at these poses (OcclusionSearch.FindGlowPose): in
+// bird's-eye only close by (at standstill), since from higher up the roads' view-space offset
+// (seed 3.6.2) lifts them over the low buildings of the valley.
+struct GlowPose {
+    double measure, speed_mps;
+};
+GlowPose glowPose(ViewMode mode) { return mode == ViewMode::Bird ? GlowPose{300.0, 0.0} : GlowPose{1800.0, 13.0}; }
+constexpr int kSettleFrames = 30;  // labels fade in and settle
+
+DriveScene& andorra() {
+    static DriveScene f = DriveScene::open(navmap::test::binaryDir() / "andorra.navmap", kAndorraLaVella, kEncamp);
+    return f;
+}
+
+MapFrame frameAt(ViewMode mode, double measure, double speed_mps = 13.0) {
+    DriveScene& f = andorra();
+    CameraRig rig;
+    rig.setMode(mode);
+    const auto shot = f.settle(rig, measure, speed_mps, double(kW) / kH, kH);
+    EXPECT_TRUE(shot.complete);
+    MapFrame frame;
+    frame.camera = shot.camera;
+    frame.tiles = f.view->tilesFor(shot.camera, double(kW) / kH, kH);
+    frame.route = &f.drive.geometry;
+    frame.route_progress_m = measure;
+    frame.marker = MarkerState{shot.pose.position, shot.pose.heading_deg, false};
+    frame.frame_dt_s = 1.0 / 30.0;
+    return frame;
+}
+
+MapFrame glowFrame(ViewMode mode) { return frameAt(mode, glowPose(mode).measure, glowPose(mode).speed_mps); }
+
+std::unique_ptr<Renderer> makeRenderer(const MapStyle& style = MapStyle::day()) {
+    RendererOptions o;
+    o.width = kW;
+    o.height = kH;
+    auto r = Renderer::create(o);
+    r->setMapStyle(style);
+    return r;
+}
+
+Image render(const MapFrame& frame, int frames = 1, const MapStyle& style = MapStyle::day(),
+             MapFrameStats* stats = nullptr) {
+    auto r = makeRenderer(style);
+    for (int i = 0; i < frames; ++i) r->renderMap(frame);
+    if (stats) *stats = r->mapStats();
+    return r->readSync();
+}
+
+struct Rgb {
+    int r, g, b;
+};
+Rgb at(const Image& im, int x, int y) {
+    const auto i = (static_cast<std::size_t>(y) * static_cast<std::size_t>(im.width) + static_cast<std::size_t>(x)) * 4;
+    return {im.rgba[i], im.rgba[i + 1], im.rgba[i + 2]};
+}
+int dist(Rgb a, Rgb b) { return std::max({std::abs(a.r - b.r), std::abs(a.g - b.g), std::abs(a.b - b.b)}); }
+Rgb toRgb(glm::vec3 c) {
+    auto q = [](float v) { return static_cast<int>(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f)); };
+    return {q(c.r), q(c.g), q(c.b)};
+}
+
+const char* viewName(ViewMode m) { return m == ViewMode::Bird ? "bird" : "snail"; }
+
+// NAVMAP_OCCLUSION_DUMP=<dir> writes the images a test compares, for looking at them.
+void dump(const Image& image, const std::string& name) {
+    if (const char* dir = std::getenv("NAVMAP_OCCLUSION_DUMP")) {
+        std::string error;
+        if (!writePng(std::string(dir) + "/" + name + ".png", image, &error)) std::printf("dump: %s\n", error.c_str());
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Glowing roads.
+
+TEST(GlowRoads, OffByDefault) {
+    const MapLayers l;
+    EXPECT_FALSE(l.glow_roads);
+    EXPECT_FALSE(l.label_aura);
+    EXPECT_FALSE(l.glow_blur);
+    EXPECT_EQ(l.glow_mode, GlowMode::SingleColor);
+}
+
+class GlowRoadsView : public ::testing::TestWithParam<ViewMode> {};
+
+// Full-strength single colour: every pixel the glow changes is exactly the glow colour and lies
+// where a building covers the scene; roads not hidden by buildings do not change.
+TEST_P(GlowRoadsView, HiddenRoadPixelsGetTheGlowColourOnlyWithGlowOn) {
+    MapStyle style = MapStyle::day();
+    style.glow_strength = 1.0f;
+    style.glow_color = {1.0f, 0.0f, 1.0f};  // magenta: nowhere else in the map
+    const MapFrame base = glowFrame(GetParam());
+    MapFrame glow = base;
+    glow.layers.glow_roads = true;
+    MapFrame open = base;
+    open.layers.buildings = false;
+    const Image without = render(base, 1, style);
+    const Image with = render(glow, 1, style);
+    const Image no_buildings = render(open, 1, style);
+    dump(without, std::string("glow_base_") + viewName(GetParam()));
+    dump(with, std::string("glow_on_") + viewName(GetParam()));
+    dump(no_buildings, std::string("glow_open_") + viewName(GetParam()));
+    const Rgb magenta{255, 0, 255};
+    std::size_t changed = 0, glow_coloured = 0, under_building = 0, magenta_before = 0;
+    for (int y = 0; y < kH; ++y) {
+        for (int x = 0; x < kW; ++x) {
+            magenta_before += dist(at(without, x, y), magenta) <= 2;
+            if (dist(at(with, x, y), at(without, x, y)) == 0) continue;
+            ++changed;
+            glow_coloured += dist(at(with, x, y), magenta) <= 2;
+            under_building += dist(at(without, x, y), at(no_buildings, x, y)) > 0;
+        }
+    }
+    std::printf("%s: %zu glowing pixels, %zu magenta, %zu under buildings\n", viewName(GetParam()), changed,
+                glow_coloured, under_building);
+    EXPECT_EQ(magenta_before, 0u) << "without glow no pixel has the glow colour";
+    EXPECT_GT(changed, 80u) << "roads pass behind buildings at this pose";
+    EXPECT_EQ(glow_coloured, changed) << "changed pixels are the glow colour";
+    // A few building pixels may look like the scene behind them.
+    EXPECT_GE(double(under_building), 0.99 * double(changed)) << "only pixels where a building hides the scene glow";
+}
+
+// Road-colour mode: glowing pixels carry a road class fill or the route colour.
+TEST_P(GlowRoadsView, RoadColourModeUsesTheRoadsOwnColours) {
+    MapStyle style = MapStyle::day();
+    style.glow_strength = 1.0f;
+    std::vector<Rgb> palette;
+    for (const auto& c : style.roads.classes) palette.push_back(toRgb(c.fill));
+    palette.push_back(toRgb(style.route_color));
+    const MapFrame base = glowFrame(GetParam());
+    MapFrame glow = base;
+    glow.layers.glow_roads = true;
+    glow.layers.glow_mode = GlowMode::RoadColor;
+    const Image without = render(base, 1, style);
+    const Image with = render(glow, 1, style);
+    std::size_t changed = 0, road_coloured = 0;
+    for (int y = 0; y < kH; ++y) {
+        for (int x = 0; x < kW; ++x) {
+            if (dist(at(with, x, y), at(without, x, y)) == 0) continue;
+            ++changed;
+            const Rgb c = at(with, x, y);
+            road_coloured += std::any_of(palette.begin(), palette.end(), [&](Rgb p) { return dist(c, p) <= 2; });
+        }
+    }
+    EXPECT_GT(changed, 80u);
+    EXPECT_EQ(road_coloured, changed);
+}
+
+// Blur spreads the glow beyond the hidden road pixels, and reports its pass time when profiled.
+TEST_P(GlowRoadsView, BlurSoftensAndIsProfiled) {
+    const MapFrame base = glowFrame(GetParam());
+    MapFrame sharp = base, soft = base;
+    sharp.layers.glow_roads = soft.layers.glow_roads = true;
+    soft.layers.glow_blur = true;
+    const Image without = render(base);
+    const Image a = render(sharp);
+    RendererOptions o;
+    o.width = kW;
+    o.height = kH;
+    o.profile_passes = true;
+    auto r = Renderer::create(o);
+    r->renderMap(soft);
+    EXPECT_GT(r->mapStats().glow_ms, 0.0);
+    EXPECT_EQ(r->mapStats().aura_ms, 0.0);
+    const Image b = r->readSync();
+    std::size_t changed_sharp = 0, changed_soft = 0;
+    for (int y = 0; y < kH; ++y) {
+        for (int x = 0; x < kW; ++x) {
+            changed_sharp += dist(at(a, x, y), at(without, x, y)) > 0;
+            changed_soft += dist(at(b, x, y), at(without, x, y)) > 0;
+        }
+    }
+    EXPECT_GT(changed_soft, changed_sharp * 5 / 4) << "the blurred halo reaches around the glowing roads";
+}
+
+INSTANTIATE_TEST_SUITE_P(Views, GlowRoadsView, ::testing::Values(ViewMode::Bird, ViewMode::Snail),
+                         [](const auto& p) { return std::string(viewName(p.param)); });
+
+// ---------------------------------------------------------------------------------------------
+// Transparency label aura.
+
+// Pixels of one label: its text (labels on vs off, no buildings) inside its layout box.
+struct LabelPixels {
+    labels::PlacedLabel label;
+    std::vector<std::pair<int, int>> text;
+    std::size_t hidden = 0;  // text pixels that show the building instead (aura off)
+};
+
+struct AuraScene {
+    MapFrame frame;
+    Image labels_open, plain_open, labels_built, plain_built, no_roads_open;
+    std::vector<labels::PlacedLabel> placed;
+};
+
+AuraScene auraScene(ViewMode mode, double measure) {
+    AuraScene s;
+    s.frame = frameAt(mode, measure);
+    MapFrame f = s.frame;
+    f.layers.labels = true;
+    MapFrameStats stats;
+    s.labels_built = render(f, kSettleFrames, MapStyle::day(), &stats);
+    s.placed = stats.placed_labels;
+    f.layers.buildings = false;
+    s.labels_open = render(f, kSettleFrames);
+    f.layers.labels = false;
+    s.plain_open = render(f);
+    f.layers.roads = f.layers.route = false;
+    s.no_roads_open = render(f);
+    f = s.frame;
+    s.plain_built = render(f);
+    return s;
+}
+
+std::vector<LabelPixels> labelPixels(const AuraScene& s) {
+    std::vector<LabelPixels> out;
+    for (const auto& p : s.placed) {
+        if (p.state != labels::LabelState::Visible) continue;
+        LabelPixels lp{p, {}, 0};
+        const glm::vec2 h = p.box.aabbHalfExtents();
+        const int x0 = std::max(0, int(p.box.center.x - h.x)), x1 = std::min(kW - 1, int(p.box.center.x + h.x));
+        const int y0 = std::max(0, int(p.box.center.y - h.y)), y1 = std::min(kH - 1, int(p.box.center.y + h.y));
+        for (int y = y0; y <= y1; ++y) {
+            for (int x = x0; x <= x1; ++x) {
+                if (dist(at(s.labels_open, x, y), at(s.plain_open, x, y)) <= 24) continue;  // not text
+                lp.text.emplace_back(x, y);
+                lp.hidden += dist(at(s.labels_built, x, y), at(s.plain_built, x, y)) <= 4 &&
+                             dist(at(s.plain_built, x, y), at(s.plain_open, x, y)) > 4;
+            }
+        }
+        if (!lp.text.empty()) out.push_back(std::move(lp));
+    }
+    return out;
+}
+
+// The label of the scene most hidden by buildings (at least 40 text pixels).
+const LabelPixels* mostHidden(const std::vector<LabelPixels>& labels) {
+    const LabelPixels* best = nullptr;
+    for (const auto& l : labels) {
+        if (l.text.size() < 40) continue;
+        if (!best || l.hidden * best->text.size() > best->hidden * l.text.size()) best = &l;
+    }
+    return best;
+}
+
+TEST(LabelAura, WorldSpaceLabelBehindABuildingBecomesReadable) {
+    const AuraScene s = auraScene(ViewMode::Snail, kAuraMeasure);
+    const auto labels = labelPixels(s);
+    const LabelPixels* l = mostHidden(labels);
+    ASSERT_NE(l, nullptr) << "no labelled text at this pose";
+    const double hidden = double(l->hidden) / double(l->text.size());
+    std::printf("label %llu: %zu text pixels, %.0f%% hidden by buildings without the aura\n",
+                static_cast<unsigned long long>(l->label.id), l->text.size(), 100.0 * hidden);
+    ASSERT_GE(hidden, 0.3) << "the pose must put a world-space label behind a building (FindAuraPose)";
+
+    MapFrame f = s.frame;
+    f.layers.labels = true;
+    f.layers.label_aura = true;
+    MapFrameStats stats;
+    const Image aura = render(f, kSettleFrames, MapStyle::day(), &stats);
+    EXPECT_EQ(stats.label_world_weight, 1.0f) << "world-space labels in snail's view";
+    // Readable: the text pixels that the building hid differ from the building colour now.
+    std::size_t hidden_px = 0, readable = 0;
+    for (auto [x, y] : l->text) {
+        const bool was_hidden = dist(at(s.labels_built, x, y), at(s.plain_built, x, y)) <= 4 &&
+                                dist(at(s.plain_built, x, y), at(s.plain_open, x, y)) > 4;
+        if (!was_hidden) continue;
+        ++hidden_px;
+        readable += dist(at(aura, x, y), at(s.plain_built, x, y)) > 24;
+    }
+    std::printf("aura: %zu of %zu hidden text pixels readable\n", readable, hidden_px);
+    EXPECT_GE(double(readable), 0.8 * double(hidden_px));
+    // The referenced road shows around the label: in the enlarged box, road pixels that a building
+    // covered without the aura now look like the scene without buildings.
+    const glm::vec2 h = l->label.box.aabbHalfExtents() + glm::vec2(MapStyle::day().aura_margin_px);
+    const glm::vec2 c = l->label.box.center;
+    std::size_t road_shown = 0, road_covered = 0;
+    for (int y = std::max(0, int(c.y - h.y)); y <= std::min(kH - 1, int(c.y + h.y)); ++y) {
+        for (int x = std::max(0, int(c.x - h.x)); x <= std::min(kW - 1, int(c.x + h.x)); ++x) {
+            const bool road = dist(at(s.plain_open, x, y), at(s.no_roads_open, x, y)) > 8;
+            const bool covered = dist(at(s.plain_built, x, y), at(s.plain_open, x, y)) > 8;
+            if (!road || !covered) continue;
+            ++road_covered;
+            const bool text = dist(at(s.labels_open, x, y), at(s.plain_open, x, y)) > 24;
+            const int before = dist(at(s.plain_built, x, y), at(s.plain_open, x, y));
+            road_shown += !text && dist(at(aura, x, y), at(s.plain_open, x, y)) * 2 < before;
+        }
+    }
+    std::printf("aura: %zu of %zu covered road pixels around the label visible\n", road_shown, road_covered);
+    EXPECT_GE(road_shown, 10u) << "the referenced road is partly visible around the label";
+}
+
+TEST(LabelAura, BuildingsAwayFromLabelsStayOpaque) {
+    // Without labels the aura has no region: the frame equals the plain one.
+    MapFrame f = frameAt(ViewMode::Bird, kAuraMeasure);
+    const Image plain = render(f);
+    f.layers.label_aura = true;
+    const Image aura = render(f);
+    dump(plain, "opaque_plain");
+    dump(aura, "opaque_aura");
+    std::size_t differ = 0;
+    for (int y = 0; y < kH; ++y) {
+        for (int x = 0; x < kW; ++x) differ += dist(at(plain, x, y), at(aura, x, y)) > 8;
+    }
+    EXPECT_EQ(differ, 0u);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Goldens: glow single colour, glow road colour (blurred), aura; bird's-eye and snail's view.
+
+struct GoldenCase {
+    const char* name;
+    ViewMode mode;
+};
+
+class OcclusionGolden : public ::testing::TestWithParam<GoldenCase> {};
+
+TEST_P(OcclusionGolden, MatchesGolden) {
+    const GoldenCase g = GetParam();
+    const std::string name = g.name;
+    MapFrame f = glowFrame(g.mode);  // close to buildings in both views (snail's: also the aura pose)
+    f.layers.labels = true;
+    if (name.find("glow") != std::string::npos) {
+        f.layers.glow_roads = true;
+        if (name.find("road") != std::string::npos) {
+            f.layers.glow_mode = GlowMode::RoadColor;
+            f.layers.glow_blur = true;
+        }
+    } else {
+        f.layers.label_aura = true;
+    }
+    const Image image = render(f, kSettleFrames);
+    EXPECT_GOLDEN(image, "render/golden/andorra_" + name + "_" + viewName(g.mode) + ".png",
+                  (navmap::test::GoldenTolerance{10, 0.01}));
+}
+
+INSTANTIATE_TEST_SUITE_P(Effects, OcclusionGolden,
+                         ::testing::Values(GoldenCase{"glow_single", ViewMode::Bird}, GoldenCase{"glow_single", ViewMode::Snail},
+                                           GoldenCase{"glow_road", ViewMode::Bird}, GoldenCase{"glow_road", ViewMode::Snail},
+                                           GoldenCase{"aura", ViewMode::Bird}, GoldenCase{"aura", ViewMode::Snail}),
+                         [](const auto& p) { return std::string(p.param.name) + "_" + viewName(p.param.mode); });
+
+// Pose search tools (NAVMAP_OCCLUSION_SEARCH=1), for when the data change: for measures along
+// the drive, how much of the most hidden world-space label the buildings hide in snail's view.
+bool searchRequested() { return std::getenv("NAVMAP_OCCLUSION_SEARCH") != nullptr; }
+
+TEST(OcclusionSearch, FindAuraPose) {
+    if (!searchRequested()) GTEST_SKIP() << "pose search tool, not a test: set NAVMAP_OCCLUSION_SEARCH=1 to run it";
+    for (double m = 600.0; m <= 6000.0; m += 300.0) {
+        const AuraScene s = auraScene(ViewMode::Snail, m);
+        const auto labels = labelPixels(s);
+        const LabelPixels* l = mostHidden(labels);
+        if (!l) continue;
+        std::printf("measure %.0f: label %llu, %zu text px, %.0f%% hidden\n", m,
+                    static_cast<unsigned long long>(l->label.id), l->text.size(),
+                    100.0 * double(l->hidden) / double(l->text.size()));
+    }
+}
+
+// Pose search for the glow (by hand): glowing pixels per measure in bird's-eye at standstill.
+TEST(OcclusionSearch, FindGlowPose) {
+    if (!searchRequested()) GTEST_SKIP() << "pose search tool, not a test: set NAVMAP_OCCLUSION_SEARCH=1 to run it";
+    for (double m = 300.0; m <= 4000.0; m += 300.0) {
+        for (double v : {0.0, 13.0}) {
+            MapFrame f = frameAt(ViewMode::Bird, m, v);
+            const Image without = render(f);
+            f.layers.glow_roads = true;
+            const Image with = render(f);
+            std::size_t changed = 0;
+            for (int y = 0; y < kH; ++y) {
+                for (int x = 0; x < kW; ++x) changed += dist(at(with, x, y), at(without, x, y)) > 0;
+            }
+            std::printf("measure %.0f speed %.0f: %zu glowing pixels\n", m, v, changed);
+        }
+    }
+}
+
+}  // namespace

@@ -1,0 +1,186 @@
+// The route draped per drawn tile (issue 6): a route with sparse points over a hill stays visible
+// along its whole length whether the coarse tile or its four finer children are drawn, and while
+// the children are morphed to the coarse level; the driven part is dimmed per draped vertex.
+// Synthetic tiles, Mesa llvmpipe through EGL.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+#include <memory>
+
+#include "navmap/render/renderer.h"
+#include "navmap/render/tile_mesh.h"
+
+namespace {
+
+using namespace navmap::render;
+namespace map = navmap::map;
+
+constexpr int kW = 640, kH = 480;
+const glm::dvec3 kOrigin{20000.0, -15000.0, 0.0};
+
+double hill(double x, double y) {
+    const double dx = x - 500.0, dy = y - 520.0;
+    return 900.0 + 260.0 * std::exp(-(dx * dx + dy * dy) / (2.0 * 150.0 * 150.0)) + 12.0 * std::sin(x / 37.0);
+}
+
+std::shared_ptr<map::Tile> tileOf(map::TileId id, double x0, double y0, double size, int n) {
+    auto t = std::make_shared<map::Tile>();
+    t->id = id;
+    t->origin_x = kOrigin.x + x0;
+    t->origin_y = kOrigin.y + y0;
+    t->size_m = size;
+    t->dem.size = static_cast<std::uint16_t>(n);
+    t->dem.spacing_m = static_cast<float>(size / (n - 1));
+    t->dem.coverage = 1.0f;
+    for (int r = 0; r < n; ++r)
+        for (int c = 0; c < n; ++c) t->dem.heights.push_back(static_cast<float>(hill(x0 + c * size / (n - 1), y0 + r * size / (n - 1))));
+    return t;
+}
+
+// Store-frame route: three points, straight over the hill from west to east.
+RouteGeometry route() {
+    RouteGeometry r;
+    const glm::dvec2 pts[] = {{30.0, 480.0}, {520.0, 530.0}, {970.0, 560.0}};
+    double m = 0.0;
+    for (std::size_t i = 0; i < std::size(pts); ++i) {
+        if (i > 0) m += glm::length(pts[i] - pts[i - 1]);
+        r.points.emplace_back(kOrigin.x + pts[i].x, kOrigin.y + pts[i].y, 0.0);
+        r.measure_m.push_back(m);
+    }
+    r.version = 1;
+    return r;
+}
+
+struct Shot {
+    Camera camera;
+    Image image;
+    glm::ivec3 at(glm::dvec3 store) const {
+        const glm::mat4 vp = camera.projection(double(kW) / kH) * camera.viewRelativeTo(kOrigin);
+        const glm::vec4 c = vp * glm::vec4(glm::vec3(store - kOrigin), 1.0f);
+        const int x = static_cast<int>((c.x / c.w * 0.5f + 0.5f) * kW);
+        const int y = static_cast<int>((1.0f - (c.y / c.w * 0.5f + 0.5f)) * kH);
+        if (c.w <= 0 || x < 0 || y < 0 || x >= kW || y >= kH) return {-1000, -1000, -1000};
+        const auto* px = image.pixel(x, y);
+        return {px[0], px[1], px[2]};
+    }
+};
+
+MapStyle style() {
+    MapStyle s = MapStyle::day();
+    s.route_width_m = 16.0f;
+    return s;
+}
+
+Shot renderTiles(const std::vector<std::shared_ptr<const map::Tile>>& tiles, const RouteGeometry& r, double progress,
+                 const std::vector<TileMorph>& morph = {}) {
+    RendererOptions o;
+    o.width = kW;
+    o.height = kH;
+    auto renderer = Renderer::create(o);
+    renderer->setMapStyle(style());
+    Shot s;
+    // Oblique view from the south, steeper than any slope of the hill, so nothing of a route on
+    // the surface is hidden, while a straight chord through the hill would be.
+    s.camera.eye = kOrigin + glm::dvec3(450.0, -250.0, 2500.0);
+    s.camera.target = kOrigin + glm::dvec3(500.0, 520.0, 950.0);
+    s.camera.near_m = 10.0;
+    s.camera.far_m = 6000.0;
+    MapFrame frame;
+    frame.camera = s.camera;
+    frame.tiles = tiles;
+    frame.tile_morph = morph;
+    frame.route = &r;
+    frame.route_progress_m = progress;
+    frame.layers.marker = false;
+    renderer->renderMap(frame);
+    s.image = renderer->readSync();
+    return s;
+}
+
+glm::ivec3 to8(glm::vec3 c) { return glm::ivec3(glm::round(c * 255.0f)); }
+bool near(glm::ivec3 a, glm::ivec3 b, int tol) {
+    return std::abs(a.x - b.x) <= tol && std::abs(a.y - b.y) <= tol && std::abs(a.z - b.z) <= tol;
+}
+
+// Counts route centreline samples that show the route colour (dimmed before `progress`), with
+// the surface height of the drawn terrain from `surface`.
+struct Coverage {
+    int samples = 0, visible = 0;
+};
+Coverage routeCoverage(const Shot& s, const RouteGeometry& r, double progress, const std::function<double(double, double)>& surface) {
+    const glm::ivec3 fill = to8(style().route_color);
+    const glm::ivec3 dimmed = to8(glm::mix(style().route_color, glm::vec3(0.6f), 0.65f));
+    Coverage c;
+    for (std::size_t i = 0; i + 1 < r.points.size(); ++i) {
+        const glm::dvec2 a(r.points[i]), b(r.points[i + 1]);
+        for (double t = 0.02; t < 0.98; t += 0.02) {
+            const glm::dvec2 p = a + t * (b - a);
+            const double measure = r.measure_m[i] + t * (r.measure_m[i + 1] - r.measure_m[i]);
+            if (std::abs(measure - progress) < 10.0) continue;  // the dimming edge
+            ++c.samples;
+            const glm::ivec3 px = s.at({p.x, p.y, surface(p.x - kOrigin.x, p.y - kOrigin.y)});
+            if (near(px, measure < progress ? dimmed : fill, 24)) {
+                ++c.visible;
+            } else {
+                ADD_FAILURE() << "route sample at " << p.x - kOrigin.x << ", " << p.y - kOrigin.y << " (measure " << measure
+                              << " m) shows " << px.x << " " << px.y << " " << px.z;
+            }
+        }
+    }
+    return c;
+}
+
+struct Tiles {
+    std::shared_ptr<const map::Tile> coarse = tileOf({5, 10, 12}, 0.0, 0.0, 1000.0, 9);  // 125 m spacing
+    std::vector<std::shared_ptr<const map::Tile>> fine = {
+        tileOf({6, 20, 24}, 0.0, 0.0, 500.0, 33), tileOf({6, 21, 24}, 500.0, 0.0, 500.0, 33),
+        tileOf({6, 20, 25}, 0.0, 500.0, 500.0, 33), tileOf({6, 21, 25}, 500.0, 500.0, 500.0, 33)};
+
+    double coarseHeight(double x, double y) const { return buildTileMesh(*coarse).grid().heightAt(x, y); }
+    double fineHeight(double x, double y) const {
+        const int i = (x >= 500.0 ? 1 : 0) + (y >= 500.0 ? 2 : 0);
+        return buildTileMesh(*fine[i]).grid().heightAt(x - (i & 1) * 500.0, y - (i >> 1) * 500.0);
+    }
+};
+
+TEST(RouteDrapeGpu, VisibleAlongTheWholeRouteOnCoarseAndFineTiles) {
+    const Tiles t;
+    const RouteGeometry r = route();
+    const double progress = 0.4 * r.measure_m.back();
+    const Shot coarse = renderTiles({t.coarse}, r, progress);
+    const Coverage cc = routeCoverage(coarse, r, progress, [&](double x, double y) { return t.coarseHeight(x, y); });
+    const Shot fine = renderTiles(t.fine, r, progress);
+    const Coverage fc = routeCoverage(fine, r, progress, [&](double x, double y) { return t.fineHeight(x, y); });
+    if (cc.visible != cc.samples) (void)writePng("route_drape_coarse.png", coarse.image, nullptr);
+    if (fc.visible != fc.samples) (void)writePng("route_drape_fine.png", fine.image, nullptr);
+    EXPECT_GT(cc.samples, 80);
+    EXPECT_EQ(cc.visible, cc.samples) << "route hidden under the coarse terrain (or not dimmed where driven)";
+    EXPECT_EQ(fc.visible, fc.samples) << "route hidden under the fine terrain (or not dimmed where driven)";
+}
+
+TEST(RouteDrapeGpu, FollowsTheTerrainWhileFineTilesAreMorphedToTheCoarseLevel) {
+    const Tiles t;
+    const RouteGeometry r = route();
+    // Every vertex beyond the range end: the fine tiles show the coarse tile's surface.
+    std::vector<TileMorph> morph(4);
+    for (auto& m : morph) {
+        m.ancestors[0] = t.coarse;
+        m.start_m[0] = 1.0f;  // only the first slot: the coarse tile has no ancestors here
+        m.end_m[0] = 2.0f;
+    }
+    const Shot s = renderTiles(t.fine, r, 0.0, morph);
+    const Coverage c = routeCoverage(s, r, 0.0, [&](double x, double y) { return t.coarseHeight(x, y); });
+    if (c.visible != c.samples) (void)writePng("route_drape_morphed.png", s.image, nullptr);
+    EXPECT_GT(c.samples, 80);
+    EXPECT_EQ(c.visible, c.samples) << "route does not follow the morphed terrain";
+    // And the terrain really is the coarse one: the morphed image matches the coarse tile's.
+    const Shot coarse = renderTiles({t.coarse}, r, 0.0);
+    double diff = 0.0;
+    for (std::size_t i = 0; i < s.image.rgba.size(); i += 4)
+        for (int k = 0; k < 3; ++k) diff += std::abs(int(s.image.rgba[i + k]) - int(coarse.image.rgba[i + k]));
+    diff /= 3.0 * (s.image.rgba.size() / 4);
+    EXPECT_LT(diff, 1.0) << "fully morphed fine tiles differ from their parent by " << diff << " per channel";
+}
+
+}  // namespace
