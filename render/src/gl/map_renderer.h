@@ -37,6 +37,10 @@ private:
     GpuTile* upload(const std::shared_ptr<const map::Tile>& tile);
     void rasterizeLandCover(GpuTile& gpu, const TileMesh& mesh);
     void updateRoute(const RouteGeometry& route);
+    /// Binds the shared quad index buffer to the bound vertex array, grown to `quads` quads.
+    void bindQuadIndices(std::size_t quads);
+    /// Draws quads [first, first + count) of the bound road vertex array.
+    static void drawQuads(GLsizei first, GLsizei count);
     void setRoadUniforms(ShaderProgram& program, int pass, bool route);
     void drawMarker(const MapFrame& frame, const RenderTarget& target);
     void evict();
@@ -55,6 +59,8 @@ private:
     GLuint m_empty_vao = 0;
     GLuint m_marker_vao = 0;
     GLuint m_marker_vbo = 0;
+    GLuint m_quad_ibo = 0;  // two triangles per road quad, shared by every road vertex array
+    std::size_t m_quad_capacity = 0;
     std::unordered_map<std::uint64_t, std::unique_ptr<GpuTile>> m_tiles;
     std::unique_ptr<GpuRoute> m_route;
     std::uint64_t m_frame = 0;
