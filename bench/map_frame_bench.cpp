@@ -13,6 +13,7 @@
 
 #include "navmap/render/map_scene.h"
 #include "navmap/render/renderer.h"
+#include "navmap/render/tile_mesh.h"
 
 namespace {
 
@@ -38,10 +39,7 @@ Flight& flight() {
 }
 
 // The cameras of one profile along the flight, with every tile they need resident.
-struct Shot {
-    Camera camera;
-    VehiclePose pose;
-};
+using Shot = DriveScene::Shot;
 
 std::vector<Shot> shots(const Profile& p, int count) {
     Flight& f = flight();
@@ -51,8 +49,7 @@ std::vector<Shot> shots(const Profile& p, int count) {
     const double length = f.drive.line.back().measure_m;
     for (int i = 0; i < count; ++i) {
         const double m = length * (0.05 + 0.9 * i / count);
-        const auto shot = f.settle(rig, m, 14.0, double(p.width) / p.height, p.height, std::chrono::seconds(30));
-        out.push_back({shot.camera, shot.pose});
+        out.push_back(f.settle(rig, m, 14.0, double(p.width) / p.height, p.height, std::chrono::seconds(30)));
     }
     return out;
 }
@@ -76,12 +73,7 @@ RendererOptions optionsFor(const Profile& p) {
 }
 
 MapFrame frameFor(const Profile& p, const Shot& s, const MapLayers& layers) {
-    Flight& f = flight();
-    MapFrame frame;
-    frame.camera = s.camera;
-    frame.tiles = f.view->tilesFor(s.camera, double(p.width) / p.height, p.height);
-    frame.route = &f.drive.geometry;
-    frame.marker = MarkerState{s.pose.position, s.pose.heading_deg, false};
+    MapFrame frame = flight().frameFor(s, double(p.width) / p.height, p.height);
     frame.layers = layers;
     return frame;
 }
@@ -178,6 +170,36 @@ void roadsVsTerrain(benchmark::State& state) {
     state.SetLabel(p.name);
 }
 
+// seed 3.6.1 clipped roads at every triangle edge and saw about 10x the vertices. Counts over
+// every tile of the store: polyline vertices as stored, pieces after draping, pieces after merging
+// within the default tolerance (TileMeshOptions::road_merge_tolerance_m); the time is the mesh
+// build of all tiles with the default options (done at tile-load time).
+void drapingGrowth(benchmark::State& state) {
+    const auto& store = *flight().scene.store;
+    std::vector<std::shared_ptr<const navmap::map::Tile>> tiles;
+    for (const auto id : store.tileIds()) {
+        if (auto r = store.load(id); r.tile) tiles.push_back(r.tile);
+    }
+    TileMeshOptions every_piece;
+    every_piece.road_merge_tolerance_m = 0.0;
+    double source = 0, draped = 0, merged = 0;
+    for (const auto& t : tiles) draped += double(buildTileMesh(*t, every_piece).roads.size());
+    for (auto _ : state) {
+        source = merged = 0;
+        for (const auto& t : tiles) {
+            const TileMesh m = buildTileMesh(*t);
+            source += double(m.source_road_vertices);
+            merged += double(m.roads.size());
+        }
+    }
+    state.counters["tiles"] = double(tiles.size());
+    state.counters["source_vertices"] = source;
+    state.counters["draped_pieces"] = draped;
+    state.counters["merged_pieces"] = merged;
+    state.counters["growth_draped"] = source > 0 ? draped / source : 0.0;
+    state.counters["growth_merged"] = source > 0 ? merged / source : 0.0;
+}
+
 void profilesAndSteps(benchmark::internal::Benchmark* b) {
     for (int p = 0; p < 3; ++p)
         for (int s = 0; s < 4; ++s) b->Args({p, s});
@@ -190,5 +212,6 @@ void profilesOnly(benchmark::internal::Benchmark* b) {
 BENCHMARK(mapFrame)->Apply(profilesAndSteps);
 BENCHMARK(mapPasses)->Apply(profilesOnly);
 BENCHMARK(roadsVsTerrain)->Apply(profilesOnly);
+BENCHMARK(drapingGrowth)->Unit(benchmark::kMillisecond)->Iterations(1);
 
 }  // namespace

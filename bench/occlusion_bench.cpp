@@ -43,10 +43,7 @@ DriveScene& flight() {
 
 // Cameras every 150 m over the first 2.4 km of the drive (the town centre), bird's-eye at
 // standstill: the closest bird's-eye view, where buildings hide roads and labels.
-struct Shot {
-    Camera camera;
-    VehiclePose pose;
-};
+using Shot = DriveScene::Shot;
 std::vector<Shot> shots(const Size& s) {
     DriveScene& f = flight();
     CameraRig rig;
@@ -55,18 +52,14 @@ std::vector<Shot> shots(const Size& s) {
     const double length = f.drive.line.empty() ? 0.0 : f.drive.line.back().measure_m;
     for (double m = 150.0; m <= std::min(2400.0, length); m += 150.0) {
         const auto shot = f.settle(rig, m, 0.0, double(s.width) / s.height, s.height, std::chrono::seconds(30));
-        out.push_back({shot.camera, shot.pose});
+        out.push_back(shot);
     }
     return out;
 }
 
 MapFrame frameFor(const Size& s, const Shot& shot, Variant v) {
     DriveScene& f = flight();
-    MapFrame frame;
-    frame.camera = shot.camera;
-    frame.tiles = f.view->tilesFor(shot.camera, double(s.width) / s.height, s.height);
-    frame.route = &f.drive.geometry;
-    frame.marker = MarkerState{shot.pose.position, shot.pose.heading_deg, false};
+    MapFrame frame = f.frameFor(shot, double(s.width) / s.height, s.height);
     frame.layers.labels = true;
     frame.layers.label_aura = v == Aura;
     frame.layers.glow_roads = v == GlowSingle || v == GlowRoad;

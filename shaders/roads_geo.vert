@@ -41,8 +41,9 @@ void main() {
     vec2 t = len > 1e-6 ? d / len : vec2(1.0, 0.0);
     vec2 n = vec2(-t.y, t.x);
     // Triangle strip corners: 0 (-,+) 1 (-,-) 2 (+,+) 3 (+,-).
-    float sx = gl_VertexID >= 2 ? 1.0 : -1.0;
-    float sy = (gl_VertexID == 0 || gl_VertexID == 2) ? 1.0 : -1.0;
+    int corner = gl_VertexID & 3;  // 4 vertices per quad, or a 4-vertex strip per instance
+    float sx = corner >= 2 ? 1.0 : -1.0;
+    float sy = (corner == 0 || corner == 2) ? 1.0 : -1.0;
     vec3 base = sx < 0.0 ? a_p0 : a_p1;
     // Q_i = P +- n' +- t' with n' = 0.5 w n, t' = 0.5 w t (seed 3.4).
     vec3 pos = base + vec3(0.5 * width * (sy * n + sx * t), 0.0);

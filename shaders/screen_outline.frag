@@ -1,23 +1,23 @@
 // seed 3.6.3 "Outlines": edge strength = local maximum of road intensity in a 3x3 neighbourhood
-// minus the intensity here, blended dark over the scene. The 3x3 maximum is taken from four
-// bilinear fetches at the diagonal half-texel offsets: each averages a 2x2 block and together
-// they cover the 3x3 neighbourhood, so a road anywhere around shows up (scaled back to [0, 1]).
-in vec2 v_uv;
-
-uniform sampler2D u_road_mask;  // linear filtering
+// minus the intensity here, blended dark over the scene. Unfiltered texel fetches: on llvmpipe a
+// bilinear fetch costs about four of them.
+uniform sampler2D u_road_mask;
 uniform vec3 u_outline_color;
 uniform float u_strength;
 
 out vec4 o_color;
 
 void main() {
-    vec2 texel = 1.0 / vec2(textureSize(u_road_mask, 0));
-    float here = texture(u_road_mask, v_uv).r;
-    float m = max(max(texture(u_road_mask, v_uv + vec2(-0.5, -0.5) * texel).r,
-                      texture(u_road_mask, v_uv + vec2(0.5, -0.5) * texel).r),
-                  max(texture(u_road_mask, v_uv + vec2(-0.5, 0.5) * texel).r,
-                      texture(u_road_mask, v_uv + vec2(0.5, 0.5) * texel).r));
-    float edge = clamp(min(4.0 * m, 1.0) - here, 0.0, 1.0) * u_strength;
+    ivec2 p = ivec2(gl_FragCoord.xy);
+    ivec2 hi = textureSize(u_road_mask, 0) - 1;
+    float here = texelFetch(u_road_mask, p, 0).r;
+    float m = 0.0;
+    for (int dy = -1; dy <= 1; ++dy) {
+        for (int dx = -1; dx <= 1; ++dx) {
+            m = max(m, texelFetch(u_road_mask, clamp(p + ivec2(dx, dy), ivec2(0), hi), 0).r);
+        }
+    }
+    float edge = clamp(m - here, 0.0, 1.0) * u_strength;
     if (edge <= 0.0) discard;
     o_color = vec4(u_outline_color, edge);
 }

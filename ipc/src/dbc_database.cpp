@@ -332,36 +332,33 @@ private:
         } else if (!lex.accept('+')) {
             return fail(line, sg + ": expected + (unsigned) or - (signed)");
         }
-        if (!lex.accept('(')) {
-            return fail(line, sg + ": expected (factor,offset)");
-        }
-        const auto factor = lex.number();
-        if (!factor || !lex.accept(',')) {
-            return fail(line, sg + ": bad factor in (factor,offset)");
-        }
-        const auto offset = lex.number();
-        if (!offset || !lex.accept(')')) {
-            return fail(line, sg + ": bad offset in (factor,offset)");
-        }
-        if (!lex.accept('[')) {
-            return fail(line, sg + ": expected [min|max]");
-        }
-        const auto minimum = lex.number();
-        if (!minimum || !lex.accept('|')) {
-            return fail(line, sg + ": bad minimum in [min|max]");
-        }
-        const auto maximum = lex.number();
-        if (!maximum || !lex.accept(']')) {
-            return fail(line, sg + ": bad maximum in [min|max]");
+        // (factor,offset) [min|max]: each number with the punctuation around it.
+        const struct {
+            char open;  // 0: none
+            double* value;
+            char close;
+            const char* missing_open;
+            const char* bad_value;
+        } numbers[] = {
+            {'(', &s.factor, ',', "expected (factor,offset)", "bad factor in (factor,offset)"},
+            {0, &s.offset, ')', nullptr, "bad offset in (factor,offset)"},
+            {'[', &s.minimum, '|', "expected [min|max]", "bad minimum in [min|max]"},
+            {0, &s.maximum, ']', nullptr, "bad maximum in [min|max]"},
+        };
+        for (const auto& n : numbers) {
+            if (n.open != 0 && !lex.accept(n.open)) {
+                return fail(line, sg + ": " + n.missing_open);
+            }
+            const auto v = lex.number();
+            if (!v || !lex.accept(n.close)) {
+                return fail(line, sg + ": " + n.bad_value);
+            }
+            *n.value = *v;
         }
         const auto unit = lex.quoted();
         if (!unit) {
             return fail(line, sg + ": expected a quoted unit");
         }
-        s.factor = *factor;
-        s.offset = *offset;
-        s.minimum = *minimum;
-        s.maximum = *maximum;
         s.unit = *unit;
         if (s.bytesNeeded() > msg.size) {
             return fail(line, sg + ": bits " + std::to_string(s.startBit) + "|" + std::to_string(s.length) +

@@ -50,6 +50,7 @@ DriveScene::Shot DriveScene::settle(CameraRig& rig, double measure_m, double spe
                                     int viewport_height, std::chrono::milliseconds timeout) {
     const auto terrain = [&](double x, double y) { return view->terrainHeight(x, y); };
     Shot shot;
+    shot.measure_m = measure_m;
     shot.pose = poseAlong(drive, measure_m, speed_mps);
     shot.camera = rig.update(shot.pose, 0.0);
     for (int i = 0; i < 3; ++i) {
@@ -59,6 +60,16 @@ DriveScene::Shot DriveScene::settle(CameraRig& rig, double measure_m, double spe
     }
     for (auto& p : drive.geometry.points) p.z = terrain(p.x, p.y);
     return shot;
+}
+
+MapFrame DriveScene::frameFor(const Shot& shot, double aspect, int viewport_height) const {
+    MapFrame frame;
+    frame.camera = shot.camera;
+    frame.route = &drive.geometry;
+    frame.route_progress_m = shot.measure_m;
+    frame.marker = MarkerState{shot.pose.position, shot.pose.heading_deg, false};
+    view->select(frame, aspect, viewport_height);  // tiles and their geomorph, as navmapd draws them
+    return frame;
 }
 
 }  // namespace navmap::render

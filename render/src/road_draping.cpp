@@ -157,4 +157,36 @@ std::vector<glm::dvec3> drapePolyline(const HeightGrid& grid, std::span<const gl
     return out;
 }
 
+std::vector<glm::dvec3> mergeDrapedPieces(std::span<const glm::dvec3> draped, double max_height_error_m) {
+    constexpr double kPlanarTolerance = 0.01;  // metres off the 2D chord
+    std::vector<glm::dvec3> out;
+    if (draped.empty()) return out;
+    out.push_back(draped.front());
+    std::size_t anchor = 0;
+    // Can the chord anchor -> end replace every vertex strictly between them?
+    auto chordHolds = [&](std::size_t end) {
+        const glm::dvec3 a = draped[anchor], b = draped[end];
+        const glm::dvec2 d = glm::dvec2(b) - glm::dvec2(a);
+        const double len2 = glm::dot(d, d);
+        if (len2 <= 0.0) return false;
+        for (std::size_t j = anchor + 1; j < end; ++j) {
+            const glm::dvec2 v = glm::dvec2(draped[j]) - glm::dvec2(a);
+            const double t = glm::dot(v, d) / len2;
+            if (t <= 0.0 || t >= 1.0) return false;
+            const double off = std::abs(v.x * d.y - v.y * d.x) / std::sqrt(len2);
+            if (off > kPlanarTolerance) return false;
+            if (std::abs(a.z + t * (b.z - a.z) - draped[j].z) > max_height_error_m) return false;
+        }
+        return true;
+    };
+    for (std::size_t i = 2; i < draped.size(); ++i) {
+        if (!chordHolds(i)) {
+            out.push_back(draped[i - 1]);
+            anchor = i - 1;
+        }
+    }
+    if (draped.size() > 1) out.push_back(draped.back());
+    return out;
+}
+
 }  // namespace navmap::render

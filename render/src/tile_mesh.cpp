@@ -248,6 +248,7 @@ TileMesh buildTileMesh(const map::Tile& tile, const TileMeshOptions& options, st
             }
         } else {
             draped = drapePolyline(grid, line);
+            if (options.road_merge_tolerance_m > 0.0) draped = mergeDrapedPieces(draped, options.road_merge_tolerance_m);
         }
         // Least important first so more important classes overwrite them at junctions
         // (seed 3.6.3 "Intersections"); bridges after everything.

@@ -33,14 +33,7 @@ Image renderView(ViewMode mode, const MapLayers& layers, MapFrameStats* stats = 
     // Place the car 1.8 km into the drive (Escaldes), camera settled.
     const auto shot = f.settle(rig, 1800.0, 13.0, double(kW) / kH, kH);
     EXPECT_TRUE(shot.complete);
-    const Camera& cam = shot.camera;
-    const VehiclePose& pose = shot.pose;
-    MapFrame frame;
-    frame.camera = cam;
-    frame.tiles = f.view->tilesFor(cam, double(kW) / kH, kH);
-    frame.route = &f.drive.geometry;
-    frame.route_progress_m = 1800.0;
-    frame.marker = MarkerState{pose.position, pose.heading_deg, false};
+    MapFrame frame = f.frameFor(shot, double(kW) / kH, kH);
     frame.layers = layers;
     renderer->renderMap(frame);
     if (stats) *stats = renderer->mapStats();

@@ -36,14 +36,7 @@ MapFrame settledFrame(ViewMode mode) {
     rig.setMode(mode);
     const auto shot = f.settle(rig, 1800.0, 13.0, double(kW) / kH, kH);
     EXPECT_TRUE(shot.complete);
-    const Camera& cam = shot.camera;
-    const VehiclePose& pose = shot.pose;
-    MapFrame frame;
-    frame.camera = cam;
-    frame.tiles = f.view->tilesFor(cam, double(kW) / kH, kH);
-    frame.route = &f.drive.geometry;
-    frame.route_progress_m = 1800.0;
-    frame.marker = MarkerState{pose.position, pose.heading_deg, false};
+    MapFrame frame = f.frameFor(shot, double(kW) / kH, kH);
     frame.layers.labels = true;
     frame.frame_dt_s = 1.0 / 30.0;
     return frame;

@@ -46,12 +46,7 @@ MapFrame frameAt(ViewMode mode, double measure, double speed_mps = 13.0) {
     rig.setMode(mode);
     const auto shot = f.settle(rig, measure, speed_mps, double(kW) / kH, kH);
     EXPECT_TRUE(shot.complete);
-    MapFrame frame;
-    frame.camera = shot.camera;
-    frame.tiles = f.view->tilesFor(shot.camera, double(kW) / kH, kH);
-    frame.route = &f.drive.geometry;
-    frame.route_progress_m = measure;
-    frame.marker = MarkerState{shot.pose.position, shot.pose.heading_deg, false};
+    MapFrame frame = f.frameFor(shot, double(kW) / kH, kH);
     frame.frame_dt_s = 1.0 / 30.0;
     return frame;
 }

@@ -147,6 +147,51 @@ TEST(RoadClipping, AxisAlignedAndVertexCrossingLinesTerminate) {
     }
 }
 
+TEST(RoadMerging, APlaneNeedsOnePiecePerStraightSegment) {
+    // A tilted plane: draping cuts the road at every triangle edge, yet every piece lies on one plane.
+    std::vector<float> heights(17 * 17);
+    for (int r = 0; r < 17; ++r)
+        for (int c = 0; c < 17; ++c) heights[static_cast<std::size_t>(r) * 17 + c] = static_cast<float>(500.0 + 2.0 * c - 1.5 * r);
+    const HeightGrid plane{17, 30.0, heights.data()};
+    const std::vector<glm::dvec2> line{{5.0, 7.0}, {200.0, 130.0}, {410.0, 55.0}};
+    const auto draped = drapePolyline(plane, line);
+    ASSERT_GT(draped.size(), 30u);
+    const auto merged = mergeDrapedPieces(draped, 0.01);
+    ASSERT_EQ(merged.size(), 3u) << "the corner of the polyline must stay, every edge crossing must go";
+    EXPECT_DOUBLE_EQ(merged[1].x, 200.0);
+    EXPECT_DOUBLE_EQ(merged[1].y, 130.0);
+    for (const auto& p : merged) EXPECT_NEAR(p.z, plane.heightAt(p.x, p.y), 1e-6);
+}
+
+TEST(RoadMerging, StaysWithinTheToleranceOfTheSurfaceAndKeepsTheShape) {
+    const Grid g = bumpyGrid(33, 10.0);
+    const std::vector<glm::dvec2> line{{3.0, 3.0}, {300.0, 17.0}, {150.0, 290.0}};
+    const auto draped = drapePolyline(g.view, line);
+    std::size_t previous = draped.size() + 1;
+    for (const double tol : {0.0, 0.5, 3.0, 20.0}) {
+        const auto merged = mergeDrapedPieces(draped, tol);
+        ASSERT_GE(merged.size(), 3u);
+        EXPECT_LT(merged.size(), previous) << "a larger tolerance merges more (tolerance " << tol << ")";
+        previous = merged.size();
+        // Every draped vertex (on the surface) lies on the merged 2D path, within the tolerance
+        // of the height of the merged piece over it.
+        for (const auto& p : draped) {
+            double best = 1e9, dz = 0.0;
+            for (std::size_t k = 0; k + 1 < merged.size(); ++k) {
+                const glm::dvec2 a(merged[k]), b(merged[k + 1]);
+                const double t = std::clamp(glm::dot(glm::dvec2(p) - a, b - a) / glm::dot(b - a, b - a), 0.0, 1.0);
+                const double d = glm::length(glm::dvec2(p) - (a + t * (b - a)));
+                if (d < best) {
+                    best = d;
+                    dz = std::abs(merged[k].z + t * (merged[k + 1].z - merged[k].z) - p.z);
+                }
+            }
+            EXPECT_LT(best, 0.011);
+            EXPECT_LE(dz, tol + 1e-9) << "tolerance " << tol << " at (" << p.x << ", " << p.y << ")";
+        }
+    }
+}
+
 TEST(RoadClipping, GridIndicesUseTheSameSplit) {
     const auto idx = gridTriangleIndices(3);
     ASSERT_EQ(idx.size(), 2u * 2u * 6u);

@@ -538,12 +538,7 @@ TEST_P(SvGolden, MatchesGolden) {
     rig.setMode(mode);
     const auto shot = f.settle(rig, 1800.0, 13.0, double(w) / h, h);
     EXPECT_TRUE(shot.complete);
-    MapFrame frame;
-    frame.camera = shot.camera;
-    frame.tiles = f.view->tilesFor(shot.camera, double(w) / h, h);
-    frame.route = &f.drive.geometry;
-    frame.route_progress_m = 1800.0;
-    frame.marker = MarkerState{shot.pose.position, shot.pose.heading_deg, false};
+    MapFrame frame = f.frameFor(shot, double(w) / h, h);
     frame.layers.buildings = frame.layers.route = frame.layers.marker = full;
     frame.layers.road_technique = RoadTechnique::ShadowVolume;
     renderer->renderMap(frame);

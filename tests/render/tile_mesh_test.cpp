@@ -56,9 +56,15 @@ TEST(TileMesh, RoadsAreDrapedOrderedAndTunnelsHidden) {
     tunnel.flags = map::RoadFlags::Tunnel;
     tunnel.points = {{400, 10}, {400, 790}};
     t.roads = {major, tunnel, minor};  // store order: most important first
-    const render::TileMesh m = render::buildTileMesh(t);
+    render::TileMeshOptions every_piece;
+    every_piece.road_merge_tolerance_m = 0.0;
+    const render::TileMesh m = render::buildTileMesh(t, every_piece);
     EXPECT_EQ(m.source_road_vertices, 6u);
     ASSERT_GT(m.roads.size(), 40u) << "draping inserts a vertex per triangle edge crossed";
+    // By default pieces merge while they stay within the tolerance of the surface.
+    const render::TileMesh merged = render::buildTileMesh(t);
+    EXPECT_LT(merged.roads.size(), m.roads.size());
+    EXPECT_GT(merged.roads.size(), 2u);
     // Least important first, tunnels absent.
     float last = 99.0f;
     for (const auto& r : m.roads) {

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdio>
+#include <span>
 #include <vector>
 
 #include <glm/gtc/type_ptr.hpp>
@@ -31,7 +32,7 @@ double msSince(Clock::time_point t) { return std::chrono::duration<double, std::
 
 // RoadInstance: p0 (3), p1 (3), class, flags, measure0, measure1: one instance per segment.
 // `first` offsets the pointers, since ES 3.0 has no base instance for instanced draws.
-void setupRoadInstanceAttributes(GLsizei first = 0) {
+void setupRoadInstanceAttributes(GLsizei first = 0, GLuint divisor = 1) {
     const auto stride = static_cast<GLsizei>(sizeof(RoadInstance));
     const std::size_t base = static_cast<std::size_t>(first) * sizeof(RoadInstance);
     auto at = [&](std::size_t offset) { return reinterpret_cast<const void*>(base + offset); };
@@ -45,7 +46,18 @@ void setupRoadInstanceAttributes(GLsizei first = 0) {
     glVertexAttribPointer(3, 1, GL_FLOAT, GL_FALSE, stride, at(offsetof(RoadInstance, flags)));
     glEnableVertexAttribArray(4);
     glVertexAttribPointer(4, 2, GL_FLOAT, GL_FALSE, stride, at(offsetof(RoadInstance, measure0)));
-    for (GLuint i = 0; i <= 4; ++i) glVertexAttribDivisor(i, 1);
+    for (GLuint i = 0; i <= 4; ++i) glVertexAttribDivisor(i, divisor);
+}
+
+// Road pieces as plain quads: each RoadInstance repeated for the four corners (the shader takes
+// the corner from gl_VertexID & 3) and one shared index buffer of two triangles per quad.
+// llvmpipe runs an instanced draw as one small draw per instance, which made the vertex side
+// three quarters of the road pass; one indexed draw per tile and pass avoids that.
+std::vector<RoadInstance> quadVertices(std::span<const RoadInstance> pieces) {
+    std::vector<RoadInstance> out;
+    out.reserve(pieces.size() * 4);
+    for (const RoadInstance& r : pieces) out.insert(out.end(), 4, r);
+    return out;
 }
 
 }  // namespace
@@ -130,6 +142,7 @@ MapRenderer::~MapRenderer() {
     glDeleteVertexArrays(1, &m_empty_vao);
     glDeleteVertexArrays(1, &m_marker_vao);
     glDeleteBuffers(1, &m_marker_vbo);
+    glDeleteBuffers(1, &m_quad_ibo);
 }
 
 MapRenderer::GpuTile* MapRenderer::upload(const std::shared_ptr<const map::Tile>& tile, const TileMorph* morph) {
@@ -186,9 +199,11 @@ MapRenderer::GpuTile* MapRenderer::upload(const std::shared_ptr<const map::Tile>
         glGenBuffers(1, &gpu->roads_vbo);
         glBindVertexArray(gpu->roads_vao);
         glBindBuffer(GL_ARRAY_BUFFER, gpu->roads_vbo);
-        glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(mesh.roads.size() * sizeof(RoadInstance)),
-                     mesh.roads.data(), GL_STATIC_DRAW);
-        setupRoadInstanceAttributes();
+        const auto quads = quadVertices(mesh.roads);
+        glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(quads.size() * sizeof(RoadInstance)), quads.data(),
+                     GL_STATIC_DRAW);
+        setupRoadInstanceAttributes(0, 0);
+        bindQuadIndices(mesh.roads.size());
         gpu->road_count = static_cast<GLsizei>(mesh.roads.size());
         gpu->class_first.fill(gpu->road_count);
         gpu->bridge_first = gpu->road_count;
@@ -279,6 +294,27 @@ void MapRenderer::rasterizeLandCover(GpuTile& gpu, const TileMesh& mesh) {
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }
 
+void MapRenderer::bindQuadIndices(std::size_t quads) {
+    if (!m_quad_ibo) glGenBuffers(1, &m_quad_ibo);
+    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, m_quad_ibo);  // recorded in the bound vertex array
+    if (quads <= m_quad_capacity) return;
+    // Grown in place under the same name, so vertex arrays made before keep working.
+    m_quad_capacity = std::max<std::size_t>(quads, 2 * m_quad_capacity);
+    std::vector<std::uint32_t> indices;
+    indices.reserve(m_quad_capacity * 6);
+    for (std::uint32_t q = 0; q < m_quad_capacity; ++q) {
+        const std::uint32_t v = 4 * q;  // corners 0 (-,+) 1 (-,-) 2 (+,+) 3 (+,-)
+        indices.insert(indices.end(), {v, v + 1, v + 2, v + 2, v + 1, v + 3});
+    }
+    glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(indices.size() * sizeof(std::uint32_t)), indices.data(),
+                 GL_STATIC_DRAW);
+}
+
+void MapRenderer::drawQuads(GLsizei first, GLsizei count) {
+    const auto offset = static_cast<std::size_t>(first) * 6 * sizeof(std::uint32_t);
+    glDrawElements(GL_TRIANGLES, count * 6, GL_UNSIGNED_INT, reinterpret_cast<const void*>(offset));
+}
+
 void MapRenderer::updateRoute(GpuTile& g, const RouteGeometry& route, const Camera& camera) {
     // Draped per tile against the grid it is drawn with (seed 3.6.1), so the route lies on the
     // terrain at every level of detail; redone when the route or the tile's upload changes.
@@ -305,7 +341,7 @@ void MapRenderer::updateRoute(GpuTile& g, const RouteGeometry& route, const Came
             glGenBuffers(1, &g.route_vbo);
             glBindVertexArray(g.route_vao);
             glBindBuffer(GL_ARRAY_BUFFER, g.route_vbo);
-            setupRoadInstanceAttributes();
+            setupRoadInstanceAttributes(0, 0);
             glBindVertexArray(0);
         }
     } else if (g.route_pieces.empty() || (g.morph.end_m[0] <= 0.0f && !g.route_morphed)) {
@@ -315,9 +351,13 @@ void MapRenderer::updateRoute(GpuTile& g, const RouteGeometry& route, const Came
     // The pieces follow the terrain's geomorph (the same factor per vertex as terrain_tile.vert).
     const glm::vec2 eye(static_cast<float>(camera.eye.x - g.origin.x), static_cast<float>(camera.eye.y - g.origin.y));
     morphRoute(g.route_pieces, g.morph, eye, g.route_instances);
+    const auto quads = quadVertices(g.route_instances);
+    glBindVertexArray(g.route_vao);
+    bindQuadIndices(g.route_instances.size());
     glBindBuffer(GL_ARRAY_BUFFER, g.route_vbo);
-    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(g.route_instances.size() * sizeof(RoadInstance)),
-                 g.route_instances.data(), GL_STREAM_DRAW);
+    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(quads.size() * sizeof(RoadInstance)), quads.data(),
+                 GL_STREAM_DRAW);
+    glBindVertexArray(0);
     glBindBuffer(GL_ARRAY_BUFFER, 0);
     g.route_count = static_cast<GLsizei>(g.route_instances.size());
 }
@@ -329,7 +369,7 @@ void MapRenderer::drawRoute(const std::vector<GpuTile*>& tiles, const Camera& ca
         const glm::mat4 view = camera.viewRelativeTo(g->origin);
         glUniformMatrix4fv(m_roads.uniform("u_view"), 1, GL_FALSE, glm::value_ptr(view));
         glBindVertexArray(g->route_vao);
-        glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, g->route_count);
+        drawQuads(0, g->route_count);
     }
 }
 
@@ -417,6 +457,18 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target) {
     m_stats.new_flat_tiles = std::move(m_new_flat_tiles);
     m_new_flat_tiles.clear();
     m_stats.tiles_drawn = tiles.size();
+    // Nearest tiles first: the terrain and buildings of near tiles then hide most of what lies
+    // behind them before it is shaded (llvmpipe tests depth before running the fragment shader).
+    {
+        const glm::dvec3 eye = frame.camera.eye;
+        auto distance2 = [&](const GpuTile* g) {
+            const glm::dvec2 c = glm::dvec2(g->origin) + 0.5 * static_cast<double>(g->size_m);
+            const glm::dvec2 d = c - glm::dvec2(eye);
+            return d.x * d.x + d.y * d.y;
+        };
+        std::stable_sort(tiles.begin(), tiles.end(),
+                         [&](const GpuTile* a, const GpuTile* b) { return distance2(a) < distance2(b); });
+    }
     if (frame.route && frame.layers.route) {
         for (GpuTile* g : tiles) updateRoute(*g, *frame.route, frame.camera);
     }
@@ -521,12 +573,9 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target) {
                         if (m_style.roads.classes[c].casing_m > 0.0f) first = std::min(first, g->class_first[c]);
                     }
                     if (first >= g->road_count) continue;
-                    glBindBuffer(GL_ARRAY_BUFFER, g->roads_vbo);
-                    setupRoadInstanceAttributes(first);
-                    glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, g->road_count - first);
-                    setupRoadInstanceAttributes(0);
+                    drawQuads(first, g->road_count - first);
                 } else {
-                    glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, g->road_count);
+                    drawQuads(0, g->road_count);
                     m_stats.road_segments += static_cast<std::size_t>(g->road_count);
                 }
             }
@@ -630,7 +679,7 @@ void MapRenderer::runOcclusionEffects(const MapFrame& frame, const RenderTarget&
                     const glm::mat4 view = frame.camera.viewRelativeTo(g->origin);
                     glUniformMatrix4fv(m_roads.uniform("u_view"), 1, GL_FALSE, glm::value_ptr(view));
                     glBindVertexArray(g->roads_vao);
-                    glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, g->road_count);
+                    drawQuads(0, g->road_count);
                 }
             }
             if (frame.layers.route && frame.route) {
@@ -656,7 +705,7 @@ void MapRenderer::runOcclusionEffects(const MapFrame& frame, const RenderTarget&
                     const glm::mat4 view = frame.camera.viewRelativeTo(g->origin);
                     glUniformMatrix4fv(p.uniform("u_view"), 1, GL_FALSE, glm::value_ptr(view));
                     glBindVertexArray(g->roads_vao);
-                    glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, g->road_count);
+                    drawQuads(0, g->road_count);
                 }
             }
             if (frame.layers.route && frame.route) {
@@ -667,7 +716,7 @@ void MapRenderer::runOcclusionEffects(const MapFrame& frame, const RenderTarget&
                     const glm::mat4 view = frame.camera.viewRelativeTo(g->origin);
                     glUniformMatrix4fv(p.uniform("u_view"), 1, GL_FALSE, glm::value_ptr(view));
                     glBindVertexArray(g->route_vao);
-                    glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, g->route_count);
+                    drawQuads(0, g->route_count);
                 }
             }
         };

@@ -57,6 +57,10 @@ private:
     void updateRoute(GpuTile& tile, const RouteGeometry& route, const Camera& camera);
     /// Route pieces of `tiles`, with the road program bound and its uniforms set.
     void drawRoute(const std::vector<GpuTile*>& tiles, const Camera& camera);
+    /// Binds the shared quad index buffer to the bound vertex array, grown to `quads` quads.
+    void bindQuadIndices(std::size_t quads);
+    /// Draws quads [first, first + count) of the bound road vertex array.
+    static void drawQuads(GLsizei first, GLsizei count);
     void setRoadUniforms(ShaderProgram& program, int pass, bool route);
     void drawMarker(const MapFrame& frame, const RenderTarget& target);
     /// Label aura and glowing roads (seed 5.5), between the label layout and the label text.
@@ -78,6 +82,8 @@ private:
     GLuint m_empty_vao = 0;
     GLuint m_marker_vao = 0;
     GLuint m_marker_vbo = 0;
+    GLuint m_quad_ibo = 0;  // two triangles per road quad, shared by every road vertex array
+    std::size_t m_quad_capacity = 0;
     std::unordered_map<std::uint64_t, std::unique_ptr<GpuTile>> m_tiles;
     std::uint64_t m_frame = 0;
     std::unordered_set<std::uint64_t> m_warned_flat;  // tiles already reported as lacking DEM

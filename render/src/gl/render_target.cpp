@@ -36,54 +36,73 @@ RenderTarget::RenderTarget(int width, int height, int samples) : m_width(width),
     m_samples = samples > 1 ? std::min(samples, static_cast<int>(max_samples)) : 0;
     if (m_samples == 1) m_samples = 0;
 
+    // Mask texture for the outline pass: drawn into directly without MSAA, resolved into with it.
+    glGenTextures(1, &m_mask_texture);
+    glBindTexture(GL_TEXTURE_2D, m_mask_texture);
+    glTexStorage2D(GL_TEXTURE_2D, 1, GL_R8, width, height);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);  // read with texelFetch
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    glBindTexture(GL_TEXTURE_2D, 0);
+
     // Drawing framebuffer: colour, road mask, depth + stencil.
     m_color_rb = makeRenderbuffer(GL_RGBA8, m_samples, width, height);
-    m_mask_rb = makeRenderbuffer(GL_R8, m_samples, width, height);
     m_depth_rb = makeRenderbuffer(GL_DEPTH24_STENCIL8, m_samples, width, height);
     glGenFramebuffers(1, &m_draw_fbo);
     glBindFramebuffer(GL_FRAMEBUFFER, m_draw_fbo);
     glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, m_color_rb);
-    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, GL_RENDERBUFFER, m_mask_rb);
+    if (m_samples > 0) {
+        m_mask_rb = makeRenderbuffer(GL_R8, m_samples, width, height);
+        glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, GL_RENDERBUFFER, m_mask_rb);
+    } else {
+        glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, GL_TEXTURE_2D, m_mask_texture, 0);
+    }
     glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER, m_depth_rb);
     checkComplete(m_samples > 0 ? "multisampled" : "drawing");
 
-    // Resolved colour for readback.
-    m_resolve_color = makeRenderbuffer(GL_RGBA8, 0, width, height);
-    glGenFramebuffers(1, &m_resolve_fbo);
-    glBindFramebuffer(GL_FRAMEBUFFER, m_resolve_fbo);
-    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, m_resolve_color);
-    checkComplete("resolve");
+    // Composite framebuffer: the same colour and depth/stencil without the mask.
+    glGenFramebuffers(1, &m_composite_fbo);
+    glBindFramebuffer(GL_FRAMEBUFFER, m_composite_fbo);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, m_color_rb);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER, m_depth_rb);
+    checkComplete("composite");
 
-    // Resolved mask as a texture for the outline pass.
-    glGenTextures(1, &m_mask_texture);
-    glBindTexture(GL_TEXTURE_2D, m_mask_texture);
-    glTexStorage2D(GL_TEXTURE_2D, 1, GL_R8, width, height);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);  // the outline pass relies on it
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-    glBindTexture(GL_TEXTURE_2D, 0);
-    glGenFramebuffers(1, &m_mask_fbo);
-    glBindFramebuffer(GL_FRAMEBUFFER, m_mask_fbo);
-    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, m_mask_texture, 0);
-    checkComplete("mask");
+    if (m_samples > 0) {
+        // Resolved colour for readback, resolved mask for the outline pass.
+        m_resolve_color = makeRenderbuffer(GL_RGBA8, 0, width, height);
+        glGenFramebuffers(1, &m_resolve_fbo);
+        glBindFramebuffer(GL_FRAMEBUFFER, m_resolve_fbo);
+        glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, m_resolve_color);
+        checkComplete("resolve");
+        glGenFramebuffers(1, &m_mask_fbo);
+        glBindFramebuffer(GL_FRAMEBUFFER, m_mask_fbo);
+        glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, m_mask_texture, 0);
+        checkComplete("mask");
+    }
     glBindRenderbuffer(GL_RENDERBUFFER, 0);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }
 
 RenderTarget::~RenderTarget() {
-    const GLuint fbos[] = {m_draw_fbo, m_resolve_fbo, m_mask_fbo};
+    const GLuint fbos[] = {m_draw_fbo, m_resolve_fbo, m_mask_fbo, m_composite_fbo};
     const GLuint rbs[] = {m_color_rb, m_mask_rb, m_depth_rb, m_resolve_color};
-    glDeleteFramebuffers(3, fbos);
+    glDeleteFramebuffers(4, fbos);
     glDeleteRenderbuffers(4, rbs);
     glDeleteTextures(1, &m_mask_texture);
 }
 
 void RenderTarget::bindForDrawing(bool with_mask) const {
-    glBindFramebuffer(GL_FRAMEBUFFER, m_draw_fbo);
-    const GLenum both[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
-    const GLenum color_only[] = {GL_COLOR_ATTACHMENT0, GL_NONE};
-    glDrawBuffers(2, with_mask ? both : color_only);
+    if (with_mask) {
+        glBindFramebuffer(GL_FRAMEBUFFER, m_draw_fbo);
+        const GLenum both[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+        glDrawBuffers(2, both);
+    } else {
+        // Without the mask attached, so any pass may sample maskTexture() (no feedback loop).
+        glBindFramebuffer(GL_FRAMEBUFFER, m_composite_fbo);
+        const GLenum color = GL_COLOR_ATTACHMENT0;
+        glDrawBuffers(1, &color);
+    }
     glViewport(0, 0, m_width, m_height);
 }
 
@@ -99,15 +118,22 @@ void RenderTarget::clear(float r, float g, float b) const {
 }
 
 void RenderTarget::resolveMask() const {
-    glBindFramebuffer(GL_READ_FRAMEBUFFER, m_draw_fbo);
-    glReadBuffer(GL_COLOR_ATTACHMENT1);
-    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, m_mask_fbo);
-    glBlitFramebuffer(0, 0, m_width, m_height, 0, 0, m_width, m_height, GL_COLOR_BUFFER_BIT, GL_NEAREST);
-    glReadBuffer(GL_COLOR_ATTACHMENT0);
+    if (m_samples > 0) {
+        glBindFramebuffer(GL_READ_FRAMEBUFFER, m_draw_fbo);
+        glReadBuffer(GL_COLOR_ATTACHMENT1);
+        glBindFramebuffer(GL_DRAW_FRAMEBUFFER, m_mask_fbo);
+        glBlitFramebuffer(0, 0, m_width, m_height, 0, 0, m_width, m_height, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+        glReadBuffer(GL_COLOR_ATTACHMENT0);
+    }
     bindForDrawing(false);
 }
 
 void RenderTarget::resolve() const {
+    if (m_samples == 0) {  // nothing to resolve: read the drawing framebuffer's colour
+        glBindFramebuffer(GL_READ_FRAMEBUFFER, m_draw_fbo);
+        glReadBuffer(GL_COLOR_ATTACHMENT0);
+        return;
+    }
     glBindFramebuffer(GL_READ_FRAMEBUFFER, m_draw_fbo);
     glReadBuffer(GL_COLOR_ATTACHMENT0);
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, m_resolve_fbo);

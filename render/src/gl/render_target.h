@@ -1,7 +1,9 @@
 #pragma once
 // Offscreen framebuffer: colour + road-intensity mask + depth/stencil, multisampled where
 // supported, with single-sampled resolve targets: colour for readback, mask as a texture for
-// the screen-space outline pass (seed 3.6.3). Private to render/.
+// the screen-space outline pass (seed 3.6.3). Without MSAA nothing is copied: the mask is drawn
+// straight into its texture and readback reads the drawing framebuffer (on llvmpipe each of
+// those full-screen copies cost about as much as a pass). Private to render/.
 
 #include <GLES3/gl3.h>
 
@@ -15,11 +17,13 @@ public:
     RenderTarget(const RenderTarget&) = delete;
     RenderTarget& operator=(const RenderTarget&) = delete;
 
-    /// Binds the drawing framebuffer; `with_mask` routes fragment output 1 to the mask.
+    /// Binds the drawing framebuffer; `with_mask` routes fragment output 1 to the mask. Without
+    /// it the framebuffer bound has the colour and depth/stencil but not the mask attached.
     void bindForDrawing(bool with_mask = false) const;
     /// Clears colour (to `rgb`), mask (to 0), depth and stencil.
     void clear(float r, float g, float b) const;
-    /// Copies (resolves) the mask into maskTexture() and rebinds the drawing framebuffer.
+    /// Makes maskTexture() hold the mask (a resolve with MSAA, nothing without) and binds for
+    /// drawing without the mask, so a pass can sample maskTexture() (no feedback loop).
     void resolveMask() const;
     /// Resolves colour into the single-sampled target and leaves it bound for reading.
     void resolve() const;
@@ -43,8 +47,9 @@ private:
     GLuint m_depth_rb = 0;
     GLuint m_resolve_fbo = 0;
     GLuint m_resolve_color = 0;
-    GLuint m_mask_fbo = 0;
+    GLuint m_mask_fbo = 0;       // MSAA only: resolve target of the mask
     GLuint m_mask_texture = 0;
+    GLuint m_composite_fbo = 0;  // colour + depth/stencil, no mask
 };
 
 }  // namespace navmap::render::gl

@@ -3,9 +3,10 @@
 
 #include <gtest/gtest.h>
 
-#include <random>
 #include <string>
 #include <vector>
+
+#include "fuzz_corpus.h"
 
 int navmapFuzzControl(const std::uint8_t* data, std::size_t size);
 
@@ -26,26 +27,6 @@ TEST(ControlFuzzCorpus, ParserSurvivesBrokenLines) {
         "{\"cmd\":\"set_view\",\"display\":\"" + std::string(1000, '\xc3') + "\",\"mode\":\"bird\"}",
         "{\"cmd\":\"" + std::string(300, 'z') + "\"}",
     };
-    std::size_t runs = 0;
-    const auto run = [&](const std::string& s) {
-        navmapFuzzControl(reinterpret_cast<const std::uint8_t*>(s.data()), s.size());
-        ++runs;
-    };
-    std::mt19937 rng(7);
-    for (const auto& seed : seeds) {
-        for (std::size_t n = 0; n <= seed.size(); ++n) {
-            run(seed.substr(0, n));
-        }
-        for (int i = 0; i < 300; ++i) {
-            std::string s = seed;
-            for (int k = 0; k < 3; ++k) {
-                s[rng() % s.size()] = static_cast<char>(rng());
-            }
-            run(s);
-        }
-    }
-    for (const auto& e : extra) {
-        run(e);
-    }
+    const std::size_t runs = navmap::test::runFuzzCorpus(navmapFuzzControl, seeds, extra, 300);
     EXPECT_GT(runs, 1500U);
 }

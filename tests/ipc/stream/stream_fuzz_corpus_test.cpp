@@ -3,10 +3,10 @@
 
 #include <gtest/gtest.h>
 
-#include <random>
 #include <string>
 #include <vector>
 
+#include "fuzz_corpus.h"
 #include "navmap/ipc/frame_header.h"
 #include "navmap/ipc/stream_profile.h"
 
@@ -40,24 +40,6 @@ TEST(StreamFuzzCorpus, HandshakeHttpAndHeaderParsersSurviveBrokenInputs) {
         std::string(80, '\xff'),
         std::string(80, '\0'),
     };
-    std::mt19937 rng(7);
-    const auto run = [](const std::string& s) {
-        navmapFuzzStreamHandshake(reinterpret_cast<const std::uint8_t*>(s.data()), s.size());
-    };
-    for (const auto& seed : seeds) {
-        for (std::size_t n = 0; n <= seed.size(); ++n) {
-            run(seed.substr(0, n));
-        }
-        for (int i = 0; i < 500; ++i) {
-            std::string s = seed;
-            for (int k = 0; k < 3; ++k) {
-                s[rng() % s.size()] = static_cast<char>(rng());
-            }
-            run(s);
-        }
-    }
-    for (const auto& e : extra) {
-        run(e);
-    }
-    SUCCEED();
+    const std::size_t runs = navmap::test::runFuzzCorpus(navmapFuzzStreamHandshake, seeds, extra, 500);
+    EXPECT_GT(runs, 2000U);
 }

@@ -61,6 +61,7 @@ struct DriveScene {
         Camera camera;
         VehiclePose pose;
         bool complete = false;  ///< all wanted tiles loaded within the timeout
+        double measure_m = 0.0;  ///< where along the drive
     };
 
     /// Places the vehicle `measure_m` along the drive, snaps `rig` onto it and loads the tiles the
@@ -68,6 +69,10 @@ struct DriveScene {
     /// drapes the route onto the loaded terrain.
     Shot settle(CameraRig& rig, double measure_m, double speed_mps, double aspect, int viewport_height,
                 std::chrono::milliseconds timeout = std::chrono::seconds(20));
+
+    /// The map frame of a settled shot: its camera, the tiles it needs, the drive as the route
+    /// driven up to the shot's pose, and the vehicle marker there. Layers stay at their defaults.
+    [[nodiscard]] MapFrame frameFor(const Shot& shot, double aspect, int viewport_height) const;
 
     /// Throws map::StoreError naming the store when it cannot be opened.
     static DriveScene open(const std::filesystem::path& store_path, GeoPoint from, GeoPoint to,

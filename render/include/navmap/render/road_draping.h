@@ -36,4 +36,12 @@ std::vector<std::uint32_t> gridTriangleIndices(int size);
 /// duplicates are dropped; the original vertices are kept.
 std::vector<glm::dvec3> drapePolyline(const HeightGrid& grid, std::span<const glm::dvec2> polyline);
 
+/// Drops the vertices of a draped polyline that a straight piece can skip: a vertex goes when the
+/// 2D path stays put (every skipped vertex within 1 cm of the chord) and the chord stays within
+/// `max_height_error_m` of every skipped vertex's height. The surface between two draped vertices
+/// is planar, so this bounds the distance to the terrain along the whole piece. Far fewer
+/// pieces to draw on gentle terrain, where draping cut a straight road at every triangle edge;
+/// the bound stays inside what the view-space offset of seed 3.6.2 absorbs.
+std::vector<glm::dvec3> mergeDrapedPieces(std::span<const glm::dvec3> draped, double max_height_error_m);
+
 }  // namespace navmap::render

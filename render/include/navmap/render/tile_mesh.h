@@ -83,6 +83,9 @@ struct TileMesh {
 struct TileMeshOptions {
     float skirt_depth_m = 60.0f;   ///< skirts hide cracks between tiles of different levels
     bool drape_roads = true;       ///< seed 3.6.1 clipping; false keeps only the original vertices
+    /// Draped pieces are merged while the merged piece stays this close to the surface
+    /// (mergeDrapedPieces); 0 keeps every piece of the clipping.
+    double road_merge_tolerance_m = 0.5;
 };
 
 /// Land-cover colour of an area class (day palette; alpha = coverage strength).
