@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <string>
+#include <utility>
 
 #include "navmap/render/text/label_text_style.h"
 #include "text_layer.h"
@@ -68,7 +69,12 @@ std::uint64_t labelId(const map::Label& label, const glm::dvec3& anchor_store) {
     return ((h << 3) | kind) & ~(1ULL << 63);
 }
 
-LabelPass::LabelPass() : m_text(std::make_unique<TextLayer>(m_engine.atlas())) {}
+LabelText::LabelText() : layer(std::make_unique<TextLayer>(engine.atlas())) {}
+
+LabelText::~LabelText() = default;
+
+LabelPass::LabelPass(std::shared_ptr<LabelText> text)
+    : m_shared(std::move(text)), m_engine(m_shared->engine), m_text(*m_shared->layer) {}
 
 LabelPass::~LabelPass() = default;
 
@@ -238,12 +244,12 @@ void LabelPass::draw(glm::ivec2 viewport, MapFrameStats& stats) {
     const auto t0 = Clock::now();
     std::size_t glyphs = 0;
     if (!m_world.empty()) {
-        m_text->drawWorld(m_world, glm::mat4(1.0f), m_projection, viewport);
-        glyphs += m_text->stats().glyphs;
+        m_text.drawWorld(m_world, glm::mat4(1.0f), m_projection, viewport);
+        glyphs += m_text.stats().glyphs;
     }
     if (!m_screen.empty()) {
-        m_text->drawScreen(m_screen, viewport);
-        glyphs += m_text->stats().glyphs;
+        m_text.drawScreen(m_screen, viewport);
+        glyphs += m_text.stats().glyphs;
     }
     stats.label_glyphs = glyphs;
     stats.labels_ms += std::chrono::duration<double, std::milli>(Clock::now() - t0).count();

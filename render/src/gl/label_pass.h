@@ -50,10 +50,22 @@ std::vector<glm::vec3> labelPoints(const map::Tile& tile, const HeightGrid& grid
 /// feature has no OSM id).
 std::uint64_t labelId(const map::Label& label, const glm::dvec3& anchor_store);
 
+/// Fonts, shaped runs and the glyph atlas with its texture: one per renderer, shared by the label
+/// passes of all its targets (each target keeps its own layout state).
+struct LabelText {
+    /// Loads the fonts and compiles the text shaders; throws TextError / RenderError.
+    LabelText();
+    ~LabelText();
+    LabelText(const LabelText&) = delete;
+    LabelText& operator=(const LabelText&) = delete;
+
+    text::TextEngine engine;
+    std::unique_ptr<TextLayer> layer;
+};
+
 class LabelPass {
 public:
-    /// Loads the fonts and compiles the text shaders; throws TextError / RenderError.
-    LabelPass();
+    explicit LabelPass(std::shared_ptr<LabelText> text);
     ~LabelPass();
     LabelPass(const LabelPass&) = delete;
     LabelPass& operator=(const LabelPass&) = delete;
@@ -82,8 +94,9 @@ private:
     void collect(const MapFrame& frame, std::span<const TileLabels> tiles, glm::ivec2 viewport);
     glm::vec2 labelSize(std::uint64_t id, const map::Label& label);
 
-    text::TextEngine m_engine;
-    std::unique_ptr<TextLayer> m_text;
+    std::shared_ptr<LabelText> m_shared;
+    text::TextEngine& m_engine;
+    TextLayer& m_text;
     labels::LabelLayout m_layout;
     labels::LabelSpaceSwitch m_switch;
     std::vector<labels::LabelCandidate> m_candidates;

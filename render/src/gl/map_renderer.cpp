@@ -615,7 +615,8 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target) {
     if (!frame.layers.labels) runOcclusionEffects(frame, target, projection, tiles);
     // Labels (seed ch. 4, 5.5): after the outlines so they lie above the roads, before the marker.
     if (frame.layers.labels) {
-        if (!m_label_pass) m_label_pass = std::make_unique<LabelPass>();
+        if (!m_label_text) m_label_text = std::make_shared<LabelText>();
+        if (!m_label_pass) m_label_pass = std::make_unique<LabelPass>(m_label_text);
         m_tile_labels.clear();
         for (const GpuTile* g : tiles) {
             if (!g->label_points.empty()) m_tile_labels.push_back({g->source, g->origin, g->label_points});

@@ -89,6 +89,7 @@ private:
     std::unordered_set<std::uint64_t> m_warned_flat;  // tiles already reported as lacking DEM
     std::size_t m_stats_flat_tiles = 0;
     std::vector<FlatTile> m_new_flat_tiles;
+    std::shared_ptr<LabelText> m_label_text;  // fonts and glyph atlas of every target's label pass
     std::unique_ptr<LabelPass> m_label_pass;  // created on the first frame with labels on
     int m_label_key = 0;  // target whose label state m_label_pass is (selectLabelState)
     std::unordered_map<int, std::unique_ptr<LabelPass>> m_label_parked;  // other targets' states
