@@ -324,11 +324,14 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
                 v.last_frame = t0;
                 v.rig.setMode(viewFor(v.profile, view_state.get()));
                 v.rig.setOrientation(orientationFor(v.profile, view_state.get()));
+                // The freshest pose for this profile: profiles render one after another, and a
+                // pose taken at the start of the tick would age by the renders before this one.
+                const EstimatedPose fresh = input.state()->poseAt(ipc::CanClock::now());
                 render::VehiclePose vp;
-                if (pose.valid) {
-                    vp.position = {pose.x, pose.y, terrain(pose.x, pose.y)};
-                    vp.heading_deg = pose.headingDeg;
-                    vp.speed_mps = pose.speedMps;
+                if (fresh.valid) {
+                    vp.position = {fresh.x, fresh.y, terrain(fresh.x, fresh.y)};
+                    vp.heading_deg = fresh.headingDeg;
+                    vp.speed_mps = fresh.speedMps;
                 } else {
                     // No fix yet: look at the middle of the map.
                     const auto& s = scene.store->info();
@@ -342,7 +345,7 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
                 frame.route_progress_m = route_driven_max;
                 frame.layers.labels = config.labels;
                 frame.frame_dt_s = std::min(dt, 0.5);
-                if (pose.valid) frame.marker = render::MarkerState{vp.position, vp.heading_deg, pose.stale};
+                if (fresh.valid) frame.marker = render::MarkerState{vp.position, vp.heading_deg, fresh.stale};
                 renderer->useTarget(v.target);
                 renderer->setMapStyle(style);
                 renderer->renderMap(frame);
@@ -355,7 +358,7 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
                     }
                 }
                 const std::uint64_t seq = v.sequence++;
-                v.source_times[seq] = pose.sourceTime;
+                v.source_times[seq] = fresh.sourceTime;
                 // The ring hands back a frame only when full; collect what has finished now so
                 // frames leave in the tick that rendered them.
                 std::vector<render::Frame> finished;

@@ -16,9 +16,9 @@ namespace navmap::render::gl {
 
 namespace {
 
-// Land-cover raster per tile (8 m per texel on 2 km leaf tiles). Each renderer (display
-// profile) holds its own copy, so this dominates GPU memory: 256 texels keep three profiles
-// within about 100 MiB of textures.
+// Land-cover raster per tile (8 m per texel on 2 km leaf tiles), shared by every display
+// profile. RGBA4: land cover is flat class colours and a coverage strength, which 4 bits per
+// channel hold; half the memory of RGBA8 (about 0.17 MiB per tile with mipmaps).
 int landCoverTextureSize(float) { return 256; }
 
 using Clock = std::chrono::steady_clock;
@@ -254,7 +254,7 @@ void MapRenderer::rasterizeLandCover(GpuTile& gpu, const TileMesh& mesh) {
     glBindTexture(GL_TEXTURE_2D, gpu.land_cover);
     const int size = landCoverTextureSize(mesh.size_m);
     const int levels = 1 + static_cast<int>(std::log2(size));
-    glTexStorage2D(GL_TEXTURE_2D, levels, GL_RGBA8, size, size);
+    glTexStorage2D(GL_TEXTURE_2D, levels, GL_RGBA4, size, size);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
