@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "navmap/render/map_scene.h"
+#include "display_profiles.h"
 #include "navmap/render/renderer.h"
 #include "navmap/render/tile_mesh.h"
 
@@ -20,16 +21,8 @@ namespace {
 using namespace navmap::render;
 using Clock = std::chrono::steady_clock;
 
-struct Profile {
-    const char* name;
-    int width, height;
-    ViewMode mode;
-};
-constexpr Profile kProfiles[] = {
-    {"cluster", 1280, 480, ViewMode::Snail},
-    {"hud", 800, 240, ViewMode::Snail},
-    {"center", 1280, 720, ViewMode::Bird},
-};
+using Profile = navmap::bench::DisplayProfile;
+constexpr Profile kProfiles[] = {navmap::bench::kCluster, navmap::bench::kHud, navmap::bench::kCenter};
 
 using Flight = DriveScene;
 

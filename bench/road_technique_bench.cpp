@@ -26,6 +26,7 @@
 
 #include "navmap/render/dem_refine.h"
 #include "navmap/render/map_scene.h"
+#include "display_profiles.h"
 #include "navmap/render/renderer.h"
 
 namespace {
@@ -33,15 +34,8 @@ namespace {
 using namespace navmap::render;
 using Clock = std::chrono::steady_clock;
 
-struct Profile {
-    const char* name;
-    int width, height;
-    ViewMode mode;
-};
-constexpr Profile kProfiles[] = {
-    {"center", 1280, 720, ViewMode::Bird},
-    {"cluster", 1280, 480, ViewMode::Snail},
-};
+using Profile = navmap::bench::DisplayProfile;
+constexpr Profile kProfiles[] = {navmap::bench::kCenter, navmap::bench::kCluster};
 
 DriveScene& flight() {
     static DriveScene f = DriveScene::open(NAVMAP_DEFAULT_STORE, kAndorraLaVella, kEncamp, std::size_t{512} << 20);

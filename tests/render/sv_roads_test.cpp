@@ -17,6 +17,7 @@
 #include "navmap/render/dem_refine.h"
 #include "navmap/render/map_scene.h"
 #include "navmap/render/renderer.h"
+#include "synthetic_tile.h"
 #include "navmap/render/road_draping.h"
 #include "test_paths.h"
 
@@ -27,26 +28,8 @@ namespace map = navmap::map;
 
 constexpr int kW = 640, kH = 480;
 
-std::shared_ptr<map::Tile> makeTile(const std::function<float(float, float)>& height, int dem = 33) {
-    auto tile = std::make_shared<map::Tile>();
-    tile->id = {10, 5, 7};
-    tile->origin_x = 20000.0;  // away from the store origin: camera-relative rendering matters
-    tile->origin_y = -15000.0;
-    tile->size_m = 1000.0;
-    tile->dem.size = static_cast<std::uint16_t>(dem);
-    tile->dem.spacing_m = 1000.0f / (dem - 1);
-    tile->dem.coverage = 1.0f;
-    for (int r = 0; r < dem; ++r)
-        for (int c = 0; c < dem; ++c) tile->dem.heights.push_back(height(c * tile->dem.spacing_m, r * tile->dem.spacing_m));
-    return tile;
-}
-
-map::Road road(map::RoadClass cls, std::vector<map::LocalPoint> pts) {
-    map::Road r;
-    r.cls = cls;
-    r.points = std::move(pts);
-    return r;
-}
+using navmap::test::makeTile;
+using navmap::test::road;
 
 HeightGrid gridOf(const map::Tile& tile) {
     return HeightGrid{tile.dem.size, tile.size_m / (tile.dem.size - 1), tile.dem.heights.data()};

@@ -19,15 +19,6 @@ constexpr GLuint kGlowStencilBit = 0x80;
 // Buffers kept for this many target sizes (one renderer may serve several displays).
 constexpr std::size_t kMaxBufferSets = 3;
 
-void checkComplete(const char* what) {
-    const GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
-    if (status != GL_FRAMEBUFFER_COMPLETE) {
-        char code[16];
-        std::snprintf(code, sizeof code, "0x%04x", status);
-        throw RenderError(std::string("occlusion effects framebuffer (") + what + ") incomplete: status " + code);
-    }
-}
-
 GLuint makeTexture(GLenum format, int w, int h, GLint filter) {
     GLuint t = 0;
     glGenTextures(1, &t);
@@ -71,7 +62,7 @@ struct Layer {
             glGenFramebuffers(1, &resolve_fbo);
             glBindFramebuffer(GL_FRAMEBUFFER, resolve_fbo);
             glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, texture, 0);
-            checkComplete("resolve");
+            checkFramebufferComplete("occlusion effects: resolve");
         } else {
             glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, texture, 0);
         }
@@ -180,7 +171,7 @@ struct OcclusionEffects::Buffers {
         const GLenum none = GL_NONE;
         glDrawBuffers(1, &none);
         glReadBuffer(GL_NONE);
-        checkComplete("terrain depth");
+        checkFramebufferComplete("occlusion effects: terrain depth");
     }
 
     void makeGlowLayers() {  // blur only
@@ -189,7 +180,7 @@ struct OcclusionEffects::Buffers {
         const int hw = std::max(width / 2, 1), hh = std::max(height / 2, 1);
         for (Layer& l : blur) {
             l.create(hw, hh, 0, GL_LINEAR);
-            checkComplete("glow blur");
+            checkFramebufferComplete("occlusion effects: glow blur");
         }
     }
 
@@ -197,18 +188,18 @@ struct OcclusionEffects::Buffers {
         makeTerrainDepth();
         if (behind.fbo) return;
         terrain_color.create(width, height, 0, GL_NEAREST);  // a resolve target only
-        checkComplete("aura terrain colour");
+        checkFramebufferComplete("occlusion effects: aura terrain colour");
         behind_depth = makeRenderbuffer(GL_DEPTH24_STENCIL8, samples, width, height);
         behind.create(width, height, samples, GL_NEAREST);
         behind.attachDepth(behind_depth);
-        checkComplete("aura scene behind labels");
+        checkFramebufferComplete("occlusion effects: aura scene behind labels");
         label_mask = makeTexture(GL_R8, width, height, GL_NEAREST);
         label_depth = makeTexture(GL_DEPTH_COMPONENT24, width, height, GL_NEAREST);
         glGenFramebuffers(1, &label_fbo);
         glBindFramebuffer(GL_FRAMEBUFFER, label_fbo);
         glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, label_mask, 0);
         glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, label_depth, 0);
-        checkComplete("aura label OOBBs");
+        checkFramebufferComplete("occlusion effects: aura label OOBBs");
     }
 
     ~Buffers() {

@@ -10,15 +10,6 @@ namespace navmap::render::gl {
 
 namespace {
 
-void checkComplete(const char* what) {
-    const GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
-    if (status != GL_FRAMEBUFFER_COMPLETE) {
-        char code[16];
-        std::snprintf(code, sizeof code, "0x%04x", status);
-        throw RenderError(std::string("offscreen framebuffer (") + what + ") incomplete: status " + code);
-    }
-}
-
 GLuint makeRenderbuffer(GLenum format, int samples, int w, int h) {
     GLuint rb = 0;
     glGenRenderbuffers(1, &rb);
@@ -29,6 +20,15 @@ GLuint makeRenderbuffer(GLenum format, int samples, int w, int h) {
 }
 
 }  // namespace
+
+void checkFramebufferComplete(const char* what) {
+    const GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
+    if (status != GL_FRAMEBUFFER_COMPLETE) {
+        char code[16];
+        std::snprintf(code, sizeof code, "0x%04x", status);
+        throw RenderError(std::string("offscreen framebuffer (") + what + ") incomplete: status " + code);
+    }
+}
 
 RenderTarget::RenderTarget(int width, int height, int samples) : m_width(width), m_height(height) {
     GLint max_samples = 0;
@@ -59,14 +59,14 @@ RenderTarget::RenderTarget(int width, int height, int samples) : m_width(width),
         glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, GL_TEXTURE_2D, m_mask_texture, 0);
     }
     glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER, m_depth_rb);
-    checkComplete(m_samples > 0 ? "multisampled" : "drawing");
+    checkFramebufferComplete(m_samples > 0 ? "multisampled" : "drawing");
 
     // Composite framebuffer: the same colour and depth/stencil without the mask.
     glGenFramebuffers(1, &m_composite_fbo);
     glBindFramebuffer(GL_FRAMEBUFFER, m_composite_fbo);
     glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, m_color_rb);
     glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER, m_depth_rb);
-    checkComplete("composite");
+    checkFramebufferComplete("composite");
 
     if (m_samples > 0) {
         // Resolved colour for readback, resolved mask for the outline pass.
@@ -74,11 +74,11 @@ RenderTarget::RenderTarget(int width, int height, int samples) : m_width(width),
         glGenFramebuffers(1, &m_resolve_fbo);
         glBindFramebuffer(GL_FRAMEBUFFER, m_resolve_fbo);
         glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, m_resolve_color);
-        checkComplete("resolve");
+        checkFramebufferComplete("resolve");
         glGenFramebuffers(1, &m_mask_fbo);
         glBindFramebuffer(GL_FRAMEBUFFER, m_mask_fbo);
         glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, m_mask_texture, 0);
-        checkComplete("mask");
+        checkFramebufferComplete("mask");
     }
     glBindRenderbuffer(GL_RENDERBUFFER, 0);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);

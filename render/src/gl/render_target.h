@@ -9,6 +9,9 @@
 
 namespace navmap::render::gl {
 
+/// Throws RenderError naming `what` and the status when the bound framebuffer is incomplete.
+void checkFramebufferComplete(const char* what);
+
 class RenderTarget {
 public:
     /// samples <= 1 disables MSAA. Throws RenderError when a framebuffer is incomplete.
