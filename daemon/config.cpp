@@ -188,12 +188,20 @@ std::optional<DaemonConfig> parseConfig(const std::string& text, const std::stri
         for (const auto& e : *arr) {
             TableReader r(*e.as_table(), source_name, "profile.", err);
             DisplayProfile p;
-            std::string view = "snail", orientation = "heading-up";
+            std::string view = "snail", orientation = "heading-up", roads = "auto";
             if (!r.get("name", p.name) || !r.get("width", p.width) || !r.range("width", p.width, 16, 8192) ||
                 !r.get("height", p.height) || !r.range("height", p.height, 16, 8192) || !r.get("fps", p.fps) ||
                 !r.range("fps", p.fps, 0.1, 240.0) || !r.get("view", view) || !r.get("orientation", orientation) ||
+                !r.get("roads", roads) || !r.get("glow_roads", p.glow_roads) || !r.get("label_aura", p.label_aura) ||
                 !r.noUnknownKeys())
                 return std::nullopt;
+            if (roads == "geometric") p.roads = render::RoadTechnique::Geometric;
+            else if (roads == "shadow-volume") p.roads = render::RoadTechnique::ShadowVolume;
+            else if (roads != "auto") {
+                err->message = where(source_name, e.source()) + ": profile.roads = \"" + roads +
+                               "\": expected geometric, shadow-volume or auto";
+                return std::nullopt;
+            }
             if (p.name.empty()) {
                 err->message = where(source_name, e.source()) + ": profile.name is required";
                 return std::nullopt;
@@ -308,7 +316,11 @@ std::string describeConfig(const DaemonConfig& c) {
     for (const auto& p : c.profiles) {
         s << "profile " << p.name << ": " << p.width << "x" << p.height << " @ " << p.fps << " fps, "
           << (p.view == render::ViewMode::Bird ? "bird" : "snail") << ", "
-          << (p.orientation == render::Orientation::NorthUp ? "north-up" : "heading-up") << "\n";
+          << (p.orientation == render::Orientation::NorthUp ? "north-up" : "heading-up") << ", roads "
+          << (p.roads == render::RoadTechnique::Geometric      ? "geometric"
+              : p.roads == render::RoadTechnique::ShadowVolume ? "shadow-volume"
+                                                               : "auto")
+          << (p.glow_roads ? ", glowing roads" : "") << (p.label_aura ? ", label aura" : "") << "\n";
     }
     s << "control: " << c.control_socket.string() << " (mode " << std::oct << c.control_mode << std::dec << ")\n";
     s << "stream: " << c.frame_socket.string() << ", tcp " << c.tcp_port << ", http " << c.http_address << ":" << c.http_port << "\n";

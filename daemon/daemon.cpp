@@ -344,6 +344,9 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
                 frame.route = route_geometry.points.size() >= 2 ? &route_geometry : nullptr;
                 frame.route_progress_m = route_driven_max;
                 frame.layers.labels = config.labels;
+                frame.layers.road_technique = v.profile.roads;
+                frame.layers.glow_roads = v.profile.glow_roads;
+                frame.layers.label_aura = v.profile.label_aura;
                 frame.frame_dt_s = std::min(dt, 0.5);
                 if (fresh.valid) frame.marker = render::MarkerState{vp.position, vp.heading_deg, fresh.stale};
                 renderer->useTarget(v.target);
@@ -494,6 +497,9 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
                                     v.profile.fps = p->fps;
                                     v.profile.view = p->view;
                                     v.profile.orientation = p->orientation;
+                                    v.profile.roads = p->roads;
+                                    v.profile.glow_roads = p->glow_roads;
+                                    v.profile.label_aura = p->label_aura;
                                     v.next_due = Clock::now();  // the new rate applies from the next tick
                                 } else if (p) {
                                     log(kWarning, "reload: profile %s: a new size (%dx%d) needs a restart; keeping %dx%d",

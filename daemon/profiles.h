@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "navmap/render/camera_rig.h"
+#include "navmap/render/map_frame.h"
 
 namespace navmap::daemon {
 
@@ -18,6 +19,10 @@ struct DisplayProfile {
     render::Orientation orientation = render::Orientation::HeadingUp;
     /// The view name frame-stream clients ask for ("snail", "bird", "hud"; docs/frame-protocol.md).
     std::string stream_view = "snail";
+    /// Road draping per view (seed 3.7): geometric, shadow volumes, or chosen by DEM spacing.
+    render::RoadTechnique roads = render::RoadTechnique::Auto;
+    bool glow_roads = false;  ///< roads and route hidden by buildings shine through (seed 5.5.2)
+    bool label_aura = false;  ///< buildings in front of labels fade around them (seed 5.5.1)
 };
 
 /// The defaults: cluster 1280x480 snail's view, HUD 800x240 snail's view (route and

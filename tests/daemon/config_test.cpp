@@ -56,6 +56,9 @@ width = 800
 height = 240
 fps = 20
 orientation = "north-up"
+roads = "shadow-volume"
+glow_roads = true
+label_aura = true
 [control]
 socket = "/tmp/c.sock"
 mode = 0o600
@@ -78,6 +81,11 @@ level = "debug"
     ASSERT_EQ(c->profiles.size(), 2u);
     EXPECT_EQ(c->profiles[1].fps, 20.0);
     EXPECT_EQ(c->profiles[1].orientation, navmap::render::Orientation::NorthUp);
+    EXPECT_EQ(c->profiles[0].roads, navmap::render::RoadTechnique::Auto);
+    EXPECT_FALSE(c->profiles[0].glow_roads);
+    EXPECT_EQ(c->profiles[1].roads, navmap::render::RoadTechnique::ShadowVolume);
+    EXPECT_TRUE(c->profiles[1].glow_roads);
+    EXPECT_TRUE(c->profiles[1].label_aura);
     EXPECT_EQ(c->control_mode, 0600u);
     EXPECT_EQ(c->control_uids, (std::vector<std::uint32_t>{1000, 0}));
     EXPECT_EQ(c->tcp_port, 7000);
@@ -100,6 +108,8 @@ TEST(DaemonConfig, ErrorsNameFileLineAndProblem) {
     EXPECT_NE(m.find("expected sim, replay or socketcan"), std::string::npos) << m;
     EXPECT_FALSE(parse("[[profile]]\nname = \"x\"\nview = \"sky\"\n", &m));
     EXPECT_NE(m.find("expected bird, snail or hud"), std::string::npos) << m;
+    EXPECT_FALSE(parse("[[profile]]\nname = \"x\"\nroads = \"painted\"\n", &m));
+    EXPECT_EQ(m, "navmapd.toml:1:1: profile.roads = \"painted\": expected geometric, shadow-volume or auto") << m;
     EXPECT_FALSE(parse("[store\npath = 1", &m));
     EXPECT_EQ(m.rfind("navmapd.toml:1:", 0), 0u) << m;
 }
