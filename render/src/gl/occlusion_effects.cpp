@@ -32,16 +32,6 @@ GLuint makeTexture(GLenum format, int w, int h, GLint filter) {
     return t;
 }
 
-GLuint makeRenderbuffer(GLenum format, int samples, int w, int h) {
-    GLuint rb = 0;
-    glGenRenderbuffers(1, &rb);
-    glBindRenderbuffer(GL_RENDERBUFFER, rb);
-    if (samples > 0) glRenderbufferStorageMultisample(GL_RENDERBUFFER, samples, format, w, h);
-    else glRenderbufferStorage(GL_RENDERBUFFER, format, w, h);
-    glBindRenderbuffer(GL_RENDERBUFFER, 0);
-    return rb;
-}
-
 // An RGBA8 colour layer: drawn at the target's sample count, read as a single-sampled texture.
 struct Layer {
     GLuint texture = 0;

@@ -11,6 +11,8 @@ namespace navmap::render::gl {
 
 /// Throws RenderError naming `what` and the status when the bound framebuffer is incomplete.
 void checkFramebufferComplete(const char* what);
+/// A renderbuffer of `format`, multisampled when samples > 0.
+GLuint makeRenderbuffer(GLenum format, int samples, int w, int h);
 
 class RenderTarget {
 public:
