@@ -56,7 +56,7 @@ void main() {
     float len = length(d);
     vec2 t = len > 1e-4 ? d / len : vec2(1.0, 0.0);
     vec2 n = vec2(-t.y, t.x);
-    int corner = gl_VertexID;
+    int corner = gl_VertexID & 7;  // eight vertices per box
     float sx = (corner & 1) != 0 ? 1.0 : -1.0;
     float sy = (corner & 2) != 0 ? 1.0 : -1.0;
     vec2 base = sx < 0.0 ? p0 : p1;

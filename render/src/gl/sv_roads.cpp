@@ -7,6 +7,7 @@
 #include <cstring>
 #include <limits>
 #include <span>
+#include <vector>
 
 #include <glm/gtc/type_ptr.hpp>
 
@@ -27,7 +28,7 @@ bool hasExtension(const char* name) {
 }
 
 // SvRoadInstance attributes, offset by `first` instances (ES 3.0 has no base instance).
-void setupInstanceAttributes(GLsizei first) {
+void setupInstanceAttributes(GLsizei first, GLuint divisor) {
     const auto stride = static_cast<GLsizei>(sizeof(SvRoadInstance));
     const std::size_t base = static_cast<std::size_t>(first) * sizeof(SvRoadInstance);
     auto at = [&](std::size_t offset) { return reinterpret_cast<const void*>(base + offset); };
@@ -41,8 +42,13 @@ void setupInstanceAttributes(GLsizei first) {
     glVertexAttribPointer(3, 1, GL_FLOAT, GL_FALSE, stride, at(offsetof(SvRoadInstance, reach)));
     glEnableVertexAttribArray(4);
     glVertexAttribPointer(4, 3, GL_FLOAT, GL_FALSE, stride, at(offsetof(SvRoadInstance, plane)));
-    for (GLuint i = 0; i <= 4; ++i) glVertexAttribDivisor(i, 1);
+    for (GLuint i = 0; i <= 4; ++i) glVertexAttribDivisor(i, divisor);
 }
+
+// The twelve triangles of a box; corners as in roads_sv.vert, counter-clockwise seen from outside,
+// so GL_FRONT culling keeps the far faces.
+constexpr std::uint32_t kBoxIndices[36] = {0, 2, 3, 0, 3, 1, 4, 5, 7, 4, 7, 6, 0, 4, 6, 0, 6, 2,
+                                           1, 3, 7, 1, 7, 5, 0, 1, 5, 0, 5, 4, 2, 6, 7, 2, 7, 3};
 
 // What is attached at `attachment` of the bound framebuffer.
 void attachmentOf(GLenum attachment, GLint& type, GLint& name) {
@@ -293,15 +299,21 @@ SvRoads::SvRoads() {
         return;
     }
     m_program = ShaderProgram::fromEmbedded("roads_sv.vert", "roads_sv.frag");
-    // Box corners as in roads_sv.vert; twelve triangles counter-clockwise seen from outside, so
-    // GL_FRONT culling keeps the far faces.
-    const GLubyte indices[36] = {0, 2, 3, 0, 3, 1, 4, 5, 7, 4, 7, 6, 0, 4, 6, 0, 6, 2,
-                                 1, 3, 7, 1, 7, 5, 0, 1, 5, 0, 5, 4, 2, 6, 7, 2, 7, 3};
     glGenBuffers(1, &m_box_indices);
-    glBindVertexArray(0);
-    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, m_box_indices);
-    glBufferData(GL_ELEMENT_ARRAY_BUFFER, sizeof indices, indices, GL_STATIC_DRAW);
-    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, 0);
+}
+
+void SvRoads::bindBoxIndices(std::size_t boxes) {
+    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, m_box_indices);  // recorded in the bound vertex array
+    if (boxes <= m_box_capacity) return;
+    // Grown in place under the same name, so vertex arrays made before keep working.
+    m_box_capacity = std::max<std::size_t>(boxes, 2 * m_box_capacity);
+    std::vector<std::uint32_t> indices;
+    indices.reserve(m_box_capacity * 36);
+    for (std::uint32_t b = 0; b < m_box_capacity; ++b) {
+        for (const std::uint32_t i : kBoxIndices) indices.push_back(8 * b + i);
+    }
+    glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(indices.size() * sizeof(std::uint32_t)), indices.data(),
+                 GL_STATIC_DRAW);
 }
 
 SvRoads::~SvRoads() {
@@ -409,10 +421,15 @@ SvRoads::GpuTileRoads* SvRoads::tileRoads(const std::shared_ptr<const map::Tile>
         glGenBuffers(1, &gpu->vbo);
         glBindVertexArray(gpu->vao);
         glBindBuffer(GL_ARRAY_BUFFER, gpu->vbo);
-        glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(cpu.instances.size() * sizeof(SvRoadInstance)),
-                     cpu.instances.data(), GL_STATIC_DRAW);
-        setupInstanceAttributes(0);
-        glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, m_box_indices);
+        // Each box repeated for its eight corners and drawn indexed, not instanced: llvmpipe runs an
+        // instanced draw as one small draw per instance (see the geometric road quads).
+        std::vector<SvRoadInstance> corners;
+        corners.reserve(cpu.instances.size() * 8);
+        for (const auto& b : cpu.instances) corners.insert(corners.end(), 8, b);
+        glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(corners.size() * sizeof(SvRoadInstance)), corners.data(),
+                     GL_STATIC_DRAW);
+        setupInstanceAttributes(0, 0);
+        bindBoxIndices(cpu.instances.size());
         glBindVertexArray(0);
     }
     GpuTileRoads* raw = gpu.get();
@@ -489,12 +506,9 @@ std::size_t SvRoads::draw(const MapFrame& frame, const glm::mat4& projection, co
                     if (style.classes[c].casing_m > 0.0f) first = std::min(first, g->class_first[c]);
                 }
                 if (first >= g->count) continue;
-                glBindBuffer(GL_ARRAY_BUFFER, g->vbo);
-                setupInstanceAttributes(first);
-                glDrawElementsInstanced(GL_TRIANGLES, 36, GL_UNSIGNED_BYTE, nullptr, g->count - first);
-                setupInstanceAttributes(0);
+                drawBoxes(first, g->count - first);
             } else {
-                glDrawElementsInstanced(GL_TRIANGLES, 36, GL_UNSIGNED_BYTE, nullptr, g->count);
+                drawBoxes(0, g->count);
                 segments += static_cast<std::size_t>(g->count);
             }
         }
