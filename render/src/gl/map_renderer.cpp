@@ -142,7 +142,6 @@ MapRenderer::~MapRenderer() {
     glDeleteVertexArrays(1, &m_empty_vao);
     glDeleteVertexArrays(1, &m_marker_vao);
     glDeleteBuffers(1, &m_marker_vbo);
-    glDeleteBuffers(1, &m_quad_ibo);
 }
 
 MapRenderer::GpuTile* MapRenderer::upload(const std::shared_ptr<const map::Tile>& tile, const TileMorph* morph) {
@@ -203,7 +202,7 @@ MapRenderer::GpuTile* MapRenderer::upload(const std::shared_ptr<const map::Tile>
         glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(quads.size() * sizeof(RoadInstance)), quads.data(),
                      GL_STATIC_DRAW);
         setupRoadInstanceAttributes(0, 0);
-        bindQuadIndices(mesh.roads.size());
+        m_quad_indices.bind(mesh.roads.size());
         gpu->road_count = static_cast<GLsizei>(mesh.roads.size());
         gpu->class_first.fill(gpu->road_count);
         gpu->bridge_first = gpu->road_count;
@@ -294,27 +293,6 @@ void MapRenderer::rasterizeLandCover(GpuTile& gpu, const TileMesh& mesh) {
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }
 
-void MapRenderer::bindQuadIndices(std::size_t quads) {
-    if (!m_quad_ibo) glGenBuffers(1, &m_quad_ibo);
-    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, m_quad_ibo);  // recorded in the bound vertex array
-    if (quads <= m_quad_capacity) return;
-    // Grown in place under the same name, so vertex arrays made before keep working.
-    m_quad_capacity = std::max<std::size_t>(quads, 2 * m_quad_capacity);
-    std::vector<std::uint32_t> indices;
-    indices.reserve(m_quad_capacity * 6);
-    for (std::uint32_t q = 0; q < m_quad_capacity; ++q) {
-        const std::uint32_t v = 4 * q;  // corners 0 (-,+) 1 (-,-) 2 (+,+) 3 (+,-)
-        indices.insert(indices.end(), {v, v + 1, v + 2, v + 2, v + 1, v + 3});
-    }
-    glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(indices.size() * sizeof(std::uint32_t)), indices.data(),
-                 GL_STATIC_DRAW);
-}
-
-void MapRenderer::drawQuads(GLsizei first, GLsizei count) {
-    const auto offset = static_cast<std::size_t>(first) * 6 * sizeof(std::uint32_t);
-    glDrawElements(GL_TRIANGLES, count * 6, GL_UNSIGNED_INT, reinterpret_cast<const void*>(offset));
-}
-
 void MapRenderer::updateRoute(GpuTile& g, const RouteGeometry& route, const Camera& camera) {
     // Draped per tile against the grid it is drawn with (seed 3.6.1), so the route lies on the
     // terrain at every level of detail; redone when the route or the tile's upload changes.
@@ -353,7 +331,7 @@ void MapRenderer::updateRoute(GpuTile& g, const RouteGeometry& route, const Came
     morphRoute(g.route_pieces, g.morph, eye, g.route_instances);
     const auto quads = quadVertices(g.route_instances);
     glBindVertexArray(g.route_vao);
-    bindQuadIndices(g.route_instances.size());
+    m_quad_indices.bind(g.route_instances.size());
     glBindBuffer(GL_ARRAY_BUFFER, g.route_vbo);
     glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(quads.size() * sizeof(RoadInstance)), quads.data(),
                  GL_STREAM_DRAW);
@@ -369,7 +347,7 @@ void MapRenderer::drawRoute(const std::vector<GpuTile*>& tiles, const Camera& ca
         const glm::mat4 view = camera.viewRelativeTo(g->origin);
         glUniformMatrix4fv(m_roads.uniform("u_view"), 1, GL_FALSE, glm::value_ptr(view));
         glBindVertexArray(g->route_vao);
-        drawQuads(0, g->route_count);
+        m_quad_indices.draw(0, g->route_count);
     }
 }
 
@@ -573,9 +551,9 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target) {
                         if (m_style.roads.classes[c].casing_m > 0.0f) first = std::min(first, g->class_first[c]);
                     }
                     if (first >= g->road_count) continue;
-                    drawQuads(first, g->road_count - first);
+                    m_quad_indices.draw(first, g->road_count - first);
                 } else {
-                    drawQuads(0, g->road_count);
+                    m_quad_indices.draw(0, g->road_count);
                     m_stats.road_segments += static_cast<std::size_t>(g->road_count);
                 }
             }
@@ -680,7 +658,7 @@ void MapRenderer::runOcclusionEffects(const MapFrame& frame, const RenderTarget&
                     const glm::mat4 view = frame.camera.viewRelativeTo(g->origin);
                     glUniformMatrix4fv(m_roads.uniform("u_view"), 1, GL_FALSE, glm::value_ptr(view));
                     glBindVertexArray(g->roads_vao);
-                    drawQuads(0, g->road_count);
+                    m_quad_indices.draw(0, g->road_count);
                 }
             }
             if (frame.layers.route && frame.route) {
@@ -706,7 +684,7 @@ void MapRenderer::runOcclusionEffects(const MapFrame& frame, const RenderTarget&
                     const glm::mat4 view = frame.camera.viewRelativeTo(g->origin);
                     glUniformMatrix4fv(p.uniform("u_view"), 1, GL_FALSE, glm::value_ptr(view));
                     glBindVertexArray(g->roads_vao);
-                    drawQuads(0, g->road_count);
+                    m_quad_indices.draw(0, g->road_count);
                 }
             }
             if (frame.layers.route && frame.route) {
@@ -717,7 +695,7 @@ void MapRenderer::runOcclusionEffects(const MapFrame& frame, const RenderTarget&
                     const glm::mat4 view = frame.camera.viewRelativeTo(g->origin);
                     glUniformMatrix4fv(p.uniform("u_view"), 1, GL_FALSE, glm::value_ptr(view));
                     glBindVertexArray(g->route_vao);
-                    drawQuads(0, g->route_count);
+                    m_quad_indices.draw(0, g->route_count);
                 }
             }
         };

@@ -14,6 +14,7 @@
 #include "navmap/render/renderer.h"
 #include "navmap/render/tile_mesh.h"
 #include "label_pass.h"
+#include "quad_indices.h"
 #include "occlusion_effects.h"
 #include "render_target.h"
 #include "shader_program.h"
@@ -21,6 +22,8 @@
 namespace navmap::render::gl {
 
 class SvRoads;
+
+inline constexpr std::uint32_t kQuadIndices[6] = {0, 1, 2, 2, 1, 3};
 
 class MapRenderer {
 public:
@@ -57,10 +60,6 @@ private:
     void updateRoute(GpuTile& tile, const RouteGeometry& route, const Camera& camera);
     /// Route pieces of `tiles`, with the road program bound and its uniforms set.
     void drawRoute(const std::vector<GpuTile*>& tiles, const Camera& camera);
-    /// Binds the shared quad index buffer to the bound vertex array, grown to `quads` quads.
-    void bindQuadIndices(std::size_t quads);
-    /// Draws quads [first, first + count) of the bound road vertex array.
-    static void drawQuads(GLsizei first, GLsizei count);
     void setRoadUniforms(ShaderProgram& program, int pass, bool route);
     void drawMarker(const MapFrame& frame, const RenderTarget& target);
     /// Label aura and glowing roads (seed 5.5), between the label layout and the label text.
@@ -82,8 +81,9 @@ private:
     GLuint m_empty_vao = 0;
     GLuint m_marker_vao = 0;
     GLuint m_marker_vbo = 0;
-    GLuint m_quad_ibo = 0;  // two triangles per road quad, shared by every road vertex array
-    std::size_t m_quad_capacity = 0;
+    // Two triangles per road quad (corners 0 (-,+) 1 (-,-) 2 (+,+) 3 (+,-)), shared by every road
+    // and route vertex array.
+    RepeatedIndices m_quad_indices{kQuadIndices, 4};
     std::unordered_map<std::uint64_t, std::unique_ptr<GpuTile>> m_tiles;
     std::uint64_t m_frame = 0;
     std::unordered_set<std::uint64_t> m_warned_flat;  // tiles already reported as lacking DEM

@@ -290,7 +290,7 @@ SvRoads* SvRoads::forFrame(std::unique_ptr<SvRoads>& slot, const MapFrame& frame
     return slot->setupTarget(target) ? slot.get() : nullptr;
 }
 
-SvRoads::SvRoads() {
+SvRoads::SvRoads() : m_box_indices(kBoxIndices, 8) {
     // The terrain depth is an R32F colour target: core in ES 3.2, EXT_color_buffer_float before.
     // Without it the roads stay geometric (said once per renderer).
     m_supported = hasExtension("GL_EXT_color_buffer_float");
@@ -299,26 +299,10 @@ SvRoads::SvRoads() {
         return;
     }
     m_program = ShaderProgram::fromEmbedded("roads_sv.vert", "roads_sv.frag");
-    glGenBuffers(1, &m_box_indices);
-}
-
-void SvRoads::bindBoxIndices(std::size_t boxes) {
-    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, m_box_indices);  // recorded in the bound vertex array
-    if (boxes <= m_box_capacity) return;
-    // Grown in place under the same name, so vertex arrays made before keep working.
-    m_box_capacity = std::max<std::size_t>(boxes, 2 * m_box_capacity);
-    std::vector<std::uint32_t> indices;
-    indices.reserve(m_box_capacity * 36);
-    for (std::uint32_t b = 0; b < m_box_capacity; ++b) {
-        for (const std::uint32_t i : kBoxIndices) indices.push_back(8 * b + i);
-    }
-    glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(indices.size() * sizeof(std::uint32_t)), indices.data(),
-                 GL_STATIC_DRAW);
 }
 
 SvRoads::~SvRoads() {
     m_tiles.clear();
-    glDeleteBuffers(1, &m_box_indices);
     const GLuint fbos[] = {m_fbo, m_resolve_fbo};
     glDeleteFramebuffers(2, fbos);
     glDeleteRenderbuffers(1, &m_depth_rb);
@@ -429,7 +413,7 @@ SvRoads::GpuTileRoads* SvRoads::tileRoads(const std::shared_ptr<const map::Tile>
         glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(corners.size() * sizeof(SvRoadInstance)), corners.data(),
                      GL_STATIC_DRAW);
         setupInstanceAttributes(0, 0);
-        bindBoxIndices(cpu.instances.size());
+        m_box_indices.bind(cpu.instances.size());
         glBindVertexArray(0);
     }
     GpuTileRoads* raw = gpu.get();
@@ -506,9 +490,9 @@ std::size_t SvRoads::draw(const MapFrame& frame, const glm::mat4& projection, co
                     if (style.classes[c].casing_m > 0.0f) first = std::min(first, g->class_first[c]);
                 }
                 if (first >= g->count) continue;
-                drawBoxes(first, g->count - first);
+                m_box_indices.draw(first, g->count - first);
             } else {
-                drawBoxes(0, g->count);
+                m_box_indices.draw(0, g->count);
                 segments += static_cast<std::size_t>(g->count);
             }
         }

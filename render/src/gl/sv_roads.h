@@ -17,6 +17,7 @@
 
 #include "navmap/map/tile.h"
 #include "navmap/render/map_frame.h"
+#include "quad_indices.h"
 #include "navmap/render/road_style.h"
 #include "render_target.h"
 #include "shader_program.h"
@@ -88,13 +89,6 @@ public:
                      const RoadStyle& style);
 
 private:
-    /// Binds the shared box index buffer to the bound vertex array, grown to `boxes` boxes.
-    void bindBoxIndices(std::size_t boxes);
-    /// Draws boxes [first, first + count) of the bound vertex array.
-    static void drawBoxes(GLsizei first, GLsizei count) {
-        glDrawElements(GL_TRIANGLES, count * 36, GL_UNSIGNED_INT,
-                       reinterpret_cast<const void*>(static_cast<std::size_t>(first) * 36 * sizeof(std::uint32_t)));
-    }
     struct GpuTileRoads;
     GpuTileRoads* tileRoads(const std::shared_ptr<const map::Tile>& tile, const std::vector<const map::Tile*>& ancestors,
                             const RoadStyle& style);
@@ -103,8 +97,7 @@ private:
 
     bool m_supported = false;
     ShaderProgram m_program;
-    GLuint m_box_indices = 0;  // 36 indices per box (8 corners each), shared by every tile's VAO
-    std::size_t m_box_capacity = 0;
+    RepeatedIndices m_box_indices;  // 36 per box of 8 corners, shared by every tile's vertex array
     std::unordered_map<std::uint64_t, std::unique_ptr<GpuTileRoads>> m_tiles;
     std::uint64_t m_frame = 0;
     // Terrain depth target (seed 3.5.2), made on the first SV frame and on size changes.
