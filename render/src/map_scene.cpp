@@ -58,7 +58,6 @@ DriveScene::Shot DriveScene::settle(CameraRig& rig, double measure_m, double spe
         shot.pose = poseAlong(drive, measure_m, speed_mps, terrain);
         shot.camera = rig.update(shot.pose, 0.0, terrain);
     }
-    for (auto& p : drive.geometry.points) p.z = terrain(p.x, p.y);
     return shot;
 }
 

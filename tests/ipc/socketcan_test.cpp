@@ -4,8 +4,8 @@
 #include <linux/can/error.h>
 #include <linux/can/raw.h>
 
-#include <dirent.h>
 
+#include "open_fds.h"
 #include "navmap/ipc/backoff.h"
 #include "navmap/ipc/socketcan_codec.h"
 #include "navmap/ipc/socketcan_source.h"
@@ -16,17 +16,6 @@ using navmap::ipc::CanFrame;
 using navmap::ipc::CanTime;
 
 namespace {
-
-int countFds() {
-    int n = 0;
-    if (DIR* d = opendir("/proc/self/fd")) {
-        while (readdir(d) != nullptr) {
-            ++n;
-        }
-        closedir(d);
-    }
-    return n;
-}
 
 }  // namespace
 
@@ -166,7 +155,7 @@ TEST(Backoff, DoublesUpToTheCapAndResets) {
 // Where the kernel has no AF_CAN (this host) or the interface does not exist, the source reports
 // the failing call, backs off and never blocks; poll() returns at once.
 TEST(SocketCanSource, MissingInterfaceOrFamilyBacksOffWithoutBlocking) {
-    const int fdsBefore = countFds();
+    const int fdsBefore = navmap::test::countOpenFds();
     {
         navmap::ipc::SocketCanOptions o;
         o.interfaceName = "navmapnone0";
@@ -198,5 +187,5 @@ TEST(SocketCanSource, MissingInterfaceOrFamilyBacksOffWithoutBlocking) {
     navmap::ipc::SocketCanSource src(bad);
     EXPECT_EQ(src.poll([](const CanFrame&) {}), 0U);
     EXPECT_NE(src.status().lastError.find("must have 1..15 characters"), std::string::npos);
-    EXPECT_EQ(countFds(), fdsBefore);  // no socket leaked by the failed opens
+    EXPECT_EQ(navmap::test::countOpenFds(), fdsBefore);  // no socket leaked by the failed opens
 }

@@ -7,6 +7,7 @@
 #include "golden.h"
 #include "navmap/render/map_scene.h"
 #include "navmap/render/renderer.h"
+#include "andorra_drive.h"
 #include "test_paths.h"
 
 namespace {
@@ -15,25 +16,13 @@ using namespace navmap::render;
 
 constexpr int kW = 640, kH = 240;
 
-using Fixture = DriveScene;
-
-Fixture& andorra() {
-    static Fixture f = DriveScene::open(navmap::test::binaryDir() / "andorra.navmap", kAndorraLaVella, kEncamp);
-    return f;
-}
-
 Image renderView(ViewMode mode, const MapLayers& layers, MapFrameStats* stats = nullptr) {
-    Fixture& f = andorra();
     RendererOptions o;
     o.width = kW;
     o.height = kH;
     auto renderer = Renderer::create(o);
-    CameraRig rig;
-    rig.setMode(mode);
-    // Place the car 1.8 km into the drive (Escaldes), camera settled.
-    const auto shot = f.settle(rig, 1800.0, 13.0, double(kW) / kH, kH);
-    EXPECT_TRUE(shot.complete);
-    MapFrame frame = f.frameFor(shot, double(kW) / kH, kH);
+    // The car 1.8 km into the drive (Escaldes), camera settled.
+    MapFrame frame = navmap::test::settledAndorraFrame(mode, kW, kH);
     frame.layers = layers;
     renderer->renderMap(frame);
     if (stats) *stats = renderer->mapStats();
@@ -53,7 +42,7 @@ MapLayers layersFor(int step) {
 const char* kStepNames[] = {"terrain", "roads", "buildings", "full"};
 
 TEST(AndorraMap, DriveIsPlannedOnTheRoadGraph) {
-    const auto& d = andorra().drive;
+    const auto& d = navmap::test::andorraDrive().drive;
     ASSERT_GT(d.line.size(), 20u);
     // Andorra la Vella -> Encamp along the CG-2 is about 7-9 km.
     EXPECT_GT(d.line.back().measure_m, 6000.0);

@@ -14,6 +14,7 @@
 #include "label_quality.h"
 #include "navmap/render/map_scene.h"
 #include "navmap/render/renderer.h"
+#include "andorra_drive.h"
 #include "test_paths.h"
 
 namespace {
@@ -22,21 +23,9 @@ using namespace navmap::render;
 
 constexpr int kW = 640, kH = 240;
 
-using Fixture = DriveScene;
-
-Fixture& andorra() {
-    static Fixture f = DriveScene::open(navmap::test::binaryDir() / "andorra.navmap", kAndorraLaVella, kEncamp);
-    return f;
-}
-
 // The car 1.8 km into the drive (Escaldes), camera settled, tiles resident.
 MapFrame settledFrame(ViewMode mode) {
-    Fixture& f = andorra();
-    CameraRig rig;
-    rig.setMode(mode);
-    const auto shot = f.settle(rig, 1800.0, 13.0, double(kW) / kH, kH);
-    EXPECT_TRUE(shot.complete);
-    MapFrame frame = f.frameFor(shot, double(kW) / kH, kH);
+    MapFrame frame = navmap::test::settledAndorraFrame(mode, kW, kH);
     frame.layers.labels = true;
     frame.frame_dt_s = 1.0 / 30.0;
     return frame;
@@ -133,7 +122,7 @@ TEST(LabelPass, BuildingsHideWorldSpaceLabels) {
 TEST(LabelPass, SwitchCrossFadesWithoutPops) {
     // Bird's-eye settled, then the rig flies down to the snail's view: the labels cross-fade
     // from screen space to world space (seed 5.5), never in one frame.
-    Fixture& f = andorra();
+    DriveScene& f = navmap::test::andorraDrive();
     auto r = makeRenderer();
     MapFrame frame = settledFrame(ViewMode::Bird);
     renderSettled(*r, frame, 30);

@@ -15,6 +15,7 @@
 #include "golden.h"
 #include "navmap/render/map_scene.h"
 #include "navmap/render/renderer.h"
+#include "andorra_drive.h"
 #include "test_paths.h"
 
 namespace {
@@ -35,18 +36,8 @@ struct GlowPose {
 GlowPose glowPose(ViewMode mode) { return mode == ViewMode::Bird ? GlowPose{300.0, 0.0} : GlowPose{1800.0, 13.0}; }
 constexpr int kSettleFrames = 30;  // labels fade in and settle
 
-DriveScene& andorra() {
-    static DriveScene f = DriveScene::open(navmap::test::binaryDir() / "andorra.navmap", kAndorraLaVella, kEncamp);
-    return f;
-}
-
 MapFrame frameAt(ViewMode mode, double measure, double speed_mps = 13.0) {
-    DriveScene& f = andorra();
-    CameraRig rig;
-    rig.setMode(mode);
-    const auto shot = f.settle(rig, measure, speed_mps, double(kW) / kH, kH);
-    EXPECT_TRUE(shot.complete);
-    MapFrame frame = f.frameFor(shot, double(kW) / kH, kH);
+    MapFrame frame = navmap::test::settledAndorraFrame(mode, kW, kH, measure, speed_mps);
     frame.frame_dt_s = 1.0 / 30.0;
     return frame;
 }

@@ -12,6 +12,7 @@
 #include <functional>
 #include <memory>
 
+#include "andorra_drive.h"
 #include "golden.h"
 #include "gl/sv_roads.h"
 #include "navmap/render/dem_refine.h"
@@ -500,28 +501,16 @@ TEST(SvRoadsHighRes, GeometricDrapingOnTheShippedGridLeavesTheSurfaceShadowVolum
 // ---------------------------------------------------------------------------------------------
 // Goldens: SV roads over the real store in both views (same poses as andorra_map_test).
 
-using Fixture = DriveScene;
-
-Fixture& andorra() {
-    static Fixture f = DriveScene::open(navmap::test::binaryDir() / "andorra.navmap", kAndorraLaVella, kEncamp);
-    return f;
-}
-
 class SvGolden : public ::testing::TestWithParam<std::tuple<ViewMode, bool>> {};
 
 TEST_P(SvGolden, MatchesGolden) {
     const auto [mode, full] = GetParam();
     constexpr int w = 640, h = 240;
-    Fixture& f = andorra();
     RendererOptions o;
     o.width = w;
     o.height = h;
     auto renderer = Renderer::create(o);
-    CameraRig rig;
-    rig.setMode(mode);
-    const auto shot = f.settle(rig, 1800.0, 13.0, double(w) / h, h);
-    EXPECT_TRUE(shot.complete);
-    MapFrame frame = f.frameFor(shot, double(w) / h, h);
+    MapFrame frame = navmap::test::settledAndorraFrame(mode, w, h);
     frame.layers.buildings = frame.layers.route = frame.layers.marker = full;
     frame.layers.road_technique = RoadTechnique::ShadowVolume;
     renderer->renderMap(frame);

@@ -12,6 +12,7 @@
 
 #include "navmap/render/map_scene.h"
 #include "navmap/render/renderer.h"
+#include "andorra_drive.h"
 #include "test_paths.h"
 
 namespace {
@@ -67,11 +68,6 @@ struct DiffRun {
     std::vector<FrameDiff> pops;   ///< per switch frame: against the previous tiles, same camera
 };
 
-DriveScene& andorra() {
-    static DriveScene d = DriveScene::open(navmap::test::binaryDir() / "andorra.navmap", kAndorraLaVella, kEncamp);
-    return d;
-}
-
 bool haveStore() { return std::filesystem::exists(navmap::test::binaryDir() / "andorra.navmap"); }
 
 Peaks peaksOf(const DiffRun& r) {
@@ -109,7 +105,7 @@ void PrintTo(const CameraPath& p, std::ostream* os) { *os << p.name << " at " <<
 // Flies the camera of `path` straight ahead in kSteps steps of step_m; every frame is rendered
 // with and without geomorphing (terrain only).
 std::pair<Peaks, Peaks> flyAcrossSwitches(const CameraPath& path, double step_m) {
-    DriveScene& d = andorra();
+    DriveScene& d = navmap::test::andorraDrive();
     const double aspect = double(kW) / kH;
     CameraRig rig;
     rig.setMode(ViewMode::Bird);
@@ -229,7 +225,7 @@ INSTANTIATE_TEST_SUITE_P(Paths, TerrainMorphGpu,
 // with the distance, faster than the morph moves the surface).
 TEST(TerrainMorphRoads, RoadsStayVisibleOnMorphedTerrain) {
     if (!haveStore()) GTEST_SKIP() << "no compiled store in " << navmap::test::binaryDir() << " (target navmap_default_store)";
-    DriveScene& d = andorra();
+    DriveScene& d = navmap::test::andorraDrive();
     const double aspect = double(kW) / kH;
     RendererOptions o;
     o.width = kW;

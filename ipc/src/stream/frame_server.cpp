@@ -13,6 +13,8 @@
 #include <atomic>
 #include <cerrno>
 #include <cstring>
+#include <initializer_list>
+#include <iomanip>
 #include <map>
 #include <mutex>
 #include <nlohmann/json.hpp>
@@ -1061,55 +1063,56 @@ void FrameServer::Impl::refreshRings() {
     }
 }
 
+namespace {
+
+// One metric family in the Prometheus text format: HELP and TYPE lines, then one sample per
+// label set ("" for none). 15 significant digits keep counters exact and print gauges plainly.
+struct Sample {
+    const char* labels;
+    double value;
+};
+void metricFamily(std::ostream& os, const char* name, const char* type, const char* help,
+                  std::initializer_list<Sample> samples) {
+    os << "# HELP " << name << ' ' << help << "\n# TYPE " << name << ' ' << type << '\n';
+    for (const Sample& s : samples) os << name << s.labels << ' ' << std::setprecision(15) << s.value << '\n';
+}
+
+}  // namespace
+
 std::string FrameServer::Impl::metricsText() const {
     const FrameServerStats s = stats();
+    const stream_detail::EncoderStats es = m_encoder.stats();  // zlib and JPEG: the encoder thread
+    auto d = [](auto v) { return static_cast<double>(v); };
     std::ostringstream os;
-    os << "# HELP navmap_stream_clients Frame-stream clients connected now, by transport.\n"
-          "# TYPE navmap_stream_clients gauge\n"
-       << "navmap_stream_clients{transport=\"shm\"} " << s.shmClients << "\n"
-       << "navmap_stream_clients{transport=\"tcp\"} " << s.tcpClients << "\n"
-       << "navmap_stream_clients{transport=\"mjpeg\"} " << s.mjpegClients << "\n"
-       << "# HELP navmap_stream_rings Shared-memory rings (one per profile with clients).\n"
-          "# TYPE navmap_stream_rings gauge\n"
-       << "navmap_stream_rings " << s.rings << "\n"
-       << "# HELP navmap_stream_frames_published_total Frames published by the render loop.\n"
-          "# TYPE navmap_stream_frames_published_total counter\n"
-       << "navmap_stream_frames_published_total " << s.published << "\n"
-       << "# HELP navmap_stream_frames_sent_total Frames handed to clients.\n"
-          "# TYPE navmap_stream_frames_sent_total counter\n"
-       << "navmap_stream_frames_sent_total " << s.framesSent << "\n"
-       << "# HELP navmap_stream_frames_dropped_total Frames skipped because a client was busy.\n"
-          "# TYPE navmap_stream_frames_dropped_total counter\n"
-       << "navmap_stream_frames_dropped_total " << s.framesDropped << "\n"
-       << "# HELP navmap_stream_connections_total Connections accepted.\n"
-          "# TYPE navmap_stream_connections_total counter\n"
-       << "navmap_stream_connections_total " << s.accepted << "\n"
-       << "# HELP navmap_stream_errors_total Rejected input, by kind.\n"
-          "# TYPE navmap_stream_errors_total counter\n"
-       << "navmap_stream_errors_total{kind=\"handshake\"} " << s.handshakeErrors << "\n"
-       << "navmap_stream_errors_total{kind=\"protocol\"} " << s.protocolErrors << "\n"
-       << "navmap_stream_errors_total{kind=\"http\"} " << s.httpErrors << "\n"
-       << "# HELP navmap_stream_stall_disconnects_total Clients disconnected after the stall timeout.\n"
-          "# TYPE navmap_stream_stall_disconnects_total counter\n"
-       << "navmap_stream_stall_disconnects_total " << s.stallDisconnects << "\n"
-       << "# HELP navmap_stream_publish_seconds Render-thread cost of publish().\n"
-          "# TYPE navmap_stream_publish_seconds gauge\n"
-       << "navmap_stream_publish_seconds{stat=\"last\"} " << s.publishMsLast / 1000.0 << "\n"
-       << "navmap_stream_publish_seconds{stat=\"max\"} " << s.publishMsMax / 1000.0 << "\n";
-    // zlib and JPEG run on the encoder thread, once per frame, ring and format.
-    const stream_detail::EncoderStats es = m_encoder.stats();
-    os << "# HELP navmap_stream_encodes_total Frames compressed (zlib) or JPEG-encoded by the encoder thread.\n"
-          "# TYPE navmap_stream_encodes_total counter\n"
-       << "navmap_stream_encodes_total " << es.encoded << "\n"
-       << "# HELP navmap_stream_encodes_superseded_total Encode requests replaced by a newer frame before they started.\n"
-          "# TYPE navmap_stream_encodes_superseded_total counter\n"
-       << "navmap_stream_encodes_superseded_total " << es.replaced << "\n"
-       << "# HELP navmap_stream_encode_seconds Encoder-thread time per frame.\n"
-          "# TYPE navmap_stream_encode_seconds gauge\n"
-       << "navmap_stream_encode_seconds{format=\"zlib\",stat=\"last\"} " << es.zlibMsLast / 1000.0 << "\n"
-       << "navmap_stream_encode_seconds{format=\"zlib\",stat=\"max\"} " << es.zlibMsMax / 1000.0 << "\n"
-       << "navmap_stream_encode_seconds{format=\"jpeg\",stat=\"last\"} " << es.jpegMsLast / 1000.0 << "\n"
-       << "navmap_stream_encode_seconds{format=\"jpeg\",stat=\"max\"} " << es.jpegMsMax / 1000.0 << "\n";
+    metricFamily(os, "navmap_stream_clients", "gauge", "Frame-stream clients connected now, by transport.",
+                 {{"{transport=\"shm\"}", d(s.shmClients)},
+                  {"{transport=\"tcp\"}", d(s.tcpClients)},
+                  {"{transport=\"mjpeg\"}", d(s.mjpegClients)}});
+    metricFamily(os, "navmap_stream_rings", "gauge", "Shared-memory rings (one per profile with clients).",
+                 {{"", d(s.rings)}});
+    metricFamily(os, "navmap_stream_frames_published_total", "counter", "Frames published by the render loop.",
+                 {{"", d(s.published)}});
+    metricFamily(os, "navmap_stream_frames_sent_total", "counter", "Frames handed to clients.", {{"", d(s.framesSent)}});
+    metricFamily(os, "navmap_stream_frames_dropped_total", "counter", "Frames skipped because a client was busy.",
+                 {{"", d(s.framesDropped)}});
+    metricFamily(os, "navmap_stream_connections_total", "counter", "Connections accepted.", {{"", d(s.accepted)}});
+    metricFamily(os, "navmap_stream_errors_total", "counter", "Rejected input, by kind.",
+                 {{"{kind=\"handshake\"}", d(s.handshakeErrors)},
+                  {"{kind=\"protocol\"}", d(s.protocolErrors)},
+                  {"{kind=\"http\"}", d(s.httpErrors)}});
+    metricFamily(os, "navmap_stream_stall_disconnects_total", "counter", "Clients disconnected after the stall timeout.",
+                 {{"", d(s.stallDisconnects)}});
+    metricFamily(os, "navmap_stream_publish_seconds", "gauge", "Render-thread cost of publish().",
+                 {{"{stat=\"last\"}", s.publishMsLast / 1000.0}, {"{stat=\"max\"}", s.publishMsMax / 1000.0}});
+    metricFamily(os, "navmap_stream_encodes_total", "counter",
+                 "Frames compressed (zlib) or JPEG-encoded by the encoder thread.", {{"", d(es.encoded)}});
+    metricFamily(os, "navmap_stream_encodes_superseded_total", "counter",
+                 "Encode requests replaced by a newer frame before they started.", {{"", d(es.replaced)}});
+    metricFamily(os, "navmap_stream_encode_seconds", "gauge", "Encoder-thread time per frame.",
+                 {{"{format=\"zlib\",stat=\"last\"}", es.zlibMsLast / 1000.0},
+                  {"{format=\"zlib\",stat=\"max\"}", es.zlibMsMax / 1000.0},
+                  {"{format=\"jpeg\",stat=\"last\"}", es.jpegMsLast / 1000.0},
+                  {"{format=\"jpeg\",stat=\"max\"}", es.jpegMsMax / 1000.0}});
     return os.str();
 }
 

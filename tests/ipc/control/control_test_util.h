@@ -2,25 +2,15 @@
 // Helpers for control-socket tests: a private temporary directory and an fd count (libosmium
 // count_fds style) to check that nothing leaks.
 
-#include <dirent.h>
 #include <stdlib.h>
 #include <unistd.h>
 
 #include <filesystem>
 #include <string>
 
-namespace navmap::test {
+#include "open_fds.h"
 
-inline int countOpenFds() {
-    int n = 0;
-    if (DIR* d = ::opendir("/proc/self/fd")) {
-        while (::readdir(d) != nullptr) {
-            ++n;
-        }
-        ::closedir(d);
-    }
-    return n;
-}
+namespace navmap::test {
 
 /// mkdtemp directory under /tmp (short, so socket paths fit sun_path), removed at scope exit.
 class TempDir {

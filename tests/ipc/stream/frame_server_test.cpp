@@ -35,7 +35,7 @@ StreamRequest small(StreamPayload payload, int fps = 240, PixelFormat format = P
 class StreamServerTest : public ::testing::Test {
 protected:
     void SetUp() override {
-        m_fdsBefore = countFds();
+        m_fdsBefore = countOpenFds();
         FrameServerOptions o;
         o.unixPath = uniqueSocketPath("stream-test");
         o.tcpPort = 0;
@@ -50,7 +50,7 @@ protected:
     }
     void TearDown() override {
         m_server.reset();
-        EXPECT_EQ(countFds(), m_fdsBefore) << "descriptors leaked";
+        EXPECT_EQ(countOpenFds(), m_fdsBefore) << "descriptors leaked";
     }
     // Publishes one frame of the small profile with every pixel = seq.
     void publishSeq(std::uint64_t seq, const std::string& view = "bird", int w = 64, int h = 32) {
@@ -457,13 +457,13 @@ TEST_F(StreamServerTest, NoFdOrMemoryGrowthOver100ConnectDisconnectCycles) {
         cycle(i);
     }
     ASSERT_TRUE(waitFor([&] { return m_server->stats().connections == 0; }));
-    const int fds = countFds();
+    const int fds = countOpenFds();
     const long rss = rssKb();
     for (int i = 0; i < 100; ++i) {
         cycle(i);
     }
     ASSERT_TRUE(waitFor([&] { return m_server->stats().connections == 0 && m_server->stats().rings == 0; }));
-    const int fdsAfter = countFds();
+    const int fdsAfter = countOpenFds();
     const long rssAfter = rssKb();
     pub.stop();
     EXPECT_EQ(fdsAfter, fds);
@@ -494,7 +494,7 @@ TEST_F(StreamServerTest, ActiveProfilesTellTheDaemonWhatToRender) {
 }
 
 TEST(FrameServerSetup, BindErrorsNameTheCallAndTheObject) {
-    const int fds = countFds();
+    const int fds = countOpenFds();
     {
         FrameServerOptions o;
         o.unixPath = "/nonexistent-navmap-dir/stream.sock";
@@ -524,7 +524,7 @@ TEST(FrameServerSetup, BindErrorsNameTheCallAndTheObject) {
         ASSERT_FALSE(st.ok());
         EXPECT_NE(st.message().find("not a numeric"), std::string::npos);
     }
-    EXPECT_EQ(countFds(), fds);
+    EXPECT_EQ(countOpenFds(), fds);
 }
 
 TEST(StreamClientSetup, ConnectErrorsNameThePeer) {

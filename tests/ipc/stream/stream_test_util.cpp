@@ -1,7 +1,6 @@
 #include "stream_test_util.h"
 
 #include <arpa/inet.h>
-#include <dirent.h>
 #include <netinet/in.h>
 #include <poll.h>
 #include <sys/socket.h>
@@ -13,17 +12,6 @@
 #include <fstream>
 
 namespace navmap::stream_test {
-
-int countFds() {
-    int n = 0;
-    if (DIR* d = opendir("/proc/self/fd")) {
-        while (readdir(d) != nullptr) {
-            ++n;
-        }
-        closedir(d);
-    }
-    return n;
-}
 
 long rssKb() {
     std::ifstream in("/proc/self/status");

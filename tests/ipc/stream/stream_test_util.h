@@ -11,9 +11,12 @@
 
 #include "navmap/ipc/frame_server.h"
 
+#include "open_fds.h"
+
 namespace navmap::stream_test {
 
-int countFds();
+using navmap::test::countOpenFds;
+
 long rssKb();
 std::string uniqueSocketPath(const std::string& tag);
 

@@ -65,8 +65,8 @@ struct DriveScene {
     };
 
     /// Places the vehicle `measure_m` along the drive, snaps `rig` onto it and loads the tiles the
-    /// camera needs (three rounds: the first loads tiles, the later ones see terrain heights), then
-    /// drapes the route onto the loaded terrain.
+    /// camera needs (three rounds: the first loads tiles, the later ones see terrain heights). The
+    /// route needs no heights: the renderer drapes it onto each tile it draws.
     Shot settle(CameraRig& rig, double measure_m, double speed_mps, double aspect, int viewport_height,
                 std::chrono::milliseconds timeout = std::chrono::seconds(20));
 

@@ -1,0 +1,18 @@
+#pragma once
+// The Andorra drive the render tests share: the default store built into the build tree
+// (Andorra la Vella -> Encamp), opened once per test program, and settled frames along it.
+
+#include "navmap/render/map_scene.h"
+
+namespace navmap::test {
+
+/// Opened on first use; later calls return the same scene (tiles stay resident between tests).
+render::DriveScene& andorraDrive();
+
+/// The frame of a camera in `mode` settled `measure_m` along the drive (tiles resident, route
+/// and marker set; layers at their defaults) for a width x height view. Flags an incomplete
+/// settle as a test failure.
+render::MapFrame settledAndorraFrame(render::ViewMode mode, int width, int height, double measure_m = 1800.0,
+                                     double speed_mps = 13.0);
+
+}  // namespace navmap::test
