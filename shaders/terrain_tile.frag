@@ -1,12 +1,31 @@
 // Terrain shading: hypsometric tint, replaced by the tile's land-cover raster where it has
 // coverage, times relief shading; aerial perspective towards the horizon. The land-cover
 // texture is the pluggable input (synthetic orthoimages later replace it).
+#ifndef NAVMAP_COVER_LEVELS
+#define NAVMAP_COVER_LEVELS 1  // land-cover levels blended (terrain_tile.frag)
+#endif
 in vec2 v_uv;
 in float v_height;
 in float v_distance;
 in float v_shade;  // relief shading from the vertex stage
 
 uniform sampler2D u_land_cover;
+#if NAVMAP_COVER_LEVELS > 1
+// Geomorphing of the land cover (terrain_lod.h): the rasters of the parent and the grandparent
+// over this tile's square (same texel grid as their own rasters) blend in like the surface,
+//     C_L(d) = mix(c_L, mix(c_L-1, c_L-2, f_L-1(d)), f_L(d)),
+// so where the surface has become the parent's, the land cover is the parent's too and a level
+// switch changes neither. The rasters are premultiplied, so a level without coverage at a place
+// fades the cover out instead of darkening it. Each texture fetch costs about a quarter of the
+// terrain pass on llvmpipe, so a tile gets only the levels its distances reach
+// (NAVMAP_COVER_LEVELS 2 or 3, the finest of them in u_land_cover); the grandparent stands in
+// for the coarser levels of slots 2 and 3.
+uniform sampler2D u_cover1;  // one level coarser than u_land_cover
+#if NAVMAP_COVER_LEVELS == 3
+uniform sampler2D u_cover2;  // two levels coarser
+#endif
+in vec2 v_cover_morph;  // the factors from u_land_cover to u_cover1 and from u_cover1 to u_cover2
+#endif
 uniform vec3 u_sky_color;
 uniform vec2 u_fog_range;
 uniform float u_brightness;  // 1 by day, lower at night
@@ -30,8 +49,15 @@ vec3 hypsometricTint(float h) {
 }
 
 void main() {
+#if NAVMAP_COVER_LEVELS == 3
+    vec4 coarser = mix(texture(u_cover1, v_uv), texture(u_cover2, v_uv), v_cover_morph.y);
+    vec4 cover = mix(texture(u_land_cover, v_uv), coarser, v_cover_morph.x);
+#elif NAVMAP_COVER_LEVELS == 2
+    vec4 cover = mix(texture(u_land_cover, v_uv), texture(u_cover1, v_uv), v_cover_morph.x);
+#else
     vec4 cover = texture(u_land_cover, v_uv);
-    vec3 base = mix(hypsometricTint(v_height), cover.rgb, cover.a);
+#endif
+    vec3 base = hypsometricTint(v_height) * (1.0 - cover.a) + cover.rgb;  // the cover is premultiplied
     vec3 color = base * v_shade * u_brightness;
     float fog = smoothstep(u_fog_range.x, u_fog_range.y, v_distance);
     o_color = vec4(mix(color, u_sky_color, fog * 0.85), 1.0);

@@ -1,5 +1,8 @@
 // Terrain of one tile: grid + skirts, positions tile-local; the view matrix is relative to the
 // tile origin (computed in double on the CPU), so nothing jitters far from the store origin.
+#ifndef NAVMAP_COVER_LEVELS
+#define NAVMAP_COVER_LEVELS 1  // land-cover levels blended (terrain_tile.frag)
+#endif
 layout(location = 0) in vec3 a_position;
 layout(location = 1) in vec3 a_normal;
 // Geomorph targets: the surfaces of the 4 coarser levels at this x, y (parent first), with
@@ -21,6 +24,12 @@ uniform vec2 u_morph_eye;
 uniform float u_morph_eye_dz;
 
 out vec2 v_uv;
+#if NAVMAP_COVER_LEVELS > 1
+// The land cover morphs with the surface (terrain_tile.frag): the factor of the slot from the
+// finest level drawn (u_cover_slot picks slot 0 or 1), then that of slot 1.
+uniform vec2 u_cover_slot;
+out vec2 v_cover_morph;
+#endif
 out float v_height;
 out float v_distance;
 out float v_shade;
@@ -67,6 +76,9 @@ void main() {
     float sky = 0.5 + 0.5 * n.z;
     v_shade = 0.25 * sky + 0.85 * reliefShade(n, p.z);
     v_uv = a_position.xy / u_tile_size;
+#if NAVMAP_COVER_LEVELS > 1
+    v_cover_morph = vec2(dot(f.xy, u_cover_slot), f.y);
+#endif
     v_height = p.z;
     v_distance = length(view_pos.xyz);
     gl_Position = u_projection * view_pos;

@@ -134,6 +134,23 @@ glm::vec4 landCoverColor(map::AreaClass cls) {
     return rgba(0xc8c8b0, 0.3f);
 }
 
+std::vector<LandCoverVertex> landCoverTriangles(const map::Tile& tile) {
+    std::vector<const map::Area*> areas;
+    for (const auto& a : tile.areas) areas.push_back(&a);
+    std::stable_sort(areas.begin(), areas.end(),
+                     [](const map::Area* a, const map::Area* b) { return landCoverOrder(a->cls) < landCoverOrder(b->cls); });
+    std::vector<LandCoverVertex> out;
+    for (const map::Area* a : areas) {
+        const glm::vec4 color = landCoverColor(a->cls);
+        for (std::uint32_t i : a->polygon.indices) {
+            if (i >= a->polygon.vertices.size()) continue;
+            const auto& p = a->polygon.vertices[i];
+            out.push_back({glm::vec2(p.x, p.y), color});
+        }
+    }
+    return out;
+}
+
 TileMesh buildTileMesh(const map::Tile& tile, const TileMeshOptions& options, std::span<const map::Tile* const> ancestors) {
     TileMesh mesh;
     mesh.id = tile.id;
@@ -180,43 +197,59 @@ TileMesh buildTileMesh(const map::Tile& tile, const TileMeshOptions& options, st
             mesh.terrain[i].ancestor_normals[k] = glm::vec2(normals[i]);
         }
     }
-    mesh.terrain_indices = gridTriangleIndices(n);
     // Skirts: a curtain hanging from every border vertex, so a coarser neighbour never shows a
     // crack through to the sky.
-    std::vector<std::uint32_t> ring;  // border vertex indices, counter-clockwise from south-west
-    for (int c = 0; c < n - 1; ++c) ring.push_back(static_cast<std::uint32_t>(c));
-    for (int r = 0; r < n - 1; ++r) ring.push_back(static_cast<std::uint32_t>(r * n + n - 1));
-    for (int c = n - 1; c > 0; --c) ring.push_back(static_cast<std::uint32_t>((n - 1) * n + c));
-    for (int r = n - 1; r > 0; --r) ring.push_back(static_cast<std::uint32_t>(r * n));
-    const auto skirt_base = static_cast<std::uint32_t>(mesh.terrain.size());
-    for (std::uint32_t v : ring) {
+    std::vector<std::uint32_t> skirt_of(mesh.terrain.size(), 0);  // border vertex -> its skirt vertex
+    auto addSkirt = [&](int r, int c) {
+        const auto v = static_cast<std::size_t>(r) * n + c;
+        if (skirt_of[v]) return;
         TerrainVertex s = mesh.terrain[v];
         s.position.z -= options.skirt_depth_m;
         for (float& a : s.ancestor_heights) a -= options.skirt_depth_m;  // morphs with its border vertex
+        skirt_of[v] = static_cast<std::uint32_t>(mesh.terrain.size());
         mesh.terrain.push_back(s);
+    };
+    for (int i = 0; i < n; ++i) {
+        addSkirt(0, i);
+        addSkirt(n - 1, i);
+        addSkirt(i, 0);
+        addSkirt(i, n - 1);
     }
-    for (std::size_t i = 0; i < ring.size(); ++i) {
-        const std::uint32_t a = ring[i], b = ring[(i + 1) % ring.size()];
-        const auto sa = skirt_base + static_cast<std::uint32_t>(i);
-        const auto sb = skirt_base + static_cast<std::uint32_t>((i + 1) % ring.size());
-        // Outward-facing (the ring runs counter-clockwise seen from above).
-        mesh.terrain_indices.insert(mesh.terrain_indices.end(), {a, sa, sb, a, sb, b});
+    auto vertex = [&](int r, int c) { return static_cast<std::uint32_t>(r * n + c); };
+    // Border segment a -> b runs counter-clockwise round the tile (seen from above), so the
+    // curtain faces outwards.
+    auto skirtSegment = [&](std::uint32_t a, std::uint32_t b) {
+        mesh.terrain_indices.insert(mesh.terrain_indices.end(), {a, skirt_of[a], skirt_of[b], a, skirt_of[b], b});
+    };
+    // The grid in kTerrainBlocks^2 square blocks, each with its part of the skirts, so a block
+    // can be drawn alone (the renderer picks per block which land-cover levels it needs).
+    const int blocks = std::min(kTerrainBlocks, n - 1);
+    for (int by = 0; by < blocks; ++by) {
+        for (int bx = 0; bx < blocks; ++bx) {
+            const int r0 = (n - 1) * by / blocks, r1 = (n - 1) * (by + 1) / blocks;
+            const int c0 = (n - 1) * bx / blocks, c1 = (n - 1) * (bx + 1) / blocks;
+            TerrainBlock block;
+            block.first = static_cast<std::uint32_t>(mesh.terrain_indices.size());
+            block.min = glm::vec2(static_cast<float>(c0 * spacing), static_cast<float>(r0 * spacing));
+            block.max = glm::vec2(static_cast<float>(c1 * spacing), static_cast<float>(r1 * spacing));
+            for (int r = r0; r < r1; ++r) {
+                for (int c = c0; c < c1; ++c) {
+                    // The split of HeightGrid (gridTriangleIndices).
+                    const auto sw = vertex(r, c), se = vertex(r, c + 1), nw = vertex(r + 1, c), ne = vertex(r + 1, c + 1);
+                    mesh.terrain_indices.insert(mesh.terrain_indices.end(), {sw, se, ne, sw, ne, nw});
+                }
+            }
+            for (int c = c0; by == 0 && c < c1; ++c) skirtSegment(vertex(0, c), vertex(0, c + 1));
+            for (int r = r0; bx == blocks - 1 && r < r1; ++r) skirtSegment(vertex(r, n - 1), vertex(r + 1, n - 1));
+            for (int c = c0; by == blocks - 1 && c < c1; ++c) skirtSegment(vertex(n - 1, c + 1), vertex(n - 1, c));
+            for (int r = r0; bx == 0 && r < r1; ++r) skirtSegment(vertex(r + 1, 0), vertex(r, 0));
+            block.count = static_cast<std::uint32_t>(mesh.terrain_indices.size()) - block.first;
+            mesh.terrain_blocks.push_back(block);
+        }
     }
     const HeightGrid grid = mesh.grid();
 
-    // --- land cover
-    std::vector<const map::Area*> areas;
-    for (const auto& a : tile.areas) areas.push_back(&a);
-    std::stable_sort(areas.begin(), areas.end(),
-                     [](const map::Area* a, const map::Area* b) { return landCoverOrder(a->cls) < landCoverOrder(b->cls); });
-    for (const map::Area* a : areas) {
-        const glm::vec4 color = landCoverColor(a->cls);
-        for (std::uint32_t i : a->polygon.indices) {
-            if (i >= a->polygon.vertices.size()) continue;
-            const auto& p = a->polygon.vertices[i];
-            mesh.land_cover.push_back({glm::vec2(p.x, p.y), color});
-        }
-    }
+    mesh.land_cover = landCoverTriangles(tile);
 
     // --- roads: draped onto the grid (seed 3.6.1), one instance per piece (seed 3.4)
     struct Piece {

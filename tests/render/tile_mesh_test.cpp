@@ -1,8 +1,12 @@
 // CPU preparation of tiles: skirts, draped roads, ordering, buildings, size growth of draping.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <set>
 
+#include "navmap/render/road_draping.h"
 #include "navmap/render/tile_mesh.h"
 
 namespace {
@@ -32,6 +36,36 @@ TEST(TileMesh, TerrainHasGridAndSkirtsBelowTheBorder) {
         EXPECT_TRUE(on_border);
         EXPECT_NEAR(s.position.z, m.grid().heightAt(s.position.x, s.position.y) - 60.0, 1e-3);
     }
+}
+
+// The blocks partition the grid and the skirts: every grid triangle (with the split of
+// gridTriangleIndices) and every skirt triangle exactly once, inside its block's extent.
+TEST(TileMesh, TerrainBlocksPartitionGridAndSkirts) {
+    const map::Tile t = bumpyTile();
+    const render::TileMesh m = render::buildTileMesh(t);
+    ASSERT_EQ(m.terrain_blocks.size(), std::size_t(render::kTerrainBlocks * render::kTerrainBlocks));
+    std::uint32_t next = 0;
+    std::set<std::array<std::uint32_t, 3>> seen;
+    std::size_t skirt_triangles = 0;
+    for (const render::TerrainBlock& b : m.terrain_blocks) {
+        EXPECT_EQ(b.first, next);
+        next = b.first + b.count;
+        EXPECT_FLOAT_EQ(b.max.x - b.min.x, 200.0f);  // 16 cells of 50 m in 4 blocks
+        EXPECT_FLOAT_EQ(b.max.y - b.min.y, 200.0f);
+        for (std::uint32_t i = b.first; i < b.first + b.count; i += 3) {
+            std::array<std::uint32_t, 3> tri{m.terrain_indices[i], m.terrain_indices[i + 1], m.terrain_indices[i + 2]};
+            for (std::uint32_t v : tri) {
+                const glm::vec3 p = m.terrain[v].position;
+                EXPECT_TRUE(p.x >= b.min.x && p.x <= b.max.x && p.y >= b.min.y && p.y <= b.max.y) << p.x << ", " << p.y;
+            }
+            if (*std::max_element(tri.begin(), tri.end()) >= 17u * 17u) ++skirt_triangles;
+            EXPECT_TRUE(seen.insert(tri).second) << "triangle drawn twice";
+        }
+    }
+    EXPECT_EQ(next, m.terrain_indices.size());
+    EXPECT_EQ(skirt_triangles, 4u * 16u * 2u);
+    const auto grid = render::gridTriangleIndices(17);
+    for (std::size_t i = 0; i < grid.size(); i += 3) EXPECT_TRUE(seen.count({grid[i], grid[i + 1], grid[i + 2]})) << i;
 }
 
 TEST(TileMesh, TileWithoutDemIsFlat) {

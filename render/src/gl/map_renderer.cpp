@@ -20,6 +20,7 @@ namespace {
 // profile. RGBA4: land cover is flat class colours and a coverage strength, which 4 bits per
 // channel hold; half the memory of RGBA8 (about 0.17 MiB per tile with mipmaps).
 int landCoverTextureSize(float) { return 256; }
+constexpr int kLandCoverSamples = 4;
 
 using Clock = std::chrono::steady_clock;
 
@@ -27,6 +28,32 @@ using Clock = std::chrono::steady_clock;
 // roads to show; the aura needs labels and buildings to fade).
 bool wantsGlow(const MapLayers& l) { return l.glow_roads && l.buildings && (l.roads || l.route); }
 bool wantsAura(const MapLayers& l) { return l.label_aura && l.labels && l.buildings; }
+
+// The land-cover levels a tile's pixels reach this frame (0 its own raster, 1 the parent's, 2 the
+// grandparent's; terrain_tile.frag): from the finest some vertex has not morphed away from to the
+// coarsest some vertex morphs into. Distances are measured as the geomorph measures them
+// (terrain_lod.h: horizontal, plus the camera's distance from the LOD height band); the slots'
+// ranges are disjoint and increasing (morph_start > 0.5).
+struct CoverLevels {
+    int finest = 0, coarsest = 0;
+};
+bool operator==(CoverLevels a, CoverLevels b) { return a.finest == b.finest && a.coarsest == b.coarsest; }
+/// For the part [lo, hi] (tile-local x, y) of a tile seen from tile-local `eye`.
+CoverLevels coverLevels(const TileMorph& m, glm::vec2 eye, glm::vec2 lo, glm::vec2 hi) {
+    const glm::vec2 near = glm::max(glm::max(lo - eye, eye - hi), glm::vec2(0.0f));
+    const glm::vec2 far = glm::max(glm::abs(eye - lo), glm::abs(eye - hi));
+    const float nx = near.x, ny = near.y, fx = far.x, fy = far.y;
+    const float dz2 = m.eye_dz_m * m.eye_dz_m;
+    const float nearest = std::sqrt(nx * nx + ny * ny + dz2), farthest = std::sqrt(fx * fx + fy * fy + dz2);
+    CoverLevels c;
+    for (int j = 0; j < 2; ++j) {
+        const auto k = static_cast<std::size_t>(j);
+        if (m.end_m[k] <= m.start_m[k]) break;  // no morph in this slot (the shader's test)
+        if (c.finest == j && nearest >= m.end_m[k]) c.finest = j + 1;
+        if (farthest > m.start_m[k]) c.coarsest = j + 1;
+    }
+    return c;
+}
 
 double msSince(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
 
@@ -68,7 +95,11 @@ struct MapRenderer::GpuTile {
     float size_m = 0.0f;
     GLuint terrain_vao = 0, terrain_vbo = 0, terrain_ibo = 0;
     GLsizei terrain_index_count = 0;
+    std::vector<TerrainBlock> terrain_blocks;  // drawn one by one or merged (land-cover levels)
     GLuint land_cover = 0;  // 0: none (the shared empty texture is used)
+    // The parent's and grandparent's land cover over this tile, for morphing it like the surface
+    // (terrain_tile.frag); 0: that ancestor was not resident or has no land cover here.
+    std::array<GLuint, 2> ancestor_cover{};
     GLuint roads_vao = 0, roads_vbo = 0;
     GLsizei road_count = 0;
     // First instance of each class among non-bridge roads (instances run least important
@@ -102,6 +133,7 @@ struct MapRenderer::GpuTile {
         glDeleteVertexArrays(4, vaos);
         glDeleteBuffers(6, bufs);
         if (land_cover) glDeleteTextures(1, &land_cover);
+        glDeleteTextures(2, ancestor_cover.data());
     }
 };
 
@@ -109,6 +141,8 @@ MapRenderer::MapRenderer(const RendererOptions& options)
     : m_options(options),
       m_style(MapStyle::day()),
       m_terrain(ShaderProgram::fromEmbedded("terrain_tile.vert", "terrain_tile.frag")),
+      m_terrain_cover{ShaderProgram::fromEmbedded("terrain_tile.vert", "terrain_tile.frag", "#define NAVMAP_COVER_LEVELS 2\n"),
+                      ShaderProgram::fromEmbedded("terrain_tile.vert", "terrain_tile.frag", "#define NAVMAP_COVER_LEVELS 3\n")},
       m_land_cover(ShaderProgram::fromEmbedded("landcover_raster.vert", "landcover_raster.frag")),
       m_roads(ShaderProgram::fromEmbedded("roads_geo.vert", "roads_geo.frag")),
       m_outline(ShaderProgram::fromEmbedded("screen_outline.vert", "screen_outline.frag")),
@@ -139,6 +173,8 @@ MapRenderer::~MapRenderer() {
     m_tiles.clear();
     glDeleteTextures(1, &m_empty_texture);
     glDeleteFramebuffers(1, &m_raster_fbo);
+    glDeleteFramebuffers(1, &m_raster_ms_fbo);
+    glDeleteRenderbuffers(1, &m_raster_ms_rb);
     glDeleteVertexArrays(1, &m_empty_vao);
     glDeleteVertexArrays(1, &m_marker_vao);
     glDeleteBuffers(1, &m_marker_vbo);
@@ -192,6 +228,7 @@ MapRenderer::GpuTile* MapRenderer::upload(const std::shared_ptr<const map::Tile>
     glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(mesh.terrain_indices.size() * sizeof(std::uint32_t)),
                  mesh.terrain_indices.data(), GL_STATIC_DRAW);
     gpu->terrain_index_count = static_cast<GLsizei>(mesh.terrain_indices.size());
+    gpu->terrain_blocks = mesh.terrain_blocks;
 
     if (!mesh.roads.empty()) {
         glGenVertexArrays(1, &gpu->roads_vao);
@@ -241,17 +278,30 @@ MapRenderer::GpuTile* MapRenderer::upload(const std::shared_ptr<const map::Tile>
         gpu->building_index_count = static_cast<GLsizei>(mesh.building_indices.size());
     }
     glBindVertexArray(0);
-    if (!mesh.land_cover.empty()) rasterizeLandCover(*gpu, mesh);
+    if (!mesh.land_cover.empty()) {
+        gpu->land_cover = rasterizeLandCover(mesh.land_cover, landCoverTextureSize(mesh.size_m), glm::vec2(0.0f), mesh.size_m);
+    }
+    // The ancestors' rasters over this tile at their own texel density (half, a quarter).
+    for (std::size_t j = 0; j < gpu->ancestor_cover.size(); ++j) {
+        const map::Tile* a = ancestors[j];
+        if (!a) continue;
+        const std::vector<LandCoverVertex> triangles = landCoverTriangles(*a);
+        if (triangles.empty()) continue;
+        const glm::vec2 offset(static_cast<float>(mesh.origin.x - a->origin_x), static_cast<float>(mesh.origin.y - a->origin_y));
+        gpu->ancestor_cover[j] = rasterizeLandCover(triangles, landCoverTextureSize(static_cast<float>(a->size_m)) >> (j + 1),
+                                                    offset, mesh.size_m);
+    }
 
     GpuTile* raw = gpu.get();
     m_tiles[tile->id.key()] = std::move(gpu);
     return raw;
 }
 
-void MapRenderer::rasterizeLandCover(GpuTile& gpu, const TileMesh& mesh) {
-    glGenTextures(1, &gpu.land_cover);
-    glBindTexture(GL_TEXTURE_2D, gpu.land_cover);
-    const int size = landCoverTextureSize(mesh.size_m);
+GLuint MapRenderer::rasterizeLandCover(std::span<const LandCoverVertex> triangles, int size, glm::vec2 offset,
+                                       float extent) {
+    GLuint texture = 0;
+    glGenTextures(1, &texture);
+    glBindTexture(GL_TEXTURE_2D, texture);
     const int levels = 1 + static_cast<int>(std::log2(size));
     glTexStorage2D(GL_TEXTURE_2D, levels, GL_RGBA4, size, size);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
@@ -259,9 +309,21 @@ void MapRenderer::rasterizeLandCover(GpuTile& gpu, const TileMesh& mesh) {
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
     glBindFramebuffer(GL_FRAMEBUFFER, m_raster_fbo);
-    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, gpu.land_cover, 0);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, texture, 0);
     const GLenum c0 = GL_COLOR_ATTACHMENT0;
     glDrawBuffers(1, &c0);
+    // Area edges anti-aliased (4x multisampled, then resolved into the texture): the rasters are
+    // magnified on screen, where hard-edged texels would show as steps.
+    if (size > m_raster_ms_size) {
+        if (!m_raster_ms_fbo) glGenFramebuffers(1, &m_raster_ms_fbo);
+        if (m_raster_ms_rb) glDeleteRenderbuffers(1, &m_raster_ms_rb);
+        m_raster_ms_rb = makeRenderbuffer(GL_RGBA4, kLandCoverSamples, size, size);
+        m_raster_ms_size = size;
+        glBindFramebuffer(GL_FRAMEBUFFER, m_raster_ms_fbo);
+        glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, m_raster_ms_rb);
+        checkFramebufferComplete("land-cover raster");
+    }
+    glBindFramebuffer(GL_FRAMEBUFFER, m_raster_ms_fbo);
     glViewport(0, 0, size, size);
     const GLfloat clear[] = {0, 0, 0, 0};
     glClearBufferfv(GL_COLOR, 0, clear);
@@ -274,8 +336,8 @@ void MapRenderer::rasterizeLandCover(GpuTile& gpu, const TileMesh& mesh) {
     glGenBuffers(1, &vbo);
     glBindVertexArray(vao);
     glBindBuffer(GL_ARRAY_BUFFER, vbo);
-    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(mesh.land_cover.size() * sizeof(LandCoverVertex)),
-                 mesh.land_cover.data(), GL_STREAM_DRAW);
+    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(triangles.size() * sizeof(LandCoverVertex)), triangles.data(),
+                 GL_STREAM_DRAW);
     glEnableVertexAttribArray(0);
     glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, sizeof(LandCoverVertex),
                           reinterpret_cast<const void*>(offsetof(LandCoverVertex, position)));
@@ -283,14 +345,19 @@ void MapRenderer::rasterizeLandCover(GpuTile& gpu, const TileMesh& mesh) {
     glVertexAttribPointer(1, 4, GL_FLOAT, GL_FALSE, sizeof(LandCoverVertex),
                           reinterpret_cast<const void*>(offsetof(LandCoverVertex, color)));
     glUseProgram(m_land_cover.id());
-    glUniform1f(m_land_cover.uniform("u_tile_size"), mesh.size_m);
-    glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(mesh.land_cover.size()));
+    glUniform2fv(m_land_cover.uniform("u_offset"), 1, glm::value_ptr(offset));
+    glUniform1f(m_land_cover.uniform("u_extent"), extent);
+    glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(triangles.size()));
     glBindVertexArray(0);
     glDeleteBuffers(1, &vbo);
     glDeleteVertexArrays(1, &vao);
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, m_raster_ms_fbo);
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, m_raster_fbo);
+    glBlitFramebuffer(0, 0, size, size, 0, 0, size, size, GL_COLOR_BUFFER_BIT, GL_NEAREST);
     glGenerateMipmap(GL_TEXTURE_2D);
     glBindTexture(GL_TEXTURE_2D, 0);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    return texture;
 }
 
 void MapRenderer::updateRoute(GpuTile& g, const RouteGeometry& route, const Camera& camera) {
@@ -468,26 +535,67 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target) {
         glDepthFunc(GL_LESS);
         glEnable(GL_CULL_FACE);
         glCullFace(GL_BACK);
-        glUseProgram(m_terrain.id());
-        glUniformMatrix4fv(m_terrain.uniform("u_projection"), 1, GL_FALSE, glm::value_ptr(projection));
-        glUniform3fv(m_terrain.uniform("u_light_dir"), 1, glm::value_ptr(light));
-        glUniform3fv(m_terrain.uniform("u_sky_color"), 1, glm::value_ptr(m_style.sky_color));
-        glUniform2f(m_terrain.uniform("u_fog_range"), m_style.fog_start_m, m_style.fog_end_m);
-        glUniform1f(m_terrain.uniform("u_brightness"), m_style.brightness);
-        glUniform1i(m_terrain.uniform("u_land_cover"), 0);
-        glActiveTexture(GL_TEXTURE0);
+        for (ShaderProgram* p : {&m_terrain, &m_terrain_cover[0], &m_terrain_cover[1]}) {
+            glUseProgram(p->id());
+            glUniformMatrix4fv(p->uniform("u_projection"), 1, GL_FALSE, glm::value_ptr(projection));
+            glUniform3fv(p->uniform("u_light_dir"), 1, glm::value_ptr(light));
+            glUniform3fv(p->uniform("u_sky_color"), 1, glm::value_ptr(m_style.sky_color));
+            glUniform2f(p->uniform("u_fog_range"), m_style.fog_start_m, m_style.fog_end_m);
+            glUniform1f(p->uniform("u_brightness"), m_style.brightness);
+            glUniform1i(p->uniform("u_land_cover"), 0);
+            glUniform1i(p->uniform("u_cover1"), 1);
+            glUniform1i(p->uniform("u_cover2"), 2);
+        }
+        const ShaderProgram* bound = nullptr;
         for (GpuTile* g : tiles) {
+            const glm::vec2 eye(static_cast<float>(frame.camera.eye.x - g->origin.x),
+                                static_cast<float>(frame.camera.eye.y - g->origin.y));
+            // Land cover of the levels each block of the tile reaches (morphing with the surface);
+            // an ancestor with no land cover here shows none, one not resident is stood in for by
+            // the next finer level.
+            std::array<GLuint, 3> cover{m_empty_texture, m_empty_texture, m_empty_texture};
+            const bool morph_cover = frame.layers.land_cover && g->morph_ancestors[0];
+            if (frame.layers.land_cover) {
+                if (g->land_cover) cover[0] = g->land_cover;
+                if (g->ancestor_cover[0]) cover[1] = g->ancestor_cover[0];
+                cover[2] = !g->morph_ancestors[1] ? cover[1] : (g->ancestor_cover[1] ? g->ancestor_cover[1] : m_empty_texture);
+            }
             const glm::mat4 view = frame.camera.viewRelativeTo(g->origin);
-            glUniformMatrix4fv(m_terrain.uniform("u_view"), 1, GL_FALSE, glm::value_ptr(view));
-            glUniform1f(m_terrain.uniform("u_tile_size"), g->size_m);
-            glUniform4fv(m_terrain.uniform("u_morph_start"), 1, g->morph.start_m.data());
-            glUniform4fv(m_terrain.uniform("u_morph_end"), 1, g->morph.end_m.data());
-            glUniform1f(m_terrain.uniform("u_morph_eye_dz"), g->morph.eye_dz_m);
-            glUniform2f(m_terrain.uniform("u_morph_eye"), static_cast<float>(frame.camera.eye.x - g->origin.x),
-                        static_cast<float>(frame.camera.eye.y - g->origin.y));
-            glBindTexture(GL_TEXTURE_2D, frame.layers.land_cover && g->land_cover ? g->land_cover : m_empty_texture);
             glBindVertexArray(g->terrain_vao);
-            glDrawElements(GL_TRIANGLES, g->terrain_index_count, GL_UNSIGNED_INT, nullptr);
+            std::array<bool, 3> has_tile_uniforms{};  // per program: plain, 2 levels, 3 levels
+            // Consecutive blocks that need the same levels are one draw.
+            for (std::size_t b = 0; b < g->terrain_blocks.size();) {
+                const TerrainBlock& first = g->terrain_blocks[b];
+                const CoverLevels levels = morph_cover ? coverLevels(g->morph, eye, first.min, first.max) : CoverLevels{};
+                std::uint32_t count = first.count;
+                for (++b; b < g->terrain_blocks.size(); ++b) {
+                    const TerrainBlock& next = g->terrain_blocks[b];
+                    if (morph_cover && !(coverLevels(g->morph, eye, next.min, next.max) == levels)) break;
+                    count += next.count;
+                }
+                const int n = levels.coarsest - levels.finest + 1;
+                ShaderProgram& p = n == 1 ? m_terrain : m_terrain_cover[n - 2];
+                if (bound != &p) {
+                    glUseProgram(p.id());
+                    bound = &p;
+                }
+                if (!has_tile_uniforms[static_cast<std::size_t>(n - 1)]) {
+                    has_tile_uniforms[static_cast<std::size_t>(n - 1)] = true;
+                    glUniformMatrix4fv(p.uniform("u_view"), 1, GL_FALSE, glm::value_ptr(view));
+                    glUniform1f(p.uniform("u_tile_size"), g->size_m);
+                    glUniform4fv(p.uniform("u_morph_start"), 1, g->morph.start_m.data());
+                    glUniform4fv(p.uniform("u_morph_end"), 1, g->morph.end_m.data());
+                    glUniform1f(p.uniform("u_morph_eye_dz"), g->morph.eye_dz_m);
+                    glUniform2fv(p.uniform("u_morph_eye"), 1, glm::value_ptr(eye));
+                }
+                if (n > 1) glUniform2f(p.uniform("u_cover_slot"), levels.finest == 0 ? 1.0f : 0.0f, levels.finest == 0 ? 0.0f : 1.0f);
+                for (int k = n - 1; k >= 0; --k) {
+                    glActiveTexture(static_cast<GLenum>(GL_TEXTURE0 + k));
+                    glBindTexture(GL_TEXTURE_2D, cover[static_cast<std::size_t>(levels.finest + k)]);
+                }
+                glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(count), GL_UNSIGNED_INT,
+                               reinterpret_cast<const void*>(std::size_t{first.first} * sizeof(std::uint32_t)));
+            }
             m_stats.terrain_triangles += static_cast<std::size_t>(g->terrain_index_count / 3);
         }
         if (sv) sv->endTerrain(target);

@@ -6,6 +6,7 @@
 #include <GLES3/gl3.h>
 
 #include <memory>
+#include <span>
 #include <unordered_map>
 #include <unordered_set>
 #include <vector>
@@ -54,7 +55,9 @@ private:
 
     /// `morph` (may be null): the geomorph targets (TileMorph::ancestors).
     GpuTile* upload(const std::shared_ptr<const map::Tile>& tile, const TileMorph* morph = nullptr);
-    void rasterizeLandCover(GpuTile& gpu, const TileMesh& mesh);
+    /// A new RGBA4 texture (size^2, mipmapped) with the land-cover triangles (tile-local metres)
+    /// of the square [offset, offset + extent] of their tile.
+    GLuint rasterizeLandCover(std::span<const LandCoverVertex> triangles, int size, glm::vec2 offset, float extent);
     /// Drapes the route onto one tile (cached per route object and version) and applies the
     /// tile's geomorph of this frame.
     void updateRoute(GpuTile& tile, const RouteGeometry& route, const Camera& camera);
@@ -71,13 +74,17 @@ private:
     MapStyle m_style;
     MapFrameStats m_stats;
     ShaderProgram m_terrain;
+    ShaderProgram m_terrain_cover[2];  // + land cover morphing over 2 or 3 levels (terrain_tile.frag)
     ShaderProgram m_land_cover;
     ShaderProgram m_roads;
     ShaderProgram m_outline;
     ShaderProgram m_buildings;
     ShaderProgram m_marker;
     GLuint m_empty_texture = 0;
-    GLuint m_raster_fbo = 0;
+    GLuint m_raster_fbo = 0;     // the land-cover texture being resolved into
+    GLuint m_raster_ms_fbo = 0;  // multisampled land-cover raster, m_raster_ms_size^2
+    GLuint m_raster_ms_rb = 0;
+    int m_raster_ms_size = 0;
     GLuint m_empty_vao = 0;
     GLuint m_marker_vao = 0;
     GLuint m_marker_vbo = 0;

@@ -11,13 +11,14 @@ namespace navmap::render::gl {
 
 namespace {
 
-// shaders/ files carry no #version line: the preamble adds it, then resets the line counter
-// so the driver's line numbers are the file's own (STYLE.md: #line kept for error messages).
+// shaders/ files carry no #version line: the preamble adds it (and a variant's defines), then
+// resets the line counter so the driver's line numbers are the file's own (STYLE.md: #line kept
+// for error messages).
 constexpr std::string_view kPreamble =
     "#version 300 es\n"
     "precision highp float;\n"
-    "precision highp int;\n"
-    "#line 1 0\n";
+    "precision highp int;\n";
+constexpr std::string_view kLineReset = "#line 1 0\n";
 
 std::string_view findEmbedded(std::string_view file) {
     for (const auto& s : shaders::all()) {
@@ -36,9 +37,9 @@ std::string infoLog(GLuint object, GetIv get_iv, GetLog get_log) {
     return log.c_str();
 }
 
-GLuint compile(GLenum stage, std::string_view file, std::string_view text) {
+GLuint compile(GLenum stage, std::string_view file, std::string_view text, std::string_view defines) {
     const GLuint shader = glCreateShader(stage);
-    const std::string source = std::string(kPreamble) + std::string(text);
+    const std::string source = std::string(kPreamble) + std::string(defines) + std::string(kLineReset) + std::string(text);
     const char* ptr = source.c_str();
     glShaderSource(shader, 1, &ptr, nullptr);
     glCompileShader(shader);
@@ -67,16 +68,18 @@ std::string annotateShaderLog(std::string_view log, std::string_view file) {
     return out;
 }
 
-ShaderProgram ShaderProgram::fromEmbedded(std::string_view vertex_file, std::string_view fragment_file) {
-    return fromSources(vertex_file, findEmbedded(vertex_file), fragment_file, findEmbedded(fragment_file));
+ShaderProgram ShaderProgram::fromEmbedded(std::string_view vertex_file, std::string_view fragment_file,
+                                          std::string_view defines) {
+    return fromSources(vertex_file, findEmbedded(vertex_file), fragment_file, findEmbedded(fragment_file), defines);
 }
 
 ShaderProgram ShaderProgram::fromSources(std::string_view vertex_file, std::string_view vertex_text,
-                                         std::string_view fragment_file, std::string_view fragment_text) {
-    const GLuint vs = compile(GL_VERTEX_SHADER, vertex_file, vertex_text);
+                                         std::string_view fragment_file, std::string_view fragment_text,
+                                         std::string_view defines) {
+    const GLuint vs = compile(GL_VERTEX_SHADER, vertex_file, vertex_text, defines);
     GLuint fs = 0;
     try {
-        fs = compile(GL_FRAGMENT_SHADER, fragment_file, fragment_text);
+        fs = compile(GL_FRAGMENT_SHADER, fragment_file, fragment_text, defines);
     } catch (...) {
         glDeleteShader(vs);
         throw;

@@ -18,10 +18,13 @@ class ShaderProgram {
 public:
     /// Compiles the named files of shaders/ (e.g. "terrain_heightfield.vert"). Throws RenderError
     /// naming the file and line of any compile error, or the pair on a link error.
-    static ShaderProgram fromEmbedded(std::string_view vertex_file, std::string_view fragment_file);
+    /// `defines` (e.g. "#define NAVMAP_X 1\n") goes before both stages' text: program variants.
+    static ShaderProgram fromEmbedded(std::string_view vertex_file, std::string_view fragment_file,
+                                      std::string_view defines = {});
     /// Same from explicit sources (tests).
     static ShaderProgram fromSources(std::string_view vertex_file, std::string_view vertex_text,
-                                     std::string_view fragment_file, std::string_view fragment_text);
+                                     std::string_view fragment_file, std::string_view fragment_text,
+                                     std::string_view defines = {});
 
     ShaderProgram() = default;
     ~ShaderProgram();

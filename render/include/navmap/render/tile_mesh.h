@@ -48,13 +48,25 @@ struct BuildingVertex {
     float footprint_m;  ///< building size, for culling of far small buildings in the shader
 };
 
+/// A square part of a tile's terrain grid with its share of the skirts (TileMesh::terrain_blocks).
+struct TerrainBlock {
+    std::uint32_t first = 0;  ///< first index in terrain_indices
+    std::uint32_t count = 0;  ///< indices
+    glm::vec2 min{0.0f}, max{0.0f};  ///< tile-local x, y extent
+};
+
+/// Blocks per tile side: the land cover morphs over several levels across a tile (terrain_lod.h),
+/// and a quarter of a tile mostly needs only one or two of them.
+inline constexpr int kTerrainBlocks = 4;
+
 struct TileMesh {
     map::TileId id;
     glm::dvec3 origin{0.0};  ///< store-frame metres of the tile's south-west corner (z = 0)
     float size_m = 0.0f;
     int grid_size = 0;
     std::vector<TerrainVertex> terrain;         ///< grid (grid_size^2) then skirt vertices
-    std::vector<std::uint32_t> terrain_indices;  ///< grid triangles then skirt triangles
+    std::vector<std::uint32_t> terrain_indices;  ///< per block: its grid triangles, then its skirts
+    std::vector<TerrainBlock> terrain_blocks;    ///< kTerrainBlocks^2, row-major from the south-west
     std::vector<float> heights;                  ///< grid_size^2, row 0 south (for draping queries)
     /// Per coarser level (parent first), grid_size^2: that level's surface at each grid vertex
     /// (the geomorph targets). The tile's triangles each lie inside one triangle of every coarser
@@ -90,6 +102,10 @@ struct TileMeshOptions {
 
 /// Land-cover colour of an area class (day palette; alpha = coverage strength).
 glm::vec4 landCoverColor(map::AreaClass cls);
+
+/// The tile's land-cover areas as coloured triangles (tile-local metres), in drawing order
+/// (TileMesh::land_cover).
+std::vector<LandCoverVertex> landCoverTriangles(const map::Tile& tile);
 
 /// `ancestors` (up to kMorphLevels, parent first, entries may be null): the tiles whose DEMs are
 /// the geomorph targets. A missing one is replaced by every 2^(j+1)-th sample of the tile's own grid.
