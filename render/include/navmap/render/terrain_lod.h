@@ -19,8 +19,9 @@
 // vertex of the tile is at d >= end(L) where f_L = 1 and S_L = S_L-1: exactly what the parent
 // draws, so the switch (and the switch back) changes nothing on screen. Skirt vertices share
 // their border vertex's x, y and hence its factors, so the skirts stay attached while morphing.
-// What remains at a switch is per-vertex relief shading on ridges (a finer mesh samples the
-// shading of the same surface at more points) and the land-cover raster, which is per level.
+// The land-cover rasters of the parent and grandparent blend in with the same factors
+// (shaders/terrain_tile.frag). What remains at a switch is per-vertex relief shading on ridges (a
+// finer mesh samples the shading of the same surface at more points).
 
 #include <array>
 #include <functional>
