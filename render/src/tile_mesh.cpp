@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <numeric>
 
 #include "navmap/render/terrain_lod.h"
@@ -244,6 +245,14 @@ TileMesh buildTileMesh(const map::Tile& tile, const TileMeshOptions& options, st
             for (int c = c0; by == blocks - 1 && c < c1; ++c) skirtSegment(vertex(n - 1, c + 1), vertex(n - 1, c));
             for (int r = r0; bx == 0 && r < r1; ++r) skirtSegment(vertex(r + 1, 0), vertex(r, 0));
             block.count = static_cast<std::uint32_t>(mesh.terrain_indices.size()) - block.first;
+            block.min_z = std::numeric_limits<float>::max();
+            block.max_z = std::numeric_limits<float>::lowest();
+            for (std::uint32_t i = block.first; i < block.first + block.count; ++i) {
+                const TerrainVertex& v = mesh.terrain[mesh.terrain_indices[i]];
+                const auto [lowest, highest] = std::minmax_element(v.ancestor_heights.begin(), v.ancestor_heights.end());
+                block.min_z = std::min({block.min_z, v.position.z, *lowest});
+                block.max_z = std::max({block.max_z, v.position.z, *highest});
+            }
             mesh.terrain_blocks.push_back(block);
         }
     }

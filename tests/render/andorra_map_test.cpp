@@ -3,10 +3,12 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <cstdio>
 
 #include "golden.h"
 #include "navmap/render/map_scene.h"
 #include "navmap/render/renderer.h"
+#include "navmap/render/tile_mesh.h"
 #include "andorra_drive.h"
 #include "test_paths.h"
 
@@ -82,6 +84,22 @@ TEST(AndorraMap, RoadsChangeTheImageOnlyWhereRoadsAre) {
     const double fraction = double(changed) / (kW * kH);
     EXPECT_GT(fraction, 0.01) << "roads are visible";
     EXPECT_LT(fraction, 0.5) << "roads cover only part of the view";
+}
+
+// The terrain is drawn in blocks (TileMesh::terrain_blocks); those outside the view frustum are
+// skipped (the goldens above show that nothing visible goes missing).
+TEST(AndorraMap, TerrainBlocksOutsideTheViewAreNotDrawn) {
+    for (ViewMode mode : {ViewMode::Bird, ViewMode::Snail}) {
+        MapFrameStats stats;
+        renderView(mode, layersFor(0), &stats);
+        const MapFrame frame = navmap::test::settledAndorraFrame(mode, kW, kH);
+        std::size_t all = 0;
+        for (const auto& t : frame.tiles) all += buildTileMesh(*t).terrain_indices.size() / 3;
+        std::printf("[ measure  ] %s: %zu of %zu terrain triangles drawn\n", mode == ViewMode::Bird ? "bird" : "snail",
+                    stats.terrain_triangles, all);
+        EXPECT_GT(stats.terrain_triangles, all / 10);
+        EXPECT_LT(stats.terrain_triangles, all * 3 / 4);
+    }
 }
 
 }  // namespace

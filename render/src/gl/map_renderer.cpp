@@ -37,6 +37,22 @@ bool wantsAura(const MapLayers& l) { return l.label_aura && l.labels && l.buildi
 struct CoverLevels {
     int finest = 0, coarsest = 0;
 };
+// False when a terrain block (tile-local) lies entirely outside one plane of the view frustum.
+bool boxInView(const glm::mat4& view_projection, const TerrainBlock& b) {
+    std::array<int, 6> outside{};
+    for (int i = 0; i < 8; ++i) {
+        const glm::vec4 c = view_projection * glm::vec4((i & 1) ? b.max.x : b.min.x, (i & 2) ? b.max.y : b.min.y,
+                                                        (i & 4) ? b.max_z : b.min_z, 1.0f);
+        outside[0] += c.x < -c.w;
+        outside[1] += c.x > c.w;
+        outside[2] += c.y < -c.w;
+        outside[3] += c.y > c.w;
+        outside[4] += c.z < -c.w;
+        outside[5] += c.z > c.w;
+    }
+    return std::none_of(outside.begin(), outside.end(), [](int n) { return n == 8; });
+}
+
 bool operator==(CoverLevels a, CoverLevels b) { return a.finest == b.finest && a.coarsest == b.coarsest; }
 /// For the part [lo, hi] (tile-local x, y) of a tile seen from tile-local `eye`.
 CoverLevels coverLevels(const TileMorph& m, glm::vec2 eye, glm::vec2 lo, glm::vec2 hi) {
@@ -563,16 +579,24 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target) {
             const glm::mat4 view = frame.camera.viewRelativeTo(g->origin);
             glBindVertexArray(g->terrain_vao);
             std::array<bool, 3> has_tile_uniforms{};  // per program: plain, 2 levels, 3 levels
-            // Consecutive blocks that need the same levels are one draw.
+            // Blocks outside the view are skipped; consecutive ones that need the same land-cover
+            // levels are one draw.
+            const glm::mat4 view_projection = projection * view;
+            auto visible = [&](const TerrainBlock& k) { return boxInView(view_projection, k); };
+            auto levelsOf = [&](const TerrainBlock& k) {
+                return morph_cover ? coverLevels(g->morph, eye, k.min, k.max) : CoverLevels{};
+            };
             for (std::size_t b = 0; b < g->terrain_blocks.size();) {
-                const TerrainBlock& first = g->terrain_blocks[b];
-                const CoverLevels levels = morph_cover ? coverLevels(g->morph, eye, first.min, first.max) : CoverLevels{};
+                const TerrainBlock& first = g->terrain_blocks[b++];
+                if (!visible(first)) continue;
+                const CoverLevels levels = levelsOf(first);
                 std::uint32_t count = first.count;
-                for (++b; b < g->terrain_blocks.size(); ++b) {
+                for (; b < g->terrain_blocks.size(); ++b) {
                     const TerrainBlock& next = g->terrain_blocks[b];
-                    if (morph_cover && !(coverLevels(g->morph, eye, next.min, next.max) == levels)) break;
+                    if (!visible(next) || !(levelsOf(next) == levels)) break;
                     count += next.count;
                 }
+                m_stats.terrain_triangles += count / 3;
                 const int n = levels.coarsest - levels.finest + 1;
                 ShaderProgram& p = n == 1 ? m_terrain : m_terrain_cover[n - 2];
                 if (bound != &p) {
@@ -596,7 +620,6 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target) {
                 glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(count), GL_UNSIGNED_INT,
                                reinterpret_cast<const void*>(std::size_t{first.first} * sizeof(std::uint32_t)));
             }
-            m_stats.terrain_triangles += static_cast<std::size_t>(g->terrain_index_count / 3);
         }
         if (sv) sv->endTerrain(target);
         lap(m_stats.terrain_ms, t);

@@ -53,6 +53,8 @@ struct TerrainBlock {
     std::uint32_t first = 0;  ///< first index in terrain_indices
     std::uint32_t count = 0;  ///< indices
     glm::vec2 min{0.0f}, max{0.0f};  ///< tile-local x, y extent
+    /// Heights its vertices can take: own and geomorph targets, skirts included (culling).
+    float min_z = 0.0f, max_z = 0.0f;
 };
 
 /// Blocks per tile side: the land cover morphs over several levels across a tile (terrain_lod.h),
