@@ -1,13 +1,14 @@
 // Terrain shading: hypsometric tint, replaced by the tile's land-cover raster where it has
-// coverage, times relief shading; aerial perspective towards the horizon. The land-cover
-// texture is the pluggable input (synthetic orthoimages later replace it).
+// coverage, times relief shading; aerial perspective towards the horizon. Tint, shading and fog
+// come per vertex (they vary smoothly, and on llvmpipe every per-pixel instruction is CPU time).
+// The land-cover texture is the pluggable input (synthetic orthoimages later replace it).
 #ifndef NAVMAP_COVER_LEVELS
 #define NAVMAP_COVER_LEVELS 1  // land-cover levels blended (terrain_tile.frag)
 #endif
 in vec2 v_uv;
-in float v_height;
-in float v_distance;
+in vec3 v_tint;    // hypsometric tint, per vertex (terrain_tile.vert)
 in float v_shade;  // relief shading from the vertex stage
+in float v_fog;    // aerial perspective: how much of the sky colour
 
 uniform sampler2D u_land_cover;
 #if NAVMAP_COVER_LEVELS > 1
@@ -27,7 +28,6 @@ uniform sampler2D u_cover2;  // two levels coarser
 in vec2 v_cover_morph;  // the factors from u_land_cover to u_cover1 and from u_cover1 to u_cover2
 #endif
 uniform vec3 u_sky_color;
-uniform vec2 u_fog_range;
 uniform float u_brightness;  // 1 by day, lower at night
 
 layout(location = 0) out vec4 o_color;
@@ -36,17 +36,6 @@ layout(location = 0) out vec4 o_color;
 // i.e. the exact view depth of this fragment, without an extra varying.
 layout(location = 3) out vec4 o_terrain_depth;
 
-vec3 hypsometricTint(float h) {
-    const vec3 c0 = vec3(0.45, 0.60, 0.36);
-    const vec3 c1 = vec3(0.62, 0.66, 0.42);
-    const vec3 c2 = vec3(0.66, 0.56, 0.42);
-    const vec3 c3 = vec3(0.62, 0.60, 0.58);
-    const vec3 c4 = vec3(0.96, 0.96, 0.98);
-    if (h < 1200.0) return mix(c0, c1, clamp((h - 400.0) / 800.0, 0.0, 1.0));
-    if (h < 1900.0) return mix(c1, c2, (h - 1200.0) / 700.0);
-    if (h < 2500.0) return mix(c2, c3, (h - 1900.0) / 600.0);
-    return mix(c3, c4, clamp((h - 2500.0) / 400.0, 0.0, 1.0));
-}
 
 void main() {
 #if NAVMAP_COVER_LEVELS == 3
@@ -57,9 +46,8 @@ void main() {
 #else
     vec4 cover = texture(u_land_cover, v_uv);
 #endif
-    vec3 base = hypsometricTint(v_height) * (1.0 - cover.a) + cover.rgb;  // the cover is premultiplied
+    vec3 base = v_tint * (1.0 - cover.a) + cover.rgb;  // the cover is premultiplied
     vec3 color = base * v_shade * u_brightness;
-    float fog = smoothstep(u_fog_range.x, u_fog_range.y, v_distance);
-    o_color = vec4(mix(color, u_sky_color, fog * 0.85), 1.0);
+    o_color = vec4(mix(color, u_sky_color, v_fog), 1.0);
     o_terrain_depth = vec4(1.0 / gl_FragCoord.w, 0.0, 0.0, 0.0);
 }

@@ -15,6 +15,7 @@ uniform mat4 u_view;
 uniform mat4 u_projection;
 uniform float u_tile_size;
 uniform vec3 u_light_dir;
+uniform vec2 u_fog_range;
 // Geomorphing (render/include/navmap/render/terrain_lod.h): per slot j (level L - j to L - j - 1)
 // the distances where the morph starts and ends (end <= start: none); the camera's x, y
 // tile-local and its vertical distance from the LOD height band.
@@ -30,9 +31,9 @@ out vec2 v_uv;
 uniform vec2 u_cover_slot;
 out vec2 v_cover_morph;
 #endif
-out float v_height;
-out float v_distance;
+out vec3 v_tint;
 out float v_shade;
+out float v_fog;
 
 // Analytical relief shading after Jenny (seed 6.7.4), evaluated per vertex (the DEM samples are
 // the shading resolution anyway, and llvmpipe pays dearly for per-fragment trigonometry):
@@ -49,6 +50,18 @@ float reliefShade(vec3 n, float h) {
     float shade = mix(0.85, lambert, smoothstep(0.02, 0.25, slope));
     float contrast = mix(0.8, 1.25, clamp((h - 800.0) / 2000.0, 0.0, 1.0));
     return clamp(0.72 + (shade - 0.72) * contrast, 0.0, 1.2);
+}
+
+vec3 hypsometricTint(float h) {
+    const vec3 c0 = vec3(0.45, 0.60, 0.36);
+    const vec3 c1 = vec3(0.62, 0.66, 0.42);
+    const vec3 c2 = vec3(0.66, 0.56, 0.42);
+    const vec3 c3 = vec3(0.62, 0.60, 0.58);
+    const vec3 c4 = vec3(0.96, 0.96, 0.98);
+    if (h < 1200.0) return mix(c0, c1, clamp((h - 400.0) / 800.0, 0.0, 1.0));
+    if (h < 1900.0) return mix(c1, c2, (h - 1200.0) / 700.0);
+    if (h < 2500.0) return mix(c2, c3, (h - 1900.0) / 600.0);
+    return mix(c3, c4, clamp((h - 2500.0) / 400.0, 0.0, 1.0));
 }
 
 vec3 unpackNormal(vec2 xy) { return vec3(xy, sqrt(max(1.0 - dot(xy, xy), 0.0))); }
@@ -79,7 +92,7 @@ void main() {
 #if NAVMAP_COVER_LEVELS > 1
     v_cover_morph = vec2(dot(f.xy, u_cover_slot), f.y);
 #endif
-    v_height = p.z;
-    v_distance = length(view_pos.xyz);
+    v_tint = hypsometricTint(p.z);
+    v_fog = 0.85 * smoothstep(u_fog_range.x, u_fog_range.y, length(view_pos.xyz));
     gl_Position = u_projection * view_pos;
 }
