@@ -4,6 +4,8 @@
 
 #include <chrono>
 #include <cstdio>
+#include <cstring>
+#include <utility>
 
 #include "golden.h"
 #include "navmap/render/map_scene.h"
@@ -84,6 +86,37 @@ TEST(AndorraMap, RoadsChangeTheImageOnlyWhereRoadsAre) {
     const double fraction = double(changed) / (kW * kH);
     EXPECT_GT(fraction, 0.01) << "roads are visible";
     EXPECT_LT(fraction, 0.5) << "roads cover only part of the view";
+}
+
+// The outline filter runs only near the road and route footprints (marked in the stencil,
+// widened for grazing views): the image equals the full-screen filter's, in both views and at
+// the display profiles' sizes.
+TEST(AndorraMap, OutlinesNearRoadsEqualTheFullScreenFilter) {
+    for (ViewMode mode : {ViewMode::Bird, ViewMode::Snail}) {
+        for (const auto& [w, h] : {std::pair{kW, kH}, std::pair{1280, 480}, std::pair{800, 240}}) {
+            RendererOptions o;
+            o.width = w;
+            o.height = h;
+            auto renderer = Renderer::create(o);
+            MapFrame frame = navmap::test::settledAndorraFrame(mode, w, h);
+            frame.layers = layersFor(3);
+            renderer->renderMap(frame);
+            const Image near_roads = renderer->readSync();
+            frame.layers.outlines_near_roads = false;
+            renderer->renderMap(frame);
+            const Image full = renderer->readSync();
+            frame.layers.outlines = false;
+            renderer->renderMap(frame);
+            const Image none = renderer->readSync();
+            std::size_t differ = 0, outline = 0;
+            for (std::size_t i = 0; i < full.rgba.size(); i += 4) {
+                differ += std::memcmp(&full.rgba[i], &near_roads.rgba[i], 3) != 0;
+                outline += std::memcmp(&full.rgba[i], &none.rgba[i], 3) != 0;
+            }
+            EXPECT_GT(outline, std::size_t(w * h / 100)) << "outlines are drawn";
+            EXPECT_EQ(differ, 0u) << (mode == ViewMode::Bird ? "bird " : "snail ") << w << "x" << h;
+        }
+    }
 }
 
 // The terrain is drawn in blocks (TileMesh::terrain_blocks); those outside the view frustum are

@@ -21,6 +21,9 @@ namespace {
 // channel hold; half the memory of RGBA8 (about 0.17 MiB per tile with mipmaps).
 int landCoverTextureSize(float) { return 256; }
 constexpr int kLandCoverSamples = 4;
+// How far (pixels) the outline filter reaches from a road pixel: the 3x3 filter's 1 px, and the
+// diagonal and rasterization with some room.
+constexpr double kOutlineReachPx = 2.0;
 
 using Clock = std::chrono::steady_clock;
 
@@ -161,6 +164,7 @@ MapRenderer::MapRenderer(const RendererOptions& options)
                       ShaderProgram::fromEmbedded("terrain_tile.vert", "terrain_tile.frag", "#define NAVMAP_COVER_LEVELS 3\n")},
       m_land_cover(ShaderProgram::fromEmbedded("landcover_raster.vert", "landcover_raster.frag")),
       m_roads(ShaderProgram::fromEmbedded("roads_geo.vert", "roads_geo.frag")),
+      m_roads_mark(ShaderProgram::fromEmbedded("roads_geo.vert", "roads_mark.frag")),
       m_outline(ShaderProgram::fromEmbedded("screen_outline.vert", "screen_outline.frag")),
       m_buildings(ShaderProgram::fromEmbedded("buildings.vert", "buildings.frag")),
       m_marker(ShaderProgram::fromEmbedded("marker.vert", "marker.frag")) {
@@ -423,12 +427,12 @@ void MapRenderer::updateRoute(GpuTile& g, const RouteGeometry& route, const Came
     g.route_count = static_cast<GLsizei>(g.route_instances.size());
 }
 
-void MapRenderer::drawRoute(const std::vector<GpuTile*>& tiles, const Camera& camera) {
-    // With the road program bound and its uniforms set: the route pieces of every drawn tile.
+void MapRenderer::drawRoute(ShaderProgram& program, const std::vector<GpuTile*>& tiles, const Camera& camera) {
+    // With `program` bound and its uniforms set: the route pieces of every drawn tile.
     for (const GpuTile* g : tiles) {
         if (!g->route_count) continue;
         const glm::mat4 view = camera.viewRelativeTo(g->origin);
-        glUniformMatrix4fv(m_roads.uniform("u_view"), 1, GL_FALSE, glm::value_ptr(view));
+        glUniformMatrix4fv(program.uniform("u_view"), 1, GL_FALSE, glm::value_ptr(view));
         glBindVertexArray(g->route_vao);
         m_quad_indices.draw(0, g->route_count);
     }
@@ -697,14 +701,52 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target) {
         glUniform1f(m_roads.uniform("u_route_progress"), static_cast<float>(frame.route_progress_m));
         for (int pass = 0; pass < 2; ++pass) {
             setRoadUniforms(m_roads, pass, true);
-            drawRoute(tiles, frame.camera);
+            drawRoute(m_roads, tiles, frame.camera);
         }
         lap(m_stats.route_ms, t);
     }
     glDepthMask(GL_TRUE);
+    // Where the outlines can be (seed 3.6.3): the road and route footprints widened by the
+    // filter's reach, marked in the stencil buffer. The outline pass then runs only there:
+    // llvmpipe skips its shader for blocks that fail the stencil test, and most of the frame is
+    // away from roads. (Shadow-volume roads have no footprint quads: a full-screen pass.)
+    const bool outlines = frame.layers.outlines && (frame.layers.roads || frame.layers.route);
+    const bool outline_stencil = outlines && frame.layers.outlines_near_roads && !sv;
+    if (outline_stencil) {
+        glDisable(GL_DEPTH_TEST);
+        glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+        glEnable(GL_STENCIL_TEST);
+        glStencilMask(0xFF);
+        glStencilFunc(GL_ALWAYS, 1, 0xFF);
+        glStencilOp(GL_KEEP, GL_KEEP, GL_REPLACE);
+        glUseProgram(m_roads_mark.id());
+        glUniformMatrix4fv(m_roads_mark.uniform("u_projection"), 1, GL_FALSE, glm::value_ptr(projection));
+        // kOutlineReachPx per side, in metres per metre of distance.
+        const double px = 2.0 * std::tan(glm::radians(frame.camera.fov_y_deg) / 2.0) / target.height();
+        glUniform1f(m_roads_mark.uniform("u_margin"), static_cast<float>(kOutlineReachPx * px));
+        glUniform1f(m_roads_mark.uniform("u_reach_px"), static_cast<float>(kOutlineReachPx));
+        glUniform2f(m_roads_mark.uniform("u_viewport_half"), 0.5f * static_cast<float>(target.width()),
+                    0.5f * static_cast<float>(target.height()));
+        if (frame.layers.roads) {
+            setRoadUniforms(m_roads_mark, 2, false);
+            for (GpuTile* g : tiles) {
+                if (!g->road_count) continue;
+                const glm::mat4 view = frame.camera.viewRelativeTo(g->origin);
+                glUniformMatrix4fv(m_roads_mark.uniform("u_view"), 1, GL_FALSE, glm::value_ptr(view));
+                glBindVertexArray(g->roads_vao);
+                m_quad_indices.draw(0, g->road_count);
+            }
+        }
+        if (frame.layers.route && frame.route) {
+            setRoadUniforms(m_roads_mark, 2, true);
+            drawRoute(m_roads_mark, tiles, frame.camera);
+        }
+        glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+        glEnable(GL_DEPTH_TEST);
+    }
 
     // Screen-space dark outlines around roads and route (seed 3.6.3).
-    if (frame.layers.outlines && (frame.layers.roads || frame.layers.route)) {
+    if (outlines) {
         target.resolveMask();
         glDisable(GL_DEPTH_TEST);
         glEnable(GL_BLEND);
@@ -716,7 +758,13 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target) {
         glUniform3fv(m_outline.uniform("u_outline_color"), 1, glm::value_ptr(m_style.roads.outline));
         glUniform1f(m_outline.uniform("u_strength"), m_style.roads.outline_strength);
         glBindVertexArray(m_empty_vao);
+        if (outline_stencil) {
+            glEnable(GL_STENCIL_TEST);
+            glStencilFunc(GL_EQUAL, 1, 0xFF);
+            glStencilOp(GL_KEEP, GL_KEEP, GL_KEEP);
+        }
         glDrawArrays(GL_TRIANGLES, 0, 3);
+        glDisable(GL_STENCIL_TEST);
         glDisable(GL_BLEND);
         lap(m_stats.outlines_ms, t);
     }
@@ -796,7 +844,7 @@ void MapRenderer::runOcclusionEffects(const MapFrame& frame, const RenderTarget&
                 glUniform1f(m_roads.uniform("u_route_progress"), static_cast<float>(frame.route_progress_m));
                 for (int pass = 0; pass < 2; ++pass) {
                     setRoadUniforms(m_roads, pass, true);
-                    drawRoute(tiles, frame.camera);
+                    drawRoute(m_roads, tiles, frame.camera);
                 }
             }
         };

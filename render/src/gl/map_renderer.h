@@ -61,8 +61,8 @@ private:
     /// Drapes the route onto one tile (cached per route object and version) and applies the
     /// tile's geomorph of this frame.
     void updateRoute(GpuTile& tile, const RouteGeometry& route, const Camera& camera);
-    /// Route pieces of `tiles`, with the road program bound and its uniforms set.
-    void drawRoute(const std::vector<GpuTile*>& tiles, const Camera& camera);
+    /// Route pieces of `tiles`, with `program` (a roads_geo.vert program) bound and its uniforms set.
+    void drawRoute(ShaderProgram& program, const std::vector<GpuTile*>& tiles, const Camera& camera);
     void setRoadUniforms(ShaderProgram& program, int pass, bool route);
     void drawMarker(const MapFrame& frame, const RenderTarget& target);
     /// Label aura and glowing roads (seed 5.5), between the label layout and the label text.
@@ -77,6 +77,7 @@ private:
     ShaderProgram m_terrain_cover[2];  // + land cover morphing over 2 or 3 levels (terrain_tile.frag)
     ShaderProgram m_land_cover;
     ShaderProgram m_roads;
+    ShaderProgram m_roads_mark;  // road footprints into the stencil: where outlines can be
     ShaderProgram m_outline;
     ShaderProgram m_buildings;
     ShaderProgram m_marker;

@@ -30,6 +30,9 @@ struct MapLayers {
     bool land_cover = true;
     bool roads = true;
     bool outlines = true;
+    /// Run the outline filter only near road and route footprints (marked in the stencil); false:
+    /// over the whole frame. Same image; the full-screen pass costs about twice as much on llvmpipe.
+    bool outlines_near_roads = true;
     bool buildings = true;
     bool route = true;
     bool marker = true;
