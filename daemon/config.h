@@ -36,8 +36,8 @@ struct DaemonConfig {
     int msaa = -1;
     bool night = false;
     bool labels = true;                        ///< place, POI, road and area names
-    /// GPU tile resources kept for tiles not drawn in the current frame (one renderer serves all
-    /// profiles); 0 = automatic (16 + 24 per profile).
+    /// GPU tiles kept (one renderer serves all profiles; a tile any profile drew in its latest
+    /// frame is always kept, the cap bounds the others); 0 = automatic (16 per profile, at least 32).
     int gpu_tile_cache = 0;
     std::vector<DisplayProfile> profiles;      ///< [[profile]]; defaults: cluster, hud, center
     // [control]

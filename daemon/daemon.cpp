@@ -89,6 +89,7 @@ struct ProfileView {
     std::map<std::uint64_t, ipc::CanTime> source_times;  // sequence -> CAN time behind the pose
     Window frame_ms, latency_ms;
     std::size_t tiles_drawn = 0, tiles_pending = 0;  // last frame
+    std::uint64_t tiles_uploaded = 0;                 // GPU tile uploads of this profile's frames
     std::uint64_t rendered = 0, published = 0, skipped_idle = 0;
 };
 
@@ -143,7 +144,9 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
         std::atomic<std::shared_ptr<const std::string>> metrics_text{std::make_shared<const std::string>()};
         control_state->setStatusProvider([&] { return *status_json.load(); });
 
-        VehicleInput input(config, scene, control_state, options.data_dir);
+        // The map matcher is the road graph's only user here: it takes the scene's copy (1.6 MB).
+        VehicleInput input(config, scene, std::make_shared<const map::RoadGraph>(std::move(scene.graph)), control_state,
+                           options.data_dir);
 
         ipc::ControlServerConfig ccfg;
         ccfg.socketPath = config.control_socket.string();
@@ -160,6 +163,11 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
         fopt.httpPort = config.http_port > 0 ? config.http_port : -1;
         fopt.stallTimeout = std::chrono::milliseconds(static_cast<int>(config.client_timeout_s * 1000));
         fopt.mjpegProfile = "bird";
+        // Two slots per ring (double buffering): each costs a frame of shared memory (6.6 MB for
+        // the three default profiles), and the seqlock never lets a client keep a frame that was
+        // overwritten; a client still copying when the frame after next arrives (one frame period,
+        // 33 ms at 30 fps, for a copy of about a millisecond) takes the newest one instead.
+        fopt.ringSlots = 2;
         fopt.metricsText = [&] { return *metrics_text.load(); };
         fopt.statusJson = [&] { return status_json.load()->dump(); };
         ipc::FrameServer frames(fopt);
@@ -181,18 +189,23 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
                 ro.height = p.height;
                 ro.msaa_samples = config.msaa;
                 ro.max_tile_uploads_per_frame = 8;  // a burst of new tiles spreads over frames
-                // GPU resources of tiles no view drew this frame: each costs about 0.5 MB (land-cover
-                // texture, terrain and road buffers), and without a cap they pile up along a drive.
-                // The three default views draw 15-25 tiles each (57 together on the Andorra drive);
-                // 16 + 24 per profile (88 for three) keeps every view's tiles plus a margin for
-                // level-of-detail changes and turns, without holding the whole drive.
+                // GPU tiles kept: each costs about 0.45 MB (land-cover texture, terrain and road
+                // buffers), and without a cap they pile up along a drive. A tile that any profile
+                // drew in its latest frame is never evicted (the renderer counts per target, not
+                // per render call), so the cap only bounds the spare tiles kept for level-of-detail
+                // changes and turns. The three default views draw 15-25 tiles each (57 together on
+                // the Andorra drive, fewer distinct ones); 16 per profile, at least 32 (48 for three)
+                // re-uploads 3.4 tiles/s on the replayed drive against 2.6 with the old 88 per
+                // render call, for 14 MB less (docs/navmapd.md).
                 ro.tile_resource_cache = config.gpu_tile_cache > 0
                                              ? config.gpu_tile_cache
-                                             : 16 + 24 * static_cast<int>(config.profiles.size());
+                                             : std::max(32, 16 * static_cast<int>(config.profiles.size()));
                 // Finished readbacks leave at once (collected after each render and polled while
-                // in flight), so two buffers per target suffice: one being copied out while the
-                // next frame renders. A third would cost 3.7 MB at 1280x720 for nothing.
-                ro.readback_ring = 2;
+                // in flight). 0 = the renderer's choice: on llvmpipe a frame is read straight into
+                // its image (glReadPixels waits for the rasterization there even into a pixel-pack
+                // buffer, so buffers would only cost width x height x 4 bytes each: 6.9 MB for the
+                // three default profiles); on a GPU two pixel-pack buffers per target.
+                ro.readback_ring = 0;
                 renderer = options.noop_renderer ? render::Renderer::createNoop(ro) : render::Renderer::create(ro);
                 v.target = renderer->currentTarget();
             } else {
@@ -354,6 +367,7 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
                 renderer->renderMap(frame);
                 v.tiles_drawn = renderer->mapStats().tiles_drawn;
                 v.tiles_pending = renderer->mapStats().tiles_pending;
+                v.tiles_uploaded += renderer->mapStats().tiles_uploaded;
                 for (const auto& flat : renderer->mapStats().new_flat_tiles) {
                     if (warned_flat.insert(flat.id.key()).second) {
                         log(kWarning, "tile %s: %.0f%% of its area has no elevation data and renders flat",
@@ -419,7 +433,8 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
                     profiles.push_back({{"name", v.profile.name}, {"rendered", v.rendered}, {"published", v.published},
                                         {"frame_p50_ms", v.frame_ms.p(0.5)}, {"frame_p99_ms", v.frame_ms.p(0.99)},
                                         {"latency_p50_ms", v.latency_ms.p(0.5)}, {"latency_p99_ms", v.latency_ms.p(0.99)},
-                                        {"tiles_drawn", v.tiles_drawn}, {"tiles_pending", v.tiles_pending}});
+                                        {"tiles_drawn", v.tiles_drawn}, {"tiles_pending", v.tiles_pending},
+                                        {"tiles_uploaded", v.tiles_uploaded}});
                     m << "navmap_frame_ms{profile=\"" << v.profile.name << "\",quantile=\"0.5\"} " << v.frame_ms.p(0.5) << "\n";
                     m << "navmap_frame_ms{profile=\"" << v.profile.name << "\",quantile=\"0.99\"} " << v.frame_ms.p(0.99) << "\n";
                 }
@@ -430,6 +445,8 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
                 }
                 m << "# TYPE navmap_frames_rendered_total counter\n";
                 for (const auto& v : views) m << "navmap_frames_rendered_total{profile=\"" << v.profile.name << "\"} " << v.rendered << "\n";
+                m << "# TYPE navmap_gpu_tile_uploads_total counter\n";
+                for (const auto& v : views) m << "navmap_gpu_tile_uploads_total{profile=\"" << v.profile.name << "\"} " << v.tiles_uploaded << "\n";
                 m << "# TYPE navmap_stream_clients gauge\nnavmap_stream_clients " << fs.clients << "\n";
                 m << "# TYPE navmap_stream_frames_dropped_total counter\nnavmap_stream_frames_dropped_total " << fs.framesDropped << "\n";
                 m << "# TYPE navmap_stream_frames_sent_total counter\nnavmap_stream_frames_sent_total " << fs.framesSent << "\n";
@@ -528,9 +545,10 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
         log(kNotice, "peak RSS %.1f MiB (%zu profiles, one renderer with %zu targets)", static_cast<double>(mem.peak) / (1 << 20),
             views.size(), renderer ? renderer->targetCount() : std::size_t{0});
         for (auto& v : views) {
-            log(kInfo, "profile %s: %llu frames rendered, %llu published, frame p50 %.1f ms p99 %.1f ms, latency p50 %.1f ms p99 %.1f ms",
+            log(kInfo, "profile %s: %llu frames rendered, %llu published, frame p50 %.1f ms p99 %.1f ms, latency p50 %.1f ms p99 %.1f ms, %llu tile uploads",
                 v.profile.name.c_str(), static_cast<unsigned long long>(v.rendered), static_cast<unsigned long long>(v.published),
-                v.frame_ms.p(0.5), v.frame_ms.p(0.99), v.latency_ms.p(0.5), v.latency_ms.p(0.99));
+                v.frame_ms.p(0.5), v.frame_ms.p(0.99), v.latency_ms.p(0.5), v.latency_ms.p(0.99),
+                static_cast<unsigned long long>(v.tiles_uploaded));
         }
         return 0;
     } catch (const std::exception& e) {

@@ -13,7 +13,8 @@
 namespace navmap::daemon {
 
 VehicleInput::VehicleInput(const DaemonConfig& config, const render::MapScene& scene,
-                           std::shared_ptr<ipc::ControlState> control, const std::filesystem::path& data_dir)
+                           std::shared_ptr<const map::RoadGraph> graph, std::shared_ptr<ipc::ControlState> control,
+                           const std::filesystem::path& data_dir)
     : m_control(std::move(control)) {
     // DBC databases: the configured ones, else the shipped GNSS node.
     std::vector<std::filesystem::path> dbc_files = config.dbc_files;
@@ -36,8 +37,7 @@ VehicleInput::VehicleInput(const DaemonConfig& config, const render::MapScene& s
 
     VehicleStateConfig vcfg;
     vcfg.gnssTimeoutS = config.stale_after_s;
-    auto graph = std::make_shared<const map::RoadGraph>(scene.graph);
-    m_estimator = std::make_unique<VehicleStateEstimator>(scene.projection(), std::make_shared<const MapMatcher>(graph), vcfg);
+    m_estimator = std::make_unique<VehicleStateEstimator>(scene.projection(), std::make_shared<const MapMatcher>(std::move(graph)), vcfg);
     m_state.store(m_estimator->snapshot());
 
     ipc::ReplayOptions replay;

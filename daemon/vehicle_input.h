@@ -38,8 +38,9 @@ class VehicleInput {
 public:
     /// Opens the DBC files, the signal map and the source; throws std::runtime_error naming the
     /// file or interface on failure. In sim mode the simulated route is set on `control`.
-    VehicleInput(const DaemonConfig& config, const render::MapScene& scene, std::shared_ptr<ipc::ControlState> control,
-                 const std::filesystem::path& data_dir);
+    /// `graph`: the road graph the map matcher snaps to (the scene's, moved out of it: one copy).
+    VehicleInput(const DaemonConfig& config, const render::MapScene& scene, std::shared_ptr<const map::RoadGraph> graph,
+                 std::shared_ptr<ipc::ControlState> control, const std::filesystem::path& data_dir);
     ~VehicleInput();
     VehicleInput(const VehicleInput&) = delete;
     VehicleInput& operator=(const VehicleInput&) = delete;

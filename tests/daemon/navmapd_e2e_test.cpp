@@ -10,6 +10,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -146,6 +147,11 @@ TEST(NavmapdEndToEnd, ClusterAndHudClientsGetFramesControlWorksAndStopIsGraceful
     ASSERT_TRUE(status) << status.error().message;
     EXPECT_NE(status.value().find("\"ok\":true"), std::string::npos) << status.value();
     EXPECT_NE(status.value().find("\"valid\":true"), std::string::npos) << "the replayed fix is in use: " << status.value();
+    // GPU tile uploads are counted per profile: the cluster (listed first) uploaded the tiles it draws.
+    const std::size_t uploads_at = status.value().find("\"tiles_uploaded\":");
+    ASSERT_NE(uploads_at, std::string::npos) << status.value();
+    EXPECT_GT(std::strtoull(status.value().c_str() + uploads_at + std::strlen("\"tiles_uploaded\":"), nullptr, 10), 0u)
+        << status.value();
     auto bad = control.value().request(R"({"cmd":"set_view","display":"cluster","mode":"sideways"})");
     ASSERT_TRUE(bad);
     EXPECT_NE(bad.value().find("\"ok\":false"), std::string::npos) << bad.value();

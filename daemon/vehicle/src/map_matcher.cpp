@@ -67,6 +67,7 @@ MapMatcher::MapMatcher(std::shared_ptr<const map::RoadGraph> graph, double cellM
             maxY = std::max({maxY, a.y, b.y});
         }
     }
+    m_segments.shrink_to_fit();  // kept for the daemon's life: no spare capacity from push_back
     if (m_segments.empty()) {
         return;
     }

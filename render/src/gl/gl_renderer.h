@@ -49,11 +49,16 @@ private:
     [[nodiscard]] View& current() { return m_targets.at(m_current); }
     [[nodiscard]] const View& current() const { return m_targets.at(m_current); }
     static void checkSize(int width, int height);
+    /// The depth/stencil buffer every target shares, grown to cover width x height (the targets
+    /// get the new one attached when it grows).
+    GLuint sharedDepthStencil(int width, int height);
 
     RendererOptions m_options;
     EglContext m_egl;  // first member with GL state: constructed first, destroyed last
     DeviceInfo m_device;
     std::map<int, View> m_targets;
+    GLuint m_depth_stencil = 0;  // shared by the targets: the largest width x largest height
+    int m_depth_width = 0, m_depth_height = 0;
     int m_current = 0;
     int m_next_id = 0;
     std::unique_ptr<TerrainLayer> m_terrain;

@@ -464,9 +464,18 @@ void MapRenderer::setRoadUniforms(ShaderProgram& p, int pass, bool route) {
 void MapRenderer::evict() {
     const auto keep = static_cast<std::size_t>(std::max(m_options.tile_resource_cache, 1));
     if (m_tiles.size() <= keep) return;
+    // The targets render one after another, so a tile is in use while any target drew it in its
+    // latest frame, not only the target of this frame: evicting the other displays' tiles would
+    // re-upload them on their next frame. A target that stopped rendering (no client) for
+    // kIdleRenders renders no longer holds its tiles.
+    constexpr std::uint64_t kIdleRenders = 256;
+    std::uint64_t in_use_from = m_frame;
+    for (const auto& [key, frame] : m_target_frame) {
+        if (m_frame - frame < kIdleRenders) in_use_from = std::min(in_use_from, frame);
+    }
     std::vector<std::pair<std::uint64_t, std::uint64_t>> by_age;  // last_used, key
     for (const auto& [key, t] : m_tiles) {
-        if (t->last_used != m_frame) by_age.emplace_back(t->last_used, key);
+        if (t->last_used < in_use_from) by_age.emplace_back(t->last_used, key);
     }
     std::sort(by_age.begin(), by_age.end());
     for (std::size_t i = 0; i < by_age.size() && m_tiles.size() > keep; ++i) m_tiles.erase(by_age[i].second);
@@ -474,6 +483,7 @@ void MapRenderer::evict() {
 
 void MapRenderer::render(const MapFrame& frame, const RenderTarget& target) {
     ++m_frame;
+    m_target_frame[m_label_key] = m_frame;  // GlRenderer selected this target's state (evict())
     m_stats = {};
     const auto t_frame = Clock::now();
     auto lap = [&](double& slot, Clock::time_point& t) {

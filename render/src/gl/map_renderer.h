@@ -48,7 +48,10 @@ public:
         }
         m_label_key = key;
     }
-    void dropLabelState(int key) { m_label_parked.erase(key); }
+    void dropLabelState(int key) {
+        m_label_parked.erase(key);
+        m_target_frame.erase(key);
+    }
 
 private:
     struct GpuTile;
@@ -94,6 +97,9 @@ private:
     RepeatedIndices m_quad_indices{kQuadIndices, 4};
     std::unordered_map<std::uint64_t, std::unique_ptr<GpuTile>> m_tiles;
     std::uint64_t m_frame = 0;
+    // Target (label key) -> m_frame of its latest render: a tile that any target drew in its
+    // latest frame is in use (evict()).
+    std::unordered_map<int, std::uint64_t> m_target_frame;
     std::unordered_set<std::uint64_t> m_warned_flat;  // tiles already reported as lacking DEM
     std::size_t m_stats_flat_tiles = 0;
     std::vector<FlatTile> m_new_flat_tiles;

@@ -1,5 +1,6 @@
 #include "readback.h"
 
+#include <algorithm>
 #include <cstring>
 
 namespace navmap::render::gl {
@@ -15,19 +16,33 @@ void copyFlipped(const std::uint8_t* src, Image& dst) {
     }
 }
 
+// Swaps rows in place (bottom-up <-> top-down), so a read needs no second full-size buffer.
+void flipRows(Image& image) {
+    const std::size_t stride = static_cast<std::size_t>(image.width) * 4;
+    std::vector<std::uint8_t> row(stride);
+    for (int y = 0, z = image.height - 1; y < z; ++y, --z) {
+        std::uint8_t* a = &image.rgba[static_cast<std::size_t>(y) * stride];
+        std::uint8_t* b = &image.rgba[static_cast<std::size_t>(z) * stride];
+        std::memcpy(row.data(), a, stride);
+        std::memcpy(a, b, stride);
+        std::memcpy(b, row.data(), stride);
+    }
+}
+
 }  // namespace
 
 Image readPixelsSync(int width, int height) {
-    std::vector<std::uint8_t> raw(static_cast<std::size_t>(width) * height * 4);
-    glPixelStorei(GL_PACK_ALIGNMENT, 1);
-    glReadPixels(0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, raw.data());
     Image image(width, height);
-    copyFlipped(raw.data(), image);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glReadPixels(0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, image.rgba.data());
+    flipRows(image);
     return image;
 }
 
 ReadbackRing::ReadbackRing(int width, int height, int slots) : m_width(width), m_height(height) {
-    m_slots.resize(static_cast<std::size_t>(slots < 1 ? 1 : slots));
+    m_slots.resize(static_cast<std::size_t>(std::max(slots, 1)));
+    m_direct = m_slots.size() == 1;
+    if (m_direct) return;  // submit() reads straight into the frame's image
     const auto bytes = static_cast<GLsizeiptr>(width) * height * 4;
     for (auto& slot : m_slots) {
         glGenBuffers(1, &slot.pbo);
@@ -40,11 +55,18 @@ ReadbackRing::ReadbackRing(int width, int height, int slots) : m_width(width), m
 ReadbackRing::~ReadbackRing() {
     for (auto& slot : m_slots) {
         if (slot.fence) glDeleteSync(slot.fence);
-        glDeleteBuffers(1, &slot.pbo);
+        if (slot.pbo) glDeleteBuffers(1, &slot.pbo);
     }
 }
 
 std::optional<Frame> ReadbackRing::submit(std::uint64_t sequence) {
+    if (m_direct) {
+        Frame frame;
+        frame.sequence = sequence;
+        frame.image = readPixelsSync(m_width, m_height);  // waits for the frame's rendering
+        m_read.push_back(std::move(frame));
+        return std::nullopt;
+    }
     std::optional<Frame> oldest;
     if (m_pending.size() == m_slots.size()) {
         oldest = complete(m_slots[m_pending.front()]);
@@ -64,7 +86,8 @@ std::optional<Frame> ReadbackRing::submit(std::uint64_t sequence) {
 }
 
 std::vector<Frame> ReadbackRing::drain() {
-    std::vector<Frame> frames;
+    std::vector<Frame> frames(std::make_move_iterator(m_read.begin()), std::make_move_iterator(m_read.end()));
+    m_read.clear();
     while (!m_pending.empty()) {
         frames.push_back(complete(m_slots[m_pending.front()]));
         m_pending.pop_front();
@@ -73,7 +96,8 @@ std::vector<Frame> ReadbackRing::drain() {
 }
 
 std::vector<Frame> ReadbackRing::collectReady() {
-    std::vector<Frame> frames;
+    std::vector<Frame> frames(std::make_move_iterator(m_read.begin()), std::make_move_iterator(m_read.end()));
+    m_read.clear();
     while (!m_pending.empty()) {
         Slot& slot = m_slots[m_pending.front()];
         if (slot.fence) {

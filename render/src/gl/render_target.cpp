@@ -27,12 +27,16 @@ void checkFramebufferComplete(const char* what) {
     }
 }
 
-RenderTarget::RenderTarget(int width, int height, int samples) : m_width(width), m_height(height) {
+int RenderTarget::effectiveSamples(int samples) {
+    if (samples <= 1) return 0;
     GLint max_samples = 0;
     glGetIntegerv(GL_MAX_SAMPLES, &max_samples);
-    m_samples = samples > 1 ? std::min(samples, static_cast<int>(max_samples)) : 0;
-    if (m_samples == 1) m_samples = 0;
+    const int s = std::min(samples, static_cast<int>(max_samples));
+    return s > 1 ? s : 0;
+}
 
+RenderTarget::RenderTarget(int width, int height, int samples, GLuint shared_depth_stencil)
+    : m_width(width), m_height(height), m_samples(effectiveSamples(samples)) {
     // Mask texture for the outline pass: drawn into directly without MSAA, resolved into with it.
     glGenTextures(1, &m_mask_texture);
     glBindTexture(GL_TEXTURE_2D, m_mask_texture);
@@ -45,7 +49,12 @@ RenderTarget::RenderTarget(int width, int height, int samples) : m_width(width),
 
     // Drawing framebuffer: colour, road mask, depth + stencil.
     m_color_rb = makeRenderbuffer(GL_RGBA8, m_samples, width, height);
-    m_depth_rb = makeRenderbuffer(GL_DEPTH24_STENCIL8, m_samples, width, height);
+    // The depth/stencil buffer is scratch within one frame (nothing reads a target's depth after
+    // its render), so the renderer's targets, which render one after another, share one of the
+    // largest target's size. A larger attachment is fine in ES 3.0: the framebuffer's area is the
+    // intersection of its attachments, so clears, draws and blits stay within the target.
+    m_owns_depth = shared_depth_stencil == 0;
+    m_depth_rb = m_owns_depth ? makeRenderbuffer(GL_DEPTH24_STENCIL8, m_samples, width, height) : shared_depth_stencil;
     glGenFramebuffers(1, &m_draw_fbo);
     glBindFramebuffer(GL_FRAMEBUFFER, m_draw_fbo);
     glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, m_color_rb);
@@ -83,10 +92,23 @@ RenderTarget::RenderTarget(int width, int height, int samples) : m_width(width),
 
 RenderTarget::~RenderTarget() {
     const GLuint fbos[] = {m_draw_fbo, m_resolve_fbo, m_mask_fbo, m_composite_fbo};
-    const GLuint rbs[] = {m_color_rb, m_mask_rb, m_depth_rb, m_resolve_color};
+    const GLuint rbs[] = {m_color_rb, m_mask_rb, m_resolve_color, m_owns_depth ? m_depth_rb : 0};
     glDeleteFramebuffers(4, fbos);
     glDeleteRenderbuffers(4, rbs);
     glDeleteTextures(1, &m_mask_texture);
+}
+
+void RenderTarget::attachDepthStencil(GLuint shared_depth_stencil) {
+    if (m_owns_depth) glDeleteRenderbuffers(1, &m_depth_rb);
+    m_owns_depth = false;
+    m_depth_rb = shared_depth_stencil;
+    glBindFramebuffer(GL_FRAMEBUFFER, m_draw_fbo);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER, m_depth_rb);
+    checkFramebufferComplete(m_samples > 0 ? "multisampled" : "drawing");
+    glBindFramebuffer(GL_FRAMEBUFFER, m_composite_fbo);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER, m_depth_rb);
+    checkFramebufferComplete("composite");
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }
 
 void RenderTarget::bindForDrawing(bool with_mask) const {

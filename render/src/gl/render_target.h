@@ -16,8 +16,14 @@ GLuint makeRenderbuffer(GLenum format, int samples, int w, int h);
 
 class RenderTarget {
 public:
-    /// samples <= 1 disables MSAA. Throws RenderError when a framebuffer is incomplete.
-    RenderTarget(int width, int height, int samples);
+    /// The sample count a target asked for `samples` gets (0: no MSAA; clamped to GL_MAX_SAMPLES).
+    static int effectiveSamples(int samples);
+
+    /// samples <= 1 disables MSAA. `shared_depth_stencil` (0: the target makes its own): a
+    /// GL_DEPTH24_STENCIL8 renderbuffer with effectiveSamples(samples) samples and at least
+    /// width x height, which the target uses but does not own (see attachDepthStencil()).
+    /// Throws RenderError when a framebuffer is incomplete.
+    RenderTarget(int width, int height, int samples, GLuint shared_depth_stencil = 0);
     ~RenderTarget();
     RenderTarget(const RenderTarget&) = delete;
     RenderTarget& operator=(const RenderTarget&) = delete;
@@ -32,6 +38,9 @@ public:
     void resolveMask() const;
     /// Resolves colour into the single-sampled target and leaves it bound for reading.
     void resolve() const;
+    /// Attaches another shared depth/stencil renderbuffer (same format and samples, at least the
+    /// target's size), e.g. a larger one after a larger target was added. Throws RenderError.
+    void attachDepthStencil(GLuint shared_depth_stencil);
 
     [[nodiscard]] GLuint maskTexture() const { return m_mask_texture; }
     /// The drawing framebuffer and its depth-stencil renderbuffer: the occlusion effects (glowing
@@ -50,6 +59,7 @@ private:
     GLuint m_color_rb = 0;
     GLuint m_mask_rb = 0;
     GLuint m_depth_rb = 0;
+    bool m_owns_depth = true;  // false: a depth/stencil buffer shared by the renderer's targets
     GLuint m_resolve_fbo = 0;
     GLuint m_resolve_color = 0;
     GLuint m_mask_fbo = 0;       // MSAA only: resolve target of the mask

@@ -27,7 +27,9 @@ struct FrameServerOptions {
     std::string bindAddress = "127.0.0.1";  ///< for TCP and HTTP
     int tcpPort = -1;                  ///< -1 = none, 0 = any free port (see tcpPort())
     int httpPort = -1;                 ///< -1 = none, 0 = any free port (see httpPort())
-    std::uint32_t ringSlots = 4;       ///< slots per profile ring (>= 2)
+    /// Slots per profile ring (>= 2). Three give a client two frame periods between the
+    /// notification and the end of its copy; each slot costs stride x height bytes of shared memory.
+    std::uint32_t ringSlots = 3;
     std::chrono::milliseconds stallTimeout{2000};  ///< no ack / no write progress / no handshake
     std::size_t maxClients = 64;
     int jpegQuality = 80;
