@@ -119,6 +119,45 @@ TEST(AndorraMap, OutlinesNearRoadsEqualTheFullScreenFilter) {
     }
 }
 
+// Three display targets of different sizes on one renderer (one depth/stencil buffer sized to
+// the largest, tiles shared) draw what renderers of their own draw; tiles that any target drew in
+// its latest frame are not evicted even with a cache cap far below their number, so taking turns
+// re-uploads nothing.
+TEST(AndorraMap, TargetsOfDifferentSizesMatchRenderersOfTheirOwnAndKeepTheirTiles) {
+    struct View {
+        ViewMode mode;
+        int w, h;
+    };
+    const View views[] = {{ViewMode::Snail, 640, 240}, {ViewMode::Snail, 400, 120}, {ViewMode::Bird, 640, 360}};
+    RendererOptions o;
+    o.width = views[0].w;
+    o.height = views[0].h;
+    o.tile_resource_cache = 1;
+    auto shared = Renderer::create(o);
+    int ids[3] = {0, shared->addTarget(views[1].w, views[1].h), shared->addTarget(views[2].w, views[2].h)};
+    for (int round = 0; round < 2; ++round) {
+        for (int k = 0; k < 3; ++k) {
+            MapFrame frame = navmap::test::settledAndorraFrame(views[k].mode, views[k].w, views[k].h);
+            frame.layers = layersFor(3);
+            shared->useTarget(ids[k]);
+            shared->renderMap(frame);
+            EXPECT_GT(shared->mapStats().tiles_drawn, 3u);
+            if (round == 1) {
+                EXPECT_EQ(shared->mapStats().tiles_uploaded, 0u) << "target " << k << " re-uploaded tiles";
+            }
+            const Image image = shared->readSync();
+            if (round == 1) {
+                RendererOptions alone_options = o;
+                alone_options.width = views[k].w;
+                alone_options.height = views[k].h;
+                auto alone = Renderer::create(alone_options);
+                alone->renderMap(frame);
+                EXPECT_EQ(image.rgba, alone->readSync().rgba) << "target " << k;
+            }
+        }
+    }
+}
+
 // The terrain is drawn in blocks (TileMesh::terrain_blocks); those outside the view frustum are
 // skipped (the goldens above show that nothing visible goes missing).
 TEST(AndorraMap, TerrainBlocksOutsideTheViewAreNotDrawn) {

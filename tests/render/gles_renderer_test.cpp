@@ -137,6 +137,38 @@ TEST(GlesRenderer, RingReadbackMatchesSynchronousReadback) {
     EXPECT_NE(sync[0].rgba, sync[2].rgba) << "the fly-over moves";
 }
 
+// One slot (and automatic on llvmpipe): no pixel-pack buffer; readAsync reads the frame and the
+// next collectReadbacks (or drainReadbacks) hands it out, in order, equal to a synchronous read.
+TEST(GlesRenderer, DirectReadbackHandsOutEveryFrameOnCollect) {
+    for (int slots : {1, 0}) {
+        RendererOptions o = smallOptions();
+        o.readback_ring = slots;
+        auto r = Renderer::create(o);
+        r->setTerrain(andorra().mesh);
+        std::vector<navmap::render::Frame> got;
+        std::vector<navmap::render::Image> sync;
+        for (int i = 0; i < 4; ++i) {
+            r->render(navmap::render::andorraFlyoverCamera(andorra().projection, i / 4.0));
+            sync.push_back(r->readSync());
+            const auto f = r->readAsync(static_cast<std::uint64_t>(10 + i));
+            if (r->device().software || slots == 1) {
+                EXPECT_FALSE(f.has_value()) << "read now, handed out on collect";
+            }
+            if (f) got.push_back(*f);
+            if (i % 2 == 1) {
+                for (auto& c : r->collectReadbacks()) got.push_back(std::move(c));
+            }
+        }
+        for (auto& c : r->drainReadbacks()) got.push_back(std::move(c));
+        ASSERT_EQ(got.size(), 4u) << "slots " << slots;
+        for (int i = 0; i < 4; ++i) {
+            EXPECT_EQ(got[i].sequence, static_cast<std::uint64_t>(10 + i));
+            EXPECT_EQ(got[i].image.rgba, sync[i].rgba) << "frame " << i;
+        }
+        EXPECT_TRUE(r->collectReadbacks().empty());
+    }
+}
+
 TEST(GlesRenderer, AndorraHeightfieldMatchesGolden) {
     RendererOptions o;
     o.width = 1280;

@@ -43,7 +43,11 @@ struct RendererOptions {
     /// MSAA samples: 0 or 1 disables, clamped to what the driver offers; -1 (auto) uses 4 on
     /// GPUs and none on software rasterizers (llvmpipe), where it doubles the frame time.
     int msaa_samples = -1;
-    int readback_ring = 3;  ///< pixel-pack buffers in flight for asynchronous readback
+    /// Pixel-pack buffers in flight per target for asynchronous readback. 1: no buffer, readAsync
+    /// reads the frame straight into its image and collectReadbacks hands it out. 0 (automatic): 1
+    /// on software rasterizers (llvmpipe waits for the rasterization in glReadPixels either way),
+    /// 2 on GPUs.
+    int readback_ring = 3;
     /// Tiles prepared and uploaded per map frame at most (0 = no limit). Tiles over the budget
     /// are drawn from the next frames on.
     int max_tile_uploads_per_frame = 0;
