@@ -37,7 +37,7 @@ struct DaemonConfig {
     bool night = false;
     bool labels = true;                        ///< place, POI, road and area names
     /// GPU tiles kept (one renderer serves all profiles; a tile any profile drew in its latest
-    /// frame is always kept, the cap bounds the others); 0 = automatic (16 per profile, at least 32).
+    /// frame is always kept, the cap bounds the others); 0 = automatic (16 + 8 per profile, at least 32).
     int gpu_tile_cache = 0;
     std::vector<DisplayProfile> profiles;      ///< [[profile]]; defaults: cluster, hud, center
     // [control]

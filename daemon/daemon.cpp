@@ -194,12 +194,12 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
                 // drew in its latest frame is never evicted (the renderer counts per target, not
                 // per render call), so the cap only bounds the spare tiles kept for level-of-detail
                 // changes and turns. The three default views draw 15-25 tiles each (57 together on
-                // the Andorra drive, fewer distinct ones); 16 per profile, at least 32 (48 for three)
-                // re-uploads 3.4 tiles/s on the replayed drive against 2.6 with the old 88 per
-                // render call, for 14 MB less (docs/navmapd.md).
+                // the Andorra drive, fewer distinct ones); 16 + 8 per profile, at least 32 (40 for
+                // three) re-uploads 106 tiles in 20 s of the replayed drive against 102 with 48,
+                // for 4.5 MB less (docs/navmapd.md).
                 ro.tile_resource_cache = config.gpu_tile_cache > 0
                                              ? config.gpu_tile_cache
-                                             : std::max(32, 16 * static_cast<int>(config.profiles.size()));
+                                             : std::max(32, 16 + 8 * static_cast<int>(config.profiles.size()));
                 // Finished readbacks leave at once (collected after each render and polled while
                 // in flight). 0 = the renderer's choice: on llvmpipe a frame is read straight into
                 // its image (glReadPixels waits for the rasterization there even into a pixel-pack
