@@ -4,7 +4,7 @@
 #define NAVMAP_COVER_LEVELS 1  // land-cover levels blended (terrain_tile.frag)
 #endif
 layout(location = 0) in vec3 a_position;
-layout(location = 1) in vec3 a_normal;
+layout(location = 1) in vec2 a_normal;  // x, y (z >= 0 follows)
 // Geomorph targets: the surfaces of the 4 coarser levels at this x, y (parent first), with
 // the x, y of their normals (z >= 0 follows).
 layout(location = 2) in vec4 a_ancestor_height;
@@ -83,7 +83,7 @@ void main() {
     z = mix(a_ancestor_height.x, z, f.y);
     n = mix(unpackNormal(a_ancestor_normal01.xy), n, f.y);
     z = mix(a_position.z, z, f.x);
-    n = normalize(mix(a_normal, n, f.x));
+    n = normalize(mix(unpackNormal(a_normal), n, f.x));
     vec3 p = vec3(a_position.xy, z);
     vec4 view_pos = u_view * vec4(p, 1.0);
     float sky = 0.5 + 0.5 * n.z;

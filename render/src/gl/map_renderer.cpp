@@ -74,6 +74,50 @@ CoverLevels coverLevels(const TileMorph& m, glm::vec2 eye, glm::vec2 lo, glm::ve
     return c;
 }
 
+// The terrain vertex as uploaded: normals as x, y in normalized shorts (z >= 0 follows; the
+// shader unpacks them), 48 bytes instead of TerrainVertex's 72. Heights stay float: the route
+// is draped on the CPU against the same values.
+struct PackedTerrainVertex {
+    glm::vec3 position;
+    std::array<std::int16_t, 2> normal;
+    std::array<float, kMorphLevels> ancestor_heights;
+    std::array<std::int16_t, 2 * kMorphLevels> ancestor_normals;
+};
+
+std::int16_t snorm16(float v) { return static_cast<std::int16_t>(std::lround(std::clamp(v, -1.0f, 1.0f) * 32767.0f)); }
+
+std::vector<PackedTerrainVertex> packTerrain(std::span<const TerrainVertex> vertices) {
+    std::vector<PackedTerrainVertex> out(vertices.size());
+    for (std::size_t i = 0; i < vertices.size(); ++i) {
+        const TerrainVertex& v = vertices[i];
+        PackedTerrainVertex& p = out[i];
+        p.position = v.position;
+        p.normal = {snorm16(v.normal.x), snorm16(v.normal.y)};
+        p.ancestor_heights = v.ancestor_heights;
+        for (std::size_t j = 0; j < v.ancestor_normals.size(); ++j) {
+            p.ancestor_normals[2 * j] = snorm16(v.ancestor_normals[j].x);
+            p.ancestor_normals[2 * j + 1] = snorm16(v.ancestor_normals[j].y);
+        }
+    }
+    return out;
+}
+
+// Uploads indices into the bound element buffer, as 16-bit values when the vertices allow it;
+// returns the GL index type and sets the size of one index.
+GLenum uploadIndices(std::span<const std::uint32_t> indices, std::size_t vertex_count, std::size_t& index_size) {
+    if (vertex_count <= 0xFFFF) {
+        std::vector<std::uint16_t> narrow(indices.begin(), indices.end());
+        glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(narrow.size() * sizeof(std::uint16_t)), narrow.data(),
+                     GL_STATIC_DRAW);
+        index_size = sizeof(std::uint16_t);
+        return GL_UNSIGNED_SHORT;
+    }
+    glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(indices.size() * sizeof(std::uint32_t)), indices.data(),
+                 GL_STATIC_DRAW);
+    index_size = sizeof(std::uint32_t);
+    return GL_UNSIGNED_INT;
+}
+
 double msSince(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
 
 // RoadInstance: p0 (3), p1 (3), class, flags, measure0, measure1: one instance per segment.
@@ -113,7 +157,8 @@ struct MapRenderer::GpuTile {
     glm::dvec3 origin{0.0};
     float size_m = 0.0f;
     GLuint terrain_vao = 0, terrain_vbo = 0, terrain_ibo = 0;
-    GLsizei terrain_index_count = 0;
+    GLenum terrain_index_type = GL_UNSIGNED_INT;  // GL_UNSIGNED_SHORT where the vertices allow
+    std::size_t terrain_index_size = sizeof(std::uint32_t);
     std::vector<TerrainBlock> terrain_blocks;  // drawn one by one or merged (land-cover levels)
     GLuint land_cover = 0;  // 0: none (the shared empty texture is used)
     // The parent's and grandparent's land cover over this tile, for morphing it like the surface
@@ -225,29 +270,27 @@ MapRenderer::GpuTile* MapRenderer::upload(const std::shared_ptr<const map::Tile>
     glGenBuffers(1, &gpu->terrain_ibo);
     glBindVertexArray(gpu->terrain_vao);
     glBindBuffer(GL_ARRAY_BUFFER, gpu->terrain_vbo);
-    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(mesh.terrain.size() * sizeof(TerrainVertex)),
-                 mesh.terrain.data(), GL_STATIC_DRAW);
+    const std::vector<PackedTerrainVertex> packed = packTerrain(mesh.terrain);
+    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(packed.size() * sizeof(PackedTerrainVertex)), packed.data(),
+                 GL_STATIC_DRAW);
+    constexpr auto kStride = static_cast<GLsizei>(sizeof(PackedTerrainVertex));
     glEnableVertexAttribArray(0);
-    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, sizeof(TerrainVertex),
-                          reinterpret_cast<const void*>(offsetof(TerrainVertex, position)));
+    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, kStride, reinterpret_cast<const void*>(offsetof(PackedTerrainVertex, position)));
     glEnableVertexAttribArray(1);
-    glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, sizeof(TerrainVertex),
-                          reinterpret_cast<const void*>(offsetof(TerrainVertex, normal)));
+    glVertexAttribPointer(1, 2, GL_SHORT, GL_TRUE, kStride, reinterpret_cast<const void*>(offsetof(PackedTerrainVertex, normal)));
     // Geomorph targets (terrain_tile.vert): 4 ancestor heights, then 4 normals' x, y as two vec4.
     static_assert(kMorphLevels == 4, "terrain_tile.vert takes 4 ancestor levels");
     glEnableVertexAttribArray(2);
-    glVertexAttribPointer(2, 4, GL_FLOAT, GL_FALSE, sizeof(TerrainVertex),
-                          reinterpret_cast<const void*>(offsetof(TerrainVertex, ancestor_heights)));
+    glVertexAttribPointer(2, 4, GL_FLOAT, GL_FALSE, kStride,
+                          reinterpret_cast<const void*>(offsetof(PackedTerrainVertex, ancestor_heights)));
     glEnableVertexAttribArray(3);
-    glVertexAttribPointer(3, 4, GL_FLOAT, GL_FALSE, sizeof(TerrainVertex),
-                          reinterpret_cast<const void*>(offsetof(TerrainVertex, ancestor_normals)));
+    glVertexAttribPointer(3, 4, GL_SHORT, GL_TRUE, kStride,
+                          reinterpret_cast<const void*>(offsetof(PackedTerrainVertex, ancestor_normals)));
     glEnableVertexAttribArray(4);
-    glVertexAttribPointer(4, 4, GL_FLOAT, GL_FALSE, sizeof(TerrainVertex),
-                          reinterpret_cast<const void*>(offsetof(TerrainVertex, ancestor_normals) + 4 * sizeof(float)));
+    glVertexAttribPointer(4, 4, GL_SHORT, GL_TRUE, kStride,
+                          reinterpret_cast<const void*>(offsetof(PackedTerrainVertex, ancestor_normals) + 4 * sizeof(std::int16_t)));
     glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, gpu->terrain_ibo);
-    glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(mesh.terrain_indices.size() * sizeof(std::uint32_t)),
-                 mesh.terrain_indices.data(), GL_STATIC_DRAW);
-    gpu->terrain_index_count = static_cast<GLsizei>(mesh.terrain_indices.size());
+    gpu->terrain_index_type = uploadIndices(mesh.terrain_indices, mesh.terrain.size(), gpu->terrain_index_size);
     gpu->terrain_blocks = mesh.terrain_blocks;
 
     if (!mesh.roads.empty()) {
@@ -631,8 +674,8 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target) {
                     glActiveTexture(static_cast<GLenum>(GL_TEXTURE0 + k));
                     glBindTexture(GL_TEXTURE_2D, cover[static_cast<std::size_t>(levels.finest + k)]);
                 }
-                glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(count), GL_UNSIGNED_INT,
-                               reinterpret_cast<const void*>(std::size_t{first.first} * sizeof(std::uint32_t)));
+                glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(count), g->terrain_index_type,
+                               reinterpret_cast<const void*>(std::size_t{first.first} * g->terrain_index_size));
             }
         }
         if (sv) sv->endTerrain(target);
