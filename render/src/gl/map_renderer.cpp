@@ -524,6 +524,114 @@ void MapRenderer::evict() {
     for (std::size_t i = 0; i < by_age.size() && m_tiles.size() > keep; ++i) m_tiles.erase(by_age[i].second);
 }
 
+void MapRenderer::drawTerrain(const MapFrame& frame, const glm::mat4& projection, const glm::vec3& light,
+                              const std::vector<GpuTile*>& tiles) {
+    for (ShaderProgram* p : {&m_terrain, &m_terrain_cover[0], &m_terrain_cover[1]}) {
+        glUseProgram(p->id());
+        glUniformMatrix4fv(p->uniform("u_projection"), 1, GL_FALSE, glm::value_ptr(projection));
+        glUniform3fv(p->uniform("u_light_dir"), 1, glm::value_ptr(light));
+        glUniform3fv(p->uniform("u_sky_color"), 1, glm::value_ptr(m_style.sky_color));
+        glUniform2f(p->uniform("u_fog_range"), m_style.fog_start_m, m_style.fog_end_m);
+        glUniform1f(p->uniform("u_brightness"), m_style.brightness);
+        glUniform1i(p->uniform("u_land_cover"), 0);
+        glUniform1i(p->uniform("u_cover1"), 1);
+        glUniform1i(p->uniform("u_cover2"), 2);
+    }
+    const ShaderProgram* bound = nullptr;
+    for (GpuTile* g : tiles) {
+        const glm::vec2 eye(static_cast<float>(frame.camera.eye.x - g->origin.x),
+                            static_cast<float>(frame.camera.eye.y - g->origin.y));
+        // Land cover of the levels each block of the tile reaches (morphing with the surface);
+        // an ancestor with no land cover here shows none, one not resident is stood in for by
+        // the next finer level.
+        std::array<GLuint, 3> cover{m_empty_texture, m_empty_texture, m_empty_texture};
+        const bool morph_cover = frame.layers.land_cover && g->morph_ancestors[0];
+        if (frame.layers.land_cover) {
+            if (g->land_cover) cover[0] = g->land_cover;
+            if (g->ancestor_cover[0]) cover[1] = g->ancestor_cover[0];
+            cover[2] = !g->morph_ancestors[1] ? cover[1] : (g->ancestor_cover[1] ? g->ancestor_cover[1] : m_empty_texture);
+        }
+        const glm::mat4 view = frame.camera.viewRelativeTo(g->origin);
+        glBindVertexArray(g->terrain_vao);
+        std::array<bool, 3> has_tile_uniforms{};  // per program: plain, 2 levels, 3 levels
+        // Blocks outside the view are skipped; consecutive ones that need the same land-cover
+        // levels are one draw.
+        const glm::mat4 view_projection = projection * view;
+        auto visible = [&](const TerrainBlock& k) { return boxInView(view_projection, k); };
+        auto levelsOf = [&](const TerrainBlock& k) {
+            return morph_cover ? coverLevels(g->morph, eye, k.min, k.max) : CoverLevels{};
+        };
+        for (std::size_t b = 0; b < g->terrain_blocks.size();) {
+            const TerrainBlock& first = g->terrain_blocks[b++];
+            if (!visible(first)) continue;
+            const CoverLevels levels = levelsOf(first);
+            std::uint32_t count = first.count;
+            for (; b < g->terrain_blocks.size(); ++b) {
+                const TerrainBlock& next = g->terrain_blocks[b];
+                if (!visible(next) || !(levelsOf(next) == levels)) break;
+                count += next.count;
+            }
+            m_stats.terrain_triangles += count / 3;
+            const int n = levels.coarsest - levels.finest + 1;
+            ShaderProgram& p = n == 1 ? m_terrain : m_terrain_cover[n - 2];
+            if (bound != &p) {
+                glUseProgram(p.id());
+                bound = &p;
+            }
+            if (!has_tile_uniforms[static_cast<std::size_t>(n - 1)]) {
+                has_tile_uniforms[static_cast<std::size_t>(n - 1)] = true;
+                glUniformMatrix4fv(p.uniform("u_view"), 1, GL_FALSE, glm::value_ptr(view));
+                glUniform1f(p.uniform("u_tile_size"), g->size_m);
+                glUniform4fv(p.uniform("u_morph_start"), 1, g->morph.start_m.data());
+                glUniform4fv(p.uniform("u_morph_end"), 1, g->morph.end_m.data());
+                glUniform1f(p.uniform("u_morph_eye_dz"), g->morph.eye_dz_m);
+                glUniform2fv(p.uniform("u_morph_eye"), 1, glm::value_ptr(eye));
+            }
+            if (n > 1) glUniform2f(p.uniform("u_cover_slot"), levels.finest == 0 ? 1.0f : 0.0f, levels.finest == 0 ? 0.0f : 1.0f);
+            for (int k = n - 1; k >= 0; --k) {
+                glActiveTexture(static_cast<GLenum>(GL_TEXTURE0 + k));
+                glBindTexture(GL_TEXTURE_2D, cover[static_cast<std::size_t>(levels.finest + k)]);
+            }
+            glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(count), g->terrain_index_type,
+                           reinterpret_cast<const void*>(std::size_t{first.first} * g->terrain_index_size));
+        }
+    }
+}
+
+void MapRenderer::markOutlineArea(const MapFrame& frame, const glm::mat4& projection, const RenderTarget& target,
+                                  const std::vector<GpuTile*>& tiles) {
+    glDisable(GL_DEPTH_TEST);
+    glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+    glEnable(GL_STENCIL_TEST);
+    glStencilMask(0xFF);
+    glStencilFunc(GL_ALWAYS, 1, 0xFF);
+    glStencilOp(GL_KEEP, GL_KEEP, GL_REPLACE);
+    glUseProgram(m_roads_mark.id());
+    glUniformMatrix4fv(m_roads_mark.uniform("u_projection"), 1, GL_FALSE, glm::value_ptr(projection));
+    // kOutlineReachPx per side, in metres per metre of distance.
+    const double px = 2.0 * std::tan(glm::radians(frame.camera.fov_y_deg) / 2.0) / target.height();
+    glUniform1f(m_roads_mark.uniform("u_margin"), static_cast<float>(kOutlineReachPx * px));
+    glUniform1f(m_roads_mark.uniform("u_reach_px"), static_cast<float>(kOutlineReachPx));
+    glUniform2f(m_roads_mark.uniform("u_viewport_half"), 0.5f * static_cast<float>(target.width()),
+                0.5f * static_cast<float>(target.height()));
+    if (frame.layers.roads) {
+        setRoadUniforms(m_roads_mark, 2, false);
+        for (GpuTile* g : tiles) {
+            if (!g->road_count) continue;
+            const glm::mat4 view = frame.camera.viewRelativeTo(g->origin);
+            glUniformMatrix4fv(m_roads_mark.uniform("u_view"), 1, GL_FALSE, glm::value_ptr(view));
+            glBindVertexArray(g->roads_vao);
+            m_quad_indices.draw(0, g->road_count);
+        }
+    }
+    if (frame.layers.route && frame.route) {
+        setRoadUniforms(m_roads_mark, 2, true);
+        drawRoute(m_roads_mark, tiles, frame.camera);
+    }
+    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    glEnable(GL_DEPTH_TEST);
+}
+
 void MapRenderer::render(const MapFrame& frame, const RenderTarget& target) {
     ++m_frame;
     m_target_frame[m_label_key] = m_frame;  // GlRenderer selected this target's state (evict())
@@ -608,76 +716,7 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target) {
         glDepthFunc(GL_LESS);
         glEnable(GL_CULL_FACE);
         glCullFace(GL_BACK);
-        for (ShaderProgram* p : {&m_terrain, &m_terrain_cover[0], &m_terrain_cover[1]}) {
-            glUseProgram(p->id());
-            glUniformMatrix4fv(p->uniform("u_projection"), 1, GL_FALSE, glm::value_ptr(projection));
-            glUniform3fv(p->uniform("u_light_dir"), 1, glm::value_ptr(light));
-            glUniform3fv(p->uniform("u_sky_color"), 1, glm::value_ptr(m_style.sky_color));
-            glUniform2f(p->uniform("u_fog_range"), m_style.fog_start_m, m_style.fog_end_m);
-            glUniform1f(p->uniform("u_brightness"), m_style.brightness);
-            glUniform1i(p->uniform("u_land_cover"), 0);
-            glUniform1i(p->uniform("u_cover1"), 1);
-            glUniform1i(p->uniform("u_cover2"), 2);
-        }
-        const ShaderProgram* bound = nullptr;
-        for (GpuTile* g : tiles) {
-            const glm::vec2 eye(static_cast<float>(frame.camera.eye.x - g->origin.x),
-                                static_cast<float>(frame.camera.eye.y - g->origin.y));
-            // Land cover of the levels each block of the tile reaches (morphing with the surface);
-            // an ancestor with no land cover here shows none, one not resident is stood in for by
-            // the next finer level.
-            std::array<GLuint, 3> cover{m_empty_texture, m_empty_texture, m_empty_texture};
-            const bool morph_cover = frame.layers.land_cover && g->morph_ancestors[0];
-            if (frame.layers.land_cover) {
-                if (g->land_cover) cover[0] = g->land_cover;
-                if (g->ancestor_cover[0]) cover[1] = g->ancestor_cover[0];
-                cover[2] = !g->morph_ancestors[1] ? cover[1] : (g->ancestor_cover[1] ? g->ancestor_cover[1] : m_empty_texture);
-            }
-            const glm::mat4 view = frame.camera.viewRelativeTo(g->origin);
-            glBindVertexArray(g->terrain_vao);
-            std::array<bool, 3> has_tile_uniforms{};  // per program: plain, 2 levels, 3 levels
-            // Blocks outside the view are skipped; consecutive ones that need the same land-cover
-            // levels are one draw.
-            const glm::mat4 view_projection = projection * view;
-            auto visible = [&](const TerrainBlock& k) { return boxInView(view_projection, k); };
-            auto levelsOf = [&](const TerrainBlock& k) {
-                return morph_cover ? coverLevels(g->morph, eye, k.min, k.max) : CoverLevels{};
-            };
-            for (std::size_t b = 0; b < g->terrain_blocks.size();) {
-                const TerrainBlock& first = g->terrain_blocks[b++];
-                if (!visible(first)) continue;
-                const CoverLevels levels = levelsOf(first);
-                std::uint32_t count = first.count;
-                for (; b < g->terrain_blocks.size(); ++b) {
-                    const TerrainBlock& next = g->terrain_blocks[b];
-                    if (!visible(next) || !(levelsOf(next) == levels)) break;
-                    count += next.count;
-                }
-                m_stats.terrain_triangles += count / 3;
-                const int n = levels.coarsest - levels.finest + 1;
-                ShaderProgram& p = n == 1 ? m_terrain : m_terrain_cover[n - 2];
-                if (bound != &p) {
-                    glUseProgram(p.id());
-                    bound = &p;
-                }
-                if (!has_tile_uniforms[static_cast<std::size_t>(n - 1)]) {
-                    has_tile_uniforms[static_cast<std::size_t>(n - 1)] = true;
-                    glUniformMatrix4fv(p.uniform("u_view"), 1, GL_FALSE, glm::value_ptr(view));
-                    glUniform1f(p.uniform("u_tile_size"), g->size_m);
-                    glUniform4fv(p.uniform("u_morph_start"), 1, g->morph.start_m.data());
-                    glUniform4fv(p.uniform("u_morph_end"), 1, g->morph.end_m.data());
-                    glUniform1f(p.uniform("u_morph_eye_dz"), g->morph.eye_dz_m);
-                    glUniform2fv(p.uniform("u_morph_eye"), 1, glm::value_ptr(eye));
-                }
-                if (n > 1) glUniform2f(p.uniform("u_cover_slot"), levels.finest == 0 ? 1.0f : 0.0f, levels.finest == 0 ? 0.0f : 1.0f);
-                for (int k = n - 1; k >= 0; --k) {
-                    glActiveTexture(static_cast<GLenum>(GL_TEXTURE0 + k));
-                    glBindTexture(GL_TEXTURE_2D, cover[static_cast<std::size_t>(levels.finest + k)]);
-                }
-                glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(count), g->terrain_index_type,
-                               reinterpret_cast<const void*>(std::size_t{first.first} * g->terrain_index_size));
-            }
-        }
+        drawTerrain(frame, projection, light, tiles);
         if (sv) sv->endTerrain(target);
         lap(m_stats.terrain_ms, t);
     }
@@ -765,38 +804,7 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target) {
     // away from roads. (Shadow-volume roads have no footprint quads: a full-screen pass.)
     const bool outlines = frame.layers.outlines && (frame.layers.roads || frame.layers.route);
     const bool outline_stencil = outlines && frame.layers.outlines_near_roads && !sv;
-    if (outline_stencil) {
-        glDisable(GL_DEPTH_TEST);
-        glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
-        glEnable(GL_STENCIL_TEST);
-        glStencilMask(0xFF);
-        glStencilFunc(GL_ALWAYS, 1, 0xFF);
-        glStencilOp(GL_KEEP, GL_KEEP, GL_REPLACE);
-        glUseProgram(m_roads_mark.id());
-        glUniformMatrix4fv(m_roads_mark.uniform("u_projection"), 1, GL_FALSE, glm::value_ptr(projection));
-        // kOutlineReachPx per side, in metres per metre of distance.
-        const double px = 2.0 * std::tan(glm::radians(frame.camera.fov_y_deg) / 2.0) / target.height();
-        glUniform1f(m_roads_mark.uniform("u_margin"), static_cast<float>(kOutlineReachPx * px));
-        glUniform1f(m_roads_mark.uniform("u_reach_px"), static_cast<float>(kOutlineReachPx));
-        glUniform2f(m_roads_mark.uniform("u_viewport_half"), 0.5f * static_cast<float>(target.width()),
-                    0.5f * static_cast<float>(target.height()));
-        if (frame.layers.roads) {
-            setRoadUniforms(m_roads_mark, 2, false);
-            for (GpuTile* g : tiles) {
-                if (!g->road_count) continue;
-                const glm::mat4 view = frame.camera.viewRelativeTo(g->origin);
-                glUniformMatrix4fv(m_roads_mark.uniform("u_view"), 1, GL_FALSE, glm::value_ptr(view));
-                glBindVertexArray(g->roads_vao);
-                m_quad_indices.draw(0, g->road_count);
-            }
-        }
-        if (frame.layers.route && frame.route) {
-            setRoadUniforms(m_roads_mark, 2, true);
-            drawRoute(m_roads_mark, tiles, frame.camera);
-        }
-        glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-        glEnable(GL_DEPTH_TEST);
-    }
+    if (outline_stencil) markOutlineArea(frame, projection, target, tiles);
 
     // Screen-space dark outlines around roads and route (seed 3.6.3).
     if (outlines) {

@@ -68,6 +68,13 @@ private:
     void drawRoute(ShaderProgram& program, const std::vector<GpuTile*>& tiles, const Camera& camera);
     void setRoadUniforms(ShaderProgram& program, int pass, bool route);
     void drawMarker(const MapFrame& frame, const RenderTarget& target);
+    /// The terrain of `tiles` in blocks: frustum-culled, each with the land-cover levels it reaches.
+    void drawTerrain(const MapFrame& frame, const glm::mat4& projection, const glm::vec3& light,
+                     const std::vector<GpuTile*>& tiles);
+    /// Stencil 1 where the outline filter can find road pixels: road and route footprints widened
+    /// by the filter's reach (seed 3.6.3); leaves the stencil test on.
+    void markOutlineArea(const MapFrame& frame, const glm::mat4& projection, const RenderTarget& target,
+                         const std::vector<GpuTile*>& tiles);
     /// Label aura and glowing roads (seed 5.5), between the label layout and the label text.
     void runOcclusionEffects(const MapFrame& frame, const RenderTarget& target, const glm::mat4& projection,
                              const std::vector<GpuTile*>& tiles);
