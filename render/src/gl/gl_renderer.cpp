@@ -91,7 +91,7 @@ bool GlRenderer::removeTarget(int id) {
     if (id == 0 || !m_targets.contains(id)) return false;
     m_egl.makeCurrent();
     m_targets.erase(id);  // pending readbacks: their fences and buffers go with the ring
-    m_map->dropLabelState(id);
+    m_map->dropTarget(id);
     if (m_current == id) m_current = 0;
     return true;
 }
@@ -130,7 +130,7 @@ void GlRenderer::render(const Camera& camera) {
 void GlRenderer::renderMap(const MapFrame& frame) {
     m_egl.makeCurrent();
     // Each target is a view of its own: its label layout continues from its own last frame.
-    m_map->selectLabelState(m_current);
+    m_map->selectTarget(m_current);
     m_map->render(frame, *current().target);
 }
 

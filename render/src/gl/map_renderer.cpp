@@ -1,5 +1,6 @@
 #include "map_renderer.h"
 #include "sv_roads.h"
+#include "vertex_layout.h"
 
 #include <algorithm>
 #include <array>
@@ -102,41 +103,31 @@ std::vector<PackedTerrainVertex> packTerrain(std::span<const TerrainVertex> vert
     return out;
 }
 
+std::size_t indexBytes(GLenum type) { return type == GL_UNSIGNED_SHORT ? sizeof(std::uint16_t) : sizeof(std::uint32_t); }
+
 // Uploads indices into the bound element buffer, as 16-bit values when the vertices allow it;
-// returns the GL index type and sets the size of one index.
-GLenum uploadIndices(std::span<const std::uint32_t> indices, std::size_t vertex_count, std::size_t& index_size) {
+// returns the GL index type.
+GLenum uploadIndices(std::span<const std::uint32_t> indices, std::size_t vertex_count) {
     if (vertex_count <= 0xFFFF) {
         std::vector<std::uint16_t> narrow(indices.begin(), indices.end());
         glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(narrow.size() * sizeof(std::uint16_t)), narrow.data(),
                      GL_STATIC_DRAW);
-        index_size = sizeof(std::uint16_t);
         return GL_UNSIGNED_SHORT;
     }
     glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(indices.size() * sizeof(std::uint32_t)), indices.data(),
                  GL_STATIC_DRAW);
-    index_size = sizeof(std::uint32_t);
     return GL_UNSIGNED_INT;
 }
 
 double msSince(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
 
-// RoadInstance: p0 (3), p1 (3), class, flags, measure0, measure1: one instance per segment.
-// `first` offsets the pointers, since ES 3.0 has no base instance for instanced draws.
-void setupRoadInstanceAttributes(GLsizei first = 0, GLuint divisor = 1) {
-    const auto stride = static_cast<GLsizei>(sizeof(RoadInstance));
-    const std::size_t base = static_cast<std::size_t>(first) * sizeof(RoadInstance);
-    auto at = [&](std::size_t offset) { return reinterpret_cast<const void*>(base + offset); };
-    glEnableVertexAttribArray(0);
-    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, stride, at(offsetof(RoadInstance, p0)));
-    glEnableVertexAttribArray(1);
-    glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, stride, at(offsetof(RoadInstance, p1)));
-    glEnableVertexAttribArray(2);
-    glVertexAttribPointer(2, 1, GL_FLOAT, GL_FALSE, stride, at(offsetof(RoadInstance, road_class)));
-    glEnableVertexAttribArray(3);
-    glVertexAttribPointer(3, 1, GL_FLOAT, GL_FALSE, stride, at(offsetof(RoadInstance, flags)));
-    glEnableVertexAttribArray(4);
-    glVertexAttribPointer(4, 2, GL_FLOAT, GL_FALSE, stride, at(offsetof(RoadInstance, measure0)));
-    for (GLuint i = 0; i <= 4; ++i) glVertexAttribDivisor(i, divisor);
+// RoadInstance: p0 (3), p1 (3), class, flags, measure0, measure1, repeated per quad corner.
+void setupRoadAttributes() {
+    setVertexAttributes(sizeof(RoadInstance), {{0, 3, GL_FLOAT, offsetof(RoadInstance, p0)},
+                                               {1, 3, GL_FLOAT, offsetof(RoadInstance, p1)},
+                                               {2, 1, GL_FLOAT, offsetof(RoadInstance, road_class)},
+                                               {3, 1, GL_FLOAT, offsetof(RoadInstance, flags)},
+                                               {4, 2, GL_FLOAT, offsetof(RoadInstance, measure0)}});
 }
 
 // Road pieces as plain quads: each RoadInstance repeated for the four corners (the shader takes
@@ -158,7 +149,6 @@ struct MapRenderer::GpuTile {
     float size_m = 0.0f;
     GLuint terrain_vao = 0, terrain_vbo = 0, terrain_ibo = 0;
     GLenum terrain_index_type = GL_UNSIGNED_INT;  // GL_UNSIGNED_SHORT where the vertices allow
-    std::size_t terrain_index_size = sizeof(std::uint32_t);
     std::vector<TerrainBlock> terrain_blocks;  // drawn one by one or merged (land-cover levels)
     GLuint land_cover = 0;  // 0: none (the shared empty texture is used)
     // The parent's and grandparent's land cover over this tile, for morphing it like the surface
@@ -273,24 +263,16 @@ MapRenderer::GpuTile* MapRenderer::upload(const std::shared_ptr<const map::Tile>
     const std::vector<PackedTerrainVertex> packed = packTerrain(mesh.terrain);
     glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(packed.size() * sizeof(PackedTerrainVertex)), packed.data(),
                  GL_STATIC_DRAW);
-    constexpr auto kStride = static_cast<GLsizei>(sizeof(PackedTerrainVertex));
-    glEnableVertexAttribArray(0);
-    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, kStride, reinterpret_cast<const void*>(offsetof(PackedTerrainVertex, position)));
-    glEnableVertexAttribArray(1);
-    glVertexAttribPointer(1, 2, GL_SHORT, GL_TRUE, kStride, reinterpret_cast<const void*>(offsetof(PackedTerrainVertex, normal)));
     // Geomorph targets (terrain_tile.vert): 4 ancestor heights, then 4 normals' x, y as two vec4.
     static_assert(kMorphLevels == 4, "terrain_tile.vert takes 4 ancestor levels");
-    glEnableVertexAttribArray(2);
-    glVertexAttribPointer(2, 4, GL_FLOAT, GL_FALSE, kStride,
-                          reinterpret_cast<const void*>(offsetof(PackedTerrainVertex, ancestor_heights)));
-    glEnableVertexAttribArray(3);
-    glVertexAttribPointer(3, 4, GL_SHORT, GL_TRUE, kStride,
-                          reinterpret_cast<const void*>(offsetof(PackedTerrainVertex, ancestor_normals)));
-    glEnableVertexAttribArray(4);
-    glVertexAttribPointer(4, 4, GL_SHORT, GL_TRUE, kStride,
-                          reinterpret_cast<const void*>(offsetof(PackedTerrainVertex, ancestor_normals) + 4 * sizeof(std::int16_t)));
+    using V = PackedTerrainVertex;
+    setVertexAttributes(sizeof(V), {{0, 3, GL_FLOAT, offsetof(V, position)},
+                                    {1, 2, GL_SHORT, offsetof(V, normal)},
+                                    {2, 4, GL_FLOAT, offsetof(V, ancestor_heights)},
+                                    {3, 4, GL_SHORT, offsetof(V, ancestor_normals)},
+                                    {4, 4, GL_SHORT, offsetof(V, ancestor_normals) + 4 * sizeof(std::int16_t)}});
     glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, gpu->terrain_ibo);
-    gpu->terrain_index_type = uploadIndices(mesh.terrain_indices, mesh.terrain.size(), gpu->terrain_index_size);
+    gpu->terrain_index_type = uploadIndices(mesh.terrain_indices, mesh.terrain.size());
     gpu->terrain_blocks = mesh.terrain_blocks;
 
     if (!mesh.roads.empty()) {
@@ -301,7 +283,7 @@ MapRenderer::GpuTile* MapRenderer::upload(const std::shared_ptr<const map::Tile>
         const auto quads = quadVertices(mesh.roads);
         glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(quads.size() * sizeof(RoadInstance)), quads.data(),
                      GL_STATIC_DRAW);
-        setupRoadInstanceAttributes(0, 0);
+        setupRoadAttributes();
         m_quad_indices.bind(mesh.roads.size());
         gpu->road_count = static_cast<GLsizei>(mesh.roads.size());
         gpu->class_first.fill(gpu->road_count);
@@ -324,16 +306,10 @@ MapRenderer::GpuTile* MapRenderer::upload(const std::shared_ptr<const map::Tile>
         glBindBuffer(GL_ARRAY_BUFFER, gpu->buildings_vbo);
         glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(mesh.buildings.size() * sizeof(BuildingVertex)),
                      mesh.buildings.data(), GL_STATIC_DRAW);
-        const auto stride = static_cast<GLsizei>(sizeof(BuildingVertex));
-        glEnableVertexAttribArray(0);
-        glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<const void*>(offsetof(BuildingVertex, position)));
-        glEnableVertexAttribArray(1);
-        glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<const void*>(offsetof(BuildingVertex, normal)));
-        glEnableVertexAttribArray(2);
-        glVertexAttribPointer(2, 3, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<const void*>(offsetof(BuildingVertex, color)));
-        glEnableVertexAttribArray(3);
-        glVertexAttribPointer(3, 1, GL_FLOAT, GL_FALSE, stride,
-                              reinterpret_cast<const void*>(offsetof(BuildingVertex, footprint_m)));
+        setVertexAttributes(sizeof(BuildingVertex), {{0, 3, GL_FLOAT, offsetof(BuildingVertex, position)},
+                                                     {1, 3, GL_FLOAT, offsetof(BuildingVertex, normal)},
+                                                     {2, 3, GL_FLOAT, offsetof(BuildingVertex, color)},
+                                                     {3, 1, GL_FLOAT, offsetof(BuildingVertex, footprint_m)}});
         glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, gpu->buildings_ibo);
         glBufferData(GL_ELEMENT_ARRAY_BUFFER,
                      static_cast<GLsizeiptr>(mesh.building_indices.size() * sizeof(std::uint32_t)),
@@ -348,7 +324,10 @@ MapRenderer::GpuTile* MapRenderer::upload(const std::shared_ptr<const map::Tile>
     for (std::size_t j = 0; j < gpu->ancestor_cover.size(); ++j) {
         const map::Tile* a = ancestors[j];
         if (!a) continue;
-        const std::vector<LandCoverVertex> triangles = landCoverTriangles(*a);
+        // Siblings uploaded in one frame share their ancestors: triangulated once per frame.
+        auto [it, fresh] = m_ancestor_cover_triangles.try_emplace(a);
+        if (fresh) it->second = landCoverTriangles(*a);
+        const std::vector<LandCoverVertex>& triangles = it->second;
         if (triangles.empty()) continue;
         const glm::vec2 offset(static_cast<float>(mesh.origin.x - a->origin_x), static_cast<float>(mesh.origin.y - a->origin_y));
         gpu->ancestor_cover[j] = rasterizeLandCover(triangles, landCoverTextureSize(static_cast<float>(a->size_m)) >> (j + 1),
@@ -401,12 +380,8 @@ GLuint MapRenderer::rasterizeLandCover(std::span<const LandCoverVertex> triangle
     glBindBuffer(GL_ARRAY_BUFFER, vbo);
     glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(triangles.size() * sizeof(LandCoverVertex)), triangles.data(),
                  GL_STREAM_DRAW);
-    glEnableVertexAttribArray(0);
-    glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, sizeof(LandCoverVertex),
-                          reinterpret_cast<const void*>(offsetof(LandCoverVertex, position)));
-    glEnableVertexAttribArray(1);
-    glVertexAttribPointer(1, 4, GL_FLOAT, GL_FALSE, sizeof(LandCoverVertex),
-                          reinterpret_cast<const void*>(offsetof(LandCoverVertex, color)));
+    setVertexAttributes(sizeof(LandCoverVertex), {{0, 2, GL_FLOAT, offsetof(LandCoverVertex, position)},
+                                                  {1, 4, GL_FLOAT, offsetof(LandCoverVertex, color)}});
     glUseProgram(m_land_cover.id());
     glUniform2fv(m_land_cover.uniform("u_offset"), 1, glm::value_ptr(offset));
     glUniform1f(m_land_cover.uniform("u_extent"), extent);
@@ -449,7 +424,7 @@ void MapRenderer::updateRoute(GpuTile& g, const RouteGeometry& route, const Came
             glGenBuffers(1, &g.route_vbo);
             glBindVertexArray(g.route_vao);
             glBindBuffer(GL_ARRAY_BUFFER, g.route_vbo);
-            setupRoadInstanceAttributes(0, 0);
+            setupRoadAttributes();
             glBindVertexArray(0);
         }
     } else if (g.route_pieces.empty() || (g.morph.end_m[0] <= 0.0f && !g.route_morphed)) {
@@ -470,11 +445,35 @@ void MapRenderer::updateRoute(GpuTile& g, const RouteGeometry& route, const Came
     g.route_count = static_cast<GLsizei>(g.route_instances.size());
 }
 
-void MapRenderer::drawRoute(ShaderProgram& program, const std::vector<GpuTile*>& tiles, const Camera& camera) {
-    // With `program` bound and its uniforms set: the route pieces of every drawn tile.
+std::size_t MapRenderer::drawRoads(ShaderProgram& program, int pass, const MapFrame& frame,
+                                   const std::vector<GpuTile*>& tiles) {
+    setRoadUniforms(program, pass, false);
+    // The casing pass starts at the first class that has a casing (bridges always have one).
+    std::size_t drawn = 0;
+    for (GpuTile* g : tiles) {
+        GLsizei first = 0;
+        if (pass == 0) {
+            first = g->bridge_first;
+            for (int c = 0; c < kStyledRoadClasses; ++c) {
+                if (m_style.roads.classes[c].casing_m > 0.0f) first = std::min(first, g->class_first[c]);
+            }
+        }
+        if (first >= g->road_count) continue;
+        const glm::mat4 view = frame.camera.viewRelativeTo(g->origin);
+        glUniformMatrix4fv(program.uniform("u_view"), 1, GL_FALSE, glm::value_ptr(view));
+        glBindVertexArray(g->roads_vao);
+        m_quad_indices.draw(first, g->road_count - first);
+        drawn += static_cast<std::size_t>(g->road_count - first);
+    }
+    return drawn;
+}
+
+void MapRenderer::drawRoute(ShaderProgram& program, int pass, const MapFrame& frame, const std::vector<GpuTile*>& tiles) {
+    setRoadUniforms(program, pass, true);
+    glUniform1f(program.uniform("u_route_progress"), static_cast<float>(frame.route_progress_m));
     for (const GpuTile* g : tiles) {
         if (!g->route_count) continue;
-        const glm::mat4 view = camera.viewRelativeTo(g->origin);
+        const glm::mat4 view = frame.camera.viewRelativeTo(g->origin);
         glUniformMatrix4fv(program.uniform("u_view"), 1, GL_FALSE, glm::value_ptr(view));
         glBindVertexArray(g->route_vao);
         m_quad_indices.draw(0, g->route_count);
@@ -593,7 +592,7 @@ void MapRenderer::drawTerrain(const MapFrame& frame, const glm::mat4& projection
                 glBindTexture(GL_TEXTURE_2D, cover[static_cast<std::size_t>(levels.finest + k)]);
             }
             glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(count), g->terrain_index_type,
-                           reinterpret_cast<const void*>(std::size_t{first.first} * g->terrain_index_size));
+                           reinterpret_cast<const void*>(std::size_t{first.first} * indexBytes(g->terrain_index_type)));
         }
     }
 }
@@ -614,27 +613,15 @@ void MapRenderer::markOutlineArea(const MapFrame& frame, const glm::mat4& projec
     glUniform1f(m_roads_mark.uniform("u_reach_px"), static_cast<float>(kOutlineReachPx));
     glUniform2f(m_roads_mark.uniform("u_viewport_half"), 0.5f * static_cast<float>(target.width()),
                 0.5f * static_cast<float>(target.height()));
-    if (frame.layers.roads) {
-        setRoadUniforms(m_roads_mark, 2, false);
-        for (GpuTile* g : tiles) {
-            if (!g->road_count) continue;
-            const glm::mat4 view = frame.camera.viewRelativeTo(g->origin);
-            glUniformMatrix4fv(m_roads_mark.uniform("u_view"), 1, GL_FALSE, glm::value_ptr(view));
-            glBindVertexArray(g->roads_vao);
-            m_quad_indices.draw(0, g->road_count);
-        }
-    }
-    if (frame.layers.route && frame.route) {
-        setRoadUniforms(m_roads_mark, 2, true);
-        drawRoute(m_roads_mark, tiles, frame.camera);
-    }
+    if (frame.layers.roads) drawRoads(m_roads_mark, 2, frame, tiles);
+    if (frame.layers.route && frame.route) drawRoute(m_roads_mark, 2, frame, tiles);
     glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     glEnable(GL_DEPTH_TEST);
 }
 
 void MapRenderer::render(const MapFrame& frame, const RenderTarget& target) {
     ++m_frame;
-    m_target_frame[m_label_key] = m_frame;  // GlRenderer selected this target's state (evict())
+    m_target_frame[m_target_key] = m_frame;  // this target's latest frame (evict())
     m_stats = {};
     const auto t_frame = Clock::now();
     auto lap = [&](double& slot, Clock::time_point& t) {
@@ -678,6 +665,7 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target) {
         gpu->last_used = m_frame;
         tiles.push_back(gpu);
     }
+    m_ancestor_cover_triangles.clear();  // only for the uploads above, while `frame` holds the tiles
     m_stats.tiles_uploaded = static_cast<std::size_t>(uploads);
     m_stats.flat_tiles = m_stats_flat_tiles;
     m_stats.new_flat_tiles = std::move(m_new_flat_tiles);
@@ -764,37 +752,14 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target) {
     if (frame.layers.roads && !sv) {
         glUseProgram(m_roads.id());
         glUniformMatrix4fv(m_roads.uniform("u_projection"), 1, GL_FALSE, glm::value_ptr(projection));
-        for (int pass = 0; pass < 2; ++pass) {
-            setRoadUniforms(m_roads, pass, false);
-            for (GpuTile* g : tiles) {
-                if (!g->road_count) continue;
-                const glm::mat4 view = frame.camera.viewRelativeTo(g->origin);
-                glUniformMatrix4fv(m_roads.uniform("u_view"), 1, GL_FALSE, glm::value_ptr(view));
-                glBindVertexArray(g->roads_vao);
-                if (pass == 0) {
-                    // Casing: only from the first class that has one (bridges always).
-                    GLsizei first = g->bridge_first;
-                    for (int c = 0; c < kStyledRoadClasses; ++c) {
-                        if (m_style.roads.classes[c].casing_m > 0.0f) first = std::min(first, g->class_first[c]);
-                    }
-                    if (first >= g->road_count) continue;
-                    m_quad_indices.draw(first, g->road_count - first);
-                } else {
-                    m_quad_indices.draw(0, g->road_count);
-                    m_stats.road_segments += static_cast<std::size_t>(g->road_count);
-                }
-            }
-        }
+        drawRoads(m_roads, 0, frame, tiles);
+        m_stats.road_segments += drawRoads(m_roads, 1, frame, tiles);
         lap(m_stats.roads_ms, t);
     }
     if (frame.layers.route && frame.route) {
         glUseProgram(m_roads.id());
         glUniformMatrix4fv(m_roads.uniform("u_projection"), 1, GL_FALSE, glm::value_ptr(projection));
-        glUniform1f(m_roads.uniform("u_route_progress"), static_cast<float>(frame.route_progress_m));
-        for (int pass = 0; pass < 2; ++pass) {
-            setRoadUniforms(m_roads, pass, true);
-            drawRoute(m_roads, tiles, frame.camera);
-        }
+        for (int pass = 0; pass < 2; ++pass) drawRoute(m_roads, pass, frame, tiles);
         lap(m_stats.route_ms, t);
     }
     glDepthMask(GL_TRUE);
@@ -891,23 +856,8 @@ void MapRenderer::runOcclusionEffects(const MapFrame& frame, const RenderTarget&
         auto roads = [&] {
             glUseProgram(m_roads.id());
             glUniformMatrix4fv(m_roads.uniform("u_projection"), 1, GL_FALSE, glm::value_ptr(projection));
-            for (int pass = 0; pass < 2 && frame.layers.roads; ++pass) {
-                setRoadUniforms(m_roads, pass, false);  // casing pass: roads_geo.vert drops classes without
-                for (GpuTile* g : tiles) {
-                    if (!g->road_count) continue;
-                    const glm::mat4 view = frame.camera.viewRelativeTo(g->origin);
-                    glUniformMatrix4fv(m_roads.uniform("u_view"), 1, GL_FALSE, glm::value_ptr(view));
-                    glBindVertexArray(g->roads_vao);
-                    m_quad_indices.draw(0, g->road_count);
-                }
-            }
-            if (frame.layers.route && frame.route) {
-                glUniform1f(m_roads.uniform("u_route_progress"), static_cast<float>(frame.route_progress_m));
-                for (int pass = 0; pass < 2; ++pass) {
-                    setRoadUniforms(m_roads, pass, true);
-                    drawRoute(m_roads, tiles, frame.camera);
-                }
-            }
+            for (int pass = 0; pass < 2 && frame.layers.roads; ++pass) drawRoads(m_roads, pass, frame, tiles);
+            for (int pass = 0; pass < 2 && frame.layers.route && frame.route; ++pass) drawRoute(m_roads, pass, frame, tiles);
         };
         std::span<const LabelOccluder> labels;
         if (frame.layers.labels && m_label_pass) labels = m_label_pass->occluders();
@@ -917,27 +867,8 @@ void MapRenderer::runOcclusionEffects(const MapFrame& frame, const RenderTarget&
     if (glow) {
         // seed 5.5.2: the fill of the roads and the route again, for the hidden parts.
         auto roads = [&](ShaderProgram& p) {
-            if (frame.layers.roads) {
-                setRoadUniforms(p, 1, false);
-                for (GpuTile* g : tiles) {
-                    if (!g->road_count) continue;
-                    const glm::mat4 view = frame.camera.viewRelativeTo(g->origin);
-                    glUniformMatrix4fv(p.uniform("u_view"), 1, GL_FALSE, glm::value_ptr(view));
-                    glBindVertexArray(g->roads_vao);
-                    m_quad_indices.draw(0, g->road_count);
-                }
-            }
-            if (frame.layers.route && frame.route) {
-                setRoadUniforms(p, 1, true);
-                glUniform1f(p.uniform("u_route_progress"), static_cast<float>(frame.route_progress_m));
-                for (const GpuTile* g : tiles) {
-                    if (!g->route_count) continue;
-                    const glm::mat4 view = frame.camera.viewRelativeTo(g->origin);
-                    glUniformMatrix4fv(p.uniform("u_view"), 1, GL_FALSE, glm::value_ptr(view));
-                    glBindVertexArray(g->route_vao);
-                    m_quad_indices.draw(0, g->route_count);
-                }
-            }
+            if (frame.layers.roads) drawRoads(p, 1, frame, tiles);
+            if (frame.layers.route && frame.route) drawRoute(p, 1, frame, tiles);
         };
         m_effects->glow(target, frame.layers, m_style, projection, roads);
         lap(m_stats.glow_ms);

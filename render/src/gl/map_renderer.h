@@ -36,19 +36,20 @@ public:
     void setStyle(const MapStyle& style) { m_style = style; }
     void render(const MapFrame& frame, const RenderTarget& target);
     [[nodiscard]] const MapFrameStats& stats() const { return m_stats; }
-    /// Label layout state (temporal coherence, seed 4.3) belongs to one view: GlRenderer selects
-    /// the state of its current target before each render(); the others are kept aside.
-    void selectLabelState(int key) {
-        if (key == m_label_key) return;
-        m_label_parked[m_label_key] = std::move(m_label_pass);
+    /// GlRenderer names its current target before each render(). Per target: the label layout
+    /// state (temporal coherence, seed 4.3; the others' are kept aside) and the frame of its
+    /// latest render, which keeps that frame's tiles on the GPU (evict()).
+    void selectTarget(int key) {
+        if (key == m_target_key) return;
+        m_label_parked[m_target_key] = std::move(m_label_pass);
         auto it = m_label_parked.find(key);
         if (it != m_label_parked.end()) {
             m_label_pass = std::move(it->second);
             m_label_parked.erase(it);
         }
-        m_label_key = key;
+        m_target_key = key;
     }
-    void dropLabelState(int key) {
+    void dropTarget(int key) {
         m_label_parked.erase(key);
         m_target_frame.erase(key);
     }
@@ -64,8 +65,11 @@ private:
     /// Drapes the route onto one tile (cached per route object and version) and applies the
     /// tile's geomorph of this frame.
     void updateRoute(GpuTile& tile, const RouteGeometry& route, const Camera& camera);
-    /// Route pieces of `tiles`, with `program` (a roads_geo.vert program) bound and its uniforms set.
-    void drawRoute(ShaderProgram& program, const std::vector<GpuTile*>& tiles, const Camera& camera);
+    /// With `program` (a roads_geo.vert program) bound: sets its uniforms for `pass` (0 casing, 1
+    /// fill, 2 outline footprint) and draws the road pieces of `tiles`; returns how many.
+    std::size_t drawRoads(ShaderProgram& program, int pass, const MapFrame& frame, const std::vector<GpuTile*>& tiles);
+    /// The same for the route pieces (the part behind route_progress_m dimmed).
+    void drawRoute(ShaderProgram& program, int pass, const MapFrame& frame, const std::vector<GpuTile*>& tiles);
     void setRoadUniforms(ShaderProgram& program, int pass, bool route);
     void drawMarker(const MapFrame& frame, const RenderTarget& target);
     /// The terrain of `tiles` in blocks: frustum-culled, each with the land-cover levels it reaches.
@@ -103,6 +107,8 @@ private:
     // and route vertex array.
     RepeatedIndices m_quad_indices{kQuadIndices, 4};
     std::unordered_map<std::uint64_t, std::unique_ptr<GpuTile>> m_tiles;
+    // Land-cover triangles of the ancestors met by this frame's uploads (upload()).
+    std::unordered_map<const map::Tile*, std::vector<LandCoverVertex>> m_ancestor_cover_triangles;
     std::uint64_t m_frame = 0;
     // Target (label key) -> m_frame of its latest render: a tile that any target drew in its
     // latest frame is in use (evict()).
@@ -112,7 +118,7 @@ private:
     std::vector<FlatTile> m_new_flat_tiles;
     std::shared_ptr<LabelText> m_label_text;  // fonts and glyph atlas of every target's label pass
     std::unique_ptr<LabelPass> m_label_pass;  // created on the first frame with labels on
-    int m_label_key = 0;  // target whose label state m_label_pass is (selectLabelState)
+    int m_target_key = 0;  // the current target (selectTarget); m_label_pass is its label state
     std::unordered_map<int, std::unique_ptr<LabelPass>> m_label_parked;  // other targets' states
     std::vector<TileLabels> m_tile_labels;
     std::unique_ptr<OcclusionEffects> m_effects;  // glowing roads, label aura: created when first used

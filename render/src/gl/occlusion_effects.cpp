@@ -1,4 +1,5 @@
 #include "occlusion_effects.h"
+#include "vertex_layout.h"
 
 #include <algorithm>
 #include <cstddef>
@@ -217,15 +218,10 @@ OcclusionEffects::OcclusionEffects()
     glGenBuffers(1, &m_mask_vbo);
     glBindVertexArray(m_mask_vao);
     glBindBuffer(GL_ARRAY_BUFFER, m_mask_vbo);
-    const auto stride = static_cast<GLsizei>(sizeof(MaskInstance));
-    glEnableVertexAttribArray(0);
-    glVertexAttribPointer(0, 4, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<const void*>(offsetof(MaskInstance, box)));
-    glEnableVertexAttribArray(1);
-    glVertexAttribPointer(1, 4, GL_FLOAT, GL_FALSE, stride,
-                          reinterpret_cast<const void*>(offsetof(MaskInstance, extent)));
-    glEnableVertexAttribArray(2);
-    glVertexAttribPointer(2, 1, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<const void*>(offsetof(MaskInstance, depth)));
-    for (GLuint i = 0; i <= 2; ++i) glVertexAttribDivisor(i, 1);
+    setVertexAttributes(sizeof(MaskInstance), {{0, 4, GL_FLOAT, offsetof(MaskInstance, box)},
+                                               {1, 4, GL_FLOAT, offsetof(MaskInstance, extent)},
+                                               {2, 1, GL_FLOAT, offsetof(MaskInstance, depth)}},
+                        1);
     glBindVertexArray(0);
     glBindBuffer(GL_ARRAY_BUFFER, 0);
 }

@@ -1,4 +1,5 @@
 #include "sv_roads.h"
+#include "vertex_layout.h"
 
 #include <algorithm>
 #include <cmath>
@@ -27,22 +28,13 @@ bool hasExtension(const char* name) {
     return false;
 }
 
-// SvRoadInstance attributes, offset by `first` instances (ES 3.0 has no base instance).
-void setupInstanceAttributes(GLsizei first, GLuint divisor) {
-    const auto stride = static_cast<GLsizei>(sizeof(SvRoadInstance));
-    const std::size_t base = static_cast<std::size_t>(first) * sizeof(SvRoadInstance);
-    auto at = [&](std::size_t offset) { return reinterpret_cast<const void*>(base + offset); };
-    glEnableVertexAttribArray(0);
-    glVertexAttribPointer(0, 4, GL_FLOAT, GL_FALSE, stride, at(offsetof(SvRoadInstance, segment)));
-    glEnableVertexAttribArray(1);
-    glVertexAttribPointer(1, 2, GL_FLOAT, GL_FALSE, stride, at(offsetof(SvRoadInstance, z_range)));
-    glEnableVertexAttribArray(2);
-    glVertexAttribPointer(2, 1, GL_FLOAT, GL_FALSE, stride, at(offsetof(SvRoadInstance, road_class)));
-    glEnableVertexAttribArray(3);
-    glVertexAttribPointer(3, 1, GL_FLOAT, GL_FALSE, stride, at(offsetof(SvRoadInstance, reach)));
-    glEnableVertexAttribArray(4);
-    glVertexAttribPointer(4, 3, GL_FLOAT, GL_FALSE, stride, at(offsetof(SvRoadInstance, plane)));
-    for (GLuint i = 0; i <= 4; ++i) glVertexAttribDivisor(i, divisor);
+// SvRoadInstance, repeated per box corner.
+void setupBoxAttributes() {
+    setVertexAttributes(sizeof(SvRoadInstance), {{0, 4, GL_FLOAT, offsetof(SvRoadInstance, segment)},
+                                                 {1, 2, GL_FLOAT, offsetof(SvRoadInstance, z_range)},
+                                                 {2, 1, GL_FLOAT, offsetof(SvRoadInstance, road_class)},
+                                                 {3, 1, GL_FLOAT, offsetof(SvRoadInstance, reach)},
+                                                 {4, 3, GL_FLOAT, offsetof(SvRoadInstance, plane)}});
 }
 
 // The twelve triangles of a box; corners as in roads_sv.vert, counter-clockwise seen from outside,
@@ -426,7 +418,7 @@ SvRoads::GpuTileRoads* SvRoads::tileRoads(const std::shared_ptr<const map::Tile>
         for (const auto& b : cpu.instances) corners.insert(corners.end(), 8, b);
         glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(corners.size() * sizeof(SvRoadInstance)), corners.data(),
                      GL_STATIC_DRAW);
-        setupInstanceAttributes(0, 0);
+        setupBoxAttributes();
         m_box_indices.bind(cpu.instances.size());
         glBindVertexArray(0);
     }
