@@ -264,6 +264,7 @@ TileMesh buildTileMesh(const map::Tile& tile, const TileMeshOptions& options, st
     struct Piece {
         RoadInstance inst;
         int order;
+        std::uint32_t block = 0;
     };
     std::vector<Piece> pieces;
     std::vector<glm::dvec2> line;
@@ -301,9 +302,31 @@ TileMesh buildTileMesh(const map::Tile& tile, const TileMeshOptions& options, st
                               order});
         }
     }
-    std::stable_sort(pieces.begin(), pieces.end(), [](const Piece& a, const Piece& b) { return a.order < b.order; });
+    // Within a group the pieces run block by block (the order among pieces of one class does not
+    // matter: casings and fills are separate passes), so the renderer can leave out the blocks
+    // outside the view and still draw the groups in order.
+    const float block_size = mesh.size_m / static_cast<float>(blocks);
+    mesh.road_blocks.assign(static_cast<std::size_t>(blocks * blocks),
+                            RoadBlock{glm::vec3(std::numeric_limits<float>::max()), glm::vec3(std::numeric_limits<float>::lowest())});
+    for (Piece& p : pieces) {
+        const glm::vec2 mid = 0.5f * (glm::vec2(p.inst.p0) + glm::vec2(p.inst.p1));
+        const int bx = std::clamp(static_cast<int>(std::floor(mid.x / block_size)), 0, blocks - 1);
+        const int by = std::clamp(static_cast<int>(std::floor(mid.y / block_size)), 0, blocks - 1);
+        p.block = static_cast<std::uint32_t>(by * blocks + bx);
+        RoadBlock& b = mesh.road_blocks[p.block];
+        b.min = glm::min(b.min, glm::min(p.inst.p0, p.inst.p1));
+        b.max = glm::max(b.max, glm::max(p.inst.p0, p.inst.p1));
+    }
+    std::stable_sort(pieces.begin(), pieces.end(),
+                     [](const Piece& a, const Piece& b) { return a.order != b.order ? a.order < b.order : a.block < b.block; });
     mesh.roads.reserve(pieces.size());
-    for (const auto& p : pieces) mesh.roads.push_back(p.inst);
+    for (std::size_t i = 0; i < pieces.size(); ++i) {
+        const Piece& p = pieces[i];
+        if (i == 0 || p.order != pieces[i - 1].order || p.block != pieces[i - 1].block)
+            mesh.road_runs.push_back({static_cast<std::uint32_t>(i), 0, p.block});
+        ++mesh.road_runs.back().count;
+        mesh.roads.push_back(p.inst);
+    }
 
     // --- buildings: walls and a flat roof over the lowest terrain point of the footprint
     for (const auto& b : tile.buildings) {

@@ -119,6 +119,37 @@ TEST(AndorraMap, OutlinesNearRoadsEqualTheFullScreenFilter) {
     }
 }
 
+// Road pieces are culled per tile block before the vertex stage: the same image (roads, outlines,
+// glow) from far fewer pieces.
+TEST(AndorraMap, RoadBlocksOutsideTheViewAreNotDrawn) {
+    for (ViewMode mode : {ViewMode::Bird, ViewMode::Snail}) {
+        for (const auto& [w, h] : {std::pair{kW, kH}, std::pair{1280, 480}}) {
+            RendererOptions o;
+            o.width = w;
+            o.height = h;
+            auto renderer = Renderer::create(o);
+            MapFrame frame = navmap::test::settledAndorraFrame(mode, w, h);
+            frame.layers = layersFor(3);
+            frame.layers.glow_roads = true;
+            renderer->renderMap(frame);
+            const MapFrameStats culled = renderer->mapStats();
+            const Image with_culling = renderer->readSync();
+            frame.layers.cull_roads = false;
+            renderer->renderMap(frame);
+            const MapFrameStats all = renderer->mapStats();
+            const Image without = renderer->readSync();
+            std::size_t differ = 0;
+            for (std::size_t i = 0; i < without.rgba.size(); i += 4) differ += std::memcmp(&without.rgba[i], &with_culling.rgba[i], 3) != 0;
+            const char* name = mode == ViewMode::Bird ? "bird" : "snail";
+            std::printf("[ measure  ] %s %dx%d: %zu of %zu road pieces drawn\n", name, w, h, culled.road_segments,
+                        all.road_segments);
+            EXPECT_EQ(differ, 0u) << name << " " << w << "x" << h;
+            EXPECT_GT(culled.road_segments, 0u);
+            EXPECT_LT(culled.road_segments, all.road_segments * 3 / 4) << name;
+        }
+    }
+}
+
 // Three display targets of different sizes on one renderer (one depth/stencil buffer sized to
 // the largest, tiles shared) draw what renderers of their own draw; tiles that any target drew in
 // its latest frame are not evicted even with a cache cap far below their number, so taking turns

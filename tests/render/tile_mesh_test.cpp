@@ -116,6 +116,45 @@ TEST(TileMesh, RoadsAreDrapedOrderedAndTunnelsHidden) {
     }
 }
 
+// The road runs cover the pieces in order, each run one class and one block (by the piece's
+// midpoint), and each block's extent holds its pieces: the renderer culls per block.
+TEST(TileMesh, RoadRunsGroupPiecesByClassAndBlock) {
+    map::Tile t = bumpyTile();
+    map::Road minor;
+    minor.cls = map::RoadClass::Residential;
+    minor.points = {{10, 10}, {790, 700}};
+    map::Road major;
+    major.cls = map::RoadClass::Motorway;
+    major.points = {{10, 400}, {790, 420}, {20, 780}};
+    t.roads = {major, minor};
+    const render::TileMesh m = render::buildTileMesh(t);
+    ASSERT_EQ(m.road_blocks.size(), std::size_t(render::kTerrainBlocks * render::kTerrainBlocks));
+    ASSERT_FALSE(m.road_runs.empty());
+    std::uint32_t next = 0;
+    std::set<std::pair<float, std::uint32_t>> groups;
+    for (const render::RoadRun& run : m.road_runs) {
+        EXPECT_EQ(run.first, next);
+        EXPECT_GT(run.count, 0u);
+        next = run.first + run.count;
+        const float cls = m.roads[run.first].road_class;
+        EXPECT_TRUE(groups.insert({cls, run.block}).second) << "one run per class and block";
+        const render::RoadBlock& b = m.road_blocks[run.block];
+        const float bx = static_cast<float>(run.block % render::kTerrainBlocks) * 200.0f;
+        const float by = static_cast<float>(run.block / render::kTerrainBlocks) * 200.0f;
+        for (std::uint32_t i = run.first; i < next; ++i) {
+            const render::RoadInstance& r = m.roads[i];
+            EXPECT_EQ(r.road_class, cls);
+            const glm::vec3 mid = 0.5f * (r.p0 + r.p1);
+            EXPECT_TRUE(mid.x >= bx && mid.x <= bx + 200.0f && mid.y >= by && mid.y <= by + 200.0f) << mid.x << ", " << mid.y;
+            for (const glm::vec3& p : {r.p0, r.p1}) {
+                EXPECT_TRUE(glm::all(glm::greaterThanEqual(p, b.min)) && glm::all(glm::lessThanEqual(p, b.max)));
+            }
+        }
+    }
+    EXPECT_EQ(next, m.roads.size());
+    EXPECT_GT(groups.size(), 8u) << "both roads cross several blocks";
+}
+
 TEST(TileMesh, BridgesSpanStraightBetweenTheirEnds) {
     map::Tile t = bumpyTile();
     map::Road bridge;

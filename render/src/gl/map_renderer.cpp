@@ -41,20 +41,23 @@ bool wantsAura(const MapLayers& l) { return l.label_aura && l.labels && l.buildi
 struct CoverLevels {
     int finest = 0, coarsest = 0;
 };
-// False when a terrain block (tile-local) lies entirely outside one plane of the view frustum.
-bool boxInView(const glm::mat4& view_projection, const TerrainBlock& b) {
+// False when the box [lo, hi] (tile-local) lies entirely outside one plane of the view frustum;
+// `far` false leaves the far plane out.
+bool boxInView(const glm::mat4& view_projection, glm::vec3 lo, glm::vec3 hi, bool far = true) {
     std::array<int, 6> outside{};
     for (int i = 0; i < 8; ++i) {
-        const glm::vec4 c = view_projection * glm::vec4((i & 1) ? b.max.x : b.min.x, (i & 2) ? b.max.y : b.min.y,
-                                                        (i & 4) ? b.max_z : b.min_z, 1.0f);
+        const glm::vec4 c = view_projection * glm::vec4((i & 1) ? hi.x : lo.x, (i & 2) ? hi.y : lo.y, (i & 4) ? hi.z : lo.z, 1.0f);
         outside[0] += c.x < -c.w;
         outside[1] += c.x > c.w;
         outside[2] += c.y < -c.w;
         outside[3] += c.y > c.w;
         outside[4] += c.z < -c.w;
-        outside[5] += c.z > c.w;
+        outside[5] += far && c.z > c.w;
     }
     return std::none_of(outside.begin(), outside.end(), [](int n) { return n == 8; });
+}
+bool boxInView(const glm::mat4& view_projection, const TerrainBlock& b) {
+    return boxInView(view_projection, glm::vec3(b.min, b.min_z), glm::vec3(b.max, b.max_z));
 }
 
 bool operator==(CoverLevels a, CoverLevels b) { return a.finest == b.finest && a.coarsest == b.coarsest; }
@@ -160,6 +163,11 @@ struct MapRenderer::GpuTile {
     // first, bridges last), so the casing pass can skip the classes drawn without casing.
     std::array<GLsizei, kStyledRoadClasses> class_first{};
     GLsizei bridge_first = 0;
+    std::vector<RoadRun> road_runs;      // TileMesh::road_runs: pieces per group and block
+    std::vector<RoadBlock> road_blocks;  // their extents, for culling
+    // This frame's pieces in view (cullRoads): quads [first, first + count) of m_road_indices,
+    // the casing pass from casing_first.
+    GLsizei visible_first = 0, visible_count = 0, visible_casing_first = 0;
     GLuint buildings_vao = 0, buildings_vbo = 0, buildings_ibo = 0;
     GLsizei building_index_count = 0;
     std::vector<glm::vec3> label_points;  // labelPoints(): anchors and segments on the terrain
@@ -233,6 +241,7 @@ MapRenderer::~MapRenderer() {
     glDeleteVertexArrays(1, &m_empty_vao);
     glDeleteVertexArrays(1, &m_marker_vao);
     glDeleteBuffers(1, &m_marker_vbo);
+    glDeleteBuffers(1, &m_road_index_buffer);
 }
 
 MapRenderer::GpuTile* MapRenderer::upload(const std::shared_ptr<const map::Tile>& tile, const TileMorph* morph) {
@@ -284,8 +293,9 @@ MapRenderer::GpuTile* MapRenderer::upload(const std::shared_ptr<const map::Tile>
         glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(quads.size() * sizeof(RoadInstance)), quads.data(),
                      GL_STATIC_DRAW);
         setupRoadAttributes();
-        m_quad_indices.bind(mesh.roads.size());
         gpu->road_count = static_cast<GLsizei>(mesh.roads.size());
+        gpu->road_runs = std::move(mesh.road_runs);
+        gpu->road_blocks = std::move(mesh.road_blocks);
         gpu->class_first.fill(gpu->road_count);
         gpu->bridge_first = gpu->road_count;
         for (GLsizei i = gpu->road_count; i-- > 0;) {
@@ -445,25 +455,77 @@ void MapRenderer::updateRoute(GpuTile& g, const RouteGeometry& route, const Came
     g.route_count = static_cast<GLsizei>(g.route_instances.size());
 }
 
+void MapRenderer::cullRoads(const MapFrame& frame, const glm::mat4& projection, const std::vector<GpuTile*>& tiles) {
+    // A quad reaches half the widest footprint (casing included) beyond the pieces' end points,
+    // times the distance scale (seed 3.6.3) of the block's farthest point. The far plane is left
+    // out: the view-space offset against z-fighting (seed 3.6.2) pulls pieces a little towards
+    // the camera.
+    const RoadStyle& rs = m_style.roads;
+    float half_width = 0.0f;
+    for (const RoadClassStyle& c : rs.classes) half_width = std::max(half_width, 0.5f * c.width_m + c.casing_m);
+    m_road_indices.clear();
+    std::vector<bool> visible;
+    for (GpuTile* g : tiles) {
+        g->visible_first = g->visible_casing_first = static_cast<GLsizei>(m_road_indices.size() / 6);
+        g->visible_count = 0;
+        if (!g->road_count) continue;
+        const glm::mat4 view_projection = projection * frame.camera.viewRelativeTo(g->origin);
+        visible.assign(g->road_blocks.size(), false);
+        for (std::size_t b = 0; b < g->road_blocks.size(); ++b) {
+            const RoadBlock& k = g->road_blocks[b];
+            if (k.min.x > k.max.x) continue;
+            const glm::vec3 eye(frame.camera.eye - g->origin);
+            const float farthest = glm::length(glm::max(glm::abs(eye - k.min), glm::abs(eye - k.max)));
+            const float reach = half_width * distanceWidthScale(farthest, rs.scale_threshold_m, rs.max_scale);
+            visible[b] = !frame.layers.cull_roads || boxInView(view_projection, k.min - reach, k.max + reach, false);
+        }
+        // The casing pass starts at the first class that has a casing (bridges always have one).
+        GLsizei casing_from = g->bridge_first;
+        for (int c = 0; c < kStyledRoadClasses; ++c) {
+            if (m_style.roads.classes[c].casing_m > 0.0f) casing_from = std::min(casing_from, g->class_first[c]);
+        }
+        bool casing_found = false;
+        for (const RoadRun& run : g->road_runs) {
+            if (!visible[run.block]) continue;
+            if (!casing_found && static_cast<GLsizei>(run.first) >= casing_from) {
+                casing_found = true;
+                g->visible_casing_first = g->visible_first + g->visible_count;
+            }
+            for (std::uint32_t q = run.first; q < run.first + run.count; ++q) {
+                for (const std::uint32_t i : kQuadIndices) m_road_indices.push_back(4 * q + i);
+            }
+            g->visible_count += static_cast<GLsizei>(run.count);
+        }
+        if (!casing_found) g->visible_casing_first = g->visible_first + g->visible_count;
+    }
+    if (!m_road_index_buffer) glGenBuffers(1, &m_road_index_buffer);
+    glBindVertexArray(0);
+    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, m_road_index_buffer);
+    glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(m_road_indices.size() * sizeof(std::uint32_t)),
+                 m_road_indices.data(), GL_STREAM_DRAW);
+    // Every tile's road vertex array draws from it this frame.
+    for (GpuTile* g : tiles) {
+        if (!g->roads_vao) continue;
+        glBindVertexArray(g->roads_vao);
+        glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, m_road_index_buffer);
+    }
+    glBindVertexArray(0);
+}
+
 std::size_t MapRenderer::drawRoads(ShaderProgram& program, int pass, const MapFrame& frame,
                                    const std::vector<GpuTile*>& tiles) {
     setRoadUniforms(program, pass, false);
-    // The casing pass starts at the first class that has a casing (bridges always have one).
     std::size_t drawn = 0;
     for (GpuTile* g : tiles) {
-        GLsizei first = 0;
-        if (pass == 0) {
-            first = g->bridge_first;
-            for (int c = 0; c < kStyledRoadClasses; ++c) {
-                if (m_style.roads.classes[c].casing_m > 0.0f) first = std::min(first, g->class_first[c]);
-            }
-        }
-        if (first >= g->road_count) continue;
+        const GLsizei first = pass == 0 ? g->visible_casing_first : g->visible_first;
+        const GLsizei count = g->visible_first + g->visible_count - first;
+        if (count <= 0) continue;
         const glm::mat4 view = frame.camera.viewRelativeTo(g->origin);
         glUniformMatrix4fv(program.uniform("u_view"), 1, GL_FALSE, glm::value_ptr(view));
         glBindVertexArray(g->roads_vao);
-        m_quad_indices.draw(first, g->road_count - first);
-        drawn += static_cast<std::size_t>(g->road_count - first);
+        glDrawElements(GL_TRIANGLES, 6 * count, GL_UNSIGNED_INT,
+                       reinterpret_cast<const void*>(static_cast<std::size_t>(first) * 6 * sizeof(std::uint32_t)));
+        drawn += static_cast<std::size_t>(count);
     }
     return drawn;
 }
@@ -692,6 +754,7 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target) {
     const glm::mat4 projection = frame.camera.projection(aspect);
     const glm::vec3 light = glm::normalize(m_style.light_dir);
     SvRoads* sv = SvRoads::forFrame(m_sv_roads, frame, target);  // shadow-volume roads (seed 3.5), else null
+    if (frame.layers.roads) cullRoads(frame, projection, tiles);
     target.clear(m_style.sky_color.r, m_style.sky_color.g, m_style.sky_color.b);
     target.bindForDrawing(false);
     glDisable(GL_BLEND);

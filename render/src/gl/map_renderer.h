@@ -77,6 +77,8 @@ private:
                      const std::vector<GpuTile*>& tiles);
     /// Stencil 1 where the outline filter can find road pixels: road and route footprints widened
     /// by the filter's reach (seed 3.6.3); leaves the stencil test on.
+    /// The road pieces of the blocks in view, per tile, into m_road_indices (drawRoads).
+    void cullRoads(const MapFrame& frame, const glm::mat4& projection, const std::vector<GpuTile*>& tiles);
     void markOutlineArea(const MapFrame& frame, const glm::mat4& projection, const RenderTarget& target,
                          const std::vector<GpuTile*>& tiles);
     /// Label aura and glowing roads (seed 5.5), between the label layout and the label text.
@@ -106,6 +108,9 @@ private:
     // Two triangles per road quad (corners 0 (-,+) 1 (-,-) 2 (+,+) 3 (+,-)), shared by every road
     // and route vertex array.
     RepeatedIndices m_quad_indices{kQuadIndices, 4};
+    // This frame's road quads in view (cullRoads), 6 indices each, bound to every road vertex array.
+    std::vector<std::uint32_t> m_road_indices;
+    GLuint m_road_index_buffer = 0;
     std::unordered_map<std::uint64_t, std::unique_ptr<GpuTile>> m_tiles;
     // Land-cover triangles of the ancestors met by this frame's uploads (upload()).
     std::unordered_map<const map::Tile*, std::vector<LandCoverVertex>> m_ancestor_cover_triangles;

@@ -57,6 +57,19 @@ struct TerrainBlock {
     float min_z = 0.0f, max_z = 0.0f;
 };
 
+/// The road pieces of one group (a class, or the bridges) that lie in one block
+/// (TileMesh::road_runs), so roads outside the view can be left out per block.
+struct RoadRun {
+    std::uint32_t first = 0;  ///< first piece in TileMesh::roads
+    std::uint32_t count = 0;
+    std::uint32_t block = 0;  ///< index into TileMesh::road_blocks
+};
+
+/// Extent of the road pieces' end points in one block (tile-local; min > max: none).
+struct RoadBlock {
+    glm::vec3 min{0.0f}, max{0.0f};
+};
+
 /// Blocks per tile side: the land cover morphs over several levels across a tile (terrain_lod.h),
 /// and a quarter of a tile mostly needs only one or two of them.
 inline constexpr int kTerrainBlocks = 4;
@@ -78,6 +91,10 @@ struct TileMesh {
     float max_height = 0.0f;
     std::vector<LandCoverVertex> land_cover;     ///< triangles, drawn in order
     std::vector<RoadInstance> roads;             ///< least important first; bridges last
+    /// roads in runs of one group and block (by the piece's midpoint; blocks as terrain_blocks),
+    /// in the order of roads; and each block's extent.
+    std::vector<RoadRun> road_runs;
+    std::vector<RoadBlock> road_blocks;
     std::size_t source_road_vertices = 0;        ///< polyline vertices before draping
     std::vector<BuildingVertex> buildings;
     std::vector<std::uint32_t> building_indices;
