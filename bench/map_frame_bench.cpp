@@ -11,6 +11,8 @@
 #include <memory>
 #include <vector>
 
+#include <sys/resource.h>
+
 #include "navmap/render/map_scene.h"
 #include "display_profiles.h"
 #include "navmap/render/renderer.h"
@@ -71,6 +73,12 @@ MapFrame frameFor(const Profile& p, const Shot& s, const MapLayers& layers) {
     return frame;
 }
 
+double processCpuSeconds() {
+    rusage u{};
+    getrusage(RUSAGE_SELF, &u);
+    return double(u.ru_utime.tv_sec + u.ru_stime.tv_sec) + 1e-6 * double(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+}
+
 double percentile(std::vector<double> v, double q) {
     if (v.empty()) return 0.0;
     std::sort(v.begin(), v.end());
@@ -87,6 +95,7 @@ void mapFrame(benchmark::State& state) {
     r->finish();
     std::vector<double> ms;
     std::size_t i = 0;
+    const double cpu0 = processCpuSeconds();
     for (auto _ : state) {
         const auto t0 = Clock::now();
         r->renderMap(frameFor(p, views[i++ % views.size()], layersFor(step)));
@@ -97,6 +106,10 @@ void mapFrame(benchmark::State& state) {
     }
     state.counters["p50_ms"] = percentile(ms, 0.5);
     state.counters["p95_ms"] = percentile(ms, 0.95);
+    // CPU time of all threads (the render thread and llvmpipe's rasterizer threads) per frame:
+    // less sensitive than wall time to other load on a shared machine, and what a frame costs
+    // the ECU's cores.
+    if (!ms.empty()) state.counters["cpu_ms"] = (processCpuSeconds() - cpu0) * 1000.0 / double(ms.size());
     state.SetLabel(std::string(p.name) + "/" + kSteps[step]);
 }
 
