@@ -681,6 +681,27 @@ void MapRenderer::markOutlineArea(const MapFrame& frame, const glm::mat4& projec
     glEnable(GL_DEPTH_TEST);
 }
 
+void MapRenderer::drawBuildings(const MapFrame& frame, const glm::mat4& projection, const glm::vec3& light,
+                                const std::vector<GpuTile*>& tiles) {
+    glDepthFunc(GL_LESS);
+    glEnable(GL_CULL_FACE);
+    glUseProgram(m_buildings.id());
+    glUniformMatrix4fv(m_buildings.uniform("u_projection"), 1, GL_FALSE, glm::value_ptr(projection));
+    glUniform3fv(m_buildings.uniform("u_light_dir"), 1, glm::value_ptr(light));
+    glUniform3fv(m_buildings.uniform("u_sky_color"), 1, glm::value_ptr(m_style.sky_color));
+    glUniform2f(m_buildings.uniform("u_fog_range"), m_style.fog_start_m, m_style.fog_end_m);
+    glUniform1f(m_buildings.uniform("u_brightness"), m_style.brightness);
+    glUniform1f(m_buildings.uniform("u_cull_ratio"), m_style.building_cull_ratio);
+    for (GpuTile* g : tiles) {
+        if (!g->building_index_count) continue;
+        const glm::mat4 view = frame.camera.viewRelativeTo(g->origin);
+        glUniformMatrix4fv(m_buildings.uniform("u_view"), 1, GL_FALSE, glm::value_ptr(view));
+        glBindVertexArray(g->buildings_vao);
+        glDrawElements(GL_TRIANGLES, g->building_index_count, GL_UNSIGNED_INT, nullptr);
+        m_stats.building_triangles += static_cast<std::size_t>(g->building_index_count / 3);
+    }
+}
+
 void MapRenderer::render(const MapFrame& frame, const RenderTarget& target) {
     ++m_frame;
     m_target_frame[m_target_key] = m_frame;  // this target's latest frame (evict())
@@ -761,6 +782,18 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target) {
     glEnable(GL_DEPTH_TEST);
     glDepthMask(GL_TRUE);
 
+    // Buildings before the roads, which test against terrain and buildings without writing depth
+    // (junctions stay clean, buildings hide the roads behind them); and before the terrain where
+    // nothing needs the terrain alone: the terrain behind them then fails the depth test before it
+    // is shaded (llvmpipe tests depth before the fragment shader). Glowing roads and the label
+    // aura (seed 5.5) keep the terrain's depth (the aura also its colour) before the buildings for
+    // runOcclusionEffects(); the shadow-volume roads keep it in a target of their own (SvRoads).
+    const bool terrain_alone = sv || wantsGlow(frame.layers) || wantsAura(frame.layers);
+    if (frame.layers.buildings && !terrain_alone) {
+        drawBuildings(frame, projection, light, tiles);
+        lap(m_stats.buildings_ms, t);
+    }
+
     // Terrain.
     if (frame.layers.terrain) {
         if (sv) sv->beginTerrain(target);  // + the terrain depth target (seed 3.5.2)
@@ -772,33 +805,13 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target) {
         lap(m_stats.terrain_ms, t);
     }
 
-    // Glowing roads and the label aura (seed 5.5) keep the terrain alone (depth; the aura also
-    // its colour) before the buildings: runOcclusionEffects() uses it after the outlines.
     if (wantsGlow(frame.layers) || wantsAura(frame.layers)) {
         if (!m_effects) m_effects = std::make_unique<OcclusionEffects>();
         m_effects->captureTerrainDepth(target, wantsGlow(frame.layers), wantsAura(frame.layers));
     }
 
-    // Buildings before roads: roads then test against terrain and buildings without writing
-    // depth, so junctions stay clean and buildings still hide the roads behind them.
-    if (frame.layers.buildings) {
-        glDepthFunc(GL_LESS);
-        glEnable(GL_CULL_FACE);
-        glUseProgram(m_buildings.id());
-        glUniformMatrix4fv(m_buildings.uniform("u_projection"), 1, GL_FALSE, glm::value_ptr(projection));
-        glUniform3fv(m_buildings.uniform("u_light_dir"), 1, glm::value_ptr(light));
-        glUniform3fv(m_buildings.uniform("u_sky_color"), 1, glm::value_ptr(m_style.sky_color));
-        glUniform2f(m_buildings.uniform("u_fog_range"), m_style.fog_start_m, m_style.fog_end_m);
-        glUniform1f(m_buildings.uniform("u_brightness"), m_style.brightness);
-        glUniform1f(m_buildings.uniform("u_cull_ratio"), m_style.building_cull_ratio);
-        for (GpuTile* g : tiles) {
-            if (!g->building_index_count) continue;
-            const glm::mat4 view = frame.camera.viewRelativeTo(g->origin);
-            glUniformMatrix4fv(m_buildings.uniform("u_view"), 1, GL_FALSE, glm::value_ptr(view));
-            glBindVertexArray(g->buildings_vao);
-            glDrawElements(GL_TRIANGLES, g->building_index_count, GL_UNSIGNED_INT, nullptr);
-            m_stats.building_triangles += static_cast<std::size_t>(g->building_index_count / 3);
-        }
+    if (frame.layers.buildings && terrain_alone) {  // after the terrain (see above)
+        drawBuildings(frame, projection, light, tiles);
         lap(m_stats.buildings_ms, t);
     }
 

@@ -72,6 +72,9 @@ private:
     void drawRoute(ShaderProgram& program, int pass, const MapFrame& frame, const std::vector<GpuTile*>& tiles);
     void setRoadUniforms(ShaderProgram& program, int pass, bool route);
     void drawMarker(const MapFrame& frame, const RenderTarget& target);
+    /// Extruded buildings (seed 3 "3D buildings"), depth-tested and -written.
+    void drawBuildings(const MapFrame& frame, const glm::mat4& projection, const glm::vec3& light,
+                       const std::vector<GpuTile*>& tiles);
     /// The terrain of `tiles` in blocks: frustum-culled, each with the land-cover levels it reaches.
     void drawTerrain(const MapFrame& frame, const glm::mat4& projection, const glm::vec3& light,
                      const std::vector<GpuTile*>& tiles);
