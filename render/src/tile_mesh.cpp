@@ -307,13 +307,13 @@ TileMesh buildTileMesh(const map::Tile& tile, const TileMeshOptions& options, st
     // outside the view and still draw the groups in order.
     const float block_size = mesh.size_m / static_cast<float>(blocks);
     mesh.road_blocks.assign(static_cast<std::size_t>(blocks * blocks),
-                            RoadBlock{glm::vec3(std::numeric_limits<float>::max()), glm::vec3(std::numeric_limits<float>::lowest())});
+                            BlockExtent{glm::vec3(std::numeric_limits<float>::max()), glm::vec3(std::numeric_limits<float>::lowest())});
     for (Piece& p : pieces) {
         const glm::vec2 mid = 0.5f * (glm::vec2(p.inst.p0) + glm::vec2(p.inst.p1));
         const int bx = std::clamp(static_cast<int>(std::floor(mid.x / block_size)), 0, blocks - 1);
         const int by = std::clamp(static_cast<int>(std::floor(mid.y / block_size)), 0, blocks - 1);
         p.block = static_cast<std::uint32_t>(by * blocks + bx);
-        RoadBlock& b = mesh.road_blocks[p.block];
+        BlockExtent& b = mesh.road_blocks[p.block];
         b.min = glm::min(b.min, glm::min(p.inst.p0, p.inst.p1));
         b.max = glm::max(b.max, glm::max(p.inst.p0, p.inst.p1));
     }
@@ -328,7 +328,11 @@ TileMesh buildTileMesh(const map::Tile& tile, const TileMeshOptions& options, st
         mesh.roads.push_back(p.inst);
     }
 
-    // --- buildings: walls and a flat roof over the lowest terrain point of the footprint
+    // --- buildings: walls and a flat roof over the lowest terrain point of the footprint; the
+    // indices block by block (by the footprint's centre) for culling
+    const BlockExtent none{glm::vec3(std::numeric_limits<float>::max()), glm::vec3(std::numeric_limits<float>::lowest())};
+    mesh.building_blocks.assign(static_cast<std::size_t>(blocks * blocks), none);
+    std::vector<std::vector<std::uint32_t>> block_indices(mesh.building_blocks.size());
     for (const auto& b : tile.buildings) {
         const auto& fp = b.footprint;
         if (fp.vertices.size() < 3 || fp.ring_ends.empty()) continue;
@@ -344,11 +348,19 @@ TileMesh buildTileMesh(const map::Tile& tile, const TileMeshOptions& options, st
         const float bottom = base + b.min_height_m;
         const float top = base + std::max(b.height_m, b.min_height_m + 1.0f);
         const glm::vec3 color = buildingColor(b.height_m);
+        const glm::vec2 centre = 0.5f * (lo2 + hi2);
+        const auto block = static_cast<std::size_t>(
+            std::clamp(static_cast<int>(std::floor(centre.y / block_size)), 0, blocks - 1) * blocks +
+            std::clamp(static_cast<int>(std::floor(centre.x / block_size)), 0, blocks - 1));
+        BlockExtent& extent = mesh.building_blocks[block];
+        extent.min = glm::min(extent.min, glm::vec3(lo2, bottom));
+        extent.max = glm::max(extent.max, glm::vec3(hi2, top));
+        std::vector<std::uint32_t>& indices = block_indices[block];
         // Roof.
         const auto roof_base = static_cast<std::uint32_t>(mesh.buildings.size());
         for (const auto& p : fp.vertices) mesh.buildings.push_back({{p.x, p.y, top}, {0, 0, 1}, color * 1.05f, size});
         for (std::uint32_t i : fp.indices) {
-            if (i < fp.vertices.size()) mesh.building_indices.push_back(roof_base + i);
+            if (i < fp.vertices.size()) indices.push_back(roof_base + i);
         }
         // Walls: one quad per ring edge, flat normal (per-face lighting).
         std::uint32_t start = 0;
@@ -365,10 +377,16 @@ TileMesh buildTileMesh(const map::Tile& tile, const TileMeshOptions& options, st
                 mesh.buildings.push_back({{c, bottom}, normal, color, size});
                 mesh.buildings.push_back({{c, top}, normal, color, size});
                 mesh.buildings.push_back({{a, top}, normal, color, size});
-                mesh.building_indices.insert(mesh.building_indices.end(), {w, w + 1, w + 2, w, w + 2, w + 3});
+                indices.insert(indices.end(), {w, w + 1, w + 2, w, w + 2, w + 3});
             }
             start = end;
         }
+    }
+    for (std::size_t k = 0; k < block_indices.size(); ++k) {
+        if (block_indices[k].empty()) continue;
+        mesh.building_runs.push_back({static_cast<std::uint32_t>(mesh.building_indices.size()),
+                                      static_cast<std::uint32_t>(block_indices[k].size()), static_cast<std::uint32_t>(k)});
+        mesh.building_indices.insert(mesh.building_indices.end(), block_indices[k].begin(), block_indices[k].end());
     }
     return mesh;
 }

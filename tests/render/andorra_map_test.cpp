@@ -119,33 +119,35 @@ TEST(AndorraMap, OutlinesNearRoadsEqualTheFullScreenFilter) {
     }
 }
 
-// Road pieces are culled per tile block before the vertex stage: the same image (roads, outlines,
-// glow) from far fewer pieces.
-TEST(AndorraMap, RoadBlocksOutsideTheViewAreNotDrawn) {
+// Road pieces and buildings are culled per tile block before the vertex stage: the same image
+// (roads, outlines, glow, buildings) from far fewer pieces and triangles.
+TEST(AndorraMap, RoadAndBuildingBlocksOutsideTheViewAreNotDrawn) {
     for (ViewMode mode : {ViewMode::Bird, ViewMode::Snail}) {
-        for (const auto& [w, h] : {std::pair{kW, kH}, std::pair{1280, 480}}) {
+        for (const auto& [w, h, glow] : {std::tuple{kW, kH, false}, std::tuple{1280, 480, false}, std::tuple{kW, kH, true}}) {
             RendererOptions o;
             o.width = w;
             o.height = h;
             auto renderer = Renderer::create(o);
             MapFrame frame = navmap::test::settledAndorraFrame(mode, w, h);
             frame.layers = layersFor(3);
-            frame.layers.glow_roads = true;
+            frame.layers.glow_roads = glow;  // the terrain before the buildings
             renderer->renderMap(frame);
             const MapFrameStats culled = renderer->mapStats();
             const Image with_culling = renderer->readSync();
-            frame.layers.cull_roads = false;
+            frame.layers.cull_blocks = false;
             renderer->renderMap(frame);
             const MapFrameStats all = renderer->mapStats();
             const Image without = renderer->readSync();
             std::size_t differ = 0;
             for (std::size_t i = 0; i < without.rgba.size(); i += 4) differ += std::memcmp(&without.rgba[i], &with_culling.rgba[i], 3) != 0;
             const char* name = mode == ViewMode::Bird ? "bird" : "snail";
-            std::printf("[ measure  ] %s %dx%d: %zu of %zu road pieces drawn\n", name, w, h, culled.road_segments,
-                        all.road_segments);
+            std::printf("[ measure  ] %s %dx%d%s: %zu of %zu road pieces, %zu of %zu building triangles drawn\n", name, w,
+                        h, glow ? " glow" : "", culled.road_segments, all.road_segments, culled.building_triangles, all.building_triangles);
             EXPECT_EQ(differ, 0u) << name << " " << w << "x" << h;
             EXPECT_GT(culled.road_segments, 0u);
             EXPECT_LT(culled.road_segments, all.road_segments * 3 / 4) << name;
+            EXPECT_GT(culled.building_triangles, 0u);
+            EXPECT_LT(culled.building_triangles, all.building_triangles) << name;
         }
     }
 }

@@ -132,13 +132,13 @@ TEST(TileMesh, RoadRunsGroupPiecesByClassAndBlock) {
     ASSERT_FALSE(m.road_runs.empty());
     std::uint32_t next = 0;
     std::set<std::pair<float, std::uint32_t>> groups;
-    for (const render::RoadRun& run : m.road_runs) {
+    for (const render::BlockRun& run : m.road_runs) {
         EXPECT_EQ(run.first, next);
         EXPECT_GT(run.count, 0u);
         next = run.first + run.count;
         const float cls = m.roads[run.first].road_class;
         EXPECT_TRUE(groups.insert({cls, run.block}).second) << "one run per class and block";
-        const render::RoadBlock& b = m.road_blocks[run.block];
+        const render::BlockExtent& b = m.road_blocks[run.block];
         const float bx = static_cast<float>(run.block % render::kTerrainBlocks) * 200.0f;
         const float by = static_cast<float>(run.block / render::kTerrainBlocks) * 200.0f;
         for (std::uint32_t i = run.first; i < next; ++i) {
@@ -169,6 +169,39 @@ TEST(TileMesh, BridgesSpanStraightBetweenTheirEnds) {
     EXPECT_NEAR(m.roads[0].p0.z, z0, 1e-3);
     EXPECT_NEAR(m.roads[0].p1.z, (z0 + z1) / 2.0, 1e-3);
     EXPECT_NEAR(m.roads[1].p1.z, z1, 1e-3);
+}
+
+// Building indices run block by block (by the footprint's centre); each block's extent holds its
+// buildings' vertices, so the renderer can cull per block.
+TEST(TileMesh, BuildingRunsHoldTheBuildingsOfTheirBlock) {
+    map::Tile t = bumpyTile();
+    for (const auto& [x, y] : {std::pair{100.0f, 100.0f}, std::pair{650.0f, 120.0f}, std::pair{150.0f, 160.0f}, std::pair{420.0f, 700.0f}}) {
+        map::Building b;
+        b.footprint.vertices = {{x, y}, {x + 40, y}, {x + 40, y + 30}, {x, y + 30}};
+        b.footprint.ring_ends = {4};
+        b.footprint.indices = {0, 1, 2, 0, 2, 3};
+        b.height_m = 10.0f;
+        t.buildings.push_back(b);
+    }
+    const render::TileMesh m = render::buildTileMesh(t);
+    ASSERT_EQ(m.building_blocks.size(), std::size_t(render::kTerrainBlocks * render::kTerrainBlocks));
+    ASSERT_EQ(m.building_runs.size(), 3u) << "two buildings share the south-west block";
+    std::uint32_t next = 0;
+    for (const render::BlockRun& run : m.building_runs) {
+        EXPECT_EQ(run.first, next);
+        next = run.first + run.count;
+        const render::BlockExtent& e = m.building_blocks[run.block];
+        const float bx = static_cast<float>(run.block % render::kTerrainBlocks) * 200.0f;
+        const float by = static_cast<float>(run.block / render::kTerrainBlocks) * 200.0f;
+        for (std::uint32_t i = run.first; i < next; ++i) {
+            const glm::vec3 p = m.buildings[m.building_indices[i]].position;
+            EXPECT_TRUE(glm::all(glm::greaterThanEqual(p, e.min)) && glm::all(glm::lessThanEqual(p, e.max)));
+            EXPECT_TRUE(p.x >= bx && p.x <= bx + 200.0f && p.y >= by && p.y <= by + 200.0f) << p.x << ", " << p.y;
+        }
+    }
+    EXPECT_EQ(next, m.building_indices.size());
+    EXPECT_EQ(m.building_runs[0].block, 0u);
+    EXPECT_EQ(m.building_runs[0].count, 2u * 30u) << "indices of the roof (2 triangles) and 4 walls (8) of each";
 }
 
 TEST(TileMesh, BuildingWallsFaceOutwardAndStandOnTheLowestGround) {

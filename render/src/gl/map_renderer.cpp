@@ -163,13 +163,15 @@ struct MapRenderer::GpuTile {
     // first, bridges last), so the casing pass can skip the classes drawn without casing.
     std::array<GLsizei, kStyledRoadClasses> class_first{};
     GLsizei bridge_first = 0;
-    std::vector<RoadRun> road_runs;      // TileMesh::road_runs: pieces per group and block
-    std::vector<RoadBlock> road_blocks;  // their extents, for culling
+    std::vector<BlockRun> road_runs;      // TileMesh::road_runs: pieces per group and block
+    std::vector<BlockExtent> road_blocks;  // their extents, for culling
     // This frame's pieces in view (cullRoads): quads [first, first + count) of m_road_indices,
     // the casing pass from casing_first.
     GLsizei visible_first = 0, visible_count = 0, visible_casing_first = 0;
     GLuint buildings_vao = 0, buildings_vbo = 0, buildings_ibo = 0;
     GLsizei building_index_count = 0;
+    std::vector<BlockRun> building_runs;      // TileMesh::building_runs: indices per block
+    std::vector<BlockExtent> building_blocks;  // their extents, for culling
     std::vector<glm::vec3> label_points;  // labelPoints(): anchors and segments on the terrain
     std::uint64_t last_used = 0;
     // Geomorphing (terrain_lod.h): the ancestors the morph targets came from, this frame's ranges.
@@ -325,6 +327,8 @@ MapRenderer::GpuTile* MapRenderer::upload(const std::shared_ptr<const map::Tile>
                      static_cast<GLsizeiptr>(mesh.building_indices.size() * sizeof(std::uint32_t)),
                      mesh.building_indices.data(), GL_STATIC_DRAW);
         gpu->building_index_count = static_cast<GLsizei>(mesh.building_indices.size());
+        gpu->building_runs = std::move(mesh.building_runs);
+        gpu->building_blocks = std::move(mesh.building_blocks);
     }
     glBindVertexArray(0);
     if (!mesh.land_cover.empty()) {
@@ -472,12 +476,12 @@ void MapRenderer::cullRoads(const MapFrame& frame, const glm::mat4& projection, 
         const glm::mat4 view_projection = projection * frame.camera.viewRelativeTo(g->origin);
         visible.assign(g->road_blocks.size(), false);
         for (std::size_t b = 0; b < g->road_blocks.size(); ++b) {
-            const RoadBlock& k = g->road_blocks[b];
+            const BlockExtent& k = g->road_blocks[b];
             if (k.min.x > k.max.x) continue;
             const glm::vec3 eye(frame.camera.eye - g->origin);
             const float farthest = glm::length(glm::max(glm::abs(eye - k.min), glm::abs(eye - k.max)));
             const float reach = half_width * distanceWidthScale(farthest, rs.scale_threshold_m, rs.max_scale);
-            visible[b] = !frame.layers.cull_roads || boxInView(view_projection, k.min - reach, k.max + reach, false);
+            visible[b] = !frame.layers.cull_blocks || boxInView(view_projection, k.min - reach, k.max + reach, false);
         }
         // The casing pass starts at the first class that has a casing (bridges always have one).
         GLsizei casing_from = g->bridge_first;
@@ -485,7 +489,7 @@ void MapRenderer::cullRoads(const MapFrame& frame, const glm::mat4& projection, 
             if (m_style.roads.classes[c].casing_m > 0.0f) casing_from = std::min(casing_from, g->class_first[c]);
         }
         bool casing_found = false;
-        for (const RoadRun& run : g->road_runs) {
+        for (const BlockRun& run : g->road_runs) {
             if (!visible[run.block]) continue;
             if (!casing_found && static_cast<GLsizei>(run.first) >= casing_from) {
                 casing_found = true;
@@ -692,14 +696,32 @@ void MapRenderer::drawBuildings(const MapFrame& frame, const glm::mat4& projecti
     glUniform2f(m_buildings.uniform("u_fog_range"), m_style.fog_start_m, m_style.fog_end_m);
     glUniform1f(m_buildings.uniform("u_brightness"), m_style.brightness);
     glUniform1f(m_buildings.uniform("u_cull_ratio"), m_style.building_cull_ratio);
-    for (GpuTile* g : tiles) {
-        if (!g->building_index_count) continue;
-        const glm::mat4 view = frame.camera.viewRelativeTo(g->origin);
-        glUniformMatrix4fv(m_buildings.uniform("u_view"), 1, GL_FALSE, glm::value_ptr(view));
-        glBindVertexArray(g->buildings_vao);
-        glDrawElements(GL_TRIANGLES, g->building_index_count, GL_UNSIGNED_INT, nullptr);
-        m_stats.building_triangles += static_cast<std::size_t>(g->building_index_count / 3);
+    for (GpuTile* g : tiles) m_stats.building_triangles += drawBuildingsOf(m_buildings, frame, projection, *g);
+}
+
+std::size_t MapRenderer::drawBuildingsOf(ShaderProgram& program, const MapFrame& frame, const glm::mat4& projection,
+                                         const GpuTile& g) {
+    if (!g.building_index_count) return 0;
+    const glm::mat4 view = frame.camera.viewRelativeTo(g.origin);
+    const glm::mat4 view_projection = projection * view;
+    glUniformMatrix4fv(program.uniform("u_view"), 1, GL_FALSE, glm::value_ptr(view));
+    glBindVertexArray(g.buildings_vao);
+    // The blocks in view, consecutive ones in one draw.
+    std::size_t drawn = 0;
+    for (std::size_t r = 0; r < g.building_runs.size();) {
+        auto visible = [&](const BlockRun& run) {
+            const BlockExtent& e = g.building_blocks[run.block];
+            return !frame.layers.cull_blocks || boxInView(view_projection, e.min, e.max);
+        };
+        if (!visible(g.building_runs[r++])) continue;
+        const std::uint32_t first = g.building_runs[r - 1].first;
+        std::uint32_t count = g.building_runs[r - 1].count;
+        for (; r < g.building_runs.size() && visible(g.building_runs[r]); ++r) count += g.building_runs[r].count;
+        glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(count), GL_UNSIGNED_INT,
+                       reinterpret_cast<const void*>(std::size_t{first} * sizeof(std::uint32_t)));
+        drawn += count / 3;
     }
+    return drawn;
 }
 
 void MapRenderer::render(const MapFrame& frame, const RenderTarget& target) {
@@ -921,13 +943,7 @@ void MapRenderer::runOcclusionEffects(const MapFrame& frame, const RenderTarget&
             glUniform2f(p.uniform("u_fog_range"), m_style.fog_start_m, m_style.fog_end_m);
             glUniform1f(p.uniform("u_brightness"), m_style.brightness);
             glUniform1f(p.uniform("u_cull_ratio"), m_style.building_cull_ratio);
-            for (GpuTile* g : tiles) {
-                if (!g->building_index_count) continue;
-                const glm::mat4 view = frame.camera.viewRelativeTo(g->origin);
-                glUniformMatrix4fv(p.uniform("u_view"), 1, GL_FALSE, glm::value_ptr(view));
-                glBindVertexArray(g->buildings_vao);
-                glDrawElements(GL_TRIANGLES, g->building_index_count, GL_UNSIGNED_INT, nullptr);
-            }
+            for (GpuTile* g : tiles) drawBuildingsOf(p, frame, projection, *g);
         };
         auto roads = [&] {
             glUseProgram(m_roads.id());

@@ -75,6 +75,10 @@ private:
     /// Extruded buildings (seed 3 "3D buildings"), depth-tested and -written.
     void drawBuildings(const MapFrame& frame, const glm::mat4& projection, const glm::vec3& light,
                        const std::vector<GpuTile*>& tiles);
+    /// With a buildings program bound: the buildings of the tile's blocks in view; returns the
+    /// triangles drawn.
+    std::size_t drawBuildingsOf(ShaderProgram& program, const MapFrame& frame, const glm::mat4& projection,
+                                const GpuTile& tile);
     /// The terrain of `tiles` in blocks: frustum-culled, each with the land-cover levels it reaches.
     void drawTerrain(const MapFrame& frame, const glm::mat4& projection, const glm::vec3& light,
                      const std::vector<GpuTile*>& tiles);

@@ -57,16 +57,17 @@ struct TerrainBlock {
     float min_z = 0.0f, max_z = 0.0f;
 };
 
-/// The road pieces of one group (a class, or the bridges) that lie in one block
-/// (TileMesh::road_runs), so roads outside the view can be left out per block.
-struct RoadRun {
-    std::uint32_t first = 0;  ///< first piece in TileMesh::roads
+/// Consecutive elements of a tile's list (road pieces of one group, a class or the bridges;
+/// building indices) that lie in one block of the tile (by position; blocks as terrain_blocks),
+/// so what lies outside the view can be left out per block.
+struct BlockRun {
+    std::uint32_t first = 0;  ///< first element of the list
     std::uint32_t count = 0;
-    std::uint32_t block = 0;  ///< index into TileMesh::road_blocks
+    std::uint32_t block = 0;  ///< index into the list's block extents
 };
 
-/// Extent of the road pieces' end points in one block (tile-local; min > max: none).
-struct RoadBlock {
+/// Extent of a list's elements in one block (tile-local; min > max: none).
+struct BlockExtent {
     glm::vec3 min{0.0f}, max{0.0f};
 };
 
@@ -93,11 +94,15 @@ struct TileMesh {
     std::vector<RoadInstance> roads;             ///< least important first; bridges last
     /// roads in runs of one group and block (by the piece's midpoint; blocks as terrain_blocks),
     /// in the order of roads; and each block's extent.
-    std::vector<RoadRun> road_runs;
-    std::vector<RoadBlock> road_blocks;
+    std::vector<BlockRun> road_runs;
+    std::vector<BlockExtent> road_blocks;
     std::size_t source_road_vertices = 0;        ///< polyline vertices before draping
     std::vector<BuildingVertex> buildings;
-    std::vector<std::uint32_t> building_indices;
+    std::vector<std::uint32_t> building_indices;  ///< block by block (building_runs)
+    /// building_indices per block (one run per block with buildings, by the footprint's centre),
+    /// and each block's extent.
+    std::vector<BlockRun> building_runs;
+    std::vector<BlockExtent> building_blocks;
 
     [[nodiscard]] HeightGrid grid() const { return HeightGrid{grid_size, size_m / double(grid_size - 1), heights.data()}; }
     /// The grid with the heights of ancestor level j + 1 (0: parent).
