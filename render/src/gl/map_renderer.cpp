@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdio>
+#include <numeric>
 #include <span>
 #include <vector>
 
@@ -626,13 +627,25 @@ void MapRenderer::drawTerrain(const MapFrame& frame, const glm::mat4& projection
         auto levelsOf = [&](const TerrainBlock& k) {
             return morph_cover ? coverLevels(g->morph, eye, k.min, k.max) : CoverLevels{};
         };
-        for (std::size_t b = 0; b < g->terrain_blocks.size();) {
-            const TerrainBlock& first = g->terrain_blocks[b++];
+        // Nearest blocks first, like the tiles (a tile's hills hide its farther blocks before
+        // they are shaded); a block that follows its predecessor in the index buffer and needs
+        // the same levels joins its draw.
+        m_block_order.resize(g->terrain_blocks.size());
+        std::iota(m_block_order.begin(), m_block_order.end(), std::size_t{0});
+        auto distance2 = [&](std::size_t i) {
+            const glm::vec2 d = 0.5f * (g->terrain_blocks[i].min + g->terrain_blocks[i].max) - eye;
+            return glm::dot(d, d);
+        };
+        std::sort(m_block_order.begin(), m_block_order.end(),
+                  [&](std::size_t a, std::size_t c) { return distance2(a) < distance2(c); });
+        for (std::size_t b = 0; b < m_block_order.size();) {
+            const std::size_t first_index = m_block_order[b++];
+            const TerrainBlock& first = g->terrain_blocks[first_index];
             if (!visible(first)) continue;
             const CoverLevels levels = levelsOf(first);
             std::uint32_t count = first.count;
-            for (; b < g->terrain_blocks.size(); ++b) {
-                const TerrainBlock& next = g->terrain_blocks[b];
+            for (std::size_t last = first_index; b < m_block_order.size() && m_block_order[b] == last + 1; ++b, ++last) {
+                const TerrainBlock& next = g->terrain_blocks[m_block_order[b]];
                 if (!visible(next) || !(levelsOf(next) == levels)) break;
                 count += next.count;
             }

@@ -115,6 +115,7 @@ private:
     // Two triangles per road quad (corners 0 (-,+) 1 (-,-) 2 (+,+) 3 (+,-)), shared by every road
     // and route vertex array.
     RepeatedIndices m_quad_indices{kQuadIndices, 4};
+    std::vector<std::size_t> m_block_order;  // drawTerrain: a tile's blocks, nearest first
     // This frame's road quads in view (cullRoads), 6 indices each, bound to every road vertex array.
     std::vector<std::uint32_t> m_road_indices;
     GLuint m_road_index_buffer = 0;
