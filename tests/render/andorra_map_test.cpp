@@ -20,11 +20,22 @@ using namespace navmap::render;
 
 constexpr int kW = 640, kH = 240;
 
-Image renderView(ViewMode mode, const MapLayers& layers, MapFrameStats* stats = nullptr) {
+std::unique_ptr<Renderer> rendererOfSize(int w, int h) {
     RendererOptions o;
-    o.width = kW;
-    o.height = kH;
-    auto renderer = Renderer::create(o);
+    o.width = w;
+    o.height = h;
+    return Renderer::create(o);
+}
+
+// Pixels whose colour differs at all.
+std::size_t differingPixels(const Image& a, const Image& b) {
+    std::size_t n = 0;
+    for (std::size_t i = 0; i < a.rgba.size(); i += 4) n += std::memcmp(&a.rgba[i], &b.rgba[i], 3) != 0;
+    return n;
+}
+
+Image renderView(ViewMode mode, const MapLayers& layers, MapFrameStats* stats = nullptr) {
+    auto renderer = rendererOfSize(kW, kH);
     // The car 1.8 km into the drive (Escaldes), camera settled.
     MapFrame frame = navmap::test::settledAndorraFrame(mode, kW, kH);
     frame.layers = layers;
@@ -94,10 +105,7 @@ TEST(AndorraMap, RoadsChangeTheImageOnlyWhereRoadsAre) {
 TEST(AndorraMap, OutlinesNearRoadsEqualTheFullScreenFilter) {
     for (ViewMode mode : {ViewMode::Bird, ViewMode::Snail}) {
         for (const auto& [w, h] : {std::pair{kW, kH}, std::pair{1280, 480}, std::pair{800, 240}}) {
-            RendererOptions o;
-            o.width = w;
-            o.height = h;
-            auto renderer = Renderer::create(o);
+            auto renderer = rendererOfSize(w, h);
             MapFrame frame = navmap::test::settledAndorraFrame(mode, w, h);
             frame.layers = layersFor(3);
             renderer->renderMap(frame);
@@ -108,11 +116,7 @@ TEST(AndorraMap, OutlinesNearRoadsEqualTheFullScreenFilter) {
             frame.layers.outlines = false;
             renderer->renderMap(frame);
             const Image none = renderer->readSync();
-            std::size_t differ = 0, outline = 0;
-            for (std::size_t i = 0; i < full.rgba.size(); i += 4) {
-                differ += std::memcmp(&full.rgba[i], &near_roads.rgba[i], 3) != 0;
-                outline += std::memcmp(&full.rgba[i], &none.rgba[i], 3) != 0;
-            }
+            const std::size_t differ = differingPixels(full, near_roads), outline = differingPixels(full, none);
             EXPECT_GT(outline, std::size_t(w * h / 100)) << "outlines are drawn";
             EXPECT_EQ(differ, 0u) << (mode == ViewMode::Bird ? "bird " : "snail ") << w << "x" << h;
         }
@@ -124,10 +128,7 @@ TEST(AndorraMap, OutlinesNearRoadsEqualTheFullScreenFilter) {
 TEST(AndorraMap, RoadAndBuildingBlocksOutsideTheViewAreNotDrawn) {
     for (ViewMode mode : {ViewMode::Bird, ViewMode::Snail}) {
         for (const auto& [w, h, glow] : {std::tuple{kW, kH, false}, std::tuple{1280, 480, false}, std::tuple{kW, kH, true}}) {
-            RendererOptions o;
-            o.width = w;
-            o.height = h;
-            auto renderer = Renderer::create(o);
+            auto renderer = rendererOfSize(w, h);
             MapFrame frame = navmap::test::settledAndorraFrame(mode, w, h);
             frame.layers = layersFor(3);
             frame.layers.glow_roads = glow;  // the terrain before the buildings
@@ -138,8 +139,7 @@ TEST(AndorraMap, RoadAndBuildingBlocksOutsideTheViewAreNotDrawn) {
             renderer->renderMap(frame);
             const MapFrameStats all = renderer->mapStats();
             const Image without = renderer->readSync();
-            std::size_t differ = 0;
-            for (std::size_t i = 0; i < without.rgba.size(); i += 4) differ += std::memcmp(&without.rgba[i], &with_culling.rgba[i], 3) != 0;
+            const std::size_t differ = differingPixels(without, with_culling);
             const char* name = mode == ViewMode::Bird ? "bird" : "snail";
             std::printf("[ measure  ] %s %dx%d%s: %zu of %zu road pieces, %zu of %zu building triangles drawn\n", name, w,
                         h, glow ? " glow" : "", culled.road_segments, all.road_segments, culled.building_triangles, all.building_triangles);

@@ -5,6 +5,8 @@
 #include <array>
 #include <cmath>
 #include <set>
+#include <utility>
+#include <vector>
 
 #include "navmap/render/road_draping.h"
 #include "navmap/render/tile_mesh.h"
@@ -21,6 +23,14 @@ map::Tile bumpyTile() {
     for (int r = 0; r < 17; ++r)
         for (int c = 0; c < 17; ++c) t.dem.heights.push_back(700.0f + 30.0f * std::sin(r * 0.9f) + 20.0f * std::cos(c * 0.7f));
     return t;
+}
+
+map::Road road(map::RoadClass cls, std::vector<map::LocalPoint> points, std::uint8_t flags = 0) {
+    map::Road r;
+    r.cls = cls;
+    r.points = std::move(points);
+    r.flags = flags;
+    return r;
 }
 
 TEST(TileMesh, TerrainHasGridAndSkirtsBelowTheBorder) {
@@ -79,17 +89,9 @@ TEST(TileMesh, TileWithoutDemIsFlat) {
 
 TEST(TileMesh, RoadsAreDrapedOrderedAndTunnelsHidden) {
     map::Tile t = bumpyTile();
-    map::Road minor;
-    minor.cls = map::RoadClass::Residential;
-    minor.points = {{10, 10}, {790, 700}};
-    map::Road major;
-    major.cls = map::RoadClass::Motorway;
-    major.points = {{10, 400}, {790, 400}};
-    map::Road tunnel;
-    tunnel.cls = map::RoadClass::Primary;
-    tunnel.flags = map::RoadFlags::Tunnel;
-    tunnel.points = {{400, 10}, {400, 790}};
-    t.roads = {major, tunnel, minor};  // store order: most important first
+    t.roads = {road(map::RoadClass::Motorway, {{10, 400}, {790, 400}}),
+               road(map::RoadClass::Primary, {{400, 10}, {400, 790}}, map::RoadFlags::Tunnel),
+               road(map::RoadClass::Residential, {{10, 10}, {790, 700}})};  // store order: most important first
     render::TileMeshOptions every_piece;
     every_piece.road_merge_tolerance_m = 0.0;
     const render::TileMesh m = render::buildTileMesh(t, every_piece);
@@ -120,13 +122,8 @@ TEST(TileMesh, RoadsAreDrapedOrderedAndTunnelsHidden) {
 // midpoint), and each block's extent holds its pieces: the renderer culls per block.
 TEST(TileMesh, RoadRunsGroupPiecesByClassAndBlock) {
     map::Tile t = bumpyTile();
-    map::Road minor;
-    minor.cls = map::RoadClass::Residential;
-    minor.points = {{10, 10}, {790, 700}};
-    map::Road major;
-    major.cls = map::RoadClass::Motorway;
-    major.points = {{10, 400}, {790, 420}, {20, 780}};
-    t.roads = {major, minor};
+    t.roads = {road(map::RoadClass::Motorway, {{10, 400}, {790, 420}, {20, 780}}),
+               road(map::RoadClass::Residential, {{10, 10}, {790, 700}})};
     const render::TileMesh m = render::buildTileMesh(t);
     ASSERT_EQ(m.road_blocks.size(), std::size_t(render::kTerrainBlocks * render::kTerrainBlocks));
     ASSERT_FALSE(m.road_runs.empty());

@@ -698,18 +698,17 @@ void MapRenderer::markOutlineArea(const MapFrame& frame, const glm::mat4& projec
     glEnable(GL_DEPTH_TEST);
 }
 
-void MapRenderer::drawBuildings(const MapFrame& frame, const glm::mat4& projection, const glm::vec3& light,
-                                const std::vector<GpuTile*>& tiles) {
-    glDepthFunc(GL_LESS);
-    glEnable(GL_CULL_FACE);
-    glUseProgram(m_buildings.id());
-    glUniformMatrix4fv(m_buildings.uniform("u_projection"), 1, GL_FALSE, glm::value_ptr(projection));
-    glUniform3fv(m_buildings.uniform("u_light_dir"), 1, glm::value_ptr(light));
-    glUniform3fv(m_buildings.uniform("u_sky_color"), 1, glm::value_ptr(m_style.sky_color));
-    glUniform2f(m_buildings.uniform("u_fog_range"), m_style.fog_start_m, m_style.fog_end_m);
-    glUniform1f(m_buildings.uniform("u_brightness"), m_style.brightness);
-    glUniform1f(m_buildings.uniform("u_cull_ratio"), m_style.building_cull_ratio);
-    for (GpuTile* g : tiles) m_stats.building_triangles += drawBuildingsOf(m_buildings, frame, projection, *g);
+std::size_t MapRenderer::drawBuildings(ShaderProgram& p, const MapFrame& frame, const glm::mat4& projection,
+                                       const std::vector<GpuTile*>& tiles) {
+    glUniformMatrix4fv(p.uniform("u_projection"), 1, GL_FALSE, glm::value_ptr(projection));
+    glUniform3fv(p.uniform("u_light_dir"), 1, glm::value_ptr(glm::normalize(m_style.light_dir)));
+    glUniform3fv(p.uniform("u_sky_color"), 1, glm::value_ptr(m_style.sky_color));
+    glUniform2f(p.uniform("u_fog_range"), m_style.fog_start_m, m_style.fog_end_m);
+    glUniform1f(p.uniform("u_brightness"), m_style.brightness);
+    glUniform1f(p.uniform("u_cull_ratio"), m_style.building_cull_ratio);
+    std::size_t drawn = 0;
+    for (const GpuTile* g : tiles) drawn += drawBuildingsOf(p, frame, projection, *g);
+    return drawn;
 }
 
 std::size_t MapRenderer::drawBuildingsOf(ShaderProgram& program, const MapFrame& frame, const glm::mat4& projection,
@@ -824,10 +823,14 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target) {
     // aura (seed 5.5) keep the terrain's depth (the aura also its colour) before the buildings for
     // runOcclusionEffects(); the shadow-volume roads keep it in a target of their own (SvRoads).
     const bool terrain_alone = sv || wantsGlow(frame.layers) || wantsAura(frame.layers);
-    if (frame.layers.buildings && !terrain_alone) {
-        drawBuildings(frame, projection, light, tiles);
+    auto buildings = [&] {
+        glDepthFunc(GL_LESS);
+        glEnable(GL_CULL_FACE);
+        glUseProgram(m_buildings.id());
+        m_stats.building_triangles += drawBuildings(m_buildings, frame, projection, tiles);
         lap(m_stats.buildings_ms, t);
-    }
+    };
+    if (frame.layers.buildings && !terrain_alone) buildings();
 
     // Terrain.
     if (frame.layers.terrain) {
@@ -845,10 +848,7 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target) {
         m_effects->captureTerrainDepth(target, wantsGlow(frame.layers), wantsAura(frame.layers));
     }
 
-    if (frame.layers.buildings && terrain_alone) {  // after the terrain (see above)
-        drawBuildings(frame, projection, light, tiles);
-        lap(m_stats.buildings_ms, t);
-    }
+    if (frame.layers.buildings && terrain_alone) buildings();  // after the terrain (see above)
 
     // Roads (seed 3.6.3): no blending, least important first, casing pass then fill pass.
     target.bindForDrawing(true);
@@ -948,16 +948,7 @@ void MapRenderer::runOcclusionEffects(const MapFrame& frame, const RenderTarget&
     if (aura) {
         // seed 5.5.1 step 2: the buildings (with the aura's program) and then the roads and the
         // route over them, as the scene draws them, into the layer behind the labels.
-        const glm::vec3 light = glm::normalize(m_style.light_dir);
-        auto buildings = [&](ShaderProgram& p) {
-            glUniformMatrix4fv(p.uniform("u_projection"), 1, GL_FALSE, glm::value_ptr(projection));
-            glUniform3fv(p.uniform("u_light_dir"), 1, glm::value_ptr(light));
-            glUniform3fv(p.uniform("u_sky_color"), 1, glm::value_ptr(m_style.sky_color));
-            glUniform2f(p.uniform("u_fog_range"), m_style.fog_start_m, m_style.fog_end_m);
-            glUniform1f(p.uniform("u_brightness"), m_style.brightness);
-            glUniform1f(p.uniform("u_cull_ratio"), m_style.building_cull_ratio);
-            for (GpuTile* g : tiles) drawBuildingsOf(p, frame, projection, *g);
-        };
+        auto buildings = [&](ShaderProgram& p) { drawBuildings(p, frame, projection, tiles); };
         auto roads = [&] {
             glUseProgram(m_roads.id());
             glUniformMatrix4fv(m_roads.uniform("u_projection"), 1, GL_FALSE, glm::value_ptr(projection));

@@ -72,9 +72,10 @@ private:
     void drawRoute(ShaderProgram& program, int pass, const MapFrame& frame, const std::vector<GpuTile*>& tiles);
     void setRoadUniforms(ShaderProgram& program, int pass, bool route);
     void drawMarker(const MapFrame& frame, const RenderTarget& target);
-    /// Extruded buildings (seed 3 "3D buildings"), depth-tested and -written.
-    void drawBuildings(const MapFrame& frame, const glm::mat4& projection, const glm::vec3& light,
-                       const std::vector<GpuTile*>& tiles);
+    /// With a buildings program bound (buildings.vert: the scene's or the aura's): its uniforms,
+    /// then the buildings of `tiles` in view; returns the triangles drawn.
+    std::size_t drawBuildings(ShaderProgram& program, const MapFrame& frame, const glm::mat4& projection,
+                              const std::vector<GpuTile*>& tiles);
     /// With a buildings program bound: the buildings of the tile's blocks in view; returns the
     /// triangles drawn.
     std::size_t drawBuildingsOf(ShaderProgram& program, const MapFrame& frame, const glm::mat4& projection,
