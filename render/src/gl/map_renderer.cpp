@@ -223,6 +223,7 @@ MapRenderer::MapRenderer(const RendererOptions& options)
     glBindTexture(GL_TEXTURE_2D, 0);
     glGenFramebuffers(1, &m_raster_fbo);
     glGenVertexArrays(1, &m_empty_vao);
+    glGenBuffers(1, &m_road_index_buffer);
     // CCP arrow: tip at +y, notch at the back (marker units, about one unit across).
     const float arrow[] = {0.0f, 1.0f, -0.6f, -0.7f, 0.0f, -0.35f, 0.0f, 1.0f, 0.0f, -0.35f, 0.6f, -0.7f};
     glGenVertexArrays(1, &m_marker_vao);
@@ -296,6 +297,7 @@ MapRenderer::GpuTile* MapRenderer::upload(const std::shared_ptr<const map::Tile>
         glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(quads.size() * sizeof(RoadInstance)), quads.data(),
                      GL_STATIC_DRAW);
         setupRoadAttributes();
+        glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, m_road_index_buffer);  // this frame's pieces in view (cullRoads)
         gpu->road_count = static_cast<GLsizei>(mesh.roads.size());
         gpu->road_runs = std::move(mesh.road_runs);
         gpu->road_blocks = std::move(mesh.road_blocks);
@@ -475,11 +477,11 @@ void MapRenderer::cullRoads(const MapFrame& frame, const glm::mat4& projection, 
         g->visible_count = 0;
         if (!g->road_count) continue;
         const glm::mat4 view_projection = projection * frame.camera.viewRelativeTo(g->origin);
+        const glm::vec3 eye(frame.camera.eye - g->origin);
         visible.assign(g->road_blocks.size(), false);
         for (std::size_t b = 0; b < g->road_blocks.size(); ++b) {
             const BlockExtent& k = g->road_blocks[b];
             if (k.min.x > k.max.x) continue;
-            const glm::vec3 eye(frame.camera.eye - g->origin);
             const float farthest = glm::length(glm::max(glm::abs(eye - k.min), glm::abs(eye - k.max)));
             const float reach = half_width * distanceWidthScale(farthest, rs.scale_threshold_m, rs.max_scale);
             visible[b] = !frame.layers.cull_blocks || boxInView(view_projection, k.min - reach, k.max + reach, false);
@@ -503,18 +505,11 @@ void MapRenderer::cullRoads(const MapFrame& frame, const glm::mat4& projection, 
         }
         if (!casing_found) g->visible_casing_first = g->visible_first + g->visible_count;
     }
-    if (!m_road_index_buffer) glGenBuffers(1, &m_road_index_buffer);
+    // Every road vertex array has this buffer bound (upload()); new storage each frame.
     glBindVertexArray(0);
     glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, m_road_index_buffer);
     glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(m_road_indices.size() * sizeof(std::uint32_t)),
                  m_road_indices.data(), GL_STREAM_DRAW);
-    // Every tile's road vertex array draws from it this frame.
-    for (GpuTile* g : tiles) {
-        if (!g->roads_vao) continue;
-        glBindVertexArray(g->roads_vao);
-        glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, m_road_index_buffer);
-    }
-    glBindVertexArray(0);
 }
 
 std::size_t MapRenderer::drawRoads(ShaderProgram& program, int pass, const MapFrame& frame,
@@ -719,12 +714,12 @@ std::size_t MapRenderer::drawBuildingsOf(ShaderProgram& program, const MapFrame&
     glUniformMatrix4fv(program.uniform("u_view"), 1, GL_FALSE, glm::value_ptr(view));
     glBindVertexArray(g.buildings_vao);
     // The blocks in view, consecutive ones in one draw.
+    auto visible = [&](const BlockRun& run) {
+        const BlockExtent& e = g.building_blocks[run.block];
+        return !frame.layers.cull_blocks || boxInView(view_projection, e.min, e.max);
+    };
     std::size_t drawn = 0;
     for (std::size_t r = 0; r < g.building_runs.size();) {
-        auto visible = [&](const BlockRun& run) {
-            const BlockExtent& e = g.building_blocks[run.block];
-            return !frame.layers.cull_blocks || boxInView(view_projection, e.min, e.max);
-        };
         if (!visible(g.building_runs[r++])) continue;
         const std::uint32_t first = g.building_runs[r - 1].first;
         std::uint32_t count = g.building_runs[r - 1].count;
