@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdio>
+#include <limits>
 #include <numeric>
 #include <span>
 #include <vector>
@@ -191,6 +192,9 @@ struct MapRenderer::GpuTile {
     GLuint route_vao = 0, route_vbo = 0;
     GLsizei route_count = 0;
     bool route_morphed = false;  // the buffer holds morphed heights
+    bool route_stale = true;     // draped anew, not uploaded yet
+    BlockExtent route_extent;    // of route_pieces, at every level they can morph to
+    bool route_in_view = false;  // this frame (updateRoute)
 
     ~GpuTile() {
         const GLuint vaos[] = {terrain_vao, roads_vao, buildings_vao, route_vao};
@@ -415,9 +419,10 @@ GLuint MapRenderer::rasterizeLandCover(std::span<const LandCoverVertex> triangle
     return texture;
 }
 
-void MapRenderer::updateRoute(GpuTile& g, const RouteGeometry& route, const Camera& camera) {
+void MapRenderer::updateRoute(GpuTile& g, const MapFrame& frame, const glm::mat4& projection) {
     // Draped per tile against the grid it is drawn with (seed 3.6.1), so the route lies on the
     // terrain at every level of detail; redone when the route or the tile's upload changes.
+    const RouteGeometry& route = *frame.route;
     const double last = route.measure_m.empty() ? 0.0 : route.measure_m.back();
     if (g.route_source != &route || g.route_version != route.version || g.route_points != route.points.size() ||
         g.route_last_measure != last) {
@@ -433,8 +438,18 @@ void MapRenderer::updateRoute(GpuTile& g, const RouteGeometry& route, const Came
                 ancestors[j] = HeightGrid{g.grid_size, spacing, g.ancestor_heights[j].data()};
             g.route_pieces = drapeRoute(route, g.origin, HeightGrid{g.grid_size, spacing, g.heights.data()}, ancestors);
         }
+        // Its extent at every level it can morph to, for culling.
+        g.route_extent = {glm::vec3(std::numeric_limits<float>::max()), glm::vec3(std::numeric_limits<float>::lowest())};
+        for (const RoutePiece& r : g.route_pieces) {
+            for (const auto& [p, ancestor_z] : {std::pair{r.p0, r.ancestor_z0}, std::pair{r.p1, r.ancestor_z1}}) {
+                const auto [lowest, highest] = std::minmax_element(ancestor_z.begin(), ancestor_z.end());
+                g.route_extent.min = glm::min(g.route_extent.min, glm::vec3(glm::vec2(p), std::min(p.z, *lowest)));
+                g.route_extent.max = glm::max(g.route_extent.max, glm::vec3(glm::vec2(p), std::max(p.z, *highest)));
+            }
+        }
         g.route_count = 0;
         g.route_instances.clear();
+        g.route_stale = true;
         if (g.route_pieces.empty()) return;
         if (!g.route_vao) {
             glGenVertexArrays(1, &g.route_vao);
@@ -444,13 +459,23 @@ void MapRenderer::updateRoute(GpuTile& g, const RouteGeometry& route, const Came
             setupRoadAttributes();
             glBindVertexArray(0);
         }
-    } else if (g.route_pieces.empty() || (g.morph.end_m[0] <= 0.0f && !g.route_morphed)) {
-        return;  // unchanged and unmorphed: the buffer is current
     }
+    // Not in view: neither morphed nor drawn this frame (the casing's width, at the distance
+    // scale of the extent's farthest point, around the extent; cullRoads has the reasons).
+    const glm::vec3 eye(frame.camera.eye - g.origin);
+    const BlockExtent& e = g.route_extent;
+    const float farthest = glm::length(glm::max(glm::abs(eye - e.min), glm::abs(eye - e.max)));
+    const RoadStyle& rs = m_style.roads;
+    const float reach = 0.75f * m_style.route_width_m * distanceWidthScale(farthest, rs.scale_threshold_m, rs.max_scale);
+    g.route_in_view = !g.route_pieces.empty() &&
+                      (!frame.layers.cull_blocks ||
+                       boxInView(projection * frame.camera.viewRelativeTo(g.origin), e.min - reach, e.max + reach, false));
+    if (!g.route_in_view) return;
+    if (!g.route_stale && g.morph.end_m[0] <= 0.0f && !g.route_morphed) return;  // unmorphed: the buffer is current
+    g.route_stale = false;
     g.route_morphed = g.morph.end_m[0] > 0.0f;
     // The pieces follow the terrain's geomorph (the same factor per vertex as terrain_tile.vert).
-    const glm::vec2 eye(static_cast<float>(camera.eye.x - g.origin.x), static_cast<float>(camera.eye.y - g.origin.y));
-    morphRoute(g.route_pieces, g.morph, eye, g.route_instances);
+    morphRoute(g.route_pieces, g.morph, glm::vec2(eye), g.route_instances);
     const auto quads = quadVertices(g.route_instances);
     glBindVertexArray(g.route_vao);
     m_quad_indices.bind(g.route_instances.size());
@@ -534,7 +559,7 @@ void MapRenderer::drawRoute(ShaderProgram& program, int pass, const MapFrame& fr
     setRoadUniforms(program, pass, true);
     glUniform1f(program.uniform("u_route_progress"), static_cast<float>(frame.route_progress_m));
     for (const GpuTile* g : tiles) {
-        if (!g->route_count) continue;
+        if (!g->route_count || !g->route_in_view) continue;
         const glm::mat4 view = frame.camera.viewRelativeTo(g->origin);
         glUniformMatrix4fv(program.uniform("u_view"), 1, GL_FALSE, glm::value_ptr(view));
         glBindVertexArray(g->route_vao);
@@ -795,13 +820,13 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target) {
         std::stable_sort(tiles.begin(), tiles.end(),
                          [&](const GpuTile* a, const GpuTile* b) { return distance2(a) < distance2(b); });
     }
+    const double aspect = static_cast<double>(target.width()) / target.height();
+    const glm::mat4 projection = frame.camera.projection(aspect);
     if (frame.route && frame.layers.route) {
-        for (GpuTile* g : tiles) updateRoute(*g, *frame.route, frame.camera);
+        for (GpuTile* g : tiles) updateRoute(*g, frame, projection);
     }
     lap(m_stats.uploads_ms, t);
 
-    const double aspect = static_cast<double>(target.width()) / target.height();
-    const glm::mat4 projection = frame.camera.projection(aspect);
     const glm::vec3 light = glm::normalize(m_style.light_dir);
     SvRoads* sv = SvRoads::forFrame(m_sv_roads, frame, target);  // shadow-volume roads (seed 3.5), else null
     if (frame.layers.roads) cullRoads(frame, projection, tiles);

@@ -62,9 +62,9 @@ private:
     /// A new RGBA4 texture (size^2, mipmapped) with the land-cover triangles (tile-local metres)
     /// of the square [offset, offset + extent] of their tile.
     GLuint rasterizeLandCover(std::span<const LandCoverVertex> triangles, int size, glm::vec2 offset, float extent);
-    /// Drapes the route onto one tile (cached per route object and version) and applies the
-    /// tile's geomorph of this frame.
-    void updateRoute(GpuTile& tile, const RouteGeometry& route, const Camera& camera);
+    /// Drapes the frame's route onto one tile (cached per route object and version) and, where
+    /// the tile's part of it is in view, applies the tile's geomorph of this frame.
+    void updateRoute(GpuTile& tile, const MapFrame& frame, const glm::mat4& projection);
     /// With `program` (a roads_geo.vert program) bound: sets its uniforms for `pass` (0 casing, 1
     /// fill, 2 outline footprint) and draws the road pieces of `tiles`; returns how many.
     std::size_t drawRoads(ShaderProgram& program, int pass, const MapFrame& frame, const std::vector<GpuTile*>& tiles);

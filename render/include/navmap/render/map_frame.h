@@ -33,8 +33,9 @@ struct MapLayers {
     /// Run the outline filter only near road and route footprints (marked in the stencil); false:
     /// over the whole frame. Same image; the full-screen pass costs about twice as much on llvmpipe.
     bool outlines_near_roads = true;
-    /// Leave out the road pieces and buildings of tile blocks outside the view before the vertex
-    /// stage (same image; on llvmpipe every vertex is CPU time on the render thread).
+    /// Leave out the road pieces and buildings of tile blocks outside the view, and the route of
+    /// tiles where it lies outside the view, before the vertex stage (same image; on llvmpipe
+    /// every vertex is CPU time on the render thread).
     bool cull_blocks = true;
     bool buildings = true;
     bool route = true;
