@@ -305,17 +305,22 @@ TileMesh buildTileMesh(const map::Tile& tile, const TileMeshOptions& options, st
     // Within a group the pieces run block by block (the order among pieces of one class does not
     // matter: casings and fills are separate passes), so the renderer can leave out the blocks
     // outside the view and still draw the groups in order.
+    // The block (as terrain_blocks, row-major) holding a tile-local point.
     const float block_size = mesh.size_m / static_cast<float>(blocks);
-    mesh.road_blocks.assign(static_cast<std::size_t>(blocks * blocks),
-                            BlockExtent{glm::vec3(std::numeric_limits<float>::max()), glm::vec3(std::numeric_limits<float>::lowest())});
+    auto blockOf = [&](glm::vec2 p) {
+        const int bx = std::clamp(static_cast<int>(std::floor(p.x / block_size)), 0, blocks - 1);
+        const int by = std::clamp(static_cast<int>(std::floor(p.y / block_size)), 0, blocks - 1);
+        return static_cast<std::uint32_t>(by * blocks + bx);
+    };
+    auto extend = [](BlockExtent& e, glm::vec3 low, glm::vec3 high) {
+        e.min = glm::min(e.min, low);
+        e.max = glm::max(e.max, high);
+    };
+    const BlockExtent none{glm::vec3(std::numeric_limits<float>::max()), glm::vec3(std::numeric_limits<float>::lowest())};
+    mesh.road_blocks.assign(static_cast<std::size_t>(blocks * blocks), none);
     for (Piece& p : pieces) {
-        const glm::vec2 mid = 0.5f * (glm::vec2(p.inst.p0) + glm::vec2(p.inst.p1));
-        const int bx = std::clamp(static_cast<int>(std::floor(mid.x / block_size)), 0, blocks - 1);
-        const int by = std::clamp(static_cast<int>(std::floor(mid.y / block_size)), 0, blocks - 1);
-        p.block = static_cast<std::uint32_t>(by * blocks + bx);
-        BlockExtent& b = mesh.road_blocks[p.block];
-        b.min = glm::min(b.min, glm::min(p.inst.p0, p.inst.p1));
-        b.max = glm::max(b.max, glm::max(p.inst.p0, p.inst.p1));
+        p.block = blockOf(0.5f * (glm::vec2(p.inst.p0) + glm::vec2(p.inst.p1)));
+        extend(mesh.road_blocks[p.block], glm::min(p.inst.p0, p.inst.p1), glm::max(p.inst.p0, p.inst.p1));
     }
     std::stable_sort(pieces.begin(), pieces.end(),
                      [](const Piece& a, const Piece& b) { return a.order != b.order ? a.order < b.order : a.block < b.block; });
@@ -330,7 +335,6 @@ TileMesh buildTileMesh(const map::Tile& tile, const TileMeshOptions& options, st
 
     // --- buildings: walls and a flat roof over the lowest terrain point of the footprint; the
     // indices block by block (by the footprint's centre) for culling
-    const BlockExtent none{glm::vec3(std::numeric_limits<float>::max()), glm::vec3(std::numeric_limits<float>::lowest())};
     mesh.building_blocks.assign(static_cast<std::size_t>(blocks * blocks), none);
     std::vector<std::vector<std::uint32_t>> block_indices(mesh.building_blocks.size());
     for (const auto& b : tile.buildings) {
@@ -348,13 +352,8 @@ TileMesh buildTileMesh(const map::Tile& tile, const TileMeshOptions& options, st
         const float bottom = base + b.min_height_m;
         const float top = base + std::max(b.height_m, b.min_height_m + 1.0f);
         const glm::vec3 color = buildingColor(b.height_m);
-        const glm::vec2 centre = 0.5f * (lo2 + hi2);
-        const auto block = static_cast<std::size_t>(
-            std::clamp(static_cast<int>(std::floor(centre.y / block_size)), 0, blocks - 1) * blocks +
-            std::clamp(static_cast<int>(std::floor(centre.x / block_size)), 0, blocks - 1));
-        BlockExtent& extent = mesh.building_blocks[block];
-        extent.min = glm::min(extent.min, glm::vec3(lo2, bottom));
-        extent.max = glm::max(extent.max, glm::vec3(hi2, top));
+        const std::uint32_t block = blockOf(0.5f * (lo2 + hi2));
+        extend(mesh.building_blocks[block], glm::vec3(lo2, bottom), glm::vec3(hi2, top));
         std::vector<std::uint32_t>& indices = block_indices[block];
         // Roof.
         const auto roof_base = static_cast<std::uint32_t>(mesh.buildings.size());

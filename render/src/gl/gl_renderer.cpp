@@ -2,7 +2,6 @@
 
 #include <GLES3/gl3.h>
 
-#include <algorithm>
 #include <string>
 
 namespace navmap::render::gl {
@@ -57,16 +56,14 @@ GLuint GlRenderer::sharedDepthStencil(int width, int height) {
     // The targets render one after another on this context and a frame's depth/stencil is
     // scratch (cleared at its start, read only within it), so one buffer serves them all:
     // 3.5 MiB less per extra 1280x720 target.
-    if (m_depth_stencil && width <= m_depth_width && height <= m_depth_height) return m_depth_stencil;
-    const int w = std::max(width, m_depth_width), h = std::max(height, m_depth_height);
-    const GLuint grown = makeRenderbuffer(GL_DEPTH24_STENCIL8, RenderTarget::effectiveSamples(m_options.msaa_samples), w, h);
+    if (!m_depth_size.grow(width, height)) return m_depth_stencil;
+    const GLuint grown = makeRenderbuffer(GL_DEPTH24_STENCIL8, RenderTarget::effectiveSamples(m_options.msaa_samples),
+                                          m_depth_size.width, m_depth_size.height);
     for (auto& [id, view] : m_targets) {
         if (view.target) view.target->attachDepthStencil(grown);
     }
     glDeleteRenderbuffers(1, &m_depth_stencil);
     m_depth_stencil = grown;
-    m_depth_width = w;
-    m_depth_height = h;
     return m_depth_stencil;
 }
 

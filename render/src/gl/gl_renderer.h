@@ -58,7 +58,7 @@ private:
     DeviceInfo m_device;
     std::map<int, View> m_targets;
     GLuint m_depth_stencil = 0;  // shared by the targets: the largest width x largest height
-    int m_depth_width = 0, m_depth_height = 0;
+    ScratchSize m_depth_size;
     int m_current = 0;
     int m_next_id = 0;
     std::unique_ptr<TerrainLayer> m_terrain;

@@ -61,6 +61,17 @@ bool boxInView(const glm::mat4& view_projection, glm::vec3 lo, glm::vec3 hi, boo
 bool boxInView(const glm::mat4& view_projection, const TerrainBlock& b) {
     return boxInView(view_projection, glm::vec3(b.min, b.min_z), glm::vec3(b.max, b.max_z));
 }
+// Whether road or route quads drawn from pieces within `e` can reach the view: `half_width` (fill
+// and casing) times the distance scale (seed 3.6.3) at the extent's farthest point from `eye`
+// around the extent. The far plane is left out: the view-space offset against z-fighting (seed
+// 3.6.2) pulls pieces a little towards the camera.
+bool quadsInView(const glm::mat4& view_projection, glm::vec3 eye, const BlockExtent& e, float half_width,
+                 const RoadStyle& rs) {
+    if (e.min.x > e.max.x) return false;  // nothing there
+    const float farthest = glm::length(glm::max(glm::abs(eye - e.min), glm::abs(eye - e.max)));
+    const float reach = half_width * distanceWidthScale(farthest, rs.scale_threshold_m, rs.max_scale);
+    return boxInView(view_projection, e.min - reach, e.max + reach, false);
+}
 
 bool operator==(CoverLevels a, CoverLevels b) { return a.finest == b.finest && a.coarsest == b.coarsest; }
 /// For the part [lo, hi] (tile-local x, y) of a tile seen from tile-local `eye`.
@@ -377,11 +388,10 @@ GLuint MapRenderer::rasterizeLandCover(std::span<const LandCoverVertex> triangle
     glDrawBuffers(1, &c0);
     // Area edges anti-aliased (4x multisampled, then resolved into the texture): the rasters are
     // magnified on screen, where hard-edged texels would show as steps.
-    if (size > m_raster_ms_size) {
+    if (m_raster_ms_size.grow(size, size)) {
         if (!m_raster_ms_fbo) glGenFramebuffers(1, &m_raster_ms_fbo);
         if (m_raster_ms_rb) glDeleteRenderbuffers(1, &m_raster_ms_rb);
         m_raster_ms_rb = makeRenderbuffer(GL_RGBA4, kLandCoverSamples, size, size);
-        m_raster_ms_size = size;
         glBindFramebuffer(GL_FRAMEBUFFER, m_raster_ms_fbo);
         glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, m_raster_ms_rb);
         checkFramebufferComplete("land-cover raster");
@@ -460,16 +470,12 @@ void MapRenderer::updateRoute(GpuTile& g, const MapFrame& frame, const glm::mat4
             glBindVertexArray(0);
         }
     }
-    // Not in view: neither morphed nor drawn this frame (the casing's width, at the distance
-    // scale of the extent's farthest point, around the extent; cullRoads has the reasons).
+    // Not in view: neither morphed nor drawn this frame (half the width roads_geo.vert gives the
+    // route's casing, around its extent).
     const glm::vec3 eye(frame.camera.eye - g.origin);
-    const BlockExtent& e = g.route_extent;
-    const float farthest = glm::length(glm::max(glm::abs(eye - e.min), glm::abs(eye - e.max)));
-    const RoadStyle& rs = m_style.roads;
-    const float reach = 0.75f * m_style.route_width_m * distanceWidthScale(farthest, rs.scale_threshold_m, rs.max_scale);
     g.route_in_view = !g.route_pieces.empty() &&
-                      (!frame.layers.cull_blocks ||
-                       boxInView(projection * frame.camera.viewRelativeTo(g.origin), e.min - reach, e.max + reach, false));
+                      (!frame.layers.cull_blocks || quadsInView(projection * frame.camera.viewRelativeTo(g.origin), eye,
+                                                                g.route_extent, 0.75f * m_style.route_width_m, m_style.roads));
     if (!g.route_in_view) return;
     if (!g.route_stale && g.morph.end_m[0] <= 0.0f && !g.route_morphed) return;  // unmorphed: the buffer is current
     g.route_stale = false;
@@ -488,10 +494,7 @@ void MapRenderer::updateRoute(GpuTile& g, const MapFrame& frame, const glm::mat4
 }
 
 void MapRenderer::cullRoads(const MapFrame& frame, const glm::mat4& projection, const std::vector<GpuTile*>& tiles) {
-    // A quad reaches half the widest footprint (casing included) beyond the pieces' end points,
-    // times the distance scale (seed 3.6.3) of the block's farthest point. The far plane is left
-    // out: the view-space offset against z-fighting (seed 3.6.2) pulls pieces a little towards
-    // the camera.
+    // A quad reaches at most half the widest footprint (casing included) beyond its end points.
     const RoadStyle& rs = m_style.roads;
     float half_width = 0.0f;
     for (const RoadClassStyle& c : rs.classes) half_width = std::max(half_width, 0.5f * c.width_m + c.casing_m);
@@ -505,11 +508,7 @@ void MapRenderer::cullRoads(const MapFrame& frame, const glm::mat4& projection, 
         const glm::vec3 eye(frame.camera.eye - g->origin);
         visible.assign(g->road_blocks.size(), false);
         for (std::size_t b = 0; b < g->road_blocks.size(); ++b) {
-            const BlockExtent& k = g->road_blocks[b];
-            if (k.min.x > k.max.x) continue;
-            const float farthest = glm::length(glm::max(glm::abs(eye - k.min), glm::abs(eye - k.max)));
-            const float reach = half_width * distanceWidthScale(farthest, rs.scale_threshold_m, rs.max_scale);
-            visible[b] = !frame.layers.cull_blocks || boxInView(view_projection, k.min - reach, k.max + reach, false);
+            visible[b] = !frame.layers.cull_blocks || quadsInView(view_projection, eye, g->road_blocks[b], half_width, rs);
         }
         // The casing pass starts at the first class that has a casing (bridges always have one).
         GLsizei casing_from = g->bridge_first;
@@ -537,9 +536,9 @@ void MapRenderer::cullRoads(const MapFrame& frame, const glm::mat4& projection, 
                  m_road_indices.data(), GL_STREAM_DRAW);
 }
 
-std::size_t MapRenderer::drawRoads(ShaderProgram& program, int pass, const MapFrame& frame,
+std::size_t MapRenderer::drawRoads(ShaderProgram& program, int pass, const MapFrame& frame, const glm::mat4& projection,
                                    const std::vector<GpuTile*>& tiles) {
-    setRoadUniforms(program, pass, false);
+    setRoadUniforms(program, pass, false, projection);
     std::size_t drawn = 0;
     for (GpuTile* g : tiles) {
         const GLsizei first = pass == 0 ? g->visible_casing_first : g->visible_first;
@@ -555,8 +554,9 @@ std::size_t MapRenderer::drawRoads(ShaderProgram& program, int pass, const MapFr
     return drawn;
 }
 
-void MapRenderer::drawRoute(ShaderProgram& program, int pass, const MapFrame& frame, const std::vector<GpuTile*>& tiles) {
-    setRoadUniforms(program, pass, true);
+void MapRenderer::drawRoute(ShaderProgram& program, int pass, const MapFrame& frame, const glm::mat4& projection,
+                            const std::vector<GpuTile*>& tiles) {
+    setRoadUniforms(program, pass, true, projection);
     glUniform1f(program.uniform("u_route_progress"), static_cast<float>(frame.route_progress_m));
     for (const GpuTile* g : tiles) {
         if (!g->route_count || !g->route_in_view) continue;
@@ -567,7 +567,8 @@ void MapRenderer::drawRoute(ShaderProgram& program, int pass, const MapFrame& fr
     }
 }
 
-void MapRenderer::setRoadUniforms(ShaderProgram& p, int pass, bool route) {
+void MapRenderer::setRoadUniforms(ShaderProgram& p, int pass, bool route, const glm::mat4& projection) {
+    glUniformMatrix4fv(p.uniform("u_projection"), 1, GL_FALSE, glm::value_ptr(projection));
     const RoadStyle& rs = m_style.roads;
     float widths[kStyledRoadClasses], casings[kStyledRoadClasses];
     glm::vec3 fills[kStyledRoadClasses], casing_colors[kStyledRoadClasses];
@@ -705,15 +706,14 @@ void MapRenderer::markOutlineArea(const MapFrame& frame, const glm::mat4& projec
     glStencilFunc(GL_ALWAYS, 1, 0xFF);
     glStencilOp(GL_KEEP, GL_KEEP, GL_REPLACE);
     glUseProgram(m_roads_mark.id());
-    glUniformMatrix4fv(m_roads_mark.uniform("u_projection"), 1, GL_FALSE, glm::value_ptr(projection));
     // kOutlineReachPx per side, in metres per metre of distance.
     const double px = 2.0 * std::tan(glm::radians(frame.camera.fov_y_deg) / 2.0) / target.height();
     glUniform1f(m_roads_mark.uniform("u_margin"), static_cast<float>(kOutlineReachPx * px));
     glUniform1f(m_roads_mark.uniform("u_reach_px"), static_cast<float>(kOutlineReachPx));
     glUniform2f(m_roads_mark.uniform("u_viewport_half"), 0.5f * static_cast<float>(target.width()),
                 0.5f * static_cast<float>(target.height()));
-    if (frame.layers.roads) drawRoads(m_roads_mark, 2, frame, tiles);
-    if (frame.layers.route && frame.route) drawRoute(m_roads_mark, 2, frame, tiles);
+    if (frame.layers.roads) drawRoads(m_roads_mark, 2, frame, projection, tiles);
+    if (frame.layers.route && frame.route) drawRoute(m_roads_mark, 2, frame, projection, tiles);
     glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     glEnable(GL_DEPTH_TEST);
 }
@@ -882,15 +882,13 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target) {
     }
     if (frame.layers.roads && !sv) {
         glUseProgram(m_roads.id());
-        glUniformMatrix4fv(m_roads.uniform("u_projection"), 1, GL_FALSE, glm::value_ptr(projection));
-        drawRoads(m_roads, 0, frame, tiles);
-        m_stats.road_segments += drawRoads(m_roads, 1, frame, tiles);
+        drawRoads(m_roads, 0, frame, projection, tiles);
+        m_stats.road_segments += drawRoads(m_roads, 1, frame, projection, tiles);
         lap(m_stats.roads_ms, t);
     }
     if (frame.layers.route && frame.route) {
         glUseProgram(m_roads.id());
-        glUniformMatrix4fv(m_roads.uniform("u_projection"), 1, GL_FALSE, glm::value_ptr(projection));
-        for (int pass = 0; pass < 2; ++pass) drawRoute(m_roads, pass, frame, tiles);
+        for (int pass = 0; pass < 2; ++pass) drawRoute(m_roads, pass, frame, projection, tiles);
         lap(m_stats.route_ms, t);
     }
     glDepthMask(GL_TRUE);
@@ -971,9 +969,8 @@ void MapRenderer::runOcclusionEffects(const MapFrame& frame, const RenderTarget&
         auto buildings = [&](ShaderProgram& p) { drawBuildings(p, frame, projection, tiles); };
         auto roads = [&] {
             glUseProgram(m_roads.id());
-            glUniformMatrix4fv(m_roads.uniform("u_projection"), 1, GL_FALSE, glm::value_ptr(projection));
-            for (int pass = 0; pass < 2 && frame.layers.roads; ++pass) drawRoads(m_roads, pass, frame, tiles);
-            for (int pass = 0; pass < 2 && frame.layers.route && frame.route; ++pass) drawRoute(m_roads, pass, frame, tiles);
+            for (int pass = 0; pass < 2 && frame.layers.roads; ++pass) drawRoads(m_roads, pass, frame, projection, tiles);
+            for (int pass = 0; pass < 2 && frame.layers.route && frame.route; ++pass) drawRoute(m_roads, pass, frame, projection, tiles);
         };
         std::span<const LabelOccluder> labels;
         if (frame.layers.labels && m_label_pass) labels = m_label_pass->occluders();
@@ -983,10 +980,10 @@ void MapRenderer::runOcclusionEffects(const MapFrame& frame, const RenderTarget&
     if (glow) {
         // seed 5.5.2: the fill of the roads and the route again, for the hidden parts.
         auto roads = [&](ShaderProgram& p) {
-            if (frame.layers.roads) drawRoads(p, 1, frame, tiles);
-            if (frame.layers.route && frame.route) drawRoute(p, 1, frame, tiles);
+            if (frame.layers.roads) drawRoads(p, 1, frame, projection, tiles);
+            if (frame.layers.route && frame.route) drawRoute(p, 1, frame, projection, tiles);
         };
-        m_effects->glow(target, frame.layers, m_style, projection, roads);
+        m_effects->glow(target, frame.layers, m_style, roads);
         lap(m_stats.glow_ms);
     }
     target.bindForDrawing(false);

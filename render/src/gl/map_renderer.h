@@ -67,10 +67,12 @@ private:
     void updateRoute(GpuTile& tile, const MapFrame& frame, const glm::mat4& projection);
     /// With `program` (a roads_geo.vert program) bound: sets its uniforms for `pass` (0 casing, 1
     /// fill, 2 outline footprint) and draws the road pieces of `tiles`; returns how many.
-    std::size_t drawRoads(ShaderProgram& program, int pass, const MapFrame& frame, const std::vector<GpuTile*>& tiles);
+    std::size_t drawRoads(ShaderProgram& program, int pass, const MapFrame& frame, const glm::mat4& projection,
+                          const std::vector<GpuTile*>& tiles);
     /// The same for the route pieces (the part behind route_progress_m dimmed).
-    void drawRoute(ShaderProgram& program, int pass, const MapFrame& frame, const std::vector<GpuTile*>& tiles);
-    void setRoadUniforms(ShaderProgram& program, int pass, bool route);
+    void drawRoute(ShaderProgram& program, int pass, const MapFrame& frame, const glm::mat4& projection,
+                   const std::vector<GpuTile*>& tiles);
+    void setRoadUniforms(ShaderProgram& program, int pass, bool route, const glm::mat4& projection);
     void drawMarker(const MapFrame& frame, const RenderTarget& target);
     /// With a buildings program bound (buildings.vert: the scene's or the aura's): its uniforms,
     /// then the buildings of `tiles` in view; returns the triangles drawn.
@@ -107,9 +109,9 @@ private:
     ShaderProgram m_marker;
     GLuint m_empty_texture = 0;
     GLuint m_raster_fbo = 0;     // the land-cover texture being resolved into
-    GLuint m_raster_ms_fbo = 0;  // multisampled land-cover raster, m_raster_ms_size^2
+    GLuint m_raster_ms_fbo = 0;  // multisampled land-cover raster, m_raster_ms_size
     GLuint m_raster_ms_rb = 0;
-    int m_raster_ms_size = 0;
+    ScratchSize m_raster_ms_size;
     GLuint m_empty_vao = 0;
     GLuint m_marker_vao = 0;
     GLuint m_marker_vbo = 0;

@@ -400,7 +400,7 @@ void OcclusionEffects::aura(const RenderTarget& target, std::span<const LabelOcc
 }
 
 void OcclusionEffects::glow(const RenderTarget& target, const MapLayers& layers, const MapStyle& style,
-                            const glm::mat4& projection, const DrawWith& draw_roads) {
+                            const DrawWith& draw_roads) {
     Buffers& b = buffersFor(target);
     b.makeTerrainDepth();
     const bool direct = !layers.glow_blur;
@@ -444,7 +444,6 @@ void OcclusionEffects::glow(const RenderTarget& target, const MapLayers& layers,
     glActiveTexture(GL_TEXTURE2);
     glBindTexture(GL_TEXTURE_2D, target.maskTexture());
     glUniform1i(m_glow_roads.uniform("u_road_mask"), 2);
-    glUniformMatrix4fv(m_glow_roads.uniform("u_projection"), 1, GL_FALSE, glm::value_ptr(projection));
     glActiveTexture(GL_TEXTURE1);
     glBindTexture(GL_TEXTURE_2D, b.terrain_depth);
     glUniform1i(m_glow_roads.uniform("u_terrain_depth"), 1);

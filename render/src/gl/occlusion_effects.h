@@ -26,8 +26,8 @@ namespace navmap::render::gl {
 /// size and sample count of the targets it is used with (one set per target size).
 class OcclusionEffects {
 public:
-    /// Draws roads or buildings with `program` (bound, projection set); the callee sets its
-    /// per-layer uniforms and issues the draws.
+    /// Draws roads or buildings with `program` (bound); the callee sets its uniforms (the
+    /// projection too) and issues the draws.
     using DrawWith = std::function<void(ShaderProgram& program)>;
 
     /// Compiles the glow and aura shaders; throws RenderError.
@@ -55,7 +55,7 @@ public:
     /// buffer that is blurred and composited; nothing glows where a road is visible. Leaves
     /// `target` bound for drawing. `draw_roads` draws the road and route fill with the road
     /// uniforms of the fill pass.
-    void glow(const RenderTarget& target, const MapLayers& layers, const MapStyle& style, const glm::mat4& projection,
+    void glow(const RenderTarget& target, const MapLayers& layers, const MapStyle& style,
               const DrawWith& draw_roads);
 
 private:

@@ -14,6 +14,21 @@ void checkFramebufferComplete(const char* what);
 /// A renderbuffer of `format`, multisampled when samples > 0.
 GLuint makeRenderbuffer(GLenum format, int samples, int w, int h);
 
+/// The size of a scratch buffer that users of different sizes take turns with (the renderer's
+/// targets render one after another): it grows to the largest width and height asked for and
+/// never shrinks. A larger attachment is fine in ES 3.0 (a framebuffer's area is the
+/// intersection of its attachments).
+struct ScratchSize {
+    int width = 0, height = 0;
+    /// False when w x h fits; else grows to cover it and returns true (make the buffer anew).
+    bool grow(int w, int h) {
+        if (w <= width && h <= height) return false;
+        width = w > width ? w : width;
+        height = h > height ? h : height;
+        return true;
+    }
+};
+
 class RenderTarget {
 public:
     /// The sample count a target asked for `samples` gets (0: no MSAA; clamped to GL_MAX_SAMPLES).

@@ -318,22 +318,20 @@ bool SvRoads::setupTarget(const RenderTarget& target) {
     glDeleteFramebuffers(2, fbos);
     m_fbo = m_resolve_fbo = 0;
 
-    // One terrain depth buffer for every target (the renderer's targets render one after another;
-    // the buffer is scratch within a frame): kept while it covers the target, else grown to the
-    // largest size seen. A larger attachment is fine in ES 3.0 (the framebuffer's area is the
-    // intersection of its attachments), and roads_sv.frag reads it with texelFetch at the pixel.
-    // Only the framebuffer is re-made when the displays take turns, not the buffer.
-    if (!m_depth_texture || key.samples != m_depth_samples || key.width > m_depth_width || key.height > m_depth_height) {
+    // One terrain depth buffer for every target (scratch within a frame, ScratchSize): kept while
+    // it covers the target; roads_sv.frag reads it with texelFetch at the pixel. Only the
+    // framebuffer is re-made when the displays take turns, not the buffer.
+    if (key.samples != m_depth_samples) {
+        m_depth_size = {};
+        m_depth_samples = key.samples;
+    }
+    if (m_depth_size.grow(key.width, key.height)) {
         glDeleteRenderbuffers(1, &m_depth_rb);
         glDeleteTextures(1, &m_depth_texture);
         m_depth_rb = m_depth_texture = 0;
-        if (key.samples != m_depth_samples) m_depth_width = m_depth_height = 0;
-        m_depth_width = std::max(m_depth_width, key.width);
-        m_depth_height = std::max(m_depth_height, key.height);
-        m_depth_samples = key.samples;
         glGenTextures(1, &m_depth_texture);
         glBindTexture(GL_TEXTURE_2D, m_depth_texture);
-        glTexStorage2D(GL_TEXTURE_2D, 1, GL_R32F, m_depth_width, m_depth_height);
+        glTexStorage2D(GL_TEXTURE_2D, 1, GL_R32F, m_depth_size.width, m_depth_size.height);
         glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);  // float: not filterable; texelFetch anyway
         glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
         glBindTexture(GL_TEXTURE_2D, 0);
@@ -341,7 +339,7 @@ bool SvRoads::setupTarget(const RenderTarget& target) {
             // Multisampled target: draw the depth multisampled, resolve into the texture afterwards.
             glGenRenderbuffers(1, &m_depth_rb);
             glBindRenderbuffer(GL_RENDERBUFFER, m_depth_rb);
-            glRenderbufferStorageMultisample(GL_RENDERBUFFER, key.samples, GL_R32F, m_depth_width, m_depth_height);
+            glRenderbufferStorageMultisample(GL_RENDERBUFFER, key.samples, GL_R32F, m_depth_size.width, m_depth_size.height);
             glBindRenderbuffer(GL_RENDERBUFFER, 0);
         }
     }

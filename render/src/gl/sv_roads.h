@@ -111,7 +111,8 @@ private:
         bool operator==(const Key&) const = default;
     } m_key;
     bool m_usable = false;  // the depth target for m_key is complete
-    int m_depth_width = 0, m_depth_height = 0, m_depth_samples = 0;  // m_depth_texture / m_depth_rb size
+    ScratchSize m_depth_size;  // m_depth_texture / m_depth_rb
+    int m_depth_samples = 0;
 };
 
 }  // namespace navmap::render::gl
