@@ -14,6 +14,7 @@ uniform float u_casing[11];     // extra casing width per side, metres (0: none)
 uniform int u_pass;             // 0 casing, 1 fill, 2 footprint + u_margin (outline stencil)
 uniform int u_route;            // 1: route mode
 uniform float u_route_width;
+uniform float u_route_casing_m; // route casing per side, metres
 uniform vec3 u_scale;           // threshold m, max scale, z-offset alpha
 uniform float u_margin;         // pass 2: extra width per side, metres per metre of distance
 uniform float u_reach_px;       // pass 2: extra size per side on screen, pixels
@@ -58,7 +59,7 @@ void main() {
         gl_Position = vec4(2.0, 2.0, 2.0, 1.0);  // no casing for this class: clipped away
         return;
     }
-    if (u_pass != 1) width += 2.0 * (u_route == 1 ? 0.25 * u_route_width : u_casing[cls]);
+    if (u_pass != 1) width += 2.0 * (u_route == 1 ? u_route_casing_m : u_casing[cls]);
     // seed 3.6.3: distance-based width scaling beyond a threshold.
     vec3 mid = 0.5 * (a_p0 + a_p1);
     float dist = length((u_view * vec4(mid, 1.0)).xyz);

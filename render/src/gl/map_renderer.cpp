@@ -27,6 +27,8 @@ constexpr int kLandCoverSamples = 4;
 // How far (pixels) the outline filter reaches from a road pixel: the 3x3 filter's 1 px, and the
 // diagonal and rasterization with some room.
 constexpr double kOutlineReachPx = 2.0;
+// The route's casing per side, as a fraction of its width (roads_geo.vert's u_route_casing_m).
+constexpr float kRouteCasingFraction = 0.25f;
 
 using Clock = std::chrono::steady_clock;
 
@@ -187,6 +189,8 @@ struct MapRenderer::GpuTile {
     std::vector<BlockExtent> building_blocks;  // their extents, for culling
     std::vector<glm::vec3> label_points;  // labelPoints(): anchors and segments on the terrain
     std::uint64_t last_used = 0;
+    // This frame's camera relative to the tile's origin (render()), for every pass and cull test.
+    glm::mat4 view{1.0f}, view_projection{1.0f};
     // Geomorphing (terrain_lod.h): the ancestors the morph targets came from, this frame's ranges.
     std::array<const map::Tile*, kMorphLevels> morph_ancestors{};
     TileMorph morph;
@@ -429,7 +433,7 @@ GLuint MapRenderer::rasterizeLandCover(std::span<const LandCoverVertex> triangle
     return texture;
 }
 
-void MapRenderer::updateRoute(GpuTile& g, const MapFrame& frame, const glm::mat4& projection) {
+void MapRenderer::updateRoute(GpuTile& g, const MapFrame& frame) {
     // Draped per tile against the grid it is drawn with (seed 3.6.1), so the route lies on the
     // terrain at every level of detail; redone when the route or the tile's upload changes.
     const RouteGeometry& route = *frame.route;
@@ -470,12 +474,12 @@ void MapRenderer::updateRoute(GpuTile& g, const MapFrame& frame, const glm::mat4
             glBindVertexArray(0);
         }
     }
-    // Not in view: neither morphed nor drawn this frame (half the width roads_geo.vert gives the
-    // route's casing, around its extent).
+    // Not in view: neither morphed nor drawn this frame (its half width plus its casing around
+    // its extent, as roads_geo.vert draws it).
     const glm::vec3 eye(frame.camera.eye - g.origin);
     g.route_in_view = !g.route_pieces.empty() &&
-                      (!frame.layers.cull_blocks || quadsInView(projection * frame.camera.viewRelativeTo(g.origin), eye,
-                                                                g.route_extent, 0.75f * m_style.route_width_m, m_style.roads));
+                      (!frame.layers.cull_blocks || quadsInView(g.view_projection, eye, g.route_extent,
+                                                                (0.5f + kRouteCasingFraction) * m_style.route_width_m, m_style.roads));
     if (!g.route_in_view) return;
     if (!g.route_stale && g.morph.end_m[0] <= 0.0f && !g.route_morphed) return;  // unmorphed: the buffer is current
     g.route_stale = false;
@@ -493,7 +497,7 @@ void MapRenderer::updateRoute(GpuTile& g, const MapFrame& frame, const glm::mat4
     g.route_count = static_cast<GLsizei>(g.route_instances.size());
 }
 
-void MapRenderer::cullRoads(const MapFrame& frame, const glm::mat4& projection, const std::vector<GpuTile*>& tiles) {
+void MapRenderer::cullRoads(const MapFrame& frame, const std::vector<GpuTile*>& tiles) {
     // A quad reaches at most half the widest footprint (casing included) beyond its end points.
     const RoadStyle& rs = m_style.roads;
     float half_width = 0.0f;
@@ -504,11 +508,10 @@ void MapRenderer::cullRoads(const MapFrame& frame, const glm::mat4& projection, 
         g->visible_first = g->visible_casing_first = static_cast<GLsizei>(m_road_indices.size() / 6);
         g->visible_count = 0;
         if (!g->road_count) continue;
-        const glm::mat4 view_projection = projection * frame.camera.viewRelativeTo(g->origin);
         const glm::vec3 eye(frame.camera.eye - g->origin);
         visible.assign(g->road_blocks.size(), false);
         for (std::size_t b = 0; b < g->road_blocks.size(); ++b) {
-            visible[b] = !frame.layers.cull_blocks || quadsInView(view_projection, eye, g->road_blocks[b], half_width, rs);
+            visible[b] = !frame.layers.cull_blocks || quadsInView(g->view_projection, eye, g->road_blocks[b], half_width, rs);
         }
         // The casing pass starts at the first class that has a casing (bridges always have one).
         GLsizei casing_from = g->bridge_first;
@@ -536,7 +539,7 @@ void MapRenderer::cullRoads(const MapFrame& frame, const glm::mat4& projection, 
                  m_road_indices.data(), GL_STREAM_DRAW);
 }
 
-std::size_t MapRenderer::drawRoads(ShaderProgram& program, int pass, const MapFrame& frame, const glm::mat4& projection,
+std::size_t MapRenderer::drawRoads(ShaderProgram& program, int pass, const glm::mat4& projection,
                                    const std::vector<GpuTile*>& tiles) {
     setRoadUniforms(program, pass, false, projection);
     std::size_t drawn = 0;
@@ -544,8 +547,7 @@ std::size_t MapRenderer::drawRoads(ShaderProgram& program, int pass, const MapFr
         const GLsizei first = pass == 0 ? g->visible_casing_first : g->visible_first;
         const GLsizei count = g->visible_first + g->visible_count - first;
         if (count <= 0) continue;
-        const glm::mat4 view = frame.camera.viewRelativeTo(g->origin);
-        glUniformMatrix4fv(program.uniform("u_view"), 1, GL_FALSE, glm::value_ptr(view));
+        glUniformMatrix4fv(program.uniform("u_view"), 1, GL_FALSE, glm::value_ptr(g->view));
         glBindVertexArray(g->roads_vao);
         glDrawElements(GL_TRIANGLES, 6 * count, GL_UNSIGNED_INT,
                        reinterpret_cast<const void*>(static_cast<std::size_t>(first) * 6 * sizeof(std::uint32_t)));
@@ -560,8 +562,7 @@ void MapRenderer::drawRoute(ShaderProgram& program, int pass, const MapFrame& fr
     glUniform1f(program.uniform("u_route_progress"), static_cast<float>(frame.route_progress_m));
     for (const GpuTile* g : tiles) {
         if (!g->route_count || !g->route_in_view) continue;
-        const glm::mat4 view = frame.camera.viewRelativeTo(g->origin);
-        glUniformMatrix4fv(program.uniform("u_view"), 1, GL_FALSE, glm::value_ptr(view));
+        glUniformMatrix4fv(program.uniform("u_view"), 1, GL_FALSE, glm::value_ptr(g->view));
         glBindVertexArray(g->route_vao);
         m_quad_indices.draw(0, g->route_count);
     }
@@ -585,6 +586,7 @@ void MapRenderer::setRoadUniforms(ShaderProgram& p, int pass, bool route, const 
     glUniform1i(p.uniform("u_pass"), pass);
     glUniform1i(p.uniform("u_route"), route ? 1 : 0);
     glUniform1f(p.uniform("u_route_width"), m_style.route_width_m);
+    glUniform1f(p.uniform("u_route_casing_m"), kRouteCasingFraction * m_style.route_width_m);
     glUniform3fv(p.uniform("u_route_color"), 1, glm::value_ptr(m_style.route_color));
     glUniform3fv(p.uniform("u_route_casing"), 1, glm::value_ptr(m_style.route_casing));
     // The route sits above the roads: a slightly larger view-space offset (seed 3.6.2).
@@ -638,13 +640,11 @@ void MapRenderer::drawTerrain(const MapFrame& frame, const glm::mat4& projection
             if (g->ancestor_cover[0]) cover[1] = g->ancestor_cover[0];
             cover[2] = !g->morph_ancestors[1] ? cover[1] : (g->ancestor_cover[1] ? g->ancestor_cover[1] : m_empty_texture);
         }
-        const glm::mat4 view = frame.camera.viewRelativeTo(g->origin);
         glBindVertexArray(g->terrain_vao);
         std::array<bool, 3> has_tile_uniforms{};  // per program: plain, 2 levels, 3 levels
         // Blocks outside the view are skipped; consecutive ones that need the same land-cover
         // levels are one draw.
-        const glm::mat4 view_projection = projection * view;
-        auto visible = [&](const TerrainBlock& k) { return boxInView(view_projection, k); };
+        auto visible = [&](const TerrainBlock& k) { return boxInView(g->view_projection, k); };
         auto levelsOf = [&](const TerrainBlock& k) {
             return morph_cover ? coverLevels(g->morph, eye, k.min, k.max) : CoverLevels{};
         };
@@ -679,7 +679,7 @@ void MapRenderer::drawTerrain(const MapFrame& frame, const glm::mat4& projection
             }
             if (!has_tile_uniforms[static_cast<std::size_t>(n - 1)]) {
                 has_tile_uniforms[static_cast<std::size_t>(n - 1)] = true;
-                glUniformMatrix4fv(p.uniform("u_view"), 1, GL_FALSE, glm::value_ptr(view));
+                glUniformMatrix4fv(p.uniform("u_view"), 1, GL_FALSE, glm::value_ptr(g->view));
                 glUniform1f(p.uniform("u_tile_size"), g->size_m);
                 glUniform4fv(p.uniform("u_morph_start"), 1, g->morph.start_m.data());
                 glUniform4fv(p.uniform("u_morph_end"), 1, g->morph.end_m.data());
@@ -712,7 +712,7 @@ void MapRenderer::markOutlineArea(const MapFrame& frame, const glm::mat4& projec
     glUniform1f(m_roads_mark.uniform("u_reach_px"), static_cast<float>(kOutlineReachPx));
     glUniform2f(m_roads_mark.uniform("u_viewport_half"), 0.5f * static_cast<float>(target.width()),
                 0.5f * static_cast<float>(target.height()));
-    if (frame.layers.roads) drawRoads(m_roads_mark, 2, frame, projection, tiles);
+    if (frame.layers.roads) drawRoads(m_roads_mark, 2, projection, tiles);
     if (frame.layers.route && frame.route) drawRoute(m_roads_mark, 2, frame, projection, tiles);
     glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     glEnable(GL_DEPTH_TEST);
@@ -727,21 +727,18 @@ std::size_t MapRenderer::drawBuildings(ShaderProgram& p, const MapFrame& frame, 
     glUniform1f(p.uniform("u_brightness"), m_style.brightness);
     glUniform1f(p.uniform("u_cull_ratio"), m_style.building_cull_ratio);
     std::size_t drawn = 0;
-    for (const GpuTile* g : tiles) drawn += drawBuildingsOf(p, frame, projection, *g);
+    for (const GpuTile* g : tiles) drawn += drawBuildingsOf(p, frame, *g);
     return drawn;
 }
 
-std::size_t MapRenderer::drawBuildingsOf(ShaderProgram& program, const MapFrame& frame, const glm::mat4& projection,
-                                         const GpuTile& g) {
+std::size_t MapRenderer::drawBuildingsOf(ShaderProgram& program, const MapFrame& frame, const GpuTile& g) {
     if (!g.building_index_count) return 0;
-    const glm::mat4 view = frame.camera.viewRelativeTo(g.origin);
-    const glm::mat4 view_projection = projection * view;
-    glUniformMatrix4fv(program.uniform("u_view"), 1, GL_FALSE, glm::value_ptr(view));
+    glUniformMatrix4fv(program.uniform("u_view"), 1, GL_FALSE, glm::value_ptr(g.view));
     glBindVertexArray(g.buildings_vao);
     // The blocks in view, consecutive ones in one draw.
     auto visible = [&](const BlockRun& run) {
         const BlockExtent& e = g.building_blocks[run.block];
-        return !frame.layers.cull_blocks || boxInView(view_projection, e.min, e.max);
+        return !frame.layers.cull_blocks || boxInView(g.view_projection, e.min, e.max);
     };
     std::size_t drawn = 0;
     for (std::size_t r = 0; r < g.building_runs.size();) {
@@ -822,14 +819,18 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target) {
     }
     const double aspect = static_cast<double>(target.width()) / target.height();
     const glm::mat4 projection = frame.camera.projection(aspect);
+    for (GpuTile* g : tiles) {
+        g->view = frame.camera.viewRelativeTo(g->origin);
+        g->view_projection = projection * g->view;
+    }
     if (frame.route && frame.layers.route) {
-        for (GpuTile* g : tiles) updateRoute(*g, frame, projection);
+        for (GpuTile* g : tiles) updateRoute(*g, frame);
     }
     lap(m_stats.uploads_ms, t);
 
     const glm::vec3 light = glm::normalize(m_style.light_dir);
     SvRoads* sv = SvRoads::forFrame(m_sv_roads, frame, target);  // shadow-volume roads (seed 3.5), else null
-    if (frame.layers.roads) cullRoads(frame, projection, tiles);
+    if (frame.layers.roads) cullRoads(frame, tiles);
     target.clear(m_style.sky_color.r, m_style.sky_color.g, m_style.sky_color.b);
     target.bindForDrawing(false);
     glDisable(GL_BLEND);
@@ -882,8 +883,8 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target) {
     }
     if (frame.layers.roads && !sv) {
         glUseProgram(m_roads.id());
-        drawRoads(m_roads, 0, frame, projection, tiles);
-        m_stats.road_segments += drawRoads(m_roads, 1, frame, projection, tiles);
+        drawRoads(m_roads, 0, projection, tiles);
+        m_stats.road_segments += drawRoads(m_roads, 1, projection, tiles);
         lap(m_stats.roads_ms, t);
     }
     if (frame.layers.route && frame.route) {
@@ -969,7 +970,7 @@ void MapRenderer::runOcclusionEffects(const MapFrame& frame, const RenderTarget&
         auto buildings = [&](ShaderProgram& p) { drawBuildings(p, frame, projection, tiles); };
         auto roads = [&] {
             glUseProgram(m_roads.id());
-            for (int pass = 0; pass < 2 && frame.layers.roads; ++pass) drawRoads(m_roads, pass, frame, projection, tiles);
+            for (int pass = 0; pass < 2 && frame.layers.roads; ++pass) drawRoads(m_roads, pass, projection, tiles);
             for (int pass = 0; pass < 2 && frame.layers.route && frame.route; ++pass) drawRoute(m_roads, pass, frame, projection, tiles);
         };
         std::span<const LabelOccluder> labels;
@@ -980,7 +981,7 @@ void MapRenderer::runOcclusionEffects(const MapFrame& frame, const RenderTarget&
     if (glow) {
         // seed 5.5.2: the fill of the roads and the route again, for the hidden parts.
         auto roads = [&](ShaderProgram& p) {
-            if (frame.layers.roads) drawRoads(p, 1, frame, projection, tiles);
+            if (frame.layers.roads) drawRoads(p, 1, projection, tiles);
             if (frame.layers.route && frame.route) drawRoute(p, 1, frame, projection, tiles);
         };
         m_effects->glow(target, frame.layers, m_style, roads);

@@ -64,10 +64,10 @@ private:
     GLuint rasterizeLandCover(std::span<const LandCoverVertex> triangles, int size, glm::vec2 offset, float extent);
     /// Drapes the frame's route onto one tile (cached per route object and version) and, where
     /// the tile's part of it is in view, applies the tile's geomorph of this frame.
-    void updateRoute(GpuTile& tile, const MapFrame& frame, const glm::mat4& projection);
+    void updateRoute(GpuTile& tile, const MapFrame& frame);
     /// With `program` (a roads_geo.vert program) bound: sets its uniforms for `pass` (0 casing, 1
     /// fill, 2 outline footprint) and draws the road pieces of `tiles`; returns how many.
-    std::size_t drawRoads(ShaderProgram& program, int pass, const MapFrame& frame, const glm::mat4& projection,
+    std::size_t drawRoads(ShaderProgram& program, int pass, const glm::mat4& projection,
                           const std::vector<GpuTile*>& tiles);
     /// The same for the route pieces (the part behind route_progress_m dimmed).
     void drawRoute(ShaderProgram& program, int pass, const MapFrame& frame, const glm::mat4& projection,
@@ -80,15 +80,14 @@ private:
                               const std::vector<GpuTile*>& tiles);
     /// With a buildings program bound: the buildings of the tile's blocks in view; returns the
     /// triangles drawn.
-    std::size_t drawBuildingsOf(ShaderProgram& program, const MapFrame& frame, const glm::mat4& projection,
-                                const GpuTile& tile);
+    std::size_t drawBuildingsOf(ShaderProgram& program, const MapFrame& frame, const GpuTile& tile);
     /// The terrain of `tiles` in blocks: frustum-culled, each with the land-cover levels it reaches.
     void drawTerrain(const MapFrame& frame, const glm::mat4& projection, const glm::vec3& light,
                      const std::vector<GpuTile*>& tiles);
+    /// The road pieces of the blocks in view, per tile, into m_road_indices (drawRoads).
+    void cullRoads(const MapFrame& frame, const std::vector<GpuTile*>& tiles);
     /// Stencil 1 where the outline filter can find road pixels: road and route footprints widened
     /// by the filter's reach (seed 3.6.3); leaves the stencil test on.
-    /// The road pieces of the blocks in view, per tile, into m_road_indices (drawRoads).
-    void cullRoads(const MapFrame& frame, const glm::mat4& projection, const std::vector<GpuTile*>& tiles);
     void markOutlineArea(const MapFrame& frame, const glm::mat4& projection, const RenderTarget& target,
                          const std::vector<GpuTile*>& tiles);
     /// Label aura and glowing roads (seed 5.5), between the label layout and the label text.
