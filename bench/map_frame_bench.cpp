@@ -135,6 +135,8 @@ void mapPasses(benchmark::State& state) {
         sum.tiles_drawn += s.tiles_drawn;
         sum.road_segments += s.road_segments;
         sum.terrain_triangles += s.terrain_triangles;
+        sum.outline_pixels += s.outline_pixels;
+        sum.outline_cells_ms += s.outline_cells_ms;
         ++n;
     }
     const double k = n ? 1.0 / n : 0.0;
@@ -143,6 +145,8 @@ void mapPasses(benchmark::State& state) {
     state.counters["roads_ms"] = sum.roads_ms * k;
     state.counters["route_ms"] = sum.route_ms * k;
     state.counters["outlines_ms"] = sum.outlines_ms * k;
+    state.counters["outline_cells_ms"] = sum.outline_cells_ms * k;  // CPU, included in outlines_ms
+    state.counters["outline_pixels"] = double(sum.outline_pixels) * k;
     state.counters["marker_ms"] = sum.marker_ms * k;
     state.counters["tiles"] = double(sum.tiles_drawn) * k;
     state.counters["road_segments"] = double(sum.road_segments) * k;

@@ -11,46 +11,16 @@ uniform mat4 u_view;
 uniform mat4 u_projection;
 uniform float u_width[11];      // fill width per road class, metres
 uniform float u_casing[11];     // extra casing width per side, metres (0: none)
-uniform int u_pass;             // 0 casing, 1 fill, 2 footprint + u_margin (outline stencil)
+uniform int u_pass;             // 0 casing, 1 fill
 uniform int u_route;            // 1: route mode
 uniform float u_route_width;
 uniform float u_route_casing_m; // route casing per side, metres
 uniform vec3 u_scale;           // threshold m, max scale, z-offset alpha
-uniform float u_margin;         // pass 2: extra width per side, metres per metre of distance
-uniform float u_reach_px;       // pass 2: extra size per side on screen, pixels
-uniform vec2 u_viewport_half;   // pass 2: half the viewport, pixels
 
 out vec2 v_local;               // quad-local coordinates in [-1, 1]^2 (x along, y across)
 out float v_h;                  // seed 3.4 cap ratio h = w / (d + w)
 out float v_measure;
 flat out int v_class;
-
-// Pass 2: where the whole footprint lies in front of the camera, this corner becomes the corner
-// (sx, sy) of the screen-space rectangle along the projected segment that holds the projected
-// footprint, u_reach_px larger on every side. Returns false (corner left as it is) otherwise.
-bool footprintOnScreen(vec3 q0, vec3 q1, vec2 side, vec2 along, float sx, float sy) {
-    vec2 corners[4];
-    float ndc_z = 0.0;
-    for (int i = 0; i < 4; ++i) {
-        vec3 q = (i < 2 ? q0 : q1) + vec3((i == 0 || i == 2 ? side : -side) + (i < 2 ? -along : along), 0.0);
-        vec4 c = u_projection * (u_view * vec4(q, 1.0));
-        if (c.w <= 1e-4) return false;
-        corners[i] = c.xy / c.w * u_viewport_half;
-        ndc_z = clamp(c.z / c.w, -1.0, 1.0);
-    }
-    vec2 s0 = 0.5 * (corners[0] + corners[1]), s1 = 0.5 * (corners[2] + corners[3]);
-    vec2 t = length(s1 - s0) > 1e-3 ? normalize(s1 - s0) : vec2(1.0, 0.0);
-    vec2 n = vec2(-t.y, t.x);
-    vec2 lo = vec2(1e30), hi = vec2(-1e30);
-    for (int i = 0; i < 4; ++i) {
-        vec2 r = vec2(dot(corners[i] - s0, t), dot(corners[i] - s0, n));
-        lo = min(lo, r);
-        hi = max(hi, r);
-    }
-    vec2 r = vec2(sx > 0.0 ? hi.x : lo.x, sy > 0.0 ? hi.y : lo.y) + u_reach_px * vec2(sx, sy);
-    gl_Position = vec4((s0 + r.x * t + r.y * n) / u_viewport_half, ndc_z, 1.0);
-    return true;
-}
 
 void main() {
     int cls = int(a_class + 0.5);
@@ -59,7 +29,7 @@ void main() {
         gl_Position = vec4(2.0, 2.0, 2.0, 1.0);  // no casing for this class: clipped away
         return;
     }
-    if (u_pass != 1) width += 2.0 * (u_route == 1 ? u_route_casing_m : u_casing[cls]);
+    if (u_pass == 0) width += 2.0 * (u_route == 1 ? u_route_casing_m : u_casing[cls]);
     // seed 3.6.3: distance-based width scaling beyond a threshold.
     vec3 mid = 0.5 * (a_p0 + a_p1);
     float dist = length((u_view * vec4(mid, 1.0)).xyz);
@@ -76,13 +46,6 @@ void main() {
     vec3 base = sx < 0.0 ? a_p0 : a_p1;
     // Q_i = P +- n' +- t' with n' = 0.5 w n, t' = 0.5 w t (seed 3.4).
     vec3 pos = base + vec3(0.5 * width * (sy * n + sx * t), 0.0);
-    if (u_pass == 2) {
-        vec2 side = 0.5 * width * n, along = 0.5 * width * t;
-        if (footprintOnScreen(a_p0, a_p1, side, along, sx, sy)) return;
-        // Reaching behind the camera: a margin on the ground as wide as the reach is on screen
-        // where the view meets the ground square on (a pixel at distance d covers u_margin * d).
-        pos.xy += u_margin * length((u_view * vec4(base, 1.0)).xyz) * (sy * n + sx * t);
-    }
     v_local = vec2(sx, sy);
     v_h = width / (len + width);
     v_measure = sx < 0.0 ? a_measure.x : a_measure.y;

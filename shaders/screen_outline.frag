@@ -17,7 +17,6 @@ void main() {
             m = max(m, texelFetch(u_road_mask, clamp(p + ivec2(dx, dy), ivec2(0), hi), 0).r);
         }
     }
-    // No discard (edge 0 blends to no change): llvmpipe then tests the stencil before running
-    // this shader and skips blocks away from roads.
+    // No discard: an edge of 0 blends to no change.
     o_color = vec4(u_outline_color, clamp(m - here, 0.0, 1.0) * u_strength);
 }

@@ -99,9 +99,9 @@ TEST(AndorraMap, RoadsChangeTheImageOnlyWhereRoadsAre) {
     EXPECT_LT(fraction, 0.5) << "roads cover only part of the view";
 }
 
-// The outline filter runs only near the road and route footprints (marked in the stencil,
-// widened for grazing views): the image equals the full-screen filter's, in both views and at
-// the display profiles' sizes.
+// The outline filter runs only on the screen cells near the road and route quads (OutlineCells,
+// marked on the CPU): the image equals the full-screen filter's, in both views and at the display
+// profiles' sizes, while the filter runs on a fraction of the screen.
 TEST(AndorraMap, OutlinesNearRoadsEqualTheFullScreenFilter) {
     for (ViewMode mode : {ViewMode::Bird, ViewMode::Snail}) {
         for (const auto& [w, h] : {std::pair{kW, kH}, std::pair{1280, 480}, std::pair{800, 240}}) {
@@ -110,9 +110,15 @@ TEST(AndorraMap, OutlinesNearRoadsEqualTheFullScreenFilter) {
             frame.layers = layersFor(3);
             renderer->renderMap(frame);
             const Image near_roads = renderer->readSync();
+            const std::size_t filtered = renderer->mapStats().outline_pixels;
+            std::printf("[ measure  ] %s %dx%d: outline filter on %.1f %% of the screen\n",
+                        mode == ViewMode::Bird ? "bird" : "snail", w, h, 100.0 * double(filtered) / (w * h));
+            EXPECT_GT(filtered, 0u);
+            EXPECT_LT(filtered, std::size_t(w * h * 3 / 4)) << "the filter runs near roads only";
             frame.layers.outlines_near_roads = false;
             renderer->renderMap(frame);
             const Image full = renderer->readSync();
+            EXPECT_EQ(renderer->mapStats().outline_pixels, std::size_t(w * h)) << "the whole screen";
             frame.layers.outlines = false;
             renderer->renderMap(frame);
             const Image none = renderer->readSync();

@@ -24,9 +24,13 @@ namespace {
 // channel hold; half the memory of RGBA8 (about 0.17 MiB per tile with mipmaps).
 int landCoverTextureSize(float) { return 256; }
 constexpr int kLandCoverSamples = 4;
-// How far (pixels) the outline filter reaches from a road pixel: the 3x3 filter's 1 px, and the
-// diagonal and rasterization with some room.
-constexpr double kOutlineReachPx = 2.0;
+// How far (pixels) the outline filter reaches from a road pixel: the 3x3 filter's 1 px, half a
+// pixel to the centre of the pixel that reads the road, and room for the GPU's rounding.
+constexpr float kOutlineReachPx = 2.0f;
+// Side of the screen cells marked for the outline filter (OutlineCells), pixels: llvmpipe shades
+// blocks of 4 x 4 pixels in tiles of 64, so multiples of 4 waste no partial blocks; smaller cells
+// follow the roads closer but cost more CPU to mark.
+constexpr int kOutlineCellPx = 8;
 // The route's casing per side, as a fraction of its width (roads_geo.vert's u_route_casing_m).
 constexpr float kRouteCasingFraction = 0.25f;
 
@@ -180,6 +184,7 @@ struct MapRenderer::GpuTile {
     GLsizei bridge_first = 0;
     std::vector<BlockRun> road_runs;      // TileMesh::road_runs: pieces per group and block
     std::vector<BlockExtent> road_blocks;  // their extents, for culling
+    std::vector<RoadInstance> road_pieces;  // as uploaded, quad q from piece q (markOutlineCells)
     // This frame's pieces in view (cullRoads): quads [first, first + count) of m_road_indices,
     // the casing pass from casing_first.
     GLsizei visible_first = 0, visible_count = 0, visible_casing_first = 0;
@@ -229,8 +234,8 @@ MapRenderer::MapRenderer(const RendererOptions& options)
                       ShaderProgram::fromEmbedded("terrain_tile.vert", "terrain_tile.frag", "#define NAVMAP_COVER_LEVELS 3\n")},
       m_land_cover(ShaderProgram::fromEmbedded("landcover_raster.vert", "landcover_raster.frag")),
       m_roads(ShaderProgram::fromEmbedded("roads_geo.vert", "roads_geo.frag")),
-      m_roads_mark(ShaderProgram::fromEmbedded("roads_geo.vert", "roads_mark.frag")),
       m_outline(ShaderProgram::fromEmbedded("screen_outline.vert", "screen_outline.frag")),
+      m_outline_cells(ShaderProgram::fromEmbedded("screen_cells.vert", "screen_outline.frag")),
       m_buildings(ShaderProgram::fromEmbedded("buildings.vert", "buildings.frag")),
       m_marker(ShaderProgram::fromEmbedded("marker.vert", "marker.frag")) {
     const std::uint8_t transparent[4] = {0, 0, 0, 0};
@@ -243,6 +248,13 @@ MapRenderer::MapRenderer(const RendererOptions& options)
     glGenFramebuffers(1, &m_raster_fbo);
     glGenVertexArrays(1, &m_empty_vao);
     glGenBuffers(1, &m_road_index_buffer);
+    glGenVertexArrays(1, &m_cell_vao);
+    glGenBuffers(1, &m_cell_vbo);
+    glBindVertexArray(m_cell_vao);
+    glBindBuffer(GL_ARRAY_BUFFER, m_cell_vbo);
+    glEnableVertexAttribArray(0);
+    glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, 0, nullptr);
+    glBindVertexArray(0);
     // CCP arrow: tip at +y, notch at the back (marker units, about one unit across).
     const float arrow[] = {0.0f, 1.0f, -0.6f, -0.7f, 0.0f, -0.35f, 0.0f, 1.0f, 0.0f, -0.35f, 0.6f, -0.7f};
     glGenVertexArrays(1, &m_marker_vao);
@@ -265,6 +277,8 @@ MapRenderer::~MapRenderer() {
     glDeleteVertexArrays(1, &m_marker_vao);
     glDeleteBuffers(1, &m_marker_vbo);
     glDeleteBuffers(1, &m_road_index_buffer);
+    glDeleteVertexArrays(1, &m_cell_vao);
+    glDeleteBuffers(1, &m_cell_vbo);
 }
 
 MapRenderer::GpuTile* MapRenderer::upload(const std::shared_ptr<const map::Tile>& tile, const TileMorph* morph) {
@@ -318,6 +332,7 @@ MapRenderer::GpuTile* MapRenderer::upload(const std::shared_ptr<const map::Tile>
         setupRoadAttributes();
         glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, m_road_index_buffer);  // this frame's pieces in view (cullRoads)
         gpu->road_count = static_cast<GLsizei>(mesh.roads.size());
+        gpu->road_pieces = mesh.roads;
         gpu->road_runs = std::move(mesh.road_runs);
         gpu->road_blocks = std::move(mesh.road_blocks);
         gpu->class_first.fill(gpu->road_count);
@@ -697,25 +712,41 @@ void MapRenderer::drawTerrain(const MapFrame& frame, const glm::mat4& projection
     }
 }
 
-void MapRenderer::markOutlineArea(const MapFrame& frame, const glm::mat4& projection, const RenderTarget& target,
-                                  const std::vector<GpuTile*>& tiles) {
-    glDisable(GL_DEPTH_TEST);
-    glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
-    glEnable(GL_STENCIL_TEST);
-    glStencilMask(0xFF);
-    glStencilFunc(GL_ALWAYS, 1, 0xFF);
-    glStencilOp(GL_KEEP, GL_KEEP, GL_REPLACE);
-    glUseProgram(m_roads_mark.id());
-    // kOutlineReachPx per side, in metres per metre of distance.
-    const double px = 2.0 * std::tan(glm::radians(frame.camera.fov_y_deg) / 2.0) / target.height();
-    glUniform1f(m_roads_mark.uniform("u_margin"), static_cast<float>(kOutlineReachPx * px));
-    glUniform1f(m_roads_mark.uniform("u_reach_px"), static_cast<float>(kOutlineReachPx));
-    glUniform2f(m_roads_mark.uniform("u_viewport_half"), 0.5f * static_cast<float>(target.width()),
-                0.5f * static_cast<float>(target.height()));
-    if (frame.layers.roads) drawRoads(m_roads_mark, 2, projection, tiles);
-    if (frame.layers.route && frame.route) drawRoute(m_roads_mark, 2, frame, projection, tiles);
-    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-    glEnable(GL_DEPTH_TEST);
+void MapRenderer::markOutlineCells(const MapFrame& frame, const glm::mat4& projection, int width, int height,
+                                   const std::vector<GpuTile*>& tiles) {
+    const auto t0 = Clock::now();
+    m_cells.reset(width, height, kOutlineCellPx, kOutlineReachPx);
+    const RoadStyle& rs = m_style.roads;
+    QuadShape shape{0.0f, rs.scale_threshold_m, rs.max_scale, rs.z_offset_alpha};
+    // Roads: the pieces cullRoads kept, each with its widest pass (fill and casing).
+    for (const GpuTile* g : tiles) {
+        if (!frame.layers.roads) break;
+        m_cells.setView(g->view, projection);
+        for (GLsizei k = g->visible_first; k < g->visible_first + g->visible_count; ++k) {
+            const RoadInstance& r = g->road_pieces[m_road_indices[6 * static_cast<std::size_t>(k)] / 4];
+            const auto& c = rs.classes[static_cast<std::size_t>(std::clamp(static_cast<int>(r.road_class + 0.5f), 0, kStyledRoadClasses - 1))];
+            shape.width_m = c.width_m + 2.0f * std::max(c.casing_m, 0.0f);
+            m_cells.markQuad(r.p0, r.p1, shape);
+        }
+    }
+    // The route with its casing and its larger offset (setRoadUniforms), as drawn this frame.
+    if (frame.layers.route && frame.route) {
+        shape.width_m = (1.0f + 2.0f * kRouteCasingFraction) * m_style.route_width_m;
+        shape.z_offset_alpha = 1.5f * rs.z_offset_alpha;
+        for (const GpuTile* g : tiles) {
+            if (!g->route_count || !g->route_in_view) continue;
+            m_cells.setView(g->view, projection);
+            for (const RoadInstance& r : g->route_instances) m_cells.markQuad(r.p0, r.p1, shape);
+        }
+    }
+    m_cell_vertices.clear();
+    m_cell_pixels = 0;
+    for (const CellRect& r : m_cells.rects()) {
+        m_cell_pixels += static_cast<std::size_t>(r.x1 - r.x0) * static_cast<std::size_t>(r.y1 - r.y0);
+        const glm::vec2 lo(static_cast<float>(r.x0), static_cast<float>(r.y0)), hi(static_cast<float>(r.x1), static_cast<float>(r.y1));
+        m_cell_vertices.insert(m_cell_vertices.end(), {lo, {hi.x, lo.y}, {lo.x, hi.y}, {lo.x, hi.y}, {hi.x, lo.y}, hi});
+    }
+    m_cell_ms = msSince(t0);
 }
 
 std::size_t MapRenderer::drawBuildings(ShaderProgram& p, const MapFrame& frame, const glm::mat4& projection,
@@ -831,6 +862,13 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target) {
     const glm::vec3 light = glm::normalize(m_style.light_dir);
     SvRoads* sv = SvRoads::forFrame(m_sv_roads, frame, target);  // shadow-volume roads (seed 3.5), else null
     if (frame.layers.roads) cullRoads(frame, tiles);
+    // Where the screen-space outlines can be (seed 3.6.3), worked out on another thread while
+    // this one sets up the passes before them: llvmpipe rasterizes only after that, so a core is
+    // free meanwhile. It reads what the culling above wrote and nothing the passes change.
+    const bool outlines = frame.layers.outlines && (frame.layers.roads || frame.layers.route);
+    const bool outline_cells = outlines && frame.layers.outlines_near_roads && !sv;
+    if (outline_cells) m_side.start([&] { markOutlineCells(frame, projection, target.width(), target.height(), tiles); });
+    const SideTask::Scope side_scope(m_side);
     target.clear(m_style.sky_color.r, m_style.sky_color.g, m_style.sky_color.b);
     target.bindForDrawing(false);
     glDisable(GL_BLEND);
@@ -893,34 +931,37 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target) {
         lap(m_stats.route_ms, t);
     }
     glDepthMask(GL_TRUE);
-    // Where the outlines can be (seed 3.6.3): the road and route footprints widened by the
-    // filter's reach, marked in the stencil buffer. The outline pass then runs only there:
-    // llvmpipe skips its shader for blocks that fail the stencil test, and most of the frame is
-    // away from roads. (Shadow-volume roads have no footprint quads: a full-screen pass.)
-    const bool outlines = frame.layers.outlines && (frame.layers.roads || frame.layers.route);
-    const bool outline_stencil = outlines && frame.layers.outlines_near_roads && !sv;
-    if (outline_stencil) markOutlineArea(frame, projection, target, tiles);
-
-    // Screen-space dark outlines around roads and route (seed 3.6.3).
+    // Screen-space dark outlines around roads and route (seed 3.6.3). The filter runs only on
+    // the screen cells that the road and route quads, grown by its reach, touch: most of the
+    // frame is away from roads. (Shadow-volume roads have no quads: the whole screen.)
     if (outlines) {
+        ShaderProgram& p = outline_cells ? m_outline_cells : m_outline;
         target.resolveMask();
         glDisable(GL_DEPTH_TEST);
         glEnable(GL_BLEND);
         glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
-        glUseProgram(m_outline.id());
+        glUseProgram(p.id());
         glActiveTexture(GL_TEXTURE0);
         glBindTexture(GL_TEXTURE_2D, target.maskTexture());
-        glUniform1i(m_outline.uniform("u_road_mask"), 0);
-        glUniform3fv(m_outline.uniform("u_outline_color"), 1, glm::value_ptr(m_style.roads.outline));
-        glUniform1f(m_outline.uniform("u_strength"), m_style.roads.outline_strength);
-        glBindVertexArray(m_empty_vao);
-        if (outline_stencil) {
-            glEnable(GL_STENCIL_TEST);
-            glStencilFunc(GL_EQUAL, 1, 0xFF);
-            glStencilOp(GL_KEEP, GL_KEEP, GL_KEEP);
+        glUniform1i(p.uniform("u_road_mask"), 0);
+        glUniform3fv(p.uniform("u_outline_color"), 1, glm::value_ptr(m_style.roads.outline));
+        glUniform1f(p.uniform("u_strength"), m_style.roads.outline_strength);
+        if (outline_cells) {
+            m_side.wait();
+            m_stats.outline_pixels = m_cell_pixels;
+            m_stats.outline_cells_ms = m_cell_ms;
+            glUniform2f(p.uniform("u_viewport"), static_cast<float>(target.width()), static_cast<float>(target.height()));
+            glBindVertexArray(m_cell_vao);
+            glBindBuffer(GL_ARRAY_BUFFER, m_cell_vbo);
+            glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(m_cell_vertices.size() * sizeof(glm::vec2)),
+                         m_cell_vertices.data(), GL_STREAM_DRAW);
+            glBindBuffer(GL_ARRAY_BUFFER, 0);
+            if (!m_cell_vertices.empty()) glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(m_cell_vertices.size()));
+        } else {
+            m_stats.outline_pixels = static_cast<std::size_t>(target.width()) * static_cast<std::size_t>(target.height());
+            glBindVertexArray(m_empty_vao);
+            glDrawArrays(GL_TRIANGLES, 0, 3);
         }
-        glDrawArrays(GL_TRIANGLES, 0, 3);
-        glDisable(GL_STENCIL_TEST);
         glDisable(GL_BLEND);
         lap(m_stats.outlines_ms, t);
     }

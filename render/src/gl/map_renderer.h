@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "navmap/render/map_frame.h"
+#include "navmap/render/outline_cells.h"
 #include "navmap/render/renderer.h"
 #include "navmap/render/tile_mesh.h"
 #include "label_pass.h"
@@ -19,6 +20,7 @@
 #include "occlusion_effects.h"
 #include "render_target.h"
 #include "shader_program.h"
+#include "side_task.h"
 
 namespace navmap::render::gl {
 
@@ -86,10 +88,11 @@ private:
                      const std::vector<GpuTile*>& tiles);
     /// The road pieces of the blocks in view, per tile, into m_road_indices (drawRoads).
     void cullRoads(const MapFrame& frame, const std::vector<GpuTile*>& tiles);
-    /// Stencil 1 where the outline filter can find road pixels: road and route footprints widened
-    /// by the filter's reach (seed 3.6.3); leaves the stencil test on.
-    void markOutlineArea(const MapFrame& frame, const glm::mat4& projection, const RenderTarget& target,
-                         const std::vector<GpuTile*>& tiles);
+    /// The screen cells where the outline filter can find road pixels (seed 3.6.3): the quads of
+    /// the road pieces in view (after cullRoads) and of the route, grown by the filter's reach,
+    /// into m_cells and m_cell_vertices. No GL calls: it runs beside the render thread.
+    void markOutlineCells(const MapFrame& frame, const glm::mat4& projection, int width, int height,
+                          const std::vector<GpuTile*>& tiles);
     /// Label aura and glowing roads (seed 5.5), between the label layout and the label text.
     void runOcclusionEffects(const MapFrame& frame, const RenderTarget& target, const glm::mat4& projection,
                              const std::vector<GpuTile*>& tiles);
@@ -102,8 +105,8 @@ private:
     ShaderProgram m_terrain_cover[2];  // + land cover morphing over 2 or 3 levels (terrain_tile.frag)
     ShaderProgram m_land_cover;
     ShaderProgram m_roads;
-    ShaderProgram m_roads_mark;  // road footprints into the stencil: where outlines can be
-    ShaderProgram m_outline;
+    ShaderProgram m_outline;        // the filter over the whole screen
+    ShaderProgram m_outline_cells;  // the filter over the cells near roads (markOutlineCells)
     ShaderProgram m_buildings;
     ShaderProgram m_marker;
     GLuint m_empty_texture = 0;
@@ -121,6 +124,12 @@ private:
     // This frame's road quads in view (cullRoads), 6 indices each, bound to every road vertex array.
     std::vector<std::uint32_t> m_road_indices;
     GLuint m_road_index_buffer = 0;
+    OutlineCells m_cells;                   // where the outlines can be (markOutlineCells)
+    std::vector<glm::vec2> m_cell_vertices;  // its rectangles, two triangles each, pixels
+    std::size_t m_cell_pixels = 0;           // their area
+    double m_cell_ms = 0;                    // CPU time of markOutlineCells
+    SideTask m_side;                         // runs markOutlineCells beside the render thread
+    GLuint m_cell_vao = 0, m_cell_vbo = 0;
     std::unordered_map<std::uint64_t, std::unique_ptr<GpuTile>> m_tiles;
     // Land-cover triangles of the ancestors met by this frame's uploads (upload()).
     std::unordered_map<const map::Tile*, std::vector<LandCoverVertex>> m_ancestor_cover_triangles;

@@ -143,6 +143,8 @@ struct MapFrameStats {
     std::size_t road_segments = 0;
     std::size_t terrain_triangles = 0;
     std::size_t building_triangles = 0;
+    std::size_t outline_pixels = 0;  ///< pixels the outline filter ran on (seed 3.6.3; near roads unless the whole screen)
+    double outline_cells_ms = 0;     ///< CPU time marking the screen cells near roads for that filter, always measured
     std::size_t flat_tiles = 0;  ///< tiles seen so far with missing elevation data
     std::vector<FlatTile> new_flat_tiles;  ///< first seen in this frame: the caller warns about them
     // Labels (MapLayers::labels).

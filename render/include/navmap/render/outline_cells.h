@@ -1,0 +1,60 @@
+#pragma once
+// Where the screen-space road outlines can be (seed 3.6.3 "Outlines"): a coarse grid of screen
+// cells marked on the CPU from the road and route quads in view, so that the 3x3 max filter runs
+// only there. It replaces a marking pass on the GPU: on a software rasterizer that pass cost the
+// render thread the vertex work of every piece again and the rasterizer its stencil writes.
+
+#include <cstdint>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+namespace navmap::render {
+
+/// A marked screen rectangle, in pixels from the lower-left corner (GL window coordinates).
+struct CellRect {
+    int x0 = 0, y0 = 0, x1 = 0, y1 = 0;  ///< [x0, x1) x [y0, y1)
+};
+
+/// How roads_geo.vert turns a piece into its quad: the width on the ground and its distance
+/// scaling (seed 3.6.3), and the view-space scale towards the camera against z-fighting (3.6.2).
+struct QuadShape {
+    float width_m = 0.0f;          ///< full width, casing included
+    float scale_threshold_m = 0.0f;
+    float max_scale = 1.0f;
+    float z_offset_alpha = 0.0f;
+};
+
+class OutlineCells {
+public:
+    /// Starts a frame: a viewport of `width` x `height` pixels, `cell_px` square cells, and the
+    /// filter's reach around every projected quad, in pixels.
+    void reset(int width, int height, int cell_px, float reach_px);
+
+    /// The camera for the following markQuad calls: `view` relative to the pieces' origin.
+    void setView(const glm::mat4& view, const glm::mat4& projection);
+
+    /// Marks the cells that the quad of the piece p0-p1 (roads_geo.vert: caps included, corners
+    /// at p0 +- w/2 (n +- t) and p1 likewise) can touch on screen, grown by the reach. The part of
+    /// the quad behind the near plane is clipped away as the GPU clips it.
+    void markQuad(glm::vec3 p0, glm::vec3 p1, const QuadShape& shape);
+
+    /// The marked cells as rectangles: runs of cells along a row, with equal runs of the rows
+    /// above merged into one rectangle.
+    [[nodiscard]] std::vector<CellRect> rects() const;
+
+    /// Whether the pixel (x, y) lies in a marked cell.
+    [[nodiscard]] bool covers(int x, int y) const;
+
+private:
+    void markPolygon(const glm::vec2* points, int count);
+
+    int m_width = 0, m_height = 0, m_cell = 8;
+    int m_columns = 0, m_rows = 0;
+    float m_reach = 0.0f;
+    glm::mat4 m_view{1.0f}, m_view_projection{1.0f};
+    glm::vec4 m_eye_clip{0.0f};  // the camera's position in clip space: projection * (0, 0, 0, 1)
+    std::vector<std::uint8_t> m_marked;  // m_rows x m_columns
+};
+
+}  // namespace navmap::render

@@ -1,0 +1,153 @@
+#include "navmap/render/outline_cells.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+
+#include "navmap/render/road_style.h"
+
+namespace navmap::render {
+
+void OutlineCells::reset(int width, int height, int cell_px, float reach_px) {
+    m_width = std::max(width, 0);
+    m_height = std::max(height, 0);
+    m_cell = std::max(cell_px, 1);
+    m_reach = std::max(reach_px, 0.0f);
+    m_columns = (m_width + m_cell - 1) / m_cell;
+    m_rows = (m_height + m_cell - 1) / m_cell;
+    m_marked.assign(static_cast<std::size_t>(m_columns) * static_cast<std::size_t>(m_rows), 0);
+}
+
+void OutlineCells::setView(const glm::mat4& view, const glm::mat4& projection) {
+    m_view = view;
+    m_view_projection = projection * view;
+    m_eye_clip = projection[3];
+}
+
+void OutlineCells::markQuad(glm::vec3 p0, glm::vec3 p1, const QuadShape& shape) {
+    if (m_columns == 0 || m_rows == 0) return;
+    // The quad as roads_geo.vert expands it. Its corners are linear in the end points and the
+    // offsets along and across, and so are their clip positions: the view-space scale towards the
+    // camera, (s v, 1) = s (v, 1) + (1 - s) (0, 0, 0, 1), becomes s c + (1 - s) eye_clip.
+    const glm::vec3 mid = 0.5f * (p0 + p1);
+    const float dist = glm::length(glm::vec3(m_view * glm::vec4(mid, 1.0f)));
+    const float half_width =
+        0.5f * shape.width_m * distanceWidthScale(dist, shape.scale_threshold_m, shape.max_scale);
+    const glm::vec2 d = glm::vec2(p1) - glm::vec2(p0);
+    const float len = glm::length(d);
+    const glm::vec2 t = len > 1e-6f ? d / len : glm::vec2(1.0f, 0.0f);
+    const glm::vec2 n(-t.y, t.x);
+    const float keep = 1.0f - shape.z_offset_alpha;
+    const glm::vec4 c0 = keep * (m_view_projection * glm::vec4(p0, 1.0f)) + (1.0f - keep) * m_eye_clip;
+    const glm::vec4 c1 = keep * (m_view_projection * glm::vec4(p1, 1.0f)) + (1.0f - keep) * m_eye_clip;
+    const glm::vec4 across = keep * half_width * (n.x * m_view_projection[0] + n.y * m_view_projection[1]);
+    const glm::vec4 along = keep * half_width * (t.x * m_view_projection[0] + t.y * m_view_projection[1]);
+    // Around the quad: p0 + n - t, p1 + n + t, p1 - n + t, p0 - n - t (w/2 each).
+    const std::array<glm::vec4, 4> clip{c0 + across - along, c1 + across + along, c1 - across + along, c0 - across - along};
+    // Clipped against the near plane (z >= -w) as the GPU clips it; the other planes only cut
+    // what lies off the viewport, which the grid drops anyway.
+    std::array<glm::vec2, 8> screen;
+    int count = 0;
+    const float half_w = 0.5f * static_cast<float>(m_width), half_h = 0.5f * static_cast<float>(m_height);
+    auto emit = [&](const glm::vec4& c) {
+        if (count >= static_cast<int>(screen.size()) || !(c.w > 0.0f)) return;
+        const float inv_w = 1.0f / c.w;
+        screen[static_cast<std::size_t>(count++)] = {(c.x * inv_w + 1.0f) * half_w, (c.y * inv_w + 1.0f) * half_h};
+    };
+    for (std::size_t i = 0; i < clip.size(); ++i) {
+        const glm::vec4& a = clip[i];
+        const glm::vec4& b = clip[(i + 1) % clip.size()];
+        const float da = a.z + a.w, db = b.z + b.w;
+        if (da >= 0.0f) emit(a);
+        if ((da >= 0.0f) != (db >= 0.0f)) emit(a + (b - a) * (da / (da - db)));
+    }
+    if (count > 0) markPolygon(screen.data(), count);
+}
+
+void OutlineCells::markPolygon(const glm::vec2* points, int count) {
+    glm::vec2 lo = points[0], hi = points[0];
+    for (int i = 0; i < count; ++i) {
+        if (!std::isfinite(points[i].x) || !std::isfinite(points[i].y)) return;
+        lo = glm::min(lo, points[i]);
+        hi = glm::max(hi, points[i]);
+    }
+    const float cell = static_cast<float>(m_cell), inv_cell = 1.0f / cell;
+    // Cells are indexed after clamping in float, so far-off corners cannot overflow an int.
+    auto index = [&](float v, int n) { return static_cast<int>(std::floor(std::clamp(v * inv_cell, -1.0f, static_cast<float>(n)))); };
+    const int row_lo = std::max(index(lo.y - m_reach, m_rows), 0);
+    const int row_hi = std::min(index(hi.y + m_reach, m_rows), m_rows - 1);
+    // Each edge's x as a function of y, for the rows whose band holds only part of the polygon.
+    std::array<float, 8> slope{};
+    for (int i = 0; row_lo < row_hi && i < count; ++i) {
+        const glm::vec2 a = points[i], b = points[(i + 1) % count];
+        slope[static_cast<std::size_t>(i)] = a.y != b.y ? (b.x - a.x) / (b.y - a.y) : 0.0f;
+    }
+    for (int row = row_lo; row <= row_hi; ++row) {
+        // The polygon's x-extent within the row's band grown by the reach: a convex polygon meets
+        // a band in a convex piece, whose x-extent its clipped edges give (all of the polygon's
+        // where the band holds it whole, as it does for most pieces, which are small on screen).
+        const float band_lo = static_cast<float>(row) * cell - m_reach, band_hi = static_cast<float>(row + 1) * cell + m_reach;
+        float x_lo = lo.x, x_hi = hi.x;
+        if (band_lo > lo.y || band_hi < hi.y) {
+            x_lo = std::numeric_limits<float>::max();
+            x_hi = std::numeric_limits<float>::lowest();
+            for (int i = 0; i < count; ++i) {
+                const glm::vec2 a = points[i], b = points[(i + 1) % count];
+                const float y0 = std::max(std::min(a.y, b.y), band_lo), y1 = std::min(std::max(a.y, b.y), band_hi);
+                if (y0 > y1) continue;
+                float xa = a.x, xb = b.x;
+                if (a.y != b.y) {
+                    const float k = slope[static_cast<std::size_t>(i)];
+                    xa = a.x + (y0 - a.y) * k;
+                    xb = a.x + (y1 - a.y) * k;
+                }
+                x_lo = std::min({x_lo, xa, xb});
+                x_hi = std::max({x_hi, xa, xb});
+            }
+            if (x_lo > x_hi) continue;
+        }
+        const int c0 = std::max(index(x_lo - m_reach, m_columns), 0);
+        const int c1 = std::min(index(x_hi + m_reach, m_columns), m_columns - 1);
+        if (c0 > c1) continue;
+        std::uint8_t* cells = m_marked.data() + static_cast<std::size_t>(row) * static_cast<std::size_t>(m_columns);
+        std::fill(cells + c0, cells + c1 + 1, std::uint8_t{1});
+    }
+}
+
+std::vector<CellRect> OutlineCells::rects() const {
+    std::vector<CellRect> done, open, next;
+    for (int row = 0; row < m_rows; ++row) {
+        const std::uint8_t* cells = m_marked.data() + static_cast<std::size_t>(row) * static_cast<std::size_t>(m_columns);
+        const int y0 = row * m_cell, y1 = std::min((row + 1) * m_cell, m_height);
+        next.clear();
+        std::size_t o = 0;  // open rects and runs both run left to right
+        for (int c = 0; c < m_columns;) {
+            if (!cells[c]) {
+                ++c;
+                continue;
+            }
+            const int c0 = c;
+            while (c < m_columns && cells[c]) ++c;
+            const int x0 = c0 * m_cell, x1 = std::min(c * m_cell, m_width);
+            while (o < open.size() && open[o].x0 < x0) done.push_back(open[o++]);
+            if (o < open.size() && open[o].x0 == x0 && open[o].x1 == x1) {
+                next.push_back(open[o++]);
+                next.back().y1 = y1;
+            } else {
+                next.push_back({x0, y0, x1, y1});
+            }
+        }
+        done.insert(done.end(), open.begin() + static_cast<std::ptrdiff_t>(o), open.end());
+        open.swap(next);
+    }
+    done.insert(done.end(), open.begin(), open.end());
+    return done;
+}
+
+bool OutlineCells::covers(int x, int y) const {
+    if (x < 0 || y < 0 || x >= m_width || y >= m_height) return false;
+    return m_marked[static_cast<std::size_t>(y / m_cell) * static_cast<std::size_t>(m_columns) + static_cast<std::size_t>(x / m_cell)] != 0;
+}
+
+}  // namespace navmap::render

@@ -1,0 +1,8 @@
+// The outline filter's cells near roads (OutlineCells, map_renderer.cpp): rectangles in pixels.
+layout(location = 0) in vec2 a_pixel;
+
+uniform vec2 u_viewport;
+
+void main() {
+    gl_Position = vec4(a_pixel / u_viewport * 2.0 - 1.0, 0.0, 1.0);
+}

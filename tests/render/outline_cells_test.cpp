@@ -1,0 +1,194 @@
+// Unit tests of the screen cells where the outline filter runs (seed 3.6.3 outlines, OutlineCells):
+// every pixel that can read a road pixel in its 3x3 neighbourhood lies in a marked cell, also for
+// quads that reach behind the camera, and the rectangles cover exactly the marked cells.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <random>
+#include <vector>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "navmap/render/outline_cells.h"
+#include "navmap/render/road_style.h"
+
+namespace {
+
+using namespace navmap::render;
+
+constexpr int kW = 320, kH = 120, kCell = 8;
+constexpr float kReach = 2.0f;
+
+struct Camera {
+    glm::mat4 view, projection;
+};
+
+// A low camera looking along +y over flat ground, like the snail's view.
+Camera lowCamera() {
+    return {glm::lookAt(glm::vec3(0.0f, -40.0f, 12.0f), glm::vec3(0.0f, 60.0f, 0.0f), glm::vec3(0.0f, 0.0f, 1.0f)),
+            glm::perspective(glm::radians(45.0f), float(kW) / kH, 1.0f, 5000.0f)};
+}
+
+const QuadShape kShape{10.0f, 300.0f, 4.0f, 0.02f};
+
+// The pixel an in-front point projects to, or false.
+bool pixelOf(const Camera& c, glm::vec3 p, float alpha, glm::ivec2& out) {
+    glm::vec4 v = c.view * glm::vec4(p, 1.0f);
+    v = glm::vec4(glm::vec3(v) * (1.0f - alpha), 1.0f);
+    const glm::vec4 clip = c.projection * v;
+    if (clip.z < -clip.w) return false;  // behind the near plane
+    const float x = (clip.x / clip.w * 0.5f + 0.5f) * kW, y = (clip.y / clip.w * 0.5f + 0.5f) * kH;
+    if (x < 0.0f || y < 0.0f || x >= kW || y >= kH) return false;
+    out = {int(std::floor(x)), int(std::floor(y))};
+    return true;
+}
+
+// Samples the quad roads_geo.vert draws for p0-p1 densely on the ground and checks that each
+// sample's pixel and its 8 neighbours (the pixels whose 3x3 filter reads it) are marked.
+int checkQuadCovered(const OutlineCells& cells, const Camera& c, glm::vec3 p0, glm::vec3 p1, const QuadShape& s) {
+    const glm::vec3 mid = 0.5f * (p0 + p1);
+    const float dist = glm::length(glm::vec3(c.view * glm::vec4(mid, 1.0f)));
+    const float w = s.width_m * distanceWidthScale(dist, s.scale_threshold_m, s.max_scale);
+    const glm::vec2 d = glm::vec2(p1 - p0);
+    const glm::vec2 t = glm::length(d) > 1e-6f ? glm::normalize(d) : glm::vec2(1.0f, 0.0f), n(-t.y, t.x);
+    int samples = 0;
+    for (int i = 0; i <= 200; ++i) {
+        for (int j = 0; j <= 20; ++j) {
+            const float a = i / 200.0f, b = j / 20.0f * 2.0f - 1.0f;
+            // Along from p0 - t w/2 to p1 + t w/2, across from -w/2 to w/2.
+            glm::vec3 p = glm::mix(p0, p1, a);
+            p += glm::vec3((glm::mix(-0.5f, 0.5f, a) * w) * t + (0.5f * w * b) * n, 0.0f);
+            glm::ivec2 px;
+            if (!pixelOf(c, p, s.z_offset_alpha, px)) continue;
+            ++samples;
+            for (int dy = -1; dy <= 1; ++dy) {
+                for (int dx = -1; dx <= 1; ++dx) {
+                    const int x = px.x + dx, y = px.y + dy;
+                    if (x < 0 || y < 0 || x >= kW || y >= kH) continue;
+                    EXPECT_TRUE(cells.covers(x, y)) << "pixel " << x << "," << y << " next to the quad of (" << p0.x << ","
+                                                    << p0.y << ")-(" << p1.x << "," << p1.y << ")";
+                    if (!cells.covers(x, y)) return samples;
+                }
+            }
+        }
+    }
+    return samples;
+}
+
+std::size_t coveredPixels(const OutlineCells& cells) {
+    std::size_t n = 0;
+    for (int y = 0; y < kH; ++y)
+        for (int x = 0; x < kW; ++x) n += cells.covers(x, y);
+    return n;
+}
+
+TEST(OutlineCells, EveryPixelTheFilterCanDarkenIsMarked) {
+    const Camera c = lowCamera();
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> x(-300.0f, 300.0f), y(-30.0f, 900.0f), len(0.5f, 80.0f), angle(0.0f, 6.2832f),
+        z(-2.0f, 2.0f);
+    int samples = 0;
+    for (int i = 0; i < 300; ++i) {
+        OutlineCells cells;
+        cells.reset(kW, kH, kCell, kReach);
+        cells.setView(c.view, c.projection);
+        const glm::vec3 p0(x(rng), y(rng), z(rng));
+        const float a = angle(rng), l = len(rng);
+        const glm::vec3 p1 = p0 + glm::vec3(l * std::cos(a), l * std::sin(a), z(rng));
+        cells.markQuad(p0, p1, kShape);
+        samples += checkQuadCovered(cells, c, p0, p1, kShape);
+        if (HasFailure()) return;
+    }
+    EXPECT_GT(samples, 100000) << "the pieces were seen";
+}
+
+TEST(OutlineCells, QuadsReachingBehindTheCameraAreClippedAtTheNearPlane) {
+    const Camera c = lowCamera();
+    // Under the camera and behind it, out to the front: the visible part reaches the bottom edge.
+    const glm::vec3 p0(0.0f, -80.0f, 0.0f), p1(5.0f, 200.0f, 0.0f);
+    OutlineCells cells;
+    cells.reset(kW, kH, kCell, kReach);
+    cells.setView(c.view, c.projection);
+    cells.markQuad(p0, p1, kShape);
+    EXPECT_GT(checkQuadCovered(cells, c, p0, p1, kShape), 1000);
+    EXPECT_TRUE(cells.covers(kW / 2, 0)) << "the road runs off the bottom of the screen";
+    // A road entirely behind the camera marks nothing.
+    OutlineCells behind;
+    behind.reset(kW, kH, kCell, kReach);
+    behind.setView(c.view, c.projection);
+    behind.markQuad({-20.0f, -200.0f, 0.0f}, {20.0f, -120.0f, 0.0f}, kShape);
+    EXPECT_EQ(coveredPixels(behind), 0u);
+}
+
+TEST(OutlineCells, MarksLittleMoreThanTheRoad) {
+    const Camera c = lowCamera();
+    OutlineCells cells;
+    cells.reset(kW, kH, kCell, kReach);
+    cells.setView(c.view, c.projection);
+    // A far road across the view: a thin band on screen, marked a few cells high at most.
+    cells.markQuad({-400.0f, 800.0f, 0.0f}, {400.0f, 800.0f, 0.0f}, kShape);
+    int rows = 0;
+    for (int y = 0; y < kH; y += kCell) rows += cells.covers(kW / 2, y);
+    EXPECT_GE(rows, 1);
+    EXPECT_LE(rows, 2);
+    EXPECT_LT(coveredPixels(cells), std::size_t(kW * kH / 10));
+}
+
+TEST(OutlineCells, RectanglesCoverExactlyTheMarkedCells) {
+    const Camera c = lowCamera();
+    OutlineCells cells;
+    cells.reset(kW, kH, kCell, kReach);
+    cells.setView(c.view, c.projection);
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<float> x(-200.0f, 200.0f), y(0.0f, 600.0f);
+    for (int i = 0; i < 40; ++i) cells.markQuad({x(rng), y(rng), 0.0f}, {x(rng), y(rng), 0.0f}, kShape);
+    std::vector<int> hits(kW * kH, 0);
+    for (const CellRect& r : cells.rects()) {
+        ASSERT_LT(r.x0, r.x1);
+        ASSERT_LT(r.y0, r.y1);
+        ASSERT_GE(r.x0, 0);
+        ASSERT_GE(r.y0, 0);
+        ASSERT_LE(r.x1, kW);
+        ASSERT_LE(r.y1, kH);
+        for (int py = r.y0; py < r.y1; ++py)
+            for (int px = r.x0; px < r.x1; ++px) ++hits[py * kW + px];
+    }
+    std::size_t marked = 0;
+    for (int py = 0; py < kH; ++py) {
+        for (int px = 0; px < kW; ++px) {
+            ASSERT_EQ(hits[py * kW + px], cells.covers(px, py) ? 1 : 0) << px << "," << py;
+            marked += cells.covers(px, py);
+        }
+    }
+    EXPECT_GT(marked, 0u);
+    // A straight vertical road on screen is one rectangle, not one per row of cells.
+    OutlineCells column;
+    column.reset(kW, kH, kCell, kReach);
+    column.setView(glm::mat4(1.0f), glm::ortho(0.0f, float(kW), 0.0f, float(kH), -1.0f, 1.0f));
+    column.markQuad({100.0f, 20.0f, 0.0f}, {100.0f, 100.0f, 0.0f}, {4.0f, 1e9f, 1.0f, 0.0f});
+    const auto rects = column.rects();
+    ASSERT_EQ(rects.size(), 1u);
+    EXPECT_EQ(rects[0].x0, 96);   // 100 - 2 (half width) - 2 (reach) = 96, a cell edge
+    EXPECT_EQ(rects[0].x1, 112);  // 100 + 2 + 2 = 104 touches the cell from 104 to 112
+    EXPECT_EQ(rects[0].y0, 16);   // 20 - 2 (cap) - 2
+    EXPECT_EQ(rects[0].y1, 112);  // 100 + 2 + 2
+}
+
+TEST(OutlineCells, BrokenInputMarksNothing) {
+    const Camera c = lowCamera();
+    OutlineCells cells;
+    cells.reset(kW, kH, kCell, kReach);
+    cells.setView(c.view, c.projection);
+    const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+    cells.markQuad({nan, 10.0f, 0.0f}, {0.0f, 50.0f, 0.0f}, kShape);
+    cells.markQuad({0.0f, inf, 0.0f}, {0.0f, 50.0f, 0.0f}, kShape);
+    EXPECT_EQ(coveredPixels(cells), 0u);
+    OutlineCells empty;
+    empty.reset(0, 0, kCell, kReach);
+    empty.setView(c.view, c.projection);
+    empty.markQuad({0.0f, 10.0f, 0.0f}, {0.0f, 50.0f, 0.0f}, kShape);
+    EXPECT_TRUE(empty.rects().empty());
+}
+
+}  // namespace
