@@ -7,12 +7,9 @@
 in vec2 v_local;
 in float v_h;
 in float v_measure;
-flat in int v_class;
+flat in vec3 v_color;  // the fill of the road class or the route's colour (pass 1)
 
 uniform highp sampler2D u_terrain_depth;  // window depth of the terrain alone (texelFetch)
-uniform vec3 u_fill[11];
-uniform int u_route;
-uniform vec3 u_route_color;
 uniform int u_road_color;                 // 0: u_glow_color, 1: the road's own fill colour
 uniform vec3 u_glow_color;
 uniform int u_direct;
@@ -31,6 +28,6 @@ void main() {
     if (gl_FragCoord.z > terrain) discard;
     if (u_direct == 1 && texelFetch(u_road_mask, ivec2(gl_FragCoord.xy), 0).r > 0.5) discard;
     vec3 color = u_glow_color;
-    if (u_road_color == 1) color = u_route == 1 ? u_route_color : u_fill[v_class];
+    if (u_road_color == 1) color = v_color;
     o_color = vec4(color, u_direct == 1 ? u_alpha : 1.0);
 }

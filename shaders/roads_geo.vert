@@ -16,11 +16,15 @@ uniform int u_route;            // 1: route mode
 uniform float u_route_width;
 uniform float u_route_casing_m; // route casing per side, metres
 uniform vec3 u_scale;           // threshold m, max scale, z-offset alpha
+uniform vec3 u_fill[11];        // fill colour per road class
+uniform vec3 u_casing_color[11];
+uniform vec3 u_route_color;
+uniform vec3 u_route_casing;
 
 out vec2 v_local;               // quad-local coordinates in [-1, 1]^2 (x along, y across)
 out float v_h;                  // seed 3.4 cap ratio h = w / (d + w)
 out float v_measure;
-flat out int v_class;
+flat out vec3 v_color;          // of this pass, per quad (an indexed uniform per fragment costs more)
 
 void main() {
     int cls = int(a_class + 0.5);
@@ -49,7 +53,8 @@ void main() {
     v_local = vec2(sx, sy);
     v_h = width / (len + width);
     v_measure = sx < 0.0 ? a_measure.x : a_measure.y;
-    v_class = cls;
+    if (u_route == 1) v_color = u_pass == 0 ? u_route_casing : u_route_color;
+    else v_color = u_pass == 0 ? u_casing_color[cls] : u_fill[cls];
     vec4 view_pos = u_view * vec4(pos, 1.0);
     // seed 3.6.2: scale in view space by (1 - alpha) against z-fighting; unlike a world-space
     // offset this does not make roads hover when seen from close by.
