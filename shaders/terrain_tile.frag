@@ -7,8 +7,8 @@
 #endif
 in vec2 v_uv;
 in vec3 v_tint;    // hypsometric tint, per vertex (terrain_tile.vert)
-in float v_shade;  // relief shading from the vertex stage
-in float v_fog;    // aerial perspective: how much of the sky colour
+in float v_shade;  // relief shading and brightness, times the ground's share against the fog
+in vec3 v_sky;     // aerial perspective: the sky colour times its share
 
 uniform sampler2D u_land_cover;
 #if NAVMAP_COVER_LEVELS > 1
@@ -27,8 +27,6 @@ uniform sampler2D u_cover2;  // two levels coarser
 #endif
 in vec2 v_cover_morph;  // the factors from u_land_cover to u_cover1 and from u_cover1 to u_cover2
 #endif
-uniform vec3 u_sky_color;
-uniform float u_brightness;  // 1 by day, lower at night
 
 layout(location = 0) out vec4 o_color;
 // Shadow-volume roads (seed 3.5.2): the terrain's view-space depth as a secondary target. Only
@@ -47,7 +45,6 @@ void main() {
     vec4 cover = texture(u_land_cover, v_uv);
 #endif
     vec3 base = v_tint * (1.0 - cover.a) + cover.rgb;  // the cover is premultiplied
-    vec3 color = base * v_shade * u_brightness;
-    o_color = vec4(mix(color, u_sky_color, v_fog), 1.0);
+    o_color = vec4(base * v_shade + v_sky, 1.0);
     o_terrain_depth = vec4(1.0 / gl_FragCoord.w, 0.0, 0.0, 0.0);
 }

@@ -31,9 +31,12 @@ out vec2 v_uv;
 uniform vec2 u_cover_slot;
 out vec2 v_cover_morph;
 #endif
+uniform vec3 u_sky_color;
+uniform float u_brightness;  // 1 by day, lower at night
+
 out vec3 v_tint;
-out float v_shade;
-out float v_fog;
+out float v_shade;  // relief shading times brightness, times the share of the ground (1 - fog)
+out vec3 v_sky;     // aerial perspective: the sky colour times its share
 
 // Analytical relief shading after Jenny (seed 6.7.4), evaluated per vertex (the DEM samples are
 // the shading resolution anyway, and llvmpipe pays dearly for per-fragment trigonometry):
@@ -87,12 +90,14 @@ void main() {
     vec3 p = vec3(a_position.xy, z);
     vec4 view_pos = u_view * vec4(p, 1.0);
     float sky = 0.5 + 0.5 * n.z;
-    v_shade = 0.25 * sky + 0.85 * reliefShade(n, p.z);
+    float shade = 0.25 * sky + 0.85 * reliefShade(n, p.z);
     v_uv = a_position.xy / u_tile_size;
 #if NAVMAP_COVER_LEVELS > 1
     v_cover_morph = vec2(dot(f.xy, u_cover_slot), f.y);
 #endif
     v_tint = hypsometricTint(p.z);
-    v_fog = 0.85 * smoothstep(u_fog_range.x, u_fog_range.y, length(view_pos.xyz));
+    float fog = 0.85 * smoothstep(u_fog_range.x, u_fog_range.y, length(view_pos.xyz));
+    v_shade = shade * u_brightness * (1.0 - fog);
+    v_sky = u_sky_color * fog;
     gl_Position = u_projection * view_pos;
 }
