@@ -16,6 +16,8 @@ uniform mat4 u_projection;
 uniform float u_tile_size;
 uniform vec3 u_light_dir;
 uniform vec2 u_fog_range;
+uniform vec3 u_sky_color;
+uniform float u_brightness;  // 1 by day, lower at night
 // Geomorphing (render/include/navmap/render/terrain_lod.h): per slot j (level L - j to L - j - 1)
 // the distances where the morph starts and ends (end <= start: none); the camera's x, y
 // tile-local and its vertical distance from the LOD height band.
@@ -31,9 +33,6 @@ out vec2 v_uv;
 uniform vec2 u_cover_slot;
 out vec2 v_cover_morph;
 #endif
-uniform vec3 u_sky_color;
-uniform float u_brightness;  // 1 by day, lower at night
-
 out vec3 v_tint;
 out float v_shade;  // relief shading times brightness, times the share of the ground (1 - fog)
 out vec3 v_sky;     // aerial perspective: the sky colour times its share
