@@ -33,6 +33,8 @@ constexpr float kOutlineReachPx = 2.0f;
 constexpr int kOutlineCellPx = 8;
 // The route's casing per side, as a fraction of its width (roads_geo.vert's u_route_casing_m).
 constexpr float kRouteCasingFraction = 0.25f;
+// Full width of the route's quads with their casing (its widest pass), metres.
+float routeOuterWidth(float route_width_m) { return (1.0f + 2.0f * kRouteCasingFraction) * route_width_m; }
 
 using Clock = std::chrono::steady_clock;
 
@@ -177,7 +179,6 @@ struct MapRenderer::GpuTile {
     // (terrain_tile.frag); 0: that ancestor was not resident or has no land cover here.
     std::array<GLuint, 2> ancestor_cover{};
     GLuint roads_vao = 0, roads_vbo = 0;
-    GLsizei road_count = 0;
     // First instance of each class among non-bridge roads (instances run least important
     // first, bridges last), so the casing pass can skip the classes drawn without casing.
     std::array<GLsizei, kStyledRoadClasses> class_first{};
@@ -331,13 +332,12 @@ MapRenderer::GpuTile* MapRenderer::upload(const std::shared_ptr<const map::Tile>
                      GL_STATIC_DRAW);
         setupRoadAttributes();
         glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, m_road_index_buffer);  // this frame's pieces in view (cullRoads)
-        gpu->road_count = static_cast<GLsizei>(mesh.roads.size());
-        gpu->road_pieces = mesh.roads;
+        const auto road_count = static_cast<GLsizei>(mesh.roads.size());
         gpu->road_runs = std::move(mesh.road_runs);
         gpu->road_blocks = std::move(mesh.road_blocks);
-        gpu->class_first.fill(gpu->road_count);
-        gpu->bridge_first = gpu->road_count;
-        for (GLsizei i = gpu->road_count; i-- > 0;) {
+        gpu->class_first.fill(road_count);
+        gpu->bridge_first = road_count;
+        for (GLsizei i = road_count; i-- > 0;) {
             const RoadInstance& r = mesh.roads[static_cast<std::size_t>(i)];
             if (static_cast<int>(r.flags) & map::RoadFlags::Bridge) {
                 gpu->bridge_first = i;
@@ -346,6 +346,7 @@ MapRenderer::GpuTile* MapRenderer::upload(const std::shared_ptr<const map::Tile>
             const int c = std::clamp(static_cast<int>(r.road_class), 0, kStyledRoadClasses - 1);
             gpu->class_first[static_cast<std::size_t>(c)] = i;
         }
+        gpu->road_pieces = std::move(mesh.roads);
     }
     if (!mesh.building_indices.empty()) {
         glGenVertexArrays(1, &gpu->buildings_vao);
@@ -489,12 +490,12 @@ void MapRenderer::updateRoute(GpuTile& g, const MapFrame& frame) {
             glBindVertexArray(0);
         }
     }
-    // Not in view: neither morphed nor drawn this frame (its half width plus its casing around
-    // its extent, as roads_geo.vert draws it).
+    // Not in view: neither morphed nor drawn this frame (half its outer width around its extent,
+    // as roads_geo.vert draws it).
     const glm::vec3 eye(frame.camera.eye - g.origin);
     g.route_in_view = !g.route_pieces.empty() &&
                       (!frame.layers.cull_blocks || quadsInView(g.view_projection, eye, g.route_extent,
-                                                                (0.5f + kRouteCasingFraction) * m_style.route_width_m, m_style.roads));
+                                                                0.5f * routeOuterWidth(m_style.route_width_m), m_style.roads));
     if (!g.route_in_view) return;
     if (!g.route_stale && g.morph.end_m[0] <= 0.0f && !g.route_morphed) return;  // unmorphed: the buffer is current
     g.route_stale = false;
@@ -516,13 +517,13 @@ void MapRenderer::cullRoads(const MapFrame& frame, const std::vector<GpuTile*>& 
     // A quad reaches at most half the widest footprint (casing included) beyond its end points.
     const RoadStyle& rs = m_style.roads;
     float half_width = 0.0f;
-    for (const RoadClassStyle& c : rs.classes) half_width = std::max(half_width, 0.5f * c.width_m + c.casing_m);
+    for (const RoadClassStyle& c : rs.classes) half_width = std::max(half_width, 0.5f * c.outerWidth());
     m_road_indices.clear();
     std::vector<bool> visible;
     for (GpuTile* g : tiles) {
         g->visible_first = g->visible_casing_first = static_cast<GLsizei>(m_road_indices.size() / 6);
         g->visible_count = 0;
-        if (!g->road_count) continue;
+        if (g->road_pieces.empty()) continue;
         const glm::vec3 eye(frame.camera.eye - g->origin);
         visible.assign(g->road_blocks.size(), false);
         for (std::size_t b = 0; b < g->road_blocks.size(); ++b) {
@@ -724,14 +725,13 @@ void MapRenderer::markOutlineCells(const MapFrame& frame, const glm::mat4& proje
         m_cells.setView(g->view, projection);
         for (GLsizei k = g->visible_first; k < g->visible_first + g->visible_count; ++k) {
             const RoadInstance& r = g->road_pieces[m_road_indices[6 * static_cast<std::size_t>(k)] / 4];
-            const auto& c = rs.classes[static_cast<std::size_t>(std::clamp(static_cast<int>(r.road_class + 0.5f), 0, kStyledRoadClasses - 1))];
-            shape.width_m = c.width_m + 2.0f * std::max(c.casing_m, 0.0f);
+            shape.width_m = rs.of(static_cast<int>(r.road_class + 0.5f)).outerWidth();
             m_cells.markQuad(r.p0, r.p1, shape);
         }
     }
     // The route with its casing and its larger offset (setRoadUniforms), as drawn this frame.
     if (frame.layers.route && frame.route) {
-        shape.width_m = (1.0f + 2.0f * kRouteCasingFraction) * m_style.route_width_m;
+        shape.width_m = routeOuterWidth(m_style.route_width_m);
         shape.z_offset_alpha = 1.5f * rs.z_offset_alpha;
         for (const GpuTile* g : tiles) {
             if (!g->route_count || !g->route_in_view) continue;

@@ -40,9 +40,7 @@ public:
 
     /// Blocks until the job has finished; rethrows what it threw. Returns at once when idle.
     void wait() {
-        std::unique_lock lock(m_mutex);
-        m_done.wait(lock, [this] { return !m_busy; });
-        if (m_error) std::rethrow_exception(std::exchange(m_error, nullptr));
+        if (auto error = waitIdle()) std::rethrow_exception(error);
     }
 
     /// Waits for the job when it leaves scope, also when the caller throws: a job must not
@@ -52,17 +50,20 @@ public:
         explicit Scope(SideTask& task) : m_task(task) {}
         Scope(const Scope&) = delete;
         Scope& operator=(const Scope&) = delete;
-        ~Scope() {
-            std::unique_lock lock(m_task.m_mutex);
-            m_task.m_done.wait(lock, [this] { return !m_task.m_busy; });
-            m_task.m_error = nullptr;  // unwinding already, or waited for and reported by wait()
-        }
+        ~Scope() { (void)m_task.waitIdle(); }  // unwinding already, or reported by wait()
 
     private:
         SideTask& m_task;
     };
 
 private:
+    // Waits until no job runs; returns (and clears) what the last one threw.
+    std::exception_ptr waitIdle() {
+        std::unique_lock lock(m_mutex);
+        m_done.wait(lock, [this] { return !m_busy; });
+        return std::exchange(m_error, nullptr);
+    }
+
     void run() {
         std::unique_lock lock(m_mutex);
         for (;;) {

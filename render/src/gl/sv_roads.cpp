@@ -210,8 +210,7 @@ SvTileRoads buildSvTileRoads(const map::Tile& tile, const RoadStyle& style, std:
         if (road.flags & map::RoadFlags::Tunnel) continue;  // hidden in the map view, as for GEO
         const bool bridge = (road.flags & map::RoadFlags::Bridge) != 0;
         const int order = (bridge ? 1000 : 0) + (map::kRoadClassCount - static_cast<int>(road.cls));
-        const auto& cs = style.classes[static_cast<std::size_t>(std::clamp(static_cast<int>(road.cls), 0, kStyledRoadClasses - 1))];
-        const float reach = 0.5f * cs.width_m + cs.casing_m + 1.0f;
+        const float reach = 0.5f * style.of(static_cast<int>(road.cls)).outerWidth() + 1.0f;
         for (std::size_t i = 0; i + 1 < road.points.size(); ++i) {
             const glm::dvec2 a(road.points[i].x, road.points[i].y), b(road.points[i + 1].x, road.points[i + 1].y);
             // Long segments are cut into pieces of at most kPieceM, each with its own (tighter)

@@ -4,6 +4,7 @@
 // The shaders roads_geo.vert/.frag implement the same formulas; these CPU versions are the
 // reference the unit tests check.
 
+#include <algorithm>
 #include <array>
 
 #include <glm/glm.hpp>
@@ -18,6 +19,9 @@ struct RoadClassStyle {
     float casing_m = 0.0f;       ///< extra width of the casing on each side (0: no casing)
     glm::vec3 fill{1.0f};
     glm::vec3 casing{0.3f};
+
+    /// Full width of the widest pass on the ground (with the casing where there is one), metres.
+    [[nodiscard]] float outerWidth() const { return width_m + 2.0f * std::max(casing_m, 0.0f); }
 };
 
 /// The style table, most important class first (index = map::RoadClass value).
@@ -28,6 +32,11 @@ struct RoadStyle {
     float z_offset_alpha = 0.02f;       ///< seed 3.6.2: view-space scale (1 - alpha)
     glm::vec3 outline{0.12f, 0.12f, 0.14f};  ///< seed 3.6.3 dark outline colour
     float outline_strength = 0.75f;
+
+    /// The style of a road class value (map::RoadClass), clamped to the table.
+    [[nodiscard]] const RoadClassStyle& of(int road_class) const {
+        return classes[static_cast<std::size_t>(std::clamp(road_class, 0, kStyledRoadClasses - 1))];
+    }
 
     static RoadStyle day();
     static RoadStyle night();
