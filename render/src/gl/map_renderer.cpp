@@ -31,6 +31,11 @@ constexpr float kOutlineReachPx = 2.0f;
 // blocks of 4 x 4 pixels in tiles of 64, so multiples of 4 waste no partial blocks; smaller cells
 // follow the roads closer but cost more CPU to mark.
 constexpr int kOutlineCellPx = 8;
+// Stencil bit the road and route passes set on the pixels they draw, so that the outline filter
+// leaves them out: a road pixel holds its neighbourhood's maximum intensity itself, its edge
+// strength is 0. llvmpipe then skips the 4x4 blocks inside roads before shading. (The glow uses
+// bit 7, occlusion_effects.cpp.)
+constexpr GLuint kRoadStencilBit = 0x40;
 // The route's casing per side, as a fraction of its width (roads_geo.vert's u_route_casing_m).
 constexpr float kRouteCasingFraction = 0.25f;
 // Full width of the route's quads with their casing (its widest pass), metres.
@@ -914,6 +919,17 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target) {
     glDisable(GL_CULL_FACE);
     glDepthMask(GL_FALSE);
     glDepthFunc(GL_LEQUAL);
+    // With the outline cells, the road and route pixels also mark kRoadStencilBit for the
+    // filter: the same pixels as the mask (drawn, not discarded, depth test passed). Not when
+    // multisampled: the filter's stencil test would then be per sample, unlike its mask. The
+    // full-screen filter stays without either, the reference the cells are tested against.
+    const bool mark_roads = outline_cells && target.samples() == 0;
+    if (mark_roads) {
+        glEnable(GL_STENCIL_TEST);
+        glStencilMask(kRoadStencilBit);
+        glStencilFunc(GL_ALWAYS, kRoadStencilBit, kRoadStencilBit);
+        glStencilOp(GL_KEEP, GL_KEEP, GL_REPLACE);
+    }
     if (sv) {
         m_stats.road_segments += sv->draw(frame, projection, target, m_style.roads);
         m_stats.sv_roads = true;
@@ -929,6 +945,10 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target) {
         glUseProgram(m_roads.id());
         for (int pass = 0; pass < 2; ++pass) drawRoute(m_roads, pass, frame, projection, tiles);
         lap(m_stats.route_ms, t);
+    }
+    if (mark_roads) {
+        glDisable(GL_STENCIL_TEST);
+        glStencilMask(0xFF);
     }
     glDepthMask(GL_TRUE);
     // Screen-space dark outlines around roads and route (seed 3.6.3). The filter runs only on
@@ -946,6 +966,11 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target) {
         glUniform1i(p.uniform("u_road_mask"), 0);
         glUniform3fv(p.uniform("u_outline_color"), 1, glm::value_ptr(m_style.roads.outline));
         glUniform1f(p.uniform("u_strength"), m_style.roads.outline_strength);
+        if (mark_roads) {
+            glEnable(GL_STENCIL_TEST);
+            glStencilFunc(GL_NOTEQUAL, kRoadStencilBit, kRoadStencilBit);
+            glStencilOp(GL_KEEP, GL_KEEP, GL_KEEP);
+        }
         if (outline_cells) {
             m_side.wait();
             m_stats.outline_pixels = m_cell_pixels;
@@ -963,6 +988,7 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target) {
             glDrawArrays(GL_TRIANGLES, 0, 3);
         }
         glDisable(GL_BLEND);
+        glDisable(GL_STENCIL_TEST);
         lap(m_stats.outlines_ms, t);
     }
 

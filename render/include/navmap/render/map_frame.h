@@ -30,8 +30,9 @@ struct MapLayers {
     bool land_cover = true;
     bool roads = true;
     bool outlines = true;
-    /// Run the outline filter only near road and route footprints (marked in the stencil); false:
-    /// over the whole frame. Same image; the full-screen pass costs about twice as much on llvmpipe.
+    /// Run the outline filter only near road and route footprints (screen cells marked on the CPU,
+    /// road pixels left out by a stencil bit); false: over the whole frame. Same image; the
+    /// full-screen pass costs about twice as much on llvmpipe.
     bool outlines_near_roads = true;
     /// Leave out the road pieces and buildings of tile blocks outside the view, and the route of
     /// tiles where it lies outside the view, before the vertex stage (same image; on llvmpipe
