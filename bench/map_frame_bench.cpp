@@ -6,9 +6,11 @@
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cstdlib>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include <sys/resource.h>
@@ -182,8 +184,9 @@ void roadsVsTerrain(benchmark::State& state) {
 
 // seed 3.6.1 clipped roads at every triangle edge and saw about 10x the vertices. Counts over
 // every tile of the store: polyline vertices as stored, pieces after draping, pieces after merging
-// within the default tolerance (TileMeshOptions::road_merge_tolerance_m); the time is the mesh
-// build of all tiles with the default options (done at tile-load time).
+// within the default tolerance (TileMeshOptions::road_merge_tolerance_m), the pieces of each
+// coarser road level (kRoadLodTolerance) and all pieces stored (every level, shared pieces once);
+// the time is the mesh build of all tiles with the default options (done at tile-load time).
 void drapingGrowth(benchmark::State& state) {
     const auto& store = *flight().scene.store;
     std::vector<std::shared_ptr<const navmap::map::Tile>> tiles;
@@ -192,22 +195,33 @@ void drapingGrowth(benchmark::State& state) {
     }
     TileMeshOptions every_piece;
     every_piece.road_merge_tolerance_m = 0.0;
-    double source = 0, draped = 0, merged = 0;
-    for (const auto& t : tiles) draped += double(buildTileMesh(*t, every_piece).roads.size());
+    double source = 0, draped = 0, stored = 0;
+    std::array<double, kRoadLods> level{};  // level 0: the merged pieces
+    for (const auto& t : tiles) {
+        for (const BlockRun& run : buildTileMesh(*t, every_piece).road_runs) draped += (run.lods & 1u) ? run.count : 0;
+    }
     for (auto _ : state) {
-        source = merged = 0;
+        source = stored = 0;
+        level.fill(0.0);
         for (const auto& t : tiles) {
             const TileMesh m = buildTileMesh(*t);
             source += double(m.source_road_vertices);
-            merged += double(m.roads.size());
+            stored += double(m.roads.size());
+            for (const BlockRun& run : m.road_runs) {
+                for (int k = 0; k < kRoadLods; ++k) level[static_cast<std::size_t>(k)] += (run.lods >> k & 1u) ? run.count : 0;
+            }
         }
     }
+    const double merged = level[0];
     state.counters["tiles"] = double(tiles.size());
     state.counters["source_vertices"] = source;
     state.counters["draped_pieces"] = draped;
     state.counters["merged_pieces"] = merged;
     state.counters["growth_draped"] = source > 0 ? draped / source : 0.0;
     state.counters["growth_merged"] = source > 0 ? merged / source : 0.0;
+    for (int k = 1; k < kRoadLods; ++k) state.counters["level" + std::to_string(k) + "_pieces"] = level[static_cast<std::size_t>(k)];
+    state.counters["stored_pieces"] = stored;  // every level; GPU memory grows with it
+    state.counters["growth_stored"] = merged > 0 ? stored / merged : 0.0;
 }
 
 void profilesAndSteps(benchmark::internal::Benchmark* b) {

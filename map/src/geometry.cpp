@@ -139,28 +139,9 @@ double segmentDistance(PlanarPoint p, PlanarPoint a, PlanarPoint b) {
 }  // namespace
 
 std::vector<PlanarPoint> simplifyPolyline(std::span<const PlanarPoint> line, double tolerance) {
-    if (line.size() <= 2 || tolerance <= 0) return {line.begin(), line.end()};
-    std::vector<char> keep(line.size(), 0);
-    keep.front() = keep.back() = 1;
-    std::vector<std::pair<std::size_t, std::size_t>> stack{{0, line.size() - 1}};
-    while (!stack.empty()) {
-        const auto [i, j] = stack.back();
-        stack.pop_back();
-        double worst = -1;
-        std::size_t worst_k = i;
-        for (std::size_t k = i + 1; k < j; ++k) {
-            const double d = segmentDistance(line[k], line[i], line[j]);
-            if (d > worst) {
-                worst = d;
-                worst_k = k;
-            }
-        }
-        if (worst > tolerance) {
-            keep[worst_k] = 1;
-            stack.emplace_back(i, worst_k);
-            stack.emplace_back(worst_k, j);
-        }
-    }
+    const std::vector<char> keep = douglasPeucker(line.size(), tolerance, [&](std::size_t k, std::size_t i, std::size_t j) {
+        return segmentDistance(line[k], line[i], line[j]);
+    });
     std::vector<PlanarPoint> out;
     for (std::size_t k = 0; k < line.size(); ++k) {
         if (keep[k]) out.push_back(line[k]);

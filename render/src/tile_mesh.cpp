@@ -6,6 +6,7 @@
 #include <limits>
 #include <numeric>
 
+#include "navmap/map/geometry.h"
 #include "navmap/render/terrain_lod.h"
 
 namespace navmap::render {
@@ -61,6 +62,14 @@ GridWeights gridWeights(const HeightGrid& g, double x, double y) {
     const auto at = [&](int r, int c) { return static_cast<std::size_t>(r) * g.size + c; };
     if (fy <= fx) return {{at(row, col), at(row, col + 1), at(row + 1, col + 1)}, {1.0 - fx, fx - fy, fy}};  // SW SE NE
     return {{at(row, col), at(row + 1, col + 1), at(row + 1, col)}, {1.0 - fy, fx, fy - fx}};                // SW NE NW
+}
+
+// Distance of p from the segment a-b in 3D (the road levels' simplification error).
+double segmentDistance(const glm::dvec3& p, const glm::dvec3& a, const glm::dvec3& b) {
+    const glm::dvec3 d = b - a;
+    const double len2 = glm::dot(d, d);
+    const double t = len2 > 0.0 ? std::clamp(glm::dot(p - a, d) / len2, 0.0, 1.0) : 0.0;
+    return glm::length(p - (a + t * d));
 }
 
 }  // namespace
@@ -265,8 +274,16 @@ TileMesh buildTileMesh(const map::Tile& tile, const TileMeshOptions& options, st
         RoadInstance inst;
         int order;
         std::uint32_t block = 0;
+        std::uint32_t lods = 1;  // level 0
     };
     std::vector<Piece> pieces;
+    // The block (as terrain_blocks, row-major) holding a tile-local point.
+    const float block_size = mesh.size_m / static_cast<float>(blocks);
+    auto blockOf = [&](glm::vec2 p) {
+        const int bx = std::clamp(static_cast<int>(std::floor(p.x / block_size)), 0, blocks - 1);
+        const int by = std::clamp(static_cast<int>(std::floor(p.y / block_size)), 0, blocks - 1);
+        return static_cast<std::uint32_t>(by * blocks + bx);
+    };
     std::vector<glm::dvec2> line;
     for (const auto& road : tile.roads) {
         if (road.points.size() < 2) continue;
@@ -296,39 +313,67 @@ TileMesh buildTileMesh(const map::Tile& tile, const TileMeshOptions& options, st
         // Least important first so more important classes overwrite them at junctions
         // (seed 3.6.3 "Intersections"); bridges after everything.
         const int order = (bridge ? 1000 : 0) + (map::kRoadClassCount - static_cast<int>(road.cls));
+        auto piece = [&](const glm::dvec3& a, const glm::dvec3& b, std::uint32_t block, std::uint32_t lods) {
+            pieces.push_back({RoadInstance{glm::vec3(a), glm::vec3(b), static_cast<float>(road.cls), static_cast<float>(road.flags)},
+                              order, block, lods});
+        };
+        const std::size_t first = pieces.size();
         for (std::size_t i = 0; i + 1 < draped.size(); ++i) {
-            pieces.push_back({RoadInstance{glm::vec3(draped[i]), glm::vec3(draped[i + 1]),
-                                           static_cast<float>(road.cls), static_cast<float>(road.flags)},
-                              order});
+            piece(draped[i], draped[i + 1], blockOf(0.5f * (glm::vec2(glm::dvec2(draped[i])) + glm::vec2(glm::dvec2(draped[i + 1])))), 1u);
+        }
+        // The coarser levels, per span of the road in one block: draped vertices a .. b.
+        const std::size_t last = pieces.size();
+        for (std::size_t a = first; a < last;) {
+            const std::uint32_t block = pieces[a].block;
+            std::size_t b = a + 1;
+            while (b < last && pieces[b].block == block) ++b;
+            const std::span<const glm::dvec3> span(draped.data() + (a - first), b - a + 1);
+            struct Chord {
+                std::size_t from, to, piece;
+            };
+            std::vector<Chord> chords;  // the pieces added for this span (the levels' kept sets nest)
+            for (int k = 1; k < kRoadLods; ++k) {
+                const std::vector<char> keep = map::douglasPeucker(
+                    span.size(), kRoadLodTolerance[static_cast<std::size_t>(k)],
+                    [&](std::size_t v, std::size_t i, std::size_t j) { return segmentDistance(span[v], span[i], span[j]); });
+                const std::uint32_t bit = 1u << k;
+                for (std::size_t i = 0, j = 1; j < span.size(); ++j) {
+                    if (!keep[j]) continue;
+                    if (j == i + 1) {
+                        pieces[a + i].lods |= bit;  // the draped piece itself
+                    } else {
+                        const auto chord = std::find_if(chords.begin(), chords.end(), [&](const Chord& c) { return c.from == i && c.to == j; });
+                        if (chord != chords.end()) {
+                            pieces[chord->piece].lods |= bit;
+                        } else {
+                            chords.push_back({i, j, pieces.size()});
+                            piece(span[i], span[j], block, bit);
+                        }
+                    }
+                    i = j;
+                }
+            }
+            a = b;
         }
     }
     // Within a group the pieces run block by block (the order among pieces of one class does not
     // matter: casings and fills are separate passes), so the renderer can leave out the blocks
     // outside the view and still draw the groups in order.
-    // The block (as terrain_blocks, row-major) holding a tile-local point.
-    const float block_size = mesh.size_m / static_cast<float>(blocks);
-    auto blockOf = [&](glm::vec2 p) {
-        const int bx = std::clamp(static_cast<int>(std::floor(p.x / block_size)), 0, blocks - 1);
-        const int by = std::clamp(static_cast<int>(std::floor(p.y / block_size)), 0, blocks - 1);
-        return static_cast<std::uint32_t>(by * blocks + bx);
-    };
     auto extend = [](BlockExtent& e, glm::vec3 low, glm::vec3 high) {
         e.min = glm::min(e.min, low);
         e.max = glm::max(e.max, high);
     };
     const BlockExtent none{glm::vec3(std::numeric_limits<float>::max()), glm::vec3(std::numeric_limits<float>::lowest())};
     mesh.road_blocks.assign(static_cast<std::size_t>(blocks * blocks), none);
-    for (Piece& p : pieces) {
-        p.block = blockOf(0.5f * (glm::vec2(p.inst.p0) + glm::vec2(p.inst.p1)));
-        extend(mesh.road_blocks[p.block], glm::min(p.inst.p0, p.inst.p1), glm::max(p.inst.p0, p.inst.p1));
-    }
-    std::stable_sort(pieces.begin(), pieces.end(),
-                     [](const Piece& a, const Piece& b) { return a.order != b.order ? a.order < b.order : a.block < b.block; });
+    for (const Piece& p : pieces) extend(mesh.road_blocks[p.block], glm::min(p.inst.p0, p.inst.p1), glm::max(p.inst.p0, p.inst.p1));
+    std::stable_sort(pieces.begin(), pieces.end(), [](const Piece& a, const Piece& b) {
+        return a.order != b.order ? a.order < b.order : a.block != b.block ? a.block < b.block : a.lods < b.lods;
+    });
     mesh.roads.reserve(pieces.size());
     for (std::size_t i = 0; i < pieces.size(); ++i) {
         const Piece& p = pieces[i];
-        if (i == 0 || p.order != pieces[i - 1].order || p.block != pieces[i - 1].block)
-            mesh.road_runs.push_back({static_cast<std::uint32_t>(i), 0, p.block});
+        if (i == 0 || p.order != pieces[i - 1].order || p.block != pieces[i - 1].block || p.lods != pieces[i - 1].lods)
+            mesh.road_runs.push_back({static_cast<std::uint32_t>(i), 0, p.block, p.lods});
         ++mesh.road_runs.back().count;
         mesh.roads.push_back(p.inst);
     }
@@ -453,6 +498,14 @@ void morphRoute(std::span<const RoutePiece> pieces, const TileMorph& morph, cons
     for (const RoutePiece& r : pieces) {
         out.push_back({at(r.p0, r.ancestor_z0), at(r.p1, r.ancestor_z1), 0.0f, 0.0f, r.measure0, r.measure1});
     }
+}
+
+int roadLodLevel(float distance_m, float focal_px, float max_error_px) {
+    int level = 0;
+    for (int k = 1; k < kRoadLods; ++k) {
+        if (kRoadLodTolerance[static_cast<std::size_t>(k)] * focal_px <= max_error_px * distance_m) level = k;
+    }
+    return level;
 }
 
 }  // namespace navmap::render

@@ -158,6 +158,41 @@ TEST(AndorraMap, RoadAndBuildingBlocksOutsideTheViewAreNotDrawn) {
     }
 }
 
+// Road levels of detail (TileMesh, kRoadLodTolerance): blocks far from the camera draw their roads
+// simplified, within half a pixel on screen. Far fewer pieces; the picture differs only in a few
+// edge pixels of distant roads, and the near part of the frame not at all.
+TEST(AndorraMap, DistantRoadsAreDrawnSimplifiedWithinHalfAPixel) {
+    for (ViewMode mode : {ViewMode::Bird, ViewMode::Snail}) {
+        const int w = 1280, h = 480;
+        auto renderer = rendererOfSize(w, h);
+        MapFrame frame = navmap::test::settledAndorraFrame(mode, w, h);
+        frame.layers = layersFor(3);
+        renderer->renderMap(frame);
+        const MapFrameStats simplified = renderer->mapStats();
+        const Image with_lod = renderer->readSync();
+        frame.layers.road_lod = false;
+        renderer->renderMap(frame);
+        const MapFrameStats draped = renderer->mapStats();
+        const Image without = renderer->readSync();
+        std::size_t differ = 0, differ_near = 0;
+        for (int y = 0; y < h; ++y) {
+            for (int x = 0; x < w; ++x) {
+                if (std::memcmp(with_lod.pixel(x, y), without.pixel(x, y), 3) == 0) continue;
+                ++differ;
+                differ_near += y >= h * 3 / 4;  // the bottom quarter: the ground next to the car
+            }
+        }
+        const char* name = mode == ViewMode::Bird ? "bird" : "snail";
+        std::printf("[ measure  ] %s %dx%d: %zu of %zu road pieces drawn, %zu pixels differ (%.2f %%), %zu in the bottom quarter\n",
+                    name, w, h, simplified.road_segments, draped.road_segments, differ, 100.0 * double(differ) / double(w * h), differ_near);
+        EXPECT_LT(simplified.road_segments, draped.road_segments * 9 / 10) << name;
+        EXPECT_LT(differ, std::size_t(w * h / 200)) << name << ": at most 0.5 % of the pixels";
+        if (mode == ViewMode::Snail) {
+            EXPECT_EQ(differ_near, 0u) << "the roads next to the car are drawn as draped";
+        }
+    }
+}
+
 // Three display targets of different sizes on one renderer (one depth/stencil buffer sized to
 // the largest, tiles shared) draw what renderers of their own draw; tiles that any target drew in
 // its latest frame are not evicted even with a cache cap far below their number, so taking turns

@@ -4,7 +4,10 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
+#include <map>
 #include <set>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -118,8 +121,9 @@ TEST(TileMesh, RoadsAreDrapedOrderedAndTunnelsHidden) {
     }
 }
 
-// The road runs cover the pieces in order, each run one class and one block (by the piece's
-// midpoint), and each block's extent holds its pieces: the renderer culls per block.
+// The road runs cover the pieces in order, each run one class, one block (by the draped piece's
+// midpoint) and one set of road levels, and each block's extent holds its pieces: the renderer
+// culls per block.
 TEST(TileMesh, RoadRunsGroupPiecesByClassAndBlock) {
     map::Tile t = bumpyTile();
     t.roads = {road(map::RoadClass::Motorway, {{10, 400}, {790, 420}, {20, 780}}),
@@ -128,13 +132,14 @@ TEST(TileMesh, RoadRunsGroupPiecesByClassAndBlock) {
     ASSERT_EQ(m.road_blocks.size(), std::size_t(render::kTerrainBlocks * render::kTerrainBlocks));
     ASSERT_FALSE(m.road_runs.empty());
     std::uint32_t next = 0;
-    std::set<std::pair<float, std::uint32_t>> groups;
+    std::set<std::tuple<float, std::uint32_t, std::uint32_t>> groups;
     for (const render::BlockRun& run : m.road_runs) {
         EXPECT_EQ(run.first, next);
         EXPECT_GT(run.count, 0u);
         next = run.first + run.count;
         const float cls = m.roads[run.first].road_class;
-        EXPECT_TRUE(groups.insert({cls, run.block}).second) << "one run per class and block";
+        EXPECT_TRUE(groups.insert({cls, run.block, run.lods}).second) << "one run per class, block and levels";
+        EXPECT_NE(run.lods, 0u);
         const render::BlockExtent& b = m.road_blocks[run.block];
         const float bx = static_cast<float>(run.block % render::kTerrainBlocks) * 200.0f;
         const float by = static_cast<float>(run.block / render::kTerrainBlocks) * 200.0f;
@@ -142,7 +147,10 @@ TEST(TileMesh, RoadRunsGroupPiecesByClassAndBlock) {
             const render::RoadInstance& r = m.roads[i];
             EXPECT_EQ(r.road_class, cls);
             const glm::vec3 mid = 0.5f * (r.p0 + r.p1);
-            EXPECT_TRUE(mid.x >= bx && mid.x <= bx + 200.0f && mid.y >= by && mid.y <= by + 200.0f) << mid.x << ", " << mid.y;
+            // (A simplified piece is a chord of its block's span and may reach out of it.)
+            if (run.lods & 1u) {
+                EXPECT_TRUE(mid.x >= bx && mid.x <= bx + 200.0f && mid.y >= by && mid.y <= by + 200.0f) << mid.x << ", " << mid.y;
+            }
             for (const glm::vec3& p : {r.p0, r.p1}) {
                 EXPECT_TRUE(glm::all(glm::greaterThanEqual(p, b.min)) && glm::all(glm::lessThanEqual(p, b.max)));
             }
@@ -150,6 +158,91 @@ TEST(TileMesh, RoadRunsGroupPiecesByClassAndBlock) {
     }
     EXPECT_EQ(next, m.roads.size());
     EXPECT_GT(groups.size(), 8u) << "both roads cross several blocks";
+}
+
+// Road levels of detail: each level's pieces of a block stay within the level's tolerance of
+// every draped vertex there (planar and height error, 3D), and a road's span in a block keeps its
+// end points at every level, so blocks drawn at different levels join without gaps.
+TEST(TileMesh, RoadLevelsStayWithinTheirToleranceAndKeepTheBlockEnds) {
+    map::Tile t = bumpyTile();
+    std::vector<map::LocalPoint> wave, hairpins;
+    for (int i = 0; i <= 390; ++i) {
+        const float x = 10.0f + 2.0f * static_cast<float>(i);
+        wave.push_back({x, 400.0f + 150.0f * std::sin(x / 60.0f)});
+        hairpins.push_back({x, 150.0f + 40.0f * std::sin(x / 9.0f) + 0.3f * std::sin(x * 1.7f)});
+    }
+    t.roads = {road(map::RoadClass::Secondary, wave), road(map::RoadClass::Residential, hairpins)};
+    const render::TileMesh m = render::buildTileMesh(t);
+    struct Key {
+        float cls;
+        std::uint32_t block;
+        auto operator<=>(const Key&) const = default;
+    };
+    auto piecesAt = [&](int level) {
+        std::map<Key, std::vector<render::RoadInstance>> out;
+        for (const render::BlockRun& run : m.road_runs) {
+            if (!(run.lods & (1u << level))) continue;
+            for (std::uint32_t i = run.first; i < run.first + run.count; ++i)
+                out[{m.roads[i].road_class, run.block}].push_back(m.roads[i]);
+        }
+        return out;
+    };
+    // The chain ends of a set of pieces: points that end an odd number of them.
+    auto ends = [](const std::vector<render::RoadInstance>& pieces) {
+        std::map<std::array<float, 3>, int> degree;
+        for (const auto& r : pieces)
+            for (const glm::vec3& p : {r.p0, r.p1}) ++degree[{p.x, p.y, p.z}];
+        std::set<std::array<float, 3>> odd;
+        for (const auto& [p, d] : degree)
+            if (d % 2) odd.insert(p);
+        return odd;
+    };
+    auto distance = [](glm::vec3 p, const render::RoadInstance& r) {
+        const glm::vec3 d = r.p1 - r.p0;
+        const float len2 = glm::dot(d, d);
+        const float s = len2 > 0.0f ? std::clamp(glm::dot(p - r.p0, d) / len2, 0.0f, 1.0f) : 0.0f;
+        return glm::length(p - (r.p0 + s * d));
+    };
+    const auto draped = piecesAt(0);
+    ASSERT_GT(draped.size(), 6u) << "both roads cross several blocks";
+    std::size_t draped_count = 0;
+    for (const auto& [key, pieces] : draped) draped_count += pieces.size();
+    std::size_t previous = draped_count;
+    for (int level = 1; level < render::kRoadLods; ++level) {
+        const auto simplified = piecesAt(level);
+        const float tolerance = render::kRoadLodTolerance[static_cast<std::size_t>(level)];
+        std::size_t count = 0;
+        ASSERT_EQ(simplified.size(), draped.size()) << "level " << level << ": the same blocks";
+        for (const auto& [key, pieces] : draped) {
+            const auto it = simplified.find(key);
+            ASSERT_NE(it, simplified.end());
+            count += it->second.size();
+            EXPECT_EQ(ends(it->second), ends(pieces)) << "level " << level << " block " << key.block;
+            for (const auto& r : pieces) {
+                float nearest = 1e30f;
+                for (const auto& s : it->second) nearest = std::min(nearest, distance(r.p1, s));
+                EXPECT_LE(nearest, tolerance + 1e-3f) << "level " << level << " block " << key.block;
+            }
+        }
+        std::printf("[ measure  ] road level %d (%.0f m): %zu of %zu draped pieces\n", level, tolerance, count, draped_count);
+        EXPECT_LT(count, previous) << "level " << level << " has fewer pieces";
+        previous = count;
+    }
+    EXPECT_LT(previous * 4, draped_count) << "the coarsest level keeps less than a quarter of the pieces";
+}
+
+TEST(TileMesh, RoadLevelFollowsTheScreenError) {
+    // 600 px per unit of tan(angle), half a pixel: level 1 (1 m) from 1200 m, level 2 (4 m)
+    // from 4800 m, level 3 (16 m) from 19.2 km.
+    EXPECT_EQ(render::roadLodLevel(0.0f, 600.0f, 0.5f), 0);
+    EXPECT_EQ(render::roadLodLevel(1199.0f, 600.0f, 0.5f), 0);
+    EXPECT_EQ(render::roadLodLevel(1200.0f, 600.0f, 0.5f), 1);
+    EXPECT_EQ(render::roadLodLevel(4799.0f, 600.0f, 0.5f), 1);
+    EXPECT_EQ(render::roadLodLevel(4800.0f, 600.0f, 0.5f), 2);
+    EXPECT_EQ(render::roadLodLevel(19200.0f, 600.0f, 0.5f), 3);
+    EXPECT_EQ(render::roadLodLevel(1e9f, 600.0f, 0.5f), 3);
+    EXPECT_EQ(render::roadLodLevel(2400.0f, 1200.0f, 0.5f), 1) << "a longer focal length needs twice the distance";
+    EXPECT_EQ(render::roadLodLevel(2399.0f, 1200.0f, 0.5f), 0);
 }
 
 TEST(TileMesh, BridgesSpanStraightBetweenTheirEnds) {

@@ -31,6 +31,8 @@ constexpr float kOutlineReachPx = 2.0f;
 // blocks of 4 x 4 pixels in tiles of 64, so multiples of 4 waste no partial blocks; smaller cells
 // follow the roads closer but cost more CPU to mark.
 constexpr int kOutlineCellPx = 8;
+// Screen error allowed to the road levels of detail (TileMesh, kRoadLodTolerance), pixels.
+constexpr float kRoadLodErrorPx = 0.5f;
 // Stencil bit the road and route passes set on the pixels they draw, so that the outline filter
 // leaves them out: a road pixel holds its neighbourhood's maximum intensity itself, its edge
 // strength is 0. llvmpipe then skips the 4x4 blocks inside roads before shading. (The glow uses
@@ -518,21 +520,27 @@ void MapRenderer::updateRoute(GpuTile& g, const MapFrame& frame) {
     g.route_count = static_cast<GLsizei>(g.route_instances.size());
 }
 
-void MapRenderer::cullRoads(const MapFrame& frame, const std::vector<GpuTile*>& tiles) {
+void MapRenderer::cullRoads(const MapFrame& frame, const glm::mat4& projection, int height,
+                            const std::vector<GpuTile*>& tiles) {
     // A quad reaches at most half the widest footprint (casing included) beyond its end points.
     const RoadStyle& rs = m_style.roads;
     float half_width = 0.0f;
     for (const RoadClassStyle& c : rs.classes) half_width = std::max(half_width, 0.5f * c.outerWidth());
+    const float focal_px = projection[1][1] * 0.5f * static_cast<float>(height);
     m_road_indices.clear();
-    std::vector<bool> visible;
+    std::vector<std::uint32_t> drawn;  // per block: the road level bit, 0 outside the view
     for (GpuTile* g : tiles) {
         g->visible_first = g->visible_casing_first = static_cast<GLsizei>(m_road_indices.size() / 6);
         g->visible_count = 0;
         if (g->road_pieces.empty()) continue;
         const glm::vec3 eye(frame.camera.eye - g->origin);
-        visible.assign(g->road_blocks.size(), false);
+        drawn.assign(g->road_blocks.size(), 0u);
         for (std::size_t b = 0; b < g->road_blocks.size(); ++b) {
-            visible[b] = !frame.layers.cull_blocks || quadsInView(g->view_projection, eye, g->road_blocks[b], half_width, rs);
+            const BlockExtent& e = g->road_blocks[b];
+            if (frame.layers.cull_blocks && !quadsInView(g->view_projection, eye, e, half_width, rs)) continue;
+            // The level from the block's nearest point (its extent holds every level's pieces).
+            const float distance = glm::length(eye - glm::clamp(eye, e.min, e.max));
+            drawn[b] = 1u << (frame.layers.road_lod ? roadLodLevel(distance, focal_px, kRoadLodErrorPx) : 0);
         }
         // The casing pass starts at the first class that has a casing (bridges always have one).
         GLsizei casing_from = g->bridge_first;
@@ -541,7 +549,7 @@ void MapRenderer::cullRoads(const MapFrame& frame, const std::vector<GpuTile*>& 
         }
         bool casing_found = false;
         for (const BlockRun& run : g->road_runs) {
-            if (!visible[run.block]) continue;
+            if (!(drawn[run.block] & run.lods)) continue;
             if (!casing_found && static_cast<GLsizei>(run.first) >= casing_from) {
                 casing_found = true;
                 g->visible_casing_first = g->visible_first + g->visible_count;
@@ -866,7 +874,7 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target) {
 
     const glm::vec3 light = glm::normalize(m_style.light_dir);
     SvRoads* sv = SvRoads::forFrame(m_sv_roads, frame, target);  // shadow-volume roads (seed 3.5), else null
-    if (frame.layers.roads) cullRoads(frame, tiles);
+    if (frame.layers.roads) cullRoads(frame, projection, target.height(), tiles);
     // Where the screen-space outlines can be (seed 3.6.3), worked out on another thread while
     // this one sets up the passes before them: llvmpipe rasterizes only after that, so a core is
     // free meanwhile. It reads what the culling above wrote and nothing the passes change.

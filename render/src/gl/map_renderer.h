@@ -87,7 +87,7 @@ private:
     void drawTerrain(const MapFrame& frame, const glm::mat4& projection, const glm::vec3& light,
                      const std::vector<GpuTile*>& tiles);
     /// The road pieces of the blocks in view, per tile, into m_road_indices (drawRoads).
-    void cullRoads(const MapFrame& frame, const std::vector<GpuTile*>& tiles);
+    void cullRoads(const MapFrame& frame, const glm::mat4& projection, int height, const std::vector<GpuTile*>& tiles);
     /// The screen cells where the outline filter can find road pixels (seed 3.6.3): the quads of
     /// the road pieces in view (after cullRoads) and of the route, grown by the filter's reach,
     /// into m_cells and m_cell_vertices. No GL calls: it runs beside the render thread.

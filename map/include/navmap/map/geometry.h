@@ -4,6 +4,7 @@
 
 #include <cstddef>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "navmap/map/projection.h"
@@ -45,6 +46,37 @@ struct Segment {
     PlanarPoint a, b;
 };
 Segment longestStraightSegment(std::span<const PlanarPoint> line, double max_turn_deg = 10.0);
+
+/// Douglas-Peucker over the points 0 .. count - 1 of a polyline: whether each is kept (both end
+/// points always). `distance(k, i, j)` is how far point k lies from the chord i-j; a range is
+/// split at its farthest point while that lies more than `tolerance` away. The kept sets of two
+/// tolerances are nested (the larger keeps a subset).
+template <typename Distance>
+std::vector<char> douglasPeucker(std::size_t count, double tolerance, Distance distance) {
+    std::vector<char> keep(count, count <= 2 || tolerance <= 0 ? 1 : 0);
+    if (count <= 2 || tolerance <= 0) return keep;
+    keep.front() = keep.back() = 1;
+    std::vector<std::pair<std::size_t, std::size_t>> stack{{0, count - 1}};
+    while (!stack.empty()) {
+        const auto [i, j] = stack.back();
+        stack.pop_back();
+        double worst = -1;
+        std::size_t worst_k = i;
+        for (std::size_t k = i + 1; k < j; ++k) {
+            const double d = distance(k, i, j);
+            if (d > worst) {
+                worst = d;
+                worst_k = k;
+            }
+        }
+        if (worst > tolerance) {
+            keep[worst_k] = 1;
+            stack.emplace_back(i, worst_k);
+            stack.emplace_back(worst_k, j);
+        }
+    }
+    return keep;
+}
 
 /// Douglas-Peucker simplification keeping both end points; tolerance in metres.
 std::vector<PlanarPoint> simplifyPolyline(std::span<const PlanarPoint> line, double tolerance);

@@ -38,6 +38,10 @@ struct MapLayers {
     /// tiles where it lies outside the view, before the vertex stage (same image; on llvmpipe
     /// every vertex is CPU time on the render thread).
     bool cull_blocks = true;
+    /// Draw distant road pieces simplified (TileMesh road levels, chosen per tile block so that
+    /// the simplification stays within half a pixel on screen); false: the draped pieces
+    /// everywhere.
+    bool road_lod = true;
     bool buildings = true;
     bool route = true;
     bool marker = true;

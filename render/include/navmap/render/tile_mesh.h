@@ -64,7 +64,21 @@ struct BlockRun {
     std::uint32_t first = 0;  ///< first element of the list
     std::uint32_t count = 0;
     std::uint32_t block = 0;  ///< index into the list's block extents
+    std::uint32_t lods = ~0u;  ///< road pieces: bit k set where the run is drawn at road level k
 };
+
+/// Road level of detail (the terrain's screen-space error rule applied to the road polylines):
+/// level 0 is the draped road; level k is its pieces simplified (Douglas-Peucker in 3D, both
+/// planar and height error) within kRoadLodTolerance[k] metres, per road and tile block, so that
+/// a road's span in a block keeps its end points at every level and blocks drawn at different
+/// levels still join. The renderer picks a level per block from its distance.
+inline constexpr int kRoadLods = 4;
+inline constexpr std::array<float, kRoadLods> kRoadLodTolerance{0.0f, 1.0f, 4.0f, 16.0f};
+
+/// The coarsest road level whose tolerance, seen from `distance_m` away, stays within
+/// `max_error_px` on screen; `focal_px` is the projection's pixels per unit of tan(angle)
+/// (projection[1][1] * height / 2).
+int roadLodLevel(float distance_m, float focal_px, float max_error_px);
 
 /// Extent of a list's elements in one block (tile-local; min > max: none).
 struct BlockExtent {
@@ -91,9 +105,11 @@ struct TileMesh {
     float min_height = 0.0f;
     float max_height = 0.0f;
     std::vector<LandCoverVertex> land_cover;     ///< triangles, drawn in order
-    std::vector<RoadInstance> roads;             ///< least important first; bridges last
-    /// roads in runs of one group and block (by the piece's midpoint; blocks as terrain_blocks),
-    /// in the order of roads; and each block's extent.
+    /// Road pieces of every level of detail (a piece is in the levels of its run's `lods`), least
+    /// important first; bridges last.
+    std::vector<RoadInstance> roads;
+    /// roads in runs of one group, block (by the piece's midpoint; blocks as terrain_blocks) and
+    /// set of levels, in the order of roads; and each block's extent.
     std::vector<BlockRun> road_runs;
     std::vector<BlockExtent> road_blocks;
     std::size_t source_road_vertices = 0;        ///< polyline vertices before draping
