@@ -1,7 +1,14 @@
 // seed 3.6.3 "Outlines": edge strength = local maximum of road intensity in a 3x3 neighbourhood
 // minus the intensity here, blended dark over the scene. Unfiltered texel fetches: on llvmpipe a
 // bilinear fetch costs about four of them.
+#ifdef NAVMAP_PACKED_MASK
+// The mask bit-packed by outline_pack.frag, and the road pixels left out by the stencil
+// (map_renderer.cpp, kRoadStencilBit): here is 0, and the maximum is whether any of the three
+// bits around this pixel is set in the rows below, here and above.
+uniform highp usampler2D u_packed_mask;
+#else
 uniform sampler2D u_road_mask;
+#endif
 uniform vec3 u_outline_color;
 uniform float u_strength;
 
@@ -9,6 +16,14 @@ out vec4 o_color;
 
 void main() {
     ivec2 p = ivec2(gl_FragCoord.xy);
+#ifdef NAVMAP_PACKED_MASK
+    int top = textureSize(u_packed_mask, 0).y - 1;
+    int g = p.x >> 3;
+    uint rows = texelFetch(u_packed_mask, ivec2(g, max(p.y - 1, 0)), 0).r | texelFetch(u_packed_mask, ivec2(g, p.y), 0).r |
+                texelFetch(u_packed_mask, ivec2(g, min(p.y + 1, top)), 0).r;
+    // Pixel x is bit (x & 7) + 1 of its group; its neighbours and itself bits (x & 7) .. (x & 7) + 2.
+    float edge = ((rows >> uint(p.x & 7)) & 7u) != 0u ? 1.0 : 0.0;
+#else
     ivec2 hi = textureSize(u_road_mask, 0) - 1;
     float here = texelFetch(u_road_mask, p, 0).r;
     float m = 0.0;
@@ -17,6 +32,8 @@ void main() {
             m = max(m, texelFetch(u_road_mask, clamp(p + ivec2(dx, dy), ivec2(0), hi), 0).r);
         }
     }
+    float edge = clamp(m - here, 0.0, 1.0);
+#endif
     // No discard: an edge of 0 blends to no change.
-    o_color = vec4(u_outline_color, clamp(m - here, 0.0, 1.0) * u_strength);
+    o_color = vec4(u_outline_color, edge * u_strength);
 }

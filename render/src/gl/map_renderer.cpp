@@ -244,6 +244,8 @@ MapRenderer::MapRenderer(const RendererOptions& options)
       m_roads(ShaderProgram::fromEmbedded("roads_geo.vert", "roads_geo.frag")),
       m_outline(ShaderProgram::fromEmbedded("screen_outline.vert", "screen_outline.frag")),
       m_outline_cells(ShaderProgram::fromEmbedded("screen_cells.vert", "screen_outline.frag")),
+      m_outline_packed(ShaderProgram::fromEmbedded("screen_cells.vert", "screen_outline.frag", "#define NAVMAP_PACKED_MASK 1\n")),
+      m_outline_pack(ShaderProgram::fromEmbedded("screen_cells.vert", "outline_pack.frag")),
       m_buildings(ShaderProgram::fromEmbedded("buildings.vert", "buildings.frag")),
       m_marker(ShaderProgram::fromEmbedded("marker.vert", "marker.frag")) {
     const std::uint8_t transparent[4] = {0, 0, 0, 0};
@@ -756,7 +758,10 @@ void MapRenderer::markOutlineCells(const MapFrame& frame, const glm::mat4& proje
     m_cell_pixels = 0;
     for (const CellRect& r : m_cells.rects()) {
         m_cell_pixels += static_cast<std::size_t>(r.x1 - r.x0) * static_cast<std::size_t>(r.y1 - r.y0);
-        const glm::vec2 lo(static_cast<float>(r.x0), static_cast<float>(r.y0)), hi(static_cast<float>(r.x1), static_cast<float>(r.y1));
+        // Whole cells even at the right edge of the screen (the GPU clips the overhang): the
+        // packing pass turns each into one column of packed texels.
+        const int x1 = (r.x1 + kOutlineCellPx - 1) / kOutlineCellPx * kOutlineCellPx;
+        const glm::vec2 lo(static_cast<float>(r.x0), static_cast<float>(r.y0)), hi(static_cast<float>(x1), static_cast<float>(r.y1));
         m_cell_vertices.insert(m_cell_vertices.end(), {lo, {hi.x, lo.y}, {lo.x, hi.y}, {lo.x, hi.y}, {hi.x, lo.y}, hi});
     }
     m_cell_ms = msSince(t0);
@@ -963,38 +968,60 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target) {
     // the screen cells that the road and route quads, grown by its reach, touch: most of the
     // frame is away from roads. (Shadow-volume roads have no quads: the whole screen.)
     if (outlines) {
-        ShaderProgram& p = outline_cells ? m_outline_cells : m_outline;
         target.resolveMask();
         glDisable(GL_DEPTH_TEST);
-        glEnable(GL_BLEND);
-        glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
-        glUseProgram(p.id());
-        glActiveTexture(GL_TEXTURE0);
-        glBindTexture(GL_TEXTURE_2D, target.maskTexture());
-        glUniform1i(p.uniform("u_road_mask"), 0);
-        glUniform3fv(p.uniform("u_outline_color"), 1, glm::value_ptr(m_style.roads.outline));
-        glUniform1f(p.uniform("u_strength"), m_style.roads.outline_strength);
-        if (mark_roads) {
-            glEnable(GL_STENCIL_TEST);
-            glStencilFunc(GL_NOTEQUAL, kRoadStencilBit, kRoadStencilBit);
-            glStencilOp(GL_KEEP, GL_KEEP, GL_KEEP);
-        }
         if (outline_cells) {
             m_side.wait();
             m_stats.outline_pixels = m_cell_pixels;
             m_stats.outline_cells_ms = m_cell_ms;
-            glUniform2f(p.uniform("u_viewport"), static_cast<float>(target.width()), static_cast<float>(target.height()));
             glBindVertexArray(m_cell_vao);
             glBindBuffer(GL_ARRAY_BUFFER, m_cell_vbo);
             glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(m_cell_vertices.size() * sizeof(glm::vec2)),
                          m_cell_vertices.data(), GL_STREAM_DRAW);
             glBindBuffer(GL_ARRAY_BUFFER, 0);
-            if (!m_cell_vertices.empty()) glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(m_cell_vertices.size()));
         } else {
             m_stats.outline_pixels = static_cast<std::size_t>(target.width()) * static_cast<std::size_t>(target.height());
             glBindVertexArray(m_empty_vao);
-            glDrawArrays(GL_TRIANGLES, 0, 3);
         }
+        auto draw_cells = [&] {
+            if (outline_cells && !m_cell_vertices.empty()) glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(m_cell_vertices.size()));
+            if (!outline_cells) glDrawArrays(GL_TRIANGLES, 0, 3);
+        };
+        glActiveTexture(GL_TEXTURE0);
+        GLuint mask = target.maskTexture();
+        if (mark_roads) {
+            // The mask bit-packed over the cells (outline_pack.frag); the rest of the packed
+            // texture is 0, as the mask is outside the cells (every road quad lies in them).
+            mask = target.bindPackedMask();
+            const GLuint zero[4] = {0, 0, 0, 0};
+            glClearBufferuiv(GL_COLOR, 0, zero);
+            glUseProgram(m_outline_pack.id());
+            glBindTexture(GL_TEXTURE_2D, target.maskTexture());
+            glUniform1i(m_outline_pack.uniform("u_road_mask"), 0);
+            // Cells are kOutlineCellPx = 8 pixels wide: one packed texel each.
+            glUniform2f(m_outline_pack.uniform("u_viewport"), static_cast<float>(8 * ((target.width() + 7) / 8)),
+                        static_cast<float>(target.height()));
+            draw_cells();
+            target.bindForDrawing(false);
+        }
+        ShaderProgram& p = mark_roads ? m_outline_packed : outline_cells ? m_outline_cells : m_outline;
+        glEnable(GL_BLEND);
+        glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+        glUseProgram(p.id());
+        glBindTexture(GL_TEXTURE_2D, mask);
+        glUniform1i(p.uniform(mark_roads ? "u_packed_mask" : "u_road_mask"), 0);
+        glUniform3fv(p.uniform("u_outline_color"), 1, glm::value_ptr(m_style.roads.outline));
+        glUniform1f(p.uniform("u_strength"), m_style.roads.outline_strength);
+        if (outline_cells) {
+            glUniform2f(p.uniform("u_viewport"), static_cast<float>(target.width()), static_cast<float>(target.height()));
+        }
+        if (mark_roads) {
+            glEnable(GL_STENCIL_TEST);
+            glStencilFunc(GL_NOTEQUAL, kRoadStencilBit, kRoadStencilBit);
+            glStencilOp(GL_KEEP, GL_KEEP, GL_KEEP);
+        }
+        draw_cells();
+        glBindTexture(GL_TEXTURE_2D, 0);
         glDisable(GL_BLEND);
         glDisable(GL_STENCIL_TEST);
         lap(m_stats.outlines_ms, t);

@@ -107,6 +107,8 @@ private:
     ShaderProgram m_roads;
     ShaderProgram m_outline;        // the filter over the whole screen
     ShaderProgram m_outline_cells;  // the filter over the cells near roads (markOutlineCells)
+    ShaderProgram m_outline_packed;  // the same over the packed mask, road pixels left out by the stencil
+    ShaderProgram m_outline_pack;    // packs the mask over the cells (outline_pack.frag)
     ShaderProgram m_buildings;
     ShaderProgram m_marker;
     GLuint m_empty_texture = 0;

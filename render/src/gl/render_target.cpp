@@ -96,6 +96,29 @@ RenderTarget::~RenderTarget() {
     glDeleteFramebuffers(4, fbos);
     glDeleteRenderbuffers(4, rbs);
     glDeleteTextures(1, &m_mask_texture);
+    glDeleteFramebuffers(1, &m_packed_fbo);
+    glDeleteTextures(1, &m_packed_texture);
+}
+
+GLuint RenderTarget::bindPackedMask() const {
+    const int packed_width = (m_width + 7) / 8;
+    if (!m_packed_fbo) {
+        glGenTextures(1, &m_packed_texture);
+        glBindTexture(GL_TEXTURE_2D, m_packed_texture);
+        glTexStorage2D(GL_TEXTURE_2D, 1, GL_R16UI, packed_width, m_height);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);  // integer: read with texelFetch
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+        glBindTexture(GL_TEXTURE_2D, 0);
+        glGenFramebuffers(1, &m_packed_fbo);
+        glBindFramebuffer(GL_FRAMEBUFFER, m_packed_fbo);
+        glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, m_packed_texture, 0);
+        checkFramebufferComplete("packed mask");
+    }
+    glBindFramebuffer(GL_FRAMEBUFFER, m_packed_fbo);
+    const GLenum color = GL_COLOR_ATTACHMENT0;
+    glDrawBuffers(1, &color);
+    glViewport(0, 0, packed_width, m_height);
+    return m_packed_texture;
 }
 
 void RenderTarget::attachDepthStencil(GLuint shared_depth_stencil) {

@@ -58,6 +58,10 @@ public:
     void attachDepthStencil(GLuint shared_depth_stencil);
 
     [[nodiscard]] GLuint maskTexture() const { return m_mask_texture; }
+    /// The road mask bit-packed for the outline filter (outline_pack.frag): an R16UI texture of
+    /// ceil(width / 8) x height, made on the first call. Binds its framebuffer for drawing, with
+    /// the viewport over it, and returns the texture.
+    GLuint bindPackedMask() const;
     /// The drawing framebuffer and its depth-stencil renderbuffer: the occlusion effects (glowing
     /// roads, label aura) attach the same depth to their own framebuffers and blit from it.
     [[nodiscard]] GLuint drawFramebuffer() const { return m_draw_fbo; }
@@ -80,6 +84,8 @@ private:
     GLuint m_mask_fbo = 0;       // MSAA only: resolve target of the mask
     GLuint m_mask_texture = 0;
     GLuint m_composite_fbo = 0;  // colour + depth/stencil, no mask
+    mutable GLuint m_packed_texture = 0;  // bindPackedMask(), made on first use
+    mutable GLuint m_packed_fbo = 0;
 };
 
 }  // namespace navmap::render::gl
