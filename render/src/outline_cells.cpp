@@ -115,21 +115,27 @@ void OutlineCells::markPolygon(const glm::vec2* points, int count) {
     }
 }
 
-std::vector<CellRect> OutlineCells::rects() const {
+std::vector<CellRect> OutlineCells::rects(int group) const {
+    group = std::max(group, 1);
+    const int groups = (m_columns + group - 1) / group, width = group * m_cell;
     std::vector<CellRect> done, open, next;
     for (int row = 0; row < m_rows; ++row) {
         const std::uint8_t* cells = m_marked.data() + static_cast<std::size_t>(row) * static_cast<std::size_t>(m_columns);
+        auto marked = [&](int g) {
+            const int c1 = std::min((g + 1) * group, m_columns);
+            return std::find(cells + g * group, cells + c1, std::uint8_t{1}) != cells + c1;
+        };
         const int y0 = row * m_cell, y1 = std::min((row + 1) * m_cell, m_height);
         next.clear();
         std::size_t o = 0;  // open rects and runs both run left to right
-        for (int c = 0; c < m_columns;) {
-            if (!cells[c]) {
+        for (int c = 0; c < groups;) {
+            if (!marked(c)) {
                 ++c;
                 continue;
             }
             const int c0 = c;
-            while (c < m_columns && cells[c]) ++c;
-            const int x0 = c0 * m_cell, x1 = std::min(c * m_cell, m_width);
+            while (c < groups && marked(c)) ++c;
+            const int x0 = c0 * width, x1 = std::min(c * width, m_width);
             while (o < open.size() && open[o].x0 < x0) done.push_back(open[o++]);
             if (o < open.size() && open[o].x0 == x0 && open[o].x1 == x1) {
                 next.push_back(open[o++]);

@@ -3,6 +3,7 @@
 // quads that reach behind the camera, and the rectangles cover exactly the marked cells.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -162,6 +163,23 @@ TEST(OutlineCells, RectanglesCoverExactlyTheMarkedCells) {
         }
     }
     EXPECT_GT(marked, 0u);
+    // In groups of four cells along a row: each cell of a group with a marked cell, no other.
+    const int group = 4 * kCell;
+    std::fill(hits.begin(), hits.end(), 0);
+    for (const CellRect& r : cells.rects(4)) {
+        ASSERT_EQ(r.x0 % group, 0);
+        ASSERT_TRUE(r.x1 % group == 0 || r.x1 == kW) << r.x1;
+        ASSERT_LE(r.x1, kW);
+        for (int py = r.y0; py < r.y1; ++py)
+            for (int px = r.x0; px < r.x1; ++px) ++hits[py * kW + px];
+    }
+    for (int py = 0; py < kH; ++py) {
+        for (int gx = 0; gx < kW; gx += group) {
+            bool any = false;
+            for (int px = gx; px < std::min(gx + group, kW); px += kCell) any = any || cells.covers(px, py);
+            for (int px = gx; px < std::min(gx + group, kW); ++px) ASSERT_EQ(hits[py * kW + px], any ? 1 : 0) << px << "," << py;
+        }
+    }
     // A straight vertical road on screen is one rectangle, not one per row of cells.
     OutlineCells column;
     column.reset(kW, kH, kCell, kReach);

@@ -31,6 +31,8 @@ constexpr float kOutlineReachPx = 2.0f;
 // blocks of 4 x 4 pixels in tiles of 64, so multiples of 4 waste no partial blocks; smaller cells
 // follow the roads closer but cost more CPU to mark.
 constexpr int kOutlineCellPx = 8;
+// Cells per rectangle of the outline mask's packing pass (markOutlineCells).
+constexpr int kOutlinePackGroup = 4;
 // Screen error allowed to the road levels of detail (TileMesh, kRoadLodTolerance), pixels.
 constexpr float kRoadLodErrorPx = 0.5f;
 // Stencil bit the road and route passes set on the pixels they draw, so that the outline filter
@@ -756,14 +758,22 @@ void MapRenderer::markOutlineCells(const MapFrame& frame, const glm::mat4& proje
     }
     m_cell_vertices.clear();
     m_cell_pixels = 0;
-    for (const CellRect& r : m_cells.rects()) {
-        m_cell_pixels += static_cast<std::size_t>(r.x1 - r.x0) * static_cast<std::size_t>(r.y1 - r.y0);
+    auto add = [&](const CellRect& r) {
         // Whole cells even at the right edge of the screen (the GPU clips the overhang): the
-        // packing pass turns each into one column of packed texels.
+        // packing pass turns each into a column of packed texels.
         const int x1 = (r.x1 + kOutlineCellPx - 1) / kOutlineCellPx * kOutlineCellPx;
         const glm::vec2 lo(static_cast<float>(r.x0), static_cast<float>(r.y0)), hi(static_cast<float>(x1), static_cast<float>(r.y1));
         m_cell_vertices.insert(m_cell_vertices.end(), {lo, {hi.x, lo.y}, {lo.x, hi.y}, {lo.x, hi.y}, {hi.x, lo.y}, hi});
+    };
+    for (const CellRect& r : m_cells.rects()) {
+        m_cell_pixels += static_cast<std::size_t>(r.x1 - r.x0) * static_cast<std::size_t>(r.y1 - r.y0);
+        add(r);
     }
+    // The packing pass's rectangles: cells in groups of four along a row, so that its texels
+    // (one per cell and row) fill llvmpipe's 4 x 4 blocks; a block costs the same, covered in
+    // part or whole.
+    m_pack_first = m_cell_vertices.size();
+    for (const CellRect& r : m_cells.rects(kOutlinePackGroup)) add(r);
     m_cell_ms = msSince(t0);
 }
 
@@ -983,8 +993,10 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target) {
             m_stats.outline_pixels = static_cast<std::size_t>(target.width()) * static_cast<std::size_t>(target.height());
             glBindVertexArray(m_empty_vao);
         }
-        auto draw_cells = [&] {
-            if (outline_cells && !m_cell_vertices.empty()) glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(m_cell_vertices.size()));
+        // The filter's cells, or the packing pass's groups of them (markOutlineCells).
+        auto draw_cells = [&](bool packing) {
+            const std::size_t first = packing ? m_pack_first : 0, end = packing ? m_cell_vertices.size() : m_pack_first;
+            if (outline_cells && end > first) glDrawArrays(GL_TRIANGLES, static_cast<GLint>(first), static_cast<GLsizei>(end - first));
             if (!outline_cells) glDrawArrays(GL_TRIANGLES, 0, 3);
         };
         glActiveTexture(GL_TEXTURE0);
@@ -1001,7 +1013,7 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target) {
             // Cells are kOutlineCellPx = 8 pixels wide: one packed texel each.
             glUniform2f(m_outline_pack.uniform("u_viewport"), static_cast<float>(8 * ((target.width() + 7) / 8)),
                         static_cast<float>(target.height()));
-            draw_cells();
+            draw_cells(true);
             target.bindForDrawing(false);
         }
         ShaderProgram& p = mark_roads ? m_outline_packed : outline_cells ? m_outline_cells : m_outline;
@@ -1020,7 +1032,7 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target) {
             glStencilFunc(GL_NOTEQUAL, kRoadStencilBit, kRoadStencilBit);
             glStencilOp(GL_KEEP, GL_KEEP, GL_KEEP);
         }
-        draw_cells();
+        draw_cells(false);
         glBindTexture(GL_TEXTURE_2D, 0);
         glDisable(GL_BLEND);
         glDisable(GL_STENCIL_TEST);

@@ -128,6 +128,7 @@ private:
     GLuint m_road_index_buffer = 0;
     OutlineCells m_cells;                   // where the outlines can be (markOutlineCells)
     std::vector<glm::vec2> m_cell_vertices;  // its rectangles, two triangles each, pixels
+    std::size_t m_pack_first = 0;            // from here: the packing pass's rectangles
     std::size_t m_cell_pixels = 0;           // their area
     double m_cell_ms = 0;                    // CPU time of markOutlineCells
     SideTask m_side;                         // runs markOutlineCells beside the render thread

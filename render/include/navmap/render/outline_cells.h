@@ -40,8 +40,10 @@ public:
     void markQuad(glm::vec3 p0, glm::vec3 p1, const QuadShape& shape);
 
     /// The marked cells as rectangles: runs of cells along a row, with equal runs of the rows
-    /// above merged into one rectangle.
-    [[nodiscard]] std::vector<CellRect> rects() const;
+    /// above merged into one rectangle. With `group` > 1 the cells of a row go in groups of that
+    /// many from the left edge, a group counting as marked when any of its cells is: coarser
+    /// rectangles over a superset (the outline mask's packing pass, whose cells are one texel wide).
+    [[nodiscard]] std::vector<CellRect> rects(int group = 1) const;
 
     /// Whether the pixel (x, y) lies in a marked cell.
     [[nodiscard]] bool covers(int x, int y) const;
