@@ -151,7 +151,7 @@ TEST(AndorraMap, RoadAndBuildingBlocksOutsideTheViewAreNotDrawn) {
                         h, glow ? " glow" : "", culled.road_segments, all.road_segments, culled.building_triangles, all.building_triangles);
             EXPECT_EQ(differ, 0u) << name << " " << w << "x" << h;
             EXPECT_GT(culled.road_segments, 0u);
-            EXPECT_LT(culled.road_segments, all.road_segments * 3 / 4) << name;
+            EXPECT_LT(culled.road_segments, all.road_segments / 2) << name;
             EXPECT_GT(culled.building_triangles, 0u);
             EXPECT_LT(culled.building_triangles, all.building_triangles) << name;
         }

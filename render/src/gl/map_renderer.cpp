@@ -13,6 +13,7 @@
 #include <span>
 #include <vector>
 
+#include <glm/gtc/matrix_access.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
 namespace navmap::render::gl {
@@ -89,6 +90,35 @@ bool quadsInView(const glm::mat4& view_projection, glm::vec3 eye, const BlockExt
     const float reach = half_width * distanceWidthScale(farthest, rs.scale_threshold_m, rs.max_scale);
     return boxInView(view_projection, e.min - reach, e.max + reach, false);
 }
+
+// The view frustum's side and near planes (tile-local, metric), for a test per road piece: in
+// the blocks in view, about a third to a half of the pieces still lie outside the view, and on
+// llvmpipe each costs the render thread its vertices and triangle setup.
+class PieceFrustum {
+public:
+    explicit PieceFrustum(const glm::mat4& view_projection) {
+        const glm::vec4 x = glm::row(view_projection, 0), y = glm::row(view_projection, 1);
+        const glm::vec4 z = glm::row(view_projection, 2), w = glm::row(view_projection, 3);
+        m_planes = {w + x, w - x, w + y, w - y, w + z};  // the far plane left out, as in quadsInView
+        for (glm::vec4& p : m_planes) p /= glm::length(glm::vec3(p));
+    }
+    /// Whether the quad roads_geo.vert expands from `r` can reach the view: the sphere around the
+    /// piece's middle through its end points, grown by the widest quad's corner reach (half the
+    /// width, scaled by distance as the shader does at the middle, times sqrt 2). The view-space
+    /// offset (seed 3.6.2) moves points towards the eye, along the side planes' rays.
+    [[nodiscard]] bool holds(const RoadInstance& r, glm::vec3 eye, float half_width, const RoadStyle& rs) const {
+        const glm::vec3 mid = 0.5f * (r.p0 + r.p1);
+        const float reach = half_width * distanceWidthScale(glm::length(mid - eye), rs.scale_threshold_m, rs.max_scale);
+        const float radius = 0.5f * glm::length(r.p1 - r.p0) + 1.4143f * reach;
+        for (const glm::vec4& p : m_planes) {
+            if (glm::dot(glm::vec3(p), mid) + p.w < -radius) return false;
+        }
+        return true;
+    }
+
+private:
+    std::array<glm::vec4, 5> m_planes{};
+};
 
 bool operator==(CoverLevels a, CoverLevels b) { return a.finest == b.finest && a.coarsest == b.coarsest; }
 /// For the part [lo, hi] (tile-local x, y) of a tile seen from tile-local `eye`.
@@ -538,6 +568,7 @@ void MapRenderer::cullRoads(const MapFrame& frame, const glm::mat4& projection, 
         g->visible_count = 0;
         if (g->road_pieces.empty()) continue;
         const glm::vec3 eye(frame.camera.eye - g->origin);
+        const PieceFrustum frustum(g->view_projection);
         drawn.assign(g->road_blocks.size(), 0u);
         for (std::size_t b = 0; b < g->road_blocks.size(); ++b) {
             const BlockExtent& e = g->road_blocks[b];
@@ -559,9 +590,10 @@ void MapRenderer::cullRoads(const MapFrame& frame, const glm::mat4& projection, 
                 g->visible_casing_first = g->visible_first + g->visible_count;
             }
             for (std::uint32_t q = run.first; q < run.first + run.count; ++q) {
+                if (frame.layers.cull_blocks && !frustum.holds(g->road_pieces[q], eye, half_width, rs)) continue;
                 for (const std::uint32_t i : kQuadIndices) m_road_indices.push_back(4 * q + i);
+                ++g->visible_count;
             }
-            g->visible_count += static_cast<GLsizei>(run.count);
         }
         if (!casing_found) g->visible_casing_first = g->visible_first + g->visible_count;
     }
