@@ -131,6 +131,22 @@ TEST(AndorraMap, OutlinesNearRoadsEqualTheFullScreenFilter) {
 
 // Road pieces and buildings are culled per tile block before the vertex stage: the same image
 // (roads, outlines, glow, buildings) from far fewer pieces and triangles.
+// A frame as given and again with one of its layer switches off: the stats and image of each.
+struct Rendered {
+    MapFrameStats stats;
+    Image image;
+};
+std::pair<Rendered, Rendered> renderWithAndWithout(Renderer& renderer, MapFrame frame, bool MapLayers::*option) {
+    std::pair<Rendered, Rendered> out;
+    for (Rendered* r : {&out.first, &out.second}) {
+        renderer.renderMap(frame);
+        r->stats = renderer.mapStats();
+        r->image = renderer.readSync();
+        frame.layers.*option = false;
+    }
+    return out;
+}
+
 TEST(AndorraMap, RoadAndBuildingBlocksOutsideTheViewAreNotDrawn) {
     for (ViewMode mode : {ViewMode::Bird, ViewMode::Snail}) {
         for (const auto& [w, h, glow] : {std::tuple{kW, kH, false}, std::tuple{1280, 480, false}, std::tuple{kW, kH, true}}) {
@@ -138,14 +154,10 @@ TEST(AndorraMap, RoadAndBuildingBlocksOutsideTheViewAreNotDrawn) {
             MapFrame frame = navmap::test::settledAndorraFrame(mode, w, h);
             frame.layers = layersFor(3);
             frame.layers.glow_roads = glow;  // the terrain before the buildings
-            renderer->renderMap(frame);
-            const MapFrameStats culled = renderer->mapStats();
-            const Image with_culling = renderer->readSync();
-            frame.layers.cull_blocks = false;
-            renderer->renderMap(frame);
-            const MapFrameStats all = renderer->mapStats();
-            const Image without = renderer->readSync();
-            const std::size_t differ = differingPixels(without, with_culling);
+            const auto [with_culling, without] = renderWithAndWithout(*renderer, frame, &MapLayers::cull_blocks);
+            const MapFrameStats& culled = with_culling.stats;
+            const MapFrameStats& all = without.stats;
+            const std::size_t differ = differingPixels(without.image, with_culling.image);
             const char* name = mode == ViewMode::Bird ? "bird" : "snail";
             std::printf("[ measure  ] %s %dx%d%s: %zu of %zu road pieces, %zu of %zu building triangles drawn\n", name, w,
                         h, glow ? " glow" : "", culled.road_segments, all.road_segments, culled.building_triangles, all.building_triangles);
@@ -167,17 +179,13 @@ TEST(AndorraMap, DistantRoadsAreDrawnSimplifiedWithinHalfAPixel) {
         auto renderer = rendererOfSize(w, h);
         MapFrame frame = navmap::test::settledAndorraFrame(mode, w, h);
         frame.layers = layersFor(3);
-        renderer->renderMap(frame);
-        const MapFrameStats simplified = renderer->mapStats();
-        const Image with_lod = renderer->readSync();
-        frame.layers.road_lod = false;
-        renderer->renderMap(frame);
-        const MapFrameStats draped = renderer->mapStats();
-        const Image without = renderer->readSync();
+        const auto [with_lod, without] = renderWithAndWithout(*renderer, frame, &MapLayers::road_lod);
+        const MapFrameStats& simplified = with_lod.stats;
+        const MapFrameStats& draped = without.stats;
         std::size_t differ = 0, differ_near = 0;
         for (int y = 0; y < h; ++y) {
             for (int x = 0; x < w; ++x) {
-                if (std::memcmp(with_lod.pixel(x, y), without.pixel(x, y), 3) == 0) continue;
+                if (std::memcmp(with_lod.image.pixel(x, y), without.image.pixel(x, y), 3) == 0) continue;
                 ++differ;
                 differ_near += y >= h * 3 / 4;  // the bottom quarter: the ground next to the car
             }

@@ -233,16 +233,16 @@ TEST(TileMesh, RoadLevelsStayWithinTheirToleranceAndKeepTheBlockEnds) {
 
 TEST(TileMesh, RoadLevelFollowsTheScreenError) {
     // 600 px per unit of tan(angle), half a pixel: level 1 (1 m) from 1200 m, level 2 (4 m)
-    // from 4800 m, level 3 (16 m) from 19.2 km.
-    EXPECT_EQ(render::roadLodLevel(0.0f, 600.0f, 0.5f), 0);
-    EXPECT_EQ(render::roadLodLevel(1199.0f, 600.0f, 0.5f), 0);
-    EXPECT_EQ(render::roadLodLevel(1200.0f, 600.0f, 0.5f), 1);
-    EXPECT_EQ(render::roadLodLevel(4799.0f, 600.0f, 0.5f), 1);
-    EXPECT_EQ(render::roadLodLevel(4800.0f, 600.0f, 0.5f), 2);
-    EXPECT_EQ(render::roadLodLevel(19200.0f, 600.0f, 0.5f), 3);
-    EXPECT_EQ(render::roadLodLevel(1e9f, 600.0f, 0.5f), 3);
-    EXPECT_EQ(render::roadLodLevel(2400.0f, 1200.0f, 0.5f), 1) << "a longer focal length needs twice the distance";
-    EXPECT_EQ(render::roadLodLevel(2399.0f, 1200.0f, 0.5f), 0);
+    // from 4800 m, level 3 (16 m) from 19.2 km; twice the focal length, twice the distances.
+    struct Case {
+        float distance_m, focal_px;
+        int level;
+    };
+    for (const Case c : {Case{0.0f, 600.0f, 0}, Case{1199.0f, 600.0f, 0}, Case{1200.0f, 600.0f, 1}, Case{4799.0f, 600.0f, 1},
+                         Case{4800.0f, 600.0f, 2}, Case{19200.0f, 600.0f, 3}, Case{1e9f, 600.0f, 3}, Case{2399.0f, 1200.0f, 0},
+                         Case{2400.0f, 1200.0f, 1}}) {
+        EXPECT_EQ(render::roadLodLevel(c.distance_m, c.focal_px, 0.5f), c.level) << c.distance_m << " m, " << c.focal_px << " px";
+    }
 }
 
 TEST(TileMesh, BridgesSpanStraightBetweenTheirEnds) {
