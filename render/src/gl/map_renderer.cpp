@@ -9,6 +9,7 @@
 #include <cstddef>
 #include <cstdio>
 #include <limits>
+#include <numbers>
 #include <numeric>
 #include <span>
 #include <vector>
@@ -32,6 +33,7 @@ constexpr float kOutlineReachPx = 2.0f;
 // blocks of 4 x 4 pixels in tiles of 64, so multiples of 4 waste no partial blocks; smaller cells
 // follow the roads closer but cost more CPU to mark.
 constexpr int kOutlineCellPx = 8;
+static_assert(kOutlineCellPx == 8, "outline_pack.frag packs 8 pixels of a row into a texel, one per cell");
 // Cells per rectangle of the outline mask's packing pass (markOutlineCells).
 constexpr int kOutlinePackGroup = 4;
 // Screen error allowed to the road levels of detail (TileMesh, kRoadLodTolerance), pixels.
@@ -109,7 +111,7 @@ public:
     [[nodiscard]] bool holds(const RoadInstance& r, glm::vec3 eye, float half_width, const RoadStyle& rs) const {
         const glm::vec3 mid = 0.5f * (r.p0 + r.p1);
         const float reach = half_width * distanceWidthScale(glm::length(mid - eye), rs.scale_threshold_m, rs.max_scale);
-        const float radius = 0.5f * glm::length(r.p1 - r.p0) + 1.4143f * reach;
+        const float radius = 0.5f * glm::length(r.p1 - r.p0) + std::numbers::sqrt2_v<float> * reach;
         for (const glm::vec4& p : m_planes) {
             if (glm::dot(glm::vec3(p), mid) + p.w < -radius) return false;
         }
@@ -1042,8 +1044,8 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target) {
             glUseProgram(m_outline_pack.id());
             glBindTexture(GL_TEXTURE_2D, target.maskTexture());
             glUniform1i(m_outline_pack.uniform("u_road_mask"), 0);
-            // Cells are kOutlineCellPx = 8 pixels wide: one packed texel each.
-            glUniform2f(m_outline_pack.uniform("u_viewport"), static_cast<float>(8 * ((target.width() + 7) / 8)),
+            // A cell (kOutlineCellPx wide) is one packed texel: pixel x maps to texel x / 8.
+            glUniform2f(m_outline_pack.uniform("u_viewport"), static_cast<float>(kOutlineCellPx * ((target.width() + 7) / 8)),
                         static_cast<float>(target.height()));
             draw_cells(true);
             target.bindForDrawing(false);
