@@ -64,7 +64,8 @@ GridWeights gridWeights(const HeightGrid& g, double x, double y) {
     return {{at(row, col), at(row + 1, col + 1), at(row + 1, col)}, {1.0 - fy, fx, fy - fx}};                // SW NE NW
 }
 
-// Distance of p from the segment a-b in 3D (the road levels' simplification error).
+// Distance of p from the segment a-b in 3D (the road levels' simplification error). Not GLM's
+// closestPointOnLine: it divides by the segment's length, and a closed way's chord has none.
 double segmentDistance(const glm::dvec3& p, const glm::dvec3& a, const glm::dvec3& b) {
     const glm::dvec3 d = b - a;
     const double len2 = glm::dot(d, d);

@@ -171,7 +171,14 @@ TEST(TileMesh, RoadLevelsStayWithinTheirToleranceAndKeepTheBlockEnds) {
         wave.push_back({x, 400.0f + 150.0f * std::sin(x / 60.0f)});
         hairpins.push_back({x, 150.0f + 40.0f * std::sin(x / 9.0f) + 0.3f * std::sin(x * 1.7f)});
     }
-    t.roads = {road(map::RoadClass::Secondary, wave), road(map::RoadClass::Residential, hairpins)};
+    // A roundabout: a closed way, its chord from the first to the last point of zero length.
+    std::vector<map::LocalPoint> ring;
+    for (int i = 0; i <= 48; ++i) {
+        const float a = 2.0f * 3.14159265f * static_cast<float>(i % 48) / 48.0f;
+        ring.push_back({300.0f + 40.0f * std::cos(a), 700.0f + 40.0f * std::sin(a)});
+    }
+    t.roads = {road(map::RoadClass::Secondary, wave), road(map::RoadClass::Tertiary, ring),
+               road(map::RoadClass::Residential, hairpins)};
     const render::TileMesh m = render::buildTileMesh(t);
     struct Key {
         float cls;

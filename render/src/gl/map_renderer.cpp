@@ -33,7 +33,7 @@ constexpr float kOutlineReachPx = 2.0f;
 // blocks of 4 x 4 pixels in tiles of 64, so multiples of 4 waste no partial blocks; smaller cells
 // follow the roads closer but cost more CPU to mark.
 constexpr int kOutlineCellPx = 8;
-static_assert(kOutlineCellPx == 8, "outline_pack.frag packs 8 pixels of a row into a texel, one per cell");
+static_assert(kOutlineCellPx == RenderTarget::kPackedMaskPixels, "the packing pass turns a cell into one column of texels");
 // Cells per rectangle of the outline mask's packing pass (markOutlineCells).
 constexpr int kOutlinePackGroup = 4;
 // Screen error allowed to the road levels of detail (TileMesh, kRoadLodTolerance), pixels.
@@ -1027,11 +1027,9 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target) {
             m_stats.outline_pixels = static_cast<std::size_t>(target.width()) * static_cast<std::size_t>(target.height());
             glBindVertexArray(m_empty_vao);
         }
-        // The filter's cells, or the packing pass's groups of them (markOutlineCells).
-        auto draw_cells = [&](bool packing) {
-            const std::size_t first = packing ? m_pack_first : 0, end = packing ? m_cell_vertices.size() : m_pack_first;
-            if (outline_cells && end > first) glDrawArrays(GL_TRIANGLES, static_cast<GLint>(first), static_cast<GLsizei>(end - first));
-            if (!outline_cells) glDrawArrays(GL_TRIANGLES, 0, 3);
+        // Vertices [first, end) of m_cell_vertices: the filter's cells, then the packing pass's.
+        auto draw_cells = [](std::size_t first, std::size_t end) {
+            if (end > first) glDrawArrays(GL_TRIANGLES, static_cast<GLint>(first), static_cast<GLsizei>(end - first));
         };
         glActiveTexture(GL_TEXTURE0);
         GLuint mask = target.maskTexture();
@@ -1044,10 +1042,11 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target) {
             glUseProgram(m_outline_pack.id());
             glBindTexture(GL_TEXTURE_2D, target.maskTexture());
             glUniform1i(m_outline_pack.uniform("u_road_mask"), 0);
-            // A cell (kOutlineCellPx wide) is one packed texel: pixel x maps to texel x / 8.
-            glUniform2f(m_outline_pack.uniform("u_viewport"), static_cast<float>(kOutlineCellPx * ((target.width() + 7) / 8)),
+            // Pixel x maps to texel x / kPackedMaskPixels: a cell is one column of texels.
+            glUniform2f(m_outline_pack.uniform("u_viewport"),
+                        static_cast<float>(RenderTarget::kPackedMaskPixels * target.packedMaskWidth()),
                         static_cast<float>(target.height()));
-            draw_cells(true);
+            draw_cells(m_pack_first, m_cell_vertices.size());
             target.bindForDrawing(false);
         }
         ShaderProgram& p = mark_roads ? m_outline_packed : outline_cells ? m_outline_cells : m_outline;
@@ -1066,7 +1065,11 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target) {
             glStencilFunc(GL_NOTEQUAL, kRoadStencilBit, kRoadStencilBit);
             glStencilOp(GL_KEEP, GL_KEEP, GL_KEEP);
         }
-        draw_cells(false);
+        if (outline_cells) {
+            draw_cells(0, m_pack_first);
+        } else {
+            glDrawArrays(GL_TRIANGLES, 0, 3);  // full screen
+        }
         glBindTexture(GL_TEXTURE_2D, 0);
         glDisable(GL_BLEND);
         glDisable(GL_STENCIL_TEST);

@@ -101,7 +101,7 @@ RenderTarget::~RenderTarget() {
 }
 
 GLuint RenderTarget::bindPackedMask() const {
-    const int packed_width = (m_width + 7) / 8;
+    const int packed_width = packedMaskWidth();
     if (!m_packed_fbo) {
         glGenTextures(1, &m_packed_texture);
         glBindTexture(GL_TEXTURE_2D, m_packed_texture);

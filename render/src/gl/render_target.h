@@ -58,10 +58,13 @@ public:
     void attachDepthStencil(GLuint shared_depth_stencil);
 
     [[nodiscard]] GLuint maskTexture() const { return m_mask_texture; }
+    /// Pixels of a row per texel of the packed mask (outline_pack.frag).
+    static constexpr int kPackedMaskPixels = 8;
     /// The road mask bit-packed for the outline filter (outline_pack.frag): an R16UI texture of
-    /// ceil(width / 8) x height, made on the first call. Binds its framebuffer for drawing, with
+    /// packedMaskWidth() x height, made on the first call. Binds its framebuffer for drawing, with
     /// the viewport over it, and returns the texture.
     GLuint bindPackedMask() const;
+    [[nodiscard]] int packedMaskWidth() const { return (m_width + kPackedMaskPixels - 1) / kPackedMaskPixels; }
     /// The drawing framebuffer and its depth-stencil renderbuffer: the occlusion effects (glowing
     /// roads, label aura) attach the same depth to their own framebuffers and blit from it.
     [[nodiscard]] GLuint drawFramebuffer() const { return m_draw_fbo; }
