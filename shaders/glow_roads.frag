@@ -4,9 +4,8 @@
 // building, not a hill). Output: the single glow colour or the road's own colour, straight
 // into the frame (u_direct = 1, no blur: skipped where a road is visible, road mask of seed
 // 3.6.3) or into the glow buffer for the blur.
-in vec2 v_local;
-in float v_h;
-in float v_measure;
+in vec2 v_cap;
+flat in float v_half_length;
 flat in vec3 v_color;  // the fill of the road class or the route's colour (pass 1)
 
 uniform highp sampler2D u_terrain_depth;  // window depth of the terrain alone (texelFetch)
@@ -20,8 +19,8 @@ layout(location = 0) out vec4 o_color;
 
 void main() {
     // seed 3.4: the same analytic caps as the visible roads.
-    float x_cap = (abs(v_local.x) - 1.0) / v_h + 1.0;
-    float y_cap = abs(v_local.y);
+    float x_cap = abs(v_cap.x) - v_half_length;
+    float y_cap = abs(v_cap.y);
     if (x_cap > 0.0 && x_cap * x_cap + y_cap * y_cap > 1.0) discard;
     // seed 5.5.2: z_building < z_road is the hardware test; here z_road <= z_terrain.
     float terrain = texelFetch(u_terrain_depth, ivec2(gl_FragCoord.xy), 0).r;

@@ -21,10 +21,17 @@ uniform vec3 u_casing_color[11];
 uniform vec3 u_route_color;
 uniform vec3 u_route_casing;
 
-out vec2 v_local;               // quad-local coordinates in [-1, 1]^2 (x along, y across)
-out float v_h;                  // seed 3.4 cap ratio h = w / (d + w)
-out float v_measure;
+// seed 3.4's quad-local coordinates, scaled so that the cap test needs no division: x along
+// and y across the segment, both in half widths from its centre (the quad spans |x| <= L + 1,
+// |y| <= 1), with L = d / w the half length of the segment in half widths. The seed's
+// x_cap = (|x_q| - 1) / h + 1 with x_q in [-1, 1] and h = w / (d + w) is then |x| - L. Per quad
+// values are flat: llvmpipe sets up an interpolated input per triangle, a flat one costs a copy.
+out vec2 v_cap;
+flat out float v_half_length;   // L
 flat out vec3 v_color;          // of this pass, per quad (an indexed uniform per fragment costs more)
+#ifdef NAVMAP_ROUTE_PROGRESS
+out float v_measure;            // metres along the route
+#endif
 
 void main() {
     int cls = int(a_class + 0.5);
@@ -50,9 +57,11 @@ void main() {
     vec3 base = sx < 0.0 ? a_p0 : a_p1;
     // Q_i = P +- n' +- t' with n' = 0.5 w n, t' = 0.5 w t (seed 3.4).
     vec3 pos = base + vec3(0.5 * width * (sy * n + sx * t), 0.0);
-    v_local = vec2(sx, sy);
-    v_h = width / (len + width);
+    v_half_length = len / width;
+    v_cap = vec2(sx * (v_half_length + 1.0), sy);
+#ifdef NAVMAP_ROUTE_PROGRESS
     v_measure = sx < 0.0 ? a_measure.x : a_measure.y;
+#endif
     if (u_route == 1) v_color = u_pass == 0 ? u_route_casing : u_route_color;
     else v_color = u_pass == 0 ? u_casing_color[cls] : u_fill[cls];
     vec4 view_pos = u_view * vec4(pos, 1.0);

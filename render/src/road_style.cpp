@@ -46,10 +46,10 @@ float distanceWidthScale(float distance_m, float threshold_m, float max_scale) {
     return std::min(distance_m / threshold_m, max_scale);
 }
 
-float capRatio(float segment_length, float width) { return width / (segment_length + width); }
+float capHalfLength(float segment_length, float width) { return segment_length / width; }
 
-bool capCovers(float x, float y, float h) {
-    const float x_cap = (std::abs(x) - 1.0f) / h + 1.0f;
+bool capCovers(float x, float y, float half_length) {
+    const float x_cap = std::abs(x) - half_length;
     const float y_cap = std::abs(y);
     if (x_cap <= 0.0f) return y_cap <= 1.0f;
     return x_cap * x_cap + y_cap * y_cap <= 1.0f;

@@ -276,6 +276,7 @@ MapRenderer::MapRenderer(const RendererOptions& options)
                       ShaderProgram::fromEmbedded("terrain_tile.vert", "terrain_tile.frag", "#define NAVMAP_COVER_LEVELS 3\n")},
       m_land_cover(ShaderProgram::fromEmbedded("landcover_raster.vert", "landcover_raster.frag")),
       m_roads(ShaderProgram::fromEmbedded("roads_geo.vert", "roads_geo.frag")),
+      m_route(ShaderProgram::fromEmbedded("roads_geo.vert", "roads_geo.frag", "#define NAVMAP_ROUTE_PROGRESS 1\n")),
       m_outline(ShaderProgram::fromEmbedded("screen_outline.vert", "screen_outline.frag")),
       m_outline_cells(ShaderProgram::fromEmbedded("screen_cells.vert", "screen_outline.frag")),
       m_outline_packed(ShaderProgram::fromEmbedded("screen_cells.vert", "screen_outline.frag", "#define NAVMAP_PACKED_MASK 1\n")),
@@ -999,8 +1000,8 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target) {
         lap(m_stats.roads_ms, t);
     }
     if (frame.layers.route && frame.route) {
-        glUseProgram(m_roads.id());
-        for (int pass = 0; pass < 2; ++pass) drawRoute(m_roads, pass, frame, projection, tiles);
+        glUseProgram(m_route.id());
+        for (int pass = 0; pass < 2; ++pass) drawRoute(m_route, pass, frame, projection, tiles);
         lap(m_stats.route_ms, t);
     }
     if (mark_roads) {
@@ -1122,7 +1123,8 @@ void MapRenderer::runOcclusionEffects(const MapFrame& frame, const RenderTarget&
         auto roads = [&] {
             glUseProgram(m_roads.id());
             for (int pass = 0; pass < 2 && frame.layers.roads; ++pass) drawRoads(m_roads, pass, projection, tiles);
-            for (int pass = 0; pass < 2 && frame.layers.route && frame.route; ++pass) drawRoute(m_roads, pass, frame, projection, tiles);
+            glUseProgram(m_route.id());
+            for (int pass = 0; pass < 2 && frame.layers.route && frame.route; ++pass) drawRoute(m_route, pass, frame, projection, tiles);
         };
         std::span<const LabelOccluder> labels;
         if (frame.layers.labels && m_label_pass) labels = m_label_pass->occluders();

@@ -46,12 +46,16 @@ struct RoadStyle {
 /// threshold, so distant roads stay visible while near ones keep their true width.
 float distanceWidthScale(float distance_m, float threshold_m, float max_scale);
 
-/// seed 3.4: the cap ratio h = w / (d + w) for a segment of length d and width w.
-float capRatio(float segment_length, float width);
+/// seed 3.4 in the coordinates roads_geo.vert hands its fragments: the half length L = d / w of
+/// a segment of length d and width w, in half widths.
+float capHalfLength(float segment_length, float width);
 
-/// seed 3.4: whether the quad-local point (x, y) in [-1, 1]^2 (x along the segment, y across)
-/// is covered by the road with rounded caps: x_cap = (|x| - 1) / h + 1, y_cap = |y|; outside the
-/// cap region (x_cap <= 0) always covered, inside covered when x_cap^2 + y_cap^2 <= 1.
-bool capCovers(float x, float y, float h);
+/// seed 3.4: whether the point (x, y) of a segment's quad is covered by the road with rounded
+/// caps, x along the segment and y across, both in half widths from its centre (the quad spans
+/// |x| <= L + 1, |y| <= 1): x_cap = |x| - L, y_cap = |y|; outside the cap region (x_cap <= 0)
+/// always covered, inside covered when x_cap^2 + y_cap^2 <= 1. (The seed's quad-local x_q in
+/// [-1, 1] and cap ratio h = w / (d + w) give x_cap = (|x_q| - 1) / h + 1, the same with
+/// x = x_q (L + 1); roads_geo.frag.)
+bool capCovers(float x, float y, float half_length);
 
 }  // namespace navmap::render
