@@ -4,7 +4,7 @@
 layout(location = 0) in vec3 a_p0;
 layout(location = 1) in vec3 a_p1;
 layout(location = 2) in float a_class;
-layout(location = 3) in float a_flags;
+layout(location = 3) in vec2 a_cap_reach;  // beyond p0, p1: half widths (1: the whole cap)
 layout(location = 4) in vec2 a_measure;
 
 uniform mat4 u_view;
@@ -20,6 +20,8 @@ uniform vec3 u_fill[11];        // fill colour per road class
 uniform vec3 u_casing_color[11];
 uniform vec3 u_route_color;
 uniform vec3 u_route_casing;
+uniform int u_whole_caps;       // 1: both whole caps on every quad (MapLayers::trim_joint_caps off)
+uniform float u_short_half_length;  // kShortPieceHalfLength
 
 // seed 3.4's quad-local coordinates, scaled so that the cap test needs no division: x along
 // and y across the segment, both in half widths from its centre (the quad spans |x| <= L + 1,
@@ -55,10 +57,13 @@ void main() {
     float sx = corner >= 2 ? 1.0 : -1.0;
     float sy = (corner == 0 || corner == 2) ? 1.0 : -1.0;
     vec3 base = sx < 0.0 ? a_p0 : a_p1;
-    // Q_i = P +- n' +- t' with n' = 0.5 w n, t' = 0.5 w t (seed 3.4).
-    vec3 pos = base + vec3(0.5 * width * (sy * n + sx * t), 0.0);
+    // Q_i = P +- n' +- t' with n' = 0.5 w n, t' = 0.5 w t (seed 3.4); at a joint t' only as far as
+    // the bend needs (the next piece's quad covers the rest of the cap).
+    // A piece shorter than its half width keeps both whole caps (road_style.h, capReach()).
     v_half_length = len / width;
-    v_cap = vec2(sx * (v_half_length + 1.0), sy);
+    float reach = u_whole_caps == 1 || v_half_length < u_short_half_length ? 1.0 : (sx < 0.0 ? a_cap_reach.x : a_cap_reach.y);
+    vec3 pos = base + vec3(0.5 * width * (sy * n + sx * reach * t), 0.0);
+    v_cap = vec2(sx * (v_half_length + reach), sy);
 #ifdef NAVMAP_ROUTE_PROGRESS
     v_measure = sx < 0.0 ? a_measure.x : a_measure.y;
 #endif

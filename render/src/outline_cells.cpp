@@ -25,7 +25,7 @@ void OutlineCells::setView(const glm::mat4& view, const glm::mat4& projection) {
     m_eye_clip = projection[3];
 }
 
-void OutlineCells::markQuad(glm::vec3 p0, glm::vec3 p1, const QuadShape& shape) {
+void OutlineCells::markQuad(glm::vec3 p0, glm::vec3 p1, const QuadShape& shape, glm::vec2 cap_reach) {
     if (m_columns == 0 || m_rows == 0) return;
     // The quad as roads_geo.vert expands it. Its corners are linear in the end points and the
     // offsets along and across, and so are their clip positions: the view-space scale towards the
@@ -43,8 +43,10 @@ void OutlineCells::markQuad(glm::vec3 p0, glm::vec3 p1, const QuadShape& shape) 
     const glm::vec4 c1 = keep * (m_view_projection * glm::vec4(p1, 1.0f)) + (1.0f - keep) * m_eye_clip;
     const glm::vec4 across = keep * half_width * (n.x * m_view_projection[0] + n.y * m_view_projection[1]);
     const glm::vec4 along = keep * half_width * (t.x * m_view_projection[0] + t.y * m_view_projection[1]);
-    // Around the quad: p0 + n - t, p1 + n + t, p1 - n + t, p0 - n - t (w/2 each).
-    const std::array<glm::vec4, 4> clip{c0 + across - along, c1 + across + along, c1 - across + along, c0 - across - along};
+    // Around the quad: p0 + n - t, p1 + n + t, p1 - n + t, p0 - n - t (w/2 each, t times the reach).
+    const float half_length = half_width > 0.0f ? 0.5f * len / half_width : 0.0f;
+    const glm::vec4 back = capReach(cap_reach.x, half_length) * along, ahead = capReach(cap_reach.y, half_length) * along;
+    const std::array<glm::vec4, 4> clip{c0 + across - back, c1 + across + ahead, c1 - across + ahead, c0 - across - back};
     // Clipped against the near plane (z >= -w) as the GPU clips it; the other planes only cut
     // what lies off the viewport, which the grid drops anyway.
     std::array<glm::vec2, 8> screen;

@@ -55,4 +55,8 @@ bool capCovers(float x, float y, float half_length) {
     return x_cap * x_cap + y_cap * y_cap <= 1.0f;
 }
 
+float capReach(float trimmed_reach, float half_length) {
+    return half_length < kShortPieceHalfLength ? 1.0f : trimmed_reach;
+}
+
 }  // namespace navmap::render

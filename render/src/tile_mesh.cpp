@@ -75,6 +75,17 @@ double segmentDistance(const glm::dvec3& p, const glm::dvec3& a, const glm::dvec
 
 }  // namespace
 
+float jointCapReach(glm::vec2 from, glm::vec2 to) {
+    const float lengths = glm::length(from) * glm::length(to);
+    if (!(lengths > 1e-12f)) return 1.0f;  // roads_geo.vert gives a piece without length in plan any direction
+    // The outer wedge between the two bodies lies within the round join; both quads reach into it,
+    // so each needs only what the other leaves: the wedge's points lie at most sin(turn / 2) half
+    // widths beyond the joint along one piece or the other (the farthest on the bisector).
+    const float cos_turn = std::clamp(glm::dot(from, to) / lengths, -1.0f, 1.0f);
+    const float sin_half_turn = std::sqrt(0.5f * (1.0f - cos_turn));
+    return std::min(1.0f, sin_half_turn + kJointOverlap);
+}
+
 void ancestorSurface(const map::Tile& tile, int n, std::span<const float> heights, const map::Tile* ancestor,
                      int levels_up, std::vector<float>& out_heights, std::vector<glm::vec3>& out_normals) {
     const std::size_t count = static_cast<std::size_t>(n) * n;
@@ -315,9 +326,27 @@ TileMesh buildTileMesh(const map::Tile& tile, const TileMeshOptions& options, st
         // (seed 3.6.3 "Intersections"); bridges after everything.
         const int order = (bridge ? 1000 : 0) + (map::kRoadClassCount - static_cast<int>(road.cls));
         auto piece = [&](const glm::dvec3& a, const glm::dvec3& b, std::uint32_t block, std::uint32_t lods) {
-            pieces.push_back({RoadInstance{glm::vec3(a), glm::vec3(b), static_cast<float>(road.cls), static_cast<float>(road.flags)},
-                              order, block, lods});
+            RoadInstance inst{glm::vec3(a), glm::vec3(b), static_cast<float>(road.cls), static_cast<float>(road.flags)};
+            inst.cap_reach = glm::vec2(0.0f);  // set per level below, from the piece's neighbours
+            pieces.push_back({inst, order, block, lods});
         };
+        // seed 3.4's caps where pieces join: along each level's chain within a span, a piece
+        // reaches beyond a joint only as far as the bend needs (jointCapReach), the most that any
+        // of its levels needs. A span's ends keep whole caps: the next block may be drawn at
+        // another level. (Other roads meeting here are unaffected: the joined pieces still cover
+        // their whole round join between them.)
+        auto join = [&](const std::vector<std::size_t>& chain) {
+            pieces[chain.front()].inst.cap_reach.x = 1.0f;
+            pieces[chain.back()].inst.cap_reach.y = 1.0f;
+            for (std::size_t c = 0; c + 1 < chain.size(); ++c) {
+                RoadInstance& from = pieces[chain[c]].inst;
+                RoadInstance& to = pieces[chain[c + 1]].inst;
+                const float reach = jointCapReach(glm::vec2(from.p1 - from.p0), glm::vec2(to.p1 - to.p0));
+                from.cap_reach.y = std::max(from.cap_reach.y, reach);
+                to.cap_reach.x = std::max(to.cap_reach.x, reach);
+            }
+        };
+        std::vector<std::size_t> chain;
         const std::size_t first = pieces.size();
         for (std::size_t i = 0; i + 1 < draped.size(); ++i) {
             piece(draped[i], draped[i + 1], blockOf(0.5f * (glm::vec2(glm::dvec2(draped[i])) + glm::vec2(glm::dvec2(draped[i + 1])))), 1u);
@@ -333,26 +362,33 @@ TileMesh buildTileMesh(const map::Tile& tile, const TileMeshOptions& options, st
                 std::size_t from, to, piece;
             };
             std::vector<Chord> chords;  // the pieces added for this span (the levels' kept sets nest)
+            chain.resize(b - a);
+            std::iota(chain.begin(), chain.end(), a);
+            join(chain);
             for (int k = 1; k < kRoadLods; ++k) {
                 const std::vector<char> keep = map::douglasPeucker(
                     span.size(), kRoadLodTolerance[static_cast<std::size_t>(k)],
                     [&](std::size_t v, std::size_t i, std::size_t j) { return segmentDistance(span[v], span[i], span[j]); });
                 const std::uint32_t bit = 1u << k;
+                chain.clear();
                 for (std::size_t i = 0, j = 1; j < span.size(); ++j) {
                     if (!keep[j]) continue;
                     if (j == i + 1) {
-                        pieces[a + i].lods |= bit;  // the draped piece itself
+                        chain.push_back(a + i);  // the draped piece itself
                     } else {
                         const auto chord = std::find_if(chords.begin(), chords.end(), [&](const Chord& c) { return c.from == i && c.to == j; });
                         if (chord != chords.end()) {
-                            pieces[chord->piece].lods |= bit;
+                            chain.push_back(chord->piece);
                         } else {
                             chords.push_back({i, j, pieces.size()});
-                            piece(span[i], span[j], block, bit);
+                            chain.push_back(pieces.size());
+                            piece(span[i], span[j], block, 0u);
                         }
                     }
+                    pieces[chain.back()].lods |= bit;
                     i = j;
                 }
+                join(chain);
             }
             a = b;
         }

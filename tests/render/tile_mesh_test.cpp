@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "navmap/render/road_draping.h"
+#include "navmap/render/road_style.h"
 #include "navmap/render/tile_mesh.h"
 
 namespace {
@@ -249,6 +250,103 @@ TEST(TileMesh, RoadLevelFollowsTheScreenError) {
                          Case{4800.0f, 600.0f, 2}, Case{19200.0f, 600.0f, 3}, Case{1e9f, 600.0f, 3}, Case{2399.0f, 1200.0f, 0},
                          Case{2400.0f, 1200.0f, 1}}) {
         EXPECT_EQ(render::roadLodLevel(c.distance_m, c.focal_px, 0.5f), c.level) << c.distance_m << " m, " << c.focal_px << " px";
+    }
+}
+
+TEST(TileMesh, JointCapReachFollowsTheTurn) {
+    const glm::vec2 east(10.0f, 0.0f);
+    auto towards = [](float degrees) { return 3.0f * glm::vec2(std::cos(glm::radians(degrees)), std::sin(glm::radians(degrees))); };
+    EXPECT_NEAR(render::jointCapReach(east, east), render::kJointOverlap, 1e-6f) << "straight on";
+    EXPECT_NEAR(render::jointCapReach(east, towards(60.0f)), 0.5f + render::kJointOverlap, 1e-5f) << "sin(30 deg)";
+    EXPECT_NEAR(render::jointCapReach(east, towards(-60.0f)), 0.5f + render::kJointOverlap, 1e-5f) << "either side";
+    EXPECT_NEAR(render::jointCapReach(east, towards(90.0f)), std::sqrt(0.5f) + render::kJointOverlap, 1e-5f);
+    EXPECT_FLOAT_EQ(render::jointCapReach(east, towards(150.0f)), 1.0f) << "capped at the whole cap";
+    EXPECT_FLOAT_EQ(render::jointCapReach(east, -east), 1.0f) << "turning back";
+    EXPECT_FLOAT_EQ(render::jointCapReach(east, glm::vec2(0.0f)), 1.0f) << "no length in plan";
+}
+
+// seed 3.4 caps where pieces join: at every joint of every level, the two pieces' quads, each
+// reaching only cap_reach beyond it, still cover the whole round join between them (checked on
+// points of the disk around the joint, at one width); chain ends keep whole caps.
+TEST(TileMesh, JoinedPiecesStillCoverTheirRoundJoin) {
+    map::Tile t = bumpyTile();
+    std::vector<map::LocalPoint> wave, hairpins;
+    for (int i = 0; i <= 390; ++i) {
+        const float x = 10.0f + 2.0f * static_cast<float>(i);
+        wave.push_back({x, 400.0f + 150.0f * std::sin(x / 60.0f)});
+        hairpins.push_back({x, 150.0f + 40.0f * std::sin(x / 9.0f) + 0.3f * std::sin(x * 1.7f)});
+    }
+    t.roads = {road(map::RoadClass::Secondary, wave), road(map::RoadClass::Residential, hairpins)};
+    const render::TileMesh m = render::buildTileMesh(t);
+    // Narrow roads (long pieces) to roads far wider than most pieces are long (kept whole caps).
+    for (const float half_width : {0.5f, 4.0f, 40.0f}) {
+        std::size_t joints = 0, trimmed = 0, ends = 0;
+        // Whether the quad of `r` (roads_geo.vert, in plan) covers the plan point q.
+        auto covers = [&](const render::RoadInstance& r, glm::vec2 q) {
+            const glm::vec2 d = glm::vec2(r.p1 - r.p0);
+            const float len = glm::length(d);
+            const glm::vec2 t_dir = d / len, n(-t_dir.y, t_dir.x);
+            const glm::vec2 rel = q - 0.5f * glm::vec2(r.p0 + r.p1);
+            const float x = glm::dot(rel, t_dir) / half_width, y = glm::dot(rel, n) / half_width;
+            const float half_length = render::capHalfLength(len, 2.0f * half_width);
+            if (x < -(half_length + render::capReach(r.cap_reach.x, half_length)) ||
+                x > half_length + render::capReach(r.cap_reach.y, half_length))
+                return false;
+            return render::capCovers(x, y, half_length);
+        };
+        for (int level = 0; level < render::kRoadLods; ++level) {
+            for (const render::BlockRun& run : m.road_runs) {
+                if (!(run.lods & (1u << level))) continue;
+                // The pieces of this level in this block, by the point they start and end at.
+                std::map<std::array<float, 2>, std::vector<std::pair<const render::RoadInstance*, int>>> at;
+                for (const render::BlockRun& other : m.road_runs) {
+                    if (other.block != run.block || !(other.lods & (1u << level)) || m.roads[other.first].road_class != m.roads[run.first].road_class)
+                        continue;
+                    for (std::uint32_t i = other.first; i < other.first + other.count; ++i) {
+                        at[{m.roads[i].p0.x, m.roads[i].p0.y}].push_back({&m.roads[i], 0});
+                        at[{m.roads[i].p1.x, m.roads[i].p1.y}].push_back({&m.roads[i], 1});
+                    }
+                }
+                for (std::uint32_t i = run.first; i < run.first + run.count; ++i) {
+                    const render::RoadInstance& r = m.roads[i];
+                    for (int end = 0; end < 2; ++end) {
+                        const glm::vec3 p = end ? r.p1 : r.p0;
+                        const auto& meeting = at[{p.x, p.y}];
+                        const float reach = end ? r.cap_reach.y : r.cap_reach.x;
+                        if (meeting.size() != 2) {
+                            ++ends;
+                            EXPECT_FLOAT_EQ(reach, 1.0f) << "a chain end keeps its whole cap";
+                            continue;
+                        }
+                        const render::RoadInstance& o = *(meeting[0].first == &r ? meeting[1].first : meeting[0].first);
+                        ++joints;
+                        const float length = glm::length(glm::vec2(r.p1 - r.p0));
+                        trimmed += render::capReach(reach, render::capHalfLength(length, 2.0f * half_width)) < 0.5f;
+                        // Around the disk, and on the outer bisector, where the wedge between the bodies
+                        // reaches farthest from both.
+                        std::vector<glm::vec2> probes;
+                        for (int k = 0; k < 64; ++k) {
+                            const float a = 2.0f * 3.14159265f * static_cast<float>(k) / 64.0f;
+                            for (float f : {0.5f, 0.9f, 0.99f}) probes.push_back(f * glm::vec2(std::cos(a), std::sin(a)));
+                        }
+                        const glm::vec2 in = glm::normalize(glm::vec2(end ? r.p1 - r.p0 : o.p1 - o.p0));
+                        const glm::vec2 out = glm::normalize(glm::vec2(end ? o.p1 - o.p0 : r.p1 - r.p0));
+                        if (glm::length(in - out) > 1e-3f) probes.push_back(0.99f * glm::normalize(in - out));
+                        for (const glm::vec2 probe : probes) {
+                            const glm::vec2 q = glm::vec2(p) + half_width * probe;
+                            ASSERT_TRUE(covers(r, q) || covers(o, q)) << "level " << level << ": round join not covered at "
+                                                                       << p.x << ", " << p.y;
+                        }
+                    }
+                }
+            }
+        }
+        std::printf("[ measure  ] half width %.1f m: %zu joined piece ends, %zu of them reach less than half the cap; %zu chain ends\n",
+                    half_width, joints, trimmed, ends);
+        if (half_width < 1.0f) {
+            EXPECT_GT(trimmed * 2, joints) << "most joints bend little";
+        }
+        EXPECT_GT(ends, 0u);
     }
 }
 

@@ -186,12 +186,13 @@ GLenum uploadIndices(std::span<const std::uint32_t> indices, std::size_t vertex_
 
 double msSince(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
 
-// RoadInstance: p0 (3), p1 (3), class, flags, measure0, measure1, repeated per quad corner.
+// RoadInstance: p0 (3), p1 (3), class, cap reach (2), measure0, measure1 (flags: CPU only), repeated
+// per quad corner.
 void setupRoadAttributes() {
     setVertexAttributes(sizeof(RoadInstance), {{0, 3, GL_FLOAT, offsetof(RoadInstance, p0)},
                                                {1, 3, GL_FLOAT, offsetof(RoadInstance, p1)},
                                                {2, 1, GL_FLOAT, offsetof(RoadInstance, road_class)},
-                                               {3, 1, GL_FLOAT, offsetof(RoadInstance, flags)},
+                                               {3, 2, GL_FLOAT, offsetof(RoadInstance, cap_reach)},
                                                {4, 2, GL_FLOAT, offsetof(RoadInstance, measure0)}});
 }
 
@@ -652,6 +653,8 @@ void MapRenderer::setRoadUniforms(ShaderProgram& p, int pass, bool route, const 
     glUniform3fv(p.uniform("u_fill"), kStyledRoadClasses, glm::value_ptr(fills[0]));
     glUniform3fv(p.uniform("u_casing_color"), kStyledRoadClasses, glm::value_ptr(casing_colors[0]));
     glUniform1i(p.uniform("u_pass"), pass);
+    glUniform1i(p.uniform("u_whole_caps"), m_whole_caps ? 1 : 0);
+    glUniform1f(p.uniform("u_short_half_length"), kShortPieceHalfLength);
     glUniform1i(p.uniform("u_route"), route ? 1 : 0);
     glUniform1f(p.uniform("u_route_width"), m_style.route_width_m);
     glUniform1f(p.uniform("u_route_casing_m"), kRouteCasingFraction * m_style.route_width_m);
@@ -778,7 +781,7 @@ void MapRenderer::markOutlineCells(const MapFrame& frame, const glm::mat4& proje
         for (GLsizei k = g->visible_first; k < g->visible_first + g->visible_count; ++k) {
             const RoadInstance& r = g->road_pieces[m_road_indices[6 * static_cast<std::size_t>(k)] / 4];
             shape.width_m = rs.of(static_cast<int>(r.road_class + 0.5f)).outerWidth();
-            m_cells.markQuad(r.p0, r.p1, shape);
+            m_cells.markQuad(r.p0, r.p1, shape, m_whole_caps ? glm::vec2(1.0f) : r.cap_reach);
         }
     }
     // The route with its casing and its larger offset (setRoadUniforms), as drawn this frame.
@@ -848,6 +851,7 @@ std::size_t MapRenderer::drawBuildingsOf(ShaderProgram& program, const MapFrame&
 }
 
 void MapRenderer::render(const MapFrame& frame, const RenderTarget& target) {
+    m_whole_caps = !frame.layers.trim_joint_caps;
     ++m_frame;
     m_target_frame[m_target_key] = m_frame;  // this target's latest frame (evict())
     m_stats = {};

@@ -42,6 +42,10 @@ struct MapLayers {
     /// the simplification stays within half a pixel on screen); false: the draped pieces
     /// everywhere.
     bool road_lod = true;
+    /// Quads of joined road pieces reach beyond the joint only as far as the bend needs
+    /// (RoadInstance::cap_reach); false: every quad holds both whole caps (seed 3.4). The same
+    /// image but for the sub-pixel steps of the width scaling between neighbouring pieces.
+    bool trim_joint_caps = true;
     bool buildings = true;
     bool route = true;
     bool marker = true;

@@ -37,7 +37,9 @@ public:
     /// Marks the cells that the quad of the piece p0-p1 (roads_geo.vert: caps included, corners
     /// at p0 +- w/2 (n +- t) and p1 likewise) can touch on screen, grown by the reach. The part of
     /// the quad behind the near plane is clipped away as the GPU clips it.
-    void markQuad(glm::vec3 p0, glm::vec3 p1, const QuadShape& shape);
+    /// `cap_reach`: how far the quad reaches beyond p0 and p1, in half widths
+    /// (RoadInstance::cap_reach).
+    void markQuad(glm::vec3 p0, glm::vec3 p1, const QuadShape& shape, glm::vec2 cap_reach = glm::vec2(1.0f));
 
     /// The marked cells as rectangles: runs of cells along a row, with equal runs of the rows
     /// above merged into one rectangle. With `group` > 1 the cells of a row go in groups of that

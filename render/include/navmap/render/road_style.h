@@ -58,4 +58,13 @@ float capHalfLength(float segment_length, float width);
 /// x = x_q (L + 1); roads_geo.frag.)
 bool capCovers(float x, float y, float half_length);
 
+/// How far a quad reaches beyond one end, in half widths, from its piece's RoadInstance::cap_reach
+/// there: a piece shorter than its half width keeps both whole caps, as its body does not cover the
+/// half of the round join behind the joint that its neighbour's trimmed quad leaves to it
+/// (roads_geo.vert; the width is known only when drawing, scaled by the distance).
+float capReach(float trimmed_reach, float half_length);
+/// Half length (in half widths) under which a piece counts as short for capReach: half its width
+/// plus a margin.
+inline constexpr float kShortPieceHalfLength = 0.55f;
+
 }  // namespace navmap::render

@@ -31,10 +31,26 @@ struct RoadInstance {
     glm::vec3 p0;      ///< tile-local, on the terrain surface
     glm::vec3 p1;
     float road_class;  ///< map::RoadClass value
-    float flags;       ///< map::RoadFlags bits
+    float flags = 0.0f;  ///< map::RoadFlags bits
     float measure0 = 0.0f;  ///< route only: distance along the route at p0, metres
     float measure1 = 0.0f;  ///< route only: distance along the route at p1
+    /// How far the quad reaches beyond p0 and beyond p1, in half widths: 1 holds the whole
+    /// rounded cap (seed 3.4); less where the end joins the next piece of its chain, whose quad
+    /// covers the rest of the cap (buildTileMesh, kJointOverlap).
+    glm::vec2 cap_reach{1.0f, 1.0f};
 };
+
+/// Overlap of two joined pieces' quads beyond the least the bend needs, in half widths: their
+/// end edges are not one edge (the widths are scaled per piece), so they overlap by a margin
+/// instead of abutting.
+inline constexpr float kJointOverlap = 0.05f;
+
+/// How far each of two joined pieces must reach beyond their joint, in half widths, so that with
+/// the other's quad and body they cover the round join: sin of half the turn angle (the outer wedge
+/// between the two bodies lies within that of one or the other), all of the cap where a piece has
+/// no length in plan; plus kJointOverlap, at most 1. A piece shorter than its half width keeps
+/// both whole caps when drawn (capReach()).
+float jointCapReach(glm::vec2 from, glm::vec2 to);
 
 struct LandCoverVertex {
     glm::vec2 position;  ///< tile-local metres
