@@ -77,7 +77,7 @@ double segmentDistance(const glm::dvec3& p, const glm::dvec3& a, const glm::dvec
 
 float jointCapReach(glm::vec2 from, glm::vec2 to) {
     const float lengths = glm::length(from) * glm::length(to);
-    if (!(lengths > 1e-12f)) return 1.0f;  // roads_geo.vert gives a piece without length in plan any direction
+    if (!(lengths > 1e-12f)) return 1.0f;  // a piece without length in plan has no direction to trim along
     // The outer wedge between the two bodies lies within the round join; both quads reach into it,
     // so each needs only what the other leaves: the wedge's points lie at most sin(turn / 2) half
     // widths beyond the joint along one piece or the other (the farthest on the bisector).

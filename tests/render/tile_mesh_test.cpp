@@ -37,6 +37,19 @@ map::Road road(map::RoadClass cls, std::vector<map::LocalPoint> points, std::uin
     return r;
 }
 
+// Two roads winding through several blocks of bumpyTile(): a wide wave and tight hairpins.
+map::Tile windingRoadsTile() {
+    map::Tile t = bumpyTile();
+    std::vector<map::LocalPoint> wave, hairpins;
+    for (int i = 0; i <= 390; ++i) {
+        const float x = 10.0f + 2.0f * static_cast<float>(i);
+        wave.push_back({x, 400.0f + 150.0f * std::sin(x / 60.0f)});
+        hairpins.push_back({x, 150.0f + 40.0f * std::sin(x / 9.0f) + 0.3f * std::sin(x * 1.7f)});
+    }
+    t.roads = {road(map::RoadClass::Secondary, wave), road(map::RoadClass::Residential, hairpins)};
+    return t;
+}
+
 TEST(TileMesh, TerrainHasGridAndSkirtsBelowTheBorder) {
     const map::Tile t = bumpyTile();
     const render::TileMesh m = render::buildTileMesh(t);
@@ -165,21 +178,14 @@ TEST(TileMesh, RoadRunsGroupPiecesByClassAndBlock) {
 // every draped vertex there (planar and height error, 3D), and a road's span in a block keeps its
 // end points at every level, so blocks drawn at different levels join without gaps.
 TEST(TileMesh, RoadLevelsStayWithinTheirToleranceAndKeepTheBlockEnds) {
-    map::Tile t = bumpyTile();
-    std::vector<map::LocalPoint> wave, hairpins;
-    for (int i = 0; i <= 390; ++i) {
-        const float x = 10.0f + 2.0f * static_cast<float>(i);
-        wave.push_back({x, 400.0f + 150.0f * std::sin(x / 60.0f)});
-        hairpins.push_back({x, 150.0f + 40.0f * std::sin(x / 9.0f) + 0.3f * std::sin(x * 1.7f)});
-    }
+    map::Tile t = windingRoadsTile();
     // A roundabout: a closed way, its chord from the first to the last point of zero length.
     std::vector<map::LocalPoint> ring;
     for (int i = 0; i <= 48; ++i) {
         const float a = 2.0f * 3.14159265f * static_cast<float>(i % 48) / 48.0f;
         ring.push_back({300.0f + 40.0f * std::cos(a), 700.0f + 40.0f * std::sin(a)});
     }
-    t.roads = {road(map::RoadClass::Secondary, wave), road(map::RoadClass::Tertiary, ring),
-               road(map::RoadClass::Residential, hairpins)};
+    t.roads.push_back(road(map::RoadClass::Tertiary, ring));
     const render::TileMesh m = render::buildTileMesh(t);
     struct Key {
         float cls;
@@ -269,15 +275,7 @@ TEST(TileMesh, JointCapReachFollowsTheTurn) {
 // reaching only cap_reach beyond it, still cover the whole round join between them (checked on
 // points of the disk around the joint, at one width); chain ends keep whole caps.
 TEST(TileMesh, JoinedPiecesStillCoverTheirRoundJoin) {
-    map::Tile t = bumpyTile();
-    std::vector<map::LocalPoint> wave, hairpins;
-    for (int i = 0; i <= 390; ++i) {
-        const float x = 10.0f + 2.0f * static_cast<float>(i);
-        wave.push_back({x, 400.0f + 150.0f * std::sin(x / 60.0f)});
-        hairpins.push_back({x, 150.0f + 40.0f * std::sin(x / 9.0f) + 0.3f * std::sin(x * 1.7f)});
-    }
-    t.roads = {road(map::RoadClass::Secondary, wave), road(map::RoadClass::Residential, hairpins)};
-    const render::TileMesh m = render::buildTileMesh(t);
+    const render::TileMesh m = render::buildTileMesh(windingRoadsTile());
     // Narrow roads (long pieces) to roads far wider than most pieces are long (kept whole caps).
     for (const float half_width : {0.5f, 4.0f, 40.0f}) {
         std::size_t joints = 0, trimmed = 0, ends = 0;

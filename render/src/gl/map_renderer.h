@@ -105,8 +105,8 @@ private:
     ShaderProgram m_terrain_cover[2];  // + land cover morphing over 2 or 3 levels (terrain_tile.frag)
     ShaderProgram m_land_cover;
     ShaderProgram m_roads;
-    ShaderProgram m_route;
-    bool m_whole_caps = false;      // this frame: !MapLayers::trim_joint_caps (setRoadUniforms)          // the same, dimming the part driven (NAVMAP_ROUTE_PROGRESS)
+    ShaderProgram m_route;          // the same, dimming the part driven (NAVMAP_ROUTE_PROGRESS)
+    bool m_whole_caps = false;      // this frame: !MapLayers::trim_joint_caps (setRoadUniforms)
     ShaderProgram m_outline;        // the filter over the whole screen
     ShaderProgram m_outline_cells;  // the filter over the cells near roads (markOutlineCells)
     ShaderProgram m_outline_packed;  // the same over the packed mask, road pixels left out by the stencil

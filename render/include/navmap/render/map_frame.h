@@ -44,7 +44,8 @@ struct MapLayers {
     bool road_lod = true;
     /// Quads of joined road pieces reach beyond the joint only as far as the bend needs
     /// (RoadInstance::cap_reach); false: every quad holds both whole caps (seed 3.4). The same
-    /// image but for the sub-pixel steps of the width scaling between neighbouring pieces.
+    /// road on flat ground but for pixels on a round join's rim; on slopes fewer caps stick out
+    /// of the terrain where it cuts into the road's edge.
     bool trim_joint_caps = true;
     bool buildings = true;
     bool route = true;
