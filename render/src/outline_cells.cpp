@@ -44,7 +44,9 @@ void OutlineCells::markQuad(glm::vec3 p0, glm::vec3 p1, const QuadShape& shape, 
     const glm::vec4 across = keep * half_width * (n.x * m_view_projection[0] + n.y * m_view_projection[1]);
     const glm::vec4 along = keep * half_width * (t.x * m_view_projection[0] + t.y * m_view_projection[1]);
     // Around the quad: p0 + n - t, p1 + n + t, p1 - n + t, p0 - n - t (w/2 each, t times the reach).
-    const float half_length = half_width > 0.0f ? 0.5f * len / half_width : 0.0f;
+    // The widest pass is the shortest in half widths: its quads keep whole caps wherever any
+    // pass's do (capReach), so its reach bounds every pass's.
+    const float half_length = half_width > 0.0f ? capHalfLength(len, 2.0f * half_width) : 0.0f;
     const glm::vec4 back = capReach(cap_reach.x, half_length) * along, ahead = capReach(cap_reach.y, half_length) * along;
     const std::array<glm::vec4, 4> clip{c0 + across - back, c1 + across + ahead, c1 - across + ahead, c0 - across - back};
     // Clipped against the near plane (z >= -w) as the GPU clips it; the other planes only cut
