@@ -9,6 +9,7 @@ layout(location = 4) in vec2 a_measure;
 
 uniform mat4 u_view;
 uniform mat4 u_projection;
+uniform mat4 u_view_projection; // u_projection * u_view
 uniform float u_width[11];      // fill width per road class, metres
 uniform float u_casing[11];     // extra casing width per side, metres (0: none)
 uniform int u_pass;             // 0 casing, 1 fill
@@ -22,6 +23,7 @@ uniform vec3 u_route_color;
 uniform vec3 u_route_casing;
 uniform int u_whole_caps;       // 1: both whole caps on every quad (MapLayers::trim_joint_caps off)
 uniform float u_short_half_length;  // kShortPieceHalfLength
+uniform vec3 u_min_width;       // x: least on-screen width of the fill, pixels (0: off); yz: viewport, pixels
 
 // seed 3.4's quad-local coordinates, scaled so that the cap test needs no division: x along
 // and y across the segment, both in half widths from its centre (the quad spans |x| <= L + 1,
@@ -35,6 +37,40 @@ flat out vec3 v_color;          // of this pass, per quad (an indexed uniform pe
 out float v_measure;            // metres along the route
 #endif
 
+// A least width on screen, beyond seed 3.6.3's distance scaling, which does not see the viewing
+// angle: far roads seen at a grazing angle are foreshortened across to less than a pixel, and
+// without multisampling they break up into dashes. Where the fill's projected width at this end
+// falls below u_min_width.x pixels, the quad's sides move apart on screen, perpendicular to the
+// road's screen direction, until it has that width; the casing grows in proportion. Only across:
+// the caps keep their length along the road, so a dead end does not stick out further.
+// Returns the clip-space offset per unit w for the +n side, as a vec2 (0 where no widening).
+vec2 widening(vec3 base, vec2 t, vec2 n, float fill_width, float width) {
+    mat4 m = u_view_projection;
+    float keep = 1.0 - u_scale.z;
+    // The view-space scale (seed 3.6.2) in clip space: (keep v, 1) = keep (v, 1) + (1 - keep) (0, 0, 0, 1).
+    vec4 c = keep * (m * vec4(base, 1.0)) + (1.0 - keep) * u_projection[3];
+    if (c.w <= 0.0) return vec2(0.0);
+    // The screen-space derivatives (pixels per metre) along t and across n at this end.
+    vec4 ct = keep * (t.x * m[0] + t.y * m[1]);
+    vec4 cn = keep * (n.x * m[0] + n.y * m[1]);
+    vec2 half_viewport = 0.5 * u_min_width.yz;
+    vec2 st = (ct.xy * c.w - c.xy * ct.w) / (c.w * c.w) * half_viewport;
+    vec2 sn = (cn.xy * c.w - c.xy * cn.w) / (c.w * c.w) * half_viewport;
+    float along = length(st);
+    if (along < 1e-6) return vec2(0.0);  // seen end-on: its width on screen is its true one
+    vec2 across = vec2(-st.y, st.x) / along;
+    float proj = dot(sn, across);
+    if (proj < 0.0) {
+        across = -across;
+        proj = -proj;
+    }
+    float half_fill = 0.5 * fill_width * proj;  // pixels
+    float grow = 0.5 * u_min_width.x - half_fill;
+    if (grow <= 0.0) return vec2(0.0);
+    // The casing keeps its share: every pass grows by the same factor across.
+    return across * (grow * width / fill_width) / half_viewport;
+}
+
 void main() {
     int cls = int(a_class + 0.5);
     float width = u_route == 1 ? u_route_width : u_width[cls];
@@ -42,11 +78,14 @@ void main() {
         gl_Position = vec4(2.0, 2.0, 2.0, 1.0);  // no casing for this class: clipped away
         return;
     }
+    float fill_width = width;
     if (u_pass == 0) width += 2.0 * (u_route == 1 ? u_route_casing_m : u_casing[cls]);
     // seed 3.6.3: distance-based width scaling beyond a threshold.
     vec3 mid = 0.5 * (a_p0 + a_p1);
     float dist = length((u_view * vec4(mid, 1.0)).xyz);
-    width *= clamp(dist / u_scale.x, 1.0, u_scale.y);
+    float scale = clamp(dist / u_scale.x, 1.0, u_scale.y);
+    width *= scale;
+    fill_width *= scale;
 
     vec2 d = a_p1.xy - a_p0.xy;
     float len = length(d);
@@ -74,4 +113,5 @@ void main() {
     // offset this does not make roads hover when seen from close by.
     view_pos.xyz *= (1.0 - u_scale.z);
     gl_Position = u_projection * view_pos;
+    if (u_min_width.x > 0.0) gl_Position.xy += sy * widening(base, t, n, fill_width, width) * gl_Position.w;
 }

@@ -170,6 +170,58 @@ TEST(MapRender, JointsTrimmedToTheBendCoverWhatWholeCapsCover) {
     EXPECT_LE(differ, road_pixels / 2000);
 }
 
+// Far roads seen at a grazing angle are foreshortened across to a fraction of a pixel; without
+// the least on-screen width (RoadStyle::min_width_px) they break up into dashes.
+TEST(MapRender, FarRoadAtAGrazingAngleStaysUnbroken) {
+    auto tile = makeTile([](float, float) { return 500.0f; });
+    // 950 m ahead of a camera 20 m above the ground: 6 m of road are about 0.09 px high on screen.
+    tile->roads.push_back(road(map::RoadClass::Residential, {{100, 950}, {900, 950}}));
+    tile->roads.push_back(road(map::RoadClass::Residential, {{150, 800}, {850, 990}}));  // slanting away
+    MapStyle style = MapStyle::day();
+    style.roads.classes[static_cast<int>(map::RoadClass::Residential)].width_m = 6.0f;
+    style.roads.scale_threshold_m = 1e6f;  // only the least width, no distance scaling
+    MapLayers no_outline;
+    no_outline.outlines = false;
+    const glm::ivec3 fill = to8(style.roads.classes[static_cast<int>(map::RoadClass::Residential)].fill);
+    // Per road, the columns between its projected ends (a margin in) with a fill pixel within
+    // 3 rows of its projected centre line, and the most fill pixels in one such column.
+    struct Coverage {
+        int columns = 0, covered = 0, thickest = 0;
+    };
+    auto coverage = [&](const Scene& s, glm::dvec2 a, glm::dvec2 b) {
+        Coverage c;
+        const glm::vec2 pa = s.project({a, 500.0}), pb = s.project({b, 500.0});
+        for (int x = static_cast<int>(std::min(pa.x, pb.x)) + 4; x < static_cast<int>(std::max(pa.x, pb.x)) - 4; ++x) {
+            const float y = pa.y + (pb.y - pa.y) * ((static_cast<float>(x) + 0.5f - pa.x) / (pb.x - pa.x));
+            int n = 0;
+            for (int row = static_cast<int>(y) - 3; row <= static_cast<int>(y) + 3; ++row) {
+                const auto* px = s.image.pixel(x, row);
+                n += near({px[0], px[1], px[2]}, fill, 12);
+            }
+            ++c.columns;
+            c.covered += n > 0;
+            c.thickest = std::max(c.thickest, n);
+        }
+        return c;
+    };
+    auto scene = [&](float min_width_px) {
+        MapStyle st = style;
+        st.roads.min_width_px = min_width_px;
+        return renderWith(tile, st, {500.0, 0.0, 520.0}, {500.0, 1000.0, 500.0}, {0.0, 0.0, 1.0}, no_outline);
+    };
+    const Scene widened = scene(1.0f), plain = scene(0.0f);
+    for (const auto& [a, b] : {std::pair{glm::dvec2(100, 950), glm::dvec2(900, 950)}, std::pair{glm::dvec2(150, 800), glm::dvec2(850, 990)}}) {
+        const Coverage w = coverage(widened, a, b), p = coverage(plain, a, b);
+        std::printf("[ measure  ] road (%g, %g)-(%g, %g): %d columns, %d covered at 1 px least width (at most %d px thick), %d without\n",
+                    a.x, a.y, b.x, b.y, w.columns, w.covered, w.thickest, p.covered);
+        EXPECT_GT(w.columns, 100);
+        EXPECT_EQ(w.covered, w.columns) << "the far road breaks up on screen";
+        EXPECT_LE(w.thickest, 2) << "widened beyond the least width";
+        EXPECT_LT(p.covered, w.columns / 2) << "the scene does not foreshorten the road below a pixel";
+    }
+    if (::testing::Test::HasFailure()) (void)writePng("map_render_grazing.png", widened.image, nullptr);
+}
+
 TEST(MapRender, MotorwayHasItsClassColourWithCasingAtTheEdge) {
     auto tile = makeTile([](float, float) { return 500.0f; });
     tile->roads.push_back(road(map::RoadClass::Motorway, {{300, 500}, {700, 500}}));

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include <glm/gtc/matrix_access.hpp>
+#include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
 namespace navmap::render::gl {
@@ -47,6 +48,16 @@ constexpr GLuint kRoadStencilBit = 0x40;
 constexpr float kRouteCasingFraction = 0.25f;
 // Full width of the route's quads with their casing (its widest pass), metres.
 float routeOuterWidth(float route_width_m) { return (1.0f + 2.0f * kRouteCasingFraction) * route_width_m; }
+// How far, in pixels, roads_geo.vert can move a road or route quad's side out beyond the quad on
+// the ground when it widens a foreshortened road to RoadStyle::min_width_px: half that width,
+// times the widest pass's share of the fill.
+float roadWideningPx(const MapStyle& style) {
+    float ratio = 1.0f + 2.0f * kRouteCasingFraction;
+    for (const RoadClassStyle& c : style.roads.classes) {
+        if (c.width_m > 0.0f) ratio = std::max(ratio, c.outerWidth() / c.width_m);
+    }
+    return 0.5f * std::max(style.roads.min_width_px, 0.0f) * ratio;
+}
 
 using Clock = std::chrono::steady_clock;
 
@@ -239,6 +250,8 @@ struct MapRenderer::GpuTile {
     std::uint64_t last_used = 0;
     // This frame's camera relative to the tile's origin (render()), for every pass and cull test.
     glm::mat4 view{1.0f}, view_projection{1.0f};
+    // view_projection with its sides pushed out by roadWideningPx(), for culling road quads.
+    glm::mat4 road_cull{1.0f};
     // Geomorphing (terrain_lod.h): the ancestors the morph targets came from, this frame's ranges.
     std::array<const map::Tile*, kMorphLevels> morph_ancestors{};
     TileMorph morph;
@@ -539,7 +552,7 @@ void MapRenderer::updateRoute(GpuTile& g, const MapFrame& frame) {
     // as roads_geo.vert draws it).
     const glm::vec3 eye(frame.camera.eye - g.origin);
     g.route_in_view = !g.route_pieces.empty() &&
-                      (!frame.layers.cull_blocks || quadsInView(g.view_projection, eye, g.route_extent,
+                      (!frame.layers.cull_blocks || quadsInView(g.road_cull, eye, g.route_extent,
                                                                 0.5f * routeOuterWidth(m_style.route_width_m), m_style.roads));
     if (!g.route_in_view) return;
     if (!g.route_stale && g.morph.end_m[0] <= 0.0f && !g.route_morphed) return;  // unmorphed: the buffer is current
@@ -572,11 +585,11 @@ void MapRenderer::cullRoads(const MapFrame& frame, const glm::mat4& projection, 
         g->visible_count = 0;
         if (g->road_pieces.empty()) continue;
         const glm::vec3 eye(frame.camera.eye - g->origin);
-        const PieceFrustum frustum(g->view_projection);
+        const PieceFrustum frustum(g->road_cull);
         drawn.assign(g->road_blocks.size(), 0u);
         for (std::size_t b = 0; b < g->road_blocks.size(); ++b) {
             const BlockExtent& e = g->road_blocks[b];
-            if (frame.layers.cull_blocks && !quadsInView(g->view_projection, eye, e, half_width, rs)) continue;
+            if (frame.layers.cull_blocks && !quadsInView(g->road_cull, eye, e, half_width, rs)) continue;
             // The level from the block's nearest point (its extent holds every level's pieces).
             const float distance = glm::length(eye - glm::clamp(eye, e.min, e.max));
             drawn[b] = 1u << (frame.layers.road_lod ? roadLodLevel(distance, focal_px, kRoadLodErrorPx) : 0);
@@ -617,6 +630,7 @@ std::size_t MapRenderer::drawRoads(ShaderProgram& program, int pass, const glm::
         const GLsizei count = g->visible_first + g->visible_count - first;
         if (count <= 0) continue;
         glUniformMatrix4fv(program.uniform("u_view"), 1, GL_FALSE, glm::value_ptr(g->view));
+        glUniformMatrix4fv(program.uniform("u_view_projection"), 1, GL_FALSE, glm::value_ptr(g->view_projection));
         glBindVertexArray(g->roads_vao);
         glDrawElements(GL_TRIANGLES, 6 * count, GL_UNSIGNED_INT,
                        reinterpret_cast<const void*>(static_cast<std::size_t>(first) * 6 * sizeof(std::uint32_t)));
@@ -632,6 +646,7 @@ void MapRenderer::drawRoute(ShaderProgram& program, int pass, const MapFrame& fr
     for (const GpuTile* g : tiles) {
         if (!g->route_count || !g->route_in_view) continue;
         glUniformMatrix4fv(program.uniform("u_view"), 1, GL_FALSE, glm::value_ptr(g->view));
+        glUniformMatrix4fv(program.uniform("u_view_projection"), 1, GL_FALSE, glm::value_ptr(g->view_projection));
         glBindVertexArray(g->route_vao);
         m_quad_indices.draw(0, g->route_count);
     }
@@ -655,6 +670,7 @@ void MapRenderer::setRoadUniforms(ShaderProgram& p, int pass, bool route, const 
     glUniform1i(p.uniform("u_pass"), pass);
     glUniform1i(p.uniform("u_whole_caps"), m_whole_caps ? 1 : 0);
     glUniform1f(p.uniform("u_short_half_length"), kShortPieceHalfLength);
+    glUniform3f(p.uniform("u_min_width"), std::max(rs.min_width_px, 0.0f), m_viewport.x, m_viewport.y);
     glUniform1i(p.uniform("u_route"), route ? 1 : 0);
     glUniform1f(p.uniform("u_route_width"), m_style.route_width_m);
     glUniform1f(p.uniform("u_route_casing_m"), kRouteCasingFraction * m_style.route_width_m);
@@ -771,7 +787,7 @@ void MapRenderer::drawTerrain(const MapFrame& frame, const glm::mat4& projection
 void MapRenderer::markOutlineCells(const MapFrame& frame, const glm::mat4& projection, int width, int height,
                                    const std::vector<GpuTile*>& tiles) {
     const auto t0 = Clock::now();
-    m_cells.reset(width, height, kOutlineCellPx, kOutlineReachPx);
+    m_cells.reset(width, height, kOutlineCellPx, kOutlineReachPx + roadWideningPx(m_style));
     const RoadStyle& rs = m_style.roads;
     QuadShape shape{0.0f, rs.scale_threshold_m, rs.max_scale, rs.z_offset_alpha};
     // Roads: the pieces cullRoads kept, each with its widest pass (fill and casing).
@@ -852,6 +868,7 @@ std::size_t MapRenderer::drawBuildingsOf(ShaderProgram& program, const MapFrame&
 
 void MapRenderer::render(const MapFrame& frame, const RenderTarget& target) {
     m_whole_caps = !frame.layers.trim_joint_caps;
+    m_viewport = {static_cast<float>(target.width()), static_cast<float>(target.height())};
     ++m_frame;
     m_target_frame[m_target_key] = m_frame;  // this target's latest frame (evict())
     m_stats = {};
@@ -917,9 +934,14 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target) {
     }
     const double aspect = static_cast<double>(target.width()) / target.height();
     const glm::mat4 projection = frame.camera.projection(aspect);
+    // Clip x and y scaled down so that the planes x = +-w, y = +-w lie the widening further out.
+    const float widening_px = roadWideningPx(m_style);
+    const glm::mat4 grow = glm::scale(glm::mat4(1.0f), glm::vec3(1.0f / (1.0f + 2.0f * widening_px / static_cast<float>(target.width())),
+                                                                  1.0f / (1.0f + 2.0f * widening_px / static_cast<float>(target.height())), 1.0f));
     for (GpuTile* g : tiles) {
         g->view = frame.camera.viewRelativeTo(g->origin);
         g->view_projection = projection * g->view;
+        g->road_cull = grow * g->view_projection;
     }
     if (frame.route && frame.layers.route) {
         for (GpuTile* g : tiles) updateRoute(*g, frame);

@@ -30,6 +30,9 @@ struct RoadStyle {
     float scale_threshold_m = 1500.0f;  ///< seed 3.6.3: no width scaling closer than this
     float max_scale = 12.0f;            ///< distant roads grow at most this much
     float z_offset_alpha = 0.02f;       ///< seed 3.6.2: view-space scale (1 - alpha)
+    /// Least on-screen width of a road's fill, pixels (0: none): far roads seen at a grazing angle
+    /// are widened across to it, so that they do not break up into dashes (roads_geo.vert).
+    float min_width_px = 1.0f;
     glm::vec3 outline{0.12f, 0.12f, 0.14f};  ///< seed 3.6.3 dark outline colour
     float outline_strength = 0.75f;
 
