@@ -39,36 +39,52 @@ out float v_measure;            // metres along the route
 
 // A least width on screen, beyond seed 3.6.3's distance scaling, which does not see the viewing
 // angle: far roads seen at a grazing angle are foreshortened across to less than a pixel, and
-// without multisampling they break up into dashes. Where the fill's projected width at this end
-// falls below u_min_width.x pixels, the quad's sides move apart on screen, perpendicular to the
-// road's screen direction, until it has that width; the casing grows in proportion. Only across:
-// the caps keep their length along the road, so a dead end does not stick out further.
-// Returns the clip-space offset per unit w for the +n side, as a vec2 (0 where no widening).
-vec2 widening(vec3 base, vec2 t, vec2 n, float fill_width, float width) {
+// without multisampling they break up into dashes. Where the fill's projected width at an end
+// falls below u_min_width.x pixels, the quad's upper side there moves up on screen,
+// perpendicular to the road's screen direction, until the fill has that width; the casing grows
+// in proportion. Upwards only: with the camera upright over a height field, the terrain seen
+// just above a point of the ground lies at least as far away, so the road's depth wins there;
+// below, it lies in front and would hide the widened pixels. Only across: the caps keep their
+// length along the road, so a dead end does not stick out further.
+
+// At one end: the road's screen direction turned upwards (x, y) and how far up its +n side
+// lies on screen per metre (z, pixels; negative where +n lies below).
+vec3 screenAcross(vec3 p, vec2 t, vec2 n) {
     mat4 m = u_view_projection;
     float keep = 1.0 - u_scale.z;
     // The view-space scale (seed 3.6.2) in clip space: (keep v, 1) = keep (v, 1) + (1 - keep) (0, 0, 0, 1).
-    vec4 c = keep * (m * vec4(base, 1.0)) + (1.0 - keep) * u_projection[3];
-    if (c.w <= 0.0) return vec2(0.0);
-    // The screen-space derivatives (pixels per metre) along t and across n at this end.
+    vec4 c = keep * (m * vec4(p, 1.0)) + (1.0 - keep) * u_projection[3];
+    if (c.w <= 0.0) return vec3(0.0);
+    // Derivatives on screen (pixels per metre) along t, across n and up.
     vec4 ct = keep * (t.x * m[0] + t.y * m[1]);
     vec4 cn = keep * (n.x * m[0] + n.y * m[1]);
-    vec2 half_viewport = 0.5 * u_min_width.yz;
-    vec2 st = (ct.xy * c.w - c.xy * ct.w) / (c.w * c.w) * half_viewport;
-    vec2 sn = (cn.xy * c.w - c.xy * cn.w) / (c.w * c.w) * half_viewport;
+    vec4 cu = keep * m[2];
+    vec2 to_px = 0.5 * u_min_width.yz / (c.w * c.w);
+    vec2 st = (ct.xy * c.w - c.xy * ct.w) * to_px;
+    vec2 sn = (cn.xy * c.w - c.xy * cn.w) * to_px;
+    vec2 su = (cu.xy * c.w - c.xy * cu.w) * to_px;
     float along = length(st);
-    if (along < 1e-6) return vec2(0.0);  // seen end-on: its width on screen is its true one
+    if (along < 1e-6) return vec3(0.0);  // seen end-on: its width on screen is its true one
     vec2 across = vec2(-st.y, st.x) / along;
-    float proj = dot(sn, across);
-    if (proj < 0.0) {
-        across = -across;
-        proj = -proj;
-    }
-    float half_fill = 0.5 * fill_width * proj;  // pixels
-    float grow = 0.5 * u_min_width.x - half_fill;
-    if (grow <= 0.0) return vec2(0.0);
-    // The casing keeps its share: every pass grows by the same factor across.
-    return across * (grow * width / fill_width) / half_viewport;
+    if (dot(su, across) < 0.0) across = -across;
+    return vec3(across, dot(sn, across));
+}
+
+// The clip-space offset per unit w of the corner on side `side` at the end `at` (0: p0, 1: p1).
+// One side is the upper one along the whole piece, the one that is upper where the road is seen
+// widest: a piece that passes edge-on (crossing the eye's height on a slope) would otherwise
+// twist, its widened side changing from one end to the other, and pinch to nothing in between.
+// At an end where that side lies below, it moves up past the other side by the least width.
+vec2 widening(float at, float side, vec2 t, vec2 n, float fill_width, float width) {
+    vec3 e0 = screenAcross(a_p0, t, n), e1 = screenAcross(a_p1, t, n);
+    float top = (abs(e0.z) >= abs(e1.z) ? e0.z : e1.z) >= 0.0 ? 1.0 : -1.0;
+    if (side != top) return vec2(0.0);
+    vec3 e = at < 0.5 ? e0 : e1;
+    float up = 0.5 * fill_width * top * e.z;  // this side's height above the centre line, pixels
+    if (u_min_width.x - 2.0 * abs(up) <= 0.0) return vec2(0.0);  // wide enough here
+    // From up to (the other side, -up) + the least width. The casing keeps its share.
+    float shift = u_min_width.x - 2.0 * up;
+    return e.xy * (shift * width / fill_width) / (0.5 * u_min_width.yz);
 }
 
 void main() {
@@ -113,5 +129,5 @@ void main() {
     // offset this does not make roads hover when seen from close by.
     view_pos.xyz *= (1.0 - u_scale.z);
     gl_Position = u_projection * view_pos;
-    if (u_min_width.x > 0.0) gl_Position.xy += sy * widening(base, t, n, fill_width, width) * gl_Position.w;
+    if (u_min_width.x > 0.0) gl_Position.xy += widening(sx < 0.0 ? 0.0 : 1.0, sy, t, n, fill_width, width) * gl_Position.w;
 }

@@ -49,6 +49,7 @@ void OutlineCells::markQuad(glm::vec3 p0, glm::vec3 p1, const QuadShape& shape, 
     const float half_length = half_width > 0.0f ? capHalfLength(len, 2.0f * half_width) : 0.0f;
     const glm::vec4 back = capReach(cap_reach.x, half_length) * along, ahead = capReach(cap_reach.y, half_length) * along;
     const std::array<glm::vec4, 4> clip{c0 + across - back, c1 + across + ahead, c1 - across + ahead, c0 - across - back};
+    const float reach = m_reach + widening(c0, c1, across, along, shape);
     // Clipped against the near plane (z >= -w) as the GPU clips it; the other planes only cut
     // what lies off the viewport, which the grid drops anyway.
     std::array<glm::vec2, 8> screen;
@@ -66,10 +67,29 @@ void OutlineCells::markQuad(glm::vec3 p0, glm::vec3 p1, const QuadShape& shape, 
         if (da >= 0.0f) emit(a);
         if ((da >= 0.0f) != (db >= 0.0f)) emit(a + (b - a) * (da / (da - db)));
     }
-    if (count > 0) markPolygon(screen.data(), count);
+    if (count > 0) markPolygon(screen.data(), count, reach);
 }
 
-void OutlineCells::markPolygon(const glm::vec2* points, int count) {
+float OutlineCells::widening(const glm::vec4& c0, const glm::vec4& c1, const glm::vec4& across, const glm::vec4& along,
+                             const QuadShape& shape) const {
+    if (!(shape.min_width_px > 0.0f) || !(shape.fill_width_m > 0.0f) || !(shape.width_m > 0.0f)) return 0.0f;
+    const float most = shape.min_width_px * shape.width_m / shape.fill_width_m;
+    // The fill's width on screen at each end, to first order as the shader reckons it: the
+    // across offset's screen derivative perpendicular to the road's screen direction.
+    const glm::vec2 half_viewport(0.5f * static_cast<float>(m_width), 0.5f * static_cast<float>(m_height));
+    for (const glm::vec4& c : {c0, c1}) {
+        if (!(c.w > 0.0f)) return most;  // behind the camera: as wide as it can get
+        auto to_px = [&](const glm::vec4& d) { return (glm::vec2(d) * c.w - glm::vec2(c) * d.w) / (c.w * c.w) * half_viewport; };
+        const glm::vec2 st = to_px(along), sn = to_px(across);
+        const float len = glm::length(st);
+        if (!(len > 1e-9f)) continue;  // seen end-on: not widened
+        const float half_outer = std::abs(st.x * sn.y - st.y * sn.x) / len;
+        if (2.0f * half_outer * shape.fill_width_m / shape.width_m < shape.min_width_px) return most;
+    }
+    return 0.0f;
+}
+
+void OutlineCells::markPolygon(const glm::vec2* points, int count, float reach) {
     glm::vec2 lo = points[0], hi = points[0];
     for (int i = 0; i < count; ++i) {
         if (!std::isfinite(points[i].x) || !std::isfinite(points[i].y)) return;
@@ -79,8 +99,8 @@ void OutlineCells::markPolygon(const glm::vec2* points, int count) {
     const float cell = static_cast<float>(m_cell), inv_cell = 1.0f / cell;
     // Cells are indexed after clamping in float, so far-off corners cannot overflow an int.
     auto index = [&](float v, int n) { return static_cast<int>(std::floor(std::clamp(v * inv_cell, -1.0f, static_cast<float>(n)))); };
-    const int row_lo = std::max(index(lo.y - m_reach, m_rows), 0);
-    const int row_hi = std::min(index(hi.y + m_reach, m_rows), m_rows - 1);
+    const int row_lo = std::max(index(lo.y - reach, m_rows), 0);
+    const int row_hi = std::min(index(hi.y + reach, m_rows), m_rows - 1);
     // Each edge's x as a function of y, for the rows whose band holds only part of the polygon.
     std::array<float, 8> slope{};
     for (int i = 0; row_lo < row_hi && i < count; ++i) {
@@ -91,7 +111,7 @@ void OutlineCells::markPolygon(const glm::vec2* points, int count) {
         // The polygon's x-extent within the row's band grown by the reach: a convex polygon meets
         // a band in a convex piece, whose x-extent its clipped edges give (all of the polygon's
         // where the band holds it whole, as it does for most pieces, which are small on screen).
-        const float band_lo = static_cast<float>(row) * cell - m_reach, band_hi = static_cast<float>(row + 1) * cell + m_reach;
+        const float band_lo = static_cast<float>(row) * cell - reach, band_hi = static_cast<float>(row + 1) * cell + reach;
         float x_lo = lo.x, x_hi = hi.x;
         if (band_lo > lo.y || band_hi < hi.y) {
             x_lo = std::numeric_limits<float>::max();
@@ -111,8 +131,8 @@ void OutlineCells::markPolygon(const glm::vec2* points, int count) {
             }
             if (x_lo > x_hi) continue;
         }
-        const int c0 = std::max(index(x_lo - m_reach, m_columns), 0);
-        const int c1 = std::min(index(x_hi + m_reach, m_columns), m_columns - 1);
+        const int c0 = std::max(index(x_lo - reach, m_columns), 0);
+        const int c1 = std::min(index(x_hi + reach, m_columns), m_columns - 1);
         if (c0 > c1) continue;
         std::uint8_t* cells = m_marked.data() + static_cast<std::size_t>(row) * static_cast<std::size_t>(m_columns);
         std::fill(cells + c0, cells + c1 + 1, std::uint8_t{1});

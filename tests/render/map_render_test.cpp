@@ -171,26 +171,32 @@ TEST(MapRender, JointsTrimmedToTheBendCoverWhatWholeCapsCover) {
 }
 
 // Far roads seen at a grazing angle are foreshortened across to a fraction of a pixel; without
-// the least on-screen width (RoadStyle::min_width_px) they break up into dashes.
-TEST(MapRender, FarRoadAtAGrazingAngleStaysUnbroken) {
-    auto tile = makeTile([](float, float) { return 500.0f; });
-    // 950 m ahead of a camera 20 m above the ground: 6 m of road are about 0.09 px high on screen.
-    tile->roads.push_back(road(map::RoadClass::Residential, {{100, 950}, {900, 950}}));
-    tile->roads.push_back(road(map::RoadClass::Residential, {{150, 800}, {850, 990}}));  // slanting away
+// the least on-screen width (RoadStyle::min_width_px) they break up into dashes. On flat ground,
+// and on ground rising away from the camera as a valley side does in the snail's view, where the
+// road slanting up the slope crosses the eye's height and is seen edge-on there.
+class GrazingRoads : public ::testing::TestWithParam<float> {};
+
+TEST_P(GrazingRoads, FarRoadStaysUnbroken) {
+    const float rise = GetParam();  // metres up per metre towards +y
+    // 1.1 to 1.5 km ahead of a camera 20 m above the ground at the tile's edge, with ground
+    // beyond: 6 m of road are 0.04 to 0.07 px high on screen (flat). One road across the view, one
+    // slanting away, so that the centre line passes every offset from the pixel centres.
+    const std::vector<std::pair<glm::dvec2, glm::dvec2>> roads{{{100, 500}, {900, 500}}, {{100, 350}, {900, 850}}};
     MapStyle style = MapStyle::day();
     style.roads.classes[static_cast<int>(map::RoadClass::Residential)].width_m = 6.0f;
     style.roads.scale_threshold_m = 1e6f;  // only the least width, no distance scaling
     MapLayers no_outline;
     no_outline.outlines = false;
     const glm::ivec3 fill = to8(style.roads.classes[static_cast<int>(map::RoadClass::Residential)].fill);
-    // Per road, the columns between its projected ends (a margin in) with a fill pixel within
-    // 3 rows of its projected centre line, and the most fill pixels in one such column.
+    // The columns between the road's projected ends (a margin in) with a fill pixel within 3 rows
+    // of its projected centre line (straight: the ground is a plane), and the most fill pixels in
+    // one such column.
     struct Coverage {
         int columns = 0, covered = 0, thickest = 0;
     };
     auto coverage = [&](const Scene& s, glm::dvec2 a, glm::dvec2 b) {
         Coverage c;
-        const glm::vec2 pa = s.project({a, 500.0}), pb = s.project({b, 500.0});
+        const glm::vec2 pa = s.project({a, 500.0 + rise * a.y}), pb = s.project({b, 500.0 + rise * b.y});
         for (int x = static_cast<int>(std::min(pa.x, pb.x)) + 4; x < static_cast<int>(std::max(pa.x, pb.x)) - 4; ++x) {
             const float y = pa.y + (pb.y - pa.y) * ((static_cast<float>(x) + 0.5f - pa.x) / (pb.x - pa.x));
             int n = 0;
@@ -204,23 +210,29 @@ TEST(MapRender, FarRoadAtAGrazingAngleStaysUnbroken) {
         }
         return c;
     };
-    auto scene = [&](float min_width_px) {
-        MapStyle st = style;
-        st.roads.min_width_px = min_width_px;
-        return renderWith(tile, st, {500.0, 0.0, 520.0}, {500.0, 1000.0, 500.0}, {0.0, 0.0, 1.0}, no_outline);
-    };
-    const Scene widened = scene(1.0f), plain = scene(0.0f);
-    for (const auto& [a, b] : {std::pair{glm::dvec2(100, 950), glm::dvec2(900, 950)}, std::pair{glm::dvec2(150, 800), glm::dvec2(850, 990)}}) {
+    for (const auto& [a, b] : roads) {
+        auto tile = makeTile([rise](float, float y) { return 500.0f + rise * y; });
+        tile->roads.push_back(road(map::RoadClass::Residential, {{static_cast<float>(a.x), static_cast<float>(a.y)},
+                                                                 {static_cast<float>(b.x), static_cast<float>(b.y)}}));
+        auto scene = [&](float min_width_px) {
+            MapStyle st = style;
+            st.roads.min_width_px = min_width_px;
+            return renderWith(tile, st, {500.0, -600.0, 520.0}, {500.0, 1000.0, 490.0}, {0.0, 0.0, 1.0}, no_outline);
+        };
+        const Scene widened = scene(style.roads.min_width_px), plain = scene(0.0f);
         const Coverage w = coverage(widened, a, b), p = coverage(plain, a, b);
-        std::printf("[ measure  ] road (%g, %g)-(%g, %g): %d columns, %d covered at 1 px least width (at most %d px thick), %d without\n",
-                    a.x, a.y, b.x, b.y, w.columns, w.covered, w.thickest, p.covered);
+        std::printf("[ measure  ] rise %g, road (%g, %g)-(%g, %g): %d columns, %d covered at the least width "
+                    "(at most %d px thick), %d without\n",
+                    rise, a.x, a.y, b.x, b.y, w.columns, w.covered, w.thickest, p.covered);
         EXPECT_GT(w.columns, 100);
         EXPECT_EQ(w.covered, w.columns) << "the far road breaks up on screen";
         EXPECT_LE(w.thickest, 2) << "widened beyond the least width";
         EXPECT_LT(p.covered, w.columns / 2) << "the scene does not foreshorten the road below a pixel";
+        if (::testing::Test::HasFailure()) (void)writePng("map_render_grazing.png", widened.image, nullptr);
     }
-    if (::testing::Test::HasFailure()) (void)writePng("map_render_grazing.png", widened.image, nullptr);
 }
+
+INSTANTIATE_TEST_SUITE_P(MapRender, GrazingRoads, ::testing::Values(0.0f, 0.04f));
 
 TEST(MapRender, MotorwayHasItsClassColourWithCasingAtTheEdge) {
     auto tile = makeTile([](float, float) { return 500.0f; });

@@ -136,6 +136,44 @@ TEST(OutlineCells, MarksLittleMoreThanTheRoad) {
     EXPECT_LT(coveredPixels(cells), std::size_t(kW * kH / 10));
 }
 
+// roads_geo.vert moves the upper side of a quad whose fill is narrower on screen than
+// QuadShape::min_width_px up by as much as min_width_px * width / fill width: the cells reach
+// that far above such a quad, and no further around quads that are wide enough.
+TEST(OutlineCells, WidenedFarRoadsAreMarkedUpToTheirLeastWidth) {
+    const Camera c = lowCamera();
+    QuadShape widened = kShape;
+    widened.min_width_px = 12.0f;  // more than a cell, so that too short a reach shows
+    widened.fill_width_m = 8.0f;   // 10 m with the casing: the casing grows by 10 / 8
+    const float most = widened.min_width_px * widened.width_m / widened.fill_width_m;
+    // A far road across the view, a few pixels high on screen: every pixel up to `most` above
+    // its centre line, and the filter's pixel beyond, is marked.
+    const glm::vec3 p0(-150.0f, 700.0f, 0.0f), p1(150.0f, 700.0f, 0.0f);
+    OutlineCells cells;
+    cells.reset(kW, kH, kCell, kReach);
+    cells.setView(c.view, c.projection);
+    cells.markQuad(p0, p1, widened);
+    int checked = 0;
+    for (float a = 0.0f; a <= 1.0f; a += 0.01f) {
+        glm::ivec2 px;
+        if (!pixelOf(c, glm::mix(p0, p1, a), widened.z_offset_alpha, px)) continue;
+        for (int up = 0; up <= static_cast<int>(std::ceil(most)) + 1 && px.y + up < kH; ++up) {
+            ++checked;
+            EXPECT_TRUE(cells.covers(px.x, px.y + up)) << "pixel " << px.x << "," << px.y + up << ": " << up << " px above the road";
+        }
+    }
+    EXPECT_GT(checked, 500);
+    // A near road, its fill 20-odd pixels wide on screen, is not widened: the least width adds
+    // nothing to its cells.
+    OutlineCells near_plain, near_widened;
+    for (const auto& [cells_of, shape] : {std::pair<OutlineCells*, const QuadShape*>{&near_plain, &kShape}, {&near_widened, &widened}}) {
+        cells_of->reset(kW, kH, kCell, kReach);
+        cells_of->setView(c.view, c.projection);
+        cells_of->markQuad({-10.0f, -22.0f, 0.0f}, {10.0f, -18.0f, 0.0f}, *shape);
+    }
+    EXPECT_GT(coveredPixels(near_plain), 0u);
+    EXPECT_EQ(coveredPixels(near_widened), coveredPixels(near_plain));
+}
+
 TEST(OutlineCells, RectanglesCoverExactlyTheMarkedCells) {
     const Camera c = lowCamera();
     OutlineCells cells;

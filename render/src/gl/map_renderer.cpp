@@ -48,15 +48,15 @@ constexpr GLuint kRoadStencilBit = 0x40;
 constexpr float kRouteCasingFraction = 0.25f;
 // Full width of the route's quads with their casing (its widest pass), metres.
 float routeOuterWidth(float route_width_m) { return (1.0f + 2.0f * kRouteCasingFraction) * route_width_m; }
-// How far, in pixels, roads_geo.vert can move a road or route quad's side out beyond the quad on
-// the ground when it widens a foreshortened road to RoadStyle::min_width_px: half that width,
-// times the widest pass's share of the fill.
+// How far, in pixels, roads_geo.vert can move a road or route quad's upper side beyond the quad
+// on the ground when it widens a foreshortened road to RoadStyle::min_width_px: that width, times
+// the widest pass's share of the fill (the per-quad bound of OutlineCells::markQuad, for all).
 float roadWideningPx(const MapStyle& style) {
     float ratio = 1.0f + 2.0f * kRouteCasingFraction;
     for (const RoadClassStyle& c : style.roads.classes) {
         if (c.width_m > 0.0f) ratio = std::max(ratio, c.outerWidth() / c.width_m);
     }
-    return 0.5f * std::max(style.roads.min_width_px, 0.0f) * ratio;
+    return std::max(style.roads.min_width_px, 0.0f) * ratio;
 }
 
 using Clock = std::chrono::steady_clock;
@@ -787,22 +787,25 @@ void MapRenderer::drawTerrain(const MapFrame& frame, const glm::mat4& projection
 void MapRenderer::markOutlineCells(const MapFrame& frame, const glm::mat4& projection, int width, int height,
                                    const std::vector<GpuTile*>& tiles) {
     const auto t0 = Clock::now();
-    m_cells.reset(width, height, kOutlineCellPx, kOutlineReachPx + roadWideningPx(m_style));
+    m_cells.reset(width, height, kOutlineCellPx, kOutlineReachPx);
     const RoadStyle& rs = m_style.roads;
-    QuadShape shape{0.0f, rs.scale_threshold_m, rs.max_scale, rs.z_offset_alpha};
+    QuadShape shape{0.0f, rs.scale_threshold_m, rs.max_scale, rs.z_offset_alpha, rs.min_width_px, 0.0f};
     // Roads: the pieces cullRoads kept, each with its widest pass (fill and casing).
     for (const GpuTile* g : tiles) {
         if (!frame.layers.roads) break;
         m_cells.setView(g->view, projection);
         for (GLsizei k = g->visible_first; k < g->visible_first + g->visible_count; ++k) {
             const RoadInstance& r = g->road_pieces[m_road_indices[6 * static_cast<std::size_t>(k)] / 4];
-            shape.width_m = rs.of(static_cast<int>(r.road_class + 0.5f)).outerWidth();
+            const RoadClassStyle& c = rs.of(static_cast<int>(r.road_class + 0.5f));
+            shape.width_m = c.outerWidth();
+            shape.fill_width_m = c.width_m;
             m_cells.markQuad(r.p0, r.p1, shape, m_whole_caps ? glm::vec2(1.0f) : r.cap_reach);
         }
     }
     // The route with its casing and its larger offset (setRoadUniforms), as drawn this frame.
     if (frame.layers.route && frame.route) {
         shape.width_m = routeOuterWidth(m_style.route_width_m);
+        shape.fill_width_m = m_style.route_width_m;
         shape.z_offset_alpha = 1.5f * rs.z_offset_alpha;
         for (const GpuTile* g : tiles) {
             if (!g->route_count || !g->route_in_view) continue;

@@ -23,6 +23,11 @@ struct QuadShape {
     float scale_threshold_m = 0.0f;
     float max_scale = 1.0f;
     float z_offset_alpha = 0.0f;
+    /// The least on-screen width of the fill (RoadStyle::min_width_px, 0: none) and the fill's
+    /// width on the ground: where the fill is narrower on screen, the shader moves the quad's
+    /// upper side up by as much as min_width_px * width_m / fill_width_m.
+    float min_width_px = 0.0f;
+    float fill_width_m = 0.0f;
 };
 
 class OutlineCells {
@@ -35,8 +40,9 @@ public:
     void setView(const glm::mat4& view, const glm::mat4& projection);
 
     /// Marks the cells that the quad of the piece p0-p1 (roads_geo.vert: caps included, corners
-    /// at p0 +- w/2 (n +- t) and p1 likewise) can touch on screen, grown by the reach. The part of
-    /// the quad behind the near plane is clipped away as the GPU clips it.
+    /// at p0 +- w/2 (n +- t) and p1 likewise) can touch on screen, grown by the reach, and by the
+    /// shader's widening to the least on-screen width where the piece's fill is narrower. The part
+    /// of the quad behind the near plane is clipped away as the GPU clips it.
     /// `cap_reach`: how far the quad reaches beyond p0 and p1, in half widths
     /// (RoadInstance::cap_reach).
     void markQuad(glm::vec3 p0, glm::vec3 p1, const QuadShape& shape, glm::vec2 cap_reach = glm::vec2(1.0f));
@@ -51,7 +57,11 @@ public:
     [[nodiscard]] bool covers(int x, int y) const;
 
 private:
-    void markPolygon(const glm::vec2* points, int count);
+    void markPolygon(const glm::vec2* points, int count, float reach);
+    /// How far roads_geo.vert may move the quad's upper side beyond its projection, in pixels:
+    /// 0 where the fill is at least QuadShape::min_width_px wide on screen at both ends.
+    [[nodiscard]] float widening(const glm::vec4& c0, const glm::vec4& c1, const glm::vec4& across,
+                                 const glm::vec4& along, const QuadShape& shape) const;
 
     int m_width = 0, m_height = 0, m_cell = 8;
     int m_columns = 0, m_rows = 0;

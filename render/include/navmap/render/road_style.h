@@ -31,8 +31,10 @@ struct RoadStyle {
     float max_scale = 12.0f;            ///< distant roads grow at most this much
     float z_offset_alpha = 0.02f;       ///< seed 3.6.2: view-space scale (1 - alpha)
     /// Least on-screen width of a road's fill, pixels (0: none): far roads seen at a grazing angle
-    /// are widened across to it, so that they do not break up into dashes (roads_geo.vert).
-    float min_width_px = 1.0f;
+    /// are widened across to it, so that they do not break up into dashes (roads_geo.vert). A
+    /// tenth over one pixel: a band of exactly one pixel misses both pixel centres of a column
+    /// where rounding puts its edges on them.
+    float min_width_px = 1.1f;
     glm::vec3 outline{0.12f, 0.12f, 0.14f};  ///< seed 3.6.3 dark outline colour
     float outline_strength = 0.75f;
 
