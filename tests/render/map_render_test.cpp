@@ -178,7 +178,7 @@ class GrazingRoads : public ::testing::TestWithParam<float> {};
 
 TEST_P(GrazingRoads, FarRoadStaysUnbroken) {
     const float rise = GetParam();  // metres up per metre towards +y
-    // 1.1 to 1.5 km ahead of a camera 20 m above the ground at the tile's edge, with ground
+    // 1.1 to 1.5 km ahead of a camera 20 m above the ground, 600 m before the tile, with ground
     // beyond: 6 m of road are 0.04 to 0.07 px high on screen (flat). One road across the view, one
     // slanting away, so that the centre line passes every offset from the pixel centres.
     const std::vector<std::pair<glm::dvec2, glm::dvec2>> roads{{{100, 500}, {900, 500}}, {{100, 350}, {900, 850}}};
