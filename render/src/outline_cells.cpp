@@ -72,8 +72,8 @@ void OutlineCells::markQuad(glm::vec3 p0, glm::vec3 p1, const QuadShape& shape, 
 
 float OutlineCells::widening(const glm::vec4& c0, const glm::vec4& c1, const glm::vec4& across, const glm::vec4& along,
                              const QuadShape& shape) const {
-    if (!(shape.min_width_px > 0.0f) || !(shape.fill_width_m > 0.0f) || !(shape.width_m > 0.0f)) return 0.0f;
-    const float most = shape.min_width_px * shape.width_m / shape.fill_width_m;
+    const float most = leastWidthGrowthPx(shape.min_width_px, shape.width_m, shape.fill_width_m);
+    if (!(most > 0.0f)) return 0.0f;
     // The fill's width on screen at each end, to first order as the shader reckons it: the
     // across offset's screen derivative perpendicular to the road's screen direction.
     const glm::vec2 half_viewport(0.5f * static_cast<float>(m_width), 0.5f * static_cast<float>(m_height));

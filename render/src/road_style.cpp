@@ -46,6 +46,11 @@ float distanceWidthScale(float distance_m, float threshold_m, float max_scale) {
     return std::min(distance_m / threshold_m, max_scale);
 }
 
+float leastWidthGrowthPx(float min_width_px, float width_m, float fill_width_m) {
+    if (!(min_width_px > 0.0f) || !(width_m > 0.0f) || !(fill_width_m > 0.0f)) return 0.0f;
+    return min_width_px * width_m / fill_width_m;
+}
+
 float capHalfLength(float segment_length, float width) { return segment_length / width; }
 
 bool capCovers(float x, float y, float half_length) {

@@ -65,6 +65,15 @@ TEST(RoadWidth, ScalesOnlyBeyondTheThreshold) {
     }
 }
 
+// The least on-screen width (roads_geo.vert): the upper side moves by at most the least width
+// times the pass's share of the fill, so that the casing keeps its share.
+TEST(RoadWidth, LeastWidthGrowsEveryPassInProportion) {
+    EXPECT_FLOAT_EQ(leastWidthGrowthPx(1.1f, 12.0f, 12.0f), 1.1f);            // the fill itself
+    EXPECT_FLOAT_EQ(leastWidthGrowthPx(1.1f, 16.0f, 12.0f), 1.1f * 16.0f / 12.0f);  // its casing
+    EXPECT_FLOAT_EQ(leastWidthGrowthPx(0.0f, 16.0f, 12.0f), 0.0f);            // turned off
+    EXPECT_FLOAT_EQ(leastWidthGrowthPx(1.1f, 16.0f, 0.0f), 0.0f);             // no fill: nothing drawn
+}
+
 struct Grid {
     std::vector<float> heights;
     HeightGrid view;

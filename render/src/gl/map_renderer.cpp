@@ -48,15 +48,14 @@ constexpr GLuint kRoadStencilBit = 0x40;
 constexpr float kRouteCasingFraction = 0.25f;
 // Full width of the route's quads with their casing (its widest pass), metres.
 float routeOuterWidth(float route_width_m) { return (1.0f + 2.0f * kRouteCasingFraction) * route_width_m; }
-// How far, in pixels, roads_geo.vert can move a road or route quad's upper side beyond the quad
-// on the ground when it widens a foreshortened road to RoadStyle::min_width_px: that width, times
-// the widest pass's share of the fill (the per-quad bound of OutlineCells::markQuad, for all).
+// How far, in pixels, roads_geo.vert can move any road or route quad's upper side beyond the quad
+// on the ground when it widens a foreshortened road to RoadStyle::min_width_px: the most of
+// leastWidthGrowthPx (OutlineCells::markQuad's bound per quad) over the classes and the route.
 float roadWideningPx(const MapStyle& style) {
-    float ratio = 1.0f + 2.0f * kRouteCasingFraction;
-    for (const RoadClassStyle& c : style.roads.classes) {
-        if (c.width_m > 0.0f) ratio = std::max(ratio, c.outerWidth() / c.width_m);
-    }
-    return std::max(style.roads.min_width_px, 0.0f) * ratio;
+    const float min_width = style.roads.min_width_px;
+    float most = leastWidthGrowthPx(min_width, routeOuterWidth(style.route_width_m), style.route_width_m);
+    for (const RoadClassStyle& c : style.roads.classes) most = std::max(most, leastWidthGrowthPx(min_width, c.outerWidth(), c.width_m));
+    return most;
 }
 
 using Clock = std::chrono::steady_clock;

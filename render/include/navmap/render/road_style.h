@@ -51,6 +51,12 @@ struct RoadStyle {
 /// threshold, so distant roads stay visible while near ones keep their true width.
 float distanceWidthScale(float distance_m, float threshold_m, float max_scale);
 
+/// The most roads_geo.vert moves a quad's upper side beyond its projection, in pixels, where it
+/// widens a foreshortened road's fill to `min_width_px` on screen (RoadStyle::min_width_px): that
+/// width times the pass's share of the fill, `width_m` / `fill_width_m` (the casing grows in
+/// proportion). 0 where any of them is not positive.
+float leastWidthGrowthPx(float min_width_px, float width_m, float fill_width_m);
+
 /// seed 3.4 in the coordinates roads_geo.vert hands its fragments: the half length L = d / w of
 /// a segment of length d and width w, in half widths.
 float capHalfLength(float segment_length, float width);
