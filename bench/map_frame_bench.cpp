@@ -69,9 +69,16 @@ RendererOptions optionsFor(const Profile& p) {
     return o;
 }
 
+// NAVMAP_BENCH_MASK_PACKING=gpu or cpu picks where the outline filter's road mask is packed
+// (MapLayers::mask_packing; default: automatic, the CPU on llvmpipe).
 MapFrame frameFor(const Profile& p, const Shot& s, const MapLayers& layers) {
     MapFrame frame = flight().frameFor(s, double(p.width) / p.height, p.height);
     frame.layers = layers;
+    if (const char* env = std::getenv("NAVMAP_BENCH_MASK_PACKING")) {
+        const std::string packing(env);
+        if (packing == "gpu") frame.layers.mask_packing = MapLayers::MaskPacking::Gpu;
+        if (packing == "cpu") frame.layers.mask_packing = MapLayers::MaskPacking::Cpu;
+    }
     return frame;
 }
 

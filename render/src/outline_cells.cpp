@@ -2,8 +2,11 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
+#include <cstring>
 #include <limits>
+#include <vector>
 
 #include "navmap/render/road_style.h"
 
@@ -178,6 +181,48 @@ std::vector<CellRect> OutlineCells::rects(int group) const {
 bool OutlineCells::covers(int x, int y) const {
     if (x < 0 || y < 0 || x >= m_width || y >= m_height) return false;
     return m_marked[static_cast<std::size_t>(y / m_cell) * static_cast<std::size_t>(m_columns) + static_cast<std::size_t>(x / m_cell)] != 0;
+}
+
+namespace {
+
+// Bit k: whether byte k of the 8 at `p` is above 127. The top bits, masked, are gathered into
+// one byte by a multiply (byte k's bit lands in bit 56 + k).
+std::uint32_t topBits(const std::uint8_t* p) {
+    std::uint64_t v;
+    if constexpr (std::endian::native == std::endian::little) {
+        std::memcpy(&v, p, 8);
+    } else {
+        v = 0;
+        for (int k = 0; k < 8; ++k) v |= std::uint64_t{p[k]} << (8 * k);
+    }
+    return static_cast<std::uint32_t>(((v & 0x8080808080808080ull) * 0x0002040810204081ull) >> 56);
+}
+
+}  // namespace
+
+void packRoadMask(const std::uint8_t* mask, int width, int height, std::uint16_t* packed) {
+    if (width <= 0 || height <= 0) return;
+    const int groups = packedMaskWidth(width);
+    const int whole = width / kPackedMaskPixels;
+    // Per row: the pixels 8g .. 8g + 7 as the bits of bits[g], a last partial group filled up with
+    // the row's end pixel; texel g then takes the end bits of its neighbours for 8g - 1 and 8g + 8.
+    std::vector<std::uint32_t> bits(static_cast<std::size_t>(groups));
+    for (int y = 0; y < height; ++y) {
+        const std::uint8_t* row = mask + static_cast<std::size_t>(y) * static_cast<std::size_t>(width);
+        for (int g = 0; g < whole; ++g) bits[static_cast<std::size_t>(g)] = topBits(row + kPackedMaskPixels * g);
+        if (whole < groups) {
+            std::uint8_t tail[kPackedMaskPixels];
+            for (int k = 0; k < kPackedMaskPixels; ++k) tail[k] = row[std::min(kPackedMaskPixels * whole + k, width - 1)];
+            bits[static_cast<std::size_t>(whole)] = topBits(tail);
+        }
+        std::uint16_t* out = packed + static_cast<std::size_t>(y) * static_cast<std::size_t>(groups);
+        for (int g = 0; g < groups; ++g) {
+            const std::uint32_t here = bits[static_cast<std::size_t>(g)];
+            const std::uint32_t before = g > 0 ? bits[static_cast<std::size_t>(g - 1)] >> 7 : here;        // pixel 8g - 1 (or 0)
+            const std::uint32_t after = g + 1 < groups ? bits[static_cast<std::size_t>(g + 1)] : here >> 7;  // 8g + 8 (or the end)
+            out[g] = static_cast<std::uint16_t>((before & 1u) | here << 1 | (after & 1u) << 9);
+        }
+    }
 }
 
 }  // namespace navmap::render

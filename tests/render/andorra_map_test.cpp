@@ -101,8 +101,10 @@ TEST(AndorraMap, RoadsChangeTheImageOnlyWhereRoadsAre) {
 
 // The outline filter runs only on the screen cells near the road and route quads (OutlineCells,
 // marked on the CPU): the image equals the full-screen filter's, in both views and at the display
-// profiles' sizes, while the filter runs on a fraction of the screen.
+// profiles' sizes, while the filter runs on a fraction of the screen; with the road mask packed
+// on the GPU (outline_pack.frag) and on the CPU (packRoadMask) alike.
 TEST(AndorraMap, OutlinesNearRoadsEqualTheFullScreenFilter) {
+    using MaskPacking = MapLayers::MaskPacking;
     for (ViewMode mode : {ViewMode::Bird, ViewMode::Snail}) {
         for (const auto& [w, h] : {std::pair{kW, kH}, std::pair{1280, 480}, std::pair{800, 240}}) {
             auto renderer = rendererOfSize(w, h);
@@ -111,10 +113,20 @@ TEST(AndorraMap, OutlinesNearRoadsEqualTheFullScreenFilter) {
             renderer->renderMap(frame);
             const Image near_roads = renderer->readSync();
             const std::size_t filtered = renderer->mapStats().outline_pixels;
+            // Automatic packing: on the CPU on a software rasterizer, on the GPU elsewhere.
+            EXPECT_EQ(renderer->mapStats().mask_packed_on_cpu, renderer->device().software);
             std::printf("[ measure  ] %s %dx%d: outline filter on %.1f %% of the screen\n",
                         mode == ViewMode::Bird ? "bird" : "snail", w, h, 100.0 * double(filtered) / (w * h));
             EXPECT_GT(filtered, 0u);
             EXPECT_LT(filtered, std::size_t(w * h * 3 / 4)) << "the filter runs near roads only";
+            Image packed_by[2];
+            for (const MaskPacking packing : {MaskPacking::Gpu, MaskPacking::Cpu}) {
+                frame.layers.mask_packing = packing;
+                renderer->renderMap(frame);
+                packed_by[packing == MaskPacking::Cpu] = renderer->readSync();
+                EXPECT_EQ(renderer->mapStats().mask_packed_on_cpu, packing == MaskPacking::Cpu);
+            }
+            frame.layers.mask_packing = MaskPacking::Auto;
             frame.layers.outlines_near_roads = false;
             renderer->renderMap(frame);
             const Image full = renderer->readSync();
@@ -125,6 +137,8 @@ TEST(AndorraMap, OutlinesNearRoadsEqualTheFullScreenFilter) {
             const std::size_t differ = differingPixels(full, near_roads), outline = differingPixels(full, none);
             EXPECT_GT(outline, std::size_t(w * h / 100)) << "outlines are drawn";
             EXPECT_EQ(differ, 0u) << (mode == ViewMode::Bird ? "bird " : "snail ") << w << "x" << h;
+            EXPECT_EQ(differingPixels(full, packed_by[0]), 0u) << "packed on the GPU, " << w << "x" << h;
+            EXPECT_EQ(differingPixels(full, packed_by[1]), 0u) << "packed on the CPU, " << w << "x" << h;
         }
     }
 }

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <random>
 #include <vector>
@@ -245,6 +246,35 @@ TEST(OutlineCells, BrokenInputMarksNothing) {
     empty.setView(c.view, c.projection);
     empty.markQuad({0.0f, 10.0f, 0.0f}, {0.0f, 50.0f, 0.0f}, kShape);
     EXPECT_TRUE(empty.rects().empty());
+}
+
+// packRoadMask against its definition, bit by bit: texel (g, y), bit i is whether the pixel
+// x = 8g - 1 + i of row y, clamped to the row, has a mask byte above 127. Widths that are and are
+// not multiples of 8, down to a single pixel; bytes of every value, not only 0 and 255.
+TEST(PackRoadMask, EveryBitIsItsPixelWithTheRowEndsRepeated) {
+    std::mt19937 rng(7);
+    for (const int w : {1, 5, 8, 13, 16, 64, 799, 800}) {
+        const int h = 3;
+        std::vector<std::uint8_t> mask(static_cast<std::size_t>(w * h));
+        for (auto& b : mask) b = static_cast<std::uint8_t>(rng() % 3 == 0 ? rng() % 256 : (rng() % 2) * 255);
+        const int groups = packedMaskWidth(w);
+        ASSERT_EQ(groups, (w + 7) / 8);
+        std::vector<std::uint16_t> packed(static_cast<std::size_t>(groups * h), 0xFFFF);
+        packRoadMask(mask.data(), w, h, packed.data());
+        int wrong = 0;
+        for (int y = 0; y < h; ++y) {
+            for (int g = 0; g < groups; ++g) {
+                const unsigned texel = packed[static_cast<std::size_t>(y * groups + g)];
+                EXPECT_EQ(texel >> 10, 0u) << "only bits 0..9";
+                for (int i = 0; i < 10; ++i) {
+                    const int x = std::clamp(8 * g - 1 + i, 0, w - 1);
+                    const unsigned road = mask[static_cast<std::size_t>(y * w + x)] > 127 ? 1u : 0u;
+                    wrong += ((texel >> i) & 1u) != road;
+                }
+            }
+        }
+        EXPECT_EQ(wrong, 0) << "width " << w;
+    }
 }
 
 }  // namespace

@@ -33,7 +33,7 @@ GlRenderer::GlRenderer(const RendererOptions& options) : m_options(options), m_e
     // x 4 bytes per slot: one slot (direct read, ReadbackRing). GPUs copy asynchronously: two.
     if (m_options.readback_ring <= 0) m_options.readback_ring = m_device.software ? 1 : 2;
     m_terrain = std::make_unique<TerrainLayer>();
-    m_map = std::make_unique<MapRenderer>(m_options);
+    m_map = std::make_unique<MapRenderer>(m_options, m_device.software);
     m_current = addTarget(options.width, options.height);
 }
 

@@ -281,8 +281,9 @@ struct MapRenderer::GpuTile {
     }
 };
 
-MapRenderer::MapRenderer(const RendererOptions& options)
+MapRenderer::MapRenderer(const RendererOptions& options, bool software)
     : m_options(options),
+      m_software(software),
       m_style(MapStyle::day()),
       m_terrain(ShaderProgram::fromEmbedded("terrain_tile.vert", "terrain_tile.frag")),
       m_terrain_cover{ShaderProgram::fromEmbedded("terrain_tile.vert", "terrain_tile.frag", "#define NAVMAP_COVER_LEVELS 2\n"),
@@ -1062,7 +1063,18 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target) {
         };
         glActiveTexture(GL_TEXTURE0);
         GLuint mask = target.maskTexture();
-        if (mark_roads) {
+        using MaskPacking = MapLayers::MaskPacking;
+        const MaskPacking packing = frame.layers.mask_packing;
+        if (mark_roads && (packing == MaskPacking::Cpu || (packing == MaskPacking::Auto && m_software)) &&
+            target.readMask(m_mask_bytes)) {
+            // On the CPU (packRoadMask): the read waits for the rasterizer, as the packing pass
+            // would, and costs llvmpipe a copy instead of a pass over the cells.
+            m_packed_mask.resize(static_cast<std::size_t>(target.packedMaskWidth()) * static_cast<std::size_t>(target.height()));
+            packRoadMask(m_mask_bytes.data(), target.width(), target.height(), m_packed_mask.data());
+            mask = target.uploadPackedMask(m_packed_mask.data());
+            m_stats.mask_packed_on_cpu = true;
+            target.bindForDrawing(false);
+        } else if (mark_roads) {
             // The mask bit-packed over the cells (outline_pack.frag); the rest of the packed
             // texture is 0, as the mask is outside the cells (every road quad lies in them).
             mask = target.bindPackedMask();

@@ -30,7 +30,8 @@ inline constexpr std::uint32_t kQuadIndices[6] = {0, 1, 2, 2, 1, 3};
 
 class MapRenderer {
 public:
-    explicit MapRenderer(const RendererOptions& options);
+    /// `software`: the context renders on a software rasterizer (DeviceInfo::software).
+    MapRenderer(const RendererOptions& options, bool software);
     ~MapRenderer();
     MapRenderer(const MapRenderer&) = delete;
     MapRenderer& operator=(const MapRenderer&) = delete;
@@ -99,6 +100,7 @@ private:
     void evict();
 
     RendererOptions m_options;
+    bool m_software = false;
     MapStyle m_style;
     MapFrameStats m_stats;
     ShaderProgram m_terrain;
@@ -133,6 +135,8 @@ private:
     std::vector<glm::vec2> m_cell_vertices;  // its rectangles, two triangles each, pixels
     std::size_t m_pack_first = 0;            // from here: the packing pass's rectangles
     std::size_t m_cell_pixels = 0;           // their area
+    std::vector<std::uint8_t> m_mask_bytes;  // the road mask read back (packRoadMask)
+    std::vector<std::uint16_t> m_packed_mask;
     double m_cell_ms = 0;                    // CPU time of markOutlineCells
     SideTask m_side;                         // runs markOutlineCells beside the render thread
     GLuint m_cell_vao = 0, m_cell_vbo = 0;

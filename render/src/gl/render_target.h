@@ -7,6 +7,11 @@
 
 #include <GLES3/gl3.h>
 
+#include <cstdint>
+#include <vector>
+
+#include "navmap/render/outline_cells.h"
+
 namespace navmap::render::gl {
 
 /// Throws RenderError naming `what` and the status when the bound framebuffer is incomplete.
@@ -59,12 +64,18 @@ public:
 
     [[nodiscard]] GLuint maskTexture() const { return m_mask_texture; }
     /// Pixels of a row per texel of the packed mask (outline_pack.frag).
-    static constexpr int kPackedMaskPixels = 8;
+    static constexpr int kPackedMaskPixels = navmap::render::kPackedMaskPixels;
     /// The road mask bit-packed for the outline filter (outline_pack.frag): an R16UI texture of
     /// packedMaskWidth() x height, made on the first call. Binds its framebuffer for drawing, with
     /// the viewport over it, and returns the texture.
     GLuint bindPackedMask() const;
-    [[nodiscard]] int packedMaskWidth() const { return (m_width + kPackedMaskPixels - 1) / kPackedMaskPixels; }
+    [[nodiscard]] int packedMaskWidth() const { return navmap::render::packedMaskWidth(m_width); }
+    /// Reads the road mask into `bytes` (width x height, the bottom row first) where it can: no
+    /// MSAA and the driver reads the mask's format as single bytes. False otherwise (pack on the GPU).
+    bool readMask(std::vector<std::uint8_t>& bytes) const;
+    /// Uploads `packed` (packedMaskWidth() x height texels, packRoadMask) into the packed mask
+    /// and returns its texture.
+    GLuint uploadPackedMask(const std::uint16_t* packed) const;
     /// The drawing framebuffer and its depth-stencil renderbuffer: the occlusion effects (glowing
     /// roads, label aura) attach the same depth to their own framebuffers and blit from it.
     [[nodiscard]] GLuint drawFramebuffer() const { return m_draw_fbo; }

@@ -30,6 +30,18 @@ struct QuadShape {
     float fill_width_m = 0.0f;
 };
 
+/// Pixels of a row per texel of the bit-packed road mask (outline_pack.frag).
+inline constexpr int kPackedMaskPixels = 8;
+
+/// The road mask bit-packed for the outline filter on the CPU, as outline_pack.frag packs it on the
+/// GPU: texel (g, y) holds as bits 0..9 whether the pixels x = 8g - 1 .. 8g + 8 of row y are road
+/// pixels (a mask byte above 127, the shader's > 0.5), pixels beyond a row's ends repeating its end
+/// pixel. `mask`: width x height bytes, row after row; `packed`: packedMaskWidth(width) x height
+/// texels in the same row order. On a software rasterizer, where reading the mask back is a copy
+/// in memory, this saves the packing pass (MapLayers::mask_packing).
+void packRoadMask(const std::uint8_t* mask, int width, int height, std::uint16_t* packed);
+[[nodiscard]] inline int packedMaskWidth(int width) { return (width + kPackedMaskPixels - 1) / kPackedMaskPixels; }
+
 class OutlineCells {
 public:
     /// Starts a frame: a viewport of `width` x `height` pixels, `cell_px` square cells, and the
