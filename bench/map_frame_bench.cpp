@@ -69,15 +69,15 @@ RendererOptions optionsFor(const Profile& p) {
     return o;
 }
 
-// NAVMAP_BENCH_MASK_PACKING=gpu or cpu picks where the outline filter's road mask is packed
-// (MapLayers::mask_packing; default: automatic, the CPU on llvmpipe).
+// NAVMAP_BENCH_OUTLINE_MASK=gpu or cpu picks where the outline filter learns about the road mask
+// (MapLayers::outline_mask; default: automatic, the CPU on llvmpipe).
 MapFrame frameFor(const Profile& p, const Shot& s, const MapLayers& layers) {
     MapFrame frame = flight().frameFor(s, double(p.width) / p.height, p.height);
     frame.layers = layers;
-    if (const char* env = std::getenv("NAVMAP_BENCH_MASK_PACKING")) {
-        const std::string packing(env);
-        if (packing == "gpu") frame.layers.mask_packing = MapLayers::MaskPacking::Gpu;
-        if (packing == "cpu") frame.layers.mask_packing = MapLayers::MaskPacking::Cpu;
+    if (const char* env = std::getenv("NAVMAP_BENCH_OUTLINE_MASK")) {
+        const std::string where(env);
+        if (where == "gpu") frame.layers.outline_mask = MapLayers::OutlineMask::Gpu;
+        if (where == "cpu") frame.layers.outline_mask = MapLayers::OutlineMask::Cpu;
     }
     return frame;
 }

@@ -1,7 +1,11 @@
 // seed 3.6.3 "Outlines": edge strength = local maximum of road intensity in a 3x3 neighbourhood
 // minus the intensity here, blended dark over the scene. Unfiltered texel fetches: on llvmpipe a
 // bilinear fetch costs about four of them.
-#ifdef NAVMAP_PACKED_MASK
+#if defined(NAVMAP_EDGE_MASK)
+// The edge pixels themselves, found on the CPU from the mask read back (outlineEdges in
+// outline_cells.cpp, software rasterizers): bit x & 7 of texel (x / 8, y).
+uniform highp usampler2D u_edge_mask;
+#elif defined(NAVMAP_PACKED_MASK)
 // The mask bit-packed by outline_pack.frag, and the road pixels left out by the stencil
 // (map_renderer.cpp, kRoadStencilBit): here is 0, and the maximum is whether any of the three
 // bits around this pixel is set in the rows below, here and above.
@@ -16,7 +20,9 @@ out vec4 o_color;
 
 void main() {
     ivec2 p = ivec2(gl_FragCoord.xy);
-#ifdef NAVMAP_PACKED_MASK
+#if defined(NAVMAP_EDGE_MASK)
+    float edge = float((texelFetch(u_edge_mask, ivec2(p.x >> 3, p.y), 0).r >> uint(p.x & 7)) & 1u);
+#elif defined(NAVMAP_PACKED_MASK)
     int top = textureSize(u_packed_mask, 0).y - 1;
     int g = p.x >> 3;
     uint rows = texelFetch(u_packed_mask, ivec2(g, max(p.y - 1, 0)), 0).r | texelFetch(u_packed_mask, ivec2(g, p.y), 0).r |

@@ -225,4 +225,33 @@ void packRoadMask(const std::uint8_t* mask, int width, int height, std::uint16_t
     }
 }
 
+void outlineEdges(const std::uint16_t* packed, int groups, int height, std::uint16_t* edges) {
+    if (groups <= 0 || height <= 0) return;
+    const auto row = [&](int y) { return packed + static_cast<std::size_t>(std::clamp(y, 0, height - 1)) * static_cast<std::size_t>(groups); };
+    for (int y = 0; y < height; ++y) {
+        const std::uint16_t *below = row(y - 1), *here = row(y), *above = row(y + 1);
+        std::uint16_t* out = edges + static_cast<std::size_t>(y) * static_cast<std::size_t>(groups);
+        for (int g = 0; g < groups; ++g) {
+            // Pixel 8g + k is bit k + 1 of the packed texels, its neighbours bits k and k + 2.
+            const unsigned rows = static_cast<unsigned>(below[g] | here[g] | above[g]);
+            const unsigned near_road = (rows | rows >> 1 | rows >> 2) & 0xFFu;
+            const unsigned road = (static_cast<unsigned>(here[g]) >> 1) & 0xFFu;
+            out[g] = static_cast<std::uint16_t>(near_road & ~road);
+        }
+    }
+}
+
+void OutlineCells::markEdges(const std::uint16_t* edges, int groups) {
+    for (int y = 0; y < m_height; ++y) {
+        const std::uint16_t* row = edges + static_cast<std::size_t>(y) * static_cast<std::size_t>(groups);
+        std::uint8_t* cells = m_marked.data() + static_cast<std::size_t>(y / m_cell) * static_cast<std::size_t>(m_columns);
+        for (int g = 0; g < groups; ++g) {
+            for (unsigned bits = row[g] & 0xFFu; bits != 0; bits &= bits - 1) {
+                const int x = kPackedMaskPixels * g + std::countr_zero(bits);
+                if (x < m_width) cells[x / m_cell] = 1;
+            }
+        }
+    }
+}
+
 }  // namespace navmap::render

@@ -102,9 +102,10 @@ TEST(AndorraMap, RoadsChangeTheImageOnlyWhereRoadsAre) {
 // The outline filter runs only on the screen cells near the road and route quads (OutlineCells,
 // marked on the CPU): the image equals the full-screen filter's, in both views and at the display
 // profiles' sizes, while the filter runs on a fraction of the screen; with the road mask packed
-// on the GPU (outline_pack.frag) and on the CPU (packRoadMask) alike.
+// on the GPU (outline_pack.frag, cells from the quads) and with the edges found on the CPU from the
+// mask read back (outlineEdges, cells that hold an edge) alike.
 TEST(AndorraMap, OutlinesNearRoadsEqualTheFullScreenFilter) {
-    using MaskPacking = MapLayers::MaskPacking;
+    using OutlineMask = MapLayers::OutlineMask;
     for (ViewMode mode : {ViewMode::Bird, ViewMode::Snail}) {
         for (const auto& [w, h] : {std::pair{kW, kH}, std::pair{1280, 480}, std::pair{800, 240}}) {
             auto renderer = rendererOfSize(w, h);
@@ -113,20 +114,21 @@ TEST(AndorraMap, OutlinesNearRoadsEqualTheFullScreenFilter) {
             renderer->renderMap(frame);
             const Image near_roads = renderer->readSync();
             const std::size_t filtered = renderer->mapStats().outline_pixels;
-            // Automatic packing: on the CPU on a software rasterizer, on the GPU elsewhere.
-            EXPECT_EQ(renderer->mapStats().mask_packed_on_cpu, renderer->device().software);
-            std::printf("[ measure  ] %s %dx%d: outline filter on %.1f %% of the screen\n",
-                        mode == ViewMode::Bird ? "bird" : "snail", w, h, 100.0 * double(filtered) / (w * h));
+            // Automatic: the edges found on the CPU on a software rasterizer, the GPU packs elsewhere.
+            EXPECT_EQ(renderer->mapStats().outline_mask_on_cpu, renderer->device().software);
             EXPECT_GT(filtered, 0u);
             EXPECT_LT(filtered, std::size_t(w * h * 3 / 4)) << "the filter runs near roads only";
-            Image packed_by[2];
-            for (const MaskPacking packing : {MaskPacking::Gpu, MaskPacking::Cpu}) {
-                frame.layers.mask_packing = packing;
+            Image by[2];  // the mask packed on the GPU, the edges found on the CPU
+            for (const OutlineMask where : {OutlineMask::Gpu, OutlineMask::Cpu}) {
+                frame.layers.outline_mask = where;
                 renderer->renderMap(frame);
-                packed_by[packing == MaskPacking::Cpu] = renderer->readSync();
-                EXPECT_EQ(renderer->mapStats().mask_packed_on_cpu, packing == MaskPacking::Cpu);
+                by[where == OutlineMask::Cpu] = renderer->readSync();
+                EXPECT_EQ(renderer->mapStats().outline_mask_on_cpu, where == OutlineMask::Cpu);
+                std::printf("[ measure  ] %s %dx%d, %s: outline filter on %.1f %% of the screen\n",
+                            mode == ViewMode::Bird ? "bird" : "snail", w, h, where == OutlineMask::Cpu ? "edge cells" : "quad cells",
+                            100.0 * double(renderer->mapStats().outline_pixels) / (w * h));
             }
-            frame.layers.mask_packing = MaskPacking::Auto;
+            frame.layers.outline_mask = OutlineMask::Auto;
             frame.layers.outlines_near_roads = false;
             renderer->renderMap(frame);
             const Image full = renderer->readSync();
@@ -137,8 +139,8 @@ TEST(AndorraMap, OutlinesNearRoadsEqualTheFullScreenFilter) {
             const std::size_t differ = differingPixels(full, near_roads), outline = differingPixels(full, none);
             EXPECT_GT(outline, std::size_t(w * h / 100)) << "outlines are drawn";
             EXPECT_EQ(differ, 0u) << (mode == ViewMode::Bird ? "bird " : "snail ") << w << "x" << h;
-            EXPECT_EQ(differingPixels(full, packed_by[0]), 0u) << "packed on the GPU, " << w << "x" << h;
-            EXPECT_EQ(differingPixels(full, packed_by[1]), 0u) << "packed on the CPU, " << w << "x" << h;
+            EXPECT_EQ(differingPixels(full, by[0]), 0u) << "mask packed on the GPU, " << w << "x" << h;
+            EXPECT_EQ(differingPixels(full, by[1]), 0u) << "edges found on the CPU, " << w << "x" << h;
         }
     }
 }

@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <limits>
 #include <random>
+#include <utility>
 #include <vector>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -274,6 +275,55 @@ TEST(PackRoadMask, EveryBitIsItsPixelWithTheRowEndsRepeated) {
             }
         }
         EXPECT_EQ(wrong, 0) << "width " << w;
+    }
+}
+
+// outlineEdges against seed 3.6.3's filter on a binary mask, pixel by pixel: an edge pixel is not a
+// road pixel and has one in its 3x3 neighbourhood (clamped at the borders, as the shader's fetches
+// are). markEdges then marks exactly the cells that hold an edge pixel.
+TEST(PackRoadMask, EdgesAreTheNonRoadPixelsNextToARoadPixel) {
+    std::mt19937 rng(11);
+    for (const auto& [w, h] : {std::pair{13, 5}, std::pair{64, 40}, std::pair{800, 24}}) {
+        // Sparse road pixels in the lower left quarter only, so that many cells hold no edge.
+        std::vector<std::uint8_t> mask(static_cast<std::size_t>(w * h), 0);
+        for (int y = 0; y < (h + 1) / 2; ++y)
+            for (int x = 0; x < (w + 1) / 2; ++x) mask[static_cast<std::size_t>(y * w + x)] = rng() % 7 == 0 ? 255 : 0;
+        const auto road = [&](int x, int y) { return mask[static_cast<std::size_t>(std::clamp(y, 0, h - 1) * w + std::clamp(x, 0, w - 1))] > 127; };
+        const int groups = packedMaskWidth(w);
+        std::vector<std::uint16_t> packed(static_cast<std::size_t>(groups * h)), edges(packed.size(), 0xFFFF);
+        packRoadMask(mask.data(), w, h, packed.data());
+        outlineEdges(packed.data(), groups, h, edges.data());
+        int wrong = 0, edge_pixels = 0;
+        for (int y = 0; y < h; ++y) {
+            for (int x = 0; x < w; ++x) {
+                bool near = false;
+                for (int dy = -1; dy <= 1; ++dy)
+                    for (int dx = -1; dx <= 1; ++dx) near = near || road(x + dx, y + dy);
+                const bool expected = near && !road(x, y);
+                const bool got = (edges[static_cast<std::size_t>(y * groups + x / 8)] >> (x % 8)) & 1u;
+                wrong += expected != got;
+                edge_pixels += expected;
+            }
+        }
+        EXPECT_EQ(wrong, 0) << w << "x" << h;
+        EXPECT_GT(edge_pixels, w * h / 16) << "the test mask has edges";
+        int marked = 0, cells_total = 0;
+
+        OutlineCells cells;
+        cells.reset(w, h, kCell, 0.0f);
+        cells.markEdges(edges.data(), groups);
+        for (int cy = 0; cy < (h + kCell - 1) / kCell; ++cy) {
+            for (int cx = 0; cx < (w + kCell - 1) / kCell; ++cx) {
+                bool holds_edge = false;
+                for (int y = cy * kCell; y < std::min(h, (cy + 1) * kCell); ++y)
+                    for (int x = cx * kCell; x < std::min(w, (cx + 1) * kCell); ++x)
+                        holds_edge = holds_edge || ((edges[static_cast<std::size_t>(y * groups + x / 8)] >> (x % 8)) & 1u);
+                EXPECT_EQ(cells.covers(cx * kCell, cy * kCell), holds_edge) << "cell " << cx << "," << cy;
+                marked += holds_edge;
+                ++cells_total;
+            }
+        }
+        EXPECT_LT(marked, cells_total) << "cells without edges stay unmarked";
     }
 }
 

@@ -295,6 +295,7 @@ MapRenderer::MapRenderer(const RendererOptions& options, bool software)
       m_outline_cells(ShaderProgram::fromEmbedded("screen_cells.vert", "screen_outline.frag")),
       m_outline_packed(ShaderProgram::fromEmbedded("screen_cells.vert", "screen_outline.frag", "#define NAVMAP_PACKED_MASK 1\n")),
       m_outline_pack(ShaderProgram::fromEmbedded("screen_cells.vert", "outline_pack.frag")),
+      m_outline_edges(ShaderProgram::fromEmbedded("screen_cells.vert", "screen_outline.frag", "#define NAVMAP_EDGE_MASK 1\n")),
       m_buildings(ShaderProgram::fromEmbedded("buildings.vert", "buildings.frag")),
       m_marker(ShaderProgram::fromEmbedded("marker.vert", "marker.frag")) {
     const std::uint8_t transparent[4] = {0, 0, 0, 0};
@@ -815,23 +816,49 @@ void MapRenderer::markOutlineCells(const MapFrame& frame, const glm::mat4& proje
     }
     m_cell_vertices.clear();
     m_cell_pixels = 0;
-    auto add = [&](const CellRect& r) {
-        // Whole cells even at the right edge of the screen (the GPU clips the overhang): the
-        // packing pass turns each into a column of packed texels.
-        const int x1 = (r.x1 + kOutlineCellPx - 1) / kOutlineCellPx * kOutlineCellPx;
-        const glm::vec2 lo(static_cast<float>(r.x0), static_cast<float>(r.y0)), hi(static_cast<float>(x1), static_cast<float>(r.y1));
-        m_cell_vertices.insert(m_cell_vertices.end(), {lo, {hi.x, lo.y}, {lo.x, hi.y}, {lo.x, hi.y}, {hi.x, lo.y}, hi});
-    };
     for (const CellRect& r : m_cells.rects()) {
         m_cell_pixels += static_cast<std::size_t>(r.x1 - r.x0) * static_cast<std::size_t>(r.y1 - r.y0);
-        add(r);
+        addCellRect(r);
     }
     // The packing pass's rectangles: cells in groups of four along a row, so that its texels
     // (one per cell and row) fill llvmpipe's 4 x 4 blocks; a block costs the same, covered in
     // part or whole.
     m_pack_first = m_cell_vertices.size();
-    for (const CellRect& r : m_cells.rects(kOutlinePackGroup)) add(r);
+    for (const CellRect& r : m_cells.rects(kOutlinePackGroup)) addCellRect(r);
     m_cell_ms = msSince(t0);
+}
+
+void MapRenderer::addCellRect(const CellRect& r) {
+    // Whole cells even at the right edge of the screen (the GPU clips the overhang): the packing
+    // pass turns each into a column of packed texels.
+    const int x1 = (r.x1 + kOutlineCellPx - 1) / kOutlineCellPx * kOutlineCellPx;
+    const glm::vec2 lo(static_cast<float>(r.x0), static_cast<float>(r.y0)), hi(static_cast<float>(x1), static_cast<float>(r.y1));
+    m_cell_vertices.insert(m_cell_vertices.end(), {lo, {hi.x, lo.y}, {lo.x, hi.y}, {lo.x, hi.y}, {hi.x, lo.y}, hi});
+}
+
+GLuint MapRenderer::markEdgeCells(const RenderTarget& target) {
+    // On llvmpipe the read is a copy in memory once the roads are rasterized (the packing pass
+    // would wait for them too); packing and finding the edges cost a few bit operations per 8
+    // pixels. The filter then reads one texel per pixel, over the cells that hold an edge only.
+    target.readMask(m_mask_bytes);
+    const auto t0 = Clock::now();
+    const int w = target.width(), h = target.height(), groups = target.packedMaskWidth();
+    const auto texels = static_cast<std::size_t>(groups) * static_cast<std::size_t>(h);
+    m_packed_mask.resize(texels);
+    m_edge_mask.resize(texels);
+    packRoadMask(m_mask_bytes.data(), w, h, m_packed_mask.data());
+    outlineEdges(m_packed_mask.data(), groups, h, m_edge_mask.data());
+    m_cells.reset(w, h, kOutlineCellPx, 0.0f);
+    m_cells.markEdges(m_edge_mask.data(), groups);
+    m_cell_vertices.clear();
+    m_cell_pixels = 0;
+    for (const CellRect& r : m_cells.rects()) {
+        m_cell_pixels += static_cast<std::size_t>(r.x1 - r.x0) * static_cast<std::size_t>(r.y1 - r.y0);
+        addCellRect(r);
+    }
+    m_pack_first = m_cell_vertices.size();  // no packing pass
+    m_cell_ms = msSince(t0);
+    return target.uploadPackedMask(m_edge_mask.data());
 }
 
 std::size_t MapRenderer::drawBuildings(ShaderProgram& p, const MapFrame& frame, const glm::mat4& projection,
@@ -959,7 +986,15 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target) {
     // free meanwhile. It reads what the culling above wrote and nothing the passes change.
     const bool outlines = frame.layers.outlines && (frame.layers.roads || frame.layers.route);
     const bool outline_cells = outlines && frame.layers.outlines_near_roads && !sv;
-    if (outline_cells) m_side.start([&] { markOutlineCells(frame, projection, target.width(), target.height(), tiles); });
+    // On a software rasterizer the cells come from the road mask itself, read back after the
+    // roads (markEdgeCells); elsewhere from the quads (markOutlineCells), and the GPU packs.
+    using OutlineMask = MapLayers::OutlineMask;
+    const OutlineMask packing = frame.layers.outline_mask;
+    const bool edges_on_cpu = outline_cells && (packing == OutlineMask::Cpu || (packing == OutlineMask::Auto && m_software)) &&
+                              target.readsMaskBytes();
+    if (outline_cells && !edges_on_cpu) {
+        m_side.start([&] { markOutlineCells(frame, projection, target.width(), target.height(), tiles); });
+    }
     const SideTask::Scope side_scope(m_side);
     target.clear(m_style.sky_color.r, m_style.sky_color.g, m_style.sky_color.b);
     target.bindForDrawing(false);
@@ -1039,13 +1074,19 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target) {
     }
     glDepthMask(GL_TRUE);
     // Screen-space dark outlines around roads and route (seed 3.6.3). The filter runs only on
-    // the screen cells that the road and route quads, grown by its reach, touch: most of the
-    // frame is away from roads. (Shadow-volume roads have no quads: the whole screen.)
+    // the screen cells that the road and route quads, grown by its reach, touch, or that hold an
+    // edge pixel of the mask read back: most of the frame is away from roads. (Shadow-volume
+    // roads have no quads: the whole screen.)
     if (outlines) {
+        GLuint edges = 0;
+        if (edges_on_cpu) {
+            edges = markEdgeCells(target);
+            m_stats.outline_mask_on_cpu = true;
+        }
         target.resolveMask();
         glDisable(GL_DEPTH_TEST);
         if (outline_cells) {
-            m_side.wait();
+            m_side.wait();  // markOutlineCells, when it runs
             m_stats.outline_pixels = m_cell_pixels;
             m_stats.outline_cells_ms = m_cell_ms;
             glBindVertexArray(m_cell_vao);
@@ -1062,19 +1103,8 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target) {
             if (end > first) glDrawArrays(GL_TRIANGLES, static_cast<GLint>(first), static_cast<GLsizei>(end - first));
         };
         glActiveTexture(GL_TEXTURE0);
-        GLuint mask = target.maskTexture();
-        using MaskPacking = MapLayers::MaskPacking;
-        const MaskPacking packing = frame.layers.mask_packing;
-        if (mark_roads && (packing == MaskPacking::Cpu || (packing == MaskPacking::Auto && m_software)) &&
-            target.readMask(m_mask_bytes)) {
-            // On the CPU (packRoadMask): the read waits for the rasterizer, as the packing pass
-            // would, and costs llvmpipe a copy instead of a pass over the cells.
-            m_packed_mask.resize(static_cast<std::size_t>(target.packedMaskWidth()) * static_cast<std::size_t>(target.height()));
-            packRoadMask(m_mask_bytes.data(), target.width(), target.height(), m_packed_mask.data());
-            mask = target.uploadPackedMask(m_packed_mask.data());
-            m_stats.mask_packed_on_cpu = true;
-            target.bindForDrawing(false);
-        } else if (mark_roads) {
+        GLuint mask = edges_on_cpu ? edges : target.maskTexture();
+        if (mark_roads && !edges_on_cpu) {
             // The mask bit-packed over the cells (outline_pack.frag); the rest of the packed
             // texture is 0, as the mask is outside the cells (every road quad lies in them).
             mask = target.bindPackedMask();
@@ -1090,12 +1120,12 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target) {
             draw_cells(m_pack_first, m_cell_vertices.size());
             target.bindForDrawing(false);
         }
-        ShaderProgram& p = mark_roads ? m_outline_packed : outline_cells ? m_outline_cells : m_outline;
+        ShaderProgram& p = edges_on_cpu ? m_outline_edges : mark_roads ? m_outline_packed : outline_cells ? m_outline_cells : m_outline;
         glEnable(GL_BLEND);
         glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
         glUseProgram(p.id());
         glBindTexture(GL_TEXTURE_2D, mask);
-        glUniform1i(p.uniform(mark_roads ? "u_packed_mask" : "u_road_mask"), 0);
+        glUniform1i(p.uniform(edges_on_cpu ? "u_edge_mask" : mark_roads ? "u_packed_mask" : "u_road_mask"), 0);
         glUniform3fv(p.uniform("u_outline_color"), 1, glm::value_ptr(m_style.roads.outline));
         glUniform1f(p.uniform("u_strength"), m_style.roads.outline_strength);
         if (outline_cells) {

@@ -94,6 +94,13 @@ private:
     /// into m_cells and m_cell_vertices. No GL calls: it runs beside the render thread.
     void markOutlineCells(const MapFrame& frame, const glm::mat4& projection, int width, int height,
                           const std::vector<GpuTile*>& tiles);
+    /// The same from the road mask itself, on software rasterizers (MapLayers::outline_mask): the
+    /// mask read back and packed (packRoadMask), its edge pixels (outlineEdges) uploaded into the
+    /// packed mask's texture, and the cells that hold them into m_cells and m_cell_vertices.
+    /// Needs target.readsMaskBytes(); returns the texture.
+    GLuint markEdgeCells(const RenderTarget& target);
+    /// Appends the rectangle's two triangles to m_cell_vertices (whole cells at the right edge).
+    void addCellRect(const CellRect& r);
     /// Label aura and glowing roads (seed 5.5), between the label layout and the label text.
     void runOcclusionEffects(const MapFrame& frame, const RenderTarget& target, const glm::mat4& projection,
                              const std::vector<GpuTile*>& tiles);
@@ -114,6 +121,7 @@ private:
     ShaderProgram m_outline_cells;  // the filter over the cells near roads (markOutlineCells)
     ShaderProgram m_outline_packed;  // the same over the packed mask, road pixels left out by the stencil
     ShaderProgram m_outline_pack;    // packs the mask over the cells (outline_pack.frag)
+    ShaderProgram m_outline_edges;   // the filter over edge pixels found on the CPU (markEdgeCells)
     ShaderProgram m_buildings;
     ShaderProgram m_marker;
     GLuint m_empty_texture = 0;
@@ -135,9 +143,10 @@ private:
     std::vector<glm::vec2> m_cell_vertices;  // its rectangles, two triangles each, pixels
     std::size_t m_pack_first = 0;            // from here: the packing pass's rectangles
     std::size_t m_cell_pixels = 0;           // their area
-    std::vector<std::uint8_t> m_mask_bytes;  // the road mask read back (packRoadMask)
-    std::vector<std::uint16_t> m_packed_mask;
-    double m_cell_ms = 0;                    // CPU time of markOutlineCells
+    std::vector<std::uint8_t> m_mask_bytes;  // markEdgeCells: the road mask read back,
+    std::vector<std::uint16_t> m_packed_mask;  // packed,
+    std::vector<std::uint16_t> m_edge_mask;    // and its edge pixels
+    double m_cell_ms = 0;                    // CPU time of markOutlineCells or markEdgeCells
     SideTask m_side;                         // runs markOutlineCells beside the render thread
     GLuint m_cell_vao = 0, m_cell_vbo = 0;
     std::unordered_map<std::uint64_t, std::unique_ptr<GpuTile>> m_tiles;

@@ -100,35 +100,40 @@ RenderTarget::~RenderTarget() {
     glDeleteTextures(1, &m_packed_texture);
 }
 
-bool RenderTarget::readMask(std::vector<std::uint8_t>& bytes) const {
-    if (m_samples > 0) return false;  // the mask is per sample; packing needs the resolved one
-    glBindFramebuffer(GL_READ_FRAMEBUFFER, m_draw_fbo);
-    glReadBuffer(GL_COLOR_ATTACHMENT1);
-    // ES 3.0 guarantees RGBA bytes for a normalized buffer; one byte per pixel where the driver
-    // offers it (Mesa does for R8), else the GPU packs.
-    GLint format = 0, type = 0;
-    glGetIntegerv(GL_IMPLEMENTATION_COLOR_READ_FORMAT, &format);
-    glGetIntegerv(GL_IMPLEMENTATION_COLOR_READ_TYPE, &type);
-    const bool bytes_per_pixel = format == GL_RED && type == GL_UNSIGNED_BYTE;
-    if (bytes_per_pixel) {
-        bytes.resize(static_cast<std::size_t>(m_width) * static_cast<std::size_t>(m_height));
-        GLint alignment = 4;
-        glGetIntegerv(GL_PACK_ALIGNMENT, &alignment);
-        glPixelStorei(GL_PACK_ALIGNMENT, 1);
-        glReadPixels(0, 0, m_width, m_height, GL_RED, GL_UNSIGNED_BYTE, bytes.data());
-        glPixelStorei(GL_PACK_ALIGNMENT, alignment);
+bool RenderTarget::readsMaskBytes() const {
+    if (m_reads_mask_bytes < 0) {
+        GLint format = 0, type = 0;
+        if (m_samples == 0) {  // with MSAA the mask is per sample; the filter reads the resolved one
+            glBindFramebuffer(GL_READ_FRAMEBUFFER, m_draw_fbo);
+            glReadBuffer(GL_COLOR_ATTACHMENT1);
+            glGetIntegerv(GL_IMPLEMENTATION_COLOR_READ_FORMAT, &format);
+            glGetIntegerv(GL_IMPLEMENTATION_COLOR_READ_TYPE, &type);
+            glReadBuffer(GL_COLOR_ATTACHMENT0);
+        }
+        m_reads_mask_bytes = format == GL_RED && type == GL_UNSIGNED_BYTE ? 1 : 0;
     }
-    glReadBuffer(GL_COLOR_ATTACHMENT0);
-    return bytes_per_pixel;
+    return m_reads_mask_bytes == 1;
 }
 
-GLuint RenderTarget::uploadPackedMask(const std::uint16_t* packed) const {
+void RenderTarget::readMask(std::vector<std::uint8_t>& bytes) const {
+    bytes.resize(static_cast<std::size_t>(m_width) * static_cast<std::size_t>(m_height));
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, m_draw_fbo);
+    glReadBuffer(GL_COLOR_ATTACHMENT1);
+    GLint alignment = 4;
+    glGetIntegerv(GL_PACK_ALIGNMENT, &alignment);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glReadPixels(0, 0, m_width, m_height, GL_RED, GL_UNSIGNED_BYTE, bytes.data());
+    glPixelStorei(GL_PACK_ALIGNMENT, alignment);
+    glReadBuffer(GL_COLOR_ATTACHMENT0);
+}
+
+GLuint RenderTarget::uploadPackedMask(const std::uint16_t* texels) const {
     bindPackedMask();  // makes it on the first call
     glBindTexture(GL_TEXTURE_2D, m_packed_texture);
     GLint alignment = 4;
     glGetIntegerv(GL_UNPACK_ALIGNMENT, &alignment);
     glPixelStorei(GL_UNPACK_ALIGNMENT, 2);
-    glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, packedMaskWidth(), m_height, GL_RED_INTEGER, GL_UNSIGNED_SHORT, packed);
+    glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, packedMaskWidth(), m_height, GL_RED_INTEGER, GL_UNSIGNED_SHORT, texels);
     glPixelStorei(GL_UNPACK_ALIGNMENT, alignment);
     glBindTexture(GL_TEXTURE_2D, 0);
     return m_packed_texture;

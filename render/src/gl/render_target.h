@@ -70,12 +70,14 @@ public:
     /// the viewport over it, and returns the texture.
     GLuint bindPackedMask() const;
     [[nodiscard]] int packedMaskWidth() const { return navmap::render::packedMaskWidth(m_width); }
-    /// Reads the road mask into `bytes` (width x height, the bottom row first) where it can: no
-    /// MSAA and the driver reads the mask's format as single bytes. False otherwise (pack on the GPU).
-    bool readMask(std::vector<std::uint8_t>& bytes) const;
-    /// Uploads `packed` (packedMaskWidth() x height texels, packRoadMask) into the packed mask
-    /// and returns its texture.
-    GLuint uploadPackedMask(const std::uint16_t* packed) const;
+    /// Whether readMask() can read the road mask: no MSAA, and the driver reads the mask's format
+    /// as one byte per pixel (ES 3.0 guarantees only RGBA bytes; Mesa offers single bytes for R8).
+    [[nodiscard]] bool readsMaskBytes() const;
+    /// Reads the road mask into `bytes` (width x height, the bottom row first). Needs readsMaskBytes().
+    void readMask(std::vector<std::uint8_t>& bytes) const;
+    /// Uploads packedMaskWidth() x height `texels` (packRoadMask's or outlineEdges' layout) into
+    /// the packed mask's texture and returns it.
+    GLuint uploadPackedMask(const std::uint16_t* texels) const;
     /// The drawing framebuffer and its depth-stencil renderbuffer: the occlusion effects (glowing
     /// roads, label aura) attach the same depth to their own framebuffers and blit from it.
     [[nodiscard]] GLuint drawFramebuffer() const { return m_draw_fbo; }
@@ -88,6 +90,7 @@ private:
     int m_width;
     int m_height;
     int m_samples;
+    mutable int m_reads_mask_bytes = -1;  // readsMaskBytes(), asked once (-1: not yet)
     GLuint m_draw_fbo = 0;
     GLuint m_color_rb = 0;
     GLuint m_mask_rb = 0;

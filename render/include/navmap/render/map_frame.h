@@ -34,11 +34,13 @@ struct MapLayers {
     /// road pixels left out by a stencil bit); false: over the whole frame. Same image; the
     /// full-screen pass costs about twice as much on llvmpipe.
     bool outlines_near_roads = true;
-    /// Where the road mask is bit-packed for that filter near roads (outline_pack.frag's layout,
-    /// packRoadMask): Auto on the CPU on software rasterizers, where reading the mask back is a
-    /// copy in memory and saves llvmpipe a pass, and on the GPU elsewhere, where a readback would
-    /// stall the pipeline. Same image either way.
-    enum class MaskPacking { Auto, Gpu, Cpu } mask_packing = MaskPacking::Auto;
+    /// Where that filter near roads learns about the road mask. Gpu: a packing pass over the
+    /// cells of the road quads (outline_pack.frag), then three fetches per pixel. Cpu: the mask is
+    /// read back, packed (packRoadMask), its edge pixels found (outlineEdges), and the filter reads
+    /// one texel per pixel over the cells that hold an edge. Auto: Cpu on software rasterizers,
+    /// where the read is a copy in memory and saves llvmpipe a pass; Gpu elsewhere, where a
+    /// readback would stall the pipeline. Same image either way.
+    enum class OutlineMask { Auto, Gpu, Cpu } outline_mask = OutlineMask::Auto;
     /// Leave out the road pieces and buildings of tile blocks outside the view, and the route of
     /// tiles where it lies outside the view, before the vertex stage (same image; on llvmpipe
     /// every vertex is CPU time on the render thread).
@@ -160,7 +162,7 @@ struct MapFrameStats {
     std::size_t building_triangles = 0;
     std::size_t outline_pixels = 0;  ///< pixels the outline filter ran on (seed 3.6.3; near roads unless the whole screen)
     double outline_cells_ms = 0;     ///< CPU time marking the screen cells near roads for that filter, always measured
-    bool mask_packed_on_cpu = false;  ///< the filter's road mask was packed on the CPU (MapLayers::mask_packing)
+    bool outline_mask_on_cpu = false;  ///< the outline filter's edges were found on the CPU (MapLayers::outline_mask)
     std::size_t flat_tiles = 0;  ///< tiles seen so far with missing elevation data
     std::vector<FlatTile> new_flat_tiles;  ///< first seen in this frame: the caller warns about them
     // Labels (MapLayers::labels).

@@ -38,9 +38,16 @@ inline constexpr int kPackedMaskPixels = 8;
 /// pixels (a mask byte above 127, the shader's > 0.5), pixels beyond a row's ends repeating its end
 /// pixel. `mask`: width x height bytes, row after row; `packed`: packedMaskWidth(width) x height
 /// texels in the same row order. On a software rasterizer, where reading the mask back is a copy
-/// in memory, this saves the packing pass (MapLayers::mask_packing).
+/// in memory, this saves the packing pass (MapLayers::OutlineMask::Cpu).
 void packRoadMask(const std::uint8_t* mask, int width, int height, std::uint16_t* packed);
 [[nodiscard]] inline int packedMaskWidth(int width) { return (width + kPackedMaskPixels - 1) / kPackedMaskPixels; }
+
+/// The outline's pixels from the packed road mask (packRoadMask's layout, `groups` texels per row):
+/// texel (g, y) of `edges` holds as bits 0..7 whether the pixels 8g .. 8g + 7 of row y lie outside
+/// the roads with a road pixel in their 3x3 neighbourhood, rows beyond the mask repeating its end
+/// rows. For a binary mask this is seed 3.6.3's edge strength, the neighbourhood's maximum road
+/// intensity minus the pixel's own, as screen_outline.frag computes it.
+void outlineEdges(const std::uint16_t* packed, int groups, int height, std::uint16_t* edges);
 
 class OutlineCells {
 public:
@@ -58,6 +65,10 @@ public:
     /// `cap_reach`: how far the quad reaches beyond p0 and p1, in half widths
     /// (RoadInstance::cap_reach).
     void markQuad(glm::vec3 p0, glm::vec3 p1, const QuadShape& shape, glm::vec2 cap_reach = glm::vec2(1.0f));
+
+    /// Marks the cells that hold an edge pixel of outlineEdges' `edges` (`groups` texels per row
+    /// of the reset height): where the road mask is known, the filter runs exactly there.
+    void markEdges(const std::uint16_t* edges, int groups);
 
     /// The marked cells as rectangles: runs of cells along a row, with equal runs of the rows
     /// above merged into one rectangle. With `group` > 1 the cells of a row go in groups of that
