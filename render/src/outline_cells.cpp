@@ -187,7 +187,7 @@ namespace {
 
 // Bit k: whether byte k of the 8 at `p` is above 127. The top bits, masked, are gathered into
 // one byte by a multiply (byte k's bit lands in bit 56 + k).
-std::uint32_t topBits(const std::uint8_t* p) {
+std::uint64_t topBits(const std::uint8_t* p) {
     std::uint64_t v;
     if constexpr (std::endian::native == std::endian::little) {
         std::memcpy(&v, p, 8);
@@ -195,48 +195,61 @@ std::uint32_t topBits(const std::uint8_t* p) {
         v = 0;
         for (int k = 0; k < 8; ++k) v |= std::uint64_t{p[k]} << (8 * k);
     }
-    return static_cast<std::uint32_t>(((v & 0x8080808080808080ull) * 0x0002040810204081ull) >> 56);
+    return ((v & 0x8080808080808080ull) * 0x0002040810204081ull) >> 56;
+}
+
+// Bit k: whether byte k of the 64 at `p` is above 127 (written out: the compiler does not unroll
+// at -O2, and variable shifts cost more than the gathering).
+std::uint64_t topBits64(const std::uint8_t* p) {
+    return topBits(p) | topBits(p + 8) << 8 | topBits(p + 16) << 16 | topBits(p + 24) << 24 | topBits(p + 32) << 32 |
+           topBits(p + 40) << 40 | topBits(p + 48) << 48 | topBits(p + 56) << 56;
 }
 
 }  // namespace
 
-void packRoadMask(const std::uint8_t* mask, int width, int height, std::uint16_t* packed) {
+void outlineEdges(const std::uint8_t* mask, int width, int height, std::uint16_t* edges) {
     if (width <= 0 || height <= 0) return;
+    // Each row as a bit set, pixel x at bit x % 64 of word x / 64, zero beyond the width. Zero
+    // beyond the border is the clamp: the clamped neighbour of a border pixel is the pixel itself
+    // (or one of its row), which is a road pixel only where the pixel is no edge anyway.
     const int groups = packedMaskWidth(width);
-    const int whole = width / kPackedMaskPixels;
-    // Per row: the pixels 8g .. 8g + 7 as the bits of bits[g], a last partial group filled up with
-    // the row's end pixel; texel g then takes the end bits of its neighbours for 8g - 1 and 8g + 8.
-    std::vector<std::uint32_t> bits(static_cast<std::size_t>(groups));
+    const int words = (width + 63) / 64;
+    const auto row_words = static_cast<std::size_t>(words);
+    std::vector<std::uint64_t> bits(row_words * static_cast<std::size_t>(height + 2), 0);  // rows -1 .. height
     for (int y = 0; y < height; ++y) {
         const std::uint8_t* row = mask + static_cast<std::size_t>(y) * static_cast<std::size_t>(width);
-        for (int g = 0; g < whole; ++g) bits[static_cast<std::size_t>(g)] = topBits(row + kPackedMaskPixels * g);
-        if (whole < groups) {
-            std::uint8_t tail[kPackedMaskPixels];
-            for (int k = 0; k < kPackedMaskPixels; ++k) tail[k] = row[std::min(kPackedMaskPixels * whole + k, width - 1)];
-            bits[static_cast<std::size_t>(whole)] = topBits(tail);
-        }
-        std::uint16_t* out = packed + static_cast<std::size_t>(y) * static_cast<std::size_t>(groups);
-        for (int g = 0; g < groups; ++g) {
-            const std::uint32_t here = bits[static_cast<std::size_t>(g)];
-            const std::uint32_t before = g > 0 ? bits[static_cast<std::size_t>(g - 1)] >> 7 : here;        // pixel 8g - 1 (or 0)
-            const std::uint32_t after = g + 1 < groups ? bits[static_cast<std::size_t>(g + 1)] : here >> 7;  // 8g + 8 (or the end)
-            out[g] = static_cast<std::uint16_t>((before & 1u) | here << 1 | (after & 1u) << 9);
+        std::uint64_t* out = bits.data() + row_words * static_cast<std::size_t>(y + 1);
+        const int whole = width / 64;  // words of 64 pixels: the bits gathered in a register
+        for (int j = 0; j < whole; ++j) out[j] = topBits64(row + 64 * j);
+        if (whole < words) {  // the last, partial word
+            std::uint8_t tail[64] = {};
+            std::copy(row + 64 * whole, row + width, tail);
+            out[whole] = topBits64(tail);
         }
     }
-}
-
-void outlineEdges(const std::uint16_t* packed, int groups, int height, std::uint16_t* edges) {
-    if (groups <= 0 || height <= 0) return;
-    const auto row = [&](int y) { return packed + static_cast<std::size_t>(std::clamp(y, 0, height - 1)) * static_cast<std::size_t>(groups); };
+    std::vector<std::uint64_t> near(row_words);
     for (int y = 0; y < height; ++y) {
-        const std::uint16_t *below = row(y - 1), *here = row(y), *above = row(y + 1);
+        const std::uint64_t* below = bits.data() + row_words * static_cast<std::size_t>(y);
+        const std::uint64_t* here = below + row_words;
+        const std::uint64_t* above = here + row_words;
+        for (std::size_t j = 0; j < row_words; ++j) near[j] = below[j] | here[j] | above[j];
         std::uint16_t* out = edges + static_cast<std::size_t>(y) * static_cast<std::size_t>(groups);
-        for (int g = 0; g < groups; ++g) {
-            // Pixel 8g + k is bit k + 1 of the packed texels, its neighbours bits k and k + 2.
-            const unsigned rows = static_cast<unsigned>(below[g] | here[g] | above[g]);
-            const unsigned near_road = (rows | rows >> 1 | rows >> 2) & 0xFFu;
-            const unsigned road = (static_cast<unsigned>(here[g]) >> 1) & 0xFFu;
-            out[g] = static_cast<std::uint16_t>(near_road & ~road);
+        for (std::size_t j = 0; j < row_words; ++j) {
+            // The left and right neighbours: shifts carrying across the words.
+            const std::uint64_t left = near[j] << 1 | (j > 0 ? near[j - 1] >> 63 : 0);
+            const std::uint64_t right = near[j] >> 1 | (j + 1 < row_words ? near[j + 1] << 63 : 0);
+            std::uint64_t e = (near[j] | left | right) & ~here[j];
+            const int end = width - 64 * static_cast<int>(j);  // pixels of the row in this word
+            if (end >= 64) {
+                std::uint16_t* o = out + 8 * j;
+                o[0] = static_cast<std::uint16_t>(e & 0xFFu), o[1] = static_cast<std::uint16_t>(e >> 8 & 0xFFu);
+                o[2] = static_cast<std::uint16_t>(e >> 16 & 0xFFu), o[3] = static_cast<std::uint16_t>(e >> 24 & 0xFFu);
+                o[4] = static_cast<std::uint16_t>(e >> 32 & 0xFFu), o[5] = static_cast<std::uint16_t>(e >> 40 & 0xFFu);
+                o[6] = static_cast<std::uint16_t>(e >> 48 & 0xFFu), o[7] = static_cast<std::uint16_t>(e >> 56);
+                continue;
+            }
+            e &= (std::uint64_t{1} << end) - 1;
+            for (int k = 0; 8 * k < end; ++k) out[8 * j + static_cast<std::size_t>(k)] = static_cast<std::uint16_t>(e >> (8 * k) & 0xFFu);
         }
     }
 }
@@ -245,9 +258,13 @@ void OutlineCells::markEdges(const std::uint16_t* edges, int groups) {
     for (int y = 0; y < m_height; ++y) {
         const std::uint16_t* row = edges + static_cast<std::size_t>(y) * static_cast<std::size_t>(groups);
         std::uint8_t* cells = m_marked.data() + static_cast<std::size_t>(y / m_cell) * static_cast<std::size_t>(m_columns);
+        if (m_cell == kPackedMaskPixels) {  // a texel is a row of one cell
+            for (int g = 0; g < groups && g < m_columns; ++g) cells[g] |= row[g] != 0;
+            continue;
+        }
         for (int g = 0; g < groups; ++g) {
-            for (unsigned bits = row[g] & 0xFFu; bits != 0; bits &= bits - 1) {
-                const int x = kPackedMaskPixels * g + std::countr_zero(bits);
+            for (unsigned b = row[g] & 0xFFu; b != 0; b &= b - 1) {
+                const int x = kPackedMaskPixels * g + std::countr_zero(b);
                 if (x < m_width) cells[x / m_cell] = 1;
             }
         }

@@ -838,16 +838,14 @@ void MapRenderer::addCellRect(const CellRect& r) {
 
 GLuint MapRenderer::markEdgeCells(const RenderTarget& target) {
     // On llvmpipe the read is a copy in memory once the roads are rasterized (the packing pass
-    // would wait for them too); packing and finding the edges cost a few bit operations per 8
-    // pixels. The filter then reads one texel per pixel, over the cells that hold an edge only.
+    // would wait for them too); finding the edges costs a multiply per 8 pixels and a few bit
+    // operations per 64. The filter then reads one texel per pixel, over the cells that hold an
+    // edge only.
     target.readMask(m_mask_bytes);
     const auto t0 = Clock::now();
     const int w = target.width(), h = target.height(), groups = target.packedMaskWidth();
-    const auto texels = static_cast<std::size_t>(groups) * static_cast<std::size_t>(h);
-    m_packed_mask.resize(texels);
-    m_edge_mask.resize(texels);
-    packRoadMask(m_mask_bytes.data(), w, h, m_packed_mask.data());
-    outlineEdges(m_packed_mask.data(), groups, h, m_edge_mask.data());
+    m_edge_mask.resize(static_cast<std::size_t>(groups) * static_cast<std::size_t>(h));
+    outlineEdges(m_mask_bytes.data(), w, h, m_edge_mask.data());
     m_cells.reset(w, h, kOutlineCellPx, 0.0f);
     m_cells.markEdges(m_edge_mask.data(), groups);
     m_cell_vertices.clear();

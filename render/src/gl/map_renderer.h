@@ -95,8 +95,8 @@ private:
     void markOutlineCells(const MapFrame& frame, const glm::mat4& projection, int width, int height,
                           const std::vector<GpuTile*>& tiles);
     /// The same from the road mask itself, on software rasterizers (MapLayers::outline_mask): the
-    /// mask read back and packed (packRoadMask), its edge pixels (outlineEdges) uploaded into the
-    /// packed mask's texture, and the cells that hold them into m_cells and m_cell_vertices.
+    /// mask read back, its edge pixels (outlineEdges) uploaded into the packed mask's texture, and
+    /// the cells that hold them into m_cells and m_cell_vertices.
     /// Needs target.readsMaskBytes(); returns the texture.
     GLuint markEdgeCells(const RenderTarget& target);
     /// Appends the rectangle's two triangles to m_cell_vertices (whole cells at the right edge).
@@ -143,9 +143,8 @@ private:
     std::vector<glm::vec2> m_cell_vertices;  // its rectangles, two triangles each, pixels
     std::size_t m_pack_first = 0;            // from here: the packing pass's rectangles
     std::size_t m_cell_pixels = 0;           // their area
-    std::vector<std::uint8_t> m_mask_bytes;  // markEdgeCells: the road mask read back,
-    std::vector<std::uint16_t> m_packed_mask;  // packed,
-    std::vector<std::uint16_t> m_edge_mask;    // and its edge pixels
+    std::vector<std::uint8_t> m_mask_bytes;  // markEdgeCells: the road mask read back
+    std::vector<std::uint16_t> m_edge_mask;  // and its edge pixels
     double m_cell_ms = 0;                    // CPU time of markOutlineCells or markEdgeCells
     SideTask m_side;                         // runs markOutlineCells beside the render thread
     GLuint m_cell_vao = 0, m_cell_vbo = 0;

@@ -75,8 +75,8 @@ public:
     [[nodiscard]] bool readsMaskBytes() const;
     /// Reads the road mask into `bytes` (width x height, the bottom row first). Needs readsMaskBytes().
     void readMask(std::vector<std::uint8_t>& bytes) const;
-    /// Uploads packedMaskWidth() x height `texels` (packRoadMask's or outlineEdges' layout) into
-    /// the packed mask's texture and returns it.
+    /// Uploads packedMaskWidth() x height `texels` (outlineEdges' layout) into the packed mask's
+    /// texture and returns it.
     GLuint uploadPackedMask(const std::uint16_t* texels) const;
     /// The drawing framebuffer and its depth-stencil renderbuffer: the occlusion effects (glowing
     /// roads, label aura) attach the same depth to their own framebuffers and blit from it.

@@ -36,10 +36,10 @@ struct MapLayers {
     bool outlines_near_roads = true;
     /// Where that filter near roads learns about the road mask. Gpu: a packing pass over the
     /// cells of the road quads (outline_pack.frag), then three fetches per pixel. Cpu: the mask is
-    /// read back, packed (packRoadMask), its edge pixels found (outlineEdges), and the filter reads
-    /// one texel per pixel over the cells that hold an edge. Auto: Cpu on software rasterizers,
-    /// where the read is a copy in memory and saves llvmpipe a pass; Gpu elsewhere, where a
-    /// readback would stall the pipeline. Same image either way.
+    /// read back, its edge pixels found (outlineEdges), and the filter reads one texel per pixel
+    /// over the cells that hold an edge. Auto: Cpu on software rasterizers, where the read is a
+    /// copy in memory and saves llvmpipe a pass; Gpu elsewhere, where a readback would stall the
+    /// pipeline. Same image either way.
     enum class OutlineMask { Auto, Gpu, Cpu } outline_mask = OutlineMask::Auto;
     /// Leave out the road pieces and buildings of tile blocks outside the view, and the route of
     /// tiles where it lies outside the view, before the vertex stage (same image; on llvmpipe

@@ -30,24 +30,17 @@ struct QuadShape {
     float fill_width_m = 0.0f;
 };
 
-/// Pixels of a row per texel of the bit-packed road mask (outline_pack.frag).
+/// Pixels of a row per texel of the bit-packed road mask (outline_pack.frag) and of the edge mask.
 inline constexpr int kPackedMaskPixels = 8;
-
-/// The road mask bit-packed for the outline filter on the CPU, as outline_pack.frag packs it on the
-/// GPU: texel (g, y) holds as bits 0..9 whether the pixels x = 8g - 1 .. 8g + 8 of row y are road
-/// pixels (a mask byte above 127, the shader's > 0.5), pixels beyond a row's ends repeating its end
-/// pixel. `mask`: width x height bytes, row after row; `packed`: packedMaskWidth(width) x height
-/// texels in the same row order. On a software rasterizer, where reading the mask back is a copy
-/// in memory, this saves the packing pass (MapLayers::OutlineMask::Cpu).
-void packRoadMask(const std::uint8_t* mask, int width, int height, std::uint16_t* packed);
 [[nodiscard]] inline int packedMaskWidth(int width) { return (width + kPackedMaskPixels - 1) / kPackedMaskPixels; }
 
-/// The outline's pixels from the packed road mask (packRoadMask's layout, `groups` texels per row):
-/// texel (g, y) of `edges` holds as bits 0..7 whether the pixels 8g .. 8g + 7 of row y lie outside
-/// the roads with a road pixel in their 3x3 neighbourhood, rows beyond the mask repeating its end
-/// rows. For a binary mask this is seed 3.6.3's edge strength, the neighbourhood's maximum road
-/// intensity minus the pixel's own, as screen_outline.frag computes it.
-void outlineEdges(const std::uint16_t* packed, int groups, int height, std::uint16_t* edges);
+/// The outline's pixels of a binary road mask, found on the CPU (seed 3.6.3: the 3x3 maximum of
+/// road intensity minus the pixel's own, for a mask of 0 and 1; MapLayers::OutlineMask::Cpu):
+/// texel (g, y) of `edges` holds as bits 0..7 whether the pixels 8g .. 8g + 7 of row y are not
+/// road pixels (a mask byte above 127, the shaders' > 0.5) and have one among the 3x3 around
+/// them, the screen's border clamped as the filter's fetches clamp it. `mask`: width x height
+/// bytes, row after row; `edges`: packedMaskWidth(width) x height texels in the same row order.
+void outlineEdges(const std::uint8_t* mask, int width, int height, std::uint16_t* edges);
 
 class OutlineCells {
 public:
