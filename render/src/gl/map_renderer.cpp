@@ -987,8 +987,8 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target) {
     // On a software rasterizer the cells come from the road mask itself, read back after the
     // roads (markEdgeCells); elsewhere from the quads (markOutlineCells), and the GPU packs.
     using OutlineMask = MapLayers::OutlineMask;
-    const OutlineMask packing = frame.layers.outline_mask;
-    const bool edges_on_cpu = outline_cells && (packing == OutlineMask::Cpu || (packing == OutlineMask::Auto && m_software)) &&
+    const OutlineMask mask_at = frame.layers.outline_mask;
+    const bool edges_on_cpu = outline_cells && (mask_at == OutlineMask::Cpu || (mask_at == OutlineMask::Auto && m_software)) &&
                               target.readsMaskBytes();
     if (outline_cells && !edges_on_cpu) {
         m_side.start([&] { markOutlineCells(frame, projection, target.width(), target.height(), tiles); });

@@ -128,7 +128,7 @@ void RenderTarget::readMask(std::vector<std::uint8_t>& bytes) const {
 }
 
 GLuint RenderTarget::uploadPackedMask(const std::uint16_t* texels) const {
-    bindPackedMask();  // makes it on the first call
+    makePackedMask();
     glBindTexture(GL_TEXTURE_2D, m_packed_texture);
     GLint alignment = 4;
     glGetIntegerv(GL_UNPACK_ALIGNMENT, &alignment);
@@ -139,15 +139,19 @@ GLuint RenderTarget::uploadPackedMask(const std::uint16_t* texels) const {
     return m_packed_texture;
 }
 
+void RenderTarget::makePackedMask() const {
+    if (m_packed_texture) return;
+    glGenTextures(1, &m_packed_texture);
+    glBindTexture(GL_TEXTURE_2D, m_packed_texture);
+    glTexStorage2D(GL_TEXTURE_2D, 1, GL_R16UI, packedMaskWidth(), m_height);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);  // integer: read with texelFetch
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glBindTexture(GL_TEXTURE_2D, 0);
+}
+
 GLuint RenderTarget::bindPackedMask() const {
-    const int packed_width = packedMaskWidth();
+    makePackedMask();
     if (!m_packed_fbo) {
-        glGenTextures(1, &m_packed_texture);
-        glBindTexture(GL_TEXTURE_2D, m_packed_texture);
-        glTexStorage2D(GL_TEXTURE_2D, 1, GL_R16UI, packed_width, m_height);
-        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);  // integer: read with texelFetch
-        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-        glBindTexture(GL_TEXTURE_2D, 0);
         glGenFramebuffers(1, &m_packed_fbo);
         glBindFramebuffer(GL_FRAMEBUFFER, m_packed_fbo);
         glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, m_packed_texture, 0);
@@ -156,7 +160,7 @@ GLuint RenderTarget::bindPackedMask() const {
     glBindFramebuffer(GL_FRAMEBUFFER, m_packed_fbo);
     const GLenum color = GL_COLOR_ATTACHMENT0;
     glDrawBuffers(1, &color);
-    glViewport(0, 0, packed_width, m_height);
+    glViewport(0, 0, packedMaskWidth(), m_height);
     return m_packed_texture;
 }
 

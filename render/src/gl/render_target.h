@@ -76,7 +76,7 @@ public:
     /// Reads the road mask into `bytes` (width x height, the bottom row first). Needs readsMaskBytes().
     void readMask(std::vector<std::uint8_t>& bytes) const;
     /// Uploads packedMaskWidth() x height `texels` (outlineEdges' layout) into the packed mask's
-    /// texture and returns it.
+    /// texture, made on the first call, and returns it. Binds no framebuffer.
     GLuint uploadPackedMask(const std::uint16_t* texels) const;
     /// The drawing framebuffer and its depth-stencil renderbuffer: the occlusion effects (glowing
     /// roads, label aura) attach the same depth to their own framebuffers and blit from it.
@@ -87,6 +87,8 @@ public:
     [[nodiscard]] int samples() const { return m_samples; }
 
 private:
+    void makePackedMask() const;  // the packed mask's texture, on the first call
+
     int m_width;
     int m_height;
     int m_samples;

@@ -161,7 +161,7 @@ struct MapFrameStats {
     std::size_t terrain_triangles = 0;
     std::size_t building_triangles = 0;
     std::size_t outline_pixels = 0;  ///< pixels the outline filter ran on (seed 3.6.3; near roads unless the whole screen)
-    double outline_cells_ms = 0;     ///< CPU time marking the screen cells near roads for that filter, always measured
+    double outline_cells_ms = 0;     ///< CPU time marking the screen cells near roads for that filter (from the quads, or from the edges of the mask read back), always measured
     bool outline_mask_on_cpu = false;  ///< the outline filter's edges were found on the CPU (MapLayers::outline_mask)
     std::size_t flat_tiles = 0;  ///< tiles seen so far with missing elevation data
     std::vector<FlatTile> new_flat_tiles;  ///< first seen in this frame: the caller warns about them
