@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <array>
 #include <chrono>
+#include <cstdio>
 #include <cstdlib>
 #include <memory>
 #include <string>
@@ -76,8 +77,17 @@ MapFrame frameFor(const Profile& p, const Shot& s, const MapLayers& layers) {
     frame.layers = layers;
     if (const char* env = std::getenv("NAVMAP_BENCH_OUTLINE_MASK")) {
         const std::string where(env);
-        if (where == "gpu") frame.layers.outline_mask = MapLayers::OutlineMask::Gpu;
-        if (where == "cpu") frame.layers.outline_mask = MapLayers::OutlineMask::Cpu;
+        if (where == "gpu") {
+            frame.layers.outline_mask = MapLayers::OutlineMask::Gpu;
+        } else if (where == "cpu") {
+            frame.layers.outline_mask = MapLayers::OutlineMask::Cpu;
+        } else {
+            static const bool warned = [&] {
+                std::fprintf(stderr, "NAVMAP_BENCH_OUTLINE_MASK=%s: not gpu or cpu, using the automatic choice\n", env);
+                return true;
+            }();
+            (void)warned;
+        }
     }
     return frame;
 }

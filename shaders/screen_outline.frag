@@ -3,7 +3,7 @@
 // bilinear fetch costs about four of them.
 #if defined(NAVMAP_EDGE_MASK)
 // The edge pixels themselves, found on the CPU from the mask read back (outlineEdges in
-// outline_cells.cpp, software rasterizers): bit x & 7 of texel (x / 8, y).
+// outline_cells.cpp, software rasterizers): bit x & 7 of texel (x / 8, y), 0 on road pixels.
 uniform highp usampler2D u_edge_mask;
 #elif defined(NAVMAP_PACKED_MASK)
 // The mask bit-packed by outline_pack.frag, and the road pixels left out by the stencil

@@ -814,18 +814,22 @@ void MapRenderer::markOutlineCells(const MapFrame& frame, const glm::mat4& proje
             for (const RoadInstance& r : g->route_instances) m_cells.markQuad(r.p0, r.p1, shape);
         }
     }
-    m_cell_vertices.clear();
-    m_cell_pixels = 0;
-    for (const CellRect& r : m_cells.rects()) {
-        m_cell_pixels += static_cast<std::size_t>(r.x1 - r.x0) * static_cast<std::size_t>(r.y1 - r.y0);
-        addCellRect(r);
-    }
+    filterCellVertices();
     // The packing pass's rectangles: cells in groups of four along a row, so that its texels
     // (one per cell and row) fill llvmpipe's 4 x 4 blocks; a block costs the same, covered in
     // part or whole.
     m_pack_first = m_cell_vertices.size();
     for (const CellRect& r : m_cells.rects(kOutlinePackGroup)) addCellRect(r);
     m_cell_ms = msSince(t0);
+}
+
+void MapRenderer::filterCellVertices() {
+    m_cell_vertices.clear();
+    m_cell_pixels = 0;
+    for (const CellRect& r : m_cells.rects()) {
+        m_cell_pixels += static_cast<std::size_t>(r.x1 - r.x0) * static_cast<std::size_t>(r.y1 - r.y0);
+        addCellRect(r);
+    }
 }
 
 void MapRenderer::addCellRect(const CellRect& r) {
@@ -848,12 +852,7 @@ GLuint MapRenderer::markEdgeCells(const RenderTarget& target) {
     outlineEdges(m_mask_bytes.data(), w, h, m_edge_mask.data());
     m_cells.reset(w, h, kOutlineCellPx, 0.0f);
     m_cells.markEdges(m_edge_mask.data(), groups);
-    m_cell_vertices.clear();
-    m_cell_pixels = 0;
-    for (const CellRect& r : m_cells.rects()) {
-        m_cell_pixels += static_cast<std::size_t>(r.x1 - r.x0) * static_cast<std::size_t>(r.y1 - r.y0);
-        addCellRect(r);
-    }
+    filterCellVertices();
     m_pack_first = m_cell_vertices.size();  // no packing pass
     m_cell_ms = msSince(t0);
     return target.uploadPackedMask(m_edge_mask.data());
@@ -1039,11 +1038,12 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target) {
     glDisable(GL_CULL_FACE);
     glDepthMask(GL_FALSE);
     glDepthFunc(GL_LEQUAL);
-    // With the outline cells, the road and route pixels also mark kRoadStencilBit for the
-    // filter: the same pixels as the mask (drawn, not discarded, depth test passed). Not when
-    // multisampled: the filter's stencil test would then be per sample, unlike its mask. The
-    // full-screen filter stays without either, the reference the cells are tested against.
-    const bool mark_roads = outline_cells && target.samples() == 0;
+    // With the outline cells from the quads, the road and route pixels also mark kRoadStencilBit
+    // for the filter: the same pixels as the mask (drawn, not discarded, depth test passed). Not
+    // when multisampled: the filter's stencil test would then be per sample, unlike its mask. Not
+    // with the edges found on the CPU, which leave out the road pixels themselves. The full-screen
+    // filter stays without either, the reference the cells are tested against.
+    const bool mark_roads = outline_cells && target.samples() == 0 && !edges_on_cpu;
     if (mark_roads) {
         glEnable(GL_STENCIL_TEST);
         glStencilMask(kRoadStencilBit);
@@ -1102,7 +1102,7 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target) {
         };
         glActiveTexture(GL_TEXTURE0);
         GLuint mask = edges_on_cpu ? edges : target.maskTexture();
-        if (mark_roads && !edges_on_cpu) {
+        if (mark_roads) {
             // The mask bit-packed over the cells (outline_pack.frag); the rest of the packed
             // texture is 0, as the mask is outside the cells (every road quad lies in them).
             mask = target.bindPackedMask();

@@ -99,6 +99,8 @@ private:
     /// the cells that hold them into m_cells and m_cell_vertices.
     /// Needs target.readsMaskBytes(); returns the texture.
     GLuint markEdgeCells(const RenderTarget& target);
+    /// m_cell_vertices anew with the filter's cells, m_cells' rectangles, and m_cell_pixels their area.
+    void filterCellVertices();
     /// Appends the rectangle's two triangles to m_cell_vertices (whole cells at the right edge).
     void addCellRect(const CellRect& r);
     /// Label aura and glowing roads (seed 5.5), between the label layout and the label text.
