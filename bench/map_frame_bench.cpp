@@ -61,7 +61,8 @@ MapLayers layersFor(int step) {
 }
 const char* kSteps[] = {"terrain", "roads", "buildings", "full"};
 
-// NAVMAP_BENCH_MSAA overrides the sample count (default 4) to compare the cost of MSAA.
+// NAVMAP_BENCH_MSAA overrides the sample count (default: the renderer's choice, none on a software
+// rasterizer and 4 on a GPU) to compare the cost of MSAA.
 RendererOptions optionsFor(const Profile& p) {
     RendererOptions o;
     o.width = p.width;
