@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <stdexcept>
 #include <vector>
 
 #include "navmap/render/road_style.h"
@@ -255,19 +256,12 @@ void outlineEdges(const std::uint8_t* mask, int width, int height, std::uint16_t
 }
 
 void OutlineCells::markEdges(const std::uint16_t* edges, int groups) {
+    // A texel of the edge mask is one row of one cell.
+    if (m_cell != kPackedMaskPixels) throw std::logic_error("OutlineCells::markEdges needs cells of kPackedMaskPixels");
     for (int y = 0; y < m_height; ++y) {
         const std::uint16_t* row = edges + static_cast<std::size_t>(y) * static_cast<std::size_t>(groups);
         std::uint8_t* cells = m_marked.data() + static_cast<std::size_t>(y / m_cell) * static_cast<std::size_t>(m_columns);
-        if (m_cell == kPackedMaskPixels) {  // a texel is a row of one cell
-            for (int g = 0; g < groups && g < m_columns; ++g) cells[g] |= row[g] != 0;
-            continue;
-        }
-        for (int g = 0; g < groups; ++g) {
-            for (unsigned b = row[g] & 0xFFu; b != 0; b &= b - 1) {
-                const int x = kPackedMaskPixels * g + std::countr_zero(b);
-                if (x < m_width) cells[x / m_cell] = 1;
-            }
-        }
+        for (int g = 0; g < groups && g < m_columns; ++g) cells[g] |= row[g] != 0;
     }
 }
 

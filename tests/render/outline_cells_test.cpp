@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <limits>
 #include <random>
+#include <stdexcept>
 #include <utility>
 #include <vector>
 
@@ -306,6 +307,18 @@ TEST(OutlineEdges, AreTheNonRoadPixelsNextToARoadPixel) {
             EXPECT_LT(marked, cells_total) << "cells without edges stay unmarked";
         }
     }
+}
+
+// A texel of the edge mask is one row of one cell: other cell sizes are refused, not misread.
+TEST(OutlineEdges, MarkEdgesRefusesCellsOfAnotherSize) {
+    const std::vector<std::uint16_t> edges(static_cast<std::size_t>(packedMaskWidth(64) * 16), 1);
+    OutlineCells cells;
+    cells.reset(64, 16, 4, 0.0f);
+    EXPECT_THROW(cells.markEdges(edges.data(), packedMaskWidth(64)), std::logic_error);
+    cells.reset(64, 16, kPackedMaskPixels, 0.0f);
+    cells.markEdges(edges.data(), packedMaskWidth(64));
+    EXPECT_TRUE(cells.covers(0, 0));
+    EXPECT_TRUE(cells.covers(63, 15));
 }
 
 }  // namespace

@@ -34,7 +34,7 @@ constexpr float kOutlineReachPx = 2.0f;
 // blocks of 4 x 4 pixels in tiles of 64, so multiples of 4 waste no partial blocks; smaller cells
 // follow the roads closer but cost more CPU to mark.
 constexpr int kOutlineCellPx = 8;
-static_assert(kOutlineCellPx == RenderTarget::kPackedMaskPixels, "the packing pass turns a cell into one column of texels");
+static_assert(kOutlineCellPx == kPackedMaskPixels, "the packing pass turns a cell into one column of texels");
 // Cells per rectangle of the outline mask's packing pass (markOutlineCells).
 constexpr int kOutlinePackGroup = 4;
 // Screen error allowed to the road levels of detail (TileMesh, kRoadLodTolerance), pixels.
@@ -1113,7 +1113,7 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target) {
             glUniform1i(m_outline_pack.uniform("u_road_mask"), 0);
             // Pixel x maps to texel x / kPackedMaskPixels: a cell is one column of texels.
             glUniform2f(m_outline_pack.uniform("u_viewport"),
-                        static_cast<float>(RenderTarget::kPackedMaskPixels * target.packedMaskWidth()),
+                        static_cast<float>(kPackedMaskPixels * target.packedMaskWidth()),
                         static_cast<float>(target.height()));
             draw_cells(m_pack_first, m_cell_vertices.size());
             target.bindForDrawing(false);
@@ -1123,7 +1123,7 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target) {
         glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
         glUseProgram(p.id());
         glBindTexture(GL_TEXTURE_2D, mask);
-        glUniform1i(p.uniform(edges_on_cpu ? "u_edge_mask" : mark_roads ? "u_packed_mask" : "u_road_mask"), 0);
+        glUniform1i(p.uniform("u_mask"), 0);
         glUniform3fv(p.uniform("u_outline_color"), 1, glm::value_ptr(m_style.roads.outline));
         glUniform1f(p.uniform("u_strength"), m_style.roads.outline_strength);
         if (outline_cells) {

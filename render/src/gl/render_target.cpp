@@ -119,11 +119,8 @@ void RenderTarget::readMask(std::vector<std::uint8_t>& bytes) const {
     bytes.resize(static_cast<std::size_t>(m_width) * static_cast<std::size_t>(m_height));
     glBindFramebuffer(GL_READ_FRAMEBUFFER, m_draw_fbo);
     glReadBuffer(GL_COLOR_ATTACHMENT1);
-    GLint alignment = 4;
-    glGetIntegerv(GL_PACK_ALIGNMENT, &alignment);
-    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);  // as every read here sets it (readback.cpp)
     glReadPixels(0, 0, m_width, m_height, GL_RED, GL_UNSIGNED_BYTE, bytes.data());
-    glPixelStorei(GL_PACK_ALIGNMENT, alignment);
     glReadBuffer(GL_COLOR_ATTACHMENT0);
 }
 

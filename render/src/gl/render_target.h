@@ -63,8 +63,6 @@ public:
     void attachDepthStencil(GLuint shared_depth_stencil);
 
     [[nodiscard]] GLuint maskTexture() const { return m_mask_texture; }
-    /// Pixels of a row per texel of the packed mask (outline_pack.frag).
-    static constexpr int kPackedMaskPixels = navmap::render::kPackedMaskPixels;
     /// The road mask bit-packed for the outline filter (outline_pack.frag): an R16UI texture of
     /// packedMaskWidth() x height, made on the first call. Binds its framebuffer for drawing, with
     /// the viewport over it, and returns the texture.

@@ -60,7 +60,9 @@ public:
     void markQuad(glm::vec3 p0, glm::vec3 p1, const QuadShape& shape, glm::vec2 cap_reach = glm::vec2(1.0f));
 
     /// Marks the cells that hold an edge pixel of outlineEdges' `edges` (`groups` texels per row
-    /// of the reset height): where the road mask is known, the filter runs exactly there.
+    /// of the reset height): where the road mask is known, the filter runs exactly there. Needs
+    /// cells of kPackedMaskPixels (reset's `cell_px`, one texel per cell row); throws
+    /// std::logic_error otherwise.
     void markEdges(const std::uint16_t* edges, int groups);
 
     /// The marked cells as rectangles: runs of cells along a row, with equal runs of the rows
