@@ -24,6 +24,7 @@ uniform vec3 u_route_casing;
 uniform int u_whole_caps;       // 1: both whole caps on every quad (MapLayers::trim_joint_caps off)
 uniform float u_short_half_length;  // kShortPieceHalfLength
 uniform vec3 u_min_width;       // x: least on-screen width of the fill, pixels (0: off); yz: viewport, pixels
+uniform float u_select[11];     // seed 7.3: the class is left out at this true width on screen, pixels (0: never)
 
 // seed 3.4's quad-local coordinates, scaled so that the cap test needs no division: x along
 // and y across the segment, both in half widths from its centre (the quad spans |x| <= L + 1,
@@ -75,16 +76,25 @@ vec3 screenAcross(vec3 p, vec2 t, vec2 n) {
 // widest: a piece that passes edge-on (crossing the eye's height on a slope) would otherwise
 // twist, its widened side changing from one end to the other, and pinch to nothing in between.
 // At an end where that side lies below, it moves up past the other side by the least width.
-vec2 widening(float at, float side, vec2 t, vec2 n, float fill_width, float width) {
+vec2 widening(float at, float side, vec2 t, vec2 n, float fill_width, float width, float least_px) {
     vec3 e0 = screenAcross(a_p0, t, n), e1 = screenAcross(a_p1, t, n);
     float top = (abs(e0.z) >= abs(e1.z) ? e0.z : e1.z) >= 0.0 ? 1.0 : -1.0;
     if (side != top) return vec2(0.0);
     vec3 e = at < 0.5 ? e0 : e1;
     float up = 0.5 * fill_width * top * e.z;  // this side's height above the centre line, pixels
-    if (u_min_width.x - 2.0 * abs(up) <= 0.0) return vec2(0.0);  // wide enough here
+    if (least_px - 2.0 * abs(up) <= 0.0) return vec2(0.0);  // wide enough here
     // From up to (the other side, -up) + the least width. The casing keeps its share.
-    float shift = u_min_width.x - 2.0 * up;
+    float shift = least_px - 2.0 * up;
     return e.xy * (shift * width / fill_width) / (0.5 * u_min_width.yz);
+}
+
+// seed 7.3, road_style.h selectionFade(): the share of its width a road keeps where its class is
+// left out of distant views, from its true width on screen at `dist`.
+float selectionFade(float width_m, float select_px, float dist) {
+    if (select_px <= 0.0 || dist <= 0.0) return 1.0;
+    float focal_px = 0.5 * u_min_width.z * u_projection[1][1];
+    float true_px = width_m * focal_px / dist;
+    return clamp((true_px - select_px) / (0.5 * select_px), 0.0, 1.0);  // kSelectionFadeBand 1.5
 }
 
 void main() {
@@ -99,7 +109,13 @@ void main() {
     // seed 3.6.3: distance-based width scaling beyond a threshold.
     vec3 mid = 0.5 * (a_p0 + a_p1);
     float dist = length((u_view * vec4(mid, 1.0)).xyz);
-    float scale = clamp(dist / u_scale.x, 1.0, u_scale.y);
+    // A class left out of distant views fades out by narrowing to nothing, its least width too.
+    float keep = u_route == 1 ? 1.0 : selectionFade(u_width[cls], u_select[cls], dist);
+    if (keep <= 0.0) {
+        gl_Position = vec4(2.0, 2.0, 2.0, 1.0);  // left out: clipped away
+        return;
+    }
+    float scale = keep * clamp(dist / u_scale.x, 1.0, u_scale.y);
     width *= scale;
     fill_width *= scale;
 
@@ -129,5 +145,5 @@ void main() {
     // offset this does not make roads hover when seen from close by.
     view_pos.xyz *= (1.0 - u_scale.z);
     gl_Position = u_projection * view_pos;
-    if (u_min_width.x > 0.0) gl_Position.xy += widening(sx < 0.0 ? 0.0 : 1.0, sy, t, n, fill_width, width) * gl_Position.w;
+    if (u_min_width.x > 0.0) gl_Position.xy += widening(sx < 0.0 ? 0.0 : 1.0, sy, t, n, fill_width, width, keep * u_min_width.x) * gl_Position.w;
 }

@@ -1,5 +1,7 @@
 #include "navmap/render/road_style.h"
 
+#include "navmap/map/road_class.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -28,6 +30,13 @@ RoadStyle RoadStyle::day() {
         {3.0f, 0.0f, rgb(0xc8a878), rgb(0x806040)},
         {2.0f, 0.0f, rgb(0xd8c8b0), rgb(0x806040)},
     }};
+    // seed 7.3: minor roads leave distant and zoomed-out views first. Service roads, pedestrian
+    // streets, tracks and paths where their true width falls to a pixel (a 2 m path at about
+    // 1.2 km in the cluster's snail's view, 0.6 km on the HUD); residential and unclassified
+    // roads at half a pixel (5.5 m at 6.4 km, 3.2 km). The classes above are always drawn.
+    using C = map::RoadClass;
+    for (const C c : {C::Unclassified, C::Residential}) s.classes[static_cast<std::size_t>(c)].select_px = 0.5f;
+    for (const C c : {C::Service, C::Pedestrian, C::Track, C::Path}) s.classes[static_cast<std::size_t>(c)].select_px = 1.0f;
     return s;
 }
 
@@ -44,6 +53,13 @@ RoadStyle RoadStyle::night() {
 float distanceWidthScale(float distance_m, float threshold_m, float max_scale) {
     if (distance_m <= threshold_m || threshold_m <= 0.0f) return 1.0f;
     return std::min(distance_m / threshold_m, max_scale);
+}
+
+float selectionFade(float width_m, float select_px, float distance_m, float focal_px) {
+    if (!(select_px > 0.0f)) return 1.0f;
+    if (!(distance_m > 0.0f)) return 1.0f;  // at the eye: as wide as can be
+    const float true_px = width_m * focal_px / distance_m;
+    return std::clamp((true_px - select_px) / ((kSelectionFadeBand - 1.0f) * select_px), 0.0f, 1.0f);
 }
 
 float leastWidthGrowthPx(float min_width_px, float width_m, float fill_width_m) {

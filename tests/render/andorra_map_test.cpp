@@ -217,6 +217,35 @@ TEST(AndorraMap, DistantRoadsAreDrawnSimplifiedWithinHalfAPixel) {
     }
 }
 
+// seed 7.3: minor classes leave distant views (RoadClassStyle::select_px). Fewer pieces reach the
+// vertex stage; next to the car (the bottom quarter of the snail's view) nothing is left out.
+TEST(AndorraMap, MinorRoadsLeaveDistantViews) {
+    for (ViewMode mode : {ViewMode::Bird, ViewMode::Snail}) {
+        const int w = 1280, h = 480;
+        auto renderer = rendererOfSize(w, h);
+        MapFrame frame = navmap::test::settledAndorraFrame(mode, w, h);
+        frame.layers = layersFor(3);
+        const auto [selected, every] = renderWithAndWithout(*renderer, frame, &MapLayers::road_selection);
+        std::size_t differ = 0, differ_near = 0;
+        for (int y = 0; y < h; ++y) {
+            for (int x = 0; x < w; ++x) {
+                if (std::memcmp(selected.image.pixel(x, y), every.image.pixel(x, y), 3) == 0) continue;
+                ++differ;
+                differ_near += y >= h * 3 / 4;
+            }
+        }
+        const char* name = mode == ViewMode::Bird ? "bird" : "snail";
+        std::printf("[ measure  ] %s %dx%d: %zu of %zu road pieces drawn, %zu pixels differ (%.2f %%), %zu in the bottom quarter\n",
+                    name, w, h, selected.stats.road_segments, every.stats.road_segments, differ,
+                    100.0 * double(differ) / double(w * h), differ_near);
+        EXPECT_LT(selected.stats.road_segments, every.stats.road_segments * 9 / 10) << name;
+        EXPECT_GT(differ, 0u) << name << ": nothing left out";
+        if (mode == ViewMode::Snail) {
+            EXPECT_EQ(differ_near, 0u) << "the roads next to the car are all drawn";
+        }
+    }
+}
+
 // Three display targets of different sizes on one renderer (one depth/stencil buffer sized to
 // the largest, tiles shared) draw what renderers of their own draw; tiles that any target drew in
 // its latest frame are not evicted even with a cache cap far below their number, so taking turns

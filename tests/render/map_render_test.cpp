@@ -11,6 +11,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "navmap/render/renderer.h"
+#include "navmap/render/road_style.h"
 #include "synthetic_tile.h"
 #include "navmap/render/tile_mesh.h"
 
@@ -233,6 +234,46 @@ TEST_P(GrazingRoads, FarRoadStaysUnbroken) {
 }
 
 INSTANTIATE_TEST_SUITE_P(MapRender, GrazingRoads, ::testing::Values(0.0f, 0.04f));
+
+// seed 7.3: a class left out of distant views fades out by narrowing, its drawn width the
+// fraction selectionFade() gives of its true one, until nothing is left; with the selection
+// off it is drawn whole. Straight down from 300 m on a path made 8 m wide (about 15 px), with
+// the class's threshold moved through the fade band instead of the camera.
+TEST(MapRender, SelectedClassNarrowsToNothingBelowItsThreshold) {
+    auto tile = makeTile([](float, float) { return 500.0f; });
+    tile->roads.push_back(road(map::RoadClass::Path, {{470, 500}, {530, 500}}));
+    constexpr auto kPath = static_cast<std::size_t>(map::RoadClass::Path);
+    MapStyle style = wideRoads();
+    style.roads.classes[kPath].width_m = 8.0f;
+    const glm::ivec3 fill = to8(style.roads.classes[kPath].fill);
+    const float focal_px = 0.5f * kH / static_cast<float>(std::tan(glm::radians(Camera{}.fov_y_deg) / 2.0));
+    const float distance = 300.0f, true_px = 8.0f * focal_px / distance;
+    // Fill pixels down the column through the road's middle.
+    auto drawn_px = [&](float select_px, bool selection) {
+        MapStyle st = style;
+        st.roads.classes[kPath].select_px = select_px;
+        MapLayers layers;
+        layers.outlines = false;
+        layers.road_selection = selection;
+        const Scene sc = render(tile, distance, st, layers);
+        const glm::vec2 mid = sc.project({500.0, 500.0, 500.0});
+        int n = 0;
+        for (int y = 0; y < kH; ++y) {
+            const auto* px = sc.image.pixel(static_cast<int>(mid.x), y);
+            n += near({px[0], px[1], px[2]}, fill);
+        }
+        return n;
+    };
+    for (const float select_px : {5.0f, 11.0f, 13.0f, 14.5f, 16.0f}) {
+        const float expected = true_px * selectionFade(8.0f, select_px, distance, focal_px);
+        const int n = drawn_px(select_px, true);
+        std::printf("[ measure  ] threshold %.1f px, true width %.2f px: %d px drawn, %.2f expected\n", select_px, true_px, n,
+                    expected);
+        EXPECT_NEAR(n, expected, 1.5) << "threshold " << select_px;
+        EXPECT_NEAR(drawn_px(select_px, false), true_px, 1.5) << "selection off, threshold " << select_px;
+    }
+    EXPECT_EQ(drawn_px(16.0f, true), 0) << "left out below its threshold";
+}
 
 TEST(MapRender, MotorwayHasItsClassColourWithCasingAtTheEdge) {
     auto tile = makeTile([](float, float) { return 500.0f; });

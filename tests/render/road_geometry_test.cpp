@@ -74,6 +74,44 @@ TEST(RoadWidth, LeastWidthGrowsEveryPassInProportion) {
     EXPECT_FLOAT_EQ(leastWidthGrowthPx(1.1f, 16.0f, 0.0f), 0.0f);             // no fill: nothing drawn
 }
 
+// seed 7.3: a selected class keeps its whole width while its true width covers at least 1.5 times
+// its threshold on screen, none at or below the threshold, and fades linearly in between.
+TEST(RoadWidth, SelectedClassFadesOutContinuouslyBelowItsThreshold) {
+    const float focal = 600.0f, width = 2.0f;  // true width on screen: 1200 / distance pixels
+    EXPECT_FLOAT_EQ(selectionFade(width, 1.0f, 700.0f, focal), 1.0f);   // 1.71 px
+    EXPECT_FLOAT_EQ(selectionFade(width, 1.0f, 800.0f, focal), 1.0f);   // 1.5 px
+    EXPECT_NEAR(selectionFade(width, 1.0f, 960.0f, focal), 0.5f, 1e-5f);  // 1.25 px
+    EXPECT_FLOAT_EQ(selectionFade(width, 1.0f, 1200.0f, focal), 0.0f);  // 1 px
+    EXPECT_FLOAT_EQ(selectionFade(width, 1.0f, 5000.0f, focal), 0.0f);
+    // Not selected: drawn at every distance.
+    EXPECT_FLOAT_EQ(selectionFade(width, 0.0f, 1e6f, focal), 1.0f);
+    EXPECT_FLOAT_EQ(selectionFade(width, 1.0f, 0.0f, focal), 1.0f);  // at the eye
+    // Monotonic, and continuous: no step between 1 m apart bigger than the slope allows.
+    float last = 1.0f;
+    for (float d = 1.0f; d < 2000.0f; d += 1.0f) {
+        const float f = selectionFade(width, 1.0f, d, focal);
+        EXPECT_LE(f, last) << d;
+        EXPECT_LT(last - f, 0.01f) << "a jump at " << d << " m";
+        last = f;
+    }
+}
+
+// The default style leaves only minor classes out, the ones below tertiary, and the least
+// important first.
+TEST(RoadWidth, DefaultStyleSelectsOnlyMinorClasses) {
+    const RoadStyle s = RoadStyle::day();
+    for (int c = 0; c <= 4; ++c) EXPECT_EQ(s.classes[static_cast<std::size_t>(c)].select_px, 0.0f) << "class " << c;
+    for (int c = 5; c < kStyledRoadClasses; ++c) {
+        const RoadClassStyle& k = s.classes[static_cast<std::size_t>(c)];
+        EXPECT_GT(k.select_px, 0.0f) << "class " << c;
+        // The distance where it is gone, at a focal length of 600 px, does not grow with the class.
+        const RoadClassStyle& more = s.classes[static_cast<std::size_t>(c - 1)];
+        if (more.select_px > 0.0f) {
+            EXPECT_LE(k.width_m / k.select_px, more.width_m / more.select_px) << "class " << c;
+        }
+    }
+}
+
 struct Grid {
     std::vector<float> heights;
     HeightGrid view;

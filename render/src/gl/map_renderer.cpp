@@ -579,6 +579,14 @@ void MapRenderer::cullRoads(const MapFrame& frame, const glm::mat4& projection, 
     float half_width = 0.0f;
     for (const RoadClassStyle& c : rs.classes) half_width = std::max(half_width, 0.5f * c.outerWidth());
     const float focal_px = projection[1][1] * 0.5f * static_cast<float>(height);
+    // Whether a piece's quads can show: not left out of this view (seed 7.3; roads_geo.vert would
+    // narrow it to nothing), and in it.
+    auto shows = [&](const RoadInstance& r, glm::vec3 eye, const PieceFrustum& frustum) {
+        const RoadClassStyle& c = rs.of(static_cast<int>(r.road_class + 0.5f));
+        const float distance = glm::length(0.5f * (r.p0 + r.p1) - eye);
+        if (frame.layers.road_selection && selectionFade(c.width_m, c.select_px, distance, focal_px) <= 0.0f) return false;
+        return frustum.holds(r, eye, half_width, rs);
+    };
     m_road_indices.clear();
     std::vector<std::uint32_t> drawn;  // per block: the road level bit, 0 outside the view
     for (GpuTile* g : tiles) {
@@ -608,7 +616,7 @@ void MapRenderer::cullRoads(const MapFrame& frame, const glm::mat4& projection, 
                 g->visible_casing_first = g->visible_first + g->visible_count;
             }
             for (std::uint32_t q = run.first; q < run.first + run.count; ++q) {
-                if (frame.layers.cull_blocks && !frustum.holds(g->road_pieces[q], eye, half_width, rs)) continue;
+                if (frame.layers.cull_blocks && !shows(g->road_pieces[q], eye, frustum)) continue;
                 for (const std::uint32_t i : kQuadIndices) m_road_indices.push_back(4 * q + i);
                 ++g->visible_count;
             }
@@ -656,16 +664,18 @@ void MapRenderer::drawRoute(ShaderProgram& program, int pass, const MapFrame& fr
 void MapRenderer::setRoadUniforms(ShaderProgram& p, int pass, bool route, const glm::mat4& projection) {
     glUniformMatrix4fv(p.uniform("u_projection"), 1, GL_FALSE, glm::value_ptr(projection));
     const RoadStyle& rs = m_style.roads;
-    float widths[kStyledRoadClasses], casings[kStyledRoadClasses];
+    float widths[kStyledRoadClasses], casings[kStyledRoadClasses], select[kStyledRoadClasses];
     glm::vec3 fills[kStyledRoadClasses], casing_colors[kStyledRoadClasses];
     for (int i = 0; i < kStyledRoadClasses; ++i) {
         widths[i] = rs.classes[i].width_m;
         casings[i] = rs.classes[i].casing_m;
+        select[i] = m_road_selection ? rs.classes[i].select_px : 0.0f;
         fills[i] = rs.classes[i].fill;
         casing_colors[i] = rs.classes[i].casing;
     }
     glUniform1fv(p.uniform("u_width"), kStyledRoadClasses, widths);
     glUniform1fv(p.uniform("u_casing"), kStyledRoadClasses, casings);
+    glUniform1fv(p.uniform("u_select"), kStyledRoadClasses, select);
     glUniform3fv(p.uniform("u_fill"), kStyledRoadClasses, glm::value_ptr(fills[0]));
     glUniform3fv(p.uniform("u_casing_color"), kStyledRoadClasses, glm::value_ptr(casing_colors[0]));
     glUniform1i(p.uniform("u_pass"), pass);
@@ -895,6 +905,7 @@ std::size_t MapRenderer::drawBuildingsOf(ShaderProgram& program, const MapFrame&
 
 void MapRenderer::render(const MapFrame& frame, const RenderTarget& target) {
     m_whole_caps = !frame.layers.trim_joint_caps;
+    m_road_selection = frame.layers.road_selection;
     m_viewport = {static_cast<float>(target.width()), static_cast<float>(target.height())};
     ++m_frame;
     m_target_frame[m_target_key] = m_frame;  // this target's latest frame (evict())

@@ -118,6 +118,7 @@ private:
     ShaderProgram m_roads;
     ShaderProgram m_route;          // the same, dimming the part driven (NAVMAP_ROUTE_PROGRESS)
     bool m_whole_caps = false;      // this frame: !MapLayers::trim_joint_caps (setRoadUniforms)
+    bool m_road_selection = true;   // this frame: MapLayers::road_selection (setRoadUniforms)
     glm::vec2 m_viewport{0.0f};     // this frame's target, pixels (setRoadUniforms)
     ShaderProgram m_outline;        // the filter over the whole screen
     ShaderProgram m_outline_cells;  // the filter over the cells near roads (markOutlineCells)

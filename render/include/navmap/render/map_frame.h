@@ -41,14 +41,19 @@ struct MapLayers {
     /// copy in memory and saves llvmpipe a pass; Gpu elsewhere, where a readback would stall the
     /// pipeline. Same image either way.
     enum class OutlineMask { Auto, Gpu, Cpu } outline_mask = OutlineMask::Auto;
-    /// Leave out the road pieces and buildings of tile blocks outside the view, and the route of
-    /// tiles where it lies outside the view, before the vertex stage (same image; on llvmpipe
-    /// every vertex is CPU time on the render thread).
+    /// Leave out the road pieces and buildings of tile blocks outside the view, the road pieces
+    /// that road_selection leaves out of it, and the route of tiles where it lies outside the
+    /// view, before the vertex stage (same image; on llvmpipe every vertex is CPU time on the
+    /// render thread).
     bool cull_blocks = true;
     /// Draw distant road pieces simplified (TileMesh road levels, chosen per tile block so that
     /// the simplification stays within half a pixel on screen); false: the draped pieces
     /// everywhere.
     bool road_lod = true;
+    /// Leave minor road classes out of distant views (seed 7.3, RoadClassStyle::select_px): they
+    /// fade out where their true width would cover too few pixels. False: every class everywhere.
+    /// Geometric roads only; the shadow-volume roads draw every class.
+    bool road_selection = true;
     /// Quads of joined road pieces reach beyond the joint only as far as the bend needs
     /// (RoadInstance::cap_reach); false: every quad holds both whole caps (seed 3.4). The same
     /// road on flat ground but for pixels on a round join's rim; on slopes fewer caps stick out

@@ -19,6 +19,12 @@ struct RoadClassStyle {
     float casing_m = 0.0f;       ///< extra width of the casing on each side (0: no casing)
     glm::vec3 fill{1.0f};
     glm::vec3 casing{0.3f};
+    /// seed 7.3, "adaptive filtering of the roads": minor roads are left out of far and zoomed-out
+    /// views before major ones. The class is left out where its true width (width_m, before the
+    /// distance scaling of 3.6.3) covers at most this on screen, pixels; 0: always drawn. It
+    /// fades rather than pops: the drawn width shrinks to nothing as the true width falls from
+    /// kSelectionFadeBand times this to it (selectionFade()).
+    float select_px = 0.0f;
 
     /// Full width of the widest pass on the ground (with the casing where there is one), metres.
     [[nodiscard]] float outerWidth() const { return width_m + 2.0f * std::max(casing_m, 0.0f); }
@@ -56,6 +62,17 @@ float distanceWidthScale(float distance_m, float threshold_m, float max_scale);
 /// width times the pass's share of the fill, `width_m` / `fill_width_m` (the casing grows in
 /// proportion). 0 where any of them is not positive.
 float leastWidthGrowthPx(float min_width_px, float width_m, float fill_width_m);
+
+/// Where a selected class starts to fade (RoadClassStyle::select_px): at this many times its
+/// threshold.
+inline constexpr float kSelectionFadeBand = 1.5f;
+
+/// seed 7.3: the share of its drawn width a road of true width `width_m` keeps at `distance_m`
+/// from the eye, seen with a focal length of `focal_px` pixels (the viewport height over twice the
+/// tangent of half the vertical field of view): 1 where the true width covers at least
+/// kSelectionFadeBand * `select_px` pixels, 0 where it covers at most `select_px`, linear in the
+/// true width between. Always 1 where `select_px` is not positive.
+float selectionFade(float width_m, float select_px, float distance_m, float focal_px);
 
 /// seed 3.4 in the coordinates roads_geo.vert hands its fragments: the half length L = d / w of
 /// a segment of length d and width w, in half widths.
