@@ -18,12 +18,15 @@ uniform float u_casing[11];     // extra casing width per side, metres (0: none)
 uniform int u_pass;             // 0 casing, 1 fill
 uniform vec3 u_scale;           // threshold m, max scale, unused
 uniform float u_max_slope;      // bound on the terrain slope of the tile (dz / dxy)
+uniform float u_select[11];     // seed 7.3: the class is left out at this true width on screen, pixels (0: never)
+uniform float u_focal_px;       // viewport height / (2 tan(fov_y / 2))
 
 out vec3 v_pos;                 // box surface point, tile-local
 flat out vec4 v_segment;        // p0.xy, p1.xy
 flat out vec4 v_volume;         // height above the plane min, max, radius of the box, unscaled road radius
 flat out vec3 v_plane;
 flat out int v_class;
+flat out vec2 v_select;         // fill width m, the class's selection threshold px (roads_sv.frag)
 
 // gl_VertexID is the box corner (an indexed draw, SvRoads::kBoxIndices, so each corner is shaded
 // once): bit 0 along the segment (p0 / p1 side), bit 1 across (-n / +n), bit 2 bottom / top.
@@ -41,8 +44,8 @@ void main() {
     vec2 p0 = a_segment.xy, p1 = a_segment.zw;
     // seed 3.6.3: distance-based width scaling beyond a threshold. The fragment stage scales per
     // pixel by the distance of the terrain point; the box holds the widest: the far end's.
-    float dist = max(length(vec3(p0, a_plane.x) - u_eye),
-                     length(vec3(p1, a_plane.x + dot(a_plane.yz, p1 - p0)) - u_eye));
+    vec3 q0 = vec3(p0, a_plane.x), q1 = vec3(p1, a_plane.x + dot(a_plane.yz, p1 - p0));
+    float dist = max(length(q0 - u_eye), length(q1 - u_eye));
     float r_base = 0.5 * width;
     float r = r_base * clamp(dist / u_scale.x, 1.0, u_scale.y);
 
@@ -51,6 +54,17 @@ void main() {
     // (slope + plane slope) * distance.
     float grow = max(r - a_reach, 0.0) * (u_max_slope + length(a_plane.yz)) + 0.5;
     float z_lo = a_z_range.x - grow, z_hi = a_z_range.y + grow;
+
+    // seed 7.3: roads_sv.frag narrows a class left out of distant views per pixel; a box whose
+    // nearest possible terrain point lies where the class is gone is clipped away. The terrain
+    // it holds lies within r across and [z_lo, z_hi] up of the plane's line from q0 to q1.
+    if (u_select[cls] > 0.0) {
+        float nearest = min(length(q0 - u_eye), length(q1 - u_eye)) - 0.5 * length(q1 - q0) - r - max(abs(z_lo), abs(z_hi));
+        if (u_width[cls] * u_focal_px <= u_select[cls] * nearest) {
+            gl_Position = vec4(2.0, 2.0, 2.0, 1.0);
+            return;
+        }
+    }
 
     vec2 d = p1 - p0;
     float len = length(d);
@@ -68,5 +82,6 @@ void main() {
     v_volume = vec4(z_lo, z_hi, r, r_base);
     v_plane = a_plane;
     v_class = cls;
+    v_select = vec2(u_width[cls], u_select[cls]);
     gl_Position = u_projection * (u_view * vec4(pos, 1.0));
 }

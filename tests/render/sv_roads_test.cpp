@@ -20,6 +20,7 @@
 #include "navmap/render/renderer.h"
 #include "synthetic_tile.h"
 #include "navmap/render/road_draping.h"
+#include "navmap/render/road_style.h"
 #include "test_paths.h"
 
 namespace {
@@ -226,6 +227,45 @@ TEST(SvRoads, DeadEndCapIsRoundAndMatchesGeometricOnFlatTerrain) {
     EXPECT_FALSE(stats.sv_roads);
     const auto cmp = navmap::test::compareImages(geo, sv, 24);
     EXPECT_LT(cmp.differing_fraction, 0.002) << cmp.differing_pixels << " pixels differ from GEO";
+}
+
+// seed 7.3 in the shadow-volume approach: a class left out of distant views narrows per pixel to
+// the fraction selectionFade() gives, as wide as the geometric roads draw it, and its boxes are
+// clipped only where nothing is left. Straight down from 300 m on a path made 8 m wide (about
+// 15 px), the class's threshold moved through the fade band.
+TEST(SvRoads, SelectedClassNarrowsAsTheGeometricRoads) {
+    auto tile = makeTile([](float, float) { return 500.0f; });
+    tile->roads.push_back(road(map::RoadClass::Path, {{470, 500}, {530, 500}}));
+    constexpr auto kPath = static_cast<std::size_t>(map::RoadClass::Path);
+    const float distance = 300.0f;
+    const float focal_px = 0.5f * kH / static_cast<float>(std::tan(glm::radians(Camera{}.fov_y_deg) / 2.0));
+    const float true_px = 8.0f * focal_px / distance;
+    const glm::ivec3 fill = to8(wideRoads().roads.classes[kPath].fill);
+    // Fill pixels down the column through the road's middle.
+    auto drawn_px = [&](float select_px, RoadTechnique technique, bool selection) {
+        MapStyle style = wideRoads(8.0f);
+        style.roads.classes[kPath].select_px = select_px;
+        View v(*tile, {500.0, 500.0, 500.0 + distance}, {500.0, 500.0, 0.0}, {0.0, 1.0, 0.0}, style);
+        MapLayers l = layers(technique);
+        l.road_selection = selection;
+        const Image image = v.render({tile}, l);
+        glm::ivec2 mid;
+        EXPECT_TRUE(v.project({500.0, 500.0, 500.0}, mid));
+        int n = 0;
+        for (int y = 0; y < kH; ++y) n += near(pixel(image, {mid.x, y}), fill);
+        return n;
+    };
+    for (const float select_px : {5.0f, 11.0f, 13.0f, 14.5f, 16.0f}) {
+        const float expected = true_px * selectionFade(8.0f, select_px, distance, focal_px);
+        const int sv = drawn_px(select_px, RoadTechnique::ShadowVolume, true);
+        const int geo = drawn_px(select_px, RoadTechnique::Geometric, true);
+        std::printf("[ measure  ] threshold %.1f px, true width %.2f px: %d px drawn (geometric %d), %.2f expected\n", select_px,
+                    true_px, sv, geo, expected);
+        EXPECT_NEAR(sv, expected, 1.5) << "threshold " << select_px;
+        EXPECT_NEAR(sv, geo, 1.0) << "threshold " << select_px;
+        EXPECT_NEAR(drawn_px(select_px, RoadTechnique::ShadowVolume, false), true_px, 1.5)
+            << "selection off, threshold " << select_px;
+    }
 }
 
 TEST(SvRoads, CameraInsideTheRoadVolumeStillSeesTheRoad) {

@@ -52,7 +52,6 @@ struct MapLayers {
     bool road_lod = true;
     /// Leave minor road classes out of distant views (seed 7.3, RoadClassStyle::select_px): they
     /// fade out where their true width would cover too few pixels. False: every class everywhere.
-    /// Geometric roads only; the shadow-volume roads draw every class.
     bool road_selection = true;
     /// Quads of joined road pieces reach beyond the joint only as far as the bend needs
     /// (RoadInstance::cap_reach); false: every quad holds both whole caps (seed 3.4). The same
