@@ -193,7 +193,7 @@ std::optional<DaemonConfig> parseConfig(const std::string& text, const std::stri
                 !r.get("height", p.height) || !r.range("height", p.height, 16, 8192) || !r.get("fps", p.fps) ||
                 !r.range("fps", p.fps, 0.1, 240.0) || !r.get("view", view) || !r.get("orientation", orientation) ||
                 !r.get("roads", roads) || !r.get("glow_roads", p.glow_roads) || !r.get("label_aura", p.label_aura) ||
-                !r.noUnknownKeys())
+                !r.get("road_selection", p.road_selection) || !r.noUnknownKeys())
                 return std::nullopt;
             if (roads == "geometric") p.roads = render::RoadTechnique::Geometric;
             else if (roads == "shadow-volume") p.roads = render::RoadTechnique::ShadowVolume;
@@ -320,7 +320,8 @@ std::string describeConfig(const DaemonConfig& c) {
           << (p.roads == render::RoadTechnique::Geometric      ? "geometric"
               : p.roads == render::RoadTechnique::ShadowVolume ? "shadow-volume"
                                                                : "auto")
-          << (p.glow_roads ? ", glowing roads" : "") << (p.label_aura ? ", label aura" : "") << "\n";
+          << (p.glow_roads ? ", glowing roads" : "") << (p.label_aura ? ", label aura" : "")
+          << (p.road_selection ? "" : ", every road class at every distance") << "\n";
     }
     s << "control: " << c.control_socket.string() << " (mode " << std::oct << c.control_mode << std::dec << ")\n";
     s << "stream: " << c.frame_socket.string() << ", tcp " << c.tcp_port << ", http " << c.http_address << ":" << c.http_port << "\n";

@@ -360,6 +360,7 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
                 frame.layers.road_technique = v.profile.roads;
                 frame.layers.glow_roads = v.profile.glow_roads;
                 frame.layers.label_aura = v.profile.label_aura;
+                frame.layers.road_selection = v.profile.road_selection;
                 frame.frame_dt_s = std::min(dt, 0.5);
                 if (fresh.valid) frame.marker = render::MarkerState{vp.position, vp.heading_deg, fresh.stale};
                 renderer->useTarget(v.target);
@@ -517,6 +518,7 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
                                     v.profile.roads = p->roads;
                                     v.profile.glow_roads = p->glow_roads;
                                     v.profile.label_aura = p->label_aura;
+                                    v.profile.road_selection = p->road_selection;
                                     v.next_due = Clock::now();  // the new rate applies from the next tick
                                 } else if (p) {
                                     log(kWarning, "reload: profile %s: a new size (%dx%d) needs a restart; keeping %dx%d",

@@ -23,6 +23,9 @@ struct DisplayProfile {
     render::RoadTechnique roads = render::RoadTechnique::Auto;
     bool glow_roads = false;  ///< roads and route hidden by buildings shine through (seed 5.5.2)
     bool label_aura = false;  ///< buildings in front of labels fade around them (seed 5.5.1)
+    /// Minor road classes leave distant views (seed 7.3, render::MapLayers::road_selection);
+    /// false: every class at every distance.
+    bool road_selection = true;
 };
 
 /// The defaults: cluster 1280x480 snail's view, HUD 800x240 snail's view (route and

@@ -59,6 +59,7 @@ orientation = "north-up"
 roads = "shadow-volume"
 glow_roads = true
 label_aura = true
+road_selection = false
 [control]
 socket = "/tmp/c.sock"
 mode = 0o600
@@ -86,6 +87,8 @@ level = "debug"
     EXPECT_EQ(c->profiles[1].roads, navmap::render::RoadTechnique::ShadowVolume);
     EXPECT_TRUE(c->profiles[1].glow_roads);
     EXPECT_TRUE(c->profiles[1].label_aura);
+    EXPECT_TRUE(c->profiles[0].road_selection);
+    EXPECT_FALSE(c->profiles[1].road_selection);
     EXPECT_EQ(c->control_mode, 0600u);
     EXPECT_EQ(c->control_uids, (std::vector<std::uint32_t>{1000, 0}));
     EXPECT_EQ(c->tcp_port, 7000);
