@@ -34,6 +34,23 @@ std::size_t differingPixels(const Image& a, const Image& b) {
     return n;
 }
 
+// Pixels whose colour differs between two frames of one size: in all, and in the bottom quarter
+// (in the snail's view the ground next to the car).
+struct Difference {
+    std::size_t all = 0, near = 0;
+};
+Difference differenceOf(const Image& a, const Image& b) {
+    Difference d;
+    for (int y = 0; y < a.height; ++y) {
+        for (int x = 0; x < a.width; ++x) {
+            if (std::memcmp(a.pixel(x, y), b.pixel(x, y), 3) == 0) continue;
+            ++d.all;
+            d.near += y >= a.height * 3 / 4;
+        }
+    }
+    return d;
+}
+
 Image renderView(ViewMode mode, const MapLayers& layers, MapFrameStats* stats = nullptr) {
     auto renderer = rendererOfSize(kW, kH);
     // The car 1.8 km into the drive (Escaldes), camera settled.
@@ -198,14 +215,7 @@ TEST(AndorraMap, DistantRoadsAreDrawnSimplifiedWithinHalfAPixel) {
         const auto [with_lod, without] = renderWithAndWithout(*renderer, frame, &MapLayers::road_lod);
         const MapFrameStats& simplified = with_lod.stats;
         const MapFrameStats& draped = without.stats;
-        std::size_t differ = 0, differ_near = 0;
-        for (int y = 0; y < h; ++y) {
-            for (int x = 0; x < w; ++x) {
-                if (std::memcmp(with_lod.image.pixel(x, y), without.image.pixel(x, y), 3) == 0) continue;
-                ++differ;
-                differ_near += y >= h * 3 / 4;  // the bottom quarter: the ground next to the car
-            }
-        }
+        const auto [differ, differ_near] = differenceOf(with_lod.image, without.image);
         const char* name = mode == ViewMode::Bird ? "bird" : "snail";
         std::printf("[ measure  ] %s %dx%d: %zu of %zu road pieces drawn, %zu pixels differ (%.2f %%), %zu in the bottom quarter\n",
                     name, w, h, simplified.road_segments, draped.road_segments, differ, 100.0 * double(differ) / double(w * h), differ_near);
@@ -226,14 +236,7 @@ TEST(AndorraMap, MinorRoadsLeaveDistantViews) {
         MapFrame frame = navmap::test::settledAndorraFrame(mode, w, h);
         frame.layers = layersFor(3);
         const auto [selected, every] = renderWithAndWithout(*renderer, frame, &MapLayers::road_selection);
-        std::size_t differ = 0, differ_near = 0;
-        for (int y = 0; y < h; ++y) {
-            for (int x = 0; x < w; ++x) {
-                if (std::memcmp(selected.image.pixel(x, y), every.image.pixel(x, y), 3) == 0) continue;
-                ++differ;
-                differ_near += y >= h * 3 / 4;
-            }
-        }
+        const auto [differ, differ_near] = differenceOf(selected.image, every.image);
         const char* name = mode == ViewMode::Bird ? "bird" : "snail";
         std::printf("[ measure  ] %s %dx%d: %zu of %zu road pieces drawn, %zu pixels differ (%.2f %%), %zu in the bottom quarter\n",
                     name, w, h, selected.stats.road_segments, every.stats.road_segments, differ,
