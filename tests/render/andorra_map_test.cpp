@@ -203,26 +203,37 @@ TEST(AndorraMap, RoadAndBuildingBlocksOutsideTheViewAreNotDrawn) {
     }
 }
 
+// The settled 1280x480 frame of the full scene in `mode` with a layer switch on and off: the
+// stats and images, and the pixels they differ in (printed with the road pieces drawn).
+struct Toggled {
+    Rendered on, off;
+    Difference differ;
+};
+Toggled toggled(ViewMode mode, bool MapLayers::*option) {
+    const int w = 1280, h = 480;
+    auto renderer = rendererOfSize(w, h);
+    MapFrame frame = navmap::test::settledAndorraFrame(mode, w, h);
+    frame.layers = layersFor(3);
+    auto [on, off] = renderWithAndWithout(*renderer, frame, option);
+    Toggled t{std::move(on), std::move(off), {}};
+    t.differ = differenceOf(t.on.image, t.off.image);
+    std::printf("[ measure  ] %s %dx%d: %zu of %zu road pieces drawn, %zu pixels differ (%.2f %%), %zu in the bottom quarter\n",
+                mode == ViewMode::Bird ? "bird" : "snail", w, h, t.on.stats.road_segments, t.off.stats.road_segments,
+                t.differ.all, 100.0 * double(t.differ.all) / double(w * h), t.differ.near);
+    return t;
+}
+
 // Road levels of detail (TileMesh, kRoadLodTolerance): blocks far from the camera draw their roads
 // simplified, within half a pixel on screen. Far fewer pieces; the picture differs only in a few
 // edge pixels of distant roads, and the near part of the frame not at all.
 TEST(AndorraMap, DistantRoadsAreDrawnSimplifiedWithinHalfAPixel) {
     for (ViewMode mode : {ViewMode::Bird, ViewMode::Snail}) {
-        const int w = 1280, h = 480;
-        auto renderer = rendererOfSize(w, h);
-        MapFrame frame = navmap::test::settledAndorraFrame(mode, w, h);
-        frame.layers = layersFor(3);
-        const auto [with_lod, without] = renderWithAndWithout(*renderer, frame, &MapLayers::road_lod);
-        const MapFrameStats& simplified = with_lod.stats;
-        const MapFrameStats& draped = without.stats;
-        const auto [differ, differ_near] = differenceOf(with_lod.image, without.image);
+        const Toggled t = toggled(mode, &MapLayers::road_lod);
         const char* name = mode == ViewMode::Bird ? "bird" : "snail";
-        std::printf("[ measure  ] %s %dx%d: %zu of %zu road pieces drawn, %zu pixels differ (%.2f %%), %zu in the bottom quarter\n",
-                    name, w, h, simplified.road_segments, draped.road_segments, differ, 100.0 * double(differ) / double(w * h), differ_near);
-        EXPECT_LT(simplified.road_segments, draped.road_segments * 9 / 10) << name;
-        EXPECT_LT(differ, std::size_t(w * h / 200)) << name << ": at most 0.5 % of the pixels";
+        EXPECT_LT(t.on.stats.road_segments, t.off.stats.road_segments * 9 / 10) << name;
+        EXPECT_LT(t.differ.all, std::size_t(1280 * 480 / 200)) << name << ": at most 0.5 % of the pixels";
         if (mode == ViewMode::Snail) {
-            EXPECT_EQ(differ_near, 0u) << "the roads next to the car are drawn as draped";
+            EXPECT_EQ(t.differ.near, 0u) << "the roads next to the car are drawn as draped";
         }
     }
 }
@@ -231,20 +242,12 @@ TEST(AndorraMap, DistantRoadsAreDrawnSimplifiedWithinHalfAPixel) {
 // vertex stage; next to the car (the bottom quarter of the snail's view) nothing is left out.
 TEST(AndorraMap, MinorRoadsLeaveDistantViews) {
     for (ViewMode mode : {ViewMode::Bird, ViewMode::Snail}) {
-        const int w = 1280, h = 480;
-        auto renderer = rendererOfSize(w, h);
-        MapFrame frame = navmap::test::settledAndorraFrame(mode, w, h);
-        frame.layers = layersFor(3);
-        const auto [selected, every] = renderWithAndWithout(*renderer, frame, &MapLayers::road_selection);
-        const auto [differ, differ_near] = differenceOf(selected.image, every.image);
+        const Toggled t = toggled(mode, &MapLayers::road_selection);
         const char* name = mode == ViewMode::Bird ? "bird" : "snail";
-        std::printf("[ measure  ] %s %dx%d: %zu of %zu road pieces drawn, %zu pixels differ (%.2f %%), %zu in the bottom quarter\n",
-                    name, w, h, selected.stats.road_segments, every.stats.road_segments, differ,
-                    100.0 * double(differ) / double(w * h), differ_near);
-        EXPECT_LT(selected.stats.road_segments, every.stats.road_segments * 9 / 10) << name;
-        EXPECT_GT(differ, 0u) << name << ": nothing left out";
+        EXPECT_LT(t.on.stats.road_segments, t.off.stats.road_segments * 9 / 10) << name;
+        EXPECT_GT(t.differ.all, 0u) << name << ": nothing left out";
         if (mode == ViewMode::Snail) {
-            EXPECT_EQ(differ_near, 0u) << "the roads next to the car are all drawn";
+            EXPECT_EQ(t.differ.near, 0u) << "the roads next to the car are all drawn";
         }
     }
 }
