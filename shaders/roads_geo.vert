@@ -25,6 +25,7 @@ uniform int u_whole_caps;       // 1: both whole caps on every quad (MapLayers::
 uniform float u_short_half_length;  // kShortPieceHalfLength
 uniform vec3 u_min_width;       // x: least on-screen width of the fill, pixels (0: off); yz: viewport, pixels
 uniform float u_select[11];     // seed 7.3: the class is left out at this true width on screen, pixels (0: never)
+uniform float u_focal_px;       // viewport height / (2 tan(fov_y / 2))
 
 // seed 3.4's quad-local coordinates, scaled so that the cap test needs no division: x along
 // and y across the segment, both in half widths from its centre (the quad spans |x| <= L + 1,
@@ -92,8 +93,7 @@ vec2 widening(float at, float side, vec2 t, vec2 n, float fill_width, float widt
 // left out of distant views, from its true width on screen at `dist`.
 float selectionFade(float width_m, float select_px, float dist) {
     if (select_px <= 0.0 || dist <= 0.0) return 1.0;
-    float focal_px = 0.5 * u_min_width.z * u_projection[1][1];
-    float true_px = width_m * focal_px / dist;
+    float true_px = width_m * u_focal_px / dist;
     return clamp((true_px - select_px) / (0.5 * select_px), 0.0, 1.0);  // kSelectionFadeBand 1.5
 }
 

@@ -676,6 +676,7 @@ void MapRenderer::setRoadUniforms(ShaderProgram& p, int pass, bool route, const 
     glUniform1fv(p.uniform("u_width"), kStyledRoadClasses, widths);
     glUniform1fv(p.uniform("u_casing"), kStyledRoadClasses, casings);
     glUniform1fv(p.uniform("u_select"), kStyledRoadClasses, select);
+    glUniform1f(p.uniform("u_focal_px"), projection[1][1] * 0.5f * m_viewport.y);
     glUniform3fv(p.uniform("u_fill"), kStyledRoadClasses, glm::value_ptr(fills[0]));
     glUniform3fv(p.uniform("u_casing_color"), kStyledRoadClasses, glm::value_ptr(casing_colors[0]));
     glUniform1i(p.uniform("u_pass"), pass);
