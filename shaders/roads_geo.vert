@@ -24,8 +24,7 @@ uniform vec3 u_route_casing;
 uniform int u_whole_caps;       // 1: both whole caps on every quad (MapLayers::trim_joint_caps off)
 uniform float u_short_half_length;  // kShortPieceHalfLength
 uniform vec3 u_min_width;       // x: least on-screen width of the fill, pixels (0: off); yz: viewport, pixels
-uniform float u_select[11];     // seed 7.3: the class is left out at this true width on screen, pixels (0: never)
-uniform float u_focal_px;       // viewport height / (2 tan(fov_y / 2))
+uniform vec2 u_select[11];      // seed 7.3: the share of its width a class keeps, clamp(x / d - y, 0, 1) (SelectionFade)
 
 // seed 3.4's quad-local coordinates, scaled so that the cap test needs no division: x along
 // and y across the segment, both in half widths from its centre (the quad spans |x| <= L + 1,
@@ -89,14 +88,6 @@ vec2 widening(float at, float side, vec2 t, vec2 n, float fill_width, float widt
     return e.xy * (shift * width / fill_width) / (0.5 * u_min_width.yz);
 }
 
-// seed 7.3, road_style.h selectionFade(): the share of its width a road keeps where its class is
-// left out of distant views, from its true width on screen at `dist`.
-float selectionFade(float width_m, float select_px, float dist) {
-    if (select_px <= 0.0 || dist <= 0.0) return 1.0;
-    float true_px = width_m * u_focal_px / dist;
-    return clamp((true_px - select_px) / (0.5 * select_px), 0.0, 1.0);  // kSelectionFadeBand 1.5
-}
-
 void main() {
     int cls = int(a_class + 0.5);
     float width = u_route == 1 ? u_route_width : u_width[cls];
@@ -109,8 +100,9 @@ void main() {
     // seed 3.6.3: distance-based width scaling beyond a threshold.
     vec3 mid = 0.5 * (a_p0 + a_p1);
     float dist = length((u_view * vec4(mid, 1.0)).xyz);
-    // A class left out of distant views fades out by narrowing to nothing, its least width too.
-    float keep = u_route == 1 ? 1.0 : selectionFade(u_width[cls], u_select[cls], dist);
+    // A class left out of distant views (seed 7.3) fades out by narrowing to nothing, its least
+    // width too: road_style.h SelectionFade, at the piece's middle as cullRoads measures it.
+    float keep = u_route == 1 ? 1.0 : clamp(u_select[cls].x / max(dist, 1e-6) - u_select[cls].y, 0.0, 1.0);
     if (keep <= 0.0) {
         gl_Position = vec4(2.0, 2.0, 2.0, 1.0);  // left out: clipped away
         return;

@@ -10,7 +10,6 @@ flat in vec4 v_segment;
 flat in vec4 v_volume;          // height above the plane min, max, radius of the box, unscaled road radius
 flat in vec3 v_plane;           // z = h0 + g . (xy - p0)
 flat in int v_class;
-flat in vec2 v_select;          // fill width m, the class's selection threshold px (0: never)
 
 uniform highp sampler2D u_terrain_depth;  // view depth of the terrain per pixel, 0 where none
 uniform vec3 u_eye;             // camera position, tile-local metres
@@ -20,7 +19,7 @@ uniform vec3 u_fill[11];
 uniform vec3 u_casing_color[11];
 uniform int u_pass;
 uniform vec3 u_scale;           // threshold m, max scale, unused
-uniform float u_focal_px;       // viewport height / (2 tan(fov_y / 2))
+uniform vec2 u_select[11];      // seed 7.3: the share of its width a class keeps, clamp(x / d - y, 0, 1) (SelectionFade)
 
 layout(location = 0) out vec4 o_color;
 layout(location = 1) out vec4 o_road;  // road intensity for the screen-space outlines (seed 3.6.3)
@@ -59,9 +58,9 @@ void main() {
     // seed 3.6.3: the width scale of the terrain point this pixel shows (continuous along the road).
     float dist = zt * length(dir);
     float r = min(v_volume.w * clamp(dist / u_scale.x, 1.0, u_scale.y), v_volume.z);
-    // seed 7.3 (road_style.h selectionFade()): a class left out of distant views narrows to
-    // nothing between 1.5 times its threshold on screen and the threshold, here per pixel.
-    if (v_select.y > 0.0) r *= clamp((v_select.x * u_focal_px / dist - v_select.y) / (0.5 * v_select.y), 0.0, 1.0);
+    // seed 7.3 (road_style.h SelectionFade): a class left out of distant views narrows to
+    // nothing, here per pixel.
+    r *= clamp(u_select[v_class].x / max(dist, 1e-6) - u_select[v_class].y, 0.0, 1.0);
     if (r <= 0.0) discard;
     // Cheap rejection first, with a little slack so the exact test below decides: the terrain
     // point of this pixel must be near the segment and inside the height range. (A SIMD software

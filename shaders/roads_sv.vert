@@ -18,15 +18,13 @@ uniform float u_casing[11];     // extra casing width per side, metres (0: none)
 uniform int u_pass;             // 0 casing, 1 fill
 uniform vec3 u_scale;           // threshold m, max scale, unused
 uniform float u_max_slope;      // bound on the terrain slope of the tile (dz / dxy)
-uniform float u_select[11];     // seed 7.3: the class is left out at this true width on screen, pixels (0: never)
-uniform float u_focal_px;       // viewport height / (2 tan(fov_y / 2))
+uniform vec2 u_select[11];      // seed 7.3: the share of its width a class keeps, clamp(x / d - y, 0, 1) (SelectionFade)
 
 out vec3 v_pos;                 // box surface point, tile-local
 flat out vec4 v_segment;        // p0.xy, p1.xy
 flat out vec4 v_volume;         // height above the plane min, max, radius of the box, unscaled road radius
 flat out vec3 v_plane;
 flat out int v_class;
-flat out vec2 v_select;         // fill width m, the class's selection threshold px (roads_sv.frag)
 
 // gl_VertexID is the box corner (an indexed draw, SvRoads::kBoxIndices, so each corner is shaded
 // once): bit 0 along the segment (p0 / p1 side), bit 1 across (-n / +n), bit 2 bottom / top.
@@ -56,11 +54,11 @@ void main() {
     float z_lo = a_z_range.x - grow, z_hi = a_z_range.y + grow;
 
     // seed 7.3: roads_sv.frag narrows a class left out of distant views per pixel; a box whose
-    // nearest possible terrain point lies where the class is gone is clipped away. The terrain
-    // it holds lies within r across and [z_lo, z_hi] up of the plane's line from q0 to q1.
-    if (u_select[cls] > 0.0) {
+    // nearest possible terrain point lies where the class is gone (x / d <= y) is clipped away.
+    // The terrain it holds lies within r across and [z_lo, z_hi] up of the plane's line q0 q1.
+    if (u_select[cls].y > 0.0) {
         float nearest = min(length(q0 - u_eye), length(q1 - u_eye)) - 0.5 * length(q1 - q0) - r - max(abs(z_lo), abs(z_hi));
-        if (u_width[cls] * u_focal_px <= u_select[cls] * nearest) {
+        if (u_select[cls].x <= u_select[cls].y * nearest) {
             gl_Position = vec4(2.0, 2.0, 2.0, 1.0);
             return;
         }
@@ -82,6 +80,5 @@ void main() {
     v_volume = vec4(z_lo, z_hi, r, r_base);
     v_plane = a_plane;
     v_class = cls;
-    v_select = vec2(u_width[cls], u_select[cls]);
     gl_Position = u_projection * (u_view * vec4(pos, 1.0));
 }

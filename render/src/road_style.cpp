@@ -55,11 +55,17 @@ float distanceWidthScale(float distance_m, float threshold_m, float max_scale) {
     return std::min(distance_m / threshold_m, max_scale);
 }
 
-float selectionFade(float width_m, float select_px, float distance_m, float focal_px) {
-    if (!(select_px > 0.0f)) return 1.0f;
-    if (!(distance_m > 0.0f)) return 1.0f;  // at the eye: as wide as can be
-    const float true_px = width_m * focal_px / distance_m;
-    return std::clamp((true_px - select_px) / ((kSelectionFadeBand - 1.0f) * select_px), 0.0f, 1.0f);
+SelectionFade selectionFade(float width_m, float select_px, float focal_px) {
+    if (!(select_px > 0.0f)) return {};
+    constexpr float kBand = kSelectionFadeBand - 1.0f;
+    return {width_m * focal_px / (kBand * select_px), 1.0f / kBand};
+}
+
+std::array<SelectionFade, kStyledRoadClasses> selectionFades(const RoadStyle& style, float focal_px, bool on) {
+    std::array<SelectionFade, kStyledRoadClasses> out{};
+    if (!on) return out;
+    for (std::size_t c = 0; c < out.size(); ++c) out[c] = selectionFade(style.classes[c].width_m, style.classes[c].select_px, focal_px);
+    return out;
 }
 
 float leastWidthGrowthPx(float min_width_px, float width_m, float fill_width_m) {

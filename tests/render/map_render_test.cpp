@@ -265,7 +265,7 @@ TEST(MapRender, SelectedClassNarrowsToNothingBelowItsThreshold) {
         return n;
     };
     for (const float select_px : {5.0f, 11.0f, 13.0f, 14.5f, 16.0f}) {
-        const float expected = true_px * selectionFade(8.0f, select_px, distance, focal_px);
+        const float expected = true_px * selectionFade(8.0f, select_px, focal_px).at(distance);
         const int n = drawn_px(select_px, true);
         std::printf("[ measure  ] threshold %.1f px, true width %.2f px: %d px drawn, %.2f expected\n", select_px, true_px, n,
                     expected);

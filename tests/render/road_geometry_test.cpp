@@ -78,18 +78,25 @@ TEST(RoadWidth, LeastWidthGrowsEveryPassInProportion) {
 // its threshold on screen, none at or below the threshold, and fades linearly in between.
 TEST(RoadWidth, SelectedClassFadesOutContinuouslyBelowItsThreshold) {
     const float focal = 600.0f, width = 2.0f;  // true width on screen: 1200 / distance pixels
-    EXPECT_FLOAT_EQ(selectionFade(width, 1.0f, 700.0f, focal), 1.0f);   // 1.71 px
-    EXPECT_FLOAT_EQ(selectionFade(width, 1.0f, 800.0f, focal), 1.0f);   // 1.5 px
-    EXPECT_NEAR(selectionFade(width, 1.0f, 960.0f, focal), 0.5f, 1e-5f);  // 1.25 px
-    EXPECT_FLOAT_EQ(selectionFade(width, 1.0f, 1200.0f, focal), 0.0f);  // 1 px
-    EXPECT_FLOAT_EQ(selectionFade(width, 1.0f, 5000.0f, focal), 0.0f);
-    // Not selected: drawn at every distance.
-    EXPECT_FLOAT_EQ(selectionFade(width, 0.0f, 1e6f, focal), 1.0f);
-    EXPECT_FLOAT_EQ(selectionFade(width, 1.0f, 0.0f, focal), 1.0f);  // at the eye
+    const SelectionFade fade = selectionFade(width, 1.0f, focal);
+    EXPECT_FLOAT_EQ(fade.at(700.0f), 1.0f);   // 1.71 px
+    EXPECT_FLOAT_EQ(fade.at(800.0f), 1.0f);   // 1.5 px
+    EXPECT_NEAR(fade.at(960.0f), 0.5f, 1e-5f);  // 1.25 px
+    EXPECT_FLOAT_EQ(fade.at(1200.0f), 0.0f);  // 1 px
+    EXPECT_FLOAT_EQ(fade.at(5000.0f), 0.0f);
+    EXPECT_NEAR(fade.goneFromM(), 1200.0f, 1e-2f);  // where cullRoads leaves the pieces out
+    EXPECT_FLOAT_EQ(fade.at(0.0f), 1.0f);  // at the eye
+    // Not selected, or the selection off: drawn at every distance.
+    EXPECT_FLOAT_EQ(selectionFade(width, 0.0f, focal).at(1e6f), 1.0f);
+    EXPECT_TRUE(std::isinf(selectionFade(width, 0.0f, focal).goneFromM()));
+    const RoadStyle day = RoadStyle::day();
+    const auto path = static_cast<std::size_t>(kStyledRoadClasses - 1);
+    EXPECT_FLOAT_EQ(selectionFades(day, focal, true)[path].at(1e6f), 0.0f);
+    EXPECT_FLOAT_EQ(selectionFades(day, focal, false)[path].at(1e6f), 1.0f);
     // Monotonic, and continuous: no step between 1 m apart bigger than the slope allows.
     float last = 1.0f;
     for (float d = 1.0f; d < 2000.0f; d += 1.0f) {
-        const float f = selectionFade(width, 1.0f, d, focal);
+        const float f = fade.at(d);
         EXPECT_LE(f, last) << d;
         EXPECT_LT(last - f, 0.01f) << "a jump at " << d << " m";
         last = f;

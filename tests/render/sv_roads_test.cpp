@@ -256,7 +256,7 @@ TEST(SvRoads, SelectedClassNarrowsAsTheGeometricRoads) {
         return n;
     };
     for (const float select_px : {5.0f, 11.0f, 13.0f, 14.5f, 16.0f}) {
-        const float expected = true_px * selectionFade(8.0f, select_px, distance, focal_px);
+        const float expected = true_px * selectionFade(8.0f, select_px, focal_px).at(distance);
         const int sv = drawn_px(select_px, RoadTechnique::ShadowVolume, true);
         const int geo = drawn_px(select_px, RoadTechnique::Geometric, true);
         std::printf("[ measure  ] threshold %.1f px, true width %.2f px: %d px drawn (geometric %d), %.2f expected\n", select_px,

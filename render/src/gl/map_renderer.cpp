@@ -1,4 +1,5 @@
 #include "map_renderer.h"
+#include "road_uniforms.h"
 #include "sv_roads.h"
 #include "vertex_layout.h"
 
@@ -579,13 +580,15 @@ void MapRenderer::cullRoads(const MapFrame& frame, const glm::mat4& projection, 
     float half_width = 0.0f;
     for (const RoadClassStyle& c : rs.classes) half_width = std::max(half_width, 0.5f * c.outerWidth());
     const float focal_px = projection[1][1] * 0.5f * static_cast<float>(height);
-    // Whether a piece's quads can show: not left out of this view (seed 7.3; roads_geo.vert would
-    // narrow it to nothing), and in it.
+    // Whether a piece's quads can show: not left out of this view (seed 7.3: from where
+    // roads_geo.vert narrows its class to nothing, measured at the piece's middle as there), and
+    // in it.
+    std::array<float, kStyledRoadClasses> gone_m2{};
+    for (std::size_t c = 0; c < gone_m2.size(); ++c) gone_m2[c] = m_selection[c].goneFromM() * m_selection[c].goneFromM();
     auto shows = [&](const RoadInstance& r, glm::vec3 eye, const PieceFrustum& frustum) {
-        const RoadClassStyle& c = rs.of(static_cast<int>(r.road_class + 0.5f));
-        const float distance = glm::length(0.5f * (r.p0 + r.p1) - eye);
-        if (frame.layers.road_selection && selectionFade(c.width_m, c.select_px, distance, focal_px) <= 0.0f) return false;
-        return frustum.holds(r, eye, half_width, rs);
+        const glm::vec3 d = 0.5f * (r.p0 + r.p1) - eye;
+        const auto c = static_cast<std::size_t>(std::clamp(static_cast<int>(r.road_class + 0.5f), 0, kStyledRoadClasses - 1));
+        return glm::dot(d, d) < gone_m2[c] && frustum.holds(r, eye, half_width, rs);
     };
     m_road_indices.clear();
     std::vector<std::uint32_t> drawn;  // per block: the road level bit, 0 outside the view
@@ -664,21 +667,7 @@ void MapRenderer::drawRoute(ShaderProgram& program, int pass, const MapFrame& fr
 void MapRenderer::setRoadUniforms(ShaderProgram& p, int pass, bool route, const glm::mat4& projection) {
     glUniformMatrix4fv(p.uniform("u_projection"), 1, GL_FALSE, glm::value_ptr(projection));
     const RoadStyle& rs = m_style.roads;
-    float widths[kStyledRoadClasses], casings[kStyledRoadClasses], select[kStyledRoadClasses];
-    glm::vec3 fills[kStyledRoadClasses], casing_colors[kStyledRoadClasses];
-    for (int i = 0; i < kStyledRoadClasses; ++i) {
-        widths[i] = rs.classes[i].width_m;
-        casings[i] = rs.classes[i].casing_m;
-        select[i] = m_road_selection ? rs.classes[i].select_px : 0.0f;
-        fills[i] = rs.classes[i].fill;
-        casing_colors[i] = rs.classes[i].casing;
-    }
-    glUniform1fv(p.uniform("u_width"), kStyledRoadClasses, widths);
-    glUniform1fv(p.uniform("u_casing"), kStyledRoadClasses, casings);
-    glUniform1fv(p.uniform("u_select"), kStyledRoadClasses, select);
-    glUniform1f(p.uniform("u_focal_px"), projection[1][1] * 0.5f * m_viewport.y);
-    glUniform3fv(p.uniform("u_fill"), kStyledRoadClasses, glm::value_ptr(fills[0]));
-    glUniform3fv(p.uniform("u_casing_color"), kStyledRoadClasses, glm::value_ptr(casing_colors[0]));
+    setRoadClassUniforms(p, rs, m_selection);
     glUniform1i(p.uniform("u_pass"), pass);
     glUniform1i(p.uniform("u_whole_caps"), m_whole_caps ? 1 : 0);
     glUniform1f(p.uniform("u_short_half_length"), kShortPieceHalfLength);
@@ -906,7 +895,6 @@ std::size_t MapRenderer::drawBuildingsOf(ShaderProgram& program, const MapFrame&
 
 void MapRenderer::render(const MapFrame& frame, const RenderTarget& target) {
     m_whole_caps = !frame.layers.trim_joint_caps;
-    m_road_selection = frame.layers.road_selection;
     m_viewport = {static_cast<float>(target.width()), static_cast<float>(target.height())};
     ++m_frame;
     m_target_frame[m_target_key] = m_frame;  // this target's latest frame (evict())
@@ -973,6 +961,8 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target) {
     }
     const double aspect = static_cast<double>(target.width()) / target.height();
     const glm::mat4 projection = frame.camera.projection(aspect);
+    m_selection = selectionFades(m_style.roads, projection[1][1] * 0.5f * static_cast<float>(target.height()),
+                                 frame.layers.road_selection);
     // Clip x and y scaled down so that the planes x = +-w, y = +-w lie the widening further out.
     const float widening_px = roadWideningPx(m_style);
     const glm::mat4 grow = glm::scale(glm::mat4(1.0f), glm::vec3(1.0f / (1.0f + 2.0f * widening_px / static_cast<float>(target.width())),

@@ -5,6 +5,7 @@
 
 #include <GLES3/gl3.h>
 
+#include <array>
 #include <memory>
 #include <span>
 #include <unordered_map>
@@ -14,6 +15,7 @@
 #include "navmap/render/map_frame.h"
 #include "navmap/render/outline_cells.h"
 #include "navmap/render/renderer.h"
+#include "navmap/render/road_style.h"
 #include "navmap/render/tile_mesh.h"
 #include "label_pass.h"
 #include "quad_indices.h"
@@ -118,7 +120,8 @@ private:
     ShaderProgram m_roads;
     ShaderProgram m_route;          // the same, dimming the part driven (NAVMAP_ROUTE_PROGRESS)
     bool m_whole_caps = false;      // this frame: !MapLayers::trim_joint_caps (setRoadUniforms)
-    bool m_road_selection = true;   // this frame: MapLayers::road_selection (setRoadUniforms)
+    // This frame's selection of road classes (seed 7.3; cullRoads, setRoadUniforms).
+    std::array<SelectionFade, kStyledRoadClasses> m_selection{};
     glm::vec2 m_viewport{0.0f};     // this frame's target, pixels (setRoadUniforms)
     ShaderProgram m_outline;        // the filter over the whole screen
     ShaderProgram m_outline_cells;  // the filter over the cells near roads (markOutlineCells)

@@ -1,4 +1,5 @@
 #include "sv_roads.h"
+#include "road_uniforms.h"
 #include "vertex_layout.h"
 
 #include <algorithm>
@@ -455,21 +456,9 @@ std::size_t SvRoads::draw(const MapFrame& frame, const glm::mat4& projection, co
 
     ShaderProgram& p = m_program;
     glUseProgram(p.id());
-    float widths[kStyledRoadClasses], casings[kStyledRoadClasses], select[kStyledRoadClasses];
-    glm::vec3 fills[kStyledRoadClasses], casing_colors[kStyledRoadClasses];
-    for (int i = 0; i < kStyledRoadClasses; ++i) {
-        widths[i] = style.classes[i].width_m;
-        casings[i] = style.classes[i].casing_m;
-        select[i] = frame.layers.road_selection ? style.classes[i].select_px : 0.0f;  // seed 7.3
-        fills[i] = style.classes[i].fill;
-        casing_colors[i] = style.classes[i].casing;
-    }
-    glUniform1fv(p.uniform("u_width"), kStyledRoadClasses, widths);
-    glUniform1fv(p.uniform("u_casing"), kStyledRoadClasses, casings);
-    glUniform1fv(p.uniform("u_select"), kStyledRoadClasses, select);
-    glUniform1f(p.uniform("u_focal_px"), projection[1][1] * 0.5f * static_cast<float>(target.height()));
-    glUniform3fv(p.uniform("u_fill"), kStyledRoadClasses, glm::value_ptr(fills[0]));
-    glUniform3fv(p.uniform("u_casing_color"), kStyledRoadClasses, glm::value_ptr(casing_colors[0]));
+    setRoadClassUniforms(p, style,
+                         selectionFades(style, projection[1][1] * 0.5f * static_cast<float>(target.height()),
+                                        frame.layers.road_selection));  // seed 7.3
     glUniform3f(p.uniform("u_scale"), style.scale_threshold_m, style.max_scale, 0.0f);
     glUniformMatrix4fv(p.uniform("u_projection"), 1, GL_FALSE, glm::value_ptr(projection));
     const glm::dvec3 forward = glm::normalize(frame.camera.target - frame.camera.eye);

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <array>
+#include <limits>
 
 #include <glm/glm.hpp>
 
@@ -67,12 +68,28 @@ float leastWidthGrowthPx(float min_width_px, float width_m, float fill_width_m);
 /// threshold.
 inline constexpr float kSelectionFadeBand = 1.5f;
 
-/// seed 7.3: the share of its drawn width a road of true width `width_m` keeps at `distance_m`
-/// from the eye, seen with a focal length of `focal_px` pixels (the viewport height over twice the
-/// tangent of half the vertical field of view): 1 where the true width covers at least
-/// kSelectionFadeBand * `select_px` pixels, 0 where it covers at most `select_px`, linear in the
-/// true width between. Always 1 where `select_px` is not positive.
-float selectionFade(float width_m, float select_px, float distance_m, float focal_px);
+/// seed 7.3 for one class and view: the share of its drawn width a road keeps at a distance d
+/// from the eye, clamp(a / d - b, 0, 1). With true width w, threshold s and focal length f
+/// (pixels: the viewport height over twice the tangent of half the vertical field of view) the
+/// true width covers w f / d pixels, and the share is 1 from kSelectionFadeBand * s pixels up, 0
+/// at s and below, linear in the true width between: a = w f / ((band - 1) s), b = 1 / (band - 1).
+/// Where s is not positive a = 0, b = -1: always 1. The road shaders evaluate the same line per
+/// quad (roads_geo.vert) or pixel (roads_sv.frag) from u_select.
+struct SelectionFade {
+    float a = 0.0f, b = -1.0f;
+
+    [[nodiscard]] float at(float distance_m) const {
+        if (!(distance_m > 0.0f)) return 1.0f;  // at the eye: as wide as can be
+        return std::clamp(a / distance_m - b, 0.0f, 1.0f);
+    }
+    /// The distance from which the share is 0 (infinity: never).
+    [[nodiscard]] float goneFromM() const { return b > 0.0f ? a / b : std::numeric_limits<float>::infinity(); }
+};
+SelectionFade selectionFade(float width_m, float select_px, float focal_px);
+
+/// Every class's selectionFade() for a view of focal length `focal_px`, the fill width being the
+/// true width; `on` false (MapLayers::road_selection off): always 1.
+std::array<SelectionFade, kStyledRoadClasses> selectionFades(const RoadStyle& style, float focal_px, bool on);
 
 /// seed 3.4 in the coordinates roads_geo.vert hands its fragments: the half length L = d / w of
 /// a segment of length d and width w, in half widths.
