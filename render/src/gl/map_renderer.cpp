@@ -626,6 +626,9 @@ void MapRenderer::cullRoads(const MapFrame& frame, const glm::mat4& projection, 
         }
         if (!casing_found) g->visible_casing_first = g->visible_first + g->visible_count;
     }
+}
+
+void MapRenderer::uploadRoadIndices() {
     // Every road vertex array has this buffer bound (upload()); new storage each frame.
     glBindVertexArray(0);
     glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, m_road_index_buffer);
@@ -979,10 +982,15 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target) {
 
     const glm::vec3 light = glm::normalize(m_style.light_dir);
     SvRoads* sv = SvRoads::forFrame(m_sv_roads, frame, target);  // shadow-volume roads (seed 3.5), else null
-    if (frame.layers.roads) cullRoads(frame, projection, target.height(), tiles);
-    // Where the screen-space outlines can be (seed 3.6.3), worked out on another thread while
-    // this one sets up the passes before them: llvmpipe rasterizes only after that, so a core is
-    // free meanwhile. It reads what the culling above wrote and nothing the passes change.
+    // The road pieces in view are picked on another thread while this one sets up the buildings
+    // and the terrain: llvmpipe rasterizes only after the whole scene is set up, so a core is
+    // free meanwhile. The culling writes only the tiles' visible_* and m_road_indices, which
+    // nothing before the road passes reads.
+    if (frame.layers.roads) m_side.start([&] { cullRoads(frame, projection, target.height(), tiles); });
+    const SideTask::Scope side_scope(m_side);
+    // Where the screen-space outlines can be (seed 3.6.3), worked out on the other thread after
+    // the culling, while this one sets up the road passes. It reads what the culling and
+    // updateRoute wrote and nothing the passes change.
     const bool outlines = frame.layers.outlines && (frame.layers.roads || frame.layers.route);
     const bool outline_cells = outlines && frame.layers.outlines_near_roads && !sv;
     // On a software rasterizer the cells come from the road mask itself, read back after the
@@ -991,10 +999,6 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target) {
     const OutlineMask mask_at = frame.layers.outline_mask;
     const bool edges_on_cpu = outline_cells && (mask_at == OutlineMask::Cpu || (mask_at == OutlineMask::Auto && m_software)) &&
                               target.readsMaskBytes();
-    if (outline_cells && !edges_on_cpu) {
-        m_side.start([&] { markOutlineCells(frame, projection, target.width(), target.height(), tiles); });
-    }
-    const SideTask::Scope side_scope(m_side);
     target.clear(m_style.sky_color.r, m_style.sky_color.g, m_style.sky_color.b);
     target.bindForDrawing(false);
     glDisable(GL_BLEND);
@@ -1034,6 +1038,14 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target) {
     }
 
     if (frame.layers.buildings && terrain_alone) buildings();  // after the terrain (see above)
+
+    if (frame.layers.roads) {
+        m_side.wait();  // cullRoads
+        uploadRoadIndices();
+    }
+    if (outline_cells && !edges_on_cpu) {
+        m_side.start([&] { markOutlineCells(frame, projection, target.width(), target.height(), tiles); });
+    }
 
     // Roads (seed 3.6.3): no blending, least important first, casing pass then fill pass.
     target.bindForDrawing(true);

@@ -89,8 +89,11 @@ private:
     /// The terrain of `tiles` in blocks: frustum-culled, each with the land-cover levels it reaches.
     void drawTerrain(const MapFrame& frame, const glm::mat4& projection, const glm::vec3& light,
                      const std::vector<GpuTile*>& tiles);
-    /// The road pieces of the blocks in view, per tile, into m_road_indices (drawRoads).
+    /// The road pieces of the blocks in view, per tile, into m_road_indices (drawRoads). No GL
+    /// calls: it runs beside the render thread.
     void cullRoads(const MapFrame& frame, const glm::mat4& projection, int height, const std::vector<GpuTile*>& tiles);
+    /// Hands the GPU this frame's m_road_indices (after cullRoads, on the render thread).
+    void uploadRoadIndices();
     /// The screen cells where the outline filter can find road pixels (seed 3.6.3): the quads of
     /// the road pieces in view (after cullRoads) and of the route, grown by the filter's reach,
     /// into m_cells and m_cell_vertices. No GL calls: it runs beside the render thread.
@@ -152,7 +155,7 @@ private:
     std::vector<std::uint8_t> m_mask_bytes;  // markEdgeCells: the road mask read back
     std::vector<std::uint16_t> m_edge_mask;  // and its edge pixels
     double m_cell_ms = 0;                    // CPU time of markOutlineCells or markEdgeCells
-    SideTask m_side;                         // runs markOutlineCells beside the render thread
+    SideTask m_side;                         // runs cullRoads, then markOutlineCells, beside the render thread
     GLuint m_cell_vao = 0, m_cell_vbo = 0;
     std::unordered_map<std::uint64_t, std::unique_ptr<GpuTile>> m_tiles;
     // Land-cover triangles of the ancestors met by this frame's uploads (upload()).
