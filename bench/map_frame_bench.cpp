@@ -157,6 +157,8 @@ void mapPasses(benchmark::State& state) {
         sum.terrain_triangles += s.terrain_triangles;
         sum.outline_pixels += s.outline_pixels;
         sum.outline_cells_ms += s.outline_cells_ms;
+        sum.road_blocks_hidden += s.road_blocks_hidden;
+        sum.horizon_ms += s.horizon_ms;
         ++n;
     }
     const double k = n ? 1.0 / n : 0.0;
@@ -170,6 +172,8 @@ void mapPasses(benchmark::State& state) {
     state.counters["marker_ms"] = sum.marker_ms * k;
     state.counters["tiles"] = double(sum.tiles_drawn) * k;
     state.counters["road_segments"] = double(sum.road_segments) * k;
+    state.counters["road_blocks_hidden"] = double(sum.road_blocks_hidden) * k;  // behind the terrain (TerrainHorizon)
+    state.counters["horizon_ms"] = sum.horizon_ms * k;  // CPU beside the render thread, not in the passes
     state.counters["terrain_triangles"] = double(sum.terrain_triangles) * k;
     state.SetLabel(p.name);
 }

@@ -203,6 +203,32 @@ TEST(AndorraMap, RoadAndBuildingBlocksOutsideTheViewAreNotDrawn) {
     }
 }
 
+// Road blocks that the drawn terrain hides (MapLayers::cull_hidden_roads, TerrainHorizon) are
+// left out: the same image, pixel for pixel, outlines and glow included, from far fewer road
+// pieces in snail's view, where ridges hide most distant roads.
+TEST(AndorraMap, RoadBlocksHiddenBehindTheTerrainAreNotDrawn) {
+    for (ViewMode mode : {ViewMode::Bird, ViewMode::Snail}) {
+        for (const auto& [w, h, glow] : {std::tuple{kW, kH, false}, std::tuple{1280, 480, false}, std::tuple{kW, kH, true}}) {
+            auto renderer = rendererOfSize(w, h);
+            MapFrame frame = navmap::test::settledAndorraFrame(mode, w, h);
+            frame.layers = layersFor(3);
+            frame.layers.glow_roads = glow;
+            const auto [culled, all] = renderWithAndWithout(*renderer, frame, &MapLayers::cull_hidden_roads);
+            const char* name = mode == ViewMode::Bird ? "bird" : "snail";
+            std::printf("[ measure  ] %s %dx%d%s: %zu of %zu road pieces drawn, %zu road blocks hidden, horizon %.2f ms\n",
+                        name, w, h, glow ? " glow" : "", culled.stats.road_segments, all.stats.road_segments,
+                        culled.stats.road_blocks_hidden, culled.stats.horizon_ms);
+            EXPECT_EQ(differingPixels(all.image, culled.image), 0u) << name << " " << w << "x" << h;
+            EXPECT_EQ(all.stats.road_blocks_hidden, 0u);
+            EXPECT_GT(culled.stats.road_segments, 0u) << name;
+            if (mode == ViewMode::Snail) {
+                EXPECT_GT(culled.stats.road_blocks_hidden, 0u) << w << "x" << h;
+                EXPECT_LT(culled.stats.road_segments, all.stats.road_segments * 9 / 10) << "ridges hide distant roads";
+            }
+        }
+    }
+}
+
 // The settled 1280x480 frame of the full scene in `mode` with a layer switch on and off: the
 // stats and images, and the pixels they differ in (printed with the road pieces drawn).
 struct Toggled {

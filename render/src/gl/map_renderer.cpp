@@ -19,6 +19,8 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
+#include "navmap/render/terrain_lod.h"
+
 namespace navmap::render::gl {
 
 namespace {
@@ -92,6 +94,13 @@ bool boxInView(const glm::mat4& view_projection, glm::vec3 lo, glm::vec3 hi, boo
 bool boxInView(const glm::mat4& view_projection, const TerrainBlock& b) {
     return boxInView(view_projection, glm::vec3(b.min, b.min_z), glm::vec3(b.max, b.max_z));
 }
+// Half the widest road footprint of the style (casing included), metres before distance scaling.
+float widestHalfWidth(const RoadStyle& rs) {
+    float half_width = 0.0f;
+    for (const RoadClassStyle& c : rs.classes) half_width = std::max(half_width, 0.5f * c.outerWidth());
+    return half_width;
+}
+
 // Whether road or route quads drawn from pieces within `e` can reach the view: `half_width` (fill
 // and casing) times the distance scale (seed 3.6.3) at the extent's farthest point from `eye`
 // around the extent. The far plane is left out: the view-space offset against z-fighting (seed
@@ -239,6 +248,10 @@ struct MapRenderer::GpuTile {
     std::vector<BlockRun> road_runs;      // TileMesh::road_runs: pieces per group and block
     std::vector<BlockExtent> road_blocks;  // their extents, for culling
     std::vector<RoadInstance> road_pieces;  // as uploaded, quad q from piece q (markOutlineCells)
+    // The lowest its drawn surface can lie (buildHorizon), over its own heights and those of the
+    // first floor_levels geomorph targets: the ones whose morph can start within the tile.
+    TerrainFloor floor;
+    int floor_levels = -1;
     // This frame's pieces in view (cullRoads): quads [first, first + count) of m_road_indices,
     // the casing pass from casing_first.
     GLsizei visible_first = 0, visible_count = 0, visible_casing_first = 0;
@@ -573,13 +586,91 @@ void MapRenderer::updateRoute(GpuTile& g, const MapFrame& frame) {
     g.route_count = static_cast<GLsizei>(g.route_instances.size());
 }
 
+void MapRenderer::buildHorizon(const MapFrame& frame, const glm::mat4& projection, const std::vector<GpuTile*>& tiles) {
+    const auto t0 = Clock::now();
+    const glm::dvec3 eye = frame.camera.eye;
+    // The azimuths of the view's corner rays around the view's own. A view that looks down on
+    // the ground below the eye spans every azimuth and sees little hidden (the bird's-eye view):
+    // no horizon then.
+    const glm::mat4 view_projection = projection * frame.camera.viewRelativeTo(eye);
+    const glm::vec4 below = view_projection * glm::vec4(0.0f, 0.0f, -1.0f, 1.0f);
+    m_horizon = {};
+    if (below.w > 0.0f && std::abs(below.x) < below.w && std::abs(below.y) < below.w) return;
+    const glm::mat4 to_world = glm::inverse(view_projection);
+    const glm::vec4 ahead = to_world * glm::vec4(0.0f, 0.0f, 1.0f, 1.0f);
+    {
+        // A view looking down steeply (the bird's-eye view, 50 degrees) sees little hidden behind
+        // the terrain; the snail's views look down 14 degrees.
+        const glm::dvec3 forward = glm::dvec3(ahead) / double(ahead.w);
+        constexpr double kSteepest = 0.6;  // radians down, about 35 degrees
+        if (std::atan2(-forward.z, glm::length(glm::dvec2(forward))) > kSteepest) return;
+    }
+    const double mid = std::atan2(double(ahead.y / ahead.w), double(ahead.x / ahead.w));
+    double from = 0.0, to = 0.0;
+    for (const glm::vec2 c : {glm::vec2(-1, -1), glm::vec2(1, -1), glm::vec2(-1, 1), glm::vec2(1, 1)}) {
+        const glm::vec4 p = to_world * glm::vec4(c, 1.0f, 1.0f);
+        const double rel = std::remainder(std::atan2(double(p.y / p.w), double(p.x / p.w)) - mid, 2.0 * std::numbers::pi);
+        from = std::min(from, rel);
+        to = std::max(to, rel);
+    }
+    constexpr double kMargin = 0.05;  // radians
+    const double az_from = mid + from - kMargin, az_to = mid + to + kMargin;
+    // Lines of sight out to the farthest tile corner. Under the eye: the highest vertex of its
+    // cell as drawn (geomorphed, as terrain_tile.vert does), which the two triangles between
+    // them do not exceed.
+    double last_m = 0.0;
+    double ground_m = std::numeric_limits<double>::infinity();  // no tile under the eye: no horizon
+    m_floors.clear();
+    for (GpuTile* g : tiles) {
+        const glm::dvec2 at = glm::dvec2(eye) - glm::dvec2(g->origin);  // the eye, tile-local
+        const double farthest = glm::length(glm::max(glm::abs(at), glm::abs(at - double(g->size_m))));
+        last_m = std::max(last_m, farthest);
+        // terrain_lod.cpp morphedHeight(): level j + 1 counts where slots 0..j can morph.
+        const double morph_farthest = std::sqrt(farthest * farthest + double(g->morph.eye_dz_m) * g->morph.eye_dz_m);
+        int levels = 0;
+        while (levels < kMorphLevels && g->morph.end_m[levels] > g->morph.start_m[levels] &&
+               morph_farthest > g->morph.start_m[levels]) {
+            ++levels;
+        }
+        if (levels != g->floor_levels) {
+            g->floor = terrainFloor(glm::dvec2(g->origin), g->size_m, g->grid_size, g->heights,
+                                    std::span(g->ancestor_heights).first(static_cast<std::size_t>(levels)));
+            g->floor_levels = levels;
+        }
+        m_floors.push_back(&g->floor);
+        if (g->grid_size < 2 || at.x < 0.0 || at.y < 0.0 || at.x > g->size_m || at.y > g->size_m) continue;
+        const double spacing = g->size_m / double(g->grid_size - 1);
+        const int c = std::clamp(static_cast<int>(at.x / spacing), 0, g->grid_size - 2);
+        const int r = std::clamp(static_cast<int>(at.y / spacing), 0, g->grid_size - 2);
+        double top = std::numeric_limits<double>::lowest();
+        for (const auto& [dr, dc] : {std::pair{0, 0}, std::pair{0, 1}, std::pair{1, 0}, std::pair{1, 1}}) {
+            const auto v = static_cast<std::size_t>((r + dr) * g->grid_size + c + dc);
+            std::array<float, kMorphLevels> ancestors{};
+            for (std::size_t k = 0; k < kMorphLevels; ++k) {
+                ancestors[k] = v < g->ancestor_heights[k].size() ? g->ancestor_heights[k][v] : g->heights[v];
+            }
+            const glm::dvec2 d = glm::dvec2(c + dc, r + dr) * spacing - at;
+            const auto distance = static_cast<float>(std::sqrt(glm::dot(d, d) + double(g->morph.eye_dz_m) * g->morph.eye_dz_m));
+            top = std::max(top, double(morphedHeight(distance, g->morph, g->heights[v], ancestors)));
+        }
+        ground_m = top + 0.5;  // float rounding in the shader
+    }
+    constexpr int kBins = 160;
+    m_horizon.build(eye, ground_m, m_floors, az_from, az_to, kBins, last_m);
+    m_stats.horizon_ms = msSince(t0);
+}
+
 void MapRenderer::cullRoads(const MapFrame& frame, const glm::mat4& projection, int height,
-                            const std::vector<GpuTile*>& tiles) {
+                            const std::vector<GpuTile*>& tiles, bool hidden) {
     // A quad reaches at most half the widest footprint (casing included) beyond its end points.
     const RoadStyle& rs = m_style.roads;
-    float half_width = 0.0f;
-    for (const RoadClassStyle& c : rs.classes) half_width = std::max(half_width, 0.5f * c.outerWidth());
+    const float half_width = widestHalfWidth(rs);
     const float focal_px = projection[1][1] * 0.5f * static_cast<float>(height);
+    if (hidden) buildHorizon(frame, projection, tiles);
+    const bool test_hidden = hidden && !m_horizon.empty();
+    const float widening_px = roadWideningPx(m_style);
+    const double keep = 1.0 - rs.z_offset_alpha;  // the roads' view-space scale (seed 3.6.2)
+    std::size_t blocks_hidden = 0;
     // Whether a piece's quads can show: not left out of this view (seed 7.3: from where
     // roads_geo.vert narrows its class to nothing, measured at the piece's middle as there), and
     // in it.
@@ -602,6 +693,20 @@ void MapRenderer::cullRoads(const MapFrame& frame, const glm::mat4& projection, 
         for (std::size_t b = 0; b < g->road_blocks.size(); ++b) {
             const BlockExtent& e = g->road_blocks[b];
             if (frame.layers.cull_blocks && !quadsInView(g->road_cull, eye, e, half_width, rs)) continue;
+            if (test_hidden) {
+                // Every quad drawn from the block's pieces lies in its extent grown by half the
+                // widest road at the distance scale of its farthest point (times sqrt 2: a corner
+                // is that far along and across), the least-width widening (pixels at that
+                // distance) and a metre.
+                const float farthest = glm::length(glm::max(glm::abs(eye - e.min), glm::abs(eye - e.max)));
+                const double reach = std::numbers::sqrt2_v<float> * half_width *
+                                         distanceWidthScale(farthest, rs.scale_threshold_m, rs.max_scale) +
+                                     widening_px * farthest / focal_px + 1.0f;
+                if (m_horizon.hides(g->origin + glm::dvec3(e.min) - reach, g->origin + glm::dvec3(e.max) + reach, keep)) {
+                    ++blocks_hidden;
+                    continue;
+                }
+            }
             // The level from the block's nearest point (its extent holds every level's pieces).
             const float distance = glm::length(eye - glm::clamp(eye, e.min, e.max));
             drawn[b] = 1u << (frame.layers.road_lod ? roadLodLevel(distance, focal_px, kRoadLodErrorPx) : 0);
@@ -626,6 +731,7 @@ void MapRenderer::cullRoads(const MapFrame& frame, const glm::mat4& projection, 
         }
         if (!casing_found) g->visible_casing_first = g->visible_first + g->visible_count;
     }
+    m_stats.road_blocks_hidden = blocks_hidden;
 }
 
 void MapRenderer::uploadRoadIndices() {
@@ -986,7 +1092,9 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target) {
     // and the terrain: llvmpipe rasterizes only after the whole scene is set up, so a core is
     // free meanwhile. The culling writes only the tiles' visible_* and m_road_indices, which
     // nothing before the road passes reads.
-    if (frame.layers.roads) m_side.start([&] { cullRoads(frame, projection, target.height(), tiles); });
+    // Hidden blocks are left out where the whole terrain in view is drawn (none waits for upload).
+    const bool cull_hidden = frame.layers.cull_hidden_roads && frame.layers.terrain && m_stats.tiles_pending == 0;
+    if (frame.layers.roads) m_side.start([&] { cullRoads(frame, projection, target.height(), tiles, cull_hidden); });
     const SideTask::Scope side_scope(m_side);
     // Where the screen-space outlines can be (seed 3.6.3), worked out on the other thread after
     // the culling, while this one sets up the road passes. It reads what the culling and

@@ -16,6 +16,7 @@
 #include "navmap/render/outline_cells.h"
 #include "navmap/render/renderer.h"
 #include "navmap/render/road_style.h"
+#include "navmap/render/terrain_horizon.h"
 #include "navmap/render/tile_mesh.h"
 #include "label_pass.h"
 #include "quad_indices.h"
@@ -89,9 +90,13 @@ private:
     /// The terrain of `tiles` in blocks: frustum-culled, each with the land-cover levels it reaches.
     void drawTerrain(const MapFrame& frame, const glm::mat4& projection, const glm::vec3& light,
                      const std::vector<GpuTile*>& tiles);
-    /// The road pieces of the blocks in view, per tile, into m_road_indices (drawRoads). No GL
-    /// calls: it runs beside the render thread.
-    void cullRoads(const MapFrame& frame, const glm::mat4& projection, int height, const std::vector<GpuTile*>& tiles);
+    /// The road pieces of the blocks in view, per tile, into m_road_indices (drawRoads); with
+    /// `hidden`, not those of blocks the drawn terrain hides (m_horizon). No GL calls: it runs
+    /// beside the render thread.
+    void cullRoads(const MapFrame& frame, const glm::mat4& projection, int height, const std::vector<GpuTile*>& tiles,
+                   bool hidden);
+    /// m_horizon from the eye over the azimuths the view spans, from the tiles' TerrainFloor.
+    void buildHorizon(const MapFrame& frame, const glm::mat4& projection, const std::vector<GpuTile*>& tiles);
     /// Hands the GPU this frame's m_road_indices (after cullRoads, on the render thread).
     void uploadRoadIndices();
     /// The screen cells where the outline filter can find road pixels (seed 3.6.3): the quads of
@@ -145,6 +150,8 @@ private:
     // and route vertex array.
     RepeatedIndices m_quad_indices{kQuadIndices, 4};
     std::vector<std::size_t> m_block_order;  // drawTerrain: a tile's blocks, nearest first
+    TerrainHorizon m_horizon;                // this frame's (cullRoads)
+    std::vector<const TerrainFloor*> m_floors;
     // This frame's road quads in view (cullRoads), 6 indices each, bound to every road vertex array.
     std::vector<std::uint32_t> m_road_indices;
     GLuint m_road_index_buffer = 0;

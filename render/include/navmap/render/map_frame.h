@@ -46,6 +46,10 @@ struct MapLayers {
     /// view, before the vertex stage (same image; on llvmpipe every vertex is CPU time on the
     /// render thread).
     bool cull_blocks = true;
+    /// Leave out the road pieces of tile blocks that the drawn terrain hides (TerrainHorizon: a
+    /// conservative horizon of the terrain's lowest heights, worked out on the CPU beside the
+    /// render thread). Same image; in snail's views most distant roads lie behind ridges.
+    bool cull_hidden_roads = true;
     /// Draw distant road pieces simplified (TileMesh road levels, chosen per tile block so that
     /// the simplification stays within half a pixel on screen); false: the draped pieces
     /// everywhere.
@@ -162,6 +166,8 @@ struct MapFrameStats {
     std::size_t tiles_uploaded = 0;
     std::size_t tiles_pending = 0;  ///< tiles not drawn yet because the upload budget was spent
     std::size_t road_segments = 0;
+    std::size_t road_blocks_hidden = 0;  ///< road blocks in view left out as hidden by the terrain (MapLayers::cull_hidden_roads)
+    double horizon_ms = 0;               ///< CPU time building the terrain's horizon for that, beside the render thread, always measured
     std::size_t terrain_triangles = 0;
     std::size_t building_triangles = 0;
     std::size_t outline_pixels = 0;  ///< pixels the outline filter ran on (seed 3.6.3; near roads unless the whole screen)
