@@ -180,53 +180,62 @@ std::pair<Rendered, Rendered> renderWithAndWithout(Renderer& renderer, MapFrame 
     return out;
 }
 
-TEST(AndorraMap, RoadAndBuildingBlocksOutsideTheViewAreNotDrawn) {
-    for (ViewMode mode : {ViewMode::Bird, ViewMode::Snail}) {
-        for (const auto& [w, h, glow] : {std::tuple{kW, kH, false}, std::tuple{1280, 480, false}, std::tuple{kW, kH, true}}) {
-            auto renderer = rendererOfSize(w, h);
-            MapFrame frame = navmap::test::settledAndorraFrame(mode, w, h);
-            frame.layers = layersFor(3);
-            frame.layers.glow_roads = glow;  // the terrain before the buildings
-            const auto [with_culling, without] = renderWithAndWithout(*renderer, frame, &MapLayers::cull_blocks);
-            const MapFrameStats& culled = with_culling.stats;
-            const MapFrameStats& all = without.stats;
-            const std::size_t differ = differingPixels(without.image, with_culling.image);
-            const char* name = mode == ViewMode::Bird ? "bird" : "snail";
-            std::printf("[ measure  ] %s %dx%d%s: %zu of %zu road pieces, %zu of %zu building triangles drawn\n", name, w,
-                        h, glow ? " glow" : "", culled.road_segments, all.road_segments, culled.building_triangles, all.building_triangles);
-            EXPECT_EQ(differ, 0u) << name << " " << w << "x" << h;
-            EXPECT_GT(culled.road_segments, 0u);
-            EXPECT_LT(culled.road_segments, all.road_segments / 2) << name;
-            EXPECT_GT(culled.building_triangles, 0u);
-            EXPECT_LT(culled.building_triangles, all.building_triangles) << name;
-        }
-    }
-}
-
-// Road blocks that the drawn terrain hides (MapLayers::cull_hidden_roads, TerrainHorizon) are
-// left out: the same image, pixel for pixel, outlines and glow included, from far fewer road
-// pieces in snail's view, where ridges hide most distant roads.
-TEST(AndorraMap, RoadBlocksHiddenBehindTheTerrainAreNotDrawn) {
+// A culling switch (same image, less drawn) on and off in the settled full scene: both views, at
+// the test size and at 1280x480, and with the glow, which draws the terrain before the buildings.
+struct CullingCase {
+    const char* name;  // the view
+    ViewMode mode;
+    int w, h;
+    bool glow;
+    Rendered culled, all;
+};
+template <typename Check>
+void forEachCullingCase(bool MapLayers::*option, Check check) {
     for (ViewMode mode : {ViewMode::Bird, ViewMode::Snail}) {
         for (const auto& [w, h, glow] : {std::tuple{kW, kH, false}, std::tuple{1280, 480, false}, std::tuple{kW, kH, true}}) {
             auto renderer = rendererOfSize(w, h);
             MapFrame frame = navmap::test::settledAndorraFrame(mode, w, h);
             frame.layers = layersFor(3);
             frame.layers.glow_roads = glow;
-            const auto [culled, all] = renderWithAndWithout(*renderer, frame, &MapLayers::cull_hidden_roads);
-            const char* name = mode == ViewMode::Bird ? "bird" : "snail";
-            std::printf("[ measure  ] %s %dx%d%s: %zu of %zu road pieces drawn, %zu road blocks hidden, horizon %.2f ms\n",
-                        name, w, h, glow ? " glow" : "", culled.stats.road_segments, all.stats.road_segments,
-                        culled.stats.road_blocks_hidden, culled.stats.horizon_ms);
-            EXPECT_EQ(differingPixels(all.image, culled.image), 0u) << name << " " << w << "x" << h;
-            EXPECT_EQ(all.stats.road_blocks_hidden, 0u);
-            EXPECT_GT(culled.stats.road_segments, 0u) << name;
-            if (mode == ViewMode::Snail) {
-                EXPECT_GT(culled.stats.road_blocks_hidden, 0u) << w << "x" << h;
-                EXPECT_LT(culled.stats.road_segments, all.stats.road_segments * 9 / 10) << "ridges hide distant roads";
-            }
+            auto [culled, all] = renderWithAndWithout(*renderer, frame, option);
+            const CullingCase c{mode == ViewMode::Bird ? "bird" : "snail", mode, w, h, glow, std::move(culled), std::move(all)};
+            EXPECT_EQ(differingPixels(c.all.image, c.culled.image), 0u) << c.name << " " << w << "x" << h << (glow ? " glow" : "");
+            check(c);
         }
     }
+}
+
+TEST(AndorraMap, RoadAndBuildingBlocksOutsideTheViewAreNotDrawn) {
+    forEachCullingCase(&MapLayers::cull_blocks, [](const CullingCase& c) {
+        const MapFrameStats& culled = c.culled.stats;
+        const MapFrameStats& all = c.all.stats;
+        std::printf("[ measure  ] %s %dx%d%s: %zu of %zu road pieces, %zu of %zu building triangles drawn\n", c.name, c.w,
+                    c.h, c.glow ? " glow" : "", culled.road_segments, all.road_segments, culled.building_triangles,
+                    all.building_triangles);
+        EXPECT_GT(culled.road_segments, 0u);
+        EXPECT_LT(culled.road_segments, all.road_segments / 2) << c.name;
+        EXPECT_GT(culled.building_triangles, 0u);
+        EXPECT_LT(culled.building_triangles, all.building_triangles) << c.name;
+    });
+}
+
+// Road blocks that the drawn terrain hides (MapLayers::cull_hidden_roads, TerrainHorizon) are
+// left out: the same image, pixel for pixel, outlines and glow included, from fewer road pieces
+// in snail's view, where ridges hide most distant roads.
+TEST(AndorraMap, RoadBlocksHiddenBehindTheTerrainAreNotDrawn) {
+    forEachCullingCase(&MapLayers::cull_hidden_roads, [](const CullingCase& c) {
+        const MapFrameStats& culled = c.culled.stats;
+        const MapFrameStats& all = c.all.stats;
+        std::printf("[ measure  ] %s %dx%d%s: %zu of %zu road pieces drawn, %zu road blocks hidden, horizon %.2f ms\n",
+                    c.name, c.w, c.h, c.glow ? " glow" : "", culled.road_segments, all.road_segments,
+                    culled.road_blocks_hidden, culled.horizon_ms);
+        EXPECT_EQ(all.road_blocks_hidden, 0u);
+        EXPECT_GT(culled.road_segments, 0u) << c.name;
+        if (c.mode == ViewMode::Snail) {
+            EXPECT_GT(culled.road_blocks_hidden, 0u) << c.w << "x" << c.h;
+            EXPECT_LT(culled.road_segments, all.road_segments * 9 / 10) << "ridges hide distant roads";
+        }
+    });
 }
 
 // The settled 1280x480 frame of the full scene in `mode` with a layer switch on and off: the
