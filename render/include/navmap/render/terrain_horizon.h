@@ -1,6 +1,6 @@
 #pragma once
 // A conservative horizon of the drawn terrain as seen from the eye, to leave out the road blocks
-// the terrain hides before their vertices cost anything (MapLayers::hidden_roads). In snail's
+// the terrain hides before their vertices cost anything (MapLayers::cull_hidden_roads). In snail's
 // views most distant roads lie behind ridges. Occlusion queries on the GPU would find them
 // exactly, but on llvmpipe waiting for them costs as much as drawing the roads
 // (docs/rendering.md); this is worked out on the CPU beside the render thread.
