@@ -101,15 +101,23 @@ float widestHalfWidth(const RoadStyle& rs) {
     return half_width;
 }
 
-// Whether road or route quads drawn from pieces within `e` can reach the view: `half_width` (fill
-// and casing) times the distance scale (seed 3.6.3) at the extent's farthest point from `eye`
-// around the extent. The far plane is left out: the view-space offset against z-fighting (seed
-// 3.6.2) pulls pieces a little towards the camera.
-bool quadsInView(const glm::mat4& view_projection, glm::vec3 eye, const BlockExtent& e, float half_width,
-                 const RoadStyle& rs) {
-    if (e.min.x > e.max.x) return false;  // nothing there
+// How far road or route quads drawn from pieces within `e` reach beyond it, before the least-width
+// widening: `half_width` (fill and casing) at the distance scale (seed 3.6.3) of the extent's
+// farthest point from `eye`, times sqrt 2 (a corner lies that far along and across the piece).
+struct QuadReach {
+    float farthest_m = 0.0f;
+    float reach_m = 0.0f;
+};
+QuadReach quadReach(glm::vec3 eye, const BlockExtent& e, float half_width, const RoadStyle& rs) {
     const float farthest = glm::length(glm::max(glm::abs(eye - e.min), glm::abs(eye - e.max)));
-    const float reach = half_width * distanceWidthScale(farthest, rs.scale_threshold_m, rs.max_scale);
+    return {farthest, std::numbers::sqrt2_v<float> * half_width * distanceWidthScale(farthest, rs.scale_threshold_m, rs.max_scale)};
+}
+
+// Whether road or route quads drawn from pieces within `e`, reaching `reach` beyond it, can reach
+// the view. The far plane is left out: the view-space offset against z-fighting (seed 3.6.2)
+// pulls pieces a little towards the camera.
+bool quadsInView(const glm::mat4& view_projection, const BlockExtent& e, float reach) {
+    if (e.min.x > e.max.x) return false;  // nothing there
     return boxInView(view_projection, e.min - reach, e.max + reach, false);
 }
 
@@ -252,6 +260,25 @@ struct MapRenderer::GpuTile {
     // first floor_levels geomorph targets: the ones whose morph can start within the tile.
     TerrainFloor floor;
     int floor_levels = -1;
+
+    /// The highest vertex, as geomorphed for this frame (terrain_tile.vert, terrain_lod.cpp
+    /// morphedHeight), of the grid cell holding the tile-local point `at` seen from right above
+    /// it: the drawn surface over the cell lies no higher.
+    [[nodiscard]] double highestDrawnAround(glm::dvec2 at) const {
+        const double spacing = size_m / double(grid_size - 1);
+        const int c = std::clamp(static_cast<int>(at.x / spacing), 0, grid_size - 2);
+        const int r = std::clamp(static_cast<int>(at.y / spacing), 0, grid_size - 2);
+        double top = std::numeric_limits<double>::lowest();
+        for (const auto& [dr, dc] : {std::pair{0, 0}, std::pair{0, 1}, std::pair{1, 0}, std::pair{1, 1}}) {
+            const auto v = static_cast<std::size_t>((r + dr) * grid_size + c + dc);
+            std::array<float, kMorphLevels> targets{};
+            for (std::size_t k = 0; k < kMorphLevels; ++k) targets[k] = v < ancestor_heights[k].size() ? ancestor_heights[k][v] : heights[v];
+            const glm::dvec2 d = glm::dvec2(c + dc, r + dr) * spacing - at;
+            const auto distance = static_cast<float>(std::sqrt(glm::dot(d, d) + double(morph.eye_dz_m) * morph.eye_dz_m));
+            top = std::max(top, double(morphedHeight(distance, morph, heights[v], targets)));
+        }
+        return top;
+    }
     // This frame's pieces in view (cullRoads): quads [first, first + count) of m_road_indices,
     // the casing pass from casing_first.
     GLsizei visible_first = 0, visible_count = 0, visible_casing_first = 0;
@@ -567,8 +594,9 @@ void MapRenderer::updateRoute(GpuTile& g, const MapFrame& frame) {
     // as roads_geo.vert draws it).
     const glm::vec3 eye(frame.camera.eye - g.origin);
     g.route_in_view = !g.route_pieces.empty() &&
-                      (!frame.layers.cull_blocks || quadsInView(g.road_cull, eye, g.route_extent,
-                                                                0.5f * routeOuterWidth(m_style.route_width_m), m_style.roads));
+                      (!frame.layers.cull_blocks ||
+                       quadsInView(g.road_cull, g.route_extent,
+                                   quadReach(eye, g.route_extent, 0.5f * routeOuterWidth(m_style.route_width_m), m_style.roads).reach_m));
     if (!g.route_in_view) return;
     if (!g.route_stale && g.morph.end_m[0] <= 0.0f && !g.route_morphed) return;  // unmorphed: the buffer is current
     g.route_stale = false;
@@ -638,22 +666,9 @@ void MapRenderer::buildHorizon(const MapFrame& frame, const glm::mat4& projectio
             g->floor_levels = levels;
         }
         m_floors.push_back(&g->floor);
-        if (g->grid_size < 2 || at.x < 0.0 || at.y < 0.0 || at.x > g->size_m || at.y > g->size_m) continue;
-        const double spacing = g->size_m / double(g->grid_size - 1);
-        const int c = std::clamp(static_cast<int>(at.x / spacing), 0, g->grid_size - 2);
-        const int r = std::clamp(static_cast<int>(at.y / spacing), 0, g->grid_size - 2);
-        double top = std::numeric_limits<double>::lowest();
-        for (const auto& [dr, dc] : {std::pair{0, 0}, std::pair{0, 1}, std::pair{1, 0}, std::pair{1, 1}}) {
-            const auto v = static_cast<std::size_t>((r + dr) * g->grid_size + c + dc);
-            std::array<float, kMorphLevels> ancestors{};
-            for (std::size_t k = 0; k < kMorphLevels; ++k) {
-                ancestors[k] = v < g->ancestor_heights[k].size() ? g->ancestor_heights[k][v] : g->heights[v];
-            }
-            const glm::dvec2 d = glm::dvec2(c + dc, r + dr) * spacing - at;
-            const auto distance = static_cast<float>(std::sqrt(glm::dot(d, d) + double(g->morph.eye_dz_m) * g->morph.eye_dz_m));
-            top = std::max(top, double(morphedHeight(distance, g->morph, g->heights[v], ancestors)));
+        if (g->grid_size >= 2 && at.x >= 0.0 && at.y >= 0.0 && at.x <= g->size_m && at.y <= g->size_m) {
+            ground_m = g->highestDrawnAround(at) + 0.5;  // float rounding in the shader
         }
-        ground_m = top + 0.5;  // float rounding in the shader
     }
     constexpr int kBins = 160;
     m_horizon.build(eye, ground_m, m_floors, az_from, az_to, kBins, last_m);
@@ -692,16 +707,12 @@ void MapRenderer::cullRoads(const MapFrame& frame, const glm::mat4& projection, 
         drawn.assign(g->road_blocks.size(), 0u);
         for (std::size_t b = 0; b < g->road_blocks.size(); ++b) {
             const BlockExtent& e = g->road_blocks[b];
-            if (frame.layers.cull_blocks && !quadsInView(g->road_cull, eye, e, half_width, rs)) continue;
+            const QuadReach quads = quadReach(eye, e, half_width, rs);
+            if (frame.layers.cull_blocks && !quadsInView(g->road_cull, e, quads.reach_m)) continue;
             if (test_hidden) {
-                // Every quad drawn from the block's pieces lies in its extent grown by half the
-                // widest road at the distance scale of its farthest point (times sqrt 2: a corner
-                // is that far along and across), the least-width widening (pixels at that
-                // distance) and a metre.
-                const float farthest = glm::length(glm::max(glm::abs(eye - e.min), glm::abs(eye - e.max)));
-                const double reach = std::numbers::sqrt2_v<float> * half_width *
-                                         distanceWidthScale(farthest, rs.scale_threshold_m, rs.max_scale) +
-                                     widening_px * farthest / focal_px + 1.0f;
+                // Every quad drawn from the block's pieces lies in its extent grown by their
+                // reach, the least-width widening (pixels at the farthest distance) and a metre.
+                const double reach = quads.reach_m + widening_px * quads.farthest_m / focal_px + 1.0f;
                 if (m_horizon.hides(g->origin + glm::dvec3(e.min) - reach, g->origin + glm::dvec3(e.max) + reach, keep)) {
                     ++blocks_hidden;
                     continue;
