@@ -4,6 +4,8 @@
 #include <string>
 #include <system_error>
 
+#include <hb-ot.h>
+
 #include "font_backend.h"
 
 namespace navmap::render::text {
@@ -53,6 +55,16 @@ FontId loadFont(FontCollection::Impl& impl, const std::filesystem::path& path) {
         font.metrics.ascender = static_cast<float>(ext.ascender) / font.units_per_em;
         font.metrics.descender = static_cast<float>(ext.descender) / font.units_per_em;
         font.metrics.line_gap = static_cast<float>(ext.line_gap) / font.units_per_em;
+    }
+    // Cap height from the OS/2 table; fonts without it measure a capital H.
+    hb_position_t cap = 0;
+    if (hb_ot_metrics_get_position(font.hb, HB_OT_METRICS_TAG_CAP_HEIGHT, &cap) && cap > 0) {
+        font.metrics.cap_height = static_cast<float>(cap) / font.units_per_em;
+    } else if (hb_codepoint_t h = 0; hb_font_get_nominal_glyph(font.hb, 'H', &h)) {
+        hb_glyph_extents_t e{};
+        if (hb_font_get_glyph_extents(font.hb, h, &e) && e.y_bearing > 0) {
+            font.metrics.cap_height = static_cast<float>(e.y_bearing) / font.units_per_em;
+        }
     }
     impl.fonts.push_back(font);
     return static_cast<FontId>(impl.fonts.size() - 1);

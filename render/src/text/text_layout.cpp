@@ -1,6 +1,7 @@
 #include "navmap/render/text/text_layout.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace navmap::render::text {
 
@@ -39,6 +40,7 @@ TextMetrics measureText(const ShapedText& text, float size_px) {
     m.ascent = text.ascender * size_px;
     m.descent = -text.descender * size_px;
     m.height = m.ascent + m.descent;
+    m.cap_height = text.cap_height * size_px;
     return m;
 }
 
@@ -68,6 +70,7 @@ LaidOutText layoutIconText(const ShapedText& icon, const ShapedText& text, Glyph
     out.metrics.ascent = std::max(mi.ascent, mt.ascent);
     out.metrics.descent = std::max(mi.descent, mt.descent);
     out.metrics.height = out.metrics.ascent + out.metrics.descent;
+    out.metrics.cap_height = mt.cap_height;
     const float left = -0.5f * out.metrics.width;
     // Both line boxes centered on the anchor's y.
     const float icon_base = 0.5f * (mi.ascent - mi.descent);
@@ -82,6 +85,30 @@ LaidOutText layoutIconText(const ShapedText& icon, const ShapedText& text, Glyph
     out.quads.insert(out.quads.begin(), icon_quads.quads.begin(), icon_quads.quads.end());
     out.dropped += icon_quads.dropped;
     return out;
+}
+
+float drawnGlyphInsetPx(float em_px, float spread_em, float outline_px, float halo_px, float scale) {
+    // As text_sdf.vert: outline and halo must stay inside the stored distance range of the quad.
+    const float spread = spread_em * em_px;
+    const float reach = std::max(spread - 1.0f, 0.0f);
+    const float outline = std::min(outline_px * scale, reach);
+    const float halo = std::min(halo_px * scale, reach - outline);
+    return std::max(spread - (outline + halo + 0.5f), 0.0f);
+}
+
+void appendDrawnGlyphBoxes(std::span<const GlyphQuad> quads, float size_px, float scale, float angle_rad,
+                           glm::vec2 position, float spread_em, float outline_px, float halo_px,
+                           std::vector<ScreenQuad>& out) {
+    const float inset = drawnGlyphInsetPx(size_px * scale, spread_em, outline_px, halo_px, scale);
+    const float c = std::cos(angle_rad);
+    const float s = std::sin(angle_rad);
+    const auto place = [&](glm::vec2 p) { return position + glm::vec2(c * p.x - s * p.y, s * p.x + c * p.y); };
+    for (const GlyphQuad& q : quads) {
+        const glm::vec2 lo = q.p0 * scale + inset;
+        const glm::vec2 hi = q.p1 * scale - inset;
+        if (!(hi.x > lo.x && hi.y > lo.y)) continue;
+        out.push_back({place(lo), place({hi.x, lo.y}), place(hi), place({lo.x, hi.y})});
+    }
 }
 
 }  // namespace navmap::render::text

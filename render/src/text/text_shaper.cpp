@@ -45,6 +45,7 @@ ShapedText TextShaper::shape(std::string_view utf8, FontStyle style) {
     out.style = style;
     out.ascender = impl.fonts[primary].metrics.ascender;
     out.descender = impl.fonts[primary].metrics.descender;
+    out.cap_height = impl.fonts[primary].metrics.cap_height;
 
     // 1. One font per character: the first of the chain that has it.
     const std::vector<DecodedChar> chars = decodeUtf8(utf8);

@@ -41,6 +41,7 @@ struct FontMetrics {
     float ascender = 0.8f;
     float descender = -0.2f;  ///< negative: below the baseline
     float line_gap = 0.0f;
+    float cap_height = 0.73f;  ///< height of capital letters above the baseline (OS/2 sCapHeight)
 };
 
 /// Loaded fonts. Construct at setup (throws TextError); afterwards read-only and safe to share

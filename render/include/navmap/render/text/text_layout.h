@@ -2,7 +2,9 @@
 // Shaped text -> glyph quads in pixels relative to the label anchor, and text metrics for
 // the label layout's boxes (seed 4.4.4 OOBBs).
 
+#include <array>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include <glm/vec2.hpp>
@@ -29,6 +31,7 @@ struct TextMetrics {
     float height = 0.0f;   ///< ascent + descent (line box of the primary font)
     float ascent = 0.0f;   ///< above the baseline, positive
     float descent = 0.0f;  ///< below the baseline, positive
+    float cap_height = 0.0f;  ///< capital letters above the baseline (the legibility measure)
 };
 
 /// Where the anchor lies on the text box.
@@ -55,5 +58,22 @@ LaidOutText layoutText(const ShapedText& text, GlyphAtlas& atlas, float size_px,
 /// x-height band, separated by `gap_em` em; the whole box centered on the anchor.
 LaidOutText layoutIconText(const ShapedText& icon, const ShapedText& text, GlyphAtlas& atlas, float size_px,
                            float icon_scale = 1.2f, float gap_em = 0.3f);
+
+/// A glyph's drawn extent on screen: a convex quadrilateral, corners in order around it.
+using ScreenQuad = std::array<glm::vec2, 4>;
+
+/// How far inside a glyph quad its drawn pixels end, in screen px. A quad carries `spread_em`
+/// em of distance field around the ink; the SDF shader colours the outline and the halo out to
+/// at most that spread less a pixel, plus half a pixel of antialiasing (text_sdf.vert/.frag).
+/// `em_px` is the em size on screen; outline and halo widths are px at scale 1, `scale` is the
+/// label's scale. Never negative.
+float drawnGlyphInsetPx(float em_px, float spread_em, float outline_px, float halo_px, float scale);
+
+/// The drawn extent of each glyph of a screen-space label (quads laid out at `size_px`, drawn at
+/// `scale`, rotated by `angle_rad` clockwise on a y-down screen about `position`): the quad
+/// shrunk by drawnGlyphInsetPx(), rotated and moved, appended to `out`.
+void appendDrawnGlyphBoxes(std::span<const GlyphQuad> quads, float size_px, float scale, float angle_rad,
+                           glm::vec2 position, float spread_em, float outline_px, float halo_px,
+                           std::vector<ScreenQuad>& out);
 
 }  // namespace navmap::render::text
