@@ -55,6 +55,10 @@ std::string checkCandidate(const LabelCandidate& c) {
         return describe(c, "non-finite or out-of-range line segment start", c.line_p0) + " end (" +
                std::to_string(c.line_p1.x) + ", " + std::to_string(c.line_p1.y) + ")";
     }
+    if (!finite(c.axis) || (c.axis != glm::vec2(0.0F) && std::abs(glm::length(c.axis) - 1.0F) > 1e-3F)) {
+        return describe(c, "axis must be zero or a unit vector", c.axis);
+    }
+    if (!(std::abs(c.cap_height) <= kMaxSize)) return describe(c, "non-finite cap height", {c.cap_height, 0.0F});
     if (c.kind == LabelKind::Circle && !(std::abs(c.circle_radius) <= kMaxSize)) {
         return describe(c, "non-finite or out-of-range circle radius", {c.circle_radius, 0.0F});
     }
@@ -79,6 +83,10 @@ FrameReport LabelLayout::setFrame(std::span<const LabelCandidate> candidates, co
         report.first_error = "camera viewport (" + std::to_string(camera.viewport.x) + ", " +
                              std::to_string(camera.viewport.y) + ") must be within [0, 1e6] px; treated as unbounded";
         m_camera.viewport = glm::vec2(0.0F);
+    }
+    if (!std::isfinite(m_camera.depth_reference_m) || m_camera.depth_reference_m > kMaxCoord) {
+        if (report.first_error.empty()) report.first_error = "camera depth_reference_m is not finite";
+        m_camera.depth_reference_m = 0.0F;
     }
     if (!std::isfinite(m_camera.tilt_deg)) {
         if (report.first_error.empty()) report.first_error = "camera tilt_deg is not finite";
@@ -182,6 +190,7 @@ int LabelLayout::advance(double dt_s) {
         ++steps;
     }
     m_steps_done = due;  // too far behind: drop the rest instead of spiralling
+    resolveOverlaps();
     updateOutput();
     return steps;
 }
@@ -203,13 +212,28 @@ void LabelLayout::updateShape(Label& l, bool placing) const {
     // seed 4.3.3: scale by depth, but never below a readable size.
     float s = 1.0F;
     if (in.depth > 0.0F) {
-        s = std::clamp(m_params.depth_reference_m / in.depth, m_params.min_scale, m_params.max_scale);
-        s = std::max(s, m_params.min_readable_height_px / in.size.y);
+        const float reference = m_camera.depth_reference_m > 0.0F ? m_camera.depth_reference_m : m_params.depth_reference_m;
+        s = std::clamp(reference / in.depth, m_params.min_scale, m_params.max_scale);
+        const float cap = in.cap_height > 0.0F ? in.cap_height : 0.7F * in.size.y;
+        s = std::max(s, m_params.min_cap_height_px / cap);
     }
     l.scale = s;
     l.half = in.size * (0.5F * s);
     l.mass = massFromPriority(in.priority, m_params.mass_min, m_params.mass_max);
 
+    if (in.axis != glm::vec2(0.0F)) {
+        // World-space text: the projection gives the baseline; the box follows it exactly.
+        l.rotated = in.kind == LabelKind::Line;
+        l.axis = in.axis;
+        l.angle = std::atan2(in.axis.y, in.axis.x);
+        if (in.kind == LabelKind::Line) {
+            const glm::vec2 d = in.line_p1 - in.line_p0;
+            const float len = glm::length(d);
+            l.dir = len > 1e-3F ? d / len : in.axis;
+            if (glm::dot(l.dir, in.axis) < 0.0F) l.dir = -l.dir;
+        }
+        return;
+    }
     if (in.kind != LabelKind::Line) {
         l.rotated = false;
         l.angle = 0.0F;  // points, areas and circles are always horizontal (seed 4.4.2)
@@ -343,6 +367,16 @@ void LabelLayout::integrate(float dt) {
     });
     m_stats.last_pairs = pairs;
     m_stats.last_collisions = collisions;
+    // Keep-out areas (the vehicle marker, the route ahead) push like a label that never moves.
+    for (const OrientedBox& k : m_keep_out) {
+        const OrientedBox zone = k.inflated(m_params.buffer_px);
+        m_grid.query(zone.center, zone.aabbHalfExtents(), [&](std::uint32_t a) {
+            const Collision hit = collide(m_boxes[a], zone, -1.0F);
+            if (!hit.hit) return;
+            m_force[a] += hit.force;
+            m_force_abs[a] += glm::length(hit.force);
+        });
+    }
 
     for (std::size_t a = 0; a < n; ++a) {
         Label& l = m_labels[m_active[a]];
@@ -350,12 +384,14 @@ void LabelLayout::integrate(float dt) {
         switch (l.in.kind) {
             case LabelKind::Point:
             case LabelKind::Area: {
-                const CandidateSet cs = candidatePositions(l.in.kind, l.half, false, l.dir, 0.0F, m_params);
+                const CandidateSet cs =
+                    candidatePositions(l.in.kind, l.half, false, l.dir, 0.0F, m_params, l.in.upright);
                 f_behavior = freeForce(l.offset, cs.offset[l.candidate], m_params.k_feature);  // eq. 4.7
                 break;
             }
             case LabelKind::Line: {
-                const CandidateSet cs = candidatePositions(l.in.kind, l.half, l.rotated, l.dir, 0.0F, m_params);
+                const CandidateSet cs =
+                    candidatePositions(l.in.kind, l.half, l.rotated, l.dir, 0.0F, m_params, l.in.upright);
                 f_behavior = l.rotated ? lineForce(l.offset, l.dir, cs.d_optimum[l.candidate], m_params.k_normal,
                                                    m_params.k_tangent)  // eq. 4.10-4.15
                                        : freeForce(l.offset, cs.offset[l.candidate], m_params.k_feature);
@@ -417,13 +453,19 @@ void LabelLayout::place() {
                           return x.priority != y.priority ? x.priority > y.priority : x.id < y.id;
                       });
     const bool bounded = m_camera.viewport.x > 0.0F && m_camera.viewport.y > 0.0F;
+    // Labels still fading out are drawn: a new one must not appear on top of them either.
+    m_fading_boxes.clear();
+    for (const Label& f : m_labels) {
+        if (f.state == LabelState::FadingOut && f.alpha > 0.0F) m_fading_boxes.push_back(textBox(f).inflated(m_params.buffer_px));
+    }
     // seed 4.5.3: new labels keep a larger zone around placed ones than the force buffer.
     const float zone_extra = m_params.placement_zone_px - m_params.buffer_px;
     m_placed_now.clear();
     for (std::size_t q = 0; q < k; ++q) {
         Label& l = m_labels[m_queue[q]];
         updateShape(l, true);
-        const CandidateSet cs = candidatePositions(l.in.kind, l.half, l.rotated, l.dir, l.in.circle_radius, m_params);
+        const CandidateSet cs = candidatePositions(l.in.kind, l.half, l.rotated, l.dir, l.in.circle_radius, m_params,
+                                                   l.in.upright);
         const glm::vec2 axis = l.axis;
         int chosen = -1;
         for (int c = 0; c < cs.count && chosen < 0; ++c) {
@@ -444,6 +486,14 @@ void LabelLayout::place() {
                 }
             });
             for (const OrientedBox& other : m_placed_now) {
+                if (!free) break;
+                free = zone.overlapDepth(other) < 0.0F;
+            }
+            for (const OrientedBox& other : m_keep_out) {
+                if (!free) break;
+                free = zone.overlapDepth(other) < 0.0F;
+            }
+            for (const OrientedBox& other : m_fading_boxes) {
                 if (!free) break;
                 free = zone.overlapDepth(other) < 0.0F;
             }
@@ -497,6 +547,60 @@ void LabelLayout::fade(float dt) {
             case LabelState::Visible:
                 break;
         }
+    }
+}
+
+void LabelLayout::setKeepOut(std::span<const OrientedBox> areas) {
+    m_keep_out.clear();
+    for (const OrientedBox& b : areas) {
+        if (inRange(b.center, kMaxCoord) && finite(b.half_extents) && b.half_extents.x >= 0.0F &&
+            b.half_extents.y >= 0.0F && b.half_extents.x <= kMaxSize && b.half_extents.y <= kMaxSize &&
+            finite(b.axis) && std::abs(glm::length(b.axis) - 1.0F) <= 1e-3F) {
+            m_keep_out.push_back(b);
+        } else {
+            ++m_stats.rejected_inputs;
+        }
+    }
+}
+
+void LabelLayout::resolveOverlaps() {
+    // No drawn frame shows two labels over each other, or a label over a keep-out area: in rank
+    // order (placed labels by priority, then those fading out), a label whose text box overlaps
+    // one kept before it, or a keep-out area, goes below the visible opacity at once. A placed
+    // one is removed and fades out from there (re-inserted later, seed 4.5.3).
+    m_rank.clear();
+    for (std::uint32_t i = 0; i < m_labels.size(); ++i) {
+        if (m_labels[i].alpha >= m_params.visible_alpha) m_rank.push_back(i);
+    }
+    std::sort(m_rank.begin(), m_rank.end(), [this](std::uint32_t a, std::uint32_t b) {
+        const Label& x = m_labels[a];
+        const Label& y = m_labels[b];
+        const bool px = placed(x.state), py = placed(y.state);
+        if (px != py) return px;
+        if (x.in.priority != y.in.priority) return x.in.priority > y.in.priority;
+        return x.in.id < y.in.id;
+    });
+    m_kept.clear();
+    const float below = std::nextafter(m_params.visible_alpha, 0.0F);
+    for (const std::uint32_t i : m_rank) {
+        Label& l = m_labels[i];
+        const OrientedBox box = textBox(l);
+        bool clash = false;
+        for (const OrientedBox& k : m_keep_out) {
+            if (box.overlapDepth(k) > m_params.hard_overlap_px) {
+                clash = true;
+                break;
+            }
+        }
+        for (std::size_t k = 0; k < m_kept.size() && !clash; ++k) {
+            clash = box.overlapDepth(m_kept[k]) > m_params.hard_overlap_px;
+        }
+        if (!clash) {
+            m_kept.push_back(box);
+            continue;
+        }
+        if (placed(l.state)) remove(l, RemovalReason::Overlap);
+        l.alpha = std::min(l.alpha, below);
     }
 }
 

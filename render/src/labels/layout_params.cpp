@@ -47,7 +47,9 @@ std::string LayoutParams::validate() const {
     if (!positive(depth_reference_m)) return bad("depth_reference_m", depth_reference_m, "> 0");
     if (!positive(min_scale)) return bad("min_scale", min_scale, "> 0");
     if (!positive(max_scale) || max_scale < min_scale) return bad("max_scale", max_scale, ">= min_scale");
-    if (!nonNegative(min_readable_height_px)) return bad("min_readable_height_px", min_readable_height_px, ">= 0");
+    if (!nonNegative(min_cap_height_px)) return bad("min_cap_height_px", min_cap_height_px, ">= 0");
+    if (!nonNegative(hard_overlap_px)) return bad("hard_overlap_px", hard_overlap_px, ">= 0");
+    if (!positive(visible_alpha) || visible_alpha > 1.0F) return bad("visible_alpha", visible_alpha, "in (0, 1]");
     if (!nonNegative(rotate_max_tilt_deg)) return bad("rotate_max_tilt_deg", rotate_max_tilt_deg, ">= 0");
     if (!nonNegative(max_rotation_deg) || max_rotation_deg > 90.0F) {
         return bad("max_rotation_deg", max_rotation_deg, "in [0, 90]");

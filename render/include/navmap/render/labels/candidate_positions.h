@@ -23,8 +23,10 @@ struct CandidateSet {
 /// - Circle: the same four directions at radius `radius` (eq. 4.17's r).
 /// - Line: three offsets, above the line, below it, and on it; along the normal of `dir`
 ///   when `rotated`, else vertically with horizontal text.
+/// `upright` (a label standing in the 3D world on its anchor) keeps only positions above the
+/// anchor: Point/Area upper right, upper left, above; Line above, and one line higher.
 [[nodiscard]] CandidateSet candidatePositions(LabelKind kind, glm::vec2 half, bool rotated, glm::vec2 dir,
-                                              float radius, const LayoutParams& params);
+                                              float radius, const LayoutParams& params, bool upright = false);
 
 /// Radius of a circle label: the caller's value if > 0, else the four-position distance.
 [[nodiscard]] float circleRadius(float requested, glm::vec2 half, const LayoutParams& params);

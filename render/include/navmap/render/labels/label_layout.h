@@ -77,6 +77,12 @@ public:
     /// runs nothing.
     int advance(double dt_s);
 
+    /// Areas no label may cover (screen boxes: the vehicle marker, the route just ahead of the
+    /// car). They push labels away like a label that never moves, no label is placed over them,
+    /// and a label over one drops below the visible opacity at once. Kept until replaced; boxes
+    /// with non-finite or negative values are refused (counted in rejected_inputs).
+    void setKeepOut(std::span<const OrientedBox> areas);
+
     /// Runs exactly one fixed step (tests, benchmarks); does not rebuild output().
     void step();
 
@@ -122,6 +128,7 @@ private:
     void integrate(float dt);
     void place();
     void fade(float dt);
+    void resolveOverlaps();
     [[nodiscard]] float retryDelay(std::uint64_t id) const;
 
     LayoutParams m_params;
@@ -145,6 +152,10 @@ private:
     std::vector<std::uint8_t> m_overlapped;
     std::vector<std::uint32_t> m_queue;
     std::vector<OrientedBox> m_placed_now;
+    std::vector<OrientedBox> m_keep_out;
+    std::vector<OrientedBox> m_fading_boxes;
+    std::vector<std::uint32_t> m_rank;
+    std::vector<OrientedBox> m_kept;
 };
 
 }  // namespace navmap::render::labels

@@ -48,6 +48,16 @@ struct LabelCandidate {
     glm::vec2 line_p0{0.0F};     ///< Line: projected longest straight segment s'_line (seed 4.4.2)
     glm::vec2 line_p1{0.0F};
     float circle_radius = 0.0F;  ///< Circle: radius r of eq. 4.17 in pixels; <= 0 picks one from the size
+    /// Cap height of the text at scale 1, px: depth scaling never shrinks it below
+    /// LayoutParams::min_cap_height_px (seed 4.3.3's readable minimum). <= 0: taken as 0.7 x size.y.
+    float cap_height = 0.0F;
+    /// World-space labels (seed 5.2.1): the text's baseline direction on screen as projected, a
+    /// unit vector. When non-zero the box keeps this axis (no rotation rule, no turning) and
+    /// `size` is already the projected size (give depth <= 0: no depth scaling).
+    glm::vec2 axis{0.0F};
+    /// The label stands on its anchor in the 3D world (world-space text on a road or a sign at a
+    /// place): no candidate position lies below the anchor, which would sink it into the ground.
+    bool upright = false;
 };
 
 /// Camera state that matters to the layout.
@@ -58,6 +68,10 @@ struct CameraState {
     float tilt_deg = 0.0F;
     /// Viewport in pixels; candidates must lie inside it. 0 x 0 means unbounded.
     glm::vec2 viewport{0.0F};
+    /// Depth at which text has scale 1 (seed 4.3.3 depth scaling), metres: the renderer passes
+    /// the camera's look-at distance, so the labels at the center of attention have their design
+    /// size whatever the zoom. <= 0: LayoutParams::depth_reference_m.
+    float depth_reference_m = 0.0F;
 };
 
 /// One label in the layout output.

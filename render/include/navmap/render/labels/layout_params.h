@@ -9,7 +9,9 @@ namespace navmap::render::labels {
 struct LayoutParams {
     // Fixed simulation step (seed 4.4.6 dt), independent of the frame rate.
     double step_s = 1.0 / 60.0;
-    int max_steps_per_advance = 8;  ///< a long frame drops the rest instead of spiralling
+    /// Steps one advance() runs at most; a longer frame drops the rest instead of spiralling.
+    /// 30 steps (0.5 s) keep fades, removals and movement in wall-clock time down to 2 fps.
+    int max_steps_per_advance = 30;
 
     // Forces (seed 4.4.5). Spring constants are in 1/s^2 at mass 1.
     float collision_gain = 2500.0F;  ///< px/s^2 for a collision force of magnitude 1 (eq. 4.5)
@@ -38,13 +40,18 @@ struct LayoutParams {
     float constricted_min_force = 0.6F;  ///< sum of |f^(i,k)| above which a label may be constricted
     float constricted_ratio = 0.25F;     ///< |sum f| / sum |f| below which the forces cancel out
     float constricted_time_s = 0.5F;     ///< how long it must stay constricted before removal
-    float overlap_removal_s = 0.5F;      ///< text boxes overlapping a more important label this long: remove
+    float overlap_removal_s = 0.5F;      ///< buffered boxes pressing into a more important label this long: remove
+    /// Text boxes may never overlap in a drawn frame: a label whose box (with halo) overlaps a
+    /// more important label's or a keep-out area by more than this is removed at once, its
+    /// opacity dropped below `visible_alpha` in the same frame, and fades out from there.
+    float hard_overlap_px = 0.0F;
+    float visible_alpha = 0.5F;          ///< opacity from which a label counts as visible (and may not overlap)
 
     // Depth scaling (seed 4.3.3): scale = depth_reference / depth, clamped, never below readable.
     float depth_reference_m = 200.0F;
     float min_scale = 0.6F;
     float max_scale = 1.5F;
-    float min_readable_height_px = 11.0F;
+    float min_cap_height_px = 9.5F;  ///< readable minimum: cap height on screen, px (never scaled below)
 
     // Line labels: rotated along the segment or horizontal (seed 4.3.3, 4.4.3).
     float rotate_max_tilt_deg = 70.0F;      ///< rotated only while the camera tilt is below this
