@@ -22,6 +22,12 @@ void main() {
     float outline_a = o > 0.0 ? smoothstep(-w, w, d + o) : 0.0;
     // The halo is opaque up to half its width and fades out over the other half.
     float halo_a = h > 0.0 ? smoothstep(-(o + h), -(o + 0.5 * h), d) : 0.0;
+#ifdef NAVMAP_TEXT_IDS
+    // Occlusion measurement: the label's ink (fill and outline) in the colour naming it.
+    if (max(fill_a, outline_a) < 0.5) discard;
+    o_color = vec4(v_fill.rgb, 1.0);
+    return;
+#endif
     vec4 color = vec4(v_halo.rgb, 1.0) * (v_halo.a * halo_a);
     vec4 layer = vec4(v_outline.rgb, 1.0) * (v_outline.a * outline_a);
     color = layer + color * (1.0 - layer.a);

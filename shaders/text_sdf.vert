@@ -1,16 +1,19 @@
 // SDF label text (seed 4.5.2): one instance per glyph quad, a 4-vertex strip per instance.
-// Screen mode: anchor in pixels (origin top left, y down). World mode: anchor is a 3D point,
-// the quad faces the camera at the anchor's depth (depth-tested) and its size follows the
-// distance, clamped to a minimum readable size (seed 4.3.3).
+// Screen mode: anchor in pixels (origin top left, y down). World mode (seed 5.2.1): the text
+// lies in a plane of the scene through the anchor, spanned by the baseline direction and the
+// glyphs' up direction, and is projected like the rest of the world (foreshortened with
+// distance, depth-tested); the caller fades out text that would be too small to read.
 
 layout(location = 0) in vec4 a_rect;     // quad corners p0.xy, p1.xy: px at size_px, y down
 layout(location = 1) in vec4 a_tex;      // atlas texels t0.xy, t1.xy
-layout(location = 2) in vec4 a_anchor;   // screen: x, y px, 0, angle; world: x, y, z, angle
-layout(location = 3) in vec4 a_params;   // screen: scale, size_px, alpha, 0; world: em metres, size_px, alpha, min px
+layout(location = 2) in vec4 a_anchor;   // screen: x, y px, 0, angle; world: text center x, y, z, 0
+layout(location = 3) in vec4 a_params;   // screen: scale, size_px, alpha, 0; world: em metres, size_px, alpha, 0
 layout(location = 4) in vec4 a_fill;
 layout(location = 5) in vec4 a_outline;
 layout(location = 6) in vec4 a_halo;
-layout(location = 7) in vec4 a_widths;   // outline px, halo px, max px (world), 0
+layout(location = 7) in vec4 a_widths;   // outline px, halo px (at scale 1), 0, 0
+layout(location = 8) in vec4 a_right;    // world: unit baseline direction, 0
+layout(location = 9) in vec4 a_up;       // world: unit up direction of the glyphs, 0
 
 uniform vec2 u_viewport;          // target size, px
 uniform vec2 u_atlas_size;        // texels
@@ -33,24 +36,21 @@ void main() {
     v_uv = mix(a_tex.xy, a_tex.zw, corner) / u_atlas_size;
     float size_px = a_params.y;
     float scale = a_params.x;
-    vec4 clip = vec4(0.0, 0.0, 0.0, 1.0);
     if (u_world == 1) {
-        clip = u_view_projection * vec4(a_anchor.xyz, 1.0);
-        if (clip.w <= 1e-4) {  // behind the camera: outside the clip volume
-            gl_Position = vec4(2.0, 2.0, 2.0, 1.0);
-            return;
-        }
-        float em_px = a_params.x * u_focal_y * 0.5 * u_viewport.y / clip.w;
-        scale = clamp(em_px, a_params.w, max(a_widths.z, a_params.w)) / size_px;
-    }
-    float c = cos(a_anchor.w);
-    float s = sin(a_anchor.w);
-    vec2 off = local * scale;
-    off = vec2(c * off.x - s * off.y, s * off.x + c * off.y);  // clockwise on a y-down screen
-    if (u_world == 1) {
-        vec2 ndc = clip.xy / clip.w + off * vec2(2.0 / u_viewport.x, -2.0 / u_viewport.y);
-        gl_Position = vec4(ndc * clip.w, clip.z, clip.w);
+        // Quad corners are px at size_px, y down: metres in the text's plane.
+        float metres_per_px = a_params.x / size_px;
+        vec3 p = a_anchor.xyz + (a_right.xyz * local.x - a_up.xyz * local.y) * metres_per_px;
+        vec4 clip = u_view_projection * vec4(p, 1.0);
+        gl_Position = clip;
+        // The em size on screen at this corner sets the distance field's scale (outline, halo,
+        // antialiasing in screen pixels).
+        float w = max(clip.w, 1e-4);
+        scale = a_params.x * u_focal_y * 0.5 * u_viewport.y / w / size_px;
     } else {
+        float c = cos(a_anchor.w);
+        float s = sin(a_anchor.w);
+        vec2 off = local * scale;
+        off = vec2(c * off.x - s * off.y, s * off.x + c * off.y);  // clockwise on a y-down screen
         vec2 px = a_anchor.xy + off;
         gl_Position = vec4(px.x / u_viewport.x * 2.0 - 1.0, 1.0 - px.y / u_viewport.y * 2.0, 0.0, 1.0);
     }

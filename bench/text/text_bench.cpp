@@ -137,6 +137,9 @@ void BM_GpuDraw(benchmark::State& state) {
         wd.quads = d.quads;
         wd.size_px = d.size_px;
         wd.position = {(fx - 0.5f) * 2000.0f, -20.0f, -200.0f - fy * 3000.0f};
+        wd.right = {1.0f, 0.0f, 0.0f};
+        wd.up = {0.0f, 1.0f, 0.0f};
+        wd.em_m = 15.0f;
         wd.style = d.style;
         worlds.push_back(wd);
     }

@@ -3,10 +3,17 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
+#include <numbers>
 #include <string>
+#include <unordered_map>
 #include <utility>
 
+#include <glm/geometric.hpp>
+#include <glm/gtc/matrix_transform.hpp>
+
 #include "navmap/render/text/label_text_style.h"
+#include "render_target.h"
 #include "text_layer.h"
 
 namespace navmap::render::gl {
@@ -37,6 +44,26 @@ std::uint64_t fnv1a(std::uint64_t h, const void* data, std::size_t n) {
 
 // Camera height above the ground it looks at: the rigs look at the vehicle on the terrain.
 double cameraHeight(const Camera& c) { return c.eye.z - c.target.z; }
+
+// Clip coordinates to screen pixels (origin top left, y down).
+glm::vec2 toScreen(const glm::vec4& clip, glm::vec2 viewport) {
+    const glm::vec2 ndc = glm::vec2(clip) / clip.w;
+    return {(ndc.x * 0.5f + 0.5f) * viewport.x, (0.5f - ndc.y * 0.5f) * viewport.y};
+}
+
+// The smallest oriented box with axis `axis` around `points` (screen pixels).
+nl::OrientedBox boxAround(std::span<const glm::vec2> points, glm::vec2 axis) {
+    const glm::vec2 normal(-axis.y, axis.x);
+    glm::vec2 lo(std::numeric_limits<float>::max());
+    glm::vec2 hi(std::numeric_limits<float>::lowest());
+    for (const glm::vec2 p : points) {
+        const glm::vec2 q(glm::dot(p, axis), glm::dot(p, normal));
+        lo = glm::min(lo, q);
+        hi = glm::max(hi, q);
+    }
+    const glm::vec2 mid = 0.5f * (lo + hi);
+    return nl::OrientedBox{axis * mid.x + normal * mid.y, 0.5f * (hi - lo), axis};
+}
 
 }  // namespace
 
@@ -78,31 +105,135 @@ LabelPass::LabelPass(std::shared_ptr<LabelText> text)
 
 LabelPass::~LabelPass() = default;
 
-glm::vec2 LabelPass::labelSize(std::uint64_t id, const map::Label& label) {
+const LabelPass::TextSize& LabelPass::textSize(std::uint64_t id, const map::Label& label) {
     if (auto it = m_sizes.find(id); it != m_sizes.end()) return it->second;
     if (m_sizes.size() > 50000) m_sizes.clear();  // bounded; sizes are recomputed on demand
     const text::LabelTextStyle s = text::labelTextStyle(label.kind, label.subclass);
     const text::RunId run = m_engine.run(label.name, s.font);
-    glm::vec2 size;
+    text::TextMetrics m;
     if (s.icon.empty()) {
-        const text::TextMetrics m = m_engine.measure(run, s.size_px);
-        size = {m.width, m.height};
+        m = m_engine.measure(run, s.size_px);
     } else {
-        const text::LaidOutText t = m_engine.layoutWithIcon(m_engine.run(s.icon, s.font), run, s.size_px);
-        size = {t.metrics.width, t.metrics.height};
+        m = m_engine.layoutWithIcon(m_engine.run(s.icon, s.font), run, s.size_px).metrics;
     }
-    m_sizes.emplace(id, size);
-    return size;
+    // The box the layout keeps free holds the drawn outline and halo too (text_sdf.vert draws
+    // them out to the atlas spread less a pixel), plus a pixel of antialiasing.
+    const text::AtlasParams& atlas = m_engine.atlas().params();
+    const float spread = static_cast<float>(atlas.spread_px) / static_cast<float>(atlas.base_em_px) * s.size_px;
+    TextSize t;
+    t.margin = std::min(s.style.outline_px + s.style.halo_px, std::max(spread - 1.0f, 0.0f)) + 1.0f;
+    t.size = glm::vec2(m.width, m.height) + 2.0f * t.margin;
+    t.cap_height = m.cap_height;
+    t.size_px = s.size_px;
+    t.world_reach = s.world_reach;
+    return m_sizes.emplace(id, t).first->second;
 }
 
-void LabelPass::collect(const MapFrame& frame, std::span<const TileLabels> tiles, glm::ivec2 viewport) {
+bool LabelPass::worldCandidate(const MapFrame& frame, const glm::mat4& view_projection, glm::vec2 viewport,
+                               const glm::dvec3& anchor, const glm::dvec3& seg_a, const glm::dvec3& seg_b,
+                               const TextSize& t, Feature& f, nl::LabelCandidate& c) const {
+    // Eye-relative float coordinates: precise near the camera, wherever the store's origin is.
+    const glm::vec3 a(anchor - m_eye);
+    const float near = static_cast<float>(frame.camera.near_m);
+    auto project = [&](glm::vec3 p, glm::vec2& out) {
+        const glm::vec4 clip = view_projection * glm::vec4(p, 1.0f);
+        if (clip.w < near) return false;
+        out = toScreen(clip, viewport);
+        return true;
+    };
+    const glm::vec3 to_eye = glm::normalize(-a);
+    const glm::vec3 z(0.0f, 0.0f, 1.0f);
+    // seed 5.2.1: a road name lies along the road in 3D, a place name stands across the view.
+    bool along_road = c.kind == nl::LabelKind::Line;
+    glm::vec3 right;
+    if (along_road) {
+        const glm::dvec3 d = seg_b - seg_a;
+        if (glm::length(d) < 1.0) {
+            along_road = false;
+        } else {
+            right = glm::normalize(glm::vec3(d));
+        }
+    }
+    if (!along_road) {
+        right = glm::cross(z, to_eye);
+        if (glm::length(right) < 1e-3f) return false;  // right above it: no upright plane faces the camera
+        right = glm::normalize(right);
+    }
+    // The plane turns about its baseline to face the camera (an axial billboard): the glyphs
+    // keep their height on screen, the baseline keeps the road's direction.
+    glm::vec3 up = glm::cross(to_eye - glm::dot(to_eye, right) * right, right);
+    if (glm::length(up) < 1e-3f) return false;  // the baseline points at the camera
+    up = glm::normalize(up);
+    if (up.z < 0.0f) up = -up;
+    // Reads left to right on screen.
+    glm::vec2 pa, pb;
+    if (!project(a, pa) || !project(a + right, pb)) return false;
+    if (pb.x < pa.x) right = -right;
+    const glm::vec3 normal = glm::normalize(glm::cross(right, up));
+
+    // World size: the style's pixel size at world_reach times the camera's look-at distance
+    // (seed 4.3.3's depth reference), and true perspective everywhere.
+    const float focal_px = m_projection[1][1] * 0.5f * viewport.y;
+    const auto reference_m = t.world_reach * static_cast<float>(glm::length(frame.camera.target - frame.camera.eye));
+    const float em_m = t.size_px * reference_m / focal_px;
+    const float metres_per_px = em_m / t.size_px;
+    const glm::vec2 half_m = 0.5f * t.size * metres_per_px;
+    const float lift = static_cast<float>(m_params.world_lift_m);
+    const glm::vec3 center = a + up * (lift + half_m.y);  // standing on the ground at the anchor
+    glm::vec2 corners[4];
+    const glm::vec2 signs[4] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
+    for (int k = 0; k < 4; ++k) {
+        if (!project(center + right * (signs[k].x * half_m.x) + up * (signs[k].y * half_m.y), corners[k])) return false;
+    }
+    const glm::vec2 baseline = 0.5f * ((corners[1] + corners[2]) - (corners[0] + corners[3]));
+    if (!(glm::length(baseline) > 1.0f)) return false;
+    const glm::vec2 axis = glm::normalize(baseline);
+    if (along_road) {
+        const float angle = std::abs(std::atan2(axis.y, axis.x)) * 180.0f / std::numbers::pi_v<float>;
+        const float facing = 2.0f * half_m.x * focal_px / glm::length(center);
+        if (angle > m_params.world_max_screen_angle_deg || glm::length(baseline) < m_params.world_min_foreshortening * facing) {
+            f.legible = false;
+            return false;
+        }
+    }
+    // seed 5.1: every label readable. The cap height where perspective makes it smallest.
+    const float cap_m = t.cap_height * metres_per_px;
+    float cap_px = std::numeric_limits<float>::max();
+    for (const float side : {-1.0f, 1.0f}) {
+        const glm::vec3 foot = center + right * (side * half_m.x);
+        glm::vec2 p0, p1;
+        if (!project(foot, p0) || !project(foot + up * cap_m, p1)) return false;
+        cap_px = std::min(cap_px, glm::length(p1 - p0));
+    }
+    const float max_cap = m_params.world_max_cap_ratio * t.cap_height;
+    f.legible = f.legible ? cap_px >= m_params.world_min_cap_px && cap_px <= max_cap
+                          : cap_px >= m_params.world_enter_cap_px && cap_px <= 0.9f * max_cap;
+    if (!f.legible) return false;
+
+    f.world = true;
+    f.plane.origin = anchor;
+    f.plane.right = right;
+    f.plane.up = up;
+    f.plane.normal = normal;
+    f.plane.em_m = em_m;
+    const nl::OrientedBox box = boxAround(corners, axis);
+    c.size = 2.0f * box.half_extents;
+    c.axis = axis;
+    c.depth = 0.0f;  // perspective already sized it
+    c.cap_height = cap_px;
+    c.upright = true;
+    if (!project(a, c.anchor)) return false;
+    if (along_road) {
+        c.line_p0 = pa;
+        c.line_p1 = pa + axis * 10.0f;
+    }
+    return true;
+}
+
+void LabelPass::collect(const MapFrame& frame, std::span<const TileLabels> tiles, glm::ivec2 viewport, bool world) {
     m_candidates.clear();
     const glm::vec2 vp(viewport);
     const auto near = static_cast<float>(frame.camera.near_m);
-    auto toScreen = [&](const glm::vec4& clip) {
-        const glm::vec2 ndc = glm::vec2(clip) / clip.w;
-        return glm::vec2((ndc.x * 0.5f + 0.5f) * vp.x, (0.5f - ndc.y * 0.5f) * vp.y);
-    };
     for (const TileLabels& t : tiles) {
         if (!t.tile || t.points.size() != t.tile->labels.size() * 3) continue;
         const glm::mat4 vp_tile = m_projection * frame.camera.viewRelativeTo(t.origin);
@@ -111,7 +242,7 @@ void LabelPass::collect(const MapFrame& frame, std::span<const TileLabels> tiles
             if (l.name.empty()) continue;
             const glm::vec4 clip = vp_tile * glm::vec4(t.points[3 * i], 1.0f);
             if (clip.w < near) continue;
-            const glm::vec2 px = toScreen(clip);
+            const glm::vec2 px = toScreen(clip, vp);
             if (!(px.x >= 0.0f && px.y >= 0.0f && px.x <= vp.x && px.y <= vp.y)) continue;
             const glm::dvec3 anchor = t.origin + glm::dvec3(t.points[3 * i]);
             const std::uint64_t id = labelId(l, anchor);
@@ -125,19 +256,28 @@ void LabelPass::collect(const MapFrame& frame, std::span<const TileLabels> tiles
             }
             f.anchor = anchor;
             f.frame = m_frame;
+            f.world = false;
+            const TextSize& size = textSize(id, l);
             nl::LabelCandidate c;
             c.id = id;
             c.priority = std::clamp(l.importance, 0.0f, 1.0f);
             c.kind = layoutKind(l.kind);
             c.anchor = px;
             c.depth = clip.w;
-            c.size = labelSize(id, l);
-            if (c.kind == nl::LabelKind::Line) {
+            c.size = size.size;
+            c.cap_height = size.cap_height;
+            if (world) {
+                // Road names stand on the middle of their longest straight piece, along it.
+                const glm::dvec3 a = t.origin + glm::dvec3(t.points[3 * i + 1]);
+                const glm::dvec3 b = t.origin + glm::dvec3(t.points[3 * i + 2]);
+                const glm::dvec3 at = c.kind == nl::LabelKind::Line && glm::length(b - a) >= 1.0 ? 0.5 * (a + b) : anchor;
+                if (!worldCandidate(frame, m_view_projection, vp, at, a, b, size, f, c)) continue;
+            } else if (c.kind == nl::LabelKind::Line) {
                 const glm::vec4 a = vp_tile * glm::vec4(t.points[3 * i + 1], 1.0f);
                 const glm::vec4 b = vp_tile * glm::vec4(t.points[3 * i + 2], 1.0f);
                 if (a.w >= near && b.w >= near) {
-                    c.line_p0 = toScreen(a);
-                    c.line_p1 = toScreen(b);
+                    c.line_p0 = toScreen(a, vp);
+                    c.line_p1 = toScreen(b, vp);
                 }
                 // A segment shorter than a pixel on screen has no direction: label it as a point.
                 if (!(glm::length(c.line_p1 - c.line_p0) >= 1.0f)) c.kind = nl::LabelKind::Point;
@@ -147,21 +287,125 @@ void LabelPass::collect(const MapFrame& frame, std::span<const TileLabels> tiles
     }
 }
 
+void LabelPass::dropRepeatedStreets() {
+    // Road candidates in keeping order: on screen now first (the way that carries the name keeps
+    // it), then by importance, then by id.
+    std::vector<std::size_t> roads;
+    for (std::size_t i = 0; i < m_candidates.size(); ++i) {
+        if (m_features.at(m_candidates[i].id).kind == map::LabelKind::Road) roads.push_back(i);
+    }
+    if (roads.size() < 2) return;
+    const auto shown = [&](std::size_t i) { return std::ranges::binary_search(m_shown, m_candidates[i].id); };
+    std::sort(roads.begin(), roads.end(), [&](std::size_t a, std::size_t b) {
+        const bool sa = shown(a), sb = shown(b);
+        if (sa != sb) return sa;
+        const auto& x = m_candidates[a];
+        const auto& y = m_candidates[b];
+        return x.priority != y.priority ? x.priority > y.priority : x.id < y.id;
+    });
+    std::unordered_map<std::string_view, std::vector<glm::dvec3>> kept;
+    std::vector<std::uint8_t> drop(m_candidates.size(), 0);
+    const double r2 = m_params.street_repeat_m * m_params.street_repeat_m;
+    for (const std::size_t i : roads) {
+        const Feature& f = m_features.at(m_candidates[i].id);
+        auto& anchors = kept[f.name];
+        const bool near_one = std::any_of(anchors.begin(), anchors.end(), [&](const glm::dvec3& a) {
+            const glm::dvec2 d = glm::dvec2(a - f.anchor);
+            return glm::dot(d, d) < r2;
+        });
+        if (near_one) {
+            drop[i] = 1;
+        } else {
+            anchors.push_back(f.anchor);
+        }
+    }
+    std::size_t out = 0;
+    for (std::size_t i = 0; i < m_candidates.size(); ++i) {
+        if (!drop[i]) m_candidates[out++] = m_candidates[i];
+    }
+    m_candidates.resize(out);
+}
+
+void LabelPass::keepOut(const MapFrame& frame, std::span<const TileLabels> tiles, glm::vec2 viewport,
+                        std::span<const glm::vec2> marker, float route_width_m) {
+    m_keep_out.clear();
+    const float margin = m_params.keep_out_margin_px;
+    if (marker.size() >= 2) {
+        glm::vec2 lo(std::numeric_limits<float>::max()), hi(std::numeric_limits<float>::lowest());
+        for (const glm::vec2 p : marker) {
+            lo = glm::min(lo, p);
+            hi = glm::max(hi, p);
+        }
+        m_keep_out.push_back({0.5f * (lo + hi), 0.5f * (hi - lo) + margin, {1.0f, 0.0f}});
+    }
+    if (!frame.route || !frame.layers.route || frame.route->points.size() < 2 ||
+        frame.route->measure_m.size() != frame.route->points.size()) {
+        return;
+    }
+    // The route just ahead of the car, draped on the finest drawn tile under each sample.
+    const RouteGeometry& r = *frame.route;
+    auto groundAt = [&](double x, double y) {
+        const TileLabels* best = nullptr;
+        for (const TileLabels& t : tiles) {
+            if (t.grid.size < 2 || !t.grid.heights) continue;
+            if (x < t.origin.x || y < t.origin.y || x > t.origin.x + t.size_m || y > t.origin.y + t.size_m) continue;
+            if (!best || t.size_m < best->size_m) best = &t;
+        }
+        return best ? best->grid.heightAt(x - best->origin.x, y - best->origin.y) : frame.camera.target.z;
+    };
+    const double from = std::clamp(frame.route_progress_m, r.measure_m.front(), r.measure_m.back());
+    const double to = std::min(from + m_params.route_keep_out_m, r.measure_m.back());
+    std::vector<glm::dvec3> samples;
+    std::size_t k = 1;
+    for (double m = from;; m = std::min(m + 10.0, to)) {
+        while (k + 1 < r.measure_m.size() && r.measure_m[k] < m) ++k;
+        const double m0 = r.measure_m[k - 1], m1 = r.measure_m[k];
+        const double u = m1 > m0 ? std::clamp((m - m0) / (m1 - m0), 0.0, 1.0) : 0.0;
+        const glm::dvec3 p = glm::mix(r.points[k - 1], r.points[k], u);
+        samples.emplace_back(p.x, p.y, groundAt(p.x, p.y));
+        if (m >= to) break;
+    }
+    const float focal_px = m_projection[1][1] * 0.5f * viewport.y;
+    const auto near = static_cast<float>(frame.camera.near_m);
+    for (std::size_t i = 1; i < samples.size(); ++i) {
+        const glm::vec4 ca = m_view_projection * glm::vec4(glm::vec3(samples[i - 1] - m_eye), 1.0f);
+        const glm::vec4 cb = m_view_projection * glm::vec4(glm::vec3(samples[i] - m_eye), 1.0f);
+        if (ca.w < near || cb.w < near) continue;
+        const glm::vec2 a = toScreen(ca, viewport), b = toScreen(cb, viewport);
+        const float len = glm::length(b - a);
+        const glm::vec2 axis = len > 1e-3f ? (b - a) / len : glm::vec2(1.0f, 0.0f);
+        const float half_width = 0.5f * route_width_m * focal_px / std::min(ca.w, cb.w) + margin;
+        m_keep_out.push_back({0.5f * (a + b), {0.5f * len + half_width, half_width}, axis});
+    }
+}
+
 void LabelPass::layout(const MapFrame& frame, std::span<const TileLabels> tiles, glm::ivec2 viewport,
-                       MapFrameStats& stats) {
+                       MapFrameStats& stats, std::span<const glm::vec2> marker, float route_width_m) {
     const auto t0 = Clock::now();
     ++m_frame;
     const double aspect = static_cast<double>(viewport.x) / std::max(viewport.y, 1);
     m_projection = frame.camera.projection(aspect);
+    m_eye = frame.camera.eye;
+    // View space with the camera at the origin: world-space labels are positioned there.
+    const glm::mat4 view = frame.camera.viewRelativeTo(m_eye);
+    m_view = view;
+    m_view_projection = m_projection * view;
     m_engine.beginFrame();
-    collect(frame, tiles, viewport);
 
+    // seed 5.5: the space first, so the layout works on the boxes the labels are drawn in.
     const glm::dvec3 look = frame.camera.target - frame.camera.eye;
     const float tilt = nl::LabelSpaceSwitch::tiltDeg(glm::vec3(look), glm::vec3(0.0f, 0.0f, 1.0f));
-    m_layout.setFrame(m_candidates, nl::CameraState{tilt, glm::vec2(viewport)});
     const double dt = std::isfinite(frame.frame_dt_s) && frame.frame_dt_s > 0.0 ? frame.frame_dt_s : 0.0;
-    m_layout.advance(dt);
     m_switch.update(tilt, static_cast<float>(cameraHeight(frame.camera)), dt);
+    const bool world_layout = m_switch.space() == nl::LabelSpace::World;
+    const glm::vec2 vp(viewport);
+    collect(frame, tiles, viewport, world_layout);
+    dropRepeatedStreets();
+    keepOut(frame, tiles, vp, marker, route_width_m);
+    m_layout.setKeepOut(m_keep_out);
+    m_layout.setFrame(m_candidates,
+                      nl::CameraState{tilt, vp, static_cast<float>(glm::length(frame.camera.target - frame.camera.eye))});
+    m_layout.advance(dt);
     const float world = m_switch.worldWeight();
 
     // Text of the placed labels (quads must live until the draw calls).
@@ -169,17 +413,20 @@ void LabelPass::layout(const MapFrame& frame, std::span<const TileLabels> tiles,
     m_texts.clear();
     m_screen.clear();
     m_world.clear();
+    m_world_drawn.clear();
     m_occluders.clear();
     m_texts.reserve(out.size());
-    // View space with the camera at the origin: world-space labels are positioned there.
-    const glm::mat4 view = frame.camera.viewRelativeTo(frame.camera.eye);
-    const glm::vec2 vp(viewport);
+    const text::AtlasParams& atlas = m_engine.atlas().params();
+    const float spread_em = static_cast<float>(atlas.spread_px) / static_cast<float>(atlas.base_em_px);
+    const float focal_px = m_projection[1][1] * 0.5f * vp.y;
+    const glm::mat4 inverse_view = glm::inverse(view);
+    stats.drawn_labels.clear();
     std::size_t visible = 0;
     for (const nl::PlacedLabel& p : out) {
         if (p.state == nl::LabelState::FadingIn || p.state == nl::LabelState::Visible) ++visible;
         auto it = m_features.find(p.id);
         if (it == m_features.end()) continue;
-        const Feature& f = it->second;
+        Feature& f = it->second;
         const text::LabelTextStyle s = text::labelTextStyle(f.kind, f.subclass);
         const text::RunId run = m_engine.run(f.name, s.font);
         m_texts.push_back(s.icon.empty() ? m_engine.layout(run, s.size_px)
@@ -187,45 +434,95 @@ void LabelPass::layout(const MapFrame& frame, std::span<const TileLabels> tiles,
         const text::LaidOutText& t = m_texts.back();
         const float angle = p.box.angle();
         // seed 5.5.1: the occluded label's depth for the aura; screen-space labels stand at their anchor.
-        const glm::vec3 anchor_view = glm::vec3(view * glm::vec4(glm::vec3(f.anchor - frame.camera.eye), 1.0f));
+        const glm::vec3 anchor_view = glm::vec3(view * glm::vec4(glm::vec3(f.anchor - m_eye), 1.0f));
         float occluder_depth = -anchor_view.z;
-        if (world < 1.0f) {
+        labels::DrawnLabel drawn;
+        std::size_t world_index = std::numeric_limits<std::size_t>::max();  // its entry of m_world
+        drawn.id = p.id;
+        drawn.text = f.name;
+        drawn.kind = p.kind;
+        drawn.opacity = p.alpha;
+        drawn.anchor = p.anchor;
+        drawn.center = p.box.center;
+        const bool screen_drawn = world < 1.0f;
+        if (screen_drawn) {
             m_screen.push_back({t.quads, t.size_px, p.box.center, angle, p.scale, p.alpha * (1.0f - world), s.style});
+            drawn.cap_height_px = t.metrics.cap_height * p.scale;
+            text::appendDrawnGlyphBoxes(t.quads, t.size_px, p.scale, angle, p.box.center, spread_em,
+                                        s.style.outline_px, s.style.halo_px, drawn.glyph_boxes);
         }
-        if (world > 0.0f) {
-            // Seed 5.2.1 / 5.5: the label lies in the scene at its anchor's depth, so buildings
-            // and terrain in front hide it. It is pulled a little towards the camera so the
-            // ground it stands on does not cut its lower half.
-            glm::vec3 a = glm::vec3(view * glm::vec4(glm::vec3(f.anchor - frame.camera.eye), 1.0f));
-            const float dist = -a.z;
-            if (!(dist > static_cast<float>(frame.camera.near_m))) continue;
-            const float pull = std::min(30.0f, 0.1f * dist);
-            a *= (dist - pull) / dist;
-            const float w = -a.z;
-            // Same screen position and size as the layout box: offset from the anchor in view
-            // space at depth w, em size fixed to the layout's scale.
-            const glm::vec2 d = p.box.center - p.anchor;
-            a.x += d.x * 2.0f / vp.x * w / m_projection[0][0];
-            a.y -= d.y * 2.0f / vp.y * w / m_projection[1][1];
-            text::WorldTextDraw wd;
-            wd.quads = t.quads;
-            wd.size_px = t.size_px;
-            wd.position = a;
-            wd.world_em_m = 1.0f;
-            wd.min_px = wd.max_px = t.size_px * p.scale;
-            wd.angle_rad = angle;
-            wd.alpha = p.alpha * world;
-            wd.style = s.style;
-            m_world.push_back(wd);
-            occluder_depth = w;
+        if (world > 0.0f && f.world) {
+            // seed 5.2.1: the text lies in its plane where the layout box's center is seen.
+            const WorldPlane& pl = f.plane;
+            const glm::vec2 ndc(p.box.center.x / vp.x * 2.0f - 1.0f, 1.0f - p.box.center.y / vp.y * 2.0f);
+            const glm::vec3 ray =
+                glm::vec3(inverse_view * glm::vec4(ndc.x / m_projection[0][0], ndc.y / m_projection[1][1], -1.0f, 0.0f));
+            const glm::vec3 origin(pl.origin - m_eye);
+            const float denom = glm::dot(pl.normal, ray);
+            const float hit = std::abs(denom) > 1e-6f ? glm::dot(pl.normal, origin) / denom : -1.0f;
+            if (hit > 0.0f) {
+                const glm::vec3 center = ray * hit;
+                const float depth = -(view * glm::vec4(center, 1.0f)).z;
+                if (depth > static_cast<float>(frame.camera.near_m)) {
+                    text::WorldTextDraw wd;
+                    wd.quads = t.quads;
+                    wd.size_px = t.size_px;
+                    wd.position = center;
+                    wd.right = pl.right;
+                    wd.up = pl.up;
+                    wd.em_m = pl.em_m;
+                    wd.alpha = p.alpha * world;
+                    wd.style = s.style;
+                    m_world.push_back(wd);
+                    occluder_depth = depth;
+                    if (world >= 0.5f || !screen_drawn) {
+                        // What the frame shows of it is this world-space text.
+                        drawn.world_space = true;
+                        drawn.glyph_boxes.clear();
+                        const float metres_per_px = pl.em_m / t.size_px;
+                        const float em_px = pl.em_m * focal_px / depth;
+                        const float inset = text::drawnGlyphInsetPx(em_px, spread_em, s.style.outline_px,
+                                                                    s.style.halo_px, em_px / t.size_px) *
+                                            t.size_px / em_px;  // screen px back to quad px
+                        auto project = [&](glm::vec2 local) {
+                            const glm::vec3 w = center + (pl.right * local.x - pl.up * local.y) * metres_per_px;
+                            return toScreen(m_view_projection * glm::vec4(w, 1.0f), vp);
+                        };
+                        for (const text::GlyphQuad& q : t.quads) {
+                            const glm::vec2 lo = q.p0 + inset, hi = q.p1 - inset;
+                            if (!(hi.x > lo.x && hi.y > lo.y)) continue;
+                            drawn.glyph_boxes.push_back({project(lo), project({hi.x, lo.y}), project(hi), project({lo.x, hi.y})});
+                        }
+                        const float cap_m = t.metrics.cap_height * metres_per_px;
+                        const float half_w = 0.5f * t.metrics.width * metres_per_px;
+                        const float baseline_down = (0.5f * (t.metrics.ascent - t.metrics.descent)) * metres_per_px;
+                        drawn.cap_height_px = std::numeric_limits<float>::max();
+                        for (const float side : {-1.0f, 1.0f}) {
+                            const glm::vec3 foot = center + pl.right * (side * half_w) - pl.up * baseline_down;
+                            const glm::vec2 a = toScreen(m_view_projection * glm::vec4(foot, 1.0f), vp);
+                            const glm::vec2 b = toScreen(m_view_projection * glm::vec4(foot + pl.up * cap_m, 1.0f), vp);
+                            drawn.cap_height_px = std::min(drawn.cap_height_px, glm::length(b - a));
+                        }
+                    }
+                    world_index = m_world.size() - 1;
+                }
+            }
         }
         if (occluder_depth > static_cast<float>(frame.camera.near_m)) {
             m_occluders.push_back({p.box, occluder_depth, p.alpha});
         }
+        if (world_index < m_world.size()) {
+            m_world_drawn.resize(m_world.size(), std::numeric_limits<std::size_t>::max());
+            if (drawn.world_space && !drawn.glyph_boxes.empty()) m_world_drawn[world_index] = stats.drawn_labels.size();
+        }
+        if (!drawn.glyph_boxes.empty()) stats.drawn_labels.push_back(std::move(drawn));
     }
+    m_world_drawn.resize(m_world.size(), std::numeric_limits<std::size_t>::max());
     // Forget features neither in this frame's input nor in the output any more.
+    m_shown.clear();
+    for (const nl::PlacedLabel& p : out) m_shown.push_back(p.id);  // output() is in id order
     for (auto it = m_features.begin(); it != m_features.end();) {
-        const bool shown = std::ranges::binary_search(out, it->first, {}, &nl::PlacedLabel::id);
+        const bool shown = std::ranges::binary_search(m_shown, it->first);
         if (it->second.frame != m_frame && !shown) {
             it = m_features.erase(it);
         } else {
@@ -244,7 +541,7 @@ void LabelPass::draw(glm::ivec2 viewport, MapFrameStats& stats) {
     const auto t0 = Clock::now();
     std::size_t glyphs = 0;
     if (!m_world.empty()) {
-        m_text.drawWorld(m_world, glm::mat4(1.0f), m_projection, viewport);
+        m_text.drawWorld(m_world, m_view, m_projection, viewport);
         glyphs += m_text.stats().glyphs;
     }
     if (!m_screen.empty()) {
@@ -253,6 +550,28 @@ void LabelPass::draw(glm::ivec2 viewport, MapFrameStats& stats) {
     }
     stats.label_glyphs = glyphs;
     stats.labels_ms += std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+void LabelPass::measureOcclusion(GLuint depth_stencil_rb, int samples, glm::ivec2 viewport, MapFrameStats& stats) {
+    for (labels::DrawnLabel& d : stats.drawn_labels) d.occluded_fraction = d.world_space ? -1.0f : 0.0f;
+    std::vector<text::WorldTextDraw> draws;
+    std::vector<std::size_t> which;
+    for (std::size_t i = 0; i < m_world.size(); ++i) {
+        if (m_world_drawn[i] >= stats.drawn_labels.size()) continue;
+        draws.push_back(m_world[i]);
+        which.push_back(m_world_drawn[i]);
+    }
+    if (draws.empty()) return;
+    // Each label's text in a colour naming it, drawn once over everything and once tested
+    // against the scene's depth as the labels were: the share of its pixels that fail the
+    // test is the share the scene hides.
+    const auto [pixels_all, pixels_seen] =
+        m_text.countIdPixels(draws, m_view, m_projection, viewport, depth_stencil_rb, samples);
+    for (std::size_t k = 0; k < which.size(); ++k) {
+        const std::uint64_t all = pixels_all[k + 1];
+        labels::DrawnLabel& d = stats.drawn_labels[which[k]];
+        d.occluded_fraction = all > 0 ? 1.0f - static_cast<float>(pixels_seen[k + 1]) / static_cast<float>(all) : 0.0f;
+    }
 }
 
 }  // namespace navmap::render::gl

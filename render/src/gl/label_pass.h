@@ -1,15 +1,21 @@
 #pragma once
 // The label pass of the map renderer (DESIGN.md pass order: after the outlines, before the
 // marker): collects the label features of the frame's tiles, projects them with the frame
-// camera, runs the force-based layout (seed ch. 4) and draws the placed labels with the SDF
-// text layer, screen-space in bird's-eye and world-space (depth-tested) in snail's view, with
-// the switching rule, hysteresis and cross-fade of seed 5.5. Private to render/.
+// camera, runs the force-based layout (seed ch. 4) on the projected text boxes and draws the
+// placed labels with the SDF text layer: screen-space in bird's-eye, and in snail's view
+// world-space, as part of the 3D scene (seed 5.2.1: road names along the road in 3D, place names
+// standing at their place, foreshortened with distance, depth-tested), with the switching rule,
+// hysteresis and cross-fade of seed 5.5. Labels keep out of the vehicle marker and the route
+// just ahead of the car, a street is named once per stretch, and text too small to read is not
+// shown. Private to render/.
 #include <cstdint>
 #include <memory>
 #include <span>
 #include <string>
 #include <unordered_map>
 #include <vector>
+
+#include <GLES3/gl3.h>
 
 #include <glm/mat4x4.hpp>
 #include <glm/vec2.hpp>
@@ -27,11 +33,38 @@ namespace navmap::render::gl {
 
 class TextLayer;
 
-/// Label features of one tile drawn this frame, with terrain heights.
+/// One tile drawn this frame: its label features with terrain heights, and its height grid.
 struct TileLabels {
     const map::Tile* tile = nullptr;
     glm::dvec3 origin{0.0};              ///< store-frame metres of the tile's south-west corner
-    std::span<const glm::vec3> points;   ///< labelPoints() of the tile
+    std::span<const glm::vec3> points;   ///< labelPoints() of the tile (empty: no labels)
+    HeightGrid grid;                     ///< the tile's heights (the route's keep-out area is draped on them)
+    double size_m = 0.0;                 ///< edge length of the tile square
+};
+
+/// Choices of the label pass that are not layout physics (LayoutParams has those).
+struct LabelPassParams {
+    /// Ways of one street (same name) are labelled once within this distance of each other,
+    /// metres between their anchors: a street split into many ways still gets one name per
+    /// stretch of the view.
+    double street_repeat_m = 500.0;
+    /// Labels keep out of the route for this distance ahead of the car (the driver's next
+    /// manoeuvres are there), and of the vehicle marker.
+    double route_keep_out_m = 150.0;
+    float keep_out_margin_px = 4.0f;  ///< added around the marker and the route's width on screen
+    /// World-space text too small to read fades out (seed 5.1: every label readable): it leaves
+    /// when its cap height on screen falls below `world_min_cap_px` and comes back above
+    /// `world_enter_cap_px`; the layout keeps screen-space text at least LayoutParams::min_cap_height_px.
+    float world_min_cap_px = 10.0f;
+    float world_enter_cap_px = 10.5f;
+    /// ... and text too large for the view (a place passed close by) leaves above this many
+    /// times its style's cap height, coming back below 0.9 of it.
+    float world_max_cap_ratio = 2.5f;
+    /// World-space road names lie along the road; a road running too steeply across the screen
+    /// or too foreshortened (seen end-on) cannot carry readable text and gets none.
+    float world_max_screen_angle_deg = 60.0f;
+    float world_min_foreshortening = 0.5f;  ///< projected length over its length facing the camera
+    float world_lift_m = 1.0f;              ///< text stands this far above the ground it names
 };
 
 /// A drawn label as the occlusion effects see it (seed 5.5.1): its screen OOBB and the depth of
@@ -77,12 +110,30 @@ public:
         draw(viewport, stats);
     }
     /// run() in two halves, so passes that need the placed labels (the label aura) fit between.
-    void layout(const MapFrame& frame, std::span<const TileLabels> tiles, glm::ivec2 viewport, MapFrameStats& stats);
+    /// `marker` is the vehicle marker's screen outline (empty: none drawn): a keep-out area.
+    void layout(const MapFrame& frame, std::span<const TileLabels> tiles, glm::ivec2 viewport, MapFrameStats& stats,
+                std::span<const glm::vec2> marker = {}, float route_width_m = 9.0f);
     void draw(glm::ivec2 viewport, MapFrameStats& stats);
+    /// After draw(), with the scene's depth still bound in `depth_fbo`'s depth attachment: how
+    /// much of each world-space label's text the scene hides as drawn (the aura already applied),
+    /// into stats.drawn_labels[].occluded_fraction. Screen-space text is drawn over the scene
+    /// and gets 0. Costs two id renders and two readbacks: for quality measurements, not for
+    /// every frame.
+    void measureOcclusion(GLuint depth_stencil_rb, int samples, glm::ivec2 viewport, MapFrameStats& stats);
     /// The labels of the last layout() that are drawn.
     [[nodiscard]] std::span<const LabelOccluder> occluders() const { return m_occluders; }
 
 private:
+    /// Where a world-space label stands this frame (seed 5.2.1): the plane through `origin`
+    /// spanned by `right` (its baseline, along the road) and `up`, turned about the baseline
+    /// to face the camera; store frame.
+    struct WorldPlane {
+        glm::dvec3 origin{0.0};   ///< on the ground it names, lifted by world_lift_m
+        glm::vec3 right{1.0f, 0.0f, 0.0f};
+        glm::vec3 up{0.0f, 0.0f, 1.0f};
+        glm::vec3 normal{0.0f, -1.0f, 0.0f};
+        float em_m = 1.0f;        ///< em height of its text in the world
+    };
     /// A label feature, kept while it is an input or still fading out.
     struct Feature {
         std::string name;
@@ -90,23 +141,52 @@ private:
         std::uint8_t subclass = 0;
         glm::dvec3 anchor{0.0};   ///< store frame, on the terrain
         std::uint64_t frame = 0;  ///< last frame it was a candidate
+        bool world = false;       ///< `plane` holds this frame's world-space placement
+        bool legible = false;     ///< world-space text large enough (hysteresis of world_*_cap_px)
+        WorldPlane plane;
     };
-    void collect(const MapFrame& frame, std::span<const TileLabels> tiles, glm::ivec2 viewport);
-    glm::vec2 labelSize(std::uint64_t id, const map::Label& label);
+    /// The text of a label at scale 1: measured size, cap height, and the margin its outline and
+    /// halo add around the text box (px at its size).
+    struct TextSize {
+        glm::vec2 size{0.0f};
+        float cap_height = 0.0f;
+        float margin = 0.0f;
+        float size_px = 0.0f;
+        float world_reach = 1.0f;  ///< LabelTextStyle::world_reach
+    };
+    void collect(const MapFrame& frame, std::span<const TileLabels> tiles, glm::ivec2 viewport, bool world);
+    /// The candidate of a label drawn in the world: plane, projected box, legibility; false
+    /// when it cannot be read (too small, seen end-on, behind the camera).
+    bool worldCandidate(const MapFrame& frame, const glm::mat4& view_projection, glm::vec2 viewport,
+                        const glm::dvec3& anchor, const glm::dvec3& seg_a, const glm::dvec3& seg_b, const TextSize& t,
+                        Feature& f, labels::LabelCandidate& c) const;
+    /// Same-named road candidates within street_repeat_m of one already kept are dropped;
+    /// labels on screen now are kept first, so the chosen way does not change.
+    void dropRepeatedStreets();
+    void keepOut(const MapFrame& frame, std::span<const TileLabels> tiles, glm::vec2 viewport,
+                 std::span<const glm::vec2> marker, float route_width_m);
+    const TextSize& textSize(std::uint64_t id, const map::Label& label);
 
     std::shared_ptr<LabelText> m_shared;
     text::TextEngine& m_engine;
     TextLayer& m_text;
+    LabelPassParams m_params;
     labels::LabelLayout m_layout;
     labels::LabelSpaceSwitch m_switch;
     std::vector<labels::LabelCandidate> m_candidates;
+    std::vector<labels::OrientedBox> m_keep_out;
+    std::vector<std::uint64_t> m_shown;  ///< ids in the layout output of the last frame, sorted
+    glm::mat4 m_view{1.0f};              ///< camera at the origin (eye-relative store frame)
+    glm::mat4 m_view_projection{1.0f};
+    glm::dvec3 m_eye{0.0};
     std::unordered_map<std::uint64_t, Feature> m_features;  ///< by label id
     std::vector<text::LaidOutText> m_texts;
     std::vector<text::TextDraw> m_screen;
     std::vector<text::WorldTextDraw> m_world;
+    std::vector<std::size_t> m_world_drawn;  ///< index into the frame's drawn_labels, per m_world entry
     std::vector<LabelOccluder> m_occluders;
     std::uint64_t m_frame = 0;
-    std::unordered_map<std::uint64_t, glm::vec2> m_sizes;   ///< text extent at scale 1 by id
+    std::unordered_map<std::uint64_t, TextSize> m_sizes;   ///< text extent at scale 1 by id
     glm::mat4 m_projection{1.0f};
 };
 

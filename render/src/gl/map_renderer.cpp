@@ -1279,24 +1279,37 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target) {
     }
 
     if (!frame.layers.labels) runOcclusionEffects(frame, target, projection, tiles);
-    // Labels (seed ch. 4, 5.5): after the outlines so they lie above the roads, before the marker.
+    // Labels (seed ch. 4, 5.5): after the outlines so they lie above the roads, before the marker,
+    // and out of the marker's way.
+    const std::optional<MarkerOnScreen> marker = markerOnScreen(frame, target);
     if (frame.layers.labels) {
         if (!m_label_text) m_label_text = std::make_shared<LabelText>();
         if (!m_label_pass) m_label_pass = std::make_unique<LabelPass>(m_label_text);
         m_tile_labels.clear();
         for (const GpuTile* g : tiles) {
-            if (!g->label_points.empty()) m_tile_labels.push_back({g->source, g->origin, g->label_points});
+            HeightGrid grid;
+            if (g->grid_size >= 2 && g->heights.size() == static_cast<std::size_t>(g->grid_size) * g->grid_size) {
+                grid = {g->grid_size, g->size_m / (g->grid_size - 1), g->heights.data()};
+            }
+            m_tile_labels.push_back({g->source, g->origin, g->label_points, grid, g->size_m});
         }
         target.bindForDrawing(false);
-        m_label_pass->layout(frame, m_tile_labels, {target.width(), target.height()}, m_stats);
+        const std::span<const glm::vec2> keep_out = marker ? std::span<const glm::vec2>(marker->outline) : std::span<const glm::vec2>();
+        m_label_pass->layout(frame, m_tile_labels, {target.width(), target.height()}, m_stats, keep_out,
+                             m_style.route_width_m);
         runOcclusionEffects(frame, target, projection, tiles);  // seed 5.5.2: composited before the labels
         target.bindForDrawing(false);
         m_label_pass->draw({target.width(), target.height()}, m_stats);
+        if (frame.layers.measure_label_occlusion) {
+            m_label_pass->measureOcclusion(target.depthStencilRenderbuffer(), target.samples(),
+                                           {target.width(), target.height()}, m_stats);
+            target.bindForDrawing(false);
+        }
         double label_gpu_ms = 0;  // labels_ms is the pass's own CPU time; keep it out of marker_ms
         lap(label_gpu_ms, t);
     }
 
-    if (frame.layers.marker && frame.marker) drawMarker(frame, target);
+    if (marker) drawMarker(frame, *marker, target);
     lap(m_stats.marker_ms, t);
 
     glBindVertexArray(0);
@@ -1344,25 +1357,44 @@ void MapRenderer::runOcclusionEffects(const MapFrame& frame, const RenderTarget&
     target.bindForDrawing(false);
 }
 
-void MapRenderer::drawMarker(const MapFrame& frame, const RenderTarget& target) {
+std::optional<MapRenderer::MarkerOnScreen> MapRenderer::markerOnScreen(const MapFrame& frame, const RenderTarget& target) const {
+    if (!frame.layers.marker || !frame.marker) return std::nullopt;
     const MarkerState& m = *frame.marker;
     const double aspect = static_cast<double>(target.width()) / target.height();
     const glm::mat4 vp = frame.camera.projection(aspect) * frame.camera.viewRelativeTo(m.position);
-    const glm::vec4 anchor = vp * glm::vec4(0.0f, 0.0f, 0.0f, 1.0f);
-    if (anchor.w <= 0.0f) return;  // behind the camera
+    MarkerOnScreen out;
+    out.anchor_clip = vp * glm::vec4(0.0f, 0.0f, 0.0f, 1.0f);
+    if (out.anchor_clip.w <= 0.0f) return std::nullopt;  // behind the camera
     // Heading as it appears on screen: project a point a few metres ahead.
     const double rad = glm::radians(m.heading_deg);
     const glm::vec4 ahead = vp * glm::vec4(static_cast<float>(5.0 * std::sin(rad)), static_cast<float>(5.0 * std::cos(rad)), 0.0f, 1.0f);
-    const glm::vec2 a = glm::vec2(anchor) / anchor.w * glm::vec2(target.width(), target.height());
+    const glm::vec2 a = glm::vec2(out.anchor_clip) / out.anchor_clip.w * glm::vec2(target.width(), target.height());
     const glm::vec2 b = glm::vec2(ahead) / ahead.w * glm::vec2(target.width(), target.height());
-    glm::vec2 dir = b - a;
-    dir = glm::length(dir) > 1e-4f ? glm::normalize(dir) : glm::vec2(0.0f, 1.0f);
+    const glm::vec2 dir = b - a;
+    out.screen_dir = glm::length(dir) > 1e-4f ? glm::normalize(dir) : glm::vec2(0.0f, 1.0f);
+    // Its outline as drawn (screen pixels, y down): the arrow's convex hull (tip and the two back
+    // corners) at the size of its dark outline; labels keep out of it, the metrics measure it.
+    const glm::vec2 ndc = glm::vec2(out.anchor_clip) / out.anchor_clip.w;
+    const glm::vec2 center((ndc.x * 0.5f + 0.5f) * static_cast<float>(target.width()),
+                           (0.5f - ndc.y * 0.5f) * static_cast<float>(target.height()));
+    const glm::vec2 side(out.screen_dir.y, -out.screen_dir.x);
+    const float size = m_style.marker_size_px + 3.0f;
+    for (const glm::vec2 corner : {glm::vec2(0.0f, 1.0f), glm::vec2(0.6f, -0.7f), glm::vec2(-0.6f, -0.7f)}) {
+        const glm::vec2 up = (corner.x * side + corner.y * out.screen_dir) * size;  // y up
+        out.outline.push_back(center + glm::vec2(up.x, -up.y));
+    }
+    return out;
+}
+
+void MapRenderer::drawMarker(const MapFrame& frame, const MarkerOnScreen& marker, const RenderTarget& target) {
+    const MarkerState& m = *frame.marker;
+    m_stats.drawn_marker.outline = marker.outline;
     target.bindForDrawing(false);
     glDisable(GL_DEPTH_TEST);
     glDisable(GL_CULL_FACE);
     glUseProgram(m_marker.id());
-    glUniform4fv(m_marker.uniform("u_anchor_clip"), 1, glm::value_ptr(anchor));
-    glUniform2fv(m_marker.uniform("u_screen_dir"), 1, glm::value_ptr(dir));
+    glUniform4fv(m_marker.uniform("u_anchor_clip"), 1, glm::value_ptr(marker.anchor_clip));
+    glUniform2fv(m_marker.uniform("u_screen_dir"), 1, glm::value_ptr(marker.screen_dir));
     glUniform2f(m_marker.uniform("u_viewport"), static_cast<float>(target.width()), static_cast<float>(target.height()));
     // Outline first (slightly larger, dark), then the fill.
     glBindVertexArray(m_marker_vao);

@@ -7,6 +7,7 @@
 
 #include <array>
 #include <memory>
+#include <optional>
 #include <span>
 #include <unordered_map>
 #include <unordered_set>
@@ -79,7 +80,15 @@ private:
     void drawRoute(ShaderProgram& program, int pass, const MapFrame& frame, const glm::mat4& projection,
                    const std::vector<GpuTile*>& tiles);
     void setRoadUniforms(ShaderProgram& program, int pass, bool route, const glm::mat4& projection);
-    void drawMarker(const MapFrame& frame, const RenderTarget& target);
+    /// The vehicle marker as it will be drawn: projected anchor, heading on screen and the
+    /// screen outline; none without a marker or behind the camera.
+    struct MarkerOnScreen {
+        glm::vec4 anchor_clip{0.0f};
+        glm::vec2 screen_dir{0.0f, 1.0f};  ///< unit, pixels, y up
+        std::vector<glm::vec2> outline;    ///< screen pixels, y down
+    };
+    [[nodiscard]] std::optional<MarkerOnScreen> markerOnScreen(const MapFrame& frame, const RenderTarget& target) const;
+    void drawMarker(const MapFrame& frame, const MarkerOnScreen& marker, const RenderTarget& target);
     /// With a buildings program bound (buildings.vert: the scene's or the aura's): its uniforms,
     /// then the buildings of `tiles` in view; returns the triangles drawn.
     std::size_t drawBuildings(ShaderProgram& program, const MapFrame& frame, const glm::mat4& projection,

@@ -23,14 +23,20 @@ TextStyle baseStyle(glm::vec4 fill) {
 
 }  // namespace
 
+// Sizes for a car display read at arm's length (docs/labels.md, "Text sizes"): DejaVu Sans has
+// a cap height of 0.73 em, so 15 px type has 11 px capitals, about 11.5 arc minutes on a
+// 12.3-inch 1280 x 480 cluster seen from 75 cm; street names 15-17 px, places 15-30 px by rank.
+// The layout never scales capitals below 9.5 px (LayoutParams::min_cap_height_px).
 LabelTextStyle labelTextStyle(map::LabelKind kind, std::uint8_t subclass) {
     LabelTextStyle l;
     switch (kind) {
     case map::LabelKind::Place: {
         // Size by class, largest first (PlaceClass order): Country ... Other.
-        constexpr std::array<float, 12> kSizes = {24, 22, 21, 19, 16, 15, 14, 13, 13, 12, 14, 12};
+        constexpr std::array<float, 12> kSizes = {30, 28, 26, 23, 19, 17, 16, 15, 15, 15, 16, 15};
         l.font = subclass <= static_cast<std::uint8_t>(map::PlaceClass::Village) ? FontStyle::Bold : FontStyle::Regular;
         l.size_px = kSizes[std::min<std::size_t>(subclass, kSizes.size() - 1)];
+        constexpr std::array<float, 12> kReach = {12, 12, 10, 6, 3.5, 3, 2.5, 2.5, 2.5, 2, 4, 2};
+        l.world_reach = kReach[std::min<std::size_t>(subclass, kReach.size() - 1)];
         l.style = baseStyle(glm::vec4(1.0f, 1.0f, 1.0f, 1.0f));
         break;
     }
@@ -45,7 +51,7 @@ LabelTextStyle labelTextStyle(map::LabelKind kind, std::uint8_t subclass) {
             glm::vec4(0.55f, 0.40f, 0.30f, 1.0f)};
         const std::size_t i = std::min<std::size_t>(subclass, kIcons.size() - 1);
         l.font = FontStyle::Regular;
-        l.size_px = 13.0f;
+        l.size_px = 15.0f;
         l.style = baseStyle(glm::vec4(1.0f, 0.96f, 0.88f, 1.0f));
         l.style.icon = kColors[i];
         l.icon = kIcons[i];
@@ -54,13 +60,14 @@ LabelTextStyle labelTextStyle(map::LabelKind kind, std::uint8_t subclass) {
     case map::LabelKind::Road:
         // Line labels: smaller, regular weight, pale yellow like the major road fill.
         l.font = FontStyle::Regular;
-        l.size_px = subclass <= 2 ? 14.0f : 12.0f;
+        l.size_px = subclass <= 2 ? 17.0f : 15.0f;
         l.style = baseStyle(glm::vec4(1.0f, 0.98f, 0.80f, 1.0f));
         break;
     case map::LabelKind::Area:
         // Water in blue tones, other areas in a pale green; thinner outline.
         l.font = FontStyle::Regular;
-        l.size_px = 13.0f;
+        l.size_px = 15.0f;
+        l.world_reach = 2.5f;
         l.style = baseStyle(subclass == static_cast<std::uint8_t>(map::AreaClass::Water)
                                 ? glm::vec4(0.75f, 0.88f, 1.0f, 1.0f)
                                 : glm::vec4(0.86f, 0.95f, 0.84f, 1.0f));

@@ -5,7 +5,10 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <numbers>
+#include <span>
 #include <string>
+#include <vector>
 
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -216,7 +219,7 @@ TEST_F(TextLayerTest, AlphaBlendsOverTheBackground) {
     EXPECT_TRUE(inkBox(img, {128, 128, 128}, 2, 128, 256).empty()) << "alpha 0 must draw nothing";
 }
 
-TEST_F(TextLayerTest, WorldLabelsAreHiddenBehindOccludersAndKeepAReadableSize) {
+TEST_F(TextLayerTest, WorldLabelsAreHiddenBehindOccludersAndForeshortenWithDistance) {
     const int w = 480, h = 240;
     begin(w, h);
     // Occluder: the left half of the depth buffer is at the near plane.
@@ -231,30 +234,78 @@ TEST_F(TextLayerTest, WorldLabelsAreHiddenBehindOccludersAndKeepAReadableSize) {
     for (WorldTextDraw& x : d) {
         x.quads = l.quads;
         x.size_px = l.size_px;
-        x.world_em_m = 20.0f;
-        x.min_px = 12.0f;
-        x.max_px = 40.0f;
+        x.em_m = 20.0f;
+        x.right = {1.0f, 0.0f, 0.0f};  // facing the camera
+        x.up = {0.0f, 1.0f, 0.0f};
         x.style = bandsStyle();
         x.style.halo_px = 2.0f;
     }
-    // Left: behind the occluder. Middle right: near (large). Far right: very far (clamped).
+    // Left: behind the occluder. Right: the same text near and twice as far.
     d[0].position = {-200.0f, 0.0f, -500.0f};
-    d[1].position = {50.0f, 40.0f, -300.0f};     // ~ x 288 px
-    d[2].position = {5000.0f, -1200.0f, -8000.0f};  // ~ x 421 px
+    d[1].position = {60.0f, 40.0f, -300.0f};
+    d[2].position = {300.0f, -60.0f, -600.0f};
     m_layer->drawWorld(d, view, projection, {w, h});
     const Image img = finish();
     EXPECT_TRUE(inkBox(img, {128, 128, 128}, 4, 0, w / 2).empty()) << "label behind the occluder is drawn";
-    const Box near = inkBox(img, {128, 128, 128}, 24, w / 2, w / 2 + 130);
-    const Box far = inkBox(img, {128, 128, 128}, 24, w / 2 + 130, w);
+    const Box near = inkBox(img, {128, 128, 128}, 24, w / 2, w / 2 + 120);
+    const Box far = inkBox(img, {128, 128, 128}, 24, w / 2 + 120, w);
     ASSERT_FALSE(near.empty());
     ASSERT_FALSE(far.empty());
-    // Near: 20 m em at 300 m with focal 2.414 and 240 px -> 19.3 px em; far would be 0.7 px
-    // but is clamped to the 12 px minimum readable size.
-    const float near_em = 20.0f * projection[1][1] * 0.5f * h / 300.0f;
+    // Perspective, no clamping: 20 m em at 300 m with focal 2.414 and 240 px is 19.3 px em, at
+    // 600 m half of it (seed 5.2.1: world-space labels are foreshortened with distance).
     const TextMetrics m = measureText(m_engine->shaped(m_engine->run("Ordino")), 1.0f);
-    EXPECT_NEAR(near.w(), m.width * near_em + 2 * (3 + 2) * near_em / 32.0f, 6.0f);
-    EXPECT_NEAR(far.w(), m.width * 12.0f + 2 * (3 + 2) * 12.0f / 32.0f, 6.0f);
-    EXPECT_GT(near.w(), far.w());
+    for (const auto& [box, depth] : {std::pair{near, 300.0f}, std::pair{far, 600.0f}}) {
+        const float em = 20.0f * projection[1][1] * 0.5f * h / depth;
+        EXPECT_NEAR(box.w(), m.width * em + 2 * (3 + 2) * em / 32.0f, 4.0f) << "at " << depth << " m";
+    }
+    EXPECT_NEAR(static_cast<float>(near.w()) / static_cast<float>(far.w()), 2.0f, 0.3f);
+}
+
+TEST_F(TextLayerTest, WorldLabelsReadAlongTheirBaselineDirection) {
+    const int w = 480, h = 240;
+    begin(w, h);
+    const LaidOutText l = m_engine->layout(m_engine->run("Carrer Major"), 32.0f);
+    const glm::mat4 projection = glm::perspective(glm::radians(45.0f), float(w) / h, 1.0f, 20000.0f);
+    const glm::mat4 view = glm::lookAt(glm::vec3(0.0f), glm::vec3(0.0f, 0.0f, -1.0f), glm::vec3(0.0f, 1.0f, 0.0f));
+    // A baseline turned 30 degrees up from the screen's x axis, in the plane facing the camera.
+    const float a = glm::radians(30.0f);
+    WorldTextDraw d;
+    d.quads = l.quads;
+    d.size_px = l.size_px;
+    d.em_m = 14.0f;
+    d.right = {std::cos(a), std::sin(a), 0.0f};
+    d.up = {-std::sin(a), std::cos(a), 0.0f};
+    d.position = {0.0f, 0.0f, -400.0f};
+    d.style = bandsStyle();
+    m_layer->drawWorld(std::span(&d, 1), view, projection, {w, h});
+    const Image img = finish();
+    // Fit the ink pixels' principal axis: it follows the baseline (up the screen to the right).
+    double sx = 0, sy = 0, n = 0;
+    std::vector<glm::dvec2> ink;
+    for (int y = 0; y < h; ++y) {
+        for (int x = 0; x < w; ++x) {
+            const glm::ivec3 c = px(img, x, y);
+            if (std::abs(c.r - 128) + std::abs(c.g - 128) + std::abs(c.b - 128) > 24) {
+                ink.emplace_back(x, y);
+                sx += x;
+                sy += y;
+                ++n;
+            }
+        }
+    }
+    ASSERT_GT(n, 200);
+    const glm::dvec2 mean(sx / n, sy / n);
+    double cxx = 0, cxy = 0, cyy = 0;
+    for (const glm::dvec2 p : ink) {
+        const glm::dvec2 q = p - mean;
+        cxx += q.x * q.x;
+        cxy += q.x * q.y;
+        cyy += q.y * q.y;
+    }
+    const double angle = 0.5 * std::atan2(2.0 * cxy, cxx - cyy);  // y down: negative is up the screen
+    EXPECT_NEAR(angle * 180.0 / std::numbers::pi, -30.0, 4.0);
+    EXPECT_NEAR(mean.x, w / 2.0, 6.0);
+    EXPECT_NEAR(mean.y, h / 2.0, 6.0);
 }
 
 TEST_F(TextLayerTest, GoldenLabels) {

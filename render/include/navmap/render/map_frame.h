@@ -10,6 +10,7 @@
 
 #include "navmap/map/tile.h"
 #include "navmap/render/camera.h"
+#include "navmap/render/labels/drawn_label.h"
 #include "navmap/render/labels/label_types.h"
 #include "navmap/render/road_style.h"
 
@@ -77,6 +78,10 @@ struct MapLayers {
     /// Transparency label aura (seed 5.3.3, 5.5.1): buildings in front of a label fade out in a
     /// smooth region around it. Needs labels; off by default.
     bool label_aura = false;
+    /// Measure how much of each world-space label the scene hides, as drawn (two id renders and
+    /// readbacks per frame): MapFrameStats::drawn_labels[].occluded_fraction. For quality tools
+    /// and tests; off in production.
+    bool measure_label_occlusion = false;
     /// Road draping technique; Geometric by default (the existing goldens are geometric).
     RoadTechnique road_technique = RoadTechnique::Geometric;
 };
@@ -182,6 +187,10 @@ struct MapFrameStats {
     std::size_t label_glyphs = 0;          ///< glyph quads drawn
     float label_world_weight = 0;          ///< 0: screen-space labels, 1: world-space, between: cross-fading
     std::vector<labels::PlacedLabel> placed_labels;  ///< layout output of this frame (quality metrics)
+    /// Every label drawn in this frame as it appears on screen (glyph extents after projection,
+    /// drawn opacity): what the label quality metrics measure.
+    std::vector<labels::DrawnLabel> drawn_labels;
+    labels::DrawnMarker drawn_marker;  ///< the vehicle marker's screen outline, empty when none was drawn
 };
 
 }  // namespace navmap::render

@@ -17,6 +17,10 @@ struct LabelTextStyle {
     TextStyle style;
     /// POIs: the symbol drawn left of the name (a DejaVu Sans glyph, UTF-8); empty otherwise.
     std::string icon;
+    /// World-space text (snail's view, seed 5.2.1) has a fixed size in the world: `size_px` at
+    /// `world_reach` times the camera's look-at distance, so it is readable (cap height >= 10 px)
+    /// out to about that far. A street name is read near the car, a town's from afar.
+    float world_reach = 1.5f;
 };
 
 /// Style of a tile label: `kind` and `subclass` as in map::Label (PlaceClass, PoiClass,

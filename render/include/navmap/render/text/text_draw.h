@@ -34,18 +34,16 @@ struct TextDraw {
     TextStyle style;
 };
 
-/// A label at a 3D point, facing the camera, depth-tested against the scene.
+/// A label that is part of the 3D world (seed 5.2.1): its text lies in a plane of the scene,
+/// spanned by `right` (the baseline, along which it reads) and `up`, so the perspective
+/// projection foreshortens it with distance like everything else; depth-tested against the scene.
 struct WorldTextDraw {
     std::span<const GlyphQuad> quads;
     float size_px = 16.0f;         ///< size the quads were laid out at
-    glm::vec3 position{0.0f};      ///< anchor in the frame of the view matrix passed to the draw
-    /// Em height the text has in the world, metres: the screen size follows the distance
-    /// (seed 4.3.3 depth scaling) ...
-    float world_em_m = 20.0f;
-    /// ... clamped to [min_px, max_px] em pixels on screen (minimum readable size).
-    float min_px = 11.0f;
-    float max_px = 28.0f;
-    float angle_rad = 0.0f;
+    glm::vec3 position{0.0f};      ///< the text box's center, in the frame of the view matrix passed to the draw
+    glm::vec3 right{1.0f, 0.0f, 0.0f};  ///< unit baseline direction
+    glm::vec3 up{0.0f, 0.0f, 1.0f};     ///< unit direction from the baseline to the tops of the glyphs
+    float em_m = 20.0f;            ///< em height of the text in the world, metres
     float alpha = 1.0f;
     TextStyle style;
 };
