@@ -206,6 +206,8 @@ std::optional<DaemonConfig> parseConfig(const std::string& text, const std::stri
                 err->message = where(source_name, e.source()) + ": profile.name is required";
                 return std::nullopt;
             }
+            // Without label_aura the aura follows the view: on where labels lie in the world.
+            if (!e.as_table()->contains("label_aura")) p.label_aura = view != "bird";
             if (view == "bird") p.view = render::ViewMode::Bird;
             else if (view == "snail") p.view = render::ViewMode::Snail;
             else if (view == "hud") p.view = render::ViewMode::Snail;  // route-and-manoeuvre style, from behind

@@ -6,7 +6,8 @@ std::vector<DisplayProfile> defaultProfiles() {
     return {
         {"cluster", 1280, 480, 30.0, render::ViewMode::Snail, render::Orientation::HeadingUp, "snail"},
         {"hud", 800, 240, 30.0, render::ViewMode::Snail, render::Orientation::HeadingUp, "hud"},
-        {"center", 1280, 720, 30.0, render::ViewMode::Bird, render::Orientation::HeadingUp, "bird"},
+        {"center", 1280, 720, 30.0, render::ViewMode::Bird, render::Orientation::HeadingUp, "bird",
+         render::RoadTechnique::Auto, true, false},
     };
 }
 

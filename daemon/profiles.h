@@ -21,8 +21,12 @@ struct DisplayProfile {
     std::string stream_view = "snail";
     /// Road draping per view (seed 3.7): geometric, shadow volumes, or chosen by DEM spacing.
     render::RoadTechnique roads = render::RoadTechnique::Auto;
-    bool glow_roads = false;  ///< roads and route hidden by buildings shine through (seed 5.5.2)
-    bool label_aura = false;  ///< buildings in front of labels fade around them (seed 5.5.1)
+    /// The occlusion aids of seed ch. 5, on in the shipped configuration: roads and the route
+    /// hidden by buildings shine through (5.5.2) in every view, and buildings in front of a
+    /// label fade around it (5.5.1) where labels lie in the world (snail's views); bird's-eye
+    /// labels are drawn over the scene, which the seed's experts found enough there (5.4.2).
+    bool glow_roads = true;
+    bool label_aura = true;
     /// Minor road classes leave distant views (seed 7.3, render::MapLayers::road_selection);
     /// false: every class at every distance.
     bool road_selection = true;
