@@ -21,7 +21,7 @@ namespace {
 
 using namespace navmap::render;
 
-constexpr int kW = 640, kH = 240;
+constexpr int kW = 1280, kH = 480;  // the cluster display
 
 // The car 1.8 km into the drive (Escaldes), camera settled, tiles resident.
 MapFrame settledFrame(ViewMode mode) {

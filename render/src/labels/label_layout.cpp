@@ -287,6 +287,7 @@ void LabelLayout::remove(Label& l, RemovalReason why) {
         case RemovalReason::Speed: ++m_stats.removed_speed; break;
         case RemovalReason::Constricted: ++m_stats.removed_constricted; break;
         case RemovalReason::Overlap: ++m_stats.removed_overlap; break;
+        case RemovalReason::OffScreen: ++m_stats.removed_off_screen; break;
         case RemovalReason::None:
         case RemovalReason::Gone: break;
     }
@@ -337,9 +338,11 @@ void LabelLayout::integrate(float dt) {
     // (eq. 4.6). The pair order is fixed by the grid, so the float sums are reproducible.
     std::size_t pairs = 0;
     std::size_t collisions = 0;
-    // Inflating both boxes adds at least 2 * buffer to the depth; the slack absorbs rounding so
-    // that every overlap LayoutMetrics would count is seen here.
-    const float text_overlap_depth = 2.0F * m_params.buffer_px - 0.01F;
+    // Inflating both boxes adds at least 2 * buffer to the depth: beyond `pressing_depth` the
+    // text boxes are closer than one buffer width. A label held there by its spring against a
+    // more important one for overlap_removal_s fades out before the two can overlap (the hard
+    // rule of resolveOverlaps() would then drop it at once).
+    const float pressing_depth = m_params.buffer_px;
     m_grid.forEachPair([&](std::uint32_t a, std::uint32_t b) {
         ++pairs;
         // a < b in id order; on coincident centers the lower id goes up.
@@ -355,14 +358,12 @@ void LabelLayout::integrate(float dt) {
         const float mag = glm::length(f);
         m_force_abs[a] += mag;
         m_force_abs[b] += mag;
-        if (depth > text_overlap_depth) {
+        if (depth > pressing_depth) {
             const Label& la = m_labels[m_active[a]];
             const Label& lb = m_labels[m_active[b]];
-            if (textBox(la).overlaps(textBox(lb))) {
-                const bool a_weaker = la.in.priority < lb.in.priority ||
-                                      (la.in.priority == lb.in.priority && la.in.id > lb.in.id);
-                m_overlapped[a_weaker ? a : b] = 1U;
-            }
+            const bool a_weaker = la.in.priority < lb.in.priority ||
+                                  (la.in.priority == lb.in.priority && la.in.id > lb.in.id);
+            m_overlapped[a_weaker ? a : b] = 1U;
         }
     });
     m_stats.last_pairs = pairs;
@@ -424,6 +425,16 @@ void LabelLayout::integrate(float dt) {
         if (constricted && l.constricted_time > m_params.constricted_time_s) {
             remove(l, RemovalReason::Constricted);
             continue;
+        }
+        // Text the viewport would cut fades out; it comes back where it fits (placement).
+        if (m_camera.viewport.x > 0.0F && m_camera.viewport.y > 0.0F) {
+            const OrientedBox box = textBox(l);
+            const glm::vec2 h = box.aabbHalfExtents();
+            if (box.center.x - h.x < -1.0F || box.center.y - h.y < -1.0F || box.center.x + h.x > m_camera.viewport.x + 1.0F ||
+                box.center.y + h.y > m_camera.viewport.y + 1.0F) {
+                remove(l, RemovalReason::OffScreen);
+                continue;
+            }
         }
         // Decays instead of resetting, so an overlap that flickers on and off still counts.
         l.overlap_time = m_overlapped[a] != 0U ? l.overlap_time + dt : std::max(0.0F, l.overlap_time - dt);

@@ -36,6 +36,7 @@ struct LayoutStats {
     std::uint64_t removed_speed = 0;
     std::uint64_t removed_constricted = 0;
     std::uint64_t removed_overlap = 0;
+    std::uint64_t removed_off_screen = 0;
     std::uint64_t rejected_inputs = 0;   ///< candidates refused by setFrame() (bad values, duplicate ids)
     std::size_t last_pairs = 0;          ///< broad-phase pairs in the last step
     std::size_t last_collisions = 0;     ///< of those, colliding buffered boxes (eq. 4.2)

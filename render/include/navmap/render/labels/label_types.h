@@ -34,6 +34,7 @@ enum class RemovalReason : std::uint8_t {
     Speed,       ///< seed 4.5.3 speed-based removal
     Constricted, ///< seed 4.5.3: the forces on it cancel out
     Overlap,     ///< its box kept overlapping a more important label
+    OffScreen,   ///< its text box left the viewport (the camera turned): it would be cut
 };
 
 /// One label candidate for the current frame, already projected by the renderer.

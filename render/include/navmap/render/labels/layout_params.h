@@ -40,7 +40,7 @@ struct LayoutParams {
     float constricted_min_force = 0.6F;  ///< sum of |f^(i,k)| above which a label may be constricted
     float constricted_ratio = 0.25F;     ///< |sum f| / sum |f| below which the forces cancel out
     float constricted_time_s = 0.5F;     ///< how long it must stay constricted before removal
-    float overlap_removal_s = 0.5F;      ///< buffered boxes pressing into a more important label this long: remove
+    float overlap_removal_s = 0.5F;      ///< text box closer than buffer_px to a more important one this long: fade out
     /// Text boxes may never overlap in a drawn frame: a label whose box (with halo) overlaps a
     /// more important label's or a keep-out area by more than this is removed at once, its
     /// opacity dropped below `visible_alpha` in the same frame, and fades out from there.
