@@ -8,6 +8,7 @@
 #include <turbojpeg.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <cstring>
 #include <fstream>
 
@@ -151,6 +152,68 @@ std::string httpExchange(int port, const std::string& request, std::chrono::mill
     std::string r = readUntilClose(fd, timeout);
     close(fd);
     return r;
+}
+
+namespace {
+
+// The first line the peer sends (without '\n'), or what came before it closed; 3 s at most.
+std::string readLine(int fd, int* ringFd) {
+    std::string line;
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(3);
+    while (line.find('\n') == std::string::npos) {
+        const auto left =
+            std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now()).count();
+        pollfd p{fd, POLLIN, 0};
+        if (left <= 0 || poll(&p, 1, static_cast<int>(left)) <= 0) {
+            break;
+        }
+        char buf[4096];
+        iovec iov{buf, sizeof(buf)};
+        alignas(cmsghdr) char control[CMSG_SPACE(sizeof(int))] = {};
+        msghdr msg{};
+        msg.msg_iov = &iov;
+        msg.msg_iovlen = 1;
+        msg.msg_control = control;
+        msg.msg_controllen = sizeof(control);
+        const ssize_t n = recvmsg(fd, &msg, MSG_CMSG_CLOEXEC);
+        for (cmsghdr* cm = CMSG_FIRSTHDR(&msg); n >= 0 && cm != nullptr; cm = CMSG_NXTHDR(&msg, cm)) {
+            if (cm->cmsg_level == SOL_SOCKET && cm->cmsg_type == SCM_RIGHTS) {
+                int f = -1;
+                std::memcpy(&f, CMSG_DATA(cm), sizeof(int));
+                if (ringFd != nullptr && *ringFd < 0) {
+                    *ringFd = f;
+                } else {
+                    close(f);
+                }
+            }
+        }
+        if (n <= 0) {
+            break;
+        }
+        line.append(buf, static_cast<std::size_t>(n));
+    }
+    return line.substr(0, line.find('\n'));
+}
+
+}  // namespace
+
+RawShmClient::~RawShmClient() {
+    if (ringFd >= 0) {
+        close(ringFd);
+    }
+    if (fd >= 0) {
+        close(fd);
+    }
+}
+
+std::unique_ptr<RawShmClient> rawShmHandshake(const std::string& path, const std::string& line) {
+    auto c = std::make_unique<RawShmClient>();
+    c->fd = connectUnixRaw(path);
+    if (c->fd < 0 || !sendAllRaw(c->fd, line)) {
+        return c;
+    }
+    c->reply = readLine(c->fd, &c->ringFd);
+    return c;
 }
 
 MjpegReader::MjpegReader(int port, const std::string& target) {

@@ -5,6 +5,7 @@
 #include <atomic>
 #include <chrono>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <thread>
 #include <vector>
@@ -44,6 +45,15 @@ bool sendAllRaw(int fd, const std::string& data);
 std::string readUntilClose(int fd, std::chrono::milliseconds timeout);
 /// One HTTP request over a fresh connection; returns the whole response.
 std::string httpExchange(int port, const std::string& request, std::chrono::milliseconds timeout = std::chrono::seconds(5));
+
+/// A shm handshake done by hand, keeping the ring's descriptor as received (SCM_RIGHTS).
+struct RawShmClient {
+    int fd = -1;       ///< the socket
+    int ringFd = -1;   ///< the memfd from the reply, -1 when none came
+    std::string reply; ///< the reply line without '\n'
+    ~RawShmClient();
+};
+std::unique_ptr<RawShmClient> rawShmHandshake(const std::string& path, const std::string& line);
 
 /// Reads multipart/x-mixed-replace JPEG parts from /stream.mjpg.
 class MjpegReader {
