@@ -154,6 +154,11 @@ std::string httpExchange(int port, const std::string& request, std::chrono::mill
     return r;
 }
 
+std::string httpGet(int port, const std::string& target, const std::string& headers) {
+    return httpExchange(port, "GET " + target + " HTTP/1.1\r\nHost: 127.0.0.1:" + std::to_string(port) + "\r\n" + headers +
+                                  "\r\n");
+}
+
 namespace {
 
 // The first line the peer sends (without '\n'), or what came before it closed; 3 s at most.
@@ -216,12 +221,31 @@ std::unique_ptr<RawShmClient> rawShmHandshake(const std::string& path, const std
     return c;
 }
 
+std::string holdConnections(const std::string& path, const std::string& line, int count) {
+    std::string out;
+    for (int i = 0; i < count; ++i) {
+        const int fd = socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
+        sockaddr_un a{};
+        a.sun_family = AF_UNIX;
+        std::strncpy(a.sun_path, path.c_str(), sizeof(a.sun_path) - 1);
+        if (connect(fd, reinterpret_cast<sockaddr*>(&a), sizeof(a)) != 0) {
+            out += std::string("connect: ") + std::strerror(errno) + "\n";
+            close(fd);
+            continue;
+        }
+        sendAllRaw(fd, line);  // a refused peer may be gone already: its answer is still readable
+        out += readLine(fd, nullptr) + "\n";
+        // Left open on purpose: the process holds its connections until it exits.
+    }
+    return out;
+}
+
 MjpegReader::MjpegReader(int port, const std::string& target) {
     m_fd = connectTcpRaw(port);
     if (m_fd < 0) {
         return;
     }
-    sendAllRaw(m_fd, "GET " + target + " HTTP/1.1\r\nHost: localhost\r\n\r\n");
+    sendAllRaw(m_fd, "GET " + target + " HTTP/1.1\r\nHost: 127.0.0.1:" + std::to_string(port) + "\r\n\r\n");
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(5);
     while (m_buf.find("\r\n\r\n") == std::string::npos) {
         if (!fill(deadline)) {
