@@ -2,6 +2,7 @@
 
 #include <toml++/toml.h>
 
+#include <algorithm>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -227,34 +228,63 @@ std::optional<DaemonConfig> parseConfig(const std::string& text, const std::stri
     } else {
         c.profiles = defaultProfiles();
     }
+    // allowed_uids / allowed_gids: arrays of non-negative integers.
+    const auto readIds = [&](const char* section_name, TableReader& r, const char* key, std::vector<std::uint32_t>& out) {
+        r.known(key);
+        const auto* t = table(section_name);
+        const toml::node* n = t ? t->get(key) : nullptr;
+        if (!n) return true;
+        const toml::array* arr = n->as_array();
+        if (!arr) {
+            err->message = where(source_name, n->source()) + ": " + section_name + "." + key + " must be an array of ids";
+            return false;
+        }
+        for (const auto& e : *arr) {
+            auto v = e.value<std::int64_t>();
+            if (!v || *v < 0 || *v > 0xFFFFFFFELL) {
+                err->message = where(source_name, e.source()) + ": " + section_name + "." + key + " entries must be " +
+                               (std::string(key) == "allowed_uids" ? "uids" : "gids");
+                return false;
+            }
+            out.push_back(static_cast<std::uint32_t>(*v));
+        }
+        return true;
+    };
     {
         auto r = section("control");
         std::int64_t mode = c.control_mode;
-        toml::array* uids = nullptr;
-        if (const auto* t = table("control")) uids = const_cast<toml::table*>(t)->get_as<toml::array>("allowed_uids");
-        r.known("allowed_uids");
-        if (!r.get("socket", c.control_socket) || !r.get("mode", mode) || !r.range("mode", double(mode), 0, 0777) ||
-            !r.noUnknownKeys())
+        if (!readIds("control", r, "allowed_uids", c.control_uids) || !readIds("control", r, "allowed_gids", c.control_gids) ||
+            !r.get("socket", c.control_socket) || !r.get("mode", mode) || !r.range("mode", double(mode), 0, 0777) ||
+            !r.get("group", c.control_group) || !r.noUnknownKeys())
             return std::nullopt;
         c.control_mode = static_cast<std::uint32_t>(mode);
-        if (uids) {
-            for (const auto& e : *uids) {
-                auto v = e.value<std::int64_t>();
-                if (!v || *v < 0) {
-                    err->message = where(source_name, e.source()) + ": control.allowed_uids entries must be uids";
-                    return std::nullopt;
-                }
-                c.control_uids.push_back(static_cast<std::uint32_t>(*v));
-            }
-        }
     }
     {
         auto r = section("stream");
-        if (!r.get("socket", c.frame_socket) || !r.get("tcp_port", c.tcp_port) || !r.range("tcp_port", c.tcp_port, 0, 65535) ||
+        std::int64_t ring_mb = static_cast<std::int64_t>(c.ring_memory_mb);
+        if (!readIds("stream", r, "allowed_uids", c.stream_uids) || !readIds("stream", r, "allowed_gids", c.stream_gids) ||
+            !r.get("socket", c.frame_socket) || !r.get("group", c.stream_group) ||
+            !r.get("max_clients_per_transport", c.max_clients_per_transport) ||
+            !r.range("max_clients_per_transport", c.max_clients_per_transport, 1, 1024) ||
+            !r.get("max_clients_per_uid", c.max_clients_per_uid) || !r.range("max_clients_per_uid", c.max_clients_per_uid, 1, 1024) ||
+            !r.get("ring_memory_mb", ring_mb) || !r.range("ring_memory_mb", double(ring_mb), 1, 65536) ||
+            !r.get("handshake_timeout_s", c.handshake_timeout_s) || !r.range("handshake_timeout_s", c.handshake_timeout_s, 0.1, 600.0) ||
+            !r.get("tcp_port", c.tcp_port) || !r.range("tcp_port", c.tcp_port, 0, 65535) ||
             !r.get("http_port", c.http_port) || !r.range("http_port", c.http_port, 0, 65535) ||
-            !r.get("http_address", c.http_address) || !r.get("client_timeout_s", c.client_timeout_s) ||
-            !r.range("client_timeout_s", c.client_timeout_s, 0.1, 3600.0) || !r.noUnknownKeys())
+            !r.get("http_address", c.http_address) || !r.get("http_token", c.http_token) ||
+            !r.get("client_timeout_s", c.client_timeout_s) || !r.range("client_timeout_s", c.client_timeout_s, 0.1, 3600.0) ||
+            !r.noUnknownKeys())
             return std::nullopt;
+        c.ring_memory_mb = static_cast<std::size_t>(ring_mb);
+        // The token travels in URLs (?token=): URL-safe characters only, long enough not to guess.
+        const bool token_chars = std::all_of(c.http_token.begin(), c.http_token.end(), [](char ch) {
+            return (ch >= 'a' && ch <= 'z') || (ch >= 'A' && ch <= 'Z') || (ch >= '0' && ch <= '9') || ch == '-' ||
+                   ch == '_' || ch == '.' || ch == '~';
+        });
+        if (!c.http_token.empty() && (c.http_token.size() < 16 || c.http_token.size() > 256 || !token_chars)) {
+            err->message = source_name + ": stream.http_token must be 16..256 characters of A-Z a-z 0-9 - _ . ~";
+            return std::nullopt;
+        }
     }
     {
         auto r = section("log");
@@ -325,8 +355,24 @@ std::string describeConfig(const DaemonConfig& c) {
           << (p.glow_roads ? ", glowing roads" : "") << (p.label_aura ? ", label aura" : "")
           << (p.road_selection ? "" : ", every road class at every distance") << "\n";
     }
-    s << "control: " << c.control_socket.string() << " (mode " << std::oct << c.control_mode << std::dec << ")\n";
-    s << "stream: " << c.frame_socket.string() << ", tcp " << c.tcp_port << ", http " << c.http_address << ":" << c.http_port << "\n";
+    const auto ids = [](const std::vector<std::uint32_t>& v) {
+        std::string out;
+        for (const auto id : v) out += (out.empty() ? "" : ",") + std::to_string(id);
+        return out;
+    };
+    s << "control: " << c.control_socket.string() << " (mode " << std::oct << c.control_mode << std::dec
+      << (c.control_group.empty() ? "" : ", group " + c.control_group) << ", uids "
+      << (c.control_uids.empty() ? "own" : ids(c.control_uids)) << (c.control_gids.empty() ? "" : ", gids " + ids(c.control_gids))
+      << ")\n";
+    s << "stream: " << c.frame_socket.string() << " (mode 660" << (c.stream_group.empty() ? "" : ", group " + c.stream_group)
+      << ", uids " << (c.stream_uids.empty() ? "own" : ids(c.stream_uids))
+      << (c.stream_gids.empty() ? "" : ", gids " + ids(c.stream_gids)) << "), tcp " << c.tcp_port << ", http "
+      << (c.http_port > 0 ? c.http_address + ":" + std::to_string(c.http_port) + (c.http_token.empty() ? "" : " (token)")
+                          : std::string("off"))
+      << "\n";
+    s << "stream limits: " << c.max_clients_per_transport << " clients per transport, " << c.max_clients_per_uid
+      << " per uid, ring memory " << c.ring_memory_mb << " MiB, handshake and first frame within " << c.handshake_timeout_s
+      << " s\n";
     return s.str();
 }
 

@@ -44,11 +44,21 @@ struct DaemonConfig {
     std::filesystem::path control_socket = "/run/navmap/control.sock";
     std::uint32_t control_mode = 0660;
     std::vector<std::uint32_t> control_uids;   ///< empty: same uid as the daemon, and root
+    std::vector<std::uint32_t> control_gids;   ///< allowed_gids: members (primary or supplementary) may connect
+    std::string control_group;                 ///< socket file group (name or gid), its members allowed; empty: none
     // [stream]
     std::filesystem::path frame_socket = "/run/navmap/frames.sock";
+    std::string stream_group;                  ///< socket file group (name or gid), its members allowed; empty: none
+    std::vector<std::uint32_t> stream_uids;    ///< allowed_uids; empty: same uid as the daemon, and root
+    std::vector<std::uint32_t> stream_gids;    ///< allowed_gids
+    int max_clients_per_transport = 32;        ///< Unix, TCP and HTTP connections, each
+    int max_clients_per_uid = 8;               ///< Unix connections per peer uid
+    std::size_t ring_memory_mb = 64;           ///< all shared-memory rings together
+    double handshake_timeout_s = 5.0;          ///< handshake, then first frame, each within this
     int tcp_port = 0;                          ///< 0: no TCP frame server
-    int http_port = 8080;                      ///< MJPEG, status page, /metrics; 0: off
+    int http_port = 0;                         ///< MJPEG, status page, /metrics; 0: off
     std::string http_address = "127.0.0.1";
+    std::string http_token;                    ///< empty: no token; else Bearer token or ?token=
     double client_timeout_s = 5.0;             ///< stalled clients are disconnected after this
     // [log]
     int log_level = 6;                         ///< syslog priority: 3 err .. 7 debug

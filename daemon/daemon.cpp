@@ -17,6 +17,7 @@
 #include "navmap/ipc/control_server.h"
 #include "navmap/ipc/control_state.h"
 #include "navmap/ipc/frame_server.h"
+#include "navmap/ipc/socket_access.h"
 #include "navmap/render/map_scene.h"
 #include "navmap/render/renderer.h"
 #include "vehicle_input.h"
@@ -152,17 +153,44 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
         ccfg.socketPath = config.control_socket.string();
         ccfg.socketMode = static_cast<mode_t>(config.control_mode);
         for (auto uid : config.control_uids) ccfg.allowedUids.push_back(static_cast<uid_t>(uid));
+        for (auto gid : config.control_gids) ccfg.allowedGids.push_back(static_cast<gid_t>(gid));
+        if (!config.control_group.empty()) {
+            auto gid = ipc::resolveGroup(config.control_group, "control.group");
+            if (!gid) throw std::runtime_error(gid.error().message);
+            ccfg.socketGroup = gid.value();
+        }
         auto control = ipc::ControlServer::create(ccfg, *control_state);
         if (!control) throw std::runtime_error(control.error().message);
         std::unique_ptr<ipc::ControlServer> control_server = std::move(control).value();
 
         ipc::FrameServerOptions fopt;
         fopt.unixPath = config.frame_socket.string();
+        if (!config.stream_group.empty()) {
+            auto gid = ipc::resolveGroup(config.stream_group, "stream.group");
+            if (!gid) throw std::runtime_error(gid.error().message);
+            fopt.unixGroup = gid.value();
+        }
+        for (auto uid : config.stream_uids) fopt.allowedPeers.uids.push_back(static_cast<uid_t>(uid));
+        for (auto gid : config.stream_gids) fopt.allowedPeers.gids.push_back(static_cast<gid_t>(gid));
+        fopt.maxClientsPerTransport = static_cast<std::size_t>(config.max_clients_per_transport);
+        fopt.maxClientsPerUid = static_cast<std::size_t>(config.max_clients_per_uid);
+        fopt.ringMemoryBytes = config.ring_memory_mb << 20;
+        // Only what the daemon renders is served: its profiles' views and sizes.
+        double slowest_fps = 1000.0;
+        for (const auto& p : config.profiles) {
+            fopt.renderedProfiles.push_back({p.name, p.stream_view, p.width, p.height});
+            slowest_fps = std::min(slowest_fps, p.fps);
+        }
+        // A first frame comes within a frame period of the slowest profile (plus its render), so
+        // the timeout is never shorter than two of those periods.
+        fopt.handshakeTimeout = std::chrono::milliseconds(
+            static_cast<std::int64_t>(std::max(config.handshake_timeout_s, 2.0 / slowest_fps) * 1000));
         fopt.bindAddress = config.http_address;
         fopt.tcpPort = config.tcp_port > 0 ? config.tcp_port : -1;
         fopt.httpPort = config.http_port > 0 ? config.http_port : -1;
+        fopt.httpToken = config.http_token;
         fopt.stallTimeout = std::chrono::milliseconds(static_cast<int>(config.client_timeout_s * 1000));
-        fopt.mjpegProfile = "bird";
+        fopt.mjpegProfile = config.profiles.front().name;  // the page's first stream: a profile rendered here
         // Two slots per ring (double buffering): each costs a frame of shared memory (6.6 MB for
         // the three default profiles), and the seqlock never lets a client keep a frame that was
         // overwritten; a client still copying when the frame after next arrives (one frame period,
@@ -469,7 +497,13 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
                 m << frames.metricsText();
                 st["profiles"] = profiles;
                 st["stream"] = {{"clients", fs.clients}, {"frames_sent", fs.framesSent}, {"frames_dropped", fs.framesDropped},
-                                {"stall_disconnects", fs.stallDisconnects}, {"handshake_errors", fs.handshakeErrors}};
+                                {"stall_disconnects", fs.stallDisconnects}, {"handshake_errors", fs.handshakeErrors},
+                                {"timeouts", {{"handshake", fs.handshakeTimeouts}, {"first_frame", fs.firstFrameTimeouts}}},
+                                {"refusals", {{"peer", fs.refusedPeer}, {"transport_full", fs.refusedTransportFull},
+                                              {"uid_full", fs.refusedUidFull}, {"not_rendered", fs.refusedNotRendered},
+                                              {"ring_memory", fs.refusedRingMemory}, {"http_host", fs.refusedHost},
+                                              {"http_token", fs.refusedToken}}},
+                                {"ring_bytes", fs.ringBytes}, {"last_error", fs.lastError}};
                 st["tile_cache"] = {{"resident_bytes", cache.resident_bytes}, {"hits", cache.hits}, {"misses", cache.misses},
                                     {"load_p99_ms", cache.load_p99_ms}, {"corrupt", cache.corrupt}};
                 status_json.store(std::make_shared<const nlohmann::json>(std::move(st)));

@@ -24,7 +24,14 @@ TEST(DaemonConfig, EmptyFileGivesTheDocumentedDefaults) {
     EXPECT_EQ(c->profiles[0].width, 1280);
     EXPECT_EQ(c->profiles[0].height, 480);
     EXPECT_EQ(c->profiles[2].view, navmap::render::ViewMode::Bird);
-    EXPECT_EQ(c->http_port, 8080);
+    EXPECT_EQ(c->http_port, 0);  // HTTP is off unless configured
+    EXPECT_TRUE(c->http_token.empty());
+    EXPECT_TRUE(c->stream_group.empty());
+    EXPECT_TRUE(c->stream_uids.empty());
+    EXPECT_EQ(c->max_clients_per_transport, 32);
+    EXPECT_EQ(c->max_clients_per_uid, 8);
+    EXPECT_EQ(c->ring_memory_mb, 64u);
+    EXPECT_EQ(c->handshake_timeout_s, 5.0);
     EXPECT_EQ(c->log_level, 6);
 }
 
@@ -64,9 +71,19 @@ road_selection = false
 socket = "/tmp/c.sock"
 mode = 0o600
 allowed_uids = [1000, 0]
+allowed_gids = [1001]
+group = "navmap"
 [stream]
-http_port = 0
+http_port = 8080
+http_token = "0123456789abcdef-_.~"
 tcp_port = 7000
+group = "107"
+allowed_uids = [1000]
+allowed_gids = [1002, 1003]
+max_clients_per_transport = 16
+max_clients_per_uid = 2
+ring_memory_mb = 32
+handshake_timeout_s = 1.5
 [log]
 level = "debug"
 )");
@@ -91,7 +108,18 @@ level = "debug"
     EXPECT_FALSE(c->profiles[1].road_selection);
     EXPECT_EQ(c->control_mode, 0600u);
     EXPECT_EQ(c->control_uids, (std::vector<std::uint32_t>{1000, 0}));
+    EXPECT_EQ(c->control_gids, (std::vector<std::uint32_t>{1001}));
+    EXPECT_EQ(c->control_group, "navmap");
     EXPECT_EQ(c->tcp_port, 7000);
+    EXPECT_EQ(c->http_port, 8080);
+    EXPECT_EQ(c->http_token, "0123456789abcdef-_.~");
+    EXPECT_EQ(c->stream_group, "107");
+    EXPECT_EQ(c->stream_uids, (std::vector<std::uint32_t>{1000}));
+    EXPECT_EQ(c->stream_gids, (std::vector<std::uint32_t>{1002, 1003}));
+    EXPECT_EQ(c->max_clients_per_transport, 16);
+    EXPECT_EQ(c->max_clients_per_uid, 2);
+    EXPECT_EQ(c->ring_memory_mb, 32u);
+    EXPECT_EQ(c->handshake_timeout_s, 1.5);
     EXPECT_EQ(c->log_level, 7);
     ConfigError err;
     EXPECT_TRUE(validateConfig(*c, &err)) << err.message;
@@ -113,6 +141,16 @@ TEST(DaemonConfig, ErrorsNameFileLineAndProblem) {
     EXPECT_NE(m.find("expected bird, snail or hud"), std::string::npos) << m;
     EXPECT_FALSE(parse("[[profile]]\nname = \"x\"\nroads = \"painted\"\n", &m));
     EXPECT_EQ(m, "navmapd.toml:1:1: profile.roads = \"painted\": expected geometric, shadow-volume or auto") << m;
+    EXPECT_FALSE(parse("[stream]\nallowed_uids = [1000, -1]\n", &m));
+    EXPECT_EQ(m, "navmapd.toml:2:23: stream.allowed_uids entries must be uids");
+    EXPECT_FALSE(parse("[control]\nallowed_gids = 5\n", &m));
+    EXPECT_EQ(m, "navmapd.toml:2:16: control.allowed_gids must be an array of ids");
+    EXPECT_FALSE(parse("[stream]\nmax_clients_per_uid = 0\n", &m));
+    EXPECT_EQ(m, "navmapd.toml:2:23: stream.max_clients_per_uid = 0 out of range [1, 1024]");
+    EXPECT_FALSE(parse("[stream]\nhttp_token = \"short\"\n", &m));
+    EXPECT_EQ(m, "navmapd.toml: stream.http_token must be 16..256 characters of A-Z a-z 0-9 - _ . ~");
+    EXPECT_FALSE(parse("[stream]\nhttp_token = \"0123456789abcdef&x\"\n", &m));
+    EXPECT_NE(m.find("stream.http_token must be"), std::string::npos) << m;
     EXPECT_FALSE(parse("[store\npath = 1", &m));
     EXPECT_EQ(m.rfind("navmapd.toml:1:", 0), 0u) << m;
 }

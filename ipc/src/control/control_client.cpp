@@ -136,7 +136,10 @@ Result<std::string> ControlClient::readLine(std::chrono::milliseconds timeout) {
 Result<std::string> ControlClient::request(std::string_view line, std::chrono::milliseconds timeout) {
     const auto deadline = Clock::now() + timeout;
     if (auto st = send(line, timeout); !st.ok()) {
-        return Error{st.message()};
+        // A server that refuses this peer answers and closes at once, possibly before the request
+        // is out: then the send fails, but the answer is waiting to be read.
+        auto answer = readLine(std::chrono::milliseconds(0));
+        return answer.ok() ? answer : Result<std::string>(Error{st.message()});
     }
     for (;;) {
         auto r = readLine(std::chrono::milliseconds(remainingMs(deadline)));

@@ -17,6 +17,7 @@
 #include <variant>
 
 #include "navmap/ipc/control_protocol.h"
+#include "navmap/ipc/socket_access.h"
 
 namespace navmap::ipc {
 
@@ -81,13 +82,17 @@ Result<std::unique_ptr<ControlServer>> ControlServer::create(ControlServerConfig
             return Error{sysError("unlink", path)};
         }
     }
+    // The file bind() creates is never wider than the mode; the exact mode and the group are set
+    // before listen(), and nobody can connect before listen(): no moment with wider access.
+    if (auto access = restrictSocketBeforeBind(s->m_listenFd, s->m_config.socketMode, path); !access) {
+        return Error{access.message()};
+    }
     if (::bind(s->m_listenFd, reinterpret_cast<const sockaddr*>(&addr), sizeof addr) != 0) {
         return Error{sysError("bind", path)};
     }
-    if (::chmod(path.c_str(), s->m_config.socketMode) != 0) {
-        const std::string err = sysError("chmod", path);
+    if (auto access = applySocketFileAccess(path, s->m_config.socketMode, s->m_config.socketGroup); !access) {
         ::unlink(path.c_str());
-        return Error{err};
+        return Error{access.message()};
     }
     if (::lstat(path.c_str(), &st) == 0) {
         s->m_socketInode = st.st_ino;
@@ -242,23 +247,19 @@ void ControlServer::acceptClients() {
         }
         auto c = std::make_unique<Client>();
         c->fd = fd;
-        ucred cred{};
-        socklen_t len = sizeof cred;
         std::string refusal;
-        if (::getsockopt(fd, SOL_SOCKET, SO_PEERCRED, &cred, &len) != 0) {
-            refusal = sysError("getsockopt(SO_PEERCRED)", m_config.socketPath);
+        auto cred = peerCredentials(fd, m_config.socketPath);
+        if (!cred) {
+            refusal = cred.error().message;
         } else {
-            c->uid = cred.uid;
-            c->pid = cred.pid;
-            const auto& uids = m_config.allowedUids;
-            const auto& gids = m_config.allowedGids;
-            const bool uidOk = (m_config.allowRoot && cred.uid == 0) ||
-                               (uids.empty() ? cred.uid == ::geteuid()
-                                             : std::find(uids.begin(), uids.end(), cred.uid) != uids.end());
-            const bool gidOk = std::find(gids.begin(), gids.end(), cred.gid) != gids.end();
-            if (!uidOk && !gidOk) {
-                refusal = "peer uid " + std::to_string(cred.uid) + " (pid " + std::to_string(cred.pid) +
-                          ") is not allowed on " + m_config.socketPath;
+            c->uid = cred.value().uid;
+            c->pid = cred.value().pid;
+            PeerAllowList allow{m_config.allowedUids, m_config.allowedGids, m_config.allowRoot};
+            if (m_config.socketGroup) {
+                allow.gids.push_back(*m_config.socketGroup);
+            }
+            if (!peerAllowed(allow, cred.value())) {
+                refusal = peerRefusal(cred.value(), m_config.socketPath);
                 ++m_counters.refusedPeer;
             }
         }

@@ -8,6 +8,11 @@
 #include <chrono>
 #include <cstring>
 
+// glibc < 2.29 lacks the name; the value is the kernel's (include/uapi/linux/fcntl.h, Linux 5.1).
+#ifndef F_SEAL_FUTURE_WRITE
+#define F_SEAL_FUTURE_WRITE 0x0010
+#endif
+
 namespace navmap::ipc {
 namespace {
 
@@ -77,12 +82,6 @@ Result<std::unique_ptr<FrameRing>> FrameRing::create(const std::string& name, st
         close(fd);
         return Error{"ftruncate(" + name + "): " + std::strerror(e)};
     }
-    // Clients can rely on the size: it can no longer change.
-    if (fcntl(fd, F_ADD_SEALS, F_SEAL_SHRINK | F_SEAL_GROW | F_SEAL_SEAL) != 0) {
-        const int e = errno;
-        close(fd);
-        return Error{"fcntl(" + name + ", F_ADD_SEALS): " + std::strerror(e)};
-    }
     void* p = mmap(nullptr, layout.totalBytes, PROT_READ | PROT_WRITE, MAP_SHARED, fd, 0);
     if (p == MAP_FAILED) {
         const int e = errno;
@@ -94,6 +93,18 @@ Result<std::unique_ptr<FrameRing>> FrameRing::create(const std::string& name, st
     std::memset(base, 0, layout.totalBytes);
     const std::uint32_t hdr[] = {kRingMagic, 1, slots, width, height, layout.stride, static_cast<std::uint32_t>(format)};
     std::memcpy(base, hdr, sizeof(hdr));
+    // Sealed after the writable mapping above exists: clients can rely on the size (no shrink or
+    // grow), and nobody can make the memory writable any more, even a client that re-opens its
+    // descriptor through /proc/self/fd read-write (F_SEAL_FUTURE_WRITE refuses write(), writable
+    // shared mappings and hole punching; only mappings made before the seal keep writing).
+    // F_SEAL_SEAL last, so the set is final.
+    if (fcntl(fd, F_ADD_SEALS, F_SEAL_SHRINK | F_SEAL_GROW | F_SEAL_FUTURE_WRITE | F_SEAL_SEAL) != 0) {
+        const int e = errno;
+        munmap(p, layout.totalBytes);
+        close(fd);
+        return Error{"fcntl(" + name + ", F_ADD_SEALS F_SEAL_FUTURE_WRITE): " + std::strerror(e) +
+                     (e == EINVAL ? " (needs Linux >= 5.1)" : "")};
+    }
     return std::unique_ptr<FrameRing>(new FrameRing(fd, base, layout));
 }
 

@@ -1,5 +1,6 @@
 #include "navmap/ipc/frame_server.h"
 
+#include <arpa/inet.h>
 #include <netinet/in.h>
 #include <netinet/tcp.h>
 #include <linux/sockios.h>
@@ -17,6 +18,8 @@
 #include <iomanip>
 #include <map>
 #include <mutex>
+#include <optional>
+#include <string_view>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <thread>
@@ -65,6 +68,7 @@ struct Conn {
     Via via = Via::Unix;
     Phase phase = Phase::Handshake;
     std::string peer;
+    std::optional<uid_t> uid;  // Unix peers (SO_PEERCRED)
     std::string in;
     std::vector<std::uint8_t> out;
     std::size_t outPos = 0;
@@ -79,6 +83,7 @@ struct Conn {
     std::uint64_t seen = 0;  // newest frame (in this client's encoding) it has been offered
     std::uint64_t dropped = 0;
     Clock::time_point since;
+    Clock::time_point streamSince;  // handshake done: the first frame is due within handshakeTimeout
     Clock::time_point lastProgress;
     Clock::time_point ackSince;
     Clock::time_point lastOffer;
@@ -100,6 +105,24 @@ using PublishSet = std::vector<PublishTarget>;
 
 std::string jsonEscape(const std::string& s) {
     return nlohmann::json(s).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+}
+
+const char* viaName(Via via) { return via == Via::Unix ? "unix" : via == Via::Tcp ? "tcp" : "http"; }
+
+// Compares a secret in time that depends only on the length of the expected value, not on where
+// the first difference is (hand-written: no Debian package in the build has a constant-time
+// compare without pulling in a crypto library for these few lines).
+bool equalConstantTime(std::string_view given, std::string_view expected) {
+    unsigned diff = given.size() == expected.size() ? 0U : 1U;
+    for (std::size_t i = 0; i < expected.size(); ++i) {
+        const unsigned char g = i < given.size() ? static_cast<unsigned char>(given[i]) : 0;
+        diff |= static_cast<unsigned>(g ^ static_cast<unsigned char>(expected[i]));
+    }
+    return diff == 0;
+}
+
+bool isLoopback(const std::string& address) {
+    return address.rfind("127.", 0) == 0 || address == "::1";
 }
 
 // fps 0 asks for every frame: for scheduling that is the highest rate there is.
@@ -155,7 +178,13 @@ private:
     void finishWith(Conn& c, const std::string& bytes);  // send, then half-close and drain
     void handshakeError(Conn& c, const std::string& message);
     void protocolError(Conn& c, const std::string& message);
-    void httpReply(Conn& c, int code, const char* reason, const char* contentType, const std::string& body);
+    void httpReply(Conn& c, int code, const char* reason, const char* contentType, const std::string& body,
+                   const char* extraHeaders = "");
+    void refuseAtAccept(UniqueFd& fd, Via via, const std::string& peer, std::uint64_t FrameServerStats::*counter,
+                        const std::string& message);
+    void closeWith(Conn& c, const std::string& bytes);
+    std::string checkHttpAccess(const Conn& c, const StreamHttpRequest& req, int* code);
+    Status checkRendered(const StreamProfile& profile);
     Status attach(Conn& c, const StreamProfile& profile);
     void offer(Conn& c, Clock::time_point now);
     void sendFrame(Conn& c);
@@ -180,6 +209,7 @@ private:
     std::atomic<bool> m_running{false};
     FrameEncoder m_encoder;  // zlib/JPEG off the I/O thread
     std::uint64_t m_ringCounter = 0;
+    PeerAllowList m_allowed;  // allowedPeers plus unixGroup
 
     mutable std::mutex m_publishMutex;  // guards the pointer swap only, never I/O
     std::shared_ptr<const PublishSet> m_publishSet = std::make_shared<PublishSet>();
@@ -199,13 +229,20 @@ Status FrameServer::Impl::start() {
     if (m_options.ringSlots < 2 || m_options.ringSlots > 64) {
         return Error{"FrameServer: ringSlots must be in [2, 64]"};
     }
+    if (m_options.maxClientsPerTransport < 1 || m_options.maxClientsPerUid < 1) {
+        return Error{"FrameServer: maxClientsPerTransport and maxClientsPerUid must be at least 1"};
+    }
+    m_allowed = m_options.allowedPeers;
+    if (m_options.unixGroup) {
+        m_allowed.gids.push_back(*m_options.unixGroup);
+    }
     const int wake = eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
     if (wake < 0) {
         return Error{sysError("eventfd", "frame server wake-up")};
     }
     m_wakeFd.reset(wake);
     if (!m_options.unixPath.empty()) {
-        auto fd = stream_detail::listenUnix(m_options.unixPath);
+        auto fd = stream_detail::listenUnix(m_options.unixPath, m_options.unixMode, m_options.unixGroup);
         if (!fd) {
             return Error{fd.error().message};
         }
@@ -364,12 +401,53 @@ void FrameServer::Impl::acceptAll(int listenFd, Via via) {
             }
             return;
         }
+        UniqueFd owned(fd);
+        const std::string peer = std::string(viaName(via)) + "#" + std::to_string(fd);
+        {
+            std::lock_guard lock(m_statsMutex);
+            ++m_stats.accepted;
+        }
+        // Who may connect, and how many: refusals are answered and closed at once, so they never
+        // hold a slot (a refused peer that keeps reconnecting costs one accept each time).
+        std::optional<uid_t> uid;
+        if (via == Via::Unix) {
+            auto cred = peerCredentials(fd, m_options.unixPath);
+            if (!cred) {
+                refuseAtAccept(owned, via, peer, &FrameServerStats::refusedPeer, cred.error().message);
+                continue;
+            }
+            if (!peerAllowed(m_allowed, cred.value())) {
+                refuseAtAccept(owned, via, peer, &FrameServerStats::refusedPeer,
+                               peerRefusal(cred.value(), m_options.unixPath));
+                continue;
+            }
+            uid = cred.value().uid;
+        }
+        const auto sameVia = static_cast<std::size_t>(
+            std::count_if(m_conns.begin(), m_conns.end(), [&](const auto& c) { return c->via == via; }));
+        if (sameVia >= m_options.maxClientsPerTransport) {
+            refuseAtAccept(owned, via, peer, &FrameServerStats::refusedTransportFull,
+                           std::string("too many ") + viaName(via) + " clients (limit " +
+                               std::to_string(m_options.maxClientsPerTransport) + ")");
+            continue;
+        }
+        if (uid) {
+            const auto sameUid = static_cast<std::size_t>(
+                std::count_if(m_conns.begin(), m_conns.end(), [&](const auto& c) { return c->uid == uid; }));
+            if (sameUid >= m_options.maxClientsPerUid) {
+                refuseAtAccept(owned, via, peer, &FrameServerStats::refusedUidFull,
+                               "too many connections from uid " + std::to_string(*uid) + " (limit " +
+                                   std::to_string(m_options.maxClientsPerUid) + ")");
+                continue;
+            }
+        }
         auto c = std::make_unique<Conn>();
-        c->fd.reset(fd);
+        c->fd = std::move(owned);
         c->via = via;
+        c->uid = uid;
         c->phase = via == Via::Http ? Phase::HttpHead : Phase::Handshake;
         c->since = c->lastProgress = Clock::now();
-        c->peer = (via == Via::Unix ? "unix#" : via == Via::Tcp ? "tcp#" : "http#") + std::to_string(fd);
+        c->peer = uid ? peer + " (uid " + std::to_string(*uid) + ")" : peer;
         if (via != Via::Unix) {
             // A small kernel queue keeps frames fresh (a slow reader gets the newest frame, not a
             // backlog) and lets a reader that stopped show up as a stall within a few frames.
@@ -378,20 +456,36 @@ void FrameServer::Impl::acceptAll(int listenFd, Via via) {
             const int one = 1;
             ::setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof(one));
         }
-        {
-            std::lock_guard lock(m_statsMutex);
-            ++m_stats.accepted;
-        }
-        if (m_conns.size() >= m_options.maxClients) {
-            if (via == Via::Http) {
-                httpReply(*c, 503, "Service Unavailable", "text/plain", "too many clients\n");
-            } else {
-                handshakeError(*c, "too many clients (" + std::to_string(m_options.maxClients) + ")");
-            }
-        }
         m_conns.push_back(std::move(c));
         refreshRings();
     }
+}
+
+void FrameServer::Impl::refuseAtAccept(UniqueFd& fd, Via via, const std::string& peer,
+                                       std::uint64_t FrameServerStats::*counter, const std::string& message) {
+    {
+        std::lock_guard lock(m_statsMutex);
+        ++(m_stats.*counter);
+        m_stats.lastError = peer + ": refused: " + message;
+    }
+    // Read what already arrived (usually the handshake), so closing does not turn into a reset
+    // that could destroy the answer on its way; then answer without waiting and close.
+    char buf[4096];
+    for (int i = 0; i < 16 && ::recv(fd.get(), buf, sizeof(buf), MSG_DONTWAIT) > 0; ++i) {
+    }
+    std::string reply;
+    if (via == Via::Http) {
+        const std::string body = message + "\n";
+        reply = "HTTP/1.0 503 Service Unavailable\r\nContent-Type: text/plain\r\nContent-Length: " +
+                std::to_string(body.size()) + "\r\nConnection: close\r\n\r\n" + body;
+    } else {
+        reply = "{\"ok\":false,\"error\":" + jsonEscape(message) + "}\n";
+    }
+    [[maybe_unused]] const auto n = ::send(fd.get(), reply.data(), reply.size(), MSG_NOSIGNAL | MSG_DONTWAIT);
+    ::shutdown(fd.get(), SHUT_WR);
+    fd.reset();
+    std::lock_guard lock(m_statsMutex);
+    ++m_stats.disconnects;
 }
 
 void FrameServer::Impl::onReadable(Conn& c) {
@@ -492,6 +586,10 @@ void FrameServer::Impl::onHandshake(Conn& c, const std::string& line) {
         handshakeError(c, "handshake: payload \"shm\" needs the Unix socket; use \"raw\" or \"zlib\" over TCP");
         return;
     }
+    if (auto s = checkRendered(r.profile); !s) {
+        handshakeError(c, "handshake: " + s.message());
+        return;
+    }
     if (auto s = attach(c, r.profile); !s) {
         handshakeError(c, s.message());
         return;
@@ -549,7 +647,7 @@ void FrameServer::Impl::onHandshake(Conn& c, const std::string& line) {
         queue(c, text.data(), text.size());
     }
     c.phase = Phase::Stream;
-    c.lastProgress = Clock::now();
+    c.lastProgress = c.streamSince = Clock::now();
     refreshRings();
     offerIfNew(c, Clock::now());
 }
@@ -577,6 +675,29 @@ void FrameServer::Impl::onStreamBytes(Conn& c) {
     c.in.clear();
 }
 
+Status FrameServer::Impl::checkRendered(const StreamProfile& profile) {
+    const auto& rendered = m_options.renderedProfiles;
+    if (rendered.empty()) {
+        return {};
+    }
+    for (const auto& r : rendered) {
+        if (r.view == profile.view && r.width == profile.width && r.height == profile.height) {
+            return {};
+        }
+    }
+    std::string list;
+    for (const auto& r : rendered) {
+        list += (list.empty() ? "" : ", ") + r.name + " (" + r.view + " " + std::to_string(r.width) + "x" +
+                std::to_string(r.height) + ")";
+    }
+    {
+        std::lock_guard lock(m_statsMutex);
+        ++m_stats.refusedNotRendered;
+    }
+    return Error{profile.view + " " + std::to_string(profile.width) + "x" + std::to_string(profile.height) +
+                 " is not rendered here; rendered: " + list};
+}
+
 Status FrameServer::Impl::attach(Conn& c, const StreamProfile& profile) {
     for (const auto& e : m_rings) {
         const FrameRingLayout& l = e->ring->layout();
@@ -587,6 +708,33 @@ Status FrameServer::Impl::attach(Conn& c, const StreamProfile& profile) {
             e->maxFps = std::max(e->maxFps, effectiveFps(profile.fps));
             return {};
         }
+    }
+    // The memory ceiling: a new ring must fit next to the ones that exist.
+    const FrameRingLayout want = FrameRingLayout::make(m_options.ringSlots, static_cast<std::uint32_t>(profile.width),
+                                                       static_cast<std::uint32_t>(profile.height), profile.format);
+    std::size_t used = 0;
+    for (const auto& e : m_rings) {
+        used += e->ring->layout().totalBytes;
+    }
+    if (m_options.ringMemoryBytes > 0 && used + want.totalBytes > m_options.ringMemoryBytes) {
+        {
+            std::lock_guard lock(m_statsMutex);
+            ++m_stats.refusedRingMemory;
+        }
+        const auto size = [](std::size_t b) {
+            std::ostringstream os;
+            os << std::fixed << std::setprecision(1);
+            if (b < (std::size_t{1} << 20)) {
+                os << static_cast<double>(b) / 1024 << " KiB";
+            } else {
+                os << static_cast<double>(b) / (1 << 20) << " MiB";
+            }
+            return os.str();
+        };
+        return Error{"ring memory: " + profile.view + " " + std::to_string(profile.width) + "x" +
+                     std::to_string(profile.height) + " " + pixelFormatName(profile.format) + " needs " +
+                     size(want.totalBytes) + ", " + size(used) + " of " + size(m_options.ringMemoryBytes) +
+                     " are in use; try again later"};
     }
     const std::string name = "navmap-ring-" + profile.view + "-" + std::to_string(profile.width) + "x" +
                              std::to_string(profile.height) + "-" + pixelFormatName(profile.format) + "-" +
@@ -686,7 +834,7 @@ void FrameServer::Impl::protocolError(Conn& c, const std::string& message) {
 }
 
 void FrameServer::Impl::httpReply(Conn& c, int code, const char* reason, const char* contentType,
-                                  const std::string& body) {
+                                  const std::string& body, const char* extraHeaders) {
     if (code >= 400) {
         std::lock_guard lock(m_statsMutex);
         ++m_stats.httpErrors;
@@ -694,9 +842,94 @@ void FrameServer::Impl::httpReply(Conn& c, int code, const char* reason, const c
     }
     std::ostringstream os;
     os << "HTTP/1.0 " << code << ' ' << reason << "\r\nContent-Type: " << contentType
-       << "\r\nContent-Length: " << body.size() << "\r\nCache-Control: no-store\r\nConnection: close\r\n\r\n"
+       << "\r\nContent-Length: " << body.size() << "\r\nCache-Control: no-store\r\nConnection: close\r\n"
+       << extraHeaders << "\r\n"
        << body;
     finishWith(c, os.str());
+}
+
+std::string FrameServer::Impl::checkHttpAccess(const Conn& c, const StreamHttpRequest& req, int* code) {
+    // Host: a page from another origin that reaches this port (DNS rebinding) carries its own
+    // host name; only this server's address, and localhost when that is a loopback address, pass.
+    const auto host = req.headers.find("host");
+    if (host == req.headers.end() || host->second.empty()) {
+        std::lock_guard lock(m_statsMutex);
+        ++m_stats.refusedHost;
+        *code = 400;
+        return "missing Host header\n";
+    }
+    std::string address = m_options.bindAddress;
+    if (address == "0.0.0.0" || address == "::") {
+        // Bound to every address: the one this connection came in on.
+        sockaddr_storage ss{};
+        socklen_t len = sizeof(ss);
+        char text[INET6_ADDRSTRLEN] = {};
+        if (::getsockname(c.fd.get(), reinterpret_cast<sockaddr*>(&ss), &len) == 0) {
+            if (ss.ss_family == AF_INET) {
+                ::inet_ntop(AF_INET, &reinterpret_cast<sockaddr_in*>(&ss)->sin_addr, text, sizeof(text));
+            } else if (ss.ss_family == AF_INET6) {
+                ::inet_ntop(AF_INET6, &reinterpret_cast<sockaddr_in6*>(&ss)->sin6_addr, text, sizeof(text));
+            }
+        }
+        address = text;
+        if (address.rfind("::ffff:", 0) == 0 && address.find('.') != std::string::npos) {
+            address.erase(0, 7);  // an IPv4 peer on an IPv6 socket
+        }
+    }
+    const std::string& value = host->second;
+    std::string name;
+    std::string port;
+    if (!value.empty() && value.front() == '[') {
+        const auto close = value.find(']');
+        if (close != std::string::npos) {
+            name = value.substr(1, close - 1);
+            if (close + 1 < value.size() && value[close + 1] == ':') {
+                port = value.substr(close + 2);
+            } else if (close + 1 != value.size()) {
+                name.clear();
+            }
+        }
+    } else {
+        const auto colon = value.find(':');
+        name = value.substr(0, colon);
+        port = colon == std::string::npos ? "" : value.substr(colon + 1);
+    }
+    std::string lower = name;
+    std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char ch) { return std::tolower(ch); });
+    const bool nameOk = !name.empty() && (name == address || (lower == "localhost" && isLoopback(address)));
+    const bool portOk = port.empty() ? m_httpPort == 80 : port == std::to_string(m_httpPort);
+    if (!nameOk || !portOk) {
+        std::lock_guard lock(m_statsMutex);
+        ++m_stats.refusedHost;
+        *code = 421;
+        const std::string self = (address.find(':') != std::string::npos ? "[" + address + "]" : address) + ":" +
+                                 std::to_string(m_httpPort);
+        return "Host \"" + value.substr(0, 128) + "\" is not this server (expected " + self +
+               (isLoopback(address) ? " or localhost:" + std::to_string(m_httpPort) : "") + ")\n";
+    }
+    if (!m_options.httpToken.empty()) {
+        std::string_view given;
+        bool present = false;
+        if (const auto auth = req.headers.find("authorization"); auth != req.headers.end()) {
+            std::string_view v = auth->second;
+            if (v.size() > 7 && (v.substr(0, 7) == "Bearer " || v.substr(0, 7) == "bearer ")) {
+                given = v.substr(7);
+                present = true;
+            }
+        }
+        if (const auto q = req.query.find("token"); !present && q != req.query.end()) {
+            given = q->second;
+            present = true;
+        }
+        if (!present || !equalConstantTime(given, m_options.httpToken)) {
+            std::lock_guard lock(m_statsMutex);
+            ++m_stats.refusedToken;
+            *code = 401;
+            return present ? "wrong token\n"
+                           : "this server needs a token: Authorization: Bearer <token>, or ?token=<token>\n";
+        }
+    }
+    return {};
 }
 
 void FrameServer::Impl::onHttpRequest(Conn& c, const std::string& head) {
@@ -706,6 +939,17 @@ void FrameServer::Impl::onHttpRequest(Conn& c, const std::string& head) {
         return;
     }
     const StreamHttpRequest& req = parsed.value();
+    int denied = 0;
+    if (const std::string why = checkHttpAccess(c, req, &denied); !why.empty()) {
+        if (denied == 401) {
+            httpReply(c, 401, "Unauthorized", "text/plain", why, "WWW-Authenticate: Bearer realm=\"navmap\"\r\n");
+        } else if (denied == 421) {
+            httpReply(c, 421, "Misdirected Request", "text/plain", why);
+        } else {
+            httpReply(c, 400, "Bad Request", "text/plain", why);
+        }
+        return;
+    }
     if (req.method != "GET") {
         httpReply(c, 405, "Method Not Allowed", "text/plain", "only GET\n");
         return;
@@ -727,6 +971,9 @@ void FrameServer::Impl::onHttpRequest(Conn& c, const std::string& head) {
         j["version"] = 1;
         bool hasProfile = false;
         for (const auto& [k, v] : req.query) {
+            if (k == "token") {
+                continue;  // checked above
+            }
             const bool numeric = !v.empty() && v.size() < 10 && std::all_of(v.begin(), v.end(), [](char ch) {
                 return ch >= '0' && ch <= '9';
             });
@@ -740,6 +987,16 @@ void FrameServer::Impl::onHttpRequest(Conn& c, const std::string& head) {
         if (!hasProfile) {
             j["profile"] = m_options.mjpegProfile;
         }
+        // A rendered profile by its name (?profile=rear) stands for its view and size.
+        if (j.contains("profile") && j["profile"].is_string() && !j.contains("width")) {
+            for (const auto& r : m_options.renderedProfiles) {
+                if (r.name == j["profile"].get<std::string>()) {
+                    j["width"] = r.width;
+                    j["height"] = r.height;
+                    j["view"] = r.view;
+                }
+            }
+        }
         j["format"] = "rgba8";
         j["payload"] = "raw";
         auto r = parseStreamRequest(j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace));
@@ -747,12 +1004,19 @@ void FrameServer::Impl::onHttpRequest(Conn& c, const std::string& head) {
             httpReply(c, 400, "Bad Request", "text/plain", r.error().message + "\n");
             return;
         }
+        if (auto s = checkRendered(r.value().profile); !s) {
+            httpReply(c, 400, "Bad Request", "text/plain", s.message() + "\n");
+            return;
+        }
         if (auto s = attach(c, r.value().profile); !s) {
-            httpReply(c, 500, "Internal Server Error", "text/plain", s.message() + "\n");
+            const bool full = s.message().rfind("ring memory:", 0) == 0;
+            httpReply(c, full ? 503 : 500, full ? "Service Unavailable" : "Internal Server Error", "text/plain",
+                      s.message() + "\n");
             return;
         }
         c.fps = r.value().profile.fps;
         c.phase = Phase::Mjpeg;
+        c.streamSince = Clock::now();
         static const char kHead[] =
             "HTTP/1.0 200 OK\r\nContent-Type: multipart/x-mixed-replace; boundary=navmapframe\r\n"
             "Cache-Control: no-store\r\nConnection: close\r\n\r\n";
@@ -969,10 +1233,48 @@ void FrameServer::Impl::checkTimeouts() {
                 c.lastProgress = now;
             }
         }
+        // Every connection must earn its slot: a handshake within handshakeTimeout of the accept,
+        // then a first frame within handshakeTimeout of the handshake.
+        const auto earn = m_options.handshakeTimeout;
+        const auto within = [&] { return " within " + std::to_string(earn.count()) + " ms"; };
+        if ((c.phase == Phase::Handshake || c.phase == Phase::HttpHead) && now - c.since > earn) {
+            const std::string why = (c.phase == Phase::HttpHead ? "no complete request head" : "no complete handshake") +
+                                    within();
+            {
+                std::lock_guard lock(m_statsMutex);
+                ++m_stats.handshakeTimeouts;
+                m_stats.lastError = c.peer + ": disconnected, " + why;
+            }
+            closeWith(c, c.phase == Phase::HttpHead
+                             ? "HTTP/1.0 408 Request Timeout\r\nContent-Type: text/plain\r\nContent-Length: " +
+                                   std::to_string(why.size() + 1) + "\r\nConnection: close\r\n\r\n" + why + "\n"
+                             : "{\"ok\":false,\"error\":" + jsonEscape(why) + "}\n");
+            continue;
+        }
+        if ((c.phase == Phase::Stream || c.phase == Phase::Mjpeg) && c.lastSent == 0 && now - c.streamSince > earn) {
+            const FrameRingLayout& l = c.ring->ring->layout();
+            const std::string why = "no frame" + within() + " of the handshake (nothing published for " + c.ring->view +
+                                    " " + std::to_string(l.width) + "x" + std::to_string(l.height) + ")";
+            {
+                std::lock_guard lock(m_statsMutex);
+                ++m_stats.firstFrameTimeouts;
+                m_stats.lastError = c.peer + ": disconnected, " + why;
+            }
+            std::string last;
+            if (c.phase == Phase::Stream && !c.outPending()) {
+                // The server's last word, as a header of kind Error (docs/frame-protocol.md).
+                FrameHeader h;
+                h.kind = FrameKind::Error;
+                const std::string text = "disconnected, " + why;
+                h.payloadBytes = static_cast<std::uint32_t>(text.size());
+                const auto hb = encodeFrameHeader(h);
+                last = std::string(hb.begin(), hb.end()) + text;
+            }
+            closeWith(c, last);
+            continue;
+        }
         std::string why;
-        if ((c.phase == Phase::Handshake || c.phase == Phase::HttpHead) && now - c.since > limit) {
-            why = "no complete handshake";
-        } else if (c.phase == Phase::Draining && now - c.since > limit) {
+        if (c.phase == Phase::Draining && now - c.since > limit) {
             why = "did not close";
         } else if (c.awaitingAck && now - c.ackSince > limit) {
             why = "no ack";
@@ -987,6 +1289,15 @@ void FrameServer::Impl::checkTimeouts() {
         m_stats.lastError = c.peer + ": disconnected, " + why + " for " + std::to_string(limit.count()) + " ms";
         c.dead = true;
     }
+}
+
+void FrameServer::Impl::closeWith(Conn& c, const std::string& bytes) {
+    // One try without waiting: the connection is being dropped and must not hold its slot.
+    if (!bytes.empty() && !c.outPending()) {
+        [[maybe_unused]] const auto n = ::send(c.fd.get(), bytes.data(), bytes.size(), MSG_NOSIGNAL | MSG_DONTWAIT);
+    }
+    ::shutdown(c.fd.get(), SHUT_WR);
+    c.dead = true;
 }
 
 void FrameServer::Impl::reap() {
@@ -1046,6 +1357,10 @@ void FrameServer::Impl::refreshRings() {
     std::lock_guard lock(m_statsMutex);
     m_active = std::move(active);
     m_stats.rings = m_rings.size();
+    m_stats.ringBytes = 0;
+    for (const auto& e : m_rings) {
+        m_stats.ringBytes += e->ring->layout().totalBytes;
+    }
     m_stats.connections = m_conns.size();
     m_stats.clients = m_stats.shmClients = m_stats.tcpClients = m_stats.mjpegClients = 0;
     for (const auto& c : m_conns) {
@@ -1102,6 +1417,19 @@ std::string FrameServer::Impl::metricsText() const {
                   {"{kind=\"http\"}", d(s.httpErrors)}});
     metricFamily(os, "navmap_stream_stall_disconnects_total", "counter", "Clients disconnected after the stall timeout.",
                  {{"", d(s.stallDisconnects)}});
+    metricFamily(os, "navmap_stream_timeouts_total", "counter",
+                 "Connections closed for not finishing the handshake, or not getting a first frame, in time.",
+                 {{"{kind=\"handshake\"}", d(s.handshakeTimeouts)}, {"{kind=\"first_frame\"}", d(s.firstFrameTimeouts)}});
+    metricFamily(os, "navmap_stream_refusals_total", "counter", "Connections and requests refused, by reason.",
+                 {{"{reason=\"peer\"}", d(s.refusedPeer)},
+                  {"{reason=\"transport_full\"}", d(s.refusedTransportFull)},
+                  {"{reason=\"uid_full\"}", d(s.refusedUidFull)},
+                  {"{reason=\"not_rendered\"}", d(s.refusedNotRendered)},
+                  {"{reason=\"ring_memory\"}", d(s.refusedRingMemory)},
+                  {"{reason=\"http_host\"}", d(s.refusedHost)},
+                  {"{reason=\"http_token\"}", d(s.refusedToken)}});
+    metricFamily(os, "navmap_stream_ring_bytes", "gauge", "Shared memory of all rings, and its ceiling (0: none).",
+                 {{"{stat=\"used\"}", d(s.ringBytes)}, {"{stat=\"limit\"}", d(m_options.ringMemoryBytes)}});
     metricFamily(os, "navmap_stream_publish_seconds", "gauge", "Render-thread cost of publish().",
                  {{"{stat=\"last\"}", s.publishMsLast / 1000.0}, {"{stat=\"max\"}", s.publishMsMax / 1000.0}});
     metricFamily(os, "navmap_stream_encodes_total", "counter",
@@ -1128,6 +1456,16 @@ std::string FrameServer::Impl::statusJson() const {
                    {"sent", s.framesSent},
                    {"dropped", s.framesDropped},
                    {"stall_disconnects", s.stallDisconnects},
+                   {"timeouts", {{"handshake", s.handshakeTimeouts}, {"first_frame", s.firstFrameTimeouts}}},
+                   {"refusals",
+                    {{"peer", s.refusedPeer},
+                     {"transport_full", s.refusedTransportFull},
+                     {"uid_full", s.refusedUidFull},
+                     {"not_rendered", s.refusedNotRendered},
+                     {"ring_memory", s.refusedRingMemory},
+                     {"http_host", s.refusedHost},
+                     {"http_token", s.refusedToken}}},
+                   {"ring_bytes", s.ringBytes},
                    {"publish_ms_last", s.publishMsLast}};
     nlohmann::json profiles = nlohmann::json::array();
     for (const auto& a : activeProfiles()) {

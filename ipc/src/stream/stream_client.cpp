@@ -71,9 +71,9 @@ Result<std::unique_ptr<StreamClient>> StreamClient::handshake(int rawFd, std::st
     UniqueFd fd(rawFd);
     const auto deadline = Clock::now() + timeout;
     const std::string line = formatStreamRequest(request);
-    if (auto s = sendAll(fd.get(), line.data(), line.size(), peer); !s) {
-        return Error{s.message()};
-    }
+    // A server that refuses this peer (not allowed, too many clients) answers and closes at once,
+    // possibly before the request is out: then the send fails, but the answer is waiting to be read.
+    const Status sent = sendAll(fd.get(), line.data(), line.size(), peer);
     // Read the reply line; the ring's memfd (shm) arrives with its first bytes (SCM_RIGHTS).
     std::string reply;
     UniqueFd memfd;
@@ -103,7 +103,7 @@ Result<std::unique_ptr<StreamClient>> StreamClient::handshake(int rawFd, std::st
             if (errno == EINTR) {
                 continue;
             }
-            return Error{sysError("recvmsg", peer)};
+            return Error{sent.ok() ? sysError("recvmsg", peer) : sent.message()};
         }
         for (cmsghdr* cm = CMSG_FIRSTHDR(&msg); cm != nullptr; cm = CMSG_NXTHDR(&msg, cm)) {
             if (cm->cmsg_level == SOL_SOCKET && cm->cmsg_type == SCM_RIGHTS) {
@@ -120,6 +120,9 @@ Result<std::unique_ptr<StreamClient>> StreamClient::handshake(int rawFd, std::st
             }
         }
         if (r == 0) {
+            if (!sent.ok() && reply.empty()) {
+                return Error{sent.message()};
+            }
             return Error{"handshake with " + peer + ": connection closed" + (reply.empty() ? "" : " after '" + reply + "'")};
         }
         reply.append(buf, static_cast<std::size_t>(r));
@@ -140,6 +143,9 @@ Result<std::unique_ptr<StreamClient>> StreamClient::handshake(int rawFd, std::st
     if (!j["ok"].get<bool>()) {
         const std::string why = j.contains("error") && j["error"].is_string() ? j["error"].get<std::string>() : "?";
         return Error{"handshake refused by " + peer + ": " + why};
+    }
+    if (!sent.ok()) {
+        return Error{sent.message()};
     }
     auto client = std::unique_ptr<StreamClient>(new StreamClient());
     client->m_peer = peer;

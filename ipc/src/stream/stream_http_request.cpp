@@ -1,5 +1,7 @@
 #include "navmap/ipc/stream_http_request.h"
 
+#include <cctype>
+
 namespace navmap::ipc {
 namespace {
 
@@ -71,7 +73,7 @@ Result<StreamHttpRequest> parseStreamHttpRequest(std::string_view head) {
             rest.remove_prefix(amp + 1);
         }
     }
-    // Header lines: only their shape is checked; the server needs none of them.
+    // Header lines: "Name: value"; the server reads Host and Authorization.
     std::string_view rest = head.substr(eol + 1);
     while (!rest.empty()) {
         const auto e = rest.find('\n');
@@ -86,6 +88,24 @@ Result<StreamHttpRequest> parseStreamHttpRequest(std::string_view head) {
         if (colon == std::string_view::npos || colon == 0) {
             return Error{"bad header line"};
         }
+        std::string name(h.substr(0, colon));
+        for (char& c : name) {
+            if (c == ' ' || c == '\t') {
+                return Error{"bad header line"};  // no blank before the colon (RFC 9112 5.1)
+            }
+            c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+        }
+        std::string_view value = h.substr(colon + 1);
+        while (!value.empty() && (value.front() == ' ' || value.front() == '\t')) {
+            value.remove_prefix(1);
+        }
+        while (!value.empty() && (value.back() == ' ' || value.back() == '\t')) {
+            value.remove_suffix(1);
+        }
+        if ((name == "host" || name == "authorization") && req.headers.count(name) != 0) {
+            return Error{"repeated " + name + " header"};
+        }
+        req.headers[name] = std::string(value);
         if (e == std::string_view::npos) {
             break;
         }

@@ -23,13 +23,17 @@ pre{margin:0;padding:8px;background:#25282e;min-width:320px;white-space:pre-wrap
 <header><b>navmap</b>
 <button onclick="show('cluster')">cluster</button><button onclick="show('hud')">hud</button>
 <button onclick="show('center')">center</button><span id="state">connecting</span></header>
-<main><img id="view" alt="live map stream" src="/stream.mjpg?profile=)HTML" +
-           safe + R"HTML("><pre id="status">waiting for /status</pre></main>
+<main><img id="view" alt="live map stream"><pre id="status">waiting for /status</pre></main>
 <script>
-function show(p){document.getElementById('view').src='/stream.mjpg?profile='+p;}
+// A page opened as /?token=... hands the token on to the stream and /status.
+const token=new URLSearchParams(location.search).get('token');
+function withToken(u){return token?u+(u.includes('?')?'&':'?')+'token='+encodeURIComponent(token):u;}
+function show(p){document.getElementById('view').src=withToken('/stream.mjpg?profile='+p);}
+document.getElementById('view').src=withToken('/stream.mjpg?profile=)HTML" +
+           safe + R"HTML(');
 async function poll(){
   const st=document.getElementById('state');
-  try{const r=await fetch('/status',{cache:'no-store'});const j=await r.json();
+  try{const r=await fetch(withToken('/status'),{cache:'no-store'});if(!r.ok)throw new Error('HTTP '+r.status);const j=await r.json();
     document.getElementById('status').textContent=JSON.stringify(j,null,2);
     st.textContent='live: '+j.stream.clients+' client(s), '+j.stream.published+' frames';st.style.background='#2e7d32';
   }catch(e){st.textContent='no status: '+e;st.style.background='#b71c1c';}

@@ -14,6 +14,8 @@
 #include <cerrno>
 #include <cstring>
 
+#include "navmap/ipc/socket_access.h"
+
 namespace navmap::ipc::stream_detail {
 
 std::string sysError(const char* call, const std::string& object) {
@@ -57,7 +59,7 @@ Result<sockaddr_un> unixAddress(const std::string& path) {
 
 }  // namespace
 
-Result<int> listenUnix(const std::string& path) {
+Result<int> listenUnix(const std::string& path, mode_t mode, std::optional<gid_t> group) {
     auto addr = unixAddress(path);
     if (!addr) {
         return addr.error();
@@ -75,11 +77,22 @@ Result<int> listenUnix(const std::string& path) {
     if (!fd.valid()) {
         return Error{sysError("socket", path)};
     }
+    // The file bind() creates is never wider than `mode`; its exact mode and group are set before
+    // listen(), and no peer can connect before listen(): there is no moment with wider access.
+    if (auto access = restrictSocketBeforeBind(fd.get(), mode, path); !access) {
+        return Error{access.message()};
+    }
     if (bind(fd.get(), reinterpret_cast<const sockaddr*>(&addr.value()), sizeof(sockaddr_un)) != 0) {
         return Error{sysError("bind", path)};
     }
+    if (auto access = applySocketFileAccess(path, mode, group); !access) {
+        unlink(path.c_str());
+        return Error{access.message()};
+    }
     if (listen(fd.get(), 64) != 0) {
-        return Error{sysError("listen", path)};
+        const std::string err = sysError("listen", path);
+        unlink(path.c_str());
+        return Error{err};
     }
     return fd.release();
 }

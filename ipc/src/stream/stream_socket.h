@@ -2,7 +2,10 @@
 // Private socket helpers of ipc/src/stream (not installed): every error names the call and the
 // object, "connect(/run/navmap/stream.sock): No such file or directory".
 
+#include <sys/types.h>
+
 #include <chrono>
+#include <optional>
 #include <string>
 
 #include "navmap/ipc/result.h"
@@ -30,8 +33,9 @@ private:
     int m_fd = -1;
 };
 
-/// Non-blocking listening Unix stream socket; a stale socket file at `path` is replaced.
-Result<int> listenUnix(const std::string& path);
+/// Non-blocking listening Unix stream socket; a stale socket file at `path` is replaced. The file
+/// gets `mode` whatever the umask, and `group` when given, before the socket listens.
+Result<int> listenUnix(const std::string& path, mode_t mode, std::optional<gid_t> group);
 /// Non-blocking listening TCP socket on address:port (port 0 = any).
 Result<int> listenTcp(const std::string& address, int port);
 /// Port a TCP socket is bound to, -1 on error.

@@ -1,6 +1,7 @@
 // ControlServer over a real Unix socket: round trips into ControlState snapshots, garbage and
-// over-long lines, subscriptions and events, SO_PEERCRED, socket mode, stale/live socket files,
-// client limits, slow subscribers, the own-thread mode, and no leaked fds.
+// over-long lines, subscriptions and events, SO_PEERCRED (with clients running as other uids),
+// socket mode and group, stale/live socket files, client limits, slow subscribers, the
+// own-thread mode, and no leaked fds.
 
 #include <gtest/gtest.h>
 
@@ -18,6 +19,7 @@
 #include <nlohmann/json.hpp>
 
 #include "control_test_util.h"
+#include "foreign_user.h"
 #include "navmap/ipc/control_client.h"
 #include "navmap/ipc/control_protocol.h"
 #include "navmap/ipc/control_server.h"
@@ -382,4 +384,55 @@ TEST(ControlServer, ManyClientsConcurrently) {
         EXPECT_EQ(f.state.route()->version, 300U);
     }
     EXPECT_EQ(countOpenFds(), fds);
+}
+
+TEST(ControlServer, SocketFileIs0660WithItsGroupWhateverTheUmask) {
+    const int fds = countOpenFds();
+    {
+        ControlServerConfig cfg;
+        const gid_t group = ::geteuid() == 0 ? 65534 : ::getegid();  // root may give it any group
+        cfg.socketGroup = group;
+        const mode_t old = ::umask(0);
+        Fixture f(cfg, false);
+        ::umask(old);
+        ASSERT_TRUE(f.server);
+        struct stat st {};
+        ASSERT_EQ(::stat(f.server->path().c_str(), &st), 0);
+        EXPECT_EQ(st.st_mode & 07777, 0660U) << std::oct << (st.st_mode & 07777);
+        EXPECT_EQ(st.st_gid, group);
+    }
+    EXPECT_EQ(countOpenFds(), fds);
+}
+
+TEST(ControlServer, MembersOfTheSocketGroupMayConnectOthersNot) {
+    if (const auto why = navmap::test::cannotSwitchUser(); !why.empty()) {
+        GTEST_SKIP() << why;
+    }
+    constexpr gid_t kHmi = 64000;
+    ControlServerConfig cfg;
+    cfg.socketGroup = kHmi;
+    Fixture f(cfg);
+    ASSERT_TRUE(f.server);
+    ASSERT_EQ(::chmod(std::filesystem::path(f.server->path()).parent_path().c_str(), 0755), 0);
+    const std::string path = f.server->path();
+    const auto clearRoute = [path] {
+        auto c = ControlClient::connect(path);
+        if (!c.ok()) {
+            return c.error().message;
+        }
+        auto r = c.value().request(R"({"cmd":"clear_route"})", 3s);
+        return r.ok() ? r.value() : r.error().message;
+    };
+    // A member through a supplementary group (SO_PEERGROUPS), not through its primary gid.
+    navmap::test::ForeignProcess member({64001, 64001, {kHmi}}, clearRoute);
+    EXPECT_EQ(member.result(), R"({"ok":true,"cmd":"clear_route"})");
+    // Anyone else: the file mode keeps them out; were it wider, SO_PEERCRED would.
+    navmap::test::ForeignProcess stranger({64002, 64002, {}}, clearRoute);
+    EXPECT_EQ(stranger.result(), "connect(" + path + "): Permission denied");
+    ASSERT_EQ(::chmod(path.c_str(), 0666), 0);
+    navmap::test::ForeignProcess stranger2({64002, 64002, {}}, clearRoute);
+    const std::string refused = stranger2.result();
+    EXPECT_EQ(refused.rfind(R"({"ok":false,"error":"peer uid 64002 (pid )", 0), 0U) << refused;
+    EXPECT_NE(refused.find(") is not allowed on " + path), std::string::npos) << refused;
+    EXPECT_EQ(f.server->stats().refusedPeer, 1U);
 }

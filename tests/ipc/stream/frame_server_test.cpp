@@ -41,6 +41,7 @@ protected:
         o.tcpPort = 0;
         o.httpPort = 0;
         o.stallTimeout = 300ms;
+        o.handshakeTimeout = 2s;
         o.mjpegProfile = "center";
         o.metricsText = [] { return std::string("navmapd_frames_total 42"); };
         o.statusJson = [] { return std::string(R"({"vehicle":{"speed":13.5}})"); };
@@ -222,20 +223,23 @@ TEST_F(StreamServerTest, ClientsThatNeverReadDoNotSlowTheOthers) {
     ASSERT_TRUE(sendAllRaw(stuckTcp, formatStreamRequest(small(StreamPayload::Raw))));
     const int stuckHttp = connectTcpRaw(m_server->httpPort());
     setsockopt(stuckHttp, SOL_SOCKET, SO_RCVBUF, &tiny, sizeof(tiny));
-    ASSERT_TRUE(sendAllRaw(stuckHttp, "GET /stream.mjpg?profile=test&width=64&height=32&view=bird HTTP/1.1\r\n\r\n"));
+    ASSERT_TRUE(sendAllRaw(stuckHttp, "GET /stream.mjpg?profile=test&width=64&height=32&view=bird HTTP/1.1\r\nHost: 127.0.0.1:" +
+                                          std::to_string(m_server->httpPort()) + "\r\n\r\n"));
     const int silent = connectUnixRaw(m_server->options().unixPath);
 
     const int withStuck = framesReceived(*fast, 600ms);
     std::printf("fast client: %d frames alone, %d with four stuck clients\n", alone, withStuck);
     EXPECT_GE(withStuck, alone * 9 / 10);
-    // The stalled ones are gone after the stall timeout (300 ms); the fast one, still reading,
-    // stays.
-    const auto until = std::chrono::steady_clock::now() + 3s;
+    // The stalled ones are gone after the stall timeout (300 ms), the silent one after the
+    // handshake timeout (2 s); the fast one, still reading, stays.
+    const auto until = std::chrono::steady_clock::now() + 6s;
     while (std::chrono::steady_clock::now() < until &&
-           (m_server->stats().stallDisconnects < 4 || m_server->stats().clients != 1)) {
+           (m_server->stats().stallDisconnects < 3 || m_server->stats().handshakeTimeouts < 1 ||
+            m_server->stats().clients != 1)) {
         ASSERT_GE(framesReceived(*fast, 50ms), 0);
     }
-    EXPECT_EQ(m_server->stats().stallDisconnects, 4U);
+    EXPECT_EQ(m_server->stats().stallDisconnects, 3U);
+    EXPECT_EQ(m_server->stats().handshakeTimeouts, 1U);
     EXPECT_EQ(m_server->stats().clients, 1U);
     EXPECT_GT(framesReceived(*fast, 200ms), 5);
     pub.stop();
@@ -347,20 +351,21 @@ TEST_F(StreamServerTest, GarbageAfterTheHandshakeEndsWithAnErrorFrame) {
 }
 
 TEST_F(StreamServerTest, HttpPagesStatusAndMetrics) {
-    const std::string page = httpExchange(m_server->httpPort(), "GET / HTTP/1.1\r\nHost: x\r\n\r\n");
+    const std::string page = httpGet(m_server->httpPort(), "/");
     EXPECT_EQ(page.rfind("HTTP/1.0 200 OK\r\n", 0), 0U) << page.substr(0, 80);
     EXPECT_NE(page.find("text/html"), std::string::npos);
     EXPECT_NE(page.find("<img id=\"view\""), std::string::npos);
     EXPECT_NE(page.find("/stream.mjpg?profile=center"), std::string::npos);
 
-    const std::string status = httpExchange(m_server->httpPort(), "GET /status HTTP/1.0\r\n\r\n");
+    const std::string status = httpExchange(m_server->httpPort(), "GET /status HTTP/1.0\r\nHost: localhost:" +
+                                                                      std::to_string(m_server->httpPort()) + "\r\n\r\n");
     ASSERT_NE(status.find("\r\n\r\n"), std::string::npos);
     auto j = nlohmann::json::parse(status.substr(status.find("\r\n\r\n") + 4), nullptr, false);
     ASSERT_TRUE(j.is_object()) << status;
     EXPECT_EQ(j["daemon"]["vehicle"]["speed"], 13.5);
     EXPECT_EQ(j["stream"]["clients"], 0);
 
-    const std::string metrics = httpExchange(m_server->httpPort(), "GET /metrics HTTP/1.1\r\n\r\n");
+    const std::string metrics = httpGet(m_server->httpPort(), "/metrics");
     EXPECT_NE(metrics.find("text/plain; version=0.0.4"), std::string::npos);
     EXPECT_NE(metrics.find("\r\n\r\nnavmapd_frames_total 42\n"), std::string::npos) << metrics;
     EXPECT_NE(metrics.find("# TYPE navmap_stream_frames_published_total counter"), std::string::npos);
@@ -369,15 +374,16 @@ TEST_F(StreamServerTest, HttpPagesStatusAndMetrics) {
 
 TEST_F(StreamServerTest, HttpGarbageGetsErrors) {
     const int port = m_server->httpPort();
+    const std::string host = "Host: 127.0.0.1:" + std::to_string(port) + "\r\n";
     const std::pair<std::string, std::string> cases[] = {
-        {"GET /nothing HTTP/1.1\r\n\r\n", "HTTP/1.0 404"},
-        {"POST /status HTTP/1.1\r\nContent-Length: 0\r\n\r\n", "HTTP/1.0 405"},
+        {"GET /nothing HTTP/1.1\r\n" + host + "\r\n", "HTTP/1.0 404"},
+        {"POST /status HTTP/1.1\r\n" + host + "Content-Length: 0\r\n\r\n", "HTTP/1.0 405"},
         {"GET / HTTP/2.0\r\n\r\n", "HTTP/1.0 400"},
         {"BLAH\r\n\r\n", "HTTP/1.0 400"},
         {std::string("\x16\x03\x01\x02\x00\x01\x00\x01\xfc\x03\x03", 11), "HTTP/1.0 400"},  // a TLS hello
         {"GET /" + std::string(9000, 'a') + " HTTP/1.1\r\n\r\n", "HTTP/1.0 431"},
-        {"GET /stream.mjpg?profile=warp HTTP/1.1\r\n\r\n", "HTTP/1.0 400"},
-        {"GET /stream.mjpg?profile=hud&fps=100000 HTTP/1.1\r\n\r\n", "HTTP/1.0 400"},
+        {"GET /stream.mjpg?profile=warp HTTP/1.1\r\n" + host + "\r\n", "HTTP/1.0 400"},
+        {"GET /stream.mjpg?profile=hud&fps=100000 HTTP/1.1\r\n" + host + "\r\n", "HTTP/1.0 400"},
     };
     for (const auto& [req, want] : cases) {
         const std::string reply = httpExchange(port, req);

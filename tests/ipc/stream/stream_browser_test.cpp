@@ -1,5 +1,5 @@
-// The HTML viewer in a real browser: headless Chromium loads GET /, shows the MJPEG stream and
-// the /status JSON. Label `browser`; skipped with a reason when chromium is not installed
+// The HTML viewer in a real browser: headless Chromium loads GET /?token=..., shows the MJPEG
+// stream and the /status JSON, the page handing its token on to both. Label `browser`; skipped with a reason when chromium is not installed
 // (Debian: apt-get install chromium).
 
 #include <gtest/gtest.h>
@@ -48,7 +48,8 @@ TEST(StreamBrowser, HeadlessChromiumShowsTheLiveStreamAndStatus) {
         GTEST_SKIP() << "chromium is not installed (apt-get install chromium); the browser view is untested here";
     }
     FrameServerOptions o;
-    o.httpPort = 0;
+    o.httpPort = 0;  // HTTP is off unless asked for
+    o.httpToken = "browser-test-token-0123";
     o.mjpegProfile = "center";
     o.statusJson = [] { return std::string(R"({"marker":"navmap-browser-test"})"); };
     FrameServer server(o);
@@ -73,7 +74,7 @@ TEST(StreamBrowser, HeadlessChromiumShowsTheLiveStreamAndStatus) {
     const std::string flags =
         " --headless --no-sandbox --disable-gpu --disable-background-networking --disable-component-update"
         " --disable-sync --no-first-run --user-data-dir=" + (dir / "profile").string();
-    const std::string url = "http://127.0.0.1:" + std::to_string(server.httpPort()) + "/";
+    const std::string url = "http://127.0.0.1:" + std::to_string(server.httpPort()) + "/?token=" + o.httpToken;
     const auto shot = dir / "page.png";
     run("timeout 60 " + chromium + flags + " --window-size=1400,900 --timeout=4000 --screenshot=" + shot.string() +
         " " + url + " 2>/dev/null");
@@ -93,6 +94,7 @@ TEST(StreamBrowser, HeadlessChromiumShowsTheLiveStreamAndStatus) {
         }
     }
     std::printf("screenshot %dx%d: %ld pixels of the stream colour\n", img.width, img.height, green);
+    // Both need the token (the browser's own /favicon.ico request, without it, gets 401).
     EXPECT_GT(green, 100000) << "the MJPEG image is not on the page";
     // The page fetched /status and shows the daemon's JSON.
     EXPECT_NE(dom.find("navmap-browser-test"), std::string::npos) << dom.substr(0, 2000);

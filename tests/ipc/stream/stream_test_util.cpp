@@ -8,6 +8,7 @@
 #include <turbojpeg.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <cstring>
 #include <fstream>
 
@@ -153,12 +154,98 @@ std::string httpExchange(int port, const std::string& request, std::chrono::mill
     return r;
 }
 
+std::string httpGet(int port, const std::string& target, const std::string& headers) {
+    return httpExchange(port, "GET " + target + " HTTP/1.1\r\nHost: 127.0.0.1:" + std::to_string(port) + "\r\n" + headers +
+                                  "\r\n");
+}
+
+namespace {
+
+// The first line the peer sends (without '\n'), or what came before it closed; 3 s at most.
+std::string readLine(int fd, int* ringFd) {
+    std::string line;
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(3);
+    while (line.find('\n') == std::string::npos) {
+        const auto left =
+            std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now()).count();
+        pollfd p{fd, POLLIN, 0};
+        if (left <= 0 || poll(&p, 1, static_cast<int>(left)) <= 0) {
+            break;
+        }
+        char buf[4096];
+        iovec iov{buf, sizeof(buf)};
+        alignas(cmsghdr) char control[CMSG_SPACE(sizeof(int))] = {};
+        msghdr msg{};
+        msg.msg_iov = &iov;
+        msg.msg_iovlen = 1;
+        msg.msg_control = control;
+        msg.msg_controllen = sizeof(control);
+        const ssize_t n = recvmsg(fd, &msg, MSG_CMSG_CLOEXEC);
+        for (cmsghdr* cm = CMSG_FIRSTHDR(&msg); n >= 0 && cm != nullptr; cm = CMSG_NXTHDR(&msg, cm)) {
+            if (cm->cmsg_level == SOL_SOCKET && cm->cmsg_type == SCM_RIGHTS) {
+                int f = -1;
+                std::memcpy(&f, CMSG_DATA(cm), sizeof(int));
+                if (ringFd != nullptr && *ringFd < 0) {
+                    *ringFd = f;
+                } else {
+                    close(f);
+                }
+            }
+        }
+        if (n <= 0) {
+            break;
+        }
+        line.append(buf, static_cast<std::size_t>(n));
+    }
+    return line.substr(0, line.find('\n'));
+}
+
+}  // namespace
+
+RawShmClient::~RawShmClient() {
+    if (ringFd >= 0) {
+        close(ringFd);
+    }
+    if (fd >= 0) {
+        close(fd);
+    }
+}
+
+std::unique_ptr<RawShmClient> rawShmHandshake(const std::string& path, const std::string& line) {
+    auto c = std::make_unique<RawShmClient>();
+    c->fd = connectUnixRaw(path);
+    if (c->fd < 0 || !sendAllRaw(c->fd, line)) {
+        return c;
+    }
+    c->reply = readLine(c->fd, &c->ringFd);
+    return c;
+}
+
+std::string holdConnections(const std::string& path, const std::string& line, int count) {
+    std::string out;
+    for (int i = 0; i < count; ++i) {
+        const int fd = socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
+        sockaddr_un a{};
+        a.sun_family = AF_UNIX;
+        std::strncpy(a.sun_path, path.c_str(), sizeof(a.sun_path) - 1);
+        if (connect(fd, reinterpret_cast<sockaddr*>(&a), sizeof(a)) != 0) {
+            out += std::string("connect: ") + std::strerror(errno) + "\n";
+            close(fd);
+            continue;
+        }
+        sendAllRaw(fd, line);  // a refused peer may be gone already: its answer is still readable
+        out += readLine(fd, nullptr) + "\n";
+        // Left open on purpose: the process holds its connections until it exits.
+    }
+    return out;
+}
+
 MjpegReader::MjpegReader(int port, const std::string& target) {
     m_fd = connectTcpRaw(port);
     if (m_fd < 0) {
         return;
     }
-    sendAllRaw(m_fd, "GET " + target + " HTTP/1.1\r\nHost: localhost\r\n\r\n");
+    sendAllRaw(m_fd, "GET " + target + " HTTP/1.1\r\nHost: 127.0.0.1:" + std::to_string(port) + "\r\n\r\n");
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(5);
     while (m_buf.find("\r\n\r\n") == std::string::npos) {
         if (!fill(deadline)) {

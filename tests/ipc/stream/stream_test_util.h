@@ -5,12 +5,14 @@
 #include <atomic>
 #include <chrono>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <thread>
 #include <vector>
 
 #include "navmap/ipc/frame_server.h"
 
+#include "foreign_user.h"
 #include "open_fds.h"
 
 namespace navmap::stream_test {
@@ -44,6 +46,23 @@ bool sendAllRaw(int fd, const std::string& data);
 std::string readUntilClose(int fd, std::chrono::milliseconds timeout);
 /// One HTTP request over a fresh connection; returns the whole response.
 std::string httpExchange(int port, const std::string& request, std::chrono::milliseconds timeout = std::chrono::seconds(5));
+/// "GET <target> HTTP/1.1" with the Host header this server accepts (127.0.0.1:<port>) and
+/// `headers` ("Name: value\r\n" lines), over a fresh connection.
+std::string httpGet(int port, const std::string& target, const std::string& headers = "");
+
+/// A shm handshake done by hand, keeping the ring's descriptor as received (SCM_RIGHTS).
+struct RawShmClient {
+    int fd = -1;       ///< the socket
+    int ringFd = -1;   ///< the memfd from the reply, -1 when none came
+    std::string reply; ///< the reply line without '\n'
+    ~RawShmClient();
+};
+std::unique_ptr<RawShmClient> rawShmHandshake(const std::string& path, const std::string& line);
+
+/// Opens `count` connections to the Unix socket at `path`, sends `line` on each, and returns each
+/// one's first reply line (or "connect: <error>"), one per line. The connections stay open until
+/// the process ends: for a child process standing in for a hostile client (ForeignProcess).
+std::string holdConnections(const std::string& path, const std::string& line, int count);
 
 /// Reads multipart/x-mixed-replace JPEG parts from /stream.mjpg.
 class MjpegReader {

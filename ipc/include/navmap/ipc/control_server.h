@@ -13,6 +13,7 @@
 #include <deque>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -25,9 +26,10 @@ namespace navmap::ipc {
 
 struct ControlServerConfig {
     std::string socketPath = "/run/navmap/control.sock";
-    mode_t socketMode = 0660;           ///< applied to the socket file after bind()
+    mode_t socketMode = 0660;           ///< the socket file's mode whatever the umask (set before listen())
+    std::optional<gid_t> socketGroup;   ///< the socket file's group (chown before listen()); its members may connect
     /// Peers whose uid is listed may connect; empty = the daemon's own effective uid. A peer
-    /// whose primary gid is in allowedGids is allowed too.
+    /// whose primary gid or a supplementary group (SO_PEERGROUPS) is in allowedGids is allowed too.
     std::vector<uid_t> allowedUids;
     std::vector<gid_t> allowedGids;
     bool allowRoot = true;              ///< uid 0 may always connect

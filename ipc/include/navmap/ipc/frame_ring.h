@@ -45,8 +45,10 @@ inline constexpr std::size_t kSlotPixelOffset = 256;
 
 class FrameRing {
 public:
-    /// Creates the memfd (sealed against resizing) and maps it. Setup-time: returns an Error
-    /// naming memfd_create/ftruncate/mmap on failure.
+    /// Creates the memfd, maps it writable for the render thread, then seals it against resizing
+    /// and against any later write access (F_SEAL_SHRINK | F_SEAL_GROW | F_SEAL_FUTURE_WRITE |
+    /// F_SEAL_SEAL; Linux >= 5.1): no descriptor of it, however re-opened, can write or map it
+    /// writable. Setup-time: returns an Error naming memfd_create/ftruncate/mmap/fcntl on failure.
     static Result<std::unique_ptr<FrameRing>> create(const std::string& name, std::uint32_t slots, std::uint32_t width,
                                                      std::uint32_t height, PixelFormat format);
     ~FrameRing();

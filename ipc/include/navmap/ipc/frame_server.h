@@ -8,30 +8,68 @@
 // client. All socket I/O, compression and JPEG encoding run on the server's own thread (poll()).
 // Each client gets the newest frame; a busy client skips frames (counted as dropped), a client
 // that makes no progress for `stallTimeout` is disconnected.
+// Clients are untrusted: the Unix socket file is 0660 (+ a group) and peers are checked by
+// SO_PEERCRED; connections are capped per transport and per uid; only rendered profiles are
+// served; a connection without a handshake or a first frame within `handshakeTimeout` is closed;
+// rings share a memory ceiling and are sealed so that no client can write them.
+
+#include <sys/types.h>
 
 #include <chrono>
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "navmap/ipc/frame_view.h"
 #include "navmap/ipc/result.h"
+#include "navmap/ipc/socket_access.h"
 #include "navmap/ipc/stream_profile.h"
 
 namespace navmap::ipc {
 
+/// A profile the daemon renders (its [[profile]] entry): the views and sizes clients may ask for.
+struct RenderedProfile {
+    std::string name;   ///< for error messages: "cluster"
+    std::string view;   ///< stream view: "snail", "bird", "hud"
+    int width = 0;
+    int height = 0;
+};
+
 struct FrameServerOptions {
     std::string unixPath;              ///< Unix stream socket; empty = none
+    mode_t unixMode = 0660;            ///< the socket file's mode, whatever the umask
+    std::optional<gid_t> unixGroup;    ///< the socket file's group (chown before listen); none: the process's
+    /// Who may connect to the Unix socket (SO_PEERCRED/SO_PEERGROUPS, checked on accept): by
+    /// default the server's own uid and root; `unixGroup` is allowed as well.
+    PeerAllowList allowedPeers;
     std::string bindAddress = "127.0.0.1";  ///< for TCP and HTTP
     int tcpPort = -1;                  ///< -1 = none, 0 = any free port (see tcpPort())
     int httpPort = -1;                 ///< -1 = none, 0 = any free port (see httpPort())
+    /// HTTP: when not empty, every request needs `Authorization: Bearer <token>` or `?token=<token>`.
+    std::string httpToken;
     /// Slots per profile ring (>= 2). Three give a client two frame periods between the
     /// notification and the end of its copy; each slot costs stride x height bytes of shared memory.
     std::uint32_t ringSlots = 3;
-    std::chrono::milliseconds stallTimeout{2000};  ///< no ack / no write progress / no handshake
-    std::size_t maxClients = 64;
+    std::chrono::milliseconds stallTimeout{2000};  ///< no ack / no write progress
+    /// A connection must finish its handshake (or HTTP request head) within this time of being
+    /// accepted, and a streaming client must get its first frame within this time of its
+    /// handshake; otherwise it is closed (counted, reason in lastError).
+    std::chrono::milliseconds handshakeTimeout{5000};
+    /// Connections per transport (Unix, TCP, HTTP each have this many, handshakes included); one
+    /// more is refused with an error and closed at once.
+    std::size_t maxClientsPerTransport = 32;
+    /// Unix-socket connections per peer uid, so one uid cannot take every slot. TCP and HTTP
+    /// peers have no uid: their transport's cap is their only bound.
+    std::size_t maxClientsPerUid = 8;
+    /// Shared memory of all rings together (memfd sizes); a request that needs a new ring beyond
+    /// it is refused with an error and counted. 0 = no ceiling.
+    std::size_t ringMemoryBytes = std::size_t{256} << 20;
+    /// What the daemon renders; a request for another view or size is refused naming these.
+    /// Empty: any view and size is accepted (for tests and tools that publish what they are asked for).
+    std::vector<RenderedProfile> renderedProfiles;
     int jpegQuality = 80;
     std::string mjpegProfile = "center";  ///< profile of /stream.mjpg without ?profile=
     /// Body of /metrics before the server's own navmap_stream_* lines (Prometheus text). Called on
@@ -67,6 +105,16 @@ struct FrameServerStats {
     std::uint64_t protocolErrors = 0; ///< garbage after the handshake
     std::uint64_t httpErrors = 0;     ///< 4xx replies
     std::uint64_t stallDisconnects = 0;
+    std::uint64_t handshakeTimeouts = 0;   ///< closed without a complete handshake / HTTP head in time
+    std::uint64_t firstFrameTimeouts = 0;  ///< streaming, but no first frame within handshakeTimeout
+    std::uint64_t refusedPeer = 0;         ///< Unix peers not on the allow list
+    std::uint64_t refusedTransportFull = 0;  ///< maxClientsPerTransport reached
+    std::uint64_t refusedUidFull = 0;      ///< maxClientsPerUid reached
+    std::uint64_t refusedNotRendered = 0;  ///< a view/size the daemon does not render
+    std::uint64_t refusedRingMemory = 0;   ///< a new ring would pass ringMemoryBytes
+    std::uint64_t refusedHost = 0;         ///< HTTP Host header missing or not this server
+    std::uint64_t refusedToken = 0;        ///< HTTP token missing or wrong
+    std::size_t ringBytes = 0;             ///< shared memory of all rings now
     std::uint64_t disconnects = 0;    ///< all closed connections
     double publishMsLast = 0;         ///< render-thread cost of the last publish()
     double publishMsMax = 0;

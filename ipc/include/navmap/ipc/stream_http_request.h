@@ -17,6 +17,10 @@ struct StreamHttpRequest {
     std::string path;                           ///< without the query, percent-decoding not applied
     std::map<std::string, std::string> query;   ///< "a=1&b=2"
     std::string version;                        ///< "HTTP/1.0" or "HTTP/1.1"
+    /// Header fields by lower-case name, values without surrounding blanks. A repeated Host or
+    /// Authorization is an error (a proxy and the server must not read different ones); other
+    /// repeats keep the last.
+    std::map<std::string, std::string> headers;
 };
 
 /// Parses a request head ending in "\r\n\r\n" (or "\n\n"). Errors name the problem

@@ -1,0 +1,526 @@
+// FrameServer against hostile local clients: the socket file's mode and group, SO_PEERCRED allow
+// lists (with clients that really run as other uids), per-transport and per-uid caps, refusal of
+// views and sizes that are not rendered, the handshake and first-frame timeouts, the ring memory
+// ceiling, rings no client can write, and the HTTP Host check and token.
+
+#include <gtest/gtest.h>
+#include <fcntl.h>
+#include <linux/falloc.h>
+#include <sys/mman.h>
+#include <sys/socket.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstring>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "navmap/ipc/frame_header.h"
+#include "navmap/ipc/frame_ring.h"
+#include "navmap/ipc/frame_server.h"
+#include "navmap/ipc/stream_client.h"
+#include "stream_test_util.h"
+
+using namespace navmap::ipc;
+using namespace navmap::stream_test;
+using namespace std::chrono_literals;
+using navmap::test::cannotSwitchUser;
+using navmap::test::ForeignProcess;
+using navmap::test::ForeignUser;
+
+namespace {
+
+constexpr uid_t kNobody = 65534;
+constexpr gid_t kNogroup = 65534;
+
+StreamRequest request(const std::string& view, int width, int height, StreamPayload payload = StreamPayload::Shm,
+                      PixelFormat format = PixelFormat::Rgba8) {
+    StreamRequest r;
+    r.profile.name = "test";
+    r.profile.view = view;
+    r.profile.width = width;
+    r.profile.height = height;
+    r.profile.fps = 0;
+    r.profile.format = format;
+    r.payload = payload;
+    return r;
+}
+
+StreamRequest cluster(StreamPayload payload = StreamPayload::Shm) {
+    StreamRequest r;
+    r.profile = *defaultStreamProfile("cluster");
+    r.payload = payload;
+    return r;
+}
+
+// The lines of a ForeignProcess report that contain `text`.
+int countLines(const std::string& report, const std::string& text) {
+    std::istringstream in(report);
+    int n = 0;
+    for (std::string line; std::getline(in, line);) {
+        n += line.find(text) != std::string::npos ? 1 : 0;
+    }
+    return n;
+}
+
+// A server for one test, and the fd count around it.
+class StreamAccessTest : public ::testing::Test {
+protected:
+    void SetUp() override { m_fdsBefore = countOpenFds(); }
+    void TearDown() override {
+        m_server.reset();
+        EXPECT_EQ(countOpenFds(), m_fdsBefore) << "descriptors leaked";
+    }
+    FrameServerOptions options() const {
+        FrameServerOptions o;
+        o.unixPath = uniqueSocketPath("stream-access");
+        o.stallTimeout = 2s;
+        return o;
+    }
+    void start(FrameServerOptions o) {
+        m_server = std::make_unique<FrameServer>(std::move(o));
+        const auto st = m_server->start();
+        ASSERT_TRUE(st.ok()) << st.message();
+    }
+    const std::string& path() const { return m_server->options().unixPath; }
+    template <typename Pred>
+    bool waitFor(Pred pred, std::chrono::milliseconds limit = 5s) {
+        const auto until = std::chrono::steady_clock::now() + limit;
+        while (std::chrono::steady_clock::now() < until) {
+            if (pred()) {
+                return true;
+            }
+            std::this_thread::sleep_for(5ms);
+        }
+        return pred();
+    }
+    // One frame for `client` within `limit`; the pixels must be the Publisher's pattern.
+    static void expectFrame(StreamClient& client, std::chrono::milliseconds limit = 3s) {
+        ReceivedFrame f;
+        const auto until = std::chrono::steady_clock::now() + limit;
+        while (std::chrono::steady_clock::now() < until) {
+            auto r = client.next(f, 100ms);
+            ASSERT_TRUE(r.ok()) << r.error().message;
+            if (r.value()) {
+                ASSERT_EQ(f.pixels.size(), f.header.pixelBytes());
+                const auto want = sequencePattern(static_cast<int>(f.header.width), static_cast<int>(f.header.height),
+                                                  f.header.sequence);
+                EXPECT_EQ(0, std::memcmp(f.pixels.data(), want.data(), want.size()));
+                return;
+            }
+        }
+        FAIL() << "no frame within " << limit.count() << " ms";
+    }
+
+    int m_fdsBefore = 0;
+    std::unique_ptr<FrameServer> m_server;
+};
+
+}  // namespace
+
+TEST_F(StreamAccessTest, SocketFileIs0660WithItsGroupWhateverTheUmask) {
+    const mode_t old = ::umask(0);
+    FrameServerOptions o = options();
+    const gid_t group = ::geteuid() == 0 ? kNogroup : ::getegid();  // root may give it any group
+    o.unixGroup = group;
+    start(o);
+    ::umask(old);
+    struct stat st {};
+    ASSERT_EQ(::stat(path().c_str(), &st), 0);
+    EXPECT_TRUE(S_ISSOCK(st.st_mode));
+    EXPECT_EQ(st.st_mode & 07777, 0660U) << std::oct << (st.st_mode & 07777);
+    EXPECT_EQ(st.st_gid, group);
+
+    // A restrictive umask does not narrow it either.
+    m_server.reset();
+    const mode_t old2 = ::umask(077);
+    start(options());
+    ::umask(old2);
+    ASSERT_EQ(::stat(path().c_str(), &st), 0);
+    EXPECT_EQ(st.st_mode & 07777, 0660U) << std::oct << (st.st_mode & 07777);
+}
+
+TEST_F(StreamAccessTest, PeersNotOnTheAllowListAreRefused) {
+    if (const auto why = cannotSwitchUser(); !why.empty()) {
+        GTEST_SKIP() << why;
+    }
+    const mode_t old = ::umask(0);
+    start(options());  // allowed: the server's own uid (root here) and root
+    ::umask(old);
+    const std::string line = formatStreamRequest(cluster());
+    const std::string sock = path();
+    {
+        // The file mode keeps nobody out before any byte is exchanged.
+        ForeignProcess nobody({kNobody, kNogroup, {}}, [&] { return holdConnections(sock, line, 1); });
+        EXPECT_EQ(nobody.result(), "connect: Permission denied\n");
+    }
+    // Were the mode wider, SO_PEERCRED still refuses: an error line, then the connection closes.
+    ASSERT_EQ(::chmod(sock.c_str(), 0666), 0);
+    ForeignProcess nobody({kNobody, kNogroup, {}}, [&] {
+        auto c = StreamClient::connectUnix(sock, cluster());
+        return c.ok() ? std::string("accepted") : c.error().message;
+    });
+    const std::string got = nobody.result();
+    EXPECT_NE(got.find("handshake refused by " + sock + ": peer uid 65534 (pid "), std::string::npos) << got;
+    EXPECT_NE(got.find(") is not allowed on " + sock), std::string::npos) << got;
+    nobody.release();
+    EXPECT_TRUE(waitFor([&] { return m_server->stats().refusedPeer == 1; }));
+    const auto s = m_server->stats();
+    EXPECT_EQ(s.connections, 0U);
+    EXPECT_EQ(s.rings, 0U);
+    EXPECT_NE(s.lastError.find("refused: peer uid 65534"), std::string::npos) << s.lastError;
+    EXPECT_NE(m_server->metricsText().find("navmap_stream_refusals_total{reason=\"peer\"} 1\n"), std::string::npos);
+}
+
+TEST_F(StreamAccessTest, ListedUidsAndGroupMembersGetFrames) {
+    if (const auto why = cannotSwitchUser(); !why.empty()) {
+        GTEST_SKIP() << why;
+    }
+    constexpr gid_t kDisplays = 64000;  // the socket's group
+    FrameServerOptions o = options();
+    o.unixGroup = kDisplays;
+    o.allowedPeers.uids = {kNobody};
+    start(o);
+    Publisher pub(*m_server, "snail", 1280, 480, 20);
+    const std::string sock = path();
+    const auto watch = [sock] {
+        auto c = StreamClient::connectUnix(sock, cluster());
+        if (!c) {
+            return c.error().message;
+        }
+        ReceivedFrame f;
+        for (int i = 0; i < 30; ++i) {
+            auto r = c.value()->next(f, 100ms);
+            if (!r) {
+                return r.error().message;
+            }
+            if (r.value()) {
+                const auto want = sequencePattern(1280, 480, f.header.sequence);
+                return std::string(std::memcmp(f.pixels.data(), want.data(), want.size()) == 0 ? "frame ok"
+                                                                                                : "frame wrong");
+            }
+        }
+        return std::string("no frame");
+    };
+    // A listed uid (file access through the socket's group as a supplementary group).
+    ForeignProcess listed({kNobody, kNogroup, {kDisplays}}, watch);
+    // An unlisted uid that is a member of the socket's group (a supplementary group: SO_PEERGROUPS).
+    ForeignProcess member({64001, 64001, {kDisplays}}, watch);
+    // Neither listed nor a member; the file mode is opened wide so that only the peer check decides.
+    EXPECT_EQ(listed.result(), "frame ok");
+    EXPECT_EQ(member.result(), "frame ok");
+    ASSERT_EQ(::chmod(sock.c_str(), 0666), 0);
+    ForeignProcess stranger({64002, 64002, {}}, watch);
+    EXPECT_NE(stranger.result().find("peer uid 64002"), std::string::npos) << stranger.result();
+    EXPECT_EQ(m_server->stats().refusedPeer, 1U);
+    pub.stop();
+}
+
+TEST_F(StreamAccessTest, OneUidCannotLockOthersOut) {
+    if (const auto why = cannotSwitchUser(); !why.empty()) {
+        GTEST_SKIP() << why;
+    }
+    FrameServerOptions o = options();
+    o.unixGroup = kNogroup;
+    o.allowedPeers.uids = {kNobody};
+    o.maxClientsPerUid = 4;
+    o.maxClientsPerTransport = 16;
+    o.stallTimeout = 10s;  // nobody's four never ack; they stay for the whole test
+    o.renderedProfiles = {{"cluster", "snail", 1280, 480}};
+    start(o);
+    Publisher pub(*m_server, "snail", 1280, 480, 20);
+    const std::string sock = path();
+    // nobody opens 64 cluster streams and holds them: 4 are served, 60 refused at once.
+    const std::string line = formatStreamRequest(cluster());
+    ForeignProcess nobody({kNobody, kNogroup, {}}, [&] { return holdConnections(sock, line, 64); });
+    const std::string report = nobody.result();
+    EXPECT_EQ(countLines(report, "\"ok\":true"), 4) << report;
+    EXPECT_EQ(countLines(report, "{\"ok\":false,\"error\":\"too many connections from uid 65534 (limit 4)\"}"), 60)
+        << report;
+    // root's cluster client still connects and gets frames while nobody holds its four.
+    auto c = StreamClient::connectUnix(sock, cluster());
+    ASSERT_TRUE(c.ok()) << c.error().message;
+    expectFrame(*c.value());
+    const auto s = m_server->stats();
+    EXPECT_EQ(s.refusedUidFull, 60U);
+    EXPECT_EQ(s.refusedTransportFull, 0U);
+    EXPECT_EQ(s.shmClients, 5U);
+    EXPECT_NE(m_server->metricsText().find("navmap_stream_refusals_total{reason=\"uid_full\"} 60\n"), std::string::npos);
+    nobody.release();
+    pub.stop();
+}
+
+TEST_F(StreamAccessTest, EachTransportHasItsOwnCap) {
+    FrameServerOptions o = options();
+    o.tcpPort = 0;
+    o.httpPort = 0;
+    o.maxClientsPerTransport = 3;
+    o.maxClientsPerUid = 3;
+    start(o);
+    Publisher pub(*m_server, "bird", 64, 32, 60);
+    // Three TCP connections that say nothing fill the TCP transport.
+    std::vector<int> tcp;
+    for (int i = 0; i < 3; ++i) {
+        tcp.push_back(connectTcpRaw(m_server->tcpPort()));
+    }
+    ASSERT_TRUE(waitFor([&] { return m_server->stats().connections == 3; }));
+    const int extra = connectTcpRaw(m_server->tcpPort());
+    EXPECT_EQ(readUntilClose(extra, 3s), "{\"ok\":false,\"error\":\"too many tcp clients (limit 3)\"}\n");
+    close(extra);
+    // Unix and HTTP keep their own slots.
+    auto shm = StreamClient::connectUnix(path(), request("bird", 64, 32));
+    ASSERT_TRUE(shm.ok()) << shm.error().message;
+    expectFrame(*shm.value());
+    EXPECT_EQ(httpGet(m_server->httpPort(), "/status").rfind("HTTP/1.0 200 OK", 0), 0U);
+    // The fourth Unix connection of this uid is refused at once (uid cap 3 = transport cap 3).
+    auto shm2 = StreamClient::connectUnix(path(), request("bird", 64, 32));
+    auto shm3 = StreamClient::connectUnix(path(), request("bird", 64, 32));
+    ASSERT_TRUE(shm2.ok() && shm3.ok());
+    auto shm4 = StreamClient::connectUnix(path(), request("bird", 64, 32));
+    ASSERT_FALSE(shm4.ok());
+    EXPECT_EQ(shm4.error().message, "handshake refused by " + path() + ": too many unix clients (limit 3)");
+    const auto s = m_server->stats();
+    EXPECT_EQ(s.refusedTransportFull, 2U);
+    EXPECT_NE(s.lastError.find("too many unix clients (limit 3)"), std::string::npos) << s.lastError;
+    for (int fd : tcp) {
+        close(fd);
+    }
+    pub.stop();
+}
+
+TEST_F(StreamAccessTest, UnrenderedViewsAndSizesAreRefusedNamingWhatIsRendered) {
+    FrameServerOptions o = options();
+    o.tcpPort = 0;
+    o.httpPort = 0;
+    o.renderedProfiles = {{"cluster", "snail", 1280, 480}, {"hud", "hud", 800, 240}};
+    start(o);
+    const std::string rendered = "rendered: cluster (snail 1280x480), hud (hud 800x240)";
+    // Unix (shm) and TCP: an error line, no ring.
+    auto big = StreamClient::connectUnix(path(), request("bird", 4096, 4096));
+    ASSERT_FALSE(big.ok());
+    EXPECT_EQ(big.error().message,
+              "handshake refused by " + path() + ": handshake: bird 4096x4096 is not rendered here; " + rendered);
+    auto wrongView = StreamClient::connectTcp("127.0.0.1", m_server->tcpPort(), request("bird", 1280, 480, StreamPayload::Raw));
+    ASSERT_FALSE(wrongView.ok());
+    EXPECT_NE(wrongView.error().message.find("handshake: bird 1280x480 is not rendered here; " + rendered), std::string::npos)
+        << wrongView.error().message;
+    // MJPEG: 400 with the same words.
+    const std::string mjpeg = httpGet(m_server->httpPort(), "/stream.mjpg?width=4096&height=4096&view=bird");
+    EXPECT_EQ(mjpeg.rfind("HTTP/1.0 400 Bad Request\r\n", 0), 0U) << mjpeg;
+    EXPECT_NE(mjpeg.find("\r\n\r\nbird 4096x4096 is not rendered here; " + rendered + "\n"), std::string::npos) << mjpeg;
+    EXPECT_EQ(m_server->stats().rings, 0U);
+    EXPECT_EQ(m_server->stats().refusedNotRendered, 3U);
+    EXPECT_NE(m_server->metricsText().find("navmap_stream_refusals_total{reason=\"not_rendered\"} 3\n"), std::string::npos);
+    // What is rendered is served, in either pixel format, and by name on the MJPEG page.
+    Publisher pub(*m_server, "hud", 800, 240, 60);
+    StreamRequest hud;
+    hud.profile = *defaultStreamProfile("hud");
+    hud.profile.format = PixelFormat::Rgb565;
+    auto ok = StreamClient::connectUnix(path(), hud);
+    ASSERT_TRUE(ok.ok()) << ok.error().message;
+    MjpegReader byName(m_server->httpPort(), "/stream.mjpg?profile=hud");
+    ASSERT_TRUE(byName.ok()) << byName.responseHead();
+    EXPECT_FALSE(byName.next(3s).empty());
+    pub.stop();
+}
+
+TEST_F(StreamAccessTest, SilentConnectionsAndClientsWithoutAFrameAreClosed) {
+    FrameServerOptions o = options();
+    o.tcpPort = 0;
+    o.httpPort = 0;
+    o.handshakeTimeout = 300ms;
+    start(o);
+    const auto t0 = std::chrono::steady_clock::now();
+    const int silentUnix = connectUnixRaw(path());
+    const int silentTcp = connectTcpRaw(m_server->tcpPort());
+    const int halfHttp = connectTcpRaw(m_server->httpPort());
+    ASSERT_TRUE(sendAllRaw(halfHttp, "GET /status HTTP/1.1\r\n"));
+    // A client of a view nobody publishes: handshake fine, then no frame.
+    auto starved = StreamClient::connectUnix(path(), request("bird", 64, 32));
+    ASSERT_TRUE(starved.ok()) << starved.error().message;
+    // A client of a published view stays.
+    Publisher pub(*m_server, "hud", 64, 32, 50);
+    auto fed = StreamClient::connectUnix(path(), request("hud", 64, 32));
+    ASSERT_TRUE(fed.ok()) << fed.error().message;
+
+    EXPECT_EQ(readUntilClose(silentUnix, 3s), "{\"ok\":false,\"error\":\"no complete handshake within 300 ms\"}\n");
+    EXPECT_EQ(readUntilClose(silentTcp, 3s), "{\"ok\":false,\"error\":\"no complete handshake within 300 ms\"}\n");
+    const std::string http = readUntilClose(halfHttp, 3s);
+    EXPECT_EQ(http.rfind("HTTP/1.0 408 Request Timeout\r\n", 0), 0U) << http;
+    EXPECT_NE(http.find("no complete request head within 300 ms"), std::string::npos) << http;
+    const auto closedAfter = std::chrono::steady_clock::now() - t0;
+    EXPECT_LT(closedAfter, 2s) << "closed by the handshake timeout, not the stall timeout";
+    ReceivedFrame f;
+    auto r = starved.value()->next(f, 3s);
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(r.error().message.find("disconnected, no frame within 300 ms of the handshake (nothing published for bird 64x32)"),
+              std::string::npos)
+        << r.error().message;
+    // The fed client keeps receiving well past the timeout.
+    std::this_thread::sleep_for(500ms);
+    expectFrame(*fed.value());
+    const auto s = m_server->stats();
+    EXPECT_EQ(s.handshakeTimeouts, 3U);
+    EXPECT_EQ(s.firstFrameTimeouts, 1U);
+    EXPECT_EQ(s.clients, 1U);
+    const std::string metrics = m_server->metricsText();
+    EXPECT_NE(metrics.find("navmap_stream_timeouts_total{kind=\"handshake\"} 3\n"), std::string::npos) << metrics;
+    EXPECT_NE(metrics.find("navmap_stream_timeouts_total{kind=\"first_frame\"} 1\n"), std::string::npos) << metrics;
+    for (int fd : {silentUnix, silentTcp, halfHttp}) {
+        close(fd);
+    }
+    pub.stop();
+}
+
+TEST_F(StreamAccessTest, RingMemoryHasACeiling) {
+    FrameServerOptions o = options();
+    o.httpPort = 0;
+    o.ringSlots = 3;
+    // 64x32 RGBA8 needs 40 KiB (a header page and three 12 KiB slots), RGB565 28 KiB: one fits.
+    o.ringMemoryBytes = 64 * 1024;
+    start(o);
+    ASSERT_EQ(FrameRingLayout::make(3, 64, 32, PixelFormat::Rgba8).totalBytes, 40960U);
+    auto first = StreamClient::connectUnix(path(), request("bird", 64, 32));
+    ASSERT_TRUE(first.ok()) << first.error().message;
+    auto second = StreamClient::connectUnix(path(), request("bird", 64, 32, StreamPayload::Shm, PixelFormat::Rgb565));
+    ASSERT_FALSE(second.ok());
+    EXPECT_EQ(second.error().message, "handshake refused by " + path() +
+                                          ": ring memory: bird 64x32 rgb565 needs 28.0 KiB, 40.0 KiB of 64.0 KiB are "
+                                          "in use; try again later");
+    const std::string mjpeg = httpGet(m_server->httpPort(), "/stream.mjpg?width=128&height=64&view=bird");
+    EXPECT_EQ(mjpeg.rfind("HTTP/1.0 503 Service Unavailable\r\n", 0), 0U) << mjpeg;
+    // Another client of the ring that exists costs nothing.
+    auto same = StreamClient::connectUnix(path(), request("bird", 64, 32));
+    ASSERT_TRUE(same.ok()) << same.error().message;
+    auto s = m_server->stats();
+    EXPECT_EQ(s.refusedRingMemory, 2U);
+    EXPECT_EQ(s.ringBytes, 40960U);
+    const std::string metrics = m_server->metricsText();
+    EXPECT_NE(metrics.find("navmap_stream_refusals_total{reason=\"ring_memory\"} 2\n"), std::string::npos) << metrics;
+    EXPECT_NE(metrics.find("navmap_stream_ring_bytes{stat=\"limit\"} 65536\n"), std::string::npos) << metrics;
+    // When the ring's clients leave, its memory is free for another.
+    first.value().reset();
+    same.value().reset();
+    ASSERT_TRUE(waitFor([&] { return m_server->stats().rings == 0; }));
+    auto later = StreamClient::connectUnix(path(), request("bird", 64, 32, StreamPayload::Shm, PixelFormat::Rgb565));
+    EXPECT_TRUE(later.ok()) << later.error().message;
+}
+
+TEST_F(StreamAccessTest, NoClientCanMakeTheRingWritable) {
+    start(options());
+    auto raw = rawShmHandshake(path(), formatStreamRequest(request("bird", 64, 32)));
+    ASSERT_NE(raw->reply.find("\"ok\":true"), std::string::npos) << raw->reply;
+    ASSERT_GE(raw->ringFd, 0) << "no descriptor with the reply";
+    const int fd = raw->ringFd;
+    const std::size_t bytes = FrameRingLayout::make(3, 64, 32, PixelFormat::Rgba8).totalBytes;
+    const int seals = ::fcntl(fd, F_GET_SEALS);
+    EXPECT_EQ(seals, F_SEAL_SEAL | F_SEAL_SHRINK | F_SEAL_GROW | F_SEAL_FUTURE_WRITE) << std::hex << seals;
+
+    // The descriptor as received: read-only.
+    errno = 0;
+    EXPECT_EQ(::mmap(nullptr, bytes, PROT_READ | PROT_WRITE, MAP_SHARED, fd, 0), MAP_FAILED);
+    EXPECT_EQ(errno, EACCES);
+    void* ro = ::mmap(nullptr, bytes, PROT_READ, MAP_SHARED, fd, 0);
+    ASSERT_NE(ro, MAP_FAILED);
+    EXPECT_EQ(::mprotect(ro, bytes, PROT_READ | PROT_WRITE), -1);
+
+    // Re-opened read-write through /proc: it opens, but nothing can write through it.
+    const std::string proc = "/proc/self/fd/" + std::to_string(fd);
+    const int rw = ::open(proc.c_str(), O_RDWR | O_CLOEXEC);
+    ASSERT_GE(rw, 0) << std::strerror(errno);
+    errno = 0;
+    EXPECT_EQ(::mmap(nullptr, bytes, PROT_READ | PROT_WRITE, MAP_SHARED, rw, 0), MAP_FAILED);
+    EXPECT_EQ(errno, EPERM);
+    void* rwRead = ::mmap(nullptr, bytes, PROT_READ, MAP_SHARED, rw, 0);
+    ASSERT_NE(rwRead, MAP_FAILED);
+    EXPECT_EQ(::mprotect(rwRead, bytes, PROT_READ | PROT_WRITE), -1);
+    const char junk[16] = "drawn by client";
+    EXPECT_EQ(::pwrite(rw, junk, sizeof(junk), 4096 + 256), -1);
+    EXPECT_EQ(errno, EPERM);
+    EXPECT_EQ(::fallocate(rw, FALLOC_FL_PUNCH_HOLE | FALLOC_FL_KEEP_SIZE, 4096, 4096), -1);
+    EXPECT_EQ(errno, EPERM);
+    EXPECT_EQ(::ftruncate(rw, 0), -1);
+    // A private writable mapping is possible, but its writes are copies nobody else sees.
+    void* priv = ::mmap(nullptr, bytes, PROT_READ | PROT_WRITE, MAP_PRIVATE, rw, 0);
+    ASSERT_NE(priv, MAP_FAILED);
+    std::memset(static_cast<std::uint8_t*>(priv) + 4096, 0x5A, bytes - 4096);
+
+    // Frames still arrive whole, to this client and to another one.
+    auto other = StreamClient::connectUnix(path(), request("bird", 64, 32));
+    ASSERT_TRUE(other.ok()) << other.error().message;
+    const auto px = sequencePattern(64, 32, 1);
+    ASSERT_EQ(m_server->publish("bird", FrameView{px.data(), 64, 32, 0, PixelFormat::Rgba8, 0, 0}), 1U);
+    ReceivedFrame f;
+    auto r = other.value()->next(f, 3s);
+    ASSERT_TRUE(r.ok() && r.value()) << (r.ok() ? "timeout" : r.error().message);
+    EXPECT_EQ(0, std::memcmp(f.pixels.data(), px.data(), px.size()));
+    const auto layout = FrameRingLayout::make(3, 64, 32, PixelFormat::Rgba8);
+    std::vector<std::uint8_t> mine(layout.pixelBytes());
+    FrameHeader h;
+    ASSERT_TRUE(FrameRing::readMapped(static_cast<const std::uint8_t*>(ro), layout, 1, &h, mine.data()));
+    EXPECT_EQ(mine, px);
+    ::munmap(priv, bytes);
+    ::munmap(rwRead, bytes);
+    ::munmap(ro, bytes);
+    ::close(rw);
+}
+
+TEST_F(StreamAccessTest, HttpChecksTheHostHeaderAndTheToken) {
+    const std::string token = "s3cret-Token_0123456789";
+    FrameServerOptions o = options();
+    o.httpPort = 0;
+    o.httpToken = token;
+    start(o);
+    const int port = m_server->httpPort();
+    const std::string p = std::to_string(port);
+    const auto status = [&](const std::string& head) {
+        return httpExchange(port, "GET /status HTTP/1.1\r\n" + head + "\r\n");
+    };
+    const std::string expected = "(expected 127.0.0.1:" + p + " or localhost:" + p + ")";
+    std::string r = status("");
+    EXPECT_EQ(r.rfind("HTTP/1.0 400 Bad Request\r\n", 0), 0U) << r;
+    EXPECT_NE(r.find("\r\n\r\nmissing Host header\n"), std::string::npos) << r;
+    r = status("Host: evil.example:" + p + "\r\nAuthorization: Bearer " + token + "\r\n");
+    EXPECT_EQ(r.rfind("HTTP/1.0 421 Misdirected Request\r\n", 0), 0U) << r;
+    EXPECT_NE(r.find("\r\n\r\nHost \"evil.example:" + p + "\" is not this server " + expected + "\n"), std::string::npos) << r;
+    r = status("Host: 127.0.0.1:1\r\nAuthorization: Bearer " + token + "\r\n");
+    EXPECT_EQ(r.rfind("HTTP/1.0 421", 0), 0U) << r;
+    r = status("Host: 127.0.0.1\r\nAuthorization: Bearer " + token + "\r\n");
+    EXPECT_EQ(r.rfind("HTTP/1.0 421", 0), 0U) << r;
+    // The right host, but no token or a wrong one.
+    r = status("Host: localhost:" + p + "\r\n");
+    EXPECT_EQ(r.rfind("HTTP/1.0 401 Unauthorized\r\n", 0), 0U) << r;
+    EXPECT_NE(r.find("WWW-Authenticate: Bearer realm=\"navmap\"\r\n"), std::string::npos) << r;
+    r = status("Host: localhost:" + p + "\r\nAuthorization: Bearer " + token + "x\r\n");
+    EXPECT_EQ(r.rfind("HTTP/1.0 401", 0), 0U) << r;
+    EXPECT_NE(r.find("\r\n\r\nwrong token\n"), std::string::npos) << r;
+    r = httpGet(port, "/status?token=" + token.substr(0, token.size() - 1));
+    EXPECT_EQ(r.rfind("HTTP/1.0 401", 0), 0U) << r;
+    // Accepted: the header, the query (page, stream, status), localhost in any case.
+    r = status("Host: LocalHost:" + p + "\r\nAuthorization: Bearer " + token + "\r\n");
+    EXPECT_EQ(r.rfind("HTTP/1.0 200 OK\r\n", 0), 0U) << r;
+    r = httpGet(port, "/?token=" + token);
+    EXPECT_EQ(r.rfind("HTTP/1.0 200 OK\r\n", 0), 0U) << r;
+    EXPECT_NE(r.find("get('token')"), std::string::npos) << "the page hands its token on";
+    Publisher pub(*m_server, "bird", 64, 32, 30);
+    MjpegReader mjpeg(port, "/stream.mjpg?width=64&height=32&view=bird&token=" + token);
+    ASSERT_TRUE(mjpeg.ok()) << mjpeg.responseHead();
+    EXPECT_FALSE(mjpeg.next(3s).empty());
+    pub.stop();
+    const auto s = m_server->stats();
+    EXPECT_EQ(s.refusedHost, 4U);
+    EXPECT_EQ(s.refusedToken, 3U);
+}
+
+TEST_F(StreamAccessTest, HttpOnEveryAddressTakesTheAddressOfTheConnection) {
+    FrameServerOptions o = options();
+    o.bindAddress = "0.0.0.0";
+    o.httpPort = 0;
+    start(o);
+    const int port = m_server->httpPort();
+    EXPECT_EQ(httpGet(port, "/status").rfind("HTTP/1.0 200 OK", 0), 0U);  // Host: 127.0.0.1:port
+    const std::string r =
+        httpExchange(port, "GET /status HTTP/1.1\r\nHost: rebound.example:" + std::to_string(port) + "\r\n\r\n");
+    EXPECT_EQ(r.rfind("HTTP/1.0 421", 0), 0U) << r;
+}
