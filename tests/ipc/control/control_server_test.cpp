@@ -223,6 +223,29 @@ TEST(ControlServer, SubscribersReceiveTheirEvents) {
     EXPECT_EQ(countOpenFds(), fds);
 }
 
+TEST(ControlServer, DuplicateKeysAreRefusedAndChangeNothing) {
+    const int fds = countOpenFds();
+    {
+        Fixture f;
+        ASSERT_TRUE(f.server);
+        auto c = f.connect();
+        ASSERT_EQ(req(c, R"({"cmd":"set_route","id":"kept","points":[[1,2],[3,4]]})").substr(0, 11), R"({"ok":true,)");
+        const auto route = f.state.route();
+        const auto view = f.state.view();
+        // With the last key winning this was a clear_route.
+        EXPECT_EQ(req(c, R"({"cmd":"get_status","cmd":"clear_route"})"), R"({"ok":false,"error":"duplicate key \"cmd\""})");
+        EXPECT_EQ(req(c, R"({"cmd":"set_route","id":"other","points":[[1,2],{"lat":5,"lat":6}]})"),
+                  R"({"ok":false,"cmd":"set_route","id":"other","error":"points[1]: duplicate key \"lat\""})");
+        EXPECT_EQ(req(c, R"({"cmd":"set_view","display":"cluster","mode":"bird","mode":"snail"})"),
+                  R"({"ok":false,"cmd":"set_view","error":"duplicate key \"mode\""})");
+        EXPECT_EQ(f.state.route(), route);
+        EXPECT_EQ(f.state.route()->id, "kept");
+        EXPECT_EQ(f.state.view(), view);
+        EXPECT_EQ(f.server->stats().errors, 3U);
+    }
+    EXPECT_EQ(countOpenFds(), fds);
+}
+
 TEST(ControlServer, PeerCredentialsDecideWhoMayConnect) {
     const int fds = countOpenFds();
     {
