@@ -231,6 +231,9 @@ std::optional<DaemonConfig> parseConfig(const std::string& text, const std::stri
         toml::array* uids = nullptr;
         if (const auto* t = table("control")) uids = const_cast<toml::table*>(t)->get_as<toml::array>("allowed_uids");
         r.known("allowed_uids");
+        if (!r.get("idle_timeout_s", c.control_idle_timeout_s) ||
+            !r.range("idle_timeout_s", c.control_idle_timeout_s, 0.0, 86400.0))
+            return std::nullopt;
         if (!r.get("socket", c.control_socket) || !r.get("mode", mode) || !r.range("mode", double(mode), 0, 0777) ||
             !r.noUnknownKeys())
             return std::nullopt;

@@ -44,6 +44,7 @@ struct DaemonConfig {
     std::filesystem::path control_socket = "/run/navmap/control.sock";
     std::uint32_t control_mode = 0660;
     std::vector<std::uint32_t> control_uids;   ///< empty: same uid as the daemon, and root
+    double control_idle_timeout_s = 30.0;      ///< connections without traffic are closed after this; 0: never
     // [stream]
     std::filesystem::path frame_socket = "/run/navmap/frames.sock";
     int tcp_port = 0;                          ///< 0: no TCP frame server

@@ -152,6 +152,7 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
         ccfg.socketPath = config.control_socket.string();
         ccfg.socketMode = static_cast<mode_t>(config.control_mode);
         for (auto uid : config.control_uids) ccfg.allowedUids.push_back(static_cast<uid_t>(uid));
+        ccfg.idleTimeout = std::chrono::milliseconds(std::llround(config.control_idle_timeout_s * 1000.0));
         auto control = ipc::ControlServer::create(ccfg, *control_state);
         if (!control) throw std::runtime_error(control.error().message);
         std::unique_ptr<ipc::ControlServer> control_server = std::move(control).value();
