@@ -1,14 +1,23 @@
 // navmap-compile on the real Andorra extract + SRTM tile (repo data/), and on bad input.
 #include <gtest/gtest.h>
 
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <optional>
 #include <random>
 
 #include "map_test_util.h"
 #include "navmap/map/compiler.h"
 #include "navmap/map/dem.h"
+#include "navmap/map/store_lock.h"
 #include "navmap/map/tile_store.h"
+
+extern char** environ;
 
 using namespace navmap::map;
 using navmap::map::test::repoData;
@@ -187,4 +196,133 @@ TEST(CompileBadInput, DemOfWrongSizeNamesTheFile) {
     } catch (const DemError& e) {
         EXPECT_NE(std::string(e.what()).find(bad.string() + ": 4 bytes is not an SRTM tile"), std::string::npos) << e.what();
     }
+}
+
+namespace {
+
+namespace fs = std::filesystem;
+
+/// navmap-compile as a child process, stdout and stderr into `log`.
+struct CompileProcess {
+    pid_t pid = -1;
+    fs::path log;
+    CompileProcess(const std::string& args, fs::path log_path) : log(std::move(log_path)) {
+        const std::string cmd = std::string("exec ") + NAVMAP_COMPILE_PATH + " " + args + " > " + log.string() + " 2>&1";
+        const char* argv[] = {"/bin/sh", "-c", cmd.c_str(), nullptr};
+        if (posix_spawn(&pid, "/bin/sh", nullptr, nullptr, const_cast<char**>(argv), environ) != 0) pid = -1;
+    }
+    /// Exit status (-1 when it did not exit normally).
+    int wait() {
+        int status = 0;
+        if (pid <= 0 || ::waitpid(pid, &status, 0) != pid) return -1;
+        return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    }
+    [[nodiscard]] std::string output() const {
+        std::ifstream in(log);
+        return {std::istreambuf_iterator<char>(in), {}};
+    }
+};
+
+std::string andorraArgs(const fs::path& out) {
+    return "-q --osm " + repoData("andorra-2021-04-14.osm.pbf").string() + " --dem " + repoData("N42E001.hgt").string() +
+           " --out " + out.string();
+}
+
+std::vector<std::string> namesIn(const fs::path& d) {
+    std::vector<std::string> names;
+    for (const auto& e : fs::directory_iterator(d)) names.push_back(e.path().filename().string());
+    std::sort(names.begin(), names.end());
+    return names;
+}
+
+/// Every tile of the store decodes and the graph loads: what a half-written or interleaved store fails.
+void expectWholeStore(const fs::path& path) {
+    const auto store = TileStore::open(path);
+    std::size_t loaded = 0;
+    for (const auto& id : store->tileIds()) {
+        const auto res = store->load(id);
+        EXPECT_TRUE(res.tile) << res.error;
+        loaded += res.tile ? 1 : 0;
+    }
+    EXPECT_GT(loaded, 100u);
+    EXPECT_GT(store->loadGraph().edges.size(), 10000u);
+}
+
+}  // namespace
+
+TEST(CompileCli, TwoCompilesToOneStoreNeverPublishAHalfWrittenOne) {
+    ScratchDir dir("compile-race");
+    const fs::path out = dir / "s.navmap";
+    for (int round = 0; round < 2; ++round) {
+        CompileProcess a(andorraArgs(out), dir / "a.log");
+        CompileProcess b(andorraArgs(out), dir / "b.log");
+        const int sa = a.wait(), sb = b.wait();
+        // The second to start is refused at once, naming the first; one that finds the store
+        // free (the other already done) writes it whole again.
+        EXPECT_TRUE(sa == 0 || sb == 0) << a.output() << b.output();
+        for (const auto* p : {&a, &b}) {
+            const int status = p == &a ? sa : sb;
+            const int other = p == &a ? b.pid : a.pid;
+            if (status == 0) continue;
+            EXPECT_EQ(status, 1);
+            EXPECT_EQ(p->output(), "navmap-compile: " + out.string() + " is being written by another process (pid " +
+                                       std::to_string(other) + ")\n");
+        }
+        expectWholeStore(out);
+        EXPECT_EQ(namesIn(dir.path()), (std::vector<std::string>{"a.log", "b.log", "s.navmap"}));
+    }
+}
+
+TEST(CompileCli, AStoreBeingWrittenIsRefusedWithTheWritersPid) {
+    ScratchDir dir("compile-locked");
+    const fs::path out = dir / "s.navmap";
+    std::optional<StoreLock> held(std::in_place, out);
+    CompileProcess p(andorraArgs(out), dir / "p.log");
+    EXPECT_EQ(p.wait(), 1);
+    EXPECT_EQ(p.output(), "navmap-compile: " + out.string() + " is being written by another process (pid " +
+                              std::to_string(::getpid()) + ")\n");
+    EXPECT_FALSE(fs::exists(out));
+    held.reset();
+    EXPECT_EQ(namesIn(dir.path()), std::vector<std::string>{"p.log"});
+}
+
+TEST(CompileCli, AMissingOutputFolderIsAnErrorNamingIt) {
+    ScratchDir dir("compile-folder");
+    const fs::path out = dir / "missing/sub/x.navmap";
+    CompileProcess p(andorraArgs(out), dir / "p.log");
+    EXPECT_EQ(p.wait(), 1);
+    EXPECT_EQ(p.output(), "navmap-compile: " + out.string() + ": directory " + (dir / "missing/sub").string() +
+                              " does not exist\n");
+    EXPECT_FALSE(fs::exists(dir / "missing"));
+}
+
+TEST(CompileCli, NumericOptionsMustBeFiniteAndInRange) {
+    ScratchDir dir("compile-usage");
+    const fs::path out = dir / "x.navmap";
+    const std::pair<std::string, std::string> cases[] = {
+        {"--default-building-height nan", "--default-building-height: 'nan' is not a finite number in [0, 1000]"},
+        {"--default-building-height inf", "--default-building-height: 'inf' is not a finite number in [0, 1000]"},
+        {"--default-building-height -3", "--default-building-height: '-3' is not a finite number in [0, 1000]"},
+        {"--leaf-size nan", "--leaf-size: 'nan' is not a finite number in [10, 1e+06]"},
+        {"--leaf-size 5", "--leaf-size: '5' is not a finite number in [10, 1e+06]"},
+        {"--leaf-size 2000x", "--leaf-size: '2000x' is not a finite number in [10, 1e+06]"},
+        {"--dem-samples 1", "--dem-samples: '1' is not 0 (no DEM grid) or an integer in [2, 1025]"},
+        {"--dem-samples nan", "--dem-samples: 'nan' is not 0 (no DEM grid) or an integer in [2, 1025]"},
+    };
+    for (const auto& [option, message] : cases) {
+        CompileProcess p(andorraArgs(out) + " " + option, dir / "p.log");
+        EXPECT_EQ(p.wait(), 2) << option;  // a usage error, as documented
+        EXPECT_NE(p.output().find(message), std::string::npos) << option << ": " << p.output();
+        EXPECT_FALSE(fs::exists(out)) << option;
+    }
+    // Other usage errors exit 2 as well; the library refuses NaN on its own too.
+    CompileProcess missing("--out " + out.string(), dir / "p.log");
+    EXPECT_EQ(missing.wait(), 2);
+    EXPECT_NE(missing.output().find("--osm is required"), std::string::npos) << missing.output();
+    CompileOptions opt;
+    opt.osm = repoData("andorra-2021-04-14.osm.pbf");
+    opt.out = out;
+    opt.default_building_height_m = std::nanf("");
+    EXPECT_THROW(compileStore(opt), CompileError);
+    EXPECT_EQ(namesIn(dir.path()), std::vector<std::string>{"p.log"});
 }

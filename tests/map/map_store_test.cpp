@@ -2,6 +2,10 @@
 // runtime cache (eviction under budget, corrupt tile skipped), tile selection, DEM input.
 #include <gtest/gtest.h>
 
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <fstream>
@@ -369,3 +373,109 @@ TEST(Dem, VoidsAreFilledAndWrongSizeIsAnError) {
         EXPECT_NE(std::string(e.what()).find("N42E002.hgt: 1000 bytes is not an SRTM tile"), std::string::npos) << e.what();
     }
 }
+
+namespace {
+
+std::vector<std::string> listDir(const std::filesystem::path& d) {
+    std::vector<std::string> names;
+    for (const auto& e : std::filesystem::directory_iterator(d)) names.push_back(e.path().filename().string());
+    std::sort(names.begin(), names.end());
+    return names;
+}
+
+std::string writerError(const std::filesystem::path& p) {
+    try {
+        StoreWriter w(p, smallInfo());
+    } catch (const StoreError& e) {
+        return e.what();
+    }
+    return "";
+}
+
+std::string fileText(const std::filesystem::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    return {std::istreambuf_iterator<char>(in), {}};
+}
+
+}  // namespace
+
+TEST(StoreWriter, AMissingFolderIsAnErrorAndIsNotCreated) {
+    ScratchDir dir("writer-folder");
+    const auto out = dir / "missing/sub/x.navmap";
+    EXPECT_EQ(writerError(out), out.string() + ": directory " + (dir / "missing/sub").string() + " does not exist");
+    EXPECT_FALSE(std::filesystem::exists(dir / "missing"));
+    std::ofstream(dir / "file") << "x";
+    EXPECT_EQ(writerError(dir / "file/x.navmap"), (dir / "file/x.navmap").string() + ": " + (dir / "file").string() +
+                                                      " is not a directory");
+    EXPECT_EQ(listDir(dir.path()), std::vector<std::string>{"file"});
+}
+
+TEST(StoreWriter, ASecondWriterIsRefusedWithTheFirstOnesPid) {
+    ScratchDir dir("writer-lock");
+    const auto out = dir / "s.navmap";
+    {
+        StoreWriter first(out, smallInfo());
+        EXPECT_EQ(fileText(dir / "s.navmap.lock"), std::to_string(::getpid()) + "\n");
+        EXPECT_EQ(writerError(out), out.string() + " is being written by another process (pid " +
+                                        std::to_string(::getpid()) + ")");
+        // The refused writer left the first one's files alone.
+        EXPECT_TRUE(std::filesystem::exists(first.temporaryPath()));
+        EXPECT_TRUE(std::filesystem::exists(dir / "s.navmap.lock"));
+        first.finish();
+    }
+    // Released: the next writer goes ahead, and only the store is left.
+    writeSmallStore(out);
+    EXPECT_EQ(listDir(dir.path()), std::vector<std::string>{"s.navmap"});
+    EXPECT_EQ(TileStore::open(out)->tileIds().size(), 21u);
+}
+
+TEST(StoreWriter, PlantedSymlinksAreNeverFollowed) {
+    ScratchDir dir("writer-symlink");
+    const auto out = dir / "s.navmap";
+    const auto victim = dir / "victim.txt";
+    std::ofstream(victim) << "precious\n";
+    // At the old fixed temporary name, at a name of the temporary pattern, and at the store itself.
+    std::filesystem::create_symlink(victim, dir / "s.navmap.tmp");
+    std::filesystem::create_symlink(victim, dir / "s.navmap.tmp-0123456789abcdef");
+    std::filesystem::create_symlink(victim, out);
+    writeSmallStore(out);
+    EXPECT_EQ(fileText(victim), "precious\n");
+    EXPECT_TRUE(std::filesystem::is_symlink(dir / "s.navmap.tmp"));
+    EXPECT_TRUE(std::filesystem::is_symlink(dir / "s.navmap.tmp-0123456789abcdef"));
+    EXPECT_FALSE(std::filesystem::is_symlink(out));  // replaced by the store, not written through
+    EXPECT_EQ(TileStore::open(out)->tileIds().size(), 21u);
+
+    // At the lock name: refused, nothing written, the target untouched (or not created).
+    std::filesystem::create_symlink(victim, dir / "t.navmap.lock");
+    EXPECT_EQ(writerError(dir / "t.navmap"), (dir / "t.navmap.lock").string() + ": is a symbolic link; refusing to follow it");
+    std::filesystem::create_symlink(dir / "absent", dir / "u.navmap.lock");
+    EXPECT_EQ(writerError(dir / "u.navmap"), (dir / "u.navmap.lock").string() + ": is a symbolic link; refusing to follow it");
+    EXPECT_FALSE(std::filesystem::exists(dir / "absent"));
+    // A hard link at the lock name would have its target truncated: refused too.
+    std::filesystem::create_hard_link(victim, dir / "v.navmap.lock");
+    EXPECT_EQ(writerError(dir / "v.navmap"),
+              (dir / "v.navmap.lock").string() + ": not a regular file with a single link; refusing to use it");
+    EXPECT_EQ(fileText(victim), "precious\n");
+    EXPECT_EQ(listDir(dir.path()), (std::vector<std::string>{"s.navmap", "s.navmap.tmp", "s.navmap.tmp-0123456789abcdef",
+                                                             "t.navmap.lock", "u.navmap.lock", "v.navmap.lock", "victim.txt"}));
+}
+
+TEST(StoreWriter, FailuresLeaveNoTemporaryOrLockFileAndLeftoversAreRemoved) {
+    ScratchDir dir("writer-cleanup");
+    const auto out = dir / "s.navmap";
+    {
+        StoreWriter w(out, smallInfo());
+        w.addTile(sampleTile({0, 0, 0}, -4000, -4000, 8000));
+        EXPECT_EQ(listDir(dir.path()).size(), 2u);  // the temporary file and the lock
+    }  // abandoned without finish(): as after an exception
+    EXPECT_TRUE(listDir(dir.path()).empty());
+    // A writer killed mid-way leaves its temporary file; the next writer of the store removes
+    // it (only files of the store's temporary pattern).
+    std::ofstream(dir / "s.navmap.tmp-00000000deadbeef") << "half a store";
+    std::ofstream(dir / "s.navmap.tmp-notmine") << "kept";
+    std::ofstream(dir / "other.navmap.tmp-00000000deadbeef") << "kept";
+    writeSmallStore(out);
+    EXPECT_EQ(listDir(dir.path()), (std::vector<std::string>{"other.navmap.tmp-00000000deadbeef", "s.navmap",
+                                                             "s.navmap.tmp-notmine"}));
+}
+
