@@ -152,6 +152,63 @@ TEST_F(AndorraStore, RoadGraphLoads) {
     EXPECT_GT(total, 1e6);  // > 1000 km of directed road in Andorra
 }
 
+// docs/tile-store.md "Damage" on the compiled store: a flipped bit in the header or the index is
+// a fatal error naming it; in a tile (one of each level) only that tile fails; in the road graph
+// every tile still loads and the graph reports itself unavailable.
+TEST_F(AndorraStore, ABitFlippedInEachSectionDegradesOrFailsAsDocumented) {
+    const auto src = s_dir->path() / "andorra.navmap";
+    std::ifstream in(src, std::ios::binary);
+    const std::vector<char> bytes{std::istreambuf_iterator<char>(in), {}};
+    const auto path = s_dir->path() / "damaged.navmap";
+    auto withFlip = [&](std::uint64_t at) {
+        auto d = bytes;
+        d.at(at) = static_cast<char>(d.at(at) ^ 0x10);
+        std::ofstream(path, std::ios::binary | std::ios::trunc).write(d.data(), static_cast<std::streamsize>(d.size()));
+    };
+    auto openError = [&] {
+        try {
+            TileStore::open(path);
+        } catch (const StoreError& e) {
+            return std::string(e.what());
+        }
+        return std::string();
+    };
+    auto failing = [](const TileStore& store) {
+        std::vector<std::string> bad;
+        for (const auto& id : store.tileIds()) {
+            if (!store.load(id).tile) bad.push_back(id.toString());
+        }
+        return bad;
+    };
+    const StoreInfo& info = s_store->info();
+    withFlip(0);
+    EXPECT_EQ(openError(), path.string() + ": not a navmap tile store (bad magic)");
+    withFlip(70);
+    EXPECT_EQ(openError(), path.string() + ": header checksum mismatch");
+    withFlip(info.index_offset + 100);
+    EXPECT_EQ(openError(), path.string() + ": tile index checksum mismatch");
+
+    for (int level = 0; level < s_store->scheme().levelCount(); ++level) {
+        TileId victim{};
+        for (const auto& id : s_store->tileIds()) {
+            if (id.level == level) victim = id;
+        }
+        withFlip(s_store->blobOffset(victim) + s_store->storedSize(victim) / 2);
+        const auto store = TileStore::open(path);
+        EXPECT_EQ(failing(*store), std::vector<std::string>{victim.toString()});
+        EXPECT_EQ(store->load(victim).error, path.string() + ": tile " + victim.toString() + ": checksum mismatch (corrupt tile)");
+        EXPECT_TRUE(store->tryLoadGraph().ok());
+    }
+
+    withFlip(info.graph_offset + info.graph_stored_size / 3);
+    const auto store = TileStore::open(path);
+    EXPECT_TRUE(failing(*store).empty());
+    const auto graph = store->tryLoadGraph();
+    EXPECT_EQ(graph.problem, "checksum mismatch");
+    EXPECT_EQ(graph.error, path.string() + ": road graph: checksum mismatch");
+    std::filesystem::remove(path);
+}
+
 TEST(CompileBadInput, TruncatedRandomAndMissingPbf) {
     ScratchDir dir("compile-bad");
     std::ifstream in(repoData("andorra-2021-04-14.osm.pbf"), std::ios::binary);
