@@ -253,6 +253,9 @@ std::optional<DaemonConfig> parseConfig(const std::string& text, const std::stri
     {
         auto r = section("control");
         std::int64_t mode = c.control_mode;
+        if (!r.get("idle_timeout_s", c.control_idle_timeout_s) ||
+            !r.range("idle_timeout_s", c.control_idle_timeout_s, 0.0, 86400.0))
+            return std::nullopt;
         if (!readIds("control", r, "allowed_uids", c.control_uids) || !readIds("control", r, "allowed_gids", c.control_gids) ||
             !r.get("socket", c.control_socket) || !r.get("mode", mode) || !r.range("mode", double(mode), 0, 0777) ||
             !r.get("group", c.control_group) || !r.noUnknownKeys())

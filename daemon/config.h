@@ -46,6 +46,7 @@ struct DaemonConfig {
     std::vector<std::uint32_t> control_uids;   ///< empty: same uid as the daemon, and root
     std::vector<std::uint32_t> control_gids;   ///< allowed_gids: members (primary or supplementary) may connect
     std::string control_group;                 ///< socket file group (name or gid), its members allowed; empty: none
+    double control_idle_timeout_s = 30.0;      ///< connections without traffic are closed after this; 0: never
     // [stream]
     std::filesystem::path frame_socket = "/run/navmap/frames.sock";
     std::string stream_group;                  ///< socket file group (name or gid), its members allowed; empty: none

@@ -130,6 +130,13 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
 
         render::MapScene scene = render::MapScene::open(config.store_path, config.cache_mb << 20);
         log(kInfo, "store %s: %u tiles, cache %zu MiB", config.store_path.c_str(), scene.store->info().tile_count, config.cache_mb);
+        // A damaged road graph degrades like a damaged tile: the map renders, what needs the
+        // graph says it is missing (docs/tile-store.md "Damage").
+        const std::string road_graph = scene.graph_problem.empty() ? "ok" : "unavailable: " + scene.graph_problem;
+        if (!scene.graph_problem.empty()) {
+            log(kWarning, "%s; map matching is off (the pose is the raw fix) and the simulator cannot plan a route",
+                scene.graph_error.c_str());
+        }
 
         std::set<std::string, std::less<>> display_names;
         for (const auto& p : config.profiles) display_names.insert(p.name);
@@ -159,6 +166,7 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
             if (!gid) throw std::runtime_error(gid.error().message);
             ccfg.socketGroup = gid.value();
         }
+        ccfg.idleTimeout = std::chrono::milliseconds(std::llround(config.control_idle_timeout_s * 1000.0));
         auto control = ipc::ControlServer::create(ccfg, *control_state);
         if (!control) throw std::runtime_error(control.error().message);
         std::unique_ptr<ipc::ControlServer> control_server = std::move(control).value();
@@ -451,7 +459,10 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
                                {"rejected_values", in.decoder.rejected}, {"counter_gaps", in.decoder.counterGaps},
                                {"rejected_fixes", in.estimator.rejectedJump + in.estimator.rejectedRange + in.estimator.rejectedNaN},
                                {"can_error_frames", in.can_error_frames}, {"can_bus_off", in.can_bus_off},
-                               {"can_kernel_drops", in.can_kernel_drops}, {"can_state", in.can_state}};
+                               {"can_kernel_drops", in.can_kernel_drops}, {"can_state", in.can_state},
+                               {"replay_malformed_lines", in.replay_malformed_lines},
+                               {"replay_time_errors", in.replay_time_errors}, {"error", in.error}};
+                st["road_graph"] = road_graph;
                 st["position"] = {{"valid", pose.valid}, {"stale", pose.stale}, {"speed_kmh", pose.speedMps * 3.6},
                                   {"heading_deg", pose.headingDeg}, {"match_confidence", pose.matchConfidence}};
                 if (!route_id.empty()) st["route"] = {{"id", route_id}, {"driven_m", route_driven_max}};

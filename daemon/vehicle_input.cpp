@@ -3,7 +3,7 @@
 #include <chrono>
 #include <stdexcept>
 
-#include "navmap/ipc/candump_reader.h"
+#include "navmap/ipc/candump_file_source.h"
 #include "navmap/ipc/dbc_database.h"
 #include "navmap/ipc/replayer.h"
 #include "navmap/ipc/signal_map.h"
@@ -45,21 +45,30 @@ VehicleInput::VehicleInput(const DaemonConfig& config, const render::MapScene& s
     replay.restamp = true;
     switch (config.input) {
         case InputSource::Replay: {
-            auto log = ipc::loadCandumpFile(config.replay_log);
-            if (!log) throw std::runtime_error(log.error().message);
-            const auto& l = log.value();
-            if (!l.errors.empty()) {
-                std::fprintf(stderr, "<4>navmapd: %s: %zu malformed lines skipped (first: line %zu: %s)\n",
-                             config.replay_log.c_str(), l.errors.size(), l.errors.front().line,
-                             l.errors.front().message.c_str());
-            }
+            // Streamed: memory stays bounded whatever the file. The replayer reads up to the first
+            // frame now, so a file that is no candump log (binary data, /dev/zero, nothing but
+            // malformed lines) fails here with one error naming it.
+            auto source = ipc::CandumpFileSource::open(config.replay_log);
+            if (!source) throw std::runtime_error(source.error().message);
+            m_replay_file = source.value().get();
             replay.speed = config.replay_speed;
             replay.loop = config.replay_loop;
-            m_replayer = std::make_unique<ipc::Replayer>(l.frames(), replay);
+            m_replayer = std::make_unique<ipc::Replayer>(std::move(source).value(), replay);
+            if (const std::string error = m_replayer->error(); !error.empty()) throw std::runtime_error(error);
+            if (m_replayer->finished()) {
+                std::fprintf(stderr, "<4>navmapd: %s: no CAN frames to replay\n", config.replay_log.c_str());
+            }
             m_stats.source = "replay " + config.replay_log.string();
             break;
         }
         case InputSource::Sim: {
+            m_stats.source = "sim " + config.sim_from + " -> " + config.sim_to;
+            if (!scene.graph_problem.empty()) {
+                // The map still renders; the simulated car has no road to drive on.
+                m_stats.error = "the simulator cannot plan a route: road graph unavailable: " + scene.graph_problem;
+                std::fprintf(stderr, "<4>navmapd: %s: %s\n", m_stats.source.c_str(), m_stats.error.c_str());
+                break;
+            }
             sim::DriveRequest request;
             request.store = scene.store->path();
             request.dbc = data_dir / "navmap.dbc";
@@ -78,7 +87,6 @@ VehicleInput::VehicleInput(const DaemonConfig& config, const render::MapScene& s
                 route.points.push_back({lat, lon});
             }
             if (auto st = m_control->setRoute(route); !st) throw std::runtime_error("simulated route: " + st.message());
-            m_stats.source = "sim " + config.sim_from + " -> " + config.sim_to;
             break;
         }
         case InputSource::SocketCan: {
@@ -126,6 +134,8 @@ void VehicleInput::run() {
             if (m_replayer) {
                 m_replayer->advanceTo(ipc::CanClock::now(), sink);
                 m_stats.replay_loops = m_replayer->loops();
+                m_stats.replay_time_errors = m_replayer->timeErrors();
+                if (m_replay_file) reportReplayFile();
             } else if (m_can) {
                 m_can->poll(sink);
                 const auto& st = m_can->status();
@@ -141,6 +151,25 @@ void VehicleInput::run() {
         // 200 Hz is enough for 50-100 Hz CAN; SocketCAN wakes up as soon as frames arrive.
         if (m_can) m_can->waitReadable(std::chrono::milliseconds(5));
         else std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+}
+
+// Malformed lines (the first is logged, all are counted) and a replay that stopped early (logged
+// once; the position then turns stale and shows as lost).
+void VehicleInput::reportReplayFile() {
+    const auto& reader = m_replay_file->reader();
+    m_stats.replay_malformed_lines = reader.counters().malformed;
+    if (!m_logged_malformed && !reader.errors().empty()) {
+        m_logged_malformed = true;
+        std::fprintf(stderr, "<4>navmapd: malformed candump line skipped: %s (all are counted in status)\n",
+                     reader.errors().front().message.c_str());
+    }
+    if (m_stats.error.empty() && m_replayer->finished()) {
+        m_stats.error = m_replayer->error();
+        if (!m_stats.error.empty()) {
+            m_stats.error = "replay stopped: " + m_stats.error;
+            std::fprintf(stderr, "<3>navmapd: %s\n", m_stats.error.c_str());
+        }
     }
 }
 

@@ -18,6 +18,7 @@
 #include "navmap/render/map_scene.h"
 
 namespace navmap::ipc {
+class CandumpFileSource;
 class Replayer;
 class SocketCanSource;
 }  // namespace navmap::ipc
@@ -32,13 +33,20 @@ struct VehicleInputStats {
     std::uint64_t can_error_frames = 0, can_bus_off = 0, can_kernel_drops = 0;
     std::string can_state;            ///< "open", "retrying: bind(can0): No such device", ...
     std::uint64_t replay_loops = 0;
+    std::uint64_t replay_malformed_lines = 0;  ///< skipped lines of the replayed log (all passes)
+    std::uint64_t replay_time_errors = 0;      ///< frames whose time did not fit the clock
+    /// Why this input gives no (more) positions: "replay stopped: ...", "the simulator cannot
+    /// plan a route: road graph unavailable: ..."; empty while it works.
+    std::string error;
 };
 
 class VehicleInput {
 public:
     /// Opens the DBC files, the signal map and the source; throws std::runtime_error naming the
-    /// file or interface on failure. In sim mode the simulated route is set on `control`.
-    /// `graph`: the road graph the map matcher snaps to (the scene's, moved out of it: one copy).
+    /// file or interface on failure. In sim mode the simulated route is set on `control`; without
+    /// a road graph (scene.graph_problem) the input runs without a source and says so (stats().error).
+    /// `graph`: the road graph the map matcher snaps to (the scene's, moved out of it: one copy;
+    /// empty: no map matching, the pose is the raw fix).
     VehicleInput(const DaemonConfig& config, const render::MapScene& scene, std::shared_ptr<const map::RoadGraph> graph,
                  std::shared_ptr<ipc::ControlState> control, const std::filesystem::path& data_dir);
     ~VehicleInput();
@@ -55,11 +63,14 @@ public:
 private:
     void run();
     void consume(const ipc::CanFrame& frame);
+    void reportReplayFile();
 
     std::shared_ptr<ipc::ControlState> m_control;
     std::unique_ptr<ipc::VehicleDecoder> m_decoder;
     std::unique_ptr<VehicleStateEstimator> m_estimator;
     std::unique_ptr<ipc::Replayer> m_replayer;
+    const ipc::CandumpFileSource* m_replay_file = nullptr;  // owned by m_replayer
+    bool m_logged_malformed = false;
     std::unique_ptr<ipc::SocketCanSource> m_can;
     std::atomic<std::shared_ptr<const VehicleState>> m_state;
     std::uint64_t m_route_version = 0;

@@ -1,6 +1,8 @@
 #include "navmap/ipc/candump_reader.h"
 
+#include <array>
 #include <charconv>
+#include <cstdio>
 #include <fstream>
 
 namespace navmap::ipc {
@@ -183,7 +185,13 @@ Result<CandumpReader::Parsed> CandumpReader::parseLine(std::string_view line) {
     std::uint64_t sec = 0;
     {
         const auto [ptr, ec] = std::from_chars(line.data() + p, line.data() + line.size(), sec);
-        if (ec != std::errc{} || ptr == line.data() + p || sec > 0xFFFFFFFFFULL) {
+        if (ec == std::errc::result_out_of_range ||
+            (ec == std::errc{} && ptr != line.data() + p && sec > kMaxTimestampSeconds)) {
+            // CanTime counts nanoseconds in an int64: later seconds would overflow it.
+            return Error{"timestamp " + excerpt(line.substr(p, static_cast<std::size_t>(ptr - line.data()) - p)) +
+                         " s is out of range (0 to " + std::to_string(kMaxTimestampSeconds) + " s)"};
+        }
+        if (ec != std::errc{} || ptr == line.data() + p) {
             return Error{"bad timestamp seconds in '" + excerpt(line) + "'"};
         }
         p = static_cast<std::size_t>(ptr - line.data());
@@ -255,8 +263,16 @@ Result<CandumpReader::Parsed> CandumpReader::parseLine(std::string_view line) {
     return out;
 }
 
+void CandumpReader::reject(const std::string& message) {
+    ++m_counters.malformed;
+    if (m_errors.size() < kMaxErrors) {
+        m_errors.push_back({m_line, m_sourceName + ":" + std::to_string(m_line) + ": " + message});
+    }
+}
+
 bool CandumpReader::feedLine(std::string_view line, CandumpRecord& out) {
     ++m_counters.lines;
+    ++m_line;
     const auto first = line.find_first_not_of(" \t\r");
     if (first == std::string_view::npos || line[first] == '#' || line[first] == ';') {
         ++m_counters.skipped;
@@ -264,11 +280,7 @@ bool CandumpReader::feedLine(std::string_view line, CandumpRecord& out) {
     }
     auto parsed = parseLine(line);
     if (!parsed) {
-        ++m_counters.malformed;
-        if (m_errors.size() < kMaxErrors) {
-            m_errors.push_back({m_counters.lines, m_sourceName + ":" + std::to_string(m_counters.lines) + ": " +
-                                                      parsed.error().message});
-        }
+        reject(parsed.error().message);
         return false;
     }
     const Parsed& p = parsed.value();
@@ -300,15 +312,96 @@ bool CandumpReader::feedLine(std::string_view line, CandumpRecord& out) {
     return true;
 }
 
-std::vector<CandumpRecord> CandumpReader::readAll(std::istream& in) {
-    std::vector<CandumpRecord> out;
-    std::string line;
+Status CandumpReader::feedBytes(std::string_view bytes, const RecordSink& sink) {
+    if (!m_failure.empty()) {
+        return Error{m_failure};
+    }
     CandumpRecord rec;
-    while (std::getline(in, line)) {
-        if (feedLine(line, rec)) {
-            out.push_back(rec);
+    for (const char c : bytes) {
+        const auto u = static_cast<unsigned char>(c);
+        if ((u < 0x20 && c != '\t' && c != '\r' && c != '\n') || u == 0x7F) {
+            // Text logs have no control bytes: this is a binary file (or /dev/zero). Reading on
+            // would take forever on a device and turn garbage into thousands of "lines".
+            char what[160];
+            std::snprintf(what, sizeof what, ": byte 0x%02X at offset %llu (line %zu): binary data, not a candump log", u,
+                          static_cast<unsigned long long>(m_offset), m_line + 1);
+            m_failure = m_sourceName + what;
+            return Error{m_failure};
+        }
+        ++m_offset;
+        if (c == '\n') {
+            if (m_skipping) {
+                ++m_counters.lines;
+                ++m_line;
+                reject("line is longer than " + std::to_string(kMaxLineLength) + " characters");
+                m_skipping = false;
+                m_skipped = 0;
+            } else if (feedLine(m_partial, rec)) {
+                sink(rec);
+            }
+            m_partial.clear();
+            continue;
+        }
+        if (m_skipping) {
+            if (++m_skipped > kMaxSkipBytes) {
+                m_failure = m_sourceName + ":" + std::to_string(m_line + 1) + ": no end of line in " +
+                            std::to_string(kMaxSkipBytes) + " bytes, not a candump log";
+                return Error{m_failure};
+            }
+            continue;
+        }
+        m_partial.push_back(c);
+        if (m_partial.size() > kMaxLineLength + 1) {  // one more than parseLine takes: it says "longer than"
+            m_skipping = true;
+            m_skipped = m_partial.size();
+            m_partial.clear();
+            m_partial.shrink_to_fit();
         }
     }
+    return {};
+}
+
+void CandumpReader::finishBytes(const RecordSink& sink) {
+    if (!m_failure.empty()) {
+        return;
+    }
+    CandumpRecord rec;
+    if (m_skipping) {
+        ++m_counters.lines;
+        ++m_line;
+        reject("line is longer than " + std::to_string(kMaxLineLength) + " characters");
+    } else if (!m_partial.empty() && feedLine(m_partial, rec)) {
+        sink(rec);
+    }
+    m_partial.clear();
+    m_skipping = false;
+    m_skipped = 0;
+}
+
+void CandumpReader::restartInput() {
+    m_partial.clear();
+    m_skipping = false;
+    m_skipped = 0;
+    m_line = 0;
+    m_offset = 0;
+    m_failure.clear();
+}
+
+std::vector<CandumpRecord> CandumpReader::readAll(std::istream& in) {
+    std::vector<CandumpRecord> out;
+    const RecordSink sink = [&](const CandumpRecord& r) { out.push_back(r); };
+    std::array<char, 16 * 1024> buf;
+    while (in) {
+        in.read(buf.data(), static_cast<std::streamsize>(buf.size()));
+        const auto n = in.gcount();
+        if (n <= 0) {
+            break;
+        }
+        if (!feedBytes(std::string_view(buf.data(), static_cast<std::size_t>(n)), sink).ok()) {
+            return out;
+        }
+    }
+    finishBytes(sink);
     return out;
 }
 
@@ -333,6 +426,9 @@ Result<CandumpLog> loadCandumpFile(const std::filesystem::path& path) {
     log.records = reader.readAll(in);
     if (in.bad()) {
         return Error{"read(" + path.string() + "): I/O error"};
+    }
+    if (!reader.failure().empty()) {
+        return Error{reader.failure()};
     }
     log.interfaces = reader.interfaces();
     log.counters = reader.counters();

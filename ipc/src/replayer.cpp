@@ -1,27 +1,48 @@
 #include "navmap/ipc/replayer.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace navmap::ipc {
 
+namespace {
+
+// Frames already in memory (the simulator's drive, tests).
+class VectorSource final : public ReplaySource {
+public:
+    explicit VectorSource(std::vector<CanFrame> frames) : m_frames(std::move(frames)) {}
+    bool next(CanFrame& out) override {
+        if (m_next >= m_frames.size()) {
+            return false;
+        }
+        out = m_frames[m_next++];
+        return true;
+    }
+    bool rewind() override {
+        m_next = 0;
+        return true;
+    }
+    [[nodiscard]] const std::string& failure() const override { return m_failure; }
+
+private:
+    std::vector<CanFrame> m_frames;
+    std::size_t m_next = 0;
+    std::string m_failure;  // never set
+};
+
+// Checked nanosecond arithmetic: log timestamps come from files and can be anything.
+bool addNs(std::int64_t a, std::int64_t b, std::int64_t& out) { return !__builtin_add_overflow(a, b, &out); }
+bool subNs(std::int64_t a, std::int64_t b, std::int64_t& out) { return !__builtin_sub_overflow(a, b, &out); }
+
+bool playsAsFastAsPossible(double speed) { return !(speed > 0.0) || !std::isfinite(speed); }
+
+}  // namespace
+
 Replayer::Replayer(std::vector<CanFrame> frames, ReplayOptions options)
-    : m_frames(std::move(frames)), m_options(options) {
-    m_offsets.reserve(m_frames.size());
-    std::chrono::nanoseconds prev{0};
-    for (const auto& f : m_frames) {
-        // A log whose time goes backwards (clock step while recording) is played without waiting.
-        const auto off = std::max(prev, f.timestamp - m_frames.front().timestamp);
-        m_offsets.push_back(off);
-        prev = off;
-    }
-    if (!m_frames.empty()) {
-        // One loop lasts the log plus one mean frame interval, so the first frame of the next loop
-        // does not coincide with the last of this one.
-        const auto span = m_offsets.back();
-        const auto gap = m_frames.size() > 1 ? span / static_cast<std::int64_t>(m_frames.size() - 1)
-                                             : std::chrono::nanoseconds{0};
-        m_period = std::max(span + gap, std::chrono::nanoseconds(std::chrono::milliseconds(1)));
-    }
+    : Replayer(std::make_unique<VectorSource>(std::move(frames)), options) {}
+
+Replayer::Replayer(std::unique_ptr<ReplaySource> source, ReplayOptions options)
+    : m_source(std::move(source)), m_options(options) {
     reset(CanClock::now());
 }
 
@@ -29,25 +50,116 @@ Replayer::~Replayer() { stop(); }
 
 void Replayer::reset(CanTime startTime) {
     m_start = startTime;
-    m_next = 0;
+    if (m_fresh && !m_finished) {
+        // Nothing played since the source was (re)wound: keep the frame read ahead, so the source
+        // does not read (and count) its first chunk twice. Its time is rescheduled.
+        if (!schedule(m_pendingLogNs, m_pendingDue)) {
+            ++m_timeErrors;
+            m_fresh = false;
+            if (fetch()) m_fresh = true;
+        }
+        return;
+    }
     m_loops = 0;
-    m_finished = m_frames.empty();
+    m_passStarted = false;
+    m_prevOffsetNs = 0;
+    m_passFrames = 0;
+    m_loopBaseNs = 0;
+    m_error.clear();
+    m_finished = false;
+    if (!m_source->rewind()) {
+        finish(m_source->failure());
+        return;
+    }
+    m_fresh = fetch();
 }
 
-CanTime Replayer::scheduled(std::size_t index, std::uint64_t loop) const noexcept {
-    if (m_options.speed <= 0.0) {
-        return m_start;
+bool Replayer::schedule(std::int64_t logNs, CanTime& due) const {
+    if (playsAsFastAsPossible(m_options.speed)) {
+        due = m_start;
+        return true;
     }
-    const double logNs = static_cast<double>(m_offsets[index].count()) +
-                         static_cast<double>(loop) * static_cast<double>(m_period.count());
-    return m_start + std::chrono::nanoseconds(static_cast<std::int64_t>(logNs / m_options.speed));
+    // Below 2^63 the conversion back to int64 is defined.
+    const double wallNs = static_cast<double>(logNs) / m_options.speed;
+    std::int64_t dueNs = 0;
+    if (!(wallNs >= 0.0 && wallNs < 0x1p63) ||
+        !addNs(m_start.time_since_epoch().count(), static_cast<std::int64_t>(wallNs), dueNs)) {
+        return false;
+    }
+    due = CanTime(std::chrono::nanoseconds(dueNs));
+    return true;
+}
+
+void Replayer::finish(std::string error) {
+    m_error = std::move(error);
+    m_finished = true;
+}
+
+std::string Replayer::error() const { return m_finished.load() ? m_error : std::string(); }
+
+// Reads the next frame into m_pending with its due time; at the end of a pass rewinds (loop) or
+// finishes. False when the replay is finished.
+bool Replayer::fetch() {
+    for (;;) {
+        CanFrame f;
+        if (m_source->next(f)) {
+            // Log time since the pass's first frame; a log whose time goes backwards (clock step
+            // while recording) is played without waiting.
+            std::int64_t offset = 0;
+            if (!m_passStarted) {
+                m_passStarted = true;
+                m_passFirst = f.timestamp;
+            } else if (!subNs(f.timestamp.time_since_epoch().count(), m_passFirst.time_since_epoch().count(), offset)) {
+                ++m_timeErrors;
+                continue;
+            }
+            offset = std::max(offset, m_prevOffsetNs);
+            std::int64_t logNs = 0;
+            CanTime due{};
+            if (!addNs(m_loopBaseNs, offset, logNs) || !schedule(logNs, due)) {
+                ++m_timeErrors;
+                continue;
+            }
+            m_prevOffsetNs = offset;
+            ++m_passFrames;
+            m_pending = f;
+            m_pendingLogNs = logNs;
+            m_pendingDue = due;
+            return true;
+        }
+        if (!m_source->failure().empty()) {
+            finish(m_source->failure());
+            return false;
+        }
+        if (m_passFrames == 0 || !m_options.loop) {
+            finish({});  // the end, or a log without a playable frame: nothing to loop
+            return false;
+        }
+        // One loop lasts the log plus one mean frame interval, so the first frame of the next
+        // loop does not coincide with the last of this one.
+        const std::int64_t span = m_prevOffsetNs;
+        const std::int64_t gap = m_passFrames > 1 ? span / static_cast<std::int64_t>(m_passFrames - 1) : 0;
+        std::int64_t period = 0;
+        if (!addNs(span, gap, period) || !addNs(m_loopBaseNs, std::max<std::int64_t>(period, 1'000'000), m_loopBaseNs)) {
+            finish("replay time out of range after " + std::to_string(m_loops.load()) + " loops");
+            return false;
+        }
+        ++m_loops;
+        m_passStarted = false;
+        m_prevOffsetNs = 0;
+        m_passFrames = 0;
+        if (!m_source->rewind()) {
+            finish(m_source->failure());
+            return false;
+        }
+    }
 }
 
 CanTime Replayer::nextDue() const noexcept {
     if (m_finished) {
         return CanTime::max();
     }
-    return scheduled(m_next, m_loops.load());
+    return m_pendingDue;
 }
 
 bool Replayer::finished() const noexcept { return m_finished.load(); }
@@ -55,25 +167,18 @@ bool Replayer::finished() const noexcept { return m_finished.load(); }
 std::size_t Replayer::advanceTo(CanTime now, const FrameSink& sink, std::size_t maxBurst) {
     std::size_t count = 0;
     while (!m_finished && count < maxBurst) {
-        const CanTime due = scheduled(m_next, m_loops.load());
-        if (due > now) {
+        if (m_pendingDue > now) {
             break;
         }
-        CanFrame f = m_frames[m_next];
+        CanFrame f = m_pending;
         if (m_options.restamp) {
-            f.timestamp = m_options.speed <= 0.0 ? now : due;
+            f.timestamp = playsAsFastAsPossible(m_options.speed) ? now : m_pendingDue;
         }
         sink(f);
         ++count;
         ++m_emitted;
-        if (++m_next == m_frames.size()) {
-            m_next = 0;
-            if (m_options.loop) {
-                ++m_loops;
-            } else {
-                m_finished = true;
-            }
-        }
+        m_fresh = false;
+        fetch();
     }
     return count;
 }

@@ -265,9 +265,17 @@ CompileStats compileStore(const CompileOptions& opt) {
         stats.warnings.push_back(msg);
         log("warning: " + msg);
     };
-    if (opt.leaf_tile_m < 10 || opt.dem_samples < 0 || opt.dem_samples == 1 || opt.dem_samples > 1025) {
-        throw CompileError("invalid options: leaf tile size must be >= 10 m and DEM samples 0 or 2..1025");
+    // Written so that NaN fails too (every comparison with NaN is false).
+    if (!(opt.leaf_tile_m >= kMinLeafTileM && opt.leaf_tile_m <= kMaxLeafTileM) || opt.dem_samples < 0 ||
+        opt.dem_samples == 1 || opt.dem_samples > kMaxDemSamples ||
+        !(opt.default_building_height_m >= 0.0f && opt.default_building_height_m <= kMaxBuildingHeightM)) {
+        throw CompileError("invalid options: leaf tile size must be in [10, 1000000] m, DEM samples 0 or 2..1025, "
+                           "default building height in [0, 1000] m");
     }
+    if (!opt.out.has_filename()) throw CompileError("invalid options: output path \"" + opt.out.string() + "\" names no file");
+    // The one writer of opt.out from here on: a second compile to the same store fails now, not
+    // after reading its input (StoreError "<out> is being written by another process (pid N)").
+    StoreLock lock(opt.out);
 
     // ---- DEM ----
     DemMosaic dems;
@@ -453,7 +461,7 @@ CompileStats compileStore(const CompileOptions& opt) {
     info.west = west;
     info.north = north;
     info.east = east;
-    StoreWriter writer(opt.out, info);
+    StoreWriter writer(std::move(lock), info);
     stats.tiles_per_level.assign(static_cast<std::size_t>(scheme.levelCount()), 0);
     const int leaf = scheme.leafLevel();
     std::size_t leaf_tiles_without_dem = 0;

@@ -81,6 +81,24 @@ bool decodeRoadGraph(std::span<const std::uint8_t> bytes, RoadGraph& g, std::str
         g = RoadGraph{};
         return false;
     }
+    // Coordinates within the planet's store frame and sane costs: routing and the map matcher's
+    // grid trust them (a NaN length would poison every route through the edge).
+    constexpr double kMaxCoordM = 4e7;
+    const auto plausible = [](double v) { return std::isfinite(v) && std::abs(v) <= kMaxCoordM; };
+    for (std::size_t i = 0; i < g.nodes.size(); ++i) {
+        if (!plausible(g.nodes[i].x) || !plausible(g.nodes[i].y)) {
+            error = "node " + std::to_string(i) + " has an implausible position";
+            g = RoadGraph{};
+            return false;
+        }
+    }
+    for (std::size_t i = 0; i < g.shape.size(); ++i) {
+        if (!plausible(g.shape[i].x) || !plausible(g.shape[i].y)) {
+            error = "shape point " + std::to_string(i) + " has an implausible position";
+            g = RoadGraph{};
+            return false;
+        }
+    }
     // Validate references and build the CSR offsets (edges must be sorted by `from`).
     g.first_edge.assign(g.nodes.size() + 1, 0);
     std::uint32_t prev_from = 0;
@@ -88,6 +106,11 @@ bool decodeRoadGraph(std::span<const std::uint8_t> bytes, RoadGraph& g, std::str
         if (e.from >= g.nodes.size() || e.to >= g.nodes.size() || e.from < prev_from ||
             e.shape_end < e.shape_begin || e.shape_end > g.shape.size()) {
             error = "edge references out of range or unsorted";
+            g = RoadGraph{};
+            return false;
+        }
+        if (!std::isfinite(e.length_m) || e.length_m < 0 || !std::isfinite(e.speed_kmh) || e.speed_kmh < 0) {
+            error = "edge with a negative or non-finite length or speed";
             g = RoadGraph{};
             return false;
         }

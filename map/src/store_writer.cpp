@@ -1,12 +1,15 @@
 #include "navmap/map/store_writer.h"
 
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 #include <zlib.h>
 
+#include <cctype>
 #include <cerrno>
+#include <cstdio>
 #include <cstring>
-#include <iostream>
+#include <random>
 
 #include "navmap/map/tile_codec.h"
 #include "store_header.h"
@@ -27,25 +30,71 @@ std::vector<std::uint8_t> compress(const std::vector<std::uint8_t>& raw, const s
     return out;
 }
 
+std::string sysError(const char* call, const std::filesystem::path& object) {
+    return std::string(call) + "(" + object.string() + "): " + std::strerror(errno);
+}
+
+constexpr const char* kTmpInfix = ".tmp-";
+constexpr std::size_t kTmpHexDigits = 16;
+
+/// Whether `name` is "<store name>.tmp-<16 hex digits>", a temporary file of this writer.
+bool isTemporaryOf(const std::string& name, const std::string& store_name) {
+    const std::string prefix = store_name + kTmpInfix;
+    if (name.size() != prefix.size() + kTmpHexDigits || name.compare(0, prefix.size(), prefix) != 0) return false;
+    for (std::size_t i = prefix.size(); i < name.size(); ++i) {
+        if (!std::isxdigit(static_cast<unsigned char>(name[i]))) return false;
+    }
+    return true;
+}
+
 }  // namespace
 
-StoreWriter::StoreWriter(std::filesystem::path path, StoreInfo info)
-    : m_path(std::move(path)), m_tmp(m_path.string() + ".tmp"), m_info(info) {
-    if (m_path.has_parent_path()) {
-        std::error_code ec;
-        std::filesystem::create_directories(m_path.parent_path(), ec);
+StoreWriter::StoreWriter(const std::filesystem::path& path, StoreInfo info) : StoreWriter(StoreLock(path), info) {}
+
+StoreWriter::StoreWriter(StoreLock lock, StoreInfo info) : m_lock(std::move(lock)), m_path(m_lock.store()), m_info(info) {
+    createTemporary();
+    try {
+        write(std::vector<std::uint8_t>(detail::kHeaderSize, 0));  // patched in finish()
+    } catch (...) {
+        ::close(m_fd);
+        m_fd = -1;
+        ::unlink(m_tmp.c_str());
+        throw;
     }
-    m_fd = ::open(m_tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-    if (m_fd < 0) throw StoreError("open(" + m_tmp.string() + "): " + std::strerror(errno));
-    write(std::vector<std::uint8_t>(detail::kHeaderSize, 0));  // patched in finish()
+}
+
+void StoreWriter::createTemporary() {
+    const std::filesystem::path dir = m_path.has_parent_path() ? m_path.parent_path() : std::filesystem::path(".");
+    const std::string store_name = m_path.filename().string();
+    // Temporary files of writers that were killed (the lock is ours, so none is being written):
+    // only regular files of ours, and unlink() never follows a link.
+    std::error_code ec;
+    for (const auto& entry : std::filesystem::directory_iterator(dir, ec)) {
+        struct stat st {};
+        if (isTemporaryOf(entry.path().filename().string(), store_name) && ::lstat(entry.path().c_str(), &st) == 0 &&
+            S_ISREG(st.st_mode) && st.st_uid == ::geteuid()) {
+            ::unlink(entry.path().c_str());
+        }
+    }
+    // A fresh name no one can guess, created here or not at all (O_EXCL, O_NOFOLLOW). mkostemp()
+    // would do the same but creates mode 0600 whatever the umask; a store is read by the daemon's
+    // user, so it gets 0644 less the umask as any new file.
+    std::random_device random;
+    for (int attempt = 0; attempt < 16; ++attempt) {
+        const std::uint64_t r = (std::uint64_t{random()} << 32) ^ random();
+        char hex[kTmpHexDigits + 1];
+        std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(r));
+        m_tmp = m_path.string() + kTmpInfix + hex;
+        m_fd = ::open(m_tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
+        if (m_fd >= 0) return;
+        if (errno != EEXIST) throw StoreError(sysError("open", m_tmp));
+    }
+    throw StoreError(sysError("open", m_tmp) + " (16 fresh names taken)");
 }
 
 StoreWriter::~StoreWriter() {
     if (m_fd >= 0) ::close(m_fd);
-    if (!m_finished) {
-        std::error_code ec;
-        std::filesystem::remove(m_tmp, ec);
-    }
+    if (!m_finished && !m_tmp.empty()) ::unlink(m_tmp.c_str());
 }
 
 void StoreWriter::write(const std::vector<std::uint8_t>& bytes) {
@@ -54,7 +103,7 @@ void StoreWriter::write(const std::vector<std::uint8_t>& bytes) {
         const ssize_t n = ::write(m_fd, bytes.data() + done, bytes.size() - done);
         if (n < 0) {
             if (errno == EINTR) continue;
-            throw StoreError("write(" + m_tmp.string() + "): " + std::strerror(errno));
+            throw StoreError(sysError("write", m_tmp));
         }
         done += static_cast<std::size_t>(n);
     }
@@ -98,17 +147,24 @@ std::uint64_t StoreWriter::finish() {
     write(index.bytes());
     const auto header = detail::encodeHeader(m_info);
     if (::pwrite(m_fd, header.data(), header.size(), 0) != static_cast<ssize_t>(header.size())) {
-        throw StoreError("pwrite(" + m_tmp.string() + "): " + std::strerror(errno));
+        throw StoreError(sysError("pwrite", m_tmp));
     }
-    if (::close(m_fd) != 0) {
-        m_fd = -1;
-        throw StoreError("close(" + m_tmp.string() + "): " + std::strerror(errno));
-    }
+    // The data reaches the disk before the name does: a crash leaves the old store or the new one.
+    if (::fsync(m_fd) != 0) throw StoreError(sysError("fsync", m_tmp));
+    const int fd = m_fd;
     m_fd = -1;
-    std::error_code ec;
-    std::filesystem::rename(m_tmp, m_path, ec);
-    if (ec) throw StoreError("rename(" + m_tmp.string() + " -> " + m_path.string() + "): " + ec.message());
+    if (::close(fd) != 0) throw StoreError(sysError("close", m_tmp));
+    if (::rename(m_tmp.c_str(), m_path.c_str()) != 0) {
+        throw StoreError("rename(" + m_tmp.string() + " -> " + m_path.string() + "): " + std::strerror(errno));
+    }
     m_finished = true;
+    const std::filesystem::path dir = m_path.has_parent_path() ? m_path.parent_path() : std::filesystem::path(".");
+    const int dir_fd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    if (dir_fd < 0) throw StoreError(sysError("open", dir) + " (to sync the rename of " + m_path.string() + ")");
+    const bool synced = ::fsync(dir_fd) == 0;
+    const std::string err = synced ? std::string() : sysError("fsync", dir);
+    ::close(dir_fd);
+    if (!synced) throw StoreError(err + " (after renaming " + m_path.string() + " into place)");
     return m_offset;
 }
 

@@ -80,10 +80,8 @@ std::shared_ptr<TileStore> TileStore::open(const std::filesystem::path& path) {
         }
         store->m_index.emplace(e.id.key(), e);
     }
-    if (info.graph_stored_size > 0 &&
-        (info.graph_offset > store->m_file_size || info.graph_stored_size > store->m_file_size - info.graph_offset)) {
-        throw StoreError(name + ": truncated (road graph lies beyond the end of the file)");
-    }
+    // The road graph is not checked here: a damaged graph leaves the map usable (docs/tile-store.md
+    // "Damage"); tryLoadGraph() reports it.
     return store;
 }
 
@@ -134,21 +132,36 @@ TileStore::LoadResult TileStore::load(TileId id) const {
     return result;
 }
 
-RoadGraph TileStore::loadGraph() const {
-    RoadGraph graph;
-    if (m_info.graph_stored_size == 0) return graph;
+TileStore::GraphResult TileStore::tryLoadGraph() const {
+    GraphResult result;
+    auto fail = [&](const std::string& problem) {
+        result.graph = RoadGraph{};
+        result.problem = problem;
+        result.error = m_path.string() + ": road graph: " + problem;
+        return std::move(result);
+    };
+    if (m_info.graph_stored_size == 0) return fail("the store has none");
+    if (m_info.graph_offset < detail::kHeaderSize || m_info.graph_offset > m_file_size ||
+        m_info.graph_stored_size > m_file_size - m_info.graph_offset) {
+        return fail("lies beyond the end of the file (truncated)");
+    }
+    if (m_info.graph_raw_size > (std::uint64_t{4} << 30)) return fail("implausible size");
     std::vector<std::uint8_t> stored(m_info.graph_stored_size);
     if (!preadAll(m_fd, stored.data(), stored.size(), m_info.graph_offset)) {
-        throw StoreError(m_path.string() + ": cannot read road graph");
+        return fail(std::string("read failed: ") + std::strerror(errno));
     }
-    if (detail::crc32Of(stored) != m_info.graph_crc) throw StoreError(m_path.string() + ": road graph checksum mismatch");
+    if (detail::crc32Of(stored) != m_info.graph_crc) return fail("checksum mismatch");
     std::vector<std::uint8_t> raw;
-    if (m_info.graph_raw_size > (std::uint64_t{4} << 30) || !inflate(stored, raw, m_info.graph_raw_size)) {
-        throw StoreError(m_path.string() + ": road graph decompression failed");
-    }
+    if (!inflate(stored, raw, m_info.graph_raw_size)) return fail("decompression failed");
     std::string error;
-    if (!decodeRoadGraph(raw, graph, error)) throw StoreError(m_path.string() + ": road graph: " + error);
-    return graph;
+    if (!decodeRoadGraph(raw, result.graph, error)) return fail(error);
+    return result;
+}
+
+RoadGraph TileStore::loadGraph() const {
+    GraphResult r = tryLoadGraph();
+    if (!r.ok() && r.problem != "the store has none") throw StoreError(r.error);
+    return std::move(r.graph);
 }
 
 }  // namespace navmap::map

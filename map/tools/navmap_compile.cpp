@@ -4,11 +4,55 @@
 
 #include <CLI/CLI.hpp>
 
+#include <cmath>
+#include <cstdlib>
 #include <iostream>
+#include <sstream>
 
 #include "navmap/map/compiler.h"
 #include "navmap/map/dem.h"
 #include "navmap/map/store_info.h"
+
+namespace {
+
+std::string number(double v) {
+    std::ostringstream s;
+    s << v;
+    return s.str();
+}
+
+// CLI::Range lets "nan" through (every comparison with NaN is false) and takes "inf": each
+// numeric option accepts finite numbers in its range only, and says which.
+CLI::Validator finiteIn(double lo, double hi) {
+    const std::string range = "[" + number(lo) + ", " + number(hi) + "]";
+    return CLI::Validator(
+        [lo, hi, range](std::string& input) -> std::string {
+            char* end = nullptr;
+            const double v = std::strtod(input.c_str(), &end);
+            if (input.empty() || end != input.c_str() + input.size() || !std::isfinite(v) || v < lo || v > hi) {
+                return "'" + input + "' is not a finite number in " + range;
+            }
+            return {};
+        },
+        "NUMBER in " + range);
+}
+
+CLI::Validator demSamples() {
+    const std::string allowed = "0 (no DEM grid) or an integer in [2, " + std::to_string(navmap::map::kMaxDemSamples) + "]";
+    return CLI::Validator(
+        [allowed](std::string& input) -> std::string {
+            char* end = nullptr;
+            const long v = std::strtol(input.c_str(), &end, 10);
+            if (input.empty() || end != input.c_str() + input.size() || v < 0 || v == 1 ||
+                v > navmap::map::kMaxDemSamples) {
+                return "'" + input + "' is not " + allowed;
+            }
+            return {};
+        },
+        "0 or 2.." + std::to_string(navmap::map::kMaxDemSamples));
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
     CLI::App app{"navmap-compile: compile OpenStreetMap + SRTM DEM into a navmap tile store"};
@@ -18,13 +62,21 @@ int main(int argc, char** argv) {
     bool quiet = false;
     app.add_option("--osm", osm, "OpenStreetMap extract (.osm.pbf)")->required();
     app.add_option("--dem", dems, "SRTM .hgt tile(s) (repeatable, 1201x1201 or 3601x3601)");
-    app.add_option("--out", out, "tile store file to write")->required();
-    app.add_option("--leaf-size", opt.leaf_tile_m, "edge of the finest tiles in metres")->capture_default_str();
-    app.add_option("--dem-samples", opt.dem_samples, "DEM samples per tile side")->capture_default_str();
+    app.add_option("--out", out, "tile store file to write (its folder must exist)")->required();
+    app.add_option("--leaf-size", opt.leaf_tile_m, "edge of the finest tiles in metres")
+        ->check(finiteIn(navmap::map::kMinLeafTileM, navmap::map::kMaxLeafTileM))
+        ->capture_default_str();
+    app.add_option("--dem-samples", opt.dem_samples, "DEM samples per tile side")->check(demSamples())->capture_default_str();
     app.add_option("--default-building-height", opt.default_building_height_m, "metres, when untagged")
+        ->check(finiteIn(0.0, navmap::map::kMaxBuildingHeightM))
         ->capture_default_str();
     app.add_flag("-q,--quiet", quiet, "no progress output (summary and errors only)");
-    CLI11_PARSE(app, argc, argv);
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        // --help and --version exit 0; every usage error exits 2 (CLI11's own codes are 100+).
+        return app.exit(e) == 0 ? 0 : 2;
+    }
 
     opt.osm = osm;
     opt.out = out;

@@ -8,7 +8,10 @@ MapScene MapScene::open(const std::filesystem::path& store_path, std::size_t bud
     map::TileCacheOptions options;
     options.budget_bytes = budget_bytes;
     s.cache = std::make_shared<map::TileCache>(s.store, options);
-    s.graph = s.store->loadGraph();
+    auto graph = s.store->tryLoadGraph();
+    s.graph = std::move(graph.graph);
+    s.graph_problem = std::move(graph.problem);
+    s.graph_error = std::move(graph.error);
     return s;
 }
 
@@ -41,6 +44,7 @@ VehiclePose poseAlong(const PlannedDrive& drive, double measure_m, double speed_
 
 DriveScene DriveScene::open(const std::filesystem::path& store_path, GeoPoint from, GeoPoint to, std::size_t budget_bytes) {
     DriveScene d{MapScene::open(store_path, budget_bytes), nullptr, {}};
+    if (!d.scene.graph_problem.empty()) throw map::StoreError(d.scene.graph_error);
     d.view = std::make_unique<MapView>(d.scene.cache);
     d.drive = planDrive(d.scene, from.lat, from.lon, to.lat, to.lon);
     return d;

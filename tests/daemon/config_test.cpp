@@ -167,4 +167,15 @@ TEST(DaemonConfig, ValidationCatchesCrossFieldMistakes) {
     EXPECT_EQ(err.message, "profile 'a' defined twice");
 }
 
+TEST(DaemonConfig, ControlIdleTimeout) {
+    EXPECT_EQ(parse("")->control_idle_timeout_s, 30.0);
+    EXPECT_EQ(parse("[control]\nidle_timeout_s = 2.5\n")->control_idle_timeout_s, 2.5);
+    EXPECT_EQ(parse("[control]\nidle_timeout_s = 0\n")->control_idle_timeout_s, 0.0);  // never
+    std::string m;
+    EXPECT_FALSE(parse("[control]\nidle_timeout_s = -1.0\n", &m));
+    EXPECT_EQ(m, "navmapd.toml:2:18: control.idle_timeout_s = -1 out of range [0, 86400]");
+    EXPECT_FALSE(parse("[control]\nidle_timeout_s = nan\n", &m));
+    EXPECT_EQ(m, "navmapd.toml:2:18: control.idle_timeout_s = nan out of range [0, 86400]");
+}
+
 }  // namespace

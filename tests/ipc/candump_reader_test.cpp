@@ -216,3 +216,79 @@ TEST(CandumpReader, RealFordLogsLoadCompletely) {
         }
     }
 }
+
+TEST(CandumpReader, TimestampsBeyondTheClockAreMalformedLinesNotOverflows) {
+    // 16183940000 s (a digit too many) overflowed the nanosecond clock: undefined behaviour.
+    EXPECT_EQ(parseError("(16183940000.000000) can0 123#00"),
+              "timestamp 16183940000 s is out of range (0 to 9223372035 s)");
+    EXPECT_EQ(parseError("(9223372036.0) can0 123#00"), "timestamp 9223372036 s is out of range (0 to 9223372035 s)");
+    EXPECT_EQ(parseError("(18446744073709551615.0) can0 123#00"),
+              "timestamp 18446744073709551615 s is out of range (0 to 9223372035 s)");
+    EXPECT_EQ(parseError("(99999999999999999999999.9) can0 123#00"),
+              "timestamp 99999999999999999999999 s is out of range (0 to 9223372035 s)");
+    EXPECT_NE(parseError("(-1.0) can0 123#00").find("bad timestamp seconds"), std::string::npos);
+    // The last representable second, to the nanosecond.
+    auto last = CandumpReader::parseLine("(9223372035.999999999) can0 123#00");
+    ASSERT_TRUE(last.ok()) << last.error().message;
+    EXPECT_EQ(last.value().frame.timestamp.time_since_epoch().count(), 9223372035999999999LL);
+    // In a log: counted with its line number, reading goes on.
+    std::istringstream in("(16183940000.000000) can0 123#00\n(1618394000.000000) can0 123#01\n");
+    CandumpReader reader("t.log");
+    const auto records = reader.readAll(in);
+    ASSERT_EQ(records.size(), 1U);
+    EXPECT_EQ(records[0].frame.data[0], 1U);
+    EXPECT_EQ(reader.counters().malformed, 1U);
+    ASSERT_EQ(reader.errors().size(), 1U);
+    EXPECT_EQ(reader.errors()[0].message, "t.log:1: timestamp 16183940000 s is out of range (0 to 9223372035 s)");
+}
+
+TEST(CandumpReader, BinaryDataIsRefusedAtItsFirstControlByte) {
+    std::istringstream in(std::string("(1.0) can0 123#00\n") + std::string(1000, '\0'));
+    CandumpReader reader("zeros.log");
+    const auto records = reader.readAll(in);
+    EXPECT_EQ(records.size(), 1U);
+    EXPECT_EQ(reader.failure(), "zeros.log: byte 0x00 at offset 18 (line 2): binary data, not a candump log");
+    // Once refused, further bytes are refused too.
+    EXPECT_FALSE(reader.feedBytes("(2.0) can0 123#00\n", [](const auto&) {}).ok());
+    const std::string fails[] = {std::string("\x7f", 1), "\x1b[31m", std::string("(1.0) can0 123#00\x03\n")};
+    for (const auto& bytes : fails) {
+        CandumpReader r;
+        EXPECT_FALSE(r.feedBytes(bytes, [](const auto&) {}).ok());
+        EXPECT_NE(r.failure().find("binary data, not a candump log"), std::string::npos) << r.failure();
+    }
+    // Tabs, CR and UTF-8 in comments are text.
+    CandumpReader text;
+    std::size_t frames = 0;
+    EXPECT_TRUE(text.feedBytes("# caf\xc3\xa9\r\n(1.0)\tcan0\t123#00\r\n", [&](const auto&) { ++frames; }).ok());
+    EXPECT_EQ(frames, 1U);
+}
+
+TEST(CandumpReader, OverlongLinesAreCountedAndSkippedInABoundedBuffer) {
+    CandumpReader reader("long.log");
+    std::vector<std::uint32_t> ids;
+    const auto sink = [&](const navmap::ipc::CandumpRecord& r) { ids.push_back(r.frame.id); };
+    std::size_t most = 0;
+    // A 200 kB line in 1 kB chunks, ended; then a good line split across chunks.
+    const std::string chunk(1000, 'A');
+    for (int i = 0; i < 60; ++i) {
+        ASSERT_TRUE(reader.feedBytes(chunk, sink).ok());
+        most = std::max(most, reader.bufferedBytes());
+    }
+    ASSERT_TRUE(reader.feedBytes("\n(1.0) can0 1", sink).ok());
+    ASSERT_TRUE(reader.feedBytes("23#00\n", sink).ok());
+    EXPECT_LE(most, CandumpReader::kMaxLineLength + 1);
+    EXPECT_EQ(ids, std::vector<std::uint32_t>{0x123});
+    EXPECT_EQ(reader.counters().malformed, 1U);
+    EXPECT_EQ(reader.errors().at(0).message, "long.log:1: line is longer than 512 characters");
+    // A line that never ends is no log: refused after kMaxSkipBytes, not read forever.
+    for (int i = 0; i < 70 && reader.failure().empty(); ++i) {
+        (void)reader.feedBytes(chunk, sink);
+    }
+    EXPECT_EQ(reader.failure(), "long.log:3: no end of line in 65536 bytes, not a candump log");
+    // The last line without a newline still counts.
+    CandumpReader tail;
+    ASSERT_TRUE(tail.feedBytes("(1.0) can0 123#00\n(2.0) can0 124#00", sink).ok());
+    tail.finishBytes(sink);
+    EXPECT_EQ(ids.back(), 0x124U);
+    EXPECT_EQ(tail.counters().frames, 2U);
+}

@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <limits>
 #include <thread>
 
 #include "navmap/ipc/candump_reader.h"
@@ -104,9 +105,63 @@ TEST(Replayer, BackwardsTimestampsAndEmptyLogs) {
     std::vector<CanFrame> out;
     const auto sink = [&](const CanFrame& f) { out.push_back(f); };
     EXPECT_EQ(r.advanceTo(kT0 + 50ms, sink), 3U);  // the step back to 20 ms is played at 50 ms
-    Replayer empty({}, ReplayOptions{});
+    Replayer empty(std::vector<CanFrame>{}, ReplayOptions{});
     EXPECT_TRUE(empty.finished());
     EXPECT_EQ(empty.advanceTo(kT0 + 1h, sink), 0U);
+}
+
+TEST(Replayer, TimeArithmeticIsCheckedAtTheInt64Extremes) {
+    const auto at = [](std::int64_t ns, std::uint32_t id) {
+        CanFrame f;
+        f.id = id;
+        f.timestamp = CanTime(std::chrono::nanoseconds(ns));
+        return f;
+    };
+    constexpr std::int64_t kMin = std::numeric_limits<std::int64_t>::min();
+    constexpr std::int64_t kMax = std::numeric_limits<std::int64_t>::max();
+    std::vector<CanFrame> out;
+    const auto sink = [&](const CanFrame& f) { out.push_back(f); };
+    {
+        // Differences to the first frame that do not fit: skipped and counted, never wrapped.
+        Replayer r({at(kMin, 1), at(0, 2), at(kMax, 3), at(kMin + 5, 4)}, ReplayOptions{});
+        r.reset(kT0);
+        EXPECT_EQ(r.advanceTo(CanTime::max(), sink), 2U);
+        EXPECT_TRUE(r.finished());
+        EXPECT_EQ(r.error(), "");
+        EXPECT_EQ(r.timeErrors(), 2U);
+        ASSERT_EQ(out.size(), 2U);
+        EXPECT_EQ(out[1].id, 4U);
+        EXPECT_EQ(out[1].timestamp, kT0 + 5ns);
+    }
+    {
+        // A speed factor that scales a fine offset past the clock: the frame is skipped.
+        ReplayOptions o;
+        o.speed = 1e-300;
+        Replayer r({at(0, 1), at(1'000'000, 2)}, o);
+        r.reset(kT0);
+        out.clear();
+        EXPECT_EQ(r.advanceTo(CanTime::max(), sink), 1U);
+        EXPECT_EQ(r.timeErrors(), 1U);
+        // Not a number or infinite: as fast as possible, like 0.
+        o.speed = std::numeric_limits<double>::quiet_NaN();
+        Replayer nan({at(0, 1), at(kMax, 2)}, o);
+        nan.reset(kT0);
+        EXPECT_EQ(nan.advanceTo(kT0, sink), 2U);
+        EXPECT_EQ(nan.timeErrors(), 0U);
+    }
+    {
+        // A log spanning most of the clock cannot loop: the loop offset would overflow.
+        ReplayOptions o;
+        o.loop = true;
+        o.speed = 4.0;
+        Replayer r({at(0, 1), at(kMax - 1, 2)}, o);
+        r.reset(kT0);
+        out.clear();
+        EXPECT_EQ(r.advanceTo(CanTime::max(), sink), 2U);
+        EXPECT_EQ(out[1].timestamp, kT0 + std::chrono::nanoseconds(static_cast<std::int64_t>(static_cast<double>(kMax - 1) / 4.0)));
+        EXPECT_TRUE(r.finished());
+        EXPECT_EQ(r.error(), "replay time out of range after 0 loops");
+    }
 }
 
 TEST(Replayer, ThreadFeedsQueueWithoutBlockingConsumer) {

@@ -1,14 +1,23 @@
 // navmap-compile on the real Andorra extract + SRTM tile (repo data/), and on bad input.
 #include <gtest/gtest.h>
 
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <optional>
 #include <random>
 
 #include "map_test_util.h"
 #include "navmap/map/compiler.h"
 #include "navmap/map/dem.h"
+#include "navmap/map/store_lock.h"
 #include "navmap/map/tile_store.h"
+
+extern char** environ;
 
 using namespace navmap::map;
 using navmap::map::test::repoData;
@@ -143,6 +152,63 @@ TEST_F(AndorraStore, RoadGraphLoads) {
     EXPECT_GT(total, 1e6);  // > 1000 km of directed road in Andorra
 }
 
+// docs/tile-store.md "Damage" on the compiled store: a flipped bit in the header or the index is
+// a fatal error naming it; in a tile (one of each level) only that tile fails; in the road graph
+// every tile still loads and the graph reports itself unavailable.
+TEST_F(AndorraStore, ABitFlippedInEachSectionDegradesOrFailsAsDocumented) {
+    const auto src = s_dir->path() / "andorra.navmap";
+    std::ifstream in(src, std::ios::binary);
+    const std::vector<char> bytes{std::istreambuf_iterator<char>(in), {}};
+    const auto path = s_dir->path() / "damaged.navmap";
+    auto withFlip = [&](std::uint64_t at) {
+        auto d = bytes;
+        d.at(at) = static_cast<char>(d.at(at) ^ 0x10);
+        std::ofstream(path, std::ios::binary | std::ios::trunc).write(d.data(), static_cast<std::streamsize>(d.size()));
+    };
+    auto openError = [&] {
+        try {
+            TileStore::open(path);
+        } catch (const StoreError& e) {
+            return std::string(e.what());
+        }
+        return std::string();
+    };
+    auto failing = [](const TileStore& store) {
+        std::vector<std::string> bad;
+        for (const auto& id : store.tileIds()) {
+            if (!store.load(id).tile) bad.push_back(id.toString());
+        }
+        return bad;
+    };
+    const StoreInfo& info = s_store->info();
+    withFlip(0);
+    EXPECT_EQ(openError(), path.string() + ": not a navmap tile store (bad magic)");
+    withFlip(70);
+    EXPECT_EQ(openError(), path.string() + ": header checksum mismatch");
+    withFlip(info.index_offset + 100);
+    EXPECT_EQ(openError(), path.string() + ": tile index checksum mismatch");
+
+    for (int level = 0; level < s_store->scheme().levelCount(); ++level) {
+        TileId victim{};
+        for (const auto& id : s_store->tileIds()) {
+            if (id.level == level) victim = id;
+        }
+        withFlip(s_store->blobOffset(victim) + s_store->storedSize(victim) / 2);
+        const auto store = TileStore::open(path);
+        EXPECT_EQ(failing(*store), std::vector<std::string>{victim.toString()});
+        EXPECT_EQ(store->load(victim).error, path.string() + ": tile " + victim.toString() + ": checksum mismatch (corrupt tile)");
+        EXPECT_TRUE(store->tryLoadGraph().ok());
+    }
+
+    withFlip(info.graph_offset + info.graph_stored_size / 3);
+    const auto store = TileStore::open(path);
+    EXPECT_TRUE(failing(*store).empty());
+    const auto graph = store->tryLoadGraph();
+    EXPECT_EQ(graph.problem, "checksum mismatch");
+    EXPECT_EQ(graph.error, path.string() + ": road graph: checksum mismatch");
+    std::filesystem::remove(path);
+}
+
 TEST(CompileBadInput, TruncatedRandomAndMissingPbf) {
     ScratchDir dir("compile-bad");
     std::ifstream in(repoData("andorra-2021-04-14.osm.pbf"), std::ios::binary);
@@ -187,4 +253,133 @@ TEST(CompileBadInput, DemOfWrongSizeNamesTheFile) {
     } catch (const DemError& e) {
         EXPECT_NE(std::string(e.what()).find(bad.string() + ": 4 bytes is not an SRTM tile"), std::string::npos) << e.what();
     }
+}
+
+namespace {
+
+namespace fs = std::filesystem;
+
+/// navmap-compile as a child process, stdout and stderr into `log`.
+struct CompileProcess {
+    pid_t pid = -1;
+    fs::path log;
+    CompileProcess(const std::string& args, fs::path log_path) : log(std::move(log_path)) {
+        const std::string cmd = std::string("exec ") + NAVMAP_COMPILE_PATH + " " + args + " > " + log.string() + " 2>&1";
+        const char* argv[] = {"/bin/sh", "-c", cmd.c_str(), nullptr};
+        if (posix_spawn(&pid, "/bin/sh", nullptr, nullptr, const_cast<char**>(argv), environ) != 0) pid = -1;
+    }
+    /// Exit status (-1 when it did not exit normally).
+    int wait() {
+        int status = 0;
+        if (pid <= 0 || ::waitpid(pid, &status, 0) != pid) return -1;
+        return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    }
+    [[nodiscard]] std::string output() const {
+        std::ifstream in(log);
+        return {std::istreambuf_iterator<char>(in), {}};
+    }
+};
+
+std::string andorraArgs(const fs::path& out) {
+    return "-q --osm " + repoData("andorra-2021-04-14.osm.pbf").string() + " --dem " + repoData("N42E001.hgt").string() +
+           " --out " + out.string();
+}
+
+std::vector<std::string> namesIn(const fs::path& d) {
+    std::vector<std::string> names;
+    for (const auto& e : fs::directory_iterator(d)) names.push_back(e.path().filename().string());
+    std::sort(names.begin(), names.end());
+    return names;
+}
+
+/// Every tile of the store decodes and the graph loads: what a half-written or interleaved store fails.
+void expectWholeStore(const fs::path& path) {
+    const auto store = TileStore::open(path);
+    std::size_t loaded = 0;
+    for (const auto& id : store->tileIds()) {
+        const auto res = store->load(id);
+        EXPECT_TRUE(res.tile) << res.error;
+        loaded += res.tile ? 1 : 0;
+    }
+    EXPECT_GT(loaded, 100u);
+    EXPECT_GT(store->loadGraph().edges.size(), 10000u);
+}
+
+}  // namespace
+
+TEST(CompileCli, TwoCompilesToOneStoreNeverPublishAHalfWrittenOne) {
+    ScratchDir dir("compile-race");
+    const fs::path out = dir / "s.navmap";
+    for (int round = 0; round < 2; ++round) {
+        CompileProcess a(andorraArgs(out), dir / "a.log");
+        CompileProcess b(andorraArgs(out), dir / "b.log");
+        const int sa = a.wait(), sb = b.wait();
+        // The second to start is refused at once, naming the first; one that finds the store
+        // free (the other already done) writes it whole again.
+        EXPECT_TRUE(sa == 0 || sb == 0) << a.output() << b.output();
+        for (const auto* p : {&a, &b}) {
+            const int status = p == &a ? sa : sb;
+            const int other = p == &a ? b.pid : a.pid;
+            if (status == 0) continue;
+            EXPECT_EQ(status, 1);
+            EXPECT_EQ(p->output(), "navmap-compile: " + out.string() + " is being written by another process (pid " +
+                                       std::to_string(other) + ")\n");
+        }
+        expectWholeStore(out);
+        EXPECT_EQ(namesIn(dir.path()), (std::vector<std::string>{"a.log", "b.log", "s.navmap"}));
+    }
+}
+
+TEST(CompileCli, AStoreBeingWrittenIsRefusedWithTheWritersPid) {
+    ScratchDir dir("compile-locked");
+    const fs::path out = dir / "s.navmap";
+    std::optional<StoreLock> held(std::in_place, out);
+    CompileProcess p(andorraArgs(out), dir / "p.log");
+    EXPECT_EQ(p.wait(), 1);
+    EXPECT_EQ(p.output(), "navmap-compile: " + out.string() + " is being written by another process (pid " +
+                              std::to_string(::getpid()) + ")\n");
+    EXPECT_FALSE(fs::exists(out));
+    held.reset();
+    EXPECT_EQ(namesIn(dir.path()), std::vector<std::string>{"p.log"});
+}
+
+TEST(CompileCli, AMissingOutputFolderIsAnErrorNamingIt) {
+    ScratchDir dir("compile-folder");
+    const fs::path out = dir / "missing/sub/x.navmap";
+    CompileProcess p(andorraArgs(out), dir / "p.log");
+    EXPECT_EQ(p.wait(), 1);
+    EXPECT_EQ(p.output(), "navmap-compile: " + out.string() + ": directory " + (dir / "missing/sub").string() +
+                              " does not exist\n");
+    EXPECT_FALSE(fs::exists(dir / "missing"));
+}
+
+TEST(CompileCli, NumericOptionsMustBeFiniteAndInRange) {
+    ScratchDir dir("compile-usage");
+    const fs::path out = dir / "x.navmap";
+    const std::pair<std::string, std::string> cases[] = {
+        {"--default-building-height nan", "--default-building-height: 'nan' is not a finite number in [0, 1000]"},
+        {"--default-building-height inf", "--default-building-height: 'inf' is not a finite number in [0, 1000]"},
+        {"--default-building-height -3", "--default-building-height: '-3' is not a finite number in [0, 1000]"},
+        {"--leaf-size nan", "--leaf-size: 'nan' is not a finite number in [10, 1e+06]"},
+        {"--leaf-size 5", "--leaf-size: '5' is not a finite number in [10, 1e+06]"},
+        {"--leaf-size 2000x", "--leaf-size: '2000x' is not a finite number in [10, 1e+06]"},
+        {"--dem-samples 1", "--dem-samples: '1' is not 0 (no DEM grid) or an integer in [2, 1025]"},
+        {"--dem-samples nan", "--dem-samples: 'nan' is not 0 (no DEM grid) or an integer in [2, 1025]"},
+    };
+    for (const auto& [option, message] : cases) {
+        CompileProcess p(andorraArgs(out) + " " + option, dir / "p.log");
+        EXPECT_EQ(p.wait(), 2) << option;  // a usage error, as documented
+        EXPECT_NE(p.output().find(message), std::string::npos) << option << ": " << p.output();
+        EXPECT_FALSE(fs::exists(out)) << option;
+    }
+    // Other usage errors exit 2 as well; the library refuses NaN on its own too.
+    CompileProcess missing("--out " + out.string(), dir / "p.log");
+    EXPECT_EQ(missing.wait(), 2);
+    EXPECT_NE(missing.output().find("--osm is required"), std::string::npos) << missing.output();
+    CompileOptions opt;
+    opt.osm = repoData("andorra-2021-04-14.osm.pbf");
+    opt.out = out;
+    opt.default_building_height_m = std::nanf("");
+    EXPECT_THROW(compileStore(opt), CompileError);
+    EXPECT_EQ(namesIn(dir.path()), std::vector<std::string>{"p.log"});
 }

@@ -1,7 +1,12 @@
 // Tile codec and store round trip, bad stores (other version, truncated, corrupt tile), the
-// runtime cache (eviction under budget, corrupt tile skipped), tile selection, DEM input.
+// runtime cache (eviction under budget, corrupt tile skipped), tile selection, DEM input, the
+// writer's lock and temporary file, and damage in every section of a store.
 #include <gtest/gtest.h>
 
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <fstream>
@@ -368,4 +373,301 @@ TEST(Dem, VoidsAreFilledAndWrongSizeIsAnError) {
     } catch (const DemError& e) {
         EXPECT_NE(std::string(e.what()).find("N42E002.hgt: 1000 bytes is not an SRTM tile"), std::string::npos) << e.what();
     }
+}
+
+namespace {
+
+std::vector<std::string> listDir(const std::filesystem::path& d) {
+    std::vector<std::string> names;
+    for (const auto& e : std::filesystem::directory_iterator(d)) names.push_back(e.path().filename().string());
+    std::sort(names.begin(), names.end());
+    return names;
+}
+
+std::string writerError(const std::filesystem::path& p) {
+    try {
+        StoreWriter w(p, smallInfo());
+    } catch (const StoreError& e) {
+        return e.what();
+    }
+    return "";
+}
+
+std::string fileText(const std::filesystem::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    return {std::istreambuf_iterator<char>(in), {}};
+}
+
+}  // namespace
+
+TEST(StoreWriter, AMissingFolderIsAnErrorAndIsNotCreated) {
+    ScratchDir dir("writer-folder");
+    const auto out = dir / "missing/sub/x.navmap";
+    EXPECT_EQ(writerError(out), out.string() + ": directory " + (dir / "missing/sub").string() + " does not exist");
+    EXPECT_FALSE(std::filesystem::exists(dir / "missing"));
+    std::ofstream(dir / "file") << "x";
+    EXPECT_EQ(writerError(dir / "file/x.navmap"), (dir / "file/x.navmap").string() + ": " + (dir / "file").string() +
+                                                      " is not a directory");
+    EXPECT_EQ(listDir(dir.path()), std::vector<std::string>{"file"});
+}
+
+TEST(StoreWriter, ASecondWriterIsRefusedWithTheFirstOnesPid) {
+    ScratchDir dir("writer-lock");
+    const auto out = dir / "s.navmap";
+    {
+        StoreWriter first(out, smallInfo());
+        EXPECT_EQ(fileText(dir / "s.navmap.lock"), std::to_string(::getpid()) + "\n");
+        EXPECT_EQ(writerError(out), out.string() + " is being written by another process (pid " +
+                                        std::to_string(::getpid()) + ")");
+        // The refused writer left the first one's files alone.
+        EXPECT_TRUE(std::filesystem::exists(first.temporaryPath()));
+        EXPECT_TRUE(std::filesystem::exists(dir / "s.navmap.lock"));
+        first.finish();
+    }
+    // Released: the next writer goes ahead, and only the store is left.
+    writeSmallStore(out);
+    EXPECT_EQ(listDir(dir.path()), std::vector<std::string>{"s.navmap"});
+    EXPECT_EQ(TileStore::open(out)->tileIds().size(), 21u);
+}
+
+TEST(StoreWriter, PlantedSymlinksAreNeverFollowed) {
+    ScratchDir dir("writer-symlink");
+    const auto out = dir / "s.navmap";
+    const auto victim = dir / "victim.txt";
+    std::ofstream(victim) << "precious\n";
+    // At the old fixed temporary name, at a name of the temporary pattern, and at the store itself.
+    std::filesystem::create_symlink(victim, dir / "s.navmap.tmp");
+    std::filesystem::create_symlink(victim, dir / "s.navmap.tmp-0123456789abcdef");
+    std::filesystem::create_symlink(victim, out);
+    writeSmallStore(out);
+    EXPECT_EQ(fileText(victim), "precious\n");
+    EXPECT_TRUE(std::filesystem::is_symlink(dir / "s.navmap.tmp"));
+    EXPECT_TRUE(std::filesystem::is_symlink(dir / "s.navmap.tmp-0123456789abcdef"));
+    EXPECT_FALSE(std::filesystem::is_symlink(out));  // replaced by the store, not written through
+    EXPECT_EQ(TileStore::open(out)->tileIds().size(), 21u);
+
+    // At the lock name: refused, nothing written, the target untouched (or not created).
+    std::filesystem::create_symlink(victim, dir / "t.navmap.lock");
+    EXPECT_EQ(writerError(dir / "t.navmap"), (dir / "t.navmap.lock").string() + ": is a symbolic link; refusing to follow it");
+    std::filesystem::create_symlink(dir / "absent", dir / "u.navmap.lock");
+    EXPECT_EQ(writerError(dir / "u.navmap"), (dir / "u.navmap.lock").string() + ": is a symbolic link; refusing to follow it");
+    EXPECT_FALSE(std::filesystem::exists(dir / "absent"));
+    // A hard link at the lock name would have its target truncated: refused too.
+    std::filesystem::create_hard_link(victim, dir / "v.navmap.lock");
+    EXPECT_EQ(writerError(dir / "v.navmap"),
+              (dir / "v.navmap.lock").string() + ": not a regular file with a single link; refusing to use it");
+    EXPECT_EQ(fileText(victim), "precious\n");
+    EXPECT_EQ(listDir(dir.path()), (std::vector<std::string>{"s.navmap", "s.navmap.tmp", "s.navmap.tmp-0123456789abcdef",
+                                                             "t.navmap.lock", "u.navmap.lock", "v.navmap.lock", "victim.txt"}));
+}
+
+TEST(StoreWriter, FailuresLeaveNoTemporaryOrLockFileAndLeftoversAreRemoved) {
+    ScratchDir dir("writer-cleanup");
+    const auto out = dir / "s.navmap";
+    {
+        StoreWriter w(out, smallInfo());
+        w.addTile(sampleTile({0, 0, 0}, -4000, -4000, 8000));
+        EXPECT_EQ(listDir(dir.path()).size(), 2u);  // the temporary file and the lock
+    }  // abandoned without finish(): as after an exception
+    EXPECT_TRUE(listDir(dir.path()).empty());
+    // A writer killed mid-way leaves its temporary file; the next writer of the store removes
+    // it (only files of the store's temporary pattern).
+    std::ofstream(dir / "s.navmap.tmp-00000000deadbeef") << "half a store";
+    std::ofstream(dir / "s.navmap.tmp-notmine") << "kept";
+    std::ofstream(dir / "other.navmap.tmp-00000000deadbeef") << "kept";
+    writeSmallStore(out);
+    EXPECT_EQ(listDir(dir.path()), (std::vector<std::string>{"other.navmap.tmp-00000000deadbeef", "s.navmap",
+                                                             "s.navmap.tmp-notmine"}));
+}
+
+// docs/tile-store.md "Damage": one policy for every section of a store. The header and the index
+// are fatal (nothing can be found without them) with an error naming the section; a damaged tile
+// or road graph leaves everything else loading and is reported by what reads it.
+namespace {
+
+RoadGraph smallGraph() {
+    RoadGraph g;
+    g.nodes = {{0, 0, 1}, {100, 0, 2}};
+    g.shape = {{0, 0}, {50, 1}, {100, 0}};
+    g.edges = {{0, 1, 100.5f, 50, RoadClass::Primary, 0, 0, 3, 77},
+               {1, 0, 100.5f, 50, RoadClass::Primary, EdgeFlags::Reversed, 0, 3, 77}};
+    return g;
+}
+
+/// Tiles of `store` that fail to load, as "L/X/Y".
+std::vector<std::string> unloadable(const TileStore& store) {
+    std::vector<std::string> bad;
+    for (const auto& id : store.tileIds()) {
+        if (!store.load(id).tile) bad.push_back(id.toString());
+    }
+    return bad;
+}
+
+}  // namespace
+
+TEST(StoreDamage, EveryBitOfTheHeaderAndTheIndexIsFatalNamingTheSection) {
+    ScratchDir dir("damage-fatal");
+    const RoadGraph g = smallGraph();
+    writeSmallStore(dir / "s.navmap", &g);
+    const auto bytes = readAll(dir / "s.navmap");
+    const std::uint64_t index_offset = TileStore::open(dir / "s.navmap")->info().index_offset;
+    ASSERT_EQ(bytes.size(), index_offset + 21 * 29);
+    const auto path = dir / "d.navmap";
+    writeAll(path, bytes);
+    // Flipped in place and back: one byte written per case.
+    const int fd = ::open(path.c_str(), O_RDWR | O_CLOEXEC);
+    ASSERT_GE(fd, 0);
+    const auto poke = [&](std::size_t at, std::uint8_t value) {
+        return ::pwrite(fd, &value, 1, static_cast<off_t>(at)) == 1;
+    };
+    std::size_t checked = 0;
+    for (std::size_t byte = 0; byte < bytes.size(); byte = byte + 1 == 144 ? index_offset : byte + 1) {
+        for (int bit = 0; bit < 8; ++bit) {
+            ASSERT_TRUE(poke(byte, static_cast<std::uint8_t>(bytes[byte] ^ (1u << bit))));
+            const std::string e = openError(path);
+            ASSERT_TRUE(poke(byte, bytes[byte]));
+            const std::string expected = byte < 8    ? "not a navmap tile store (bad magic)"
+                                         : byte < 12 ? "tile store format version "
+                                         : byte < 16 ? "truncated or malformed header"
+                                         : byte < 144 ? "header checksum mismatch"
+                                                      : "tile index checksum mismatch";
+            ASSERT_EQ(e.rfind(path.string() + ": " + expected, 0), 0u) << "byte " << byte << " bit " << bit << ": " << e;
+            ++checked;
+        }
+    }
+    ::close(fd);
+    EXPECT_EQ(checked, (144 + 21 * 29) * 8u);
+}
+
+TEST(StoreDamage, ADamagedTileOrGraphLeavesTheRestUsableAndIsReported) {
+    ScratchDir dir("damage-degrade");
+    const RoadGraph g = smallGraph();
+    writeSmallStore(dir / "s.navmap", &g);
+    const auto bytes = readAll(dir / "s.navmap");
+    const auto clean = TileStore::open(dir / "s.navmap");
+    const auto path = dir / "d.navmap";
+
+    // Every tile, one level after another: its first, middle and last byte.
+    for (const TileId& victim : clean->tileIds()) {
+        const std::uint64_t begin = clean->blobOffset(victim), size = clean->storedSize(victim);
+        for (const std::uint64_t at : {begin, begin + size / 2, begin + size - 1}) {
+            auto d = bytes;
+            d[at] ^= 0x04;
+            writeAll(path, d);
+            const auto store = TileStore::open(path);
+            const auto res = store->load(victim);
+            EXPECT_FALSE(res.tile);
+            EXPECT_EQ(res.error, path.string() + ": tile " + victim.toString() + ": checksum mismatch (corrupt tile)");
+            EXPECT_EQ(unloadable(*store), std::vector<std::string>{victim.toString()});
+            EXPECT_TRUE(store->tryLoadGraph().ok());
+        }
+    }
+
+    // The road graph: the map loads whole, the graph says why it is unavailable.
+    const std::uint64_t graph_at = clean->info().graph_offset, graph_size = clean->info().graph_stored_size;
+    ASSERT_GT(graph_size, 0u);
+    for (const std::uint64_t at : {graph_at, graph_at + graph_size / 2, graph_at + graph_size - 1}) {
+        auto d = bytes;
+        d[at] ^= 0x80;
+        writeAll(path, d);
+        const auto store = TileStore::open(path);
+        EXPECT_TRUE(unloadable(*store).empty());
+        const auto graph = store->tryLoadGraph();
+        EXPECT_FALSE(graph.ok());
+        EXPECT_EQ(graph.problem, "checksum mismatch");
+        EXPECT_EQ(graph.error, path.string() + ": road graph: checksum mismatch");
+        EXPECT_TRUE(graph.graph.nodes.empty() && graph.graph.edges.empty());
+        try {
+            (void)store->loadGraph();
+            ADD_FAILURE() << "loadGraph() accepted a damaged graph";
+        } catch (const StoreError& e) {
+            EXPECT_EQ(std::string(e.what()), graph.error);
+        }
+    }
+
+    // The undamaged store's graph loads.
+    const auto intact = TileStore::open(dir / "s.navmap")->tryLoadGraph();
+    ASSERT_TRUE(intact.ok()) << intact.error;
+    EXPECT_EQ(intact.graph.edges.size(), 2u);
+}
+
+TEST(StoreDamage, EveryKindOfTilePayloadDamageIsAnErrorForThatTileOnly) {
+    // The payload sections (roads, buildings, areas, labels, DEM) are compressed together, so
+    // damage on disk fails the tile's checksum as a whole (above). Damage the checksum cannot
+    // see (a broken writer) must still be caught by the decoder, section by section: each
+    // section's count is made implausible, the blob written with a valid checksum.
+    ScratchDir dir("damage-payload");
+    const StoreInfo info = smallInfo();
+    const TileId victim{2, 1, 2};
+    const Box vb = info.scheme.bounds(victim);
+    const Tile tile = sampleTile(victim, vb.min_x, vb.min_y, info.scheme.tileSize(2));
+    const auto full = encodeTile(tile);
+    // Section starts: the payload header is 37 bytes; a section's length is what clearing it saves
+    // (plus its one-byte zero count).
+    auto without = [&](auto clear) {
+        Tile t = tile;
+        clear(t);
+        return full.size() - encodeTile(t).size() + 1;
+    };
+    const std::size_t roads = 37;
+    const std::size_t buildings = roads + without([](Tile& t) { t.roads.clear(); });
+    const std::size_t areas = buildings + without([](Tile& t) { t.buildings.clear(); });
+    const std::size_t labels = areas + without([](Tile& t) { t.areas.clear(); });
+    const std::size_t dem = labels + without([](Tile& t) { t.labels.clear(); });
+    struct Kind {
+        const char* name;
+        std::size_t at;
+        std::vector<std::uint8_t> bytes;
+        std::string error;
+    };
+    const Kind kinds[] = {
+        {"roads", roads, {0x7F}, "implausible road count 127"},
+        {"buildings", buildings, {0x7F}, "implausible building count 127"},
+        {"areas", areas, {0x7F}, "implausible area count 127"},
+        {"labels", labels, {0x7F}, "implausible label count 127"},
+        {"dem", dem, {0xFF, 0xFF}, "implausible DEM size 65535"},
+    };
+    for (const auto& k : kinds) {
+        ASSERT_EQ(full.at(k.at), k.name == std::string("dem") ? 5 : 1) << k.name;  // one of each; DEM 5x5
+        auto payload = full;
+        std::copy(k.bytes.begin(), k.bytes.end(), payload.begin() + static_cast<long>(k.at));
+        const auto path = dir / (std::string(k.name) + ".navmap");
+        {
+            StoreWriter w(path, info);
+            for (int level = 0; level < 3; ++level) {
+                const std::uint32_t n = 1u << level;
+                for (std::uint32_t y = 0; y < n; ++y) {
+                    for (std::uint32_t x = 0; x < n; ++x) {
+                        const TileId id{static_cast<std::uint8_t>(level), x, y};
+                        const Box b = info.scheme.bounds(id);
+                        if (id == victim) w.addRawTile(id, payload);
+                        else w.addTile(sampleTile(id, b.min_x, b.min_y, info.scheme.tileSize(level)));
+                    }
+                }
+            }
+            w.finish();
+        }
+        const auto store = TileStore::open(path);
+        const auto res = store->load(victim);
+        EXPECT_FALSE(res.tile) << k.name;
+        EXPECT_EQ(res.error, path.string() + ": tile 2/1/2: malformed payload: " + k.error + " at byte " +
+                                 std::to_string(k.at + k.bytes.size()))
+            << k.name;
+        EXPECT_EQ(unloadable(*store), std::vector<std::string>{"2/1/2"}) << k.name;
+    }
+    // And every single-bit flip in every section decodes to an error or a tile, never a crash.
+    std::size_t errors = 0;
+    for (std::size_t byte = 0; byte < full.size(); ++byte) {
+        for (int bit = 0; bit < 8; ++bit) {
+            auto p = full;
+            p[byte] ^= static_cast<std::uint8_t>(1u << bit);
+            Tile t;
+            std::string error;
+            if (!decodeTile(p, t, error)) {
+                EXPECT_FALSE(error.empty());
+                ++errors;
+            }
+        }
+    }
+    EXPECT_GT(errors, 0u);
 }

@@ -71,6 +71,10 @@ MapMatcher::MapMatcher(std::shared_ptr<const map::RoadGraph> graph, double cellM
     if (m_segments.empty()) {
         return;
     }
+    // A graph spanning a continent gets coarser cells, not a grid of billions (decoded graphs
+    // have finite coordinates within +-4e7 m).
+    constexpr double kMaxCells = 4.0 * 1024 * 1024;
+    while (((maxX - m_minX) / m_cell + 1) * ((maxY - m_minY) / m_cell + 1) > kMaxCells) m_cell *= 2;
     m_cols = static_cast<int>((maxX - m_minX) / m_cell) + 1;
     m_rows = static_cast<int>((maxY - m_minY) / m_cell) + 1;
     const auto cells = static_cast<std::size_t>(m_cols) * static_cast<std::size_t>(m_rows);

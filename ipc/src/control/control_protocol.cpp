@@ -7,7 +7,10 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <functional>
+#include <unordered_set>
 #include <utility>
+#include <vector>
 
 namespace navmap::ipc {
 
@@ -87,6 +90,86 @@ bool depthWithin(std::string_view s, std::size_t max_depth) {
     }
     return true;
 }
+
+// Finds the first object key that appears twice in its object, at any depth, with the path to
+// that object (`maneuvers[1]`), through nlohmann's parser callback: the library keeps only the
+// last of duplicate keys, so `{"cmd":"get_status","cmd":"clear_route"}` would silently become
+// the second command. Keys are compared as parsed (after unescaping).
+class DuplicateKeyFinder {
+public:
+    bool operator()(int /*depth*/, json::parse_event_t event, json& parsed) {
+        switch (event) {
+        case json::parse_event_t::object_start:
+            m_stack.push_back(Frame{true, {}, 0, {}});
+            break;
+        case json::parse_event_t::array_start:
+            m_stack.push_back(Frame{false, {}, 0, {}});
+            break;
+        case json::parse_event_t::key:
+            if (!m_stack.empty() && parsed.is_string()) {
+                Frame& top = m_stack.back();
+                top.key = parsed.get_ref<const std::string&>();
+                if (!top.keys.insert(top.key).second && !m_found) {
+                    m_found = true;
+                    m_key = top.key;
+                    m_atRoot = m_stack.size() == 1;
+                    m_path = pathToTop();
+                }
+            }
+            break;
+        case json::parse_event_t::object_end:
+        case json::parse_event_t::array_end:
+            if (!m_stack.empty()) {
+                m_stack.pop_back();
+            }
+            elementDone();
+            break;
+        case json::parse_event_t::value:
+            elementDone();
+            break;
+        }
+        return true;
+    }
+
+    [[nodiscard]] bool found() const { return m_found; }
+    [[nodiscard]] const std::string& key() const { return m_key; }
+    [[nodiscard]] bool atRoot() const { return m_atRoot; }
+    [[nodiscard]] std::string message() const {
+        return (m_path.empty() ? std::string() : m_path + ": ") + "duplicate key " + quote(m_key);
+    }
+
+private:
+    struct Frame {
+        bool object;
+        std::string key;        // object: the member being read
+        std::size_t index;      // array: the element being read
+        std::unordered_set<std::string> keys;
+    };
+    void elementDone() {
+        if (!m_stack.empty() && !m_stack.back().object) {
+            ++m_stack.back().index;
+        }
+    }
+    // Path of the innermost object, as the validation messages write it: points[3], maneuvers[0].text.
+    [[nodiscard]] std::string pathToTop() const {
+        std::string path;
+        for (std::size_t i = 0; i + 1 < m_stack.size(); ++i) {
+            const Frame& f = m_stack[i];
+            if (f.object) {
+                path += (path.empty() ? "" : ".") + f.key;
+            } else {
+                path += "[" + std::to_string(f.index) + "]";
+            }
+        }
+        return path;
+    }
+
+    std::vector<Frame> m_stack;
+    bool m_found = false;
+    bool m_atRoot = false;
+    std::string m_key;
+    std::string m_path;
+};
 
 struct Checker {
     const json& obj;
@@ -339,8 +422,9 @@ ControlParse parseControlLine(std::string_view line, const ControlLimits& limits
         return r;
     }
     json obj;
+    DuplicateKeyFinder duplicates;
     try {
-        obj = json::parse(line.begin(), line.end());
+        obj = json::parse(line.begin(), line.end(), std::ref(duplicates));
     } catch (const json::exception& e) {
         // nlohmann's messages start with "[json.exception.parse_error.101] "; keep the rest.
         std::string what = e.what();
@@ -360,6 +444,18 @@ ControlParse parseControlLine(std::string_view line, const ControlLimits& limits
     if (id != obj.end() && id->is_string() && !id->get_ref<const std::string&>().empty() &&
         id->get_ref<const std::string&>().size() <= limits.maxStringBytes) {
         r.id = id->get<std::string>();
+    }
+    if (duplicates.found()) {
+        // Which of the two values was meant cannot be known: nothing is applied, and a duplicated
+        // "cmd" or "id" is not echoed either.
+        if (duplicates.atRoot() && duplicates.key() == "cmd") {
+            r.cmd.clear();
+        }
+        if (duplicates.atRoot() && duplicates.key() == "id") {
+            r.id.reset();
+        }
+        r.error = duplicates.message();
+        return r;
     }
     if (cmd == obj.end()) {
         r.error = "missing \"cmd\"";

@@ -1,6 +1,7 @@
 // Control socket server: a small poll() loop in the manner of Redis ae.c/anet.c. Each client has
 // an input buffer split into lines and an output buffer drained when the socket is writable, so
-// neither a slow nor a malicious client can block the daemon.
+// neither a slow nor a malicious client can block the daemon; a connection without traffic for
+// the idle timeout is closed, so silent clients cannot hold every slot.
 
 #include "navmap/ipc/control_server.h"
 
@@ -13,6 +14,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cstdio>
 #include <cstring>
 #include <variant>
 
@@ -27,8 +29,16 @@ constexpr std::size_t kReadChunk = 64 * 1024;
 constexpr std::size_t kMaxReadsPerPoll = 16;   // fairness between clients
 constexpr std::size_t kMaxPendingEvents = 1024;
 
+using SteadyClock = std::chrono::steady_clock;
+
 std::string sysError(const char* call, const std::string& object) {
     return std::string(call) + "(" + object + "): " + std::strerror(errno);
+}
+
+std::string seconds(std::chrono::milliseconds d) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%g s", static_cast<double>(d.count()) / 1000.0);
+    return buf;
 }
 
 }  // namespace
@@ -43,6 +53,7 @@ struct ControlServer::Client {
     std::uint8_t events = 0;  // subscriptions
     bool closeAfterFlush = false;
     bool dead = false;
+    SteadyClock::time_point lastActivity{};  // last byte received from it or taken by its socket
 };
 
 ControlServer::ControlServer(ControlServerConfig config, ControlHandler& handler)
@@ -178,6 +189,7 @@ ControlServerStats ControlServer::stats() const {
     s.errors = m_counters.errors;
     s.overlongDisconnects = m_counters.overlong;
     s.slowDisconnects = m_counters.slow;
+    s.idleDisconnects = m_counters.idle;
     s.events = m_counters.events;
     s.clients = m_counters.clients;
     return s;
@@ -195,7 +207,18 @@ Status ControlServer::pollOnce(std::chrono::milliseconds timeout) {
         }
         fds.push_back({c->fd, ev, 0});
     }
-    const int n = ::poll(fds.data(), fds.size(), static_cast<int>(std::max<std::int64_t>(0, timeout.count())));
+    // Wake up in time to close the first connection that turns idle.
+    auto wait = std::max(std::chrono::milliseconds(0), timeout);
+    if (m_config.idleTimeout.count() > 0) {
+        const auto now = SteadyClock::now();
+        for (const auto& c : m_clients) {
+            if (idle(*c, now + m_config.idleTimeout)) {  // could turn idle: no subscriber at rest
+                const auto left = std::chrono::ceil<std::chrono::milliseconds>(c->lastActivity + m_config.idleTimeout - now);
+                wait = std::clamp(left, std::chrono::milliseconds(0), wait);
+            }
+        }
+    }
+    const int n = ::poll(fds.data(), fds.size(), static_cast<int>(std::min<std::int64_t>(wait.count(), 1 << 30)));
     if (n < 0) {
         if (errno == EINTR) {
             return {};
@@ -222,10 +245,18 @@ Status ControlServer::pollOnce(std::chrono::milliseconds timeout) {
             c.dead = true;
         }
     }
+    // Idle connections go before new ones are accepted, so a waiting client gets a free slot.
+    closeIdle(SteadyClock::now());
+    removeDead();
     if (fds[0].revents & POLLIN) {
         acceptClients();
     }
     deliverEvents();
+    removeDead();
+    return {};
+}
+
+void ControlServer::removeDead() {
     const auto before = m_clients.size();
     std::erase_if(m_clients, [](const std::unique_ptr<Client>& c) {
         if (c->dead) {
@@ -236,7 +267,31 @@ Status ControlServer::pollOnce(std::chrono::milliseconds timeout) {
     if (before != m_clients.size()) {
         m_counters.clients = m_clients.size();
     }
-    return {};
+}
+
+bool ControlServer::idle(const Client& c, SteadyClock::time_point now) const {
+    if (m_config.idleTimeout.count() <= 0 || c.dead || now - c.lastActivity < m_config.idleTimeout) {
+        return false;
+    }
+    // A subscriber with nothing queued waits for events by design (position_lost may come hours
+    // later); one whose events pile up unread is as idle as a silent client.
+    return c.events == 0 || !c.out.empty() || c.closeAfterFlush;
+}
+
+void ControlServer::closeIdle(SteadyClock::time_point now) {
+    for (auto& c : m_clients) {
+        if (!idle(*c, now)) {
+            continue;
+        }
+        ++m_counters.idle;
+        if (c->out.empty() && !c->closeAfterFlush) {
+            // Best effort: the reason goes out if the socket takes it now; the slot is freed anyway.
+            queue(*c, controlErrorReply("", std::nullopt,
+                                        "idle for " + seconds(m_config.idleTimeout) + " without a request; disconnecting"));
+            flush(*c);
+        }
+        c->dead = true;
+    }
 }
 
 void ControlServer::acceptClients() {
@@ -247,6 +302,7 @@ void ControlServer::acceptClients() {
         }
         auto c = std::make_unique<Client>();
         c->fd = fd;
+        c->lastActivity = SteadyClock::now();
         std::string refusal;
         auto cred = peerCredentials(fd, m_config.socketPath);
         if (!cred) {
@@ -285,6 +341,7 @@ void ControlServer::readClient(Client& c) {
     for (std::size_t k = 0; k < kMaxReadsPerPoll; ++k) {
         const ssize_t n = ::recv(c.fd, buf, sizeof buf, MSG_DONTWAIT);
         if (n > 0) {
+            c.lastActivity = SteadyClock::now();
             c.in.append(buf, static_cast<std::size_t>(n));
             // Lines complete so far are handled before reading more, so a client cannot make
             // the buffer grow past one maximum line plus one chunk.
@@ -374,7 +431,8 @@ void ControlServer::handleLine(Client& c, std::string_view line) {
                     nlohmann::json server = {{"clients", m_clients.size()},
                                              {"lines", m_counters.lines.load()},
                                              {"errors", m_counters.errors.load()},
-                                             {"refused_peer", m_counters.refusedPeer.load()}};
+                                             {"refused_peer", m_counters.refusedPeer.load()},
+                                             {"idle_disconnects", m_counters.idle.load()}};
                     if (!status.contains("control")) {
                         status["control"] = std::move(server);
                     }
@@ -419,6 +477,7 @@ void ControlServer::flush(Client& c) {
         const ssize_t n = ::send(c.fd, c.out.data(), c.out.size(), MSG_NOSIGNAL | MSG_DONTWAIT);
         if (n > 0) {
             c.out.erase(0, static_cast<std::size_t>(n));
+            c.lastActivity = SteadyClock::now();
             continue;
         }
         if (n < 0 && errno == EINTR) {

@@ -162,3 +162,44 @@ TEST(ControlProtocol, BrokenJsonAndLimits) {
     EXPECT_EQ(r.id, "q1");
     EXPECT_EQ(r.cmd, "set_style");
 }
+
+TEST(ControlProtocol, DuplicateKeysAreRejectedAtEveryLevel) {
+    struct Dup {
+        const char* line;
+        const char* error;
+        const char* cmd;  // echoed cmd ("" = none)
+        const char* id;   // echoed id (nullptr = none)
+    };
+    const Dup cases[] = {
+        // The parser alone would keep the last "cmd": this line would clear the route.
+        {R"({"cmd":"get_status","cmd":"clear_route"})", R"(duplicate key "cmd")", "", nullptr},
+        // Keys compare after unescaping.
+        {R"({"cmd":"get_status","\u0063md":"clear_route"})", R"(duplicate key "cmd")", "", nullptr},
+        {R"({"cmd":"set_style","id":"a","style":"day","id":"b"})", R"(duplicate key "id")", "set_style", nullptr},
+        {R"({"cmd":"set_style","id":"q","style":"day","style":"night"})", R"(duplicate key "style")", "set_style", "q"},
+        // Inside a route point given as an object, and inside a maneuver.
+        {R"({"cmd":"set_route","id":"r","points":[[1,2],{"lat":1,"lat":2}]})", R"(points[1]: duplicate key "lat")",
+         "set_route", "r"},
+        {R"({"cmd":"set_route","id":"r","points":[[1,2],[3,4]],"maneuvers":[{"index":0,"type":"depart"},)"
+         R"({"index":1,"type":"arrive","text":"x","text":"y"}]})",
+         R"(maneuvers[1]: duplicate key "text")", "set_route", "r"},
+        // Deeper: an object in an array in an object in an array.
+        {R"({"cmd":"subscribe","events":[{"a":[{"b":1,"b":2}]}]})", R"(events[0].a[0]: duplicate key "b")", "subscribe",
+         nullptr},
+    };
+    for (const auto& c : cases) {
+        const auto r = parseControlLine(c.line);
+        EXPECT_FALSE(r.command) << c.line;
+        EXPECT_EQ(r.error, c.error) << c.line;
+        EXPECT_EQ(r.cmd, c.cmd) << c.line;
+        EXPECT_EQ(r.id, c.id ? std::optional<std::string>(c.id) : std::nullopt) << c.line;
+    }
+    EXPECT_EQ(controlErrorReply(parseControlLine(cases[0].line).cmd, std::nullopt, parseControlLine(cases[0].line).error),
+              R"({"ok":false,"error":"duplicate key \"cmd\""})");
+    // The same key in different objects is fine.
+    const auto ok = parseControlLine(
+        R"({"cmd":"set_route","id":"r","points":[[1,2],[3,4]],"maneuvers":[{"index":0,"type":"depart","text":"a"},)"
+        R"({"index":1,"type":"arrive","text":"b"}]})");
+    ASSERT_TRUE(ok.command) << ok.error;
+    EXPECT_EQ(std::get<SetRouteCommand>(ok.command->body).maneuvers.at(1).text, "b");
+}

@@ -225,6 +225,107 @@ TEST(ControlServer, SubscribersReceiveTheirEvents) {
     EXPECT_EQ(countOpenFds(), fds);
 }
 
+TEST(ControlServer, DuplicateKeysAreRefusedAndChangeNothing) {
+    const int fds = countOpenFds();
+    {
+        Fixture f;
+        ASSERT_TRUE(f.server);
+        auto c = f.connect();
+        ASSERT_EQ(req(c, R"({"cmd":"set_route","id":"kept","points":[[1,2],[3,4]]})").substr(0, 11), R"({"ok":true,)");
+        const auto route = f.state.route();
+        const auto view = f.state.view();
+        // With the last key winning this was a clear_route.
+        EXPECT_EQ(req(c, R"({"cmd":"get_status","cmd":"clear_route"})"), R"({"ok":false,"error":"duplicate key \"cmd\""})");
+        EXPECT_EQ(req(c, R"({"cmd":"set_route","id":"other","points":[[1,2],{"lat":5,"lat":6}]})"),
+                  R"({"ok":false,"cmd":"set_route","id":"other","error":"points[1]: duplicate key \"lat\""})");
+        EXPECT_EQ(req(c, R"({"cmd":"set_view","display":"cluster","mode":"bird","mode":"snail"})"),
+                  R"({"ok":false,"cmd":"set_view","error":"duplicate key \"mode\""})");
+        EXPECT_EQ(f.state.route(), route);
+        EXPECT_EQ(f.state.route()->id, "kept");
+        EXPECT_EQ(f.state.view(), view);
+        EXPECT_EQ(f.server->stats().errors, 3U);
+    }
+    EXPECT_EQ(countOpenFds(), fds);
+}
+
+TEST(ControlServer, IdleConnectionsAreClosedSoSilentClientsCannotHoldEverySlot) {
+    const int fds = countOpenFds();
+    {
+        ControlServerConfig cfg;  // 16 slots, as the daemon has
+        cfg.idleTimeout = 400ms;
+        Fixture f(cfg);
+        ASSERT_TRUE(f.server);
+        // A subscriber with nothing to receive waits for events: not idle. A client that sends
+        // keep-alive blank lines is not idle either.
+        auto subscriber = f.connect();
+        EXPECT_EQ(req(subscriber, R"({"cmd":"subscribe","events":["position_lost"]})").substr(0, 11), R"({"ok":true,)");
+        auto keepalive = f.connect();
+        // Every other slot taken by a client that never says anything.
+        std::vector<ControlClient> silent;
+        for (std::size_t i = 0; i + 2 < cfg.maxClients; ++i) {
+            silent.push_back(f.connect());
+        }
+        std::this_thread::sleep_for(100ms);
+        EXPECT_EQ(f.server->stats().clients, cfg.maxClients);
+        {
+            auto refused = f.connect();
+            auto l = refused.readLine(1s);
+            ASSERT_TRUE(l.ok()) << l.error().message;
+            EXPECT_EQ(l.value(), R"j({"ok":false,"error":"too many clients (limit 16)"})j");
+        }
+        // Past the timeout the silent clients get the reason and the end of the connection.
+        for (int i = 0; i < 8; ++i) {
+            ASSERT_TRUE(keepalive.send("").ok());
+            std::this_thread::sleep_for(100ms);
+        }
+        for (auto& s : silent) {
+            auto l = s.readLine(2s);
+            ASSERT_TRUE(l.ok()) << l.error().message;
+            EXPECT_EQ(l.value(), R"({"ok":false,"error":"idle for 0.4 s without a request; disconnecting"})");
+            auto eof = s.readLine(2s);
+            ASSERT_FALSE(eof.ok());
+            EXPECT_NE(eof.error().message.find("connection closed by the server"), std::string::npos) << eof.error().message;
+        }
+        EXPECT_EQ(f.server->stats().idleDisconnects, silent.size());
+        // A new client gets a slot and a reply; the subscriber and the keep-alive client stayed.
+        auto fresh = f.connect();
+        EXPECT_EQ(req(fresh, R"({"cmd":"get_status","id":"after"})").substr(0, 42), R"({"ok":true,"cmd":"get_status","id":"after")");
+        EXPECT_EQ(req(keepalive, R"({"cmd":"clear_route"})"), R"({"ok":true,"cmd":"clear_route"})");
+        f.server->publish({ControlEventKind::PositionLost, {}, 0, 0, 3.0});
+        auto ev = subscriber.nextEvent(2s);
+        ASSERT_TRUE(ev.ok()) << ev.error().message;
+        EXPECT_EQ(ev.value(), R"({"event":"position_lost","since_s":3.0})");
+        EXPECT_EQ(f.server->stats().clients, 3U);
+        EXPECT_EQ(f.server->stats().idleDisconnects, silent.size());
+    }
+    EXPECT_EQ(countOpenFds(), fds);
+}
+
+TEST(ControlServer, IdleTimeoutWakesAPollOnceCaller) {
+    const int fds = countOpenFds();
+    {
+        ControlServerConfig cfg;
+        cfg.idleTimeout = 200ms;
+        Fixture f(cfg, false);  // stepped from this thread with pollOnce()
+        ASSERT_TRUE(f.server);
+        auto c = f.connect();
+        ASSERT_TRUE(f.server->pollOnce(0ms).ok());
+        EXPECT_EQ(f.server->stats().clients, 1U);
+        // One long poll returns when the client turns idle, not after the caller's 10 s.
+        const auto t0 = std::chrono::steady_clock::now();
+        while (f.server->stats().idleDisconnects == 0 && std::chrono::steady_clock::now() - t0 < 5s) {
+            ASSERT_TRUE(f.server->pollOnce(10s).ok());
+        }
+        EXPECT_LT(std::chrono::steady_clock::now() - t0, 2s);
+        EXPECT_EQ(f.server->stats().idleDisconnects, 1U);
+        EXPECT_EQ(f.server->stats().clients, 0U);
+        auto l = c.readLine(1s);
+        ASSERT_TRUE(l.ok()) << l.error().message;
+        EXPECT_EQ(l.value(), R"({"ok":false,"error":"idle for 0.2 s without a request; disconnecting"})");
+    }
+    EXPECT_EQ(countOpenFds(), fds);
+}
+
 TEST(ControlServer, PeerCredentialsDecideWhoMayConnect) {
     const int fds = countOpenFds();
     {

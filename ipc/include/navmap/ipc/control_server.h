@@ -2,8 +2,9 @@
 // ControlServer: the daemon's control socket (Unix stream socket, JSON lines, docs/ipc.md).
 // Non-blocking and poll()-driven: step it from the daemon loop with pollOnce(), or let it run
 // its own thread with start(). Valid commands go to a ControlHandler on that thread; malformed
-// lines get an error reply and change nothing; an over-long line disconnects its client with a
-// reason. Who may connect: the socket file mode and SO_PEERCRED (allowed uids/gids).
+// lines get an error reply and change nothing; an over-long line or an idle connection is
+// disconnected with a reason. Who may connect: the socket file mode and SO_PEERCRED (allowed
+// uids/gids).
 
 #include <sys/types.h>
 
@@ -35,6 +36,10 @@ struct ControlServerConfig {
     bool allowRoot = true;              ///< uid 0 may always connect
     std::size_t maxClients = 16;        ///< further connections get an error line and are closed
     std::size_t maxOutputBytes = std::size_t{4} << 20;  ///< a client not reading past this is dropped
+    /// A connection that sends no byte and takes no byte of its output for this long gets an
+    /// error line and is closed, so silent peers cannot hold the maxClients slots. A subscriber
+    /// with nothing queued is waiting for events, not idle. Zero: never.
+    std::chrono::milliseconds idleTimeout{std::chrono::seconds(30)};
     ControlLimits limits;
 };
 
@@ -48,6 +53,7 @@ struct ControlServerStats {
     std::uint64_t errors = 0;          ///< lines answered with an error
     std::uint64_t overlongDisconnects = 0;
     std::uint64_t slowDisconnects = 0; ///< output buffer over maxOutputBytes
+    std::uint64_t idleDisconnects = 0; ///< closed after idleTimeout without traffic
     std::uint64_t events = 0;          ///< event lines queued to subscribers
     std::uint64_t clients = 0;         ///< connected now
 };
@@ -85,6 +91,9 @@ private:
     void queue(Client& c, std::string line);
     void flush(Client& c);
     void deliverEvents();
+    void closeIdle(std::chrono::steady_clock::time_point now);
+    void removeDead();
+    [[nodiscard]] bool idle(const Client& c, std::chrono::steady_clock::time_point now) const;
     void wake() noexcept;
 
     ControlServerConfig m_config;
@@ -102,7 +111,7 @@ private:
 
     struct Counters {
         std::atomic<std::uint64_t> connections{0}, refusedPeer{0}, refusedFull{0}, lines{0}, commands{0}, errors{0},
-            overlong{0}, slow{0}, events{0}, clients{0};
+            overlong{0}, slow{0}, idle{0}, events{0}, clients{0};
     };
     Counters m_counters;
 };

@@ -1,7 +1,10 @@
 #pragma once
 // Replayer: plays recorded CAN frames (e.g. a candump log) in-process with the original timing
 // scaled by a speed factor, optionally looping, so that everything upstream of the decoder works
-// where the kernel has no CAN. Two ways to drive it:
+// where the kernel has no CAN. Frames come one at a time from a ReplaySource (a streamed candump
+// file, or a vector), one frame read ahead. Time arithmetic is checked: a frame whose schedule
+// does not fit the clock is skipped and counted (timeErrors()), never overflowed. Two ways to
+// drive it:
 //  - advanceTo(now, sink): deterministic stepping from the caller's loop (tests, simulations);
 //  - start(sink) / stop(): an own thread that sleeps until each frame is due and calls the sink
 //    (push into a FrameQueue there so the consumer never blocks).
@@ -11,16 +14,20 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <mutex>
+#include <string>
 #include <thread>
 #include <vector>
 
 #include "navmap/ipc/can_frame.h"
+#include "navmap/ipc/replay_source.h"
 
 namespace navmap::ipc {
 
 struct ReplayOptions {
-    /// Playback speed: 2.0 plays twice as fast; 0 (or negative) plays as fast as possible.
+    /// Playback speed: 2.0 plays twice as fast; 0 (or negative, or not finite) plays as fast as
+    /// possible.
     double speed = 1.0;
     /// Start again from the first frame after the last one (forever, until stop()).
     bool loop = false;
@@ -35,11 +42,14 @@ class Replayer {
 public:
     /// `frames` in log order (timestamps non-decreasing; a backwards step is treated as 0 s).
     Replayer(std::vector<CanFrame> frames, ReplayOptions options);
+    /// Frames from `source`, which the replayer owns (it reads the first one at once: a source
+    /// that fails there is finished with error() set).
+    Replayer(std::unique_ptr<ReplaySource> source, ReplayOptions options);
     ~Replayer();
     Replayer(const Replayer&) = delete;
     Replayer& operator=(const Replayer&) = delete;
 
-    /// Sets the wall-clock time at which the first frame is due (and rewinds).
+    /// Sets the wall-clock time at which the first frame is due (and rewinds the source).
     void reset(CanTime startTime);
     /// Emits every frame due at or before `now` to `sink`; returns how many were emitted.
     /// With speed <= 0 emits at most `maxBurst` frames per call.
@@ -56,20 +66,40 @@ public:
 
     std::uint64_t emitted() const noexcept { return m_emitted.load(); }
     std::uint64_t loops() const noexcept { return m_loops.load(); }
-    std::size_t frameCount() const noexcept { return m_frames.size(); }
+    /// Frames skipped because their time did not fit the clock (log time differences, the speed
+    /// factor, the loop count).
+    std::uint64_t timeErrors() const noexcept { return m_timeErrors.load(); }
+    /// Why the replay stopped early (the source failed, e.g. binary data, or it cannot loop);
+    /// empty while it plays or after a normal end.
+    std::string error() const;
+    /// The source (for its counters), owned by the replayer.
+    const ReplaySource& source() const noexcept { return *m_source; }
 
 private:
-    CanTime scheduled(std::size_t index, std::uint64_t loop) const noexcept;
+    bool fetch();
+    void finish(std::string error);
+    /// Wall time of a log time (since the first pass's first frame); false when it does not fit.
+    bool schedule(std::int64_t logNs, CanTime& due) const;
 
-    std::vector<CanFrame> m_frames;
-    std::vector<std::chrono::nanoseconds> m_offsets;  // log time since the first frame, monotone
-    std::chrono::nanoseconds m_period{0};             // loop length in log time
+    std::unique_ptr<ReplaySource> m_source;
     ReplayOptions m_options;
     CanTime m_start{};
-    std::size_t m_next = 0;
+    // The frame read ahead: the next to emit, due at m_pendingDue.
+    CanFrame m_pending{};
+    std::int64_t m_pendingLogNs = 0;
+    CanTime m_pendingDue{};
+    bool m_fresh = false;  // the source was wound back and nothing was played since
+    // Log time of this pass: its first frame's timestamp and the last offset (monotone).
+    bool m_passStarted = false;
+    CanTime m_passFirst{};
+    std::int64_t m_prevOffsetNs = 0;
+    std::uint64_t m_passFrames = 0;
+    std::int64_t m_loopBaseNs = 0;  // log time of the passes before this one
     std::atomic<std::uint64_t> m_loops{0};
     std::atomic<std::uint64_t> m_emitted{0};
+    std::atomic<std::uint64_t> m_timeErrors{0};
     std::atomic<bool> m_finished{false};
+    std::string m_error;  // written before m_finished is set
 
     std::thread m_thread;
     std::mutex m_mutex;

@@ -20,6 +20,11 @@ public:
     using std::runtime_error::runtime_error;
 };
 
+/// Ranges of the numeric options (navmap-compile's usage errors quote them).
+inline constexpr double kMinLeafTileM = 10.0, kMaxLeafTileM = 1e6;
+inline constexpr int kMaxDemSamples = 1025;  ///< 0 (no DEM grid) or 2..kMaxDemSamples
+inline constexpr float kMaxBuildingHeightM = 1000.0f;
+
 struct CompileOptions {
     std::filesystem::path osm;                ///< .osm.pbf (or any format libosmium reads)
     std::vector<std::filesystem::path> dems;  ///< SRTM .hgt tiles, any number (may be empty)
@@ -44,8 +49,10 @@ struct CompileStats {
     std::vector<std::string> warnings;
 };
 
-/// Compiles; throws CompileError (bad OSM input, bad DEM, nothing to compile) or StoreError
-/// (cannot write). A DEM that does not cover part of the data is a warning: flat terrain.
+/// Compiles; throws CompileError (bad options, bad OSM input, bad DEM, nothing to compile) or
+/// StoreError (cannot write: the folder of `out` missing, another process writing it, ...). Holds
+/// the store's StoreLock from the start. A DEM that does not cover part of the data is a warning:
+/// flat terrain.
 CompileStats compileStore(const CompileOptions& options);
 
 /// Human-readable multi-line summary (counts per layer, tiles, bytes, seconds).

@@ -1,6 +1,8 @@
 #pragma once
-// Read side of a tile store file: validates the header at open, reads and verifies single
-// tiles on demand (thread-safe, pread), and loads the road graph.
+// Read side of a tile store file: validates the header and the index at open (the parts without
+// which nothing can be read: damage there is fatal), reads and verifies single tiles on demand
+// (thread-safe, pread), and loads the road graph. A damaged tile or graph is reported when it is
+// read and leaves the rest usable (docs/tile-store.md "Damage").
 
 #include <cstdint>
 #include <filesystem>
@@ -19,7 +21,8 @@ namespace navmap::map {
 class TileStore {
 public:
     /// Opens and validates magic, format version, header and index checksums, and that every
-    /// blob lies inside the file. Throws StoreError ("<file>: <problem>") otherwise.
+    /// tile blob lies inside the file. Throws StoreError ("<file>: <problem>") otherwise. The road
+    /// graph is not checked here (tryLoadGraph()).
     static std::shared_ptr<TileStore> open(const std::filesystem::path& path);
     ~TileStore();
     TileStore(const TileStore&) = delete;
@@ -44,7 +47,16 @@ public:
     /// Reads, checks (CRC32, size), decompresses and decodes one tile. Never throws.
     [[nodiscard]] LoadResult load(TileId id) const;
 
-    /// Loads the road graph; throws StoreError on a checksum or format problem.
+    struct GraphResult {
+        RoadGraph graph;      ///< empty unless ok()
+        std::string problem;  ///< "checksum mismatch", "the store has none", ...; empty when ok
+        std::string error;    ///< "<file>: road graph: <problem>"
+        [[nodiscard]] bool ok() const { return problem.empty(); }
+    };
+    /// Reads, checks (bounds, CRC32, size), decompresses and decodes the road graph. Never throws.
+    [[nodiscard]] GraphResult tryLoadGraph() const;
+    /// The same for callers that cannot work without a graph: throws StoreError on damage; a
+    /// store without a graph gives an empty one.
     [[nodiscard]] RoadGraph loadGraph() const;
 
 private:

@@ -6,6 +6,7 @@
 #include <chrono>
 #include <filesystem>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "navmap/map/routing.h"
@@ -20,9 +21,14 @@ namespace navmap::render {
 struct MapScene {
     std::shared_ptr<map::TileStore> store;
     std::shared_ptr<map::TileCache> cache;
-    map::RoadGraph graph;
+    map::RoadGraph graph;       ///< empty when the store's graph is unavailable
+    /// Why the road graph is unavailable ("checksum mismatch", "the store has none"); empty when
+    /// it loaded. The map still renders; routing and map matching go without.
+    std::string graph_problem;
+    std::string graph_error;    ///< the same naming the file: "<store>: road graph: checksum mismatch"
 
-    /// Opens a store (throws map::StoreError naming the file) with a cache of `budget_bytes`.
+    /// Opens a store (throws map::StoreError naming the file when its header or index is
+    /// unusable) with a cache of `budget_bytes`. A damaged road graph is not fatal: graph_problem.
     static MapScene open(const std::filesystem::path& store_path, std::size_t budget_bytes = std::size_t{128} << 20);
 
     [[nodiscard]] map::Projection projection() const { return store->projection(); }
@@ -74,7 +80,8 @@ struct DriveScene {
     /// driven up to the shot's pose, and the vehicle marker there. Layers stay at their defaults.
     [[nodiscard]] MapFrame frameFor(const Shot& shot, double aspect, int viewport_height) const;
 
-    /// Throws map::StoreError naming the store when it cannot be opened.
+    /// Throws map::StoreError naming the store when it cannot be opened or has no usable road
+    /// graph (a drive needs one).
     static DriveScene open(const std::filesystem::path& store_path, GeoPoint from, GeoPoint to,
                            std::size_t budget_bytes = std::size_t{128} << 20);
 };

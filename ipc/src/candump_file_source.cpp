@@ -1,0 +1,93 @@
+#include "navmap/ipc/candump_file_source.h"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+
+namespace navmap::ipc {
+
+Result<std::unique_ptr<CandumpFileSource>> CandumpFileSource::open(const std::filesystem::path& path) {
+    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd < 0) {
+        return Error{"open(" + path.string() + "): " + std::strerror(errno)};
+    }
+    return std::unique_ptr<CandumpFileSource>(new CandumpFileSource(fd, path));
+}
+
+CandumpFileSource::CandumpFileSource(int fd, std::filesystem::path path)
+    : m_fd(fd), m_path(std::move(path)), m_reader(m_path.string()), m_chunk(kChunkBytes) {}
+
+CandumpFileSource::~CandumpFileSource() {
+    if (m_fd >= 0) {
+        ::close(m_fd);
+    }
+}
+
+std::size_t CandumpFileSource::bufferedBytes() const {
+    return m_chunk.capacity() + m_reader.bufferedBytes() + m_ready.size() * sizeof(CandumpRecord);
+}
+
+// Reads one chunk and parses it; false at the end of the file or on a failure.
+bool CandumpFileSource::fill() {
+    if (m_eof || !m_failure.empty()) {
+        return false;
+    }
+    const auto sink = [this](const CandumpRecord& r) { m_ready.push_back(r); };
+    ssize_t n = 0;
+    do {
+        n = ::read(m_fd, m_chunk.data(), m_chunk.size());
+    } while (n < 0 && errno == EINTR);
+    if (n < 0) {
+        m_failure = "read(" + m_path.string() + "): " + std::strerror(errno);
+        return false;
+    }
+    if (n == 0) {
+        m_reader.finishBytes(sink);
+        m_eof = true;
+        return !m_ready.empty();
+    }
+    m_bytesRead += static_cast<std::uint64_t>(n);
+    if (auto st = m_reader.feedBytes(std::string_view(m_chunk.data(), static_cast<std::size_t>(n)), sink); !st) {
+        m_failure = st.message();
+        m_ready.clear();  // frames before binary data are not played: the file is refused
+        return false;
+    }
+    const auto& c = m_reader.counters();
+    if (c.frames == 0 && c.malformed >= kMaxLeadingMalformed) {
+        m_failure = m_path.string() + ": not a candump log: the first " + std::to_string(c.malformed) +
+                    " lines are malformed (first: " +
+                    (m_reader.errors().empty() ? std::string("?") : m_reader.errors().front().message) + ")";
+        return false;
+    }
+    return true;
+}
+
+bool CandumpFileSource::next(CanFrame& out) {
+    while (m_ready.empty()) {
+        if (!fill()) {
+            return false;
+        }
+    }
+    out = m_ready.front().frame;
+    m_ready.pop_front();
+    return true;
+}
+
+bool CandumpFileSource::rewind() {
+    if (!m_failure.empty()) {
+        return false;
+    }
+    if (::lseek(m_fd, 0, SEEK_SET) < 0) {
+        m_failure = "lseek(" + m_path.string() + "): " + std::strerror(errno) + " (cannot loop this file)";
+        return false;
+    }
+    m_reader.restartInput();
+    m_ready.clear();
+    m_eof = false;
+    m_bytesRead = 0;
+    return true;
+}
+
+}  // namespace navmap::ipc
