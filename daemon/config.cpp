@@ -194,7 +194,8 @@ std::optional<DaemonConfig> parseConfig(const std::string& text, const std::stri
                 !r.get("height", p.height) || !r.range("height", p.height, 16, 8192) || !r.get("fps", p.fps) ||
                 !r.range("fps", p.fps, 0.1, 240.0) || !r.get("view", view) || !r.get("orientation", orientation) ||
                 !r.get("roads", roads) || !r.get("glow_roads", p.glow_roads) || !r.get("label_aura", p.label_aura) ||
-                !r.get("road_selection", p.road_selection) || !r.noUnknownKeys())
+                !r.get("road_selection", p.road_selection) || !r.get("attribution", p.attribution) ||
+                !r.noUnknownKeys())
                 return std::nullopt;
             if (roads == "geometric") p.roads = render::RoadTechnique::Geometric;
             else if (roads == "shadow-volume") p.roads = render::RoadTechnique::ShadowVolume;
@@ -209,6 +210,8 @@ std::optional<DaemonConfig> parseConfig(const std::string& text, const std::stri
             }
             // Without label_aura the aura follows the view: on where labels lie in the world.
             if (!e.as_table()->contains("label_aura")) p.label_aura = view != "bird";
+            // Without attribution it follows the view too: on in bird's-eye (the map display).
+            if (!e.as_table()->contains("attribution")) p.attribution = view == "bird";
             if (view == "bird") p.view = render::ViewMode::Bird;
             else if (view == "snail") p.view = render::ViewMode::Snail;
             else if (view == "hud") p.view = render::ViewMode::Snail;  // route-and-manoeuvre style, from behind
@@ -356,7 +359,8 @@ std::string describeConfig(const DaemonConfig& c) {
               : p.roads == render::RoadTechnique::ShadowVolume ? "shadow-volume"
                                                                : "auto")
           << (p.glow_roads ? ", glowing roads" : "") << (p.label_aura ? ", label aura" : "")
-          << (p.road_selection ? "" : ", every road class at every distance") << "\n";
+          << (p.road_selection ? "" : ", every road class at every distance")
+          << (p.attribution ? ", attribution" : "") << "\n";
     }
     const auto ids = [](const std::vector<std::uint32_t>& v) {
         std::string out;

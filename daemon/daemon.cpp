@@ -13,13 +13,17 @@
 #include <sstream>
 #include <vector>
 
+#include "attribution_overlay.h"
 #include "lifecycle.h"
 #include "navmap/ipc/control_server.h"
 #include "navmap/ipc/control_state.h"
 #include "navmap/ipc/frame_server.h"
+#include "navmap/ipc/metrics_registry.h"
 #include "navmap/ipc/socket_access.h"
 #include "navmap/render/map_scene.h"
 #include "navmap/render/renderer.h"
+#include "navmap/render/text/text_engine.h"
+#include "navmap/version.h"
 #include "vehicle_input.h"
 
 namespace navmap::daemon {
@@ -89,6 +93,9 @@ struct ProfileView {
     std::uint64_t sequence = 0;
     std::map<std::uint64_t, ipc::CanTime> source_times;  // sequence -> CAN time behind the pose
     Window frame_ms, latency_ms;
+    double frame_s_sum = 0.0, latency_s_sum = 0.0;  // since the start (/metrics summaries)
+    std::uint64_t latency_count = 0;
+    std::unique_ptr<AttributionOverlay> attribution;  // when the profile shows it
     std::size_t tiles_drawn = 0, tiles_pending = 0;  // last frame
     std::uint64_t tiles_uploaded = 0;                 // GPU tile uploads of this profile's frames
     std::uint64_t rendered = 0, published = 0, skipped_idle = 0;
@@ -114,6 +121,66 @@ render::Orientation orientationFor(const DisplayProfile& p, const ipc::ViewState
         }
     }
     return p.orientation;
+}
+
+// navmapd's own /metrics families, in base units; the frame server adds its navmap_stream_* ones
+// to the same registry (docs/navmapd.md "Observability").
+struct MetricsInput {
+    const std::vector<ProfileView>* views = nullptr;
+    VehicleInputStats input;
+    map::TileCacheMetrics cache;
+    ipc::ControlServerStats control;
+    Memory memory;
+    bool position_stale = false;
+    std::uint64_t reloads = 0, reload_errors = 0;
+};
+
+std::shared_ptr<const ipc::MetricsRegistry> daemonMetrics(const MetricsInput& m) {
+    auto reg = std::make_shared<ipc::MetricsRegistry>();
+    auto d = [](auto v) { return static_cast<double>(v); };
+    reg->gauge("navmap_build_info", "The navmap version this daemon was built from.").sample({{"version", NAVMAP_VERSION}}, 1);
+    auto& frame = reg->summary("navmap_frame_seconds",
+                               "Frame time per profile (tiles, render, readback submit); quantiles over the last 600 frames.");
+    auto& latency = reg->summary("navmap_latency_seconds",
+                                 "CAN receive time of the pose to frame published, per profile; quantiles over the last 600 frames.");
+    auto& rendered = reg->counter("navmap_frames_rendered_total", "Frames rendered, per profile.");
+    auto& published = reg->counter("navmap_frames_published_total", "Frames handed to the frame server, per profile.");
+    auto& uploads = reg->counter("navmap_gpu_tile_uploads_total", "Tiles uploaded to the GPU for a profile's frames.");
+    for (const auto& v : *m.views) {
+        const std::string& n = v.profile.name;
+        for (const double q : {0.5, 0.99}) {
+            const std::string qs = q == 0.5 ? "0.5" : "0.99";
+            frame.sample({{"profile", n}, {"quantile", qs}}, v.frame_ms.p(q) / 1000.0);
+            latency.sample({{"profile", n}, {"quantile", qs}}, v.latency_ms.p(q) / 1000.0);
+        }
+        frame.sample({{"profile", n}}, v.frame_s_sum, "_sum").sample({{"profile", n}}, d(v.rendered), "_count");
+        latency.sample({{"profile", n}}, v.latency_s_sum, "_sum").sample({{"profile", n}}, d(v.latency_count), "_count");
+        rendered.sample({{"profile", n}}, d(v.rendered));
+        published.sample({{"profile", n}}, d(v.published));
+        uploads.sample({{"profile", n}}, d(v.tiles_uploaded));
+    }
+    reg->counter("navmap_can_frames_total", "CAN frames received.").sample(d(m.input.frames));
+    reg->counter("navmap_can_rejected_values_total", "Decoded values rejected (out of range, stale counter).")
+        .sample(d(m.input.decoder.rejected));
+    reg->counter("navmap_can_error_frames_total", "CAN error frames.").sample(d(m.input.can_error_frames));
+    reg->counter("navmap_can_kernel_drops_total", "Frames the kernel dropped before the daemon read them.")
+        .sample(d(m.input.can_kernel_drops));
+    reg->gauge("navmap_position_stale", "1 while the position is lost (no fix within input.stale_after_s).")
+        .sample(m.position_stale ? 1 : 0);
+    reg->gauge("navmap_tile_cache_bytes", "Decoded tiles resident in the tile cache.").sample(d(m.cache.resident_bytes));
+    reg->counter("navmap_tile_cache_hits_total", "Tile requests served from the cache.").sample(d(m.cache.hits));
+    reg->counter("navmap_tile_cache_misses_total", "Tile requests queued for loading.").sample(d(m.cache.misses));
+    reg->summary("navmap_tile_load_seconds", "Tile load time (read and decode); quantiles over the last 4096 loads.")
+        .sample({{"quantile", "0.5"}}, m.cache.load_p50_ms / 1000.0)
+        .sample({{"quantile", "0.99"}}, m.cache.load_p99_ms / 1000.0)
+        .sample(std::vector<ipc::MetricsRegistry::Label>{}, d(m.cache.loads), "_count");
+    reg->counter("navmap_control_errors_total", "Control-socket requests answered with an error.").sample(d(m.control.errors));
+    reg->gauge("navmap_process_resident_bytes", "Resident set size (VmRSS).").sample(d(m.memory.rss));
+    reg->gauge("navmap_process_peak_resident_bytes", "Peak resident set size (VmHWM).").sample(d(m.memory.peak));
+    reg->counter("navmap_config_reloads_total", "Configuration reloads applied (SIGHUP).").sample(d(m.reloads));
+    reg->counter("navmap_config_reload_errors_total", "Configuration reloads refused (the running one stays).")
+        .sample(d(m.reload_errors));
+    return reg;
 }
 
 }  // namespace
@@ -149,7 +216,7 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
 
         // Status shared with the control socket's and the HTTP server's threads as snapshots.
         std::atomic<std::shared_ptr<const nlohmann::json>> status_json{std::make_shared<const nlohmann::json>(nlohmann::json::object())};
-        std::atomic<std::shared_ptr<const std::string>> metrics_text{std::make_shared<const std::string>()};
+        std::atomic<std::shared_ptr<const ipc::MetricsRegistry>> daemon_metrics{std::make_shared<const ipc::MetricsRegistry>()};
         control_state->setStatusProvider([&] { return *status_json.load(); });
 
         // The map matcher is the road graph's only user here: it takes the scene's copy (1.6 MB).
@@ -204,7 +271,8 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
         // overwritten; a client still copying when the frame after next arrives (one frame period,
         // 33 ms at 30 fps, for a copy of about a millisecond) takes the newest one instead.
         fopt.ringSlots = 2;
-        fopt.metricsText = [&] { return *metrics_text.load(); };
+        // /metrics: the server's families, then the daemon's latest snapshot (refreshed every second).
+        fopt.metrics = [&](ipc::MetricsRegistry& registry) { registry.append(*daemon_metrics.load()); };
         fopt.statusJson = [&] { return status_json.load()->dump(); };
         ipc::FrameServer frames(fopt);
         if (auto st = frames.start(); !st) throw std::runtime_error(st.message());
@@ -215,6 +283,14 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
         // llvmpipe JIT code: 270-330 MB peak RSS with three profiles (docs/navmapd.md).
         std::unique_ptr<render::Renderer> renderer;
         std::vector<ProfileView> views;
+        // The attribution overlays are laid out with the label text engine (CPU only): one for
+        // all profiles that show it, made when the first one needs it.
+        std::unique_ptr<render::text::TextEngine> overlay_text;
+        const auto makeAttribution = [&](const DisplayProfile& p) -> std::unique_ptr<AttributionOverlay> {
+            if (!p.attribution) return nullptr;
+            if (!overlay_text) overlay_text = std::make_unique<render::text::TextEngine>();
+            return std::make_unique<AttributionOverlay>(*overlay_text, AttributionOverlay::kOsmAttribution, p.width, p.height);
+        };
         for (const auto& p : config.profiles) {
             ProfileView v;
             v.profile = p;
@@ -248,6 +324,7 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
                 v.target = renderer->addTarget(p.width, p.height);
             }
             v.map_view = std::make_unique<render::MapView>(scene.cache);
+            v.attribution = makeAttribution(p);
             v.rig.setMode(p.view);
             v.rig.setOrientation(p.orientation);
             const auto& dev = renderer->device();
@@ -262,8 +339,9 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
         std::string endpoints = "control " + config.control_socket.string() + ", frames " + config.frame_socket.string();
         if (frames.httpPort() > 0) endpoints += ", http://" + config.http_address + ":" + std::to_string(frames.httpPort()) + "/";
         if (frames.tcpPort() > 0) endpoints += ", tcp " + std::to_string(frames.tcpPort());
-        log(kNotice, "ready in %.0f ms: %s; input %s", std::chrono::duration<double, std::milli>(Clock::now() - t_start).count(),
-            endpoints.c_str(), input.stats().source.c_str());
+        log(kNotice, "navmap %s ready in %.0f ms: %s; input %s", NAVMAP_VERSION,
+            std::chrono::duration<double, std::milli>(Clock::now() - t_start).count(), endpoints.c_str(),
+            input.stats().source.c_str());
         systemd.ready("rendering " + std::to_string(views.size()) + " profiles; " + endpoints);
 
         // Route geometry for the renderer, rebuilt when the control snapshot's version changes.
@@ -280,8 +358,11 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
         const auto terrain = [&](double x, double y) { return views.front().map_view->terrainHeight(x, y); };
 
         // Publishes finished readbacks of `v`, oldest first, with the CAN time behind each pose.
-        const auto publishFinished = [&](ProfileView& v, const std::vector<render::Frame>& finished) {
-            for (const auto& done : finished) {
+        const auto publishFinished = [&](ProfileView& v, std::vector<render::Frame>& finished) {
+            for (auto& done : finished) {
+                if (v.attribution && done.image.width == v.profile.width && done.image.height == v.profile.height) {
+                    v.attribution->apply(done.image.rgba.data(), done.image.width * 4);
+                }
                 ipc::FrameView fv;
                 fv.pixels = done.image.rgba.data();
                 fv.width = done.image.width;
@@ -290,10 +371,13 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
                 const auto it = v.source_times.find(done.sequence);
                 const ipc::CanTime source = it != v.source_times.end() ? it->second : ipc::CanTime{};
                 fv.sourceTimeNs = realtimeNs(source);
-                frames.publish(v.profile.stream_view, fv);
+                frames.publish(v.profile.name, fv);  // routed by profile: same view and size, other style
                 ++v.published;
                 if (source != ipc::CanTime{}) {
-                    v.latency_ms.add(std::chrono::duration<double, std::milli>(ipc::CanClock::now() - source).count());
+                    const double latency_ms = std::chrono::duration<double, std::milli>(ipc::CanClock::now() - source).count();
+                    v.latency_ms.add(latency_ms);
+                    v.latency_s_sum += latency_ms / 1000.0;
+                    ++v.latency_count;
                 }
                 v.source_times.erase(v.source_times.begin(), v.source_times.upper_bound(done.sequence));
             }
@@ -362,7 +446,7 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
                 next_wake = std::min(next_wake, v.next_due);
                 const bool wanted = options.render_all_profiles ||
                                     std::any_of(active.begin(), active.end(), [&](const ipc::ActiveProfile& a) {
-                                        return a.view == v.profile.stream_view && a.width == v.profile.width && a.height == v.profile.height;
+                                        return a.profile == v.profile.name;
                                     });
                 if (!wanted) {
                     ++v.skipped_idle;  // nobody watches this profile: render nothing
@@ -420,7 +504,9 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
                 for (auto& f : renderer->collectReadbacks()) finished.push_back(std::move(f));
                 publishFinished(v, finished);
                 ++v.rendered;
-                v.frame_ms.add(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+                const double frame_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+                v.frame_ms.add(frame_ms);
+                v.frame_s_sum += frame_ms / 1000.0;
                 last_frame_done = Clock::now();
             }
 
@@ -449,6 +535,7 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
                 const auto cache = scene.cache->metrics();
                 const auto cs = control_server->stats();
                 nlohmann::json st;
+                st["version"] = NAVMAP_VERSION;
                 st["uptime_s"] = std::chrono::duration<double>(now - t_start).count();
                 const Memory mem = processMemory();
                 st["memory"] = {{"rss_bytes", mem.rss}, {"peak_rss_bytes", mem.peak}};
@@ -467,45 +554,13 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
                                   {"heading_deg", pose.headingDeg}, {"match_confidence", pose.matchConfidence}};
                 if (!route_id.empty()) st["route"] = {{"id", route_id}, {"driven_m", route_driven_max}};
                 nlohmann::json profiles = nlohmann::json::array();
-                std::ostringstream m;
-                m << "# HELP navmap_frame_ms Frame time (tiles, render, readback submit), milliseconds.\n# TYPE navmap_frame_ms summary\n";
                 for (const auto& v : views) {
                     profiles.push_back({{"name", v.profile.name}, {"rendered", v.rendered}, {"published", v.published},
                                         {"frame_p50_ms", v.frame_ms.p(0.5)}, {"frame_p99_ms", v.frame_ms.p(0.99)},
                                         {"latency_p50_ms", v.latency_ms.p(0.5)}, {"latency_p99_ms", v.latency_ms.p(0.99)},
                                         {"tiles_drawn", v.tiles_drawn}, {"tiles_pending", v.tiles_pending},
-                                        {"tiles_uploaded", v.tiles_uploaded}});
-                    m << "navmap_frame_ms{profile=\"" << v.profile.name << "\",quantile=\"0.5\"} " << v.frame_ms.p(0.5) << "\n";
-                    m << "navmap_frame_ms{profile=\"" << v.profile.name << "\",quantile=\"0.99\"} " << v.frame_ms.p(0.99) << "\n";
+                                        {"tiles_uploaded", v.tiles_uploaded}, {"attribution", v.attribution != nullptr}});
                 }
-                m << "# HELP navmap_latency_ms CAN receive time of the pose to frame published, milliseconds.\n# TYPE navmap_latency_ms summary\n";
-                for (const auto& v : views) {
-                    m << "navmap_latency_ms{profile=\"" << v.profile.name << "\",quantile=\"0.5\"} " << v.latency_ms.p(0.5) << "\n";
-                    m << "navmap_latency_ms{profile=\"" << v.profile.name << "\",quantile=\"0.99\"} " << v.latency_ms.p(0.99) << "\n";
-                }
-                m << "# TYPE navmap_frames_rendered_total counter\n";
-                for (const auto& v : views) m << "navmap_frames_rendered_total{profile=\"" << v.profile.name << "\"} " << v.rendered << "\n";
-                m << "# TYPE navmap_gpu_tile_uploads_total counter\n";
-                for (const auto& v : views) m << "navmap_gpu_tile_uploads_total{profile=\"" << v.profile.name << "\"} " << v.tiles_uploaded << "\n";
-                m << "# TYPE navmap_stream_clients gauge\nnavmap_stream_clients " << fs.clients << "\n";
-                m << "# TYPE navmap_stream_frames_dropped_total counter\nnavmap_stream_frames_dropped_total " << fs.framesDropped << "\n";
-                m << "# TYPE navmap_stream_frames_sent_total counter\nnavmap_stream_frames_sent_total " << fs.framesSent << "\n";
-                m << "# TYPE navmap_can_frames_total counter\nnavmap_can_frames_total " << in.frames << "\n";
-                m << "# TYPE navmap_can_rejected_values_total counter\nnavmap_can_rejected_values_total " << in.decoder.rejected << "\n";
-                m << "# TYPE navmap_can_error_frames_total counter\nnavmap_can_error_frames_total " << in.can_error_frames << "\n";
-                m << "# TYPE navmap_can_kernel_drops_total counter\nnavmap_can_kernel_drops_total " << in.can_kernel_drops << "\n";
-                m << "# TYPE navmap_position_stale gauge\nnavmap_position_stale " << (pose.stale ? 1 : 0) << "\n";
-                m << "# TYPE navmap_tile_cache_bytes gauge\nnavmap_tile_cache_bytes " << cache.resident_bytes << "\n";
-                m << "# TYPE navmap_tile_cache_hits_total counter\nnavmap_tile_cache_hits_total " << cache.hits << "\n";
-                m << "# TYPE navmap_tile_cache_misses_total counter\nnavmap_tile_cache_misses_total " << cache.misses << "\n";
-                m << "# TYPE navmap_tile_load_ms summary\nnavmap_tile_load_ms{quantile=\"0.5\"} " << cache.load_p50_ms
-                  << "\nnavmap_tile_load_ms{quantile=\"0.99\"} " << cache.load_p99_ms << "\n";
-                m << "# TYPE navmap_control_errors_total counter\nnavmap_control_errors_total " << cs.errors << "\n";
-                m << "# TYPE navmap_process_resident_bytes gauge\nnavmap_process_resident_bytes " << mem.rss << "\n";
-                m << "# TYPE navmap_process_peak_resident_bytes gauge\nnavmap_process_peak_resident_bytes " << mem.peak << "\n";
-                m << "# TYPE navmap_config_reloads_total counter\nnavmap_config_reloads_total " << reloads << "\n";
-                m << "# TYPE navmap_config_reload_errors_total counter\nnavmap_config_reload_errors_total " << reload_errors << "\n";
-                m << frames.metricsText();
                 st["profiles"] = profiles;
                 st["stream"] = {{"clients", fs.clients}, {"frames_sent", fs.framesSent}, {"frames_dropped", fs.framesDropped},
                                 {"stall_disconnects", fs.stallDisconnects}, {"handshake_errors", fs.handshakeErrors},
@@ -518,7 +573,16 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
                 st["tile_cache"] = {{"resident_bytes", cache.resident_bytes}, {"hits", cache.hits}, {"misses", cache.misses},
                                     {"load_p99_ms", cache.load_p99_ms}, {"corrupt", cache.corrupt}};
                 status_json.store(std::make_shared<const nlohmann::json>(std::move(st)));
-                metrics_text.store(std::make_shared<const std::string>(m.str()));
+                MetricsInput mi;
+                mi.views = &views;
+                mi.input = in;
+                mi.cache = cache;
+                mi.control = cs;
+                mi.memory = mem;
+                mi.position_stale = pose.stale;
+                mi.reloads = reloads;
+                mi.reload_errors = reload_errors;
+                daemon_metrics.store(daemonMetrics(mi));
                 std::ostringstream line;
                 line << fs.clients << " clients, " << (pose.valid ? (pose.stale ? "position lost" : "position ok") : "no position yet");
                 for (const auto& v : views) line << ", " << v.profile.name << " " << v.rendered << " frames";
@@ -564,6 +628,10 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
                                     v.profile.glow_roads = p->glow_roads;
                                     v.profile.label_aura = p->label_aura;
                                     v.profile.road_selection = p->road_selection;
+                                    if (p->attribution != v.profile.attribution) {
+                                        v.profile.attribution = p->attribution;
+                                        v.attribution = makeAttribution(v.profile);
+                                    }
                                     v.next_due = Clock::now();  // the new rate applies from the next tick
                                 } else if (p) {
                                     log(kWarning, "reload: profile %s: a new size (%dx%d) needs a restart; keeping %dx%d",

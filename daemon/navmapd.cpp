@@ -1,18 +1,20 @@
 // navmapd: the navigation-map renderer daemon. Reads its TOML configuration (optional; every key
 // has a default, docs/navmapd.md), applies command-line overrides and runs the main loop
 // (daemon.h) until SIGTERM. `--check-config` validates and prints the effective configuration.
-
-#include <CLI/CLI.hpp>
+// Exit status: 0 ok, 1 bad configuration or a failure at run time, 2 usage (docs/tools.md).
 
 #include <cstdio>
 #include <iostream>
 
 #include "config.h"
 #include "daemon.h"
+#include "navmap/cli/cli.h"
+#include "navmap/install_layout.h"
 
 int main(int argc, char** argv) {
     using namespace navmap::daemon;
     CLI::App app{"navmapd - headless 3D navigation-map renderer daemon"};
+    navmap::cli::setUp(app, "navmapd");
     std::string config_path, store, input, replay, can_iface, from, to, control_socket, frame_socket, style, egl, log_level;
     std::vector<std::string> profile_names;
     std::optional<double> speed, run_for;
@@ -20,28 +22,30 @@ int main(int argc, char** argv) {
     bool check = false, render_all = false, noop = false, no_labels = false;
     app.add_option("-c,--config", config_path, "TOML configuration file (defaults apply without one)");
     app.add_flag("--check-config", check, "validate the configuration, print it and exit");
-    app.add_option("--store", store, "compiled tile store (navmap-compile)");
+    app.add_option("--store", store, "compiled tile store (navmap-compile); default: " +
+                   navmap::install::defaultStore().string());
     app.add_option("--input", input, "vehicle input: sim | replay | socketcan")->check(CLI::IsMember({"sim", "replay", "socketcan"}));
     app.add_option("--replay", replay, "candump log to replay (implies --input replay)");
     app.add_option("--can-interface", can_iface, "SocketCAN interface (implies --input socketcan)");
     app.add_option("--from", from, "simulated drive start: lat,lon or a place name");
     app.add_option("--to", to, "simulated drive destination");
-    app.add_option("--speed", speed, "replay / simulation speed factor")->check(CLI::Range(0.01, 1000.0));
+    app.add_option("--speed", speed, "replay / simulation speed factor")->check(navmap::cli::finiteIn(0.01, 1000.0));
     app.add_option("--profiles", profile_names, "render only these profiles (cluster,hud,center)")->delimiter(',');
     app.add_option("--control-socket", control_socket, "control socket path");
     app.add_option("--frame-socket", frame_socket, "frame-stream socket path");
-    app.add_option("--http-port", http_port, "HTTP port (MJPEG, status page, /metrics); 0 = off")->check(CLI::Range(0, 65535));
-    app.add_option("--tcp-port", tcp_port, "TCP frame-stream port; 0 = off")->check(CLI::Range(0, 65535));
+    app.add_option("--http-port", http_port, "HTTP port (MJPEG, status page, /metrics); 0 = off")
+        ->check(navmap::cli::integerIn(0, 65535));
+    app.add_option("--tcp-port", tcp_port, "TCP frame-stream port; 0 = off")->check(navmap::cli::integerIn(0, 65535));
     app.add_option("--style", style, "day | night")->check(CLI::IsMember({"day", "night"}));
     app.add_option("--egl-platform", egl, "auto | surfaceless | device")->check(CLI::IsMember({"auto", "surfaceless", "device"}));
-    app.add_option("--msaa", msaa, "MSAA samples (0 off, -1 auto)")->check(CLI::Range(-1, 16));
+    app.add_option("--msaa", msaa, "MSAA samples (0 off, -1 auto)")->check(navmap::cli::integerIn(-1, 16));
     app.add_option("--log-level", log_level, "error | warning | notice | info | debug")
         ->check(CLI::IsMember({"error", "warning", "notice", "info", "debug"}));
-    app.add_option("--run-for", run_for, "stop after this many seconds")->check(CLI::Range(0.1, 1e7));
+    app.add_option("--run-for", run_for, "stop after this many seconds")->check(navmap::cli::finiteIn(0.1, 1e7));
     app.add_flag("--render-all", render_all, "render every profile even without clients");
     app.add_flag("--no-labels", no_labels, "draw no labels");
     app.add_flag("--noop", noop, "no GL: the no-op renderer (testing the loop)");
-    CLI11_PARSE(app, argc, argv);
+    if (const auto exit_status = navmap::cli::parse(app, argc, argv)) return *exit_status;
 
     ConfigError err;
     std::optional<DaemonConfig> config = config_path.empty() ? parseConfig("", "<defaults>", &err) : loadConfig(config_path, &err);
@@ -50,7 +54,7 @@ int main(int argc, char** argv) {
         return 1;
     }
     DaemonConfig& c = *config;
-    if (c.store_path.empty()) c.store_path = NAVMAP_DEFAULT_STORE;
+    if (c.store_path.empty()) c.store_path = navmap::install::defaultStore();
     if (!store.empty()) c.store_path = store;
     if (!input.empty()) c.input = input == "sim" ? InputSource::Sim : input == "replay" ? InputSource::Replay : InputSource::SocketCan;
     if (!replay.empty()) c.replay_log = replay, c.input = InputSource::Replay;
@@ -93,7 +97,7 @@ int main(int argc, char** argv) {
     RunOptions options;
     options.run_for_s = run_for;
     if (!config_path.empty()) options.config_path = config_path;
-    options.data_dir = NAVMAP_DATA_DIR;
+    options.data_dir = navmap::install::dataDir();
     options.noop_renderer = noop;
     options.render_all_profiles = render_all;
     return runDaemon(std::move(c), options);

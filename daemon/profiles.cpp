@@ -3,12 +3,14 @@
 namespace navmap::daemon {
 
 std::vector<DisplayProfile> defaultProfiles() {
-    return {
+    std::vector<DisplayProfile> p = {
         {"cluster", 1280, 480, 30.0, render::ViewMode::Snail, render::Orientation::HeadingUp, "snail"},
         {"hud", 800, 240, 30.0, render::ViewMode::Snail, render::Orientation::HeadingUp, "hud"},
         {"center", 1280, 720, 30.0, render::ViewMode::Bird, render::Orientation::HeadingUp, "bird",
          render::RoadTechnique::Auto, true, false},
     };
+    p[2].attribution = true;  // the map display; cluster and HUD leave it to the HMI's about screen
+    return p;
 }
 
 std::optional<DisplayProfile> findProfile(const std::vector<DisplayProfile>& profiles, const std::string& name) {

@@ -30,6 +30,11 @@ struct DisplayProfile {
     /// Minor road classes leave distant views (seed 7.3, render::MapLayers::road_selection);
     /// false: every class at every distance.
     bool road_selection = true;
+    /// "© OpenStreetMap contributors" in the bottom right corner of the frames (ODbL 4.3). On in
+    /// bird's-eye views (the centre display, where the driver reads the map); off in the cluster
+    /// and the HUD, glance displays where any text competes with the road ahead: the HMI shows
+    /// the attribution in its own about screen there (docs/navmapd.md).
+    bool attribution = false;
 };
 
 /// The defaults: cluster 1280x480 snail's view, HUD 800x240 snail's view (route and

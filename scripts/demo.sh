@@ -6,7 +6,7 @@
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 cd "$root"
-scripts/install-deps.sh
+scripts/install-deps.sh --demo
 NAVMAP_BUILD_DIR="$root/build" scripts/build.sh -DNAVMAP_WITH_TESTS=OFF -DNAVMAP_WITH_BENCH=OFF >/tmp/navmap-demo-build.log 2>&1 \
   || { tail -n 40 /tmp/navmap-demo-build.log; echo "demo: build failed (log: /tmp/navmap-demo-build.log)" >&2; exit 1; }
 echo "demo: built into build/ (log: /tmp/navmap-demo-build.log)"

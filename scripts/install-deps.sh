@@ -1,27 +1,47 @@
 #!/usr/bin/env bash
-# Installs every Debian package navmap needs to build, test and run. Idempotent: packages
-# already installed are skipped, and apt is not touched at all when nothing is missing.
-# Runs as root, or through sudo when available.
+# Installs the Debian packages navmap needs, by purpose. Idempotent: packages already installed
+# are skipped, and apt is not touched at all when nothing is missing. Runs as root, or through
+# sudo when available.
+#   install-deps.sh          build, run and test (what scripts/test.sh and .ci/run need)
+#   install-deps.sh --demo   build and run only (scripts/demo.sh): no test tools, no browser,
+#                            no kernel image, no qemu
+#   install-deps.sh --cross  the aarch64 cross compiler (scripts/cross-build.sh)
 set -euo pipefail
 
-PACKAGES=(
+BUILD=(
   # toolchain
-  build-essential cmake ninja-build pkg-config clang libclang-rt-14-dev
+  build-essential cmake ninja-build pkg-config
   # EGL + OpenGL ES 3 (Mesa: llvmpipe via the surfaceless platform, any DRM GPU)
   libegl-dev libgles-dev libegl-mesa0 libgl1-mesa-dri
-  # maths, geodesy, images
-  libglm-dev libgeographiclib-dev libopenimageio-dev
+  # maths, geodesy
+  libglm-dev libgeographiclib-dev
   # OpenStreetMap input (libosmium and its PBF/XML codecs), polygon tessellation
   libosmium2-dev libprotozero-dev zlib1g-dev libbz2-dev libexpat1-dev liblz4-dev libglu1-mesa-dev libzstd-dev
   # text
   libfreetype-dev libharfbuzz-dev fonts-dejavu-core fonts-droid-fallback
   # config, JSON, command line, streaming, systemd
   libtomlplusplus-dev nlohmann-json3-dev libcli11-dev libturbojpeg0-dev libsystemd-dev
-  # tests and benchmarks (chromium: the browser test of the live stream page)
+  # man pages from the tools' --help (skipped when absent)
+  help2man
+)
+TEST=(
+  # images in golden tests and tools (OpenImageIO), fuzzers (clang)
+  libopenimageio-dev clang libclang-rt-14-dev
+  # tests and benchmarks (chromium: the browser tests of the live page)
   libgtest-dev libgmock-dev libbenchmark-dev chromium
+  # /metrics through the Prometheus client library's parser; Debian packages (cpack, dpkg-shlibdeps)
+  python3-prometheus-client dpkg-dev
   # CAN tools (candump/canplayer) and a Debian kernel under qemu for the real SocketCAN (vcan) test
   can-utils qemu-system-x86 linux-image-amd64 busybox-static cpio
 )
+CROSS=(g++-aarch64-linux-gnu binutils-aarch64-linux-gnu)
+
+case "${1:-}" in
+  "") PACKAGES=("${BUILD[@]}" "${TEST[@]}") ;;
+  --demo) PACKAGES=("${BUILD[@]}") ;;
+  --cross) PACKAGES=(cmake ninja-build pkg-config nlohmann-json3-dev "${CROSS[@]}") ;;
+  *) echo "usage: install-deps.sh [--demo | --cross]" >&2; exit 2 ;;
+esac
 
 missing=()
 for p in "${PACKAGES[@]}"; do

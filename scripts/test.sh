@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # The test command: installs what is missing, builds everything with warnings as errors, and
-# runs the CTest suite. Exits non-zero on any failure. Long soak runs are opt-in:
-#   scripts/test.sh            everything except the label 'soak'
+# runs the CTest suite. Exits non-zero on any failure. Long soak runs and the cross build are opt-in:
+#   scripts/test.sh            everything except the labels 'soak' and 'cross'
 #   NAVMAP_TEST_ARGS="-L soak" scripts/test.sh     only the soak tests
+#   NAVMAP_TEST_ARGS="-L cross" scripts/test.sh    the aarch64 cross build of the client library
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 cd "$root"
@@ -11,4 +12,4 @@ build="${NAVMAP_BUILD_DIR:-$root/build}"
 NAVMAP_BUILD_DIR="$build" scripts/build.sh -DNAVMAP_WITH_WERROR=ON -DNAVMAP_WITH_TESTS=ON -DNAVMAP_WITH_BENCH=ON
 cd "$build"
 # shellcheck disable=SC2086
-ctest --output-on-failure --timeout 900 -j 2 ${NAVMAP_TEST_ARGS:--LE soak}
+ctest --output-on-failure --timeout 900 -j 2 ${NAVMAP_TEST_ARGS:--LE soak|cross}

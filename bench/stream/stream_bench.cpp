@@ -17,6 +17,7 @@
 #include "navmap/ipc/frame_format.h"
 #include "navmap/ipc/frame_server.h"
 #include "navmap/ipc/stream_client.h"
+#include "navmap/ipc/zlib_inflater.h"
 #include "stream_test_util.h"
 
 using namespace navmap::ipc;
@@ -82,7 +83,8 @@ void BM_Deliver(benchmark::State& state) {
     } else {
         const StreamPayload p = transport == 0 ? StreamPayload::Shm : transport == 1 ? StreamPayload::Raw : StreamPayload::Zlib;
         auto c = p == StreamPayload::Shm ? StreamClient::connectUnix(server.options().unixPath, request(w, h, p))
-                                         : StreamClient::connectTcp("127.0.0.1", server.tcpPort(), request(w, h, p));
+                                         : StreamClient::connectTcp("127.0.0.1", server.tcpPort(), request(w, h, p),
+                                                                    std::chrono::seconds(5), zlibInflater());
         if (!c) {
             state.SkipWithError(c.error().message.c_str());
             return;

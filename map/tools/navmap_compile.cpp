@@ -2,40 +2,17 @@
 //   navmap-compile --osm data/andorra-2021-04-14.osm.pbf --dem data/N42E001.hgt --out build/andorra.navmap
 // Exit status: 0 ok, 1 bad input (one line naming the file and the problem), 2 usage.
 
-#include <CLI/CLI.hpp>
-
-#include <cmath>
 #include <cstdlib>
 #include <iostream>
-#include <sstream>
 
+#include "navmap/cli/cli.h"
 #include "navmap/map/compiler.h"
 #include "navmap/map/dem.h"
 #include "navmap/map/store_info.h"
 
 namespace {
 
-std::string number(double v) {
-    std::ostringstream s;
-    s << v;
-    return s.str();
-}
-
-// CLI::Range lets "nan" through (every comparison with NaN is false) and takes "inf": each
-// numeric option accepts finite numbers in its range only, and says which.
-CLI::Validator finiteIn(double lo, double hi) {
-    const std::string range = "[" + number(lo) + ", " + number(hi) + "]";
-    return CLI::Validator(
-        [lo, hi, range](std::string& input) -> std::string {
-            char* end = nullptr;
-            const double v = std::strtod(input.c_str(), &end);
-            if (input.empty() || end != input.c_str() + input.size() || !std::isfinite(v) || v < lo || v > hi) {
-                return "'" + input + "' is not a finite number in " + range;
-            }
-            return {};
-        },
-        "NUMBER in " + range);
-}
+using navmap::cli::finiteIn;
 
 CLI::Validator demSamples() {
     const std::string allowed = "0 (no DEM grid) or an integer in [2, " + std::to_string(navmap::map::kMaxDemSamples) + "]";
@@ -56,6 +33,7 @@ CLI::Validator demSamples() {
 
 int main(int argc, char** argv) {
     CLI::App app{"navmap-compile: compile OpenStreetMap + SRTM DEM into a navmap tile store"};
+    navmap::cli::setUp(app, "navmap-compile");
     navmap::map::CompileOptions opt;
     std::vector<std::string> dems;
     std::string osm, out;
@@ -71,12 +49,7 @@ int main(int argc, char** argv) {
         ->check(finiteIn(0.0, navmap::map::kMaxBuildingHeightM))
         ->capture_default_str();
     app.add_flag("-q,--quiet", quiet, "no progress output (summary and errors only)");
-    try {
-        app.parse(argc, argv);
-    } catch (const CLI::ParseError& e) {
-        // --help and --version exit 0; every usage error exits 2 (CLI11's own codes are 100+).
-        return app.exit(e) == 0 ? 0 : 2;
-    }
+    if (const auto exit_status = navmap::cli::parse(app, argc, argv)) return *exit_status;
 
     opt.osm = osm;
     opt.out = out;

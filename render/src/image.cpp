@@ -2,7 +2,9 @@
 
 #include <OpenImageIO/imageio.h>
 
+#include <algorithm>
 #include <memory>
+#include <vector>
 
 namespace navmap::render {
 
@@ -29,16 +31,21 @@ bool readImage(const std::filesystem::path& path, Image* image, std::string* err
     }
     const OIIO::ImageSpec& spec = in->spec();
     Image result(spec.width, spec.height);
-    // Ask for 4 channels; OIIO fills missing ones with 0, so set alpha afterwards when absent.
-    if (!in->read_image(0, 0, 0, 4, OIIO::TypeDesc::UINT8, result.rgba.data())) {
+    // Read the file's own channels and expand them: asking OIIO for 4 channels of a 3-channel
+    // file (a browser's screenshot) packs 3 bytes per pixel into the 4-byte layout.
+    const int channels = std::clamp(spec.nchannels, 1, 4);
+    std::vector<std::uint8_t> pixels(static_cast<std::size_t>(spec.width) * spec.height * channels);
+    if (!in->read_image(0, 0, 0, channels, OIIO::TypeDesc::UINT8, pixels.data())) {
         if (error) *error = path.string() + ": " + in->geterror();
         return false;
     }
-    if (spec.nchannels < 4) {
-        for (std::size_t i = 3; i < result.rgba.size(); i += 4) result.rgba[i] = 255;
-    }
-    if (spec.nchannels < 3) {
-        for (std::size_t i = 0; i < result.rgba.size(); i += 4) result.rgba[i + 1] = result.rgba[i + 2] = result.rgba[i];
+    for (std::size_t i = 0, n = static_cast<std::size_t>(spec.width) * spec.height; i < n; ++i) {
+        const std::uint8_t* src = &pixels[i * channels];
+        std::uint8_t* dst = &result.rgba[i * 4];
+        dst[0] = src[0];
+        dst[1] = channels >= 3 ? src[1] : src[0];  // grey (and grey + alpha) to RGB
+        dst[2] = channels >= 3 ? src[2] : src[0];
+        dst[3] = channels == 4 ? src[3] : channels == 2 ? src[1] : 255;
     }
     *image = std::move(result);
     return true;

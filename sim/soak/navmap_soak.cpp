@@ -3,8 +3,8 @@
 // connect, read, stall and disconnect and the control socket gets valid and malformed commands.
 // It samples the daemon's RSS, open fds and threads and its frame-time percentiles, writes a JSON
 // report and fails when resources grow beyond the stated tolerances.
+// Exit status: 0 passed, 1 failed (or navmapd did not run), 2 usage (docs/tools.md).
 
-#include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
 #include <signal.h>
@@ -13,6 +13,8 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
+#include <cstring>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -23,6 +25,7 @@
 #include <thread>
 #include <vector>
 
+#include "navmap/cli/cli.h"
 #include "navmap/ipc/control_client.h"
 #include "navmap/ipc/stream_client.h"
 
@@ -69,23 +72,37 @@ double median(std::vector<double> v) {
 
 int main(int argc, char** argv) {
     CLI::App app{"navmap-soak - long-running stability test of navmapd"};
+    navmap::cli::setUp(app, "navmap-soak");
+    using navmap::cli::finiteIn;
+    using navmap::cli::integerIn;
     std::string navmapd, drive, report_path = "soak-report.json", work = "/tmp/navmap-soak";
     double duration = 120, speed = 8, rss_tolerance = 0.25, rss_slack_mb = 24, max_peak_rss_mb = 0;
     int fd_tolerance = 4, thread_tolerance = 2;
     unsigned seed = 1;
     app.add_option("--navmapd", navmapd, "navmapd binary")->required();
     app.add_option("--drive", drive, "candump drive to loop (with faults)")->required();
-    app.add_option("--duration", duration, "seconds to run")->capture_default_str();
-    app.add_option("--speed", speed, "replay speed factor")->capture_default_str();
+    app.add_option("--duration", duration, "seconds to run")->capture_default_str()->check(finiteIn(1.0, 1e7));
+    app.add_option("--speed", speed, "replay speed factor")->capture_default_str()->check(finiteIn(0.01, 1000.0));
     app.add_option("--report", report_path, "JSON report file")->capture_default_str();
     app.add_option("--work-dir", work, "directory for sockets and logs")->capture_default_str();
-    app.add_option("--rss-tolerance", rss_tolerance, "allowed RSS growth (fraction) after warm-up")->capture_default_str();
-    app.add_option("--rss-slack-mb", rss_slack_mb, "plus this many MiB")->capture_default_str();
-    app.add_option("--max-peak-rss-mb", max_peak_rss_mb, "peak RSS (VmHWM) limit in MiB, 0 = report only")->capture_default_str();
-    app.add_option("--fd-tolerance", fd_tolerance, "allowed growth of open fds")->capture_default_str();
-    app.add_option("--thread-tolerance", thread_tolerance, "allowed growth of threads")->capture_default_str();
-    app.add_option("--seed", seed, "random seed for the client schedule")->capture_default_str();
-    CLI11_PARSE(app, argc, argv);
+    app.add_option("--rss-tolerance", rss_tolerance, "allowed RSS growth (fraction) after warm-up")
+        ->capture_default_str()->check(finiteIn(0.0, 100.0));
+    app.add_option("--rss-slack-mb", rss_slack_mb, "plus this many MiB")->capture_default_str()->check(finiteIn(0.0, 1e6));
+    app.add_option("--max-peak-rss-mb", max_peak_rss_mb, "peak RSS (VmHWM) limit in MiB, 0 = report only")
+        ->capture_default_str()->check(finiteIn(0.0, 1e6));
+    app.add_option("--fd-tolerance", fd_tolerance, "allowed growth of open fds")->capture_default_str()->check(integerIn(0, 100000));
+    app.add_option("--thread-tolerance", thread_tolerance, "allowed growth of threads")
+        ->capture_default_str()->check(integerIn(0, 100000));
+    app.add_option("--seed", seed, "random seed for the client schedule")->capture_default_str()->check(integerIn(0, 4294967295LL));
+    if (const auto exit_status = navmap::cli::parse(app, argc, argv)) return *exit_status;
+    if (::access(navmapd.c_str(), X_OK) != 0) {
+        std::fprintf(stderr, "navmap-soak: --navmapd %s: %s\n", navmapd.c_str(), std::strerror(errno));
+        return navmap::cli::kExitFailure;
+    }
+    if (::access(drive.c_str(), R_OK) != 0) {
+        std::fprintf(stderr, "navmap-soak: --drive %s: %s\n", drive.c_str(), std::strerror(errno));
+        return navmap::cli::kExitFailure;
+    }
 
     fs::remove_all(work);
     fs::create_directories(work);
@@ -97,13 +114,13 @@ int main(int argc, char** argv) {
     pid_t pid = -1;
     if (posix_spawn(&pid, "/bin/sh", nullptr, nullptr, const_cast<char**>(args), environ) != 0) {
         std::fprintf(stderr, "navmap-soak: cannot start %s\n", navmapd.c_str());
-        return 2;
+        return navmap::cli::kExitFailure;
     }
     for (int i = 0; i < 200 && !fs::exists(frames); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(50));
     if (!fs::exists(frames)) {
         std::fprintf(stderr, "navmap-soak: navmapd did not come up (log: %s/navmapd.log)\n", work.c_str());
         ::kill(pid, SIGKILL);
-        return 2;
+        return navmap::cli::kExitFailure;
     }
     std::printf("navmap-soak: navmapd pid %d, %.0f s, drive %s x%.0f\n", pid, duration, drive.c_str(), speed);
 

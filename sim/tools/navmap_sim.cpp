@@ -1,20 +1,23 @@
 // navmap-sim: drives a route through the compiled map and emits the GNSS node's navmap.dbc
 // frames to a candump log, to SocketCAN (paced in real time x --speed-factor), and/or hands the
 // route to the daemon over the control socket. See docs/simulator.md.
+// Exit status: 0 ok, 1 bad input or a failure at run time, 2 usage (docs/tools.md).
 
 #include <poll.h>
 #include <signal.h>
 #include <sys/signalfd.h>
 #include <unistd.h>
 
-#include <CLI/CLI.hpp>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <optional>
 #include <string>
 
+#include "navmap/cli/cli.h"
+#include "navmap/install_layout.h"
 #include "navmap/ipc/control_client.h"
 #include "navmap/ipc/socketcan_source.h"
 #include "navmap/sim/candump_writer.h"
@@ -62,8 +65,8 @@ private:
 };
 
 struct Cli {
-    std::string store = NAVMAP_SIM_DEFAULT_STORE;
-    std::string dbc = NAVMAP_IPC_DEFAULT_DBC;
+    std::string store = navmap::install::defaultStore().string();
+    std::string dbc = navmap::install::defaultDbc().string();
     std::string from, to;
     std::string out;
     std::string iface = "can0";
@@ -82,6 +85,9 @@ int main(int argc, char** argv) {
     Cli cli;
     navmap::sim::DriveRequest req;
     CLI::App app{"navmap-sim: simulated drive on the road graph -> navmap.dbc GNSS frames (candump log, SocketCAN)"};
+    navmap::cli::setUp(app, "navmap-sim");
+    using navmap::cli::finiteIn;
+    using navmap::cli::integerIn;
     app.add_option("--store", cli.store, "compiled tile store")->capture_default_str();
     app.add_option("--dbc", cli.dbc, "navmap.dbc")->capture_default_str();
     app.add_option("--from", cli.from, "start: \"lat,lon\" or a place name")->required();
@@ -90,29 +96,41 @@ int main(int argc, char** argv) {
     app.add_option("--iface", cli.iface, "interface name in the log, and the SocketCAN interface")->capture_default_str();
     app.add_flag("--socketcan", cli.socketcan, "send the frames to --iface over SocketCAN, paced in real time");
     app.add_option("--speed-factor", cli.speed_factor, "SocketCAN pacing: 2 = twice real time, 0 = as fast as possible")
-        ->capture_default_str()->check(CLI::NonNegativeNumber);
+        ->capture_default_str()->check(finiteIn(0.0, 1000.0));
     app.add_option("--duration", req.frames.max_duration_s, "stop after this many seconds of drive time (0 = whole drive)")
-        ->check(CLI::NonNegativeNumber);
-    app.add_option("--position-hz", req.frames.position_hz, "NAV_Position rate")->capture_default_str();
-    app.add_option("--motion-hz", req.frames.motion_hz, "NAV_Motion rate")->capture_default_str();
-    app.add_option("--info-hz", req.frames.info_hz, "NAV_Info rate (0 = none)")->capture_default_str();
-    app.add_option("--noise-m", req.frames.noise_m, "GNSS position noise, sigma per axis in metres")->capture_default_str();
-    app.add_option("--dropouts", req.frames.dropouts, "number of GNSS dropouts (no position frames)")->capture_default_str();
-    app.add_option("--dropout-s", req.frames.dropout_s, "length of each dropout, seconds")->capture_default_str();
-    app.add_option("--bad-frames", req.frames.bad_bursts, "number of bad-frame bursts")->capture_default_str();
-    app.add_option("--burst-size", req.frames.burst_frames, "bad frames per burst")->capture_default_str();
-    app.add_option("--seed", req.frames.seed, "random seed (noise, faults)")->capture_default_str();
-    app.add_option("--standstill", req.frames.standstill_s, "seconds standing at start and end")->capture_default_str();
-    app.add_option("--start-time", cli.start_time, "log time of the first frame, Unix seconds")->capture_default_str();
-    app.add_option("--lateral-accel", req.drive.lateral_accel_mps2, "curve speed limit, m/s^2")->capture_default_str();
-    app.add_option("--accel", req.drive.accel_mps2, "acceleration limit, m/s^2")->capture_default_str();
-    app.add_option("--brake", req.drive.brake_mps2, "braking limit, m/s^2")->capture_default_str();
-    app.add_option("--driver-factor", req.drive.speed_factor, "fraction of the speed limit driven")->capture_default_str();
+        ->check(finiteIn(0.0, 1e7));
+    app.add_option("--position-hz", req.frames.position_hz, "NAV_Position rate")
+        ->capture_default_str()->check(finiteIn(1.0, 50.0));
+    app.add_option("--motion-hz", req.frames.motion_hz, "NAV_Motion rate")
+        ->capture_default_str()->check(finiteIn(1.0, 1000.0));
+    app.add_option("--info-hz", req.frames.info_hz, "NAV_Info rate (0 = none)")->capture_default_str()->check(finiteIn(0.0, 50.0));
+    app.add_option("--noise-m", req.frames.noise_m, "GNSS position noise, sigma per axis in metres")
+        ->capture_default_str()->check(finiteIn(0.0, 1000.0));
+    app.add_option("--dropouts", req.frames.dropouts, "number of GNSS dropouts (no position frames)")
+        ->capture_default_str()->check(integerIn(0, 10000));
+    app.add_option("--dropout-s", req.frames.dropout_s, "length of each dropout, seconds")
+        ->capture_default_str()->check(finiteIn(0.01, 3600.0));
+    app.add_option("--bad-frames", req.frames.bad_bursts, "number of bad-frame bursts")
+        ->capture_default_str()->check(integerIn(0, 10000));
+    app.add_option("--burst-size", req.frames.burst_frames, "bad frames per burst")
+        ->capture_default_str()->check(integerIn(1, 1000));
+    app.add_option("--seed", req.frames.seed, "random seed (noise, faults)")
+        ->capture_default_str()->check(integerIn(0, std::numeric_limits<long long>::max()));
+    app.add_option("--standstill", req.frames.standstill_s, "seconds standing at start and end")
+        ->capture_default_str()->check(finiteIn(0.0, 3600.0));
+    app.add_option("--start-time", cli.start_time, "log time of the first frame, Unix seconds")
+        ->capture_default_str()->check(finiteIn(0.0, 4102444800.0));
+    app.add_option("--lateral-accel", req.drive.lateral_accel_mps2, "curve speed limit, m/s^2")
+        ->capture_default_str()->check(finiteIn(0.1, 20.0));
+    app.add_option("--accel", req.drive.accel_mps2, "acceleration limit, m/s^2")->capture_default_str()->check(finiteIn(0.1, 20.0));
+    app.add_option("--brake", req.drive.brake_mps2, "braking limit, m/s^2")->capture_default_str()->check(finiteIn(0.1, 20.0));
+    app.add_option("--driver-factor", req.drive.speed_factor, "fraction of the speed limit driven")
+        ->capture_default_str()->check(finiteIn(0.1, 2.0));
     app.add_option("--route-out", cli.route_out, "write the set_route JSON line here");
     app.add_option("--control", cli.control, "send set_route to the daemon's control socket");
     app.add_option("--route-id", cli.route_id, "route id in set_route")->capture_default_str();
     app.add_flag("-q,--quiet", cli.quiet, "no progress output");
-    CLI11_PARSE(app, argc, argv);
+    if (const auto exit_status = navmap::cli::parse(app, argc, argv)) return *exit_status;
 
     req.store = cli.store;
     req.dbc = cli.dbc;

@@ -1,6 +1,9 @@
 // navmapd's TOML configuration: defaults, every section, and clear errors for wrong input.
 #include <gtest/gtest.h>
 
+#include <fstream>
+#include <iterator>
+
 #include "config.h"
 
 namespace {
@@ -176,6 +179,35 @@ TEST(DaemonConfig, ControlIdleTimeout) {
     EXPECT_EQ(m, "navmapd.toml:2:18: control.idle_timeout_s = -1 out of range [0, 86400]");
     EXPECT_FALSE(parse("[control]\nidle_timeout_s = nan\n", &m));
     EXPECT_EQ(m, "navmapd.toml:2:18: control.idle_timeout_s = nan out of range [0, 86400]");
+}
+
+TEST(DaemonConfig, AttributionFollowsTheViewUnlessSet) {
+    // The built-in profiles: the center display (bird's-eye) carries it, cluster and HUD do not.
+    const auto d = parse("");
+    ASSERT_TRUE(d);
+    EXPECT_FALSE(d->profiles[0].attribution);
+    EXPECT_FALSE(d->profiles[1].attribution);
+    EXPECT_TRUE(d->profiles[2].attribution);
+    const auto c = parse("[[profile]]\nname = \"a\"\nview = \"bird\"\n[[profile]]\nname = \"b\"\nview = \"snail\"\n"
+                         "[[profile]]\nname = \"c\"\nview = \"bird\"\nattribution = false\n"
+                         "[[profile]]\nname = \"d\"\nview = \"hud\"\nattribution = true\n");
+    ASSERT_TRUE(c);
+    EXPECT_TRUE(c->profiles[0].attribution);
+    EXPECT_FALSE(c->profiles[1].attribution);
+    EXPECT_FALSE(c->profiles[2].attribution);
+    EXPECT_TRUE(c->profiles[3].attribution);
+    EXPECT_NE(describeConfig(*c).find("profile d: 1280x480 @ 30 fps, snail, heading-up, roads auto, glowing roads, label aura, attribution\n"),
+              std::string::npos)
+        << describeConfig(*c);
+    std::string m;
+    EXPECT_FALSE(parse("[[profile]]\nname = \"x\"\nattribution = \"yes\"\n", &m));
+    EXPECT_NE(m.find("profile.attribution"), std::string::npos) << m;
+    // The shipped configuration file says the same as the built-in defaults.
+    std::ifstream shipped(std::string(NAVMAP_SOURCE_DIR) + "/daemon/navmapd.toml");
+    const std::string text((std::istreambuf_iterator<char>(shipped)), std::istreambuf_iterator<char>());
+    const auto f = parse(text, &m);
+    ASSERT_TRUE(f) << m;
+    for (std::size_t i = 0; i < 3; ++i) EXPECT_EQ(f->profiles[i].attribution, d->profiles[i].attribution) << i;
 }
 
 }  // namespace

@@ -103,11 +103,13 @@ TEST_F(NavmapSimCli, BadInputFailsWithOneClearLine) {
     r = run("--store " + m_store.string() + " --from Encamp --to Ordino --control " + (m_dir / "no.sock").string());
     EXPECT_EQ(r.status, 1);
     EXPECT_NE(r.out.find("connect(" + (m_dir / "no.sock").string() + ")"), std::string::npos) << r.out;
+    // Numbers out of range are usage errors (exit 2) naming the range, before anything runs.
     r = run("--store " + m_store.string() + " --from Encamp --to Ordino --position-hz 0");
-    EXPECT_EQ(r.status, 1);
-    EXPECT_NE(r.out.find("position rate"), std::string::npos) << r.out;
+    EXPECT_EQ(r.status, 2);
+    EXPECT_NE(r.out.find("--position-hz: '0' is not a finite number in [1, 50]"), std::string::npos) << r.out;
     r = run("--from Encamp");
-    EXPECT_NE(r.status, 0);
+    EXPECT_EQ(r.status, 2) << r.out;
+    EXPECT_NE(r.out.find("--to is required"), std::string::npos) << r.out;
 }
 
 }  // namespace

@@ -1,33 +1,24 @@
 // navmap-ctl: sends one command to navmapd's control socket and prints the reply; `subscribe`
-// prints events until interrupted (or --count events). Exit status: 0 ok, 1 error reply,
-// 2 usage or connection problem. Protocol: docs/ipc.md.
+// prints events until interrupted (or --count events). Protocol: docs/ipc.md.
+// Exit status: 0 ok, 1 an error reply or no connection, 2 usage (docs/tools.md).
 
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "navmap/cli/cli.h"
 #include "navmap/ipc/control_client.h"
 
 namespace {
 
-constexpr const char* kUsage = R"(usage: navmap-ctl [--socket PATH] [--timeout S] COMMAND [ARGS]
-  get_status
-  clear_route
-  set_style day|night
-  set_view DISPLAY [bird|snail|auto] [heading-up|north-up]
-  set_route ID LAT,LON LAT,LON [...]
-  subscribe [--count N] [route_progress|position_lost|position_regained ...]
-  send JSON                         send one raw JSON line
-The socket defaults to $NAVMAP_CONTROL_SOCKET, else /run/navmap/control.sock.
-)";
-
 int usage(const std::string& why) {
-    std::cerr << "navmap-ctl: " << why << "\n" << kUsage;
-    return 2;
+    std::cerr << "navmap-ctl: " << why << "\nRun with --help for more information.\n";
+    return navmap::cli::kExitUsage;
 }
 
 bool parsePoint(const std::string& s, nlohmann::ordered_json& out) {
@@ -52,105 +43,97 @@ bool parsePoint(const std::string& s, nlohmann::ordered_json& out) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    std::vector<std::string> args(argv + 1, argv + argc);
+    CLI::App app{"navmap-ctl: send one command to navmapd's control socket and print the reply (docs/ipc.md)"};
+    navmap::cli::setUp(app, "navmap-ctl");
     const char* env = std::getenv("NAVMAP_CONTROL_SOCKET");
     std::string socket = env != nullptr && *env != '\0' ? env : "/run/navmap/control.sock";
     double timeout_s = 5.0;
-    std::size_t i = 0;
-    for (; i < args.size(); ++i) {
-        if (args[i] == "-h" || args[i] == "--help") {
-            std::cout << kUsage;
-            return 0;
-        }
-        if ((args[i] == "--socket" || args[i] == "-s") && i + 1 < args.size()) {
-            socket = args[++i];
-        } else if (args[i] == "--timeout" && i + 1 < args.size()) {
-            timeout_s = std::atof(args[++i].c_str());
-        } else {
-            break;
-        }
+    app.add_option("-s,--socket", socket, "control socket (default: $NAVMAP_CONTROL_SOCKET, else /run/navmap/control.sock)");
+    app.add_option("--timeout", timeout_s, "seconds to wait for the reply")->capture_default_str()->check(navmap::cli::finiteIn(0.1, 3600.0));
+    app.require_subcommand(0, 1);
+    app.fallthrough();  // --socket and --timeout may follow the command too
+
+    app.add_subcommand("get_status", "the daemon's status (input, position, profiles, stream, memory, version)");
+    app.add_subcommand("clear_route", "drop the route");
+    std::string style;
+    app.add_subcommand("set_style", "day or night map style")->add_option("STYLE", style, "day | night")->required();
+    auto* set_view = app.add_subcommand("set_view", "view mode and orientation of one display");
+    std::string display;
+    std::vector<std::string> view_words;
+    set_view->add_option("DISPLAY", display, "a profile name")->required();
+    set_view->add_option("MODE", view_words, "bird | snail | auto, and/or heading-up | north-up");
+    auto* set_route = app.add_subcommand("set_route", "a route as ID LAT,LON LAT,LON [...]");
+    std::string route_id;
+    std::vector<std::string> points;
+    set_route->add_option("ID", route_id, "route id")->required();
+    set_route->add_option("POINTS", points, "LAT,LON, at least two");
+    auto* subscribe = app.add_subcommand("subscribe", "print events (route_progress, position_lost, position_regained)");
+    std::optional<long long> count;
+    std::vector<std::string> events;
+    subscribe->add_option("--count", count, "stop after N events")->check(navmap::cli::integerIn(1, 1000000000));
+    subscribe->add_option("EVENTS", events, "only these events (default: all)");
+    std::string raw;
+    app.add_subcommand("send", "send one raw JSON line")->add_option("JSON", raw, "the request")->required();
+    if (const auto exit_status = navmap::cli::parse(app, argc, argv)) {
+        return *exit_status;
     }
-    if (i >= args.size()) {
-        return usage("missing COMMAND");
+
+    if (app.get_subcommands().empty()) {
+        return usage("missing COMMAND (get_status, clear_route, set_style, set_view, set_route, subscribe, send)");
     }
-    const std::string cmd = args[i++];
-    const std::vector<std::string> rest(args.begin() + static_cast<std::ptrdiff_t>(i), args.end());
+    const std::string cmd = app.get_subcommands().front()->get_name();
     nlohmann::ordered_json req;
     req["cmd"] = cmd;
-    long count = -1;
-    if (cmd == "get_status" || cmd == "clear_route") {
-        if (!rest.empty()) {
-            return usage(cmd + " takes no arguments");
-        }
-    } else if (cmd == "set_style") {
-        if (rest.size() != 1) {
-            return usage("set_style needs day or night");
-        }
-        req["style"] = rest[0];
+    if (cmd == "set_style") {
+        req["style"] = style;  // the daemon checks the value and answers with the allowed ones
     } else if (cmd == "set_view") {
-        if (rest.empty() || rest.size() > 3) {
+        if (view_words.empty() || view_words.size() > 2) {
             return usage("set_view needs DISPLAY and a mode and/or orientation");
         }
-        req["display"] = rest[0];
-        for (std::size_t k = 1; k < rest.size(); ++k) {
-            req[rest[k].find("-up") != std::string::npos ? "orientation" : "mode"] = rest[k];
+        req["display"] = display;
+        for (const auto& w : view_words) {
+            req[w.find("-up") != std::string::npos ? "orientation" : "mode"] = w;
         }
     } else if (cmd == "set_route") {
-        if (rest.size() < 3) {
+        if (points.size() < 2) {
             return usage("set_route needs ID and at least two LAT,LON points");
         }
-        req["id"] = rest[0];
+        req["id"] = route_id;
         req["points"] = nlohmann::ordered_json::array();
-        for (std::size_t k = 1; k < rest.size(); ++k) {
+        for (const auto& text : points) {
             nlohmann::ordered_json p;
-            if (!parsePoint(rest[k], p)) {
-                return usage("bad point \"" + rest[k] + "\" (expected LAT,LON)");
+            if (!parsePoint(text, p)) {
+                return usage("bad point \"" + text + "\" (expected LAT,LON)");
             }
             req["points"].push_back(p);
         }
-    } else if (cmd == "subscribe") {
-        nlohmann::ordered_json events = nlohmann::ordered_json::array();
-        for (std::size_t k = 0; k < rest.size(); ++k) {
-            if (rest[k] == "--count" && k + 1 < rest.size()) {
-                count = std::atol(rest[++k].c_str());
-            } else {
-                events.push_back(rest[k]);
-            }
-        }
-        if (!events.empty()) {
-            req["events"] = events;
-        }
-    } else if (cmd == "send") {
-        if (rest.size() != 1) {
-            return usage("send needs one JSON argument");
-        }
-    } else {
-        return usage("unknown command \"" + cmd + "\"");
+    } else if (cmd == "subscribe" && !events.empty()) {
+        req["events"] = events;
     }
-    const std::string line = cmd == "send" ? rest[0] : req.dump();
+    const std::string line = cmd == "send" ? raw : req.dump();
 
     auto client = navmap::ipc::ControlClient::connect(socket);
     if (!client.ok()) {
         std::cerr << "navmap-ctl: " << client.error().message << "\n";
-        return 2;
+        return navmap::cli::kExitFailure;
     }
     const auto timeout = std::chrono::milliseconds(static_cast<long>(timeout_s * 1000.0));
     auto reply = client.value().request(line, timeout);
     if (!reply.ok()) {
         std::cerr << "navmap-ctl: " << reply.error().message << "\n";
-        return 2;
+        return navmap::cli::kExitFailure;
     }
     std::cout << reply.value() << std::endl;
     const auto j = nlohmann::json::parse(reply.value(), nullptr, false);
     const bool ok = j.is_object() && j.value("ok", false);
     if (!ok || cmd != "subscribe") {
-        return ok ? 0 : 1;
+        return ok ? navmap::cli::kExitOk : navmap::cli::kExitFailure;
     }
-    for (long n = 0; count < 0 || n < count; ++n) {
+    for (long long n = 0; !count || n < *count; ++n) {
         auto ev = client.value().nextEvent(std::chrono::hours(24));
         if (!ev.ok()) {
             std::cerr << "navmap-ctl: " << ev.error().message << "\n";
-            return 2;
+            return navmap::cli::kExitFailure;
         }
         std::cout << ev.value() << std::endl;
     }

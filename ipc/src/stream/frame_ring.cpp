@@ -91,7 +91,8 @@ Result<std::unique_ptr<FrameRing>> FrameRing::create(const std::string& name, st
     auto* base = static_cast<std::uint8_t*>(p);
     // Touch every page now (server thread) so the render thread's first writes do not fault.
     std::memset(base, 0, layout.totalBytes);
-    const std::uint32_t hdr[] = {kRingMagic, 1, slots, width, height, layout.stride, static_cast<std::uint32_t>(format)};
+    const std::uint32_t hdr[] = {kRingMagic, kRingVersion, slots, width, height, layout.stride,
+                                 static_cast<std::uint32_t>(format)};
     std::memcpy(base, hdr, sizeof(hdr));
     // Sealed after the writable mapping above exists: clients can rely on the size (no shrink or
     // grow), and nobody can make the memory writable any more, even a client that re-opens its
@@ -106,6 +107,13 @@ Result<std::unique_ptr<FrameRing>> FrameRing::create(const std::string& name, st
                      (e == EINVAL ? " (needs Linux >= 5.1)" : "")};
     }
     return std::unique_ptr<FrameRing>(new FrameRing(fd, base, layout));
+}
+
+FrameRing::FrameRing(int fd, std::uint8_t* base, FrameRingLayout layout)
+    : m_fd(fd), m_base(base), m_layout(layout), m_pins(new std::atomic<std::uint32_t>[layout.slots]) {
+    for (std::uint32_t i = 0; i < layout.slots; ++i) {
+        m_pins[i].store(0, std::memory_order_relaxed);
+    }
 }
 
 FrameRing::~FrameRing() {
@@ -124,14 +132,43 @@ std::uint64_t FrameRing::write(const FrameView& frame) noexcept {
         return 0;
     }
     const std::uint64_t seq = m_nextSequence++;
-    const std::uint32_t slot = static_cast<std::uint32_t>((seq - 1) % m_layout.slots);
+    // The least recently written slot that no client holds. Claiming a slot and pinning one are
+    // the two halves of Dekker's protocol: the writer makes the lock word odd, then reads the pin
+    // count; pin() raises the count, then reads the lock word (each with a full fence between), so
+    // at least one of them sees the other and steps back. A slot claimed and then found pinned is
+    // given back unchanged (its old even lock word: readers see no change, and nothing changed).
+    std::uint32_t slot = m_nextSlot;
+    std::uint64_t* lock = nullptr;
+    std::uint64_t l = 0;
+    for (std::uint32_t k = 0; k < m_layout.slots && lock == nullptr; ++k) {
+        const std::uint32_t candidate = (m_nextSlot + k) % m_layout.slots;
+        if (m_pins[candidate].load(std::memory_order_relaxed) != 0) {
+            continue;
+        }
+        auto* word = reinterpret_cast<std::uint64_t*>(m_base + m_layout.slotOffset(candidate));
+        const std::uint64_t old = __atomic_load_n(word, __ATOMIC_RELAXED);
+        __atomic_store_n(word, old + 1, __ATOMIC_RELAXED);
+        __atomic_thread_fence(__ATOMIC_SEQ_CST);
+        if (m_pins[candidate].load(std::memory_order_relaxed) != 0) {
+            __atomic_store_n(word, old, __ATOMIC_RELEASE);  // pinned meanwhile: untouched, give it back
+            continue;
+        }
+        slot = candidate;
+        lock = word;
+        l = old;
+    }
+    if (lock == nullptr) {
+        // Every slot is held: the stream must not stop for its clients, so the oldest write goes
+        // (its holder learns it from the lock word when it releases the frame).
+        m_pinnedOverwrites.fetch_add(1, std::memory_order_relaxed);
+        lock = reinterpret_cast<std::uint64_t*>(m_base + m_layout.slotOffset(slot));
+        l = __atomic_load_n(lock, __ATOMIC_RELAXED);
+        __atomic_store_n(lock, l + 1, __ATOMIC_RELAXED);
+        __atomic_thread_fence(__ATOMIC_RELEASE);
+    }
+    m_nextSlot = (slot + 1) % m_layout.slots;
     std::uint8_t* s = m_base + m_layout.slotOffset(slot);
-    auto* lock = reinterpret_cast<std::uint64_t*>(s);
-
     // Sequence lock, writer side: odd while the slot changes, even (and larger) when done.
-    const std::uint64_t l = __atomic_load_n(lock, __ATOMIC_RELAXED);
-    __atomic_store_n(lock, l + 1, __ATOMIC_RELAXED);
-    __atomic_thread_fence(__ATOMIC_RELEASE);
 
     FrameHeader h;
     h.kind = FrameKind::Frame;
@@ -171,32 +208,93 @@ std::uint64_t FrameRing::write(const FrameView& frame) noexcept {
 
 std::uint64_t FrameRing::latestSequence() const noexcept { return latestMapped(m_base); }
 
+int FrameRing::pin(std::uint64_t sequence) noexcept {
+    std::uint64_t lock = 0;
+    const int slot = findSlot(m_base, m_layout, sequence, &lock);
+    if (slot < 0) {
+        return -1;
+    }
+    const auto i = static_cast<std::uint32_t>(slot);
+    m_pins[i].fetch_add(1, std::memory_order_relaxed);
+    __atomic_thread_fence(__ATOMIC_SEQ_CST);  // Dekker: the pin is visible before the lock word is read
+    if (lockWord(m_base, m_layout, i) != lock) {
+        m_pins[i].fetch_sub(1, std::memory_order_release);  // claimed by the writer meanwhile
+        return -1;
+    }
+    return slot;
+}
+
+void FrameRing::unpin(std::uint32_t slot) noexcept {
+    if (slot < m_layout.slots) {
+        m_pins[slot].fetch_sub(1, std::memory_order_release);
+    }
+}
+
 bool FrameRing::read(std::uint64_t sequence, FrameHeader* header, std::uint8_t* pixels) const noexcept {
     return readMapped(m_base, m_layout, sequence, header, pixels);
 }
 
 std::uint64_t FrameRing::latestMapped(const std::uint8_t* base) noexcept { return loadAcquire(base + kLatestOffset); }
 
+std::uint64_t FrameRing::lockWord(const std::uint8_t* base, const FrameRingLayout& layout, std::uint32_t slot) noexcept {
+    __atomic_thread_fence(__ATOMIC_ACQUIRE);
+    return __atomic_load_n(reinterpret_cast<const std::uint64_t*>(base + layout.slotOffset(slot)), __ATOMIC_RELAXED);
+}
+
+int FrameRing::findSlot(const std::uint8_t* base, const FrameRingLayout& layout, std::uint64_t sequence,
+                        std::uint64_t* lock) noexcept {
+    if (sequence == 0) {
+        return -1;
+    }
+    for (std::uint32_t i = 0; i < layout.slots; ++i) {
+        const std::uint8_t* s = base + layout.slotOffset(i);
+        const std::uint64_t before = loadAcquire(s);
+        if (before == 0 || (before & 1U) != 0) {
+            continue;
+        }
+        std::uint64_t seq = 0;
+        std::memcpy(&seq, s + kSlotHeaderOffset + 16, sizeof(seq));  // little-endian host (x86-64, AArch64)
+        __atomic_thread_fence(__ATOMIC_ACQUIRE);
+        if (seq == sequence && __atomic_load_n(reinterpret_cast<const std::uint64_t*>(s), __ATOMIC_RELAXED) == before) {
+            *lock = before;
+            return static_cast<int>(i);
+        }
+    }
+    return -1;
+}
+
+Status FrameRing::checkMapped(const std::uint8_t* base, const FrameRingLayout& layout) {
+    std::uint32_t hdr[7] = {};
+    std::memcpy(hdr, base, sizeof(hdr));
+    if (hdr[0] != kRingMagic) {
+        return Error{"ring header: no \"NMRG\" magic"};
+    }
+    if (hdr[1] != kRingVersion) {
+        return Error{"ring header: version " + std::to_string(hdr[1]) + ", this client reads " +
+                     std::to_string(kRingVersion)};
+    }
+    if (hdr[2] != layout.slots || hdr[3] != layout.width || hdr[4] != layout.height || hdr[5] != layout.stride ||
+        hdr[6] != static_cast<std::uint32_t>(layout.format)) {
+        return Error{"ring header: geometry differs from the handshake"};
+    }
+    return {};
+}
+
 bool FrameRing::readMapped(const std::uint8_t* base, const FrameRingLayout& layout, std::uint64_t sequence,
                            FrameHeader* header, std::uint8_t* pixels) noexcept {
     if (sequence == 0 || layout.slots == 0) {
         return false;
     }
-    const std::uint32_t slot = static_cast<std::uint32_t>((sequence - 1) % layout.slots);
-    const std::uint8_t* s = base + layout.slotOffset(slot);
-    // Sequence lock, reader side: keep the copy only if the lock word was even and unchanged.
-    const std::uint64_t before = loadAcquire(s);
-    if (before == 0 || (before & 1U) != 0) {
+    // The frame's slot, found by its sequence (the writer chooses slots, see write()).
+    std::uint64_t before = 0;
+    const int found = findSlot(base, layout, sequence, &before);
+    if (found < 0) {
         return false;
     }
+    const std::uint8_t* s = base + layout.slotOffset(static_cast<std::uint32_t>(found));
+    // Sequence lock, reader side: keep the copy only if the lock word was even and unchanged.
     std::uint8_t hb[kFrameHeaderBytes];
     std::memcpy(hb, s + kSlotHeaderOffset, sizeof(hb));
-    // The sequence number is in the header; check it before paying for the pixel copy.
-    std::uint64_t seq = 0;
-    std::memcpy(&seq, hb + 16, sizeof(seq));  // little-endian host (x86-64, AArch64)
-    if (seq != sequence) {
-        return false;
-    }
     if (pixels != nullptr) {
         std::memcpy(pixels, s + kSlotPixelOffset, layout.pixelBytes());
     }

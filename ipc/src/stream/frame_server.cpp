@@ -14,11 +14,11 @@
 #include <atomic>
 #include <cerrno>
 #include <cstring>
-#include <initializer_list>
 #include <iomanip>
 #include <map>
 #include <mutex>
 #include <optional>
+#include <stdexcept>
 #include <string_view>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -46,10 +46,12 @@ using Clock = std::chrono::steady_clock;
 enum class Via { Unix, Tcp, Http };
 enum class Phase { Handshake, Stream, HttpHead, Mjpeg, Draining };
 
-// One ring per (view, size, format), shared by all its clients. The caches hold the newest
+// One ring per (profile, format), shared by all its clients; the profile is a rendered profile's
+// name (or the view when the server has no list of rendered profiles). The caches hold the newest
 // frame in the forms the socket transports need, so N clients cost one copy/compression/encode.
 // zlib and JPEG come from the encoder thread (FrameEncoder), never from the I/O thread.
 struct RingEntry {
+    std::string key;   // what publish() names
     std::string view;
     std::shared_ptr<FrameRing> ring;
     std::size_t clients = 0;
@@ -76,8 +78,10 @@ struct Conn {
     bool dead = false;
     std::shared_ptr<RingEntry> ring;
     StreamPayload payload = StreamPayload::Shm;
+    bool hold = false;  // shm: holds frames in place until its ack (pinned slots)
     int fps = 0;
     bool awaitingAck = false;
+    int pinnedSlot = -1;  // shm: the slot of the notified frame, pinned until the ack
     bool pending = false;
     std::uint64_t lastSent = 0;
     std::uint64_t seen = 0;  // newest frame (in this client's encoding) it has been offered
@@ -98,7 +102,7 @@ struct Conn {
 };
 
 struct PublishTarget {
-    std::string view;
+    std::string key;
     std::shared_ptr<FrameRing> ring;
 };
 using PublishSet = std::vector<PublishTarget>;
@@ -146,7 +150,7 @@ public:
 
     Status start();
     void stop();
-    std::size_t publish(const std::string& view, const FrameView& frame);
+    std::size_t publish(const std::string& profile, const FrameView& frame);
     FrameServerStats stats() const {
         std::lock_guard lock(m_statsMutex);
         FrameServerStats s = m_stats;
@@ -159,7 +163,7 @@ public:
         std::lock_guard lock(m_statsMutex);
         return m_active;
     }
-    std::string metricsText() const;
+    void collectMetrics(MetricsRegistry& registry) const;
 
     FrameServerOptions m_options;
     int m_tcpPort = -1;
@@ -184,8 +188,9 @@ private:
                         const std::string& message);
     void closeWith(Conn& c, const std::string& bytes);
     std::string checkHttpAccess(const Conn& c, const StreamHttpRequest& req, int* code);
-    Status checkRendered(const StreamProfile& profile);
-    Status attach(Conn& c, const StreamProfile& profile);
+    Result<std::string> resolveProfile(const StreamProfile& profile);
+    Status attach(Conn& c, const std::string& key, const StreamProfile& profile);
+    void unpin(Conn& c);
     void offer(Conn& c, Clock::time_point now);
     void sendFrame(Conn& c);
     bool fillRaw(RingEntry& e, std::uint64_t seq);
@@ -209,6 +214,7 @@ private:
     std::atomic<bool> m_running{false};
     FrameEncoder m_encoder;  // zlib/JPEG off the I/O thread
     std::uint64_t m_ringCounter = 0;
+    std::uint64_t m_retiredPinnedOverwrites = 0;  // of rings freed since (server thread)
     PeerAllowList m_allowed;  // allowedPeers plus unixGroup
 
     mutable std::mutex m_publishMutex;  // guards the pointer swap only, never I/O
@@ -300,7 +306,7 @@ void FrameServer::Impl::wake() noexcept {
     [[maybe_unused]] const auto n = ::write(m_wakeFd.get(), &one, sizeof(one));
 }
 
-std::size_t FrameServer::Impl::publish(const std::string& view, const FrameView& frame) {
+std::size_t FrameServer::Impl::publish(const std::string& profile, const FrameView& frame) {
     const auto t0 = Clock::now();
     std::shared_ptr<const PublishSet> set;
     {
@@ -309,7 +315,7 @@ std::size_t FrameServer::Impl::publish(const std::string& view, const FrameView&
     }
     std::size_t written = 0;
     for (const auto& t : *set) {
-        if (t.view == view && t.ring->write(frame) != 0) {
+        if (t.key == profile && t.ring->write(frame) != 0) {
             ++written;
         }
     }
@@ -586,15 +592,17 @@ void FrameServer::Impl::onHandshake(Conn& c, const std::string& line) {
         handshakeError(c, "handshake: payload \"shm\" needs the Unix socket; use \"raw\" or \"zlib\" over TCP");
         return;
     }
-    if (auto s = checkRendered(r.profile); !s) {
-        handshakeError(c, "handshake: " + s.message());
+    auto key = resolveProfile(r.profile);
+    if (!key) {
+        handshakeError(c, "handshake: " + key.error().message);
         return;
     }
-    if (auto s = attach(c, r.profile); !s) {
+    if (auto s = attach(c, key.value(), r.profile); !s) {
         handshakeError(c, s.message());
         return;
     }
     c.payload = r.payload;
+    c.hold = r.hold;
     c.fps = r.profile.fps;
     c.ring->maxFps = std::max(c.ring->maxFps, effectiveFps(c.fps));
     const FrameRingLayout& l = c.ring->ring->layout();
@@ -605,6 +613,9 @@ void FrameServer::Impl::onHandshake(Conn& c, const std::string& line) {
                         {"fps", r.profile.fps}, {"view", r.profile.view},
                         {"format", pixelFormatName(r.profile.format)}};
     reply["payload"] = streamPayloadName(r.payload);
+    if (r.hold) {
+        reply["hold"] = true;
+    }
     reply["stride"] = l.stride;
     reply["header_bytes"] = kFrameHeaderBytes;
     if (r.payload == StreamPayload::Shm) {
@@ -660,6 +671,7 @@ void FrameServer::Impl::onStreamBytes(Conn& c) {
         const auto b = static_cast<unsigned char>(c.in[i]);
         if (c.payload == StreamPayload::Shm && b == 'A' && c.awaitingAck) {
             c.awaitingAck = false;
+            unpin(c);  // the client is done with the frame: its slot may be written again
             c.lastProgress = Clock::now();
             if (c.pending && !c.busy()) {
                 sendFrame(c);
@@ -675,34 +687,54 @@ void FrameServer::Impl::onStreamBytes(Conn& c) {
     c.in.clear();
 }
 
-Status FrameServer::Impl::checkRendered(const StreamProfile& profile) {
+Result<std::string> FrameServer::Impl::resolveProfile(const StreamProfile& profile) {
     const auto& rendered = m_options.renderedProfiles;
     if (rendered.empty()) {
-        return {};
+        return profile.view;
     }
+    const auto describe = [](const std::string& view, int w, int h) {
+        return view + " " + std::to_string(w) + "x" + std::to_string(h);
+    };
+    const auto refuse = [this](std::string message) -> Result<std::string> {
+        std::lock_guard lock(m_statsMutex);
+        ++m_stats.refusedNotRendered;
+        return Error{std::move(message)};
+    };
+    // By name first: two profiles may share a view and size and differ in style (glowing roads).
+    for (const auto& r : rendered) {
+        if (r.name == profile.name) {
+            if (r.view == profile.view && r.width == profile.width && r.height == profile.height) {
+                return r.name;
+            }
+            return refuse("profile " + r.name + " is rendered as " + describe(r.view, r.width, r.height) + ", not " +
+                          describe(profile.view, profile.width, profile.height));
+        }
+    }
+    // Another name: the first rendered profile of that view and size.
     for (const auto& r : rendered) {
         if (r.view == profile.view && r.width == profile.width && r.height == profile.height) {
-            return {};
+            return r.name;
         }
     }
     std::string list;
     for (const auto& r : rendered) {
-        list += (list.empty() ? "" : ", ") + r.name + " (" + r.view + " " + std::to_string(r.width) + "x" +
-                std::to_string(r.height) + ")";
+        list += (list.empty() ? "" : ", ") + r.name + " (" + describe(r.view, r.width, r.height) + ")";
     }
-    {
-        std::lock_guard lock(m_statsMutex);
-        ++m_stats.refusedNotRendered;
-    }
-    return Error{profile.view + " " + std::to_string(profile.width) + "x" + std::to_string(profile.height) +
-                 " is not rendered here; rendered: " + list};
+    return refuse(describe(profile.view, profile.width, profile.height) + " is not rendered here; rendered: " + list);
 }
 
-Status FrameServer::Impl::attach(Conn& c, const StreamProfile& profile) {
+void FrameServer::Impl::unpin(Conn& c) {
+    if (c.pinnedSlot >= 0 && c.ring) {
+        c.ring->ring->unpin(static_cast<std::uint32_t>(c.pinnedSlot));
+    }
+    c.pinnedSlot = -1;
+}
+
+Status FrameServer::Impl::attach(Conn& c, const std::string& key, const StreamProfile& profile) {
     for (const auto& e : m_rings) {
         const FrameRingLayout& l = e->ring->layout();
-        if (e->view == profile.view && static_cast<int>(l.width) == profile.width &&
-            static_cast<int>(l.height) == profile.height && l.format == profile.format) {
+        if (e->key == key && static_cast<int>(l.width) == profile.width && static_cast<int>(l.height) == profile.height &&
+            l.format == profile.format) {
             c.ring = e;
             ++e->clients;
             e->maxFps = std::max(e->maxFps, effectiveFps(profile.fps));
@@ -736,7 +768,7 @@ Status FrameServer::Impl::attach(Conn& c, const StreamProfile& profile) {
                      size(want.totalBytes) + ", " + size(used) + " of " + size(m_options.ringMemoryBytes) +
                      " are in use; try again later"};
     }
-    const std::string name = "navmap-ring-" + profile.view + "-" + std::to_string(profile.width) + "x" +
+    const std::string name = "navmap-ring-" + key + "-" + std::to_string(profile.width) + "x" +
                              std::to_string(profile.height) + "-" + pixelFormatName(profile.format) + "-" +
                              std::to_string(++m_ringCounter);
     auto ring = FrameRing::create(name, m_options.ringSlots, static_cast<std::uint32_t>(profile.width),
@@ -745,6 +777,7 @@ Status FrameServer::Impl::attach(Conn& c, const StreamProfile& profile) {
         return Error{ring.error().message};
     }
     auto e = std::make_shared<RingEntry>();
+    e->key = key;
     e->view = profile.view;
     e->ring = std::shared_ptr<FrameRing>(std::move(ring.value()));
     e->clients = 1;
@@ -830,6 +863,7 @@ void FrameServer::Impl::protocolError(Conn& c, const std::string& message) {
     c.in.clear();
     c.pending = false;
     c.awaitingAck = false;
+    unpin(c);
     finishWith(c, std::string(hb.begin(), hb.end()) + message);
 }
 
@@ -955,15 +989,27 @@ void FrameServer::Impl::onHttpRequest(Conn& c, const std::string& head) {
         return;
     }
     if (req.path == "/" || req.path == "/index.html") {
-        httpReply(c, 200, "OK", "text/html; charset=utf-8", stream_detail::viewerPage(m_options.mjpegProfile));
+        std::vector<std::string> names;
+        for (const auto& r : m_options.renderedProfiles) {
+            names.push_back(r.name);
+        }
+        httpReply(c, 200, "OK", "text/html; charset=utf-8", stream_detail::viewerPage(m_options.mjpegProfile, names));
     } else if (req.path == "/status") {
         httpReply(c, 200, "OK", "application/json", statusJson());
     } else if (req.path == "/metrics") {
-        std::string text = m_options.metricsText ? m_options.metricsText() : std::string();
-        if (!text.empty() && text.back() != '\n') {
-            text += '\n';
+        // One registry per scrape: the server's families, then the daemon's; a family declared
+        // twice is a bug, answered with 500 and its name instead of a malformed exposition.
+        MetricsRegistry registry;
+        try {
+            collectMetrics(registry);
+            if (m_options.metrics) {
+                m_options.metrics(registry);
+            }
+        } catch (const std::logic_error& e) {
+            httpReply(c, 500, "Internal Server Error", "text/plain", std::string("metrics: ") + e.what() + "\n");
+            return;
         }
-        httpReply(c, 200, "OK", "text/plain; version=0.0.4", text + metricsText());
+        httpReply(c, 200, "OK", "text/plain; version=0.0.4", registry.text());
     } else if (req.path == "/stream.mjpg") {
         // The query selects the profile exactly like a handshake: ?profile=hud or
         // ?width=640&height=240&view=bird&fps=10. It goes through the same validation.
@@ -1004,11 +1050,12 @@ void FrameServer::Impl::onHttpRequest(Conn& c, const std::string& head) {
             httpReply(c, 400, "Bad Request", "text/plain", r.error().message + "\n");
             return;
         }
-        if (auto s = checkRendered(r.value().profile); !s) {
-            httpReply(c, 400, "Bad Request", "text/plain", s.message() + "\n");
+        auto key = resolveProfile(r.value().profile);
+        if (!key) {
+            httpReply(c, 400, "Bad Request", "text/plain", key.error().message + "\n");
             return;
         }
-        if (auto s = attach(c, r.value().profile); !s) {
+        if (auto s = attach(c, key.value(), r.value().profile); !s) {
             const bool full = s.message().rfind("ring memory:", 0) == 0;
             httpReply(c, full ? 503 : 500, full ? "Service Unavailable" : "Internal Server Error", "text/plain",
                       s.message() + "\n");
@@ -1111,8 +1158,19 @@ void FrameServer::Impl::sendFrame(Conn& c) {
             if (seq == 0 || seq <= c.lastSent) {
                 return;
             }
-            if (c.payload == StreamPayload::Shm) {
+            if (c.payload == StreamPayload::Shm && !c.hold) {
                 ok = e.ring->read(seq, &h, nullptr);
+            } else if (c.payload == StreamPayload::Shm) {
+                // A client that holds frames: the slot is pinned from the notification until the
+                // ack, and the writer leaves it alone while another one is free (copying clients
+                // pin nothing: their seqlock copy tells them when a frame was overwritten).
+                const int slot = e.ring->pin(seq);
+                ok = slot >= 0 && e.ring->read(seq, &h, nullptr);
+                if (slot >= 0 && !ok) {
+                    e.ring->unpin(static_cast<std::uint32_t>(slot));
+                } else if (ok) {
+                    c.pinnedSlot = slot;
+                }
             } else {
                 ok = fillRaw(e, seq);
                 h = e.rawHeader;
@@ -1202,6 +1260,14 @@ void FrameServer::Impl::requestEncodes() {
 
 void FrameServer::Impl::deliverNewFrames() {
     const auto now = Clock::now();
+    std::uint64_t pinnedOverwrites = m_retiredPinnedOverwrites;
+    for (const auto& e : m_rings) {
+        pinnedOverwrites += e->ring->pinnedOverwrites();
+    }
+    {
+        std::lock_guard lock(m_statsMutex);
+        m_stats.pinnedOverwrites = pinnedOverwrites;
+    }
     for (const auto& c : m_conns) {
         if (c->deferred && !c->dead && now >= c->deferredUntil) {
             offer(*c, now);
@@ -1304,6 +1370,7 @@ void FrameServer::Impl::reap() {
     bool changed = false;
     for (auto it = m_conns.begin(); it != m_conns.end();) {
         if ((*it)->dead) {
+            unpin(**it);
             if ((*it)->ring) {
                 --(*it)->ring->clients;
             }
@@ -1317,6 +1384,11 @@ void FrameServer::Impl::reap() {
     }
     if (changed) {
         const auto before = m_rings.size();
+        for (const auto& e : m_rings) {
+            if (e->clients == 0) {
+                m_retiredPinnedOverwrites += e->ring->pinnedOverwrites();
+            }
+        }
         std::erase_if(m_rings, [](const auto& e) { return e->clients == 0; });
         for (const auto& e : m_rings) {
             int fps = 0;
@@ -1336,18 +1408,18 @@ void FrameServer::Impl::refreshRings() {
     auto set = std::make_shared<PublishSet>();
     std::vector<ActiveProfile> active;
     for (const auto& e : m_rings) {
-        set->push_back({e->view, e->ring});
+        set->push_back({e->key, e->ring});
         const FrameRingLayout& l = e->ring->layout();
         bool merged = false;
         for (auto& a : active) {
-            if (a.view == e->view && a.width == static_cast<int>(l.width) && a.height == static_cast<int>(l.height)) {
+            if (a.profile == e->key && a.width == static_cast<int>(l.width) && a.height == static_cast<int>(l.height)) {
                 a.clients += e->clients;
                 a.maxFps = std::max(a.maxFps, e->maxFps);
                 merged = true;
             }
         }
         if (!merged) {
-            active.push_back({e->view, static_cast<int>(l.width), static_cast<int>(l.height), e->maxFps, e->clients});
+            active.push_back({e->key, e->view, static_cast<int>(l.width), static_cast<int>(l.height), e->maxFps, e->clients});
         }
     }
     {
@@ -1378,70 +1450,55 @@ void FrameServer::Impl::refreshRings() {
     }
 }
 
-namespace {
-
-// One metric family in the Prometheus text format: HELP and TYPE lines, then one sample per
-// label set ("" for none). 15 significant digits keep counters exact and print gauges plainly.
-struct Sample {
-    const char* labels;
-    double value;
-};
-void metricFamily(std::ostream& os, const char* name, const char* type, const char* help,
-                  std::initializer_list<Sample> samples) {
-    os << "# HELP " << name << ' ' << help << "\n# TYPE " << name << ' ' << type << '\n';
-    for (const Sample& s : samples) os << name << s.labels << ' ' << std::setprecision(15) << s.value << '\n';
-}
-
-}  // namespace
-
-std::string FrameServer::Impl::metricsText() const {
+void FrameServer::Impl::collectMetrics(MetricsRegistry& r) const {
     const FrameServerStats s = stats();
     const stream_detail::EncoderStats es = m_encoder.stats();  // zlib and JPEG: the encoder thread
     auto d = [](auto v) { return static_cast<double>(v); };
-    std::ostringstream os;
-    metricFamily(os, "navmap_stream_clients", "gauge", "Frame-stream clients connected now, by transport.",
-                 {{"{transport=\"shm\"}", d(s.shmClients)},
-                  {"{transport=\"tcp\"}", d(s.tcpClients)},
-                  {"{transport=\"mjpeg\"}", d(s.mjpegClients)}});
-    metricFamily(os, "navmap_stream_rings", "gauge", "Shared-memory rings (one per profile with clients).",
-                 {{"", d(s.rings)}});
-    metricFamily(os, "navmap_stream_frames_published_total", "counter", "Frames published by the render loop.",
-                 {{"", d(s.published)}});
-    metricFamily(os, "navmap_stream_frames_sent_total", "counter", "Frames handed to clients.", {{"", d(s.framesSent)}});
-    metricFamily(os, "navmap_stream_frames_dropped_total", "counter", "Frames skipped because a client was busy.",
-                 {{"", d(s.framesDropped)}});
-    metricFamily(os, "navmap_stream_connections_total", "counter", "Connections accepted.", {{"", d(s.accepted)}});
-    metricFamily(os, "navmap_stream_errors_total", "counter", "Rejected input, by kind.",
-                 {{"{kind=\"handshake\"}", d(s.handshakeErrors)},
-                  {"{kind=\"protocol\"}", d(s.protocolErrors)},
-                  {"{kind=\"http\"}", d(s.httpErrors)}});
-    metricFamily(os, "navmap_stream_stall_disconnects_total", "counter", "Clients disconnected after the stall timeout.",
-                 {{"", d(s.stallDisconnects)}});
-    metricFamily(os, "navmap_stream_timeouts_total", "counter",
-                 "Connections closed for not finishing the handshake, or not getting a first frame, in time.",
-                 {{"{kind=\"handshake\"}", d(s.handshakeTimeouts)}, {"{kind=\"first_frame\"}", d(s.firstFrameTimeouts)}});
-    metricFamily(os, "navmap_stream_refusals_total", "counter", "Connections and requests refused, by reason.",
-                 {{"{reason=\"peer\"}", d(s.refusedPeer)},
-                  {"{reason=\"transport_full\"}", d(s.refusedTransportFull)},
-                  {"{reason=\"uid_full\"}", d(s.refusedUidFull)},
-                  {"{reason=\"not_rendered\"}", d(s.refusedNotRendered)},
-                  {"{reason=\"ring_memory\"}", d(s.refusedRingMemory)},
-                  {"{reason=\"http_host\"}", d(s.refusedHost)},
-                  {"{reason=\"http_token\"}", d(s.refusedToken)}});
-    metricFamily(os, "navmap_stream_ring_bytes", "gauge", "Shared memory of all rings, and its ceiling (0: none).",
-                 {{"{stat=\"used\"}", d(s.ringBytes)}, {"{stat=\"limit\"}", d(m_options.ringMemoryBytes)}});
-    metricFamily(os, "navmap_stream_publish_seconds", "gauge", "Render-thread cost of publish().",
-                 {{"{stat=\"last\"}", s.publishMsLast / 1000.0}, {"{stat=\"max\"}", s.publishMsMax / 1000.0}});
-    metricFamily(os, "navmap_stream_encodes_total", "counter",
-                 "Frames compressed (zlib) or JPEG-encoded by the encoder thread.", {{"", d(es.encoded)}});
-    metricFamily(os, "navmap_stream_encodes_superseded_total", "counter",
-                 "Encode requests replaced by a newer frame before they started.", {{"", d(es.replaced)}});
-    metricFamily(os, "navmap_stream_encode_seconds", "gauge", "Encoder-thread time per frame.",
-                 {{"{format=\"zlib\",stat=\"last\"}", es.zlibMsLast / 1000.0},
-                  {"{format=\"zlib\",stat=\"max\"}", es.zlibMsMax / 1000.0},
-                  {"{format=\"jpeg\",stat=\"last\"}", es.jpegMsLast / 1000.0},
-                  {"{format=\"jpeg\",stat=\"max\"}", es.jpegMsMax / 1000.0}});
-    return os.str();
+    r.gauge("navmap_stream_clients", "Frame-stream clients connected now, by transport.")
+        .sample({{"transport", "shm"}}, d(s.shmClients))
+        .sample({{"transport", "tcp"}}, d(s.tcpClients))
+        .sample({{"transport", "mjpeg"}}, d(s.mjpegClients));
+    r.gauge("navmap_stream_rings", "Shared-memory rings (one per profile and pixel format with clients).").sample(d(s.rings));
+    r.counter("navmap_stream_frames_published_total", "Frames published by the render loop.").sample(d(s.published));
+    r.counter("navmap_stream_frames_sent_total", "Frames handed to clients.").sample(d(s.framesSent));
+    r.counter("navmap_stream_frames_dropped_total", "Frames skipped because a client was busy.").sample(d(s.framesDropped));
+    r.counter("navmap_stream_held_frames_overwritten_total",
+              "Frames written over a slot a client held, because every slot of its ring was held.")
+        .sample(d(s.pinnedOverwrites));
+    r.counter("navmap_stream_connections_total", "Connections accepted.").sample(d(s.accepted));
+    r.counter("navmap_stream_errors_total", "Rejected input, by kind.")
+        .sample({{"kind", "handshake"}}, d(s.handshakeErrors))
+        .sample({{"kind", "protocol"}}, d(s.protocolErrors))
+        .sample({{"kind", "http"}}, d(s.httpErrors));
+    r.counter("navmap_stream_stall_disconnects_total", "Clients disconnected after the stall timeout.")
+        .sample(d(s.stallDisconnects));
+    r.counter("navmap_stream_timeouts_total",
+              "Connections closed for not finishing the handshake, or not getting a first frame, in time.")
+        .sample({{"kind", "handshake"}}, d(s.handshakeTimeouts))
+        .sample({{"kind", "first_frame"}}, d(s.firstFrameTimeouts));
+    r.counter("navmap_stream_refusals_total", "Connections and requests refused, by reason.")
+        .sample({{"reason", "peer"}}, d(s.refusedPeer))
+        .sample({{"reason", "transport_full"}}, d(s.refusedTransportFull))
+        .sample({{"reason", "uid_full"}}, d(s.refusedUidFull))
+        .sample({{"reason", "not_rendered"}}, d(s.refusedNotRendered))
+        .sample({{"reason", "ring_memory"}}, d(s.refusedRingMemory))
+        .sample({{"reason", "http_host"}}, d(s.refusedHost))
+        .sample({{"reason", "http_token"}}, d(s.refusedToken));
+    r.gauge("navmap_stream_ring_bytes", "Shared memory of all rings, and its ceiling (0: none).")
+        .sample({{"stat", "used"}}, d(s.ringBytes))
+        .sample({{"stat", "limit"}}, d(m_options.ringMemoryBytes));
+    r.gauge("navmap_stream_publish_seconds", "Render-thread cost of publish().")
+        .sample({{"stat", "last"}}, s.publishMsLast / 1000.0)
+        .sample({{"stat", "max"}}, s.publishMsMax / 1000.0);
+    r.counter("navmap_stream_encodes_total", "Frames compressed (zlib) or JPEG-encoded by the encoder thread.")
+        .sample(d(es.encoded));
+    r.counter("navmap_stream_encodes_superseded_total", "Encode requests replaced by a newer frame before they started.")
+        .sample(d(es.replaced));
+    r.gauge("navmap_stream_encode_seconds", "Encoder-thread time per frame.")
+        .sample({{"format", "zlib"}, {"stat", "last"}}, es.zlibMsLast / 1000.0)
+        .sample({{"format", "zlib"}, {"stat", "max"}}, es.zlibMsMax / 1000.0)
+        .sample({{"format", "jpeg"}, {"stat", "last"}}, es.jpegMsLast / 1000.0)
+        .sample({{"format", "jpeg"}, {"stat", "max"}}, es.jpegMsMax / 1000.0);
 }
 
 std::string FrameServer::Impl::statusJson() const {
@@ -1488,10 +1545,15 @@ FrameServer::FrameServer(FrameServerOptions options) : m_impl(std::make_unique<I
 FrameServer::~FrameServer() = default;
 Status FrameServer::start() { return m_impl->start(); }
 void FrameServer::stop() { m_impl->stop(); }
-std::size_t FrameServer::publish(const std::string& view, const FrameView& frame) { return m_impl->publish(view, frame); }
+std::size_t FrameServer::publish(const std::string& profile, const FrameView& frame) { return m_impl->publish(profile, frame); }
 std::vector<ActiveProfile> FrameServer::activeProfiles() const { return m_impl->activeProfiles(); }
 FrameServerStats FrameServer::stats() const { return m_impl->stats(); }
-std::string FrameServer::metricsText() const { return m_impl->metricsText(); }
+void FrameServer::collectMetrics(MetricsRegistry& registry) const { m_impl->collectMetrics(registry); }
+std::string FrameServer::metricsText() const {
+    MetricsRegistry registry;
+    m_impl->collectMetrics(registry);
+    return registry.text();
+}
 int FrameServer::tcpPort() const noexcept { return m_impl->m_tcpPort; }
 int FrameServer::httpPort() const noexcept { return m_impl->m_httpPort; }
 const FrameServerOptions& FrameServer::options() const noexcept { return m_impl->m_options; }

@@ -1,6 +1,8 @@
 // navmap-view: a display client for navmapd's frame stream (docs/frame-protocol.md).
 // Connects with a profile, receives frames, optionally saves them as PNG, and prints frames/s,
 // latency p50/p99 (source timestamp -> receipt, and render -> receipt) and drops.
+// Exit status: 0 ok, 1 the stream failed (refused, closed, a PNG not written), 2 usage
+// (docs/tools.md).
 
 #include <signal.h>
 
@@ -10,11 +12,14 @@
 #include <cstdlib>
 #include <ctime>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "navmap/cli/cli.h"
 #include "navmap/ipc/frame_png.h"
 #include "navmap/ipc/stream_client.h"
+#include "navmap/ipc/zlib_inflater.h"
 
 namespace {
 
@@ -23,118 +28,84 @@ struct Options {
     std::string tcpHost;
     int tcpPort = -1;
     navmap::ipc::StreamRequest request;
-    bool payloadGiven = false;
     long frames = 100;
     double duration = 0;
     std::string saveDir;
     long saveCount = -1;
     bool json = false;
+    bool zeroCopy = false;
 };
 
-void usage(std::FILE* f) {
-    std::fputs(
-        "usage: navmap-view (--unix PATH | --tcp HOST:PORT) [options]\n"
-        "  --profile NAME       cluster | hud | center | a custom name (default cluster)\n"
-        "  --width W --height H --view bird|snail|hud --fps F --format rgba8|rgb565\n"
-        "  --payload shm|raw|zlib  (default: shm over --unix, raw over --tcp)\n"
-        "  --frames N           stop after N frames (default 100, 0 = no limit)\n"
-        "  --duration S         stop after S seconds\n"
-        "  --save DIR           write frames as DIR/frame_<seq>.png\n"
-        "  --save-count N       save at most N frames (default: all received)\n"
-        "  --json               print the summary as one JSON object\n",
-        f);
-}
-
-bool parseInt(const char* s, long lo, long hi, long* out) {
-    char* end = nullptr;
-    const long v = std::strtol(s, &end, 10);
-    if (end == s || *end != '\0' || v < lo || v > hi) {
-        return false;
+// Parses the command line into `o`; nullopt to go on, else the exit status.
+std::optional<int> parseArgs(int argc, char** argv, Options* o) {
+    using navmap::cli::finiteIn;
+    using navmap::cli::integerIn;
+    CLI::App app{"navmap-view: receive navmapd's frames as a display would, save PNGs, print fps, latency and drops"};
+    navmap::cli::setUp(app, "navmap-view");
+    std::string profile = "cluster", view, format, payload, tcp;
+    std::optional<int> width, height, fps;
+    auto* unix = app.add_option("--unix", o->unixPath, "navmapd's frame socket (payload shm by default)");
+    auto* tcpOpt = app.add_option("--tcp", tcp, "HOST:PORT of navmapd's TCP frame server (payload raw by default)");
+    unix->excludes(tcpOpt);
+    app.add_option("--profile", profile, "cluster | hud | center | a profile the daemon renders")->capture_default_str();
+    app.add_option("--width", width, "frame width (default: the profile's)")->check(integerIn(16, 4096));
+    app.add_option("--height", height, "frame height (default: the profile's)")->check(integerIn(16, 4096));
+    app.add_option("--view", view, "bird | snail | hud (default: the profile's)")->check(CLI::IsMember({"bird", "snail", "hud"}));
+    app.add_option("--fps", fps, "most frames per second wanted, 0 = every frame (default: the profile's)")
+        ->check(integerIn(0, 1000));
+    app.add_option("--format", format, "rgba8 | rgb565 (default rgba8)")->check(CLI::IsMember({"rgba8", "rgb565"}));
+    app.add_option("--payload", payload, "shm | raw | zlib (default: shm over --unix, raw over --tcp)")
+        ->check(CLI::IsMember({"shm", "raw", "zlib"}));
+    app.add_option("--frames", o->frames, "stop after N frames, 0 = no limit")->capture_default_str()->check(integerIn(0, 1LL << 40));
+    app.add_option("--duration", o->duration, "stop after S seconds, 0 = no limit")->check(finiteIn(0.0, 1e7));
+    app.add_option("--save", o->saveDir, "write frames as DIR/frame_<seq>.png");
+    app.add_option("--save-count", o->saveCount, "save at most N frames (default: all received)")->check(integerIn(0, 1LL << 40));
+    app.add_flag("--zero-copy", o->zeroCopy, "payload shm: use each frame in place in the ring until the next (no copy)");
+    app.add_flag("--json", o->json, "print the summary as one JSON object");
+    if (const auto exit_status = navmap::cli::parse(app, argc, argv)) {
+        return exit_status;
     }
-    *out = v;
-    return true;
-}
-
-// Returns an empty string on success, else the problem.
-std::string parseArgs(int argc, char** argv, Options* o) {
-    o->request.profile = *navmap::ipc::defaultStreamProfile("cluster");
-    navmap::ipc::StreamProfile& p = o->request.profile;
-    for (int i = 1; i < argc; ++i) {
-        const std::string a = argv[i];
-        const auto value = [&]() -> const char* { return i + 1 < argc ? argv[++i] : nullptr; };
-        long n = 0;
-        if (a == "--help" || a == "-h") {
-            usage(stdout);
-            std::exit(0);
-        } else if (a == "--json") {
-            o->json = true;
-        } else {
-            const char* v = value();
-            if (v == nullptr) {
-                return a + " needs a value";
-            }
-            if (a == "--unix") {
-                o->unixPath = v;
-            } else if (a == "--tcp") {
-                const std::string hp = v;
-                const auto colon = hp.rfind(':');
-                if (colon == std::string::npos || !parseInt(hp.c_str() + colon + 1, 1, 65535, &n)) {
-                    return "--tcp wants HOST:PORT";
-                }
-                o->tcpHost = hp.substr(0, colon);
-                o->tcpPort = static_cast<int>(n);
-            } else if (a == "--profile") {
-                if (auto d = navmap::ipc::defaultStreamProfile(v)) {
-                    p = *d;
-                } else {
-                    p.name = v;
-                }
-            } else if (a == "--width" && parseInt(v, 16, 4096, &n)) {
-                p.width = static_cast<int>(n);
-            } else if (a == "--height" && parseInt(v, 16, 4096, &n)) {
-                p.height = static_cast<int>(n);
-            } else if (a == "--fps" && parseInt(v, 1, 1000, &n)) {
-                p.fps = static_cast<int>(n);
-            } else if (a == "--view") {
-                p.view = v;
-            } else if (a == "--format") {
-                const auto f = navmap::ipc::parsePixelFormat(v);
-                if (!f) {
-                    return "--format: rgba8 or rgb565";
-                }
-                p.format = *f;
-            } else if (a == "--payload") {
-                const std::string s = v;
-                o->payloadGiven = true;
-                if (s == "shm") {
-                    o->request.payload = navmap::ipc::StreamPayload::Shm;
-                } else if (s == "raw") {
-                    o->request.payload = navmap::ipc::StreamPayload::Raw;
-                } else if (s == "zlib") {
-                    o->request.payload = navmap::ipc::StreamPayload::Zlib;
-                } else {
-                    return "--payload: shm, raw or zlib";
-                }
-            } else if (a == "--frames" && parseInt(v, 0, 1L << 40, &n)) {
-                o->frames = n;
-            } else if (a == "--duration") {
-                o->duration = std::atof(v);
-            } else if (a == "--save") {
-                o->saveDir = v;
-            } else if (a == "--save-count" && parseInt(v, 0, 1L << 40, &n)) {
-                o->saveCount = n;
-            } else {
-                return "bad option or value: " + a + " " + v;
-            }
+    const auto usage = [](const std::string& why) {
+        std::fprintf(stderr, "navmap-view: %s\nRun with --help for more information.\n", why.c_str());
+        return navmap::cli::kExitUsage;
+    };
+    if (o->unixPath.empty() == tcp.empty()) {
+        return usage("give exactly one of --unix PATH and --tcp HOST:PORT");
+    }
+    if (!tcp.empty()) {
+        const auto colon = tcp.rfind(':');
+        char* end = nullptr;
+        const long port = colon == std::string::npos ? 0 : std::strtol(tcp.c_str() + colon + 1, &end, 10);
+        if (colon == std::string::npos || colon == 0 || end == tcp.c_str() + colon + 1 || *end != '\0' || port < 1 ||
+            port > 65535) {
+            return usage("--tcp: '" + tcp + "' is not HOST:PORT with a port in [1, 65535]");
         }
+        o->tcpHost = tcp.substr(0, colon);
+        o->tcpPort = static_cast<int>(port);
     }
-    if (o->unixPath.empty() == (o->tcpPort < 0)) {
-        return "give exactly one of --unix PATH and --tcp HOST:PORT";
+    navmap::ipc::StreamProfile& p = o->request.profile;
+    if (auto d = navmap::ipc::defaultStreamProfile(profile)) {
+        p = *d;
+    } else {
+        p.name = profile;
     }
-    if (!o->payloadGiven) {
+    if (width) p.width = *width;
+    if (height) p.height = *height;
+    if (fps) p.fps = *fps;
+    if (!view.empty()) p.view = view;
+    if (!format.empty()) p.format = *navmap::ipc::parsePixelFormat(format);
+    if (payload.empty()) {
         o->request.payload = o->unixPath.empty() ? navmap::ipc::StreamPayload::Raw : navmap::ipc::StreamPayload::Shm;
+    } else {
+        o->request.payload = payload == "shm"   ? navmap::ipc::StreamPayload::Shm
+                             : payload == "raw" ? navmap::ipc::StreamPayload::Raw
+                                                : navmap::ipc::StreamPayload::Zlib;
     }
-    return {};
+    if (o->zeroCopy && o->request.payload != navmap::ipc::StreamPayload::Shm) {
+        return usage("--zero-copy needs payload shm (--unix)");
+    }
+    o->request.hold = o->zeroCopy;
+    return std::nullopt;
 }
 
 double percentile(std::vector<double> v, double q) {
@@ -150,10 +121,8 @@ double percentile(std::vector<double> v, double q) {
 
 int main(int argc, char** argv) {
     Options o;
-    if (const std::string err = parseArgs(argc, argv, &o); !err.empty()) {
-        std::fprintf(stderr, "navmap-view: %s\n", err.c_str());
-        usage(stderr);
-        return 2;
+    if (const auto exit_status = parseArgs(argc, argv, &o)) {
+        return *exit_status;
     }
     // SIGINT/SIGTERM are blocked and polled between frames (no handler, no global flag).
     sigset_t stopSignals;
@@ -162,8 +131,11 @@ int main(int argc, char** argv) {
     sigaddset(&stopSignals, SIGTERM);
     sigprocmask(SIG_BLOCK, &stopSignals, nullptr);
 
-    auto connected = o.unixPath.empty() ? navmap::ipc::StreamClient::connectTcp(o.tcpHost, o.tcpPort, o.request)
-                                        : navmap::ipc::StreamClient::connectUnix(o.unixPath, o.request);
+    const auto timeout = std::chrono::seconds(5);
+    auto connected = o.unixPath.empty()
+                         ? navmap::ipc::StreamClient::connectTcp(o.tcpHost, o.tcpPort, o.request, timeout,
+                                                                 navmap::ipc::zlibInflater())
+                         : navmap::ipc::StreamClient::connectUnix(o.unixPath, o.request, timeout, navmap::ipc::zlibInflater());
     if (!connected) {
         std::fprintf(stderr, "navmap-view: %s\n", connected.error().message.c_str());
         return 1;
@@ -184,6 +156,7 @@ int main(int argc, char** argv) {
                     navmap::ipc::streamPayloadName(client.payload()));
     }
     navmap::ipc::ReceivedFrame frame;
+    navmap::ipc::HeldFrame held;
     std::vector<double> sourceLatencyMs;
     std::vector<double> renderLatencyMs;
     long received = 0;
@@ -204,7 +177,8 @@ int main(int argc, char** argv) {
         if ((o.frames > 0 && received >= o.frames) || (o.duration > 0 && elapsed >= o.duration)) {
             break;
         }
-        auto r = client.next(frame, std::chrono::milliseconds(200));
+        auto r = o.zeroCopy ? client.nextHeld(held, std::chrono::milliseconds(200))
+                            : client.next(frame, std::chrono::milliseconds(200));
         if (!r) {
             std::fprintf(stderr, "navmap-view: %s\n", r.error().message.c_str());
             endReason = "error";
@@ -214,21 +188,25 @@ int main(int argc, char** argv) {
         if (!r.value()) {
             continue;
         }
+        // In place (--zero-copy) or the client's copy: the same header and pixels either way.
+        const navmap::ipc::FrameHeader& header = o.zeroCopy ? held.header : frame.header;
+        const std::uint8_t* pixels = o.zeroCopy ? held.pixels : frame.pixels.data();
+        const std::int64_t receiveTimeNs = o.zeroCopy ? held.receiveTimeNs : frame.receiveTimeNs;
         lastFrame = std::chrono::steady_clock::now();
         if (received == 0) {
             firstFrame = lastFrame;
         }
         ++received;
-        dropped = frame.header.dropped;
-        if (frame.header.sourceTimeNs != 0) {
-            sourceLatencyMs.push_back(static_cast<double>(frame.receiveTimeNs - frame.header.sourceTimeNs) / 1e6);
+        dropped = header.dropped;
+        if (header.sourceTimeNs != 0) {
+            sourceLatencyMs.push_back(static_cast<double>(receiveTimeNs - header.sourceTimeNs) / 1e6);
         }
-        renderLatencyMs.push_back(static_cast<double>(frame.receiveTimeNs - frame.header.renderTimeNs) / 1e6);
+        renderLatencyMs.push_back(static_cast<double>(receiveTimeNs - header.renderTimeNs) / 1e6);
         if (!o.saveDir.empty() && (o.saveCount < 0 || saved < o.saveCount)) {
             char name[64];
-            std::snprintf(name, sizeof(name), "frame_%06llu.png", static_cast<unsigned long long>(frame.header.sequence));
+            std::snprintf(name, sizeof(name), "frame_%06llu.png", static_cast<unsigned long long>(header.sequence));
             const std::string path = (std::filesystem::path(o.saveDir) / name).string();
-            if (auto s = navmap::ipc::writeFramePng(path, frame.header, frame.pixels.data()); !s) {
+            if (auto s = navmap::ipc::writeFramePng(path, header, pixels); !s) {
                 std::fprintf(stderr, "navmap-view: %s\n", s.message().c_str());
                 endReason = "error";
                 rc = 1;
@@ -244,10 +222,10 @@ int main(int argc, char** argv) {
     if (o.json) {
         std::printf("{\"frames\":%ld,\"fps\":%.2f,\"dropped\":%llu,\"lost_locally\":%llu,\"saved\":%ld,"
                     "\"source_latency_ms\":{\"samples\":%zu,\"p50\":%.3f,\"p99\":%.3f},"
-                    "\"render_latency_ms\":{\"p50\":%.3f,\"p99\":%.3f},\"end\":\"%s\"}\n",
+                    "\"render_latency_ms\":{\"p50\":%.3f,\"p99\":%.3f},\"held_overwritten\":%llu,\"end\":\"%s\"}\n",
                     received, fps, static_cast<unsigned long long>(dropped),
                     static_cast<unsigned long long>(client.stats().lostLocally), saved, sourceLatencyMs.size(), sP50,
-                    sP99, rP50, rP99, endReason.c_str());
+                    sP99, rP50, rP99, static_cast<unsigned long long>(client.stats().heldOverwritten), endReason.c_str());
     } else {
         std::printf("frames %ld  fps %.2f  dropped %llu  saved %ld\n", received, fps,
                     static_cast<unsigned long long>(dropped), saved);

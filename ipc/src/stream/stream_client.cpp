@@ -5,7 +5,6 @@
 #include <sys/socket.h>
 #include <sys/stat.h>
 #include <unistd.h>
-#include <zlib.h>
 
 #include <cerrno>
 #include <cstring>
@@ -45,29 +44,36 @@ Status sendAll(int fd, const char* data, std::size_t n, const std::string& peer)
 }  // namespace
 
 Result<std::unique_ptr<StreamClient>> StreamClient::connectUnix(const std::string& path, const StreamRequest& request,
-                                                                std::chrono::milliseconds timeout) {
+                                                                std::chrono::milliseconds timeout, FrameInflater inflate) {
+    if (request.payload == StreamPayload::Zlib && !inflate) {
+        return Error{"connect(" + path + "): payload zlib needs a FrameInflater (the client library links no zlib)"};
+    }
     auto fd = stream_detail::connectUnixSocket(path);
     if (!fd) {
         return fd.error();
     }
-    return handshake(fd.value(), path, request, timeout);
+    return handshake(fd.value(), path, request, timeout, std::move(inflate));
 }
 
 Result<std::unique_ptr<StreamClient>> StreamClient::connectTcp(const std::string& host, int port,
                                                                const StreamRequest& request,
-                                                               std::chrono::milliseconds timeout) {
+                                                               std::chrono::milliseconds timeout, FrameInflater inflate) {
+    const std::string peer = host + ":" + std::to_string(port);
     if (request.payload == StreamPayload::Shm) {
-        return Error{"connect(" + host + ":" + std::to_string(port) + "): payload shm needs the Unix socket"};
+        return Error{"connect(" + peer + "): payload shm needs the Unix socket"};
+    }
+    if (request.payload == StreamPayload::Zlib && !inflate) {
+        return Error{"connect(" + peer + "): payload zlib needs a FrameInflater (the client library links no zlib)"};
     }
     auto fd = stream_detail::connectTcpSocket(host, port, timeout);
     if (!fd) {
         return fd.error();
     }
-    return handshake(fd.value(), host + ":" + std::to_string(port), request, timeout);
+    return handshake(fd.value(), peer, request, timeout, std::move(inflate));
 }
 
 Result<std::unique_ptr<StreamClient>> StreamClient::handshake(int rawFd, std::string peer, const StreamRequest& request,
-                                                              std::chrono::milliseconds timeout) {
+                                                              std::chrono::milliseconds timeout, FrameInflater inflate) {
     UniqueFd fd(rawFd);
     const auto deadline = Clock::now() + timeout;
     const std::string line = formatStreamRequest(request);
@@ -152,6 +158,8 @@ Result<std::unique_ptr<StreamClient>> StreamClient::handshake(int rawFd, std::st
     client->m_payload = request.payload;
     client->m_profile = request.profile;
     client->m_in = std::move(rest);
+    client->m_inflate = std::move(inflate);
+    client->m_hold = request.hold;
     const auto& prof = j.value("profile", nlohmann::json::object());
     if (prof.is_object()) {
         client->m_profile.name = prof.value("name", request.profile.name);
@@ -188,6 +196,9 @@ Result<std::unique_ptr<StreamClient>> StreamClient::handshake(int rawFd, std::st
         client->m_map = static_cast<const std::uint8_t*>(p);
         client->m_mapBytes = l.totalBytes;
         client->m_slots = l.slots;
+        if (auto s = FrameRing::checkMapped(client->m_map, l); !s) {
+            return Error{"handshake with " + peer + ": " + s.message()};  // the destructor unmaps
+        }
     }
     client->m_fd = fd.release();
     return client;
@@ -244,52 +255,98 @@ Status StreamClient::readExact(std::uint8_t* dst, std::size_t n, Clock::time_poi
     return {};
 }
 
+Result<bool> StreamClient::readHeader(FrameHeader& out, Clock::time_point deadline) {
+    // A header may arrive in pieces across calls; keep what we have. Byte-wise progress is
+    // tracked, so a timeout never loses a partial header.
+    if (m_headerHave < kFrameHeaderBytes) {
+        const std::size_t want = kFrameHeaderBytes - m_headerHave;
+        const std::size_t buffered = std::min(want, m_in.size() - m_inPos);
+        std::memcpy(m_headerBuf + m_headerHave, m_in.data() + m_inPos, buffered);
+        m_inPos += buffered;
+        m_headerHave += buffered;
+        if (m_inPos == m_in.size()) {
+            m_in.clear();
+            m_inPos = 0;
+        }
+        while (m_headerHave < kFrameHeaderBytes) {
+            pollfd p{m_fd, POLLIN, 0};
+            const int r = ::poll(&p, 1, msLeft(deadline));
+            if (r == 0) {
+                return false;
+            }
+            if (r < 0) {
+                if (errno == EINTR) {
+                    continue;
+                }
+                return Error{sysError("poll", m_peer)};
+            }
+            const ssize_t got = ::recv(m_fd, m_headerBuf + m_headerHave, kFrameHeaderBytes - m_headerHave, 0);
+            if (got == 0) {
+                return Error{"recv(" + m_peer + "): connection closed by the server"};
+            }
+            if (got < 0) {
+                if (errno == EINTR || errno == EAGAIN) {
+                    continue;
+                }
+                return Error{sysError("recv", m_peer)};
+            }
+            m_headerHave += static_cast<std::size_t>(got);
+        }
+    }
+    auto decoded = decodeFrameHeader(m_headerBuf, kFrameHeaderBytes);
+    m_headerHave = 0;
+    if (!decoded) {
+        return Error{m_peer + ": " + decoded.error().message};
+    }
+    out = decoded.value();
+    return true;
+}
+
 Result<bool> StreamClient::next(ReceivedFrame& out, std::chrono::milliseconds timeout) {
+    return receive(&out, nullptr, timeout);
+}
+
+Result<bool> StreamClient::nextHeld(HeldFrame& out, std::chrono::milliseconds timeout) {
+    if (!m_hold) {
+        return Error{m_peer + ": nextHeld() needs a stream opened with request.hold (payload shm)"};
+    }
+    return receive(nullptr, &out, timeout);
+}
+
+Result<bool> StreamClient::release() {
+    if (m_held < 0) {
+        return true;
+    }
+    // The slot's lock word tells whether the server had to overwrite it while it was held.
+    const bool intact =
+        FrameRing::lockWord(m_map, FrameRingLayout::make(m_slots, static_cast<std::uint32_t>(m_profile.width),
+                                                         static_cast<std::uint32_t>(m_profile.height), m_profile.format),
+                            static_cast<std::uint32_t>(m_held)) == m_heldLock;
+    m_held = -1;
+    if (!intact) {
+        ++m_stats.heldOverwritten;
+    }
+    const char ack = 'A';
+    if (auto s = sendAll(m_fd, &ack, 1, m_peer); !s) {
+        return Error{s.message()};
+    }
+    return intact;
+}
+
+Result<bool> StreamClient::receive(ReceivedFrame* copy, HeldFrame* held, std::chrono::milliseconds timeout) {
+    if (auto r = release(); !r) {
+        return Error{r.error().message};
+    }
     const auto deadline = Clock::now() + timeout;
     for (;;) {
-        // A header may arrive in pieces across calls; keep what we have.
-        if (m_headerHave < kFrameHeaderBytes) {
-            // Byte-wise progress is tracked, so a timeout never loses a partial header.
-            const std::size_t want = kFrameHeaderBytes - m_headerHave;
-            const std::size_t buffered = std::min(want, m_in.size() - m_inPos);
-            std::memcpy(m_headerBuf + m_headerHave, m_in.data() + m_inPos, buffered);
-            m_inPos += buffered;
-            m_headerHave += buffered;
-            if (m_inPos == m_in.size()) {
-                m_in.clear();
-                m_inPos = 0;
-            }
-            while (m_headerHave < kFrameHeaderBytes) {
-                pollfd p{m_fd, POLLIN, 0};
-                const int r = ::poll(&p, 1, msLeft(deadline));
-                if (r == 0) {
-                    return false;
-                }
-                if (r < 0) {
-                    if (errno == EINTR) {
-                        continue;
-                    }
-                    return Error{sysError("poll", m_peer)};
-                }
-                const ssize_t got = ::recv(m_fd, m_headerBuf + m_headerHave, kFrameHeaderBytes - m_headerHave, 0);
-                if (got == 0) {
-                    return Error{"recv(" + m_peer + "): connection closed by the server"};
-                }
-                if (got < 0) {
-                    if (errno == EINTR || errno == EAGAIN) {
-                        continue;
-                    }
-                    return Error{sysError("recv", m_peer)};
-                }
-                m_headerHave += static_cast<std::size_t>(got);
-            }
+        FrameHeader h;
+        auto got = readHeader(h, deadline);
+        if (!got) {
+            return Error{got.error().message};
         }
-        auto decoded = decodeFrameHeader(m_headerBuf, kFrameHeaderBytes);
-        m_headerHave = 0;
-        if (!decoded) {
-            return Error{m_peer + ": " + decoded.error().message};
+        if (!got.value()) {
+            return false;
         }
-        FrameHeader h = decoded.value();
         // Payloads are read to the end even past the deadline: the stream must stay in step.
         const auto payloadDeadline = std::max(deadline, Clock::now() + std::chrono::seconds(5));
         bool timedOut = false;
@@ -308,28 +365,45 @@ Result<bool> StreamClient::next(ReceivedFrame& out, std::chrono::milliseconds ti
             h.height != static_cast<std::uint32_t>(m_profile.height) || h.format != m_profile.format) {
             return Error{m_peer + ": frame header does not match the negotiated profile"};
         }
-        out.pixels.resize(h.pixelBytes());
+        const std::int64_t receivedNs = stream_detail::realtimeNowNs();
+        const std::uint8_t* heldPixels = nullptr;
         if (h.encoding == FrameEncoding::Shm) {
             const FrameRingLayout l = FrameRingLayout::make(m_slots, h.width, h.height, h.format);
             FrameHeader slotHeader;
-            bool ok = FrameRing::readMapped(m_map, l, h.sequence, &slotHeader, out.pixels.data());
-            if (!ok) {
-                // Overwritten while the notification waited in the socket: the newest frame is
-                // in the ring too, and the newest frame is what we want anyway.
-                const std::uint64_t latest = FrameRing::latestMapped(m_map);
-                if (latest > h.sequence && FrameRing::readMapped(m_map, l, latest, &slotHeader, out.pixels.data())) {
-                    h.sequence = latest;
-                    h.slot = static_cast<std::uint32_t>((latest - 1) % m_slots);
-                    ok = true;
+            bool ok = false;
+            if (held != nullptr) {
+                // In place: the server pinned the frame's slot for us until our ack.
+                std::uint64_t lock = 0;
+                const int slot = FrameRing::findSlot(m_map, l, h.sequence, &lock);
+                ok = slot >= 0 && FrameRing::readMapped(m_map, l, h.sequence, &slotHeader, nullptr);
+                if (ok) {
+                    m_held = slot;
+                    m_heldLock = lock;
+                    heldPixels = m_map + l.slotOffset(static_cast<std::uint32_t>(slot)) + kSlotPixelOffset;
+                }
+            } else {
+                copy->pixels.resize(h.pixelBytes());
+                ok = FrameRing::readMapped(m_map, l, h.sequence, &slotHeader, copy->pixels.data());
+                if (!ok) {
+                    // Overwritten while the notification waited in the socket: the newest frame is
+                    // in the ring too, and the newest frame is what we want anyway.
+                    const std::uint64_t latest = FrameRing::latestMapped(m_map);
+                    if (latest > h.sequence && FrameRing::readMapped(m_map, l, latest, &slotHeader, copy->pixels.data())) {
+                        h.sequence = latest;
+                        ok = true;
+                    }
                 }
             }
-            // Give the credit back right away: the server may notify the next frame while we work.
-            const char ack = 'A';
-            if (auto s = sendAll(m_fd, &ack, 1, m_peer); !s) {
-                return Error{s.message()};
+            if (!ok || held == nullptr) {
+                // A copy is done (or there is nothing to hold): give the credit back right away,
+                // so the server may notify the next frame while we work.
+                const char ack = 'A';
+                if (auto s = sendAll(m_fd, &ack, 1, m_peer); !s) {
+                    return Error{s.message()};
+                }
             }
             if (!ok) {
-                ++m_stats.lostLocally;  // overwritten before we copied it; wait for the next one
+                ++m_stats.lostLocally;  // overwritten before we looked at it; wait for the next one
                 if (Clock::now() >= deadline) {
                     return false;
                 }
@@ -338,6 +412,9 @@ Result<bool> StreamClient::next(ReceivedFrame& out, std::chrono::milliseconds ti
             if (h.sequence <= m_lastSequence) {
                 // Already handed out: we jumped ahead to the newest slot when an earlier
                 // notification had been overwritten, and this one announces that same frame.
+                if (auto r = release(); !r) {
+                    return Error{r.error().message};
+                }
                 if (Clock::now() >= deadline) {
                     return false;
                 }
@@ -345,20 +422,21 @@ Result<bool> StreamClient::next(ReceivedFrame& out, std::chrono::milliseconds ti
             }
             h.renderTimeNs = slotHeader.renderTimeNs;
             h.sourceTimeNs = slotHeader.sourceTimeNs;
+            h.slot = slotHeader.slot;
         } else if (h.encoding == FrameEncoding::Raw) {
-            if (auto s = readExact(out.pixels.data(), out.pixels.size(), payloadDeadline, &timedOut); !s) {
+            copy->pixels.resize(h.pixelBytes());
+            if (auto s = readExact(copy->pixels.data(), copy->pixels.size(), payloadDeadline, &timedOut); !s) {
                 return Error{s.message()};
             }
         } else {
+            copy->pixels.resize(h.pixelBytes());
             m_compressed.resize(h.payloadBytes);
             if (auto s = readExact(m_compressed.data(), m_compressed.size(), payloadDeadline, &timedOut); !s) {
                 return Error{s.message()};
             }
-            uLongf len = static_cast<uLongf>(out.pixels.size());
-            const int zr = uncompress(out.pixels.data(), &len, m_compressed.data(), static_cast<uLong>(m_compressed.size()));
-            if (zr != Z_OK || len != out.pixels.size()) {
+            if (!m_inflate || !m_inflate(m_compressed.data(), m_compressed.size(), copy->pixels.data(), copy->pixels.size())) {
                 return Error{m_peer + ": frame " + std::to_string(h.sequence) + ": zlib payload does not inflate to " +
-                             std::to_string(out.pixels.size()) + " bytes"};
+                             std::to_string(copy->pixels.size()) + " bytes"};
             }
         }
         m_lastSequence = h.sequence;
@@ -366,8 +444,14 @@ Result<bool> StreamClient::next(ReceivedFrame& out, std::chrono::milliseconds ti
         m_stats.serverDropped = h.dropped;
         ++m_stats.frames;
         h.dropped += m_stats.lostLocally;
-        out.header = h;
-        out.receiveTimeNs = stream_detail::realtimeNowNs();
+        if (held != nullptr) {
+            held->header = h;
+            held->pixels = heldPixels;
+            held->receiveTimeNs = receivedNs;
+        } else {
+            copy->header = h;
+            copy->receiveTimeNs = stream_detail::realtimeNowNs();
+        }
         return true;
     }
 }

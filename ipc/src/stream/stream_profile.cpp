@@ -83,7 +83,7 @@ Result<StreamRequest> parseStreamRequest(std::string_view line) {
     if (!j.is_object()) {
         return Error{"handshake: expected a JSON object"};
     }
-    static const char* const kKeys[] = {"version", "profile", "width", "height", "fps", "view", "format", "payload"};
+    static const char* const kKeys[] = {"version", "profile", "width", "height", "fps", "view", "format", "payload", "hold"};
     for (const auto& item : j.items()) {
         bool known = false;
         for (const char* k : kKeys) {
@@ -176,6 +176,15 @@ Result<StreamRequest> parseStreamRequest(std::string_view line) {
     } else {
         return Error{"handshake: unknown payload (shm, raw, zlib)"};
     }
+    if (const auto it = j.find("hold"); it != j.end()) {
+        if (!it->is_boolean()) {
+            return Error{"handshake: \"hold\" must be true or false"};
+        }
+        req.hold = it->get<bool>();
+        if (req.hold && req.payload != StreamPayload::Shm) {
+            return Error{"handshake: \"hold\" needs payload shm (frames are held in the shared-memory ring)"};
+        }
+    }
     return req;
 }
 
@@ -189,6 +198,9 @@ std::string formatStreamRequest(const StreamRequest& request) {
     j["view"] = request.profile.view;
     j["format"] = pixelFormatName(request.profile.format);
     j["payload"] = streamPayloadName(request.payload);
+    if (request.hold) {
+        j["hold"] = true;
+    }
     return j.dump(-1, ' ', true, nlohmann::json::error_handler_t::replace) + "\n";
 }
 

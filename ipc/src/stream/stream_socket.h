@@ -3,6 +3,7 @@
 // object, "connect(/run/navmap/stream.sock): No such file or directory".
 
 #include <sys/types.h>
+#include <sys/un.h>
 
 #include <chrono>
 #include <optional>
@@ -33,6 +34,10 @@ private:
     int m_fd = -1;
 };
 
+/// The address of a Unix socket path; an Error when it is empty or too long for sun_path.
+Result<sockaddr_un> unixAddress(const std::string& path);
+
+/// Server side (stream_listen.cpp, not in the client library):
 /// Non-blocking listening Unix stream socket; a stale socket file at `path` is replaced. The file
 /// gets `mode` whatever the umask, and `group` when given, before the socket listens.
 Result<int> listenUnix(const std::string& path, mode_t mode, std::optional<gid_t> group);

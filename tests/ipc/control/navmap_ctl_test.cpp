@@ -1,5 +1,5 @@
 // navmap-ctl against an in-process ControlServer: prints the reply, exit status follows "ok",
-// `subscribe --count N` prints events, usage and connection errors exit 2.
+// `subscribe --count N` prints events, usage errors exit 2, an error reply or no daemon exit 1.
 
 #include <gtest/gtest.h>
 
@@ -88,7 +88,10 @@ TEST(NavmapCtl, SendsCommandsAndPrintsReplies) {
     r = runCtl(s + "set_route r1 1,2");
     EXPECT_EQ(r.status, 2);
     EXPECT_NE(r.out.find("set_route needs ID and at least two LAT,LON points"), std::string::npos);
-    r = runCtl("--socket " + dir.file("none.sock") + " get_status");
+    r = runCtl(s + "frobnicate");
     EXPECT_EQ(r.status, 2);
+    EXPECT_NE(r.out.find("navmap-ctl: The following argument was not expected: frobnicate"), std::string::npos) << r.out;
+    r = runCtl("--socket " + dir.file("none.sock") + " get_status");
+    EXPECT_EQ(r.status, 1);
     EXPECT_EQ(r.out, "navmap-ctl: connect(" + dir.file("none.sock") + "): No such file or directory\n");
 }

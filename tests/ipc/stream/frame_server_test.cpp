@@ -12,6 +12,7 @@
 #include "navmap/ipc/frame_header.h"
 #include "navmap/ipc/frame_server.h"
 #include "navmap/ipc/stream_client.h"
+#include "navmap/ipc/zlib_inflater.h"
 #include "stream_test_util.h"
 
 using namespace navmap::ipc;
@@ -43,7 +44,7 @@ protected:
         o.stallTimeout = 300ms;
         o.handshakeTimeout = 2s;
         o.mjpegProfile = "center";
-        o.metricsText = [] { return std::string("navmapd_frames_total 42"); };
+        o.metrics = [](MetricsRegistry& r) { r.counter("navmapd_frames_total", "The daemon's frames.").sample(42); };
         o.statusJson = [] { return std::string(R"({"vehicle":{"speed":13.5}})"); };
         m_server = std::make_unique<FrameServer>(o);
         auto s = m_server->start();
@@ -76,8 +77,9 @@ protected:
         return pred();
     }
     std::unique_ptr<StreamClient> connect(const StreamRequest& r) {
-        auto c = r.payload == StreamPayload::Shm ? StreamClient::connectUnix(m_server->options().unixPath, r)
-                                                 : StreamClient::connectTcp("127.0.0.1", m_server->tcpPort(), r);
+        auto c = r.payload == StreamPayload::Shm
+                     ? StreamClient::connectUnix(m_server->options().unixPath, r)
+                     : StreamClient::connectTcp("127.0.0.1", m_server->tcpPort(), r, 5s, zlibInflater());
         EXPECT_TRUE(c.ok()) << (c.ok() ? "" : c.error().message);
         return c.ok() ? std::move(c.value()) : nullptr;
     }
@@ -367,7 +369,10 @@ TEST_F(StreamServerTest, HttpPagesStatusAndMetrics) {
 
     const std::string metrics = httpGet(m_server->httpPort(), "/metrics");
     EXPECT_NE(metrics.find("text/plain; version=0.0.4"), std::string::npos);
-    EXPECT_NE(metrics.find("\r\n\r\nnavmapd_frames_total 42\n"), std::string::npos) << metrics;
+    // The server's families first, then the daemon's, each with HELP and TYPE, each once.
+    EXPECT_NE(metrics.find("\r\n\r\n# HELP navmap_stream_clients "), std::string::npos) << metrics;
+    EXPECT_NE(metrics.find("# TYPE navmapd_frames_total counter\nnavmapd_frames_total 42\n"), std::string::npos) << metrics;
+    EXPECT_EQ(metrics.find("# TYPE navmap_stream_clients"), metrics.rfind("# TYPE navmap_stream_clients")) << metrics;
     EXPECT_NE(metrics.find("# TYPE navmap_stream_frames_published_total counter"), std::string::npos);
     EXPECT_NE(metrics.find("navmap_stream_clients{transport=\"shm\"} 0"), std::string::npos);
 }

@@ -229,7 +229,7 @@ TEST_F(StreamAccessTest, OneUidCannotLockOthersOut) {
     o.stallTimeout = 10s;  // nobody's four never ack; they stay for the whole test
     o.renderedProfiles = {{"cluster", "snail", 1280, 480}};
     start(o);
-    Publisher pub(*m_server, "snail", 1280, 480, 20);
+    Publisher pub(*m_server, "cluster", 1280, 480, 20);  // frames go to a rendered profile by its name
     const std::string sock = path();
     // nobody opens 64 cluster streams and holds them: 4 are served, 60 refused at once.
     const std::string line = formatStreamRequest(cluster());

@@ -1,14 +1,16 @@
 #pragma once
 // Backoff: exponential retry delay (initial, doubling, capped) for re-opening a CAN interface that
 // went down or does not exist yet. Deterministic (no jitter) so that tests can check the schedule;
-// uses the steady clock.
+// uses the steady clock. Part of libnavmap-client (ReconnectingClient reconnects with it).
 
 #include <chrono>
 #include <cstdint>
 
+#include "navmap/ipc/client_api.h"
+
 namespace navmap::ipc {
 
-class Backoff {
+class NAVMAP_CLIENT_API Backoff {
 public:
     using Clock = std::chrono::steady_clock;
 

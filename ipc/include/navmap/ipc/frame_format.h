@@ -5,6 +5,8 @@
 #include <optional>
 #include <string_view>
 
+#include "navmap/ipc/client_api.h"
+
 namespace navmap::ipc {
 
 /// Wire value of a frame's pixel format. Rows are top to bottom; RGBA8 is R,G,B,A bytes;
@@ -15,17 +17,17 @@ enum class PixelFormat : std::uint32_t {
 };
 
 /// Bytes per pixel of a valid format, 0 for an unknown wire value.
-int bytesPerPixel(PixelFormat format) noexcept;
+NAVMAP_CLIENT_API int bytesPerPixel(PixelFormat format) noexcept;
 /// "rgba8", "rgb565", or "unknown".
-const char* pixelFormatName(PixelFormat format) noexcept;
+NAVMAP_CLIENT_API const char* pixelFormatName(PixelFormat format) noexcept;
 /// Parses "rgba8" / "rgb565" (the handshake spelling).
-std::optional<PixelFormat> parsePixelFormat(std::string_view name) noexcept;
+NAVMAP_CLIENT_API std::optional<PixelFormat> parsePixelFormat(std::string_view name) noexcept;
 /// True for a wire value this version knows.
-bool isKnownPixelFormat(std::uint32_t value) noexcept;
+NAVMAP_CLIENT_API bool isKnownPixelFormat(std::uint32_t value) noexcept;
 
 /// Converts `width` RGBA8 pixels into `dst` in format `to` (to == Rgba8 copies).
-void convertRowFromRgba(const std::uint8_t* rgba, PixelFormat to, std::uint8_t* dst, int width) noexcept;
+NAVMAP_CLIENT_API void convertRowFromRgba(const std::uint8_t* rgba, PixelFormat to, std::uint8_t* dst, int width) noexcept;
 /// Converts `width` pixels in format `from` into RGBA8 (alpha 255 for RGB565).
-void convertRowToRgba(const std::uint8_t* src, PixelFormat from, std::uint8_t* rgba, int width) noexcept;
+NAVMAP_CLIENT_API void convertRowToRgba(const std::uint8_t* src, PixelFormat from, std::uint8_t* rgba, int width) noexcept;
 
 }  // namespace navmap::ipc

@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "navmap/ipc/client_api.h"
 #include "navmap/ipc/frame_format.h"
 #include "navmap/ipc/result.h"
 
@@ -48,10 +49,10 @@ struct FrameHeader {
 };
 
 /// Writes the 80-byte wire form.
-std::array<std::uint8_t, kFrameHeaderBytes> encodeFrameHeader(const FrameHeader& header) noexcept;
+NAVMAP_CLIENT_API std::array<std::uint8_t, kFrameHeaderBytes> encodeFrameHeader(const FrameHeader& header) noexcept;
 
 /// Parses and validates a wire header: magic, version, size, known enums, dimensions within
 /// kMaxFrameDimension, stride >= width * bytesPerPixel, payload size consistent with the encoding.
-Result<FrameHeader> decodeFrameHeader(const std::uint8_t* data, std::size_t size);
+NAVMAP_CLIENT_API Result<FrameHeader> decodeFrameHeader(const std::uint8_t* data, std::size_t size);
 
 }  // namespace navmap::ipc

@@ -6,7 +6,14 @@
 // reader copies the slot and keeps the copy only if the lock word was even and unchanged around
 // the copy and the slot still holds the sequence it was told about, so it never keeps a frame
 // that was being overwritten (seqlock; Linux kernel `seqcount_t`, Wayland wl_shm for the fd).
+//
+// A client may also hold a frame in place instead of copying it (docs/frame-protocol.md "Holding
+// a frame"): the server pins the slot from the notification until the client's ack, and the
+// writer picks the least recently written slot that nobody pins. Only when every slot is pinned
+// does it overwrite a pinned one (the oldest write), so a client that holds frames can never
+// stop the stream; the holder sees the change of the slot's lock word when it releases.
 
+#include <atomic>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -42,6 +49,9 @@ struct FrameRingLayout {
 inline constexpr std::size_t kRingHeaderBytes = 4096;  ///< ring header page: magic + latest sequence
 inline constexpr std::size_t kSlotHeaderOffset = 64;
 inline constexpr std::size_t kSlotPixelOffset = 256;
+/// Ring header version: 2 since slots are chosen by the writer (a frame's slot is in its header
+/// and found by its sequence), 1 had frame `seq` in slot (seq - 1) % slots.
+inline constexpr std::uint32_t kRingVersion = 2;
 
 class FrameRing {
 public:
@@ -56,9 +66,18 @@ public:
     FrameRing& operator=(const FrameRing&) = delete;
 
     /// Render thread: copies `frame` (RGBA8 or the ring's format, same width/height) into the
-    /// next slot, converting the pixel format. Never blocks. Returns the new sequence (>= 1), or 0
-    /// when the frame does not fit this ring.
+    /// least recently written slot that no client holds (the oldest write when all are held),
+    /// converting the pixel format. Never blocks. Returns the new sequence (>= 1), or 0 when the
+    /// frame does not fit this ring.
     std::uint64_t write(const FrameView& frame) noexcept;
+
+    /// Server thread: pins the slot that holds frame `sequence` so that write() leaves it alone
+    /// while another slot is free. Returns the slot, or -1 when that frame is gone (overwritten
+    /// or being written). Every successful pin() needs one unpin(slot).
+    int pin(std::uint64_t sequence) noexcept;
+    void unpin(std::uint32_t slot) noexcept;
+    /// Writes that had to take a pinned slot because every slot was pinned. Any thread.
+    std::uint64_t pinnedOverwrites() const noexcept { return m_pinnedOverwrites.load(std::memory_order_relaxed); }
 
     /// Newest complete sequence (0 before the first write). Any thread.
     std::uint64_t latestSequence() const noexcept;
@@ -77,14 +96,25 @@ public:
                            FrameHeader* header, std::uint8_t* pixels) noexcept;
     /// Newest sequence recorded in a mapped ring header.
     static std::uint64_t latestMapped(const std::uint8_t* base) noexcept;
+    /// Checks the ring header of a mapping: magic "NMRG", kRingVersion and the layout's geometry.
+    static Status checkMapped(const std::uint8_t* base, const FrameRingLayout& layout);
+    /// Finds the slot holding frame `sequence` and returns it with its lock word (even) at that
+    /// moment; -1 when the frame is gone or being written. A holder compares the lock word later
+    /// (lockWord()) to learn whether the slot changed since.
+    static int findSlot(const std::uint8_t* base, const FrameRingLayout& layout, std::uint64_t sequence,
+                        std::uint64_t* lock) noexcept;
+    static std::uint64_t lockWord(const std::uint8_t* base, const FrameRingLayout& layout, std::uint32_t slot) noexcept;
 
 private:
-    FrameRing(int fd, std::uint8_t* base, FrameRingLayout layout) : m_fd(fd), m_base(base), m_layout(layout) {}
+    FrameRing(int fd, std::uint8_t* base, FrameRingLayout layout);
 
     int m_fd = -1;
     std::uint8_t* m_base = nullptr;
     FrameRingLayout m_layout;
     std::uint64_t m_nextSequence = 1;  // render thread only
+    std::uint32_t m_nextSlot = 0;      // render thread only: the least recently written slot
+    std::unique_ptr<std::atomic<std::uint32_t>[]> m_pins;  // per slot: clients holding it (server memory)
+    std::atomic<std::uint64_t> m_pinnedOverwrites{0};
 };
 
 }  // namespace navmap::ipc

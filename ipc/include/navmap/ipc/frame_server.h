@@ -4,8 +4,9 @@
 //    SCM_RIGHTS), an 80-byte notification per frame, one ack byte back (credit of one frame);
 //  - TCP: same handshake and header, pixels raw or zlib-compressed on the socket;
 //  - HTTP: GET / (HTML viewer), /stream.mjpg (MJPEG), /status (JSON), /metrics (Prometheus).
-// The render thread calls publish(); it copies into the profile's ring and never waits for a
-// client. All socket I/O, compression and JPEG encoding run on the server's own thread (poll()).
+// The render thread calls publish(profile, frame); it copies into that profile's rings and never
+// waits for a client. Frames are routed by profile name, so two profiles of the same view and
+// size (one with glowing roads, one without) are two streams. All socket I/O, compression and JPEG encoding run on the server's own thread (poll()).
 // Each client gets the newest frame; a busy client skips frames (counted as dropped), a client
 // that makes no progress for `stallTimeout` is disconnected.
 // Clients are untrusted: the Unix socket file is 0660 (+ a group) and peers are checked by
@@ -24,15 +25,17 @@
 #include <vector>
 
 #include "navmap/ipc/frame_view.h"
+#include "navmap/ipc/metrics_registry.h"
 #include "navmap/ipc/result.h"
 #include "navmap/ipc/socket_access.h"
 #include "navmap/ipc/stream_profile.h"
 
 namespace navmap::ipc {
 
-/// A profile the daemon renders (its [[profile]] entry): the views and sizes clients may ask for.
+/// A profile the daemon renders (its [[profile]] entry): what clients may ask for. A request
+/// names it by name (or, with another name, by its view and size: the first such profile).
 struct RenderedProfile {
-    std::string name;   ///< for error messages: "cluster"
+    std::string name;   ///< the key publish() uses: "cluster"
     std::string view;   ///< stream view: "snail", "bird", "hud"
     int width = 0;
     int height = 0;
@@ -67,20 +70,23 @@ struct FrameServerOptions {
     /// Shared memory of all rings together (memfd sizes); a request that needs a new ring beyond
     /// it is refused with an error and counted. 0 = no ceiling.
     std::size_t ringMemoryBytes = std::size_t{256} << 20;
-    /// What the daemon renders; a request for another view or size is refused naming these.
-    /// Empty: any view and size is accepted (for tests and tools that publish what they are asked for).
+    /// What the daemon renders; a request for another profile, view or size is refused naming
+    /// these, and rings are keyed by these names. Empty: any view and size is accepted and rings
+    /// are keyed by the view (for tests and tools that publish what they are asked for).
     std::vector<RenderedProfile> renderedProfiles;
     int jpegQuality = 80;
     std::string mjpegProfile = "center";  ///< profile of /stream.mjpg without ?profile=
-    /// Body of /metrics before the server's own navmap_stream_* lines (Prometheus text). Called on
-    /// the server thread; must be thread-safe with respect to the daemon.
-    std::function<std::string()> metricsText;
+    /// Adds the daemon's families to /metrics, after the server's own navmap_stream_* ones (one
+    /// registry per scrape, so no family appears twice). Called on the server thread; must be
+    /// thread-safe with respect to the daemon.
+    std::function<void(MetricsRegistry&)> metrics;
     /// JSON object shown by the HTML page under "daemon" in /status. Server thread.
     std::function<std::string()> statusJson;
 };
 
 /// A profile that has at least one client: what the daemon should render.
 struct ActiveProfile {
+    std::string profile;    ///< the ring key: a RenderedProfile's name (or the view without renderedProfiles)
     std::string view;
     int width = 0;
     int height = 0;
@@ -116,6 +122,7 @@ struct FrameServerStats {
     std::uint64_t refusedToken = 0;        ///< HTTP token missing or wrong
     std::size_t ringBytes = 0;             ///< shared memory of all rings now
     std::uint64_t disconnects = 0;    ///< all closed connections
+    std::uint64_t pinnedOverwrites = 0;  ///< frames written over a held slot (every slot of a ring held)
     double publishMsLast = 0;         ///< render-thread cost of the last publish()
     double publishMsMax = 0;
     std::string lastError;            ///< newest problem: "tcp#7: handshake: unknown key \"x\""
@@ -133,15 +140,18 @@ public:
     Status start();
     void stop();
 
-    /// Render thread: copies the frame into every ring of `view` with its width and height
-    /// (converting the pixel format) and wakes the server thread. Never blocks on a client.
-    /// Returns the number of rings written.
-    std::size_t publish(const std::string& view, const FrameView& frame);
+    /// Render thread: copies the frame into every ring of `profile` (a RenderedProfile's name;
+    /// the view when the server has no renderedProfiles) with its width and height, converting
+    /// the pixel format, and wakes the server thread. Never blocks on a client. Returns the
+    /// number of rings written.
+    std::size_t publish(const std::string& profile, const FrameView& frame);
 
     /// Profiles with clients now (which views/sizes to render). Any thread.
     std::vector<ActiveProfile> activeProfiles() const;
     FrameServerStats stats() const;
-    /// The server's own metrics (Prometheus text, navmap_stream_*). Any thread.
+    /// Adds the server's own metric families (navmap_stream_*) to `registry`. Any thread.
+    void collectMetrics(MetricsRegistry& registry) const;
+    /// The server's own families as Prometheus text. Any thread.
     std::string metricsText() const;
 
     int tcpPort() const noexcept;   ///< bound port, -1 when none

@@ -1,14 +1,19 @@
 #pragma once
 // StreamClient: the display-client side of docs/frame-protocol.md. Connects over the Unix socket
-// (shared-memory ring) or TCP (raw/zlib), then next() returns the newest frames. Not thread-safe:
-// one thread owns a client.
+// (shared-memory ring) or TCP (raw/zlib), then next() returns the newest frames as a copy, or
+// nextHeld() hands out a frame in place in the mapped ring (no copy) until release(). Part of
+// libnavmap-client, which links nothing but the C and C++ runtime. Not thread-safe: one thread
+// owns a client. ReconnectingClient (reconnecting_client.h) adds reconnection with backoff.
 
 #include <chrono>
+#include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
 
+#include "navmap/ipc/client_api.h"
 #include "navmap/ipc/frame_header.h"
 #include "navmap/ipc/result.h"
 #include "navmap/ipc/stream_profile.h"
@@ -21,30 +26,61 @@ struct ReceivedFrame {
     std::int64_t receiveTimeNs = 0;     ///< CLOCK_REALTIME ns when the pixels were complete
 };
 
+/// A frame left where the server wrote it (payload shm): `pixels` points into the client's
+/// read-only mapping of the ring, header.stride * header.height bytes in header.format, and stays
+/// valid until StreamClient::release(). The server does not overwrite a held slot while its ring
+/// has a slot nobody holds (docs/frame-protocol.md "Holding a frame").
+struct HeldFrame {
+    FrameHeader header;
+    const std::uint8_t* pixels = nullptr;
+    std::int64_t receiveTimeNs = 0;     ///< CLOCK_REALTIME ns when the notification was read
+};
+
 struct StreamClientStats {
     std::uint64_t frames = 0;
     std::uint64_t serverDropped = 0;   ///< the newest header's dropped count
     std::uint64_t lostLocally = 0;     ///< shm slots overwritten before we copied them
+    std::uint64_t heldOverwritten = 0; ///< held frames the server had to overwrite before release()
     std::uint64_t bytes = 0;           ///< payload bytes received (compressed size for zlib)
 };
 
-class StreamClient {
+/// Inflates a zlib payload of `inBytes` into exactly `outBytes` at `out`; false when it does not.
+/// The client library links no compression library: a client that asks for payload zlib passes
+/// one (navmap's own programs use navmap::ipc::zlibInflater() from frame_png.h's library; any
+/// client can wrap zlib's uncompress() in these few lines).
+using FrameInflater = std::function<bool(const std::uint8_t* in, std::size_t inBytes, std::uint8_t* out, std::size_t outBytes)>;
+
+class NAVMAP_CLIENT_API StreamClient {
 public:
     /// Connects to the server's Unix socket and sends `request` (payload shm, raw or zlib).
     static Result<std::unique_ptr<StreamClient>> connectUnix(const std::string& path, const StreamRequest& request,
-                                                             std::chrono::milliseconds timeout = std::chrono::seconds(5));
+                                                             std::chrono::milliseconds timeout = std::chrono::seconds(5),
+                                                             FrameInflater inflate = {});
     /// Connects to host:port (numeric IPv4/IPv6 or a name) and sends `request` (raw or zlib).
     static Result<std::unique_ptr<StreamClient>> connectTcp(const std::string& host, int port,
                                                             const StreamRequest& request,
-                                                            std::chrono::milliseconds timeout = std::chrono::seconds(5));
+                                                            std::chrono::milliseconds timeout = std::chrono::seconds(5),
+                                                            FrameInflater inflate = {});
     ~StreamClient();
     StreamClient(const StreamClient&) = delete;
     StreamClient& operator=(const StreamClient&) = delete;
 
     /// Waits up to `timeout` for the next frame. true: `out` holds it; false: timeout; Error: the
     /// server closed the connection or broke the protocol (the message says which, including the
-    /// server's error text).
+    /// server's error text). A held frame is released first.
     Result<bool> next(ReceivedFrame& out, std::chrono::milliseconds timeout);
+
+    /// For a stream opened with request.hold (payload shm): like next(), but the frame stays in
+    /// the ring (no copy) and the server gets no ack until release(); no new frame arrives
+    /// meanwhile. A held frame is released
+    /// first. Hold a frame for less than the server's stall timeout (FrameServerOptions::
+    /// stallTimeout; navmapd's client_timeout_s, 5 s), or the server disconnects the client.
+    Result<bool> nextHeld(HeldFrame& out, std::chrono::milliseconds timeout);
+    /// Gives a held frame back (sends the ack). true: the frame was unchanged all the time it was
+    /// held; false: every slot of the ring was held at once and the server overwrote this one
+    /// (counted in stats().heldOverwritten); Error: the connection is gone. true without a held frame.
+    Result<bool> release();
+    bool holding() const noexcept { return m_held >= 0; }
 
     /// The profile the server granted (after defaults were applied).
     const StreamProfile& profile() const noexcept { return m_profile; }
@@ -55,8 +91,11 @@ public:
 private:
     StreamClient() = default;
     static Result<std::unique_ptr<StreamClient>> handshake(int fd, std::string peer, const StreamRequest& request,
-                                                           std::chrono::milliseconds timeout);
+                                                           std::chrono::milliseconds timeout, FrameInflater inflate);
     Status readExact(std::uint8_t* dst, std::size_t n, std::chrono::steady_clock::time_point deadline, bool* timedOut);
+    /// Reads the next header (kept across timeouts); false on timeout.
+    Result<bool> readHeader(FrameHeader& out, std::chrono::steady_clock::time_point deadline);
+    Result<bool> receive(ReceivedFrame* copy, HeldFrame* held, std::chrono::milliseconds timeout);
 
     int m_fd = -1;
     std::string m_peer;
@@ -72,6 +111,10 @@ private:
     StreamClientStats m_stats;
     std::uint8_t m_headerBuf[kFrameHeaderBytes] = {};
     std::size_t m_headerHave = 0;     // partial header kept across timeouts
+    FrameInflater m_inflate;
+    bool m_hold = false;              // opened with request.hold: frames may be held
+    int m_held = -1;                  // slot of the held frame, -1: none
+    std::uint64_t m_heldLock = 0;     // its lock word when it was handed out
 };
 
 }  // namespace navmap::ipc

@@ -6,6 +6,7 @@
 #include <string>
 #include <string_view>
 
+#include "navmap/ipc/client_api.h"
 #include "navmap/ipc/frame_format.h"
 #include "navmap/ipc/result.h"
 
@@ -23,7 +24,7 @@ struct StreamProfile {
 
 /// The defaults of DESIGN.md: cluster 1280x480 snail, hud 800x240 hud, center 1280x720 bird
 /// (30 fps, RGBA8). nullopt for other names.
-std::optional<StreamProfile> defaultStreamProfile(std::string_view name);
+NAVMAP_CLIENT_API std::optional<StreamProfile> defaultStreamProfile(std::string_view name);
 
 /// How the pixels travel.
 enum class StreamPayload {
@@ -31,11 +32,14 @@ enum class StreamPayload {
     Raw,   ///< on the socket, uncompressed
     Zlib,  ///< on the socket, zlib-compressed
 };
-const char* streamPayloadName(StreamPayload payload) noexcept;
+NAVMAP_CLIENT_API const char* streamPayloadName(StreamPayload payload) noexcept;
 
 struct StreamRequest {
     StreamProfile profile;
     StreamPayload payload = StreamPayload::Shm;
+    /// Payload shm: the client holds frames in place until its ack (StreamClient::nextHeld), so
+    /// the server keeps the notified slot from the writer while another slot is free.
+    bool hold = false;
 };
 
 inline constexpr std::size_t kMaxHandshakeBytes = 4096;
@@ -45,13 +49,13 @@ inline constexpr int kMaxStreamFps = 1000;  ///< displays need <= 240; recorders
 
 /// Parses one handshake line (without or with the trailing '\n'):
 ///   {"version":1,"profile":"cluster","width":1280,"height":480,"fps":30,"view":"snail",
-///    "format":"rgba8","payload":"shm"}
+///    "format":"rgba8","payload":"shm","hold":true}
 /// "version" and either "profile" (a default name) or all of width/height/view are required;
 /// given fields override the named profile's. Unknown keys, wrong types and out-of-range values
 /// are errors naming the key.
-Result<StreamRequest> parseStreamRequest(std::string_view line);
+NAVMAP_CLIENT_API Result<StreamRequest> parseStreamRequest(std::string_view line);
 
 /// The handshake line for `request`, ending in '\n'. parseStreamRequest() reads it back equal.
-std::string formatStreamRequest(const StreamRequest& request);
+NAVMAP_CLIENT_API std::string formatStreamRequest(const StreamRequest& request);
 
 }  // namespace navmap::ipc

@@ -1,5 +1,7 @@
 #pragma once
-// CPU-side RGBA images: what readback produces and what golden tests compare.
+// CPU-side RGBA images: what readback produces and what golden tests compare. The file functions
+// (writePng, readImage) are in the library navmap_image_io (OpenImageIO): link it where images are
+// read or written; the renderer itself does not.
 
 #include <cstdint>
 #include <filesystem>

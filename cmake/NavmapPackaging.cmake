@@ -1,0 +1,67 @@
+# Debian packages with `cpack -G DEB` in the build tree (docs/packaging.md):
+#   navmapd               the daemon, the tools, the default data, the unit, the configuration
+#   libnavmap-client0     libnavmap-client.so.0 (what a display process needs at run time)
+#   libnavmap-client-dev  headers, CMake package, pkg-config file
+# Dependencies on Debian libraries come from dpkg-shlibdeps; between the three, from here.
+set(CPACK_PACKAGE_NAME navmap)
+set(CPACK_PACKAGE_VENDOR "navmap")
+set(CPACK_PACKAGE_VERSION ${PROJECT_VERSION})
+set(CPACK_RESOURCE_FILE_LICENSE ${PROJECT_SOURCE_DIR}/LICENSE)
+set(CPACK_PACKAGING_INSTALL_PREFIX /usr)
+# Install with DESTDIR and the prefix /usr, whatever the build was configured with, so that the
+# configuration lands in /etc (cmake/NavmapInstallSystem.cmake decides by the prefix).
+set(CPACK_SET_DESTDIR ON)
+set(CPACK_INSTALL_PREFIX /usr)
+set(CPACK_STRIP_FILES ON)
+if(NAVMAP_WITH_DAEMON)
+  set(CPACK_COMPONENTS_ALL daemon client client-dev)
+else()
+  set(CPACK_COMPONENTS_ALL client client-dev)
+endif()
+set(CPACK_DEB_COMPONENT_INSTALL ON)
+set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
+set(CPACK_DEBIAN_PACKAGE_MAINTAINER "navmap maintainers <navmap@localhost>")
+set(CPACK_DEBIAN_PACKAGE_SECTION misc)
+if(CMAKE_CROSSCOMPILING)
+  # dpkg-shlibdeps reads the build machine's package database: no answer for the target's libraries.
+  set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS OFF)
+  if(CMAKE_SYSTEM_PROCESSOR STREQUAL "aarch64")
+    set(CPACK_DEBIAN_PACKAGE_ARCHITECTURE arm64)
+  endif()
+else()
+  set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
+endif()
+set(CPACK_DEBIAN_PACKAGE_CONTROL_STRICT_PERMISSION ON)
+
+set(CPACK_DEBIAN_DAEMON_PACKAGE_NAME navmapd)
+set(CPACK_DEBIAN_DAEMON_PACKAGE_SECTION misc)
+set(CPACK_DEBIAN_DAEMON_PACKAGE_RECOMMENDS "fonts-dejavu-core, fonts-droid-fallback, libegl-mesa0, libgl1-mesa-dri")
+set(CPACK_DEBIAN_DAEMON_PACKAGE_SUGGESTS "systemd, can-utils")
+set(CPACK_DEBIAN_DAEMON_DESCRIPTION "headless 3D navigation-map renderer daemon for cars
+navmapd renders bird's-eye and snail's-view map frames offscreen (EGL, OpenGL ES 3) from the
+vehicle position on SocketCAN and a route over local IPC, and streams them to cluster and
+head-up-display clients. With the tools navmap-view, navmap-ctl, navmap-compile, navmap-sim and
+navmap-soak, and the Andorra map data (OpenStreetMap, ODbL; SRTM).")
+set(CPACK_DEBIAN_DAEMON_PACKAGE_CONTROL_EXTRA
+    "${PROJECT_SOURCE_DIR}/daemon/debian/conffiles;${PROJECT_SOURCE_DIR}/daemon/debian/postinst;${PROJECT_SOURCE_DIR}/daemon/debian/postrm")
+
+set(CPACK_DEBIAN_CLIENT_PACKAGE_NAME libnavmap-client${PROJECT_VERSION_MAJOR})
+set(CPACK_DEBIAN_CLIENT_PACKAGE_SECTION libs)
+set(CPACK_DEBIAN_CLIENT_DESCRIPTION "navmap display-client library
+libnavmap-client receives navmapd's frames over shared memory (C and C++ API), reconnecting by
+itself; it links only the C and C++ runtime.")
+set(CPACK_DEBIAN_PACKAGE_GENERATE_SHLIBS ON)  # a shlibs file for packages with shared libraries
+
+set(CPACK_DEBIAN_CLIENT-DEV_PACKAGE_NAME libnavmap-client-dev)
+set(CPACK_DEBIAN_CLIENT-DEV_PACKAGE_SECTION libdevel)
+set(CPACK_DEBIAN_CLIENT-DEV_PACKAGE_DEPENDS "libnavmap-client${PROJECT_VERSION_MAJOR} (= ${PROJECT_VERSION})")
+set(CPACK_DEBIAN_CLIENT-DEV_DESCRIPTION "navmap display-client library: development files
+Headers (navmap_client.h, navmap/ipc/*.h), the CMake package (find_package(navmap COMPONENTS
+client)) and the pkg-config file navmap-client.pc.")
+
+include(CPack)
+if(NAVMAP_WITH_DAEMON)
+  cpack_add_component(daemon DISPLAY_NAME "navmapd" REQUIRED)
+endif()
+cpack_add_component(client DISPLAY_NAME "libnavmap-client")
+cpack_add_component(client-dev DISPLAY_NAME "libnavmap-client-dev" DEPENDS client)

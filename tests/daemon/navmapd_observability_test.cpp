@@ -1,0 +1,228 @@
+// navmapd as an HMI integrator sees it from outside (no-op renderer: the daemon's own behaviour):
+// /metrics is valid Prometheus text (parsed by the Prometheus client library's parser: each
+// family once, base units), the version is in get_status and /status, frames are routed by
+// profile (two profiles of one view and size are two streams), and a profile with `attribution`
+// carries "© OpenStreetMap contributors" in its bottom right corner.
+#include <gtest/gtest.h>
+
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <poll.h>
+#include <sys/socket.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <thread>
+
+#include "navmap/ipc/control_client.h"
+#include "navmap/ipc/stream_client.h"
+#include "navmap/version.h"
+#include "navmapd_process.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using namespace std::chrono_literals;
+
+// A TCP port nobody listens on now (bound and released; the daemon binds it right after).
+int freePort() {
+    const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+    sockaddr_in a{};
+    a.sin_family = AF_INET;
+    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    ::bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof a);
+    socklen_t len = sizeof a;
+    ::getsockname(fd, reinterpret_cast<sockaddr*>(&a), &len);
+    ::close(fd);
+    return ntohs(a.sin_port);
+}
+
+// GET `path` from 127.0.0.1:port with the Host header the daemon accepts; the whole response.
+std::string httpGet(int port, const std::string& path) {
+    const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+    sockaddr_in a{};
+    a.sin_family = AF_INET;
+    a.sin_port = htons(static_cast<std::uint16_t>(port));
+    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    std::string out;
+    if (::connect(fd, reinterpret_cast<sockaddr*>(&a), sizeof a) == 0) {
+        const std::string req = "GET " + path + " HTTP/1.0\r\nHost: 127.0.0.1:" + std::to_string(port) + "\r\n\r\n";
+        [[maybe_unused]] const auto n = ::send(fd, req.data(), req.size(), MSG_NOSIGNAL);
+        char buf[65536];
+        pollfd p{fd, POLLIN, 0};
+        while (::poll(&p, 1, 5000) > 0) {
+            const ssize_t r = ::recv(fd, buf, sizeof buf, 0);
+            if (r <= 0) break;
+            out.append(buf, static_cast<std::size_t>(r));
+        }
+    }
+    ::close(fd);
+    return out;
+}
+
+std::string body(const std::string& response) {
+    const auto at = response.find("\r\n\r\n");
+    return at == std::string::npos ? std::string() : response.substr(at + 4);
+}
+
+struct ProgramRun {
+    int status = -1;
+    std::string out;
+};
+
+ProgramRun run(const std::string& cmd) {
+    ProgramRun r;
+    FILE* p = ::popen((cmd + " 2>&1").c_str(), "r");
+    if (p == nullptr) return r;
+    char buf[4096];
+    std::size_t n = 0;
+    while ((n = std::fread(buf, 1, sizeof buf, p)) > 0) r.out.append(buf, n);
+    const int st = ::pclose(p);
+    r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+    return r;
+}
+
+// Two bird's-eye profiles of the same size, one with the attribution and one without: the same
+// stream before frames were routed by profile.
+class NavmapdObservability : public ::testing::Test {
+protected:
+    void SetUp() override {
+        m_dir = fs::temp_directory_path() / ("navmapd-observability-" + std::to_string(::getpid()));
+        fs::remove_all(m_dir);
+        fs::create_directories(m_dir);
+        navmap::test::writeStandingLog(m_dir / "standing.candump");
+        m_port = freePort();
+        std::ofstream(m_dir / "navmapd.toml") << "[input]\nsource = \"replay\"\nreplay_log = \""
+                                              << (m_dir / "standing.candump").string()
+                                              << "\"\n[[profile]]\nname = \"plain\"\nwidth = 320\nheight = 180\nview = \"bird\"\n"
+                                                 "attribution = false\n"
+                                                 "[[profile]]\nname = \"credited\"\nwidth = 320\nheight = 180\nview = \"bird\"\n"
+                                                 "attribution = true\n"
+                                                 "[control]\nsocket = \""
+                                              << (m_dir / "control.sock").string() << "\"\n[stream]\nsocket = \""
+                                              << (m_dir / "frames.sock").string() << "\"\nhttp_port = " << m_port << "\n";
+        m_daemon = std::make_unique<navmap::test::NavmapdProcess>(
+            NAVMAPD_PATH, "--noop --config " + (m_dir / "navmapd.toml").string(), m_dir / "navmapd.log", m_dir / "frames.sock");
+        ASSERT_TRUE(fs::exists(m_dir / "frames.sock")) << m_daemon->output();
+    }
+    void TearDown() override {
+        m_daemon.reset();
+        fs::remove_all(m_dir);
+    }
+    navmap::ipc::StreamRequest request(const std::string& name) const {
+        navmap::ipc::StreamRequest r;
+        r.profile.name = name;
+        r.profile.width = 320;
+        r.profile.height = 180;
+        r.profile.view = "bird";
+        return r;
+    }
+    fs::path m_dir;
+    int m_port = 0;
+    std::unique_ptr<navmap::test::NavmapdProcess> m_daemon;
+};
+
+// Pixels of the bottom right 200x24 corner that differ from the frame's top left pixel (the
+// no-op renderer's sky), and of those the light ones (text).
+struct Corner {
+    int changed = 0;
+    int light = 0;
+};
+Corner corner(const navmap::ipc::ReceivedFrame& f) {
+    Corner c;
+    const std::uint8_t* sky = f.pixels.data();
+    for (std::uint32_t y = f.header.height - 24; y < f.header.height; ++y) {
+        for (std::uint32_t x = f.header.width - 200; x < f.header.width; ++x) {
+            const std::uint8_t* p = f.pixels.data() + y * f.header.stride + x * 4;
+            if (p[0] != sky[0] || p[1] != sky[1] || p[2] != sky[2]) ++c.changed;
+            if (p[0] > 170 && p[1] > 170 && p[2] > 170) ++c.light;
+        }
+    }
+    return c;
+}
+
+}  // namespace
+
+TEST_F(NavmapdObservability, ProfilesOfOneViewAndSizeAreTwoStreamsAndTheAttributionIsDrawn) {
+    auto plain = navmap::ipc::StreamClient::connectUnix((m_dir / "frames.sock").string(), request("plain"));
+    auto credited = navmap::ipc::StreamClient::connectUnix((m_dir / "frames.sock").string(), request("credited"));
+    ASSERT_TRUE(plain.ok()) << plain.error().message;
+    ASSERT_TRUE(credited.ok()) << credited.error().message;
+    navmap::ipc::ReceivedFrame f;
+    int plainFrames = 0;
+    int creditedFrames = 0;
+    Corner credit;
+    const auto until = std::chrono::steady_clock::now() + 20s;
+    while ((plainFrames < 15 || creditedFrames < 15) && std::chrono::steady_clock::now() < until) {
+        for (auto* c : {plain.value().get(), credited.value().get()}) {
+            auto r = c->next(f, 200ms);
+            ASSERT_TRUE(r.ok()) << r.error().message << "\n" << m_daemon->output();
+            if (!r.value()) continue;
+            const Corner k = corner(f);
+            if (c == plain.value().get()) {
+                // Never a frame of the other profile: its corner is the sky, untouched.
+                ASSERT_EQ(k.changed, 0) << "the plain profile got a frame with the attribution (sequence "
+                                        << f.header.sequence << ")";
+                ++plainFrames;
+            } else {
+                ASSERT_GT(k.changed, 1000) << "the credited profile's frame " << f.header.sequence << " has no box";
+                ASSERT_GT(k.light, 40) << "no text in the box";
+                credit = k;
+                ++creditedFrames;
+            }
+        }
+    }
+    EXPECT_GE(plainFrames, 15) << m_daemon->output();
+    EXPECT_GE(creditedFrames, 15) << m_daemon->output();
+    std::printf("attribution corner: %d pixels changed, %d light (text)\n", credit.changed, credit.light);
+    // The rest of the credited frame is the sky.
+    EXPECT_EQ(f.pixels[(10 * f.header.width + 10) * 4], f.pixels[0]);
+}
+
+TEST_F(NavmapdObservability, MetricsParseAsPrometheusTextEachFamilyOnceInBaseUnits) {
+    // A client on each profile, so that the stream families have clients and frames.
+    auto plain = navmap::ipc::StreamClient::connectUnix((m_dir / "frames.sock").string(), request("plain"));
+    ASSERT_TRUE(plain.ok()) << plain.error().message;
+    navmap::ipc::ReceivedFrame f;
+    for (int i = 0; i < 50 && plain.value()->stats().frames < 10; ++i) ASSERT_TRUE(plain.value()->next(f, 200ms).ok());
+    std::this_thread::sleep_for(1200ms);  // the daemon's families are refreshed every second
+    const std::string response = httpGet(m_port, "/metrics");
+    ASSERT_EQ(response.rfind("HTTP/1.0 200 OK\r\n", 0), 0U) << response;
+    const std::string text = body(response);
+    const fs::path file = m_dir / "metrics.txt";
+    std::ofstream(file) << text;
+    const ProgramRun check = run("/usr/bin/python3 " NAVMAP_CHECK_METRICS " " + file.string());
+    if (check.status == 77) GTEST_SKIP() << check.out;
+    EXPECT_EQ(check.status, 0) << check.out << "\n" << text;
+    std::printf("%s", check.out.substr(0, check.out.find('\n') + 1).c_str());
+    // The daemon's and the server's families are both there, in seconds and bytes.
+    for (const char* family : {"navmap_frame_seconds summary", "navmap_latency_seconds summary",
+                               "navmap_stream_frames_sent counter", "navmap_stream_clients gauge",
+                               "navmap_process_resident_bytes gauge", "navmap_build_info gauge"}) {
+        EXPECT_NE(check.out.find(std::string("\n") + family + " "), std::string::npos) << family << "\n" << check.out;
+    }
+    EXPECT_NE(text.find("navmap_build_info{version=\"" NAVMAP_VERSION "\"} 1\n"), std::string::npos) << text;
+    EXPECT_NE(text.find("navmap_frames_published_total{profile=\"plain\"} "), std::string::npos) << text;
+}
+
+TEST_F(NavmapdObservability, TheVersionIsInGetStatusAndStatus) {
+    std::this_thread::sleep_for(1200ms);
+    auto control = navmap::ipc::ControlClient::connect((m_dir / "control.sock").string());
+    ASSERT_TRUE(control.ok()) << control.error().message;
+    auto reply = control.value().request(R"({"cmd":"get_status"})", 5s);
+    ASSERT_TRUE(reply.ok()) << reply.error().message;
+    const auto j = nlohmann::json::parse(reply.value(), nullptr, false);
+    ASSERT_TRUE(j.is_object()) << reply.value();
+    EXPECT_EQ(j["status"]["version"], NAVMAP_VERSION) << reply.value();
+    const auto status = nlohmann::json::parse(body(httpGet(m_port, "/status")), nullptr, false);
+    ASSERT_TRUE(status.is_object());
+    EXPECT_EQ(status["daemon"]["version"], NAVMAP_VERSION);
+    EXPECT_EQ(status["daemon"]["profiles"][1]["attribution"], true);
+    EXPECT_EQ(status["daemon"]["profiles"][0]["attribution"], false);
+}

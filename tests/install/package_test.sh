@@ -1,0 +1,91 @@
+#!/usr/bin/env bash
+# The Debian packages (CTest `deb_packages`, label install): `cpack -G DEB` in the build tree makes
+# navmapd, libnavmap-client0 and libnavmap-client-dev; their control fields and file lists are
+# checked, and they are installed into a throwaway root with dpkg (dpkg --root, maintainer
+# scripts chroot-less with DPKG_ROOT: the postinst creates the navmap user there through
+# sysusers.d). Without root (dpkg needs it) the packages are unpacked with dpkg -x instead; the
+# output says which. The installed daemon then runs from that root.
+# Usage: package_test.sh BUILD_DIR SOURCE_DIR
+set -euo pipefail
+build="$1"
+src="$2"
+work="$(mktemp -d /tmp/navmap-package-test.XXXXXX)"
+trap 'rm -rf "$work"' EXIT
+fail() { echo "FAIL: $*" >&2; exit 1; }
+
+(cd "$build" && cpack -G DEB -B "$work/packages") > "$work/cpack.log" 2>&1 || { cat "$work/cpack.log"; fail "cpack -G DEB"; }
+version="$(sed -n 's/^#define NAVMAP_VERSION "\(.*\)"/\1/p' "$build/include/navmap/version.h")"
+arch="$(dpkg --print-architecture)"
+daemon_deb="$work/packages/navmapd_${version}_${arch}.deb"
+lib_deb="$work/packages/libnavmap-client0_${version}_${arch}.deb"
+dev_deb="$work/packages/libnavmap-client-dev_${version}_${arch}.deb"
+for deb in "$daemon_deb" "$lib_deb" "$dev_deb"; do
+    [ -f "$deb" ] || { ls -l "$work/packages"; fail "missing $(basename "$deb")"; }
+done
+field() { dpkg-deb -f "$1" "$2"; }
+for deb in "$daemon_deb" "$lib_deb" "$dev_deb"; do
+    echo "== $(basename "$deb") ($(stat -c %s "$deb") bytes)"
+    dpkg-deb -I "$deb" | sed -n '/^ Package:/,$p'
+    dpkg-deb -c "$deb" | awk '{print "   " $6 ($6 ~ /\/$/ ? "" : "  " $3)}' | grep -v '/$'
+done
+# Control fields.
+[ "$(field "$daemon_deb" Package)" = navmapd ] || fail "daemon package name"
+[ "$(field "$lib_deb" Package)" = libnavmap-client0 ] || fail "library package name"
+[ "$(field "$dev_deb" Package)" = libnavmap-client-dev ] || fail "-dev package name"
+for deb in "$daemon_deb" "$lib_deb" "$dev_deb"; do
+    [ "$(field "$deb" Version)" = "$version" ] || fail "$(basename "$deb"): version $(field "$deb" Version)"
+    [ "$(field "$deb" Architecture)" = "$arch" ] || fail "$(basename "$deb"): architecture"
+done
+daemon_depends="$(field "$daemon_deb" Depends)"
+lib_depends="$(field "$lib_deb" Depends)"
+echo "navmapd Depends: $daemon_depends"
+echo "libnavmap-client0 Depends: $lib_depends"
+for need in libegl1 libgles2 libsystemd0 libturbojpeg0 libfreetype6 libharfbuzz0b; do
+    echo "$daemon_depends" | grep -q "$need" || fail "navmapd does not depend on $need"
+done
+echo "$daemon_depends" | grep -q openimageio && fail "navmapd depends on OpenImageIO (only image files need it)"
+# The client library needs the C and C++ runtime, nothing of the server.
+for d in $(echo "$lib_depends" | tr ',' '\n' | sed 's/(.*//; s/ //g'); do
+    case "$d" in libc6|libgcc-s1|libstdc++6) ;; *) fail "libnavmap-client0 depends on $d" ;; esac
+done
+field "$dev_deb" Depends | grep -qx "libnavmap-client0 (= $version)" || fail "-dev Depends: $(field "$dev_deb" Depends)"
+dpkg-deb -f "$lib_deb" Section | grep -qx libs || fail "library section"
+dpkg-deb --ctrl-tarfile "$daemon_deb" | tar -t | grep -q '^./conffiles$' || fail "no conffiles"
+dpkg-deb --ctrl-tarfile "$daemon_deb" | tar -xO ./conffiles | grep -qx /etc/navmap/navmapd.toml || fail "conffiles"
+dpkg-deb --ctrl-tarfile "$lib_deb" | tar -xO ./shlibs | grep -q "^libnavmap-client 0 libnavmap-client0" || fail "shlibs"
+for f in ./usr/bin/navmapd ./usr/share/navmap/andorra.navmap ./etc/navmap/navmapd.toml \
+         ./usr/lib/systemd/system/navmapd.service ./usr/lib/sysusers.d/navmap.conf; do
+    dpkg-deb -c "$daemon_deb" | awk '{print $6}' | grep -qx "$f" || fail "navmapd lacks $f"
+done
+dpkg-deb -c "$dev_deb" | awk '{print $6}' | grep -q 'cmake/navmap/navmapConfig.cmake$' || fail "-dev lacks the CMake package"
+dpkg-deb -c "$dev_deb" | awk '{print $6}' | grep -q '/include/navmap_client.h$' || fail "-dev lacks navmap_client.h"
+
+# Into a throwaway root.
+root="$work/root"
+if [ "$(id -u)" -eq 0 ]; then
+    echo "== dpkg --root $root (maintainer scripts chroot-less, DPKG_ROOT set)"
+    mkdir -p "$root/var/lib/dpkg/info" "$root/var/lib/dpkg/updates" "$root/etc"
+    touch "$root/var/lib/dpkg/status" "$root/var/lib/dpkg/available"
+    dpkg --root="$root" --force-depends --force-script-chrootless --log=/dev/null -i "$lib_deb" "$dev_deb" "$daemon_deb" \
+        > "$work/dpkg.log" 2>&1 || { cat "$work/dpkg.log"; fail "dpkg --root -i"; }
+    dpkg --root="$root" -l | grep -E '^ii +(navmapd|libnavmap-client0|libnavmap-client-dev) ' || fail "not installed"
+    if command -v systemd-sysusers >/dev/null; then
+        grep -q '^navmap:' "$root/etc/passwd" || fail "the postinst did not create the navmap user"
+        echo "postinst: $(grep '^navmap:' "$root/etc/passwd")"
+    fi
+    dpkg --root="$root" -r libnavmap-client-dev > /dev/null 2>&1 || fail "dpkg -r libnavmap-client-dev"
+    [ ! -e "$root/usr/include/navmap_client.h" ] || fail "removing the -dev package left its headers"
+    dpkg --root="$root" --force-depends -i "$dev_deb" > /dev/null 2>&1
+else
+    echo "== not root: dpkg -x into $root (dpkg --root needs root)"
+    for deb in "$lib_deb" "$dev_deb" "$daemon_deb"; do dpkg -x "$deb" "$root"; done
+fi
+"$root/usr/bin/navmapd" --version | grep -qx "navmapd $version" || fail "navmapd --version"
+"$root/usr/bin/navmapd" --check-config | grep -qx "store: $root/usr/share/navmap/andorra.navmap (cache 128 MiB)" \
+    || fail "the packaged navmapd does not find its store"
+grep -qx "ExecStart=/usr/bin/navmapd --config /etc/navmap/navmapd.toml" "$root/usr/lib/systemd/system/navmapd.service" \
+    || fail "the packaged unit: $(grep ExecStart "$root/usr/lib/systemd/system/navmapd.service")"
+cp -r "$src/examples/c_client" "$work/example"
+cmake -S "$work/example" -B "$work/example-build" -DCMAKE_PREFIX_PATH="$root/usr" > "$work/example.log" 2>&1 \
+    && cmake --build "$work/example-build" >> "$work/example.log" 2>&1 || { cat "$work/example.log"; fail "example against the -dev package"; }
+echo "packages OK"
