@@ -43,6 +43,10 @@ struct Log {
 };
 constexpr int kErr = 3, kWarning = 4, kNotice = 5, kInfo = 6;
 
+// How long start-up frames wait for the tiles under the camera before they are published anyway
+// (a store that lacks the area, a disk that stalls): the display then shows what there is.
+constexpr auto kStartupTileWait = std::chrono::seconds(15);
+
 double percentile(std::vector<double> v, double q) {
     if (v.empty()) return 0.0;
     std::sort(v.begin(), v.end());
@@ -92,6 +96,11 @@ struct ProfileView {
     std::size_t tiles_drawn = 0, tiles_pending = 0;  // last frame
     std::uint64_t tiles_uploaded = 0;                 // GPU tile uploads of this profile's frames
     std::uint64_t rendered = 0, published = 0, skipped_idle = 0;
+    // Start-up: no frame leaves before one shows the camera's tiles at their level of detail,
+    // uploaded (not sky, not a coarse parent). Frames before `first_complete` are dropped.
+    std::uint64_t first_complete = ~std::uint64_t{0};
+    std::size_t tiles_wanted = 0;  // last frame: tiles the view still waits for
+    std::uint64_t held_back = 0;   // frames not published while the map loaded
 };
 
 render::ViewMode viewFor(const DisplayProfile& p, const ipc::ViewState* state) {
@@ -282,6 +291,11 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
         // Publishes finished readbacks of `v`, oldest first, with the CAN time behind each pose.
         const auto publishFinished = [&](ProfileView& v, const std::vector<render::Frame>& finished) {
             for (const auto& done : finished) {
+                if (done.sequence < v.first_complete) {
+                    ++v.held_back;  // rendered before the map under the camera was drawable
+                    v.source_times.erase(v.source_times.begin(), v.source_times.upper_bound(done.sequence));
+                    continue;
+                }
                 ipc::FrameView fv;
                 fv.pixels = done.image.rgba.data();
                 fv.width = done.image.width;
@@ -392,11 +406,7 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
                 v.map_view->select(frame, double(v.profile.width) / v.profile.height, v.profile.height);  // tiles + geomorph
                 frame.route = route_geometry.points.size() >= 2 ? &route_geometry : nullptr;
                 frame.route_progress_m = route_driven_max;
-                frame.layers.labels = config.labels;
-                frame.layers.road_technique = v.profile.roads;
-                frame.layers.glow_roads = v.profile.glow_roads;
-                frame.layers.label_aura = v.profile.label_aura;
-                frame.layers.road_selection = v.profile.road_selection;
+                frame.layers = layersFor(v.profile, config.labels);
                 frame.frame_dt_s = std::min(dt, 0.5);
                 if (fresh.valid) frame.marker = render::MarkerState{vp.position, vp.heading_deg, fresh.stale};
                 renderer->useTarget(v.target);
@@ -404,6 +414,7 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
                 renderer->renderMap(frame);
                 v.tiles_drawn = renderer->mapStats().tiles_drawn;
                 v.tiles_pending = renderer->mapStats().tiles_pending;
+                v.tiles_wanted = v.map_view->lastSelection().wanted.size();
                 v.tiles_uploaded += renderer->mapStats().tiles_uploaded;
                 for (const auto& flat : renderer->mapStats().new_flat_tiles) {
                     if (warned_flat.insert(flat.id.key()).second) {
@@ -413,6 +424,22 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
                 }
                 const std::uint64_t seq = v.sequence++;
                 v.source_times[seq] = fresh.sourceTime;
+                if (v.first_complete == ~std::uint64_t{0}) {
+                    const bool complete = v.tiles_drawn > 0 && v.tiles_pending == 0 && v.tiles_wanted == 0;
+                    const bool overdue = now - t_start > kStartupTileWait;
+                    if (complete || overdue) {
+                        v.first_complete = seq;
+                        if (overdue && !complete) {
+                            log(kWarning, "profile %s: map tiles still loading after %.0f s (%zu wanted, %zu waiting for upload); publishing anyway",
+                                v.profile.name.c_str(), std::chrono::duration<double>(kStartupTileWait).count(), v.tiles_wanted,
+                                v.tiles_pending);
+                        } else {
+                            log(kInfo, "profile %s: map ready after %.0f ms (%llu frames held back)", v.profile.name.c_str(),
+                                std::chrono::duration<double, std::milli>(Clock::now() - t_start).count(),
+                                static_cast<unsigned long long>(seq));
+                        }
+                    }
+                }
                 // The ring hands back a frame only when full; collect what has finished now so
                 // frames leave in the tick that rendered them.
                 std::vector<render::Frame> finished;
@@ -474,6 +501,8 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
                                         {"frame_p50_ms", v.frame_ms.p(0.5)}, {"frame_p99_ms", v.frame_ms.p(0.99)},
                                         {"latency_p50_ms", v.latency_ms.p(0.5)}, {"latency_p99_ms", v.latency_ms.p(0.99)},
                                         {"tiles_drawn", v.tiles_drawn}, {"tiles_pending", v.tiles_pending},
+                                        {"state", v.first_complete == ~std::uint64_t{0} ? "loading map" : "rendering"},
+                                        {"held_back", v.held_back}, {"tiles_wanted", v.tiles_wanted},
                                         {"tiles_uploaded", v.tiles_uploaded}});
                     m << "navmap_frame_ms{profile=\"" << v.profile.name << "\",quantile=\"0.5\"} " << v.frame_ms.p(0.5) << "\n";
                     m << "navmap_frame_ms{profile=\"" << v.profile.name << "\",quantile=\"0.99\"} " << v.frame_ms.p(0.99) << "\n";

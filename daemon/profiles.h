@@ -36,6 +36,9 @@ struct DisplayProfile {
 /// manoeuvre), center 1280x720 bird's-eye.
 std::vector<DisplayProfile> defaultProfiles();
 
+/// The map layers a profile's frames are rendered with (labels on or off for the whole daemon).
+render::MapLayers layersFor(const DisplayProfile& profile, bool labels);
+
 /// Looks a profile up by name among `profiles`.
 std::optional<DisplayProfile> findProfile(const std::vector<DisplayProfile>& profiles, const std::string& name);
 

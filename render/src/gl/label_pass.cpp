@@ -33,6 +33,9 @@ nl::LabelKind layoutKind(map::LabelKind kind) {
     return nl::LabelKind::Point;
 }
 
+// Samples along a line of sight when testing world-space text against the terrain.
+constexpr int kTerrainSightSteps = 32;
+
 std::uint64_t fnv1a(std::uint64_t h, const void* data, std::size_t n) {
     const auto* p = static_cast<const unsigned char*>(data);
     for (std::size_t i = 0; i < n; ++i) {
@@ -129,9 +132,20 @@ const LabelPass::TextSize& LabelPass::textSize(std::uint64_t id, const map::Labe
     return m_sizes.emplace(id, t).first->second;
 }
 
-bool LabelPass::worldCandidate(const MapFrame& frame, const glm::mat4& view_projection, glm::vec2 viewport,
-                               const glm::dvec3& anchor, const glm::dvec3& seg_a, const glm::dvec3& seg_b,
-                               const TextSize& t, Feature& f, nl::LabelCandidate& c) const {
+double LabelPass::groundHeight(std::span<const TileLabels> tiles, double x, double y) {
+    // The finest drawn tile under the point: what the terrain pass draws there.
+    const TileLabels* best = nullptr;
+    for (const TileLabels& t : tiles) {
+        if (t.grid.size < 2 || !t.grid.heights) continue;
+        if (x < t.origin.x || y < t.origin.y || x > t.origin.x + t.size_m || y > t.origin.y + t.size_m) continue;
+        if (!best || t.size_m < best->size_m) best = &t;
+    }
+    return best ? best->grid.heightAt(x - best->origin.x, y - best->origin.y) : std::nan("");
+}
+
+bool LabelPass::worldCandidate(const MapFrame& frame, std::span<const TileLabels> tiles, const glm::mat4& view_projection,
+                               glm::vec2 viewport, const glm::dvec3& anchor, const glm::dvec3& seg_a,
+                               const glm::dvec3& seg_b, const TextSize& t, Feature& f, nl::LabelCandidate& c) const {
     // Eye-relative float coordinates: precise near the camera, wherever the store's origin is.
     const glm::vec3 a(anchor - m_eye);
     const float near = static_cast<float>(frame.camera.near_m);
@@ -206,8 +220,30 @@ bool LabelPass::worldCandidate(const MapFrame& frame, const glm::mat4& view_proj
         cap_px = std::min(cap_px, glm::length(p1 - p0));
     }
     const float max_cap = m_params.world_max_cap_ratio * t.cap_height;
-    f.legible = f.legible ? cap_px >= m_params.world_min_cap_px && cap_px <= max_cap
-                          : cap_px >= m_params.world_enter_cap_px && cap_px <= 0.9f * max_cap;
+    // As drawn last frame too: the layout may have moved the text off its rest position.
+    const float seen_cap = f.drawn_cap_px > 0.0f ? std::min(cap_px, f.drawn_cap_px) : cap_px;
+    f.legible = f.legible ? seen_cap >= m_params.world_min_cap_px && cap_px <= max_cap
+                          : seen_cap >= m_params.world_enter_cap_px && cap_px <= 0.9f * max_cap;
+    if (!f.legible) return false;
+    // Text behind a hill cannot be read, and the aura fades only buildings (seed 5.5.1): lines
+    // of sight to a grid of points over the text box must pass above the drawn terrain. A label
+    // comes in only with a margin of clear sky around its text (hysteresis against flicker).
+    const float reach = f.shown_world ? 1.0f : 1.25f;
+    bool hidden = false;
+    for (const float sx : {-0.9f, -0.3f, 0.3f, 0.9f}) {
+        for (const float sy : {-0.6f, 0.6f}) {
+            const glm::vec3 target = center + right * (reach * sx * half_m.x) + up * (reach * sy * half_m.y);
+            for (int k = 1; k <= kTerrainSightSteps && !hidden; ++k) {
+                // Denser near the eye, where a slope beside the road covers much of the view; up to
+                // 95 % of the way: the text stands on the ground it names.
+                const float u = static_cast<float>(k) / static_cast<float>(kTerrainSightSteps);
+                const glm::vec3 p = target * (0.95f * u * u);
+                const double ground = groundHeight(tiles, m_eye.x + p.x, m_eye.y + p.y);
+                hidden = !std::isnan(ground) && m_eye.z + p.z < ground - 0.5;
+            }
+        }
+    }
+    f.legible = !hidden;
     if (!f.legible) return false;
 
     f.world = true;
@@ -256,6 +292,7 @@ void LabelPass::collect(const MapFrame& frame, std::span<const TileLabels> tiles
             }
             f.anchor = anchor;
             f.frame = m_frame;
+            f.shown_world = f.world && std::ranges::binary_search(m_shown, id);
             f.world = false;
             const TextSize& size = textSize(id, l);
             nl::LabelCandidate c;
@@ -271,7 +308,7 @@ void LabelPass::collect(const MapFrame& frame, std::span<const TileLabels> tiles
                 const glm::dvec3 a = t.origin + glm::dvec3(t.points[3 * i + 1]);
                 const glm::dvec3 b = t.origin + glm::dvec3(t.points[3 * i + 2]);
                 const glm::dvec3 at = c.kind == nl::LabelKind::Line && glm::length(b - a) >= 1.0 ? 0.5 * (a + b) : anchor;
-                if (!worldCandidate(frame, m_view_projection, vp, at, a, b, size, f, c)) continue;
+                if (!worldCandidate(frame, tiles, m_view_projection, vp, at, a, b, size, f, c)) continue;
             } else if (c.kind == nl::LabelKind::Line) {
                 const glm::vec4 a = vp_tile * glm::vec4(t.points[3 * i + 1], 1.0f);
                 const glm::vec4 b = vp_tile * glm::vec4(t.points[3 * i + 2], 1.0f);
@@ -345,13 +382,8 @@ void LabelPass::keepOut(const MapFrame& frame, std::span<const TileLabels> tiles
     // The route just ahead of the car, draped on the finest drawn tile under each sample.
     const RouteGeometry& r = *frame.route;
     auto groundAt = [&](double x, double y) {
-        const TileLabels* best = nullptr;
-        for (const TileLabels& t : tiles) {
-            if (t.grid.size < 2 || !t.grid.heights) continue;
-            if (x < t.origin.x || y < t.origin.y || x > t.origin.x + t.size_m || y > t.origin.y + t.size_m) continue;
-            if (!best || t.size_m < best->size_m) best = &t;
-        }
-        return best ? best->grid.heightAt(x - best->origin.x, y - best->origin.y) : frame.camera.target.z;
+        const double z = groundHeight(tiles, x, y);
+        return std::isnan(z) ? frame.camera.target.z : z;
     };
     const double from = std::clamp(frame.route_progress_m, r.measure_m.front(), r.measure_m.back());
     const double to = std::min(from + m_params.route_keep_out_m, r.measure_m.back());
@@ -503,6 +535,7 @@ void LabelPass::layout(const MapFrame& frame, std::span<const TileLabels> tiles,
                             const glm::vec2 b = toScreen(m_view_projection * glm::vec4(foot + pl.up * cap_m, 1.0f), vp);
                             drawn.cap_height_px = std::min(drawn.cap_height_px, glm::length(b - a));
                         }
+                        f.drawn_cap_px = drawn.cap_height_px;
                     }
                     world_index = m_world.size() - 1;
                 }

@@ -55,11 +55,11 @@ struct LabelPassParams {
     /// World-space text too small to read fades out (seed 5.1: every label readable): it leaves
     /// when its cap height on screen falls below `world_min_cap_px` and comes back above
     /// `world_enter_cap_px`; the layout keeps screen-space text at least LayoutParams::min_cap_height_px.
-    float world_min_cap_px = 10.0f;
-    float world_enter_cap_px = 10.5f;
+    float world_min_cap_px = 10.5f;
+    float world_enter_cap_px = 11.0f;
     /// ... and text too large for the view (a place passed close by) leaves above this many
     /// times its style's cap height, coming back below 0.9 of it.
-    float world_max_cap_ratio = 2.5f;
+    float world_max_cap_ratio = 1.8f;
     /// World-space road names lie along the road; a road running too steeply across the screen
     /// or too foreshortened (seen end-on) cannot carry readable text and gets none.
     float world_max_screen_angle_deg = 60.0f;
@@ -142,7 +142,9 @@ private:
         glm::dvec3 anchor{0.0};   ///< store frame, on the terrain
         std::uint64_t frame = 0;  ///< last frame it was a candidate
         bool world = false;       ///< `plane` holds this frame's world-space placement
-        bool legible = false;     ///< world-space text large enough (hysteresis of world_*_cap_px)
+        bool legible = false;     ///< world-space text readable (size, terrain in front; with hysteresis)
+        bool shown_world = false; ///< in last frame's output, in world space
+        float drawn_cap_px = 0.0f;  ///< cap height as drawn last time in world space (0: never)
         WorldPlane plane;
     };
     /// The text of a label at scale 1: measured size, cap height, and the margin its outline and
@@ -157,9 +159,11 @@ private:
     void collect(const MapFrame& frame, std::span<const TileLabels> tiles, glm::ivec2 viewport, bool world);
     /// The candidate of a label drawn in the world: plane, projected box, legibility; false
     /// when it cannot be read (too small, seen end-on, behind the camera).
-    bool worldCandidate(const MapFrame& frame, const glm::mat4& view_projection, glm::vec2 viewport,
-                        const glm::dvec3& anchor, const glm::dvec3& seg_a, const glm::dvec3& seg_b, const TextSize& t,
-                        Feature& f, labels::LabelCandidate& c) const;
+    bool worldCandidate(const MapFrame& frame, std::span<const TileLabels> tiles, const glm::mat4& view_projection,
+                        glm::vec2 viewport, const glm::dvec3& anchor, const glm::dvec3& seg_a, const glm::dvec3& seg_b,
+                        const TextSize& t, Feature& f, labels::LabelCandidate& c) const;
+    /// Height of the finest drawn tile at a store-frame point; NaN where no tile is drawn.
+    static double groundHeight(std::span<const TileLabels> tiles, double x, double y);
     /// Same-named road candidates within street_repeat_m of one already kept are dropped;
     /// labels on screen now are kept first, so the chosen way does not change.
     void dropRepeatedStreets();
