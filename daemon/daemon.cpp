@@ -117,12 +117,26 @@ render::ViewMode viewFor(const DisplayProfile& p, const ipc::ViewState* state) {
 render::Orientation orientationFor(const DisplayProfile& p, const ipc::ViewState* state) {
     if (state) {
         const auto it = state->displays.find(p.name);
-        if (it != state->displays.end()) {
+        // Only an orientation set over the socket overrides the profile's.
+        if (it != state->displays.end() && it->second.orientationSet) {
             return it->second.orientation == ipc::ViewOrientation::NorthUp ? render::Orientation::NorthUp
                                                                            : render::Orientation::HeadingUp;
         }
     }
     return p.orientation;
+}
+
+// The MapLibre-convention camera a display follows, if any: one set over the control socket wins;
+// a mode set there (bird or snail) means the rig's own view; otherwise the profile's camera.
+std::optional<render::MapLibreFollow> cameraFor(const DisplayProfile& p, const ipc::ViewState* state) {
+    if (state) {
+        const auto it = state->displays.find(p.name);
+        if (it != state->displays.end()) {
+            if (const auto& c = it->second.camera) return render::MapLibreFollow{c->zoom, c->pitch, c->bearing};
+            if (it->second.mode != ipc::ViewMode::Auto) return std::nullopt;
+        }
+    }
+    return p.camera;
 }
 
 }  // namespace
@@ -138,6 +152,7 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
         if (!validateConfig(config, &err)) throw std::runtime_error("config: " + err.message);
 
         render::MapScene scene = render::MapScene::open(config.store_path, config.cache_mb << 20);
+        const map::Projection projection = scene.projection();  // MapLibre-convention cameras: latitude, true north
         log(kInfo, "store %s: %u tiles, cache %zu MiB", config.store_path.c_str(), scene.store->info().tile_count, config.cache_mb);
         // A damaged road graph degrades like a damaged tile: the map renders, what needs the
         // graph says it is missing (docs/tile-store.md "Damage").
@@ -387,6 +402,10 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
                 v.last_frame = t0;
                 v.rig.setMode(viewFor(v.profile, view_state.get()));
                 v.rig.setOrientation(orientationFor(v.profile, view_state.get()));
+                if (const auto camera = cameraFor(v.profile, view_state.get()); camera != v.rig.mapLibreFollow()) {
+                    if (camera) v.rig.setMapLibreFollow(*camera, projection, v.profile.height);
+                    else v.rig.clearMapLibreFollow();
+                }
                 // The freshest pose for this profile: profiles render one after another, and a
                 // pose taken at the start of the tick would age by the renders before this one.
                 const EstimatedPose fresh = input.state()->poseAt(ipc::CanClock::now());
@@ -593,6 +612,7 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
                                     v.profile.glow_roads = p->glow_roads;
                                     v.profile.label_aura = p->label_aura;
                                     v.profile.road_selection = p->road_selection;
+                                    v.profile.camera = p->camera;
                                     v.next_due = Clock::now();  // the new rate applies from the next tick
                                 } else if (p) {
                                     log(kWarning, "reload: profile %s: a new size (%dx%d) needs a restart; keeping %dx%d",

@@ -30,6 +30,10 @@ struct DisplayProfile {
     /// Minor road classes leave distant views (seed 7.3, render::MapLayers::road_selection);
     /// false: every class at every distance.
     bool road_selection = true;
+    /// A camera in MapLibre GL JS's convention (`zoom`, `pitch` in the config) following the
+    /// vehicle instead of the view's own distances: centred on it, bearing from `orientation`.
+    /// Empty: the view's camera rig (render::CameraRig's bird's-eye or snail's view).
+    std::optional<render::MapLibreFollow> camera{};
 };
 
 /// The defaults: cluster 1280x480 snail's view, HUD 800x240 snail's view (route and

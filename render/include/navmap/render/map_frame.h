@@ -190,6 +190,10 @@ struct MapFrameStats {
     /// Every label drawn in this frame as it appears on screen (glyph extents after projection,
     /// drawn opacity): what the label quality metrics measure.
     std::vector<labels::DrawnLabel> drawn_labels;
+    /// Wall time of the label occlusion measurement (MapLayers::measure_label_occlusion: its id
+    /// renders and readbacks, after a glFinish so the frame's own drawing is not in it), ms; 0 when
+    /// off. Tools subtract it from the frame time.
+    double label_occlusion_ms = 0;
     labels::DrawnMarker drawn_marker;  ///< the vehicle marker's screen outline, empty when none was drawn
 };
 
