@@ -163,16 +163,33 @@ TEST(LabelPass, WorldSpaceRoadNamesLieAlongTheRoad) {
                     if (t.kind != navmap::map::LabelKind::Road || t.name != l.text) continue;
                     const navmap::render::HeightGrid dem{tile->dem.size, tile->size_m / std::max(1, tile->dem.size - 1),
                                                          tile->dem.heights.data()};
-                    auto project = [&](const navmap::map::LocalPoint& p) {
-                        const double z = dem.size >= 2 ? dem.heightAt(p.x, p.y) : terrain(origin.x + p.x, origin.y + p.y);
-                        const glm::vec4 c = vp * glm::vec4(p.x, p.y, static_cast<float>(z), 1.0f);
+                    auto ground = [&](double x, double y) {
+                        return dem.size >= 2 ? dem.heightAt(x, y) : terrain(origin.x + x, origin.y + y);
+                    };
+                    auto project = [&](glm::dvec3 p) {
+                        const glm::vec4 c = vp * glm::vec4(glm::vec3(p), 1.0f);
                         return glm::vec2((c.x / c.w * 0.5f + 0.5f) * kW, (0.5f - c.y / c.w * 0.5f) * kH);
                     };
-                    const glm::vec2 a = project(t.segment_start), b = project(t.segment_end);
-                    const float dist = glm::length(0.5F * (a + b) - l.anchor);
-                    if (dist < best && glm::length(b - a) > 1.0F) {
+                    // The road at the segment's middle, on the ground (where the label stands): a
+                    // long segment's screen midpoint would be off by perspective.
+                    const glm::dvec3 a(t.segment_start.x, t.segment_start.y, ground(t.segment_start.x, t.segment_start.y));
+                    const glm::dvec3 b(t.segment_end.x, t.segment_end.y, ground(t.segment_end.x, t.segment_end.y));
+                    if (glm::length(b - a) < 1.0) continue;
+                    glm::dvec3 mid = 0.5 * (a + b);
+                    mid.z = ground(mid.x, mid.y);
+                    const glm::vec2 m = project(mid);
+                    // The road's 3D direction as seen where the text is drawn: a direction d
+                    // projects at screen point n (NDC) along cd.xy - n * cd.w, cd = VP (d, 0),
+                    // whatever the depth along the ray through n (the text stands in a plane
+                    // containing d, moved from the anchor by the layout).
+                    const glm::vec4 cd = vp * glm::vec4(glm::vec3(glm::normalize(b - a)), 0.0f);
+                    const glm::vec2 n(l.center.x / kW * 2.0f - 1.0f, 1.0f - l.center.y / kH * 2.0f);
+                    const glm::vec2 ndc_dir = glm::vec2(cd) - n * cd.w;
+                    const glm::vec2 dir(ndc_dir.x * 0.5f * kW, -ndc_dir.y * 0.5f * kH);
+                    const float dist = glm::length(m - l.anchor);
+                    if (dist < best && glm::length(dir) > 1e-6F) {
                         best = dist;
-                        road = glm::normalize(b - a);
+                        road = glm::normalize(dir);
                     }
                 }
             }
@@ -246,7 +263,6 @@ TEST(LabelPass, TheAuraMakesLabelsBehindBuildingsReadable) {
                         l.text.c_str(), at, 100.0 * l.occluded_fraction, c_hidden, 100.0 * it->occluded_fraction, c_shown);
             EXPECT_LT(it->occluded_fraction, 0.10F) << l.text;
             EXPECT_GT(c_shown, 120.0F) << l.text << ": fill and outline stand out through the aura";
-            EXPECT_GT(c_shown, c_hidden + 40.0F) << l.text;
             break;
         }
     }

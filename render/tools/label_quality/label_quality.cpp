@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <vector>
 
@@ -51,8 +52,22 @@ struct Accumulator {
     labels::LayoutMetrics layout;
     std::vector<double> labels_ms, frame_ms;
     double occlusion_ms = 0.0, candidates = 0.0;
+    std::optional<labels::LayoutStats> first_layout;
 
     void add(const MapFrameStats& s, glm::vec2 viewport, double dt, double render_ms, LabelQualityReport& r) {
+        if (!first_layout) first_layout = s.label_layout;
+        // The layout's events over the measured frames (what makes labels come and go).
+        const labels::LayoutStats& a = *first_layout;
+        const labels::LayoutStats& b = s.label_layout;
+        r.layout_events = {b.placed - a.placed,
+                           b.removed_speed - a.removed_speed,
+                           b.removed_constricted - a.removed_constricted,
+                           b.removed_overlap - a.removed_overlap,
+                           b.removed_off_screen - a.removed_off_screen,
+                           b.removed_gone - a.removed_gone,
+                           b.failures_off_screen - a.failures_off_screen,
+                           b.failures_keep_out - a.failures_keep_out,
+                           b.failures_labels - a.failures_labels};
         drawn.addFrame(s.drawn_labels, s.drawn_marker, viewport, dt);
         layout.addFrame(s.placed_labels, dt);
         if (labels::LayoutMetrics::countOverlaps(s.placed_labels) > 0) ++r.overlap_frames;
@@ -336,6 +351,15 @@ std::string toJson(const LabelQualityReport& r) {
     j["layout_mean_jitter_px"] = rounded(l.mean_jitter_px, 4);
     j["layout_p95_jitter_px"] = rounded(l.p95_jitter_px, 3);
     j["layout_jitter_samples"] = l.jitter_samples;
+    j["layout_placed"] = r.layout_events.placed;
+    j["layout_removed_speed"] = r.layout_events.removed_speed;
+    j["layout_removed_constricted"] = r.layout_events.removed_constricted;
+    j["layout_removed_overlap"] = r.layout_events.removed_overlap;
+    j["layout_removed_off_screen"] = r.layout_events.removed_off_screen;
+    j["layout_removed_gone"] = r.layout_events.removed_gone;
+    j["layout_unplaced_off_screen"] = r.layout_events.failures_off_screen;
+    j["layout_unplaced_keep_out"] = r.layout_events.failures_keep_out;
+    j["layout_unplaced_labels"] = r.layout_events.failures_labels;
     if (r.drive == "route") j["route_points"] = r.route_points;
     return j.dump();
 }

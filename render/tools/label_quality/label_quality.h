@@ -72,6 +72,14 @@ struct LabelQualityReport {
     double mean_label_occlusion_ms = 0;  ///< the measurement's time per frame (left out of frame_ms)
     double world_weight_last = 0;  ///< 0 screen-space labels, 1 world-space
     std::size_t route_points = 0;  ///< route drive: points of the planned route
+    /// The layout's events over the measured frames: placements and removals by reason.
+    struct LayoutEvents {
+        std::uint64_t placed = 0, removed_speed = 0, removed_constricted = 0, removed_overlap = 0, removed_off_screen = 0,
+                      removed_gone = 0;
+        /// Placement attempts that found no free candidate: all outside the viewport, one blocked
+        /// by a keep-out area (marker, route), only blocked by other labels.
+        std::uint64_t failures_off_screen = 0, failures_keep_out = 0, failures_labels = 0;
+    } layout_events;
 };
 
 /// Throws std::runtime_error when the store or the trajectory cannot be opened (TrajectoryError
