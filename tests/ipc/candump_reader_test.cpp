@@ -181,23 +181,20 @@ TEST(CandumpReader, MissingFile) {
 }
 
 TEST(CandumpReader, RealFordLogsLoadCompletely) {
-    const auto dir = navmap::test::sharedDataDir();
-    if (!dir) {
-        GTEST_SKIP() << "../shared/data is absent: real candump logs not available";
-    }
+    const auto dir = navmap::test::ipcDataDir() / "can";
     struct Expect {
         const char* name;
         std::size_t frames;
         const char* iface;
     };
-    // Frame counts from ../shared/data/SOURCES.md.
+    // Frame counts from tests/ipc/data/SOURCES.md.
     const Expect logs[] = {
         {"ford_fusion_2017_acc_on_going_at_50km_per_hour.candump", 10669, "can0"},
         {"ford_fusion_2017_lane_keep_assist_on_red_lines.candump", 2841, "vcan0"},
         {"ford_fusion_2017_lkas-long.candump", 46332, nullptr},
     };
     for (const auto& e : logs) {
-        auto r = navmap::ipc::loadCandumpFile(*dir / "can" / e.name);
+        auto r = navmap::ipc::loadCandumpFile(dir / e.name);
         ASSERT_TRUE(r.ok()) << r.error().message;
         const auto& log = r.value();
         EXPECT_EQ(log.counters.frames, e.frames) << e.name;

@@ -209,14 +209,7 @@ TEST(DbcDatabase, ProjectNavmapDbcParsesStrictly) {
 
 class RealDbc : public ::testing::Test {
 protected:
-    void SetUp() override {
-        const auto dir = navmap::test::sharedDataDir();
-        if (!dir) {
-            GTEST_SKIP() << "../shared/data is absent: real DBC files not available";
-        }
-        m_dir = *dir / "dbc";
-    }
-    std::filesystem::path m_dir;
+    std::filesystem::path m_dir = navmap::test::ipcDataDir() / "dbc";
 };
 
 TEST_F(RealDbc, FordLincolnBaseParsesWithoutDiagnostics) {
