@@ -1,6 +1,7 @@
 #include "navmap/ipc/candump_reader.h"
 
 #include <charconv>
+#include <chrono>
 #include <fstream>
 
 namespace navmap::ipc {
@@ -35,6 +36,10 @@ std::string excerpt(std::string_view s) {
 }
 
 constexpr std::uint32_t kErrFlag = 0x20000000U;  // CAN_ERR_FLAG in candump's 8-digit ids
+// Largest whole seconds a timestamp may have: CanTime counts int64 nanoseconds (up to the year
+// 2262), and the fraction still has to fit on top.
+constexpr std::uint64_t kMaxTimestampSeconds =
+    static_cast<std::uint64_t>(std::chrono::duration_cast<std::chrono::seconds>(CanTime::duration::max()).count()) - 1;
 
 Result<CanFrame> parseFrameToken(std::string_view tok) {
     CanFrame f;
@@ -183,8 +188,12 @@ Result<CandumpReader::Parsed> CandumpReader::parseLine(std::string_view line) {
     std::uint64_t sec = 0;
     {
         const auto [ptr, ec] = std::from_chars(line.data() + p, line.data() + line.size(), sec);
-        if (ec != std::errc{} || ptr == line.data() + p || sec > 0xFFFFFFFFFULL) {
+        if (ec != std::errc{} || ptr == line.data() + p) {
             return Error{"bad timestamp seconds in '" + excerpt(line) + "'"};
+        }
+        if (sec > kMaxTimestampSeconds) {
+            return Error{"timestamp seconds " + std::to_string(sec) + " are out of range (max " +
+                         std::to_string(kMaxTimestampSeconds) + ")"};
         }
         p = static_cast<std::size_t>(ptr - line.data());
     }

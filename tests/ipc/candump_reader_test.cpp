@@ -93,6 +93,17 @@ TEST(CandumpReader, ExtendedRemoteFdAndErrorFrames) {
     EXPECT_EQ(f.len, 1);
 }
 
+TEST(CandumpReader, TimestampsUpToTheEndOfCanTime) {
+    // CanTime is int64 nanoseconds: 9223372035.999999999 s is the last timestamp that fits.
+    auto r = CandumpReader::parseLine("(9223372035.999999999) can0 123#00");
+    ASSERT_TRUE(r.ok()) << r.error().message;
+    EXPECT_EQ(r.value().frame.timestamp.time_since_epoch().count(), 9223372035999999999LL);
+    EXPECT_EQ(parseError("(9223372036.0) can0 123#00"),
+              "timestamp seconds 9223372036 are out of range (max 9223372035)");
+    EXPECT_EQ(parseError("(9618394400.000000) can0 6A0#00"),
+              "timestamp seconds 9618394400 are out of range (max 9223372035)");
+}
+
 TEST(CandumpReader, FormatRoundTrip) {
     for (const char* text : {"123#DEADBEEF", "1ABCDEF0#R", "123#R4", "123##1AABB", "7FF#", "20000004#0004000000000000"}) {
         const CanFrame f = parseOk(std::string("(0.0) can0 ") + text);
