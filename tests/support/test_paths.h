@@ -1,8 +1,10 @@
 #pragma once
 // Where tests find data: everything is in the repository. The repo's data/ (the embedded default
-// data) and tests/ipc/data (real CAN logs and DBC files, see its SOURCES.md).
+// data), tests/ipc/data (real CAN logs and DBC files, see its SOURCES.md) and the checked-in fuzz
+// corpora under tests/fuzz/corpus/.
 
 #include <filesystem>
+#include <string_view>
 
 namespace navmap::test {
 
@@ -10,5 +12,7 @@ std::filesystem::path sourceDir();
 std::filesystem::path binaryDir();
 std::filesystem::path dataDir();     ///< the repo's data/
 std::filesystem::path ipcDataDir();  ///< tests/ipc/data: can/*.candump, dbc/*.dbc, signal maps
+/// tests/fuzz/corpus/<target>: the minimized corpus of one libFuzzer target.
+std::filesystem::path fuzzCorpusDir(std::string_view target);
 
 }  // namespace navmap::test
