@@ -7,6 +7,8 @@
 #include <set>
 #include <sstream>
 
+#include "navmap/render/maplibre_camera.h"
+
 namespace navmap::daemon {
 
 namespace {
@@ -190,13 +192,24 @@ std::optional<DaemonConfig> parseConfig(const std::string& text, const std::stri
             TableReader r(*e.as_table(), source_name, "profile.", err);
             DisplayProfile p;
             std::string view = "snail", orientation = "heading-up", roads = "auto";
+            double zoom = 0.0, pitch = 0.0;
             if (!r.get("name", p.name) || !r.get("width", p.width) || !r.range("width", p.width, 16, 8192) ||
                 !r.get("height", p.height) || !r.range("height", p.height, 16, 8192) || !r.get("fps", p.fps) ||
                 !r.range("fps", p.fps, 0.1, 240.0) || !r.get("view", view) || !r.get("orientation", orientation) ||
                 !r.get("roads", roads) || !r.get("glow_roads", p.glow_roads) || !r.get("label_aura", p.label_aura) ||
-                !r.get("road_selection", p.road_selection) || !r.get("attribution", p.attribution) ||
-                !r.noUnknownKeys())
+                !r.get("road_selection", p.road_selection) || !r.get("attribution", p.attribution) || !r.get("zoom", zoom) ||
+                !r.range("zoom", zoom, render::kMapLibreMinZoom, render::kMapLibreMaxZoom) || !r.get("pitch", pitch) ||
+                !r.range("pitch", pitch, render::kMapLibreMinPitchDeg, render::kMapLibreMaxPitchDeg) || !r.noUnknownKeys())
                 return std::nullopt;
+            // A MapLibre GL JS camera needs both; either alone is a mistake, not a default.
+            const bool has_zoom = e.as_table()->contains("zoom"), has_pitch = e.as_table()->contains("pitch");
+            if (has_zoom != has_pitch) {
+                err->message = where(source_name, e.source()) + ": profile." + (has_zoom ? "zoom" : "pitch") +
+                               " needs profile." + (has_zoom ? "pitch" : "zoom") +
+                               " (a MapLibre-convention camera gives both)";
+                return std::nullopt;
+            }
+            if (has_zoom) p.camera = render::MapLibreFollow{zoom, pitch, std::nullopt};
             if (roads == "geometric") p.roads = render::RoadTechnique::Geometric;
             else if (roads == "shadow-volume") p.roads = render::RoadTechnique::ShadowVolume;
             else if (roads != "auto") {
@@ -360,7 +373,9 @@ std::string describeConfig(const DaemonConfig& c) {
                                                                : "auto")
           << (p.glow_roads ? ", glowing roads" : "") << (p.label_aura ? ", label aura" : "")
           << (p.road_selection ? "" : ", every road class at every distance")
-          << (p.attribution ? ", attribution" : "") << "\n";
+          << (p.attribution ? ", attribution" : "");
+        if (p.camera) s << ", MapLibre camera zoom " << p.camera->zoom << " pitch " << p.camera->pitch_deg;
+        s << "\n";
     }
     const auto ids = [](const std::vector<std::uint32_t>& v) {
         std::string out;

@@ -47,6 +47,10 @@ struct Log {
 };
 constexpr int kErr = 3, kWarning = 4, kNotice = 5, kInfo = 6;
 
+// How long start-up frames wait for the tiles under the camera before they are published anyway
+// (a store that lacks the area, a disk that stalls): the display then shows what there is.
+constexpr auto kStartupTileWait = std::chrono::seconds(15);
+
 double percentile(std::vector<double> v, double q) {
     if (v.empty()) return 0.0;
     std::sort(v.begin(), v.end());
@@ -99,6 +103,11 @@ struct ProfileView {
     std::size_t tiles_drawn = 0, tiles_pending = 0;  // last frame
     std::uint64_t tiles_uploaded = 0;                 // GPU tile uploads of this profile's frames
     std::uint64_t rendered = 0, published = 0, skipped_idle = 0;
+    // Start-up: no frame leaves before one shows the camera's tiles at their level of detail,
+    // uploaded (not sky, not a coarse parent). Frames before `first_complete` are dropped.
+    std::uint64_t first_complete = ~std::uint64_t{0};
+    std::size_t tiles_wanted = 0;  // last frame: tiles the view still waits for
+    std::uint64_t held_back = 0;   // frames not published while the map loaded
 };
 
 render::ViewMode viewFor(const DisplayProfile& p, const ipc::ViewState* state) {
@@ -115,7 +124,8 @@ render::ViewMode viewFor(const DisplayProfile& p, const ipc::ViewState* state) {
 render::Orientation orientationFor(const DisplayProfile& p, const ipc::ViewState* state) {
     if (state) {
         const auto it = state->displays.find(p.name);
-        if (it != state->displays.end()) {
+        // Only an orientation set over the socket overrides the profile's.
+        if (it != state->displays.end() && it->second.orientationSet) {
             return it->second.orientation == ipc::ViewOrientation::NorthUp ? render::Orientation::NorthUp
                                                                            : render::Orientation::HeadingUp;
         }
@@ -183,6 +193,19 @@ std::shared_ptr<const ipc::MetricsRegistry> daemonMetrics(const MetricsInput& m)
     return reg;
 }
 
+// The MapLibre-convention camera a display follows, if any: one set over the control socket wins;
+// a mode set there (bird or snail) means the rig's own view; otherwise the profile's camera.
+std::optional<render::MapLibreFollow> cameraFor(const DisplayProfile& p, const ipc::ViewState* state) {
+    if (state) {
+        const auto it = state->displays.find(p.name);
+        if (it != state->displays.end()) {
+            if (const auto& c = it->second.camera) return render::MapLibreFollow{c->zoom, c->pitch, c->bearing};
+            if (it->second.mode != ipc::ViewMode::Auto) return std::nullopt;
+        }
+    }
+    return p.camera;
+}
+
 }  // namespace
 
 int runDaemon(DaemonConfig config, const RunOptions& options) {
@@ -196,6 +219,7 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
         if (!validateConfig(config, &err)) throw std::runtime_error("config: " + err.message);
 
         render::MapScene scene = render::MapScene::open(config.store_path, config.cache_mb << 20);
+        const map::Projection projection = scene.projection();  // MapLibre-convention cameras: latitude, true north
         log(kInfo, "store %s: %u tiles, cache %zu MiB", config.store_path.c_str(), scene.store->info().tile_count, config.cache_mb);
         // A damaged road graph degrades like a damaged tile: the map renders, what needs the
         // graph says it is missing (docs/tile-store.md "Damage").
@@ -360,6 +384,11 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
         // Publishes finished readbacks of `v`, oldest first, with the CAN time behind each pose.
         const auto publishFinished = [&](ProfileView& v, std::vector<render::Frame>& finished) {
             for (auto& done : finished) {
+                if (done.sequence < v.first_complete) {
+                    ++v.held_back;  // rendered before the map under the camera was drawable
+                    v.source_times.erase(v.source_times.begin(), v.source_times.upper_bound(done.sequence));
+                    continue;
+                }
                 if (v.attribution && done.image.width == v.profile.width && done.image.height == v.profile.height) {
                     v.attribution->apply(done.image.rgba.data(), done.image.width * 4);
                 }
@@ -457,6 +486,10 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
                 v.last_frame = t0;
                 v.rig.setMode(viewFor(v.profile, view_state.get()));
                 v.rig.setOrientation(orientationFor(v.profile, view_state.get()));
+                if (const auto camera = cameraFor(v.profile, view_state.get()); camera != v.rig.mapLibreFollow()) {
+                    if (camera) v.rig.setMapLibreFollow(*camera, projection, v.profile.height);
+                    else v.rig.clearMapLibreFollow();
+                }
                 // The freshest pose for this profile: profiles render one after another, and a
                 // pose taken at the start of the tick would age by the renders before this one.
                 const EstimatedPose fresh = input.state()->poseAt(ipc::CanClock::now());
@@ -476,11 +509,7 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
                 v.map_view->select(frame, double(v.profile.width) / v.profile.height, v.profile.height);  // tiles + geomorph
                 frame.route = route_geometry.points.size() >= 2 ? &route_geometry : nullptr;
                 frame.route_progress_m = route_driven_max;
-                frame.layers.labels = config.labels;
-                frame.layers.road_technique = v.profile.roads;
-                frame.layers.glow_roads = v.profile.glow_roads;
-                frame.layers.label_aura = v.profile.label_aura;
-                frame.layers.road_selection = v.profile.road_selection;
+                frame.layers = layersFor(v.profile, config.labels);
                 frame.frame_dt_s = std::min(dt, 0.5);
                 if (fresh.valid) frame.marker = render::MarkerState{vp.position, vp.heading_deg, fresh.stale};
                 renderer->useTarget(v.target);
@@ -488,6 +517,7 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
                 renderer->renderMap(frame);
                 v.tiles_drawn = renderer->mapStats().tiles_drawn;
                 v.tiles_pending = renderer->mapStats().tiles_pending;
+                v.tiles_wanted = v.map_view->lastSelection().wanted.size();
                 v.tiles_uploaded += renderer->mapStats().tiles_uploaded;
                 for (const auto& flat : renderer->mapStats().new_flat_tiles) {
                     if (warned_flat.insert(flat.id.key()).second) {
@@ -497,6 +527,22 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
                 }
                 const std::uint64_t seq = v.sequence++;
                 v.source_times[seq] = fresh.sourceTime;
+                if (v.first_complete == ~std::uint64_t{0}) {
+                    const bool complete = v.tiles_drawn > 0 && v.tiles_pending == 0 && v.tiles_wanted == 0;
+                    const bool overdue = now - t_start > kStartupTileWait;
+                    if (complete || overdue) {
+                        v.first_complete = seq;
+                        if (overdue && !complete) {
+                            log(kWarning, "profile %s: map tiles still loading after %.0f s (%zu wanted, %zu waiting for upload); publishing anyway",
+                                v.profile.name.c_str(), std::chrono::duration<double>(kStartupTileWait).count(), v.tiles_wanted,
+                                v.tiles_pending);
+                        } else {
+                            log(kInfo, "profile %s: map ready after %.0f ms (%llu frames held back)", v.profile.name.c_str(),
+                                std::chrono::duration<double, std::milli>(Clock::now() - t_start).count(),
+                                static_cast<unsigned long long>(seq));
+                        }
+                    }
+                }
                 // The ring hands back a frame only when full; collect what has finished now so
                 // frames leave in the tick that rendered them.
                 std::vector<render::Frame> finished;
@@ -559,6 +605,8 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
                                         {"frame_p50_ms", v.frame_ms.p(0.5)}, {"frame_p99_ms", v.frame_ms.p(0.99)},
                                         {"latency_p50_ms", v.latency_ms.p(0.5)}, {"latency_p99_ms", v.latency_ms.p(0.99)},
                                         {"tiles_drawn", v.tiles_drawn}, {"tiles_pending", v.tiles_pending},
+                                        {"state", v.first_complete == ~std::uint64_t{0} ? "loading map" : "rendering"},
+                                        {"held_back", v.held_back}, {"tiles_wanted", v.tiles_wanted},
                                         {"tiles_uploaded", v.tiles_uploaded}, {"attribution", v.attribution != nullptr}});
                 }
                 st["profiles"] = profiles;
@@ -632,6 +680,7 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
                                         v.profile.attribution = p->attribution;
                                         v.attribution = makeAttribution(v.profile);
                                     }
+                                    v.profile.camera = p->camera;
                                     v.next_due = Clock::now();  // the new rate applies from the next tick
                                 } else if (p) {
                                     log(kWarning, "reload: profile %s: a new size (%dx%d) needs a restart; keeping %dx%d",

@@ -13,6 +13,16 @@ std::vector<DisplayProfile> defaultProfiles() {
     return p;
 }
 
+render::MapLayers layersFor(const DisplayProfile& profile, bool labels) {
+    render::MapLayers layers;
+    layers.labels = labels;
+    layers.road_technique = profile.roads;
+    layers.glow_roads = profile.glow_roads;
+    layers.label_aura = profile.label_aura;
+    layers.road_selection = profile.road_selection;
+    return layers;
+}
+
 std::optional<DisplayProfile> findProfile(const std::vector<DisplayProfile>& profiles, const std::string& name) {
     for (const auto& p : profiles) {
         if (p.name == name) return p;

@@ -30,6 +30,10 @@ struct DisplayProfile {
     /// Minor road classes leave distant views (seed 7.3, render::MapLayers::road_selection);
     /// false: every class at every distance.
     bool road_selection = true;
+    /// A camera in MapLibre GL JS's convention (`zoom`, `pitch` in the config) following the
+    /// vehicle instead of the view's own distances: centred on it, bearing from `orientation`.
+    /// Empty: the view's camera rig (render::CameraRig's bird's-eye or snail's view).
+    std::optional<render::MapLibreFollow> camera{};
     /// "© OpenStreetMap contributors" in the bottom right corner of the frames (ODbL 4.3). On in
     /// bird's-eye views (the centre display, where the driver reads the map); off in the cluster
     /// and the HUD, glance displays where any text competes with the road ahead: the HMI shows
@@ -40,6 +44,9 @@ struct DisplayProfile {
 /// The defaults: cluster 1280x480 snail's view, HUD 800x240 snail's view (route and
 /// manoeuvre), center 1280x720 bird's-eye.
 std::vector<DisplayProfile> defaultProfiles();
+
+/// The map layers a profile's frames are rendered with (labels on or off for the whole daemon).
+render::MapLayers layersFor(const DisplayProfile& profile, bool labels);
 
 /// Looks a profile up by name among `profiles`.
 std::optional<DisplayProfile> findProfile(const std::vector<DisplayProfile>& profiles, const std::string& name);

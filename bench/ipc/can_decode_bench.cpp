@@ -23,7 +23,8 @@ namespace ipc = navmap::ipc;
 
 namespace {
 
-const std::filesystem::path kShared = NAVMAP_IPC_BENCH_SHARED_DATA;
+// The real Ford log and DBC files of tests/ipc/data (see its SOURCES.md).
+const std::filesystem::path kData = NAVMAP_IPC_BENCH_DATA;
 const char* kLog = "ford_fusion_2017_acc_on_speed_changing_from_30km_to_80km_per_hour.candump";
 
 std::shared_ptr<const ipc::DbcDatabase> load(const std::filesystem::path& p) {
@@ -58,9 +59,9 @@ std::string readText(const std::filesystem::path& p) {
 }
 
 void BM_CandumpParse(benchmark::State& state) {
-    const auto path = kShared / "can" / kLog;
+    const auto path = kData / "can" / kLog;
     if (!std::filesystem::exists(path)) {
-        state.SkipWithError("../shared/data/can absent");
+        state.SkipWithError((path.string() + " absent").c_str());
         return;
     }
     const std::string text = readText(path);
@@ -79,15 +80,15 @@ BENCHMARK(BM_CandumpParse)->Unit(benchmark::kMillisecond);
 
 // Ford log through the Ford signal map: every frame is looked up, mapped ones decoded.
 void BM_DecodeFordLog(benchmark::State& state) {
-    const auto path = kShared / "can" / kLog;
+    const auto path = kData / "can" / kLog;
     if (!std::filesystem::exists(path)) {
-        state.SkipWithError("../shared/data absent");
+        state.SkipWithError((path.string() + " absent").c_str());
         return;
     }
     const auto log = ipc::loadCandumpFile(path).value();
     auto map = ipc::SignalMap::loadToml(NAVMAP_IPC_BENCH_SIGNAL_MAP).value();
-    auto dec = ipc::VehicleDecoder::create({load(kShared / "dbc" / "ford_lincoln_base_pt.dbc"),
-                                            load(kShared / "dbc" / "ford_fusion_2018_pt.dbc")},
+    auto dec = ipc::VehicleDecoder::create({load(kData / "dbc" / "ford_lincoln_base_pt.dbc"),
+                                            load(kData / "dbc" / "ford_fusion_2018_pt.dbc")},
                                            map)
                    .value();
     ipc::VehicleSample u;
@@ -123,9 +124,9 @@ BENCHMARK(BM_DecodeNavmapFrames)->Unit(benchmark::kMicrosecond);
 
 // Raw DBC codec: all 9 signals of Ford BrakeSysFeatures (Motorola).
 void BM_DbcDecodeAllSignals(benchmark::State& state) {
-    const auto path = kShared / "dbc" / "ford_lincoln_base_pt.dbc";
+    const auto path = kData / "dbc" / "ford_lincoln_base_pt.dbc";
     if (!std::filesystem::exists(path)) {
-        state.SkipWithError("../shared/data absent");
+        state.SkipWithError((path.string() + " absent").c_str());
         return;
     }
     const auto db = load(path);

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <numbers>
 
+#include "navmap/render/maplibre_camera.h"
+
 namespace navmap::render {
 
 namespace {
@@ -33,9 +35,35 @@ double smoothDamp(double current, double target, double& velocity, double smooth
 
 CameraRig::CameraRig(CameraRigParams params) : m_params(params) {}
 
+void CameraRig::setMapLibreFollow(const MapLibreFollow& follow, const map::Projection& projection, int viewport_height_px) {
+    m_follow = Follow{follow, projection, viewport_height_px};
+}
+
+std::optional<MapLibreFollow> CameraRig::mapLibreFollow() const {
+    if (!m_follow) return std::nullopt;
+    return m_follow->camera;
+}
+
 RigState CameraRig::goal(const VehiclePose& pose) const {
     RigState g;
     g.yaw_deg = m_orientation == Orientation::NorthUp ? 0.0 : pose.heading_deg;
+    g.fov_y_deg = m_params.fov_y_deg;
+    if (m_follow) {
+        // MapLibre's camera (maplibre_camera.h): centred on the vehicle, no look-ahead, the
+        // distance that gives the zoom's pixel scale at the center, pitch from straight down.
+        double lat = 0.0, lon = 0.0;
+        m_follow->projection.reverse({pose.position.x, pose.position.y}, lat, lon);
+        const MapLibreFollow& f = m_follow->camera;
+        g.distance_m = mapLibreCameraDistance(lat, f.zoom, m_follow->viewport_height_px);
+        g.pitch_deg = 90.0 - f.pitch_deg;
+        g.look_ahead_m = 0.0;
+        g.fov_y_deg = kMapLibreFovYDeg;
+        if (f.bearing_deg || m_orientation == Orientation::NorthUp) {
+            // A bearing from true north; the store frame's y axis is grid north.
+            g.yaw_deg = std::fmod(gridBearingDeg(m_follow->projection, lat, lon, f.bearing_deg.value_or(0.0)) + 720.0, 360.0);
+        }
+        return g;
+    }
     if (m_mode == ViewMode::Bird) {
         const double t = std::clamp(pose.speed_mps / m_params.bird_fast_speed_mps, 0.0, 1.0);
         g.distance_m = m_params.bird_distance_slow_m + t * (m_params.bird_distance_fast_m - m_params.bird_distance_slow_m);
@@ -62,6 +90,7 @@ Camera CameraRig::update(const VehiclePose& pose, double dt, const TerrainHeight
         m_state.distance_m = smoothDamp(m_state.distance_m, g.distance_m, m_velocity.distance_m, st, dt);
         m_state.pitch_deg = smoothDamp(m_state.pitch_deg, g.pitch_deg, m_velocity.pitch_deg, st, dt);
         m_state.look_ahead_m = smoothDamp(m_state.look_ahead_m, g.look_ahead_m, m_velocity.look_ahead_m, st, dt);
+        m_state.fov_y_deg = smoothDamp(m_state.fov_y_deg, g.fov_y_deg, m_velocity.fov_y_deg, st, dt);
         // Yaw moves along the shortest arc.
         const double yaw_goal = m_state.yaw_deg + angleDelta(m_state.yaw_deg, g.yaw_deg);
         m_state.yaw_deg = smoothDamp(m_state.yaw_deg, yaw_goal, m_velocity.yaw_deg, st, dt);
@@ -90,8 +119,11 @@ Camera CameraRig::update(const VehiclePose& pose, double dt, const TerrainHeight
     Camera camera;
     camera.eye = eye;
     camera.target = target;
-    camera.up = {0.0, 0.0, 1.0};
-    camera.fov_y_deg = m_params.fov_y_deg;
+    // The screen's up direction: z while the camera looks down at an angle (the same view), the
+    // forward direction when it looks straight down (MapLibre pitch 0), where z is undefined.
+    const double elevation = m_state.pitch_deg * kDeg;
+    camera.up = glm::dvec3(forward * std::sin(elevation), std::cos(elevation));
+    camera.fov_y_deg = m_state.fov_y_deg;
     const double dist = glm::length(target - eye);
     camera.near_m = std::clamp(dist * 0.02, 1.0, 50.0);
     camera.far_m = std::max(60000.0, dist * 20.0);

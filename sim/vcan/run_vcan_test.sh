@@ -4,23 +4,34 @@
 # read-only into the guest over virtio-9p, creates vcan0 (CAN FD MTU) and runs the project's
 # vcan_check there, which replays a real Ford log with can-utils' canplayer.
 #
-# usage: run_vcan_test.sh <vcan_check binary> <shared data dir> <signal map toml> <navmap.dbc>
+# usage: run_vcan_test.sh <vcan_check binary> <test data dir> <signal map toml> <navmap.dbc> [<navmap-sim> <store>]
+#        <test data dir> is the repository's tests/ipc/data (can/*.candump, dbc/*.dbc).
 # exit:  0 pass, 1 fail, 77 skipped (the reason is printed).
 # env:   NAVMAP_VCAN_KERNEL (default: newest /boot/vmlinuz-*), NAVMAP_VCAN_TIMEOUT (s, default 90)
 set -eu
 
-# Absolute paths: the guest sees the host root at the same paths (chroot /host).
-CHECK=$(readlink -f "$1")
-DATA=$(readlink -f "$2")
-MAP=$(readlink -f "$3")
-NAVDBC=$(readlink -f "$4")
+skip() { echo "SKIPPED: $*"; exit 77; }
+fail() { echo "FAIL: $*"; exit 1; }
+# Absolute paths: the guest sees the host root at the same paths (chroot /host). A path that
+# does not resolve stays as given, so the checks below name it.
+abspath() { readlink -f -- "$1" 2>/dev/null || printf '%s\n' "$1"; }
+
+[ "$#" -ge 4 ] || fail "usage: $0 <vcan_check> <test data dir> <signal map toml> <navmap.dbc> [<navmap-sim> <store>]"
+CHECK=$(abspath "$1")
+DATA=$(abspath "$2")
+MAP=$(abspath "$3")
+NAVDBC=$(abspath "$4")
 LOG="$DATA/can/ford_fusion_2017_lane_keep_assist_on_red_lines.candump"
 # Optional: the simulator's SocketCAN output is checked too (navmap-sim --socketcan into vcan0,
 # counted with candump) when its binary and a compiled store are given.
-SIM=${5:+$(readlink -f "$5")}
-STORE=${6:+$(readlink -f "$6")}
+SIM=${5:+$(abspath "$5")}
+STORE=${6:+$(abspath "$6")}
 
-skip() { echo "SKIPPED: $*"; exit 77; }
+# The inputs are part of the repository: a missing one is a broken checkout, not an environment
+# without qemu, so it fails.
+for f in "$LOG" "$DATA/dbc/ford_lincoln_base_pt.dbc" "$DATA/dbc/ford_fusion_2018_pt.dbc" "$MAP" "$NAVDBC"; do
+    [ -r "$f" ] || fail "$f: cannot read test input"
+done
 
 QEMU=$(command -v qemu-system-x86_64 || true)
 [ -n "$QEMU" ] || skip "qemu-system-x86_64 not found (apt-get install qemu-system-x86)"
@@ -34,7 +45,6 @@ BUSYBOX=$(command -v busybox || true)
 file -L "$BUSYBOX" 2>/dev/null | grep -q "statically linked" || [ -x /bin/busybox ] || skip "busybox is not static"
 [ -x /usr/bin/canplayer ] || skip "canplayer not found (apt-get install can-utils)"
 command -v cpio >/dev/null || skip "cpio not found"
-[ -r "$LOG" ] || skip "$LOG missing (../shared/data absent)"
 [ -x "$CHECK" ] || skip "$CHECK not built"
 
 WORK=$(mktemp -d /tmp/navmap-vcan.XXXXXX)

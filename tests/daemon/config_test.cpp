@@ -103,7 +103,7 @@ level = "debug"
     EXPECT_EQ(c->profiles[1].fps, 20.0);
     EXPECT_EQ(c->profiles[1].orientation, navmap::render::Orientation::NorthUp);
     EXPECT_EQ(c->profiles[0].roads, navmap::render::RoadTechnique::Auto);
-    EXPECT_FALSE(c->profiles[0].glow_roads);
+    EXPECT_TRUE(c->profiles[0].glow_roads);  // the default: glowing roads in every profile
     EXPECT_EQ(c->profiles[1].roads, navmap::render::RoadTechnique::ShadowVolume);
     EXPECT_TRUE(c->profiles[1].glow_roads);
     EXPECT_TRUE(c->profiles[1].label_aura);
@@ -156,6 +156,43 @@ TEST(DaemonConfig, ErrorsNameFileLineAndProblem) {
     EXPECT_NE(m.find("stream.http_token must be"), std::string::npos) << m;
     EXPECT_FALSE(parse("[store\npath = 1", &m));
     EXPECT_EQ(m.rfind("navmapd.toml:1:", 0), 0u) << m;
+}
+
+TEST(DaemonConfig, ProfileCameraInMapLibreConvention) {
+    auto c = parse("[[profile]]\nname = \"cluster\"\nzoom = 16.5\npitch = 60\norientation = \"north-up\"\n"
+                   "[[profile]]\nname = \"hud\"\n");
+    ASSERT_TRUE(c);
+    ASSERT_TRUE(c->profiles[0].camera);
+    EXPECT_DOUBLE_EQ(c->profiles[0].camera->zoom, 16.5);
+    EXPECT_DOUBLE_EQ(c->profiles[0].camera->pitch_deg, 60.0);
+    EXPECT_FALSE(c->profiles[0].camera->bearing_deg) << "the bearing follows the orientation";
+    EXPECT_EQ(c->profiles[0].orientation, navmap::render::Orientation::NorthUp);
+    EXPECT_FALSE(c->profiles[1].camera) << "no zoom: the view's own rig";
+    EXPECT_NE(describeConfig(*c).find("profile cluster: 1280x480 @ 30 fps, snail, north-up, roads auto, glowing roads, "
+                                      "label aura, MapLibre camera zoom 16.5 pitch 60\n"),
+              std::string::npos)
+        << describeConfig(*c);
+    // The limits of MapLibre GL JS: zoom 0..24, pitch 0..85.
+    c = parse("[[profile]]\nname = \"c\"\nzoom = 0\npitch = 85\n");
+    ASSERT_TRUE(c);
+    EXPECT_DOUBLE_EQ(c->profiles[0].camera->zoom, 0.0);
+    EXPECT_DOUBLE_EQ(c->profiles[0].camera->pitch_deg, 85.0);
+}
+
+TEST(DaemonConfig, ProfileCameraErrors) {
+    std::string m;
+    EXPECT_FALSE(parse("[[profile]]\nname = \"c\"\nzoom = 24.5\npitch = 60\n", &m));
+    EXPECT_EQ(m, "navmapd.toml:3:8: profile.zoom = 24.5 out of range [0, 24]");
+    EXPECT_FALSE(parse("[[profile]]\nname = \"c\"\nzoom = 16\npitch = 86\n", &m));
+    EXPECT_EQ(m, "navmapd.toml:4:9: profile.pitch = 86 out of range [0, 85]");
+    EXPECT_FALSE(parse("[[profile]]\nname = \"c\"\nzoom = 16\npitch = -5\n", &m));
+    EXPECT_EQ(m, "navmapd.toml:4:9: profile.pitch = -5 out of range [0, 85]");
+    EXPECT_FALSE(parse("[[profile]]\nname = \"c\"\nzoom = \"close\"\npitch = 60\n", &m));
+    EXPECT_EQ(m, "navmapd.toml:3:8: profile.zoom must be a number");
+    EXPECT_FALSE(parse("[[profile]]\nname = \"c\"\nzoom = 16\n", &m));
+    EXPECT_EQ(m, "navmapd.toml:1:1: profile.zoom needs profile.pitch (a MapLibre-convention camera gives both)");
+    EXPECT_FALSE(parse("[[profile]]\nname = \"c\"\npitch = 60\n", &m));
+    EXPECT_EQ(m, "navmapd.toml:1:1: profile.pitch needs profile.zoom (a MapLibre-convention camera gives both)");
 }
 
 TEST(DaemonConfig, ValidationCatchesCrossFieldMistakes) {

@@ -181,6 +181,31 @@ TEST(DbcDatabase, LenientModeKeepsTheGoodSignals) {
     EXPECT_EQ(r.value().diagnostics()[0].message, "x.dbc:3: SG_ Broken: bad offset in (factor,offset)");
 }
 
+TEST(DbcDatabase, StrayQuoteEarlyInALargeFileIsOneLongString) {
+    // A '"' early in a 4 MB file: every line after it belongs to one quoted string, which is
+    // scanned once (scanning the whole statement again for each line it grew by took hours).
+    std::string body;
+    for (int i = 0; i < 100000; ++i) {
+        body += " SG_ S" + std::to_string(i) + " : 0|8@1+ (1,0) [0|1] \"\" X\n";
+    }
+    const std::string open = "BO_ 100 M: 8 X\nCM_ \"stray\n" + body;
+    auto strict = DbcDatabase::parse(open, "big.dbc", DbcDatabase::Mode::Strict);
+    ASSERT_FALSE(strict.ok());
+    EXPECT_EQ(strict.error().message, "big.dbc:2: unterminated quoted string");
+    auto lenient = DbcDatabase::parse(open, "big.dbc");
+    ASSERT_TRUE(lenient.ok());
+    EXPECT_EQ(lenient.value().diagnosticCount(), 1U);
+    EXPECT_TRUE(lenient.value().findMessage(100U)->signals.empty());
+
+    // Closed at the end (an escaped quote on the way): the statements after it parse again.
+    const std::string closed = open + "still \\\" inside\";\nBO_ 200 N: 8 X\n SG_ T : 0|8@1+ (1,0) [0|1] \"\" X\n";
+    auto r = DbcDatabase::parse(closed, "big.dbc", DbcDatabase::Mode::Strict);
+    ASSERT_TRUE(r.ok()) << r.error().message;
+    EXPECT_TRUE(r.value().findMessage(100U)->signals.empty());
+    ASSERT_NE(r.value().findMessage(200U), nullptr);
+    EXPECT_EQ(r.value().findMessage(200U)->signals.size(), 1U);
+}
+
 TEST(DbcDatabase, MissingFileIsAnError) {
     auto r = DbcDatabase::load("/nonexistent/file.dbc");
     ASSERT_FALSE(r.ok());
@@ -209,14 +234,7 @@ TEST(DbcDatabase, ProjectNavmapDbcParsesStrictly) {
 
 class RealDbc : public ::testing::Test {
 protected:
-    void SetUp() override {
-        const auto dir = navmap::test::sharedDataDir();
-        if (!dir) {
-            GTEST_SKIP() << "../shared/data is absent: real DBC files not available";
-        }
-        m_dir = *dir / "dbc";
-    }
-    std::filesystem::path m_dir;
+    std::filesystem::path m_dir = navmap::test::ipcDataDir() / "dbc";
 };
 
 TEST_F(RealDbc, FordLincolnBaseParsesWithoutDiagnostics) {

@@ -9,6 +9,7 @@
 #include <sstream>
 #include <string>
 
+#include "fuzz_corpus.h"
 #include "test_paths.h"
 
 int navmapFuzzDbc(const std::uint8_t* data, std::size_t size);
@@ -83,4 +84,14 @@ TEST(FuzzCorpus, CandumpReaderSurvivesBrokenInputs) {
     };
     runCorpus(seed, extra, navmapFuzzCandump);
     SUCCEED();
+}
+
+// The checked-in libFuzzer corpora (tests/fuzz/corpus/{dbc,candump}, tests/fuzz/seeds/dbc): an
+// entry that crashes the parser fails here, without clang.
+TEST(FuzzCorpus, DbcCheckedInCorpus) {
+    EXPECT_GE(navmap::test::runCheckedInCorpus(navmapFuzzDbc, "dbc"), 20U);
+}
+
+TEST(FuzzCorpus, CandumpCheckedInCorpus) {
+    EXPECT_GE(navmap::test::runCheckedInCorpus(navmapFuzzCandump, "candump"), 20U);
 }

@@ -219,12 +219,9 @@ TEST(FrameQueue, DropsOldestWhenFull) {
 }
 
 TEST(Replayer, RealLogKeepsItsDuration) {
-    const auto dir = navmap::test::sharedDataDir();
-    if (!dir) {
-        GTEST_SKIP() << "../shared/data is absent: real candump logs not available";
-    }
-    auto log = navmap::ipc::loadCandumpFile(*dir / "can" / "ford_fusion_2017_lane_keep_assist_on_red_lines.candump");
-    ASSERT_TRUE(log.ok());
+    auto log = navmap::ipc::loadCandumpFile(navmap::test::ipcDataDir() / "can" /
+                                            "ford_fusion_2017_lane_keep_assist_on_red_lines.candump");
+    ASSERT_TRUE(log.ok()) << log.error().message;
     Replayer r(log.value().frames(), ReplayOptions{});
     r.reset(kT0);
     std::size_t n = 0;

@@ -49,7 +49,7 @@ TEST(VehicleDecoder, NavmapDbcRoundTrip) {
     const auto db = navmapDbc();
     VehicleDecoder dec = navmapDecoder();
     VehicleSample u;
-    // Ordino, Andorra (start of the GPX trace in ../shared/data).
+    // Ordino, Andorra (El Serrat, on the CG-3).
     ASSERT_TRUE(dec.decode(encode(*db, "NAV_Position", {{"NAV_Latitude", 42.623636}, {"NAV_Longitude", 1.532909}}), u));
     EXPECT_NEAR(*u.get(VssSignal::Latitude), 42.623636, 0.6e-7);
     EXPECT_NEAR(*u.get(VssSignal::Longitude), 1.532909, 0.6e-7);
@@ -221,14 +221,10 @@ TEST(VehicleDecoder, CreateFailsOnBadMappings) {
 class RealLogs : public ::testing::Test {
 protected:
     void SetUp() override {
-        const auto dir = navmap::test::sharedDataDir();
-        if (!dir) {
-            GTEST_SKIP() << "../shared/data is absent: real Ford logs and DBC files not available";
-        }
-        m_dir = *dir;
+        m_dir = navmap::test::ipcDataDir();
         static std::shared_ptr<const DbcDatabase> base = loadDbc(m_dir / "dbc" / "ford_lincoln_base_pt.dbc");
         static std::shared_ptr<const DbcDatabase> fusion = loadDbc(m_dir / "dbc" / "ford_fusion_2018_pt.dbc");
-        auto map = SignalMap::loadToml(std::filesystem::path(NAVMAP_IPC_TEST_DATA) / "ford_fusion_signals.toml");
+        auto map = SignalMap::loadToml(m_dir / "ford_fusion_signals.toml");
         ASSERT_TRUE(map.ok()) << map.error().message;
         m_map = map.value();
         m_dbs = {base, fusion, navmapDbc()};
@@ -293,7 +289,7 @@ double meanOfLast(const std::vector<double>& v, std::size_t n) {
 
 }  // namespace
 
-// Expected values from ../shared/data/SOURCES.md (decoded speed, yaw rate, steering-wheel angle).
+// Expected values from tests/ipc/data/SOURCES.md (decoded speed, yaw rate, steering-wheel angle).
 struct SteadyLog {
     const char* file;
     double speedMin, speedMax, yawMin, yawMax, steerMin, steerMax;
@@ -384,11 +380,7 @@ TEST_F(RealLogs, VehicleDbcCombinesWithGnssNode) {
 }
 
 TEST(VehicleDecoder, VwSignBitNegatesYawRate) {
-    const auto dir = navmap::test::sharedDataDir();
-    if (!dir) {
-        GTEST_SKIP() << "../shared/data is absent: vw_mqb.dbc not available";
-    }
-    const auto vw = loadDbc(*dir / "dbc" / "vw_mqb.dbc");
+    const auto vw = loadDbc(navmap::test::ipcDataDir() / "dbc" / "vw_mqb.dbc");
     SignalMap m;
     m.add({VssSignal::YawRate, "ESP_02", "ESP_Gierrate", {}, {}, 1.0, 0.0, "ESP_VZ_Gierrate"});
     m.add({VssSignal::Speed, "ESP_21", "ESP_v_Signal", {}, {}, 1.0, 0.0, {}});

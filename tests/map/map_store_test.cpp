@@ -13,6 +13,7 @@
 #include <random>
 #include <thread>
 
+#include "fuzz_corpus.h"
 #include "map_test_util.h"
 #include "navmap/map/dem.h"
 #include "navmap/map/dem_mosaic.h"
@@ -152,6 +153,11 @@ TEST(TileCodec, FuzzEntryOnBadInputs) {
         LLVMFuzzerTestOneInput(flipped.data(), flipped.size());
     }
     SUCCEED() << "no crash on " << 201 + 2 * valid.size() << " bad inputs";
+}
+
+// Every file of the checked-in libFuzzer corpus (tests/fuzz/corpus/tile_decode).
+TEST(TileCodec, FuzzEntryOnCheckedInCorpus) {
+    EXPECT_GE(navmap::test::runCheckedInCorpus(LLVMFuzzerTestOneInput, "tile_decode"), 20U);
 }
 
 TEST(TileStore, RoundTripAllTilesAndGraph) {

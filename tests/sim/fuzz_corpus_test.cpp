@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include "fuzz_corpus.h"
+
 int navmapFuzzSimPlace(const std::uint8_t* data, std::size_t size);
 
 namespace {
@@ -20,6 +22,11 @@ TEST(SimFuzzCorpus, PlaceParserSurvivesBrokenInputs) {
     for (const auto& c : corpus) {
         EXPECT_EQ(navmapFuzzSimPlace(reinterpret_cast<const std::uint8_t*>(c.data()), c.size()), 0);
     }
+}
+
+// Every file of the checked-in libFuzzer corpus (tests/fuzz/corpus/sim_place).
+TEST(SimFuzzCorpus, CheckedInCorpus) {
+    EXPECT_GE(navmap::test::runCheckedInCorpus(navmapFuzzSimPlace, "sim_place"), 20U);
 }
 
 }  // namespace

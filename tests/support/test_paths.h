@@ -1,16 +1,18 @@
 #pragma once
-// Where tests find data: the repo's own data/ (always there) and ../shared/data (developer and
-// CI machines only; tests that need it skip with a reason when it is absent).
+// Where tests find data: everything is in the repository. The repo's data/ (the embedded default
+// data), tests/ipc/data (real CAN logs and DBC files, see its SOURCES.md) and the checked-in fuzz
+// corpora under tests/fuzz/corpus/.
 
 #include <filesystem>
-#include <optional>
+#include <string_view>
 
 namespace navmap::test {
 
 std::filesystem::path sourceDir();
 std::filesystem::path binaryDir();
-std::filesystem::path dataDir();  ///< the repo's data/
-/// ../shared/data beside the checkout, if present.
-std::optional<std::filesystem::path> sharedDataDir();
+std::filesystem::path dataDir();     ///< the repo's data/
+std::filesystem::path ipcDataDir();  ///< tests/ipc/data: can/*.candump, dbc/*.dbc, signal maps
+/// tests/fuzz/corpus/<target>: the minimized corpus of one libFuzzer target.
+std::filesystem::path fuzzCorpusDir(std::string_view target);
 
 }  // namespace navmap::test

@@ -377,6 +377,56 @@ std::string readEnum(const json& obj, const char* name, const std::array<std::pa
     return {};
 }
 
+// set_view's "camera": {zoom, pitch[, bearing]} (MapLibre GL JS convention) or null.
+std::string readViewCamera(const json& obj, SetViewCommand& out) {
+    const auto it = obj.find("camera");
+    if (it == obj.end()) {
+        return {};
+    }
+    if (it->is_null()) {
+        out.clearCamera = true;
+        return {};
+    }
+    if (!it->is_object()) {
+        return "\"camera\" must be an object {zoom, pitch[, bearing]} or null, not " + typeName(*it);
+    }
+    Checker c{*it, {}};
+    if (!c.allowOnly({"zoom", "pitch", "bearing"})) {
+        return "camera: " + c.error;
+    }
+    ViewCamera camera;
+    const auto member = [&](const char* name, double lo, double hi, bool required, std::optional<double>& value) -> std::string {
+        const auto m = it->find(name);
+        if (m == it->end()) {
+            return required ? std::string("camera: missing \"") + name + "\"" : std::string();
+        }
+        if (!m->is_number()) {
+            return std::string("camera.") + name + ": must be a number, not " + typeName(*m);
+        }
+        const double v = m->get<double>();
+        if (!std::isfinite(v) || v < lo || v > hi) {
+            return std::string("camera.") + name + ": " + number(v) + " out of range [" + number(lo) + ", " + number(hi) + "]";
+        }
+        value = v;
+        return {};
+    };
+    std::optional<double> zoom, pitch;
+    std::string error = member("zoom", 0.0, kViewCameraMaxZoom, true, zoom);
+    if (error.empty()) {
+        error = member("pitch", 0.0, kViewCameraMaxPitch, true, pitch);
+    }
+    if (error.empty()) {
+        error = member("bearing", -kViewCameraMaxBearing, kViewCameraMaxBearing, false, camera.bearing);
+    }
+    if (!error.empty()) {
+        return error;
+    }
+    camera.zoom = *zoom;
+    camera.pitch = *pitch;
+    out.camera = camera;
+    return {};
+}
+
 }  // namespace
 
 const char* maneuverTypeName(ManeuverType t) noexcept {
@@ -486,7 +536,7 @@ ControlParse parseControlLine(std::string_view line, const ControlLimits& limits
     } else if (name == "set_view") {
         SetViewCommand view;
         std::optional<std::string> display;
-        if (!c.allowOnly({"cmd", "id", "display", "mode", "orientation"}) || !needId() ||
+        if (!c.allowOnly({"cmd", "id", "display", "mode", "orientation", "camera"}) || !needId() ||
             !c.string("display", display, limits.maxStringBytes, true)) {
             r.error = c.error;
         } else {
@@ -495,9 +545,12 @@ ControlParse parseControlLine(std::string_view line, const ControlLimits& limits
             if (r.error.empty()) {
                 r.error = readEnum(obj, "orientation", kOrientationNames, view.orientation);
             }
-            if (r.error.empty() && !view.mode && !view.orientation) {
-                r.error = "set_view needs \"mode\" (" + choices(kModeNames) + ") or \"orientation\" (" +
-                          choices(kOrientationNames) + ")";
+            if (r.error.empty()) {
+                r.error = readViewCamera(obj, view);
+            }
+            if (r.error.empty() && !view.mode && !view.orientation && !view.camera && !view.clearCamera) {
+                r.error = "set_view needs \"mode\" (" + choices(kModeNames) + "), \"orientation\" (" +
+                          choices(kOrientationNames) + ") or \"camera\" ({zoom, pitch[, bearing]} or null)";
             }
         }
         command.body = std::move(view);

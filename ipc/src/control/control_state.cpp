@@ -45,6 +45,12 @@ Status ControlState::setView(const SetViewCommand& command) {
     }
     if (command.orientation) {
         d.orientation = *command.orientation;
+        d.orientationSet = true;
+    }
+    if (command.camera) {
+        d.camera = command.camera;
+    } else if (command.clearCamera || command.mode) {
+        d.camera.reset();  // a mode without a camera: the display follows the mode again
     }
     ++next->version;
     m_view.store(std::move(next));
@@ -75,6 +81,15 @@ nlohmann::json ControlState::status() {
     nlohmann::json displays = nlohmann::json::object();
     for (const auto& [name, d] : view->displays) {
         displays[name] = {{"mode", viewModeName(d.mode)}, {"orientation", viewOrientationName(d.orientation)}};
+        if (d.camera) {
+            nlohmann::json camera = {{"zoom", d.camera->zoom}, {"pitch", d.camera->pitch}};
+            if (d.camera->bearing) {
+                camera["bearing"] = *d.camera->bearing;
+            }
+            displays[name]["camera"] = std::move(camera);
+        } else {
+            displays[name]["camera"] = nullptr;
+        }
     }
     j["displays"] = std::move(displays);
     return j;

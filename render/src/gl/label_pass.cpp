@@ -33,6 +33,9 @@ nl::LabelKind layoutKind(map::LabelKind kind) {
     return nl::LabelKind::Point;
 }
 
+// Samples along a line of sight when testing world-space text against the terrain.
+constexpr int kTerrainSightSteps = 32;
+
 std::uint64_t fnv1a(std::uint64_t h, const void* data, std::size_t n) {
     const auto* p = static_cast<const unsigned char*>(data);
     for (std::size_t i = 0; i < n; ++i) {
@@ -129,9 +132,34 @@ const LabelPass::TextSize& LabelPass::textSize(std::uint64_t id, const map::Labe
     return m_sizes.emplace(id, t).first->second;
 }
 
-bool LabelPass::worldCandidate(const MapFrame& frame, const glm::mat4& view_projection, glm::vec2 viewport,
-                               const glm::dvec3& anchor, const glm::dvec3& seg_a, const glm::dvec3& seg_b,
-                               const TextSize& t, Feature& f, nl::LabelCandidate& c) const {
+double LabelPass::groundHeight(std::span<const TileLabels> tiles, double x, double y) {
+    // The finest drawn tile under the point: what the terrain pass draws there.
+    const TileLabels* best = nullptr;
+    for (const TileLabels& t : tiles) {
+        if (t.grid.size < 2 || !t.grid.heights) continue;
+        if (x < t.origin.x || y < t.origin.y || x > t.origin.x + t.size_m || y > t.origin.y + t.size_m) continue;
+        if (!best || t.size_m < best->size_m) best = &t;
+    }
+    return best ? best->grid.heightAt(x - best->origin.x, y - best->origin.y) : std::nan("");
+}
+
+bool LabelPass::behindTerrain(std::span<const TileLabels> tiles, const glm::vec3& target, float clearance_m) const {
+    for (int k = 1; k <= kTerrainSightSteps; ++k) {
+        // Denser near the eye, where a slope beside the road covers much of the view; up to 95 %
+        // of the way: the text stands on the ground it names.
+        const float u = static_cast<float>(k) / static_cast<float>(kTerrainSightSteps);
+        const glm::vec3 p = target * (0.95f * u * u);
+        const double ground = groundHeight(tiles, m_eye.x + p.x, m_eye.y + p.y);
+        if (!std::isnan(ground) && m_eye.z + p.z < ground + clearance_m) return true;
+    }
+    return false;
+}
+
+LabelPass::WorldFit LabelPass::worldCandidate(const MapFrame& frame, std::span<const TileLabels> tiles,
+                                              const glm::mat4& view_projection, glm::vec2 viewport,
+                                              const glm::dvec3& anchor, const glm::dvec3& seg_a,
+                                              const glm::dvec3& seg_b, const TextSize& t, Feature& f,
+                                              nl::LabelCandidate& c) const {
     // Eye-relative float coordinates: precise near the camera, wherever the store's origin is.
     const glm::vec3 a(anchor - m_eye);
     const float near = static_cast<float>(frame.camera.near_m);
@@ -156,59 +184,87 @@ bool LabelPass::worldCandidate(const MapFrame& frame, const glm::mat4& view_proj
     }
     if (!along_road) {
         right = glm::cross(z, to_eye);
-        if (glm::length(right) < 1e-3f) return false;  // right above it: no upright plane faces the camera
+        if (glm::length(right) < 1e-3f) return WorldFit::Screen;  // right above it: no upright plane faces the camera
         right = glm::normalize(right);
     }
     // The plane turns about its baseline to face the camera (an axial billboard): the glyphs
     // keep their height on screen, the baseline keeps the road's direction.
     glm::vec3 up = glm::cross(to_eye - glm::dot(to_eye, right) * right, right);
-    if (glm::length(up) < 1e-3f) return false;  // the baseline points at the camera
+    if (glm::length(up) < 1e-3f) return WorldFit::Screen;  // the baseline points at the camera
     up = glm::normalize(up);
     if (up.z < 0.0f) up = -up;
     // Reads left to right on screen.
     glm::vec2 pa, pb;
-    if (!project(a, pa) || !project(a + right, pb)) return false;
+    if (!project(a, pa) || !project(a + right, pb)) return WorldFit::Screen;
     if (pb.x < pa.x) right = -right;
     const glm::vec3 normal = glm::normalize(glm::cross(right, up));
 
     // World size: the style's pixel size at world_reach times the camera's look-at distance
-    // (seed 4.3.3's depth reference), and true perspective everywhere.
+    // (seed 4.3.3's depth reference), and true perspective within readable bounds (seed 5.1):
+    // the cap height, where perspective makes it smallest, stays between world_min_cap_px and
+    // world_max_cap_ratio times the style's (text farther or nearer keeps that screen size).
     const float focal_px = m_projection[1][1] * 0.5f * viewport.y;
     const auto reference_m = t.world_reach * static_cast<float>(glm::length(frame.camera.target - frame.camera.eye));
-    const float em_m = t.size_px * reference_m / focal_px;
+    const float lift = static_cast<float>(m_params.world_lift_m);
+    auto capPx = [&](float em, float& cap) {
+        const float mpp = em / t.size_px;
+        const glm::vec2 hm = 0.5f * t.size * mpp;
+        const glm::vec3 mid = a + up * (lift + hm.y);
+        cap = std::numeric_limits<float>::max();
+        for (const float side : {-1.0f, 1.0f}) {
+            const glm::vec3 foot = mid + right * (side * hm.x);
+            glm::vec2 p0, p1;
+            if (!project(foot, p0) || !project(foot + up * (t.cap_height * mpp), p1)) return false;
+            cap = std::min(cap, glm::length(p1 - p0));
+        }
+        return cap > 0.0f;
+    };
+    float em_m = t.size_px * reference_m / focal_px;
+    float cap_px = 0.0f;
+    if (!capPx(em_m, cap_px)) return WorldFit::Screen;
+    const float min_cap = m_params.world_min_cap_px;
+    const float max_cap = std::max(min_cap, m_params.world_max_cap_ratio * t.cap_height);
+    em_m *= std::clamp(cap_px, min_cap, max_cap) / cap_px;
+    if (!capPx(em_m, cap_px)) return WorldFit::Screen;
     const float metres_per_px = em_m / t.size_px;
     const glm::vec2 half_m = 0.5f * t.size * metres_per_px;
-    const float lift = static_cast<float>(m_params.world_lift_m);
     const glm::vec3 center = a + up * (lift + half_m.y);  // standing on the ground at the anchor
     glm::vec2 corners[4];
     const glm::vec2 signs[4] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
     for (int k = 0; k < 4; ++k) {
-        if (!project(center + right * (signs[k].x * half_m.x) + up * (signs[k].y * half_m.y), corners[k])) return false;
+        if (!project(center + right * (signs[k].x * half_m.x) + up * (signs[k].y * half_m.y), corners[k])) return WorldFit::Screen;
     }
     const glm::vec2 baseline = 0.5f * ((corners[1] + corners[2]) - (corners[0] + corners[3]));
-    if (!(glm::length(baseline) > 1.0f)) return false;
+    if (!(glm::length(baseline) > 1.0f)) return WorldFit::Screen;
     const glm::vec2 axis = glm::normalize(baseline);
     if (along_road) {
         const float angle = std::abs(std::atan2(axis.y, axis.x)) * 180.0f / std::numbers::pi_v<float>;
         const float facing = 2.0f * half_m.x * focal_px / glm::length(center);
-        if (angle > m_params.world_max_screen_angle_deg || glm::length(baseline) < m_params.world_min_foreshortening * facing) {
+        // Text shown in the world stays until the limits; text coming in needs a margin (no
+        // flicker between world and screen space on a winding road).
+        const float enter = f.shown_world ? 1.0f : 1.1f;
+        if (angle * enter > m_params.world_max_screen_angle_deg ||
+            glm::length(baseline) < enter * m_params.world_min_foreshortening * facing) {
             f.legible = false;
-            return false;
+            return WorldFit::Screen;
         }
     }
-    // seed 5.1: every label readable. The cap height where perspective makes it smallest.
-    const float cap_m = t.cap_height * metres_per_px;
-    float cap_px = std::numeric_limits<float>::max();
-    for (const float side : {-1.0f, 1.0f}) {
-        const glm::vec3 foot = center + right * (side * half_m.x);
-        glm::vec2 p0, p1;
-        if (!project(foot, p0) || !project(foot + up * cap_m, p1)) return false;
-        cap_px = std::min(cap_px, glm::length(p1 - p0));
+    // Text behind a hill cannot be read, and the aura fades only buildings (seed 5.5.1): lines
+    // of sight to a grid of points over the text box must pass above the drawn terrain. A label
+    // comes in only with a margin of clear sky around its text (hysteresis against flicker).
+    // The lines of sight keep a clearance above the grid: the drawn surface is morphed towards
+    // coarser levels with distance (terrain LOD), which can stand a few metres higher.
+    const float reach = f.shown_world ? 1.0f : 1.25f;
+    const float clearance = f.shown_world ? m_params.terrain_clearance_m : 2.0f * m_params.terrain_clearance_m;
+    bool hidden = false;
+    for (const float sx : {-0.9f, -0.3f, 0.3f, 0.9f}) {
+        for (const float sy : {-0.6f, 0.6f}) {
+            hidden = hidden ||
+                     behindTerrain(tiles, center + right * (reach * sx * half_m.x) + up * (reach * sy * half_m.y), clearance);
+        }
     }
-    const float max_cap = m_params.world_max_cap_ratio * t.cap_height;
-    f.legible = f.legible ? cap_px >= m_params.world_min_cap_px && cap_px <= max_cap
-                          : cap_px >= m_params.world_enter_cap_px && cap_px <= 0.9f * max_cap;
-    if (!f.legible) return false;
+    f.legible = !hidden;
+    if (!f.legible) return WorldFit::Hidden;
 
     f.world = true;
     f.plane.origin = anchor;
@@ -222,19 +278,25 @@ bool LabelPass::worldCandidate(const MapFrame& frame, const glm::mat4& view_proj
     c.depth = 0.0f;  // perspective already sized it
     c.cap_height = cap_px;
     c.upright = true;
-    if (!project(a, c.anchor)) return false;
+    if (!project(a, c.anchor)) return WorldFit::Screen;
     if (along_road) {
         c.line_p0 = pa;
         c.line_p1 = pa + axis * 10.0f;
     }
-    return true;
+    return WorldFit::World;
 }
 
 void LabelPass::collect(const MapFrame& frame, std::span<const TileLabels> tiles, glm::ivec2 viewport, bool world) {
     m_candidates.clear();
     const glm::vec2 vp(viewport);
     const auto near = static_cast<float>(frame.camera.near_m);
-    for (const TileLabels& t : tiles) {
+    // Finest tiles first: a feature in several tiles (a long road, a tile and its coarser
+    // neighbour) takes its anchor and segment from the most detailed one.
+    m_tile_order.resize(tiles.size());
+    for (std::size_t k = 0; k < tiles.size(); ++k) m_tile_order[k] = k;
+    std::ranges::stable_sort(m_tile_order, [&](std::size_t x, std::size_t y) { return tiles[x].size_m < tiles[y].size_m; });
+    for (const std::size_t k : m_tile_order) {
+        const TileLabels& t = tiles[k];
         if (!t.tile || t.points.size() != t.tile->labels.size() * 3) continue;
         const glm::mat4 vp_tile = m_projection * frame.camera.viewRelativeTo(t.origin);
         for (std::size_t i = 0; i < t.tile->labels.size(); ++i) {
@@ -256,6 +318,9 @@ void LabelPass::collect(const MapFrame& frame, std::span<const TileLabels> tiles
             }
             f.anchor = anchor;
             f.frame = m_frame;
+            const bool shown = std::ranges::binary_search(m_shown, id);
+            f.shown_world = f.world && shown;
+            f.shown_screen = !f.world && shown;
             f.world = false;
             const TextSize& size = textSize(id, l);
             nl::LabelCandidate c;
@@ -268,11 +333,27 @@ void LabelPass::collect(const MapFrame& frame, std::span<const TileLabels> tiles
             c.cap_height = size.cap_height;
             if (world) {
                 // Road names stand on the middle of their longest straight piece, along it.
-                const glm::dvec3 a = t.origin + glm::dvec3(t.points[3 * i + 1]);
-                const glm::dvec3 b = t.origin + glm::dvec3(t.points[3 * i + 2]);
-                const glm::dvec3 at = c.kind == nl::LabelKind::Line && glm::length(b - a) >= 1.0 ? 0.5 * (a + b) : anchor;
-                if (!worldCandidate(frame, m_view_projection, vp, at, a, b, size, f, c)) continue;
-            } else if (c.kind == nl::LabelKind::Line) {
+                // On the finest drawn terrain: the tile that carried the label may be a coarser one.
+                auto onGround = [&](glm::dvec3 p) {
+                    const double z = groundHeight(tiles, p.x, p.y);
+                    if (!std::isnan(z)) p.z = z;
+                    return p;
+                };
+                const glm::dvec3 a = onGround(t.origin + glm::dvec3(t.points[3 * i + 1]));
+                const glm::dvec3 b = onGround(t.origin + glm::dvec3(t.points[3 * i + 2]));
+                const glm::dvec3 at =
+                    c.kind == nl::LabelKind::Line && glm::length(b - a) >= 1.0 ? onGround(0.5 * (a + b)) : onGround(anchor);
+                const WorldFit fit = worldCandidate(frame, tiles, m_view_projection, vp, at, a, b, size, f, c);
+                if (fit == WorldFit::Hidden) continue;
+                if (fit == WorldFit::Screen) {
+                    // Text that cannot be read in the world (far away, end-on) is shown as in the
+                    // bird's-eye view, unless a hill stands in front of its anchor (with hysteresis:
+                    // it comes in when a point 1 m above the anchor is in sight, stays while 4 m is).
+                    const float lift = f.shown_screen ? 4.0f : 1.0f;
+                    if (behindTerrain(tiles, glm::vec3(anchor - m_eye) + glm::vec3(0.0f, 0.0f, lift), -0.5f)) continue;
+                }
+            }
+            if (!f.world && c.kind == nl::LabelKind::Line) {
                 const glm::vec4 a = vp_tile * glm::vec4(t.points[3 * i + 1], 1.0f);
                 const glm::vec4 b = vp_tile * glm::vec4(t.points[3 * i + 2], 1.0f);
                 if (a.w >= near && b.w >= near) {
@@ -345,13 +426,8 @@ void LabelPass::keepOut(const MapFrame& frame, std::span<const TileLabels> tiles
     // The route just ahead of the car, draped on the finest drawn tile under each sample.
     const RouteGeometry& r = *frame.route;
     auto groundAt = [&](double x, double y) {
-        const TileLabels* best = nullptr;
-        for (const TileLabels& t : tiles) {
-            if (t.grid.size < 2 || !t.grid.heights) continue;
-            if (x < t.origin.x || y < t.origin.y || x > t.origin.x + t.size_m || y > t.origin.y + t.size_m) continue;
-            if (!best || t.size_m < best->size_m) best = &t;
-        }
-        return best ? best->grid.heightAt(x - best->origin.x, y - best->origin.y) : frame.camera.target.z;
+        const double z = groundHeight(tiles, x, y);
+        return std::isnan(z) ? frame.camera.target.z : z;
     };
     const double from = std::clamp(frame.route_progress_m, r.measure_m.front(), r.measure_m.back());
     const double to = std::min(from + m_params.route_keep_out_m, r.measure_m.back());
@@ -444,9 +520,11 @@ void LabelPass::layout(const MapFrame& frame, std::span<const TileLabels> tiles,
         drawn.opacity = p.alpha;
         drawn.anchor = p.anchor;
         drawn.center = p.box.center;
-        const bool screen_drawn = world < 1.0f;
+        // Labels without a world placement stay in screen space in a world-space layout.
+        const bool screen_drawn = world < 1.0f || !f.world;
         if (screen_drawn) {
-            m_screen.push_back({t.quads, t.size_px, p.box.center, angle, p.scale, p.alpha * (1.0f - world), s.style});
+            const float screen_alpha = p.alpha * (f.world ? 1.0f - world : 1.0f);
+            m_screen.push_back({t.quads, t.size_px, p.box.center, angle, p.scale, screen_alpha, s.style});
             drawn.cap_height_px = t.metrics.cap_height * p.scale;
             text::appendDrawnGlyphBoxes(t.quads, t.size_px, p.scale, angle, p.box.center, spread_em,
                                         s.style.outline_px, s.style.halo_px, drawn.glyph_boxes);
@@ -534,6 +612,7 @@ void LabelPass::layout(const MapFrame& frame, std::span<const TileLabels> tiles,
     stats.labels_visible = visible;
     stats.label_world_weight = world;
     stats.placed_labels.assign(out.begin(), out.end());
+    stats.label_layout = m_layout.stats();
     stats.labels_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
 }
 

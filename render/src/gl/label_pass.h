@@ -52,19 +52,20 @@ struct LabelPassParams {
     /// manoeuvres are there), and of the vehicle marker.
     double route_keep_out_m = 150.0;
     float keep_out_margin_px = 4.0f;  ///< added around the marker and the route's width on screen
-    /// World-space text too small to read fades out (seed 5.1: every label readable): it leaves
-    /// when its cap height on screen falls below `world_min_cap_px` and comes back above
-    /// `world_enter_cap_px`; the layout keeps screen-space text at least LayoutParams::min_cap_height_px.
-    float world_min_cap_px = 10.0f;
-    float world_enter_cap_px = 10.5f;
-    /// ... and text too large for the view (a place passed close by) leaves above this many
-    /// times its style's cap height, coming back below 0.9 of it.
-    float world_max_cap_ratio = 2.5f;
+    /// World-space text is sized by perspective within readable bounds (seed 5.1: every label
+    /// readable): its cap height on screen, where perspective makes it smallest, is at least
+    /// `world_min_cap_px` (farther text keeps that size) and at most `world_max_cap_ratio` times
+    /// its style's cap height (nearer text keeps that size).
+    float world_min_cap_px = 11.0f;
+    float world_max_cap_ratio = 1.8f;
     /// World-space road names lie along the road; a road running too steeply across the screen
     /// or too foreshortened (seen end-on) cannot carry readable text and gets none.
     float world_max_screen_angle_deg = 60.0f;
     float world_min_foreshortening = 0.5f;  ///< projected length over its length facing the camera
     float world_lift_m = 1.0f;              ///< text stands this far above the ground it names
+    /// World-space text is shown only where lines of sight to it pass this far above the terrain
+    /// grid (twice as far to come in).
+    float terrain_clearance_m = 3.0f;
 };
 
 /// A drawn label as the occlusion effects see it (seed 5.5.1): its screen OOBB and the depth of
@@ -142,7 +143,9 @@ private:
         glm::dvec3 anchor{0.0};   ///< store frame, on the terrain
         std::uint64_t frame = 0;  ///< last frame it was a candidate
         bool world = false;       ///< `plane` holds this frame's world-space placement
-        bool legible = false;     ///< world-space text large enough (hysteresis of world_*_cap_px)
+        bool legible = false;     ///< world-space text readable (seen along the road, terrain in front; with hysteresis)
+        bool shown_world = false; ///< in last frame's output, in world space
+        bool shown_screen = false; ///< in last frame's output, in screen space within a world layout
         WorldPlane plane;
     };
     /// The text of a label at scale 1: measured size, cap height, and the margin its outline and
@@ -155,11 +158,21 @@ private:
         float world_reach = 1.0f;  ///< LabelTextStyle::world_reach
     };
     void collect(const MapFrame& frame, std::span<const TileLabels> tiles, glm::ivec2 viewport, bool world);
-    /// The candidate of a label drawn in the world: plane, projected box, legibility; false
-    /// when it cannot be read (too small, seen end-on, behind the camera).
-    bool worldCandidate(const MapFrame& frame, const glm::mat4& view_projection, glm::vec2 viewport,
-                        const glm::dvec3& anchor, const glm::dvec3& seg_a, const glm::dvec3& seg_b, const TextSize& t,
-                        Feature& f, labels::LabelCandidate& c) const;
+    /// How a label of a world-space layout is shown.
+    enum class WorldFit {
+        World,   ///< in its plane in the world
+        Screen,  ///< unreadable in the world (too small far away, too large near, seen end-on): in screen space
+        Hidden,  ///< behind the terrain: not at all
+    };
+    /// The candidate of a label drawn in the world: plane, projected box, legibility.
+    WorldFit worldCandidate(const MapFrame& frame, std::span<const TileLabels> tiles, const glm::mat4& view_projection,
+                            glm::vec2 viewport, const glm::dvec3& anchor, const glm::dvec3& seg_a, const glm::dvec3& seg_b,
+                            const TextSize& t, Feature& f, labels::LabelCandidate& c) const;
+    /// Whether the terrain hides an eye-relative point: lines of sight over the drawn tiles.
+    /// `clearance_m`: how far above the grid the line must pass (negative: how far below it may).
+    bool behindTerrain(std::span<const TileLabels> tiles, const glm::vec3& target, float clearance_m) const;
+    /// Height of the finest drawn tile at a store-frame point; NaN where no tile is drawn.
+    static double groundHeight(std::span<const TileLabels> tiles, double x, double y);
     /// Same-named road candidates within street_repeat_m of one already kept are dropped;
     /// labels on screen now are kept first, so the chosen way does not change.
     void dropRepeatedStreets();
@@ -167,6 +180,7 @@ private:
                  std::span<const glm::vec2> marker, float route_width_m);
     const TextSize& textSize(std::uint64_t id, const map::Label& label);
 
+    std::vector<std::size_t> m_tile_order;  ///< collect(): tiles finest first
     std::shared_ptr<LabelText> m_shared;
     text::TextEngine& m_engine;
     TextLayer& m_text;

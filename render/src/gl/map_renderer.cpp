@@ -1301,9 +1301,12 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target) {
         target.bindForDrawing(false);
         m_label_pass->draw({target.width(), target.height()}, m_stats);
         if (frame.layers.measure_label_occlusion) {
+            glFinish();  // the frame's drawing so far is the frame's cost, not the measurement's
+            const auto t_occlusion = Clock::now();
             m_label_pass->measureOcclusion(target.depthStencilRenderbuffer(), target.samples(),
                                            {target.width(), target.height()}, m_stats);
             target.bindForDrawing(false);
+            m_stats.label_occlusion_ms = msSince(t_occlusion);
         }
         double label_gpu_ms = 0;  // labels_ms is the pass's own CPU time; keep it out of marker_ms
         lap(label_gpu_ms, t);

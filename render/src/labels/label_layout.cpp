@@ -134,6 +134,7 @@ FrameReport LabelLayout::setFrame(std::span<const LabelCandidate> candidates, co
             if (placed(l.state)) {
                 l.state = LabelState::FadingOut;  // seed 4.4.3: removed labels fade out
                 l.reason = RemovalReason::Gone;
+                ++m_stats.removed_gone;
                 l.velocity = glm::vec2(0.0F);
             } else if (l.state != LabelState::FadingOut) {
                 continue;  // never shown: forget at once
@@ -479,6 +480,8 @@ void LabelLayout::place() {
                                                    l.in.upright);
         const glm::vec2 axis = l.axis;
         int chosen = -1;
+        bool in_view = false;
+        bool kept_out = false;
         for (int c = 0; c < cs.count && chosen < 0; ++c) {
             const OrientedBox text{l.in.anchor + cs.offset[c], l.half, axis};
             if (bounded) {
@@ -489,6 +492,7 @@ void LabelLayout::place() {
                     continue;
                 }
             }
+            in_view = true;
             const OrientedBox zone = text.inflated(zone_extra);
             bool free = true;
             m_grid.query(zone.center, zone.aabbHalfExtents(), [&](std::uint32_t a) {
@@ -503,6 +507,7 @@ void LabelLayout::place() {
             for (const OrientedBox& other : m_keep_out) {
                 if (!free) break;
                 free = zone.overlapDepth(other) < 0.0F;
+                kept_out |= !free;
             }
             for (const OrientedBox& other : m_fading_boxes) {
                 if (!free) break;
@@ -517,6 +522,7 @@ void LabelLayout::place() {
             l.state = LabelState::Waiting;
             l.timer = retryDelay(l.in.id);
             ++m_stats.placement_failures;
+            ++(!in_view ? m_stats.failures_off_screen : kept_out ? m_stats.failures_keep_out : m_stats.failures_labels);
             continue;
         }
         l.state = LabelState::FadingIn;

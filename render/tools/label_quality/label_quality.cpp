@@ -2,12 +2,19 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
+#include "drive_trajectory.h"
 #include "navmap/render/map_view.h"
+#include "navmap/render/maplibre_camera.h"
 #include "navmap/render/renderer.h"
 
 namespace navmap::render::tools {
@@ -16,50 +23,164 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-std::string fmt(const char* f, double v) {
+// Nearest-rank percentiles and the mean.
+TimeFigures figuresOf(std::vector<double> v) {
+    TimeFigures f;
+    if (v.empty()) return f;
+    std::sort(v.begin(), v.end());
+    auto rank = [&](double p) {
+        const auto r = static_cast<std::size_t>(std::ceil(p * static_cast<double>(v.size())));
+        return v[std::clamp<std::size_t>(r, 1, v.size()) - 1];
+    };
+    f.p50 = rank(0.50);
+    f.p95 = rank(0.95);
+    double sum = 0.0;
+    for (const double x : v) sum += x;
+    f.mean = sum / static_cast<double>(v.size());
+    return f;
+}
+
+std::string shortest(double v) {
     char buf[64];
-    std::snprintf(buf, sizeof buf, f, v);
+    std::snprintf(buf, sizeof buf, "%g", v);
     return buf;
 }
 
-}  // namespace
+// One measured frame's figures, accumulated.
+struct Accumulator {
+    labels::DrawnLabelMetrics drawn;
+    labels::LayoutMetrics layout;
+    std::vector<double> labels_ms, frame_ms;
+    double occlusion_ms = 0.0, candidates = 0.0;
+    std::optional<labels::LayoutStats> first_layout;
 
-LabelQualityReport measureLabelQuality(const LabelQualityOptions& o) {
-    if (o.width <= 0 || o.height <= 0 || o.frames <= 0 || o.settle_frames < 0 || !(o.dt_s > 0.0)) {
-        throw std::runtime_error("label quality: width, height, frames and dt must be positive");
+    void add(const MapFrameStats& s, glm::vec2 viewport, double dt, double render_ms, LabelQualityReport& r) {
+        if (!first_layout) first_layout = s.label_layout;
+        // The layout's events over the measured frames (what makes labels come and go).
+        const labels::LayoutStats& a = *first_layout;
+        const labels::LayoutStats& b = s.label_layout;
+        r.layout_events = {b.placed - a.placed,
+                           b.removed_speed - a.removed_speed,
+                           b.removed_constricted - a.removed_constricted,
+                           b.removed_overlap - a.removed_overlap,
+                           b.removed_off_screen - a.removed_off_screen,
+                           b.removed_gone - a.removed_gone,
+                           b.failures_off_screen - a.failures_off_screen,
+                           b.failures_keep_out - a.failures_keep_out,
+                           b.failures_labels - a.failures_labels};
+        drawn.addFrame(s.drawn_labels, s.drawn_marker, viewport, dt);
+        layout.addFrame(s.placed_labels, dt);
+        if (labels::LayoutMetrics::countOverlaps(s.placed_labels) > 0) ++r.overlap_frames;
+        labels_ms.push_back(s.labels_ms);
+        frame_ms.push_back(render_ms - s.label_occlusion_ms);
+        occlusion_ms += s.label_occlusion_ms;
+        candidates += static_cast<double>(s.label_candidates);
+        r.world_weight_last = s.label_world_weight;
     }
+    void finish(LabelQualityReport& r) const {
+        r.drawn = drawn.summary();
+        r.quality = layout.summary();
+        const auto n = static_cast<double>(std::max<std::size_t>(frame_ms.size(), 1));
+        r.mean_candidates = candidates / n;
+        r.mean_label_occlusion_ms = occlusion_ms / n;
+        r.labels_ms = figuresOf(labels_ms);
+        r.frame_ms = figuresOf(frame_ms);
+    }
+};
+
+void applyLayers(MapFrame& frame, const LabelQualityOptions& o) {
+    frame.layers.labels = true;
+    frame.layers.measure_label_occlusion = o.measure_occlusion;
+    frame.layers.label_aura = o.label_aura;
+    frame.layers.glow_roads = o.glow_roads;
+    frame.frame_dt_s = o.dt_s;
+}
+
+// Renders one frame and returns renderMap + finish in ms.
+double renderTimed(Renderer& renderer, const MapFrame& frame) {
+    const auto t0 = Clock::now();
+    renderer.renderMap(frame);
+    renderer.finish();
+    return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+std::unique_ptr<Renderer> makeRenderer(const LabelQualityOptions& o) {
+    RendererOptions ro;
+    ro.width = o.width;
+    ro.height = o.height;
+    return Renderer::create(ro);
+}
+
+// A recorded trajectory, pose by pose, each frame's camera in MapLibre's convention centred on
+// the vehicle (MapLibre GL JS was measured on the same poses this way).
+LabelQualityReport replayTrajectory(const LabelQualityOptions& o, LabelQualityReport r) {
+    const DriveTrajectory trajectory = loadTrajectory(o.trajectory);
+    const int available = static_cast<int>(trajectory.frames.size());
+    const int frames = std::min(o.frames.value_or(available), available);
+    MapScene scene = MapScene::open(o.store);
+    MapView view(scene.cache);
+    const map::Projection projection = scene.projection();
+    const auto terrain = [&](double x, double y) { return view.terrainHeight(x, y); };
+    const double aspect = static_cast<double>(o.width) / o.height;
+    const glm::vec2 viewport(static_cast<float>(o.width), static_cast<float>(o.height));
+    auto renderer = makeRenderer(o);
+    Accumulator acc;
+    for (int i = -o.settle_frames; i < frames; ++i) {
+        const TrajectoryPose& pose = trajectory.frames[static_cast<std::size_t>(std::max(i, 0))];
+        MapLibreCamera ml;
+        ml.lon_deg = pose.lon_deg;
+        ml.lat_deg = pose.lat_deg;
+        ml.zoom = o.camera->zoom;
+        ml.pitch_deg = o.camera->pitch_deg;
+        ml.bearing_deg = o.camera->bearing_deg.value_or(pose.bearing_deg);
+        // Deterministic replay: wait for the tiles of each frame instead of drawing parents; the
+        // second round sees the terrain height under the center the first one loaded.
+        Camera cam = cameraFromMapLibre(ml, projection, o.height, terrain);
+        view.warmUp(cam, aspect, o.height, std::chrono::seconds(10));
+        cam = cameraFromMapLibre(ml, projection, o.height, terrain);
+        view.warmUp(cam, aspect, o.height, std::chrono::seconds(10));
+        MapFrame frame;
+        frame.camera = cam;
+        view.select(frame, aspect, o.height);  // tiles and their geomorph, as navmapd draws them
+        frame.marker = MarkerState{cam.target, gridBearingDeg(projection, pose.lat_deg, pose.lon_deg, pose.bearing_deg), false};
+        applyLayers(frame, o);
+        const double ms = renderTimed(*renderer, frame);
+        if (i < 0) continue;
+        if (i == 0) r.camera_distance_m = glm::length(cam.target - cam.eye);
+        const MapFrameStats& s = renderer->mapStats();
+        acc.add(s, viewport, o.dt_s, ms, r);
+        if (o.on_frame) o.on_frame(i, s);
+    }
+    acc.finish(r);
+    return r;
+}
+
+// The route from -> to planned on the store, driven at a constant speed with the camera rig.
+LabelQualityReport driveRoute(const LabelQualityOptions& o, LabelQualityReport r) {
+    const int frames = o.frames.value_or(300);
     DriveScene scene = DriveScene::open(o.store, o.from, o.to);
     MapView& view = *scene.view;
     PlannedDrive& drive = scene.drive;
     if (drive.line.size() < 2) throw std::runtime_error("label quality: no route between the two places in " + o.store.string());
     const auto terrain = [&](double x, double y) { return view.terrainHeight(x, y); };
     const double aspect = static_cast<double>(o.width) / o.height;
+    const glm::vec2 viewport(static_cast<float>(o.width), static_cast<float>(o.height));
     const double route_end = drive.line.back().measure_m;
-
-    RendererOptions ro;
-    ro.width = o.width;
-    ro.height = o.height;
-    auto renderer = Renderer::create(ro);
+    auto renderer = makeRenderer(o);
     CameraRig rig;
     rig.setMode(o.view);
+    if (o.camera) rig.setMapLibreFollow(*o.camera, scene.scene.projection(), o.height);
 
     // Settle the camera and load the tiles around the start (terrain heights need tiles).
     const DriveScene::Shot shot = scene.settle(rig, o.start_m, o.speed_mps, aspect, o.height);
     VehiclePose pose = shot.pose;
-    Camera cam = shot.camera;
-
-    LabelQualityReport r;
-    r.view = o.view == ViewMode::Bird ? "bird" : "snail";
     r.route_points = drive.line.size();
-    labels::LayoutMetrics metrics;
-    std::vector<double> label_ms;
-    double frame_ms = 0.0, candidates = 0.0;
+    Accumulator acc;
     double measure = o.start_m;
-    const int total = o.settle_frames + o.frames;
-    for (int i = 0; i < total; ++i) {
+    for (int i = -o.settle_frames; i < frames; ++i) {
         measure = std::min(measure + o.speed_mps * o.dt_s, route_end);
         pose = poseAlong(drive, measure, o.speed_mps, terrain);
-        cam = rig.update(pose, o.dt_s, terrain);
+        const Camera cam = rig.update(pose, o.dt_s, terrain);
         // Deterministic replay: wait for the tiles of each frame instead of drawing parents.
         view.warmUp(cam, aspect, o.height, std::chrono::seconds(10));
         MapFrame frame;
@@ -68,54 +189,179 @@ LabelQualityReport measureLabelQuality(const LabelQualityOptions& o) {
         frame.route = &drive.geometry;
         frame.route_progress_m = measure;
         frame.marker = MarkerState{pose.position, pose.heading_deg, false};
-        frame.layers.labels = true;
-        frame.frame_dt_s = o.dt_s;
-        const auto t0 = Clock::now();
-        renderer->renderMap(frame);
-        renderer->finish();
-        const double ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-        if (i < o.settle_frames) continue;
+        applyLayers(frame, o);
+        const double ms = renderTimed(*renderer, frame);
+        if (i < 0) continue;
+        if (i == 0) r.camera_distance_m = glm::length(cam.target - cam.eye);
         const MapFrameStats& s = renderer->mapStats();
-        metrics.addFrame(s.placed_labels, o.dt_s);
-        if (labels::LayoutMetrics::countOverlaps(s.placed_labels) > 0) ++r.overlap_frames;
-        label_ms.push_back(s.labels_ms);
-        frame_ms += ms;
-        candidates += static_cast<double>(s.label_candidates);
-        r.world_weight_last = s.label_world_weight;
+        acc.add(s, viewport, o.dt_s, ms, r);
+        if (o.on_frame) o.on_frame(i, s);
     }
-    r.quality = metrics.summary();
-    const auto n = static_cast<double>(o.frames);
-    r.mean_frame_ms = frame_ms / n;
-    r.mean_candidates = candidates / n;
-    double sum = 0.0;
-    for (double v : label_ms) sum += v;
-    r.mean_labels_ms = sum / n;
-    std::sort(label_ms.begin(), label_ms.end());
-    r.p95_labels_ms = label_ms[std::min(label_ms.size() - 1, static_cast<std::size_t>(0.95 * n))];
+    acc.finish(r);
     return r;
 }
 
-std::string toJson(const LabelQualityReport& r) {
-    const labels::LayoutQuality& q = r.quality;
-    std::string s = "{\"view\": \"" + r.view + "\"";
-    s += ", \"frames\": " + std::to_string(q.frames);
-    s += ", \"seconds\": " + fmt("%.3f", q.seconds);
-    s += ", \"mean_visible\": " + fmt("%.2f", q.mean_visible);
-    s += ", \"last_visible\": " + std::to_string(q.last_visible);
-    s += ", \"max_overlaps\": " + std::to_string(q.max_overlaps);
-    s += ", \"overlap_frames\": " + std::to_string(r.overlap_frames);
-    s += ", \"pops\": " + std::to_string(q.pops);
-    s += ", \"pops_per_s\": " + fmt("%.3f", q.pops_per_s);
-    s += ", \"mean_jitter_px\": " + fmt("%.4f", q.mean_jitter_px);
-    s += ", \"p95_jitter_px\": " + fmt("%.3f", q.p95_jitter_px);
-    s += ", \"jitter_samples\": " + std::to_string(q.jitter_samples);
-    s += ", \"mean_candidates\": " + fmt("%.1f", r.mean_candidates);
-    s += ", \"mean_labels_ms\": " + fmt("%.3f", r.mean_labels_ms);
-    s += ", \"p95_labels_ms\": " + fmt("%.3f", r.p95_labels_ms);
-    s += ", \"mean_frame_ms\": " + fmt("%.3f", r.mean_frame_ms);
-    s += ", \"label_world_weight\": " + fmt("%.3f", r.world_weight_last);
-    s += "}";
+double rounded(double v, int digits) {
+    const double f = std::pow(10.0, digits);
+    return std::round(v * f) / f;
+}
+
+}  // namespace
+
+std::optional<MapLibreFollow> parseCameraSpec(const std::string& spec, std::string* error) {
+    std::string local;
+    std::string& err = error ? *error : local;
+    std::optional<double> zoom, pitch, bearing;
+    std::size_t begin = 0;
+    while (begin <= spec.size()) {
+        const std::size_t end = std::min(spec.find(',', begin), spec.size());
+        const std::string item = spec.substr(begin, end - begin);
+        begin = end + 1;
+        const std::size_t eq = item.find('=');
+        const std::string key = item.substr(0, eq);
+        std::optional<double>* slot = key == "zoom" ? &zoom : key == "pitch" ? &pitch : key == "bearing" ? &bearing : nullptr;
+        if (eq == std::string::npos || !slot) {
+            err = "camera \"" + spec + "\": expected zoom=Z,pitch=P[,bearing=B], not \"" + item + "\"";
+            return std::nullopt;
+        }
+        const std::string text = item.substr(eq + 1);
+        char* stop = nullptr;
+        const double v = std::strtod(text.c_str(), &stop);
+        if (text.empty() || *stop != '\0' || !std::isfinite(v)) {
+            err = "camera \"" + spec + "\": " + key + " must be a number, not \"" + text + "\"";
+            return std::nullopt;
+        }
+        if (slot->has_value()) {
+            err = "camera \"" + spec + "\": " + key + " given twice";
+            return std::nullopt;
+        }
+        *slot = v;
+    }
+    if (!zoom || !pitch) {
+        err = "camera \"" + spec + "\": needs zoom and pitch (zoom=Z,pitch=P[,bearing=B])";
+        return std::nullopt;
+    }
+    auto range = [&](const char* name, double v, double lo, double hi) {
+        if (v >= lo && v <= hi) return true;
+        err = "camera \"" + spec + "\": " + name + " " + shortest(v) + " out of range [" + shortest(lo) + ", " + shortest(hi) + "]";
+        return false;
+    };
+    if (!range("zoom", *zoom, kMapLibreMinZoom, kMapLibreMaxZoom) ||
+        !range("pitch", *pitch, kMapLibreMinPitchDeg, kMapLibreMaxPitchDeg) ||
+        (bearing && !range("bearing", *bearing, -360.0, 360.0))) {
+        return std::nullopt;
+    }
+    return MapLibreFollow{*zoom, *pitch, bearing};
+}
+
+std::string cameraSpecName(const MapLibreFollow& c) {
+    std::string s = "zoom=" + shortest(c.zoom) + ",pitch=" + shortest(c.pitch_deg);
+    if (c.bearing_deg) s += ",bearing=" + shortest(*c.bearing_deg);
     return s;
+}
+
+LabelQualityReport measureLabelQuality(const LabelQualityOptions& o) {
+    if (o.width <= 0 || o.height <= 0 || (o.frames && *o.frames <= 0) || o.settle_frames < 0 || !(o.dt_s > 0.0)) {
+        throw std::runtime_error("label quality: width, height, frames and dt must be positive, settle not negative");
+    }
+    if (!o.trajectory.empty() && !o.camera) {
+        throw std::runtime_error("label quality: replaying a trajectory needs a camera (zoom and pitch)");
+    }
+    LabelQualityReport r;
+    r.width = o.width;
+    r.height = o.height;
+    r.settle_frames = o.settle_frames;
+    r.dt_s = o.dt_s;
+    r.camera = o.camera;
+    r.name = o.camera ? cameraSpecName(*o.camera) : o.view == ViewMode::Bird ? "bird" : "snail";
+    if (!o.trajectory.empty()) {
+        r.drive = o.trajectory.filename().string();
+        return replayTrajectory(o, std::move(r));
+    }
+    r.drive = "route";
+    return driveRoute(o, std::move(r));
+}
+
+std::string toJson(const LabelQualityReport& r) {
+    const labels::DrawnLabelQuality& q = r.drawn;
+    const labels::LayoutQuality& l = r.quality;
+    nlohmann::ordered_json j;
+    j["name"] = r.name;
+    j["drive"] = r.drive;
+    if (r.camera) {
+        j["zoom"] = r.camera->zoom;
+        j["pitch"] = r.camera->pitch_deg;
+        if (r.camera->bearing_deg) j["bearing"] = *r.camera->bearing_deg;
+    }
+    j["size"] = std::to_string(r.width) + "x" + std::to_string(r.height);
+    j["camera_distance_m"] = rounded(r.camera_distance_m, 1);
+    j["settle_frames"] = r.settle_frames;
+    j["frames"] = q.frames;
+    j["seconds"] = rounded(q.seconds, 3);
+    // On the drawn frames (docs/labels.md "Measured quality").
+    j["visible_median"] = q.visible_median;
+    j["visible_mean"] = rounded(q.visible_mean, 2);
+    j["visible_min"] = q.visible_min;
+    j["visible_max"] = q.visible_max;
+    j["distinct_visible_labels"] = q.distinct_visible_labels;
+    j["overlap_pairs_max"] = q.overlap_pairs_max;
+    j["overlap_pairs_sum"] = q.overlap_pairs_sum;
+    j["overlap_frames"] = q.overlap_frames;
+    j["occluded_share"] = rounded(q.occluded_share, 4);
+    j["occluded_label_frames"] = q.occluded_label_frames;
+    j["occlusion_measured_label_frames"] = q.occlusion_measured_label_frames;
+    j["occlusion_unmeasured_label_frames"] = q.occlusion_unmeasured_label_frames;
+    j["too_small_share"] = rounded(q.too_small_share, 4);
+    j["too_small_label_frames"] = q.too_small_label_frames;
+    j["too_small_labels"] = q.too_small_labels;
+    j["marker_overlap_label_frames"] = q.marker_overlap_label_frames;
+    j["marker_overlap_frames"] = q.marker_overlap_frames;
+    j["marker_overlap_labels"] = q.marker_overlap_labels;
+    j["marker_frames"] = q.marker_frames;
+    j["pops"] = q.pops;
+    j["pops_per_s"] = rounded(q.pops_per_s, 3);
+    j["interior_point_pops"] = q.interior_point_pops;
+    j["interior_point_pops_per_s"] = rounded(q.interior_point_pops_per_s, 3);
+    j["text_pops"] = q.text_pops;
+    j["text_pops_per_s"] = rounded(q.text_pops_per_s, 3);
+    j["frames_with_pop"] = q.frames_with_pop;
+    j["pop_frame_share"] = rounded(q.pop_frame_share, 4);
+    j["jitter_mean_px"] = rounded(q.jitter_mean_px, 4);
+    j["jitter_p95_px"] = rounded(q.jitter_p95_px, 3);
+    j["jitter_max_px"] = rounded(q.jitter_max_px, 2);
+    j["jitter_samples"] = q.jitter_samples;
+    j["duplicate_ids"] = q.duplicate_ids;
+    // Frame time (labels on, with terrain) without the occlusion measurement.
+    j["frame_ms_p50"] = rounded(r.frame_ms.p50, 2);
+    j["frame_ms_p95"] = rounded(r.frame_ms.p95, 2);
+    j["frame_ms_mean"] = rounded(r.frame_ms.mean, 2);
+    j["label_occlusion_ms_mean"] = rounded(r.mean_label_occlusion_ms, 2);
+    j["labels_ms_p50"] = rounded(r.labels_ms.p50, 3);
+    j["labels_ms_p95"] = rounded(r.labels_ms.p95, 3);
+    j["labels_ms_mean"] = rounded(r.labels_ms.mean, 3);
+    j["mean_candidates"] = rounded(r.mean_candidates, 1);
+    j["label_world_weight"] = rounded(r.world_weight_last, 3);
+    // The layout's own figures (labels::LayoutMetrics on its boxes), not what is drawn.
+    j["layout_mean_visible"] = rounded(l.mean_visible, 2);
+    j["layout_last_visible"] = l.last_visible;
+    j["layout_max_overlaps"] = l.max_overlaps;
+    j["layout_overlap_frames"] = r.overlap_frames;
+    j["layout_pops"] = l.pops;
+    j["layout_pops_per_s"] = rounded(l.pops_per_s, 3);
+    j["layout_mean_jitter_px"] = rounded(l.mean_jitter_px, 4);
+    j["layout_p95_jitter_px"] = rounded(l.p95_jitter_px, 3);
+    j["layout_jitter_samples"] = l.jitter_samples;
+    j["layout_placed"] = r.layout_events.placed;
+    j["layout_removed_speed"] = r.layout_events.removed_speed;
+    j["layout_removed_constricted"] = r.layout_events.removed_constricted;
+    j["layout_removed_overlap"] = r.layout_events.removed_overlap;
+    j["layout_removed_off_screen"] = r.layout_events.removed_off_screen;
+    j["layout_removed_gone"] = r.layout_events.removed_gone;
+    j["layout_unplaced_off_screen"] = r.layout_events.failures_off_screen;
+    j["layout_unplaced_keep_out"] = r.layout_events.failures_keep_out;
+    j["layout_unplaced_labels"] = r.layout_events.failures_labels;
+    if (r.drive == "route") j["route_points"] = r.route_points;
+    return j.dump();
 }
 
 }  // namespace navmap::render::tools

@@ -30,3 +30,8 @@ TEST(ControlFuzzCorpus, ParserSurvivesBrokenLines) {
     const std::size_t runs = navmap::test::runFuzzCorpus(navmapFuzzControl, seeds, extra, 300);
     EXPECT_GT(runs, 1500U);
 }
+
+// Every file of the checked-in libFuzzer corpus (tests/fuzz/corpus/control).
+TEST(ControlFuzzCorpus, CheckedInCorpus) {
+    EXPECT_GE(navmap::test::runCheckedInCorpus(navmapFuzzControl, "control"), 20U);
+}

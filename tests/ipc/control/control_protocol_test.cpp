@@ -38,6 +38,26 @@ TEST(ControlProtocol, ParsesTheOtherCommands) {
     ASSERT_TRUE(r.command) << r.error;
     EXPECT_FALSE(std::get<SetViewCommand>(r.command->body).orientation);
 
+    // A MapLibre-convention camera: zoom and pitch, optional bearing; null clears it.
+    r = parseControlLine(R"({"cmd":"set_view","display":"cluster","camera":{"zoom":16.5,"pitch":60}})");
+    ASSERT_TRUE(r.command) << r.error;
+    {
+        const auto& cv = std::get<SetViewCommand>(r.command->body);
+        ASSERT_TRUE(cv.camera);
+        EXPECT_DOUBLE_EQ(cv.camera->zoom, 16.5);
+        EXPECT_DOUBLE_EQ(cv.camera->pitch, 60.0);
+        EXPECT_FALSE(cv.camera->bearing);
+        EXPECT_FALSE(cv.mode);
+        EXPECT_FALSE(cv.clearCamera);
+    }
+    r = parseControlLine(R"({"cmd":"set_view","display":"hud","camera":{"zoom":0,"pitch":85,"bearing":-90},"orientation":"north-up"})");
+    ASSERT_TRUE(r.command) << r.error;
+    EXPECT_EQ(std::get<SetViewCommand>(r.command->body).camera, (ViewCamera{0.0, 85.0, -90.0}));
+    r = parseControlLine(R"({"cmd":"set_view","display":"hud","camera":null})");
+    ASSERT_TRUE(r.command) << r.error;
+    EXPECT_TRUE(std::get<SetViewCommand>(r.command->body).clearCamera);
+    EXPECT_FALSE(std::get<SetViewCommand>(r.command->body).camera);
+
     r = parseControlLine(R"({"cmd":"set_style","style":"night","id":"q7"})");
     ASSERT_TRUE(r.command) << r.error;
     EXPECT_EQ(std::get<SetStyleCommand>(r.command->body).style, MapStyle::Night);
@@ -111,7 +131,21 @@ TEST(ControlProtocol, EveryMalformedRequestGetsAnErrorNamingTheProblem) {
         {R"({"cmd":"set_view","display":"cluster","orientation":"up"})",
          "\"orientation\": \"up\" is not one of heading-up | north-up"},
         {R"({"cmd":"set_view","display":"cluster"})",
-         "set_view needs \"mode\" (bird | snail | auto) or \"orientation\" (heading-up | north-up)"},
+         "set_view needs \"mode\" (bird | snail | auto), \"orientation\" (heading-up | north-up) or \"camera\" "
+         "({zoom, pitch[, bearing]} or null)"},
+        {R"({"cmd":"set_view","display":"cluster","camera":"close"})",
+         "\"camera\" must be an object {zoom, pitch[, bearing]} or null, not string"},
+        {R"({"cmd":"set_view","display":"cluster","camera":{"zoom":16}})", "camera: missing \"pitch\""},
+        {R"({"cmd":"set_view","display":"cluster","camera":{"pitch":60}})", "camera: missing \"zoom\""},
+        {R"({"cmd":"set_view","display":"cluster","camera":{"zoom":30,"pitch":60}})", "camera.zoom: 30 out of range [0, 24]"},
+        {R"({"cmd":"set_view","display":"cluster","camera":{"zoom":-1,"pitch":60}})", "camera.zoom: -1 out of range [0, 24]"},
+        {R"({"cmd":"set_view","display":"cluster","camera":{"zoom":16,"pitch":85.5}})", "camera.pitch: 85.5 out of range [0, 85]"},
+        {R"({"cmd":"set_view","display":"cluster","camera":{"zoom":16,"pitch":"60"}})", "camera.pitch: must be a number, not string"},
+        {R"({"cmd":"set_view","display":"cluster","camera":{"zoom":16,"pitch":60,"bearing":400}})",
+         "camera.bearing: 400 out of range [-360, 360]"},
+        {R"({"cmd":"set_view","display":"cluster","camera":{"zoom":16,"pitch":60,"roll":5}})", "camera: unknown field \"roll\""},
+        {R"({"cmd":"set_view","display":"cluster","mode":"bird","camera":[16,60]})",
+         "\"camera\" must be an object {zoom, pitch[, bearing]} or null, not array"},
         {R"({"cmd":"set_view","mode":"bird"})", "missing \"display\""},
         {R"({"cmd":"set_style","style":"dusk"})", "\"style\": \"dusk\" is not one of day | night"},
         {R"({"cmd":"set_style"})", "missing \"style\" (day | night)"},

@@ -100,6 +100,7 @@ TEST(ControlServer, CommandsReachTheSnapshotsAndRepliesAreExact) {
         EXPECT_EQ(status["status"]["route"]["id"], "r1");
         EXPECT_EQ(status["status"]["style"], "night");
         EXPECT_EQ(status["status"]["displays"]["hud"]["mode"], "snail");
+        EXPECT_TRUE(status["status"]["displays"]["hud"]["camera"].is_null());
         EXPECT_EQ(status["status"]["control"]["clients"], 1);
 
         EXPECT_EQ(req(c, R"({"cmd":"clear_route"})"), R"({"ok":true,"cmd":"clear_route"})");
@@ -536,4 +537,36 @@ TEST(ControlServer, MembersOfTheSocketGroupMayConnectOthersNot) {
     EXPECT_EQ(refused.rfind(R"({"ok":false,"error":"peer uid 64002 (pid )", 0), 0U) << refused;
     EXPECT_NE(refused.find(") is not allowed on " + path), std::string::npos) << refused;
     EXPECT_EQ(f.server->stats().refusedPeer, 1U);
+}
+
+TEST(ControlState, SetViewCameraWinsOverTheModeUntilAModeOrNullClearsIt) {
+    ControlState state{{"cluster", "hud"}};
+    auto apply = [&](const char* line) {
+        const auto r = parseControlLine(line);
+        EXPECT_TRUE(r.command) << r.error;
+        EXPECT_TRUE(state.setView(std::get<SetViewCommand>(r.command->body)).ok()) << line;
+    };
+    apply(R"({"cmd":"set_view","display":"cluster","camera":{"zoom":16.5,"pitch":60}})");
+    EXPECT_EQ(state.view()->displays.at("cluster").camera, (ViewCamera{16.5, 60.0, std::nullopt}));
+    EXPECT_EQ(state.view()->displays.at("cluster").mode, ViewMode::Auto);
+    EXPECT_FALSE(state.view()->displays.at("hud").camera);
+    EXPECT_FALSE(state.view()->displays.at("cluster").orientationSet) << "the display's own orientation applies";
+    // The orientation leaves the camera as it is (it turns a camera without a fixed bearing).
+    apply(R"({"cmd":"set_view","display":"cluster","orientation":"north-up"})");
+    EXPECT_TRUE(state.view()->displays.at("cluster").camera);
+    EXPECT_TRUE(state.view()->displays.at("cluster").orientationSet);
+    auto status = state.status();
+    EXPECT_EQ(status["displays"]["cluster"]["camera"], nlohmann::json({{"zoom", 16.5}, {"pitch", 60.0}}));
+    // A mode given without a camera: the display follows the mode again.
+    apply(R"({"cmd":"set_view","display":"cluster","mode":"snail"})");
+    EXPECT_FALSE(state.view()->displays.at("cluster").camera);
+    // Camera and mode together: the camera wins (the mode is kept for later).
+    apply(R"({"cmd":"set_view","display":"cluster","mode":"bird","camera":{"zoom":14.5,"pitch":30,"bearing":90}})");
+    EXPECT_EQ(state.view()->displays.at("cluster").camera, (ViewCamera{14.5, 30.0, 90.0}));
+    EXPECT_EQ(state.view()->displays.at("cluster").mode, ViewMode::Bird);
+    status = state.status();
+    EXPECT_EQ(status["displays"]["cluster"]["camera"]["bearing"], 90.0);
+    apply(R"({"cmd":"set_view","display":"cluster","camera":null})");
+    EXPECT_FALSE(state.view()->displays.at("cluster").camera);
+    EXPECT_EQ(state.view()->displays.at("cluster").mode, ViewMode::Bird);
 }

@@ -43,3 +43,8 @@ TEST(StreamFuzzCorpus, HandshakeHttpAndHeaderParsersSurviveBrokenInputs) {
     const std::size_t runs = navmap::test::runFuzzCorpus(navmapFuzzStreamHandshake, seeds, extra, 500);
     EXPECT_GT(runs, 2000U);
 }
+
+// Every file of the checked-in libFuzzer corpus (tests/fuzz/corpus/stream_handshake).
+TEST(StreamFuzzCorpus, CheckedInCorpus) {
+    EXPECT_GE(navmap::test::runCheckedInCorpus(navmapFuzzStreamHandshake, "stream_handshake"), 20U);
+}

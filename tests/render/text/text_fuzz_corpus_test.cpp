@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "fuzz_corpus.h"
 #include "navmap/render/text/font_collection.h"
 
 int navmapFuzzTextShape(const std::uint8_t* data, std::size_t size);
@@ -40,4 +41,10 @@ TEST(TextFuzzCorpus, BadInputsNeverCrash) {
             EXPECT_EQ(navmapFuzzTextShape(reinterpret_cast<const std::uint8_t*>(s.data()), s.size()), 0);
         }
     }
+}
+
+// Every file of the checked-in libFuzzer corpus (tests/fuzz/corpus/text_shape).
+TEST(TextFuzzCorpus, CheckedInCorpus) {
+    if (navmap::render::text::debianFontFiles().regular.empty()) GTEST_SKIP() << "needs fonts-dejavu-core";
+    EXPECT_GE(navmap::test::runCheckedInCorpus(navmapFuzzTextShape, "text_shape"), 20U);
 }

@@ -57,10 +57,26 @@ struct SetRouteCommand {
     std::vector<Maneuver> maneuvers;    ///< indices valid and non-decreasing
 };
 struct ClearRouteCommand {};
+/// A map camera in MapLibre GL JS's convention, centred on the vehicle (docs/ipc.md set_view):
+/// zoom on 512-px tiles, pitch in degrees from straight down, and an optional fixed bearing
+/// (degrees clockwise from north; absent: the display's orientation decides).
+struct ViewCamera {
+    double zoom = 0.0;                  ///< 0..24
+    double pitch = 0.0;                 ///< 0..85
+    std::optional<double> bearing;      ///< -360..360
+    bool operator==(const ViewCamera&) const = default;
+};
+/// Ranges a ViewCamera is checked against.
+inline constexpr double kViewCameraMaxZoom = 24.0;
+inline constexpr double kViewCameraMaxPitch = 85.0;
+inline constexpr double kViewCameraMaxBearing = 360.0;
+
 struct SetViewCommand {
     std::string display;                        ///< "cluster", "hud", "center", ...
-    std::optional<ViewMode> mode;               ///< at least one of mode/orientation is set
+    std::optional<ViewMode> mode;               ///< at least one of mode/orientation/camera is given
     std::optional<ViewOrientation> orientation;
+    std::optional<ViewCamera> camera;           ///< "camera": {...}
+    bool clearCamera = false;                   ///< "camera": null
 };
 struct SetStyleCommand {
     MapStyle style = MapStyle::Day;

@@ -9,6 +9,7 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
@@ -28,6 +29,10 @@ struct RouteState {
 struct DisplayView {
     ViewMode mode = ViewMode::Auto;
     ViewOrientation orientation = ViewOrientation::HeadingUp;
+    bool orientationSet = false;  ///< a set_view gave `orientation` (else the display's own applies)
+    /// A MapLibre-convention camera set by set_view; it wins over `mode`. Cleared by
+    /// "camera": null and by a set_view that gives a mode without a camera.
+    std::optional<ViewCamera> camera;
 };
 
 /// View settings of all displays and the map style.

@@ -1,10 +1,13 @@
 #pragma once
 // The camera of one display: bird's-eye or snail's view following the vehicle (seed 5.3),
 // zoom by speed, heading-up or north-up, with every parameter moved by a critically damped
-// spring so that view and zoom changes never jump.
+// spring so that view and zoom changes never jump. A display may instead follow the vehicle
+// with a camera stated in MapLibre GL JS's convention (zoom and pitch, maplibre_camera.h).
 
 #include <functional>
+#include <optional>
 
+#include "navmap/map/projection.h"
 #include "navmap/render/camera.h"
 
 namespace navmap::render {
@@ -25,6 +28,19 @@ struct RigState {
     double pitch_deg = 0.0;    ///< elevation of the eye above the horizontal, seen from the look-at point
     double yaw_deg = 0.0;      ///< direction the camera looks, 0 = north, clockwise
     double look_ahead_m = 0.0; ///< look-at point ahead of the vehicle
+    double fov_y_deg = 0.0;    ///< vertical field of view (goal() sets it; 0 in a velocity)
+};
+
+/// A camera following the vehicle as MapLibre GL JS would show it (maplibre_camera.h): centred
+/// on the vehicle, at the distance of `zoom` for the viewport height, `pitch_deg` from straight
+/// down, with MapLibre's 36.87 degree field of view.
+struct MapLibreFollow {
+    double zoom = 16.0;        ///< 0..24, 512-px tiles
+    double pitch_deg = 60.0;   ///< 0..85, 0 = straight down
+    /// A fixed bearing (degrees clockwise from true north); empty: the rig's orientation decides
+    /// (heading-up: the vehicle's heading, north-up: north).
+    std::optional<double> bearing_deg;
+    bool operator==(const MapLibreFollow&) const = default;
 };
 
 struct CameraRigParams {
@@ -55,6 +71,14 @@ public:
     void setMode(ViewMode mode) { m_mode = mode; }
     void setOrientation(Orientation orientation) { m_orientation = orientation; }
     [[nodiscard]] ViewMode mode() const { return m_mode; }
+    /// Follow with a MapLibre-convention camera instead of the mode's distances; the springs move
+    /// to it from the current view. `projection` (the store's) gives the vehicle's latitude for
+    /// the map scale and true north; `viewport_height_px` the distance (MapLibre keeps the
+    /// center in the middle of the viewport at a fixed pixel scale).
+    void setMapLibreFollow(const MapLibreFollow& follow, const map::Projection& projection, int viewport_height_px);
+    /// Back to the mode's own distances (the springs move there).
+    void clearMapLibreFollow() { m_follow.reset(); }
+    [[nodiscard]] std::optional<MapLibreFollow> mapLibreFollow() const;
 
     /// The parameters the springs move towards for this pose and mode.
     [[nodiscard]] RigState goal(const VehiclePose& pose) const;
@@ -69,6 +93,12 @@ private:
     ViewMode m_mode = ViewMode::Bird;
     Orientation m_orientation = Orientation::HeadingUp;
     bool m_initialised = false;
+    struct Follow {
+        MapLibreFollow camera;
+        map::Projection projection;
+        int viewport_height_px;
+    };
+    std::optional<Follow> m_follow;
     RigState m_state;
     RigState m_velocity;
 };

@@ -11,6 +11,7 @@
 #include "navmap/map/tile.h"
 #include "navmap/render/camera.h"
 #include "navmap/render/labels/drawn_label.h"
+#include "navmap/render/labels/label_layout.h"
 #include "navmap/render/labels/label_types.h"
 #include "navmap/render/road_style.h"
 
@@ -187,9 +188,14 @@ struct MapFrameStats {
     std::size_t label_glyphs = 0;          ///< glyph quads drawn
     float label_world_weight = 0;          ///< 0: screen-space labels, 1: world-space, between: cross-fading
     std::vector<labels::PlacedLabel> placed_labels;  ///< layout output of this frame (quality metrics)
+    labels::LayoutStats label_layout;      ///< the layout's counters (placements, removals by reason) so far
     /// Every label drawn in this frame as it appears on screen (glyph extents after projection,
     /// drawn opacity): what the label quality metrics measure.
     std::vector<labels::DrawnLabel> drawn_labels;
+    /// Wall time of the label occlusion measurement (MapLayers::measure_label_occlusion: its id
+    /// renders and readbacks, after a glFinish so the frame's own drawing is not in it), ms; 0 when
+    /// off. Tools subtract it from the frame time.
+    double label_occlusion_ms = 0;
     labels::DrawnMarker drawn_marker;  ///< the vehicle marker's screen outline, empty when none was drawn
 };
 
