@@ -6,7 +6,7 @@
 #   scripts/license-headers.sh --add     adds it as the first line (after a #! line), idempotent
 # Files: C/C++ sources and headers (.c .cpp .h .h.in), GLSL (.glsl .vert .frag), shell and Python
 # scripts (.sh .py), CMake files (CMakeLists.txt, .cmake, .cmake.in). Run --add after merging a
-# branch that brings new files; the CTest `license_headers` runs --check.
+# branch that brings new files.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 mode="${1:---check}"
