@@ -13,6 +13,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -57,6 +58,30 @@ std::string httpGet(int port, const std::string& path) {
         char buf[65536];
         pollfd p{fd, POLLIN, 0};
         while (::poll(&p, 1, 5000) > 0) {
+            const ssize_t r = ::recv(fd, buf, sizeof buf, 0);
+            if (r <= 0) break;
+            out.append(buf, static_cast<std::size_t>(r));
+        }
+    }
+    ::close(fd);
+    return out;
+}
+
+// The first `want` bytes of GET `path` (a stream that never ends), or what came within 5 s.
+std::string httpHead(int port, const std::string& path, std::size_t want) {
+    const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+    sockaddr_in a{};
+    a.sin_family = AF_INET;
+    a.sin_port = htons(static_cast<std::uint16_t>(port));
+    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    std::string out;
+    if (::connect(fd, reinterpret_cast<sockaddr*>(&a), sizeof a) == 0) {
+        const std::string req = "GET " + path + " HTTP/1.0\r\nHost: 127.0.0.1:" + std::to_string(port) + "\r\n\r\n";
+        [[maybe_unused]] const auto n = ::send(fd, req.data(), req.size(), MSG_NOSIGNAL);
+        char buf[65536];
+        pollfd p{fd, POLLIN, 0};
+        const auto deadline = std::chrono::steady_clock::now() + 5s;
+        while (out.size() < want && std::chrono::steady_clock::now() < deadline && ::poll(&p, 1, 1000) > 0) {
             const ssize_t r = ::recv(fd, buf, sizeof buf, 0);
             if (r <= 0) break;
             out.append(buf, static_cast<std::size_t>(r));
@@ -225,4 +250,28 @@ TEST_F(NavmapdObservability, TheVersionIsInGetStatusAndStatus) {
     EXPECT_EQ(status["daemon"]["version"], NAVMAP_VERSION);
     EXPECT_EQ(status["daemon"]["profiles"][1]["attribution"], true);
     EXPECT_EQ(status["daemon"]["profiles"][0]["attribution"], false);
+}
+
+// The live page's stream without ?profile= is the first configured profile: it streams JPEG
+// frames instead of answering 400 for a profile navmapd does not render, and the page asks for it.
+TEST_F(NavmapdObservability, TheDefaultMjpegStreamIsTheFirstProfile) {
+    const std::string stream = httpHead(m_port, "/stream.mjpg", 4096);
+    ASSERT_EQ(stream.rfind("HTTP/1.0 200 OK\r\n", 0), 0U) << stream.substr(0, 400) << "\n" << m_daemon->output();
+    EXPECT_NE(stream.find("multipart/x-mixed-replace"), std::string::npos) << stream.substr(0, 400);
+    const auto part = stream.find("Content-Type: image/jpeg\r\n");
+    ASSERT_NE(part, std::string::npos) << stream.substr(0, 400);
+    const auto jpeg = stream.find("\r\n\r\n", part);
+    ASSERT_NE(jpeg, std::string::npos);
+    ASSERT_GE(stream.size(), jpeg + 6);
+    EXPECT_EQ(static_cast<unsigned char>(stream[jpeg + 4]), 0xFF);  // SOI marker
+    EXPECT_EQ(static_cast<unsigned char>(stream[jpeg + 5]), 0xD8);
+    // The page names the same stream and a button per configured profile.
+    const std::string page = body(httpGet(m_port, "/"));
+    EXPECT_NE(page.find("show('plain')"), std::string::npos) << page.substr(0, 2000);
+    EXPECT_NE(page.find("show('credited')"), std::string::npos);
+    EXPECT_EQ(page.find("show('center')"), std::string::npos) << "a button for a profile navmapd does not render";
+    EXPECT_NE(page.find("OpenStreetMap contributors"), std::string::npos);
+    // A profile navmapd does not render is still refused, naming it.
+    const std::string refused = httpGet(m_port, "/stream.mjpg?profile=bird");
+    EXPECT_EQ(refused.rfind("HTTP/1.0 4", 0), 0U) << refused.substr(0, 400);
 }
