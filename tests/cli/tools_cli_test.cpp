@@ -50,6 +50,8 @@ const std::vector<Tool>& tools() {
         {"navmap-sim", NAVMAP_SIM_PATH, "--from a --to b", "--store /nonexistent/x.navmap --from encamp --to ordino", "/nonexistent/x.navmap"},
         {"navmap-soak", NAVMAP_SOAK_PATH, "--navmapd a --drive b", "--navmapd /nonexistent/navmapd --drive /nonexistent/drive.candump",
          "/nonexistent/navmapd"},
+        {"navmap-label-quality", NAVMAP_LABEL_QUALITY_PATH, "", "--store /nonexistent/x.navmap --frames 1 --settle 0",
+         "/nonexistent/x.navmap"},
     };
     return t;
 }
@@ -109,6 +111,9 @@ TEST(ToolsCli, NumbersMustBeFiniteAndInRange) {
         {"", sim + " --position-hz 0", "--position-hz: '0' is not a finite number in [1, 50]"},
         {"", sim + " --noise-m -inf", "--noise-m: '-inf' is not a finite number in [0, 1000]"},
         {"", sim + " --dropouts 1.5", "--dropouts: '1.5' is not an integer in [0, 10000]"},
+        {NAVMAP_LABEL_QUALITY_PATH, "--dt nan", "--dt: 'nan' is not a finite number in [0.001, 10]"},
+        {NAVMAP_LABEL_QUALITY_PATH, "--frames 0", "--frames: '0' is not an integer in [1, 1000000]"},
+        {NAVMAP_LABEL_QUALITY_PATH, "--size 1280x", "--size: '1280x' is not WxH with W and H integers in [16, 8192]"},
         {NAVMAP_SOAK_PATH, "--navmapd x --drive y --duration 1e999", "--duration: '1e999' is not a finite number in [1, 1e+07]"},
     };
     for (const auto& c : cases) {
