@@ -363,9 +363,9 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
         std::string endpoints = "control " + config.control_socket.string() + ", frames " + config.frame_socket.string();
         if (frames.httpPort() > 0) endpoints += ", http://" + config.http_address + ":" + std::to_string(frames.httpPort()) + "/";
         if (frames.tcpPort() > 0) endpoints += ", tcp " + std::to_string(frames.tcpPort());
-        log(kNotice, "navmap %s ready in %.0f ms: %s; input %s", NAVMAP_VERSION,
+        log(kNotice, "ready in %.0f ms: %s; input %s; navmap %s",
             std::chrono::duration<double, std::milli>(Clock::now() - t_start).count(), endpoints.c_str(),
-            input.stats().source.c_str());
+            input.stats().source.c_str(), NAVMAP_VERSION);
         systemd.ready("rendering " + std::to_string(views.size()) + " profiles; " + endpoints);
 
         // Route geometry for the renderer, rebuilt when the control snapshot's version changes.
