@@ -1,6 +1,7 @@
 // Status headers (kind 2, docs/frame-protocol.md "Frame header"): what a client gets while the
 // daemon holds its frames back. FrameServer::publishStatus on the wire (exact bytes, only to the
-// clients of that view and size without a frame yet, the first-frame timeout restarted by each).
+// clients of that view and size without a frame yet, the first-frame timeout restarted by each),
+// and StreamClient keeping the status and waiting on for the frame.
 
 #include <gtest/gtest.h>
 #include <poll.h>
@@ -16,6 +17,7 @@
 
 #include "navmap/ipc/frame_header.h"
 #include "navmap/ipc/frame_server.h"
+#include "navmap/ipc/stream_client.h"
 #include "stream_test_util.h"
 
 using namespace navmap::ipc;
@@ -235,4 +237,120 @@ TEST_F(StreamStatusTest, PublishStatusRefusesWhatIsNoUtf8JsonObjectAndSendsNothi
     EXPECT_EQ(m_server->stats().statusesSent, 0U);
     EXPECT_EQ(readBytes(tcp, 1, 50ms), "");  // nothing on the wire
     close(tcp);
+}
+
+TEST_F(StreamStatusTest, StreamClientKeepsTheStatusAndStillGetsTheFrame) {
+    auto shm = StreamClient::connectUnix(m_server->options().unixPath, request(StreamPayload::Shm));
+    ASSERT_TRUE(shm.ok()) << shm.error().message;
+    auto zlib = StreamClient::connectTcp("127.0.0.1", m_server->tcpPort(), request(StreamPayload::Zlib));
+    ASSERT_TRUE(zlib.ok()) << zlib.error().message;
+    ASSERT_TRUE(waitFor([&] { return m_server->stats().clients == 2; }));
+    std::vector<std::string> seen;
+    shm.value()->setStatusHandler([&](const std::string& text) { seen.push_back(text); });
+
+    // A status alone: next() reports no frame (timeout), the status is kept and was handed over.
+    // (Short waits: the first-frame timeout is 300 ms from this status.)
+    ASSERT_TRUE(m_server->publishStatus("bird", 64, 32, loading(1)).ok());
+    ASSERT_TRUE(waitFor([&] { return m_server->stats().statusesSent == 2; }));
+    for (auto* c : {shm.value().get(), zlib.value().get()}) {
+        ReceivedFrame f;
+        auto r = c->next(f, 50ms);
+        ASSERT_TRUE(r.ok()) << r.error().message;
+        EXPECT_FALSE(r.value());
+        EXPECT_EQ(c->lastStatus(), loading(1));
+        EXPECT_EQ(c->stats().statuses, 1U);
+        EXPECT_EQ(c->stats().frames, 0U);
+    }
+    ASSERT_EQ(seen.size(), 1U);
+    EXPECT_EQ(seen[0], loading(1));
+
+    // A status, then a frame: one next() reads past the status and returns the frame.
+    ASSERT_TRUE(m_server->publishStatus("bird", 64, 32, loading(2)).ok());
+    ASSERT_TRUE(waitFor([&] { return m_server->stats().statusesSent == 4; }));
+    publishSeq(1);
+    for (auto* c : {shm.value().get(), zlib.value().get()}) {
+        ReceivedFrame f;
+        auto r = c->next(f, 3s);
+        ASSERT_TRUE(r.ok()) << r.error().message;
+        ASSERT_TRUE(r.value()) << "no frame after the status";
+        EXPECT_EQ(f.header.sequence, 1U);
+        const auto want = sequencePattern(64, 32, 1);
+        ASSERT_EQ(f.pixels.size(), want.size());
+        EXPECT_EQ(0, std::memcmp(f.pixels.data(), want.data(), want.size()));
+        EXPECT_EQ(c->lastStatus(), loading(2));
+        EXPECT_EQ(c->stats().statuses, 2U);
+    }
+    EXPECT_EQ(seen.size(), 2U);
+}
+
+namespace {
+
+// A one-connection server on a Unix socket that grants a raw stream, then sends `after`.
+class FakeServer {
+public:
+    explicit FakeServer(std::string after) : m_path(uniqueSocketPath("fake-status")) {
+        ::unlink(m_path.c_str());
+        m_listen = socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
+        sockaddr_un a{};
+        a.sun_family = AF_UNIX;
+        std::strncpy(a.sun_path, m_path.c_str(), sizeof(a.sun_path) - 1);
+        if (bind(m_listen, reinterpret_cast<sockaddr*>(&a), sizeof(a)) != 0 || listen(m_listen, 1) != 0) {
+            ADD_FAILURE() << "bind/listen " << m_path << ": " << std::strerror(errno);
+        }
+        m_thread = std::thread([this, after = std::move(after)] {
+            const int c = accept4(m_listen, nullptr, nullptr, SOCK_CLOEXEC);
+            if (c < 0) {
+                return;
+            }
+            readReplyLine(c);  // the client's request line
+            sendAllRaw(c, R"({"ok":true,"version":1,"profile":{"name":"test","width":64,"height":32,"fps":0,)"
+                          R"("view":"bird","format":"rgba8"},"payload":"raw","stride":256,"header_bytes":80})"
+                          "\n" +
+                              after);
+            readUntilClose(c, 3s);
+            close(c);
+        });
+    }
+    ~FakeServer() {
+        m_thread.join();
+        close(m_listen);
+        ::unlink(m_path.c_str());
+    }
+    const std::string& path() const { return m_path; }
+
+private:
+    std::string m_path;
+    int m_listen = -1;
+    std::thread m_thread;
+};
+
+std::string statusBytes(const std::string& text, std::uint32_t declared) {
+    FrameHeader h;
+    h.kind = FrameKind::Status;
+    h.payloadBytes = declared;
+    const auto hb = encodeFrameHeader(h);
+    return std::string(hb.begin(), hb.end()) + text;
+}
+
+}  // namespace
+
+TEST(StreamClientStatus, ABrokenStatusIsAProtocolErrorNamingTheProblem) {
+    const int fds = countOpenFds();
+    const std::string badUtf8 = "{\"state\":\"\xc3(\"}";
+    const std::pair<std::string, std::string> cases[] = {
+        {statusBytes(badUtf8, static_cast<std::uint32_t>(badUtf8.size())), ": status: not UTF-8 (byte 0xc3 at offset 10)"},
+        {statusBytes("{}", kMaxStatusPayloadBytes + 1), ": frame header: status of 65537 bytes (limit 65536)"},
+    };
+    for (const auto& [wire, why] : cases) {
+        FakeServer server(wire);
+        auto c = StreamClient::connectUnix(server.path(), request(StreamPayload::Raw));
+        ASSERT_TRUE(c.ok()) << c.error().message;
+        ReceivedFrame f;
+        auto r = c.value()->next(f, 3s);
+        ASSERT_FALSE(r.ok()) << why;
+        EXPECT_EQ(r.error().message, server.path() + why);
+        EXPECT_EQ(c.value()->lastStatus(), "");
+        EXPECT_EQ(c.value()->stats().statuses, 0U);
+    }
+    EXPECT_EQ(countOpenFds(), fds);
 }
