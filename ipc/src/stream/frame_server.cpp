@@ -103,6 +103,14 @@ struct PublishTarget {
 };
 using PublishSet = std::vector<PublishTarget>;
 
+// A status from the render thread on its way to the server thread: header and text, ready to queue.
+struct PendingStatus {
+    std::string view;
+    std::uint32_t width = 0;
+    std::uint32_t height = 0;
+    std::shared_ptr<const std::string> bytes;
+};
+
 std::string jsonEscape(const std::string& s) {
     return nlohmann::json(s).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
 }
@@ -147,6 +155,7 @@ public:
     Status start();
     void stop();
     std::size_t publish(const std::string& view, const FrameView& frame);
+    Status publishStatus(const std::string& view, int width, int height, std::string json);
     FrameServerStats stats() const {
         std::lock_guard lock(m_statsMutex);
         FrameServerStats s = m_stats;
@@ -194,6 +203,7 @@ private:
     void requestEncodes();
     void wake() noexcept;
     void deliverNewFrames();
+    void deliverStatuses();
     void checkTimeouts();
     void reap();
     void refreshRings();
@@ -213,6 +223,8 @@ private:
 
     mutable std::mutex m_publishMutex;  // guards the pointer swap only, never I/O
     std::shared_ptr<const PublishSet> m_publishSet = std::make_shared<PublishSet>();
+    std::mutex m_statusMutex;  // guards the hand-over of statuses only, never I/O
+    std::vector<PendingStatus> m_statuses;
 
     mutable std::mutex m_statsMutex;
     FrameServerStats m_stats;
@@ -327,6 +339,40 @@ std::size_t FrameServer::Impl::publish(const std::string& view, const FrameView&
     return written;
 }
 
+Status FrameServer::Impl::publishStatus(const std::string& view, int width, int height, std::string json) {
+    const auto* text = reinterpret_cast<const std::uint8_t*>(json.data());
+    if (auto s = validateTextPayload(FrameKind::Status, text, json.size()); !s) {
+        return Error{"publishStatus(" + view + "): " + s.message()};
+    }
+    if (const auto j = nlohmann::json::parse(json, nullptr, false); j.is_discarded() || !j.is_object()) {
+        return Error{"publishStatus(" + view + "): status: not a JSON object"};
+    }
+    if (width <= 0 || height <= 0) {
+        return Error{"publishStatus(" + view + "): bad size " + std::to_string(width) + "x" + std::to_string(height)};
+    }
+    // Header and text are built here, once; the server thread only queues the bytes per client.
+    FrameHeader h;
+    h.kind = FrameKind::Status;
+    h.payloadBytes = static_cast<std::uint32_t>(json.size());
+    const auto hb = encodeFrameHeader(h);
+    auto bytes = std::make_shared<std::string>(hb.begin(), hb.end());
+    bytes->append(json);
+    PendingStatus st{view, static_cast<std::uint32_t>(width), static_cast<std::uint32_t>(height), std::move(bytes)};
+    {
+        std::lock_guard lock(m_statusMutex);
+        const auto same = std::find_if(m_statuses.begin(), m_statuses.end(), [&](const PendingStatus& p) {
+            return p.view == st.view && p.width == st.width && p.height == st.height;
+        });
+        if (same != m_statuses.end()) {
+            *same = std::move(st);  // not sent yet: the newer status replaces it
+        } else {
+            m_statuses.push_back(std::move(st));
+        }
+    }
+    wake();
+    return {};
+}
+
 void FrameServer::Impl::run() {
     std::vector<pollfd> pfds;
     while (m_running) {
@@ -385,6 +431,7 @@ void FrameServer::Impl::run() {
                 }
             }
         }
+        deliverStatuses();  // before frames: a status published before a frame arrives before it
         deliverNewFrames();
         checkTimeouts();
         reap();
@@ -1215,6 +1262,40 @@ void FrameServer::Impl::deliverNewFrames() {
     }
 }
 
+void FrameServer::Impl::deliverStatuses() {
+    std::vector<PendingStatus> statuses;
+    {
+        std::lock_guard lock(m_statusMutex);
+        statuses.swap(m_statuses);
+    }
+    const auto now = Clock::now();
+    std::uint64_t sent = 0;
+    for (const auto& st : statuses) {
+        for (const auto& cp : m_conns) {
+            Conn& c = *cp;
+            // Only streaming socket clients that have had no frame yet; MJPEG has no place for it.
+            if (c.dead || c.phase != Phase::Stream || !c.ring || c.lastSent != 0 || c.ring->view != st.view) {
+                continue;
+            }
+            const FrameRingLayout& l = c.ring->ring->layout();
+            if (l.width != st.width || l.height != st.height) {
+                continue;
+            }
+            if (c.outPending()) {
+                continue;  // it has not taken what it got (the handshake reply, the last status): no pile-up
+            }
+            queue(c, st.bytes->data(), st.bytes->size());
+            c.streamSince = now;  // the daemon is working on this client's frame: its first-frame wait restarts
+            ++sent;
+            flush(c);
+        }
+    }
+    if (sent > 0) {
+        std::lock_guard lock(m_statsMutex);
+        m_stats.statusesSent += sent;
+    }
+}
+
 void FrameServer::Impl::checkTimeouts() {
     const auto now = Clock::now();
     const auto limit = m_options.stallTimeout;
@@ -1408,6 +1489,8 @@ std::string FrameServer::Impl::metricsText() const {
     metricFamily(os, "navmap_stream_frames_published_total", "counter", "Frames published by the render loop.",
                  {{"", d(s.published)}});
     metricFamily(os, "navmap_stream_frames_sent_total", "counter", "Frames handed to clients.", {{"", d(s.framesSent)}});
+    metricFamily(os, "navmap_stream_statuses_sent_total", "counter",
+                 "Status headers handed to clients waiting for their first frame.", {{"", d(s.statusesSent)}});
     metricFamily(os, "navmap_stream_frames_dropped_total", "counter", "Frames skipped because a client was busy.",
                  {{"", d(s.framesDropped)}});
     metricFamily(os, "navmap_stream_connections_total", "counter", "Connections accepted.", {{"", d(s.accepted)}});
@@ -1454,6 +1537,7 @@ std::string FrameServer::Impl::statusJson() const {
                    {"rings", s.rings},
                    {"published", s.published},
                    {"sent", s.framesSent},
+                   {"statuses_sent", s.statusesSent},
                    {"dropped", s.framesDropped},
                    {"stall_disconnects", s.stallDisconnects},
                    {"timeouts", {{"handshake", s.handshakeTimeouts}, {"first_frame", s.firstFrameTimeouts}}},
@@ -1489,6 +1573,9 @@ FrameServer::~FrameServer() = default;
 Status FrameServer::start() { return m_impl->start(); }
 void FrameServer::stop() { m_impl->stop(); }
 std::size_t FrameServer::publish(const std::string& view, const FrameView& frame) { return m_impl->publish(view, frame); }
+Status FrameServer::publishStatus(const std::string& view, int width, int height, std::string json) {
+    return m_impl->publishStatus(view, width, height, std::move(json));
+}
 std::vector<ActiveProfile> FrameServer::activeProfiles() const { return m_impl->activeProfiles(); }
 FrameServerStats FrameServer::stats() const { return m_impl->stats(); }
 std::string FrameServer::metricsText() const { return m_impl->metricsText(); }

@@ -1,6 +1,7 @@
 // navmap-view: a display client for navmapd's frame stream (docs/frame-protocol.md).
 // Connects with a profile, receives frames, optionally saves them as PNG, and prints frames/s,
-// latency p50/p99 (source timestamp -> receipt, and render -> receipt) and drops.
+// latency p50/p99 (source timestamp -> receipt, and render -> receipt) and drops. Each status the
+// server sends before the first frame (the map still loading) is printed as `status: {...}`.
 
 #include <signal.h>
 
@@ -41,7 +42,7 @@ void usage(std::FILE* f) {
         "  --duration S         stop after S seconds\n"
         "  --save DIR           write frames as DIR/frame_<seq>.png\n"
         "  --save-count N       save at most N frames (default: all received)\n"
-        "  --json               print the summary as one JSON object\n",
+        "  --json               print the summary as one JSON object (status lines go to stderr)\n",
         f);
 }
 
@@ -183,6 +184,13 @@ int main(int argc, char** argv) {
                     prof.view.c_str(), navmap::ipc::pixelFormatName(prof.format),
                     navmap::ipc::streamPayloadName(client.payload()));
     }
+    // Statuses arrive while the server holds frames back (docs/frame-protocol.md); with --json,
+    // stdout stays one JSON object and they go to stderr.
+    std::FILE* statusOut = o.json ? stderr : stdout;
+    client.setStatusHandler([statusOut](const std::string& text) {
+        std::fprintf(statusOut, "status: %s\n", text.c_str());
+        std::fflush(statusOut);
+    });
     navmap::ipc::ReceivedFrame frame;
     std::vector<double> sourceLatencyMs;
     std::vector<double> renderLatencyMs;
@@ -242,11 +250,12 @@ int main(int argc, char** argv) {
     const double sP50 = percentile(sourceLatencyMs, 0.5), sP99 = percentile(sourceLatencyMs, 0.99);
     const double rP50 = percentile(renderLatencyMs, 0.5), rP99 = percentile(renderLatencyMs, 0.99);
     if (o.json) {
-        std::printf("{\"frames\":%ld,\"fps\":%.2f,\"dropped\":%llu,\"lost_locally\":%llu,\"saved\":%ld,"
+        std::printf("{\"frames\":%ld,\"fps\":%.2f,\"dropped\":%llu,\"lost_locally\":%llu,\"saved\":%ld,\"statuses\":%llu,"
                     "\"source_latency_ms\":{\"samples\":%zu,\"p50\":%.3f,\"p99\":%.3f},"
                     "\"render_latency_ms\":{\"p50\":%.3f,\"p99\":%.3f},\"end\":\"%s\"}\n",
                     received, fps, static_cast<unsigned long long>(dropped),
-                    static_cast<unsigned long long>(client.stats().lostLocally), saved, sourceLatencyMs.size(), sP50,
+                    static_cast<unsigned long long>(client.stats().lostLocally), saved,
+                    static_cast<unsigned long long>(client.stats().statuses), sourceLatencyMs.size(), sP50,
                     sP99, rP50, rP99, endReason.c_str());
     } else {
         std::printf("frames %ld  fps %.2f  dropped %llu  saved %ld\n", received, fps,

@@ -1,10 +1,12 @@
 #pragma once
 // StreamClient: the display-client side of docs/frame-protocol.md. Connects over the Unix socket
-// (shared-memory ring) or TCP (raw/zlib), then next() returns the newest frames. Not thread-safe:
-// one thread owns a client.
+// (shared-memory ring) or TCP (raw/zlib), then next() returns the newest frames; statuses the
+// server sends before the first frame are kept (lastStatus) and passed to a handler, and next()
+// goes on waiting for the frame. Not thread-safe: one thread owns a client.
 
 #include <chrono>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -26,6 +28,7 @@ struct StreamClientStats {
     std::uint64_t serverDropped = 0;   ///< the newest header's dropped count
     std::uint64_t lostLocally = 0;     ///< shm slots overwritten before we copied them
     std::uint64_t bytes = 0;           ///< payload bytes received (compressed size for zlib)
+    std::uint64_t statuses = 0;        ///< status headers received
 };
 
 class StreamClient {
@@ -44,7 +47,15 @@ public:
     /// Waits up to `timeout` for the next frame. true: `out` holds it; false: timeout; Error: the
     /// server closed the connection or broke the protocol (the message says which, including the
     /// server's error text).
+    /// A status (header kind 2, before the first frame) is not a frame: it is checked (UTF-8, at
+    /// most 64 KiB), kept as lastStatus(), handed to the status handler, and the wait goes on.
     Result<bool> next(ReceivedFrame& out, std::chrono::milliseconds timeout);
+
+    /// Called inside next() with each status's text (a JSON object from the server, e.g.
+    /// {"state":"loading",...}) as it arrives; the caller's thread. Empty: statuses are only kept.
+    void setStatusHandler(std::function<void(const std::string&)> handler) { m_onStatus = std::move(handler); }
+    /// The newest status text; empty when none came.
+    const std::string& lastStatus() const noexcept { return m_lastStatus; }
 
     /// The profile the server granted (after defaults were applied).
     const StreamProfile& profile() const noexcept { return m_profile; }
@@ -72,6 +83,8 @@ private:
     StreamClientStats m_stats;
     std::uint8_t m_headerBuf[kFrameHeaderBytes] = {};
     std::size_t m_headerHave = 0;     // partial header kept across timeouts
+    std::string m_lastStatus;
+    std::function<void(const std::string&)> m_onStatus;
 };
 
 }  // namespace navmap::ipc
