@@ -108,6 +108,10 @@ struct ProfileView {
     std::uint64_t first_complete = ~std::uint64_t{0};
     std::size_t tiles_wanted = 0;  // last frame: tiles the view still waits for
     std::uint64_t held_back = 0;   // frames not published while the map loaded
+    // Until its first frame is published, the view's clients get a status instead (about once a
+    // second, and at once when a client comes): when the last one went, to how many clients.
+    Clock::time_point last_status_sent{};
+    std::size_t status_clients = 0;
 };
 
 render::ViewMode viewFor(const DisplayProfile& p, const ipc::ViewState* state) {
@@ -466,6 +470,36 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
             render::MapStyle style = view_state && view_state->style == ipc::MapStyle::Night ? render::MapStyle::night()
                                                                                                : render::MapStyle::day();
             Clock::time_point next_wake = now + std::chrono::milliseconds(50);
+            // Start-up: frames of a view wait for the tiles under its camera (first_complete), and
+            // the frame server drops a client without a first frame after handshake_timeout_s. Its
+            // clients get a status meanwhile: "loading", how many tiles are still wanted, how many
+            // frames were held back. Each one restarts that timeout; the first frame ends them.
+            for (auto& v : views) {
+                if (v.published > 0) continue;
+                std::size_t clients = 0;
+                for (const auto& a : active) {
+                    if (a.view == v.profile.stream_view && a.width == v.profile.width && a.height == v.profile.height) {
+                        clients += a.clients;
+                    }
+                }
+                const bool new_client = clients > v.status_clients;
+                v.status_clients = clients;
+                if (clients == 0 || (!new_client && now - v.last_status_sent < std::chrono::seconds(1))) continue;
+                v.last_status_sent = now;
+                const nlohmann::ordered_json status = {  // in the documented order, for people reading it
+                    {"state", "loading"},
+                    {"profile", v.profile.name},
+                    {"view", v.profile.stream_view},
+                    {"tiles_wanted", v.tiles_wanted},
+                    {"held_back", v.held_back},
+                    {"waited_ms", std::chrono::duration_cast<std::chrono::milliseconds>(now - t_start).count()},
+                    {"max_wait_ms", std::chrono::duration_cast<std::chrono::milliseconds>(kStartupTileWait).count()}};
+                if (auto st = frames.publishStatus(v.profile.name, v.profile.width, v.profile.height,
+                                                   status.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace));
+                    !st) {
+                    log(kWarning, "profile %s: %s", v.profile.name.c_str(), st.message().c_str());
+                }
+            }
             for (auto& v : views) {
                 if (now < v.next_due) {
                     next_wake = std::min(next_wake, v.next_due);

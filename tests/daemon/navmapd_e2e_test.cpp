@@ -17,6 +17,8 @@
 #include <string>
 #include <thread>
 
+#include <nlohmann/json.hpp>
+
 #include "golden.h"
 #include "navmapd_process.h"
 #include "navmap/ipc/control_client.h"
@@ -125,6 +127,20 @@ TEST(NavmapdEndToEnd, ClusterAndHudClientsGetFramesControlWorksAndStopIsGraceful
     }
     EXPECT_GT(counts[0], 5) << d.output();
     EXPECT_GT(counts[1], 5) << d.output();
+    // Before its first frame each client was told that the map was loading (a status header as
+    // soon as its profile had the client, docs/navmapd.md "Start-up").
+    for (int i = 0; i < 2; ++i) {
+        const auto& client = i == 0 ? cluster.value() : hud.value();
+        EXPECT_GE(client->stats().statuses, 1u) << d.output();
+        const auto st = nlohmann::json::parse(client->lastStatus(), nullptr, false);
+        ASSERT_TRUE(st.is_object()) << "status '" << client->lastStatus() << "'";
+        EXPECT_EQ(st["state"], "loading") << st.dump();
+        EXPECT_EQ(st["profile"], i == 0 ? "cluster" : "hud") << st.dump();
+        EXPECT_EQ(st["view"], i == 0 ? "snail" : "hud") << st.dump();
+        EXPECT_TRUE(st["tiles_wanted"].is_number_unsigned() && st["held_back"].is_number_unsigned()) << st.dump();
+        EXPECT_GE(st["waited_ms"].get<std::int64_t>(), 0) << st.dump();
+        EXPECT_EQ(st["max_wait_ms"], 15000) << st.dump();
+    }
 
     // A settled cluster frame of the standing vehicle matches its golden.
     navmap::ipc::ReceivedFrame settled;

@@ -1,5 +1,6 @@
 // libFuzzer target: everything a stream client can send or a server can answer before pixels:
-// the JSON handshake line, the HTTP request head, and the 80-byte frame header.
+// the JSON handshake line, the HTTP request head, and the 80-byte frame header with the error or
+// status text after it.
 // Built with -DNAVMAP_WITH_FUZZ=ON (clang); stream_unit_tests compiles it too (NAVMAP_FUZZ_NO_MAIN)
 // and runs navmapFuzzStreamHandshake() on a corpus of broken inputs.
 
@@ -34,6 +35,12 @@ int navmapFuzzStreamHandshake(const std::uint8_t* data, std::size_t size) {
         if (!again.ok() || again.value().sequence != header.value().sequence ||
             again.value().payloadBytes != header.value().payloadBytes) {
             __builtin_trap();
+        }
+        const auto kind = header.value().kind;
+        if (kind == navmap::ipc::FrameKind::Error || kind == navmap::ipc::FrameKind::Status) {
+            const std::size_t have = size - navmap::ipc::kFrameHeaderBytes;
+            const std::size_t n = have < header.value().payloadBytes ? have : header.value().payloadBytes;
+            (void)navmap::ipc::validateTextPayload(kind, data + navmap::ipc::kFrameHeaderBytes, n);
         }
     }
     return 0;

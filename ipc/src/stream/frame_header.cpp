@@ -1,5 +1,6 @@
 #include "navmap/ipc/frame_header.h"
 
+#include <cstdio>
 #include <string>
 
 namespace navmap::ipc {
@@ -66,7 +67,7 @@ Result<FrameHeader> decodeFrameHeader(const std::uint8_t* d, std::size_t size) {
     const auto kind = get<std::uint16_t>(d, 8);
     const auto encoding = get<std::uint16_t>(d, 10);
     const auto format = get<std::uint32_t>(d, 12);
-    if (kind > 1) {
+    if (kind > 2) {
         return Error{"frame header: unknown kind " + std::to_string(kind)};
     }
     h.kind = static_cast<FrameKind>(kind);
@@ -82,6 +83,13 @@ Result<FrameHeader> decodeFrameHeader(const std::uint8_t* d, std::size_t size) {
     if (h.kind == FrameKind::Error) {
         if (h.payloadBytes > kMaxErrorPayloadBytes) {
             return Error{"frame header: error message of " + std::to_string(h.payloadBytes) + " bytes"};
+        }
+        return h;
+    }
+    if (h.kind == FrameKind::Status) {
+        if (h.payloadBytes > kMaxStatusPayloadBytes) {
+            return Error{"frame header: status of " + std::to_string(h.payloadBytes) + " bytes (limit " +
+                         std::to_string(kMaxStatusPayloadBytes) + ")"};
         }
         return h;
     }
@@ -121,6 +129,48 @@ Result<FrameHeader> decodeFrameHeader(const std::uint8_t* d, std::size_t size) {
             break;
     }
     return h;
+}
+
+// Hand-written (RFC 3629, table 3-7 of the Unicode standard): the build's libraries offer UTF-8
+// checks only as exceptions (nlohmann's strict dump) or as whole text engines (ICU, glib).
+Status validateTextPayload(FrameKind kind, const std::uint8_t* d, std::size_t size) {
+    const char* what = kind == FrameKind::Status ? "status" : "error message";
+    const std::uint32_t limit = kind == FrameKind::Status ? kMaxStatusPayloadBytes : kMaxErrorPayloadBytes;
+    if (size > limit) {
+        return Error{std::string(what) + ": " + std::to_string(size) + " bytes (limit " + std::to_string(limit) + ")"};
+    }
+    std::size_t i = 0;
+    while (i < size) {
+        const std::uint8_t b = d[i];
+        std::size_t len = 0;
+        std::uint8_t lo = 0x80;  // allowed range of the second byte
+        std::uint8_t hi = 0xBF;
+        if (b < 0x80) {
+            ++i;
+            continue;
+        } else if (b >= 0xC2 && b <= 0xDF) {
+            len = 2;
+        } else if (b >= 0xE0 && b <= 0xEF) {
+            len = 3;
+            lo = b == 0xE0 ? 0xA0 : 0x80;  // no overlong forms
+            hi = b == 0xED ? 0x9F : 0xBF;  // no UTF-16 surrogates
+        } else if (b >= 0xF0 && b <= 0xF4) {
+            len = 4;
+            lo = b == 0xF0 ? 0x90 : 0x80;  // no overlong forms
+            hi = b == 0xF4 ? 0x8F : 0xBF;  // nothing above U+10FFFF
+        }
+        bool ok = len != 0 && i + len <= size && d[i + 1] >= lo && d[i + 1] <= hi;
+        for (std::size_t k = 2; ok && k < len; ++k) {
+            ok = d[i + k] >= 0x80 && d[i + k] <= 0xBF;
+        }
+        if (!ok) {
+            char byte[8];
+            std::snprintf(byte, sizeof(byte), "0x%02x", static_cast<unsigned>(b));
+            return Error{std::string(what) + ": not UTF-8 (byte " + byte + " at offset " + std::to_string(i) + ")"};
+        }
+        i += len;
+    }
+    return {};
 }
 
 }  // namespace navmap::ipc

@@ -107,6 +107,14 @@ struct PublishTarget {
 };
 using PublishSet = std::vector<PublishTarget>;
 
+// A status from the render thread on its way to the server thread: header and text, ready to queue.
+struct PendingStatus {
+    std::string key;  // what publish() names: the profile
+    std::uint32_t width = 0;
+    std::uint32_t height = 0;
+    std::shared_ptr<const std::string> bytes;
+};
+
 std::string jsonEscape(const std::string& s) {
     return nlohmann::json(s).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
 }
@@ -151,6 +159,7 @@ public:
     Status start();
     void stop();
     std::size_t publish(const std::string& profile, const FrameView& frame);
+    Status publishStatus(const std::string& key, int width, int height, std::string json);
     FrameServerStats stats() const {
         std::lock_guard lock(m_statsMutex);
         FrameServerStats s = m_stats;
@@ -199,6 +208,7 @@ private:
     void requestEncodes();
     void wake() noexcept;
     void deliverNewFrames();
+    void deliverStatuses();
     void checkTimeouts();
     void reap();
     void refreshRings();
@@ -219,6 +229,8 @@ private:
 
     mutable std::mutex m_publishMutex;  // guards the pointer swap only, never I/O
     std::shared_ptr<const PublishSet> m_publishSet = std::make_shared<PublishSet>();
+    std::mutex m_statusMutex;  // guards the hand-over of statuses only, never I/O
+    std::vector<PendingStatus> m_statuses;
 
     mutable std::mutex m_statsMutex;
     FrameServerStats m_stats;
@@ -333,6 +345,40 @@ std::size_t FrameServer::Impl::publish(const std::string& profile, const FrameVi
     return written;
 }
 
+Status FrameServer::Impl::publishStatus(const std::string& key, int width, int height, std::string json) {
+    const auto* text = reinterpret_cast<const std::uint8_t*>(json.data());
+    if (auto s = validateTextPayload(FrameKind::Status, text, json.size()); !s) {
+        return Error{"publishStatus(" + key + "): " + s.message()};
+    }
+    if (const auto j = nlohmann::json::parse(json, nullptr, false); j.is_discarded() || !j.is_object()) {
+        return Error{"publishStatus(" + key + "): status: not a JSON object"};
+    }
+    if (width <= 0 || height <= 0) {
+        return Error{"publishStatus(" + key + "): bad size " + std::to_string(width) + "x" + std::to_string(height)};
+    }
+    // Header and text are built here, once; the server thread only queues the bytes per client.
+    FrameHeader h;
+    h.kind = FrameKind::Status;
+    h.payloadBytes = static_cast<std::uint32_t>(json.size());
+    const auto hb = encodeFrameHeader(h);
+    auto bytes = std::make_shared<std::string>(hb.begin(), hb.end());
+    bytes->append(json);
+    PendingStatus st{key, static_cast<std::uint32_t>(width), static_cast<std::uint32_t>(height), std::move(bytes)};
+    {
+        std::lock_guard lock(m_statusMutex);
+        const auto same = std::find_if(m_statuses.begin(), m_statuses.end(), [&](const PendingStatus& p) {
+            return p.key == st.key && p.width == st.width && p.height == st.height;
+        });
+        if (same != m_statuses.end()) {
+            *same = std::move(st);  // not sent yet: the newer status replaces it
+        } else {
+            m_statuses.push_back(std::move(st));
+        }
+    }
+    wake();
+    return {};
+}
+
 void FrameServer::Impl::run() {
     std::vector<pollfd> pfds;
     while (m_running) {
@@ -391,6 +437,7 @@ void FrameServer::Impl::run() {
                 }
             }
         }
+        deliverStatuses();  // before frames: a status published before a frame arrives before it
         deliverNewFrames();
         checkTimeouts();
         reap();
@@ -1281,6 +1328,40 @@ void FrameServer::Impl::deliverNewFrames() {
     }
 }
 
+void FrameServer::Impl::deliverStatuses() {
+    std::vector<PendingStatus> statuses;
+    {
+        std::lock_guard lock(m_statusMutex);
+        statuses.swap(m_statuses);
+    }
+    const auto now = Clock::now();
+    std::uint64_t sent = 0;
+    for (const auto& st : statuses) {
+        for (const auto& cp : m_conns) {
+            Conn& c = *cp;
+            // Only streaming socket clients that have had no frame yet; MJPEG has no place for it.
+            if (c.dead || c.phase != Phase::Stream || !c.ring || c.lastSent != 0 || c.ring->key != st.key) {
+                continue;
+            }
+            const FrameRingLayout& l = c.ring->ring->layout();
+            if (l.width != st.width || l.height != st.height) {
+                continue;
+            }
+            if (c.outPending()) {
+                continue;  // it has not taken what it got (the handshake reply, the last status): no pile-up
+            }
+            queue(c, st.bytes->data(), st.bytes->size());
+            c.streamSince = now;  // the daemon is working on this client's frame: its first-frame wait restarts
+            ++sent;
+            flush(c);
+        }
+    }
+    if (sent > 0) {
+        std::lock_guard lock(m_statsMutex);
+        m_stats.statusesSent += sent;
+    }
+}
+
 void FrameServer::Impl::checkTimeouts() {
     const auto now = Clock::now();
     const auto limit = m_options.stallTimeout;
@@ -1461,6 +1542,8 @@ void FrameServer::Impl::collectMetrics(MetricsRegistry& r) const {
     r.gauge("navmap_stream_rings", "Shared-memory rings (one per profile and pixel format with clients).").sample(d(s.rings));
     r.counter("navmap_stream_frames_published_total", "Frames published by the render loop.").sample(d(s.published));
     r.counter("navmap_stream_frames_sent_total", "Frames handed to clients.").sample(d(s.framesSent));
+    r.counter("navmap_stream_statuses_sent_total", "Status headers handed to clients waiting for their first frame.")
+        .sample(d(s.statusesSent));
     r.counter("navmap_stream_frames_dropped_total", "Frames skipped because a client was busy.").sample(d(s.framesDropped));
     r.counter("navmap_stream_held_frames_overwritten_total",
               "Frames written over a slot a client held, because every slot of its ring was held.")
@@ -1511,6 +1594,7 @@ std::string FrameServer::Impl::statusJson() const {
                    {"rings", s.rings},
                    {"published", s.published},
                    {"sent", s.framesSent},
+                   {"statuses_sent", s.statusesSent},
                    {"dropped", s.framesDropped},
                    {"stall_disconnects", s.stallDisconnects},
                    {"timeouts", {{"handshake", s.handshakeTimeouts}, {"first_frame", s.firstFrameTimeouts}}},
@@ -1546,6 +1630,9 @@ FrameServer::~FrameServer() = default;
 Status FrameServer::start() { return m_impl->start(); }
 void FrameServer::stop() { m_impl->stop(); }
 std::size_t FrameServer::publish(const std::string& profile, const FrameView& frame) { return m_impl->publish(profile, frame); }
+Status FrameServer::publishStatus(const std::string& profile, int width, int height, std::string json) {
+    return m_impl->publishStatus(profile, width, height, std::move(json));
+}
 std::vector<ActiveProfile> FrameServer::activeProfiles() const { return m_impl->activeProfiles(); }
 FrameServerStats FrameServer::stats() const { return m_impl->stats(); }
 void FrameServer::collectMetrics(MetricsRegistry& registry) const { m_impl->collectMetrics(registry); }

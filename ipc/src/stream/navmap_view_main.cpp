@@ -1,6 +1,7 @@
 // navmap-view: a display client for navmapd's frame stream (docs/frame-protocol.md).
 // Connects with a profile, receives frames, optionally saves them as PNG, and prints frames/s,
-// latency p50/p99 (source timestamp -> receipt, and render -> receipt) and drops.
+// latency p50/p99 (source timestamp -> receipt, and render -> receipt) and drops. Each status the
+// server sends before the first frame (the map still loading) is printed as `status: {...}`.
 // Exit status: 0 ok, 1 the stream failed (refused, closed, a PNG not written), 2 usage
 // (docs/tools.md).
 
@@ -61,7 +62,7 @@ std::optional<int> parseArgs(int argc, char** argv, Options* o) {
     app.add_option("--save", o->saveDir, "write frames as DIR/frame_<seq>.png");
     app.add_option("--save-count", o->saveCount, "save at most N frames (default: all received)")->check(integerIn(0, 1LL << 40));
     app.add_flag("--zero-copy", o->zeroCopy, "payload shm: use each frame in place in the ring until the next (no copy)");
-    app.add_flag("--json", o->json, "print the summary as one JSON object");
+    app.add_flag("--json", o->json, "print the summary as one JSON object (status lines go to stderr)");
     if (const auto exit_status = navmap::cli::parse(app, argc, argv)) {
         return exit_status;
     }
@@ -155,6 +156,13 @@ int main(int argc, char** argv) {
                     prof.view.c_str(), navmap::ipc::pixelFormatName(prof.format),
                     navmap::ipc::streamPayloadName(client.payload()));
     }
+    // Statuses arrive while the server holds frames back (docs/frame-protocol.md); with --json,
+    // stdout stays one JSON object and they go to stderr.
+    std::FILE* statusOut = o.json ? stderr : stdout;
+    client.setStatusHandler([statusOut](const std::string& text) {
+        std::fprintf(statusOut, "status: %s\n", text.c_str());
+        std::fflush(statusOut);
+    });
     navmap::ipc::ReceivedFrame frame;
     navmap::ipc::HeldFrame held;
     std::vector<double> sourceLatencyMs;
@@ -220,11 +228,12 @@ int main(int argc, char** argv) {
     const double sP50 = percentile(sourceLatencyMs, 0.5), sP99 = percentile(sourceLatencyMs, 0.99);
     const double rP50 = percentile(renderLatencyMs, 0.5), rP99 = percentile(renderLatencyMs, 0.99);
     if (o.json) {
-        std::printf("{\"frames\":%ld,\"fps\":%.2f,\"dropped\":%llu,\"lost_locally\":%llu,\"saved\":%ld,"
+        std::printf("{\"frames\":%ld,\"fps\":%.2f,\"dropped\":%llu,\"lost_locally\":%llu,\"saved\":%ld,\"statuses\":%llu,"
                     "\"source_latency_ms\":{\"samples\":%zu,\"p50\":%.3f,\"p99\":%.3f},"
                     "\"render_latency_ms\":{\"p50\":%.3f,\"p99\":%.3f},\"held_overwritten\":%llu,\"end\":\"%s\"}\n",
                     received, fps, static_cast<unsigned long long>(dropped),
-                    static_cast<unsigned long long>(client.stats().lostLocally), saved, sourceLatencyMs.size(), sP50,
+                    static_cast<unsigned long long>(client.stats().lostLocally), saved,
+                    static_cast<unsigned long long>(client.stats().statuses), sourceLatencyMs.size(), sP50,
                     sP99, rP50, rP99, static_cast<unsigned long long>(client.stats().heldOverwritten), endReason.c_str());
     } else {
         std::printf("frames %ld  fps %.2f  dropped %llu  saved %ld\n", received, fps,

@@ -359,6 +359,28 @@ Result<bool> StreamClient::receive(ReceivedFrame* copy, HeldFrame* held, std::ch
             }
             return Error{"server " + m_peer + " closed the stream: " + message};
         }
+        if (h.kind == FrameKind::Status) {
+            // Before the first frame: what the server is doing about it. Not a frame; keep waiting.
+            std::string text(h.payloadBytes, '\0');
+            if (auto s = readExact(reinterpret_cast<std::uint8_t*>(text.data()), text.size(), payloadDeadline, &timedOut);
+                !s) {
+                return Error{s.message()};
+            }
+            if (auto s = validateTextPayload(FrameKind::Status, reinterpret_cast<const std::uint8_t*>(text.data()),
+                                             text.size());
+                !s) {
+                return Error{m_peer + ": " + s.message()};
+            }
+            ++m_stats.statuses;
+            m_lastStatus = std::move(text);
+            if (m_onStatus) {
+                m_onStatus(m_lastStatus);
+            }
+            if (Clock::now() >= deadline) {
+                return false;
+            }
+            continue;
+        }
         const bool wantShm = m_payload == StreamPayload::Shm;
         if ((h.encoding == FrameEncoding::Shm) != wantShm ||
             h.width != static_cast<std::uint32_t>(m_profile.width) ||

@@ -545,10 +545,14 @@ void LabelPass::layout(const MapFrame& frame, std::span<const TileLabels> tiles,
                     text::WorldTextDraw wd;
                     wd.quads = t.quads;
                     wd.size_px = t.size_px;
-                    wd.position = center;
+                    // Pulled towards the eye like the roads and the route (seed 3.6.2: view-space
+                    // scale 1 - alpha), so the roads drawn over the ground do not cut the text
+                    // standing on it; position and size scale together, the picture is the same.
+                    const float pull = 1.0f - m_params.world_depth_pull;
+                    wd.position = center * pull;
                     wd.right = pl.right;
                     wd.up = pl.up;
-                    wd.em_m = pl.em_m;
+                    wd.em_m = pl.em_m * pull;
                     wd.alpha = p.alpha * world;
                     wd.style = s.style;
                     m_world.push_back(wd);

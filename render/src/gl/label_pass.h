@@ -63,6 +63,9 @@ struct LabelPassParams {
     float world_max_screen_angle_deg = 60.0f;
     float world_min_foreshortening = 0.5f;  ///< projected length over its length facing the camera
     float world_lift_m = 1.0f;              ///< text stands this far above the ground it names
+    /// World-space text is drawn scaled towards the eye by 1 - this in view space, as the roads
+    /// are (RoadStyle::z_offset_alpha, seed 3.6.2): a road behind the text stays behind it.
+    float world_depth_pull = 0.02f;
     /// World-space text is shown only where lines of sight to it pass this far above the terrain
     /// grid (twice as far to come in).
     float terrain_clearance_m = 3.0f;

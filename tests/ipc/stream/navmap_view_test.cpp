@@ -1,11 +1,14 @@
 // navmap-view end to end: the test process serves frames, the real navmap-view binary connects
-// over the Unix socket (shm) and TCP (zlib), saves PNGs and prints its statistics as JSON.
+// over the Unix socket (shm) and TCP (zlib), saves PNGs and prints its statistics as JSON, and
+// prints the statuses it gets before the first frame.
 
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <thread>
 #include <nlohmann/json.hpp>
 
 #include "navmap/ipc/frame_server.h"
@@ -93,4 +96,47 @@ TEST(NavmapView, ReportsConnectionAndUsageErrors) {
     out = runCommand(std::string(NAVMAP_VIEW_EXE) + " --frames 3 2>&1", &status);
     EXPECT_EQ(WEXITSTATUS(status), 2);
     EXPECT_NE(out.find("give exactly one of"), std::string::npos) << out;
+}
+
+TEST(NavmapView, PrintsEachStatusBeforeTheFrames) {
+    FrameServerOptions o;
+    o.unixPath = navmap::stream_test::uniqueSocketPath("view-status-test");
+    FrameServer server(o);
+    ASSERT_TRUE(server.start().ok());
+    const std::string loading = R"({"state":"loading","view":"hud","tiles_wanted":7,"held_back":4,"waited_ms":300})";
+    // The "daemon": once navmap-view has its stream, two statuses, then frames.
+    std::atomic<bool> run{true};
+    std::thread daemon([&] {
+        const auto until = std::chrono::steady_clock::now() + 10s;
+        while (run && server.stats().clients == 0 && std::chrono::steady_clock::now() < until) {
+            std::this_thread::sleep_for(5ms);
+        }
+        for (int i = 0; i < 2 && run; ++i) {
+            ASSERT_TRUE(server.publishStatus("hud", 800, 240, loading).ok());
+            while (run && server.stats().statusesSent < static_cast<std::uint64_t>(i + 1) &&
+                   std::chrono::steady_clock::now() < until) {
+                std::this_thread::sleep_for(5ms);
+            }
+        }
+        const auto px = navmap::stream_test::sequencePattern(800, 240, 1);
+        for (std::uint64_t seq = 1; run && std::chrono::steady_clock::now() < until; ++seq) {
+            FrameView f;
+            f.pixels = px.data();
+            f.width = 800;
+            f.height = 240;
+            server.publish("hud", f);
+            std::this_thread::sleep_for(20ms);
+        }
+    });
+    int status = 0;
+    const std::string out =
+        runCommand(std::string(NAVMAP_VIEW_EXE) + " --unix " + o.unixPath + " --profile hud --frames 2", &status);
+    run = false;
+    daemon.join();
+    ASSERT_EQ(status, 0) << out;
+    const std::string line = "status: " + loading + "\n";
+    const auto first = out.find(line);
+    ASSERT_NE(first, std::string::npos) << out;
+    EXPECT_NE(out.find(line, first + line.size()), std::string::npos) << "two statuses: " << out;
+    EXPECT_GT(out.find("frames 2 "), first) << out;
 }

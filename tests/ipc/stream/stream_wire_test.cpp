@@ -76,6 +76,56 @@ TEST(FrameHeader, RejectsBrokenHeadersWithReasons) {
     EXPECT_NE(decodeFrameHeader(b4.data(), b4.size()).error().message.find("pixel format"), std::string::npos);
 }
 
+TEST(FrameHeader, StatusKindCarriesAUtf8PayloadOfAtMost64KiB) {
+    FrameHeader h;
+    h.kind = FrameKind::Status;
+    const std::string json = R"({"state":"loading","view":"snail","tiles_wanted":12,"held_back":30,"waited_ms":1500})";
+    h.payloadBytes = static_cast<std::uint32_t>(json.size());
+    const auto bytes = encodeFrameHeader(h);
+    EXPECT_EQ(bytes[8], 2);  // kind 2 = status, little-endian u16 at offset 8
+    EXPECT_EQ(bytes[9], 0);
+    auto d = decodeFrameHeader(bytes.data(), bytes.size());
+    ASSERT_TRUE(d.ok()) << d.error().message;
+    EXPECT_EQ(d.value().kind, FrameKind::Status);
+    EXPECT_EQ(d.value().payloadBytes, json.size());
+    const auto* p = reinterpret_cast<const std::uint8_t*>(json.data());
+    EXPECT_TRUE(validateTextPayload(FrameKind::Status, p, json.size()).ok());
+    // Two-, three- and four-byte characters pass; a lone continuation byte, an overlong '/', a
+    // UTF-16 surrogate, a code point above U+10FFFF and a sequence cut short do not.
+    const std::string accented = "{\"state\":\"chargement termin\xc3\xa9\",\"\xe2\x82\xac\":\"\xf0\x9f\x97\xba\"}";
+    EXPECT_TRUE(validateTextPayload(FrameKind::Status, reinterpret_cast<const std::uint8_t*>(accented.data()),
+                                    accented.size())
+                    .ok());
+    const std::pair<std::string, std::string> bad[] = {
+        {"{\"a\":\"\x80\"}", "status: not UTF-8 (byte 0x80 at offset 6)"},
+        {"ab\xc0\xaf", "status: not UTF-8 (byte 0xc0 at offset 2)"},
+        {"\xed\xa0\x80", "status: not UTF-8 (byte 0xed at offset 0)"},
+        {"x\xf4\x90\x80\x80", "status: not UTF-8 (byte 0xf4 at offset 1)"},
+        {"xyz\xe2\x82", "status: not UTF-8 (byte 0xe2 at offset 3)"},
+    };
+    for (const auto& [text, why] : bad) {
+        const auto s = validateTextPayload(FrameKind::Status, reinterpret_cast<const std::uint8_t*>(text.data()), text.size());
+        ASSERT_FALSE(s.ok()) << why;
+        EXPECT_EQ(s.message(), why);
+    }
+    // Exactly 64 KiB passes; one byte more is refused by the header already and by the payload check.
+    h.payloadBytes = kMaxStatusPayloadBytes;
+    auto atLimit = encodeFrameHeader(h);
+    EXPECT_TRUE(decodeFrameHeader(atLimit.data(), atLimit.size()).ok());
+    const std::string big(kMaxStatusPayloadBytes + 1, 'x');
+    EXPECT_TRUE(validateTextPayload(FrameKind::Status, reinterpret_cast<const std::uint8_t*>(big.data()), big.size() - 1).ok());
+    EXPECT_EQ(validateTextPayload(FrameKind::Status, reinterpret_cast<const std::uint8_t*>(big.data()), big.size()).message(),
+              "status: 65537 bytes (limit 65536)");
+    h.payloadBytes = kMaxStatusPayloadBytes + 1;
+    auto over = encodeFrameHeader(h);
+    auto r = decodeFrameHeader(over.data(), over.size());
+    ASSERT_FALSE(r.ok());
+    EXPECT_EQ(r.error().message, "frame header: status of 65537 bytes (limit 65536)");
+    // Kind 3 does not exist.
+    over[8] = 3;
+    EXPECT_EQ(decodeFrameHeader(over.data(), over.size()).error().message, "frame header: unknown kind 3");
+}
+
 TEST(PixelFormats, Rgb565RoundTripKeepsTheTopBits) {
     const std::uint8_t rgba[] = {255, 255, 255, 255, 0, 0, 0, 255, 0xF8, 0x04, 0x80, 7};
     std::uint8_t packed[6];

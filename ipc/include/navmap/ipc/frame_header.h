@@ -17,11 +17,13 @@ inline constexpr std::uint16_t kFrameProtocolVersion = 1;
 inline constexpr std::size_t kFrameHeaderBytes = 80;
 inline constexpr std::uint32_t kMaxFrameDimension = 8192;
 inline constexpr std::uint32_t kMaxErrorPayloadBytes = 64 * 1024;
+inline constexpr std::uint32_t kMaxStatusPayloadBytes = 64 * 1024;
 
 /// What follows a header.
 enum class FrameKind : std::uint16_t {
     Frame = 0,  ///< a frame (payload per `encoding`)
     Error = 1,  ///< the server's last word: payload is a UTF-8 message, then the connection closes
+    Status = 2, ///< before the first frame: payload is a UTF-8 JSON object; the connection stays open
 };
 
 /// Where a frame's pixels are.
@@ -53,6 +55,12 @@ NAVMAP_CLIENT_API std::array<std::uint8_t, kFrameHeaderBytes> encodeFrameHeader(
 
 /// Parses and validates a wire header: magic, version, size, known enums, dimensions within
 /// kMaxFrameDimension, stride >= width * bytesPerPixel, payload size consistent with the encoding.
+/// For kinds Error and Status only the payload size is checked (at most 64 KiB); the payload
+/// itself is checked with validateTextPayload once it has been read.
 NAVMAP_CLIENT_API Result<FrameHeader> decodeFrameHeader(const std::uint8_t* data, std::size_t size);
+
+/// Checks the payload of an Error or Status header: at most 64 KiB of well-formed UTF-8 (no
+/// overlong forms, no surrogates, nothing above U+10FFFF). The error names the first bad byte.
+Status validateTextPayload(FrameKind kind, const std::uint8_t* data, std::size_t size);
 
 }  // namespace navmap::ipc

@@ -11,8 +11,9 @@
 // that makes no progress for `stallTimeout` is disconnected.
 // Clients are untrusted: the Unix socket file is 0660 (+ a group) and peers are checked by
 // SO_PEERCRED; connections are capped per transport and per uid; only rendered profiles are
-// served; a connection without a handshake or a first frame within `handshakeTimeout` is closed;
-// rings share a memory ceiling and are sealed so that no client can write them.
+// served; a connection without a handshake or a first frame within `handshakeTimeout` is closed
+// (a status from publishStatus() restarts that wait); rings share a memory ceiling and are sealed
+// so that no client can write them.
 
 #include <sys/types.h>
 
@@ -104,6 +105,7 @@ struct FrameServerStats {
     std::size_t rings = 0;
     std::uint64_t published = 0;      ///< publish() calls that reached at least one ring
     std::uint64_t framesSent = 0;     ///< frames handed to clients
+    std::uint64_t statusesSent = 0;   ///< status headers handed to clients (publishStatus)
     /// Frames a client was entitled to (within its fps) but did not get because it was busy.
     std::uint64_t framesDropped = 0;
     std::uint64_t accepted = 0;       ///< connections accepted
@@ -145,6 +147,17 @@ public:
     /// the pixel format, and wakes the server thread. Never blocks on a client. Returns the
     /// number of rings written.
     std::size_t publish(const std::string& profile, const FrameView& frame);
+
+    /// Render thread, before the first frame of `profile` (the name publish() gets) at width x
+    /// height: sends `json` (a UTF-8 JSON object, at most 64 KiB) as a status header to each
+    /// client of that profile and size (either format) that has finished its handshake and has
+    /// had no frame yet, over the Unix
+    /// socket (shm, raw, zlib) and TCP; MJPEG clients get none. Each status restarts that
+    /// client's first-frame timeout. Like publish() it hands the text to the server thread and
+    /// never waits for a client; a newer status of the same profile and size replaces one not sent
+    /// yet, and a client whose socket still holds unsent bytes skips it. Error (nothing sent):
+    /// the text is too long or not UTF-8.
+    Status publishStatus(const std::string& profile, int width, int height, std::string json);
 
     /// Profiles with clients now (which views/sizes to render). Any thread.
     std::vector<ActiveProfile> activeProfiles() const;

@@ -1,9 +1,11 @@
 #pragma once
 // StreamClient: the display-client side of docs/frame-protocol.md. Connects over the Unix socket
 // (shared-memory ring) or TCP (raw/zlib), then next() returns the newest frames as a copy, or
-// nextHeld() hands out a frame in place in the mapped ring (no copy) until release(). Part of
-// libnavmap-client, which links nothing but the C and C++ runtime. Not thread-safe: one thread
-// owns a client. ReconnectingClient (reconnecting_client.h) adds reconnection with backoff.
+// nextHeld() hands out a frame in place in the mapped ring (no copy) until release(); statuses the
+// server sends before the first frame are kept (lastStatus) and passed to a handler, and the wait
+// goes on. Part of libnavmap-client, which links nothing but the C and C++ runtime. Not
+// thread-safe: one thread owns a client. ReconnectingClient (reconnecting_client.h) adds
+// reconnection with backoff.
 
 #include <chrono>
 #include <cstddef>
@@ -42,6 +44,7 @@ struct StreamClientStats {
     std::uint64_t lostLocally = 0;     ///< shm slots overwritten before we copied them
     std::uint64_t heldOverwritten = 0; ///< held frames the server had to overwrite before release()
     std::uint64_t bytes = 0;           ///< payload bytes received (compressed size for zlib)
+    std::uint64_t statuses = 0;        ///< status headers received
 };
 
 /// Inflates a zlib payload of `inBytes` into exactly `outBytes` at `out`; false when it does not.
@@ -68,6 +71,8 @@ public:
     /// Waits up to `timeout` for the next frame. true: `out` holds it; false: timeout; Error: the
     /// server closed the connection or broke the protocol (the message says which, including the
     /// server's error text). A held frame is released first.
+    /// A status (header kind 2, before the first frame) is not a frame: it is checked (UTF-8, at
+    /// most 64 KiB), kept as lastStatus(), handed to the status handler, and the wait goes on.
     Result<bool> next(ReceivedFrame& out, std::chrono::milliseconds timeout);
 
     /// For a stream opened with request.hold (payload shm): like next(), but the frame stays in
@@ -81,6 +86,12 @@ public:
     /// (counted in stats().heldOverwritten); Error: the connection is gone. true without a held frame.
     Result<bool> release();
     bool holding() const noexcept { return m_held >= 0; }
+
+    /// Called inside next() with each status's text (a JSON object from the server, e.g.
+    /// {"state":"loading",...}) as it arrives; the caller's thread. Empty: statuses are only kept.
+    void setStatusHandler(std::function<void(const std::string&)> handler) { m_onStatus = std::move(handler); }
+    /// The newest status text; empty when none came.
+    const std::string& lastStatus() const noexcept { return m_lastStatus; }
 
     /// The profile the server granted (after defaults were applied).
     const StreamProfile& profile() const noexcept { return m_profile; }
@@ -115,6 +126,8 @@ private:
     bool m_hold = false;              // opened with request.hold: frames may be held
     int m_held = -1;                  // slot of the held frame, -1: none
     std::uint64_t m_heldLock = 0;     // its lock word when it was handed out
+    std::string m_lastStatus;
+    std::function<void(const std::string&)> m_onStatus;
 };
 
 }  // namespace navmap::ipc
