@@ -18,6 +18,7 @@
 #include "navmap/ipc/frame_header.h"
 #include "navmap/ipc/frame_server.h"
 #include "navmap/ipc/stream_client.h"
+#include "navmap/ipc/zlib_inflater.h"
 #include "stream_test_util.h"
 
 using namespace navmap::ipc;
@@ -242,7 +243,8 @@ TEST_F(StreamStatusTest, PublishStatusRefusesWhatIsNoUtf8JsonObjectAndSendsNothi
 TEST_F(StreamStatusTest, StreamClientKeepsTheStatusAndStillGetsTheFrame) {
     auto shm = StreamClient::connectUnix(m_server->options().unixPath, request(StreamPayload::Shm));
     ASSERT_TRUE(shm.ok()) << shm.error().message;
-    auto zlib = StreamClient::connectTcp("127.0.0.1", m_server->tcpPort(), request(StreamPayload::Zlib));
+    auto zlib = StreamClient::connectTcp("127.0.0.1", m_server->tcpPort(), request(StreamPayload::Zlib),
+                                         std::chrono::seconds(5), zlibInflater());
     ASSERT_TRUE(zlib.ok()) << zlib.error().message;
     ASSERT_TRUE(waitFor([&] { return m_server->stats().clients == 2; }));
     std::vector<std::string> seen;
