@@ -245,7 +245,6 @@ LabelPass::WorldFit LabelPass::worldCandidate(const MapFrame& frame, std::span<c
         const float enter = f.shown_world ? 1.0f : 1.1f;
         if (angle * enter > m_params.world_max_screen_angle_deg ||
             glm::length(baseline) < enter * m_params.world_min_foreshortening * facing) {
-            f.legible = false;
             return WorldFit::Screen;
         }
     }
@@ -263,8 +262,7 @@ LabelPass::WorldFit LabelPass::worldCandidate(const MapFrame& frame, std::span<c
                      behindTerrain(tiles, center + right * (reach * sx * half_m.x) + up * (reach * sy * half_m.y), clearance);
         }
     }
-    f.legible = !hidden;
-    if (!f.legible) return WorldFit::Hidden;
+    if (hidden) return WorldFit::Hidden;
 
     f.world = true;
     f.plane.origin = anchor;

@@ -146,7 +146,6 @@ private:
         glm::dvec3 anchor{0.0};   ///< store frame, on the terrain
         std::uint64_t frame = 0;  ///< last frame it was a candidate
         bool world = false;       ///< `plane` holds this frame's world-space placement
-        bool legible = false;     ///< world-space text readable (seen along the road, terrain in front; with hysteresis)
         bool shown_world = false; ///< in last frame's output, in world space
         bool shown_screen = false; ///< in last frame's output, in screen space within a world layout
         WorldPlane plane;

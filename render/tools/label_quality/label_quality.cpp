@@ -46,6 +46,14 @@ std::string shortest(double v) {
     return buf;
 }
 
+// Renders one frame and returns renderMap + finish in ms.
+double renderTimed(Renderer& renderer, const MapFrame& frame) {
+    const auto t0 = Clock::now();
+    renderer.renderMap(frame);
+    renderer.finish();
+    return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
 // One measured frame's figures, accumulated.
 struct Accumulator {
     labels::DrawnLabelMetrics drawn;
@@ -77,6 +85,17 @@ struct Accumulator {
         candidates += static_cast<double>(s.label_candidates);
         r.world_weight_last = s.label_world_weight;
     }
+    /// Renders one frame; the measured ones (i >= 0, after the settling frames) go into `r`.
+    void frame(int i, Renderer& renderer, const MapFrame& frame, glm::vec2 viewport, const LabelQualityOptions& o,
+               LabelQualityReport& r) {
+        const double ms = renderTimed(renderer, frame);
+        if (i < 0) return;
+        if (i == 0) r.camera_distance_m = glm::length(frame.camera.target - frame.camera.eye);
+        const MapFrameStats& s = renderer.mapStats();
+        add(s, viewport, o.dt_s, ms, r);
+        if (o.on_frame) o.on_frame(i, s);
+    }
+
     void finish(LabelQualityReport& r) const {
         r.drawn = drawn.summary();
         r.quality = layout.summary();
@@ -94,14 +113,6 @@ void applyLayers(MapFrame& frame, const LabelQualityOptions& o) {
     frame.layers.label_aura = o.label_aura;
     frame.layers.glow_roads = o.glow_roads;
     frame.frame_dt_s = o.dt_s;
-}
-
-// Renders one frame and returns renderMap + finish in ms.
-double renderTimed(Renderer& renderer, const MapFrame& frame) {
-    const auto t0 = Clock::now();
-    renderer.renderMap(frame);
-    renderer.finish();
-    return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
 }
 
 std::unique_ptr<Renderer> makeRenderer(const LabelQualityOptions& o) {
@@ -144,12 +155,7 @@ LabelQualityReport replayTrajectory(const LabelQualityOptions& o, LabelQualityRe
         view.select(frame, aspect, o.height);  // tiles and their geomorph, as navmapd draws them
         frame.marker = MarkerState{cam.target, gridBearingDeg(projection, pose.lat_deg, pose.lon_deg, pose.bearing_deg), false};
         applyLayers(frame, o);
-        const double ms = renderTimed(*renderer, frame);
-        if (i < 0) continue;
-        if (i == 0) r.camera_distance_m = glm::length(cam.target - cam.eye);
-        const MapFrameStats& s = renderer->mapStats();
-        acc.add(s, viewport, o.dt_s, ms, r);
-        if (o.on_frame) o.on_frame(i, s);
+        acc.frame(i, *renderer, frame, viewport, o, r);
     }
     acc.finish(r);
     return r;
@@ -190,12 +196,7 @@ LabelQualityReport driveRoute(const LabelQualityOptions& o, LabelQualityReport r
         frame.route_progress_m = measure;
         frame.marker = MarkerState{pose.position, pose.heading_deg, false};
         applyLayers(frame, o);
-        const double ms = renderTimed(*renderer, frame);
-        if (i < 0) continue;
-        if (i == 0) r.camera_distance_m = glm::length(cam.target - cam.eye);
-        const MapFrameStats& s = renderer->mapStats();
-        acc.add(s, viewport, o.dt_s, ms, r);
-        if (o.on_frame) o.on_frame(i, s);
+        acc.frame(i, *renderer, frame, viewport, o, r);
     }
     acc.finish(r);
     return r;
