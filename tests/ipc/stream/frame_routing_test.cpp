@@ -13,6 +13,7 @@
 #include "navmap/ipc/reconnecting_client.h"
 #include "navmap/ipc/stream_client.h"
 #include "stream_test_util.h"
+#include "wait_for.h"
 
 using namespace navmap::ipc;
 using namespace navmap::stream_test;
@@ -64,8 +65,7 @@ protected:
     }
     template <typename Pred>
     static bool waitFor(Pred pred) {
-        for (int i = 0; i < 300 && !pred(); ++i) std::this_thread::sleep_for(10ms);
-        return pred();
+        return navmap::test::waitFor(pred, std::chrono::seconds(3), std::chrono::milliseconds(10));
     }
     int m_fds = countOpenFds();
     std::string m_path = uniqueSocketPath("routing");

@@ -14,6 +14,7 @@
 #include "navmap/ipc/stream_client.h"
 #include "navmap/ipc/zlib_inflater.h"
 #include "stream_test_util.h"
+#include "wait_for.h"
 
 using namespace navmap::ipc;
 using namespace navmap::stream_test;
@@ -67,14 +68,7 @@ protected:
     }
     template <typename Pred>
     bool waitFor(Pred pred, std::chrono::milliseconds limit = 3s) {
-        const auto until = std::chrono::steady_clock::now() + limit;
-        while (std::chrono::steady_clock::now() < until) {
-            if (pred()) {
-                return true;
-            }
-            std::this_thread::sleep_for(5ms);
-        }
-        return pred();
+        return navmap::test::waitFor(pred, limit);
     }
     std::unique_ptr<StreamClient> connect(const StreamRequest& r) {
         auto c = r.payload == StreamPayload::Shm

@@ -21,6 +21,7 @@
 #include "navmap/ipc/frame_server.h"
 #include "navmap/ipc/stream_client.h"
 #include "stream_test_util.h"
+#include "wait_for.h"
 
 using namespace navmap::ipc;
 using namespace navmap::stream_test;
@@ -86,14 +87,7 @@ protected:
     const std::string& path() const { return m_server->options().unixPath; }
     template <typename Pred>
     bool waitFor(Pred pred, std::chrono::milliseconds limit = 5s) {
-        const auto until = std::chrono::steady_clock::now() + limit;
-        while (std::chrono::steady_clock::now() < until) {
-            if (pred()) {
-                return true;
-            }
-            std::this_thread::sleep_for(5ms);
-        }
-        return pred();
+        return navmap::test::waitFor(pred, limit);
     }
     // One frame for `client` within `limit`; the pixels must be the Publisher's pattern.
     static void expectFrame(StreamClient& client, std::chrono::milliseconds limit = 3s) {
