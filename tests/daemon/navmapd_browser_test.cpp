@@ -4,11 +4,6 @@
 // Label `browser`; skipped with a reason when chromium is not installed.
 #include <gtest/gtest.h>
 
-#include <arpa/inet.h>
-#include <netinet/in.h>
-#include <sys/socket.h>
-#include <unistd.h>
-
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -18,11 +13,13 @@
 #include "navmap/ipc/stream_client.h"
 #include "navmap/render/image.h"
 #include "navmapd_process.h"
+#include "stream_test_util.h"
 
 namespace {
 
 namespace fs = std::filesystem;
 using namespace std::chrono_literals;
+using navmap::stream_test::freeTcpPort;
 
 std::string findChromium() {
     for (const char* p : {"/usr/bin/chromium", "/usr/bin/chromium-browser", "/usr/bin/google-chrome"}) {
@@ -42,18 +39,6 @@ std::string run(const std::string& cmd) {
     return out;
 }
 
-int freePort() {
-    const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
-    sockaddr_in a{};
-    a.sin_family = AF_INET;
-    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-    ::bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof a);
-    socklen_t len = sizeof a;
-    ::getsockname(fd, reinterpret_cast<sockaddr*>(&a), &len);
-    ::close(fd);
-    return ntohs(a.sin_port);
-}
-
 }  // namespace
 
 TEST(NavmapdBrowser, TheLivePageShowsTheFirstProfileItsButtonsAndTheAttribution) {
@@ -65,7 +50,7 @@ TEST(NavmapdBrowser, TheLivePageShowsTheFirstProfileItsButtonsAndTheAttribution)
     fs::remove_all(dir);
     fs::create_directories(dir);
     navmap::test::writeStandingLog(dir / "standing.candump");
-    const int port = freePort();
+    const int port = freeTcpPort();
     const std::string token = "browser-test-token-navmapd-0123";
     std::ofstream(dir / "navmapd.toml") << "[input]\nsource = \"replay\"\nreplay_log = \"" << (dir / "standing.candump").string()
                                         << "\"\n[[profile]]\nname = \"rear\"\nwidth = 640\nheight = 360\nview = \"bird\"\n"

@@ -5,8 +5,6 @@
 // carries "© OpenStreetMap contributors" in its bottom right corner.
 #include <gtest/gtest.h>
 
-#include <arpa/inet.h>
-#include <netinet/in.h>
 #include <poll.h>
 #include <sys/socket.h>
 #include <sys/wait.h>
@@ -25,59 +23,21 @@
 #include "navmap/ipc/stream_client.h"
 #include "navmap/version.h"
 #include "navmapd_process.h"
+#include "stream_test_util.h"
 
 namespace {
 
 namespace fs = std::filesystem;
 using namespace std::chrono_literals;
-
-// A TCP port nobody listens on now (bound and released; the daemon binds it right after).
-int freePort() {
-    const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
-    sockaddr_in a{};
-    a.sin_family = AF_INET;
-    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-    ::bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof a);
-    socklen_t len = sizeof a;
-    ::getsockname(fd, reinterpret_cast<sockaddr*>(&a), &len);
-    ::close(fd);
-    return ntohs(a.sin_port);
-}
-
-// GET `path` from 127.0.0.1:port with the Host header the daemon accepts; the whole response.
-std::string httpGet(int port, const std::string& path) {
-    const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
-    sockaddr_in a{};
-    a.sin_family = AF_INET;
-    a.sin_port = htons(static_cast<std::uint16_t>(port));
-    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-    std::string out;
-    if (::connect(fd, reinterpret_cast<sockaddr*>(&a), sizeof a) == 0) {
-        const std::string req = "GET " + path + " HTTP/1.0\r\nHost: 127.0.0.1:" + std::to_string(port) + "\r\n\r\n";
-        [[maybe_unused]] const auto n = ::send(fd, req.data(), req.size(), MSG_NOSIGNAL);
-        char buf[65536];
-        pollfd p{fd, POLLIN, 0};
-        while (::poll(&p, 1, 5000) > 0) {
-            const ssize_t r = ::recv(fd, buf, sizeof buf, 0);
-            if (r <= 0) break;
-            out.append(buf, static_cast<std::size_t>(r));
-        }
-    }
-    ::close(fd);
-    return out;
-}
+using navmap::stream_test::freeTcpPort;
+using navmap::stream_test::httpGet;
 
 // The first `want` bytes of GET `path` (a stream that never ends), or what came within 5 s.
 std::string httpHead(int port, const std::string& path, std::size_t want) {
-    const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
-    sockaddr_in a{};
-    a.sin_family = AF_INET;
-    a.sin_port = htons(static_cast<std::uint16_t>(port));
-    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    const int fd = navmap::stream_test::connectTcpRaw(port);
     std::string out;
-    if (::connect(fd, reinterpret_cast<sockaddr*>(&a), sizeof a) == 0) {
-        const std::string req = "GET " + path + " HTTP/1.0\r\nHost: 127.0.0.1:" + std::to_string(port) + "\r\n\r\n";
-        [[maybe_unused]] const auto n = ::send(fd, req.data(), req.size(), MSG_NOSIGNAL);
+    if (fd >= 0 && navmap::stream_test::sendAllRaw(fd, "GET " + path + " HTTP/1.0\r\nHost: 127.0.0.1:" +
+                                                           std::to_string(port) + "\r\n\r\n")) {
         char buf[65536];
         pollfd p{fd, POLLIN, 0};
         const auto deadline = std::chrono::steady_clock::now() + 5s;
@@ -87,7 +47,7 @@ std::string httpHead(int port, const std::string& path, std::size_t want) {
             out.append(buf, static_cast<std::size_t>(r));
         }
     }
-    ::close(fd);
+    if (fd >= 0) ::close(fd);
     return out;
 }
 
@@ -122,7 +82,7 @@ protected:
         fs::remove_all(m_dir);
         fs::create_directories(m_dir);
         navmap::test::writeStandingLog(m_dir / "standing.candump");
-        m_port = freePort();
+        m_port = freeTcpPort();
         std::ofstream(m_dir / "navmapd.toml") << "[input]\nsource = \"replay\"\nreplay_log = \""
                                               << (m_dir / "standing.candump").string()
                                               << "\"\n[[profile]]\nname = \"plain\"\nwidth = 320\nheight = 180\nview = \"bird\"\n"

@@ -46,6 +46,8 @@ bool sendAllRaw(int fd, const std::string& data);
 std::string readUntilClose(int fd, std::chrono::milliseconds timeout);
 /// One HTTP request over a fresh connection; returns the whole response.
 std::string httpExchange(int port, const std::string& request, std::chrono::milliseconds timeout = std::chrono::seconds(5));
+/// A TCP port on 127.0.0.1 nobody listens on now (bound and released; a daemon binds it next).
+int freeTcpPort();
 /// "GET <target> HTTP/1.1" with the Host header this server accepts (127.0.0.1:<port>) and
 /// `headers` ("Name: value\r\n" lines), over a fresh connection.
 std::string httpGet(int port, const std::string& target, const std::string& headers = "");
