@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The display profiles of DESIGN.md as the frame benchmarks render them.
 

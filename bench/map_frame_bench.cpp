@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Map-frame benchmarks over the real Andorra store along a fixed drive (Andorra la Vella ->
 // Encamp), per display profile: frame time p50/p95 for terrain only, +roads, +buildings and the
 // full scene; per-pass breakdown; and the roads/terrain ratio measured interleaved in one run.

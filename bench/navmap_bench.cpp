@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // navmap-bench: frame-level benchmarks on the real data, printed as JSON (Google Benchmark's
 // JSON reporter unless --benchmark_format says otherwise). Each figure is the median of
 // repeated runs; compare ratios taken in one run, the machine is noisy.

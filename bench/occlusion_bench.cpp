@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // navmap_occlusion_bench: the cost of the visibility techniques of seed chapter 5 (Table 5.1)
 // along a fixed flight through the densest built-up part of the data (Andorra la Vella and
 // Escaldes, the first kilometres of the drive from kAndorraLaVella), bird's-eye with labels:

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // navmap_road_technique_bench: what roads cost relative to terrain alone, geometric (seed 3.4)
 // versus shadow-volume roads (seed 3.5), along a fixed flight through the densest built-up area
 // of the default data (Andorra la Vella / Escaldes, the first 2.6 km of the drive from

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 # What `cmake --install` puts where (GNUInstallDirs; docs/packaging.md). Three components, one
 # Debian package each (cmake/NavmapPackaging.cmake):
 #   daemon      navmapd and the tools, the default store and navmap.dbc (<datadir>/navmap), the

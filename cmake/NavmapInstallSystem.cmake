@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 # Install-time part of cmake/NavmapInstall.cmake (runs inside cmake_install.cmake, where
 # CMAKE_INSTALL_PREFIX is the prefix being installed to and file(INSTALL) honours DESTDIR):
 #   <sysconfdir>/navmap/navmapd.toml            /etc for the prefix /usr (FHS), else <prefix>/etc

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 # Debian packages with `cpack -G DEB` in the build tree (docs/packaging.md):
 #   navmapd               the daemon, the tools, the default data, the unit, the configuration
 #   libnavmap-client0     libnavmap-client.so.0 (what a display process needs at run time)

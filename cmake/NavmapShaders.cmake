@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 # Embeds the GLSL ES sources of shaders/ into a generated C++ source at build time.
 # The generated file is not committed; each shader keeps its file name so that compile
 # errors can be reported as `<file>:<line>`.

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 # One INTERFACE target carries the warning and sanitizer flags; every navmap target links it.
 add_library(navmap_warnings INTERFACE)
 target_compile_options(navmap_warnings INTERFACE -Wall -Wextra -Wpedantic)

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // AttributionOverlay: the map data attribution ("© OpenStreetMap contributors") in a corner of a
 // profile's frames. ODbL 4.3 asks for the attribution wherever the map is shown, in a manner

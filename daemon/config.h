@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // navmapd's configuration: one TOML file (toml++), every key optional with a documented default
 // (docs/navmapd.md, daemon/navmapd.toml), command-line overrides applied on top.

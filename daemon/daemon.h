@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // navmapd's main loop (DESIGN.md "Data flow"): vehicle input -> pose at frame time -> one scene
 // state per tick -> one render per display profile in use -> frame server. The render loop

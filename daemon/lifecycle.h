@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Process lifecycle: SIGTERM/SIGINT/SIGHUP delivered through a signalfd (the handlers do nothing
 // at all; the loop reads the fd), and systemd notification (Type=notify: READY, STATUS,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // navmapd: the navigation-map renderer daemon. Reads its TOML configuration (optional; every key
 // has a default, docs/navmapd.md), applies command-line overrides and runs the main loop
 // (daemon.h) until SIGTERM. `--check-config` validates and prints the effective configuration.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Display profiles (DESIGN.md "Frame streaming"): who a client is and what it is rendered with.
 

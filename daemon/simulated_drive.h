@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The in-process stand-in for vehicle input used by the demo: the vehicle follows a planned
 // route with a simple speed profile (accelerate, cruise by road, brake to a stop).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The input thread: CAN frames from a candump replay, the in-process simulator or SocketCAN go
 // through the DBC decoder into the vehicle state estimator, which publishes immutable

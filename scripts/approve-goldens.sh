@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # Approves new golden images: copies every <build>/golden-failures/<name>.actual.png over the
 # golden it was compared with (named in <name>.target). Look at the actual and diff images
 # first. Usage: scripts/approve-goldens.sh [build-dir]   (default: build)

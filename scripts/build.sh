@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # Configures and builds navmap into build/ (or $NAVMAP_BUILD_DIR). Extra arguments go to the
 # CMake configure step. Used by demo.sh and test.sh.
 set -euo pipefail

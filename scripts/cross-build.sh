@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # Cross-compiles navmap for aarch64 (64-bit ARM ECUs) with Debian's g++-aarch64-linux-gnu into
 # build-aarch64/ (or $NAVMAP_CROSS_BUILD_DIR) and checks that the results are AArch64 ELF files.
 #   scripts/cross-build.sh            libnavmap-client and its C example (-DNAVMAP_WITH_DAEMON=OFF):

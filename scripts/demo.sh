@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # The main job on a fresh Debian 12 clone: installs what is missing, builds into build/ (which
 # compiles the embedded Andorra data into build/andorra.navmap), then runs the navmapd daemon
 # with a simulated drive from Andorra la Vella to Encamp, records frames with navmap-view (the

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # Long fuzzing campaign: runs libFuzzer targets (tests/fuzz) from their checked-in corpora, then
 # merges what they found back into tests/fuzz/corpus/<target> minimized (-merge=1
 # -use_counters=0: a small set of inputs, smallest first, that reaches every coverage edge the

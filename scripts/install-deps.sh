@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # Installs the Debian packages navmap needs, by purpose. Idempotent: packages already installed
 # are skipped, and apt is not touched at all when nothing is missing. Runs as root, or through
 # sudo when available.

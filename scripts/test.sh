@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # The test command: installs what is missing, builds everything with warnings as errors, and
 # runs the CTest suite. Exits non-zero on any failure. Long soak runs and the cross build are opt-in:
 #   scripts/test.sh            everything except the labels 'soak' and 'cross'

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Transparency label aura (seed 5.3.3, 5.5.1), with buildings.vert: step 2 draws the buildings
 // again offscreen with the inverse depth test: a fragment in front of a label (z_building <
 // z_label, the label OOBB depth buffer) is discarded, so what lies behind the label shows

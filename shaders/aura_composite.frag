@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Transparency label aura (seed 5.5.1, step 4): the scene behind the labels (step 2: buildings
 // not in front of a label, roads over them, over the terrain kept before the buildings) blended
 // over the frame by the gradient mask (step 3). Inside the auras the depth becomes the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Transparency label aura (seed 5.5.1, step 3): the smooth gradient around a label: 1 over the
 // label box, falling to 0 at the edge of the enlarged box (rounded at the corners).
 in vec2 v_local;

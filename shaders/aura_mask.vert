@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Transparency label aura (seed 5.5.1): one enlarged label OOBB per instance, in screen pixels
 // (origin top left, y down), at the depth of the label plane. Writes the label depth buffer
 // and the gradient mask in one pass.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 in vec3 v_color;  // lit and fogged per vertex (buildings.vert)
 
 layout(location = 0) out vec4 o_color;

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Extruded buildings, flat per-face normals. Small buildings far away collapse (culled).
 // The shading is per vertex: the normals are per face, so the lighting is the same at every
 // vertex of a face, and fog varies little across a building (on llvmpipe every per-pixel

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Glowing roads (seed 5.5.2, optional blur): one direction of a separable 9-tap Gaussian
 // (sigma about 2 texels of the destination), premultiplied colour. The first pass also
 // halves the resolution: u_step is given in source texels.

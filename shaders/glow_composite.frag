@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Glowing roads with blur (seed 5.5.2): the glow buffer composited over the scene before the
 // labels, premultiplied alpha; the soft halo surrounds the sharp glow. Where the frame
 // already shows a road or the route (road mask of seed 3.6.3) nothing glows: a road hidden

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Glowing roads (seed 5.3.5, 5.5.2), with roads_geo.vert: the road and route fill drawn again,
 // depth-tested GREATER against the scene depth (so only fragments behind something pass) and
 // kept only where they lie in front of the terrain-only depth (so what hides them is a

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 in vec4 v_color;
 out vec4 o_color;
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Rasterises a tile's land-cover triangles into a land-cover texture (orthographic, tile-local).
 layout(location = 0) in vec2 a_position;
 layout(location = 1) in vec4 a_color;

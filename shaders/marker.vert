@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The vehicle marker (CCP arrow): a constant screen size at the projected vehicle position,
 // rotated to the heading as it appears on screen.
 layout(location = 0) in vec2 a_corner;  // arrow outline in marker units (tip at +y)

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The road mask bit-packed for the outline filter (seed 3.6.3): texel (g, y) holds as bits 0..9
 // whether the pixels x = 8g - 1 .. 8g + 8 of row y are road pixels, so that the filter reads a
 // pixel's 3x3 neighbourhood in three fetches instead of nine. Exact where the mask is binary: the

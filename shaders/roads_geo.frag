@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // seed 3.4: the rounded caps are cut analytically out of the quad. In cap-local coordinates
 // x_cap = |x| - L, y_cap = |y| (roads_geo.vert: the seed's x_cap = (|x_q| - 1) / h + 1 in half
 // widths); inside the cap region (x_cap > 0) a fragment with x_cap^2 + y_cap^2 > 1 lies outside

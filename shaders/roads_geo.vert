@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Cartographic roads, geometric approach (seed 3.4): one quad per draped segment, expanded here
 // from the segment's end points (ES 3.0 has no geometry shader), large enough to hold both
 // rounded caps. Also draws the route (u_route = 1) with its own width and colour.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Shadow-volume roads (seed 3.5): the fragment of a back face of a segment's box (front faces are
 // culled) computes, in this one invocation, both intersections of its view ray with the road
 // volume: the capped segment (a stadium in xy: a rectangle plus two cylinders along the nadir,

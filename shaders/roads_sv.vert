@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Cartographic roads, shadow-volume approach (seed 3.5): every road segment (original polyline
 // vertices, no draping pre-process) becomes a box extruded along the nadir, bounded by the height
 // range of the terrain under it (seed 3.5.1: not to infinity) and wide enough for both rounded

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The outline filter's cells near roads (OutlineCells, map_renderer.cpp): rectangles in pixels.
 layout(location = 0) in vec2 a_pixel;
 

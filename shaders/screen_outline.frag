@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // seed 3.6.3 "Outlines": edge strength = local maximum of road intensity in a 3x3 neighbourhood
 // minus the intensity here, blended dark over the scene. Unfiltered texel fetches: on llvmpipe a
 // bilinear fetch costs about four of them. u_mask: the mask of the variant, one name for all.

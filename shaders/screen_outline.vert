@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Full-screen triangle.
 out vec2 v_uv;
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Terrain heightfield shading: hypsometric tint x relief shading, faded into the sky with
 // distance (aerial perspective). Kept as its own stage so land cover and synthetic orthoimages
 // can replace the tint later (DESIGN.md: pluggable terrain shading).

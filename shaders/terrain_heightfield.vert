@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Terrain heightfield: positions relative to the mesh origin, normals per vertex.
 layout(location = 0) in vec3 a_position;
 layout(location = 1) in vec3 a_normal;

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Terrain shading: hypsometric tint, replaced by the tile's land-cover raster where it has
 // coverage, times relief shading; aerial perspective towards the horizon. Tint, shading and fog
 // come per vertex (they vary smoothly, and on llvmpipe every per-pixel instruction is CPU time).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Terrain of one tile: grid + skirts, positions tile-local; the view matrix is relative to the
 // tile origin (computed in double on the CPU), so nothing jitters far from the store origin.
 #ifndef NAVMAP_COVER_LEVELS

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // SDF label text: fill, dark outline and light halo in one pass (seed 4.5.2, Fig. 4.7).
 // Output is premultiplied (blend ONE, ONE_MINUS_SRC_ALPHA).
 

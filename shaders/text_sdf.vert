@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // SDF label text (seed 4.5.2): one instance per glyph quad, a 4-vertex strip per instance.
 // Screen mode: anchor in pixels (origin top left, y down). World mode (seed 5.2.1): the text
 // lies in a plane of the scene through the anchor, spanned by the baseline direction and the

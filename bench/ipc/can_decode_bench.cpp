@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // CAN input benchmarks: candump parsing and DBC decode throughput (frames/s), and the latency from a
 // frame's receive time (CanFrame::timestamp) to the decoded VehicleSample being available, both
 // synchronously (decode on the input thread) and through Replayer thread -> FrameQueue -> consumer.

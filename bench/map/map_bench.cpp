@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // map/ benchmarks (Google Benchmark, JSON with --benchmark_format=json):
 //   BM_CompileAndorra   navmap-compile on the embedded extract + DEM: seconds, store bytes
 //   BM_TileLoad         TileStore::load of every Andorra tile: per-tile load time

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Generation speed of the drive simulator: route + profile setup, frames per second of CPU for
 // the GNSS frame stream (with and without faults), and candump formatting.
 #include <benchmark/benchmark.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // CAN -> frame latency end to end (issue #7 "Benchmarks"), Google Benchmark JSON:
 //   navmapd replays a recorded drive (candump log -> Replayer on the vehicle-input thread -> DBC
 //   decoder -> estimator) -> pose -> one render per profile (cluster, HUD, center together, one

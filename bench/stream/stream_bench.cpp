@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Frame-stream benchmarks (Google Benchmark, JSON with --benchmark_format=json):
 //  - BM_Deliver/<transport>/<w>/<h>: publish -> client has the pixels, in lock step; frames/s is
 //    items_per_second (the transport's ceiling on this machine, one client);

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Label text costs: CPU shaping and layout per label, building the SDF atlas, and the GPU
 // draw of a cluster-sized frame of labels (1280x480, ~150 labels, screen and world space).
 #include <chrono>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Vehicle input to pose: a simulated Andorra drive's CAN frames (navmap.dbc, GNSS 10 Hz, motion
 // 50 Hz) through the DBC decoder and the state estimator, measuring per frame the time from
 // receipt to the pose at that time being available (decode + fuse + snapshot + poseAt), and the

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 # Cross-compiling navmap for 64-bit ARM Linux (ECUs) on Debian with its cross toolchain
 # (apt-get install g++-aarch64-linux-gnu) and, for the daemon, arm64 libraries: either installed
 # side by side (dpkg --add-architecture arm64; Debian's multiarch puts them in

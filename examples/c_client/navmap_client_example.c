@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 /* navmap-client-example: a display process in C, as an HMI integrator writes one against
  * libnavmap-client (navmap_client.h). It connects to navmapd's frame socket with a profile,
  * keeps reconnecting (with backoff) while navmapd is not there, and reads each frame in place in

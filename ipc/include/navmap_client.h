@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 /* navmap_client.h: the C API of libnavmap-client, for display processes whose HMI stack is not
  * C++ (docs/frame-protocol.md "Client library"). A client connects to navmapd's frame socket with
  * a display profile, reconnects by itself with exponential backoff whenever navmapd is not there,

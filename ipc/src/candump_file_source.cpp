@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "navmap/ipc/candump_file_source.h"
 
 #include <fcntl.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "navmap/ipc/vehicle_decoder.h"
 
 #include <algorithm>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Little-endian byte writer/reader with LEB128 varints and zigzag deltas, used by the tile
 // codec, the store header/index and the road graph. Private to navmap_map.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "navmap/map/compiler.h"
 
 // GCC 12 reports a false -Wstringop-overread inside libosmium's area builder once it is

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The small single-purpose libosmium handlers of navmap-compile (one class each, as in
 // libosmium's own examples). They only collect raw features in WGS84; projection and tiling

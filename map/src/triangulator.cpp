@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "navmap/map/triangulator.h"
 
 #include <GL/glu.h>

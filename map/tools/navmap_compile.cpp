@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // navmap-compile: OpenStreetMap PBF + SRTM DEM tiles -> navmap tile store.
 //   navmap-compile --osm data/andorra-2021-04-14.osm.pbf --dem data/N42E001.hgt --out build/andorra.navmap
 // Exit status: 0 ok, 1 bad input (one line naming the file and the problem), 2 usage.

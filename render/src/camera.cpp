@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "navmap/render/camera.h"
 
 #include <glm/gtc/matrix_transform.hpp>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "navmap/render/dem_refine.h"
 
 #include <algorithm>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "navmap/render/map_frame.h"
 
 namespace navmap::render {

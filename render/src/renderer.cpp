@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "navmap/render/renderer.h"
 
 #include "gl/gl_renderer.h"

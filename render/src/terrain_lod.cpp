@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "navmap/render/terrain_lod.h"
 
 #include <algorithm>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The GLSL ES sources of shaders/, embedded at build time (cmake/EmbedShaders.cmake).
 // Only render/ includes this header.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // navmap-soak: runs navmapd for a given duration on an accelerated, looping drive with CAN faults
 // (the shipped short-faults drive: GNSS dropouts and bursts of bad frames), while display clients
 // connect, read, stall and disconnect and the control socket gets valid and malformed commands.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "navmap/sim/candump_writer.h"
 
 #include <cerrno>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "navmap/sim/drive_simulator.h"
 
 #include "navmap/map/store_info.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "navmap/sim/route_message.h"
 
 #include <cmath>

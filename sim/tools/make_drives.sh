@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: Apache-2.0
 # Regenerates the drives shipped in data/drives (see data/drives/README.md).
 # Usage: sim/tools/make_drives.sh [build-dir]   (needs <build-dir>/sim/navmap-sim and andorra.navmap)
 set -eu

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // navmap-sim: drives a route through the compiled map and emits the GNSS node's navmap.dbc
 // frames to a candump log, to SocketCAN (paced in real time x --speed-factor), and/or hands the
 // route to the daemon over the control socket. See docs/simulator.md.

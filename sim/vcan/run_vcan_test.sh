@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: Apache-2.0
 # Real SocketCAN test: boots the Debian kernel (linux-image-amd64) under qemu (TCG, no KVM needed),
 # loads can, can-raw, can-isotp, can-dev, vcan from the host's /lib/modules, shares the host root
 # read-only into the guest over virtio-9p, creates vcan0 (CAN FD MTU) and runs the project's

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Every installed tool follows cli/include/navmap/cli/cli.h: --version prints "<tool> <version>"
 // and exits 0, --help exits 0, a usage error (unknown option, a number that is not finite or out
 // of its range) exits 2 naming the option and the range, bad input (a missing file, no daemon)

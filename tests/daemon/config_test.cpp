@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // navmapd's TOML configuration: defaults, every section, and clear errors for wrong input.
 #include <gtest/gtest.h>
 

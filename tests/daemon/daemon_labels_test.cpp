@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Labels as the driver sees them in the shipped configuration (daemon/navmapd.toml): every
 // profile rendered along the Andorra drive with the layers navmapd gives it, and what is drawn
 // checked frame by frame: no text over other text, none over the vehicle marker, no capitals

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Signals through a signalfd and systemd notifications through a real NOTIFY_SOCKET.
 #include <gtest/gtest.h>
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The live page of navmapd itself in headless Chromium: HTTP on a configured port with a token,
 // the page's stream is the first configured profile (not a built-in name), its buttons are the
 // configured profiles, the map data attribution is on the page, and the stream's pixels arrive.

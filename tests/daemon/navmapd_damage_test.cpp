@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // navmapd on damaged input (docs/tile-store.md "Damage", docs/can-input.md): a store whose road
 // graph has a flipped bit still starts and renders, without map matching and without the
 // simulator's route, and says so in status; a replay file that is no candump log (/dev/zero) is

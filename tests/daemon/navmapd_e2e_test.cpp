@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // End to end: navmapd with a replayed drive, a cluster client and a HUD client on the shared-memory
 // stream, the control socket, and a graceful stop (issue: frame streaming and the daemon).
 #include <gtest/gtest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // navmapd as an HMI integrator sees it from outside (no-op renderer: the daemon's own behaviour):
 // /metrics is valid Prometheus text (parsed by the Prometheus client library's parser: each
 // family once, base units), the version is in get_status and /status, frames are routed by

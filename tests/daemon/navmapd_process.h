@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Helpers for whole-program tests of navmapd: a replayable drive and a daemon child process.
 #include <signal.h>

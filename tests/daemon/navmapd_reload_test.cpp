@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // SIGHUP: navmapd re-reads its configuration (style, per-profile fps and view) without dropping
 // its clients, reports the reload in status and metrics, and refuses a broken file while the old
 // configuration keeps running (docs/navmapd.md "Lifecycle").

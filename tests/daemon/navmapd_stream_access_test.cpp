@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // navmapd's frame and control sockets against hostile local clients, whole program (no-op
 // renderer): socket modes and groups under umask 000, a user outside the group refused by the
 // file mode (navmap-view run with setpriv), a user inside it who opens 64 streams of a size that

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // libFuzzer target: candump log lines through the reader and the formatter.
 // Built with -DNAVMAP_WITH_FUZZ=ON (clang); ipc_unit_tests also compiles it (NAVMAP_FUZZ_NO_MAIN)
 // and runs navmapFuzzCandump() on a corpus of broken inputs.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // libFuzzer target: the control-protocol parser (one JSON line -> typed command or error) and
 // the reply writer on whatever it parsed. Built with -DNAVMAP_WITH_FUZZ=ON (clang);
 // ipc_control_tests also compiles it (NAVMAP_FUZZ_NO_MAIN) and runs navmapFuzzControl() on a

@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: Apache-2.0
 # CTest label `fuzz`: runs one libFuzzer target for a fixed time, starting from its checked-in
 # corpus. New inputs go to a scratch folder in the build tree, never into the repository
 # (scripts/fuzz-campaign.sh is the way to grow the corpora). libFuzzer exits non-zero on a crash,

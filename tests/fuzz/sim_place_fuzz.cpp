@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // libFuzzer target: navmap-sim's --from/--to parser ("lat,lon" or a place name) and the name
 // normalization. Built with -DNAVMAP_WITH_FUZZ=ON (clang); sim_unit_tests also compiles it
 // (NAVMAP_FUZZ_NO_MAIN) and runs navmapFuzzSimPlace() on a corpus of broken inputs.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // libFuzzer target: everything a stream client can send or a server can answer before pixels:
 // the JSON handshake line, the HTTP request head, and the 80-byte frame header with the error or
 // status text after it.

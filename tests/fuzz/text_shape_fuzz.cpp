@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // libFuzzer target: label text (UTF-8 from the map data) through shaping with font fallback,
 // the SDF atlas and layout. Built with -DNAVMAP_WITH_FUZZ=ON (clang); navmap_text_test also
 // compiles it (NAVMAP_FUZZ_NO_MAIN) and runs navmapFuzzTextShape() on a bad-input corpus.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // libFuzzer target: tile payload and road graph decoding on arbitrary bytes (the tile store
 // is input; a corrupt or hostile file must never crash the daemon). Also linked into
 // map_store_test, which runs it over a corpus of bad inputs in the normal suite.

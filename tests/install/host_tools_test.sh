@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # The default store made by an imported host navmap-compile (CTest `host_tools_store`, label
 # install), the path a cross build takes (map/CMakeLists.txt): a second build tree configured
 # with NAVMAP_HOST_TOOLS=<this build>/NavmapHostTools.cmake builds the store target without

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # The installed tree as an HMI integrator gets it (CTest `install_tree`, label install):
 #   1. `cmake --install` into a fresh prefix puts every part in its FHS place under the prefix;
 #   2. no installed binary contains a path of the build machine (source or build tree);

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # The Debian packages (CTest `deb_packages`, label install): `cpack -G DEB` in the build tree makes
 # navmapd, libnavmap-client0 and libnavmap-client-dev; their control fields and file lists are
 # checked, and they are installed into a throwaway root with dpkg (dpkg --root, maintainer

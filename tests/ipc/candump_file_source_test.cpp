@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // CandumpFileSource: candump files streamed into the Replayer in bounded memory. /dev/zero and
 // other non-logs are refused at once; a large log plays without its size showing in memory;
 // looping rewinds the file.

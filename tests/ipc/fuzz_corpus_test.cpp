@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Runs the fuzz entry points (tests/fuzz/*_fuzz.cpp) on a corpus of broken inputs, so the normal
 // suite exercises them: every prefix and byte-flipped copy of data/navmap.dbc and of a small
 // candump log, plus hand-written nasties.

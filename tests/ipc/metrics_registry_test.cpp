@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // MetricsRegistry: each family once with HELP and TYPE, samples beside it, label values escaped,
 // numbers exact, duplicates refused naming the family.
 #include <gtest/gtest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // navmap-compile on the real Andorra extract + SRTM tile (repo data/), and on bad input.
 #include <gtest/gtest.h>
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Planar geometry: triangulation with holes (area preserved), label anchors (seed 4.4.2),
 // simplification and clipping to tiles.
 #include <gtest/gtest.h>

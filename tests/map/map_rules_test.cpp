@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Tag interpretation: highway -> FRC, building heights, speeds, one-way rules, area/place classes.
 #include <gtest/gtest.h>
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Tile codec and store round trip, bad stores (other version, truncated, corrupt tile), the
 // runtime cache (eviction under budget, corrupt tile skipped), tile selection, DEM input, the
 // writer's lock and temporary file, and damage in every section of a store.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Golden images of the real Andorra store at fixed poses, per view and layer set (issue: map
 // rendering). The store is compiled at build time (build/andorra.navmap).
 #include <gtest/gtest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The camera rig: bird's-eye and snail's views, smooth transitions, terrain clamping.
 #include <gtest/gtest.h>
 

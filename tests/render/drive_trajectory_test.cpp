@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The trajectory loader of navmap-label-quality (drive_trajectory.h) on the vendored Andorra
 // drive and on broken files, and the --camera spec parser.
 #include <gtest/gtest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // GPU tests: need an EGL context (Mesa llvmpipe through the surfaceless platform in CI).
 #include <gtest/gtest.h>
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The golden-image helper itself: it must catch a changed rendering and pass an equal one.
 #include <gtest/gtest.h>
 

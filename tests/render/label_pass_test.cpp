@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Labels in rendered map frames (issue 4, integration): screen-space labels in bird's-eye,
 // world-space labels in snail's view with the seed 5.5 switch and cross-fade, goldens of
 // labelled views, and the measured layout quality of a replayed Andorra drive.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The label quality report of a replayed trajectory (navmap-label-quality's library): the first
 // 90 frames of data/drives/andorra-urban-trajectory.json with the two MapLibre-convention cameras
 // it was measured with elsewhere. Checks that the report is complete and consistent with the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Pixel assertions on map frames that do not depend on goldens: rounded caps, crack-free
 // joints, casing colours, roads on top of the terrain they lie on (issue: map rendering).
 // Synthetic tiles with known geometry; Mesa llvmpipe through EGL.

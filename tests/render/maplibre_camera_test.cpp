@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // MapLibre GL JS camera conventions (maplibre_camera.h) and the camera rig's MapLibre follow
 // mode: the map scale of a zoom, the camera distance, the center in the middle of the viewport,
 // pitch 0 straight down, bearings clockwise from north.

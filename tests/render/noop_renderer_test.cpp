@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The no-op backend: the Renderer API without a GL context, for tests outside render/.
 #include <gtest/gtest.h>
 

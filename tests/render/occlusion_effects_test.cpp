@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Glowing roads (seed 5.3.5, 5.5.2) and the transparency label aura (seed 5.3.3, 5.5.1) in
 // rendered map frames of the Andorra store: which pixels glow, that a world-space label behind
 // a building becomes readable with its road visible around it, and goldens of both techniques

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Unit tests of the screen cells where the outline filter runs (seed 3.6.3 outlines, OutlineCells):
 // every pixel that can read a road pixel in its 3x3 neighbourhood lies in a marked cell, also for
 // quads that reach behind the camera, and the rectangles cover exactly the marked cells.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Unit tests of the road geometry: the analytic caps (seed 3.4), barycentric clipping against
 // the terrain grid (seed 3.6.1) and distance-based width scaling (seed 3.6.3).
 #include <gtest/gtest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The route draped per drawn tile (issue 6): a route with sparse points over a hill stays visible
 // along its whole length whether the coarse tile or its four finer children are drawn, and while
 // the children are morphed to the coarse level; the driven part is dimmed per draped vertex.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The route draped per tile (seed 3.6.1; tile_mesh.h drapeRoute/morphRoute): every piece lies on
 // one triangle of the tile's grid, the route is clipped to the tile square, measures follow the
 // draped vertices, and the pieces follow the terrain's geomorph.

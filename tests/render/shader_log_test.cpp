@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Driver compile logs are rewritten to name the shader file and line.
 #include <gtest/gtest.h>
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Shadow-volume roads (seed 3.5, issue #8): instances and technique selection, caps and draping
 // on synthetic tiles, the high-resolution terrain case (the store's SRTM tile refined to 10 m)
 // where roads draped on the shipped grid leave the surface and SV roads stay on it, and goldens

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // TerrainHorizon (MapLayers::cull_hidden_roads): a box is called hidden only if every line of
 // sight to it passes below the drawn terrain first.
 #include <gtest/gtest.h>

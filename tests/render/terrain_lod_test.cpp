@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Level-of-detail selection over the tile quadtree (screen-space error, frustum culling,
 // parents standing in for children that are still loading).
 #include <gtest/gtest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Geomorphing hides level-of-detail switches (issue 6): the camera moves over the real Andorra
 // store in small steps across LOD switches; the largest frame-to-frame change of the terrain
 // image at a switch stays comparable to ordinary motion frames with morphing, and spikes without.

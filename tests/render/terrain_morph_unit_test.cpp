@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Geomorphing of terrain tiles (terrain_lod.h): the morph factor, the morph range that ends
 // where the level-of-detail rule switches a tile to its parent, and the parent surface that a
 // fully morphed tile must reproduce exactly (CPU side; the GPU side is terrain_morph_test.cpp).

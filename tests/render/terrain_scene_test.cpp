@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Unit tests of the CPU side of the first scene: the real SRTM tile, void filling and the mesh.
 #include <gtest/gtest.h>
 

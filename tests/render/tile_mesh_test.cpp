@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // CPU preparation of tiles: skirts, draped roads, ordering, buildings, size growth of draping.
 #include <gtest/gtest.h>
 

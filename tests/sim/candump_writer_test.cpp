@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // CandumpWriter: exact candump -l lines, read back by ipc::CandumpReader, atomic publish.
 #include <gtest/gtest.h>
 #include <unistd.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // FrameGenerator: rates, decoding back through ipc::VehicleDecoder, noise, dropouts, bad frames,
 // determinism.
 #include <gtest/gtest.h>

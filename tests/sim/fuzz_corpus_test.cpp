@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Runs the navmap-sim place-parser fuzz entry (tests/fuzz/sim_place_fuzz.cpp) on broken inputs.
 #include <gtest/gtest.h>
 

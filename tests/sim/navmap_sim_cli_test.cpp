@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // navmap-sim as a program: writes a candump log identical to the library's frames, prints a
 // summary, writes the set_route line, and fails with one clear line on bad input.
 #include <gtest/gtest.h>

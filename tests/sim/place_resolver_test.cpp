@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // PlaceResolver: "lat,lon" parsing, name normalization, the built-in table.
 #include <gtest/gtest.h>
 

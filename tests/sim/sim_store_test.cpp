@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The simulator on the compiled Andorra store: places from the store's labels, A* routes,
 // generated frames decoded back onto the route, the set_route message accepted by the control
 // protocol parser, and the shipped drives in data/drives.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Helpers for the simulator tests: synthetic routes and the navmap DBC/decoder.
 

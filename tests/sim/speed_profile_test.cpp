@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // SpeedProfile: target speed, curve slowing (lateral acceleration), acceleration and braking
 // limits, standing start and full stop, yaw rate consistent with the heading.
 #include <gtest/gtest.h>

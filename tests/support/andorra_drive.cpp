@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "andorra_drive.h"
 
 #include <gtest/gtest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The Andorra drive the render tests share: the default store built into the build tree
 // (Andorra la Vella -> Encamp), opened once per test program, and settled frames along it.

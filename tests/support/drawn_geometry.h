@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Overlap tests on what the renderer reports as drawn (labels::DrawnLabel glyph boxes, the
 // marker's outline): convex polygons on screen, separating axis theorem.

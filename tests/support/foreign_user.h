@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Clients that run as another user, for tests of peer checks and per-uid limits: a forked child
 // drops to the given uid/gid/groups (setgroups, setresgid, setresuid; no way back), does its

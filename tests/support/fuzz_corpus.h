@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Runs a libFuzzer entry point in a plain test, so the normal (gcc) suite catches what the fuzzers
 // would: a deterministic corpus of broken inputs (every prefix of each good seed, copies of each

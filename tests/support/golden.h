@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Golden-image comparison (Filament backend tests / MapLibre render-test style). Goldens live
 // beside their tests (tests/<module>/golden/<name>.png). On a mismatch the actual image and a

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Hand-made map tiles for renderer tests: a 1 km tile away from the store origin (so
 // camera-relative rendering matters) with a DEM from a height function, and roads.

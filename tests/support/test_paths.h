@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Where tests find data: everything is in the repository. The repo's data/ (the embedded default
 // data), tests/ipc/data (real CAN logs and DBC files, see its SOURCES.md) and the checked-in fuzz

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Polling until a condition holds, for tests of threads and sockets.
 #pragma once
 

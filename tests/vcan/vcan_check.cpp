@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // vcan_check: runs INSIDE the qemu guest started by sim/vcan/run_vcan_test.sh, against a real
 // Linux vcan interface. It replays a real Ford log into vcan0 with can-utils' canplayer and checks
 // what SocketCanSource + VehicleDecoder received: kernel-filtered ids, kernel timestamps, decoded

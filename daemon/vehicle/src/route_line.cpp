@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Matching onto the active route: same scoring as MapMatcher (distance and heading), plus a
 // penalty for jumping along the route away from the previous match, so that loops and
 // out-and-back legs are followed in driving order.

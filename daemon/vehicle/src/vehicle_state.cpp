@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Pose evaluation over an immutable snapshot: dead reckoning from the newest fused anchor (or
 // interpolation between two anchors for a past time), the fix correction faded in over blendS so
 // the marker never jumps, then map matching with a confidence-weighted snap.

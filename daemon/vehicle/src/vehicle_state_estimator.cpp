@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // GNSS + odometry fusion (DESIGN.md data flow: "interpolate/extrapolate between fixes (dead
 // reckoning with speed + yaw rate), snap to route/road graph"). A complementary filter: between
 // fixes the track is integrated from speed and yaw rate; at a fix, a share of the innovation is

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // JSON-lines control protocol: validation of requests and formatting of replies/events.
 // Every check names the offending member so a client developer can fix the request from the
 // reply alone (docs/ipc.md lists the messages).

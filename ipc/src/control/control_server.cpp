@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Control socket server: a small poll() loop in the manner of Redis ae.c/anet.c. Each client has
 // an input buffer split into lines and an output buffer drained when the socket is writable, so
 // neither a slow nor a malicious client can block the daemon; a connection without traffic for

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "navmap/ipc/control_state.h"
 
 #include "navmap/ipc/control_protocol.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // navmap-ctl: sends one command to navmapd's control socket and prints the reply; `subscribe`
 // prints events until interrupted (or --count events). Protocol: docs/ipc.md.
 // Exit status: 0 ok, 1 an error reply or no connection, 2 usage (docs/tools.md).

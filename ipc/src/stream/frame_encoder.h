@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // FrameEncoder: zlib and JPEG encoding of ring frames on a worker thread of its own, so that a
 // slow encode (zlib of 1280x720 takes tens of milliseconds on a small core) never delays the frame

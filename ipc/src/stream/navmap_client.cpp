@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The C API of libnavmap-client (navmap_client.h) over ReconnectingClient.
 
 #include "navmap_client.h"

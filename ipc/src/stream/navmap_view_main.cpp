@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // navmap-view: a display client for navmapd's frame stream (docs/frame-protocol.md).
 // Connects with a profile, receives frames, optionally saves them as PNG, and prints frames/s,
 // latency p50/p99 (source timestamp -> receipt, and render -> receipt) and drops. Each status the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "navmap/ipc/stream_http_request.h"
 
 #include <cctype>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The HTML viewer FrameServer serves at GET / (private to ipc/src/stream).
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "navmap/ipc/stream_profile.h"
 
 #include <nlohmann/json.hpp>

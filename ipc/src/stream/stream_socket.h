@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Private socket helpers of ipc/src/stream (not installed): every error names the call and the
 // object, "connect(/run/navmap/stream.sock): No such file or directory".

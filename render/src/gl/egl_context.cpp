@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "egl_context.h"
 
 #include <EGL/eglext.h>

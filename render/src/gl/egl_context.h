@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Headless EGL display + OpenGL ES 3 context without any surface. Private to render/.
 

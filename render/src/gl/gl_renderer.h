@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The OpenGL ES 3 backend of Renderer. Private to render/.
 

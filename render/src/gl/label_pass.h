@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The label pass of the map renderer (DESIGN.md pass order: after the outlines, before the
 // marker): collects the label features of the frame's tiles, projects them with the frame

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "map_renderer.h"
 #include "road_uniforms.h"
 #include "sv_roads.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Draws map frames from tiles: per-tile GPU resources (terrain + skirts, land-cover texture,
 // road instances, buildings), the route and the vehicle marker, with the screen-space road

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "occlusion_effects.h"
 #include "vertex_layout.h"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Visibility techniques of seed chapter 5 for the map renderer: glowing roads (5.3.5, 5.5.2)
 // and the transparency label aura (5.3.3, 5.5.1). The map renderer owns the geometry, so it

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // One index buffer shared by many vertex arrays that repeat a fixed shape per primitive (a road
 // quad: 4 vertices, 6 indices; a shadow-volume box: 8 vertices, 36 indices). Drawing them indexed

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Frame readback: synchronous glReadPixels, or a ring of pixel-pack buffers with fences so the
 // next frame renders while the last one is copied out. Private to render/.

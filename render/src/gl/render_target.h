@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Offscreen framebuffer: colour + road-intensity mask + depth/stencil, multisampled where
 // supported, with single-sampled resolve targets: colour for readback, mask as a texture for

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The per-class road style uniforms that the shaders of both road techniques declare alike
 // (roads_geo.vert; roads_sv.vert and .frag): u_width, u_casing, u_fill, u_casing_color, and

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // GLSL ES programs compiled from the embedded shaders/ sources. Private to render/.
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "sv_roads.h"
 #include "road_uniforms.h"
 #include "vertex_layout.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Shadow-volume roads (seed 3.5): the SV program, the segment boxes of each tile and the terrain
 // depth target that the terrain pass writes as a secondary render target (seed 3.5.2). MapRenderer

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Draws label text from the SDF glyph atlas of navmap_text: screen-space labels (bird's-eye)
 // and world-space labels lying in planes of the scene, perspective-projected and depth-tested

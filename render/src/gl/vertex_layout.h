@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Vertex attribute layouts as tables: one call enables and points every attribute of a vertex
 // struct at the bound GL_ARRAY_BUFFER. Private to render/.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "navmap/render/labels/candidate_positions.h"
 
 #include <glm/geometric.hpp>

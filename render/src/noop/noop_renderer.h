@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The no-op backend: the Renderer API without any GL, for tests of code outside render/.
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // FreeType and HarfBuzz objects behind FontCollection. Private to render/src/text.
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "navmap/render/text/label_text_style.h"
 
 #include <algorithm>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "navmap/render/text/sdf_generator.h"
 
 #include <algorithm>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "navmap/render/text/text_engine.h"
 
 namespace navmap::render::text {

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Strict UTF-8 decoding for label text. Private to render/src/text.
 

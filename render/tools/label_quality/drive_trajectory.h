@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // A recorded drive as per-frame vehicle poses (data/drives/*-trajectory.json): what the label
 // quality tool replays frame by frame, the same poses other renderers were measured on.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Text rendering cost per frame for the cluster view (issue 4 benchmark): the default cluster
 // profile (1280x480, snail's view) on the Andorra store, settled at Escaldes, one map frame
 // with and without labels. Counters: labels_ms (CPU time of the label pass: collect, layout,

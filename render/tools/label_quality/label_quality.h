@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Label quality of a replayed drive (docs/labels.md "Measured quality"): renders a drive frame by
 // frame through the renderer and measures what was drawn with labels::DrawnLabelMetrics (visible

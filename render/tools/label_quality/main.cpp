@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // navmap-label-quality: replays a drive through the renderer and prints the label quality
 // measured on the drawn frames as JSON, one object per camera or view (docs/labels.md "Measured
 // quality"): a recorded trajectory with MapLibre-convention cameras, or the route Andorra la

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // VehicleStateEstimator: a synthetic drive on a real route of the Andorra store (GNSS 5 Hz +
 // speed/yaw rate 50 Hz, with noise) stays within an error bound; dead reckoning between fixes;
 // stale after the timeout; NaN/out-of-range/jump/out-of-order rejection counted; snapping onto

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Runs the control fuzz entry point (tests/fuzz/control_fuzz.cpp) on a corpus of broken lines:
 // every prefix and byte-flipped copy of valid requests, plus hand-written nasties.
 

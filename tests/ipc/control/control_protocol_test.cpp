@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Control protocol: the documented request/reply/event shapes, and an error naming the problem
 // for every kind of malformed or out-of-range request.
 

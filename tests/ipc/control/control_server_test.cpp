@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // ControlServer over a real Unix socket: round trips into ControlState snapshots, garbage and
 // over-long lines, subscriptions and events, SO_PEERCRED (with clients running as other uids),
 // socket mode and group, stale/live socket files, client limits, slow subscribers, the

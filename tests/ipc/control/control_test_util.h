@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Helpers for control-socket tests: a private temporary directory and an fd count (libosmium
 // count_fds style) to check that nothing leaks.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // navmap-ctl against an in-process ControlServer: prints the reply, exit status follows "ok",
 // `subscribe --count N` prints events, usage errors exit 2, an error reply or no daemon exit 1.
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // libnavmap-client as an HMI integrator uses it: the C example (examples/c_client) against an
 // in-process frame server reads the frames in place with the right pixels, waits for a server
 // that is not there yet and comes back after a restart; and the shared library links nothing of

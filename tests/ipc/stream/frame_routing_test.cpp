@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Frames routed by profile, frames held in place (zero copy) and the reconnecting client, over
 // real sockets in one process (docs/frame-protocol.md "Profiles", "Holding a frame").
 

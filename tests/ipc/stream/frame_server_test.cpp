@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // FrameServer + StreamClient over real sockets in one process: shm ring, TCP raw/zlib, HTTP
 // (MJPEG, /status, /metrics), slow and stalled clients, malformed input, fd and memory stability.
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // navmap-view end to end: the test process serves frames, the real navmap-view binary connects
 // over the Unix socket (shm) and TCP (zlib), saves PNGs and prints its statistics as JSON, and
 // prints the statuses it gets before the first frame.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // FrameServer against hostile local clients: the socket file's mode and group, SO_PEERCRED allow
 // lists (with clients that really run as other uids), per-transport and per-uid caps, refusal of
 // views and sizes that are not rendered, the handshake and first-frame timeouts, the ring memory

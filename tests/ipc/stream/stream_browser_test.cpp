@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The HTML viewer in a real browser: headless Chromium loads GET /?token=..., shows the MJPEG
 // stream and the /status JSON, the page handing its token on to both. Label `browser`; skipped with a reason when chromium is not installed
 // (Debian: apt-get install chromium).

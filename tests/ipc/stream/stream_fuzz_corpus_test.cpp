@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Runs the stream fuzz entry (tests/fuzz/stream_handshake_fuzz.cpp) on a corpus of broken
 // handshakes, HTTP heads and frame headers: prefixes and byte flips of good ones plus nasties.
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Status headers (kind 2, docs/frame-protocol.md "Frame header"): what a client gets while the
 // daemon holds its frames back. FrameServer::publishStatus on the wire (exact bytes, only to the
 // clients of that view and size without a frame yet, the first-frame timeout restarted by each),

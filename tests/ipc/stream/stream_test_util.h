@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Helpers for the frame-stream tests and benchmarks: raw sockets, a frame publisher thread,
 // an MJPEG-over-HTTP reader, fd and memory counters.

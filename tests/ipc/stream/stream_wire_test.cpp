@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Wire formats of the frame stream: header, handshake, HTTP head, pixel formats, PNG, the ring's
 // sequence lock (docs/frame-protocol.md).
 

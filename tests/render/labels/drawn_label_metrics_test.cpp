@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // DrawnLabelMetrics: every definition of docs/labels.md "Measured quality" on synthetic drawn
 // frames, with the edges of each rule (1 px tolerance, opacity 0.5, 10 % hidden, 9 px cap
 // height, 64 px interior margin, texts shared by two ids).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // SDF generation, atlas packing/growth/eviction, layout and metrics.
 #include <gtest/gtest.h>
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Runs the libFuzzer entry of tests/fuzz/text_shape_fuzz.cpp on broken and hostile label text.
 #include <gtest/gtest.h>
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // GL text layer on Mesa llvmpipe: real pixels of fill, outline and halo (seed 4.5.2, Fig. 4.7),
 // rotation, alpha, world-space labels hidden by depth, and a golden image of a few labels.
 #include <gtest/gtest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Shaping of real Andorran names: glyph counts, no .notdef, per-glyph font fallback.
 #include <gtest/gtest.h>
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Shared helpers of the text tests: the Debian fonts or a skip saying which are missing.
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Command-line conventions of every navmap tool (CLI11, header-only like CLI11 itself):
 // `--help` and `--version` print to stdout and exit 0; a usage error prints one line naming the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Backoff: exponential retry delay (initial, doubling, capped) for re-opening a CAN interface that
 // went down or does not exist yet. Deterministic (no jitter) so that tests can check the schedule;

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // CanFrame: one classic CAN or CAN FD frame as seen by navmap, independent of the kernel's
 // struct can_frame / canfd_frame so that logs, the replayer and tests work without AF_CAN.

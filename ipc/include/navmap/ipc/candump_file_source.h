@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // CandumpFileSource: a candump log file streamed into a Replayer. The file is read in chunks of
 // kChunkBytes through a CandumpReader (bounded line buffer), so memory stays the same whatever

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // CandumpReader: parser for can-utils candump log lines, "(sec.frac) iface FRAME".
 // Hand-written (can-utils ships the C tools, not a library). Accepted FRAME forms, as in

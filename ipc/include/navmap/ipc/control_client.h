@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // ControlClient: a small blocking client of the control socket (tests, the simulator, tools
 // such as navmap-ctl). One thread; every call has a timeout.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Typed commands of the control protocol (JSON lines over a Unix socket, docs/ipc.md), the
 // limits a parser enforces, and the events a subscriber receives. Plain values, no I/O.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // ControlHandler: the daemon side of the control socket. ControlServer calls it for every valid
 // command, on the server's thread (the thread that runs pollOnce()). An implementation applies

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The JSON-lines control protocol (docs/ipc.md): parsing and validating one request line into a
 // ControlCommand, and writing replies and events. Pure functions, thread-safe, no I/O.

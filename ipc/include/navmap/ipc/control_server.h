@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // ControlServer: the daemon's control socket (Unix stream socket, JSON lines, docs/ipc.md).
 // Non-blocking and poll()-driven: step it from the daemon loop with pollOnce(), or let it run

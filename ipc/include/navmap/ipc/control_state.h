@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // ControlState: a ready-made ControlHandler that keeps what the control socket set (route, view
 // per display, style) as immutable snapshots. The server thread replaces them; any thread reads

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // DbcDatabase: reader for the subset of the Vector DBC format that vehicle databases use.
 //

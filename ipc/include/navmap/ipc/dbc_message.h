@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // DbcMessage: one `BO_` entry of a DBC file with its signals; decodes and encodes whole frames.
 // Hand-written (no Debian package provides a C++ DBC codec).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // DbcSignal: one `SG_` entry of a DBC file and the bit-level codec for it.
 // Hand-written: no Debian package provides a C++ DBC parser/codec (see dbc_database.h).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Pixel formats of streamed frames and the row conversions between them (docs/frame-protocol.md).
 

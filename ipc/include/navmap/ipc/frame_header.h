@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // FrameHeader: the per-frame header shared by every transport (shm notification, shm slot, TCP).
 // Fixed 80 bytes, little-endian; the layout is in docs/frame-protocol.md.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // writeFramePng: saves a received frame (RGBA8 or RGB565) as an 8-bit RGBA PNG (zlib only, no
 // image library), for navmap-view and tests.

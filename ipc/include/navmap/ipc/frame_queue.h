@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // FrameQueue: bounded multi-producer/single-consumer queue of CanFrames between an input thread
 // (SocketCAN reader, Replayer) and a consumer (decoder). push() never blocks: when the queue is full

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // FrameRing: a ring of frame slots in one memfd, written by the render thread and read by any
 // number of local client processes through a per-slot sequence lock (docs/frame-protocol.md).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // FrameServer: delivers rendered frames to display clients (docs/frame-protocol.md).
 //  - Unix socket: JSON handshake, frames in a shared-memory ring per profile (memfd over

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // FrameView: a rendered frame as the render thread hands it to FrameServer::publish() (not owned).
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // MetricsRegistry: one scrape of /metrics in the Prometheus text exposition format 0.0.4. Every
 // family appears once, with its HELP and TYPE lines, its samples beside it; names carry base

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // ReconnectingClient: a StreamClient that a display process can keep for its whole life. It
 // connects on first use, and when navmapd is not there yet, restarts or drops the connection it

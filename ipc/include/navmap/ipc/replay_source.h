@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // ReplaySource: where a Replayer takes its frames from, one at a time in log order, so that a
 // log of any length plays in bounded memory (CandumpFileSource streams a candump file; the

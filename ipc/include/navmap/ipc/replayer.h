@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Replayer: plays recorded CAN frames (e.g. a candump log) in-process with the original timing
 // scaled by a speed factor, optionally looping, so that everything upstream of the decoder works

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Result<T>: a value or an error message, the expected-failure channel of ipc/
 // (C++20 has no std::expected; this is the small subset the module needs).

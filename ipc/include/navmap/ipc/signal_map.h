@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // SignalMap: configuration saying which DBC signal feeds which vehicle quantity (VSS name), so that
 // a vehicle's own DBC (e.g. Ford speed and yaw rate) can be combined with navmap.dbc's GNSS node.

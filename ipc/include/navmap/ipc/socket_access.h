@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Who may use a local Unix socket of the daemon (control socket, frame socket): the socket file's
 // mode and group, applied before listen() so no peer can connect under wider permissions, and

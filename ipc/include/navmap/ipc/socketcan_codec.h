@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Conversions between the kernel's SocketCAN structures and CanFrame, CAN_RAW_FILTER building and
 // error-frame classification. Pure functions: unit-tested without AF_CAN.

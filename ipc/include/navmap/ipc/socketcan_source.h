@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // SocketCanSource: non-blocking SocketCAN raw socket reader.
 //  - CAN_RAW_FILTER for the configured frame keys, CAN FD frames (CAN_RAW_FD_FRAMES),

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // StreamClient: the display-client side of docs/frame-protocol.md. Connects over the Unix socket
 // (shared-memory ring) or TCP (raw/zlib), then next() returns the newest frames as a copy, or

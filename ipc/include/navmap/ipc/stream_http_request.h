@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The HTTP/1.x request head FrameServer accepts (GET only, no body). Never throws.
 

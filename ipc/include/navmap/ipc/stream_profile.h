@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // StreamProfile and the client handshake: one JSON line the client sends first on the Unix or
 // TCP socket (docs/frame-protocol.md). Parsing never throws; every problem is an Error.

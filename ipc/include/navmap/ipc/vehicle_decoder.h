@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // VehicleDecoder: CAN frames -> VehicleSample updates, through one or more DBC databases and a
 // SignalMap. Out-of-range values (outside the DBC's [min|max], outside the quantity's plausible

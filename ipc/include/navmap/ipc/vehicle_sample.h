@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // VehicleSample: vehicle quantities decoded from CAN, named after COVESA VSS, each with the receive
 // time of the frame it came from. Used both for one decoded update (only the quantities that frame

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // zlibInflater(): the FrameInflater navmap's own programs (navmap-view, navmap-soak, tests) pass
 // to StreamClient for payload zlib. Lives beside the PNG writer in navmap_stream_tools, not in

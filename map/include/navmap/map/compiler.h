@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // navmap-compile's engine: OpenStreetMap PBF + SRTM DEM -> tile store (docs/tile-store.md).
 // Reads the OSM file in one libosmium pass of small handlers (roads, buildings, areas,

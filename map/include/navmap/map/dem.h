@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Digital elevation models: SRTM .hgt tiles and the void filling every consumer relies on.
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Several DEM tiles (e.g. adjacent SRTM .hgt files) sampled as one surface.
 

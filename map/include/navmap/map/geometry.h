@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Planar geometry used by the compiler: simplification, clipping to tiles, areas, and the
 // label anchors of seed 4.4.2. All coordinates are planar metres (PlanarPoint).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Map projection shared by the compiler, the tile store and the renderer.
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Functional road classes (FRC, seed 3.6) and the OSM highway=* mapping that produces them.
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Directed road graph for routing and map matching, built by navmap-compile from the same
 // highway ways as the road layer. Nodes are OSM junctions (nodes shared by two or more ways,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Shortest routes on the compiled road graph (A*, travel time), and the geometry of a route:
 // the polyline the vehicle follows, with the distance along it at every point.

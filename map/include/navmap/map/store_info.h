@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Header of a tile store file (format described in docs/tile-store.md).
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // StoreLock: the one writer of a tile store. An exclusive flock() on "<store>.lock" is held from
 // before the compile reads its input until the store is renamed into place, so a second

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Writes a tile store file: header, zlib-compressed tile blobs with CRC32, tile index, road
 // graph. Under the store's StoreLock, into a new temporary file of a unique name in the store's

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // OSM tag interpretation for the compiler: building heights, speeds, one-way rules and the
 // classes of areas, places and POIs. Pure functions over a tag lookup, so they are testable

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The in-memory map tile the renderer consumes: roads, buildings, areas, labels and a DEM
 // grid for one quadtree cell. GL-free and immutable once loaded (shared as

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Out-of-core tile cache: the render thread asks for the tiles it wants each frame and gets
 // what is resident immediately; one background thread loads the rest in priority order; an

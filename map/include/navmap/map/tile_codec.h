@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Binary encoding of one Tile (the payload of a tile blob in the store, before compression).
 // Coordinates are quantized to centimetres relative to the tile origin and delta/zigzag

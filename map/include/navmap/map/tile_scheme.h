@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The quadtree over the store's planar frame (seed 3.6 and 6.5: quadtree tiles, one pyramid
 // level per detail step). The root tile is a square of root_size_m metres whose south-west

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Which tiles a camera needs: the tiles under its ground footprint (visible set, highest
 // priority, nearest first) plus prefetch ahead along the heading or the route.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Read side of a tile store file: validates the header and the index at open (the parts without
 // which nothing can be read: damage there is fatal), reads and verifies single tiles on demand

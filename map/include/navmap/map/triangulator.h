@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Polygon triangulation (rings with holes) for areas and building roofs, backed by the GLU
 // tessellator (libGLU from Mesa; it needs no GL context).

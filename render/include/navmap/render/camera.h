@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Perspective camera in the map's planar frame (metres east, north, up; see map/projection.h).
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The camera of one display: bird's-eye or snail's view following the vehicle (seed 5.3),
 // zoom by speed, heading-up or north-up, with every parameter moved by a critically damped

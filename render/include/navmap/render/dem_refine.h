@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // High-resolution terrain from a coarse DEM (issue #8, seed 3.7): a tile's DEM resampled
 // bicubically to a fine spacing (about 10 m instead of the store's 62.5 m) with deterministic

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // A terrain mesh built from a DEM grid on the CPU (GL-free, so it is unit-testable).
 

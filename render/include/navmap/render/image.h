@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // CPU-side RGBA images: what readback produces and what golden tests compare. The file functions
 // (writePng, readImage) are in the library navmap_image_io (OpenImageIO): link it where images are

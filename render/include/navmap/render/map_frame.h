@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // What one map frame shows: the camera, the tiles (already chosen by level of detail), the
 // route, the vehicle marker, the style and which layers are on.

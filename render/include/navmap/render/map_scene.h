@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // A map scene over a compiled tile store: the store, its tile cache, the projection, the road
 // graph, and helpers to place a vehicle on a road and to plan a drive (used by navmapd's

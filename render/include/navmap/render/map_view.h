@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // One display's view of a tile store: asks the tile cache for what a camera needs (level of
 // detail by screen-space error, plus prefetch ahead), and builds the MapFrame to render from

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Map cameras as MapLibre GL JS states them (HMI teams specify views this way): a center in
 // longitude/latitude, a zoom on 512-px tiles, a pitch in degrees from straight down, a bearing

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Where the screen-space road outlines can be (seed 3.6.3 "Outlines"): a coarse grid of screen
 // cells marked on the CPU from the road and route quads in view, so that the 3x3 max filter runs

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The renderer's public face: create a backend, give it a scene, render frames offscreen and
 // read them back. No GL or EGL type appears here (render/README.md).

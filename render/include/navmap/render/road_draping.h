@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Geometric draping of road centerlines onto a terrain grid (seed 3.6.1): every segment is
 // clipped against the terrain triangles in 2D, with a vertex inserted wherever it crosses a

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Cartographic road styling (seed 3.4 caps, 3.6.3 scaling and multi-colour roads): widths and
 // colours per functional road class, the analytic cap test and distance-based width scaling.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // A conservative horizon of the drawn terrain as seen from the eye, to leave out the road blocks
 // the terrain hides before their vertices cost anything (MapLayers::cull_hidden_roads). In snail's

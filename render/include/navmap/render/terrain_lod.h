@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Level-of-detail selection over the tile quadtree: a tile is refined into its children while
 // its geometric error (the DEM spacing of its level) projects to more than max_error_px on

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The terrain-only scene built straight from a DEM file: the first real scene (the shaded
 // heightfield of Andorra) and the baseline that later layers are measured against.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // CPU-side preparation of one map tile for drawing: the terrain grid with skirts, land-cover
 // triangles, roads draped onto the terrain (seed 3.6.1) as one instance per segment (seed 3.4),

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Writes CAN frames as a candump log, exactly `candump -l`'s form: "(sec.usec) iface ID#DATA"
 // (6 fraction digits, upper-case hex, 3-digit 11-bit ids, 8-digit 29-bit ids, "##" for CAN FD),

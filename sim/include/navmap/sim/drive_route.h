@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The route a simulated car drives: the polyline in the store frame with measures, the legal /
 // class speed of every segment, and the maneuvers at junctions (for the control IPC set_route).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // One simulated drive end to end, for navmap-sim, navmapd and tests: store -> places -> A* route
 // -> speed profile -> GNSS frames. The frames can go to a candump log, to SocketCAN, or stay

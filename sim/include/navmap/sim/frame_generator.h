@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // GNSS node emulation: turns a SpeedProfile into navmap.dbc frames at realistic rates
 // (NAV_Position 0x6A0 at 5/10 Hz, NAV_Motion 0x6A1 at 50 Hz, NAV_Info 0x6A2 at 1 Hz with

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Turns "--from"/"--to" text into a geographic point: "lat,lon" in degrees, or a place name
 // looked up in the store's place labels (coarse tiles hold the important places), with a small

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The route as a control-IPC message, one JSON line in the protocol of docs/ipc.md:
 //   {"cmd":"set_route","id":"r1","points":[[lat,lon],...],"maneuvers":[{"index":4,"type":"turn_right"},...]}

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Setup failure of the drive simulator (a store that cannot be used, an unknown place, no route).
 // Thrown only while setting up (DriveSimulator::create, the navmap-sim tool); expected failures

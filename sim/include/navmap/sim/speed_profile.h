@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Realistic longitudinal profile of a car along a DriveRoute: target speed by road class and
 // maxspeed, slowing in curves (lateral acceleration limit), bounded acceleration and braking,

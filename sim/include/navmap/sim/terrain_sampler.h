@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Terrain height from the store's leaf-tile DEM grids (bilinear), for NAV_Altitude. Keeps the
 // last few tiles; a position without DEM (or a tile that fails to load) gives 0 m.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Candidate positions for the initial placement of a label (seed 4.4.3, Fig. 4.3).
 

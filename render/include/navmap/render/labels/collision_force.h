@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The collision force of seed 4.4.4 (eq. 4.2-4.6) between two label boxes.
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // A label as it was drawn in one frame, in screen pixels after projection: what the label
 // quality metrics measure (DESIGN.md quality bars: measured on what is drawn, never on layout

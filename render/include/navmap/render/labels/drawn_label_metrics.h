@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Label quality measured on the drawn frames (DESIGN.md quality bars: what the driver sees, not
 // the layout boxes): visible labels, overlapping glyphs, labels hidden by the scene, text too

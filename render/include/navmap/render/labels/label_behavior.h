@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Label behaviors, friction, mass and the clamped Euler step of seed 4.4.5-4.4.6 and 4.5.1.
 // All vectors are screen pixels; `offset` is the label center minus its projected anchor.

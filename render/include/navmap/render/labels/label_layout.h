@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Temporally coherent force-based label layout (seed chapter 4), on the CPU, GL-free.
 // Hand-written after the seed; no Debian package implements it.

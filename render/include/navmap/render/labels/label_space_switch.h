@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Screen-space vs world-space labels (seed 5.2.1, 5.4.3, 5.5): SS in bird's-eye view, WS in
 // snail's view, with hysteresis and a cross-fade so the switch never pops.

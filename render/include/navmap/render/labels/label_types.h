@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Plain data exchanged between the renderer and the label layout (seed chapter 4).
 // Coordinates are screen pixels: origin top-left, x to the right, y down.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Label layout quality measured from successive layout outputs (DESIGN.md quality bars):
 // visible labels, overlapping visible labels, pops per second, mean and p95 jitter.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Tuning constants of the force-based label layout (seed chapter 4). Units: pixels, seconds.
 

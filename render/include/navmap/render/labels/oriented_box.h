@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Object-oriented bounding box (OOBB) of a label in screen space and the separating axis
 // test between two of them (seed 4.4.4, eq. 4.1-4.2). Hand-written: no Debian package

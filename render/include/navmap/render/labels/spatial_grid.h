@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Uniform grid broad phase for the label layout. The seed (4.5.1, 4.6.1) tests all label
 // pairs on the GPU and names a uniform grid as the way past ~2000 labels; this is that grid.

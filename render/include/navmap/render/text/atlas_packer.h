@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Shelf packing of rectangles into a texture whose height can grow.
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Fonts for label text: a set of font files loaded once at setup, ordered into fallback chains
 // (DejaVu Sans first, a CJK-capable fallback after it). GL-, FreeType- and HarfBuzz-free header.

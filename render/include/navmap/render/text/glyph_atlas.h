@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // SDF glyph atlas: glyphs rasterized on demand from their FreeType outlines into one
 // single-channel texture, packed on shelves, growing in height, with eviction of glyphs not

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Text appearance per label kind: places sized by class, POIs with an icon, road names as
 // line labels, area names (issue 4; seed 4.5.2 for the outline and halo).

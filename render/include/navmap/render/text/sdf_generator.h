@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Signed distance fields from high-resolution coverage bitmaps (Felzenszwalb-Huttenlocher
 // exact Euclidean distance transform), for the SDF glyph atlas.

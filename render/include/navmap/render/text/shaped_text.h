@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Result of shaping one UTF-8 string: glyphs with their font, advances and offsets in em units.
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // GL-free descriptions of label text to draw, screen-space and world-space (DESIGN.md: SS
 // labels in bird's-eye, WS labels in snail's view). The GL layer consumes them.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The CPU text pipeline in one object for the renderer: fonts, shaping with a cache of shaped
 // runs, the SDF atlas, layout and metrics. GL-free; one per render thread.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Shaped text -> glyph quads in pixels relative to the label anchor, and text metrics for
 // the label layout's boxes (seed 4.4.4 OOBBs).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // HarfBuzz shaping of UTF-8 label text with per-character font fallback.
 

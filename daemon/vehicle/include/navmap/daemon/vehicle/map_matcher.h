@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // MapMatcher: snaps a position onto the road graph: the nearest drivable edge segment with
 // heading agreement, with hysteresis towards the previously matched edge and its neighbours.

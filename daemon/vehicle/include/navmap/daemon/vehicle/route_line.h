@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // RouteLine: the active route as a store-frame polyline with measures, and matching a position
 // onto it (nearest segment with heading agreement, preferring the neighbourhood of the previous

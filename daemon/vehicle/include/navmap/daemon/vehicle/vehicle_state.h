@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // VehicleState: an immutable snapshot of the estimator (fused anchors at GNSS fix times, the
 // speed/yaw-rate samples since, the map-matching state). The input thread publishes it as

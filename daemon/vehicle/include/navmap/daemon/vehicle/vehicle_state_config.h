@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Tuning of the vehicle-state estimator and the map matcher (docs/vehicle-state.md). Times in
 // seconds, distances in metres, angles in degrees.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // VehicleStateEstimator: fuses GNSS fixes (1-10 Hz) with speed and yaw rate (50-100 Hz) from
 // ipc::VehicleDecoder into a smooth pose at any requested time, map-matched onto the active route
