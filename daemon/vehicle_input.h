@@ -1,9 +1,10 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// The input thread: CAN frames from a candump replay, the in-process simulator or SocketCAN go
-// through the DBC decoder into the vehicle state estimator, which publishes immutable
-// snapshots; the render thread reads the newest one (never waits). The active route comes from
-// the control socket's snapshots and is applied on this thread (the estimator's only owner).
+// The input thread: CAN frames from one CanSource (a candump replay, the in-process simulator or
+// SocketCAN, can_sources.h) go through the DBC decoder into the vehicle state estimator, which
+// publishes immutable snapshots; the render thread reads the newest one (never waits). The
+// active route arrives as an immutable RouteLine (RouteState converts the control socket's route
+// once) and is applied on this thread, the estimator's only owner.
 
 #include <atomic>
 #include <memory>
@@ -12,17 +13,13 @@
 #include <thread>
 
 #include "config.h"
+#include "navmap/daemon/vehicle/can_source.h"
+#include "navmap/daemon/vehicle/route_line.h"
 #include "navmap/daemon/vehicle/vehicle_state.h"
 #include "navmap/daemon/vehicle/vehicle_state_estimator.h"
 #include "navmap/ipc/control_state.h"
 #include "navmap/ipc/vehicle_decoder.h"
 #include "navmap/render/map_scene.h"
-
-namespace navmap::ipc {
-class CandumpFileSource;
-class Replayer;
-class SocketCanSource;
-}  // namespace navmap::ipc
 
 namespace navmap::daemon {
 
@@ -57,6 +54,10 @@ public:
     void start();
     void stop();
 
+    /// The route the estimator matches the pose onto (null: none); thread-safe, applied by the
+    /// input thread within a few milliseconds.
+    void setRoute(std::shared_ptr<const RouteLine> route);
+
     /// The newest estimator snapshot (never null).
     [[nodiscard]] std::shared_ptr<const VehicleState> state() const { return m_state.load(); }
     [[nodiscard]] VehicleInputStats stats() const;
@@ -64,17 +65,20 @@ public:
 private:
     void run();
     void consume(const ipc::CanFrame& frame);
-    void reportReplayFile();
+    void applyRoute();
 
-    std::shared_ptr<ipc::ControlState> m_control;
+    // A route handed over by setRoute(): a new object per call, so that "no route" is a change too.
+    struct RouteUpdate {
+        std::shared_ptr<const RouteLine> line;
+    };
+
     std::unique_ptr<ipc::VehicleDecoder> m_decoder;
     std::unique_ptr<VehicleStateEstimator> m_estimator;
-    std::unique_ptr<ipc::Replayer> m_replayer;
-    const ipc::CandumpFileSource* m_replay_file = nullptr;  // owned by m_replayer
-    bool m_logged_malformed = false;
-    std::unique_ptr<ipc::SocketCanSource> m_can;
+    std::unique_ptr<CanSource> m_source;  // null: no source (m_stats.error says why)
+    CanSourceStatus m_source_status;
     std::atomic<std::shared_ptr<const VehicleState>> m_state;
-    std::uint64_t m_route_version = 0;
+    std::atomic<std::shared_ptr<const RouteUpdate>> m_route_update;
+    std::shared_ptr<const RouteUpdate> m_applied_route;
     std::atomic<bool> m_running{false};
     std::thread m_thread;
     mutable std::mutex m_stats_mutex;

@@ -59,15 +59,6 @@ void VehicleStateEstimator::setRoute(std::shared_ptr<const RouteLine> route) {
     changed();
 }
 
-void VehicleStateEstimator::setRouteLatLon(const std::string& id, const std::vector<std::pair<double, double>>& latLon) {
-    std::vector<map::PlanarPoint> pts;
-    pts.reserve(latLon.size());
-    for (const auto& [lat, lon] : latLon) {
-        pts.push_back(m_projection.forward(lat, lon));
-    }
-    setRoute(std::make_shared<RouteLine>(id, pts));
-}
-
 std::shared_ptr<const VehicleState> VehicleStateEstimator::snapshot() const {
     if (!m_snapshot) {
         m_snapshot = std::make_shared<const VehicleState>(m_state);

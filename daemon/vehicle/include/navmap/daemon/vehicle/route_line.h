@@ -29,6 +29,8 @@ public:
     [[nodiscard]] const std::string& id() const { return m_id; }
     [[nodiscard]] double lengthM() const { return m_measures.empty() ? 0.0 : m_measures.back(); }
     [[nodiscard]] const std::vector<map::PlanarPoint>& points() const { return m_points; }
+    /// Distance from the route start at each point, metres (same size as points()).
+    [[nodiscard]] const std::vector<double>& measures() const { return m_measures; }
 
     /// Best match within cfg.matchRadiusM, or nullopt. `previousMeasure` (if any) penalises
     /// jumps along the route.

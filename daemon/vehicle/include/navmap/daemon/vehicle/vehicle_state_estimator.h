@@ -44,8 +44,6 @@ public:
 
     /// Sets the active route (store frame) for matching and progress; null clears it.
     void setRoute(std::shared_ptr<const RouteLine> route);
-    /// Route from WGS84 points (the control protocol's set_route), projected to the store frame.
-    void setRouteLatLon(const std::string& id, const std::vector<std::pair<double, double>>& latLon);
 
     /// The latest immutable snapshot (rebuilt lazily after input). Never null.
     [[nodiscard]] std::shared_ptr<const VehicleState> snapshot() const;

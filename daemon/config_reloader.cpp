@@ -1,0 +1,34 @@
+#include "config_reloader.h"
+
+namespace navmap::daemon {
+
+void ConfigReloader::reload(ipc::ControlState& control, DisplayScheduler& displays) {
+    if (!m_path) return;
+    ConfigError error;
+    auto fresh = loadConfig(*m_path, &error);
+    if (fresh) {
+        // What a reload does not change (store, input, sockets, ...) keeps its running value,
+        // command-line overrides and built-in defaults included, so the file is validated as it
+        // will run.
+        DaemonConfig merged = m_running;
+        merged.night = fresh->night;
+        merged.profiles = fresh->profiles;
+        fresh = std::move(merged);
+    }
+    if (!fresh || !validateConfig(*fresh, &error)) {
+        m_log(Log::kErr, "reload: %s (keeping the running configuration)", error.message.c_str());
+        ++m_errors;
+        m_last_error = error.message;
+        return;
+    }
+    // Style and per-profile view settings change in place; clients stay connected.
+    ipc::SetStyleCommand style;
+    style.style = fresh->night ? ipc::MapStyle::Night : ipc::MapStyle::Day;
+    (void)control.setStyle(style);
+    m_running.night = fresh->night;
+    displays.reconfigure(fresh->profiles);
+    ++m_reloads;
+    m_log(Log::kNotice, "reloaded %s: style %s", m_path->c_str(), fresh->night ? "night" : "day");
+}
+
+}  // namespace navmap::daemon

@@ -1,0 +1,213 @@
+#include "display.h"
+
+#include <algorithm>
+
+#include <nlohmann/json.hpp>
+
+namespace navmap::daemon {
+
+namespace {
+
+// How long start-up frames wait for the tiles under the camera before they are published anyway
+// (a store that lacks the area, a disk that stalls): the display then shows what there is.
+constexpr auto kStartupTileWait = std::chrono::seconds(15);
+
+std::int64_t realtimeNs(ipc::CanTime t) { return std::chrono::duration_cast<std::chrono::nanoseconds>(t.time_since_epoch()).count(); }
+
+render::ViewMode viewFor(const DisplayProfile& p, const ipc::ViewState* state) {
+    if (state) {
+        const auto it = state->displays.find(p.name);
+        if (it != state->displays.end()) {
+            if (it->second.mode == ipc::ViewMode::Bird) return render::ViewMode::Bird;
+            if (it->second.mode == ipc::ViewMode::Snail) return render::ViewMode::Snail;
+        }
+    }
+    return p.view;
+}
+
+render::Orientation orientationFor(const DisplayProfile& p, const ipc::ViewState* state) {
+    if (state) {
+        const auto it = state->displays.find(p.name);
+        // Only an orientation set over the socket overrides the profile's.
+        if (it != state->displays.end() && it->second.orientationSet) {
+            return it->second.orientation == ipc::ViewOrientation::NorthUp ? render::Orientation::NorthUp
+                                                                           : render::Orientation::HeadingUp;
+        }
+    }
+    return p.orientation;
+}
+
+// The MapLibre-convention camera a display follows, if any: one set over the control socket wins;
+// a mode set there (bird or snail) means the rig's own view; otherwise the profile's camera.
+std::optional<render::MapLibreFollow> cameraFor(const DisplayProfile& p, const ipc::ViewState* state) {
+    if (state) {
+        const auto it = state->displays.find(p.name);
+        if (it != state->displays.end()) {
+            if (const auto& c = it->second.camera) return render::MapLibreFollow{c->zoom, c->pitch, c->bearing};
+            if (it->second.mode != ipc::ViewMode::Auto) return std::nullopt;
+        }
+    }
+    return p.camera;
+}
+
+}  // namespace
+
+Display::Display(DisplayProfile profile, int target, std::shared_ptr<map::TileCache> cache,
+                 std::unique_ptr<AttributionOverlay> attribution, Clock::time_point started, Log log)
+    : m_profile(std::move(profile)),
+      m_target(target),
+      m_started(started),
+      m_log(log),
+      m_map_view(std::move(cache)),
+      m_attribution(std::move(attribution)) {
+    m_rig.setMode(m_profile.view);
+    m_rig.setOrientation(m_profile.orientation);
+}
+
+void Display::reconfigure(const DisplayProfile& p, std::unique_ptr<AttributionOverlay> attribution) {
+    m_profile.fps = p.fps;
+    m_profile.view = p.view;
+    m_profile.orientation = p.orientation;
+    m_profile.roads = p.roads;
+    m_profile.glow_roads = p.glow_roads;
+    m_profile.label_aura = p.label_aura;
+    m_profile.road_selection = p.road_selection;
+    if (p.attribution != m_profile.attribution) {
+        m_profile.attribution = p.attribution;
+        m_attribution = std::move(attribution);
+    }
+    m_profile.camera = p.camera;
+}
+
+void Display::draw(render::Renderer& renderer, const PoseSource& poses, const FrameContext& context,
+                   const map::Projection& projection) {
+    m_frame_start = Clock::now();
+    const double dt = m_last_frame == Clock::time_point{} ? 0.0 : std::chrono::duration<double>(m_frame_start - m_last_frame).count();
+    m_last_frame = m_frame_start;
+    m_rig.setMode(viewFor(m_profile, context.view_state));
+    m_rig.setOrientation(orientationFor(m_profile, context.view_state));
+    if (const auto camera = cameraFor(m_profile, context.view_state); camera != m_rig.mapLibreFollow()) {
+        if (camera) m_rig.setMapLibreFollow(*camera, projection, m_profile.height);
+        else m_rig.clearMapLibreFollow();
+    }
+    // The freshest pose for this display: displays render one after another, and a pose taken
+    // at the start of the tick would age by the renders before this one.
+    const FramePose pose = poses.at(ipc::CanClock::now());
+    m_frame_source = pose.source_time;
+    m_last_pose = pose.vehicle;
+    const GroundHeight& ground = poses.ground();
+    render::MapFrame frame;
+    frame.camera = m_rig.update(pose.vehicle, std::min(dt, 0.5), [&ground](double x, double y) { return ground(x, y); });
+    m_map_view.select(frame, double(m_profile.width) / m_profile.height, m_profile.height);  // tiles + geomorph
+    frame.route = context.route;
+    frame.route_progress_m = context.route_progress_m;
+    frame.layers = layersFor(m_profile, context.labels);
+    frame.frame_dt_s = std::min(dt, 0.5);
+    frame.marker = pose.marker;
+    renderer.useTarget(m_target);
+    renderer.setMapStyle(context.style);
+    renderer.renderMap(frame);
+    m_stats.tiles_drawn = renderer.mapStats().tiles_drawn;
+    m_stats.tiles_pending = renderer.mapStats().tiles_pending;
+    m_stats.tiles_wanted = m_map_view.lastSelection().wanted.size();
+    m_stats.tiles_uploaded += renderer.mapStats().tiles_uploaded;
+}
+
+void Display::finishFrame(render::Renderer& renderer, ipc::FrameServer& frames, Clock::time_point tick) {
+    const std::uint64_t seq = m_sequence++;
+    m_source_times[seq] = m_frame_source;
+    if (m_first_complete == kNone) {
+        const bool complete = m_stats.tiles_drawn > 0 && m_stats.tiles_pending == 0 && m_stats.tiles_wanted == 0;
+        const bool overdue = tick - m_started > kStartupTileWait;
+        if (complete || overdue) {
+            m_first_complete = seq;
+            if (overdue && !complete) {
+                m_log(Log::kWarning, "profile %s: map tiles still loading after %.0f s (%zu wanted, %zu waiting for upload); publishing anyway",
+                      m_profile.name.c_str(), std::chrono::duration<double>(kStartupTileWait).count(), m_stats.tiles_wanted,
+                      m_stats.tiles_pending);
+            } else {
+                m_log(Log::kInfo, "profile %s: map ready after %.0f ms (%llu frames held back)", m_profile.name.c_str(),
+                      std::chrono::duration<double, std::milli>(Clock::now() - m_started).count(),
+                      static_cast<unsigned long long>(seq));
+            }
+        }
+    }
+    // The ring hands back a frame only when full; collect what has finished now so frames leave
+    // in the tick that rendered them.
+    std::vector<render::Frame> finished;
+    if (auto oldest = renderer.readAsync(seq)) finished.push_back(std::move(*oldest));
+    for (auto& f : renderer.collectReadbacks()) finished.push_back(std::move(f));
+    publish(finished, frames);
+    ++m_stats.rendered;
+    const double frame_ms = std::chrono::duration<double, std::milli>(Clock::now() - m_frame_start).count();
+    m_stats.frame_ms.add(frame_ms);
+    m_stats.frame_s_sum += frame_ms / 1000.0;
+}
+
+void Display::collect(render::Renderer& renderer, ipc::FrameServer& frames) {
+    renderer.useTarget(m_target);
+    auto done = renderer.collectReadbacks();
+    publish(done, frames);
+}
+
+// Publishes finished readbacks, oldest first, with the CAN time behind each pose.
+void Display::publish(std::vector<render::Frame>& finished, ipc::FrameServer& frames) {
+    for (auto& done : finished) {
+        if (done.sequence < m_first_complete) {
+            ++m_stats.held_back;  // rendered before the map under the camera was drawable
+            m_source_times.erase(m_source_times.begin(), m_source_times.upper_bound(done.sequence));
+            continue;
+        }
+        if (m_attribution && done.image.width == m_profile.width && done.image.height == m_profile.height) {
+            m_attribution->apply(done.image.rgba.data(), done.image.width * 4);
+        }
+        ipc::FrameView fv;
+        fv.pixels = done.image.rgba.data();
+        fv.width = done.image.width;
+        fv.height = done.image.height;
+        fv.format = ipc::PixelFormat::Rgba8;
+        const auto it = m_source_times.find(done.sequence);
+        const ipc::CanTime source = it != m_source_times.end() ? it->second : ipc::CanTime{};
+        fv.sourceTimeNs = realtimeNs(source);
+        frames.publish(m_profile.name, fv);  // routed by profile: same view and size, other style
+        ++m_stats.published;
+        if (source != ipc::CanTime{}) {
+            const double latency_ms = std::chrono::duration<double, std::milli>(ipc::CanClock::now() - source).count();
+            m_stats.latency_ms.add(latency_ms);
+            m_stats.latency_s_sum += latency_ms / 1000.0;
+            ++m_stats.latency_count;
+        }
+        m_source_times.erase(m_source_times.begin(), m_source_times.upper_bound(done.sequence));
+    }
+}
+
+// Start-up: frames wait for the tiles under the camera, and the frame server drops a client
+// without a first frame after handshake_timeout_s. Its clients get a status meanwhile:
+// "loading", how many tiles are still wanted, how many frames were held back. Each one restarts
+// that timeout; the first frame ends them.
+void Display::sendLoadingStatus(const std::vector<ipc::ActiveProfile>& active, ipc::FrameServer& frames, Clock::time_point now) {
+    if (m_stats.published > 0) return;
+    std::size_t clients = 0;
+    for (const auto& a : active) {
+        if (a.view == m_profile.stream_view && a.width == m_profile.width && a.height == m_profile.height) clients += a.clients;
+    }
+    const bool new_client = clients > m_status_clients;
+    m_status_clients = clients;
+    if (clients == 0 || (!new_client && now - m_last_status_sent < std::chrono::seconds(1))) return;
+    m_last_status_sent = now;
+    const nlohmann::ordered_json status = {  // in the documented order, for people reading it
+        {"state", "loading"},
+        {"profile", m_profile.name},
+        {"view", m_profile.stream_view},
+        {"tiles_wanted", m_stats.tiles_wanted},
+        {"held_back", m_stats.held_back},
+        {"waited_ms", std::chrono::duration_cast<std::chrono::milliseconds>(now - m_started).count()},
+        {"max_wait_ms", std::chrono::duration_cast<std::chrono::milliseconds>(kStartupTileWait).count()}};
+    if (auto st = frames.publishStatus(m_profile.name, m_profile.width, m_profile.height,
+                                       status.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace));
+        !st) {
+        m_log(Log::kWarning, "profile %s: %s", m_profile.name.c_str(), st.message().c_str());
+    }
+}
+
+}  // namespace navmap::daemon

@@ -1,0 +1,113 @@
+#pragma once
+// Display: one display profile as navmapd renders it: its offscreen target in the shared
+// renderer, its tile selection (MapView), camera rig and attribution overlay, the frames it has
+// in flight (sequence -> CAN time behind the pose, for latency) and its counters. It renders a
+// frame when the DisplayScheduler says so, publishes finished readbacks to the frame server, and
+// holds its frames back until one shows the map under its camera (docs/navmapd.md "Start-up").
+// Render thread only.
+
+#include <chrono>
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "attribution_overlay.h"
+#include "log.h"
+#include "navmap/ipc/control_state.h"
+#include "navmap/ipc/frame_server.h"
+#include "navmap/render/camera_rig.h"
+#include "navmap/render/map_view.h"
+#include "navmap/render/renderer.h"
+#include "pose_source.h"
+#include "profiles.h"
+#include "sample_window.h"
+
+namespace navmap::daemon {
+
+/// A display's counters (status, /metrics, the exit summary).
+struct DisplayStats {
+    std::uint64_t rendered = 0, published = 0;
+    std::uint64_t skipped_idle = 0;                    ///< due frames not rendered: nobody watched
+    SampleWindow frame_ms, latency_ms;                 ///< the last 600 frames
+    double frame_s_sum = 0.0, latency_s_sum = 0.0;     ///< since the start (/metrics summaries)
+    std::uint64_t latency_count = 0;
+    std::size_t tiles_drawn = 0, tiles_pending = 0;    ///< last frame
+    std::size_t tiles_wanted = 0;                      ///< last frame: tiles the view still waits for
+    std::uint64_t tiles_uploaded = 0;                  ///< GPU tile uploads of this display's frames
+    std::uint64_t held_back = 0;                       ///< frames not published while the map loaded
+};
+
+/// What all displays' frames of one tick share.
+struct FrameContext {
+    const ipc::ViewState* view_state = nullptr;  ///< the control socket's view settings (may be null)
+    render::MapStyle style;
+    const render::RouteGeometry* route = nullptr;
+    double route_progress_m = 0.0;
+    bool labels = true;
+};
+
+class Display {
+public:
+    using Clock = std::chrono::steady_clock;
+
+    /// `target`: this display's offscreen target in the shared renderer; `started`: the daemon's
+    /// start (the start-up wait counts from there).
+    Display(DisplayProfile profile, int target, std::shared_ptr<map::TileCache> cache,
+            std::unique_ptr<AttributionOverlay> attribution, Clock::time_point started, Log log);
+
+    [[nodiscard]] const DisplayProfile& profile() const { return m_profile; }
+    [[nodiscard]] int target() const { return m_target; }
+    [[nodiscard]] const DisplayStats& stats() const { return m_stats; }
+    [[nodiscard]] bool hasAttribution() const { return m_attribution != nullptr; }
+    /// False until a frame showed the map under the camera (or the start-up wait ran out).
+    [[nodiscard]] bool mapReady() const { return m_first_complete != kNone; }
+    /// Frames rendered whose readback has not been published yet.
+    [[nodiscard]] bool inFlight() const { return !m_source_times.empty(); }
+    /// The pose of the last rendered frame (tests: every display stands the vehicle on the same ground).
+    [[nodiscard]] const render::VehiclePose& lastPose() const { return m_last_pose; }
+
+    /// Reload: the settings of `p` (same size); `attribution` replaces the overlay when the
+    /// profile's attribution setting changed.
+    void reconfigure(const DisplayProfile& p, std::unique_ptr<AttributionOverlay> attribution);
+    void skipIdle() { ++m_stats.skipped_idle; }
+
+    /// Renders one frame into this display's target with the pose of this moment.
+    void draw(render::Renderer& renderer, const PoseSource& poses, const FrameContext& context,
+              const map::Projection& projection);
+    /// After draw(): numbers the frame, publishes the readbacks that have finished, times the
+    /// frame. `tick`: when the loop's tick began (the start-up wait is measured to it).
+    void finishFrame(render::Renderer& renderer, ipc::FrameServer& frames, Clock::time_point tick);
+    /// Publishes readbacks finished since (polled while frames are in flight).
+    void collect(render::Renderer& renderer, ipc::FrameServer& frames);
+    /// Until the first frame is published, the display's stream clients get a loading status: at
+    /// once for a new client, then about once a second.
+    void sendLoadingStatus(const std::vector<ipc::ActiveProfile>& active, ipc::FrameServer& frames, Clock::time_point now);
+
+private:
+    static constexpr std::uint64_t kNone = ~std::uint64_t{0};
+    void publish(std::vector<render::Frame>& finished, ipc::FrameServer& frames);
+
+    DisplayProfile m_profile;
+    int m_target;
+    Clock::time_point m_started;
+    Log m_log;
+    render::MapView m_map_view;
+    render::CameraRig m_rig;
+    std::unique_ptr<AttributionOverlay> m_attribution;
+    // The frame being drawn (draw -> finishFrame).
+    Clock::time_point m_frame_start{}, m_last_frame{};
+    ipc::CanTime m_frame_source{};
+    render::VehiclePose m_last_pose;
+    std::uint64_t m_sequence = 0;
+    std::map<std::uint64_t, ipc::CanTime> m_source_times;  // sequence -> CAN time behind the pose
+    // Start-up: no frame leaves before one shows the camera's tiles at their level of detail,
+    // uploaded (not sky, not a coarse parent). Frames before it are dropped.
+    std::uint64_t m_first_complete = kNone;
+    Clock::time_point m_last_status_sent{};
+    std::size_t m_status_clients = 0;
+    DisplayStats m_stats;
+};
+
+}  // namespace navmap::daemon

@@ -1,0 +1,21 @@
+#include "pose_source.h"
+
+namespace navmap::daemon {
+
+FramePose PoseSource::at(ipc::CanTime t) const {
+    const EstimatedPose pose = m_state()->poseAt(t);
+    FramePose frame;
+    frame.source_time = pose.sourceTime;
+    if (pose.valid) {
+        frame.vehicle.position = {pose.x, pose.y, m_ground(pose.x, pose.y)};
+        frame.vehicle.heading_deg = pose.headingDeg;
+        frame.vehicle.speed_mps = pose.speedMps;
+        frame.marker = render::MarkerState{frame.vehicle.position, frame.vehicle.heading_deg, pose.stale};
+    } else {
+        // No fix yet: look at the middle of the map.
+        frame.vehicle.position = {m_middle.x, m_middle.y, m_ground(m_middle.x, m_middle.y)};
+    }
+    return frame;
+}
+
+}  // namespace navmap::daemon

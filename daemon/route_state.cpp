@@ -1,0 +1,36 @@
+#include "route_state.h"
+
+#include <algorithm>
+#include <vector>
+
+namespace navmap::daemon {
+
+bool RouteState::update(const std::shared_ptr<const ipc::RouteState>& route) {
+    if (!route || route->version == m_version) return false;
+    m_version = route->version;
+    ++m_conversions;
+    m_id = route->id;
+    m_control_points = route->points.size();
+    m_driven_m = 0.0;
+    std::vector<map::PlanarPoint> points;
+    points.reserve(route->points.size());
+    for (const auto& p : route->points) points.push_back(m_projection.forward(p.lat, p.lon));
+    m_line = points.size() >= 2 ? std::make_shared<const RouteLine>(m_id, points) : nullptr;
+    // The renderers re-drape the route when the geometry's version changes.
+    const std::uint64_t geometry_version = m_geometry.version + 1;
+    m_geometry = {};
+    m_geometry.version = geometry_version;
+    if (m_line) {
+        for (const auto& p : m_line->points()) m_geometry.points.emplace_back(p.x, p.y, 0.0);
+        m_geometry.measure_m = m_line->measures();
+    }
+    return true;
+}
+
+void RouteState::track(const EstimatedPose& pose) {
+    if (pose.onRoute) m_driven_m = std::max(m_driven_m, pose.routeDrivenM);
+}
+
+double RouteState::remainingM() const { return std::max(0.0, lengthM() - m_driven_m); }
+
+}  // namespace navmap::daemon

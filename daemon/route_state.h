@@ -1,0 +1,59 @@
+#pragma once
+// RouteState: the control socket's active route (set_route, latitude/longitude) converted once per
+// route version into the store frame, as the one RouteLine that both of its users share: the
+// estimator matches the pose onto it (input thread, via VehicleInput::setRoute) and the renderers
+// drape its RouteGeometry, made from the same points and measures. So the route's length, the
+// distance driven along it and the distance remaining all come from one computation. Render
+// thread only; line() is immutable and may be handed to other threads.
+
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include "navmap/daemon/vehicle/route_line.h"
+#include "navmap/daemon/vehicle/vehicle_state.h"
+#include "navmap/ipc/control_state.h"
+#include "navmap/map/projection.h"
+#include "navmap/render/map_frame.h"
+
+namespace navmap::daemon {
+
+class RouteState {
+public:
+    explicit RouteState(map::Projection projection) : m_projection(std::move(projection)) {}
+
+    /// Takes the control socket's newest route snapshot; converts it when its version is new and
+    /// returns true then (the caller hands line() to the estimator). A null snapshot (no route
+    /// set, or cleared) leaves the current route as it is.
+    bool update(const std::shared_ptr<const ipc::RouteState>& route);
+    /// Progress: the furthest distance driven along the route of a pose matched onto it.
+    void track(const EstimatedPose& pose);
+
+    /// The route's id; empty before the first set_route.
+    [[nodiscard]] const std::string& id() const { return m_id; }
+    /// The store-frame route for map matching; null when the route has fewer than two points.
+    [[nodiscard]] const std::shared_ptr<const RouteLine>& line() const { return m_line; }
+    /// What the renderers drape; null when there is no line of two points or more.
+    [[nodiscard]] const render::RouteGeometry* geometry() const { return m_geometry.points.size() >= 2 ? &m_geometry : nullptr; }
+    /// Route length, metres (0 without a line).
+    [[nodiscard]] double lengthM() const { return m_line ? m_line->lengthM() : 0.0; }
+    /// The furthest distance driven along the route so far, metres.
+    [[nodiscard]] double drivenM() const { return m_driven_m; }
+    [[nodiscard]] double remainingM() const;
+    /// Points the control socket gave for the route (the line drops repeated points).
+    [[nodiscard]] std::size_t controlPoints() const { return m_control_points; }
+    /// How many control routes were converted (one per route version).
+    [[nodiscard]] std::uint64_t conversions() const { return m_conversions; }
+
+private:
+    map::Projection m_projection;
+    std::uint64_t m_version = ~std::uint64_t{0};  // control snapshot version converted last
+    std::string m_id;
+    std::size_t m_control_points = 0;
+    std::shared_ptr<const RouteLine> m_line;
+    render::RouteGeometry m_geometry;
+    double m_driven_m = 0.0;
+    std::uint64_t m_conversions = 0;
+};
+
+}  // namespace navmap::daemon

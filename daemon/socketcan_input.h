@@ -1,0 +1,35 @@
+#pragma once
+// SocketCanInput: the vehicle's CAN bus as a CanSource, through ipc::SocketCanSource (kernel
+// filters for the decoder's frames, re-opened with backoff while the interface is down).
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "navmap/daemon/vehicle/can_source.h"
+
+namespace navmap::ipc {
+class SocketCanSource;
+}
+
+namespace navmap::daemon {
+
+class SocketCanInput final : public CanSource {
+public:
+    /// `frame_keys`: the frames the decoder knows (CAN_RAW_FILTER); the socket opens on first poll.
+    SocketCanInput(std::string interface_name, std::vector<std::uint32_t> frame_keys);
+    ~SocketCanInput() override;
+
+    [[nodiscard]] std::string name() const override { return "socketcan " + m_interface; }
+    void start(ipc::CanTime) override {}
+    void poll(ipc::CanTime now, const ipc::FrameSink& sink) override;
+    /// Wakes as soon as frames arrive.
+    void wait(std::chrono::milliseconds timeout) override;
+    void report(CanSourceStatus& status) override;
+
+private:
+    std::string m_interface;
+    std::unique_ptr<ipc::SocketCanSource> m_can;
+};
+
+}  // namespace navmap::daemon

@@ -1,0 +1,30 @@
+#include "status_reporter.h"
+
+namespace navmap::daemon {
+
+void StatusReporter::update(Clock::time_point now, const EstimatedPose& pose) {
+    if (now - m_last <= std::chrono::seconds(1)) return;
+    m_last = now;
+    StatusSample s;
+    s.uptime_s = std::chrono::duration<double>(now - m_started).count();
+    s.config_path = m_parts.reloader.path();
+    s.night = m_parts.config.night;
+    s.reloads = m_parts.reloader.reloads();
+    s.reload_errors = m_parts.reloader.errors();
+    s.last_reload_error = m_parts.reloader.lastError();
+    s.input = m_parts.input.stats();
+    s.road_graph = m_parts.road_graph;
+    s.pose = pose;
+    s.route_id = m_parts.route.id();
+    s.route_driven_m = m_parts.route.drivenM();
+    s.displays = &m_parts.displays.displays();
+    s.stream = m_parts.frames.stats();
+    s.control = m_parts.control.stats();
+    s.cache = m_parts.cache.metrics();
+    s.memory = processMemory();
+    m_status.publish(s);
+    m_metrics.update(s);
+    m_systemd.status(DaemonStatus::systemdLine(s));
+}
+
+}  // namespace navmap::daemon

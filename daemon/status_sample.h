@@ -1,0 +1,39 @@
+#pragma once
+// StatusSample: what navmapd reports about itself, gathered once a second on the render thread
+// and turned into the get_status / GET /status object (DaemonStatus) and the /metrics families
+// (DaemonMetrics).
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "display.h"
+#include "navmap/daemon/vehicle/vehicle_state.h"
+#include "navmap/ipc/control_server.h"
+#include "navmap/ipc/frame_server.h"
+#include "navmap/map/tile_cache.h"
+#include "process_memory.h"
+#include "vehicle_input.h"
+
+namespace navmap::daemon {
+
+struct StatusSample {
+    double uptime_s = 0.0;
+    std::string config_path;   ///< empty: no file
+    bool night = false;
+    std::uint64_t reloads = 0, reload_errors = 0;  ///< SIGHUP: applied / refused
+    std::string last_reload_error;
+    VehicleInputStats input;
+    std::string road_graph;    ///< "ok" or "unavailable: <why>"
+    EstimatedPose pose;
+    std::string route_id;      ///< empty: no route
+    double route_driven_m = 0.0;
+    const std::vector<std::unique_ptr<Display>>* displays = nullptr;  ///< never null when published
+    ipc::FrameServerStats stream;
+    ipc::ControlServerStats control;
+    map::TileCacheMetrics cache;
+    ProcessMemory memory;
+};
+
+}  // namespace navmap::daemon

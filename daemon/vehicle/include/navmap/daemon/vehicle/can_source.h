@@ -1,0 +1,42 @@
+#pragma once
+// CanSource: where navmapd's input thread takes its CAN frames from: SocketCAN, a candump replay
+// or the drive simulator (sim/can_source). Each hands over plain CAN frames, which the one DBC
+// decoder (ipc::VehicleDecoder) turns into vehicle samples for the estimator, so the input thread
+// treats them all alike. A source is owned and called by the input thread only.
+
+#include <chrono>
+#include <cstdint>
+#include <string>
+
+#include "navmap/ipc/can_frame.h"
+#include "navmap/ipc/replayer.h"  // FrameSink
+
+namespace navmap::daemon {
+
+/// What a source reports for status and /metrics; fields a source has no part in stay zero.
+struct CanSourceStatus {
+    std::uint64_t can_error_frames = 0, can_bus_off = 0, can_kernel_drops = 0;
+    std::string can_state;                     ///< "open", "retrying: bind(can0): No such device"
+    std::uint64_t replay_loops = 0;
+    std::uint64_t replay_malformed_lines = 0;  ///< skipped lines of the replayed log (all passes)
+    std::uint64_t replay_time_errors = 0;      ///< frames whose time did not fit the clock
+    std::string error;                         ///< why the source gives no (more) frames; empty while it works
+};
+
+class CanSource {
+public:
+    virtual ~CanSource() = default;
+
+    /// What status calls it: "replay <file>", "sim <from> -> <to>", "socketcan can0".
+    [[nodiscard]] virtual std::string name() const = 0;
+    /// The input thread starts: a replay's first frame is due at `now`.
+    virtual void start(ipc::CanTime now) = 0;
+    /// Passes the frames that are due at `now` (or have arrived) to `sink`, oldest first; never blocks.
+    virtual void poll(ipc::CanTime now, const ipc::FrameSink& sink) = 0;
+    /// Sleeps until frames may be ready, at most `timeout`.
+    virtual void wait(std::chrono::milliseconds timeout) = 0;
+    /// Updates `status` with the source's counters; a problem is logged the first time it shows.
+    virtual void report(CanSourceStatus& status) = 0;
+};
+
+}  // namespace navmap::daemon

@@ -1,0 +1,52 @@
+#pragma once
+// SimulatedCanSource: navmapd's in-process simulator as a daemon CanSource. The simulated drive
+// (route, speed profile) is encoded by the GNSS node emulation (FrameGenerator) into navmap.dbc
+// frames: position, and speed and yaw rate in NAV_Motion, the same frames a real GNSS node puts
+// on the bus. They are played with real timing, looping, and go through the daemon's DBC decoder
+// like frames of any other source. Input thread only (after construction).
+
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "navmap/daemon/vehicle/can_source.h"
+
+namespace navmap::ipc {
+class Replayer;
+}
+
+namespace navmap::sim {
+
+struct SimulatedDriveRequest {
+    std::filesystem::path store;  ///< compiled tile store
+    std::filesystem::path dbc;    ///< navmap.dbc, the frames' layout
+    std::string from;             ///< "lat,lon" or a place name
+    std::string to;
+    double speed_factor = 1.0;    ///< playback speed (2 = twice as fast)
+};
+
+class SimulatedCanSource final : public daemon::CanSource {
+public:
+    /// Plans the drive and generates its frames. Throws SimError naming the problem (store, DBC,
+    /// unknown place, no route).
+    explicit SimulatedCanSource(const SimulatedDriveRequest& request);
+    ~SimulatedCanSource() override;
+
+    /// The drive's route in degrees (latitude, longitude), for the control socket's set_route.
+    [[nodiscard]] const std::vector<std::pair<double, double>>& routeLatLon() const { return m_route; }
+
+    [[nodiscard]] std::string name() const override { return m_name; }
+    void start(ipc::CanTime now) override;
+    void poll(ipc::CanTime now, const ipc::FrameSink& sink) override;
+    void wait(std::chrono::milliseconds timeout) override;
+    void report(daemon::CanSourceStatus& status) override;
+
+private:
+    std::string m_name;
+    std::vector<std::pair<double, double>> m_route;
+    std::unique_ptr<ipc::Replayer> m_replayer;
+};
+
+}  // namespace navmap::sim

@@ -1,0 +1,44 @@
+#include "navmap/sim/simulated_can_source.h"
+
+#include <thread>
+
+#include "navmap/sim/drive_simulator.h"
+
+namespace navmap::sim {
+
+SimulatedCanSource::SimulatedCanSource(const SimulatedDriveRequest& request)
+    : m_name("sim " + request.from + " -> " + request.to) {
+    DriveRequest drive;
+    drive.store = request.store;
+    drive.dbc = request.dbc;
+    drive.from = request.from;
+    drive.to = request.to;
+    const DriveSimulator simulator = DriveSimulator::create(drive);
+    ipc::ReplayOptions replay;
+    replay.loop = true;
+    replay.restamp = true;
+    replay.speed = request.speed_factor;
+    m_replayer = simulator.replayer(replay);
+    const map::Projection projection = simulator.projection();
+    m_route.reserve(simulator.route().line.size());
+    for (const auto& p : simulator.route().line) {
+        double lat = 0, lon = 0;
+        projection.reverse(p.position, lat, lon);
+        m_route.emplace_back(lat, lon);
+    }
+}
+
+SimulatedCanSource::~SimulatedCanSource() = default;
+
+void SimulatedCanSource::start(ipc::CanTime now) { m_replayer->reset(now); }
+
+void SimulatedCanSource::poll(ipc::CanTime now, const ipc::FrameSink& sink) { m_replayer->advanceTo(now, sink); }
+
+void SimulatedCanSource::wait(std::chrono::milliseconds timeout) { std::this_thread::sleep_for(timeout); }
+
+void SimulatedCanSource::report(daemon::CanSourceStatus& status) {
+    status.replay_loops = m_replayer->loops();
+    status.replay_time_errors = m_replayer->timeErrors();
+}
+
+}  // namespace navmap::sim

@@ -1,0 +1,99 @@
+// DisplayScheduler with the no-op renderer on the Andorra store: every display renders the
+// vehicle on the same ground, whatever the order the profiles are listed in (the pose's height
+// comes from one terrain query, not from the first display's view).
+
+#include <gtest/gtest.h>
+
+#include <map>
+#include <thread>
+
+#include "display_scheduler.h"
+#include "navmap/daemon/vehicle/vehicle_state_estimator.h"
+#include "navmap/render/map_scene.h"
+#include "server_options.h"
+#include "test_paths.h"
+
+using namespace navmap;
+using namespace navmap::daemon;
+using namespace std::chrono_literals;
+
+namespace {
+
+std::filesystem::path storePath() { return test::binaryDir() / "andorra.navmap"; }
+
+// A vehicle standing in Andorra la Vella, heading north-east, with a fresh fix.
+std::shared_ptr<const VehicleState> standingVehicle(const map::Projection& projection) {
+    VehicleStateEstimator estimator(projection, nullptr);
+    const ipc::CanTime t = ipc::CanClock::now();
+    ipc::VehicleSample fix;
+    fix.set(ipc::VssSignal::Latitude, 42.50770, t);
+    fix.set(ipc::VssSignal::Longitude, 1.52190, t);
+    fix.set(ipc::VssSignal::Heading, 45.0, t);
+    fix.set(ipc::VssSignal::FixType, 5, t);
+    estimator.addSample(fix);
+    ipc::VehicleSample motion;
+    motion.set(ipc::VssSignal::Speed, 0.0, t);
+    motion.set(ipc::VssSignal::YawRate, 0.0, t);
+    estimator.addSample(motion);
+    return estimator.snapshot();
+}
+
+struct Heights {
+    std::map<std::string, double> by_display;  // the z each display rendered the vehicle at
+    double ground = 0.0;                       // the pose source's terrain query there
+};
+
+// Renders the profiles in the given order until every display has the tiles its camera wants.
+Heights renderInOrder(const std::vector<DisplayProfile>& profiles) {
+    render::MapScene scene = render::MapScene::open(storePath());
+    const auto vehicle = standingVehicle(scene.projection());
+    const PoseSource poses([vehicle] { return vehicle; }, scene.cache, scene.toPlanar(42.5, 1.5));
+    DaemonConfig config;
+    config.profiles = profiles;
+    const auto dir = std::filesystem::temp_directory_path() / ("navmap-scheduler-" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir);
+    config.frame_socket = dir / "frames.sock";
+    ipc::FrameServer frames(frameServerOptions(config));
+    EXPECT_TRUE(frames.start());
+    DisplayScheduler scheduler(config, {.noop_renderer = true, .render_all = true}, scene.cache, scene.projection(), frames,
+                               std::chrono::steady_clock::now(), Log(Log::kErr));
+    FrameContext context;
+    context.style = render::MapStyle::day();
+    bool settled = false;
+    for (int i = 0; i < 100 && !settled; ++i) {
+        (void)scheduler.tick(std::chrono::steady_clock::now() + std::chrono::seconds(i), poses, context);
+        settled = std::all_of(scheduler.displays().begin(), scheduler.displays().end(),
+                              [](const auto& d) { return d->stats().rendered > 1 && d->stats().tiles_wanted == 0; });
+        (void)scene.cache->waitIdle(200ms);
+    }
+    EXPECT_TRUE(settled) << "the displays' tiles did not load";
+    (void)scheduler.tick(std::chrono::steady_clock::now() + 200s, poses, context);  // one more frame, all resident
+    Heights h;
+    for (const auto& d : scheduler.displays()) h.by_display[d->profile().name] = d->lastPose().position.z;
+    const auto& p = scheduler.displays().front()->lastPose().position;
+    h.ground = poses.ground()(p.x, p.y);
+    frames.stop();
+    std::filesystem::remove_all(dir);
+    return h;
+}
+
+}  // namespace
+
+TEST(DisplayScheduler, ThePoseHeightDoesNotDependOnTheOrderOfTheDisplays) {
+    if (!std::filesystem::exists(storePath())) {
+        GTEST_SKIP() << "no compiled store at " << storePath() << " (build the navmap_default_store target)";
+    }
+    std::vector<DisplayProfile> profiles = defaultProfiles();  // cluster, hud, center
+    ASSERT_EQ(profiles.size(), 3u);
+    const Heights forward = renderInOrder(profiles);
+    std::reverse(profiles.begin(), profiles.end());
+    const Heights reversed = renderInOrder(profiles);
+
+    EXPECT_GT(forward.ground, 900.0) << "Andorra la Vella lies above 1000 m: the terrain was resident";
+    EXPECT_EQ(forward.ground, reversed.ground);
+    ASSERT_EQ(forward.by_display.size(), 3u);
+    for (const auto& [name, z] : forward.by_display) {
+        EXPECT_EQ(z, forward.ground) << name << " (cluster listed first)";
+        EXPECT_EQ(reversed.by_display.at(name), forward.ground) << name << " (center listed first)";
+    }
+}
