@@ -7,6 +7,12 @@
 
 namespace navmap::map::guidance {
 
+namespace {
+
+constexpr double kBackPenalty = 0.1;
+
+}  // namespace
+
 RouteProgressTracker::RouteProgressTracker(std::shared_ptr<const GuidanceRoute> route, ProgressConfig config)
     : m_route(std::move(route)), m_config(config) {
     if (!m_route) throw std::runtime_error("RouteProgressTracker: no route");
@@ -33,6 +39,7 @@ std::optional<RouteProgressTracker::Match> RouteProgressTracker::nearest(PlanarP
     const std::size_t last = std::min<std::size_t>(
         pts.size() - 1, static_cast<std::size_t>(std::upper_bound(ms.begin(), ms.end(), to_m) - ms.begin()));
     std::optional<Match> best;
+    double best_score = 0.0;
     for (std::size_t i = first; i < last; ++i) {
         const PlanarPoint a = pts[i];
         const PlanarPoint b = pts[i + 1];
@@ -46,8 +53,15 @@ std::optional<RouteProgressTracker::Match> RouteProgressTracker::nearest(PlanarP
         t = std::clamp(t, 0.0, 1.0);
         const PlanarPoint q{a.x + dx * t, a.y + dy * t};
         const double d = std::hypot(p.x - q.x, p.y - q.y);
-        // Strictly closer wins: at a tie (a place the route passes twice) the earlier pass does.
-        if (!best || d < best->distance) best = Match{ms[i] + seg * t, d, q};
+        const double measure = ms[i] + seg * t;
+        // Where the route passes a place twice (or comes back along the same road) two matches
+        // lie equally close: going back costs kBackPenalty metres per metre behind the progress,
+        // so the pass ahead wins; at an exact tie without progress the earlier pass does.
+        const double score = d + (m_started ? kBackPenalty * std::max(0.0, m_progress.measure_m - measure) : 0.0);
+        if (!best || score < best_score) {
+            best = Match{measure, d, q};
+            best_score = score;
+        }
     }
     return best;
 }
