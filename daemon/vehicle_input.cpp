@@ -2,13 +2,16 @@
 
 #include <chrono>
 #include <stdexcept>
+#include <variant>
 
 #include "navmap/ipc/candump_file_source.h"
+#include "navmap/ipc/control_protocol.h"
 #include "navmap/ipc/dbc_database.h"
 #include "navmap/ipc/replayer.h"
 #include "navmap/ipc/signal_map.h"
 #include "navmap/ipc/socketcan_source.h"
 #include "navmap/sim/drive_simulator.h"
+#include "navmap/sim/route_message.h"
 
 namespace navmap::daemon {
 
@@ -77,15 +80,12 @@ VehicleInput::VehicleInput(const DaemonConfig& config, const render::MapScene& s
             const sim::DriveSimulator simulator = sim::DriveSimulator::create(request);
             replay.speed = config.sim_speed_factor;
             m_replayer = simulator.replayer(replay);
-            // The simulated HMI sets the route it drives, as set_route over the control socket would.
-            ipc::SetRouteCommand route;
-            route.routeId = "sim";
-            const map::Projection projection = scene.projection();
-            for (const auto& p : simulator.route().line) {
-                double lat = 0, lon = 0;
-                projection.reverse(p.position, lat, lon);
-                route.points.push_back({lat, lon});
-            }
+            // The simulated HMI sets the route it drives with its maneuvers: the set_route line it
+            // would send over the control socket, through the same parser (docs/simulator.md).
+            const ipc::ControlParse parsed =
+                ipc::parseControlLine(sim::setRouteMessage(simulator.route(), scene.projection(), "sim"));
+            if (!parsed.command) throw std::runtime_error("simulated route: " + parsed.error);
+            const auto& route = std::get<ipc::SetRouteCommand>(parsed.command->body);
             if (auto st = m_control->setRoute(route); !st) throw std::runtime_error("simulated route: " + st.message());
             break;
         }
