@@ -2,6 +2,9 @@
 
 #include <cstdio>
 #include <stdexcept>
+#include <variant>
+
+#include "navmap/ipc/control_protocol.h"
 
 #include "navmap/sim/simulated_can_source.h"
 #include "replay_input.h"
@@ -27,10 +30,11 @@ OpenedCanSource openSimulator(const DaemonConfig& config, const CanSourceSite& s
     request.to = config.sim_to;
     request.speed_factor = config.sim_speed_factor;
     auto simulator = std::make_unique<sim::SimulatedCanSource>(request);
-    // The simulated HMI sets the route it drives, as set_route over the control socket would.
-    ipc::SetRouteCommand route;
-    route.routeId = "sim";
-    for (const auto& [lat, lon] : simulator->routeLatLon()) route.points.push_back({lat, lon});
+    // The simulated HMI sets the route it drives with its manoeuvres: the set_route line it would
+    // send over the control socket, through the same parser (docs/simulator.md).
+    const ipc::ControlParse parsed = ipc::parseControlLine(simulator->setRouteLine());
+    if (!parsed.command) throw std::runtime_error("simulated route: " + parsed.error);
+    const auto& route = std::get<ipc::SetRouteCommand>(parsed.command->body);
     if (auto st = control.setRoute(route); !st) throw std::runtime_error("simulated route: " + st.message());
     opened.source = std::move(simulator);
     return opened;

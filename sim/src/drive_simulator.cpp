@@ -36,6 +36,12 @@ DriveSimulator DriveSimulator::create(const DriveRequest& request) {
     auto route = planDriveRoute(graph, proj.forward(s.m_from.lat, s.m_from.lon), proj.forward(s.m_to.lat, s.m_to.lon));
     if (!route) throw SimError(request.from + " -> " + request.to + ": " + route.error().message);
     s.m_route = std::move(route).value();
+    // Street names for the maneuvers come from the tiles the route crosses (the graph keeps way ids).
+    std::vector<map::PlanarPoint> points;
+    points.reserve(s.m_route.line.size());
+    for (const map::RoutePoint& p : s.m_route.line) points.push_back(p.position);
+    const auto names = map::guidance::WayNames::alongRoute(*s.m_store, points);
+    s.m_route.maneuvers = graphManeuvers(graph, s.m_route.line, &names);
     s.m_profile = std::make_shared<const SpeedProfile>(SpeedProfile::build(s.m_route, request.drive));
     s.m_frames = request.frames;
     // Validate the frame options once, at setup.

@@ -315,7 +315,7 @@ std::string parseRoute(const json& obj, const ControlLimits& limits, SetRouteCom
             return where + ": must be an object";
         }
         Checker mc{m, {}};
-        if (!mc.allowOnly({"index", "type", "text"})) {
+        if (!mc.allowOnly({"index", "type", "text", "exit"})) {
             return where + ": " + mc.error;
         }
         Maneuver mv;
@@ -356,6 +356,23 @@ std::string parseRoute(const json& obj, const ControlLimits& limits, SetRouteCom
                 return where + ".text: longer than " + std::to_string(limits.maxStringBytes) + " bytes";
             }
             mv.text = text->get<std::string>();
+        }
+        const auto exit = m.find("exit");
+        if (exit != m.end()) {
+            if (mv.type != ManeuverType::Roundabout) {
+                return where + ".exit: only a roundabout maneuver has an exit number, not " +
+                       quote(maneuverTypeName(mv.type));
+            }
+            if (!exit->is_number_integer()) {
+                return where + ".exit: must be an integer";
+            }
+            const bool in_range = exit->is_number_unsigned()
+                                      ? exit->get<std::uint64_t>() >= 1 && exit->get<std::uint64_t>() <= kMaxRoundaboutExit
+                                      : exit->get<std::int64_t>() >= 1 && exit->get<std::int64_t>() <= kMaxRoundaboutExit;
+            if (!in_range) {
+                return where + ".exit: " + exit->dump() + " out of range [1, " + std::to_string(kMaxRoundaboutExit) + "]";
+            }
+            mv.exitNumber = exit->get<std::uint32_t>();
         }
         out.maneuvers.push_back(std::move(mv));
     }

@@ -3,6 +3,7 @@
 #include <thread>
 
 #include "navmap/sim/drive_simulator.h"
+#include "navmap/sim/route_message.h"
 
 namespace navmap::sim {
 
@@ -26,6 +27,7 @@ SimulatedCanSource::SimulatedCanSource(const SimulatedDriveRequest& request)
         projection.reverse(p.position, lat, lon);
         m_route.emplace_back(lat, lon);
     }
+    m_set_route = setRouteMessage(simulator.route(), projection, "sim");
 }
 
 SimulatedCanSource::~SimulatedCanSource() = default;

@@ -27,6 +27,23 @@ TEST(ControlProtocol, ParsesTheDocumentedSetRoute) {
     EXPECT_EQ(route.maneuvers[0].text, "CG-2");
 }
 
+TEST(ControlProtocol, RoundaboutManeuversCarryAnOptionalExitNumber) {
+    const auto r = parseControlLine(
+        R"({"cmd":"set_route","id":"r1","points":[[42.5,1.5],[42.51,1.51],[42.52,1.52]],)"
+        R"("maneuvers":[{"index":1,"type":"roundabout","exit":3,"text":"CG-1"},{"index":2,"type":"roundabout"}]})");
+    ASSERT_TRUE(r.command) << r.error;
+    const auto& route = std::get<SetRouteCommand>(r.command->body);
+    ASSERT_EQ(route.maneuvers.size(), 2U);
+    EXPECT_EQ(route.maneuvers[0].type, ManeuverType::Roundabout);
+    EXPECT_EQ(route.maneuvers[0].exitNumber, 3U);
+    EXPECT_EQ(route.maneuvers[0].text, "CG-1");
+    EXPECT_FALSE(route.maneuvers[1].exitNumber.has_value());
+    const auto last = parseControlLine(
+        R"({"cmd":"set_route","id":"r1","points":[[42.5,1.5],[42.51,1.51]],"maneuvers":[{"index":1,"type":"roundabout","exit":32}]})");
+    ASSERT_TRUE(last.command) << last.error;
+    EXPECT_EQ(std::get<SetRouteCommand>(last.command->body).maneuvers[0].exitNumber, kMaxRoundaboutExit);
+}
+
 TEST(ControlProtocol, ParsesTheOtherCommands) {
     auto r = parseControlLine(R"({"cmd":"set_view","display":"cluster","mode":"snail","orientation":"north-up"})");
     ASSERT_TRUE(r.command) << r.error;
@@ -127,6 +144,16 @@ TEST(ControlProtocol, EveryMalformedRequestGetsAnErrorNamingTheProblem) {
         {R"({"cmd":"set_route","id":"r1","points":[[1,2],[3,4]],"maneuvers":[{"index":0.5,"type":"exit"}]})",
          "maneuvers[0].index: must be an integer"},
         {R"({"cmd":"set_route","id":"r1","points":[[1,2],[3,4]],"extra":1})", "unknown field \"extra\""},
+        {R"({"cmd":"set_route","id":"r1","points":[[1,2],[3,4]],"maneuvers":[{"index":0,"type":"turn_left","exit":2}]})",
+         "maneuvers[0].exit: only a roundabout maneuver has an exit number, not \"turn_left\""},
+        {R"({"cmd":"set_route","id":"r1","points":[[1,2],[3,4]],"maneuvers":[{"index":0,"type":"roundabout","exit":0}]})",
+         "maneuvers[0].exit: 0 out of range [1, 32]"},
+        {R"({"cmd":"set_route","id":"r1","points":[[1,2],[3,4]],"maneuvers":[{"index":0,"type":"roundabout","exit":-2}]})",
+         "maneuvers[0].exit: -2 out of range [1, 32]"},
+        {R"({"cmd":"set_route","id":"r1","points":[[1,2],[3,4]],"maneuvers":[{"index":0,"type":"roundabout","exit":33}]})",
+         "maneuvers[0].exit: 33 out of range [1, 32]"},
+        {R"({"cmd":"set_route","id":"r1","points":[[1,2],[3,4]],"maneuvers":[{"index":0,"type":"roundabout","exit":"2"}]})",
+         "maneuvers[0].exit: must be an integer"},
         {R"({"cmd":"set_view","display":"cluster","mode":"helicopter"})",
          "\"mode\": \"helicopter\" is not one of bird | snail | auto"},
         {R"({"cmd":"set_view","display":"cluster","orientation":"up"})",

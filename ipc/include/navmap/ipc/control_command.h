@@ -38,7 +38,11 @@ struct Maneuver {
     std::size_t index = 0;  ///< index into the route points where the maneuver happens
     ManeuverType type = ManeuverType::Straight;
     std::string text;       ///< road name/ref or instruction, may be empty
+    /// Roundabout exit counted from the entry (1 = first); only on a roundabout maneuver.
+    std::optional<std::uint32_t> exitNumber;
 };
+/// Highest roundabout exit number the protocol accepts.
+inline constexpr std::uint32_t kMaxRoundaboutExit = 32;
 
 enum class ViewMode : std::uint8_t { Bird, Snail, Auto };
 enum class ViewOrientation : std::uint8_t { HeadingUp, NorthUp };

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "navmap/ipc/result.h"
+#include "navmap/map/guidance/way_names.h"
 #include "navmap/map/road_graph.h"
 #include "navmap/map/routing.h"
 
@@ -20,8 +21,9 @@ struct Maneuver {
     /// Control-protocol name (docs/ipc.md): "depart", "arrive", "straight", "turn_left",
     /// "slight_right", "sharp_left", "u_turn", "roundabout", ...
     std::string type;
-    std::string text;           ///< instruction detail, e.g. "exit to the left" for roundabouts
+    std::string text;           ///< street name (else ref) of the road taken; may be empty
     double turn_deg = 0.0;      ///< signed heading change, positive = right (clockwise)
+    int exit = 0;               ///< roundabout exit counted from the entry (1 = first); 0 = none
 };
 
 struct DriveRoute {
@@ -43,6 +45,11 @@ ipc::Result<DriveRoute> planDriveRoute(const map::RoadGraph& graph, map::PlanarP
 
 /// The DriveRoute of a graph route (speeds, classes and maneuvers from the graph).
 DriveRoute driveRouteFromGraph(const map::RoadGraph& graph, const map::GraphRoute& route);
+
+/// The maneuvers of a graph route's polyline (map::guidance::deriveManeuvers, docs/guidance.md),
+/// with street names from `names` (may be null).
+std::vector<Maneuver> graphManeuvers(const map::RoadGraph& graph, const std::vector<map::RoutePoint>& line,
+                                     const map::guidance::WayNames* names = nullptr);
 
 /// A route over a bare polyline with one speed (tests, synthetic drives); no maneuvers except
 /// depart/arrive.

@@ -36,6 +36,9 @@ public:
 
     /// The drive's route in degrees (latitude, longitude), for the control socket's set_route.
     [[nodiscard]] const std::vector<std::pair<double, double>>& routeLatLon() const { return m_route; }
+    /// The set_route line a simulated HMI sends for this drive: the route with its manoeuvres
+    /// (map/guidance: turn classes, roundabout exits, street names), docs/simulator.md.
+    [[nodiscard]] const std::string& setRouteLine() const { return m_set_route; }
 
     [[nodiscard]] std::string name() const override { return m_name; }
     void start(ipc::CanTime now) override;
@@ -46,6 +49,7 @@ public:
 private:
     std::string m_name;
     std::vector<std::pair<double, double>> m_route;
+    std::string m_set_route;
     std::unique_ptr<ipc::Replayer> m_replayer;
 };
 
