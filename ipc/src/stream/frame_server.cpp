@@ -29,6 +29,8 @@
 #include "navmap/ipc/stream_http_request.h"
 #include "frame_encoder.h"
 #include "stream_page.h"
+#include "navmap/ipc/net/sys_error.h"
+#include "navmap/ipc/net/unique_fd.h"
 #include "stream_socket.h"
 
 namespace navmap::ipc {
@@ -36,8 +38,8 @@ namespace navmap::ipc {
 using stream_detail::EncodedFrame;
 using stream_detail::EncodeKind;
 using stream_detail::FrameEncoder;
-using stream_detail::sysError;
-using stream_detail::UniqueFd;
+using net::sysError;
+using net::UniqueFd;
 
 namespace {
 
