@@ -12,6 +12,8 @@
 #include <cstring>
 #include <stdexcept>
 
+#include "navmap/ipc/net/sys_error.h"
+
 namespace navmap::daemon {
 
 Signals::Signals() {
@@ -22,23 +24,21 @@ Signals::Signals() {
     sigaddset(&set, SIGHUP);
     // Threads started later inherit the mask, so only the signalfd sees these signals.
     if (pthread_sigmask(SIG_BLOCK, &set, nullptr) != 0) throw std::runtime_error("pthread_sigmask(SIG_BLOCK) failed");
-    m_fd = signalfd(-1, &set, SFD_NONBLOCK | SFD_CLOEXEC);
-    if (m_fd < 0) throw std::runtime_error(std::string("signalfd(TERM|INT|HUP): ") + std::strerror(errno));
+    m_fd.reset(signalfd(-1, &set, SFD_NONBLOCK | SFD_CLOEXEC));
+    if (!m_fd.valid()) throw std::runtime_error(ipc::net::sysError("signalfd", "TERM|INT|HUP"));
     // A client that vanishes mid-write must not kill the daemon.
     ::signal(SIGPIPE, SIG_IGN);
 }
 
-Signals::~Signals() {
-    if (m_fd >= 0) ::close(m_fd);
-}
+Signals::~Signals() = default;
 
 SignalEvent Signals::wait(std::chrono::milliseconds timeout) {
-    pollfd p{m_fd, POLLIN, 0};
+    pollfd p{m_fd.get(), POLLIN, 0};
     const int n = ::poll(&p, 1, static_cast<int>(std::max<std::int64_t>(0, timeout.count())));
     if (n <= 0) return SignalEvent::None;
     signalfd_siginfo info{};
     SignalEvent event = SignalEvent::None;
-    while (::read(m_fd, &info, sizeof info) == static_cast<ssize_t>(sizeof info)) {
+    while (::read(m_fd.get(), &info, sizeof info) == static_cast<ssize_t>(sizeof info)) {
         if (info.ssi_signo == SIGHUP) {
             if (event == SignalEvent::None) event = SignalEvent::Reload;
         } else {

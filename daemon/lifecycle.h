@@ -7,6 +7,8 @@
 #include <chrono>
 #include <string>
 
+#include "navmap/ipc/net/unique_fd.h"
+
 namespace navmap::daemon {
 
 enum class SignalEvent { None, Stop, Reload };
@@ -22,10 +24,10 @@ public:
 
     /// Waits up to `timeout` for a signal; returns what arrived (None on timeout).
     SignalEvent wait(std::chrono::milliseconds timeout);
-    [[nodiscard]] int fd() const { return m_fd; }
+    [[nodiscard]] int fd() const { return m_fd.get(); }
 
 private:
-    int m_fd = -1;
+    ipc::net::UniqueFd m_fd;
 };
 
 class SystemdNotifier {

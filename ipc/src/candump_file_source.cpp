@@ -7,24 +7,22 @@
 #include <cerrno>
 #include <cstring>
 
+#include "navmap/ipc/net/sys_error.h"
+
 namespace navmap::ipc {
 
 Result<std::unique_ptr<CandumpFileSource>> CandumpFileSource::open(const std::filesystem::path& path) {
-    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-    if (fd < 0) {
-        return Error{"open(" + path.string() + "): " + std::strerror(errno)};
+    net::UniqueFd fd(::open(path.c_str(), O_RDONLY | O_CLOEXEC));
+    if (!fd.valid()) {
+        return Error{net::sysError("open", path.string())};
     }
-    return std::unique_ptr<CandumpFileSource>(new CandumpFileSource(fd, path));
+    return std::unique_ptr<CandumpFileSource>(new CandumpFileSource(fd.release(), path));
 }
 
 CandumpFileSource::CandumpFileSource(int fd, std::filesystem::path path)
     : m_fd(fd), m_path(std::move(path)), m_reader(m_path.string()), m_chunk(kChunkBytes) {}
 
-CandumpFileSource::~CandumpFileSource() {
-    if (m_fd >= 0) {
-        ::close(m_fd);
-    }
-}
+CandumpFileSource::~CandumpFileSource() = default;
 
 std::size_t CandumpFileSource::bufferedBytes() const {
     return m_chunk.capacity() + m_reader.bufferedBytes() + m_ready.size() * sizeof(CandumpRecord);
@@ -38,10 +36,10 @@ bool CandumpFileSource::fill() {
     const auto sink = [this](const CandumpRecord& r) { m_ready.push_back(r); };
     ssize_t n = 0;
     do {
-        n = ::read(m_fd, m_chunk.data(), m_chunk.size());
+        n = ::read(m_fd.get(), m_chunk.data(), m_chunk.size());
     } while (n < 0 && errno == EINTR);
     if (n < 0) {
-        m_failure = "read(" + m_path.string() + "): " + std::strerror(errno);
+        m_failure = net::sysError("read", m_path.string());
         return false;
     }
     if (n == 0) {
@@ -80,8 +78,8 @@ bool CandumpFileSource::rewind() {
     if (!m_failure.empty()) {
         return false;
     }
-    if (::lseek(m_fd, 0, SEEK_SET) < 0) {
-        m_failure = "lseek(" + m_path.string() + "): " + std::strerror(errno) + " (cannot loop this file)";
+    if (::lseek(m_fd.get(), 0, SEEK_SET) < 0) {
+        m_failure = net::sysError("lseek", m_path.string()) + " (cannot loop this file)";
         return false;
     }
     m_reader.restartInput();

@@ -10,15 +10,11 @@
 #include <cerrno>
 #include <cstring>
 
+#include "navmap/ipc/net/sys_error.h"
+
 namespace navmap::ipc {
 
-namespace {
-
-std::string sysError(const std::string& call, const std::string& object) {
-    return call + "(" + object + "): " + std::strerror(errno);
-}
-
-}  // namespace
+using net::sysError;
 
 Result<PeerCredentials> peerCredentials(int fd, const std::string& object) {
     ucred cred{};

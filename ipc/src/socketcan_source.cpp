@@ -13,16 +13,12 @@
 #include <cerrno>
 #include <cstring>
 
+#include "navmap/ipc/net/sys_error.h"
 #include "navmap/ipc/socketcan_codec.h"
 
 namespace navmap::ipc {
-namespace {
 
-std::string sysError(const char* call, const std::string& iface, int err) {
-    return std::string(call) + "(" + iface + "): " + std::strerror(err);
-}
-
-}  // namespace
+using net::sysError;
 
 const char* SocketCanStatus::stateName(State s) noexcept {
     switch (s) {
@@ -39,10 +35,7 @@ SocketCanSource::SocketCanSource(SocketCanOptions options)
 SocketCanSource::~SocketCanSource() { closeSocket(); }
 
 void SocketCanSource::closeSocket() {
-    if (m_fd >= 0) {
-        ::close(m_fd);
-        m_fd = -1;
-    }
+    m_fd.reset();
     m_dropsBefore = m_status.kernelDrops;
     m_dropsAtOpen = 0;
 }
@@ -61,8 +54,8 @@ bool SocketCanSource::open() {
         failOpen("interface name '" + name + "' must have 1.." + std::to_string(IFNAMSIZ - 1) + " characters");
         return false;
     }
-    m_fd = ::socket(PF_CAN, SOCK_RAW | SOCK_NONBLOCK | SOCK_CLOEXEC, CAN_RAW);
-    if (m_fd < 0) {
+    m_fd.reset(::socket(PF_CAN, SOCK_RAW | SOCK_NONBLOCK | SOCK_CLOEXEC, CAN_RAW));
+    if (!m_fd.valid()) {
         failOpen(sysError("socket(PF_CAN)", name, errno));
         return false;
     }
@@ -73,7 +66,7 @@ bool SocketCanSource::open() {
     }
     ifreq ifr{};
     std::memcpy(ifr.ifr_name, name.c_str(), name.size() + 1);
-    if (::ioctl(m_fd, SIOCGIFFLAGS, &ifr) < 0) {
+    if (::ioctl(m_fd.get(), SIOCGIFFLAGS, &ifr) < 0) {
         failOpen(sysError("ioctl(SIOCGIFFLAGS)", name, errno));
         return false;
     }
@@ -84,39 +77,39 @@ bool SocketCanSource::open() {
     const int one = 1;
     if (m_options.receiveFd) {
         // Older kernels or controllers without FD: keep going with classic frames.
-        m_status.fdEnabled = ::setsockopt(m_fd, SOL_CAN_RAW, CAN_RAW_FD_FRAMES, &one, sizeof one) == 0;
+        m_status.fdEnabled = ::setsockopt(m_fd.get(), SOL_CAN_RAW, CAN_RAW_FD_FRAMES, &one, sizeof one) == 0;
     }
     const auto filters = buildRawFilters(m_options.frameKeys);
     if (!filters.empty() &&
-        ::setsockopt(m_fd, SOL_CAN_RAW, CAN_RAW_FILTER, filters.data(),
+        ::setsockopt(m_fd.get(), SOL_CAN_RAW, CAN_RAW_FILTER, filters.data(),
                      static_cast<socklen_t>(filters.size() * sizeof(can_filter))) < 0) {
         failOpen(sysError("setsockopt(CAN_RAW_FILTER)", name, errno));
         return false;
     }
     if (m_options.receiveErrorFrames) {
         const can_err_mask_t mask = CAN_ERR_MASK;
-        if (::setsockopt(m_fd, SOL_CAN_RAW, CAN_RAW_ERR_FILTER, &mask, sizeof mask) < 0) {
+        if (::setsockopt(m_fd.get(), SOL_CAN_RAW, CAN_RAW_ERR_FILTER, &mask, sizeof mask) < 0) {
             failOpen(sysError("setsockopt(CAN_RAW_ERR_FILTER)", name, errno));
             return false;
         }
     }
-    if (::setsockopt(m_fd, SOL_SOCKET, SO_TIMESTAMPNS, &one, sizeof one) < 0) {
+    if (::setsockopt(m_fd.get(), SOL_SOCKET, SO_TIMESTAMPNS, &one, sizeof one) < 0) {
         failOpen(sysError("setsockopt(SO_TIMESTAMPNS)", name, errno));
         return false;
     }
-    if (::setsockopt(m_fd, SOL_SOCKET, SO_RXQ_OVFL, &one, sizeof one) < 0) {
+    if (::setsockopt(m_fd.get(), SOL_SOCKET, SO_RXQ_OVFL, &one, sizeof one) < 0) {
         failOpen(sysError("setsockopt(SO_RXQ_OVFL)", name, errno));
         return false;
     }
     if (m_options.receiveBufferBytes > 0) {
         // Failure is not fatal: the default buffer still works, drops are counted.
-        (void)::setsockopt(m_fd, SOL_SOCKET, SO_RCVBUF, &m_options.receiveBufferBytes,
+        (void)::setsockopt(m_fd.get(), SOL_SOCKET, SO_RCVBUF, &m_options.receiveBufferBytes,
                            sizeof m_options.receiveBufferBytes);
     }
     sockaddr_can addr{};
     addr.can_family = AF_CAN;
     addr.can_ifindex = static_cast<int>(index);
-    if (::bind(m_fd, reinterpret_cast<const sockaddr*>(&addr), sizeof addr) < 0) {
+    if (::bind(m_fd.get(), reinterpret_cast<const sockaddr*>(&addr), sizeof addr) < 0) {
         failOpen(sysError("bind", name, errno));
         return false;
     }
@@ -127,7 +120,7 @@ bool SocketCanSource::open() {
 }
 
 std::size_t SocketCanSource::poll(const FrameSink& sink, std::size_t maxFrames) {
-    if (m_fd < 0) {
+    if (!m_fd.valid()) {
         if (!m_backoff.due(Backoff::Clock::now()) || !open()) {
             return 0;
         }
@@ -142,7 +135,7 @@ std::size_t SocketCanSource::poll(const FrameSink& sink, std::size_t maxFrames) 
         msg.msg_iovlen = 1;
         msg.msg_control = control;
         msg.msg_controllen = sizeof control;
-        const ssize_t n = ::recvmsg(m_fd, &msg, MSG_DONTWAIT);
+        const ssize_t n = ::recvmsg(m_fd.get(), &msg, MSG_DONTWAIT);
         if (n < 0) {
             const int err = errno;
             if (err == EAGAIN || err == EWOULDBLOCK) {
@@ -209,7 +202,7 @@ std::size_t SocketCanSource::poll(const FrameSink& sink, std::size_t maxFrames) 
 }
 
 void SocketCanSource::waitReadable(std::chrono::milliseconds timeout) {
-    if (m_fd < 0) {
+    if (!m_fd.valid()) {
         const auto now = Backoff::Clock::now();
         // Round up: waking a little early would find the retry not yet due.
         const auto untilRetry = std::chrono::ceil<std::chrono::milliseconds>(m_backoff.nextAttempt() - now);
@@ -217,12 +210,12 @@ void SocketCanSource::waitReadable(std::chrono::milliseconds timeout) {
         ::poll(nullptr, 0, static_cast<int>(wait.count()));
         return;
     }
-    pollfd p{m_fd, POLLIN, 0};
+    pollfd p{m_fd.get(), POLLIN, 0};
     ::poll(&p, 1, static_cast<int>(timeout.count()));
 }
 
 Status SocketCanSource::send(const CanFrame& frame) {
-    if (m_fd < 0) {
+    if (!m_fd.valid()) {
         return Error{"send(" + m_options.interfaceName + "): socket is not open"};
     }
     canfd_frame k{};
@@ -230,7 +223,7 @@ Status SocketCanSource::send(const CanFrame& frame) {
     if (bytes == CANFD_MTU && !m_status.fdEnabled) {
         return Error{"send(" + m_options.interfaceName + "): CAN FD frames are not enabled on this socket"};
     }
-    const ssize_t n = ::send(m_fd, &k, bytes, MSG_DONTWAIT);
+    const ssize_t n = ::send(m_fd.get(), &k, bytes, MSG_DONTWAIT);
     if (n < 0) {
         return Error{sysError("send", m_options.interfaceName, errno)};
     }

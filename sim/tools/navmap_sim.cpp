@@ -20,6 +20,7 @@
 #include "navmap/cli/cli.h"
 #include "navmap/install_layout.h"
 #include "navmap/ipc/control_client.h"
+#include "navmap/ipc/net/unique_fd.h"
 #include "navmap/ipc/socketcan_source.h"
 #include "navmap/sim/candump_writer.h"
 #include "navmap/sim/drive_simulator.h"
@@ -37,24 +38,24 @@ public:
         sigemptyset(&m_set);
         sigaddset(&m_set, SIGINT);
         sigaddset(&m_set, SIGTERM);
-        if (sigprocmask(SIG_BLOCK, &m_set, &m_old) == 0) m_fd = signalfd(-1, &m_set, SFD_CLOEXEC | SFD_NONBLOCK);
+        if (sigprocmask(SIG_BLOCK, &m_set, &m_old) == 0) m_fd.reset(signalfd(-1, &m_set, SFD_CLOEXEC | SFD_NONBLOCK));
     }
     ~StopSignals() {
-        if (m_fd >= 0) ::close(m_fd);
+        m_fd.reset();  // before the old mask comes back
         sigprocmask(SIG_SETMASK, &m_old, nullptr);
     }
     StopSignals(const StopSignals&) = delete;
     StopSignals& operator=(const StopSignals&) = delete;
     /// Sleeps up to `ms` (0: just checks); true when a stop signal arrived.
     bool waitStop(int ms) {
-        if (m_fd < 0) {
+        if (!m_fd.valid()) {
             if (ms > 0) ::usleep(static_cast<useconds_t>(ms) * 1000U);
             return false;
         }
-        pollfd p{m_fd, POLLIN, 0};
+        pollfd p{m_fd.get(), POLLIN, 0};
         if (::poll(&p, 1, ms) > 0) {
             signalfd_siginfo info{};
-            return ::read(m_fd, &info, sizeof info) == static_cast<ssize_t>(sizeof info);
+            return ::read(m_fd.get(), &info, sizeof info) == static_cast<ssize_t>(sizeof info);
         }
         return false;
     }
@@ -62,7 +63,7 @@ public:
 private:
     sigset_t m_set{};
     sigset_t m_old{};
-    int m_fd = -1;
+    navmap::ipc::net::UniqueFd m_fd;
 };
 
 struct Cli {

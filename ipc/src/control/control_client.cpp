@@ -11,13 +11,14 @@
 
 #include <nlohmann/json.hpp>
 
+#include "navmap/ipc/net/sys_error.h"
+
 namespace navmap::ipc {
 
-namespace {
+using net::sysError;
+using net::UniqueFd;
 
-std::string sysError(const char* call, const std::string& object) {
-    return std::string(call) + "(" + object + "): " + std::strerror(errno);
-}
+namespace {
 
 using Clock = std::chrono::steady_clock;
 
@@ -35,43 +36,19 @@ Result<ControlClient> ControlClient::connect(const std::string& path) {
         return Error{"control socket path \"" + path + "\": invalid length"};
     }
     std::memcpy(addr.sun_path, path.data(), path.size());
-    const int fd = ::socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
-    if (fd < 0) {
+    UniqueFd fd(::socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0));
+    if (!fd.valid()) {
         return Error{sysError("socket", path)};
     }
-    if (::connect(fd, reinterpret_cast<const sockaddr*>(&addr), sizeof addr) != 0) {
-        const std::string err = sysError("connect", path);
-        ::close(fd);
-        return Error{err};
+    if (::connect(fd.get(), reinterpret_cast<const sockaddr*>(&addr), sizeof addr) != 0) {
+        return Error{sysError("connect", path)};
     }
-    return ControlClient(fd, path);
+    return ControlClient(std::move(fd), path);
 }
 
-ControlClient::~ControlClient() {
-    if (m_fd >= 0) {
-        ::close(m_fd);
-    }
-}
-
-ControlClient::ControlClient(ControlClient&& other) noexcept
-    : m_fd(other.m_fd), m_path(std::move(other.m_path)), m_buffer(std::move(other.m_buffer)),
-      m_events(std::move(other.m_events)) {
-    other.m_fd = -1;
-}
-
-ControlClient& ControlClient::operator=(ControlClient&& other) noexcept {
-    if (this != &other) {
-        if (m_fd >= 0) {
-            ::close(m_fd);
-        }
-        m_fd = other.m_fd;
-        m_path = std::move(other.m_path);
-        m_buffer = std::move(other.m_buffer);
-        m_events = std::move(other.m_events);
-        other.m_fd = -1;
-    }
-    return *this;
-}
+ControlClient::~ControlClient() = default;
+ControlClient::ControlClient(ControlClient&& other) noexcept = default;
+ControlClient& ControlClient::operator=(ControlClient&& other) noexcept = default;
 
 Status ControlClient::send(std::string_view line, std::chrono::milliseconds timeout) {
     std::string data(line);
@@ -79,7 +56,7 @@ Status ControlClient::send(std::string_view line, std::chrono::milliseconds time
     const auto deadline = Clock::now() + timeout;
     std::size_t off = 0;
     while (off < data.size()) {
-        pollfd p{m_fd, POLLOUT, 0};
+        pollfd p{m_fd.get(), POLLOUT, 0};
         const int n = ::poll(&p, 1, remainingMs(deadline));
         if (n < 0 && errno == EINTR) {
             continue;
@@ -87,7 +64,7 @@ Status ControlClient::send(std::string_view line, std::chrono::milliseconds time
         if (n <= 0) {
             return Error{n == 0 ? "send(" + m_path + "): timed out" : sysError("poll", m_path)};
         }
-        const ssize_t w = ::send(m_fd, data.data() + off, data.size() - off, MSG_NOSIGNAL | MSG_DONTWAIT);
+        const ssize_t w = ::send(m_fd.get(), data.data() + off, data.size() - off, MSG_NOSIGNAL | MSG_DONTWAIT);
         if (w < 0) {
             if (errno == EINTR || errno == EAGAIN) {
                 continue;
@@ -108,7 +85,7 @@ Result<std::string> ControlClient::readLine(std::chrono::milliseconds timeout) {
             m_buffer.erase(0, nl + 1);
             return line;
         }
-        pollfd p{m_fd, POLLIN, 0};
+        pollfd p{m_fd.get(), POLLIN, 0};
         const int n = ::poll(&p, 1, remainingMs(deadline));
         if (n < 0 && errno == EINTR) {
             continue;
@@ -120,7 +97,7 @@ Result<std::string> ControlClient::readLine(std::chrono::milliseconds timeout) {
             return Error{sysError("poll", m_path)};
         }
         char buf[65536];
-        const ssize_t r = ::recv(m_fd, buf, sizeof buf, MSG_DONTWAIT);
+        const ssize_t r = ::recv(m_fd.get(), buf, sizeof buf, MSG_DONTWAIT);
         if (r == 0) {
             return Error{"recv(" + m_path + "): connection closed by the server"};
         }

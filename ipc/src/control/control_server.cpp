@@ -20,9 +20,13 @@
 #include <variant>
 
 #include "navmap/ipc/control_protocol.h"
+#include "navmap/ipc/net/sys_error.h"
 #include "navmap/ipc/socket_access.h"
 
 namespace navmap::ipc {
+
+using net::sysError;
+using net::UniqueFd;
 
 namespace {
 
@@ -31,10 +35,6 @@ constexpr std::size_t kMaxReadsPerPoll = 16;   // fairness between clients
 constexpr std::size_t kMaxPendingEvents = 1024;
 
 using SteadyClock = std::chrono::steady_clock;
-
-std::string sysError(const char* call, const std::string& object) {
-    return std::string(call) + "(" + object + "): " + std::strerror(errno);
-}
 
 std::string seconds(std::chrono::milliseconds d) {
     char buf[32];
@@ -45,7 +45,7 @@ std::string seconds(std::chrono::milliseconds d) {
 }  // namespace
 
 struct ControlServer::Client {
-    int fd = -1;
+    UniqueFd fd;
     uid_t uid = 0;
     pid_t pid = 0;
     std::string in;
@@ -71,8 +71,8 @@ Result<std::unique_ptr<ControlServer>> ControlServer::create(ControlServerConfig
     std::memcpy(addr.sun_path, path.data(), path.size());
     std::unique_ptr<ControlServer> s(new ControlServer(std::move(config), handler));
 
-    s->m_listenFd = ::socket(AF_UNIX, SOCK_STREAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
-    if (s->m_listenFd < 0) {
+    s->m_listenFd.reset(::socket(AF_UNIX, SOCK_STREAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0));
+    if (!s->m_listenFd.valid()) {
         return Error{sysError("socket", path)};
     }
     // A socket file left by a crashed daemon is replaced; one with a live server is not.
@@ -81,12 +81,11 @@ Result<std::unique_ptr<ControlServer>> ControlServer::create(ControlServerConfig
         if (!S_ISSOCK(st.st_mode)) {
             return Error{"control socket path " + path + ": exists and is not a socket"};
         }
-        const int probe = ::socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
-        if (probe < 0) {
+        const UniqueFd probe(::socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0));
+        if (!probe.valid()) {
             return Error{sysError("socket", path)};
         }
-        const bool live = ::connect(probe, reinterpret_cast<const sockaddr*>(&addr), sizeof addr) == 0;
-        ::close(probe);
+        const bool live = ::connect(probe.get(), reinterpret_cast<const sockaddr*>(&addr), sizeof addr) == 0;
         if (live) {
             return Error{"bind(" + path + "): Address in use (another server is listening)"};
         }
@@ -96,10 +95,10 @@ Result<std::unique_ptr<ControlServer>> ControlServer::create(ControlServerConfig
     }
     // The file bind() creates is never wider than the mode; the exact mode and the group are set
     // before listen(), and nobody can connect before listen(): no moment with wider access.
-    if (auto access = restrictSocketBeforeBind(s->m_listenFd, s->m_config.socketMode, path); !access) {
+    if (auto access = restrictSocketBeforeBind(s->m_listenFd.get(), s->m_config.socketMode, path); !access) {
         return Error{access.message()};
     }
-    if (::bind(s->m_listenFd, reinterpret_cast<const sockaddr*>(&addr), sizeof addr) != 0) {
+    if (::bind(s->m_listenFd.get(), reinterpret_cast<const sockaddr*>(&addr), sizeof addr) != 0) {
         return Error{sysError("bind", path)};
     }
     if (auto access = applySocketFileAccess(path, s->m_config.socketMode, s->m_config.socketGroup); !access) {
@@ -109,13 +108,13 @@ Result<std::unique_ptr<ControlServer>> ControlServer::create(ControlServerConfig
     if (::lstat(path.c_str(), &st) == 0) {
         s->m_socketInode = st.st_ino;
     }
-    if (::listen(s->m_listenFd, 16) != 0) {
+    if (::listen(s->m_listenFd.get(), 16) != 0) {
         const std::string err = sysError("listen", path);
         ::unlink(path.c_str());
         return Error{err};
     }
-    s->m_wakeFd = ::eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
-    if (s->m_wakeFd < 0) {
+    s->m_wakeFd.reset(::eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC));
+    if (!s->m_wakeFd.valid()) {
         return Error{sysError("eventfd", path)};
     }
     return s;
@@ -123,20 +122,16 @@ Result<std::unique_ptr<ControlServer>> ControlServer::create(ControlServerConfig
 
 ControlServer::~ControlServer() {
     stop();
-    for (auto& c : m_clients) {
-        ::close(c->fd);
-    }
-    if (m_listenFd >= 0) {
-        ::close(m_listenFd);
+    m_clients.clear();  // closes their sockets
+    if (m_listenFd.valid()) {
+        m_listenFd.reset();
         // Remove the socket file only if it is still ours.
         struct stat st {};
         if (m_socketInode != 0 && ::lstat(m_config.socketPath.c_str(), &st) == 0 && st.st_ino == m_socketInode) {
             ::unlink(m_config.socketPath.c_str());
         }
     }
-    if (m_wakeFd >= 0) {
-        ::close(m_wakeFd);
-    }
+    m_wakeFd.reset();
 }
 
 Status ControlServer::start() {
@@ -163,9 +158,9 @@ void ControlServer::stop() noexcept {
 }
 
 void ControlServer::wake() noexcept {
-    if (m_wakeFd >= 0) {
+    if (m_wakeFd.valid()) {
         const std::uint64_t one = 1;
-        [[maybe_unused]] const auto n = ::write(m_wakeFd, &one, sizeof one);
+        [[maybe_unused]] const auto n = ::write(m_wakeFd.get(), &one, sizeof one);
     }
 }
 
@@ -199,14 +194,14 @@ ControlServerStats ControlServer::stats() const {
 Status ControlServer::pollOnce(std::chrono::milliseconds timeout) {
     std::vector<pollfd> fds;
     fds.reserve(m_clients.size() + 2);
-    fds.push_back({m_listenFd, POLLIN, 0});
-    fds.push_back({m_wakeFd, POLLIN, 0});
+    fds.push_back({m_listenFd.get(), POLLIN, 0});
+    fds.push_back({m_wakeFd.get(), POLLIN, 0});
     for (const auto& c : m_clients) {
         short ev = c->closeAfterFlush ? 0 : POLLIN;
         if (!c->out.empty()) {
             ev = static_cast<short>(ev | POLLOUT);
         }
-        fds.push_back({c->fd, ev, 0});
+        fds.push_back({c->fd.get(), ev, 0});
     }
     // Wake up in time to close the first connection that turns idle.
     auto wait = std::max(std::chrono::milliseconds(0), timeout);
@@ -228,7 +223,7 @@ Status ControlServer::pollOnce(std::chrono::milliseconds timeout) {
     }
     if (fds[1].revents & POLLIN) {
         std::uint64_t v = 0;
-        [[maybe_unused]] const auto r = ::read(m_wakeFd, &v, sizeof v);
+        [[maybe_unused]] const auto r = ::read(m_wakeFd.get(), &v, sizeof v);
     }
     // Clients first (indices stay valid), then new connections, then events.
     for (std::size_t i = 0; i < m_clients.size(); ++i) {
@@ -259,12 +254,7 @@ Status ControlServer::pollOnce(std::chrono::milliseconds timeout) {
 
 void ControlServer::removeDead() {
     const auto before = m_clients.size();
-    std::erase_if(m_clients, [](const std::unique_ptr<Client>& c) {
-        if (c->dead) {
-            ::close(c->fd);
-        }
-        return c->dead;
-    });
+    std::erase_if(m_clients, [](const std::unique_ptr<Client>& c) { return c->dead; });  // closes their sockets
     if (before != m_clients.size()) {
         m_counters.clients = m_clients.size();
     }
@@ -297,15 +287,14 @@ void ControlServer::closeIdle(SteadyClock::time_point now) {
 
 void ControlServer::acceptClients() {
     for (;;) {
-        const int fd = ::accept4(m_listenFd, nullptr, nullptr, SOCK_NONBLOCK | SOCK_CLOEXEC);
-        if (fd < 0) {
+        UniqueFd fd(::accept4(m_listenFd.get(), nullptr, nullptr, SOCK_NONBLOCK | SOCK_CLOEXEC));
+        if (!fd.valid()) {
             return;  // EAGAIN, or a transient error (EMFILE, ECONNABORTED): try again next poll
         }
         auto c = std::make_unique<Client>();
-        c->fd = fd;
         c->lastActivity = SteadyClock::now();
         std::string refusal;
-        auto cred = peerCredentials(fd, m_config.socketPath);
+        auto cred = peerCredentials(fd.get(), m_config.socketPath);
         if (!cred) {
             refusal = cred.error().message;
         } else {
@@ -326,10 +315,10 @@ void ControlServer::acceptClients() {
         }
         if (!refusal.empty()) {
             const std::string line = controlErrorReply("", std::nullopt, refusal) + "\n";
-            [[maybe_unused]] const auto w = ::send(fd, line.data(), line.size(), MSG_NOSIGNAL | MSG_DONTWAIT);
-            ::close(fd);
-            continue;
+            [[maybe_unused]] const auto w = ::send(fd.get(), line.data(), line.size(), MSG_NOSIGNAL | MSG_DONTWAIT);
+            continue;  // `fd` closes
         }
+        c->fd = std::move(fd);
         ++m_counters.connections;
         m_clients.push_back(std::move(c));
         m_counters.clients = m_clients.size();
@@ -340,7 +329,7 @@ void ControlServer::readClient(Client& c) {
     char buf[kReadChunk];
     bool eof = false;
     for (std::size_t k = 0; k < kMaxReadsPerPoll; ++k) {
-        const ssize_t n = ::recv(c.fd, buf, sizeof buf, MSG_DONTWAIT);
+        const ssize_t n = ::recv(c.fd.get(), buf, sizeof buf, MSG_DONTWAIT);
         if (n > 0) {
             c.lastActivity = SteadyClock::now();
             c.in.append(buf, static_cast<std::size_t>(n));
@@ -475,7 +464,7 @@ void ControlServer::queue(Client& c, std::string line) {
 
 void ControlServer::flush(Client& c) {
     while (!c.out.empty()) {
-        const ssize_t n = ::send(c.fd, c.out.data(), c.out.size(), MSG_NOSIGNAL | MSG_DONTWAIT);
+        const ssize_t n = ::send(c.fd.get(), c.out.data(), c.out.size(), MSG_NOSIGNAL | MSG_DONTWAIT);
         if (n > 0) {
             c.out.erase(0, static_cast<std::size_t>(n));
             c.lastActivity = SteadyClock::now();

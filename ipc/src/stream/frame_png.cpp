@@ -7,6 +7,8 @@
 #include <cstdio>
 #include <cstring>
 
+#include "navmap/ipc/net/sys_error.h"
+
 namespace navmap::ipc {
 namespace {
 
@@ -60,12 +62,12 @@ Status writeFramePng(const std::string& path, const FrameHeader& header, const s
     const auto png = encodeFramePng(header, pixels);
     std::FILE* f = std::fopen(path.c_str(), "wb");
     if (f == nullptr) {
-        return Error{"fopen(" + path + "): " + std::strerror(errno)};
+        return Error{net::sysError("fopen", path)};
     }
     const bool ok = std::fwrite(png.data(), 1, png.size(), f) == png.size();
     const int err = errno;
     if (std::fclose(f) != 0 || !ok) {
-        return Error{"write(" + path + "): " + std::strerror(ok ? errno : err)};
+        return Error{net::sysError("write", path, ok ? errno : err)};
     }
     return {};
 }

@@ -9,6 +9,8 @@
 #include <chrono>
 #include <cstring>
 
+#include "navmap/ipc/net/sys_error.h"
+
 // glibc < 2.29 lacks the name; the value is the kernel's (include/uapi/linux/fcntl.h, Linux 5.1).
 #ifndef F_SEAL_FUTURE_WRITE
 #define F_SEAL_FUTURE_WRITE 0x0010
@@ -74,20 +76,16 @@ Result<std::unique_ptr<FrameRing>> FrameRing::create(const std::string& name, st
         return Error{"FrameRing(" + name + "): bad geometry"};
     }
     const FrameRingLayout layout = FrameRingLayout::make(slots, width, height, format);
-    const int fd = memfd_create(name.c_str(), MFD_CLOEXEC | MFD_ALLOW_SEALING);
-    if (fd < 0) {
-        return Error{"memfd_create(" + name + "): " + std::strerror(errno)};
+    net::UniqueFd fd(memfd_create(name.c_str(), MFD_CLOEXEC | MFD_ALLOW_SEALING));
+    if (!fd.valid()) {
+        return Error{net::sysError("memfd_create", name)};
     }
-    if (ftruncate(fd, static_cast<off_t>(layout.totalBytes)) != 0) {
-        const int e = errno;
-        close(fd);
-        return Error{"ftruncate(" + name + "): " + std::strerror(e)};
+    if (ftruncate(fd.get(), static_cast<off_t>(layout.totalBytes)) != 0) {
+        return Error{net::sysError("ftruncate", name)};
     }
-    void* p = mmap(nullptr, layout.totalBytes, PROT_READ | PROT_WRITE, MAP_SHARED, fd, 0);
+    void* p = mmap(nullptr, layout.totalBytes, PROT_READ | PROT_WRITE, MAP_SHARED, fd.get(), 0);
     if (p == MAP_FAILED) {
-        const int e = errno;
-        close(fd);
-        return Error{"mmap(" + name + "): " + std::strerror(e)};
+        return Error{net::sysError("mmap", name)};
     }
     auto* base = static_cast<std::uint8_t*>(p);
     // Touch every page now (server thread) so the render thread's first writes do not fault.
@@ -100,14 +98,13 @@ Result<std::unique_ptr<FrameRing>> FrameRing::create(const std::string& name, st
     // descriptor through /proc/self/fd read-write (F_SEAL_FUTURE_WRITE refuses write(), writable
     // shared mappings and hole punching; only mappings made before the seal keep writing).
     // F_SEAL_SEAL last, so the set is final.
-    if (fcntl(fd, F_ADD_SEALS, F_SEAL_SHRINK | F_SEAL_GROW | F_SEAL_FUTURE_WRITE | F_SEAL_SEAL) != 0) {
+    if (fcntl(fd.get(), F_ADD_SEALS, F_SEAL_SHRINK | F_SEAL_GROW | F_SEAL_FUTURE_WRITE | F_SEAL_SEAL) != 0) {
         const int e = errno;
         munmap(p, layout.totalBytes);
-        close(fd);
-        return Error{"fcntl(" + name + ", F_ADD_SEALS F_SEAL_FUTURE_WRITE): " + std::strerror(e) +
+        return Error{net::sysError("fcntl", name + ", F_ADD_SEALS F_SEAL_FUTURE_WRITE", e) +
                      (e == EINVAL ? " (needs Linux >= 5.1)" : "")};
     }
-    return std::unique_ptr<FrameRing>(new FrameRing(fd, base, layout));
+    return std::unique_ptr<FrameRing>(new FrameRing(fd.release(), base, layout));
 }
 
 FrameRing::FrameRing(int fd, std::uint8_t* base, FrameRingLayout layout)
@@ -120,9 +117,6 @@ FrameRing::FrameRing(int fd, std::uint8_t* base, FrameRingLayout layout)
 FrameRing::~FrameRing() {
     if (m_base != nullptr) {
         munmap(m_base, m_layout.totalBytes);
-    }
-    if (m_fd >= 0) {
-        close(m_fd);
     }
 }
 
@@ -316,10 +310,10 @@ bool FrameRing::readMapped(const std::uint8_t* base, const FrameRingLayout& layo
 }
 
 Result<int> FrameRing::openReadOnly() const {
-    const std::string proc = "/proc/self/fd/" + std::to_string(m_fd);
+    const std::string proc = "/proc/self/fd/" + std::to_string(m_fd.get());
     const int fd = open(proc.c_str(), O_RDONLY | O_CLOEXEC);
     if (fd < 0) {
-        return Error{"open(" + proc + ", O_RDONLY): " + std::strerror(errno)};
+        return Error{net::sysError("open", proc + ", O_RDONLY")};
     }
     return fd;
 }

@@ -16,8 +16,8 @@
 
 namespace navmap::ipc {
 
-using stream_detail::sysError;
-using stream_detail::UniqueFd;
+using net::sysError;
+using net::UniqueFd;
 using Clock = std::chrono::steady_clock;
 
 namespace {
@@ -209,9 +209,8 @@ StreamClient::~StreamClient() {
     if (m_map != nullptr) {
         ::munmap(const_cast<std::uint8_t*>(m_map), m_mapBytes);
     }
-    if (m_fd >= 0) {
-        ::close(m_fd);
-    }
+    // The installed header keeps a plain int (ipc/net is not part of the client's API).
+    const UniqueFd owned(m_fd);
 }
 
 Status StreamClient::readExact(std::uint8_t* dst, std::size_t n, Clock::time_point deadline, bool* timedOut) {

@@ -16,6 +16,9 @@
 // The server side of the stream sockets (navmap_ipc_stream; the client library only connects).
 namespace navmap::ipc::stream_detail {
 
+using net::sysError;
+using net::UniqueFd;
+
 Result<int> listenUnix(const std::string& path, mode_t mode, std::optional<gid_t> group) {
     auto addr = unixAddress(path);
     if (!addr) {

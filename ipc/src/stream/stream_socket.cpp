@@ -13,29 +13,13 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <cstdint>
 #include <cstring>
 
 namespace navmap::ipc::stream_detail {
 
-std::string sysError(const char* call, const std::string& object) {
-    return std::string(call) + "(" + object + "): " + std::strerror(errno);
-}
-
-UniqueFd::~UniqueFd() { reset(); }
-
-UniqueFd& UniqueFd::operator=(UniqueFd&& o) noexcept {
-    if (this != &o) {
-        reset(o.release());
-    }
-    return *this;
-}
-
-void UniqueFd::reset(int fd) noexcept {
-    if (m_fd >= 0) {
-        ::close(m_fd);
-    }
-    m_fd = fd;
-}
+using net::sysError;
+using net::UniqueFd;
 
 std::int64_t realtimeNowNs() noexcept {
     timespec ts{};

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Private socket helpers of ipc/src/stream (not installed): every error names the call and the
-// object, "connect(/run/navmap/stream.sock): No such file or directory".
+// object, "connect(/run/navmap/stream.sock): No such file or directory" (net::sysError).
 
 #include <sys/types.h>
 #include <sys/un.h>
@@ -11,29 +11,10 @@
 #include <string>
 
 #include "navmap/ipc/result.h"
+#include "navmap/ipc/net/sys_error.h"
+#include "navmap/ipc/net/unique_fd.h"
 
 namespace navmap::ipc::stream_detail {
-
-std::string sysError(const char* call, const std::string& object);
-
-/// Owns a descriptor; closes it on destruction.
-class UniqueFd {
-public:
-    UniqueFd() = default;
-    explicit UniqueFd(int fd) : m_fd(fd) {}
-    ~UniqueFd();
-    UniqueFd(UniqueFd&& o) noexcept : m_fd(o.release()) {}
-    UniqueFd& operator=(UniqueFd&& o) noexcept;
-    UniqueFd(const UniqueFd&) = delete;
-    UniqueFd& operator=(const UniqueFd&) = delete;
-    int get() const noexcept { return m_fd; }
-    int release() noexcept { const int f = m_fd; m_fd = -1; return f; }
-    void reset(int fd = -1) noexcept;
-    bool valid() const noexcept { return m_fd >= 0; }
-
-private:
-    int m_fd = -1;
-};
 
 /// The address of a Unix socket path; an Error when it is empty or too long for sun_path.
 Result<sockaddr_un> unixAddress(const std::string& path);

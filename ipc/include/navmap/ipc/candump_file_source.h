@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "navmap/ipc/candump_reader.h"
+#include "navmap/ipc/net/unique_fd.h"
 #include "navmap/ipc/replay_source.h"
 #include "navmap/ipc/result.h"
 
@@ -47,7 +48,7 @@ private:
     CandumpFileSource(int fd, std::filesystem::path path);
     bool fill();
 
-    int m_fd = -1;
+    net::UniqueFd m_fd;
     std::filesystem::path m_path;
     CandumpReader m_reader;
     std::vector<char> m_chunk;

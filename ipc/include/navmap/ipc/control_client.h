@@ -7,7 +7,9 @@
 #include <deque>
 #include <string>
 #include <string_view>
+#include <utility>
 
+#include "navmap/ipc/net/unique_fd.h"
 #include "navmap/ipc/result.h"
 
 namespace navmap::ipc {
@@ -32,11 +34,11 @@ public:
     /// Next event line (kept by request() or read now).
     Result<std::string> nextEvent(std::chrono::milliseconds timeout = std::chrono::seconds(5));
 
-    [[nodiscard]] int fd() const { return m_fd; }
+    [[nodiscard]] int fd() const { return m_fd.get(); }
 
 private:
-    explicit ControlClient(int fd, std::string path) : m_fd(fd), m_path(std::move(path)) {}
-    int m_fd = -1;
+    explicit ControlClient(net::UniqueFd fd, std::string path) : m_fd(std::move(fd)), m_path(std::move(path)) {}
+    net::UniqueFd m_fd;
     std::string m_path;
     std::string m_buffer;
     std::deque<std::string> m_events;

@@ -22,6 +22,7 @@
 
 #include "navmap/ipc/control_command.h"
 #include "navmap/ipc/control_handler.h"
+#include "navmap/ipc/net/unique_fd.h"
 #include "navmap/ipc/result.h"
 
 namespace navmap::ipc {
@@ -99,8 +100,8 @@ private:
 
     ControlServerConfig m_config;
     ControlHandler& m_handler;
-    int m_listenFd = -1;
-    int m_wakeFd = -1;  // eventfd: publish() and stop()
+    net::UniqueFd m_listenFd;
+    net::UniqueFd m_wakeFd;  // eventfd: publish() and stop()
     ino_t m_socketInode = 0;
     std::vector<std::unique_ptr<Client>> m_clients;
 

@@ -23,6 +23,7 @@
 #include "navmap/ipc/frame_format.h"
 #include "navmap/ipc/frame_header.h"
 #include "navmap/ipc/frame_view.h"
+#include "navmap/ipc/net/unique_fd.h"
 #include "navmap/ipc/result.h"
 
 namespace navmap::ipc {
@@ -90,7 +91,7 @@ public:
     const FrameRingLayout& layout() const noexcept { return m_layout; }
     /// Opens a new read-only descriptor of the memfd (for SCM_RIGHTS); the caller closes it.
     Result<int> openReadOnly() const;
-    int fd() const noexcept { return m_fd; }
+    int fd() const noexcept { return m_fd.get(); }
 
     /// Reader side over any mapping (a client's read-only mmap): same contract as read().
     static bool readMapped(const std::uint8_t* base, const FrameRingLayout& layout, std::uint64_t sequence,
@@ -109,7 +110,7 @@ public:
 private:
     FrameRing(int fd, std::uint8_t* base, FrameRingLayout layout);
 
-    int m_fd = -1;
+    net::UniqueFd m_fd;
     std::uint8_t* m_base = nullptr;
     FrameRingLayout m_layout;
     std::uint64_t m_nextSequence = 1;  // render thread only

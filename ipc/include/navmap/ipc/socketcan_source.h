@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "navmap/ipc/net/unique_fd.h"
 #include "navmap/ipc/backoff.h"
 #include "navmap/ipc/can_frame.h"
 #include "navmap/ipc/replayer.h"  // FrameSink
@@ -75,7 +76,7 @@ public:
     Status send(const CanFrame& frame);
 
     /// Socket descriptor for an external poll/epoll loop; -1 while closed.
-    int fd() const noexcept { return m_fd; }
+    int fd() const noexcept { return m_fd.get(); }
     const SocketCanStatus& status() const noexcept { return m_status; }
     const SocketCanOptions& options() const noexcept { return m_options; }
     const Backoff& backoff() const noexcept { return m_backoff; }
@@ -88,7 +89,7 @@ private:
     SocketCanOptions m_options;
     SocketCanStatus m_status;
     Backoff m_backoff;
-    int m_fd = -1;
+    net::UniqueFd m_fd;
     std::uint32_t m_dropsAtOpen = 0;   // SO_RXQ_OVFL value of the current socket already counted
     std::uint64_t m_dropsBefore = 0;   // drops of earlier sockets
 };

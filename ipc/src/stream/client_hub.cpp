@@ -1,0 +1,357 @@
+#include "client_hub.h"
+
+#include <poll.h>
+#include <sys/socket.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <utility>
+
+#include "poll_loop.h"
+#include "stream_rings.h"
+#include "stream_transport.h"
+
+namespace navmap::ipc::stream_detail {
+
+ClientHub::ClientHub(const FrameServerOptions& options, StreamStats& stats, RingSet& rings, PollLoop& loop,
+                     FrameEncoder& encoder)
+    : m_options(options), m_stats(stats), m_rings(rings), m_loop(loop), m_encoder(encoder), m_timeouts(options) {}
+
+void ClientHub::setTransport(StreamTransport& transport) {
+    m_transports[static_cast<std::size_t>(transport.via())] = &transport;
+}
+
+StreamTransport& ClientHub::transport(const StreamConn& c) const { return *m_transports[static_cast<std::size_t>(c.via)]; }
+
+std::optional<Refusal> ClientHub::checkCaps(Via via, std::optional<uid_t> uid) const {
+    const auto sameVia = static_cast<std::size_t>(
+        std::count_if(m_conns.begin(), m_conns.end(), [&](const auto& c) { return c->via == via; }));
+    if (sameVia >= m_options.maxClientsPerTransport) {
+        return Refusal{&FrameServerStats::refusedTransportFull,
+                       std::string("too many ") + viaName(via) + " clients (limit " +
+                           std::to_string(m_options.maxClientsPerTransport) + ")"};
+    }
+    if (!uid) {
+        return std::nullopt;
+    }
+    const auto sameUid = static_cast<std::size_t>(
+        std::count_if(m_conns.begin(), m_conns.end(), [&](const auto& c) { return c->uid == uid; }));
+    if (sameUid >= m_options.maxClientsPerUid) {
+        return Refusal{&FrameServerStats::refusedUidFull, "too many connections from uid " + std::to_string(*uid) +
+                                                              " (limit " + std::to_string(m_options.maxClientsPerUid) +
+                                                              ")"};
+    }
+    return std::nullopt;
+}
+
+void ClientHub::add(std::unique_ptr<StreamConn> conn) {
+    StreamConn* c = conn.get();
+    m_loop.add(
+        c->fd.get(), [c] { return static_cast<short>(c->outPending() ? POLLIN | POLLOUT : POLLIN); },
+        [this, c](short revents) { onEvents(*c, revents); });
+    m_conns.push_back(std::move(conn));
+    refreshRings();
+}
+
+void ClientHub::onEvents(StreamConn& c, short revents) {
+    if (c.dead) {
+        return;
+    }
+    if ((revents & (POLLIN | POLLHUP | POLLERR)) != 0) {
+        onReadable(c);
+    }
+    if (!c.dead && (revents & POLLOUT) != 0) {
+        flush(c);
+    }
+}
+
+void ClientHub::onReadable(StreamConn& c) {
+    char buf[65536];
+    for (int rounds = 0; rounds < 16; ++rounds) {
+        const ssize_t n = ::recv(c.fd.get(), buf, sizeof(buf), MSG_DONTWAIT);
+        if (n > 0) {
+            if (c.phase == Phase::Draining || c.phase == Phase::Mjpeg) {
+                continue;  // nothing more is expected from them; discard
+            }
+            c.in.append(buf, static_cast<std::size_t>(n));
+            transport(c).onInput(c);
+            continue;
+        }
+        if (n < 0 && (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR)) {
+            return;
+        }
+        c.dead = true;  // closed by the peer, or broken
+        return;
+    }
+}
+
+void ClientHub::flush(StreamConn& c) {
+    if (!c.sendQueued()) {
+        return;
+    }
+    if (c.closeWhenFlushed) {
+        // Half-close and read until the peer closes, so unread input cannot turn into a reset
+        // that destroys the reply on its way.
+        ::shutdown(c.fd.get(), SHUT_WR);
+        c.closeWhenFlushed = false;
+        c.phase = Phase::Draining;
+        c.since = Clock::now();
+        return;
+    }
+    if (c.pending && !c.busy() && (c.phase == Phase::Stream || c.phase == Phase::Mjpeg)) {
+        transport(c).sendFrame(c);
+    }
+}
+
+void ClientHub::finishWith(StreamConn& c, const std::string& bytes) {
+    c.queue(bytes.data(), bytes.size());
+    c.closeWhenFlushed = true;
+    c.phase = Phase::Draining;
+    c.since = Clock::now();
+    flush(c);
+}
+
+void ClientHub::offer(StreamConn& c, Clock::time_point now) {
+    // Frame-rate cap per client, with 25% slack for render-time jitter.
+    if (c.fps > 0 && c.offered) {
+        const auto period = std::chrono::nanoseconds(1000000000LL / c.fps);
+        if (now - c.lastOffer < period * 3 / 4) {
+            // Too early for this client; if no newer frame comes, it still gets this one when due.
+            c.deferredUntil = c.lastOffer + period * 3 / 4;
+            c.deferred = true;
+            return;
+        }
+    }
+    c.deferred = false;
+    c.lastOffer = now;
+    c.offered = true;
+    if (c.busy()) {
+        if (c.pending) {
+            // The frame waiting for this client is replaced by a newer one: that one is dropped.
+            ++c.dropped;
+            m_stats.count(&FrameServerStats::framesDropped);
+        }
+        c.pending = true;
+        return;
+    }
+    c.pending = true;
+    transport(c).sendFrame(c);
+}
+
+std::uint64_t ClientHub::available(const StreamConn& c) const {
+    const RingEntry& e = *c.ring;
+    if (c.phase == Phase::Mjpeg) {
+        return e.jpeg ? e.jpeg->sequence : 0;
+    }
+    if (c.payload == StreamPayload::Zlib) {
+        return e.zlib ? e.zlib->sequence : 0;
+    }
+    return e.ring->latestSequence();
+}
+
+void ClientHub::offerIfNew(StreamConn& c, Clock::time_point now) {
+    const std::uint64_t seq = available(c);
+    if (seq > c.seen) {
+        c.seen = seq;
+        offer(c, now);
+    }
+}
+
+void ClientHub::frameSent(StreamConn& c, std::uint64_t seq) {
+    c.lastSent = seq;
+    m_stats.count(&FrameServerStats::framesSent);
+    flush(c);
+}
+
+std::chrono::milliseconds ClientHub::nextWait() const {
+    // Wake at least every 20 ms (stall checks), earlier when a rate-capped frame falls due.
+    auto wait = std::chrono::milliseconds(20);
+    const auto now = Clock::now();
+    for (const auto& c : m_conns) {
+        if (c->deferred) {
+            wait = std::min(wait, std::chrono::ceil<std::chrono::milliseconds>(
+                                      std::max(c->deferredUntil - now, Clock::duration::zero())));
+        }
+    }
+    return wait;
+}
+
+void ClientHub::requestEncodes() {
+    // Results first: they become the rings' newest encoded frames.
+    m_rings.takeEncodes(m_encoder.takeResults());
+    // Then one request per ring and format that has clients and a newer frame than last asked.
+    for (const auto& e : m_rings.entries()) {
+        bool zlib = false;
+        bool jpeg = false;
+        for (const auto& c : m_conns) {
+            if (c->dead || c->ring != e) {
+                continue;
+            }
+            jpeg = jpeg || c->phase == Phase::Mjpeg;
+            zlib = zlib || (c->phase == Phase::Stream && c->payload == StreamPayload::Zlib);
+        }
+        const std::uint64_t seq = e->ring->latestSequence();
+        if (seq == 0) {
+            continue;
+        }
+        if (zlib && seq > e->zlibAsked) {
+            e->zlibAsked = seq;
+            m_encoder.request(e->ring, seq, EncodeKind::Zlib);
+        }
+        if (jpeg && seq > e->jpegAsked) {
+            e->jpegAsked = seq;
+            m_encoder.request(e->ring, seq, EncodeKind::Jpeg);
+        }
+    }
+}
+
+void ClientHub::deliverNewFrames() {
+    const auto now = Clock::now();
+    const std::uint64_t pinnedOverwrites = m_rings.pinnedOverwrites();
+    m_stats.update([&](FrameServerStats& s) { s.pinnedOverwrites = pinnedOverwrites; });
+    for (const auto& c : m_conns) {
+        if (c->deferred && !c->dead && now >= c->deferredUntil) {
+            offer(*c, now);
+        }
+    }
+    requestEncodes();
+    for (const auto& c : m_conns) {
+        if (!c->dead && c->ring && (c->phase == Phase::Stream || c->phase == Phase::Mjpeg)) {
+            offerIfNew(*c, now);
+        }
+    }
+}
+
+void ClientHub::deliverStatus(const PendingStatus& st, Clock::time_point now, std::uint64_t* sent) {
+    for (const auto& cp : m_conns) {
+        StreamConn& c = *cp;
+        // Only streaming socket clients that have had no frame yet; MJPEG has no place for it.
+        if (c.dead || c.phase != Phase::Stream || !c.ring || c.lastSent != 0 || c.ring->key != st.key) {
+            continue;
+        }
+        const FrameRingLayout& l = c.ring->ring->layout();
+        if (l.width != st.width || l.height != st.height) {
+            continue;
+        }
+        if (c.outPending()) {
+            continue;  // it has not taken what it got (the handshake reply, the last status): no pile-up
+        }
+        c.queue(st.bytes->data(), st.bytes->size());
+        c.streamSince = now;  // the daemon is working on this client's frame: its first-frame wait restarts
+        ++*sent;
+        flush(c);
+    }
+}
+
+void ClientHub::deliverStatuses(const std::vector<PendingStatus>& statuses) {
+    const auto now = Clock::now();
+    std::uint64_t sent = 0;
+    for (const auto& st : statuses) {
+        deliverStatus(st, now, &sent);
+    }
+    if (sent > 0) {
+        m_stats.count(&FrameServerStats::statusesSent, sent);
+    }
+}
+
+void ClientHub::checkTimeouts() {
+    const auto now = Clock::now();
+    for (const auto& cp : m_conns) {
+        StreamConn& c = *cp;
+        if (c.dead) {
+            continue;
+        }
+        const TimeoutVerdict v = m_timeouts.check(c, now);
+        const std::string lastError = c.peer + ": disconnected, " + v.why;
+        switch (v.kind) {
+            case TimeoutVerdict::Kind::None:
+                break;
+            case TimeoutVerdict::Kind::Handshake:
+                m_stats.countError(&FrameServerStats::handshakeTimeouts, lastError);
+                c.closeWith(transport(c).handshakeTimeoutReply(v.why));
+                break;
+            case TimeoutVerdict::Kind::FirstFrame:
+                m_stats.countError(&FrameServerStats::firstFrameTimeouts, lastError);
+                c.closeWith(transport(c).firstFrameTimeoutReply(c, "disconnected, " + v.why));
+                break;
+            case TimeoutVerdict::Kind::Stall:
+                m_stats.countError(&FrameServerStats::stallDisconnects, lastError);
+                c.dead = true;
+                break;
+        }
+    }
+}
+
+void ClientHub::reap() {
+    bool changed = false;
+    for (auto it = m_conns.begin(); it != m_conns.end();) {
+        if (!(*it)->dead) {
+            ++it;
+            continue;
+        }
+        (*it)->unpin();
+        if ((*it)->ring) {
+            --(*it)->ring->clients;
+        }
+        m_loop.remove((*it)->fd.get());
+        it = m_conns.erase(it);  // closes the socket
+        changed = true;
+        m_stats.count(&FrameServerStats::disconnects);
+    }
+    if (changed) {
+        m_rings.retireUnused();
+        recountFps();
+        refreshRings();
+    }
+}
+
+void ClientHub::recountFps() {
+    for (const auto& e : m_rings.entries()) {
+        int fps = 0;
+        for (const auto& c : m_conns) {
+            if (c->ring == e) {
+                fps = std::max(fps, effectiveFps(c->fps));
+            }
+        }
+        e->maxFps = fps;
+    }
+}
+
+void ClientHub::countClients(FrameServerStats& s) const {
+    s.connections = m_conns.size();
+    s.clients = s.shmClients = s.tcpClients = s.mjpegClients = 0;
+    for (const auto& c : m_conns) {
+        if (c->dead || !c->ring) {
+            continue;
+        }
+        ++s.clients;
+        if (c->phase == Phase::Mjpeg) {
+            ++s.mjpegClients;
+        } else if (c->payload == StreamPayload::Shm) {
+            ++s.shmClients;
+        } else {
+            ++s.tcpClients;
+        }
+    }
+}
+
+void ClientHub::refreshRings() {
+    m_rings.updatePublishSet();
+    m_stats.setActive(m_rings.activeProfiles());
+    const std::size_t rings = m_rings.entries().size();
+    const std::size_t ringBytes = m_rings.totalBytes();
+    m_stats.update([&](FrameServerStats& s) {
+        s.rings = rings;
+        s.ringBytes = ringBytes;
+        countClients(s);
+    });
+}
+
+void ClientHub::clear() {
+    for (const auto& c : m_conns) {
+        m_loop.remove(c->fd.get());
+    }
+    m_conns.clear();
+}
+
+}  // namespace navmap::ipc::stream_detail

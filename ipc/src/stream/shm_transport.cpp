@@ -1,0 +1,132 @@
+#include "shm_transport.h"
+
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <cstring>
+
+#include "navmap/ipc/net/sys_error.h"
+#include "stream_rings.h"
+#include "stream_socket.h"
+
+namespace navmap::ipc::stream_detail {
+
+Result<int> ShmTransport::openListener() {
+    const FrameServerOptions& o = m_hub.options();
+    m_allowed = o.allowedPeers;
+    if (o.unixGroup) {
+        m_allowed.gids.push_back(*o.unixGroup);
+    }
+    if (o.unixPath.empty()) {
+        return -1;
+    }
+    return listenUnix(o.unixPath, o.unixMode, o.unixGroup);
+}
+
+void ShmTransport::close() {
+    if (listenFd() >= 0) {
+        FrameStreamTransport::close();
+        ::unlink(m_hub.options().unixPath.c_str());
+    }
+}
+
+std::string ShmTransport::acceptObject() const { return m_hub.options().unixPath; }
+
+std::optional<Refusal> ShmTransport::checkPeer(int fd, std::optional<uid_t>* uid) {
+    const std::string& path = m_hub.options().unixPath;
+    auto cred = peerCredentials(fd, path);
+    if (!cred) {
+        return Refusal{&FrameServerStats::refusedPeer, cred.error().message};
+    }
+    if (!peerAllowed(m_allowed, cred.value())) {
+        return Refusal{&FrameServerStats::refusedPeer, peerRefusal(cred.value(), path)};
+    }
+    *uid = cred.value().uid;
+    return std::nullopt;
+}
+
+bool ShmTransport::sendReply(StreamConn& c, const std::string& text) {
+    return c.payload == StreamPayload::Shm ? sendWithRing(c, text) : FrameStreamTransport::sendReply(c, text);
+}
+
+bool ShmTransport::sendWithRing(StreamConn& c, const std::string& text) {
+    // The reply and the read-only memfd travel in one sendmsg() (SCM_RIGHTS), like wl_shm.
+    auto ro = c.ring->ring->openReadOnly();
+    if (!ro) {
+        handshakeError(c, ro.error().message);
+        return false;
+    }
+    const net::UniqueFd roFd(ro.value());
+    iovec iov{const_cast<char*>(text.data()), text.size()};
+    alignas(cmsghdr) char control[CMSG_SPACE(sizeof(int))] = {};
+    msghdr msg{};
+    msg.msg_iov = &iov;
+    msg.msg_iovlen = 1;
+    msg.msg_control = control;
+    msg.msg_controllen = sizeof(control);
+    cmsghdr* cm = CMSG_FIRSTHDR(&msg);
+    cm->cmsg_level = SOL_SOCKET;
+    cm->cmsg_type = SCM_RIGHTS;
+    cm->cmsg_len = CMSG_LEN(sizeof(int));
+    const int f = roFd.get();
+    std::memcpy(CMSG_DATA(cm), &f, sizeof(int));
+    const ssize_t n = ::sendmsg(c.fd.get(), &msg, MSG_NOSIGNAL | MSG_DONTWAIT);
+    if (n < 0) {
+        m_hub.stats().setLastError(net::sysError("sendmsg", c.peer));
+        c.dead = true;
+        return false;
+    }
+    if (static_cast<std::size_t>(n) < text.size()) {
+        c.queue(text.data() + n, text.size() - static_cast<std::size_t>(n));
+    }
+    return true;
+}
+
+bool ShmTransport::takeAck(StreamConn& c, unsigned char byte) {
+    if (c.payload != StreamPayload::Shm || byte != 'A' || !c.awaitingAck) {
+        return false;
+    }
+    c.awaitingAck = false;
+    c.unpin();  // the client is done with the frame: its slot may be written again
+    c.lastProgress = Clock::now();
+    if (c.pending && !c.busy()) {
+        sendFrame(c);
+    }
+    return true;
+}
+
+bool ShmTransport::readFrame(StreamConn& c, std::uint64_t seq, FrameHeader* h) {
+    if (c.payload != StreamPayload::Shm) {
+        return FrameStreamTransport::readFrame(c, seq, h);
+    }
+    FrameRing& ring = *c.ring->ring;
+    if (!c.hold) {
+        return ring.read(seq, h, nullptr);
+    }
+    // A client that holds frames: the slot is pinned from the notification until the ack, and
+    // the writer leaves it alone while another one is free (copying clients pin nothing: their
+    // seqlock copy tells them when a frame was overwritten).
+    const int slot = ring.pin(seq);
+    const bool ok = slot >= 0 && ring.read(seq, h, nullptr);
+    if (slot >= 0 && !ok) {
+        ring.unpin(static_cast<std::uint32_t>(slot));
+    } else if (ok) {
+        c.pinnedSlot = slot;
+    }
+    return ok;
+}
+
+void ShmTransport::queueFrame(StreamConn& c, FrameHeader h, const EncodedFrame* encoded) {
+    if (c.payload != StreamPayload::Shm) {
+        FrameStreamTransport::queueFrame(c, h, encoded);
+        return;
+    }
+    h.encoding = FrameEncoding::Shm;
+    h.payloadBytes = 0;
+    const auto hb = encodeFrameHeader(h);
+    c.queue(hb.data(), hb.size());
+    c.awaitingAck = true;
+    c.ackSince = Clock::now();
+}
+
+}  // namespace navmap::ipc::stream_detail

@@ -1,0 +1,25 @@
+#pragma once
+// What the frame server tells about itself: its navmap_stream_* metric families (Prometheus, for
+// /metrics and FrameServer::collectMetrics) and the JSON of /status. Built from snapshots, so
+// any thread may call them. Private to ipc/src/stream.
+
+#include <cstddef>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "navmap/ipc/frame_server.h"
+#include "navmap/ipc/metrics_registry.h"
+#include "frame_encoder.h"
+
+namespace navmap::ipc::stream_detail {
+
+/// The server's own families; `ringMemoryBytes` is the ceiling shown next to the bytes in use.
+void collectStreamMetrics(MetricsRegistry& r, const FrameServerStats& s, const EncoderStats& es,
+                          std::size_t ringMemoryBytes);
+
+/// /status: {"stream": counters and profiles, "daemon": what `daemonJson` returns (or null)}.
+std::string streamStatusJson(const FrameServerStats& s, const std::vector<ActiveProfile>& active,
+                             const std::function<std::string()>& daemonJson);
+
+}  // namespace navmap::ipc::stream_detail

@@ -1,0 +1,222 @@
+#include "stream_rings.h"
+
+#include <algorithm>
+#include <iomanip>
+#include <sstream>
+#include <utility>
+
+#include "stream_stats.h"
+
+namespace navmap::ipc::stream_detail {
+
+namespace {
+
+std::string describe(const std::string& view, int w, int h) {
+    return view + " " + std::to_string(w) + "x" + std::to_string(h);
+}
+
+std::string sizeText(std::size_t b) {
+    std::ostringstream os;
+    os << std::fixed << std::setprecision(1);
+    if (b < (std::size_t{1} << 20)) {
+        os << static_cast<double>(b) / 1024 << " KiB";
+    } else {
+        os << static_cast<double>(b) / (1 << 20) << " MiB";
+    }
+    return os.str();
+}
+
+}  // namespace
+
+int effectiveFps(int fps) { return fps == 0 ? kMaxStreamFps : fps; }
+
+bool RingEntry::fillRaw(std::uint64_t seq) {
+    if (rawSeq == seq) {
+        return true;
+    }
+    raw.resize(ring->layout().pixelBytes());
+    if (!ring->read(seq, &rawHeader, raw.data())) {
+        return false;
+    }
+    rawSeq = seq;
+    return true;
+}
+
+RingSet::RingSet(const FrameServerOptions& options, StreamStats& stats) : m_options(options), m_stats(stats) {}
+
+Result<std::string> RingSet::refuseNotRendered(std::string message) {
+    m_stats.count(&FrameServerStats::refusedNotRendered);
+    return Error{std::move(message)};
+}
+
+Result<std::string> RingSet::resolve(const StreamProfile& profile) {
+    const auto& rendered = m_options.renderedProfiles;
+    if (rendered.empty()) {
+        return profile.view;
+    }
+    // By name first: two profiles may share a view and size and differ in style (glowing roads).
+    for (const auto& r : rendered) {
+        if (r.name == profile.name) {
+            if (r.view == profile.view && r.width == profile.width && r.height == profile.height) {
+                return r.name;
+            }
+            return refuseNotRendered("profile " + r.name + " is rendered as " + describe(r.view, r.width, r.height) +
+                                     ", not " + describe(profile.view, profile.width, profile.height));
+        }
+    }
+    // Another name: the first rendered profile of that view and size.
+    for (const auto& r : rendered) {
+        if (r.view == profile.view && r.width == profile.width && r.height == profile.height) {
+            return r.name;
+        }
+    }
+    std::string list;
+    for (const auto& r : rendered) {
+        list += (list.empty() ? "" : ", ") + r.name + " (" + describe(r.view, r.width, r.height) + ")";
+    }
+    return refuseNotRendered(describe(profile.view, profile.width, profile.height) +
+                             " is not rendered here; rendered: " + list);
+}
+
+std::shared_ptr<RingEntry> RingSet::find(const std::string& key, const StreamProfile& profile) const {
+    for (const auto& e : m_rings) {
+        const FrameRingLayout& l = e->ring->layout();
+        if (e->key == key && static_cast<int>(l.width) == profile.width && static_cast<int>(l.height) == profile.height &&
+            l.format == profile.format) {
+            return e;
+        }
+    }
+    return nullptr;
+}
+
+Status RingSet::checkMemory(const StreamProfile& profile) {
+    // The memory ceiling: a new ring must fit next to the ones that exist.
+    const FrameRingLayout want = FrameRingLayout::make(m_options.ringSlots, static_cast<std::uint32_t>(profile.width),
+                                                       static_cast<std::uint32_t>(profile.height), profile.format);
+    const std::size_t used = totalBytes();
+    if (m_options.ringMemoryBytes == 0 || used + want.totalBytes <= m_options.ringMemoryBytes) {
+        return {};
+    }
+    m_stats.count(&FrameServerStats::refusedRingMemory);
+    return Error{"ring memory: " + profile.view + " " + std::to_string(profile.width) + "x" +
+                 std::to_string(profile.height) + " " + pixelFormatName(profile.format) + " needs " +
+                 sizeText(want.totalBytes) + ", " + sizeText(used) + " of " + sizeText(m_options.ringMemoryBytes) +
+                 " are in use; try again later"};
+}
+
+Result<std::shared_ptr<RingEntry>> RingSet::attach(const std::string& key, const StreamProfile& profile) {
+    if (auto e = find(key, profile)) {
+        ++e->clients;
+        e->maxFps = std::max(e->maxFps, effectiveFps(profile.fps));
+        return e;
+    }
+    if (auto room = checkMemory(profile); !room) {
+        return Error{room.message()};
+    }
+    const std::string name = "navmap-ring-" + key + "-" + std::to_string(profile.width) + "x" +
+                             std::to_string(profile.height) + "-" + pixelFormatName(profile.format) + "-" +
+                             std::to_string(++m_ringCounter);
+    auto ring = FrameRing::create(name, m_options.ringSlots, static_cast<std::uint32_t>(profile.width),
+                                  static_cast<std::uint32_t>(profile.height), profile.format);
+    if (!ring) {
+        return Error{ring.error().message};
+    }
+    auto e = std::make_shared<RingEntry>();
+    e->key = key;
+    e->view = profile.view;
+    e->ring = std::shared_ptr<FrameRing>(std::move(ring.value()));
+    e->clients = 1;
+    e->maxFps = effectiveFps(profile.fps);
+    m_rings.push_back(e);
+    return e;
+}
+
+void RingSet::retireUnused() {
+    for (const auto& e : m_rings) {
+        if (e->clients == 0) {
+            m_retiredPinnedOverwrites += e->ring->pinnedOverwrites();
+        }
+    }
+    std::erase_if(m_rings, [](const auto& e) { return e->clients == 0; });
+}
+
+std::uint64_t RingSet::pinnedOverwrites() const {
+    std::uint64_t total = m_retiredPinnedOverwrites;
+    for (const auto& e : m_rings) {
+        total += e->ring->pinnedOverwrites();
+    }
+    return total;
+}
+
+std::size_t RingSet::totalBytes() const {
+    std::size_t total = 0;
+    for (const auto& e : m_rings) {
+        total += e->ring->layout().totalBytes;
+    }
+    return total;
+}
+
+void RingSet::takeEncodes(std::vector<FrameEncoder::Result> results) {
+    for (auto& r : results) {
+        for (const auto& e : m_rings) {
+            if (e->ring.get() == r.ring) {
+                auto& slot = r.kind == EncodeKind::Zlib ? e->zlib : e->jpeg;
+                if (!slot || r.frame->sequence > slot->sequence) {
+                    slot = std::move(r.frame);
+                }
+                break;
+            }
+        }
+    }
+}
+
+std::vector<ActiveProfile> RingSet::activeProfiles() const {
+    std::vector<ActiveProfile> active;
+    for (const auto& e : m_rings) {
+        const FrameRingLayout& l = e->ring->layout();
+        bool merged = false;
+        for (auto& a : active) {
+            if (a.profile == e->key && a.width == static_cast<int>(l.width) && a.height == static_cast<int>(l.height)) {
+                a.clients += e->clients;
+                a.maxFps = std::max(a.maxFps, e->maxFps);
+                merged = true;
+            }
+        }
+        if (!merged) {
+            active.push_back({e->key, e->view, static_cast<int>(l.width), static_cast<int>(l.height), e->maxFps, e->clients});
+        }
+    }
+    return active;
+}
+
+void RingSet::updatePublishSet() {
+    auto set = std::make_shared<PublishSet>();
+    for (const auto& e : m_rings) {
+        set->push_back({e->key, e->ring});
+    }
+    std::lock_guard lock(m_publishMutex);
+    m_publishSet = std::move(set);
+}
+
+std::size_t RingSet::publish(const std::string& profile, const FrameView& frame) {
+    std::shared_ptr<const PublishSet> set;
+    {
+        std::lock_guard lock(m_publishMutex);
+        set = m_publishSet;
+    }
+    std::size_t written = 0;
+    for (const auto& t : *set) {
+        if (t.key == profile && t.ring->write(frame) != 0) {
+            ++written;
+        }
+    }
+    return written;
+}
+
+void RingSet::clear() {
+    m_rings.clear();
+    std::lock_guard lock(m_publishMutex);
+    m_publishSet = std::make_shared<PublishSet>();
+}
+
+}  // namespace navmap::ipc::stream_detail

@@ -1,0 +1,94 @@
+#pragma once
+// RingSet: the frame server's shared-memory rings, one per (profile, size, pixel format) with
+// clients, shared by all of them and by every transport, and the set publish() writes into.
+// Each RingEntry caches the newest frame in the forms the socket transports need (raw copy, zlib,
+// JPEG), so N clients cost one copy/compression/encode; zlib and JPEG come from the encoder
+// thread (FrameEncoder), never from the I/O thread. Server thread, but for publish() (render
+// thread). Private to ipc/src/stream.
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "navmap/ipc/frame_header.h"
+#include "navmap/ipc/frame_ring.h"
+#include "navmap/ipc/frame_server.h"
+#include "navmap/ipc/result.h"
+#include "navmap/ipc/stream_profile.h"
+#include "frame_encoder.h"
+
+namespace navmap::ipc::stream_detail {
+
+class StreamStats;
+
+struct RingEntry {
+    std::string key;  // what publish() names
+    std::string view;
+    std::shared_ptr<FrameRing> ring;
+    std::size_t clients = 0;
+    int maxFps = 0;
+    std::uint64_t rawSeq = 0;
+    FrameHeader rawHeader;
+    std::vector<std::uint8_t> raw;
+    std::uint64_t zlibAsked = 0;  // newest sequence handed to the encoder
+    std::uint64_t jpegAsked = 0;
+    std::shared_ptr<const EncodedFrame> zlib;  // newest finished encodes
+    std::shared_ptr<const EncodedFrame> jpeg;
+
+    /// Copies frame `seq` into `raw`/`rawHeader` (once per frame); false when it was overwritten.
+    bool fillRaw(std::uint64_t seq);
+};
+
+/// fps 0 asks for every frame: for scheduling that is the highest rate there is.
+int effectiveFps(int fps);
+
+class RingSet {
+public:
+    RingSet(const FrameServerOptions& options, StreamStats& stats);
+
+    /// The ring key a requested profile maps to (a rendered profile's name, or the view when the
+    /// server has no list); an Error naming what is rendered otherwise (counted).
+    Result<std::string> resolve(const StreamProfile& profile);
+    /// The ring of `key` at the profile's size and format, made when none exists yet and it fits
+    /// under ringMemoryBytes (refusal counted; its message starts with "ring memory:"). The
+    /// entry counts the new client.
+    Result<std::shared_ptr<RingEntry>> attach(const std::string& key, const StreamProfile& profile);
+    const std::vector<std::shared_ptr<RingEntry>>& entries() const { return m_rings; }
+    /// Frees the rings without clients (keeping their pinned-overwrite counts).
+    void retireUnused();
+    std::uint64_t pinnedOverwrites() const;
+    std::size_t totalBytes() const;
+    /// Finished encodes become their rings' newest encoded frames.
+    void takeEncodes(std::vector<FrameEncoder::Result> results);
+    /// Profiles with rings now, merged by key and size.
+    std::vector<ActiveProfile> activeProfiles() const;
+    /// Hands the current rings to publish() (the render thread sees them from its next call).
+    void updatePublishSet();
+    /// Render thread: writes the frame into every ring of `profile`; the number written.
+    std::size_t publish(const std::string& profile, const FrameView& frame);
+    void clear();
+
+private:
+    struct PublishTarget {
+        std::string key;
+        std::shared_ptr<FrameRing> ring;
+    };
+    using PublishSet = std::vector<PublishTarget>;
+
+    std::shared_ptr<RingEntry> find(const std::string& key, const StreamProfile& profile) const;
+    Result<std::string> refuseNotRendered(std::string message);
+    Status checkMemory(const StreamProfile& profile);
+
+    const FrameServerOptions& m_options;
+    StreamStats& m_stats;
+    std::vector<std::shared_ptr<RingEntry>> m_rings;  // server thread
+    std::uint64_t m_ringCounter = 0;
+    std::uint64_t m_retiredPinnedOverwrites = 0;  // of rings freed since (server thread)
+    mutable std::mutex m_publishMutex;  // guards the pointer swap only, never I/O
+    std::shared_ptr<const PublishSet> m_publishSet = std::make_shared<PublishSet>();
+};
+
+}  // namespace navmap::ipc::stream_detail

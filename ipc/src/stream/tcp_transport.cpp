@@ -1,0 +1,19 @@
+#include "tcp_transport.h"
+
+#include "stream_socket.h"
+
+namespace navmap::ipc::stream_detail {
+
+Result<int> TcpTransport::openListener() {
+    const FrameServerOptions& o = m_hub.options();
+    if (o.tcpPort < 0) {
+        return -1;
+    }
+    auto fd = listenTcp(o.bindAddress, o.tcpPort);
+    if (fd) {
+        m_port = boundPort(fd.value());
+    }
+    return fd;
+}
+
+}  // namespace navmap::ipc::stream_detail
