@@ -1280,6 +1280,7 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target) {
     }
 
     if (!frame.layers.labels) runOcclusionEffects(frame, target, projection, tiles);
+    if (!frame.layers.labels) drawArrows(frame, target, projection, tiles);
     // Labels (seed ch. 4, 5.5): after the outlines so they lie above the roads, before the marker,
     // and out of the marker's way.
     const std::optional<MarkerOnScreen> marker = markerOnScreen(frame, target);
@@ -1299,6 +1300,7 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target) {
         m_label_pass->layout(frame, m_tile_labels, {target.width(), target.height()}, m_stats, keep_out,
                              m_style.route_width_m);
         runOcclusionEffects(frame, target, projection, tiles);  // seed 5.5.2: composited before the labels
+        drawArrows(frame, target, projection, tiles);
         target.bindForDrawing(false);
         m_label_pass->draw({target.width(), target.height()}, m_stats);
         if (frame.layers.measure_label_occlusion) {
@@ -1315,6 +1317,10 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target) {
 
     if (marker) drawMarker(frame, *marker, target);
     lap(m_stats.marker_ms, t);
+    if (frame.guidance) {
+        if (!m_guidance) m_guidance = std::make_unique<GuidanceOverlayPass>();
+        m_guidance->draw(*frame.guidance, m_style, target);
+    }
 
     glBindVertexArray(0);
     glBindTexture(GL_TEXTURE_2D, 0);
@@ -1359,6 +1365,26 @@ void MapRenderer::runOcclusionEffects(const MapFrame& frame, const RenderTarget&
         lap(m_stats.glow_ms);
     }
     target.bindForDrawing(false);
+}
+
+void MapRenderer::drawArrows(const MapFrame& frame, const RenderTarget& target, const glm::mat4& projection,
+                             const std::vector<GpuTile*>& tiles) {
+    if (!ManeuverArrowPass::wanted(frame)) return;
+    if (!m_arrows) m_arrows = std::make_unique<ManeuverArrowPass>();
+    std::vector<ArrowTile> arrow_tiles(tiles.size());
+    for (std::size_t i = 0; i < tiles.size(); ++i) {
+        const GpuTile& g = *tiles[i];
+        ArrowTile& a = arrow_tiles[i];
+        a.origin = g.origin;
+        a.morph = g.morph;
+        a.view = g.view;
+        if (g.grid_size < 2) continue;
+        const double spacing = g.size_m / double(g.grid_size - 1);
+        a.grid = {g.grid_size, spacing, g.heights.data()};
+        for (std::size_t j = 0; j < a.ancestors.size(); ++j) a.ancestors[j] = {g.grid_size, spacing, g.ancestor_heights[j].data()};
+    }
+    const GLuint terrain_depth = m_effects && wantsGlow(frame.layers) ? m_effects->terrainDepth(target) : 0;
+    m_arrows->draw(frame, m_style, target, projection, arrow_tiles, terrain_depth);
 }
 
 std::optional<MapRenderer::MarkerOnScreen> MapRenderer::markerOnScreen(const MapFrame& frame, const RenderTarget& target) const {

@@ -20,7 +20,9 @@
 #include "navmap/render/road_style.h"
 #include "navmap/render/terrain_horizon.h"
 #include "navmap/render/tile_mesh.h"
+#include "guidance_overlay_pass.h"
 #include "label_pass.h"
+#include "maneuver_arrow_pass.h"
 #include "quad_indices.h"
 #include "occlusion_effects.h"
 #include "render_target.h"
@@ -126,6 +128,9 @@ private:
     /// Label aura and glowing roads (seed 5.5), between the label layout and the label text.
     void runOcclusionEffects(const MapFrame& frame, const RenderTarget& target, const glm::mat4& projection,
                              const std::vector<GpuTile*>& tiles);
+    /// Manoeuvre arrows and guidance roads (ManeuverArrowPass), after the route and its glow.
+    void drawArrows(const MapFrame& frame, const RenderTarget& target, const glm::mat4& projection,
+                    const std::vector<GpuTile*>& tiles);
     void evict();
 
     RendererOptions m_options;
@@ -191,6 +196,8 @@ private:
     std::vector<TileLabels> m_tile_labels;
     std::unique_ptr<OcclusionEffects> m_effects;  // glowing roads, label aura: created when first used
     std::unique_ptr<SvRoads> m_sv_roads;  // shadow-volume roads (seed 3.5): created when first used
+    std::unique_ptr<ManeuverArrowPass> m_arrows;      // created on the first frame with arrows
+    std::unique_ptr<GuidanceOverlayPass> m_guidance;  // created on the first frame with an overlay
 };
 
 }  // namespace navmap::render::gl

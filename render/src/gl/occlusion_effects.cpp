@@ -268,6 +268,8 @@ void OcclusionEffects::captureTerrainDepth(const RenderTarget& target, bool glow
     target.bindForDrawing(false);
 }
 
+GLuint OcclusionEffects::terrainDepth(const RenderTarget& target) { return buffersFor(target).terrain_depth; }
+
 void OcclusionEffects::aura(const RenderTarget& target, std::span<const LabelOccluder> labels,
                             const glm::mat4& projection, const MapStyle& style, const DrawWith& draw_buildings,
                             const std::function<void()>& draw_roads) {

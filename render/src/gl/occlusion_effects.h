@@ -59,6 +59,11 @@ public:
     void glow(const RenderTarget& target, const MapLayers& layers, const MapStyle& style,
               const DrawWith& draw_roads);
 
+    /// The terrain-only depth texture that captureTerrainDepth() kept for `target`'s size (0: none
+    /// yet), for passes after the glow that shine through buildings the same way (the manoeuvre
+    /// arrows).
+    GLuint terrainDepth(const RenderTarget& target);
+
 private:
     struct Buffers;
     Buffers& buffersFor(const RenderTarget& target);

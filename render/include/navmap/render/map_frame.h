@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "navmap/map/tile.h"
@@ -86,6 +87,12 @@ struct MapLayers {
     bool measure_label_occlusion = false;
     /// Road draping technique; Geometric by default (the existing goldens are geometric).
     RoadTechnique road_technique = RoadTechnique::Geometric;
+
+    /// The head-up display's guidance style (profile "hud"): only the route, the manoeuvre arrows
+    /// and MapFrame::guidance_roads, drawn bright on black (black is transparent on a HUD
+    /// combiner); no terrain, land cover, map roads, buildings, labels or outlines. Pair it with
+    /// MapStyle::hud(). The guidance overlay (MapFrame::guidance) is drawn in any style.
+    static MapLayers hud();
 };
 
 /// The planned route as a polyline on the terrain (store-frame metres), with the distance
@@ -118,6 +125,41 @@ struct MarkerState {
     bool stale = false;        ///< position lost: drawn grey
 };
 
+/// A manoeuvre arrow on the map (drawn by the map renderer above the route, draped on the terrain
+/// like the roads, and shining through buildings with MapLayers::glow_roads): a polyline along
+/// the route through the junction, from the incoming road through the turn onto the outgoing
+/// road, with an arrow head at its end. cutManeuverArrow() (maneuver_arrow.h) cuts it from the
+/// route. Through a roundabout the polyline follows the route round to the exit, so the arrow
+/// shows the exit taken.
+struct ManeuverArrow {
+    /// Store-frame metres in driving order (z is not used: the arrow is draped onto each drawn
+    /// tile). At least two points 0.5 m apart; the head lies on the last MapStyle::arrow_head_length_m.
+    std::vector<glm::dvec3> points;
+    /// 1: the next manoeuvre (full colours); less: a later one, drawn fainter (its colours mixed
+    /// towards the route's by 1 - emphasis); 0 or less: not drawn. Higher emphasis draws on top.
+    float emphasis = 1.0f;
+};
+
+/// The manoeuvre symbol of the guidance overlay, one per manoeuvre type of the control protocol
+/// (set_route maneuvers[].type, in the order of ipc::ManeuverType).
+enum class ManeuverSymbol : std::uint8_t {
+    Depart, Arrive, Straight, TurnLeft, TurnRight, SlightLeft, SlightRight, SharpLeft, SharpRight,
+    UTurn, KeepLeft, KeepRight, Roundabout, Exit, Merge,
+};
+
+/// What the guidance overlay shows (screen space, over the map; laid out for the HUD's 800 x 240
+/// and scaled with the target's height): the next manoeuvre as a large symbol, the distance to
+/// it, the street to turn into, and what remains of the route. Texts are UTF-8, formatted by the
+/// caller; an empty text is not drawn.
+struct GuidanceOverlay {
+    ManeuverSymbol symbol = ManeuverSymbol::Straight;
+    int roundabout_exit = 0;     ///< Roundabout: the exit to take (1 = first), shown in the ring; 0: none
+    std::string distance;        ///< distance to the manoeuvre, e.g. "300 m" or "now"
+    std::string street;          ///< name (or ref) of the road to turn into
+    std::string remaining_distance;  ///< to the destination, e.g. "12.4 km"
+    std::string remaining_time;      ///< e.g. "18 min"
+};
+
 struct MapStyle {
     glm::vec3 light_dir{-0.5f, 0.6f, 0.62f};
     glm::vec3 sky_color{0.62f, 0.75f, 0.90f};
@@ -136,9 +178,29 @@ struct MapStyle {
     float glow_strength = 0.8f;                ///< opacity of the glow over the buildings
     float aura_margin_px = 18.0f;              ///< seed 5.5.1: the label OOBB is enlarged by this much
     float aura_min_alpha = 0.0f;               ///< building opacity at the centre of an aura
+    // Manoeuvre arrows (MapFrame::arrows): a white shaft with a dark casing and a wide head.
+    float arrow_width_m = 6.0f;        ///< shaft fill width
+    float arrow_casing_m = 1.5f;       ///< casing per side
+    float arrow_head_width_m = 17.0f;  ///< fill width of the head at its base
+    float arrow_head_length_m = 13.0f; ///< along the polyline, at most a third of the arrow's length
+    /// Arrows grow (all of their shape) beyond the route's distance scaling so that the shaft is
+    /// at least this wide on screen (bird's-eye views from high up).
+    float arrow_min_width_px = 5.0f;
+    glm::vec3 arrow_fill{1.0f, 1.0f, 1.0f};
+    glm::vec3 arrow_casing{0.08f, 0.10f, 0.16f};
+    // MapFrame::guidance_roads: the roads at the next junction (HUD style), no casing.
+    float guidance_road_width_m = 7.0f;
+    glm::vec3 guidance_road_color{0.55f, 0.58f, 0.62f};
+    // The guidance overlay (MapFrame::guidance).
+    glm::vec4 guidance_panel{0.06f, 0.07f, 0.10f, 0.78f};  ///< behind symbol and texts (alpha 0: none)
+    glm::vec3 guidance_symbol{1.0f, 1.0f, 1.0f};           ///< the manoeuvre's path
+    glm::vec3 guidance_symbol_dim{0.45f, 0.48f, 0.52f};    ///< the roads not taken, the roundabout's ring
+    glm::vec3 guidance_text{1.0f, 1.0f, 1.0f};
 
     static MapStyle day();
     static MapStyle night();
+    /// Head-up display (with MapLayers::hud()): black background, bright route, arrow and roads.
+    static MapStyle hud();
 };
 
 struct MapFrame {
@@ -150,6 +212,14 @@ struct MapFrame {
     double route_progress_m = 0.0;
     std::optional<MarkerState> marker;
     MapLayers layers;
+    /// Manoeuvre arrows (any order; cutManeuverArrow() cuts them from the route). Empty: none.
+    std::vector<ManeuverArrow> arrows;
+    /// Road polylines drawn in MapStyle::guidance_road_color under the route (store-frame metres,
+    /// draped): in the HUD style the roads that meet at the next junction, which junctionRoads()
+    /// (maneuver_arrow.h) cuts from the tiles. Empty: none.
+    std::vector<std::vector<glm::dvec3>> guidance_roads;
+    /// The guidance overlay, drawn last over the frame; none: nothing drawn.
+    std::optional<GuidanceOverlay> guidance;
     /// Time since the previous frame of this renderer, seconds: the label layout advances by it
     /// (fixed simulation steps, so the result does not depend on the frame rate).
     double frame_dt_s = 1.0 / 30.0;

@@ -1,0 +1,122 @@
+#include "guidance_overlay_pass.h"
+#include "text_layer.h"
+
+#include <algorithm>
+#include <string>
+
+#include <glm/gtc/type_ptr.hpp>
+
+#include "navmap/render/guidance_symbol.h"
+
+namespace navmap::render::gl {
+
+GuidanceLayout guidanceLayout(int width, int height) {
+    // The HUD's 800 x 240 in layout pixels, scaled to fit the target (within readable bounds).
+    const float unit = std::clamp(std::min(float(width) / 800.0f, float(height) / 240.0f), 0.5f, 1.6f);
+    GuidanceLayout l;
+    l.unit = unit;
+    l.symbol_px = 150.0f * unit;
+    l.symbol_centre = glm::vec2(20.0f * unit + 0.5f * l.symbol_px, 0.5f * float(height) - 6.0f * unit);
+    const float text_x = 20.0f * unit + l.symbol_px + 18.0f * unit;
+    l.distance_px = 64.0f * unit;
+    l.distance_at = {text_x, l.symbol_centre.y + 2.0f * unit};
+    l.street_px = 30.0f * unit;
+    l.street_at = {text_x, l.symbol_centre.y + 48.0f * unit};
+    l.remaining_px = 26.0f * unit;
+    l.remaining_right = {float(width) - 18.0f * unit, float(height) - 16.0f * unit};
+    return l;
+}
+
+GuidanceOverlayPass::GuidanceOverlayPass()
+    : m_text(std::make_unique<TextLayer>(m_engine.atlas())),
+      m_program(ShaderProgram::fromEmbedded("guidance_symbol.vert", "guidance_symbol.frag")) {
+    glGenVertexArrays(1, &m_vao);
+    glGenBuffers(1, &m_vbo);
+    glBindVertexArray(m_vao);
+    glBindBuffer(GL_ARRAY_BUFFER, m_vbo);
+    glEnableVertexAttribArray(0);
+    glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, 0, nullptr);
+    glBindVertexArray(0);
+    glBindBuffer(GL_ARRAY_BUFFER, 0);
+}
+
+GuidanceOverlayPass::~GuidanceOverlayPass() {
+    glDeleteVertexArrays(1, &m_vao);
+    glDeleteBuffers(1, &m_vbo);
+}
+
+void GuidanceOverlayPass::drawTriangles(const std::vector<glm::vec2>& vertices, glm::vec4 color, glm::vec2 viewport) {
+    if (vertices.empty()) return;
+    glUseProgram(m_program.id());
+    glUniform2fv(m_program.uniform("u_viewport"), 1, glm::value_ptr(viewport));
+    glUniform4fv(m_program.uniform("u_color"), 1, glm::value_ptr(color));
+    glBindVertexArray(m_vao);
+    glBindBuffer(GL_ARRAY_BUFFER, m_vbo);
+    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(vertices.size() * sizeof(glm::vec2)), vertices.data(),
+                 GL_STREAM_DRAW);
+    glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(vertices.size()));
+    glBindBuffer(GL_ARRAY_BUFFER, 0);
+    glBindVertexArray(0);
+}
+
+void GuidanceOverlayPass::draw(const GuidanceOverlay& overlay, const MapStyle& style, const RenderTarget& target) {
+    const glm::ivec2 size(target.width(), target.height());
+    const glm::vec2 viewport(size);
+    const GuidanceLayout l = guidanceLayout(size.x, size.y);
+    target.bindForDrawing(false);
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_CULL_FACE);
+    glEnable(GL_BLEND);
+    glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE);  // the frame stays opaque
+
+    // Texts first laid out, so that the panel can span them.
+    m_engine.beginFrame();
+    text::TextStyle ts;
+    ts.fill = glm::vec4(style.guidance_text, 1.0f);
+    ts.outline = {0.0f, 0.0f, 0.0f, 0.9f};
+    ts.outline_px = 2.0f;
+    ts.halo = {0.0f, 0.0f, 0.0f, 0.55f};  // dark: black is transparent on a HUD combiner
+    ts.halo_px = 3.0f;
+    std::vector<text::LaidOutText> laid;
+    laid.reserve(5);
+    std::vector<text::TextDraw> draws;
+    float panel_right = l.symbol_centre.x + 0.5f * l.symbol_px;
+    auto add = [&](const std::string& utf8, text::FontStyle font, float px, glm::vec2 at, text::TextAnchor anchor,
+                   bool right_aligned) {
+        if (utf8.empty()) return;
+        const text::RunId run = m_engine.run(utf8, font);
+        laid.push_back(m_engine.layout(run, px, anchor));
+        const text::LaidOutText& t = laid.back();
+        if (right_aligned) at.x -= t.metrics.width;
+        else if (anchor == text::TextAnchor::BaselineLeft) panel_right = std::max(panel_right, at.x + t.metrics.width);
+        draws.push_back({t.quads, t.size_px, at, 0.0f, 1.0f, 1.0f, ts});
+    };
+    add(overlay.distance, text::FontStyle::Bold, l.distance_px, l.distance_at, text::TextAnchor::BaselineLeft, false);
+    add(overlay.street, text::FontStyle::Regular, l.street_px, l.street_at, text::TextAnchor::BaselineLeft, false);
+    std::string remaining = overlay.remaining_distance;
+    if (!remaining.empty() && !overlay.remaining_time.empty()) remaining += "  ·  ";
+    remaining += overlay.remaining_time;
+    add(remaining, text::FontStyle::Regular, l.remaining_px, l.remaining_right, text::TextAnchor::BaselineLeft, true);
+
+    const GuidanceSymbolGeometry symbol =
+        guidanceSymbol(overlay.symbol, overlay.roundabout_exit, l.symbol_centre, l.symbol_px);
+    if (symbol.exit_label_px > 0.0f && overlay.roundabout_exit > 0) {
+        add(std::to_string(overlay.roundabout_exit), text::FontStyle::Bold, 0.8f * symbol.exit_label_px,
+            symbol.exit_label_at, text::TextAnchor::Center, false);
+    }
+
+    if (style.guidance_panel.a > 0.0f) {
+        const float pad = 10.0f * l.unit;
+        const glm::vec2 lo(l.symbol_centre.x - 0.5f * l.symbol_px - pad, l.symbol_centre.y - 0.5f * l.symbol_px - pad);
+        const glm::vec2 hi(panel_right + pad, l.symbol_centre.y + 0.5f * l.symbol_px + pad);
+        drawTriangles({lo, {lo.x, hi.y}, {hi.x, lo.y}, {hi.x, lo.y}, {lo.x, hi.y}, hi}, style.guidance_panel, viewport);
+    }
+    drawTriangles(symbol.secondary, glm::vec4(style.guidance_symbol_dim, 1.0f), viewport);
+    drawTriangles(symbol.primary, glm::vec4(style.guidance_symbol, 1.0f), viewport);
+    if (!draws.empty()) m_text->drawScreen(draws, size);
+    glDisable(GL_BLEND);
+    glDisable(GL_DEPTH_TEST);
+    target.bindForDrawing(false);
+}
+
+}  // namespace navmap::render::gl

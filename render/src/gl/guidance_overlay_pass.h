@@ -1,0 +1,62 @@
+#pragma once
+// The guidance overlay (MapFrame::guidance), drawn last over the map frame in screen space: the
+// next manoeuvre as a large symbol (guidance_symbol.h: plain triangles), the distance to it in
+// large text, the street to turn into, and the remaining distance and time, with the SDF text of
+// navmap_text. Laid out for the head-up display's 800 x 240 and scaled with the target. Owns its
+// own text engine and atlas, so that it works without the label pass (the HUD has no labels).
+// Private to render/.
+
+#include <GLES3/gl3.h>
+
+#include <memory>
+#include <vector>
+
+#include <glm/vec2.hpp>
+
+#include "navmap/render/map_frame.h"
+#include "navmap/render/text/text_engine.h"
+#include "render_target.h"
+#include "shader_program.h"
+
+namespace navmap::render::gl {
+
+class TextLayer;
+
+/// Where the overlay puts its parts on a target (screen pixels, origin top left, y down).
+struct GuidanceLayout {
+    float unit = 1.0f;            ///< pixels per pixel of the 800 x 240 layout
+    glm::vec2 symbol_centre{0.0f};
+    float symbol_px = 0.0f;       ///< side of the symbol's square
+    glm::vec2 distance_at{0.0f};  ///< baseline start of the distance text
+    float distance_px = 0.0f;     ///< its em size
+    glm::vec2 street_at{0.0f};
+    float street_px = 0.0f;
+    glm::vec2 remaining_right{0.0f};  ///< baseline end (right-aligned) of the remaining distance and time
+    float remaining_px = 0.0f;
+};
+
+/// The layout for a width x height target.
+GuidanceLayout guidanceLayout(int width, int height);
+
+/// Needs a current GLES 3 context (create, use, destroy on its thread).
+class GuidanceOverlayPass {
+public:
+    /// Loads the fonts and compiles the shaders; throws TextError / RenderError.
+    GuidanceOverlayPass();
+    ~GuidanceOverlayPass();
+    GuidanceOverlayPass(const GuidanceOverlayPass&) = delete;
+    GuidanceOverlayPass& operator=(const GuidanceOverlayPass&) = delete;
+
+    /// Draws `overlay` over `target` (no depth test). Leaves `target` bound for drawing.
+    void draw(const GuidanceOverlay& overlay, const MapStyle& style, const RenderTarget& target);
+
+private:
+    void drawTriangles(const std::vector<glm::vec2>& vertices, glm::vec4 color, glm::vec2 viewport);
+
+    text::TextEngine m_engine;
+    std::unique_ptr<TextLayer> m_text;
+    ShaderProgram m_program;
+    GLuint m_vao = 0, m_vbo = 0;
+};
+
+}  // namespace navmap::render::gl

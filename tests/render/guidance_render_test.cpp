@@ -1,0 +1,276 @@
+// Route guidance in rendered frames of the Andorra store: the manoeuvre arrow of a real left turn
+// of the drive lies on the outgoing road to the left of the junction, not on the right; a frame
+// without the arrow shows none of it; the HUD style shows the guidance overlay's distance text;
+// goldens of the arrow in both views and of the HUD.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "golden.h"
+#include "gl/guidance_overlay_pass.h"
+#include "navmap/render/maneuver_arrow.h"
+#include "navmap/render/map_scene.h"
+#include "navmap/render/renderer.h"
+#include "andorra_drive.h"
+
+namespace {
+
+using namespace navmap::render;
+
+constexpr int kW = 640, kH = 240;
+// The bird's-eye view at the center display's size: at 240 px high an arrow is a few pixels.
+constexpr int kBirdW = 1280, kBirdH = 720;
+constexpr int kHudW = 800, kHudH = 240;
+const glm::vec3 kMagenta{1.0f, 0.0f, 1.0f};  // nowhere else in the map
+
+// NAVMAP_GUIDANCE_DUMP=<dir> writes the images a test looks at.
+void dump(const Image& image, const std::string& name) {
+    if (const char* dir = std::getenv("NAVMAP_GUIDANCE_DUMP")) (void)writePng(std::string(dir) + "/" + name + ".png", image, nullptr);
+}
+
+glm::dvec3 routeAt(const RouteGeometry& r, double m) {
+    const auto it = std::upper_bound(r.measure_m.begin(), r.measure_m.end(), m);
+    const auto i = static_cast<std::size_t>(std::clamp<std::ptrdiff_t>(it - r.measure_m.begin(), 1, std::ptrdiff_t(r.points.size()) - 1));
+    const double t = std::clamp((m - r.measure_m[i - 1]) / std::max(r.measure_m[i] - r.measure_m[i - 1], 1e-9), 0.0, 1.0);
+    return r.points[i - 1] + t * (r.points[i] - r.points[i - 1]);
+}
+
+// A left turn of the drive: the first route vertex past 300 m where the direction 25 m before
+// and 25 m after differ by 60 to 120 degrees counter-clockwise.
+struct Turn {
+    double measure = 0.0;
+    glm::dvec3 junction{0.0};
+    glm::dvec2 in{0.0}, out{0.0};  // unit directions
+};
+std::optional<Turn> firstLeftTurn(const RouteGeometry& r) {
+    for (std::size_t i = 1; i + 1 < r.points.size(); ++i) {
+        const double m = r.measure_m[i];
+        if (m < 300.0 || m + 30.0 > r.measure_m.back()) continue;
+        const glm::dvec2 a(routeAt(r, m - 25.0)), j(r.points[i]), b(routeAt(r, m + 25.0));
+        const glm::dvec2 in = glm::normalize(j - a), out = glm::normalize(b - j);
+        const double turn = std::atan2(in.x * out.y - in.y * out.x, glm::dot(in, out));
+        if (turn > glm::radians(60.0) && turn < glm::radians(120.0)) return Turn{m, r.points[i], in, out};
+    }
+    return std::nullopt;
+}
+
+const Turn& leftTurn() {
+    static const std::optional<Turn> turn = firstLeftTurn(navmap::test::andorraDrive().drive.geometry);
+    if (!turn) ADD_FAILURE() << "the Andorra drive has no left turn";
+    static const Turn none{};
+    return turn ? *turn : none;
+}
+
+// The car this far before the junction, per view: the junction then lies in the view's middle.
+// The bird's-eye view at standstill: its closest zoom.
+double leadM(ViewMode mode) { return mode == ViewMode::Bird ? 50.0 : 45.0; }
+
+glm::ivec2 viewSize(ViewMode mode) { return mode == ViewMode::Bird ? glm::ivec2(kBirdW, kBirdH) : glm::ivec2(kW, kH); }
+
+MapFrame turnFrame(ViewMode mode, glm::ivec2 size) {
+    return navmap::test::settledAndorraFrame(mode, size.x, size.y, leftTurn().measure - leadM(mode),
+                                             mode == ViewMode::Bird ? 0.0 : 8.0);
+}
+MapFrame turnFrame(ViewMode mode) { return turnFrame(mode, viewSize(mode)); }
+
+ManeuverArrow turnArrow(const MapFrame& f) { return cutManeuverArrow(*f.route, leftTurn().measure, 40.0, 25.0); }
+
+Image render(const MapFrame& frame, const MapStyle& style, int w, int h) {
+    RendererOptions o;
+    o.width = w;
+    o.height = h;
+    auto r = Renderer::create(o);
+    r->setMapStyle(style);
+    r->renderMap(frame);
+    return r->readSync();
+}
+
+MapStyle magentaArrows() {
+    MapStyle s = MapStyle::day();
+    s.arrow_fill = kMagenta;
+    return s;
+}
+
+bool isMagenta(const Image& im, int x, int y) {
+    const auto* p = im.pixel(x, y);
+    return p[0] >= 235 && p[1] <= 20 && p[2] >= 235;
+}
+std::size_t magentaIn(const Image& im, glm::ivec2 c, int r) {
+    std::size_t n = 0;
+    for (int y = std::max(c.y - r, 0); y <= std::min(c.y + r, im.height - 1); ++y)
+        for (int x = std::max(c.x - r, 0); x <= std::min(c.x + r, im.width - 1); ++x) n += isMagenta(im, x, y);
+    return n;
+}
+std::size_t magentaPixels(const Image& im) { return magentaIn(im, {im.width / 2, im.height / 2}, std::max(im.width, im.height)); }
+
+// Screen pixel (y down) of a store-frame point; none behind the camera.
+std::optional<glm::ivec2> project(const MapFrame& f, glm::dvec3 p, glm::ivec2 size) {
+    const int w = size.x, h = size.y;
+    p.z = navmap::test::andorraDrive().view->terrainHeight(p.x, p.y);
+    const glm::mat4 vp = f.camera.projection(double(w) / h) * f.camera.viewRelativeTo(p);
+    const glm::vec4 c = vp * glm::vec4(0.0f, 0.0f, 0.0f, 1.0f);
+    if (c.w <= 0.0f) return std::nullopt;
+    return glm::ivec2(int((c.x / c.w * 0.5f + 0.5f) * float(w)), int((0.5f - c.y / c.w * 0.5f) * float(h)));
+}
+
+const char* viewName(ViewMode m) { return m == ViewMode::Bird ? "bird" : "snail"; }
+
+class ArrowView : public ::testing::TestWithParam<ViewMode> {};
+
+// The arrow of the left turn covers the outgoing road left of the junction (its head lies there)
+// and nothing at the mirror point on the right of the incoming road.
+TEST_P(ArrowView, LeftTurnArrowCoversTheOutgoingRoadOnTheLeftOnly) {
+    const Turn& t = leftTurn();
+    MapFrame f = turnFrame(GetParam());
+    f.layers.buildings = false;  // nothing may hide the junction here
+    f.layers.marker = false;
+    f.arrows = {turnArrow(f)};
+    ASSERT_GE(f.arrows[0].points.size(), 2u);
+    const glm::ivec2 size = viewSize(GetParam());
+    const Image im = render(f, magentaArrows(), size.x, size.y);
+    dump(im, std::string("arrow_left_") + viewName(GetParam()));
+    // Into the outgoing road, and its mirror image across the incoming road's line.
+    const bool bird = GetParam() == ViewMode::Bird;
+    const glm::dvec3 left = routeAt(*f.route, t.measure + (bird ? 15.0 : 12.0));
+    const int window = bird ? 2 : 3;
+    const glm::dvec2 v = glm::dvec2(left) - glm::dvec2(t.junction);
+    const glm::dvec2 mirrored = glm::dvec2(t.junction) + 2.0 * glm::dot(v, t.in) * t.in - v;
+    const glm::dvec3 right(mirrored, t.junction.z);
+    const auto pl = project(f, left, size), pr = project(f, right, size), pj = project(f, t.junction, size);
+    ASSERT_TRUE(pl && pr && pj) << "junction behind the camera";
+    EXPECT_LT(pl->x, pr->x) << "the left point is not left of the right one on screen";
+    const std::size_t on_left = magentaIn(im, *pl, window), on_right = magentaIn(im, *pr, window);
+    EXPECT_GE(on_left, bird ? 12u : 20u) << "arrow missing on the outgoing road at " << pl->x << "," << pl->y;
+    EXPECT_EQ(on_right, 0u) << "arrow on the right of the junction at " << pr->x << "," << pr->y;
+    EXPECT_GE(magentaIn(im, *pj, window), bird ? 12u : 20u) << "arrow missing at the junction";
+}
+
+// Removing the arrow from the frame removes it from the pixels: the next frame of the same
+// renderer without it has no arrow colour where it was, and equals a frame never given one.
+TEST_P(ArrowView, AFrameWithoutTheArrowShowsNoneOfIt) {
+    MapFrame with = turnFrame(GetParam());
+    with.layers.buildings = false;
+    with.layers.marker = false;
+    with.arrows = {turnArrow(with)};
+    MapFrame without = with;
+    without.arrows.clear();
+    const glm::ivec2 size = viewSize(GetParam());
+    RendererOptions o;
+    o.width = size.x;
+    o.height = size.y;
+    auto r = Renderer::create(o);
+    r->setMapStyle(magentaArrows());
+    r->renderMap(with);
+    const Image a = r->readSync();
+    r->renderMap(without);
+    const Image b = r->readSync();
+    const Image baseline = render(without, magentaArrows(), size.x, size.y);
+    const auto pj = project(with, leftTurn().junction, size);
+    ASSERT_TRUE(pj);
+    EXPECT_GE(magentaIn(a, *pj, 6), 40u) << "the arrow was not drawn";
+    EXPECT_GE(magentaPixels(a), 150u);
+    EXPECT_EQ(magentaIn(b, *pj, 6), 0u);
+    EXPECT_EQ(magentaPixels(b), 0u);
+    EXPECT_EQ(b.rgba, baseline.rgba) << "the frame after the arrow differs from one never given it";
+}
+
+// A later manoeuvre's arrow (emphasis below 1) is drawn fainter: its fill lies between the
+// route's colour and the arrow's.
+TEST_P(ArrowView, LowerEmphasisDrawsFainter) {
+    MapFrame f = turnFrame(GetParam());
+    f.layers.buildings = false;
+    f.arrows = {turnArrow(f)};
+    f.arrows[0].emphasis = 0.5f;
+    f.layers.marker = false;
+    const glm::ivec2 size = viewSize(GetParam());
+    const Image im = render(f, magentaArrows(), size.x, size.y);
+    const auto pj = project(f, leftTurn().junction, size);
+    ASSERT_TRUE(pj);
+    EXPECT_EQ(magentaPixels(im), 0u);
+    const glm::vec3 half = glm::mix(MapStyle::day().route_color, kMagenta, 0.5f) * 255.0f;
+    std::size_t faint = 0;
+    for (int y = pj->y - 4; y <= pj->y + 4; ++y) {
+        for (int x = pj->x - 4; x <= pj->x + 4; ++x) {
+            const auto* p = im.pixel(x, y);
+            faint += std::abs(p[0] - half.r) <= 6 && std::abs(p[1] - half.g) <= 6 && std::abs(p[2] - half.b) <= 6;
+        }
+    }
+    EXPECT_GE(faint, 20u);
+}
+
+TEST_P(ArrowView, MatchesGolden) {
+    MapFrame f = turnFrame(GetParam());
+    f.arrows = {turnArrow(f)};
+    f.layers.glow_roads = true;
+    const glm::ivec2 size = viewSize(GetParam());
+    const Image im = render(f, MapStyle::day(), size.x, size.y);
+    EXPECT_GOLDEN(im, std::string("render/golden/andorra_arrow_") + viewName(GetParam()) + ".png",
+                  (navmap::test::GoldenTolerance{10, 0.01}));
+}
+
+INSTANTIATE_TEST_SUITE_P(Views, ArrowView, ::testing::Values(ViewMode::Bird, ViewMode::Snail),
+                         [](const auto& p) { return std::string(viewName(p.param)); });
+
+// The HUD's frame: its style and layers, the roads at the junction, the arrow and the overlay.
+MapFrame hudFrame(const std::string& distance) {
+    MapFrame f = turnFrame(ViewMode::Snail, {kHudW, kHudH});
+    f.layers = MapLayers::hud();
+    f.arrows = {turnArrow(f)};
+    f.guidance_roads = junctionRoads(f.tiles, glm::dvec2(leftTurn().junction), 60.0);
+    GuidanceOverlay g;
+    g.symbol = ManeuverSymbol::TurnLeft;
+    g.distance = distance;
+    g.street = "Avinguda Carlemany";
+    g.remaining_distance = "12.4 km";
+    g.remaining_time = "18 min";
+    f.guidance = g;
+    return f;
+}
+
+// The distance text is drawn where the layout puts it: the overlay with "300 m" differs from the
+// one without a distance only in the distance text's box, by bright text pixels.
+TEST(HudGuidance, ShowsTheDistanceText) {
+    const Image with = render(hudFrame("300 m"), MapStyle::hud(), kHudW, kHudH);
+    const Image without = render(hudFrame(""), MapStyle::hud(), kHudW, kHudH);
+    dump(with, "hud_300m");
+    const navmap::render::gl::GuidanceLayout l = navmap::render::gl::guidanceLayout(kHudW, kHudH);
+    const float em = l.distance_px;
+    std::size_t inside = 0, outside = 0, bright = 0;
+    for (int y = 0; y < kHudH; ++y) {
+        for (int x = 0; x < kHudW; ++x) {
+            const auto* a = with.pixel(x, y);
+            const auto* b = without.pixel(x, y);
+            if (a[0] == b[0] && a[1] == b[1] && a[2] == b[2]) continue;
+            const bool in_box = x >= l.distance_at.x - 8 && x <= l.distance_at.x + 4.0f * em &&
+                                y >= l.distance_at.y - 1.1f * em && y <= l.distance_at.y + 0.4f * em;
+            (in_box ? inside : outside) += 1;
+            bright += in_box && a[0] > 230 && a[1] > 230 && a[2] > 230;
+        }
+    }
+    EXPECT_EQ(outside, 0u) << "the distance text changed pixels outside its box";
+    EXPECT_GE(bright, 400u) << "too few white text pixels: the distance is not legible";
+    EXPECT_GE(inside, bright);
+}
+
+// The HUD style: black wherever nothing is drawn (transparent on the combiner), no buildings,
+// terrain or map roads; golden of the whole HUD frame.
+TEST(HudGuidance, BlackBackgroundAndGolden) {
+    const MapFrame f = hudFrame("300 m");
+    const Image im = render(f, MapStyle::hud(), kHudW, kHudH);
+    dump(im, "hud");
+    std::size_t black = 0;
+    for (int y = 0; y < kHudH; ++y)
+        for (int x = 0; x < kHudW; ++x) {
+            const auto* p = im.pixel(x, y);
+            black += p[0] == 0 && p[1] == 0 && p[2] == 0;
+        }
+    EXPECT_GT(black, std::size_t(kHudW * kHudH) * 6 / 10) << "the HUD is not mostly black";
+    EXPECT_GOLDEN(im, "render/golden/andorra_hud.png", (navmap::test::GoldenTolerance{10, 0.01}));
+}
+
+}  // namespace
