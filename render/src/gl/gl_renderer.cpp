@@ -127,8 +127,7 @@ void GlRenderer::render(const Camera& camera) {
 void GlRenderer::renderMap(const MapFrame& frame) {
     m_egl.makeCurrent();
     // Each target is a view of its own: its label layout continues from its own last frame.
-    m_map->selectTarget(m_current);
-    m_map->render(frame, *current().target);
+    m_map->render(frame, *current().target, m_current);
 }
 
 void GlRenderer::setMapStyle(const MapStyle& style) { m_map->setStyle(style); }
