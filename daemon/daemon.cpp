@@ -89,7 +89,7 @@ std::int64_t realtimeNs(ipc::CanTime t) { return std::chrono::duration_cast<std:
 
 struct ProfileView {
     DisplayProfile profile;
-    int target = 0;  // this profile's offscreen target in the one shared renderer
+    render::TargetHandle target;  // this profile's offscreen target in the one shared renderer
     std::unique_ptr<render::MapView> map_view;
     render::CameraRig rig;
     Clock::time_point next_due{};
@@ -347,7 +347,7 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
                 // three default profiles); on a GPU two pixel-pack buffers per target.
                 ro.readback_ring = 0;
                 renderer = options.noop_renderer ? render::Renderer::createNoop(ro) : render::Renderer::create(ro);
-                v.target = renderer->currentTarget();
+                v.target = renderer->primaryTarget();
             } else {
                 v.target = renderer->addTarget(p.width, p.height);
             }
@@ -357,7 +357,7 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
             v.rig.setOrientation(p.orientation);
             const auto& dev = renderer->device();
             log(kInfo, "profile %s %dx%d @ %.0f fps (%s): target %d, %s on %s, %s, MSAA %dx", p.name.c_str(), p.width,
-                p.height, p.fps, p.stream_view.c_str(), v.target, dev.backend.c_str(), dev.platform.c_str(),
+                p.height, p.fps, p.stream_view.c_str(), v.target.id(), dev.backend.c_str(), dev.platform.c_str(),
                 dev.renderer.c_str(), dev.msaa_samples);
             views.push_back(std::move(v));
         }
@@ -546,9 +546,8 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
                 frame.layers = layersFor(v.profile, config.labels);
                 frame.frame_dt_s = std::min(dt, 0.5);
                 if (fresh.valid) frame.marker = render::MarkerState{vp.position, vp.heading_deg, fresh.stale};
-                renderer->useTarget(v.target);
                 renderer->setMapStyle(style);
-                renderer->renderMap(frame);
+                renderer->renderMap(v.target, frame);
                 v.tiles_drawn = renderer->mapStats().tiles_drawn;
                 v.tiles_pending = renderer->mapStats().tiles_pending;
                 v.tiles_wanted = v.map_view->lastSelection().wanted.size();
@@ -580,8 +579,8 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
                 // The ring hands back a frame only when full; collect what has finished now so
                 // frames leave in the tick that rendered them.
                 std::vector<render::Frame> finished;
-                if (auto oldest = renderer->readAsync(seq)) finished.push_back(std::move(*oldest));
-                for (auto& f : renderer->collectReadbacks()) finished.push_back(std::move(f));
+                if (auto oldest = renderer->readAsync(v.target, seq)) finished.push_back(std::move(*oldest));
+                for (auto& f : renderer->collectReadbacks(v.target)) finished.push_back(std::move(f));
                 publishFinished(v, finished);
                 ++v.rendered;
                 const double frame_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
@@ -596,8 +595,7 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
             // which would add a frame interval to its CAN -> frame latency.
             for (auto& v : views) {
                 if (v.source_times.empty()) continue;  // nothing in flight for this profile
-                renderer->useTarget(v.target);
-                auto done = renderer->collectReadbacks();
+                auto done = renderer->collectReadbacks(v.target);
                 publishFinished(v, done);
                 if (!v.source_times.empty()) next_wake = std::min(next_wake, Clock::now() + std::chrono::milliseconds(3));
             }
