@@ -52,7 +52,7 @@ std::optional<render::MapLibreFollow> cameraFor(const DisplayProfile& p, const i
 
 }  // namespace
 
-Display::Display(DisplayProfile profile, int target, std::shared_ptr<map::TileCache> cache,
+Display::Display(DisplayProfile profile, render::TargetHandle target, std::shared_ptr<map::TileCache> cache,
                  std::unique_ptr<AttributionOverlay> attribution, Clock::time_point started, Log log)
     : m_profile(std::move(profile)),
       m_target(target),
@@ -104,9 +104,8 @@ void Display::draw(render::Renderer& renderer, const PoseSource& poses, const Fr
     frame.layers = layersFor(m_profile, context.labels);
     frame.frame_dt_s = std::min(dt, 0.5);
     frame.marker = pose.marker;
-    renderer.useTarget(m_target);
     renderer.setMapStyle(context.style);
-    renderer.renderMap(frame);
+    renderer.renderMap(m_target, frame);
     m_stats.tiles_drawn = renderer.mapStats().tiles_drawn;
     m_stats.tiles_pending = renderer.mapStats().tiles_pending;
     m_stats.tiles_wanted = m_map_view.lastSelection().wanted.size();
@@ -135,8 +134,8 @@ void Display::finishFrame(render::Renderer& renderer, ipc::FrameServer& frames, 
     // The ring hands back a frame only when full; collect what has finished now so frames leave
     // in the tick that rendered them.
     std::vector<render::Frame> finished;
-    if (auto oldest = renderer.readAsync(seq)) finished.push_back(std::move(*oldest));
-    for (auto& f : renderer.collectReadbacks()) finished.push_back(std::move(f));
+    if (auto oldest = renderer.readAsync(m_target, seq)) finished.push_back(std::move(*oldest));
+    for (auto& f : renderer.collectReadbacks(m_target)) finished.push_back(std::move(f));
     publish(finished, frames);
     ++m_stats.rendered;
     const double frame_ms = std::chrono::duration<double, std::milli>(Clock::now() - m_frame_start).count();
@@ -145,8 +144,7 @@ void Display::finishFrame(render::Renderer& renderer, ipc::FrameServer& frames, 
 }
 
 void Display::collect(render::Renderer& renderer, ipc::FrameServer& frames) {
-    renderer.useTarget(m_target);
-    auto done = renderer.collectReadbacks();
+    auto done = renderer.collectReadbacks(m_target);
     publish(done, frames);
 }
 

@@ -54,11 +54,11 @@ public:
 
     /// `target`: this display's offscreen target in the shared renderer; `started`: the daemon's
     /// start (the start-up wait counts from there).
-    Display(DisplayProfile profile, int target, std::shared_ptr<map::TileCache> cache,
+    Display(DisplayProfile profile, render::TargetHandle target, std::shared_ptr<map::TileCache> cache,
             std::unique_ptr<AttributionOverlay> attribution, Clock::time_point started, Log log);
 
     [[nodiscard]] const DisplayProfile& profile() const { return m_profile; }
-    [[nodiscard]] int target() const { return m_target; }
+    [[nodiscard]] render::TargetHandle target() const { return m_target; }
     [[nodiscard]] const DisplayStats& stats() const { return m_stats; }
     [[nodiscard]] bool hasAttribution() const { return m_attribution != nullptr; }
     /// False until a frame showed the map under the camera (or the start-up wait ran out).
@@ -90,7 +90,7 @@ private:
     void publish(std::vector<render::Frame>& finished, ipc::FrameServer& frames);
 
     DisplayProfile m_profile;
-    int m_target;
+    render::TargetHandle m_target;
     Clock::time_point m_started;
     Log m_log;
     render::MapView m_map_view;

@@ -46,11 +46,11 @@ DisplayScheduler::DisplayScheduler(const DaemonConfig& config, Options options, 
     // One renderer for every display: separate contexts cost a copy of every tile per display and
     // their own llvmpipe JIT code: 270-330 MB peak RSS with three profiles (docs/navmapd.md).
     for (const auto& p : config.profiles) {
-        int target = 0;
+        render::TargetHandle target;
         if (!m_renderer) {
             const render::RendererOptions ro = rendererOptions(config, p);
             m_renderer = m_options.noop_renderer ? render::Renderer::createNoop(ro) : render::Renderer::create(ro);
-            target = m_renderer->currentTarget();
+            target = m_renderer->primaryTarget();
         } else {
             target = m_renderer->addTarget(p.width, p.height);
         }
@@ -58,7 +58,7 @@ DisplayScheduler::DisplayScheduler(const DaemonConfig& config, Options options, 
         m_pacing.emplace_back();
         const auto& dev = m_renderer->device();
         m_log(Log::kInfo, "profile %s %dx%d @ %.0f fps (%s): target %d, %s on %s, %s, MSAA %dx", p.name.c_str(), p.width,
-              p.height, p.fps, p.stream_view.c_str(), target, dev.backend.c_str(), dev.platform.c_str(),
+              p.height, p.fps, p.stream_view.c_str(), target.id(), dev.backend.c_str(), dev.platform.c_str(),
               dev.renderer.c_str(), dev.msaa_samples);
     }
 }

@@ -2,7 +2,7 @@
 // The road mask bit-packed for the outline filter (seed 3.6.3): texel (g, y) holds as bits 0..9
 // whether the pixels x = 8g - 1 .. 8g + 8 of row y are road pixels, so that the filter reads a
 // pixel's 3x3 neighbourhood in three fetches instead of nine. Exact where the mask is binary: the
-// road and route passes write 1, and there is no MSAA resolve (map_renderer.cpp). Pixels outside
+// road and route passes write 1, and there is no MSAA resolve (outline_pass.cpp). Pixels outside
 // the screen repeat the edge pixel, as the unpacked filter clamps its coordinates.
 uniform sampler2D u_road_mask;
 

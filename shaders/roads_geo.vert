@@ -102,7 +102,7 @@ void main() {
     vec3 mid = 0.5 * (a_p0 + a_p1);
     float dist = length((u_view * vec4(mid, 1.0)).xyz);
     // A class left out of distant views (seed 7.3) fades out by narrowing to nothing, its least
-    // width too: road_style.h SelectionFade, at the piece's middle as cullRoads measures it.
+    // width too: road_style.h SelectionFade, at the piece's middle as RoadPass::cull measures it.
     float keep = u_route == 1 ? 1.0 : clamp(u_select[cls].x / max(dist, 1e-6) - u_select[cls].y, 0.0, 1.0);
     if (keep <= 0.0) {
         gl_Position = vec4(2.0, 2.0, 2.0, 1.0);  // left out: clipped away

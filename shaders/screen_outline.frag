@@ -8,7 +8,7 @@
 uniform highp usampler2D u_mask;
 #elif defined(NAVMAP_PACKED_MASK)
 // The mask bit-packed by outline_pack.frag, and the road pixels left out by the stencil
-// (map_renderer.cpp, kRoadStencilBit): here is 0, and the maximum is whether any of the three
+// (outline_pass.cpp, kRoadStencilBit): here is 0, and the maximum is whether any of the three
 // bits around this pixel is set in the rows below, here and above.
 uniform highp usampler2D u_mask;
 #else

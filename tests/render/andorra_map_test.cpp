@@ -303,18 +303,18 @@ TEST(AndorraMap, TargetsOfDifferentSizesMatchRenderersOfTheirOwnAndKeepTheirTile
     o.height = views[0].h;
     o.tile_resource_cache = 1;
     auto shared = Renderer::create(o);
-    int ids[3] = {0, shared->addTarget(views[1].w, views[1].h), shared->addTarget(views[2].w, views[2].h)};
+    const navmap::render::TargetHandle ids[3] = {shared->primaryTarget(), shared->addTarget(views[1].w, views[1].h),
+                                                 shared->addTarget(views[2].w, views[2].h)};
     for (int round = 0; round < 2; ++round) {
         for (int k = 0; k < 3; ++k) {
             MapFrame frame = navmap::test::settledAndorraFrame(views[k].mode, views[k].w, views[k].h);
             frame.layers = layersFor(3);
-            shared->useTarget(ids[k]);
-            shared->renderMap(frame);
+            shared->renderMap(ids[k], frame);
             EXPECT_GT(shared->mapStats().tiles_drawn, 3u);
             if (round == 1) {
                 EXPECT_EQ(shared->mapStats().tiles_uploaded, 0u) << "target " << k << " re-uploaded tiles";
             }
-            const Image image = shared->readSync();
+            const Image image = shared->readSync(ids[k]);
             if (round == 1) {
                 RendererOptions alone_options = o;
                 alone_options.width = views[k].w;

@@ -190,10 +190,11 @@ TEST(GlesRenderer, TargetsShareOneContextAndKeepTheirOwnFramesAndRings) {
     o.readback_ring = 2;
     auto shared = Renderer::create(o);
     shared->setTerrain(andorra().mesh);
-    const int wide = shared->addTarget(200, 60);
-    EXPECT_EQ(shared->currentTarget(), 0) << "addTarget does not switch";
+    const navmap::render::TargetHandle first = shared->primaryTarget();
+    const navmap::render::TargetHandle wide = shared->addTarget(200, 60);
+    EXPECT_NE(wide, first);
     EXPECT_EQ(shared->targetCount(), 2u);
-    EXPECT_THROW(shared->useTarget(42), RenderError);
+    EXPECT_THROW(shared->render(navmap::render::TargetHandle(), Camera{}), RenderError) << "a handle of no target";
     EXPECT_THROW(shared->addTarget(0, 10), RenderError);
 
     RendererOptions wo = o;
@@ -208,24 +209,19 @@ TEST(GlesRenderer, TargetsShareOneContextAndKeepTheirOwnFramesAndRings) {
     for (int i = 0; i < 4; ++i) {
         const Camera a = navmap::render::andorraFlyoverCamera(andorra().projection, i / 4.0);
         const Camera b = navmap::render::andorraFlyoverCamera(andorra().projection, 0.9 - i / 8.0);
-        shared->useTarget(0);
-        shared->render(a);
-        if (auto f = shared->readAsync(static_cast<std::uint64_t>(100 + i))) got_small.push_back(std::move(*f));
-        shared->useTarget(wide);
-        EXPECT_EQ(shared->width(), 200);
-        EXPECT_EQ(shared->height(), 60);
-        shared->render(b);
-        if (auto f = shared->readAsync(static_cast<std::uint64_t>(200 + i))) got_wide.push_back(std::move(*f));
+        shared->render(first, a);
+        if (auto f = shared->readAsync(first, static_cast<std::uint64_t>(100 + i))) got_small.push_back(std::move(*f));
+        EXPECT_EQ(shared->width(wide), 200);
+        EXPECT_EQ(shared->height(wide), 60);
+        shared->render(wide, b);
+        if (auto f = shared->readAsync(wide, static_cast<std::uint64_t>(200 + i))) got_wide.push_back(std::move(*f));
         alone_small->render(a);
         alone_wide->render(b);
-        EXPECT_EQ(shared->readSync().rgba, alone_wide->readSync().rgba) << "wide target, frame " << i;
-        shared->useTarget(0);
-        EXPECT_EQ(shared->readSync().rgba, alone_small->readSync().rgba) << "first target, frame " << i;
+        EXPECT_EQ(shared->readSync(wide).rgba, alone_wide->readSync().rgba) << "wide target, frame " << i;
+        EXPECT_EQ(shared->readSync(first).rgba, alone_small->readSync().rgba) << "first target, frame " << i;
     }
-    shared->useTarget(0);
-    for (auto& f : shared->drainReadbacks()) got_small.push_back(std::move(f));
-    shared->useTarget(wide);
-    for (auto& f : shared->drainReadbacks()) got_wide.push_back(std::move(f));
+    for (auto& f : shared->drainReadbacks(first)) got_small.push_back(std::move(f));
+    for (auto& f : shared->drainReadbacks(wide)) got_wide.push_back(std::move(f));
     ASSERT_EQ(got_small.size(), 4u);
     ASSERT_EQ(got_wide.size(), 4u);
     for (int i = 0; i < 4; ++i) {
@@ -237,8 +233,8 @@ TEST(GlesRenderer, TargetsShareOneContextAndKeepTheirOwnFramesAndRings) {
     }
     EXPECT_TRUE(shared->removeTarget(wide));
     EXPECT_FALSE(shared->removeTarget(wide));
-    EXPECT_FALSE(shared->removeTarget(0)) << "target 0 stays";
-    EXPECT_EQ(shared->currentTarget(), 0);
+    EXPECT_THROW(shared->readSync(wide), RenderError) << "a removed target's handle";
+    EXPECT_FALSE(shared->removeTarget(first)) << "the primary target stays";
     EXPECT_EQ(shared->width(), 160);
 }
 

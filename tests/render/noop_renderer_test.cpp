@@ -50,27 +50,28 @@ TEST(NoopRenderer, TargetsHaveTheirOwnSizeAndRing) {
     options.height = 8;
     options.readback_ring = 2;
     auto r = Renderer::createNoop(options);
-    const int second = r->addTarget(16, 4);
-    EXPECT_NE(second, 0);
-    EXPECT_EQ(r->currentTarget(), 0);
-    EXPECT_FALSE(r->readAsync(1));
-    r->useTarget(second);
-    EXPECT_EQ(r->width(), 16);
-    EXPECT_FALSE(r->readAsync(10)) << "the second target's ring is its own";
-    EXPECT_FALSE(r->readAsync(11));
-    auto oldest = r->readAsync(12);
+    const navmap::render::TargetHandle first = r->primaryTarget();
+    const navmap::render::TargetHandle second = r->addTarget(16, 4);
+    EXPECT_NE(second, first);
+    EXPECT_FALSE(r->readAsync(first, 1));
+    EXPECT_EQ(r->width(second), 16);
+    EXPECT_EQ(r->width(first), 8);
+    EXPECT_FALSE(r->readAsync(second, 10)) << "the second target's ring is its own";
+    EXPECT_FALSE(r->readAsync(second, 11));
+    auto oldest = r->readAsync(second, 12);
     ASSERT_TRUE(oldest);
     EXPECT_EQ(oldest->sequence, 10u);
     EXPECT_EQ(oldest->image.width, 16);
     EXPECT_EQ(oldest->image.height, 4);
-    r->useTarget(0);
-    const auto first = r->drainReadbacks();
-    ASSERT_EQ(first.size(), 1u);
-    EXPECT_EQ(first[0].sequence, 1u);
-    EXPECT_EQ(first[0].image.width, 8);
-    EXPECT_THROW(r->useTarget(7), navmap::render::RenderError);
+    const auto drained = r->drainReadbacks(first);
+    ASSERT_EQ(drained.size(), 1u);
+    EXPECT_EQ(drained[0].sequence, 1u);
+    EXPECT_EQ(drained[0].image.width, 8);
+    EXPECT_THROW(r->renderMap(navmap::render::TargetHandle(), navmap::render::MapFrame{}), navmap::render::RenderError);
     EXPECT_TRUE(r->removeTarget(second));
-    EXPECT_FALSE(r->removeTarget(0));
+    EXPECT_FALSE(r->removeTarget(second));
+    EXPECT_THROW(r->readSync(second), navmap::render::RenderError) << "a removed target's handle";
+    EXPECT_FALSE(r->removeTarget(first));
 }
 
 }  // namespace

@@ -85,7 +85,7 @@ TEST(RoadWidth, SelectedClassFadesOutContinuouslyBelowItsThreshold) {
     EXPECT_NEAR(fade.at(960.0f), 0.5f, 1e-5f);  // 1.25 px
     EXPECT_FLOAT_EQ(fade.at(1200.0f), 0.0f);  // 1 px
     EXPECT_FLOAT_EQ(fade.at(5000.0f), 0.0f);
-    EXPECT_NEAR(fade.goneFromM(), 1200.0f, 1e-2f);  // where cullRoads leaves the pieces out
+    EXPECT_NEAR(fade.goneFromM(), 1200.0f, 1e-2f);  // where RoadPass::cull leaves the pieces out
     EXPECT_FLOAT_EQ(fade.at(0.0f), 1.0f);  // at the eye
     // Not selected, or the selection off: drawn at every distance.
     EXPECT_FLOAT_EQ(selectionFade(width, 0.0f, focal).at(1e6f), 1.0f);

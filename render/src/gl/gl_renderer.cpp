@@ -35,7 +35,7 @@ GlRenderer::GlRenderer(const RendererOptions& options) : m_options(options), m_e
     if (m_options.readback_ring <= 0) m_options.readback_ring = m_device.software ? 1 : 2;
     m_terrain = std::make_unique<TerrainLayer>();
     m_map = std::make_unique<MapRenderer>(m_options, m_device.software);
-    m_current = addTarget(options.width, options.height);
+    addTarget(options.width, options.height);  // the primary target, id 0
 }
 
 GlRenderer::~GlRenderer() {
@@ -68,7 +68,7 @@ GLuint GlRenderer::sharedDepthStencil(int width, int height) {
     return m_depth_stencil;
 }
 
-int GlRenderer::addTarget(int width, int height) {
+TargetHandle GlRenderer::addTarget(int width, int height) {
     checkSize(width, height);
     m_egl.makeCurrent();
     View view;
@@ -77,27 +77,29 @@ int GlRenderer::addTarget(int width, int height) {
     m_device.msaa_samples = view.target->samples();
     const int id = m_next_id++;
     m_targets.emplace(id, std::move(view));
-    return id;
+    return handle(id);
 }
 
-void GlRenderer::useTarget(int id) {
-    if (!m_targets.contains(id)) throw RenderError("renderer: no target " + std::to_string(id));
-    m_current = id;
+GlRenderer::View& GlRenderer::view(TargetHandle target) {
+    const auto it = m_targets.find(target.id());
+    if (it == m_targets.end()) throw RenderError("renderer: no target " + std::to_string(target.id()));
+    return it->second;
 }
 
-bool GlRenderer::removeTarget(int id) {
-    if (id == 0 || !m_targets.contains(id)) return false;
+const GlRenderer::View& GlRenderer::view(TargetHandle target) const { return const_cast<GlRenderer*>(this)->view(target); }
+
+bool GlRenderer::removeTarget(TargetHandle target) {
+    if (target == primaryTarget() || !m_targets.contains(target.id())) return false;
     m_egl.makeCurrent();
-    m_targets.erase(id);  // pending readbacks: their fences and buffers go with the ring
-    m_map->dropTarget(id);
-    if (m_current == id) m_current = 0;
+    m_targets.erase(target.id());  // pending readbacks: their fences and buffers go with the ring
+    m_map->dropTarget(target.id());
     return true;
 }
 
-void GlRenderer::resize(int width, int height) {
+void GlRenderer::resize(TargetHandle target, int width, int height) {
     checkSize(width, height);
     m_egl.makeCurrent();
-    View& v = current();
+    View& v = view(target);
     if (v.ring) v.ring->drain();
     v.ring.reset();
     v.target.reset();  // before the shared depth/stencil may grow: it re-attaches to every target
@@ -111,9 +113,9 @@ void GlRenderer::setTerrain(const HeightfieldMesh& mesh) {
     m_terrain->upload(mesh);
 }
 
-void GlRenderer::render(const Camera& camera) {
+void GlRenderer::render(TargetHandle handle, const Camera& camera) {
+    const RenderTarget& target = *view(handle).target;
     m_egl.makeCurrent();
-    const RenderTarget& target = *current().target;
     target.clear(m_style.sky_color.r, m_style.sky_color.g, m_style.sky_color.b);
     target.bindForDrawing(false);
     glEnable(GL_DEPTH_TEST);
@@ -125,11 +127,11 @@ void GlRenderer::render(const Camera& camera) {
     target.resolve();
 }
 
-void GlRenderer::renderMap(const MapFrame& frame) {
+void GlRenderer::renderMap(TargetHandle target, const MapFrame& frame) {
+    const View& v = view(target);
     m_egl.makeCurrent();
     // Each target is a view of its own: its label layout continues from its own last frame.
-    m_map->selectTarget(m_current);
-    m_map->render(frame, *current().target);
+    m_map->render(frame, *v.target, target.id());
 }
 
 void GlRenderer::setMapStyle(const MapStyle& style) { m_map->setStyle(style); }
@@ -139,28 +141,30 @@ void GlRenderer::finish() {
     glFinish();
 }
 
-Image GlRenderer::readSync() {
+Image GlRenderer::readSync(TargetHandle handle) {
+    const RenderTarget& target = *view(handle).target;
     m_egl.makeCurrent();
-    const RenderTarget& target = *current().target;
     target.resolve();
     return readPixelsSync(target.width(), target.height());
 }
 
-std::optional<Frame> GlRenderer::readAsync(std::uint64_t sequence) {
+std::optional<Frame> GlRenderer::readAsync(TargetHandle target, std::uint64_t sequence) {
+    View& v = view(target);
     m_egl.makeCurrent();
-    View& v = current();
     v.target->resolve();
     return v.ring->submit(sequence);
 }
 
-std::vector<Frame> GlRenderer::collectReadbacks() {
+std::vector<Frame> GlRenderer::collectReadbacks(TargetHandle target) {
+    View& v = view(target);
     m_egl.makeCurrent();
-    return current().ring->collectReady();
+    return v.ring->collectReady();
 }
 
-std::vector<Frame> GlRenderer::drainReadbacks() {
+std::vector<Frame> GlRenderer::drainReadbacks(TargetHandle target) {
+    View& v = view(target);
     m_egl.makeCurrent();
-    return current().ring->drain();
+    return v.ring->drain();
 }
 
 }  // namespace navmap::render::gl

@@ -19,27 +19,34 @@ public:
     ~GlRenderer() override;
 
     [[nodiscard]] const DeviceInfo& device() const override { return m_device; }
-    [[nodiscard]] int width() const override { return current().target->width(); }
-    [[nodiscard]] int height() const override { return current().target->height(); }
 
-    int addTarget(int width, int height) override;
-    void useTarget(int id) override;
-    bool removeTarget(int id) override;
-    [[nodiscard]] int currentTarget() const override { return m_current; }
+    TargetHandle addTarget(int width, int height) override;
+    bool removeTarget(TargetHandle target) override;
     [[nodiscard]] std::size_t targetCount() const override { return m_targets.size(); }
+    [[nodiscard]] int width(TargetHandle target) const override { return view(target).target->width(); }
+    [[nodiscard]] int height(TargetHandle target) const override { return view(target).target->height(); }
 
-    void resize(int width, int height) override;
+    void resize(TargetHandle target, int width, int height) override;
     void setTerrain(const HeightfieldMesh& mesh) override;
     void setTerrainStyle(const TerrainStyle& style) override { m_style = style; }
-    void render(const Camera& camera) override;
+    void render(TargetHandle target, const Camera& camera) override;
     void setMapStyle(const MapStyle& style) override;
-    void renderMap(const MapFrame& frame) override;
+    void renderMap(TargetHandle target, const MapFrame& frame) override;
     [[nodiscard]] const MapFrameStats& mapStats() const override { return m_map->stats(); }
     void finish() override;
-    Image readSync() override;
-    std::optional<Frame> readAsync(std::uint64_t sequence) override;
-    std::vector<Frame> drainReadbacks() override;
-    std::vector<Frame> collectReadbacks() override;
+    Image readSync(TargetHandle target) override;
+    std::optional<Frame> readAsync(TargetHandle target, std::uint64_t sequence) override;
+    std::vector<Frame> drainReadbacks(TargetHandle target) override;
+    std::vector<Frame> collectReadbacks(TargetHandle target) override;
+    using Renderer::collectReadbacks;
+    using Renderer::drainReadbacks;
+    using Renderer::height;
+    using Renderer::readAsync;
+    using Renderer::readSync;
+    using Renderer::render;
+    using Renderer::renderMap;
+    using Renderer::resize;
+    using Renderer::width;
 
 private:
     // One display's offscreen state; everything else (context, shaders, tile resources) is shared.
@@ -47,8 +54,9 @@ private:
         std::unique_ptr<RenderTarget> target;
         std::unique_ptr<ReadbackRing> ring;
     };
-    [[nodiscard]] View& current() { return m_targets.at(m_current); }
-    [[nodiscard]] const View& current() const { return m_targets.at(m_current); }
+    /// `target`'s state; throws RenderError for a handle that names no target.
+    [[nodiscard]] View& view(TargetHandle target);
+    [[nodiscard]] const View& view(TargetHandle target) const;
     static void checkSize(int width, int height);
     /// The depth/stencil buffer every target shares, grown to cover width x height (the targets
     /// get the new one attached when it grows).
@@ -60,7 +68,6 @@ private:
     std::map<int, View> m_targets;
     GLuint m_depth_stencil = 0;  // shared by the targets: the largest width x largest height
     ScratchSize m_depth_size;
-    int m_current = 0;
     int m_next_id = 0;
     std::unique_ptr<TerrainLayer> m_terrain;
     std::unique_ptr<MapRenderer> m_map;

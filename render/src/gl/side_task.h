@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 // One job at a time on a thread kept for the renderer's life: CPU work of a frame that runs
-// beside the render thread (MapRenderer::markOutlineCells) without starting a thread per frame.
+// beside the render thread (OutlinePass::markCells after RoadPass::cull) without starting a thread per frame.
 
 #include <condition_variable>
 #include <exception>

@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Shadow-volume roads (seed 3.5): the SV program, the segment boxes of each tile and the terrain
-// depth target that the terrain pass writes as a secondary render target (seed 3.5.2). MapRenderer
-// calls it around its terrain pass and instead of its geometric road passes when the frame's
-// RoadTechnique resolves to ShadowVolume. Private to render/.
+// depth target that the terrain pass writes as a secondary render target (seed 3.5.2): the road
+// pass of MapRenderer when the frame's RoadTechnique resolves to ShadowVolume, instead of RoadPass
+// (geometric), with calls around TerrainPass. Private to render/.
 
 #include <GLES3/gl3.h>
 

@@ -10,50 +10,57 @@ NoopRenderer::NoopRenderer(const RendererOptions& options) : m_ring(std::max(1, 
     m_device.backend = "noop";
     m_device.platform = "none";
     m_device.renderer = "no-op";
-    m_current = addTarget(options.width, options.height);
+    addTarget(options.width, options.height);  // the primary target, id 0
 }
 
-int NoopRenderer::addTarget(int width, int height) {
+TargetHandle NoopRenderer::addTarget(int width, int height) {
     if (width <= 0 || height <= 0) {
         throw RenderError("renderer: invalid size " + std::to_string(width) + "x" + std::to_string(height));
     }
     const int id = m_next_id++;
     m_targets.emplace(id, View{width, height, {}});
-    return id;
+    return handle(id);
 }
 
-void NoopRenderer::useTarget(int id) {
-    if (!m_targets.contains(id)) throw RenderError("renderer: no target " + std::to_string(id));
-    m_current = id;
+bool NoopRenderer::removeTarget(TargetHandle target) {
+    return target != primaryTarget() && m_targets.erase(target.id()) > 0;
 }
 
-bool NoopRenderer::removeTarget(int id) {
-    if (id == 0 || m_targets.erase(id) == 0) return false;
-    if (m_current == id) m_current = 0;
-    return true;
+NoopRenderer::View& NoopRenderer::view(TargetHandle target) {
+    const auto it = m_targets.find(target.id());
+    if (it == m_targets.end()) throw RenderError("renderer: no target " + std::to_string(target.id()));
+    return it->second;
 }
 
-void NoopRenderer::resize(int width, int height) {
+const NoopRenderer::View& NoopRenderer::view(TargetHandle target) const {
+    return const_cast<NoopRenderer*>(this)->view(target);
+}
+
+void NoopRenderer::resize(TargetHandle target, int width, int height) {
     if (width <= 0 || height <= 0) {
         throw RenderError("renderer: invalid size " + std::to_string(width) + "x" + std::to_string(height));
     }
-    View& v = current();
+    View& v = view(target);
     v.pending.clear();
     v.width = width;
     v.height = height;
 }
 
-void NoopRenderer::render(const Camera&) { ++m_frames; }
+void NoopRenderer::render(TargetHandle target, const Camera&) {
+    (void)view(target);
+    ++m_frames;
+}
 
-void NoopRenderer::renderMap(const MapFrame& frame) {
+void NoopRenderer::renderMap(TargetHandle target, const MapFrame& frame) {
+    (void)view(target);
     ++m_frames;
     m_stats = {};
     m_stats.tiles_drawn = frame.tiles.size();
 }
 
-Image NoopRenderer::blank() const {
-    Image image(current().width, current().height);
-    const auto to8 = [](float v) { return static_cast<std::uint8_t>(std::clamp(v, 0.0f, 1.0f) * 255.0f + 0.5f); };
+Image NoopRenderer::blank(const View& v) const {
+    Image image(v.width, v.height);
+    const auto to8 = [](float c) { return static_cast<std::uint8_t>(std::clamp(c, 0.0f, 1.0f) * 255.0f + 0.5f); };
     for (std::size_t i = 0; i < image.rgba.size(); i += 4) {
         image.rgba[i] = to8(m_style.sky_color.r);
         image.rgba[i + 1] = to8(m_style.sky_color.g);
@@ -63,23 +70,23 @@ Image NoopRenderer::blank() const {
     return image;
 }
 
-Image NoopRenderer::readSync() { return blank(); }
+Image NoopRenderer::readSync(TargetHandle target) { return blank(view(target)); }
 
-std::optional<Frame> NoopRenderer::readAsync(std::uint64_t sequence) {
-    View& v = current();
+std::optional<Frame> NoopRenderer::readAsync(TargetHandle target, std::uint64_t sequence) {
+    View& v = view(target);
     std::optional<Frame> oldest;
     if (v.pending.size() == static_cast<std::size_t>(m_ring)) {
-        oldest = Frame{v.pending.front(), blank()};
+        oldest = Frame{v.pending.front(), blank(v)};
         v.pending.pop_front();
     }
     v.pending.push_back(sequence);
     return oldest;
 }
 
-std::vector<Frame> NoopRenderer::drainReadbacks() {
+std::vector<Frame> NoopRenderer::drainReadbacks(TargetHandle target) {
     std::vector<Frame> frames;
-    View& v = current();
-    for (auto seq : v.pending) frames.push_back(Frame{seq, blank()});
+    View& v = view(target);
+    for (auto seq : v.pending) frames.push_back(Frame{seq, blank(v)});
     v.pending.clear();
     return frames;
 }

@@ -14,25 +14,32 @@ public:
     explicit NoopRenderer(const RendererOptions& options);
 
     [[nodiscard]] const DeviceInfo& device() const override { return m_device; }
-    [[nodiscard]] int width() const override { return current().width; }
-    [[nodiscard]] int height() const override { return current().height; }
-    int addTarget(int width, int height) override;
-    void useTarget(int id) override;
-    bool removeTarget(int id) override;
-    [[nodiscard]] int currentTarget() const override { return m_current; }
+    TargetHandle addTarget(int width, int height) override;
+    bool removeTarget(TargetHandle target) override;
     [[nodiscard]] std::size_t targetCount() const override { return m_targets.size(); }
-    void resize(int width, int height) override;
+    [[nodiscard]] int width(TargetHandle target) const override { return view(target).width; }
+    [[nodiscard]] int height(TargetHandle target) const override { return view(target).height; }
+    void resize(TargetHandle target, int width, int height) override;
     void setTerrain(const HeightfieldMesh& mesh) override { m_terrain_vertices = mesh.vertices.size(); }
     void setTerrainStyle(const TerrainStyle& style) override { m_style = style; }
-    void render(const Camera& camera) override;
+    void render(TargetHandle target, const Camera& camera) override;
     void setMapStyle(const MapStyle& style) override { m_style.sky_color = style.sky_color; }
-    void renderMap(const MapFrame& frame) override;
+    void renderMap(TargetHandle target, const MapFrame& frame) override;
     [[nodiscard]] const MapFrameStats& mapStats() const override { return m_stats; }
     void finish() override {}
-    Image readSync() override;
-    std::optional<Frame> readAsync(std::uint64_t sequence) override;
-    std::vector<Frame> drainReadbacks() override;
-    std::vector<Frame> collectReadbacks() override { return drainReadbacks(); }
+    Image readSync(TargetHandle target) override;
+    std::optional<Frame> readAsync(TargetHandle target, std::uint64_t sequence) override;
+    std::vector<Frame> drainReadbacks(TargetHandle target) override;
+    std::vector<Frame> collectReadbacks(TargetHandle target) override { return drainReadbacks(target); }
+    using Renderer::collectReadbacks;
+    using Renderer::drainReadbacks;
+    using Renderer::height;
+    using Renderer::readAsync;
+    using Renderer::readSync;
+    using Renderer::render;
+    using Renderer::renderMap;
+    using Renderer::resize;
+    using Renderer::width;
 
     [[nodiscard]] std::size_t framesRendered() const { return m_frames; }
 
@@ -42,13 +49,13 @@ private:
         int height = 0;
         std::deque<std::uint64_t> pending;
     };
-    View& current() { return m_targets.at(m_current); }
-    const View& current() const { return m_targets.at(m_current); }
-    Image blank() const;
+    /// `target`'s state; throws RenderError for a handle that names no target.
+    View& view(TargetHandle target);
+    const View& view(TargetHandle target) const;
+    Image blank(const View& v) const;
 
     DeviceInfo m_device;
     std::map<int, View> m_targets;
-    int m_current = 0;
     int m_next_id = 0;
     int m_ring;
     std::size_t m_terrain_vertices = 0;

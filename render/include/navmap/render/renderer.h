@@ -85,14 +85,33 @@ struct Frame {
     Image image;
 };
 
+/// A display's offscreen target in a Renderer: returned by Renderer::primaryTarget() and
+/// Renderer::addTarget(), valid until Renderer::removeTarget(). A default-constructed handle names
+/// no target. Handles are values: copy them freely; only the renderer that made one knows it.
+class TargetHandle {
+public:
+    TargetHandle() = default;
+    /// Small and stable for the target's life (logs, maps keyed by target).
+    [[nodiscard]] int id() const { return m_id; }
+    [[nodiscard]] bool valid() const { return m_id >= 0; }
+    friend bool operator==(TargetHandle, TargetHandle) = default;
+
+private:
+    friend class Renderer;
+    explicit TargetHandle(int id) : m_id(id) {}
+    int m_id = -1;
+};
+
 /// An offscreen renderer bound to the thread that created it (EGL context current there).
 /// Not thread-safe: create, use and destroy it on one thread.
 ///
 /// One renderer serves several displays: each has its own offscreen target (size, readback
 /// ring, label layout state), all share the one context, the shaders and the GPU resources of
-/// the tiles. Target 0 (options.width x options.height) exists from the start; addTarget()
-/// makes more and useTarget() picks the one that resize, render, renderMap, readSync, readAsync,
-/// collectReadbacks and drainReadbacks act on (mapStats() describes the last renderMap call).
+/// the tiles. Every call that draws into or reads from a target names it by its TargetHandle;
+/// there is no current target. The primary target (options.width x options.height) exists from
+/// the start and stays; addTarget() makes more. The calls without a handle act on the primary
+/// target (single-display use). A handle of another renderer or of a removed target is a
+/// programming error: RenderError. mapStats() describes the last renderMap call.
 class Renderer {
 public:
     /// Creates the OpenGL ES backend. Throws RenderError with a clear reason if EGL/GLES is unusable.
@@ -105,52 +124,65 @@ public:
     Renderer& operator=(const Renderer&) = delete;
 
     [[nodiscard]] virtual const DeviceInfo& device() const = 0;
-    /// Size of the current target.
-    [[nodiscard]] virtual int width() const = 0;
-    [[nodiscard]] virtual int height() const = 0;
 
+    /// The target made with the renderer (options.width x options.height); it cannot be removed.
+    [[nodiscard]] TargetHandle primaryTarget() const { return TargetHandle(0); }
     /// Adds an offscreen target of its own size (own readback ring and label layout) and returns
-    /// its id; the current target does not change. Throws RenderError for an invalid size.
-    virtual int addTarget(int width, int height) = 0;
-    /// Makes target `id` current. Throws RenderError for an unknown id (a programming error).
-    virtual void useTarget(int id) = 0;
-    /// Frees target `id` (its pending readbacks are dropped); target 0 stays. Returns false for an
-    /// unknown id or 0. When `id` was current, target 0 becomes current.
-    virtual bool removeTarget(int id) = 0;
-    [[nodiscard]] virtual int currentTarget() const = 0;
+    /// its handle. Throws RenderError for an invalid size.
+    virtual TargetHandle addTarget(int width, int height) = 0;
+    /// Frees `target` (its pending readbacks are dropped). Returns false for the primary target
+    /// and for a handle that names no target (any more).
+    virtual bool removeTarget(TargetHandle target) = 0;
     [[nodiscard]] virtual std::size_t targetCount() const = 0;
 
-    /// Changes the size of the current target (its pending readbacks are completed first).
-    virtual void resize(int width, int height) = 0;
+    /// Size of `target`.
+    [[nodiscard]] virtual int width(TargetHandle target) const = 0;
+    [[nodiscard]] virtual int height(TargetHandle target) const = 0;
+    /// Changes the size of `target` (its pending readbacks are completed first).
+    virtual void resize(TargetHandle target, int width, int height) = 0;
     /// Uploads a terrain mesh, replacing the previous one.
     virtual void setTerrain(const HeightfieldMesh& mesh) = 0;
     virtual void setTerrainStyle(const TerrainStyle& style) = 0;
 
-    /// Renders one frame of the terrain-only scene (setTerrain) into the offscreen target.
-    virtual void render(const Camera& camera) = 0;
+    /// Renders one frame of the terrain-only scene (setTerrain) into `target`.
+    virtual void render(TargetHandle target, const Camera& camera) = 0;
 
     virtual void setMapStyle(const MapStyle& style) = 0;
-    /// Renders one map frame from tiles: terrain with land cover, draped roads with casing and
-    /// outlines, buildings, route and vehicle marker (DESIGN.md pass order).
-    virtual void renderMap(const MapFrame& frame) = 0;
+    /// Renders one map frame from tiles into `target`: terrain with land cover, draped roads with
+    /// casing and outlines, buildings, route and vehicle marker (DESIGN.md pass order). The
+    /// target's label layout continues from its own previous frame.
+    virtual void renderMap(TargetHandle target, const MapFrame& frame) = 0;
     [[nodiscard]] virtual const MapFrameStats& mapStats() const = 0;
     /// Blocks until the GPU has finished all submitted work (for timing).
     virtual void finish() = 0;
 
-    /// Synchronous readback of the last rendered frame.
-    virtual Image readSync() = 0;
-    /// Starts an asynchronous readback of the last rendered frame into the next buffer of the
-    /// ring. When the ring is full, the oldest readback is completed and returned; by then it
-    /// is ring-1 frames old, so the wait is normally zero.
-    virtual std::optional<Frame> readAsync(std::uint64_t sequence) = 0;
-    /// Returns the asynchronous readbacks that have already finished, oldest first, without
-    /// waiting (the frame loop calls it after rendering, so frames leave in the same tick).
-    virtual std::vector<Frame> collectReadbacks() = 0;
-    /// Completes and returns every pending asynchronous readback, oldest first.
-    virtual std::vector<Frame> drainReadbacks() = 0;
+    /// Synchronous readback of the last frame rendered into `target`.
+    virtual Image readSync(TargetHandle target) = 0;
+    /// Starts an asynchronous readback of the last frame rendered into `target` into the next
+    /// buffer of its ring. When the ring is full, the oldest readback is completed and returned;
+    /// by then it is ring-1 frames old, so the wait is normally zero.
+    virtual std::optional<Frame> readAsync(TargetHandle target, std::uint64_t sequence) = 0;
+    /// Returns `target`'s asynchronous readbacks that have already finished, oldest first,
+    /// without waiting (the frame loop calls it after rendering, so frames leave in the same tick).
+    virtual std::vector<Frame> collectReadbacks(TargetHandle target) = 0;
+    /// Completes and returns every pending asynchronous readback of `target`, oldest first.
+    virtual std::vector<Frame> drainReadbacks(TargetHandle target) = 0;
+
+    /// The same on the primary target.
+    [[nodiscard]] int width() const { return width(primaryTarget()); }
+    [[nodiscard]] int height() const { return height(primaryTarget()); }
+    void resize(int width, int height) { resize(primaryTarget(), width, height); }
+    void render(const Camera& camera) { render(primaryTarget(), camera); }
+    void renderMap(const MapFrame& frame) { renderMap(primaryTarget(), frame); }
+    Image readSync() { return readSync(primaryTarget()); }
+    std::optional<Frame> readAsync(std::uint64_t sequence) { return readAsync(primaryTarget(), sequence); }
+    std::vector<Frame> collectReadbacks() { return collectReadbacks(primaryTarget()); }
+    std::vector<Frame> drainReadbacks() { return drainReadbacks(primaryTarget()); }
 
 protected:
     Renderer() = default;
+    /// For the backends: the handle of their target `id` (0: the primary target).
+    [[nodiscard]] static TargetHandle handle(int id) { return TargetHandle(id); }
 };
 
 }  // namespace navmap::render

@@ -1,0 +1,106 @@
+#include "route_pass.h"
+
+#include <algorithm>
+#include <array>
+#include <limits>
+#include <utility>
+#include <vector>
+
+#include <glm/gtc/type_ptr.hpp>
+
+#include "map_culling.h"
+#include "road_uniforms.h"
+
+namespace navmap::render::gl {
+
+RoutePass::RoutePass()
+    : m_program(ShaderProgram::fromEmbedded("roads_geo.vert", "roads_geo.frag", "#define NAVMAP_ROUTE_PROGRESS 1\n")) {}
+
+void RoutePass::update(const FrameContext& ctx) {
+    for (GpuTile* g : ctx.tiles) updateTile(*g, ctx);
+}
+
+void RoutePass::updateTile(GpuTile& g, const FrameContext& ctx) {
+    const MapFrame& frame = ctx.frame;
+    // Draped per tile against the grid it is drawn with (seed 3.6.1), so the route lies on the
+    // terrain at every level of detail; redone when the route or the tile's upload changes.
+    const RouteGeometry& route = *frame.route;
+    const double last = route.measure_m.empty() ? 0.0 : route.measure_m.back();
+    if (g.route_source != &route || g.route_version != route.version || g.route_points != route.points.size() ||
+        g.route_last_measure != last) {
+        g.route_source = &route;
+        g.route_version = route.version;
+        g.route_points = route.points.size();
+        g.route_last_measure = last;
+        g.route_pieces.clear();
+        if (g.grid_size >= 2) {
+            const double spacing = g.size_m / double(g.grid_size - 1);
+            std::array<HeightGrid, kMorphLevels> ancestors;
+            for (std::size_t j = 0; j < ancestors.size(); ++j)
+                ancestors[j] = HeightGrid{g.grid_size, spacing, g.ancestor_heights[j].data()};
+            g.route_pieces = drapeRoute(route, g.origin, HeightGrid{g.grid_size, spacing, g.heights.data()}, ancestors);
+        }
+        // Its extent at every level it can morph to, for culling.
+        g.route_extent = {glm::vec3(std::numeric_limits<float>::max()), glm::vec3(std::numeric_limits<float>::lowest())};
+        for (const RoutePiece& r : g.route_pieces) {
+            for (const auto& [p, ancestor_z] : {std::pair{r.p0, r.ancestor_z0}, std::pair{r.p1, r.ancestor_z1}}) {
+                const auto [lowest, highest] = std::minmax_element(ancestor_z.begin(), ancestor_z.end());
+                g.route_extent.min = glm::min(g.route_extent.min, glm::vec3(glm::vec2(p), std::min(p.z, *lowest)));
+                g.route_extent.max = glm::max(g.route_extent.max, glm::vec3(glm::vec2(p), std::max(p.z, *highest)));
+            }
+        }
+        g.route_count = 0;
+        g.route_instances.clear();
+        g.route_stale = true;
+        if (g.route_pieces.empty()) return;
+        if (!g.route_vao) {
+            glGenVertexArrays(1, &g.route_vao);
+            glGenBuffers(1, &g.route_vbo);
+            glBindVertexArray(g.route_vao);
+            glBindBuffer(GL_ARRAY_BUFFER, g.route_vbo);
+            setupRoadAttributes();
+            glBindVertexArray(0);
+        }
+    }
+    // Not in view: neither morphed nor drawn this frame (half its outer width around its extent,
+    // as roads_geo.vert draws it).
+    const glm::vec3 eye(frame.camera.eye - g.origin);
+    g.route_in_view = !g.route_pieces.empty() &&
+                      (!frame.layers.cull_blocks ||
+                       quadsInView(g.road_cull, g.route_extent,
+                                   quadReach(eye, g.route_extent, 0.5f * routeOuterWidth(ctx.style.route_width_m), ctx.style.roads).reach_m));
+    if (!g.route_in_view) return;
+    if (!g.route_stale && g.morph.end_m[0] <= 0.0f && !g.route_morphed) return;  // unmorphed: the buffer is current
+    g.route_stale = false;
+    g.route_morphed = g.morph.end_m[0] > 0.0f;
+    // The pieces follow the terrain's geomorph (the same factor per vertex as terrain_tile.vert).
+    morphRoute(g.route_pieces, g.morph, glm::vec2(eye), g.route_instances);
+    const auto quads = quadVertices(g.route_instances);
+    glBindVertexArray(g.route_vao);
+    m_quad_indices.bind(g.route_instances.size());
+    glBindBuffer(GL_ARRAY_BUFFER, g.route_vbo);
+    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(quads.size() * sizeof(RoadInstance)), quads.data(),
+                 GL_STREAM_DRAW);
+    glBindVertexArray(0);
+    glBindBuffer(GL_ARRAY_BUFFER, 0);
+    g.route_count = static_cast<GLsizei>(g.route_instances.size());
+}
+
+void RoutePass::draw(const FrameContext& ctx) {
+    glUseProgram(m_program.id());
+    for (int pass = 0; pass < 2; ++pass) drawWith(m_program, pass, ctx);
+}
+
+void RoutePass::drawWith(ShaderProgram& program, int pass, const FrameContext& ctx) {
+    setRoadUniforms(program, pass, true, ctx);
+    glUniform1f(program.uniform("u_route_progress"), static_cast<float>(ctx.frame.route_progress_m));
+    for (const GpuTile* g : ctx.tiles) {
+        if (!g->route_count || !g->route_in_view) continue;
+        glUniformMatrix4fv(program.uniform("u_view"), 1, GL_FALSE, glm::value_ptr(g->view));
+        glUniformMatrix4fv(program.uniform("u_view_projection"), 1, GL_FALSE, glm::value_ptr(g->view_projection));
+        glBindVertexArray(g->route_vao);
+        m_quad_indices.draw(0, g->route_count);
+    }
+}
+
+}  // namespace navmap::render::gl
