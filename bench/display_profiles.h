@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// The display profiles of DESIGN.md as the frame benchmarks render them.
+// The display profiles of docs/architecture.md "Display profiles" as the frame benchmarks render them.
 
 #include "navmap/render/camera_rig.h"
 

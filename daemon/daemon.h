@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// navmapd's main loop (DESIGN.md "Data flow"): vehicle input -> pose at frame time -> one scene
+// navmapd's main loop (docs/architecture.md "Data flow"): vehicle input -> pose at frame time -> one scene
 // state per tick -> one render per display profile in use -> frame server. The render loop
 // runs on the calling thread and never waits for a client, the control socket or CAN input:
 // those run on their own threads and hand over immutable snapshots.

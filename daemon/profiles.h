@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// Display profiles (DESIGN.md "Frame streaming"): who a client is and what it is rendered with.
+// Display profiles (docs/architecture.md "Display profiles"): who a client is and what it is rendered with.
 
 #include <optional>
 #include <string>

@@ -16,8 +16,8 @@ BUILD=(
   libegl-dev libgles-dev libegl-mesa0 libgl1-mesa-dri
   # maths, geodesy
   libglm-dev libgeographiclib-dev
-  # OpenStreetMap input (libosmium and its PBF/XML codecs), polygon tessellation
-  libosmium2-dev libprotozero-dev zlib1g-dev libbz2-dev libexpat1-dev liblz4-dev libglu1-mesa-dev libzstd-dev
+  # OpenStreetMap input (libosmium and its PBF/XML codecs), polygon triangulation (CGAL)
+  libosmium2-dev libprotozero-dev zlib1g-dev libbz2-dev libexpat1-dev liblz4-dev libcgal-dev libzstd-dev
   # text
   libfreetype-dev libharfbuzz-dev fonts-dejavu-core fonts-droid-fallback
   # config, JSON, command line, streaming, systemd

@@ -45,7 +45,7 @@ namespace {
 using Clock = std::chrono::steady_clock;
 constexpr double kAlways = 1e300;
 
-// ---- level-of-detail rules (DESIGN.md "Map data": lower levels carry simplified geometry) ----
+// ---- level-of-detail rules (docs/tile-store.md "Tile scheme": lower levels carry simplified geometry) ----
 
 /// Largest tile edge (m) at which a road class still appears; the leaf level has everything.
 double roadMaxTile(RoadClass c) {

@@ -12,6 +12,7 @@
 #include <cstring>
 #include <random>
 
+#include "navmap/common/check.h"
 #include "navmap/map/tile_codec.h"
 #include "store_header.h"
 
@@ -114,6 +115,7 @@ void StoreWriter::write(const std::vector<std::uint8_t>& bytes) {
 void StoreWriter::addTile(const Tile& tile) { addRawTile(tile.id, encodeTile(tile)); }
 
 void StoreWriter::addRawTile(TileId id, const std::vector<std::uint8_t>& payload) {
+    NAVMAP_CHECK(id.level <= 28 && (id.x >> id.level) == 0 && (id.y >> id.level) == 0, "tile x/y outside [0, 2^level)");
     const auto stored = compress(payload, m_tmp);
     m_entries.push_back({id, m_offset, static_cast<std::uint32_t>(stored.size()),
                          static_cast<std::uint32_t>(payload.size()), detail::crc32Of(stored)});

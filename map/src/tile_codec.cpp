@@ -1,9 +1,11 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "navmap/map/tile_codec.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "byte_io.h"
+#include "navmap/common/check.h"
 
 namespace navmap::map {
 
@@ -56,6 +58,7 @@ LocalPoint readPoint(ByteReader& r) {
 }
 
 void writePolygon(ByteWriter& w, const Polygon& poly) {
+    NAVMAP_CHECK(poly.indices.empty() || std::ranges::max(poly.indices) < poly.vertices.size(), "polygon index past its vertices");
     writePoints(w, poly.vertices);
     w.varint(poly.ring_ends.size());
     std::uint32_t prev = 0;

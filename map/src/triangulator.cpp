@@ -1,84 +1,124 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "navmap/map/triangulator.h"
 
-#include <GL/glu.h>
+#include <CGAL/Constrained_Delaunay_triangulation_2.h>
+#include <CGAL/Constrained_triangulation_face_base_2.h>
+#include <CGAL/Constrained_triangulation_plus_2.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Triangulation_data_structure_2.h>
+#include <CGAL/Triangulation_face_base_with_info_2.h>
+#include <CGAL/Triangulation_vertex_base_with_info_2.h>
 
-#include <array>
 #include <cmath>
 #include <cstdint>
-#include <deque>
+#include <exception>
+#include <limits>
+#include <queue>
 
 namespace navmap::map {
 
 namespace {
 
-struct TessState {
-    std::deque<std::array<GLdouble, 3>> coords;  // stable addresses for GLU
-    Triangulation* out = nullptr;
-    PlanarPoint origin;
-    bool error = false;
+// CGAL's constrained Delaunay triangulation (libcgal-dev, header-only) with exact predicates:
+// crossing constraints (self-intersecting OSM rings) are split at a computed intersection
+// point instead of failing. The "plus" hierarchy counts how many input edges run along each
+// triangulation edge, which the odd winding rule needs (see markInside).
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+constexpr std::uint32_t kNewVertex = std::numeric_limits<std::uint32_t>::max();
+struct VertexInfo {
+    std::uint32_t index = kNewVertex;  ///< index in Triangulation::vertices
 };
+struct FaceInfo {
+    int parity = -1;  ///< number of input edges crossed from outside, mod 2; -1 = not reached
+};
+using Vb = CGAL::Triangulation_vertex_base_with_info_2<VertexInfo, Kernel>;
+using Fbi = CGAL::Triangulation_face_base_with_info_2<FaceInfo, Kernel>;
+using Fb = CGAL::Constrained_triangulation_face_base_2<Kernel, Fbi>;
+using Tds = CGAL::Triangulation_data_structure_2<Vb, Fb>;
+using Cdt = CGAL::Constrained_Delaunay_triangulation_2<Kernel, Tds, CGAL::Exact_predicates_tag>;
+using CdtPlus = CGAL::Constrained_triangulation_plus_2<Cdt>;
 
-void GLAPIENTRY onBegin(GLenum, void*) {}
-void GLAPIENTRY onEdgeFlag(GLboolean, void*) {}  // presence forces GL_TRIANGLES output
-void GLAPIENTRY onVertex(void* vertex, void* user) {
-    auto* st = static_cast<TessState*>(user);
-    st->out->indices.push_back(static_cast<std::uint32_t>(reinterpret_cast<std::uintptr_t>(vertex)));
+/// Odd winding rule by flood fill from the infinite face: crossing an edge that input edges
+/// run along k times flips inside/outside k times. A segment given twice (the zero-width
+/// bridges of clipRing, two rings sharing an edge) therefore encloses nothing, as with the
+/// winding rule of the GLU tessellator this replaces.
+void markInside(CdtPlus& cdt) {
+    std::queue<CdtPlus::Face_handle> todo;
+    cdt.infinite_face()->info().parity = 0;
+    todo.push(cdt.infinite_face());
+    while (!todo.empty()) {
+        const CdtPlus::Face_handle f = todo.front();
+        todo.pop();
+        for (int i = 0; i < 3; ++i) {
+            const CdtPlus::Face_handle n = f->neighbor(i);
+            if (n->info().parity != -1) continue;
+            std::size_t crossings = 0;
+            if (f->is_constrained(i)) {
+                crossings = cdt.number_of_enclosing_constraints(f->vertex(CdtPlus::cw(i)), f->vertex(CdtPlus::ccw(i)));
+            }
+            n->info().parity = (f->info().parity + static_cast<int>(crossings % 2)) % 2;
+            todo.push(n);
+        }
+    }
 }
-void GLAPIENTRY onCombine(GLdouble coords[3], void*[4], GLfloat[4], void** out_data, void* user) {
-    auto* st = static_cast<TessState*>(user);
-    const auto index = static_cast<std::uintptr_t>(st->out->vertices.size());
-    st->out->vertices.push_back({coords[0] + st->origin.x, coords[1] + st->origin.y});
-    *out_data = reinterpret_cast<void*>(index);
-}
-void GLAPIENTRY onError(GLenum, void* user) { static_cast<TessState*>(user)->error = true; }
 
 }  // namespace
 
 Triangulation triangulate(std::span<const std::vector<PlanarPoint>> rings) {
     Triangulation result;
-    TessState st;
-    st.out = &result;
+    PlanarPoint origin;
     bool have_origin = false;
     for (const auto& ring : rings) {
         if (ring.size() < 3) continue;
         if (!have_origin) {
-            st.origin = ring[0];  // tessellate near zero for precision
+            origin = ring[0];  // triangulate near zero for precise intersection points
             have_origin = true;
         }
-        for (const auto& p : ring) result.vertices.push_back(p);
+        for (const auto& p : ring) {
+            if (!std::isfinite(p.x) || !std::isfinite(p.y)) {  // CGAL's predicates need finite input
+                result.vertices.clear();
+                result.ok = false;
+                return result;
+            }
+            result.vertices.push_back(p);
+        }
     }
     if (!have_origin) return result;
 
-    GLUtesselator* tess = gluNewTess();
-    if (tess == nullptr) {
-        result.ok = false;
-        return result;
-    }
-    using Fn = _GLUfuncptr;
-    gluTessCallback(tess, GLU_TESS_BEGIN_DATA, reinterpret_cast<Fn>(&onBegin));
-    gluTessCallback(tess, GLU_TESS_EDGE_FLAG_DATA, reinterpret_cast<Fn>(&onEdgeFlag));
-    gluTessCallback(tess, GLU_TESS_VERTEX_DATA, reinterpret_cast<Fn>(&onVertex));
-    gluTessCallback(tess, GLU_TESS_COMBINE_DATA, reinterpret_cast<Fn>(&onCombine));
-    gluTessCallback(tess, GLU_TESS_ERROR_DATA, reinterpret_cast<Fn>(&onError));
-    gluTessProperty(tess, GLU_TESS_WINDING_RULE, GLU_TESS_WINDING_ODD);
-    gluTessNormal(tess, 0, 0, 1);
-
-    gluTessBeginPolygon(tess, &st);
-    std::uintptr_t index = 0;
-    for (const auto& ring : rings) {
-        if (ring.size() < 3) continue;
-        gluTessBeginContour(tess);
-        for (const auto& p : ring) {
-            st.coords.push_back({p.x - st.origin.x, p.y - st.origin.y, 0.0});
-            gluTessVertex(tess, st.coords.back().data(), reinterpret_cast<void*>(index++));
+    try {
+        CdtPlus cdt;
+        std::uint32_t index = 0;
+        std::vector<CdtPlus::Vertex_handle> handles;
+        for (const auto& ring : rings) {
+            if (ring.size() < 3) continue;
+            handles.clear();
+            for (const auto& p : ring) {
+                const CdtPlus::Vertex_handle v = cdt.insert(Kernel::Point_2(p.x - origin.x, p.y - origin.y));
+                if (v->info().index == kNewVertex) v->info().index = index;  // repeated points keep the first index
+                ++index;
+                // Consecutive repeated points give no edge (CGAL would reject a zero-length constraint).
+                if (handles.empty() || handles.back() != v) handles.push_back(v);
+            }
+            while (handles.size() > 1 && handles.back() == handles.front()) handles.pop_back();
+            for (std::size_t i = 0; i < handles.size() && handles.size() >= 2; ++i) {
+                cdt.insert_constraint(handles[i], handles[(i + 1) % handles.size()]);
+            }
         }
-        gluTessEndContour(tess);
-    }
-    gluTessEndPolygon(tess);
-    gluDeleteTess(tess);
-
-    if (st.error || result.indices.size() % 3 != 0) {
+        if (cdt.dimension() < 2) return result;  // all points collinear: no area, no triangles
+        markInside(cdt);
+        for (auto f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f) {
+            if (f->info().parity != 1) continue;
+            for (int i = 0; i < 3; ++i) {
+                VertexInfo& info = f->vertex(i)->info();
+                if (info.index == kNewVertex) {  // created where constraints cross
+                    info.index = static_cast<std::uint32_t>(result.vertices.size());
+                    const Kernel::Point_2& p = f->vertex(i)->point();
+                    result.vertices.push_back({p.x() + origin.x, p.y() + origin.y});
+                }
+                result.indices.push_back(info.index);  // CGAL faces are counter-clockwise
+            }
+        }
+    } catch (const std::exception&) {  // CGAL precondition/assertion failures are exceptions
         result.indices.clear();
         result.ok = false;
     }

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
-// Planar geometry: triangulation with holes (area preserved), label anchors (seed 4.4.2),
+// Planar geometry: triangulation with holes, self-touching and self-intersecting rings (area
+// as the odd winding rule gives it), label anchors (seed 4.4.2),
 // simplification and clipping to tiles.
 #include <gtest/gtest.h>
 
@@ -58,6 +59,105 @@ TEST(Triangulator, SelfIntersectionAddsVertices) {
     EXPECT_NEAR(triangulatedArea(t), 50.0, 1e-6);
     EXPECT_EQ(t.vertices.size(), 5u);
     EXPECT_NEAR(t.vertices[4].x, 5.0, 1e-9);
+}
+
+namespace {
+
+bool indicesInRange(const Triangulation& t) {
+    for (auto i : t.indices) {
+        if (i >= t.vertices.size()) return false;
+    }
+    return true;
+}
+
+}  // namespace
+
+TEST(Triangulator, IslandInAHoleIsFilled) {
+    // Odd winding: outer square, a hole, and an island inside the hole (all counter-clockwise).
+    std::vector<std::vector<PlanarPoint>> rings{square(0, 0, 100), square(25, 25, 50), square(40, 40, 20)};
+    const Triangulation t = triangulate(rings);
+    ASSERT_TRUE(t.ok);
+    EXPECT_NEAR(triangulatedArea(t), 100.0 * 100 - 50 * 50 + 20 * 20, 1e-6);
+    EXPECT_TRUE(allCcw(t));
+    EXPECT_TRUE(indicesInRange(t));
+    EXPECT_EQ(t.vertices.size(), 12u);
+}
+
+TEST(Triangulator, OuterRingsSharingAnEdgeAreBothFilled) {
+    // Two outer rings of a multipolygon side by side: the shared edge is crossed twice.
+    std::vector<std::vector<PlanarPoint>> rings{square(0, 0, 10), square(10, 0, 10)};
+    const Triangulation t = triangulate(rings);
+    ASSERT_TRUE(t.ok);
+    EXPECT_NEAR(triangulatedArea(t), 200.0, 1e-9);
+    EXPECT_TRUE(allCcw(t));
+}
+
+TEST(Triangulator, SelfTouchingRingFillsBothLobesWithoutNewVertices) {
+    // One ring through (5,5) twice: two squares touching at a corner.
+    std::vector<std::vector<PlanarPoint>> rings{{{0, 0}, {5, 0}, {5, 5}, {10, 5}, {10, 10}, {5, 10}, {5, 5}, {0, 5}}};
+    const Triangulation t = triangulate(rings);
+    ASSERT_TRUE(t.ok);
+    EXPECT_NEAR(triangulatedArea(t), 50.0, 1e-9);
+    EXPECT_TRUE(allCcw(t));
+    EXPECT_TRUE(indicesInRange(t));
+    EXPECT_EQ(t.vertices.size(), 8u);
+}
+
+TEST(Triangulator, ZeroWidthBridgeToAHoleEnclosesNothing) {
+    // A keyhole ring as clipRing makes them: the outer square, a bridge along y = 5 walked there
+    // and back, and the hole [3,7]^2 at its end. The bridge is an edge given twice.
+    std::vector<std::vector<PlanarPoint>> rings{
+        {{0, 0}, {10, 0}, {10, 10}, {0, 10}, {0, 5}, {3, 5}, {3, 7}, {7, 7}, {7, 3}, {3, 3}, {3, 5}, {0, 5}}};
+    const Triangulation t = triangulate(rings);
+    ASSERT_TRUE(t.ok);
+    EXPECT_NEAR(triangulatedArea(t), 100.0 - 16.0, 1e-9);
+    EXPECT_TRUE(allCcw(t));
+    EXPECT_TRUE(indicesInRange(t));
+}
+
+TEST(Triangulator, SelfIntersectingRingFollowsTheOddRule) {
+    // The edge (5,10)->(5,-5) crosses (0,0)->(10,0) at (5,0). Odd winding fills [5,10]x[0,10]
+    // and [0,5]x[-5,0]; [0,5]x[0,10] lies inside twice and stays empty.
+    std::vector<std::vector<PlanarPoint>> rings{{{0, 0}, {10, 0}, {10, 10}, {5, 10}, {5, -5}, {0, -5}}};
+    const Triangulation t = triangulate(rings);
+    ASSERT_TRUE(t.ok);
+    EXPECT_NEAR(triangulatedArea(t), 50.0 + 25.0, 1e-9);
+    EXPECT_TRUE(allCcw(t));
+    EXPECT_TRUE(indicesInRange(t));
+    ASSERT_EQ(t.vertices.size(), 7u);  // the crossing point is added after the ring's 6
+    EXPECT_NEAR(t.vertices[6].x, 5.0, 1e-9);
+    EXPECT_NEAR(t.vertices[6].y, 0.0, 1e-9);
+}
+
+TEST(Triangulator, RepeatedConsecutivePointsAreSkipped) {
+    std::vector<std::vector<PlanarPoint>> rings{{{0, 0}, {0, 0}, {10, 0}, {10, 10}, {10, 10}, {0, 10}, {0, 0}}};
+    const Triangulation t = triangulate(rings);
+    ASSERT_TRUE(t.ok);
+    EXPECT_NEAR(triangulatedArea(t), 100.0, 1e-9);
+    EXPECT_TRUE(indicesInRange(t));
+}
+
+TEST(Triangulator, DegenerateRingsGiveNoTrianglesAndNoError) {
+    const std::vector<std::vector<PlanarPoint>> collinear{{{0, 0}, {5, 0}, {10, 0}, {5, 0}}};
+    const Triangulation line = triangulate(collinear);
+    EXPECT_TRUE(line.ok);
+    EXPECT_TRUE(line.indices.empty());
+    EXPECT_EQ(triangulatedArea(line), 0.0);
+
+    const std::vector<std::vector<PlanarPoint>> point{{{3, 3}, {3, 3}, {3, 3}}};
+    const Triangulation one = triangulate(point);
+    EXPECT_TRUE(one.ok);
+    EXPECT_TRUE(one.indices.empty());
+
+    const std::vector<std::vector<PlanarPoint>> too_short{{{0, 0}, {1, 1}}};
+    EXPECT_TRUE(triangulate(too_short).indices.empty());
+}
+
+TEST(Triangulator, NonFiniteCoordinateIsAnError) {
+    const std::vector<std::vector<PlanarPoint>> rings{{{0, 0}, {10, 0}, {std::nan(""), 10}}};
+    const Triangulation t = triangulate(rings);
+    EXPECT_FALSE(t.ok);
+    EXPECT_TRUE(t.indices.empty());
 }
 
 TEST(LabelAnchors, PolylineCenterIsHalfTheArcLength) {

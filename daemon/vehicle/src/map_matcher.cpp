@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-// Map matching onto the road graph (DESIGN.md "snap to route/road graph"): nearest segment with
+// Map matching onto the road graph (docs/vehicle-state.md "Map matching"): nearest segment with
 // heading agreement and hysteresis. The confidence is the product of two Gaussian terms, so it
 // falls smoothly with distance and heading difference and the pose can be blended onto the road
 // without a visible step.

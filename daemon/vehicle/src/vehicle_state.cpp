@@ -146,7 +146,7 @@ EstimatedPose VehicleState::compute(const Parts& p, ipc::CanTime t) {
     pose.stale = pose.sinceFixS > cfg.gnssTimeoutS;
     pose.sourceTime = std::max(std::min(anchorTime, t), newestMotionAtOrBefore(p.motion, t));
 
-    // Map matching: the route first, the road graph otherwise (seed-independent; DESIGN.md).
+    // Map matching: the route first, the road graph otherwise (not from the seed; docs/vehicle-state.md "Map matching").
     const std::optional<double> heading =
         p.headingKnown && std::abs(v) >= cfg.headingMinSpeedMps ? std::optional<double>(pose.headingDeg) : std::nullopt;
     const map::PlanarPoint raw{x, y};

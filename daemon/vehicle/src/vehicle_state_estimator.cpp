@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-// GNSS + odometry fusion (DESIGN.md data flow: "interpolate/extrapolate between fixes (dead
+// GNSS + odometry fusion (docs/architecture.md "Data flow": "interpolate/extrapolate between fixes (dead
 // reckoning with speed + yaw rate), snap to route/road graph"). A complementary filter: between
 // fixes the track is integrated from speed and yaw rate; at a fix, a share of the innovation is
 // taken (the GNSS is noisy but unbiased, the odometry smooth but drifting). A fix too far from

@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <chrono>
 
+#include "navmap/common/check.h"
+
 namespace navmap::ipc::stream_detail {
 
 namespace {
@@ -135,6 +137,7 @@ std::shared_ptr<const EncodedFrame> FrameEncoder::encode(const FrameRing& ring, 
                 pitch = static_cast<int>(l.width * 4);
             }
             auto* tj = static_cast<tjhandle>(m_tj);
+            NAVMAP_CHECK(static_cast<std::uint32_t>(pitch) >= l.width * 4, "JPEG source rows shorter than the frame width");
             out->bytes.resize(tjBufSize(static_cast<int>(l.width), static_cast<int>(l.height), TJSAMP_420));
             unsigned char* dst = out->bytes.data();
             unsigned long size = out->bytes.size();

@@ -146,7 +146,7 @@ bool EglContext::tryDisplay(EGLDisplay display, const std::string& name, std::st
         why = "no EGL config with OpenGL ES 3 support";
         return false;
     }
-    // Prefer ES 3.2, fall back to 3.1 and 3.0 (the minimum, DESIGN.md).
+    // Prefer ES 3.2, fall back to 3.1 and 3.0 (the minimum, docs/architecture.md "Rendering").
     for (int want_minor : {2, 1, 0}) {
         const EGLint ctx_attribs[] = {EGL_CONTEXT_MAJOR_VERSION, 3, EGL_CONTEXT_MINOR_VERSION, want_minor, EGL_NONE};
         EGLContext ctx = eglCreateContext(display, have_config ? config : EGL_NO_CONFIG_KHR, EGL_NO_CONTEXT, ctx_attribs);

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// The label pass of the map renderer (DESIGN.md pass order: after the outlines, before the
+// The label pass of the map renderer (docs/architecture.md "Render passes": after the outlines, before the
 // marker): collects the label features of the frame's tiles, projects them with the frame
 // camera, runs the force-based layout (seed ch. 4) on the projected text boxes and draws the
 // placed labels with the SDF text layer: screen-space in bird's-eye, and in snail's view

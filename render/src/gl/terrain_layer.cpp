@@ -2,9 +2,12 @@
 #include "terrain_layer.h"
 #include "vertex_layout.h"
 
+#include <algorithm>
 #include <cstddef>
 
 #include <glm/gtc/type_ptr.hpp>
+
+#include "navmap/common/check.h"
 
 namespace navmap::render::gl {
 
@@ -23,6 +26,7 @@ TerrainLayer::~TerrainLayer() {
 
 void TerrainLayer::upload(const HeightfieldMesh& mesh) {
     using Vertex = HeightfieldMesh::Vertex;
+    NAVMAP_CHECK(mesh.indices.empty() || std::ranges::max(mesh.indices) < mesh.vertices.size(), "terrain index past its vertices");
     glBindVertexArray(m_vao);
     glBindBuffer(GL_ARRAY_BUFFER, m_vbo);
     glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(mesh.vertices.size() * sizeof(Vertex)),

@@ -23,7 +23,7 @@ struct StreamProfile {
     PixelFormat format = PixelFormat::Rgba8;
 };
 
-/// The defaults of DESIGN.md: cluster 1280x480 snail, hud 800x240 hud, center 1280x720 bird
+/// The defaults of docs/architecture.md "Display profiles": cluster 1280x480 snail, hud 800x240 hud, center 1280x720 bird
 /// (30 fps, RGBA8). nullopt for other names.
 NAVMAP_CLIENT_API std::optional<StreamProfile> defaultStreamProfile(std::string_view name);
 

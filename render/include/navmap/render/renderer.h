@@ -71,7 +71,7 @@ struct DeviceInfo {
     bool software = false;   ///< a software rasterizer (llvmpipe, softpipe, swrast)
 };
 
-/// Terrain shading parameters (kept separate so the shading is pluggable, DESIGN.md).
+/// Terrain shading parameters (kept separate so the shading is pluggable, docs/architecture.md "Rendering").
 struct TerrainStyle {
     glm::vec3 light_dir{-0.5f, 0.6f, 0.62f};  ///< towards the light (north-west, as cartographers light relief)
     glm::vec3 sky_color{0.62f, 0.75f, 0.90f};
@@ -149,7 +149,7 @@ public:
 
     virtual void setMapStyle(const MapStyle& style) = 0;
     /// Renders one map frame from tiles into `target`: terrain with land cover, draped roads with
-    /// casing and outlines, buildings, route and vehicle marker (DESIGN.md pass order). The
+    /// casing and outlines, buildings, route and vehicle marker ([architecture.md](architecture.md) "Render passes"). The
     /// target's label layout continues from its own previous frame.
     virtual void renderMap(TargetHandle target, const MapFrame& frame) = 0;
     [[nodiscard]] virtual const MapFrameStats& mapStats() const = 0;

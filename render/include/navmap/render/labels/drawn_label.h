@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 // A label as it was drawn in one frame, in screen pixels after projection: what the label
-// quality metrics measure (DESIGN.md quality bars: measured on what is drawn, never on layout
+// quality metrics measure (docs/architecture.md "Quality bars": measured on what is drawn, never on layout
 // boxes alone). The renderer's label pass fills one per label with drawn opacity > 0.
 // Screen pixels: origin top left, x right, y down.
 

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// Label quality measured on the drawn frames (DESIGN.md quality bars: what the driver sees, not
+// Label quality measured on the drawn frames (docs/architecture.md "Quality bars": what the driver sees, not
 // the layout boxes): visible labels, overlapping glyphs, labels hidden by the scene, text too
 // small to read, labels over the vehicle marker, pops as MapLibre GL JS's placement counts them,
 // and jitter. Fed one frame at a time with MapFrameStats::drawn_labels and drawn_marker; GL-free,

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// Label layout quality measured from successive layout outputs (DESIGN.md quality bars):
+// Label layout quality measured from successive layout outputs (docs/architecture.md "Quality bars"):
 // visible labels, overlapping visible labels, pops per second, mean and p95 jitter.
 
 #include <array>

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// GL-free descriptions of label text to draw, screen-space and world-space (DESIGN.md: SS
+// GL-free descriptions of label text to draw, screen-space and world-space (docs/architecture.md "Render passes": SS
 // labels in bird's-eye, WS labels in snail's view). The GL layer consumes them.
 
 #include <span>
