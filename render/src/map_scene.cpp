@@ -18,12 +18,9 @@ MapScene MapScene::open(const std::filesystem::path& store_path, std::size_t bud
 PlannedDrive planDrive(const MapScene& scene, double from_lat, double from_lon, double to_lat, double to_lon,
                        const CameraRig::TerrainHeight& terrain) {
     PlannedDrive drive;
-    const auto a = map::nearestDrivableNode(scene.graph, scene.toPlanar(from_lat, from_lon));
-    const auto b = map::nearestDrivableNode(scene.graph, scene.toPlanar(to_lat, to_lon));
-    if (!a || !b) return drive;
-    const auto route = map::fastestRoute(scene.graph, *a, *b);
-    if (!route) return drive;
-    drive.line = map::routePolyline(scene.graph, *route);
+    const map::RoutePlan plan = map::planRoute(scene.graph, scene.toPlanar(from_lat, from_lon), scene.toPlanar(to_lat, to_lon));
+    if (!plan.ok()) return drive;
+    drive.line = map::routePolyline(scene.graph, *plan.route);
     for (const auto& p : drive.line) {
         const double z = terrain ? terrain(p.position.x, p.position.y) : 0.0;
         drive.geometry.points.emplace_back(p.position.x, p.position.y, z);
