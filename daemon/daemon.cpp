@@ -20,7 +20,8 @@
 #include "navmap/ipc/frame_server.h"
 #include "navmap/ipc/metrics_registry.h"
 #include "navmap/ipc/socket_access.h"
-#include "navmap/render/map_scene.h"
+#include "navmap/map/map_scene.h"
+#include "navmap/render/map_view.h"
 #include "navmap/render/renderer.h"
 #include "navmap/render/text/text_engine.h"
 #include "navmap/version.h"
@@ -222,7 +223,7 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
         ConfigError err;
         if (!validateConfig(config, &err)) throw std::runtime_error("config: " + err.message);
 
-        render::MapScene scene = render::MapScene::open(config.store_path, config.cache_mb << 20);
+        map::MapScene scene = map::MapScene::open(config.store_path, config.cache_mb << 20);
         const map::Projection projection = scene.projection();  // MapLibre-convention cameras: latitude, true north
         log(kInfo, "store %s: %u tiles, cache %zu MiB", config.store_path.c_str(), scene.store->info().tile_count, config.cache_mb);
         // A damaged road graph degrades like a damaged tile: the map renders, what needs the
@@ -248,8 +249,8 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
         control_state->setStatusProvider([&] { return *status_json.load(); });
 
         // The map matcher is the road graph's only user here: it takes the scene's copy (1.6 MB).
-        VehicleInput input(config, scene, std::make_shared<const map::RoadGraph>(std::move(scene.graph)), control_state,
-                           options.data_dir);
+        VehicleInput input(config, projection, scene.store->path(), scene.graph_problem,
+                           std::make_shared<const map::RoadGraph>(std::move(scene.graph)), control_state, options.data_dir);
 
         ipc::ControlServerConfig ccfg;
         ccfg.socketPath = config.control_socket.string();

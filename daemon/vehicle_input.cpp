@@ -12,7 +12,8 @@
 
 namespace navmap::daemon {
 
-VehicleInput::VehicleInput(const DaemonConfig& config, const render::MapScene& scene,
+VehicleInput::VehicleInput(const DaemonConfig& config, const map::Projection& projection,
+                           const std::filesystem::path& store_path, const std::string& graph_problem,
                            std::shared_ptr<const map::RoadGraph> graph, std::shared_ptr<ipc::ControlState> control,
                            const std::filesystem::path& data_dir)
     : m_control(std::move(control)) {
@@ -37,7 +38,7 @@ VehicleInput::VehicleInput(const DaemonConfig& config, const render::MapScene& s
 
     VehicleStateConfig vcfg;
     vcfg.gnssTimeoutS = config.stale_after_s;
-    m_estimator = std::make_unique<VehicleStateEstimator>(scene.projection(), std::make_shared<const MapMatcher>(std::move(graph)), vcfg);
+    m_estimator = std::make_unique<VehicleStateEstimator>(projection, std::make_shared<const MapMatcher>(std::move(graph)), vcfg);
     m_state.store(m_estimator->snapshot());
 
     ipc::ReplayOptions replay;
@@ -63,14 +64,14 @@ VehicleInput::VehicleInput(const DaemonConfig& config, const render::MapScene& s
         }
         case InputSource::Sim: {
             m_stats.source = "sim " + config.sim_from + " -> " + config.sim_to;
-            if (!scene.graph_problem.empty()) {
+            if (!graph_problem.empty()) {
                 // The map still renders; the simulated car has no road to drive on.
-                m_stats.error = "the simulator cannot plan a route: road graph unavailable: " + scene.graph_problem;
+                m_stats.error = "the simulator cannot plan a route: road graph unavailable: " + graph_problem;
                 std::fprintf(stderr, "<4>navmapd: %s: %s\n", m_stats.source.c_str(), m_stats.error.c_str());
                 break;
             }
             sim::DriveRequest request;
-            request.store = scene.store->path();
+            request.store = store_path;
             request.dbc = data_dir / "navmap.dbc";
             request.from = config.sim_from;
             request.to = config.sim_to;
@@ -80,7 +81,6 @@ VehicleInput::VehicleInput(const DaemonConfig& config, const render::MapScene& s
             // The simulated HMI sets the route it drives, as set_route over the control socket would.
             ipc::SetRouteCommand route;
             route.routeId = "sim";
-            const map::Projection projection = scene.projection();
             for (const auto& p : simulator.route().line) {
                 double lat = 0, lon = 0;
                 projection.reverse(p.position, lat, lon);

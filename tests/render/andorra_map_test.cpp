@@ -8,7 +8,7 @@
 #include <utility>
 
 #include "golden.h"
-#include "navmap/render/map_scene.h"
+#include "drive_scene.h"
 #include "navmap/render/renderer.h"
 #include "navmap/render/tile_mesh.h"
 #include "andorra_drive.h"

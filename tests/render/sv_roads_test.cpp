@@ -16,7 +16,7 @@
 #include "golden.h"
 #include "gl/sv_roads.h"
 #include "navmap/render/dem_refine.h"
-#include "navmap/render/map_scene.h"
+#include "drive_scene.h"
 #include "navmap/render/renderer.h"
 #include "synthetic_tile.h"
 #include "navmap/render/road_draping.h"
@@ -26,6 +26,7 @@
 namespace {
 
 using namespace navmap::render;
+using navmap::test::kAndorraLaVella;
 namespace map = navmap::map;
 
 constexpr int kW = 640, kH = 480;
