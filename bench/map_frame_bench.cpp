@@ -19,7 +19,7 @@
 #include "display_profiles.h"
 #include "drive_scene.h"
 #include "navmap/render/renderer.h"
-#include "navmap/render/tile_mesh.h"
+#include "tile_mesh.h"
 
 namespace {
 

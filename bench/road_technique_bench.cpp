@@ -24,7 +24,7 @@
 #include <unordered_map>
 #include <vector>
 
-#include "navmap/render/dem_refine.h"
+#include "dem_refine.h"
 #include "display_profiles.h"
 #include "drive_scene.h"
 #include "navmap/render/renderer.h"

@@ -1,4 +1,4 @@
-#include "navmap/render/dem_refine.h"
+#include "dem_refine.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "navmap/render/outline_cells.h"
+#include "outline_cells.h"
 
 #include <algorithm>
 #include <array>

@@ -1,4 +1,4 @@
-#include "navmap/render/road_draping.h"
+#include "road_draping.h"
 
 #include <algorithm>
 #include <array>

@@ -1,4 +1,4 @@
-#include "navmap/render/terrain_horizon.h"
+#include "terrain_horizon.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "navmap/render/terrain_scene.h"
+#include "terrain_scene.h"
 
 #include <cmath>
 #include <numbers>

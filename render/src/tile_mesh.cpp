@@ -1,4 +1,4 @@
-#include "navmap/render/tile_mesh.h"
+#include "tile_mesh.h"
 
 #include <algorithm>
 #include <array>

@@ -10,7 +10,7 @@
 #include "golden.h"
 #include "drive_scene.h"
 #include "navmap/render/renderer.h"
-#include "navmap/render/tile_mesh.h"
+#include "tile_mesh.h"
 #include "andorra_drive.h"
 #include "test_paths.h"
 

@@ -17,7 +17,7 @@
 #include "label_quality.h"
 #include "drive_scene.h"
 #include "navmap/render/renderer.h"
-#include "navmap/render/road_draping.h"
+#include "road_draping.h"
 #include "andorra_drive.h"
 #include "test_paths.h"
 

@@ -14,11 +14,11 @@
 #include <vector>
 
 #include "navmap/render/map_frame.h"
-#include "navmap/render/outline_cells.h"
+#include "outline_cells.h"
 #include "navmap/render/renderer.h"
 #include "navmap/render/road_style.h"
-#include "navmap/render/terrain_horizon.h"
-#include "navmap/render/tile_mesh.h"
+#include "terrain_horizon.h"
+#include "tile_mesh.h"
 #include "label_pass.h"
 #include "quad_indices.h"
 #include "occlusion_effects.h"

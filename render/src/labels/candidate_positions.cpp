@@ -1,4 +1,4 @@
-#include "navmap/render/labels/candidate_positions.h"
+#include "candidate_positions.h"
 
 #include <glm/geometric.hpp>
 

@@ -1,4 +1,4 @@
-#include "navmap/render/labels/collision_force.h"
+#include "collision_force.h"
 
 #include <algorithm>
 #include <cmath>

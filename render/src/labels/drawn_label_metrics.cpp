@@ -1,4 +1,4 @@
-#include "navmap/render/labels/drawn_label_metrics.h"
+#include "drawn_label_metrics.h"
 
 #include <algorithm>
 #include <cmath>

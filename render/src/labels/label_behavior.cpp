@@ -1,4 +1,4 @@
-#include "navmap/render/labels/label_behavior.h"
+#include "label_behavior.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "navmap/render/labels/label_space_switch.h"
+#include "label_space_switch.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "navmap/render/labels/layout_metrics.h"
+#include "layout_metrics.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "navmap/render/text/label_text_style.h"
+#include "label_text_style.h"
 
 #include <algorithm>
 #include <array>

@@ -15,8 +15,8 @@
 
 #include "drive_scene.h"
 #include "navmap/render/camera_rig.h"
-#include "navmap/render/labels/drawn_label_metrics.h"
-#include "navmap/render/labels/layout_metrics.h"
+#include "labels/drawn_label_metrics.h"
+#include "labels/layout_metrics.h"
 #include "navmap/render/map_frame.h"
 
 namespace navmap::render::tools {

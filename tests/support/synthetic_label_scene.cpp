@@ -1,9 +1,12 @@
-#include "navmap/render/labels/synthetic_scene.h"
+#include "synthetic_label_scene.h"
 
 #include <cmath>
 #include <numbers>
 
-namespace navmap::render::labels {
+namespace navmap::test {
+
+using render::labels::LabelCandidate;
+using render::labels::LabelKind;
 
 namespace {
 
@@ -85,4 +88,4 @@ void zoomRotateScene(SyntheticScene& scene, glm::vec2 center, float scale, float
     }
 }
 
-}  // namespace navmap::render::labels
+}  // namespace navmap::test
