@@ -17,14 +17,17 @@
 
 #include <sys/resource.h>
 
-#include "navmap/render/map_scene.h"
 #include "display_profiles.h"
+#include "drive_scene.h"
 #include "navmap/render/renderer.h"
-#include "navmap/render/tile_mesh.h"
+#include "tile_mesh.h"
 
 namespace {
 
 using namespace navmap::render;
+using navmap::test::DriveScene;
+using navmap::test::kAndorraLaVella;
+using navmap::test::kEncamp;
 using Clock = std::chrono::steady_clock;
 
 using Profile = navmap::bench::DisplayProfile;

@@ -16,7 +16,7 @@
 #include <vector>
 
 #include "navmap/render/renderer.h"
-#include "navmap/render/terrain_scene.h"
+#include "terrain_scene.h"
 
 namespace {
 

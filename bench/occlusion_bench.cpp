@@ -21,12 +21,15 @@
 #include <string>
 #include <vector>
 
-#include "navmap/render/map_scene.h"
+#include "drive_scene.h"
 #include "navmap/render/renderer.h"
 
 namespace {
 
 using namespace navmap::render;
+using navmap::test::DriveScene;
+using navmap::test::kAndorraLaVella;
+using navmap::test::kEncamp;
 using Clock = std::chrono::steady_clock;
 
 struct Size {

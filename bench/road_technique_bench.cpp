@@ -25,14 +25,17 @@
 #include <unordered_map>
 #include <vector>
 
-#include "navmap/render/dem_refine.h"
-#include "navmap/render/map_scene.h"
+#include "dem_refine.h"
 #include "display_profiles.h"
+#include "drive_scene.h"
 #include "navmap/render/renderer.h"
 
 namespace {
 
 using namespace navmap::render;
+using navmap::test::DriveScene;
+using navmap::test::kAndorraLaVella;
+using navmap::test::kEncamp;
 using Clock = std::chrono::steady_clock;
 
 using Profile = navmap::bench::DisplayProfile;

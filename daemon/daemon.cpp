@@ -13,7 +13,7 @@
 #include "navmap/ipc/control_server.h"
 #include "navmap/ipc/control_state.h"
 #include "navmap/ipc/frame_server.h"
-#include "navmap/render/map_scene.h"
+#include "navmap/map/map_scene.h"
 #include "navmap/version.h"
 #include "pose_events.h"
 #include "pose_source.h"
@@ -28,8 +28,8 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-render::MapScene openScene(const DaemonConfig& config, const Log& log) {
-    render::MapScene scene = render::MapScene::open(config.store_path, config.cache_mb << 20);
+map::MapScene openScene(const DaemonConfig& config, const Log& log) {
+    map::MapScene scene = map::MapScene::open(config.store_path, config.cache_mb << 20);
     log(Log::kInfo, "store %s: %u tiles, cache %zu MiB", config.store_path.c_str(), scene.store->info().tile_count, config.cache_mb);
     // A damaged road graph degrades like a damaged tile: the map renders, what needs the graph
     // says it is missing (docs/tile-store.md "Damage").
@@ -106,15 +106,15 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
     try {
         Signals signals;
         if (ConfigError err; !validateConfig(config, &err)) throw std::runtime_error("config: " + err.message);
-        render::MapScene scene = openScene(config, log);
+        map::MapScene scene = openScene(config, log);
         const std::string road_graph = scene.graph_problem.empty() ? "ok" : "unavailable: " + scene.graph_problem;
         const auto control_state = makeControlState(config);
         DaemonStatus status;
         DaemonMetrics metrics;
         control_state->setStatusProvider([&status] { return status.json(); });
         // The map matcher is the road graph's only user here: it takes the scene's copy (1.6 MB).
-        VehicleInput input(config, scene, std::make_shared<const map::RoadGraph>(std::move(scene.graph)), control_state,
-                           options.data_dir);
+        VehicleInput input(config, scene.projection(), scene.store->path(), scene.graph_problem,
+                           std::make_shared<const map::RoadGraph>(std::move(scene.graph)), control_state, options.data_dir);
         const auto control_server = createControlServer(config, *control_state);
         const auto frames = startFrameServer(config, metrics, status);
         DisplayScheduler displays(config, {options.noop_renderer, options.render_all_profiles}, scene.cache, scene.projection(),

@@ -10,7 +10,8 @@
 
 namespace navmap::daemon {
 
-VehicleInput::VehicleInput(const DaemonConfig& config, const render::MapScene& scene,
+VehicleInput::VehicleInput(const DaemonConfig& config, const map::Projection& projection,
+                           const std::filesystem::path& store_path, const std::string& graph_problem,
                            std::shared_ptr<const map::RoadGraph> graph, std::shared_ptr<ipc::ControlState> control,
                            const std::filesystem::path& data_dir) {
     // DBC databases: the configured ones, else the shipped GNSS node.
@@ -34,13 +35,13 @@ VehicleInput::VehicleInput(const DaemonConfig& config, const render::MapScene& s
 
     VehicleStateConfig vcfg;
     vcfg.gnssTimeoutS = config.stale_after_s;
-    m_estimator = std::make_unique<VehicleStateEstimator>(scene.projection(), std::make_shared<const MapMatcher>(std::move(graph)), vcfg);
+    m_estimator = std::make_unique<VehicleStateEstimator>(projection, std::make_shared<const MapMatcher>(std::move(graph)), vcfg);
     m_state.store(m_estimator->snapshot());
 
     CanSourceSite site;
-    site.store_path = scene.store->path();
+    site.store_path = store_path;
     site.data_dir = data_dir;
-    site.graph_problem = scene.graph_problem;
+    site.graph_problem = graph_problem;
     site.frame_keys = m_decoder->frameKeys();
     OpenedCanSource opened = openCanSource(config, site, *control);
     m_source = std::move(opened.source);

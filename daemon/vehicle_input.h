@@ -7,6 +7,7 @@
 // once) and is applied on this thread, the estimator's only owner.
 
 #include <atomic>
+#include <filesystem>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -19,7 +20,8 @@
 #include "navmap/daemon/vehicle/vehicle_state_estimator.h"
 #include "navmap/ipc/control_state.h"
 #include "navmap/ipc/vehicle_decoder.h"
-#include "navmap/render/map_scene.h"
+#include "navmap/map/projection.h"
+#include "navmap/map/road_graph.h"
 
 namespace navmap::daemon {
 
@@ -41,11 +43,13 @@ struct VehicleInputStats {
 class VehicleInput {
 public:
     /// Opens the DBC files, the signal map and the source; throws std::runtime_error naming the
-    /// file or interface on failure. In sim mode the simulated route is set on `control`; without
-    /// a road graph (scene.graph_problem) the input runs without a source and says so (stats().error).
-    /// `graph`: the road graph the map matcher snaps to (the scene's, moved out of it: one copy;
-    /// empty: no map matching, the pose is the raw fix).
-    VehicleInput(const DaemonConfig& config, const render::MapScene& scene, std::shared_ptr<const map::RoadGraph> graph,
+    /// file or interface on failure. `projection` and `store_path`: the map's store (the
+    /// simulator plans on it). In sim mode the simulated route is set on `control`; without a
+    /// road graph (`graph_problem` says why, map::MapScene::graph_problem) the input runs without
+    /// a source and says so (stats().error). `graph`: the road graph the map matcher snaps to (the
+    /// scene's, moved out of it: one copy; empty: no map matching, the pose is the raw fix).
+    VehicleInput(const DaemonConfig& config, const map::Projection& projection, const std::filesystem::path& store_path,
+                 const std::string& graph_problem, std::shared_ptr<const map::RoadGraph> graph,
                  std::shared_ptr<ipc::ControlState> control, const std::filesystem::path& data_dir);
     ~VehicleInput();
     VehicleInput(const VehicleInput&) = delete;

@@ -7,9 +7,10 @@
 #include <benchmark/benchmark.h>
 
 #include "navmap/render/labels/label_layout.h"
-#include "navmap/render/labels/synthetic_scene.h"
+#include "synthetic_label_scene.h"
 
 namespace nl = navmap::render::labels;
+namespace nt = navmap::test;
 
 namespace {
 
@@ -28,7 +29,7 @@ void setCounters(benchmark::State& state, const nl::LabelLayout& layout, std::si
 // settle; each iteration is one fixed step including placement retries.
 void BM_StepDense(benchmark::State& state) {
     const auto n = static_cast<std::size_t>(state.range(0));
-    nl::SyntheticScene scene = nl::makeSyntheticScene(n, 42, 1.5F);
+    nt::SyntheticScene scene = nt::makeSyntheticScene(n, 42, 1.5F);
     nl::LayoutParams p;
     p.max_placements_per_step = 64;
     nl::LabelLayout layout(p);
@@ -46,13 +47,13 @@ void BM_StepDense(benchmark::State& state) {
 // frame so collisions and forces never rest. One iteration = one frame (setFrame + one step).
 void BM_FrameAllActive(benchmark::State& state) {
     const auto n = static_cast<std::size_t>(state.range(0));
-    nl::SyntheticScene scene = nl::makeSyntheticScene(n, 7, 0.25F);
+    nt::SyntheticScene scene = nt::makeSyntheticScene(n, 7, 0.25F);
     nl::LayoutParams p;
     p.max_placements_per_step = 256;
     p.placement_zone_px = p.buffer_px;  // let labels start close, so the buffers collide
     nl::LabelLayout layout(p);
     std::uint64_t frame = 0;
-    const auto wobble = [&](nl::SyntheticScene& s) {
+    const auto wobble = [&](nt::SyntheticScene& s) {
         const float t = static_cast<float>(frame++) * 0.05F;
         for (std::size_t i = 0; i < s.candidates.size(); ++i) {
             const float phase = static_cast<float>(i % 97);
@@ -80,7 +81,7 @@ void BM_FrameAllActive(benchmark::State& state) {
 // A panning camera over the dense scene: one frame = setFrame + one step + output.
 void BM_FramePanDense(benchmark::State& state) {
     const auto n = static_cast<std::size_t>(state.range(0));
-    nl::SyntheticScene scene = nl::makeSyntheticScene(n, 42, 1.5F);
+    nt::SyntheticScene scene = nt::makeSyntheticScene(n, 42, 1.5F);
     nl::LayoutParams p;
     p.max_placements_per_step = 64;
     nl::LabelLayout layout(p);
@@ -90,7 +91,7 @@ void BM_FramePanDense(benchmark::State& state) {
     }
     for (auto _ : state) {
         state.PauseTiming();
-        nl::panScene(scene, {1.0F, 0.5F});
+        nt::panScene(scene, {1.0F, 0.5F});
         state.ResumeTiming();
         layout.setFrame(scene.candidates, scene.camera);
         layout.advance(kFrame);

@@ -6,6 +6,7 @@
 #include <limits>
 #include <numbers>
 #include <queue>
+#include <string>
 
 namespace navmap::map {
 
@@ -79,6 +80,22 @@ std::optional<GraphRoute> fastestRoute(const RoadGraph& graph, std::uint32_t fro
     std::reverse(route.edges.begin(), route.edges.end());
     route.duration_s = cost[to];
     return route;
+}
+
+RoutePlan planRoute(const RoadGraph& graph, PlanarPoint from, PlanarPoint to) {
+    RoutePlan plan;
+    const auto a = nearestDrivableNode(graph, from);
+    const auto b = nearestDrivableNode(graph, to);
+    if (!a || !b) {
+        plan.problem = "the road graph has no drivable road";
+    } else if (*a == *b) {
+        plan.problem = "start and destination snap to the same junction (node " + std::to_string(*a) + ")";
+    } else if (auto route = fastestRoute(graph, *a, *b)) {
+        plan.route = std::move(route);
+    } else {
+        plan.problem = "no route for cars from node " + std::to_string(*a) + " to node " + std::to_string(*b);
+    }
+    return plan;
 }
 
 std::vector<RoutePoint> routePolyline(const RoadGraph& graph, const GraphRoute& route) {

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "navmap/render/dem_refine.h"
+#include "dem_refine.h"
 
 #include <algorithm>
 #include <cmath>

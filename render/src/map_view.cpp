@@ -3,7 +3,7 @@
 
 #include <thread>
 
-#include "navmap/render/road_draping.h"
+#include "road_draping.h"
 
 namespace navmap::render {
 

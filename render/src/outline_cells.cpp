@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "navmap/render/outline_cells.h"
+#include "outline_cells.h"
 
 #include <algorithm>
 #include <array>

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "navmap/render/road_draping.h"
+#include "road_draping.h"
 
 #include <algorithm>
 #include <array>

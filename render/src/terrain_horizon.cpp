@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "navmap/render/terrain_horizon.h"
+#include "terrain_horizon.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "navmap/render/terrain_scene.h"
+#include "terrain_scene.h"
 
 #include <cmath>
 #include <numbers>

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "navmap/render/tile_mesh.h"
+#include "tile_mesh.h"
 
 #include <algorithm>
 #include <array>

@@ -69,20 +69,4 @@ std::vector<Maneuver> graphManeuvers(const map::RoadGraph& graph, const std::vec
     return out;
 }
 
-ipc::Result<DriveRoute> planDriveRoute(const map::RoadGraph& graph, map::PlanarPoint from, map::PlanarPoint to) {
-    const auto a = map::nearestDrivableNode(graph, from);
-    const auto b = map::nearestDrivableNode(graph, to);
-    if (!a || !b) return ipc::Error{"the road graph has no drivable road"};
-    if (*a == *b) {
-        return ipc::Error{"start and destination snap to the same junction (node " + std::to_string(*a) + ")"};
-    }
-    const auto groute = map::fastestRoute(graph, *a, *b);
-    if (!groute) {
-        return ipc::Error{"no route for cars from node " + std::to_string(*a) + " to node " + std::to_string(*b)};
-    }
-    DriveRoute r = driveRouteFromGraph(graph, *groute);
-    if (r.line.size() < 2) return ipc::Error{"the route has no length"};
-    return r;
-}
-
 }  // namespace navmap::sim

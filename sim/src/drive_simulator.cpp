@@ -33,9 +33,11 @@ DriveSimulator DriveSimulator::create(const DriveRequest& request) {
         throw SimError(e.what());
     }
     const map::Projection proj = s.m_store->projection();
-    auto route = planDriveRoute(graph, proj.forward(s.m_from.lat, s.m_from.lon), proj.forward(s.m_to.lat, s.m_to.lon));
-    if (!route) throw SimError(request.from + " -> " + request.to + ": " + route.error().message);
-    s.m_route = std::move(route).value();
+    const map::RoutePlan plan =
+        map::planRoute(graph, proj.forward(s.m_from.lat, s.m_from.lon), proj.forward(s.m_to.lat, s.m_to.lon));
+    if (!plan.ok()) throw SimError(request.from + " -> " + request.to + ": " + plan.problem);
+    s.m_route = driveRouteFromGraph(graph, *plan.route);
+    if (s.m_route.line.size() < 2) throw SimError(request.from + " -> " + request.to + ": the route has no length");
     // Street names for the maneuvers come from the tiles the route crosses (the graph keeps way ids).
     std::vector<map::PlanarPoint> points;
     points.reserve(s.m_route.line.size());

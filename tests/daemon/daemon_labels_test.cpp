@@ -37,7 +37,7 @@ void note(Findings& f, const std::string& what) {
 // Renders `frames` frames of the drive from `start_m` with the profile as navmapd renders it and
 // checks the drawn labels of each after the first `settle` frames.
 Findings driveProfile(const daemon::DisplayProfile& p, bool labels, double start_m, int settle, int frames) {
-    render::DriveScene& d = test::andorraDrive();
+    test::DriveScene& d = test::andorraDrive();
     render::RendererOptions o;
     o.width = p.width;
     o.height = p.height;
@@ -52,7 +52,7 @@ Findings driveProfile(const daemon::DisplayProfile& p, bool labels, double start
     double measure = start_m;
     for (int i = 0; i < settle + frames; ++i) {
         measure += 13.0 * dt;
-        const render::VehiclePose pose = render::poseAlong(d.drive, measure, 13.0, terrain);
+        const render::VehiclePose pose = test::poseAlong(d.drive, measure, 13.0, terrain);
         render::MapFrame frame;
         frame.camera = rig.update(pose, i == 0 ? 0.0 : dt, terrain);
         d.view->warmUp(frame.camera, aspect, p.height, std::chrono::seconds(10));

@@ -9,7 +9,7 @@
 
 #include "display_scheduler.h"
 #include "navmap/daemon/vehicle/vehicle_state_estimator.h"
-#include "navmap/render/map_scene.h"
+#include "navmap/map/map_scene.h"
 #include "server_options.h"
 #include "test_paths.h"
 
@@ -45,7 +45,7 @@ struct Heights {
 
 // Renders the profiles in the given order until every display has the tiles its camera wants.
 Heights renderInOrder(const std::vector<DisplayProfile>& profiles) {
-    render::MapScene scene = render::MapScene::open(storePath());
+    map::MapScene scene = map::MapScene::open(storePath());
     const auto vehicle = standingVehicle(scene.projection());
     const PoseSource poses([vehicle] { return vehicle; }, scene.cache, scene.toPlanar(42.5, 1.5));
     DaemonConfig config;

@@ -9,9 +9,9 @@
 #include <utility>
 
 #include "golden.h"
-#include "navmap/render/map_scene.h"
+#include "drive_scene.h"
 #include "navmap/render/renderer.h"
-#include "navmap/render/tile_mesh.h"
+#include "tile_mesh.h"
 #include "andorra_drive.h"
 #include "test_paths.h"
 

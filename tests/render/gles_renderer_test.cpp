@@ -7,7 +7,7 @@
 #include "gl/shader_program.h"
 #include "golden.h"
 #include "navmap/render/renderer.h"
-#include "navmap/render/terrain_scene.h"
+#include "terrain_scene.h"
 #include "test_paths.h"
 
 namespace {

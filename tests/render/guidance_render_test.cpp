@@ -14,7 +14,7 @@
 #include "golden.h"
 #include "gl/guidance_overlay_pass.h"
 #include "navmap/render/maneuver_arrow.h"
-#include "navmap/render/map_scene.h"
+#include "drive_scene.h"
 #include "navmap/render/renderer.h"
 #include "andorra_drive.h"
 

@@ -16,15 +16,17 @@
 
 #include "golden.h"
 #include "label_quality.h"
-#include "navmap/render/map_scene.h"
+#include "drive_scene.h"
 #include "navmap/render/renderer.h"
-#include "navmap/render/road_draping.h"
+#include "road_draping.h"
 #include "andorra_drive.h"
 #include "test_paths.h"
 
 namespace {
 
 using namespace navmap::render;
+using navmap::test::DriveScene;
+using navmap::test::poseAlong;
 
 constexpr int kW = 1280, kH = 480;  // the cluster display
 

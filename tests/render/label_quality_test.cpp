@@ -15,7 +15,7 @@
 
 #include "drive_trajectory.h"
 #include "label_quality.h"
-#include "navmap/render/labels/drawn_label_metrics.h"
+#include "labels/drawn_label_metrics.h"
 #include "navmap/render/maplibre_camera.h"
 #include "test_paths.h"
 

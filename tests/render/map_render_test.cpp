@@ -14,7 +14,7 @@
 #include "navmap/render/renderer.h"
 #include "navmap/render/road_style.h"
 #include "synthetic_tile.h"
-#include "navmap/render/tile_mesh.h"
+#include "tile_mesh.h"
 
 namespace {
 

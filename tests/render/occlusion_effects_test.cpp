@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "golden.h"
-#include "navmap/render/map_scene.h"
+#include "drive_scene.h"
 #include "navmap/render/renderer.h"
 #include "andorra_drive.h"
 #include "test_paths.h"

@@ -15,7 +15,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "navmap/render/outline_cells.h"
+#include "outline_cells.h"
 #include "navmap/render/road_style.h"
 
 namespace {

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <random>
 
-#include "navmap/render/road_draping.h"
+#include "road_draping.h"
 #include "navmap/render/road_style.h"
 
 namespace {

@@ -10,7 +10,7 @@
 #include <memory>
 
 #include "navmap/render/renderer.h"
-#include "navmap/render/tile_mesh.h"
+#include "tile_mesh.h"
 
 namespace {
 

@@ -7,7 +7,7 @@
 #include <cmath>
 
 #include "navmap/render/terrain_lod.h"
-#include "navmap/render/tile_mesh.h"
+#include "tile_mesh.h"
 
 namespace {
 

@@ -16,17 +16,18 @@
 #include "andorra_drive.h"
 #include "golden.h"
 #include "gl/sv_roads.h"
-#include "navmap/render/dem_refine.h"
-#include "navmap/render/map_scene.h"
+#include "dem_refine.h"
+#include "drive_scene.h"
 #include "navmap/render/renderer.h"
 #include "synthetic_tile.h"
-#include "navmap/render/road_draping.h"
+#include "road_draping.h"
 #include "navmap/render/road_style.h"
 #include "test_paths.h"
 
 namespace {
 
 using namespace navmap::render;
+using navmap::test::kAndorraLaVella;
 namespace map = navmap::map;
 
 constexpr int kW = 640, kH = 480;

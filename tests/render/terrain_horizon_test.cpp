@@ -9,7 +9,7 @@
 #include <random>
 #include <vector>
 
-#include "navmap/render/terrain_horizon.h"
+#include "terrain_horizon.h"
 
 namespace {
 

@@ -11,7 +11,7 @@
 #include <ostream>
 #include <set>
 
-#include "navmap/render/map_scene.h"
+#include "drive_scene.h"
 #include "navmap/render/renderer.h"
 #include "andorra_drive.h"
 #include "test_paths.h"
@@ -19,6 +19,7 @@
 namespace {
 
 using namespace navmap::render;
+using navmap::test::DriveScene;
 
 constexpr int kW = 480, kH = 270;
 constexpr int kSteps = 90;

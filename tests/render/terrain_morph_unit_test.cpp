@@ -9,7 +9,7 @@
 #include <random>
 
 #include "navmap/render/terrain_lod.h"
-#include "navmap/render/tile_mesh.h"
+#include "tile_mesh.h"
 
 namespace {
 

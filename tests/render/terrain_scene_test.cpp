@@ -5,7 +5,7 @@
 #include <cmath>
 
 #include "navmap/map/dem.h"
-#include "navmap/render/terrain_scene.h"
+#include "terrain_scene.h"
 #include "test_paths.h"
 
 namespace {

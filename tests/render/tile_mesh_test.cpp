@@ -12,9 +12,9 @@
 #include <utility>
 #include <vector>
 
-#include "navmap/render/road_draping.h"
+#include "road_draping.h"
 #include "navmap/render/road_style.h"
-#include "navmap/render/tile_mesh.h"
+#include "tile_mesh.h"
 
 namespace {
 

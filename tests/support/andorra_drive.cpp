@@ -7,14 +7,13 @@
 
 namespace navmap::test {
 
-render::DriveScene& andorraDrive() {
-    static render::DriveScene d =
-        render::DriveScene::open(binaryDir() / "andorra.navmap", render::kAndorraLaVella, render::kEncamp);
+DriveScene& andorraDrive() {
+    static DriveScene d = DriveScene::open(binaryDir() / "andorra.navmap", kAndorraLaVella, kEncamp);
     return d;
 }
 
 render::MapFrame settledAndorraFrame(render::ViewMode mode, int width, int height, double measure_m, double speed_mps) {
-    render::DriveScene& d = andorraDrive();
+    DriveScene& d = andorraDrive();
     render::CameraRig rig;
     rig.setMode(mode);
     const double aspect = double(width) / height;

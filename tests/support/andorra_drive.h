@@ -3,12 +3,14 @@
 // The Andorra drive the render tests share: the default store built into the build tree
 // (Andorra la Vella -> Encamp), opened once per test program, and settled frames along it.
 
-#include "navmap/render/map_scene.h"
+#include "drive_scene.h"
+#include "navmap/render/camera_rig.h"
+#include "navmap/render/map_frame.h"
 
 namespace navmap::test {
 
 /// Opened on first use; later calls return the same scene (tiles stay resident between tests).
-render::DriveScene& andorraDrive();
+DriveScene& andorraDrive();
 
 /// The frame of a camera in `mode` settled `measure_m` along the drive (tiles resident, route
 /// and marker set; layers at their defaults) for a width x height view. Flags an incomplete

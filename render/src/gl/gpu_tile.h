@@ -20,11 +20,11 @@
 
 #include "navmap/map/tile.h"
 #include "navmap/render/map_frame.h"
-#include "navmap/render/road_draping.h"
+#include "road_draping.h"
 #include "navmap/render/road_style.h"
-#include "navmap/render/terrain_horizon.h"
+#include "terrain_horizon.h"
 #include "navmap/render/terrain_lod.h"
-#include "navmap/render/tile_mesh.h"
+#include "tile_mesh.h"
 #include "vertex_layout.h"
 
 namespace navmap::render::gl {

@@ -13,7 +13,7 @@
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "navmap/render/text/label_text_style.h"
+#include "text/label_text_style.h"
 #include "render_target.h"
 #include "text_layer.h"
 

@@ -24,10 +24,10 @@
 
 #include "navmap/map/tile.h"
 #include "navmap/render/labels/label_layout.h"
-#include "navmap/render/labels/label_space_switch.h"
+#include "labels/label_space_switch.h"
 #include "navmap/render/map_frame.h"
-#include "navmap/render/road_draping.h"
-#include "navmap/render/text/text_draw.h"
+#include "road_draping.h"
+#include "text/text_draw.h"
 #include "navmap/render/text/text_engine.h"
 
 namespace navmap::render::gl {

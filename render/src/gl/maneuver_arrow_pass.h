@@ -16,8 +16,8 @@
 #include <glm/mat4x4.hpp>
 
 #include "navmap/render/map_frame.h"
-#include "navmap/render/road_draping.h"
-#include "navmap/render/tile_mesh.h"
+#include "road_draping.h"
+#include "tile_mesh.h"
 #include "quad_indices.h"
 #include "render_target.h"
 #include "shader_program.h"

@@ -11,7 +11,7 @@
 #include <glm/gtc/matrix_access.hpp>
 
 #include "navmap/render/road_style.h"
-#include "navmap/render/tile_mesh.h"
+#include "tile_mesh.h"
 
 namespace navmap::render::gl {
 

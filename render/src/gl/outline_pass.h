@@ -16,7 +16,7 @@
 #include <glm/glm.hpp>
 
 #include "frame_context.h"
-#include "navmap/render/outline_cells.h"
+#include "outline_cells.h"
 #include "shader_program.h"
 #include "side_task.h"
 

@@ -11,7 +11,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "navmap/render/outline_cells.h"
+#include "outline_cells.h"
 
 namespace navmap::render::gl {
 

@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "frame_context.h"
-#include "navmap/render/terrain_horizon.h"
+#include "terrain_horizon.h"
 #include "shader_program.h"
 
 namespace navmap::render::gl {

@@ -14,7 +14,7 @@
 
 #include <glm/gtc/type_ptr.hpp>
 
-#include "navmap/render/road_draping.h"
+#include "road_draping.h"
 
 namespace navmap::render::gl {
 

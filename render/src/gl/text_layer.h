@@ -16,7 +16,7 @@
 #include <glm/vec4.hpp>
 
 #include "navmap/render/text/glyph_atlas.h"
-#include "navmap/render/text/text_draw.h"
+#include "text/text_draw.h"
 #include "shader_program.h"
 
 namespace navmap::render::gl {

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "navmap/render/labels/candidate_positions.h"
+#include "candidate_positions.h"
 
 #include <glm/geometric.hpp>
 

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "navmap/render/labels/collision_force.h"
+#include "collision_force.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "navmap/render/labels/drawn_label_metrics.h"
+#include "drawn_label_metrics.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "navmap/render/labels/label_behavior.h"
+#include "label_behavior.h"
 
 #include <algorithm>
 #include <cmath>

@@ -9,9 +9,9 @@
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
-#include "navmap/render/labels/candidate_positions.h"
-#include "navmap/render/labels/collision_force.h"
-#include "navmap/render/labels/label_behavior.h"
+#include "candidate_positions.h"
+#include "collision_force.h"
+#include "label_behavior.h"
 
 namespace navmap::render::labels {
 

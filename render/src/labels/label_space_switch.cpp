@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "navmap/render/labels/label_space_switch.h"
+#include "label_space_switch.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "navmap/render/labels/layout_metrics.h"
+#include "layout_metrics.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "navmap/render/text/label_text_style.h"
+#include "label_text_style.h"
 
 #include <algorithm>
 #include <array>

@@ -9,12 +9,13 @@
 #include <chrono>
 #include <memory>
 
-#include "navmap/render/map_scene.h"
+#include "drive_scene.h"
 #include "navmap/render/renderer.h"
 
 namespace {
 
 using namespace navmap::render;
+using navmap::test::DriveScene;
 
 constexpr int kW = 1280, kH = 480;
 
@@ -25,7 +26,7 @@ struct Cluster {
 
 Cluster& cluster() {
     static Cluster c = [] {
-        Cluster x{DriveScene::open(NAVMAP_DEFAULT_STORE, kAndorraLaVella, kEncamp), {}};
+        Cluster x{DriveScene::open(NAVMAP_DEFAULT_STORE, navmap::test::kAndorraLaVella, navmap::test::kEncamp), {}};
         auto& view = x.d.view;
         CameraRig rig;
         rig.setMode(ViewMode::Snail);

@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "drive_trajectory.h"
+#include "navmap/map/map_scene.h"
 #include "navmap/render/map_view.h"
 #include "navmap/render/maplibre_camera.h"
 #include "navmap/render/renderer.h"
@@ -129,7 +130,7 @@ LabelQualityReport replayTrajectory(const LabelQualityOptions& o, LabelQualityRe
     const DriveTrajectory trajectory = loadTrajectory(o.trajectory);
     const int available = static_cast<int>(trajectory.frames.size());
     const int frames = std::min(o.frames.value_or(available), available);
-    MapScene scene = MapScene::open(o.store);
+    map::MapScene scene = map::MapScene::open(o.store);
     MapView view(scene.cache);
     const map::Projection projection = scene.projection();
     const auto terrain = [&](double x, double y) { return view.terrainHeight(x, y); };
@@ -165,9 +166,9 @@ LabelQualityReport replayTrajectory(const LabelQualityOptions& o, LabelQualityRe
 // The route from -> to planned on the store, driven at a constant speed with the camera rig.
 LabelQualityReport driveRoute(const LabelQualityOptions& o, LabelQualityReport r) {
     const int frames = o.frames.value_or(300);
-    DriveScene scene = DriveScene::open(o.store, o.from, o.to);
+    navmap::test::DriveScene scene = navmap::test::DriveScene::open(o.store, o.from, o.to);
     MapView& view = *scene.view;
-    PlannedDrive& drive = scene.drive;
+    navmap::test::PlannedDrive& drive = scene.drive;
     if (drive.line.size() < 2) throw std::runtime_error("label quality: no route between the two places in " + o.store.string());
     const auto terrain = [&](double x, double y) { return view.terrainHeight(x, y); };
     const double aspect = static_cast<double>(o.width) / o.height;
@@ -179,14 +180,14 @@ LabelQualityReport driveRoute(const LabelQualityOptions& o, LabelQualityReport r
     if (o.camera) rig.setMapLibreFollow(*o.camera, scene.scene.projection(), o.height);
 
     // Settle the camera and load the tiles around the start (terrain heights need tiles).
-    const DriveScene::Shot shot = scene.settle(rig, o.start_m, o.speed_mps, aspect, o.height);
+    const navmap::test::DriveScene::Shot shot = scene.settle(rig, o.start_m, o.speed_mps, aspect, o.height);
     VehiclePose pose = shot.pose;
     r.route_points = drive.line.size();
     Accumulator acc;
     double measure = o.start_m;
     for (int i = -o.settle_frames; i < frames; ++i) {
         measure = std::min(measure + o.speed_mps * o.dt_s, route_end);
-        pose = poseAlong(drive, measure, o.speed_mps, terrain);
+        pose = navmap::test::poseAlong(drive, measure, o.speed_mps, terrain);
         const Camera cam = rig.update(pose, o.dt_s, terrain);
         // Deterministic replay: wait for the tiles of each frame instead of drawing parents.
         view.warmUp(cam, aspect, o.height, std::chrono::seconds(10));

@@ -14,10 +14,11 @@
 #include <optional>
 #include <string>
 
+#include "drive_scene.h"
 #include "navmap/render/camera_rig.h"
-#include "navmap/render/labels/drawn_label_metrics.h"
-#include "navmap/render/labels/layout_metrics.h"
-#include "navmap/render/map_scene.h"
+#include "labels/drawn_label_metrics.h"
+#include "labels/layout_metrics.h"
+#include "navmap/render/map_frame.h"
 
 namespace navmap::render::tools {
 
@@ -28,8 +29,8 @@ struct LabelQualityOptions {
     /// MapLibre-convention camera centred on the vehicle (bearing: the pose's unless fixed). For a
     /// route drive it puts the rig in its MapLibre follow mode instead of `view`.
     std::optional<MapLibreFollow> camera;
-    GeoPoint from = kAndorraLaVella;
-    GeoPoint to = kEncamp;
+    navmap::test::GeoPoint from = navmap::test::kAndorraLaVella;
+    navmap::test::GeoPoint to = navmap::test::kEncamp;
     ViewMode view = ViewMode::Bird;
     int width = 1280;
     int height = 480;

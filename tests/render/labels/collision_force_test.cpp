@@ -4,7 +4,7 @@
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
-#include "navmap/render/labels/collision_force.h"
+#include "labels/collision_force.h"
 
 namespace nl = navmap::render::labels;
 

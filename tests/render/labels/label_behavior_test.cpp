@@ -4,7 +4,7 @@
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
-#include "navmap/render/labels/label_behavior.h"
+#include "labels/label_behavior.h"
 
 namespace nl = navmap::render::labels;
 

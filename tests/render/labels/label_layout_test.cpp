@@ -9,10 +9,11 @@
 #include <gtest/gtest.h>
 
 #include "navmap/render/labels/label_layout.h"
-#include "navmap/render/labels/layout_metrics.h"
-#include "navmap/render/labels/synthetic_scene.h"
+#include "labels/layout_metrics.h"
+#include "synthetic_label_scene.h"
 
 namespace nl = navmap::render::labels;
+namespace nt = navmap::test;
 
 namespace {
 
@@ -292,7 +293,7 @@ TEST(LabelLayout, UprightLabelsStandOnTheirAnchor) {
 TEST(LabelLayout, FiveFramesPerSecondKeepWallClockTiming) {
     // The same scene fed at 5 and at 30 fps: fades, placements and removals happen at the same
     // simulated times (steps are fixed; all steps due in a long frame run).
-    const nl::SyntheticScene scene = nl::makeSyntheticScene(200, 7, 0.8F);
+    const nt::SyntheticScene scene = nt::makeSyntheticScene(200, 7, 0.8F);
     nl::LabelLayout slow, fast;
     for (int t = 1; t <= 15; ++t) {  // 3 s in 0.2 s frames
         slow.setFrame(scene.candidates, scene.camera);
@@ -434,13 +435,13 @@ TEST(LabelLayout, DepthScalingKeepsAReadableMinimum) {
 TEST(LabelLayout, DenseSceneSettlesWithoutOverlaps) {
     // 600 candidates whose text covers 1.5 screens; the camera zooms out and turns for 2 s
     // (anchors converge: labels collide, get pushed and removed), then holds still for 5 s.
-    nl::SyntheticScene scene = nl::makeSyntheticScene(600, 5, 1.5F);
+    nt::SyntheticScene scene = nt::makeSyntheticScene(600, 5, 1.5F);
     nl::LabelLayout layout;
     nl::LayoutMetrics moving;
     nl::LayoutMetrics settled;
     std::vector<nl::LabelCandidate> on_screen;
     for (int f = 0; f < 420; ++f) {
-        if (f < 120) nl::zoomRotateScene(scene, scene.camera.viewport * 0.5F, 0.996F, 0.003F);
+        if (f < 120) nt::zoomRotateScene(scene, scene.camera.viewport * 0.5F, 0.996F, 0.003F);
         on_screen.clear();  // the renderer culls anchors outside the view
         for (const auto& c : scene.candidates) {
             if (c.anchor.x >= 0 && c.anchor.y >= 0 && c.anchor.x <= scene.camera.viewport.x &&
@@ -470,12 +471,12 @@ TEST(LabelLayout, DenseSceneSettlesWithoutOverlaps) {
 
 TEST(LabelLayout, DeterministicForTheSameInputs) {
     auto simulate = [](bool shuffled) {
-        nl::SyntheticScene scene = nl::makeSyntheticScene(400, 9, 2.0F);
+        nt::SyntheticScene scene = nt::makeSyntheticScene(400, 9, 2.0F);
         nl::LabelLayout layout;
         std::mt19937 rng(3);
         std::vector<std::vector<nl::PlacedLabel>> frames;
         for (int f = 0; f < 150; ++f) {
-            nl::panScene(scene, {std::sin(0.05F * static_cast<float>(f)) * 3.0F, 1.0F});
+            nt::panScene(scene, {std::sin(0.05F * static_cast<float>(f)) * 3.0F, 1.0F});
             std::vector<nl::LabelCandidate> input = scene.candidates;
             if (shuffled) std::shuffle(input.begin(), input.end(), rng);
             layout.setFrame(input, scene.camera);
@@ -498,7 +499,7 @@ TEST(LabelLayout, DeterministicForTheSameInputs) {
 }
 
 TEST(LabelLayout, FixedStepIsIndependentOfFrameRate) {
-    const nl::SyntheticScene scene = nl::makeSyntheticScene(300, 4, 1.5F);
+    const nt::SyntheticScene scene = nt::makeSyntheticScene(300, 4, 1.5F);
     nl::LabelLayout at30;
     nl::LabelLayout at60;
     nl::LabelLayout at144;

@@ -5,7 +5,7 @@
 #include <glm/vec3.hpp>
 #include <gtest/gtest.h>
 
-#include "navmap/render/labels/label_space_switch.h"
+#include "labels/label_space_switch.h"
 
 namespace nl = navmap::render::labels;
 

@@ -3,7 +3,7 @@
 
 #include <gtest/gtest.h>
 
-#include "navmap/render/labels/layout_metrics.h"
+#include "labels/layout_metrics.h"
 
 namespace nl = navmap::render::labels;
 

@@ -8,7 +8,7 @@
 
 #include "navmap/render/text/atlas_packer.h"
 #include "navmap/render/text/glyph_atlas.h"
-#include "navmap/render/text/label_text_style.h"
+#include "text/label_text_style.h"
 #include "navmap/render/text/sdf_generator.h"
 #include "navmap/render/text/text_engine.h"
 #include "navmap/render/text/text_layout.h"

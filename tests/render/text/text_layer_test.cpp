@@ -18,7 +18,7 @@
 #include "gl/render_target.h"
 #include "gl/text_layer.h"
 #include "golden.h"
-#include "navmap/render/text/label_text_style.h"
+#include "text/label_text_style.h"
 #include "navmap/render/text/text_engine.h"
 
 namespace {

@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "navmap/map/geometry.h"
@@ -31,6 +32,20 @@ std::optional<std::uint32_t> nearestDrivableNode(const RoadGraph& graph, PlanarP
 
 /// Fastest route for a car (tracks, paths and pedestrian ways excluded; one-way respected).
 std::optional<GraphRoute> fastestRoute(const RoadGraph& graph, std::uint32_t from, std::uint32_t to);
+
+/// A car route between two positions, or why there is none.
+struct RoutePlan {
+    std::optional<GraphRoute> route;
+    /// "the road graph has no drivable road", "start and destination snap to the same junction
+    /// (node 12)", "no route for cars from node 12 to node 345"; empty when there is a route.
+    std::string problem;
+    [[nodiscard]] bool ok() const { return route.has_value(); }
+};
+
+/// The route planner of navmapd's simulator, the tools and the tests: the fastest car route
+/// (fastestRoute, A* on travel time) between the drivable nodes nearest to two store-frame
+/// positions (nearestDrivableNode). Never throws; RoutePlan::problem says why there is none.
+[[nodiscard]] RoutePlan planRoute(const RoadGraph& graph, PlanarPoint from, PlanarPoint to);
 
 /// The route's polyline with measures (duplicate joints removed).
 std::vector<RoutePoint> routePolyline(const RoadGraph& graph, const GraphRoute& route);

@@ -37,13 +37,9 @@ struct DriveRoute {
     [[nodiscard]] double length() const { return line.empty() ? 0.0 : line.back().measure_m; }
 };
 
-/// Fastest car route (map::fastestRoute, A* on travel time) between the drivable graph nodes
-/// nearest to two store-frame positions. Target speed per segment: the edge's maxspeed or class
-/// default (RoadGraph::speed_kmh), link ramps capped at 60 km/h. Fails naming the problem
-/// ("no route from node 12 to 345", "start and destination are the same junction").
-ipc::Result<DriveRoute> planDriveRoute(const map::RoadGraph& graph, map::PlanarPoint from, map::PlanarPoint to);
-
-/// The DriveRoute of a graph route (speeds, classes and maneuvers from the graph).
+/// The DriveRoute of a graph route (map::planRoute): target speed per segment is the edge's
+/// maxspeed or class default (RoadGraph::speed_kmh), link ramps capped at 60 km/h; classes and
+/// maneuvers from the graph.
 DriveRoute driveRouteFromGraph(const map::RoadGraph& graph, const map::GraphRoute& route);
 
 /// The maneuvers of a graph route's polyline (map::guidance::deriveManeuvers, docs/guidance.md),

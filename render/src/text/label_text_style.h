@@ -8,7 +8,7 @@
 
 #include "navmap/map/tile.h"
 #include "navmap/render/text/font_collection.h"
-#include "navmap/render/text/text_draw.h"
+#include "text_draw.h"
 
 namespace navmap::render::text {
 

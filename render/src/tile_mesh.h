@@ -13,7 +13,7 @@
 
 #include "navmap/map/tile.h"
 #include "navmap/render/map_frame.h"
-#include "navmap/render/road_draping.h"
+#include "road_draping.h"
 
 namespace navmap::render {
 

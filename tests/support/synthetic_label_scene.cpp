@@ -1,10 +1,13 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "navmap/render/labels/synthetic_scene.h"
+#include "synthetic_label_scene.h"
 
 #include <cmath>
 #include <numbers>
 
-namespace navmap::render::labels {
+namespace navmap::test {
+
+using render::labels::LabelCandidate;
+using render::labels::LabelKind;
 
 namespace {
 
@@ -86,4 +89,4 @@ void zoomRotateScene(SyntheticScene& scene, glm::vec2 center, float scale, float
     }
 }
 
-}  // namespace navmap::render::labels
+}  // namespace navmap::test
