@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The input's CAN source as [input] source says: SocketCAN, a candump replay or the in-process
 // simulator (which also sets the route it drives on the control state, as an HMI would).

@@ -102,7 +102,7 @@ std::optional<DaemonConfig> parseConfig(const std::string& text, const std::stri
         return std::nullopt;
     }
     DaemonConfig c;
-    const std::set<std::string> sections{"store", "input", "sim", "render", "profile", "control", "stream", "log", "can"};
+    const std::set<std::string> sections{"store", "input", "sim", "render", "profile", "control", "stream", "log", "can", "guidance"};
     for (const auto& [k, v] : root) {
         if (!sections.count(std::string(k.str()))) {
             err->message = where(source_name, v.source()) + ": unknown section or key '" + std::string(k.str()) + "'";
@@ -164,6 +164,19 @@ std::optional<DaemonConfig> parseConfig(const std::string& text, const std::stri
         auto r = section("sim");
         if (!r.get("from", c.sim_from) || !r.get("to", c.sim_to) || !r.get("speed_factor", c.sim_speed_factor) ||
             !r.range("speed_factor", c.sim_speed_factor, 0.01, 1000.0) || !r.noUnknownKeys())
+            return std::nullopt;
+    }
+    {
+        auto r = section("guidance");
+        GuidanceConfig& g = c.guidance;
+        if (!r.get("off_route_distance_m", g.off_route_distance_m) ||
+            !r.range("off_route_distance_m", g.off_route_distance_m, 5.0, 1000.0) ||
+            !r.get("off_route_time_s", g.off_route_time_s) || !r.range("off_route_time_s", g.off_route_time_s, 0.0, 600.0) ||
+            !r.get("on_route_distance_m", g.on_route_distance_m) ||
+            !r.range("on_route_distance_m", g.on_route_distance_m, 1.0, g.off_route_distance_m - 1.0) ||
+            !r.get("on_route_time_s", g.on_route_time_s) || !r.range("on_route_time_s", g.on_route_time_s, 0.0, 600.0) ||
+            !r.get("second_arrow_within_m", g.second_arrow_within_m) ||
+            !r.range("second_arrow_within_m", g.second_arrow_within_m, 0.0, 5000.0) || !r.noUnknownKeys())
             return std::nullopt;
     }
     {

@@ -15,6 +15,16 @@ namespace navmap::daemon {
 
 enum class InputSource { Sim, Replay, SocketCan };
 
+/// Route guidance (docs/guidance.md): off-route hysteresis and the manoeuvre arrows.
+struct GuidanceConfig {
+    double off_route_distance_m = 40.0;  ///< farther from the route than this ...
+    double off_route_time_s = 3.0;       ///< ... for this long: off_route
+    double on_route_distance_m = 20.0;   ///< within this of the route ...
+    double on_route_time_s = 2.0;        ///< ... for this long: back_on_route
+    /// The manoeuvre after the next gets a fainter arrow when it follows within this distance.
+    double second_arrow_within_m = 250.0;
+};
+
 struct DaemonConfig {
     // [store]
     std::filesystem::path store_path;          ///< compiled tile store
@@ -32,6 +42,7 @@ struct DaemonConfig {
     std::string sim_from = "andorra-la-vella";
     std::string sim_to = "encamp";
     double sim_speed_factor = 1.0;
+    GuidanceConfig guidance;
     // [render]
     std::string egl_platform = "auto";
     int msaa = -1;

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // ConfigReloader: SIGHUP. Re-reads the configuration file and applies what can change while
 // clients stay connected: the map style (through the control state, as set_style would) and each

@@ -17,6 +17,7 @@
 #include "navmap/version.h"
 #include "pose_events.h"
 #include "pose_source.h"
+#include "route_guidance.h"
 #include "route_state.h"
 #include "server_options.h"
 #include "status_reporter.h"
@@ -80,19 +81,27 @@ void announceReady(const Log& log, SystemdNotifier& systemd, const DaemonConfig&
     systemd.ready("rendering " + std::to_string(displays) + " profiles; " + endpoints);
 }
 
-// The route of the control socket's newest snapshot: converted once, then handed to the estimator.
-void followRoute(RouteState& route, const ipc::ControlState& control, VehicleInput& input, const Log& log) {
-    if (!route.update(control.route())) return;
+// The route of the control socket's newest snapshot: converted once, then handed to the estimator
+// and the guidance.
+void followRoute(RouteState& route, RouteGuidance& guidance, const ipc::ControlState& control, VehicleInput& input,
+                 const Log& log) {
+    const auto snapshot = control.route();
+    if (!route.update(snapshot)) return;
     input.setRoute(route.line());
-    log(Log::kInfo, "route %s: %zu points, %.1f km", route.id().c_str(), route.controlPoints(), route.lengthM() / 1000.0);
+    guidance.setRoute(snapshot);
+    if (route.id().empty()) log(Log::kInfo, "route cleared");
+    else log(Log::kInfo, "route %s: %zu points, %.1f km, %zu maneuvers", route.id().c_str(), route.controlPoints(),
+             route.lengthM() / 1000.0, guidance.route() ? guidance.route()->maneuvers().size() : std::size_t{0});
 }
 
-FrameContext frameContext(const ipc::ViewState* view, const RouteState& route, bool labels) {
+FrameContext frameContext(const ipc::ViewState* view, const RouteState& route, const RouteGuidance& guidance,
+                          bool labels) {
     FrameContext c;
     c.view_state = view;
     c.style = view && view->style == ipc::MapStyle::Night ? render::MapStyle::night() : render::MapStyle::day();
     c.route = route.geometry();  // each renderer drapes it onto the tiles it draws: no per-tick heights
     c.route_progress_m = route.drivenM();
+    c.guidance = &guidance.snapshot();
     c.labels = labels;
     return c;
 }
@@ -128,6 +137,8 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
                                scene.toPlanar((info.south + info.north) / 2, (info.west + info.east) / 2));
         RouteState route(scene.projection());
         PoseEvents events(*control_server, log);
+        RouteGuidance guidance(scene.projection(), config.guidance,
+                               [&server = *control_server](const ipc::ControlEvent& e) { server.publish(e); }, log);
         ConfigReloader reloader(config, options.config_path, log);
         StatusReporter reporter({config, reloader, input, road_graph, route, displays, *frames, *control_server, *scene.cache},
                                 status, metrics, systemd, t_start);
@@ -136,10 +147,11 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
             if (options.run_for_s && std::chrono::duration<double>(now - t_start).count() >= *options.run_for_s) break;
             const EstimatedPose pose = input.state()->poseAt(ipc::CanClock::now());
             const auto view_state = control_state->view();
-            followRoute(route, *control_state, input, log);
+            followRoute(route, guidance, *control_state, input, log);
             route.track(pose);
+            guidance.update(pose, std::chrono::duration<double>(now - t_start).count());
             events.update(pose, route, now);
-            const auto next_wake = displays.tick(now, poses, frameContext(view_state.get(), route, config.labels));
+            const auto next_wake = displays.tick(now, poses, frameContext(view_state.get(), route, guidance, config.labels));
             // Health: WATCHDOG=1 only while frames keep completing (or nobody needs any).
             if (displays.framesFlowing(config.watchdog_max_frame_s)) systemd.watchdog();
             reporter.update(now, pose);

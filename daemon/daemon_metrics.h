@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // DaemonMetrics: navmapd's own /metrics families (frames, latency, CAN input, tile cache, control
 // socket, memory, reloads), in base units. The frame server builds one ipc::MetricsRegistry per

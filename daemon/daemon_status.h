@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // DaemonStatus: the get_status (control socket) and GET /status (HTTP) object, rebuilt from a
 // StatusSample about once a second on the render thread and read by the control and HTTP threads

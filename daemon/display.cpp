@@ -1,10 +1,19 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "display.h"
 
 #include <algorithm>
 
 #include <nlohmann/json.hpp>
 
+#include "navmap/render/maneuver_arrow.h"
+
 namespace navmap::daemon {
+
+// The HUD symbol is the manoeuvre's type: both enums list the control protocol's types in order.
+static_assert(static_cast<int>(render::ManeuverSymbol::Depart) == static_cast<int>(map::guidance::ManeuverType::Depart) &&
+              static_cast<int>(render::ManeuverSymbol::UTurn) == static_cast<int>(map::guidance::ManeuverType::UTurn) &&
+              static_cast<int>(render::ManeuverSymbol::Roundabout) == static_cast<int>(map::guidance::ManeuverType::Roundabout) &&
+              static_cast<int>(render::ManeuverSymbol::Merge) == static_cast<int>(map::guidance::ManeuverType::Merge));
 
 namespace {
 
@@ -79,6 +88,41 @@ void Display::reconfigure(const DisplayProfile& p, std::unique_ptr<AttributionOv
     m_profile.camera = p.camera;
 }
 
+void Display::addGuidance(render::MapFrame& frame, const GuidanceSnapshot& guidance, const render::RouteGeometry* route,
+                          bool hud) const {
+    if (!guidance.active) return;
+    if (route) {
+        // The arrow's shaft runs along the incoming road, through the junction (round a
+        // roundabout to its exit) and on to the head on the outgoing road (docs/guidance.md).
+        for (const GuidanceArrow& a : guidance.arrows) {
+            render::ManeuverArrow arrow =
+                render::cutManeuverArrow(*route, a.junction_m, kArrowBeforeM, a.end_m - a.junction_m + kArrowAfterM);
+            arrow.emphasis = a.emphasis;
+            if (arrow.points.size() >= 2) frame.arrows.push_back(std::move(arrow));
+        }
+    }
+    if (!hud) return;
+    render::GuidanceOverlay overlay;
+    if (guidance.off_route) {
+        overlay.symbol = render::ManeuverSymbol::UTurn;
+        overlay.distance = "off route";
+    } else if (guidance.next) {
+        overlay.symbol = static_cast<render::ManeuverSymbol>(guidance.next->type);
+        overlay.roundabout_exit = guidance.next->exit;
+        overlay.distance = guidance.distance_text;
+        overlay.street = guidance.street;
+        // The HUD's corridor: the roads that branch at the next junction, nothing else.
+        frame.guidance_roads = render::junctionRoads(
+            frame.tiles, glm::dvec2(guidance.next_junction.x, guidance.next_junction.y), kJunctionRoadsM);
+    } else if (guidance.arrived) {
+        overlay.symbol = render::ManeuverSymbol::Arrive;
+        overlay.distance = "now";
+    }
+    overlay.remaining_distance = guidance.remaining_distance;
+    overlay.remaining_time = guidance.remaining_time;
+    frame.guidance = std::move(overlay);
+}
+
 void Display::draw(render::Renderer& renderer, const PoseSource& poses, const FrameContext& context,
                    const map::Projection& projection) {
     m_frame_start = Clock::now();
@@ -104,7 +148,9 @@ void Display::draw(render::Renderer& renderer, const PoseSource& poses, const Fr
     frame.layers = layersFor(m_profile, context.labels);
     frame.frame_dt_s = std::min(dt, 0.5);
     frame.marker = pose.marker;
-    renderer.setMapStyle(context.style);
+    const bool hud = isGuidanceView(m_profile);
+    if (context.guidance) addGuidance(frame, *context.guidance, context.route, hud);
+    renderer.setMapStyle(hud ? render::MapStyle::hud() : context.style);
     renderer.renderMap(m_target, frame);
     m_stats.tiles_drawn = renderer.mapStats().tiles_drawn;
     m_stats.tiles_pending = renderer.mapStats().tiles_pending;

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Display: one display profile as navmapd renders it: its offscreen target in the shared
 // renderer, its tile selection (MapView), camera rig and attribution overlay, the frames it has
@@ -21,6 +22,7 @@
 #include "navmap/render/map_view.h"
 #include "navmap/render/renderer.h"
 #include "pose_source.h"
+#include "route_guidance.h"
 #include "profiles.h"
 #include "sample_window.h"
 
@@ -45,6 +47,7 @@ struct FrameContext {
     render::MapStyle style;
     const render::RouteGeometry* route = nullptr;
     double route_progress_m = 0.0;
+    const GuidanceSnapshot* guidance = nullptr;  ///< arrows and the next-turn panel; null: none
     bool labels = true;
 };
 
@@ -86,6 +89,13 @@ public:
     void sendLoadingStatus(const std::vector<ipc::ActiveProfile>& active, ipc::FrameServer& frames, Clock::time_point now);
 
 private:
+    /// The guidance's arrows (every view) and, in the HUD, its next-turn panel and corridor.
+    void addGuidance(render::MapFrame& frame, const GuidanceSnapshot& guidance, const render::RouteGeometry* route,
+                     bool hud) const;
+    static constexpr double kArrowBeforeM = 40.0;  ///< arrow shaft along the incoming road
+    static constexpr double kArrowAfterM = 25.0;   ///< and past the junction (or roundabout exit)
+    static constexpr double kJunctionRoadsM = 60.0;  ///< HUD: roads drawn within this of the junction
+
     static constexpr std::uint64_t kNone = ~std::uint64_t{0};
     void publish(std::vector<render::Frame>& finished, ipc::FrameServer& frames);
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // DisplayScheduler: which display renders when. It owns the one renderer all display profiles
 // share (one EGL context, one copy of each tile's GPU resources; each display renders into its own

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // GroundHeight: the terrain height under the vehicle, one query for the whole daemon. It reads
 // the finest terrain resident in the shared tile cache, so the pose's height does not depend on

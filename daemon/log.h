@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // navmapd's log: one line per event on stderr with a syslog priority prefix that journald
 // understands (sd-daemon(3)): "<4>navmapd: ...". Lines above the configured level are dropped.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // PoseEvents: what the control socket's subscribers hear about the vehicle: position lost and
 // regained (logged too), and route progress about once a second while the pose is on the route.

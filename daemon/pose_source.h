@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // PoseSource: the vehicle pose a frame is rendered with: the newest estimator snapshot evaluated
 // at the frame's time, standing on the ground (GroundHeight), or the middle of the map while there

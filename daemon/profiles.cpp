@@ -15,6 +15,7 @@ std::vector<DisplayProfile> defaultProfiles() {
 }
 
 render::MapLayers layersFor(const DisplayProfile& profile, bool labels) {
+    if (isGuidanceView(profile)) return render::MapLayers::hud();  // route corridor only: no labels
     render::MapLayers layers;
     layers.labels = labels;
     layers.road_technique = profile.roads;
@@ -23,6 +24,8 @@ render::MapLayers layersFor(const DisplayProfile& profile, bool labels) {
     layers.road_selection = profile.road_selection;
     return layers;
 }
+
+bool isGuidanceView(const DisplayProfile& profile) { return profile.stream_view == "hud"; }
 
 std::optional<DisplayProfile> findProfile(const std::vector<DisplayProfile>& profiles, const std::string& name) {
     for (const auto& p : profiles) {

@@ -48,6 +48,9 @@ std::vector<DisplayProfile> defaultProfiles();
 
 /// The map layers a profile's frames are rendered with (labels on or off for the whole daemon).
 render::MapLayers layersFor(const DisplayProfile& profile, bool labels);
+/// The head-up display's guidance view (`view = "hud"`): the route corridor and the next-turn
+/// panel on black (render::MapLayers::hud(), docs/guidance.md), not the map.
+bool isGuidanceView(const DisplayProfile& profile);
 
 /// Looks a profile up by name among `profiles`.
 std::optional<DisplayProfile> findProfile(const std::vector<DisplayProfile>& profiles, const std::string& name);

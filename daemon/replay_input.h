@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // ReplayInput: a candump log as a CanSource, streamed (memory stays bounded whatever the file)
 // and played with its recorded timing, restamped to the wall clock, optionally looping.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "route_state.h"
 
 #include <algorithm>
@@ -6,7 +7,21 @@
 namespace navmap::daemon {
 
 bool RouteState::update(const std::shared_ptr<const ipc::RouteState>& route) {
-    if (!route || route->version == m_version) return false;
+    if (!route) {
+        // clear_route: nothing to draw or match from now on.
+        if (m_id.empty() && !m_line) return false;
+        m_version = ~std::uint64_t{0};
+        ++m_conversions;
+        m_id.clear();
+        m_control_points = 0;
+        m_driven_m = 0.0;
+        m_line = nullptr;
+        const std::uint64_t geometry_version = m_geometry.version + 1;
+        m_geometry = {};
+        m_geometry.version = geometry_version;
+        return true;
+    }
+    if (route->version == m_version) return false;
     m_version = route->version;
     ++m_conversions;
     m_id = route->id;

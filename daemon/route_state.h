@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // RouteState: the control socket's active route (set_route, latitude/longitude) converted once per
 // route version into the store frame, as the one RouteLine that both of its users share: the
@@ -23,8 +24,8 @@ public:
     explicit RouteState(map::Projection projection) : m_projection(std::move(projection)) {}
 
     /// Takes the control socket's newest route snapshot; converts it when its version is new and
-    /// returns true then (the caller hands line() to the estimator). A null snapshot (no route
-    /// set, or cleared) leaves the current route as it is.
+    /// returns true then (the caller hands line() to the estimator). A null snapshot (cleared)
+    /// drops the current route and returns true once.
     bool update(const std::shared_ptr<const ipc::RouteState>& route);
     /// Progress: the furthest distance driven along the route of a pose matched onto it.
     void track(const EstimatedPose& pose);

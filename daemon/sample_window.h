@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // A bounded window of the newest samples (frame times, latencies) for percentiles in status and
 // /metrics. Render-thread only.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The control socket's and the frame server's settings from navmapd's configuration ([control],
 // [stream], the profiles it renders).

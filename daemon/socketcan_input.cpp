@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "socketcan_input.h"
 
 #include "navmap/ipc/socketcan_source.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // SocketCanInput: the vehicle's CAN bus as a CanSource, through ipc::SocketCanSource (kernel
 // filters for the decoder's frames, re-opened with backoff while the interface is down).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // StatusReporter: about once a second, gathers a StatusSample from the daemon's parts and
 // publishes it as the status object (DaemonStatus), the /metrics families (DaemonMetrics) and

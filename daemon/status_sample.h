@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // StatusSample: what navmapd reports about itself, gathered once a second on the render thread
 // and turned into the get_status / GET /status object (DaemonStatus) and the /metrics families

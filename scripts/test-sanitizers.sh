@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # The unit and gpu tests under AddressSanitizer + UndefinedBehaviorSanitizer, in a build tree of
 # their own (build-san/, or $NAVMAP_SAN_BUILD_DIR). Every navmap object, program and library is
 # compiled with -fsanitize=address,undefined -fno-omit-frame-pointer; UBSan does not recover, so
@@ -8,35 +9,47 @@
 # by name in scripts/sanitizers/lsan.supp (each entry says why); nothing of navmap's own is.
 # Extra arguments go to the CMake configure step (e.g. the ccache launchers).
 #
-#   scripts/test-sanitizers.sh                 unit tests, and the gpu tests of NAVMAP_SAN_GPU_TESTS
-#   NAVMAP_SAN_GPU_TESTS=all scripts/test-sanitizers.sh    every gpu test
+#   scripts/test-sanitizers.sh      the named subset below
+#   NAVMAP_SAN_TARGETS=all NAVMAP_SAN_GPU_TESTS=all scripts/test-sanitizers.sh    everything
 #
-# Time: CI has 2 cores and 90 minutes, of which the normal run takes about 17. Under ASan the
-# navmap side of every gpu test (meshes, culling, labels, readback, image compares, every malloc)
-# runs about twice as slow while llvmpipe's JIT code does not change; all 103 gpu tests take
-# about 1060 s of test time uninstrumented on the loaded development VM, which with the ASan
-# build from scratch would not fit the ~30 minutes left for this run. So by default it runs the
-# unit tests and the gpu tests matched by NAVMAP_SAN_GPU_TESTS below (83 of 103, about half that
-# test time) and every pass of the renderer: the GLES renderer and readback, the Andorra map views and
-# goldens (terrain, roads GEO and SV, buildings, outlines, glow, aura, labels, text), route
-# draping, DEM refinement. Left out: the suites that replay drives frame by frame through the
-# same passes (LabelPass, Views/LabelQuality, Cameras/TrajectoryQuality, Paths/TerrainMorphGpu,
-# Navmapd/ShippedProfiles). docs/packaging.md "CI" has the figures.
+# Time: CI has 2 cores and 90 minutes, of which the normal run takes about 17 and the build of
+# every target again under ASan would take most of the rest. So CI builds and runs a named
+# subset (NAVMAP_SAN_TARGETS): the unit tests of common, map (rules, geometry with the CGAL
+# triangulator, routing, store, guidance), ipc (codecs, DBC, candump, control protocol, net),
+# the vehicle state, labels, text and render, and the gpu tests of render_gpu_tests matched by
+# NAVMAP_SAN_GPU_TESTS: the GLES renderer and its readback, the map passes and the Andorra views
+# with their goldens. Left out: the stream, daemon and sim test programs (timing-based rates and
+# whole processes) and the suites that replay drives frame by frame. docs/packaging.md "CI".
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 build="${NAVMAP_SAN_BUILD_DIR:-$root/build-san}"
 gpu_tests="${NAVMAP_SAN_GPU_TESTS:-^(GlesRenderer|MapRender(/GrazingRoads)?|AndorraMap|Views/(AndorraGolden|GlowRoadsView|LabelGolden|SvGolden)|Effects/OcclusionGolden|LabelAura|GlowRoads|SvRoads|SvRoadsHighRes|TextLayerTest|RouteDrapeGpu|TerrainMorphRoads|DemRefine|TrajectoryQualityErrors)\\.}"
-flags="-fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined"
+# A build type of its own (no -O2 -g from RelWithDebInfo); NDEBUG as in the release build. Warnings
+# are the normal build's business (-Werror there): GCC warns differently with the sanitizers on.
+# -O1 -g1: what the sanitizers' documentation recommends, and quicker to build on CI's two cores
+# than RelWithDebInfo's -O2 -g.
+flags="-O1 -g1 -DNDEBUG -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined"
 
+# The default store is made by the normal build's navmap-compile where there is one (the same
+# bytes, docs/packaging.md), not by an instrumented one.
+host_tools=()
+if [ -f "$root/build/NavmapHostTools.cmake" ]; then host_tools=("-DNAVMAP_HOST_TOOLS=$root/build/NavmapHostTools.cmake"); fi
 generator=()
 if command -v ninja >/dev/null 2>&1 && [ ! -f "$build/Makefile" ]; then generator=(-G Ninja); fi
-cmake -S "$root" -B "$build" "${generator[@]}" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-  -DNAVMAP_WITH_WERROR=ON -DNAVMAP_WITH_TESTS=ON -DNAVMAP_WITH_BENCH=OFF \
+cmake -S "$root" -B "$build" "${generator[@]}" -DCMAKE_BUILD_TYPE=Sanitize \
+  -DNAVMAP_WITH_WERROR=OFF -DNAVMAP_WITH_TESTS=ON -DNAVMAP_WITH_BENCH=OFF "${host_tools[@]}" \
   "-DCMAKE_C_FLAGS=$flags" "-DCMAKE_CXX_FLAGS=$flags" \
   "-DCMAKE_EXE_LINKER_FLAGS=-fsanitize=address,undefined" \
   "-DCMAKE_SHARED_LINKER_FLAGS=-fsanitize=address,undefined" \
   "-DCMAKE_MODULE_LINKER_FLAGS=-fsanitize=address,undefined" "$@"
-cmake --build "$build" -j "$(nproc)"
+# The test programs of the named subset (NAVMAP_SAN_TARGETS; "all": every target), and what they link.
+targets="${NAVMAP_SAN_TARGETS:-common_check_test map_rules_test map_geometry_test map_routing_test map_store_test map_guidance_test ipc_unit_tests ipc_net_tests ipc_control_tests vehicle_state_tests navmap_labels_test navmap_text_test render_unit_tests render_lod_unit_tests render_gpu_tests}"
+if [ "$targets" = all ]; then
+  cmake --build "$build" -j "$(nproc)"
+else
+  # shellcheck disable=SC2086
+  cmake --build "$build" -j "$(nproc)" --target navmap_default_store $targets
+fi
 
 supp="$root/scripts/sanitizers"
 export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1:strict_string_checks=1:detect_stack_use_after_return=1:check_initialization_order=1"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Manoeuvre arrows and guidance roads (arrow_geo.vert): the round caps of the constant-width
 // pieces cut analytically (seed 3.4, as roads_geo.frag), one colour per pass. With
 // NAVMAP_ARROW_GLOW the hidden part shines through buildings (seed 5.5.2, as glow_roads.frag):

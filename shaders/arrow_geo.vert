@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Manoeuvre arrows and guidance roads (maneuver_arrow_pass.cpp), geometric approach as the route
 // (seed 3.4, 3.6.1): one quad per draped piece, expanded here from its end points, the half
 // width at each end from the arrow's shape at the end's measure (maneuver_arrow.cpp

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Guidance overlay: one colour per draw (straight alpha, blended over the frame).
 uniform vec4 u_color;
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Guidance overlay (guidance_overlay_pass.cpp): the manoeuvre symbol's triangles and the panel
 // behind it, in screen pixels (origin top left, y down).
 layout(location = 0) in vec2 a_px;

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The outline filter's cells near roads (OutlineCells, outline_pass.cpp): rectangles in pixels.
 layout(location = 0) in vec2 a_pixel;
 

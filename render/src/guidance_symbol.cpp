@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "navmap/render/guidance_symbol.h"
 
 #include <algorithm>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "navmap/render/maneuver_arrow.h"
 
 #include <algorithm>

@@ -64,7 +64,7 @@ std::vector<Maneuver> graphManeuvers(const map::RoadGraph& graph, const std::vec
     std::vector<Maneuver> out;
     for (const map::guidance::Maneuver& m : map::guidance::deriveManeuvers(graph, line, names)) {
         out.push_back({m.point, m.measure_m, std::string(map::guidance::maneuverTypeName(m.type)), m.street, m.turn_deg,
-                       m.exit});
+                       m.exit, m.end_point});
     }
     return out;
 }

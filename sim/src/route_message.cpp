@@ -20,12 +20,13 @@ std::string setRouteMessage(const DriveRoute& route, const map::Projection& proj
         projection.reverse(p.position, lat, lon);
         points.push_back({round7(lat), round7(lon)});
     }
-    // The protocol accepts exactly index/type/text/exit per maneuver (docs/ipc.md).
+    // The protocol accepts exactly index/end_index/type/text/exit per maneuver (docs/ipc.md).
     nlohmann::json maneuvers = nlohmann::json::array();
     for (const Maneuver& m : route.maneuvers) {
         nlohmann::json j{{"index", m.point}, {"type", m.type}};
         if (!m.text.empty()) j["text"] = m.text;
         if (m.exit > 0) j["exit"] = m.exit;
+        if (m.end_point > m.point) j["end_index"] = m.end_point;
         maneuvers.push_back(std::move(j));
     }
     const nlohmann::json msg{

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // NAVMAP_CHECK stays on in release builds: this file is compiled with NDEBUG (tests/common/
 // CMakeLists.txt), so assert() is gone here and the check must still abort with its message.
 #include <gtest/gtest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The input's CAN sources behind one interface: the simulator's frames decode through the same
 // DBC decoder (and SocketCAN's kernel frame codec) as a real bus to the simulated speed and yaw
 // rate; a candump replay plays with its timing and counts malformed lines; SocketCAN retries a

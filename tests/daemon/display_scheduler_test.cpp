@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // DisplayScheduler with the no-op renderer on the Andorra store: every display renders the
 // vehicle on the same ground, whatever the order the profiles are listed in (the pose's height
 // comes from one terrain query, not from the first display's view).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // RouteState: the control socket's route is converted once per version into one RouteLine, the
 // renderers' geometry carries that line's points and measures, and the estimator's distances
 // along it agree with the route length the daemon reports.
@@ -53,8 +54,15 @@ TEST(RouteState, ConvertsEachControlRouteVersionOnce) {
     EXPECT_EQ(route.conversions(), 2u);
     EXPECT_EQ(route.id(), "r2");
     EXPECT_GT(route.geometry()->version, geometry_version) << "renderers re-drape a new route";
-    EXPECT_FALSE(route.update(nullptr)) << "a cleared snapshot leaves the route as it is";
-    EXPECT_EQ(route.id(), "r2");
+    const std::uint64_t before_clear = route.geometry()->version;
+    EXPECT_TRUE(route.update(nullptr)) << "clear_route drops the route";
+    EXPECT_EQ(route.id(), "");
+    EXPECT_EQ(route.line(), nullptr);
+    EXPECT_EQ(route.geometry(), nullptr) << "nothing left to draw";
+    EXPECT_DOUBLE_EQ(route.lengthM(), 0.0);
+    EXPECT_FALSE(route.update(nullptr)) << "cleared once";
+    EXPECT_TRUE(route.update(controlRoute({{0, 0}, {0, 200}}, 4, "r3")));
+    EXPECT_GT(route.geometry()->version, before_clear) << "the next route is draped afresh";
 }
 
 TEST(RouteState, OneLineServesTheEstimatorAndTheRenderersWithOneDistance) {

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The distance countdown: each step at its boundary, kilometres above 1 km, "now" below 20 m.
 #include <gtest/gtest.h>
 

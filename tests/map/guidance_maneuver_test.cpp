@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Guidance manoeuvres: turn classes at their boundaries, manoeuvres derived on synthetic
 // junctions (choice or none, forks, straight on where the road turns away) and on a synthetic
 // roundabout (exit numbers counted from the entry, entered and left as one manoeuvre).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Route progress (projection within a window, monotone on a route that crosses itself or
 // comes back the same way, passed manoeuvres, distance and time left) and off-route detection
 // with hysteresis.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // A road graph built by hand for the guidance tests, the way navmap-compile builds one: ways
 // of junction nodes with shape points, two edges per two-way segment sharing one shape (the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // map::planRoute, the route planner of the simulator, the tools and the tests: the fastest car
 // route between the drivable nodes nearest to two positions, or the problem named.
 #include <gtest/gtest.h>

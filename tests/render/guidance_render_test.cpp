@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Route guidance in rendered frames of the Andorra store: the manoeuvre arrow of a real left turn
 // of the drive lies on the outgoing road to the left of the junction, not on the right; a frame
 // without the arrow shows none of it; the HUD style shows the guidance overlay's distance text;

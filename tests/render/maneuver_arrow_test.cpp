@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Route guidance geometry without GL: the arrow cut from the route, its shape (shaft, head,
 // casing) as the arrow shader widens it, the roads cut around a junction, and the manoeuvre
 // symbols of the guidance overlay.

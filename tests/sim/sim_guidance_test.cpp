@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Guidance on the compiled Andorra store: the default drive's manoeuvres (street names from the
 // tiles, a real roundabout's exit number), the set_route line carrying them through the control
 // protocol parser, and progress along the drive.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Test and benchmark fixtures (never linked by an installed program): a planned drive over a
 // map scene, one MapView over its cache, and the named places of the embedded default data

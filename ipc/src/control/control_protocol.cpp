@@ -238,10 +238,12 @@ constexpr std::array<std::pair<ViewOrientation, const char*>, 2> kOrientationNam
     {{ViewOrientation::HeadingUp, "heading-up"}, {ViewOrientation::NorthUp, "north-up"}}};
 constexpr std::array<std::pair<MapStyle, const char*>, 2> kStyleNames{
     {{MapStyle::Day, "day"}, {MapStyle::Night, "night"}}};
-constexpr std::array<std::pair<ControlEventKind, const char*>, 3> kEventNames{
+constexpr std::array<std::pair<ControlEventKind, const char*>, 5> kEventNames{
     {{ControlEventKind::RouteProgress, "route_progress"},
      {ControlEventKind::PositionLost, "position_lost"},
-     {ControlEventKind::PositionRegained, "position_regained"}}};
+     {ControlEventKind::PositionRegained, "position_regained"},
+     {ControlEventKind::OffRoute, "off_route"},
+     {ControlEventKind::BackOnRoute, "back_on_route"}}};
 
 template <typename T, std::size_t N>
 std::string choices(const std::array<std::pair<T, const char*>, N>& names) {
@@ -315,7 +317,7 @@ std::string parseRoute(const json& obj, const ControlLimits& limits, SetRouteCom
             return where + ": must be an object";
         }
         Checker mc{m, {}};
-        if (!mc.allowOnly({"index", "type", "text", "exit"})) {
+        if (!mc.allowOnly({"index", "end_index", "type", "text", "exit"})) {
             return where + ": " + mc.error;
         }
         Maneuver mv;
@@ -373,6 +375,21 @@ std::string parseRoute(const json& obj, const ControlLimits& limits, SetRouteCom
                 return where + ".exit: " + exit->dump() + " out of range [1, " + std::to_string(kMaxRoundaboutExit) + "]";
             }
             mv.exitNumber = exit->get<std::uint32_t>();
+        }
+        const auto end = m.find("end_index");
+        if (end != m.end()) {
+            if (!end->is_number_integer()) {
+                return where + ".end_index: must be an integer";
+            }
+            const bool in_range = end->is_number_unsigned()
+                                      ? end->get<std::uint64_t>() >= mv.index && end->get<std::uint64_t>() < out.points.size()
+                                      : end->get<std::int64_t>() >= static_cast<std::int64_t>(mv.index) &&
+                                            end->get<std::int64_t>() < static_cast<std::int64_t>(out.points.size());
+            if (!in_range) {
+                return where + ".end_index: " + end->dump() + " out of range [" + std::to_string(mv.index) + ", " +
+                       std::to_string(out.points.size() - 1) + "]";
+            }
+            mv.endIndex = end->get<std::size_t>();
         }
         out.maneuvers.push_back(std::move(mv));
     }
@@ -660,6 +677,13 @@ std::string controlEventLine(const ControlEvent& event) {
         j["since_s"] = std::round(event.sinceS * 100.0) / 100.0;
         break;
     case ControlEventKind::PositionRegained:
+        break;
+    case ControlEventKind::OffRoute:
+        j["id"] = event.routeId;
+        j["offset_m"] = std::round(event.offsetM * 10.0) / 10.0;
+        break;
+    case ControlEventKind::BackOnRoute:
+        j["id"] = event.routeId;
         break;
     }
     return dumpJson(j);

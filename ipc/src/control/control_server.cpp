@@ -432,7 +432,8 @@ void ControlServer::handleLine(Client& c, std::string_view line) {
                 c.events = body.events;
                 nlohmann::json names = nlohmann::json::array();
                 for (const auto k : {ControlEventKind::RouteProgress, ControlEventKind::PositionLost,
-                                     ControlEventKind::PositionRegained}) {
+                                     ControlEventKind::PositionRegained, ControlEventKind::OffRoute,
+                                     ControlEventKind::BackOnRoute}) {
                     if (body.events & static_cast<std::uint8_t>(k)) {
                         names.push_back(controlEventName(k));
                     }

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // ClientHub: the bookkeeping every transport shares. It owns the connections (registered with the
 // poll loop as they are accepted), admits them against the per-transport and per-uid caps,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // FrameServer: composes the frame server from its parts (docs/frame-protocol.md, "Inside the
 // server"): one poll loop on the server thread, three transports that listen on it (ShmTransport:
 // Unix socket, TcpTransport, HttpTransport), the ClientHub their connections share, the RingSet

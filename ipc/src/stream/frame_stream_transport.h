@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // FrameStreamTransport: the frame-stream protocol of docs/frame-protocol.md on a socket: one JSON
 // handshake line, a JSON reply, then an 80-byte header per frame with the pixels raw or

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // HttpAccess: who may use the HTTP transport. The Host header must name this server (a page from
 // another origin that reaches the port through DNS rebinding carries its own host name); when

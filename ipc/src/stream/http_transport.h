@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // HttpTransport: HTTP/1.0 on bindAddress:httpPort, one request per connection. GET / (HTML
 // viewer), /status (JSON), /metrics (Prometheus text) and /stream.mjpg (MJPEG: the query picks

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // PollLoop: the frame server's one poll() loop, in the manner of Redis ae.c. Descriptors are
 // registered with a callback that says which events they wait for (asked before every poll) and

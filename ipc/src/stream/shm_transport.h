@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // ShmTransport: the frame stream on the Unix socket. Peers are checked by SO_PEERCRED against the
 // allow list (the server's uid, root, the socket's group) and capped per uid. Besides the socket

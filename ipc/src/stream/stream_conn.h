@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // StreamConn: one accepted connection of the frame server, whatever its transport: the socket,
 // where it is in its protocol, its output queue and what it has been offered and sent. Owned by

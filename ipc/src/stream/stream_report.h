@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // What the frame server tells about itself: its navmap_stream_* metric families (Prometheus, for
 // /metrics and FrameServer::collectMetrics) and the JSON of /status. Built from snapshots, so

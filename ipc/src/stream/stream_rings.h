@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // RingSet: the frame server's shared-memory rings, one per (profile, size, pixel format) with
 // clients, shared by all of them and by every transport, and the set publish() writes into.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // StreamStats: the frame server's counters, newest error and active profiles, written by the
 // server thread (and publish timing by the render thread), read as snapshots from any thread.

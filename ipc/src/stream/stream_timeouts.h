@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // StreamTimeouts: which time limit a connection has passed. Every connection must earn its slot:
 // a handshake (or HTTP request head) within handshakeTimeout of the accept, then a first frame

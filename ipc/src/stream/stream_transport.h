@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // StreamTransport: one listening socket of the frame server and the protocol its connections
 // speak. The base accepts (non-blocking, CLOEXEC), counts, asks the subclass and the ClientHub

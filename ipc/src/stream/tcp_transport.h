@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // TcpTransport: the frame stream over TCP (bindAddress:tcpPort): the same handshake and headers
 // as the Unix socket, pixels raw or zlib-compressed on the socket; "shm" is refused. Peers have no

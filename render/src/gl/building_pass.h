@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The extruded buildings of the map frame (buildings.vert/.frag): per tile the blocks in view,
 // lit and fogged like the terrain, small far buildings culled in the shader. Private to render/.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // What one map frame gives every pass of MapRenderer: the frame, the display target it draws
 // into, the camera's projection, the style, the tiles drawn (nearest first, from GpuTileCache)

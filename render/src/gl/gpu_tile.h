@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // One tile's GPU resources as GpuTileCache uploaded them (terrain with skirts, land-cover
 // textures, road quads, buildings) and the per-frame state the passes keep on it (camera, culled

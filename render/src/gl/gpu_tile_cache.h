@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The tiles' GPU resources (GpuTile), shared by every display target: uploads a frame's tiles
 // within the per-frame budget (terrain, land-cover rasters of the tile and its geomorph targets,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "guidance_overlay_pass.h"
 #include "text_layer.h"
 

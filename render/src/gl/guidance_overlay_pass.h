@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The guidance overlay (MapFrame::guidance), drawn last over the map frame in screen space: the
 // next manoeuvre as a large symbol (guidance_symbol.h: plain triangles), the distance to it in

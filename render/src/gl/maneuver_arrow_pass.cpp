@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "maneuver_arrow_pass.h"
 #include "vertex_layout.h"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The manoeuvre arrows of a map frame (MapFrame::arrows) and the roads at the next junction that
 // the HUD style shows (MapFrame::guidance_roads): draped onto every drawn tile as the route is

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // View tests and road extents shared by the passes of MapRenderer: boxes against the frustum,
 // how far road and route quads reach beyond their pieces (roads_geo.vert's widths, seed 3.6.3),

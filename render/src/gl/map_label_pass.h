@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The label pass of MapRenderer per display target: each target keeps its own LabelPass (the
 // layout's temporal coherence, seed 4.3, continues from that display's previous frame), all share

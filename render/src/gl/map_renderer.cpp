@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "map_renderer.h"
 
 #include <GLES3/gl3.h>

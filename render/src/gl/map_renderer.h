@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Draws map frames from tiles as an ordered list of passes, each a class of its own that owns its
 // programs and buffers: terrain with land cover, buildings, roads (geometric or shadow volumes),

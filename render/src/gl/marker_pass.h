@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The vehicle marker: a CCP arrow at the vehicle's position, turned to its heading as seen on
 // screen, constant in size, with a dark outline (marker.vert/.frag). Drawn last, over everything.

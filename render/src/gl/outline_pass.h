@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Screen-space dark outlines around roads and route (seed 3.6.3): a 3x3 filter over the road
 // mask that the road passes write. The filter runs only on the screen cells where road pixels can

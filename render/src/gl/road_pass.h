@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The geometric roads (seed 3.6): draped road pieces drawn as screen-widened quads with casing
 // and fill (roads_geo.vert/.frag), least important class first. Each frame the pieces in view

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The route (seed 3.6.1): draped per tile against the grid the tile is drawn with, geomorphed with
 // the terrain, and drawn like the roads (roads_geo.vert with NAVMAP_ROUTE_PROGRESS: casing, fill,

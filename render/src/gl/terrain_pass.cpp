@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "terrain_pass.h"
 
 #include <algorithm>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The terrain of the map frame: each tile's surface in blocks, frustum-culled and nearest first,
 // geomorphed towards its ancestors (terrain_lod.h) with the land cover of the levels each block

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "navmap/sim/simulated_can_source.h"
 
 #include <thread>

@@ -42,6 +42,12 @@ TEST(ControlProtocol, RoundaboutManeuversCarryAnOptionalExitNumber) {
         R"({"cmd":"set_route","id":"r1","points":[[42.5,1.5],[42.51,1.51]],"maneuvers":[{"index":1,"type":"roundabout","exit":32}]})");
     ASSERT_TRUE(last.command) << last.error;
     EXPECT_EQ(std::get<SetRouteCommand>(last.command->body).maneuvers[0].exitNumber, kMaxRoundaboutExit);
+    EXPECT_FALSE(route.maneuvers[0].endIndex.has_value());
+    const auto ended = parseControlLine(
+        R"({"cmd":"set_route","id":"r1","points":[[42.5,1.5],[42.51,1.51],[42.52,1.52]],)"
+        R"("maneuvers":[{"index":0,"end_index":2,"type":"roundabout","exit":1}]})");
+    ASSERT_TRUE(ended.command) << ended.error;
+    EXPECT_EQ(std::get<SetRouteCommand>(ended.command->body).maneuvers[0].endIndex, 2U);
 }
 
 TEST(ControlProtocol, ParsesTheOtherCommands) {
@@ -84,6 +90,9 @@ TEST(ControlProtocol, ParsesTheOtherCommands) {
     r = parseControlLine(R"({"cmd":"subscribe","events":["position_lost","position_regained"]})");
     ASSERT_TRUE(r.command) << r.error;
     EXPECT_EQ(std::get<SubscribeCommand>(r.command->body).events, 6);
+    r = parseControlLine(R"({"cmd":"subscribe","events":["off_route","back_on_route"]})");
+    ASSERT_TRUE(r.command) << r.error;
+    EXPECT_EQ(std::get<SubscribeCommand>(r.command->body).events, 24);
     r = parseControlLine(R"({"cmd":"subscribe"})");
     ASSERT_TRUE(r.command) << r.error;
     EXPECT_EQ(std::get<SubscribeCommand>(r.command->body).events, kAllControlEvents);
@@ -109,6 +118,13 @@ TEST(ControlProtocol, RepliesAndEventsHaveTheDocumentedShape) {
     EXPECT_EQ(controlEventLine(e), R"({"event":"position_lost","since_s":2.0})");
     e.kind = ControlEventKind::PositionRegained;
     EXPECT_EQ(controlEventLine(e), R"({"event":"position_regained"})");
+    e = {};
+    e.kind = ControlEventKind::OffRoute;
+    e.routeId = "r7";
+    e.offsetM = 57.26;
+    EXPECT_EQ(controlEventLine(e), R"({"event":"off_route","id":"r7","offset_m":57.3})");
+    e.kind = ControlEventKind::BackOnRoute;
+    EXPECT_EQ(controlEventLine(e), R"({"event":"back_on_route","id":"r7"})");
 }
 
 struct BadCase {
@@ -154,6 +170,12 @@ TEST(ControlProtocol, EveryMalformedRequestGetsAnErrorNamingTheProblem) {
          "maneuvers[0].exit: 33 out of range [1, 32]"},
         {R"({"cmd":"set_route","id":"r1","points":[[1,2],[3,4]],"maneuvers":[{"index":0,"type":"roundabout","exit":"2"}]})",
          "maneuvers[0].exit: must be an integer"},
+        {R"({"cmd":"set_route","id":"r1","points":[[1,2],[3,4],[5,6]],"maneuvers":[{"index":1,"end_index":0,"type":"roundabout"}]})",
+         "maneuvers[0].end_index: 0 out of range [1, 2]"},
+        {R"({"cmd":"set_route","id":"r1","points":[[1,2],[3,4],[5,6]],"maneuvers":[{"index":1,"end_index":3,"type":"roundabout"}]})",
+         "maneuvers[0].end_index: 3 out of range [1, 2]"},
+        {R"({"cmd":"set_route","id":"r1","points":[[1,2],[3,4],[5,6]],"maneuvers":[{"index":1,"end_index":1.5,"type":"roundabout"}]})",
+         "maneuvers[0].end_index: must be an integer"},
         {R"({"cmd":"set_view","display":"cluster","mode":"helicopter"})",
          "\"mode\": \"helicopter\" is not one of bird | snail | auto"},
         {R"({"cmd":"set_view","display":"cluster","orientation":"up"})",
@@ -178,9 +200,9 @@ TEST(ControlProtocol, EveryMalformedRequestGetsAnErrorNamingTheProblem) {
         {R"({"cmd":"set_style","style":"dusk"})", "\"style\": \"dusk\" is not one of day | night"},
         {R"({"cmd":"set_style"})", "missing \"style\" (day | night)"},
         {R"({"cmd":"subscribe","events":["everything"]})",
-         "events[0]: not one of route_progress | position_lost | position_regained"},
+         "events[0]: not one of route_progress | position_lost | position_regained | off_route | back_on_route"},
         {R"({"cmd":"subscribe","events":[]})",
-         "\"events\" must be a non-empty array of route_progress | position_lost | position_regained"},
+         "\"events\" must be a non-empty array of route_progress | position_lost | position_regained | off_route | back_on_route"},
         {R"({"cmd":"get_status","verbose":true})", "unknown field \"verbose\""},
         {R"({"cmd":"reboot"})",
          "unknown cmd \"reboot\" (expected set_route | clear_route | set_view | set_style | get_status | subscribe)"},

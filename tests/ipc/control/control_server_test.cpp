@@ -186,7 +186,7 @@ TEST(ControlServer, SubscribersReceiveTheirEvents) {
         auto lost_only = f.connect();
         auto none = f.connect();
         EXPECT_EQ(req(all, R"({"cmd":"subscribe"})"),
-                  R"({"ok":true,"cmd":"subscribe","events":["route_progress","position_lost","position_regained"]})");
+                  R"({"ok":true,"cmd":"subscribe","events":["route_progress","position_lost","position_regained","off_route","back_on_route"]})");
         EXPECT_EQ(req(lost_only, R"({"cmd":"subscribe","events":["position_lost"]})"),
                   R"({"ok":true,"cmd":"subscribe","events":["position_lost"]})");
         std::thread publisher([&] {

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // sysError: "<call>(<object>): <strerror>", alone and as the socket users in ipc/ report real
 // failures with it (the control socket, its client, the frame server).
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // UniqueFd: closes its descriptor exactly once, hands it on when moved or released. Whether a
 // descriptor is open is asked of the kernel (fcntl(F_GETFD) fails with EBADF once it is closed).
 

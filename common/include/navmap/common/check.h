@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // NAVMAP_CHECK(cond, msg): an invariant that stays checked in release builds (unlike assert,
 // which NDEBUG removes). For conditions whose failure would corrupt output: a buffer read or

@@ -40,6 +40,8 @@ struct Maneuver {
     std::string text;       ///< road name/ref or instruction, may be empty
     /// Roundabout exit counted from the entry (1 = first); only on a roundabout maneuver.
     std::optional<std::uint32_t> exitNumber;
+    /// Index of the route point where the maneuver is done (a roundabout's exit); absent: `index`.
+    std::optional<std::size_t> endIndex;
 };
 /// Highest roundabout exit number the protocol accepts.
 inline constexpr std::uint32_t kMaxRoundaboutExit = 32;
@@ -52,8 +54,16 @@ const char* viewOrientationName(ViewOrientation o) noexcept;  ///< "heading-up" 
 const char* mapStyleName(MapStyle s) noexcept;            ///< "day" | "night"
 
 /// Event kinds a client can subscribe to (bit mask values).
-enum class ControlEventKind : std::uint8_t { RouteProgress = 1, PositionLost = 2, PositionRegained = 4 };
-inline constexpr std::uint8_t kAllControlEvents = 7;
+/// Events a subscriber hears. off_route/back_on_route: the vehicle left the active route (more
+/// than the configured distance off it for the configured time) or came back to it (docs/ipc.md).
+enum class ControlEventKind : std::uint8_t {
+    RouteProgress = 1,
+    PositionLost = 2,
+    PositionRegained = 4,
+    OffRoute = 8,
+    BackOnRoute = 16,
+};
+inline constexpr std::uint8_t kAllControlEvents = 31;
 const char* controlEventName(ControlEventKind k) noexcept;  ///< "route_progress" etc.
 
 struct SetRouteCommand {
@@ -105,10 +115,11 @@ struct ControlCommand {
 /// An event pushed to subscribers.
 struct ControlEvent {
     ControlEventKind kind = ControlEventKind::RouteProgress;
-    std::string routeId;      ///< route_progress
+    std::string routeId;      ///< route_progress, off_route, back_on_route
     double drivenM = 0.0;     ///< route_progress: metres driven along the route
     double remainingM = 0.0;  ///< route_progress: metres left
     double sinceS = 0.0;      ///< position_lost: seconds since the last valid position
+    double offsetM = 0.0;     ///< off_route: metres between the vehicle and the route
 };
 
 }  // namespace navmap::ipc

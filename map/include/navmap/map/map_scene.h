@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // A map scene over a compiled tile store: the store, its tile cache, the projection and the road
 // graph, opened together (navmapd's map, the tools and the tests open their stores this way).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The manoeuvre symbols of the guidance overlay as plain triangles (no font glyphs): a thick path
 // ending in an arrow head for each manoeuvre type, the roads not taken and a roundabout's ring

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Route guidance on the map, GL-free: the manoeuvre arrow cut from the route, its shape
 // prepared for draping (the shaft, the head and the casing's reach beyond the tip), and the

@@ -24,6 +24,7 @@ struct Maneuver {
     std::string text;           ///< street name (else ref) of the road taken; may be empty
     double turn_deg = 0.0;      ///< signed heading change, positive = right (clockwise)
     int exit = 0;               ///< roundabout exit counted from the entry (1 = first); 0 = none
+    std::size_t end_point = 0;  ///< index into DriveRoute::line where it is done (a roundabout's exit)
 };
 
 struct DriveRoute {

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Syscall error text, the same everywhere: the call, the object it acted on and strerror(),
 // "bind(/run/navmap/frames.sock): Permission denied" (as Redis anet.c words them).

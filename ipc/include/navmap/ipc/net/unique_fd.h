@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // UniqueFd: the one owner of a file descriptor (socket, eventfd, memfd, signalfd). Move-only;
 // the destructor and reset() close it exactly once; release() hands it on without closing.

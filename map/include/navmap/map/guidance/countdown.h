@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The distance countdown to the next manoeuvre (docs/guidance.md "Countdown"): the announced
 // distance never exceeds the true one, steps 800, 500, 300, 200, 100, 50 m, then "now". Pure

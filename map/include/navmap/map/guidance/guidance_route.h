@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // GuidanceRoute: a route as guidance needs it (docs/guidance.md): the polyline in the store
 // frame with measures, the travel time to every point, and the manoeuvres. Built from a graph

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Route guidance manoeuvres (docs/guidance.md): the manoeuvre types, spelled as the control
 // protocol spells them (docs/ipc.md set_route), and the turn class of a heading change at a

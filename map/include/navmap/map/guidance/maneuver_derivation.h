@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Manoeuvres derived from a route's geometry on the road graph (docs/guidance.md "Manoeuvres"):
 // turn classes by the heading change at junctions that offer a choice, forks as keep_left /

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // OffRouteDetector: off-route with hysteresis (docs/guidance.md "Off route"). The vehicle is off
 // the route after it has been farther than leave_distance_m from it for leave_time_s without a

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // RouteProgressTracker: where the vehicle is along a GuidanceRoute (docs/guidance.md
 // "Progress"): the pose projected onto the route polyline within a window around the previous

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Street names of OSM ways for guidance: the road graph keeps only way ids, the tiles keep the
 // names (map::Road::name / ref). WayNames collects them from the leaf tiles a route crosses.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // SimulatedCanSource: navmapd's in-process simulator as a daemon CanSource. The simulated drive
 // (route, speed profile) is encoded by the GNSS node emulation (FrameGenerator) into navmap.dbc

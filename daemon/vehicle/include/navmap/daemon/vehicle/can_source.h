@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // CanSource: where navmapd's input thread takes its CAN frames from: SocketCAN, a candump replay
 // or the drive simulator (sim/can_source). Each hands over plain CAN frames, which the one DBC
