@@ -98,9 +98,10 @@ void RouteGuidance::update(const EstimatedPose& pose, double time_s) {
         e.kind = off ? ipc::ControlEventKind::OffRoute : ipc::ControlEventKind::BackOnRoute;
         e.routeId = m_route_id;
         e.offsetM = p.offset_m;
-        if (m_publish) m_publish(e);
+        // Logged before the event goes out: whoever hears it finds it in the log.
         if (off) m_log(Log::kNotice, "route %s: off the route (%.0f m from it)", m_route_id.c_str(), p.offset_m);
         else m_log(Log::kInfo, "route %s: back on the route", m_route_id.c_str());
+        if (m_publish) m_publish(e);
     }
     fill();
 }

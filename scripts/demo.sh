@@ -30,9 +30,13 @@ echo "demo: live view in a browser: http://127.0.0.1:$port/   (status: /status, 
 build/ipc/src/stream/navmap-view --unix "$run/frames.sock" --profile cluster --frames 120 \
   --save out/frames/cluster --save-count 120 &
 cluster=$!
+build/ipc/src/stream/navmap-view --unix "$run/frames.sock" --profile hud --frames 60 \
+  --save out/frames/hud --save-count 60 &
+hud=$!
 build/ipc/src/stream/navmap-view --unix "$run/frames.sock" --profile center --frames 60 \
   --save out/frames/center --save-count 60
 wait "$cluster" || true
+wait "$hud" || true
 build/ipc/src/control/navmap-ctl --socket "$run/control.sock" get_status > "$run/status.json" || true
 kill -TERM "$daemon" 2>/dev/null || true
 wait "$daemon" || true
@@ -41,6 +45,7 @@ cat <<TXT
 
 demo: recorded frames, one folder per display profile:
         $root/out/frames/cluster/   instrument cluster, 1280x480, snail's view
+        $root/out/frames/hud/       head-up display, 800x240, guidance view (next turn, route corridor)
         $root/out/frames/center/    center display, 1280x720, bird's-eye
       look at one:   xdg-open "\$(ls out/frames/cluster/*.png | tail -n 1)"   (or any image viewer)
       as a video:    ffmpeg -framerate 10 -pattern_type glob -i 'out/frames/cluster/*.png' cluster.mp4

@@ -19,11 +19,13 @@ namespace {
 namespace fs = std::filesystem;
 using namespace std::chrono_literals;
 
-void writeConfig(const fs::path& dir, const char* style, int hud_fps) {
+// One small snail's-view profile: day and night change the map's colours (the HUD's guidance view
+// is black in both).
+void writeConfig(const fs::path& dir, const char* style, int fps) {
     std::ofstream(dir / "navmapd.toml") << "[input]\nsource = \"replay\"\nreplay_log = \"" << (dir / "standing.candump").string()
                                         << "\"\n[render]\nstyle = \"" << style << "\"\nlabels = false\n"
-                                        << "[[profile]]\nname = \"hud\"\nwidth = 800\nheight = 240\nfps = " << hud_fps
-                                        << "\nview = \"hud\"\n"
+                                        << "[[profile]]\nname = \"small\"\nwidth = 800\nheight = 240\nfps = " << fps
+                                        << "\nview = \"snail\"\n"
                                         << "[control]\nsocket = \"" << (dir / "control.sock").string() << "\"\n"
                                         << "[stream]\nsocket = \"" << (dir / "frames.sock").string() << "\"\nhttp_port = 0\n";
 }
@@ -82,7 +84,7 @@ TEST(NavmapdReload, SighupAppliesStyleAndFpsWithoutDroppingClientsAndRefusesABro
     ASSERT_TRUE(fs::exists(dir / "frames.sock")) << d.output();
 
     navmap::ipc::StreamRequest request;
-    request.profile = *navmap::ipc::defaultStreamProfile("hud");
+    request.profile = {"small", 800, 240, 30, "snail"};
     auto client = navmap::ipc::StreamClient::connectUnix((dir / "frames.sock").string(), request);
     ASSERT_TRUE(client) << client.error().message;
     auto& c = *client.value();
