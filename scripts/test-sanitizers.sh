@@ -13,7 +13,7 @@
 #   NAVMAP_SAN_TARGETS=all NAVMAP_SAN_GPU_TESTS=all scripts/test-sanitizers.sh    everything
 #
 # Time: CI has 2 cores and 90 minutes, of which the normal run takes about 17 and the build of
-# every target again under ASan would take most of the rest. So CI builds and runs a named
+# every target again under ASan would take most of the rest. So by default it builds and runs a named
 # subset (NAVMAP_SAN_TARGETS): the unit tests of common, map (rules, geometry with the CGAL
 # triangulator, routing, store, guidance), ipc (codecs, DBC, candump, control protocol, net),
 # the vehicle state, labels, text and render, and the gpu tests of render_gpu_tests matched by
