@@ -89,7 +89,7 @@ void Display::reconfigure(const DisplayProfile& p, std::unique_ptr<AttributionOv
 }
 
 void Display::addGuidance(render::MapFrame& frame, const GuidanceSnapshot& guidance, const render::RouteGeometry* route,
-                          bool hud) const {
+                          bool hud) {
     if (!guidance.active) return;
     if (route) {
         // The arrow's shaft runs along the incoming road, through the junction (round a
@@ -112,8 +112,7 @@ void Display::addGuidance(render::MapFrame& frame, const GuidanceSnapshot& guida
         overlay.distance = guidance.distance_text;
         overlay.street = guidance.street;
         // The HUD's corridor: the roads that branch at the next junction, nothing else.
-        frame.guidance_roads = render::junctionRoads(
-            frame.tiles, glm::dvec2(guidance.next_junction.x, guidance.next_junction.y), kJunctionRoadsM);
+        frame.guidance_roads = junctionRoads(frame, glm::dvec2(guidance.next_junction.x, guidance.next_junction.y));
     } else if (guidance.arrived) {
         overlay.symbol = render::ManeuverSymbol::Arrive;
         overlay.distance = "now";
@@ -121,6 +120,20 @@ void Display::addGuidance(render::MapFrame& frame, const GuidanceSnapshot& guida
     overlay.remaining_distance = guidance.remaining_distance;
     overlay.remaining_time = guidance.remaining_time;
     frame.guidance = std::move(overlay);
+}
+
+const std::vector<std::vector<glm::dvec3>>& Display::junctionRoads(const render::MapFrame& frame, glm::dvec2 junction) {
+    // The roads at the junction change only with the junction or the drawn tiles: cut them from
+    // the tiles once, not every frame.
+    std::vector<const map::Tile*> tiles;
+    tiles.reserve(frame.tiles.size());
+    for (const auto& t : frame.tiles) tiles.push_back(t.get());
+    if (junction != m_roads_junction || tiles != m_roads_tiles) {
+        m_roads = render::junctionRoads(frame.tiles, junction, kJunctionRoadsM);
+        m_roads_junction = junction;
+        m_roads_tiles = std::move(tiles);
+    }
+    return m_roads;
 }
 
 void Display::draw(render::Renderer& renderer, const PoseSource& poses, const FrameContext& context,

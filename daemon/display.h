@@ -9,6 +9,7 @@
 
 #include <chrono>
 #include <cstdint>
+#include <limits>
 #include <map>
 #include <memory>
 #include <optional>
@@ -91,7 +92,9 @@ public:
 private:
     /// The guidance's arrows (every view) and, in the HUD, its next-turn panel and corridor.
     void addGuidance(render::MapFrame& frame, const GuidanceSnapshot& guidance, const render::RouteGeometry* route,
-                     bool hud) const;
+                     bool hud);
+    /// The roads within kJunctionRoadsM of the junction on the frame's tiles (cached while both stay).
+    const std::vector<std::vector<glm::dvec3>>& junctionRoads(const render::MapFrame& frame, glm::dvec2 junction);
     static constexpr double kArrowBeforeM = 40.0;  ///< arrow shaft along the incoming road
     static constexpr double kArrowAfterM = 25.0;   ///< and past the junction (or roundabout exit)
     static constexpr double kJunctionRoadsM = 60.0;  ///< HUD: roads drawn within this of the junction
@@ -100,6 +103,9 @@ private:
     void publish(std::vector<render::Frame>& finished, ipc::FrameServer& frames);
 
     DisplayProfile m_profile;
+    std::vector<std::vector<glm::dvec3>> m_roads;  // junctionRoads(): the HUD's corridor at the junction
+    glm::dvec2 m_roads_junction{std::numeric_limits<double>::quiet_NaN()};
+    std::vector<const map::Tile*> m_roads_tiles;
     render::TargetHandle m_target;
     Clock::time_point m_started;
     Log m_log;

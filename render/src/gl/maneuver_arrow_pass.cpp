@@ -1,5 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "maneuver_arrow_pass.h"
+
+#include "gl_state_scope.h"
 #include "vertex_layout.h"
 
 #include <algorithm>
@@ -24,34 +26,6 @@ constexpr float kNoHead = 1e9f;
 // times the roads', map_renderer.cpp).
 constexpr float kArrowOffsetFactor = 2.0f;
 
-struct SavedState {
-    GLint depth_func = GL_LESS;
-    GLboolean depth_mask = GL_TRUE;
-    GLboolean depth_test = GL_TRUE, blend = GL_FALSE, cull = GL_FALSE, stencil = GL_FALSE;
-    SavedState() {
-        glGetIntegerv(GL_DEPTH_FUNC, &depth_func);
-        glGetBooleanv(GL_DEPTH_WRITEMASK, &depth_mask);
-        depth_test = glIsEnabled(GL_DEPTH_TEST);
-        blend = glIsEnabled(GL_BLEND);
-        cull = glIsEnabled(GL_CULL_FACE);
-        stencil = glIsEnabled(GL_STENCIL_TEST);
-    }
-    ~SavedState() {
-        glDepthFunc(static_cast<GLenum>(depth_func));
-        glDepthMask(depth_mask);
-        auto set = [](GLenum cap, GLboolean on) { on ? glEnable(cap) : glDisable(cap); };
-        set(GL_DEPTH_TEST, depth_test);
-        set(GL_BLEND, blend);
-        set(GL_CULL_FACE, cull);
-        set(GL_STENCIL_TEST, stencil);
-        glStencilMask(0xFF);
-        glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
-        glActiveTexture(GL_TEXTURE0);
-        glBindVertexArray(0);
-    }
-    SavedState(const SavedState&) = delete;
-    SavedState& operator=(const SavedState&) = delete;
-};
 
 }  // namespace
 
@@ -150,7 +124,7 @@ void ManeuverArrowPass::draw(const MapFrame& frame, const MapStyle& style, const
     }
     if (m_strokes.empty()) return;
 
-    const SavedState saved;
+    const GlStateScope saved;
     target.bindForDrawing(false);
     glBindVertexArray(m_vao);
     m_quad_indices.bind(m_vertices.size() / 4);

@@ -1,5 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "occlusion_effects.h"
+
+#include "gl_state_scope.h"
 #include "vertex_layout.h"
 
 #include <algorithm>
@@ -100,34 +102,6 @@ void blitDepth(const RenderTarget& target, GLuint fbo) {
                       GL_DEPTH_BUFFER_BIT, GL_NEAREST);
 }
 
-// GL state the effects change and give back (the map passes set the rest per pass).
-struct SavedState {
-    GLint depth_func = GL_LESS;
-    GLboolean depth_mask = GL_TRUE;
-    GLboolean depth_test = GL_TRUE, blend = GL_FALSE, cull = GL_FALSE;
-    SavedState() {
-        glGetIntegerv(GL_DEPTH_FUNC, &depth_func);
-        glGetBooleanv(GL_DEPTH_WRITEMASK, &depth_mask);
-        depth_test = glIsEnabled(GL_DEPTH_TEST);
-        blend = glIsEnabled(GL_BLEND);
-        cull = glIsEnabled(GL_CULL_FACE);
-    }
-    ~SavedState() {
-        glDepthFunc(static_cast<GLenum>(depth_func));
-        glDepthMask(depth_mask);
-        if (depth_test) glEnable(GL_DEPTH_TEST);
-        else glDisable(GL_DEPTH_TEST);
-        if (blend) glEnable(GL_BLEND);
-        else glDisable(GL_BLEND);
-        if (cull) glEnable(GL_CULL_FACE);
-        else glDisable(GL_CULL_FACE);
-        glBlendEquation(GL_FUNC_ADD);
-        glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
-        glActiveTexture(GL_TEXTURE0);
-    }
-    SavedState(const SavedState&) = delete;
-    SavedState& operator=(const SavedState&) = delete;
-};
 
 // One enlarged label OOBB for aura_mask.vert.
 struct MaskInstance {
@@ -293,7 +267,7 @@ void OcclusionEffects::aura(const RenderTarget& target, std::span<const LabelOcc
     if (instances.empty()) return;  // no aura anywhere: the baseline frame
     Buffers& b = buffersFor(target);
     b.makeAura();
-    const SavedState saved;
+    const GlStateScope saved;
 
     // Steps 2 (label depth) and 3 (gradient mask) in one pass: every enlarged label OOBB at the
     // depth of its label, farthest first, so the depth test keeps the nearest label and the
@@ -408,7 +382,7 @@ void OcclusionEffects::glow(const RenderTarget& target, const MapLayers& layers,
     b.makeTerrainDepth();
     const bool direct = !layers.glow_blur;
     if (!direct) b.makeGlowLayers();
-    const SavedState saved;
+    const GlStateScope saved;
 
     // seed 5.5.2 step 1: the road fragments behind what the scene depth holds (buildings, and
     // the terrain, which the shader excludes with the terrain-only depth). Without blur they go
