@@ -256,7 +256,8 @@ void drapingGrowth(benchmark::State& state) {
             source += double(m.source_road_vertices);
             stored += double(m.roads.size());
             for (const BlockRun& run : m.road_runs) {
-                for (int k = 0; k < kRoadLods; ++k) level[static_cast<std::size_t>(k)] += (run.lods >> k & 1u) ? run.count : 0;
+                for (int k = 0; k < kRoadLods; ++k)
+                    level[static_cast<std::size_t>(k)] += (run.lods >> k & 1u) ? run.count : 0;
             }
         }
     }
@@ -267,7 +268,8 @@ void drapingGrowth(benchmark::State& state) {
     state.counters["merged_pieces"] = merged;
     state.counters["growth_draped"] = source > 0 ? draped / source : 0.0;
     state.counters["growth_merged"] = source > 0 ? merged / source : 0.0;
-    for (int k = 1; k < kRoadLods; ++k) state.counters["level" + std::to_string(k) + "_pieces"] = level[static_cast<std::size_t>(k)];
+    for (int k = 1; k < kRoadLods; ++k)
+        state.counters["level" + std::to_string(k) + "_pieces"] = level[static_cast<std::size_t>(k)];
     state.counters["stored_pieces"] = stored;  // every level; GPU memory grows with it
     state.counters["growth_stored"] = merged > 0 ? stored / merged : 0.0;
 }

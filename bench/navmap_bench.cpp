@@ -89,7 +89,8 @@ BENCHMARK(readbackRing)->Apply(profiles);
 }  // namespace
 
 int main(int argc, char** argv) {
-    // JSON by default (docs/architecture.md "Quality bars": benchmarks print JSON); an explicit --benchmark_format wins.
+    // JSON by default (docs/architecture.md "Quality bars": benchmarks print JSON); an explicit --benchmark_format
+    // wins.
     std::vector<char*> args(argv, argv + argc);
     bool has_format = false;
     for (int i = 1; i < argc; ++i) has_format |= std::strncmp(argv[i], "--benchmark_format", 18) == 0;

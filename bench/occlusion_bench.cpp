@@ -133,7 +133,7 @@ void occlusionEffects(benchmark::State& state) {
         state.counters[n + "_ms"] = m;
         state.counters[n + "_fps"] = m > 0 ? 1000.0 / m : 0.0;
         if (v != Baseline && m > 0) {
-            state.counters[n + "_fps_ratio"] = base / m;               // fps(variant) / fps(baseline)
+            state.counters[n + "_fps_ratio"] = base / m;                 // fps(variant) / fps(baseline)
             state.counters[n + "_drop_pct"] = 100.0 * (1.0 - base / m);  // seed Table 5.1 "diff"
         }
     }

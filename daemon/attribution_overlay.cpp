@@ -27,7 +27,9 @@ float sample(const render::text::GlyphAtlas& atlas, float x, float y) {
     const int y1 = std::min(y0 + 1, h - 1);
     const float fx = x - static_cast<float>(x0);
     const float fy = y - static_cast<float>(y0);
-    const auto at = [&](int xx, int yy) { return static_cast<float>(px[static_cast<std::size_t>(yy) * w + xx]) / 255.0f; };
+    const auto at = [&](int xx, int yy) {
+        return static_cast<float>(px[static_cast<std::size_t>(yy) * w + xx]) / 255.0f;
+    };
     return (at(x0, y0) * (1 - fx) + at(x1, y0) * fx) * (1 - fy) + (at(x0, y1) * (1 - fx) + at(x1, y1) * fx) * fy;
 }
 
@@ -52,8 +54,8 @@ AttributionOverlay::AttributionOverlay(render::text::TextEngine& engine, const s
     // 0.5 + d / (2 * spread) at the atlas' base size, d scaled to screen pixels, about one pixel
     // of antialiasing around the edge.
     const auto& atlas = engine.atlas();
-    const float dist_scale = 2.0f * static_cast<float>(atlas.params().spread_px) * size_px /
-                             static_cast<float>(atlas.params().base_em_px);
+    const float dist_scale =
+        2.0f * static_cast<float>(atlas.params().spread_px) * size_px / static_cast<float>(atlas.params().base_em_px);
     const float baseline_x = static_cast<float>(pad);
     const float baseline_y = static_cast<float>(pad) + laid.metrics.ascent;
     for (const auto& q : laid.quads) {
@@ -69,7 +71,8 @@ AttributionOverlay::AttributionOverlay(render::text::TextEngine& engine, const s
                 const float u = (static_cast<float>(x) + 0.5f - baseline_x - q.p0.x) / qw;
                 const float v = (static_cast<float>(y) + 0.5f - baseline_y - q.p0.y) / qh;
                 if (u < 0.0f || u > 1.0f || v < 0.0f || v > 1.0f) continue;
-                const float d = (sample(atlas, q.t0.x + u * (q.t1.x - q.t0.x), q.t0.y + v * (q.t1.y - q.t0.y)) - 0.5f) * dist_scale;
+                const float d =
+                    (sample(atlas, q.t0.x + u * (q.t1.x - q.t0.x), q.t0.y + v * (q.t1.y - q.t0.y)) - 0.5f) * dist_scale;
                 const float a = std::clamp(d + 0.5f, 0.0f, 1.0f);
                 auto& c = m_coverage[static_cast<std::size_t>(y) * m_w + x];
                 c = std::max(c, static_cast<std::uint8_t>(std::lround(a * 255.0f)));

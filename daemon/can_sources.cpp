@@ -49,8 +49,7 @@ OpenedCanSource openCanSource(const DaemonConfig& config, const CanSourceSite& s
         case InputSource::Replay:
             opened.source = std::make_unique<ReplayInput>(config.replay_log, config.replay_speed, config.replay_loop);
             break;
-        case InputSource::Sim:
-            return openSimulator(config, site, control);
+        case InputSource::Sim: return openSimulator(config, site, control);
         case InputSource::SocketCan:
             opened.source = std::make_unique<SocketCanInput>(config.can_interface, site.frame_keys);
             break;

@@ -16,10 +16,10 @@ namespace navmap::daemon {
 
 /// What the sources need besides the configuration.
 struct CanSourceSite {
-    std::filesystem::path store_path;           ///< the compiled store (the simulator plans on its graph)
-    std::filesystem::path data_dir;             ///< navmap.dbc for the simulator's frames
-    std::string graph_problem;                  ///< why the road graph is unusable; empty: it is fine
-    std::vector<std::uint32_t> frame_keys;      ///< the decoder's frames (SocketCAN filters)
+    std::filesystem::path store_path;       ///< the compiled store (the simulator plans on its graph)
+    std::filesystem::path data_dir;         ///< navmap.dbc for the simulator's frames
+    std::string graph_problem;              ///< why the road graph is unusable; empty: it is fine
+    std::vector<std::uint32_t> frame_keys;  ///< the decoder's frames (SocketCAN filters)
 };
 
 struct OpenedCanSource {

@@ -102,7 +102,8 @@ std::optional<DaemonConfig> parseConfig(const std::string& text, const std::stri
         return std::nullopt;
     }
     DaemonConfig c;
-    const std::set<std::string> sections{"store", "input", "sim", "render", "profile", "control", "stream", "log", "can", "guidance"};
+    const std::set<std::string> sections{"store",   "input",  "sim", "render", "profile",
+                                         "control", "stream", "log", "can",    "guidance"};
     for (const auto& [k, v] : root) {
         if (!sections.count(std::string(k.str()))) {
             err->message = where(source_name, v.source()) + ": unknown section or key '" + std::string(k.str()) + "'";
@@ -114,13 +115,16 @@ std::optional<DaemonConfig> parseConfig(const std::string& text, const std::stri
         return n ? n->as_table() : nullptr;
     };
     static const toml::table kEmpty;
-    auto section = [&](const char* name) { const auto* t = table(name); return TableReader(t ? *t : kEmpty, source_name, std::string(name) + ".", err); };
+    auto section = [&](const char* name) {
+        const auto* t = table(name);
+        return TableReader(t ? *t : kEmpty, source_name, std::string(name) + ".", err);
+    };
 
     {
         auto r = section("store");
         std::int64_t cache_mb = static_cast<std::int64_t>(c.cache_mb);
-        if (!r.get("path", c.store_path) || !r.get("cache_mb", cache_mb) || !r.range("cache_mb", double(cache_mb), 8, 65536) ||
-            !r.noUnknownKeys())
+        if (!r.get("path", c.store_path) || !r.get("cache_mb", cache_mb) ||
+            !r.range("cache_mb", double(cache_mb), 8, 65536) || !r.noUnknownKeys())
             return std::nullopt;
         c.cache_mb = static_cast<std::size_t>(cache_mb);
     }
@@ -135,16 +139,20 @@ std::optional<DaemonConfig> parseConfig(const std::string& text, const std::stri
             !r.get("can_interface", c.can_interface) || !r.get("stale_after_s", c.stale_after_s) ||
             !r.range("stale_after_s", c.stale_after_s, 0.05, 600.0) || !r.noUnknownKeys())
             return std::nullopt;
-        if (source == "sim") c.input = InputSource::Sim;
-        else if (source == "replay") c.input = InputSource::Replay;
-        else if (source == "socketcan") c.input = InputSource::SocketCan;
+        if (source == "sim")
+            c.input = InputSource::Sim;
+        else if (source == "replay")
+            c.input = InputSource::Replay;
+        else if (source == "socketcan")
+            c.input = InputSource::SocketCan;
         else {
             err->message = source_name + ": input.source = \"" + source + "\": expected sim, replay or socketcan";
             return std::nullopt;
         }
         if (dbc) {
             for (const auto& e : *dbc) {
-                if (auto s = e.value<std::string>()) c.dbc_files.emplace_back(*s);
+                if (auto s = e.value<std::string>())
+                    c.dbc_files.emplace_back(*s);
                 else {
                     err->message = where(source_name, e.source()) + ": input.dbc entries must be file names";
                     return std::nullopt;
@@ -171,10 +179,12 @@ std::optional<DaemonConfig> parseConfig(const std::string& text, const std::stri
         GuidanceConfig& g = c.guidance;
         if (!r.get("off_route_distance_m", g.off_route_distance_m) ||
             !r.range("off_route_distance_m", g.off_route_distance_m, 5.0, 1000.0) ||
-            !r.get("off_route_time_s", g.off_route_time_s) || !r.range("off_route_time_s", g.off_route_time_s, 0.0, 600.0) ||
+            !r.get("off_route_time_s", g.off_route_time_s) ||
+            !r.range("off_route_time_s", g.off_route_time_s, 0.0, 600.0) ||
             !r.get("on_route_distance_m", g.on_route_distance_m) ||
             !r.range("on_route_distance_m", g.on_route_distance_m, 1.0, g.off_route_distance_m - 1.0) ||
-            !r.get("on_route_time_s", g.on_route_time_s) || !r.range("on_route_time_s", g.on_route_time_s, 0.0, 600.0) ||
+            !r.get("on_route_time_s", g.on_route_time_s) ||
+            !r.range("on_route_time_s", g.on_route_time_s, 0.0, 600.0) ||
             !r.get("second_arrow_within_m", g.second_arrow_within_m) ||
             !r.range("second_arrow_within_m", g.second_arrow_within_m, 0.0, 5000.0) || !r.noUnknownKeys())
             return std::nullopt;
@@ -187,7 +197,8 @@ std::optional<DaemonConfig> parseConfig(const std::string& text, const std::stri
             !r.range("gpu_tile_cache", c.gpu_tile_cache, 0, 100000) || !r.noUnknownKeys())
             return std::nullopt;
         if (c.egl_platform != "auto" && c.egl_platform != "surfaceless" && c.egl_platform != "device") {
-            err->message = source_name + ": render.egl_platform = \"" + c.egl_platform + "\": expected auto, surfaceless or device";
+            err->message = source_name + ": render.egl_platform = \"" + c.egl_platform +
+                           "\": expected auto, surfaceless or device";
             return std::nullopt;
         }
         if (style != "day" && style != "night") {
@@ -211,9 +222,11 @@ std::optional<DaemonConfig> parseConfig(const std::string& text, const std::stri
                 !r.get("height", p.height) || !r.range("height", p.height, 16, 8192) || !r.get("fps", p.fps) ||
                 !r.range("fps", p.fps, 0.1, 240.0) || !r.get("view", view) || !r.get("orientation", orientation) ||
                 !r.get("roads", roads) || !r.get("glow_roads", p.glow_roads) || !r.get("label_aura", p.label_aura) ||
-                !r.get("road_selection", p.road_selection) || !r.get("attribution", p.attribution) || !r.get("zoom", zoom) ||
-                !r.range("zoom", zoom, render::kMapLibreMinZoom, render::kMapLibreMaxZoom) || !r.get("pitch", pitch) ||
-                !r.range("pitch", pitch, render::kMapLibreMinPitchDeg, render::kMapLibreMaxPitchDeg) || !r.noUnknownKeys())
+                !r.get("road_selection", p.road_selection) || !r.get("attribution", p.attribution) ||
+                !r.get("zoom", zoom) || !r.range("zoom", zoom, render::kMapLibreMinZoom, render::kMapLibreMaxZoom) ||
+                !r.get("pitch", pitch) ||
+                !r.range("pitch", pitch, render::kMapLibreMinPitchDeg, render::kMapLibreMaxPitchDeg) ||
+                !r.noUnknownKeys())
                 return std::nullopt;
             // A MapLibre GL JS camera needs both; either alone is a mistake, not a default.
             const bool has_zoom = e.as_table()->contains("zoom"), has_pitch = e.as_table()->contains("pitch");
@@ -224,8 +237,10 @@ std::optional<DaemonConfig> parseConfig(const std::string& text, const std::stri
                 return std::nullopt;
             }
             if (has_zoom) p.camera = render::MapLibreFollow{zoom, pitch, std::nullopt};
-            if (roads == "geometric") p.roads = render::RoadTechnique::Geometric;
-            else if (roads == "shadow-volume") p.roads = render::RoadTechnique::ShadowVolume;
+            if (roads == "geometric")
+                p.roads = render::RoadTechnique::Geometric;
+            else if (roads == "shadow-volume")
+                p.roads = render::RoadTechnique::ShadowVolume;
             else if (roads != "auto") {
                 err->message = where(source_name, e.source()) + ": profile.roads = \"" + roads +
                                "\": expected geometric, shadow-volume or auto";
@@ -239,14 +254,19 @@ std::optional<DaemonConfig> parseConfig(const std::string& text, const std::stri
             if (!e.as_table()->contains("label_aura")) p.label_aura = view != "bird";
             // Without attribution it follows the view too: on in bird's-eye (the map display).
             if (!e.as_table()->contains("attribution")) p.attribution = view == "bird";
-            if (view == "bird") p.view = render::ViewMode::Bird;
-            else if (view == "snail") p.view = render::ViewMode::Snail;
-            else if (view == "hud") p.view = render::ViewMode::Snail;  // route-and-manoeuvre style, from behind
+            if (view == "bird")
+                p.view = render::ViewMode::Bird;
+            else if (view == "snail")
+                p.view = render::ViewMode::Snail;
+            else if (view == "hud")
+                p.view = render::ViewMode::Snail;  // route-and-manoeuvre style, from behind
             else {
-                err->message = where(source_name, e.source()) + ": profile.view = \"" + view + "\": expected bird, snail or hud";
+                err->message =
+                    where(source_name, e.source()) + ": profile.view = \"" + view + "\": expected bird, snail or hud";
                 return std::nullopt;
             }
-            if (orientation == "north-up") p.orientation = render::Orientation::NorthUp;
+            if (orientation == "north-up")
+                p.orientation = render::Orientation::NorthUp;
             else if (orientation != "heading-up") {
                 err->message = where(source_name, e.source()) + ": profile.orientation = \"" + orientation +
                                "\": expected heading-up or north-up";
@@ -259,14 +279,16 @@ std::optional<DaemonConfig> parseConfig(const std::string& text, const std::stri
         c.profiles = defaultProfiles();
     }
     // allowed_uids / allowed_gids: arrays of non-negative integers.
-    const auto readIds = [&](const char* section_name, TableReader& r, const char* key, std::vector<std::uint32_t>& out) {
+    const auto readIds = [&](const char* section_name, TableReader& r, const char* key,
+                             std::vector<std::uint32_t>& out) {
         r.known(key);
         const auto* t = table(section_name);
         const toml::node* n = t ? t->get(key) : nullptr;
         if (!n) return true;
         const toml::array* arr = n->as_array();
         if (!arr) {
-            err->message = where(source_name, n->source()) + ": " + section_name + "." + key + " must be an array of ids";
+            err->message =
+                where(source_name, n->source()) + ": " + section_name + "." + key + " must be an array of ids";
             return false;
         }
         for (const auto& e : *arr) {
@@ -286,27 +308,29 @@ std::optional<DaemonConfig> parseConfig(const std::string& text, const std::stri
         if (!r.get("idle_timeout_s", c.control_idle_timeout_s) ||
             !r.range("idle_timeout_s", c.control_idle_timeout_s, 0.0, 86400.0))
             return std::nullopt;
-        if (!readIds("control", r, "allowed_uids", c.control_uids) || !readIds("control", r, "allowed_gids", c.control_gids) ||
-            !r.get("socket", c.control_socket) || !r.get("mode", mode) || !r.range("mode", double(mode), 0, 0777) ||
-            !r.get("group", c.control_group) || !r.noUnknownKeys())
+        if (!readIds("control", r, "allowed_uids", c.control_uids) ||
+            !readIds("control", r, "allowed_gids", c.control_gids) || !r.get("socket", c.control_socket) ||
+            !r.get("mode", mode) || !r.range("mode", double(mode), 0, 0777) || !r.get("group", c.control_group) ||
+            !r.noUnknownKeys())
             return std::nullopt;
         c.control_mode = static_cast<std::uint32_t>(mode);
     }
     {
         auto r = section("stream");
         std::int64_t ring_mb = static_cast<std::int64_t>(c.ring_memory_mb);
-        if (!readIds("stream", r, "allowed_uids", c.stream_uids) || !readIds("stream", r, "allowed_gids", c.stream_gids) ||
-            !r.get("socket", c.frame_socket) || !r.get("group", c.stream_group) ||
-            !r.get("max_clients_per_transport", c.max_clients_per_transport) ||
+        if (!readIds("stream", r, "allowed_uids", c.stream_uids) ||
+            !readIds("stream", r, "allowed_gids", c.stream_gids) || !r.get("socket", c.frame_socket) ||
+            !r.get("group", c.stream_group) || !r.get("max_clients_per_transport", c.max_clients_per_transport) ||
             !r.range("max_clients_per_transport", c.max_clients_per_transport, 1, 1024) ||
-            !r.get("max_clients_per_uid", c.max_clients_per_uid) || !r.range("max_clients_per_uid", c.max_clients_per_uid, 1, 1024) ||
-            !r.get("ring_memory_mb", ring_mb) || !r.range("ring_memory_mb", double(ring_mb), 1, 65536) ||
-            !r.get("handshake_timeout_s", c.handshake_timeout_s) || !r.range("handshake_timeout_s", c.handshake_timeout_s, 0.1, 600.0) ||
-            !r.get("tcp_port", c.tcp_port) || !r.range("tcp_port", c.tcp_port, 0, 65535) ||
-            !r.get("http_port", c.http_port) || !r.range("http_port", c.http_port, 0, 65535) ||
-            !r.get("http_address", c.http_address) || !r.get("http_token", c.http_token) ||
-            !r.get("client_timeout_s", c.client_timeout_s) || !r.range("client_timeout_s", c.client_timeout_s, 0.1, 3600.0) ||
-            !r.noUnknownKeys())
+            !r.get("max_clients_per_uid", c.max_clients_per_uid) ||
+            !r.range("max_clients_per_uid", c.max_clients_per_uid, 1, 1024) || !r.get("ring_memory_mb", ring_mb) ||
+            !r.range("ring_memory_mb", double(ring_mb), 1, 65536) ||
+            !r.get("handshake_timeout_s", c.handshake_timeout_s) ||
+            !r.range("handshake_timeout_s", c.handshake_timeout_s, 0.1, 600.0) || !r.get("tcp_port", c.tcp_port) ||
+            !r.range("tcp_port", c.tcp_port, 0, 65535) || !r.get("http_port", c.http_port) ||
+            !r.range("http_port", c.http_port, 0, 65535) || !r.get("http_address", c.http_address) ||
+            !r.get("http_token", c.http_token) || !r.get("client_timeout_s", c.client_timeout_s) ||
+            !r.range("client_timeout_s", c.client_timeout_s, 0.1, 3600.0) || !r.noUnknownKeys())
             return std::nullopt;
         c.ring_memory_mb = static_cast<std::size_t>(ring_mb);
         // The token travels in URLs (?token=): URL-safe characters only, long enough not to guess.
@@ -325,7 +349,8 @@ std::optional<DaemonConfig> parseConfig(const std::string& text, const std::stri
         if (!r.get("level", level) || !r.get("watchdog_max_frame_s", c.watchdog_max_frame_s) ||
             !r.range("watchdog_max_frame_s", c.watchdog_max_frame_s, 0.1, 600.0) || !r.noUnknownKeys())
             return std::nullopt;
-        static const std::pair<const char*, int> kLevels[] = {{"error", 3}, {"warning", 4}, {"notice", 5}, {"info", 6}, {"debug", 7}};
+        static const std::pair<const char*, int> kLevels[] = {
+            {"error", 3}, {"warning", 4}, {"notice", 5}, {"info", 6}, {"debug", 7}};
         bool ok = false;
         for (const auto& [name, prio] : kLevels) {
             if (level == name) {
@@ -334,7 +359,8 @@ std::optional<DaemonConfig> parseConfig(const std::string& text, const std::stri
             }
         }
         if (!ok) {
-            err->message = source_name + ": log.level = \"" + level + "\": expected error, warning, notice, info or debug";
+            err->message =
+                source_name + ": log.level = \"" + level + "\": expected error, warning, notice, info or debug";
             return std::nullopt;
         }
     }
@@ -362,8 +388,10 @@ bool validateConfig(const DaemonConfig& c, ConfigError* error) {
     for (const auto& p : c.profiles) {
         if (!names.insert(p.name).second) return fail("profile '" + p.name + "' defined twice");
     }
-    if (c.input == InputSource::Replay && c.replay_log.empty()) return fail("input.source = \"replay\" needs input.replay_log");
-    if (c.input == InputSource::SocketCan && c.can_interface.empty()) return fail("input.source = \"socketcan\" needs input.can_interface");
+    if (c.input == InputSource::Replay && c.replay_log.empty())
+        return fail("input.source = \"replay\" needs input.replay_log");
+    if (c.input == InputSource::SocketCan && c.can_interface.empty())
+        return fail("input.source = \"socketcan\" needs input.can_interface");
     if (c.store_path.empty()) return fail("store.path is empty");
     return true;
 }
@@ -371,9 +399,10 @@ bool validateConfig(const DaemonConfig& c, ConfigError* error) {
 std::string describeConfig(const DaemonConfig& c) {
     std::ostringstream s;
     s << "store: " << c.store_path.string() << " (cache " << c.cache_mb << " MiB)\n";
-    s << "input: " << (c.input == InputSource::Sim ? "sim " + c.sim_from + " -> " + c.sim_to
-                       : c.input == InputSource::Replay ? "replay " + c.replay_log.string()
-                                                        : "socketcan " + c.can_interface)
+    s << "input: "
+      << (c.input == InputSource::Sim      ? "sim " + c.sim_from + " -> " + c.sim_to
+          : c.input == InputSource::Replay ? "replay " + c.replay_log.string()
+                                           : "socketcan " + c.can_interface)
       << ", position stale after " << c.stale_after_s << " s\n";
     s << "render: egl " << c.egl_platform << ", msaa " << c.msaa << ", style " << (c.night ? "night" : "day")
       << ", labels " << (c.labels ? "on" : "off") << ", gpu tile cache "
@@ -386,8 +415,7 @@ std::string describeConfig(const DaemonConfig& c) {
               : p.roads == render::RoadTechnique::ShadowVolume ? "shadow-volume"
                                                                : "auto")
           << (p.glow_roads ? ", glowing roads" : "") << (p.label_aura ? ", label aura" : "")
-          << (p.road_selection ? "" : ", every road class at every distance")
-          << (p.attribution ? ", attribution" : "");
+          << (p.road_selection ? "" : ", every road class at every distance") << (p.attribution ? ", attribution" : "");
         if (p.camera) s << ", MapLibre camera zoom " << p.camera->zoom << " pitch " << p.camera->pitch_deg;
         s << "\n";
     }
@@ -398,17 +426,19 @@ std::string describeConfig(const DaemonConfig& c) {
     };
     s << "control: " << c.control_socket.string() << " (mode " << std::oct << c.control_mode << std::dec
       << (c.control_group.empty() ? "" : ", group " + c.control_group) << ", uids "
-      << (c.control_uids.empty() ? "own" : ids(c.control_uids)) << (c.control_gids.empty() ? "" : ", gids " + ids(c.control_gids))
-      << ")\n";
-    s << "stream: " << c.frame_socket.string() << " (mode 660" << (c.stream_group.empty() ? "" : ", group " + c.stream_group)
-      << ", uids " << (c.stream_uids.empty() ? "own" : ids(c.stream_uids))
+      << (c.control_uids.empty() ? "own" : ids(c.control_uids))
+      << (c.control_gids.empty() ? "" : ", gids " + ids(c.control_gids)) << ")\n";
+    s << "stream: " << c.frame_socket.string() << " (mode 660"
+      << (c.stream_group.empty() ? "" : ", group " + c.stream_group) << ", uids "
+      << (c.stream_uids.empty() ? "own" : ids(c.stream_uids))
       << (c.stream_gids.empty() ? "" : ", gids " + ids(c.stream_gids)) << "), tcp " << c.tcp_port << ", http "
-      << (c.http_port > 0 ? c.http_address + ":" + std::to_string(c.http_port) + (c.http_token.empty() ? "" : " (token)")
-                          : std::string("off"))
+      << (c.http_port > 0
+              ? c.http_address + ":" + std::to_string(c.http_port) + (c.http_token.empty() ? "" : " (token)")
+              : std::string("off"))
       << "\n";
     s << "stream limits: " << c.max_clients_per_transport << " clients per transport, " << c.max_clients_per_uid
-      << " per uid, ring memory " << c.ring_memory_mb << " MiB, handshake and first frame within " << c.handshake_timeout_s
-      << " s\n";
+      << " per uid, ring memory " << c.ring_memory_mb << " MiB, handshake and first frame within "
+      << c.handshake_timeout_s << " s\n";
     return s.str();
 }
 

@@ -27,17 +27,17 @@ struct GuidanceConfig {
 
 struct DaemonConfig {
     // [store]
-    std::filesystem::path store_path;          ///< compiled tile store
-    std::size_t cache_mb = 128;                ///< tile cache budget
+    std::filesystem::path store_path;  ///< compiled tile store
+    std::size_t cache_mb = 128;        ///< tile cache budget
     // [input]
     InputSource input = InputSource::Sim;
-    std::filesystem::path replay_log;          ///< candump log (input = "replay")
+    std::filesystem::path replay_log;  ///< candump log (input = "replay")
     double replay_speed = 1.0;
     bool replay_loop = true;
-    std::string can_interface = "can0";        ///< input = "socketcan"
+    std::string can_interface = "can0";            ///< input = "socketcan"
     std::vector<std::filesystem::path> dbc_files;  ///< empty: the shipped navmap.dbc
-    double stale_after_s = 2.0;                ///< position shown as lost after this
-    std::string signal_map_toml;               ///< [[can.signal]] tables (raw TOML), empty: navmap.dbc defaults
+    double stale_after_s = 2.0;                    ///< position shown as lost after this
+    std::string signal_map_toml;                   ///< [[can.signal]] tables (raw TOML), empty: navmap.dbc defaults
     // [sim]
     std::string sim_from = "andorra-la-vella";
     std::string sim_to = "encamp";
@@ -47,35 +47,35 @@ struct DaemonConfig {
     std::string egl_platform = "auto";
     int msaa = -1;
     bool night = false;
-    bool labels = true;                        ///< place, POI, road and area names
+    bool labels = true;  ///< place, POI, road and area names
     /// GPU tiles kept (one renderer serves all profiles; a tile any profile drew in its latest
     /// frame is always kept, the cap bounds the others); 0 = automatic (16 + 8 per profile, at least 32).
     int gpu_tile_cache = 0;
-    std::vector<DisplayProfile> profiles;      ///< [[profile]]; defaults: cluster, hud, center
+    std::vector<DisplayProfile> profiles;  ///< [[profile]]; defaults: cluster, hud, center
     // [control]
     std::filesystem::path control_socket = "/run/navmap/control.sock";
     std::uint32_t control_mode = 0660;
-    std::vector<std::uint32_t> control_uids;   ///< empty: same uid as the daemon, and root
-    std::vector<std::uint32_t> control_gids;   ///< allowed_gids: members (primary or supplementary) may connect
-    std::string control_group;                 ///< socket file group (name or gid), its members allowed; empty: none
-    double control_idle_timeout_s = 30.0;      ///< connections without traffic are closed after this; 0: never
+    std::vector<std::uint32_t> control_uids;  ///< empty: same uid as the daemon, and root
+    std::vector<std::uint32_t> control_gids;  ///< allowed_gids: members (primary or supplementary) may connect
+    std::string control_group;                ///< socket file group (name or gid), its members allowed; empty: none
+    double control_idle_timeout_s = 30.0;     ///< connections without traffic are closed after this; 0: never
     // [stream]
     std::filesystem::path frame_socket = "/run/navmap/frames.sock";
-    std::string stream_group;                  ///< socket file group (name or gid), its members allowed; empty: none
-    std::vector<std::uint32_t> stream_uids;    ///< allowed_uids; empty: same uid as the daemon, and root
-    std::vector<std::uint32_t> stream_gids;    ///< allowed_gids
-    int max_clients_per_transport = 32;        ///< Unix, TCP and HTTP connections, each
-    int max_clients_per_uid = 8;               ///< Unix connections per peer uid
-    std::size_t ring_memory_mb = 64;           ///< all shared-memory rings together
-    double handshake_timeout_s = 5.0;          ///< handshake, then first frame, each within this
-    int tcp_port = 0;                          ///< 0: no TCP frame server
-    int http_port = 0;                         ///< MJPEG, status page, /metrics; 0: off
+    std::string stream_group;                ///< socket file group (name or gid), its members allowed; empty: none
+    std::vector<std::uint32_t> stream_uids;  ///< allowed_uids; empty: same uid as the daemon, and root
+    std::vector<std::uint32_t> stream_gids;  ///< allowed_gids
+    int max_clients_per_transport = 32;      ///< Unix, TCP and HTTP connections, each
+    int max_clients_per_uid = 8;             ///< Unix connections per peer uid
+    std::size_t ring_memory_mb = 64;         ///< all shared-memory rings together
+    double handshake_timeout_s = 5.0;        ///< handshake, then first frame, each within this
+    int tcp_port = 0;                        ///< 0: no TCP frame server
+    int http_port = 0;                       ///< MJPEG, status page, /metrics; 0: off
     std::string http_address = "127.0.0.1";
-    std::string http_token;                    ///< empty: no token; else Bearer token or ?token=
-    double client_timeout_s = 5.0;             ///< stalled clients are disconnected after this
+    std::string http_token;         ///< empty: no token; else Bearer token or ?token=
+    double client_timeout_s = 5.0;  ///< stalled clients are disconnected after this
     // [log]
-    int log_level = 6;                         ///< syslog priority: 3 err .. 7 debug
-    double watchdog_max_frame_s = 2.0;         ///< WATCHDOG=1 only while a frame finished this recently
+    int log_level = 6;                  ///< syslog priority: 3 err .. 7 debug
+    double watchdog_max_frame_s = 2.0;  ///< WATCHDOG=1 only while a frame finished this recently
 };
 
 /// What went wrong in a config file: "<file>:<line>:<column>: <problem>".

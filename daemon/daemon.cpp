@@ -31,7 +31,8 @@ using Clock = std::chrono::steady_clock;
 
 map::MapScene openScene(const DaemonConfig& config, const Log& log) {
     map::MapScene scene = map::MapScene::open(config.store_path, config.cache_mb << 20);
-    log(Log::kInfo, "store %s: %u tiles, cache %zu MiB", config.store_path.c_str(), scene.store->info().tile_count, config.cache_mb);
+    log(Log::kInfo, "store %s: %u tiles, cache %zu MiB", config.store_path.c_str(), scene.store->info().tile_count,
+        config.cache_mb);
     // A damaged road graph degrades like a damaged tile: the map renders, what needs the graph
     // says it is missing (docs/tile-store.md "Damage").
     if (!scene.graph_problem.empty()) {
@@ -73,7 +74,8 @@ std::unique_ptr<ipc::FrameServer> startFrameServer(const DaemonConfig& config, c
 void announceReady(const Log& log, SystemdNotifier& systemd, const DaemonConfig& config, const ipc::FrameServer& frames,
                    const VehicleInput& input, std::size_t displays, Clock::time_point started) {
     std::string endpoints = "control " + config.control_socket.string() + ", frames " + config.frame_socket.string();
-    if (frames.httpPort() > 0) endpoints += ", http://" + config.http_address + ":" + std::to_string(frames.httpPort()) + "/";
+    if (frames.httpPort() > 0)
+        endpoints += ", http://" + config.http_address + ":" + std::to_string(frames.httpPort()) + "/";
     if (frames.tcpPort() > 0) endpoints += ", tcp " + std::to_string(frames.tcpPort());
     log(Log::kNotice, "ready in %.0f ms: %s; input %s; navmap %s",
         std::chrono::duration<double, std::milli>(Clock::now() - started).count(), endpoints.c_str(),
@@ -89,9 +91,11 @@ void followRoute(RouteState& route, RouteGuidance& guidance, const ipc::ControlS
     if (!route.update(snapshot)) return;
     input.setRoute(route.line());
     guidance.setRoute(snapshot);
-    if (route.id().empty()) log(Log::kInfo, "route cleared");
-    else log(Log::kInfo, "route %s: %zu points, %.1f km, %zu maneuvers", route.id().c_str(), route.controlPoints(),
-             route.lengthM() / 1000.0, guidance.route() ? guidance.route()->maneuvers().size() : std::size_t{0});
+    if (route.id().empty())
+        log(Log::kInfo, "route cleared");
+    else
+        log(Log::kInfo, "route %s: %zu points, %.1f km, %zu maneuvers", route.id().c_str(), route.controlPoints(),
+            route.lengthM() / 1000.0, guidance.route() ? guidance.route()->maneuvers().size() : std::size_t{0});
 }
 
 FrameContext frameContext(const ipc::ViewState* view, const RouteState& route, const RouteGuidance& guidance,
@@ -123,11 +127,12 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
         control_state->setStatusProvider([&status] { return status.json(); });
         // The map matcher is the road graph's only user here: it takes the scene's copy (1.6 MB).
         VehicleInput input(config, scene.projection(), scene.store->path(), scene.graph_problem,
-                           std::make_shared<const map::RoadGraph>(std::move(scene.graph)), control_state, options.data_dir);
+                           std::make_shared<const map::RoadGraph>(std::move(scene.graph)), control_state,
+                           options.data_dir);
         const auto control_server = createControlServer(config, *control_state);
         const auto frames = startFrameServer(config, metrics, status);
-        DisplayScheduler displays(config, {options.noop_renderer, options.render_all_profiles}, scene.cache, scene.projection(),
-                                  *frames, t_start, log);
+        DisplayScheduler displays(config, {options.noop_renderer, options.render_all_profiles}, scene.cache,
+                                  scene.projection(), *frames, t_start, log);
         input.start();
         if (auto st = control_server->start(); !st) throw std::runtime_error(st.message());
         announceReady(log, systemd, config, *frames, input, displays.displays().size(), t_start);
@@ -137,11 +142,13 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
                                scene.toPlanar((info.south + info.north) / 2, (info.west + info.east) / 2));
         RouteState route(scene.projection());
         PoseEvents events(*control_server, log);
-        RouteGuidance guidance(scene.projection(), config.guidance,
-                               [&server = *control_server](const ipc::ControlEvent& e) { server.publish(e); }, log);
+        RouteGuidance guidance(
+            scene.projection(), config.guidance,
+            [&server = *control_server](const ipc::ControlEvent& e) { server.publish(e); }, log);
         ConfigReloader reloader(config, options.config_path, log);
-        StatusReporter reporter({config, reloader, input, road_graph, route, displays, *frames, *control_server, *scene.cache},
-                                status, metrics, systemd, t_start);
+        StatusReporter reporter(
+            {config, reloader, input, road_graph, route, displays, *frames, *control_server, *scene.cache}, status,
+            metrics, systemd, t_start);
         for (bool stop = false; !stop;) {
             const auto now = Clock::now();
             if (options.run_for_s && std::chrono::duration<double>(now - t_start).count() >= *options.run_for_s) break;
@@ -151,7 +158,8 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
             route.track(pose);
             guidance.update(pose, std::chrono::duration<double>(now - t_start).count());
             events.update(pose, route, now);
-            const auto next_wake = displays.tick(now, poses, frameContext(view_state.get(), route, guidance, config.labels));
+            const auto next_wake =
+                displays.tick(now, poses, frameContext(view_state.get(), route, guidance, config.labels));
             // Health: WATCHDOG=1 only while frames keep completing (or nobody needs any).
             if (displays.framesFlowing(config.watchdog_max_frame_s)) systemd.watchdog();
             reporter.update(now, pose);

@@ -16,11 +16,11 @@
 namespace navmap::daemon {
 
 struct RunOptions {
-    std::optional<double> run_for_s;           ///< stop after this long (tests, demo); else until SIGTERM
+    std::optional<double> run_for_s;                   ///< stop after this long (tests, demo); else until SIGTERM
     std::optional<std::filesystem::path> config_path;  ///< re-read on SIGHUP
-    std::filesystem::path data_dir;            ///< navmap.dbc and the shipped data
-    bool noop_renderer = false;                ///< no GL (tests of the loop itself)
-    bool render_all_profiles = false;          ///< render profiles without clients too
+    std::filesystem::path data_dir;                    ///< navmap.dbc and the shipped data
+    bool noop_renderer = false;                        ///< no GL (tests of the loop itself)
+    bool render_all_profiles = false;                  ///< render profiles without clients too
 };
 
 /// Runs the daemon until SIGTERM/SIGINT (or run_for_s). Returns the process exit status.

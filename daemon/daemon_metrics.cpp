@@ -11,11 +11,14 @@ namespace navmap::daemon {
 void DaemonMetrics::update(const StatusSample& m) {
     auto reg = std::make_shared<ipc::MetricsRegistry>();
     auto d = [](auto v) { return static_cast<double>(v); };
-    reg->gauge("navmap_build_info", "The navmap version this daemon was built from.").sample({{"version", NAVMAP_VERSION}}, 1);
-    auto& frame = reg->summary("navmap_frame_seconds",
-                               "Frame time per profile (tiles, render, readback submit); quantiles over the last 600 frames.");
-    auto& latency = reg->summary("navmap_latency_seconds",
-                                 "CAN receive time of the pose to frame published, per profile; quantiles over the last 600 frames.");
+    reg->gauge("navmap_build_info", "The navmap version this daemon was built from.")
+        .sample({{"version", NAVMAP_VERSION}}, 1);
+    auto& frame =
+        reg->summary("navmap_frame_seconds",
+                     "Frame time per profile (tiles, render, readback submit); quantiles over the last 600 frames.");
+    auto& latency = reg->summary(
+        "navmap_latency_seconds",
+        "CAN receive time of the pose to frame published, per profile; quantiles over the last 600 frames.");
     auto& rendered = reg->counter("navmap_frames_rendered_total", "Frames rendered, per profile.");
     auto& published = reg->counter("navmap_frames_published_total", "Frames handed to the frame server, per profile.");
     auto& uploads = reg->counter("navmap_gpu_tile_uploads_total", "Tiles uploaded to the GPU for a profile's frames.");
@@ -28,7 +31,8 @@ void DaemonMetrics::update(const StatusSample& m) {
             latency.sample({{"profile", n}, {"quantile", qs}}, v.latency_ms.quantile(q) / 1000.0);
         }
         frame.sample({{"profile", n}}, v.frame_s_sum, "_sum").sample({{"profile", n}}, d(v.rendered), "_count");
-        latency.sample({{"profile", n}}, v.latency_s_sum, "_sum").sample({{"profile", n}}, d(v.latency_count), "_count");
+        latency.sample({{"profile", n}}, v.latency_s_sum, "_sum")
+            .sample({{"profile", n}}, d(v.latency_count), "_count");
         rendered.sample({{"profile", n}}, d(v.rendered));
         published.sample({{"profile", n}}, d(v.published));
         uploads.sample({{"profile", n}}, d(v.tiles_uploaded));
@@ -41,14 +45,16 @@ void DaemonMetrics::update(const StatusSample& m) {
         .sample(d(m.input.can_kernel_drops));
     reg->gauge("navmap_position_stale", "1 while the position is lost (no fix within input.stale_after_s).")
         .sample(m.pose.stale ? 1 : 0);
-    reg->gauge("navmap_tile_cache_bytes", "Decoded tiles resident in the tile cache.").sample(d(m.cache.resident_bytes));
+    reg->gauge("navmap_tile_cache_bytes", "Decoded tiles resident in the tile cache.")
+        .sample(d(m.cache.resident_bytes));
     reg->counter("navmap_tile_cache_hits_total", "Tile requests served from the cache.").sample(d(m.cache.hits));
     reg->counter("navmap_tile_cache_misses_total", "Tile requests queued for loading.").sample(d(m.cache.misses));
     reg->summary("navmap_tile_load_seconds", "Tile load time (read and decode); quantiles over the last 4096 loads.")
         .sample({{"quantile", "0.5"}}, m.cache.load_p50_ms / 1000.0)
         .sample({{"quantile", "0.99"}}, m.cache.load_p99_ms / 1000.0)
         .sample(std::vector<ipc::MetricsRegistry::Label>{}, d(m.cache.loads), "_count");
-    reg->counter("navmap_control_errors_total", "Control-socket requests answered with an error.").sample(d(m.control.errors));
+    reg->counter("navmap_control_errors_total", "Control-socket requests answered with an error.")
+        .sample(d(m.control.errors));
     reg->gauge("navmap_process_resident_bytes", "Resident set size (VmRSS).").sample(d(m.memory.rss));
     reg->gauge("navmap_process_peak_resident_bytes", "Peak resident set size (VmHWM).").sample(d(m.memory.peak));
     reg->counter("navmap_config_reloads_total", "Configuration reloads applied (SIGHUP).").sample(d(m.reloads));

@@ -10,9 +10,11 @@
 namespace navmap::daemon {
 
 // The HUD symbol is the manoeuvre's type: both enums list the control protocol's types in order.
-static_assert(static_cast<int>(render::ManeuverSymbol::Depart) == static_cast<int>(map::guidance::ManeuverType::Depart) &&
+static_assert(static_cast<int>(render::ManeuverSymbol::Depart) ==
+                  static_cast<int>(map::guidance::ManeuverType::Depart) &&
               static_cast<int>(render::ManeuverSymbol::UTurn) == static_cast<int>(map::guidance::ManeuverType::UTurn) &&
-              static_cast<int>(render::ManeuverSymbol::Roundabout) == static_cast<int>(map::guidance::ManeuverType::Roundabout) &&
+              static_cast<int>(render::ManeuverSymbol::Roundabout) ==
+                  static_cast<int>(map::guidance::ManeuverType::Roundabout) &&
               static_cast<int>(render::ManeuverSymbol::Merge) == static_cast<int>(map::guidance::ManeuverType::Merge));
 
 namespace {
@@ -21,7 +23,9 @@ namespace {
 // (a store that lacks the area, a disk that stalls): the display then shows what there is.
 constexpr auto kStartupTileWait = std::chrono::seconds(15);
 
-std::int64_t realtimeNs(ipc::CanTime t) { return std::chrono::duration_cast<std::chrono::nanoseconds>(t.time_since_epoch()).count(); }
+std::int64_t realtimeNs(ipc::CanTime t) {
+    return std::chrono::duration_cast<std::chrono::nanoseconds>(t.time_since_epoch()).count();
+}
 
 render::ViewMode viewFor(const DisplayProfile& p, const ipc::ViewState* state) {
     if (state) {
@@ -139,13 +143,16 @@ const std::vector<std::vector<glm::dvec3>>& Display::junctionRoads(const render:
 void Display::draw(render::Renderer& renderer, const PoseSource& poses, const FrameContext& context,
                    const map::Projection& projection) {
     m_frame_start = Clock::now();
-    const double dt = m_last_frame == Clock::time_point{} ? 0.0 : std::chrono::duration<double>(m_frame_start - m_last_frame).count();
+    const double dt =
+        m_last_frame == Clock::time_point{} ? 0.0 : std::chrono::duration<double>(m_frame_start - m_last_frame).count();
     m_last_frame = m_frame_start;
     m_rig.setMode(viewFor(m_profile, context.view_state));
     m_rig.setOrientation(orientationFor(m_profile, context.view_state));
     if (const auto camera = cameraFor(m_profile, context.view_state); camera != m_rig.mapLibreFollow()) {
-        if (camera) m_rig.setMapLibreFollow(*camera, projection, m_profile.height);
-        else m_rig.clearMapLibreFollow();
+        if (camera)
+            m_rig.setMapLibreFollow(*camera, projection, m_profile.height);
+        else
+            m_rig.clearMapLibreFollow();
     }
     // The freshest pose for this display: displays render one after another, and a pose taken
     // at the start of the tick would age by the renders before this one.
@@ -154,7 +161,8 @@ void Display::draw(render::Renderer& renderer, const PoseSource& poses, const Fr
     m_last_pose = pose.vehicle;
     const GroundHeight& ground = poses.ground();
     render::MapFrame frame;
-    frame.camera = m_rig.update(pose.vehicle, std::min(dt, 0.5), [&ground](double x, double y) { return ground(x, y); });
+    frame.camera =
+        m_rig.update(pose.vehicle, std::min(dt, 0.5), [&ground](double x, double y) { return ground(x, y); });
     m_map_view.select(frame, double(m_profile.width) / m_profile.height, m_profile.height);  // tiles + geomorph
     frame.route = context.route;
     frame.route_progress_m = context.route_progress_m;
@@ -180,9 +188,11 @@ void Display::finishFrame(render::Renderer& renderer, ipc::FrameServer& frames, 
         if (complete || overdue) {
             m_first_complete = seq;
             if (overdue && !complete) {
-                m_log(Log::kWarning, "profile %s: map tiles still loading after %.0f s (%zu wanted, %zu waiting for upload); publishing anyway",
-                      m_profile.name.c_str(), std::chrono::duration<double>(kStartupTileWait).count(), m_stats.tiles_wanted,
-                      m_stats.tiles_pending);
+                m_log(Log::kWarning,
+                      "profile %s: map tiles still loading after %.0f s (%zu wanted, %zu waiting for upload); "
+                      "publishing anyway",
+                      m_profile.name.c_str(), std::chrono::duration<double>(kStartupTileWait).count(),
+                      m_stats.tiles_wanted, m_stats.tiles_pending);
             } else {
                 m_log(Log::kInfo, "profile %s: map ready after %.0f ms (%llu frames held back)", m_profile.name.c_str(),
                       std::chrono::duration<double, std::milli>(Clock::now() - m_started).count(),
@@ -242,17 +252,20 @@ void Display::publish(std::vector<render::Frame>& finished, ipc::FrameServer& fr
 // without a first frame after handshake_timeout_s. Its clients get a status meanwhile:
 // "loading", how many tiles are still wanted, how many frames were held back. Each one restarts
 // that timeout; the first frame ends them.
-void Display::sendLoadingStatus(const std::vector<ipc::ActiveProfile>& active, ipc::FrameServer& frames, Clock::time_point now) {
+void Display::sendLoadingStatus(const std::vector<ipc::ActiveProfile>& active, ipc::FrameServer& frames,
+                                Clock::time_point now) {
     if (m_stats.published > 0) return;
     std::size_t clients = 0;
     for (const auto& a : active) {
-        if (a.view == m_profile.stream_view && a.width == m_profile.width && a.height == m_profile.height) clients += a.clients;
+        if (a.view == m_profile.stream_view && a.width == m_profile.width && a.height == m_profile.height)
+            clients += a.clients;
     }
     const bool new_client = clients > m_status_clients;
     m_status_clients = clients;
     if (clients == 0 || (!new_client && now - m_last_status_sent < std::chrono::seconds(1))) return;
     m_last_status_sent = now;
-    const nlohmann::ordered_json status = {  // in the documented order, for people reading it
+    const nlohmann::ordered_json status = {
+        // in the documented order, for people reading it
         {"state", "loading"},
         {"profile", m_profile.name},
         {"view", m_profile.stream_view},

@@ -23,8 +23,8 @@
 #include "navmap/render/map_view.h"
 #include "navmap/render/renderer.h"
 #include "pose_source.h"
-#include "route_guidance.h"
 #include "profiles.h"
+#include "route_guidance.h"
 #include "sample_window.h"
 
 namespace navmap::daemon {
@@ -32,14 +32,14 @@ namespace navmap::daemon {
 /// A display's counters (status, /metrics, the exit summary).
 struct DisplayStats {
     std::uint64_t rendered = 0, published = 0;
-    std::uint64_t skipped_idle = 0;                    ///< due frames not rendered: nobody watched
-    SampleWindow frame_ms, latency_ms;                 ///< the last 600 frames
-    double frame_s_sum = 0.0, latency_s_sum = 0.0;     ///< since the start (/metrics summaries)
+    std::uint64_t skipped_idle = 0;                 ///< due frames not rendered: nobody watched
+    SampleWindow frame_ms, latency_ms;              ///< the last 600 frames
+    double frame_s_sum = 0.0, latency_s_sum = 0.0;  ///< since the start (/metrics summaries)
     std::uint64_t latency_count = 0;
-    std::size_t tiles_drawn = 0, tiles_pending = 0;    ///< last frame
-    std::size_t tiles_wanted = 0;                      ///< last frame: tiles the view still waits for
-    std::uint64_t tiles_uploaded = 0;                  ///< GPU tile uploads of this display's frames
-    std::uint64_t held_back = 0;                       ///< frames not published while the map loaded
+    std::size_t tiles_drawn = 0, tiles_pending = 0;  ///< last frame
+    std::size_t tiles_wanted = 0;                    ///< last frame: tiles the view still waits for
+    std::uint64_t tiles_uploaded = 0;                ///< GPU tile uploads of this display's frames
+    std::uint64_t held_back = 0;                     ///< frames not published while the map loaded
 };
 
 /// What all displays' frames of one tick share.
@@ -87,7 +87,8 @@ public:
     void collect(render::Renderer& renderer, ipc::FrameServer& frames);
     /// Until the first frame is published, the display's stream clients get a loading status: at
     /// once for a new client, then about once a second.
-    void sendLoadingStatus(const std::vector<ipc::ActiveProfile>& active, ipc::FrameServer& frames, Clock::time_point now);
+    void sendLoadingStatus(const std::vector<ipc::ActiveProfile>& active, ipc::FrameServer& frames,
+                           Clock::time_point now);
 
 private:
     /// The guidance's arrows (every view) and, in the HUD, its next-turn panel and corridor.
@@ -95,8 +96,8 @@ private:
                      bool hud);
     /// The roads within kJunctionRoadsM of the junction on the frame's tiles (cached while both stay).
     const std::vector<std::vector<glm::dvec3>>& junctionRoads(const render::MapFrame& frame, glm::dvec2 junction);
-    static constexpr double kArrowBeforeM = 40.0;  ///< arrow shaft along the incoming road
-    static constexpr double kArrowAfterM = 25.0;   ///< and past the junction (or roundabout exit)
+    static constexpr double kArrowBeforeM = 40.0;    ///< arrow shaft along the incoming road
+    static constexpr double kArrowAfterM = 25.0;     ///< and past the junction (or roundabout exit)
     static constexpr double kJunctionRoadsM = 60.0;  ///< HUD: roads drawn within this of the junction
 
     static constexpr std::uint64_t kNone = ~std::uint64_t{0};

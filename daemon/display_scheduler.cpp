@@ -23,8 +23,9 @@ render::RendererOptions rendererOptions(const DaemonConfig& config, const Displa
     // draw 15-25 tiles each (57 together on the Andorra drive, fewer distinct ones); 16 + 8 per
     // profile, at least 32 (40 for three) re-uploads 106 tiles in 20 s of the replayed drive
     // against 102 with 48, for 4.5 MB less (docs/navmapd.md).
-    ro.tile_resource_cache = config.gpu_tile_cache > 0 ? config.gpu_tile_cache
-                                                       : std::max(32, 16 + 8 * static_cast<int>(config.profiles.size()));
+    ro.tile_resource_cache = config.gpu_tile_cache > 0
+                                 ? config.gpu_tile_cache
+                                 : std::max(32, 16 + 8 * static_cast<int>(config.profiles.size()));
     // Finished readbacks leave at once (collected after each render and polled while in flight).
     // 0 = the renderer's choice: on llvmpipe a frame is read straight into its image (glReadPixels
     // waits for the rasterization there even into a pixel-pack buffer, so buffers would only cost
@@ -37,7 +38,8 @@ render::RendererOptions rendererOptions(const DaemonConfig& config, const Displa
 }  // namespace
 
 DisplayScheduler::DisplayScheduler(const DaemonConfig& config, Options options, std::shared_ptr<map::TileCache> cache,
-                                   map::Projection projection, ipc::FrameServer& frames, Clock::time_point started, Log log)
+                                   map::Projection projection, ipc::FrameServer& frames, Clock::time_point started,
+                                   Log log)
     : m_options(options),
       m_labels(config.labels),
       m_projection(std::move(projection)),
@@ -58,8 +60,8 @@ DisplayScheduler::DisplayScheduler(const DaemonConfig& config, Options options, 
         m_displays.push_back(std::make_unique<Display>(p, target, cache, makeAttribution(p), started, m_log));
         m_pacing.emplace_back();
         const auto& dev = m_renderer->device();
-        m_log(Log::kInfo, "profile %s %dx%d @ %.0f fps (%s): target %d, %s on %s, %s, MSAA %dx", p.name.c_str(), p.width,
-              p.height, p.fps, p.stream_view.c_str(), target.id(), dev.backend.c_str(), dev.platform.c_str(),
+        m_log(Log::kInfo, "profile %s %dx%d @ %.0f fps (%s): target %d, %s on %s, %s, MSAA %dx", p.name.c_str(),
+              p.width, p.height, p.fps, p.stream_view.c_str(), target.id(), dev.backend.c_str(), dev.platform.c_str(),
               dev.renderer.c_str(), dev.msaa_samples);
     }
 }
@@ -67,7 +69,8 @@ DisplayScheduler::DisplayScheduler(const DaemonConfig& config, Options options, 
 std::unique_ptr<AttributionOverlay> DisplayScheduler::makeAttribution(const DisplayProfile& p) {
     if (!p.attribution) return nullptr;
     if (!m_overlay_text) m_overlay_text = std::make_unique<render::text::TextEngine>();
-    return std::make_unique<AttributionOverlay>(*m_overlay_text, AttributionOverlay::kOsmAttribution, p.width, p.height);
+    return std::make_unique<AttributionOverlay>(*m_overlay_text, AttributionOverlay::kOsmAttribution, p.width,
+                                                p.height);
 }
 
 DisplayScheduler::Clock::time_point DisplayScheduler::tick(Clock::time_point now, const PoseSource& poses,
@@ -83,12 +86,13 @@ DisplayScheduler::Clock::time_point DisplayScheduler::tick(Clock::time_point now
             next_wake = std::min(next_wake, pacing.next_due);
             continue;
         }
-        pacing.next_due = std::max(
-            pacing.next_due + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / d.profile().fps)), now);
+        pacing.next_due = std::max(pacing.next_due + std::chrono::duration_cast<Clock::duration>(
+                                                         std::chrono::duration<double>(1.0 / d.profile().fps)),
+                                   now);
         next_wake = std::min(next_wake, pacing.next_due);
-        const bool wanted = m_options.render_all || std::any_of(active.begin(), active.end(), [&](const ipc::ActiveProfile& a) {
-                                return a.profile == d.profile().name;
-                            });
+        const bool wanted = m_options.render_all ||
+                            std::any_of(active.begin(), active.end(),
+                                        [&](const ipc::ActiveProfile& a) { return a.profile == d.profile().name; });
         if (!wanted) {
             d.skipIdle();  // nobody watches this display: render nothing
             continue;
@@ -127,8 +131,8 @@ void DisplayScheduler::reconfigure(const std::vector<DisplayProfile>& profiles) 
             d.reconfigure(*p, p->attribution != d.profile().attribution ? makeAttribution(*p) : nullptr);
             m_pacing[i].next_due = Clock::now();  // the new rate applies from the next tick
         } else if (p) {
-            m_log(Log::kWarning, "reload: profile %s: a new size (%dx%d) needs a restart; keeping %dx%d", d.profile().name.c_str(),
-                  p->width, p->height, d.profile().width, d.profile().height);
+            m_log(Log::kWarning, "reload: profile %s: a new size (%dx%d) needs a restart; keeping %dx%d",
+                  d.profile().name.c_str(), p->width, p->height, d.profile().width, d.profile().height);
         }
     }
 }
@@ -139,13 +143,17 @@ bool DisplayScheduler::framesFlowing(double max_frame_s) const {
 
 void DisplayScheduler::logSummary() const {
     const ProcessMemory mem = processMemory();
-    m_log(Log::kNotice, "peak RSS %.1f MiB (%zu profiles, one renderer with %zu targets)", static_cast<double>(mem.peak) / (1 << 20),
-          m_displays.size(), m_renderer ? m_renderer->targetCount() : std::size_t{0});
+    m_log(Log::kNotice, "peak RSS %.1f MiB (%zu profiles, one renderer with %zu targets)",
+          static_cast<double>(mem.peak) / (1 << 20), m_displays.size(),
+          m_renderer ? m_renderer->targetCount() : std::size_t{0});
     for (const auto& d : m_displays) {
         const DisplayStats& s = d->stats();
-        m_log(Log::kInfo, "profile %s: %llu frames rendered, %llu published, frame p50 %.1f ms p99 %.1f ms, latency p50 %.1f ms p99 %.1f ms, %llu tile uploads",
-              d->profile().name.c_str(), static_cast<unsigned long long>(s.rendered), static_cast<unsigned long long>(s.published),
-              s.frame_ms.quantile(0.5), s.frame_ms.quantile(0.99), s.latency_ms.quantile(0.5), s.latency_ms.quantile(0.99),
+        m_log(Log::kInfo,
+              "profile %s: %llu frames rendered, %llu published, frame p50 %.1f ms p99 %.1f ms, latency p50 %.1f ms "
+              "p99 %.1f ms, %llu tile uploads",
+              d->profile().name.c_str(), static_cast<unsigned long long>(s.rendered),
+              static_cast<unsigned long long>(s.published), s.frame_ms.quantile(0.5), s.frame_ms.quantile(0.99),
+              s.latency_ms.quantile(0.5), s.latency_ms.quantile(0.99),
               static_cast<unsigned long long>(s.tiles_uploaded));
     }
 }

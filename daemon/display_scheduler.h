@@ -69,8 +69,8 @@ private:
     // displays that show it, made when the first one needs it.
     std::unique_ptr<render::text::TextEngine> m_overlay_text;
     std::vector<std::unique_ptr<Display>> m_displays;
-    std::vector<Pacing> m_pacing;             // parallel to m_displays
-    std::set<std::uint64_t> m_warned_flat;    // tiles reported as lacking elevation data
+    std::vector<Pacing> m_pacing;           // parallel to m_displays
+    std::set<std::uint64_t> m_warned_flat;  // tiles reported as lacking elevation data
     bool m_rendering_wanted = true;
     Clock::time_point m_last_frame_done;
 };

@@ -16,16 +16,18 @@ int main(int argc, char** argv) {
     using namespace navmap::daemon;
     CLI::App app{"navmapd - headless 3D navigation-map renderer daemon"};
     navmap::cli::setUp(app, "navmapd");
-    std::string config_path, store, input, replay, can_iface, from, to, control_socket, frame_socket, style, egl, log_level;
+    std::string config_path, store, input, replay, can_iface, from, to, control_socket, frame_socket, style, egl,
+        log_level;
     std::vector<std::string> profile_names;
     std::optional<double> speed, run_for;
     std::optional<int> http_port, tcp_port, msaa;
     bool check = false, render_all = false, noop = false, no_labels = false;
     app.add_option("-c,--config", config_path, "TOML configuration file (defaults apply without one)");
     app.add_flag("--check-config", check, "validate the configuration, print it and exit");
-    app.add_option("--store", store, "compiled tile store (navmap-compile); default: " +
-                   navmap::install::defaultStore().string());
-    app.add_option("--input", input, "vehicle input: sim | replay | socketcan")->check(CLI::IsMember({"sim", "replay", "socketcan"}));
+    app.add_option("--store", store,
+                   "compiled tile store (navmap-compile); default: " + navmap::install::defaultStore().string());
+    app.add_option("--input", input, "vehicle input: sim | replay | socketcan")
+        ->check(CLI::IsMember({"sim", "replay", "socketcan"}));
     app.add_option("--replay", replay, "candump log to replay (implies --input replay)");
     app.add_option("--can-interface", can_iface, "SocketCAN interface (implies --input socketcan)");
     app.add_option("--from", from, "simulated drive start: lat,lon or a place name");
@@ -38,7 +40,8 @@ int main(int argc, char** argv) {
         ->check(navmap::cli::integerIn(0, 65535));
     app.add_option("--tcp-port", tcp_port, "TCP frame-stream port; 0 = off")->check(navmap::cli::integerIn(0, 65535));
     app.add_option("--style", style, "day | night")->check(CLI::IsMember({"day", "night"}));
-    app.add_option("--egl-platform", egl, "auto | surfaceless | device")->check(CLI::IsMember({"auto", "surfaceless", "device"}));
+    app.add_option("--egl-platform", egl, "auto | surfaceless | device")
+        ->check(CLI::IsMember({"auto", "surfaceless", "device"}));
     app.add_option("--msaa", msaa, "MSAA samples (0 off, -1 auto)")->check(navmap::cli::integerIn(-1, 16));
     app.add_option("--log-level", log_level, "error | warning | notice | info | debug")
         ->check(CLI::IsMember({"error", "warning", "notice", "info", "debug"}));
@@ -49,7 +52,8 @@ int main(int argc, char** argv) {
     if (const auto exit_status = navmap::cli::parse(app, argc, argv)) return *exit_status;
 
     ConfigError err;
-    std::optional<DaemonConfig> config = config_path.empty() ? parseConfig("", "<defaults>", &err) : loadConfig(config_path, &err);
+    std::optional<DaemonConfig> config =
+        config_path.empty() ? parseConfig("", "<defaults>", &err) : loadConfig(config_path, &err);
     if (!config) {
         std::fprintf(stderr, "<3>navmapd: %s\n", err.message.c_str());
         return 1;
@@ -57,7 +61,8 @@ int main(int argc, char** argv) {
     DaemonConfig& c = *config;
     if (c.store_path.empty()) c.store_path = navmap::install::defaultStore();
     if (!store.empty()) c.store_path = store;
-    if (!input.empty()) c.input = input == "sim" ? InputSource::Sim : input == "replay" ? InputSource::Replay : InputSource::SocketCan;
+    if (!input.empty())
+        c.input = input == "sim" ? InputSource::Sim : input == "replay" ? InputSource::Replay : InputSource::SocketCan;
     if (!replay.empty()) c.replay_log = replay, c.input = InputSource::Replay;
     if (!can_iface.empty()) c.can_interface = can_iface, c.input = InputSource::SocketCan;
     if (!from.empty()) c.sim_from = from;

@@ -9,8 +9,10 @@ void PoseEvents::update(const EstimatedPose& pose, const RouteState& route, std:
         e.kind = pose.stale ? ipc::ControlEventKind::PositionLost : ipc::ControlEventKind::PositionRegained;
         e.sinceS = pose.sinceFixS;
         m_server.publish(e);
-        if (pose.stale) m_log(Log::kWarning, "position lost (%.1f s without a fix)", pose.sinceFixS);
-        else m_log(Log::kInfo, "position regained");
+        if (pose.stale)
+            m_log(Log::kWarning, "position lost (%.1f s without a fix)", pose.sinceFixS);
+        else
+            m_log(Log::kInfo, "position regained");
         m_was_stale = pose.stale;
     }
     if (!route.id().empty() && pose.onRoute && now - m_last_progress > std::chrono::seconds(1)) {

@@ -19,9 +19,9 @@ namespace navmap::daemon {
 
 /// One frame's pose.
 struct FramePose {
-    render::VehiclePose vehicle;                 ///< position z = ground height
-    std::optional<render::MarkerState> marker;   ///< drawn when the position is known
-    ipc::CanTime source_time{};                  ///< CAN time of the newest sample behind it
+    render::VehiclePose vehicle;                ///< position z = ground height
+    std::optional<render::MarkerState> marker;  ///< drawn when the position is known
+    ipc::CanTime source_time{};                 ///< CAN time of the newest sample behind it
 };
 
 class PoseSource {

@@ -12,7 +12,7 @@
 namespace navmap::daemon {
 
 struct DisplayProfile {
-    std::string name;   ///< "cluster", "hud", "center" or a configured one
+    std::string name;  ///< "cluster", "hud", "center" or a configured one
     int width = 1280;
     int height = 480;
     double fps = 30.0;

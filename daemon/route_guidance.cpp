@@ -27,8 +27,10 @@ mg::OffRouteConfig offRouteConfig(const GuidanceConfig& c) {
 std::string formatRemainingDistance(double metres) {
     char buf[32];
     const double m = std::isfinite(metres) ? std::max(0.0, metres) : 0.0;
-    if (m < 995.0) std::snprintf(buf, sizeof buf, "%d m", static_cast<int>(std::lround(m / 10.0) * 10));
-    else std::snprintf(buf, sizeof buf, "%.1f km", std::max(1.0, std::floor(m / 100.0) / 10.0));
+    if (m < 995.0)
+        std::snprintf(buf, sizeof buf, "%d m", static_cast<int>(std::lround(m / 10.0) * 10));
+    else
+        std::snprintf(buf, sizeof buf, "%.1f km", std::max(1.0, std::floor(m / 100.0) / 10.0));
     return buf;
 }
 
@@ -36,9 +38,12 @@ std::string formatRemainingTime(double seconds) {
     char buf[32];
     const double s = std::isfinite(seconds) ? std::max(0.0, seconds) : 0.0;
     const long minutes = std::lround(s / 60.0);
-    if (s < 30.0) std::snprintf(buf, sizeof buf, "< 1 min");
-    else if (minutes < 60) std::snprintf(buf, sizeof buf, "%ld min", minutes);
-    else std::snprintf(buf, sizeof buf, "%ld h %02ld min", minutes / 60, minutes % 60);
+    if (s < 30.0)
+        std::snprintf(buf, sizeof buf, "< 1 min");
+    else if (minutes < 60)
+        std::snprintf(buf, sizeof buf, "%ld min", minutes);
+    else
+        std::snprintf(buf, sizeof buf, "%ld h %02ld min", minutes / 60, minutes % 60);
     return buf;
 }
 
@@ -82,7 +87,8 @@ void RouteGuidance::setRoute(const std::shared_ptr<const ipc::RouteState>& route
         maneuvers.push_back(std::move(m));
     }
     auto guidance = std::make_shared<mg::GuidanceRoute>(std::move(points), std::move(maneuvers));
-    for (const std::string& p : guidance->problems()) m_log(Log::kWarning, "route %s: %s", m_route_id.c_str(), p.c_str());
+    for (const std::string& p : guidance->problems())
+        m_log(Log::kWarning, "route %s: %s", m_route_id.c_str(), p.c_str());
     m_route = guidance;
     m_tracker = std::make_unique<mg::RouteProgressTracker>(m_route);
 }
@@ -99,8 +105,10 @@ void RouteGuidance::update(const EstimatedPose& pose, double time_s) {
         e.routeId = m_route_id;
         e.offsetM = p.offset_m;
         // Logged before the event goes out: whoever hears it finds it in the log.
-        if (off) m_log(Log::kNotice, "route %s: off the route (%.0f m from it)", m_route_id.c_str(), p.offset_m);
-        else m_log(Log::kInfo, "route %s: back on the route", m_route_id.c_str());
+        if (off)
+            m_log(Log::kNotice, "route %s: off the route (%.0f m from it)", m_route_id.c_str(), p.offset_m);
+        else
+            m_log(Log::kInfo, "route %s: back on the route", m_route_id.c_str());
         if (m_publish) m_publish(e);
     }
     fill();

@@ -35,7 +35,7 @@ struct GuidanceSnapshot {
     bool active = false;     ///< a route is set and the pose has been matched onto it
     bool off_route = false;  ///< the vehicle left the route (hysteresis: docs/guidance.md)
     bool arrived = false;
-    std::vector<GuidanceArrow> arrows;           ///< none while off the route
+    std::vector<GuidanceArrow> arrows;            ///< none while off the route
     std::optional<map::guidance::Maneuver> next;  ///< the next manoeuvre (never depart)
     map::PlanarPoint next_junction;               ///< where it happens, store frame
     std::string distance_text;                    ///< countdown to it: "300 m", "now"

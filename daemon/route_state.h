@@ -35,7 +35,9 @@ public:
     /// The store-frame route for map matching; null when the route has fewer than two points.
     [[nodiscard]] const std::shared_ptr<const RouteLine>& line() const { return m_line; }
     /// What the renderers drape; null when there is no line of two points or more.
-    [[nodiscard]] const render::RouteGeometry* geometry() const { return m_geometry.points.size() >= 2 ? &m_geometry : nullptr; }
+    [[nodiscard]] const render::RouteGeometry* geometry() const {
+        return m_geometry.points.size() >= 2 ? &m_geometry : nullptr;
+    }
     /// Route length, metres (0 without a line).
     [[nodiscard]] double lengthM() const { return m_line ? m_line->lengthM() : 0.0; }
     /// The furthest distance driven along the route so far, metres.

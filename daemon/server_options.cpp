@@ -45,8 +45,8 @@ ipc::FrameServerOptions frameServerOptions(const DaemonConfig& config) {
     }
     // A first frame comes within a frame period of the slowest profile (plus its render), so the
     // timeout is never shorter than two of those periods.
-    fopt.handshakeTimeout =
-        std::chrono::milliseconds(static_cast<std::int64_t>(std::max(config.handshake_timeout_s, 2.0 / slowest_fps) * 1000));
+    fopt.handshakeTimeout = std::chrono::milliseconds(
+        static_cast<std::int64_t>(std::max(config.handshake_timeout_s, 2.0 / slowest_fps) * 1000));
     fopt.bindAddress = config.http_address;
     fopt.tcpPort = config.tcp_port > 0 ? config.tcp_port : -1;
     fopt.httpPort = config.http_port > 0 ? config.http_port : -1;

@@ -37,7 +37,8 @@ public:
         const map::TileCache& cache;
     };
 
-    StatusReporter(Parts parts, DaemonStatus& status, DaemonMetrics& metrics, SystemdNotifier& systemd, Clock::time_point started)
+    StatusReporter(Parts parts, DaemonStatus& status, DaemonMetrics& metrics, SystemdNotifier& systemd,
+                   Clock::time_point started)
         : m_parts(std::move(parts)), m_status(status), m_metrics(metrics), m_systemd(systemd), m_started(started) {}
 
     /// Publishes when a second has passed since the last time (or after refresh()).

@@ -21,14 +21,14 @@ namespace navmap::daemon {
 
 struct StatusSample {
     double uptime_s = 0.0;
-    std::string config_path;   ///< empty: no file
+    std::string config_path;  ///< empty: no file
     bool night = false;
     std::uint64_t reloads = 0, reload_errors = 0;  ///< SIGHUP: applied / refused
     std::string last_reload_error;
     VehicleInputStats input;
-    std::string road_graph;    ///< "ok" or "unavailable: <why>"
+    std::string road_graph;  ///< "ok" or "unavailable: <why>"
     EstimatedPose pose;
-    std::string route_id;      ///< empty: no route
+    std::string route_id;  ///< empty: no route
     double route_driven_m = 0.0;
     const std::vector<std::unique_ptr<Display>>* displays = nullptr;  ///< never null when published
     ipc::FrameServerStats stream;

@@ -35,7 +35,8 @@ VehicleInput::VehicleInput(const DaemonConfig& config, const map::Projection& pr
 
     VehicleStateConfig vcfg;
     vcfg.gnssTimeoutS = config.stale_after_s;
-    m_estimator = std::make_unique<VehicleStateEstimator>(projection, std::make_shared<const MapMatcher>(std::move(graph)), vcfg);
+    m_estimator =
+        std::make_unique<VehicleStateEstimator>(projection, std::make_shared<const MapMatcher>(std::move(graph)), vcfg);
     m_state.store(m_estimator->snapshot());
 
     CanSourceSite site;
@@ -93,8 +94,10 @@ void VehicleInput::run() {
         }
         m_state.store(m_estimator->snapshot());
         // 200 Hz is enough for 50-100 Hz CAN; SocketCAN wakes up as soon as frames arrive.
-        if (m_source) m_source->wait(std::chrono::milliseconds(5));
-        else std::this_thread::sleep_for(std::chrono::milliseconds(5));
+        if (m_source)
+            m_source->wait(std::chrono::milliseconds(5));
+        else
+            std::this_thread::sleep_for(std::chrono::milliseconds(5));
     }
 }
 

@@ -26,8 +26,8 @@ BUILD=(
   help2man
 )
 TEST=(
-  # images in golden tests and tools (OpenImageIO), fuzzers (clang)
-  libopenimageio-dev clang libclang-rt-14-dev
+  # images in golden tests and tools (OpenImageIO), fuzzers (clang), format and lint checks
+  libopenimageio-dev clang libclang-rt-14-dev clang-format clang-tidy
   # tests and benchmarks (chromium: the browser tests of the live page)
   libgtest-dev libgmock-dev libbenchmark-dev chromium
   # /metrics through the Prometheus client library's parser; Debian packages (cpack, dpkg-shlibdeps)

@@ -41,8 +41,11 @@ std::vector<ipc::CanFrame> navmapFrames(const ipc::DbcDatabase& db, int epochs, 
     const auto* mot = db.findMessage(std::string_view("NAV_Motion"));
     for (int i = 0; i < epochs; ++i) {
         auto p = pos->encode({{"NAV_Latitude", 42.5 + i * 1e-6}, {"NAV_Longitude", 1.5 + i * 1e-6}}).value();
-        auto m = mot->encode({{"NAV_Heading", 90.0}, {"NAV_Speed", 50.0}, {"NAV_YawRate", 1.0},
-                              {"NAV_FixType", 5}, {"NAV_Counter", i % 16}})
+        auto m = mot->encode({{"NAV_Heading", 90.0},
+                              {"NAV_Speed", 50.0},
+                              {"NAV_YawRate", 1.0},
+                              {"NAV_FixType", 5},
+                              {"NAV_Counter", i % 16}})
                      .value();
         p.timestamp = ipc::CanTime(std::chrono::seconds(1000) + period * i);
         m.timestamp = p.timestamp;
@@ -88,10 +91,10 @@ void BM_DecodeFordLog(benchmark::State& state) {
     }
     const auto log = ipc::loadCandumpFile(path).value();
     auto map = ipc::SignalMap::loadToml(NAVMAP_IPC_BENCH_SIGNAL_MAP).value();
-    auto dec = ipc::VehicleDecoder::create({load(kData / "dbc" / "ford_lincoln_base_pt.dbc"),
-                                            load(kData / "dbc" / "ford_fusion_2018_pt.dbc")},
-                                           map)
-                   .value();
+    auto dec =
+        ipc::VehicleDecoder::create(
+            {load(kData / "dbc" / "ford_lincoln_base_pt.dbc"), load(kData / "dbc" / "ford_fusion_2018_pt.dbc")}, map)
+            .value();
     ipc::VehicleSample u;
     std::size_t frames = 0;
     std::size_t samples = 0;
@@ -102,7 +105,8 @@ void BM_DecodeFordLog(benchmark::State& state) {
         frames += log.records.size();
     }
     state.counters["frames_per_s"] = benchmark::Counter(static_cast<double>(frames), benchmark::Counter::kIsRate);
-    state.counters["decoded_fraction"] = static_cast<double>(samples) / static_cast<double>(std::max<std::size_t>(frames, 1));
+    state.counters["decoded_fraction"] =
+        static_cast<double>(samples) / static_cast<double>(std::max<std::size_t>(frames, 1));
 }
 BENCHMARK(BM_DecodeFordLog)->Unit(benchmark::kMillisecond);
 
@@ -138,8 +142,8 @@ void BM_DbcDecodeAllSignals(benchmark::State& state) {
         msg->decodeAll(data, [&sum](const ipc::DbcSignal&, double v) { sum += v; });
     }
     benchmark::DoNotOptimize(sum);
-    state.counters["signals_per_s"] = benchmark::Counter(static_cast<double>(state.iterations() * msg->signals.size()),
-                                                         benchmark::Counter::kIsRate);
+    state.counters["signals_per_s"] =
+        benchmark::Counter(static_cast<double>(state.iterations() * msg->signals.size()), benchmark::Counter::kIsRate);
 }
 BENCHMARK(BM_DbcDecodeAllSignals);
 
@@ -188,7 +192,8 @@ void BM_LatencyReplayQueueDecode(benchmark::State& state) {
             while (true) {
                 if (queue.tryPop(f)) {
                     if (dec.decode(f, u)) {
-                        lat.push_back(std::chrono::duration<double, std::micro>(ipc::CanClock::now() - u.sourceTime).count());
+                        lat.push_back(
+                            std::chrono::duration<double, std::micro>(ipc::CanClock::now() - u.sourceTime).count());
                     }
                 } else if (done.load()) {
                     break;

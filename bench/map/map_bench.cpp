@@ -16,12 +16,12 @@
 #include <osmium/io/any_output.hpp>
 #include <osmium/visitor.hpp>
 
+#include <unistd.h>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <thread>
-#include <unistd.h>
 #include <unordered_map>
 
 #include "navmap/map/compiler.h"
@@ -75,7 +75,8 @@ std::pair<fs::path, std::size_t> largeInput(int grid) {
     std::pair<fs::path, std::size_t> cached;
     HighwayCollector src;
     {
-        osmium::io::Reader reader(kData / "andorra-2021-04-14.osm.pbf", osmium::osm_entity_bits::node | osmium::osm_entity_bits::way);
+        osmium::io::Reader reader(kData / "andorra-2021-04-14.osm.pbf",
+                                  osmium::osm_entity_bits::node | osmium::osm_entity_bits::way);
         osmium::apply(reader, src);
         reader.close();
     }
@@ -95,7 +96,8 @@ std::pair<fs::path, std::size_t> largeInput(int grid) {
         osmium::memory::Buffer buffer(1 << 20, osmium::memory::Buffer::auto_grow::yes);
         for (auto id : used) {
             const auto loc = src.locations.at(id);
-            osmium::builder::add_node(buffer, _id(id + copy * stride), _location(osmium::Location(loc.lon() + dlon, loc.lat() + dlat)));
+            osmium::builder::add_node(buffer, _id(id + copy * stride),
+                                      _location(osmium::Location(loc.lon() + dlon, loc.lat() + dlat)));
         }
         writer(std::move(buffer));
     }
@@ -218,13 +220,15 @@ void BM_CacheFlight(benchmark::State& state) {
             const PlanarPoint p{start.x + (end.x - start.x) * d / len, start.y + (end.y - start.y) * d / len};
             CameraFootprint cam;
             cam.position = p;
-            cam.ground = {{p.x - 1500, p.y - 1500}, {p.x + 1500, p.y - 1500}, {p.x + 1500, p.y + 1500}, {p.x - 1500, p.y + 1500}};
+            cam.ground = {
+                {p.x - 1500, p.y - 1500}, {p.x + 1500, p.y - 1500}, {p.x + 1500, p.y + 1500}, {p.x - 1500, p.y + 1500}};
             cam.heading_deg = heading;
             cam.prefetch_m = 4000;
             const auto want = selectTiles(s, level, cam);
             const auto t0 = std::chrono::steady_clock::now();
             const auto got = cache.request(want);
-            request_us.push_back(std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count());
+            request_us.push_back(
+                std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count());
             if (!want.empty() && !got[0]) ++center_missing;
             max_resident = std::max(max_resident, cache.metrics().resident_bytes);
             std::this_thread::sleep_for(std::chrono::milliseconds(4));

@@ -58,8 +58,8 @@ void BM_FormatCandump(benchmark::State& state) {
     for (auto _ : state) {
         for (const auto& f : frames) bytes += navmap::sim::formatCandumpLine(f, "can0").size() + 1;
     }
-    state.counters["lines_per_s"] = benchmark::Counter(static_cast<double>(frames.size() * state.iterations()),
-                                                       benchmark::Counter::kIsRate);
+    state.counters["lines_per_s"] =
+        benchmark::Counter(static_cast<double>(frames.size() * state.iterations()), benchmark::Counter::kIsRate);
     state.SetBytesProcessed(static_cast<std::int64_t>(bytes));
 }
 BENCHMARK(BM_FormatCandump)->Unit(benchmark::kMillisecond);

@@ -64,7 +64,8 @@ double percentile(std::vector<double> v, double q) {
 }
 
 std::int64_t nowNs() {
-    return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch()).count();
+    return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch())
+        .count();
 }
 
 // One daemon run serves all benchmarks of this program (the profiles render together, as in a car).
@@ -77,8 +78,8 @@ const RunResult& run() {
         fs::create_directories(dir);
         const std::string cmd = std::string("exec ") + NAVMAPD_PATH + " --replay " + NAVMAP_BENCH_DRIVE +
                                 " --profiles cluster,hud,center --control-socket " + (dir / "control.sock").string() +
-                                " --frame-socket " + (dir / "frames.sock").string() + " --http-port 0 --log-level notice > " +
-                                (dir / "navmapd.log").string() + " 2>&1";
+                                " --frame-socket " + (dir / "frames.sock").string() +
+                                " --http-port 0 --log-level notice > " + (dir / "navmapd.log").string() + " 2>&1";
         const char* argv[] = {"/bin/sh", "-c", cmd.c_str(), nullptr};
         pid_t pid = -1;
         if (posix_spawn(&pid, "/bin/sh", nullptr, nullptr, const_cast<char**>(argv), environ) != 0) {
@@ -142,7 +143,8 @@ const RunResult& run() {
         ::kill(pid, SIGTERM);
         int status = 0;
         ::waitpid(pid, &status, 0);
-        if (r.error.empty() && r.peak_rss_mb == 0) r.error = "no status from navmapd (see " + (dir / "navmapd.log").string() + ")";
+        if (r.error.empty() && r.peak_rss_mb == 0)
+            r.error = "no status from navmapd (see " + (dir / "navmapd.log").string() + ")";
         if (r.error.empty()) fs::remove_all(dir);
         return r;
     }();
@@ -205,7 +207,10 @@ int main(int argc, char** argv) {
             ->UseManualTime()
             ->Unit(benchmark::kSecond);
     }
-    benchmark::RegisterBenchmark("BM_CanToFrame/peak_rss", BM_PeakRss)->Iterations(1)->UseManualTime()->Unit(benchmark::kSecond);
+    benchmark::RegisterBenchmark("BM_CanToFrame/peak_rss", BM_PeakRss)
+        ->Iterations(1)
+        ->UseManualTime()
+        ->Unit(benchmark::kSecond);
     benchmark::Initialize(&argc, argv);
     benchmark::RunSpecifiedBenchmarks();
     benchmark::Shutdown();

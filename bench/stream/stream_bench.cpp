@@ -79,10 +79,12 @@ void BM_Deliver(benchmark::State& state) {
     std::unique_ptr<navmap::stream_test::MjpegReader> mjpeg;
     if (transport == 3) {
         mjpeg = std::make_unique<navmap::stream_test::MjpegReader>(
-            server.httpPort(), "/stream.mjpg?profile=bench&width=" + std::to_string(w) + "&height=" + std::to_string(h) +
-                                   "&view=bird&fps=0");
+            server.httpPort(), "/stream.mjpg?profile=bench&width=" + std::to_string(w) +
+                                   "&height=" + std::to_string(h) + "&view=bird&fps=0");
     } else {
-        const StreamPayload p = transport == 0 ? StreamPayload::Shm : transport == 1 ? StreamPayload::Raw : StreamPayload::Zlib;
+        const StreamPayload p = transport == 0   ? StreamPayload::Shm
+                                : transport == 1 ? StreamPayload::Raw
+                                                 : StreamPayload::Zlib;
         auto c = p == StreamPayload::Shm ? StreamClient::connectUnix(server.options().unixPath, request(w, h, p))
                                          : StreamClient::connectTcp("127.0.0.1", server.tcpPort(), request(w, h, p),
                                                                     std::chrono::seconds(5), zlibInflater());
@@ -120,8 +122,8 @@ void BM_Deliver(benchmark::State& state) {
     if (client) {
         bytes = client->stats().bytes;
     }
-    state.counters["wire_bytes_per_frame"] =
-        benchmark::Counter(static_cast<double>(bytes) / static_cast<double>(std::max<std::int64_t>(1, state.iterations())));
+    state.counters["wire_bytes_per_frame"] = benchmark::Counter(
+        static_cast<double>(bytes) / static_cast<double>(std::max<std::int64_t>(1, state.iterations())));
     static const char* const kNames[] = {"shm", "tcp_raw", "tcp_zlib", "mjpeg_http"};
     state.SetLabel(kNames[transport]);
 }

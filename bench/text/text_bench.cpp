@@ -23,13 +23,36 @@ namespace {
 
 // Names as they appear in the Andorra extract (accents, l·l, one CJK name).
 const std::vector<std::string>& names() {
-    static const std::vector<std::string> kNames = {
-        "Andorra la Vella", "Sant Julià de Lòria", "Escaldes-Engordany", "Encamp", "La Massana", "Ordino",
-        "Canillo", "Col·legi", "Avinguda Meritxell", "Carrer de la Unió", "Avinguda Carlemany",
-        "Carretera General 2", "Pas de la Casa", "Soldeu", "El Tarter", "Arinsal", "Pal", "Erts",
-        "Santa Coloma", "Museu del Tabac", "Estany d'Engolasters", "Parc Central", "Caldea",
-        "Plaça del Poble", "Església de Sant Esteve", "Pont de la Margineda", "Riu Valira", "Bordes d'Envalira",
-        "利奥尔茨小镇停车场", "Coma Pedrosa"};
+    static const std::vector<std::string> kNames = {"Andorra la Vella",
+                                                    "Sant Julià de Lòria",
+                                                    "Escaldes-Engordany",
+                                                    "Encamp",
+                                                    "La Massana",
+                                                    "Ordino",
+                                                    "Canillo",
+                                                    "Col·legi",
+                                                    "Avinguda Meritxell",
+                                                    "Carrer de la Unió",
+                                                    "Avinguda Carlemany",
+                                                    "Carretera General 2",
+                                                    "Pas de la Casa",
+                                                    "Soldeu",
+                                                    "El Tarter",
+                                                    "Arinsal",
+                                                    "Pal",
+                                                    "Erts",
+                                                    "Santa Coloma",
+                                                    "Museu del Tabac",
+                                                    "Estany d'Engolasters",
+                                                    "Parc Central",
+                                                    "Caldea",
+                                                    "Plaça del Poble",
+                                                    "Església de Sant Esteve",
+                                                    "Pont de la Margineda",
+                                                    "Riu Valira",
+                                                    "Bordes d'Envalira",
+                                                    "利奥尔茨小镇停车场",
+                                                    "Coma Pedrosa"};
     return kNames;
 }
 
@@ -97,8 +120,8 @@ void BM_AtlasBuild(benchmark::State& state) {
     }
     state.counters["glyphs"] = static_cast<double>(glyphs);
     // Glyphs rasterized per second of CPU time (1 / cost per glyph).
-    state.counters["glyphs_per_s"] = benchmark::Counter(static_cast<double>(glyphs) * static_cast<double>(state.iterations()),
-                                                        benchmark::Counter::kIsRate);
+    state.counters["glyphs_per_s"] = benchmark::Counter(
+        static_cast<double>(glyphs) * static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
 }
 BENCHMARK(BM_AtlasBuild)->Unit(benchmark::kMillisecond);
 
@@ -121,7 +144,8 @@ void BM_GpuDraw(benchmark::State& state) {
     std::vector<nt::LaidOutText> laid;
     std::vector<nt::TextDraw> screen;
     std::vector<nt::WorldTextDraw> worlds;
-    for (std::size_t i = 0; i < count; ++i) laid.push_back(engine.layout(engine.run(names()[i % names().size()]), 14.0f));
+    for (std::size_t i = 0; i < count; ++i)
+        laid.push_back(engine.layout(engine.run(names()[i % names().size()]), 14.0f));
     std::size_t glyphs = 0;
     for (std::size_t i = 0; i < count; ++i) {
         glyphs += laid[i].quads.size();
@@ -145,12 +169,15 @@ void BM_GpuDraw(benchmark::State& state) {
         worlds.push_back(wd);
     }
     const glm::mat4 projection = glm::perspective(glm::radians(45.0f), float(w) / h, 1.0f, 20000.0f);
-    const glm::mat4 view = glm::lookAt(glm::vec3(0.0f, 30.0f, 0.0f), glm::vec3(0.0f, 0.0f, -1000.0f), glm::vec3(0.0f, 1.0f, 0.0f));
+    const glm::mat4 view =
+        glm::lookAt(glm::vec3(0.0f, 30.0f, 0.0f), glm::vec3(0.0f, 0.0f, -1000.0f), glm::vec3(0.0f, 1.0f, 0.0f));
     target.clear(0.5f, 0.5f, 0.5f);
     target.bindForDrawing(false);
     for (auto _ : state) {
-        if (world) layer.drawWorld(worlds, view, projection, {w, h});
-        else layer.drawScreen(screen, {w, h});
+        if (world)
+            layer.drawWorld(worlds, view, projection, {w, h});
+        else
+            layer.drawScreen(screen, {w, h});
         glFinish();
     }
     state.counters["labels"] = static_cast<double>(count);

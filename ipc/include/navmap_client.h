@@ -13,8 +13,8 @@
  *   navmap_frame f;
  *   for (;;) {
  *       int r = navmap_client_next_frame(c, 200, &f);
- *       if (r == NAVMAP_CLIENT_FRAME) { show(f.pixels, f.width, f.height, f.stride); navmap_client_release_frame(c, &f); }
- *       else if (r == NAVMAP_CLIENT_ERROR) break;                   // bad arguments
+ *       if (r == NAVMAP_CLIENT_FRAME) { show(f.pixels, f.width, f.height, f.stride); navmap_client_release_frame(c,
+ * &f); } else if (r == NAVMAP_CLIENT_ERROR) break;                   // bad arguments
  *       // NAVMAP_CLIENT_TIMEOUT, NAVMAP_CLIENT_DISCONNECTED: navmap_client_last_error(c) says why
  *   }
  *   navmap_client_destroy(c);
@@ -48,27 +48,27 @@ enum {
 enum { NAVMAP_FORMAT_RGBA8 = 1, NAVMAP_FORMAT_RGB565 = 2 };
 
 typedef struct navmap_client_options {
-    const char* socket_path;   /* navmapd's frame socket, e.g. "/run/navmap/frames.sock" (required) */
-    const char* profile;       /* "cluster", "hud", "center" or a profile navmapd renders (required) */
-    int width, height;         /* 0: the named default profile's size */
-    const char* view;          /* "snail", "bird", "hud"; NULL: the named default profile's */
-    int fps;                   /* most frames per second wanted, 1..1000; 0: the profile's (30) */
-    int format;                /* NAVMAP_FORMAT_RGBA8 (default) or NAVMAP_FORMAT_RGB565 */
-    int connect_timeout_ms;    /* connect + handshake per attempt; 0: 2000 */
-    int reconnect_initial_ms;  /* first wait after a failure, doubling; 0: 100 */
-    int reconnect_max_ms;      /* longest wait between attempts; 0: 5000 */
+    const char* socket_path;  /* navmapd's frame socket, e.g. "/run/navmap/frames.sock" (required) */
+    const char* profile;      /* "cluster", "hud", "center" or a profile navmapd renders (required) */
+    int width, height;        /* 0: the named default profile's size */
+    const char* view;         /* "snail", "bird", "hud"; NULL: the named default profile's */
+    int fps;                  /* most frames per second wanted, 1..1000; 0: the profile's (30) */
+    int format;               /* NAVMAP_FORMAT_RGBA8 (default) or NAVMAP_FORMAT_RGB565 */
+    int connect_timeout_ms;   /* connect + handshake per attempt; 0: 2000 */
+    int reconnect_initial_ms; /* first wait after a failure, doubling; 0: 100 */
+    int reconnect_max_ms;     /* longest wait between attempts; 0: 5000 */
 } navmap_client_options;
 
 typedef struct navmap_frame {
-    const uint8_t* pixels;     /* in the read-only mapped ring; valid until released */
+    const uint8_t* pixels; /* in the read-only mapped ring; valid until released */
     uint32_t width, height;
-    uint32_t stride;           /* bytes per row */
-    int format;                /* NAVMAP_FORMAT_* */
-    uint64_t sequence;         /* per profile, +1 per rendered frame */
-    int64_t render_time_ns;    /* CLOCK_REALTIME ns the frame was published */
-    int64_t source_time_ns;    /* CLOCK_REALTIME ns the CAN data behind the pose arrived; 0: none */
-    int64_t receive_time_ns;   /* CLOCK_REALTIME ns this client got the notification */
-    uint64_t dropped;          /* frames this connection missed so far */
+    uint32_t stride;         /* bytes per row */
+    int format;              /* NAVMAP_FORMAT_* */
+    uint64_t sequence;       /* per profile, +1 per rendered frame */
+    int64_t render_time_ns;  /* CLOCK_REALTIME ns the frame was published */
+    int64_t source_time_ns;  /* CLOCK_REALTIME ns the CAN data behind the pose arrived; 0: none */
+    int64_t receive_time_ns; /* CLOCK_REALTIME ns this client got the notification */
+    uint64_t dropped;        /* frames this connection missed so far */
 } navmap_frame;
 
 typedef struct navmap_client_stats {

@@ -14,7 +14,8 @@ Backoff::Backoff(std::chrono::milliseconds initial, std::chrono::milliseconds ma
 void Backoff::failed(Clock::time_point now) noexcept {
     ++m_failures;
     m_nextAttempt = now + m_delay;
-    const auto grown = std::chrono::milliseconds(static_cast<std::int64_t>(static_cast<double>(m_delay.count()) * m_factor));
+    const auto grown =
+        std::chrono::milliseconds(static_cast<std::int64_t>(static_cast<double>(m_delay.count()) * m_factor));
     m_delay = std::min(std::max(grown, m_delay), m_maximum);
 }
 

@@ -10,10 +10,14 @@ bool isValidFdLength(unsigned len) noexcept {
         return true;
     }
     switch (len) {
-    case 12: case 16: case 20: case 24: case 32: case 48: case 64:
-        return true;
-    default:
-        return false;
+        case 12:
+        case 16:
+        case 20:
+        case 24:
+        case 32:
+        case 48:
+        case 64: return true;
+        default: return false;
     }
 }
 

@@ -142,8 +142,8 @@ Result<CanFrame> parseFrameToken(std::string_view tok) {
             return Error{"data '" + excerpt(rest) + "' is not hex"};
         }
         if (len >= maxLen) {
-            return Error{std::string(fd ? "CAN FD" : "classic CAN") + " frame has more than " +
-                         std::to_string(maxLen) + " data bytes"};
+            return Error{std::string(fd ? "CAN FD" : "classic CAN") + " frame has more than " + std::to_string(maxLen) +
+                         " data bytes"};
         }
         f.data[len++] = static_cast<std::uint8_t>((hi << 4) | lo);
         i += 2;
@@ -324,8 +324,8 @@ Status CandumpReader::feedBytes(std::string_view bytes, const RecordSink& sink) 
             // Text logs have no control bytes: this is a binary file (or /dev/zero). Reading on
             // would take forever on a device and turn garbage into thousands of "lines".
             char what[160];
-            std::snprintf(what, sizeof what, ": byte 0x%02X at offset %llu (line %zu): binary data, not a candump log", u,
-                          static_cast<unsigned long long>(m_offset), m_line + 1);
+            std::snprintf(what, sizeof what, ": byte 0x%02X at offset %llu (line %zu): binary data, not a candump log",
+                          u, static_cast<unsigned long long>(m_offset), m_line + 1);
             m_failure = m_sourceName + what;
             return Error{m_failure};
         }

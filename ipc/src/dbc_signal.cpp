@@ -112,14 +112,12 @@ void DbcSignal::insertBits(std::span<std::uint8_t> data, std::uint64_t bits) con
 double DbcSignal::rawValue(std::span<const std::uint8_t> data) const noexcept {
     const std::uint64_t bits = extractBits(data);
     switch (valueType) {
-    case ValueType::Float32: {
-        const auto u = static_cast<std::uint32_t>(bits);
-        return static_cast<double>(std::bit_cast<float>(u));
-    }
-    case ValueType::Float64:
-        return std::bit_cast<double>(bits);
-    case ValueType::Integer:
-        break;
+        case ValueType::Float32: {
+            const auto u = static_cast<std::uint32_t>(bits);
+            return static_cast<double>(std::bit_cast<float>(u));
+        }
+        case ValueType::Float64: return std::bit_cast<double>(bits);
+        case ValueType::Integer: break;
     }
     if (isSigned && length > 0 && length < 64 && ((bits >> (length - 1U)) & 1U) != 0) {
         return static_cast<double>(static_cast<std::int64_t>(bits | ~lowMask(length)));
@@ -165,8 +163,8 @@ Status DbcSignal::encode(std::span<std::uint8_t> data, double physical) const {
         return Error{"signal " + name + ": value " + std::to_string(physical) + " does not fit " +
                      std::to_string(length) + (isSigned ? " signed" : " unsigned") + " bits"};
     }
-    const std::uint64_t bits = isSigned ? static_cast<std::uint64_t>(static_cast<std::int64_t>(rounded))
-                                        : static_cast<std::uint64_t>(rounded);
+    const std::uint64_t bits =
+        isSigned ? static_cast<std::uint64_t>(static_cast<std::int64_t>(rounded)) : static_cast<std::uint64_t>(rounded);
     insertBits(data, bits);
     return {};
 }

@@ -141,7 +141,8 @@ bool Replayer::fetch() {
         const std::int64_t span = m_prevOffsetNs;
         const std::int64_t gap = m_passFrames > 1 ? span / static_cast<std::int64_t>(m_passFrames - 1) : 0;
         std::int64_t period = 0;
-        if (!addNs(span, gap, period) || !addNs(m_loopBaseNs, std::max<std::int64_t>(period, 1'000'000), m_loopBaseNs)) {
+        if (!addNs(span, gap, period) ||
+            !addNs(m_loopBaseNs, std::max<std::int64_t>(period, 1'000'000), m_loopBaseNs)) {
             finish("replay time out of range after " + std::to_string(m_loops.load()) + " loops");
             return false;
         }

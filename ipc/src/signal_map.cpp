@@ -16,23 +16,17 @@ enum class Dim { None, Speed, Angle, AngularRate, Length, Accel };
 
 Dim dimensionOf(VssSignal s) {
     switch (s) {
-    case VssSignal::Latitude:
-    case VssSignal::Longitude:
-    case VssSignal::Heading:
-    case VssSignal::SteeringWheelAngle:
-        return Dim::Angle;
-    case VssSignal::Altitude:
-        return Dim::Length;
-    case VssSignal::Speed:
-        return Dim::Speed;
-    case VssSignal::YawRate:
-        return Dim::AngularRate;
-    case VssSignal::AccelLongitudinal:
-    case VssSignal::AccelLateral:
-        return Dim::Accel;
-    case VssSignal::FixType:
-    case VssSignal::GnssCounter:
-        return Dim::None;
+        case VssSignal::Latitude:
+        case VssSignal::Longitude:
+        case VssSignal::Heading:
+        case VssSignal::SteeringWheelAngle: return Dim::Angle;
+        case VssSignal::Altitude: return Dim::Length;
+        case VssSignal::Speed: return Dim::Speed;
+        case VssSignal::YawRate: return Dim::AngularRate;
+        case VssSignal::AccelLongitudinal:
+        case VssSignal::AccelLateral: return Dim::Accel;
+        case VssSignal::FixType:
+        case VssSignal::GnssCounter: return Dim::None;
     }
     return Dim::None;
 }
@@ -40,23 +34,43 @@ Dim dimensionOf(VssSignal s) {
 struct UnitEntry {
     std::string_view name;  // lower case
     Dim dim;
-    double toCanonical;     // km/h, degrees, degrees/s, m, m/s^2
+    double toCanonical;  // km/h, degrees, degrees/s, m, m/s^2
 };
 
 constexpr double kRadToDeg = 180.0 / std::numbers::pi;
 
 constexpr UnitEntry kUnits[] = {
-    {"km/h", Dim::Speed, 1.0}, {"kph", Dim::Speed, 1.0}, {"kmh", Dim::Speed, 1.0},
-    {"unit_kilometerperhour", Dim::Speed, 1.0}, {"m/s", Dim::Speed, 3.6}, {"mps", Dim::Speed, 3.6},
-    {"unit_meterpersecond", Dim::Speed, 3.6}, {"mph", Dim::Speed, 1.609344},
-    {"deg", Dim::Angle, 1.0}, {"degree", Dim::Angle, 1.0}, {"degrees", Dim::Angle, 1.0}, {"\xc2\xb0", Dim::Angle, 1.0},
-    {"unit_degreofarc", Dim::Angle, 1.0}, {"rad", Dim::Angle, kRadToDeg},
-    {"deg/s", Dim::AngularRate, 1.0}, {"degrees/s", Dim::AngularRate, 1.0}, {"\xc2\xb0/s", Dim::AngularRate, 1.0},
-    {"unit_degreofarcpersecon", Dim::AngularRate, 1.0}, {"unit_degreofarcpersecond", Dim::AngularRate, 1.0},
-    {"rad/s", Dim::AngularRate, kRadToDeg}, {"unit_radianpersecond", Dim::AngularRate, kRadToDeg},
-    {"m", Dim::Length, 1.0}, {"cm", Dim::Length, 0.01}, {"mm", Dim::Length, 0.001}, {"km", Dim::Length, 1000.0},
-    {"unit_meter", Dim::Length, 1.0}, {"m/s^2", Dim::Accel, 1.0}, {"m/s2", Dim::Accel, 1.0},
-    {"m/s\xc2\xb2", Dim::Accel, 1.0}, {"unit_meterpersecondsquar", Dim::Accel, 1.0}, {"g", Dim::Accel, 9.80665},
+    {"km/h", Dim::Speed, 1.0},
+    {"kph", Dim::Speed, 1.0},
+    {"kmh", Dim::Speed, 1.0},
+    {"unit_kilometerperhour", Dim::Speed, 1.0},
+    {"m/s", Dim::Speed, 3.6},
+    {"mps", Dim::Speed, 3.6},
+    {"unit_meterpersecond", Dim::Speed, 3.6},
+    {"mph", Dim::Speed, 1.609344},
+    {"deg", Dim::Angle, 1.0},
+    {"degree", Dim::Angle, 1.0},
+    {"degrees", Dim::Angle, 1.0},
+    {"\xc2\xb0", Dim::Angle, 1.0},
+    {"unit_degreofarc", Dim::Angle, 1.0},
+    {"rad", Dim::Angle, kRadToDeg},
+    {"deg/s", Dim::AngularRate, 1.0},
+    {"degrees/s", Dim::AngularRate, 1.0},
+    {"\xc2\xb0/s", Dim::AngularRate, 1.0},
+    {"unit_degreofarcpersecon", Dim::AngularRate, 1.0},
+    {"unit_degreofarcpersecond", Dim::AngularRate, 1.0},
+    {"rad/s", Dim::AngularRate, kRadToDeg},
+    {"unit_radianpersecond", Dim::AngularRate, kRadToDeg},
+    {"m", Dim::Length, 1.0},
+    {"cm", Dim::Length, 0.01},
+    {"mm", Dim::Length, 0.001},
+    {"km", Dim::Length, 1000.0},
+    {"unit_meter", Dim::Length, 1.0},
+    {"m/s^2", Dim::Accel, 1.0},
+    {"m/s2", Dim::Accel, 1.0},
+    {"m/s\xc2\xb2", Dim::Accel, 1.0},
+    {"unit_meterpersecondsquar", Dim::Accel, 1.0},
+    {"g", Dim::Accel, 9.80665},
 };
 
 }  // namespace
@@ -100,8 +114,8 @@ Result<SignalMap> SignalMap::fromToml(std::string_view text, std::string_view so
     }
     const toml::array* arr = node.as_array();
     if (arr == nullptr) {
-        return Error{src + ": '" + std::string(arrayKey) + "' must be an array of tables ([[" +
-                     std::string(arrayKey) + "]])"};
+        return Error{src + ": '" + std::string(arrayKey) + "' must be an array of tables ([[" + std::string(arrayKey) +
+                     "]])"};
     }
     std::size_t index = 0;
     for (const toml::node& entry : *arr) {

@@ -48,8 +48,9 @@ bool peerAllowed(const PeerAllowList& allow, const PeerCredentials& peer) {
     if (allow.allowRoot && peer.uid == 0) {
         return true;
     }
-    const bool uidOk = allow.uids.empty() ? peer.uid == ::geteuid()
-                                          : std::find(allow.uids.begin(), allow.uids.end(), peer.uid) != allow.uids.end();
+    const bool uidOk = allow.uids.empty()
+                           ? peer.uid == ::geteuid()
+                           : std::find(allow.uids.begin(), allow.uids.end(), peer.uid) != allow.uids.end();
     if (uidOk) {
         return true;
     }

@@ -22,9 +22,9 @@ using net::sysError;
 
 const char* SocketCanStatus::stateName(State s) noexcept {
     switch (s) {
-    case State::Closed: return "closed";
-    case State::Open: return "open";
-    case State::Retrying: return "retrying";
+        case State::Closed: return "closed";
+        case State::Open: return "open";
+        case State::Retrying: return "retrying";
     }
     return "?";
 }
@@ -80,9 +80,8 @@ bool SocketCanSource::open() {
         m_status.fdEnabled = ::setsockopt(m_fd.get(), SOL_CAN_RAW, CAN_RAW_FD_FRAMES, &one, sizeof one) == 0;
     }
     const auto filters = buildRawFilters(m_options.frameKeys);
-    if (!filters.empty() &&
-        ::setsockopt(m_fd.get(), SOL_CAN_RAW, CAN_RAW_FILTER, filters.data(),
-                     static_cast<socklen_t>(filters.size() * sizeof(can_filter))) < 0) {
+    if (!filters.empty() && ::setsockopt(m_fd.get(), SOL_CAN_RAW, CAN_RAW_FILTER, filters.data(),
+                                         static_cast<socklen_t>(filters.size() * sizeof(can_filter))) < 0) {
         failOpen(sysError("setsockopt(CAN_RAW_FILTER)", name, errno));
         return false;
     }

@@ -79,8 +79,8 @@ Result<VehicleDecoder> VehicleDecoder::create(std::vector<std::shared_ptr<const 
         if (!m.signSignal.empty()) {
             plan.signSignal = msg->findSignal(m.signSignal);
             if (plan.signSignal == nullptr) {
-                return Error{"signal map " + what + ": message " + msg->name + " has no sign signal '" +
-                             m.signSignal + "'"};
+                return Error{"signal map " + what + ": message " + msg->name + " has no sign signal '" + m.signSignal +
+                             "'"};
             }
         }
         const std::string& unit = m.unit.empty() ? plan.signal->unit : m.unit;

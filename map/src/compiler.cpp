@@ -116,8 +116,8 @@ struct PLabel {
     PlanarPoint anchor, s0, s1;
     float importance;
     std::int64_t id;
-    double max_tile;    // appears at levels with tiles up to this size
-    double min_area;    // areas: polygon area, compared against the tile size
+    double max_tile;  // appears at levels with tiles up to this size
+    double min_area;  // areas: polygon area, compared against the tile size
 };
 
 std::vector<PlanarPoint> project(const Projection& proj, const std::vector<LatLon>& pts) {
@@ -233,7 +233,8 @@ RoadGraph buildGraph(const std::vector<RawGraphWay>& ways, const Projection& pro
             const auto from = static_cast<std::uint32_t>(nodeIndex(w.nodes[start]));
             const auto to = static_cast<std::uint32_t>(ni);
             const auto shape_end = static_cast<std::uint32_t>(g.shape.size());
-            GraphEdge e{from, to, static_cast<float>(length), w.speed_kmh, w.cls, w.flags, shape_begin, shape_end, w.id};
+            GraphEdge e{from,      to,  static_cast<float>(length), w.speed_kmh, w.cls, w.flags, shape_begin,
+                        shape_end, w.id};
             g.edges.push_back(e);
             if (!w.oneway) {
                 std::swap(e.from, e.to);
@@ -246,7 +247,8 @@ RoadGraph buildGraph(const std::vector<RawGraphWay>& ways, const Projection& pro
             shape_begin = shape_end - 1;
         }
     }
-    std::stable_sort(g.edges.begin(), g.edges.end(), [](const GraphEdge& a, const GraphEdge& b) { return a.from < b.from; });
+    std::stable_sort(g.edges.begin(), g.edges.end(),
+                     [](const GraphEdge& a, const GraphEdge& b) { return a.from < b.from; });
     g.first_edge.assign(g.nodes.size() + 1, 0);
     for (const auto& e : g.edges) ++g.first_edge[e.from + 1];
     for (std::size_t i = 1; i < g.first_edge.size(); ++i) g.first_edge[i] += g.first_edge[i - 1];
@@ -270,10 +272,12 @@ CompileStats compileStore(const CompileOptions& opt) {
     if (!(opt.leaf_tile_m >= kMinLeafTileM && opt.leaf_tile_m <= kMaxLeafTileM) || opt.dem_samples < 0 ||
         opt.dem_samples == 1 || opt.dem_samples > kMaxDemSamples ||
         !(opt.default_building_height_m >= 0.0f && opt.default_building_height_m <= kMaxBuildingHeightM)) {
-        throw CompileError("invalid options: leaf tile size must be in [10, 1000000] m, DEM samples 0 or 2..1025, "
-                           "default building height in [0, 1000] m");
+        throw CompileError(
+            "invalid options: leaf tile size must be in [10, 1000000] m, DEM samples 0 or 2..1025, "
+            "default building height in [0, 1000] m");
     }
-    if (!opt.out.has_filename()) throw CompileError("invalid options: output path \"" + opt.out.string() + "\" names no file");
+    if (!opt.out.has_filename())
+        throw CompileError("invalid options: output path \"" + opt.out.string() + "\" names no file");
     // The one writer of opt.out from here on: a second compile to the same store fails now, not
     // after reading its input (StoreError "<out> is being written by another process (pid N)").
     StoreLock lock(opt.out);
@@ -283,8 +287,8 @@ CompileStats compileStore(const CompileOptions& opt) {
     double dem_spacing_m = 90.0;
     for (const auto& path : opt.dems) {
         Dem dem = loadHgt(path);  // DemError names the file
-        log("DEM " + path.filename().string() + ": " + std::to_string(dem.rows) + "x" + std::to_string(dem.cols) + ", " +
-            std::to_string(dem.void_count) + " void samples");
+        log("DEM " + path.filename().string() + ": " + std::to_string(dem.rows) + "x" + std::to_string(dem.cols) +
+            ", " + std::to_string(dem.void_count) + " void samples");
         stats.dem_voids_filled += fillVoids(dem);
         dem_spacing_m = dem.spacing * 111320.0;
         dems.add(std::move(dem));
@@ -318,9 +322,8 @@ CompileStats compileStore(const CompileOptions& opt) {
         Index index;
         osmium::handler::NodeLocationsForWays<Index> locations{index};
         locations.ignore_errors();  // ways crossing the extract border keep their inside parts
-        auto mp_handler = mp.handler([&](osmium::memory::Buffer&& buffer) {
-            osmium::apply(buffer, buildings, areas, labels);
-        });
+        auto mp_handler =
+            mp.handler([&](osmium::memory::Buffer&& buffer) { osmium::apply(buffer, buildings, areas, labels); });
         osmium::io::Reader reader{file, osmium::io::read_meta::no};
         const std::size_t total = std::max<std::size_t>(reader.file_size(), 1);
         double last_log = elapsed();
@@ -356,9 +359,14 @@ CompileStats compileStore(const CompileOptions& opt) {
         west = std::min(west, p.lon);
         east = std::max(east, p.lon);
     };
-    for (const auto& r : roads.roads) for (const auto& p : r.points) grow(p);
-    for (const auto& b : buildings.buildings) for (const auto& r : b.polygon.outers) for (const auto& p : r) grow(p);
-    for (const auto& a : areas.areas) for (const auto& r : a.polygon.outers) for (const auto& p : r) grow(p);
+    for (const auto& r : roads.roads)
+        for (const auto& p : r.points) grow(p);
+    for (const auto& b : buildings.buildings)
+        for (const auto& r : b.polygon.outers)
+            for (const auto& p : r) grow(p);
+    for (const auto& a : areas.areas)
+        for (const auto& r : a.polygon.outers)
+            for (const auto& p : r) grow(p);
     for (const auto& l : labels.points) grow(l.pos);
     const Projection proj(0.5 * (south + north), 0.5 * (west + east));
     Box data_bounds;
@@ -369,8 +377,8 @@ CompileStats compileStore(const CompileOptions& opt) {
     }
     const TileScheme scheme = TileScheme::covering(data_bounds, opt.leaf_tile_m);
     log("projection origin " + std::to_string(proj.originLat()) + ", " + std::to_string(proj.originLon()) + "; " +
-        std::to_string(scheme.levelCount()) + " levels, root " + std::to_string(static_cast<long>(scheme.rootSize() / 1000)) +
-        " km");
+        std::to_string(scheme.levelCount()) + " levels, root " +
+        std::to_string(static_cast<long>(scheme.rootSize() / 1000)) + " km");
 
     // ---- project features ----
     std::vector<PRoad> proads;
@@ -381,7 +389,8 @@ CompileStats compileStore(const CompileOptions& opt) {
         proads.push_back(std::move(p));
         stats.road_vertices += r.points.size();
     }
-    std::stable_sort(proads.begin(), proads.end(), [](const PRoad& a, const PRoad& b) { return a.raw->cls < b.raw->cls; });
+    std::stable_sort(proads.begin(), proads.end(),
+                     [](const PRoad& a, const PRoad& b) { return a.raw->cls < b.raw->cls; });
     stats.roads = proads.size();
 
     std::vector<PBuilding> pbuildings;
@@ -419,9 +428,9 @@ CompileStats compileStore(const CompileOptions& opt) {
 
     for (const auto& l : labels.points) {
         const PlanarPoint p = proj.forward(l.pos.lat, l.pos.lon);
-        const double max_tile =
-            l.kind == LabelKind::Place ? placeMaxTile(static_cast<PlaceClass>(l.subclass))
-                                       : (static_cast<PoiClass>(l.subclass) == PoiClass::Peak ? 16000.0 : 0.0);
+        const double max_tile = l.kind == LabelKind::Place
+                                    ? placeMaxTile(static_cast<PlaceClass>(l.subclass))
+                                    : (static_cast<PoiClass>(l.subclass) == PoiClass::Peak ? 16000.0 : 0.0);
         plabels.push_back({l.kind, l.subclass, &l.name, p, p, p, l.importance, l.id, max_tile, 0});
         (l.kind == LabelKind::Place ? stats.place_labels : stats.poi_labels)++;
     }
@@ -438,8 +447,8 @@ CompileStats compileStore(const CompileOptions& opt) {
         if (name.empty()) continue;
         // seed 4.4.2: polyline center for horizontal labels, longest straight segment for rotated ones.
         const Segment s = longestStraightSegment(r.pts);
-        plabels.push_back({LabelKind::Road, static_cast<std::uint8_t>(r.raw->cls), &name, polylineCenter(r.pts), s.a, s.b,
-                           0.7f - 0.05f * static_cast<float>(r.raw->cls), r.raw->id, roadMaxTile(r.raw->cls), 0});
+        plabels.push_back({LabelKind::Road, static_cast<std::uint8_t>(r.raw->cls), &name, polylineCenter(r.pts), s.a,
+                           s.b, 0.7f - 0.05f * static_cast<float>(r.raw->cls), r.raw->id, roadMaxTile(r.raw->cls), 0});
         ++stats.road_labels;
     }
 
@@ -449,8 +458,8 @@ CompileStats compileStore(const CompileOptions& opt) {
     stats.graph_edges = graph.edges.size();
     graph_ways.ways.clear();
     graph_ways.ways.shrink_to_fit();
-    log("projected " + std::to_string(stats.road_vertices) + " road vertices; graph " + std::to_string(stats.graph_nodes) +
-        " nodes, " + std::to_string(stats.graph_edges) + " edges");
+    log("projected " + std::to_string(stats.road_vertices) + " road vertices; graph " +
+        std::to_string(stats.graph_nodes) + " nodes, " + std::to_string(stats.graph_edges) + " edges");
 
     // ---- write the pyramid level by level ----
     StoreInfo info;
@@ -606,13 +615,16 @@ CompileStats compileStore(const CompileOptions& opt) {
                 const double v = static_cast<double>(r) / (n - 1);
                 for (int c = 0; c < n; ++c) {
                     const double u = static_cast<double>(c) / (n - 1);
-                    const double la = (1 - u) * (1 - v) * lat[0] + u * (1 - v) * lat[1] + (1 - u) * v * lat[2] + u * v * lat[3];
-                    const double lo = (1 - u) * (1 - v) * lon[0] + u * (1 - v) * lon[1] + (1 - u) * v * lon[2] + u * v * lon[3];
+                    const double la =
+                        (1 - u) * (1 - v) * lat[0] + u * (1 - v) * lat[1] + (1 - u) * v * lat[2] + u * v * lat[3];
+                    const double lo =
+                        (1 - u) * (1 - v) * lon[0] + u * (1 - v) * lon[1] + (1 - u) * v * lon[2] + u * v * lon[3];
                     double sum = 0;
                     int got = 0;
                     for (int i = 0; i < k; ++i) {
                         for (int j = 0; j < k; ++j) {
-                            const auto h = dems.sample(la + (i - 0.5 * (k - 1)) * dlat, lo + (j - 0.5 * (k - 1)) * dlon);
+                            const auto h =
+                                dems.sample(la + (i - 0.5 * (k - 1)) * dlat, lo + (j - 0.5 * (k - 1)) * dlon);
                             if (h) {
                                 sum += *h;
                                 ++got;
@@ -630,7 +642,8 @@ CompileStats compileStore(const CompileOptions& opt) {
         }
 
         for (auto& [key, t] : tiles) {
-            std::stable_sort(t.roads.begin(), t.roads.end(), [](const Road& a, const Road& b) { return a.cls < b.cls; });
+            std::stable_sort(t.roads.begin(), t.roads.end(),
+                             [](const Road& a, const Road& b) { return a.cls < b.cls; });
             std::stable_sort(t.labels.begin(), t.labels.end(),
                              [](const Label& a, const Label& b) { return a.importance > b.importance; });
             writer.addTile(t);

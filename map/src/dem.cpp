@@ -56,8 +56,10 @@ Dem loadHgt(const std::filesystem::path& path) {
     const auto bytes = static_cast<std::size_t>(in.tellg());
     in.seekg(0);
     int side = 0;
-    if (bytes == 1201u * 1201u * 2u) side = 1201;
-    else if (bytes == 3601u * 3601u * 2u) side = 3601;
+    if (bytes == 1201u * 1201u * 2u)
+        side = 1201;
+    else if (bytes == 3601u * 3601u * 2u)
+        side = 3601;
     else {
         throw DemError(path.string() + ": " + std::to_string(bytes) +
                        " bytes is not an SRTM tile (expected 1201x1201 or 3601x3601 int16 samples)");
@@ -140,7 +142,9 @@ std::size_t fillVoids(Dem& dem) {
                 const int r0 = static_cast<int>(cr), c0 = static_cast<int>(cc);
                 const int r1 = std::min(r0 + 1, coarse.rows - 1), c1 = std::min(c0 + 1, coarse.cols - 1);
                 const double tr = cr - r0, tc = cc - c0;
-                auto cv = [&](int rr, int ccol) { return coarse.value[static_cast<std::size_t>(rr) * coarse.cols + ccol]; };
+                auto cv = [&](int rr, int ccol) {
+                    return coarse.value[static_cast<std::size_t>(rr) * coarse.cols + ccol];
+                };
                 fine.value[fi] = static_cast<float>((cv(r0, c0) * (1 - tc) + cv(r0, c1) * tc) * (1 - tr) +
                                                     (cv(r1, c0) * (1 - tc) + cv(r1, c1) * tc) * tr);
                 fine.weight[fi] = 1.0f;

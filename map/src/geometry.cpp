@@ -10,8 +10,8 @@
 namespace navmap::map {
 
 Box boundsOf(std::span<const PlanarPoint> points) {
-    Box b{std::numeric_limits<double>::max(), std::numeric_limits<double>::max(),
-          std::numeric_limits<double>::lowest(), std::numeric_limits<double>::lowest()};
+    Box b{std::numeric_limits<double>::max(), std::numeric_limits<double>::max(), std::numeric_limits<double>::lowest(),
+          std::numeric_limits<double>::lowest()};
     for (const auto& p : points) {
         b.min_x = std::min(b.min_x, p.x);
         b.min_y = std::min(b.min_y, p.y);
@@ -82,7 +82,8 @@ PlanarPoint polygonBarycenter(std::span<const std::vector<PlanarPoint>> outers,
 
 double polylineLength(std::span<const PlanarPoint> line) {
     double len = 0;
-    for (std::size_t i = 1; i < line.size(); ++i) len += std::hypot(line[i].x - line[i - 1].x, line[i].y - line[i - 1].y);
+    for (std::size_t i = 1; i < line.size(); ++i)
+        len += std::hypot(line[i].x - line[i - 1].x, line[i].y - line[i - 1].y);
     return len;
 }
 
@@ -140,9 +141,9 @@ double segmentDistance(PlanarPoint p, PlanarPoint a, PlanarPoint b) {
 }  // namespace
 
 std::vector<PlanarPoint> simplifyPolyline(std::span<const PlanarPoint> line, double tolerance) {
-    const std::vector<char> keep = douglasPeucker(line.size(), tolerance, [&](std::size_t k, std::size_t i, std::size_t j) {
-        return segmentDistance(line[k], line[i], line[j]);
-    });
+    const std::vector<char> keep = douglasPeucker(
+        line.size(), tolerance,
+        [&](std::size_t k, std::size_t i, std::size_t j) { return segmentDistance(line[k], line[i], line[j]); });
     std::vector<PlanarPoint> out;
     for (std::size_t k = 0; k < line.size(); ++k) {
         if (keep[k]) out.push_back(line[k]);
@@ -167,7 +168,7 @@ std::vector<PlanarPoint> simplifyRing(std::span<const PlanarPoint> ring, double 
     second.push_back(ring[0]);
     auto a = simplifyPolyline(first, tolerance);
     auto b = simplifyPolyline(second, tolerance);
-    a.pop_back();  // far point repeats as b's first
+    a.pop_back();                               // far point repeats as b's first
     a.insert(a.end(), b.begin(), b.end() - 1);  // b's last is ring[0]
     return a;
 }
@@ -191,8 +192,10 @@ std::vector<std::vector<PlanarPoint>> clipPolyline(std::span<const PlanarPoint> 
                 if (q[k] < 0) inside = false;
             } else {
                 const double t = q[k] / p[k];
-                if (p[k] < 0) t0 = std::max(t0, t);
-                else t1 = std::min(t1, t);
+                if (p[k] < 0)
+                    t0 = std::max(t0, t);
+                else
+                    t1 = std::min(t1, t);
                 if (t0 > t1) inside = false;
             }
         }
@@ -235,10 +238,14 @@ std::vector<PlanarPoint> clipRing(std::span<const PlanarPoint> ring, const Box& 
             }
             PlanarPoint p{a.x + t * (b.x - a.x), a.y + t * (b.y - a.y)};
             // Snap exactly onto the edge so neighbouring tiles share coordinates.
-            if (edge == 0) p.x = box.min_x;
-            else if (edge == 1) p.x = box.max_x;
-            else if (edge == 2) p.y = box.min_y;
-            else p.y = box.max_y;
+            if (edge == 0)
+                p.x = box.min_x;
+            else if (edge == 1)
+                p.x = box.max_x;
+            else if (edge == 2)
+                p.y = box.min_y;
+            else
+                p.y = box.max_y;
             return p;
         };
         out.clear();

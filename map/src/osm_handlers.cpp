@@ -104,7 +104,8 @@ void GraphHandler::way(const osmium::Way& way) {
     if (tags["bridge"] && !tags.has_tag("bridge", "no")) g.flags |= RoadFlags::Bridge;
     if (tags["tunnel"] && !tags.has_tag("tunnel", "no")) g.flags |= RoadFlags::Tunnel;
     // Guidance announces a roundabout as one manoeuvre with its exit number (docs/guidance.md).
-    if (tags.has_tag("junction", "roundabout") || tags.has_tag("junction", "circular")) g.flags |= RoadFlags::Roundabout;
+    if (tags.has_tag("junction", "roundabout") || tags.has_tag("junction", "circular"))
+        g.flags |= RoadFlags::Roundabout;
     g.speed_kmh = defaultSpeedKmh(g.cls);
     if (const char* ms = tags["maxspeed"]) {
         if (auto v = parseMaxspeedKmh(ms)) g.speed_kmh = *v;

@@ -46,8 +46,8 @@ float defaultSpeedKmh(RoadClass cls) {
 
 std::string_view roadClassName(RoadClass cls) {
     static constexpr std::array<std::string_view, kRoadClassCount> kNames{
-        "motorway", "trunk", "primary", "secondary", "tertiary", "unclassified",
-        "residential", "service", "pedestrian", "track", "path"};
+        "motorway",    "trunk",   "primary",    "secondary", "tertiary", "unclassified",
+        "residential", "service", "pedestrian", "track",     "path"};
     return kNames[static_cast<std::size_t>(cls)];
 }
 

@@ -104,8 +104,8 @@ bool decodeRoadGraph(std::span<const std::uint8_t> bytes, RoadGraph& g, std::str
     g.first_edge.assign(g.nodes.size() + 1, 0);
     std::uint32_t prev_from = 0;
     for (const auto& e : g.edges) {
-        if (e.from >= g.nodes.size() || e.to >= g.nodes.size() || e.from < prev_from ||
-            e.shape_end < e.shape_begin || e.shape_end > g.shape.size()) {
+        if (e.from >= g.nodes.size() || e.to >= g.nodes.size() || e.from < prev_from || e.shape_end < e.shape_begin ||
+            e.shape_end > g.shape.size()) {
             error = "edge references out of range or unsorted";
             g = RoadGraph{};
             return false;

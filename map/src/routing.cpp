@@ -132,8 +132,8 @@ RouteSample sampleRoute(const std::vector<RoutePoint>& line, double measure_m) {
         return s;
     }
     const double m = std::clamp(measure_m, 0.0, line.back().measure_m);
-    const auto it = std::upper_bound(line.begin(), line.end(), m,
-                                     [](double v, const RoutePoint& p) { return v < p.measure_m; });
+    const auto it =
+        std::upper_bound(line.begin(), line.end(), m, [](double v, const RoutePoint& p) { return v < p.measure_m; });
     std::size_t i = static_cast<std::size_t>(std::max<std::ptrdiff_t>(1, it - line.begin())) - 1;
     i = std::min(i, line.size() - 2);
     const RoutePoint& a = line[i];
@@ -141,7 +141,8 @@ RouteSample sampleRoute(const std::vector<RoutePoint>& line, double measure_m) {
     const double len = b.measure_m - a.measure_m;
     const double t = len > 0 ? (m - a.measure_m) / len : 0.0;
     s.position = {a.position.x + (b.position.x - a.position.x) * t, a.position.y + (b.position.y - a.position.y) * t};
-    s.heading_deg = std::fmod(std::atan2(b.position.x - a.position.x, b.position.y - a.position.y) * 180.0 / std::numbers::pi + 360.0, 360.0);
+    s.heading_deg = std::fmod(
+        std::atan2(b.position.x - a.position.x, b.position.y - a.position.y) * 180.0 / std::numbers::pi + 360.0, 360.0);
     s.segment = i;
     return s;
 }

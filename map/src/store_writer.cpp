@@ -53,7 +53,8 @@ bool isTemporaryOf(const std::string& name, const std::string& store_name) {
 
 StoreWriter::StoreWriter(const std::filesystem::path& path, StoreInfo info) : StoreWriter(StoreLock(path), info) {}
 
-StoreWriter::StoreWriter(StoreLock lock, StoreInfo info) : m_lock(std::move(lock)), m_path(m_lock.store()), m_info(info) {
+StoreWriter::StoreWriter(StoreLock lock, StoreInfo info)
+    : m_lock(std::move(lock)), m_path(m_lock.store()), m_info(info) {
     createTemporary();
     try {
         write(std::vector<std::uint8_t>(detail::kHeaderSize, 0));  // patched in finish()

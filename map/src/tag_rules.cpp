@@ -124,37 +124,69 @@ int onewayDirection(const TagLookup& tags) {
 std::optional<AreaClass> areaClassFromTags(const TagLookup& tags) {
     using A = AreaClass;
     if (const char* n = tags("natural")) {
-        static constexpr std::array<std::pair<std::string_view, A>, 14> kNatural{{
-            {"water", A::Water}, {"bay", A::Water}, {"wetland", A::Wetland}, {"glacier", A::Glacier},
-            {"wood", A::Forest}, {"scrub", A::Scrub}, {"heath", A::Scrub}, {"grassland", A::Grass},
-            {"fell", A::Grass}, {"bare_rock", A::Rock}, {"scree", A::Rock}, {"shingle", A::Rock},
-            {"sand", A::Rock}, {"beach", A::Rock}}};
+        static constexpr std::array<std::pair<std::string_view, A>, 14> kNatural{{{"water", A::Water},
+                                                                                  {"bay", A::Water},
+                                                                                  {"wetland", A::Wetland},
+                                                                                  {"glacier", A::Glacier},
+                                                                                  {"wood", A::Forest},
+                                                                                  {"scrub", A::Scrub},
+                                                                                  {"heath", A::Scrub},
+                                                                                  {"grassland", A::Grass},
+                                                                                  {"fell", A::Grass},
+                                                                                  {"bare_rock", A::Rock},
+                                                                                  {"scree", A::Rock},
+                                                                                  {"shingle", A::Rock},
+                                                                                  {"sand", A::Rock},
+                                                                                  {"beach", A::Rock}}};
         for (const auto& [k, c] : kNatural) {
             if (k == n) return c;
         }
     }
     if (eq(tags("waterway"), "riverbank") || eq(tags("waterway"), "dock")) return A::Water;
     if (const char* l = tags("landuse")) {
-        static constexpr std::array<std::pair<std::string_view, A>, 27> kLanduse{{
-            {"reservoir", A::Water}, {"basin", A::Water}, {"salt_pond", A::Water},
-            {"forest", A::Forest}, {"grass", A::Grass}, {"meadow", A::Grass}, {"village_green", A::Grass},
-            {"greenfield", A::Grass}, {"farmland", A::Farmland}, {"farmyard", A::Farmland},
-            {"orchard", A::Farmland}, {"vineyard", A::Farmland}, {"allotments", A::Farmland},
-            {"residential", A::Residential}, {"commercial", A::Commercial}, {"retail", A::Commercial},
-            {"industrial", A::Industrial}, {"railway", A::Industrial}, {"quarry", A::Industrial},
-            {"landfill", A::Industrial}, {"construction", A::Industrial}, {"brownfield", A::Industrial},
-            {"recreation_ground", A::Park}, {"winter_sports", A::Sport}, {"cemetery", A::Cemetery},
-            {"military", A::Military}, {"religious", A::Other}}};
+        static constexpr std::array<std::pair<std::string_view, A>, 27> kLanduse{{{"reservoir", A::Water},
+                                                                                  {"basin", A::Water},
+                                                                                  {"salt_pond", A::Water},
+                                                                                  {"forest", A::Forest},
+                                                                                  {"grass", A::Grass},
+                                                                                  {"meadow", A::Grass},
+                                                                                  {"village_green", A::Grass},
+                                                                                  {"greenfield", A::Grass},
+                                                                                  {"farmland", A::Farmland},
+                                                                                  {"farmyard", A::Farmland},
+                                                                                  {"orchard", A::Farmland},
+                                                                                  {"vineyard", A::Farmland},
+                                                                                  {"allotments", A::Farmland},
+                                                                                  {"residential", A::Residential},
+                                                                                  {"commercial", A::Commercial},
+                                                                                  {"retail", A::Commercial},
+                                                                                  {"industrial", A::Industrial},
+                                                                                  {"railway", A::Industrial},
+                                                                                  {"quarry", A::Industrial},
+                                                                                  {"landfill", A::Industrial},
+                                                                                  {"construction", A::Industrial},
+                                                                                  {"brownfield", A::Industrial},
+                                                                                  {"recreation_ground", A::Park},
+                                                                                  {"winter_sports", A::Sport},
+                                                                                  {"cemetery", A::Cemetery},
+                                                                                  {"military", A::Military},
+                                                                                  {"religious", A::Other}}};
         for (const auto& [k, c] : kLanduse) {
             if (k == l) return c;
         }
         return A::Other;
     }
     if (const char* s = tags("leisure")) {
-        static constexpr std::array<std::pair<std::string_view, A>, 10> kLeisure{{
-            {"park", A::Park}, {"garden", A::Park}, {"nature_reserve", A::Park}, {"pitch", A::Sport},
-            {"sports_centre", A::Sport}, {"stadium", A::Sport}, {"golf_course", A::Sport},
-            {"track", A::Sport}, {"playground", A::Sport}, {"swimming_pool", A::Water}}};
+        static constexpr std::array<std::pair<std::string_view, A>, 10> kLeisure{{{"park", A::Park},
+                                                                                  {"garden", A::Park},
+                                                                                  {"nature_reserve", A::Park},
+                                                                                  {"pitch", A::Sport},
+                                                                                  {"sports_centre", A::Sport},
+                                                                                  {"stadium", A::Sport},
+                                                                                  {"golf_course", A::Sport},
+                                                                                  {"track", A::Sport},
+                                                                                  {"playground", A::Sport},
+                                                                                  {"swimming_pool", A::Water}}};
         for (const auto& [k, c] : kLeisure) {
             if (k == s) return c;
         }
@@ -167,11 +199,20 @@ std::optional<AreaClass> areaClassFromTags(const TagLookup& tags) {
 
 std::optional<PlaceClass> placeClassFromTag(std::string_view p) {
     using P = PlaceClass;
-    static constexpr std::array<std::pair<std::string_view, P>, 14> kPlaces{{
-        {"country", P::Country}, {"state", P::State}, {"region", P::State}, {"city", P::City},
-        {"town", P::Town}, {"village", P::Village}, {"suburb", P::Suburb}, {"quarter", P::Suburb},
-        {"hamlet", P::Hamlet}, {"neighbourhood", P::Neighbourhood}, {"locality", P::Locality},
-        {"isolated_dwelling", P::IsolatedDwelling}, {"farm", P::IsolatedDwelling}, {"island", P::Island}}};
+    static constexpr std::array<std::pair<std::string_view, P>, 14> kPlaces{{{"country", P::Country},
+                                                                             {"state", P::State},
+                                                                             {"region", P::State},
+                                                                             {"city", P::City},
+                                                                             {"town", P::Town},
+                                                                             {"village", P::Village},
+                                                                             {"suburb", P::Suburb},
+                                                                             {"quarter", P::Suburb},
+                                                                             {"hamlet", P::Hamlet},
+                                                                             {"neighbourhood", P::Neighbourhood},
+                                                                             {"locality", P::Locality},
+                                                                             {"isolated_dwelling", P::IsolatedDwelling},
+                                                                             {"farm", P::IsolatedDwelling},
+                                                                             {"island", P::Island}}};
     for (const auto& [k, c] : kPlaces) {
         if (k == p) return c;
     }
@@ -191,22 +232,22 @@ std::optional<PoiClass> poiClassFromTags(const TagLookup& tags) {
 }
 
 float placeImportance(PlaceClass cls) {
-    static constexpr std::array<float, 12> kImportance{1.0f, 0.95f, 0.9f, 0.8f, 0.6f, 0.5f, 0.4f,
-                                                       0.3f, 0.2f, 0.15f, 0.3f, 0.1f};
+    static constexpr std::array<float, 12> kImportance{1.0f, 0.95f, 0.9f, 0.8f,  0.6f, 0.5f,
+                                                       0.4f, 0.3f,  0.2f, 0.15f, 0.3f, 0.1f};
     return kImportance[static_cast<std::size_t>(cls)];
 }
 
 std::string_view areaClassName(AreaClass cls) {
     static constexpr std::array<std::string_view, kAreaClassCount> kNames{
-        "water", "wetland", "glacier", "forest", "scrub", "grass", "farmland", "rock",
-        "residential", "commercial", "industrial", "park", "sport", "cemetery", "military", "other"};
+        "water",       "wetland",    "glacier",    "forest", "scrub", "grass",    "farmland", "rock",
+        "residential", "commercial", "industrial", "park",   "sport", "cemetery", "military", "other"};
     return kNames[static_cast<std::size_t>(cls)];
 }
 
 std::string_view placeClassName(PlaceClass cls) {
     static constexpr std::array<std::string_view, 12> kNames{
-        "country", "state", "city", "town", "village", "suburb", "hamlet", "neighbourhood",
-        "locality", "isolated_dwelling", "island", "other"};
+        "country",           "state",  "city", "town", "village", "suburb", "hamlet", "neighbourhood", "locality",
+        "isolated_dwelling", "island", "other"};
     return kNames[static_cast<std::size_t>(cls)];
 }
 

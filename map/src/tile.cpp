@@ -10,7 +10,8 @@ std::string TileId::toString() const {
 namespace {
 
 std::size_t polygonBytes(const Polygon& p) {
-    return p.vertices.capacity() * sizeof(LocalPoint) + (p.ring_ends.capacity() + p.indices.capacity()) * sizeof(std::uint32_t);
+    return p.vertices.capacity() * sizeof(LocalPoint) +
+           (p.ring_ends.capacity() + p.indices.capacity()) * sizeof(std::uint32_t);
 }
 
 std::size_t stringBytes(const std::string& s) { return s.capacity() > 15 ? s.capacity() + 1 : 0; }
@@ -20,7 +21,8 @@ std::size_t stringBytes(const std::string& s) { return s.capacity() > 15 ? s.cap
 std::size_t Tile::byteSize() const {
     std::size_t bytes = sizeof(Tile);
     bytes += roads.capacity() * sizeof(Road);
-    for (const auto& r : roads) bytes += r.points.capacity() * sizeof(LocalPoint) + stringBytes(r.name) + stringBytes(r.ref);
+    for (const auto& r : roads)
+        bytes += r.points.capacity() * sizeof(LocalPoint) + stringBytes(r.name) + stringBytes(r.ref);
     bytes += buildings.capacity() * sizeof(Building);
     for (const auto& b : buildings) bytes += polygonBytes(b.footprint);
     bytes += areas.capacity() * sizeof(Area);

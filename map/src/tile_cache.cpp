@@ -93,8 +93,10 @@ void TileCache::loaderLoop() {
         lock.lock();
         m_in_flight = kNone;
         ++m_metrics.loads;
-        if (m_load_ms.size() < kLoadWindow) m_load_ms.push_back(ms);
-        else m_load_ms[m_load_next++ % kLoadWindow] = ms;
+        if (m_load_ms.size() < kLoadWindow)
+            m_load_ms.push_back(ms);
+        else
+            m_load_ms[m_load_next++ % kLoadWindow] = ms;
         if (!loaded.tile) {
             m_bad.insert(key);
             if (!loaded.missing) {

@@ -58,7 +58,8 @@ LocalPoint readPoint(ByteReader& r) {
 }
 
 void writePolygon(ByteWriter& w, const Polygon& poly) {
-    NAVMAP_CHECK(poly.indices.empty() || std::ranges::max(poly.indices) < poly.vertices.size(), "polygon index past its vertices");
+    NAVMAP_CHECK(poly.indices.empty() || std::ranges::max(poly.indices) < poly.vertices.size(),
+                 "polygon index past its vertices");
     writePoints(w, poly.vertices);
     w.varint(poly.ring_ends.size());
     std::uint32_t prev = 0;

@@ -100,10 +100,13 @@ std::vector<TileRequest> mergeRequests(std::vector<TileRequest> a, std::span<con
     std::vector<TileRequest> out;
     for (const auto& r : a) {
         auto [it, inserted] = best.emplace(r.id.key(), out.size());
-        if (inserted) out.push_back(r);
-        else out[it->second].priority = std::max(out[it->second].priority, r.priority);
+        if (inserted)
+            out.push_back(r);
+        else
+            out[it->second].priority = std::max(out[it->second].priority, r.priority);
     }
-    std::sort(out.begin(), out.end(), [](const TileRequest& x, const TileRequest& y) { return x.priority > y.priority; });
+    std::sort(out.begin(), out.end(),
+              [](const TileRequest& x, const TileRequest& y) { return x.priority > y.priority; });
     return out;
 }
 
@@ -119,8 +122,9 @@ std::vector<TileRequest> selectTiles(const TileScheme& s, int level, const Camer
         ahead = tilesAlongPolyline(s, level, cam.route, radius, cam.prefetch_m, kPrefetch);
     } else {
         const double h = cam.heading_deg * std::numbers::pi / 180.0;
-        const PlanarPoint line[2] = {cam.position, {cam.position.x + std::sin(h) * cam.prefetch_m,
-                                                    cam.position.y + std::cos(h) * cam.prefetch_m}};
+        const PlanarPoint line[2] = {
+            cam.position,
+            {cam.position.x + std::sin(h) * cam.prefetch_m, cam.position.y + std::cos(h) * cam.prefetch_m}};
         ahead = tilesAlongPolyline(s, level, line, radius, cam.prefetch_m, kPrefetch);
     }
     for (auto& r : ahead) r.priority = std::min(r.priority, kPrefetch);

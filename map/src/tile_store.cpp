@@ -77,7 +77,8 @@ std::shared_ptr<TileStore> TileStore::open(const std::filesystem::path& path) {
         e.crc = r.u32();
         if (!info.scheme.valid(e.id) || e.offset < detail::kHeaderSize || e.offset > info.index_offset ||
             e.stored_size > info.index_offset - e.offset) {
-            throw StoreError(name + ": index entry " + std::to_string(i) + " (tile " + e.id.toString() + ") is invalid");
+            throw StoreError(name + ": index entry " + std::to_string(i) + " (tile " + e.id.toString() +
+                             ") is invalid");
         }
         store->m_index.emplace(e.id.key(), e);
     }
@@ -120,7 +121,8 @@ TileStore::LoadResult TileStore::load(TileId id) const {
         return result;
     };
     std::vector<std::uint8_t> stored(e.stored_size);
-    if (!preadAll(m_fd, stored.data(), stored.size(), e.offset)) return fail(std::string("read failed: ") + std::strerror(errno));
+    if (!preadAll(m_fd, stored.data(), stored.size(), e.offset))
+        return fail(std::string("read failed: ") + std::strerror(errno));
     if (detail::crc32Of(stored) != e.crc) return fail("checksum mismatch (corrupt tile)");
     if (e.raw_size > (256u << 20)) return fail("implausible size");
     std::vector<std::uint8_t> raw;

@@ -16,7 +16,8 @@ namespace {
 using navmap::cli::finiteIn;
 
 CLI::Validator demSamples() {
-    const std::string allowed = "0 (no DEM grid) or an integer in [2, " + std::to_string(navmap::map::kMaxDemSamples) + "]";
+    const std::string allowed =
+        "0 (no DEM grid) or an integer in [2, " + std::to_string(navmap::map::kMaxDemSamples) + "]";
     return CLI::Validator(
         [allowed](std::string& input) -> std::string {
             char* end = nullptr;
@@ -45,7 +46,9 @@ int main(int argc, char** argv) {
     app.add_option("--leaf-size", opt.leaf_tile_m, "edge of the finest tiles in metres")
         ->check(finiteIn(navmap::map::kMinLeafTileM, navmap::map::kMaxLeafTileM))
         ->capture_default_str();
-    app.add_option("--dem-samples", opt.dem_samples, "DEM samples per tile side")->check(demSamples())->capture_default_str();
+    app.add_option("--dem-samples", opt.dem_samples, "DEM samples per tile side")
+        ->check(demSamples())
+        ->capture_default_str();
     app.add_option("--default-building-height", opt.default_building_height_m, "metres, when untagged")
         ->check(finiteIn(0.0, navmap::map::kMaxBuildingHeightM))
         ->capture_default_str();

@@ -6,7 +6,8 @@
 namespace navmap::render {
 
 glm::mat4 Camera::viewRelativeTo(const glm::dvec3& origin) const {
-    // Subtract in double so far-from-origin scenes keep their precision (docs/architecture.md "Rendering": camera-relative).
+    // Subtract in double so far-from-origin scenes keep their precision (docs/architecture.md "Rendering":
+    // camera-relative).
     return glm::mat4(glm::lookAt(eye - origin, target - origin, up));
 }
 

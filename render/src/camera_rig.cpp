@@ -36,7 +36,8 @@ double smoothDamp(double current, double target, double& velocity, double smooth
 
 CameraRig::CameraRig(CameraRigParams params) : m_params(params) {}
 
-void CameraRig::setMapLibreFollow(const MapLibreFollow& follow, const map::Projection& projection, int viewport_height_px) {
+void CameraRig::setMapLibreFollow(const MapLibreFollow& follow, const map::Projection& projection,
+                                  int viewport_height_px) {
     m_follow = Follow{follow, projection, viewport_height_px};
 }
 
@@ -61,13 +62,15 @@ RigState CameraRig::goal(const VehiclePose& pose) const {
         g.fov_y_deg = kMapLibreFovYDeg;
         if (f.bearing_deg || m_orientation == Orientation::NorthUp) {
             // A bearing from true north; the store frame's y axis is grid north.
-            g.yaw_deg = std::fmod(gridBearingDeg(m_follow->projection, lat, lon, f.bearing_deg.value_or(0.0)) + 720.0, 360.0);
+            g.yaw_deg =
+                std::fmod(gridBearingDeg(m_follow->projection, lat, lon, f.bearing_deg.value_or(0.0)) + 720.0, 360.0);
         }
         return g;
     }
     if (m_mode == ViewMode::Bird) {
         const double t = std::clamp(pose.speed_mps / m_params.bird_fast_speed_mps, 0.0, 1.0);
-        g.distance_m = m_params.bird_distance_slow_m + t * (m_params.bird_distance_fast_m - m_params.bird_distance_slow_m);
+        g.distance_m =
+            m_params.bird_distance_slow_m + t * (m_params.bird_distance_fast_m - m_params.bird_distance_slow_m);
         g.pitch_deg = m_params.bird_pitch_deg;
         g.look_ahead_m = m_params.bird_look_ahead_m;
     } else {

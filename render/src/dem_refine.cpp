@@ -15,8 +15,8 @@ double catmullRom(double p0, double p1, double p2, double p3, double t) {
 
 // Deterministic lattice value in [-1, 1] (integer hash, no global state).
 double latticeValue(std::int64_t ix, std::int64_t iy, std::uint32_t octave, std::uint32_t seed) {
-    std::uint64_t h = static_cast<std::uint64_t>(ix) * 0x9E3779B97F4A7C15ull ^ static_cast<std::uint64_t>(iy) * 0xC2B2AE3D27D4EB4Full ^
-                      (std::uint64_t{octave} << 32) ^ seed;
+    std::uint64_t h = static_cast<std::uint64_t>(ix) * 0x9E3779B97F4A7C15ull ^
+                      static_cast<std::uint64_t>(iy) * 0xC2B2AE3D27D4EB4Full ^ (std::uint64_t{octave} << 32) ^ seed;
     h ^= h >> 33;
     h *= 0xFF51AFD7ED558CCDull;
     h ^= h >> 33;
@@ -52,7 +52,8 @@ map::TileDem refineDem(const map::TileDem& coarse, double tile_size_m, double or
                        const DemRefineOptions& options) {
     if (coarse.size < 2 || coarse.heights.size() != std::size_t{coarse.size} * coarse.size) return coarse;
     const int n = coarse.size;
-    const int intervals = std::clamp(static_cast<int>(std::lround(tile_size_m / std::max(options.spacing_m, 0.1))), 1, 65534);
+    const int intervals =
+        std::clamp(static_cast<int>(std::lround(tile_size_m / std::max(options.spacing_m, 0.1))), 1, 65534);
     map::TileDem out;
     out.size = static_cast<std::uint16_t>(intervals + 1);
     out.spacing_m = static_cast<float>(tile_size_m / intervals);
@@ -88,7 +89,8 @@ map::TileDem refineDem(const map::TileDem& coarse, double tile_size_m, double or
                 const int rr = r1 - 1 + k;
                 rows[k] = catmullRom(at(rr, c1 - 1), at(rr, c1), at(rr, c1 + 1), at(rr, c1 + 2), tx);
             }
-            const double h = catmullRom(rows[0], rows[1], rows[2], rows[3], ty) + demDetail(origin_x + x, origin_y + y, options);
+            const double h =
+                catmullRom(rows[0], rows[1], rows[2], rows[3], ty) + demDetail(origin_x + x, origin_y + y, options);
             out.heights[static_cast<std::size_t>(r) * out.size + c] = static_cast<float>(h);
         }
     }

@@ -14,11 +14,11 @@
 namespace navmap::render {
 
 struct DemRefineOptions {
-    double spacing_m = 10.0;          ///< target sample spacing (the grid spans the tile edge to edge)
-    float detail_amplitude_m = 4.0f;  ///< amplitude of the largest detail octave; each next one halves
+    double spacing_m = 10.0;             ///< target sample spacing (the grid spans the tile edge to edge)
+    float detail_amplitude_m = 4.0f;     ///< amplitude of the largest detail octave; each next one halves
     double detail_wavelength_m = 120.0;  ///< wavelength of the largest detail octave; each next one halves
     int detail_octaves = 4;
-    std::uint32_t seed = 1;           ///< same seed, same detail (value noise on a hashed lattice)
+    std::uint32_t seed = 1;  ///< same seed, same detail (value noise on a hashed lattice)
 };
 
 /// Resamples `coarse` (a tile DEM spanning `tile_size_m`) with Catmull-Rom bicubic interpolation

@@ -12,8 +12,8 @@ namespace navmap::render {
 namespace {
 
 // Symbol units: the square [-1, 1]^2, y up.
-constexpr float kStroke = 0.12f;     // half thickness of a path
-constexpr float kHeadHalf = 0.32f;   // half width of the head's base
+constexpr float kStroke = 0.12f;    // half thickness of a path
+constexpr float kHeadHalf = 0.32f;  // half width of the head's base
 constexpr float kHeadLength = 0.4f;
 
 class Builder {
@@ -29,7 +29,8 @@ public:
         for (int i = 0; i < kSides; ++i) {
             const float a0 = 2.0f * std::numbers::pi_v<float> * float(i) / kSides;
             const float a1 = 2.0f * std::numbers::pi_v<float> * float(i + 1) / kSides;
-            triangle(out, c, c + r * glm::vec2(std::cos(a0), std::sin(a0)), c + r * glm::vec2(std::cos(a1), std::sin(a1)));
+            triangle(out, c, c + r * glm::vec2(std::cos(a0), std::sin(a0)),
+                     c + r * glm::vec2(std::cos(a1), std::sin(a1)));
         }
     }
     // A thick polyline, round joins, flat ends.
@@ -87,38 +88,25 @@ GuidanceSymbolGeometry guidanceSymbol(ManeuverSymbol symbol, int roundabout_exit
     const Builder b(centre, size_px);
     using S = ManeuverSymbol;
     const std::vector<glm::vec2> straight = {{0.0f, -0.8f}, {0.0f, 0.45f}};
-    const std::vector<glm::vec2> turn_right =
-        std::vector<glm::vec2>{{-0.4f, -0.85f}} + arc({-0.1f, 0.0f}, 0.3f, 180.0f, 90.0f) + std::vector<glm::vec2>{{0.3f, 0.3f}};
+    const std::vector<glm::vec2> turn_right = std::vector<glm::vec2>{{-0.4f, -0.85f}} +
+                                              arc({-0.1f, 0.0f}, 0.3f, 180.0f, 90.0f) +
+                                              std::vector<glm::vec2>{{0.3f, 0.3f}};
     const std::vector<glm::vec2> slight_right = {{-0.2f, -0.85f}, {-0.2f, -0.15f}, {0.22f, 0.27f}};
     const std::vector<glm::vec2> sharp_right = {{-0.35f, -0.85f}, {-0.35f, 0.5f}, {0.12f, 0.03f}};
     const std::vector<glm::vec2> keep_right = {{0.0f, -0.85f}, {0.0f, -0.3f}, {0.35f, 0.05f}, {0.35f, 0.4f}};
     const std::vector<glm::vec2> keep_other = {{0.0f, -0.3f}, {0.0f, 0.8f}};
     switch (symbol) {
-        case S::Straight:
-            b.arrow(g.primary, straight);
-            break;
+        case S::Straight: b.arrow(g.primary, straight); break;
         case S::Depart:
             b.arrow(g.primary, straight);
             b.disc(g.primary, straight.front(), 0.15f);  // where it starts
             break;
-        case S::TurnRight:
-            b.arrow(g.primary, turn_right);
-            break;
-        case S::TurnLeft:
-            b.arrow(g.primary, mirrored(turn_right));
-            break;
-        case S::SlightRight:
-            b.arrow(g.primary, slight_right);
-            break;
-        case S::SlightLeft:
-            b.arrow(g.primary, mirrored(slight_right));
-            break;
-        case S::SharpRight:
-            b.arrow(g.primary, sharp_right);
-            break;
-        case S::SharpLeft:
-            b.arrow(g.primary, mirrored(sharp_right));
-            break;
+        case S::TurnRight: b.arrow(g.primary, turn_right); break;
+        case S::TurnLeft: b.arrow(g.primary, mirrored(turn_right)); break;
+        case S::SlightRight: b.arrow(g.primary, slight_right); break;
+        case S::SlightLeft: b.arrow(g.primary, mirrored(slight_right)); break;
+        case S::SharpRight: b.arrow(g.primary, sharp_right); break;
+        case S::SharpLeft: b.arrow(g.primary, mirrored(sharp_right)); break;
         case S::UTurn:  // to the left (right-hand traffic)
             b.arrow(g.primary, std::vector<glm::vec2>{{0.35f, -0.85f}} + arc({0.0f, 0.15f}, 0.35f, 0.0f, 180.0f) +
                                    std::vector<glm::vec2>{{-0.35f, -0.15f}});

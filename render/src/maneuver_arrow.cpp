@@ -138,7 +138,8 @@ ArrowShape arrowShape(const ManeuverArrow& arrow, const MapStyle& style, float s
         if (i > 0) {
             for (double b : breaks) {
                 if (b > ms[i - 1] + 1e-4 && b < ms[i] - 1e-4) {
-                    line.points.push_back(pointAt(std::span(pts).subspan(i - 1, 2), std::span(ms).subspan(i - 1, 2), b));
+                    line.points.push_back(
+                        pointAt(std::span(pts).subspan(i - 1, 2), std::span(ms).subspan(i - 1, 2), b));
                     line.measure_m.push_back(b);
                 }
             }

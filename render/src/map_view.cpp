@@ -8,10 +8,12 @@
 namespace navmap::render {
 
 MapView::MapView(std::shared_ptr<map::TileCache> cache, LodOptions lod) : m_cache(std::move(cache)), m_lod(lod) {
-    if (m_cache->store().info().dem_samples >= 2) m_lod.dem_samples = static_cast<int>(m_cache->store().info().dem_samples);
+    if (m_cache->store().info().dem_samples >= 2)
+        m_lod.dem_samples = static_cast<int>(m_cache->store().info().dem_samples);
 }
 
-std::vector<std::shared_ptr<const map::Tile>> MapView::tilesFor(const Camera& camera, double aspect, int viewport_height) {
+std::vector<std::shared_ptr<const map::Tile>> MapView::tilesFor(const Camera& camera, double aspect,
+                                                                int viewport_height) {
     const map::TileStore& store = m_cache->store();
     m_last = selectLod(
         store.scheme(), camera, aspect, viewport_height, [&](map::TileId id) { return store.contains(id); },

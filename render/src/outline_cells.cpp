@@ -37,8 +37,7 @@ void OutlineCells::markQuad(glm::vec3 p0, glm::vec3 p1, const QuadShape& shape, 
     // camera, (s v, 1) = s (v, 1) + (1 - s) (0, 0, 0, 1), becomes s c + (1 - s) eye_clip.
     const glm::vec3 mid = 0.5f * (p0 + p1);
     const float dist = glm::length(glm::vec3(m_view * glm::vec4(mid, 1.0f)));
-    const float half_width =
-        0.5f * shape.width_m * distanceWidthScale(dist, shape.scale_threshold_m, shape.max_scale);
+    const float half_width = 0.5f * shape.width_m * distanceWidthScale(dist, shape.scale_threshold_m, shape.max_scale);
     const glm::vec2 d = glm::vec2(p1) - glm::vec2(p0);
     const float len = glm::length(d);
     const glm::vec2 t = len > 1e-6f ? d / len : glm::vec2(1.0f, 0.0f);
@@ -52,8 +51,10 @@ void OutlineCells::markQuad(glm::vec3 p0, glm::vec3 p1, const QuadShape& shape, 
     // The widest pass is the shortest in half widths: its quads keep whole caps wherever any
     // pass's do (capReach), so its reach bounds every pass's.
     const float half_length = half_width > 0.0f ? capHalfLength(len, 2.0f * half_width) : 0.0f;
-    const glm::vec4 back = capReach(cap_reach.x, half_length) * along, ahead = capReach(cap_reach.y, half_length) * along;
-    const std::array<glm::vec4, 4> clip{c0 + across - back, c1 + across + ahead, c1 - across + ahead, c0 - across - back};
+    const glm::vec4 back = capReach(cap_reach.x, half_length) * along,
+                    ahead = capReach(cap_reach.y, half_length) * along;
+    const std::array<glm::vec4, 4> clip{c0 + across - back, c1 + across + ahead, c1 - across + ahead,
+                                        c0 - across - back};
     const float reach = m_reach + widening(c0, c1, across, along, shape);
     // Clipped against the near plane (z >= -w) as the GPU clips it; the other planes only cut
     // what lies off the viewport, which the grid drops anyway.
@@ -84,7 +85,9 @@ float OutlineCells::widening(const glm::vec4& c0, const glm::vec4& c1, const glm
     const glm::vec2 half_viewport(0.5f * static_cast<float>(m_width), 0.5f * static_cast<float>(m_height));
     for (const glm::vec4& c : {c0, c1}) {
         if (!(c.w > 0.0f)) return most;  // behind the camera: as wide as it can get
-        auto to_px = [&](const glm::vec4& d) { return (glm::vec2(d) * c.w - glm::vec2(c) * d.w) / (c.w * c.w) * half_viewport; };
+        auto to_px = [&](const glm::vec4& d) {
+            return (glm::vec2(d) * c.w - glm::vec2(c) * d.w) / (c.w * c.w) * half_viewport;
+        };
         const glm::vec2 st = to_px(along), sn = to_px(across);
         const float len = glm::length(st);
         if (!(len > 1e-9f)) continue;  // seen end-on: not widened
@@ -103,7 +106,9 @@ void OutlineCells::markPolygon(const glm::vec2* points, int count, float reach) 
     }
     const float cell = static_cast<float>(m_cell), inv_cell = 1.0f / cell;
     // Cells are indexed after clamping in float, so far-off corners cannot overflow an int.
-    auto index = [&](float v, int n) { return static_cast<int>(std::floor(std::clamp(v * inv_cell, -1.0f, static_cast<float>(n)))); };
+    auto index = [&](float v, int n) {
+        return static_cast<int>(std::floor(std::clamp(v * inv_cell, -1.0f, static_cast<float>(n))));
+    };
     const int row_lo = std::max(index(lo.y - reach, m_rows), 0);
     const int row_hi = std::min(index(hi.y + reach, m_rows), m_rows - 1);
     // Each edge's x as a function of y, for the rows whose band holds only part of the polygon.
@@ -116,7 +121,8 @@ void OutlineCells::markPolygon(const glm::vec2* points, int count, float reach) 
         // The polygon's x-extent within the row's band grown by the reach: a convex polygon meets
         // a band in a convex piece, whose x-extent its clipped edges give (all of the polygon's
         // where the band holds it whole, as it does for most pieces, which are small on screen).
-        const float band_lo = static_cast<float>(row) * cell - reach, band_hi = static_cast<float>(row + 1) * cell + reach;
+        const float band_lo = static_cast<float>(row) * cell - reach,
+                    band_hi = static_cast<float>(row + 1) * cell + reach;
         float x_lo = lo.x, x_hi = hi.x;
         if (band_lo > lo.y || band_hi < hi.y) {
             x_lo = std::numeric_limits<float>::max();
@@ -149,7 +155,8 @@ std::vector<CellRect> OutlineCells::rects(int group) const {
     const int groups = (m_columns + group - 1) / group, width = group * m_cell;
     std::vector<CellRect> done, open, next;
     for (int row = 0; row < m_rows; ++row) {
-        const std::uint8_t* cells = m_marked.data() + static_cast<std::size_t>(row) * static_cast<std::size_t>(m_columns);
+        const std::uint8_t* cells =
+            m_marked.data() + static_cast<std::size_t>(row) * static_cast<std::size_t>(m_columns);
         auto marked = [&](int g) {
             const int c1 = std::min((g + 1) * group, m_columns);
             return std::find(cells + g * group, cells + c1, std::uint8_t{1}) != cells + c1;
@@ -182,7 +189,8 @@ std::vector<CellRect> OutlineCells::rects(int group) const {
 
 bool OutlineCells::covers(int x, int y) const {
     if (x < 0 || y < 0 || x >= m_width || y >= m_height) return false;
-    return m_marked[static_cast<std::size_t>(y / m_cell) * static_cast<std::size_t>(m_columns) + static_cast<std::size_t>(x / m_cell)] != 0;
+    return m_marked[static_cast<std::size_t>(y / m_cell) * static_cast<std::size_t>(m_columns) +
+                    static_cast<std::size_t>(x / m_cell)] != 0;
 }
 
 namespace {
@@ -251,7 +259,8 @@ void outlineEdges(const std::uint8_t* mask, int width, int height, std::uint16_t
                 continue;
             }
             e &= (std::uint64_t{1} << end) - 1;
-            for (int k = 0; 8 * k < end; ++k) out[8 * j + static_cast<std::size_t>(k)] = static_cast<std::uint16_t>(e >> (8 * k) & 0xFFu);
+            for (int k = 0; 8 * k < end; ++k)
+                out[8 * j + static_cast<std::size_t>(k)] = static_cast<std::uint16_t>(e >> (8 * k) & 0xFFu);
         }
     }
 }
@@ -261,7 +270,8 @@ void OutlineCells::markEdges(const std::uint16_t* edges, int groups) {
     if (m_cell != kPackedMaskPixels) throw std::logic_error("OutlineCells::markEdges needs cells of kPackedMaskPixels");
     for (int y = 0; y < m_height; ++y) {
         const std::uint16_t* row = edges + static_cast<std::size_t>(y) * static_cast<std::size_t>(groups);
-        std::uint8_t* cells = m_marked.data() + static_cast<std::size_t>(y / m_cell) * static_cast<std::size_t>(m_columns);
+        std::uint8_t* cells =
+            m_marked.data() + static_cast<std::size_t>(y / m_cell) * static_cast<std::size_t>(m_columns);
         for (int g = 0; g < groups && g < m_columns; ++g) cells[g] |= row[g] != 0;
     }
 }

@@ -20,7 +20,7 @@ struct CellRect {
 /// How roads_geo.vert turns a piece into its quad: the width on the ground and its distance
 /// scaling (seed 3.6.3), and the view-space scale towards the camera against z-fighting (3.6.2).
 struct QuadShape {
-    float width_m = 0.0f;          ///< full width, casing included
+    float width_m = 0.0f;  ///< full width, casing included
     float scale_threshold_m = 0.0f;
     float max_scale = 1.0f;
     float z_offset_alpha = 0.0f;
@@ -86,7 +86,7 @@ private:
     int m_columns = 0, m_rows = 0;
     float m_reach = 0.0f;
     glm::mat4 m_view{1.0f}, m_view_projection{1.0f};
-    glm::vec4 m_eye_clip{0.0f};  // the camera's position in clip space: projection * (0, 0, 0, 1)
+    glm::vec4 m_eye_clip{0.0f};          // the camera's position in clip space: projection * (0, 0, 0, 1)
     std::vector<std::uint8_t> m_marked;  // m_rows x m_columns
 };
 

@@ -32,15 +32,15 @@ std::array<double, 3> cornerHeights(const HeightGrid& g, const Tri& t) {
 Tri neighbour(const Tri& t, int i) {
     if (t.half == 0) {
         switch (i) {
-            case 0: return {t.row, t.col + 1, 1};  // east edge
-            case 1: return {t.row, t.col, 1};      // diagonal
-            default: return {t.row - 1, t.col, 1}; // south edge
+            case 0: return {t.row, t.col + 1, 1};   // east edge
+            case 1: return {t.row, t.col, 1};       // diagonal
+            default: return {t.row - 1, t.col, 1};  // south edge
         }
     }
     switch (i) {
-        case 0: return {t.row + 1, t.col, 0};      // north edge
-        case 1: return {t.row, t.col - 1, 0};      // west edge
-        default: return {t.row, t.col, 0};         // diagonal
+        case 0: return {t.row + 1, t.col, 0};  // north edge
+        case 1: return {t.row, t.col - 1, 0};  // west edge
+        default: return {t.row, t.col, 0};     // diagonal
     }
 }
 
@@ -144,7 +144,7 @@ std::vector<glm::dvec3> drapePolyline(const HeightGrid& grid, std::span<const gl
             const double remaining = length - travelled;
             if (exit_edge < 0 || exit >= remaining) break;  // target lies in this triangle
             const Tri next = neighbour(tri, exit_edge);
-            if (!inside(grid, next)) break;                   // leaving the grid: finish in this triangle
+            if (!inside(grid, next)) break;  // leaving the grid: finish in this triangle
             travelled += exit;
             p += v * exit;
             const auto h = cornerHeights(grid, tri);

@@ -18,8 +18,8 @@ namespace navmap::render {
 /// triangles along its south-west -> north-east diagonal; the terrain mesh of a tile uses the
 /// same split (gridTriangleIndices), which is what makes draped roads lie on the surface.
 struct HeightGrid {
-    int size = 0;             ///< samples per side (>= 2)
-    double spacing = 1.0;     ///< metres between samples
+    int size = 0;                    ///< samples per side (>= 2)
+    double spacing = 1.0;            ///< metres between samples
     const float* heights = nullptr;  ///< size * size, row-major
 
     [[nodiscard]] float at(int row, int col) const { return heights[static_cast<std::size_t>(row) * size + col]; }

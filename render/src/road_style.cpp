@@ -9,9 +9,7 @@
 namespace navmap::render {
 
 namespace {
-glm::vec3 rgb(unsigned hex) {
-    return glm::vec3((hex >> 16) & 0xff, (hex >> 8) & 0xff, hex & 0xff) / 255.0f;
-}
+glm::vec3 rgb(unsigned hex) { return glm::vec3((hex >> 16) & 0xff, (hex >> 8) & 0xff, hex & 0xff) / 255.0f; }
 }  // namespace
 
 RoadStyle RoadStyle::day() {
@@ -37,7 +35,8 @@ RoadStyle RoadStyle::day() {
     // roads at half a pixel (5.5 m at 6.4 km, 3.2 km). The classes above are always drawn.
     using C = map::RoadClass;
     for (const C c : {C::Unclassified, C::Residential}) s.classes[static_cast<std::size_t>(c)].select_px = 0.5f;
-    for (const C c : {C::Service, C::Pedestrian, C::Track, C::Path}) s.classes[static_cast<std::size_t>(c)].select_px = 1.0f;
+    for (const C c : {C::Service, C::Pedestrian, C::Track, C::Path})
+        s.classes[static_cast<std::size_t>(c)].select_px = 1.0f;
     return s;
 }
 
@@ -65,7 +64,8 @@ SelectionFade selectionFade(float width_m, float select_px, float focal_px) {
 std::array<SelectionFade, kStyledRoadClasses> selectionFades(const RoadStyle& style, float focal_px, bool on) {
     std::array<SelectionFade, kStyledRoadClasses> out{};
     if (!on) return out;
-    for (std::size_t c = 0; c < out.size(); ++c) out[c] = selectionFade(style.classes[c].width_m, style.classes[c].select_px, focal_px);
+    for (std::size_t c = 0; c < out.size(); ++c)
+        out[c] = selectionFade(style.classes[c].width_m, style.classes[c].select_px, focal_px);
     return out;
 }
 

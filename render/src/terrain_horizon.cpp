@@ -18,7 +18,8 @@ class FloorIndex {
 public:
     explicit FloorIndex(std::span<const TerrainFloor* const> floors) {
         for (const TerrainFloor* f : floors) {
-            if (f && f->cells > 0) m_cell = m_cell > 0.0 ? std::min(m_cell, f->cell_m * f->cells) : f->cell_m * f->cells;
+            if (f && f->cells > 0)
+                m_cell = m_cell > 0.0 ? std::min(m_cell, f->cell_m * f->cells) : f->cell_m * f->cells;
         }
         if (!(m_cell > 0.0)) return;
         glm::dvec2 lo(std::numeric_limits<double>::max()), hi(std::numeric_limits<double>::lowest());
@@ -39,7 +40,8 @@ public:
             const int n = std::max(1, static_cast<int>(std::floor(size / m_cell + 0.5)));
             for (int y = std::max(y0, 0); y < std::min(y0 + n, m_ny); ++y) {
                 for (int x = std::max(x0, 0); x < std::min(x0 + n, m_nx); ++x) {
-                    const TerrainFloor*& slot = m_at[static_cast<std::size_t>(y) * static_cast<std::size_t>(m_nx) + static_cast<std::size_t>(x)];
+                    const TerrainFloor*& slot = m_at[static_cast<std::size_t>(y) * static_cast<std::size_t>(m_nx) +
+                                                     static_cast<std::size_t>(x)];
                     if (!slot) slot = f;
                 }
             }
@@ -58,7 +60,8 @@ public:
         float low = std::numeric_limits<float>::max();
         for (int y = y0; y <= y1; ++y) {
             for (int x = x0; x <= x1; ++x) {
-                const TerrainFloor* f = m_at[static_cast<std::size_t>(y) * static_cast<std::size_t>(m_nx) + static_cast<std::size_t>(x)];
+                const TerrainFloor* f =
+                    m_at[static_cast<std::size_t>(y) * static_cast<std::size_t>(m_nx) + static_cast<std::size_t>(x)];
                 if (!f) return kNoFloor;
                 // The part of the box in this index cell, in the tile's grid cells.
                 const glm::dvec2 a = glm::max(lo, m_origin + glm::dvec2(x, y) * m_cell) - f->origin;
@@ -68,7 +71,8 @@ public:
                 const int r0 = std::clamp(static_cast<int>(std::floor(a.y / f->cell_m)), 0, f->cells - 1);
                 const int r1 = std::clamp(static_cast<int>(std::floor(b.y / f->cell_m)), 0, f->cells - 1);
                 for (int r = r0; r <= r1; ++r) {
-                    for (int c = c0; c <= c1; ++c) low = std::min(low, f->low[static_cast<std::size_t>(r * f->cells + c)]);
+                    for (int c = c0; c <= c1; ++c)
+                        low = std::min(low, f->low[static_cast<std::size_t>(r * f->cells + c)]);
                 }
             }
         }

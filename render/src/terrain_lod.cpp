@@ -87,7 +87,8 @@ float morphFactor(float distance_m, float start_m, float end_m) {
     return std::clamp((distance_m - start_m) / (end_m - start_m), 0.0f, 1.0f);
 }
 
-float morphedHeight(float distance_m, const TileMorph& morph, float own, const std::array<float, kMorphLevels>& ancestors) {
+float morphedHeight(float distance_m, const TileMorph& morph, float own,
+                    const std::array<float, kMorphLevels>& ancestors) {
     // From the coarsest level inwards: S_k = mix(h_k, S_k-1, f_k).
     float s = ancestors[kMorphLevels - 1];
     for (int j = kMorphLevels - 1; j >= 0; --j) {
@@ -128,8 +129,8 @@ LodSelection selectLod(const map::TileScheme& scheme, const Camera& camera, doub
             if (exists(id)) out.wanted.push_back({id, static_cast<float>(priority)});
             continue;
         }
-        const bool refine = id.level < scheme.leafLevel() &&
-                            screenSpaceError(error_m, distance, camera.fov_y_deg, viewport_height) > options.max_error_px;
+        const bool refine = id.level < scheme.leafLevel() && screenSpaceError(error_m, distance, camera.fov_y_deg,
+                                                                              viewport_height) > options.max_error_px;
         if (refine) {
             std::array<map::TileId, 4> children;
             bool all_ready = true;

@@ -28,9 +28,20 @@ glm::vec3 buildingColor(float height_m) {
 int landCoverOrder(map::AreaClass c) {
     using A = map::AreaClass;
     switch (c) {
-        case A::Forest: case A::Scrub: case A::Grass: case A::Farmland: case A::Rock: case A::Glacier: return 0;
-        case A::Residential: case A::Commercial: case A::Industrial: case A::Military: case A::Cemetery: return 1;
-        case A::Park: case A::Sport: case A::Other: return 2;
+        case A::Forest:
+        case A::Scrub:
+        case A::Grass:
+        case A::Farmland:
+        case A::Rock:
+        case A::Glacier: return 0;
+        case A::Residential:
+        case A::Commercial:
+        case A::Industrial:
+        case A::Military:
+        case A::Cemetery: return 1;
+        case A::Park:
+        case A::Sport:
+        case A::Other: return 2;
         case A::Wetland: return 3;
         case A::Water: return 4;
     }
@@ -110,7 +121,8 @@ void ancestorSurface(const map::Tile& tile, int n, std::span<const float> height
         decimated.resize(static_cast<std::size_t>(m) * m);
         for (int r = 0; r < m; ++r)
             for (int c = 0; c < m; ++c)
-                decimated[static_cast<std::size_t>(r) * m + c] = heights[static_cast<std::size_t>(stride * r) * n + stride * c];
+                decimated[static_cast<std::size_t>(r) * m + c] =
+                    heights[static_cast<std::size_t>(stride * r) * n + stride * c];
         ag = HeightGrid{m, stride * spacing, decimated.data()};
     } else {
         ag = HeightGrid{n, spacing, heights.data()};  // too coarse a grid to decimate: its own surface
@@ -160,8 +172,9 @@ glm::vec4 landCoverColor(map::AreaClass cls) {
 std::vector<LandCoverVertex> landCoverTriangles(const map::Tile& tile) {
     std::vector<const map::Area*> areas;
     for (const auto& a : tile.areas) areas.push_back(&a);
-    std::stable_sort(areas.begin(), areas.end(),
-                     [](const map::Area* a, const map::Area* b) { return landCoverOrder(a->cls) < landCoverOrder(b->cls); });
+    std::stable_sort(areas.begin(), areas.end(), [](const map::Area* a, const map::Area* b) {
+        return landCoverOrder(a->cls) < landCoverOrder(b->cls);
+    });
     std::vector<LandCoverVertex> out;
     for (const map::Area* a : areas) {
         const glm::vec4 color = landCoverColor(a->cls);
@@ -174,7 +187,8 @@ std::vector<LandCoverVertex> landCoverTriangles(const map::Tile& tile) {
     return out;
 }
 
-TileMesh buildTileMesh(const map::Tile& tile, const TileMeshOptions& options, std::span<const map::Tile* const> ancestors) {
+TileMesh buildTileMesh(const map::Tile& tile, const TileMeshOptions& options,
+                       std::span<const map::Tile* const> ancestors) {
     TileMesh mesh;
     mesh.id = tile.id;
     mesh.origin = glm::dvec3(tile.origin_x, tile.origin_y, 0.0);
@@ -258,7 +272,8 @@ TileMesh buildTileMesh(const map::Tile& tile, const TileMeshOptions& options, st
             for (int r = r0; r < r1; ++r) {
                 for (int c = c0; c < c1; ++c) {
                     // The split of HeightGrid (gridTriangleIndices).
-                    const auto sw = vertex(r, c), se = vertex(r, c + 1), nw = vertex(r + 1, c), ne = vertex(r + 1, c + 1);
+                    const auto sw = vertex(r, c), se = vertex(r, c + 1), nw = vertex(r + 1, c),
+                               ne = vertex(r + 1, c + 1);
                     mesh.terrain_indices.insert(mesh.terrain_indices.end(), {sw, se, ne, sw, ne, nw});
                 }
             }
@@ -271,7 +286,8 @@ TileMesh buildTileMesh(const map::Tile& tile, const TileMeshOptions& options, st
             block.max_z = std::numeric_limits<float>::lowest();
             for (std::uint32_t i = block.first; i < block.first + block.count; ++i) {
                 const TerrainVertex& v = mesh.terrain[mesh.terrain_indices[i]];
-                const auto [lowest, highest] = std::minmax_element(v.ancestor_heights.begin(), v.ancestor_heights.end());
+                const auto [lowest, highest] =
+                    std::minmax_element(v.ancestor_heights.begin(), v.ancestor_heights.end());
                 block.min_z = std::min({block.min_z, v.position.z, *lowest});
                 block.max_z = std::max({block.max_z, v.position.z, *highest});
             }
@@ -321,7 +337,8 @@ TileMesh buildTileMesh(const map::Tile& tile, const TileMeshOptions& options, st
             }
         } else {
             draped = drapePolyline(grid, line);
-            if (options.road_merge_tolerance_m > 0.0) draped = mergeDrapedPieces(draped, options.road_merge_tolerance_m);
+            if (options.road_merge_tolerance_m > 0.0)
+                draped = mergeDrapedPieces(draped, options.road_merge_tolerance_m);
         }
         // Least important first so more important classes overwrite them at junctions
         // (seed 3.6.3 "Intersections"); bridges after everything.
@@ -350,7 +367,8 @@ TileMesh buildTileMesh(const map::Tile& tile, const TileMeshOptions& options, st
         std::vector<std::size_t> chain;
         const std::size_t first = pieces.size();
         for (std::size_t i = 0; i + 1 < draped.size(); ++i) {
-            piece(draped[i], draped[i + 1], blockOf(0.5f * (glm::vec2(glm::dvec2(draped[i])) + glm::vec2(glm::dvec2(draped[i + 1])))), 1u);
+            piece(draped[i], draped[i + 1],
+                  blockOf(0.5f * (glm::vec2(glm::dvec2(draped[i])) + glm::vec2(glm::dvec2(draped[i + 1])))), 1u);
         }
         // The coarser levels, per span of the road in one block: draped vertices a .. b.
         const std::size_t last = pieces.size();
@@ -367,9 +385,11 @@ TileMesh buildTileMesh(const map::Tile& tile, const TileMeshOptions& options, st
             std::iota(chain.begin(), chain.end(), a);
             join(chain);
             for (int k = 1; k < kRoadLods; ++k) {
-                const std::vector<char> keep = map::douglasPeucker(
-                    span.size(), kRoadLodTolerance[static_cast<std::size_t>(k)],
-                    [&](std::size_t v, std::size_t i, std::size_t j) { return segmentDistance(span[v], span[i], span[j]); });
+                const std::vector<char> keep =
+                    map::douglasPeucker(span.size(), kRoadLodTolerance[static_cast<std::size_t>(k)],
+                                        [&](std::size_t v, std::size_t i, std::size_t j) {
+                                            return segmentDistance(span[v], span[i], span[j]);
+                                        });
                 const std::uint32_t bit = 1u << k;
                 chain.clear();
                 for (std::size_t i = 0, j = 1; j < span.size(); ++j) {
@@ -377,7 +397,8 @@ TileMesh buildTileMesh(const map::Tile& tile, const TileMeshOptions& options, st
                     if (j == i + 1) {
                         chain.push_back(a + i);  // the draped piece itself
                     } else {
-                        const auto chord = std::find_if(chords.begin(), chords.end(), [&](const Chord& c) { return c.from == i && c.to == j; });
+                        const auto chord = std::find_if(chords.begin(), chords.end(),
+                                                        [&](const Chord& c) { return c.from == i && c.to == j; });
                         if (chord != chords.end()) {
                             chain.push_back(chord->piece);
                         } else {
@@ -401,9 +422,11 @@ TileMesh buildTileMesh(const map::Tile& tile, const TileMeshOptions& options, st
         e.min = glm::min(e.min, low);
         e.max = glm::max(e.max, high);
     };
-    const BlockExtent none{glm::vec3(std::numeric_limits<float>::max()), glm::vec3(std::numeric_limits<float>::lowest())};
+    const BlockExtent none{glm::vec3(std::numeric_limits<float>::max()),
+                           glm::vec3(std::numeric_limits<float>::lowest())};
     mesh.road_blocks.assign(static_cast<std::size_t>(blocks * blocks), none);
-    for (const Piece& p : pieces) extend(mesh.road_blocks[p.block], glm::min(p.inst.p0, p.inst.p1), glm::max(p.inst.p0, p.inst.p1));
+    for (const Piece& p : pieces)
+        extend(mesh.road_blocks[p.block], glm::min(p.inst.p0, p.inst.p1), glm::max(p.inst.p0, p.inst.p1));
     std::stable_sort(pieces.begin(), pieces.end(), [](const Piece& a, const Piece& b) {
         return a.order != b.order ? a.order < b.order : a.block != b.block ? a.block < b.block : a.lods < b.lods;
     });
@@ -467,7 +490,8 @@ TileMesh buildTileMesh(const map::Tile& tile, const TileMeshOptions& options, st
     for (std::size_t k = 0; k < block_indices.size(); ++k) {
         if (block_indices[k].empty()) continue;
         mesh.building_runs.push_back({static_cast<std::uint32_t>(mesh.building_indices.size()),
-                                      static_cast<std::uint32_t>(block_indices[k].size()), static_cast<std::uint32_t>(k)});
+                                      static_cast<std::uint32_t>(block_indices[k].size()),
+                                      static_cast<std::uint32_t>(k)});
         mesh.building_indices.insert(mesh.building_indices.end(), block_indices[k].begin(), block_indices[k].end());
     }
     return mesh;
@@ -482,7 +506,8 @@ std::vector<RoutePiece> drapeRoute(const RouteGeometry& route, const glm::dvec3&
     for (std::size_t i = 0; i + 1 < route.points.size(); ++i) {
         const glm::dvec2 a(route.points[i].x - origin.x, route.points[i].y - origin.y);
         const glm::dvec2 b(route.points[i + 1].x - origin.x, route.points[i + 1].y - origin.y);
-        if (std::max(a.x, b.x) < 0.0 || std::min(a.x, b.x) > e || std::max(a.y, b.y) < 0.0 || std::min(a.y, b.y) > e) continue;
+        if (std::max(a.x, b.x) < 0.0 || std::min(a.x, b.x) > e || std::max(a.y, b.y) < 0.0 || std::min(a.y, b.y) > e)
+            continue;
         // Liang-Barsky clip of a -> b to the tile square.
         const glm::dvec2 d = b - a;
         double t0 = 0.0, t1 = 1.0;
@@ -494,8 +519,10 @@ std::vector<RoutePiece> drapeRoute(const RouteGeometry& route, const glm::dvec3&
                 inside = q[k] >= 0.0;
             } else {
                 const double t = q[k] / p[k];
-                if (p[k] < 0.0) t0 = std::max(t0, t);
-                else t1 = std::min(t1, t);
+                if (p[k] < 0.0)
+                    t0 = std::max(t0, t);
+                else
+                    t1 = std::min(t1, t);
             }
         }
         if (!inside || t1 - t0 <= 1e-12) continue;

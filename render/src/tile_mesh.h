@@ -29,10 +29,10 @@ struct TerrainVertex {
 
 /// One road segment, drawn as one quad with analytic caps (seed 3.4).
 struct RoadInstance {
-    glm::vec3 p0;      ///< tile-local, on the terrain surface
+    glm::vec3 p0;  ///< tile-local, on the terrain surface
     glm::vec3 p1;
-    float road_class;  ///< map::RoadClass value
-    float flags = 0.0f;  ///< map::RoadFlags bits
+    float road_class;       ///< map::RoadClass value
+    float flags = 0.0f;     ///< map::RoadFlags bits
     float measure0 = 0.0f;  ///< route only: distance along the route at p0, metres
     float measure1 = 0.0f;  ///< route only: distance along the route at p1
     /// How far the quad reaches beyond p0 and beyond p1, in half widths: 1 holds the whole
@@ -67,8 +67,8 @@ struct BuildingVertex {
 
 /// A square part of a tile's terrain grid with its share of the skirts (TileMesh::terrain_blocks).
 struct TerrainBlock {
-    std::uint32_t first = 0;  ///< first index in terrain_indices
-    std::uint32_t count = 0;  ///< indices
+    std::uint32_t first = 0;         ///< first index in terrain_indices
+    std::uint32_t count = 0;         ///< indices
     glm::vec2 min{0.0f}, max{0.0f};  ///< tile-local x, y extent
     /// Heights its vertices can take: own and geomorph targets, skirts included (culling).
     float min_z = 0.0f, max_z = 0.0f;
@@ -80,7 +80,7 @@ struct TerrainBlock {
 struct BlockRun {
     std::uint32_t first = 0;  ///< first element of the list
     std::uint32_t count = 0;
-    std::uint32_t block = 0;  ///< index into the list's block extents
+    std::uint32_t block = 0;   ///< index into the list's block extents
     std::uint32_t lods = ~0u;  ///< road pieces: bit k set where the run is drawn at road level k
 };
 
@@ -111,7 +111,7 @@ struct TileMesh {
     glm::dvec3 origin{0.0};  ///< store-frame metres of the tile's south-west corner (z = 0)
     float size_m = 0.0f;
     int grid_size = 0;
-    std::vector<TerrainVertex> terrain;         ///< grid (grid_size^2) then skirt vertices
+    std::vector<TerrainVertex> terrain;          ///< grid (grid_size^2) then skirt vertices
     std::vector<std::uint32_t> terrain_indices;  ///< per block: its grid triangles, then its skirts
     std::vector<TerrainBlock> terrain_blocks;    ///< kTerrainBlocks^2, row-major from the south-west
     std::vector<float> heights;                  ///< grid_size^2, row 0 south (for draping queries)
@@ -121,7 +121,7 @@ struct TileMesh {
     std::array<std::vector<float>, kMorphLevels> ancestor_heights;
     float min_height = 0.0f;
     float max_height = 0.0f;
-    std::vector<LandCoverVertex> land_cover;     ///< triangles, drawn in order
+    std::vector<LandCoverVertex> land_cover;  ///< triangles, drawn in order
     /// Road pieces of every level of detail (a piece is in the levels of its run's `lods`), least
     /// important first; bridges last.
     std::vector<RoadInstance> roads;
@@ -129,7 +129,7 @@ struct TileMesh {
     /// set of levels, in the order of roads; and each block's extent.
     std::vector<BlockRun> road_runs;
     std::vector<BlockExtent> road_blocks;
-    std::size_t source_road_vertices = 0;        ///< polyline vertices before draping
+    std::size_t source_road_vertices = 0;  ///< polyline vertices before draping
     std::vector<BuildingVertex> buildings;
     std::vector<std::uint32_t> building_indices;  ///< block by block (building_runs)
     /// building_indices per block (one run per block with buildings, by the footprint's centre),
@@ -137,10 +137,13 @@ struct TileMesh {
     std::vector<BlockRun> building_runs;
     std::vector<BlockExtent> building_blocks;
 
-    [[nodiscard]] HeightGrid grid() const { return HeightGrid{grid_size, size_m / double(grid_size - 1), heights.data()}; }
+    [[nodiscard]] HeightGrid grid() const {
+        return HeightGrid{grid_size, size_m / double(grid_size - 1), heights.data()};
+    }
     /// The grid with the heights of ancestor level j + 1 (0: parent).
     [[nodiscard]] HeightGrid ancestorGrid(int j) const {
-        return HeightGrid{grid_size, size_m / double(grid_size - 1), ancestor_heights[static_cast<std::size_t>(j)].data()};
+        return HeightGrid{grid_size, size_m / double(grid_size - 1),
+                          ancestor_heights[static_cast<std::size_t>(j)].data()};
     }
     [[nodiscard]] std::array<HeightGrid, kMorphLevels> ancestorGrids() const {
         std::array<HeightGrid, kMorphLevels> g;
@@ -150,8 +153,8 @@ struct TileMesh {
 };
 
 struct TileMeshOptions {
-    float skirt_depth_m = 60.0f;   ///< skirts hide cracks between tiles of different levels
-    bool drape_roads = true;       ///< seed 3.6.1 clipping; false keeps only the original vertices
+    float skirt_depth_m = 60.0f;  ///< skirts hide cracks between tiles of different levels
+    bool drape_roads = true;      ///< seed 3.6.1 clipping; false keeps only the original vertices
     /// Draped pieces are merged while the merged piece stays this close to the surface
     /// (mergeDrapedPieces); 0 keeps every piece of the clipping.
     double road_merge_tolerance_m = 0.5;
@@ -179,9 +182,9 @@ void ancestorSurface(const map::Tile& tile, int grid_size, std::span<const float
 /// tile's grid, so the straight piece lies on the surface; with the coarser levels' heights at its
 /// ends the piece also follows the tile's geomorph (every level is linear on that triangle).
 struct RoutePiece {
-    glm::vec3 p0, p1;               ///< tile-local metres, on the tile's own surface
+    glm::vec3 p0, p1;                                              ///< tile-local metres, on the tile's own surface
     std::array<float, kMorphLevels> ancestor_z0{}, ancestor_z1{};  ///< coarser levels' surfaces at p0, p1
-    float measure0 = 0.0f, measure1 = 0.0f;  ///< distance along the route, metres
+    float measure0 = 0.0f, measure1 = 0.0f;                        ///< distance along the route, metres
 };
 
 /// Clips the route (store frame; z is ignored) to the square of a tile (south-west corner

@@ -15,9 +15,9 @@
 
 #include <algorithm>
 #include <cerrno>
-#include <cstring>
 #include <chrono>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <memory>
@@ -59,7 +59,9 @@ long procStatus(pid_t pid, const char* key) {
 int countFds(pid_t pid) {
     std::error_code ec;
     int n = 0;
-    for (auto it = fs::directory_iterator("/proc/" + std::to_string(pid) + "/fd", ec); !ec && it != fs::directory_iterator(); ++it) ++n;
+    for (auto it = fs::directory_iterator("/proc/" + std::to_string(pid) + "/fd", ec);
+         !ec && it != fs::directory_iterator(); ++it)
+        ++n;
     return n;
 }
 
@@ -87,14 +89,23 @@ int main(int argc, char** argv) {
     app.add_option("--report", report_path, "JSON report file")->capture_default_str();
     app.add_option("--work-dir", work, "directory for sockets and logs")->capture_default_str();
     app.add_option("--rss-tolerance", rss_tolerance, "allowed RSS growth (fraction) after warm-up")
-        ->capture_default_str()->check(finiteIn(0.0, 100.0));
-    app.add_option("--rss-slack-mb", rss_slack_mb, "plus this many MiB")->capture_default_str()->check(finiteIn(0.0, 1e6));
+        ->capture_default_str()
+        ->check(finiteIn(0.0, 100.0));
+    app.add_option("--rss-slack-mb", rss_slack_mb, "plus this many MiB")
+        ->capture_default_str()
+        ->check(finiteIn(0.0, 1e6));
     app.add_option("--max-peak-rss-mb", max_peak_rss_mb, "peak RSS (VmHWM) limit in MiB, 0 = report only")
-        ->capture_default_str()->check(finiteIn(0.0, 1e6));
-    app.add_option("--fd-tolerance", fd_tolerance, "allowed growth of open fds")->capture_default_str()->check(integerIn(0, 100000));
+        ->capture_default_str()
+        ->check(finiteIn(0.0, 1e6));
+    app.add_option("--fd-tolerance", fd_tolerance, "allowed growth of open fds")
+        ->capture_default_str()
+        ->check(integerIn(0, 100000));
     app.add_option("--thread-tolerance", thread_tolerance, "allowed growth of threads")
-        ->capture_default_str()->check(integerIn(0, 100000));
-    app.add_option("--seed", seed, "random seed for the client schedule")->capture_default_str()->check(integerIn(0, 4294967295LL));
+        ->capture_default_str()
+        ->check(integerIn(0, 100000));
+    app.add_option("--seed", seed, "random seed for the client schedule")
+        ->capture_default_str()
+        ->check(integerIn(0, 4294967295LL));
     if (const auto exit_status = navmap::cli::parse(app, argc, argv)) return *exit_status;
     if (::access(navmapd.c_str(), X_OK) != 0) {
         std::fprintf(stderr, "navmap-soak: --navmapd %s: %s\n", navmapd.c_str(), std::strerror(errno));
@@ -152,7 +163,8 @@ int main(int argc, char** argv) {
             auto c = navmap::ipc::StreamClient::connectUnix(frames, r);
             if (c) {
                 ++connects;
-                clients.push_back({std::move(c).value(), rng() % 5 == 0, Clock::now() + std::chrono::milliseconds(500 + rng() % 4000)});
+                clients.push_back({std::move(c).value(), rng() % 5 == 0,
+                                   Clock::now() + std::chrono::milliseconds(500 + rng() % 4000)});
             } else {
                 ++stream_errors;
             }
@@ -228,7 +240,8 @@ int main(int argc, char** argv) {
     nlohmann::json report;
     std::vector<std::string> failures;
     if (!daemon_alive) failures.push_back("navmapd exited during the run");
-    if (daemon_alive && exit_code != 0) failures.push_back("navmapd exit status " + std::to_string(exit_code) + " after SIGTERM");
+    if (daemon_alive && exit_code != 0)
+        failures.push_back("navmapd exit status " + std::to_string(exit_code) + " after SIGTERM");
     if (samples.size() >= 6) {
         const std::size_t third = samples.size() / 3;
         std::vector<double> rss_a, rss_b, fd_a, fd_b, th_a, th_b;
@@ -251,24 +264,38 @@ int main(int argc, char** argv) {
     }
     report["peak_rss_mib"] = peak_kb / 1024.0;
     if (max_peak_rss_mb > 0 && peak_kb > max_peak_rss_mb * 1024) {
-        failures.push_back("peak RSS " + std::to_string(peak_kb / 1024) + " MiB over " + std::to_string(static_cast<int>(max_peak_rss_mb)) + " MiB");
+        failures.push_back("peak RSS " + std::to_string(peak_kb / 1024) + " MiB over " +
+                           std::to_string(static_cast<int>(max_peak_rss_mb)) + " MiB");
     }
     report["duration_s"] = duration;
-    report["tolerances"] = {{"rss_fraction", rss_tolerance}, {"rss_slack_mib", rss_slack_mb}, {"fds", fd_tolerance}, {"threads", thread_tolerance},
+    report["tolerances"] = {{"rss_fraction", rss_tolerance},
+                            {"rss_slack_mib", rss_slack_mb},
+                            {"fds", fd_tolerance},
+                            {"threads", thread_tolerance},
                             {"max_peak_rss_mib", max_peak_rss_mb}};
-    report["clients"] = {{"connects", connects}, {"disconnects", disconnects}, {"frames_received", frames_received},
-                         {"stream_errors", stream_errors}, {"control_errors", control_errors}};
+    report["clients"] = {{"connects", connects},
+                         {"disconnects", disconnects},
+                         {"frames_received", frames_received},
+                         {"stream_errors", stream_errors},
+                         {"control_errors", control_errors}};
     nlohmann::json js = nlohmann::json::array();
     for (const auto& s : samples) {
-        js.push_back({{"t_s", s.t_s}, {"rss_kib", s.rss_kb}, {"peak_rss_kib", s.peak_kb}, {"fds", s.fds}, {"threads", s.threads},
-                      {"frame_p50_ms", s.frame_p50_ms}, {"frame_p99_ms", s.frame_p99_ms}, {"clients", s.clients}});
+        js.push_back({{"t_s", s.t_s},
+                      {"rss_kib", s.rss_kb},
+                      {"peak_rss_kib", s.peak_kb},
+                      {"fds", s.fds},
+                      {"threads", s.threads},
+                      {"frame_p50_ms", s.frame_p50_ms},
+                      {"frame_p99_ms", s.frame_p99_ms},
+                      {"clients", s.clients}});
     }
     report["samples"] = js;
     report["failures"] = failures;
     report["passed"] = failures.empty();
     std::ofstream(report_path) << report.dump(2) << "\n";
-    std::printf("navmap-soak: %s; %llu connects, %llu frames received; report %s\n", failures.empty() ? "PASSED" : "FAILED",
-                static_cast<unsigned long long>(connects), static_cast<unsigned long long>(frames_received), report_path.c_str());
+    std::printf("navmap-soak: %s; %llu connects, %llu frames received; report %s\n",
+                failures.empty() ? "PASSED" : "FAILED", static_cast<unsigned long long>(connects),
+                static_cast<unsigned long long>(frames_received), report_path.c_str());
     for (const auto& f : failures) std::printf("navmap-soak: failure: %s\n", f.c_str());
     return failures.empty() ? 0 : 1;
 }

@@ -72,8 +72,9 @@ ipc::Result<FrameGenerator> FrameGenerator::create(std::shared_ptr<const ipc::Db
     if (auto st = needSignals(g.m_position, "NAV_Position", {"NAV_Latitude", "NAV_Longitude"}); !st) {
         return ipc::Error{st.message()};
     }
-    if (auto st = needSignals(g.m_motion, "NAV_Motion",
-                              {"NAV_Heading", "NAV_Speed", "NAV_YawRate", "NAV_FixType", "NAV_Counter", "NAV_NumSatellites"});
+    if (auto st =
+            needSignals(g.m_motion, "NAV_Motion",
+                        {"NAV_Heading", "NAV_Speed", "NAV_YawRate", "NAV_FixType", "NAV_Counter", "NAV_NumSatellites"});
         !st) {
         return ipc::Error{st.message()};
     }
@@ -210,7 +211,8 @@ ipc::CanFrame FrameGenerator::infoFrame(double t_s) {
                                        {"NAV_Hdop", std::clamp(m_options.hdop, 0.0, 655.0)}});
     }
     const double utc = std::chrono::duration<double>(m_options.start_time.time_since_epoch()).count() + t_s;
-    return encodeChecked(*m_info, {{"NAV_InfoPage", 1.0}, {"NAV_UtcTime", std::max(0.0, std::round(utc * 1000.0) / 1000.0)}});
+    return encodeChecked(*m_info,
+                         {{"NAV_InfoPage", 1.0}, {"NAV_UtcTime", std::max(0.0, std::round(utc * 1000.0) / 1000.0)}});
 }
 
 ipc::CanFrame FrameGenerator::badFrame(double t_s, FrameKind& kind) {
@@ -220,7 +222,8 @@ ipc::CanFrame FrameGenerator::badFrame(double t_s, FrameKind& kind) {
     if (pick == 0) {
         // A truncated frame: a node with the wrong DLC configured, or a gateway cutting bytes.
         kind = FrameKind::BadDlc;
-        f = on_position ? positionFrame(t_s) : encodeChecked(*m_motion, {{"NAV_Counter", static_cast<double>(m_counter)}});
+        f = on_position ? positionFrame(t_s)
+                        : encodeChecked(*m_motion, {{"NAV_Counter", static_cast<double>(m_counter)}});
         // Always short enough to cut a decoded signal (motion: NAV_FixType/NAV_Counter end in byte 7).
         f.len = static_cast<std::uint8_t>(1 + m_rng() % (on_position ? 7 : 6));
         std::fill(f.data.begin() + f.len, f.data.end(), 0);
@@ -235,7 +238,8 @@ ipc::CanFrame FrameGenerator::badFrame(double t_s, FrameKind& kind) {
         kind = FrameKind::BadOutOfRange;
         if (on_position) {
             const double sign = (m_rng() & 1U) != 0 ? 1.0 : -1.0;
-            f = encodeChecked(*m_position, {{"NAV_Latitude", sign * (100.0 + 100.0 * uniform())}, {"NAV_Longitude", 1.5}});
+            f = encodeChecked(*m_position,
+                              {{"NAV_Latitude", sign * (100.0 + 100.0 * uniform())}, {"NAV_Longitude", 1.5}});
         } else {
             f = encodeChecked(*m_motion, {{"NAV_Heading", 361.0 + 250.0 * uniform()},
                                           {"NAV_Speed", 0.0},

@@ -18,10 +18,14 @@ struct BuiltinPlace {
     double lat, lon;
 };
 constexpr BuiltinPlace kBuiltin[] = {
-    {"Andorra la Vella", 42.5075, 1.5218},    {"Escaldes-Engordany", 42.5097, 1.5390},
-    {"les Escaldes", 42.5097, 1.5390},        {"Encamp", 42.5347, 1.5801},
-    {"Sant Julià de Lòria", 42.4637, 1.4913}, {"La Massana", 42.5450, 1.5148},
-    {"Ordino", 42.5562, 1.5331},              {"Canillo", 42.5676, 1.5976},
+    {"Andorra la Vella", 42.5075, 1.5218},
+    {"Escaldes-Engordany", 42.5097, 1.5390},
+    {"les Escaldes", 42.5097, 1.5390},
+    {"Encamp", 42.5347, 1.5801},
+    {"Sant Julià de Lòria", 42.4637, 1.4913},
+    {"La Massana", 42.5450, 1.5148},
+    {"Ordino", 42.5562, 1.5331},
+    {"Canillo", 42.5676, 1.5976},
 };
 
 // ASCII folding of U+00C0..U+00FF (UTF-8 C3 80..C3 BF).
@@ -118,7 +122,8 @@ PlaceResolver PlaceResolver::fromStore(const map::TileStore& store) {
             NamedPlace p;
             p.name = l.name;
             p.importance = l.importance;
-            proj.reverse({loaded.tile->origin_x + l.anchor.x, loaded.tile->origin_y + l.anchor.y}, p.point.lat, p.point.lon);
+            proj.reverse({loaded.tile->origin_x + l.anchor.x, loaded.tile->origin_y + l.anchor.y}, p.point.lat,
+                         p.point.lon);
             found.push_back(std::move(p));
         }
     }
@@ -143,7 +148,8 @@ ipc::Result<GeoPoint> PlaceResolver::resolve(std::string_view text) const {
     }
     std::string known;
     for (const BuiltinPlace& b : kBuiltin) known += (known.empty() ? "" : ", ") + std::string(b.name);
-    return ipc::Error{"unknown place '" + std::string(text) + "' (give \"lat,lon\" or a place name such as " + known + ")"};
+    return ipc::Error{"unknown place '" + std::string(text) + "' (give \"lat,lon\" or a place name such as " + known +
+                      ")"};
 }
 
 }  // namespace navmap::sim

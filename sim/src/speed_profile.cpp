@@ -77,9 +77,10 @@ SpeedProfile SpeedProfile::build(const DriveRoute& route, const DriveParams& par
         const double kappa = std::abs(p.m_heading[k + 1] - p.m_heading[k]) / kDegPerRad / std::max(ds, 1e-6);
         const auto mid = map::sampleRoute(route.line, 0.5 * (p.m_s[k] + p.m_s[k + 1]));
         const std::size_t seg = std::min(mid.segment, route.segment_speed_kmh.size() - 1);
-        const double target = route.segment_speed_kmh.empty() ? 50.0 / 3.6
-                                                               : route.segment_speed_kmh[seg] / 3.6 * q.speed_factor;
-        const double curve = kappa > 1e-9 ? std::sqrt(q.lateral_accel_mps2 / kappa) : std::numeric_limits<double>::infinity();
+        const double target =
+            route.segment_speed_kmh.empty() ? 50.0 / 3.6 : route.segment_speed_kmh[seg] / 3.6 * q.speed_factor;
+        const double curve =
+            kappa > 1e-9 ? std::sqrt(q.lateral_accel_mps2 / kappa) : std::numeric_limits<double>::infinity();
         p.m_kappa[k] = kappa;
         p.m_limit[k] = std::max(std::min(target, curve), std::min(target, floor_mps));
     }
@@ -115,13 +116,9 @@ std::size_t SpeedProfile::cellAt(double measure_m) const {
     return std::min(k, m_s.size() - 2);
 }
 
-double SpeedProfile::limitAt(double measure_m) const {
-    return m_limit.empty() ? 0.0 : m_limit[cellAt(measure_m)];
-}
+double SpeedProfile::limitAt(double measure_m) const { return m_limit.empty() ? 0.0 : m_limit[cellAt(measure_m)]; }
 
-double SpeedProfile::curvatureAt(double measure_m) const {
-    return m_kappa.empty() ? 0.0 : m_kappa[cellAt(measure_m)];
-}
+double SpeedProfile::curvatureAt(double measure_m) const { return m_kappa.empty() ? 0.0 : m_kappa[cellAt(measure_m)]; }
 
 VehicleState SpeedProfile::stateAt(double t_s) const {
     VehicleState st;

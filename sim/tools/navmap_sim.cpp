@@ -95,39 +95,60 @@ int main(int argc, char** argv) {
     app.add_option("--from", cli.from, "start: \"lat,lon\" or a place name")->required();
     app.add_option("--to", cli.to, "destination: \"lat,lon\" or a place name")->required();
     app.add_option("-o,--out", cli.out, "write a candump log (candump -l format) here");
-    app.add_option("--iface", cli.iface, "interface name in the log, and the SocketCAN interface")->capture_default_str();
+    app.add_option("--iface", cli.iface, "interface name in the log, and the SocketCAN interface")
+        ->capture_default_str();
     app.add_flag("--socketcan", cli.socketcan, "send the frames to --iface over SocketCAN, paced in real time");
     app.add_option("--speed-factor", cli.speed_factor, "SocketCAN pacing: 2 = twice real time, 0 = as fast as possible")
-        ->capture_default_str()->check(finiteIn(0.0, 1000.0));
-    app.add_option("--duration", req.frames.max_duration_s, "stop after this many seconds of drive time (0 = whole drive)")
+        ->capture_default_str()
+        ->check(finiteIn(0.0, 1000.0));
+    app.add_option("--duration", req.frames.max_duration_s,
+                   "stop after this many seconds of drive time (0 = whole drive)")
         ->check(finiteIn(0.0, 1e7));
     app.add_option("--position-hz", req.frames.position_hz, "NAV_Position rate")
-        ->capture_default_str()->check(finiteIn(1.0, 50.0));
+        ->capture_default_str()
+        ->check(finiteIn(1.0, 50.0));
     app.add_option("--motion-hz", req.frames.motion_hz, "NAV_Motion rate")
-        ->capture_default_str()->check(finiteIn(1.0, 1000.0));
-    app.add_option("--info-hz", req.frames.info_hz, "NAV_Info rate (0 = none)")->capture_default_str()->check(finiteIn(0.0, 50.0));
+        ->capture_default_str()
+        ->check(finiteIn(1.0, 1000.0));
+    app.add_option("--info-hz", req.frames.info_hz, "NAV_Info rate (0 = none)")
+        ->capture_default_str()
+        ->check(finiteIn(0.0, 50.0));
     app.add_option("--noise-m", req.frames.noise_m, "GNSS position noise, sigma per axis in metres")
-        ->capture_default_str()->check(finiteIn(0.0, 1000.0));
+        ->capture_default_str()
+        ->check(finiteIn(0.0, 1000.0));
     app.add_option("--dropouts", req.frames.dropouts, "number of GNSS dropouts (no position frames)")
-        ->capture_default_str()->check(integerIn(0, 10000));
+        ->capture_default_str()
+        ->check(integerIn(0, 10000));
     app.add_option("--dropout-s", req.frames.dropout_s, "length of each dropout, seconds")
-        ->capture_default_str()->check(finiteIn(0.01, 3600.0));
+        ->capture_default_str()
+        ->check(finiteIn(0.01, 3600.0));
     app.add_option("--bad-frames", req.frames.bad_bursts, "number of bad-frame bursts")
-        ->capture_default_str()->check(integerIn(0, 10000));
+        ->capture_default_str()
+        ->check(integerIn(0, 10000));
     app.add_option("--burst-size", req.frames.burst_frames, "bad frames per burst")
-        ->capture_default_str()->check(integerIn(1, 1000));
+        ->capture_default_str()
+        ->check(integerIn(1, 1000));
     app.add_option("--seed", req.frames.seed, "random seed (noise, faults)")
-        ->capture_default_str()->check(integerIn(0, std::numeric_limits<long long>::max()));
+        ->capture_default_str()
+        ->check(integerIn(0, std::numeric_limits<long long>::max()));
     app.add_option("--standstill", req.frames.standstill_s, "seconds standing at start and end")
-        ->capture_default_str()->check(finiteIn(0.0, 3600.0));
+        ->capture_default_str()
+        ->check(finiteIn(0.0, 3600.0));
     app.add_option("--start-time", cli.start_time, "log time of the first frame, Unix seconds")
-        ->capture_default_str()->check(finiteIn(0.0, 4102444800.0));
+        ->capture_default_str()
+        ->check(finiteIn(0.0, 4102444800.0));
     app.add_option("--lateral-accel", req.drive.lateral_accel_mps2, "curve speed limit, m/s^2")
-        ->capture_default_str()->check(finiteIn(0.1, 20.0));
-    app.add_option("--accel", req.drive.accel_mps2, "acceleration limit, m/s^2")->capture_default_str()->check(finiteIn(0.1, 20.0));
-    app.add_option("--brake", req.drive.brake_mps2, "braking limit, m/s^2")->capture_default_str()->check(finiteIn(0.1, 20.0));
+        ->capture_default_str()
+        ->check(finiteIn(0.1, 20.0));
+    app.add_option("--accel", req.drive.accel_mps2, "acceleration limit, m/s^2")
+        ->capture_default_str()
+        ->check(finiteIn(0.1, 20.0));
+    app.add_option("--brake", req.drive.brake_mps2, "braking limit, m/s^2")
+        ->capture_default_str()
+        ->check(finiteIn(0.1, 20.0));
     app.add_option("--driver-factor", req.drive.speed_factor, "fraction of the speed limit driven")
-        ->capture_default_str()->check(finiteIn(0.1, 2.0));
+        ->capture_default_str()
+        ->check(finiteIn(0.1, 2.0));
     app.add_option("--route-out", cli.route_out, "write the set_route JSON line here");
     app.add_option("--control", cli.control, "send set_route to the daemon's control socket");
     app.add_option("--route-id", cli.route_id, "route id in set_route")->capture_default_str();
@@ -220,7 +241,8 @@ int main(int argc, char** argv) {
             const auto due = wall0 + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
                                          std::chrono::duration<double>(t / cli.speed_factor));
             for (;;) {
-                const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(due - std::chrono::steady_clock::now());
+                const auto left =
+                    std::chrono::duration_cast<std::chrono::milliseconds>(due - std::chrono::steady_clock::now());
                 if (stop.waitStop(static_cast<int>(std::max<std::int64_t>(0, left.count())))) {
                     interrupted = true;
                     break;
@@ -277,8 +299,9 @@ int main(int argc, char** argv) {
                 req.frames.noise_m, static_cast<unsigned long long>(req.frames.seed));
     if (log) std::printf("log: %s (%zu lines)\n", cli.out.c_str(), log->lines());
     if (can) {
-        std::printf("socketcan: %s, %llu send errors%s%s\n", cli.iface.c_str(), static_cast<unsigned long long>(send_errors),
-                    send_errors ? ", last: " : "", last_send_error.c_str());
+        std::printf("socketcan: %s, %llu send errors%s%s\n", cli.iface.c_str(),
+                    static_cast<unsigned long long>(send_errors), send_errors ? ", last: " : "",
+                    last_send_error.c_str());
     }
     if (interrupted) std::printf("interrupted at %.1f s\n", s.duration_s);
     return interrupted ? 1 : 0;

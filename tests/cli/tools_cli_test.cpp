@@ -34,8 +34,8 @@ ProgramRun run(const std::string& args) {
 struct Tool {
     const char* name;
     const char* path;
-    std::string required;    ///< the tool's required options, so that the unknown one is the error
-    std::string badInput;    ///< arguments naming input that does not exist -> exit 1
+    std::string required;  ///< the tool's required options, so that the unknown one is the error
+    std::string badInput;  ///< arguments naming input that does not exist -> exit 1
     std::string badInputSays;
 };
 
@@ -46,11 +46,12 @@ const std::vector<Tool>& tools() {
          "connect(/nonexistent/frames.sock): No such file or directory"},
         {"navmap-ctl", NAVMAP_CTL_PATH, "get_status", "--socket /nonexistent/control.sock get_status",
          "connect(/nonexistent/control.sock): No such file or directory"},
-        {"navmap-compile", NAVMAP_COMPILE_PATH, "--osm a --out b", "--osm /nonexistent/x.osm.pbf --out /tmp/navmap-cli-test.navmap",
-         "/nonexistent/x.osm.pbf"},
-        {"navmap-sim", NAVMAP_SIM_PATH, "--from a --to b", "--store /nonexistent/x.navmap --from encamp --to ordino", "/nonexistent/x.navmap"},
-        {"navmap-soak", NAVMAP_SOAK_PATH, "--navmapd a --drive b", "--navmapd /nonexistent/navmapd --drive /nonexistent/drive.candump",
-         "/nonexistent/navmapd"},
+        {"navmap-compile", NAVMAP_COMPILE_PATH, "--osm a --out b",
+         "--osm /nonexistent/x.osm.pbf --out /tmp/navmap-cli-test.navmap", "/nonexistent/x.osm.pbf"},
+        {"navmap-sim", NAVMAP_SIM_PATH, "--from a --to b", "--store /nonexistent/x.navmap --from encamp --to ordino",
+         "/nonexistent/x.navmap"},
+        {"navmap-soak", NAVMAP_SOAK_PATH, "--navmapd a --drive b",
+         "--navmapd /nonexistent/navmapd --drive /nonexistent/drive.candump", "/nonexistent/navmapd"},
         {"navmap-label-quality", NAVMAP_LABEL_QUALITY_PATH, "", "--store /nonexistent/x.navmap --frames 1 --settle 0",
          "/nonexistent/x.navmap"},
     };
@@ -115,7 +116,8 @@ TEST(ToolsCli, NumbersMustBeFiniteAndInRange) {
         {NAVMAP_LABEL_QUALITY_PATH, "--dt nan", "--dt: 'nan' is not a finite number in [0.001, 10]"},
         {NAVMAP_LABEL_QUALITY_PATH, "--frames 0", "--frames: '0' is not an integer in [1, 1000000]"},
         {NAVMAP_LABEL_QUALITY_PATH, "--size 1280x", "--size: '1280x' is not WxH with W and H integers in [16, 8192]"},
-        {NAVMAP_SOAK_PATH, "--navmapd x --drive y --duration 1e999", "--duration: '1e999' is not a finite number in [1, 1e+07]"},
+        {NAVMAP_SOAK_PATH, "--navmapd x --drive y --duration 1e999",
+         "--duration: '1e999' is not a finite number in [1, 1e+07]"},
     };
     for (const auto& c : cases) {
         const std::string cmd = std::string(c.path) + (c.path[0] != '\0' ? " " : "") + c.args;

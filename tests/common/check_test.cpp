@@ -20,9 +20,7 @@ bool countedTrue() {
     return true;
 }
 
-void failingCheck(int vertices, int index) {
-    NAVMAP_CHECK(index < vertices, "index past its vertices");
-}
+void failingCheck(int vertices, int index) { NAVMAP_CHECK(index < vertices, "index past its vertices"); }
 
 }  // namespace
 

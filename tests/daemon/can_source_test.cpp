@@ -29,8 +29,8 @@ const ipc::CanTime kStart = ipc::CanTime(std::chrono::seconds(1'700'000'000));
 std::filesystem::path storePath() { return test::binaryDir() / "andorra.navmap"; }
 std::filesystem::path dbcPath() { return test::dataDir() / "navmap.dbc"; }
 
-#define REQUIRE_STORE()                                                                                   \
-    if (!std::filesystem::exists(storePath())) {                                                          \
+#define REQUIRE_STORE()                                                                                       \
+    if (!std::filesystem::exists(storePath())) {                                                              \
         GTEST_SKIP() << "no compiled store at " << storePath() << " (build the navmap_default_store target)"; \
     }
 
@@ -150,12 +150,14 @@ TEST(CanSources, SimModeWithoutARoadGraphHasNoSourceAndSaysWhy) {
     const daemon::OpenedCanSource opened = daemon::openCanSource(config, site, control);
     EXPECT_EQ(opened.source, nullptr);
     EXPECT_EQ(opened.name, "sim andorra-la-vella -> encamp");
-    EXPECT_EQ(opened.error, "the simulator cannot plan a route: road graph unavailable: graph section: checksum mismatch");
+    EXPECT_EQ(opened.error,
+              "the simulator cannot plan a route: road graph unavailable: graph section: checksum mismatch");
     EXPECT_EQ(control.route(), nullptr);
 }
 
 TEST(ReplayInput, PlaysTheLogWithItsTimingAndCountsMalformedLines) {
-    const auto path = std::filesystem::temp_directory_path() / ("navmap-replay-input-" + std::to_string(::getpid()) + ".candump");
+    const auto path =
+        std::filesystem::temp_directory_path() / ("navmap-replay-input-" + std::to_string(::getpid()) + ".candump");
     {
         std::ofstream out(path);
         out << "(100.000000) vcan0 6A1#1027000000003309\n"

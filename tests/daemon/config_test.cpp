@@ -160,8 +160,9 @@ TEST(DaemonConfig, ErrorsNameFileLineAndProblem) {
 }
 
 TEST(DaemonConfig, ProfileCameraInMapLibreConvention) {
-    auto c = parse("[[profile]]\nname = \"cluster\"\nzoom = 16.5\npitch = 60\norientation = \"north-up\"\n"
-                   "[[profile]]\nname = \"hud\"\n");
+    auto c = parse(
+        "[[profile]]\nname = \"cluster\"\nzoom = 16.5\npitch = 60\norientation = \"north-up\"\n"
+        "[[profile]]\nname = \"hud\"\n");
     ASSERT_TRUE(c);
     ASSERT_TRUE(c->profiles[0].camera);
     EXPECT_DOUBLE_EQ(c->profiles[0].camera->zoom, 16.5);
@@ -226,16 +227,19 @@ TEST(DaemonConfig, AttributionFollowsTheViewUnlessSet) {
     EXPECT_FALSE(d->profiles[0].attribution);
     EXPECT_FALSE(d->profiles[1].attribution);
     EXPECT_TRUE(d->profiles[2].attribution);
-    const auto c = parse("[[profile]]\nname = \"a\"\nview = \"bird\"\n[[profile]]\nname = \"b\"\nview = \"snail\"\n"
-                         "[[profile]]\nname = \"c\"\nview = \"bird\"\nattribution = false\n"
-                         "[[profile]]\nname = \"d\"\nview = \"hud\"\nattribution = true\n");
+    const auto c = parse(
+        "[[profile]]\nname = \"a\"\nview = \"bird\"\n[[profile]]\nname = \"b\"\nview = \"snail\"\n"
+        "[[profile]]\nname = \"c\"\nview = \"bird\"\nattribution = false\n"
+        "[[profile]]\nname = \"d\"\nview = \"hud\"\nattribution = true\n");
     ASSERT_TRUE(c);
     EXPECT_TRUE(c->profiles[0].attribution);
     EXPECT_FALSE(c->profiles[1].attribution);
     EXPECT_FALSE(c->profiles[2].attribution);
     EXPECT_TRUE(c->profiles[3].attribution);
-    EXPECT_NE(describeConfig(*c).find("profile d: 1280x480 @ 30 fps, snail, heading-up, roads auto, glowing roads, label aura, attribution\n"),
-              std::string::npos)
+    EXPECT_NE(
+        describeConfig(*c).find(
+            "profile d: 1280x480 @ 30 fps, snail, heading-up, roads auto, glowing roads, label aura, attribution\n"),
+        std::string::npos)
         << describeConfig(*c);
     std::string m;
     EXPECT_FALSE(parse("[[profile]]\nname = \"x\"\nattribution = \"yes\"\n", &m));

@@ -11,9 +11,9 @@
 #include <string>
 
 #include "andorra_drive.h"
-#include "navmap/render/image.h"
 #include "config.h"
 #include "drawn_geometry.h"
+#include "navmap/render/image.h"
 #include "navmap/render/renderer.h"
 #include "profiles.h"
 #include "test_paths.h"
@@ -27,7 +27,7 @@ struct Findings {
     std::size_t frames = 0, visible = 0, world = 0;
     std::size_t overlaps = 0, under_marker = 0, too_small = 0, occluded = 0, unmeasured = 0;
     std::size_t leaving_hidden = 0;  // label frames cut by terrain while fading out (not counted as occluded)
-    std::string first;  // the first finding, described
+    std::string first;               // the first finding, described
 };
 
 void note(Findings& f, const std::string& what) {
@@ -78,18 +78,21 @@ Findings driveProfile(const daemon::DisplayProfile& p, bool labels, double start
             f.world += la.world_space;
             if (la.cap_height_px < 9.0F) {
                 ++f.too_small;
-                std::snprintf(buf, sizeof buf, "frame %d: \"%s\" has %.1f px capitals", i, la.text.c_str(), la.cap_height_px);
+                std::snprintf(buf, sizeof buf, "frame %d: \"%s\" has %.1f px capitals", i, la.text.c_str(),
+                              la.cap_height_px);
                 note(f, buf);
             }
             if (la.world_space && la.occluded_fraction < 0.0F) ++f.unmeasured;
             // A label fading out after its anchor went behind a hill is cut by the hill on its way out.
             const auto placed = std::find_if(s.placed_labels.begin(), s.placed_labels.end(),
                                              [&](const auto& q) { return q.id == la.id; });
-            const bool leaving = placed != s.placed_labels.end() && placed->state == render::labels::LabelState::FadingOut;
+            const bool leaving =
+                placed != s.placed_labels.end() && placed->state == render::labels::LabelState::FadingOut;
             f.leaving_hidden += leaving && la.occluded_fraction > 0.10F;
             if (!leaving && la.occluded_fraction > 0.10F) {
                 ++f.occluded;
-                std::snprintf(buf, sizeof buf, "frame %d: \"%s\" %.0f %% hidden", i, la.text.c_str(), 100.0 * la.occluded_fraction);
+                std::snprintf(buf, sizeof buf, "frame %d: \"%s\" %.0f %% hidden", i, la.text.c_str(),
+                              100.0 * la.occluded_fraction);
                 note(f, buf);
             }
             if (test::overlapsPolygon(la.glyph_boxes, s.drawn_marker.outline, 1.0F)) {
@@ -121,10 +124,11 @@ TEST_P(ShippedProfiles, DrawnLabelsAreReadableAndClear) {
     EXPECT_TRUE(config->labels);
     // Through the centre of Andorra la Vella and Escaldes: the densest labels of the data.
     const Findings f = driveProfile(*p, config->labels, 1500.0, 45, 75);
-    std::printf("%s: %zu frames, %.1f visible labels per frame (%zu world-space), overlaps %zu, under the marker %zu, "
-                "too small %zu, hidden %zu (%zu more while fading out)\n",
-                GetParam().c_str(), f.frames, double(f.visible) / double(f.frames), f.world, f.overlaps, f.under_marker,
-                f.too_small, f.occluded, f.leaving_hidden);
+    std::printf(
+        "%s: %zu frames, %.1f visible labels per frame (%zu world-space), overlaps %zu, under the marker %zu, "
+        "too small %zu, hidden %zu (%zu more while fading out)\n",
+        GetParam().c_str(), f.frames, double(f.visible) / double(f.frames), f.world, f.overlaps, f.under_marker,
+        f.too_small, f.occluded, f.leaving_hidden);
     if (daemon::isGuidanceView(*p)) {
         // The head-up display shows the guidance view: the route corridor and the next turn, no labels.
         EXPECT_EQ(f.visible, 0U) << "the HUD's guidance view draws no map labels";

@@ -53,13 +53,13 @@ TEST(NavmapdBrowser, TheLivePageShowsTheFirstProfileItsButtonsAndTheAttribution)
     navmap::test::writeStandingLog(dir / "standing.candump");
     const int port = freeTcpPort();
     const std::string token = "browser-test-token-navmapd-0123";
-    std::ofstream(dir / "navmapd.toml") << "[input]\nsource = \"replay\"\nreplay_log = \"" << (dir / "standing.candump").string()
-                                        << "\"\n[[profile]]\nname = \"rear\"\nwidth = 640\nheight = 360\nview = \"bird\"\n"
-                                           "[[profile]]\nname = \"cluster\"\nwidth = 1280\nheight = 480\nview = \"snail\"\n"
-                                           "[control]\nsocket = \""
-                                        << (dir / "control.sock").string() << "\"\n[stream]\nsocket = \""
-                                        << (dir / "frames.sock").string() << "\"\nhttp_port = " << port
-                                        << "\nhttp_token = \"" << token << "\"\n";
+    std::ofstream(dir / "navmapd.toml")
+        << "[input]\nsource = \"replay\"\nreplay_log = \"" << (dir / "standing.candump").string()
+        << "\"\n[[profile]]\nname = \"rear\"\nwidth = 640\nheight = 360\nview = \"bird\"\n"
+           "[[profile]]\nname = \"cluster\"\nwidth = 1280\nheight = 480\nview = \"snail\"\n"
+           "[control]\nsocket = \""
+        << (dir / "control.sock").string() << "\"\n[stream]\nsocket = \"" << (dir / "frames.sock").string()
+        << "\"\nhttp_port = " << port << "\nhttp_token = \"" << token << "\"\n";
     navmap::test::NavmapdProcess daemon(NAVMAPD_PATH, "--noop --config " + (dir / "navmapd.toml").string(),
                                         dir / "navmapd.log", dir / "frames.sock");
     ASSERT_TRUE(fs::exists(dir / "frames.sock")) << daemon.output();
@@ -72,18 +72,20 @@ TEST(NavmapdBrowser, TheLivePageShowsTheFirstProfileItsButtonsAndTheAttribution)
     auto client = navmap::ipc::StreamClient::connectUnix((dir / "frames.sock").string(), rear);
     ASSERT_TRUE(client.ok()) << client.error().message;
     navmap::ipc::ReceivedFrame frame;
-    for (int i = 0; i < 50 && client.value()->stats().frames == 0; ++i) ASSERT_TRUE(client.value()->next(frame, 200ms).ok());
+    for (int i = 0; i < 50 && client.value()->stats().frames == 0; ++i)
+        ASSERT_TRUE(client.value()->next(frame, 200ms).ok());
     ASSERT_GT(client.value()->stats().frames, 0U) << daemon.output();
     const std::uint8_t sky[3] = {frame.pixels[0], frame.pixels[1], frame.pixels[2]};
     client.value().reset();
 
     const std::string flags =
         " --headless --no-sandbox --disable-gpu --disable-background-networking --disable-component-update"
-        " --disable-sync --no-first-run --user-data-dir=" + (dir / "profile").string();
+        " --disable-sync --no-first-run --user-data-dir=" +
+        (dir / "profile").string();
     const std::string url = "http://127.0.0.1:" + std::to_string(port) + "/?token=" + token;
     const auto shot = dir / "page.png";
-    run("timeout 60 " + chromium + flags + " --window-size=1000,800 --timeout=5000 --screenshot=" + shot.string() + " " +
-        url + " 2>/dev/null");
+    run("timeout 60 " + chromium + flags + " --window-size=1000,800 --timeout=5000 --screenshot=" + shot.string() +
+        " " + url + " 2>/dev/null");
     const std::string dom =
         run("timeout 60 " + chromium + flags + " --virtual-time-budget=3000 --dump-dom " + url + " 2>/dev/null");
 
@@ -106,7 +108,8 @@ TEST(NavmapdBrowser, TheLivePageShowsTheFirstProfileItsButtonsAndTheAttribution)
     for (int y = 0; y < img.height; ++y) {
         for (int x = 0; x < img.width; ++x) {
             const std::uint8_t* p = img.pixel(x, y);
-            streamPixels += std::abs(p[0] - sky[0]) < 12 && std::abs(p[1] - sky[1]) < 12 && std::abs(p[2] - sky[2]) < 12 ? 1 : 0;
+            streamPixels +=
+                std::abs(p[0] - sky[0]) < 12 && std::abs(p[1] - sky[1]) < 12 && std::abs(p[2] - sky[2]) < 12 ? 1 : 0;
         }
     }
     std::printf("screenshot %dx%d: %ld pixels of the stream's colour %d,%d,%d\n", img.width, img.height, streamPixels,

@@ -27,7 +27,8 @@ using namespace std::chrono_literals;
 
 struct Scratch {
     fs::path dir;
-    explicit Scratch(const std::string& name) : dir(fs::temp_directory_path() / (name + "-" + std::to_string(::getpid()))) {
+    explicit Scratch(const std::string& name)
+        : dir(fs::temp_directory_path() / (name + "-" + std::to_string(::getpid()))) {
         fs::remove_all(dir);
         fs::create_directories(dir);
     }
@@ -89,7 +90,8 @@ int framesWithin(const fs::path& frame_socket, std::chrono::milliseconds window)
 TEST(NavmapdDamage, ADamagedRoadGraphLeavesTheSimulatedDriveOutAndTheMapRendering) {
     Scratch s("navmapd-graph-sim");
     const fs::path store = storeWithDamagedGraph(s.dir);
-    navmap::test::NavmapdProcess d(NAVMAPD_PATH, daemonArgs(s.dir, store), s.dir / "navmapd.log", s.dir / "frames.sock");
+    navmap::test::NavmapdProcess d(NAVMAPD_PATH, daemonArgs(s.dir, store), s.dir / "navmapd.log",
+                                   s.dir / "frames.sock");
     ASSERT_TRUE(fs::exists(s.dir / "frames.sock")) << d.output();
 
     const auto st = statusWith(s.dir / "control.sock", "road_graph");
@@ -113,7 +115,8 @@ TEST(NavmapdDamage, ADamagedRoadGraphTurnsMapMatchingOffForAReplay) {
     Scratch s("navmapd-graph-replay");
     const fs::path store = storeWithDamagedGraph(s.dir);
     navmap::test::writeStandingLog(s.dir / "standing.candump");
-    navmap::test::NavmapdProcess d(NAVMAPD_PATH, daemonArgs(s.dir, store) + " --replay " + (s.dir / "standing.candump").string(),
+    navmap::test::NavmapdProcess d(NAVMAPD_PATH,
+                                   daemonArgs(s.dir, store) + " --replay " + (s.dir / "standing.candump").string(),
                                    s.dir / "navmapd.log", s.dir / "frames.sock");
     ASSERT_TRUE(fs::exists(s.dir / "frames.sock")) << d.output();
     nlohmann::json st;
@@ -134,9 +137,9 @@ TEST(NavmapdDamage, ADamagedRoadGraphTurnsMapMatchingOffForAReplay) {
 TEST(NavmapdDamage, ReplayingDevZeroIsOneClearErrorAtStart) {
     Scratch s("navmapd-devzero");
     const auto t0 = std::chrono::steady_clock::now();
-    const std::string cmd = std::string(NAVMAPD_PATH) + " --replay /dev/zero --noop --run-for 5 --http-port 0 --control-socket " +
-                            (s.dir / "control.sock").string() + " --frame-socket " + (s.dir / "frames.sock").string() +
-                            " 2>&1";
+    const std::string cmd =
+        std::string(NAVMAPD_PATH) + " --replay /dev/zero --noop --run-for 5 --http-port 0 --control-socket " +
+        (s.dir / "control.sock").string() + " --frame-socket " + (s.dir / "frames.sock").string() + " 2>&1";
     FILE* p = ::popen(cmd.c_str(), "r");
     ASSERT_NE(p, nullptr);
     std::string out;

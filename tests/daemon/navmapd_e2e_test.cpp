@@ -21,9 +21,9 @@
 #include <nlohmann/json.hpp>
 
 #include "golden.h"
-#include "navmapd_process.h"
 #include "navmap/ipc/control_client.h"
 #include "navmap/ipc/stream_client.h"
+#include "navmapd_process.h"
 
 extern char** environ;
 
@@ -33,7 +33,8 @@ namespace fs = std::filesystem;
 using namespace std::chrono_literals;
 
 std::int64_t nowNs() {
-    return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch()).count();
+    return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch())
+        .count();
 }
 
 using navmap::test::writeStandingLog;
@@ -49,11 +50,11 @@ struct Daemon {
         writeStandingLog(dir / "standing.candump");
         const std::string cmd = std::string(NAVMAPD_PATH) + " --replay " + (dir / "standing.candump").string() +
                                 " --control-socket " + (dir / "control.sock").string() + " --frame-socket " +
-                                (dir / "frames.sock").string() + " --http-port 0 --profiles cluster,hud --log-level info" +
+                                (dir / "frames.sock").string() +
+                                " --http-port 0 --profiles cluster,hud --log-level info" +
                                 // Labels fade in with wall-clock time: off, so the golden frame is deterministic
                                 // (their rendering has its own tests in tests/render).
-                                " --no-labels" +
-                                " > " + log.string() + " 2>&1";
+                                " --no-labels" + " > " + log.string() + " 2>&1";
         const char* argv[] = {"/bin/sh", "-c", cmd.c_str(), nullptr};
         // exec so that the pid is navmapd's own (SIGTERM goes to it, not to the shell).
         const std::string exec_cmd = "exec " + cmd;
@@ -163,7 +164,8 @@ TEST(NavmapdEndToEnd, ClusterAndHudClientsGetFramesControlWorksAndStopIsGraceful
     auto status = control.value().request(R"({"cmd":"get_status"})");
     ASSERT_TRUE(status) << status.error().message;
     EXPECT_NE(status.value().find("\"ok\":true"), std::string::npos) << status.value();
-    EXPECT_NE(status.value().find("\"valid\":true"), std::string::npos) << "the replayed fix is in use: " << status.value();
+    EXPECT_NE(status.value().find("\"valid\":true"), std::string::npos)
+        << "the replayed fix is in use: " << status.value();
     // GPU tile uploads are counted per profile: the cluster (listed first) uploaded the tiles it draws.
     const std::size_t uploads_at = status.value().find("\"tiles_uploaded\":");
     ASSERT_NE(uploads_at, std::string::npos) << status.value();
@@ -187,7 +189,8 @@ TEST(NavmapdEndToEnd, ClusterAndHudClientsGetFramesControlWorksAndStopIsGraceful
         if (got.value()) break;
     }
     std::size_t differing = 0;
-    for (std::size_t i = 0; i < std::min(bird.pixels.size(), settled.pixels.size()); i += 4) differing += bird.pixels[i] != settled.pixels[i];
+    for (std::size_t i = 0; i < std::min(bird.pixels.size(), settled.pixels.size()); i += 4)
+        differing += bird.pixels[i] != settled.pixels[i];
     EXPECT_GT(differing, settled.pixels.size() / 4 / 4) << "set_view bird did not change the cluster view";
 
     // SIGTERM: exit status 0, clients see the stream end.
@@ -221,8 +224,9 @@ TEST(NavmapdEndToEnd, BadInputIsOneClearErrorLine) {
     std::tie(status, out) = runNavmapd("--profiles dashboard --run-for 1");
     EXPECT_EQ(status, 1);
     EXPECT_NE(out.find("<3>navmapd: --profiles: unknown profile 'dashboard'"), std::string::npos) << out;
-    std::tie(status, out) = runNavmapd("--replay /nonexistent/drive.candump --run-for 1 --control-socket /tmp/navmapd-bad-c.sock "
-                                       "--frame-socket /tmp/navmapd-bad-f.sock --http-port 0");
+    std::tie(status, out) = runNavmapd(
+        "--replay /nonexistent/drive.candump --run-for 1 --control-socket /tmp/navmapd-bad-c.sock "
+        "--frame-socket /tmp/navmapd-bad-f.sock --http-port 0");
     EXPECT_EQ(status, 1);
     EXPECT_NE(out.find("/nonexistent/drive.candump"), std::string::npos) << out;
     std::tie(status, out) = runNavmapd("--speed 0");

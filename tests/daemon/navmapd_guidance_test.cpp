@@ -47,14 +47,16 @@ TEST(NavmapdGuidance, ProgressPassesTwoManoeuvresThenLeavingTheRouteIsReported) 
 
     std::ifstream in(dir / "route.json");
     json route = json::parse(in, nullptr, false);
-    ASSERT_TRUE(route.is_object() && route.contains("points") && route.contains("maneuvers")) << route.dump().substr(0, 300);
+    ASSERT_TRUE(route.is_object() && route.contains("points") && route.contains("maneuvers"))
+        << route.dump().substr(0, 300);
     const json& points = route["points"];
     std::vector<double> measure(points.size(), 0.0);
     for (std::size_t i = 1; i < points.size(); ++i) measure[i] = measure[i - 1] + metres(points[i - 1], points[i]);
     // The first two manoeuvres after the departure.
     std::vector<std::size_t> turns;
     for (const json& m : route["maneuvers"]) {
-        if (m["type"] != "depart" && m["type"] != "arrive" && turns.size() < 2) turns.push_back(m["index"].get<std::size_t>());
+        if (m["type"] != "depart" && m["type"] != "arrive" && turns.size() < 2)
+            turns.push_back(m["index"].get<std::size_t>());
     }
     ASSERT_EQ(turns.size(), 2u) << route["maneuvers"].dump();
     const double second_m = measure[turns[1]];
@@ -74,11 +76,11 @@ TEST(NavmapdGuidance, ProgressPassesTwoManoeuvresThenLeavingTheRouteIsReported) 
     }
 
     const fs::path control_path = dir / "control.sock";
-    navmap::test::NavmapdProcess daemon(NAVMAPD_PATH,
-                                        "--noop --replay " + (dir / "drive.candump").string() + " --speed 4 --control-socket " +
-                                            control_path.string() + " --frame-socket " + (dir / "frames.sock").string() +
-                                            " --http-port 0 --log-level info",
-                                        dir / "navmapd.log", control_path);
+    navmap::test::NavmapdProcess daemon(
+        NAVMAPD_PATH,
+        "--noop --replay " + (dir / "drive.candump").string() + " --speed 4 --control-socket " + control_path.string() +
+            " --frame-socket " + (dir / "frames.sock").string() + " --http-port 0 --log-level info",
+        dir / "navmapd.log", control_path);
     auto control = navmap::ipc::ControlClient::connect(control_path.string());
     ASSERT_TRUE(control) << control.error().message << "\n" << daemon.output();
     const auto reply = control.value().request(given.dump());

@@ -37,8 +37,8 @@ using navmap::stream_test::httpGet;
 std::string httpHead(int port, const std::string& path, std::size_t want) {
     const int fd = navmap::stream_test::connectTcpRaw(port);
     std::string out;
-    if (fd >= 0 && navmap::stream_test::sendAllRaw(fd, "GET " + path + " HTTP/1.0\r\nHost: 127.0.0.1:" +
-                                                           std::to_string(port) + "\r\n\r\n")) {
+    if (fd >= 0 && navmap::stream_test::sendAllRaw(
+                       fd, "GET " + path + " HTTP/1.0\r\nHost: 127.0.0.1:" + std::to_string(port) + "\r\n\r\n")) {
         char buf[65536];
         pollfd p{fd, POLLIN, 0};
         const auto deadline = std::chrono::steady_clock::now() + 5s;
@@ -84,17 +84,18 @@ protected:
         fs::create_directories(m_dir);
         navmap::test::writeStandingLog(m_dir / "standing.candump");
         m_port = freeTcpPort();
-        std::ofstream(m_dir / "navmapd.toml") << "[input]\nsource = \"replay\"\nreplay_log = \""
-                                              << (m_dir / "standing.candump").string()
-                                              << "\"\n[[profile]]\nname = \"plain\"\nwidth = 320\nheight = 180\nview = \"bird\"\n"
-                                                 "attribution = false\n"
-                                                 "[[profile]]\nname = \"credited\"\nwidth = 320\nheight = 180\nview = \"bird\"\n"
-                                                 "attribution = true\n"
-                                                 "[control]\nsocket = \""
-                                              << (m_dir / "control.sock").string() << "\"\n[stream]\nsocket = \""
-                                              << (m_dir / "frames.sock").string() << "\"\nhttp_port = " << m_port << "\n";
+        std::ofstream(m_dir / "navmapd.toml")
+            << "[input]\nsource = \"replay\"\nreplay_log = \"" << (m_dir / "standing.candump").string()
+            << "\"\n[[profile]]\nname = \"plain\"\nwidth = 320\nheight = 180\nview = \"bird\"\n"
+               "attribution = false\n"
+               "[[profile]]\nname = \"credited\"\nwidth = 320\nheight = 180\nview = \"bird\"\n"
+               "attribution = true\n"
+               "[control]\nsocket = \""
+            << (m_dir / "control.sock").string() << "\"\n[stream]\nsocket = \"" << (m_dir / "frames.sock").string()
+            << "\"\nhttp_port = " << m_port << "\n";
         m_daemon = std::make_unique<navmap::test::NavmapdProcess>(
-            NAVMAPD_PATH, "--noop --config " + (m_dir / "navmapd.toml").string(), m_dir / "navmapd.log", m_dir / "frames.sock");
+            NAVMAPD_PATH, "--noop --config " + (m_dir / "navmapd.toml").string(), m_dir / "navmapd.log",
+            m_dir / "frames.sock");
         ASSERT_TRUE(fs::exists(m_dir / "frames.sock")) << m_daemon->output();
     }
     void TearDown() override {
@@ -188,9 +189,9 @@ TEST_F(NavmapdObservability, MetricsParseAsPrometheusTextEachFamilyOnceInBaseUni
     EXPECT_EQ(check.status, 0) << check.out << "\n" << text;
     std::printf("%s", check.out.substr(0, check.out.find('\n') + 1).c_str());
     // The daemon's and the server's families are both there, in seconds and bytes.
-    for (const char* family : {"navmap_frame_seconds summary", "navmap_latency_seconds summary",
-                               "navmap_stream_frames_sent counter", "navmap_stream_clients gauge",
-                               "navmap_process_resident_bytes gauge", "navmap_build_info gauge"}) {
+    for (const char* family :
+         {"navmap_frame_seconds summary", "navmap_latency_seconds summary", "navmap_stream_frames_sent counter",
+          "navmap_stream_clients gauge", "navmap_process_resident_bytes gauge", "navmap_build_info gauge"}) {
         EXPECT_NE(check.out.find(std::string("\n") + family + " "), std::string::npos) << family << "\n" << check.out;
     }
     EXPECT_NE(text.find("navmap_build_info{version=\"" NAVMAP_VERSION "\"} 1\n"), std::string::npos) << text;

@@ -32,15 +32,18 @@ inline void writeStandingLog(const std::filesystem::path& path) {
         const double t = 1618394400.0 + ms / 1000.0;
         if (ms % 100 == 0) {
             std::uint8_t b[8];
-            for (int i = 0; i < 4; ++i) b[i] = static_cast<std::uint8_t>((static_cast<std::uint32_t>(lat) >> (8 * i)) & 0xff);
-            for (int i = 0; i < 4; ++i) b[4 + i] = static_cast<std::uint8_t>((static_cast<std::uint32_t>(lon) >> (8 * i)) & 0xff);
-            std::snprintf(line, sizeof line, "(%.6f) vcan0 6A0#%02X%02X%02X%02X%02X%02X%02X%02X\n", t, b[0], b[1], b[2], b[3], b[4], b[5], b[6], b[7]);
+            for (int i = 0; i < 4; ++i)
+                b[i] = static_cast<std::uint8_t>((static_cast<std::uint32_t>(lat) >> (8 * i)) & 0xff);
+            for (int i = 0; i < 4; ++i)
+                b[4 + i] = static_cast<std::uint8_t>((static_cast<std::uint32_t>(lon) >> (8 * i)) & 0xff);
+            std::snprintf(line, sizeof line, "(%.6f) vcan0 6A0#%02X%02X%02X%02X%02X%02X%02X%02X\n", t, b[0], b[1], b[2],
+                          b[3], b[4], b[5], b[6], b[7]);
             out << line;
         }
         const std::uint16_t heading = 4500;  // 45.00 deg
         const std::uint8_t fix_counter = static_cast<std::uint8_t>(3 | ((counter++ & 15) << 4));
-        std::snprintf(line, sizeof line, "(%.6f) vcan0 6A1#%02X%02X%02X%02X%02X%02X%02X%02X\n", t + 0.001, heading & 0xff,
-                      heading >> 8, 0, 0, 0, 0, fix_counter, 9);
+        std::snprintf(line, sizeof line, "(%.6f) vcan0 6A1#%02X%02X%02X%02X%02X%02X%02X%02X\n", t + 0.001,
+                      heading & 0xff, heading >> 8, 0, 0, 0, 0, fix_counter, 9);
         out << line;
     }
 }

@@ -22,12 +22,14 @@ using namespace std::chrono_literals;
 // One small snail's-view profile: day and night change the map's colours (the HUD's guidance view
 // is black in both).
 void writeConfig(const fs::path& dir, const char* style, int fps) {
-    std::ofstream(dir / "navmapd.toml") << "[input]\nsource = \"replay\"\nreplay_log = \"" << (dir / "standing.candump").string()
-                                        << "\"\n[render]\nstyle = \"" << style << "\"\nlabels = false\n"
+    std::ofstream(dir / "navmapd.toml") << "[input]\nsource = \"replay\"\nreplay_log = \""
+                                        << (dir / "standing.candump").string() << "\"\n[render]\nstyle = \"" << style
+                                        << "\"\nlabels = false\n"
                                         << "[[profile]]\nname = \"small\"\nwidth = 800\nheight = 240\nfps = " << fps
                                         << "\nview = \"snail\"\n"
                                         << "[control]\nsocket = \"" << (dir / "control.sock").string() << "\"\n"
-                                        << "[stream]\nsocket = \"" << (dir / "frames.sock").string() << "\"\nhttp_port = 0\n";
+                                        << "[stream]\nsocket = \"" << (dir / "frames.sock").string()
+                                        << "\"\nhttp_port = 0\n";
 }
 
 double meanBrightness(const navmap::ipc::ReceivedFrame& f) {
@@ -103,11 +105,13 @@ TEST(NavmapdReload, SighupAppliesStyleAndFpsWithoutDroppingClientsAndRefusesABro
     EXPECT_TRUE(night.in_order) << "sequence numbers keep increasing over the reload";
     EXPECT_GT(night.first_seq, day.last_seq);
     EXPECT_LT(night.brightness, day.brightness * 0.75) << "day " << day.brightness << ", night " << night.brightness;
-    EXPECT_GT(night.frames, day.frames * 3 / 2) << "4 fps -> 12 fps: day " << day.frames << " frames, night " << night.frames;
+    EXPECT_GT(night.frames, day.frames * 3 / 2)
+        << "4 fps -> 12 fps: day " << day.frames << " frames, night " << night.frames;
     const std::string st = daemonStatus(dir / "control.sock");
     EXPECT_NE(st.find("\"reloads\":1"), std::string::npos) << st;
     EXPECT_NE(st.find("\"style\":\"night\""), std::string::npos) << st;
-    EXPECT_NE(d.output().find("<5>navmapd: reloaded " + (dir / "navmapd.toml").string() + ": style night"), std::string::npos)
+    EXPECT_NE(d.output().find("<5>navmapd: reloaded " + (dir / "navmapd.toml").string() + ": style night"),
+              std::string::npos)
         << d.output();
 
     // A broken file is refused with a clear line; the night style at 12 fps keeps running.
@@ -122,7 +126,8 @@ TEST(NavmapdReload, SighupAppliesStyleAndFpsWithoutDroppingClientsAndRefusesABro
     const auto refused = out.find("<3>navmapd: reload: " + (dir / "navmapd.toml").string() + ":");
     ASSERT_NE(refused, std::string::npos) << out;
     const std::string line = out.substr(refused, out.find('\n', refused) - refused);
-    EXPECT_NE(line.find("render.style = \"dusk\": expected day or night (keeping the running configuration)"), std::string::npos)
+    EXPECT_NE(line.find("render.style = \"dusk\": expected day or night (keeping the running configuration)"),
+              std::string::npos)
         << line;
     const std::string st2 = daemonStatus(dir / "control.sock");
     EXPECT_NE(st2.find("\"reloads\":1"), std::string::npos) << st2;

@@ -63,16 +63,16 @@ TEST(NavmapdStreamAccess, HostileLocalClientsNeitherLockOutTheClusterNorGrowMemo
     const fs::path dir = fs::temp_directory_path() / ("navmapd-access-" + std::to_string(::getpid()));
     fs::remove_all(dir);
     fs::create_directories(dir);
-    fs::permissions(dir, fs::perms::owner_all | fs::perms::group_read | fs::perms::group_exec |
-                             fs::perms::others_read | fs::perms::others_exec);
+    fs::permissions(dir, fs::perms::owner_all | fs::perms::group_read | fs::perms::group_exec | fs::perms::others_read |
+                             fs::perms::others_exec);
     const fs::path frames = dir / "frames.sock", control = dir / "control.sock";
     std::ofstream(dir / "navmapd.toml") << "[control]\nsocket = \"" << control.string() << "\"\ngroup = \"" << kDisplays
-                                        << "\"\n[stream]\nsocket = \"" << frames.string() << "\"\ngroup = \"" << kDisplays
-                                        << "\"\nallowed_uids = [65534]\nmax_clients_per_uid = 4\n";
+                                        << "\"\n[stream]\nsocket = \"" << frames.string() << "\"\ngroup = \""
+                                        << kDisplays << "\"\nallowed_uids = [65534]\nmax_clients_per_uid = 4\n";
     const mode_t old = ::umask(0);
-    navmap::test::NavmapdProcess d(NAVMAPD_PATH,
-                                   "--config " + (dir / "navmapd.toml").string() + " --noop --profiles cluster,hud --log-level info",
-                                   dir / "navmapd.log", frames);
+    navmap::test::NavmapdProcess d(
+        NAVMAPD_PATH, "--config " + (dir / "navmapd.toml").string() + " --noop --profiles cluster,hud --log-level info",
+        dir / "navmapd.log", frames);
     ::umask(old);
     ASSERT_TRUE(fs::exists(frames)) << d.output();
     for (int i = 0; i < 100 && !fs::exists(control); ++i) std::this_thread::sleep_for(50ms);
@@ -92,7 +92,8 @@ TEST(NavmapdStreamAccess, HostileLocalClientsNeitherLockOutTheClusterNorGrowMemo
         run("setpriv --reuid=64002 --regid=64002 --clear-groups " NAVMAP_VIEW_PATH " --unix " + frames.string() +
             " --profile cluster --frames 1");
     EXPECT_NE(outsider, 0) << outsiderText;
-    EXPECT_NE(outsiderText.find("connect(" + frames.string() + "): Permission denied"), std::string::npos) << outsiderText;
+    EXPECT_NE(outsiderText.find("connect(" + frames.string() + "): Permission denied"), std::string::npos)
+        << outsiderText;
 
     // nobody, allowed and in the group, opens 64 streams at a size the daemon does not render and
     // holds them open.
@@ -115,15 +116,16 @@ TEST(NavmapdStreamAccess, HostileLocalClientsNeitherLockOutTheClusterNorGrowMemo
         return report;
     });
     const std::string report = nobody.result();
-    const int notRendered = countLines(report, "is not rendered here; rendered: cluster (snail 1280x480), hud (hud 800x240)");
+    const int notRendered =
+        countLines(report, "is not rendered here; rendered: cluster (snail 1280x480), hud (hud 800x240)");
     const int uidFull = countLines(report, "too many connections from uid 65534 (limit 4)");
     EXPECT_EQ(countLines(report, "accepted"), 0) << report;
     EXPECT_GE(notRendered, 1) << report;
     EXPECT_EQ(notRendered + uidFull, 64) << report;
 
     // The cluster still gets frames (as root, and as nobody within its own four).
-    const auto [cluster, clusterText] = run(std::string(NAVMAP_VIEW_PATH) + " --unix " + frames.string() +
-                                            " --profile cluster --frames 3");
+    const auto [cluster, clusterText] =
+        run(std::string(NAVMAP_VIEW_PATH) + " --unix " + frames.string() + " --profile cluster --frames 3");
     EXPECT_EQ(cluster, 0) << clusterText << d.output();
     EXPECT_NE(clusterText.find("(3 frames)"), std::string::npos) << clusterText;
 
@@ -143,11 +145,12 @@ TEST(NavmapdStreamAccess, HostileLocalClientsNeitherLockOutTheClusterNorGrowMemo
     ASSERT_TRUE(after.is_object()) << d.output();
     const double rssBefore = before["memory"]["rss_bytes"].get<double>() / 1e6;
     const double rssAfter = after["memory"]["rss_bytes"].get<double>() / 1e6;
-    std::printf("navmapd RSS %.0f MB before the 72 refused streams, %.0f MB after; ring bytes %llu\n", rssBefore, rssAfter,
-                static_cast<unsigned long long>(after["stream"]["ring_bytes"].get<std::uint64_t>()));
+    std::printf("navmapd RSS %.0f MB before the 72 refused streams, %.0f MB after; ring bytes %llu\n", rssBefore,
+                rssAfter, static_cast<unsigned long long>(after["stream"]["ring_bytes"].get<std::uint64_t>()));
     EXPECT_LT(rssAfter - rssBefore, 32.0) << "refused streams cost memory";
     EXPECT_EQ(after["stream"]["ring_bytes"].get<std::uint64_t>(), 0U) << after.dump();
-    EXPECT_GE(after["stream"]["refusals"]["not_rendered"].get<std::uint64_t>(), static_cast<std::uint64_t>(notRendered + 8));
+    EXPECT_GE(after["stream"]["refusals"]["not_rendered"].get<std::uint64_t>(),
+              static_cast<std::uint64_t>(notRendered + 8));
     EXPECT_EQ(after["stream"]["refusals"]["uid_full"].get<std::uint64_t>(), static_cast<std::uint64_t>(uidFull));
     nobody.release();
     EXPECT_EQ(d.stop(), 0) << d.output();

@@ -43,8 +43,8 @@ EstimatedPose poseAt(double x, double y) {
 
 struct Fixture {
     std::vector<ipc::ControlEvent> events;
-    RouteGuidance guidance{kProjection, GuidanceConfig{},
-                           [this](const ipc::ControlEvent& e) { events.push_back(e); }, Log(Log::kErr)};
+    RouteGuidance guidance{kProjection, GuidanceConfig{}, [this](const ipc::ControlEvent& e) { events.push_back(e); },
+                           Log(Log::kErr)};
 };
 
 }  // namespace

@@ -32,7 +32,8 @@ std::shared_ptr<const ipc::RouteState> controlRoute(const std::vector<map::Plana
 }
 
 ipc::CanTime at(double s) {
-    return ipc::CanTime{} + std::chrono::duration_cast<ipc::CanTime::duration>(std::chrono::duration<double>(1.7e9 + s));
+    return ipc::CanTime{} +
+           std::chrono::duration_cast<ipc::CanTime::duration>(std::chrono::duration<double>(1.7e9 + s));
 }
 
 }  // namespace

@@ -34,7 +34,5 @@ int navmapFuzzDbc(const std::uint8_t* data, std::size_t size) {
 }
 
 #ifndef NAVMAP_FUZZ_NO_MAIN
-extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-    return navmapFuzzDbc(data, size);
-}
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) { return navmapFuzzDbc(data, size); }
 #endif

@@ -41,7 +41,8 @@ std::size_t rssBytes() {
 
 struct TempFile {
     fs::path path;
-    explicit TempFile(const std::string& name) : path(fs::temp_directory_path() / (name + "-" + std::to_string(::getpid()))) {}
+    explicit TempFile(const std::string& name)
+        : path(fs::temp_directory_path() / (name + "-" + std::to_string(::getpid()))) {}
     ~TempFile() { fs::remove(path); }
 };
 
@@ -84,7 +85,8 @@ TEST(CandumpFileSource, ALargeLogPlaysInBoundedMemory) {
         std::FILE* f = std::fopen(log.path.c_str(), "w");
         ASSERT_NE(f, nullptr);
         for (int i = 0; i < 700000; ++i) {
-            std::fprintf(f, "(%d.%06d) can0 %03X#%016X\n", 1600000000 + i / 1000, (i % 1000) * 1000, 0x100 + i % 0x600, i);
+            std::fprintf(f, "(%d.%06d) can0 %03X#%016X\n", 1600000000 + i / 1000, (i % 1000) * 1000, 0x100 + i % 0x600,
+                         i);
         }
         std::fclose(f);
     }
@@ -125,9 +127,10 @@ TEST(CandumpFileSource, LoopingRewindsTheFileAndBadLinesAreCounted) {
     TempFile log("navmap-loop-candump");
     std::ofstream(log.path) << "(100.000) can0 001#01\n"
                                "(100.010) can0 002#02\n"
-                               "(16183940000.000000) can0 003#03\n"
-                               + std::string(600, 'x') + "\n"
-                               "(100.020) can0 004#04\n";
+                               "(16183940000.000000) can0 003#03\n" +
+                                   std::string(600, 'x') +
+                                   "\n"
+                                   "(100.020) can0 004#04\n";
     ReplayOptions o;
     o.loop = true;
     const CandumpFileSource* source = nullptr;
@@ -160,9 +163,11 @@ TEST(CandumpFileSource, TextThatIsNoLogIsRefusedQuickly) {
     auto r = replay(log.path, ReplayOptions{}, &source);
     ASSERT_TRUE(r);
     EXPECT_TRUE(r->finished());
-    EXPECT_EQ(r->error(), log.path.string() + ": not a candump log: the first " +
-                              std::to_string(source->reader().counters().malformed) + " lines are malformed (first: " +
-                              log.path.string() + ":1: expected '(' and a timestamp at the start, got 'This is a novel, not a CAN log. ...')");
+    EXPECT_EQ(r->error(),
+              log.path.string() + ": not a candump log: the first " +
+                  std::to_string(source->reader().counters().malformed) +
+                  " lines are malformed (first: " + log.path.string() +
+                  ":1: expected '(' and a timestamp at the start, got 'This is a novel, not a CAN log. ...')");
     EXPECT_GE(source->reader().counters().malformed, CandumpFileSource::kMaxLeadingMalformed);
     EXPECT_LT(source->reader().counters().lines, 2000U) << "refused within its first lines";
     // An empty log is no error: there is just nothing to play.

@@ -99,11 +99,13 @@ TEST(CandumpReader, TimestampsUpToTheEndOfCanTime) {
     auto r = CandumpReader::parseLine("(9223372035.999999999) can0 123#00");
     ASSERT_TRUE(r.ok()) << r.error().message;
     EXPECT_EQ(r.value().frame.timestamp.time_since_epoch().count(), 9223372035999999999LL);
-    EXPECT_EQ(parseError("(9618394400.000000) can0 6A0#00"), "timestamp 9618394400 s is out of range (0 to 9223372035 s)");
+    EXPECT_EQ(parseError("(9618394400.000000) can0 6A0#00"),
+              "timestamp 9618394400 s is out of range (0 to 9223372035 s)");
 }
 
 TEST(CandumpReader, FormatRoundTrip) {
-    for (const char* text : {"123#DEADBEEF", "1ABCDEF0#R", "123#R4", "123##1AABB", "7FF#", "20000004#0004000000000000"}) {
+    for (const char* text :
+         {"123#DEADBEEF", "1ABCDEF0#R", "123#R4", "123##1AABB", "7FF#", "20000004#0004000000000000"}) {
         const CanFrame f = parseOk(std::string("(0.0) can0 ") + text);
         EXPECT_EQ(navmap::ipc::formatCandumpPayload(f), text);
     }
@@ -144,11 +146,11 @@ TEST(CandumpReader, CountsAndLineNumbersAndContinuesAfterBadLines) {
     std::istringstream in(
         "(1.000000) can0 100#01\n"
         "\n"
-        "(1.000100) can0 1#01\n"          // line 3: bad id length
+        "(1.000100) can0 1#01\n"  // line 3: bad id length
         "# a comment\n"
         "(1.000200) can1 101##100112233\n"  // line 5: not a valid FD length (4 is fine) -> ok
         "(1.000300) can0 102#R\n"
-        "garbage \xff\xfe\n"              // line 7
+        "garbage \xff\xfe\n"  // line 7
         "(1.000400) can0 20000004#0004000000000000\n"
         "(1.000500) can0 103#0011");
     CandumpReader reader("test.log");

@@ -27,9 +27,7 @@ std::string readFile(const std::filesystem::path& p) {
 
 template <typename Fn>
 void runCorpus(const std::string& seed, const std::vector<std::string>& extra, Fn fn) {
-    const auto run = [&](const std::string& s) {
-        fn(reinterpret_cast<const std::uint8_t*>(s.data()), s.size());
-    };
+    const auto run = [&](const std::string& s) { fn(reinterpret_cast<const std::uint8_t*>(s.data()), s.size()); };
     for (std::size_t n = 0; n <= seed.size(); n += 3) {
         run(seed.substr(0, n));
     }
@@ -56,7 +54,8 @@ TEST(FuzzCorpus, DbcParserSurvivesBrokenInputs) {
         "BO_ 4294967295 A: 64 X\n SG_ S : 511|64@0- (1e308,-1e308) [1|-1] \"\" X\n",
         "BO_ 1 A: 64 X\n SG_ S : 0|64@1- (nan,inf) [nan|inf] \"\" X\n",
         "BO_ 1 A: 8 X\n SG_ S m99999999999 : 0|8@1+ (1,0) [0|0] \"\" X\n",
-        "BO_ 1 A: 8 X\n SG_ S M : 0|64@1+ (1,0) [0|0] \"\" X\n SG_ T m18446744073709551615 : 0|8@1+ (1,0) [0|0] \"\" X\n",
+        "BO_ 1 A: 8 X\n SG_ S M : 0|64@1+ (1,0) [0|0] \"\" X\n SG_ T m18446744073709551615 : 0|8@1+ (1,0) [0|0] \"\" "
+        "X\n",
         "CM_ \"\\\"\n\n\n",
         std::string(10000, '"'),
         "VAL_ 1 S 1 \"a\" 2 \"b\" 3",
@@ -89,9 +88,7 @@ TEST(FuzzCorpus, CandumpReaderSurvivesBrokenInputs) {
 
 // The checked-in libFuzzer corpora (tests/fuzz/corpus/{dbc,candump}, tests/fuzz/seeds/dbc): an
 // entry that crashes the parser fails here, without clang.
-TEST(FuzzCorpus, DbcCheckedInCorpus) {
-    EXPECT_GE(navmap::test::runCheckedInCorpus(navmapFuzzDbc, "dbc"), 20U);
-}
+TEST(FuzzCorpus, DbcCheckedInCorpus) { EXPECT_GE(navmap::test::runCheckedInCorpus(navmapFuzzDbc, "dbc"), 20U); }
 
 TEST(FuzzCorpus, CandumpCheckedInCorpus) {
     EXPECT_GE(navmap::test::runCheckedInCorpus(navmapFuzzCandump, "candump"), 20U);

@@ -159,7 +159,8 @@ TEST(Replayer, TimeArithmeticIsCheckedAtTheInt64Extremes) {
         r.reset(kT0);
         out.clear();
         EXPECT_EQ(r.advanceTo(CanTime::max(), sink), 2U);
-        EXPECT_EQ(out[1].timestamp, kT0 + std::chrono::nanoseconds(static_cast<std::int64_t>(static_cast<double>(kMax - 1) / 4.0)));
+        EXPECT_EQ(out[1].timestamp,
+                  kT0 + std::chrono::nanoseconds(static_cast<std::int64_t>(static_cast<double>(kMax - 1) / 4.0)));
         EXPECT_TRUE(r.finished());
         EXPECT_EQ(r.error(), "replay time out of range after 0 loops");
     }
@@ -231,12 +232,10 @@ TEST(Replayer, RealLogKeepsItsDuration) {
         ++n;
         last = f.timestamp;
     };
-    while (r.advanceTo(kT0 + 1300ms, sink, 100000) > 0) {
-    }
+    while (r.advanceTo(kT0 + 1300ms, sink, 100000) > 0) {}
     EXPECT_GT(n, 2000U);
     EXPECT_LT(n, 2841U);  // the log lasts 1.4 s
-    while (r.advanceTo(kT0 + 2s, sink, 100000) > 0) {
-    }
+    while (r.advanceTo(kT0 + 2s, sink, 100000) > 0) {}
     EXPECT_EQ(n, 2841U);
     EXPECT_GT(last - kT0, 1300ms);
 }

@@ -5,20 +5,17 @@
 #include <linux/can/error.h>
 #include <linux/can/raw.h>
 
-
-#include "open_fds.h"
 #include "navmap/ipc/backoff.h"
 #include "navmap/ipc/socketcan_codec.h"
 #include "navmap/ipc/socketcan_source.h"
+#include "open_fds.h"
 
 using namespace std::chrono_literals;
 using navmap::ipc::Backoff;
 using navmap::ipc::CanFrame;
 using navmap::ipc::CanTime;
 
-namespace {
-
-}  // namespace
+namespace {}  // namespace
 
 TEST(SocketCanCodec, ClassicExtendedRtrAndFdFromKernel) {
     const CanTime t(std::chrono::seconds(7));

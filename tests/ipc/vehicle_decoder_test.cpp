@@ -58,8 +58,12 @@ TEST(VehicleDecoder, NavmapDbcRoundTrip) {
     EXPECT_EQ(u.sourceTime, CanTime(std::chrono::seconds(100)));
 
     ASSERT_TRUE(dec.decode(encode(*db, "NAV_Motion",
-                                  {{"NAV_Heading", 271.25}, {"NAV_Speed", 48.3}, {"NAV_YawRate", -3.5},
-                                   {"NAV_FixType", 5}, {"NAV_Counter", 7}, {"NAV_NumSatellites", 11}},
+                                  {{"NAV_Heading", 271.25},
+                                   {"NAV_Speed", 48.3},
+                                   {"NAV_YawRate", -3.5},
+                                   {"NAV_FixType", 5},
+                                   {"NAV_Counter", 7},
+                                   {"NAV_NumSatellites", 11}},
                                   10),
                            u));
     EXPECT_NEAR(*u.get(VssSignal::Heading), 271.25, 1e-9);
@@ -74,7 +78,8 @@ TEST(VehicleDecoder, NavmapDbcRoundTrip) {
     EXPECT_NEAR(*u.get(VssSignal::Longitude), -179.9999999, 1e-9);
 
     // Multiplexed NAV_Info: page 0 altitude, page 1 time (not mapped).
-    ASSERT_TRUE(dec.decode(encode(*db, "NAV_Info", {{"NAV_InfoPage", 0}, {"NAV_Altitude", 1302.45}, {"NAV_Hdop", 0.9}}), u));
+    ASSERT_TRUE(
+        dec.decode(encode(*db, "NAV_Info", {{"NAV_InfoPage", 0}, {"NAV_Altitude", 1302.45}, {"NAV_Hdop", 0.9}}), u));
     EXPECT_NEAR(*u.get(VssSignal::Altitude), 1302.45, 1e-9);
     EXPECT_FALSE(dec.decode(encode(*db, "NAV_Info", {{"NAV_InfoPage", 1}, {"NAV_UtcTime", 1.7e9}}), u));
 
@@ -164,8 +169,10 @@ unit = "deg/s"
     EXPECT_EQ(ok.value().mappings()[1].signSignal, "ESP_VZ_Gierrate");
 
     const std::pair<const char*, const char*> bad[] = {
-        {"[[signal]]\nvss = \"Vehicle.Sped\"\nmessage=\"a\"\nsignal=\"b\"\n", "cfg.toml:2: signal #1: unknown VSS name 'Vehicle.Sped'"},
-        {"[[signal]]\nvss = \"Vehicle.Speed\"\nmessage=\"a\"\n", "cfg.toml:1: signal #1: 'vss', 'message' and 'signal' are required"},
+        {"[[signal]]\nvss = \"Vehicle.Sped\"\nmessage=\"a\"\nsignal=\"b\"\n",
+         "cfg.toml:2: signal #1: unknown VSS name 'Vehicle.Sped'"},
+        {"[[signal]]\nvss = \"Vehicle.Speed\"\nmessage=\"a\"\n",
+         "cfg.toml:1: signal #1: 'vss', 'message' and 'signal' are required"},
         {"[[signal]]\nvss = \"Vehicle.Speed\"\nmessage=\"a\"\nsignal=\"b\"\nfactor=2\n", "unknown key 'factor'"},
         {"[[signal]]\nvss = \"Vehicle.Speed\"\nmessage=1\nsignal=\"b\"\n", "'message' must be a string"},
         {"[[signal]]\nvss = \"Vehicle.Speed\"\nmessage=\"a\"\nsignal=\"b\"\nscale=\"x\"\n", "'scale' must be a number"},
@@ -200,7 +207,8 @@ TEST(VehicleDecoder, CreateFailsOnBadMappings) {
     m1.add({VssSignal::Speed, "NoSuchMessage", "X", {}, {}, 1.0, 0.0, {}});
     auto r1 = VehicleDecoder::create({db}, m1);
     ASSERT_FALSE(r1.ok());
-    EXPECT_EQ(r1.error().message, "signal map Vehicle.Speed <- NoSuchMessage.X: message 'NoSuchMessage' is in none of the DBC files");
+    EXPECT_EQ(r1.error().message,
+              "signal map Vehicle.Speed <- NoSuchMessage.X: message 'NoSuchMessage' is in none of the DBC files");
     SignalMap m2;
     m2.add({VssSignal::Speed, "NAV_Motion", "NAV_Sped", {}, {}, 1.0, 0.0, {}});
     auto r2 = VehicleDecoder::create({db}, m2);

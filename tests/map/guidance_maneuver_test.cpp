@@ -179,7 +179,8 @@ TEST(GuidanceManeuvers, StreetNamesComeFromTheWaysAndJoinSplitWays) {
     names.add(2, "Avinguda Meritxell", "CG-1");
     names.add(3, "", "CS-101");
     // Without names the split looks like leaving the road; with them it is the same street.
-    EXPECT_EQ(typesOf(deriveManeuvers(g, test::routeLine(g, s, n), &names)), (std::vector<std::string>{"depart", "arrive"}));
+    EXPECT_EQ(typesOf(deriveManeuvers(g, test::routeLine(g, s, n), &names)),
+              (std::vector<std::string>{"depart", "arrive"}));
     const auto ms = deriveManeuvers(g, test::routeLine(g, s, e), &names);
     ASSERT_EQ(typesOf(ms), (std::vector<std::string>{"depart", "turn_right", "arrive"}));
     EXPECT_EQ(ms[0].street, "Avinguda Meritxell");
@@ -221,8 +222,8 @@ Roundabout roundabout(const std::vector<double>& exits, const std::vector<double
         if (h1 >= h0) h1 -= 360.0;
         std::vector<PlanarPoint> arc;
         for (double h = h0 - 10.0; h > h1 + 1.0; h -= 10.0) arc.push_back(polar(h, 30.0));
-        t.way(id++, {ring[k], ring[(k + 1) % arms.size()]}, RoadClass::Secondary, RoadFlags::Oneway | RoadFlags::Roundabout,
-              {arc});
+        t.way(id++, {ring[k], ring[(k + 1) % arms.size()]}, RoadClass::Secondary,
+              RoadFlags::Oneway | RoadFlags::Roundabout, {arc});
         const PlanarPoint o = polar(arms[k].heading, 130.0);
         const auto outer = t.node(o.x, o.y);
         if (arms[k].kind == 0) {

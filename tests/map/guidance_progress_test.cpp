@@ -18,7 +18,9 @@ namespace {
 std::vector<RoutePoint> withMeasures(const std::vector<PlanarPoint>& pts) {
     std::vector<RoutePoint> line;
     for (const auto& p : pts) {
-        const double m = line.empty() ? 0.0 : line.back().measure_m + std::hypot(p.x - line.back().position.x, p.y - line.back().position.y);
+        const double m = line.empty() ? 0.0
+                                      : line.back().measure_m +
+                                            std::hypot(p.x - line.back().position.x, p.y - line.back().position.y);
         line.push_back({p, m, 0});
     }
     return line;
@@ -78,11 +80,11 @@ TEST(GuidanceProgress, ManeuversArePassedInOrderAndTheRoundaboutUntilItsExit) {
         std::size_t next;
         double to_next;
     };
-    for (const Step& s : std::vector<Step>{{0, 0, 1, 100},    // Depart is never "next"
-                                           {50, 1, 1, 50},    // Depart passed after 10 m
-                                           {105, 1, 1, 0},    // at the turn: "now"
-                                           {111, 2, 2, 89},   // 10 m beyond it: passed
-                                           {250, 2, 2, 0},    // in the roundabout
+    for (const Step& s : std::vector<Step>{{0, 0, 1, 100},   // Depart is never "next"
+                                           {50, 1, 1, 50},   // Depart passed after 10 m
+                                           {105, 1, 1, 0},   // at the turn: "now"
+                                           {111, 2, 2, 89},  // 10 m beyond it: passed
+                                           {250, 2, 2, 0},   // in the roundabout
                                            {305, 2, 2, 0},
                                            {311, 3, 3, 189},  // out of it: arrive is next
                                            {490, 3, 3, 10}}) {
@@ -114,9 +116,9 @@ TEST(GuidanceProgress, TimeLeftFromTheSegmentSpeedsElseTheDefault) {
 }
 
 TEST(GuidanceProgress, BadManeuversAreDroppedAndNamed) {
-    GuidanceRoute r({{0, 0}, {10, 0}, {20, 0}},
-                    {{ManeuverType::TurnLeft, 2, 2, 0, 0, 0, 0, ""}, {ManeuverType::TurnRight, 1, 0, 0, 0, 0, 0, ""},
-                     {ManeuverType::Arrive, 9, 9, 0, 0, 0, 0, ""}});
+    GuidanceRoute r({{0, 0}, {10, 0}, {20, 0}}, {{ManeuverType::TurnLeft, 2, 2, 0, 0, 0, 0, ""},
+                                                 {ManeuverType::TurnRight, 1, 0, 0, 0, 0, 0, ""},
+                                                 {ManeuverType::Arrive, 9, 9, 0, 0, 0, 0, ""}});
     ASSERT_EQ(r.maneuvers().size(), 1U);
     ASSERT_EQ(r.problems().size(), 2U);
     EXPECT_EQ(r.problems()[0], "maneuver 1: point 1 before the previous maneuver's point 2");
@@ -124,7 +126,8 @@ TEST(GuidanceProgress, BadManeuversAreDroppedAndNamed) {
 }
 
 TEST(GuidanceProgress, NeverGoesBackAndReacquiresAheadAfterAGap) {
-    auto route = std::make_shared<const GuidanceRoute>(std::vector<PlanarPoint>{{0, 0}, {3000, 0}}, std::vector<Maneuver>{});
+    auto route =
+        std::make_shared<const GuidanceRoute>(std::vector<PlanarPoint>{{0, 0}, {3000, 0}}, std::vector<Maneuver>{});
     RouteProgressTracker t(route);
     EXPECT_NEAR(t.update({100, 0}).measure_m, 100.0, 1e-9);
     // Backing up a little: the match goes back, the progress does not.
@@ -153,7 +156,7 @@ TEST(GuidanceOffRoute, EntersStaysAndLeavesWithHysteresis) {
         return off;
     };
     EXPECT_FALSE(feed(5.0, 5.0));
-    EXPECT_FALSE(feed(60.0, 3.0));  // t = 5.0 .. 7.5: not yet 3 s
+    EXPECT_FALSE(feed(60.0, 3.0));     // t = 5.0 .. 7.5: not yet 3 s
     EXPECT_TRUE(d.update(8.0, 60.0));  // 3 s since 5.0
     t = 8.5;
     EXPECT_TRUE(feed(30.0, 10.0));  // between the thresholds: stays off
@@ -173,9 +176,9 @@ TEST(GuidanceOffRoute, FlappingNearAThresholdDoesNotToggle) {
 TEST(GuidanceOffRoute, BadSamplesAreIgnoredAndBadConfigsNamed) {
     OffRouteDetector d;
     d.update(10.0, 60.0);
-    d.update(9.0, 60.0);            // older: ignored
-    d.update(11.0, std::nan(""));   // ignored
-    d.update(std::nan(""), 60.0);   // ignored
+    d.update(9.0, 60.0);           // older: ignored
+    d.update(11.0, std::nan(""));  // ignored
+    d.update(std::nan(""), 60.0);  // ignored
     EXPECT_EQ(d.ignoredSamples(), 3U);
     EXPECT_TRUE(d.update(13.0, 60.0));
     d.reset();

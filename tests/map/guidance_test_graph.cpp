@@ -27,7 +27,8 @@ void TestGraph::way(std::int64_t id, const std::vector<std::uint32_t>& nodes, Ro
             if (i > 0) length += std::hypot(pts[i].x - pts[i - 1].x, pts[i].y - pts[i - 1].y);
         }
         const auto end = static_cast<std::uint32_t>(m_g.shape.size());
-        GraphEdge e{nodes[k], nodes[k + 1], static_cast<float>(length), defaultSpeedKmh(cls), cls, flags, begin, end, id};
+        GraphEdge e{nodes[k], nodes[k + 1], static_cast<float>(length), defaultSpeedKmh(cls), cls, flags, begin, end,
+                    id};
         m_g.edges.push_back(e);
         if (!oneway) {
             std::swap(e.from, e.to);
@@ -39,7 +40,8 @@ void TestGraph::way(std::int64_t id, const std::vector<std::uint32_t>& nodes, Ro
 
 RoadGraph TestGraph::build() const {
     RoadGraph g = m_g;
-    std::stable_sort(g.edges.begin(), g.edges.end(), [](const GraphEdge& a, const GraphEdge& b) { return a.from < b.from; });
+    std::stable_sort(g.edges.begin(), g.edges.end(),
+                     [](const GraphEdge& a, const GraphEdge& b) { return a.from < b.from; });
     g.first_edge.assign(g.nodes.size() + 1, 0);
     for (const auto& e : g.edges) ++g.first_edge[e.from + 1];
     for (std::size_t i = 1; i < g.first_edge.size(); ++i) g.first_edge[i] += g.first_edge[i - 1];

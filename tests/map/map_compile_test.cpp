@@ -197,7 +197,8 @@ TEST_F(AndorraStore, ABitFlippedInEachSectionDegradesOrFailsAsDocumented) {
         withFlip(s_store->blobOffset(victim) + s_store->storedSize(victim) / 2);
         const auto store = TileStore::open(path);
         EXPECT_EQ(failing(*store), std::vector<std::string>{victim.toString()});
-        EXPECT_EQ(store->load(victim).error, path.string() + ": tile " + victim.toString() + ": checksum mismatch (corrupt tile)");
+        EXPECT_EQ(store->load(victim).error,
+                  path.string() + ": tile " + victim.toString() + ": checksum mismatch (corrupt tile)");
         EXPECT_TRUE(store->tryLoadGraph().ok());
     }
 
@@ -222,9 +223,9 @@ TEST(CompileBadInput, TruncatedRandomAndMissingPbf) {
         std::ofstream out(junk, std::ios::binary);
         for (int i = 0; i < 100000; ++i) out.put(static_cast<char>(rng()));
     }
-    for (const auto& [path, what] : {std::pair{trunc, std::string("cannot read OSM data")},
-                                     std::pair{junk, std::string("cannot read OSM data")},
-                                     std::pair{dir / "absent.osm.pbf", std::string("no such file")}}) {
+    for (const auto& [path, what] :
+         {std::pair{trunc, std::string("cannot read OSM data")}, std::pair{junk, std::string("cannot read OSM data")},
+          std::pair{dir / "absent.osm.pbf", std::string("no such file")}}) {
         CompileOptions opt;
         opt.osm = path;
         opt.out = dir / "out.navmap";
@@ -252,7 +253,8 @@ TEST(CompileBadInput, DemOfWrongSizeNamesTheFile) {
         compileStore(opt);
         FAIL() << "expected DemError";
     } catch (const DemError& e) {
-        EXPECT_NE(std::string(e.what()).find(bad.string() + ": 4 bytes is not an SRTM tile"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find(bad.string() + ": 4 bytes is not an SRTM tile"), std::string::npos)
+            << e.what();
     }
 }
 
@@ -265,7 +267,8 @@ struct CompileProcess {
     pid_t pid = -1;
     fs::path log;
     CompileProcess(const std::string& args, fs::path log_path) : log(std::move(log_path)) {
-        const std::string cmd = std::string("exec ") + NAVMAP_COMPILE_PATH + " " + args + " > " + log.string() + " 2>&1";
+        const std::string cmd =
+            std::string("exec ") + NAVMAP_COMPILE_PATH + " " + args + " > " + log.string() + " 2>&1";
         const char* argv[] = {"/bin/sh", "-c", cmd.c_str(), nullptr};
         if (posix_spawn(&pid, "/bin/sh", nullptr, nullptr, const_cast<char**>(argv), environ) != 0) pid = -1;
     }
@@ -282,8 +285,8 @@ struct CompileProcess {
 };
 
 std::string andorraArgs(const fs::path& out) {
-    return "-q --osm " + repoData("andorra-2021-04-14.osm.pbf").string() + " --dem " + repoData("N42E001.hgt").string() +
-           " --out " + out.string();
+    return "-q --osm " + repoData("andorra-2021-04-14.osm.pbf").string() + " --dem " +
+           repoData("N42E001.hgt").string() + " --out " + out.string();
 }
 
 std::vector<std::string> namesIn(const fs::path& d) {

@@ -15,7 +15,9 @@ using namespace navmap::map;
 
 namespace {
 
-std::vector<PlanarPoint> square(double x0, double y0, double s) { return {{x0, y0}, {x0 + s, y0}, {x0 + s, y0 + s}, {x0, y0 + s}}; }
+std::vector<PlanarPoint> square(double x0, double y0, double s) {
+    return {{x0, y0}, {x0 + s, y0}, {x0 + s, y0 + s}, {x0, y0 + s}};
+}
 
 bool allCcw(const Triangulation& t) {
     for (std::size_t i = 0; i < t.indices.size(); i += 3) {
@@ -43,7 +45,8 @@ TEST(Triangulator, ConcaveMultiHoleFarFromOrigin) {
     // An L-shape 5 000 km from the frame origin with two holes; holes given counter-clockwise
     // (odd winding ignores orientation).
     const double ox = 5e6, oy = -3e6;
-    std::vector<PlanarPoint> l{{ox, oy}, {ox + 30, oy}, {ox + 30, oy + 10}, {ox + 10, oy + 10}, {ox + 10, oy + 30}, {ox, oy + 30}};
+    std::vector<PlanarPoint> l{{ox, oy},           {ox + 30, oy},      {ox + 30, oy + 10},
+                               {ox + 10, oy + 10}, {ox + 10, oy + 30}, {ox, oy + 30}};
     std::vector<std::vector<PlanarPoint>> rings{l, square(ox + 2, oy + 2, 4), square(ox + 20, oy + 2, 5)};
     const Triangulation t = triangulate(rings);
     ASSERT_TRUE(t.ok);
@@ -228,7 +231,7 @@ TEST(TileScheme, CoversBoundsWithPowerOfTwoLevels) {
     EXPECT_FALSE(s.tileAt(6, {1e7, 0}));
     const TileRange r = s.range(6, {-1, -1, 1, 1});
     EXPECT_FALSE(r.empty);
-    EXPECT_EQ(r.x1, r.x0);          // x = 0 is inside column 29 (root starts at -59 km)
-    EXPECT_EQ(r.y1 - r.y0, 1u);     // y = 0 is the border between rows 31 and 32
+    EXPECT_EQ(r.x1, r.x0);       // x = 0 is inside column 29 (root starts at -59 km)
+    EXPECT_EQ(r.y1 - r.y0, 1u);  // y = 0 is the border between rows 31 and 32
     EXPECT_EQ(s.levelForTileSize(9000), 4);
 }

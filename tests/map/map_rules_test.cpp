@@ -22,8 +22,8 @@ TagLookup tags(const std::map<std::string, std::string>& kv) {
 }  // namespace
 
 TEST(RoadClass, MapsHighwayValuesInImportanceOrder) {
-    const char* order[] = {"motorway", "trunk", "primary", "secondary", "tertiary", "unclassified",
-                           "residential", "service", "pedestrian", "track", "path"};
+    const char* order[] = {"motorway",    "trunk",   "primary",    "secondary", "tertiary", "unclassified",
+                           "residential", "service", "pedestrian", "track",     "path"};
     for (int i = 0; i < kRoadClassCount; ++i) {
         const auto m = roadClassFromHighway(order[i]);
         ASSERT_TRUE(m) << order[i];

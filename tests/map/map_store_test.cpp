@@ -166,7 +166,8 @@ TEST(TileStore, RoundTripAllTilesAndGraph) {
     RoadGraph g;
     g.nodes = {{0, 0, 1}, {100, 0, 2}};
     g.shape = {{0, 0}, {50, 1}, {100, 0}};
-    g.edges = {{0, 1, 100.5f, 50, RoadClass::Primary, 0, 0, 3, 77}, {1, 0, 100.5f, 50, RoadClass::Primary, EdgeFlags::Reversed, 0, 3, 77}};
+    g.edges = {{0, 1, 100.5f, 50, RoadClass::Primary, 0, 0, 3, 77},
+               {1, 0, 100.5f, 50, RoadClass::Primary, EdgeFlags::Reversed, 0, 3, 77}};
     writeSmallStore(dir / "s.navmap", &g);
     const auto store = TileStore::open(dir / "s.navmap");
     EXPECT_EQ(store->info().tile_count, 21u);
@@ -202,7 +203,8 @@ TEST(TileStore, OtherVersionTruncatedAndNotAStoreAreClearErrors) {
     EXPECT_NE(e.find("v2.navmap"), std::string::npos) << e;
     EXPECT_NE(e.find("format version 2, this build reads version 1"), std::string::npos) << e;
 
-    writeAll(dir / "trunc.navmap", std::vector<std::uint8_t>(bytes.begin(), bytes.begin() + static_cast<long>(bytes.size() / 2)));
+    writeAll(dir / "trunc.navmap",
+             std::vector<std::uint8_t>(bytes.begin(), bytes.begin() + static_cast<long>(bytes.size() / 2)));
     e = openError(dir / "trunc.navmap");
     EXPECT_NE(e.find("trunc.navmap: truncated"), std::string::npos) << e;
 
@@ -217,7 +219,7 @@ TEST(TileStore, OtherVersionTruncatedAndNotAStoreAreClearErrors) {
     EXPECT_NE(e.find("header checksum mismatch"), std::string::npos) << e;
 
     e = openError(dir / "missing.navmap");
-    EXPECT_NE(e.find("open(") , std::string::npos) << e;
+    EXPECT_NE(e.find("open("), std::string::npos) << e;
     EXPECT_NE(e.find("No such file"), std::string::npos) << e;
 }
 
@@ -249,8 +251,10 @@ TEST(TileCache, CorruptTileIsSkippedAndReportedRestKeepsWorking) {
     const auto got = cache.request(want);
     int resident = 0;
     for (std::size_t i = 0; i < want.size(); ++i) {
-        if (want[i].id == victim) EXPECT_FALSE(got[i]);
-        else if (got[i]) ++resident;
+        if (want[i].id == victim)
+            EXPECT_FALSE(got[i]);
+        else if (got[i])
+            ++resident;
     }
     EXPECT_EQ(resident, 15);
     const auto m = cache.metrics();
@@ -274,7 +278,8 @@ TEST(TileCache, EvictsLeastRecentlyUsedUnderBudget) {
     std::size_t max_seen = 0;
     // Fly over the 16 leaf tiles two at a time; each request wants 2 tiles.
     for (std::uint32_t step = 0; step < 8; ++step) {
-        const std::vector<TileRequest> want{{{2, (2 * step) % 4, (2 * step) / 4}, 2.0f}, {{2, (2 * step + 1) % 4, (2 * step + 1) / 4}, 1.0f}};
+        const std::vector<TileRequest> want{{{2, (2 * step) % 4, (2 * step) / 4}, 2.0f},
+                                            {{2, (2 * step + 1) % 4, (2 * step + 1) / 4}, 1.0f}};
         cache.request(want);
         ASSERT_TRUE(cache.waitIdle(std::chrono::seconds(10)));
         const auto got = cache.request(want);
@@ -378,7 +383,8 @@ TEST(Dem, VoidsAreFilledAndWrongSizeIsAnError) {
         loadHgt(dir / "N42E002.hgt");
         FAIL() << "expected DemError";
     } catch (const DemError& e) {
-        EXPECT_NE(std::string(e.what()).find("N42E002.hgt: 1000 bytes is not an SRTM tile"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("N42E002.hgt: 1000 bytes is not an SRTM tile"), std::string::npos)
+            << e.what();
     }
 }
 
@@ -413,8 +419,8 @@ TEST(StoreWriter, AMissingFolderIsAnErrorAndIsNotCreated) {
     EXPECT_EQ(writerError(out), out.string() + ": directory " + (dir / "missing/sub").string() + " does not exist");
     EXPECT_FALSE(std::filesystem::exists(dir / "missing"));
     std::ofstream(dir / "file") << "x";
-    EXPECT_EQ(writerError(dir / "file/x.navmap"), (dir / "file/x.navmap").string() + ": " + (dir / "file").string() +
-                                                      " is not a directory");
+    EXPECT_EQ(writerError(dir / "file/x.navmap"),
+              (dir / "file/x.navmap").string() + ": " + (dir / "file").string() + " is not a directory");
     EXPECT_EQ(listDir(dir.path()), std::vector<std::string>{"file"});
 }
 
@@ -424,8 +430,8 @@ TEST(StoreWriter, ASecondWriterIsRefusedWithTheFirstOnesPid) {
     {
         StoreWriter first(out, smallInfo());
         EXPECT_EQ(fileText(dir / "s.navmap.lock"), std::to_string(::getpid()) + "\n");
-        EXPECT_EQ(writerError(out), out.string() + " is being written by another process (pid " +
-                                        std::to_string(::getpid()) + ")");
+        EXPECT_EQ(writerError(out),
+                  out.string() + " is being written by another process (pid " + std::to_string(::getpid()) + ")");
         // The refused writer left the first one's files alone.
         EXPECT_TRUE(std::filesystem::exists(first.temporaryPath()));
         EXPECT_TRUE(std::filesystem::exists(dir / "s.navmap.lock"));
@@ -455,17 +461,20 @@ TEST(StoreWriter, PlantedSymlinksAreNeverFollowed) {
 
     // At the lock name: refused, nothing written, the target untouched (or not created).
     std::filesystem::create_symlink(victim, dir / "t.navmap.lock");
-    EXPECT_EQ(writerError(dir / "t.navmap"), (dir / "t.navmap.lock").string() + ": is a symbolic link; refusing to follow it");
+    EXPECT_EQ(writerError(dir / "t.navmap"),
+              (dir / "t.navmap.lock").string() + ": is a symbolic link; refusing to follow it");
     std::filesystem::create_symlink(dir / "absent", dir / "u.navmap.lock");
-    EXPECT_EQ(writerError(dir / "u.navmap"), (dir / "u.navmap.lock").string() + ": is a symbolic link; refusing to follow it");
+    EXPECT_EQ(writerError(dir / "u.navmap"),
+              (dir / "u.navmap.lock").string() + ": is a symbolic link; refusing to follow it");
     EXPECT_FALSE(std::filesystem::exists(dir / "absent"));
     // A hard link at the lock name would have its target truncated: refused too.
     std::filesystem::create_hard_link(victim, dir / "v.navmap.lock");
     EXPECT_EQ(writerError(dir / "v.navmap"),
               (dir / "v.navmap.lock").string() + ": not a regular file with a single link; refusing to use it");
     EXPECT_EQ(fileText(victim), "precious\n");
-    EXPECT_EQ(listDir(dir.path()), (std::vector<std::string>{"s.navmap", "s.navmap.tmp", "s.navmap.tmp-0123456789abcdef",
-                                                             "t.navmap.lock", "u.navmap.lock", "v.navmap.lock", "victim.txt"}));
+    EXPECT_EQ(listDir(dir.path()),
+              (std::vector<std::string>{"s.navmap", "s.navmap.tmp", "s.navmap.tmp-0123456789abcdef", "t.navmap.lock",
+                                        "u.navmap.lock", "v.navmap.lock", "victim.txt"}));
 }
 
 TEST(StoreWriter, FailuresLeaveNoTemporaryOrLockFileAndLeftoversAreRemoved) {
@@ -475,7 +484,7 @@ TEST(StoreWriter, FailuresLeaveNoTemporaryOrLockFileAndLeftoversAreRemoved) {
         StoreWriter w(out, smallInfo());
         w.addTile(sampleTile({0, 0, 0}, -4000, -4000, 8000));
         EXPECT_EQ(listDir(dir.path()).size(), 2u);  // the temporary file and the lock
-    }  // abandoned without finish(): as after an exception
+    }                                               // abandoned without finish(): as after an exception
     EXPECT_TRUE(listDir(dir.path()).empty());
     // A writer killed mid-way leaves its temporary file; the next writer of the store removes
     // it (only files of the store's temporary pattern).
@@ -483,8 +492,8 @@ TEST(StoreWriter, FailuresLeaveNoTemporaryOrLockFileAndLeftoversAreRemoved) {
     std::ofstream(dir / "s.navmap.tmp-notmine") << "kept";
     std::ofstream(dir / "other.navmap.tmp-00000000deadbeef") << "kept";
     writeSmallStore(out);
-    EXPECT_EQ(listDir(dir.path()), (std::vector<std::string>{"other.navmap.tmp-00000000deadbeef", "s.navmap",
-                                                             "s.navmap.tmp-notmine"}));
+    EXPECT_EQ(listDir(dir.path()),
+              (std::vector<std::string>{"other.navmap.tmp-00000000deadbeef", "s.navmap", "s.navmap.tmp-notmine"}));
 }
 
 // docs/tile-store.md "Damage": one policy for every section of a store. The header and the index
@@ -533,12 +542,13 @@ TEST(StoreDamage, EveryBitOfTheHeaderAndTheIndexIsFatalNamingTheSection) {
             ASSERT_TRUE(poke(byte, static_cast<std::uint8_t>(bytes[byte] ^ (1u << bit))));
             const std::string e = openError(path);
             ASSERT_TRUE(poke(byte, bytes[byte]));
-            const std::string expected = byte < 8    ? "not a navmap tile store (bad magic)"
-                                         : byte < 12 ? "tile store format version "
-                                         : byte < 16 ? "truncated or malformed header"
+            const std::string expected = byte < 8     ? "not a navmap tile store (bad magic)"
+                                         : byte < 12  ? "tile store format version "
+                                         : byte < 16  ? "truncated or malformed header"
                                          : byte < 144 ? "header checksum mismatch"
                                                       : "tile index checksum mismatch";
-            ASSERT_EQ(e.rfind(path.string() + ": " + expected, 0), 0u) << "byte " << byte << " bit " << bit << ": " << e;
+            ASSERT_EQ(e.rfind(path.string() + ": " + expected, 0), 0u)
+                << "byte " << byte << " bit " << bit << ": " << e;
             ++checked;
         }
     }
@@ -647,8 +657,10 @@ TEST(StoreDamage, EveryKindOfTilePayloadDamageIsAnErrorForThatTileOnly) {
                     for (std::uint32_t x = 0; x < n; ++x) {
                         const TileId id{static_cast<std::uint8_t>(level), x, y};
                         const Box b = info.scheme.bounds(id);
-                        if (id == victim) w.addRawTile(id, payload);
-                        else w.addTile(sampleTile(id, b.min_x, b.min_y, info.scheme.tileSize(level)));
+                        if (id == victim)
+                            w.addRawTile(id, payload);
+                        else
+                            w.addTile(sampleTile(id, b.min_x, b.min_y, info.scheme.tileSize(level)));
                     }
                 }
             }

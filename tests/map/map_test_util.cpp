@@ -58,10 +58,13 @@ Tile sampleTile(TileId id, double origin_x, double origin_y, double size_m) {
     t.dem.size = 5;
     t.dem.spacing_m = static_cast<float>(size_m / 4);
     t.dem.coverage = 1.0f;
-    for (int i = 0; i < 25; ++i) t.dem.heights.push_back(1000.0f + 10.5f * static_cast<float>(i % 7) - 3.2f * static_cast<float>(i));
+    for (int i = 0; i < 25; ++i)
+        t.dem.heights.push_back(1000.0f + 10.5f * static_cast<float>(i % 7) - 3.2f * static_cast<float>(i));
     return t;
 }
 
-std::filesystem::path repoData(const std::string& file) { return std::filesystem::path(NAVMAP_SOURCE_DIR) / "data" / file; }
+std::filesystem::path repoData(const std::string& file) {
+    return std::filesystem::path(NAVMAP_SOURCE_DIR) / "data" / file;
+}
 
 }  // namespace navmap::map::test

@@ -8,12 +8,12 @@
 #include <cstring>
 #include <utility>
 
-#include "golden.h"
-#include "drive_scene.h"
-#include "navmap/render/renderer.h"
-#include "tile_mesh.h"
 #include "andorra_drive.h"
+#include "drive_scene.h"
+#include "golden.h"
+#include "navmap/render/renderer.h"
 #include "test_paths.h"
+#include "tile_mesh.h"
 
 namespace {
 
@@ -101,7 +101,8 @@ TEST_P(AndorraGolden, MatchesGolden) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Views, AndorraGolden,
-                         ::testing::Combine(::testing::Values(ViewMode::Bird, ViewMode::Snail), ::testing::Values(0, 1, 2, 3)),
+                         ::testing::Combine(::testing::Values(ViewMode::Bird, ViewMode::Snail),
+                                            ::testing::Values(0, 1, 2, 3)),
                          [](const ::testing::TestParamInfo<AndorraGolden::ParamType>& p) {
                              return std::string(std::get<0>(p.param) == ViewMode::Bird ? "bird_" : "snail_") +
                                     kStepNames[std::get<1>(p.param)];
@@ -143,7 +144,8 @@ TEST(AndorraMap, OutlinesNearRoadsEqualTheFullScreenFilter) {
                 by[where == OutlineMask::Cpu] = renderer->readSync();
                 EXPECT_EQ(renderer->mapStats().outline_mask_on_cpu, where == OutlineMask::Cpu);
                 std::printf("[ measure  ] %s %dx%d, %s: outline filter on %.1f %% of the screen\n",
-                            mode == ViewMode::Bird ? "bird" : "snail", w, h, where == OutlineMask::Cpu ? "edge cells" : "quad cells",
+                            mode == ViewMode::Bird ? "bird" : "snail", w, h,
+                            where == OutlineMask::Cpu ? "edge cells" : "quad cells",
                             100.0 * double(renderer->mapStats().outline_pixels) / (w * h));
             }
             frame.layers.outline_mask = OutlineMask::Auto;
@@ -193,14 +195,17 @@ struct CullingCase {
 template <typename Check>
 void forEachCullingCase(bool MapLayers::*option, Check check) {
     for (ViewMode mode : {ViewMode::Bird, ViewMode::Snail}) {
-        for (const auto& [w, h, glow] : {std::tuple{kW, kH, false}, std::tuple{1280, 480, false}, std::tuple{kW, kH, true}}) {
+        for (const auto& [w, h, glow] :
+             {std::tuple{kW, kH, false}, std::tuple{1280, 480, false}, std::tuple{kW, kH, true}}) {
             auto renderer = rendererOfSize(w, h);
             MapFrame frame = navmap::test::settledAndorraFrame(mode, w, h);
             frame.layers = layersFor(3);
             frame.layers.glow_roads = glow;
             auto [culled, all] = renderWithAndWithout(*renderer, frame, option);
-            const CullingCase c{mode == ViewMode::Bird ? "bird" : "snail", mode, w, h, glow, std::move(culled), std::move(all)};
-            EXPECT_EQ(differingPixels(c.all.image, c.culled.image), 0u) << c.name << " " << w << "x" << h << (glow ? " glow" : "");
+            const CullingCase c{
+                mode == ViewMode::Bird ? "bird" : "snail", mode, w, h, glow, std::move(culled), std::move(all)};
+            EXPECT_EQ(differingPixels(c.all.image, c.culled.image), 0u)
+                << c.name << " " << w << "x" << h << (glow ? " glow" : "");
             check(c);
         }
     }
@@ -210,8 +215,8 @@ TEST(AndorraMap, RoadAndBuildingBlocksOutsideTheViewAreNotDrawn) {
     forEachCullingCase(&MapLayers::cull_blocks, [](const CullingCase& c) {
         const MapFrameStats& culled = c.culled.stats;
         const MapFrameStats& all = c.all.stats;
-        std::printf("[ measure  ] %s %dx%d%s: %zu of %zu road pieces, %zu of %zu building triangles drawn\n", c.name, c.w,
-                    c.h, c.glow ? " glow" : "", culled.road_segments, all.road_segments, culled.building_triangles,
+        std::printf("[ measure  ] %s %dx%d%s: %zu of %zu road pieces, %zu of %zu building triangles drawn\n", c.name,
+                    c.w, c.h, c.glow ? " glow" : "", culled.road_segments, all.road_segments, culled.building_triangles,
                     all.building_triangles);
         EXPECT_GT(culled.road_segments, 0u);
         EXPECT_LT(culled.road_segments, all.road_segments / 2) << c.name;
@@ -253,9 +258,10 @@ Toggled toggled(ViewMode mode, bool MapLayers::*option) {
     auto [on, off] = renderWithAndWithout(*renderer, frame, option);
     Toggled t{std::move(on), std::move(off), {}};
     t.differ = differenceOf(t.on.image, t.off.image);
-    std::printf("[ measure  ] %s %dx%d: %zu of %zu road pieces drawn, %zu pixels differ (%.2f %%), %zu in the bottom quarter\n",
-                mode == ViewMode::Bird ? "bird" : "snail", w, h, t.on.stats.road_segments, t.off.stats.road_segments,
-                t.differ.all, 100.0 * double(t.differ.all) / double(w * h), t.differ.near);
+    std::printf(
+        "[ measure  ] %s %dx%d: %zu of %zu road pieces drawn, %zu pixels differ (%.2f %%), %zu in the bottom quarter\n",
+        mode == ViewMode::Bird ? "bird" : "snail", w, h, t.on.stats.road_segments, t.off.stats.road_segments,
+        t.differ.all, 100.0 * double(t.differ.all) / double(w * h), t.differ.near);
     return t;
 }
 

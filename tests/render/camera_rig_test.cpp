@@ -98,7 +98,10 @@ TEST(CameraRig, SmoothDampIsCriticallyDamped) {
 
 TEST(CameraRig, EyeNeverBelowTheTerrainAlongTheView) {
     // A ridge 60 m high between the car and the snail camera.
-    auto terrain = [](double x, double y) { (void)x; return (y < -40.0 && y > -140.0) ? 160.0 : 100.0; };
+    auto terrain = [](double x, double y) {
+        (void)x;
+        return (y < -40.0 && y > -140.0) ? 160.0 : 100.0;
+    };
     VehiclePose pose{{0.0, 0.0, 100.0}, 0.0, 10.0};
     CameraRig rig;
     rig.setMode(ViewMode::Snail);

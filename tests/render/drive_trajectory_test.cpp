@@ -24,7 +24,9 @@ std::string errorOf(const std::string& text) {
     return "(no error)";
 }
 
-std::string frame(const std::string& members) { return R"({"frames":[{"t":0,"s":0,"lon":1.5,"lat":42.5,"bearing":10},)" + members + "]}"; }
+std::string frame(const std::string& members) {
+    return R"({"frames":[{"t":0,"s":0,"lon":1.5,"lat":42.5,"bearing":10},)" + members + "]}";
+}
 
 TEST(DriveTrajectory, LoadsTheVendoredUrbanDrive) {
     const auto d = nt::loadTrajectory(navmap::test::dataDir() / "drives" / "andorra-urban-trajectory.json");
@@ -107,7 +109,8 @@ TEST(CameraSpec, RejectsMalformedAndOutOfRange) {
         {"zoom=16,pitch=86", "camera \"zoom=16,pitch=86\": pitch 86 out of range [0, 85]"},
         {"zoom=16,pitch=-1", "camera \"zoom=16,pitch=-1\": pitch -1 out of range [0, 85]"},
         {"zoom=x,pitch=60", "camera \"zoom=x,pitch=60\": zoom must be a number, not \"x\""},
-        {"zoom=16,pitch=60,roll=3", "camera \"zoom=16,pitch=60,roll=3\": expected zoom=Z,pitch=P[,bearing=B], not \"roll=3\""},
+        {"zoom=16,pitch=60,roll=3",
+         "camera \"zoom=16,pitch=60,roll=3\": expected zoom=Z,pitch=P[,bearing=B], not \"roll=3\""},
         {"zoom=16,zoom=17,pitch=1", "camera \"zoom=16,zoom=17,pitch=1\": zoom given twice"},
         {"", "camera \"\": expected zoom=Z,pitch=P[,bearing=B], not \"\""},
     };

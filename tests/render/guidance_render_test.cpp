@@ -12,12 +12,12 @@
 #include <optional>
 #include <string>
 
-#include "golden.h"
-#include "gl/guidance_overlay_pass.h"
-#include "navmap/render/maneuver_arrow.h"
-#include "drive_scene.h"
-#include "navmap/render/renderer.h"
 #include "andorra_drive.h"
+#include "drive_scene.h"
+#include "gl/guidance_overlay_pass.h"
+#include "golden.h"
+#include "navmap/render/maneuver_arrow.h"
+#include "navmap/render/renderer.h"
 
 namespace {
 
@@ -31,13 +31,16 @@ const glm::vec3 kMagenta{1.0f, 0.0f, 1.0f};  // nowhere else in the map
 
 // NAVMAP_GUIDANCE_DUMP=<dir> writes the images a test looks at.
 void dump(const Image& image, const std::string& name) {
-    if (const char* dir = std::getenv("NAVMAP_GUIDANCE_DUMP")) (void)writePng(std::string(dir) + "/" + name + ".png", image, nullptr);
+    if (const char* dir = std::getenv("NAVMAP_GUIDANCE_DUMP"))
+        (void)writePng(std::string(dir) + "/" + name + ".png", image, nullptr);
 }
 
 glm::dvec3 routeAt(const RouteGeometry& r, double m) {
     const auto it = std::upper_bound(r.measure_m.begin(), r.measure_m.end(), m);
-    const auto i = static_cast<std::size_t>(std::clamp<std::ptrdiff_t>(it - r.measure_m.begin(), 1, std::ptrdiff_t(r.points.size()) - 1));
-    const double t = std::clamp((m - r.measure_m[i - 1]) / std::max(r.measure_m[i] - r.measure_m[i - 1], 1e-9), 0.0, 1.0);
+    const auto i = static_cast<std::size_t>(
+        std::clamp<std::ptrdiff_t>(it - r.measure_m.begin(), 1, std::ptrdiff_t(r.points.size()) - 1));
+    const double t =
+        std::clamp((m - r.measure_m[i - 1]) / std::max(r.measure_m[i] - r.measure_m[i - 1], 1e-9), 0.0, 1.0);
     return r.points[i - 1] + t * (r.points[i] - r.points[i - 1]);
 }
 
@@ -107,7 +110,9 @@ std::size_t magentaIn(const Image& im, glm::ivec2 c, int r) {
         for (int x = std::max(c.x - r, 0); x <= std::min(c.x + r, im.width - 1); ++x) n += isMagenta(im, x, y);
     return n;
 }
-std::size_t magentaPixels(const Image& im) { return magentaIn(im, {im.width / 2, im.height / 2}, std::max(im.width, im.height)); }
+std::size_t magentaPixels(const Image& im) {
+    return magentaIn(im, {im.width / 2, im.height / 2}, std::max(im.width, im.height));
+}
 
 // Screen pixel (y down) of a store-frame point; none behind the camera.
 std::optional<glm::ivec2> project(const MapFrame& f, glm::dvec3 p, glm::ivec2 size) {

@@ -14,12 +14,12 @@
 #include <set>
 #include <string>
 
+#include "andorra_drive.h"
+#include "drive_scene.h"
 #include "golden.h"
 #include "label_quality.h"
-#include "drive_scene.h"
 #include "navmap/render/renderer.h"
 #include "road_draping.h"
-#include "andorra_drive.h"
 #include "test_paths.h"
 
 namespace {
@@ -94,7 +94,6 @@ TEST(LabelPass, SnailsViewUsesWorldSpaceLabels) {
     EXPECT_GE(stats.labels_visible, 3u);
     EXPECT_GT(stats.label_glyphs, 10u);
 }
-
 
 TEST(LabelPass, SwitchCrossFadesWithoutPops) {
     // Bird's-eye settled, then the rig flies down to the snail's view: the labels cross-fade
@@ -175,7 +174,8 @@ TEST(LabelPass, WorldSpaceRoadNamesLieAlongTheRoad) {
                     };
                     // The road at the segment's middle, on the ground (where the label stands): a
                     // long segment's screen midpoint would be off by perspective.
-                    const glm::dvec3 a(t.segment_start.x, t.segment_start.y, ground(t.segment_start.x, t.segment_start.y));
+                    const glm::dvec3 a(t.segment_start.x, t.segment_start.y,
+                                       ground(t.segment_start.x, t.segment_start.y));
                     const glm::dvec3 b(t.segment_end.x, t.segment_end.y, ground(t.segment_end.x, t.segment_end.y));
                     if (glm::length(b - a) < 1.0) continue;
                     glm::dvec3 mid = 0.5 * (a + b);
@@ -197,7 +197,8 @@ TEST(LabelPass, WorldSpaceRoadNamesLieAlongTheRoad) {
                 }
             }
             ASSERT_LT(best, 20.0F) << "no road segment of \"" << l.text << "\" under its label";
-            const float angle = std::acos(std::min(1.0F, std::abs(glm::dot(base, road)))) * 180.0F / std::numbers::pi_v<float>;
+            const float angle =
+                std::acos(std::min(1.0F, std::abs(glm::dot(base, road)))) * 180.0F / std::numbers::pi_v<float>;
             std::printf("%s: baseline %.1f deg off the road\n", l.text.c_str(), angle);
             EXPECT_LT(angle, 10.0F) << l.text;
             ++checked;
@@ -262,8 +263,9 @@ TEST(LabelPass, TheAuraMakesLabelsBehindBuildingsReadable) {
             if (it == with.drawn_labels.end() || it->opacity < 1.0F) continue;
             found = true;
             const float c_hidden = contrast(hidden, l), c_shown = contrast(shown, *it);
-            std::printf("\"%s\" at %.0f m: %.0f %% hidden without the aura (contrast %.0f), %.0f %% with it (contrast %.0f)\n",
-                        l.text.c_str(), at, 100.0 * l.occluded_fraction, c_hidden, 100.0 * it->occluded_fraction, c_shown);
+            std::printf(
+                "\"%s\" at %.0f m: %.0f %% hidden without the aura (contrast %.0f), %.0f %% with it (contrast %.0f)\n",
+                l.text.c_str(), at, 100.0 * l.occluded_fraction, c_hidden, 100.0 * it->occluded_fraction, c_shown);
             EXPECT_LT(it->occluded_fraction, 0.10F) << l.text;
             EXPECT_GT(c_shown, 120.0F) << l.text << ": fill and outline stand out through the aura";
             break;

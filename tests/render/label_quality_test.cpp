@@ -40,7 +40,8 @@ nl::DrawnLabelQuality measure(const std::vector<DrawnFrame>& frames, double dt) 
 }
 
 bool visibleIn(const DrawnFrame& f, std::uint64_t id) {
-    return std::any_of(f.labels.begin(), f.labels.end(), [&](const nl::DrawnLabel& l) { return l.id == id && l.opacity >= 0.5F; });
+    return std::any_of(f.labels.begin(), f.labels.end(),
+                       [&](const nl::DrawnLabel& l) { return l.id == id && l.opacity >= 0.5F; });
 }
 
 class TrajectoryQuality : public ::testing::TestWithParam<MapLibreFollow> {};
@@ -133,7 +134,8 @@ TEST_P(TrajectoryQuality, ReportIsCompleteAndCountsAForcedPop) {
                                         [&](const nl::DrawnLabel& l) { return l.text == text && l.opacity >= 0.5F; });
     const nl::DrawnLabelQuality popped = measure(forced, o.dt_s);
     EXPECT_EQ(popped.pops, q.pops + 2);
-    EXPECT_EQ(popped.interior_point_pops, q.interior_point_pops + (interior(frames[44]) ? 1 : 0) + (interior(frames[46]) ? 1 : 0));
+    EXPECT_EQ(popped.interior_point_pops,
+              q.interior_point_pops + (interior(frames[44]) ? 1 : 0) + (interior(frames[46]) ? 1 : 0));
     EXPECT_EQ(popped.text_pops, q.text_pops + (text_stays ? 0 : 2));
     EXPECT_GE(popped.frames_with_pop, q.frames_with_pop);
     EXPECT_LE(popped.frames_with_pop, q.frames_with_pop + 2);
@@ -144,16 +146,48 @@ TEST_P(TrajectoryQuality, ReportIsCompleteAndCountsAForcedPop) {
     EXPECT_EQ(j.at("name"), nt::cameraSpecName(GetParam()));
     EXPECT_EQ(j.at("drive"), "andorra-urban-trajectory.json");
     EXPECT_EQ(j.at("size"), "1280x480");
-    for (const char* key :
-         {"zoom", "pitch", "camera_distance_m", "frames", "seconds", "visible_median", "visible_mean", "visible_min",
-          "visible_max", "overlap_pairs_max", "overlap_pairs_sum", "overlap_frames", "occluded_share",
-          "occluded_label_frames", "occlusion_measured_label_frames", "occlusion_unmeasured_label_frames",
-          "too_small_share", "too_small_label_frames", "too_small_labels", "marker_overlap_label_frames",
-          "marker_overlap_frames", "marker_overlap_labels", "pops", "pops_per_s", "interior_point_pops",
-          "interior_point_pops_per_s", "text_pops", "text_pops_per_s", "frames_with_pop", "pop_frame_share",
-          "jitter_mean_px", "jitter_p95_px", "jitter_samples", "frame_ms_p50", "frame_ms_p95", "frame_ms_mean",
-          "label_occlusion_ms_mean", "layout_mean_visible", "layout_max_overlaps", "layout_pops_per_s",
-          "layout_mean_jitter_px", "layout_p95_jitter_px"}) {
+    for (const char* key : {"zoom",
+                            "pitch",
+                            "camera_distance_m",
+                            "frames",
+                            "seconds",
+                            "visible_median",
+                            "visible_mean",
+                            "visible_min",
+                            "visible_max",
+                            "overlap_pairs_max",
+                            "overlap_pairs_sum",
+                            "overlap_frames",
+                            "occluded_share",
+                            "occluded_label_frames",
+                            "occlusion_measured_label_frames",
+                            "occlusion_unmeasured_label_frames",
+                            "too_small_share",
+                            "too_small_label_frames",
+                            "too_small_labels",
+                            "marker_overlap_label_frames",
+                            "marker_overlap_frames",
+                            "marker_overlap_labels",
+                            "pops",
+                            "pops_per_s",
+                            "interior_point_pops",
+                            "interior_point_pops_per_s",
+                            "text_pops",
+                            "text_pops_per_s",
+                            "frames_with_pop",
+                            "pop_frame_share",
+                            "jitter_mean_px",
+                            "jitter_p95_px",
+                            "jitter_samples",
+                            "frame_ms_p50",
+                            "frame_ms_p95",
+                            "frame_ms_mean",
+                            "label_occlusion_ms_mean",
+                            "layout_mean_visible",
+                            "layout_max_overlaps",
+                            "layout_pops_per_s",
+                            "layout_mean_jitter_px",
+                            "layout_p95_jitter_px"}) {
         ASSERT_TRUE(j.contains(key)) << key;
         EXPECT_TRUE(j.at(key).is_number()) << key;
     }
@@ -163,7 +197,8 @@ TEST_P(TrajectoryQuality, ReportIsCompleteAndCountsAForcedPop) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Cameras, TrajectoryQuality,
-                         ::testing::Values(MapLibreFollow{16.5, 60.0, std::nullopt}, MapLibreFollow{14.5, 30.0, std::nullopt}),
+                         ::testing::Values(MapLibreFollow{16.5, 60.0, std::nullopt},
+                                           MapLibreFollow{14.5, 30.0, std::nullopt}),
                          [](const ::testing::TestParamInfo<MapLibreFollow>& p) {
                              return std::string(p.param.zoom > 15.0 ? "zoom16_5_pitch60" : "zoom14_5_pitch30");
                          });
@@ -177,7 +212,8 @@ TEST(TrajectoryQualityErrors, BrokenTrajectoryIsAClearError) {
         nt::measureLabelQuality(o);
         FAIL() << "no error";
     } catch (const nt::TrajectoryError& e) {
-        EXPECT_NE(std::string(e.what()).find("no-such-trajectory.json): No such file or directory"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("no-such-trajectory.json): No such file or directory"), std::string::npos)
+            << e.what();
     }
     o.camera.reset();
     o.trajectory = navmap::test::dataDir() / "drives" / "andorra-urban-trajectory.json";

@@ -87,8 +87,9 @@ TEST(ArrowShape, ShortArrowsKeepHalfForTheShaftAndDegenerateOnesAreEmpty) {
     const ArrowShape s = arrowShape(a, style);
     EXPECT_NEAR(s.head_m, 10.0 * 2.0 / 3.0, 1e-9);  // a third of the arrow
     // Narrowed in proportion to its shortening, but never narrower than the shaft.
-    EXPECT_FLOAT_EQ(s.head_half_width_m, std::max(0.5f * style.arrow_head_width_m * (10.0f / 3.0f) / style.arrow_head_length_m,
-                                                  s.half_width_m));
+    EXPECT_FLOAT_EQ(
+        s.head_half_width_m,
+        std::max(0.5f * style.arrow_head_width_m * (10.0f / 3.0f) / style.arrow_head_length_m, s.half_width_m));
     a.points = {{0.0, 0.0, 0.0}, {0.0, 0.0, 3.0}};
     EXPECT_TRUE(arrowShape(a, style).line.points.empty());
 }

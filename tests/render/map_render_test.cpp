@@ -120,7 +120,8 @@ TEST(MapRender, NoCrackWhereSegmentsMeetAtAnAngle) {
     for (double degrees : {20.0, 45.0, 70.0, 120.0}) {
         auto tile = makeTile([](float, float) { return 500.0f; });
         const double turn = glm::radians(degrees);
-        const map::LocalPoint end{static_cast<float>(500.0 + 120.0 * std::cos(turn)), static_cast<float>(500.0 + 120.0 * std::sin(turn))};
+        const map::LocalPoint end{static_cast<float>(500.0 + 120.0 * std::cos(turn)),
+                                  static_cast<float>(500.0 + 120.0 * std::sin(turn))};
         tile->roads.push_back(road(map::RoadClass::Residential, {{380, 500}, {500, 500}, end}));
         MapLayers no_outline;
         no_outline.outlines = false;
@@ -131,7 +132,8 @@ TEST(MapRender, NoCrackWhereSegmentsMeetAtAnAngle) {
         const double bisector = (glm::radians(180.0) + turn) / 2.0 + glm::radians(180.0);  // outer side
         for (double f : {0.3, 0.6, 0.85}) {
             const glm::dvec3 p{500.0 + f * 20.0 * std::cos(bisector), 500.0 + f * 20.0 * std::sin(bisector), 500.0};
-            EXPECT_TRUE(near(s.at(p), fill)) << degrees << " deg: crack at the joint, " << f << " of the half width out";
+            EXPECT_TRUE(near(s.at(p), fill))
+                << degrees << " deg: crack at the joint, " << f << " of the half width out";
         }
     }
 }
@@ -223,9 +225,10 @@ TEST_P(GrazingRoads, FarRoadStaysUnbroken) {
         };
         const Scene widened = scene(style.roads.min_width_px), plain = scene(0.0f);
         const Coverage w = coverage(widened, a, b), p = coverage(plain, a, b);
-        std::printf("[ measure  ] rise %g, road (%g, %g)-(%g, %g): %d columns, %d covered at the least width "
-                    "(at most %d px thick), %d without\n",
-                    rise, a.x, a.y, b.x, b.y, w.columns, w.covered, w.thickest, p.covered);
+        std::printf(
+            "[ measure  ] rise %g, road (%g, %g)-(%g, %g): %d columns, %d covered at the least width "
+            "(at most %d px thick), %d without\n",
+            rise, a.x, a.y, b.x, b.y, w.columns, w.covered, w.thickest, p.covered);
         EXPECT_GT(w.columns, 100);
         EXPECT_EQ(w.covered, w.columns) << "the far road breaks up on screen";
         EXPECT_LE(w.thickest, 2) << "widened beyond the least width";
@@ -268,8 +271,8 @@ TEST(MapRender, SelectedClassNarrowsToNothingBelowItsThreshold) {
     for (const float select_px : {5.0f, 11.0f, 13.0f, 14.5f, 16.0f}) {
         const float expected = true_px * selectionFade(8.0f, select_px, focal_px).at(distance);
         const int n = drawn_px(select_px, true);
-        std::printf("[ measure  ] threshold %.1f px, true width %.2f px: %d px drawn, %.2f expected\n", select_px, true_px, n,
-                    expected);
+        std::printf("[ measure  ] threshold %.1f px, true width %.2f px: %d px drawn, %.2f expected\n", select_px,
+                    true_px, n, expected);
         EXPECT_NEAR(n, expected, 1.5) << "threshold " << select_px;
         EXPECT_NEAR(drawn_px(select_px, false), true_px, 1.5) << "selection off, threshold " << select_px;
     }

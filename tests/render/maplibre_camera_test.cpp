@@ -29,8 +29,8 @@ TEST(MapLibreCamera, MetresPerPixelOfZoomAndLatitude) {
     EXPECT_NEAR(mapLibreMetresPerPixel(0.0, 0.0), 78271.517, 1e-3);
     EXPECT_NEAR(mapLibreMetresPerPixel(0.0, 16.0), 1.1943286, 1e-6);
     EXPECT_NEAR(mapLibreMetresPerPixel(60.0, 16.0), 0.5971643, 1e-6);  // cos 60 = 1/2
-    EXPECT_NEAR(mapLibreMetresPerPixel(kLat, 16.5), 40075016.686 * std::cos(kLat * M_PI / 180.0) / (512.0 * std::exp2(16.5)),
-                1e-12);
+    EXPECT_NEAR(mapLibreMetresPerPixel(kLat, 16.5),
+                40075016.686 * std::cos(kLat * M_PI / 180.0) / (512.0 * std::exp2(16.5)), 1e-12);
     EXPECT_NEAR(mapLibreMetresPerPixel(kLat, 16.5), 0.6226, 1e-3);
     EXPECT_NEAR(mapLibreMetresPerPixel(kLat, 14.5) / mapLibreMetresPerPixel(kLat, 16.5), 4.0, 1e-12);
 }
@@ -38,7 +38,8 @@ TEST(MapLibreCamera, MetresPerPixelOfZoomAndLatitude) {
 TEST(MapLibreCamera, DistanceIsHalfTheViewportOverTanHalfFov) {
     // tan(36.87 deg / 2) is 1/3 (to 1e-5): the eye sits 1.5 viewport heights (in pixels of the
     // map scale) from the center.
-    EXPECT_NEAR(mapLibreCameraDistance(0.0, 16.0, 480), 0.5 * 480 / std::tan(36.87 / 2 * M_PI / 180.0) * 1.1943286, 1e-4);
+    EXPECT_NEAR(mapLibreCameraDistance(0.0, 16.0, 480), 0.5 * 480 / std::tan(36.87 / 2 * M_PI / 180.0) * 1.1943286,
+                1e-4);
     EXPECT_NEAR(mapLibreCameraDistance(0.0, 16.0, 480) / (720.0 * 1.1943286), 1.0, 2e-5);
     EXPECT_NEAR(mapLibreCameraDistance(kLat, 16.5, 480), 448.3, 0.2);
     EXPECT_NEAR(mapLibreCameraDistance(kLat, 14.5, 480), 1793.2, 0.5);
@@ -79,9 +80,9 @@ TEST(MapLibreCamera, BearingNinetyLooksEast) {
     const glm::dvec3 center{500.0, -200.0, 1000.0};
     const Camera c = mapLibreCameraAt(center, kLat, 16.5, 60.0, 90.0, kH);
     const glm::dvec3 d = lookDirection(c);
-    EXPECT_NEAR(std::atan2(d.x, d.y) * 180.0 / M_PI, 90.0, 1e-9);         // the horizontal heading
-    EXPECT_NEAR(std::asin(-d.z) * 180.0 / M_PI, 30.0, 1e-9);              // 60 from straight down
-    EXPECT_LT(c.eye.x, center.x);                                         // the eye west of the center
+    EXPECT_NEAR(std::atan2(d.x, d.y) * 180.0 / M_PI, 90.0, 1e-9);  // the horizontal heading
+    EXPECT_NEAR(std::asin(-d.z) * 180.0 / M_PI, 30.0, 1e-9);       // 60 from straight down
+    EXPECT_LT(c.eye.x, center.x);                                  // the eye west of the center
     // Straight down with bearing 90: east at the top of the screen.
     const Camera down = mapLibreCameraAt(center, kLat, 16.5, 0.0, 90.0, kH);
     const glm::dvec2 east = project(down, center + glm::dvec3(50.0, 0.0, 0.0));

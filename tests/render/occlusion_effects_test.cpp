@@ -13,10 +13,10 @@
 #include <string>
 #include <vector>
 
-#include "golden.h"
-#include "drive_scene.h"
-#include "navmap/render/renderer.h"
 #include "andorra_drive.h"
+#include "drive_scene.h"
+#include "golden.h"
+#include "navmap/render/renderer.h"
 #include "test_paths.h"
 
 namespace {
@@ -365,9 +365,11 @@ TEST_P(OcclusionGolden, MatchesGolden) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Effects, OcclusionGolden,
-                         ::testing::Values(GoldenCase{"glow_single", ViewMode::Bird}, GoldenCase{"glow_single", ViewMode::Snail},
-                                           GoldenCase{"glow_road", ViewMode::Bird}, GoldenCase{"glow_road", ViewMode::Snail},
-                                           GoldenCase{"aura", ViewMode::Bird}, GoldenCase{"aura", ViewMode::Snail}),
+                         ::testing::Values(GoldenCase{"glow_single", ViewMode::Bird},
+                                           GoldenCase{"glow_single", ViewMode::Snail},
+                                           GoldenCase{"glow_road", ViewMode::Bird},
+                                           GoldenCase{"glow_road", ViewMode::Snail}, GoldenCase{"aura", ViewMode::Bird},
+                                           GoldenCase{"aura", ViewMode::Snail}),
                          [](const auto& p) { return std::string(p.param.name) + "_" + viewName(p.param.mode); });
 
 // Pose search tools (NAVMAP_OCCLUSION_SEARCH=1), for when the data change: for measures along

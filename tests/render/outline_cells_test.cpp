@@ -15,8 +15,8 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "outline_cells.h"
 #include "navmap/render/road_style.h"
+#include "outline_cells.h"
 
 namespace {
 
@@ -71,8 +71,8 @@ int checkQuadCovered(const OutlineCells& cells, const Camera& c, glm::vec3 p0, g
                 for (int dx = -1; dx <= 1; ++dx) {
                     const int x = px.x + dx, y = px.y + dy;
                     if (x < 0 || y < 0 || x >= kW || y >= kH) continue;
-                    EXPECT_TRUE(cells.covers(x, y)) << "pixel " << x << "," << y << " next to the quad of (" << p0.x << ","
-                                                    << p0.y << ")-(" << p1.x << "," << p1.y << ")";
+                    EXPECT_TRUE(cells.covers(x, y)) << "pixel " << x << "," << y << " next to the quad of (" << p0.x
+                                                    << "," << p0.y << ")-(" << p1.x << "," << p1.y << ")";
                     if (!cells.covers(x, y)) return samples;
                 }
             }
@@ -162,14 +162,16 @@ TEST(OutlineCells, WidenedFarRoadsAreMarkedUpToTheirLeastWidth) {
         if (!pixelOf(c, glm::mix(p0, p1, a), widened.z_offset_alpha, px)) continue;
         for (int up = 0; up <= static_cast<int>(std::ceil(most)) + 1 && px.y + up < kH; ++up) {
             ++checked;
-            EXPECT_TRUE(cells.covers(px.x, px.y + up)) << "pixel " << px.x << "," << px.y + up << ": " << up << " px above the road";
+            EXPECT_TRUE(cells.covers(px.x, px.y + up))
+                << "pixel " << px.x << "," << px.y + up << ": " << up << " px above the road";
         }
     }
     EXPECT_GT(checked, 500);
     // A near road, its fill 20-odd pixels wide on screen, is not widened: the least width adds
     // nothing to its cells.
     OutlineCells near_plain, near_widened;
-    for (const auto& [cells_of, shape] : {std::pair<OutlineCells*, const QuadShape*>{&near_plain, &kShape}, {&near_widened, &widened}}) {
+    for (const auto& [cells_of, shape] :
+         {std::pair<OutlineCells*, const QuadShape*>{&near_plain, &kShape}, {&near_widened, &widened}}) {
         cells_of->reset(kW, kH, kCell, kReach);
         cells_of->setView(c.view, c.projection);
         cells_of->markQuad({-10.0f, -22.0f, 0.0f}, {10.0f, -18.0f, 0.0f}, *shape);
@@ -219,7 +221,8 @@ TEST(OutlineCells, RectanglesCoverExactlyTheMarkedCells) {
         for (int gx = 0; gx < kW; gx += group) {
             bool any = false;
             for (int px = gx; px < std::min(gx + group, kW); px += kCell) any = any || cells.covers(px, py);
-            for (int px = gx; px < std::min(gx + group, kW); ++px) ASSERT_EQ(hits[py * kW + px], any ? 1 : 0) << px << "," << py;
+            for (int px = gx; px < std::min(gx + group, kW); ++px)
+                ASSERT_EQ(hits[py * kW + px], any ? 1 : 0) << px << "," << py;
         }
     }
     // A straight vertical road on screen is one rectangle, not one per row of cells.
@@ -257,24 +260,30 @@ TEST(OutlineCells, BrokenInputMarksNothing) {
 // a byte above 127 counting as road. markEdges then marks exactly the cells that hold an edge pixel.
 TEST(OutlineEdges, AreTheNonRoadPixelsNextToARoadPixel) {
     std::mt19937 rng(11);
-    for (const auto& [w, h] : {std::pair{1, 1}, std::pair{1, 9}, std::pair{13, 5}, std::pair{64, 40}, std::pair{131, 17},
-                               std::pair{800, 24}}) {
+    for (const auto& [w, h] : {std::pair{1, 1}, std::pair{1, 9}, std::pair{13, 5}, std::pair{64, 40},
+                               std::pair{131, 17}, std::pair{800, 24}}) {
         // Sparse road pixels in the lower left quarter only, so that many cells hold no edge.
         std::vector<std::uint8_t> mask(static_cast<std::size_t>(w * h), 0);
         for (int y = 0; y < (h + 1) / 2; ++y)
-            for (int x = 0; x < (w + 1) / 2; ++x) mask[static_cast<std::size_t>(y * w + x)] = rng() % 5 == 0 ? static_cast<std::uint8_t>(rng()) : 0;
+            for (int x = 0; x < (w + 1) / 2; ++x)
+                mask[static_cast<std::size_t>(y * w + x)] = rng() % 5 == 0 ? static_cast<std::uint8_t>(rng()) : 0;
         if (w == 1 && h == 1) mask[0] = 0;  // a lone pixel without roads: no edge
-        const auto road = [&](int x, int y) { return mask[static_cast<std::size_t>(std::clamp(y, 0, h - 1) * w + std::clamp(x, 0, w - 1))] > 127; };
+        const auto road = [&](int x, int y) {
+            return mask[static_cast<std::size_t>(std::clamp(y, 0, h - 1) * w + std::clamp(x, 0, w - 1))] > 127;
+        };
         const int groups = packedMaskWidth(w);
         ASSERT_EQ(groups, (w + 7) / 8);
         std::vector<std::uint16_t> edges(static_cast<std::size_t>(groups * h), 0xFFFF);
         outlineEdges(mask.data(), w, h, edges.data());
-        const auto edge = [&](int x, int y) { return (edges[static_cast<std::size_t>(y * groups + x / 8)] >> (x % 8)) & 1u; };
+        const auto edge = [&](int x, int y) {
+            return (edges[static_cast<std::size_t>(y * groups + x / 8)] >> (x % 8)) & 1u;
+        };
         int wrong = 0, edge_pixels = 0;
         for (int y = 0; y < h; ++y) {
             for (int g = 0; g < groups; ++g) {
                 // Bits beyond the row's end and above bit 7 stay clear.
-                EXPECT_EQ(edges[static_cast<std::size_t>(y * groups + g)] >> std::min(8, w - 8 * g), 0u) << w << "x" << h;
+                EXPECT_EQ(edges[static_cast<std::size_t>(y * groups + g)] >> std::min(8, w - 8 * g), 0u)
+                    << w << "x" << h;
             }
             for (int x = 0; x < w; ++x) {
                 bool near = false;
@@ -298,7 +307,8 @@ TEST(OutlineEdges, AreTheNonRoadPixelsNextToARoadPixel) {
             for (int cx = 0; cx < (w + kCell - 1) / kCell; ++cx) {
                 bool holds_edge = false;
                 for (int y = cy * kCell; y < std::min(h, (cy + 1) * kCell); ++y)
-                    for (int x = cx * kCell; x < std::min(w, (cx + 1) * kCell); ++x) holds_edge = holds_edge || edge(x, y);
+                    for (int x = cx * kCell; x < std::min(w, (cx + 1) * kCell); ++x)
+                        holds_edge = holds_edge || edge(x, y);
                 EXPECT_EQ(cells.covers(cx * kCell, cy * kCell), holds_edge) << "cell " << cx << "," << cy;
                 marked += holds_edge;
                 ++cells_total;

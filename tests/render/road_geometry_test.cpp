@@ -6,8 +6,8 @@
 #include <cmath>
 #include <random>
 
-#include "road_draping.h"
 #include "navmap/render/road_style.h"
+#include "road_draping.h"
 
 namespace {
 
@@ -69,10 +69,10 @@ TEST(RoadWidth, ScalesOnlyBeyondTheThreshold) {
 // The least on-screen width (roads_geo.vert): the upper side moves by at most the least width
 // times the pass's share of the fill, so that the casing keeps its share.
 TEST(RoadWidth, LeastWidthGrowsEveryPassInProportion) {
-    EXPECT_FLOAT_EQ(leastWidthGrowthPx(1.1f, 12.0f, 12.0f), 1.1f);            // the fill itself
+    EXPECT_FLOAT_EQ(leastWidthGrowthPx(1.1f, 12.0f, 12.0f), 1.1f);                  // the fill itself
     EXPECT_FLOAT_EQ(leastWidthGrowthPx(1.1f, 16.0f, 12.0f), 1.1f * 16.0f / 12.0f);  // its casing
-    EXPECT_FLOAT_EQ(leastWidthGrowthPx(0.0f, 16.0f, 12.0f), 0.0f);            // turned off
-    EXPECT_FLOAT_EQ(leastWidthGrowthPx(1.1f, 16.0f, 0.0f), 0.0f);             // no fill: nothing drawn
+    EXPECT_FLOAT_EQ(leastWidthGrowthPx(0.0f, 16.0f, 12.0f), 0.0f);                  // turned off
+    EXPECT_FLOAT_EQ(leastWidthGrowthPx(1.1f, 16.0f, 0.0f), 0.0f);                   // no fill: nothing drawn
 }
 
 // seed 7.3: a selected class keeps its whole width while its true width covers at least 1.5 times
@@ -80,13 +80,13 @@ TEST(RoadWidth, LeastWidthGrowsEveryPassInProportion) {
 TEST(RoadWidth, SelectedClassFadesOutContinuouslyBelowItsThreshold) {
     const float focal = 600.0f, width = 2.0f;  // true width on screen: 1200 / distance pixels
     const SelectionFade fade = selectionFade(width, 1.0f, focal);
-    EXPECT_FLOAT_EQ(fade.at(700.0f), 1.0f);   // 1.71 px
-    EXPECT_FLOAT_EQ(fade.at(800.0f), 1.0f);   // 1.5 px
+    EXPECT_FLOAT_EQ(fade.at(700.0f), 1.0f);     // 1.71 px
+    EXPECT_FLOAT_EQ(fade.at(800.0f), 1.0f);     // 1.5 px
     EXPECT_NEAR(fade.at(960.0f), 0.5f, 1e-5f);  // 1.25 px
-    EXPECT_FLOAT_EQ(fade.at(1200.0f), 0.0f);  // 1 px
+    EXPECT_FLOAT_EQ(fade.at(1200.0f), 0.0f);    // 1 px
     EXPECT_FLOAT_EQ(fade.at(5000.0f), 0.0f);
     EXPECT_NEAR(fade.goneFromM(), 1200.0f, 1e-2f);  // where RoadPass::cull leaves the pieces out
-    EXPECT_FLOAT_EQ(fade.at(0.0f), 1.0f);  // at the eye
+    EXPECT_FLOAT_EQ(fade.at(0.0f), 1.0f);           // at the eye
     // Not selected, or the selection off: drawn at every distance.
     EXPECT_FLOAT_EQ(selectionFade(width, 0.0f, focal).at(1e6f), 1.0f);
     EXPECT_TRUE(std::isinf(selectionFade(width, 0.0f, focal).goneFromM()));
@@ -197,9 +197,11 @@ TEST(RoadClipping, PreservesThePolylineShape) {
 TEST(RoadClipping, AxisAlignedAndVertexCrossingLinesTerminate) {
     const Grid g = bumpyGrid(9, 10.0);
     // Along a grid line, along a diagonal through vertices, and starting on a vertex.
-    for (const auto& line : std::vector<std::vector<glm::dvec2>>{
-             {{0.0, 20.0}, {80.0, 20.0}}, {{0.0, 0.0}, {80.0, 80.0}}, {{10.0, 10.0}, {10.0, 70.0}},
-             {{80.0, 80.0}, {0.0, 0.0}}, {{40.0, 40.0}, {40.0, 40.0}}}) {
+    for (const auto& line : std::vector<std::vector<glm::dvec2>>{{{0.0, 20.0}, {80.0, 20.0}},
+                                                                 {{0.0, 0.0}, {80.0, 80.0}},
+                                                                 {{10.0, 10.0}, {10.0, 70.0}},
+                                                                 {{80.0, 80.0}, {0.0, 0.0}},
+                                                                 {{40.0, 40.0}, {40.0, 40.0}}}) {
         const auto draped = drapePolyline(g.view, line);
         ASSERT_FALSE(draped.empty());
         for (const auto& p : draped) EXPECT_NEAR(p.z, g.view.heightAt(p.x, p.y), 1e-6);
@@ -211,7 +213,8 @@ TEST(RoadMerging, APlaneNeedsOnePiecePerStraightSegment) {
     // A tilted plane: draping cuts the road at every triangle edge, yet every piece lies on one plane.
     std::vector<float> heights(17 * 17);
     for (int r = 0; r < 17; ++r)
-        for (int c = 0; c < 17; ++c) heights[static_cast<std::size_t>(r) * 17 + c] = static_cast<float>(500.0 + 2.0 * c - 1.5 * r);
+        for (int c = 0; c < 17; ++c)
+            heights[static_cast<std::size_t>(r) * 17 + c] = static_cast<float>(500.0 + 2.0 * c - 1.5 * r);
     const HeightGrid plane{17, 30.0, heights.data()};
     const std::vector<glm::dvec2> line{{5.0, 7.0}, {200.0, 130.0}, {410.0, 55.0}};
     const auto draped = drapePolyline(plane, line);

@@ -35,7 +35,8 @@ std::shared_ptr<map::Tile> tileOf(map::TileId id, double x0, double y0, double s
     t->dem.spacing_m = static_cast<float>(size / (n - 1));
     t->dem.coverage = 1.0f;
     for (int r = 0; r < n; ++r)
-        for (int c = 0; c < n; ++c) t->dem.heights.push_back(static_cast<float>(hill(x0 + c * size / (n - 1), y0 + r * size / (n - 1))));
+        for (int c = 0; c < n; ++c)
+            t->dem.heights.push_back(static_cast<float>(hill(x0 + c * size / (n - 1), y0 + r * size / (n - 1))));
     return t;
 }
 
@@ -109,7 +110,8 @@ bool near(glm::ivec3 a, glm::ivec3 b, int tol) {
 struct Coverage {
     int samples = 0, visible = 0;
 };
-Coverage routeCoverage(const Shot& s, const RouteGeometry& r, double progress, const std::function<double(double, double)>& surface) {
+Coverage routeCoverage(const Shot& s, const RouteGeometry& r, double progress,
+                       const std::function<double(double, double)>& surface) {
     const glm::ivec3 fill = to8(style().route_color);
     const glm::ivec3 dimmed = to8(glm::mix(style().route_color, glm::vec3(0.6f), 0.65f));
     Coverage c;
@@ -124,8 +126,8 @@ Coverage routeCoverage(const Shot& s, const RouteGeometry& r, double progress, c
             if (near(px, measure < progress ? dimmed : fill, 24)) {
                 ++c.visible;
             } else {
-                ADD_FAILURE() << "route sample at " << p.x - kOrigin.x << ", " << p.y - kOrigin.y << " (measure " << measure
-                              << " m) shows " << px.x << " " << px.y << " " << px.z;
+                ADD_FAILURE() << "route sample at " << p.x - kOrigin.x << ", " << p.y - kOrigin.y << " (measure "
+                              << measure << " m) shows " << px.x << " " << px.y << " " << px.z;
             }
         }
     }

@@ -28,8 +28,8 @@ std::shared_ptr<map::Tile> hillTile() {
     for (int r = 0; r < n; ++r) {
         for (int c = 0; c < n; ++c) {
             const double x = c * 1000.0 / (n - 1) - 500.0, y = r * 1000.0 / (n - 1) - 450.0;
-            t->dem.heights.push_back(static_cast<float>(900.0 + 250.0 * std::exp(-(x * x + y * y) / (2.0 * 180.0 * 180.0)) +
-                                                        7.0 * std::sin(x / 23.0)));
+            t->dem.heights.push_back(static_cast<float>(
+                900.0 + 250.0 * std::exp(-(x * x + y * y) / (2.0 * 180.0 * 180.0)) + 7.0 * std::sin(x / 23.0)));
         }
     }
     return t;
@@ -113,7 +113,8 @@ TEST(RouteDrape, ClippedToTheTileWithMeasuresAlongTheRoute) {
             const glm::dvec2 d = b - a;
             const double t = glm::dot(p - a, d) / glm::dot(d, d);
             const glm::dvec2 q = a + t * d;
-            if (t >= -1e-6 && t <= 1 + 1e-6 && glm::length(p - q) < 1e-2) return route.measure_m[i] + t * glm::length(d);
+            if (t >= -1e-6 && t <= 1 + 1e-6 && glm::length(p - q) < 1e-2)
+                return route.measure_m[i] + t * glm::length(d);
         }
         return -1.0;
     };
@@ -130,7 +131,8 @@ TEST(RouteDrape, ClippedToTheTileWithMeasuresAlongTheRoute) {
     EXPECT_NEAR(pieces.back().p1.x, 1000.0f, 1e-3f);
     EXPECT_NEAR(length, pieces.back().measure1 - pieces.front().measure0, 0.05);
     // A tile the route does not touch gets nothing.
-    EXPECT_TRUE(drapeRoute(route, mesh.origin + glm::dvec3(0.0, 5000.0, 0.0), mesh.grid(), mesh.ancestorGrids()).empty());
+    EXPECT_TRUE(
+        drapeRoute(route, mesh.origin + glm::dvec3(0.0, 5000.0, 0.0), mesh.grid(), mesh.ancestorGrids()).empty());
 }
 
 TEST(RouteDrape, PiecesFollowTheTerrainMorph) {

@@ -9,19 +9,19 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <string>
 #include <functional>
 #include <memory>
+#include <string>
 
 #include "andorra_drive.h"
-#include "golden.h"
-#include "gl/sv_roads.h"
 #include "dem_refine.h"
 #include "drive_scene.h"
+#include "gl/sv_roads.h"
+#include "golden.h"
 #include "navmap/render/renderer.h"
-#include "synthetic_tile.h"
-#include "road_draping.h"
 #include "navmap/render/road_style.h"
+#include "road_draping.h"
+#include "synthetic_tile.h"
 #include "test_paths.h"
 
 namespace {
@@ -52,7 +52,8 @@ struct View {
     glm::dvec3 origin;  // tile origin: points below are tile-local
     int width = kW, height = kH;
 
-    View(const map::Tile& tile, glm::dvec3 eye, glm::dvec3 target, glm::dvec3 up, const MapStyle& style, int msaa = -1) {
+    View(const map::Tile& tile, glm::dvec3 eye, glm::dvec3 target, glm::dvec3 up, const MapStyle& style,
+         int msaa = -1) {
         RendererOptions o;
         o.width = width;
         o.height = height;
@@ -81,7 +82,8 @@ struct View {
         const glm::mat4 vp = camera.projection(double(width) / height) * camera.viewRelativeTo(origin);
         const glm::vec4 c = vp * glm::vec4(glm::vec3(local), 1.0f);
         if (c.w <= 0.0f) return false;
-        px = glm::ivec2(static_cast<int>((c.x / c.w * 0.5f + 0.5f) * width), static_cast<int>((1.0f - (c.y / c.w * 0.5f + 0.5f)) * height));
+        px = glm::ivec2(static_cast<int>((c.x / c.w * 0.5f + 0.5f) * width),
+                        static_cast<int>((1.0f - (c.y / c.w * 0.5f + 0.5f)) * height));
         return px.x >= 1 && px.y >= 1 && px.x < width - 1 && px.y < height - 1;
     }
 };
@@ -152,7 +154,8 @@ TEST(SvRoads, InstancesRunLeastImportantFirstAndBoundTheTerrain) {
                 EXPECT_LE(z, inst.z_range.y + 1e-3);
             }
         }
-        EXPECT_LT(inst.z_range.y - inst.z_range.x, 12.0f) << "a thin volume along the terrain, not the tile's height range";
+        EXPECT_LT(inst.z_range.y - inst.z_range.x, 12.0f)
+            << "a thin volume along the terrain, not the tile's height range";
         const RoadStyle day = RoadStyle::day();
         const auto& cs = day.classes[static_cast<std::size_t>(inst.road_class)];
         EXPECT_FLOAT_EQ(inst.reach, 0.5f * cs.width_m + cs.casing_m + 1.0f);
@@ -261,8 +264,8 @@ TEST(SvRoads, SelectedClassNarrowsAsTheGeometricRoads) {
         const float expected = true_px * selectionFade(8.0f, select_px, focal_px).at(distance);
         const int sv = drawn_px(select_px, RoadTechnique::ShadowVolume, true);
         const int geo = drawn_px(select_px, RoadTechnique::Geometric, true);
-        std::printf("[ measure  ] threshold %.1f px, true width %.2f px: %d px drawn (geometric %d), %.2f expected\n", select_px,
-                    true_px, sv, geo, expected);
+        std::printf("[ measure  ] threshold %.1f px, true width %.2f px: %d px drawn (geometric %d), %.2f expected\n",
+                    select_px, true_px, sv, geo, expected);
         EXPECT_NEAR(sv, expected, 1.5) << "threshold " << select_px;
         EXPECT_NEAR(sv, geo, 1.0) << "threshold " << select_px;
         EXPECT_NEAR(drawn_px(select_px, RoadTechnique::ShadowVolume, false), true_px, 1.5)
@@ -308,7 +311,8 @@ TEST(SvRoads, MultisampledTargetsResolveTheTerrainDepth) {
     // SV decides per pixel (one resolved terrain depth per pixel), so only its edges lack the
     // multisampled smoothing GEO's edges get: a thin line of pixels along both road borders.
     EXPECT_LT(cmp.differing_fraction, 0.01) << cmp.differing_pixels << " pixels differ from GEO on a plane";
-    const auto with_roads = navmap::test::compareImages(v.render({tile}, layers(RoadTechnique::ShadowVolume, false)), sv, 24);
+    const auto with_roads =
+        navmap::test::compareImages(v.render({tile}, layers(RoadTechnique::ShadowVolume, false)), sv, 24);
     EXPECT_GT(with_roads.differing_fraction, 0.02) << "no SV road drawn";
 }
 
@@ -367,7 +371,8 @@ TEST(SvRoads, DrapeOnSteepHillsAndBuildingsStillHideThem) {
     EXPECT_LT(roof.y, road_behind.y + 60) << "the roof is not in front of the road";
     EXPECT_TRUE(near(pixel(hidden, roof), pixel(no_roads, roof), 4)) << "road drawn over the building";
     int covered = 0;
-    for (int y = roof.y - 3; y <= roof.y + 3; ++y) covered += near(pixel(hidden, {roof.x, y}), pixel(no_roads, {roof.x, y}), 4);
+    for (int y = roof.y - 3; y <= roof.y + 3; ++y)
+        covered += near(pixel(hidden, {roof.x, y}), pixel(no_roads, {roof.x, y}), 4);
     EXPECT_EQ(covered, 7);
 }
 
@@ -405,7 +410,9 @@ bool knownRoad(const map::Tile& tile, glm::dvec2& a, glm::dvec2& b, map::RoadCla
         if (r.flags & (map::RoadFlags::Tunnel | map::RoadFlags::Bridge)) continue;
         for (std::size_t i = 0; i + 1 < r.points.size(); ++i) {
             const glm::dvec2 p(r.points[i].x, r.points[i].y), q(r.points[i + 1].x, r.points[i + 1].y);
-            auto inside = [&](glm::dvec2 v) { return v.x > 250 && v.y > 250 && v.x < tile.size_m - 250 && v.y < tile.size_m - 250; };
+            auto inside = [&](glm::dvec2 v) {
+                return v.x > 250 && v.y > 250 && v.x < tile.size_m - 250 && v.y < tile.size_m - 250;
+            };
             if (glm::length(q - p) > 80.0 && inside(p) && inside(q)) {
                 a = p;
                 b = q;
@@ -441,8 +448,10 @@ TEST(SvRoadsHighRes, GeometricDrapingOnTheShippedGridLeavesTheSurfaceShadowVolum
             ++n;
         }
     }
-    std::printf("[ high-res ] road class %d, %.0f m: GEO on the shipped grid is off the 10 m surface by %.2f m mean, %.2f m max\n",
-                static_cast<int>(cls), glm::length(b - a), sum_off / n, max_off);
+    std::printf(
+        "[ high-res ] road class %d, %.0f m: GEO on the shipped grid is off the 10 m surface by %.2f m mean, %.2f m "
+        "max\n",
+        static_cast<int>(cls), glm::length(b - a), sum_off / n, max_off);
     EXPECT_GT(max_off, 1.5);
 
     // Render: look across the road from 400 m, 50 degrees down.
@@ -537,7 +546,8 @@ TEST(SvRoadsHighRes, GeometricDrapingOnTheShippedGridLeavesTheSurfaceShadowVolum
     EXPECT_GT(geo_outside, outside_total / 4) << "GEO was expected to spill beyond the road on the 10 m slopes";
     EXPECT_EQ(sv_outside, 0);
     const auto cmp = navmap::test::compareImages(geo, sv, 24);
-    std::printf("[ high-res ] GEO vs SV: %zu pixels differ (%.2f%%)\n", cmp.differing_pixels, 100.0 * cmp.differing_fraction);
+    std::printf("[ high-res ] GEO vs SV: %zu pixels differ (%.2f%%)\n", cmp.differing_pixels,
+                100.0 * cmp.differing_fraction);
 }
 
 // ---------------------------------------------------------------------------------------------

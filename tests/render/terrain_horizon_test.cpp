@@ -14,18 +14,19 @@
 namespace {
 
 using navmap::render::TerrainFloor;
-using navmap::render::TerrainHorizon;
 using navmap::render::terrainFloor;
+using navmap::render::TerrainHorizon;
 
-constexpr int kGrid = 101;         // vertices per side
-constexpr double kSize = 2000.0;   // metres: 20 m between vertices
+constexpr int kGrid = 101;        // vertices per side
+constexpr double kSize = 2000.0;  // metres: 20 m between vertices
 
 // A tile at `origin` whose vertex heights come from f(x, y) (store frame).
 TerrainFloor tile(glm::dvec2 origin, const std::function<double(double, double)>& f) {
     std::vector<float> heights(kGrid * kGrid);
     const double spacing = kSize / (kGrid - 1);
     for (int r = 0; r < kGrid; ++r) {
-        for (int c = 0; c < kGrid; ++c) heights[static_cast<std::size_t>(r * kGrid + c)] = float(f(origin.x + c * spacing, origin.y + r * spacing));
+        for (int c = 0; c < kGrid; ++c)
+            heights[static_cast<std::size_t>(r * kGrid + c)] = float(f(origin.x + c * spacing, origin.y + r * spacing));
     }
     return terrainFloor(origin, kSize, kGrid, heights, {});
 }
@@ -100,7 +101,8 @@ TEST(TerrainHorizon, EveryLineOfSightToAHiddenBoxMeetsTheSurfaceFirst) {
     const TerrainFloor f = tile({0.0, 0.0}, hills);
     const glm::dvec3 eye{1000.0, 100.0, hills(1000.0, 100.0) + 20.0};
     TerrainHorizon h;
-    h.build(eye, hills(1000.0, 100.0) + 5.0, std::vector<const TerrainFloor*>{&f}, 0.3, std::numbers::pi - 0.3, 300, 3000.0);
+    h.build(eye, hills(1000.0, 100.0) + 5.0, std::vector<const TerrainFloor*>{&f}, 0.3, std::numbers::pi - 0.3, 300,
+            3000.0);
     ASSERT_FALSE(h.empty());
     const double spacing = kSize / (kGrid - 1);
     auto surface_low = [&](double x, double y) {  // the lower of the cell's two triangulations
@@ -110,7 +112,8 @@ TEST(TerrainHorizon, EveryLineOfSightToAHiddenBoxMeetsTheSurfaceFirst) {
         const double h00 = hills(c * spacing, r * spacing), h01 = hills((c + 1) * spacing, r * spacing);
         const double h10 = hills(c * spacing, (r + 1) * spacing), h11 = hills((c + 1) * spacing, (r + 1) * spacing);
         const double a = u >= v ? h00 + u * (h01 - h00) + v * (h11 - h01) : h00 + v * (h10 - h00) + u * (h11 - h10);
-        const double b = u + v <= 1.0 ? h00 + u * (h01 - h00) + v * (h10 - h00) : h11 + (1.0 - u) * (h10 - h11) + (1.0 - v) * (h01 - h11);
+        const double b = u + v <= 1.0 ? h00 + u * (h01 - h00) + v * (h10 - h00)
+                                      : h11 + (1.0 - u) * (h10 - h11) + (1.0 - v) * (h01 - h11);
         return std::min(a, b);
     };
     std::mt19937 rng(7);

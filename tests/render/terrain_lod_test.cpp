@@ -24,7 +24,8 @@ struct FakeStore {
     void loadAll() {
         for (int l = 0; l < scheme.levelCount(); ++l)
             for (std::uint32_t x = 0; x < (1u << l); ++x)
-                for (std::uint32_t y = 0; y < (1u << l); ++y) loaded[map::TileId{std::uint8_t(l), x, y}.key()] = make({std::uint8_t(l), x, y});
+                for (std::uint32_t y = 0; y < (1u << l); ++y)
+                    loaded[map::TileId{std::uint8_t(l), x, y}.key()] = make({std::uint8_t(l), x, y});
     }
     render::LodSelection select(const render::Camera& cam, double max_px = 3.0) {
         render::LodOptions o;

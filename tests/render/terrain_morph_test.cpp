@@ -11,9 +11,9 @@
 #include <ostream>
 #include <set>
 
+#include "andorra_drive.h"
 #include "drive_scene.h"
 #include "navmap/render/renderer.h"
-#include "andorra_drive.h"
 #include "test_paths.h"
 
 namespace {
@@ -184,20 +184,23 @@ std::pair<Peaks, Peaks> flyAcrossSwitches(const CameraPath& path, double step_m,
 }
 
 void report(const CameraPath& path, double step_m, const Peaks& with, const Peaks& without) {
-    std::printf("[ measure  ] %s at %.0f m: %d visible LOD switches in %d frames of %.0f m\n", path.name, path.measure_m,
-                with.switches, kSteps, step_m);
+    std::printf("[ measure  ] %s at %.0f m: %d visible LOD switches in %d frames of %.0f m\n", path.name,
+                path.measure_m, with.switches, kSteps, step_m);
     std::printf("[ measure  ]   mean |diff|: morph: switch %.3f ordinary %.3f; no morph: switch %.3f ordinary %.3f\n",
                 with.switch_mean, with.ordinary_mean, without.switch_mean, without.ordinary_mean);
     std::printf("[ measure  ]   p99 |diff|:  morph: switch %.1f ordinary %.1f; no morph: switch %.1f ordinary %.1f\n",
                 with.switch_p99, with.ordinary_p99, without.switch_p99, without.ordinary_p99);
-    std::printf("[ measure  ]   switch alone (same camera, previous tiles): morph: mean %.3f p99 %.1f; no morph: mean %.3f p99 %.1f\n",
-                with.pop_mean, with.pop_p99, without.pop_mean, without.pop_p99);
+    std::printf(
+        "[ measure  ]   switch alone (same camera, previous tiles): morph: mean %.3f p99 %.1f; no morph: mean %.3f p99 "
+        "%.1f\n",
+        with.pop_mean, with.pop_p99, without.pop_mean, without.pop_p99);
 }
 
 class TerrainMorphGpu : public ::testing::TestWithParam<CameraPath> {};
 
 TEST_P(TerrainMorphGpu, LodSwitchesDoNotPopWithMorphingAndDoWithout) {
-    if (!haveStore()) GTEST_SKIP() << "no compiled store in " << navmap::test::binaryDir() << " (target navmap_default_store)";
+    if (!haveStore())
+        GTEST_SKIP() << "no compiled store in " << navmap::test::binaryDir() << " (target navmap_default_store)";
     const double step_m = 6.0;
     const auto [with, without] = flyAcrossSwitches(GetParam(), step_m, false);
     report(GetParam(), step_m, with, without);
@@ -219,7 +222,8 @@ TEST_P(TerrainMorphGpu, LodSwitchesDoNotPopWithMorphingAndDoWithout) {
 // The land-cover raster is per level; the ancestors' rasters blend in with the surface's morph
 // (shaders/terrain_tile.frag), so a switch does not change it either.
 TEST_P(TerrainMorphGpu, LandCoverSwitchesDoNotPopWithMorphing) {
-    if (!haveStore()) GTEST_SKIP() << "no compiled store in " << navmap::test::binaryDir() << " (target navmap_default_store)";
+    if (!haveStore())
+        GTEST_SKIP() << "no compiled store in " << navmap::test::binaryDir() << " (target navmap_default_store)";
     const double step_m = 6.0;
     const auto [with, without] = flyAcrossSwitches(GetParam(), step_m, true);
     report(GetParam(), step_m, with, without);
@@ -237,7 +241,8 @@ TEST_P(TerrainMorphGpu, LandCoverSwitchesDoNotPopWithMorphing) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Paths, TerrainMorphGpu,
-                         ::testing::Values(CameraPath{"bird", 1800.0, false}, CameraPath{"oblique", 1800.0, true, 1200.0, 700.0, 2500.0},
+                         ::testing::Values(CameraPath{"bird", 1800.0, false},
+                                           CameraPath{"oblique", 1800.0, true, 1200.0, 700.0, 2500.0},
                                            CameraPath{"oblique", 4500.0, true, 1200.0, 700.0, 2500.0}),
                          [](const ::testing::TestParamInfo<CameraPath>& p) {
                              return std::string(p.param.name) + "_at_" + std::to_string(int(p.param.measure_m)) + "m";
@@ -247,7 +252,8 @@ INSTANTIATE_TEST_SUITE_P(Paths, TerrainMorphGpu,
 // terrain blends to coarser levels they must still show (the seed 3.6.2 view-space offset grows
 // with the distance, faster than the morph moves the surface).
 TEST(TerrainMorphRoads, RoadsStayVisibleOnMorphedTerrain) {
-    if (!haveStore()) GTEST_SKIP() << "no compiled store in " << navmap::test::binaryDir() << " (target navmap_default_store)";
+    if (!haveStore())
+        GTEST_SKIP() << "no compiled store in " << navmap::test::binaryDir() << " (target navmap_default_store)";
     DriveScene& d = navmap::test::andorraDrive();
     const double aspect = double(kW) / kH;
     RendererOptions o;
@@ -261,7 +267,8 @@ TEST(TerrainMorphRoads, RoadsStayVisibleOnMorphedTerrain) {
             for (const auto& c : roads.classes) {
                 const glm::ivec3 f(glm::round(c.fill * 255.0f)), k(glm::round(c.casing * 255.0f));
                 auto is = [&](glm::ivec3 v) {
-                    return std::abs(im.rgba[i] - v.x) <= 2 && std::abs(im.rgba[i + 1] - v.y) <= 2 && std::abs(im.rgba[i + 2] - v.z) <= 2;
+                    return std::abs(im.rgba[i] - v.x) <= 2 && std::abs(im.rgba[i + 1] - v.y) <= 2 &&
+                           std::abs(im.rgba[i + 2] - v.z) <= 2;
                 };
                 if (is(f) || (c.casing_m > 0.0f && is(k))) {
                     ++n;
@@ -284,8 +291,8 @@ TEST(TerrainMorphRoads, RoadsStayVisibleOnMorphedTerrain) {
         frame.tile_morph.clear();
         renderer->renderMap(frame);
         const std::size_t without = roadPixels(renderer->readSync());
-        std::printf("[ measure  ] %s: road pixels with morph %zu, without %zu\n", mode == ViewMode::Bird ? "bird" : "snail",
-                    with, without);
+        std::printf("[ measure  ] %s: road pixels with morph %zu, without %zu\n",
+                    mode == ViewMode::Bird ? "bird" : "snail", with, without);
         ASSERT_GT(without, 1000u);
         EXPECT_GT(double(with), 0.97 * double(without));
     }

@@ -35,11 +35,11 @@ TEST(TerrainMorph, HeightBlendsThroughTheAncestorLevelsWithDistance) {
         m.start_m[j] = 0.5f * m.end_m[j];
     }
     const std::array<float, render::kMorphLevels> up{20.0f, 30.0f, 40.0f, 50.0f};
-    EXPECT_EQ(render::morphedHeight(500.0f, m, 10.0f, up), 10.0f);    // own level
+    EXPECT_EQ(render::morphedHeight(500.0f, m, 10.0f, up), 10.0f);         // own level
     EXPECT_FLOAT_EQ(render::morphedHeight(1500.0f, m, 10.0f, up), 15.0f);  // half way to the parent
-    EXPECT_EQ(render::morphedHeight(2000.0f, m, 10.0f, up), 20.0f);   // the parent exactly
+    EXPECT_EQ(render::morphedHeight(2000.0f, m, 10.0f, up), 20.0f);        // the parent exactly
     EXPECT_FLOAT_EQ(render::morphedHeight(3000.0f, m, 10.0f, up), 25.0f);  // parent -> grandparent
-    EXPECT_EQ(render::morphedHeight(16000.0f, m, 10.0f, up), 50.0f);  // the coarsest carried level
+    EXPECT_EQ(render::morphedHeight(16000.0f, m, 10.0f, up), 50.0f);       // the coarsest carried level
     // Beyond the end of its first range a tile shows what its parent shows at that distance
     // (the parent's own chain is the ancestors shifted by one): the switch is invisible.
     TileMorph parent;
@@ -50,7 +50,8 @@ TEST(TerrainMorph, HeightBlendsThroughTheAncestorLevelsWithDistance) {
     parent.start_m[3] = 16000.0f;
     parent.end_m[3] = 32000.0f;
     for (float d = 2000.0f; d < 12000.0f; d += 250.0f) {
-        EXPECT_FLOAT_EQ(render::morphedHeight(d, m, 10.0f, up), render::morphedHeight(d, parent, 20.0f, {30.0f, 40.0f, 50.0f, 60.0f}))
+        EXPECT_FLOAT_EQ(render::morphedHeight(d, m, 10.0f, up),
+                        render::morphedHeight(d, parent, 20.0f, {30.0f, 40.0f, 50.0f, 60.0f}))
             << d;
     }
 }
@@ -150,7 +151,8 @@ TEST(TerrainMorph, SelectionGivesEveryDrawnTileItsParentAndARangeBeyondTheParent
     EXPECT_TRUE(plain.morph.empty());
 }
 
-std::shared_ptr<map::Tile> demTile(map::TileId id, double origin_x, double origin_y, double size, int n, std::mt19937& rng) {
+std::shared_ptr<map::Tile> demTile(map::TileId id, double origin_x, double origin_y, double size, int n,
+                                   std::mt19937& rng) {
     auto t = std::make_shared<map::Tile>();
     t->id = id;
     t->origin_x = origin_x;
@@ -186,7 +188,8 @@ TEST(TerrainMorph, FullyMorphedTileIsExactlyItsParentsSurface) {
     for (std::size_t i = static_cast<std::size_t>(n) * n; i < mesh.terrain.size(); ++i) {
         const auto& s = mesh.terrain[i];
         EXPECT_NEAR(s.position.z - s.ancestor_heights[0],
-                    mesh.grid().heightAt(s.position.x, s.position.y) - morphed.heightAt(s.position.x, s.position.y), 1e-3);
+                    mesh.grid().heightAt(s.position.x, s.position.y) - morphed.heightAt(s.position.x, s.position.y),
+                    1e-3);
         EXPECT_LE(glm::length(s.ancestor_normals[0]), 1.0f);
     }
 }
@@ -215,13 +218,15 @@ TEST(TerrainMorph, WithoutAParentTheTargetIsTheEvenSamples) {
     // Parent normals at even samples: central differences over the coarse spacing.
     const double s2 = 2.0 * 640.0 / 32;
     const int r = 8, c = 12;
-    const glm::vec3 expect = glm::normalize(glm::vec3(-(tile->dem.at(r, c + 2) - tile->dem.at(r, c - 2)) / (2 * s2),
-                                                      -(tile->dem.at(r + 2, c) - tile->dem.at(r - 2, c)) / (2 * s2), 1.0));
+    const glm::vec3 expect =
+        glm::normalize(glm::vec3(-(tile->dem.at(r, c + 2) - tile->dem.at(r, c - 2)) / (2 * s2),
+                                 -(tile->dem.at(r + 2, c) - tile->dem.at(r - 2, c)) / (2 * s2), 1.0));
     const glm::vec2 got = mesh.terrain[static_cast<std::size_t>(r) * n + c].ancestor_normals[0];
     EXPECT_NEAR(glm::distance(got, glm::vec2(expect)), 0.0f, 1e-4f);
     // Two levels up without the tile at hand: every 4th sample.
     EXPECT_EQ(mesh.ancestor_heights[1][static_cast<std::size_t>(8) * n + 12], tile->dem.at(8, 12));
-    EXPECT_NEAR(mesh.ancestor_heights[1][static_cast<std::size_t>(8) * n + 10], 0.5f * (tile->dem.at(8, 8) + tile->dem.at(8, 12)), 1e-3f);
+    EXPECT_NEAR(mesh.ancestor_heights[1][static_cast<std::size_t>(8) * n + 10],
+                0.5f * (tile->dem.at(8, 8) + tile->dem.at(8, 12)), 1e-3f);
 }
 
 }  // namespace

@@ -12,8 +12,8 @@
 #include <utility>
 #include <vector>
 
-#include "road_draping.h"
 #include "navmap/render/road_style.h"
+#include "road_draping.h"
 #include "tile_mesh.h"
 
 namespace {
@@ -26,7 +26,8 @@ map::Tile bumpyTile() {
     t.dem.size = 17;
     t.dem.spacing_m = 50.0f;
     for (int r = 0; r < 17; ++r)
-        for (int c = 0; c < 17; ++c) t.dem.heights.push_back(700.0f + 30.0f * std::sin(r * 0.9f) + 20.0f * std::cos(c * 0.7f));
+        for (int c = 0; c < 17; ++c)
+            t.dem.heights.push_back(700.0f + 30.0f * std::sin(r * 0.9f) + 20.0f * std::cos(c * 0.7f));
     return t;
 }
 
@@ -60,7 +61,8 @@ TEST(TileMesh, TerrainHasGridAndSkirtsBelowTheBorder) {
     EXPECT_EQ(m.terrain_indices.size(), 16u * 16u * 6u + ring * 6u);
     for (std::size_t i = grid; i < m.terrain.size(); ++i) {
         const auto& s = m.terrain[i];
-        const bool on_border = s.position.x == 0.0f || s.position.y == 0.0f || s.position.x == 800.0f || s.position.y == 800.0f;
+        const bool on_border =
+            s.position.x == 0.0f || s.position.y == 0.0f || s.position.x == 800.0f || s.position.y == 800.0f;
         EXPECT_TRUE(on_border);
         EXPECT_NEAR(s.position.z, m.grid().heightAt(s.position.x, s.position.y) - 60.0, 1e-3);
     }
@@ -164,7 +166,8 @@ TEST(TileMesh, RoadRunsGroupPiecesByClassAndBlock) {
             const glm::vec3 mid = 0.5f * (r.p0 + r.p1);
             // (A simplified piece is a chord of its block's span and may reach out of it.)
             if (run.lods & 1u) {
-                EXPECT_TRUE(mid.x >= bx && mid.x <= bx + 200.0f && mid.y >= by && mid.y <= by + 200.0f) << mid.x << ", " << mid.y;
+                EXPECT_TRUE(mid.x >= bx && mid.x <= bx + 200.0f && mid.y >= by && mid.y <= by + 200.0f)
+                    << mid.x << ", " << mid.y;
             }
             for (const glm::vec3& p : {r.p0, r.p1}) {
                 EXPECT_TRUE(glm::all(glm::greaterThanEqual(p, b.min)) && glm::all(glm::lessThanEqual(p, b.max)));
@@ -239,7 +242,8 @@ TEST(TileMesh, RoadLevelsStayWithinTheirToleranceAndKeepTheBlockEnds) {
                 EXPECT_LE(nearest, tolerance + 1e-3f) << "level " << level << " block " << key.block;
             }
         }
-        std::printf("[ measure  ] road level %d (%.0f m): %zu of %zu draped pieces\n", level, tolerance, count, draped_count);
+        std::printf("[ measure  ] road level %d (%.0f m): %zu of %zu draped pieces\n", level, tolerance, count,
+                    draped_count);
         EXPECT_LT(count, previous) << "level " << level << " has fewer pieces";
         previous = count;
     }
@@ -253,16 +257,19 @@ TEST(TileMesh, RoadLevelFollowsTheScreenError) {
         float distance_m, focal_px;
         int level;
     };
-    for (const Case c : {Case{0.0f, 600.0f, 0}, Case{1199.0f, 600.0f, 0}, Case{1200.0f, 600.0f, 1}, Case{4799.0f, 600.0f, 1},
-                         Case{4800.0f, 600.0f, 2}, Case{19200.0f, 600.0f, 3}, Case{1e9f, 600.0f, 3}, Case{2399.0f, 1200.0f, 0},
-                         Case{2400.0f, 1200.0f, 1}}) {
-        EXPECT_EQ(render::roadLodLevel(c.distance_m, c.focal_px, 0.5f), c.level) << c.distance_m << " m, " << c.focal_px << " px";
+    for (const Case c : {Case{0.0f, 600.0f, 0}, Case{1199.0f, 600.0f, 0}, Case{1200.0f, 600.0f, 1},
+                         Case{4799.0f, 600.0f, 1}, Case{4800.0f, 600.0f, 2}, Case{19200.0f, 600.0f, 3},
+                         Case{1e9f, 600.0f, 3}, Case{2399.0f, 1200.0f, 0}, Case{2400.0f, 1200.0f, 1}}) {
+        EXPECT_EQ(render::roadLodLevel(c.distance_m, c.focal_px, 0.5f), c.level)
+            << c.distance_m << " m, " << c.focal_px << " px";
     }
 }
 
 TEST(TileMesh, JointCapReachFollowsTheTurn) {
     const glm::vec2 east(10.0f, 0.0f);
-    auto towards = [](float degrees) { return 3.0f * glm::vec2(std::cos(glm::radians(degrees)), std::sin(glm::radians(degrees))); };
+    auto towards = [](float degrees) {
+        return 3.0f * glm::vec2(std::cos(glm::radians(degrees)), std::sin(glm::radians(degrees)));
+    };
     EXPECT_NEAR(render::jointCapReach(east, east), render::kJointOverlap, 1e-6f) << "straight on";
     EXPECT_NEAR(render::jointCapReach(east, towards(60.0f)), 0.5f + render::kJointOverlap, 1e-5f) << "sin(30 deg)";
     EXPECT_NEAR(render::jointCapReach(east, towards(-60.0f)), 0.5f + render::kJointOverlap, 1e-5f) << "either side";
@@ -299,7 +306,8 @@ TEST(TileMesh, JoinedPiecesStillCoverTheirRoundJoin) {
                 // The pieces of this level in this block, by the point they start and end at.
                 std::map<std::array<float, 2>, std::vector<std::pair<const render::RoadInstance*, int>>> at;
                 for (const render::BlockRun& other : m.road_runs) {
-                    if (other.block != run.block || !(other.lods & (1u << level)) || m.roads[other.first].road_class != m.roads[run.first].road_class)
+                    if (other.block != run.block || !(other.lods & (1u << level)) ||
+                        m.roads[other.first].road_class != m.roads[run.first].road_class)
                         continue;
                     for (std::uint32_t i = other.first; i < other.first + other.count; ++i) {
                         at[{m.roads[i].p0.x, m.roads[i].p0.y}].push_back({&m.roads[i], 0});
@@ -326,22 +334,25 @@ TEST(TileMesh, JoinedPiecesStillCoverTheirRoundJoin) {
                         std::vector<glm::vec2> probes;
                         for (int k = 0; k < 64; ++k) {
                             const float a = 2.0f * 3.14159265f * static_cast<float>(k) / 64.0f;
-                            for (float f : {0.5f, 0.9f, 0.99f}) probes.push_back(f * glm::vec2(std::cos(a), std::sin(a)));
+                            for (float f : {0.5f, 0.9f, 0.99f})
+                                probes.push_back(f * glm::vec2(std::cos(a), std::sin(a)));
                         }
                         const glm::vec2 in = glm::normalize(glm::vec2(end ? r.p1 - r.p0 : o.p1 - o.p0));
                         const glm::vec2 out = glm::normalize(glm::vec2(end ? o.p1 - o.p0 : r.p1 - r.p0));
                         if (glm::length(in - out) > 1e-3f) probes.push_back(0.99f * glm::normalize(in - out));
                         for (const glm::vec2 probe : probes) {
                             const glm::vec2 q = glm::vec2(p) + half_width * probe;
-                            ASSERT_TRUE(covers(r, q) || covers(o, q)) << "level " << level << ": round join not covered at "
-                                                                       << p.x << ", " << p.y;
+                            ASSERT_TRUE(covers(r, q) || covers(o, q))
+                                << "level " << level << ": round join not covered at " << p.x << ", " << p.y;
                         }
                     }
                 }
             }
         }
-        std::printf("[ measure  ] half width %.1f m: %zu joined piece ends, %zu of them reach less than half the cap; %zu chain ends\n",
-                    half_width, joints, trimmed, ends);
+        std::printf(
+            "[ measure  ] half width %.1f m: %zu joined piece ends, %zu of them reach less than half the cap; %zu "
+            "chain ends\n",
+            half_width, joints, trimmed, ends);
         if (half_width < 1.0f) {
             EXPECT_GT(trimmed * 2, joints) << "most joints bend little";
         }
@@ -369,7 +380,8 @@ TEST(TileMesh, BridgesSpanStraightBetweenTheirEnds) {
 // buildings' vertices, so the renderer can cull per block.
 TEST(TileMesh, BuildingRunsHoldTheBuildingsOfTheirBlock) {
     map::Tile t = bumpyTile();
-    for (const auto& [x, y] : {std::pair{100.0f, 100.0f}, std::pair{650.0f, 120.0f}, std::pair{150.0f, 160.0f}, std::pair{420.0f, 700.0f}}) {
+    for (const auto& [x, y] :
+         {std::pair{100.0f, 100.0f}, std::pair{650.0f, 120.0f}, std::pair{150.0f, 160.0f}, std::pair{420.0f, 700.0f}}) {
         map::Building b;
         b.footprint.vertices = {{x, y}, {x + 40, y}, {x + 40, y + 30}, {x, y + 30}};
         b.footprint.ring_ends = {4};

@@ -27,8 +27,9 @@ ipc::CanFrame frame(std::uint32_t id, std::initializer_list<std::uint8_t> bytes,
 }
 
 TEST(CandumpWriter, FormatsExactlyLikeCandump) {
-    EXPECT_EQ(formatCandumpLine(frame(0x6A0, {0x3B, 0x20, 0x56, 0x19, 0xC4, 0x31, 0xE8, 0x00}, 1618394400000000), "can0"),
-              "(1618394400.000000) can0 6A0#3B205619C431E800");
+    EXPECT_EQ(
+        formatCandumpLine(frame(0x6A0, {0x3B, 0x20, 0x56, 0x19, 0xC4, 0x31, 0xE8, 0x00}, 1618394400000000), "can0"),
+        "(1618394400.000000) can0 6A0#3B205619C431E800");
     EXPECT_EQ(formatCandumpLine(frame(0x1, {0xAB}, 1618394400123456), "vcan0"), "(1618394400.123456) vcan0 001#AB");
     EXPECT_EQ(formatCandumpLine(frame(0x6A2, {}, 5), "can1"), "(0.000005) can1 6A2#");
     ipc::CanFrame ext = frame(0x1ABCDEF0, {1, 2}, 2000000);

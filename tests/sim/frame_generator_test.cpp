@@ -21,7 +21,8 @@ struct Generated {
 };
 
 std::shared_ptr<const SpeedProfile> cornerProfile() {
-    return std::make_shared<const SpeedProfile>(SpeedProfile::build(driveRouteFromPolyline(test::corner(600.0), 60.0f)));
+    return std::make_shared<const SpeedProfile>(
+        SpeedProfile::build(driveRouteFromPolyline(test::corner(600.0), 60.0f)));
 }
 
 FrameGenerator makeGenerator(const std::shared_ptr<const SpeedProfile>& profile, const FrameOptions& o) {

@@ -62,9 +62,9 @@ protected:
 TEST_F(NavmapSimCli, WritesTheLibrarysFramesAndASummary) {
     const auto log = m_dir / "d.candump";
     const auto route = m_dir / "route.json";
-    const ProgramRun r = run("-q --store " + m_store.string() + " --from 'Andorra la Vella' --to 42.5097,1.5390 --out " +
-                      log.string() + " --noise-m 2 --dropouts 1 --bad-frames 2 --seed 7 --duration 60 --iface vcan0 --route-out " +
-                      route.string());
+    const ProgramRun r = run(
+        "-q --store " + m_store.string() + " --from 'Andorra la Vella' --to 42.5097,1.5390 --out " + log.string() +
+        " --noise-m 2 --dropouts 1 --bad-frames 2 --seed 7 --duration 60 --iface vcan0 --route-out " + route.string());
     ASSERT_EQ(r.status, 0) << r.out;
     EXPECT_NE(r.out.find("route: "), std::string::npos) << r.out;
     EXPECT_NE(r.out.find("NAV_Motion 3001"), std::string::npos) << r.out;
@@ -100,7 +100,9 @@ TEST_F(NavmapSimCli, BadInputFailsWithOneClearLine) {
     EXPECT_EQ(r.out.rfind("navmap-sim: --from: unknown place 'Atlantis'", 0), 0U) << r.out;
     r = run("--store " + m_store.string() + " --from Encamp --to Ordino --out /nonexistent-dir/x.candump");
     EXPECT_EQ(r.status, 1);
-    EXPECT_NE(r.out.find("navmap-sim: fopen(/nonexistent-dir/x.candump.tmp): No such file or directory"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("navmap-sim: fopen(/nonexistent-dir/x.candump.tmp): No such file or directory"),
+              std::string::npos)
+        << r.out;
     r = run("--store " + m_store.string() + " --from Encamp --to Ordino --control " + (m_dir / "no.sock").string());
     EXPECT_EQ(r.status, 1);
     EXPECT_NE(r.out.find("connect(" + (m_dir / "no.sock").string() + ")"), std::string::npos) << r.out;

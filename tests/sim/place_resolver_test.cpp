@@ -54,7 +54,9 @@ TEST(PlaceResolver, BuiltInTableKnowsTheParishTowns) {
     EXPECT_DOUBLE_EQ(coords.value().lat, 42.1);
     auto unknown = r.resolve("Atlantis");
     ASSERT_FALSE(unknown.ok());
-    EXPECT_EQ(unknown.error().message.rfind("unknown place 'Atlantis' (give \"lat,lon\" or a place name such as Andorra la Vella", 0), 0U)
+    EXPECT_EQ(unknown.error().message.rfind(
+                  "unknown place 'Atlantis' (give \"lat,lon\" or a place name such as Andorra la Vella", 0),
+              0U)
         << unknown.error().message;
     EXPECT_FALSE(r.resolve("  ").ok());
 }

@@ -33,7 +33,8 @@ DriveSimulator defaultDrive() {
 class SimGuidance : public ::testing::Test {
 protected:
     void SetUp() override {
-        if (!std::filesystem::exists(storePath())) GTEST_SKIP() << "no compiled store at " << storePath() << " (build navmap_default_store)";
+        if (!std::filesystem::exists(storePath()))
+            GTEST_SKIP() << "no compiled store at " << storePath() << " (build navmap_default_store)";
     }
 };
 
@@ -97,12 +98,14 @@ TEST_F(SimGuidance, RealRoundaboutExitsAreNumberedInRingOrder) {
         // An entry node: a ring node with a drivable non-ring way arriving (as an edge leaving its far end).
         if (done[entry]) continue;
         std::optional<std::uint32_t> ring_out;
-        for (const auto& e : g.outEdges(entry)) if (ring(e)) ring_out = e.to;
+        for (const auto& e : g.outEdges(entry))
+            if (ring(e)) ring_out = e.to;
         if (!ring_out) continue;
         std::optional<std::uint32_t> approach;
         for (const auto& e : g.outEdges(entry)) {
             if (ring(e) || !drivable(e)) continue;
-            for (const auto& back : g.outEdges(e.to)) if (back.to == entry && back.way_id == e.way_id && drivable(back)) approach = e.to;
+            for (const auto& back : g.outEdges(e.to))
+                if (back.to == entry && back.way_id == e.way_id && drivable(back)) approach = e.to;
         }
         if (!approach) continue;
         // Walk the ring from the entry, listing the exits in order.
@@ -112,8 +115,10 @@ TEST_F(SimGuidance, RealRoundaboutExitsAreNumberedInRingOrder) {
             done[n] = 1;
             std::optional<std::uint32_t> next;
             for (const auto& e : g.outEdges(n)) {
-                if (ring(e)) next = e.to;
-                else if (drivable(e)) exit_ends.push_back(e.to);
+                if (ring(e))
+                    next = e.to;
+                else if (drivable(e))
+                    exit_ends.push_back(e.to);
             }
             if (!next) break;
             n = *next;
@@ -126,11 +131,12 @@ TEST_F(SimGuidance, RealRoundaboutExitsAreNumberedInRingOrder) {
             if (!r) continue;
             const auto line = map::routePolyline(g, *r);
             const auto ms = map::guidance::deriveManeuvers(g, line);
-            const auto it = std::find_if(ms.begin(), ms.end(), [](const auto& m) { return m.type == map::guidance::ManeuverType::Roundabout; });
+            const auto it = std::find_if(
+                ms.begin(), ms.end(), [](const auto& m) { return m.type == map::guidance::ManeuverType::Roundabout; });
             // A* may prefer another road to this exit, or enter the ring elsewhere.
             if (it == ms.end() || g.edges[line[it->point].edge].to != entry) continue;
-            EXPECT_EQ(it->exit, static_cast<int>(k) + 1) << "ring entered at node " << g.nodes[entry].osm_id << ", exit to node "
-                                          << g.nodes[exit_ends[k]].osm_id;
+            EXPECT_EQ(it->exit, static_cast<int>(k) + 1) << "ring entered at node " << g.nodes[entry].osm_id
+                                                         << ", exit to node " << g.nodes[exit_ends[k]].osm_id;
             ++exits_checked;
         }
     }

@@ -33,7 +33,8 @@ DriveRequest request(const std::string& from, const std::string& to) {
 class SimStore : public ::testing::Test {
 protected:
     void SetUp() override {
-        if (!std::filesystem::exists(storePath())) GTEST_SKIP() << "no compiled store at " << storePath() << " (build navmap_default_store)";
+        if (!std::filesystem::exists(storePath()))
+            GTEST_SKIP() << "no compiled store at " << storePath() << " (build navmap_default_store)";
     }
 };
 
@@ -44,7 +45,8 @@ TEST_F(SimStore, ParishTownsComeFromTheStoresPlaceLabels) {
     std::size_t from_store = 0;
     for (const auto& p : r.places()) from_store += p.builtin ? 0 : 1;
     EXPECT_GT(from_store, 20U);
-    for (const char* name : {"Andorra la Vella", "Escaldes", "Encamp", "Sant Julià de Lòria", "La Massana", "Ordino", "Canillo"}) {
+    for (const char* name :
+         {"Andorra la Vella", "Escaldes", "Encamp", "Sant Julià de Lòria", "La Massana", "Ordino", "Canillo"}) {
         auto got = r.resolve(name);
         ASSERT_TRUE(got.ok()) << name;
         // The store's label is used (it is listed first), close to the table's town centre.
@@ -105,7 +107,8 @@ TEST_F(SimStore, RoutesAndorraLaVellaToEncampAndDecodesBackOntoTheRoute) {
     }
     EXPECT_GT(positions, 3000U);
     EXPECT_LT(max_err, 6.0 * req.frames.noise_m);
-    EXPECT_LT(static_cast<double>(far), 0.1 * static_cast<double>(positions));  // |N(0,s^2)| in 2D: P(r > 2s) = 13.5 %, less off-line
+    EXPECT_LT(static_cast<double>(far),
+              0.1 * static_cast<double>(positions));  // |N(0,s^2)| in 2D: P(r > 2s) = 13.5 %, less off-line
     EXPECT_EQ(dec.counters().rejected, 0U);
     EXPECT_EQ(dec.counters().counterGaps, 0U);
     // Andorra la Vella lies at about 1020 m, Encamp at about 1260 m (SRTM terrain).
@@ -179,7 +182,7 @@ TEST_F(SimStore, TerrainSamplerFollowsTheDem) {
     TerrainSampler t(store);
     const map::Projection proj = store->projection();
     EXPECT_NEAR(t.heightAt(proj.forward(42.5075, 1.5218)), 1050.0, 120.0);  // Andorra la Vella
-    EXPECT_EQ(t.heightAt({1e7, 1e7}), 0.0);  // outside the store
+    EXPECT_EQ(t.heightAt({1e7, 1e7}), 0.0);                                 // outside the store
 }
 
 // The drives shipped in data/drives (see its README): every line parses, rates are right, the
@@ -233,8 +236,9 @@ TEST_P(ShippedDrives, ParseAndDecodeCleanly) {
             ++positions;
         }
     }
-    const double seconds =
-        std::chrono::duration<double>(log.value().records.back().frame.timestamp - log.value().records.front().frame.timestamp).count();
+    const double seconds = std::chrono::duration<double>(log.value().records.back().frame.timestamp -
+                                                         log.value().records.front().frame.timestamp)
+                               .count();
     EXPECT_NEAR(static_cast<double>(motions), seconds * 50, seconds * 0.5 + 2);
     if (GetParam().faults) {
         EXPECT_GT(dec.counters().rejected, 0U);

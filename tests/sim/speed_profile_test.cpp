@@ -49,8 +49,8 @@ TEST(SpeedProfile, StraightRoadReachesTargetAndStopsAtTheEnd) {
     EXPECT_NEAR(vmax, 25.0, 1e-6);
     // Closed form: accelerate to 25 m/s at 1.5, cruise, brake at 2.5.
     const double v = 25.0;
-    const double expected = v / q.accel_mps2 + v / q.brake_mps2 +
-                            (2000.0 - v * v / (2 * q.accel_mps2) - v * v / (2 * q.brake_mps2)) / v;
+    const double expected =
+        v / q.accel_mps2 + v / q.brake_mps2 + (2000.0 - v * v / (2 * q.accel_mps2) - v * v / (2 * q.brake_mps2)) / v;
     EXPECT_NEAR(p.duration(), expected, 0.01 * expected);
     EXPECT_NEAR(p.stateAt(1.0).accel_mps2, q.accel_mps2, 1e-9);
     EXPECT_NEAR(p.stateAt(p.duration() - 1.0).accel_mps2, -q.brake_mps2, 1e-9);
@@ -103,7 +103,8 @@ TEST(SpeedProfile, CircleGivesSteadyCurveSpeedAndYawRate) {
     const VehicleState mid = p.stateAt(p.duration() / 2);
     EXPECT_NEAR(mid.speed_mps, v, 0.02 * v);
     // Counter-clockwise circle: positive yaw rate (DBC/VSS convention), v / r.
-    EXPECT_NEAR(mid.yaw_rate_dps, mid.speed_mps / radius * 180.0 / std::numbers::pi, 0.02 * 180.0 / std::numbers::pi * v / radius);
+    EXPECT_NEAR(mid.yaw_rate_dps, mid.speed_mps / radius * 180.0 / std::numbers::pi,
+                0.02 * 180.0 / std::numbers::pi * v / radius);
     // Integrated yaw rate equals the heading change (heading clockwise => opposite sign).
     double integrated = 0.0;
     double heading_change = 0.0;

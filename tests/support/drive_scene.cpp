@@ -7,7 +7,8 @@ namespace {
 
 PlannedDrive planDrive(const map::MapScene& scene, GeoPoint from, GeoPoint to) {
     PlannedDrive drive;
-    const map::RoutePlan plan = map::planRoute(scene.graph, scene.toPlanar(from.lat, from.lon), scene.toPlanar(to.lat, to.lon));
+    const map::RoutePlan plan =
+        map::planRoute(scene.graph, scene.toPlanar(from.lat, from.lon), scene.toPlanar(to.lat, to.lon));
     if (!plan.ok()) return drive;
     drive.line = map::routePolyline(scene.graph, *plan.route);
     for (const auto& p : drive.line) {
@@ -29,7 +30,8 @@ render::VehiclePose poseAlong(const PlannedDrive& drive, double measure_m, doubl
     return pose;
 }
 
-DriveScene DriveScene::open(const std::filesystem::path& store_path, GeoPoint from, GeoPoint to, std::size_t budget_bytes) {
+DriveScene DriveScene::open(const std::filesystem::path& store_path, GeoPoint from, GeoPoint to,
+                            std::size_t budget_bytes) {
     DriveScene d{map::MapScene::open(store_path, budget_bytes), nullptr, {}};
     if (!d.scene.graph_problem.empty()) throw map::StoreError(d.scene.graph_error);
     d.view = std::make_unique<render::MapView>(d.scene.cache);

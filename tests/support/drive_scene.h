@@ -44,7 +44,7 @@ struct DriveScene {
     struct Shot {
         render::Camera camera;
         render::VehiclePose pose;
-        bool complete = false;  ///< all wanted tiles loaded within the timeout
+        bool complete = false;   ///< all wanted tiles loaded within the timeout
         double measure_m = 0.0;  ///< where along the drive
     };
 

@@ -74,8 +74,7 @@ ForeignProcess::ForeignProcess(const ForeignUser& user, std::function<std::strin
         writeAll(3, result);
         ::close(3);
         char c = 0;
-        while (::read(4, &c, 1) < 0 && errno == EINTR) {
-        }
+        while (::read(4, &c, 1) < 0 && errno == EINTR) {}
         ::_exit(0);
     }
     ::close(report[1]);

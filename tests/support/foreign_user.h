@@ -16,8 +16,8 @@
 namespace navmap::test {
 
 struct ForeignUser {
-    uid_t uid = 65534;  ///< nobody
-    gid_t gid = 65534;  ///< nogroup
+    uid_t uid = 65534;          ///< nobody
+    gid_t gid = 65534;          ///< nogroup
     std::vector<gid_t> groups;  ///< supplementary groups; empty: none
 };
 

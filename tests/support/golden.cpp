@@ -56,17 +56,17 @@ GoldenComparison compareImages(const render::Image& expected, const render::Imag
     if (!render::readImage(golden, &expected, &error)) {
         (void)render::writePng(actual_path, actual, nullptr);
         note_target();
-        return ::testing::AssertionFailure() << "golden " << golden << " unreadable (" << error
-                                             << "); actual image written to " << actual_path
-                                             << " (approve with scripts/approve-goldens.sh)";
+        return ::testing::AssertionFailure()
+               << "golden " << golden << " unreadable (" << error << "); actual image written to " << actual_path
+               << " (approve with scripts/approve-goldens.sh)";
     }
     const GoldenComparison cmp = compareImages(expected, actual, tolerance.channel);
     if (!cmp.sizes_match) {
         (void)render::writePng(actual_path, actual, nullptr);
         note_target();
-        return ::testing::AssertionFailure() << "golden " << golden << " is " << expected.width << "x"
-                                             << expected.height << ", actual " << actual.width << "x" << actual.height
-                                             << "; actual written to " << actual_path;
+        return ::testing::AssertionFailure()
+               << "golden " << golden << " is " << expected.width << "x" << expected.height << ", actual "
+               << actual.width << "x" << actual.height << "; actual written to " << actual_path;
     }
     if (cmp.differing_fraction > tolerance.max_differing_fraction) {
         (void)render::writePng(actual_path, actual, nullptr);

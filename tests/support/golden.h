@@ -16,7 +16,7 @@ namespace navmap::test {
 
 /// How far an image may drift from its golden.
 struct GoldenTolerance {
-    int channel = 8;                     ///< max |difference| per channel for a pixel to count as equal
+    int channel = 8;                        ///< max |difference| per channel for a pixel to count as equal
     double max_differing_fraction = 0.005;  ///< fraction of pixels allowed to differ beyond `channel`
 };
 

@@ -16,7 +16,8 @@ std::shared_ptr<map::Tile> makeTile(const std::function<float(float, float)>& he
     tile->dem.coverage = 1.0f;
     for (int r = 0; r < dem; ++r)
         for (int c = 0; c < dem; ++c)
-            tile->dem.heights.push_back(height(static_cast<float>(c) * tile->dem.spacing_m, static_cast<float>(r) * tile->dem.spacing_m));
+            tile->dem.heights.push_back(
+                height(static_cast<float>(c) * tile->dem.spacing_m, static_cast<float>(r) * tile->dem.spacing_m));
     return tile;
 }
 

@@ -67,10 +67,10 @@ int main(int argc, char** argv) {
     for (const auto& m : ipc::SignalMap::navmapDefaults().mappings()) {
         map.add(m);
     }
-    auto decoder = ipc::VehicleDecoder::create({load(dbcDir + "/ford_lincoln_base_pt.dbc"),
-                                                load(dbcDir + "/ford_fusion_2018_pt.dbc"), load(argv[6])},
-                                               map)
-                       .value();
+    auto decoder =
+        ipc::VehicleDecoder::create(
+            {load(dbcDir + "/ford_lincoln_base_pt.dbc"), load(dbcDir + "/ford_fusion_2018_pt.dbc"), load(argv[6])}, map)
+            .value();
     const auto keys = decoder.frameKeys();
     const std::set<std::uint32_t> keySet(keys.begin(), keys.end());
 
@@ -157,8 +157,9 @@ int main(int argc, char** argv) {
     check("timestamps", monotonic && spanS > 1.0 && spanS < 3.0 && skewS > -1.0 && skewS < 5.0,
           "kernel timestamps span " + std::to_string(spanS) + " s, first " + std::to_string(skewS) +
               " s after spawning canplayer");
-    check("speed", vmin > 102.6 && vmax < 103.8 && vmax > 102.6,
-          "decoded Vehicle.Speed " + std::to_string(vmin) + ".." + std::to_string(vmax) + " km/h (expected 102.7-103.7)");
+    check(
+        "speed", vmin > 102.6 && vmax < 103.8 && vmax > 102.6,
+        "decoded Vehicle.Speed " + std::to_string(vmin) + ".." + std::to_string(vmax) + " km/h (expected 102.7-103.7)");
     check("kernel_drops_none", rx.status().kernelDrops == 0, std::to_string(rx.status().kernelDrops));
 
     // 2. Error frame (bus-off) and a CAN FD frame through a second socket.
@@ -215,10 +216,11 @@ int main(int argc, char** argv) {
     sentOk += tx.send(burst).ok() ? 1 : 0;
     small.waitReadable(100ms);
     small.poll([&](const ipc::CanFrame&) { ++smallFrames; }, 5000);
-    check("kernel_drops", small.status().kernelDrops > 0 &&
-                              smallFrames + small.status().kernelDrops == static_cast<std::size_t>(sentOk),
-          "sent " + std::to_string(sentOk) + ", read " + std::to_string(smallFrames) + ", SO_RXQ_OVFL drops " +
-              std::to_string(small.status().kernelDrops));
+    check(
+        "kernel_drops",
+        small.status().kernelDrops > 0 && smallFrames + small.status().kernelDrops == static_cast<std::size_t>(sentOk),
+        "sent " + std::to_string(sentOk) + ", read " + std::to_string(smallFrames) + ", SO_RXQ_OVFL drops " +
+            std::to_string(small.status().kernelDrops));
     rx.poll([](const ipc::CanFrame&) {}, 100000);  // drain
 
     // 4. Interface down and up again: the source re-opens with backoff.
@@ -244,10 +246,11 @@ int main(int argc, char** argv) {
         rx.waitReadable(20ms);
         rx.poll(sink);
     }
-    check("reopen", downState == ipc::SocketCanStatus::State::Retrying && rx.status().opens >= 2 && frames == before + 1,
-          "after down: " + std::string(ipc::SocketCanStatus::stateName(downState)) + " '" + downError +
-              "'; opens=" + std::to_string(rx.status().opens) + " openFailures=" +
-              std::to_string(rx.status().openFailures) + " frame after up: " + (frames == before + 1 ? "yes" : "no"));
+    check("reopen",
+          downState == ipc::SocketCanStatus::State::Retrying && rx.status().opens >= 2 && frames == before + 1,
+          "after down: " + std::string(ipc::SocketCanStatus::stateName(downState)) + " '" + downError + "'; opens=" +
+              std::to_string(rx.status().opens) + " openFailures=" + std::to_string(rx.status().openFailures) +
+              " frame after up: " + (frames == before + 1 ? "yes" : "no"));
 
     std::printf("VCAN_SUMMARY failures=%d\n", g_failures);
     return g_failures == 0 ? 0 : 1;

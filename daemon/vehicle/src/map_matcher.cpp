@@ -136,7 +136,8 @@ std::optional<RoadMatch> MapMatcher::match(map::PlanarPoint p, std::optional<dou
                     }
                 }
                 if (!best || score < best->score) {
-                    best = RoadMatch{s.edge, q, segHeading, d, matchConfidence(d, dh, headingDeg.has_value(), cfg), score};
+                    best =
+                        RoadMatch{s.edge, q, segHeading, d, matchConfidence(d, dh, headingDeg.has_value(), cfg), score};
                 }
             }
         }

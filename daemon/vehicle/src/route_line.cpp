@@ -20,8 +20,8 @@ RouteLine::RouteLine(std::string id, const std::vector<map::PlanarPoint>& points
     for (const auto& p : points) {
         if (!std::isfinite(p.x) || !std::isfinite(p.y)) continue;
         if (!m_points.empty() && std::hypot(p.x - m_points.back().x, p.y - m_points.back().y) < 1e-6) continue;
-        m_measures.push_back(m_points.empty() ? 0.0
-                                              : m_measures.back() + std::hypot(p.x - m_points.back().x, p.y - m_points.back().y));
+        m_measures.push_back(
+            m_points.empty() ? 0.0 : m_measures.back() + std::hypot(p.x - m_points.back().x, p.y - m_points.back().y));
         m_points.push_back(p);
     }
 }

@@ -57,8 +57,8 @@ void motionAt(const std::vector<MotionSample>& m, ipc::CanTime tau, double holdS
 }
 
 ipc::CanTime newestMotionAtOrBefore(const std::vector<MotionSample>& m, ipc::CanTime t) {
-    const auto it = std::upper_bound(m.begin(), m.end(), t,
-                                     [](ipc::CanTime tt, const MotionSample& s) { return tt < s.time; });
+    const auto it =
+        std::upper_bound(m.begin(), m.end(), t, [](ipc::CanTime tt, const MotionSample& s) { return tt < s.time; });
     return it == m.begin() ? ipc::CanTime{} : std::prev(it)->time;
 }
 
@@ -78,8 +78,8 @@ void deadReckon(const std::vector<MotionSample>& motion, ipc::CanTime from, ipc:
     const double dt = total / steps;
     for (int i = 0; i < steps; ++i) {
         // Midpoint rule: motion and heading at the middle of the step.
-        const auto mid = from + std::chrono::duration_cast<ipc::CanTime::duration>(
-                                    std::chrono::duration<double>((i + 0.5) * dt));
+        const auto mid =
+            from + std::chrono::duration_cast<ipc::CanTime::duration>(std::chrono::duration<double>((i + 0.5) * dt));
         motionAt(motion, mid, holdS, fallbackSpeed, hint, v, w);
         const double hMid = headingRad + 0.5 * w * dt;
         x += v * dt * std::sin(hMid);
@@ -146,7 +146,8 @@ EstimatedPose VehicleState::compute(const Parts& p, ipc::CanTime t) {
     pose.stale = pose.sinceFixS > cfg.gnssTimeoutS;
     pose.sourceTime = std::max(std::min(anchorTime, t), newestMotionAtOrBefore(p.motion, t));
 
-    // Map matching: the route first, the road graph otherwise (not from the seed; docs/vehicle-state.md "Map matching").
+    // Map matching: the route first, the road graph otherwise (not from the seed; docs/vehicle-state.md "Map
+    // matching").
     const std::optional<double> heading =
         p.headingKnown && std::abs(v) >= cfg.headingMinSpeedMps ? std::optional<double>(pose.headingDeg) : std::nullopt;
     const map::PlanarPoint raw{x, y};
@@ -180,7 +181,8 @@ EstimatedPose VehicleState::compute(const Parts& p, ipc::CanTime t) {
     }
     pose.matchConfidence = conf;
     const double span = cfg.snapFullConfidence - cfg.snapMinConfidence;
-    const double wSnap = span > 0 ? std::clamp((conf - cfg.snapMinConfidence) / span, 0.0, 1.0) : (conf > 0 ? 1.0 : 0.0);
+    const double wSnap =
+        span > 0 ? std::clamp((conf - cfg.snapMinConfidence) / span, 0.0, 1.0) : (conf > 0 ? 1.0 : 0.0);
     pose.snapWeight = wSnap;
     if (wSnap > 0) {
         pose.x = x + wSnap * (target.x - x);

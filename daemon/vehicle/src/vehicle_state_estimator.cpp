@@ -19,9 +19,7 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kDegToRad = kPi / 180.0;
 
-double seconds(ipc::CanTime a, ipc::CanTime b) {
-    return std::chrono::duration<double>(b - a).count();
-}
+double seconds(ipc::CanTime a, ipc::CanTime b) { return std::chrono::duration<double>(b - a).count(); }
 
 double wrapPi(double a) {
     a = std::fmod(a + kPi, 2.0 * kPi);
@@ -185,9 +183,8 @@ void VehicleStateEstimator::addFix(ipc::CanTime t, double lat, double lon, std::
     const map::PlanarPoint p = m_projection.forward(lat, lon);
     const double fromOrigin = std::hypot(p.x, p.y);
     if (!std::isfinite(fromOrigin) || fromOrigin > cfg.maxDistanceFromOriginM) {
-        reject(m_counters.rejectedRange,
-               fmt("GNSS fix: %.0f km from the map origin (limit %.0f km)", fromOrigin / 1000.0,
-                   cfg.maxDistanceFromOriginM / 1000.0));
+        reject(m_counters.rejectedRange, fmt("GNSS fix: %.0f km from the map origin (limit %.0f km)",
+                                             fromOrigin / 1000.0, cfg.maxDistanceFromOriginM / 1000.0));
         return;
     }
     auto& anchors = m_state.anchors;
@@ -216,8 +213,8 @@ void VehicleStateEstimator::addFix(ipc::CanTime t, double lat, double lon, std::
     if (innovation > cfg.jumpGateM + cfg.jumpGateGrowthMps * dtFix) {
         if (++m_consecutiveJumps < cfg.jumpsToRelocate) {
             --m_counters.fixes;
-            reject(m_counters.rejectedJump, fmt("GNSS fix: jump of %.1f m from the prediction (gate %.1f m)", innovation,
-                                                cfg.jumpGateM + cfg.jumpGateGrowthMps * dtFix));
+            reject(m_counters.rejectedJump, fmt("GNSS fix: jump of %.1f m from the prediction (gate %.1f m)",
+                                                innovation, cfg.jumpGateM + cfg.jumpGateGrowthMps * dtFix));
             return;
         }
         relocate(t, p, headingDeg);  // the prediction was wrong, not the receiver
@@ -278,7 +275,8 @@ void VehicleStateEstimator::prune() {
     auto& motion = m_state.motion;
     // Keep one sample before the oldest anchor (interpolation), and at most ~20 s of samples
     // when fixes stop (dead reckoning is capped anyway).
-    ipc::CanTime cutoff = anchors.empty() ? (motion.empty() ? ipc::CanTime{} : motion.back().time) : anchors.front().time;
+    ipc::CanTime cutoff =
+        anchors.empty() ? (motion.empty() ? ipc::CanTime{} : motion.back().time) : anchors.front().time;
     if (!motion.empty()) {
         cutoff = std::max(cutoff, motion.back().time - std::chrono::seconds(20));
     }

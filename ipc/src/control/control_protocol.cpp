@@ -22,13 +22,20 @@ using nlohmann::json;
 constexpr std::size_t kMaxDepth = 32;
 
 constexpr std::array<std::pair<ManeuverType, const char*>, 15> kManeuverNames{{
-    {ManeuverType::Depart, "depart"},         {ManeuverType::Arrive, "arrive"},
-    {ManeuverType::Straight, "straight"},     {ManeuverType::TurnLeft, "turn_left"},
-    {ManeuverType::TurnRight, "turn_right"},  {ManeuverType::SlightLeft, "slight_left"},
-    {ManeuverType::SlightRight, "slight_right"}, {ManeuverType::SharpLeft, "sharp_left"},
-    {ManeuverType::SharpRight, "sharp_right"}, {ManeuverType::UTurn, "u_turn"},
-    {ManeuverType::KeepLeft, "keep_left"},    {ManeuverType::KeepRight, "keep_right"},
-    {ManeuverType::Roundabout, "roundabout"}, {ManeuverType::Exit, "exit"},
+    {ManeuverType::Depart, "depart"},
+    {ManeuverType::Arrive, "arrive"},
+    {ManeuverType::Straight, "straight"},
+    {ManeuverType::TurnLeft, "turn_left"},
+    {ManeuverType::TurnRight, "turn_right"},
+    {ManeuverType::SlightLeft, "slight_left"},
+    {ManeuverType::SlightRight, "slight_right"},
+    {ManeuverType::SharpLeft, "sharp_left"},
+    {ManeuverType::SharpRight, "sharp_right"},
+    {ManeuverType::UTurn, "u_turn"},
+    {ManeuverType::KeepLeft, "keep_left"},
+    {ManeuverType::KeepRight, "keep_right"},
+    {ManeuverType::Roundabout, "roundabout"},
+    {ManeuverType::Exit, "exit"},
     {ManeuverType::Merge, "merge"},
 }};
 
@@ -52,9 +59,7 @@ std::string quote(std::string_view s) {
     return out;
 }
 
-std::string typeName(const json& j) {
-    return j.type_name();
-}
+std::string typeName(const json& j) { return j.type_name(); }
 
 std::string number(double v) {
     char buf[64];
@@ -100,34 +105,28 @@ class DuplicateKeyFinder {
 public:
     bool operator()(int /*depth*/, json::parse_event_t event, json& parsed) {
         switch (event) {
-        case json::parse_event_t::object_start:
-            m_stack.push_back(Frame{true, {}, 0, {}});
-            break;
-        case json::parse_event_t::array_start:
-            m_stack.push_back(Frame{false, {}, 0, {}});
-            break;
-        case json::parse_event_t::key:
-            if (!m_stack.empty() && parsed.is_string()) {
-                Frame& top = m_stack.back();
-                top.key = parsed.get_ref<const std::string&>();
-                if (!top.keys.insert(top.key).second && !m_found) {
-                    m_found = true;
-                    m_key = top.key;
-                    m_atRoot = m_stack.size() == 1;
-                    m_path = pathToTop();
+            case json::parse_event_t::object_start: m_stack.push_back(Frame{true, {}, 0, {}}); break;
+            case json::parse_event_t::array_start: m_stack.push_back(Frame{false, {}, 0, {}}); break;
+            case json::parse_event_t::key:
+                if (!m_stack.empty() && parsed.is_string()) {
+                    Frame& top = m_stack.back();
+                    top.key = parsed.get_ref<const std::string&>();
+                    if (!top.keys.insert(top.key).second && !m_found) {
+                        m_found = true;
+                        m_key = top.key;
+                        m_atRoot = m_stack.size() == 1;
+                        m_path = pathToTop();
+                    }
                 }
-            }
-            break;
-        case json::parse_event_t::object_end:
-        case json::parse_event_t::array_end:
-            if (!m_stack.empty()) {
-                m_stack.pop_back();
-            }
-            elementDone();
-            break;
-        case json::parse_event_t::value:
-            elementDone();
-            break;
+                break;
+            case json::parse_event_t::object_end:
+            case json::parse_event_t::array_end:
+                if (!m_stack.empty()) {
+                    m_stack.pop_back();
+                }
+                elementDone();
+                break;
+            case json::parse_event_t::value: elementDone(); break;
         }
         return true;
     }
@@ -142,8 +141,8 @@ public:
 private:
     struct Frame {
         bool object;
-        std::string key;        // object: the member being read
-        std::size_t index;      // array: the element being read
+        std::string key;    // object: the member being read
+        std::size_t index;  // array: the element being read
         std::unordered_set<std::string> keys;
     };
     void elementDone() {
@@ -331,7 +330,8 @@ std::string parseRoute(const json& obj, const ControlLimits& limits, SetRouteCom
         if (idx->is_number_unsigned() ? idx->get<std::uint64_t>() >= out.points.size()
                                       : (idx->get<std::int64_t>() < 0 ||
                                          idx->get<std::int64_t>() >= static_cast<std::int64_t>(out.points.size()))) {
-            return where + ".index: " + idx->dump() + " out of range [0, " + std::to_string(out.points.size() - 1) + "]";
+            return where + ".index: " + idx->dump() + " out of range [0, " + std::to_string(out.points.size() - 1) +
+                   "]";
         }
         mv.index = idx->get<std::size_t>();
         if (!out.maneuvers.empty() && mv.index < out.maneuvers.back().index) {
@@ -344,8 +344,9 @@ std::string parseRoute(const json& obj, const ControlLimits& limits, SetRouteCom
         }
         const auto t = enumFrom(*type, kManeuverNames);
         if (!t) {
-            return where + ".type: " + (type->is_string() ? "unknown maneuver " + quote(type->get_ref<const std::string&>())
-                                                          : "must be a string") +
+            return where + ".type: " +
+                   (type->is_string() ? "unknown maneuver " + quote(type->get_ref<const std::string&>())
+                                      : "must be a string") +
                    " (expected one of " + choices(kManeuverNames) + ")";
         }
         mv.type = *t;
@@ -368,11 +369,13 @@ std::string parseRoute(const json& obj, const ControlLimits& limits, SetRouteCom
             if (!exit->is_number_integer()) {
                 return where + ".exit: must be an integer";
             }
-            const bool in_range = exit->is_number_unsigned()
-                                      ? exit->get<std::uint64_t>() >= 1 && exit->get<std::uint64_t>() <= kMaxRoundaboutExit
-                                      : exit->get<std::int64_t>() >= 1 && exit->get<std::int64_t>() <= kMaxRoundaboutExit;
+            const bool in_range =
+                exit->is_number_unsigned()
+                    ? exit->get<std::uint64_t>() >= 1 && exit->get<std::uint64_t>() <= kMaxRoundaboutExit
+                    : exit->get<std::int64_t>() >= 1 && exit->get<std::int64_t>() <= kMaxRoundaboutExit;
             if (!in_range) {
-                return where + ".exit: " + exit->dump() + " out of range [1, " + std::to_string(kMaxRoundaboutExit) + "]";
+                return where + ".exit: " + exit->dump() + " out of range [1, " + std::to_string(kMaxRoundaboutExit) +
+                       "]";
             }
             mv.exitNumber = exit->get<std::uint32_t>();
         }
@@ -381,10 +384,11 @@ std::string parseRoute(const json& obj, const ControlLimits& limits, SetRouteCom
             if (!end->is_number_integer()) {
                 return where + ".end_index: must be an integer";
             }
-            const bool in_range = end->is_number_unsigned()
-                                      ? end->get<std::uint64_t>() >= mv.index && end->get<std::uint64_t>() < out.points.size()
-                                      : end->get<std::int64_t>() >= static_cast<std::int64_t>(mv.index) &&
-                                            end->get<std::int64_t>() < static_cast<std::int64_t>(out.points.size());
+            const bool in_range =
+                end->is_number_unsigned()
+                    ? end->get<std::uint64_t>() >= mv.index && end->get<std::uint64_t>() < out.points.size()
+                    : end->get<std::int64_t>() >= static_cast<std::int64_t>(mv.index) &&
+                          end->get<std::int64_t>() < static_cast<std::int64_t>(out.points.size());
             if (!in_range) {
                 return where + ".end_index: " + end->dump() + " out of range [" + std::to_string(mv.index) + ", " +
                        std::to_string(out.points.size() - 1) + "]";
@@ -430,7 +434,8 @@ std::string readViewCamera(const json& obj, SetViewCommand& out) {
         return "camera: " + c.error;
     }
     ViewCamera camera;
-    const auto member = [&](const char* name, double lo, double hi, bool required, std::optional<double>& value) -> std::string {
+    const auto member = [&](const char* name, double lo, double hi, bool required,
+                            std::optional<double>& value) -> std::string {
         const auto m = it->find(name);
         if (m == it->end()) {
             return required ? std::string("camera: missing \"") + name + "\"" : std::string();
@@ -440,7 +445,8 @@ std::string readViewCamera(const json& obj, SetViewCommand& out) {
         }
         const double v = m->get<double>();
         if (!std::isfinite(v) || v < lo || v > hi) {
-            return std::string("camera.") + name + ": " + number(v) + " out of range [" + number(lo) + ", " + number(hi) + "]";
+            return std::string("camera.") + name + ": " + number(v) + " out of range [" + number(lo) + ", " +
+                   number(hi) + "]";
         }
         value = v;
         return {};
@@ -555,9 +561,7 @@ ControlParse parseControlLine(std::string_view line, const ControlLimits& limits
     command.cmd = r.cmd;
     Checker c{obj, {}};
     std::optional<std::string> request_id;
-    const auto needId = [&]() {
-        return c.string("id", request_id, limits.maxStringBytes, false);
-    };
+    const auto needId = [&]() { return c.string("id", request_id, limits.maxStringBytes, false); };
     if (name == "set_route") {
         SetRouteCommand route;
         r.error = parseRoute(obj, limits, route);
@@ -668,23 +672,18 @@ std::string controlEventLine(const ControlEvent& event) {
     ojson j = ojson::object();
     j["event"] = controlEventName(event.kind);
     switch (event.kind) {
-    case ControlEventKind::RouteProgress:
-        j["id"] = event.routeId;
-        j["driven_m"] = std::round(event.drivenM * 10.0) / 10.0;
-        j["remaining_m"] = std::round(event.remainingM * 10.0) / 10.0;
-        break;
-    case ControlEventKind::PositionLost:
-        j["since_s"] = std::round(event.sinceS * 100.0) / 100.0;
-        break;
-    case ControlEventKind::PositionRegained:
-        break;
-    case ControlEventKind::OffRoute:
-        j["id"] = event.routeId;
-        j["offset_m"] = std::round(event.offsetM * 10.0) / 10.0;
-        break;
-    case ControlEventKind::BackOnRoute:
-        j["id"] = event.routeId;
-        break;
+        case ControlEventKind::RouteProgress:
+            j["id"] = event.routeId;
+            j["driven_m"] = std::round(event.drivenM * 10.0) / 10.0;
+            j["remaining_m"] = std::round(event.remainingM * 10.0) / 10.0;
+            break;
+        case ControlEventKind::PositionLost: j["since_s"] = std::round(event.sinceS * 100.0) / 100.0; break;
+        case ControlEventKind::PositionRegained: break;
+        case ControlEventKind::OffRoute:
+            j["id"] = event.routeId;
+            j["offset_m"] = std::round(event.offsetM * 10.0) / 10.0;
+            break;
+        case ControlEventKind::BackOnRoute: j["id"] = event.routeId; break;
     }
     return dumpJson(j);
 }

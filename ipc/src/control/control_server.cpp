@@ -31,7 +31,7 @@ using net::UniqueFd;
 namespace {
 
 constexpr std::size_t kReadChunk = 64 * 1024;
-constexpr std::size_t kMaxReadsPerPoll = 16;   // fairness between clients
+constexpr std::size_t kMaxReadsPerPoll = 16;  // fairness between clients
 constexpr std::size_t kMaxPendingEvents = 1024;
 
 using SteadyClock = std::chrono::steady_clock;
@@ -209,7 +209,8 @@ Status ControlServer::pollOnce(std::chrono::milliseconds timeout) {
         const auto now = SteadyClock::now();
         for (const auto& c : m_clients) {
             if (idle(*c, now + m_config.idleTimeout)) {  // could turn idle: no subscriber at rest
-                const auto left = std::chrono::ceil<std::chrono::milliseconds>(c->lastActivity + m_config.idleTimeout - now);
+                const auto left =
+                    std::chrono::ceil<std::chrono::milliseconds>(c->lastActivity + m_config.idleTimeout - now);
                 wait = std::clamp(left, std::chrono::milliseconds(0), wait);
             }
         }
@@ -277,8 +278,9 @@ void ControlServer::closeIdle(SteadyClock::time_point now) {
         ++m_counters.idle;
         if (c->out.empty() && !c->closeAfterFlush) {
             // Best effort: the reason goes out if the socket takes it now; the slot is freed anyway.
-            queue(*c, controlErrorReply("", std::nullopt,
-                                        "idle for " + seconds(m_config.idleTimeout) + " without a request; disconnecting"));
+            queue(*c,
+                  controlErrorReply("", std::nullopt,
+                                    "idle for " + seconds(m_config.idleTimeout) + " without a request; disconnecting"));
             flush(*c);
         }
         c->dead = true;
@@ -431,9 +433,9 @@ void ControlServer::handleLine(Client& c, std::string_view line) {
             } else if constexpr (std::is_same_v<T, SubscribeCommand>) {
                 c.events = body.events;
                 nlohmann::json names = nlohmann::json::array();
-                for (const auto k : {ControlEventKind::RouteProgress, ControlEventKind::PositionLost,
-                                     ControlEventKind::PositionRegained, ControlEventKind::OffRoute,
-                                     ControlEventKind::BackOnRoute}) {
+                for (const auto k :
+                     {ControlEventKind::RouteProgress, ControlEventKind::PositionLost,
+                      ControlEventKind::PositionRegained, ControlEventKind::OffRoute, ControlEventKind::BackOnRoute}) {
                     if (body.events & static_cast<std::uint8_t>(k)) {
                         names.push_back(controlEventName(k));
                     }

@@ -49,8 +49,11 @@ int main(int argc, char** argv) {
     const char* env = std::getenv("NAVMAP_CONTROL_SOCKET");
     std::string socket = env != nullptr && *env != '\0' ? env : "/run/navmap/control.sock";
     double timeout_s = 5.0;
-    app.add_option("-s,--socket", socket, "control socket (default: $NAVMAP_CONTROL_SOCKET, else /run/navmap/control.sock)");
-    app.add_option("--timeout", timeout_s, "seconds to wait for the reply")->capture_default_str()->check(navmap::cli::finiteIn(0.1, 3600.0));
+    app.add_option("-s,--socket", socket,
+                   "control socket (default: $NAVMAP_CONTROL_SOCKET, else /run/navmap/control.sock)");
+    app.add_option("--timeout", timeout_s, "seconds to wait for the reply")
+        ->capture_default_str()
+        ->check(navmap::cli::finiteIn(0.1, 3600.0));
     app.require_subcommand(0, 1);
     app.fallthrough();  // --socket and --timeout may follow the command too
 
@@ -68,7 +71,8 @@ int main(int argc, char** argv) {
     std::vector<std::string> points;
     set_route->add_option("ID", route_id, "route id")->required();
     set_route->add_option("POINTS", points, "LAT,LON, at least two");
-    auto* subscribe = app.add_subcommand("subscribe", "print events (route_progress, position_lost, position_regained, off_route, back_on_route)");
+    auto* subscribe = app.add_subcommand(
+        "subscribe", "print events (route_progress, position_lost, position_regained, off_route, back_on_route)");
     std::optional<long long> count;
     std::vector<std::string> events;
     subscribe->add_option("--count", count, "stop after N events")->check(navmap::cli::integerIn(1, 1000000000));

@@ -22,7 +22,9 @@ void ClientHub::setTransport(StreamTransport& transport) {
     m_transports[static_cast<std::size_t>(transport.via())] = &transport;
 }
 
-StreamTransport& ClientHub::transport(const StreamConn& c) const { return *m_transports[static_cast<std::size_t>(c.via)]; }
+StreamTransport& ClientHub::transport(const StreamConn& c) const {
+    return *m_transports[static_cast<std::size_t>(c.via)];
+}
 
 std::optional<Refusal> ClientHub::checkCaps(Via via, std::optional<uid_t> uid) const {
     const auto sameVia = static_cast<std::size_t>(
@@ -265,8 +267,7 @@ void ClientHub::checkTimeouts() {
         const TimeoutVerdict v = m_timeouts.check(c, now);
         const std::string lastError = c.peer + ": disconnected, " + v.why;
         switch (v.kind) {
-            case TimeoutVerdict::Kind::None:
-                break;
+            case TimeoutVerdict::Kind::None: break;
             case TimeoutVerdict::Kind::Handshake:
                 m_stats.countError(&FrameServerStats::handshakeTimeouts, lastError);
                 c.closeWith(transport(c).handshakeTimeoutReply(v.why));

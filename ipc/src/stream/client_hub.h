@@ -18,8 +18,8 @@
 #include <string>
 #include <vector>
 
-#include "navmap/ipc/frame_server.h"
 #include "frame_encoder.h"
+#include "navmap/ipc/frame_server.h"
 #include "stream_conn.h"
 #include "stream_stats.h"
 #include "stream_timeouts.h"

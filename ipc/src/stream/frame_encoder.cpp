@@ -100,7 +100,8 @@ void FrameEncoder::run() {
     }
 }
 
-std::shared_ptr<const EncodedFrame> FrameEncoder::encode(const FrameRing& ring, std::uint64_t sequence, EncodeKind kind) {
+std::shared_ptr<const EncodedFrame> FrameEncoder::encode(const FrameRing& ring, std::uint64_t sequence,
+                                                         EncodeKind kind) {
     const auto t0 = Clock::now();
     const FrameRingLayout& l = ring.layout();
     auto out = std::make_shared<EncodedFrame>();
@@ -131,18 +132,20 @@ std::shared_ptr<const EncodedFrame> FrameEncoder::encode(const FrameRing& ring, 
                 m_rgba.resize(static_cast<std::size_t>(l.width) * l.height * 4);
                 for (std::uint32_t y = 0; y < l.height; ++y) {
                     convertRowToRgba(m_pixels.data() + static_cast<std::size_t>(l.stride) * y, l.format,
-                                     m_rgba.data() + static_cast<std::size_t>(l.width) * 4 * y, static_cast<int>(l.width));
+                                     m_rgba.data() + static_cast<std::size_t>(l.width) * 4 * y,
+                                     static_cast<int>(l.width));
                 }
                 src = m_rgba.data();
                 pitch = static_cast<int>(l.width * 4);
             }
             auto* tj = static_cast<tjhandle>(m_tj);
-            NAVMAP_CHECK(static_cast<std::uint32_t>(pitch) >= l.width * 4, "JPEG source rows shorter than the frame width");
+            NAVMAP_CHECK(static_cast<std::uint32_t>(pitch) >= l.width * 4,
+                         "JPEG source rows shorter than the frame width");
             out->bytes.resize(tjBufSize(static_cast<int>(l.width), static_cast<int>(l.height), TJSAMP_420));
             unsigned char* dst = out->bytes.data();
             unsigned long size = out->bytes.size();
-            if (tjCompress2(tj, src, static_cast<int>(l.width), pitch, static_cast<int>(l.height), TJPF_RGBA, &dst, &size,
-                            TJSAMP_420, m_jpegQuality, TJFLAG_NOREALLOC | TJFLAG_FASTDCT) != 0) {
+            if (tjCompress2(tj, src, static_cast<int>(l.width), pitch, static_cast<int>(l.height), TJPF_RGBA, &dst,
+                            &size, TJSAMP_420, m_jpegQuality, TJFLAG_NOREALLOC | TJFLAG_FASTDCT) != 0) {
                 ok = false;
                 error = std::string("tjCompress2(MJPEG): ") + tjGetErrorStr2(tj);
             }

@@ -39,9 +39,9 @@ struct EncodedFrame {
 };
 
 struct EncoderStats {
-    std::uint64_t encoded = 0;    ///< frames encoded
-    std::uint64_t replaced = 0;   ///< requests superseded by a newer frame before they started
-    std::uint64_t failed = 0;     ///< frame overwritten before it could be read, or encoder error
+    std::uint64_t encoded = 0;   ///< frames encoded
+    std::uint64_t replaced = 0;  ///< requests superseded by a newer frame before they started
+    std::uint64_t failed = 0;    ///< frame overwritten before it could be read, or encoder error
     double zlibMsLast = 0, zlibMsMax = 0, jpegMsLast = 0, jpegMsMax = 0;
     std::string lastError;
 };
@@ -87,9 +87,9 @@ private:
     mutable std::mutex m_mutex;
     std::condition_variable m_cv;
     bool m_running = false;
-    std::map<Key, Job> m_jobs;       // waiting, at most one per ring and kind
-    std::optional<Key> m_served;     // the key of the last job started (round robin)
-    std::vector<Result> m_results;   // finished, not taken yet
+    std::map<Key, Job> m_jobs;      // waiting, at most one per ring and kind
+    std::optional<Key> m_served;    // the key of the last job started (round robin)
+    std::vector<Result> m_results;  // finished, not taken yet
     EncoderStats m_stats;
     // Worker-only scratch buffers (reused: no allocation per frame once warm).
     std::vector<std::uint8_t> m_pixels;

@@ -41,7 +41,8 @@ std::int64_t realtimeNs() noexcept {
 
 std::size_t FrameRingLayout::slotOffset(std::uint32_t i) const noexcept { return kRingHeaderBytes + slotBytes * i; }
 
-FrameRingLayout FrameRingLayout::make(std::uint32_t slots, std::uint32_t width, std::uint32_t height, PixelFormat format) {
+FrameRingLayout FrameRingLayout::make(std::uint32_t slots, std::uint32_t width, std::uint32_t height,
+                                      PixelFormat format) {
     FrameRingLayout l;
     l.slots = slots;
     l.width = width;
@@ -90,8 +91,8 @@ Result<std::unique_ptr<FrameRing>> FrameRing::create(const std::string& name, st
     auto* base = static_cast<std::uint8_t*>(p);
     // Touch every page now (server thread) so the render thread's first writes do not fault.
     std::memset(base, 0, layout.totalBytes);
-    const std::uint32_t hdr[] = {kRingMagic, kRingVersion, slots, width, height, layout.stride,
-                                 static_cast<std::uint32_t>(format)};
+    const std::uint32_t hdr[] = {
+        kRingMagic, kRingVersion, slots, width, height, layout.stride, static_cast<std::uint32_t>(format)};
     std::memcpy(base, hdr, sizeof(hdr));
     // Sealed after the writable mapping above exists: clients can rely on the size (no shrink or
     // grow), and nobody can make the memory writable any more, even a client that re-opens its
@@ -179,9 +180,9 @@ std::uint64_t FrameRing::write(const FrameView& frame) noexcept {
     const auto bytes = encodeFrameHeader(h);
     std::memcpy(s + kSlotHeaderOffset, bytes.data(), bytes.size());
 
-    const std::size_t srcStride =
-        frame.stride > 0 ? static_cast<std::size_t>(frame.stride)
-                         : static_cast<std::size_t>(frame.width) * static_cast<std::size_t>(bytesPerPixel(frame.format));
+    const std::size_t srcStride = frame.stride > 0 ? static_cast<std::size_t>(frame.stride)
+                                                   : static_cast<std::size_t>(frame.width) *
+                                                         static_cast<std::size_t>(bytesPerPixel(frame.format));
     std::uint8_t* dst = s + kSlotPixelOffset;
     if (frame.format == m_layout.format && srcStride == m_layout.stride) {
         std::memcpy(dst, frame.pixels, m_layout.pixelBytes());
@@ -231,7 +232,8 @@ bool FrameRing::read(std::uint64_t sequence, FrameHeader* header, std::uint8_t* 
 
 std::uint64_t FrameRing::latestMapped(const std::uint8_t* base) noexcept { return loadAcquire(base + kLatestOffset); }
 
-std::uint64_t FrameRing::lockWord(const std::uint8_t* base, const FrameRingLayout& layout, std::uint32_t slot) noexcept {
+std::uint64_t FrameRing::lockWord(const std::uint8_t* base, const FrameRingLayout& layout,
+                                  std::uint32_t slot) noexcept {
     __atomic_thread_fence(__ATOMIC_ACQUIRE);
     return __atomic_load_n(reinterpret_cast<const std::uint64_t*>(base + layout.slotOffset(slot)), __ATOMIC_RELAXED);
 }

@@ -13,10 +13,10 @@
 #include <nlohmann/json.hpp>
 #include <thread>
 
-#include "navmap/ipc/frame_header.h"
 #include "client_hub.h"
 #include "frame_encoder.h"
 #include "http_transport.h"
+#include "navmap/ipc/frame_header.h"
 #include "poll_loop.h"
 #include "shm_transport.h"
 #include "stream_report.h"
@@ -96,9 +96,9 @@ Status FrameServer::Impl::listen() {
     if (auto st = m_loop.open(); !st) {
         return st;
     }
-    for (stream_detail::StreamTransport* t : {static_cast<stream_detail::StreamTransport*>(&m_shm),
-                                              static_cast<stream_detail::StreamTransport*>(&m_tcp),
-                                              static_cast<stream_detail::StreamTransport*>(&m_http)}) {
+    for (stream_detail::StreamTransport* t :
+         {static_cast<stream_detail::StreamTransport*>(&m_shm), static_cast<stream_detail::StreamTransport*>(&m_tcp),
+          static_cast<stream_detail::StreamTransport*>(&m_http)}) {
         if (auto st = t->listen(m_loop); !st) {
             return st;
         }
@@ -218,7 +218,9 @@ FrameServer::FrameServer(FrameServerOptions options) : m_impl(std::make_unique<I
 FrameServer::~FrameServer() = default;
 Status FrameServer::start() { return m_impl->start(); }
 void FrameServer::stop() { m_impl->stop(); }
-std::size_t FrameServer::publish(const std::string& profile, const FrameView& frame) { return m_impl->publish(profile, frame); }
+std::size_t FrameServer::publish(const std::string& profile, const FrameView& frame) {
+    return m_impl->publish(profile, frame);
+}
 Status FrameServer::publishStatus(const std::string& profile, int width, int height, std::string json) {
     return m_impl->publishStatus(profile, width, height, std::move(json));
 }

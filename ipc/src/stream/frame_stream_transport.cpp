@@ -19,15 +19,9 @@ std::string errorFrame(const std::string& text) {
 
 void FrameStreamTransport::onInput(StreamConn& c) {
     switch (c.phase) {
-        case Phase::Handshake:
-            onHandshakeBytes(c);
-            return;
-        case Phase::Stream:
-            onStreamBytes(c);
-            return;
-        default:
-            c.in.clear();
-            return;
+        case Phase::Handshake: onHandshakeBytes(c); return;
+        case Phase::Stream: onStreamBytes(c); return;
+        default: c.in.clear(); return;
     }
 }
 
@@ -91,9 +85,9 @@ std::string FrameStreamTransport::handshakeReply(const StreamConn& c, const Stre
     nlohmann::json reply;
     reply["ok"] = true;
     reply["version"] = 1;
-    reply["profile"] = {{"name", r.profile.name}, {"width", r.profile.width}, {"height", r.profile.height},
-                        {"fps", r.profile.fps}, {"view", r.profile.view},
-                        {"format", pixelFormatName(r.profile.format)}};
+    reply["profile"] = {{"name", r.profile.name},     {"width", r.profile.width},
+                        {"height", r.profile.height}, {"fps", r.profile.fps},
+                        {"view", r.profile.view},     {"format", pixelFormatName(r.profile.format)}};
     reply["payload"] = streamPayloadName(r.payload);
     if (r.hold) {
         reply["hold"] = true;
@@ -101,8 +95,11 @@ std::string FrameStreamTransport::handshakeReply(const StreamConn& c, const Stre
     reply["stride"] = l.stride;
     reply["header_bytes"] = kFrameHeaderBytes;
     if (r.payload == StreamPayload::Shm) {
-        reply["ring"] = {{"slots", l.slots}, {"slot_bytes", l.slotBytes}, {"total_bytes", l.totalBytes},
-                         {"header_offset", kSlotHeaderOffset}, {"pixel_offset", kSlotPixelOffset}};
+        reply["ring"] = {{"slots", l.slots},
+                         {"slot_bytes", l.slotBytes},
+                         {"total_bytes", l.totalBytes},
+                         {"header_offset", kSlotHeaderOffset},
+                         {"pixel_offset", kSlotPixelOffset}};
     }
     return reply.dump() + "\n";
 }

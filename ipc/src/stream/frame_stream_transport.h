@@ -11,9 +11,9 @@
 #include <memory>
 #include <string>
 
+#include "frame_encoder.h"
 #include "navmap/ipc/frame_header.h"
 #include "navmap/ipc/stream_profile.h"
-#include "frame_encoder.h"
 #include "stream_transport.h"
 
 namespace navmap::ipc::stream_detail {

@@ -27,9 +27,7 @@ bool equalConstantTime(std::string_view given, std::string_view expected) {
     return diff == 0;
 }
 
-bool isLoopback(const std::string& address) {
-    return address.rfind("127.", 0) == 0 || address == "::1";
-}
+bool isLoopback(const std::string& address) { return address.rfind("127.", 0) == 0 || address == "::1"; }
 
 // "name:port", "[v6]:port" or either without the port; an empty name when malformed.
 void splitHost(const std::string& value, std::string* name, std::string* port) {

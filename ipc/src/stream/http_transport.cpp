@@ -25,9 +25,8 @@ nlohmann::json mjpegRequest(const StreamHttpRequest& req, const FrameServerOptio
         if (k == "token") {
             continue;  // checked by HttpAccess
         }
-        const bool numeric = !v.empty() && v.size() < 10 && std::all_of(v.begin(), v.end(), [](char ch) {
-            return ch >= '0' && ch <= '9';
-        });
+        const bool numeric = !v.empty() && v.size() < 10 &&
+                             std::all_of(v.begin(), v.end(), [](char ch) { return ch >= '0' && ch <= '9'; });
         if (numeric) {
             j[k] = std::stoi(v);
         } else {
@@ -199,7 +198,8 @@ void HttpTransport::startMjpeg(StreamConn& c, const StreamHttpRequest& req) {
     if (!ring) {
         const std::string& message = ring.error().message;
         const bool full = message.rfind("ring memory:", 0) == 0;
-        reply(c, full ? 503 : 500, full ? "Service Unavailable" : "Internal Server Error", "text/plain", message + "\n");
+        reply(c, full ? 503 : 500, full ? "Service Unavailable" : "Internal Server Error", "text/plain",
+              message + "\n");
         return;
     }
     c.ring = ring.value();
@@ -234,8 +234,8 @@ void HttpTransport::sendFrame(StreamConn& c) {
     m_hub.frameSent(c, seq);
 }
 
-void HttpTransport::reply(StreamConn& c, int code, const char* reason, const char* contentType,
-                          const std::string& body, const char* extraHeaders) {
+void HttpTransport::reply(StreamConn& c, int code, const char* reason, const char* contentType, const std::string& body,
+                          const char* extraHeaders) {
     if (code >= 400) {
         m_hub.stats().countError(&FrameServerStats::httpErrors, c.peer + ": HTTP " + std::to_string(code) + " " + body);
     }

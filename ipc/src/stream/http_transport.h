@@ -9,8 +9,8 @@
 #include <functional>
 #include <string>
 
-#include "navmap/ipc/metrics_registry.h"
 #include "http_access.h"
+#include "navmap/ipc/metrics_registry.h"
 #include "stream_transport.h"
 
 namespace navmap::ipc::stream_detail {

@@ -49,20 +49,26 @@ std::optional<int> parseArgs(int argc, char** argv, Options* o) {
     auto* unix = app.add_option("--unix", o->unixPath, "navmapd's frame socket (payload shm by default)");
     auto* tcpOpt = app.add_option("--tcp", tcp, "HOST:PORT of navmapd's TCP frame server (payload raw by default)");
     unix->excludes(tcpOpt);
-    app.add_option("--profile", profile, "cluster | hud | center | a profile the daemon renders")->capture_default_str();
+    app.add_option("--profile", profile, "cluster | hud | center | a profile the daemon renders")
+        ->capture_default_str();
     app.add_option("--width", width, "frame width (default: the profile's)")->check(integerIn(16, 4096));
     app.add_option("--height", height, "frame height (default: the profile's)")->check(integerIn(16, 4096));
-    app.add_option("--view", view, "bird | snail | hud (default: the profile's)")->check(CLI::IsMember({"bird", "snail", "hud"}));
+    app.add_option("--view", view, "bird | snail | hud (default: the profile's)")
+        ->check(CLI::IsMember({"bird", "snail", "hud"}));
     app.add_option("--fps", fps, "most frames per second wanted, 0 = every frame (default: the profile's)")
         ->check(integerIn(0, 1000));
     app.add_option("--format", format, "rgba8 | rgb565 (default rgba8)")->check(CLI::IsMember({"rgba8", "rgb565"}));
     app.add_option("--payload", payload, "shm | raw | zlib (default: shm over --unix, raw over --tcp)")
         ->check(CLI::IsMember({"shm", "raw", "zlib"}));
-    app.add_option("--frames", o->frames, "stop after N frames, 0 = no limit")->capture_default_str()->check(integerIn(0, 1LL << 40));
+    app.add_option("--frames", o->frames, "stop after N frames, 0 = no limit")
+        ->capture_default_str()
+        ->check(integerIn(0, 1LL << 40));
     app.add_option("--duration", o->duration, "stop after S seconds, 0 = no limit")->check(finiteIn(0.0, 1e7));
     app.add_option("--save", o->saveDir, "write frames as DIR/frame_<seq>.png");
-    app.add_option("--save-count", o->saveCount, "save at most N frames (default: all received)")->check(integerIn(0, 1LL << 40));
-    app.add_flag("--zero-copy", o->zeroCopy, "payload shm: use each frame in place in the ring until the next (no copy)");
+    app.add_option("--save-count", o->saveCount, "save at most N frames (default: all received)")
+        ->check(integerIn(0, 1LL << 40));
+    app.add_flag("--zero-copy", o->zeroCopy,
+                 "payload shm: use each frame in place in the ring until the next (no copy)");
     app.add_flag("--json", o->json, "print the summary as one JSON object (status lines go to stderr)");
     if (const auto exit_status = navmap::cli::parse(app, argc, argv)) {
         return exit_status;
@@ -134,10 +140,10 @@ int main(int argc, char** argv) {
     sigprocmask(SIG_BLOCK, &stopSignals, nullptr);
 
     const auto timeout = std::chrono::seconds(5);
-    auto connected = o.unixPath.empty()
-                         ? navmap::ipc::StreamClient::connectTcp(o.tcpHost, o.tcpPort, o.request, timeout,
-                                                                 navmap::ipc::zlibInflater())
-                         : navmap::ipc::StreamClient::connectUnix(o.unixPath, o.request, timeout, navmap::ipc::zlibInflater());
+    auto connected = o.unixPath.empty() ? navmap::ipc::StreamClient::connectTcp(o.tcpHost, o.tcpPort, o.request,
+                                                                                timeout, navmap::ipc::zlibInflater())
+                                        : navmap::ipc::StreamClient::connectUnix(o.unixPath, o.request, timeout,
+                                                                                 navmap::ipc::zlibInflater());
     if (!connected) {
         std::fprintf(stderr, "navmap-view: %s\n", connected.error().message.c_str());
         return 1;
@@ -229,13 +235,14 @@ int main(int argc, char** argv) {
     const double sP50 = percentile(sourceLatencyMs, 0.5), sP99 = percentile(sourceLatencyMs, 0.99);
     const double rP50 = percentile(renderLatencyMs, 0.5), rP99 = percentile(renderLatencyMs, 0.99);
     if (o.json) {
-        std::printf("{\"frames\":%ld,\"fps\":%.2f,\"dropped\":%llu,\"lost_locally\":%llu,\"saved\":%ld,\"statuses\":%llu,"
-                    "\"source_latency_ms\":{\"samples\":%zu,\"p50\":%.3f,\"p99\":%.3f},"
-                    "\"render_latency_ms\":{\"p50\":%.3f,\"p99\":%.3f},\"held_overwritten\":%llu,\"end\":\"%s\"}\n",
-                    received, fps, static_cast<unsigned long long>(dropped),
-                    static_cast<unsigned long long>(client.stats().lostLocally), saved,
-                    static_cast<unsigned long long>(client.stats().statuses), sourceLatencyMs.size(), sP50,
-                    sP99, rP50, rP99, static_cast<unsigned long long>(client.stats().heldOverwritten), endReason.c_str());
+        std::printf(
+            "{\"frames\":%ld,\"fps\":%.2f,\"dropped\":%llu,\"lost_locally\":%llu,\"saved\":%ld,\"statuses\":%llu,"
+            "\"source_latency_ms\":{\"samples\":%zu,\"p50\":%.3f,\"p99\":%.3f},"
+            "\"render_latency_ms\":{\"p50\":%.3f,\"p99\":%.3f},\"held_overwritten\":%llu,\"end\":\"%s\"}\n",
+            received, fps, static_cast<unsigned long long>(dropped),
+            static_cast<unsigned long long>(client.stats().lostLocally), saved,
+            static_cast<unsigned long long>(client.stats().statuses), sourceLatencyMs.size(), sP50, sP99, rP50, rP99,
+            static_cast<unsigned long long>(client.stats().heldOverwritten), endReason.c_str());
     } else {
         std::printf("frames %ld  fps %.2f  dropped %llu  saved %ld\n", received, fps,
                     static_cast<unsigned long long>(dropped), saved);

@@ -21,7 +21,7 @@ namespace navmap::ipc::stream_detail {
 
 class PollLoop {
 public:
-    using Interest = std::function<short()>;        ///< poll() events to wait for (POLLIN | ...)
+    using Interest = std::function<short()>;             ///< poll() events to wait for (POLLIN | ...)
     using Handler = std::function<void(short revents)>;  ///< called when revents != 0
 
     /// `name` goes into error texts: "poll(frame server): ...".

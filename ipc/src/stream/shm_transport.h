@@ -7,8 +7,8 @@
 // client sends one ack byte back per frame (credit of one frame). A client that holds frames has
 // its slot pinned from the notification until the ack. Server thread. Private to ipc/src/stream.
 
-#include "navmap/ipc/socket_access.h"
 #include "frame_stream_transport.h"
+#include "navmap/ipc/socket_access.h"
 
 namespace navmap::ipc::stream_detail {
 

@@ -45,7 +45,8 @@ Status sendAll(int fd, const char* data, std::size_t n, const std::string& peer)
 }  // namespace
 
 Result<std::unique_ptr<StreamClient>> StreamClient::connectUnix(const std::string& path, const StreamRequest& request,
-                                                                std::chrono::milliseconds timeout, FrameInflater inflate) {
+                                                                std::chrono::milliseconds timeout,
+                                                                FrameInflater inflate) {
     if (request.payload == StreamPayload::Zlib && !inflate) {
         return Error{"connect(" + path + "): payload zlib needs a FrameInflater (the client library links no zlib)"};
     }
@@ -58,7 +59,8 @@ Result<std::unique_ptr<StreamClient>> StreamClient::connectUnix(const std::strin
 
 Result<std::unique_ptr<StreamClient>> StreamClient::connectTcp(const std::string& host, int port,
                                                                const StreamRequest& request,
-                                                               std::chrono::milliseconds timeout, FrameInflater inflate) {
+                                                               std::chrono::milliseconds timeout,
+                                                               FrameInflater inflate) {
     const std::string peer = host + ":" + std::to_string(port);
     if (request.payload == StreamPayload::Shm) {
         return Error{"connect(" + peer + "): payload shm needs the Unix socket"};
@@ -74,7 +76,8 @@ Result<std::unique_ptr<StreamClient>> StreamClient::connectTcp(const std::string
 }
 
 Result<std::unique_ptr<StreamClient>> StreamClient::handshake(int rawFd, std::string peer, const StreamRequest& request,
-                                                              std::chrono::milliseconds timeout, FrameInflater inflate) {
+                                                              std::chrono::milliseconds timeout,
+                                                              FrameInflater inflate) {
     UniqueFd fd(rawFd);
     const auto deadline = Clock::now() + timeout;
     const std::string line = formatStreamRequest(request);
@@ -130,7 +133,8 @@ Result<std::unique_ptr<StreamClient>> StreamClient::handshake(int rawFd, std::st
             if (!sent.ok() && reply.empty()) {
                 return Error{sent.message()};
             }
-            return Error{"handshake with " + peer + ": connection closed" + (reply.empty() ? "" : " after '" + reply + "'")};
+            return Error{"handshake with " + peer + ": connection closed" +
+                         (reply.empty() ? "" : " after '" + reply + "'")};
         }
         reply.append(buf, static_cast<std::size_t>(r));
         const auto nl = reply.find('\n');
@@ -140,7 +144,8 @@ Result<std::unique_ptr<StreamClient>> StreamClient::handshake(int rawFd, std::st
             break;
         }
         if (reply.size() > kMaxHandshakeBytes) {
-            return Error{"handshake with " + peer + ": reply longer than " + std::to_string(kMaxHandshakeBytes) + " bytes"};
+            return Error{"handshake with " + peer + ": reply longer than " + std::to_string(kMaxHandshakeBytes) +
+                         " bytes"};
         }
     }
     const auto j = nlohmann::json::parse(reply, nullptr, false);
@@ -177,9 +182,9 @@ Result<std::unique_ptr<StreamClient>> StreamClient::handshake(int rawFd, std::st
             return Error{"handshake with " + peer + ": no shared-memory descriptor in the reply"};
         }
         const auto& ring = j.value("ring", nlohmann::json::object());
-        FrameRingLayout l = FrameRingLayout::make(ring.value("slots", 0U), static_cast<std::uint32_t>(client->m_profile.width),
-                                                  static_cast<std::uint32_t>(client->m_profile.height),
-                                                  client->m_profile.format);
+        FrameRingLayout l =
+            FrameRingLayout::make(ring.value("slots", 0U), static_cast<std::uint32_t>(client->m_profile.width),
+                                  static_cast<std::uint32_t>(client->m_profile.height), client->m_profile.format);
         struct stat st {};
         if (::fstat(memfd.get(), &st) != 0) {
             return Error{sysError("fstat", peer + " ring")};
@@ -319,8 +324,9 @@ Result<bool> StreamClient::release() {
     }
     // The slot's lock word tells whether the server had to overwrite it while it was held.
     const bool intact =
-        FrameRing::lockWord(m_map, FrameRingLayout::make(m_slots, static_cast<std::uint32_t>(m_profile.width),
-                                                         static_cast<std::uint32_t>(m_profile.height), m_profile.format),
+        FrameRing::lockWord(m_map,
+                            FrameRingLayout::make(m_slots, static_cast<std::uint32_t>(m_profile.width),
+                                                  static_cast<std::uint32_t>(m_profile.height), m_profile.format),
                             static_cast<std::uint32_t>(m_held)) == m_heldLock;
     m_held = -1;
     if (!intact) {
@@ -362,7 +368,8 @@ Result<bool> StreamClient::receive(ReceivedFrame* copy, HeldFrame* held, std::ch
         if (h.kind == FrameKind::Status) {
             // Before the first frame: what the server is doing about it. Not a frame; keep waiting.
             std::string text(h.payloadBytes, '\0');
-            if (auto s = readExact(reinterpret_cast<std::uint8_t*>(text.data()), text.size(), payloadDeadline, &timedOut);
+            if (auto s =
+                    readExact(reinterpret_cast<std::uint8_t*>(text.data()), text.size(), payloadDeadline, &timedOut);
                 !s) {
                 return Error{s.message()};
             }
@@ -382,8 +389,7 @@ Result<bool> StreamClient::receive(ReceivedFrame* copy, HeldFrame* held, std::ch
             continue;
         }
         const bool wantShm = m_payload == StreamPayload::Shm;
-        if ((h.encoding == FrameEncoding::Shm) != wantShm ||
-            h.width != static_cast<std::uint32_t>(m_profile.width) ||
+        if ((h.encoding == FrameEncoding::Shm) != wantShm || h.width != static_cast<std::uint32_t>(m_profile.width) ||
             h.height != static_cast<std::uint32_t>(m_profile.height) || h.format != m_profile.format) {
             return Error{m_peer + ": frame header does not match the negotiated profile"};
         }
@@ -410,7 +416,8 @@ Result<bool> StreamClient::receive(ReceivedFrame* copy, HeldFrame* held, std::ch
                     // Overwritten while the notification waited in the socket: the newest frame is
                     // in the ring too, and the newest frame is what we want anyway.
                     const std::uint64_t latest = FrameRing::latestMapped(m_map);
-                    if (latest > h.sequence && FrameRing::readMapped(m_map, l, latest, &slotHeader, copy->pixels.data())) {
+                    if (latest > h.sequence &&
+                        FrameRing::readMapped(m_map, l, latest, &slotHeader, copy->pixels.data())) {
                         h.sequence = latest;
                         ok = true;
                     }
@@ -456,7 +463,8 @@ Result<bool> StreamClient::receive(ReceivedFrame* copy, HeldFrame* held, std::ch
             if (auto s = readExact(m_compressed.data(), m_compressed.size(), payloadDeadline, &timedOut); !s) {
                 return Error{s.message()};
             }
-            if (!m_inflate || !m_inflate(m_compressed.data(), m_compressed.size(), copy->pixels.data(), copy->pixels.size())) {
+            if (!m_inflate ||
+                !m_inflate(m_compressed.data(), m_compressed.size(), copy->pixels.data(), copy->pixels.size())) {
                 return Error{m_peer + ": frame " + std::to_string(h.sequence) + ": zlib payload does not inflate to " +
                              std::to_string(copy->pixels.size()) + " bytes"};
             }

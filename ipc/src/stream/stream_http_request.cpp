@@ -39,7 +39,8 @@ Result<StreamHttpRequest> parseStreamHttpRequest(std::string_view head) {
     }
     const auto sp1 = line.find(' ');
     const auto sp2 = sp1 == std::string_view::npos ? sp1 : line.find(' ', sp1 + 1);
-    if (sp1 == std::string_view::npos || sp2 == std::string_view::npos || line.find(' ', sp2 + 1) != std::string_view::npos) {
+    if (sp1 == std::string_view::npos || sp2 == std::string_view::npos ||
+        line.find(' ', sp2 + 1) != std::string_view::npos) {
         return Error{"bad request line"};
     }
     StreamHttpRequest req;
@@ -66,7 +67,8 @@ Result<StreamHttpRequest> parseStreamHttpRequest(std::string_view head) {
             const std::string_view kv = rest.substr(0, amp);
             const auto eq = kv.find('=');
             if (!kv.empty()) {
-                req.query[std::string(kv.substr(0, eq))] = eq == std::string_view::npos ? "" : std::string(kv.substr(eq + 1));
+                req.query[std::string(kv.substr(0, eq))] =
+                    eq == std::string_view::npos ? "" : std::string(kv.substr(eq + 1));
             }
             if (amp == std::string_view::npos) {
                 break;

@@ -84,7 +84,8 @@ Result<StreamRequest> parseStreamRequest(std::string_view line) {
     if (!j.is_object()) {
         return Error{"handshake: expected a JSON object"};
     }
-    static const char* const kKeys[] = {"version", "profile", "width", "height", "fps", "view", "format", "payload", "hold"};
+    static const char* const kKeys[] = {"version", "profile", "width",   "height", "fps",
+                                        "view",    "format",  "payload", "hold"};
     for (const auto& item : j.items()) {
         bool known = false;
         for (const char* k : kKeys) {
@@ -93,7 +94,8 @@ Result<StreamRequest> parseStreamRequest(std::string_view line) {
         if (!known) {
             std::string key = item.key().substr(0, 64);
             for (char& c : key) {
-                if (static_cast<unsigned char>(c) < 0x20 || c == '"' || c == '\\' || static_cast<unsigned char>(c) >= 0x7F) {
+                if (static_cast<unsigned char>(c) < 0x20 || c == '"' || c == '\\' ||
+                    static_cast<unsigned char>(c) >= 0x7F) {
                     c = '?';
                 }
             }

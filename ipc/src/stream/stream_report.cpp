@@ -14,12 +14,14 @@ void collectTraffic(MetricsRegistry& r, const FrameServerStats& s) {
         .sample({{"transport", "shm"}}, d(s.shmClients))
         .sample({{"transport", "tcp"}}, d(s.tcpClients))
         .sample({{"transport", "mjpeg"}}, d(s.mjpegClients));
-    r.gauge("navmap_stream_rings", "Shared-memory rings (one per profile and pixel format with clients).").sample(d(s.rings));
+    r.gauge("navmap_stream_rings", "Shared-memory rings (one per profile and pixel format with clients).")
+        .sample(d(s.rings));
     r.counter("navmap_stream_frames_published_total", "Frames published by the render loop.").sample(d(s.published));
     r.counter("navmap_stream_frames_sent_total", "Frames handed to clients.").sample(d(s.framesSent));
     r.counter("navmap_stream_statuses_sent_total", "Status headers handed to clients waiting for their first frame.")
         .sample(d(s.statusesSent));
-    r.counter("navmap_stream_frames_dropped_total", "Frames skipped because a client was busy.").sample(d(s.framesDropped));
+    r.counter("navmap_stream_frames_dropped_total", "Frames skipped because a client was busy.")
+        .sample(d(s.framesDropped));
     r.counter("navmap_stream_held_frames_overwritten_total",
               "Frames written over a slot a client held, because every slot of its ring was held.")
         .sample(d(s.pinnedOverwrites));
@@ -56,7 +58,8 @@ void collectCosts(MetricsRegistry& r, const FrameServerStats& s, const EncoderSt
         .sample({{"stat", "max"}}, s.publishMsMax / 1000.0);
     r.counter("navmap_stream_encodes_total", "Frames compressed (zlib) or JPEG-encoded by the encoder thread.")
         .sample(d(es.encoded));
-    r.counter("navmap_stream_encodes_superseded_total", "Encode requests replaced by a newer frame before they started.")
+    r.counter("navmap_stream_encodes_superseded_total",
+              "Encode requests replaced by a newer frame before they started.")
         .sample(d(es.replaced));
     r.gauge("navmap_stream_encode_seconds", "Encoder-thread time per frame.")
         .sample({{"format", "zlib"}, {"stat", "last"}}, es.zlibMsLast / 1000.0)
@@ -104,8 +107,8 @@ std::string streamStatusJson(const FrameServerStats& s, const std::vector<Active
     j["stream"] = streamCounters(s);
     nlohmann::json profiles = nlohmann::json::array();
     for (const auto& a : active) {
-        profiles.push_back({{"view", a.view}, {"width", a.width}, {"height", a.height}, {"fps", a.maxFps},
-                            {"clients", a.clients}});
+        profiles.push_back(
+            {{"view", a.view}, {"width", a.width}, {"height", a.height}, {"fps", a.maxFps}, {"clients", a.clients}});
     }
     j["stream"]["profiles"] = profiles;
     j["daemon"] = nullptr;

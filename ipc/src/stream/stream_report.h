@@ -9,9 +9,9 @@
 #include <string>
 #include <vector>
 
+#include "frame_encoder.h"
 #include "navmap/ipc/frame_server.h"
 #include "navmap/ipc/metrics_registry.h"
-#include "frame_encoder.h"
 
 namespace navmap::ipc::stream_detail {
 

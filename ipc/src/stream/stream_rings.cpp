@@ -82,8 +82,8 @@ Result<std::string> RingSet::resolve(const StreamProfile& profile) {
 std::shared_ptr<RingEntry> RingSet::find(const std::string& key, const StreamProfile& profile) const {
     for (const auto& e : m_rings) {
         const FrameRingLayout& l = e->ring->layout();
-        if (e->key == key && static_cast<int>(l.width) == profile.width && static_cast<int>(l.height) == profile.height &&
-            l.format == profile.format) {
+        if (e->key == key && static_cast<int>(l.width) == profile.width &&
+            static_cast<int>(l.height) == profile.height && l.format == profile.format) {
             return e;
         }
     }
@@ -184,7 +184,8 @@ std::vector<ActiveProfile> RingSet::activeProfiles() const {
             }
         }
         if (!merged) {
-            active.push_back({e->key, e->view, static_cast<int>(l.width), static_cast<int>(l.height), e->maxFps, e->clients});
+            active.push_back(
+                {e->key, e->view, static_cast<int>(l.width), static_cast<int>(l.height), e->maxFps, e->clients});
         }
     }
     return active;

@@ -14,12 +14,12 @@
 #include <string>
 #include <vector>
 
+#include "frame_encoder.h"
 #include "navmap/ipc/frame_header.h"
 #include "navmap/ipc/frame_ring.h"
 #include "navmap/ipc/frame_server.h"
 #include "navmap/ipc/result.h"
 #include "navmap/ipc/stream_profile.h"
-#include "frame_encoder.h"
 
 namespace navmap::ipc::stream_detail {
 
@@ -88,7 +88,7 @@ private:
     std::vector<std::shared_ptr<RingEntry>> m_rings;  // server thread
     std::uint64_t m_ringCounter = 0;
     std::uint64_t m_retiredPinnedOverwrites = 0;  // of rings freed since (server thread)
-    mutable std::mutex m_publishMutex;  // guards the pointer swap only, never I/O
+    mutable std::mutex m_publishMutex;            // guards the pointer swap only, never I/O
     std::shared_ptr<const PublishSet> m_publishSet = std::make_shared<PublishSet>();
 };
 

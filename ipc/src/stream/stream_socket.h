@@ -10,9 +10,9 @@
 #include <optional>
 #include <string>
 
-#include "navmap/ipc/result.h"
 #include "navmap/ipc/net/sys_error.h"
 #include "navmap/ipc/net/unique_fd.h"
+#include "navmap/ipc/result.h"
 
 namespace navmap::ipc::stream_detail {
 

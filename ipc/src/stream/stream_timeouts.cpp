@@ -17,7 +17,8 @@ int StreamTimeouts::trackProgress(StreamConn& c, Clock::time_point now) {
     // taking bytes out of the send queue (SIOCOUTQ = bytes not yet acknowledged).
     int outq = 0;
     if (c.via != Via::Unix && ::ioctl(c.fd.get(), SIOCOUTQ, &outq) == 0) {
-        const std::uint64_t acked = c.bytesSent - std::min<std::uint64_t>(c.bytesSent, static_cast<std::uint64_t>(outq));
+        const std::uint64_t acked =
+            c.bytesSent - std::min<std::uint64_t>(c.bytesSent, static_cast<std::uint64_t>(outq));
         if (acked > c.bytesAcked || (outq == 0 && !c.outPending())) {
             c.bytesAcked = acked;
             c.lastProgress = now;

@@ -40,11 +40,13 @@ Status StreamTransport::listen(PollLoop& loop) {
         return {};  // not configured
     }
     m_listenFd.reset(fd.value());
-    loop.add(fd.value(), [] { return static_cast<short>(POLLIN); }, [this](short revents) {
-        if ((revents & POLLIN) != 0) {
-            acceptAll();
-        }
-    });
+    loop.add(
+        fd.value(), [] { return static_cast<short>(POLLIN); },
+        [this](short revents) {
+            if ((revents & POLLIN) != 0) {
+                acceptAll();
+            }
+        });
     return {};
 }
 
@@ -113,8 +115,7 @@ void StreamTransport::refuse(net::UniqueFd& fd, const std::string& peer, const R
     // Read what already arrived (usually the handshake), so closing does not turn into a reset
     // that could destroy the answer on its way; then answer without waiting and close.
     char buf[4096];
-    for (int i = 0; i < 16 && ::recv(fd.get(), buf, sizeof(buf), MSG_DONTWAIT) > 0; ++i) {
-    }
+    for (int i = 0; i < 16 && ::recv(fd.get(), buf, sizeof(buf), MSG_DONTWAIT) > 0; ++i) {}
     const std::string reply = refusalReply(refusal.message);
     [[maybe_unused]] const auto n = ::send(fd.get(), reply.data(), reply.size(), MSG_NOSIGNAL | MSG_DONTWAIT);
     ::shutdown(fd.get(), SHUT_WR);

@@ -12,9 +12,9 @@
 #include <optional>
 #include <string>
 
+#include "client_hub.h"
 #include "navmap/ipc/net/unique_fd.h"
 #include "navmap/ipc/result.h"
-#include "client_hub.h"
 #include "stream_conn.h"
 
 namespace navmap::ipc::stream_detail {

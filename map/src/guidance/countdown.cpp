@@ -21,16 +21,12 @@ Countdown countdownFor(double d) noexcept {
 std::string formatCountdown(const Countdown& c) {
     char buf[32];
     switch (c.kind) {
-    case Countdown::Kind::Invalid:
-        return {};
-    case Countdown::Kind::Now:
-        return "now";
-    case Countdown::Kind::Metres:
-        std::snprintf(buf, sizeof buf, "%.0f m", c.value);
-        return buf;
-    case Countdown::Kind::Kilometres:
-        std::snprintf(buf, sizeof buf, c.value >= 10.0 ? "%.0f km" : "%.1f km", c.value);
-        return buf;
+        case Countdown::Kind::Invalid: return {};
+        case Countdown::Kind::Now: return "now";
+        case Countdown::Kind::Metres: std::snprintf(buf, sizeof buf, "%.0f m", c.value); return buf;
+        case Countdown::Kind::Kilometres:
+            std::snprintf(buf, sizeof buf, c.value >= 10.0 ? "%.0f km" : "%.1f km", c.value);
+            return buf;
     }
     return {};
 }

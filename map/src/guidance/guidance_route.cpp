@@ -68,8 +68,8 @@ double GuidanceRoute::secondsAt(double measure_m) const {
     if (m_points.size() < 2) return 0.0;
     const double m = std::clamp(measure_m, 0.0, m_measures.back());
     const auto it = std::upper_bound(m_measures.begin(), m_measures.end(), m);
-    const std::size_t i = std::min<std::size_t>(static_cast<std::size_t>(std::max<std::ptrdiff_t>(1, it - m_measures.begin())) - 1,
-                                                m_points.size() - 2);
+    const std::size_t i = std::min<std::size_t>(
+        static_cast<std::size_t>(std::max<std::ptrdiff_t>(1, it - m_measures.begin())) - 1, m_points.size() - 2);
     const double len = m_measures[i + 1] - m_measures[i];
     const double t = len > 0.0 ? (m - m_measures[i]) / len : 0.0;
     return m_seconds[i] + (m_seconds[i + 1] - m_seconds[i]) * t;

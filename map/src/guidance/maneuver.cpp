@@ -10,13 +10,20 @@ namespace navmap::map::guidance {
 namespace {
 
 constexpr std::array<std::pair<ManeuverType, std::string_view>, kManeuverTypeCount> kNames{{
-    {ManeuverType::Depart, "depart"},           {ManeuverType::Arrive, "arrive"},
-    {ManeuverType::Straight, "straight"},       {ManeuverType::TurnLeft, "turn_left"},
-    {ManeuverType::TurnRight, "turn_right"},    {ManeuverType::SlightLeft, "slight_left"},
-    {ManeuverType::SlightRight, "slight_right"}, {ManeuverType::SharpLeft, "sharp_left"},
-    {ManeuverType::SharpRight, "sharp_right"},  {ManeuverType::UTurn, "u_turn"},
-    {ManeuverType::KeepLeft, "keep_left"},      {ManeuverType::KeepRight, "keep_right"},
-    {ManeuverType::Roundabout, "roundabout"},   {ManeuverType::Exit, "exit"},
+    {ManeuverType::Depart, "depart"},
+    {ManeuverType::Arrive, "arrive"},
+    {ManeuverType::Straight, "straight"},
+    {ManeuverType::TurnLeft, "turn_left"},
+    {ManeuverType::TurnRight, "turn_right"},
+    {ManeuverType::SlightLeft, "slight_left"},
+    {ManeuverType::SlightRight, "slight_right"},
+    {ManeuverType::SharpLeft, "sharp_left"},
+    {ManeuverType::SharpRight, "sharp_right"},
+    {ManeuverType::UTurn, "u_turn"},
+    {ManeuverType::KeepLeft, "keep_left"},
+    {ManeuverType::KeepRight, "keep_right"},
+    {ManeuverType::Roundabout, "roundabout"},
+    {ManeuverType::Exit, "exit"},
     {ManeuverType::Merge, "merge"},
 }};
 

@@ -126,13 +126,13 @@ private:
         // No choice: the driver follows the road however it bends.
         if (others.empty()) return std::nullopt;
         const bool same_road = sameRoad(in, outE);
-        const bool most_straight =
-            std::all_of(others.begin(), others.end(), [&](const Candidate& c) { return std::abs(c.angle) > std::abs(a); });
+        const bool most_straight = std::all_of(others.begin(), others.end(),
+                                               [&](const Candidate& c) { return std::abs(c.angle) > std::abs(a); });
         // Following the road that goes on most straight: nothing to say.
         if (same_road && most_straight) return std::nullopt;
         Maneuver m{ManeuverType::Straight, i, i, m_line[i].measure_m, m_line[i].measure_m, a, 0, street(out_i)};
         if (std::abs(a) < m_o.fork_deg) {
-            bool left_of_route = false;   // another near-straight way lies left of the route's
+            bool left_of_route = false;  // another near-straight way lies left of the route's
             bool right_of_route = false;
             for (const Candidate& c : others) {
                 if (std::abs(c.angle) >= m_o.fork_deg) continue;
@@ -147,8 +147,8 @@ private:
         if (std::abs(a) < m_o.turns.straight_deg) {
             // Straight on while the road the route was on turns away: say so; straight over a
             // crossing of other roads needs no word.
-            const bool road_turns_away =
-                std::any_of(others.begin(), others.end(), [&](const Candidate& c) { return sameRoad(in, m_g.edges[c.edge]); });
+            const bool road_turns_away = std::any_of(
+                others.begin(), others.end(), [&](const Candidate& c) { return sameRoad(in, m_g.edges[c.edge]); });
             return road_turns_away ? std::optional<Maneuver>(m) : std::nullopt;
         }
         m.type = classifyTurn(a, m_o.turns);
@@ -188,8 +188,8 @@ private:
         const double entry = arrivalHeading(i);
         const PlanarPoint node{m_g.nodes[exit_node].x, m_g.nodes[exit_node].y};
         const double turn = headingChange(entry, headingOf(node, edgeProbe(m_g, m_g.edges[out_i], m_o.probe_m)));
-        return Maneuver{ManeuverType::Roundabout, i, k, m_line[i].measure_m, m_line[k].measure_m, turn, exits + 1,
-                        street(out_i)};
+        return Maneuver{ManeuverType::Roundabout, i,    k,         m_line[i].measure_m,
+                        m_line[k].measure_m,      turn, exits + 1, street(out_i)};
     }
 
     const RoadGraph& m_g;

@@ -21,11 +21,13 @@ bool nonNegative(double v) { return std::isfinite(v) && v >= 0.0; }
 
 std::string OffRouteConfig::problem() const {
     if (!nonNegative(leave_distance_m)) return "leave_distance_m " + num(leave_distance_m) + " must be a distance >= 0";
-    if (!nonNegative(return_distance_m)) return "return_distance_m " + num(return_distance_m) + " must be a distance >= 0";
+    if (!nonNegative(return_distance_m))
+        return "return_distance_m " + num(return_distance_m) + " must be a distance >= 0";
     if (!nonNegative(leave_time_s)) return "leave_time_s " + num(leave_time_s) + " must be a time >= 0";
     if (!nonNegative(return_time_s)) return "return_time_s " + num(return_time_s) + " must be a time >= 0";
     if (return_distance_m >= leave_distance_m) {
-        return "return_distance_m " + num(return_distance_m) + " must be below leave_distance_m " + num(leave_distance_m);
+        return "return_distance_m " + num(return_distance_m) + " must be below leave_distance_m " +
+               num(leave_distance_m);
     }
     return {};
 }

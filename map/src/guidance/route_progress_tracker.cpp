@@ -28,7 +28,8 @@ void RouteProgressTracker::reset() {
     fill(0.0, Match{0.0, 0.0, m_progress.on_route});
 }
 
-std::optional<RouteProgressTracker::Match> RouteProgressTracker::nearest(PlanarPoint p, double from_m, double to_m) const {
+std::optional<RouteProgressTracker::Match> RouteProgressTracker::nearest(PlanarPoint p, double from_m,
+                                                                         double to_m) const {
     const auto& pts = m_route->points();
     const auto& ms = m_route->measures();
     if (pts.empty()) return std::nullopt;

@@ -56,8 +56,9 @@ EglContext::EglContext(Platform requested) {
     const Platform platform = platformFromEnvironment(requested);
     const char* client = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
     if (!client || !hasExtension(client, "EGL_EXT_platform_base")) {
-        throw RenderError("EGL: the EGL library offers no EGL_EXT_platform_base, so no headless platform can be "
-                          "chosen (is libegl-mesa0 or the NVIDIA EGL driver installed?)");
+        throw RenderError(
+            "EGL: the EGL library offers no EGL_EXT_platform_base, so no headless platform can be "
+            "chosen (is libegl-mesa0 or the NVIDIA EGL driver installed?)");
     }
     auto getPlatformDisplay =
         reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(eglGetProcAddress("eglGetPlatformDisplayEXT"));
@@ -137,8 +138,17 @@ bool EglContext::tryDisplay(EGLDisplay display, const std::string& name, std::st
         why = "eglBindAPI(EGL_OPENGL_ES_API) failed: " + eglErrorName(eglGetError());
         return false;
     }
-    const EGLint config_attribs[] = {EGL_RENDERABLE_TYPE, EGL_OPENGL_ES3_BIT, EGL_SURFACE_TYPE, 0,
-                                     EGL_RED_SIZE, 8, EGL_GREEN_SIZE, 8, EGL_BLUE_SIZE, 8, EGL_NONE};
+    const EGLint config_attribs[] = {EGL_RENDERABLE_TYPE,
+                                     EGL_OPENGL_ES3_BIT,
+                                     EGL_SURFACE_TYPE,
+                                     0,
+                                     EGL_RED_SIZE,
+                                     8,
+                                     EGL_GREEN_SIZE,
+                                     8,
+                                     EGL_BLUE_SIZE,
+                                     8,
+                                     EGL_NONE};
     EGLConfig config = nullptr;
     EGLint num_configs = 0;
     const bool have_config = eglChooseConfig(display, config_attribs, &config, 1, &num_configs) && num_configs > 0;
@@ -149,12 +159,13 @@ bool EglContext::tryDisplay(EGLDisplay display, const std::string& name, std::st
     // Prefer ES 3.2, fall back to 3.1 and 3.0 (the minimum, docs/architecture.md "Rendering").
     for (int want_minor : {2, 1, 0}) {
         const EGLint ctx_attribs[] = {EGL_CONTEXT_MAJOR_VERSION, 3, EGL_CONTEXT_MINOR_VERSION, want_minor, EGL_NONE};
-        EGLContext ctx = eglCreateContext(display, have_config ? config : EGL_NO_CONFIG_KHR, EGL_NO_CONTEXT, ctx_attribs);
+        EGLContext ctx =
+            eglCreateContext(display, have_config ? config : EGL_NO_CONFIG_KHR, EGL_NO_CONTEXT, ctx_attribs);
         if (ctx == EGL_NO_CONTEXT) continue;
         if (!eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, ctx)) {
             why = "eglMakeCurrent (surfaceless) failed: " + eglErrorName(eglGetError());
             eglDestroyContext(display, ctx);
-                return false;
+            return false;
         }
         m_display = display;
         m_context = ctx;

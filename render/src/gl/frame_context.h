@@ -21,7 +21,9 @@ struct GpuTile;
 
 using Clock = std::chrono::steady_clock;
 
-inline double msSince(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
+inline double msSince(Clock::time_point t) {
+    return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
+}
 
 struct FrameContext {
     const MapFrame& frame;

@@ -72,7 +72,8 @@ TargetHandle GlRenderer::addTarget(int width, int height) {
     checkSize(width, height);
     m_egl.makeCurrent();
     View view;
-    view.target = std::make_unique<RenderTarget>(width, height, m_options.msaa_samples, sharedDepthStencil(width, height));
+    view.target =
+        std::make_unique<RenderTarget>(width, height, m_options.msaa_samples, sharedDepthStencil(width, height));
     view.ring = std::make_unique<ReadbackRing>(width, height, m_options.readback_ring);
     m_device.msaa_samples = view.target->samples();
     const int id = m_next_id++;
@@ -86,7 +87,9 @@ GlRenderer::View& GlRenderer::view(TargetHandle target) {
     return it->second;
 }
 
-const GlRenderer::View& GlRenderer::view(TargetHandle target) const { return const_cast<GlRenderer*>(this)->view(target); }
+const GlRenderer::View& GlRenderer::view(TargetHandle target) const {
+    return const_cast<GlRenderer*>(this)->view(target);
+}
 
 bool GlRenderer::removeTarget(TargetHandle target) {
     if (target == primaryTarget() || !m_targets.contains(target.id())) return false;

@@ -21,10 +21,10 @@
 
 #include "navmap/map/tile.h"
 #include "navmap/render/map_frame.h"
-#include "road_draping.h"
 #include "navmap/render/road_style.h"
-#include "terrain_horizon.h"
 #include "navmap/render/terrain_lod.h"
+#include "road_draping.h"
+#include "terrain_horizon.h"
 #include "tile_mesh.h"
 #include "vertex_layout.h"
 
@@ -36,8 +36,8 @@ struct GpuTile {
     float size_m = 0.0f;
     GLuint terrain_vao = 0, terrain_vbo = 0, terrain_ibo = 0;
     GLenum terrain_index_type = GL_UNSIGNED_INT;  // GL_UNSIGNED_SHORT where the vertices allow
-    std::vector<TerrainBlock> terrain_blocks;  // drawn one by one or merged (land-cover levels)
-    GLuint land_cover = 0;  // 0: none (the shared empty texture is used)
+    std::vector<TerrainBlock> terrain_blocks;     // drawn one by one or merged (land-cover levels)
+    GLuint land_cover = 0;                        // 0: none (the shared empty texture is used)
     // The parent's and grandparent's land cover over this tile, for morphing it like the surface
     // (terrain_tile.frag); 0: that ancestor was not resident or has no land cover here.
     std::array<GLuint, 2> ancestor_cover{};
@@ -46,8 +46,8 @@ struct GpuTile {
     // first, bridges last), so the casing pass can skip the classes drawn without casing.
     std::array<GLsizei, kStyledRoadClasses> class_first{};
     GLsizei bridge_first = 0;
-    std::vector<BlockRun> road_runs;      // TileMesh::road_runs: pieces per group and block
-    std::vector<BlockExtent> road_blocks;  // their extents, for culling
+    std::vector<BlockRun> road_runs;        // TileMesh::road_runs: pieces per group and block
+    std::vector<BlockExtent> road_blocks;   // their extents, for culling
     std::vector<RoadInstance> road_pieces;  // as uploaded, quad q from piece q (OutlinePass::markCells)
     // The lowest its drawn surface can lie (RoadPass::buildHorizon), over its own heights and those of the
     // first floor_levels geomorph targets: the ones whose morph can start within the tile.
@@ -65,9 +65,11 @@ struct GpuTile {
         for (const auto& [dr, dc] : {std::pair{0, 0}, std::pair{0, 1}, std::pair{1, 0}, std::pair{1, 1}}) {
             const auto v = static_cast<std::size_t>((r + dr) * grid_size + c + dc);
             std::array<float, kMorphLevels> targets{};
-            for (std::size_t k = 0; k < kMorphLevels; ++k) targets[k] = v < ancestor_heights[k].size() ? ancestor_heights[k][v] : heights[v];
+            for (std::size_t k = 0; k < kMorphLevels; ++k)
+                targets[k] = v < ancestor_heights[k].size() ? ancestor_heights[k][v] : heights[v];
             const glm::dvec2 d = glm::dvec2(c + dc, r + dr) * spacing - at;
-            const auto distance = static_cast<float>(std::sqrt(glm::dot(d, d) + double(morph.eye_dz_m) * morph.eye_dz_m));
+            const auto distance =
+                static_cast<float>(std::sqrt(glm::dot(d, d) + double(morph.eye_dz_m) * morph.eye_dz_m));
             top = std::max(top, double(morphedHeight(distance, morph, heights[v], targets)));
         }
         return top;
@@ -78,9 +80,9 @@ struct GpuTile {
     GLsizei visible_first = 0, visible_count = 0, visible_casing_first = 0;
     GLuint buildings_vao = 0, buildings_vbo = 0, buildings_ibo = 0;
     GLsizei building_index_count = 0;
-    std::vector<BlockRun> building_runs;      // TileMesh::building_runs: indices per block
+    std::vector<BlockRun> building_runs;       // TileMesh::building_runs: indices per block
     std::vector<BlockExtent> building_blocks;  // their extents, for culling
-    std::vector<glm::vec3> label_points;  // labelPoints(): anchors and segments on the terrain
+    std::vector<glm::vec3> label_points;       // labelPoints(): anchors and segments on the terrain
     std::uint64_t last_used = 0;
     // This frame's camera relative to the tile's origin (MapRenderer::beginFrame), for every pass
     // and cull test.
@@ -92,7 +94,7 @@ struct GpuTile {
     TileMorph morph;
     // The route draped onto this tile's grid (seed 3.6.1), per route object and version.
     int grid_size = 0;
-    std::vector<float> heights;                                       // grid_size^2, for draping
+    std::vector<float> heights;                                     // grid_size^2, for draping
     std::array<std::vector<float>, kMorphLevels> ancestor_heights;  // the same for the morph targets
     const RouteGeometry* route_source = nullptr;
     std::uint64_t route_version = 0;

@@ -57,12 +57,12 @@ std::vector<PackedTerrainVertex> packTerrain(std::span<const TerrainVertex> vert
 GLenum uploadIndices(std::span<const std::uint32_t> indices, std::size_t vertex_count) {
     if (vertex_count <= 0xFFFF) {
         std::vector<std::uint16_t> narrow(indices.begin(), indices.end());
-        glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(narrow.size() * sizeof(std::uint16_t)), narrow.data(),
-                     GL_STATIC_DRAW);
+        glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(narrow.size() * sizeof(std::uint16_t)),
+                     narrow.data(), GL_STATIC_DRAW);
         return GL_UNSIGNED_SHORT;
     }
-    glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(indices.size() * sizeof(std::uint32_t)), indices.data(),
-                 GL_STATIC_DRAW);
+    glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(indices.size() * sizeof(std::uint32_t)),
+                 indices.data(), GL_STATIC_DRAW);
     return GL_UNSIGNED_INT;
 }
 
@@ -87,7 +87,6 @@ void uploadTerrain(GpuTile& g, const TileMesh& mesh) {
     glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, g.terrain_ibo);
     g.terrain_index_type = uploadIndices(mesh.terrain_indices, mesh.terrain.size());
     g.terrain_blocks = mesh.terrain_blocks;
-
 }
 
 // The road pieces as quads (quadVertices), their runs per block and where each class starts;
@@ -133,8 +132,7 @@ void uploadBuildings(GpuTile& g, TileMesh& mesh) {
                                                  {2, 3, GL_FLOAT, offsetof(BuildingVertex, color)},
                                                  {3, 1, GL_FLOAT, offsetof(BuildingVertex, footprint_m)}});
     glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, g.buildings_ibo);
-    glBufferData(GL_ELEMENT_ARRAY_BUFFER,
-                 static_cast<GLsizeiptr>(mesh.building_indices.size() * sizeof(std::uint32_t)),
+    glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(mesh.building_indices.size() * sizeof(std::uint32_t)),
                  mesh.building_indices.data(), GL_STATIC_DRAW);
     g.building_index_count = static_cast<GLsizei>(mesh.building_indices.size());
     g.building_runs = std::move(mesh.building_runs);
@@ -260,7 +258,8 @@ GpuTile* GpuTileCache::upload(const std::shared_ptr<const map::Tile>& tile, cons
     if (!mesh.building_indices.empty()) uploadBuildings(*gpu, mesh);
     glBindVertexArray(0);
     if (!mesh.land_cover.empty()) {
-        gpu->land_cover = rasterizeLandCover(mesh.land_cover, landCoverTextureSize(mesh.size_m), glm::vec2(0.0f), mesh.size_m);
+        gpu->land_cover =
+            rasterizeLandCover(mesh.land_cover, landCoverTextureSize(mesh.size_m), glm::vec2(0.0f), mesh.size_m);
     }
     // The ancestors' rasters over this tile at their own texel density (half, a quarter).
     for (std::size_t j = 0; j < gpu->ancestor_cover.size(); ++j) {
@@ -271,9 +270,10 @@ GpuTile* GpuTileCache::upload(const std::shared_ptr<const map::Tile>& tile, cons
         if (fresh) it->second = landCoverTriangles(*a);
         const std::vector<LandCoverVertex>& triangles = it->second;
         if (triangles.empty()) continue;
-        const glm::vec2 offset(static_cast<float>(mesh.origin.x - a->origin_x), static_cast<float>(mesh.origin.y - a->origin_y));
-        gpu->ancestor_cover[j] = rasterizeLandCover(triangles, landCoverTextureSize(static_cast<float>(a->size_m)) >> (j + 1),
-                                                    offset, mesh.size_m);
+        const glm::vec2 offset(static_cast<float>(mesh.origin.x - a->origin_x),
+                               static_cast<float>(mesh.origin.y - a->origin_y));
+        gpu->ancestor_cover[j] = rasterizeLandCover(
+            triangles, landCoverTextureSize(static_cast<float>(a->size_m)) >> (j + 1), offset, mesh.size_m);
     }
 
     GpuTile* raw = gpu.get();
@@ -282,7 +282,7 @@ GpuTile* GpuTileCache::upload(const std::shared_ptr<const map::Tile>& tile, cons
 }
 
 GLuint GpuTileCache::rasterizeLandCover(std::span<const LandCoverVertex> triangles, int size, glm::vec2 offset,
-                                       float extent) {
+                                        float extent) {
     GLuint texture = 0;
     glGenTextures(1, &texture);
     glBindTexture(GL_TEXTURE_2D, texture);

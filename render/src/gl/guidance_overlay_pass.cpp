@@ -88,8 +88,10 @@ void GuidanceOverlayPass::draw(const GuidanceOverlay& overlay, const MapStyle& s
         const text::RunId run = m_engine.run(utf8, font);
         laid.push_back(m_engine.layout(run, px, anchor));
         const text::LaidOutText& t = laid.back();
-        if (right_aligned) at.x -= t.metrics.width;
-        else if (anchor == text::TextAnchor::BaselineLeft) panel_right = std::max(panel_right, at.x + t.metrics.width);
+        if (right_aligned)
+            at.x -= t.metrics.width;
+        else if (anchor == text::TextAnchor::BaselineLeft)
+            panel_right = std::max(panel_right, at.x + t.metrics.width);
         draws.push_back({t.quads, t.size_px, at, 0.0f, 1.0f, 1.0f, ts});
     };
     add(overlay.distance, text::FontStyle::Bold, l.distance_px, l.distance_at, text::TextAnchor::BaselineLeft, false);

@@ -25,7 +25,7 @@ class TextLayer;
 
 /// Where the overlay puts its parts on a target (screen pixels, origin top left, y down).
 struct GuidanceLayout {
-    float unit = 1.0f;            ///< pixels per pixel of the 800 x 240 layout
+    float unit = 1.0f;  ///< pixels per pixel of the 800 x 240 layout
     glm::vec2 symbol_centre{0.0f};
     float symbol_px = 0.0f;       ///< side of the symbol's square
     glm::vec2 distance_at{0.0f};  ///< baseline start of the distance text

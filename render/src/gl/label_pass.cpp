@@ -13,8 +13,8 @@
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "text/label_text_style.h"
 #include "render_target.h"
+#include "text/label_text_style.h"
 #include "text_layer.h"
 
 namespace navmap::render::gl {
@@ -233,7 +233,8 @@ LabelPass::WorldFit LabelPass::worldCandidate(const MapFrame& frame, std::span<c
     glm::vec2 corners[4];
     const glm::vec2 signs[4] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
     for (int k = 0; k < 4; ++k) {
-        if (!project(center + right * (signs[k].x * half_m.x) + up * (signs[k].y * half_m.y), corners[k])) return WorldFit::Screen;
+        if (!project(center + right * (signs[k].x * half_m.x) + up * (signs[k].y * half_m.y), corners[k]))
+            return WorldFit::Screen;
     }
     const glm::vec2 baseline = 0.5f * ((corners[1] + corners[2]) - (corners[0] + corners[3]));
     if (!(glm::length(baseline) > 1.0f)) return WorldFit::Screen;
@@ -259,8 +260,9 @@ LabelPass::WorldFit LabelPass::worldCandidate(const MapFrame& frame, std::span<c
     bool hidden = false;
     for (const float sx : {-0.9f, -0.3f, 0.3f, 0.9f}) {
         for (const float sy : {-0.6f, 0.6f}) {
-            hidden = hidden ||
-                     behindTerrain(tiles, center + right * (reach * sx * half_m.x) + up * (reach * sy * half_m.y), clearance);
+            hidden =
+                hidden || behindTerrain(tiles, center + right * (reach * sx * half_m.x) + up * (reach * sy * half_m.y),
+                                        clearance);
         }
     }
     if (hidden) return WorldFit::Hidden;
@@ -293,7 +295,8 @@ void LabelPass::collect(const MapFrame& frame, std::span<const TileLabels> tiles
     // neighbour) takes its anchor and segment from the most detailed one.
     m_tile_order.resize(tiles.size());
     for (std::size_t k = 0; k < tiles.size(); ++k) m_tile_order[k] = k;
-    std::ranges::stable_sort(m_tile_order, [&](std::size_t x, std::size_t y) { return tiles[x].size_m < tiles[y].size_m; });
+    std::ranges::stable_sort(m_tile_order,
+                             [&](std::size_t x, std::size_t y) { return tiles[x].size_m < tiles[y].size_m; });
     for (const std::size_t k : m_tile_order) {
         const TileLabels& t = tiles[k];
         if (!t.tile || t.points.size() != t.tile->labels.size() * 3) continue;
@@ -340,8 +343,9 @@ void LabelPass::collect(const MapFrame& frame, std::span<const TileLabels> tiles
                 };
                 const glm::dvec3 a = onGround(t.origin + glm::dvec3(t.points[3 * i + 1]));
                 const glm::dvec3 b = onGround(t.origin + glm::dvec3(t.points[3 * i + 2]));
-                const glm::dvec3 at =
-                    c.kind == nl::LabelKind::Line && glm::length(b - a) >= 1.0 ? onGround(0.5 * (a + b)) : onGround(anchor);
+                const glm::dvec3 at = c.kind == nl::LabelKind::Line && glm::length(b - a) >= 1.0
+                                          ? onGround(0.5 * (a + b))
+                                          : onGround(anchor);
                 const WorldFit fit = worldCandidate(frame, tiles, m_view_projection, vp, at, a, b, size, f, c);
                 if (fit == WorldFit::Hidden) continue;
                 if (fit == WorldFit::Screen) {
@@ -478,8 +482,9 @@ void LabelPass::layout(const MapFrame& frame, std::span<const TileLabels> tiles,
     dropRepeatedStreets();
     keepOut(frame, tiles, vp, marker, route_width_m);
     m_layout.setKeepOut(m_keep_out);
-    m_layout.setFrame(m_candidates,
-                      nl::CameraState{tilt, vp, static_cast<float>(glm::length(frame.camera.target - frame.camera.eye))});
+    m_layout.setFrame(
+        m_candidates,
+        nl::CameraState{tilt, vp, static_cast<float>(glm::length(frame.camera.target - frame.camera.eye))});
     m_layout.advance(dt);
     const float world = m_switch.worldWeight();
 
@@ -525,15 +530,15 @@ void LabelPass::layout(const MapFrame& frame, std::span<const TileLabels> tiles,
             const float screen_alpha = p.alpha * (f.world ? 1.0f - world : 1.0f);
             m_screen.push_back({t.quads, t.size_px, p.box.center, angle, p.scale, screen_alpha, s.style});
             drawn.cap_height_px = t.metrics.cap_height * p.scale;
-            text::appendDrawnGlyphBoxes(t.quads, t.size_px, p.scale, angle, p.box.center, spread_em,
-                                        s.style.outline_px, s.style.halo_px, drawn.glyph_boxes);
+            text::appendDrawnGlyphBoxes(t.quads, t.size_px, p.scale, angle, p.box.center, spread_em, s.style.outline_px,
+                                        s.style.halo_px, drawn.glyph_boxes);
         }
         if (world > 0.0f && f.world) {
             // seed 5.2.1: the text lies in its plane where the layout box's center is seen.
             const WorldPlane& pl = f.plane;
             const glm::vec2 ndc(p.box.center.x / vp.x * 2.0f - 1.0f, 1.0f - p.box.center.y / vp.y * 2.0f);
-            const glm::vec3 ray =
-                glm::vec3(inverse_view * glm::vec4(ndc.x / m_projection[0][0], ndc.y / m_projection[1][1], -1.0f, 0.0f));
+            const glm::vec3 ray = glm::vec3(
+                inverse_view * glm::vec4(ndc.x / m_projection[0][0], ndc.y / m_projection[1][1], -1.0f, 0.0f));
             const glm::vec3 origin(pl.origin - m_eye);
             const float denom = glm::dot(pl.normal, ray);
             const float hit = std::abs(denom) > 1e-6f ? glm::dot(pl.normal, origin) / denom : -1.0f;
@@ -572,7 +577,8 @@ void LabelPass::layout(const MapFrame& frame, std::span<const TileLabels> tiles,
                         for (const text::GlyphQuad& q : t.quads) {
                             const glm::vec2 lo = q.p0 + inset, hi = q.p1 - inset;
                             if (!(hi.x > lo.x && hi.y > lo.y)) continue;
-                            drawn.glyph_boxes.push_back({project(lo), project({hi.x, lo.y}), project(hi), project({lo.x, hi.y})});
+                            drawn.glyph_boxes.push_back(
+                                {project(lo), project({hi.x, lo.y}), project(hi), project({lo.x, hi.y})});
                         }
                         const float cap_m = t.metrics.cap_height * metres_per_px;
                         const float half_w = 0.5f * t.metrics.width * metres_per_px;

@@ -22,13 +22,13 @@
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
+#include "labels/label_space_switch.h"
 #include "navmap/map/tile.h"
 #include "navmap/render/labels/label_layout.h"
-#include "labels/label_space_switch.h"
 #include "navmap/render/map_frame.h"
+#include "navmap/render/text/text_engine.h"
 #include "road_draping.h"
 #include "text/text_draw.h"
-#include "navmap/render/text/text_engine.h"
 
 namespace navmap::render::gl {
 
@@ -37,10 +37,10 @@ class TextLayer;
 /// One tile drawn this frame: its label features with terrain heights, and its height grid.
 struct TileLabels {
     const map::Tile* tile = nullptr;
-    glm::dvec3 origin{0.0};              ///< store-frame metres of the tile's south-west corner
-    std::span<const glm::vec3> points;   ///< labelPoints() of the tile (empty: no labels)
-    HeightGrid grid;                     ///< the tile's heights (the route's keep-out area is draped on them)
-    double size_m = 0.0;                 ///< edge length of the tile square
+    glm::dvec3 origin{0.0};             ///< store-frame metres of the tile's south-west corner
+    std::span<const glm::vec3> points;  ///< labelPoints() of the tile (empty: no labels)
+    HeightGrid grid;                    ///< the tile's heights (the route's keep-out area is draped on them)
+    double size_m = 0.0;                ///< edge length of the tile square
 };
 
 /// Choices of the label pass that are not layout physics (LayoutParams has those).
@@ -133,22 +133,22 @@ private:
     /// spanned by `right` (its baseline, along the road) and `up`, turned about the baseline
     /// to face the camera; store frame.
     struct WorldPlane {
-        glm::dvec3 origin{0.0};   ///< on the ground it names, lifted by world_lift_m
+        glm::dvec3 origin{0.0};  ///< on the ground it names, lifted by world_lift_m
         glm::vec3 right{1.0f, 0.0f, 0.0f};
         glm::vec3 up{0.0f, 0.0f, 1.0f};
         glm::vec3 normal{0.0f, -1.0f, 0.0f};
-        float em_m = 1.0f;        ///< em height of its text in the world
+        float em_m = 1.0f;  ///< em height of its text in the world
     };
     /// A label feature, kept while it is an input or still fading out.
     struct Feature {
         std::string name;
         map::LabelKind kind = map::LabelKind::Place;
         std::uint8_t subclass = 0;
-        glm::dvec3 anchor{0.0};   ///< store frame, on the terrain
-        std::uint64_t frame = 0;  ///< last frame it was a candidate
-        bool world = false;       ///< `plane` holds this frame's world-space placement
-        bool shown_world = false; ///< in last frame's output, in world space
-        bool shown_screen = false; ///< in last frame's output, in screen space within a world layout
+        glm::dvec3 anchor{0.0};     ///< store frame, on the terrain
+        std::uint64_t frame = 0;    ///< last frame it was a candidate
+        bool world = false;         ///< `plane` holds this frame's world-space placement
+        bool shown_world = false;   ///< in last frame's output, in world space
+        bool shown_screen = false;  ///< in last frame's output, in screen space within a world layout
         WorldPlane plane;
     };
     /// The text of a label at scale 1: measured size, cap height, and the margin its outline and
@@ -169,8 +169,8 @@ private:
     };
     /// The candidate of a label drawn in the world: plane, projected box, legibility.
     WorldFit worldCandidate(const MapFrame& frame, std::span<const TileLabels> tiles, const glm::mat4& view_projection,
-                            glm::vec2 viewport, const glm::dvec3& anchor, const glm::dvec3& seg_a, const glm::dvec3& seg_b,
-                            const TextSize& t, Feature& f, labels::LabelCandidate& c) const;
+                            glm::vec2 viewport, const glm::dvec3& anchor, const glm::dvec3& seg_a,
+                            const glm::dvec3& seg_b, const TextSize& t, Feature& f, labels::LabelCandidate& c) const;
     /// Whether the terrain hides an eye-relative point: lines of sight over the drawn tiles.
     /// `clearance_m`: how far above the grid the line must pass (negative: how far below it may).
     bool behindTerrain(std::span<const TileLabels> tiles, const glm::vec3& target, float clearance_m) const;
@@ -203,7 +203,7 @@ private:
     std::vector<std::size_t> m_world_drawn;  ///< index into the frame's drawn_labels, per m_world entry
     std::vector<LabelOccluder> m_occluders;
     std::uint64_t m_frame = 0;
-    std::unordered_map<std::uint64_t, TextSize> m_sizes;   ///< text extent at scale 1 by id
+    std::unordered_map<std::uint64_t, TextSize> m_sizes;  ///< text extent at scale 1 by id
     glm::mat4 m_projection{1.0f};
 };
 

@@ -26,7 +26,6 @@ constexpr float kNoHead = 1e9f;
 // times the roads', map_renderer.cpp).
 constexpr float kArrowOffsetFactor = 2.0f;
 
-
 }  // namespace
 
 ManeuverArrowPass::ManeuverArrowPass()
@@ -113,8 +112,8 @@ void ManeuverArrowPass::draw(const MapFrame& frame, const MapStyle& style, const
         if (shape.line.points.size() < 2) continue;
         const float e = std::min(arrow.emphasis, 1.0f);
         Stroke s;
-        s.shape = {static_cast<float>(shape.head_m), static_cast<float>(shape.tip_m), static_cast<float>(shape.casing_tip_m),
-                   shape.casing_m};
+        s.shape = {static_cast<float>(shape.head_m), static_cast<float>(shape.tip_m),
+                   static_cast<float>(shape.casing_tip_m), shape.casing_m};
         s.widths = {shape.half_width_m, shape.head_half_width_m};
         // Fainter: towards the route's colours, which the arrow lies on.
         s.fill = glm::vec4(glm::mix(style.route_color, style.arrow_fill, e), 1.0f);
@@ -149,7 +148,8 @@ void ManeuverArrowPass::draw(const MapFrame& frame, const MapStyle& style, const
             glUniform1f(m_program.uniform("u_z_offset"), kArrowOffsetFactor * style.roads.z_offset_alpha);
             glUniformMatrix4fv(m_program.uniform("u_projection"), 1, GL_FALSE, glm::value_ptr(projection));
             for (std::size_t r = s.first_run; r < s.first_run + s.runs; ++r) {
-                glUniformMatrix4fv(m_program.uniform("u_view"), 1, GL_FALSE, glm::value_ptr(tiles[m_runs[r].tile].view));
+                glUniformMatrix4fv(m_program.uniform("u_view"), 1, GL_FALSE,
+                                   glm::value_ptr(tiles[m_runs[r].tile].view));
                 m_quad_indices.draw(m_runs[r].first, m_runs[r].count);
             }
         }

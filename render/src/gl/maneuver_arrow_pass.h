@@ -17,22 +17,22 @@
 #include <glm/mat4x4.hpp>
 
 #include "navmap/render/map_frame.h"
-#include "road_draping.h"
-#include "tile_mesh.h"
 #include "quad_indices.h"
 #include "render_target.h"
+#include "road_draping.h"
 #include "shader_program.h"
+#include "tile_mesh.h"
 
 namespace navmap::render::gl {
 
 /// One drawn tile as the arrows need it: its grid (the route's draping grid) and this frame's
 /// geomorph and view.
 struct ArrowTile {
-    glm::dvec3 origin{0.0};  ///< store-frame metres of its south-west corner
-    HeightGrid grid;         ///< its heights as drawn (size 0: nothing is draped onto it)
+    glm::dvec3 origin{0.0};                            ///< store-frame metres of its south-west corner
+    HeightGrid grid;                                   ///< its heights as drawn (size 0: nothing is draped onto it)
     std::array<HeightGrid, kMorphLevels> ancestors{};  ///< the geomorph targets' heights on its grid
-    TileMorph morph;         ///< this frame's geomorph ranges (ancestors unused)
-    glm::mat4 view{1.0f};    ///< this frame's camera relative to origin
+    TileMorph morph;                                   ///< this frame's geomorph ranges (ancestors unused)
+    glm::mat4 view{1.0f};                              ///< this frame's camera relative to origin
 };
 
 /// Needs a current GLES 3 context (create, use, destroy on its thread).
@@ -59,14 +59,14 @@ public:
 private:
     /// One arrow or road draped onto the tiles: its quads per tile in m_vertices.
     struct Stroke {
-        glm::vec4 shape{0.0f};   ///< arrow_geo.vert u_shape
-        glm::vec2 widths{0.0f};  ///< u_widths
-        glm::vec4 fill{0.0f}, casing{0.0f};  ///< colours (casing alpha 0: no casing pass)
-        bool glows = false;      ///< shines through buildings (arrows)
+        glm::vec4 shape{0.0f};                ///< arrow_geo.vert u_shape
+        glm::vec2 widths{0.0f};               ///< u_widths
+        glm::vec4 fill{0.0f}, casing{0.0f};   ///< colours (casing alpha 0: no casing pass)
+        bool glows = false;                   ///< shines through buildings (arrows)
         std::size_t first_run = 0, runs = 0;  ///< into m_runs
     };
     struct Run {
-        std::size_t tile = 0;  ///< index into the tiles
+        std::size_t tile = 0;          ///< index into the tiles
         GLsizei first = 0, count = 0;  ///< quads in m_vertices
     };
     void addStroke(const RouteGeometry& line, const Stroke& stroke, std::span<const ArrowTile> tiles, glm::dvec3 eye);

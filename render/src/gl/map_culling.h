@@ -26,7 +26,8 @@ inline float routeOuterWidth(float route_width_m) { return (1.0f + 2.0f * kRoute
 inline float roadWideningPx(const MapStyle& style) {
     const float min_width = style.roads.min_width_px;
     float most = leastWidthGrowthPx(min_width, routeOuterWidth(style.route_width_m), style.route_width_m);
-    for (const RoadClassStyle& c : style.roads.classes) most = std::max(most, leastWidthGrowthPx(min_width, c.outerWidth(), c.width_m));
+    for (const RoadClassStyle& c : style.roads.classes)
+        most = std::max(most, leastWidthGrowthPx(min_width, c.outerWidth(), c.width_m));
     return most;
 }
 
@@ -35,7 +36,8 @@ inline float roadWideningPx(const MapStyle& style) {
 inline bool boxInView(const glm::mat4& view_projection, glm::vec3 lo, glm::vec3 hi, bool far = true) {
     std::array<int, 6> outside{};
     for (int i = 0; i < 8; ++i) {
-        const glm::vec4 c = view_projection * glm::vec4((i & 1) ? hi.x : lo.x, (i & 2) ? hi.y : lo.y, (i & 4) ? hi.z : lo.z, 1.0f);
+        const glm::vec4 c =
+            view_projection * glm::vec4((i & 1) ? hi.x : lo.x, (i & 2) ? hi.y : lo.y, (i & 4) ? hi.z : lo.z, 1.0f);
         outside[0] += c.x < -c.w;
         outside[1] += c.x > c.w;
         outside[2] += c.y < -c.w;
@@ -64,7 +66,8 @@ struct QuadReach {
 };
 inline QuadReach quadReach(glm::vec3 eye, const BlockExtent& e, float half_width, const RoadStyle& rs) {
     const float farthest = glm::length(glm::max(glm::abs(eye - e.min), glm::abs(eye - e.max)));
-    return {farthest, std::numbers::sqrt2_v<float> * half_width * distanceWidthScale(farthest, rs.scale_threshold_m, rs.max_scale)};
+    return {farthest, std::numbers::sqrt2_v<float> * half_width *
+                          distanceWidthScale(farthest, rs.scale_threshold_m, rs.max_scale)};
 }
 
 // Whether road or route quads drawn from pieces within `e`, reaching `reach` beyond it, can reach

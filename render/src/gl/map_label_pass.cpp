@@ -40,8 +40,8 @@ void MapLabelPass::draw(const FrameContext& ctx) {
     if (ctx.layers().measure_label_occlusion) {
         glFinish();  // the frame's drawing so far is the frame's cost, not the measurement's
         const auto t_occlusion = Clock::now();
-        m_current->measureOcclusion(target.depthStencilRenderbuffer(), target.samples(), {target.width(), target.height()},
-                                    ctx.stats);
+        m_current->measureOcclusion(target.depthStencilRenderbuffer(), target.samples(),
+                                    {target.width(), target.height()}, ctx.stats);
         target.bindForDrawing(false);
         ctx.stats.label_occlusion_ms = msSince(t_occlusion);
     }

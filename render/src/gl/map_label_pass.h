@@ -37,9 +37,9 @@ public:
     void dropTarget(int target_id) { m_passes.erase(target_id); }
 
 private:
-    std::shared_ptr<LabelText> m_text;  // fonts and glyph atlas of every target's label pass
+    std::shared_ptr<LabelText> m_text;                             // fonts and glyph atlas of every target's label pass
     std::unordered_map<int, std::unique_ptr<LabelPass>> m_passes;  // by target
-    LabelPass* m_current = nullptr;  // this frame's (layout())
+    LabelPass* m_current = nullptr;                                // this frame's (layout())
     std::vector<TileLabels> m_tile_labels;
 };
 

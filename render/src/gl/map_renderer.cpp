@@ -41,7 +41,11 @@ private:
 };
 
 MapRenderer::MapRenderer(const RendererOptions& options, bool software)
-    : m_options(options), m_style(MapStyle::day()), m_cache(options), m_roads(m_cache.roadIndexBuffer()), m_outlines(software) {}
+    : m_options(options),
+      m_style(MapStyle::day()),
+      m_cache(options),
+      m_roads(m_cache.roadIndexBuffer()),
+      m_outlines(software) {}
 
 MapRenderer::~MapRenderer() = default;
 
@@ -65,8 +69,9 @@ FrameContext MapRenderer::beginFrame(const MapFrame& frame, const RenderTarget& 
     };
     // Clip x and y scaled down so that the planes x = +-w, y = +-w lie the widening further out.
     const float widening_px = roadWideningPx(m_style);
-    const glm::mat4 grow = glm::scale(glm::mat4(1.0f), glm::vec3(1.0f / (1.0f + 2.0f * widening_px / static_cast<float>(target.width())),
-                                                                  1.0f / (1.0f + 2.0f * widening_px / static_cast<float>(target.height())), 1.0f));
+    const glm::mat4 grow = glm::scale(
+        glm::mat4(1.0f), glm::vec3(1.0f / (1.0f + 2.0f * widening_px / static_cast<float>(target.width())),
+                                   1.0f / (1.0f + 2.0f * widening_px / static_cast<float>(target.height())), 1.0f));
     for (GpuTile* g : tiles) {
         g->view = frame.camera.viewRelativeTo(g->origin);
         g->view_projection = projection * g->view;
@@ -241,7 +246,8 @@ void MapRenderer::drawArrows(const FrameContext& ctx) {
         if (g.grid_size < 2) continue;
         const double spacing = g.size_m / double(g.grid_size - 1);
         a.grid = {g.grid_size, spacing, g.heights.data()};
-        for (std::size_t j = 0; j < a.ancestors.size(); ++j) a.ancestors[j] = {g.grid_size, spacing, g.ancestor_heights[j].data()};
+        for (std::size_t j = 0; j < a.ancestors.size(); ++j)
+            a.ancestors[j] = {g.grid_size, spacing, g.ancestor_heights[j].data()};
     }
     const GLuint terrain_depth = m_effects && wantsGlow(ctx.layers()) ? m_effects->terrainDepth(ctx.target) : 0;
     m_arrows->draw(ctx.frame, m_style, ctx.target, ctx.projection, arrow_tiles, terrain_depth);

@@ -10,9 +10,9 @@
 
 #include "building_pass.h"
 #include "frame_context.h"
+#include "gpu_tile_cache.h"
 #include "guidance_overlay_pass.h"
 #include "maneuver_arrow_pass.h"
-#include "gpu_tile_cache.h"
 #include "map_label_pass.h"
 #include "marker_pass.h"
 #include "navmap/render/map_frame.h"

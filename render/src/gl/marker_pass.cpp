@@ -37,7 +37,8 @@ std::optional<MarkerPass::OnScreen> MarkerPass::place(const FrameContext& ctx) c
     if (out.anchor_clip.w <= 0.0f) return std::nullopt;  // behind the camera
     // Heading as it appears on screen: project a point a few metres ahead.
     const double rad = glm::radians(m.heading_deg);
-    const glm::vec4 ahead = vp * glm::vec4(static_cast<float>(5.0 * std::sin(rad)), static_cast<float>(5.0 * std::cos(rad)), 0.0f, 1.0f);
+    const glm::vec4 ahead =
+        vp * glm::vec4(static_cast<float>(5.0 * std::sin(rad)), static_cast<float>(5.0 * std::cos(rad)), 0.0f, 1.0f);
     const glm::vec2 a = glm::vec2(out.anchor_clip) / out.anchor_clip.w * glm::vec2(target.width(), target.height());
     const glm::vec2 b = glm::vec2(ahead) / ahead.w * glm::vec2(target.width(), target.height());
     const glm::vec2 dir = b - a;
@@ -67,7 +68,8 @@ void MarkerPass::draw(const FrameContext& ctx, const OnScreen& marker) {
     glUseProgram(m_program.id());
     glUniform4fv(m_program.uniform("u_anchor_clip"), 1, glm::value_ptr(marker.anchor_clip));
     glUniform2fv(m_program.uniform("u_screen_dir"), 1, glm::value_ptr(marker.screen_dir));
-    glUniform2f(m_program.uniform("u_viewport"), static_cast<float>(target.width()), static_cast<float>(target.height()));
+    glUniform2f(m_program.uniform("u_viewport"), static_cast<float>(target.width()),
+                static_cast<float>(target.height()));
     // Outline first (slightly larger, dark), then the fill.
     glBindVertexArray(m_vao);
     const glm::vec4 dark(0.1f, 0.1f, 0.1f, 1.0f);

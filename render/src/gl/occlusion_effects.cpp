@@ -98,10 +98,9 @@ void bindFullscreen(GLuint vao) {
 void blitDepth(const RenderTarget& target, GLuint fbo) {
     glBindFramebuffer(GL_READ_FRAMEBUFFER, target.drawFramebuffer());
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo);
-    glBlitFramebuffer(0, 0, target.width(), target.height(), 0, 0, target.width(), target.height(),
-                      GL_DEPTH_BUFFER_BIT, GL_NEAREST);
+    glBlitFramebuffer(0, 0, target.width(), target.height(), 0, 0, target.width(), target.height(), GL_DEPTH_BUFFER_BIT,
+                      GL_NEAREST);
 }
-
 
 // One enlarged label OOBB for aura_mask.vert.
 struct MaskInstance {
@@ -193,9 +192,10 @@ OcclusionEffects::OcclusionEffects()
     glGenBuffers(1, &m_mask_vbo);
     glBindVertexArray(m_mask_vao);
     glBindBuffer(GL_ARRAY_BUFFER, m_mask_vbo);
-    setVertexAttributes(sizeof(MaskInstance), {{0, 4, GL_FLOAT, offsetof(MaskInstance, box)},
-                                               {1, 4, GL_FLOAT, offsetof(MaskInstance, extent)},
-                                               {2, 1, GL_FLOAT, offsetof(MaskInstance, depth)}},
+    setVertexAttributes(sizeof(MaskInstance),
+                        {{0, 4, GL_FLOAT, offsetof(MaskInstance, box)},
+                         {1, 4, GL_FLOAT, offsetof(MaskInstance, extent)},
+                         {2, 1, GL_FLOAT, offsetof(MaskInstance, depth)}},
                         1);
     glBindVertexArray(0);
     glBindBuffer(GL_ARRAY_BUFFER, 0);
@@ -261,7 +261,8 @@ void OcclusionEffects::aura(const RenderTarget& target, std::span<const LabelOcc
         // seed 5.5.1: "we slightly enlarge the bounding-box of each label" so the referenced
         // road stays visible around it; the margin grows a little with the text size.
         const float margin = style.aura_margin_px + 0.5f * std::min(l.box.half_extents.x, l.box.half_extents.y);
-        instances.push_back({glm::vec4(l.box.center, l.box.axis), glm::vec4(l.box.half_extents + margin, margin, l.alpha),
+        instances.push_back({glm::vec4(l.box.center, l.box.axis),
+                             glm::vec4(l.box.half_extents + margin, margin, l.alpha),
                              std::clamp(clip.z / clip.w, -1.0f, 1.0f)});
     }
     if (instances.empty()) return;  // no aura anywhere: the baseline frame

@@ -56,8 +56,7 @@ public:
     /// buffer that is blurred and composited; nothing glows where a road is visible. Leaves
     /// `target` bound for drawing. `draw_roads` draws the road and route fill with the road
     /// uniforms of the fill pass.
-    void glow(const RenderTarget& target, const MapLayers& layers, const MapStyle& style,
-              const DrawWith& draw_roads);
+    void glow(const RenderTarget& target, const MapLayers& layers, const MapStyle& style, const DrawWith& draw_roads);
 
     /// The terrain-only depth texture that captureTerrainDepth() kept for `target`'s size (0: none
     /// yet), for passes after the glow that shine through buildings the same way (the manoeuvre
@@ -77,7 +76,7 @@ private:
     GLuint m_empty_vao = 0;
     GLuint m_mask_vao = 0;
     GLuint m_mask_vbo = 0;
-    std::size_t m_mask_capacity = 0;  // instances
+    std::size_t m_mask_capacity = 0;                  // instances
     std::vector<std::unique_ptr<Buffers>> m_buffers;  // by target size, most recent first
 };
 

@@ -34,7 +34,8 @@ OutlinePass::OutlinePass(bool software)
     : m_software(software),
       m_full(ShaderProgram::fromEmbedded("screen_outline.vert", "screen_outline.frag")),
       m_cells_program(ShaderProgram::fromEmbedded("screen_cells.vert", "screen_outline.frag")),
-      m_packed(ShaderProgram::fromEmbedded("screen_cells.vert", "screen_outline.frag", "#define NAVMAP_PACKED_MASK 1\n")),
+      m_packed(
+          ShaderProgram::fromEmbedded("screen_cells.vert", "screen_outline.frag", "#define NAVMAP_PACKED_MASK 1\n")),
       m_pack(ShaderProgram::fromEmbedded("screen_cells.vert", "outline_pack.frag")),
       m_edges(ShaderProgram::fromEmbedded("screen_cells.vert", "screen_outline.frag", "#define NAVMAP_EDGE_MASK 1\n")) {
     glGenVertexArrays(1, &m_empty_vao);
@@ -123,8 +124,7 @@ void OutlinePass::draw(const FrameContext& ctx, SideTask& side) {
         glBindTexture(GL_TEXTURE_2D, target.maskTexture());
         glUniform1i(m_pack.uniform("u_road_mask"), 0);
         // Pixel x maps to texel x / kPackedMaskPixels: a cell is one column of texels.
-        glUniform2f(m_pack.uniform("u_viewport"),
-                    static_cast<float>(kPackedMaskPixels * target.packedMaskWidth()),
+        glUniform2f(m_pack.uniform("u_viewport"), static_cast<float>(kPackedMaskPixels * target.packedMaskWidth()),
                     static_cast<float>(target.height()));
         draw_cells(m_pack_first, m_cell_vertices.size());
         target.bindForDrawing(false);
@@ -206,7 +206,8 @@ void OutlinePass::addCellRect(const CellRect& r) {
     // Whole cells even at the right edge of the screen (the GPU clips the overhang): the packing
     // pass turns each into a column of packed texels.
     const int x1 = (r.x1 + kOutlineCellPx - 1) / kOutlineCellPx * kOutlineCellPx;
-    const glm::vec2 lo(static_cast<float>(r.x0), static_cast<float>(r.y0)), hi(static_cast<float>(x1), static_cast<float>(r.y1));
+    const glm::vec2 lo(static_cast<float>(r.x0), static_cast<float>(r.y0)),
+        hi(static_cast<float>(x1), static_cast<float>(r.y1));
     m_cell_vertices.insert(m_cell_vertices.end(), {lo, {hi.x, lo.y}, {lo.x, hi.y}, {lo.x, hi.y}, {hi.x, lo.y}, hi});
 }
 

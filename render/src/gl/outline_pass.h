@@ -61,11 +61,11 @@ private:
     void addCellRect(const CellRect& r);
 
     bool m_software = false;
-    ShaderProgram m_full;    // the filter over the whole screen
+    ShaderProgram m_full;           // the filter over the whole screen
     ShaderProgram m_cells_program;  // the filter over the cells near roads (markCells)
-    ShaderProgram m_packed;  // the same over the packed mask, road pixels left out by the stencil
-    ShaderProgram m_pack;    // packs the mask over the cells (outline_pack.frag)
-    ShaderProgram m_edges;   // the filter over edge pixels found on the CPU (markEdgeCells)
+    ShaderProgram m_packed;         // the same over the packed mask, road pixels left out by the stencil
+    ShaderProgram m_pack;           // packs the mask over the cells (outline_pack.frag)
+    ShaderProgram m_edges;          // the filter over edge pixels found on the CPU (markEdgeCells)
     GLuint m_empty_vao = 0;
     GLuint m_cell_vao = 0, m_cell_vbo = 0;
     // This frame (begin()).

@@ -36,7 +36,8 @@ void flipRows(Image& image) {
 
 Image readPixelsSync(int width, int height) {
     Image image(width, height);
-    NAVMAP_CHECK(image.rgba.size() == static_cast<std::size_t>(width) * height * 4, "readback image smaller than the frame");
+    NAVMAP_CHECK(image.rgba.size() == static_cast<std::size_t>(width) * height * 4,
+                 "readback image smaller than the frame");
     glPixelStorei(GL_PACK_ALIGNMENT, 1);
     glReadPixels(0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, image.rgba.data());
     flipRows(image);
@@ -125,7 +126,8 @@ Frame ReadbackRing::complete(Slot& slot) {
     frame.sequence = slot.sequence;
     frame.image = Image(m_width, m_height);
     const auto bytes = static_cast<GLsizeiptr>(m_width) * m_height * 4;
-    NAVMAP_CHECK(frame.image.rgba.size() == static_cast<std::size_t>(bytes), "readback image size differs from the PBO's");
+    NAVMAP_CHECK(frame.image.rgba.size() == static_cast<std::size_t>(bytes),
+                 "readback image size differs from the PBO's");
     glBindBuffer(GL_PIXEL_PACK_BUFFER, slot.pbo);
     const void* mapped = glMapBufferRange(GL_PIXEL_PACK_BUFFER, 0, bytes, GL_MAP_READ_BIT);
     if (mapped) {

@@ -13,8 +13,10 @@ GLuint makeRenderbuffer(GLenum format, int samples, int w, int h) {
     GLuint rb = 0;
     glGenRenderbuffers(1, &rb);
     glBindRenderbuffer(GL_RENDERBUFFER, rb);
-    if (samples > 0) glRenderbufferStorageMultisample(GL_RENDERBUFFER, samples, format, w, h);
-    else glRenderbufferStorage(GL_RENDERBUFFER, format, w, h);
+    if (samples > 0)
+        glRenderbufferStorageMultisample(GL_RENDERBUFFER, samples, format, w, h);
+    else
+        glRenderbufferStorage(GL_RENDERBUFFER, format, w, h);
     glBindRenderbuffer(GL_RENDERBUFFER, 0);
     return rb;
 }

@@ -99,9 +99,9 @@ private:
     bool m_owns_depth = true;  // false: a depth/stencil buffer shared by the renderer's targets
     GLuint m_resolve_fbo = 0;
     GLuint m_resolve_color = 0;
-    GLuint m_mask_fbo = 0;       // MSAA only: resolve target of the mask
+    GLuint m_mask_fbo = 0;  // MSAA only: resolve target of the mask
     GLuint m_mask_texture = 0;
-    GLuint m_composite_fbo = 0;  // colour + depth/stencil, no mask
+    GLuint m_composite_fbo = 0;           // colour + depth/stencil, no mask
     mutable GLuint m_packed_texture = 0;  // bindPackedMask(), made on first use
     mutable GLuint m_packed_fbo = 0;
 };

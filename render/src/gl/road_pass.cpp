@@ -52,7 +52,8 @@ void RoadPass::buildHorizon(const FrameContext& ctx) {
     double from = 0.0, to = 0.0;
     for (const glm::vec2 c : {glm::vec2(-1, -1), glm::vec2(1, -1), glm::vec2(-1, 1), glm::vec2(1, 1)}) {
         const glm::vec4 p = to_world * glm::vec4(c, 1.0f, 1.0f);
-        const double rel = std::remainder(std::atan2(double(p.y / p.w), double(p.x / p.w)) - mid, 2.0 * std::numbers::pi);
+        const double rel =
+            std::remainder(std::atan2(double(p.y / p.w), double(p.x / p.w)) - mid, 2.0 * std::numbers::pi);
         from = std::min(from, rel);
         to = std::max(to, rel);
     }
@@ -105,10 +106,12 @@ void RoadPass::cull(const FrameContext& ctx, bool hidden) {
     // roads_geo.vert narrows its class to nothing, measured at the piece's middle as there), and
     // in it.
     std::array<float, kStyledRoadClasses> gone_m2{};
-    for (std::size_t c = 0; c < gone_m2.size(); ++c) gone_m2[c] = ctx.selection[c].goneFromM() * ctx.selection[c].goneFromM();
+    for (std::size_t c = 0; c < gone_m2.size(); ++c)
+        gone_m2[c] = ctx.selection[c].goneFromM() * ctx.selection[c].goneFromM();
     auto shows = [&](const RoadInstance& r, glm::vec3 eye, const PieceFrustum& frustum) {
         const glm::vec3 d = 0.5f * (r.p0 + r.p1) - eye;
-        const auto c = static_cast<std::size_t>(std::clamp(static_cast<int>(r.road_class + 0.5f), 0, kStyledRoadClasses - 1));
+        const auto c =
+            static_cast<std::size_t>(std::clamp(static_cast<int>(r.road_class + 0.5f), 0, kStyledRoadClasses - 1));
         return glm::dot(d, d) < gone_m2[c] && frustum.holds(r, eye, half_width, rs);
     };
     m_indices.clear();
@@ -128,7 +131,8 @@ void RoadPass::cull(const FrameContext& ctx, bool hidden) {
                 // Every quad drawn from the block's pieces lies in its extent grown by their
                 // reach, the least-width widening (pixels at the farthest distance) and a metre.
                 const double reach = quads.reach_m + widening_px * quads.farthest_m / focal_px + 1.0f;
-                if (m_horizon.hides(g->origin + glm::dvec3(e.min) - reach, g->origin + glm::dvec3(e.max) + reach, keep)) {
+                if (m_horizon.hides(g->origin + glm::dvec3(e.min) - reach, g->origin + glm::dvec3(e.max) + reach,
+                                    keep)) {
                     ++blocks_hidden;
                     continue;
                 }

@@ -14,8 +14,8 @@
 #include <vector>
 
 #include "frame_context.h"
-#include "terrain_horizon.h"
 #include "shader_program.h"
+#include "terrain_horizon.h"
 
 namespace navmap::render::gl {
 

@@ -42,7 +42,8 @@ void RoutePass::updateTile(GpuTile& g, const FrameContext& ctx) {
             g.route_pieces = drapeRoute(route, g.origin, HeightGrid{g.grid_size, spacing, g.heights.data()}, ancestors);
         }
         // Its extent at every level it can morph to, for culling.
-        g.route_extent = {glm::vec3(std::numeric_limits<float>::max()), glm::vec3(std::numeric_limits<float>::lowest())};
+        g.route_extent = {glm::vec3(std::numeric_limits<float>::max()),
+                          glm::vec3(std::numeric_limits<float>::lowest())};
         for (const RoutePiece& r : g.route_pieces) {
             for (const auto& [p, ancestor_z] : {std::pair{r.p0, r.ancestor_z0}, std::pair{r.p1, r.ancestor_z1}}) {
                 const auto [lowest, highest] = std::minmax_element(ancestor_z.begin(), ancestor_z.end());
@@ -66,10 +67,12 @@ void RoutePass::updateTile(GpuTile& g, const FrameContext& ctx) {
     // Not in view: neither morphed nor drawn this frame (half its outer width around its extent,
     // as roads_geo.vert draws it).
     const glm::vec3 eye(frame.camera.eye - g.origin);
-    g.route_in_view = !g.route_pieces.empty() &&
-                      (!frame.layers.cull_blocks ||
-                       quadsInView(g.road_cull, g.route_extent,
-                                   quadReach(eye, g.route_extent, 0.5f * routeOuterWidth(ctx.style.route_width_m), ctx.style.roads).reach_m));
+    g.route_in_view =
+        !g.route_pieces.empty() &&
+        (!frame.layers.cull_blocks ||
+         quadsInView(
+             g.road_cull, g.route_extent,
+             quadReach(eye, g.route_extent, 0.5f * routeOuterWidth(ctx.style.route_width_m), ctx.style.roads).reach_m));
     if (!g.route_in_view) return;
     if (!g.route_stale && g.morph.end_m[0] <= 0.0f && !g.route_morphed) return;  // unmorphed: the buffer is current
     g.route_stale = false;

@@ -40,7 +40,8 @@ std::string infoLog(GLuint object, GetIv get_iv, GetLog get_log) {
 
 GLuint compile(GLenum stage, std::string_view file, std::string_view text, std::string_view defines) {
     const GLuint shader = glCreateShader(stage);
-    const std::string source = std::string(kPreamble) + std::string(defines) + std::string(kLineReset) + std::string(text);
+    const std::string source =
+        std::string(kPreamble) + std::string(defines) + std::string(kLineReset) + std::string(text);
     const char* ptr = source.c_str();
     glShaderSource(shader, 1, &ptr, nullptr);
     glCompileShader(shader);
@@ -57,8 +58,8 @@ GLuint compile(GLenum stage, std::string_view file, std::string_view text, std::
 }  // namespace
 
 std::string annotateShaderLog(std::string_view log, std::string_view file) {
-    static const std::regex kMesa(R"((^|\n)\s*0:(\d+)\((\d+)\))");      // 0:12(5)
-    static const std::regex kNvidia(R"((^|\n)\s*0\((\d+)\))");            // 0(12)
+    static const std::regex kMesa(R"((^|\n)\s*0:(\d+)\((\d+)\))");           // 0:12(5)
+    static const std::regex kNvidia(R"((^|\n)\s*0\((\d+)\))");               // 0(12)
     static const std::regex kAngle(R"((^|\n)\s*(ERROR|WARNING): 0:(\d+))");  // ERROR: 0:12
     const std::string f(file);
     std::string out(log);

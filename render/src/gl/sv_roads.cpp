@@ -66,7 +66,8 @@ void attach(GLenum attachment, GLint type, GLint name) {
 bool complete(const char* what) {
     const GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
     if (status == GL_FRAMEBUFFER_COMPLETE) return true;
-    std::fprintf(stderr, "navmap: shadow-volume roads: framebuffer (%s) incomplete: status 0x%04x; drawing geometric roads\n",
+    std::fprintf(stderr,
+                 "navmap: shadow-volume roads: framebuffer (%s) incomplete: status 0x%04x; drawing geometric roads\n",
                  what, status);
     return false;
 }
@@ -165,7 +166,8 @@ void surfaceRange(const SurfaceGrid& s, std::span<const glm::dvec2> polygon, con
 
 }  // namespace
 
-SvTileRoads buildSvTileRoads(const map::Tile& tile, const RoadStyle& style, std::span<const map::Tile* const> ancestors) {
+SvTileRoads buildSvTileRoads(const map::Tile& tile, const RoadStyle& style,
+                             std::span<const map::Tile* const> ancestors) {
     SvTileRoads out;
     const glm::dvec2 origin(tile.origin_x, tile.origin_y);
     std::vector<std::unique_ptr<SurfaceGrid>> surfaces;
@@ -260,7 +262,7 @@ RoadTechnique resolveRoadTechnique(const MapFrame& frame) {
 }
 
 struct SvRoads::GpuTileRoads {
-    const map::Tile* source = nullptr;  // identity of the tile object the buffers were made from
+    const map::Tile* source = nullptr;        // identity of the tile object the buffers were made from
     std::vector<const map::Tile*> ancestors;  // geomorph targets whose surfaces the z ranges include
     GLuint vao = 0, vbo = 0;
     GLsizei count = 0;
@@ -340,7 +342,8 @@ bool SvRoads::setupTarget(const RenderTarget& target) {
             // Multisampled target: draw the depth multisampled, resolve into the texture afterwards.
             glGenRenderbuffers(1, &m_depth_rb);
             glBindRenderbuffer(GL_RENDERBUFFER, m_depth_rb);
-            glRenderbufferStorageMultisample(GL_RENDERBUFFER, key.samples, GL_R32F, m_depth_size.width, m_depth_size.height);
+            glRenderbufferStorageMultisample(GL_RENDERBUFFER, key.samples, GL_R32F, m_depth_size.width,
+                                             m_depth_size.height);
             glBindRenderbuffer(GL_RENDERBUFFER, 0);
         }
     }
@@ -402,7 +405,8 @@ SvRoads::GpuTileRoads* SvRoads::tileRoads(const std::shared_ptr<const map::Tile>
     gpu->source = tile.get();
     gpu->ancestors = ancestors;
     gpu->count = static_cast<GLsizei>(cpu.instances.size());
-    for (std::size_t c = 0; c < cpu.class_first.size(); ++c) gpu->class_first[c] = static_cast<GLsizei>(cpu.class_first[c]);
+    for (std::size_t c = 0; c < cpu.class_first.size(); ++c)
+        gpu->class_first[c] = static_cast<GLsizei>(cpu.class_first[c]);
     gpu->bridge_first = static_cast<GLsizei>(cpu.bridge_first);
     gpu->max_slope = cpu.max_slope;
     if (gpu->count > 0) {
@@ -501,8 +505,10 @@ std::size_t SvRoads::draw(const MapFrame& frame, const glm::mat4& projection, co
     // Keep the buffers of recently drawn tiles (the view moves back and forth), drop the rest.
     constexpr std::uint64_t kKeepFrames = 300;
     for (auto it = m_tiles.begin(); it != m_tiles.end();) {
-        if (m_frame - it->second->last_used > kKeepFrames) it = m_tiles.erase(it);
-        else ++it;
+        if (m_frame - it->second->last_used > kKeepFrames)
+            it = m_tiles.erase(it);
+        else
+            ++it;
     }
     return segments;
 }

@@ -18,8 +18,8 @@
 
 #include "navmap/map/tile.h"
 #include "navmap/render/map_frame.h"
-#include "quad_indices.h"
 #include "navmap/render/road_style.h"
+#include "quad_indices.h"
 #include "render_target.h"
 #include "shader_program.h"
 
@@ -91,8 +91,8 @@ public:
 
 private:
     struct GpuTileRoads;
-    GpuTileRoads* tileRoads(const std::shared_ptr<const map::Tile>& tile, const std::vector<const map::Tile*>& ancestors,
-                            const RoadStyle& style);
+    GpuTileRoads* tileRoads(const std::shared_ptr<const map::Tile>& tile,
+                            const std::vector<const map::Tile*>& ancestors, const RoadStyle& style);
     /// (Re)creates the terrain depth target when `target` changed; false when it cannot be made.
     bool setupTarget(const RenderTarget& target);
 
@@ -102,16 +102,16 @@ private:
     std::unordered_map<std::uint64_t, std::unique_ptr<GpuTileRoads>> m_tiles;
     std::uint64_t m_frame = 0;
     // Terrain depth target (seed 3.5.2), made on the first SV frame and on size changes.
-    GLuint m_fbo = 0;           // target colour + depth, terrain depth as attachment 3
-    GLuint m_depth_rb = 0;      // multisampled terrain depth (MSAA targets only)
-    GLuint m_resolve_fbo = 0;   // m_depth_texture, for the MSAA resolve
-    GLuint m_depth_texture = 0; // R32F view depth, sampled by roads_sv.frag
+    GLuint m_fbo = 0;            // target colour + depth, terrain depth as attachment 3
+    GLuint m_depth_rb = 0;       // multisampled terrain depth (MSAA targets only)
+    GLuint m_resolve_fbo = 0;    // m_depth_texture, for the MSAA resolve
+    GLuint m_depth_texture = 0;  // R32F view depth, sampled by roads_sv.frag
     struct Key {
         GLint color_type = 0, color = 0, depth_type = 0, depth = 0;
         int width = 0, height = 0, samples = 0;
         bool operator==(const Key&) const = default;
     } m_key;
-    bool m_usable = false;  // the depth target for m_key is complete
+    bool m_usable = false;     // the depth target for m_key is complete
     ScratchSize m_depth_size;  // m_depth_texture / m_depth_rb
     int m_depth_samples = 0;
 };

@@ -26,12 +26,14 @@ TerrainLayer::~TerrainLayer() {
 
 void TerrainLayer::upload(const HeightfieldMesh& mesh) {
     using Vertex = HeightfieldMesh::Vertex;
-    NAVMAP_CHECK(mesh.indices.empty() || std::ranges::max(mesh.indices) < mesh.vertices.size(), "terrain index past its vertices");
+    NAVMAP_CHECK(mesh.indices.empty() || std::ranges::max(mesh.indices) < mesh.vertices.size(),
+                 "terrain index past its vertices");
     glBindVertexArray(m_vao);
     glBindBuffer(GL_ARRAY_BUFFER, m_vbo);
-    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(mesh.vertices.size() * sizeof(Vertex)),
-                 mesh.vertices.data(), GL_STATIC_DRAW);
-    setVertexAttributes(sizeof(Vertex), {{0, 3, GL_FLOAT, offsetof(Vertex, position)}, {1, 3, GL_FLOAT, offsetof(Vertex, normal)}});
+    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(mesh.vertices.size() * sizeof(Vertex)), mesh.vertices.data(),
+                 GL_STATIC_DRAW);
+    setVertexAttributes(sizeof(Vertex),
+                        {{0, 3, GL_FLOAT, offsetof(Vertex, position)}, {1, 3, GL_FLOAT, offsetof(Vertex, normal)}});
     glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, m_ibo);
     glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(mesh.indices.size() * sizeof(std::uint32_t)),
                  mesh.indices.data(), GL_STATIC_DRAW);

@@ -43,14 +43,17 @@ CoverLevels coverLevels(const TileMorph& m, glm::vec2 eye, glm::vec2 lo, glm::ve
     return c;
 }
 
-std::size_t indexBytes(GLenum type) { return type == GL_UNSIGNED_SHORT ? sizeof(std::uint16_t) : sizeof(std::uint32_t); }
+std::size_t indexBytes(GLenum type) {
+    return type == GL_UNSIGNED_SHORT ? sizeof(std::uint16_t) : sizeof(std::uint32_t);
+}
 
 }  // namespace
 
 TerrainPass::TerrainPass()
     : m_plain(ShaderProgram::fromEmbedded("terrain_tile.vert", "terrain_tile.frag")),
-      m_cover{ShaderProgram::fromEmbedded("terrain_tile.vert", "terrain_tile.frag", "#define NAVMAP_COVER_LEVELS 2\n"),
-              ShaderProgram::fromEmbedded("terrain_tile.vert", "terrain_tile.frag", "#define NAVMAP_COVER_LEVELS 3\n")} {
+      m_cover{
+          ShaderProgram::fromEmbedded("terrain_tile.vert", "terrain_tile.frag", "#define NAVMAP_COVER_LEVELS 2\n"),
+          ShaderProgram::fromEmbedded("terrain_tile.vert", "terrain_tile.frag", "#define NAVMAP_COVER_LEVELS 3\n")} {
     const std::uint8_t transparent[4] = {0, 0, 0, 0};
     glGenTextures(1, &m_empty_texture);
     glBindTexture(GL_TEXTURE_2D, m_empty_texture);
@@ -89,7 +92,8 @@ void TerrainPass::draw(const FrameContext& ctx) {
         if (frame.layers.land_cover) {
             if (g->land_cover) cover[0] = g->land_cover;
             if (g->ancestor_cover[0]) cover[1] = g->ancestor_cover[0];
-            cover[2] = !g->morph_ancestors[1] ? cover[1] : (g->ancestor_cover[1] ? g->ancestor_cover[1] : m_empty_texture);
+            cover[2] =
+                !g->morph_ancestors[1] ? cover[1] : (g->ancestor_cover[1] ? g->ancestor_cover[1] : m_empty_texture);
         }
         glBindVertexArray(g->terrain_vao);
         std::array<bool, 3> has_tile_uniforms{};  // per program: plain, 2 levels, 3 levels
@@ -116,7 +120,8 @@ void TerrainPass::draw(const FrameContext& ctx) {
             if (!visible(first)) continue;
             const CoverLevels levels = levelsOf(first);
             std::uint32_t count = first.count;
-            for (std::size_t last = first_index; b < m_block_order.size() && m_block_order[b] == last + 1; ++b, ++last) {
+            for (std::size_t last = first_index; b < m_block_order.size() && m_block_order[b] == last + 1;
+                 ++b, ++last) {
                 const TerrainBlock& next = g->terrain_blocks[m_block_order[b]];
                 if (!visible(next) || !(levelsOf(next) == levels)) break;
                 count += next.count;
@@ -137,7 +142,9 @@ void TerrainPass::draw(const FrameContext& ctx) {
                 glUniform1f(p.uniform("u_morph_eye_dz"), g->morph.eye_dz_m);
                 glUniform2fv(p.uniform("u_morph_eye"), 1, glm::value_ptr(eye));
             }
-            if (n > 1) glUniform2f(p.uniform("u_cover_slot"), levels.finest == 0 ? 1.0f : 0.0f, levels.finest == 0 ? 0.0f : 1.0f);
+            if (n > 1)
+                glUniform2f(p.uniform("u_cover_slot"), levels.finest == 0 ? 1.0f : 0.0f,
+                            levels.finest == 0 ? 0.0f : 1.0f);
             for (int k = n - 1; k >= 0; --k) {
                 glActiveTexture(static_cast<GLenum>(GL_TEXTURE0 + k));
                 glBindTexture(GL_TEXTURE_2D, cover[static_cast<std::size_t>(levels.finest + k)]);

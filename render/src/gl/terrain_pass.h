@@ -28,8 +28,8 @@ public:
 
 private:
     ShaderProgram m_plain;
-    ShaderProgram m_cover[2];  // + land cover morphing over 2 or 3 levels (terrain_tile.frag)
-    GLuint m_empty_texture = 0;  // bound where a level has no land cover
+    ShaderProgram m_cover[2];                // + land cover morphing over 2 or 3 levels (terrain_tile.frag)
+    GLuint m_empty_texture = 0;              // bound where a level has no land cover
     std::vector<std::size_t> m_block_order;  // a tile's blocks, nearest first
 };
 

@@ -128,7 +128,8 @@ void TextLayer::drawInstances(ShaderProgram& program, bool world, const glm::mat
     const auto bytes = static_cast<GLsizeiptr>(m_instances.size() * sizeof(Instance));
     if (m_instances.size() > m_vbo_capacity) {
         m_vbo_capacity = std::max(m_instances.size(), m_vbo_capacity * 2);
-        glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(m_vbo_capacity * sizeof(Instance)), nullptr, GL_STREAM_DRAW);
+        glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(m_vbo_capacity * sizeof(Instance)), nullptr,
+                     GL_STREAM_DRAW);
     }
     glBufferSubData(GL_ARRAY_BUFFER, 0, bytes, m_instances.data());
 
@@ -169,11 +170,12 @@ std::pair<std::vector<std::uint64_t>, std::vector<std::uint64_t>> TextLayer::cou
         if (l.size_px <= 0.0f || !(l.em_m > 0.0f)) continue;
         const auto id = static_cast<std::uint32_t>(i + 1);
         text::TextStyle style = l.style;
-        style.fill = style.outline = glm::vec4(static_cast<float>(id & 0xFFU) / 255.0f,
-                                               static_cast<float>((id >> 8U) & 0xFFU) / 255.0f,
-                                               static_cast<float>((id >> 16U) & 0xFFU) / 255.0f, 1.0f);
+        style.fill = style.outline =
+            glm::vec4(static_cast<float>(id & 0xFFU) / 255.0f, static_cast<float>((id >> 8U) & 0xFFU) / 255.0f,
+                      static_cast<float>((id >> 16U) & 0xFFU) / 255.0f, 1.0f);
         style.icon = style.fill;
-        appendLabel(l.quads, style, glm::vec4(l.position, 0.0f), glm::vec4(l.em_m, l.size_px, 1.0f, 0.0f), l.right, l.up);
+        appendLabel(l.quads, style, glm::vec4(l.position, 0.0f), glm::vec4(l.em_m, l.size_px, 1.0f, 0.0f), l.right,
+                    l.up);
     }
     syncAtlas();
     const auto pixel_count = static_cast<std::size_t>(viewport.x) * static_cast<std::size_t>(viewport.y);
@@ -210,7 +212,8 @@ std::pair<std::vector<std::uint64_t>, std::vector<std::uint64_t>> TextLayer::cou
         if (resolved) {
             glBindFramebuffer(GL_READ_FRAMEBUFFER, fbo);
             glBindFramebuffer(GL_DRAW_FRAMEBUFFER, resolve_fbo);
-            glBlitFramebuffer(0, 0, viewport.x, viewport.y, 0, 0, viewport.x, viewport.y, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+            glBlitFramebuffer(0, 0, viewport.x, viewport.y, 0, 0, viewport.x, viewport.y, GL_COLOR_BUFFER_BIT,
+                              GL_NEAREST);
             glBindFramebuffer(GL_READ_FRAMEBUFFER, resolve_fbo);
         } else {
             glBindFramebuffer(GL_READ_FRAMEBUFFER, fbo);

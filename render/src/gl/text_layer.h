@@ -16,15 +16,15 @@
 #include <glm/vec4.hpp>
 
 #include "navmap/render/text/glyph_atlas.h"
-#include "text/text_draw.h"
 #include "shader_program.h"
+#include "text/text_draw.h"
 
 namespace navmap::render::gl {
 
 struct TextLayerStats {
-    std::size_t labels = 0;        ///< labels drawn by the last draw call
-    std::size_t glyphs = 0;        ///< glyph quads drawn by the last draw call
-    std::size_t atlas_uploads = 0; ///< texture (re)uploads since creation
+    std::size_t labels = 0;         ///< labels drawn by the last draw call
+    std::size_t glyphs = 0;         ///< glyph quads drawn by the last draw call
+    std::size_t atlas_uploads = 0;  ///< texture (re)uploads since creation
 };
 
 /// Needs a current GLES 3 context on the calling thread (create, use, destroy there). Draws

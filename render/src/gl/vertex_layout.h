@@ -13,8 +13,8 @@ namespace navmap::render::gl {
 struct VertexAttribute {
     GLuint location;
     GLint components;
-    GLenum type;               ///< GL_FLOAT, or GL_SHORT etc. read as normalized values
-    std::size_t offset;        ///< offsetof(Vertex, member)
+    GLenum type;         ///< GL_FLOAT, or GL_SHORT etc. read as normalized values
+    std::size_t offset;  ///< offsetof(Vertex, member)
 };
 
 /// Enables `attributes` with `stride` bytes per vertex (or per instance with divisor 1). Integer

@@ -15,8 +15,8 @@ struct LayoutParams;
 /// The candidates of one label, best visual association first (Yoeli's ranking).
 struct CandidateSet {
     std::uint8_t count = 0;
-    glm::vec2 offset[4]{};    ///< label center minus anchor, pixels
-    float d_optimum[4]{};     ///< Line, rotated: signed distance from the line along its normal (eq. 4.12)
+    glm::vec2 offset[4]{};  ///< label center minus anchor, pixels
+    float d_optimum[4]{};   ///< Line, rotated: signed distance from the line along its normal (eq. 4.12)
 };
 
 /// Candidates for a label whose scaled text box has half extents `half`.
@@ -26,8 +26,8 @@ struct CandidateSet {
 ///   when `rotated`, else vertically with horizontal text.
 /// `upright` (a label standing in the 3D world on its anchor) keeps only positions above the
 /// anchor: Point/Area upper right, upper left, above; Line above, and one line higher.
-[[nodiscard]] CandidateSet candidatePositions(LabelKind kind, glm::vec2 half, bool rotated, glm::vec2 dir,
-                                              float radius, const LayoutParams& params, bool upright = false);
+[[nodiscard]] CandidateSet candidatePositions(LabelKind kind, glm::vec2 half, bool rotated, glm::vec2 dir, float radius,
+                                              const LayoutParams& params, bool upright = false);
 
 /// Radius of a circle label: the caller's value if > 0, else the four-position distance.
 [[nodiscard]] float circleRadius(float requested, glm::vec2 half, const LayoutParams& params);

@@ -28,7 +28,7 @@ AxisResult onAxis(const OrientedBox& n, const OrientedBox& k, glm::vec2 axis) {
         r.apart = true;
         return r;
     }
-    const float w = -(delta0 + delta1);  // eq. 4.3: summed widths on this axis
+    const float w = -(delta0 + delta1);                  // eq. 4.3: summed widths on this axis
     r.g = w > 0.0F ? 2.0F * (delta0 / w + 0.5F) : 0.0F;  // eq. 4.4, the delta_0 component
     return r;
 }

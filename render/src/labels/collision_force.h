@@ -10,9 +10,9 @@ namespace navmap::render::labels {
 
 /// Outcome of testing one pair of boxes.
 struct Collision {
-    bool hit = false;        ///< eq. 4.2: no separating axis (touching counts)
-    float depth = 0.0F;      ///< smallest overlap over the SAT axes in pixels (OrientedBox::overlapDepth)
-    glm::vec2 force{0.0F};   ///< f^(n,k) acting on n, |f| in [0, 1]; zero unless hit
+    bool hit = false;       ///< eq. 4.2: no separating axis (touching counts)
+    float depth = 0.0F;     ///< smallest overlap over the SAT axes in pixels (OrientedBox::overlapDepth)
+    glm::vec2 force{0.0F};  ///< f^(n,k) acting on n, |f| in [0, 1]; zero unless hit
 };
 
 /// Separating axis test and force f^(n,k) of seed eq. 4.2-4.5 in one pass.

@@ -99,7 +99,8 @@ DrawnFrameFigures DrawnLabelMetrics::addFrame(std::span<const DrawnLabel> labels
     std::vector<const DrawnLabel*> order;
     order.reserve(labels.size());
     for (const DrawnLabel& l : labels) order.push_back(&l);
-    std::stable_sort(order.begin(), order.end(), [](const DrawnLabel* x, const DrawnLabel* y) { return x->id < y->id; });
+    std::stable_sort(order.begin(), order.end(),
+                     [](const DrawnLabel* x, const DrawnLabel* y) { return x->id < y->id; });
     std::vector<Visible> visible;
     for (std::size_t i = 0; i < order.size();) {
         std::size_t j = i;

@@ -22,7 +22,7 @@ glm::vec2 lineForce(glm::vec2 offset, glm::vec2 dir, float d_optimum, float k2, 
     // displacement along the line; eq. 4.15 pulls it back to the anchor.
     const float d_real1 = glm::dot(offset, dir);
     const glm::vec2 f_tangent = -k3 * d_real1 * dir;  // eq. 4.15
-    return f_normal + f_tangent;                        // part of eq. 4.16
+    return f_normal + f_tangent;                      // part of eq. 4.16
 }
 
 glm::vec2 circleForce(glm::vec2 offset, float radius, float k4) {

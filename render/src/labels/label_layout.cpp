@@ -108,16 +108,16 @@ FrameReport LabelLayout::setFrame(std::span<const LabelCandidate> candidates, co
         std::stable_sort(m_sorted.begin(), m_sorted.end(), by_id);
     }
     // Duplicate ids: the first one wins.
-    const auto dup = std::adjacent_find(m_sorted.begin(), m_sorted.end(),
-                                        [](const auto& a, const auto& b) { return a.id == b.id; });
+    const auto dup =
+        std::adjacent_find(m_sorted.begin(), m_sorted.end(), [](const auto& a, const auto& b) { return a.id == b.id; });
     if (dup != m_sorted.end()) {
         const std::size_t before = m_sorted.size();
         if (report.first_error.empty()) {
             report.first_error = "label id " + std::to_string(dup->id) + ": duplicate id in one frame";
         }
-        m_sorted.erase(std::unique(m_sorted.begin(), m_sorted.end(),
-                                   [](const auto& a, const auto& b) { return a.id == b.id; }),
-                       m_sorted.end());
+        m_sorted.erase(
+            std::unique(m_sorted.begin(), m_sorted.end(), [](const auto& a, const auto& b) { return a.id == b.id; }),
+            m_sorted.end());
         report.rejected += before - m_sorted.size();
     }
     report.accepted = m_sorted.size();
@@ -214,7 +214,8 @@ void LabelLayout::updateShape(Label& l, bool placing) const {
     // seed 4.3.3: scale by depth, but never below a readable size.
     float s = 1.0F;
     if (in.depth > 0.0F) {
-        const float reference = m_camera.depth_reference_m > 0.0F ? m_camera.depth_reference_m : m_params.depth_reference_m;
+        const float reference =
+            m_camera.depth_reference_m > 0.0F ? m_camera.depth_reference_m : m_params.depth_reference_m;
         s = std::clamp(reference / in.depth, m_params.min_scale, m_params.max_scale);
         const float cap = in.cap_height > 0.0F ? in.cap_height : 0.7F * in.size.y;
         s = std::max(s, m_params.min_cap_height_px / cap);
@@ -253,8 +254,8 @@ void LabelLayout::updateShape(Label& l, bool placing) const {
     // seed 4.3.3/4.4.3: rotated along the segment unless the view (or the segment on screen)
     // is too steep; hysteresis keeps a label from flipping between the two.
     const float h = placing ? 0.0F : (l.rotated ? m_params.rotate_hysteresis_deg : -m_params.rotate_hysteresis_deg);
-    l.rotated = m_camera.tilt_deg <= m_params.rotate_max_tilt_deg + h &&
-                std::abs(seg_deg) <= m_params.max_rotation_deg + h;
+    l.rotated =
+        m_camera.tilt_deg <= m_params.rotate_max_tilt_deg + h && std::abs(seg_deg) <= m_params.max_rotation_deg + h;
     const float target = l.rotated ? seg_deg * kDegToRad : 0.0F;
     const float before = l.angle;
     if (placing) {
@@ -268,9 +269,7 @@ void LabelLayout::updateShape(Label& l, bool placing) const {
     }
 }
 
-OrientedBox LabelLayout::textBox(const Label& l) const {
-    return OrientedBox{l.in.anchor + l.offset, l.half, l.axis};
-}
+OrientedBox LabelLayout::textBox(const Label& l) const { return OrientedBox{l.in.anchor + l.offset, l.half, l.axis}; }
 
 float LabelLayout::retryDelay(std::uint64_t id) const {
     // Stagger retries by id so that removed labels do not all come back in the same step.
@@ -363,8 +362,8 @@ void LabelLayout::integrate(float dt) {
         if (depth > pressing_depth) {
             const Label& la = m_labels[m_active[a]];
             const Label& lb = m_labels[m_active[b]];
-            const bool a_weaker = la.in.priority < lb.in.priority ||
-                                  (la.in.priority == lb.in.priority && la.in.id > lb.in.id);
+            const bool a_weaker =
+                la.in.priority < lb.in.priority || (la.in.priority == lb.in.priority && la.in.id > lb.in.id);
             m_overlapped[a_weaker ? a : b] = 1U;
         }
     });
@@ -432,8 +431,8 @@ void LabelLayout::integrate(float dt) {
         if (m_camera.viewport.x > 0.0F && m_camera.viewport.y > 0.0F) {
             const OrientedBox box = textBox(l);
             const glm::vec2 h = box.aabbHalfExtents();
-            if (box.center.x - h.x < -1.0F || box.center.y - h.y < -1.0F || box.center.x + h.x > m_camera.viewport.x + 1.0F ||
-                box.center.y + h.y > m_camera.viewport.y + 1.0F) {
+            if (box.center.x - h.x < -1.0F || box.center.y - h.y < -1.0F ||
+                box.center.x + h.x > m_camera.viewport.x + 1.0F || box.center.y + h.y > m_camera.viewport.y + 1.0F) {
                 remove(l, RemovalReason::OffScreen);
                 continue;
             }
@@ -469,7 +468,8 @@ void LabelLayout::place() {
     // Labels still fading out are drawn: a new one must not appear on top of them either.
     m_fading_boxes.clear();
     for (const Label& f : m_labels) {
-        if (f.state == LabelState::FadingOut && f.alpha > 0.0F) m_fading_boxes.push_back(textBox(f).inflated(m_params.buffer_px));
+        if (f.state == LabelState::FadingOut && f.alpha > 0.0F)
+            m_fading_boxes.push_back(textBox(f).inflated(m_params.buffer_px));
     }
     // seed 4.5.3: new labels keep a larger zone around placed ones than the force buffer.
     const float zone_extra = m_params.placement_zone_px - m_params.buffer_px;
@@ -477,8 +477,8 @@ void LabelLayout::place() {
     for (std::size_t q = 0; q < k; ++q) {
         Label& l = m_labels[m_queue[q]];
         updateShape(l, true);
-        const CandidateSet cs = candidatePositions(l.in.kind, l.half, l.rotated, l.dir, l.in.circle_radius, m_params,
-                                                   l.in.upright);
+        const CandidateSet cs =
+            candidatePositions(l.in.kind, l.half, l.rotated, l.dir, l.in.circle_radius, m_params, l.in.upright);
         const glm::vec2 axis = l.axis;
         int chosen = -1;
         bool in_view = false;
@@ -558,12 +558,9 @@ void LabelLayout::fade(float dt) {
                     }
                 }
                 break;
-            case LabelState::Waiting:
-                l.timer -= dt;
-                break;
+            case LabelState::Waiting: l.timer -= dt; break;
             case LabelState::Pending:
-            case LabelState::Visible:
-                break;
+            case LabelState::Visible: break;
         }
     }
 }

@@ -45,8 +45,7 @@ float LabelSpaceSwitch::tiltDeg(glm::vec3 look_dir, glm::vec3 ground_up) {
     return std::acos(c) * 180.0F / std::numbers::pi_v<float>;
 }
 
-LabelSpace LabelSpaceSwitch::decide(LabelSpace current, float tilt_deg, float height_m,
-                                    const SpaceSwitchParams& p) {
+LabelSpace LabelSpaceSwitch::decide(LabelSpace current, float tilt_deg, float height_m, const SpaceSwitchParams& p) {
     if (current == LabelSpace::Screen) {
         // seed 5.5 (1) angle big enough AND (2) close enough to the ground.
         return tilt_deg >= p.enter_tilt_deg && height_m <= p.enter_height_m ? LabelSpace::World : LabelSpace::Screen;

@@ -27,9 +27,8 @@ std::size_t LayoutMetrics::countOverlaps(std::span<const PlacedLabel> labels, fl
         const float h = labels[i].box.aabbHalfExtents().x;
         items.push_back({labels[i].box.center.x - h, labels[i].box.center.x + h, i});
     }
-    std::sort(items.begin(), items.end(), [](const Item& a, const Item& b) {
-        return a.lo != b.lo ? a.lo < b.lo : a.index < b.index;
-    });
+    std::sort(items.begin(), items.end(),
+              [](const Item& a, const Item& b) { return a.lo != b.lo ? a.lo < b.lo : a.index < b.index; });
     std::size_t count = 0;
     for (std::size_t a = 0; a < items.size(); ++a) {
         for (std::size_t b = a + 1; b < items.size() && items[b].lo <= items[a].hi; ++b) {
@@ -47,8 +46,7 @@ void LayoutMetrics::addFrame(std::span<const PlacedLabel> labels, double dt_s) {
     if (!std::is_sorted(m_curr.begin(), m_curr.end(), by_id)) {
         std::sort(m_curr.begin(), m_curr.end(), by_id);
     }
-    const std::size_t visible =
-        static_cast<std::size_t>(std::count_if(m_curr.begin(), m_curr.end(), isVisible));
+    const std::size_t visible = static_cast<std::size_t>(std::count_if(m_curr.begin(), m_curr.end(), isVisible));
     const std::size_t overlaps = countOverlaps(m_curr);
     const bool first = m_q.frames == 0;
     ++m_q.frames;

@@ -16,14 +16,14 @@ namespace navmap::render::labels {
 struct LayoutQuality {
     std::uint64_t frames = 0;
     double seconds = 0.0;
-    double mean_visible = 0.0;        ///< mean number of visible labels per frame
+    double mean_visible = 0.0;  ///< mean number of visible labels per frame
     std::size_t last_visible = 0;
-    std::size_t last_overlaps = 0;    ///< overlapping visible pairs in the last frame
-    std::size_t max_overlaps = 0;     ///< worst frame
+    std::size_t last_overlaps = 0;  ///< overlapping visible pairs in the last frame
+    std::size_t max_overlaps = 0;   ///< worst frame
     std::uint64_t pops = 0;
     double pops_per_s = 0.0;
-    double mean_jitter_px = 0.0;      ///< movement of a label relative to its anchor, px per frame
-    double p95_jitter_px = 0.0;       ///< 95th percentile of the same, rounded down to 0.05 px
+    double mean_jitter_px = 0.0;  ///< movement of a label relative to its anchor, px per frame
+    double p95_jitter_px = 0.0;   ///< 95th percentile of the same, rounded down to 0.05 px
     std::uint64_t jitter_samples = 0;
 };
 

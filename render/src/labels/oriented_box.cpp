@@ -33,8 +33,8 @@ Interval OrientedBox::project(glm::vec2 unit_axis) const {
     // seed eq. 4.1 evaluated in closed form: centre projection +- projected radius, which is
     // the min/max over the four corners without building them.
     const float c = glm::dot(center, unit_axis);
-    const float r = half_extents.x * std::abs(glm::dot(axis, unit_axis)) +
-                    half_extents.y * std::abs(glm::dot(axisY(), unit_axis));
+    const float r =
+        half_extents.x * std::abs(glm::dot(axis, unit_axis)) + half_extents.y * std::abs(glm::dot(axisY(), unit_axis));
     return {c - r, c + r};
 }
 

@@ -84,8 +84,8 @@ void SpatialGrid::build(std::span<const glm::vec2> centers, std::span<const glm:
         const std::int32_t* r = &m_range[4 * i];
         for (std::int32_t y = r[1]; y <= r[3]; ++y) {
             for (std::int32_t x = r[0]; x <= r[2]; ++x) {
-                const std::size_t c = static_cast<std::size_t>(y) * static_cast<std::size_t>(m_cols) +
-                                      static_cast<std::size_t>(x);
+                const std::size_t c =
+                    static_cast<std::size_t>(y) * static_cast<std::size_t>(m_cols) + static_cast<std::size_t>(x);
                 m_cell_items[fill[c]++] = static_cast<std::uint32_t>(i);
             }
         }

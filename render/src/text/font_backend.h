@@ -15,8 +15,8 @@ namespace navmap::render::text {
 
 struct LoadedFont {
     std::filesystem::path path;
-    FT_Face face = nullptr;      // rasterizing (GlyphAtlas); its pixel size changes per glyph
-    hb_font_t* hb = nullptr;     // shaping in font units (hb-ot functions, scale = units per em)
+    FT_Face face = nullptr;   // rasterizing (GlyphAtlas); its pixel size changes per glyph
+    hb_font_t* hb = nullptr;  // shaping in font units (hb-ot functions, scale = units per em)
     float units_per_em = 1000.0f;
     FontMetrics metrics;
 };

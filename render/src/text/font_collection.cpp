@@ -86,8 +86,10 @@ FontFiles debianFontFiles() {
     const std::filesystem::path cjk = findFont(dirs, "DroidSansFallbackFull.ttf");
     FontFiles files;
     if (!regular.empty()) files.regular.push_back(regular);
-    if (!bold.empty()) files.bold.push_back(bold);
-    else if (!regular.empty()) files.bold.push_back(regular);
+    if (!bold.empty())
+        files.bold.push_back(bold);
+    else if (!regular.empty())
+        files.bold.push_back(regular);
     if (!cjk.empty()) {
         files.regular.push_back(cjk);
         files.bold.push_back(cjk);

@@ -14,7 +14,7 @@ namespace navmap::render::text {
 
 struct LabelTextStyle {
     FontStyle font = FontStyle::Regular;
-    float size_px = 14.0f;   ///< em size at scale 1
+    float size_px = 14.0f;  ///< em size at scale 1
     TextStyle style;
     /// POIs: the symbol drawn left of the name (a DejaVu Sans glyph, UTF-8); empty otherwise.
     std::string icon;

@@ -22,7 +22,8 @@ void edt1d(const float* f, int n, float* d, int* v, float* z) {
         float s = 0.0f;
         for (;;) {
             const int p = v[k];
-            s = ((f[q] + static_cast<float>(q) * static_cast<float>(q)) - (f[p] + static_cast<float>(p) * static_cast<float>(p))) /
+            s = ((f[q] + static_cast<float>(q) * static_cast<float>(q)) -
+                 (f[p] + static_cast<float>(p) * static_cast<float>(p))) /
                 (2.0f * static_cast<float>(q - p));
             if (s > z[k] || k == 0) break;
             --k;
@@ -51,7 +52,8 @@ std::vector<float> edt2d(const std::vector<std::uint8_t>& feature, int w, int h)
     std::vector<float> grid(static_cast<std::size_t>(w) * h);
     for (std::size_t i = 0; i < grid.size(); ++i) grid[i] = feature[i] ? 0.0f : kInf;
     const int n = std::max(w, h);
-    std::vector<float> f(static_cast<std::size_t>(n)), d(static_cast<std::size_t>(n)), z(static_cast<std::size_t>(n) + 1);
+    std::vector<float> f(static_cast<std::size_t>(n)), d(static_cast<std::size_t>(n)),
+        z(static_cast<std::size_t>(n) + 1);
     std::vector<int> v(static_cast<std::size_t>(n));
     for (int x = 0; x < w; ++x) {
         for (int y = 0; y < h; ++y) f[static_cast<std::size_t>(y)] = grid[static_cast<std::size_t>(y) * w + x];
@@ -96,7 +98,8 @@ GrayImage makeSdf(std::span<const std::uint8_t> coverage, int width, int height,
             float sum = 0.0f;
             for (int by = 0; by < downsample; ++by) {
                 for (int bx = 0; bx < downsample; ++bx) {
-                    const std::size_t i = static_cast<std::size_t>(oy * downsample + by) * width + (ox * downsample + bx);
+                    const std::size_t i =
+                        static_cast<std::size_t>(oy * downsample + by) * width + (ox * downsample + bx);
                     // Pixel centers: the edge lies half a pixel from the nearest opposite one.
                     sum += inside[i] ? std::sqrt(to_outside[i]) - 0.5f : 0.5f - std::sqrt(to_inside[i]);
                 }

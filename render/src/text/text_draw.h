@@ -27,11 +27,11 @@ struct TextStyle {
 /// A label in screen space. `quads` must stay alive for the draw call.
 struct TextDraw {
     std::span<const GlyphQuad> quads;
-    float size_px = 16.0f;         ///< size the quads were laid out at (LaidOutText::size_px)
-    glm::vec2 position{0.0f};      ///< anchor, screen pixels, origin top left, y down
-    float angle_rad = 0.0f;        ///< rotation about the anchor, clockwise on screen (y down)
-    float scale = 1.0f;            ///< depth scale of the layout (PlacedLabel::scale)
-    float alpha = 1.0f;            ///< fade (PlacedLabel::alpha)
+    float size_px = 16.0f;     ///< size the quads were laid out at (LaidOutText::size_px)
+    glm::vec2 position{0.0f};  ///< anchor, screen pixels, origin top left, y down
+    float angle_rad = 0.0f;    ///< rotation about the anchor, clockwise on screen (y down)
+    float scale = 1.0f;        ///< depth scale of the layout (PlacedLabel::scale)
+    float alpha = 1.0f;        ///< fade (PlacedLabel::alpha)
     TextStyle style;
 };
 
@@ -40,11 +40,11 @@ struct TextDraw {
 /// projection foreshortens it with distance like everything else; depth-tested against the scene.
 struct WorldTextDraw {
     std::span<const GlyphQuad> quads;
-    float size_px = 16.0f;         ///< size the quads were laid out at
-    glm::vec3 position{0.0f};      ///< the text box's center, in the frame of the view matrix passed to the draw
+    float size_px = 16.0f;              ///< size the quads were laid out at
+    glm::vec3 position{0.0f};           ///< the text box's center, in the frame of the view matrix passed to the draw
     glm::vec3 right{1.0f, 0.0f, 0.0f};  ///< unit baseline direction
     glm::vec3 up{0.0f, 0.0f, 1.0f};     ///< unit direction from the baseline to the tops of the glyphs
-    float em_m = 20.0f;            ///< em height of the text in the world, metres
+    float em_m = 20.0f;                 ///< em height of the text in the world, metres
     float alpha = 1.0f;
     TextStyle style;
 };

@@ -24,7 +24,8 @@ void appendQuads(const ShapedText& text, GlyphAtlas& atlas, float size_px, glm::
             q.p0 = origin + glm::vec2(x0, -top) * size_px;
             q.p1 = origin + glm::vec2(x0 + g->width, -(top - g->height)) * size_px;
             q.t0 = glm::vec2(static_cast<float>(g->texels.x), static_cast<float>(g->texels.y));
-            q.t1 = glm::vec2(static_cast<float>(g->texels.x + g->texels.w), static_cast<float>(g->texels.y + g->texels.h));
+            q.t1 =
+                glm::vec2(static_cast<float>(g->texels.x + g->texels.w), static_cast<float>(g->texels.y + g->texels.h));
             q.layer = layer;
             out.quads.push_back(q);
         }

@@ -16,7 +16,7 @@ namespace {
 // (combining marks, joiners, variation selectors) or are neutral (spaces, punctuation the
 // current font has).
 bool sticksToPrevious(char32_t cp) {
-    if (cp == 0x200C || cp == 0x200D) return true;                 // ZWNJ, ZWJ
+    if (cp == 0x200C || cp == 0x200D) return true;                                        // ZWNJ, ZWJ
     if ((cp >= 0xFE00 && cp <= 0xFE0F) || (cp >= 0xE0100 && cp <= 0xE01EF)) return true;  // variation selectors
     const hb_unicode_general_category_t gc = hb_unicode_general_category(hb_unicode_funcs_get_default(), cp);
     return gc == HB_UNICODE_GENERAL_CATEGORY_NON_SPACING_MARK || gc == HB_UNICODE_GENERAL_CATEGORY_SPACING_MARK ||
@@ -24,7 +24,8 @@ bool sticksToPrevious(char32_t cp) {
 }
 
 bool isSpace(char32_t cp) {
-    return hb_unicode_general_category(hb_unicode_funcs_get_default(), cp) == HB_UNICODE_GENERAL_CATEGORY_SPACE_SEPARATOR;
+    return hb_unicode_general_category(hb_unicode_funcs_get_default(), cp) ==
+           HB_UNICODE_GENERAL_CATEGORY_SPACE_SEPARATOR;
 }
 
 }  // namespace
@@ -76,8 +77,10 @@ ShapedText TextShaper::shape(std::string_view utf8, FontStyle style) {
     if (needs_clean) {
         clean.reserve(utf8.size());
         for (const DecodedChar& c : chars) {
-            if (c.valid) clean.append(utf8.substr(c.offset, c.length));
-            else clean.append("\xEF\xBF\xBD", 3);  // U+FFFD: 3 bytes instead of 1; clusters remapped below
+            if (c.valid)
+                clean.append(utf8.substr(c.offset, c.length));
+            else
+                clean.append("\xEF\xBF\xBD", 3);  // U+FFFD: 3 bytes instead of 1; clusters remapped below
         }
     }
     std::vector<std::uint32_t> clean_to_src;  // byte offset in `clean` -> byte offset in utf8

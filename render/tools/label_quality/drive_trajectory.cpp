@@ -53,7 +53,8 @@ DriveTrajectory parseTrajectory(std::string_view text, const std::string& source
         const auto pos = what.find("] ");
         throw TrajectoryError(source + ": invalid JSON: " + (pos == std::string::npos ? what : what.substr(pos + 2)));
     }
-    if (!root.is_object()) throw TrajectoryError(source + ": must be a JSON object with \"frames\", not " + std::string(root.type_name()));
+    if (!root.is_object())
+        throw TrajectoryError(source + ": must be a JSON object with \"frames\", not " + std::string(root.type_name()));
     DriveTrajectory d;
     if (const auto fps = root.find("fps"); fps != root.end()) {
         if (!fps->is_number() || !(fps->get<double>() > 0.0) || !std::isfinite(fps->get<double>())) {
@@ -63,7 +64,8 @@ DriveTrajectory parseTrajectory(std::string_view text, const std::string& source
     }
     const auto frames = root.find("frames");
     if (frames == root.end()) throw TrajectoryError(source + ": missing \"frames\"");
-    if (!frames->is_array()) throw TrajectoryError(source + ": \"frames\" must be an array, not " + std::string(frames->type_name()));
+    if (!frames->is_array())
+        throw TrajectoryError(source + ": \"frames\" must be an array, not " + std::string(frames->type_name()));
     if (frames->empty()) throw TrajectoryError(source + ": \"frames\" is empty");
     d.frames.reserve(frames->size());
     for (std::size_t i = 0; i < frames->size(); ++i) {
@@ -89,12 +91,12 @@ DriveTrajectory parseTrajectory(std::string_view text, const std::string& source
         if (!d.frames.empty()) {
             const TrajectoryPose& prev = d.frames.back();
             if (!(p.t_s > prev.t_s)) {
-                throw TrajectoryError(source + ": " + where + ".t: " + number(p.t_s) + " is not after the previous frame's " +
-                                      number(prev.t_s));
+                throw TrajectoryError(source + ": " + where + ".t: " + number(p.t_s) +
+                                      " is not after the previous frame's " + number(prev.t_s));
             }
             if (p.s_m < prev.s_m) {
-                throw TrajectoryError(source + ": " + where + ".s: " + number(p.s_m) + " is less than the previous frame's " +
-                                      number(prev.s_m));
+                throw TrajectoryError(source + ": " + where + ".s: " + number(p.s_m) +
+                                      " is less than the previous frame's " + number(prev.s_m));
             }
         }
         d.frames.push_back(p);

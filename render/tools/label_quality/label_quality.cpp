@@ -155,7 +155,8 @@ LabelQualityReport replayTrajectory(const LabelQualityOptions& o, LabelQualityRe
         MapFrame frame;
         frame.camera = cam;
         view.select(frame, aspect, o.height);  // tiles and their geomorph, as navmapd draws them
-        frame.marker = MarkerState{cam.target, gridBearingDeg(projection, pose.lat_deg, pose.lon_deg, pose.bearing_deg), false};
+        frame.marker =
+            MarkerState{cam.target, gridBearingDeg(projection, pose.lat_deg, pose.lon_deg, pose.bearing_deg), false};
         applyLayers(frame, o);
         acc.frame(i, *renderer, frame, viewport, o, r);
     }
@@ -169,7 +170,8 @@ LabelQualityReport driveRoute(const LabelQualityOptions& o, LabelQualityReport r
     navmap::test::DriveScene scene = navmap::test::DriveScene::open(o.store, o.from, o.to);
     MapView& view = *scene.view;
     navmap::test::PlannedDrive& drive = scene.drive;
-    if (drive.line.size() < 2) throw std::runtime_error("label quality: no route between the two places in " + o.store.string());
+    if (drive.line.size() < 2)
+        throw std::runtime_error("label quality: no route between the two places in " + o.store.string());
     const auto terrain = [&](double x, double y) { return view.terrainHeight(x, y); };
     const double aspect = static_cast<double>(o.width) / o.height;
     const glm::vec2 viewport(static_cast<float>(o.width), static_cast<float>(o.height));
@@ -222,7 +224,10 @@ std::optional<MapLibreFollow> parseCameraSpec(const std::string& spec, std::stri
         begin = end + 1;
         const std::size_t eq = item.find('=');
         const std::string key = item.substr(0, eq);
-        std::optional<double>* slot = key == "zoom" ? &zoom : key == "pitch" ? &pitch : key == "bearing" ? &bearing : nullptr;
+        std::optional<double>* slot = key == "zoom"      ? &zoom
+                                      : key == "pitch"   ? &pitch
+                                      : key == "bearing" ? &bearing
+                                                         : nullptr;
         if (eq == std::string::npos || !slot) {
             err = "camera \"" + spec + "\": expected zoom=Z,pitch=P[,bearing=B], not \"" + item + "\"";
             return std::nullopt;
@@ -246,7 +251,8 @@ std::optional<MapLibreFollow> parseCameraSpec(const std::string& spec, std::stri
     }
     auto range = [&](const char* name, double v, double lo, double hi) {
         if (v >= lo && v <= hi) return true;
-        err = "camera \"" + spec + "\": " + name + " " + shortest(v) + " out of range [" + shortest(lo) + ", " + shortest(hi) + "]";
+        err = "camera \"" + spec + "\": " + name + " " + shortest(v) + " out of range [" + shortest(lo) + ", " +
+              shortest(hi) + "]";
         return false;
     };
     if (!range("zoom", *zoom, kMapLibreMinZoom, kMapLibreMaxZoom) ||

@@ -15,15 +15,15 @@
 #include <string>
 
 #include "drive_scene.h"
-#include "navmap/render/camera_rig.h"
 #include "labels/drawn_label_metrics.h"
 #include "labels/layout_metrics.h"
+#include "navmap/render/camera_rig.h"
 #include "navmap/render/map_frame.h"
 
 namespace navmap::render::tools {
 
 struct LabelQualityOptions {
-    std::filesystem::path store;   ///< compiled tile store (build/andorra.navmap)
+    std::filesystem::path store;  ///< compiled tile store (build/andorra.navmap)
     /// A trajectory file to replay pose by pose (needs `camera`); empty: drive the route from -> to.
     std::filesystem::path trajectory;
     /// MapLibre-convention camera centred on the vehicle (bearing: the pose's unless fixed). For a
@@ -39,12 +39,12 @@ struct LabelQualityOptions {
     /// Frames rendered before measuring (labels fade in, the layout settles); a trajectory holds its
     /// first pose meanwhile.
     int settle_frames = 90;
-    double dt_s = 1.0 / 30.0;      ///< fixed frame time
-    double start_m = 1800.0;       ///< route: distance along the route where the drive starts
-    double speed_mps = 13.0;       ///< route: speed
-    bool measure_occlusion = true; ///< MapLayers::measure_label_occlusion
-    bool label_aura = false;       ///< MapLayers::label_aura
-    bool glow_roads = false;       ///< MapLayers::glow_roads
+    double dt_s = 1.0 / 30.0;       ///< fixed frame time
+    double start_m = 1800.0;        ///< route: distance along the route where the drive starts
+    double speed_mps = 13.0;        ///< route: speed
+    bool measure_occlusion = true;  ///< MapLayers::measure_label_occlusion
+    bool label_aura = false;        ///< MapLayers::label_aura
+    bool glow_roads = false;        ///< MapLayers::glow_roads
     /// Called after each measured frame with its index (0 = first measured) and its stats.
     std::function<void(int frame, const MapFrameStats& stats)> on_frame;
 };
@@ -55,29 +55,29 @@ struct TimeFigures {
 };
 
 struct LabelQualityReport {
-    std::string name;              ///< "bird", "snail" or "zoom=16.5,pitch=60"
-    std::string drive;             ///< "route" or the trajectory file's name
+    std::string name;   ///< "bird", "snail" or "zoom=16.5,pitch=60"
+    std::string drive;  ///< "route" or the trajectory file's name
     int width = 0, height = 0;
     int settle_frames = 0;
     double dt_s = 0;
     std::optional<MapLibreFollow> camera;
-    double camera_distance_m = 0;  ///< eye to look-at point in the first measured frame
-    labels::DrawnLabelQuality drawn;   ///< over the measured frames, on the drawn labels
+    double camera_distance_m = 0;     ///< eye to look-at point in the first measured frame
+    labels::DrawnLabelQuality drawn;  ///< over the measured frames, on the drawn labels
     /// The layout output's figures (LayoutMetrics on the layout boxes, not what is drawn),
     /// reported as layout_*.
     labels::LayoutQuality quality;
-    std::size_t overlap_frames = 0;    ///< measured frames with overlapping layout boxes (layout_overlap_frames)
+    std::size_t overlap_frames = 0;  ///< measured frames with overlapping layout boxes (layout_overlap_frames)
     double mean_candidates = 0;
-    TimeFigures labels_ms;         ///< CPU time of the label pass per frame
+    TimeFigures labels_ms;  ///< CPU time of the label pass per frame
     /// renderMap + finish per frame, labels on, without the occlusion measurement's own time.
     TimeFigures frame_ms;
     double mean_label_occlusion_ms = 0;  ///< the measurement's time per frame (left out of frame_ms)
-    double world_weight_last = 0;  ///< 0 screen-space labels, 1 world-space
-    std::size_t route_points = 0;  ///< route drive: points of the planned route
+    double world_weight_last = 0;        ///< 0 screen-space labels, 1 world-space
+    std::size_t route_points = 0;        ///< route drive: points of the planned route
     /// The layout's events over the measured frames: placements and removals by reason.
     struct LayoutEvents {
-        std::uint64_t placed = 0, removed_speed = 0, removed_constricted = 0, removed_overlap = 0, removed_off_screen = 0,
-                      removed_gone = 0;
+        std::uint64_t placed = 0, removed_speed = 0, removed_constricted = 0, removed_overlap = 0,
+                      removed_off_screen = 0, removed_gone = 0;
         /// Placement attempts that found no free candidate: all outside the viewport, one blocked
         /// by a keep-out area (marker, route), only blocked by other labels.
         std::uint64_t failures_off_screen = 0, failures_keep_out = 0, failures_labels = 0;

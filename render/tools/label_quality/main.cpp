@@ -25,17 +25,23 @@ int main(int argc, char** argv) {
     cli::setUp(app, "navmap-label-quality");
     app.add_option("--store", store, "compiled tile store")->capture_default_str();
     app.add_option("--trajectory", trajectory, "replay these poses (data/drives/*-trajectory.json); needs --camera");
-    app.add_option("--camera", camera_specs,
-                   "zoom=Z,pitch=P[,bearing=B]: MapLibre GL JS camera centred on the vehicle (512-px tiles, pitch from "
-                   "straight down, fov 36.87); repeat for several; with a route drive the rig follows with it instead of --view");
-    app.add_option("--view", views, "route drive: the camera rig's view")->check(CLI::IsMember({"bird", "snail", "both"}))->capture_default_str();
+    app.add_option(
+        "--camera", camera_specs,
+        "zoom=Z,pitch=P[,bearing=B]: MapLibre GL JS camera centred on the vehicle (512-px tiles, pitch from "
+        "straight down, fov 36.87); repeat for several; with a route drive the rig follows with it instead of --view");
+    app.add_option("--view", views, "route drive: the camera rig's view")
+        ->check(CLI::IsMember({"bird", "snail", "both"}))
+        ->capture_default_str();
     app.add_option("--frames", frames, "frames measured (default: 300 on a route, every pose of a trajectory)")
         ->check(cli::integerIn(1, 1000000));
-    app.add_option("--settle", o.settle_frames, "frames rendered before measuring")->check(cli::integerIn(0, 1000000))->capture_default_str();
+    app.add_option("--settle", o.settle_frames, "frames rendered before measuring")
+        ->check(cli::integerIn(0, 1000000))
+        ->capture_default_str();
     app.add_option("--dt", o.dt_s, "fixed frame time, s")->check(cli::finiteIn(0.001, 10))->capture_default_str();
     app.add_option("--size", size, "WxH of the frames (default 1280x480)");
     app.add_option("--start", o.start_m, "route: distance along the route where the drive starts, m")
-        ->check(cli::finiteIn(0, 1e6))->capture_default_str();
+        ->check(cli::finiteIn(0, 1e6))
+        ->capture_default_str();
     app.add_option("--speed", o.speed_mps, "route: speed, m/s")->check(cli::finiteIn(0, 100))->capture_default_str();
     bool no_occlusion = false;
     app.add_flag("--no-occlusion", no_occlusion, "do not measure how much of each label is hidden (faster)");
@@ -65,7 +71,8 @@ int main(int argc, char** argv) {
         if (!camera) return usageError("--camera: " + error);
         cameras.push_back(*camera);
     }
-    if (!o.trajectory.empty() && cameras.empty()) return usageError("--trajectory needs at least one --camera zoom=Z,pitch=P");
+    if (!o.trajectory.empty() && cameras.empty())
+        return usageError("--trajectory needs at least one --camera zoom=Z,pitch=P");
     try {
         std::vector<nt::LabelQualityOptions> runs;
         if (!cameras.empty()) {

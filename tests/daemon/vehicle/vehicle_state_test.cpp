@@ -6,8 +6,8 @@
 
 #include <gtest/gtest.h>
 
-#include <cmath>
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <limits>
 #include <random>
@@ -72,11 +72,11 @@ const Store* andorra() {
     return s.store ? &s : nullptr;
 }
 
-#define REQUIRE_STORE()                                                                                \
-    const Store* st = andorra();                                                                       \
-    if (st == nullptr) {                                                                               \
-        GTEST_SKIP() << "no compiled store at " << (test::binaryDir() / "andorra.navmap")              \
-                     << " (build the navmap_default_store target)";                                    \
+#define REQUIRE_STORE()                                                                   \
+    const Store* st = andorra();                                                          \
+    if (st == nullptr) {                                                                  \
+        GTEST_SKIP() << "no compiled store at " << (test::binaryDir() / "andorra.navmap") \
+                     << " (build the navmap_default_store target)";                       \
     }
 
 // A drive along a real route: smoothed so that heading and yaw rate are continuous (a real car
@@ -197,11 +197,12 @@ TEST(VehicleState, SyntheticDriveStaysOnTheRoad) {
     std::sort(snapErrors.begin(), snapErrors.end());
     const double p99Off = snapErrors[snapErrors.size() * 99 / 100];
     const double p95Off = snapErrors[snapErrors.size() * 95 / 100];
-    std::printf("[ measured ] %zu poses over %.0f m: fused rms %.2f m max %.2f m; snapped rms %.2f m max %.2f m, off the driven road p95 %.2f m p99 %.2f m; "
-                "mean confidence %.2f; max frame step %.2f m; fixes %llu jumps %llu\n",
-                n, r.length, rmsRaw, maxRaw, rmsSnap, maxSnap, p95Off, p99Off, conf / n, maxStep,
-                static_cast<unsigned long long>(r.counters.fixes),
-                static_cast<unsigned long long>(r.counters.rejectedJump));
+    std::printf(
+        "[ measured ] %zu poses over %.0f m: fused rms %.2f m max %.2f m; snapped rms %.2f m max %.2f m, off the "
+        "driven road p95 %.2f m p99 %.2f m; "
+        "mean confidence %.2f; max frame step %.2f m; fixes %llu jumps %llu\n",
+        n, r.length, rmsRaw, maxRaw, rmsSnap, maxSnap, p95Off, p99Off, conf / n, maxStep,
+        static_cast<unsigned long long>(r.counters.fixes), static_cast<unsigned long long>(r.counters.rejectedJump));
     EXPECT_LT(rmsRaw, 2.0);
     EXPECT_LT(maxRaw, 6.0);
     EXPECT_LT(rmsSnap, 2.0);
@@ -288,7 +289,7 @@ TEST(VehicleState, CorrectionsAreFadedInNotJumped) {
     const auto before = est.poseAt(at(0.2));
     est.addSample(fix(proj, 2.0 + 6.0, 0.0, 0.2, 90.0));  // 6 m ahead of the prediction (x = 2)
     const auto after = est.poseAt(at(0.2));
-    EXPECT_NEAR(after.x, before.x, 1e-6);  // no visible step at the fix
+    EXPECT_NEAR(after.x, before.x, 1e-6);          // no visible step at the fix
     const auto later = est.poseAt(at(0.2 + 0.5));  // after blendS: prediction + gain * innovation
     EXPECT_NEAR(later.x, 2.0 + 0.3 * 6.0 + 5.0, 0.05);
 }
@@ -363,7 +364,8 @@ TEST(VehicleState, SnapsOntoTheNearestRoadWithConfidence) {
     std::optional<std::uint32_t> chosen;
     for (std::uint32_t e = 0; e < g.edges.size() && !chosen; ++e) {
         const auto& ed = g.edges[e];
-        if (ed.cls != map::RoadClass::Primary || (ed.flags & map::EdgeFlags::Reversed) || ed.shape_end - ed.shape_begin < 2)
+        if (ed.cls != map::RoadClass::Primary || (ed.flags & map::EdgeFlags::Reversed) ||
+            ed.shape_end - ed.shape_begin < 2)
             continue;
         const auto a = g.shape[ed.shape_begin], b = g.shape[ed.shape_begin + 1];
         if (std::hypot(b.x - a.x, b.y - a.y) > 80.0) chosen = e;
@@ -404,7 +406,8 @@ TEST(VehicleState, SnapsOntoTheNearestRoadWithConfidence) {
     ASSERT_TRUE(onRoad);
     EXPECT_NEAR(onRoad->confidence, 1.0, 1e-6);
     // The reversed heading picks the twin edge (two-way road) or loses confidence (one-way).
-    const auto back = st->matcher->match({mx, my}, std::fmod(heading + 180.0, 360.0), std::nullopt, VehicleStateConfig{});
+    const auto back =
+        st->matcher->match({mx, my}, std::fmod(heading + 180.0, 360.0), std::nullopt, VehicleStateConfig{});
     ASSERT_TRUE(back);
     if ((ed.flags & map::RoadFlags::Oneway) == 0) {
         EXPECT_NE(back->edge, *chosen);

@@ -19,7 +19,16 @@ TEST(ControlFuzzCorpus, ParserSurvivesBrokenLines) {
         R"({"cmd":"set_style","style":"night"})",
     };
     const std::vector<std::string> extra = {
-        "", "{", "}", "[]", "null", "1e400", "-0", "\"\\ud800\"", std::string(5000, '['), std::string(5000, '{'),
+        "",
+        "{",
+        "}",
+        "[]",
+        "null",
+        "1e400",
+        "-0",
+        "\"\\ud800\"",
+        std::string(5000, '['),
+        std::string(5000, '{'),
         std::string("{\"cmd\":\"set_route\",\"id\":\"\0\",\"points\":[[0,0],[0,0]]}", 48),
         R"({"cmd":"set_route","id":"r","points":[[1e308,1e308],[-1e308,5]]})",
         R"({"cmd":"set_route","id":"r","points":[[0,0],[0,0]],"maneuvers":[{"index":18446744073709551615,"type":"exit"}]})",

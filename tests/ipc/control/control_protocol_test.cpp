@@ -43,9 +43,9 @@ TEST(ControlProtocol, RoundaboutManeuversCarryAnOptionalExitNumber) {
     ASSERT_TRUE(last.command) << last.error;
     EXPECT_EQ(std::get<SetRouteCommand>(last.command->body).maneuvers[0].exitNumber, kMaxRoundaboutExit);
     EXPECT_FALSE(route.maneuvers[0].endIndex.has_value());
-    const auto ended = parseControlLine(
-        R"({"cmd":"set_route","id":"r1","points":[[42.5,1.5],[42.51,1.51],[42.52,1.52]],)"
-        R"("maneuvers":[{"index":0,"end_index":2,"type":"roundabout","exit":1}]})");
+    const auto ended =
+        parseControlLine(R"({"cmd":"set_route","id":"r1","points":[[42.5,1.5],[42.51,1.51],[42.52,1.52]],)"
+                         R"("maneuvers":[{"index":0,"end_index":2,"type":"roundabout","exit":1}]})");
     ASSERT_TRUE(ended.command) << ended.error;
     EXPECT_EQ(std::get<SetRouteCommand>(ended.command->body).maneuvers[0].endIndex, 2U);
 }
@@ -74,7 +74,8 @@ TEST(ControlProtocol, ParsesTheOtherCommands) {
         EXPECT_FALSE(cv.mode);
         EXPECT_FALSE(cv.clearCamera);
     }
-    r = parseControlLine(R"({"cmd":"set_view","display":"hud","camera":{"zoom":0,"pitch":85,"bearing":-90},"orientation":"north-up"})");
+    r = parseControlLine(
+        R"({"cmd":"set_view","display":"hud","camera":{"zoom":0,"pitch":85,"bearing":-90},"orientation":"north-up"})");
     ASSERT_TRUE(r.command) << r.error;
     EXPECT_EQ(std::get<SetViewCommand>(r.command->body).camera, (ViewCamera{0.0, 85.0, -90.0}));
     r = parseControlLine(R"({"cmd":"set_view","display":"hud","camera":null})");
@@ -187,13 +188,18 @@ TEST(ControlProtocol, EveryMalformedRequestGetsAnErrorNamingTheProblem) {
          "\"camera\" must be an object {zoom, pitch[, bearing]} or null, not string"},
         {R"({"cmd":"set_view","display":"cluster","camera":{"zoom":16}})", "camera: missing \"pitch\""},
         {R"({"cmd":"set_view","display":"cluster","camera":{"pitch":60}})", "camera: missing \"zoom\""},
-        {R"({"cmd":"set_view","display":"cluster","camera":{"zoom":30,"pitch":60}})", "camera.zoom: 30 out of range [0, 24]"},
-        {R"({"cmd":"set_view","display":"cluster","camera":{"zoom":-1,"pitch":60}})", "camera.zoom: -1 out of range [0, 24]"},
-        {R"({"cmd":"set_view","display":"cluster","camera":{"zoom":16,"pitch":85.5}})", "camera.pitch: 85.5 out of range [0, 85]"},
-        {R"({"cmd":"set_view","display":"cluster","camera":{"zoom":16,"pitch":"60"}})", "camera.pitch: must be a number, not string"},
+        {R"({"cmd":"set_view","display":"cluster","camera":{"zoom":30,"pitch":60}})",
+         "camera.zoom: 30 out of range [0, 24]"},
+        {R"({"cmd":"set_view","display":"cluster","camera":{"zoom":-1,"pitch":60}})",
+         "camera.zoom: -1 out of range [0, 24]"},
+        {R"({"cmd":"set_view","display":"cluster","camera":{"zoom":16,"pitch":85.5}})",
+         "camera.pitch: 85.5 out of range [0, 85]"},
+        {R"({"cmd":"set_view","display":"cluster","camera":{"zoom":16,"pitch":"60"}})",
+         "camera.pitch: must be a number, not string"},
         {R"({"cmd":"set_view","display":"cluster","camera":{"zoom":16,"pitch":60,"bearing":400}})",
          "camera.bearing: 400 out of range [-360, 360]"},
-        {R"({"cmd":"set_view","display":"cluster","camera":{"zoom":16,"pitch":60,"roll":5}})", "camera: unknown field \"roll\""},
+        {R"({"cmd":"set_view","display":"cluster","camera":{"zoom":16,"pitch":60,"roll":5}})",
+         "camera: unknown field \"roll\""},
         {R"({"cmd":"set_view","display":"cluster","mode":"bird","camera":[16,60]})",
          "\"camera\" must be an object {zoom, pitch[, bearing]} or null, not array"},
         {R"({"cmd":"set_view","mode":"bird"})", "missing \"display\""},
@@ -202,7 +208,8 @@ TEST(ControlProtocol, EveryMalformedRequestGetsAnErrorNamingTheProblem) {
         {R"({"cmd":"subscribe","events":["everything"]})",
          "events[0]: not one of route_progress | position_lost | position_regained | off_route | back_on_route"},
         {R"({"cmd":"subscribe","events":[]})",
-         "\"events\" must be a non-empty array of route_progress | position_lost | position_regained | off_route | back_on_route"},
+         "\"events\" must be a non-empty array of route_progress | position_lost | position_regained | off_route | "
+         "back_on_route"},
         {R"({"cmd":"get_status","verbose":true})", "unknown field \"verbose\""},
         {R"({"cmd":"reboot"})",
          "unknown cmd \"reboot\" (expected set_route | clear_route | set_view | set_style | get_status | subscribe)"},
@@ -225,7 +232,8 @@ TEST(ControlProtocol, EveryMalformedRequestGetsAnErrorNamingTheProblem) {
 TEST(ControlProtocol, BrokenJsonAndLimits) {
     auto r = parseControlLine(R"({"cmd":"set_route",)");
     EXPECT_FALSE(r.command);
-    EXPECT_EQ(r.error, "invalid JSON: parse error at line 1, column 20: syntax error while parsing object key - "
+    EXPECT_EQ(r.error,
+              "invalid JSON: parse error at line 1, column 20: syntax error while parsing object key - "
               "unexpected end of input; expected string literal");
 
     r = parseControlLine(std::string(100, '[') + std::string(100, ']'));
@@ -278,8 +286,9 @@ TEST(ControlProtocol, DuplicateKeysAreRejectedAtEveryLevel) {
         EXPECT_EQ(r.cmd, c.cmd) << c.line;
         EXPECT_EQ(r.id, c.id ? std::optional<std::string>(c.id) : std::nullopt) << c.line;
     }
-    EXPECT_EQ(controlErrorReply(parseControlLine(cases[0].line).cmd, std::nullopt, parseControlLine(cases[0].line).error),
-              R"({"ok":false,"error":"duplicate key \"cmd\""})");
+    EXPECT_EQ(
+        controlErrorReply(parseControlLine(cases[0].line).cmd, std::nullopt, parseControlLine(cases[0].line).error),
+        R"({"ok":false,"error":"duplicate key \"cmd\""})");
     // The same key in different objects is fine.
     const auto ok = parseControlLine(
         R"({"cmd":"set_route","id":"r","points":[[1,2],[3,4]],"maneuvers":[{"index":0,"type":"depart","text":"a"},)"

@@ -72,8 +72,10 @@ TEST(ControlServer, CommandsReachTheSnapshotsAndRepliesAreExact) {
         ASSERT_TRUE(f.server);
         auto c = f.connect();
         EXPECT_EQ(f.state.route(), nullptr);
-        EXPECT_EQ(req(c, R"({"cmd":"set_route","id":"r1","points":[[42.5075,1.5218],[42.51,1.53]],"maneuvers":[{"index":1,"type":"turn_left","text":"CG-2"}]})"),
-                  R"({"ok":true,"cmd":"set_route","id":"r1","maneuvers":1,"points":2})");
+        EXPECT_EQ(
+            req(c,
+                R"({"cmd":"set_route","id":"r1","points":[[42.5075,1.5218],[42.51,1.53]],"maneuvers":[{"index":1,"type":"turn_left","text":"CG-2"}]})"),
+            R"({"ok":true,"cmd":"set_route","id":"r1","maneuvers":1,"points":2})");
         const auto route = f.state.route();
         ASSERT_NE(route, nullptr);
         EXPECT_EQ(route->id, "r1");
@@ -92,8 +94,9 @@ TEST(ControlServer, CommandsReachTheSnapshotsAndRepliesAreExact) {
         EXPECT_EQ(view->displays.at("cluster").mode, ViewMode::Auto);
 
         // Unknown display: rejected by the handler, nothing changes.
-        EXPECT_EQ(req(c, R"({"cmd":"set_view","display":"rear","mode":"bird"})"),
-                  R"j({"ok":false,"cmd":"set_view","error":"unknown display \"rear\" (expected center | cluster | hud)"})j");
+        EXPECT_EQ(
+            req(c, R"({"cmd":"set_view","display":"rear","mode":"bird"})"),
+            R"j({"ok":false,"cmd":"set_view","error":"unknown display \"rear\" (expected center | cluster | hud)"})j");
         EXPECT_EQ(f.state.view(), view);
 
         const auto status = nlohmann::json::parse(req(c, R"({"cmd":"get_status"})"));
@@ -131,12 +134,18 @@ TEST(ControlServer, GarbageGetsAnErrorPerLineAndChangesNothing) {
         auto l3 = c.readLine(3s);
         auto l4 = c.readLine(3s);
         ASSERT_TRUE(l1.ok() && l2.ok() && l3.ok() && l4.ok());
-        EXPECT_EQ(l1.value().rfind(R"({"ok":false,"error":"invalid JSON: parse error at line 1, column 1: syntax error while parsing value)", 0), 0U)
+        EXPECT_EQ(
+            l1.value().rfind(
+                R"({"ok":false,"error":"invalid JSON: parse error at line 1, column 1: syntax error while parsing value)",
+                0),
+            0U)
             << l1.value();
-        EXPECT_EQ(l2.value(),
-                  R"({"ok":false,"cmd":"set_route","id":"bad","error":"points[3]: latitude 95 out of range [-90, 90]"})");
+        EXPECT_EQ(
+            l2.value(),
+            R"({"ok":false,"cmd":"set_route","id":"bad","error":"points[3]: latitude 95 out of range [-90, 90]"})");
         EXPECT_EQ(l3.value().rfind(R"({"ok":false,"error":"invalid JSON)", 0), 0U) << l3.value();
-        EXPECT_EQ(l4.value(), R"({"ok":false,"cmd":"set_style","error":"\"style\": \"dusk\" is not one of day | night"})");
+        EXPECT_EQ(l4.value(),
+                  R"({"ok":false,"cmd":"set_style","error":"\"style\": \"dusk\" is not one of day | night"})");
         // Still connected, state untouched.
         EXPECT_EQ(req(c, R"({"cmd":"get_status","id":"after"})").substr(0, 42),
                   R"({"ok":true,"cmd":"get_status","id":"after")");
@@ -185,8 +194,9 @@ TEST(ControlServer, SubscribersReceiveTheirEvents) {
         auto all = f.connect();
         auto lost_only = f.connect();
         auto none = f.connect();
-        EXPECT_EQ(req(all, R"({"cmd":"subscribe"})"),
-                  R"({"ok":true,"cmd":"subscribe","events":["route_progress","position_lost","position_regained","off_route","back_on_route"]})");
+        EXPECT_EQ(
+            req(all, R"({"cmd":"subscribe"})"),
+            R"({"ok":true,"cmd":"subscribe","events":["route_progress","position_lost","position_regained","off_route","back_on_route"]})");
         EXPECT_EQ(req(lost_only, R"({"cmd":"subscribe","events":["position_lost"]})"),
                   R"({"ok":true,"cmd":"subscribe","events":["position_lost"]})");
         std::thread publisher([&] {
@@ -237,7 +247,8 @@ TEST(ControlServer, DuplicateKeysAreRefusedAndChangeNothing) {
         const auto route = f.state.route();
         const auto view = f.state.view();
         // With the last key winning this was a clear_route.
-        EXPECT_EQ(req(c, R"({"cmd":"get_status","cmd":"clear_route"})"), R"({"ok":false,"error":"duplicate key \"cmd\""})");
+        EXPECT_EQ(req(c, R"({"cmd":"get_status","cmd":"clear_route"})"),
+                  R"({"ok":false,"error":"duplicate key \"cmd\""})");
         EXPECT_EQ(req(c, R"({"cmd":"set_route","id":"other","points":[[1,2],{"lat":5,"lat":6}]})"),
                   R"({"ok":false,"cmd":"set_route","id":"other","error":"points[1]: duplicate key \"lat\""})");
         EXPECT_EQ(req(c, R"({"cmd":"set_view","display":"cluster","mode":"bird","mode":"snail"})"),
@@ -286,12 +297,14 @@ TEST(ControlServer, IdleConnectionsAreClosedSoSilentClientsCannotHoldEverySlot) 
             EXPECT_EQ(l.value(), R"({"ok":false,"error":"idle for 0.4 s without a request; disconnecting"})");
             auto eof = s.readLine(2s);
             ASSERT_FALSE(eof.ok());
-            EXPECT_NE(eof.error().message.find("connection closed by the server"), std::string::npos) << eof.error().message;
+            EXPECT_NE(eof.error().message.find("connection closed by the server"), std::string::npos)
+                << eof.error().message;
         }
         EXPECT_EQ(f.server->stats().idleDisconnects, silent.size());
         // A new client gets a slot and a reply; the subscriber and the keep-alive client stayed.
         auto fresh = f.connect();
-        EXPECT_EQ(req(fresh, R"({"cmd":"get_status","id":"after"})").substr(0, 42), R"({"ok":true,"cmd":"get_status","id":"after")");
+        EXPECT_EQ(req(fresh, R"({"cmd":"get_status","id":"after"})").substr(0, 42),
+                  R"({"ok":true,"cmd":"get_status","id":"after")");
         EXPECT_EQ(req(keepalive, R"({"cmd":"clear_route"})"), R"({"ok":true,"cmd":"clear_route"})");
         f.server->publish({ControlEventKind::PositionLost, {}, 0, 0, 3.0});
         auto ev = subscriber.nextEvent(2s);
@@ -376,7 +389,8 @@ TEST(ControlServer, SocketFileModeStaleFilesAndLiveServers) {
         cfg2.socketPath = f.server->path();
         auto second = ControlServer::create(cfg2, other);
         ASSERT_FALSE(second.ok());
-        EXPECT_EQ(second.error().message, "bind(" + f.server->path() + "): Address in use (another server is listening)");
+        EXPECT_EQ(second.error().message,
+                  "bind(" + f.server->path() + "): Address in use (another server is listening)");
 
         // A stale socket file (bound, never listening) is replaced.
         const std::string stale = f.dir.file("stale.sock");
@@ -473,8 +487,8 @@ TEST(ControlServer, ManyClientsConcurrently) {
                 for (int i = 0; i < 50; ++i) {
                     const std::string id = "t" + std::to_string(t) + "-" + std::to_string(i);
                     auto r = c.value().request(R"({"cmd":"set_route","id":")" + id + R"(","points":[[1,2],[3,4]]})");
-                    if (r.ok() && r.value() == R"({"ok":true,"cmd":"set_route","id":")" + id +
-                                                    R"(","maneuvers":0,"points":2})") {
+                    if (r.ok() &&
+                        r.value() == R"({"ok":true,"cmd":"set_route","id":")" + id + R"(","maneuvers":0,"points":2})") {
                         ++ok;
                     }
                 }

@@ -67,13 +67,16 @@ TEST(NavmapCtl, SendsCommandsAndPrintsReplies) {
 
     r = runCtl(s + "set_style dusk");
     EXPECT_EQ(r.status, 1);
-    EXPECT_EQ(r.out, "{\"ok\":false,\"cmd\":\"set_style\",\"error\":\"\\\"style\\\": \\\"dusk\\\" is not one of day | night\"}\n");
+    EXPECT_EQ(
+        r.out,
+        "{\"ok\":false,\"cmd\":\"set_style\",\"error\":\"\\\"style\\\": \\\"dusk\\\" is not one of day | night\"}\n");
 
     r = runCtl(s + "send '{\"cmd\":\"get_status\",\"id\":\"s1\"}'");
     EXPECT_EQ(r.status, 0);
     EXPECT_EQ(r.out.rfind("{\"ok\":true,\"cmd\":\"get_status\",\"id\":\"s1\",\"status\":{", 0), 0U) << r.out;
 
-    auto events = std::async(std::launch::async, [&] { return runCtl(s + "subscribe --count 2 position_lost position_regained"); });
+    auto events = std::async(std::launch::async,
+                             [&] { return runCtl(s + "subscribe --count 2 position_lost position_regained"); });
     // Publish until the subscriber has had time to connect; it prints exactly two events.
     for (int i = 0; i < 100 && events.wait_for(50ms) != std::future_status::ready; ++i) {
         if (server.value()->stats().commands >= 4) {
@@ -91,7 +94,8 @@ TEST(NavmapCtl, SendsCommandsAndPrintsReplies) {
     EXPECT_NE(r.out.find("set_route needs ID and at least two LAT,LON points"), std::string::npos);
     r = runCtl(s + "frobnicate");
     EXPECT_EQ(r.status, 2);
-    EXPECT_NE(r.out.find("navmap-ctl: The following argument was not expected: frobnicate"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("navmap-ctl: The following argument was not expected: frobnicate"), std::string::npos)
+        << r.out;
     r = runCtl("--socket " + dir.file("none.sock") + " get_status");
     EXPECT_EQ(r.status, 1);
     EXPECT_EQ(r.out, "navmap-ctl: connect(" + dir.file("none.sock") + "): No such file or directory\n");

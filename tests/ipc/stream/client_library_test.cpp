@@ -54,7 +54,8 @@ public:
             while (m_run) {
                 const auto px = sequencePattern(800, 240, seq + 1);
                 // Ring sequences restart with a new ring; the pattern follows them.
-                seq = server.publish("hud", FrameView{px.data(), 800, 240, 0, PixelFormat::Rgba8, 0, 0}) > 0 ? seq + 1 : 0;
+                seq = server.publish("hud", FrameView{px.data(), 800, 240, 0, PixelFormat::Rgba8, 0, 0}) > 0 ? seq + 1
+                                                                                                             : 0;
                 std::this_thread::sleep_for(15ms);
             }
         });
@@ -83,9 +84,8 @@ std::unique_ptr<FrameServer> startServer(const std::string& path) {
 TEST(ClientLibrary, TheCExampleReadsFramesInPlaceAndReconnects) {
     const std::string path = uniqueSocketPath("c-client");
     // The client starts first: navmapd is not there yet.
-    auto client = std::async(std::launch::async, [&] {
-        return run(std::string(NAVMAP_CLIENT_EXAMPLE) + " " + path + " hud 40 30");
-    });
+    auto client = std::async(std::launch::async,
+                             [&] { return run(std::string(NAVMAP_CLIENT_EXAMPLE) + " " + path + " hud 40 30"); });
     std::this_thread::sleep_for(400ms);
     {
         auto server = startServer(path);
@@ -116,7 +116,8 @@ TEST(ClientLibrary, TheCExampleReadsFramesInPlaceAndReconnects) {
     }
     EXPECT_EQ(frames, 40) << r.out;
     std::smatch m;
-    ASSERT_TRUE(std::regex_search(r.out, m, std::regex(R"(frames 40 connects (\d+) failed_attempts (\d+) disconnects (\d+) held_overwritten 0)")))
+    ASSERT_TRUE(std::regex_search(
+        r.out, m, std::regex(R"(frames 40 connects (\d+) failed_attempts (\d+) disconnects (\d+) held_overwritten 0)")))
         << r.out;
     EXPECT_EQ(m[1], "2") << "one connection per server generation";
     EXPECT_GE(std::stoi(m[2]), 1) << "attempts while no server was there";

@@ -48,7 +48,8 @@ std::vector<std::uint8_t> solid(int w, int h, std::uint8_t r, std::uint8_t g, st
     return px;
 }
 
-bool publish(FrameServer& server, const std::string& profile, const std::vector<std::uint8_t>& px, int w = 64, int h = 32) {
+bool publish(FrameServer& server, const std::string& profile, const std::vector<std::uint8_t>& px, int w = 64,
+             int h = 32) {
     return server.publish(profile, FrameView{px.data(), w, h, 0, PixelFormat::Rgba8, 0, 0}) > 0;
 }
 
@@ -129,8 +130,8 @@ TEST_F(FrameServerFixture, ARequestResolvesByNameThenByViewAndSize) {
     big.profile.height = 64;
     auto wrong = StreamClient::connectUnix(m_path, big);
     ASSERT_FALSE(wrong.ok());
-    EXPECT_EQ(wrong.error().message,
-              "handshake refused by " + m_path + ": handshake: profile plain is rendered as bird 64x32, not bird 128x64");
+    EXPECT_EQ(wrong.error().message, "handshake refused by " + m_path +
+                                         ": handshake: profile plain is rendered as bird 64x32, not bird 128x64");
     EXPECT_EQ(m_server->stats().refusedNotRendered, 1U);
 }
 
@@ -263,7 +264,8 @@ TEST_F(FrameServerFixture, TheReconnectingClientWaitsForTheServerAndComesBackAft
     // A copying client may not hold frames: the server would not keep them for it.
     HeldFrame held;
     EXPECT_FALSE(client.nextHeld(held, 10ms));
-    EXPECT_EQ(client.lastError(), "nextHeld() needs request.hold (payload shm: the frame stays in the shared-memory ring)");
+    EXPECT_EQ(client.lastError(),
+              "nextHeld() needs request.hold (payload shm: the frame stays in the shared-memory ring)");
 }
 
 TEST(FrameRingMapping, AClientChecksTheRingHeaderItMapped) {

@@ -220,8 +220,9 @@ TEST_F(StreamServerTest, ClientsThatNeverReadDoNotSlowTheOthers) {
     ASSERT_TRUE(sendAllRaw(stuckTcp, formatStreamRequest(small(StreamPayload::Raw))));
     const int stuckHttp = connectTcpRaw(m_server->httpPort());
     setsockopt(stuckHttp, SOL_SOCKET, SO_RCVBUF, &tiny, sizeof(tiny));
-    ASSERT_TRUE(sendAllRaw(stuckHttp, "GET /stream.mjpg?profile=test&width=64&height=32&view=bird HTTP/1.1\r\nHost: 127.0.0.1:" +
-                                          std::to_string(m_server->httpPort()) + "\r\n\r\n"));
+    ASSERT_TRUE(sendAllRaw(stuckHttp,
+                           "GET /stream.mjpg?profile=test&width=64&height=32&view=bird HTTP/1.1\r\nHost: 127.0.0.1:" +
+                               std::to_string(m_server->httpPort()) + "\r\n\r\n"));
     const int silent = connectUnixRaw(m_server->options().unixPath);
 
     const int withStuck = framesReceived(*fast, 600ms);
@@ -354,8 +355,9 @@ TEST_F(StreamServerTest, HttpPagesStatusAndMetrics) {
     EXPECT_NE(page.find("<img id=\"view\""), std::string::npos);
     EXPECT_NE(page.find("/stream.mjpg?profile=center"), std::string::npos);
 
-    const std::string status = httpExchange(m_server->httpPort(), "GET /status HTTP/1.0\r\nHost: localhost:" +
-                                                                      std::to_string(m_server->httpPort()) + "\r\n\r\n");
+    const std::string status =
+        httpExchange(m_server->httpPort(),
+                     "GET /status HTTP/1.0\r\nHost: localhost:" + std::to_string(m_server->httpPort()) + "\r\n\r\n");
     ASSERT_NE(status.find("\r\n\r\n"), std::string::npos);
     auto j = nlohmann::json::parse(status.substr(status.find("\r\n\r\n") + 4), nullptr, false);
     ASSERT_TRUE(j.is_object()) << status;
@@ -366,7 +368,8 @@ TEST_F(StreamServerTest, HttpPagesStatusAndMetrics) {
     EXPECT_NE(metrics.find("text/plain; version=0.0.4"), std::string::npos);
     // The server's families first, then the daemon's, each with HELP and TYPE, each once.
     EXPECT_NE(metrics.find("\r\n\r\n# HELP navmap_stream_clients "), std::string::npos) << metrics;
-    EXPECT_NE(metrics.find("# TYPE navmapd_frames_total counter\nnavmapd_frames_total 42\n"), std::string::npos) << metrics;
+    EXPECT_NE(metrics.find("# TYPE navmapd_frames_total counter\nnavmapd_frames_total 42\n"), std::string::npos)
+        << metrics;
     EXPECT_EQ(metrics.find("# TYPE navmap_stream_clients"), metrics.rfind("# TYPE navmap_stream_clients")) << metrics;
     EXPECT_NE(metrics.find("# TYPE navmap_stream_frames_published_total counter"), std::string::npos);
     EXPECT_NE(metrics.find("navmap_stream_clients{transport=\"shm\"} 0"), std::string::npos);
@@ -422,7 +425,9 @@ TEST_F(StreamServerTest, MjpegOverHttpDecodesToThePublishedImage) {
         ASSERT_TRUE(decodeJpeg(jpeg, &w, &h, &rgba));
         ASSERT_EQ(w, 96);
         ASSERT_EQ(h, 48);
-        const auto at = [&](int x, int y, int c) { return static_cast<int>(rgba[(static_cast<std::size_t>(y) * 96 + x) * 4 + c]); };
+        const auto at = [&](int x, int y, int c) {
+            return static_cast<int>(rgba[(static_cast<std::size_t>(y) * 96 + x) * 4 + c]);
+        };
         EXPECT_NEAR(at(10, 24, 0), 220, 12);
         EXPECT_NEAR(at(10, 24, 2), 20, 12);
         EXPECT_NEAR(at(85, 24, 0), 20, 12);
@@ -560,7 +565,7 @@ TEST_F(StreamServerTest, FrameRateCapDelaysButNeverLosesTheNewestFrame) {
     const auto waited = std::chrono::steady_clock::now() - t0;
     EXPECT_EQ(f.header.sequence, 2U);
     expectPattern(f, 2);
-    EXPECT_GE(waited, 40ms);   // held back by the cap (3/4 of the period, minus scheduling)
+    EXPECT_GE(waited, 40ms);  // held back by the cap (3/4 of the period, minus scheduling)
     EXPECT_LT(waited, 500ms);
     EXPECT_EQ(f.header.dropped, 0U);  // a capped frame is not a drop
 }

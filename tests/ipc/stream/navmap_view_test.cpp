@@ -9,8 +9,8 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
-#include <thread>
 #include <nlohmann/json.hpp>
+#include <thread>
 
 #include "navmap/ipc/frame_server.h"
 #include "navmap/render/image.h"
@@ -49,10 +49,10 @@ TEST(NavmapView, SavesPngsAndPrintsLatencyAndDrops) {
     const auto dir = std::filesystem::temp_directory_path() / ("navmap-view-test-" + std::to_string(getpid()));
     std::filesystem::remove_all(dir);
     for (const bool tcp : {false, true}) {
-        const std::string target = tcp ? "--tcp 127.0.0.1:" + std::to_string(server.tcpPort()) + " --payload zlib"
-                                       : "--unix " + o.unixPath;
-        const std::string cmd = std::string(NAVMAP_VIEW_EXE) + " " + target +
-                                " --profile hud --frames 6 --save " + dir.string() + " --save-count 3 --json 2>&1";
+        const std::string target =
+            tcp ? "--tcp 127.0.0.1:" + std::to_string(server.tcpPort()) + " --payload zlib" : "--unix " + o.unixPath;
+        const std::string cmd = std::string(NAVMAP_VIEW_EXE) + " " + target + " --profile hud --frames 6 --save " +
+                                dir.string() + " --save-count 3 --json 2>&1";
         int status = 0;
         const std::string out = runCommand(cmd, &status);
         ASSERT_EQ(status, 0) << out;

@@ -4,8 +4,8 @@
 // views and sizes that are not rendered, the handshake and first-frame timeouts, the ring memory
 // ceiling, rings no client can write, and the HTTP Host check and token.
 
-#include <gtest/gtest.h>
 #include <fcntl.h>
+#include <gtest/gtest.h>
 #include <linux/falloc.h>
 #include <sys/mman.h>
 #include <sys/socket.h>
@@ -193,7 +193,7 @@ TEST_F(StreamAccessTest, ListedUidsAndGroupMembersGetFrames) {
             if (r.value()) {
                 const auto want = sequencePattern(1280, 480, f.header.sequence);
                 return std::string(std::memcmp(f.pixels.data(), want.data(), want.size()) == 0 ? "frame ok"
-                                                                                                : "frame wrong");
+                                                                                               : "frame wrong");
             }
         }
         return std::string("no frame");
@@ -241,7 +241,8 @@ TEST_F(StreamAccessTest, OneUidCannotLockOthersOut) {
     EXPECT_EQ(s.refusedUidFull, 60U);
     EXPECT_EQ(s.refusedTransportFull, 0U);
     EXPECT_EQ(s.shmClients, 5U);
-    EXPECT_NE(m_server->metricsText().find("navmap_stream_refusals_total{reason=\"uid_full\"} 60\n"), std::string::npos);
+    EXPECT_NE(m_server->metricsText().find("navmap_stream_refusals_total{reason=\"uid_full\"} 60\n"),
+              std::string::npos);
     nobody.release();
     pub.stop();
 }
@@ -296,17 +297,21 @@ TEST_F(StreamAccessTest, UnrenderedViewsAndSizesAreRefusedNamingWhatIsRendered) 
     ASSERT_FALSE(big.ok());
     EXPECT_EQ(big.error().message,
               "handshake refused by " + path() + ": handshake: bird 4096x4096 is not rendered here; " + rendered);
-    auto wrongView = StreamClient::connectTcp("127.0.0.1", m_server->tcpPort(), request("bird", 1280, 480, StreamPayload::Raw));
+    auto wrongView =
+        StreamClient::connectTcp("127.0.0.1", m_server->tcpPort(), request("bird", 1280, 480, StreamPayload::Raw));
     ASSERT_FALSE(wrongView.ok());
-    EXPECT_NE(wrongView.error().message.find("handshake: bird 1280x480 is not rendered here; " + rendered), std::string::npos)
+    EXPECT_NE(wrongView.error().message.find("handshake: bird 1280x480 is not rendered here; " + rendered),
+              std::string::npos)
         << wrongView.error().message;
     // MJPEG: 400 with the same words.
     const std::string mjpeg = httpGet(m_server->httpPort(), "/stream.mjpg?width=4096&height=4096&view=bird");
     EXPECT_EQ(mjpeg.rfind("HTTP/1.0 400 Bad Request\r\n", 0), 0U) << mjpeg;
-    EXPECT_NE(mjpeg.find("\r\n\r\nbird 4096x4096 is not rendered here; " + rendered + "\n"), std::string::npos) << mjpeg;
+    EXPECT_NE(mjpeg.find("\r\n\r\nbird 4096x4096 is not rendered here; " + rendered + "\n"), std::string::npos)
+        << mjpeg;
     EXPECT_EQ(m_server->stats().rings, 0U);
     EXPECT_EQ(m_server->stats().refusedNotRendered, 3U);
-    EXPECT_NE(m_server->metricsText().find("navmap_stream_refusals_total{reason=\"not_rendered\"} 3\n"), std::string::npos);
+    EXPECT_NE(m_server->metricsText().find("navmap_stream_refusals_total{reason=\"not_rendered\"} 3\n"),
+              std::string::npos);
     // What is rendered is served, in either pixel format, and by name on the MJPEG page.
     Publisher pub(*m_server, "hud", 800, 240, 60);
     StreamRequest hud;
@@ -349,7 +354,8 @@ TEST_F(StreamAccessTest, SilentConnectionsAndClientsWithoutAFrameAreClosed) {
     ReceivedFrame f;
     auto r = starved.value()->next(f, 3s);
     ASSERT_FALSE(r.ok());
-    EXPECT_NE(r.error().message.find("disconnected, no frame within 300 ms of the handshake (nothing published for bird 64x32)"),
+    EXPECT_NE(r.error().message.find(
+                  "disconnected, no frame within 300 ms of the handshake (nothing published for bird 64x32)"),
               std::string::npos)
         << r.error().message;
     // The fed client keeps receiving well past the timeout.
@@ -478,7 +484,9 @@ TEST_F(StreamAccessTest, HttpChecksTheHostHeaderAndTheToken) {
     EXPECT_NE(r.find("\r\n\r\nmissing Host header\n"), std::string::npos) << r;
     r = status("Host: evil.example:" + p + "\r\nAuthorization: Bearer " + token + "\r\n");
     EXPECT_EQ(r.rfind("HTTP/1.0 421 Misdirected Request\r\n", 0), 0U) << r;
-    EXPECT_NE(r.find("\r\n\r\nHost \"evil.example:" + p + "\" is not this server " + expected + "\n"), std::string::npos) << r;
+    EXPECT_NE(r.find("\r\n\r\nHost \"evil.example:" + p + "\" is not this server " + expected + "\n"),
+              std::string::npos)
+        << r;
     r = status("Host: 127.0.0.1:1\r\nAuthorization: Bearer " + token + "\r\n");
     EXPECT_EQ(r.rfind("HTTP/1.0 421", 0), 0U) << r;
     r = status("Host: 127.0.0.1\r\nAuthorization: Bearer " + token + "\r\n");

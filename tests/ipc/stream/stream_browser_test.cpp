@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // The HTML viewer in a real browser: headless Chromium loads GET /?token=..., shows the MJPEG
-// stream and the /status JSON, the page handing its token on to both. Label `browser`; skipped with a reason when chromium is not installed
-// (Debian: apt-get install chromium).
+// stream and the /status JSON, the page handing its token on to both. Label `browser`; skipped with a reason when
+// chromium is not installed (Debian: apt-get install chromium).
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -74,13 +74,14 @@ TEST(StreamBrowser, HeadlessChromiumShowsTheLiveStreamAndStatus) {
     std::filesystem::create_directories(dir);
     const std::string flags =
         " --headless --no-sandbox --disable-gpu --disable-background-networking --disable-component-update"
-        " --disable-sync --no-first-run --user-data-dir=" + (dir / "profile").string();
+        " --disable-sync --no-first-run --user-data-dir=" +
+        (dir / "profile").string();
     const std::string url = "http://127.0.0.1:" + std::to_string(server.httpPort()) + "/?token=" + o.httpToken;
     const auto shot = dir / "page.png";
     run("timeout 60 " + chromium + flags + " --window-size=1400,900 --timeout=4000 --screenshot=" + shot.string() +
         " " + url + " 2>/dev/null");
-    const std::string dom = run("timeout 60 " + chromium + flags + " --virtual-time-budget=3000 --dump-dom " + url +
-                                " 2>/dev/null");
+    const std::string dom =
+        run("timeout 60 " + chromium + flags + " --virtual-time-budget=3000 --dump-dom " + url + " 2>/dev/null");
     go = false;
     render.join();
 

@@ -87,8 +87,8 @@ FrameHeader nextHeader(int fd) {
 }
 
 std::string loading(int i) {
-    return R"({"state":"loading","view":"bird","tiles_wanted":)" + std::to_string(12 - i) +
-           R"(,"held_back":)" + std::to_string(3 * i) + R"(,"waited_ms":)" + std::to_string(100 * i) + "}";
+    return R"({"state":"loading","view":"bird","tiles_wanted":)" + std::to_string(12 - i) + R"(,"held_back":)" +
+           std::to_string(3 * i) + R"(,"waited_ms":)" + std::to_string(100 * i) + "}";
 }
 
 class StreamStatusTest : public ::testing::Test {
@@ -335,7 +335,8 @@ TEST(StreamClientStatus, ABrokenStatusIsAProtocolErrorNamingTheProblem) {
     const int fds = countOpenFds();
     const std::string badUtf8 = "{\"state\":\"\xc3(\"}";
     const std::pair<std::string, std::string> cases[] = {
-        {statusBytes(badUtf8, static_cast<std::uint32_t>(badUtf8.size())), ": status: not UTF-8 (byte 0xc3 at offset 10)"},
+        {statusBytes(badUtf8, static_cast<std::uint32_t>(badUtf8.size())),
+         ": status: not UTF-8 (byte 0xc3 at offset 10)"},
         {statusBytes("{}", kMaxStatusPayloadBytes + 1), ": frame header: status of 65537 bytes (limit 65536)"},
     };
     for (const auto& [wire, why] : cases) {

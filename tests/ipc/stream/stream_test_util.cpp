@@ -168,8 +168,8 @@ int freeTcpPort() {
 }
 
 std::string httpGet(int port, const std::string& target, const std::string& headers) {
-    return httpExchange(port, "GET " + target + " HTTP/1.1\r\nHost: 127.0.0.1:" + std::to_string(port) + "\r\n" + headers +
-                                  "\r\n");
+    return httpExchange(
+        port, "GET " + target + " HTTP/1.1\r\nHost: 127.0.0.1:" + std::to_string(port) + "\r\n" + headers + "\r\n");
 }
 
 namespace {

@@ -46,7 +46,8 @@ bool sendAllRaw(int fd, const std::string& data);
 /// Reads until the peer closes or `timeout` passes.
 std::string readUntilClose(int fd, std::chrono::milliseconds timeout);
 /// One HTTP request over a fresh connection; returns the whole response.
-std::string httpExchange(int port, const std::string& request, std::chrono::milliseconds timeout = std::chrono::seconds(5));
+std::string httpExchange(int port, const std::string& request,
+                         std::chrono::milliseconds timeout = std::chrono::seconds(5));
 /// A TCP port on 127.0.0.1 nobody listens on now (bound and released; a daemon binds it next).
 int freeTcpPort();
 /// "GET <target> HTTP/1.1" with the Host header this server accepts (127.0.0.1:<port>) and
@@ -55,9 +56,9 @@ std::string httpGet(int port, const std::string& target, const std::string& head
 
 /// A shm handshake done by hand, keeping the ring's descriptor as received (SCM_RIGHTS).
 struct RawShmClient {
-    int fd = -1;       ///< the socket
-    int ringFd = -1;   ///< the memfd from the reply, -1 when none came
-    std::string reply; ///< the reply line without '\n'
+    int fd = -1;        ///< the socket
+    int ringFd = -1;    ///< the memfd from the reply, -1 when none came
+    std::string reply;  ///< the reply line without '\n'
     ~RawShmClient();
 };
 std::unique_ptr<RawShmClient> rawShmHandshake(const std::string& path, const std::string& line);

@@ -94,9 +94,9 @@ TEST(FrameHeader, StatusKindCarriesAUtf8PayloadOfAtMost64KiB) {
     // Two-, three- and four-byte characters pass; a lone continuation byte, an overlong '/', a
     // UTF-16 surrogate, a code point above U+10FFFF and a sequence cut short do not.
     const std::string accented = "{\"state\":\"chargement termin\xc3\xa9\",\"\xe2\x82\xac\":\"\xf0\x9f\x97\xba\"}";
-    EXPECT_TRUE(validateTextPayload(FrameKind::Status, reinterpret_cast<const std::uint8_t*>(accented.data()),
-                                    accented.size())
-                    .ok());
+    EXPECT_TRUE(
+        validateTextPayload(FrameKind::Status, reinterpret_cast<const std::uint8_t*>(accented.data()), accented.size())
+            .ok());
     const std::pair<std::string, std::string> bad[] = {
         {"{\"a\":\"\x80\"}", "status: not UTF-8 (byte 0x80 at offset 6)"},
         {"ab\xc0\xaf", "status: not UTF-8 (byte 0xc0 at offset 2)"},
@@ -105,7 +105,8 @@ TEST(FrameHeader, StatusKindCarriesAUtf8PayloadOfAtMost64KiB) {
         {"xyz\xe2\x82", "status: not UTF-8 (byte 0xe2 at offset 3)"},
     };
     for (const auto& [text, why] : bad) {
-        const auto s = validateTextPayload(FrameKind::Status, reinterpret_cast<const std::uint8_t*>(text.data()), text.size());
+        const auto s =
+            validateTextPayload(FrameKind::Status, reinterpret_cast<const std::uint8_t*>(text.data()), text.size());
         ASSERT_FALSE(s.ok()) << why;
         EXPECT_EQ(s.message(), why);
     }
@@ -114,9 +115,11 @@ TEST(FrameHeader, StatusKindCarriesAUtf8PayloadOfAtMost64KiB) {
     auto atLimit = encodeFrameHeader(h);
     EXPECT_TRUE(decodeFrameHeader(atLimit.data(), atLimit.size()).ok());
     const std::string big(kMaxStatusPayloadBytes + 1, 'x');
-    EXPECT_TRUE(validateTextPayload(FrameKind::Status, reinterpret_cast<const std::uint8_t*>(big.data()), big.size() - 1).ok());
-    EXPECT_EQ(validateTextPayload(FrameKind::Status, reinterpret_cast<const std::uint8_t*>(big.data()), big.size()).message(),
-              "status: 65537 bytes (limit 65536)");
+    EXPECT_TRUE(
+        validateTextPayload(FrameKind::Status, reinterpret_cast<const std::uint8_t*>(big.data()), big.size() - 1).ok());
+    EXPECT_EQ(
+        validateTextPayload(FrameKind::Status, reinterpret_cast<const std::uint8_t*>(big.data()), big.size()).message(),
+        "status: 65537 bytes (limit 65536)");
     h.payloadBytes = kMaxStatusPayloadBytes + 1;
     auto over = encodeFrameHeader(h);
     auto r = decodeFrameHeader(over.data(), over.size());
@@ -243,7 +246,8 @@ TEST(FramePng, WritesAPngThatReadsBackExactly) {
         // Opaque: the image reader premultiplies alpha, which would change translucent colours.
         px[i] = i % 4 == 3 ? 255 : static_cast<std::uint8_t>(i * 7);
     }
-    const auto path = std::filesystem::temp_directory_path() / ("navmap_frame_png_" + std::to_string(getpid()) + ".png");
+    const auto path =
+        std::filesystem::temp_directory_path() / ("navmap_frame_png_" + std::to_string(getpid()) + ".png");
     ASSERT_TRUE(writeFramePng(path.string(), h, px.data()).ok());
     navmap::render::Image img;
     std::string err;

@@ -31,14 +31,16 @@ nl::DrawnLabel label(std::uint64_t id, glm::vec2 lo, glm::vec2 hi, float opacity
 }
 
 // A point label at `anchor` (a 20 x 10 px box just above it).
-nl::DrawnLabel pointAt(std::uint64_t id, glm::vec2 anchor, float opacity = 1.0F, nl::LabelKind kind = nl::LabelKind::Point) {
+nl::DrawnLabel pointAt(std::uint64_t id, glm::vec2 anchor, float opacity = 1.0F,
+                       nl::LabelKind kind = nl::LabelKind::Point) {
     nl::DrawnLabel l = label(id, anchor - glm::vec2(10, 12), anchor + glm::vec2(10, -2), opacity);
     l.anchor = anchor;
     l.kind = kind;
     return l;
 }
 
-nl::DrawnFrameFigures add(nl::DrawnLabelMetrics& m, const std::vector<nl::DrawnLabel>& labels, const nl::DrawnMarker& marker = {}) {
+nl::DrawnFrameFigures add(nl::DrawnLabelMetrics& m, const std::vector<nl::DrawnLabel>& labels,
+                          const nl::DrawnMarker& marker = {}) {
     return m.addFrame(labels, marker, kViewport, kDt);
 }
 
@@ -91,16 +93,17 @@ TEST(DrawnLabelMetrics, OverlapsNeedMoreThanOnePixelOfGlyphPenetration) {
     // 4 px but 6 is not visible. 7's own glyphs overlap each other: not a pair.
     nl::DrawnLabel seven = label(7, {600, 0}, {620, 10});
     seven.glyph_boxes.push_back(rect({610, 0}, {630, 10}));
-    const nl::DrawnFrameFigures f =
-        add(m, {label(1, {0, 0}, {10, 10}), label(2, {9, 0}, {19, 10}), label(3, {100, 0}, {110, 10}),
-                label(4, {108.5F, 2}, {120, 8}), label(5, {200, 0}, {210, 10}), label(6, {206, 0}, {216, 10}, 0.3F), seven});
+    const nl::DrawnFrameFigures f = add(m, {label(1, {0, 0}, {10, 10}), label(2, {9, 0}, {19, 10}),
+                                            label(3, {100, 0}, {110, 10}), label(4, {108.5F, 2}, {120, 8}),
+                                            label(5, {200, 0}, {210, 10}), label(6, {206, 0}, {216, 10}, 0.3F), seven});
     EXPECT_EQ(f.overlap_pairs, 1U);
     // Bounding boxes of whole labels overlap, glyphs do not (a gap between two glyphs of 8).
     nl::DrawnLabel eight = label(8, {0, 0}, {10, 10});
     eight.glyph_boxes.push_back(rect({30, 0}, {40, 10}));
     EXPECT_EQ(add(m, {eight, label(9, {12, 0}, {28, 10})}).overlap_pairs, 0U);
     // Three labels on one spot: three pairs.
-    EXPECT_EQ(add(m, {label(1, {0, 0}, {10, 10}), label(2, {2, 0}, {12, 10}), label(3, {4, 0}, {14, 10})}).overlap_pairs, 3U);
+    EXPECT_EQ(
+        add(m, {label(1, {0, 0}, {10, 10}), label(2, {2, 0}, {12, 10}), label(3, {4, 0}, {14, 10})}).overlap_pairs, 3U);
     const nl::DrawnLabelQuality q = m.summary();
     EXPECT_EQ(q.overlap_pairs_max, 3U);
     EXPECT_EQ(q.overlap_pairs_sum, 4U);
@@ -119,7 +122,7 @@ TEST(DrawnLabelMetrics, OccludedShareCountsMeasuredLabelsAndReportsUnmeasuredApa
     const nl::DrawnLabelQuality q = m.summary();
     EXPECT_EQ(q.occlusion_measured_label_frames, 4U);  // 1, 2, 4; then 1 (5 is not visible)
     EXPECT_EQ(q.occlusion_unmeasured_label_frames, 2U);
-    EXPECT_EQ(q.occluded_label_frames, 2U);            // 2 (0.11), then 1 (0.5); 0.10 is not more than 10 %
+    EXPECT_EQ(q.occluded_label_frames, 2U);  // 2 (0.11), then 1 (0.5); 0.10 is not more than 10 %
     EXPECT_DOUBLE_EQ(q.occluded_share, 0.5);
 }
 
@@ -194,8 +197,8 @@ TEST(DrawnLabelMetrics, InteriorPointPopsNeedTheAnchor64PixelsInsideWhereTheLabe
     nl::DrawnLabelMetrics m;
     add(m, {});
     // Entering: the anchor of the frame in which the label is visible counts.
-    auto f = add(m, {pointAt(1, {64, 64}), pointAt(2, {63, 200}), pointAt(3, {1216, 416}),
-                     pointAt(4, {1217, 200}), pointAt(5, {600, 200}, 1.0F, nl::LabelKind::Area),
+    auto f = add(m, {pointAt(1, {64, 64}), pointAt(2, {63, 200}), pointAt(3, {1216, 416}), pointAt(4, {1217, 200}),
+                     pointAt(5, {600, 200}, 1.0F, nl::LabelKind::Area),
                      pointAt(6, {600, 300}, 1.0F, nl::LabelKind::Line), pointAt(7, {600, 416.5F})});
     EXPECT_EQ(f.pops, 7U);
     EXPECT_EQ(f.interior_point_pops, 3U);  // 1, 3 (exactly 64 px in) and 5 (an area)

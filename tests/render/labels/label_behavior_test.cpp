@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 #include <cmath>
 
-#include <glm/geometric.hpp>
 #include <gtest/gtest.h>
+#include <glm/geometric.hpp>
 
 #include "labels/label_behavior.h"
 
@@ -30,8 +30,8 @@ TEST(LabelBehavior, FreeSpringPullsToRestOffset) {
     const glm::vec2 rest{30, -12};
     EXPECT_EQ(nl::freeForce(rest, rest, 20.0F), glm::vec2(0.0F));
     EXPECT_EQ(nl::freeForce(rest + glm::vec2(2, 0), rest, 20.0F), glm::vec2(-40, 0));
-    const nl::Motion m = simulate({rest + glm::vec2(40, 25), {}}, [&](glm::vec2 o) { return nl::freeForce(o, rest, 20.0F); },
-                                  3.0F);
+    const nl::Motion m = simulate(
+        {rest + glm::vec2(40, 25), {}}, [&](glm::vec2 o) { return nl::freeForce(o, rest, 20.0F); }, 3.0F);
     EXPECT_LT(glm::length(m.offset - rest), 0.05F);
     EXPECT_LT(glm::length(m.velocity), 0.5F);
 }
@@ -62,8 +62,8 @@ TEST(LabelBehavior, CircleLabelReturnsToItsRadius) {
     const float r = 40.0F;
     const auto force = [&](glm::vec2 o) { return nl::circleForce(o, r, 40.0F); };
     EXPECT_NEAR(glm::length(force({r, 0})), 0.0F, 1e-4F);
-    EXPECT_LT(force({80, 0}).x, 0.0F);  // outside: pulled in
-    EXPECT_GT(force({10, 0}).x, 0.0F);  // inside: pushed out
+    EXPECT_LT(force({80, 0}).x, 0.0F);                           // outside: pulled in
+    EXPECT_GT(force({10, 0}).x, 0.0F);                           // inside: pushed out
     EXPECT_EQ(glm::normalize(force({0, 0})), glm::vec2(0, -1));  // at the anchor: up
     for (const glm::vec2 start : {glm::vec2(90, 30), glm::vec2(3, -4), glm::vec2(-20, 5)}) {
         const nl::Motion m = simulate({start, {}}, force, 4.0F);

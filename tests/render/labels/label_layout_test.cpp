@@ -5,11 +5,11 @@
 #include <random>
 #include <vector>
 
-#include <glm/geometric.hpp>
 #include <gtest/gtest.h>
+#include <glm/geometric.hpp>
 
-#include "navmap/render/labels/label_layout.h"
 #include "labels/layout_metrics.h"
+#include "navmap/render/labels/label_layout.h"
 #include "synthetic_label_scene.h"
 
 namespace nl = navmap::render::labels;
@@ -148,8 +148,8 @@ TEST(LabelLayout, PriorityOrderAndPlacementBudget) {
     nl::LabelLayout layout(p);
     std::vector<nl::LabelCandidate> c;
     for (int i = 0; i < 10; ++i) {
-        c.push_back(point(static_cast<std::uint64_t>(i + 1), {100.0F + 130.0F * static_cast<float>(i % 5),
-                                                              100.0F + 200.0F * static_cast<float>(i / 5)},
+        c.push_back(point(static_cast<std::uint64_t>(i + 1),
+                          {100.0F + 130.0F * static_cast<float>(i % 5), 100.0F + 200.0F * static_cast<float>(i / 5)},
                           0.1F * static_cast<float>(i)));
     }
     layout.setFrame(c, camera());
@@ -304,7 +304,8 @@ TEST(LabelLayout, FiveFramesPerSecondKeepWallClockTiming) {
         }
         EXPECT_NEAR(slow.timeS(), 0.2 * t, 1e-9);
         EXPECT_NEAR(fast.timeS(), 0.2 * t, 1e-9);
-        ASSERT_EQ(slow.stats().visible + slow.stats().fading_in, fast.stats().visible + fast.stats().fading_in) << "t " << t;
+        ASSERT_EQ(slow.stats().visible + slow.stats().fading_in, fast.stats().visible + fast.stats().fading_in)
+            << "t " << t;
     }
     EXPECT_TRUE(sameOutput(slow.output(), fast.output()));
     EXPECT_GT(slow.stats().visible, 20U);

@@ -2,8 +2,8 @@
 #include <cmath>
 #include <stdexcept>
 
-#include <glm/vec3.hpp>
 #include <gtest/gtest.h>
+#include <glm/vec3.hpp>
 
 #include "labels/label_space_switch.h"
 
@@ -27,7 +27,7 @@ TEST(LabelSpaceSwitch, HysteresisPreventsFlicker) {
         const float height = (i % 3 == 0) ? 150.0F : 110.0F;
         EXPECT_EQ(sw.update(tilt, height, 0.016), nl::LabelSpace::World) << i;
     }
-    EXPECT_EQ(sw.update(51, 100, 0.016), nl::LabelSpace::Screen);   // below the exit angle
+    EXPECT_EQ(sw.update(51, 100, 0.016), nl::LabelSpace::Screen);  // below the exit angle
     for (int i = 0; i < 100; ++i) {
         EXPECT_EQ(sw.update((i % 2 == 0) ? 59.0F : 53.0F, 100, 0.016), nl::LabelSpace::Screen) << i;
     }

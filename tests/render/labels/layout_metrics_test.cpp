@@ -24,10 +24,13 @@ nl::PlacedLabel label(std::uint64_t id, glm::vec2 center, float alpha = 1.0F,
 
 TEST(LayoutMetrics, CountsOverlapsAmongVisibleLabelsOnly) {
     const std::vector labels = {
-        label(1, {0, 0}), label(2, {90, 5}),                      // overlap
-        label(3, {300, 0}), label(4, {400, 0}),                   // touching: no overlap
-        label(5, {300, 5}, 0.5F, nl::LabelState::FadingOut),      // fading out: not counted
-        label(6, {600, 0}), label(7, {610, 0}, 0.1F, nl::LabelState::FadingIn),  // fading in counts
+        label(1, {0, 0}),
+        label(2, {90, 5}),  // overlap
+        label(3, {300, 0}),
+        label(4, {400, 0}),                                   // touching: no overlap
+        label(5, {300, 5}, 0.5F, nl::LabelState::FadingOut),  // fading out: not counted
+        label(6, {600, 0}),
+        label(7, {610, 0}, 0.1F, nl::LabelState::FadingIn),  // fading in counts
     };
     EXPECT_EQ(nl::LayoutMetrics::countOverlaps(labels), 2U);
 }
@@ -39,8 +42,7 @@ TEST(LayoutMetrics, PopsJitterAndVisibleCounts) {
     // Label 1 moves by 3 px with a fixed anchor: jitter 3. Its anchor also moves in the next
     // frame, together with the label: no jitter. Label 3 pops in at full alpha; label 2
     // fades in normally.
-    m.addFrame(std::vector{label(1, {13, 4}), label(2, {300, 0}, 0.3F, nl::LabelState::FadingIn),
-                           label(3, {600, 0})},
+    m.addFrame(std::vector{label(1, {13, 4}), label(2, {300, 0}, 0.3F, nl::LabelState::FadingIn), label(3, {600, 0})},
                dt);
     m.addFrame(std::vector{label(1, {113, 4}, 1.0F, nl::LabelState::Visible, {100, 0}),
                            label(2, {300, 0}, 0.5F, nl::LabelState::FadingIn), label(3, {600, 0})},

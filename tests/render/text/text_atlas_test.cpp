@@ -8,11 +8,11 @@
 
 #include "navmap/render/text/atlas_packer.h"
 #include "navmap/render/text/glyph_atlas.h"
-#include "text/label_text_style.h"
 #include "navmap/render/text/sdf_generator.h"
 #include "navmap/render/text/text_engine.h"
 #include "navmap/render/text/text_layout.h"
 #include "navmap/render/text/text_shaper.h"
+#include "text/label_text_style.h"
 #include "text_test_util.h"
 
 namespace {
@@ -37,8 +37,8 @@ TEST(SdfGenerator, DiscHasSignedDistances) {
             EXPECT_NEAR(sdf.pixels[y * 32 + x], expected, 10.0) << x << "," << y;
         }
     }
-    EXPECT_EQ(sdf.pixels[16 * 32 + 16], 255);  // center: 10 texels inside, saturated
-    EXPECT_EQ(sdf.pixels[0], 0);               // corner: far outside
+    EXPECT_EQ(sdf.pixels[16 * 32 + 16], 255);                    // center: 10 texels inside, saturated
+    EXPECT_EQ(sdf.pixels[0], 0);                                 // corner: far outside
     EXPECT_TRUE(makeSdf(cov, n, n, n, 3, 4.0f).pixels.empty());  // 128 is not a multiple of 3
 }
 
@@ -80,7 +80,8 @@ TEST(GlyphAtlas, SdfInsideAboveHalfOutsideBelow) {
     EXPECT_NEAR(g->height * p.base_em_px, g->texels.h, 1e-3);
     EXPECT_GT(g->texels.w, 2 * p.spread_px);
     auto at = [&](int x, int y) {
-        return static_cast<int>(atlas.pixels()[static_cast<std::size_t>(g->texels.y + y) * atlas.width() + g->texels.x + x]);
+        return static_cast<int>(
+            atlas.pixels()[static_cast<std::size_t>(g->texels.y + y) * atlas.width() + g->texels.x + x]);
     };
     const int cy = g->texels.h / 2;
     int peak = 0;
@@ -93,8 +94,10 @@ TEST(GlyphAtlas, SdfInsideAboveHalfOutsideBelow) {
     // Unimodal across the stem: falls off on both sides, crossing 0.5 once on each.
     int crossings = 0;
     for (int x = 1; x < g->texels.w; ++x) {
-        if (x <= peak) EXPECT_LE(at(x - 1, cy), at(x, cy) + 2) << x;
-        else EXPECT_GE(at(x - 1, cy) + 2, at(x, cy)) << x;
+        if (x <= peak)
+            EXPECT_LE(at(x - 1, cy), at(x, cy) + 2) << x;
+        else
+            EXPECT_GE(at(x - 1, cy) + 2, at(x, cy)) << x;
         crossings += (at(x - 1, cy) >= 128) != (at(x, cy) >= 128);
     }
     EXPECT_EQ(crossings, 2);
@@ -142,7 +145,8 @@ TEST(GlyphAtlas, GrowsThenEvictsUnusedGlyphs) {
     const AtlasGlyph first = *atlas.glyph(upper.glyphs[0].font, upper.glyphs[0].glyph);
     EXPECT_EQ(request(upper), 0u);
     EXPECT_GT(atlas.height(), 32);
-    EXPECT_EQ(atlas.glyph(upper.glyphs[0].font, upper.glyphs[0].glyph)->texels.y, first.texels.y);  // growth keeps texels
+    EXPECT_EQ(atlas.glyph(upper.glyphs[0].font, upper.glyphs[0].glyph)->texels.y,
+              first.texels.y);  // growth keeps texels
     const std::size_t refused = request(lower);
     ASSERT_GT(refused, 0u);
     EXPECT_EQ(atlas.stats().overflows, refused);
@@ -173,7 +177,7 @@ TEST(TextLayout, MetricsScaleLinearlyWithSize) {
     EXPECT_NEAR(m30.width, 3.0f * m10.width, 1e-3f);
     EXPECT_NEAR(m30.height, 3.0f * m10.height, 1e-3f);
     EXPECT_NEAR(m10.height, m10.ascent + m10.descent, 1e-4f);
-    EXPECT_GT(m10.width, 80.0f);   // 19 characters at 10 px
+    EXPECT_GT(m10.width, 80.0f);  // 19 characters at 10 px
     EXPECT_LT(m10.width, 130.0f);
     EXPECT_NEAR(m10.height, 11.64f, 0.05f);  // DejaVu Sans: ascender 0.928, descender -0.236
     // Quads scale the same way and are centered on the anchor.
@@ -216,7 +220,9 @@ TEST(TextLayout, IconTextPutsTheIconFirst) {
 TEST(LabelTextStyle, PlacesShrinkWithClass) {
     using navmap::map::LabelKind;
     using navmap::map::PlaceClass;
-    const auto size = [](PlaceClass c) { return labelTextStyle(LabelKind::Place, static_cast<std::uint8_t>(c)).size_px; };
+    const auto size = [](PlaceClass c) {
+        return labelTextStyle(LabelKind::Place, static_cast<std::uint8_t>(c)).size_px;
+    };
     EXPECT_GT(size(PlaceClass::City), size(PlaceClass::Town));
     EXPECT_GT(size(PlaceClass::Town), size(PlaceClass::Village));
     EXPECT_GT(size(PlaceClass::Village), size(PlaceClass::Hamlet));
@@ -233,7 +239,8 @@ TEST(LabelTextStyle, PlacesShrinkWithClass) {
 
 TEST(TextEngine, CachesRunsAndLaysOut) {
     std::string why;
-    if (navmap::render::text::debianFontFiles().regular.size() < 2) GTEST_SKIP() << "needs fonts-dejavu-core and fonts-droid-fallback";
+    if (navmap::render::text::debianFontFiles().regular.size() < 2)
+        GTEST_SKIP() << "needs fonts-dejavu-core and fonts-droid-fallback";
     TextEngineOptions options;
     options.max_runs = 2;
     TextEngine engine(options);
@@ -248,7 +255,7 @@ TEST(TextEngine, CachesRunsAndLaysOut) {
     EXPECT_EQ(l.quads.size(), 6u);
     EXPECT_FLOAT_EQ(l.metrics.width, engine.measure(a, 16.0f).width);
     EXPECT_GT(engine.measure(b, 16.0f).width, l.metrics.width);  // bold is wider
-    engine.beginFrame();  // 3 runs > max_runs 2: emptied
+    engine.beginFrame();                                         // 3 runs > max_runs 2: emptied
     EXPECT_EQ(engine.runsGeneration(), 1u);
     EXPECT_EQ(engine.run("Canillo"), 0u);
 }

@@ -18,8 +18,8 @@
 #include "gl/render_target.h"
 #include "gl/text_layer.h"
 #include "golden.h"
-#include "text/label_text_style.h"
 #include "navmap/render/text/text_engine.h"
+#include "text/label_text_style.h"
 
 namespace {
 
@@ -95,7 +95,7 @@ TextStyle bandsStyle() {
     s.fill = glm::vec4(1.0f, 0.85f, 0.0f, 1.0f);      // yellow
     s.outline = glm::vec4(0.05f, 0.05f, 0.1f, 1.0f);  // dark
     s.outline_px = 3.0f;
-    s.halo = glm::vec4(1.0f, 1.0f, 1.0f, 1.0f);       // white
+    s.halo = glm::vec4(1.0f, 1.0f, 1.0f, 1.0f);  // white
     s.halo_px = 8.0f;
     return s;
 }
@@ -123,7 +123,11 @@ TEST_F(TextLayerTest, FillOutlineAndHaloBands) {
     ASSERT_TRUE(isFill(start)) << "no fill colour on row " << y;
     int edge = start;
     while (edge > 0 && isFill(edge - 1)) --edge;  // first fill pixel from the left
-    const int stem_w = [&] { int x = edge; while (isFill(x)) ++x; return x - edge; }();
+    const int stem_w = [&] {
+        int x = edge;
+        while (isFill(x)) ++x;
+        return x - edge;
+    }();
     EXPECT_GE(stem_w, 7) << "DejaVu I at 96 px: stem about 9.4 px, antialiased edges excluded";
     // Dark outline ring right outside the fill (3 px).
     const glm::ivec3 ring = px(img, edge - 2, y);
@@ -314,8 +318,10 @@ TEST_F(TextLayerTest, GoldenLabels) {
     begin(w, h);
     // A busy background: stripes of land-cover-like colours under the labels.
     glEnable(GL_SCISSOR_TEST);
-    const float stripes[][4] = {
-        {0.55f, 0.70f, 0.45f, 1.0f}, {0.85f, 0.85f, 0.80f, 1.0f}, {0.40f, 0.55f, 0.80f, 1.0f}, {0.30f, 0.30f, 0.30f, 1.0f}};
+    const float stripes[][4] = {{0.55f, 0.70f, 0.45f, 1.0f},
+                                {0.85f, 0.85f, 0.80f, 1.0f},
+                                {0.40f, 0.55f, 0.80f, 1.0f},
+                                {0.30f, 0.30f, 0.30f, 1.0f}};
     for (int i = 0; i < 4; ++i) {
         glScissor(i * w / 4, 0, w / 8, h);
         glClearBufferfv(GL_COLOR, 0, stripes[i]);
@@ -336,7 +342,12 @@ TEST_F(TextLayerTest, GoldenLabels) {
         {LabelKind::Place, static_cast<std::uint8_t>(PlaceClass::Village), "Sant Julià de Lòria", {340, 60}, 0, 1},
         {LabelKind::Poi, 2, "Museu del Tabac", {120, 90}, 0, 1},
         {LabelKind::Road, 3, "Avinguda Meritxell", {330, 125}, -20, 1},
-        {LabelKind::Area, static_cast<std::uint8_t>(navmap::map::AreaClass::Water), "Estany d'Engolasters", {120, 150}, 0, 1},
+        {LabelKind::Area,
+         static_cast<std::uint8_t>(navmap::map::AreaClass::Water),
+         "Estany d'Engolasters",
+         {120, 150},
+         0,
+         1},
         {LabelKind::Poi, 0, "利奥尔茨小镇停车场", {340, 178}, 0, 1},
         {LabelKind::Place, static_cast<std::uint8_t>(PlaceClass::Hamlet), "Col·legi (fading)", {110, 185}, 0, 0.5f},
     };

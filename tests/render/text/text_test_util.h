@@ -24,7 +24,7 @@ inline std::unique_ptr<render::text::FontCollection> loadDebianFonts(std::string
 }  // namespace navmap::test
 
 /// Skips the test (saying why) when the Debian fonts are not installed.
-#define NAVMAP_REQUIRE_FONTS(fonts_var)                                   \
-    std::string fonts_var##_why;                                          \
-    auto fonts_var = ::navmap::test::loadDebianFonts(&fonts_var##_why);   \
+#define NAVMAP_REQUIRE_FONTS(fonts_var)                                 \
+    std::string fonts_var##_why;                                        \
+    auto fonts_var = ::navmap::test::loadDebianFonts(&fonts_var##_why); \
     if (!fonts_var) GTEST_SKIP() << fonts_var##_why

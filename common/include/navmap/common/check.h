@@ -24,9 +24,9 @@ namespace navmap::detail {
 
 /// Aborts with file, line, the condition's text and `msg` (a C string) when `cond` is false,
 /// in every build type. `cond` is evaluated exactly once.
-#define NAVMAP_CHECK(cond, msg)                                                   \
-    do {                                                                          \
-        if (!(cond)) [[unlikely]] {                                               \
-            ::navmap::detail::checkFailed(__FILE__, __LINE__, #cond, (msg));      \
-        }                                                                         \
+#define NAVMAP_CHECK(cond, msg)                                              \
+    do {                                                                     \
+        if (!(cond)) [[unlikely]] {                                          \
+            ::navmap::detail::checkFailed(__FILE__, __LINE__, #cond, (msg)); \
+        }                                                                    \
     } while (false)

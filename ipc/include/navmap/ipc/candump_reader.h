@@ -37,13 +37,13 @@ struct CandumpLineError {
 };
 
 struct CandumpCounters {
-    std::size_t lines = 0;        ///< lines seen, including blank ones
-    std::size_t frames = 0;       ///< accepted frames (all kinds)
+    std::size_t lines = 0;   ///< lines seen, including blank ones
+    std::size_t frames = 0;  ///< accepted frames (all kinds)
     std::size_t fdFrames = 0;
     std::size_t remoteFrames = 0;
     std::size_t errorFrames = 0;
-    std::size_t malformed = 0;    ///< rejected lines (over-long and out-of-range timestamps included)
-    std::size_t skipped = 0;      ///< blank and comment ('#' or ';') lines
+    std::size_t malformed = 0;  ///< rejected lines (over-long and out-of-range timestamps included)
+    std::size_t skipped = 0;    ///< blank and comment ('#' or ';') lines
 };
 
 /// Line-by-line parser with per-line errors and counters. Not thread-safe; one per log.
@@ -106,11 +106,11 @@ private:
     std::vector<CandumpLineError> m_errors;
     std::vector<std::string> m_interfaces;
     // feedBytes() state
-    std::size_t m_line = 0;        // number of the current line in this pass over the input
-    std::uint64_t m_offset = 0;    // bytes fed in this pass
-    std::string m_partial;         // the line read so far (bounded)
-    bool m_skipping = false;       // inside an over-long line
-    std::size_t m_skipped = 0;     // bytes of the over-long line so far
+    std::size_t m_line = 0;      // number of the current line in this pass over the input
+    std::uint64_t m_offset = 0;  // bytes fed in this pass
+    std::string m_partial;       // the line read so far (bounded)
+    bool m_skipping = false;     // inside an over-long line
+    std::size_t m_skipped = 0;   // bytes of the over-long line so far
     std::string m_failure;
 };
 

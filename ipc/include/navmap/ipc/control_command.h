@@ -17,7 +17,7 @@ struct ControlLimits {
     std::size_t maxLineBytes = std::size_t{1} << 20;  ///< a longer line disconnects the client
     std::size_t maxRoutePoints = 20000;
     std::size_t maxManeuvers = 2000;
-    std::size_t maxStringBytes = 256;                  ///< ids, display names, maneuver text
+    std::size_t maxStringBytes = 256;  ///< ids, display names, maneuver text
 };
 
 /// A geographic point, WGS84 degrees.
@@ -27,8 +27,21 @@ struct GeoCoordinate {
 };
 
 enum class ManeuverType : std::uint8_t {
-    Depart, Arrive, Straight, TurnLeft, TurnRight, SlightLeft, SlightRight, SharpLeft, SharpRight,
-    UTurn, KeepLeft, KeepRight, Roundabout, Exit, Merge,
+    Depart,
+    Arrive,
+    Straight,
+    TurnLeft,
+    TurnRight,
+    SlightLeft,
+    SlightRight,
+    SharpLeft,
+    SharpRight,
+    UTurn,
+    KeepLeft,
+    KeepRight,
+    Roundabout,
+    Exit,
+    Merge,
 };
 /// "turn_left" etc. (the protocol spelling).
 const char* maneuverTypeName(ManeuverType t) noexcept;
@@ -37,7 +50,7 @@ std::optional<ManeuverType> maneuverTypeFromName(std::string_view name) noexcept
 struct Maneuver {
     std::size_t index = 0;  ///< index into the route points where the maneuver happens
     ManeuverType type = ManeuverType::Straight;
-    std::string text;       ///< road name/ref or instruction, may be empty
+    std::string text;  ///< road name/ref or instruction, may be empty
     /// Roundabout exit counted from the entry (1 = first); only on a roundabout maneuver.
     std::optional<std::uint32_t> exitNumber;
     /// Index of the route point where the maneuver is done (a roundabout's exit); absent: `index`.
@@ -49,9 +62,9 @@ inline constexpr std::uint32_t kMaxRoundaboutExit = 32;
 enum class ViewMode : std::uint8_t { Bird, Snail, Auto };
 enum class ViewOrientation : std::uint8_t { HeadingUp, NorthUp };
 enum class MapStyle : std::uint8_t { Day, Night };
-const char* viewModeName(ViewMode m) noexcept;            ///< "bird" | "snail" | "auto"
+const char* viewModeName(ViewMode m) noexcept;                ///< "bird" | "snail" | "auto"
 const char* viewOrientationName(ViewOrientation o) noexcept;  ///< "heading-up" | "north-up"
-const char* mapStyleName(MapStyle s) noexcept;            ///< "day" | "night"
+const char* mapStyleName(MapStyle s) noexcept;                ///< "day" | "night"
 
 /// Event kinds a client can subscribe to (bit mask values).
 /// Events a subscriber hears. off_route/back_on_route: the vehicle left the active route (more
@@ -76,9 +89,9 @@ struct ClearRouteCommand {};
 /// zoom on 512-px tiles, pitch in degrees from straight down, and an optional fixed bearing
 /// (degrees clockwise from north; absent: the display's orientation decides).
 struct ViewCamera {
-    double zoom = 0.0;                  ///< 0..24
-    double pitch = 0.0;                 ///< 0..85
-    std::optional<double> bearing;      ///< -360..360
+    double zoom = 0.0;              ///< 0..24
+    double pitch = 0.0;             ///< 0..85
+    std::optional<double> bearing;  ///< -360..360
     bool operator==(const ViewCamera&) const = default;
 };
 /// Ranges a ViewCamera is checked against.
@@ -87,11 +100,11 @@ inline constexpr double kViewCameraMaxPitch = 85.0;
 inline constexpr double kViewCameraMaxBearing = 360.0;
 
 struct SetViewCommand {
-    std::string display;                        ///< "cluster", "hud", "center", ...
-    std::optional<ViewMode> mode;               ///< at least one of mode/orientation/camera is given
+    std::string display;           ///< "cluster", "hud", "center", ...
+    std::optional<ViewMode> mode;  ///< at least one of mode/orientation/camera is given
     std::optional<ViewOrientation> orientation;
-    std::optional<ViewCamera> camera;           ///< "camera": {...}
-    bool clearCamera = false;                   ///< "camera": null
+    std::optional<ViewCamera> camera;  ///< "camera": {...}
+    bool clearCamera = false;          ///< "camera": null
 };
 struct SetStyleCommand {
     MapStyle style = MapStyle::Day;

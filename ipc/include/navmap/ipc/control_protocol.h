@@ -17,8 +17,8 @@ namespace navmap::ipc {
 /// filled from the request as far as they could be read, so the error reply can echo them.
 struct ControlParse {
     std::optional<ControlCommand> command;
-    std::string error;  ///< empty when command is set
-    std::string cmd;    ///< the request's "cmd" when it was a string
+    std::string error;              ///< empty when command is set
+    std::string cmd;                ///< the request's "cmd" when it was a string
     std::optional<std::string> id;  ///< the request's "id" when it was a string
 };
 

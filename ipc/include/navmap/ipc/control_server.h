@@ -29,14 +29,14 @@ namespace navmap::ipc {
 
 struct ControlServerConfig {
     std::string socketPath = "/run/navmap/control.sock";
-    mode_t socketMode = 0660;           ///< the socket file's mode whatever the umask (set before listen())
-    std::optional<gid_t> socketGroup;   ///< the socket file's group (chown before listen()); its members may connect
+    mode_t socketMode = 0660;          ///< the socket file's mode whatever the umask (set before listen())
+    std::optional<gid_t> socketGroup;  ///< the socket file's group (chown before listen()); its members may connect
     /// Peers whose uid is listed may connect; empty = the daemon's own effective uid. A peer
     /// whose primary gid or a supplementary group (SO_PEERGROUPS) is in allowedGids is allowed too.
     std::vector<uid_t> allowedUids;
     std::vector<gid_t> allowedGids;
-    bool allowRoot = true;              ///< uid 0 may always connect
-    std::size_t maxClients = 16;        ///< further connections get an error line and are closed
+    bool allowRoot = true;                              ///< uid 0 may always connect
+    std::size_t maxClients = 16;                        ///< further connections get an error line and are closed
     std::size_t maxOutputBytes = std::size_t{4} << 20;  ///< a client not reading past this is dropped
     /// A connection that sends no byte and takes no byte of its output for this long gets an
     /// error line and is closed, so silent peers cannot hold the maxClients slots. A subscriber
@@ -47,17 +47,17 @@ struct ControlServerConfig {
 
 /// Counters since start (read from any thread).
 struct ControlServerStats {
-    std::uint64_t connections = 0;     ///< accepted and allowed
-    std::uint64_t refusedPeer = 0;     ///< refused by SO_PEERCRED
-    std::uint64_t refusedFull = 0;     ///< refused because maxClients were connected
-    std::uint64_t lines = 0;           ///< request lines received
-    std::uint64_t commands = 0;        ///< lines applied successfully
-    std::uint64_t errors = 0;          ///< lines answered with an error
+    std::uint64_t connections = 0;  ///< accepted and allowed
+    std::uint64_t refusedPeer = 0;  ///< refused by SO_PEERCRED
+    std::uint64_t refusedFull = 0;  ///< refused because maxClients were connected
+    std::uint64_t lines = 0;        ///< request lines received
+    std::uint64_t commands = 0;     ///< lines applied successfully
+    std::uint64_t errors = 0;       ///< lines answered with an error
     std::uint64_t overlongDisconnects = 0;
-    std::uint64_t slowDisconnects = 0; ///< output buffer over maxOutputBytes
-    std::uint64_t idleDisconnects = 0; ///< closed after idleTimeout without traffic
-    std::uint64_t events = 0;          ///< event lines queued to subscribers
-    std::uint64_t clients = 0;         ///< connected now
+    std::uint64_t slowDisconnects = 0;  ///< output buffer over maxOutputBytes
+    std::uint64_t idleDisconnects = 0;  ///< closed after idleTimeout without traffic
+    std::uint64_t events = 0;           ///< event lines queued to subscribers
+    std::uint64_t clients = 0;          ///< connected now
 };
 
 class ControlServer {

@@ -18,14 +18,14 @@
 namespace navmap::ipc {
 
 struct DbcMessage {
-    std::uint32_t id = 0;     ///< 11 or 29 bit identifier, without the DBC's bit 31
+    std::uint32_t id = 0;  ///< 11 or 29 bit identifier, without the DBC's bit 31
     bool extended = false;
     std::string name;
-    std::uint8_t size = 8;    ///< payload bytes declared by the DBC (0..64)
+    std::uint8_t size = 8;  ///< payload bytes declared by the DBC (0..64)
     std::string transmitter;
     std::vector<DbcSignal> signals;
-    int multiplexor = -1;     ///< index into signals of the `M` signal, -1 when none
-    std::size_t line = 0;     ///< DBC line of the BO_ entry
+    int multiplexor = -1;  ///< index into signals of the `M` signal, -1 when none
+    std::size_t line = 0;  ///< DBC line of the BO_ entry
 
     /// Lookup key matching CanFrame::key(): id with bit 31 set for extended frames.
     std::uint32_t key() const noexcept { return extended ? (id | 0x80000000U) : id; }

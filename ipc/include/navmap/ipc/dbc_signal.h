@@ -45,10 +45,10 @@ struct DbcSignal {
     double maximum = 0.0;
     std::string unit;
     MuxRole muxRole = MuxRole::None;
-    std::uint32_t muxValue = 0;  ///< for Multiplexed signals
+    std::uint32_t muxValue = 0;    ///< for Multiplexed signals
     bool alsoMultiplexor = false;  ///< `mNM` (extended multiplexing): treated as plain multiplexed signal
     std::map<std::int64_t, std::string> valueNames;  ///< from VAL_
-    std::size_t line = 0;  ///< DBC line of the SG_ entry (for messages)
+    std::size_t line = 0;                            ///< DBC line of the SG_ entry (for messages)
 
     /// Number of payload bytes the signal needs (one past the highest byte it touches).
     unsigned bytesNeeded() const noexcept;

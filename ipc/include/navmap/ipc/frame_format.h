@@ -27,8 +27,10 @@ NAVMAP_CLIENT_API std::optional<PixelFormat> parsePixelFormat(std::string_view n
 NAVMAP_CLIENT_API bool isKnownPixelFormat(std::uint32_t value) noexcept;
 
 /// Converts `width` RGBA8 pixels into `dst` in format `to` (to == Rgba8 copies).
-NAVMAP_CLIENT_API void convertRowFromRgba(const std::uint8_t* rgba, PixelFormat to, std::uint8_t* dst, int width) noexcept;
+NAVMAP_CLIENT_API void convertRowFromRgba(const std::uint8_t* rgba, PixelFormat to, std::uint8_t* dst,
+                                          int width) noexcept;
 /// Converts `width` pixels in format `from` into RGBA8 (alpha 255 for RGB565).
-NAVMAP_CLIENT_API void convertRowToRgba(const std::uint8_t* src, PixelFormat from, std::uint8_t* rgba, int width) noexcept;
+NAVMAP_CLIENT_API void convertRowToRgba(const std::uint8_t* src, PixelFormat from, std::uint8_t* rgba,
+                                        int width) noexcept;
 
 }  // namespace navmap::ipc

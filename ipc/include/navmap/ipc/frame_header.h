@@ -22,9 +22,9 @@ inline constexpr std::uint32_t kMaxStatusPayloadBytes = 64 * 1024;
 
 /// What follows a header.
 enum class FrameKind : std::uint16_t {
-    Frame = 0,  ///< a frame (payload per `encoding`)
-    Error = 1,  ///< the server's last word: payload is a UTF-8 message, then the connection closes
-    Status = 2, ///< before the first frame: payload is a UTF-8 JSON object; the connection stays open
+    Frame = 0,   ///< a frame (payload per `encoding`)
+    Error = 1,   ///< the server's last word: payload is a UTF-8 message, then the connection closes
+    Status = 2,  ///< before the first frame: payload is a UTF-8 JSON object; the connection stays open
 };
 
 /// Where a frame's pixels are.
@@ -38,15 +38,15 @@ struct FrameHeader {
     FrameKind kind = FrameKind::Frame;
     FrameEncoding encoding = FrameEncoding::Raw;
     PixelFormat format = PixelFormat::Rgba8;
-    std::uint64_t sequence = 0;       ///< per profile ring, starts at 1, +1 per published frame
-    std::int64_t renderTimeNs = 0;    ///< CLOCK_REALTIME ns when the frame was rendered (published)
-    std::int64_t sourceTimeNs = 0;    ///< CLOCK_REALTIME ns the CAN data behind the pose was received (0 = none)
+    std::uint64_t sequence = 0;     ///< per profile ring, starts at 1, +1 per published frame
+    std::int64_t renderTimeNs = 0;  ///< CLOCK_REALTIME ns when the frame was rendered (published)
+    std::int64_t sourceTimeNs = 0;  ///< CLOCK_REALTIME ns the CAN data behind the pose was received (0 = none)
     std::uint32_t width = 0;
     std::uint32_t height = 0;
-    std::uint32_t stride = 0;         ///< bytes per row
-    std::uint32_t payloadBytes = 0;   ///< bytes following the header on the socket
-    std::uint64_t dropped = 0;        ///< frames this client has missed so far (server side)
-    std::uint32_t slot = 0;           ///< ring slot (encoding Shm)
+    std::uint32_t stride = 0;        ///< bytes per row
+    std::uint32_t payloadBytes = 0;  ///< bytes following the header on the socket
+    std::uint64_t dropped = 0;       ///< frames this client has missed so far (server side)
+    std::uint32_t slot = 0;          ///< ring slot (encoding Shm)
 
     std::size_t pixelBytes() const noexcept { return static_cast<std::size_t>(stride) * height; }
 };

@@ -35,8 +35,8 @@ struct FrameRingLayout {
     std::uint32_t height = 0;
     std::uint32_t stride = 0;
     PixelFormat format = PixelFormat::Rgba8;
-    std::size_t slotBytes = 0;       ///< distance between slots (page multiple)
-    std::size_t totalBytes = 0;      ///< size of the memfd
+    std::size_t slotBytes = 0;   ///< distance between slots (page multiple)
+    std::size_t totalBytes = 0;  ///< size of the memfd
 
     /// Byte offset of slot `i` (its lock word) from the start of the mapping.
     std::size_t slotOffset(std::uint32_t i) const noexcept;
@@ -113,8 +113,8 @@ private:
     net::UniqueFd m_fd;
     std::uint8_t* m_base = nullptr;
     FrameRingLayout m_layout;
-    std::uint64_t m_nextSequence = 1;  // render thread only
-    std::uint32_t m_nextSlot = 0;      // render thread only: the least recently written slot
+    std::uint64_t m_nextSequence = 1;                      // render thread only
+    std::uint32_t m_nextSlot = 0;                          // render thread only: the least recently written slot
     std::unique_ptr<std::atomic<std::uint32_t>[]> m_pins;  // per slot: clients holding it (server memory)
     std::atomic<std::uint64_t> m_pinnedOverwrites{0};
 };

@@ -7,14 +7,13 @@
 //  - HTTP: GET / (HTML viewer), /stream.mjpg (MJPEG), /status (JSON), /metrics (Prometheus).
 // The render thread calls publish(profile, frame); it copies into that profile's rings and never
 // waits for a client. Frames are routed by profile name, so two profiles of the same view and
-// size (one with glowing roads, one without) are two streams. All socket I/O, compression and JPEG encoding run on the server's own thread (poll()).
-// Each client gets the newest frame; a busy client skips frames (counted as dropped), a client
-// that makes no progress for `stallTimeout` is disconnected.
-// Clients are untrusted: the Unix socket file is 0660 (+ a group) and peers are checked by
-// SO_PEERCRED; connections are capped per transport and per uid; only rendered profiles are
-// served; a connection without a handshake or a first frame within `handshakeTimeout` is closed
-// (a status from publishStatus() restarts that wait); rings share a memory ceiling and are sealed
-// so that no client can write them.
+// size (one with glowing roads, one without) are two streams. All socket I/O, compression and JPEG encoding run on the
+// server's own thread (poll()). Each client gets the newest frame; a busy client skips frames (counted as dropped), a
+// client that makes no progress for `stallTimeout` is disconnected. Clients are untrusted: the Unix socket file is 0660
+// (+ a group) and peers are checked by SO_PEERCRED; connections are capped per transport and per uid; only rendered
+// profiles are served; a connection without a handshake or a first frame within `handshakeTimeout` is closed (a status
+// from publishStatus() restarts that wait); rings share a memory ceiling and are sealed so that no client can write
+// them.
 
 #include <sys/types.h>
 
@@ -37,22 +36,22 @@ namespace navmap::ipc {
 /// A profile the daemon renders (its [[profile]] entry): what clients may ask for. A request
 /// names it by name (or, with another name, by its view and size: the first such profile).
 struct RenderedProfile {
-    std::string name;   ///< the key publish() uses: "cluster"
-    std::string view;   ///< stream view: "snail", "bird", "hud"
+    std::string name;  ///< the key publish() uses: "cluster"
+    std::string view;  ///< stream view: "snail", "bird", "hud"
     int width = 0;
     int height = 0;
 };
 
 struct FrameServerOptions {
-    std::string unixPath;              ///< Unix stream socket; empty = none
-    mode_t unixMode = 0660;            ///< the socket file's mode, whatever the umask
-    std::optional<gid_t> unixGroup;    ///< the socket file's group (chown before listen); none: the process's
+    std::string unixPath;            ///< Unix stream socket; empty = none
+    mode_t unixMode = 0660;          ///< the socket file's mode, whatever the umask
+    std::optional<gid_t> unixGroup;  ///< the socket file's group (chown before listen); none: the process's
     /// Who may connect to the Unix socket (SO_PEERCRED/SO_PEERGROUPS, checked on accept): by
     /// default the server's own uid and root; `unixGroup` is allowed as well.
     PeerAllowList allowedPeers;
     std::string bindAddress = "127.0.0.1";  ///< for TCP and HTTP
-    int tcpPort = -1;                  ///< -1 = none, 0 = any free port (see tcpPort())
-    int httpPort = -1;                 ///< -1 = none, 0 = any free port (see httpPort())
+    int tcpPort = -1;                       ///< -1 = none, 0 = any free port (see tcpPort())
+    int httpPort = -1;                      ///< -1 = none, 0 = any free port (see httpPort())
     /// HTTP: when not empty, every request needs `Authorization: Bearer <token>` or `?token=<token>`.
     std::string httpToken;
     /// Slots per profile ring (>= 2). Three give a client two frame periods between the
@@ -88,47 +87,47 @@ struct FrameServerOptions {
 
 /// A profile that has at least one client: what the daemon should render.
 struct ActiveProfile {
-    std::string profile;    ///< the ring key: a RenderedProfile's name (or the view without renderedProfiles)
+    std::string profile;  ///< the ring key: a RenderedProfile's name (or the view without renderedProfiles)
     std::string view;
     int width = 0;
     int height = 0;
-    int maxFps = 0;         ///< highest fps any of its clients asked for
+    int maxFps = 0;  ///< highest fps any of its clients asked for
     std::size_t clients = 0;
 };
 
 /// Counters (snapshot; any thread).
 struct FrameServerStats {
-    std::size_t connections = 0;      ///< open sockets, including handshakes and HTTP replies in flight
-    std::size_t clients = 0;          ///< connected and streaming (all transports)
+    std::size_t connections = 0;  ///< open sockets, including handshakes and HTTP replies in flight
+    std::size_t clients = 0;      ///< connected and streaming (all transports)
     std::size_t shmClients = 0;
     std::size_t tcpClients = 0;
     std::size_t mjpegClients = 0;
     std::size_t rings = 0;
-    std::uint64_t published = 0;      ///< publish() calls that reached at least one ring
-    std::uint64_t framesSent = 0;     ///< frames handed to clients
-    std::uint64_t statusesSent = 0;   ///< status headers handed to clients (publishStatus)
+    std::uint64_t published = 0;     ///< publish() calls that reached at least one ring
+    std::uint64_t framesSent = 0;    ///< frames handed to clients
+    std::uint64_t statusesSent = 0;  ///< status headers handed to clients (publishStatus)
     /// Frames a client was entitled to (within its fps) but did not get because it was busy.
     std::uint64_t framesDropped = 0;
-    std::uint64_t accepted = 0;       ///< connections accepted
+    std::uint64_t accepted = 0;  ///< connections accepted
     std::uint64_t handshakeErrors = 0;
-    std::uint64_t protocolErrors = 0; ///< garbage after the handshake
-    std::uint64_t httpErrors = 0;     ///< 4xx replies
+    std::uint64_t protocolErrors = 0;  ///< garbage after the handshake
+    std::uint64_t httpErrors = 0;      ///< 4xx replies
     std::uint64_t stallDisconnects = 0;
-    std::uint64_t handshakeTimeouts = 0;   ///< closed without a complete handshake / HTTP head in time
-    std::uint64_t firstFrameTimeouts = 0;  ///< streaming, but no first frame within handshakeTimeout
-    std::uint64_t refusedPeer = 0;         ///< Unix peers not on the allow list
+    std::uint64_t handshakeTimeouts = 0;     ///< closed without a complete handshake / HTTP head in time
+    std::uint64_t firstFrameTimeouts = 0;    ///< streaming, but no first frame within handshakeTimeout
+    std::uint64_t refusedPeer = 0;           ///< Unix peers not on the allow list
     std::uint64_t refusedTransportFull = 0;  ///< maxClientsPerTransport reached
-    std::uint64_t refusedUidFull = 0;      ///< maxClientsPerUid reached
-    std::uint64_t refusedNotRendered = 0;  ///< a view/size the daemon does not render
-    std::uint64_t refusedRingMemory = 0;   ///< a new ring would pass ringMemoryBytes
-    std::uint64_t refusedHost = 0;         ///< HTTP Host header missing or not this server
-    std::uint64_t refusedToken = 0;        ///< HTTP token missing or wrong
-    std::size_t ringBytes = 0;             ///< shared memory of all rings now
-    std::uint64_t disconnects = 0;    ///< all closed connections
-    std::uint64_t pinnedOverwrites = 0;  ///< frames written over a held slot (every slot of a ring held)
-    double publishMsLast = 0;         ///< render-thread cost of the last publish()
+    std::uint64_t refusedUidFull = 0;        ///< maxClientsPerUid reached
+    std::uint64_t refusedNotRendered = 0;    ///< a view/size the daemon does not render
+    std::uint64_t refusedRingMemory = 0;     ///< a new ring would pass ringMemoryBytes
+    std::uint64_t refusedHost = 0;           ///< HTTP Host header missing or not this server
+    std::uint64_t refusedToken = 0;          ///< HTTP token missing or wrong
+    std::size_t ringBytes = 0;               ///< shared memory of all rings now
+    std::uint64_t disconnects = 0;           ///< all closed connections
+    std::uint64_t pinnedOverwrites = 0;      ///< frames written over a held slot (every slot of a ring held)
+    double publishMsLast = 0;                ///< render-thread cost of the last publish()
     double publishMsMax = 0;
-    std::string lastError;            ///< newest problem: "tcp#7: handshake: unknown key \"x\""
+    std::string lastError;  ///< newest problem: "tcp#7: handshake: unknown key \"x\""
 };
 
 class FrameServer {

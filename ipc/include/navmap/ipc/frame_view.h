@@ -12,10 +12,10 @@ struct FrameView {
     const std::uint8_t* pixels = nullptr;  ///< first byte of the top row
     int width = 0;
     int height = 0;
-    int stride = 0;                        ///< bytes per row (0 = tightly packed)
+    int stride = 0;  ///< bytes per row (0 = tightly packed)
     PixelFormat format = PixelFormat::Rgba8;
-    std::int64_t renderTimeNs = 0;         ///< CLOCK_REALTIME ns; 0 = "now" at publish
-    std::int64_t sourceTimeNs = 0;         ///< CLOCK_REALTIME ns the CAN data of the pose arrived (VehicleSample::sourceTime)
+    std::int64_t renderTimeNs = 0;  ///< CLOCK_REALTIME ns; 0 = "now" at publish
+    std::int64_t sourceTimeNs = 0;  ///< CLOCK_REALTIME ns the CAN data of the pose arrived (VehicleSample::sourceTime)
 };
 
 }  // namespace navmap::ipc

@@ -18,21 +18,21 @@
 namespace navmap::ipc {
 
 struct ReconnectOptions {
-    std::string unixPath;      ///< the frame socket (payload shm or raw); or
-    std::string tcpHost;       ///< host and port of the TCP frame server (payload raw or zlib)
+    std::string unixPath;  ///< the frame socket (payload shm or raw); or
+    std::string tcpHost;   ///< host and port of the TCP frame server (payload raw or zlib)
     int tcpPort = -1;
     StreamRequest request;
     std::chrono::milliseconds connectTimeout{2000};  ///< connect + handshake, each attempt
     std::chrono::milliseconds initialBackoff{100};   ///< first wait after a failure, doubling ...
     std::chrono::milliseconds maxBackoff{5000};      ///< ... up to this
-    FrameInflater inflate;     ///< for payload zlib
+    FrameInflater inflate;                           ///< for payload zlib
 };
 
 struct ReconnectStats {
-    std::uint64_t connects = 0;        ///< successful handshakes
-    std::uint64_t failedAttempts = 0;  ///< connection attempts that failed (refused, no socket, timeout)
-    std::uint64_t disconnects = 0;     ///< established streams that ended
-    std::uint64_t heldOverwritten = 0; ///< held frames the server overwrote before their release
+    std::uint64_t connects = 0;         ///< successful handshakes
+    std::uint64_t failedAttempts = 0;   ///< connection attempts that failed (refused, no socket, timeout)
+    std::uint64_t disconnects = 0;      ///< established streams that ended
+    std::uint64_t heldOverwritten = 0;  ///< held frames the server overwrote before their release
 };
 
 class NAVMAP_CLIENT_API ReconnectingClient {

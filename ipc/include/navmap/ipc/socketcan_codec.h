@@ -39,9 +39,9 @@ struct ErrorFrameInfo {
     bool lostArbitration = false;
     bool txTimeout = false;
     bool busError = false;
-    bool rxOverflow = false;      ///< controller: RX buffer overflow
-    bool errorPassive = false;    ///< controller: RX or TX error passive
-    bool errorWarning = false;    ///< controller: RX or TX warning level
+    bool rxOverflow = false;    ///< controller: RX buffer overflow
+    bool errorPassive = false;  ///< controller: RX or TX error passive
+    bool errorWarning = false;  ///< controller: RX or TX warning level
     /// "bus-off", "controller problem (rx overflow, error passive)", ... joined by "; ".
     std::string describe() const;
 };

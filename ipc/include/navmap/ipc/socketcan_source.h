@@ -15,9 +15,9 @@
 #include <string>
 #include <vector>
 
-#include "navmap/ipc/net/unique_fd.h"
 #include "navmap/ipc/backoff.h"
 #include "navmap/ipc/can_frame.h"
+#include "navmap/ipc/net/unique_fd.h"
 #include "navmap/ipc/replayer.h"  // FrameSink
 #include "navmap/ipc/result.h"
 
@@ -38,20 +38,20 @@ struct SocketCanOptions {
 struct SocketCanStatus {
     enum class State { Closed, Open, Retrying };
     State state = State::Closed;
-    std::uint64_t frames = 0;          ///< data frames delivered (classic + FD)
+    std::uint64_t frames = 0;  ///< data frames delivered (classic + FD)
     std::uint64_t fdFrames = 0;
     std::uint64_t errorFrames = 0;
     std::uint64_t busOff = 0;
     std::uint64_t controllerProblems = 0;
-    std::uint64_t otherErrors = 0;     ///< protocol, transceiver, ACK, arbitration, bus errors
-    std::uint64_t kernelDrops = 0;     ///< SO_RXQ_OVFL, summed over re-opens
-    std::uint64_t badFrames = 0;       ///< reads of an unexpected size
-    std::uint64_t opens = 0;           ///< successful opens (1 + re-opens)
+    std::uint64_t otherErrors = 0;  ///< protocol, transceiver, ACK, arbitration, bus errors
+    std::uint64_t kernelDrops = 0;  ///< SO_RXQ_OVFL, summed over re-opens
+    std::uint64_t badFrames = 0;    ///< reads of an unexpected size
+    std::uint64_t opens = 0;        ///< successful opens (1 + re-opens)
     std::uint64_t openFailures = 0;
-    std::string lastError;             ///< "bind(can0): No such device", "recvmsg(can0): Network is down"
-    std::string lastErrorFrame;        ///< ErrorFrameInfo::describe() of the newest error frame
+    std::string lastError;       ///< "bind(can0): No such device", "recvmsg(can0): Network is down"
+    std::string lastErrorFrame;  ///< ErrorFrameInfo::describe() of the newest error frame
     CanTime lastErrorFrameTime{};
-    bool fdEnabled = false;            ///< CAN_RAW_FD_FRAMES accepted by the kernel
+    bool fdEnabled = false;  ///< CAN_RAW_FD_FRAMES accepted by the kernel
 
     static const char* stateName(State s) noexcept;
 };
@@ -90,8 +90,8 @@ private:
     SocketCanStatus m_status;
     Backoff m_backoff;
     net::UniqueFd m_fd;
-    std::uint32_t m_dropsAtOpen = 0;   // SO_RXQ_OVFL value of the current socket already counted
-    std::uint64_t m_dropsBefore = 0;   // drops of earlier sockets
+    std::uint32_t m_dropsAtOpen = 0;  // SO_RXQ_OVFL value of the current socket already counted
+    std::uint64_t m_dropsBefore = 0;  // drops of earlier sockets
 };
 
 }  // namespace navmap::ipc

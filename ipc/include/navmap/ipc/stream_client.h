@@ -24,9 +24,9 @@
 namespace navmap::ipc {
 
 struct ReceivedFrame {
-    FrameHeader header;                 ///< dropped = server-side drops + frames lost locally
-    std::vector<std::uint8_t> pixels;   ///< header.stride * header.height bytes, header.format
-    std::int64_t receiveTimeNs = 0;     ///< CLOCK_REALTIME ns when the pixels were complete
+    FrameHeader header;                ///< dropped = server-side drops + frames lost locally
+    std::vector<std::uint8_t> pixels;  ///< header.stride * header.height bytes, header.format
+    std::int64_t receiveTimeNs = 0;    ///< CLOCK_REALTIME ns when the pixels were complete
 };
 
 /// A frame left where the server wrote it (payload shm): `pixels` points into the client's
@@ -36,30 +36,31 @@ struct ReceivedFrame {
 struct HeldFrame {
     FrameHeader header;
     const std::uint8_t* pixels = nullptr;
-    std::int64_t receiveTimeNs = 0;     ///< CLOCK_REALTIME ns when the notification was read
+    std::int64_t receiveTimeNs = 0;  ///< CLOCK_REALTIME ns when the notification was read
 };
 
 struct StreamClientStats {
     std::uint64_t frames = 0;
-    std::uint64_t serverDropped = 0;   ///< the newest header's dropped count
-    std::uint64_t lostLocally = 0;     ///< shm slots overwritten before we copied them
-    std::uint64_t heldOverwritten = 0; ///< held frames the server had to overwrite before release()
-    std::uint64_t bytes = 0;           ///< payload bytes received (compressed size for zlib)
-    std::uint64_t statuses = 0;        ///< status headers received
+    std::uint64_t serverDropped = 0;    ///< the newest header's dropped count
+    std::uint64_t lostLocally = 0;      ///< shm slots overwritten before we copied them
+    std::uint64_t heldOverwritten = 0;  ///< held frames the server had to overwrite before release()
+    std::uint64_t bytes = 0;            ///< payload bytes received (compressed size for zlib)
+    std::uint64_t statuses = 0;         ///< status headers received
 };
 
 /// Inflates a zlib payload of `inBytes` into exactly `outBytes` at `out`; false when it does not.
 /// The client library links no compression library: a client that asks for payload zlib passes
 /// one (navmap's own programs use navmap::ipc::zlibInflater() from frame_png.h's library; any
 /// client can wrap zlib's uncompress() in these few lines).
-using FrameInflater = std::function<bool(const std::uint8_t* in, std::size_t inBytes, std::uint8_t* out, std::size_t outBytes)>;
+using FrameInflater =
+    std::function<bool(const std::uint8_t* in, std::size_t inBytes, std::uint8_t* out, std::size_t outBytes)>;
 
 class NAVMAP_CLIENT_API StreamClient {
 public:
     /// Connects to the server's Unix socket and sends `request` (payload shm, raw or zlib).
-    static Result<std::unique_ptr<StreamClient>> connectUnix(const std::string& path, const StreamRequest& request,
-                                                             std::chrono::milliseconds timeout = std::chrono::seconds(5),
-                                                             FrameInflater inflate = {});
+    static Result<std::unique_ptr<StreamClient>> connectUnix(
+        const std::string& path, const StreamRequest& request,
+        std::chrono::milliseconds timeout = std::chrono::seconds(5), FrameInflater inflate = {});
     /// Connects to host:port (numeric IPv4/IPv6 or a name) and sends `request` (raw or zlib).
     static Result<std::unique_ptr<StreamClient>> connectTcp(const std::string& host, int port,
                                                             const StreamRequest& request,
@@ -117,16 +118,16 @@ private:
     const std::uint8_t* m_map = nullptr;
     std::size_t m_mapBytes = 0;
     std::uint32_t m_slots = 0;
-    std::vector<std::uint8_t> m_in;   // bytes received beyond what was consumed
+    std::vector<std::uint8_t> m_in;  // bytes received beyond what was consumed
     std::size_t m_inPos = 0;
     std::vector<std::uint8_t> m_compressed;
     StreamClientStats m_stats;
     std::uint8_t m_headerBuf[kFrameHeaderBytes] = {};
-    std::size_t m_headerHave = 0;     // partial header kept across timeouts
+    std::size_t m_headerHave = 0;  // partial header kept across timeouts
     FrameInflater m_inflate;
-    bool m_hold = false;              // opened with request.hold: frames may be held
-    int m_held = -1;                  // slot of the held frame, -1: none
-    std::uint64_t m_heldLock = 0;     // its lock word when it was handed out
+    bool m_hold = false;           // opened with request.hold: frames may be held
+    int m_held = -1;               // slot of the held frame, -1: none
+    std::uint64_t m_heldLock = 0;  // its lock word when it was handed out
     std::string m_lastStatus;
     std::function<void(const std::string&)> m_onStatus;
 };

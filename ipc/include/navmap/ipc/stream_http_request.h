@@ -15,9 +15,9 @@ inline constexpr std::size_t kMaxHttpRequestBytes = 8192;
 
 struct StreamHttpRequest {
     std::string method;
-    std::string path;                           ///< without the query, percent-decoding not applied
-    std::map<std::string, std::string> query;   ///< "a=1&b=2"
-    std::string version;                        ///< "HTTP/1.0" or "HTTP/1.1"
+    std::string path;                          ///< without the query, percent-decoding not applied
+    std::map<std::string, std::string> query;  ///< "a=1&b=2"
+    std::string version;                       ///< "HTTP/1.0" or "HTTP/1.1"
     /// Header fields by lower-case name, values without surrounding blanks. A repeated Host or
     /// Authorization is an error (a proxy and the server must not read different ones); other
     /// repeats keep the last.

@@ -15,16 +15,16 @@ namespace navmap::ipc {
 
 /// What a display client wants: size, frame rate, view and pixel format.
 struct StreamProfile {
-    std::string name = "custom";      ///< "cluster", "hud", "center" or a free name
+    std::string name = "custom";  ///< "cluster", "hud", "center" or a free name
     int width = 1280;
     int height = 480;
-    int fps = 30;                     ///< most frames per second the client wants; 0 = every frame (recorders)
-    std::string view = "snail";       ///< "bird", "snail" or "hud"
+    int fps = 30;                ///< most frames per second the client wants; 0 = every frame (recorders)
+    std::string view = "snail";  ///< "bird", "snail" or "hud"
     PixelFormat format = PixelFormat::Rgba8;
 };
 
-/// The defaults of docs/architecture.md "Display profiles": cluster 1280x480 snail, hud 800x240 hud, center 1280x720 bird
-/// (30 fps, RGBA8). nullopt for other names.
+/// The defaults of docs/architecture.md "Display profiles": cluster 1280x480 snail, hud 800x240 hud, center 1280x720
+/// bird (30 fps, RGBA8). nullopt for other names.
 NAVMAP_CLIENT_API std::optional<StreamProfile> defaultStreamProfile(std::string_view name);
 
 /// How the pixels travel.

@@ -20,9 +20,9 @@ public:
 struct Dem {
     int rows = 0;
     int cols = 0;
-    double north = 0.0;      ///< latitude of row 0, degrees
-    double west = 0.0;       ///< longitude of column 0, degrees
-    double spacing = 0.0;    ///< grid spacing in degrees (same in lat and lon for SRTM)
+    double north = 0.0;          ///< latitude of row 0, degrees
+    double west = 0.0;           ///< longitude of column 0, degrees
+    double spacing = 0.0;        ///< grid spacing in degrees (same in lat and lon for SRTM)
     std::vector<float> heights;  ///< rows * cols, row-major
     std::size_t void_count = 0;  ///< samples that were -32768 in the source
 

@@ -18,11 +18,11 @@ namespace navmap::map {
 struct MapScene {
     std::shared_ptr<TileStore> store;
     std::shared_ptr<TileCache> cache;
-    RoadGraph graph;            ///< empty when the store's graph is unavailable
+    RoadGraph graph;  ///< empty when the store's graph is unavailable
     /// Why the road graph is unavailable ("checksum mismatch", "the store has none"); empty when
     /// it loaded. The map still renders; routing and map matching go without.
     std::string graph_problem;
-    std::string graph_error;    ///< the same naming the file: "<store>: road graph: checksum mismatch"
+    std::string graph_error;  ///< the same naming the file: "<store>: road graph: checksum mismatch"
 
     /// Opens a store (throws StoreError naming the file when its header or index is unusable)
     /// with a cache of `budget_bytes`. A damaged road graph is not fatal: graph_problem.

@@ -20,9 +20,9 @@ enum class RoadClass : std::uint8_t {
     Unclassified,
     Residential,  ///< residential, living_street
     Service,
-    Pedestrian,   ///< pedestrian streets and squares
-    Track,        ///< agricultural/forest tracks
-    Path,         ///< path, footway, cycleway, bridleway, steps (lowest class)
+    Pedestrian,  ///< pedestrian streets and squares
+    Track,       ///< agricultural/forest tracks
+    Path,        ///< path, footway, cycleway, bridleway, steps (lowest class)
 };
 inline constexpr int kRoadClassCount = 11;
 
@@ -31,7 +31,7 @@ namespace RoadFlags {
 inline constexpr std::uint8_t Oneway = 1;  ///< traffic only in the direction of the points
 inline constexpr std::uint8_t Bridge = 2;
 inline constexpr std::uint8_t Tunnel = 4;
-inline constexpr std::uint8_t Link = 8;    ///< *_link ramp
+inline constexpr std::uint8_t Link = 8;  ///< *_link ramp
 inline constexpr std::uint8_t Roundabout = 16;
 }  // namespace RoadFlags
 

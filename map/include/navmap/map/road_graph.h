@@ -28,10 +28,10 @@ inline constexpr std::uint8_t Reversed = 128;
 struct GraphEdge {
     std::uint32_t from = 0;
     std::uint32_t to = 0;
-    float length_m = 0;    ///< geodesic length on WGS84 (GeographicLib), metres
-    float speed_kmh = 0;   ///< maxspeed, else the class default
+    float length_m = 0;   ///< geodesic length on WGS84 (GeographicLib), metres
+    float speed_kmh = 0;  ///< maxspeed, else the class default
     RoadClass cls = RoadClass::Path;
-    std::uint8_t flags = 0;  ///< RoadFlags bits, plus EdgeFlags::Reversed
+    std::uint8_t flags = 0;         ///< RoadFlags bits, plus EdgeFlags::Reversed
     std::uint32_t shape_begin = 0;  ///< range in RoadGraph::shape (from the way's point of view)
     std::uint32_t shape_end = 0;
     std::int64_t way_id = 0;

@@ -16,14 +16,14 @@ namespace navmap::map {
 struct GraphRoute {
     std::vector<std::uint32_t> edges;  ///< indices into RoadGraph::edges, in driving order
     double length_m = 0.0;
-    double duration_s = 0.0;           ///< at the edges' speeds
+    double duration_s = 0.0;  ///< at the edges' speeds
 };
 
 /// A point on the route polyline.
 struct RoutePoint {
-    PlanarPoint position;     ///< store frame
-    double measure_m = 0.0;   ///< distance from the route start
-    std::uint32_t edge = 0;   ///< graph edge this point belongs to
+    PlanarPoint position;    ///< store frame
+    double measure_m = 0.0;  ///< distance from the route start
+    std::uint32_t edge = 0;  ///< graph edge this point belongs to
 };
 
 /// Nearest graph node to a store-frame position that has outgoing edges usable by cars

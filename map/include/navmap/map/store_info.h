@@ -24,7 +24,7 @@ struct StoreInfo {
     double origin_lat = 0;  ///< projection origin (Projection(origin_lat, origin_lon))
     double origin_lon = 0;
     TileScheme scheme;
-    std::uint32_t dem_samples = 0;  ///< DEM samples per tile side (0: no DEM)
+    std::uint32_t dem_samples = 0;                    ///< DEM samples per tile side (0: no DEM)
     double south = 0, west = 0, north = 0, east = 0;  ///< data bounds, degrees
     std::uint32_t tile_count = 0;
     std::uint64_t graph_offset = 0, graph_stored_size = 0, graph_raw_size = 0;

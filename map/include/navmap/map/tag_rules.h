@@ -16,29 +16,39 @@ using TagLookup = std::function<const char*(const char* key)>;
 
 /// Land-cover / area classes (seed 2.1.2 thematic layers).
 enum class AreaClass : std::uint8_t {
-    Water = 0,     ///< natural=water, waterway=riverbank, landuse=reservoir/basin
+    Water = 0,  ///< natural=water, waterway=riverbank, landuse=reservoir/basin
     Wetland,
     Glacier,
-    Forest,        ///< landuse=forest, natural=wood
-    Scrub,         ///< natural=scrub/heath
-    Grass,         ///< landuse=grass/meadow/village_green, natural=grassland
-    Farmland,      ///< landuse=farmland/farmyard/orchard/vineyard/allotments
-    Rock,          ///< natural=bare_rock/scree/shingle/sand/beach
+    Forest,    ///< landuse=forest, natural=wood
+    Scrub,     ///< natural=scrub/heath
+    Grass,     ///< landuse=grass/meadow/village_green, natural=grassland
+    Farmland,  ///< landuse=farmland/farmyard/orchard/vineyard/allotments
+    Rock,      ///< natural=bare_rock/scree/shingle/sand/beach
     Residential,
-    Commercial,    ///< landuse=commercial/retail
-    Industrial,    ///< landuse=industrial/railway/quarry/landfill/construction/brownfield
-    Park,          ///< leisure=park/garden/nature_reserve, landuse=recreation_ground
-    Sport,         ///< leisure=pitch/sports_centre/stadium/golf_course/track/playground, landuse=winter_sports
+    Commercial,  ///< landuse=commercial/retail
+    Industrial,  ///< landuse=industrial/railway/quarry/landfill/construction/brownfield
+    Park,        ///< leisure=park/garden/nature_reserve, landuse=recreation_ground
+    Sport,       ///< leisure=pitch/sports_centre/stadium/golf_course/track/playground, landuse=winter_sports
     Cemetery,
     Military,
-    Other,         ///< any other landuse/natural/leisure value
+    Other,  ///< any other landuse/natural/leisure value
 };
 inline constexpr int kAreaClassCount = 16;
 
 /// place=* classes, largest first.
 enum class PlaceClass : std::uint8_t {
-    Country = 0, State, City, Town, Village, Suburb, Hamlet, Neighbourhood, Locality,
-    IsolatedDwelling, Island, Other,
+    Country = 0,
+    State,
+    City,
+    Town,
+    Village,
+    Suburb,
+    Hamlet,
+    Neighbourhood,
+    Locality,
+    IsolatedDwelling,
+    Island,
+    Other,
 };
 
 /// Kinds of named POI nodes.

@@ -31,7 +31,9 @@ struct TileId {
     std::uint32_t y = 0;
 
     friend bool operator==(const TileId&, const TileId&) = default;
-    [[nodiscard]] TileId parent() const { return level == 0 ? *this : TileId{static_cast<std::uint8_t>(level - 1), x / 2, y / 2}; }
+    [[nodiscard]] TileId parent() const {
+        return level == 0 ? *this : TileId{static_cast<std::uint8_t>(level - 1), x / 2, y / 2};
+    }
     [[nodiscard]] std::uint64_t key() const { return (std::uint64_t{level} << 56) | (std::uint64_t{x} << 28) | y; }
     [[nodiscard]] std::string toString() const;  ///< "level/x/y"
 };
@@ -109,10 +111,10 @@ struct Label {
 /// one level share their border samples (crack-free). Row 0 is the south edge, column 0 the
 /// west edge; sample (r, c) sits at local (c * spacing_m, r * spacing_m). Stored at 0.1 m.
 struct TileDem {
-    std::uint16_t size = 0;       ///< samples per side (0: tile has no DEM grid)
+    std::uint16_t size = 0;  ///< samples per side (0: tile has no DEM grid)
     float spacing_m = 0;
-    std::vector<float> heights;   ///< size * size metres above sea level; 0 where no DEM
-    float coverage = 0;           ///< fraction of samples that had DEM data (missing = flat 0 m)
+    std::vector<float> heights;  ///< size * size metres above sea level; 0 where no DEM
+    float coverage = 0;          ///< fraction of samples that had DEM data (missing = flat 0 m)
     [[nodiscard]] float at(int row, int col) const { return heights[static_cast<std::size_t>(row) * size + col]; }
 };
 
@@ -120,7 +122,7 @@ struct Tile {
     TileId id;
     double origin_x = 0;  ///< store-frame metres of the tile's south-west corner
     double origin_y = 0;
-    double size_m = 0;    ///< edge length of the tile square
+    double size_m = 0;        ///< edge length of the tile square
     std::vector<Road> roads;  ///< sorted by class, most important first (seed 3.6)
     std::vector<Building> buildings;
     std::vector<Area> areas;

@@ -31,17 +31,17 @@ struct TileRequest {
 
 struct TileCacheOptions {
     std::size_t budget_bytes = std::size_t{256} << 20;  ///< resident Tile::byteSize() limit
-    bool log_errors = true;  ///< print each corrupt tile once to stderr
+    bool log_errors = true;                             ///< print each corrupt tile once to stderr
 };
 
 struct TileCacheMetrics {
-    std::uint64_t hits = 0;       ///< requested tiles that were resident
-    std::uint64_t misses = 0;     ///< requested tiles not resident and newly queued for loading
-    std::uint64_t loads = 0;      ///< tiles read from the store
+    std::uint64_t hits = 0;    ///< requested tiles that were resident
+    std::uint64_t misses = 0;  ///< requested tiles not resident and newly queued for loading
+    std::uint64_t loads = 0;   ///< tiles read from the store
     std::uint64_t evictions = 0;
     std::uint64_t dropped_over_budget = 0;  ///< loaded tiles discarded: everything resident was wanted
-    std::uint64_t corrupt = 0;    ///< tiles that failed checksum/decoding (skipped afterwards)
-    double load_p50_ms = 0;       ///< over the last 4096 loads
+    std::uint64_t corrupt = 0;              ///< tiles that failed checksum/decoding (skipped afterwards)
+    double load_p50_ms = 0;                 ///< over the last 4096 loads
     double load_p99_ms = 0;
     std::size_t resident_bytes = 0;
     std::size_t peak_resident_bytes = 0;
@@ -87,8 +87,8 @@ private:
     std::condition_variable m_wake;
     mutable std::condition_variable m_idle;
     std::unordered_map<std::uint64_t, Resident> m_resident;
-    std::list<std::uint64_t> m_lru;  ///< front = most recently used
-    std::vector<TileRequest> m_pending;  ///< sorted, highest priority last (popped from back)
+    std::list<std::uint64_t> m_lru;               ///< front = most recently used
+    std::vector<TileRequest> m_pending;           ///< sorted, highest priority last (popped from back)
     std::unordered_set<std::uint64_t> m_bad;      ///< corrupt or absent: never retried
     std::unordered_set<std::uint64_t> m_dropped;  ///< dropped over budget until something is evicted
     std::uint64_t m_in_flight = ~std::uint64_t{0};

@@ -14,8 +14,8 @@
 namespace navmap::map {
 
 inline constexpr std::uint32_t kTilePayloadMagic = 0x314C544E;  // "NTL1"
-inline constexpr double kCoordQuantum = 0.01;                  // metres
-inline constexpr double kHeightQuantum = 0.1;                  // metres
+inline constexpr double kCoordQuantum = 0.01;                   // metres
+inline constexpr double kHeightQuantum = 0.1;                   // metres
 
 std::vector<std::uint8_t> encodeTile(const Tile& tile);
 

@@ -26,10 +26,10 @@ std::vector<TileRequest> tilesAlongPolyline(const TileScheme& scheme, int level,
                                             double radius_m, double length_m, float base_priority);
 
 struct CameraFootprint {
-    std::vector<PlanarPoint> ground;  ///< visible ground polygon (store frame)
-    PlanarPoint position;             ///< vehicle/camera ground position
-    double heading_deg = 0;           ///< clockwise from north
-    double prefetch_m = 0;            ///< look-ahead distance along the heading
+    std::vector<PlanarPoint> ground;     ///< visible ground polygon (store frame)
+    PlanarPoint position;                ///< vehicle/camera ground position
+    double heading_deg = 0;              ///< clockwise from north
+    double prefetch_m = 0;               ///< look-ahead distance along the heading
     std::span<const PlanarPoint> route;  ///< optional route ahead (store frame); used instead of the heading
 };
 

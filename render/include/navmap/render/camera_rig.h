@@ -25,19 +25,19 @@ struct VehiclePose {
 
 /// The pose of a camera as orbit parameters around a look-at point ahead of the vehicle.
 struct RigState {
-    double distance_m = 0.0;   ///< eye to look-at point
-    double pitch_deg = 0.0;    ///< elevation of the eye above the horizontal, seen from the look-at point
-    double yaw_deg = 0.0;      ///< direction the camera looks, 0 = north, clockwise
-    double look_ahead_m = 0.0; ///< look-at point ahead of the vehicle
-    double fov_y_deg = 0.0;    ///< vertical field of view (goal() sets it; 0 in a velocity)
+    double distance_m = 0.0;    ///< eye to look-at point
+    double pitch_deg = 0.0;     ///< elevation of the eye above the horizontal, seen from the look-at point
+    double yaw_deg = 0.0;       ///< direction the camera looks, 0 = north, clockwise
+    double look_ahead_m = 0.0;  ///< look-at point ahead of the vehicle
+    double fov_y_deg = 0.0;     ///< vertical field of view (goal() sets it; 0 in a velocity)
 };
 
 /// A camera following the vehicle as MapLibre GL JS would show it (maplibre_camera.h): centred
 /// on the vehicle, at the distance of `zoom` for the viewport height, `pitch_deg` from straight
 /// down, with MapLibre's 36.87 degree field of view.
 struct MapLibreFollow {
-    double zoom = 16.0;        ///< 0..24, 512-px tiles
-    double pitch_deg = 60.0;   ///< 0..85, 0 = straight down
+    double zoom = 16.0;       ///< 0..24, 512-px tiles
+    double pitch_deg = 60.0;  ///< 0..85, 0 = straight down
     /// A fixed bearing (degrees clockwise from true north); empty: the rig's orientation decides
     /// (heading-up: the vehicle's heading, north-up: north).
     std::optional<double> bearing_deg;
@@ -56,8 +56,8 @@ struct CameraRigParams {
     double snail_distance_m = 180.0;
     double snail_look_ahead_m = 70.0;
     double fov_y_deg = 45.0;
-    double smoothing_s = 0.6;       ///< time constant of the critically damped springs
-    double ground_clearance_m = 8.0; ///< the eye stays this far above the DEM
+    double smoothing_s = 0.6;         ///< time constant of the critically damped springs
+    double ground_clearance_m = 8.0;  ///< the eye stays this far above the DEM
 };
 
 /// Critically damped spring towards `target` (closed form, stable for any dt).

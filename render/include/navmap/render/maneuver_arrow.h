@@ -34,12 +34,12 @@ std::vector<std::vector<glm::dvec3>> junctionRoads(std::span<const std::shared_p
 /// its ends), and extended straight beyond the tip by the casing's reach.
 struct ArrowShape {
     RouteGeometry line;
-    double head_m = 0.0;         ///< the head's base (the shaft ends here)
-    double tip_m = 0.0;          ///< the fill's tip
-    double casing_tip_m = 0.0;   ///< the casing's tip (end of `line`)
-    float half_width_m = 0.0f;   ///< shaft fill, half width
+    double head_m = 0.0;             ///< the head's base (the shaft ends here)
+    double tip_m = 0.0;              ///< the fill's tip
+    double casing_tip_m = 0.0;       ///< the casing's tip (end of `line`)
+    float half_width_m = 0.0f;       ///< shaft fill, half width
     float head_half_width_m = 0.0f;  ///< head fill at its base, half width
-    float casing_m = 0.0f;       ///< casing per side
+    float casing_m = 0.0f;           ///< casing per side
 };
 
 /// The shape of `arrow` with the widths of `style` (arrow_*) times `scale` (the renderer grows

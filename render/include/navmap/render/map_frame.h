@@ -143,8 +143,21 @@ struct ManeuverArrow {
 /// The manoeuvre symbol of the guidance overlay, one per manoeuvre type of the control protocol
 /// (set_route maneuvers[].type, in the order of ipc::ManeuverType).
 enum class ManeuverSymbol : std::uint8_t {
-    Depart, Arrive, Straight, TurnLeft, TurnRight, SlightLeft, SlightRight, SharpLeft, SharpRight,
-    UTurn, KeepLeft, KeepRight, Roundabout, Exit, Merge,
+    Depart,
+    Arrive,
+    Straight,
+    TurnLeft,
+    TurnRight,
+    SlightLeft,
+    SlightRight,
+    SharpLeft,
+    SharpRight,
+    UTurn,
+    KeepLeft,
+    KeepRight,
+    Roundabout,
+    Exit,
+    Merge,
 };
 
 /// What the guidance overlay shows (screen space, over the map; laid out for the HUD's 800 x 240
@@ -153,9 +166,9 @@ enum class ManeuverSymbol : std::uint8_t {
 /// caller; an empty text is not drawn.
 struct GuidanceOverlay {
     ManeuverSymbol symbol = ManeuverSymbol::Straight;
-    int roundabout_exit = 0;     ///< Roundabout: the exit to take (1 = first), shown in the ring; 0: none
-    std::string distance;        ///< distance to the manoeuvre, e.g. "300 m" or "now"
-    std::string street;          ///< name (or ref) of the road to turn into
+    int roundabout_exit = 0;         ///< Roundabout: the exit to take (1 = first), shown in the ring; 0: none
+    std::string distance;            ///< distance to the manoeuvre, e.g. "300 m" or "now"
+    std::string street;              ///< name (or ref) of the road to turn into
     std::string remaining_distance;  ///< to the destination, e.g. "12.4 km"
     std::string remaining_time;      ///< e.g. "18 min"
 };
@@ -173,16 +186,16 @@ struct MapStyle {
     float marker_size_px = 22.0f;
     glm::vec4 marker_color{0.95f, 0.25f, 0.15f, 1.0f};
     glm::vec4 marker_stale_color{0.55f, 0.55f, 0.55f, 1.0f};
-    float building_cull_ratio = 0.004f;  ///< far small buildings: footprint / distance below this are culled
+    float building_cull_ratio = 0.004f;        ///< far small buildings: footprint / distance below this are culled
     glm::vec3 glow_color{0.45f, 1.0f, 0.35f};  ///< glowing roads, single-colour mode (seed 5.5.2: light green)
     float glow_strength = 0.8f;                ///< opacity of the glow over the buildings
     float aura_margin_px = 18.0f;              ///< seed 5.5.1: the label OOBB is enlarged by this much
     float aura_min_alpha = 0.0f;               ///< building opacity at the centre of an aura
     // Manoeuvre arrows (MapFrame::arrows): a white shaft with a dark casing and a wide head.
-    float arrow_width_m = 6.0f;        ///< shaft fill width
-    float arrow_casing_m = 1.5f;       ///< casing per side
-    float arrow_head_width_m = 17.0f;  ///< fill width of the head at its base
-    float arrow_head_length_m = 13.0f; ///< along the polyline, at most a third of the arrow's length
+    float arrow_width_m = 6.0f;         ///< shaft fill width
+    float arrow_casing_m = 1.5f;        ///< casing per side
+    float arrow_head_width_m = 17.0f;   ///< fill width of the head at its base
+    float arrow_head_length_m = 13.0f;  ///< along the polyline, at most a third of the arrow's length
     /// Arrows grow (all of their shape) beyond the route's distance scaling so that the shaft is
     /// at least this wide on screen (bird's-eye views from high up).
     float arrow_min_width_px = 5.0f;
@@ -234,32 +247,36 @@ struct FlatTile {
 /// Milliseconds per pass of the last map frame (measured with glFinish between passes when
 /// RendererOptions::profile_passes is set, else zero) and what was drawn.
 struct MapFrameStats {
-    double terrain_ms = 0, roads_ms = 0, outlines_ms = 0, buildings_ms = 0, route_ms = 0, marker_ms = 0,
-           uploads_ms = 0, total_ms = 0;
+    double terrain_ms = 0, roads_ms = 0, outlines_ms = 0, buildings_ms = 0, route_ms = 0, marker_ms = 0, uploads_ms = 0,
+           total_ms = 0;
     double glow_ms = 0, aura_ms = 0;  ///< glowing roads and label aura passes (seed 5.5), profiled like the others
-    double sv_roads_ms = 0;  ///< shadow-volume road passes (seed 3.5; roads_ms stays the geometric pass)
-    bool sv_roads = false;   ///< this frame's roads were drawn as shadow volumes
+    double sv_roads_ms = 0;           ///< shadow-volume road passes (seed 3.5; roads_ms stays the geometric pass)
+    bool sv_roads = false;            ///< this frame's roads were drawn as shadow volumes
     std::size_t tiles_drawn = 0;
     std::size_t tiles_uploaded = 0;
     std::size_t tiles_pending = 0;  ///< tiles not drawn yet because the upload budget was spent
     std::size_t road_segments = 0;
-    std::size_t road_blocks_hidden = 0;  ///< road blocks in view left out as hidden by the terrain (MapLayers::cull_hidden_roads)
-    double horizon_ms = 0;               ///< CPU time building the terrain's horizon for that, beside the render thread, always measured
+    std::size_t road_blocks_hidden =
+        0;  ///< road blocks in view left out as hidden by the terrain (MapLayers::cull_hidden_roads)
+    double horizon_ms =
+        0;  ///< CPU time building the terrain's horizon for that, beside the render thread, always measured
     std::size_t terrain_triangles = 0;
     std::size_t building_triangles = 0;
-    std::size_t outline_pixels = 0;  ///< pixels the outline filter ran on (seed 3.6.3; near roads unless the whole screen)
-    double outline_cells_ms = 0;     ///< CPU time marking the screen cells near roads for that filter (from the quads, or from the edges of the mask read back), always measured
+    std::size_t outline_pixels =
+        0;                        ///< pixels the outline filter ran on (seed 3.6.3; near roads unless the whole screen)
+    double outline_cells_ms = 0;  ///< CPU time marking the screen cells near roads for that filter (from the quads, or
+                                  ///< from the edges of the mask read back), always measured
     bool outline_mask_on_cpu = false;  ///< the outline filter's edges were found on the CPU (MapLayers::outline_mask)
-    std::size_t flat_tiles = 0;  ///< tiles seen so far with missing elevation data
+    std::size_t flat_tiles = 0;        ///< tiles seen so far with missing elevation data
     std::vector<FlatTile> new_flat_tiles;  ///< first seen in this frame: the caller warns about them
     // Labels (MapLayers::labels).
-    double labels_ms = 0;                  ///< CPU time of the label pass (collect, layout, text), always measured
-    std::size_t label_candidates = 0;      ///< labels of the frame's tiles projected inside the view
-    std::size_t labels_visible = 0;        ///< placed labels fading in or visible
-    std::size_t label_glyphs = 0;          ///< glyph quads drawn
-    float label_world_weight = 0;          ///< 0: screen-space labels, 1: world-space, between: cross-fading
+    double labels_ms = 0;              ///< CPU time of the label pass (collect, layout, text), always measured
+    std::size_t label_candidates = 0;  ///< labels of the frame's tiles projected inside the view
+    std::size_t labels_visible = 0;    ///< placed labels fading in or visible
+    std::size_t label_glyphs = 0;      ///< glyph quads drawn
+    float label_world_weight = 0;      ///< 0: screen-space labels, 1: world-space, between: cross-fading
     std::vector<labels::PlacedLabel> placed_labels;  ///< layout output of this frame (quality metrics)
-    labels::LayoutStats label_layout;      ///< the layout's counters (placements, removals by reason) so far
+    labels::LayoutStats label_layout;                ///< the layout's counters (placements, removals by reason) so far
     /// Every label drawn in this frame as it appears on screen (glyph extents after projection,
     /// drawn opacity): what the label quality metrics measure.
     std::vector<labels::DrawnLabel> drawn_labels;

@@ -60,15 +60,15 @@ struct RendererOptions {
 
 /// What the backend runs on, for logs and status.
 struct DeviceInfo {
-    std::string backend;     ///< "gles" or "noop"
-    std::string platform;    ///< EGL platform used
+    std::string backend;   ///< "gles" or "noop"
+    std::string platform;  ///< EGL platform used
     std::string vendor;
     std::string renderer;
     std::string version;
     int gles_major = 0;
     int gles_minor = 0;
-    int msaa_samples = 0;    ///< samples of the offscreen target actually used
-    bool software = false;   ///< a software rasterizer (llvmpipe, softpipe, swrast)
+    int msaa_samples = 0;   ///< samples of the offscreen target actually used
+    bool software = false;  ///< a software rasterizer (llvmpipe, softpipe, swrast)
 };
 
 /// Terrain shading parameters (kept separate so the shading is pluggable, docs/architecture.md "Rendering").
@@ -149,8 +149,8 @@ public:
 
     virtual void setMapStyle(const MapStyle& style) = 0;
     /// Renders one map frame from tiles into `target`: terrain with land cover, draped roads with
-    /// casing and outlines, buildings, route and vehicle marker ([architecture.md](architecture.md) "Render passes"). The
-    /// target's label layout continues from its own previous frame.
+    /// casing and outlines, buildings, route and vehicle marker ([architecture.md](architecture.md) "Render passes").
+    /// The target's label layout continues from its own previous frame.
     virtual void renderMap(TargetHandle target, const MapFrame& frame) = 0;
     [[nodiscard]] virtual const MapFrameStats& mapStats() const = 0;
     /// Blocks until the GPU has finished all submitted work (for timing).

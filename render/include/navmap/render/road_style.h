@@ -17,8 +17,8 @@ namespace navmap::render {
 inline constexpr int kStyledRoadClasses = 11;
 
 struct RoadClassStyle {
-    float width_m = 4.0f;        ///< fill width on the ground, metres
-    float casing_m = 0.0f;       ///< extra width of the casing on each side (0: no casing)
+    float width_m = 4.0f;   ///< fill width on the ground, metres
+    float casing_m = 0.0f;  ///< extra width of the casing on each side (0: no casing)
     glm::vec3 fill{1.0f};
     glm::vec3 casing{0.3f};
     /// seed 7.3, "adaptive filtering of the roads": minor roads are left out of far and zoomed-out

@@ -54,8 +54,8 @@ struct LodOptions {
 
 struct LodSelection {
     std::vector<std::shared_ptr<const map::Tile>> draw;  ///< non-overlapping, coarse where needed
-    std::vector<map::TileRequest> wanted;               ///< tiles to load (visible first)
-    std::vector<TileMorph> morph;                       ///< parallel to draw (empty when options.morph is off)
+    std::vector<map::TileRequest> wanted;                ///< tiles to load (visible first)
+    std::vector<TileMorph> morph;                        ///< parallel to draw (empty when options.morph is off)
     int finest_level = 0;
     std::size_t culled = 0;
 };
@@ -94,6 +94,7 @@ float morphDistance(float dx, float dy, const TileMorph& morph);
 
 /// S_L(d) of the rule above: `own` blended through `ancestors` (heights of levels L-1 .. L-4 at
 /// the same place). Mirrored by shaders/terrain_tile.vert.
-float morphedHeight(float distance_m, const TileMorph& morph, float own, const std::array<float, kMorphLevels>& ancestors);
+float morphedHeight(float distance_m, const TileMorph& morph, float own,
+                    const std::array<float, kMorphLevels>& ancestors);
 
 }  // namespace navmap::render

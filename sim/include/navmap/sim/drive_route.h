@@ -16,8 +16,8 @@ namespace navmap::sim {
 
 /// A turn instruction at a point of the route polyline.
 struct Maneuver {
-    std::size_t point = 0;      ///< index into DriveRoute::line
-    double measure_m = 0.0;     ///< distance from the route start
+    std::size_t point = 0;   ///< index into DriveRoute::line
+    double measure_m = 0.0;  ///< distance from the route start
     /// Control-protocol name (docs/ipc.md): "depart", "arrive", "straight", "turn_left",
     /// "slight_right", "sharp_left", "u_turn", "roundabout", ...
     std::string type;
@@ -28,12 +28,12 @@ struct Maneuver {
 };
 
 struct DriveRoute {
-    std::vector<map::RoutePoint> line;       ///< store frame, at least 2 points
+    std::vector<map::RoutePoint> line;  ///< store frame, at least 2 points
     /// Target (legal or class) speed of segment i = line[i] -> line[i + 1], km/h.
     std::vector<float> segment_speed_kmh;
     std::vector<map::RoadClass> segment_class;
     std::vector<Maneuver> maneuvers;
-    double graph_duration_s = 0.0;           ///< A* travel-time estimate at the edges' speeds
+    double graph_duration_s = 0.0;  ///< A* travel-time estimate at the edges' speeds
 
     [[nodiscard]] double length() const { return line.empty() ? 0.0 : line.back().measure_m; }
 };

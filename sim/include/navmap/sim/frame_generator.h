@@ -42,14 +42,14 @@ struct Interval {
 };
 
 struct FrameOptions {
-    double position_hz = 10.0;   ///< NAV_Position rate (GNSS epoch), 1..50, must divide 1e6 us
-    double motion_hz = 50.0;     ///< NAV_Motion rate
-    double info_hz = 1.0;        ///< NAV_Info rate (pages 0/1 alternate); 0 = none
-    double noise_m = 0.0;        ///< sigma of the Gaussian position error per axis, metres
-    int dropouts = 0;            ///< number of GNSS dropouts spread over the drive
-    double dropout_s = 5.0;      ///< length of each dropout
-    int bad_bursts = 0;          ///< number of bad-frame bursts
-    int burst_frames = 5;        ///< bad frames per burst (1 ms apart)
+    double position_hz = 10.0;  ///< NAV_Position rate (GNSS epoch), 1..50, must divide 1e6 us
+    double motion_hz = 50.0;    ///< NAV_Motion rate
+    double info_hz = 1.0;       ///< NAV_Info rate (pages 0/1 alternate); 0 = none
+    double noise_m = 0.0;       ///< sigma of the Gaussian position error per axis, metres
+    int dropouts = 0;           ///< number of GNSS dropouts spread over the drive
+    double dropout_s = 5.0;     ///< length of each dropout
+    int bad_bursts = 0;         ///< number of bad-frame bursts
+    int burst_frames = 5;       ///< bad frames per burst (1 ms apart)
     std::uint64_t seed = 1;
     /// Time of the first frame (realtime clock); also the UTC time in NAV_Info page 1.
     ipc::CanTime start_time = ipc::CanTime(std::chrono::seconds(1618394400));  // 2021-04-14T10:00:00Z
@@ -77,9 +77,8 @@ public:
     /// Resolves the three navmap.dbc messages in `dbc`; fails naming a missing message/signal or
     /// an invalid option (rates, negative noise).
     static ipc::Result<FrameGenerator> create(std::shared_ptr<const ipc::DbcDatabase> dbc,
-                                              std::shared_ptr<const SpeedProfile> profile,
-                                              map::Projection projection, FrameOptions options,
-                                              HeightFunction height = {});
+                                              std::shared_ptr<const SpeedProfile> profile, map::Projection projection,
+                                              FrameOptions options, HeightFunction height = {});
 
     /// Next frame in time order (timestamp set); false when the drive is over.
     bool next(ipc::CanFrame& frame, FrameKind* kind = nullptr);

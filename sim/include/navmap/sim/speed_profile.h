@@ -13,25 +13,25 @@
 namespace navmap::sim {
 
 struct DriveParams {
-    double lateral_accel_mps2 = 2.5;  ///< curve speed: v <= sqrt(a_lat / curvature)
-    double accel_mps2 = 1.5;          ///< longitudinal acceleration limit
-    double brake_mps2 = 2.5;          ///< longitudinal deceleration limit
-    double speed_factor = 1.0;        ///< driver: fraction of the target speed actually driven
-    double min_curve_speed_kmh = 8.0; ///< floor of the curve speed (hairpins, turns at junctions)
-    double step_m = 1.0;              ///< grid spacing of the profile along the route
-    double heading_window_m = 6.0;    ///< heading = direction of p(s + w) - p(s - w): a car does not turn on a point
+    double lateral_accel_mps2 = 2.5;   ///< curve speed: v <= sqrt(a_lat / curvature)
+    double accel_mps2 = 1.5;           ///< longitudinal acceleration limit
+    double brake_mps2 = 2.5;           ///< longitudinal deceleration limit
+    double speed_factor = 1.0;         ///< driver: fraction of the target speed actually driven
+    double min_curve_speed_kmh = 8.0;  ///< floor of the curve speed (hairpins, turns at junctions)
+    double step_m = 1.0;               ///< grid spacing of the profile along the route
+    double heading_window_m = 6.0;     ///< heading = direction of p(s + w) - p(s - w): a car does not turn on a point
 };
 
 /// State of the simulated car at one time.
 struct VehicleState {
-    double t_s = 0.0;             ///< seconds since the start of the drive
-    double measure_m = 0.0;       ///< distance driven along the route
-    map::PlanarPoint position;    ///< store frame, on the route polyline
-    double heading_deg = 0.0;     ///< clockwise from north, [0, 360)
+    double t_s = 0.0;           ///< seconds since the start of the drive
+    double measure_m = 0.0;     ///< distance driven along the route
+    map::PlanarPoint position;  ///< store frame, on the route polyline
+    double heading_deg = 0.0;   ///< clockwise from north, [0, 360)
     double speed_mps = 0.0;
-    double accel_mps2 = 0.0;      ///< longitudinal
-    double yaw_rate_dps = 0.0;    ///< positive counter-clockwise (DBC / VSS convention)
-    double limit_mps = 0.0;       ///< the profile's speed limit here (target and curve)
+    double accel_mps2 = 0.0;    ///< longitudinal
+    double yaw_rate_dps = 0.0;  ///< positive counter-clockwise (DBC / VSS convention)
+    double limit_mps = 0.0;     ///< the profile's speed limit here (target and curve)
 };
 
 class SpeedProfile {

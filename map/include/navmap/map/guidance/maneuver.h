@@ -14,8 +14,21 @@ namespace navmap::map::guidance {
 
 /// The manoeuvre types of the control protocol (the same set and spelling as ipc::ManeuverType).
 enum class ManeuverType : std::uint8_t {
-    Depart, Arrive, Straight, TurnLeft, TurnRight, SlightLeft, SlightRight, SharpLeft, SharpRight,
-    UTurn, KeepLeft, KeepRight, Roundabout, Exit, Merge,
+    Depart,
+    Arrive,
+    Straight,
+    TurnLeft,
+    TurnRight,
+    SlightLeft,
+    SlightRight,
+    SharpLeft,
+    SharpRight,
+    UTurn,
+    KeepLeft,
+    KeepRight,
+    Roundabout,
+    Exit,
+    Merge,
 };
 inline constexpr std::size_t kManeuverTypeCount = 15;
 
@@ -43,13 +56,13 @@ double headingChange(double a_deg, double b_deg) noexcept;
 /// One manoeuvre on a route polyline.
 struct Maneuver {
     ManeuverType type = ManeuverType::Straight;
-    std::size_t point = 0;      ///< route point where it happens (the junction; a roundabout's entry)
-    std::size_t end_point = 0;  ///< route point where it is done (a roundabout's exit; else == point)
-    double measure_m = 0.0;     ///< distance from the route start to `point`
-    double end_measure_m = 0.0; ///< distance from the route start to `end_point`
-    double turn_deg = 0.0;      ///< signed heading change, positive = right (roundabout: entry to exit)
-    int exit = 0;               ///< roundabout exit counted from the entry (1 = first); 0 = none
-    std::string street;         ///< name (else ref) of the road taken; empty when unknown
+    std::size_t point = 0;       ///< route point where it happens (the junction; a roundabout's entry)
+    std::size_t end_point = 0;   ///< route point where it is done (a roundabout's exit; else == point)
+    double measure_m = 0.0;      ///< distance from the route start to `point`
+    double end_measure_m = 0.0;  ///< distance from the route start to `end_point`
+    double turn_deg = 0.0;       ///< signed heading change, positive = right (roundabout: entry to exit)
+    int exit = 0;                ///< roundabout exit counted from the entry (1 = first); 0 = none
+    std::string street;          ///< name (else ref) of the road taken; empty when unknown
     friend bool operator==(const Maneuver&, const Maneuver&) = default;
 };
 

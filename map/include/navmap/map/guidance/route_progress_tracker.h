@@ -20,21 +20,21 @@ struct ProgressConfig {
     /// When the best match in the window is farther than this from the pose, the rest of the
     /// route ahead is searched too (after a GNSS gap or a long off-route stretch).
     double reacquire_m = 50.0;
-    double pass_after_m = 10.0;       ///< a manoeuvre is passed this far beyond its end point
-    double arrive_radius_m = 20.0;    ///< arrived when this little of the route is left
+    double pass_after_m = 10.0;     ///< a manoeuvre is passed this far beyond its end point
+    double arrive_radius_m = 20.0;  ///< arrived when this little of the route is left
 };
 
 struct RouteProgress {
-    double measure_m = 0.0;     ///< progress along the route, metres (never decreases)
+    double measure_m = 0.0;        ///< progress along the route, metres (never decreases)
     double match_measure_m = 0.0;  ///< where this pose projected (may lie up to back_window_m behind)
-    PlanarPoint on_route;       ///< the projected point
-    double offset_m = 0.0;      ///< distance from the pose to the route
-    double remaining_m = 0.0;   ///< to the destination
-    double remaining_s = 0.0;   ///< to the destination at the route's segment speeds
-    std::size_t passed = 0;     ///< manoeuvres passed (GuidanceRoute::maneuvers()[0 .. passed))
+    PlanarPoint on_route;          ///< the projected point
+    double offset_m = 0.0;         ///< distance from the pose to the route
+    double remaining_m = 0.0;      ///< to the destination
+    double remaining_s = 0.0;      ///< to the destination at the route's segment speeds
+    std::size_t passed = 0;        ///< manoeuvres passed (GuidanceRoute::maneuvers()[0 .. passed))
     /// Index of the next manoeuvre to announce (never Depart), nullopt when none is left.
     std::optional<std::size_t> next;
-    double to_next_m = 0.0;     ///< to the next manoeuvre's point; 0 while in it (a roundabout)
+    double to_next_m = 0.0;  ///< to the next manoeuvre's point; 0 while in it (a roundabout)
     bool arrived = false;
 };
 

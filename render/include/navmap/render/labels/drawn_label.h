@@ -20,15 +20,15 @@ namespace navmap::render::labels {
 using ScreenQuad = std::array<glm::vec2, 4>;
 
 struct DrawnLabel {
-    std::uint64_t id = 0;      ///< the layout id (stable over frames)
-    std::string text;          ///< the label's text as drawn (UTF-8)
+    std::uint64_t id = 0;  ///< the layout id (stable over frames)
+    std::string text;      ///< the label's text as drawn (UTF-8)
     LabelKind kind = LabelKind::Point;
     bool world_space = false;  ///< drawn in the 3D world (perspective) rather than on the screen plane
     /// Opacity as drawn: the layout's fade times the weight of its space (SS/WS cross-fade) and
     /// any legibility fade (world-space text too small to read fades out).
     float opacity = 0.0F;
-    glm::vec2 anchor{0.0F};    ///< projected anchor of the feature
-    glm::vec2 center{0.0F};    ///< center of the drawn text box
+    glm::vec2 anchor{0.0F};  ///< projected anchor of the feature
+    glm::vec2 center{0.0F};  ///< center of the drawn text box
     /// Cap height of the text on screen, px; for world-space text the smallest over the label
     /// (perspective shrinks its far end).
     float cap_height_px = 0.0F;

@@ -32,8 +32,8 @@ struct LayoutStats {
     std::size_t fading_in = 0;
     std::size_t visible = 0;
     std::size_t fading_out = 0;
-    std::uint64_t placed = 0;            ///< successful initial placements
-    std::uint64_t placement_failures = 0;  ///< attempts without a free candidate, of which:
+    std::uint64_t placed = 0;               ///< successful initial placements
+    std::uint64_t placement_failures = 0;   ///< attempts without a free candidate, of which:
     std::uint64_t failures_off_screen = 0;  ///<   no candidate inside the viewport
     std::uint64_t failures_keep_out = 0;    ///<   a keep-out area (marker, route) blocked one
     std::uint64_t failures_labels = 0;      ///<   only other labels' zones blocked them
@@ -41,10 +41,10 @@ struct LayoutStats {
     std::uint64_t removed_constricted = 0;
     std::uint64_t removed_overlap = 0;
     std::uint64_t removed_off_screen = 0;
-    std::uint64_t removed_gone = 0;      ///< placed labels whose candidate stopped coming (left the view, culled)
-    std::uint64_t rejected_inputs = 0;   ///< candidates refused by setFrame() (bad values, duplicate ids)
-    std::size_t last_pairs = 0;          ///< broad-phase pairs in the last step
-    std::size_t last_collisions = 0;     ///< of those, colliding buffered boxes (eq. 4.2)
+    std::uint64_t removed_gone = 0;     ///< placed labels whose candidate stopped coming (left the view, culled)
+    std::uint64_t rejected_inputs = 0;  ///< candidates refused by setFrame() (bad values, duplicate ids)
+    std::size_t last_pairs = 0;         ///< broad-phase pairs in the last step
+    std::size_t last_collisions = 0;    ///< of those, colliding buffered boxes (eq. 4.2)
 };
 
 /// Result of setFrame(): what was refused and why (first problem only).
@@ -139,10 +139,10 @@ private:
 
     LayoutParams m_params;
     CameraState m_camera;
-    double m_frame_time_s = 0.0;     ///< sum of advance() times
-    std::int64_t m_steps_done = 0;   ///< steps accounted for (run or dropped)
-    std::vector<Label> m_labels;  ///< sorted by id
-    std::vector<Label> m_next;    ///< merge buffer of setFrame()
+    double m_frame_time_s = 0.0;    ///< sum of advance() times
+    std::int64_t m_steps_done = 0;  ///< steps accounted for (run or dropped)
+    std::vector<Label> m_labels;    ///< sorted by id
+    std::vector<Label> m_next;      ///< merge buffer of setFrame()
     std::vector<LabelCandidate> m_sorted;
     std::vector<PlacedLabel> m_output;
     LayoutStats m_stats;

@@ -31,23 +31,23 @@ enum class LabelState : std::uint8_t {
 /// Why a label was taken out of the layout (counted in LayoutStats).
 enum class RemovalReason : std::uint8_t {
     None,
-    Gone,        ///< the caller no longer supplies it (off screen, culled)
-    Speed,       ///< seed 4.5.3 speed-based removal
-    Constricted, ///< seed 4.5.3: the forces on it cancel out
-    Overlap,     ///< its box kept overlapping a more important label
-    OffScreen,   ///< its text box left the viewport (the camera turned): it would be cut
+    Gone,         ///< the caller no longer supplies it (off screen, culled)
+    Speed,        ///< seed 4.5.3 speed-based removal
+    Constricted,  ///< seed 4.5.3: the forces on it cancel out
+    Overlap,      ///< its box kept overlapping a more important label
+    OffScreen,    ///< its text box left the viewport (the camera turned): it would be cut
 };
 
 /// One label candidate for the current frame, already projected by the renderer.
 /// Size is the text extent at scale 1 (from the text metrics), in pixels.
 struct LabelCandidate {
-    std::uint64_t id = 0;        ///< stable feature id; unique within one frame
-    float priority = 0.0F;       ///< importance in [0, 1]; higher is placed first and is heavier
+    std::uint64_t id = 0;   ///< stable feature id; unique within one frame
+    float priority = 0.0F;  ///< importance in [0, 1]; higher is placed first and is heavier
     LabelKind kind = LabelKind::Point;
-    glm::vec2 anchor{0.0F};      ///< projected anchor p'_i (point, area barycenter, line center)
-    float depth = 0.0F;          ///< view distance of the anchor in metres; <= 0 disables depth scaling
-    glm::vec2 size{0.0F};        ///< label width and height in pixels at scale 1
-    glm::vec2 line_p0{0.0F};     ///< Line: projected longest straight segment s'_line (seed 4.4.2)
+    glm::vec2 anchor{0.0F};   ///< projected anchor p'_i (point, area barycenter, line center)
+    float depth = 0.0F;       ///< view distance of the anchor in metres; <= 0 disables depth scaling
+    glm::vec2 size{0.0F};     ///< label width and height in pixels at scale 1
+    glm::vec2 line_p0{0.0F};  ///< Line: projected longest straight segment s'_line (seed 4.4.2)
     glm::vec2 line_p1{0.0F};
     float circle_radius = 0.0F;  ///< Circle: radius r of eq. 4.17 in pixels; <= 0 picks one from the size
     /// Cap height of the text at scale 1, px: depth scaling never shrinks it below
@@ -81,10 +81,10 @@ struct PlacedLabel {
     std::uint64_t id = 0;
     LabelKind kind = LabelKind::Point;
     LabelState state = LabelState::Visible;
-    OrientedBox box;          ///< the text box (scaled, without buffer zone), screen pixels
-    glm::vec2 anchor{0.0F};   ///< the projected anchor it belongs to
-    float alpha = 0.0F;       ///< fade in [0, 1]
-    float scale = 1.0F;       ///< depth scale applied to the text (seed 4.3.3)
+    OrientedBox box;             ///< the text box (scaled, without buffer zone), screen pixels
+    glm::vec2 anchor{0.0F};      ///< the projected anchor it belongs to
+    float alpha = 0.0F;          ///< fade in [0, 1]
+    float scale = 1.0F;          ///< depth scale applied to the text (seed 4.3.3)
     std::uint8_t candidate = 0;  ///< chosen candidate position (0 = best association)
 };
 

@@ -34,8 +34,8 @@ struct LayoutParams {
     float fade_out_s = 0.4F;
 
     // Enhancements (seed 4.5.3).
-    float buffer_px = 3.0F;           ///< enlarged OOBBs used for the forces
-    float placement_zone_px = 10.0F;  ///< no new label within this margin of a placed one (>= buffer_px)
+    float buffer_px = 3.0F;              ///< enlarged OOBBs used for the forces
+    float placement_zone_px = 10.0F;     ///< no new label within this margin of a placed one (>= buffer_px)
     float removal_speed_px_s = 400.0F;   ///< speed-based removal: label speed relative to its anchor
     float max_anchor_speed_px_s = 0.0F;  ///< also remove when the anchor itself moves faster; 0 = off
     float constricted_min_force = 0.6F;  ///< sum of |f^(i,k)| above which a label may be constricted
@@ -46,7 +46,7 @@ struct LayoutParams {
     /// more important label's or a keep-out area by more than this is removed at once, its
     /// opacity dropped below `visible_alpha` in the same frame, and fades out from there.
     float hard_overlap_px = 0.0F;
-    float visible_alpha = 0.5F;          ///< opacity from which a label counts as visible (and may not overlap)
+    float visible_alpha = 0.5F;  ///< opacity from which a label counts as visible (and may not overlap)
 
     // Depth scaling (seed 4.3.3): scale = depth_reference / depth, clamped, never below readable.
     float depth_reference_m = 200.0F;
@@ -55,10 +55,10 @@ struct LayoutParams {
     float min_cap_height_px = 9.5F;  ///< readable minimum: cap height on screen, px (never scaled below)
 
     // Line labels: rotated along the segment or horizontal (seed 4.3.3, 4.4.3).
-    float rotate_max_tilt_deg = 70.0F;      ///< rotated only while the camera tilt is below this
-    float max_rotation_deg = 75.0F;         ///< segments steeper than this on screen get horizontal text
-    float rotate_hysteresis_deg = 5.0F;     ///< margin on both thresholds against flicker
-    float angular_speed_deg_s = 180.0F;     ///< how fast a label turns to its target angle
+    float rotate_max_tilt_deg = 70.0F;   ///< rotated only while the camera tilt is below this
+    float max_rotation_deg = 75.0F;      ///< segments steeper than this on screen get horizontal text
+    float rotate_hysteresis_deg = 5.0F;  ///< margin on both thresholds against flicker
+    float angular_speed_deg_s = 180.0F;  ///< how fast a label turns to its target angle
 
     // Broad phase: uniform grid cell size in pixels; 0 picks the mean label extent each step.
     float grid_cell_px = 0.0F;

@@ -25,7 +25,7 @@ struct OrientedBox {
     /// screen this turns clockwise visually).
     [[nodiscard]] static OrientedBox fromAngle(glm::vec2 center, glm::vec2 half_extents, float angle_rad);
 
-    [[nodiscard]] float angle() const;           ///< rotation in radians, atan2(axis.y, axis.x)
+    [[nodiscard]] float angle() const;  ///< rotation in radians, atan2(axis.y, axis.x)
     [[nodiscard]] glm::vec2 axisY() const { return {-axis.y, axis.x}; }
     /// Half extents of the axis-aligned box that encloses this one.
     [[nodiscard]] glm::vec2 aabbHalfExtents() const;

@@ -43,8 +43,7 @@ private:
     [[nodiscard]] int cellX(float x) const;
     [[nodiscard]] int cellY(float y) const;
     [[nodiscard]] bool touches(std::uint32_t a, std::uint32_t b) const {
-        return m_lo[a].x <= m_hi[b].x && m_lo[b].x <= m_hi[a].x && m_lo[a].y <= m_hi[b].y &&
-               m_lo[b].y <= m_hi[a].y;
+        return m_lo[a].x <= m_hi[b].x && m_lo[b].x <= m_hi[a].x && m_lo[a].y <= m_hi[b].y && m_lo[b].y <= m_hi[a].y;
     }
 
     glm::vec2 m_origin{0.0F};
@@ -64,8 +63,8 @@ template <class F>
 void SpatialGrid::forEachPair(F&& f) const {
     for (int cy = 0; cy < m_rows; ++cy) {
         for (int cx = 0; cx < m_cols; ++cx) {
-            const std::size_t c = static_cast<std::size_t>(cy) * static_cast<std::size_t>(m_cols) +
-                                  static_cast<std::size_t>(cx);
+            const std::size_t c =
+                static_cast<std::size_t>(cy) * static_cast<std::size_t>(m_cols) + static_cast<std::size_t>(cx);
             const std::uint32_t begin = m_cell_start[c];
             const std::uint32_t end = m_cell_start[c + 1];
             for (std::uint32_t p = begin; p < end; ++p) {
@@ -101,8 +100,8 @@ void SpatialGrid::query(glm::vec2 center, glm::vec2 half, F&& f) const {
     const int y1 = cellY(hi.y);
     for (int cy = y0; cy <= y1; ++cy) {
         for (int cx = x0; cx <= x1; ++cx) {
-            const std::size_t c = static_cast<std::size_t>(cy) * static_cast<std::size_t>(m_cols) +
-                                  static_cast<std::size_t>(cx);
+            const std::size_t c =
+                static_cast<std::size_t>(cy) * static_cast<std::size_t>(m_cols) + static_cast<std::size_t>(cx);
             for (std::uint32_t p = m_cell_start[c]; p < m_cell_start[c + 1]; ++p) {
                 const std::uint32_t i = m_cell_items[p];
                 const std::int32_t* r = &m_range[4U * i];

@@ -30,18 +30,18 @@ struct AtlasParams {
 
 /// Where a glyph lies in the atlas and how its quad sits relative to the pen position.
 struct AtlasGlyph {
-    bool empty = true;             ///< no outline (space): nothing to draw
-    AtlasRect texels;              ///< rectangle in the atlas, texels (including the spread margin)
+    bool empty = true;  ///< no outline (space): nothing to draw
+    AtlasRect texels;   ///< rectangle in the atlas, texels (including the spread margin)
     /// Quad left edge and top edge relative to the pen position, and its size, em units, y up
     /// (top > bottom). Includes the spread margin.
     float left = 0.0f, top = 0.0f, width = 0.0f, height = 0.0f;
 };
 
 struct AtlasStats {
-    std::size_t glyphs = 0;         ///< resident glyphs
-    std::size_t rasterized = 0;     ///< glyphs rasterized since creation
-    std::size_t evicted = 0;        ///< glyphs evicted since creation
-    std::size_t overflows = 0;      ///< requests refused because the atlas was full this frame
+    std::size_t glyphs = 0;      ///< resident glyphs
+    std::size_t rasterized = 0;  ///< glyphs rasterized since creation
+    std::size_t evicted = 0;     ///< glyphs evicted since creation
+    std::size_t overflows = 0;   ///< requests refused because the atlas was full this frame
     std::size_t repacks = 0;
 };
 

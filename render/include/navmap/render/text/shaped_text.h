@@ -24,11 +24,11 @@ struct ShapedGlyph {
 /// A shaped single-line string, glyphs in visual order (left to right).
 struct ShapedText {
     std::vector<ShapedGlyph> glyphs;
-    float advance = 0.0f;      ///< total pen advance, em
-    float ascender = 0.8f;     ///< line box above the baseline (primary font), em
-    float descender = -0.2f;   ///< line box below the baseline (negative), em
-    float cap_height = 0.73f;  ///< capital letters above the baseline (primary font), em
-    std::size_t missing = 0;   ///< glyphs no font of the chain has (.notdef was used)
+    float advance = 0.0f;           ///< total pen advance, em
+    float ascender = 0.8f;          ///< line box above the baseline (primary font), em
+    float descender = -0.2f;        ///< line box below the baseline (negative), em
+    float cap_height = 0.73f;       ///< capital letters above the baseline (primary font), em
+    std::size_t missing = 0;        ///< glyphs no font of the chain has (.notdef was used)
     std::size_t invalid_bytes = 0;  ///< bytes of malformed UTF-8 (replaced by U+FFFD)
     FontStyle style = FontStyle::Regular;
 };

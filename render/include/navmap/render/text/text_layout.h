@@ -19,19 +19,19 @@ namespace navmap::render::text {
 /// anchor, x right, y down (screen convention); atlas coordinates in texels (the shader
 /// divides by the atlas size, so quads survive atlas growth but not a repack).
 struct GlyphQuad {
-    glm::vec2 p0{0.0f};  ///< top-left corner, px
-    glm::vec2 p1{0.0f};  ///< bottom-right corner, px
-    glm::vec2 t0{0.0f};  ///< atlas texel of p0
-    glm::vec2 t1{0.0f};  ///< atlas texel of p1
+    glm::vec2 p0{0.0f};      ///< top-left corner, px
+    glm::vec2 p1{0.0f};      ///< bottom-right corner, px
+    glm::vec2 t0{0.0f};      ///< atlas texel of p0
+    glm::vec2 t1{0.0f};      ///< atlas texel of p1
     std::uint8_t layer = 0;  ///< 0: text, 1: icon (drawn in the icon colour)
 };
 
 /// Text extent at a given size in pixels; linear in the size.
 struct TextMetrics {
-    float width = 0.0f;    ///< pen advance of the whole run
-    float height = 0.0f;   ///< ascent + descent (line box of the primary font)
-    float ascent = 0.0f;   ///< above the baseline, positive
-    float descent = 0.0f;  ///< below the baseline, positive
+    float width = 0.0f;       ///< pen advance of the whole run
+    float height = 0.0f;      ///< ascent + descent (line box of the primary font)
+    float ascent = 0.0f;      ///< above the baseline, positive
+    float descent = 0.0f;     ///< below the baseline, positive
     float cap_height = 0.0f;  ///< capital letters above the baseline (the legibility measure)
 };
 
@@ -44,9 +44,9 @@ enum class TextAnchor : std::uint8_t {
 /// Quads and metrics of one label.
 struct LaidOutText {
     std::vector<GlyphQuad> quads;
-    TextMetrics metrics;         ///< the whole label box (icon included)
-    float size_px = 0.0f;        ///< em size the quads were laid out at (the SDF scale)
-    std::size_t dropped = 0;     ///< glyphs the atlas could not hold this frame
+    TextMetrics metrics;      ///< the whole label box (icon included)
+    float size_px = 0.0f;     ///< em size the quads were laid out at (the SDF scale)
+    std::size_t dropped = 0;  ///< glyphs the atlas could not hold this frame
 };
 
 TextMetrics measureText(const ShapedText& text, float size_px);

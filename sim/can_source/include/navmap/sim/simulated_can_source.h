@@ -25,7 +25,7 @@ struct SimulatedDriveRequest {
     std::filesystem::path dbc;    ///< navmap.dbc, the frames' layout
     std::string from;             ///< "lat,lon" or a place name
     std::string to;
-    double speed_factor = 1.0;    ///< playback speed (2 = twice as fast)
+    double speed_factor = 1.0;  ///< playback speed (2 = twice as fast)
 };
 
 class SimulatedCanSource final : public daemon::CanSource {

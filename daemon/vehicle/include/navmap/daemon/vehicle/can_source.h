@@ -17,7 +17,7 @@ namespace navmap::daemon {
 /// What a source reports for status and /metrics; fields a source has no part in stay zero.
 struct CanSourceStatus {
     std::uint64_t can_error_frames = 0, can_bus_off = 0, can_kernel_drops = 0;
-    std::string can_state;                     ///< "open", "retrying: bind(can0): No such device"
+    std::string can_state;  ///< "open", "retrying: bind(can0): No such device"
     std::uint64_t replay_loops = 0;
     std::uint64_t replay_malformed_lines = 0;  ///< skipped lines of the replayed log (all passes)
     std::uint64_t replay_time_errors = 0;      ///< frames whose time did not fit the clock

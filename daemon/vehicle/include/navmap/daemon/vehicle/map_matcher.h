@@ -17,12 +17,12 @@
 namespace navmap::daemon {
 
 struct RoadMatch {
-    std::uint32_t edge = 0;    ///< index into RoadGraph::edges (direction of travel)
-    map::PlanarPoint point;    ///< nearest point on the edge
-    double headingDeg = 0.0;   ///< direction of the edge there (clockwise from north)
+    std::uint32_t edge = 0;   ///< index into RoadGraph::edges (direction of travel)
+    map::PlanarPoint point;   ///< nearest point on the edge
+    double headingDeg = 0.0;  ///< direction of the edge there (clockwise from north)
     double distanceM = 0.0;
-    double confidence = 0.0;   ///< 0..1: distance and heading agreement
-    double score = 0.0;        ///< lower is better (includes the hysteresis bonuses)
+    double confidence = 0.0;  ///< 0..1: distance and heading agreement
+    double score = 0.0;       ///< lower is better (includes the hysteresis bonuses)
 };
 
 /// exp(-d^2/2s_d^2) * exp(-dh^2/2s_h^2): the confidence of a candidate (heading term only when

@@ -21,23 +21,23 @@ namespace navmap::daemon {
 
 /// The pose at a requested time.
 struct EstimatedPose {
-    bool valid = false;          ///< false until the first accepted GNSS fix
-    double x = 0.0;              ///< store frame, metres east (snapped when matched)
-    double y = 0.0;              ///< store frame, metres north
-    double rawX = 0.0;           ///< fused position before map matching
+    bool valid = false;  ///< false until the first accepted GNSS fix
+    double x = 0.0;      ///< store frame, metres east (snapped when matched)
+    double y = 0.0;      ///< store frame, metres north
+    double rawX = 0.0;   ///< fused position before map matching
     double rawY = 0.0;
-    double headingDeg = 0.0;     ///< clockwise from north, [0, 360)
+    double headingDeg = 0.0;  ///< clockwise from north, [0, 360)
     double speedMps = 0.0;
-    ipc::CanTime time{};         ///< the requested time
-    ipc::CanTime sourceTime{};   ///< CAN receive time of the newest input behind this pose
-    bool stale = false;          ///< no accepted fix for gnssTimeoutS: show "position lost"
-    double sinceFixS = 0.0;      ///< seconds since the newest accepted fix
-    double matchConfidence = 0.0;   ///< 0..1 (0: no road/route candidate)
-    double snapWeight = 0.0;        ///< 0 raw .. 1 fully on the road
-    std::optional<std::uint32_t> edge;  ///< matched graph edge
+    ipc::CanTime time{};                   ///< the requested time
+    ipc::CanTime sourceTime{};             ///< CAN receive time of the newest input behind this pose
+    bool stale = false;                    ///< no accepted fix for gnssTimeoutS: show "position lost"
+    double sinceFixS = 0.0;                ///< seconds since the newest accepted fix
+    double matchConfidence = 0.0;          ///< 0..1 (0: no road/route candidate)
+    double snapWeight = 0.0;               ///< 0 raw .. 1 fully on the road
+    std::optional<std::uint32_t> edge;     ///< matched graph edge
     std::optional<double> roadHeadingDeg;  ///< direction of the matched route/road segment
     bool onRoute = false;
-    double routeDrivenM = 0.0;      ///< along the route (when onRoute)
+    double routeDrivenM = 0.0;  ///< along the route (when onRoute)
     double routeRemainingM = 0.0;
 };
 
@@ -45,7 +45,7 @@ struct EstimatedPose {
 struct PoseAnchor {
     ipc::CanTime time{};
     double x = 0.0, y = 0.0;
-    double headingRad = 0.0;     ///< clockwise from north
+    double headingRad = 0.0;  ///< clockwise from north
     double speedMps = 0.0;
     double jumpX = 0.0, jumpY = 0.0;  ///< prediction minus anchor at `time`: faded out over blendS
     double jumpHeadingRad = 0.0;
@@ -67,8 +67,8 @@ public:
         bool headingKnown = false;
         std::shared_ptr<const MapMatcher> matcher;
         std::shared_ptr<const RouteLine> route;
-        std::optional<std::uint32_t> matchedEdge;   ///< hysteresis state at the newest input
-        std::optional<double> routeMeasure;         ///< previous route match
+        std::optional<std::uint32_t> matchedEdge;  ///< hysteresis state at the newest input
+        std::optional<double> routeMeasure;        ///< previous route match
     };
     explicit VehicleState(Parts parts) : m_p(std::move(parts)) {}
 

@@ -22,15 +22,15 @@
 namespace navmap::daemon {
 
 struct VehicleStateCounters {
-    std::uint64_t fixes = 0;            ///< accepted GNSS fixes
-    std::uint64_t motionSamples = 0;    ///< accepted speed/yaw-rate samples
-    std::uint64_t rejectedNaN = 0;      ///< not finite
-    std::uint64_t rejectedRange = 0;    ///< outside the plausible range or far from the map region
-    std::uint64_t rejectedJump = 0;     ///< fix too far from the prediction
-    std::uint64_t rejectedOrder = 0;    ///< older than data already used
-    std::uint64_t rejectedNoFix = 0;    ///< GNSS fix type NONE
-    std::uint64_t relocations = 0;      ///< re-initialised after consecutive jumps or a stale period
-    std::string lastRejection;          ///< why the newest rejection happened
+    std::uint64_t fixes = 0;          ///< accepted GNSS fixes
+    std::uint64_t motionSamples = 0;  ///< accepted speed/yaw-rate samples
+    std::uint64_t rejectedNaN = 0;    ///< not finite
+    std::uint64_t rejectedRange = 0;  ///< outside the plausible range or far from the map region
+    std::uint64_t rejectedJump = 0;   ///< fix too far from the prediction
+    std::uint64_t rejectedOrder = 0;  ///< older than data already used
+    std::uint64_t rejectedNoFix = 0;  ///< GNSS fix type NONE
+    std::uint64_t relocations = 0;    ///< re-initialised after consecutive jumps or a stale period
+    std::string lastRejection;        ///< why the newest rejection happened
 };
 
 class VehicleStateEstimator {
