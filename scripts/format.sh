@@ -25,18 +25,21 @@ else
 fi
 files="$(printf '%s\n' "$files" | grep -v -E '^(build[^/]*|out)/' | sort)"
 if [ "$mode" = "--check" ]; then
-  drift=0
-  while IFS= read -r f; do
-    [ -n "$f" ] || continue
-    if ! "$fmt" --dry-run --Werror "$f" >/dev/null 2>&1; then
-      echo "format drift: $f (run scripts/format.sh)"
-      drift=$((drift + 1))
-    fi
-  done <<< "$files"
+  # One clang-format per batch of files (not per file): --dry-run --Werror names each file that
+  # would change as "<file>:<line>:<col>: error: code should be clang-formatted".
+  rc=0
+  report="$(printf '%s\n' "$files" | xargs -r "$fmt" --dry-run --Werror 2>&1 >/dev/null)" || rc=$?
+  drifted="$(printf '%s\n' "$report" | sed -n 's/^\([^:]*\):[0-9]*:[0-9]*: error: code should be clang-formatted.*/\1/p' | sort -u)"
   n="$(printf '%s\n' "$files" | grep -c . || true)"
-  if [ "$drift" -gt 0 ]; then
-    echo "format.sh: $drift of $n files differ from .clang-format"
+  if [ -n "$drifted" ]; then
+    while IFS= read -r f; do echo "format drift: $f (run scripts/format.sh)"; done <<< "$drifted"
+    echo "format.sh: $(printf '%s\n' "$drifted" | grep -c .) of $n files differ from .clang-format"
     exit 1
+  fi
+  if [ "$rc" -ne 0 ]; then
+    printf '%s\n' "$report" >&2
+    echo "format.sh: $fmt failed (exit $rc)" >&2
+    exit 2
   fi
   echo "format.sh: $n files match .clang-format ($("$fmt" --version | sed 's/.*version //'))"
   exit 0
