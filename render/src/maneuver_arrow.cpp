@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "navmap/map/road_class.h"
+#include "navmap/render/road_style.h"
 
 namespace navmap::render {
 
@@ -92,6 +93,18 @@ std::vector<std::vector<glm::dvec3>> junctionRoads(std::span<const std::shared_p
         }
     }
     return out;
+}
+
+float arrowScale(const ManeuverArrow& arrow, const MapStyle& style, const glm::dvec3& eye, double ground_z,
+                 float focal_px) {
+    glm::dvec3 mid(0.0);
+    for (const glm::dvec3& p : arrow.points) mid += p;
+    mid /= double(std::max<std::size_t>(arrow.points.size(), 1));
+    mid.z = ground_z;
+    const float eye_dist = std::max(static_cast<float>(glm::length(mid - eye)), 1.0f);
+    const float px_per_m = focal_px / eye_dist;
+    return std::max(distanceWidthScale(eye_dist, style.roads.scale_threshold_m, style.roads.max_scale),
+                    style.arrow_min_width_px / std::max(style.arrow_width_m * px_per_m, 1e-6f));
 }
 
 ArrowShape arrowShape(const ManeuverArrow& arrow, const MapStyle& style, float scale) {

@@ -209,6 +209,64 @@ TEST_P(ArrowView, LowerEmphasisDrawsFainter) {
     EXPECT_GE(faint, 20u);
 }
 
+// Labels keep out of the manoeuvre arrows (docs/labels.md "Keep-out"): with labels on, no
+// visible label's drawn glyph box (outline and halo included) covers a pixel of the arrow's fill
+// as drawn without labels. The arrow is a long one (the 350 m after the turn, past labelled
+// streets and POIs beside the route: without the keep-out, 273 of its pixels lie under labels),
+// in the center display's bird's-eye view (the snail's view there shows one label, far away).
+TEST(ArrowLabels, NoLabelIsDrawnOverTheArrow) {
+    const glm::ivec2 size = viewSize(ViewMode::Bird);
+    MapFrame f = turnFrame(ViewMode::Bird, size);
+    f.arrows = {cutManeuverArrow(*f.route, leftTurn().measure + 350.0, 345.0, 25.0)};
+    RendererOptions o;
+    o.width = size.x;
+    o.height = size.y;
+    auto r = Renderer::create(o);
+    r->setMapStyle(magentaArrows());
+    r->renderMap(f);
+    const Image bare = r->readSync();
+    ASSERT_GE(magentaPixels(bare), 200u);
+    f.layers.labels = true;
+    f.frame_dt_s = 1.0 / 30.0;
+    for (int i = 0; i < 60; ++i) r->renderMap(f);
+    const MapFrameStats stats = r->mapStats();
+    dump(r->readSync(), "arrow_labels_bird");
+    // Pixel centres inside a convex quad (corners in order, either winding).
+    auto inside = [](const labels::ScreenQuad& q, glm::vec2 p) {
+        int sign = 0;
+        for (std::size_t i = 0; i < 4; ++i) {
+            const glm::vec2 a = q[i], b = q[(i + 1) % 4];
+            const float c = (b.x - a.x) * (p.y - a.y) - (b.y - a.y) * (p.x - a.x);
+            if (c == 0.0f) continue;
+            const int s = c > 0.0f ? 1 : -1;
+            if (sign != 0 && s != sign) return false;
+            sign = s;
+        }
+        return true;
+    };
+    std::size_t visible = 0, covered = 0;
+    std::string over;
+    for (const labels::DrawnLabel& l : stats.drawn_labels) {
+        if (l.opacity < 0.5f) continue;
+        ++visible;
+        std::size_t mine = 0;
+        for (const labels::ScreenQuad& q : l.glyph_boxes) {
+            glm::vec2 lo(1e9f), hi(-1e9f);
+            for (const glm::vec2 c : q) {
+                lo = glm::min(lo, c);
+                hi = glm::max(hi, c);
+            }
+            for (int y = std::max(int(lo.y), 0); y <= std::min(int(hi.y), bare.height - 1); ++y)
+                for (int x = std::max(int(lo.x), 0); x <= std::min(int(hi.x), bare.width - 1); ++x)
+                    mine += isMagenta(bare, x, y) && inside(q, glm::vec2(x + 0.5f, y + 0.5f));
+        }
+        if (mine > 0) over += " \"" + l.text + "\" (" + std::to_string(mine) + " px)";
+        covered += mine;
+    }
+    EXPECT_GE(visible, 3u);
+    EXPECT_EQ(covered, 0u) << "labels drawn over the arrow:" << over;
+}
+
 TEST_P(ArrowView, MatchesGolden) {
     MapFrame f = turnFrame(GetParam());
     f.arrows = {turnArrow(f)};

@@ -115,9 +115,10 @@ public:
         draw(viewport, stats);
     }
     /// run() in two halves, so passes that need the placed labels (the label aura) fit between.
-    /// `marker` is the vehicle marker's screen outline (empty: none drawn): a keep-out area.
+    /// Keep-out areas: `marker`, the vehicle marker's screen outline (empty: none drawn), the next
+    /// route_keep_out_m of the route and the manoeuvre arrows, as wide as `style` draws them.
     void layout(const MapFrame& frame, std::span<const TileLabels> tiles, glm::ivec2 viewport, MapFrameStats& stats,
-                std::span<const glm::vec2> marker = {}, float route_width_m = 9.0f);
+                std::span<const glm::vec2> marker = {}, const MapStyle& style = {});
     void draw(glm::ivec2 viewport, MapFrameStats& stats);
     /// After draw(), with the scene's depth still bound in `depth_fbo`'s depth attachment: how
     /// much of each world-space label's text the scene hides as drawn (the aura already applied),
@@ -180,7 +181,7 @@ private:
     /// labels on screen now are kept first, so the chosen way does not change.
     void dropRepeatedStreets();
     void keepOut(const MapFrame& frame, std::span<const TileLabels> tiles, glm::vec2 viewport,
-                 std::span<const glm::vec2> marker, float route_width_m);
+                 std::span<const glm::vec2> marker, const MapStyle& style);
     const TextSize& textSize(std::uint64_t id, const map::Label& label);
 
     std::vector<std::size_t> m_tile_order;  ///< collect(): tiles finest first

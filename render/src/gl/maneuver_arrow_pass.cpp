@@ -98,16 +98,9 @@ void ManeuverArrowPass::draw(const MapFrame& frame, const MapStyle& style, const
     for (std::size_t i : order) {
         const ManeuverArrow& arrow = frame.arrows[i];
         if (arrow.emphasis <= 0.0f) continue;
-        // Sized as the route at its distance (seed 3.6.3), and at least arrow_min_width_px wide
-        // where it is far below (bird's-eye): the whole shape grows, its head with it.
-        glm::dvec3 mid(0.0);
-        for (const glm::dvec3& p : arrow.points) mid += p;
-        mid /= double(std::max<std::size_t>(arrow.points.size(), 1));
-        mid.z = frame.camera.target.z;  // arrow points carry no height: the ground the camera looks at
-        const float eye_dist = std::max(static_cast<float>(glm::length(mid - eye)), 1.0f);
-        const float px_per_m = projection[1][1] * 0.5f * static_cast<float>(target.height()) / eye_dist;
-        const float grow = std::max(distanceWidthScale(eye_dist, style.roads.scale_threshold_m, style.roads.max_scale),
-                                    style.arrow_min_width_px / std::max(style.arrow_width_m * px_per_m, 1e-6f));
+        // The arrow points carry no height: taken at the ground the camera looks at.
+        const float grow = arrowScale(arrow, style, eye, frame.camera.target.z,
+                                      projection[1][1] * 0.5f * static_cast<float>(target.height()));
         const ArrowShape shape = arrowShape(arrow, style, grow);
         if (shape.line.points.size() < 2) continue;
         const float e = std::min(arrow.emphasis, 1.0f);

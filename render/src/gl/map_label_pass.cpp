@@ -24,7 +24,7 @@ void MapLabelPass::layout(const FrameContext& ctx, std::span<const glm::vec2> ke
     }
     ctx.target.bindForDrawing(false);
     m_current->layout(ctx.frame, m_tile_labels, {ctx.target.width(), ctx.target.height()}, ctx.stats, keep_out,
-                      ctx.style.route_width_m);
+                      ctx.style);
 }
 
 std::span<const LabelOccluder> MapLabelPass::occluders(const FrameContext& ctx) const {

@@ -48,6 +48,13 @@ struct ArrowShape {
 /// narrowed in proportion).
 ArrowShape arrowShape(const ManeuverArrow& arrow, const MapStyle& style, float scale = 1.0f);
 
+/// The `scale` the renderer draws `arrow` with: as the route at its distance from `eye` (seed
+/// 3.6.3), and at least MapStyle::arrow_min_width_px wide where it is far below (bird's-eye).
+/// `ground_z`: the height the arrow's points are taken at (they carry none); `focal_px`: the
+/// projection's focal length in pixels (projection[1][1] * viewport height / 2).
+float arrowScale(const ManeuverArrow& arrow, const MapStyle& style, const glm::dvec3& eye, double ground_z,
+                 float focal_px);
+
 /// Half width of the arrow at `measure_m`, metres: `casing` true for the casing (the fill grown
 /// by casing_m on every side, the head's tip beyond the fill's). At a measure where the width
 /// jumps (the head's base), `after` picks the side beyond it. arrow_geo.vert computes the same.
