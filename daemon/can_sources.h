@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The input's CAN source as [input] source says: SocketCAN, a candump replay or the in-process
-// simulator (which also sets the route it drives on the control state, as an HMI would).
+// simulator (which also sets the route it drives on the control state, as an HMI would). The
+// simulator comes in as a SimulatorFactory (navmap/daemon/vehicle/can_source.h): the navmapd
+// program passes sim::openSimulatedDrive, the daemon's code does not include the simulator.
 
 #include <filesystem>
 #include <memory>
@@ -29,7 +31,9 @@ struct OpenedCanSource {
 };
 
 /// Opens the configured source; throws std::runtime_error naming the file or route problem.
-/// Sim mode without a road graph gives no source, an error, and a warning on stderr.
-OpenedCanSource openCanSource(const DaemonConfig& config, const CanSourceSite& site, ipc::ControlState& control);
+/// Sim mode without a road graph, or without a `simulator` (a program built without it), gives
+/// no source, an error, and a warning on stderr.
+OpenedCanSource openCanSource(const DaemonConfig& config, const CanSourceSite& site, ipc::ControlState& control,
+                              const SimulatorFactory& simulator);
 
 }  // namespace navmap::daemon

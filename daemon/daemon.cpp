@@ -128,7 +128,7 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
         // The map matcher is the road graph's only user here: it takes the scene's copy (1.6 MB).
         VehicleInput input(config, scene.projection(), scene.store->path(), scene.graph_problem,
                            std::make_shared<const map::RoadGraph>(std::move(scene.graph)), control_state,
-                           options.data_dir);
+                           options.data_dir, options.simulator);
         const auto control_server = createControlServer(config, *control_state);
         const auto frames = startFrameServer(config, metrics, status);
         DisplayScheduler displays(config, {options.noop_renderer, options.render_all_profiles}, scene.cache,

@@ -12,6 +12,7 @@
 #include <string>
 
 #include "config.h"
+#include "navmap/daemon/vehicle/can_source.h"
 
 namespace navmap::daemon {
 
@@ -21,6 +22,9 @@ struct RunOptions {
     std::filesystem::path data_dir;                    ///< navmap.dbc and the shipped data
     bool noop_renderer = false;                        ///< no GL (tests of the loop itself)
     bool render_all_profiles = false;                  ///< render profiles without clients too
+    /// The drive simulator for [input] source = "sim" (navmapd passes sim::openSimulatedDrive);
+    /// empty: sim mode runs without a source and says so.
+    SimulatorFactory simulator;
 };
 
 /// Runs the daemon until SIGTERM/SIGINT (or run_for_s). Returns the process exit status.

@@ -3,6 +3,8 @@
 // has a default, docs/navmapd.md), applies command-line overrides and runs the main loop
 // (daemon.h) until SIGTERM. `--check-config` validates and prints the effective configuration.
 // Exit status: 0 ok, 1 bad configuration or a failure at run time, 2 usage (docs/tools.md).
+// It hands the drive simulator to the daemon (RunOptions::simulator): the daemon's library
+// (navmap_daemon_core) neither includes nor links sim/.
 
 #include <cstdio>
 #include <iostream>
@@ -11,6 +13,7 @@
 #include "daemon.h"
 #include "navmap/cli/cli.h"
 #include "navmap/install_layout.h"
+#include "navmap/sim/simulated_can_source.h"
 
 int main(int argc, char** argv) {
     using namespace navmap::daemon;
@@ -106,5 +109,7 @@ int main(int argc, char** argv) {
     options.data_dir = navmap::install::dataDir();
     options.noop_renderer = noop;
     options.render_all_profiles = render_all;
+    // The composition root: the only place in daemon/ that names the simulator.
+    options.simulator = navmap::sim::openSimulatedDrive;
     return runDaemon(std::move(c), options);
 }

@@ -13,7 +13,7 @@ namespace navmap::daemon {
 VehicleInput::VehicleInput(const DaemonConfig& config, const map::Projection& projection,
                            const std::filesystem::path& store_path, const std::string& graph_problem,
                            std::shared_ptr<const map::RoadGraph> graph, std::shared_ptr<ipc::ControlState> control,
-                           const std::filesystem::path& data_dir) {
+                           const std::filesystem::path& data_dir, const SimulatorFactory& simulator) {
     // DBC databases: the configured ones, else the shipped GNSS node.
     std::vector<std::filesystem::path> dbc_files = config.dbc_files;
     if (dbc_files.empty()) dbc_files.push_back(data_dir / "navmap.dbc");
@@ -44,7 +44,7 @@ VehicleInput::VehicleInput(const DaemonConfig& config, const map::Projection& pr
     site.data_dir = data_dir;
     site.graph_problem = graph_problem;
     site.frame_keys = m_decoder->frameKeys();
-    OpenedCanSource opened = openCanSource(config, site, *control);
+    OpenedCanSource opened = openCanSource(config, site, *control, simulator);
     m_source = std::move(opened.source);
     m_stats.source = std::move(opened.name);
     m_stats.error = std::move(opened.error);

@@ -45,12 +45,14 @@ public:
     /// Opens the DBC files, the signal map and the source; throws std::runtime_error naming the
     /// file or interface on failure. `projection` and `store_path`: the map's store (the
     /// simulator plans on it). In sim mode the simulated route is set on `control`; without a
-    /// road graph (`graph_problem` says why, map::MapScene::graph_problem) the input runs without
-    /// a source and says so (stats().error). `graph`: the road graph the map matcher snaps to (the
-    /// scene's, moved out of it: one copy; empty: no map matching, the pose is the raw fix).
+    /// road graph (`graph_problem` says why, map::MapScene::graph_problem) or without a
+    /// `simulator` (can_sources.h) the input runs without a source and says so (stats().error).
+    /// `graph`: the road graph the map matcher snaps to (the scene's, moved out of it: one copy;
+    /// empty: no map matching, the pose is the raw fix).
     VehicleInput(const DaemonConfig& config, const map::Projection& projection, const std::filesystem::path& store_path,
                  const std::string& graph_problem, std::shared_ptr<const map::RoadGraph> graph,
-                 std::shared_ptr<ipc::ControlState> control, const std::filesystem::path& data_dir);
+                 std::shared_ptr<ipc::ControlState> control, const std::filesystem::path& data_dir,
+                 const SimulatorFactory& simulator = {});
     ~VehicleInput();
     VehicleInput(const VehicleInput&) = delete;
     VehicleInput& operator=(const VehicleInput&) = delete;

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // Terrain heightfield shading: hypsometric tint x relief shading, faded into the sky with
 // distance (aerial perspective). Kept as its own stage so land cover and synthetic orthoimages
-// can replace the tint later (DESIGN.md: pluggable terrain shading).
+// can replace the tint (docs/architecture.md: the terrain shading is pluggable).
 in vec3 v_normal;
 in float v_height;
 in float v_distance;

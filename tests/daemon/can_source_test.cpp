@@ -132,7 +132,7 @@ TEST(CanSources, SimModeSetsTheRouteItDrivesOnTheControlState) {
     site.store_path = storePath();
     site.data_dir = test::dataDir();
     ipc::ControlState control;
-    const daemon::OpenedCanSource opened = daemon::openCanSource(config, site, control);
+    const daemon::OpenedCanSource opened = daemon::openCanSource(config, site, control, sim::openSimulatedDrive);
     ASSERT_NE(opened.source, nullptr) << opened.error;
     EXPECT_EQ(opened.name, "sim andorra-la-vella -> encamp");
     const auto route = control.route();
@@ -147,11 +147,23 @@ TEST(CanSources, SimModeWithoutARoadGraphHasNoSourceAndSaysWhy) {
     daemon::CanSourceSite site;
     site.graph_problem = "graph section: checksum mismatch";
     ipc::ControlState control;
-    const daemon::OpenedCanSource opened = daemon::openCanSource(config, site, control);
+    const daemon::OpenedCanSource opened = daemon::openCanSource(config, site, control, sim::openSimulatedDrive);
     EXPECT_EQ(opened.source, nullptr);
     EXPECT_EQ(opened.name, "sim andorra-la-vella -> encamp");
     EXPECT_EQ(opened.error,
               "the simulator cannot plan a route: road graph unavailable: graph section: checksum mismatch");
+    EXPECT_EQ(control.route(), nullptr);
+}
+
+// A program that hands the daemon no simulator (RunOptions::simulator empty) runs sim mode
+// without a source and says why.
+TEST(CanSources, SimModeWithoutASimulatorHasNoSourceAndSaysWhy) {
+    daemon::DaemonConfig config;
+    config.input = daemon::InputSource::Sim;
+    ipc::ControlState control;
+    const daemon::OpenedCanSource opened = daemon::openCanSource(config, daemon::CanSourceSite{}, control, {});
+    EXPECT_EQ(opened.source, nullptr);
+    EXPECT_EQ(opened.error, "this program has no drive simulator (input source \"sim\")");
     EXPECT_EQ(control.route(), nullptr);
 }
 

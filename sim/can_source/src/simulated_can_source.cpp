@@ -44,4 +44,10 @@ void SimulatedCanSource::report(daemon::CanSourceStatus& status) {
     status.replay_time_errors = m_replayer->timeErrors();
 }
 
+daemon::SimulatedSource openSimulatedDrive(const daemon::SimulatedDriveSpec& spec) {
+    auto source = std::make_unique<SimulatedCanSource>(spec);
+    std::string line = source->setRouteLine();
+    return {std::move(source), std::move(line)};
+}
+
 }  // namespace navmap::sim

@@ -20,13 +20,7 @@ class Replayer;
 
 namespace navmap::sim {
 
-struct SimulatedDriveRequest {
-    std::filesystem::path store;  ///< compiled tile store
-    std::filesystem::path dbc;    ///< navmap.dbc, the frames' layout
-    std::string from;             ///< "lat,lon" or a place name
-    std::string to;
-    double speed_factor = 1.0;  ///< playback speed (2 = twice as fast)
-};
+using SimulatedDriveRequest = daemon::SimulatedDriveSpec;
 
 class SimulatedCanSource final : public daemon::CanSource {
 public:
@@ -53,5 +47,8 @@ private:
     std::string m_set_route;
     std::unique_ptr<ipc::Replayer> m_replayer;
 };
+
+/// The simulator as navmapd's daemon::SimulatorFactory: a SimulatedCanSource with its set_route line.
+daemon::SimulatedSource openSimulatedDrive(const daemon::SimulatedDriveSpec& spec);
 
 }  // namespace navmap::sim

@@ -7,6 +7,9 @@
 
 #include <chrono>
 #include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <memory>
 #include <string>
 
 #include "navmap/ipc/can_frame.h"
@@ -39,5 +42,26 @@ public:
     /// Updates `status` with the source's counters; a problem is logged the first time it shows.
     virtual void report(CanSourceStatus& status) = 0;
 };
+
+/// A simulated drive, as [input] source = "sim" configures it.
+struct SimulatedDriveSpec {
+    std::filesystem::path store;  ///< compiled tile store (the drive is planned on its road graph)
+    std::filesystem::path dbc;    ///< navmap.dbc, the frames' layout
+    std::string from;             ///< "lat,lon" or a place name
+    std::string to;
+    double speed_factor = 1.0;  ///< playback speed (2 = twice as fast)
+};
+
+/// A simulated drive's source and the set_route line a simulated HMI sends for it.
+struct SimulatedSource {
+    std::unique_ptr<CanSource> source;
+    std::string set_route_line;
+};
+
+/// Opens a simulated drive; throws naming the problem (store, DBC, unknown place, no route). The
+/// simulator (sim/can_source: sim::openSimulatedDrive) implements it and the navmapd program
+/// hands it to the daemon (RunOptions::simulator), so the daemon's library neither includes nor
+/// links the simulator.
+using SimulatorFactory = std::function<SimulatedSource(const SimulatedDriveSpec&)>;
 
 }  // namespace navmap::daemon

@@ -1,0 +1,30 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
+# The module arrows of docs/architecture.md "Who uses whom", checked on the #include lines of the
+# tracked sources; prints each include that points the wrong way and exits 1 when there is any.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bad=0
+# rule <module dir> <forbidden include regex> <why> [<path excluded from the rule>]
+rule() {
+    local dir="$1" pattern="$2" why="$3" except="${4:-}"
+    local hits rc=0
+    hits="$(git grep -n -P "$pattern" -- "$dir/*.cpp" "$dir/*.h" ${except:+":!$except"})" || rc=$?
+    if [ "$rc" -gt 1 ]; then echo "check-layering: git grep failed on $dir ($pattern)" >&2; exit 2; fi
+    if [ -n "$hits" ]; then
+        while IFS= read -r h; do echo "layering: $h ($why)"; done <<< "$hits"
+        bad=$((bad + 1))
+    fi
+}
+rule map '#include "navmap/(render|ipc|daemon|sim)/' "map/ depends on no other module"
+rule ipc '#include "navmap/(render|map|daemon|sim)/' "ipc/ does not know render/, map/, daemon/ or sim/"
+rule render '#include "navmap/(ipc|daemon|sim)/' "render/ uses map/ only"
+rule sim '#include "navmap/render/' "sim/ does not render"
+rule sim '#include "navmap/daemon/(?!vehicle/)' "sim/ knows only daemon/vehicle (CanSource)"
+rule daemon '#include "navmap/sim/' "the daemon gets the simulator as a SimulatorFactory" daemon/navmapd.cpp
+rule . '#include <(GLES[23]|EGL)/' "GL and EGL stay in render/src/gl" "render/src/gl"
+if [ "$bad" -gt 0 ]; then
+    echo "check-layering: $bad rule(s) broken (docs/architecture.md \"Who uses whom\")"
+    exit 1
+fi
+echo "check-layering: the includes follow docs/architecture.md \"Who uses whom\""
