@@ -1,10 +1,11 @@
 // SPDX-License-Identifier: Apache-2.0
-// The ground beyond the data (far_ground_pass.h): one triangle over the whole screen at the far
-// depth, so that it only fills what nothing else has drawn.
+// The ground beyond the data (far_ground_pass.h): the part of the screen below the horizon, a
+// fan of up to 5 corners in normalized device coordinates, at the far depth so that it only fills
+// what nothing else has drawn.
+uniform vec2 u_corners[5];
 out vec2 v_ndc;
 
 void main() {
-    vec2 p = vec2(gl_VertexID == 1 ? 3.0 : -1.0, gl_VertexID == 2 ? 3.0 : -1.0);
-    v_ndc = p;
-    gl_Position = vec4(p, 1.0, 1.0);
+    v_ndc = u_corners[gl_VertexID];
+    gl_Position = vec4(v_ndc, 1.0, 1.0);
 }

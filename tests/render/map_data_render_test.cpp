@@ -247,4 +247,9 @@ TEST(MapDataRender, BeyondTheStoresEdgeTheGroundContinuesBelowTheHorizon) {
         const glm::ivec3 above = s.at(o + glm::dvec3(3000.0, 500.0, 1000.0));  // above the horizon
         EXPECT_TRUE(near(above, sky, 3)) << above.x << "," << above.y << "," << above.z;
     }
+    // Without it (MapLayers::far_ground off) the clear colour shows there.
+    MapLayers without;
+    without.far_ground = false;
+    const Shot bare = shoot({tile}, cam, without);
+    EXPECT_TRUE(near(bare.at(o + glm::dvec3(2500.0, 500.0, 500.0)), to8(MapStyle::day().sky_color), 3));
 }

@@ -3,8 +3,9 @@
 // The ground beyond the store's data (docs/rendering.md "Beyond the data"): where no tile was
 // drawn below the horizon, a level plane at the lowest height of the drawn terrain continues in
 // MapStyle::far_ground_color, fogged like the terrain, so no view shows the sky below the
-// horizon. One screen-filling triangle at the far depth after terrain and buildings: the depth
-// test (early, no depth writes) leaves it only the pixels nothing covered. Private to render/.
+// horizon. The screen below the horizon as one polygon at the far depth, after terrain and
+// buildings: the depth test (early: no depth writes, no discard) leaves it only the pixels nothing
+// covered. Private to render/.
 
 #include <GLES3/gl3.h>
 

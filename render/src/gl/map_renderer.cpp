@@ -135,7 +135,7 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target, int 
         m_buildings.draw(ctx);
         clock.lap(m_stats.buildings_ms);
     }
-    if (layers.terrain) {  // what is still clear below the horizon: the ground beyond the data
+    if (layers.terrain && layers.far_ground) {  // what is still clear below the horizon: beyond the data
         m_far_ground.draw(ctx);
         clock.lap(m_stats.terrain_ms);
     }

@@ -31,6 +31,9 @@ inline constexpr double kShadowVolumeAutoSpacingM = 20.0;
 /// Layer switches (benchmarks compare terrain only, +roads, +buildings, full).
 struct MapLayers {
     bool terrain = true;
+    /// The ground beyond the store's data, below the horizon (docs/rendering.md "Beyond the
+    /// data"); drawn with the terrain only.
+    bool far_ground = true;
     bool land_cover = true;
     bool roads = true;
     bool outlines = true;
