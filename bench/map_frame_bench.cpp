@@ -283,9 +283,40 @@ void profilesOnly(benchmark::internal::Benchmark* b) {
     b->DenseRange(0, 2)->ArgName("profile")->Unit(benchmark::kMillisecond)->Iterations(48);
 }
 
+// The ground beyond the data (MapLayers::far_ground), full scene, measured interleaved with it
+// off on the same views (each first in turn): its cost in one run.
+void farGround(benchmark::State& state) {
+    const Profile& p = kProfiles[state.range(0)];
+    const auto views = shots(p, 24);
+    auto r = Renderer::create(optionsFor(p));
+    for (const auto& s : views) r->renderMap(frameFor(p, s, layersFor(3)));
+    MapLayers without = layersFor(3);
+    without.far_ground = false;
+    const std::array<MapLayers, 2> steps{without, layersFor(3)};
+    std::array<std::vector<double>, 2> ms;
+    std::size_t i = 0;
+    for (auto _ : state) {
+        const Shot& s = views[i % views.size()];
+        const std::size_t first = i++ % 2;  // alternate which goes first: no order bias
+        for (std::size_t j = 0; j < steps.size(); ++j) {
+            const std::size_t k = (first + j) % steps.size();
+            const auto t0 = Clock::now();
+            r->renderMap(frameFor(p, s, steps[k]));
+            r->finish();
+            ms[k].push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+        }
+    }
+    state.counters["without_p50_ms"] = percentile(ms[0], 0.5);
+    state.counters["with_p50_ms"] = percentile(ms[1], 0.5);
+    state.counters["without_p95_ms"] = percentile(ms[0], 0.95);
+    state.counters["with_p95_ms"] = percentile(ms[1], 0.95);
+    state.SetLabel(p.name);
+}
+
 BENCHMARK(mapFrame)->Apply(profilesAndSteps);
 BENCHMARK(mapPasses)->Apply(profilesOnly);
 BENCHMARK(roadsVsTerrain)->Apply(profilesOnly);
+BENCHMARK(farGround)->Apply(profilesOnly);
 BENCHMARK(drapingGrowth)->Unit(benchmark::kMillisecond)->Iterations(1);
 
 }  // namespace

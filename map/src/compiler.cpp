@@ -26,6 +26,7 @@
 #include <sstream>
 #include <unordered_map>
 
+#include "navmap/map/coastline.h"
 #include "navmap/map/dem.h"
 #include "navmap/map/dem_mosaic.h"
 #include "navmap/map/geometry.h"
@@ -79,6 +80,9 @@ double placeMaxTile(PlaceClass c) {
 }
 
 constexpr double kBuildingKeepArea = 1500.0;  // m^2: buildings kept one level above the leaf
+/// Coastline ends this close are joined, and ends this close to the data's border are closed
+/// along it (osmcoastline's default gap distance is of the same order).
+constexpr double kCoastCloseM = 1000.0;
 
 // ---- projected features ----
 
@@ -307,6 +311,7 @@ CompileStats compileStore(const CompileOptions& opt) {
     BuildingHandler buildings(opt.default_building_height_m);
     AreaHandler areas;
     LabelHandler labels;
+    CoastlineHandler coast;
     try {
         const osmium::io::File file(osm_name);
         osmium::TagsFilter filter{false};
@@ -328,7 +333,7 @@ CompileStats compileStore(const CompileOptions& opt) {
         const std::size_t total = std::max<std::size_t>(reader.file_size(), 1);
         double last_log = elapsed();
         while (osmium::memory::Buffer buffer = reader.read()) {
-            osmium::apply(buffer, locations, roads, graph_ways, labels, mp_handler);
+            osmium::apply(buffer, locations, roads, graph_ways, labels, coast, mp_handler);
             if (elapsed() - last_log >= 1.0) {  // progress once a second on long runs
                 last_log = elapsed();
                 const double pct = 100.0 * static_cast<double>(reader.offset()) / static_cast<double>(total);
@@ -347,8 +352,9 @@ CompileStats compileStore(const CompileOptions& opt) {
         throw CompileError(osm_name + ": cannot read OSM data: " + e.what());
     }
     stats.read_seconds = elapsed();
-    if (roads.roads.empty() && buildings.buildings.empty() && areas.areas.empty() && labels.points.empty()) {
-        throw CompileError(osm_name + ": no map features (roads, buildings, areas, places) found");
+    if (roads.roads.empty() && buildings.buildings.empty() && areas.areas.empty() && labels.points.empty() &&
+        coast.ways.empty()) {
+        throw CompileError(osm_name + ": no map features (roads, buildings, areas, places, coastlines) found");
     }
 
     // ---- bounds and projection ----
@@ -368,6 +374,8 @@ CompileStats compileStore(const CompileOptions& opt) {
         for (const auto& r : a.polygon.outers)
             for (const auto& p : r) grow(p);
     for (const auto& l : labels.points) grow(l.pos);
+    for (const auto& w : coast.ways)
+        for (const auto& p : w.points) grow(p);
     const Projection proj(0.5 * (south + north), 0.5 * (west + east));
     Box data_bounds;
     {
@@ -424,6 +432,37 @@ CompileStats compileStore(const CompileOptions& opt) {
         }
         pareas.push_back(std::move(pa));
     }
+
+    // The sea, from the coastlines (coastline.h): one area of its own, odd winding with its islands.
+    static const std::string kNoName;
+    stats.coast_ways = coast.ways.size();
+    if (!coast.ways.empty()) {
+        std::vector<CoastWay> coast_ways;
+        coast_ways.reserve(coast.ways.size());
+        for (const auto& w : coast.ways)
+            coast_ways.push_back({w.id, w.first_node, w.last_node, project(proj, w.points)});
+        Coast sea = assembleCoast(std::move(coast_ways), data_bounds, kCoastCloseM);
+        for (const auto& w : sea.warnings) warn(w);
+        stats.sea_rings = sea.sea.size();
+        stats.islands = sea.islands.size();
+        stats.coast_gaps_closed = sea.gaps_closed;
+        stats.coast_ways_left_out = sea.ways_left_out;
+        if (!sea.empty()) {
+            PArea pa{{}, AreaClass::Sea, &kNoName};
+            for (auto& r : sea.sea) pa.poly.area += std::abs(ringSignedArea(r));
+            for (auto& r : sea.islands) pa.poly.area -= std::abs(ringSignedArea(r));
+            pa.poly.outers = std::move(sea.sea);
+            pa.poly.inners = std::move(sea.islands);
+            std::vector<PlanarPoint> all;
+            for (const auto& r : pa.poly.outers) all.insert(all.end(), r.begin(), r.end());
+            pa.poly.bounds = boundsOf(all);
+            pa.poly.barycenter = {0.5 * (pa.poly.bounds.min_x + pa.poly.bounds.max_x),
+                                  0.5 * (pa.poly.bounds.min_y + pa.poly.bounds.max_y)};
+            pareas.push_back(std::move(pa));
+        }
+        log("coast: " + std::to_string(stats.coast_ways) + " coastline ways, " + std::to_string(stats.sea_rings) +
+            " sea rings, " + std::to_string(stats.islands) + " islands");
+    }
     stats.areas = pareas.size();
 
     for (const auto& l : labels.points) {
@@ -444,7 +483,8 @@ CompileStats compileStore(const CompileOptions& opt) {
     }
     for (const auto& r : proads) {
         const std::string& name = r.raw->name.empty() ? r.raw->ref : r.raw->name;
-        if (name.empty()) continue;
+        // Tunnels are not drawn on the surface (docs/rendering.md "Tunnels"), so not labelled there.
+        if (name.empty() || (r.raw->flags & RoadFlags::Tunnel)) continue;
         // seed 4.4.2: polyline center for horizontal labels, longest straight segment for rotated ones.
         const Segment s = longestStraightSegment(r.pts);
         plabels.push_back({LabelKind::Road, static_cast<std::uint8_t>(r.raw->cls), &name, polylineCenter(r.pts), s.a,
@@ -481,6 +521,8 @@ CompileStats compileStore(const CompileOptions& opt) {
         const bool is_leaf = level == leaf;
         const double tol = is_leaf ? 0.0 : size / 1024.0;
         std::map<std::uint64_t, Tile> tiles;  // ordered: stable file layout
+        // The sea's rings clipped to each tile: its DEM samples there are at sea level.
+        std::unordered_map<std::uint64_t, std::vector<std::vector<PlanarPoint>>> sea_rings;
         auto tileFor = [&](TileId id) -> Tile& {
             auto [it, inserted] = tiles.try_emplace(id.key());
             if (inserted) {
@@ -565,6 +607,7 @@ CompileStats compileStore(const CompileOptions& opt) {
                     Area out;
                     Tile& t = tileFor(id);
                     if (!makePolygon(clipped, t, out.polygon)) continue;
+                    if (a.cls == AreaClass::Sea) sea_rings[id.key()] = clipped;
                     out.cls = a.cls;
                     out.name = *a.name;
                     out.osm_id = a.poly.id;
@@ -611,10 +654,19 @@ CompileStats compileStore(const CompileOptions& opt) {
             t.dem.spacing_m = static_cast<float>(spacing);
             t.dem.heights.assign(static_cast<std::size_t>(n) * n, 0.0f);
             std::size_t covered = 0;
+            // SRTM is 0 or void over the sea (and void filling slopes it out from the shore): the
+            // sea lies at 0 m, and counts as covered.
+            std::vector<char> wet;
+            if (const auto sea = sea_rings.find(key); sea != sea_rings.end())
+                wet = samplesInside(sea->second, b.min_x, b.min_y, spacing, n);
             for (int r = 0; r < n; ++r) {
                 const double v = static_cast<double>(r) / (n - 1);
                 for (int c = 0; c < n; ++c) {
                     const double u = static_cast<double>(c) / (n - 1);
+                    if (!wet.empty() && wet[static_cast<std::size_t>(r) * n + c]) {
+                        ++covered;  // heights[] is 0 already
+                        continue;
+                    }
                     const double la =
                         (1 - u) * (1 - v) * lat[0] + u * (1 - v) * lat[1] + (1 - u) * v * lat[2] + u * v * lat[3];
                     const double lo =
@@ -670,6 +722,8 @@ std::string formatSummary(const CompileStats& s) {
     o << "roads:      " << s.roads << " polylines, " << s.road_vertices << " vertices\n"
       << "buildings:  " << s.buildings << "\n"
       << "areas:      " << s.areas << "\n"
+      << "coast:      " << s.coast_ways << " coastline ways, " << s.sea_rings << " sea rings, " << s.islands
+      << " islands, " << s.coast_gaps_closed << " gaps closed, " << s.coast_ways_left_out << " ways left out\n"
       << "labels:     " << s.place_labels << " places, " << s.poi_labels << " POIs, " << s.road_labels << " roads, "
       << s.area_labels << " areas\n"
       << "road graph: " << s.graph_nodes << " nodes, " << s.graph_edges << " directed edges\n"

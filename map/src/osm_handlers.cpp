@@ -77,6 +77,31 @@ void RoadHandler::way(const osmium::Way& way) {
     roads.push_back(std::move(road));
 }
 
+void CoastlineHandler::way(const osmium::Way& way) {
+    if (!way.tags().has_tag("natural", "coastline")) return;
+    RawCoastWay run;
+    auto flush = [&] {
+        if (run.points.size() >= 2) ways.push_back(run);
+        run.points.clear();
+    };
+    for (const auto& n : way.nodes()) {
+        const osmium::Location l = n.location();
+        if (!l.valid()) {  // outside a cut extract: the run ends here
+            flush();
+            continue;
+        }
+        if (run.points.empty()) {
+            run.id = way.id();
+            run.first_node = n.ref();
+        }
+        run.last_node = n.ref();
+        const LatLon p{l.lat(), l.lon()};
+        if (run.points.empty() || run.points.back().lat != p.lat || run.points.back().lon != p.lon)
+            run.points.push_back(p);
+    }
+    flush();
+}
+
 void GraphHandler::way(const osmium::Way& way) {
     const auto& tags = way.tags();
     const char* hw = tags["highway"];

@@ -48,6 +48,13 @@ struct RawPolygon {
     std::vector<std::vector<LatLon>> outers, inners;
 };
 
+/// A natural=coastline way, or one run of it where a cut extract lacks some node locations.
+struct RawCoastWay {
+    std::int64_t id = 0;
+    std::int64_t first_node = 0, last_node = 0;
+    std::vector<LatLon> points;
+};
+
 struct RawBuilding {
     RawPolygon polygon;
     float height_m = 0, min_height_m = 0;
@@ -106,6 +113,13 @@ class AreaHandler : public osmium::handler::Handler {
 public:
     void area(const osmium::Area& area);
     std::vector<RawArea> areas;
+};
+
+/// natural=coastline ways -> runs of located nodes (the land/sea split, coastline.h).
+class CoastlineHandler : public osmium::handler::Handler {
+public:
+    void way(const osmium::Way& way);
+    std::vector<RawCoastWay> ways;
 };
 
 /// place nodes and named POI nodes -> point labels; place polygons -> area-anchored place labels.

@@ -123,6 +123,10 @@ int onewayDirection(const TagLookup& tags) {
 
 std::optional<AreaClass> areaClassFromTags(const TagLookup& tags) {
     using A = AreaClass;
+    // Coastlines are lines with the water on their right, not areas: the compiler assembles
+    // land and sea from them (coastline.h), also where a closed one (an island) is tagged so.
+    if (eq(tags("natural"), "coastline") && tags("landuse") == nullptr && tags("leisure") == nullptr)
+        return std::nullopt;
     if (const char* n = tags("natural")) {
         static constexpr std::array<std::pair<std::string_view, A>, 14> kNatural{{{"water", A::Water},
                                                                                   {"bay", A::Water},
@@ -239,8 +243,8 @@ float placeImportance(PlaceClass cls) {
 
 std::string_view areaClassName(AreaClass cls) {
     static constexpr std::array<std::string_view, kAreaClassCount> kNames{
-        "water",       "wetland",    "glacier",    "forest", "scrub", "grass",    "farmland", "rock",
-        "residential", "commercial", "industrial", "park",   "sport", "cemetery", "military", "other"};
+        "water",      "wetland",    "glacier", "forest", "scrub",    "grass",    "farmland", "rock", "residential",
+        "commercial", "industrial", "park",    "sport",  "cemetery", "military", "other",    "sea"};
     return kNames[static_cast<std::size_t>(cls)];
 }
 

@@ -39,6 +39,7 @@ int landCoverOrder(map::AreaClass c) {
         case A::Industrial:
         case A::Military:
         case A::Cemetery: return 1;
+        case A::Sea: return -1;  // under everything mapped on land (harbours, piers, beaches)
         case A::Park:
         case A::Sport:
         case A::Other: return 2;
@@ -165,6 +166,9 @@ glm::vec4 landCoverColor(map::AreaClass cls) {
         case A::Cemetery: return rgba(0xaac4a0, 0.7f);
         case A::Military: return rgba(0xd8b0a8, 0.5f);
         case A::Other: return rgba(0xc8c8b0, 0.3f);
+        // Opaque: the terrain's hypsometric tint at 0 m (green) must not show through. A little
+        // deeper than inland water, so coast and lakes read apart. Night: MapStyle::brightness.
+        case A::Sea: return rgba(0x7fa9d6, 1.0f);
     }
     return rgba(0xc8c8b0, 0.3f);
 }

@@ -387,3 +387,94 @@ TEST(CompileCli, NumericOptionsMustBeFiniteAndInRange) {
     EXPECT_THROW(compileStore(opt), CompileError);
     EXPECT_EQ(namesIn(dir.path()), std::vector<std::string>{"p.log"});
 }
+
+namespace {
+
+/// Does a point (tile-local) lie in one of the polygon's triangles?
+bool inPolygon(const Polygon& poly, LocalPoint p) {
+    for (std::size_t i = 0; i + 2 < poly.indices.size(); i += 3) {
+        const LocalPoint a = poly.vertices[poly.indices[i]], b = poly.vertices[poly.indices[i + 1]],
+                         c = poly.vertices[poly.indices[i + 2]];
+        auto side = [&](LocalPoint u, LocalPoint v) { return (v.x - u.x) * (p.y - u.y) - (v.y - u.y) * (p.x - u.x); };
+        const float s0 = side(a, b), s1 = side(b, c), s2 = side(c, a);
+        if ((s0 >= 0 && s1 >= 0 && s2 >= 0) || (s0 <= 0 && s1 <= 0 && s2 <= 0)) return true;
+    }
+    return false;
+}
+
+}  // namespace
+
+// A synthetic coast (Andorra has none): an island in the sea, a named road across the water's
+// bounds and a named road tunnel, with an SRTM3 tile that is 100 m everywhere (as void filling
+// makes of a sea that SRTM left void).
+TEST(CompileCoast, AnIslandIsLandInASeaAtZeroMetresAndTunnelsGetNoLabel) {
+    ScratchDir dir("coast");
+    {
+        std::ofstream osm(dir / "coast.osm");
+        osm << R"(<?xml version="1.0" encoding="UTF-8"?>
+<osm version="0.6" generator="test">
+ <node id="1" version="1" lat="43.030" lon="7.030"/>
+ <node id="2" version="1" lat="43.030" lon="7.050"/>
+ <node id="3" version="1" lat="43.045" lon="7.050"/>
+ <node id="4" version="1" lat="43.045" lon="7.030"/>
+ <node id="10" version="1" lat="43.000" lon="7.000"/>
+ <node id="11" version="1" lat="43.060" lon="7.100"/>
+ <node id="20" version="1" lat="43.035" lon="7.035"/>
+ <node id="21" version="1" lat="43.040" lon="7.045"/>
+ <way id="100" version="1"><nd ref="1"/><nd ref="2"/><nd ref="3"/><nd ref="4"/><nd ref="1"/>
+  <tag k="natural" v="coastline"/></way>
+ <way id="200" version="1"><nd ref="10"/><nd ref="11"/><tag k="highway" v="primary"/><tag k="name" v="Sea Road"/></way>
+ <way id="300" version="1"><nd ref="20"/><nd ref="21"/><tag k="highway" v="primary"/>
+  <tag k="tunnel" v="yes"/><tag k="layer" v="-1"/><tag k="name" v="Tunnel Road"/></way>
+</osm>
+)";
+    }
+    {
+        std::ofstream hgt(dir / "N43E007.hgt", std::ios::binary);
+        const char sample[2] = {0, 100};  // big-endian 100 m
+        for (int i = 0; i < 1201 * 1201; ++i) hgt.write(sample, 2);
+    }
+    CompileOptions opt;
+    opt.osm = dir / "coast.osm";
+    opt.dems = {dir / "N43E007.hgt"};
+    opt.out = dir / "coast.navmap";
+    opt.leaf_tile_m = 1000;
+    const CompileStats stats = compileStore(opt);
+    EXPECT_EQ(stats.coast_ways, 1u);
+    EXPECT_EQ(stats.sea_rings, 1u);
+    EXPECT_EQ(stats.islands, 1u);
+    EXPECT_EQ(stats.road_labels, 1u);  // "Sea Road"; the tunnel has none
+    EXPECT_NE(formatSummary(stats).find("coast:      1 coastline ways, 1 sea rings, 1 islands"), std::string::npos)
+        << formatSummary(stats);
+
+    const auto store = TileStore::open(opt.out);
+    const Projection proj = store->projection();
+    const int leaf = store->scheme().leafLevel();
+    struct Probe {
+        double lat, lon;
+        bool sea;
+    };
+    for (const Probe& probe : {Probe{43.005, 7.090, true}, Probe{43.055, 7.010, true}, Probe{43.020, 7.040, true},
+                               Probe{43.0375, 7.040, false}, Probe{43.032, 7.048, false}}) {
+        const PlanarPoint p = proj.forward(probe.lat, probe.lon);
+        const auto id = store->scheme().tileAt(leaf, p);
+        ASSERT_TRUE(id);
+        const auto res = store->load(*id);
+        ASSERT_TRUE(res.tile) << res.error;
+        const Tile& t = *res.tile;
+        const LocalPoint local{static_cast<float>(p.x - t.origin_x), static_cast<float>(p.y - t.origin_y)};
+        bool wet = false;
+        for (const Area& a : t.areas) wet = wet || (a.cls == AreaClass::Sea && inPolygon(a.polygon, local));
+        EXPECT_EQ(wet, probe.sea) << probe.lat << ", " << probe.lon;
+        // The DEM sample nearest the probe: 0 m in the sea, the DEM's 100 m on the island.
+        ASSERT_GE(t.dem.size, 2);
+        const int c = static_cast<int>(std::lround(local.x / t.dem.spacing_m));
+        const int r = static_cast<int>(std::lround(local.y / t.dem.spacing_m));
+        EXPECT_FLOAT_EQ(t.dem.at(r, c), probe.sea ? 0.0f : 100.0f) << probe.lat << ", " << probe.lon;
+    }
+    for (const auto& id : store->tileIds()) {
+        const auto res = store->load(id);
+        ASSERT_TRUE(res.tile) << res.error;
+        for (const Label& l : res.tile->labels) EXPECT_NE(l.name, "Tunnel Road") << id.toString();
+    }
+}

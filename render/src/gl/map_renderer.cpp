@@ -135,6 +135,10 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target, int 
         m_buildings.draw(ctx);
         clock.lap(m_stats.buildings_ms);
     }
+    if (layers.terrain && layers.far_ground) {  // what is still clear below the horizon: beyond the data
+        m_far_ground.draw(ctx);
+        clock.lap(m_stats.terrain_ms);
+    }
     drawRoadsAndRoute(ctx, sv, clock);
     // Screen-space dark outlines around roads and route (seed 3.6.3).
     if (m_outlines.enabled()) {

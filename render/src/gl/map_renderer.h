@@ -9,6 +9,7 @@
 #include <memory>
 
 #include "building_pass.h"
+#include "far_ground_pass.h"
 #include "frame_context.h"
 #include "gpu_tile_cache.h"
 #include "guidance_overlay_pass.h"
@@ -65,6 +66,7 @@ private:
     MapFrameStats m_stats;
     GpuTileCache m_cache;
     TerrainPass m_terrain;
+    FarGroundPass m_far_ground;
     BuildingPass m_buildings;
     RoadPass m_roads;
     std::unique_ptr<SvRoads> m_sv_roads;  // shadow-volume roads (seed 3.5): created when first used

@@ -43,6 +43,9 @@ struct CompileStats {
     std::size_t place_labels = 0, poi_labels = 0, road_labels = 0, area_labels = 0;
     std::size_t graph_nodes = 0, graph_edges = 0;
     std::size_t dem_files = 0, dem_voids_filled = 0, tiles_without_dem = 0;
+    /// natural=coastline ways read; sea rings and islands assembled; gaps closed; ways of broken
+    /// coastlines left out (coastline.h).
+    std::size_t coast_ways = 0, sea_rings = 0, islands = 0, coast_gaps_closed = 0, coast_ways_left_out = 0;
     std::size_t tiles = 0;
     std::vector<std::size_t> tiles_per_level;
     std::uint64_t store_bytes = 0;

@@ -32,8 +32,9 @@ enum class AreaClass : std::uint8_t {
     Cemetery,
     Military,
     Other,  ///< any other landuse/natural/leisure value
+    Sea,    ///< the sea, assembled from natural=coastline ways (coastline.h); never from tags
 };
-inline constexpr int kAreaClassCount = 16;
+inline constexpr int kAreaClassCount = 17;
 
 /// place=* classes, largest first.
 enum class PlaceClass : std::uint8_t {

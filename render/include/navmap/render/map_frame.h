@@ -31,6 +31,9 @@ inline constexpr double kShadowVolumeAutoSpacingM = 20.0;
 /// Layer switches (benchmarks compare terrain only, +roads, +buildings, full).
 struct MapLayers {
     bool terrain = true;
+    /// The ground beyond the store's data, below the horizon (docs/rendering.md "Beyond the
+    /// data"); drawn with the terrain only.
+    bool far_ground = true;
     bool land_cover = true;
     bool roads = true;
     bool outlines = true;
@@ -177,6 +180,10 @@ struct MapStyle {
     glm::vec3 light_dir{-0.5f, 0.6f, 0.62f};
     glm::vec3 sky_color{0.62f, 0.75f, 0.90f};
     float brightness = 1.0f;
+    /// The ground beyond the store's data (docs/rendering.md "Beyond the data"): a neutral
+    /// ground, times brightness and fogged like the terrain. The sea's colour is the land cover's
+    /// (render/src/tile_mesh.cpp landCoverColor), also times brightness at night.
+    glm::vec3 far_ground_color{0.66f, 0.68f, 0.60f};
     float fog_start_m = 8000.0f;
     float fog_end_m = 45000.0f;
     RoadStyle roads = RoadStyle::day();

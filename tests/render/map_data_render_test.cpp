@@ -1,0 +1,255 @@
+// SPDX-License-Identifier: Apache-2.0
+// Pixels of map data that Andorra lacks: the sea (assembled from coastline ways by
+// navmap-compile), a road tunnel under a hill, and the ground beyond the store's data. The coast
+// and the hill are synthetic OSM and SRTM files compiled in the test. Mesa llvmpipe through EGL.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <unistd.h>
+
+#include "navmap/map/compiler.h"
+#include "navmap/map/tile_store.h"
+#include "navmap/render/renderer.h"
+#include "synthetic_tile.h"
+#include "tile_mesh.h"
+
+namespace {
+
+using namespace navmap::render;
+namespace map = navmap::map;
+
+constexpr int kW = 640, kH = 480;
+
+class Scratch {
+public:
+    explicit Scratch(const std::string& name)
+        : m_path(std::filesystem::temp_directory_path() / ("navmap-" + name + "-" + std::to_string(::getpid()))) {
+        std::filesystem::remove_all(m_path);
+        std::filesystem::create_directories(m_path);
+    }
+    ~Scratch() {
+        std::error_code ec;
+        std::filesystem::remove_all(m_path, ec);
+    }
+    [[nodiscard]] std::filesystem::path operator/(const std::string& f) const { return m_path / f; }
+
+private:
+    std::filesystem::path m_path;
+};
+
+/// An SRTM3 tile N43E007.hgt of height(lat, lon) metres.
+void writeHgt(const std::filesystem::path& path, const std::function<double(double, double)>& height) {
+    std::vector<char> bytes(1201u * 1201u * 2u);
+    for (int r = 0; r < 1201; ++r) {
+        for (int c = 0; c < 1201; ++c) {
+            const auto h = static_cast<std::int16_t>(std::lround(height(44.0 - r / 1200.0, 7.0 + c / 1200.0)));
+            const std::size_t i = (static_cast<std::size_t>(r) * 1201 + c) * 2;
+            bytes[i] = static_cast<char>((static_cast<std::uint16_t>(h) >> 8) & 0xff);
+            bytes[i + 1] = static_cast<char>(static_cast<std::uint16_t>(h) & 0xff);
+        }
+    }
+    std::ofstream(path, std::ios::binary).write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+}
+
+/// Compiles `osm` (the body of an .osm file) with the DEM and returns the store's leaf tiles.
+struct Compiled {
+    std::shared_ptr<map::TileStore> store;
+    std::vector<std::shared_ptr<const map::Tile>> leaves;
+};
+Compiled compile(const Scratch& dir, const std::string& osm_body, const std::function<double(double, double)>& height) {
+    std::ofstream(dir / "in.osm") << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<osm version=\"0.6\">\n"
+                                  << osm_body << "</osm>\n";
+    writeHgt(dir / "N43E007.hgt", height);
+    map::CompileOptions opt;
+    opt.osm = dir / "in.osm";
+    opt.dems = {dir / "N43E007.hgt"};
+    opt.out = dir / "out.navmap";
+    opt.leaf_tile_m = 1000;
+    map::compileStore(opt);
+    Compiled c;
+    c.store = map::TileStore::open(opt.out);
+    for (const auto& id : c.store->tileIds()) {
+        if (id.level != c.store->scheme().leafLevel()) continue;
+        auto res = c.store->load(id);
+        EXPECT_TRUE(res.tile) << res.error;
+        if (res.tile) c.leaves.push_back(res.tile);
+    }
+    return c;
+}
+
+struct Shot {
+    Image image;
+    Camera camera;
+    MapFrameStats stats;
+    glm::ivec2 pixel(glm::dvec3 world) const {
+        const glm::mat4 vp = camera.projection(double(kW) / kH) * camera.viewRelativeTo(glm::dvec3(0.0));
+        const glm::vec4 c = vp * glm::vec4(glm::vec3(world), 1.0f);
+        return {static_cast<int>((c.x / c.w * 0.5f + 0.5f) * kW),
+                static_cast<int>((1.0f - (c.y / c.w * 0.5f + 0.5f)) * kH)};
+    }
+    glm::ivec3 at(glm::dvec3 world) const {
+        const glm::ivec2 p = pixel(world);
+        const auto* px = image.pixel(p.x, p.y);
+        return {px[0], px[1], px[2]};
+    }
+};
+
+Shot shoot(const std::vector<std::shared_ptr<const map::Tile>>& tiles, const Camera& camera, MapLayers layers = {},
+           const MapStyle& style = MapStyle::day(), int frames = 1) {
+    RendererOptions o;
+    o.width = kW;
+    o.height = kH;
+    auto renderer = Renderer::create(o);
+    renderer->setMapStyle(style);
+    MapFrame frame;
+    frame.camera = camera;
+    frame.tiles = tiles;
+    frame.layers = layers;
+    frame.frame_dt_s = 0.25;
+    for (int i = 0; i < frames; ++i) renderer->renderMap(frame);
+    return {renderer->readSync(), camera, renderer->mapStats()};
+}
+
+glm::ivec3 to8(glm::vec3 c) { return glm::ivec3(glm::round(c * 255.0f)); }
+
+bool near(glm::ivec3 a, glm::ivec3 b, int tol) {
+    return std::abs(a.x - b.x) <= tol && std::abs(a.y - b.y) <= tol && std::abs(a.z - b.z) <= tol;
+}
+
+/// A shade of `c` (relief shading scales the land cover): every channel the same multiple of c's.
+bool shadeOf(glm::ivec3 px, glm::vec3 c, double tol = 0.08) {
+    const glm::dvec3 k = glm::dvec3(px) / (glm::dvec3(c) * 255.0);
+    return std::abs(k.x - k.y) <= tol && std::abs(k.y - k.z) <= tol && std::abs(k.x - k.z) <= tol && k.x > 0.4;
+}
+
+glm::dvec3 planar(const map::TileStore& store, double lat, double lon, double z) {
+    const map::PlanarPoint p = store.projection().forward(lat, lon);
+    return {p.x, p.y, z};
+}
+
+}  // namespace
+
+// A coastline from the north-west to the south-east corner of the data: the water on its right
+// (south-west), SRTM at 0 m everywhere (as over the sea). The sea point renders in the sea colour,
+// not as the green hypsometric tint of a plain at 0 m; the land point does not.
+TEST(MapDataRender, ASeaPointRendersInTheSeaColour) {
+    const Scratch dir("sea-render");
+    const Compiled c = compile(dir, R"(
+ <node id="1" version="1" lat="43.040" lon="7.000"/>
+ <node id="2" version="1" lat="43.020" lon="7.022"/>
+ <node id="3" version="1" lat="43.000" lon="7.040"/>
+ <node id="10" version="1" lat="43.034" lon="7.030"/>
+ <node id="11" version="1" lat="43.036" lon="7.036"/>
+ <way id="100" version="1"><nd ref="1"/><nd ref="2"/><nd ref="3"/><tag k="natural" v="coastline"/></way>
+ <way id="200" version="1"><nd ref="10"/><nd ref="11"/><tag k="highway" v="residential"/></way>
+)",
+                               [](double, double) { return 0.0; });
+    ASSERT_FALSE(c.leaves.empty());
+    const glm::dvec3 sea = planar(*c.store, 43.012, 7.012, 0.0), land = planar(*c.store, 43.028, 7.028, 0.0);
+    Camera cam;
+    cam.eye = 0.5 * (sea + land) + glm::dvec3(0.0, -1.0, 3500.0);
+    cam.target = 0.5 * (sea + land);
+    cam.far_m = 20000.0;
+    const Shot s = shoot(c.leaves, cam);
+    // The land-cover raster holds 4 bits a channel (GpuTileCache).
+    const glm::vec3 sea_color = glm::round(glm::vec3(landCoverColor(map::AreaClass::Sea)) * 15.0f) / 15.0f;
+    EXPECT_TRUE(shadeOf(s.at(sea), sea_color))
+        << "sea pixel " << s.at(sea).x << "," << s.at(sea).y << "," << s.at(sea).z;
+    EXPECT_FALSE(shadeOf(s.at(land), sea_color))
+        << "land pixel " << s.at(land).x << "," << s.at(land).y << "," << s.at(land).z;
+    // The same at night, darker.
+    const Shot n = shoot(c.leaves, cam, {}, MapStyle::night());
+    EXPECT_TRUE(shadeOf(n.at(sea), sea_color))
+        << "night sea pixel " << n.at(sea).x << "," << n.at(sea).y << "," << n.at(sea).z;
+    EXPECT_LT(n.at(sea).z, s.at(sea).z);
+}
+
+// A named primary road in a tunnel (tunnel=yes, layer=-1) through a 400 m hill, and a named road
+// in the open beside it. The tunnel is neither drawn on the hillside nor labelled.
+TEST(MapDataRender, ATunnelUnderAHillIsNotDrawnOrLabelledOnTheSurface) {
+    const Scratch dir("tunnel-render");
+    auto hill = [](double lat, double lon) {
+        const double dy = (lat - 43.020) * 111320.0, dx = (lon - 7.020) * 81400.0;
+        return 100.0 + 400.0 * std::exp(-(dx * dx + dy * dy) / (2.0 * 500.0 * 500.0));
+    };
+    const Compiled c = compile(dir, R"(
+ <node id="1" version="1" lat="43.020" lon="7.008"/>
+ <node id="2" version="1" lat="43.020" lon="7.032"/>
+ <node id="3" version="1" lat="43.0255" lon="7.008"/>
+ <node id="4" version="1" lat="43.0255" lon="7.032"/>
+ <node id="5" version="1" lat="43.010" lon="7.000"><tag k="place" v="hamlet"/><tag k="name" v="Foot"/></node>
+ <node id="6" version="1" lat="43.035" lon="7.040"><tag k="place" v="hamlet"/><tag k="name" v="Top"/></node>
+ <way id="100" version="1"><nd ref="1"/><nd ref="2"/><tag k="highway" v="primary"/><tag k="tunnel" v="yes"/>
+  <tag k="layer" v="-1"/><tag k="name" v="Hill Tunnel"/></way>
+ <way id="200" version="1"><nd ref="3"/><nd ref="4"/><tag k="highway" v="primary"/><tag k="name" v="Open Road"/></way>
+)",
+                               hill);
+    ASSERT_FALSE(c.leaves.empty());
+    Camera cam;
+    cam.target = planar(*c.store, 43.0228, 7.020, 100.0);
+    cam.eye = cam.target + glm::dvec3(0.0, -1.0, 2200.0);
+    cam.far_m = 20000.0;
+    MapLayers no_labels;
+    no_labels.outlines = false;
+    const Shot s = shoot(c.leaves, cam, no_labels);
+    const glm::ivec3 fill = to8(MapStyle::day().roads.classes[static_cast<int>(map::RoadClass::Primary)].fill);
+    auto roadPixels = [&](double lat, double lon) {
+        const glm::ivec2 p = s.pixel(planar(*c.store, lat, lon, hill(lat, lon)));
+        int n = 0;
+        for (int y = p.y - 4; y <= p.y + 4; ++y) {
+            for (int x = p.x - 4; x <= p.x + 4; ++x) {
+                const auto* px = s.image.pixel(x, y);
+                n += near({px[0], px[1], px[2]}, fill, 12) ? 1 : 0;
+            }
+        }
+        return n;
+    };
+    for (double lon : {7.014, 7.017, 7.020, 7.023, 7.026}) {
+        EXPECT_EQ(roadPixels(43.020, lon), 0) << "tunnel drawn on the hillside at lon " << lon;
+        EXPECT_GT(roadPixels(43.0255, lon), 0) << "the open road is missing at lon " << lon;
+    }
+    MapLayers labels;
+    labels.labels = true;
+    const Shot l = shoot(c.leaves, cam, labels, MapStyle::day(), 8);
+    bool open_road = false;
+    for (const auto& d : l.stats.drawn_labels) {
+        EXPECT_NE(d.text, "Hill Tunnel");
+        open_road = open_road || d.text == "Open Road";
+    }
+    EXPECT_TRUE(open_road) << l.stats.drawn_labels.size() << " labels drawn, none of them the open road's";
+}
+
+// A flat 1 km store seen from its east edge, looking outward: beyond the data the ground goes on
+// to the horizon (also past the camera's far plane), in the far-ground colour; the sky stays above.
+TEST(MapDataRender, BeyondTheStoresEdgeTheGroundContinuesBelowTheHorizon) {
+    std::shared_ptr<map::Tile> tile = navmap::test::makeTile([](float, float) { return 500.0f; });
+    const glm::dvec3 o(tile->origin_x, tile->origin_y, 0.0);
+    Camera cam;
+    cam.eye = o + glm::dvec3(1000.0, 500.0, 800.0);
+    cam.target = o + glm::dvec3(3000.0, 500.0, 500.0);
+    cam.far_m = 5000.0;
+    for (const MapStyle& style : {MapStyle::day(), MapStyle::night()}) {
+        const Shot s = shoot({tile}, cam, {}, style);
+        const glm::ivec3 sky = to8(style.sky_color), ground = to8(style.far_ground_color * style.brightness);
+        for (double x : {1500.0, 2500.0, 4000.0, 9000.0}) {  // 9 km: beyond the far plane
+            const glm::ivec3 px = s.at(o + glm::dvec3(x, 500.0, 500.0));
+            EXPECT_FALSE(near(px, sky, 10)) << "clear colour below the horizon at x " << x;
+            EXPECT_TRUE(near(px, ground, 12)) << "x " << x << ": " << px.x << "," << px.y << "," << px.z;
+        }
+        const glm::ivec3 above = s.at(o + glm::dvec3(3000.0, 500.0, 1000.0));  // above the horizon
+        EXPECT_TRUE(near(above, sky, 3)) << above.x << "," << above.y << "," << above.z;
+    }
+    // Without it (MapLayers::far_ground off) the clear colour shows there.
+    MapLayers without;
+    without.far_ground = false;
+    const Shot bare = shoot({tile}, cam, without);
+    EXPECT_TRUE(near(bare.at(o + glm::dvec3(2500.0, 500.0, 500.0)), to8(MapStyle::day().sky_color), 3));
+}
