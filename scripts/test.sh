@@ -5,7 +5,7 @@
 #   scripts/test.sh            everything except the labels 'soak', 'cross' and 'lint'
 #   NAVMAP_TEST_ARGS="-L soak" scripts/test.sh     only the soak tests
 #   NAVMAP_TEST_ARGS="-L cross" scripts/test.sh    the aarch64 cross build of the client library
-#   NAVMAP_TEST_ARGS="-L lint" scripts/test.sh     clang-tidy over the tree (scripts/lint.sh, ~30 min)
+#   NAVMAP_TEST_ARGS="-L lint" scripts/test.sh     clang-tidy over the tree (scripts/lint.sh, ~1 h)
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 cd "$root"
