@@ -65,7 +65,7 @@ std::unique_ptr<ipc::FrameServer> startFrameServer(const DaemonConfig& config, c
                                                    const DaemonStatus& status) {
     ipc::FrameServerOptions fopt = frameServerOptions(config);
     fopt.metrics = [&metrics](ipc::MetricsRegistry& registry) { metrics.registerInto(registry); };
-    fopt.statusJson = [&status] { return status.text(); };
+    fopt.status_json = [&status] { return status.text(); };
     auto frames = std::make_unique<ipc::FrameServer>(fopt);
     if (auto st = frames->start(); !st) throw std::runtime_error(st.message());
     return frames;

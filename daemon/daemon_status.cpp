@@ -25,8 +25,8 @@ void DaemonStatus::publish(const StatusSample& m) {
         {"frames", in.frames},
         {"decoded_values", in.decoder.values},
         {"rejected_values", in.decoder.rejected},
-        {"counter_gaps", in.decoder.counterGaps},
-        {"rejected_fixes", in.estimator.rejectedJump + in.estimator.rejectedRange + in.estimator.rejectedNaN},
+        {"counter_gaps", in.decoder.counter_gaps},
+        {"rejected_fixes", in.estimator.rejected_jump + in.estimator.rejected_range + in.estimator.rejected_nan},
         {"can_error_frames", in.can_error_frames},
         {"can_bus_off", in.can_bus_off},
         {"can_kernel_drops", in.can_kernel_drops},
@@ -37,9 +37,9 @@ void DaemonStatus::publish(const StatusSample& m) {
     st["road_graph"] = m.road_graph;
     st["position"] = {{"valid", pose.valid},
                       {"stale", pose.stale},
-                      {"speed_kmh", pose.speedMps * 3.6},
-                      {"heading_deg", pose.headingDeg},
-                      {"match_confidence", pose.matchConfidence}};
+                      {"speed_kmh", pose.speed_mps * 3.6},
+                      {"heading_deg", pose.heading_deg},
+                      {"match_confidence", pose.match_confidence}};
     if (!m.route_id.empty()) st["route"] = {{"id", m.route_id}, {"driven_m", m.route_driven_m}};
     nlohmann::json profiles = nlohmann::json::array();
     for (const auto& d : *m.displays) {
@@ -61,21 +61,21 @@ void DaemonStatus::publish(const StatusSample& m) {
     }
     st["profiles"] = profiles;
     st["stream"] = {{"clients", fs.clients},
-                    {"frames_sent", fs.framesSent},
-                    {"frames_dropped", fs.framesDropped},
-                    {"stall_disconnects", fs.stallDisconnects},
-                    {"handshake_errors", fs.handshakeErrors},
-                    {"timeouts", {{"handshake", fs.handshakeTimeouts}, {"first_frame", fs.firstFrameTimeouts}}},
+                    {"frames_sent", fs.frames_sent},
+                    {"frames_dropped", fs.frames_dropped},
+                    {"stall_disconnects", fs.stall_disconnects},
+                    {"handshake_errors", fs.handshake_errors},
+                    {"timeouts", {{"handshake", fs.handshake_timeouts}, {"first_frame", fs.first_frame_timeouts}}},
                     {"refusals",
-                     {{"peer", fs.refusedPeer},
-                      {"transport_full", fs.refusedTransportFull},
-                      {"uid_full", fs.refusedUidFull},
-                      {"not_rendered", fs.refusedNotRendered},
-                      {"ring_memory", fs.refusedRingMemory},
-                      {"http_host", fs.refusedHost},
-                      {"http_token", fs.refusedToken}}},
-                    {"ring_bytes", fs.ringBytes},
-                    {"last_error", fs.lastError}};
+                     {{"peer", fs.refused_peer},
+                      {"transport_full", fs.refused_transport_full},
+                      {"uid_full", fs.refused_uid_full},
+                      {"not_rendered", fs.refused_not_rendered},
+                      {"ring_memory", fs.refused_ring_memory},
+                      {"http_host", fs.refused_host},
+                      {"http_token", fs.refused_token}}},
+                    {"ring_bytes", fs.ring_bytes},
+                    {"last_error", fs.last_error}};
     st["tile_cache"] = {{"resident_bytes", m.cache.resident_bytes},
                         {"hits", m.cache.hits},
                         {"misses", m.cache.misses},

@@ -42,7 +42,7 @@ render::Orientation orientationFor(const DisplayProfile& p, const ipc::ViewState
     if (state) {
         const auto it = state->displays.find(p.name);
         // Only an orientation set over the socket overrides the profile's.
-        if (it != state->displays.end() && it->second.orientationSet) {
+        if (it != state->displays.end() && it->second.orientation_set) {
             return it->second.orientation == ipc::ViewOrientation::NorthUp ? render::Orientation::NorthUp
                                                                            : render::Orientation::HeadingUp;
         }
@@ -235,7 +235,7 @@ void Display::publish(std::vector<render::Frame>& finished, ipc::FrameServer& fr
         fv.format = ipc::PixelFormat::Rgba8;
         const auto it = m_source_times.find(done.sequence);
         const ipc::CanTime source = it != m_source_times.end() ? it->second : ipc::CanTime{};
-        fv.sourceTimeNs = realtimeNs(source);
+        fv.source_time_ns = realtimeNs(source);
         frames.publish(m_profile.name, fv);  // routed by profile: same view and size, other style
         ++m_stats.published;
         if (source != ipc::CanTime{}) {

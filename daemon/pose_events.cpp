@@ -7,20 +7,20 @@ void PoseEvents::update(const EstimatedPose& pose, const RouteState& route, std:
     if (pose.valid && pose.stale != m_was_stale) {
         ipc::ControlEvent e;
         e.kind = pose.stale ? ipc::ControlEventKind::PositionLost : ipc::ControlEventKind::PositionRegained;
-        e.sinceS = pose.sinceFixS;
+        e.since_s = pose.since_fix_s;
         m_server.publish(e);
         if (pose.stale)
-            m_log(Log::kWarning, "position lost (%.1f s without a fix)", pose.sinceFixS);
+            m_log(Log::kWarning, "position lost (%.1f s without a fix)", pose.since_fix_s);
         else
             m_log(Log::kInfo, "position regained");
         m_was_stale = pose.stale;
     }
-    if (!route.id().empty() && pose.onRoute && now - m_last_progress > std::chrono::seconds(1)) {
+    if (!route.id().empty() && pose.on_route && now - m_last_progress > std::chrono::seconds(1)) {
         ipc::ControlEvent e;
         e.kind = ipc::ControlEventKind::RouteProgress;
-        e.routeId = route.id();
-        e.drivenM = route.drivenM();
-        e.remainingM = route.remainingM();
+        e.route_id = route.id();
+        e.driven_m = route.drivenM();
+        e.remaining_m = route.remainingM();
         m_server.publish(e);
         m_last_progress = now;
     }

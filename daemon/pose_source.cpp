@@ -6,11 +6,11 @@ namespace navmap::daemon {
 FramePose PoseSource::at(ipc::CanTime t) const {
     const EstimatedPose pose = m_state()->poseAt(t);
     FramePose frame;
-    frame.source_time = pose.sourceTime;
+    frame.source_time = pose.source_time;
     if (pose.valid) {
         frame.vehicle.position = {pose.x, pose.y, m_ground(pose.x, pose.y)};
-        frame.vehicle.heading_deg = pose.headingDeg;
-        frame.vehicle.speed_mps = pose.speedMps;
+        frame.vehicle.heading_deg = pose.heading_deg;
+        frame.vehicle.speed_mps = pose.speed_mps;
         frame.marker = render::MarkerState{frame.vehicle.position, frame.vehicle.heading_deg, pose.stale};
     } else {
         // No fix yet: look at the middle of the map.

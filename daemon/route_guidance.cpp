@@ -81,8 +81,8 @@ void RouteGuidance::setRoute(const std::shared_ptr<const ipc::RouteState>& route
         mg::Maneuver m;
         m.type = *type;
         m.point = in.index;
-        m.end_point = in.endIndex.value_or(in.index);
-        m.exit = static_cast<int>(in.exitNumber.value_or(0));
+        m.end_point = in.end_index.value_or(in.index);
+        m.exit = static_cast<int>(in.exit_number.value_or(0));
         m.street = in.text;
         maneuvers.push_back(std::move(m));
     }
@@ -102,8 +102,8 @@ void RouteGuidance::update(const EstimatedPose& pose, double time_s) {
     if (off != was_off) {
         ipc::ControlEvent e;
         e.kind = off ? ipc::ControlEventKind::OffRoute : ipc::ControlEventKind::BackOnRoute;
-        e.routeId = m_route_id;
-        e.offsetM = p.offset_m;
+        e.route_id = m_route_id;
+        e.offset_m = p.offset_m;
         // Logged before the event goes out: whoever hears it finds it in the log.
         if (off)
             m_log(Log::kNotice, "route %s: off the route (%.0f m from it)", m_route_id.c_str(), p.offset_m);

@@ -43,7 +43,7 @@ bool RouteState::update(const std::shared_ptr<const ipc::RouteState>& route) {
 }
 
 void RouteState::track(const EstimatedPose& pose) {
-    if (pose.onRoute) m_driven_m = std::max(m_driven_m, pose.routeDrivenM);
+    if (pose.on_route) m_driven_m = std::max(m_driven_m, pose.route_driven_m);
 }
 
 double RouteState::remainingM() const { return std::max(0.0, lengthM() - m_driven_m); }

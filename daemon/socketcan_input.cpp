@@ -8,8 +8,8 @@ namespace navmap::daemon {
 SocketCanInput::SocketCanInput(std::string interface_name, std::vector<std::uint32_t> frame_keys)
     : m_interface(std::move(interface_name)) {
     ipc::SocketCanOptions o;
-    o.interfaceName = m_interface;
-    o.frameKeys = std::move(frame_keys);
+    o.interface_name = m_interface;
+    o.frame_keys = std::move(frame_keys);
     m_can = std::make_unique<ipc::SocketCanSource>(o);
 }
 
@@ -21,10 +21,10 @@ void SocketCanInput::wait(std::chrono::milliseconds timeout) { m_can->waitReadab
 
 void SocketCanInput::report(CanSourceStatus& status) {
     const auto& st = m_can->status();
-    status.can_error_frames = st.errorFrames;
-    status.can_bus_off = st.busOff;
-    status.can_kernel_drops = st.kernelDrops;
-    status.can_state = st.state == ipc::SocketCanStatus::State::Open ? "open" : "retrying: " + st.lastError;
+    status.can_error_frames = st.error_frames;
+    status.can_bus_off = st.bus_off;
+    status.can_kernel_drops = st.kernel_drops;
+    status.can_state = st.state == ipc::SocketCanStatus::State::Open ? "open" : "retrying: " + st.last_error;
 }
 
 }  // namespace navmap::daemon

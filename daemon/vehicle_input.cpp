@@ -34,7 +34,7 @@ VehicleInput::VehicleInput(const DaemonConfig& config, const map::Projection& pr
     m_decoder = std::make_unique<ipc::VehicleDecoder>(std::move(decoder).value());
 
     VehicleStateConfig vcfg;
-    vcfg.gnssTimeoutS = config.stale_after_s;
+    vcfg.gnss_timeout_s = config.stale_after_s;
     m_estimator =
         std::make_unique<VehicleStateEstimator>(projection, std::make_shared<const MapMatcher>(std::move(graph)), vcfg);
     m_state.store(m_estimator->snapshot());

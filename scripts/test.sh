@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: Apache-2.0
 # The test command: installs what is missing, builds everything with warnings as errors, and
-# runs the CTest suite. Exits non-zero on any failure. Long soak runs and the cross build are opt-in:
-#   scripts/test.sh            everything except the labels 'soak' and 'cross'
+# runs the CTest suite. Exits non-zero on any failure. Long soak runs, the cross build and lint are opt-in:
+#   scripts/test.sh            everything except the labels 'soak', 'cross' and 'lint'
 #   NAVMAP_TEST_ARGS="-L soak" scripts/test.sh     only the soak tests
 #   NAVMAP_TEST_ARGS="-L cross" scripts/test.sh    the aarch64 cross build of the client library
+#   NAVMAP_TEST_ARGS="-L lint" scripts/test.sh     clang-tidy over the tree (scripts/lint.sh, ~1 h)
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 cd "$root"
@@ -13,4 +14,4 @@ build="${NAVMAP_BUILD_DIR:-$root/build}"
 NAVMAP_BUILD_DIR="$build" scripts/build.sh -DNAVMAP_WITH_WERROR=ON -DNAVMAP_WITH_TESTS=ON -DNAVMAP_WITH_BENCH=ON
 cd "$build"
 # shellcheck disable=SC2086
-ctest --output-on-failure --timeout 900 -j 2 ${NAVMAP_TEST_ARGS:--LE soak|cross}
+ctest --output-on-failure --timeout 900 -j 2 ${NAVMAP_TEST_ARGS:--LE soak|cross|lint}

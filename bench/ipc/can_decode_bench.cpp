@@ -163,7 +163,7 @@ void BM_LatencyReceiveToSampleSync(benchmark::State& state) {
         dec.decode(f, u);
         const auto done = ipc::CanClock::now();
         if (lat.size() < lat.capacity()) {
-            lat.push_back(std::chrono::duration<double, std::micro>(done - u.sourceTime).count());
+            lat.push_back(std::chrono::duration<double, std::micro>(done - u.source_time).count());
         }
     }
     std::sort(lat.begin(), lat.end());
@@ -193,7 +193,7 @@ void BM_LatencyReplayQueueDecode(benchmark::State& state) {
                 if (queue.tryPop(f)) {
                     if (dec.decode(f, u)) {
                         lat.push_back(
-                            std::chrono::duration<double, std::micro>(ipc::CanClock::now() - u.sourceTime).count());
+                            std::chrono::duration<double, std::micro>(ipc::CanClock::now() - u.source_time).count());
                     }
                 } else if (done.load()) {
                     break;

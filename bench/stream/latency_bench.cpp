@@ -104,10 +104,10 @@ const RunResult& run() {
                 while (running) {
                     auto got = client->next(f, 100ms);
                     if (!got) return;
-                    if (!got.value() || !measuring || f.header.sourceTimeNs == 0) continue;
+                    if (!got.value() || !measuring || f.header.source_time_ns == 0) continue;
                     std::lock_guard lock(mutex);
                     auto& p = r.profiles[name];
-                    p.latency_ms.push_back(static_cast<double>(f.receiveTimeNs - f.header.sourceTimeNs) / 1e6);
+                    p.latency_ms.push_back(static_cast<double>(f.receive_time_ns - f.header.source_time_ns) / 1e6);
                     ++p.frames;
                     p.dropped = f.header.dropped;
                 }

@@ -46,9 +46,9 @@ std::vector<std::uint8_t> mapLikeFrame(int w, int h, int variant) {
 
 FrameServerOptions serverOptions() {
     FrameServerOptions o;
-    o.unixPath = navmap::stream_test::uniqueSocketPath("stream-bench");
-    o.tcpPort = 0;
-    o.httpPort = 0;
+    o.unix_path = navmap::stream_test::uniqueSocketPath("stream-bench");
+    o.tcp_port = 0;
+    o.http_port = 0;
     return o;
 }
 
@@ -85,7 +85,7 @@ void BM_Deliver(benchmark::State& state) {
         const StreamPayload p = transport == 0   ? StreamPayload::Shm
                                 : transport == 1 ? StreamPayload::Raw
                                                  : StreamPayload::Zlib;
-        auto c = p == StreamPayload::Shm ? StreamClient::connectUnix(server.options().unixPath, request(w, h, p))
+        auto c = p == StreamPayload::Shm ? StreamClient::connectUnix(server.options().unix_path, request(w, h, p))
                                          : StreamClient::connectTcp("127.0.0.1", server.tcpPort(), request(w, h, p),
                                                                     std::chrono::seconds(5), zlibInflater());
         if (!c) {
@@ -142,7 +142,7 @@ void BM_Publish(benchmark::State& state) {
     std::atomic<bool> run{true};
     std::thread reader;
     if (clients > 0) {
-        auto c = StreamClient::connectUnix(server.options().unixPath, request(w, h, StreamPayload::Shm, format));
+        auto c = StreamClient::connectUnix(server.options().unix_path, request(w, h, StreamPayload::Shm, format));
         if (!c) {
             state.SkipWithError(c.error().message.c_str());
             return;

@@ -13,7 +13,7 @@ Backoff::Backoff(std::chrono::milliseconds initial, std::chrono::milliseconds ma
 
 void Backoff::failed(Clock::time_point now) noexcept {
     ++m_failures;
-    m_nextAttempt = now + m_delay;
+    m_next_attempt = now + m_delay;
     const auto grown =
         std::chrono::milliseconds(static_cast<std::int64_t>(static_cast<double>(m_delay.count()) * m_factor));
     m_delay = std::min(std::max(grown, m_delay), m_maximum);
@@ -21,7 +21,7 @@ void Backoff::failed(Clock::time_point now) noexcept {
 
 void Backoff::succeeded() noexcept {
     m_delay = m_initial;
-    m_nextAttempt = Clock::time_point{};
+    m_next_attempt = Clock::time_point{};
 }
 
 }  // namespace navmap::ipc

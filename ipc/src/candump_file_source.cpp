@@ -47,7 +47,7 @@ bool CandumpFileSource::fill() {
         m_eof = true;
         return !m_ready.empty();
     }
-    m_bytesRead += static_cast<std::uint64_t>(n);
+    m_bytes_read += static_cast<std::uint64_t>(n);
     if (auto st = m_reader.feedBytes(std::string_view(m_chunk.data(), static_cast<std::size_t>(n)), sink); !st) {
         m_failure = st.message();
         m_ready.clear();  // frames before binary data are not played: the file is refused
@@ -85,7 +85,7 @@ bool CandumpFileSource::rewind() {
     m_reader.restartInput();
     m_ready.clear();
     m_eof = false;
-    m_bytesRead = 0;
+    m_bytes_read = 0;
     return true;
 }
 

@@ -166,7 +166,7 @@ Result<CanFrame> parseFrameToken(std::string_view tok) {
 
 }  // namespace
 
-CandumpReader::CandumpReader(std::string sourceName) : m_sourceName(std::move(sourceName)) {}
+CandumpReader::CandumpReader(std::string sourceName) : m_source_name(std::move(sourceName)) {}
 
 Result<CandumpReader::Parsed> CandumpReader::parseLine(std::string_view line) {
     while (!line.empty() && (isBlank(line.back()) || line.back() == '\r')) {
@@ -267,7 +267,7 @@ Result<CandumpReader::Parsed> CandumpReader::parseLine(std::string_view line) {
 void CandumpReader::reject(const std::string& message) {
     ++m_counters.malformed;
     if (m_errors.size() < kMaxErrors) {
-        m_errors.push_back({m_line, m_sourceName + ":" + std::to_string(m_line) + ": " + message});
+        m_errors.push_back({m_line, m_source_name + ":" + std::to_string(m_line) + ": " + message});
     }
 }
 
@@ -287,7 +287,7 @@ bool CandumpReader::feedLine(std::string_view line, CandumpRecord& out) {
     const Parsed& p = parsed.value();
     std::uint16_t index = 0;
     for (; index < m_interfaces.size(); ++index) {
-        if (m_interfaces[index] == p.interfaceName) {
+        if (m_interfaces[index] == p.interface_name) {
             break;
         }
     }
@@ -296,19 +296,19 @@ bool CandumpReader::feedLine(std::string_view line, CandumpRecord& out) {
             ++m_counters.malformed;
             return false;
         }
-        m_interfaces.emplace_back(p.interfaceName);
+        m_interfaces.emplace_back(p.interface_name);
     }
     out.frame = p.frame;
-    out.interfaceIndex = index;
+    out.interface_index = index;
     ++m_counters.frames;
     if (p.frame.fd()) {
-        ++m_counters.fdFrames;
+        ++m_counters.fd_frames;
     }
     if (p.frame.rtr()) {
-        ++m_counters.remoteFrames;
+        ++m_counters.remote_frames;
     }
     if (p.frame.error()) {
-        ++m_counters.errorFrames;
+        ++m_counters.error_frames;
     }
     return true;
 }
@@ -326,7 +326,7 @@ Status CandumpReader::feedBytes(std::string_view bytes, const RecordSink& sink) 
             char what[160];
             std::snprintf(what, sizeof what, ": byte 0x%02X at offset %llu (line %zu): binary data, not a candump log",
                           u, static_cast<unsigned long long>(m_offset), m_line + 1);
-            m_failure = m_sourceName + what;
+            m_failure = m_source_name + what;
             return Error{m_failure};
         }
         ++m_offset;
@@ -345,7 +345,7 @@ Status CandumpReader::feedBytes(std::string_view bytes, const RecordSink& sink) 
         }
         if (m_skipping) {
             if (++m_skipped > kMaxSkipBytes) {
-                m_failure = m_sourceName + ":" + std::to_string(m_line + 1) + ": no end of line in " +
+                m_failure = m_source_name + ":" + std::to_string(m_line + 1) + ": no end of line in " +
                             std::to_string(kMaxSkipBytes) + " bytes, not a candump log";
                 return Error{m_failure};
             }
@@ -406,11 +406,11 @@ std::vector<CandumpRecord> CandumpReader::readAll(std::istream& in) {
     return out;
 }
 
-std::vector<CanFrame> CandumpLog::frames(std::string_view interfaceName) const {
+std::vector<CanFrame> CandumpLog::frames(std::string_view interface_name) const {
     std::vector<CanFrame> out;
     out.reserve(records.size());
     for (const auto& r : records) {
-        if (interfaceName.empty() || interfaces[r.interfaceIndex] == interfaceName) {
+        if (interface_name.empty() || interfaces[r.interface_index] == interface_name) {
             out.push_back(r.frame);
         }
     }

@@ -126,17 +126,17 @@ public:
         for (const char c : s) {
             if (m_escaped) {
                 m_escaped = false;
-            } else if (c == '\\' && m_inString) {
+            } else if (c == '\\' && m_in_string) {
                 m_escaped = true;
             } else if (c == '"') {
-                m_inString = !m_inString;
+                m_in_string = !m_in_string;
             }
         }
     }
-    bool inString() const { return m_inString; }
+    bool inString() const { return m_in_string; }
 
 private:
-    bool m_inString = false;
+    bool m_in_string = false;
     bool m_escaped = false;  // a backslash inside a string: the next character is taken as is
 };
 
@@ -155,12 +155,12 @@ public:
             // Lines that do not start with an identifier are not DBC statements we know.
             return fail(line, "unexpected text '" + shorten(text) + "'");
         }
-        if (m_inNsBlock && indented) {
+        if (m_in_ns_block && indented) {
             return true;  // the symbol list after NS_
         }
-        m_inNsBlock = false;
+        m_in_ns_block = false;
         if (*keyword == "NS_") {
-            m_inNsBlock = true;
+            m_in_ns_block = true;
             return true;
         }
         if (*keyword == "BO_") {
@@ -184,7 +184,7 @@ public:
     bool finish() {
         for (auto& msg : m_db.m_messages) {
             for (const auto& s : msg.signals) {
-                if (s.muxRole == MuxRole::Multiplexed && msg.multiplexor < 0) {
+                if (s.mux_role == MuxRole::Multiplexed && msg.multiplexor < 0) {
                     if (!fail(s.line, "SG_ " + s.name + ": multiplexed signal in message " + msg.name +
                                           " which has no multiplexor (M) signal")) {
                         return false;
@@ -196,10 +196,10 @@ public:
     }
 
     bool fail(std::size_t line, std::string what) {
-        ++m_db.m_diagnosticCount;
-        DbcDiagnostic d{line, m_db.m_sourceName + ":" + std::to_string(line) + ": " + std::move(what)};
+        ++m_db.m_diagnostic_count;
+        DbcDiagnostic d{line, m_db.m_source_name + ":" + std::to_string(line) + ": " + std::move(what)};
         if (m_mode == DbcDatabase::Mode::Strict) {
-            m_firstError = d.message;
+            m_first_error = d.message;
             return false;
         }
         if (m_db.m_diagnostics.size() < DbcDatabase::kMaxDiagnostics) {
@@ -208,7 +208,7 @@ public:
         return true;
     }
 
-    const std::string& firstError() const { return m_firstError; }
+    const std::string& firstError() const { return m_first_error; }
 
 private:
     static std::string shorten(std::string_view s) {
@@ -259,14 +259,14 @@ private:
         if (const auto tx = lex.ident()) {
             msg.transmitter = std::string(*tx);
         }
-        if (m_db.m_byKey.count(msg.key()) != 0) {
+        if (m_db.m_by_key.count(msg.key()) != 0) {
             return fail(line, "BO_ " + msg.name + ": duplicate message id " + std::to_string(msg.id));
         }
-        if (m_db.m_byName.count(msg.name) != 0) {
+        if (m_db.m_by_name.count(msg.name) != 0) {
             return fail(line, "BO_ " + msg.name + ": duplicate message name");
         }
-        m_db.m_byKey.emplace(msg.key(), m_db.m_messages.size());
-        m_db.m_byName.emplace(msg.name, m_db.m_messages.size());
+        m_db.m_by_key.emplace(msg.key(), m_db.m_messages.size());
+        m_db.m_by_name.emplace(msg.name, m_db.m_messages.size());
         m_current = static_cast<int>(m_db.m_messages.size());
         m_db.m_messages.push_back(std::move(msg));
         return true;
@@ -294,11 +294,11 @@ private:
                 return fail(line, sg + ": expected ':' or a multiplexer indicator");
             }
             if (*mux == "M") {
-                s.muxRole = MuxRole::Multiplexor;
+                s.mux_role = MuxRole::Multiplexor;
             } else if (mux->size() >= 2 && (*mux)[0] == 'm') {
                 std::string_view digits = mux->substr(1);
                 if (digits.back() == 'M') {
-                    s.alsoMultiplexor = true;
+                    s.also_multiplexor = true;
                     digits.remove_suffix(1);
                 }
                 std::uint32_t v = 0;
@@ -306,8 +306,8 @@ private:
                 if (ec != std::errc{} || ptr != digits.data() + digits.size() || digits.empty()) {
                     return fail(line, sg + ": bad multiplexer indicator '" + std::string(*mux) + "'");
                 }
-                s.muxRole = MuxRole::Multiplexed;
-                s.muxValue = v;
+                s.mux_role = MuxRole::Multiplexed;
+                s.mux_value = v;
             } else {
                 return fail(line, sg + ": bad multiplexer indicator '" + std::string(*mux) + "'");
             }
@@ -329,17 +329,17 @@ private:
         if (*start >= 512) {
             return fail(line, sg + ": start bit " + std::to_string(*start) + " is beyond 64 bytes");
         }
-        s.startBit = static_cast<std::uint16_t>(*start);
+        s.start_bit = static_cast<std::uint16_t>(*start);
         s.length = static_cast<std::uint16_t>(*length);
         if (lex.accept('0')) {
-            s.byteOrder = ByteOrder::Motorola;
+            s.byte_order = ByteOrder::Motorola;
         } else if (lex.accept('1')) {
-            s.byteOrder = ByteOrder::Intel;
+            s.byte_order = ByteOrder::Intel;
         } else {
             return fail(line, sg + ": byte order must be @0 (Motorola) or @1 (Intel)");
         }
         if (lex.accept('-')) {
-            s.isSigned = true;
+            s.is_signed = true;
         } else if (!lex.accept('+')) {
             return fail(line, sg + ": expected + (unsigned) or - (signed)");
         }
@@ -372,15 +372,15 @@ private:
         }
         s.unit = *unit;
         if (s.bytesNeeded() > msg.size) {
-            return fail(line, sg + ": bits " + std::to_string(s.startBit) + "|" + std::to_string(s.length) +
-                                  (s.byteOrder == ByteOrder::Intel ? "@1" : "@0") + " need " +
+            return fail(line, sg + ": bits " + std::to_string(s.start_bit) + "|" + std::to_string(s.length) +
+                                  (s.byte_order == ByteOrder::Intel ? "@1" : "@0") + " need " +
                                   std::to_string(s.bytesNeeded()) + " bytes, message " + msg.name + " has " +
                                   std::to_string(msg.size));
         }
         if (msg.findSignal(s.name) != nullptr) {
             return fail(line, sg + ": duplicate signal in message " + msg.name);
         }
-        if (s.muxRole == MuxRole::Multiplexor) {
+        if (s.mux_role == MuxRole::Multiplexor) {
             if (msg.multiplexor >= 0) {
                 return fail(line, sg + ": second multiplexor in message " + msg.name +
                                       " (extended multiplexing is not supported)");
@@ -396,8 +396,8 @@ private:
                                       ? static_cast<std::uint32_t>(rawId)
                                       : (rawId > kCanMaxStandardId ? static_cast<std::uint32_t>(rawId | 0x80000000U)
                                                                    : static_cast<std::uint32_t>(rawId));
-        const auto it = m_db.m_byKey.find(key);
-        if (it == m_db.m_byKey.end()) {
+        const auto it = m_db.m_by_key.find(key);
+        if (it == m_db.m_by_key.end()) {
             return nullptr;
         }
         for (auto& s : m_db.m_messages[it->second].signals) {
@@ -428,7 +428,7 @@ private:
             if (!v || !text) {
                 return fail(line, "VAL_ " + std::string(*name) + ": expected <value> \"<text>\" pairs");
             }
-            s->valueNames[*v] = *text;
+            s->value_names[*v] = *text;
         }
         return true;
     }
@@ -449,20 +449,20 @@ private:
             return fail(line, "SIG_VALTYPE_ " + std::string(*name) +
                                   ": type must be 0, 1 (32-bit float) or 2 (64-bit double) matching the length");
         }
-        s->valueType = *type == 1 ? ValueType::Float32 : (*type == 2 ? ValueType::Float64 : ValueType::Integer);
+        s->value_type = *type == 1 ? ValueType::Float32 : (*type == 2 ? ValueType::Float64 : ValueType::Integer);
         return true;
     }
 
     DbcDatabase& m_db;
     DbcDatabase::Mode m_mode;
     int m_current = -1;  // index of the BO_ that SG_ lines belong to; -1 none, -2 skipped pseudo message
-    bool m_inNsBlock = false;
-    std::string m_firstError;
+    bool m_in_ns_block = false;
+    std::string m_first_error;
 };
 
 Result<DbcDatabase> DbcDatabase::parse(std::string_view text, std::string_view sourceName, Mode mode) {
     DbcDatabase db;
-    db.m_sourceName = std::string(sourceName);
+    db.m_source_name = std::string(sourceName);
     DbcParser parser(db, mode);
     std::size_t lineNo = 0;
     std::size_t pos = 0;
@@ -546,13 +546,13 @@ DbcDatabase DbcDatabase::loadOrThrow(const std::filesystem::path& path, Mode mod
 }
 
 const DbcMessage* DbcDatabase::findMessage(std::uint32_t key) const noexcept {
-    const auto it = m_byKey.find(key);
-    return it == m_byKey.end() ? nullptr : &m_messages[it->second];
+    const auto it = m_by_key.find(key);
+    return it == m_by_key.end() ? nullptr : &m_messages[it->second];
 }
 
 const DbcMessage* DbcDatabase::findMessage(std::string_view name) const noexcept {
-    const auto it = m_byName.find(std::string(name));
-    return it == m_byName.end() ? nullptr : &m_messages[it->second];
+    const auto it = m_by_name.find(std::string(name));
+    return it == m_by_name.end() ? nullptr : &m_messages[it->second];
 }
 
 }  // namespace navmap::ipc

@@ -15,7 +15,7 @@ const DbcSignal* DbcMessage::findSignal(std::string_view signalName) const noexc
 }
 
 bool DbcMessage::isPresent(const DbcSignal& signal, std::span<const std::uint8_t> data) const noexcept {
-    if (signal.muxRole != MuxRole::Multiplexed) {
+    if (signal.mux_role != MuxRole::Multiplexed) {
         return true;
     }
     if (multiplexor < 0) {
@@ -25,7 +25,7 @@ bool DbcMessage::isPresent(const DbcSignal& signal, std::span<const std::uint8_t
     if (data.size() < mux.bytesNeeded()) {
         return false;
     }
-    return mux.extractBits(data) == signal.muxValue;
+    return mux.extractBits(data) == signal.mux_value;
 }
 
 std::size_t DbcMessage::decodeAll(std::span<const std::uint8_t> data,
@@ -69,12 +69,12 @@ Result<CanFrame> DbcMessage::encode(const std::map<std::string, double, std::les
         if (s == nullptr) {
             return Error{"message " + name + ": no signal named '" + signalName + "'"};
         }
-        if (s->muxRole == MuxRole::Multiplexor) {
+        if (s->mux_role == MuxRole::Multiplexor) {
             continue;
         }
-        if (s->muxRole == MuxRole::Multiplexed && (!muxSelected || *muxSelected != s->muxValue)) {
+        if (s->mux_role == MuxRole::Multiplexed && (!muxSelected || *muxSelected != s->mux_value)) {
             return Error{"message " + name + ": signal " + signalName + " needs multiplexor value " +
-                         std::to_string(s->muxValue)};
+                         std::to_string(s->mux_value)};
         }
         if (auto st = s->encode(data, value); !st) {
             return Error{"message " + name + ": " + st.message()};

@@ -19,13 +19,13 @@ unsigned DbcSignal::bytesNeeded() const noexcept {
     if (length == 0) {
         return 0;
     }
-    if (byteOrder == ByteOrder::Intel) {
-        return (static_cast<unsigned>(startBit) + length - 1U) / 8U + 1U;
+    if (byte_order == ByteOrder::Intel) {
+        return (static_cast<unsigned>(start_bit) + length - 1U) / 8U + 1U;
     }
-    // Motorola: the MSB is at startBit; the signal runs towards lower bit numbers inside a byte and
+    // Motorola: the MSB is at start_bit; the signal runs towards lower bit numbers inside a byte and
     // continues at bit 7 of the next byte ("sawtooth" numbering).
-    const unsigned msbBit = startBit % 8U;
-    const unsigned firstByte = startBit / 8U;
+    const unsigned msbBit = start_bit % 8U;
+    const unsigned firstByte = start_bit / 8U;
     if (length <= msbBit + 1U) {
         return firstByte + 1U;
     }
@@ -49,8 +49,8 @@ bool DbcSignal::inRange(double physical) const noexcept {
 std::uint64_t DbcSignal::extractBits(std::span<const std::uint8_t> data) const noexcept {
     std::uint64_t value = 0;
     unsigned remaining = length;
-    if (byteOrder == ByteOrder::Intel) {
-        unsigned pos = startBit;
+    if (byte_order == ByteOrder::Intel) {
+        unsigned pos = start_bit;
         unsigned shift = 0;
         while (remaining > 0) {
             const unsigned byte = pos / 8U;
@@ -64,7 +64,7 @@ std::uint64_t DbcSignal::extractBits(std::span<const std::uint8_t> data) const n
         }
         return value;
     }
-    unsigned pos = startBit;
+    unsigned pos = start_bit;
     while (remaining > 0) {
         const unsigned byte = pos / 8U;
         const unsigned bit = pos % 8U;  // MSB of this chunk inside the byte
@@ -80,8 +80,8 @@ std::uint64_t DbcSignal::extractBits(std::span<const std::uint8_t> data) const n
 void DbcSignal::insertBits(std::span<std::uint8_t> data, std::uint64_t bits) const noexcept {
     unsigned remaining = length;
     bits &= lowMask(length);
-    if (byteOrder == ByteOrder::Intel) {
-        unsigned pos = startBit;
+    if (byte_order == ByteOrder::Intel) {
+        unsigned pos = start_bit;
         while (remaining > 0) {
             const unsigned byte = pos / 8U;
             const unsigned bit = pos % 8U;
@@ -95,7 +95,7 @@ void DbcSignal::insertBits(std::span<std::uint8_t> data, std::uint64_t bits) con
         }
         return;
     }
-    unsigned pos = startBit;
+    unsigned pos = start_bit;
     while (remaining > 0) {
         const unsigned byte = pos / 8U;
         const unsigned bit = pos % 8U;
@@ -111,7 +111,7 @@ void DbcSignal::insertBits(std::span<std::uint8_t> data, std::uint64_t bits) con
 
 double DbcSignal::rawValue(std::span<const std::uint8_t> data) const noexcept {
     const std::uint64_t bits = extractBits(data);
-    switch (valueType) {
+    switch (value_type) {
         case ValueType::Float32: {
             const auto u = static_cast<std::uint32_t>(bits);
             return static_cast<double>(std::bit_cast<float>(u));
@@ -119,10 +119,10 @@ double DbcSignal::rawValue(std::span<const std::uint8_t> data) const noexcept {
         case ValueType::Float64: return std::bit_cast<double>(bits);
         case ValueType::Integer: break;
     }
-    if (isSigned && length > 0 && length < 64 && ((bits >> (length - 1U)) & 1U) != 0) {
+    if (is_signed && length > 0 && length < 64 && ((bits >> (length - 1U)) & 1U) != 0) {
         return static_cast<double>(static_cast<std::int64_t>(bits | ~lowMask(length)));
     }
-    if (isSigned) {
+    if (is_signed) {
         return static_cast<double>(static_cast<std::int64_t>(bits));
     }
     return static_cast<double>(bits);
@@ -147,24 +147,24 @@ Status DbcSignal::encode(std::span<std::uint8_t> data, double physical) const {
         return Error{"signal " + name + ": factor is 0"};
     }
     const double raw = (physical - offset) / factor;
-    if (valueType == ValueType::Float32) {
+    if (value_type == ValueType::Float32) {
         insertBits(data, std::bit_cast<std::uint32_t>(static_cast<float>(raw)));
         return {};
     }
-    if (valueType == ValueType::Float64) {
+    if (value_type == ValueType::Float64) {
         insertBits(data, std::bit_cast<std::uint64_t>(raw));
         return {};
     }
     const double rounded = std::nearbyint(raw);
     // Exclusive upper bound so that 2^63 / 2^64 (not representable in the integer) are rejected.
-    const double lo = isSigned ? -std::ldexp(1.0, length - 1) : 0.0;
-    const double hiExclusive = isSigned ? std::ldexp(1.0, length - 1) : std::ldexp(1.0, length);
+    const double lo = is_signed ? -std::ldexp(1.0, length - 1) : 0.0;
+    const double hiExclusive = is_signed ? std::ldexp(1.0, length - 1) : std::ldexp(1.0, length);
     if (rounded < lo || rounded >= hiExclusive) {
         return Error{"signal " + name + ": value " + std::to_string(physical) + " does not fit " +
-                     std::to_string(length) + (isSigned ? " signed" : " unsigned") + " bits"};
+                     std::to_string(length) + (is_signed ? " signed" : " unsigned") + " bits"};
     }
-    const std::uint64_t bits =
-        isSigned ? static_cast<std::uint64_t>(static_cast<std::int64_t>(rounded)) : static_cast<std::uint64_t>(rounded);
+    const std::uint64_t bits = is_signed ? static_cast<std::uint64_t>(static_cast<std::int64_t>(rounded))
+                                         : static_cast<std::uint64_t>(rounded);
     insertBits(data, bits);
     return {};
 }

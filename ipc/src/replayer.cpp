@@ -54,18 +54,18 @@ void Replayer::reset(CanTime startTime) {
     if (m_fresh && !m_finished) {
         // Nothing played since the source was (re)wound: keep the frame read ahead, so the source
         // does not read (and count) its first chunk twice. Its time is rescheduled.
-        if (!schedule(m_pendingLogNs, m_pendingDue)) {
-            ++m_timeErrors;
+        if (!schedule(m_pending_log_ns, m_pending_due)) {
+            ++m_time_errors;
             m_fresh = false;
             if (fetch()) m_fresh = true;
         }
         return;
     }
     m_loops = 0;
-    m_passStarted = false;
-    m_prevOffsetNs = 0;
-    m_passFrames = 0;
-    m_loopBaseNs = 0;
+    m_pass_started = false;
+    m_prev_offset_ns = 0;
+    m_pass_frames = 0;
+    m_loop_base_ns = 0;
     m_error.clear();
     m_finished = false;
     if (!m_source->rewind()) {
@@ -107,49 +107,50 @@ bool Replayer::fetch() {
             // Log time since the pass's first frame; a log whose time goes backwards (clock step
             // while recording) is played without waiting.
             std::int64_t offset = 0;
-            if (!m_passStarted) {
-                m_passStarted = true;
-                m_passFirst = f.timestamp;
-            } else if (!subNs(f.timestamp.time_since_epoch().count(), m_passFirst.time_since_epoch().count(), offset)) {
-                ++m_timeErrors;
+            if (!m_pass_started) {
+                m_pass_started = true;
+                m_pass_first = f.timestamp;
+            } else if (!subNs(f.timestamp.time_since_epoch().count(), m_pass_first.time_since_epoch().count(),
+                              offset)) {
+                ++m_time_errors;
                 continue;
             }
-            offset = std::max(offset, m_prevOffsetNs);
+            offset = std::max(offset, m_prev_offset_ns);
             std::int64_t logNs = 0;
             CanTime due{};
-            if (!addNs(m_loopBaseNs, offset, logNs) || !schedule(logNs, due)) {
-                ++m_timeErrors;
+            if (!addNs(m_loop_base_ns, offset, logNs) || !schedule(logNs, due)) {
+                ++m_time_errors;
                 continue;
             }
-            m_prevOffsetNs = offset;
-            ++m_passFrames;
+            m_prev_offset_ns = offset;
+            ++m_pass_frames;
             m_pending = f;
-            m_pendingLogNs = logNs;
-            m_pendingDue = due;
+            m_pending_log_ns = logNs;
+            m_pending_due = due;
             return true;
         }
         if (!m_source->failure().empty()) {
             finish(m_source->failure());
             return false;
         }
-        if (m_passFrames == 0 || !m_options.loop) {
+        if (m_pass_frames == 0 || !m_options.loop) {
             finish({});  // the end, or a log without a playable frame: nothing to loop
             return false;
         }
         // One loop lasts the log plus one mean frame interval, so the first frame of the next
         // loop does not coincide with the last of this one.
-        const std::int64_t span = m_prevOffsetNs;
-        const std::int64_t gap = m_passFrames > 1 ? span / static_cast<std::int64_t>(m_passFrames - 1) : 0;
+        const std::int64_t span = m_prev_offset_ns;
+        const std::int64_t gap = m_pass_frames > 1 ? span / static_cast<std::int64_t>(m_pass_frames - 1) : 0;
         std::int64_t period = 0;
         if (!addNs(span, gap, period) ||
-            !addNs(m_loopBaseNs, std::max<std::int64_t>(period, 1'000'000), m_loopBaseNs)) {
+            !addNs(m_loop_base_ns, std::max<std::int64_t>(period, 1'000'000), m_loop_base_ns)) {
             finish("replay time out of range after " + std::to_string(m_loops.load()) + " loops");
             return false;
         }
         ++m_loops;
-        m_passStarted = false;
-        m_prevOffsetNs = 0;
-        m_passFrames = 0;
+        m_pass_started = false;
+        m_prev_offset_ns = 0;
+        m_pass_frames = 0;
         if (!m_source->rewind()) {
             finish(m_source->failure());
             return false;
@@ -161,7 +162,7 @@ CanTime Replayer::nextDue() const noexcept {
     if (m_finished) {
         return CanTime::max();
     }
-    return m_pendingDue;
+    return m_pending_due;
 }
 
 bool Replayer::finished() const noexcept { return m_finished.load(); }
@@ -169,12 +170,12 @@ bool Replayer::finished() const noexcept { return m_finished.load(); }
 std::size_t Replayer::advanceTo(CanTime now, const FrameSink& sink, std::size_t maxBurst) {
     std::size_t count = 0;
     while (!m_finished && count < maxBurst) {
-        if (m_pendingDue > now) {
+        if (m_pending_due > now) {
             break;
         }
         CanFrame f = m_pending;
         if (m_options.restamp) {
-            f.timestamp = playsAsFastAsPossible(m_options.speed) ? now : m_pendingDue;
+            f.timestamp = playsAsFastAsPossible(m_options.speed) ? now : m_pending_due;
         }
         sink(f);
         ++count;

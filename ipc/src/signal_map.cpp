@@ -34,7 +34,7 @@ Dim dimensionOf(VssSignal s) {
 struct UnitEntry {
     std::string_view name;  // lower case
     Dim dim;
-    double toCanonical;  // km/h, degrees, degrees/s, m, m/s^2
+    double to_canonical;  // km/h, degrees, degrees/s, m, m/s^2
 };
 
 constexpr double kRadToDeg = 180.0 / std::numbers::pi;
@@ -91,7 +91,7 @@ std::optional<double> unitConversion(std::string_view dbcUnit, VssSignal target)
             if (u.dim != want) {
                 return std::nullopt;
             }
-            return u.toCanonical;
+            return u.to_canonical;
         }
     }
     return std::nullopt;
@@ -151,7 +151,7 @@ Result<SignalMap> SignalMap::fromToml(std::string_view text, std::string_view so
                 } else if (k == "unit") {
                     m.unit = *s;
                 } else {
-                    m.signSignal = *s;
+                    m.sign_signal = *s;
                 }
             } else if (k == "scale" || k == "bias") {
                 const auto d = value.value<double>();

@@ -45,7 +45,7 @@ Result<PeerCredentials> peerCredentials(int fd, const std::string& object) {
 }
 
 bool peerAllowed(const PeerAllowList& allow, const PeerCredentials& peer) {
-    if (allow.allowRoot && peer.uid == 0) {
+    if (allow.allow_root && peer.uid == 0) {
         return true;
     }
     const bool uidOk = allow.uids.empty()

@@ -75,13 +75,13 @@ std::size_t frameToKernel(const CanFrame& frame, canfd_frame& out) noexcept {
     return CAN_MTU;
 }
 
-std::vector<can_filter> buildRawFilters(std::span<const std::uint32_t> frameKeys) {
+std::vector<can_filter> buildRawFilters(std::span<const std::uint32_t> frame_keys) {
     std::vector<can_filter> out;
-    if (frameKeys.empty() || frameKeys.size() > CAN_RAW_FILTER_MAX) {
+    if (frame_keys.empty() || frame_keys.size() > CAN_RAW_FILTER_MAX) {
         return out;
     }
-    out.reserve(frameKeys.size());
-    for (const std::uint32_t key : frameKeys) {
+    out.reserve(frame_keys.size());
+    for (const std::uint32_t key : frame_keys) {
         can_filter f{};
         if ((key & 0x80000000U) != 0) {
             f.can_id = (key & CAN_EFF_MASK) | CAN_EFF_FLAG;
@@ -101,20 +101,20 @@ ErrorFrameInfo classifyErrorFrame(const CanFrame& frame) noexcept {
         return info;
     }
     const std::uint32_t cls = frame.id;
-    info.busOff = (cls & CAN_ERR_BUSOFF) != 0;
+    info.bus_off = (cls & CAN_ERR_BUSOFF) != 0;
     info.restarted = (cls & CAN_ERR_RESTARTED) != 0;
-    info.controllerProblem = (cls & CAN_ERR_CRTL) != 0;
-    info.protocolViolation = (cls & CAN_ERR_PROT) != 0;
+    info.controller_problem = (cls & CAN_ERR_CRTL) != 0;
+    info.protocol_violation = (cls & CAN_ERR_PROT) != 0;
     info.transceiver = (cls & CAN_ERR_TRX) != 0;
-    info.noAck = (cls & CAN_ERR_ACK) != 0;
-    info.lostArbitration = (cls & CAN_ERR_LOSTARB) != 0;
-    info.txTimeout = (cls & CAN_ERR_TX_TIMEOUT) != 0;
-    info.busError = (cls & CAN_ERR_BUSERROR) != 0;
-    if (info.controllerProblem && frame.len > 1) {
+    info.no_ack = (cls & CAN_ERR_ACK) != 0;
+    info.lost_arbitration = (cls & CAN_ERR_LOSTARB) != 0;
+    info.tx_timeout = (cls & CAN_ERR_TX_TIMEOUT) != 0;
+    info.bus_error = (cls & CAN_ERR_BUSERROR) != 0;
+    if (info.controller_problem && frame.len > 1) {
         const std::uint8_t c = frame.data[1];
-        info.rxOverflow = (c & (CAN_ERR_CRTL_RX_OVERFLOW | CAN_ERR_CRTL_TX_OVERFLOW)) != 0;
-        info.errorPassive = (c & (CAN_ERR_CRTL_RX_PASSIVE | CAN_ERR_CRTL_TX_PASSIVE)) != 0;
-        info.errorWarning = (c & (CAN_ERR_CRTL_RX_WARNING | CAN_ERR_CRTL_TX_WARNING)) != 0;
+        info.rx_overflow = (c & (CAN_ERR_CRTL_RX_OVERFLOW | CAN_ERR_CRTL_TX_OVERFLOW)) != 0;
+        info.error_passive = (c & (CAN_ERR_CRTL_RX_PASSIVE | CAN_ERR_CRTL_TX_PASSIVE)) != 0;
+        info.error_warning = (c & (CAN_ERR_CRTL_RX_WARNING | CAN_ERR_CRTL_TX_WARNING)) != 0;
     }
     return info;
 }
@@ -127,23 +127,23 @@ std::string ErrorFrameInfo::describe() const {
         }
         out += s;
     };
-    if (busOff) add("bus-off");
+    if (bus_off) add("bus-off");
     if (restarted) add("controller restarted");
-    if (controllerProblem) {
+    if (controller_problem) {
         std::string c = "controller problem";
         std::string details;
-        if (rxOverflow) details += "overflow";
-        if (errorPassive) details += std::string(details.empty() ? "" : ", ") + "error passive";
-        if (errorWarning) details += std::string(details.empty() ? "" : ", ") + "error warning";
+        if (rx_overflow) details += "overflow";
+        if (error_passive) details += std::string(details.empty() ? "" : ", ") + "error passive";
+        if (error_warning) details += std::string(details.empty() ? "" : ", ") + "error warning";
         if (!details.empty()) c += " (" + details + ")";
         add(c.c_str());
     }
-    if (protocolViolation) add("protocol violation");
+    if (protocol_violation) add("protocol violation");
     if (transceiver) add("transceiver status");
-    if (noAck) add("no ACK");
-    if (lostArbitration) add("lost arbitration");
-    if (txTimeout) add("TX timeout");
-    if (busError) add("bus error");
+    if (no_ack) add("no ACK");
+    if (lost_arbitration) add("lost arbitration");
+    if (tx_timeout) add("TX timeout");
+    if (bus_error) add("bus error");
     if (out.empty()) out = "error frame";
     return out;
 }

@@ -30,26 +30,26 @@ const char* SocketCanStatus::stateName(State s) noexcept {
 }
 
 SocketCanSource::SocketCanSource(SocketCanOptions options)
-    : m_options(std::move(options)), m_backoff(m_options.backoffInitial, m_options.backoffMaximum) {}
+    : m_options(std::move(options)), m_backoff(m_options.backoff_initial, m_options.backoff_maximum) {}
 
 SocketCanSource::~SocketCanSource() { closeSocket(); }
 
 void SocketCanSource::closeSocket() {
     m_fd.reset();
-    m_dropsBefore = m_status.kernelDrops;
-    m_dropsAtOpen = 0;
+    m_drops_before = m_status.kernel_drops;
+    m_drops_at_open = 0;
 }
 
 void SocketCanSource::failOpen(std::string error) {
     closeSocket();
-    ++m_status.openFailures;
-    m_status.lastError = std::move(error);
+    ++m_status.open_failures;
+    m_status.last_error = std::move(error);
     m_status.state = SocketCanStatus::State::Retrying;
     m_backoff.failed(Backoff::Clock::now());
 }
 
 bool SocketCanSource::open() {
-    const std::string& name = m_options.interfaceName;
+    const std::string& name = m_options.interface_name;
     if (name.empty() || name.size() >= IFNAMSIZ) {
         failOpen("interface name '" + name + "' must have 1.." + std::to_string(IFNAMSIZ - 1) + " characters");
         return false;
@@ -75,17 +75,17 @@ bool SocketCanSource::open() {
         return false;
     }
     const int one = 1;
-    if (m_options.receiveFd) {
+    if (m_options.receive_fd) {
         // Older kernels or controllers without FD: keep going with classic frames.
-        m_status.fdEnabled = ::setsockopt(m_fd.get(), SOL_CAN_RAW, CAN_RAW_FD_FRAMES, &one, sizeof one) == 0;
+        m_status.fd_enabled = ::setsockopt(m_fd.get(), SOL_CAN_RAW, CAN_RAW_FD_FRAMES, &one, sizeof one) == 0;
     }
-    const auto filters = buildRawFilters(m_options.frameKeys);
+    const auto filters = buildRawFilters(m_options.frame_keys);
     if (!filters.empty() && ::setsockopt(m_fd.get(), SOL_CAN_RAW, CAN_RAW_FILTER, filters.data(),
                                          static_cast<socklen_t>(filters.size() * sizeof(can_filter))) < 0) {
         failOpen(sysError("setsockopt(CAN_RAW_FILTER)", name, errno));
         return false;
     }
-    if (m_options.receiveErrorFrames) {
+    if (m_options.receive_error_frames) {
         const can_err_mask_t mask = CAN_ERR_MASK;
         if (::setsockopt(m_fd.get(), SOL_CAN_RAW, CAN_RAW_ERR_FILTER, &mask, sizeof mask) < 0) {
             failOpen(sysError("setsockopt(CAN_RAW_ERR_FILTER)", name, errno));
@@ -100,10 +100,10 @@ bool SocketCanSource::open() {
         failOpen(sysError("setsockopt(SO_RXQ_OVFL)", name, errno));
         return false;
     }
-    if (m_options.receiveBufferBytes > 0) {
+    if (m_options.receive_buffer_bytes > 0) {
         // Failure is not fatal: the default buffer still works, drops are counted.
-        (void)::setsockopt(m_fd.get(), SOL_SOCKET, SO_RCVBUF, &m_options.receiveBufferBytes,
-                           sizeof m_options.receiveBufferBytes);
+        (void)::setsockopt(m_fd.get(), SOL_SOCKET, SO_RCVBUF, &m_options.receive_buffer_bytes,
+                           sizeof m_options.receive_buffer_bytes);
     }
     sockaddr_can addr{};
     addr.can_family = AF_CAN;
@@ -144,7 +144,7 @@ std::size_t SocketCanSource::poll(const FrameSink& sink, std::size_t maxFrames) 
                 continue;
             }
             // ENETDOWN (interface set down), ENODEV (interface removed), ...: re-open later.
-            failOpen(sysError("recvmsg", m_options.interfaceName, err));
+            failOpen(sysError("recvmsg", m_options.interface_name, err));
             break;
         }
         CanTime stamp{};
@@ -161,8 +161,8 @@ std::size_t SocketCanSource::poll(const FrameSink& sink, std::size_t maxFrames) 
             } else if (c->cmsg_type == SO_RXQ_OVFL) {
                 std::uint32_t drops = 0;
                 std::memcpy(&drops, CMSG_DATA(c), sizeof drops);
-                m_dropsAtOpen = drops;
-                m_status.kernelDrops = m_dropsBefore + drops;
+                m_drops_at_open = drops;
+                m_status.kernel_drops = m_drops_before + drops;
             }
         }
         if (!haveStamp) {
@@ -170,29 +170,29 @@ std::size_t SocketCanSource::poll(const FrameSink& sink, std::size_t maxFrames) 
         }
         const auto frame = frameFromKernel(&kframe, static_cast<std::size_t>(n), stamp);
         if (!frame) {
-            ++m_status.badFrames;
+            ++m_status.bad_frames;
             continue;
         }
         if (frame->error()) {
-            ++m_status.errorFrames;
+            ++m_status.error_frames;
             const ErrorFrameInfo info = classifyErrorFrame(*frame);
-            if (info.busOff) {
-                ++m_status.busOff;
+            if (info.bus_off) {
+                ++m_status.bus_off;
             }
-            if (info.controllerProblem) {
-                ++m_status.controllerProblems;
+            if (info.controller_problem) {
+                ++m_status.controller_problems;
             }
-            if (info.protocolViolation || info.transceiver || info.noAck || info.lostArbitration || info.busError ||
-                info.txTimeout) {
-                ++m_status.otherErrors;
+            if (info.protocol_violation || info.transceiver || info.no_ack || info.lost_arbitration || info.bus_error ||
+                info.tx_timeout) {
+                ++m_status.other_errors;
             }
-            m_status.lastErrorFrame = info.describe();
-            m_status.lastErrorFrameTime = frame->timestamp;
+            m_status.last_error_frame = info.describe();
+            m_status.last_error_frame_time = frame->timestamp;
             continue;
         }
         ++m_status.frames;
         if (frame->fd()) {
-            ++m_status.fdFrames;
+            ++m_status.fd_frames;
         }
         sink(*frame);
         ++delivered;
@@ -215,19 +215,19 @@ void SocketCanSource::waitReadable(std::chrono::milliseconds timeout) {
 
 Status SocketCanSource::send(const CanFrame& frame) {
     if (!m_fd.valid()) {
-        return Error{"send(" + m_options.interfaceName + "): socket is not open"};
+        return Error{"send(" + m_options.interface_name + "): socket is not open"};
     }
     canfd_frame k{};
     const std::size_t bytes = frameToKernel(frame, k);
-    if (bytes == CANFD_MTU && !m_status.fdEnabled) {
-        return Error{"send(" + m_options.interfaceName + "): CAN FD frames are not enabled on this socket"};
+    if (bytes == CANFD_MTU && !m_status.fd_enabled) {
+        return Error{"send(" + m_options.interface_name + "): CAN FD frames are not enabled on this socket"};
     }
     const ssize_t n = ::send(m_fd.get(), &k, bytes, MSG_DONTWAIT);
     if (n < 0) {
-        return Error{sysError("send", m_options.interfaceName, errno)};
+        return Error{sysError("send", m_options.interface_name, errno)};
     }
     if (static_cast<std::size_t>(n) != bytes) {
-        return Error{"send(" + m_options.interfaceName + "): short write"};
+        return Error{"send(" + m_options.interface_name + "): short write"};
     }
     return {};
 }

@@ -76,10 +76,10 @@ Result<VehicleDecoder> VehicleDecoder::create(std::vector<std::shared_ptr<const 
         if (plan.signal == nullptr) {
             return Error{"signal map " + what + ": message " + msg->name + " has no signal '" + m.signal + "'"};
         }
-        if (!m.signSignal.empty()) {
-            plan.signSignal = msg->findSignal(m.signSignal);
-            if (plan.signSignal == nullptr) {
-                return Error{"signal map " + what + ": message " + msg->name + " has no sign signal '" + m.signSignal +
+        if (!m.sign_signal.empty()) {
+            plan.sign_signal = msg->findSignal(m.sign_signal);
+            if (plan.sign_signal == nullptr) {
+                return Error{"signal map " + what + ": message " + msg->name + " has no sign signal '" + m.sign_signal +
                              "'"};
             }
         }
@@ -90,10 +90,10 @@ Result<VehicleDecoder> VehicleDecoder::create(std::vector<std::shared_ptr<const 
                          std::string(vssUnit(m.target)) + "' (set 'unit' in the mapping)"};
         }
         plan.target = m.target;
-        plan.unitFactor = *factor;
+        plan.unit_factor = *factor;
         plan.scale = m.scale;
         plan.bias = m.bias;
-        plan.mappingIndex = i;
+        plan.mapping_index = i;
         dec.m_plans[msg->key()].push_back(plan);
     }
     return dec;
@@ -101,23 +101,23 @@ Result<VehicleDecoder> VehicleDecoder::create(std::vector<std::shared_ptr<const 
 
 void VehicleDecoder::reject(const Plan& plan, std::string why) {
     ++m_counters.rejected;
-    MappingStats& st = m_stats[plan.mappingIndex];
+    MappingStats& st = m_stats[plan.mapping_index];
     ++st.rejected;
-    st.lastRejection = std::move(why);
+    st.last_rejection = std::move(why);
 }
 
 bool VehicleDecoder::decode(const CanFrame& frame, VehicleSample& update) {
     ++m_counters.frames;
     update = VehicleSample{};
     if (frame.error() || frame.rtr()) {
-        ++m_counters.ignoredFrames;
+        ++m_counters.ignored_frames;
         return false;
     }
     const auto it = m_plans.find(frame.key());
     if (it == m_plans.end()) {
         return false;
     }
-    ++m_counters.matchedFrames;
+    ++m_counters.matched_frames;
     const std::span<const std::uint8_t> data(frame.data.data(), std::min<std::size_t>(frame.len, kCanMaxFdLen));
     bool any = false;
     bool shortCounted = false;
@@ -129,7 +129,7 @@ bool VehicleDecoder::decode(const CanFrame& frame, VehicleSample& update) {
         const auto physical = sig.decode(data);
         if (!physical) {
             if (!shortCounted) {
-                ++m_counters.shortFrames;
+                ++m_counters.short_frames;
                 shortCounted = true;
             }
             reject(plan, "frame has " + std::to_string(frame.len) + " bytes, " + sig.name + " needs " +
@@ -141,11 +141,11 @@ bool VehicleDecoder::decode(const CanFrame& frame, VehicleSample& update) {
                              std::to_string(sig.minimum) + ", " + std::to_string(sig.maximum) + "]");
             continue;
         }
-        double value = *physical * plan.unitFactor * plan.scale + plan.bias;
-        if (plan.signSignal != nullptr) {
-            const auto sign = plan.signSignal->decode(data);
+        double value = *physical * plan.unit_factor * plan.scale + plan.bias;
+        if (plan.sign_signal != nullptr) {
+            const auto sign = plan.sign_signal->decode(data);
             if (!sign) {
-                reject(plan, "sign signal " + plan.signSignal->name + " is missing");
+                reject(plan, "sign signal " + plan.sign_signal->name + " is missing");
                 continue;
             }
             if (*sign != 0.0) {
@@ -161,19 +161,19 @@ bool VehicleDecoder::decode(const CanFrame& frame, VehicleSample& update) {
         if (plan.target == VssSignal::GnssCounter && sig.length < 64) {
             const std::uint64_t modulo = std::uint64_t{1} << sig.length;
             const auto counter = static_cast<std::uint64_t>(value) % modulo;
-            if (m_lastCounter) {
-                const std::uint64_t expected = (*m_lastCounter + 1U) % modulo;
-                m_counters.counterGaps += (counter + modulo - expected) % modulo;
+            if (m_last_counter) {
+                const std::uint64_t expected = (*m_last_counter + 1U) % modulo;
+                m_counters.counter_gaps += (counter + modulo - expected) % modulo;
             }
-            m_lastCounter = counter;
+            m_last_counter = counter;
         }
         update.set(plan.target, value, frame.timestamp);
-        ++m_stats[plan.mappingIndex].accepted;
+        ++m_stats[plan.mapping_index].accepted;
         ++m_counters.values;
         any = true;
     }
     if (any) {
-        update.sourceTime = frame.timestamp;
+        update.source_time = frame.timestamp;
         m_latest.merge(update);
     }
     return any;

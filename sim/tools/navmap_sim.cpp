@@ -216,13 +216,13 @@ int main(int argc, char** argv) {
     std::optional<navmap::ipc::SocketCanSource> can;
     if (cli.socketcan) {
         navmap::ipc::SocketCanOptions o;
-        o.interfaceName = cli.iface;
-        o.frameKeys = {0x7FF};  // we only send; keep the receive queue quiet
-        o.receiveErrorFrames = false;
+        o.interface_name = cli.iface;
+        o.frame_keys = {0x7FF};  // we only send; keep the receive queue quiet
+        o.receive_error_frames = false;
         can.emplace(o);
         can->poll([](const navmap::ipc::CanFrame&) {});
         if (can->fd() < 0) {
-            std::fprintf(stderr, "navmap-sim: %s\n", can->status().lastError.c_str());
+            std::fprintf(stderr, "navmap-sim: %s\n", can->status().last_error.c_str());
             return 1;
         }
     }

@@ -34,9 +34,9 @@ ProgramRun run(const std::string& args) {
 struct Tool {
     const char* name;
     const char* path;
-    std::string required;  ///< the tool's required options, so that the unknown one is the error
-    std::string badInput;  ///< arguments naming input that does not exist -> exit 1
-    std::string badInputSays;
+    std::string required;   ///< the tool's required options, so that the unknown one is the error
+    std::string bad_input;  ///< arguments naming input that does not exist -> exit 1
+    std::string bad_input_says;
 };
 
 const std::vector<Tool>& tools() {
@@ -82,9 +82,9 @@ TEST(ToolsCli, VersionHelpUsageAndBadInputExitCodes) {
             EXPECT_EQ(r.status, 2) << r.out;
             EXPECT_NE(r.out.find(" is required"), std::string::npos) << r.out;
         }
-        r = run(exe + " " + t.badInput);
+        r = run(exe + " " + t.bad_input);
         EXPECT_EQ(r.status, 1) << r.out;
-        EXPECT_NE(r.out.find(t.badInputSays), std::string::npos) << r.out;
+        EXPECT_NE(r.out.find(t.bad_input_says), std::string::npos) << r.out;
     }
 }
 

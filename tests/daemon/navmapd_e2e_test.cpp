@@ -119,11 +119,12 @@ TEST(NavmapdEndToEnd, ClusterAndHudClientsGetFramesControlWorksAndStopIsGraceful
             last_seq[i] = f.header.sequence;
             EXPECT_EQ(f.header.width, i == 0 ? 1280u : 800u);
             EXPECT_EQ(f.header.height, i == 0 ? 480u : 240u);
-            EXPECT_GE(f.header.renderTimeNs, t0);
-            EXPECT_LE(f.header.renderTimeNs, f.receiveTimeNs);
-            if (f.header.sourceTimeNs != 0) {
-                EXPECT_LE(f.header.sourceTimeNs, f.header.renderTimeNs);
-                EXPECT_GT(f.header.sourceTimeNs, f.header.renderTimeNs - 2'000'000'000) << "pose data older than 2 s";
+            EXPECT_GE(f.header.render_time_ns, t0);
+            EXPECT_LE(f.header.render_time_ns, f.receive_time_ns);
+            if (f.header.source_time_ns != 0) {
+                EXPECT_LE(f.header.source_time_ns, f.header.render_time_ns);
+                EXPECT_GT(f.header.source_time_ns, f.header.render_time_ns - 2'000'000'000)
+                    << "pose data older than 2 s";
             }
         }
     }

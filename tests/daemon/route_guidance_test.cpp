@@ -103,8 +103,8 @@ TEST(RouteGuidance, LeavingTheRouteIsReportedOnceWithHysteresis) {
     for (int k = 0; k < 8; ++k) f.guidance.update(poseAt(200, -50), t += 0.5);
     ASSERT_EQ(f.events.size(), 1u);
     EXPECT_EQ(f.events[0].kind, ipc::ControlEventKind::OffRoute);
-    EXPECT_EQ(f.events[0].routeId, "r1");
-    EXPECT_NEAR(f.events[0].offsetM, 50.0, 1.0);
+    EXPECT_EQ(f.events[0].route_id, "r1");
+    EXPECT_NEAR(f.events[0].offset_m, 50.0, 1.0);
     EXPECT_TRUE(f.guidance.snapshot().off_route);
     EXPECT_TRUE(f.guidance.snapshot().arrows.empty()) << "no arrows while off the route";
     // Flapping around the return threshold does not bring it back.

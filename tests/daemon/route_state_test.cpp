@@ -103,22 +103,22 @@ TEST(RouteState, OneLineServesTheEstimatorAndTheRenderersWithOneDistance) {
     }
     const EstimatedPose pose = estimator.snapshot()->poseAt(at(10));
     ASSERT_TRUE(pose.valid);
-    ASSERT_TRUE(pose.onRoute);
-    EXPECT_GT(pose.routeDrivenM, 300.0) << "matched on the second leg";
-    EXPECT_NEAR(pose.routeDrivenM + pose.routeRemainingM, route.lengthM(), 1e-9);
+    ASSERT_TRUE(pose.on_route);
+    EXPECT_GT(pose.route_driven_m, 300.0) << "matched on the second leg";
+    EXPECT_NEAR(pose.route_driven_m + pose.route_remaining_m, route.lengthM(), 1e-9);
     route.track(pose);
-    EXPECT_EQ(route.drivenM(), pose.routeDrivenM);
-    EXPECT_NEAR(route.remainingM(), pose.routeRemainingM, 1e-9);
+    EXPECT_EQ(route.drivenM(), pose.route_driven_m);
+    EXPECT_NEAR(route.remainingM(), pose.route_remaining_m, 1e-9);
 
     // Progress keeps its furthest point; a pose off the route does not move it.
     EstimatedPose back = pose;
-    back.routeDrivenM = 100.0;
+    back.route_driven_m = 100.0;
     route.track(back);
     EstimatedPose off;
-    off.onRoute = false;
-    off.routeDrivenM = 5000.0;
+    off.on_route = false;
+    off.route_driven_m = 5000.0;
     route.track(off);
-    EXPECT_EQ(route.drivenM(), pose.routeDrivenM);
+    EXPECT_EQ(route.drivenM(), pose.route_driven_m);
 }
 
 TEST(RouteState, ARouteOfOnePointHasNoLineAndNothingToDraw) {

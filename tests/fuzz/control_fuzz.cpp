@@ -14,13 +14,13 @@
 int navmapFuzzControl(const std::uint8_t* data, std::size_t size) {
     const std::string_view line(reinterpret_cast<const char*>(data), size);
     navmap::ipc::ControlLimits limits;
-    limits.maxRoutePoints = 64;
+    limits.max_route_points = 64;
     const auto r = navmap::ipc::parseControlLine(line, limits);
     // Exactly one of command / error, and a reply can always be written.
     if (r.command.has_value() == !r.error.empty()) {
         std::abort();
     }
-    const std::string reply = r.command ? navmap::ipc::controlOkReply(r.command->cmd, r.command->requestId)
+    const std::string reply = r.command ? navmap::ipc::controlOkReply(r.command->cmd, r.command->request_id)
                                         : navmap::ipc::controlErrorReply(r.cmd, r.id, r.error);
     if (reply.empty() || reply.find('\n') != std::string::npos) {
         std::abort();

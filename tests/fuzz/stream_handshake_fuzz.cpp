@@ -34,13 +34,13 @@ int navmapFuzzStreamHandshake(const std::uint8_t* data, std::size_t size) {
         const auto bytes = navmap::ipc::encodeFrameHeader(header.value());
         auto again = navmap::ipc::decodeFrameHeader(bytes.data(), bytes.size());
         if (!again.ok() || again.value().sequence != header.value().sequence ||
-            again.value().payloadBytes != header.value().payloadBytes) {
+            again.value().payload_bytes != header.value().payload_bytes) {
             __builtin_trap();
         }
         const auto kind = header.value().kind;
         if (kind == navmap::ipc::FrameKind::Error || kind == navmap::ipc::FrameKind::Status) {
             const std::size_t have = size - navmap::ipc::kFrameHeaderBytes;
-            const std::size_t n = have < header.value().payloadBytes ? have : header.value().payloadBytes;
+            const std::size_t n = have < header.value().payload_bytes ? have : header.value().payload_bytes;
             (void)navmap::ipc::validateTextPayload(kind, data + navmap::ipc::kFrameHeaderBytes, n);
         }
     }

@@ -31,7 +31,7 @@ TEST(CandumpReader, ClassicFrameWithMicrosecondTimestamp) {
     auto r = CandumpReader::parseLine("(1487342025.615950) can0 187#E21408C800100300");
     ASSERT_TRUE(r.ok());
     const CanFrame& f = r.value().frame;
-    EXPECT_EQ(r.value().interfaceName, "can0");
+    EXPECT_EQ(r.value().interface_name, "can0");
     EXPECT_EQ(f.id, 0x187U);
     EXPECT_FALSE(f.extended());
     EXPECT_FALSE(f.fd());
@@ -161,15 +161,15 @@ TEST(CandumpReader, CountsAndLineNumbersAndContinuesAfterBadLines) {
     EXPECT_EQ(c.frames, 5U);
     EXPECT_EQ(c.malformed, 2U);
     EXPECT_EQ(c.skipped, 2U);
-    EXPECT_EQ(c.fdFrames, 1U);
-    EXPECT_EQ(c.remoteFrames, 1U);
-    EXPECT_EQ(c.errorFrames, 1U);
+    EXPECT_EQ(c.fd_frames, 1U);
+    EXPECT_EQ(c.remote_frames, 1U);
+    EXPECT_EQ(c.error_frames, 1U);
     ASSERT_EQ(reader.errors().size(), 2U);
     EXPECT_EQ(reader.errors()[0].line, 3U);
     EXPECT_EQ(reader.errors()[0].message.rfind("test.log:3: CAN id '1'", 0), 0U) << reader.errors()[0].message;
     EXPECT_EQ(reader.errors()[1].line, 7U);
     ASSERT_EQ(reader.interfaces().size(), 2U);
-    EXPECT_EQ(reader.interfaces()[records[1].interfaceIndex], "can1");
+    EXPECT_EQ(reader.interfaces()[records[1].interface_index], "can1");
     EXPECT_EQ(records.back().frame.id, 0x103U);
 }
 

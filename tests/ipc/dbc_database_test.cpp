@@ -54,17 +54,17 @@ TEST(DbcDatabase, ParsesMessagesSignalsMultiplexingAndSkipsTheRest) {
     EXPECT_EQ(engine->transmitter, "ECU1");
     ASSERT_EQ(engine->signals.size(), 2U);
     const auto& rpm = engine->signals[0];
-    EXPECT_EQ(rpm.byteOrder, ByteOrder::Motorola);
-    EXPECT_EQ(rpm.startBit, 7);
+    EXPECT_EQ(rpm.byte_order, ByteOrder::Motorola);
+    EXPECT_EQ(rpm.start_bit, 7);
     EXPECT_EQ(rpm.length, 16);
     EXPECT_DOUBLE_EQ(rpm.factor, 0.25);
     EXPECT_DOUBLE_EQ(rpm.maximum, 16383.75);
     EXPECT_EQ(rpm.unit, "rpm");
     const auto& temp = engine->signals[1];
-    EXPECT_EQ(temp.byteOrder, ByteOrder::Intel);
-    EXPECT_TRUE(temp.isSigned);
+    EXPECT_EQ(temp.byte_order, ByteOrder::Intel);
+    EXPECT_TRUE(temp.is_signed);
     EXPECT_DOUBLE_EQ(temp.offset, -40.0);
-    EXPECT_EQ(temp.valueNames.at(100), "Hot");
+    EXPECT_EQ(temp.value_names.at(100), "Hot");
     EXPECT_EQ(temp.line, 14U);
 
     const auto* ext = db.findMessage(std::string_view("ExtMsg"));
@@ -76,9 +76,9 @@ TEST(DbcDatabase, ParsesMessagesSignalsMultiplexingAndSkipsTheRest) {
     EXPECT_EQ(db.findMessage(1024U), nullptr);  // the 11-bit id 0x400 is another frame
     EXPECT_EQ(ext->size, 16);
     EXPECT_EQ(ext->multiplexor, 0);
-    EXPECT_EQ(ext->signals[1].muxRole, MuxRole::Multiplexed);
-    EXPECT_EQ(ext->signals[2].muxValue, 1U);
-    EXPECT_EQ(ext->signals[3].valueType, navmap::ipc::ValueType::Float32);
+    EXPECT_EQ(ext->signals[1].mux_role, MuxRole::Multiplexed);
+    EXPECT_EQ(ext->signals[2].mux_value, 1U);
+    EXPECT_EQ(ext->signals[3].value_type, navmap::ipc::ValueType::Float32);
     // The comment text that looks like BO_/SG_ was not parsed.
     EXPECT_EQ(db.findMessage(999U), nullptr);
     EXPECT_EQ(engine->findSignal("Bogus"), nullptr);
@@ -224,12 +224,12 @@ TEST(DbcDatabase, ProjectNavmapDbcParsesStrictly) {
     EXPECT_EQ(pos->name, "NAV_Position");
     const auto* lat = pos->findSignal("NAV_Latitude");
     ASSERT_NE(lat, nullptr);
-    EXPECT_TRUE(lat->isSigned);
+    EXPECT_TRUE(lat->is_signed);
     EXPECT_EQ(lat->length, 32);
     EXPECT_DOUBLE_EQ(lat->factor, 1e-7);
     const auto* motion = db.findMessage(std::string_view("NAV_Motion"));
     ASSERT_NE(motion, nullptr);
-    EXPECT_EQ(motion->findSignal("NAV_FixType")->valueNames.at(5), "THREE_D");
+    EXPECT_EQ(motion->findSignal("NAV_FixType")->value_names.at(5), "THREE_D");
     EXPECT_EQ(db.findMessage(std::string_view("NAV_Info"))->multiplexor, 0);
 }
 
@@ -248,9 +248,9 @@ TEST_F(RealDbc, FordLincolnBaseParsesWithoutDiagnostics) {
     EXPECT_EQ(brake->name, "BrakeSysFeatures");
     const auto* speed = brake->findSignal("Veh_V_ActlBrk");
     ASSERT_NE(speed, nullptr);
-    EXPECT_EQ(speed->startBit, 7);
+    EXPECT_EQ(speed->start_bit, 7);
     EXPECT_EQ(speed->length, 16);
-    EXPECT_EQ(speed->byteOrder, ByteOrder::Motorola);
+    EXPECT_EQ(speed->byte_order, ByteOrder::Motorola);
     EXPECT_DOUBLE_EQ(speed->factor, 0.01);
     EXPECT_EQ(speed->unit, "kph");
     const auto* yaw = db.findMessage(0x091U)->findSignal("VehYaw_W_Actl");
@@ -262,7 +262,7 @@ TEST_F(RealDbc, FordLincolnBaseParsesWithoutDiagnostics) {
     for (const auto& m : db.messages()) {
         signals += m.signals.size();
         for (const auto& s : m.signals) {
-            EXPECT_EQ(s.byteOrder, ByteOrder::Motorola) << s.name;
+            EXPECT_EQ(s.byte_order, ByteOrder::Motorola) << s.name;
         }
     }
     EXPECT_GT(signals, 2000U);
@@ -274,7 +274,7 @@ TEST_F(RealDbc, FordFusion2018Parses) {
     EXPECT_EQ(r.value().messages().size(), 14U);
     const auto* steer = r.value().findMessage(0x076U)->findSignal("SteWhlRelInit_An_Sns");
     ASSERT_NE(steer, nullptr);
-    EXPECT_EQ(steer->startBit, 6);
+    EXPECT_EQ(steer->start_bit, 6);
     EXPECT_EQ(steer->length, 15);
     EXPECT_FALSE(steer->hasRange());  // [0|0]
 }
@@ -289,7 +289,7 @@ TEST_F(RealDbc, VwMqbIntelSignals) {
     EXPECT_EQ(esp21->id, 253U);
     const auto* v = esp21->findSignal("ESP_v_Signal");
     ASSERT_NE(v, nullptr);
-    EXPECT_EQ(v->byteOrder, ByteOrder::Intel);
+    EXPECT_EQ(v->byte_order, ByteOrder::Intel);
     // 123.45 km/h = raw 12345 = 0x3039, little endian in bytes 4..5.
     auto f = esp21->encode({{"ESP_v_Signal", 123.45}});
     ASSERT_TRUE(f.ok()) << f.error().message;
@@ -300,7 +300,7 @@ TEST_F(RealDbc, VwMqbIntelSignals) {
     ASSERT_NE(esp02, nullptr);
     const auto* yaw = esp02->findSignal("ESP_Gierrate");
     ASSERT_NE(yaw, nullptr);
-    EXPECT_EQ(yaw->startBit, 40);
+    EXPECT_EQ(yaw->start_bit, 40);
     EXPECT_EQ(yaw->length, 14);
     EXPECT_EQ(yaw->unit, "Unit_DegreOfArcPerSecon");
     // The German multi-line CM_ strings were skipped, not parsed as statements.

@@ -13,14 +13,14 @@ using navmap::ipc::ValueType;
 
 namespace {
 
-DbcSignal makeSignal(unsigned start, unsigned length, ByteOrder order, bool isSigned = false, double factor = 1.0,
+DbcSignal makeSignal(unsigned start, unsigned length, ByteOrder order, bool is_signed = false, double factor = 1.0,
                      double offset = 0.0) {
     DbcSignal s;
     s.name = "S";
-    s.startBit = static_cast<std::uint16_t>(start);
+    s.start_bit = static_cast<std::uint16_t>(start);
     s.length = static_cast<std::uint16_t>(length);
-    s.byteOrder = order;
-    s.isSigned = isSigned;
+    s.byte_order = order;
+    s.is_signed = is_signed;
     s.factor = factor;
     s.offset = offset;
     return s;
@@ -78,14 +78,14 @@ TEST(DbcSignal, FactorOffsetAndShortPayload) {
 
 TEST(DbcSignal, FloatValueTypes) {
     DbcSignal f = makeSignal(0, 32, ByteOrder::Intel);
-    f.valueType = ValueType::Float32;
+    f.value_type = ValueType::Float32;
     std::array<std::uint8_t, 8> d{};
     ASSERT_TRUE(f.encode(d, 1.5).ok());
     EXPECT_EQ(d[3], 0x3F);  // 1.5f = 0x3FC00000, little endian
     EXPECT_EQ(d[2], 0xC0);
     EXPECT_DOUBLE_EQ(*f.decode(d), 1.5);
     DbcSignal g = makeSignal(0, 64, ByteOrder::Intel);
-    g.valueType = ValueType::Float64;
+    g.value_type = ValueType::Float64;
     ASSERT_TRUE(g.encode(d, -1234.5678).ok());
     EXPECT_DOUBLE_EQ(*g.decode(d), -1234.5678);
 }
@@ -128,7 +128,7 @@ TEST(DbcSignal, RandomRoundTripBothByteOrders) {
         DbcSignal s = makeSignal(0, length, intel ? ByteOrder::Intel : ByteOrder::Motorola, (rng() & 1U) != 0);
         // Pick a start bit whose bits fit 64 bytes.
         do {
-            s.startBit = static_cast<std::uint16_t>(rng() % 512);
+            s.start_bit = static_cast<std::uint16_t>(rng() % 512);
         } while (s.bytesNeeded() > 64);
         std::array<std::uint8_t, 64> before{};
         for (auto& b : before) {
@@ -137,7 +137,7 @@ TEST(DbcSignal, RandomRoundTripBothByteOrders) {
         std::array<std::uint8_t, 64> data = before;
         const std::uint64_t bits = rng() & (length == 64 ? ~0ULL : ((1ULL << length) - 1));
         s.insertBits(data, bits);
-        ASSERT_EQ(s.extractBits(data), bits) << "start " << s.startBit << " len " << length << " intel " << intel;
+        ASSERT_EQ(s.extractBits(data), bits) << "start " << s.start_bit << " len " << length << " intel " << intel;
         // Clearing the signal and comparing with the original outside it: only own bits changed.
         std::array<std::uint8_t, 64> a = before;
         std::array<std::uint8_t, 64> b = data;

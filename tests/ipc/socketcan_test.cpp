@@ -118,17 +118,17 @@ TEST(SocketCanCodec, ErrorFrameClassification) {
     f.len = 8;
     f.id = CAN_ERR_BUSOFF;
     auto info = navmap::ipc::classifyErrorFrame(f);
-    EXPECT_TRUE(info.busOff);
+    EXPECT_TRUE(info.bus_off);
     EXPECT_EQ(info.describe(), "bus-off");
     f.id = CAN_ERR_CRTL | CAN_ERR_ACK;
     f.data[1] = CAN_ERR_CRTL_RX_OVERFLOW | CAN_ERR_CRTL_TX_PASSIVE;
     info = navmap::ipc::classifyErrorFrame(f);
-    EXPECT_TRUE(info.controllerProblem);
-    EXPECT_TRUE(info.rxOverflow);
-    EXPECT_TRUE(info.errorPassive);
+    EXPECT_TRUE(info.controller_problem);
+    EXPECT_TRUE(info.rx_overflow);
+    EXPECT_TRUE(info.error_passive);
     EXPECT_EQ(info.describe(), "controller problem (overflow, error passive); no ACK");
     f.flags = 0;
-    EXPECT_FALSE(navmap::ipc::classifyErrorFrame(f).busOff);
+    EXPECT_FALSE(navmap::ipc::classifyErrorFrame(f).bus_off);
 }
 
 TEST(Backoff, DoublesUpToTheCapAndResets) {
@@ -156,34 +156,34 @@ TEST(SocketCanSource, MissingInterfaceOrFamilyBacksOffWithoutBlocking) {
     const int fdsBefore = navmap::test::countOpenFds();
     {
         navmap::ipc::SocketCanOptions o;
-        o.interfaceName = "navmapnone0";
-        o.backoffInitial = 50ms;
+        o.interface_name = "navmapnone0";
+        o.backoff_initial = 50ms;
         navmap::ipc::SocketCanSource src(o);
         std::size_t frames = 0;
         const auto start = std::chrono::steady_clock::now();
         EXPECT_EQ(src.poll([&](const CanFrame&) { ++frames; }), 0U);
         EXPECT_EQ(src.status().state, navmap::ipc::SocketCanStatus::State::Retrying);
-        const std::string& err = src.status().lastError;
+        const std::string& err = src.status().last_error;
         const bool noFamily = err.rfind("socket(PF_CAN)(navmapnone0): ", 0) == 0;
         const bool noDevice = err.rfind("if_nametoindex(navmapnone0): No such device", 0) == 0;
         EXPECT_TRUE(noFamily || noDevice) << err;
-        EXPECT_EQ(src.status().openFailures, 1U);
+        EXPECT_EQ(src.status().open_failures, 1U);
         EXPECT_EQ(src.fd(), -1);
         // Within the backoff window no new attempt is made.
         EXPECT_EQ(src.poll([&](const CanFrame&) { ++frames; }), 0U);
-        EXPECT_EQ(src.status().openFailures, 1U);
+        EXPECT_EQ(src.status().open_failures, 1U);
         src.waitReadable(1000ms);  // sleeps only until the retry is due (50 ms)
         EXPECT_EQ(src.poll([&](const CanFrame&) { ++frames; }), 0U);
-        EXPECT_EQ(src.status().openFailures, 2U);
+        EXPECT_EQ(src.status().open_failures, 2U);
         EXPECT_EQ(src.backoff().currentDelay(), 200ms);
         EXPECT_LT(std::chrono::steady_clock::now() - start, 500ms);
         EXPECT_FALSE(src.send(CanFrame{}).ok());
         EXPECT_EQ(frames, 0U);
     }
     navmap::ipc::SocketCanOptions bad;
-    bad.interfaceName = "an-interface-name-too-long";
+    bad.interface_name = "an-interface-name-too-long";
     navmap::ipc::SocketCanSource src(bad);
     EXPECT_EQ(src.poll([](const CanFrame&) {}), 0U);
-    EXPECT_NE(src.status().lastError.find("must have 1..15 characters"), std::string::npos);
+    EXPECT_NE(src.status().last_error.find("must have 1..15 characters"), std::string::npos);
     EXPECT_EQ(navmap::test::countOpenFds(), fdsBefore);  // no socket leaked by the failed opens
 }

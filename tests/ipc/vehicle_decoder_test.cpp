@@ -55,7 +55,7 @@ TEST(VehicleDecoder, NavmapDbcRoundTrip) {
     EXPECT_NEAR(*u.get(VssSignal::Latitude), 42.623636, 0.6e-7);
     EXPECT_NEAR(*u.get(VssSignal::Longitude), 1.532909, 0.6e-7);
     EXPECT_FALSE(u.get(VssSignal::Speed).has_value());
-    EXPECT_EQ(u.sourceTime, CanTime(std::chrono::seconds(100)));
+    EXPECT_EQ(u.source_time, CanTime(std::chrono::seconds(100)));
 
     ASSERT_TRUE(dec.decode(encode(*db, "NAV_Motion",
                                   {{"NAV_Heading", 271.25},
@@ -102,8 +102,8 @@ TEST(VehicleDecoder, OutOfRangeValuesAreRejectedAndCounted) {
     EXPECT_FALSE(dec.decode(encode(*db, "NAV_Position", {{"NAV_Latitude", -200.0}, {"NAV_Longitude", 200.0}}), u));
     EXPECT_EQ(dec.counters().rejected, 3U);
     EXPECT_EQ(dec.mappingStats()[0].rejected, 2U);
-    EXPECT_NE(dec.mappingStats()[0].lastRejection.find("outside the DBC range"), std::string::npos)
-        << dec.mappingStats()[0].lastRejection;
+    EXPECT_NE(dec.mappingStats()[0].last_rejection.find("outside the DBC range"), std::string::npos)
+        << dec.mappingStats()[0].last_rejection;
     // Heading 400 is outside [0|360].
     ASSERT_TRUE(dec.decode(encode(*db, "NAV_Motion", {{"NAV_Heading", 400}, {"NAV_Speed", 10}}), u));
     EXPECT_FALSE(u.get(VssSignal::Heading).has_value());
@@ -119,8 +119,8 @@ TEST(VehicleDecoder, ShortErrorAndRemoteFrames) {
     ASSERT_TRUE(dec.decode(f, u));
     EXPECT_TRUE(u.get(VssSignal::Latitude).has_value());
     EXPECT_FALSE(u.get(VssSignal::Longitude).has_value());
-    EXPECT_EQ(dec.counters().shortFrames, 1U);
-    EXPECT_NE(dec.mappingStats()[1].lastRejection.find("frame has 4 bytes"), std::string::npos);
+    EXPECT_EQ(dec.counters().short_frames, 1U);
+    EXPECT_NE(dec.mappingStats()[1].last_rejection.find("frame has 4 bytes"), std::string::npos);
     f.flags |= navmap::ipc::kCanRtr;
     EXPECT_FALSE(dec.decode(f, u));
     CanFrame err;
@@ -128,11 +128,11 @@ TEST(VehicleDecoder, ShortErrorAndRemoteFrames) {
     err.flags = navmap::ipc::kCanError;
     err.len = 8;
     EXPECT_FALSE(dec.decode(err, u));
-    EXPECT_EQ(dec.counters().ignoredFrames, 2U);
+    EXPECT_EQ(dec.counters().ignored_frames, 2U);
     CanFrame ext = encode(*db, "NAV_Position", {{"NAV_Latitude", 42.5}});
     ext.flags |= navmap::ipc::kCanExtended;  // 29-bit 0x6A0 is another frame
     EXPECT_FALSE(dec.decode(ext, u));
-    EXPECT_EQ(dec.counters().matchedFrames, 1U);
+    EXPECT_EQ(dec.counters().matched_frames, 1U);
 }
 
 TEST(VehicleDecoder, CounterGapsAreCounted) {
@@ -142,7 +142,7 @@ TEST(VehicleDecoder, CounterGapsAreCounted) {
     for (const int c : {14, 15, 0, 1, 4, 5}) {  // wraps at 16; 2 and 3 are lost
         ASSERT_TRUE(dec.decode(encode(*db, "NAV_Motion", {{"NAV_Counter", c}}), u));
     }
-    EXPECT_EQ(dec.counters().counterGaps, 2U);
+    EXPECT_EQ(dec.counters().counter_gaps, 2U);
 }
 
 TEST(SignalMap, TomlParsingAndErrors) {
@@ -166,7 +166,7 @@ unit = "deg/s"
     ASSERT_EQ(ok.value().mappings().size(), 2U);
     EXPECT_EQ(ok.value().mappings()[0].target, VssSignal::Speed);
     EXPECT_DOUBLE_EQ(ok.value().mappings()[0].scale, 0.5);
-    EXPECT_EQ(ok.value().mappings()[1].signSignal, "ESP_VZ_Gierrate");
+    EXPECT_EQ(ok.value().mappings()[1].sign_signal, "ESP_VZ_Gierrate");
 
     const std::pair<const char*, const char*> bad[] = {
         {"[[signal]]\nvss = \"Vehicle.Sped\"\nmessage=\"a\"\nsignal=\"b\"\n",
@@ -241,7 +241,7 @@ protected:
 
     struct Series {
         std::vector<double> speed;
-        std::vector<double> yawRadS;
+        std::vector<double> yaw_rad_s;
         std::vector<double> steer;
         std::uint64_t rejected = 0;
     };
@@ -264,7 +264,7 @@ protected:
                 s.speed.push_back(*v);
             }
             if (const auto v = u.get(VssSignal::YawRate)) {
-                s.yawRadS.push_back(*v * std::numbers::pi / 180.0);
+                s.yaw_rad_s.push_back(*v * std::numbers::pi / 180.0);
             }
             if (const auto v = u.get(VssSignal::SteeringWheelAngle)) {
                 s.steer.push_back(*v);
@@ -301,7 +301,7 @@ double meanOfLast(const std::vector<double>& v, std::size_t n) {
 // Expected values from tests/ipc/data/SOURCES.md (decoded speed, yaw rate, steering-wheel angle).
 struct SteadyLog {
     const char* file;
-    double speedMin, speedMax, yawMin, yawMax, steerMin, steerMax;
+    double speed_min, speed_max, yaw_min, yaw_max, steer_min, steer_max;
 };
 
 TEST_F(RealLogs, SteadySpeedLogsMatchTheirNames) {
@@ -316,14 +316,14 @@ TEST_F(RealLogs, SteadySpeedLogsMatchTheirNames) {
         SCOPED_TRACE(e.file);
         const Series s = decodeLog(e.file);
         ASSERT_GT(s.speed.size(), 50U);
-        EXPECT_NEAR(minOf(s.speed), e.speedMin, 0.06);
-        EXPECT_NEAR(maxOf(s.speed), e.speedMax, 0.06);
-        ASSERT_GT(s.yawRadS.size(), 50U);
-        EXPECT_NEAR(minOf(s.yawRadS), e.yawMin, 0.0006);
-        EXPECT_NEAR(maxOf(s.yawRadS), e.yawMax, 0.0006);
+        EXPECT_NEAR(minOf(s.speed), e.speed_min, 0.06);
+        EXPECT_NEAR(maxOf(s.speed), e.speed_max, 0.06);
+        ASSERT_GT(s.yaw_rad_s.size(), 50U);
+        EXPECT_NEAR(minOf(s.yaw_rad_s), e.yaw_min, 0.0006);
+        EXPECT_NEAR(maxOf(s.yaw_rad_s), e.yaw_max, 0.0006);
         ASSERT_GT(s.steer.size(), 50U);
-        EXPECT_NEAR(minOf(s.steer), e.steerMin, 0.06);
-        EXPECT_NEAR(maxOf(s.steer), e.steerMax, 0.06);
+        EXPECT_NEAR(minOf(s.steer), e.steer_min, 0.06);
+        EXPECT_NEAR(maxOf(s.steer), e.steer_max, 0.06);
         EXPECT_EQ(s.rejected, 0U);
     }
 }
@@ -335,8 +335,8 @@ TEST_F(RealLogs, AcceleratingAndBrakingLogs) {
     EXPECT_NEAR(maxOf(up.speed), 75.8, 0.06);
     EXPECT_LT(meanOfFirst(up.speed, 20), 30.0);
     EXPECT_GT(meanOfLast(up.speed, 20), 74.0);
-    EXPECT_NEAR(minOf(up.yawRadS), -0.028, 0.0006);
-    EXPECT_NEAR(maxOf(up.yawRadS), 0.019, 0.0006);
+    EXPECT_NEAR(minOf(up.yaw_rad_s), -0.028, 0.0006);
+    EXPECT_NEAR(maxOf(up.yaw_rad_s), 0.019, 0.0006);
 
     const Series down = decodeLog("ford_fusion_2017_acc_on_speed_changing_from_80km_to_30km_per_hour.candump");
     EXPECT_NEAR(maxOf(down.speed), 75.8, 0.06);
@@ -354,8 +354,8 @@ TEST_F(RealLogs, LkasLongTwoInterfacesComesToAStop) {
     const auto peak = std::max_element(s.speed.begin(), s.speed.end()) - s.speed.begin();
     EXPECT_LT(static_cast<double>(peak), 0.35 * static_cast<double>(s.speed.size()));
     EXPECT_DOUBLE_EQ(meanOfLast(s.speed, 20), 0.0);
-    EXPECT_NEAR(minOf(s.yawRadS), -0.035, 0.0006);
-    EXPECT_NEAR(maxOf(s.yawRadS), 0.018, 0.0006);
+    EXPECT_NEAR(minOf(s.yaw_rad_s), -0.035, 0.0006);
+    EXPECT_NEAR(maxOf(s.yaw_rad_s), 0.018, 0.0006);
     EXPECT_NEAR(minOf(s.steer), -39.2, 0.06);
     EXPECT_NEAR(maxOf(s.steer), 34.4, 0.06);
 }

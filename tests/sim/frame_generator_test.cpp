@@ -123,8 +123,8 @@ TEST(FrameGenerator, DecodesBackToTheDrive) {
     EXPECT_LE(max_heading_err, 0.0051);
     EXPECT_LE(max_yaw_err, 0.0051);
     EXPECT_EQ(dec.counters().rejected, 0U);
-    EXPECT_EQ(dec.counters().counterGaps, 0U);
-    EXPECT_EQ(dec.counters().shortFrames, 0U);
+    EXPECT_EQ(dec.counters().counter_gaps, 0U);
+    EXPECT_EQ(dec.counters().short_frames, 0U);
 }
 
 TEST(FrameGenerator, NoiseHasTheConfiguredSigma) {
@@ -210,7 +210,7 @@ TEST(FrameGenerator, DropoutsRemovePositionFramesAndReportNoFix) {
     const double total = g.stats.duration_s;
     EXPECT_NEAR(static_cast<double>(g.stats.by_kind[static_cast<int>(FrameKind::Position)]), (total - 12.0) * 10, 4.0);
     // Motion keeps its counter going through a dropout.
-    EXPECT_EQ(dec.counters().counterGaps, 0U);
+    EXPECT_EQ(dec.counters().counter_gaps, 0U);
 }
 
 TEST(FrameGenerator, BadFrameBurstsAppearAsConfigured) {
@@ -242,7 +242,7 @@ TEST(FrameGenerator, BadFrameBurstsAppearAsConfigured) {
             EXPECT_FALSE(s.get(ipc::VssSignal::Heading).has_value());
         }
     }
-    EXPECT_EQ(dec.counters().shortFrames, short_frames);
+    EXPECT_EQ(dec.counters().short_frames, short_frames);
     EXPECT_GE(dec.counters().rejected, range + dlc);
     // Bursts: consecutive bad frames 1 ms apart.
     std::size_t runs = 0;

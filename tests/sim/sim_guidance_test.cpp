@@ -80,7 +80,7 @@ TEST_F(SimGuidance, DefaultDriveManeuversCarryStreetNamesAndReachTheDaemonParser
         EXPECT_EQ(set.maneuvers[i].index, route.maneuvers[i].point);
         EXPECT_EQ(ipc::maneuverTypeName(set.maneuvers[i].type), route.maneuvers[i].type);
         EXPECT_EQ(set.maneuvers[i].text, route.maneuvers[i].text);
-        EXPECT_EQ(set.maneuvers[i].exitNumber.value_or(0), static_cast<std::uint32_t>(route.maneuvers[i].exit));
+        EXPECT_EQ(set.maneuvers[i].exit_number.value_or(0), static_cast<std::uint32_t>(route.maneuvers[i].exit));
     }
 }
 

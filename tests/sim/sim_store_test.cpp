@@ -110,7 +110,7 @@ TEST_F(SimStore, RoutesAndorraLaVellaToEncampAndDecodesBackOntoTheRoute) {
     EXPECT_LT(static_cast<double>(far),
               0.1 * static_cast<double>(positions));  // |N(0,s^2)| in 2D: P(r > 2s) = 13.5 %, less off-line
     EXPECT_EQ(dec.counters().rejected, 0U);
-    EXPECT_EQ(dec.counters().counterGaps, 0U);
+    EXPECT_EQ(dec.counters().counter_gaps, 0U);
     // Andorra la Vella lies at about 1020 m, Encamp at about 1260 m (SRTM terrain).
     EXPECT_GT(min_alt, 950.0);
     EXPECT_LT(max_alt, 1400.0);
@@ -124,7 +124,7 @@ TEST_F(SimStore, SetRouteMessageIsAcceptedByTheControlProtocol) {
     ASSERT_TRUE(parsed.command.has_value()) << parsed.error;
     const auto* set = std::get_if<ipc::SetRouteCommand>(&parsed.command->body);
     ASSERT_NE(set, nullptr);
-    EXPECT_EQ(set->routeId, "r1");
+    EXPECT_EQ(set->route_id, "r1");
     ASSERT_EQ(set->points.size(), sim.route().line.size());
     double lat = 0, lon = 0;
     sim.projection().reverse(sim.route().line.back().position, lat, lon);
@@ -242,11 +242,11 @@ TEST_P(ShippedDrives, ParseAndDecodeCleanly) {
     EXPECT_NEAR(static_cast<double>(motions), seconds * 50, seconds * 0.5 + 2);
     if (GetParam().faults) {
         EXPECT_GT(dec.counters().rejected, 0U);
-        EXPECT_GT(dec.counters().shortFrames, 0U);
+        EXPECT_GT(dec.counters().short_frames, 0U);
     } else {
         EXPECT_NEAR(static_cast<double>(positions), seconds * 10, seconds * 0.2 + 2);
         EXPECT_EQ(dec.counters().rejected, 0U);
-        EXPECT_EQ(dec.counters().counterGaps, 0U);
+        EXPECT_EQ(dec.counters().counter_gaps, 0U);
         EXPECT_EQ(inconsistent, 0U);
     }
 }

@@ -84,12 +84,12 @@ ForeignProcess::ForeignProcess(const ForeignUser& user, std::function<std::strin
         ::close(hold[1]);
         return;
     }
-    m_reportFd = report[0];
-    m_releaseFd = hold[1];
+    m_report_fd = report[0];
+    m_release_fd = hold[1];
 }
 
 std::string ForeignProcess::result(std::chrono::milliseconds timeout) {
-    if (m_haveResult || m_reportFd < 0) {
+    if (m_have_result || m_report_fd < 0) {
         return m_result;
     }
     const auto deadline = std::chrono::steady_clock::now() + timeout;
@@ -99,12 +99,12 @@ std::string ForeignProcess::result(std::chrono::milliseconds timeout) {
         if (left <= 0) {
             return m_result;
         }
-        pollfd p{m_reportFd, POLLIN, 0};
+        pollfd p{m_report_fd, POLLIN, 0};
         if (::poll(&p, 1, static_cast<int>(left)) <= 0) {
             continue;
         }
         char buf[4096];
-        const ssize_t n = ::read(m_reportFd, buf, sizeof(buf));
+        const ssize_t n = ::read(m_report_fd, buf, sizeof(buf));
         if (n > 0) {
             m_result.append(buf, static_cast<std::size_t>(n));
             continue;
@@ -112,24 +112,24 @@ std::string ForeignProcess::result(std::chrono::milliseconds timeout) {
         if (n < 0 && errno == EINTR) {
             continue;
         }
-        m_haveResult = true;  // EOF: the child wrote everything
-        ::close(m_reportFd);
-        m_reportFd = -1;
+        m_have_result = true;  // EOF: the child wrote everything
+        ::close(m_report_fd);
+        m_report_fd = -1;
         return m_result;
     }
 }
 
 void ForeignProcess::release() {
-    if (m_releaseFd >= 0) {
-        ::close(m_releaseFd);
-        m_releaseFd = -1;
+    if (m_release_fd >= 0) {
+        ::close(m_release_fd);
+        m_release_fd = -1;
     }
 }
 
 ForeignProcess::~ForeignProcess() {
     release();
-    if (m_reportFd >= 0) {
-        ::close(m_reportFd);
+    if (m_report_fd >= 0) {
+        ::close(m_report_fd);
     }
     if (m_pid <= 0) {
         return;

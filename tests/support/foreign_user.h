@@ -42,10 +42,10 @@ public:
 
 private:
     pid_t m_pid = -1;
-    int m_reportFd = -1;
-    int m_releaseFd = -1;
+    int m_report_fd = -1;
+    int m_release_fd = -1;
     std::string m_result;
-    bool m_haveResult = false;
+    bool m_have_result = false;
 };
 
 }  // namespace navmap::test

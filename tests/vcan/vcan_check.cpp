@@ -82,10 +82,10 @@ int main(int argc, char** argv) {
     }
 
     ipc::SocketCanOptions opt;
-    opt.interfaceName = iface;
-    opt.frameKeys = keys;
-    opt.backoffInitial = 50ms;
-    opt.backoffMaximum = 400ms;
+    opt.interface_name = iface;
+    opt.frame_keys = keys;
+    opt.backoff_initial = 50ms;
+    opt.backoff_maximum = 400ms;
     ipc::SocketCanSource rx(opt);
 
     double vmin = 1e9;
@@ -95,7 +95,7 @@ int main(int argc, char** argv) {
     ipc::CanTime firstStamp{};
     ipc::CanTime lastStamp{};
     bool monotonic = true;
-    std::size_t fdFrames = 0;
+    std::size_t fd_frames = 0;
     ipc::VehicleSample u;
     const auto sink = [&](const ipc::CanFrame& f) {
         ++frames;
@@ -103,7 +103,7 @@ int main(int argc, char** argv) {
             ++unmapped;
         }
         if (f.fd()) {
-            ++fdFrames;
+            ++fd_frames;
         }
         if (firstStamp == ipc::CanTime{}) {
             firstStamp = f.timestamp;
@@ -119,8 +119,8 @@ int main(int argc, char** argv) {
     };
     rx.poll(sink);
     check("open", rx.status().state == ipc::SocketCanStatus::State::Open,
-          "state=" + std::string(ipc::SocketCanStatus::stateName(rx.status().state)) + " " + rx.status().lastError +
-              " fd=" + (rx.status().fdEnabled ? "yes" : "no"));
+          "state=" + std::string(ipc::SocketCanStatus::stateName(rx.status().state)) + " " + rx.status().last_error +
+              " fd=" + (rx.status().fd_enabled ? "yes" : "no"));
 
     // 1. Real log through canplayer with its original timing.
     pid_t pid = 0;
@@ -160,11 +160,11 @@ int main(int argc, char** argv) {
     check(
         "speed", vmin > 102.6 && vmax < 103.8 && vmax > 102.6,
         "decoded Vehicle.Speed " + std::to_string(vmin) + ".." + std::to_string(vmax) + " km/h (expected 102.7-103.7)");
-    check("kernel_drops_none", rx.status().kernelDrops == 0, std::to_string(rx.status().kernelDrops));
+    check("kernel_drops_none", rx.status().kernel_drops == 0, std::to_string(rx.status().kernel_drops));
 
     // 2. Error frame (bus-off) and a CAN FD frame through a second socket.
     ipc::SocketCanOptions txOpt;
-    txOpt.interfaceName = iface;
+    txOpt.interface_name = iface;
     ipc::SocketCanSource tx(txOpt);
     tx.poll([](const ipc::CanFrame&) {});
     ipc::CanFrame err;
@@ -187,18 +187,18 @@ int main(int argc, char** argv) {
         rx.waitReadable(20ms);
         rx.poll(sink);
     }
-    check("error_frame", errSent.ok() && rx.status().busOff == 1 && rx.status().controllerProblems == 1,
-          (errSent.ok() ? std::string() : errSent.message() + " ") + "busOff=" + std::to_string(rx.status().busOff) +
-              " last='" + rx.status().lastErrorFrame + "'");
+    check("error_frame", errSent.ok() && rx.status().bus_off == 1 && rx.status().controller_problems == 1,
+          (errSent.ok() ? std::string() : errSent.message() + " ") + "busOff=" + std::to_string(rx.status().bus_off) +
+              " last='" + rx.status().last_error_frame + "'");
     const auto lat = decoder.latest().get(ipc::VssSignal::Latitude);
-    check("can_fd", fdSent.ok() && fdFrames == 1 && lat && std::abs(*lat - 42.623636) < 1e-6,
-          (fdSent.ok() ? std::string() : fdSent.message() + " ") + "fd frames " + std::to_string(fdFrames));
+    check("can_fd", fdSent.ok() && fd_frames == 1 && lat && std::abs(*lat - 42.623636) < 1e-6,
+          (fdSent.ok() ? std::string() : fdSent.message() + " ") + "fd frames " + std::to_string(fd_frames));
 
     // 3. Kernel drop counting: a receiver with a tiny buffer that does not read while 2000 frames
     //    are sent.
     ipc::SocketCanOptions smallOpt;
-    smallOpt.interfaceName = iface;
-    smallOpt.receiveBufferBytes = 1;  // the kernel rounds up to its minimum
+    smallOpt.interface_name = iface;
+    smallOpt.receive_buffer_bytes = 1;  // the kernel rounds up to its minimum
     ipc::SocketCanSource small(smallOpt);
     small.poll([](const ipc::CanFrame&) {});
     ipc::CanFrame burst;
@@ -216,11 +216,11 @@ int main(int argc, char** argv) {
     sentOk += tx.send(burst).ok() ? 1 : 0;
     small.waitReadable(100ms);
     small.poll([&](const ipc::CanFrame&) { ++smallFrames; }, 5000);
-    check(
-        "kernel_drops",
-        small.status().kernelDrops > 0 && smallFrames + small.status().kernelDrops == static_cast<std::size_t>(sentOk),
-        "sent " + std::to_string(sentOk) + ", read " + std::to_string(smallFrames) + ", SO_RXQ_OVFL drops " +
-            std::to_string(small.status().kernelDrops));
+    check("kernel_drops",
+          small.status().kernel_drops > 0 &&
+              smallFrames + small.status().kernel_drops == static_cast<std::size_t>(sentOk),
+          "sent " + std::to_string(sentOk) + ", read " + std::to_string(smallFrames) + ", SO_RXQ_OVFL drops " +
+              std::to_string(small.status().kernel_drops));
     rx.poll([](const ipc::CanFrame&) {}, 100000);  // drain
 
     // 4. Interface down and up again: the source re-opens with backoff.
@@ -230,7 +230,7 @@ int main(int argc, char** argv) {
         std::this_thread::sleep_for(10ms);
     }
     const auto downState = rx.status().state;
-    const std::string downError = rx.status().lastError;
+    const std::string downError = rx.status().last_error;
     run("ip link set " + iface + " up");
     for (int i = 0; i < 100 && rx.status().state != ipc::SocketCanStatus::State::Open; ++i) {
         rx.waitReadable(20ms);
@@ -249,7 +249,7 @@ int main(int argc, char** argv) {
     check("reopen",
           downState == ipc::SocketCanStatus::State::Retrying && rx.status().opens >= 2 && frames == before + 1,
           "after down: " + std::string(ipc::SocketCanStatus::stateName(downState)) + " '" + downError + "'; opens=" +
-              std::to_string(rx.status().opens) + " openFailures=" + std::to_string(rx.status().openFailures) +
+              std::to_string(rx.status().opens) + " openFailures=" + std::to_string(rx.status().open_failures) +
               " frame after up: " + (frames == before + 1 ? "yes" : "no"));
 
     std::printf("VCAN_SUMMARY failures=%d\n", g_failures);

@@ -34,11 +34,11 @@ bool drivable(const map::GraphEdge& e) {
 
 }  // namespace
 
-double matchConfidence(double distanceM, double headingDiffDeg, bool useHeading, const VehicleStateConfig& cfg) {
-    const double zd = distanceM / cfg.matchSigmaM;
+double matchConfidence(double distance_m, double headingDiffDeg, bool useHeading, const VehicleStateConfig& cfg) {
+    const double zd = distance_m / cfg.match_sigma_m;
     double c = std::exp(-0.5 * zd * zd);
     if (useHeading) {
-        const double zh = headingDiffDeg / cfg.matchSigmaHeadingDeg;
+        const double zh = headingDiffDeg / cfg.match_sigma_heading_deg;
         c *= std::exp(-0.5 * zh * zh);
     }
     return c;
@@ -49,7 +49,7 @@ MapMatcher::MapMatcher(std::shared_ptr<const map::RoadGraph> graph, double cellM
     const auto& g = *m_graph;
     double maxX = -std::numeric_limits<double>::infinity();
     double maxY = maxX;
-    m_minX = m_minY = std::numeric_limits<double>::infinity();
+    m_min_x = m_min_y = std::numeric_limits<double>::infinity();
     for (std::uint32_t e = 0; e < g.edges.size(); ++e) {
         const auto& edge = g.edges[e];
         if (!drivable(edge) || edge.shape_end > g.shape.size() || edge.shape_end < edge.shape_begin + 2) {
@@ -62,8 +62,8 @@ MapMatcher::MapMatcher(std::shared_ptr<const map::RoadGraph> graph, double cellM
             if (rev) std::swap(a, b);
             if (a.x == b.x && a.y == b.y) continue;
             m_segments.push_back({a, b, e});
-            m_minX = std::min({m_minX, a.x, b.x});
-            m_minY = std::min({m_minY, a.y, b.y});
+            m_min_x = std::min({m_min_x, a.x, b.x});
+            m_min_y = std::min({m_min_y, a.y, b.y});
             maxX = std::max({maxX, a.x, b.x});
             maxY = std::max({maxY, a.y, b.y});
         }
@@ -75,47 +75,47 @@ MapMatcher::MapMatcher(std::shared_ptr<const map::RoadGraph> graph, double cellM
     // A graph spanning a continent gets coarser cells, not a grid of billions (decoded graphs
     // have finite coordinates within +-4e7 m).
     constexpr double kMaxCells = 4.0 * 1024 * 1024;
-    while (((maxX - m_minX) / m_cell + 1) * ((maxY - m_minY) / m_cell + 1) > kMaxCells) m_cell *= 2;
-    m_cols = static_cast<int>((maxX - m_minX) / m_cell) + 1;
-    m_rows = static_cast<int>((maxY - m_minY) / m_cell) + 1;
+    while (((maxX - m_min_x) / m_cell + 1) * ((maxY - m_min_y) / m_cell + 1) > kMaxCells) m_cell *= 2;
+    m_cols = static_cast<int>((maxX - m_min_x) / m_cell) + 1;
+    m_rows = static_cast<int>((maxY - m_min_y) / m_cell) + 1;
     const auto cells = static_cast<std::size_t>(m_cols) * static_cast<std::size_t>(m_rows);
     std::vector<std::uint32_t> count(cells + 1, 0);
     const auto forCells = [&](const Seg& s, auto&& fn) {
-        const int c0 = static_cast<int>((std::min(s.a.x, s.b.x) - m_minX) / m_cell);
-        const int c1 = static_cast<int>((std::max(s.a.x, s.b.x) - m_minX) / m_cell);
-        const int r0 = static_cast<int>((std::min(s.a.y, s.b.y) - m_minY) / m_cell);
-        const int r1 = static_cast<int>((std::max(s.a.y, s.b.y) - m_minY) / m_cell);
+        const int c0 = static_cast<int>((std::min(s.a.x, s.b.x) - m_min_x) / m_cell);
+        const int c1 = static_cast<int>((std::max(s.a.x, s.b.x) - m_min_x) / m_cell);
+        const int r0 = static_cast<int>((std::min(s.a.y, s.b.y) - m_min_y) / m_cell);
+        const int r1 = static_cast<int>((std::max(s.a.y, s.b.y) - m_min_y) / m_cell);
         for (int r = r0; r <= r1; ++r)
             for (int c = c0; c <= c1; ++c) fn(static_cast<std::size_t>(r) * m_cols + static_cast<std::size_t>(c));
     };
     for (const auto& s : m_segments) forCells(s, [&](std::size_t cell) { ++count[cell + 1]; });
     for (std::size_t i = 1; i <= cells; ++i) count[i] += count[i - 1];
-    m_cellStart = count;
-    m_cellSegs.resize(count[cells]);
+    m_cell_start = count;
+    m_cell_segs.resize(count[cells]);
     for (std::uint32_t i = 0; i < m_segments.size(); ++i) {
-        forCells(m_segments[i], [&](std::size_t cell) { m_cellSegs[count[cell]++] = i; });
+        forCells(m_segments[i], [&](std::size_t cell) { m_cell_segs[count[cell]++] = i; });
     }
 }
 
-std::optional<RoadMatch> MapMatcher::match(map::PlanarPoint p, std::optional<double> headingDeg,
+std::optional<RoadMatch> MapMatcher::match(map::PlanarPoint p, std::optional<double> heading_deg,
                                            std::optional<std::uint32_t> previousEdge,
                                            const VehicleStateConfig& cfg) const {
     if (m_segments.empty() || !std::isfinite(p.x) || !std::isfinite(p.y)) {
         return std::nullopt;
     }
     const auto& g = *m_graph;
-    const double r = cfg.matchRadiusM;
-    const int c0 = std::max(0, static_cast<int>(std::floor((p.x - r - m_minX) / m_cell)));
-    const int c1 = std::min(m_cols - 1, static_cast<int>(std::floor((p.x + r - m_minX) / m_cell)));
-    const int r0 = std::max(0, static_cast<int>(std::floor((p.y - r - m_minY) / m_cell)));
-    const int r1 = std::min(m_rows - 1, static_cast<int>(std::floor((p.y + r - m_minY) / m_cell)));
+    const double r = cfg.match_radius_m;
+    const int c0 = std::max(0, static_cast<int>(std::floor((p.x - r - m_min_x) / m_cell)));
+    const int c1 = std::min(m_cols - 1, static_cast<int>(std::floor((p.x + r - m_min_x) / m_cell)));
+    const int r0 = std::max(0, static_cast<int>(std::floor((p.y - r - m_min_y) / m_cell)));
+    const int r1 = std::min(m_rows - 1, static_cast<int>(std::floor((p.y + r - m_min_y) / m_cell)));
     std::optional<RoadMatch> best;
     const map::GraphEdge* prev = previousEdge && *previousEdge < g.edges.size() ? &g.edges[*previousEdge] : nullptr;
     for (int row = r0; row <= r1; ++row) {
         for (int col = c0; col <= c1; ++col) {
             const auto cell = static_cast<std::size_t>(row) * m_cols + static_cast<std::size_t>(col);
-            for (auto k = m_cellStart[cell]; k < m_cellStart[cell + 1]; ++k) {
-                const Seg& s = m_segments[m_cellSegs[k]];
+            for (auto k = m_cell_start[cell]; k < m_cell_start[cell + 1]; ++k) {
+                const Seg& s = m_segments[m_cell_segs[k]];
                 const double dx = s.b.x - s.a.x, dy = s.b.y - s.a.y;
                 const double len2 = dx * dx + dy * dy;
                 const double t = std::clamp(((p.x - s.a.x) * dx + (p.y - s.a.y) * dy) / len2, 0.0, 1.0);
@@ -123,21 +123,21 @@ std::optional<RoadMatch> MapMatcher::match(map::PlanarPoint p, std::optional<dou
                 const double d = std::hypot(p.x - q.x, p.y - q.y);
                 if (d > r) continue;
                 const double segHeading = headingOf(s.a, s.b);
-                const double dh = headingDeg ? angleDiff(*headingDeg, segHeading) : 0.0;
-                const double zd = d / cfg.matchSigmaM;
-                const double zh = dh / cfg.matchSigmaHeadingDeg;
-                double score = zd * zd + (headingDeg ? zh * zh : 0.0);
+                const double dh = heading_deg ? angleDiff(*heading_deg, segHeading) : 0.0;
+                const double zd = d / cfg.match_sigma_m;
+                const double zh = dh / cfg.match_sigma_heading_deg;
+                double score = zd * zd + (heading_deg ? zh * zh : 0.0);
                 if (prev != nullptr) {
                     const auto& e = g.edges[s.edge];
                     if (s.edge == *previousEdge) {
-                        score -= cfg.hysteresisBonus;
+                        score -= cfg.hysteresis_bonus;
                     } else if (e.from == prev->to || e.way_id == prev->way_id) {
-                        score -= cfg.connectedBonus;
+                        score -= cfg.connected_bonus;
                     }
                 }
                 if (!best || score < best->score) {
-                    best =
-                        RoadMatch{s.edge, q, segHeading, d, matchConfidence(d, dh, headingDeg.has_value(), cfg), score};
+                    best = RoadMatch{s.edge, q, segHeading, d, matchConfidence(d, dh, heading_deg.has_value(), cfg),
+                                     score};
                 }
             }
         }

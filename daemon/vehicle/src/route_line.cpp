@@ -26,7 +26,7 @@ RouteLine::RouteLine(std::string id, const std::vector<map::PlanarPoint>& points
     }
 }
 
-std::optional<RouteMatch> RouteLine::match(map::PlanarPoint p, std::optional<double> headingDeg,
+std::optional<RouteMatch> RouteLine::match(map::PlanarPoint p, std::optional<double> heading_deg,
                                            std::optional<double> previousMeasure, const VehicleStateConfig& cfg) const {
     std::optional<RouteMatch> best;
     double bestScore = 0.0;
@@ -38,19 +38,19 @@ std::optional<RouteMatch> RouteLine::match(map::PlanarPoint p, std::optional<dou
         const double t = std::clamp(((p.x - a.x) * dx + (p.y - a.y) * dy) / len2, 0.0, 1.0);
         const map::PlanarPoint q{a.x + t * dx, a.y + t * dy};
         const double d = std::hypot(p.x - q.x, p.y - q.y);
-        if (d > cfg.matchRadiusM) continue;
+        if (d > cfg.match_radius_m) continue;
         double h = std::atan2(dx, dy) * kRadToDeg;
         if (h < 0) h += 360.0;
         double dh = 0.0;
-        if (headingDeg) {
-            dh = std::fmod(*headingDeg - h, 360.0);
+        if (heading_deg) {
+            dh = std::fmod(*heading_deg - h, 360.0);
             if (dh > 180.0) dh -= 360.0;
             if (dh < -180.0) dh += 360.0;
         }
         const double measure = m_measures[i] + t * std::sqrt(len2);
-        const double zd = d / cfg.matchSigmaM;
-        const double zh = dh / cfg.matchSigmaHeadingDeg;
-        double score = zd * zd + (headingDeg ? zh * zh : 0.0);
+        const double zd = d / cfg.match_sigma_m;
+        const double zh = dh / cfg.match_sigma_heading_deg;
+        double score = zd * zd + (heading_deg ? zh * zh : 0.0);
         if (previousMeasure) {
             // Far along the route from the previous match: unlikely (100 m ~ one sigma).
             const double jump = (measure - *previousMeasure) / 100.0;
@@ -58,7 +58,7 @@ std::optional<RouteMatch> RouteLine::match(map::PlanarPoint p, std::optional<dou
         }
         if (!best || score < bestScore) {
             bestScore = score;
-            best = RouteMatch{q, h, measure, d, matchConfidence(d, dh, headingDeg.has_value(), cfg)};
+            best = RouteMatch{q, h, measure, d, matchConfidence(d, dh, heading_deg.has_value(), cfg)};
         }
     }
     return best;

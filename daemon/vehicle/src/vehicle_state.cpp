@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 // Pose evaluation over an immutable snapshot: dead reckoning from the newest fused anchor (or
-// interpolation between two anchors for a past time), the fix correction faded in over blendS so
+// interpolation between two anchors for a past time), the fix correction faded in over blend_s so
 // the marker never jumps, then map matching with a confidence-weighted snap.
 
 #include "navmap/daemon/vehicle/vehicle_state.h"
@@ -41,8 +41,8 @@ void motionAt(const std::vector<MotionSample>& m, ipc::CanTime tau, double holdS
     }
     if (tau >= m.back().time) {
         const bool held = seconds(m.back().time, tau) <= holdS;
-        v = held ? m.back().speedMps : 0.0;
-        w = held ? m.back().headingRateRadS : 0.0;
+        v = held ? m.back().speed_mps : 0.0;
+        w = held ? m.back().heading_rate_rad_s : 0.0;
         return;
     }
     hint = std::min(hint, m.size() - 1);
@@ -52,8 +52,8 @@ void motionAt(const std::vector<MotionSample>& m, ipc::CanTime tau, double holdS
     const auto& b = m[hint + 1];
     const double span = seconds(a.time, b.time);
     const double f = span > 0 ? seconds(a.time, tau) / span : 0.0;
-    v = a.speedMps + f * (b.speedMps - a.speedMps);
-    w = a.headingRateRadS + f * (b.headingRateRadS - a.headingRateRadS);
+    v = a.speed_mps + f * (b.speed_mps - a.speed_mps);
+    w = a.heading_rate_rad_s + f * (b.heading_rate_rad_s - a.heading_rate_rad_s);
 }
 
 ipc::CanTime newestMotionAtOrBefore(const std::vector<MotionSample>& m, ipc::CanTime t) {
@@ -65,13 +65,13 @@ ipc::CanTime newestMotionAtOrBefore(const std::vector<MotionSample>& m, ipc::Can
 }  // namespace
 
 void deadReckon(const std::vector<MotionSample>& motion, ipc::CanTime from, ipc::CanTime to, double holdS,
-                double fallbackSpeed, double& x, double& y, double& headingRad, double& speedMps) {
+                double fallbackSpeed, double& x, double& y, double& heading_rad, double& speed_mps) {
     const double total = seconds(from, to);
     std::size_t hint = 0;
     double v = 0.0, w = 0.0;
     if (total <= 0.0) {
         motionAt(motion, from, holdS, fallbackSpeed, hint, v, w);
-        speedMps = v;
+        speed_mps = v;
         return;
     }
     const int steps = std::max(1, static_cast<int>(std::ceil(total / 0.02)));
@@ -81,13 +81,13 @@ void deadReckon(const std::vector<MotionSample>& motion, ipc::CanTime from, ipc:
         const auto mid =
             from + std::chrono::duration_cast<ipc::CanTime::duration>(std::chrono::duration<double>((i + 0.5) * dt));
         motionAt(motion, mid, holdS, fallbackSpeed, hint, v, w);
-        const double hMid = headingRad + 0.5 * w * dt;
+        const double hMid = heading_rad + 0.5 * w * dt;
         x += v * dt * std::sin(hMid);
         y += v * dt * std::cos(hMid);
-        headingRad += w * dt;
+        heading_rad += w * dt;
     }
     motionAt(motion, to, holdS, fallbackSpeed, hint, v, w);
-    speedMps = v;
+    speed_mps = v;
 }
 
 EstimatedPose VehicleState::compute(const Parts& p, ipc::CanTime t) {
@@ -104,19 +104,19 @@ EstimatedPose VehicleState::compute(const Parts& p, ipc::CanTime t) {
     if (t >= last.time || p.anchors.size() == 1) {
         // Present: dead reckoning from the newest anchor, the correction faded in.
         const auto limit = last.time + std::chrono::duration_cast<ipc::CanTime::duration>(
-                                           std::chrono::duration<double>(cfg.maxDeadReckoningS));
+                                           std::chrono::duration<double>(cfg.max_dead_reckoning_s));
         const auto tEff = std::clamp(t, last.time, limit);
         x = last.x;
         y = last.y;
-        h = last.headingRad;
-        deadReckon(p.motion, last.time, tEff, cfg.motionTimeoutS, last.speedMps, x, y, h, v);
-        const double fade = cfg.blendS > 0 ? std::max(0.0, 1.0 - seconds(last.time, tEff) / cfg.blendS) : 0.0;
-        x += last.jumpX * fade;
-        y += last.jumpY * fade;
-        h += last.jumpHeadingRad * fade;
+        h = last.heading_rad;
+        deadReckon(p.motion, last.time, tEff, cfg.motion_timeout_s, last.speed_mps, x, y, h, v);
+        const double fade = cfg.blend_s > 0 ? std::max(0.0, 1.0 - seconds(last.time, tEff) / cfg.blend_s) : 0.0;
+        x += last.jump_x * fade;
+        y += last.jump_y * fade;
+        h += last.jump_heading_rad * fade;
     } else if (t <= p.anchors.front().time) {
         const auto& a = p.anchors.front();
-        x = a.x, y = a.y, h = a.headingRad, v = a.speedMps;
+        x = a.x, y = a.y, h = a.heading_rad, v = a.speed_mps;
         anchorTime = a.time;
     } else {
         // Past: dead reckoning from the anchor before t, the closure error to the next anchor
@@ -126,71 +126,72 @@ EstimatedPose VehicleState::compute(const Parts& p, ipc::CanTime t) {
         const PoseAnchor& a = *std::prev(it);
         const PoseAnchor& b = *it;
         anchorTime = a.time;
-        x = a.x, y = a.y, h = a.headingRad;
-        deadReckon(p.motion, a.time, t, cfg.motionTimeoutS, a.speedMps, x, y, h, v);
-        double qx = a.x, qy = a.y, qh = a.headingRad, qv = 0;
-        deadReckon(p.motion, a.time, b.time, cfg.motionTimeoutS, a.speedMps, qx, qy, qh, qv);
+        x = a.x, y = a.y, h = a.heading_rad;
+        deadReckon(p.motion, a.time, t, cfg.motion_timeout_s, a.speed_mps, x, y, h, v);
+        double qx = a.x, qy = a.y, qh = a.heading_rad, qv = 0;
+        deadReckon(p.motion, a.time, b.time, cfg.motion_timeout_s, a.speed_mps, qx, qy, qh, qv);
         const double f = seconds(a.time, t) / seconds(a.time, b.time);
         x += f * (b.x - qx);
         y += f * (b.y - qy);
-        h += f * wrapPi(b.headingRad - qh);
+        h += f * wrapPi(b.heading_rad - qh);
     }
     pose.valid = true;
-    pose.rawX = x;
-    pose.rawY = y;
+    pose.raw_x = x;
+    pose.raw_y = y;
     pose.x = x;
     pose.y = y;
-    pose.headingDeg = wrapDeg360(h * kRadToDeg);
-    pose.speedMps = v;
-    pose.sinceFixS = std::max(0.0, seconds(last.time, t));
-    pose.stale = pose.sinceFixS > cfg.gnssTimeoutS;
-    pose.sourceTime = std::max(std::min(anchorTime, t), newestMotionAtOrBefore(p.motion, t));
+    pose.heading_deg = wrapDeg360(h * kRadToDeg);
+    pose.speed_mps = v;
+    pose.since_fix_s = std::max(0.0, seconds(last.time, t));
+    pose.stale = pose.since_fix_s > cfg.gnss_timeout_s;
+    pose.source_time = std::max(std::min(anchorTime, t), newestMotionAtOrBefore(p.motion, t));
 
     // Map matching: the route first, the road graph otherwise (not from the seed; docs/vehicle-state.md "Map
     // matching").
-    const std::optional<double> heading =
-        p.headingKnown && std::abs(v) >= cfg.headingMinSpeedMps ? std::optional<double>(pose.headingDeg) : std::nullopt;
+    const std::optional<double> heading = p.heading_known && std::abs(v) >= cfg.heading_min_speed_mps
+                                              ? std::optional<double>(pose.heading_deg)
+                                              : std::nullopt;
     const map::PlanarPoint raw{x, y};
     std::optional<RouteMatch> rm;
     if (p.route) {
-        rm = p.route->match(raw, heading, p.routeMeasure, cfg);
+        rm = p.route->match(raw, heading, p.route_measure, cfg);
     }
     std::optional<RoadMatch> road;
     if (p.matcher) {
-        road = p.matcher->match(raw, heading, p.matchedEdge, cfg);
+        road = p.matcher->match(raw, heading, p.matched_edge, cfg);
     }
     map::PlanarPoint target{};
     double targetHeading = 0.0;
     double conf = 0.0;
-    if (rm && (!road || rm->confidence * std::exp(0.5 * cfg.routeBonus) >= road->confidence)) {
+    if (rm && (!road || rm->confidence * std::exp(0.5 * cfg.route_bonus) >= road->confidence)) {
         target = rm->point;
-        targetHeading = rm->headingDeg;
+        targetHeading = rm->heading_deg;
         conf = rm->confidence;
     } else if (road) {
         target = road->point;
-        targetHeading = road->headingDeg;
+        targetHeading = road->heading_deg;
         conf = road->confidence;
     }
     if (road) {
         pose.edge = road->edge;
     }
-    if (rm && rm->confidence >= cfg.snapMinConfidence) {
-        pose.onRoute = true;
-        pose.routeDrivenM = rm->measureM;
-        pose.routeRemainingM = std::max(0.0, p.route->lengthM() - rm->measureM);
+    if (rm && rm->confidence >= cfg.snap_min_confidence) {
+        pose.on_route = true;
+        pose.route_driven_m = rm->measure_m;
+        pose.route_remaining_m = std::max(0.0, p.route->lengthM() - rm->measure_m);
     }
-    pose.matchConfidence = conf;
-    const double span = cfg.snapFullConfidence - cfg.snapMinConfidence;
+    pose.match_confidence = conf;
+    const double span = cfg.snap_full_confidence - cfg.snap_min_confidence;
     const double wSnap =
-        span > 0 ? std::clamp((conf - cfg.snapMinConfidence) / span, 0.0, 1.0) : (conf > 0 ? 1.0 : 0.0);
-    pose.snapWeight = wSnap;
+        span > 0 ? std::clamp((conf - cfg.snap_min_confidence) / span, 0.0, 1.0) : (conf > 0 ? 1.0 : 0.0);
+    pose.snap_weight = wSnap;
     if (wSnap > 0) {
         pose.x = x + wSnap * (target.x - x);
         pose.y = y + wSnap * (target.y - y);
         // The heading stays the fused one: road polylines turn in steps at their vertices,
         // the gyro-driven heading does not.
     }
-    pose.roadHeadingDeg = conf > 0 ? std::optional<double>(targetHeading) : std::nullopt;
+    pose.road_heading_deg = conf > 0 ? std::optional<double>(targetHeading) : std::nullopt;
     return pose;
 }
 

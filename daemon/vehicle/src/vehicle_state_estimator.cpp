@@ -48,12 +48,12 @@ VehicleStateEstimator::VehicleStateEstimator(map::Projection projection, std::sh
 
 void VehicleStateEstimator::reject(std::uint64_t& counter, std::string why) {
     ++counter;
-    m_counters.lastRejection = std::move(why);
+    m_counters.last_rejection = std::move(why);
 }
 
 void VehicleStateEstimator::setRoute(std::shared_ptr<const RouteLine> route) {
     m_state.route = std::move(route);
-    m_state.routeMeasure.reset();
+    m_state.route_measure.reset();
     changed();
 }
 
@@ -73,7 +73,7 @@ void VehicleStateEstimator::addSample(const ipc::VehicleSample& u) {
         m_heading = {{*h, u.timeOf(VssSignal::Heading)}};
     }
     if (const auto f = u.get(VssSignal::FixType)) {
-        m_fixType = {{*f, u.timeOf(VssSignal::FixType)}};
+        m_fix_type = {{*f, u.timeOf(VssSignal::FixType)}};
     }
     if (const auto lat = u.get(VssSignal::Latitude)) {
         m_lat = {{*lat, u.timeOf(VssSignal::Latitude)}};
@@ -85,7 +85,7 @@ void VehicleStateEstimator::addSample(const ipc::VehicleSample& u) {
         const auto t = std::max(m_lat->second, m_lon->second);
         std::optional<double> heading, fixType;
         if (m_heading && std::abs(seconds(m_heading->second, t)) <= kEpochS) heading = m_heading->first;
-        if (m_fixType && std::abs(seconds(m_fixType->second, t)) <= kEpochS) fixType = m_fixType->first;
+        if (m_fix_type && std::abs(seconds(m_fix_type->second, t)) <= kEpochS) fixType = m_fix_type->first;
         const double lat = m_lat->first, lon = m_lon->first;
         m_lat.reset();
         m_lon.reset();
@@ -101,28 +101,28 @@ void VehicleStateEstimator::addMotion(const ipc::VehicleSample& u) {
         const auto v = u.get(sig);
         if (!v) continue;
         if (!std::isfinite(*v)) {
-            reject(m_counters.rejectedNaN, std::string(ipc::vssName(sig)) + ": not a finite number");
+            reject(m_counters.rejected_nan, std::string(ipc::vssName(sig)) + ": not a finite number");
             return;
         }
         if (*v < ipc::vssMinimum(sig) || *v > ipc::vssMaximum(sig)) {
-            reject(m_counters.rejectedRange, std::string(ipc::vssName(sig)) + ": " +
-                                                 fmt("%g out of range [%g, ", *v, ipc::vssMinimum(sig)) +
-                                                 fmt("%g]", ipc::vssMaximum(sig)));
+            reject(m_counters.rejected_range, std::string(ipc::vssName(sig)) + ": " +
+                                                  fmt("%g out of range [%g, ", *v, ipc::vssMinimum(sig)) +
+                                                  fmt("%g]", ipc::vssMaximum(sig)));
             return;
         }
         t = std::max(t, u.timeOf(sig));
     }
     if (!m_state.motion.empty() && t < m_state.motion.back().time) {
-        reject(m_counters.rejectedOrder, "motion sample older than the previous one");
+        reject(m_counters.rejected_order, "motion sample older than the previous one");
         return;
     }
     if (const auto v = u.get(VssSignal::Speed)) {
-        s.speedMps = *v / 3.6;
+        s.speed_mps = *v / 3.6;
     }
     if (const auto w = u.get(VssSignal::YawRate)) {
         // VSS/ISO 8855: positive yaw = counter-clockwise; our heading turns clockwise.
-        s.headingRateRadS = (m_state.config.yawRatePositiveLeft ? -*w : *w) * kDegToRad;
-        m_lastYawTime = u.timeOf(VssSignal::YawRate);
+        s.heading_rate_rad_s = (m_state.config.yaw_rate_positive_left ? -*w : *w) * kDegToRad;
+        m_last_yaw_time = u.timeOf(VssSignal::YawRate);
     }
     s.time = t;
     if (!m_state.motion.empty() && m_state.motion.back().time == t) {
@@ -130,7 +130,7 @@ void VehicleStateEstimator::addMotion(const ipc::VehicleSample& u) {
     } else {
         m_state.motion.push_back(s);
     }
-    ++m_counters.motionSamples;
+    ++m_counters.motion_samples;
     prune();
     if (m_state.motion.size() % 5 == 0) {
         updateMatch(t);  // hysteresis state follows the vehicle between fixes (10 Hz at 50 Hz input)
@@ -138,125 +138,125 @@ void VehicleStateEstimator::addMotion(const ipc::VehicleSample& u) {
     changed();
 }
 
-void VehicleStateEstimator::relocate(ipc::CanTime t, map::PlanarPoint p, std::optional<double> headingDeg) {
+void VehicleStateEstimator::relocate(ipc::CanTime t, map::PlanarPoint p, std::optional<double> heading_deg) {
     PoseAnchor a;
     a.time = t;
     a.x = p.x;
     a.y = p.y;
-    if (headingDeg) {
-        a.headingRad = *headingDeg * kDegToRad;
-        m_state.headingKnown = true;
+    if (heading_deg) {
+        a.heading_rad = *heading_deg * kDegToRad;
+        m_state.heading_known = true;
     } else if (!m_state.anchors.empty()) {
-        a.headingRad = m_state.anchors.back().headingRad;
+        a.heading_rad = m_state.anchors.back().heading_rad;
     }
     double x = 0, y = 0, h = 0, v = 0;
-    deadReckon(m_state.motion, t, t, m_state.config.motionTimeoutS, 0.0, x, y, h, v);
-    a.speedMps = v;
+    deadReckon(m_state.motion, t, t, m_state.config.motion_timeout_s, 0.0, x, y, h, v);
+    a.speed_mps = v;
     if (!m_state.anchors.empty()) {
         ++m_counters.relocations;
     }
     m_state.anchors.clear();
     m_state.anchors.push_back(a);
-    m_state.matchedEdge.reset();
-    m_state.routeMeasure.reset();
-    m_consecutiveJumps = 0;
+    m_state.matched_edge.reset();
+    m_state.route_measure.reset();
+    m_consecutive_jumps = 0;
 }
 
-void VehicleStateEstimator::addFix(ipc::CanTime t, double lat, double lon, std::optional<double> headingDeg,
+void VehicleStateEstimator::addFix(ipc::CanTime t, double lat, double lon, std::optional<double> heading_deg,
                                    std::optional<double> fixType) {
     const auto& cfg = m_state.config;
     if (!std::isfinite(lat) || !std::isfinite(lon)) {
-        reject(m_counters.rejectedNaN, "GNSS fix: latitude/longitude not finite");
+        reject(m_counters.rejected_nan, "GNSS fix: latitude/longitude not finite");
         return;
     }
     if (lat < -90.0 || lat > 90.0 || lon < -180.0 || lon > 180.0) {
-        reject(m_counters.rejectedRange, fmt("GNSS fix: latitude %g / longitude %g out of range", lat, lon));
+        reject(m_counters.rejected_range, fmt("GNSS fix: latitude %g / longitude %g out of range", lat, lon));
         return;
     }
     if (fixType && *fixType < 0.5) {
-        reject(m_counters.rejectedNoFix, "GNSS fix: fix type NONE");
+        reject(m_counters.rejected_no_fix, "GNSS fix: fix type NONE");
         return;
     }
-    if (headingDeg && (!std::isfinite(*headingDeg) || *headingDeg < 0.0 || *headingDeg > 360.0)) {
-        headingDeg.reset();  // position still usable; the course is not
+    if (heading_deg && (!std::isfinite(*heading_deg) || *heading_deg < 0.0 || *heading_deg > 360.0)) {
+        heading_deg.reset();  // position still usable; the course is not
     }
     const map::PlanarPoint p = m_projection.forward(lat, lon);
     const double fromOrigin = std::hypot(p.x, p.y);
-    if (!std::isfinite(fromOrigin) || fromOrigin > cfg.maxDistanceFromOriginM) {
-        reject(m_counters.rejectedRange, fmt("GNSS fix: %.0f km from the map origin (limit %.0f km)",
-                                             fromOrigin / 1000.0, cfg.maxDistanceFromOriginM / 1000.0));
+    if (!std::isfinite(fromOrigin) || fromOrigin > cfg.max_distance_from_origin_m) {
+        reject(m_counters.rejected_range, fmt("GNSS fix: %.0f km from the map origin (limit %.0f km)",
+                                              fromOrigin / 1000.0, cfg.max_distance_from_origin_m / 1000.0));
         return;
     }
     auto& anchors = m_state.anchors;
     if (!anchors.empty() && t <= anchors.back().time) {
-        reject(m_counters.rejectedOrder, "GNSS fix older than the previous fix");
+        reject(m_counters.rejected_order, "GNSS fix older than the previous fix");
         return;
     }
-    if (!m_state.motion.empty() && seconds(t, m_state.motion.back().time) > cfg.maxFixAgeS) {
-        reject(m_counters.rejectedOrder, "GNSS fix older than the motion data by more than maxFixAgeS");
+    if (!m_state.motion.empty() && seconds(t, m_state.motion.back().time) > cfg.max_fix_age_s) {
+        reject(m_counters.rejected_order, "GNSS fix older than the motion data by more than maxFixAgeS");
         return;
     }
     ++m_counters.fixes;
-    if (anchors.empty() || seconds(anchors.back().time, t) > cfg.gnssTimeoutS) {
+    if (anchors.empty() || seconds(anchors.back().time, t) > cfg.gnss_timeout_s) {
         // First fix, or position regained after a stale period: start over here.
-        relocate(t, p, headingDeg);
+        relocate(t, p, heading_deg);
         prune();
         updateMatch(t);
         changed();
         return;
     }
     const PoseAnchor& last = anchors.back();
-    double px = last.x, py = last.y, ph = last.headingRad, pv = 0;
-    deadReckon(m_state.motion, last.time, t, cfg.motionTimeoutS, last.speedMps, px, py, ph, pv);
+    double px = last.x, py = last.y, ph = last.heading_rad, pv = 0;
+    deadReckon(m_state.motion, last.time, t, cfg.motion_timeout_s, last.speed_mps, px, py, ph, pv);
     const double dtFix = seconds(last.time, t);
     const double innovation = std::hypot(p.x - px, p.y - py);
-    if (innovation > cfg.jumpGateM + cfg.jumpGateGrowthMps * dtFix) {
-        if (++m_consecutiveJumps < cfg.jumpsToRelocate) {
+    if (innovation > cfg.jump_gate_m + cfg.jump_gate_growth_mps * dtFix) {
+        if (++m_consecutive_jumps < cfg.jumps_to_relocate) {
             --m_counters.fixes;
-            reject(m_counters.rejectedJump, fmt("GNSS fix: jump of %.1f m from the prediction (gate %.1f m)",
-                                                innovation, cfg.jumpGateM + cfg.jumpGateGrowthMps * dtFix));
+            reject(m_counters.rejected_jump, fmt("GNSS fix: jump of %.1f m from the prediction (gate %.1f m)",
+                                                 innovation, cfg.jump_gate_m + cfg.jump_gate_growth_mps * dtFix));
             return;
         }
-        relocate(t, p, headingDeg);  // the prediction was wrong, not the receiver
+        relocate(t, p, heading_deg);  // the prediction was wrong, not the receiver
         prune();
         updateMatch(t);
         changed();
         return;
     }
-    m_consecutiveJumps = 0;
+    m_consecutive_jumps = 0;
     // The displayed pose just before this fix, to fade the correction in (VehicleState::compute).
-    const double fade = cfg.blendS > 0 ? std::max(0.0, 1.0 - dtFix / cfg.blendS) : 0.0;
-    const double shownX = px + last.jumpX * fade;
-    const double shownY = py + last.jumpY * fade;
-    const double shownH = ph + last.jumpHeadingRad * fade;
+    const double fade = cfg.blend_s > 0 ? std::max(0.0, 1.0 - dtFix / cfg.blend_s) : 0.0;
+    const double shownX = px + last.jump_x * fade;
+    const double shownY = py + last.jump_y * fade;
+    const double shownH = ph + last.jump_heading_rad * fade;
 
-    const bool haveMotion = !m_state.motion.empty() && seconds(m_state.motion.back().time, t) <= cfg.motionTimeoutS;
-    const bool haveYaw = m_lastYawTime && std::abs(seconds(*m_lastYawTime, t)) <= cfg.motionTimeoutS;
-    const double k = haveMotion ? cfg.positionGain : 1.0;
+    const bool haveMotion = !m_state.motion.empty() && seconds(m_state.motion.back().time, t) <= cfg.motion_timeout_s;
+    const bool haveYaw = m_last_yaw_time && std::abs(seconds(*m_last_yaw_time, t)) <= cfg.motion_timeout_s;
+    const double k = haveMotion ? cfg.position_gain : 1.0;
     PoseAnchor a;
     a.time = t;
     a.x = px + k * (p.x - px);
     a.y = py + k * (p.y - py);
-    a.speedMps = pv;
-    a.headingRad = ph;
-    if (headingDeg && std::abs(pv) >= cfg.courseMinSpeedMps) {
-        const double kh = haveYaw ? cfg.headingGain : 1.0;
-        a.headingRad = ph + kh * wrapPi(*headingDeg * kDegToRad - ph);
-        m_state.headingKnown = true;
+    a.speed_mps = pv;
+    a.heading_rad = ph;
+    if (heading_deg && std::abs(pv) >= cfg.course_min_speed_mps) {
+        const double kh = haveYaw ? cfg.heading_gain : 1.0;
+        a.heading_rad = ph + kh * wrapPi(*heading_deg * kDegToRad - ph);
+        m_state.heading_known = true;
     } else if (!haveYaw) {
         // No gyro and no usable course: the direction between fixes.
         const double dx = p.x - last.x, dy = p.y - last.y;
         if (std::hypot(dx, dy) > 2.0) {
-            a.headingRad = std::atan2(dx, dy);
-            m_state.headingKnown = true;
+            a.heading_rad = std::atan2(dx, dy);
+            m_state.heading_known = true;
         }
-    } else if (headingDeg) {
-        m_state.headingKnown = true;
+    } else if (heading_deg) {
+        m_state.heading_known = true;
     }
-    a.headingRad = wrapPi(a.headingRad);
-    a.jumpX = shownX - a.x;
-    a.jumpY = shownY - a.y;
-    a.jumpHeadingRad = wrapPi(shownH - a.headingRad);
+    a.heading_rad = wrapPi(a.heading_rad);
+    a.jump_x = shownX - a.x;
+    a.jump_y = shownY - a.y;
+    a.jump_heading_rad = wrapPi(shownH - a.heading_rad);
     anchors.push_back(a);
     prune();
     updateMatch(t);
@@ -265,7 +265,7 @@ void VehicleStateEstimator::addFix(ipc::CanTime t, double lat, double lon, std::
 
 void VehicleStateEstimator::prune() {
     auto& anchors = m_state.anchors;
-    const double keep = m_state.config.historyS;
+    const double keep = m_state.config.history_s;
     if (anchors.size() > 1) {
         const auto newest = anchors.back().time;
         const auto it = std::find_if(anchors.begin(), anchors.end() - 1,
@@ -292,8 +292,8 @@ void VehicleStateEstimator::updateMatch(ipc::CanTime t) {
         return;
     }
     const EstimatedPose pose = VehicleState::compute(m_state, t);
-    m_state.matchedEdge = pose.matchConfidence >= m_state.config.snapMinConfidence ? pose.edge : std::nullopt;
-    m_state.routeMeasure = pose.onRoute ? std::optional<double>(pose.routeDrivenM) : std::nullopt;
+    m_state.matched_edge = pose.match_confidence >= m_state.config.snap_min_confidence ? pose.edge : std::nullopt;
+    m_state.route_measure = pose.on_route ? std::optional<double>(pose.route_driven_m) : std::nullopt;
 }
 
 }  // namespace navmap::daemon

@@ -114,7 +114,7 @@ public:
                     if (!top.keys.insert(top.key).second && !m_found) {
                         m_found = true;
                         m_key = top.key;
-                        m_atRoot = m_stack.size() == 1;
+                        m_at_root = m_stack.size() == 1;
                         m_path = pathToTop();
                     }
                 }
@@ -133,7 +133,7 @@ public:
 
     [[nodiscard]] bool found() const { return m_found; }
     [[nodiscard]] const std::string& key() const { return m_key; }
-    [[nodiscard]] bool atRoot() const { return m_atRoot; }
+    [[nodiscard]] bool atRoot() const { return m_at_root; }
     [[nodiscard]] std::string message() const {
         return (m_path.empty() ? std::string() : m_path + ": ") + "duplicate key " + quote(m_key);
     }
@@ -166,7 +166,7 @@ private:
 
     std::vector<Frame> m_stack;
     bool m_found = false;
-    bool m_atRoot = false;
+    bool m_at_root = false;
     std::string m_key;
     std::string m_path;
 };
@@ -260,10 +260,10 @@ std::string parseRoute(const json& obj, const ControlLimits& limits, SetRouteCom
         return c.error;
     }
     std::optional<std::string> id;
-    if (!c.string("id", id, limits.maxStringBytes, true)) {
+    if (!c.string("id", id, limits.max_string_bytes, true)) {
         return c.error;
     }
-    out.routeId = *id;
+    out.route_id = *id;
     const auto pts = obj.find("points");
     if (pts == obj.end()) {
         return "missing \"points\"";
@@ -274,9 +274,9 @@ std::string parseRoute(const json& obj, const ControlLimits& limits, SetRouteCom
     if (pts->size() < 2) {
         return "\"points\" needs at least 2 points, got " + std::to_string(pts->size());
     }
-    if (pts->size() > limits.maxRoutePoints) {
+    if (pts->size() > limits.max_route_points) {
         return "\"points\" has " + std::to_string(pts->size()) + " points, more than the limit of " +
-               std::to_string(limits.maxRoutePoints);
+               std::to_string(limits.max_route_points);
     }
     out.points.reserve(pts->size());
     for (std::size_t i = 0; i < pts->size(); ++i) {
@@ -305,9 +305,9 @@ std::string parseRoute(const json& obj, const ControlLimits& limits, SetRouteCom
     if (!man->is_array()) {
         return "\"maneuvers\" must be an array, not " + typeName(*man);
     }
-    if (man->size() > limits.maxManeuvers) {
+    if (man->size() > limits.max_maneuvers) {
         return "\"maneuvers\" has " + std::to_string(man->size()) + " entries, more than the limit of " +
-               std::to_string(limits.maxManeuvers);
+               std::to_string(limits.max_maneuvers);
     }
     for (std::size_t i = 0; i < man->size(); ++i) {
         const json& m = (*man)[i];
@@ -355,8 +355,8 @@ std::string parseRoute(const json& obj, const ControlLimits& limits, SetRouteCom
             if (!text->is_string()) {
                 return where + ".text: must be a string";
             }
-            if (text->get_ref<const std::string&>().size() > limits.maxStringBytes) {
-                return where + ".text: longer than " + std::to_string(limits.maxStringBytes) + " bytes";
+            if (text->get_ref<const std::string&>().size() > limits.max_string_bytes) {
+                return where + ".text: longer than " + std::to_string(limits.max_string_bytes) + " bytes";
             }
             mv.text = text->get<std::string>();
         }
@@ -377,7 +377,7 @@ std::string parseRoute(const json& obj, const ControlLimits& limits, SetRouteCom
                 return where + ".exit: " + exit->dump() + " out of range [1, " + std::to_string(kMaxRoundaboutExit) +
                        "]";
             }
-            mv.exitNumber = exit->get<std::uint32_t>();
+            mv.exit_number = exit->get<std::uint32_t>();
         }
         const auto end = m.find("end_index");
         if (end != m.end()) {
@@ -393,7 +393,7 @@ std::string parseRoute(const json& obj, const ControlLimits& limits, SetRouteCom
                 return where + ".end_index: " + end->dump() + " out of range [" + std::to_string(mv.index) + ", " +
                        std::to_string(out.points.size() - 1) + "]";
             }
-            mv.endIndex = end->get<std::size_t>();
+            mv.end_index = end->get<std::size_t>();
         }
         out.maneuvers.push_back(std::move(mv));
     }
@@ -423,7 +423,7 @@ std::string readViewCamera(const json& obj, SetViewCommand& out) {
         return {};
     }
     if (it->is_null()) {
-        out.clearCamera = true;
+        out.clear_camera = true;
         return {};
     }
     if (!it->is_object()) {
@@ -504,8 +504,8 @@ const char* controlEventName(ControlEventKind k) noexcept {
 
 ControlParse parseControlLine(std::string_view line, const ControlLimits& limits) {
     ControlParse r;
-    if (line.size() > limits.maxLineBytes) {
-        r.error = "line longer than " + std::to_string(limits.maxLineBytes) + " bytes";
+    if (line.size() > limits.max_line_bytes) {
+        r.error = "line longer than " + std::to_string(limits.max_line_bytes) + " bytes";
         return r;
     }
     if (!depthWithin(line, kMaxDepth)) {
@@ -528,12 +528,12 @@ ControlParse parseControlLine(std::string_view line, const ControlLimits& limits
         return r;
     }
     const auto cmd = obj.find("cmd");
-    if (cmd != obj.end() && cmd->is_string() && cmd->get_ref<const std::string&>().size() <= limits.maxStringBytes) {
+    if (cmd != obj.end() && cmd->is_string() && cmd->get_ref<const std::string&>().size() <= limits.max_string_bytes) {
         r.cmd = cmd->get<std::string>();
     }
     const auto id = obj.find("id");
     if (id != obj.end() && id->is_string() && !id->get_ref<const std::string&>().empty() &&
-        id->get_ref<const std::string&>().size() <= limits.maxStringBytes) {
+        id->get_ref<const std::string&>().size() <= limits.max_string_bytes) {
         r.id = id->get<std::string>();
     }
     if (duplicates.found()) {
@@ -561,11 +561,11 @@ ControlParse parseControlLine(std::string_view line, const ControlLimits& limits
     command.cmd = r.cmd;
     Checker c{obj, {}};
     std::optional<std::string> request_id;
-    const auto needId = [&]() { return c.string("id", request_id, limits.maxStringBytes, false); };
+    const auto needId = [&]() { return c.string("id", request_id, limits.max_string_bytes, false); };
     if (name == "set_route") {
         SetRouteCommand route;
         r.error = parseRoute(obj, limits, route);
-        command.requestId = route.routeId.empty() ? std::nullopt : std::optional<std::string>(route.routeId);
+        command.request_id = route.route_id.empty() ? std::nullopt : std::optional<std::string>(route.route_id);
         command.body = std::move(route);
     } else if (name == "clear_route" || name == "get_status") {
         if (!c.allowOnly({"cmd", "id"}) || !needId()) {
@@ -576,7 +576,7 @@ ControlParse parseControlLine(std::string_view line, const ControlLimits& limits
         SetViewCommand view;
         std::optional<std::string> display;
         if (!c.allowOnly({"cmd", "id", "display", "mode", "orientation", "camera"}) || !needId() ||
-            !c.string("display", display, limits.maxStringBytes, true)) {
+            !c.string("display", display, limits.max_string_bytes, true)) {
             r.error = c.error;
         } else {
             view.display = *display;
@@ -587,7 +587,7 @@ ControlParse parseControlLine(std::string_view line, const ControlLimits& limits
             if (r.error.empty()) {
                 r.error = readViewCamera(obj, view);
             }
-            if (r.error.empty() && !view.mode && !view.orientation && !view.camera && !view.clearCamera) {
+            if (r.error.empty() && !view.mode && !view.orientation && !view.camera && !view.clear_camera) {
                 r.error = "set_view needs \"mode\" (" + choices(kModeNames) + "), \"orientation\" (" +
                           choices(kOrientationNames) + ") or \"camera\" ({zoom, pitch[, bearing]} or null)";
             }
@@ -634,7 +634,7 @@ ControlParse parseControlLine(std::string_view line, const ControlLimits& limits
         return r;
     }
     if (!std::holds_alternative<SetRouteCommand>(command.body)) {
-        command.requestId = request_id;
+        command.request_id = request_id;
     }
     r.command = std::move(command);
     return r;
@@ -673,17 +673,17 @@ std::string controlEventLine(const ControlEvent& event) {
     j["event"] = controlEventName(event.kind);
     switch (event.kind) {
         case ControlEventKind::RouteProgress:
-            j["id"] = event.routeId;
-            j["driven_m"] = std::round(event.drivenM * 10.0) / 10.0;
-            j["remaining_m"] = std::round(event.remainingM * 10.0) / 10.0;
+            j["id"] = event.route_id;
+            j["driven_m"] = std::round(event.driven_m * 10.0) / 10.0;
+            j["remaining_m"] = std::round(event.remaining_m * 10.0) / 10.0;
             break;
-        case ControlEventKind::PositionLost: j["since_s"] = std::round(event.sinceS * 100.0) / 100.0; break;
+        case ControlEventKind::PositionLost: j["since_s"] = std::round(event.since_s * 100.0) / 100.0; break;
         case ControlEventKind::PositionRegained: break;
         case ControlEventKind::OffRoute:
-            j["id"] = event.routeId;
-            j["offset_m"] = std::round(event.offsetM * 10.0) / 10.0;
+            j["id"] = event.route_id;
+            j["offset_m"] = std::round(event.offset_m * 10.0) / 10.0;
             break;
-        case ControlEventKind::BackOnRoute: j["id"] = event.routeId; break;
+        case ControlEventKind::BackOnRoute: j["id"] = event.route_id; break;
     }
     return dumpJson(j);
 }

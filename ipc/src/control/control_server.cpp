@@ -52,16 +52,16 @@ struct ControlServer::Client {
     std::size_t scanned = 0;  // bytes of `in` known to hold no newline
     std::string out;
     std::uint8_t events = 0;  // subscriptions
-    bool closeAfterFlush = false;
+    bool close_after_flush = false;
     bool dead = false;
-    SteadyClock::time_point lastActivity{};  // last byte received from it or taken by its socket
+    SteadyClock::time_point last_activity{};  // last byte received from it or taken by its socket
 };
 
 ControlServer::ControlServer(ControlServerConfig config, ControlHandler& handler)
     : m_config(std::move(config)), m_handler(handler) {}
 
 Result<std::unique_ptr<ControlServer>> ControlServer::create(ControlServerConfig config, ControlHandler& handler) {
-    const std::string path = config.socketPath;
+    const std::string path = config.socket_path;
     sockaddr_un addr{};
     addr.sun_family = AF_UNIX;
     if (path.empty() || path.size() >= sizeof(addr.sun_path)) {
@@ -71,8 +71,8 @@ Result<std::unique_ptr<ControlServer>> ControlServer::create(ControlServerConfig
     std::memcpy(addr.sun_path, path.data(), path.size());
     std::unique_ptr<ControlServer> s(new ControlServer(std::move(config), handler));
 
-    s->m_listenFd.reset(::socket(AF_UNIX, SOCK_STREAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0));
-    if (!s->m_listenFd.valid()) {
+    s->m_listen_fd.reset(::socket(AF_UNIX, SOCK_STREAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0));
+    if (!s->m_listen_fd.valid()) {
         return Error{sysError("socket", path)};
     }
     // A socket file left by a crashed daemon is replaced; one with a live server is not.
@@ -95,26 +95,26 @@ Result<std::unique_ptr<ControlServer>> ControlServer::create(ControlServerConfig
     }
     // The file bind() creates is never wider than the mode; the exact mode and the group are set
     // before listen(), and nobody can connect before listen(): no moment with wider access.
-    if (auto access = restrictSocketBeforeBind(s->m_listenFd.get(), s->m_config.socketMode, path); !access) {
+    if (auto access = restrictSocketBeforeBind(s->m_listen_fd.get(), s->m_config.socket_mode, path); !access) {
         return Error{access.message()};
     }
-    if (::bind(s->m_listenFd.get(), reinterpret_cast<const sockaddr*>(&addr), sizeof addr) != 0) {
+    if (::bind(s->m_listen_fd.get(), reinterpret_cast<const sockaddr*>(&addr), sizeof addr) != 0) {
         return Error{sysError("bind", path)};
     }
-    if (auto access = applySocketFileAccess(path, s->m_config.socketMode, s->m_config.socketGroup); !access) {
+    if (auto access = applySocketFileAccess(path, s->m_config.socket_mode, s->m_config.socket_group); !access) {
         ::unlink(path.c_str());
         return Error{access.message()};
     }
     if (::lstat(path.c_str(), &st) == 0) {
-        s->m_socketInode = st.st_ino;
+        s->m_socket_inode = st.st_ino;
     }
-    if (::listen(s->m_listenFd.get(), 16) != 0) {
+    if (::listen(s->m_listen_fd.get(), 16) != 0) {
         const std::string err = sysError("listen", path);
         ::unlink(path.c_str());
         return Error{err};
     }
-    s->m_wakeFd.reset(::eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC));
-    if (!s->m_wakeFd.valid()) {
+    s->m_wake_fd.reset(::eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC));
+    if (!s->m_wake_fd.valid()) {
         return Error{sysError("eventfd", path)};
     }
     return s;
@@ -123,20 +123,20 @@ Result<std::unique_ptr<ControlServer>> ControlServer::create(ControlServerConfig
 ControlServer::~ControlServer() {
     stop();
     m_clients.clear();  // closes their sockets
-    if (m_listenFd.valid()) {
-        m_listenFd.reset();
+    if (m_listen_fd.valid()) {
+        m_listen_fd.reset();
         // Remove the socket file only if it is still ours.
         struct stat st {};
-        if (m_socketInode != 0 && ::lstat(m_config.socketPath.c_str(), &st) == 0 && st.st_ino == m_socketInode) {
-            ::unlink(m_config.socketPath.c_str());
+        if (m_socket_inode != 0 && ::lstat(m_config.socket_path.c_str(), &st) == 0 && st.st_ino == m_socket_inode) {
+            ::unlink(m_config.socket_path.c_str());
         }
     }
-    m_wakeFd.reset();
+    m_wake_fd.reset();
 }
 
 Status ControlServer::start() {
     if (m_thread.joinable()) {
-        return Error{"control server " + m_config.socketPath + ": already running"};
+        return Error{"control server " + m_config.socket_path + ": already running"};
     }
     m_stop = false;
     m_thread = std::thread([this] {
@@ -158,19 +158,19 @@ void ControlServer::stop() noexcept {
 }
 
 void ControlServer::wake() noexcept {
-    if (m_wakeFd.valid()) {
+    if (m_wake_fd.valid()) {
         const std::uint64_t one = 1;
-        [[maybe_unused]] const auto n = ::write(m_wakeFd.get(), &one, sizeof one);
+        [[maybe_unused]] const auto n = ::write(m_wake_fd.get(), &one, sizeof one);
     }
 }
 
 void ControlServer::publish(const ControlEvent& event) {
     {
-        std::lock_guard lock(m_eventMutex);
-        if (m_pendingEvents.size() >= kMaxPendingEvents) {
-            m_pendingEvents.pop_front();
+        std::lock_guard lock(m_event_mutex);
+        if (m_pending_events.size() >= kMaxPendingEvents) {
+            m_pending_events.pop_front();
         }
-        m_pendingEvents.push_back(event);
+        m_pending_events.push_back(event);
     }
     wake();
 }
@@ -178,14 +178,14 @@ void ControlServer::publish(const ControlEvent& event) {
 ControlServerStats ControlServer::stats() const {
     ControlServerStats s;
     s.connections = m_counters.connections;
-    s.refusedPeer = m_counters.refusedPeer;
-    s.refusedFull = m_counters.refusedFull;
+    s.refused_peer = m_counters.refused_peer;
+    s.refused_full = m_counters.refused_full;
     s.lines = m_counters.lines;
     s.commands = m_counters.commands;
     s.errors = m_counters.errors;
-    s.overlongDisconnects = m_counters.overlong;
-    s.slowDisconnects = m_counters.slow;
-    s.idleDisconnects = m_counters.idle;
+    s.overlong_disconnects = m_counters.overlong;
+    s.slow_disconnects = m_counters.slow;
+    s.idle_disconnects = m_counters.idle;
     s.events = m_counters.events;
     s.clients = m_counters.clients;
     return s;
@@ -194,10 +194,10 @@ ControlServerStats ControlServer::stats() const {
 Status ControlServer::pollOnce(std::chrono::milliseconds timeout) {
     std::vector<pollfd> fds;
     fds.reserve(m_clients.size() + 2);
-    fds.push_back({m_listenFd.get(), POLLIN, 0});
-    fds.push_back({m_wakeFd.get(), POLLIN, 0});
+    fds.push_back({m_listen_fd.get(), POLLIN, 0});
+    fds.push_back({m_wake_fd.get(), POLLIN, 0});
     for (const auto& c : m_clients) {
-        short ev = c->closeAfterFlush ? 0 : POLLIN;
+        short ev = c->close_after_flush ? 0 : POLLIN;
         if (!c->out.empty()) {
             ev = static_cast<short>(ev | POLLOUT);
         }
@@ -205,12 +205,12 @@ Status ControlServer::pollOnce(std::chrono::milliseconds timeout) {
     }
     // Wake up in time to close the first connection that turns idle.
     auto wait = std::max(std::chrono::milliseconds(0), timeout);
-    if (m_config.idleTimeout.count() > 0) {
+    if (m_config.idle_timeout.count() > 0) {
         const auto now = SteadyClock::now();
         for (const auto& c : m_clients) {
-            if (idle(*c, now + m_config.idleTimeout)) {  // could turn idle: no subscriber at rest
+            if (idle(*c, now + m_config.idle_timeout)) {  // could turn idle: no subscriber at rest
                 const auto left =
-                    std::chrono::ceil<std::chrono::milliseconds>(c->lastActivity + m_config.idleTimeout - now);
+                    std::chrono::ceil<std::chrono::milliseconds>(c->last_activity + m_config.idle_timeout - now);
                 wait = std::clamp(left, std::chrono::milliseconds(0), wait);
             }
         }
@@ -220,11 +220,11 @@ Status ControlServer::pollOnce(std::chrono::milliseconds timeout) {
         if (errno == EINTR) {
             return {};
         }
-        return Error{sysError("poll", m_config.socketPath)};
+        return Error{sysError("poll", m_config.socket_path)};
     }
     if (fds[1].revents & POLLIN) {
         std::uint64_t v = 0;
-        [[maybe_unused]] const auto r = ::read(m_wakeFd.get(), &v, sizeof v);
+        [[maybe_unused]] const auto r = ::read(m_wake_fd.get(), &v, sizeof v);
     }
     // Clients first (indices stay valid), then new connections, then events.
     for (std::size_t i = 0; i < m_clients.size(); ++i) {
@@ -238,7 +238,7 @@ Status ControlServer::pollOnce(std::chrono::milliseconds timeout) {
         if (!c.dead && !c.out.empty()) {
             flush(c);
         }
-        if (!c.dead && c.closeAfterFlush && c.out.empty()) {
+        if (!c.dead && c.close_after_flush && c.out.empty()) {
             c.dead = true;
         }
     }
@@ -262,12 +262,12 @@ void ControlServer::removeDead() {
 }
 
 bool ControlServer::idle(const Client& c, SteadyClock::time_point now) const {
-    if (m_config.idleTimeout.count() <= 0 || c.dead || now - c.lastActivity < m_config.idleTimeout) {
+    if (m_config.idle_timeout.count() <= 0 || c.dead || now - c.last_activity < m_config.idle_timeout) {
         return false;
     }
     // A subscriber with nothing queued waits for events by design (position_lost may come hours
     // later); one whose events pile up unread is as idle as a silent client.
-    return c.events == 0 || !c.out.empty() || c.closeAfterFlush;
+    return c.events == 0 || !c.out.empty() || c.close_after_flush;
 }
 
 void ControlServer::closeIdle(SteadyClock::time_point now) {
@@ -276,11 +276,11 @@ void ControlServer::closeIdle(SteadyClock::time_point now) {
             continue;
         }
         ++m_counters.idle;
-        if (c->out.empty() && !c->closeAfterFlush) {
+        if (c->out.empty() && !c->close_after_flush) {
             // Best effort: the reason goes out if the socket takes it now; the slot is freed anyway.
-            queue(*c,
-                  controlErrorReply("", std::nullopt,
-                                    "idle for " + seconds(m_config.idleTimeout) + " without a request; disconnecting"));
+            queue(*c, controlErrorReply(
+                          "", std::nullopt,
+                          "idle for " + seconds(m_config.idle_timeout) + " without a request; disconnecting"));
             flush(*c);
         }
         c->dead = true;
@@ -289,31 +289,31 @@ void ControlServer::closeIdle(SteadyClock::time_point now) {
 
 void ControlServer::acceptClients() {
     for (;;) {
-        UniqueFd fd(::accept4(m_listenFd.get(), nullptr, nullptr, SOCK_NONBLOCK | SOCK_CLOEXEC));
+        UniqueFd fd(::accept4(m_listen_fd.get(), nullptr, nullptr, SOCK_NONBLOCK | SOCK_CLOEXEC));
         if (!fd.valid()) {
             return;  // EAGAIN, or a transient error (EMFILE, ECONNABORTED): try again next poll
         }
         auto c = std::make_unique<Client>();
-        c->lastActivity = SteadyClock::now();
+        c->last_activity = SteadyClock::now();
         std::string refusal;
-        auto cred = peerCredentials(fd.get(), m_config.socketPath);
+        auto cred = peerCredentials(fd.get(), m_config.socket_path);
         if (!cred) {
             refusal = cred.error().message;
         } else {
             c->uid = cred.value().uid;
             c->pid = cred.value().pid;
-            PeerAllowList allow{m_config.allowedUids, m_config.allowedGids, m_config.allowRoot};
-            if (m_config.socketGroup) {
-                allow.gids.push_back(*m_config.socketGroup);
+            PeerAllowList allow{m_config.allowed_uids, m_config.allowed_gids, m_config.allow_root};
+            if (m_config.socket_group) {
+                allow.gids.push_back(*m_config.socket_group);
             }
             if (!peerAllowed(allow, cred.value())) {
-                refusal = peerRefusal(cred.value(), m_config.socketPath);
-                ++m_counters.refusedPeer;
+                refusal = peerRefusal(cred.value(), m_config.socket_path);
+                ++m_counters.refused_peer;
             }
         }
-        if (refusal.empty() && m_clients.size() >= m_config.maxClients) {
-            refusal = "too many clients (limit " + std::to_string(m_config.maxClients) + ")";
-            ++m_counters.refusedFull;
+        if (refusal.empty() && m_clients.size() >= m_config.max_clients) {
+            refusal = "too many clients (limit " + std::to_string(m_config.max_clients) + ")";
+            ++m_counters.refused_full;
         }
         if (!refusal.empty()) {
             const std::string line = controlErrorReply("", std::nullopt, refusal) + "\n";
@@ -333,7 +333,7 @@ void ControlServer::readClient(Client& c) {
     for (std::size_t k = 0; k < kMaxReadsPerPoll; ++k) {
         const ssize_t n = ::recv(c.fd.get(), buf, sizeof buf, MSG_DONTWAIT);
         if (n > 0) {
-            c.lastActivity = SteadyClock::now();
+            c.last_activity = SteadyClock::now();
             c.in.append(buf, static_cast<std::size_t>(n));
             // Lines complete so far are handled before reading more, so a client cannot make
             // the buffer grow past one maximum line plus one chunk.
@@ -347,26 +347,26 @@ void ControlServer::readClient(Client& c) {
                 if (!line.empty() && line.back() == '\r') {
                     line.remove_suffix(1);
                 }
-                if (line.size() > m_config.limits.maxLineBytes) {
+                if (line.size() > m_config.limits.max_line_bytes) {
                     break;  // handled below as over-long
                 }
                 handleLine(c, line);
                 start = nl + 1;
                 c.scanned = start;
-                if (c.dead || c.closeAfterFlush) {
+                if (c.dead || c.close_after_flush) {
                     return;
                 }
             }
             c.in.erase(0, start);
             c.scanned = c.in.size();
-            if (c.in.size() > m_config.limits.maxLineBytes) {
+            if (c.in.size() > m_config.limits.max_line_bytes) {
                 ++m_counters.overlong;
                 ++m_counters.errors;
                 queue(c, controlErrorReply("", std::nullopt,
-                                           "line longer than " + std::to_string(m_config.limits.maxLineBytes) +
+                                           "line longer than " + std::to_string(m_config.limits.max_line_bytes) +
                                                " bytes; disconnecting"));
                 c.in.clear();
-                c.closeAfterFlush = true;
+                c.close_after_flush = true;
                 return;
             }
             continue;
@@ -383,7 +383,7 @@ void ControlServer::readClient(Client& c) {
     }
     if (eof) {
         // The peer is done sending; answer what it sent (best effort) and close.
-        c.closeAfterFlush = true;
+        c.close_after_flush = true;
     }
 }
 
@@ -423,7 +423,7 @@ void ControlServer::handleLine(Client& c, std::string_view line) {
                     nlohmann::json server = {{"clients", m_clients.size()},
                                              {"lines", m_counters.lines.load()},
                                              {"errors", m_counters.errors.load()},
-                                             {"refused_peer", m_counters.refusedPeer.load()},
+                                             {"refused_peer", m_counters.refused_peer.load()},
                                              {"idle_disconnects", m_counters.idle.load()}};
                     if (!status.contains("control")) {
                         status["control"] = std::move(server);
@@ -446,11 +446,11 @@ void ControlServer::handleLine(Client& c, std::string_view line) {
         cmd.body);
     if (!st.ok()) {
         ++m_counters.errors;
-        queue(c, controlErrorReply(cmd.cmd, cmd.requestId, st.message()));
+        queue(c, controlErrorReply(cmd.cmd, cmd.request_id, st.message()));
         return;
     }
     ++m_counters.commands;
-    queue(c, controlOkReply(cmd.cmd, cmd.requestId, extra));
+    queue(c, controlOkReply(cmd.cmd, cmd.request_id, extra));
 }
 
 void ControlServer::queue(Client& c, std::string line) {
@@ -459,7 +459,7 @@ void ControlServer::queue(Client& c, std::string line) {
     }
     c.out += line;
     c.out.push_back('\n');
-    if (c.out.size() > m_config.maxOutputBytes) {
+    if (c.out.size() > m_config.max_output_bytes) {
         ++m_counters.slow;
         c.dead = true;  // not reading its replies/events: drop it rather than buffer forever
     }
@@ -470,7 +470,7 @@ void ControlServer::flush(Client& c) {
         const ssize_t n = ::send(c.fd.get(), c.out.data(), c.out.size(), MSG_NOSIGNAL | MSG_DONTWAIT);
         if (n > 0) {
             c.out.erase(0, static_cast<std::size_t>(n));
-            c.lastActivity = SteadyClock::now();
+            c.last_activity = SteadyClock::now();
             continue;
         }
         if (n < 0 && errno == EINTR) {
@@ -487,13 +487,13 @@ void ControlServer::flush(Client& c) {
 void ControlServer::deliverEvents() {
     std::deque<ControlEvent> events;
     {
-        std::lock_guard lock(m_eventMutex);
-        events.swap(m_pendingEvents);
+        std::lock_guard lock(m_event_mutex);
+        events.swap(m_pending_events);
     }
     for (const auto& e : events) {
         std::string line;
         for (auto& c : m_clients) {
-            if (c->dead || c->closeAfterFlush || !(c->events & static_cast<std::uint8_t>(e.kind))) {
+            if (c->dead || c->close_after_flush || !(c->events & static_cast<std::uint8_t>(e.kind))) {
                 continue;
             }
             if (line.empty()) {

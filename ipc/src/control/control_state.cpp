@@ -5,9 +5,9 @@
 
 namespace navmap::ipc {
 
-ControlState::ControlState(std::set<std::string, std::less<>> displays) : m_allowedDisplays(std::move(displays)) {
+ControlState::ControlState(std::set<std::string, std::less<>> displays) : m_allowed_displays(std::move(displays)) {
     auto view = std::make_shared<ViewState>();
-    for (const auto& d : m_allowedDisplays) {
+    for (const auto& d : m_allowed_displays) {
         view->displays.emplace(d, DisplayView{});
     }
     m_view.store(std::move(view));
@@ -15,24 +15,24 @@ ControlState::ControlState(std::set<std::string, std::less<>> displays) : m_allo
 
 Status ControlState::setRoute(const SetRouteCommand& command) {
     auto route = std::make_shared<RouteState>();
-    route->id = command.routeId;
+    route->id = command.route_id;
     route->points = command.points;
     route->maneuvers = command.maneuvers;
-    route->version = ++m_routeVersion;
+    route->version = ++m_route_version;
     m_route.store(std::move(route));
     return {};
 }
 
 Status ControlState::clearRoute() {
-    ++m_routeVersion;
+    ++m_route_version;
     m_route.store(nullptr);
     return {};
 }
 
 Status ControlState::setView(const SetViewCommand& command) {
-    if (!m_allowedDisplays.empty() && !m_allowedDisplays.contains(command.display)) {
+    if (!m_allowed_displays.empty() && !m_allowed_displays.contains(command.display)) {
         std::string names;
-        for (const auto& d : m_allowedDisplays) {
+        for (const auto& d : m_allowed_displays) {
             names += names.empty() ? "" : " | ";
             names += d;
         }
@@ -46,11 +46,11 @@ Status ControlState::setView(const SetViewCommand& command) {
     }
     if (command.orientation) {
         d.orientation = *command.orientation;
-        d.orientationSet = true;
+        d.orientation_set = true;
     }
     if (command.camera) {
         d.camera = command.camera;
-    } else if (command.clearCamera || command.mode) {
+    } else if (command.clear_camera || command.mode) {
         d.camera.reset();  // a mode without a camera: the display follows the mode again
     }
     ++next->version;
@@ -67,8 +67,8 @@ Status ControlState::setStyle(const SetStyleCommand& command) {
 }
 
 nlohmann::json ControlState::status() {
-    if (m_statusProvider) {
-        return m_statusProvider();
+    if (m_status_provider) {
+        return m_status_provider();
     }
     nlohmann::json j = nlohmann::json::object();
     const auto route = m_route.load();

@@ -29,20 +29,20 @@ StreamTransport& ClientHub::transport(const StreamConn& c) const {
 std::optional<Refusal> ClientHub::checkCaps(Via via, std::optional<uid_t> uid) const {
     const auto sameVia = static_cast<std::size_t>(
         std::count_if(m_conns.begin(), m_conns.end(), [&](const auto& c) { return c->via == via; }));
-    if (sameVia >= m_options.maxClientsPerTransport) {
-        return Refusal{&FrameServerStats::refusedTransportFull,
+    if (sameVia >= m_options.max_clients_per_transport) {
+        return Refusal{&FrameServerStats::refused_transport_full,
                        std::string("too many ") + viaName(via) + " clients (limit " +
-                           std::to_string(m_options.maxClientsPerTransport) + ")"};
+                           std::to_string(m_options.max_clients_per_transport) + ")"};
     }
     if (!uid) {
         return std::nullopt;
     }
     const auto sameUid = static_cast<std::size_t>(
         std::count_if(m_conns.begin(), m_conns.end(), [&](const auto& c) { return c->uid == uid; }));
-    if (sameUid >= m_options.maxClientsPerUid) {
-        return Refusal{&FrameServerStats::refusedUidFull, "too many connections from uid " + std::to_string(*uid) +
-                                                              " (limit " + std::to_string(m_options.maxClientsPerUid) +
-                                                              ")"};
+    if (sameUid >= m_options.max_clients_per_uid) {
+        return Refusal{&FrameServerStats::refused_uid_full, "too many connections from uid " + std::to_string(*uid) +
+                                                                " (limit " +
+                                                                std::to_string(m_options.max_clients_per_uid) + ")"};
     }
     return std::nullopt;
 }
@@ -92,11 +92,11 @@ void ClientHub::flush(StreamConn& c) {
     if (!c.sendQueued()) {
         return;
     }
-    if (c.closeWhenFlushed) {
+    if (c.close_when_flushed) {
         // Half-close and read until the peer closes, so unread input cannot turn into a reset
         // that destroys the reply on its way.
         ::shutdown(c.fd.get(), SHUT_WR);
-        c.closeWhenFlushed = false;
+        c.close_when_flushed = false;
         c.phase = Phase::Draining;
         c.since = Clock::now();
         return;
@@ -108,7 +108,7 @@ void ClientHub::flush(StreamConn& c) {
 
 void ClientHub::finishWith(StreamConn& c, const std::string& bytes) {
     c.queue(bytes.data(), bytes.size());
-    c.closeWhenFlushed = true;
+    c.close_when_flushed = true;
     c.phase = Phase::Draining;
     c.since = Clock::now();
     flush(c);
@@ -118,21 +118,21 @@ void ClientHub::offer(StreamConn& c, Clock::time_point now) {
     // Frame-rate cap per client, with 25% slack for render-time jitter.
     if (c.fps > 0 && c.offered) {
         const auto period = std::chrono::nanoseconds(1000000000LL / c.fps);
-        if (now - c.lastOffer < period * 3 / 4) {
+        if (now - c.last_offer < period * 3 / 4) {
             // Too early for this client; if no newer frame comes, it still gets this one when due.
-            c.deferredUntil = c.lastOffer + period * 3 / 4;
+            c.deferred_until = c.last_offer + period * 3 / 4;
             c.deferred = true;
             return;
         }
     }
     c.deferred = false;
-    c.lastOffer = now;
+    c.last_offer = now;
     c.offered = true;
     if (c.busy()) {
         if (c.pending) {
             // The frame waiting for this client is replaced by a newer one: that one is dropped.
             ++c.dropped;
-            m_stats.count(&FrameServerStats::framesDropped);
+            m_stats.count(&FrameServerStats::frames_dropped);
         }
         c.pending = true;
         return;
@@ -161,8 +161,8 @@ void ClientHub::offerIfNew(StreamConn& c, Clock::time_point now) {
 }
 
 void ClientHub::frameSent(StreamConn& c, std::uint64_t seq) {
-    c.lastSent = seq;
-    m_stats.count(&FrameServerStats::framesSent);
+    c.last_sent = seq;
+    m_stats.count(&FrameServerStats::frames_sent);
     flush(c);
 }
 
@@ -173,7 +173,7 @@ std::chrono::milliseconds ClientHub::nextWait() const {
     for (const auto& c : m_conns) {
         if (c->deferred) {
             wait = std::min(wait, std::chrono::ceil<std::chrono::milliseconds>(
-                                      std::max(c->deferredUntil - now, Clock::duration::zero())));
+                                      std::max(c->deferred_until - now, Clock::duration::zero())));
         }
     }
     return wait;
@@ -197,12 +197,12 @@ void ClientHub::requestEncodes() {
         if (seq == 0) {
             continue;
         }
-        if (zlib && seq > e->zlibAsked) {
-            e->zlibAsked = seq;
+        if (zlib && seq > e->zlib_asked) {
+            e->zlib_asked = seq;
             m_encoder.request(e->ring, seq, EncodeKind::Zlib);
         }
-        if (jpeg && seq > e->jpegAsked) {
-            e->jpegAsked = seq;
+        if (jpeg && seq > e->jpeg_asked) {
+            e->jpeg_asked = seq;
             m_encoder.request(e->ring, seq, EncodeKind::Jpeg);
         }
     }
@@ -210,10 +210,10 @@ void ClientHub::requestEncodes() {
 
 void ClientHub::deliverNewFrames() {
     const auto now = Clock::now();
-    const std::uint64_t pinnedOverwrites = m_rings.pinnedOverwrites();
-    m_stats.update([&](FrameServerStats& s) { s.pinnedOverwrites = pinnedOverwrites; });
+    const std::uint64_t pinned_overwrites = m_rings.pinnedOverwrites();
+    m_stats.update([&](FrameServerStats& s) { s.pinned_overwrites = pinned_overwrites; });
     for (const auto& c : m_conns) {
-        if (c->deferred && !c->dead && now >= c->deferredUntil) {
+        if (c->deferred && !c->dead && now >= c->deferred_until) {
             offer(*c, now);
         }
     }
@@ -229,7 +229,7 @@ void ClientHub::deliverStatus(const PendingStatus& st, Clock::time_point now, st
     for (const auto& cp : m_conns) {
         StreamConn& c = *cp;
         // Only streaming socket clients that have had no frame yet; MJPEG has no place for it.
-        if (c.dead || c.phase != Phase::Stream || !c.ring || c.lastSent != 0 || c.ring->key != st.key) {
+        if (c.dead || c.phase != Phase::Stream || !c.ring || c.last_sent != 0 || c.ring->key != st.key) {
             continue;
         }
         const FrameRingLayout& l = c.ring->ring->layout();
@@ -240,7 +240,7 @@ void ClientHub::deliverStatus(const PendingStatus& st, Clock::time_point now, st
             continue;  // it has not taken what it got (the handshake reply, the last status): no pile-up
         }
         c.queue(st.bytes->data(), st.bytes->size());
-        c.streamSince = now;  // the daemon is working on this client's frame: its first-frame wait restarts
+        c.stream_since = now;  // the daemon is working on this client's frame: its first-frame wait restarts
         ++*sent;
         flush(c);
     }
@@ -253,7 +253,7 @@ void ClientHub::deliverStatuses(const std::vector<PendingStatus>& statuses) {
         deliverStatus(st, now, &sent);
     }
     if (sent > 0) {
-        m_stats.count(&FrameServerStats::statusesSent, sent);
+        m_stats.count(&FrameServerStats::statuses_sent, sent);
     }
 }
 
@@ -265,19 +265,19 @@ void ClientHub::checkTimeouts() {
             continue;
         }
         const TimeoutVerdict v = m_timeouts.check(c, now);
-        const std::string lastError = c.peer + ": disconnected, " + v.why;
+        const std::string last_error = c.peer + ": disconnected, " + v.why;
         switch (v.kind) {
             case TimeoutVerdict::Kind::None: break;
             case TimeoutVerdict::Kind::Handshake:
-                m_stats.countError(&FrameServerStats::handshakeTimeouts, lastError);
+                m_stats.countError(&FrameServerStats::handshake_timeouts, last_error);
                 c.closeWith(transport(c).handshakeTimeoutReply(v.why));
                 break;
             case TimeoutVerdict::Kind::FirstFrame:
-                m_stats.countError(&FrameServerStats::firstFrameTimeouts, lastError);
+                m_stats.countError(&FrameServerStats::first_frame_timeouts, last_error);
                 c.closeWith(transport(c).firstFrameTimeoutReply(c, "disconnected, " + v.why));
                 break;
             case TimeoutVerdict::Kind::Stall:
-                m_stats.countError(&FrameServerStats::stallDisconnects, lastError);
+                m_stats.countError(&FrameServerStats::stall_disconnects, last_error);
                 c.dead = true;
                 break;
         }
@@ -315,24 +315,24 @@ void ClientHub::recountFps() {
                 fps = std::max(fps, effectiveFps(c->fps));
             }
         }
-        e->maxFps = fps;
+        e->max_fps = fps;
     }
 }
 
 void ClientHub::countClients(FrameServerStats& s) const {
     s.connections = m_conns.size();
-    s.clients = s.shmClients = s.tcpClients = s.mjpegClients = 0;
+    s.clients = s.shm_clients = s.tcp_clients = s.mjpeg_clients = 0;
     for (const auto& c : m_conns) {
         if (c->dead || !c->ring) {
             continue;
         }
         ++s.clients;
         if (c->phase == Phase::Mjpeg) {
-            ++s.mjpegClients;
+            ++s.mjpeg_clients;
         } else if (c->payload == StreamPayload::Shm) {
-            ++s.shmClients;
+            ++s.shm_clients;
         } else {
-            ++s.tcpClients;
+            ++s.tcp_clients;
         }
     }
 }
@@ -341,10 +341,10 @@ void ClientHub::refreshRings() {
     m_rings.updatePublishSet();
     m_stats.setActive(m_rings.activeProfiles());
     const std::size_t rings = m_rings.entries().size();
-    const std::size_t ringBytes = m_rings.totalBytes();
+    const std::size_t ring_bytes = m_rings.totalBytes();
     m_stats.update([&](FrameServerStats& s) {
         s.rings = rings;
-        s.ringBytes = ringBytes;
+        s.ring_bytes = ring_bytes;
         countClients(s);
     });
 }

@@ -19,8 +19,8 @@ double msSince(Clock::time_point t) { return std::chrono::duration<double, std::
 
 }  // namespace
 
-FrameEncoder::FrameEncoder(int jpegQuality, std::function<void()> wake)
-    : m_jpegQuality(std::clamp(jpegQuality, 1, 100)), m_wake(std::move(wake)) {}
+FrameEncoder::FrameEncoder(int jpeg_quality, std::function<void()> wake)
+    : m_jpeg_quality(std::clamp(jpeg_quality, 1, 100)), m_wake(std::move(wake)) {}
 
 FrameEncoder::~FrameEncoder() {
     stop();
@@ -145,7 +145,7 @@ std::shared_ptr<const EncodedFrame> FrameEncoder::encode(const FrameRing& ring, 
             unsigned char* dst = out->bytes.data();
             unsigned long size = out->bytes.size();
             if (tjCompress2(tj, src, static_cast<int>(l.width), pitch, static_cast<int>(l.height), TJPF_RGBA, &dst,
-                            &size, TJSAMP_420, m_jpegQuality, TJFLAG_NOREALLOC | TJFLAG_FASTDCT) != 0) {
+                            &size, TJSAMP_420, m_jpeg_quality, TJFLAG_NOREALLOC | TJFLAG_FASTDCT) != 0) {
                 ok = false;
                 error = std::string("tjCompress2(MJPEG): ") + tjGetErrorStr2(tj);
             }
@@ -156,12 +156,12 @@ std::shared_ptr<const EncodedFrame> FrameEncoder::encode(const FrameRing& ring, 
     std::lock_guard lock(m_mutex);
     if (!ok) {
         ++m_stats.failed;
-        if (!error.empty()) m_stats.lastError = error;
+        if (!error.empty()) m_stats.last_error = error;
         return nullptr;
     }
     ++m_stats.encoded;
-    double& last = kind == EncodeKind::Zlib ? m_stats.zlibMsLast : m_stats.jpegMsLast;
-    double& max = kind == EncodeKind::Zlib ? m_stats.zlibMsMax : m_stats.jpegMsMax;
+    double& last = kind == EncodeKind::Zlib ? m_stats.zlib_ms_last : m_stats.jpeg_ms_last;
+    double& max = kind == EncodeKind::Zlib ? m_stats.zlib_ms_max : m_stats.jpeg_ms_max;
     last = ms;
     max = std::max(max, ms);
     return out;

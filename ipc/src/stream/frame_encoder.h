@@ -42,13 +42,13 @@ struct EncoderStats {
     std::uint64_t encoded = 0;   ///< frames encoded
     std::uint64_t replaced = 0;  ///< requests superseded by a newer frame before they started
     std::uint64_t failed = 0;    ///< frame overwritten before it could be read, or encoder error
-    double zlibMsLast = 0, zlibMsMax = 0, jpegMsLast = 0, jpegMsMax = 0;
-    std::string lastError;
+    double zlib_ms_last = 0, zlib_ms_max = 0, jpeg_ms_last = 0, jpeg_ms_max = 0;
+    std::string last_error;
 };
 
 class FrameEncoder {
 public:
-    FrameEncoder(int jpegQuality, std::function<void()> wake);
+    FrameEncoder(int jpeg_quality, std::function<void()> wake);
     ~FrameEncoder();  ///< stops the worker
     FrameEncoder(const FrameEncoder&) = delete;
     FrameEncoder& operator=(const FrameEncoder&) = delete;
@@ -80,7 +80,7 @@ private:
     void run();
     std::shared_ptr<const EncodedFrame> encode(const FrameRing& ring, std::uint64_t sequence, EncodeKind kind);
 
-    const int m_jpegQuality;
+    const int m_jpeg_quality;
     std::function<void()> m_wake;
     void* m_tj = nullptr;  // tjhandle (kept out of this header)
     std::thread m_thread;

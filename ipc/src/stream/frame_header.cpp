@@ -39,12 +39,12 @@ std::array<std::uint8_t, kFrameHeaderBytes> encodeFrameHeader(const FrameHeader&
     put<std::uint16_t>(o, 10, static_cast<std::uint16_t>(h.encoding));
     put<std::uint32_t>(o, 12, static_cast<std::uint32_t>(h.format));
     put<std::uint64_t>(o, 16, h.sequence);
-    put<std::int64_t>(o, 24, h.renderTimeNs);
-    put<std::int64_t>(o, 32, h.sourceTimeNs);
+    put<std::int64_t>(o, 24, h.render_time_ns);
+    put<std::int64_t>(o, 32, h.source_time_ns);
     put<std::uint32_t>(o, 40, h.width);
     put<std::uint32_t>(o, 44, h.height);
     put<std::uint32_t>(o, 48, h.stride);
-    put<std::uint32_t>(o, 52, h.payloadBytes);
+    put<std::uint32_t>(o, 52, h.payload_bytes);
     put<std::uint64_t>(o, 56, h.dropped);
     put<std::uint32_t>(o, 64, h.slot);
     return out;
@@ -73,23 +73,23 @@ Result<FrameHeader> decodeFrameHeader(const std::uint8_t* d, std::size_t size) {
     }
     h.kind = static_cast<FrameKind>(kind);
     h.sequence = get<std::uint64_t>(d, 16);
-    h.renderTimeNs = get<std::int64_t>(d, 24);
-    h.sourceTimeNs = get<std::int64_t>(d, 32);
+    h.render_time_ns = get<std::int64_t>(d, 24);
+    h.source_time_ns = get<std::int64_t>(d, 32);
     h.width = get<std::uint32_t>(d, 40);
     h.height = get<std::uint32_t>(d, 44);
     h.stride = get<std::uint32_t>(d, 48);
-    h.payloadBytes = get<std::uint32_t>(d, 52);
+    h.payload_bytes = get<std::uint32_t>(d, 52);
     h.dropped = get<std::uint64_t>(d, 56);
     h.slot = get<std::uint32_t>(d, 64);
     if (h.kind == FrameKind::Error) {
-        if (h.payloadBytes > kMaxErrorPayloadBytes) {
-            return Error{"frame header: error message of " + std::to_string(h.payloadBytes) + " bytes"};
+        if (h.payload_bytes > kMaxErrorPayloadBytes) {
+            return Error{"frame header: error message of " + std::to_string(h.payload_bytes) + " bytes"};
         }
         return h;
     }
     if (h.kind == FrameKind::Status) {
-        if (h.payloadBytes > kMaxStatusPayloadBytes) {
-            return Error{"frame header: status of " + std::to_string(h.payloadBytes) + " bytes (limit " +
+        if (h.payload_bytes > kMaxStatusPayloadBytes) {
+            return Error{"frame header: status of " + std::to_string(h.payload_bytes) + " bytes (limit " +
                          std::to_string(kMaxStatusPayloadBytes) + ")"};
         }
         return h;
@@ -112,20 +112,20 @@ Result<FrameHeader> decodeFrameHeader(const std::uint8_t* d, std::size_t size) {
     }
     switch (h.encoding) {
         case FrameEncoding::Shm:
-            if (h.payloadBytes != 0) {
+            if (h.payload_bytes != 0) {
                 return Error{"frame header: shm frame with a socket payload"};
             }
             break;
         case FrameEncoding::Raw:
-            if (h.payloadBytes != h.pixelBytes()) {
-                return Error{"frame header: raw payload " + std::to_string(h.payloadBytes) + " bytes, expected " +
+            if (h.payload_bytes != h.pixelBytes()) {
+                return Error{"frame header: raw payload " + std::to_string(h.payload_bytes) + " bytes, expected " +
                              std::to_string(h.pixelBytes())};
             }
             break;
         case FrameEncoding::Zlib:
             // zlib's worst case expansion is tiny; anything beyond that is not a zlib of this frame.
-            if (h.payloadBytes == 0 || h.payloadBytes > h.pixelBytes() + h.pixelBytes() / 1000 + 64) {
-                return Error{"frame header: zlib payload of " + std::to_string(h.payloadBytes) + " bytes"};
+            if (h.payload_bytes == 0 || h.payload_bytes > h.pixelBytes() + h.pixelBytes() / 1000 + 64) {
+                return Error{"frame header: zlib payload of " + std::to_string(h.payload_bytes) + " bytes"};
             }
             break;
     }

@@ -39,7 +39,7 @@ std::int64_t realtimeNs() noexcept {
 
 }  // namespace
 
-std::size_t FrameRingLayout::slotOffset(std::uint32_t i) const noexcept { return kRingHeaderBytes + slotBytes * i; }
+std::size_t FrameRingLayout::slotOffset(std::uint32_t i) const noexcept { return kRingHeaderBytes + slot_bytes * i; }
 
 FrameRingLayout FrameRingLayout::make(std::uint32_t slots, std::uint32_t width, std::uint32_t height,
                                       PixelFormat format) {
@@ -49,8 +49,8 @@ FrameRingLayout FrameRingLayout::make(std::uint32_t slots, std::uint32_t width, 
     l.height = height;
     l.format = format;
     l.stride = width * static_cast<std::uint32_t>(bytesPerPixel(format));
-    l.slotBytes = roundUp(kSlotPixelOffset + l.pixelBytes(), kPage);
-    l.totalBytes = kRingHeaderBytes + l.slotBytes * slots;
+    l.slot_bytes = roundUp(kSlotPixelOffset + l.pixelBytes(), kPage);
+    l.total_bytes = kRingHeaderBytes + l.slot_bytes * slots;
     return l;
 }
 
@@ -60,12 +60,12 @@ Status FrameRingLayout::validate(std::size_t fileBytes) const {
         return Error{"ring layout: bad geometry"};
     }
     const FrameRingLayout expect = make(slots, width, height, format);
-    if (stride != expect.stride || slotBytes != expect.slotBytes || totalBytes != expect.totalBytes) {
+    if (stride != expect.stride || slot_bytes != expect.slot_bytes || total_bytes != expect.total_bytes) {
         return Error{"ring layout: sizes do not match the geometry"};
     }
-    if (fileBytes < totalBytes) {
+    if (fileBytes < total_bytes) {
         return Error{"ring layout: shared memory has " + std::to_string(fileBytes) + " bytes, layout needs " +
-                     std::to_string(totalBytes)};
+                     std::to_string(total_bytes)};
     }
     return {};
 }
@@ -81,16 +81,16 @@ Result<std::unique_ptr<FrameRing>> FrameRing::create(const std::string& name, st
     if (!fd.valid()) {
         return Error{net::sysError("memfd_create", name)};
     }
-    if (ftruncate(fd.get(), static_cast<off_t>(layout.totalBytes)) != 0) {
+    if (ftruncate(fd.get(), static_cast<off_t>(layout.total_bytes)) != 0) {
         return Error{net::sysError("ftruncate", name)};
     }
-    void* p = mmap(nullptr, layout.totalBytes, PROT_READ | PROT_WRITE, MAP_SHARED, fd.get(), 0);
+    void* p = mmap(nullptr, layout.total_bytes, PROT_READ | PROT_WRITE, MAP_SHARED, fd.get(), 0);
     if (p == MAP_FAILED) {
         return Error{net::sysError("mmap", name)};
     }
     auto* base = static_cast<std::uint8_t*>(p);
     // Touch every page now (server thread) so the render thread's first writes do not fault.
-    std::memset(base, 0, layout.totalBytes);
+    std::memset(base, 0, layout.total_bytes);
     const std::uint32_t hdr[] = {
         kRingMagic, kRingVersion, slots, width, height, layout.stride, static_cast<std::uint32_t>(format)};
     std::memcpy(base, hdr, sizeof(hdr));
@@ -101,7 +101,7 @@ Result<std::unique_ptr<FrameRing>> FrameRing::create(const std::string& name, st
     // F_SEAL_SEAL last, so the set is final.
     if (fcntl(fd.get(), F_ADD_SEALS, F_SEAL_SHRINK | F_SEAL_GROW | F_SEAL_FUTURE_WRITE | F_SEAL_SEAL) != 0) {
         const int e = errno;
-        munmap(p, layout.totalBytes);
+        munmap(p, layout.total_bytes);
         return Error{net::sysError("fcntl", name + ", F_ADD_SEALS F_SEAL_FUTURE_WRITE", e) +
                      (e == EINVAL ? " (needs Linux >= 5.1)" : "")};
     }
@@ -117,7 +117,7 @@ FrameRing::FrameRing(int fd, std::uint8_t* base, FrameRingLayout layout)
 
 FrameRing::~FrameRing() {
     if (m_base != nullptr) {
-        munmap(m_base, m_layout.totalBytes);
+        munmap(m_base, m_layout.total_bytes);
     }
 }
 
@@ -127,17 +127,17 @@ std::uint64_t FrameRing::write(const FrameView& frame) noexcept {
         (frame.format != PixelFormat::Rgba8 && frame.format != m_layout.format)) {
         return 0;
     }
-    const std::uint64_t seq = m_nextSequence++;
+    const std::uint64_t seq = m_next_sequence++;
     // The least recently written slot that no client holds. Claiming a slot and pinning one are
     // the two halves of Dekker's protocol: the writer makes the lock word odd, then reads the pin
     // count; pin() raises the count, then reads the lock word (each with a full fence between), so
     // at least one of them sees the other and steps back. A slot claimed and then found pinned is
     // given back unchanged (its old even lock word: readers see no change, and nothing changed).
-    std::uint32_t slot = m_nextSlot;
+    std::uint32_t slot = m_next_slot;
     std::uint64_t* lock = nullptr;
     std::uint64_t l = 0;
     for (std::uint32_t k = 0; k < m_layout.slots && lock == nullptr; ++k) {
-        const std::uint32_t candidate = (m_nextSlot + k) % m_layout.slots;
+        const std::uint32_t candidate = (m_next_slot + k) % m_layout.slots;
         if (m_pins[candidate].load(std::memory_order_relaxed) != 0) {
             continue;
         }
@@ -156,13 +156,13 @@ std::uint64_t FrameRing::write(const FrameView& frame) noexcept {
     if (lock == nullptr) {
         // Every slot is held: the stream must not stop for its clients, so the oldest write goes
         // (its holder learns it from the lock word when it releases the frame).
-        m_pinnedOverwrites.fetch_add(1, std::memory_order_relaxed);
+        m_pinned_overwrites.fetch_add(1, std::memory_order_relaxed);
         lock = reinterpret_cast<std::uint64_t*>(m_base + m_layout.slotOffset(slot));
         l = __atomic_load_n(lock, __ATOMIC_RELAXED);
         __atomic_store_n(lock, l + 1, __ATOMIC_RELAXED);
         __atomic_thread_fence(__ATOMIC_RELEASE);
     }
-    m_nextSlot = (slot + 1) % m_layout.slots;
+    m_next_slot = (slot + 1) % m_layout.slots;
     std::uint8_t* s = m_base + m_layout.slotOffset(slot);
     // Sequence lock, writer side: odd while the slot changes, even (and larger) when done.
 
@@ -171,8 +171,8 @@ std::uint64_t FrameRing::write(const FrameView& frame) noexcept {
     h.encoding = FrameEncoding::Shm;
     h.format = m_layout.format;
     h.sequence = seq;
-    h.renderTimeNs = frame.renderTimeNs != 0 ? frame.renderTimeNs : realtimeNs();
-    h.sourceTimeNs = frame.sourceTimeNs;
+    h.render_time_ns = frame.render_time_ns != 0 ? frame.render_time_ns : realtimeNs();
+    h.source_time_ns = frame.source_time_ns;
     h.width = m_layout.width;
     h.height = m_layout.height;
     h.stride = m_layout.stride;

@@ -64,13 +64,13 @@ private:
     std::thread m_thread;
     std::atomic<bool> m_running{false};
 
-    std::mutex m_statusMutex;  // guards the hand-over of statuses only, never I/O
+    std::mutex m_status_mutex;  // guards the hand-over of statuses only, never I/O
     std::vector<PendingStatus> m_statuses;
 };
 
 FrameServer::Impl::Impl(FrameServerOptions options)
     : m_options(std::move(options)),
-      m_encoder(m_options.jpegQuality, [this] { m_loop.wake(); }),
+      m_encoder(m_options.jpeg_quality, [this] { m_loop.wake(); }),
       m_rings(m_options, m_stats),
       m_hub(m_options, m_stats, m_rings, m_loop, m_encoder),
       m_shm(m_hub),
@@ -83,10 +83,10 @@ FrameServer::Impl::Impl(FrameServerOptions options)
 }
 
 Status FrameServer::Impl::checkOptions() const {
-    if (m_options.ringSlots < 2 || m_options.ringSlots > 64) {
+    if (m_options.ring_slots < 2 || m_options.ring_slots > 64) {
         return Error{"FrameServer: ringSlots must be in [2, 64]"};
     }
-    if (m_options.maxClientsPerTransport < 1 || m_options.maxClientsPerUid < 1) {
+    if (m_options.max_clients_per_transport < 1 || m_options.max_clients_per_uid < 1) {
         return Error{"FrameServer: maxClientsPerTransport and maxClientsPerUid must be at least 1"};
     }
     return {};
@@ -175,13 +175,13 @@ Status FrameServer::Impl::publishStatus(const std::string& key, int width, int h
     // Header and text are built here, once; the server thread only queues the bytes per client.
     FrameHeader h;
     h.kind = FrameKind::Status;
-    h.payloadBytes = static_cast<std::uint32_t>(json.size());
+    h.payload_bytes = static_cast<std::uint32_t>(json.size());
     const auto hb = encodeFrameHeader(h);
     auto bytes = std::make_shared<std::string>(hb.begin(), hb.end());
     bytes->append(json);
     PendingStatus st{key, static_cast<std::uint32_t>(width), static_cast<std::uint32_t>(height), std::move(bytes)};
     {
-        std::lock_guard lock(m_statusMutex);
+        std::lock_guard lock(m_status_mutex);
         const auto same = std::find_if(m_statuses.begin(), m_statuses.end(), [&](const PendingStatus& p) {
             return p.key == st.key && p.width == st.width && p.height == st.height;
         });
@@ -197,19 +197,19 @@ Status FrameServer::Impl::publishStatus(const std::string& key, int width, int h
 
 std::vector<PendingStatus> FrameServer::Impl::takeStatuses() {
     std::vector<PendingStatus> statuses;
-    std::lock_guard lock(m_statusMutex);
+    std::lock_guard lock(m_status_mutex);
     statuses.swap(m_statuses);
     return statuses;
 }
 
 void FrameServer::Impl::collectMetrics(MetricsRegistry& registry) const {
     // zlib and JPEG figures come from the encoder thread.
-    stream_detail::collectStreamMetrics(registry, stats(), m_encoder.stats(), m_options.ringMemoryBytes);
+    stream_detail::collectStreamMetrics(registry, stats(), m_encoder.stats(), m_options.ring_memory_bytes);
 }
 
 std::string FrameServer::Impl::statusJson() const {
     const FrameServerStats s = stats();
-    return stream_detail::streamStatusJson(s, activeProfiles(), m_options.statusJson);
+    return stream_detail::streamStatusJson(s, activeProfiles(), m_options.status_json);
 }
 
 // --- FrameServer ---

@@ -12,7 +12,7 @@ namespace navmap::ipc::stream_detail {
 std::string errorFrame(const std::string& text) {
     FrameHeader h;
     h.kind = FrameKind::Error;
-    h.payloadBytes = static_cast<std::uint32_t>(text.size());
+    h.payload_bytes = static_cast<std::uint32_t>(text.size());
     const auto hb = encodeFrameHeader(h);
     return std::string(hb.begin(), hb.end()) + text;
 }
@@ -70,12 +70,12 @@ void FrameStreamTransport::onHandshake(StreamConn& c, const std::string& line) {
     c.payload = r.payload;
     c.hold = r.hold;
     c.fps = r.profile.fps;
-    c.ring->maxFps = std::max(c.ring->maxFps, effectiveFps(c.fps));
+    c.ring->max_fps = std::max(c.ring->max_fps, effectiveFps(c.fps));
     if (!sendReply(c, handshakeReply(c, r))) {
         return;
     }
     c.phase = Phase::Stream;
-    c.lastProgress = c.streamSince = Clock::now();
+    c.last_progress = c.stream_since = Clock::now();
     m_hub.refreshRings();
     m_hub.offerIfNew(c, Clock::now());
 }
@@ -96,8 +96,8 @@ std::string FrameStreamTransport::handshakeReply(const StreamConn& c, const Stre
     reply["header_bytes"] = kFrameHeaderBytes;
     if (r.payload == StreamPayload::Shm) {
         reply["ring"] = {{"slots", l.slots},
-                         {"slot_bytes", l.slotBytes},
-                         {"total_bytes", l.totalBytes},
+                         {"slot_bytes", l.slot_bytes},
+                         {"total_bytes", l.total_bytes},
                          {"header_offset", kSlotHeaderOffset},
                          {"pixel_offset", kSlotPixelOffset}};
     }
@@ -129,16 +129,16 @@ void FrameStreamTransport::onStreamBytes(StreamConn& c) {
 }
 
 void FrameStreamTransport::handshakeError(StreamConn& c, const std::string& message) {
-    m_hub.stats().countError(&FrameServerStats::handshakeErrors, c.peer + ": " + message);
+    m_hub.stats().countError(&FrameServerStats::handshake_errors, c.peer + ": " + message);
     m_hub.finishWith(c, jsonErrorLine(message));
 }
 
 void FrameStreamTransport::protocolError(StreamConn& c, const std::string& message) {
-    m_hub.stats().countError(&FrameServerStats::protocolErrors, c.peer + ": " + message);
+    m_hub.stats().countError(&FrameServerStats::protocol_errors, c.peer + ": " + message);
     // The error travels as a header of kind Error after whatever frame is in flight.
     c.in.clear();
     c.pending = false;
-    c.awaitingAck = false;
+    c.awaiting_ack = false;
     c.unpin();
     m_hub.finishWith(c, errorFrame(message));
 }
@@ -150,7 +150,7 @@ std::string FrameStreamTransport::firstFrameTimeoutReply(const StreamConn& c, co
 
 bool FrameStreamTransport::readFrame(StreamConn& c, std::uint64_t seq, FrameHeader* h) {
     const bool ok = c.ring->fillRaw(seq);
-    *h = c.ring->rawHeader;
+    *h = c.ring->raw_header;
     return ok;
 }
 
@@ -158,7 +158,7 @@ FrameStreamTransport::ReadOutcome FrameStreamTransport::readNewest(StreamConn& c
     // The newest frame; if the render thread overwrites it meanwhile, take the one after.
     for (int attempt = 0; attempt < 4; ++attempt) {
         *seq = c.ring->ring->latestSequence();
-        if (*seq == 0 || *seq <= c.lastSent) {
+        if (*seq == 0 || *seq <= c.last_sent) {
             return ReadOutcome::Nothing;
         }
         if (readFrame(c, *seq, h)) {
@@ -176,7 +176,7 @@ void FrameStreamTransport::sendFrame(StreamConn& c) {
     if (c.payload == StreamPayload::Zlib) {
         // Encoded by the encoder thread; the newest finished one.
         encoded = c.ring->zlib;
-        if (!encoded || encoded->sequence <= c.lastSent) {
+        if (!encoded || encoded->sequence <= c.last_sent) {
             return;
         }
         seq = encoded->sequence;
@@ -194,7 +194,7 @@ void FrameStreamTransport::queueFrame(StreamConn& c, FrameHeader h, const Encode
     const bool zlib = encoded != nullptr;
     h.encoding = zlib ? FrameEncoding::Zlib : FrameEncoding::Raw;
     const auto& payload = zlib ? encoded->bytes : c.ring->raw;
-    h.payloadBytes = static_cast<std::uint32_t>(payload.size());
+    h.payload_bytes = static_cast<std::uint32_t>(payload.size());
     const auto hb = encodeFrameHeader(h);
     c.queue(hb.data(), hb.size());
     c.queue(payload.data(), payload.size());

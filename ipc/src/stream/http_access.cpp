@@ -51,7 +51,7 @@ void splitHost(const std::string& value, std::string* name, std::string* port) {
 }  // namespace
 
 std::string HttpAccess::serverAddress(int fd) const {
-    std::string address = m_options.bindAddress;
+    std::string address = m_options.bind_address;
     if (address != "0.0.0.0" && address != "::") {
         return address;
     }
@@ -85,7 +85,7 @@ std::string HttpAccess::checkHost(int fd, int port, const std::string& value, in
     if (nameOk && portOk) {
         return {};
     }
-    m_stats.count(&FrameServerStats::refusedHost);
+    m_stats.count(&FrameServerStats::refused_host);
     *code = 421;
     const std::string self =
         (address.find(':') != std::string::npos ? "[" + address + "]" : address) + ":" + std::to_string(port);
@@ -107,10 +107,10 @@ std::string HttpAccess::checkToken(const StreamHttpRequest& req, int* code) cons
         given = q->second;
         present = true;
     }
-    if (present && equalConstantTime(given, m_options.httpToken)) {
+    if (present && equalConstantTime(given, m_options.http_token)) {
         return {};
     }
-    m_stats.count(&FrameServerStats::refusedToken);
+    m_stats.count(&FrameServerStats::refused_token);
     *code = 401;
     return present ? "wrong token\n" : "this server needs a token: Authorization: Bearer <token>, or ?token=<token>\n";
 }
@@ -118,14 +118,14 @@ std::string HttpAccess::checkToken(const StreamHttpRequest& req, int* code) cons
 std::string HttpAccess::check(int fd, int port, const StreamHttpRequest& req, int* code) const {
     const auto host = req.headers.find("host");
     if (host == req.headers.end() || host->second.empty()) {
-        m_stats.count(&FrameServerStats::refusedHost);
+        m_stats.count(&FrameServerStats::refused_host);
         *code = 400;
         return "missing Host header\n";
     }
     if (std::string why = checkHost(fd, port, host->second, code); !why.empty()) {
         return why;
     }
-    return m_options.httpToken.empty() ? std::string() : checkToken(req, code);
+    return m_options.http_token.empty() ? std::string() : checkToken(req, code);
 }
 
 }  // namespace navmap::ipc::stream_detail

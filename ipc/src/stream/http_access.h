@@ -2,7 +2,7 @@
 #pragma once
 // HttpAccess: who may use the HTTP transport. The Host header must name this server (a page from
 // another origin that reaches the port through DNS rebinding carries its own host name); when
-// httpToken is set, a request needs it as a bearer token or ?token=. Refusals are counted.
+// http_token is set, a request needs it as a bearer token or ?token=. Refusals are counted.
 // Server thread. Private to ipc/src/stream.
 
 #include <string>
@@ -25,7 +25,7 @@ public:
 private:
     std::string checkHost(int fd, int port, const std::string& value, int* code) const;
     std::string checkToken(const StreamHttpRequest& req, int* code) const;
-    /// The address clients should name: bindAddress, or the one `fd` came in on when bound to all.
+    /// The address clients should name: bind_address, or the one `fd` came in on when bound to all.
     std::string serverAddress(int fd) const;
 
     const FrameServerOptions& m_options;

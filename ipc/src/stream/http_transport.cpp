@@ -35,11 +35,11 @@ nlohmann::json mjpegRequest(const StreamHttpRequest& req, const FrameServerOptio
         hasProfile = hasProfile || k == "profile" || k == "width";
     }
     if (!hasProfile) {
-        j["profile"] = options.mjpegProfile;
+        j["profile"] = options.mjpeg_profile;
     }
     // A rendered profile by its name (?profile=rear) stands for its view and size.
     if (j.contains("profile") && j["profile"].is_string() && !j.contains("width")) {
-        for (const auto& r : options.renderedProfiles) {
+        for (const auto& r : options.rendered_profiles) {
             if (r.name == j["profile"].get<std::string>()) {
                 j["width"] = r.width;
                 j["height"] = r.height;
@@ -59,18 +59,18 @@ bool hasHighBytes(const std::string& s) {
 }  // namespace
 
 HttpTransport::HttpTransport(ClientHub& hub, std::function<void(MetricsRegistry&)> ownMetrics,
-                             std::function<std::string()> statusJson)
+                             std::function<std::string()> status_json)
     : StreamTransport(Via::Http, hub),
       m_access(hub.options(), hub.stats()),
-      m_ownMetrics(std::move(ownMetrics)),
-      m_statusJson(std::move(statusJson)) {}
+      m_own_metrics(std::move(ownMetrics)),
+      m_status_json(std::move(status_json)) {}
 
 Result<int> HttpTransport::openListener() {
     const FrameServerOptions& o = m_hub.options();
-    if (o.httpPort < 0) {
+    if (o.http_port < 0) {
         return -1;
     }
-    auto fd = listenTcp(o.bindAddress, o.httpPort);
+    auto fd = listenTcp(o.bind_address, o.http_port);
     if (fd) {
         m_port = boundPort(fd.value());
     }
@@ -137,7 +137,7 @@ void HttpTransport::onRequest(StreamConn& c, const std::string& head) {
     } else if (req.path == "/" || req.path == "/index.html") {
         servePage(c);
     } else if (req.path == "/status") {
-        reply(c, 200, "OK", "application/json", m_statusJson());
+        reply(c, 200, "OK", "application/json", m_status_json());
     } else if (req.path == "/metrics") {
         serveMetrics(c);
     } else if (req.path == "/stream.mjpg") {
@@ -159,10 +159,10 @@ void HttpTransport::refuseAccess(StreamConn& c, int code, const std::string& why
 
 void HttpTransport::servePage(StreamConn& c) {
     std::vector<std::string> names;
-    for (const auto& r : m_hub.options().renderedProfiles) {
+    for (const auto& r : m_hub.options().rendered_profiles) {
         names.push_back(r.name);
     }
-    reply(c, 200, "OK", "text/html; charset=utf-8", viewerPage(m_hub.options().mjpegProfile, names));
+    reply(c, 200, "OK", "text/html; charset=utf-8", viewerPage(m_hub.options().mjpeg_profile, names));
 }
 
 void HttpTransport::serveMetrics(StreamConn& c) {
@@ -170,7 +170,7 @@ void HttpTransport::serveMetrics(StreamConn& c) {
     // twice is a bug, answered with 500 and its name instead of a malformed exposition.
     MetricsRegistry registry;
     try {
-        m_ownMetrics(registry);
+        m_own_metrics(registry);
         if (m_hub.options().metrics) {
             m_hub.options().metrics(registry);
         }
@@ -205,7 +205,7 @@ void HttpTransport::startMjpeg(StreamConn& c, const StreamHttpRequest& req) {
     c.ring = ring.value();
     c.fps = r.value().profile.fps;
     c.phase = Phase::Mjpeg;
-    c.streamSince = Clock::now();
+    c.stream_since = Clock::now();
     static const char kHead[] =
         "HTTP/1.0 200 OK\r\nContent-Type: multipart/x-mixed-replace; boundary=navmapframe\r\n"
         "Cache-Control: no-store\r\nConnection: close\r\n\r\n";
@@ -219,13 +219,13 @@ void HttpTransport::sendFrame(StreamConn& c) {
     c.pending = false;
     // Encoded by the encoder thread; the newest finished one.
     const std::shared_ptr<const EncodedFrame> encoded = c.ring->jpeg;
-    if (!encoded || encoded->sequence <= c.lastSent) {
+    if (!encoded || encoded->sequence <= c.last_sent) {
         return;
     }
     const std::uint64_t seq = encoded->sequence;
     std::ostringstream os;
     os << "--navmapframe\r\nContent-Type: image/jpeg\r\nContent-Length: " << encoded->bytes.size()
-       << "\r\nX-Navmap-Sequence: " << seq << "\r\nX-Navmap-Source-Time-Ns: " << encoded->header.sourceTimeNs
+       << "\r\nX-Navmap-Sequence: " << seq << "\r\nX-Navmap-Source-Time-Ns: " << encoded->header.source_time_ns
        << "\r\nX-Navmap-Dropped: " << c.dropped << "\r\n\r\n";
     const std::string partHead = os.str();
     c.queue(partHead.data(), partHead.size());
@@ -237,7 +237,8 @@ void HttpTransport::sendFrame(StreamConn& c) {
 void HttpTransport::reply(StreamConn& c, int code, const char* reason, const char* contentType, const std::string& body,
                           const char* extraHeaders) {
     if (code >= 400) {
-        m_hub.stats().countError(&FrameServerStats::httpErrors, c.peer + ": HTTP " + std::to_string(code) + " " + body);
+        m_hub.stats().countError(&FrameServerStats::http_errors,
+                                 c.peer + ": HTTP " + std::to_string(code) + " " + body);
     }
     std::ostringstream os;
     os << "HTTP/1.0 " << code << ' ' << reason << "\r\nContent-Type: " << contentType

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// HttpTransport: HTTP/1.0 on bindAddress:httpPort, one request per connection. GET / (HTML
+// HttpTransport: HTTP/1.0 on bind_address:http_port, one request per connection. GET / (HTML
 // viewer), /status (JSON), /metrics (Prometheus text) and /stream.mjpg (MJPEG: the query picks
 // the profile like a handshake; JPEGs come from the encoder thread). Every request passes
 // HttpAccess first; errors are plain-text 4xx/5xx replies, counted. Server thread. Private to
@@ -17,9 +17,9 @@ namespace navmap::ipc::stream_detail {
 
 class HttpTransport : public StreamTransport {
 public:
-    /// `ownMetrics` adds the server's navmap_stream_* families; `statusJson` is the /status body.
+    /// `ownMetrics` adds the server's navmap_stream_* families; `status_json` is the /status body.
     HttpTransport(ClientHub& hub, std::function<void(MetricsRegistry&)> ownMetrics,
-                  std::function<std::string()> statusJson);
+                  std::function<std::string()> status_json);
 
     int port() const noexcept { return m_port; }
 
@@ -42,8 +42,8 @@ private:
                const char* extraHeaders = "");
 
     HttpAccess m_access;
-    std::function<void(MetricsRegistry&)> m_ownMetrics;
-    std::function<std::string()> m_statusJson;
+    std::function<void(MetricsRegistry&)> m_own_metrics;
+    std::function<std::string()> m_status_json;
     int m_port = -1;
 };
 

@@ -49,7 +49,7 @@ navmap_client* navmap_client_create(const navmap_client_options* options, const 
         return fail("navmap_client_create: profile is required");
     }
     navmap::ipc::ReconnectOptions o;
-    o.unixPath = options->socket_path;
+    o.unix_path = options->socket_path;
     auto& p = o.request.profile;
     if (auto d = navmap::ipc::defaultStreamProfile(options->profile)) {
         p = *d;
@@ -92,9 +92,9 @@ navmap_client* navmap_client_create(const navmap_client_options* options, const 
     }
     o.request.payload = navmap::ipc::StreamPayload::Shm;
     o.request.hold = true;  // frames are handed out in place until navmap_client_release_frame()
-    o.connectTimeout = orDefault(options->connect_timeout_ms, 2000);
-    o.initialBackoff = orDefault(options->reconnect_initial_ms, 100);
-    o.maxBackoff = orDefault(options->reconnect_max_ms, 5000);
+    o.connect_timeout = orDefault(options->connect_timeout_ms, 2000);
+    o.initial_backoff = orDefault(options->reconnect_initial_ms, 100);
+    o.max_backoff = orDefault(options->reconnect_max_ms, 5000);
     auto* c = new (std::nothrow) navmap_client;
     if (c == nullptr) {
         return fail("navmap_client_create: out of memory");
@@ -129,9 +129,9 @@ int navmap_client_next_frame(navmap_client* client, int timeout_ms, navmap_frame
     frame->stride = h.stride;
     frame->format = static_cast<int>(h.format);
     frame->sequence = h.sequence;
-    frame->render_time_ns = h.renderTimeNs;
-    frame->source_time_ns = h.sourceTimeNs;
-    frame->receive_time_ns = client->held.receiveTimeNs;
+    frame->render_time_ns = h.render_time_ns;
+    frame->source_time_ns = h.source_time_ns;
+    frame->receive_time_ns = client->held.receive_time_ns;
     frame->dropped = h.dropped;
     client->holding = true;
     ++client->frames;
@@ -168,9 +168,9 @@ void navmap_client_get_stats(const navmap_client* client, navmap_client_stats* s
     const auto& r = client->client->reconnectStats();
     stats->frames = client->frames;
     stats->connects = r.connects;
-    stats->failed_attempts = r.failedAttempts;
+    stats->failed_attempts = r.failed_attempts;
     stats->disconnects = r.disconnects;
-    stats->held_overwritten = r.heldOverwritten;
+    stats->held_overwritten = r.held_overwritten;
 }
 
 void navmap_client_destroy(navmap_client* client) { delete client; }

@@ -26,16 +26,16 @@
 namespace {
 
 struct Options {
-    std::string unixPath;
-    std::string tcpHost;
-    int tcpPort = -1;
+    std::string unix_path;
+    std::string tcp_host;
+    int tcp_port = -1;
     navmap::ipc::StreamRequest request;
     long frames = 100;
     double duration = 0;
-    std::string saveDir;
-    long saveCount = -1;
+    std::string save_dir;
+    long save_count = -1;
     bool json = false;
-    bool zeroCopy = false;
+    bool zero_copy = false;
 };
 
 // Parses the command line into `o`; nullopt to go on, else the exit status.
@@ -46,7 +46,7 @@ std::optional<int> parseArgs(int argc, char** argv, Options* o) {
     navmap::cli::setUp(app, "navmap-view");
     std::string profile = "cluster", view, format, payload, tcp;
     std::optional<int> width, height, fps;
-    auto* unix = app.add_option("--unix", o->unixPath, "navmapd's frame socket (payload shm by default)");
+    auto* unix = app.add_option("--unix", o->unix_path, "navmapd's frame socket (payload shm by default)");
     auto* tcpOpt = app.add_option("--tcp", tcp, "HOST:PORT of navmapd's TCP frame server (payload raw by default)");
     unix->excludes(tcpOpt);
     app.add_option("--profile", profile, "cluster | hud | center | a profile the daemon renders")
@@ -64,10 +64,10 @@ std::optional<int> parseArgs(int argc, char** argv, Options* o) {
         ->capture_default_str()
         ->check(integerIn(0, 1LL << 40));
     app.add_option("--duration", o->duration, "stop after S seconds, 0 = no limit")->check(finiteIn(0.0, 1e7));
-    app.add_option("--save", o->saveDir, "write frames as DIR/frame_<seq>.png");
-    app.add_option("--save-count", o->saveCount, "save at most N frames (default: all received)")
+    app.add_option("--save", o->save_dir, "write frames as DIR/frame_<seq>.png");
+    app.add_option("--save-count", o->save_count, "save at most N frames (default: all received)")
         ->check(integerIn(0, 1LL << 40));
-    app.add_flag("--zero-copy", o->zeroCopy,
+    app.add_flag("--zero-copy", o->zero_copy,
                  "payload shm: use each frame in place in the ring until the next (no copy)");
     app.add_flag("--json", o->json, "print the summary as one JSON object (status lines go to stderr)");
     if (const auto exit_status = navmap::cli::parse(app, argc, argv)) {
@@ -77,7 +77,7 @@ std::optional<int> parseArgs(int argc, char** argv, Options* o) {
         std::fprintf(stderr, "navmap-view: %s\nRun with --help for more information.\n", why.c_str());
         return navmap::cli::kExitUsage;
     };
-    if (o->unixPath.empty() == tcp.empty()) {
+    if (o->unix_path.empty() == tcp.empty()) {
         return usage("give exactly one of --unix PATH and --tcp HOST:PORT");
     }
     if (!tcp.empty()) {
@@ -88,8 +88,8 @@ std::optional<int> parseArgs(int argc, char** argv, Options* o) {
             port > 65535) {
             return usage("--tcp: '" + tcp + "' is not HOST:PORT with a port in [1, 65535]");
         }
-        o->tcpHost = tcp.substr(0, colon);
-        o->tcpPort = static_cast<int>(port);
+        o->tcp_host = tcp.substr(0, colon);
+        o->tcp_port = static_cast<int>(port);
     }
     navmap::ipc::StreamProfile& p = o->request.profile;
     if (auto d = navmap::ipc::defaultStreamProfile(profile)) {
@@ -103,16 +103,16 @@ std::optional<int> parseArgs(int argc, char** argv, Options* o) {
     if (!view.empty()) p.view = view;
     if (!format.empty()) p.format = *navmap::ipc::parsePixelFormat(format);
     if (payload.empty()) {
-        o->request.payload = o->unixPath.empty() ? navmap::ipc::StreamPayload::Raw : navmap::ipc::StreamPayload::Shm;
+        o->request.payload = o->unix_path.empty() ? navmap::ipc::StreamPayload::Raw : navmap::ipc::StreamPayload::Shm;
     } else {
         o->request.payload = payload == "shm"   ? navmap::ipc::StreamPayload::Shm
                              : payload == "raw" ? navmap::ipc::StreamPayload::Raw
                                                 : navmap::ipc::StreamPayload::Zlib;
     }
-    if (o->zeroCopy && o->request.payload != navmap::ipc::StreamPayload::Shm) {
+    if (o->zero_copy && o->request.payload != navmap::ipc::StreamPayload::Shm) {
         return usage("--zero-copy needs payload shm (--unix)");
     }
-    o->request.hold = o->zeroCopy;
+    o->request.hold = o->zero_copy;
     return std::nullopt;
 }
 
@@ -140,20 +140,20 @@ int main(int argc, char** argv) {
     sigprocmask(SIG_BLOCK, &stopSignals, nullptr);
 
     const auto timeout = std::chrono::seconds(5);
-    auto connected = o.unixPath.empty() ? navmap::ipc::StreamClient::connectTcp(o.tcpHost, o.tcpPort, o.request,
-                                                                                timeout, navmap::ipc::zlibInflater())
-                                        : navmap::ipc::StreamClient::connectUnix(o.unixPath, o.request, timeout,
-                                                                                 navmap::ipc::zlibInflater());
+    auto connected = o.unix_path.empty() ? navmap::ipc::StreamClient::connectTcp(o.tcp_host, o.tcp_port, o.request,
+                                                                                 timeout, navmap::ipc::zlibInflater())
+                                         : navmap::ipc::StreamClient::connectUnix(o.unix_path, o.request, timeout,
+                                                                                  navmap::ipc::zlibInflater());
     if (!connected) {
         std::fprintf(stderr, "navmap-view: %s\n", connected.error().message.c_str());
         return 1;
     }
     auto& client = *connected.value();
-    if (!o.saveDir.empty()) {
+    if (!o.save_dir.empty()) {
         std::error_code ec;
-        std::filesystem::create_directories(o.saveDir, ec);
+        std::filesystem::create_directories(o.save_dir, ec);
         if (ec) {
-            std::fprintf(stderr, "navmap-view: mkdir(%s): %s\n", o.saveDir.c_str(), ec.message().c_str());
+            std::fprintf(stderr, "navmap-view: mkdir(%s): %s\n", o.save_dir.c_str(), ec.message().c_str());
             return 1;
         }
     }
@@ -192,8 +192,8 @@ int main(int argc, char** argv) {
         if ((o.frames > 0 && received >= o.frames) || (o.duration > 0 && elapsed >= o.duration)) {
             break;
         }
-        auto r = o.zeroCopy ? client.nextHeld(held, std::chrono::milliseconds(200))
-                            : client.next(frame, std::chrono::milliseconds(200));
+        auto r = o.zero_copy ? client.nextHeld(held, std::chrono::milliseconds(200))
+                             : client.next(frame, std::chrono::milliseconds(200));
         if (!r) {
             std::fprintf(stderr, "navmap-view: %s\n", r.error().message.c_str());
             endReason = "error";
@@ -204,23 +204,23 @@ int main(int argc, char** argv) {
             continue;
         }
         // In place (--zero-copy) or the client's copy: the same header and pixels either way.
-        const navmap::ipc::FrameHeader& header = o.zeroCopy ? held.header : frame.header;
-        const std::uint8_t* pixels = o.zeroCopy ? held.pixels : frame.pixels.data();
-        const std::int64_t receiveTimeNs = o.zeroCopy ? held.receiveTimeNs : frame.receiveTimeNs;
+        const navmap::ipc::FrameHeader& header = o.zero_copy ? held.header : frame.header;
+        const std::uint8_t* pixels = o.zero_copy ? held.pixels : frame.pixels.data();
+        const std::int64_t receive_time_ns = o.zero_copy ? held.receive_time_ns : frame.receive_time_ns;
         lastFrame = std::chrono::steady_clock::now();
         if (received == 0) {
             firstFrame = lastFrame;
         }
         ++received;
         dropped = header.dropped;
-        if (header.sourceTimeNs != 0) {
-            sourceLatencyMs.push_back(static_cast<double>(receiveTimeNs - header.sourceTimeNs) / 1e6);
+        if (header.source_time_ns != 0) {
+            sourceLatencyMs.push_back(static_cast<double>(receive_time_ns - header.source_time_ns) / 1e6);
         }
-        renderLatencyMs.push_back(static_cast<double>(receiveTimeNs - header.renderTimeNs) / 1e6);
-        if (!o.saveDir.empty() && (o.saveCount < 0 || saved < o.saveCount)) {
+        renderLatencyMs.push_back(static_cast<double>(receive_time_ns - header.render_time_ns) / 1e6);
+        if (!o.save_dir.empty() && (o.save_count < 0 || saved < o.save_count)) {
             char name[64];
             std::snprintf(name, sizeof(name), "frame_%06llu.png", static_cast<unsigned long long>(header.sequence));
-            const std::string path = (std::filesystem::path(o.saveDir) / name).string();
+            const std::string path = (std::filesystem::path(o.save_dir) / name).string();
             if (auto s = navmap::ipc::writeFramePng(path, header, pixels); !s) {
                 std::fprintf(stderr, "navmap-view: %s\n", s.message().c_str());
                 endReason = "error";
@@ -240,9 +240,9 @@ int main(int argc, char** argv) {
             "\"source_latency_ms\":{\"samples\":%zu,\"p50\":%.3f,\"p99\":%.3f},"
             "\"render_latency_ms\":{\"p50\":%.3f,\"p99\":%.3f},\"held_overwritten\":%llu,\"end\":\"%s\"}\n",
             received, fps, static_cast<unsigned long long>(dropped),
-            static_cast<unsigned long long>(client.stats().lostLocally), saved,
+            static_cast<unsigned long long>(client.stats().lost_locally), saved,
             static_cast<unsigned long long>(client.stats().statuses), sourceLatencyMs.size(), sP50, sP99, rP50, rP99,
-            static_cast<unsigned long long>(client.stats().heldOverwritten), endReason.c_str());
+            static_cast<unsigned long long>(client.stats().held_overwritten), endReason.c_str());
     } else {
         std::printf("frames %ld  fps %.2f  dropped %llu  saved %ld\n", received, fps,
                     static_cast<unsigned long long>(dropped), saved);

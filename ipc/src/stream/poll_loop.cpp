@@ -19,8 +19,8 @@ PollLoop::PollLoop(std::string name) : m_name(std::move(name)) {}
 PollLoop::~PollLoop() = default;
 
 Status PollLoop::open() {
-    m_wakeFd.reset(::eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC));
-    if (!m_wakeFd.valid()) {
+    m_wake_fd.reset(::eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC));
+    if (!m_wake_fd.valid()) {
         return Error{net::sysError("eventfd", m_name + " wake-up")};
     }
     return {};
@@ -28,13 +28,13 @@ Status PollLoop::open() {
 
 void PollLoop::close() {
     m_entries.clear();
-    m_wakeFd.reset();
+    m_wake_fd.reset();
 }
 
 void PollLoop::wake() noexcept {
     // eventfd writes never block (the counter saturates far away).
     const std::uint64_t one = 1;
-    [[maybe_unused]] const auto n = ::write(m_wakeFd.get(), &one, sizeof(one));
+    [[maybe_unused]] const auto n = ::write(m_wake_fd.get(), &one, sizeof(one));
 }
 
 void PollLoop::add(int fd, Interest interest, Handler handler) {
@@ -53,7 +53,7 @@ void PollLoop::remove(int fd) {
 void PollLoop::buildPollSet() {
     std::erase_if(m_entries, [](const auto& e) { return e->removed; });
     m_pfds.clear();
-    m_pfds.push_back({m_wakeFd.get(), POLLIN, 0});
+    m_pfds.push_back({m_wake_fd.get(), POLLIN, 0});
     for (const auto& e : m_entries) {
         m_pfds.push_back({e->fd, e->interest(), 0});
     }
@@ -62,7 +62,7 @@ void PollLoop::buildPollSet() {
 void PollLoop::dispatch(std::size_t polled) {
     if ((m_pfds[0].revents & POLLIN) != 0) {
         std::uint64_t v = 0;
-        [[maybe_unused]] const auto r = ::read(m_wakeFd.get(), &v, sizeof(v));
+        [[maybe_unused]] const auto r = ::read(m_wake_fd.get(), &v, sizeof(v));
     }
     for (std::size_t i = 0; i < polled; ++i) {
         Entry& e = *m_entries[i];

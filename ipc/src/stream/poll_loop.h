@@ -57,7 +57,7 @@ private:
     void dispatch(std::size_t polled);
 
     std::string m_name;
-    net::UniqueFd m_wakeFd;
+    net::UniqueFd m_wake_fd;
     std::vector<std::unique_ptr<Entry>> m_entries;  // stable addresses: callbacks may add
     std::vector<pollfd> m_pfds;
 };

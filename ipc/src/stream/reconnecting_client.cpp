@@ -9,13 +9,13 @@ namespace navmap::ipc {
 using Clock = std::chrono::steady_clock;
 
 ReconnectingClient::ReconnectingClient(ReconnectOptions options)
-    : m_options(std::move(options)), m_backoff(m_options.initialBackoff, m_options.maxBackoff) {}
+    : m_options(std::move(options)), m_backoff(m_options.initial_backoff, m_options.max_backoff) {}
 
 ReconnectingClient::~ReconnectingClient() = default;
 
 void ReconnectingClient::dropConnection(const std::string& why) {
     m_client.reset();  // closes the socket and unmaps the ring
-    m_lastError = why;
+    m_last_error = why;
     ++m_stats.disconnects;
     // The next attempt waits the initial delay: a daemon that restarts needs a moment to listen.
     m_backoff.failed(Clock::now());
@@ -36,14 +36,14 @@ bool ReconnectingClient::ensureConnected(Clock::time_point deadline) {
             continue;
         }
         const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - now);
-        const auto timeout = std::clamp(left, std::chrono::milliseconds(1), m_options.connectTimeout);
-        auto c = !m_options.unixPath.empty()
-                     ? StreamClient::connectUnix(m_options.unixPath, m_options.request, timeout, m_options.inflate)
-                     : StreamClient::connectTcp(m_options.tcpHost, m_options.tcpPort, m_options.request, timeout,
+        const auto timeout = std::clamp(left, std::chrono::milliseconds(1), m_options.connect_timeout);
+        auto c = !m_options.unix_path.empty()
+                     ? StreamClient::connectUnix(m_options.unix_path, m_options.request, timeout, m_options.inflate)
+                     : StreamClient::connectTcp(m_options.tcp_host, m_options.tcp_port, m_options.request, timeout,
                                                 m_options.inflate);
         if (!c) {
-            m_lastError = c.error().message;
-            ++m_stats.failedAttempts;
+            m_last_error = c.error().message;
+            ++m_stats.failed_attempts;
             m_backoff.failed(Clock::now());
             if (Clock::now() >= deadline) {
                 return false;
@@ -83,7 +83,7 @@ bool ReconnectingClient::next(ReceivedFrame& out, std::chrono::milliseconds time
 
 bool ReconnectingClient::nextHeld(HeldFrame& out, std::chrono::milliseconds timeout) {
     if (!m_options.request.hold) {
-        m_lastError = "nextHeld() needs request.hold (payload shm: the frame stays in the shared-memory ring)";
+        m_last_error = "nextHeld() needs request.hold (payload shm: the frame stays in the shared-memory ring)";
         return false;
     }
     return receive(nullptr, &out, timeout);
@@ -99,7 +99,7 @@ bool ReconnectingClient::release() {
         return false;
     }
     if (!r.value()) {
-        ++m_stats.heldOverwritten;
+        ++m_stats.held_overwritten;
     }
     return r.value();
 }

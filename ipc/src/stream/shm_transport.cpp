@@ -14,33 +14,33 @@ namespace navmap::ipc::stream_detail {
 
 Result<int> ShmTransport::openListener() {
     const FrameServerOptions& o = m_hub.options();
-    m_allowed = o.allowedPeers;
-    if (o.unixGroup) {
-        m_allowed.gids.push_back(*o.unixGroup);
+    m_allowed = o.allowed_peers;
+    if (o.unix_group) {
+        m_allowed.gids.push_back(*o.unix_group);
     }
-    if (o.unixPath.empty()) {
+    if (o.unix_path.empty()) {
         return -1;
     }
-    return listenUnix(o.unixPath, o.unixMode, o.unixGroup);
+    return listenUnix(o.unix_path, o.unix_mode, o.unix_group);
 }
 
 void ShmTransport::close() {
     if (listenFd() >= 0) {
         FrameStreamTransport::close();
-        ::unlink(m_hub.options().unixPath.c_str());
+        ::unlink(m_hub.options().unix_path.c_str());
     }
 }
 
-std::string ShmTransport::acceptObject() const { return m_hub.options().unixPath; }
+std::string ShmTransport::acceptObject() const { return m_hub.options().unix_path; }
 
 std::optional<Refusal> ShmTransport::checkPeer(int fd, std::optional<uid_t>* uid) {
-    const std::string& path = m_hub.options().unixPath;
+    const std::string& path = m_hub.options().unix_path;
     auto cred = peerCredentials(fd, path);
     if (!cred) {
-        return Refusal{&FrameServerStats::refusedPeer, cred.error().message};
+        return Refusal{&FrameServerStats::refused_peer, cred.error().message};
     }
     if (!peerAllowed(m_allowed, cred.value())) {
-        return Refusal{&FrameServerStats::refusedPeer, peerRefusal(cred.value(), path)};
+        return Refusal{&FrameServerStats::refused_peer, peerRefusal(cred.value(), path)};
     }
     *uid = cred.value().uid;
     return std::nullopt;
@@ -84,12 +84,12 @@ bool ShmTransport::sendWithRing(StreamConn& c, const std::string& text) {
 }
 
 bool ShmTransport::takeAck(StreamConn& c, unsigned char byte) {
-    if (c.payload != StreamPayload::Shm || byte != 'A' || !c.awaitingAck) {
+    if (c.payload != StreamPayload::Shm || byte != 'A' || !c.awaiting_ack) {
         return false;
     }
-    c.awaitingAck = false;
+    c.awaiting_ack = false;
     c.unpin();  // the client is done with the frame: its slot may be written again
-    c.lastProgress = Clock::now();
+    c.last_progress = Clock::now();
     if (c.pending && !c.busy()) {
         sendFrame(c);
     }
@@ -112,7 +112,7 @@ bool ShmTransport::readFrame(StreamConn& c, std::uint64_t seq, FrameHeader* h) {
     if (slot >= 0 && !ok) {
         ring.unpin(static_cast<std::uint32_t>(slot));
     } else if (ok) {
-        c.pinnedSlot = slot;
+        c.pinned_slot = slot;
     }
     return ok;
 }
@@ -123,11 +123,11 @@ void ShmTransport::queueFrame(StreamConn& c, FrameHeader h, const EncodedFrame* 
         return;
     }
     h.encoding = FrameEncoding::Shm;
-    h.payloadBytes = 0;
+    h.payload_bytes = 0;
     const auto hb = encodeFrameHeader(h);
     c.queue(hb.data(), hb.size());
-    c.awaitingAck = true;
-    c.ackSince = Clock::now();
+    c.awaiting_ack = true;
+    c.ack_since = Clock::now();
 }
 
 }  // namespace navmap::ipc::stream_detail

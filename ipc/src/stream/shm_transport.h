@@ -32,7 +32,7 @@ protected:
 private:
     bool sendWithRing(StreamConn& c, const std::string& text);
 
-    PeerAllowList m_allowed;  // allowedPeers plus unixGroup
+    PeerAllowList m_allowed;  // allowed_peers plus unix_group
 };
 
 }  // namespace navmap::ipc::stream_detail

@@ -189,18 +189,18 @@ Result<std::unique_ptr<StreamClient>> StreamClient::handshake(int rawFd, std::st
         if (::fstat(memfd.get(), &st) != 0) {
             return Error{sysError("fstat", peer + " ring")};
         }
-        if (ring.value("total_bytes", std::size_t{0}) != l.totalBytes) {
+        if (ring.value("total_bytes", std::size_t{0}) != l.total_bytes) {
             return Error{"handshake with " + peer + ": ring size does not match the profile"};
         }
         if (auto s = l.validate(static_cast<std::size_t>(st.st_size)); !s) {
             return Error{"handshake with " + peer + ": " + s.message()};
         }
-        void* p = ::mmap(nullptr, l.totalBytes, PROT_READ, MAP_SHARED, memfd.get(), 0);
+        void* p = ::mmap(nullptr, l.total_bytes, PROT_READ, MAP_SHARED, memfd.get(), 0);
         if (p == MAP_FAILED) {
             return Error{sysError("mmap", peer + " ring")};
         }
         client->m_map = static_cast<const std::uint8_t*>(p);
-        client->m_mapBytes = l.totalBytes;
+        client->m_map_bytes = l.total_bytes;
         client->m_slots = l.slots;
         if (auto s = FrameRing::checkMapped(client->m_map, l); !s) {
             return Error{"handshake with " + peer + ": " + s.message()};  // the destructor unmaps
@@ -212,7 +212,7 @@ Result<std::unique_ptr<StreamClient>> StreamClient::handshake(int rawFd, std::st
 
 StreamClient::~StreamClient() {
     if (m_map != nullptr) {
-        ::munmap(const_cast<std::uint8_t*>(m_map), m_mapBytes);
+        ::munmap(const_cast<std::uint8_t*>(m_map), m_map_bytes);
     }
     // The installed header keeps a plain int (ipc/net is not part of the client's API).
     const UniqueFd owned(m_fd);
@@ -220,15 +220,15 @@ StreamClient::~StreamClient() {
 
 Status StreamClient::readExact(std::uint8_t* dst, std::size_t n, Clock::time_point deadline, bool* timedOut) {
     *timedOut = false;
-    const std::size_t buffered = std::min(n, m_in.size() - m_inPos);
+    const std::size_t buffered = std::min(n, m_in.size() - m_in_pos);
     if (buffered > 0) {
-        std::memcpy(dst, m_in.data() + m_inPos, buffered);
-        m_inPos += buffered;
+        std::memcpy(dst, m_in.data() + m_in_pos, buffered);
+        m_in_pos += buffered;
         dst += buffered;
         n -= buffered;
-        if (m_inPos == m_in.size()) {
+        if (m_in_pos == m_in.size()) {
             m_in.clear();
-            m_inPos = 0;
+            m_in_pos = 0;
         }
     }
     while (n > 0) {
@@ -263,17 +263,17 @@ Status StreamClient::readExact(std::uint8_t* dst, std::size_t n, Clock::time_poi
 Result<bool> StreamClient::readHeader(FrameHeader& out, Clock::time_point deadline) {
     // A header may arrive in pieces across calls; keep what we have. Byte-wise progress is
     // tracked, so a timeout never loses a partial header.
-    if (m_headerHave < kFrameHeaderBytes) {
-        const std::size_t want = kFrameHeaderBytes - m_headerHave;
-        const std::size_t buffered = std::min(want, m_in.size() - m_inPos);
-        std::memcpy(m_headerBuf + m_headerHave, m_in.data() + m_inPos, buffered);
-        m_inPos += buffered;
-        m_headerHave += buffered;
-        if (m_inPos == m_in.size()) {
+    if (m_header_have < kFrameHeaderBytes) {
+        const std::size_t want = kFrameHeaderBytes - m_header_have;
+        const std::size_t buffered = std::min(want, m_in.size() - m_in_pos);
+        std::memcpy(m_header_buf + m_header_have, m_in.data() + m_in_pos, buffered);
+        m_in_pos += buffered;
+        m_header_have += buffered;
+        if (m_in_pos == m_in.size()) {
             m_in.clear();
-            m_inPos = 0;
+            m_in_pos = 0;
         }
-        while (m_headerHave < kFrameHeaderBytes) {
+        while (m_header_have < kFrameHeaderBytes) {
             pollfd p{m_fd, POLLIN, 0};
             const int r = ::poll(&p, 1, msLeft(deadline));
             if (r == 0) {
@@ -285,7 +285,7 @@ Result<bool> StreamClient::readHeader(FrameHeader& out, Clock::time_point deadli
                 }
                 return Error{sysError("poll", m_peer)};
             }
-            const ssize_t got = ::recv(m_fd, m_headerBuf + m_headerHave, kFrameHeaderBytes - m_headerHave, 0);
+            const ssize_t got = ::recv(m_fd, m_header_buf + m_header_have, kFrameHeaderBytes - m_header_have, 0);
             if (got == 0) {
                 return Error{"recv(" + m_peer + "): connection closed by the server"};
             }
@@ -295,11 +295,11 @@ Result<bool> StreamClient::readHeader(FrameHeader& out, Clock::time_point deadli
                 }
                 return Error{sysError("recv", m_peer)};
             }
-            m_headerHave += static_cast<std::size_t>(got);
+            m_header_have += static_cast<std::size_t>(got);
         }
     }
-    auto decoded = decodeFrameHeader(m_headerBuf, kFrameHeaderBytes);
-    m_headerHave = 0;
+    auto decoded = decodeFrameHeader(m_header_buf, kFrameHeaderBytes);
+    m_header_have = 0;
     if (!decoded) {
         return Error{m_peer + ": " + decoded.error().message};
     }
@@ -327,10 +327,10 @@ Result<bool> StreamClient::release() {
         FrameRing::lockWord(m_map,
                             FrameRingLayout::make(m_slots, static_cast<std::uint32_t>(m_profile.width),
                                                   static_cast<std::uint32_t>(m_profile.height), m_profile.format),
-                            static_cast<std::uint32_t>(m_held)) == m_heldLock;
+                            static_cast<std::uint32_t>(m_held)) == m_held_lock;
     m_held = -1;
     if (!intact) {
-        ++m_stats.heldOverwritten;
+        ++m_stats.held_overwritten;
     }
     const char ack = 'A';
     if (auto s = sendAll(m_fd, &ack, 1, m_peer); !s) {
@@ -357,7 +357,7 @@ Result<bool> StreamClient::receive(ReceivedFrame* copy, HeldFrame* held, std::ch
         const auto payloadDeadline = std::max(deadline, Clock::now() + std::chrono::seconds(5));
         bool timedOut = false;
         if (h.kind == FrameKind::Error) {
-            std::string message(h.payloadBytes, '\0');
+            std::string message(h.payload_bytes, '\0');
             if (auto s = readExact(reinterpret_cast<std::uint8_t*>(message.data()), message.size(), payloadDeadline,
                                    &timedOut);
                 !s) {
@@ -367,7 +367,7 @@ Result<bool> StreamClient::receive(ReceivedFrame* copy, HeldFrame* held, std::ch
         }
         if (h.kind == FrameKind::Status) {
             // Before the first frame: what the server is doing about it. Not a frame; keep waiting.
-            std::string text(h.payloadBytes, '\0');
+            std::string text(h.payload_bytes, '\0');
             if (auto s =
                     readExact(reinterpret_cast<std::uint8_t*>(text.data()), text.size(), payloadDeadline, &timedOut);
                 !s) {
@@ -379,9 +379,9 @@ Result<bool> StreamClient::receive(ReceivedFrame* copy, HeldFrame* held, std::ch
                 return Error{m_peer + ": " + s.message()};
             }
             ++m_stats.statuses;
-            m_lastStatus = std::move(text);
-            if (m_onStatus) {
-                m_onStatus(m_lastStatus);
+            m_last_status = std::move(text);
+            if (m_on_status) {
+                m_on_status(m_last_status);
             }
             if (Clock::now() >= deadline) {
                 return false;
@@ -406,7 +406,7 @@ Result<bool> StreamClient::receive(ReceivedFrame* copy, HeldFrame* held, std::ch
                 ok = slot >= 0 && FrameRing::readMapped(m_map, l, h.sequence, &slotHeader, nullptr);
                 if (ok) {
                     m_held = slot;
-                    m_heldLock = lock;
+                    m_held_lock = lock;
                     heldPixels = m_map + l.slotOffset(static_cast<std::uint32_t>(slot)) + kSlotPixelOffset;
                 }
             } else {
@@ -432,13 +432,13 @@ Result<bool> StreamClient::receive(ReceivedFrame* copy, HeldFrame* held, std::ch
                 }
             }
             if (!ok) {
-                ++m_stats.lostLocally;  // overwritten before we looked at it; wait for the next one
+                ++m_stats.lost_locally;  // overwritten before we looked at it; wait for the next one
                 if (Clock::now() >= deadline) {
                     return false;
                 }
                 continue;
             }
-            if (h.sequence <= m_lastSequence) {
+            if (h.sequence <= m_last_sequence) {
                 // Already handed out: we jumped ahead to the newest slot when an earlier
                 // notification had been overwritten, and this one announces that same frame.
                 if (auto r = release(); !r) {
@@ -449,8 +449,8 @@ Result<bool> StreamClient::receive(ReceivedFrame* copy, HeldFrame* held, std::ch
                 }
                 continue;
             }
-            h.renderTimeNs = slotHeader.renderTimeNs;
-            h.sourceTimeNs = slotHeader.sourceTimeNs;
+            h.render_time_ns = slotHeader.render_time_ns;
+            h.source_time_ns = slotHeader.source_time_ns;
             h.slot = slotHeader.slot;
         } else if (h.encoding == FrameEncoding::Raw) {
             copy->pixels.resize(h.pixelBytes());
@@ -459,7 +459,7 @@ Result<bool> StreamClient::receive(ReceivedFrame* copy, HeldFrame* held, std::ch
             }
         } else {
             copy->pixels.resize(h.pixelBytes());
-            m_compressed.resize(h.payloadBytes);
+            m_compressed.resize(h.payload_bytes);
             if (auto s = readExact(m_compressed.data(), m_compressed.size(), payloadDeadline, &timedOut); !s) {
                 return Error{s.message()};
             }
@@ -469,18 +469,18 @@ Result<bool> StreamClient::receive(ReceivedFrame* copy, HeldFrame* held, std::ch
                              std::to_string(copy->pixels.size()) + " bytes"};
             }
         }
-        m_lastSequence = h.sequence;
-        m_stats.bytes += h.payloadBytes;
-        m_stats.serverDropped = h.dropped;
+        m_last_sequence = h.sequence;
+        m_stats.bytes += h.payload_bytes;
+        m_stats.server_dropped = h.dropped;
         ++m_stats.frames;
-        h.dropped += m_stats.lostLocally;
+        h.dropped += m_stats.lost_locally;
         if (held != nullptr) {
             held->header = h;
             held->pixels = heldPixels;
-            held->receiveTimeNs = receivedNs;
+            held->receive_time_ns = receivedNs;
         } else {
             copy->header = h;
-            copy->receiveTimeNs = stream_detail::realtimeNowNs();
+            copy->receive_time_ns = stream_detail::realtimeNowNs();
         }
         return true;
     }

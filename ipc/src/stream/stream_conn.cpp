@@ -14,9 +14,9 @@ const char* viaName(Via via) { return via == Via::Unix ? "unix" : via == Via::Tc
 void StreamConn::queue(const void* data, std::size_t n) {
     if (!outPending()) {
         out.clear();
-        outPos = 0;
+        out_pos = 0;
         if (via == Via::Unix) {
-            lastProgress = Clock::now();
+            last_progress = Clock::now();
         }
     }
     const auto* p = static_cast<const std::uint8_t*>(data);
@@ -25,12 +25,12 @@ void StreamConn::queue(const void* data, std::size_t n) {
 
 bool StreamConn::sendQueued() {
     while (outPending()) {
-        const ssize_t n = ::send(fd.get(), out.data() + outPos, out.size() - outPos, MSG_NOSIGNAL | MSG_DONTWAIT);
+        const ssize_t n = ::send(fd.get(), out.data() + out_pos, out.size() - out_pos, MSG_NOSIGNAL | MSG_DONTWAIT);
         if (n > 0) {
-            outPos += static_cast<std::size_t>(n);
-            bytesSent += static_cast<std::uint64_t>(n);
+            out_pos += static_cast<std::size_t>(n);
+            bytes_sent += static_cast<std::uint64_t>(n);
             if (via == Via::Unix) {
-                lastProgress = Clock::now();  // Unix socket buffers are small: a send is progress
+                last_progress = Clock::now();  // Unix socket buffers are small: a send is progress
             }
             continue;
         }
@@ -41,7 +41,7 @@ bool StreamConn::sendQueued() {
         return false;
     }
     out.clear();
-    outPos = 0;
+    out_pos = 0;
     return true;
 }
 
@@ -55,10 +55,10 @@ void StreamConn::closeWith(const std::string& bytes) {
 }
 
 void StreamConn::unpin() {
-    if (pinnedSlot >= 0 && ring) {
-        ring->ring->unpin(static_cast<std::uint32_t>(pinnedSlot));
+    if (pinned_slot >= 0 && ring) {
+        ring->ring->unpin(static_cast<std::uint32_t>(pinned_slot));
     }
-    pinnedSlot = -1;
+    pinned_slot = -1;
 }
 
 }  // namespace navmap::ipc::stream_detail

@@ -37,32 +37,32 @@ struct StreamConn {
     std::optional<uid_t> uid;  // Unix peers (SO_PEERCRED)
     std::string in;
     std::vector<std::uint8_t> out;
-    std::size_t outPos = 0;
-    bool closeWhenFlushed = false;
+    std::size_t out_pos = 0;
+    bool close_when_flushed = false;
     bool dead = false;
     std::shared_ptr<RingEntry> ring;
     StreamPayload payload = StreamPayload::Shm;
     bool hold = false;  // shm: holds frames in place until its ack (pinned slots)
     int fps = 0;
-    bool awaitingAck = false;
-    int pinnedSlot = -1;  // shm: the slot of the notified frame, pinned until the ack
+    bool awaiting_ack = false;
+    int pinned_slot = -1;  // shm: the slot of the notified frame, pinned until the ack
     bool pending = false;
-    std::uint64_t lastSent = 0;
+    std::uint64_t last_sent = 0;
     std::uint64_t seen = 0;  // newest frame (in this client's encoding) it has been offered
     std::uint64_t dropped = 0;
     Clock::time_point since;
-    Clock::time_point streamSince;  // handshake done: the first frame is due within handshakeTimeout
-    Clock::time_point lastProgress;
-    Clock::time_point ackSince;
-    Clock::time_point lastOffer;
+    Clock::time_point stream_since;  // handshake done: the first frame is due within handshake_timeout
+    Clock::time_point last_progress;
+    Clock::time_point ack_since;
+    Clock::time_point last_offer;
     bool offered = false;
     bool deferred = false;
-    Clock::time_point deferredUntil;
-    std::uint64_t bytesSent = 0;   // accepted by the kernel
-    std::uint64_t bytesAcked = 0;  // TCP: left the kernel's send queue (the peer took them)
+    Clock::time_point deferred_until;
+    std::uint64_t bytes_sent = 0;   // accepted by the kernel
+    std::uint64_t bytes_acked = 0;  // TCP: left the kernel's send queue (the peer took them)
 
-    bool outPending() const { return outPos < out.size(); }
-    bool busy() const { return outPending() || awaitingAck; }
+    bool outPending() const { return out_pos < out.size(); }
+    bool busy() const { return outPending() || awaiting_ack; }
 
     /// Appends to the output queue; a queue that was empty restarts a Unix peer's progress clock.
     void queue(const void* data, std::size_t n);

@@ -15,9 +15,9 @@
 
 namespace navmap::ipc::stream_detail {
 
-/// The server's own families; `ringMemoryBytes` is the ceiling shown next to the bytes in use.
+/// The server's own families; `ring_memory_bytes` is the ceiling shown next to the bytes in use.
 void collectStreamMetrics(MetricsRegistry& r, const FrameServerStats& s, const EncoderStats& es,
-                          std::size_t ringMemoryBytes);
+                          std::size_t ring_memory_bytes);
 
 /// /status: {"stream": counters and profiles, "daemon": what `daemonJson` returns (or null)}.
 std::string streamStatusJson(const FrameServerStats& s, const std::vector<ActiveProfile>& active,

@@ -32,26 +32,26 @@ std::string sizeText(std::size_t b) {
 int effectiveFps(int fps) { return fps == 0 ? kMaxStreamFps : fps; }
 
 bool RingEntry::fillRaw(std::uint64_t seq) {
-    if (rawSeq == seq) {
+    if (raw_seq == seq) {
         return true;
     }
     raw.resize(ring->layout().pixelBytes());
-    if (!ring->read(seq, &rawHeader, raw.data())) {
+    if (!ring->read(seq, &raw_header, raw.data())) {
         return false;
     }
-    rawSeq = seq;
+    raw_seq = seq;
     return true;
 }
 
 RingSet::RingSet(const FrameServerOptions& options, StreamStats& stats) : m_options(options), m_stats(stats) {}
 
 Result<std::string> RingSet::refuseNotRendered(std::string message) {
-    m_stats.count(&FrameServerStats::refusedNotRendered);
+    m_stats.count(&FrameServerStats::refused_not_rendered);
     return Error{std::move(message)};
 }
 
 Result<std::string> RingSet::resolve(const StreamProfile& profile) {
-    const auto& rendered = m_options.renderedProfiles;
+    const auto& rendered = m_options.rendered_profiles;
     if (rendered.empty()) {
         return profile.view;
     }
@@ -92,23 +92,23 @@ std::shared_ptr<RingEntry> RingSet::find(const std::string& key, const StreamPro
 
 Status RingSet::checkMemory(const StreamProfile& profile) {
     // The memory ceiling: a new ring must fit next to the ones that exist.
-    const FrameRingLayout want = FrameRingLayout::make(m_options.ringSlots, static_cast<std::uint32_t>(profile.width),
+    const FrameRingLayout want = FrameRingLayout::make(m_options.ring_slots, static_cast<std::uint32_t>(profile.width),
                                                        static_cast<std::uint32_t>(profile.height), profile.format);
     const std::size_t used = totalBytes();
-    if (m_options.ringMemoryBytes == 0 || used + want.totalBytes <= m_options.ringMemoryBytes) {
+    if (m_options.ring_memory_bytes == 0 || used + want.total_bytes <= m_options.ring_memory_bytes) {
         return {};
     }
-    m_stats.count(&FrameServerStats::refusedRingMemory);
+    m_stats.count(&FrameServerStats::refused_ring_memory);
     return Error{"ring memory: " + profile.view + " " + std::to_string(profile.width) + "x" +
                  std::to_string(profile.height) + " " + pixelFormatName(profile.format) + " needs " +
-                 sizeText(want.totalBytes) + ", " + sizeText(used) + " of " + sizeText(m_options.ringMemoryBytes) +
+                 sizeText(want.total_bytes) + ", " + sizeText(used) + " of " + sizeText(m_options.ring_memory_bytes) +
                  " are in use; try again later"};
 }
 
 Result<std::shared_ptr<RingEntry>> RingSet::attach(const std::string& key, const StreamProfile& profile) {
     if (auto e = find(key, profile)) {
         ++e->clients;
-        e->maxFps = std::max(e->maxFps, effectiveFps(profile.fps));
+        e->max_fps = std::max(e->max_fps, effectiveFps(profile.fps));
         return e;
     }
     if (auto room = checkMemory(profile); !room) {
@@ -116,8 +116,8 @@ Result<std::shared_ptr<RingEntry>> RingSet::attach(const std::string& key, const
     }
     const std::string name = "navmap-ring-" + key + "-" + std::to_string(profile.width) + "x" +
                              std::to_string(profile.height) + "-" + pixelFormatName(profile.format) + "-" +
-                             std::to_string(++m_ringCounter);
-    auto ring = FrameRing::create(name, m_options.ringSlots, static_cast<std::uint32_t>(profile.width),
+                             std::to_string(++m_ring_counter);
+    auto ring = FrameRing::create(name, m_options.ring_slots, static_cast<std::uint32_t>(profile.width),
                                   static_cast<std::uint32_t>(profile.height), profile.format);
     if (!ring) {
         return Error{ring.error().message};
@@ -127,7 +127,7 @@ Result<std::shared_ptr<RingEntry>> RingSet::attach(const std::string& key, const
     e->view = profile.view;
     e->ring = std::shared_ptr<FrameRing>(std::move(ring.value()));
     e->clients = 1;
-    e->maxFps = effectiveFps(profile.fps);
+    e->max_fps = effectiveFps(profile.fps);
     m_rings.push_back(e);
     return e;
 }
@@ -135,14 +135,14 @@ Result<std::shared_ptr<RingEntry>> RingSet::attach(const std::string& key, const
 void RingSet::retireUnused() {
     for (const auto& e : m_rings) {
         if (e->clients == 0) {
-            m_retiredPinnedOverwrites += e->ring->pinnedOverwrites();
+            m_retired_pinned_overwrites += e->ring->pinnedOverwrites();
         }
     }
     std::erase_if(m_rings, [](const auto& e) { return e->clients == 0; });
 }
 
 std::uint64_t RingSet::pinnedOverwrites() const {
-    std::uint64_t total = m_retiredPinnedOverwrites;
+    std::uint64_t total = m_retired_pinned_overwrites;
     for (const auto& e : m_rings) {
         total += e->ring->pinnedOverwrites();
     }
@@ -152,7 +152,7 @@ std::uint64_t RingSet::pinnedOverwrites() const {
 std::size_t RingSet::totalBytes() const {
     std::size_t total = 0;
     for (const auto& e : m_rings) {
-        total += e->ring->layout().totalBytes;
+        total += e->ring->layout().total_bytes;
     }
     return total;
 }
@@ -179,13 +179,13 @@ std::vector<ActiveProfile> RingSet::activeProfiles() const {
         for (auto& a : active) {
             if (a.profile == e->key && a.width == static_cast<int>(l.width) && a.height == static_cast<int>(l.height)) {
                 a.clients += e->clients;
-                a.maxFps = std::max(a.maxFps, e->maxFps);
+                a.max_fps = std::max(a.max_fps, e->max_fps);
                 merged = true;
             }
         }
         if (!merged) {
             active.push_back(
-                {e->key, e->view, static_cast<int>(l.width), static_cast<int>(l.height), e->maxFps, e->clients});
+                {e->key, e->view, static_cast<int>(l.width), static_cast<int>(l.height), e->max_fps, e->clients});
         }
     }
     return active;
@@ -196,15 +196,15 @@ void RingSet::updatePublishSet() {
     for (const auto& e : m_rings) {
         set->push_back({e->key, e->ring});
     }
-    std::lock_guard lock(m_publishMutex);
-    m_publishSet = std::move(set);
+    std::lock_guard lock(m_publish_mutex);
+    m_publish_set = std::move(set);
 }
 
 std::size_t RingSet::publish(const std::string& profile, const FrameView& frame) {
     std::shared_ptr<const PublishSet> set;
     {
-        std::lock_guard lock(m_publishMutex);
-        set = m_publishSet;
+        std::lock_guard lock(m_publish_mutex);
+        set = m_publish_set;
     }
     std::size_t written = 0;
     for (const auto& t : *set) {
@@ -217,8 +217,8 @@ std::size_t RingSet::publish(const std::string& profile, const FrameView& frame)
 
 void RingSet::clear() {
     m_rings.clear();
-    std::lock_guard lock(m_publishMutex);
-    m_publishSet = std::make_shared<PublishSet>();
+    std::lock_guard lock(m_publish_mutex);
+    m_publish_set = std::make_shared<PublishSet>();
 }
 
 }  // namespace navmap::ipc::stream_detail

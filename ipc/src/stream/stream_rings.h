@@ -30,16 +30,16 @@ struct RingEntry {
     std::string view;
     std::shared_ptr<FrameRing> ring;
     std::size_t clients = 0;
-    int maxFps = 0;
-    std::uint64_t rawSeq = 0;
-    FrameHeader rawHeader;
+    int max_fps = 0;
+    std::uint64_t raw_seq = 0;
+    FrameHeader raw_header;
     std::vector<std::uint8_t> raw;
-    std::uint64_t zlibAsked = 0;  // newest sequence handed to the encoder
-    std::uint64_t jpegAsked = 0;
+    std::uint64_t zlib_asked = 0;  // newest sequence handed to the encoder
+    std::uint64_t jpeg_asked = 0;
     std::shared_ptr<const EncodedFrame> zlib;  // newest finished encodes
     std::shared_ptr<const EncodedFrame> jpeg;
 
-    /// Copies frame `seq` into `raw`/`rawHeader` (once per frame); false when it was overwritten.
+    /// Copies frame `seq` into `raw`/`raw_header` (once per frame); false when it was overwritten.
     bool fillRaw(std::uint64_t seq);
 };
 
@@ -54,7 +54,7 @@ public:
     /// server has no list); an Error naming what is rendered otherwise (counted).
     Result<std::string> resolve(const StreamProfile& profile);
     /// The ring of `key` at the profile's size and format, made when none exists yet and it fits
-    /// under ringMemoryBytes (refusal counted; its message starts with "ring memory:"). The
+    /// under ring_memory_bytes (refusal counted; its message starts with "ring memory:"). The
     /// entry counts the new client.
     Result<std::shared_ptr<RingEntry>> attach(const std::string& key, const StreamProfile& profile);
     const std::vector<std::shared_ptr<RingEntry>>& entries() const { return m_rings; }
@@ -86,10 +86,10 @@ private:
     const FrameServerOptions& m_options;
     StreamStats& m_stats;
     std::vector<std::shared_ptr<RingEntry>> m_rings;  // server thread
-    std::uint64_t m_ringCounter = 0;
-    std::uint64_t m_retiredPinnedOverwrites = 0;  // of rings freed since (server thread)
-    mutable std::mutex m_publishMutex;            // guards the pointer swap only, never I/O
-    std::shared_ptr<const PublishSet> m_publishSet = std::make_shared<PublishSet>();
+    std::uint64_t m_ring_counter = 0;
+    std::uint64_t m_retired_pinned_overwrites = 0;  // of rings freed since (server thread)
+    mutable std::mutex m_publish_mutex;             // guards the pointer swap only, never I/O
+    std::shared_ptr<const PublishSet> m_publish_set = std::make_shared<PublishSet>();
 };
 
 }  // namespace navmap::ipc::stream_detail

@@ -63,16 +63,16 @@ Result<int> connectTcpSocket(const std::string& host, int port, std::chrono::mil
     if (const int rc = getaddrinfo(host.c_str(), service.c_str(), &hints, &res); rc != 0) {
         return Error{"getaddrinfo(" + object + "): " + gai_strerror(rc)};
     }
-    std::string lastError = "connect(" + object + "): no address";
+    std::string last_error = "connect(" + object + "): no address";
     for (addrinfo* ai = res; ai != nullptr; ai = ai->ai_next) {
         UniqueFd fd(socket(ai->ai_family, ai->ai_socktype | SOCK_NONBLOCK | SOCK_CLOEXEC, ai->ai_protocol));
         if (!fd.valid()) {
-            lastError = sysError("socket", object);
+            last_error = sysError("socket", object);
             continue;
         }
         if (connect(fd.get(), ai->ai_addr, ai->ai_addrlen) != 0) {
             if (errno != EINPROGRESS) {
-                lastError = sysError("connect", object);
+                last_error = sysError("connect", object);
                 continue;
             }
             pollfd p{fd.get(), POLLOUT, 0};
@@ -81,13 +81,13 @@ Result<int> connectTcpSocket(const std::string& host, int port, std::chrono::mil
             socklen_t len = sizeof(err);
             if (n <= 0) {
                 errno = n == 0 ? ETIMEDOUT : errno;
-                lastError = sysError("connect", object);
+                last_error = sysError("connect", object);
                 continue;
             }
             getsockopt(fd.get(), SOL_SOCKET, SO_ERROR, &err, &len);
             if (err != 0) {
                 errno = err;
-                lastError = sysError("connect", object);
+                last_error = sysError("connect", object);
                 continue;
             }
         }
@@ -99,7 +99,7 @@ Result<int> connectTcpSocket(const std::string& host, int port, std::chrono::mil
         return fd.release();
     }
     freeaddrinfo(res);
-    return Error{lastError};
+    return Error{last_error};
 }
 
 }  // namespace navmap::ipc::stream_detail

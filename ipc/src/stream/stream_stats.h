@@ -14,15 +14,15 @@
 
 namespace navmap::ipc::stream_detail {
 
-/// A FrameServerStats counter (&FrameServerStats::refusedPeer).
+/// A FrameServerStats counter (&FrameServerStats::refused_peer).
 using StatsCounter = std::uint64_t FrameServerStats::*;
 
 class StreamStats {
 public:
     void count(StatsCounter counter, std::uint64_t n = 1);
     /// Counts and records the problem as lastError ("tcp#7: handshake: ...").
-    void countError(StatsCounter counter, std::string lastError);
-    void setLastError(std::string lastError);
+    void countError(StatsCounter counter, std::string last_error);
+    void setLastError(std::string last_error);
     /// Runs `f` on the counters under the lock (server thread; `f` must not block).
     template <class F>
     void update(F&& f) {
@@ -42,8 +42,8 @@ private:
     FrameServerStats m_stats;
     std::vector<ActiveProfile> m_active;
     std::atomic<std::uint64_t> m_published{0};
-    std::atomic<std::int64_t> m_publishNsLast{0};
-    std::atomic<std::int64_t> m_publishNsMax{0};
+    std::atomic<std::int64_t> m_publish_ns_last{0};
+    std::atomic<std::int64_t> m_publish_ns_max{0};
 };
 
 }  // namespace navmap::ipc::stream_detail

@@ -18,17 +18,17 @@ int StreamTimeouts::trackProgress(StreamConn& c, Clock::time_point now) {
     int outq = 0;
     if (c.via != Via::Unix && ::ioctl(c.fd.get(), SIOCOUTQ, &outq) == 0) {
         const std::uint64_t acked =
-            c.bytesSent - std::min<std::uint64_t>(c.bytesSent, static_cast<std::uint64_t>(outq));
-        if (acked > c.bytesAcked || (outq == 0 && !c.outPending())) {
-            c.bytesAcked = acked;
-            c.lastProgress = now;
+            c.bytes_sent - std::min<std::uint64_t>(c.bytes_sent, static_cast<std::uint64_t>(outq));
+        if (acked > c.bytes_acked || (outq == 0 && !c.outPending())) {
+            c.bytes_acked = acked;
+            c.last_progress = now;
         }
     }
     return outq;
 }
 
 std::string StreamTimeouts::within() const {
-    return " within " + std::to_string(m_options.handshakeTimeout.count()) + " ms";
+    return " within " + std::to_string(m_options.handshake_timeout.count()) + " ms";
 }
 
 std::string StreamTimeouts::firstFrameWhy(const StreamConn& c) const {
@@ -38,13 +38,13 @@ std::string StreamTimeouts::firstFrameWhy(const StreamConn& c) const {
 }
 
 std::string StreamTimeouts::stallWhy(const StreamConn& c, int outq, Clock::time_point now) const {
-    const auto limit = m_options.stallTimeout;
+    const auto limit = m_options.stall_timeout;
     std::string why;
     if (c.phase == Phase::Draining && now - c.since > limit) {
         why = "did not close";
-    } else if (c.awaitingAck && now - c.ackSince > limit) {
+    } else if (c.awaiting_ack && now - c.ack_since > limit) {
         why = "no ack";
-    } else if ((c.outPending() || outq > 0) && now - c.lastProgress > limit) {
+    } else if ((c.outPending() || outq > 0) && now - c.last_progress > limit) {
         why = "not reading";
     }
     return why.empty() ? why : why + " for " + std::to_string(limit.count()) + " ms";
@@ -52,12 +52,12 @@ std::string StreamTimeouts::stallWhy(const StreamConn& c, int outq, Clock::time_
 
 TimeoutVerdict StreamTimeouts::check(StreamConn& c, Clock::time_point now) const {
     const int outq = trackProgress(c, now);
-    const auto earn = m_options.handshakeTimeout;
+    const auto earn = m_options.handshake_timeout;
     if ((c.phase == Phase::Handshake || c.phase == Phase::HttpHead) && now - c.since > earn) {
         return {TimeoutVerdict::Kind::Handshake,
                 (c.phase == Phase::HttpHead ? "no complete request head" : "no complete handshake") + within()};
     }
-    if ((c.phase == Phase::Stream || c.phase == Phase::Mjpeg) && c.lastSent == 0 && now - c.streamSince > earn) {
+    if ((c.phase == Phase::Stream || c.phase == Phase::Mjpeg) && c.last_sent == 0 && now - c.stream_since > earn) {
         return {TimeoutVerdict::Kind::FirstFrame, firstFrameWhy(c)};
     }
     std::string why = stallWhy(c, outq, now);

@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 // StreamTimeouts: which time limit a connection has passed. Every connection must earn its slot:
-// a handshake (or HTTP request head) within handshakeTimeout of the accept, then a first frame
-// within handshakeTimeout of the handshake; after that it must keep taking what it is sent
-// (stallTimeout). TCP progress is the peer taking bytes out of the kernel's send queue, not a
+// a handshake (or HTTP request head) within handshake_timeout of the accept, then a first frame
+// within handshake_timeout of the handshake; after that it must keep taking what it is sent
+// (stall_timeout). TCP progress is the peer taking bytes out of the kernel's send queue, not a
 // send() that only proves the kernel had room. Server thread. Private to ipc/src/stream.
 
 #include <string>

@@ -39,7 +39,7 @@ Status StreamTransport::listen(PollLoop& loop) {
     if (fd.value() < 0) {
         return {};  // not configured
     }
-    m_listenFd.reset(fd.value());
+    m_listen_fd.reset(fd.value());
     loop.add(
         fd.value(), [] { return static_cast<short>(POLLIN); },
         [this](short revents) {
@@ -50,7 +50,7 @@ Status StreamTransport::listen(PollLoop& loop) {
     return {};
 }
 
-void StreamTransport::close() { m_listenFd.reset(); }
+void StreamTransport::close() { m_listen_fd.reset(); }
 
 std::string StreamTransport::handshakeTimeoutReply(const std::string& why) const { return jsonErrorLine(why); }
 
@@ -62,7 +62,7 @@ std::string StreamTransport::refusalReply(const std::string& message) const { re
 
 void StreamTransport::acceptAll() {
     for (;;) {
-        net::UniqueFd fd(::accept4(m_listenFd.get(), nullptr, nullptr, SOCK_NONBLOCK | SOCK_CLOEXEC));
+        net::UniqueFd fd(::accept4(m_listen_fd.get(), nullptr, nullptr, SOCK_NONBLOCK | SOCK_CLOEXEC));
         if (!fd.valid()) {
             if (errno != EAGAIN && errno != EWOULDBLOCK && errno != EINTR) {
                 m_hub.stats().setLastError(net::sysError("accept", acceptObject()));
@@ -105,7 +105,7 @@ std::unique_ptr<StreamConn> StreamTransport::makeConn(net::UniqueFd fd, const st
     c->via = m_via;
     c->uid = uid;
     c->phase = firstPhase();
-    c->since = c->lastProgress = Clock::now();
+    c->since = c->last_progress = Clock::now();
     c->peer = uid ? peer + " (uid " + std::to_string(*uid) + ")" : peer;
     return c;
 }

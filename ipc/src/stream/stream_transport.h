@@ -56,7 +56,7 @@ protected:
     /// Object named by accept() errors.
     virtual std::string acceptObject() const { return "tcp"; }
 
-    int listenFd() const { return m_listenFd.get(); }
+    int listenFd() const { return m_listen_fd.get(); }
     ClientHub& m_hub;
 
 private:
@@ -66,7 +66,7 @@ private:
     std::unique_ptr<StreamConn> makeConn(net::UniqueFd fd, const std::string& peer, std::optional<uid_t> uid) const;
 
     Via m_via;
-    net::UniqueFd m_listenFd;
+    net::UniqueFd m_listen_fd;
 };
 
 /// JSON error line of the frame-stream protocol: {"ok":false,"error":"..."}.

@@ -7,10 +7,10 @@ namespace navmap::ipc::stream_detail {
 
 Result<int> TcpTransport::openListener() {
     const FrameServerOptions& o = m_hub.options();
-    if (o.tcpPort < 0) {
+    if (o.tcp_port < 0) {
         return -1;
     }
-    auto fd = listenTcp(o.bindAddress, o.tcpPort);
+    auto fd = listenTcp(o.bind_address, o.tcp_port);
     if (fd) {
         m_port = boundPort(fd.value());
     }

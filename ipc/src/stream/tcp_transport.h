@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// TcpTransport: the frame stream over TCP (bindAddress:tcpPort): the same handshake and headers
+// TcpTransport: the frame stream over TCP (bind_address:tcp_port): the same handshake and headers
 // as the Unix socket, pixels raw or zlib-compressed on the socket; "shm" is refused. Peers have no
 // uid: the transport's cap is their only bound. Server thread. Private to ipc/src/stream.
 

@@ -44,9 +44,9 @@ ipc::VehicleSample fix(const map::Projection& proj, double x, double y, double t
     return u;
 }
 
-ipc::VehicleSample motion(double speedMps, double yawDegS, double t) {
+ipc::VehicleSample motion(double speed_mps, double yawDegS, double t) {
     ipc::VehicleSample u;
-    u.set(VssSignal::Speed, speedMps * 3.6, at(t));
+    u.set(VssSignal::Speed, speed_mps * 3.6, at(t));
     u.set(VssSignal::YawRate, yawDegS, at(t));
     return u;
 }
@@ -171,7 +171,7 @@ TEST(VehicleState, SyntheticDriveStaysOnTheRoad) {
         ASSERT_TRUE(p.valid);
         EXPECT_FALSE(p.stale);
         if (i < 150) continue;  // settling after the first fix
-        const double eRaw = std::hypot(p.rawX - r.truth[i].x, p.rawY - r.truth[i].y);
+        const double eRaw = std::hypot(p.raw_x - r.truth[i].x, p.raw_y - r.truth[i].y);
         const double eSnap = std::hypot(p.x - r.truth[i].x, p.y - r.truth[i].y);
         sumRaw2 += eRaw * eRaw;
         sumSnap2 += eSnap * eSnap;
@@ -186,10 +186,10 @@ TEST(VehicleState, SyntheticDriveStaysOnTheRoad) {
             offRoad = std::min(offRoad, std::hypot(p.x - a.x - t * dx, p.y - a.y - t * dy));
         }
         snapErrors.push_back(offRoad);
-        conf += p.matchConfidence;
+        conf += p.match_confidence;
         if (i > 0) {
             // Smoothness: between consecutive frames the marker moves at most speed * dt + 0.5 m.
-            maxStep = std::max(maxStep, std::hypot(p.rawX - r.poses[i - 1].rawX, p.rawY - r.poses[i - 1].rawY));
+            maxStep = std::max(maxStep, std::hypot(p.raw_x - r.poses[i - 1].raw_x, p.raw_y - r.poses[i - 1].raw_y));
         }
         ++n;
     }
@@ -202,7 +202,7 @@ TEST(VehicleState, SyntheticDriveStaysOnTheRoad) {
         "driven road p95 %.2f m p99 %.2f m; "
         "mean confidence %.2f; max frame step %.2f m; fixes %llu jumps %llu\n",
         n, r.length, rmsRaw, maxRaw, rmsSnap, maxSnap, p95Off, p99Off, conf / n, maxStep,
-        static_cast<unsigned long long>(r.counters.fixes), static_cast<unsigned long long>(r.counters.rejectedJump));
+        static_cast<unsigned long long>(r.counters.fixes), static_cast<unsigned long long>(r.counters.rejected_jump));
     EXPECT_LT(rmsRaw, 2.0);
     EXPECT_LT(maxRaw, 6.0);
     EXPECT_LT(rmsSnap, 2.0);
@@ -211,7 +211,7 @@ TEST(VehicleState, SyntheticDriveStaysOnTheRoad) {
     EXPECT_LT(maxSnap, 12.0);  // the smoothed truth cuts hairpin corners; snapping does not
     EXPECT_GT(conf / n, 0.6);
     EXPECT_LT(maxStep, 15.0 * 0.007 + 0.5);
-    EXPECT_EQ(r.counters.rejectedJump, 0U);
+    EXPECT_EQ(r.counters.rejected_jump, 0U);
 }
 
 TEST(VehicleState, RouteProgressAndDeterminism) {
@@ -221,21 +221,21 @@ TEST(VehicleState, RouteProgressAndDeterminism) {
     ASSERT_EQ(a.poses.size(), b.poses.size());
     for (std::size_t i = 0; i < a.poses.size(); ++i) {
         ASSERT_EQ(a.poses[i].x, b.poses[i].x) << i;
-        ASSERT_EQ(a.poses[i].headingDeg, b.poses[i].headingDeg) << i;
+        ASSERT_EQ(a.poses[i].heading_deg, b.poses[i].heading_deg) << i;
     }
     double prev = -1;
-    std::size_t onRoute = 0, backwards = 0;
+    std::size_t on_route = 0, backwards = 0;
     for (std::size_t i = 150; i < a.poses.size(); ++i) {
         const auto& p = a.poses[i];
-        if (!p.onRoute) continue;
-        ++onRoute;
-        EXPECT_NEAR(p.routeDrivenM + p.routeRemainingM, a.length, 1e-6);
+        if (!p.on_route) continue;
+        ++on_route;
+        EXPECT_NEAR(p.route_driven_m + p.route_remaining_m, a.length, 1e-6);
         // Inside a sharp corner the nearest route point sits on the vertex; position noise
         // there moves the measure back by a few metres at most.
-        backwards += p.routeDrivenM < prev - 15.0;
-        prev = p.routeDrivenM;
+        backwards += p.route_driven_m < prev - 15.0;
+        prev = p.route_driven_m;
     }
-    EXPECT_GT(onRoute, (a.poses.size() - 150) * 95 / 100);
+    EXPECT_GT(on_route, (a.poses.size() - 150) * 95 / 100);
     EXPECT_EQ(backwards, 0U);
     EXPECT_GT(prev, 400.0);  // 40 s at ~12 m/s from measure 30
 }
@@ -254,13 +254,13 @@ TEST(VehicleState, DeadReckoningBetweenFixes) {
     ASSERT_TRUE(p.valid);
     EXPECT_NEAR(p.x, 35.0, 0.05);
     EXPECT_NEAR(p.y, 0.0, 0.05);
-    EXPECT_NEAR(p.headingDeg, 90.0, 0.01);
-    EXPECT_NEAR(p.speedMps, 10.0, 1e-9);
-    EXPECT_EQ(p.sourceTime, at(3.0));  // newest data behind it: the motion sample at 3.0
+    EXPECT_NEAR(p.heading_deg, 90.0, 0.01);
+    EXPECT_NEAR(p.speed_mps, 10.0, 1e-9);
+    EXPECT_EQ(p.source_time, at(3.0));  // newest data behind it: the motion sample at 3.0
     // The motion hold ends 0.5 s after the last sample: the pose stops there.
     p = est.poseAt(at(4.0));
     EXPECT_NEAR(p.x, 35.0, 0.05);
-    EXPECT_NEAR(p.speedMps, 0.0, 1e-9);
+    EXPECT_NEAR(p.speed_mps, 0.0, 1e-9);
 
     // Turning: 90 deg/s to the left (VSS positive) for 1 s from heading east -> heading north.
     VehicleStateEstimator turn(proj, nullptr);
@@ -268,7 +268,7 @@ TEST(VehicleState, DeadReckoningBetweenFixes) {
     turn.addSample(fix(proj, 0.0, 0.0, 0.0, 90.0));
     for (int i = 1; i <= 50; ++i) turn.addSample(motion(10.0, 90.0, i * 0.02));
     p = turn.poseAt(at(1.0));
-    EXPECT_NEAR(std::remainder(p.headingDeg, 360.0), 0.0, 0.5);
+    EXPECT_NEAR(std::remainder(p.heading_deg, 360.0), 0.0, 0.5);
     // Quarter circle of radius v/w = 10 / (pi/2): ends at (r, r).
     const double radius = 10.0 / (kPi / 2);
     EXPECT_NEAR(p.x, radius, 0.05);
@@ -290,7 +290,7 @@ TEST(VehicleState, CorrectionsAreFadedInNotJumped) {
     est.addSample(fix(proj, 2.0 + 6.0, 0.0, 0.2, 90.0));  // 6 m ahead of the prediction (x = 2)
     const auto after = est.poseAt(at(0.2));
     EXPECT_NEAR(after.x, before.x, 1e-6);          // no visible step at the fix
-    const auto later = est.poseAt(at(0.2 + 0.5));  // after blendS: prediction + gain * innovation
+    const auto later = est.poseAt(at(0.2 + 0.5));  // after blend_s: prediction + gain * innovation
     EXPECT_NEAR(later.x, 2.0 + 0.3 * 6.0 + 5.0, 0.05);
 }
 
@@ -304,13 +304,13 @@ TEST(VehicleState, StaleAfterTimeoutAndRegained) {
     EXPECT_FALSE(est.poseAt(at(2.9)).stale);
     const auto lost = est.poseAt(at(3.1));
     EXPECT_TRUE(lost.stale);
-    EXPECT_NEAR(lost.sinceFixS, 2.1, 1e-6);
+    EXPECT_NEAR(lost.since_fix_s, 2.1, 1e-6);
     est.addSample(fix(proj, 50, 0, 10.0));  // regained far away: no jump rejection after a stale period
     const auto back = est.poseAt(at(10.0));
     EXPECT_FALSE(back.stale);
     EXPECT_NEAR(back.x, 50.0, 1e-6);
     EXPECT_EQ(est.counters().relocations, 1U);
-    EXPECT_EQ(est.counters().rejectedJump, 0U);
+    EXPECT_EQ(est.counters().rejected_jump, 0U);
 }
 
 TEST(VehicleState, BadInputIsRejectedAndCounted) {
@@ -322,36 +322,36 @@ TEST(VehicleState, BadInputIsRejectedAndCounted) {
     u.set(VssSignal::Latitude, std::numeric_limits<double>::quiet_NaN(), at(0.4));
     u.set(VssSignal::Longitude, 1.5, at(0.4));
     est.addSample(u);
-    EXPECT_EQ(est.counters().rejectedNaN, 1U);
+    EXPECT_EQ(est.counters().rejected_nan, 1U);
     u = {};
     u.set(VssSignal::Latitude, 95.0, at(0.6));
     u.set(VssSignal::Longitude, 1.5, at(0.6));
     est.addSample(u);
-    EXPECT_EQ(est.counters().rejectedRange, 1U);
-    EXPECT_EQ(est.counters().lastRejection, "GNSS fix: latitude 95 / longitude 1.5 out of range");
+    EXPECT_EQ(est.counters().rejected_range, 1U);
+    EXPECT_EQ(est.counters().last_rejection, "GNSS fix: latitude 95 / longitude 1.5 out of range");
     u = {};
     u.set(VssSignal::Latitude, 10.0, at(0.8));  // valid WGS84, 3600 km from the map
     u.set(VssSignal::Longitude, 1.5, at(0.8));
     est.addSample(u);
-    EXPECT_EQ(est.counters().rejectedRange, 2U);
+    EXPECT_EQ(est.counters().rejected_range, 2U);
     est.addSample(fix(proj, 0, 0, 0.9, {}, 0));
-    EXPECT_EQ(est.counters().rejectedNoFix, 1U);
+    EXPECT_EQ(est.counters().rejected_no_fix, 1U);
     est.addSample(fix(proj, 0, 0, 0.1));  // older than the newest fix
-    EXPECT_EQ(est.counters().rejectedOrder, 1U);
+    EXPECT_EQ(est.counters().rejected_order, 1U);
     est.addSample(motion(std::numeric_limits<double>::infinity(), 0, 1.0));
-    EXPECT_EQ(est.counters().rejectedNaN, 2U);
+    EXPECT_EQ(est.counters().rejected_nan, 2U);
     est.addSample(motion(10, 5000.0, 1.0));
-    EXPECT_EQ(est.counters().rejectedRange, 3U);
-    EXPECT_EQ(est.counters().motionSamples, 0U);
+    EXPECT_EQ(est.counters().rejected_range, 3U);
+    EXPECT_EQ(est.counters().motion_samples, 0U);
 
     // A single spike 500 m away is rejected and the pose does not move; three in a row relocate.
     est.addSample(fix(proj, 500, 0, 1.0));
-    EXPECT_EQ(est.counters().rejectedJump, 1U);
+    EXPECT_EQ(est.counters().rejected_jump, 1U);
     EXPECT_NEAR(est.poseAt(at(1.0)).x, 0.0, 1e-6);
     est.addSample(fix(proj, 0.5, 0, 1.2));
     EXPECT_EQ(est.counters().fixes, 3U);
     for (int k = 0; k < 3; ++k) est.addSample(fix(proj, 800, 0, 1.4 + 0.2 * k));
-    EXPECT_EQ(est.counters().rejectedJump, 3U);
+    EXPECT_EQ(est.counters().rejected_jump, 3U);
     EXPECT_EQ(est.counters().relocations, 1U);
     EXPECT_NEAR(est.poseAt(at(1.8)).x, 800.0, 1e-6);
 }
@@ -382,11 +382,11 @@ TEST(VehicleState, SnapsOntoTheNearestRoadWithConfidence) {
     // 5 m to the side of the road, parked: snapped onto the centreline.
     est.addSample(fix(proj, mx + 5 * uy, my - 5 * ux, 0.0, heading));
     auto p = est.poseAt(at(0.0));
-    EXPECT_GT(p.matchConfidence, 0.5);
-    EXPECT_EQ(p.snapWeight, 1.0);
+    EXPECT_GT(p.match_confidence, 0.5);
+    EXPECT_EQ(p.snap_weight, 1.0);
     const double off = std::abs((p.x - a.x) * uy - (p.y - a.y) * ux);  // distance from the line
     EXPECT_LT(off, 0.01);
-    EXPECT_NEAR(p.rawX, mx + 5 * uy, 1e-6);
+    EXPECT_NEAR(p.raw_x, mx + 5 * uy, 1e-6);
     ASSERT_TRUE(p.edge);
     const auto& m = g.edges[*p.edge];
     EXPECT_EQ(m.way_id, ed.way_id);
@@ -397,9 +397,9 @@ TEST(VehicleState, SnapsOntoTheNearestRoadWithConfidence) {
     far.addSample(fix(proj, summit.x, summit.y, 0.0));
     p = far.poseAt(at(0.0));
     if (!p.edge) {
-        EXPECT_EQ(p.matchConfidence, 0.0);
-        EXPECT_EQ(p.x, p.rawX);
-        EXPECT_EQ(p.y, p.rawY);
+        EXPECT_EQ(p.match_confidence, 0.0);
+        EXPECT_EQ(p.x, p.raw_x);
+        EXPECT_EQ(p.y, p.raw_y);
     }
     // A point exactly on the road matches with confidence 1 (heading unknown at standstill).
     const auto onRoad = st->matcher->match({mx, my}, heading, std::nullopt, VehicleStateConfig{});

@@ -15,9 +15,9 @@ TEST(ControlProtocol, ParsesTheDocumentedSetRoute) {
         R"({"cmd":"set_route","id":"r1","points":[[42.5075,1.5218],[42.51,1.53]],"maneuvers":[{"index":1,"type":"turn_left","text":"CG-2"}]})");
     ASSERT_TRUE(r.command) << r.error;
     EXPECT_EQ(r.command->cmd, "set_route");
-    EXPECT_EQ(r.command->requestId, "r1");
+    EXPECT_EQ(r.command->request_id, "r1");
     const auto& route = std::get<SetRouteCommand>(r.command->body);
-    EXPECT_EQ(route.routeId, "r1");
+    EXPECT_EQ(route.route_id, "r1");
     ASSERT_EQ(route.points.size(), 2U);
     EXPECT_DOUBLE_EQ(route.points[0].lat, 42.5075);
     EXPECT_DOUBLE_EQ(route.points[1].lon, 1.53);
@@ -35,19 +35,19 @@ TEST(ControlProtocol, RoundaboutManeuversCarryAnOptionalExitNumber) {
     const auto& route = std::get<SetRouteCommand>(r.command->body);
     ASSERT_EQ(route.maneuvers.size(), 2U);
     EXPECT_EQ(route.maneuvers[0].type, ManeuverType::Roundabout);
-    EXPECT_EQ(route.maneuvers[0].exitNumber, 3U);
+    EXPECT_EQ(route.maneuvers[0].exit_number, 3U);
     EXPECT_EQ(route.maneuvers[0].text, "CG-1");
-    EXPECT_FALSE(route.maneuvers[1].exitNumber.has_value());
+    EXPECT_FALSE(route.maneuvers[1].exit_number.has_value());
     const auto last = parseControlLine(
         R"({"cmd":"set_route","id":"r1","points":[[42.5,1.5],[42.51,1.51]],"maneuvers":[{"index":1,"type":"roundabout","exit":32}]})");
     ASSERT_TRUE(last.command) << last.error;
-    EXPECT_EQ(std::get<SetRouteCommand>(last.command->body).maneuvers[0].exitNumber, kMaxRoundaboutExit);
-    EXPECT_FALSE(route.maneuvers[0].endIndex.has_value());
+    EXPECT_EQ(std::get<SetRouteCommand>(last.command->body).maneuvers[0].exit_number, kMaxRoundaboutExit);
+    EXPECT_FALSE(route.maneuvers[0].end_index.has_value());
     const auto ended =
         parseControlLine(R"({"cmd":"set_route","id":"r1","points":[[42.5,1.5],[42.51,1.51],[42.52,1.52]],)"
                          R"("maneuvers":[{"index":0,"end_index":2,"type":"roundabout","exit":1}]})");
     ASSERT_TRUE(ended.command) << ended.error;
-    EXPECT_EQ(std::get<SetRouteCommand>(ended.command->body).maneuvers[0].endIndex, 2U);
+    EXPECT_EQ(std::get<SetRouteCommand>(ended.command->body).maneuvers[0].end_index, 2U);
 }
 
 TEST(ControlProtocol, ParsesTheOtherCommands) {
@@ -72,7 +72,7 @@ TEST(ControlProtocol, ParsesTheOtherCommands) {
         EXPECT_DOUBLE_EQ(cv.camera->pitch, 60.0);
         EXPECT_FALSE(cv.camera->bearing);
         EXPECT_FALSE(cv.mode);
-        EXPECT_FALSE(cv.clearCamera);
+        EXPECT_FALSE(cv.clear_camera);
     }
     r = parseControlLine(
         R"({"cmd":"set_view","display":"hud","camera":{"zoom":0,"pitch":85,"bearing":-90},"orientation":"north-up"})");
@@ -80,13 +80,13 @@ TEST(ControlProtocol, ParsesTheOtherCommands) {
     EXPECT_EQ(std::get<SetViewCommand>(r.command->body).camera, (ViewCamera{0.0, 85.0, -90.0}));
     r = parseControlLine(R"({"cmd":"set_view","display":"hud","camera":null})");
     ASSERT_TRUE(r.command) << r.error;
-    EXPECT_TRUE(std::get<SetViewCommand>(r.command->body).clearCamera);
+    EXPECT_TRUE(std::get<SetViewCommand>(r.command->body).clear_camera);
     EXPECT_FALSE(std::get<SetViewCommand>(r.command->body).camera);
 
     r = parseControlLine(R"({"cmd":"set_style","style":"night","id":"q7"})");
     ASSERT_TRUE(r.command) << r.error;
     EXPECT_EQ(std::get<SetStyleCommand>(r.command->body).style, MapStyle::Night);
-    EXPECT_EQ(r.command->requestId, "q7");
+    EXPECT_EQ(r.command->request_id, "q7");
 
     r = parseControlLine(R"({"cmd":"subscribe","events":["position_lost","position_regained"]})");
     ASSERT_TRUE(r.command) << r.error;
@@ -110,19 +110,19 @@ TEST(ControlProtocol, RepliesAndEventsHaveTheDocumentedShape) {
               R"({"ok":true,"cmd":"get_status","status":{"fps":30}})");
     ControlEvent e;
     e.kind = ControlEventKind::RouteProgress;
-    e.routeId = "r1";
-    e.drivenM = 120.5;
-    e.remainingM = 3400.0;
+    e.route_id = "r1";
+    e.driven_m = 120.5;
+    e.remaining_m = 3400.0;
     EXPECT_EQ(controlEventLine(e), R"({"event":"route_progress","id":"r1","driven_m":120.5,"remaining_m":3400.0})");
     e.kind = ControlEventKind::PositionLost;
-    e.sinceS = 2.0;
+    e.since_s = 2.0;
     EXPECT_EQ(controlEventLine(e), R"({"event":"position_lost","since_s":2.0})");
     e.kind = ControlEventKind::PositionRegained;
     EXPECT_EQ(controlEventLine(e), R"({"event":"position_regained"})");
     e = {};
     e.kind = ControlEventKind::OffRoute;
-    e.routeId = "r7";
-    e.offsetM = 57.26;
+    e.route_id = "r7";
+    e.offset_m = 57.26;
     EXPECT_EQ(controlEventLine(e), R"({"event":"off_route","id":"r7","offset_m":57.3})");
     e.kind = ControlEventKind::BackOnRoute;
     EXPECT_EQ(controlEventLine(e), R"({"event":"back_on_route","id":"r7"})");
@@ -240,10 +240,10 @@ TEST(ControlProtocol, BrokenJsonAndLimits) {
     EXPECT_EQ(r.error, "JSON nested deeper than 32 levels");
 
     ControlLimits limits;
-    limits.maxRoutePoints = 3;
+    limits.max_route_points = 3;
     r = parseControlLine(R"({"cmd":"set_route","id":"r","points":[[1,2],[1,2],[1,2],[1,2]]})", limits);
     EXPECT_EQ(r.error, "\"points\" has 4 points, more than the limit of 3");
-    limits.maxLineBytes = 10;
+    limits.max_line_bytes = 10;
     r = parseControlLine(R"({"cmd":"get_status"})", limits);
     EXPECT_EQ(r.error, "line longer than 10 bytes");
     r = parseControlLine("{\"cmd\":\"set_style\",\"style\":\"\xff\"}");

@@ -39,7 +39,7 @@ struct Fixture {
     std::unique_ptr<ControlServer> server;
 
     explicit Fixture(ControlServerConfig cfg = {}, bool threaded = true) {
-        cfg.socketPath = dir.file("control.sock");
+        cfg.socket_path = dir.file("control.sock");
         auto r = ControlServer::create(cfg, state);
         if (!r.ok()) {
             ADD_FAILURE() << r.error().message;
@@ -160,7 +160,7 @@ TEST(ControlServer, OverlongLineDisconnectsWithAReason) {
     const int fds = countOpenFds();
     {
         ControlServerConfig cfg;
-        cfg.limits.maxLineBytes = 4096;
+        cfg.limits.max_line_bytes = 4096;
         Fixture f(cfg);
         ASSERT_TRUE(f.server);
         auto c = f.connect();
@@ -169,7 +169,7 @@ TEST(ControlServer, OverlongLineDisconnectsWithAReason) {
         const std::string chunk(3000, 'x');
         ASSERT_EQ(::send(c.fd(), chunk.data(), chunk.size(), MSG_NOSIGNAL), 3000);
         std::this_thread::sleep_for(20ms);
-        EXPECT_EQ(f.server->stats().overlongDisconnects, 0U);
+        EXPECT_EQ(f.server->stats().overlong_disconnects, 0U);
         ASSERT_EQ(::send(c.fd(), chunk.data(), chunk.size(), MSG_NOSIGNAL), 3000);
         auto l = c.readLine(3s);
         ASSERT_TRUE(l.ok()) << l.error().message;
@@ -177,7 +177,7 @@ TEST(ControlServer, OverlongLineDisconnectsWithAReason) {
         auto eof = c.readLine(3s);
         ASSERT_FALSE(eof.ok());
         EXPECT_NE(eof.error().message.find("connection closed by the server"), std::string::npos);
-        EXPECT_EQ(f.server->stats().overlongDisconnects, 1U);
+        EXPECT_EQ(f.server->stats().overlong_disconnects, 1U);
         // Other clients are unaffected; a line just under the limit is fine.
         std::string padded = R"({"cmd":"get_status","id":")" + std::string(200, 'p') + "\"}";
         padded += std::string(4096 - padded.size(), ' ');
@@ -202,12 +202,12 @@ TEST(ControlServer, SubscribersReceiveTheirEvents) {
         std::thread publisher([&] {
             ControlEvent e;
             e.kind = ControlEventKind::RouteProgress;
-            e.routeId = "r1";
-            e.drivenM = 120.5;
-            e.remainingM = 3400.0;
+            e.route_id = "r1";
+            e.driven_m = 120.5;
+            e.remaining_m = 3400.0;
             f.server->publish(e);
             e.kind = ControlEventKind::PositionLost;
-            e.sinceS = 2.0;
+            e.since_s = 2.0;
             f.server->publish(e);
             e.kind = ControlEventKind::PositionRegained;
             f.server->publish(e);
@@ -265,7 +265,7 @@ TEST(ControlServer, IdleConnectionsAreClosedSoSilentClientsCannotHoldEverySlot) 
     const int fds = countOpenFds();
     {
         ControlServerConfig cfg;  // 16 slots, as the daemon has
-        cfg.idleTimeout = 400ms;
+        cfg.idle_timeout = 400ms;
         Fixture f(cfg);
         ASSERT_TRUE(f.server);
         // A subscriber with nothing to receive waits for events: not idle. A client that sends
@@ -275,11 +275,11 @@ TEST(ControlServer, IdleConnectionsAreClosedSoSilentClientsCannotHoldEverySlot) 
         auto keepalive = f.connect();
         // Every other slot taken by a client that never says anything.
         std::vector<ControlClient> silent;
-        for (std::size_t i = 0; i + 2 < cfg.maxClients; ++i) {
+        for (std::size_t i = 0; i + 2 < cfg.max_clients; ++i) {
             silent.push_back(f.connect());
         }
         std::this_thread::sleep_for(100ms);
-        EXPECT_EQ(f.server->stats().clients, cfg.maxClients);
+        EXPECT_EQ(f.server->stats().clients, cfg.max_clients);
         {
             auto refused = f.connect();
             auto l = refused.readLine(1s);
@@ -300,7 +300,7 @@ TEST(ControlServer, IdleConnectionsAreClosedSoSilentClientsCannotHoldEverySlot) 
             EXPECT_NE(eof.error().message.find("connection closed by the server"), std::string::npos)
                 << eof.error().message;
         }
-        EXPECT_EQ(f.server->stats().idleDisconnects, silent.size());
+        EXPECT_EQ(f.server->stats().idle_disconnects, silent.size());
         // A new client gets a slot and a reply; the subscriber and the keep-alive client stayed.
         auto fresh = f.connect();
         EXPECT_EQ(req(fresh, R"({"cmd":"get_status","id":"after"})").substr(0, 42),
@@ -311,7 +311,7 @@ TEST(ControlServer, IdleConnectionsAreClosedSoSilentClientsCannotHoldEverySlot) 
         ASSERT_TRUE(ev.ok()) << ev.error().message;
         EXPECT_EQ(ev.value(), R"({"event":"position_lost","since_s":3.0})");
         EXPECT_EQ(f.server->stats().clients, 3U);
-        EXPECT_EQ(f.server->stats().idleDisconnects, silent.size());
+        EXPECT_EQ(f.server->stats().idle_disconnects, silent.size());
     }
     EXPECT_EQ(countOpenFds(), fds);
 }
@@ -320,7 +320,7 @@ TEST(ControlServer, IdleTimeoutWakesAPollOnceCaller) {
     const int fds = countOpenFds();
     {
         ControlServerConfig cfg;
-        cfg.idleTimeout = 200ms;
+        cfg.idle_timeout = 200ms;
         Fixture f(cfg, false);  // stepped from this thread with pollOnce()
         ASSERT_TRUE(f.server);
         auto c = f.connect();
@@ -328,11 +328,11 @@ TEST(ControlServer, IdleTimeoutWakesAPollOnceCaller) {
         EXPECT_EQ(f.server->stats().clients, 1U);
         // One long poll returns when the client turns idle, not after the caller's 10 s.
         const auto t0 = std::chrono::steady_clock::now();
-        while (f.server->stats().idleDisconnects == 0 && std::chrono::steady_clock::now() - t0 < 5s) {
+        while (f.server->stats().idle_disconnects == 0 && std::chrono::steady_clock::now() - t0 < 5s) {
             ASSERT_TRUE(f.server->pollOnce(10s).ok());
         }
         EXPECT_LT(std::chrono::steady_clock::now() - t0, 2s);
-        EXPECT_EQ(f.server->stats().idleDisconnects, 1U);
+        EXPECT_EQ(f.server->stats().idle_disconnects, 1U);
         EXPECT_EQ(f.server->stats().clients, 0U);
         auto l = c.readLine(1s);
         ASSERT_TRUE(l.ok()) << l.error().message;
@@ -345,8 +345,8 @@ TEST(ControlServer, PeerCredentialsDecideWhoMayConnect) {
     const int fds = countOpenFds();
     {
         ControlServerConfig cfg;
-        cfg.allowRoot = false;
-        cfg.allowedUids = {::geteuid() + 1000};
+        cfg.allow_root = false;
+        cfg.allowed_uids = {::geteuid() + 1000};
         Fixture f(cfg);
         ASSERT_TRUE(f.server);
         auto c = f.connect();
@@ -355,15 +355,15 @@ TEST(ControlServer, PeerCredentialsDecideWhoMayConnect) {
         EXPECT_EQ(l.value(), R"({"ok":false,"error":"peer uid )" + std::to_string(::geteuid()) + " (pid " +
                                  std::to_string(::getpid()) + ") is not allowed on " + f.server->path() + "\"}");
         EXPECT_FALSE(c.readLine(3s).ok());  // closed
-        EXPECT_EQ(f.server->stats().refusedPeer, 1U);
+        EXPECT_EQ(f.server->stats().refused_peer, 1U);
         EXPECT_EQ(f.server->stats().connections, 0U);
     }
     {
         // The own uid is allowed by default, and a listed gid admits too.
         ControlServerConfig cfg;
-        cfg.allowRoot = false;
-        cfg.allowedUids = {::geteuid() + 1000};
-        cfg.allowedGids = {::getegid()};
+        cfg.allow_root = false;
+        cfg.allowed_uids = {::geteuid() + 1000};
+        cfg.allowed_gids = {::getegid()};
         Fixture f(cfg);
         auto c = f.connect();
         EXPECT_EQ(req(c, R"({"cmd":"clear_route"})"), R"({"ok":true,"cmd":"clear_route"})");
@@ -375,7 +375,7 @@ TEST(ControlServer, SocketFileModeStaleFilesAndLiveServers) {
     const int fds = countOpenFds();
     {
         ControlServerConfig cfg;
-        cfg.socketMode = 0640;
+        cfg.socket_mode = 0640;
         Fixture f(cfg, false);
         ASSERT_TRUE(f.server);
         struct stat st {};
@@ -386,7 +386,7 @@ TEST(ControlServer, SocketFileModeStaleFilesAndLiveServers) {
         // A second server on a live path is refused.
         ControlState other;
         ControlServerConfig cfg2;
-        cfg2.socketPath = f.server->path();
+        cfg2.socket_path = f.server->path();
         auto second = ControlServer::create(cfg2, other);
         ASSERT_FALSE(second.ok());
         EXPECT_EQ(second.error().message,
@@ -400,7 +400,7 @@ TEST(ControlServer, SocketFileModeStaleFilesAndLiveServers) {
         std::strcpy(a.sun_path, stale.c_str());
         ASSERT_EQ(::bind(s, reinterpret_cast<sockaddr*>(&a), sizeof a), 0);
         ::close(s);
-        cfg2.socketPath = stale;
+        cfg2.socket_path = stale;
         auto replaced = ControlServer::create(cfg2, other);
         ASSERT_TRUE(replaced.ok()) << replaced.error().message;
         replaced.value().reset();
@@ -409,18 +409,18 @@ TEST(ControlServer, SocketFileModeStaleFilesAndLiveServers) {
         // Not a socket / too long / missing directory.
         const std::string plain = f.dir.file("plain");
         { std::ofstream(plain) << "x"; }
-        cfg2.socketPath = plain;
+        cfg2.socket_path = plain;
         auto r = ControlServer::create(cfg2, other);
         ASSERT_FALSE(r.ok());
         EXPECT_EQ(r.error().message, "control socket path " + plain + ": exists and is not a socket");
-        cfg2.socketPath = "/tmp/" + std::string(200, 'a');
+        cfg2.socket_path = "/tmp/" + std::string(200, 'a');
         r = ControlServer::create(cfg2, other);
         ASSERT_FALSE(r.ok());
-        EXPECT_EQ(r.error().message, "control socket path \"" + cfg2.socketPath + "\": length must be 1..107 bytes");
-        cfg2.socketPath = f.dir.file("no/such/dir.sock");
+        EXPECT_EQ(r.error().message, "control socket path \"" + cfg2.socket_path + "\": length must be 1..107 bytes");
+        cfg2.socket_path = f.dir.file("no/such/dir.sock");
         r = ControlServer::create(cfg2, other);
         ASSERT_FALSE(r.ok());
-        EXPECT_EQ(r.error().message, "bind(" + cfg2.socketPath + "): No such file or directory");
+        EXPECT_EQ(r.error().message, "bind(" + cfg2.socket_path + "): No such file or directory");
         auto missing = ControlClient::connect(f.dir.file("absent.sock"));
         ASSERT_FALSE(missing.ok());
         EXPECT_EQ(missing.error().message, "connect(" + f.dir.file("absent.sock") + "): No such file or directory");
@@ -432,8 +432,8 @@ TEST(ControlServer, ClientLimitAndSlowSubscribers) {
     const int fds = countOpenFds();
     {
         ControlServerConfig cfg;
-        cfg.maxClients = 2;
-        cfg.maxOutputBytes = 64 * 1024;
+        cfg.max_clients = 2;
+        cfg.max_output_bytes = 64 * 1024;
         Fixture f(cfg, false);  // stepped from this thread with pollOnce()
         ASSERT_TRUE(f.server);
         auto a = f.connect();
@@ -444,21 +444,21 @@ TEST(ControlServer, ClientLimitAndSlowSubscribers) {
         auto l = c.readLine(1s);
         ASSERT_TRUE(l.ok());
         EXPECT_EQ(l.value(), R"j({"ok":false,"error":"too many clients (limit 2)"})j");
-        EXPECT_EQ(f.server->stats().refusedFull, 1U);
+        EXPECT_EQ(f.server->stats().refused_full, 1U);
 
         // `a` subscribes and never reads: once the kernel buffers and 64 KiB are full it is dropped.
         ASSERT_TRUE(a.send(R"({"cmd":"subscribe"})").ok());
         ASSERT_TRUE(f.server->pollOnce(50ms).ok());
         ControlEvent e;
         e.kind = ControlEventKind::RouteProgress;
-        e.routeId = std::string(200, 'r');
-        for (int round = 0; round < 200 && f.server->stats().slowDisconnects == 0; ++round) {
+        e.route_id = std::string(200, 'r');
+        for (int round = 0; round < 200 && f.server->stats().slow_disconnects == 0; ++round) {
             for (int k = 0; k < 500; ++k) {
                 f.server->publish(e);
             }
             ASSERT_TRUE(f.server->pollOnce(0ms).ok());
         }
-        EXPECT_EQ(f.server->stats().slowDisconnects, 1U);
+        EXPECT_EQ(f.server->stats().slow_disconnects, 1U);
         EXPECT_EQ(f.server->stats().clients, 1U);
         ASSERT_TRUE(b.send(R"({"cmd":"clear_route"})").ok());
         ASSERT_TRUE(f.server->pollOnce(100ms).ok());
@@ -473,7 +473,7 @@ TEST(ControlServer, ManyClientsConcurrently) {
     const int fds = countOpenFds();
     {
         ControlServerConfig cfg;
-        cfg.maxClients = 8;
+        cfg.max_clients = 8;
         Fixture f(cfg);
         ASSERT_TRUE(f.server);
         std::atomic<int> ok{0};
@@ -508,7 +508,7 @@ TEST(ControlServer, SocketFileIs0660WithItsGroupWhateverTheUmask) {
     {
         ControlServerConfig cfg;
         const gid_t group = ::geteuid() == 0 ? 65534 : ::getegid();  // root may give it any group
-        cfg.socketGroup = group;
+        cfg.socket_group = group;
         const mode_t old = ::umask(0);
         Fixture f(cfg, false);
         ::umask(old);
@@ -527,7 +527,7 @@ TEST(ControlServer, MembersOfTheSocketGroupMayConnectOthersNot) {
     }
     constexpr gid_t kHmi = 64000;
     ControlServerConfig cfg;
-    cfg.socketGroup = kHmi;
+    cfg.socket_group = kHmi;
     Fixture f(cfg);
     ASSERT_TRUE(f.server);
     ASSERT_EQ(::chmod(std::filesystem::path(f.server->path()).parent_path().c_str(), 0755), 0);
@@ -551,7 +551,7 @@ TEST(ControlServer, MembersOfTheSocketGroupMayConnectOthersNot) {
     const std::string refused = stranger2.result();
     EXPECT_EQ(refused.rfind(R"({"ok":false,"error":"peer uid 64002 (pid )", 0), 0U) << refused;
     EXPECT_NE(refused.find(") is not allowed on " + path), std::string::npos) << refused;
-    EXPECT_EQ(f.server->stats().refusedPeer, 1U);
+    EXPECT_EQ(f.server->stats().refused_peer, 1U);
 }
 
 TEST(ControlState, SetViewCameraWinsOverTheModeUntilAModeOrNullClearsIt) {
@@ -565,11 +565,11 @@ TEST(ControlState, SetViewCameraWinsOverTheModeUntilAModeOrNullClearsIt) {
     EXPECT_EQ(state.view()->displays.at("cluster").camera, (ViewCamera{16.5, 60.0, std::nullopt}));
     EXPECT_EQ(state.view()->displays.at("cluster").mode, ViewMode::Auto);
     EXPECT_FALSE(state.view()->displays.at("hud").camera);
-    EXPECT_FALSE(state.view()->displays.at("cluster").orientationSet) << "the display's own orientation applies";
+    EXPECT_FALSE(state.view()->displays.at("cluster").orientation_set) << "the display's own orientation applies";
     // The orientation leaves the camera as it is (it turns a camera without a fixed bearing).
     apply(R"({"cmd":"set_view","display":"cluster","orientation":"north-up"})");
     EXPECT_TRUE(state.view()->displays.at("cluster").camera);
-    EXPECT_TRUE(state.view()->displays.at("cluster").orientationSet);
+    EXPECT_TRUE(state.view()->displays.at("cluster").orientation_set);
     auto status = state.status();
     EXPECT_EQ(status["displays"]["cluster"]["camera"], nlohmann::json({{"zoom", 16.5}, {"pitch", 60.0}}));
     // A mode given without a camera: the display follows the mode again.

@@ -48,11 +48,11 @@ TEST(NavmapCtl, SendsCommandsAndPrintsReplies) {
     navmap::test::TempDir dir;
     ControlState state({"cluster", "hud"});
     ControlServerConfig cfg;
-    cfg.socketPath = dir.file("c.sock");
+    cfg.socket_path = dir.file("c.sock");
     auto server = ControlServer::create(cfg, state);
     ASSERT_TRUE(server.ok()) << server.error().message;
     ASSERT_TRUE(server.value()->start().ok());
-    const std::string s = "--socket " + cfg.socketPath + " ";
+    const std::string s = "--socket " + cfg.socket_path + " ";
 
     auto r = runCtl(s + "set_route r9 42.5075,1.5218 42.51,1.53 42.52,1.54");
     EXPECT_EQ(r.status, 0);

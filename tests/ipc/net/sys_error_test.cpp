@@ -44,7 +44,7 @@ TEST(SysErrorTest, ControlServerBindFailureNamesCallPathAndReason) {
     const std::string path = missingPath("control.sock");
     navmap::ipc::ControlState state;
     navmap::ipc::ControlServerConfig config;
-    config.socketPath = path;
+    config.socket_path = path;
     const int before = navmap::test::countOpenFds();
     auto server = navmap::ipc::ControlServer::create(config, state);
     ASSERT_FALSE(server);
@@ -63,13 +63,13 @@ TEST(SysErrorTest, ControlClientConnectFailureNamesCallPathAndReason) {
 
 TEST(SysErrorTest, FrameServerBindFailureNamesCallPathAndReason) {
     navmap::ipc::FrameServerOptions options;
-    options.unixPath = missingPath("frames.sock");
+    options.unix_path = missingPath("frames.sock");
     const int before = navmap::test::countOpenFds();
     {
         navmap::ipc::FrameServer server(options);
         const auto st = server.start();
         ASSERT_FALSE(st);
-        EXPECT_EQ(st.message(), "bind(" + options.unixPath + "): " + std::strerror(ENOENT));
+        EXPECT_EQ(st.message(), "bind(" + options.unix_path + "): " + std::strerror(ENOENT));
     }
     EXPECT_EQ(navmap::test::countOpenFds(), before);
 }

@@ -72,8 +72,8 @@ private:
 
 std::unique_ptr<FrameServer> startServer(const std::string& path) {
     FrameServerOptions o;
-    o.unixPath = path;
-    o.ringSlots = 2;  // as navmapd
+    o.unix_path = path;
+    o.ring_slots = 2;  // as navmapd
     auto s = std::make_unique<FrameServer>(o);
     EXPECT_TRUE(s->start().ok());
     return s;
@@ -90,8 +90,8 @@ TEST(ClientLibrary, TheCExampleReadsFramesInPlaceAndReconnects) {
     {
         auto server = startServer(path);
         Render render(*server);
-        for (int i = 0; i < 300 && server->stats().framesSent < 20; ++i) std::this_thread::sleep_for(10ms);
-        EXPECT_GE(server->stats().framesSent, 20U);
+        for (int i = 0; i < 300 && server->stats().frames_sent < 20; ++i) std::this_thread::sleep_for(10ms);
+        EXPECT_GE(server->stats().frames_sent, 20U);
     }  // the daemon goes away ...
     std::this_thread::sleep_for(300ms);
     auto server = startServer(path);  // ... and comes back
@@ -127,8 +127,8 @@ TEST(ClientLibrary, TheCExampleReadsFramesInPlaceAndReconnects) {
 TEST(ClientLibrary, TheCExampleSaysWhyWhenTheProfileIsRefused) {
     const std::string path = uniqueSocketPath("c-client-refused");
     FrameServerOptions o;
-    o.unixPath = path;
-    o.renderedProfiles = {{"cluster", "snail", 1280, 480}};
+    o.unix_path = path;
+    o.rendered_profiles = {{"cluster", "snail", 1280, 480}};
     FrameServer server(o);
     ASSERT_TRUE(server.start().ok());
     const ProgramRun r = run(std::string(NAVMAP_CLIENT_EXAMPLE) + " " + path + " hud 1 1");

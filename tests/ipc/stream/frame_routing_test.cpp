@@ -56,7 +56,7 @@ bool publish(FrameServer& server, const std::string& profile, const std::vector<
 class FrameServerFixture : public ::testing::Test {
 protected:
     void start(FrameServerOptions o) {
-        o.unixPath = m_path;
+        o.unix_path = m_path;
         m_server = std::make_unique<FrameServer>(std::move(o));
         auto s = m_server->start();
         ASSERT_TRUE(s.ok()) << s.message();
@@ -79,7 +79,7 @@ protected:
 TEST_F(FrameServerFixture, TwoProfilesOfOneViewAndSizeGetTheirOwnFrames) {
     // Same view and size, different style (one with glowing roads, one without): two streams.
     FrameServerOptions o;
-    o.renderedProfiles = {{"glow", "bird", 64, 32}, {"plain", "bird", 64, 32}};
+    o.rendered_profiles = {{"glow", "bird", 64, 32}, {"plain", "bird", 64, 32}};
     start(o);
     auto glow = StreamClient::connectUnix(m_path, named("glow"));
     auto plain = StreamClient::connectUnix(m_path, named("plain"));
@@ -117,7 +117,7 @@ TEST_F(FrameServerFixture, TwoProfilesOfOneViewAndSizeGetTheirOwnFrames) {
 
 TEST_F(FrameServerFixture, ARequestResolvesByNameThenByViewAndSize) {
     FrameServerOptions o;
-    o.renderedProfiles = {{"glow", "bird", 64, 32}, {"plain", "bird", 64, 32}};
+    o.rendered_profiles = {{"glow", "bird", 64, 32}, {"plain", "bird", 64, 32}};
     start(o);
     // Another name: the first rendered profile of that view and size.
     auto anon = StreamClient::connectUnix(m_path, named("some-recorder"));
@@ -132,12 +132,12 @@ TEST_F(FrameServerFixture, ARequestResolvesByNameThenByViewAndSize) {
     ASSERT_FALSE(wrong.ok());
     EXPECT_EQ(wrong.error().message, "handshake refused by " + m_path +
                                          ": handshake: profile plain is rendered as bird 64x32, not bird 128x64");
-    EXPECT_EQ(m_server->stats().refusedNotRendered, 1U);
+    EXPECT_EQ(m_server->stats().refused_not_rendered, 1U);
 }
 
 TEST_F(FrameServerFixture, AHeldFrameStaysUnchangedWhileTheRingMovesOn) {
     FrameServerOptions o;
-    o.ringSlots = 2;  // navmapd's rings: a held frame leaves one slot for the writer
+    o.ring_slots = 2;  // navmapd's rings: a held frame leaves one slot for the writer
     start(o);
     auto holder = StreamClient::connectUnix(m_path, named("h", true));
     auto copier = StreamClient::connectUnix(m_path, named("h"));
@@ -162,7 +162,7 @@ TEST_F(FrameServerFixture, AHeldFrameStaysUnchangedWhileTheRingMovesOn) {
     auto released = holder.value()->release();
     ASSERT_TRUE(released.ok());
     EXPECT_TRUE(released.value()) << "release says the held frame was overwritten";
-    EXPECT_EQ(m_server->stats().pinnedOverwrites, 0U);
+    EXPECT_EQ(m_server->stats().pinned_overwrites, 0U);
     // After the release the holder gets the newest frame again (notified on its ack).
     r = holder.value()->nextHeld(held, 2s);
     ASSERT_TRUE(r.ok() && r.value());
@@ -172,7 +172,7 @@ TEST_F(FrameServerFixture, AHeldFrameStaysUnchangedWhileTheRingMovesOn) {
 
 TEST_F(FrameServerFixture, WhenEverySlotIsHeldTheStreamGoesOnAndTheHolderIsTold) {
     FrameServerOptions o;
-    o.ringSlots = 2;
+    o.ring_slots = 2;
     start(o);
     auto a = StreamClient::connectUnix(m_path, named("h", true));
     auto b = StreamClient::connectUnix(m_path, named("h", true));
@@ -210,28 +210,28 @@ TEST_F(FrameServerFixture, WhenEverySlotIsHeldTheStreamGoesOnAndTheHolderIsTold)
     ASSERT_TRUE(ra.ok() && rb.ok());
     EXPECT_FALSE(ra.value());
     EXPECT_TRUE(rb.value());
-    EXPECT_EQ(a.value()->stats().heldOverwritten, 1U);
+    EXPECT_EQ(a.value()->stats().held_overwritten, 1U);
     EXPECT_TRUE([&] {
-        for (int i = 0; i < 100 && m_server->stats().pinnedOverwrites != 1; ++i) std::this_thread::sleep_for(10ms);
-        return m_server->stats().pinnedOverwrites == 1;
+        for (int i = 0; i < 100 && m_server->stats().pinned_overwrites != 1; ++i) std::this_thread::sleep_for(10ms);
+        return m_server->stats().pinned_overwrites == 1;
     }());
     EXPECT_NE(m_server->metricsText().find("navmap_stream_held_frames_overwritten_total 1\n"), std::string::npos);
 }
 
 TEST_F(FrameServerFixture, TheReconnectingClientWaitsForTheServerAndComesBackAfterARestart) {
     ReconnectOptions ro;
-    ro.unixPath = m_path;
+    ro.unix_path = m_path;
     ro.request = named("r");
-    ro.initialBackoff = 20ms;
-    ro.maxBackoff = 100ms;
-    ro.connectTimeout = 500ms;
+    ro.initial_backoff = 20ms;
+    ro.max_backoff = 100ms;
+    ro.connect_timeout = 500ms;
     ReconnectingClient client(ro);
     ReceivedFrame f;
     // No server yet: no frame, no exception, the reason at hand, attempts backing off.
     EXPECT_FALSE(client.next(f, 300ms));
     EXPECT_FALSE(client.connected());
     EXPECT_EQ(client.lastError(), "connect(" + m_path + "): No such file or directory");
-    const auto failedBefore = client.reconnectStats().failedAttempts;
+    const auto failedBefore = client.reconnectStats().failed_attempts;
     EXPECT_GE(failedBefore, 2U);
     EXPECT_LE(failedBefore, 8U);  // 20, 40, 80, 100 ms ... not a busy loop
     for (int generation = 1; generation <= 2; ++generation) {
@@ -274,7 +274,7 @@ TEST(FrameRingMapping, AClientChecksTheRingHeaderItMapped) {
     auto ro = ring.value()->openReadOnly();
     ASSERT_TRUE(ro.ok());
     const FrameRingLayout& l = ring.value()->layout();
-    void* p = ::mmap(nullptr, l.totalBytes, PROT_READ, MAP_SHARED, ro.value(), 0);
+    void* p = ::mmap(nullptr, l.total_bytes, PROT_READ, MAP_SHARED, ro.value(), 0);
     ::close(ro.value());
     ASSERT_NE(p, MAP_FAILED);
     const auto* base = static_cast<const std::uint8_t*>(p);
@@ -284,5 +284,5 @@ TEST(FrameRingMapping, AClientChecksTheRingHeaderItMapped) {
     EXPECT_EQ(version, kRingVersion);
     FrameRingLayout other = FrameRingLayout::make(3, 16, 16, PixelFormat::Rgba8);
     EXPECT_EQ(FrameRing::checkMapped(base, other).message(), "ring header: geometry differs from the handshake");
-    ::munmap(p, l.totalBytes);
+    ::munmap(p, l.total_bytes);
 }

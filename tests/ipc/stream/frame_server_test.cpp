@@ -38,23 +38,23 @@ StreamRequest small(StreamPayload payload, int fps = 240, PixelFormat format = P
 class StreamServerTest : public ::testing::Test {
 protected:
     void SetUp() override {
-        m_fdsBefore = countOpenFds();
+        m_fds_before = countOpenFds();
         FrameServerOptions o;
-        o.unixPath = uniqueSocketPath("stream-test");
-        o.tcpPort = 0;
-        o.httpPort = 0;
-        o.stallTimeout = 300ms;
-        o.handshakeTimeout = 2s;
-        o.mjpegProfile = "center";
+        o.unix_path = uniqueSocketPath("stream-test");
+        o.tcp_port = 0;
+        o.http_port = 0;
+        o.stall_timeout = 300ms;
+        o.handshake_timeout = 2s;
+        o.mjpeg_profile = "center";
         o.metrics = [](MetricsRegistry& r) { r.counter("navmapd_frames_total", "The daemon's frames.").sample(42); };
-        o.statusJson = [] { return std::string(R"({"vehicle":{"speed":13.5}})"); };
+        o.status_json = [] { return std::string(R"({"vehicle":{"speed":13.5}})"); };
         m_server = std::make_unique<FrameServer>(o);
         auto s = m_server->start();
         ASSERT_TRUE(s.ok()) << s.message();
     }
     void TearDown() override {
         m_server.reset();
-        EXPECT_EQ(countOpenFds(), m_fdsBefore) << "descriptors leaked";
+        EXPECT_EQ(countOpenFds(), m_fds_before) << "descriptors leaked";
     }
     // Publishes one frame of the small profile with every pixel = seq.
     void publishSeq(std::uint64_t seq, const std::string& view = "bird", int w = 64, int h = 32) {
@@ -63,8 +63,8 @@ protected:
         f.pixels = px.data();
         f.width = w;
         f.height = h;
-        f.sourceTimeNs = 1000 + static_cast<std::int64_t>(seq);
-        f.renderTimeNs = 5000 + static_cast<std::int64_t>(seq);
+        f.source_time_ns = 1000 + static_cast<std::int64_t>(seq);
+        f.render_time_ns = 5000 + static_cast<std::int64_t>(seq);
         m_server->publish(view, f);
     }
     template <typename Pred>
@@ -73,13 +73,13 @@ protected:
     }
     std::unique_ptr<StreamClient> connect(const StreamRequest& r) {
         auto c = r.payload == StreamPayload::Shm
-                     ? StreamClient::connectUnix(m_server->options().unixPath, r)
+                     ? StreamClient::connectUnix(m_server->options().unix_path, r)
                      : StreamClient::connectTcp("127.0.0.1", m_server->tcpPort(), r, 5s, zlibInflater());
         EXPECT_TRUE(c.ok()) << (c.ok() ? "" : c.error().message);
         return c.ok() ? std::move(c.value()) : nullptr;
     }
 
-    int m_fdsBefore = 0;
+    int m_fds_before = 0;
     std::unique_ptr<FrameServer> m_server;
 };
 
@@ -124,8 +124,8 @@ TEST_F(StreamServerTest, EveryTransportDeliversTheSameFrameAndHeader) {
         EXPECT_EQ(f.header.height, 32U);
         EXPECT_EQ(f.header.stride, 256U);
         EXPECT_EQ(f.header.format, PixelFormat::Rgba8);
-        EXPECT_EQ(f.header.sourceTimeNs, 1001);
-        EXPECT_EQ(f.header.renderTimeNs, 5001);
+        EXPECT_EQ(f.header.source_time_ns, 1001);
+        EXPECT_EQ(f.header.render_time_ns, 5001);
         EXPECT_EQ(f.header.dropped, 0U);
         expectPattern(f, 1);
     }
@@ -180,7 +180,7 @@ TEST_F(StreamServerTest, SlowShmReaderNeverGetsATornFrame) {
     EXPECT_GT(f.header.dropped, 0U);                              // and the drops are counted
     std::printf("slow reader: %d frames of %llu published, dropped %llu (lost locally %llu)\n", got,
                 static_cast<unsigned long long>(pub.published()), static_cast<unsigned long long>(f.header.dropped),
-                static_cast<unsigned long long>(c->stats().lostLocally));
+                static_cast<unsigned long long>(c->stats().lost_locally));
 }
 
 namespace {
@@ -212,7 +212,7 @@ TEST_F(StreamServerTest, ClientsThatNeverReadDoNotSlowTheOthers) {
 
     // A shm client that never acks, a TCP client and an MJPEG viewer that never read, and a
     // connection that never completes its handshake.
-    const int stuckShm = connectUnixRaw(m_server->options().unixPath);
+    const int stuckShm = connectUnixRaw(m_server->options().unix_path);
     ASSERT_TRUE(sendAllRaw(stuckShm, formatStreamRequest(small(StreamPayload::Shm))));
     const int stuckTcp = connectTcpRaw(m_server->tcpPort());
     int tiny = 4096;
@@ -223,7 +223,7 @@ TEST_F(StreamServerTest, ClientsThatNeverReadDoNotSlowTheOthers) {
     ASSERT_TRUE(sendAllRaw(stuckHttp,
                            "GET /stream.mjpg?profile=test&width=64&height=32&view=bird HTTP/1.1\r\nHost: 127.0.0.1:" +
                                std::to_string(m_server->httpPort()) + "\r\n\r\n"));
-    const int silent = connectUnixRaw(m_server->options().unixPath);
+    const int silent = connectUnixRaw(m_server->options().unix_path);
 
     const int withStuck = framesReceived(*fast, 600ms);
     std::printf("fast client: %d frames alone, %d with four stuck clients\n", alone, withStuck);
@@ -232,12 +232,12 @@ TEST_F(StreamServerTest, ClientsThatNeverReadDoNotSlowTheOthers) {
     // handshake timeout (2 s); the fast one, still reading, stays.
     const auto until = std::chrono::steady_clock::now() + 6s;
     while (std::chrono::steady_clock::now() < until &&
-           (m_server->stats().stallDisconnects < 3 || m_server->stats().handshakeTimeouts < 1 ||
+           (m_server->stats().stall_disconnects < 3 || m_server->stats().handshake_timeouts < 1 ||
             m_server->stats().clients != 1)) {
         ASSERT_GE(framesReceived(*fast, 50ms), 0);
     }
-    EXPECT_EQ(m_server->stats().stallDisconnects, 3U);
-    EXPECT_EQ(m_server->stats().handshakeTimeouts, 1U);
+    EXPECT_EQ(m_server->stats().stall_disconnects, 3U);
+    EXPECT_EQ(m_server->stats().handshake_timeouts, 1U);
     EXPECT_EQ(m_server->stats().clients, 1U);
     EXPECT_GT(framesReceived(*fast, 200ms), 5);
     pub.stop();
@@ -284,7 +284,7 @@ TEST_F(StreamServerTest, MalformedHandshakesGetErrorsAndChangeNothing) {
     };
     for (const bool tcp : {false, true}) {
         for (const auto& b : bad) {
-            const int fd = tcp ? connectTcpRaw(m_server->tcpPort()) : connectUnixRaw(m_server->options().unixPath);
+            const int fd = tcp ? connectTcpRaw(m_server->tcpPort()) : connectUnixRaw(m_server->options().unix_path);
             ASSERT_GE(fd, 0);
             sendAllRaw(fd, b);
             const std::string reply = readUntilClose(fd, 3s);
@@ -306,7 +306,7 @@ TEST_F(StreamServerTest, MalformedHandshakesGetErrorsAndChangeNothing) {
         EXPECT_NE(reply.find("needs the Unix socket"), std::string::npos) << reply;
     }
     const auto s = m_server->stats();
-    EXPECT_EQ(s.handshakeErrors, 2 * bad.size() + 1);
+    EXPECT_EQ(s.handshake_errors, 2 * bad.size() + 1);
     EXPECT_EQ(s.clients, 1U);
     EXPECT_EQ(s.rings, 1U);
     // The good client still streams.
@@ -319,7 +319,7 @@ TEST_F(StreamServerTest, MalformedHandshakesGetErrorsAndChangeNothing) {
 
 TEST_F(StreamServerTest, GarbageAfterTheHandshakeEndsWithAnErrorFrame) {
     for (const auto payload : {StreamPayload::Shm, StreamPayload::Raw}) {
-        const int fd = payload == StreamPayload::Shm ? connectUnixRaw(m_server->options().unixPath)
+        const int fd = payload == StreamPayload::Shm ? connectUnixRaw(m_server->options().unix_path)
                                                      : connectTcpRaw(m_server->tcpPort());
         ASSERT_TRUE(sendAllRaw(fd, formatStreamRequest(small(payload))));
         ASSERT_TRUE(waitFor([&] { return m_server->stats().clients == 1; }));
@@ -337,7 +337,7 @@ TEST_F(StreamServerTest, GarbageAfterTheHandshakeEndsWithAnErrorFrame) {
         EXPECT_EQ(rest.substr(kFrameHeaderBytes), "unexpected byte 0x7f after the handshake");
         ASSERT_TRUE(waitFor([&] { return m_server->stats().clients == 0; }));
     }
-    EXPECT_EQ(m_server->stats().protocolErrors, 2U);
+    EXPECT_EQ(m_server->stats().protocol_errors, 2U);
     // The client library reports the server's message.
     auto c = connect(small(StreamPayload::Shm));
     ASSERT_TRUE(c);
@@ -393,7 +393,7 @@ TEST_F(StreamServerTest, HttpGarbageGetsErrors) {
         EXPECT_EQ(reply.rfind(want, 0), 0U) << req.substr(0, 40) << " -> " << reply.substr(0, 80);
     }
     const auto s = m_server->stats();
-    EXPECT_EQ(s.httpErrors, std::size(cases));
+    EXPECT_EQ(s.http_errors, std::size(cases));
     EXPECT_EQ(s.clients, 0U);
     EXPECT_EQ(s.rings, 0U);
 }
@@ -402,7 +402,7 @@ TEST_F(StreamServerTest, MjpegOverHttpDecodesToThePublishedImage) {
     MjpegReader reader(m_server->httpPort(), "/stream.mjpg?profile=side&width=96&height=48&view=bird&fps=60");
     ASSERT_TRUE(reader.ok()) << reader.responseHead();
     EXPECT_NE(reader.responseHead().find("multipart/x-mixed-replace; boundary=navmapframe"), std::string::npos);
-    ASSERT_TRUE(waitFor([&] { return m_server->stats().mjpegClients == 1; }));
+    ASSERT_TRUE(waitFor([&] { return m_server->stats().mjpeg_clients == 1; }));
     // Left half red, right half blue.
     std::vector<std::uint8_t> px(96 * 48 * 4);
     for (int y = 0; y < 48; ++y) {
@@ -456,7 +456,7 @@ TEST_F(StreamServerTest, NoFdOrMemoryGrowthOver100ConnectDisconnectCycles) {
                 break;
             }
             default: {
-                const int fd = connectUnixRaw(m_server->options().unixPath);
+                const int fd = connectUnixRaw(m_server->options().unix_path);
                 sendAllRaw(fd, "{\"broken\n");
                 readUntilClose(fd, 2s);
                 close(fd);
@@ -496,7 +496,7 @@ TEST_F(StreamServerTest, ActiveProfilesTellTheDaemonWhatToRender) {
     ASSERT_EQ(active.size(), 2U);  // the two formats of bird 64x32 render once
     std::sort(active.begin(), active.end(), [](const auto& x, const auto& y) { return x.view < y.view; });
     EXPECT_EQ(active[0].view, "bird");
-    EXPECT_EQ(active[0].maxFps, 25);
+    EXPECT_EQ(active[0].max_fps, 25);
     EXPECT_EQ(active[0].clients, 2U);
     EXPECT_EQ(active[1].view, "hud");
     EXPECT_EQ(active[1].width, 800);
@@ -508,7 +508,7 @@ TEST(FrameServerSetup, BindErrorsNameTheCallAndTheObject) {
     const int fds = countOpenFds();
     {
         FrameServerOptions o;
-        o.unixPath = "/nonexistent-navmap-dir/stream.sock";
+        o.unix_path = "/nonexistent-navmap-dir/stream.sock";
         FrameServer s(o);
         auto st = s.start();
         ASSERT_FALSE(st.ok());
@@ -516,11 +516,11 @@ TEST(FrameServerSetup, BindErrorsNameTheCallAndTheObject) {
     }
     {
         FrameServerOptions o;
-        o.tcpPort = 0;
+        o.tcp_port = 0;
         FrameServer first(o);
         ASSERT_TRUE(first.start().ok());
         FrameServerOptions o2;
-        o2.tcpPort = first.tcpPort();
+        o2.tcp_port = first.tcpPort();
         FrameServer second(o2);
         auto st = second.start();
         ASSERT_FALSE(st.ok());
@@ -528,8 +528,8 @@ TEST(FrameServerSetup, BindErrorsNameTheCallAndTheObject) {
     }
     {
         FrameServerOptions o;
-        o.bindAddress = "localhost-ish";
-        o.httpPort = 0;
+        o.bind_address = "localhost-ish";
+        o.http_port = 0;
         FrameServer s(o);
         auto st = s.start();
         ASSERT_FALSE(st.ok());
@@ -593,7 +593,7 @@ TEST_F(StreamServerTest, ShmClientsKeepTheirRateWhileZlibAndMjpegClientsAreServe
             f.pixels = frames[i % 2].data();
             f.width = kW;
             f.height = kH;
-            f.sourceTimeNs = 1;
+            f.source_time_ns = 1;
             m_server->publish("bird", f);
             next += std::chrono::milliseconds(1000 / kFps);
             std::this_thread::sleep_until(next);
@@ -644,8 +644,8 @@ TEST_F(StreamServerTest, ShmClientsKeepTheirRateWhileZlibAndMjpegClientsAreServe
                 alone, withEncoders, zlibDuring, jpegDuring);
     EXPECT_GE(alone, kFps * 3 / 2 * 8 / 10) << "the shm client keeps up with the publisher";
     EXPECT_GE(withEncoders, alone * 9 / 10);
-    EXPECT_GT(zlibDuring, 3) << m_server->stats().lastError;
-    EXPECT_GT(jpegDuring, 3) << m_server->stats().lastError;
+    EXPECT_GT(zlibDuring, 3) << m_server->stats().last_error;
+    EXPECT_GT(jpegDuring, 3) << m_server->stats().last_error;
     EXPECT_EQ(metrics.find("navmap_stream_encodes_total 0\n"), std::string::npos) << metrics;
     EXPECT_NE(metrics.find("navmap_stream_encode_seconds{format=\"zlib\",stat=\"max\"}"), std::string::npos) << metrics;
 }

@@ -41,8 +41,8 @@ std::string runCommand(const std::string& cmd, int* status) {
 
 TEST(NavmapView, SavesPngsAndPrintsLatencyAndDrops) {
     FrameServerOptions o;
-    o.unixPath = navmap::stream_test::uniqueSocketPath("view-test");
-    o.tcpPort = 0;
+    o.unix_path = navmap::stream_test::uniqueSocketPath("view-test");
+    o.tcp_port = 0;
     FrameServer server(o);
     ASSERT_TRUE(server.start().ok());
     navmap::stream_test::Publisher pub(server, "hud", 800, 240, 60);
@@ -50,7 +50,7 @@ TEST(NavmapView, SavesPngsAndPrintsLatencyAndDrops) {
     std::filesystem::remove_all(dir);
     for (const bool tcp : {false, true}) {
         const std::string target =
-            tcp ? "--tcp 127.0.0.1:" + std::to_string(server.tcpPort()) + " --payload zlib" : "--unix " + o.unixPath;
+            tcp ? "--tcp 127.0.0.1:" + std::to_string(server.tcpPort()) + " --payload zlib" : "--unix " + o.unix_path;
         const std::string cmd = std::string(NAVMAP_VIEW_EXE) + " " + target + " --profile hud --frames 6 --save " +
                                 dir.string() + " --save-count 3 --json 2>&1";
         int status = 0;
@@ -101,7 +101,7 @@ TEST(NavmapView, ReportsConnectionAndUsageErrors) {
 
 TEST(NavmapView, PrintsEachStatusBeforeTheFrames) {
     FrameServerOptions o;
-    o.unixPath = navmap::stream_test::uniqueSocketPath("view-status-test");
+    o.unix_path = navmap::stream_test::uniqueSocketPath("view-status-test");
     FrameServer server(o);
     ASSERT_TRUE(server.start().ok());
     const std::string loading = R"({"state":"loading","view":"hud","tiles_wanted":7,"held_back":4,"waited_ms":300})";
@@ -114,7 +114,7 @@ TEST(NavmapView, PrintsEachStatusBeforeTheFrames) {
         }
         for (int i = 0; i < 2 && run; ++i) {
             ASSERT_TRUE(server.publishStatus("hud", 800, 240, loading).ok());
-            while (run && server.stats().statusesSent < static_cast<std::uint64_t>(i + 1) &&
+            while (run && server.stats().statuses_sent < static_cast<std::uint64_t>(i + 1) &&
                    std::chrono::steady_clock::now() < until) {
                 std::this_thread::sleep_for(5ms);
             }
@@ -131,7 +131,7 @@ TEST(NavmapView, PrintsEachStatusBeforeTheFrames) {
     });
     int status = 0;
     const std::string out =
-        runCommand(std::string(NAVMAP_VIEW_EXE) + " --unix " + o.unixPath + " --profile hud --frames 2", &status);
+        runCommand(std::string(NAVMAP_VIEW_EXE) + " --unix " + o.unix_path + " --profile hud --frames 2", &status);
     run = false;
     daemon.join();
     ASSERT_EQ(status, 0) << out;

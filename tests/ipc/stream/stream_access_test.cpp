@@ -69,15 +69,15 @@ int countLines(const std::string& report, const std::string& text) {
 // A server for one test, and the fd count around it.
 class StreamAccessTest : public ::testing::Test {
 protected:
-    void SetUp() override { m_fdsBefore = countOpenFds(); }
+    void SetUp() override { m_fds_before = countOpenFds(); }
     void TearDown() override {
         m_server.reset();
-        EXPECT_EQ(countOpenFds(), m_fdsBefore) << "descriptors leaked";
+        EXPECT_EQ(countOpenFds(), m_fds_before) << "descriptors leaked";
     }
     FrameServerOptions options() const {
         FrameServerOptions o;
-        o.unixPath = uniqueSocketPath("stream-access");
-        o.stallTimeout = 2s;
+        o.unix_path = uniqueSocketPath("stream-access");
+        o.stall_timeout = 2s;
         return o;
     }
     void start(FrameServerOptions o) {
@@ -85,7 +85,7 @@ protected:
         const auto st = m_server->start();
         ASSERT_TRUE(st.ok()) << st.message();
     }
-    const std::string& path() const { return m_server->options().unixPath; }
+    const std::string& path() const { return m_server->options().unix_path; }
     template <typename Pred>
     bool waitFor(Pred pred, std::chrono::milliseconds limit = 5s) {
         return navmap::test::waitFor(pred, limit);
@@ -108,7 +108,7 @@ protected:
         FAIL() << "no frame within " << limit.count() << " ms";
     }
 
-    int m_fdsBefore = 0;
+    int m_fds_before = 0;
     std::unique_ptr<FrameServer> m_server;
 };
 
@@ -118,7 +118,7 @@ TEST_F(StreamAccessTest, SocketFileIs0660WithItsGroupWhateverTheUmask) {
     const mode_t old = ::umask(0);
     FrameServerOptions o = options();
     const gid_t group = ::geteuid() == 0 ? kNogroup : ::getegid();  // root may give it any group
-    o.unixGroup = group;
+    o.unix_group = group;
     start(o);
     ::umask(old);
     struct stat st {};
@@ -160,11 +160,11 @@ TEST_F(StreamAccessTest, PeersNotOnTheAllowListAreRefused) {
     EXPECT_NE(got.find("handshake refused by " + sock + ": peer uid 65534 (pid "), std::string::npos) << got;
     EXPECT_NE(got.find(") is not allowed on " + sock), std::string::npos) << got;
     nobody.release();
-    EXPECT_TRUE(waitFor([&] { return m_server->stats().refusedPeer == 1; }));
+    EXPECT_TRUE(waitFor([&] { return m_server->stats().refused_peer == 1; }));
     const auto s = m_server->stats();
     EXPECT_EQ(s.connections, 0U);
     EXPECT_EQ(s.rings, 0U);
-    EXPECT_NE(s.lastError.find("refused: peer uid 65534"), std::string::npos) << s.lastError;
+    EXPECT_NE(s.last_error.find("refused: peer uid 65534"), std::string::npos) << s.last_error;
     EXPECT_NE(m_server->metricsText().find("navmap_stream_refusals_total{reason=\"peer\"} 1\n"), std::string::npos);
 }
 
@@ -174,8 +174,8 @@ TEST_F(StreamAccessTest, ListedUidsAndGroupMembersGetFrames) {
     }
     constexpr gid_t kDisplays = 64000;  // the socket's group
     FrameServerOptions o = options();
-    o.unixGroup = kDisplays;
-    o.allowedPeers.uids = {kNobody};
+    o.unix_group = kDisplays;
+    o.allowed_peers.uids = {kNobody};
     start(o);
     Publisher pub(*m_server, "snail", 1280, 480, 20);
     const std::string sock = path();
@@ -208,7 +208,7 @@ TEST_F(StreamAccessTest, ListedUidsAndGroupMembersGetFrames) {
     ASSERT_EQ(::chmod(sock.c_str(), 0666), 0);
     ForeignProcess stranger({64002, 64002, {}}, watch);
     EXPECT_NE(stranger.result().find("peer uid 64002"), std::string::npos) << stranger.result();
-    EXPECT_EQ(m_server->stats().refusedPeer, 1U);
+    EXPECT_EQ(m_server->stats().refused_peer, 1U);
     pub.stop();
 }
 
@@ -217,12 +217,12 @@ TEST_F(StreamAccessTest, OneUidCannotLockOthersOut) {
         GTEST_SKIP() << why;
     }
     FrameServerOptions o = options();
-    o.unixGroup = kNogroup;
-    o.allowedPeers.uids = {kNobody};
-    o.maxClientsPerUid = 4;
-    o.maxClientsPerTransport = 16;
-    o.stallTimeout = 10s;  // nobody's four never ack; they stay for the whole test
-    o.renderedProfiles = {{"cluster", "snail", 1280, 480}};
+    o.unix_group = kNogroup;
+    o.allowed_peers.uids = {kNobody};
+    o.max_clients_per_uid = 4;
+    o.max_clients_per_transport = 16;
+    o.stall_timeout = 10s;  // nobody's four never ack; they stay for the whole test
+    o.rendered_profiles = {{"cluster", "snail", 1280, 480}};
     start(o);
     Publisher pub(*m_server, "cluster", 1280, 480, 20);  // frames go to a rendered profile by its name
     const std::string sock = path();
@@ -238,9 +238,9 @@ TEST_F(StreamAccessTest, OneUidCannotLockOthersOut) {
     ASSERT_TRUE(c.ok()) << c.error().message;
     expectFrame(*c.value());
     const auto s = m_server->stats();
-    EXPECT_EQ(s.refusedUidFull, 60U);
-    EXPECT_EQ(s.refusedTransportFull, 0U);
-    EXPECT_EQ(s.shmClients, 5U);
+    EXPECT_EQ(s.refused_uid_full, 60U);
+    EXPECT_EQ(s.refused_transport_full, 0U);
+    EXPECT_EQ(s.shm_clients, 5U);
     EXPECT_NE(m_server->metricsText().find("navmap_stream_refusals_total{reason=\"uid_full\"} 60\n"),
               std::string::npos);
     nobody.release();
@@ -249,10 +249,10 @@ TEST_F(StreamAccessTest, OneUidCannotLockOthersOut) {
 
 TEST_F(StreamAccessTest, EachTransportHasItsOwnCap) {
     FrameServerOptions o = options();
-    o.tcpPort = 0;
-    o.httpPort = 0;
-    o.maxClientsPerTransport = 3;
-    o.maxClientsPerUid = 3;
+    o.tcp_port = 0;
+    o.http_port = 0;
+    o.max_clients_per_transport = 3;
+    o.max_clients_per_uid = 3;
     start(o);
     Publisher pub(*m_server, "bird", 64, 32, 60);
     // Three TCP connections that say nothing fill the TCP transport.
@@ -277,8 +277,8 @@ TEST_F(StreamAccessTest, EachTransportHasItsOwnCap) {
     ASSERT_FALSE(shm4.ok());
     EXPECT_EQ(shm4.error().message, "handshake refused by " + path() + ": too many unix clients (limit 3)");
     const auto s = m_server->stats();
-    EXPECT_EQ(s.refusedTransportFull, 2U);
-    EXPECT_NE(s.lastError.find("too many unix clients (limit 3)"), std::string::npos) << s.lastError;
+    EXPECT_EQ(s.refused_transport_full, 2U);
+    EXPECT_NE(s.last_error.find("too many unix clients (limit 3)"), std::string::npos) << s.last_error;
     for (int fd : tcp) {
         close(fd);
     }
@@ -287,9 +287,9 @@ TEST_F(StreamAccessTest, EachTransportHasItsOwnCap) {
 
 TEST_F(StreamAccessTest, UnrenderedViewsAndSizesAreRefusedNamingWhatIsRendered) {
     FrameServerOptions o = options();
-    o.tcpPort = 0;
-    o.httpPort = 0;
-    o.renderedProfiles = {{"cluster", "snail", 1280, 480}, {"hud", "hud", 800, 240}};
+    o.tcp_port = 0;
+    o.http_port = 0;
+    o.rendered_profiles = {{"cluster", "snail", 1280, 480}, {"hud", "hud", 800, 240}};
     start(o);
     const std::string rendered = "rendered: cluster (snail 1280x480), hud (hud 800x240)";
     // Unix (shm) and TCP: an error line, no ring.
@@ -309,7 +309,7 @@ TEST_F(StreamAccessTest, UnrenderedViewsAndSizesAreRefusedNamingWhatIsRendered) 
     EXPECT_NE(mjpeg.find("\r\n\r\nbird 4096x4096 is not rendered here; " + rendered + "\n"), std::string::npos)
         << mjpeg;
     EXPECT_EQ(m_server->stats().rings, 0U);
-    EXPECT_EQ(m_server->stats().refusedNotRendered, 3U);
+    EXPECT_EQ(m_server->stats().refused_not_rendered, 3U);
     EXPECT_NE(m_server->metricsText().find("navmap_stream_refusals_total{reason=\"not_rendered\"} 3\n"),
               std::string::npos);
     // What is rendered is served, in either pixel format, and by name on the MJPEG page.
@@ -327,9 +327,9 @@ TEST_F(StreamAccessTest, UnrenderedViewsAndSizesAreRefusedNamingWhatIsRendered) 
 
 TEST_F(StreamAccessTest, SilentConnectionsAndClientsWithoutAFrameAreClosed) {
     FrameServerOptions o = options();
-    o.tcpPort = 0;
-    o.httpPort = 0;
-    o.handshakeTimeout = 300ms;
+    o.tcp_port = 0;
+    o.http_port = 0;
+    o.handshake_timeout = 300ms;
     start(o);
     const auto t0 = std::chrono::steady_clock::now();
     const int silentUnix = connectUnixRaw(path());
@@ -362,8 +362,8 @@ TEST_F(StreamAccessTest, SilentConnectionsAndClientsWithoutAFrameAreClosed) {
     std::this_thread::sleep_for(500ms);
     expectFrame(*fed.value());
     const auto s = m_server->stats();
-    EXPECT_EQ(s.handshakeTimeouts, 3U);
-    EXPECT_EQ(s.firstFrameTimeouts, 1U);
+    EXPECT_EQ(s.handshake_timeouts, 3U);
+    EXPECT_EQ(s.first_frame_timeouts, 1U);
     EXPECT_EQ(s.clients, 1U);
     const std::string metrics = m_server->metricsText();
     EXPECT_NE(metrics.find("navmap_stream_timeouts_total{kind=\"handshake\"} 3\n"), std::string::npos) << metrics;
@@ -376,12 +376,12 @@ TEST_F(StreamAccessTest, SilentConnectionsAndClientsWithoutAFrameAreClosed) {
 
 TEST_F(StreamAccessTest, RingMemoryHasACeiling) {
     FrameServerOptions o = options();
-    o.httpPort = 0;
-    o.ringSlots = 3;
+    o.http_port = 0;
+    o.ring_slots = 3;
     // 64x32 RGBA8 needs 40 KiB (a header page and three 12 KiB slots), RGB565 28 KiB: one fits.
-    o.ringMemoryBytes = 64 * 1024;
+    o.ring_memory_bytes = 64 * 1024;
     start(o);
-    ASSERT_EQ(FrameRingLayout::make(3, 64, 32, PixelFormat::Rgba8).totalBytes, 40960U);
+    ASSERT_EQ(FrameRingLayout::make(3, 64, 32, PixelFormat::Rgba8).total_bytes, 40960U);
     auto first = StreamClient::connectUnix(path(), request("bird", 64, 32));
     ASSERT_TRUE(first.ok()) << first.error().message;
     auto second = StreamClient::connectUnix(path(), request("bird", 64, 32, StreamPayload::Shm, PixelFormat::Rgb565));
@@ -395,8 +395,8 @@ TEST_F(StreamAccessTest, RingMemoryHasACeiling) {
     auto same = StreamClient::connectUnix(path(), request("bird", 64, 32));
     ASSERT_TRUE(same.ok()) << same.error().message;
     auto s = m_server->stats();
-    EXPECT_EQ(s.refusedRingMemory, 2U);
-    EXPECT_EQ(s.ringBytes, 40960U);
+    EXPECT_EQ(s.refused_ring_memory, 2U);
+    EXPECT_EQ(s.ring_bytes, 40960U);
     const std::string metrics = m_server->metricsText();
     EXPECT_NE(metrics.find("navmap_stream_refusals_total{reason=\"ring_memory\"} 2\n"), std::string::npos) << metrics;
     EXPECT_NE(metrics.find("navmap_stream_ring_bytes{stat=\"limit\"} 65536\n"), std::string::npos) << metrics;
@@ -412,9 +412,9 @@ TEST_F(StreamAccessTest, NoClientCanMakeTheRingWritable) {
     start(options());
     auto raw = rawShmHandshake(path(), formatStreamRequest(request("bird", 64, 32)));
     ASSERT_NE(raw->reply.find("\"ok\":true"), std::string::npos) << raw->reply;
-    ASSERT_GE(raw->ringFd, 0) << "no descriptor with the reply";
-    const int fd = raw->ringFd;
-    const std::size_t bytes = FrameRingLayout::make(3, 64, 32, PixelFormat::Rgba8).totalBytes;
+    ASSERT_GE(raw->ring_fd, 0) << "no descriptor with the reply";
+    const int fd = raw->ring_fd;
+    const std::size_t bytes = FrameRingLayout::make(3, 64, 32, PixelFormat::Rgba8).total_bytes;
     const int seals = ::fcntl(fd, F_GET_SEALS);
     EXPECT_EQ(seals, F_SEAL_SEAL | F_SEAL_SHRINK | F_SEAL_GROW | F_SEAL_FUTURE_WRITE) << std::hex << seals;
 
@@ -470,8 +470,8 @@ TEST_F(StreamAccessTest, NoClientCanMakeTheRingWritable) {
 TEST_F(StreamAccessTest, HttpChecksTheHostHeaderAndTheToken) {
     const std::string token = "s3cret-Token_0123456789";
     FrameServerOptions o = options();
-    o.httpPort = 0;
-    o.httpToken = token;
+    o.http_port = 0;
+    o.http_token = token;
     start(o);
     const int port = m_server->httpPort();
     const std::string p = std::to_string(port);
@@ -512,14 +512,14 @@ TEST_F(StreamAccessTest, HttpChecksTheHostHeaderAndTheToken) {
     EXPECT_FALSE(mjpeg.next(3s).empty());
     pub.stop();
     const auto s = m_server->stats();
-    EXPECT_EQ(s.refusedHost, 4U);
-    EXPECT_EQ(s.refusedToken, 3U);
+    EXPECT_EQ(s.refused_host, 4U);
+    EXPECT_EQ(s.refused_token, 3U);
 }
 
 TEST_F(StreamAccessTest, HttpOnEveryAddressTakesTheAddressOfTheConnection) {
     FrameServerOptions o = options();
-    o.bindAddress = "0.0.0.0";
-    o.httpPort = 0;
+    o.bind_address = "0.0.0.0";
+    o.http_port = 0;
     start(o);
     const int port = m_server->httpPort();
     EXPECT_EQ(httpGet(port, "/status").rfind("HTTP/1.0 200 OK", 0), 0U);  // Host: 127.0.0.1:port

@@ -49,10 +49,10 @@ TEST(StreamBrowser, HeadlessChromiumShowsTheLiveStreamAndStatus) {
         GTEST_SKIP() << "chromium is not installed (apt-get install chromium); the browser view is untested here";
     }
     FrameServerOptions o;
-    o.httpPort = 0;  // HTTP is off unless asked for
-    o.httpToken = "browser-test-token-0123";
-    o.mjpegProfile = "center";
-    o.statusJson = [] { return std::string(R"({"marker":"navmap-browser-test"})"); };
+    o.http_port = 0;  // HTTP is off unless asked for
+    o.http_token = "browser-test-token-0123";
+    o.mjpeg_profile = "center";
+    o.status_json = [] { return std::string(R"({"marker":"navmap-browser-test"})"); };
     FrameServer server(o);
     ASSERT_TRUE(server.start().ok());
     // A 1280x720 bird's-eye frame in one unmistakable colour, published at 30 fps.
@@ -76,7 +76,7 @@ TEST(StreamBrowser, HeadlessChromiumShowsTheLiveStreamAndStatus) {
         " --headless --no-sandbox --disable-gpu --disable-background-networking --disable-component-update"
         " --disable-sync --no-first-run --user-data-dir=" +
         (dir / "profile").string();
-    const std::string url = "http://127.0.0.1:" + std::to_string(server.httpPort()) + "/?token=" + o.httpToken;
+    const std::string url = "http://127.0.0.1:" + std::to_string(server.httpPort()) + "/?token=" + o.http_token;
     const auto shot = dir / "page.png";
     run("timeout 60 " + chromium + flags + " --window-size=1400,900 --timeout=4000 --screenshot=" + shot.string() +
         " " + url + " 2>/dev/null");
@@ -101,6 +101,6 @@ TEST(StreamBrowser, HeadlessChromiumShowsTheLiveStreamAndStatus) {
     // The page fetched /status and shows the daemon's JSON.
     EXPECT_NE(dom.find("navmap-browser-test"), std::string::npos) << dom.substr(0, 2000);
     EXPECT_NE(dom.find("live: "), std::string::npos);
-    EXPECT_GE(server.stats().mjpegClients + server.stats().framesSent, 1U);
+    EXPECT_GE(server.stats().mjpeg_clients + server.stats().frames_sent, 1U);
     std::filesystem::remove_all(dir);
 }

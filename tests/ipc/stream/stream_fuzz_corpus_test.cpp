@@ -18,7 +18,7 @@ TEST(StreamFuzzCorpus, HandshakeHttpAndHeaderParsersSurviveBrokenInputs) {
     h.width = 1280;
     h.height = 480;
     h.stride = 5120;
-    h.payloadBytes = 5120 * 480;
+    h.payload_bytes = 5120 * 480;
     const auto hb = navmap::ipc::encodeFrameHeader(h);
     navmap::ipc::StreamRequest req;
     req.profile = *navmap::ipc::defaultStreamProfile("cluster");

@@ -94,19 +94,19 @@ std::string loading(int i) {
 class StreamStatusTest : public ::testing::Test {
 protected:
     void SetUp() override {
-        m_fdsBefore = countOpenFds();
+        m_fds_before = countOpenFds();
         FrameServerOptions o;
-        o.unixPath = uniqueSocketPath("stream-status");
-        o.tcpPort = 0;
-        o.stallTimeout = 2s;
-        o.handshakeTimeout = 300ms;  // short: statuses must keep the clients past several of these
+        o.unix_path = uniqueSocketPath("stream-status");
+        o.tcp_port = 0;
+        o.stall_timeout = 2s;
+        o.handshake_timeout = 300ms;  // short: statuses must keep the clients past several of these
         m_server = std::make_unique<FrameServer>(o);
         auto s = m_server->start();
         ASSERT_TRUE(s.ok()) << s.message();
     }
     void TearDown() override {
         m_server.reset();
-        EXPECT_EQ(countOpenFds(), m_fdsBefore) << "descriptors leaked";
+        EXPECT_EQ(countOpenFds(), m_fds_before) << "descriptors leaked";
     }
     void publishSeq(std::uint64_t seq) {
         const auto px = sequencePattern(64, 32, seq);
@@ -121,7 +121,7 @@ protected:
         return navmap::test::waitFor(pred, limit);
     }
 
-    int m_fdsBefore = 0;
+    int m_fds_before = 0;
     std::unique_ptr<FrameServer> m_server;
 };
 
@@ -133,7 +133,7 @@ TEST_F(StreamStatusTest, StatusesReachWaitingClientsAsSentAndKeepThemPastTheFirs
     ASSERT_GE(tcp, 0);
     ASSERT_TRUE(sendAllRaw(tcp, formatStreamRequest(request(StreamPayload::Raw))));
     ASSERT_NE(readReplyLine(tcp).find("\"ok\":true"), std::string::npos);
-    auto shm = rawShmHandshake(m_server->options().unixPath, formatStreamRequest(request(StreamPayload::Shm)));
+    auto shm = rawShmHandshake(m_server->options().unix_path, formatStreamRequest(request(StreamPayload::Shm)));
     ASSERT_NE(shm->reply.find("\"ok\":true"), std::string::npos) << shm->reply;
     const int other = connectTcpRaw(m_server->tcpPort());
     ASSERT_TRUE(sendAllRaw(other, formatStreamRequest(request(StreamPayload::Raw, "hud"))));
@@ -152,16 +152,16 @@ TEST_F(StreamStatusTest, StatusesReachWaitingClientsAsSentAndKeepThemPastTheFirs
         for (const int fd : {tcp, shm->fd}) {
             const FrameHeader h = nextHeader(fd);
             ASSERT_EQ(h.kind, FrameKind::Status) << "status " << i;
-            ASSERT_EQ(h.payloadBytes, json.size());
-            EXPECT_EQ(readBytes(fd, h.payloadBytes, 3s), json) << "status " << i;
+            ASSERT_EQ(h.payload_bytes, json.size());
+            EXPECT_EQ(readBytes(fd, h.payload_bytes, 3s), json) << "status " << i;
         }
     }
     EXPECT_GE(std::chrono::steady_clock::now() - t0, 900ms);
     // Both are still there; the client of the other view got no status and was dropped on time.
-    EXPECT_TRUE(waitFor([&] { return m_server->stats().statusesSent == 2U * kStatuses; }))
-        << m_server->stats().statusesSent;  // counted just after the bytes went out
+    EXPECT_TRUE(waitFor([&] { return m_server->stats().statuses_sent == 2U * kStatuses; }))
+        << m_server->stats().statuses_sent;  // counted just after the bytes went out
     auto s = m_server->stats();
-    EXPECT_EQ(s.firstFrameTimeouts, 1U);
+    EXPECT_EQ(s.first_frame_timeouts, 1U);
     EXPECT_EQ(s.clients, 2U);
     const std::string otherGot = readUntilClose(other, 3s);
     close(other);
@@ -178,7 +178,7 @@ TEST_F(StreamStatusTest, StatusesReachWaitingClientsAsSentAndKeepThemPastTheFirs
     EXPECT_EQ(raw.kind, FrameKind::Frame);
     EXPECT_EQ(raw.encoding, FrameEncoding::Raw);
     EXPECT_EQ(raw.sequence, 1U);
-    const std::string pixels = readBytes(tcp, raw.payloadBytes, 3s);
+    const std::string pixels = readBytes(tcp, raw.payload_bytes, 3s);
     const auto want = sequencePattern(64, 32, 1);
     ASSERT_EQ(pixels.size(), want.size());
     EXPECT_EQ(0, std::memcmp(pixels.data(), want.data(), want.size()));
@@ -197,7 +197,7 @@ TEST_F(StreamStatusTest, StatusesReachWaitingClientsAsSentAndKeepThemPastTheFirs
         EXPECT_EQ(h.kind, FrameKind::Frame);
         EXPECT_EQ(h.sequence, 2U);
     }
-    EXPECT_EQ(m_server->stats().statusesSent, 2U * kStatuses);
+    EXPECT_EQ(m_server->stats().statuses_sent, 2U * kStatuses);
     close(tcp);
 }
 
@@ -208,10 +208,10 @@ TEST_F(StreamStatusTest, WithoutStatusesTheSameClientIsDroppedAfterTheTimeout) {
     ASSERT_NE(readReplyLine(tcp).find("\"ok\":true"), std::string::npos);
     const FrameHeader h = nextHeader(tcp);
     EXPECT_EQ(h.kind, FrameKind::Error);
-    EXPECT_EQ(readBytes(tcp, h.payloadBytes, 3s),
+    EXPECT_EQ(readBytes(tcp, h.payload_bytes, 3s),
               "disconnected, no frame within 300 ms of the handshake (nothing published for bird 64x32)");
     close(tcp);
-    EXPECT_EQ(m_server->stats().firstFrameTimeouts, 1U);
+    EXPECT_EQ(m_server->stats().first_frame_timeouts, 1U);
 }
 
 TEST_F(StreamStatusTest, PublishStatusRefusesWhatIsNoUtf8JsonObjectAndSendsNothing) {
@@ -230,13 +230,13 @@ TEST_F(StreamStatusTest, PublishStatusRefusesWhatIsNoUtf8JsonObjectAndSendsNothi
               "publishStatus(bird): status: 65546 bytes (limit 65536)");
     EXPECT_EQ(why("{}", 0), "publishStatus(bird): bad size 0x32");
     std::this_thread::sleep_for(100ms);
-    EXPECT_EQ(m_server->stats().statusesSent, 0U);
+    EXPECT_EQ(m_server->stats().statuses_sent, 0U);
     EXPECT_EQ(readBytes(tcp, 1, 50ms), "");  // nothing on the wire
     close(tcp);
 }
 
 TEST_F(StreamStatusTest, StreamClientKeepsTheStatusAndStillGetsTheFrame) {
-    auto shm = StreamClient::connectUnix(m_server->options().unixPath, request(StreamPayload::Shm));
+    auto shm = StreamClient::connectUnix(m_server->options().unix_path, request(StreamPayload::Shm));
     ASSERT_TRUE(shm.ok()) << shm.error().message;
     auto zlib = StreamClient::connectTcp("127.0.0.1", m_server->tcpPort(), request(StreamPayload::Zlib),
                                          std::chrono::seconds(5), zlibInflater());
@@ -248,7 +248,7 @@ TEST_F(StreamStatusTest, StreamClientKeepsTheStatusAndStillGetsTheFrame) {
     // A status alone: next() reports no frame (timeout), the status is kept and was handed over.
     // (Short waits: the first-frame timeout is 300 ms from this status.)
     ASSERT_TRUE(m_server->publishStatus("bird", 64, 32, loading(1)).ok());
-    ASSERT_TRUE(waitFor([&] { return m_server->stats().statusesSent == 2; }));
+    ASSERT_TRUE(waitFor([&] { return m_server->stats().statuses_sent == 2; }));
     for (auto* c : {shm.value().get(), zlib.value().get()}) {
         ReceivedFrame f;
         auto r = c->next(f, 50ms);
@@ -263,7 +263,7 @@ TEST_F(StreamStatusTest, StreamClientKeepsTheStatusAndStillGetsTheFrame) {
 
     // A status, then a frame: one next() reads past the status and returns the frame.
     ASSERT_TRUE(m_server->publishStatus("bird", 64, 32, loading(2)).ok());
-    ASSERT_TRUE(waitFor([&] { return m_server->stats().statusesSent == 4; }));
+    ASSERT_TRUE(waitFor([&] { return m_server->stats().statuses_sent == 4; }));
     publishSeq(1);
     for (auto* c : {shm.value().get(), zlib.value().get()}) {
         ReceivedFrame f;
@@ -324,7 +324,7 @@ private:
 std::string statusBytes(const std::string& text, std::uint32_t declared) {
     FrameHeader h;
     h.kind = FrameKind::Status;
-    h.payloadBytes = declared;
+    h.payload_bytes = declared;
     const auto hb = encodeFrameHeader(h);
     return std::string(hb.begin(), hb.end()) + text;
 }

@@ -55,10 +55,10 @@ Publisher::Publisher(ipc::FrameServer& server, std::string view, int width, int 
             f.pixels = px.data();
             f.width = width;
             f.height = height;
-            f.sourceTimeNs = std::chrono::duration_cast<std::chrono::nanoseconds>(
-                                 std::chrono::system_clock::now().time_since_epoch())
-                                 .count() -
-                             2000000;  // "CAN data 2 ms old"
+            f.source_time_ns = std::chrono::duration_cast<std::chrono::nanoseconds>(
+                                   std::chrono::system_clock::now().time_since_epoch())
+                                   .count() -
+                               2000000;  // "CAN data 2 ms old"
             // Ring sequences restart at 1 when a ring is created; restart with them so every
             // frame's pixels carry its ring sequence number.
             if (server.publish(view, f) == 0) {
@@ -175,7 +175,7 @@ std::string httpGet(int port, const std::string& target, const std::string& head
 namespace {
 
 // The first line the peer sends (without '\n'), or what came before it closed; 3 s at most.
-std::string readLine(int fd, int* ringFd) {
+std::string readLine(int fd, int* ring_fd) {
     std::string line;
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(3);
     while (line.find('\n') == std::string::npos) {
@@ -198,8 +198,8 @@ std::string readLine(int fd, int* ringFd) {
             if (cm->cmsg_level == SOL_SOCKET && cm->cmsg_type == SCM_RIGHTS) {
                 int f = -1;
                 std::memcpy(&f, CMSG_DATA(cm), sizeof(int));
-                if (ringFd != nullptr && *ringFd < 0) {
-                    *ringFd = f;
+                if (ring_fd != nullptr && *ring_fd < 0) {
+                    *ring_fd = f;
                 } else {
                     close(f);
                 }
@@ -216,8 +216,8 @@ std::string readLine(int fd, int* ringFd) {
 }  // namespace
 
 RawShmClient::~RawShmClient() {
-    if (ringFd >= 0) {
-        close(ringFd);
+    if (ring_fd >= 0) {
+        close(ring_fd);
     }
     if (fd >= 0) {
         close(fd);
@@ -230,7 +230,7 @@ std::unique_ptr<RawShmClient> rawShmHandshake(const std::string& path, const std
     if (c->fd < 0 || !sendAllRaw(c->fd, line)) {
         return c;
     }
-    c->reply = readLine(c->fd, &c->ringFd);
+    c->reply = readLine(c->fd, &c->ring_fd);
     return c;
 }
 
@@ -268,7 +268,7 @@ MjpegReader::MjpegReader(int port, const std::string& target) {
     const auto end = m_buf.find("\r\n\r\n");
     m_head = m_buf.substr(0, end);
     m_buf.erase(0, end + 4);
-    m_headOk = m_head.rfind("HTTP/1.0 200", 0) == 0;
+    m_head_ok = m_head.rfind("HTTP/1.0 200", 0) == 0;
 }
 
 MjpegReader::~MjpegReader() {

@@ -57,7 +57,7 @@ std::string httpGet(int port, const std::string& target, const std::string& head
 /// A shm handshake done by hand, keeping the ring's descriptor as received (SCM_RIGHTS).
 struct RawShmClient {
     int fd = -1;        ///< the socket
-    int ringFd = -1;    ///< the memfd from the reply, -1 when none came
+    int ring_fd = -1;   ///< the memfd from the reply, -1 when none came
     std::string reply;  ///< the reply line without '\n'
     ~RawShmClient();
 };
@@ -73,7 +73,7 @@ class MjpegReader {
 public:
     MjpegReader(int port, const std::string& target);
     ~MjpegReader();
-    bool ok() const { return m_fd >= 0 && m_headOk; }
+    bool ok() const { return m_fd >= 0 && m_head_ok; }
     /// Next JPEG (empty on timeout/close). `sequence` from X-Navmap-Sequence.
     std::vector<std::uint8_t> next(std::chrono::milliseconds timeout, std::uint64_t* sequence = nullptr);
     const std::string& responseHead() const { return m_head; }
@@ -81,7 +81,7 @@ public:
 private:
     bool fill(std::chrono::steady_clock::time_point deadline);
     int m_fd = -1;
-    bool m_headOk = false;
+    bool m_head_ok = false;
     std::string m_head;
     std::string m_buf;
 };

@@ -26,12 +26,12 @@ TEST(FrameHeader, RoundTripsEveryField) {
     h.encoding = FrameEncoding::Raw;
     h.format = PixelFormat::Rgb565;
     h.sequence = 0x0102030405060708ULL;
-    h.renderTimeNs = 1700000000123456789LL;
-    h.sourceTimeNs = 1700000000100000000LL;
+    h.render_time_ns = 1700000000123456789LL;
+    h.source_time_ns = 1700000000100000000LL;
     h.width = 800;
     h.height = 240;
     h.stride = 1600;
-    h.payloadBytes = 1600 * 240;
+    h.payload_bytes = 1600 * 240;
     h.dropped = 17;
     h.slot = 3;
     const auto bytes = encodeFrameHeader(h);
@@ -43,8 +43,8 @@ TEST(FrameHeader, RoundTripsEveryField) {
     auto d = decodeFrameHeader(bytes.data(), bytes.size());
     ASSERT_TRUE(d.ok()) << d.error().message;
     EXPECT_EQ(d.value().sequence, h.sequence);
-    EXPECT_EQ(d.value().renderTimeNs, h.renderTimeNs);
-    EXPECT_EQ(d.value().sourceTimeNs, h.sourceTimeNs);
+    EXPECT_EQ(d.value().render_time_ns, h.render_time_ns);
+    EXPECT_EQ(d.value().source_time_ns, h.source_time_ns);
     EXPECT_EQ(d.value().width, 800U);
     EXPECT_EQ(d.value().stride, 1600U);
     EXPECT_EQ(d.value().format, PixelFormat::Rgb565);
@@ -57,7 +57,7 @@ TEST(FrameHeader, RejectsBrokenHeadersWithReasons) {
     h.width = 64;
     h.height = 32;
     h.stride = 256;
-    h.payloadBytes = 256 * 32;
+    h.payload_bytes = 256 * 32;
     auto good = encodeFrameHeader(h);
     ASSERT_TRUE(decodeFrameHeader(good.data(), good.size()).ok());
     EXPECT_NE(decodeFrameHeader(good.data(), 79).error().message.find("79 bytes"), std::string::npos);
@@ -68,10 +68,10 @@ TEST(FrameHeader, RejectsBrokenHeadersWithReasons) {
     auto b2 = encodeFrameHeader(h);
     EXPECT_NE(decodeFrameHeader(b2.data(), b2.size()).error().message.find("stride"), std::string::npos);
     h.stride = 256;
-    h.payloadBytes = 5;
+    h.payload_bytes = 5;
     auto b3 = encodeFrameHeader(h);
     EXPECT_NE(decodeFrameHeader(b3.data(), b3.size()).error().message.find("raw payload"), std::string::npos);
-    h.payloadBytes = 256 * 32;
+    h.payload_bytes = 256 * 32;
     h.format = static_cast<PixelFormat>(9);
     auto b4 = encodeFrameHeader(h);
     EXPECT_NE(decodeFrameHeader(b4.data(), b4.size()).error().message.find("pixel format"), std::string::npos);
@@ -81,14 +81,14 @@ TEST(FrameHeader, StatusKindCarriesAUtf8PayloadOfAtMost64KiB) {
     FrameHeader h;
     h.kind = FrameKind::Status;
     const std::string json = R"({"state":"loading","view":"snail","tiles_wanted":12,"held_back":30,"waited_ms":1500})";
-    h.payloadBytes = static_cast<std::uint32_t>(json.size());
+    h.payload_bytes = static_cast<std::uint32_t>(json.size());
     const auto bytes = encodeFrameHeader(h);
     EXPECT_EQ(bytes[8], 2);  // kind 2 = status, little-endian u16 at offset 8
     EXPECT_EQ(bytes[9], 0);
     auto d = decodeFrameHeader(bytes.data(), bytes.size());
     ASSERT_TRUE(d.ok()) << d.error().message;
     EXPECT_EQ(d.value().kind, FrameKind::Status);
-    EXPECT_EQ(d.value().payloadBytes, json.size());
+    EXPECT_EQ(d.value().payload_bytes, json.size());
     const auto* p = reinterpret_cast<const std::uint8_t*>(json.data());
     EXPECT_TRUE(validateTextPayload(FrameKind::Status, p, json.size()).ok());
     // Two-, three- and four-byte characters pass; a lone continuation byte, an overlong '/', a
@@ -111,7 +111,7 @@ TEST(FrameHeader, StatusKindCarriesAUtf8PayloadOfAtMost64KiB) {
         EXPECT_EQ(s.message(), why);
     }
     // Exactly 64 KiB passes; one byte more is refused by the header already and by the payload check.
-    h.payloadBytes = kMaxStatusPayloadBytes;
+    h.payload_bytes = kMaxStatusPayloadBytes;
     auto atLimit = encodeFrameHeader(h);
     EXPECT_TRUE(decodeFrameHeader(atLimit.data(), atLimit.size()).ok());
     const std::string big(kMaxStatusPayloadBytes + 1, 'x');
@@ -120,7 +120,7 @@ TEST(FrameHeader, StatusKindCarriesAUtf8PayloadOfAtMost64KiB) {
     EXPECT_EQ(
         validateTextPayload(FrameKind::Status, reinterpret_cast<const std::uint8_t*>(big.data()), big.size()).message(),
         "status: 65537 bytes (limit 65536)");
-    h.payloadBytes = kMaxStatusPayloadBytes + 1;
+    h.payload_bytes = kMaxStatusPayloadBytes + 1;
     auto over = encodeFrameHeader(h);
     auto r = decodeFrameHeader(over.data(), over.size());
     ASSERT_FALSE(r.ok());

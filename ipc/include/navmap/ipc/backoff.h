@@ -23,8 +23,8 @@ public:
     /// Records a success: the delay goes back to the initial value and an attempt is due at once.
     void succeeded() noexcept;
     /// True when an attempt may be made at `now`.
-    bool due(Clock::time_point now) const noexcept { return now >= m_nextAttempt; }
-    Clock::time_point nextAttempt() const noexcept { return m_nextAttempt; }
+    bool due(Clock::time_point now) const noexcept { return now >= m_next_attempt; }
+    Clock::time_point nextAttempt() const noexcept { return m_next_attempt; }
     /// The delay that the next failure will wait.
     std::chrono::milliseconds currentDelay() const noexcept { return m_delay; }
     std::uint64_t failures() const noexcept { return m_failures; }
@@ -34,7 +34,7 @@ private:
     std::chrono::milliseconds m_maximum;
     double m_factor;
     std::chrono::milliseconds m_delay;
-    Clock::time_point m_nextAttempt{};
+    Clock::time_point m_next_attempt{};
     std::uint64_t m_failures = 0;
 };
 

@@ -39,7 +39,7 @@ public:
     /// taken. Bounded by kChunkBytes + CandumpReader::kMaxLineLength + the frames of one chunk.
     [[nodiscard]] std::size_t bufferedBytes() const;
     /// Bytes read from the file in this pass.
-    [[nodiscard]] std::uint64_t bytesRead() const { return m_bytesRead; }
+    [[nodiscard]] std::uint64_t bytesRead() const { return m_bytes_read; }
 
     static constexpr std::size_t kChunkBytes = 16 * 1024;
     static constexpr std::size_t kMaxLeadingMalformed = 1000;
@@ -54,7 +54,7 @@ private:
     std::vector<char> m_chunk;
     std::deque<CandumpRecord> m_ready;
     bool m_eof = false;
-    std::uint64_t m_bytesRead = 0;
+    std::uint64_t m_bytes_read = 0;
     std::string m_failure;
 };
 

@@ -27,7 +27,7 @@ namespace navmap::ipc {
 /// CandumpReader::interfaces().
 struct CandumpRecord {
     CanFrame frame;
-    std::uint16_t interfaceIndex = 0;
+    std::uint16_t interface_index = 0;
 };
 
 /// One rejected line.
@@ -39,9 +39,9 @@ struct CandumpLineError {
 struct CandumpCounters {
     std::size_t lines = 0;   ///< lines seen, including blank ones
     std::size_t frames = 0;  ///< accepted frames (all kinds)
-    std::size_t fdFrames = 0;
-    std::size_t remoteFrames = 0;
-    std::size_t errorFrames = 0;
+    std::size_t fd_frames = 0;
+    std::size_t remote_frames = 0;
+    std::size_t error_frames = 0;
     std::size_t malformed = 0;  ///< rejected lines (over-long and out-of-range timestamps included)
     std::size_t skipped = 0;    ///< blank and comment ('#' or ';') lines
 };
@@ -55,7 +55,7 @@ public:
     /// malformed (no line number). The returned view points into `line`.
     struct Parsed {
         CanFrame frame;
-        std::string_view interfaceName;
+        std::string_view interface_name;
     };
     static Result<Parsed> parseLine(std::string_view line);
 
@@ -89,7 +89,7 @@ public:
     /// First kMaxErrors errors; counters().malformed counts all.
     const std::vector<CandumpLineError>& errors() const noexcept { return m_errors; }
     const std::vector<std::string>& interfaces() const noexcept { return m_interfaces; }
-    const std::string& sourceName() const noexcept { return m_sourceName; }
+    const std::string& sourceName() const noexcept { return m_source_name; }
 
     static constexpr std::size_t kMaxErrors = 100;
     static constexpr std::size_t kMaxLineLength = 512;
@@ -101,7 +101,7 @@ public:
 private:
     void reject(const std::string& message);
 
-    std::string m_sourceName;
+    std::string m_source_name;
     CandumpCounters m_counters;
     std::vector<CandumpLineError> m_errors;
     std::vector<std::string> m_interfaces;
@@ -122,7 +122,7 @@ struct CandumpLog {
     std::vector<CandumpLineError> errors;
 
     /// Frames only (optionally only those of one interface; empty = all).
-    std::vector<CanFrame> frames(std::string_view interfaceName = {}) const;
+    std::vector<CanFrame> frames(std::string_view interface_name = {}) const;
 };
 
 /// Loads a candump file (tests and tools; navmapd streams with CandumpFileSource); fails when the

@@ -14,10 +14,10 @@ namespace navmap::ipc {
 
 /// Limits applied while parsing and serving (defaults as documented in docs/ipc.md).
 struct ControlLimits {
-    std::size_t maxLineBytes = std::size_t{1} << 20;  ///< a longer line disconnects the client
-    std::size_t maxRoutePoints = 20000;
-    std::size_t maxManeuvers = 2000;
-    std::size_t maxStringBytes = 256;  ///< ids, display names, maneuver text
+    std::size_t max_line_bytes = std::size_t{1} << 20;  ///< a longer line disconnects the client
+    std::size_t max_route_points = 20000;
+    std::size_t max_maneuvers = 2000;
+    std::size_t max_string_bytes = 256;  ///< ids, display names, maneuver text
 };
 
 /// A geographic point, WGS84 degrees.
@@ -52,9 +52,9 @@ struct Maneuver {
     ManeuverType type = ManeuverType::Straight;
     std::string text;  ///< road name/ref or instruction, may be empty
     /// Roundabout exit counted from the entry (1 = first); only on a roundabout maneuver.
-    std::optional<std::uint32_t> exitNumber;
+    std::optional<std::uint32_t> exit_number;
     /// Index of the route point where the maneuver is done (a roundabout's exit); absent: `index`.
-    std::optional<std::size_t> endIndex;
+    std::optional<std::size_t> end_index;
 };
 /// Highest roundabout exit number the protocol accepts.
 inline constexpr std::uint32_t kMaxRoundaboutExit = 32;
@@ -80,8 +80,8 @@ inline constexpr std::uint8_t kAllControlEvents = 31;
 const char* controlEventName(ControlEventKind k) noexcept;  ///< "route_progress" etc.
 
 struct SetRouteCommand {
-    std::string routeId;
-    std::vector<GeoCoordinate> points;  ///< 2..maxRoutePoints, validated ranges
+    std::string route_id;
+    std::vector<GeoCoordinate> points;  ///< 2..max_route_points, validated ranges
     std::vector<Maneuver> maneuvers;    ///< indices valid and non-decreasing
 };
 struct ClearRouteCommand {};
@@ -104,7 +104,7 @@ struct SetViewCommand {
     std::optional<ViewMode> mode;  ///< at least one of mode/orientation/camera is given
     std::optional<ViewOrientation> orientation;
     std::optional<ViewCamera> camera;  ///< "camera": {...}
-    bool clearCamera = false;          ///< "camera": null
+    bool clear_camera = false;         ///< "camera": null
 };
 struct SetStyleCommand {
     MapStyle style = MapStyle::Day;
@@ -117,22 +117,22 @@ struct SubscribeCommand {
 using ControlCommandBody = std::variant<SetRouteCommand, ClearRouteCommand, SetViewCommand, SetStyleCommand,
                                         GetStatusCommand, SubscribeCommand>;
 
-/// One parsed request line. `requestId` is the optional "id" of a request other than set_route
+/// One parsed request line. `request_id` is the optional "id" of a request other than set_route
 /// (for set_route, "id" is the route id and required); it is echoed in the reply.
 struct ControlCommand {
     std::string cmd;  ///< protocol name, e.g. "set_route"
-    std::optional<std::string> requestId;
+    std::optional<std::string> request_id;
     ControlCommandBody body;
 };
 
 /// An event pushed to subscribers.
 struct ControlEvent {
     ControlEventKind kind = ControlEventKind::RouteProgress;
-    std::string routeId;      ///< route_progress, off_route, back_on_route
-    double drivenM = 0.0;     ///< route_progress: metres driven along the route
-    double remainingM = 0.0;  ///< route_progress: metres left
-    double sinceS = 0.0;      ///< position_lost: seconds since the last valid position
-    double offsetM = 0.0;     ///< off_route: metres between the vehicle and the route
+    std::string route_id;      ///< route_progress, off_route, back_on_route
+    double driven_m = 0.0;     ///< route_progress: metres driven along the route
+    double remaining_m = 0.0;  ///< route_progress: metres left
+    double since_s = 0.0;      ///< position_lost: seconds since the last valid position
+    double offset_m = 0.0;     ///< off_route: metres between the vehicle and the route
 };
 
 }  // namespace navmap::ipc

@@ -28,36 +28,36 @@
 namespace navmap::ipc {
 
 struct ControlServerConfig {
-    std::string socketPath = "/run/navmap/control.sock";
-    mode_t socketMode = 0660;          ///< the socket file's mode whatever the umask (set before listen())
-    std::optional<gid_t> socketGroup;  ///< the socket file's group (chown before listen()); its members may connect
+    std::string socket_path = "/run/navmap/control.sock";
+    mode_t socket_mode = 0660;          ///< the socket file's mode whatever the umask (set before listen())
+    std::optional<gid_t> socket_group;  ///< the socket file's group (chown before listen()); its members may connect
     /// Peers whose uid is listed may connect; empty = the daemon's own effective uid. A peer
-    /// whose primary gid or a supplementary group (SO_PEERGROUPS) is in allowedGids is allowed too.
-    std::vector<uid_t> allowedUids;
-    std::vector<gid_t> allowedGids;
-    bool allowRoot = true;                              ///< uid 0 may always connect
-    std::size_t maxClients = 16;                        ///< further connections get an error line and are closed
-    std::size_t maxOutputBytes = std::size_t{4} << 20;  ///< a client not reading past this is dropped
+    /// whose primary gid or a supplementary group (SO_PEERGROUPS) is in allowed_gids is allowed too.
+    std::vector<uid_t> allowed_uids;
+    std::vector<gid_t> allowed_gids;
+    bool allow_root = true;                               ///< uid 0 may always connect
+    std::size_t max_clients = 16;                         ///< further connections get an error line and are closed
+    std::size_t max_output_bytes = std::size_t{4} << 20;  ///< a client not reading past this is dropped
     /// A connection that sends no byte and takes no byte of its output for this long gets an
-    /// error line and is closed, so silent peers cannot hold the maxClients slots. A subscriber
+    /// error line and is closed, so silent peers cannot hold the max_clients slots. A subscriber
     /// with nothing queued is waiting for events, not idle. Zero: never.
-    std::chrono::milliseconds idleTimeout{std::chrono::seconds(30)};
+    std::chrono::milliseconds idle_timeout{std::chrono::seconds(30)};
     ControlLimits limits;
 };
 
 /// Counters since start (read from any thread).
 struct ControlServerStats {
-    std::uint64_t connections = 0;  ///< accepted and allowed
-    std::uint64_t refusedPeer = 0;  ///< refused by SO_PEERCRED
-    std::uint64_t refusedFull = 0;  ///< refused because maxClients were connected
-    std::uint64_t lines = 0;        ///< request lines received
-    std::uint64_t commands = 0;     ///< lines applied successfully
-    std::uint64_t errors = 0;       ///< lines answered with an error
-    std::uint64_t overlongDisconnects = 0;
-    std::uint64_t slowDisconnects = 0;  ///< output buffer over maxOutputBytes
-    std::uint64_t idleDisconnects = 0;  ///< closed after idleTimeout without traffic
-    std::uint64_t events = 0;           ///< event lines queued to subscribers
-    std::uint64_t clients = 0;          ///< connected now
+    std::uint64_t connections = 0;   ///< accepted and allowed
+    std::uint64_t refused_peer = 0;  ///< refused by SO_PEERCRED
+    std::uint64_t refused_full = 0;  ///< refused because max_clients were connected
+    std::uint64_t lines = 0;         ///< request lines received
+    std::uint64_t commands = 0;      ///< lines applied successfully
+    std::uint64_t errors = 0;        ///< lines answered with an error
+    std::uint64_t overlong_disconnects = 0;
+    std::uint64_t slow_disconnects = 0;  ///< output buffer over max_output_bytes
+    std::uint64_t idle_disconnects = 0;  ///< closed after idle_timeout without traffic
+    std::uint64_t events = 0;            ///< event lines queued to subscribers
+    std::uint64_t clients = 0;           ///< connected now
 };
 
 class ControlServer {
@@ -82,7 +82,7 @@ public:
     void publish(const ControlEvent& event);
 
     [[nodiscard]] ControlServerStats stats() const;
-    [[nodiscard]] const std::string& path() const { return m_config.socketPath; }
+    [[nodiscard]] const std::string& path() const { return m_config.socket_path; }
 
 private:
     struct Client;
@@ -100,19 +100,19 @@ private:
 
     ControlServerConfig m_config;
     ControlHandler& m_handler;
-    net::UniqueFd m_listenFd;
-    net::UniqueFd m_wakeFd;  // eventfd: publish() and stop()
-    ino_t m_socketInode = 0;
+    net::UniqueFd m_listen_fd;
+    net::UniqueFd m_wake_fd;  // eventfd: publish() and stop()
+    ino_t m_socket_inode = 0;
     std::vector<std::unique_ptr<Client>> m_clients;
 
-    std::mutex m_eventMutex;
-    std::deque<ControlEvent> m_pendingEvents;
+    std::mutex m_event_mutex;
+    std::deque<ControlEvent> m_pending_events;
 
     std::thread m_thread;
     std::atomic<bool> m_stop{false};
 
     struct Counters {
-        std::atomic<std::uint64_t> connections{0}, refusedPeer{0}, refusedFull{0}, lines{0}, commands{0}, errors{0},
+        std::atomic<std::uint64_t> connections{0}, refused_peer{0}, refused_full{0}, lines{0}, commands{0}, errors{0},
             overlong{0}, slow{0}, idle{0}, events{0}, clients{0};
     };
     Counters m_counters;

@@ -30,7 +30,7 @@ struct RouteState {
 struct DisplayView {
     ViewMode mode = ViewMode::Auto;
     ViewOrientation orientation = ViewOrientation::HeadingUp;
-    bool orientationSet = false;  ///< a set_view gave `orientation` (else the display's own applies)
+    bool orientation_set = false;  ///< a set_view gave `orientation` (else the display's own applies)
     /// A MapLibre-convention camera set by set_view; it wins over `mode`. Cleared by
     /// "camera": null and by a set_view that gives a mode without a camera.
     std::optional<ViewCamera> camera;
@@ -54,7 +54,7 @@ public:
     [[nodiscard]] std::shared_ptr<const ViewState> view() const { return m_view.load(); }
 
     /// Supplies the get_status object (called on the server thread); default: route and view.
-    void setStatusProvider(std::function<nlohmann::json()> provider) { m_statusProvider = std::move(provider); }
+    void setStatusProvider(std::function<nlohmann::json()> provider) { m_status_provider = std::move(provider); }
 
     Status setRoute(const SetRouteCommand& command) override;
     Status clearRoute() override;
@@ -63,11 +63,11 @@ public:
     nlohmann::json status() override;
 
 private:
-    std::set<std::string, std::less<>> m_allowedDisplays;
+    std::set<std::string, std::less<>> m_allowed_displays;
     std::atomic<std::shared_ptr<const RouteState>> m_route;
     std::atomic<std::shared_ptr<const ViewState>> m_view;
-    std::uint64_t m_routeVersion = 0;
-    std::function<nlohmann::json()> m_statusProvider;
+    std::uint64_t m_route_version = 0;
+    std::function<nlohmann::json()> m_status_provider;
 };
 
 }  // namespace navmap::ipc

@@ -51,11 +51,11 @@ public:
     /// Setup helper: load() that throws DbcError (with the message) on failure.
     static DbcDatabase loadOrThrow(const std::filesystem::path& path, Mode mode = Mode::Lenient);
 
-    const std::string& sourceName() const noexcept { return m_sourceName; }
+    const std::string& sourceName() const noexcept { return m_source_name; }
     const std::vector<DbcMessage>& messages() const noexcept { return m_messages; }
     /// Problems found (lenient mode); at most kMaxDiagnostics kept, diagnosticCount() counts all.
     const std::vector<DbcDiagnostic>& diagnostics() const noexcept { return m_diagnostics; }
-    std::size_t diagnosticCount() const noexcept { return m_diagnosticCount; }
+    std::size_t diagnosticCount() const noexcept { return m_diagnostic_count; }
 
     /// Message by frame key (CanFrame::key(): id, bit 31 set for extended), or nullptr.
     const DbcMessage* findMessage(std::uint32_t key) const noexcept;
@@ -66,12 +66,12 @@ public:
 
 private:
     friend class DbcParser;
-    std::string m_sourceName;
+    std::string m_source_name;
     std::vector<DbcMessage> m_messages;
-    std::unordered_map<std::uint32_t, std::size_t> m_byKey;
-    std::unordered_map<std::string, std::size_t> m_byName;
+    std::unordered_map<std::uint32_t, std::size_t> m_by_key;
+    std::unordered_map<std::string, std::size_t> m_by_name;
     std::vector<DbcDiagnostic> m_diagnostics;
-    std::size_t m_diagnosticCount = 0;
+    std::size_t m_diagnostic_count = 0;
 };
 
 }  // namespace navmap::ipc

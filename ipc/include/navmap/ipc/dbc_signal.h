@@ -34,21 +34,21 @@ enum class MuxRole : std::uint8_t {
 /// (ignored when minimum >= maximum, as in DBCs that write [0|0]).
 struct DbcSignal {
     std::string name;
-    std::uint16_t startBit = 0;  ///< as written in the DBC
-    std::uint16_t length = 0;    ///< 1..64 bits
-    ByteOrder byteOrder = ByteOrder::Intel;
-    bool isSigned = false;
-    ValueType valueType = ValueType::Integer;
+    std::uint16_t start_bit = 0;  ///< as written in the DBC
+    std::uint16_t length = 0;     ///< 1..64 bits
+    ByteOrder byte_order = ByteOrder::Intel;
+    bool is_signed = false;
+    ValueType value_type = ValueType::Integer;
     double factor = 1.0;
     double offset = 0.0;
     double minimum = 0.0;
     double maximum = 0.0;
     std::string unit;
-    MuxRole muxRole = MuxRole::None;
-    std::uint32_t muxValue = 0;    ///< for Multiplexed signals
-    bool alsoMultiplexor = false;  ///< `mNM` (extended multiplexing): treated as plain multiplexed signal
-    std::map<std::int64_t, std::string> valueNames;  ///< from VAL_
-    std::size_t line = 0;                            ///< DBC line of the SG_ entry (for messages)
+    MuxRole mux_role = MuxRole::None;
+    std::uint32_t mux_value = 0;    ///< for Multiplexed signals
+    bool also_multiplexor = false;  ///< `mNM` (extended multiplexing): treated as plain multiplexed signal
+    std::map<std::int64_t, std::string> value_names;  ///< from VAL_
+    std::size_t line = 0;                             ///< DBC line of the SG_ entry (for messages)
 
     /// Number of payload bytes the signal needs (one past the highest byte it touches).
     unsigned bytesNeeded() const noexcept;

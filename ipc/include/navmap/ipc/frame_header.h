@@ -29,24 +29,24 @@ enum class FrameKind : std::uint16_t {
 
 /// Where a frame's pixels are.
 enum class FrameEncoding : std::uint16_t {
-    Shm = 0,   ///< in slot `slot` of the shared-memory ring (payloadBytes = 0)
-    Raw = 1,   ///< payloadBytes = stride * height bytes follow the header
-    Zlib = 2,  ///< payloadBytes of a zlib stream follow; it inflates to stride * height bytes
+    Shm = 0,   ///< in slot `slot` of the shared-memory ring (payload_bytes = 0)
+    Raw = 1,   ///< payload_bytes = stride * height bytes follow the header
+    Zlib = 2,  ///< payload_bytes of a zlib stream follow; it inflates to stride * height bytes
 };
 
 struct FrameHeader {
     FrameKind kind = FrameKind::Frame;
     FrameEncoding encoding = FrameEncoding::Raw;
     PixelFormat format = PixelFormat::Rgba8;
-    std::uint64_t sequence = 0;     ///< per profile ring, starts at 1, +1 per published frame
-    std::int64_t renderTimeNs = 0;  ///< CLOCK_REALTIME ns when the frame was rendered (published)
-    std::int64_t sourceTimeNs = 0;  ///< CLOCK_REALTIME ns the CAN data behind the pose was received (0 = none)
+    std::uint64_t sequence = 0;       ///< per profile ring, starts at 1, +1 per published frame
+    std::int64_t render_time_ns = 0;  ///< CLOCK_REALTIME ns when the frame was rendered (published)
+    std::int64_t source_time_ns = 0;  ///< CLOCK_REALTIME ns the CAN data behind the pose was received (0 = none)
     std::uint32_t width = 0;
     std::uint32_t height = 0;
-    std::uint32_t stride = 0;        ///< bytes per row
-    std::uint32_t payloadBytes = 0;  ///< bytes following the header on the socket
-    std::uint64_t dropped = 0;       ///< frames this client has missed so far (server side)
-    std::uint32_t slot = 0;          ///< ring slot (encoding Shm)
+    std::uint32_t stride = 0;         ///< bytes per row
+    std::uint32_t payload_bytes = 0;  ///< bytes following the header on the socket
+    std::uint64_t dropped = 0;        ///< frames this client has missed so far (server side)
+    std::uint32_t slot = 0;           ///< ring slot (encoding Shm)
 
     std::size_t pixelBytes() const noexcept { return static_cast<std::size_t>(stride) * height; }
 };

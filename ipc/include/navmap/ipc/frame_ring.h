@@ -35,13 +35,13 @@ struct FrameRingLayout {
     std::uint32_t height = 0;
     std::uint32_t stride = 0;
     PixelFormat format = PixelFormat::Rgba8;
-    std::size_t slotBytes = 0;   ///< distance between slots (page multiple)
-    std::size_t totalBytes = 0;  ///< size of the memfd
+    std::size_t slot_bytes = 0;   ///< distance between slots (page multiple)
+    std::size_t total_bytes = 0;  ///< size of the memfd
 
     /// Byte offset of slot `i` (its lock word) from the start of the mapping.
     std::size_t slotOffset(std::uint32_t i) const noexcept;
     std::size_t pixelBytes() const noexcept { return static_cast<std::size_t>(stride) * height; }
-    /// Computes slotBytes/totalBytes for the given geometry.
+    /// Computes slot_bytes/total_bytes for the given geometry.
     static FrameRingLayout make(std::uint32_t slots, std::uint32_t width, std::uint32_t height, PixelFormat format);
     /// Checks a layout received from a peer against the size of the mapped file.
     Status validate(std::size_t fileBytes) const;
@@ -79,7 +79,7 @@ public:
     int pin(std::uint64_t sequence) noexcept;
     void unpin(std::uint32_t slot) noexcept;
     /// Writes that had to take a pinned slot because every slot was pinned. Any thread.
-    std::uint64_t pinnedOverwrites() const noexcept { return m_pinnedOverwrites.load(std::memory_order_relaxed); }
+    std::uint64_t pinnedOverwrites() const noexcept { return m_pinned_overwrites.load(std::memory_order_relaxed); }
 
     /// Newest complete sequence (0 before the first write). Any thread.
     std::uint64_t latestSequence() const noexcept;
@@ -113,10 +113,10 @@ private:
     net::UniqueFd m_fd;
     std::uint8_t* m_base = nullptr;
     FrameRingLayout m_layout;
-    std::uint64_t m_nextSequence = 1;                      // render thread only
-    std::uint32_t m_nextSlot = 0;                          // render thread only: the least recently written slot
+    std::uint64_t m_next_sequence = 1;                     // render thread only
+    std::uint32_t m_next_slot = 0;                         // render thread only: the least recently written slot
     std::unique_ptr<std::atomic<std::uint32_t>[]> m_pins;  // per slot: clients holding it (server memory)
-    std::atomic<std::uint64_t> m_pinnedOverwrites{0};
+    std::atomic<std::uint64_t> m_pinned_overwrites{0};
 };
 
 }  // namespace navmap::ipc

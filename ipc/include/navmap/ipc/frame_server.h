@@ -9,9 +9,10 @@
 // waits for a client. Frames are routed by profile name, so two profiles of the same view and
 // size (one with glowing roads, one without) are two streams. All socket I/O, compression and JPEG encoding run on the
 // server's own thread (poll()). Each client gets the newest frame; a busy client skips frames (counted as dropped), a
-// client that makes no progress for `stallTimeout` is disconnected. Clients are untrusted: the Unix socket file is 0660
+// client that makes no progress for `stall_timeout` is disconnected. Clients are untrusted: the Unix socket file is
+// 0660
 // (+ a group) and peers are checked by SO_PEERCRED; connections are capped per transport and per uid; only rendered
-// profiles are served; a connection without a handshake or a first frame within `handshakeTimeout` is closed (a status
+// profiles are served; a connection without a handshake or a first frame within `handshake_timeout` is closed (a status
 // from publishStatus() restarts that wait); rings share a memory ceiling and are sealed so that no client can write
 // them.
 
@@ -43,55 +44,55 @@ struct RenderedProfile {
 };
 
 struct FrameServerOptions {
-    std::string unixPath;            ///< Unix stream socket; empty = none
-    mode_t unixMode = 0660;          ///< the socket file's mode, whatever the umask
-    std::optional<gid_t> unixGroup;  ///< the socket file's group (chown before listen); none: the process's
+    std::string unix_path;            ///< Unix stream socket; empty = none
+    mode_t unix_mode = 0660;          ///< the socket file's mode, whatever the umask
+    std::optional<gid_t> unix_group;  ///< the socket file's group (chown before listen); none: the process's
     /// Who may connect to the Unix socket (SO_PEERCRED/SO_PEERGROUPS, checked on accept): by
-    /// default the server's own uid and root; `unixGroup` is allowed as well.
-    PeerAllowList allowedPeers;
-    std::string bindAddress = "127.0.0.1";  ///< for TCP and HTTP
-    int tcpPort = -1;                       ///< -1 = none, 0 = any free port (see tcpPort())
-    int httpPort = -1;                      ///< -1 = none, 0 = any free port (see httpPort())
+    /// default the server's own uid and root; `unix_group` is allowed as well.
+    PeerAllowList allowed_peers;
+    std::string bind_address = "127.0.0.1";  ///< for TCP and HTTP
+    int tcp_port = -1;                       ///< -1 = none, 0 = any free port (see tcpPort())
+    int http_port = -1;                      ///< -1 = none, 0 = any free port (see httpPort())
     /// HTTP: when not empty, every request needs `Authorization: Bearer <token>` or `?token=<token>`.
-    std::string httpToken;
+    std::string http_token;
     /// Slots per profile ring (>= 2). Three give a client two frame periods between the
     /// notification and the end of its copy; each slot costs stride x height bytes of shared memory.
-    std::uint32_t ringSlots = 3;
-    std::chrono::milliseconds stallTimeout{2000};  ///< no ack / no write progress
+    std::uint32_t ring_slots = 3;
+    std::chrono::milliseconds stall_timeout{2000};  ///< no ack / no write progress
     /// A connection must finish its handshake (or HTTP request head) within this time of being
     /// accepted, and a streaming client must get its first frame within this time of its
-    /// handshake; otherwise it is closed (counted, reason in lastError).
-    std::chrono::milliseconds handshakeTimeout{5000};
+    /// handshake; otherwise it is closed (counted, reason in last_error).
+    std::chrono::milliseconds handshake_timeout{5000};
     /// Connections per transport (Unix, TCP, HTTP each have this many, handshakes included); one
     /// more is refused with an error and closed at once.
-    std::size_t maxClientsPerTransport = 32;
+    std::size_t max_clients_per_transport = 32;
     /// Unix-socket connections per peer uid, so one uid cannot take every slot. TCP and HTTP
     /// peers have no uid: their transport's cap is their only bound.
-    std::size_t maxClientsPerUid = 8;
+    std::size_t max_clients_per_uid = 8;
     /// Shared memory of all rings together (memfd sizes); a request that needs a new ring beyond
     /// it is refused with an error and counted. 0 = no ceiling.
-    std::size_t ringMemoryBytes = std::size_t{256} << 20;
+    std::size_t ring_memory_bytes = std::size_t{256} << 20;
     /// What the daemon renders; a request for another profile, view or size is refused naming
     /// these, and rings are keyed by these names. Empty: any view and size is accepted and rings
     /// are keyed by the view (for tests and tools that publish what they are asked for).
-    std::vector<RenderedProfile> renderedProfiles;
-    int jpegQuality = 80;
-    std::string mjpegProfile = "center";  ///< profile of /stream.mjpg without ?profile=
+    std::vector<RenderedProfile> rendered_profiles;
+    int jpeg_quality = 80;
+    std::string mjpeg_profile = "center";  ///< profile of /stream.mjpg without ?profile=
     /// Adds the daemon's families to /metrics, after the server's own navmap_stream_* ones (one
     /// registry per scrape, so no family appears twice). Called on the server thread; must be
     /// thread-safe with respect to the daemon.
     std::function<void(MetricsRegistry&)> metrics;
     /// JSON object shown by the HTML page under "daemon" in /status. Server thread.
-    std::function<std::string()> statusJson;
+    std::function<std::string()> status_json;
 };
 
 /// A profile that has at least one client: what the daemon should render.
 struct ActiveProfile {
-    std::string profile;  ///< the ring key: a RenderedProfile's name (or the view without renderedProfiles)
+    std::string profile;  ///< the ring key: a RenderedProfile's name (or the view without rendered_profiles)
     std::string view;
     int width = 0;
     int height = 0;
-    int maxFps = 0;  ///< highest fps any of its clients asked for
+    int max_fps = 0;  ///< highest fps any of its clients asked for
     std::size_t clients = 0;
 };
 
@@ -99,35 +100,35 @@ struct ActiveProfile {
 struct FrameServerStats {
     std::size_t connections = 0;  ///< open sockets, including handshakes and HTTP replies in flight
     std::size_t clients = 0;      ///< connected and streaming (all transports)
-    std::size_t shmClients = 0;
-    std::size_t tcpClients = 0;
-    std::size_t mjpegClients = 0;
+    std::size_t shm_clients = 0;
+    std::size_t tcp_clients = 0;
+    std::size_t mjpeg_clients = 0;
     std::size_t rings = 0;
-    std::uint64_t published = 0;     ///< publish() calls that reached at least one ring
-    std::uint64_t framesSent = 0;    ///< frames handed to clients
-    std::uint64_t statusesSent = 0;  ///< status headers handed to clients (publishStatus)
+    std::uint64_t published = 0;      ///< publish() calls that reached at least one ring
+    std::uint64_t frames_sent = 0;    ///< frames handed to clients
+    std::uint64_t statuses_sent = 0;  ///< status headers handed to clients (publishStatus)
     /// Frames a client was entitled to (within its fps) but did not get because it was busy.
-    std::uint64_t framesDropped = 0;
+    std::uint64_t frames_dropped = 0;
     std::uint64_t accepted = 0;  ///< connections accepted
-    std::uint64_t handshakeErrors = 0;
-    std::uint64_t protocolErrors = 0;  ///< garbage after the handshake
-    std::uint64_t httpErrors = 0;      ///< 4xx replies
-    std::uint64_t stallDisconnects = 0;
-    std::uint64_t handshakeTimeouts = 0;     ///< closed without a complete handshake / HTTP head in time
-    std::uint64_t firstFrameTimeouts = 0;    ///< streaming, but no first frame within handshakeTimeout
-    std::uint64_t refusedPeer = 0;           ///< Unix peers not on the allow list
-    std::uint64_t refusedTransportFull = 0;  ///< maxClientsPerTransport reached
-    std::uint64_t refusedUidFull = 0;        ///< maxClientsPerUid reached
-    std::uint64_t refusedNotRendered = 0;    ///< a view/size the daemon does not render
-    std::uint64_t refusedRingMemory = 0;     ///< a new ring would pass ringMemoryBytes
-    std::uint64_t refusedHost = 0;           ///< HTTP Host header missing or not this server
-    std::uint64_t refusedToken = 0;          ///< HTTP token missing or wrong
-    std::size_t ringBytes = 0;               ///< shared memory of all rings now
-    std::uint64_t disconnects = 0;           ///< all closed connections
-    std::uint64_t pinnedOverwrites = 0;      ///< frames written over a held slot (every slot of a ring held)
-    double publishMsLast = 0;                ///< render-thread cost of the last publish()
-    double publishMsMax = 0;
-    std::string lastError;  ///< newest problem: "tcp#7: handshake: unknown key \"x\""
+    std::uint64_t handshake_errors = 0;
+    std::uint64_t protocol_errors = 0;  ///< garbage after the handshake
+    std::uint64_t http_errors = 0;      ///< 4xx replies
+    std::uint64_t stall_disconnects = 0;
+    std::uint64_t handshake_timeouts = 0;      ///< closed without a complete handshake / HTTP head in time
+    std::uint64_t first_frame_timeouts = 0;    ///< streaming, but no first frame within handshake_timeout
+    std::uint64_t refused_peer = 0;            ///< Unix peers not on the allow list
+    std::uint64_t refused_transport_full = 0;  ///< max_clients_per_transport reached
+    std::uint64_t refused_uid_full = 0;        ///< max_clients_per_uid reached
+    std::uint64_t refused_not_rendered = 0;    ///< a view/size the daemon does not render
+    std::uint64_t refused_ring_memory = 0;     ///< a new ring would pass ring_memory_bytes
+    std::uint64_t refused_host = 0;            ///< HTTP Host header missing or not this server
+    std::uint64_t refused_token = 0;           ///< HTTP token missing or wrong
+    std::size_t ring_bytes = 0;                ///< shared memory of all rings now
+    std::uint64_t disconnects = 0;             ///< all closed connections
+    std::uint64_t pinned_overwrites = 0;       ///< frames written over a held slot (every slot of a ring held)
+    double publish_ms_last = 0;                ///< render-thread cost of the last publish()
+    double publish_ms_max = 0;
+    std::string last_error;  ///< newest problem: "tcp#7: handshake: unknown key \"x\""
 };
 
 class FrameServer {
@@ -143,7 +144,7 @@ public:
     void stop();
 
     /// Render thread: copies the frame into every ring of `profile` (a RenderedProfile's name;
-    /// the view when the server has no renderedProfiles) with its width and height, converting
+    /// the view when the server has no rendered_profiles) with its width and height, converting
     /// the pixel format, and wakes the server thread. Never blocks on a client. Returns the
     /// number of rings written.
     std::size_t publish(const std::string& profile, const FrameView& frame);

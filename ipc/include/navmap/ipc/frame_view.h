@@ -14,8 +14,9 @@ struct FrameView {
     int height = 0;
     int stride = 0;  ///< bytes per row (0 = tightly packed)
     PixelFormat format = PixelFormat::Rgba8;
-    std::int64_t renderTimeNs = 0;  ///< CLOCK_REALTIME ns; 0 = "now" at publish
-    std::int64_t sourceTimeNs = 0;  ///< CLOCK_REALTIME ns the CAN data of the pose arrived (VehicleSample::sourceTime)
+    std::int64_t render_time_ns = 0;  ///< CLOCK_REALTIME ns; 0 = "now" at publish
+    std::int64_t source_time_ns =
+        0;  ///< CLOCK_REALTIME ns the CAN data of the pose arrived (VehicleSample::source_time)
 };
 
 }  // namespace navmap::ipc

@@ -18,21 +18,21 @@
 namespace navmap::ipc {
 
 struct ReconnectOptions {
-    std::string unixPath;  ///< the frame socket (payload shm or raw); or
-    std::string tcpHost;   ///< host and port of the TCP frame server (payload raw or zlib)
-    int tcpPort = -1;
+    std::string unix_path;  ///< the frame socket (payload shm or raw); or
+    std::string tcp_host;   ///< host and port of the TCP frame server (payload raw or zlib)
+    int tcp_port = -1;
     StreamRequest request;
-    std::chrono::milliseconds connectTimeout{2000};  ///< connect + handshake, each attempt
-    std::chrono::milliseconds initialBackoff{100};   ///< first wait after a failure, doubling ...
-    std::chrono::milliseconds maxBackoff{5000};      ///< ... up to this
-    FrameInflater inflate;                           ///< for payload zlib
+    std::chrono::milliseconds connect_timeout{2000};  ///< connect + handshake, each attempt
+    std::chrono::milliseconds initial_backoff{100};   ///< first wait after a failure, doubling ...
+    std::chrono::milliseconds max_backoff{5000};      ///< ... up to this
+    FrameInflater inflate;                            ///< for payload zlib
 };
 
 struct ReconnectStats {
-    std::uint64_t connects = 0;         ///< successful handshakes
-    std::uint64_t failedAttempts = 0;   ///< connection attempts that failed (refused, no socket, timeout)
-    std::uint64_t disconnects = 0;      ///< established streams that ended
-    std::uint64_t heldOverwritten = 0;  ///< held frames the server overwrote before their release
+    std::uint64_t connects = 0;          ///< successful handshakes
+    std::uint64_t failed_attempts = 0;   ///< connection attempts that failed (refused, no socket, timeout)
+    std::uint64_t disconnects = 0;       ///< established streams that ended
+    std::uint64_t held_overwritten = 0;  ///< held frames the server overwrote before their release
 };
 
 class NAVMAP_CLIENT_API ReconnectingClient {
@@ -54,7 +54,7 @@ public:
 
     bool connected() const noexcept { return m_client != nullptr; }
     /// Why the last attempt failed or the last stream ended; empty when none did.
-    const std::string& lastError() const noexcept { return m_lastError; }
+    const std::string& lastError() const noexcept { return m_last_error; }
     const ReconnectStats& reconnectStats() const noexcept { return m_stats; }
     /// The connected client (profile granted, stream statistics), nullptr while disconnected.
     const StreamClient* client() const noexcept { return m_client.get(); }
@@ -68,7 +68,7 @@ private:
     ReconnectOptions m_options;
     Backoff m_backoff;
     std::unique_ptr<StreamClient> m_client;
-    std::string m_lastError;
+    std::string m_last_error;
     ReconnectStats m_stats;
 };
 

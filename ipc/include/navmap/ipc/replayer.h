@@ -69,7 +69,7 @@ public:
     std::uint64_t loops() const noexcept { return m_loops.load(); }
     /// Frames skipped because their time did not fit the clock (log time differences, the speed
     /// factor, the loop count).
-    std::uint64_t timeErrors() const noexcept { return m_timeErrors.load(); }
+    std::uint64_t timeErrors() const noexcept { return m_time_errors.load(); }
     /// Why the replay stopped early (the source failed, e.g. binary data, or it cannot loop);
     /// empty while it plays or after a normal end.
     std::string error() const;
@@ -85,20 +85,20 @@ private:
     std::unique_ptr<ReplaySource> m_source;
     ReplayOptions m_options;
     CanTime m_start{};
-    // The frame read ahead: the next to emit, due at m_pendingDue.
+    // The frame read ahead: the next to emit, due at m_pending_due.
     CanFrame m_pending{};
-    std::int64_t m_pendingLogNs = 0;
-    CanTime m_pendingDue{};
+    std::int64_t m_pending_log_ns = 0;
+    CanTime m_pending_due{};
     bool m_fresh = false;  // the source was wound back and nothing was played since
     // Log time of this pass: its first frame's timestamp and the last offset (monotone).
-    bool m_passStarted = false;
-    CanTime m_passFirst{};
-    std::int64_t m_prevOffsetNs = 0;
-    std::uint64_t m_passFrames = 0;
-    std::int64_t m_loopBaseNs = 0;  // log time of the passes before this one
+    bool m_pass_started = false;
+    CanTime m_pass_first{};
+    std::int64_t m_prev_offset_ns = 0;
+    std::uint64_t m_pass_frames = 0;
+    std::int64_t m_loop_base_ns = 0;  // log time of the passes before this one
     std::atomic<std::uint64_t> m_loops{0};
     std::atomic<std::uint64_t> m_emitted{0};
-    std::atomic<std::uint64_t> m_timeErrors{0};
+    std::atomic<std::uint64_t> m_time_errors{0};
     std::atomic<bool> m_finished{false};
     std::string m_error;  // written before m_finished is set
 

@@ -32,7 +32,7 @@ struct SignalMapping {
     std::string unit;
     double scale = 1.0;
     double bias = 0.0;
-    std::string signSignal;
+    std::string sign_signal;
 };
 
 class SignalMap {

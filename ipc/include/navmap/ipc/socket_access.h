@@ -15,12 +15,12 @@
 namespace navmap::ipc {
 
 /// Who may connect. A peer is allowed when its uid is listed (an empty list means the server's
-/// own effective uid), when it is root and `allowRoot` is set, or when its primary gid or one of
+/// own effective uid), when it is root and `allow_root` is set, or when its primary gid or one of
 /// its supplementary groups is listed in `gids`.
 struct PeerAllowList {
     std::vector<uid_t> uids;
     std::vector<gid_t> gids;
-    bool allowRoot = true;
+    bool allow_root = true;
 };
 
 /// The credentials of a connected Unix-socket peer, as the kernel recorded them at connect().

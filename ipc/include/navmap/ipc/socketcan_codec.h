@@ -26,22 +26,22 @@ std::size_t frameToKernel(const CanFrame& frame, canfd_frame& out) noexcept;
 /// One exact-match filter per frame key (CanFrame::key()); RTR frames do not match.
 /// Returns an empty vector (= receive everything, filter in user space) for more than
 /// CAN_RAW_FILTER_MAX keys or for no keys.
-std::vector<can_filter> buildRawFilters(std::span<const std::uint32_t> frameKeys);
+std::vector<can_filter> buildRawFilters(std::span<const std::uint32_t> frame_keys);
 
 /// What an error frame says (linux/can/error.h).
 struct ErrorFrameInfo {
-    bool busOff = false;
+    bool bus_off = false;
     bool restarted = false;
-    bool controllerProblem = false;
-    bool protocolViolation = false;
+    bool controller_problem = false;
+    bool protocol_violation = false;
     bool transceiver = false;
-    bool noAck = false;
-    bool lostArbitration = false;
-    bool txTimeout = false;
-    bool busError = false;
-    bool rxOverflow = false;    ///< controller: RX buffer overflow
-    bool errorPassive = false;  ///< controller: RX or TX error passive
-    bool errorWarning = false;  ///< controller: RX or TX warning level
+    bool no_ack = false;
+    bool lost_arbitration = false;
+    bool tx_timeout = false;
+    bool bus_error = false;
+    bool rx_overflow = false;    ///< controller: RX buffer overflow
+    bool error_passive = false;  ///< controller: RX or TX error passive
+    bool error_warning = false;  ///< controller: RX or TX warning level
     /// "bus-off", "controller problem (rx overflow, error passive)", ... joined by "; ".
     std::string describe() const;
 };

@@ -4,7 +4,7 @@
 //  - CAN_RAW_FILTER for the configured frame keys, CAN FD frames (CAN_RAW_FD_FRAMES),
 //    error frames (CAN_RAW_ERR_FILTER) counted and described in status();
 //  - kernel receive timestamps (SO_TIMESTAMPNS, realtime clock) become CanFrame::timestamp;
-//  - kernel drop counts (SO_RXQ_OVFL) are reported as status().kernelDrops;
+//  - kernel drop counts (SO_RXQ_OVFL) are reported as status().kernel_drops;
 //  - when the interface is missing or goes down (ENETDOWN/ENODEV), the socket is closed and
 //    re-opened with exponential Backoff once the interface exists and is up again.
 // poll() never blocks; call it from the input thread (waitReadable() to sleep there), never from the
@@ -24,34 +24,34 @@
 namespace navmap::ipc {
 
 struct SocketCanOptions {
-    std::string interfaceName = "can0";
+    std::string interface_name = "can0";
     /// Frame keys (CanFrame::key()) to receive; empty = everything.
-    std::vector<std::uint32_t> frameKeys;
-    bool receiveFd = true;
-    bool receiveErrorFrames = true;
+    std::vector<std::uint32_t> frame_keys;
+    bool receive_fd = true;
+    bool receive_error_frames = true;
     /// SO_RCVBUF in bytes, 0 = system default.
-    int receiveBufferBytes = 0;
-    std::chrono::milliseconds backoffInitial{100};
-    std::chrono::milliseconds backoffMaximum{5000};
+    int receive_buffer_bytes = 0;
+    std::chrono::milliseconds backoff_initial{100};
+    std::chrono::milliseconds backoff_maximum{5000};
 };
 
 struct SocketCanStatus {
     enum class State { Closed, Open, Retrying };
     State state = State::Closed;
     std::uint64_t frames = 0;  ///< data frames delivered (classic + FD)
-    std::uint64_t fdFrames = 0;
-    std::uint64_t errorFrames = 0;
-    std::uint64_t busOff = 0;
-    std::uint64_t controllerProblems = 0;
-    std::uint64_t otherErrors = 0;  ///< protocol, transceiver, ACK, arbitration, bus errors
-    std::uint64_t kernelDrops = 0;  ///< SO_RXQ_OVFL, summed over re-opens
-    std::uint64_t badFrames = 0;    ///< reads of an unexpected size
-    std::uint64_t opens = 0;        ///< successful opens (1 + re-opens)
-    std::uint64_t openFailures = 0;
-    std::string lastError;       ///< "bind(can0): No such device", "recvmsg(can0): Network is down"
-    std::string lastErrorFrame;  ///< ErrorFrameInfo::describe() of the newest error frame
-    CanTime lastErrorFrameTime{};
-    bool fdEnabled = false;  ///< CAN_RAW_FD_FRAMES accepted by the kernel
+    std::uint64_t fd_frames = 0;
+    std::uint64_t error_frames = 0;
+    std::uint64_t bus_off = 0;
+    std::uint64_t controller_problems = 0;
+    std::uint64_t other_errors = 0;  ///< protocol, transceiver, ACK, arbitration, bus errors
+    std::uint64_t kernel_drops = 0;  ///< SO_RXQ_OVFL, summed over re-opens
+    std::uint64_t bad_frames = 0;    ///< reads of an unexpected size
+    std::uint64_t opens = 0;         ///< successful opens (1 + re-opens)
+    std::uint64_t open_failures = 0;
+    std::string last_error;        ///< "bind(can0): No such device", "recvmsg(can0): Network is down"
+    std::string last_error_frame;  ///< ErrorFrameInfo::describe() of the newest error frame
+    CanTime last_error_frame_time{};
+    bool fd_enabled = false;  ///< CAN_RAW_FD_FRAMES accepted by the kernel
 
     static const char* stateName(State s) noexcept;
 };
@@ -90,8 +90,8 @@ private:
     SocketCanStatus m_status;
     Backoff m_backoff;
     net::UniqueFd m_fd;
-    std::uint32_t m_dropsAtOpen = 0;  // SO_RXQ_OVFL value of the current socket already counted
-    std::uint64_t m_dropsBefore = 0;  // drops of earlier sockets
+    std::uint32_t m_drops_at_open = 0;  // SO_RXQ_OVFL value of the current socket already counted
+    std::uint64_t m_drops_before = 0;   // drops of earlier sockets
 };
 
 }  // namespace navmap::ipc

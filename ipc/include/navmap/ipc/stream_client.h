@@ -26,7 +26,7 @@ namespace navmap::ipc {
 struct ReceivedFrame {
     FrameHeader header;                ///< dropped = server-side drops + frames lost locally
     std::vector<std::uint8_t> pixels;  ///< header.stride * header.height bytes, header.format
-    std::int64_t receiveTimeNs = 0;    ///< CLOCK_REALTIME ns when the pixels were complete
+    std::int64_t receive_time_ns = 0;  ///< CLOCK_REALTIME ns when the pixels were complete
 };
 
 /// A frame left where the server wrote it (payload shm): `pixels` points into the client's
@@ -36,16 +36,16 @@ struct ReceivedFrame {
 struct HeldFrame {
     FrameHeader header;
     const std::uint8_t* pixels = nullptr;
-    std::int64_t receiveTimeNs = 0;  ///< CLOCK_REALTIME ns when the notification was read
+    std::int64_t receive_time_ns = 0;  ///< CLOCK_REALTIME ns when the notification was read
 };
 
 struct StreamClientStats {
     std::uint64_t frames = 0;
-    std::uint64_t serverDropped = 0;    ///< the newest header's dropped count
-    std::uint64_t lostLocally = 0;      ///< shm slots overwritten before we copied them
-    std::uint64_t heldOverwritten = 0;  ///< held frames the server had to overwrite before release()
-    std::uint64_t bytes = 0;            ///< payload bytes received (compressed size for zlib)
-    std::uint64_t statuses = 0;         ///< status headers received
+    std::uint64_t server_dropped = 0;    ///< the newest header's dropped count
+    std::uint64_t lost_locally = 0;      ///< shm slots overwritten before we copied them
+    std::uint64_t held_overwritten = 0;  ///< held frames the server had to overwrite before release()
+    std::uint64_t bytes = 0;             ///< payload bytes received (compressed size for zlib)
+    std::uint64_t statuses = 0;          ///< status headers received
 };
 
 /// Inflates a zlib payload of `inBytes` into exactly `outBytes` at `out`; false when it does not.
@@ -81,19 +81,19 @@ public:
     /// the ring (no copy) and the server gets no ack until release(); no new frame arrives
     /// meanwhile. A held frame is released
     /// first. Hold a frame for less than the server's stall timeout (FrameServerOptions::
-    /// stallTimeout; navmapd's client_timeout_s, 5 s), or the server disconnects the client.
+    /// stall_timeout; navmapd's client_timeout_s, 5 s), or the server disconnects the client.
     Result<bool> nextHeld(HeldFrame& out, std::chrono::milliseconds timeout);
     /// Gives a held frame back (sends the ack). true: the frame was unchanged all the time it was
     /// held; false: every slot of the ring was held at once and the server overwrote this one
-    /// (counted in stats().heldOverwritten); Error: the connection is gone. true without a held frame.
+    /// (counted in stats().held_overwritten); Error: the connection is gone. true without a held frame.
     Result<bool> release();
     bool holding() const noexcept { return m_held >= 0; }
 
     /// Called inside next() with each status's text (a JSON object from the server, e.g.
     /// {"state":"loading",...}) as it arrives; the caller's thread. Empty: statuses are only kept.
-    void setStatusHandler(std::function<void(const std::string&)> handler) { m_onStatus = std::move(handler); }
+    void setStatusHandler(std::function<void(const std::string&)> handler) { m_on_status = std::move(handler); }
     /// The newest status text; empty when none came.
-    const std::string& lastStatus() const noexcept { return m_lastStatus; }
+    const std::string& lastStatus() const noexcept { return m_last_status; }
 
     /// The profile the server granted (after defaults were applied).
     const StreamProfile& profile() const noexcept { return m_profile; }
@@ -114,22 +114,22 @@ private:
     std::string m_peer;
     StreamProfile m_profile;
     StreamPayload m_payload = StreamPayload::Shm;
-    std::uint64_t m_lastSequence = 0;  ///< newest frame handed out (never hand one out twice)
+    std::uint64_t m_last_sequence = 0;  ///< newest frame handed out (never hand one out twice)
     const std::uint8_t* m_map = nullptr;
-    std::size_t m_mapBytes = 0;
+    std::size_t m_map_bytes = 0;
     std::uint32_t m_slots = 0;
     std::vector<std::uint8_t> m_in;  // bytes received beyond what was consumed
-    std::size_t m_inPos = 0;
+    std::size_t m_in_pos = 0;
     std::vector<std::uint8_t> m_compressed;
     StreamClientStats m_stats;
-    std::uint8_t m_headerBuf[kFrameHeaderBytes] = {};
-    std::size_t m_headerHave = 0;  // partial header kept across timeouts
+    std::uint8_t m_header_buf[kFrameHeaderBytes] = {};
+    std::size_t m_header_have = 0;  // partial header kept across timeouts
     FrameInflater m_inflate;
-    bool m_hold = false;           // opened with request.hold: frames may be held
-    int m_held = -1;               // slot of the held frame, -1: none
-    std::uint64_t m_heldLock = 0;  // its lock word when it was handed out
-    std::string m_lastStatus;
-    std::function<void(const std::string&)> m_onStatus;
+    bool m_hold = false;            // opened with request.hold: frames may be held
+    int m_held = -1;                // slot of the held frame, -1: none
+    std::uint64_t m_held_lock = 0;  // its lock word when it was handed out
+    std::string m_last_status;
+    std::function<void(const std::string&)> m_on_status;
 };
 
 }  // namespace navmap::ipc

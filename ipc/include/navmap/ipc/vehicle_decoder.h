@@ -22,20 +22,20 @@
 namespace navmap::ipc {
 
 struct DecoderCounters {
-    std::uint64_t frames = 0;         ///< frames offered to decode()
-    std::uint64_t matchedFrames = 0;  ///< frames of a mapped message
-    std::uint64_t values = 0;         ///< quantities accepted
-    std::uint64_t rejected = 0;       ///< quantities rejected (range, NaN, missing sign bit)
-    std::uint64_t shortFrames = 0;    ///< mapped frames too short for a mapped signal
-    std::uint64_t ignoredFrames = 0;  ///< error and remote frames
-    std::uint64_t counterGaps = 0;    ///< frames missing according to the GNSS counter
+    std::uint64_t frames = 0;          ///< frames offered to decode()
+    std::uint64_t matched_frames = 0;  ///< frames of a mapped message
+    std::uint64_t values = 0;          ///< quantities accepted
+    std::uint64_t rejected = 0;        ///< quantities rejected (range, NaN, missing sign bit)
+    std::uint64_t short_frames = 0;    ///< mapped frames too short for a mapped signal
+    std::uint64_t ignored_frames = 0;  ///< error and remote frames
+    std::uint64_t counter_gaps = 0;    ///< frames missing according to the GNSS counter
 };
 
 /// Per-mapping statistics, in SignalMap order.
 struct MappingStats {
     std::uint64_t accepted = 0;
     std::uint64_t rejected = 0;
-    std::string lastRejection;  ///< why the newest rejection happened
+    std::string last_rejection;  ///< why the newest rejection happened
 };
 
 class VehicleDecoder {
@@ -46,7 +46,7 @@ public:
                                          const SignalMap& map);
 
     /// Decodes one frame. Returns true and fills `update` (cleared first) when the frame produced at
-    /// least one accepted quantity; `update.sourceTime` is the frame's timestamp. Also merges it into
+    /// least one accepted quantity; `update.source_time` is the frame's timestamp. Also merges it into
     /// latest().
     bool decode(const CanFrame& frame, VehicleSample& update);
 
@@ -61,12 +61,12 @@ private:
     struct Plan {
         const DbcMessage* message = nullptr;
         const DbcSignal* signal = nullptr;
-        const DbcSignal* signSignal = nullptr;
+        const DbcSignal* sign_signal = nullptr;
         VssSignal target = VssSignal::Speed;
-        double unitFactor = 1.0;
+        double unit_factor = 1.0;
         double scale = 1.0;
         double bias = 0.0;
-        std::size_t mappingIndex = 0;
+        std::size_t mapping_index = 0;
     };
     void reject(const Plan& plan, std::string why);
 
@@ -75,7 +75,7 @@ private:
     std::vector<MappingStats> m_stats;
     DecoderCounters m_counters;
     VehicleSample m_latest;
-    std::optional<std::uint64_t> m_lastCounter;
+    std::optional<std::uint64_t> m_last_counter;
 };
 
 }  // namespace navmap::ipc

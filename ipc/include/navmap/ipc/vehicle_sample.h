@@ -41,7 +41,7 @@ std::optional<VssSignal> vssFromName(std::string_view name) noexcept;
 
 struct VehicleSample {
     /// Receive time of the newest frame that contributed.
-    CanTime sourceTime{};
+    CanTime source_time{};
     std::array<std::optional<double>, kVssSignalCount> values{};
     std::array<CanTime, kVssSignalCount> times{};
 
@@ -50,8 +50,8 @@ struct VehicleSample {
     void set(VssSignal s, double value, CanTime t) noexcept {
         values[static_cast<std::size_t>(s)] = value;
         times[static_cast<std::size_t>(s)] = t;
-        if (t > sourceTime) {
-            sourceTime = t;
+        if (t > source_time) {
+            source_time = t;
         }
     }
     bool empty() const noexcept {
@@ -70,8 +70,8 @@ struct VehicleSample {
                 times[i] = update.times[i];
             }
         }
-        if (update.sourceTime > sourceTime) {
-            sourceTime = update.sourceTime;
+        if (update.source_time > source_time) {
+            source_time = update.source_time;
         }
     }
 };

@@ -17,25 +17,25 @@
 namespace navmap::daemon {
 
 struct RoadMatch {
-    std::uint32_t edge = 0;   ///< index into RoadGraph::edges (direction of travel)
-    map::PlanarPoint point;   ///< nearest point on the edge
-    double headingDeg = 0.0;  ///< direction of the edge there (clockwise from north)
-    double distanceM = 0.0;
+    std::uint32_t edge = 0;    ///< index into RoadGraph::edges (direction of travel)
+    map::PlanarPoint point;    ///< nearest point on the edge
+    double heading_deg = 0.0;  ///< direction of the edge there (clockwise from north)
+    double distance_m = 0.0;
     double confidence = 0.0;  ///< 0..1: distance and heading agreement
     double score = 0.0;       ///< lower is better (includes the hysteresis bonuses)
 };
 
 /// exp(-d^2/2s_d^2) * exp(-dh^2/2s_h^2): the confidence of a candidate (heading term only when
 /// `useHeading`).
-double matchConfidence(double distanceM, double headingDiffDeg, bool useHeading, const VehicleStateConfig& cfg);
+double matchConfidence(double distance_m, double headingDiffDeg, bool useHeading, const VehicleStateConfig& cfg);
 
 class MapMatcher {
 public:
     explicit MapMatcher(std::shared_ptr<const map::RoadGraph> graph, double cellM = 50.0);
 
-    /// Best candidate within cfg.matchRadiusM, or nullopt. `headingDeg` counts when set;
-    /// `previousEdge` gets cfg.hysteresisBonus, edges continuing from it cfg.connectedBonus.
-    [[nodiscard]] std::optional<RoadMatch> match(map::PlanarPoint p, std::optional<double> headingDeg,
+    /// Best candidate within cfg.match_radius_m, or nullopt. `heading_deg` counts when set;
+    /// `previousEdge` gets cfg.hysteresis_bonus, edges continuing from it cfg.connected_bonus.
+    [[nodiscard]] std::optional<RoadMatch> match(map::PlanarPoint p, std::optional<double> heading_deg,
                                                  std::optional<std::uint32_t> previousEdge,
                                                  const VehicleStateConfig& cfg) const;
 
@@ -50,10 +50,10 @@ private:
     std::shared_ptr<const map::RoadGraph> m_graph;
     std::vector<Seg> m_segments;
     double m_cell;
-    double m_minX = 0, m_minY = 0;
+    double m_min_x = 0, m_min_y = 0;
     int m_cols = 0, m_rows = 0;
-    std::vector<std::uint32_t> m_cellStart;  // CSR over cells
-    std::vector<std::uint32_t> m_cellSegs;
+    std::vector<std::uint32_t> m_cell_start;  // CSR over cells
+    std::vector<std::uint32_t> m_cell_segs;
 };
 
 }  // namespace navmap::daemon

@@ -14,11 +14,11 @@
 namespace navmap::daemon {
 
 struct RouteMatch {
-    map::PlanarPoint point;   ///< nearest point on the route
-    double headingDeg = 0.0;  ///< direction of the route there (clockwise from north)
-    double measureM = 0.0;    ///< distance from the route start
-    double distanceM = 0.0;   ///< from the query position
-    double confidence = 0.0;  ///< 0..1
+    map::PlanarPoint point;    ///< nearest point on the route
+    double heading_deg = 0.0;  ///< direction of the route there (clockwise from north)
+    double measure_m = 0.0;    ///< distance from the route start
+    double distance_m = 0.0;   ///< from the query position
+    double confidence = 0.0;   ///< 0..1
 };
 
 class RouteLine {
@@ -32,9 +32,9 @@ public:
     /// Distance from the route start at each point, metres (same size as points()).
     [[nodiscard]] const std::vector<double>& measures() const { return m_measures; }
 
-    /// Best match within cfg.matchRadiusM, or nullopt. `previousMeasure` (if any) penalises
+    /// Best match within cfg.match_radius_m, or nullopt. `previousMeasure` (if any) penalises
     /// jumps along the route.
-    [[nodiscard]] std::optional<RouteMatch> match(map::PlanarPoint p, std::optional<double> headingDeg,
+    [[nodiscard]] std::optional<RouteMatch> match(map::PlanarPoint p, std::optional<double> heading_deg,
                                                   std::optional<double> previousMeasure,
                                                   const VehicleStateConfig& cfg) const;
 

@@ -24,38 +24,38 @@ struct EstimatedPose {
     bool valid = false;  ///< false until the first accepted GNSS fix
     double x = 0.0;      ///< store frame, metres east (snapped when matched)
     double y = 0.0;      ///< store frame, metres north
-    double rawX = 0.0;   ///< fused position before map matching
-    double rawY = 0.0;
-    double headingDeg = 0.0;  ///< clockwise from north, [0, 360)
-    double speedMps = 0.0;
-    ipc::CanTime time{};                   ///< the requested time
-    ipc::CanTime sourceTime{};             ///< CAN receive time of the newest input behind this pose
-    bool stale = false;                    ///< no accepted fix for gnssTimeoutS: show "position lost"
-    double sinceFixS = 0.0;                ///< seconds since the newest accepted fix
-    double matchConfidence = 0.0;          ///< 0..1 (0: no road/route candidate)
-    double snapWeight = 0.0;               ///< 0 raw .. 1 fully on the road
-    std::optional<std::uint32_t> edge;     ///< matched graph edge
-    std::optional<double> roadHeadingDeg;  ///< direction of the matched route/road segment
-    bool onRoute = false;
-    double routeDrivenM = 0.0;  ///< along the route (when onRoute)
-    double routeRemainingM = 0.0;
+    double raw_x = 0.0;  ///< fused position before map matching
+    double raw_y = 0.0;
+    double heading_deg = 0.0;  ///< clockwise from north, [0, 360)
+    double speed_mps = 0.0;
+    ipc::CanTime time{};                     ///< the requested time
+    ipc::CanTime source_time{};              ///< CAN receive time of the newest input behind this pose
+    bool stale = false;                      ///< no accepted fix for gnss_timeout_s: show "position lost"
+    double since_fix_s = 0.0;                ///< seconds since the newest accepted fix
+    double match_confidence = 0.0;           ///< 0..1 (0: no road/route candidate)
+    double snap_weight = 0.0;                ///< 0 raw .. 1 fully on the road
+    std::optional<std::uint32_t> edge;       ///< matched graph edge
+    std::optional<double> road_heading_deg;  ///< direction of the matched route/road segment
+    bool on_route = false;
+    double route_driven_m = 0.0;  ///< along the route (when on_route)
+    double route_remaining_m = 0.0;
 };
 
 /// A fused state at a GNSS fix (store frame).
 struct PoseAnchor {
     ipc::CanTime time{};
     double x = 0.0, y = 0.0;
-    double headingRad = 0.0;  ///< clockwise from north
-    double speedMps = 0.0;
-    double jumpX = 0.0, jumpY = 0.0;  ///< prediction minus anchor at `time`: faded out over blendS
-    double jumpHeadingRad = 0.0;
+    double heading_rad = 0.0;  ///< clockwise from north
+    double speed_mps = 0.0;
+    double jump_x = 0.0, jump_y = 0.0;  ///< prediction minus anchor at `time`: faded out over blend_s
+    double jump_heading_rad = 0.0;
 };
 
 /// Speed and yaw rate at one time (yaw rate converted to clockwise radians per second).
 struct MotionSample {
     ipc::CanTime time{};
-    double speedMps = 0.0;
-    double headingRateRadS = 0.0;  ///< d(heading)/dt, clockwise positive
+    double speed_mps = 0.0;
+    double heading_rate_rad_s = 0.0;  ///< d(heading)/dt, clockwise positive
 };
 
 class VehicleState {
@@ -64,11 +64,11 @@ public:
         VehicleStateConfig config;
         std::vector<PoseAnchor> anchors;   ///< ascending time
         std::vector<MotionSample> motion;  ///< ascending time, from before the oldest anchor on
-        bool headingKnown = false;
+        bool heading_known = false;
         std::shared_ptr<const MapMatcher> matcher;
         std::shared_ptr<const RouteLine> route;
-        std::optional<std::uint32_t> matchedEdge;  ///< hysteresis state at the newest input
-        std::optional<double> routeMeasure;        ///< previous route match
+        std::optional<std::uint32_t> matched_edge;  ///< hysteresis state at the newest input
+        std::optional<double> route_measure;        ///< previous route match
     };
     explicit VehicleState(Parts parts) : m_p(std::move(parts)) {}
 
@@ -87,6 +87,6 @@ private:
 /// using the samples (trapezoid between samples, the last one held for at most holdS after it;
 /// before the first sample, `fallbackSpeed` without turning). Steps of at most 50 ms.
 void deadReckon(const std::vector<MotionSample>& motion, ipc::CanTime from, ipc::CanTime to, double holdS,
-                double fallbackSpeed, double& x, double& y, double& headingRad, double& speedMps);
+                double fallbackSpeed, double& x, double& y, double& heading_rad, double& speed_mps);
 
 }  // namespace navmap::daemon

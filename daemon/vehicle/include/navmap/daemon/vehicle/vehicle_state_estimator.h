@@ -22,15 +22,15 @@
 namespace navmap::daemon {
 
 struct VehicleStateCounters {
-    std::uint64_t fixes = 0;          ///< accepted GNSS fixes
-    std::uint64_t motionSamples = 0;  ///< accepted speed/yaw-rate samples
-    std::uint64_t rejectedNaN = 0;    ///< not finite
-    std::uint64_t rejectedRange = 0;  ///< outside the plausible range or far from the map region
-    std::uint64_t rejectedJump = 0;   ///< fix too far from the prediction
-    std::uint64_t rejectedOrder = 0;  ///< older than data already used
-    std::uint64_t rejectedNoFix = 0;  ///< GNSS fix type NONE
-    std::uint64_t relocations = 0;    ///< re-initialised after consecutive jumps or a stale period
-    std::string lastRejection;        ///< why the newest rejection happened
+    std::uint64_t fixes = 0;            ///< accepted GNSS fixes
+    std::uint64_t motion_samples = 0;   ///< accepted speed/yaw-rate samples
+    std::uint64_t rejected_nan = 0;     ///< not finite
+    std::uint64_t rejected_range = 0;   ///< outside the plausible range or far from the map region
+    std::uint64_t rejected_jump = 0;    ///< fix too far from the prediction
+    std::uint64_t rejected_order = 0;   ///< older than data already used
+    std::uint64_t rejected_no_fix = 0;  ///< GNSS fix type NONE
+    std::uint64_t relocations = 0;      ///< re-initialised after consecutive jumps or a stale period
+    std::string last_rejection;         ///< why the newest rejection happened
 };
 
 class VehicleStateEstimator {
@@ -59,16 +59,16 @@ private:
     void reject(std::uint64_t& counter, std::string why);
     void prune();
     void updateMatch(ipc::CanTime t);
-    void relocate(ipc::CanTime t, map::PlanarPoint p, std::optional<double> headingDeg);
+    void relocate(ipc::CanTime t, map::PlanarPoint p, std::optional<double> heading_deg);
     void changed() { m_snapshot.reset(); }
 
     map::Projection m_projection;
     VehicleState::Parts m_state;  // config, anchors, motion, matcher, route, matching state
-    int m_consecutiveJumps = 0;
-    std::optional<ipc::CanTime> m_lastYawTime;
+    int m_consecutive_jumps = 0;
+    std::optional<ipc::CanTime> m_last_yaw_time;
     // Latitude and longitude may come in separate frames: paired when close in time.
     std::optional<std::pair<double, ipc::CanTime>> m_lat, m_lon;
-    std::optional<std::pair<double, ipc::CanTime>> m_heading, m_fixType;
+    std::optional<std::pair<double, ipc::CanTime>> m_heading, m_fix_type;
     VehicleStateCounters m_counters;
     mutable std::shared_ptr<const VehicleState> m_snapshot;
 };
