@@ -28,6 +28,9 @@ BUILD=(
 TEST=(
   # images in golden tests and tools (OpenImageIO), fuzzers (clang), format and lint checks
   libopenimageio-dev clang libclang-rt-14-dev clang-format clang-tidy
+  # global rasters and Natural Earth polygons of the synthetic orthoimages: navmap-ortho-train's
+  # training data and the tests that measure the shipped network (docs/orthoimage.md)
+  marble-qt-data
   # tests and benchmarks (chromium: the browser tests of the live page)
   libgtest-dev libgmock-dev libbenchmark-dev chromium
   # /metrics through the Prometheus client library's parser; Debian packages (cpack, dpkg-shlibdeps)

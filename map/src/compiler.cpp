@@ -30,6 +30,7 @@
 #include "navmap/map/dem.h"
 #include "navmap/map/dem_mosaic.h"
 #include "navmap/map/geometry.h"
+#include "navmap/map/ortho/ortho_preprocess.h"
 #include "navmap/map/projection.h"
 #include "navmap/map/road_graph.h"
 #include "navmap/map/store_writer.h"
@@ -384,6 +385,17 @@ CompileStats compileStore(const CompileOptions& opt) {
         data_bounds = boundsOf(corners);
     }
     const TileScheme scheme = TileScheme::covering(data_bounds, opt.leaf_tile_m);
+    std::shared_ptr<const ortho::GlobalInputs> ortho_inputs;
+    if (opt.ortho_inputs) {
+        const double t_ortho = elapsed();
+        try {
+            ortho_inputs = opt.ortho_inputs({south, west, north, east});
+        } catch (const std::exception& e) {
+            throw CompileError(e.what());
+        }
+        stats.ortho_seconds += elapsed() - t_ortho;
+        log("read the global orthoimage inputs");
+    }
     log("projection origin " + std::to_string(proj.originLat()) + ", " + std::to_string(proj.originLon()) + "; " +
         std::to_string(scheme.levelCount()) + " levels, root " +
         std::to_string(static_cast<long>(scheme.rootSize() / 1000)) + " km");
@@ -693,6 +705,15 @@ CompileStats compileStore(const CompileOptions& opt) {
             if (is_leaf && covered < static_cast<std::size_t>(n) * n) ++leaf_tiles_without_dem;
         }
 
+        if (ortho_inputs) {
+            // seed 6.5: the global inputs and the tile's own areas and DEM onto its layers.
+            const double t_ortho = elapsed();
+            for (auto& [key, t] : tiles) {
+                t.ortho = ortho::sampleOrthoLayers(t, *ortho_inputs, proj);
+                ++stats.tiles_with_ortho;
+            }
+            stats.ortho_seconds += elapsed() - t_ortho;
+        }
         for (auto& [key, t] : tiles) {
             std::stable_sort(t.roads.begin(), t.roads.end(),
                              [](const Road& a, const Road& b) { return a.cls < b.cls; });
@@ -729,6 +750,9 @@ std::string formatSummary(const CompileStats& s) {
       << "road graph: " << s.graph_nodes << " nodes, " << s.graph_edges << " directed edges\n"
       << "DEM:        " << s.dem_files << " files, " << s.dem_voids_filled << " void samples filled, "
       << s.tiles_without_dem << " leaf tiles not fully covered\n"
+      << (s.tiles_with_ortho > 0 ? "ortho:      " + std::to_string(s.tiles_with_ortho) +
+                                       " tiles with orthoimage layers, " + std::to_string(s.ortho_seconds) + " s\n"
+                                 : std::string())
       << "tiles:      " << s.tiles << " (per level:";
     for (auto n : s.tiles_per_level) o << ' ' << n;
     o << ")\n"

@@ -67,9 +67,10 @@ inline bool decodeHeader(std::span<const std::uint8_t> bytes, StoreInfo& info, s
     }
     ByteReader r(bytes.subspan(8));
     info.format_version = r.u32();
-    if (info.format_version != kStoreFormatVersion) {
-        error = "tile store format version " + std::to_string(info.format_version) + ", this build reads version " +
-                std::to_string(kStoreFormatVersion) + " (recompile the store with this navmap-compile)";
+    if (info.format_version < kOldestStoreFormatVersion || info.format_version > kStoreFormatVersion) {
+        error = "tile store format version " + std::to_string(info.format_version) + ", this build reads versions " +
+                std::to_string(kOldestStoreFormatVersion) + " to " + std::to_string(kStoreFormatVersion) +
+                " (recompile the store with this navmap-compile)";
         return false;
     }
     const std::uint32_t size = r.u32();

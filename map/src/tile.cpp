@@ -30,6 +30,7 @@ std::size_t Tile::byteSize() const {
     bytes += labels.capacity() * sizeof(Label);
     for (const auto& l : labels) bytes += stringBytes(l.name);
     bytes += dem.heights.capacity() * sizeof(float);
+    bytes += ortho.byteSize();
     return bytes;
 }
 

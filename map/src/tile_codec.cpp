@@ -3,9 +3,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 #include "byte_io.h"
 #include "navmap/common/check.h"
+#include "navmap/map/ortho/climate.h"
+#include "navmap/map/ortho/super_land_cover.h"
+#include "navmap/map/store_info.h"
 
 namespace navmap::map {
 
@@ -100,11 +104,146 @@ void readPolygon(ByteReader& r, Polygon& poly) {
     }
 }
 
+constexpr std::uint16_t kMaxCoverSize = 2048;
+constexpr std::uint16_t kMaxGridSize = 1025;
+
+// Ortho layer kinds as stored (docs/tile-store.md "Ortho layers").
+enum LayerKind : std::uint8_t {
+    kCover = 0,
+    kClimate,
+    kTempDec,
+    kTempJul,
+    kPrecipDec,
+    kPrecipJul,
+    kLights,
+    kElevation,
+    kSlope,
+    kAspect,
+    kLayerKinds
+};
+constexpr const char* kLayerNames[kLayerKinds] = {"cover",      "climate", "temp_dec",  "temp_jul", "precip_dec",
+                                                  "precip_jul", "lights",  "elevation", "slope",    "aspect"};
+
+// The 8-bit layer of a kind (null for elevation); for const and mutable layers alike.
+template <typename Layers>
+auto byteLayer(Layers& o, int kind) -> decltype(&o.cover) {
+    switch (kind) {
+        case kCover: return &o.cover;
+        case kClimate: return &o.climate;
+        case kTempDec: return &o.temp_dec;
+        case kTempJul: return &o.temp_jul;
+        case kPrecipDec: return &o.precip_dec;
+        case kPrecipJul: return &o.precip_jul;
+        case kLights: return &o.lights;
+        case kSlope: return &o.slope;
+        case kAspect: return &o.aspect;
+        default: return nullptr;
+    }
+}
+
+void writeOrtho(ByteWriter& w, const ortho::OrthoLayers& o) {
+    if (o.empty()) {
+        w.u8(0);
+        return;
+    }
+    w.u8(kLayerKinds);
+    for (int kind = 0; kind < kLayerKinds; ++kind) {
+        const std::uint16_t side = kind == kCover ? o.cover_size : o.grid_size;
+        w.u8(static_cast<std::uint8_t>(kind));
+        w.u16(side);
+        w.u16(side);
+        if (kind == kElevation) {
+            std::int64_t prev = 0;
+            for (std::int16_t v : o.elevation) {
+                w.svarint(v - prev);
+                prev = v;
+            }
+        } else {
+            const auto& bytes = *byteLayer(o, kind);
+            w.raw(bytes.data(), bytes.size());
+        }
+    }
+}
+
+void readOrtho(ByteReader& r, ortho::OrthoLayers& o) {
+    const std::uint8_t count = r.u8();
+    if (r.failed() || count == 0) return;
+    if (count != kLayerKinds) {
+        r.fail("ortho layer count " + std::to_string(count) + ", expected " + std::to_string(kLayerKinds));
+        return;
+    }
+    for (int kind = 0; kind < kLayerKinds && !r.failed(); ++kind) {
+        const std::uint8_t stored = r.u8();
+        const std::uint16_t width = r.u16(), height = r.u16();
+        if (r.failed()) return;
+        if (stored != kind) {
+            r.fail("ortho layer " + std::to_string(stored) + " where " + kLayerNames[kind] + " belongs");
+            return;
+        }
+        if (kind == kCover) {
+            if (width != height || width == 0 || width > kMaxCoverSize) {
+                r.fail("ortho layer cover is " + std::to_string(width) + "x" + std::to_string(height) +
+                       ", expected a square of 1.." + std::to_string(kMaxCoverSize));
+                return;
+            }
+            o.cover_size = width;
+        } else if (kind == kClimate) {
+            if (width != height || width < 2 || width > kMaxGridSize) {
+                r.fail("ortho layer climate is " + std::to_string(width) + "x" + std::to_string(height) +
+                       ", expected a square of 2.." + std::to_string(kMaxGridSize));
+                return;
+            }
+            o.grid_size = width;
+        } else if (width != o.grid_size || height != o.grid_size) {
+            r.fail(std::string("ortho layer ") + kLayerNames[kind] + " is " + std::to_string(width) + "x" +
+                   std::to_string(height) + ", expected " + std::to_string(o.grid_size) + "x" +
+                   std::to_string(o.grid_size) + " (the grid size)");
+            return;
+        }
+        const std::size_t n = std::size_t{width} * height;
+        if (kind == kElevation) {
+            if (n > r.remaining()) {
+                r.fail("truncated ortho layer elevation");
+                return;
+            }
+            o.elevation.resize(n);
+            std::int64_t v = 0;
+            for (auto& e : o.elevation) {
+                v = wrappingAdd(v, r.svarint());
+                if (v < -32768 || v > 32767) {
+                    r.fail("ortho elevation out of range");
+                    return;
+                }
+                e = static_cast<std::int16_t>(v);
+            }
+            continue;
+        }
+        const auto bytes = r.bytes(n);
+        if (r.failed()) return;
+        std::vector<std::uint8_t>& dst = *byteLayer(o, kind);
+        dst.assign(bytes.begin(), bytes.end());
+        const int limit = kind == kCover     ? ortho::kSuperLandCoverCount
+                          : kind == kClimate ? ortho::kClimateClassCount
+                                             : 256;
+        for (std::uint8_t b : dst) {
+            if (b >= limit) {
+                r.fail(std::string("bad ") + kLayerNames[kind] + " class " + std::to_string(b));
+                return;
+            }
+        }
+    }
+}
+
 }  // namespace
 
-std::vector<std::uint8_t> encodeTile(const Tile& t) {
+std::vector<std::uint8_t> encodeTile(const Tile& t, std::uint32_t version) {
+    if (version < kOldestStoreFormatVersion || version > kStoreFormatVersion) {
+        throw std::invalid_argument("encodeTile: no store format version " + std::to_string(version));
+    }
+    if (version == 1 && !t.ortho.empty())
+        throw std::invalid_argument("encodeTile: store format version 1 has no ortho layers");
     ByteWriter w;
-    w.u32(kTilePayloadMagic);
+    w.u32(version == 1 ? kTilePayloadMagic : kTilePayloadMagicV2);
     w.u8(t.id.level);
     w.u32(t.id.x);
     w.u32(t.id.y);
@@ -159,13 +298,16 @@ std::vector<std::uint8_t> encodeTile(const Tile& t) {
             prev = q;
         }
     }
+    if (version >= 2) writeOrtho(w, t.ortho);
     return std::move(w.bytes());
 }
 
 bool decodeTile(std::span<const std::uint8_t> bytes, Tile& t, std::string& error) {
     ByteReader r(bytes);
     t = Tile{};
-    if (r.u32() != kTilePayloadMagic) {
+    // "NTL1" payloads (store format version 1) end before the ortho layers.
+    const std::uint32_t magic = r.u32();
+    if (magic != kTilePayloadMagic && magic != kTilePayloadMagicV2) {
         error = "not a tile payload (bad magic)";
         return false;
     }
@@ -241,6 +383,7 @@ bool decodeTile(std::span<const std::uint8_t> bytes, Tile& t, std::string& error
             }
         }
     }
+    if (magic == kTilePayloadMagicV2 && !r.failed()) readOrtho(r, t.ortho);
     if (!r.failed() && r.remaining() != 0) r.fail(std::to_string(r.remaining()) + " trailing bytes");
     if (r.failed()) {
         error = r.error();

@@ -10,6 +10,9 @@
 #include "navmap/map/compiler.h"
 #include "navmap/map/dem.h"
 #include "navmap/map/store_info.h"
+#ifdef NAVMAP_WITH_ORTHO_IO
+#include "navmap/map/ortho/marble_inputs.h"
+#endif
 
 namespace {
 
@@ -38,7 +41,7 @@ int main(int argc, char** argv) {
     navmap::cli::setUp(app, "navmap-compile");
     navmap::map::CompileOptions opt;
     std::vector<std::string> dems;
-    std::string osm, out;
+    std::string osm, out, ortho_data;
     bool quiet = false;
     app.add_option("--osm", osm, "OpenStreetMap extract (.osm.pbf)")->required();
     app.add_option("--dem", dems, "SRTM .hgt tile(s) (repeatable, 1201x1201 or 3601x3601)");
@@ -52,6 +55,11 @@ int main(int argc, char** argv) {
     app.add_option("--default-building-height", opt.default_building_height_m, "metres, when untagged")
         ->check(finiteIn(0.0, navmap::map::kMaxBuildingHeightM))
         ->capture_default_str();
+#ifdef NAVMAP_WITH_ORTHO_IO
+    app.add_option("--ortho-data", ortho_data,
+                   "marble-qt-data folder (/usr/share/marble/data): sample the global inputs of the synthetic "
+                   "orthoimages onto every tile (seed 6.5, docs/orthoimage.md)");
+#endif
     app.add_flag("-q,--quiet", quiet, "no progress output (summary and errors only)");
     if (const auto exit_status = navmap::cli::parse(app, argc, argv)) return *exit_status;
 
@@ -59,6 +67,16 @@ int main(int argc, char** argv) {
     opt.out = out;
     for (const auto& d : dems) opt.dems.emplace_back(d);
     if (!quiet) opt.log = [](const std::string& line) { std::cerr << line << '\n'; };
+#ifdef NAVMAP_WITH_ORTHO_IO
+    if (!ortho_data.empty()) {
+        opt.ortho_inputs = [ortho_data](const std::array<double, 4>& bounds) {
+            namespace ortho = navmap::map::ortho;
+            ortho::MarbleInputOptions o;
+            o.bounds = bounds;
+            return std::make_shared<const ortho::GlobalInputs>(ortho::loadGlobalInputs(ortho_data, o));
+        };
+    }
+#endif
     try {
         const auto stats = navmap::map::compileStore(opt);
         std::cout << navmap::map::formatSummary(stats);

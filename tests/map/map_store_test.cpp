@@ -196,12 +196,12 @@ TEST(TileStore, OtherVersionTruncatedAndNotAStoreAreClearErrors) {
     writeSmallStore(dir / "s.navmap");
     auto bytes = readAll(dir / "s.navmap");
 
-    auto v2 = bytes;
-    v2[8] = 2;  // format version field
-    writeAll(dir / "v2.navmap", v2);
-    std::string e = openError(dir / "v2.navmap");
-    EXPECT_NE(e.find("v2.navmap"), std::string::npos) << e;
-    EXPECT_NE(e.find("format version 2, this build reads version 1"), std::string::npos) << e;
+    auto v3 = bytes;
+    v3[8] = 3;  // format version field
+    writeAll(dir / "v3.navmap", v3);
+    std::string e = openError(dir / "v3.navmap");
+    EXPECT_NE(e.find("v3.navmap"), std::string::npos) << e;
+    EXPECT_NE(e.find("format version 3, this build reads versions 1 to 2"), std::string::npos) << e;
 
     writeAll(dir / "trunc.navmap",
              std::vector<std::uint8_t>(bytes.begin(), bytes.begin() + static_cast<long>(bytes.size() / 2)));

@@ -9,11 +9,16 @@
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 namespace navmap::map {
+
+namespace ortho {
+struct GlobalInputs;
+}
 
 /// Raised when the input cannot be compiled; the message names the file and the problem.
 class CompileError : public std::runtime_error {
@@ -35,6 +40,11 @@ struct CompileOptions {
     float default_building_height_m = 8.0f;
     /// Progress and warnings, one line each; null = silent.
     std::function<void(const std::string&)> log;
+    /// The global inputs of the synthetic orthoimages (seed 6.5), asked for once the data's bounds
+    /// (south, west, north, east, degrees) are known; every tile then gets its ortho layers
+    /// (docs/tile-store.md). Null: none. An exception it throws becomes a CompileError with its
+    /// message.
+    std::function<std::shared_ptr<const ortho::GlobalInputs>(const std::array<double, 4>& bounds)> ortho_inputs;
 };
 
 struct CompileStats {
@@ -47,6 +57,8 @@ struct CompileStats {
     /// coastlines left out (coastline.h).
     std::size_t coast_ways = 0, sea_rings = 0, islands = 0, coast_gaps_closed = 0, coast_ways_left_out = 0;
     std::size_t tiles = 0;
+    std::size_t tiles_with_ortho = 0;  ///< tiles with ortho layers (CompileOptions::ortho_inputs)
+    double ortho_seconds = 0;          ///< reading the global inputs and sampling the layers
     std::vector<std::size_t> tiles_per_level;
     std::uint64_t store_bytes = 0;
     double read_seconds = 0, total_seconds = 0;

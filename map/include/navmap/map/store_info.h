@@ -10,8 +10,11 @@
 namespace navmap::map {
 
 inline constexpr char kStoreMagic[8] = {'N', 'A', 'V', 'M', 'A', 'P', 'T', 'S'};
-/// Bumped on every incompatible change; a reader accepts exactly its own version.
-inline constexpr std::uint32_t kStoreFormatVersion = 1;
+/// Bumped on every incompatible change. Version 2 added the orthoimage input layers of the tiles
+/// (seed 6.5); readers accept kOldestStoreFormatVersion..kStoreFormatVersion (a version 1 store
+/// reads without layers), writers write the newest.
+inline constexpr std::uint32_t kStoreFormatVersion = 2;
+inline constexpr std::uint32_t kOldestStoreFormatVersion = 1;
 
 /// Raised at setup when a store cannot be used; the message names the file and the problem.
 class StoreError : public std::runtime_error {

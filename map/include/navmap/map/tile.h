@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "navmap/map/ortho/ortho_layers.h"
 #include "navmap/map/road_class.h"
 #include "navmap/map/tag_rules.h"
 
@@ -128,6 +129,7 @@ struct Tile {
     std::vector<Area> areas;
     std::vector<Label> labels;  ///< sorted by importance, highest first
     TileDem dem;
+    ortho::OrthoLayers ortho;  ///< synthetic orthoimage inputs (seed 6.5); empty without them
 
     /// Approximate heap + object bytes, used by the cache budget.
     [[nodiscard]] std::size_t byteSize() const;
