@@ -13,6 +13,7 @@ namespace navmap::map::ortho {
 int areaPaintOrder(AreaClass c) {
     using A = AreaClass;
     switch (c) {
+        case A::Sea: return -1;  // under everything: the land and islands on it come after
         case A::Forest:
         case A::Scrub:
         case A::Grass:

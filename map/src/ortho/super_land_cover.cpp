@@ -37,6 +37,7 @@ SuperLandCover fromArea(AreaClass c) {
     using A = AreaClass;
     using S = SuperLandCover;
     switch (c) {
+        case A::Sea: return S::Ocean;
         case A::Water: return S::Lake;
         case A::Glacier: return S::Glacier;
         case A::Wetland: return S::Wetland;
