@@ -105,7 +105,7 @@ cat > "$work/client.cpp" <<'CPP'
 #include <cstdio>
 int main(int argc, char** argv) {
     navmap::ipc::ReconnectOptions o;
-    o.unixPath = argv[1];
+    o.unix_path = argv[1];
     o.request.profile = *navmap::ipc::defaultStreamProfile("hud");
     navmap::ipc::ReconnectingClient client(o);
     navmap::ipc::ReceivedFrame f;

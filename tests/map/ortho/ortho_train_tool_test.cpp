@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
-// navmap-ortho-train and the weights it shipped (data/ortho/ortho-mlp.nnw): the command-line
+// navmap-ortho-train and the weights it shipped (data/ortho/ortho-mlp.nnw), and navmap-compile-ortho
+// (navmap-compile with --ortho-data): the command-line
 // conventions, clear errors for a missing data folder and a damaged weights file, and the shipped
 // network measured again on the held-out regions, where it must beat both baselines.
 
@@ -29,10 +30,9 @@ struct ToolRun {
     std::string output;  ///< stdout and stderr
 };
 
-ToolRun run(const std::string& args) {
-    const fs::path log = fs::temp_directory_path() / ("navmap-ortho-train-" + std::to_string(::getpid()) + ".log");
-    const std::string cmd =
-        std::string("exec ") + NAVMAP_ORTHO_TRAIN_PATH + " " + args + " > " + log.string() + " 2>&1";
+ToolRun run(const std::string& args, const char* tool = NAVMAP_ORTHO_TRAIN_PATH) {
+    const fs::path log = fs::temp_directory_path() / ("navmap-ortho-tool-" + std::to_string(::getpid()) + ".log");
+    const std::string cmd = std::string("exec ") + tool + " " + args + " > " + log.string() + " 2>&1";
     const char* argv[] = {"/bin/sh", "-c", cmd.c_str(), nullptr};
     ToolRun r;
     pid_t pid = -1;
@@ -57,6 +57,26 @@ TEST(OrthoTrainTool, CommandLineConventions) {
     const ToolRun range = run("--out x.nnw --samples 12");
     EXPECT_EQ(range.status, 2);
     EXPECT_NE(range.output.find("'12' is not an integer in [100, 3000000]"), std::string::npos) << range.output;
+}
+
+// navmap-compile-ortho is navmap-compile with --ortho-data; the installed navmap-compile has no
+// such option (it must not pull OpenImageIO into the navmapd package). A missing data folder is
+// named in the error.
+TEST(OrthoCompileTool, OnlyTheOrthoCompilerReadsOrthoData) {
+    const ToolRun plain = run("--help", NAVMAP_COMPILE_PATH);
+    EXPECT_EQ(plain.status, 0);
+    EXPECT_EQ(plain.output.find("--ortho-data"), std::string::npos) << plain.output;
+    const ToolRun ortho = run("--help", NAVMAP_COMPILE_ORTHO_PATH);
+    EXPECT_EQ(ortho.status, 0);
+    EXPECT_NE(ortho.output.find("--ortho-data"), std::string::npos) << ortho.output;
+
+    const fs::path dir = fs::temp_directory_path() / ("navmap-no-ortho-data-" + std::to_string(::getpid()));
+    const ToolRun missing = run("--osm " + (navmap::test::dataDir() / "andorra-2021-04-14.osm.pbf").string() +
+                                    " --ortho-data " + dir.string() + " --out " + (dir.string() + ".navmap"),
+                                NAVMAP_COMPILE_ORTHO_PATH);
+    EXPECT_EQ(missing.status, 1) << missing.output;
+    EXPECT_NE(missing.output.find(dir.string() + "/maps/earth/"), std::string::npos) << missing.output;
+    EXPECT_FALSE(fs::exists(dir.string() + ".navmap"));
 }
 
 TEST(OrthoTrainTool, MissingDataAndDamagedWeightsAreClearErrors) {
