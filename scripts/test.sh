@@ -13,5 +13,10 @@ scripts/install-deps.sh
 build="${NAVMAP_BUILD_DIR:-$root/build}"
 NAVMAP_BUILD_DIR="$build" scripts/build.sh -DNAVMAP_WITH_WERROR=ON -DNAVMAP_WITH_TESTS=ON -DNAVMAP_WITH_BENCH=ON
 cd "$build"
+if [ -z "${NAVMAP_TEST_ARGS:-}" ]; then
+  echo "test.sh: leaving out the labels soak (runs of hours), cross (the aarch64 cross build," \
+       "scripts/cross-build.sh) and lint (clang-tidy over the tree, about an hour on two cores);" \
+       "run them with NAVMAP_TEST_ARGS=\"-L <label>\""
+fi
 # shellcheck disable=SC2086
 ctest --output-on-failure --timeout 900 -j 2 ${NAVMAP_TEST_ARGS:--LE soak|cross|lint}
