@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "tile_mesh.h"
+#include "navmap/map/area_draw_order.h"
 
 #include <algorithm>
 #include <array>
@@ -22,31 +23,6 @@ glm::vec3 buildingColor(float height_m) {
     // Taller buildings a little lighter, so the skyline reads; warm stone tones of the valley.
     const float t = std::clamp(height_m / 30.0f, 0.0f, 1.0f);
     return glm::mix(glm::vec3(0.80f, 0.74f, 0.68f), glm::vec3(0.90f, 0.87f, 0.84f), t);
-}
-
-// Draw order of land cover: large natural classes first, water last so rivers stay visible.
-int landCoverOrder(map::AreaClass c) {
-    using A = map::AreaClass;
-    switch (c) {
-        case A::Forest:
-        case A::Scrub:
-        case A::Grass:
-        case A::Farmland:
-        case A::Rock:
-        case A::Glacier: return 0;
-        case A::Residential:
-        case A::Commercial:
-        case A::Industrial:
-        case A::Military:
-        case A::Cemetery: return 1;
-        case A::Sea: return -1;  // under everything mapped on land (harbours, piers, beaches)
-        case A::Park:
-        case A::Sport:
-        case A::Other: return 2;
-        case A::Wetland: return 3;
-        case A::Water: return 4;
-    }
-    return 2;
 }
 
 // Central-difference normal of a grid sample (one-sided at the border), as the terrain mesh uses.
@@ -177,7 +153,7 @@ std::vector<LandCoverVertex> landCoverTriangles(const map::Tile& tile) {
     std::vector<const map::Area*> areas;
     for (const auto& a : tile.areas) areas.push_back(&a);
     std::stable_sort(areas.begin(), areas.end(), [](const map::Area* a, const map::Area* b) {
-        return landCoverOrder(a->cls) < landCoverOrder(b->cls);
+        return map::areaDrawOrder(a->cls) < map::areaDrawOrder(b->cls);
     });
     std::vector<LandCoverVertex> out;
     for (const map::Area* a : areas) {

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "navmap/map/ortho/ortho_preprocess.h"
+#include "navmap/map/area_draw_order.h"
 
 #include <algorithm>
 #include <cmath>
@@ -10,36 +11,12 @@
 
 namespace navmap::map::ortho {
 
-int areaPaintOrder(AreaClass c) {
-    using A = AreaClass;
-    switch (c) {
-        case A::Sea: return -1;  // under everything: the land and islands on it come after
-        case A::Forest:
-        case A::Scrub:
-        case A::Grass:
-        case A::Farmland:
-        case A::Rock:
-        case A::Glacier: return 0;
-        case A::Residential:
-        case A::Commercial:
-        case A::Industrial:
-        case A::Military:
-        case A::Cemetery: return 1;
-        case A::Park:
-        case A::Sport:
-        case A::Other: return 2;
-        case A::Wetland: return 3;
-        case A::Water: return 4;
-    }
-    return 2;
-}
-
 void rasterizeAreas(const Tile& tile, int n, std::vector<std::uint8_t>& cover) {
     cover.assign(static_cast<std::size_t>(n) * n, 0);
     std::vector<const Area*> areas;
     for (const auto& a : tile.areas) areas.push_back(&a);
     std::stable_sort(areas.begin(), areas.end(),
-                     [](const Area* a, const Area* b) { return areaPaintOrder(a->cls) < areaPaintOrder(b->cls); });
+                     [](const Area* a, const Area* b) { return areaDrawOrder(a->cls) < areaDrawOrder(b->cls); });
     const double texel = tile.size_m / n;
     for (const Area* a : areas) {
         const auto value = static_cast<std::uint8_t>(static_cast<int>(fromArea(a->cls)) + 1);

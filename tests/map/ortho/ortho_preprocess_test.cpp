@@ -7,6 +7,7 @@
 
 #include <filesystem>
 
+#include "navmap/map/area_draw_order.h"
 #include "navmap/map/ortho/marble_inputs.h"
 #include "navmap/map/ortho/ortho_preprocess.h"
 #include "navmap/map/ortho/super_land_cover.h"
@@ -51,8 +52,9 @@ TEST(OrthoPreprocess, AreasAreRasterizedInTheirPaintingOrder) {
             EXPECT_EQ(at(r, c), want) << "texel row " << r << " column " << c;
         }
     }
-    EXPECT_LT(areaPaintOrder(AreaClass::Forest), areaPaintOrder(AreaClass::Residential));
-    EXPECT_LT(areaPaintOrder(AreaClass::Residential), areaPaintOrder(AreaClass::Water));
+    EXPECT_LT(areaDrawOrder(AreaClass::Sea), areaDrawOrder(AreaClass::Forest));
+    EXPECT_LT(areaDrawOrder(AreaClass::Forest), areaDrawOrder(AreaClass::Residential));
+    EXPECT_LT(areaDrawOrder(AreaClass::Residential), areaDrawOrder(AreaClass::Water));
 }
 
 TEST(OrthoPreprocess, LayerEncodingsRoundTrip) {

@@ -21,10 +21,6 @@ namespace navmap::map::ortho {
 inline constexpr int kOrthoCoverSize = 256;
 inline constexpr int kOrthoGridSize = 33;
 
-/// Super land cover of the OSM areas painted over each other: large natural classes first, then
-/// built-up, parks and sports, wetland, water last (the order of the land-cover colours).
-int areaPaintOrder(AreaClass c);
-
 /// The tile's layers from the inputs; `proj` is the store's projection. Uses the tile's areas and
 /// DEM.
 OrthoLayers sampleOrthoLayers(const Tile& tile, const GlobalInputs& inputs, const Projection& proj,
