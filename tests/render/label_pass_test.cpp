@@ -207,6 +207,36 @@ TEST(LabelPass, WorldSpaceRoadNamesLieAlongTheRoad) {
     EXPECT_GE(checked, 3U) << "the drive should show world-space road names";
 }
 
+// seed 5.2.1 / 5.1: world-space text is sized by perspective, and text that perspective would
+// draw too small to read is left out (it fades) rather than enlarged: along the drive's snail's
+// views, far labels are left out as too small, and no visible world-space label is drawn with
+// capitals under 9 px.
+TEST(LabelPass, FarWorldSpaceTextFadesOutInsteadOfBeingDrawnUnreadable) {
+    std::size_t too_small = 0, checked = 0;
+    float smallest = 1e9F, largest = 0.0F;
+    for (const double at : {1500.0, 1800.0, 2400.0, 3000.0}) {
+        auto r = makeRenderer();
+        MapFrame frame = navmap::test::settledAndorraFrame(ViewMode::Snail, kW, kH, at);
+        frame.layers.labels = true;
+        frame.frame_dt_s = 1.0 / 30.0;
+        MapFrameStats stats;
+        renderSettled(*r, frame, 45, &stats);
+        too_small += stats.labels_too_small;
+        for (const auto& l : stats.drawn_labels) {
+            if (!l.world_space || l.opacity < 0.5F) continue;
+            EXPECT_GE(l.cap_height_px, 9.0F) << l.text << " at " << at << " m";
+            smallest = std::min(smallest, l.cap_height_px);
+            largest = std::max(largest, l.cap_height_px);
+            ++checked;
+        }
+    }
+    std::printf("%zu world-space labels visible, capitals %.1f-%.1f px; %zu left out as too small\n", checked, smallest,
+                largest, too_small);
+    EXPECT_GE(checked, 5U);
+    EXPECT_GT(too_small, 0U) << "the snail's views of the drive show far labels that perspective makes too small";
+    EXPECT_GT(largest, 1.2F * smallest) << "world-space text is foreshortened with distance, not held at one size";
+}
+
 // seed 5.2.1: world-space labels are depth-tested, so buildings in front hide them (measured on
 // id renders of the drawn text); seed 5.3.3 / 5.5.1: with the aura, the text shows through (the
 // id measurement sees its ink, and its fill and dark outline give its pixels a strong contrast).

@@ -30,7 +30,7 @@ constexpr int kW = 640, kH = 240;
 constexpr int kAuraW = 1280, kAuraH = 480;
 // A pose found by OcclusionSearch.FindAuraPose (below): in snail's view this far along the drive,
 // a world-space road label stands behind buildings of Andorra la Vella.
-constexpr double kAuraMeasure = 1500.0;
+constexpr double kAuraMeasure = 1800.0;
 // Road and route parts pass behind buildings at these poses (OcclusionSearch.FindGlowPose): in
 // bird's-eye only close by (at standstill), since from higher up the roads' view-space offset
 // (seed 3.6.2) lifts them over the low buildings of the valley.

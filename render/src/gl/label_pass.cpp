@@ -202,9 +202,10 @@ LabelPass::WorldFit LabelPass::worldCandidate(const MapFrame& frame, std::span<c
     const glm::vec3 normal = glm::normalize(glm::cross(right, up));
 
     // World size: the style's pixel size at world_reach times the camera's look-at distance
-    // (seed 4.3.3's depth reference), and true perspective within readable bounds (seed 5.1):
-    // the cap height, where perspective makes it smallest, stays between world_min_cap_px and
-    // world_max_cap_ratio times the style's (text farther or nearer keeps that screen size).
+    // (seed 4.3.3's depth reference), in true perspective: farther text is smaller. Only near
+    // text is capped, at world_max_cap_ratio times the style's cap height (it would fill the
+    // screen); far text whose cap height, where perspective makes it smallest, falls under
+    // world_min_cap_px is not drawn unreadable (seed 5.1): it fades out (WorldFit::TooSmall).
     const float focal_px = m_projection[1][1] * 0.5f * viewport.y;
     const auto reference_m = t.world_reach * static_cast<float>(glm::length(frame.camera.target - frame.camera.eye));
     const float lift = static_cast<float>(m_params.world_lift_m);
@@ -224,10 +225,11 @@ LabelPass::WorldFit LabelPass::worldCandidate(const MapFrame& frame, std::span<c
     float em_m = t.size_px * reference_m / focal_px;
     float cap_px = 0.0f;
     if (!capPx(em_m, cap_px)) return WorldFit::Screen;
-    const float min_cap = m_params.world_min_cap_px;
-    const float max_cap = std::max(min_cap, m_params.world_max_cap_ratio * t.cap_height);
-    em_m *= std::clamp(cap_px, min_cap, max_cap) / cap_px;
-    if (!capPx(em_m, cap_px)) return WorldFit::Screen;
+    const float max_cap = std::max(m_params.world_min_cap_px, m_params.world_max_cap_ratio * t.cap_height);
+    if (cap_px > max_cap) {
+        em_m *= max_cap / cap_px;
+        if (!capPx(em_m, cap_px)) return WorldFit::Screen;
+    }
     const float metres_per_px = em_m / t.size_px;
     const glm::vec2 half_m = 0.5f * t.size * metres_per_px;
     const glm::vec3 center = a + up * (lift + half_m.y);  // standing on the ground at the anchor
@@ -251,6 +253,10 @@ LabelPass::WorldFit LabelPass::worldCandidate(const MapFrame& frame, std::span<c
             return WorldFit::Screen;
         }
     }
+    // Too small to read: fades out; shown text stays down to world_min_cap_px, text coming in
+    // needs world_enter_cap_px (no flicker at the edge of legibility).
+    const bool staying = f.shown_world && !f.too_small;
+    if (cap_px < (staying ? m_params.world_min_cap_px : m_params.world_enter_cap_px)) return WorldFit::TooSmall;
     // Text behind a hill cannot be read, and the aura fades only buildings (seed 5.5.1): lines
     // of sight to a grid of points over the text box must pass above the drawn terrain. A label
     // comes in only with a margin of clear sky around its text (hysteresis against flicker).
@@ -290,6 +296,7 @@ LabelPass::WorldFit LabelPass::worldCandidate(const MapFrame& frame, std::span<c
 
 void LabelPass::collect(const MapFrame& frame, std::span<const TileLabels> tiles, glm::ivec2 viewport, bool world) {
     m_candidates.clear();
+    m_too_small = 0;
     const glm::vec2 vp(viewport);
     const auto near = static_cast<float>(frame.camera.near_m);
     // Finest tiles first: a feature in several tiles (a long road, a tile and its coarser
@@ -348,7 +355,14 @@ void LabelPass::collect(const MapFrame& frame, std::span<const TileLabels> tiles
                                           ? onGround(0.5 * (a + b))
                                           : onGround(anchor);
                 const WorldFit fit = worldCandidate(frame, tiles, m_view_projection, vp, at, a, b, size, f, c);
-                if (fit == WorldFit::Hidden) continue;
+                if (fit == WorldFit::Hidden || fit == WorldFit::TooSmall) {
+                    // Not a candidate: the layout fades it out, in the world where it was shown.
+                    f.world = f.shown_world;
+                    f.too_small = fit == WorldFit::TooSmall;
+                    m_too_small += f.too_small;
+                    continue;
+                }
+                f.too_small = false;
                 if (fit == WorldFit::Screen) {
                     // Text that cannot be read in the world (far away, end-on) is shown as in the
                     // bird's-eye view, unless a hill stands in front of its anchor (with hysteresis:
@@ -645,6 +659,7 @@ void LabelPass::layout(const MapFrame& frame, std::span<const TileLabels> tiles,
     }
 
     stats.label_candidates = m_candidates.size();
+    stats.labels_too_small = m_too_small;
     stats.labels_visible = visible;
     stats.label_world_weight = world;
     stats.placed_labels.assign(out.begin(), out.end());

@@ -53,12 +53,14 @@ struct LabelPassParams {
     /// manoeuvres are there), and of the vehicle marker.
     double route_keep_out_m = 150.0;
     float keep_out_margin_px = 4.0f;  ///< added around the marker and the route's width on screen
-    /// World-space text is sized by perspective within readable bounds (seed 5.1: every label
-    /// readable): its cap height on screen, where perspective makes it smallest, is at least
-    /// `world_min_cap_px` (farther text keeps that size) and at most `world_max_cap_ratio` times
-    /// its style's cap height (nearer text keeps that size).
-    float world_min_cap_px = 11.0f;
-    float world_max_cap_ratio = 1.8f;
+    /// World-space text is sized by perspective (seed 5.2.1), and every label drawn is readable
+    /// (seed 5.1): text whose cap height on screen, where perspective makes it smallest, would be
+    /// under `world_min_cap_px` is left out and fades out; text comes in only from
+    /// `world_enter_cap_px` (hysteresis). Near text is capped at `world_max_cap_ratio` times its
+    /// style's cap height (nearer text keeps that size).
+    float world_min_cap_px = 10.0f;
+    float world_enter_cap_px = 11.0f;
+    float world_max_cap_ratio = 1.5f;
     /// World-space road names lie along the road; a road running too steeply across the screen
     /// or too foreshortened (seen end-on) cannot carry readable text and gets none.
     float world_max_screen_angle_deg = 60.0f;
@@ -150,6 +152,7 @@ private:
         bool world = false;         ///< `plane` holds this frame's world-space placement
         bool shown_world = false;   ///< in last frame's output, in world space
         bool shown_screen = false;  ///< in last frame's output, in screen space within a world layout
+        bool too_small = false;     ///< left out last time as too small to read in the world (fading out)
         WorldPlane plane;
     };
     /// The text of a label at scale 1: measured size, cap height, and the margin its outline and
@@ -164,9 +167,10 @@ private:
     void collect(const MapFrame& frame, std::span<const TileLabels> tiles, glm::ivec2 viewport, bool world);
     /// How a label of a world-space layout is shown.
     enum class WorldFit {
-        World,   ///< in its plane in the world
-        Screen,  ///< unreadable in the world (too small far away, too large near, seen end-on): in screen space
-        Hidden,  ///< behind the terrain: not at all
+        World,     ///< in its plane in the world
+        Screen,    ///< cannot lie along its road (steep on screen, seen end-on): in screen space
+        Hidden,    ///< behind the terrain: not at all
+        TooSmall,  ///< its text would be drawn under world_min_cap_px: not at all (it fades out)
     };
     /// The candidate of a label drawn in the world: plane, projected box, legibility.
     WorldFit worldCandidate(const MapFrame& frame, std::span<const TileLabels> tiles, const glm::mat4& view_projection,
@@ -192,6 +196,7 @@ private:
     labels::LabelLayout m_layout;
     labels::LabelSpaceSwitch m_switch;
     std::vector<labels::LabelCandidate> m_candidates;
+    std::size_t m_too_small = 0;  ///< world-space labels of this frame left out as too small to read
     std::vector<labels::OrientedBox> m_keep_out;
     std::vector<std::uint64_t> m_shown;  ///< ids in the layout output of the last frame, sorted
     glm::mat4 m_view{1.0f};              ///< camera at the origin (eye-relative store frame)

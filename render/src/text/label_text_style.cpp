@@ -37,7 +37,7 @@ LabelTextStyle labelTextStyle(map::LabelKind kind, std::uint8_t subclass) {
             l.font =
                 subclass <= static_cast<std::uint8_t>(map::PlaceClass::Village) ? FontStyle::Bold : FontStyle::Regular;
             l.size_px = kSizes[std::min<std::size_t>(subclass, kSizes.size() - 1)];
-            constexpr std::array<float, 12> kReach = {12, 12, 10, 6, 3.5, 3, 2.5, 2.5, 2.5, 2, 4, 2};
+            constexpr std::array<float, 12> kReach = {12, 12, 10, 6, 5, 4, 3.5, 3.5, 3.5, 3, 5, 3};
             l.world_reach = kReach[std::min<std::size_t>(subclass, kReach.size() - 1)];
             l.style = baseStyle(glm::vec4(1.0f, 1.0f, 1.0f, 1.0f));
             break;
@@ -70,7 +70,7 @@ LabelTextStyle labelTextStyle(map::LabelKind kind, std::uint8_t subclass) {
             // Water in blue tones, other areas in a pale green; thinner outline.
             l.font = FontStyle::Regular;
             l.size_px = 15.0f;
-            l.world_reach = 2.5f;
+            l.world_reach = 4.0f;
             l.style = baseStyle(subclass == static_cast<std::uint8_t>(map::AreaClass::Water)
                                     ? glm::vec4(0.75f, 0.88f, 1.0f, 1.0f)
                                     : glm::vec4(0.86f, 0.95f, 0.84f, 1.0f));

@@ -20,8 +20,9 @@ struct LabelTextStyle {
     std::string icon;
     /// World-space text (snail's view, seed 5.2.1) has a fixed size in the world: `size_px` at
     /// `world_reach` times the camera's look-at distance, so it is readable (cap height >= 10 px)
-    /// out to about that far. A street name is read near the car, a town's from afar.
-    float world_reach = 1.5f;
+    /// out to about that far and fades out beyond. A street name is read near the car (the
+    /// snail's view's 180 m look-at distance: out to about 600 m), a town's from afar.
+    float world_reach = 3.0f;
 };
 
 /// Style of a tile label: `kind` and `subclass` as in map::Label (PlaceClass, PoiClass,

@@ -280,8 +280,11 @@ struct MapFrameStats {
     double labels_ms = 0;              ///< CPU time of the label pass (collect, layout, text), always measured
     std::size_t label_candidates = 0;  ///< labels of the frame's tiles projected inside the view
     std::size_t labels_visible = 0;    ///< placed labels fading in or visible
-    std::size_t label_glyphs = 0;      ///< glyph quads drawn
-    float label_world_weight = 0;      ///< 0: screen-space labels, 1: world-space, between: cross-fading
+    /// World-space labels left out of this frame because their text would be drawn too small to
+    /// read (LabelPass: under its minimum cap height); they fade out.
+    std::size_t labels_too_small = 0;
+    std::size_t label_glyphs = 0;                    ///< glyph quads drawn
+    float label_world_weight = 0;                    ///< 0: screen-space labels, 1: world-space, between: cross-fading
     std::vector<labels::PlacedLabel> placed_labels;  ///< layout output of this frame (quality metrics)
     labels::LayoutStats label_layout;                ///< the layout's counters (placements, removals by reason) so far
     /// Every label drawn in this frame as it appears on screen (glyph extents after projection,
