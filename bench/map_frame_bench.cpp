@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <array>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <memory>
@@ -63,7 +64,7 @@ MapLayers layersFor(int step) {
     l.route = l.marker = step >= 3;
     return l;
 }
-const char* kSteps[] = {"terrain", "roads", "buildings", "full"};
+constexpr const char* kSteps[] = {"terrain", "roads", "buildings", "full"};
 
 // NAVMAP_BENCH_MSAA overrides the sample count (default: the renderer's choice, none on a software
 // rasterizer and 4 on a GPU) to compare the cost of MSAA.
@@ -87,11 +88,11 @@ MapFrame frameFor(const Profile& p, const Shot& s, const MapLayers& layers) {
         } else if (where == "cpu") {
             frame.layers.outline_mask = MapLayers::OutlineMask::Cpu;
         } else {
-            static const bool warned = [&] {
+            static const bool kWarned = [&] {
                 std::fprintf(stderr, "NAVMAP_BENCH_OUTLINE_MASK=%s: not gpu or cpu, using the automatic choice\n", env);
                 return true;
             }();
-            (void)warned;
+            (void)kWarned;
         }
     }
     return frame;
@@ -106,7 +107,7 @@ double processCpuSeconds() {
 double percentile(std::vector<double> v, double q) {
     if (v.empty()) return 0.0;
     std::sort(v.begin(), v.end());
-    return v[std::min(v.size() - 1, static_cast<std::size_t>(q * (v.size() - 1) + 0.5))];
+    return v[std::min(v.size() - 1, static_cast<std::size_t>(std::lround(q * static_cast<double>(v.size() - 1))))];
 }
 
 void mapFrame(benchmark::State& state) {

@@ -23,8 +23,8 @@ namespace {
 using navmap::render::Renderer;
 
 const navmap::render::TerrainScene& scene() {
-    static const auto s = navmap::render::loadTerrainScene(NAVMAP_DEFAULT_DEM);
-    return s;
+    static const auto kS = navmap::render::loadTerrainScene(NAVMAP_DEFAULT_DEM);
+    return kS;
 }
 
 std::unique_ptr<Renderer> makeRenderer(int w, int h) {

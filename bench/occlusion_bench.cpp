@@ -37,7 +37,7 @@ struct Size {
 };
 constexpr Size kSizes[] = {{1024, 768}, {1680, 1050}};
 
-enum Variant { Baseline, Aura, GlowSingle, GlowRoad, kVariants };
+enum Variant { kBaseline, kAura, kGlowSingle, kGlowRoad, kVariants };
 constexpr std::array<const char*, kVariants> kNames = {"baseline", "aura", "glow_single", "glow_road"};
 
 DriveScene& flight() {
@@ -65,9 +65,9 @@ MapFrame frameFor(const Size& s, const Shot& shot, Variant v) {
     DriveScene& f = flight();
     MapFrame frame = f.frameFor(shot, double(s.width) / s.height, s.height);
     frame.layers.labels = true;
-    frame.layers.label_aura = v == Aura;
-    frame.layers.glow_roads = v == GlowSingle || v == GlowRoad;
-    frame.layers.glow_mode = v == GlowRoad ? MapLayers::GlowMode::RoadColor : MapLayers::GlowMode::SingleColor;
+    frame.layers.label_aura = v == kAura;
+    frame.layers.glow_roads = v == kGlowSingle || v == kGlowRoad;
+    frame.layers.glow_mode = v == kGlowRoad ? MapLayers::GlowMode::RoadColor : MapLayers::GlowMode::SingleColor;
     return frame;
 }
 
@@ -115,29 +115,29 @@ void occlusionEffects(benchmark::State& state) {
             ms[static_cast<std::size_t>(v)].push_back(dt);
             total += dt;
             const MapFrameStats& st = r->mapStats();
-            if (v == Baseline) {
+            if (v == kBaseline) {
                 labels += double(st.labels_visible);
                 buildings += double(st.building_triangles);
                 roads_pass += st.roads_ms + st.route_ms;
                 buildings_pass += st.buildings_ms;
             }
             aura_pass += st.aura_ms;
-            glow_pass += v == GlowSingle ? st.glow_ms : 0.0;
+            glow_pass += v == kGlowSingle ? st.glow_ms : 0.0;
         }
         state.SetIterationTime(total / 1000.0);
     }
-    const double base = mean(ms[Baseline]);
+    const double base = mean(ms[kBaseline]);
     for (int v = 0; v < kVariants; ++v) {
         const double m = mean(ms[static_cast<std::size_t>(v)]);
         const std::string n = kNames[static_cast<std::size_t>(v)];
         state.counters[n + "_ms"] = m;
         state.counters[n + "_fps"] = m > 0 ? 1000.0 / m : 0.0;
-        if (v != Baseline && m > 0) {
+        if (v != kBaseline && m > 0) {
             state.counters[n + "_fps_ratio"] = base / m;                 // fps(variant) / fps(baseline)
             state.counters[n + "_drop_pct"] = 100.0 * (1.0 - base / m);  // seed Table 5.1 "diff"
         }
     }
-    const double n = double(std::max<std::size_t>(ms[Baseline].size(), 1));
+    const double n = double(std::max<std::size_t>(ms[kBaseline].size(), 1));
     state.counters["labels_visible"] = labels / n;
     state.counters["building_triangles"] = buildings / n;
     state.counters["cameras"] = double(views.size());

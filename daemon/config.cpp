@@ -279,8 +279,8 @@ std::optional<DaemonConfig> parseConfig(const std::string& text, const std::stri
         c.profiles = defaultProfiles();
     }
     // allowed_uids / allowed_gids: arrays of non-negative integers.
-    const auto readIds = [&](const char* section_name, TableReader& r, const char* key,
-                             std::vector<std::uint32_t>& out) {
+    const auto read_ids = [&](const char* section_name, TableReader& r, const char* key,
+                              std::vector<std::uint32_t>& out) {
         r.known(key);
         const auto* t = table(section_name);
         const toml::node* n = t ? t->get(key) : nullptr;
@@ -308,8 +308,8 @@ std::optional<DaemonConfig> parseConfig(const std::string& text, const std::stri
         if (!r.get("idle_timeout_s", c.control_idle_timeout_s) ||
             !r.range("idle_timeout_s", c.control_idle_timeout_s, 0.0, 86400.0))
             return std::nullopt;
-        if (!readIds("control", r, "allowed_uids", c.control_uids) ||
-            !readIds("control", r, "allowed_gids", c.control_gids) || !r.get("socket", c.control_socket) ||
+        if (!read_ids("control", r, "allowed_uids", c.control_uids) ||
+            !read_ids("control", r, "allowed_gids", c.control_gids) || !r.get("socket", c.control_socket) ||
             !r.get("mode", mode) || !r.range("mode", double(mode), 0, 0777) || !r.get("group", c.control_group) ||
             !r.noUnknownKeys())
             return std::nullopt;
@@ -318,8 +318,8 @@ std::optional<DaemonConfig> parseConfig(const std::string& text, const std::stri
     {
         auto r = section("stream");
         std::int64_t ring_mb = static_cast<std::int64_t>(c.ring_memory_mb);
-        if (!readIds("stream", r, "allowed_uids", c.stream_uids) ||
-            !readIds("stream", r, "allowed_gids", c.stream_gids) || !r.get("socket", c.frame_socket) ||
+        if (!read_ids("stream", r, "allowed_uids", c.stream_uids) ||
+            !read_ids("stream", r, "allowed_gids", c.stream_gids) || !r.get("socket", c.frame_socket) ||
             !r.get("group", c.stream_group) || !r.get("max_clients_per_transport", c.max_clients_per_transport) ||
             !r.range("max_clients_per_transport", c.max_clients_per_transport, 1, 1024) ||
             !r.get("max_clients_per_uid", c.max_clients_per_uid) ||

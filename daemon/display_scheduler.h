@@ -34,7 +34,7 @@ public:
 
     /// Creates the renderer and one display per configured profile (logged); throws
     /// std::runtime_error when the renderer cannot be created.
-    DisplayScheduler(const DaemonConfig& config, Options options, std::shared_ptr<map::TileCache> cache,
+    DisplayScheduler(const DaemonConfig& config, Options options, const std::shared_ptr<map::TileCache>& cache,
                      map::Projection projection, ipc::FrameServer& frames, Clock::time_point started, Log log);
 
     /// One tick of the loop at `now`: loading statuses to waiting clients, then every display whose
@@ -60,7 +60,6 @@ private:
     void warnFlatTiles();
 
     Options m_options;
-    bool m_labels;
     map::Projection m_projection;
     ipc::FrameServer& m_frames;
     Log m_log;

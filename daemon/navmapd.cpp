@@ -80,7 +80,7 @@ int main(int argc, char** argv) {
     if (msaa) c.msaa = *msaa;
     if (no_labels) c.labels = false;
     if (!log_level.empty()) {
-        const std::string l = log_level;
+        const std::string& l = log_level;
         c.log_level = l == "error" ? 3 : l == "warning" ? 4 : l == "notice" ? 5 : l == "info" ? 6 : 7;
     }
     if (!profile_names.empty()) {

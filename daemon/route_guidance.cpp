@@ -48,7 +48,7 @@ std::string formatRemainingTime(double seconds) {
 }
 
 RouteGuidance::RouteGuidance(map::Projection projection, GuidanceConfig config, Publish publish, Log log)
-    : m_projection(std::move(projection)),
+    : m_projection(projection),
       m_config(config),
       m_publish(std::move(publish)),
       m_log(log),

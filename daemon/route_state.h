@@ -21,7 +21,7 @@ namespace navmap::daemon {
 
 class RouteState {
 public:
-    explicit RouteState(map::Projection projection) : m_projection(std::move(projection)) {}
+    explicit RouteState(map::Projection projection) : m_projection(projection) {}
 
     /// Takes the control socket's newest route snapshot; converts it when its version is new and
     /// returns true then (the caller hands line() to the estimator). A null snapshot (cleared)

@@ -12,8 +12,9 @@ namespace navmap::daemon {
 
 VehicleInput::VehicleInput(const DaemonConfig& config, const map::Projection& projection,
                            const std::filesystem::path& store_path, const std::string& graph_problem,
-                           std::shared_ptr<const map::RoadGraph> graph, std::shared_ptr<ipc::ControlState> control,
-                           const std::filesystem::path& data_dir, const SimulatorFactory& simulator) {
+                           std::shared_ptr<const map::RoadGraph> graph,
+                           const std::shared_ptr<ipc::ControlState>& control, const std::filesystem::path& data_dir,
+                           const SimulatorFactory& simulator) {
     // DBC databases: the configured ones, else the shipped GNSS node.
     std::vector<std::filesystem::path> dbc_files = config.dbc_files;
     if (dbc_files.empty()) dbc_files.push_back(data_dir / "navmap.dbc");

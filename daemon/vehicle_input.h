@@ -51,7 +51,7 @@ public:
     /// empty: no map matching, the pose is the raw fix).
     VehicleInput(const DaemonConfig& config, const map::Projection& projection, const std::filesystem::path& store_path,
                  const std::string& graph_problem, std::shared_ptr<const map::RoadGraph> graph,
-                 std::shared_ptr<ipc::ControlState> control, const std::filesystem::path& data_dir,
+                 const std::shared_ptr<ipc::ControlState>& control, const std::filesystem::path& data_dir,
                  const SimulatorFactory& simulator = {});
     ~VehicleInput();
     VehicleInput(const VehicleInput&) = delete;

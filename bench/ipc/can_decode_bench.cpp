@@ -26,7 +26,7 @@ namespace {
 
 // The real Ford log and DBC files of tests/ipc/data (see its SOURCES.md).
 const std::filesystem::path kData = NAVMAP_IPC_BENCH_DATA;
-const char* kLog = "ford_fusion_2017_acc_on_speed_changing_from_30km_to_80km_per_hour.candump";
+constexpr const char* kLog = "ford_fusion_2017_acc_on_speed_changing_from_30km_to_80km_per_hour.candump";
 
 std::shared_ptr<const ipc::DbcDatabase> load(const std::filesystem::path& p) {
     return std::make_shared<const ipc::DbcDatabase>(ipc::DbcDatabase::loadOrThrow(p));

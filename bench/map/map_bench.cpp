@@ -36,9 +36,9 @@ namespace {
 
 const fs::path kData = fs::path(NAVMAP_SOURCE_DIR) / "data";
 fs::path scratch() {
-    static const fs::path dir = fs::temp_directory_path() / ("navmap-bench-" + std::to_string(::getpid()));
-    fs::create_directories(dir);
-    return dir;
+    static const fs::path kDir = fs::temp_directory_path() / ("navmap-bench-" + std::to_string(::getpid()));
+    fs::create_directories(kDir);
+    return kDir;
 }
 
 double peakRssMb() {

@@ -9,7 +9,7 @@
 namespace {
 
 const navmap::sim::DriveSimulator& drive() {
-    static const navmap::sim::DriveSimulator sim = [] {
+    static const navmap::sim::DriveSimulator kSim = [] {
         navmap::sim::DriveRequest r;
         r.store = NAVMAP_SIM_BENCH_STORE;
         r.dbc = NAVMAP_IPC_DEFAULT_DBC;
@@ -17,7 +17,7 @@ const navmap::sim::DriveSimulator& drive() {
         r.to = "Encamp";
         return navmap::sim::DriveSimulator::create(r);
     }();
-    return sim;
+    return kSim;
 }
 
 void BM_SetupRouteAndProfile(benchmark::State& state) {

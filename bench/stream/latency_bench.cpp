@@ -23,6 +23,7 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <map>
@@ -60,7 +61,7 @@ struct RunResult {
 double percentile(std::vector<double> v, double q) {
     if (v.empty()) return 0.0;
     std::sort(v.begin(), v.end());
-    return v[std::min(v.size() - 1, static_cast<std::size_t>(q * static_cast<double>(v.size() - 1) + 0.5))];
+    return v[std::min(v.size() - 1, static_cast<std::size_t>(std::lround(q * static_cast<double>(v.size() - 1))))];
 }
 
 std::int64_t nowNs() {
@@ -70,7 +71,7 @@ std::int64_t nowNs() {
 
 // One daemon run serves all benchmarks of this program (the profiles render together, as in a car).
 const RunResult& run() {
-    static const RunResult result = [] {
+    static const RunResult kResult = [] {
         RunResult r;
         const char* env = std::getenv("NAVMAP_LATENCY_SECONDS");
         const double seconds = env ? std::max(2.0, std::atof(env)) : 20.0;
@@ -148,7 +149,7 @@ const RunResult& run() {
         if (r.error.empty()) fs::remove_all(dir);
         return r;
     }();
-    return result;
+    return kResult;
 }
 
 void BM_CanToFrame(benchmark::State& state, const std::string& profile) {

@@ -196,10 +196,10 @@ void BM_ConvertFrame(benchmark::State& state) {
     const int h = static_cast<int>(state.range(2));
     const auto px = mapLikeFrame(w, h, 5);
     std::vector<std::uint8_t> out(static_cast<std::size_t>(w) * h * static_cast<std::size_t>(bytesPerPixel(format)));
-    const std::size_t outStride = static_cast<std::size_t>(w) * static_cast<std::size_t>(bytesPerPixel(format));
+    const std::size_t out_stride = static_cast<std::size_t>(w) * static_cast<std::size_t>(bytesPerPixel(format));
     for (auto _ : state) {
         for (int y = 0; y < h; ++y) {
-            convertRowFromRgba(px.data() + static_cast<std::size_t>(y) * w * 4, format, out.data() + outStride * y, w);
+            convertRowFromRgba(px.data() + static_cast<std::size_t>(y) * w * 4, format, out.data() + out_stride * y, w);
         }
         benchmark::DoNotOptimize(out.data());
         benchmark::ClobberMemory();

@@ -30,7 +30,7 @@ struct Input {
 };
 
 const Input& input() {
-    static const Input in = [] {
+    static const Input kIn = [] {
         sim::DriveRequest request;
         request.store = NAVMAP_DEFAULT_STORE;
         request.dbc = NAVMAP_DATA_DIR "/navmap.dbc";
@@ -46,7 +46,7 @@ const Input& input() {
         x.projection = simulator.projection();
         return x;
     }();
-    return in;
+    return kIn;
 }
 
 void receiptToPose(benchmark::State& state) {

@@ -9,7 +9,7 @@
  * Prints one line per frame ("frame SEQ WxH stride S pixel R,G,B,A" of the top-left pixel; RGBA8),
  * then "frames N connects C failed_attempts F disconnects D held_overwritten H". Exit status 0
  * when FRAMES frames arrived within SECONDS (default 10 frames, 30 s), 1 when not, 2 on usage. */
-#define _POSIX_C_SOURCE 200809L /* clock_gettime */
+#define _POSIX_C_SOURCE 200809L /* clock_gettime */ /* NOLINT(bugprone-reserved-identifier): POSIX asks for it */
 
 #include <stdio.h>
 #include <stdlib.h>

@@ -32,6 +32,10 @@
 extern "C" {
 #endif
 
+/* A C API: C names (snake_case types and functions, upper-case constants), not the C++ code's
+ * naming rules (CONTRIBUTING.md "Lint"). */
+/* NOLINTBEGIN(readability-identifier-naming) */
+
 #define NAVMAP_CLIENT_EXPORT __attribute__((visibility("default")))
 
 /* Results of navmap_client_next_frame() and navmap_client_release_frame(). */
@@ -113,6 +117,8 @@ NAVMAP_CLIENT_EXPORT void navmap_client_get_stats(const navmap_client* client, n
 
 /* Closes the connection and frees the client (NULL is ignored). */
 NAVMAP_CLIENT_EXPORT void navmap_client_destroy(navmap_client* client);
+
+/* NOLINTEND(readability-identifier-naming) */
 
 #ifdef __cplusplus
 }

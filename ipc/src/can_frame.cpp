@@ -23,25 +23,25 @@ bool isValidFdLength(unsigned len) noexcept {
 
 std::string formatCandumpPayload(const CanFrame& frame) {
     static constexpr char kHex[] = "0123456789ABCDEF";
-    char idText[16];
+    char id_text[16];
     if (frame.error()) {
-        std::snprintf(idText, sizeof idText, "%08X", static_cast<unsigned>(frame.id | 0x20000000U));
+        std::snprintf(id_text, sizeof id_text, "%08X", static_cast<unsigned>(frame.id | 0x20000000U));
     } else if (frame.extended()) {
-        std::snprintf(idText, sizeof idText, "%08X", static_cast<unsigned>(frame.id));
+        std::snprintf(id_text, sizeof id_text, "%08X", static_cast<unsigned>(frame.id));
     } else {
-        std::snprintf(idText, sizeof idText, "%03X", static_cast<unsigned>(frame.id));
+        std::snprintf(id_text, sizeof id_text, "%03X", static_cast<unsigned>(frame.id));
     }
-    std::string out(idText);
+    std::string out(id_text);
     if (frame.fd()) {
         out += "##";
-        unsigned fdFlags = 0;
+        unsigned fd_flags = 0;
         if ((frame.flags & kCanBrs) != 0) {
-            fdFlags |= 1U;
+            fd_flags |= 1U;
         }
         if ((frame.flags & kCanEsi) != 0) {
-            fdFlags |= 2U;
+            fd_flags |= 2U;
         }
-        out.push_back(kHex[fdFlags]);
+        out.push_back(kHex[fd_flags]);
     } else {
         out.push_back('#');
         if (frame.rtr()) {

@@ -45,27 +45,27 @@ Result<CanFrame> parseFrameToken(std::string_view tok) {
     if (hash == std::string_view::npos) {
         return Error{"frame '" + excerpt(tok) + "' has no '#'"};
     }
-    const std::string_view idText = tok.substr(0, hash);
-    if (idText.size() != 3 && idText.size() != 8) {
-        return Error{"CAN id '" + excerpt(idText) + "' must have 3 (11-bit) or 8 (29-bit) hex digits"};
+    const std::string_view id_text = tok.substr(0, hash);
+    if (id_text.size() != 3 && id_text.size() != 8) {
+        return Error{"CAN id '" + excerpt(id_text) + "' must have 3 (11-bit) or 8 (29-bit) hex digits"};
     }
     std::uint32_t id = 0;
-    for (const char c : idText) {
+    for (const char c : id_text) {
         const int v = hexValue(c);
         if (v < 0) {
-            return Error{"CAN id '" + excerpt(idText) + "' is not hex"};
+            return Error{"CAN id '" + excerpt(id_text) + "' is not hex"};
         }
         id = (id << 4U) | static_cast<std::uint32_t>(v);
     }
-    if (idText.size() == 3) {
+    if (id_text.size() == 3) {
         if (id > kCanMaxStandardId) {
-            return Error{"11-bit CAN id 0x" + std::string(idText) + " is out of range (max 0x7FF)"};
+            return Error{"11-bit CAN id 0x" + std::string(id_text) + " is out of range (max 0x7FF)"};
         }
     } else if ((id & kErrFlag) != 0) {
         f.flags |= kCanError;
         id &= kCanMaxExtendedId;
     } else if (id > kCanMaxExtendedId) {
-        return Error{"29-bit CAN id 0x" + std::string(idText) + " is out of range (max 0x1FFFFFFF)"};
+        return Error{"29-bit CAN id 0x" + std::string(id_text) + " is out of range (max 0x1FFFFFFF)"};
     } else {
         f.flags |= kCanExtended;
     }
@@ -122,7 +122,7 @@ Result<CanFrame> parseFrameToken(std::string_view tok) {
         return f;
     }
 
-    const unsigned maxLen = fd ? kCanMaxFdLen : kCanMaxClassicLen;
+    const unsigned max_len = fd ? kCanMaxFdLen : kCanMaxClassicLen;
     unsigned len = 0;
     std::size_t i = 0;
     while (i < rest.size()) {
@@ -141,9 +141,9 @@ Result<CanFrame> parseFrameToken(std::string_view tok) {
         if (hi < 0 || lo < 0) {
             return Error{"data '" + excerpt(rest) + "' is not hex"};
         }
-        if (len >= maxLen) {
-            return Error{std::string(fd ? "CAN FD" : "classic CAN") + " frame has more than " + std::to_string(maxLen) +
-                         " data bytes"};
+        if (len >= max_len) {
+            return Error{std::string(fd ? "CAN FD" : "classic CAN") + " frame has more than " +
+                         std::to_string(max_len) + " data bytes"};
         }
         f.data[len++] = static_cast<std::uint8_t>((hi << 4) | lo);
         i += 2;
@@ -166,7 +166,7 @@ Result<CanFrame> parseFrameToken(std::string_view tok) {
 
 }  // namespace
 
-CandumpReader::CandumpReader(std::string sourceName) : m_source_name(std::move(sourceName)) {}
+CandumpReader::CandumpReader(std::string source_name) : m_source_name(std::move(source_name)) {}
 
 Result<CandumpReader::Parsed> CandumpReader::parseLine(std::string_view line) {
     while (!line.empty() && (isBlank(line.back()) || line.back() == '\r')) {
@@ -225,7 +225,7 @@ Result<CandumpReader::Parsed> CandumpReader::parseLine(std::string_view line) {
     while (p < line.size() && isBlank(line[p])) {
         ++p;
     }
-    const std::size_t ifStart = p;
+    const std::size_t if_start = p;
     while (p < line.size() && !isBlank(line[p])) {
         const auto u = static_cast<unsigned char>(line[p]);
         if (u < 0x21 || u > 0x7E) {
@@ -233,19 +233,19 @@ Result<CandumpReader::Parsed> CandumpReader::parseLine(std::string_view line) {
         }
         ++p;
     }
-    const std::string_view iface = line.substr(ifStart, p - ifStart);
+    const std::string_view iface = line.substr(if_start, p - if_start);
     if (iface.empty() || iface.size() > 15) {
         return Error{"interface name '" + excerpt(iface) + "' must have 1..15 characters"};
     }
     while (p < line.size() && isBlank(line[p])) {
         ++p;
     }
-    const std::size_t frStart = p;
+    const std::size_t fr_start = p;
     while (p < line.size() && !isBlank(line[p])) {
         ++p;
     }
-    const std::string_view frameText = line.substr(frStart, p - frStart);
-    if (frameText.empty()) {
+    const std::string_view frame_text = line.substr(fr_start, p - fr_start);
+    if (frame_text.empty()) {
         return Error{"line is truncated: no frame after the interface name"};
     }
     while (p < line.size() && isBlank(line[p])) {
@@ -255,7 +255,7 @@ Result<CandumpReader::Parsed> CandumpReader::parseLine(std::string_view line) {
     if (!trailer.empty() && trailer != "R" && trailer != "T") {
         return Error{"unexpected text '" + excerpt(trailer) + "' after the frame"};
     }
-    auto frame = parseFrameToken(frameText);
+    auto frame = parseFrameToken(frame_text);
     if (!frame) {
         return frame.error();
     }
@@ -285,7 +285,7 @@ bool CandumpReader::feedLine(std::string_view line, CandumpRecord& out) {
         return false;
     }
     const Parsed& p = parsed.value();
-    std::uint16_t index = 0;
+    std::size_t index = 0;
     for (; index < m_interfaces.size(); ++index) {
         if (m_interfaces[index] == p.interface_name) {
             break;

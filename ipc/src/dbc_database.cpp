@@ -223,13 +223,13 @@ private:
 
     bool message(Lexer& lex, std::size_t line) {
         m_current = -1;
-        const auto rawId = lex.unsignedInt();
-        if (!rawId) {
+        const auto raw_id = lex.unsignedInt();
+        if (!raw_id) {
             return fail(line, "BO_: expected a numeric message id");
         }
         const auto name = lex.ident();
         if (!name) {
-            return fail(line, "BO_ " + std::to_string(*rawId) + ": expected a message name");
+            return fail(line, "BO_ " + std::to_string(*raw_id) + ": expected a message name");
         }
         if (!lex.accept(':')) {
             return fail(line, "BO_ " + std::string(*name) + ": expected ':' after the name");
@@ -246,15 +246,15 @@ private:
         msg.name = std::string(*name);
         msg.size = static_cast<std::uint8_t>(*size);
         msg.line = line;
-        if ((*rawId & 0x80000000U) != 0) {
+        if ((*raw_id & 0x80000000U) != 0) {
             msg.extended = true;
-            msg.id = static_cast<std::uint32_t>(*rawId & 0x7FFFFFFFU);
+            msg.id = static_cast<std::uint32_t>(*raw_id & 0x7FFFFFFFU);
         } else {
-            msg.id = static_cast<std::uint32_t>(*rawId);
-            msg.extended = *rawId > kCanMaxStandardId;  // cannot be an 11-bit id
+            msg.id = static_cast<std::uint32_t>(*raw_id);
+            msg.extended = *raw_id > kCanMaxStandardId;  // cannot be an 11-bit id
         }
-        if (*rawId > 0xFFFFFFFFULL || msg.id > kCanMaxExtendedId) {
-            return fail(line, "BO_ " + msg.name + ": id " + std::to_string(*rawId) + " is not a CAN id");
+        if (*raw_id > 0xFFFFFFFFULL || msg.id > kCanMaxExtendedId) {
+            return fail(line, "BO_ " + msg.name + ": id " + std::to_string(*raw_id) + " is not a CAN id");
         }
         if (const auto tx = lex.ident()) {
             msg.transmitter = std::string(*tx);
@@ -391,11 +391,11 @@ private:
         return true;
     }
 
-    DbcSignal* findSignal(std::uint64_t rawId, std::string_view name) {
-        const std::uint32_t key = (rawId & 0x80000000U) != 0
-                                      ? static_cast<std::uint32_t>(rawId)
-                                      : (rawId > kCanMaxStandardId ? static_cast<std::uint32_t>(rawId | 0x80000000U)
-                                                                   : static_cast<std::uint32_t>(rawId));
+    DbcSignal* findSignal(std::uint64_t raw_id, std::string_view name) {
+        const std::uint32_t key = (raw_id & 0x80000000U) != 0
+                                      ? static_cast<std::uint32_t>(raw_id)
+                                      : (raw_id > kCanMaxStandardId ? static_cast<std::uint32_t>(raw_id | 0x80000000U)
+                                                                    : static_cast<std::uint32_t>(raw_id));
         const auto it = m_db.m_by_key.find(key);
         if (it == m_db.m_by_key.end()) {
             return nullptr;
@@ -410,17 +410,17 @@ private:
 
     bool valueNames(Lexer& lex, std::size_t line) {
         m_current = -1;
-        const auto rawId = lex.unsignedInt();
-        if (!rawId) {
+        const auto raw_id = lex.unsignedInt();
+        if (!raw_id) {
             return true;  // VAL_ of an environment variable: skipped
         }
         const auto name = lex.ident();
         if (!name) {
-            return fail(line, "VAL_ " + std::to_string(*rawId) + ": expected a signal name");
+            return fail(line, "VAL_ " + std::to_string(*raw_id) + ": expected a signal name");
         }
-        DbcSignal* s = findSignal(*rawId, *name);
+        DbcSignal* s = findSignal(*raw_id, *name);
         if (s == nullptr) {
-            return fail(line, "VAL_ " + std::to_string(*rawId) + " " + std::string(*name) + ": unknown signal");
+            return fail(line, "VAL_ " + std::to_string(*raw_id) + " " + std::string(*name) + ": unknown signal");
         }
         while (!lex.accept(';') && !lex.atEnd()) {
             const auto v = lex.signedInt();
@@ -435,13 +435,13 @@ private:
 
     bool valueType(Lexer& lex, std::size_t line) {
         m_current = -1;
-        const auto rawId = lex.unsignedInt();
-        const auto name = rawId ? lex.ident() : std::nullopt;
+        const auto raw_id = lex.unsignedInt();
+        const auto name = raw_id ? lex.ident() : std::nullopt;
         if (!name || !lex.accept(':')) {
             return fail(line, "SIG_VALTYPE_: expected <id> <signal> : <type>");
         }
         const auto type = lex.unsignedInt();
-        DbcSignal* s = findSignal(*rawId, *name);
+        DbcSignal* s = findSignal(*raw_id, *name);
         if (s == nullptr) {
             return fail(line, "SIG_VALTYPE_ " + std::string(*name) + ": unknown signal");
         }
@@ -460,16 +460,16 @@ private:
     std::string m_first_error;
 };
 
-Result<DbcDatabase> DbcDatabase::parse(std::string_view text, std::string_view sourceName, Mode mode) {
+Result<DbcDatabase> DbcDatabase::parse(std::string_view text, std::string_view source_name, Mode mode) {
     DbcDatabase db;
-    db.m_source_name = std::string(sourceName);
+    db.m_source_name = std::string(source_name);
     DbcParser parser(db, mode);
-    std::size_t lineNo = 0;
+    std::size_t line_no = 0;
     std::size_t pos = 0;
     std::string pending;  // a statement whose quoted string continues on following lines
-    QuoteState pendingQuotes;
-    std::size_t pendingLine = 0;
-    bool pendingIndented = false;
+    QuoteState pending_quotes;
+    std::size_t pending_line = 0;
+    bool pending_indented = false;
     while (pos < text.size()) {
         std::size_t end = text.find('\n', pos);
         if (end == std::string_view::npos) {
@@ -477,19 +477,19 @@ Result<DbcDatabase> DbcDatabase::parse(std::string_view text, std::string_view s
         }
         std::string_view line = text.substr(pos, end - pos);
         pos = end + 1;
-        ++lineNo;
+        ++line_no;
         if (!line.empty() && line.back() == '\r') {
             line.remove_suffix(1);
         }
         if (!pending.empty()) {
             pending.push_back('\n');
             pending.append(line);
-            pendingQuotes.feed("\n");
-            pendingQuotes.feed(line);
-            if (pendingQuotes.inString()) {
+            pending_quotes.feed("\n");
+            pending_quotes.feed(line);
+            if (pending_quotes.inString()) {
                 continue;
             }
-            if (!parser.statement(pending, pendingLine, pendingIndented)) {
+            if (!parser.statement(pending, pending_line, pending_indented)) {
                 return Error{parser.firstError()};
             }
             pending.clear();
@@ -504,17 +504,17 @@ Result<DbcDatabase> DbcDatabase::parse(std::string_view text, std::string_view s
         quotes.feed(line);
         if (quotes.inString()) {
             pending.assign(line);
-            pendingQuotes = quotes;
-            pendingLine = lineNo;
-            pendingIndented = indented;
+            pending_quotes = quotes;
+            pending_line = line_no;
+            pending_indented = indented;
             continue;
         }
-        if (!parser.statement(line, lineNo, indented)) {
+        if (!parser.statement(line, line_no, indented)) {
             return Error{parser.firstError()};
         }
     }
     if (!pending.empty()) {
-        if (!parser.fail(pendingLine, "unterminated quoted string")) {
+        if (!parser.fail(pending_line, "unterminated quoted string")) {
             return Error{parser.firstError()};
         }
     }

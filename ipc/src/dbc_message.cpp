@@ -5,9 +5,9 @@
 
 namespace navmap::ipc {
 
-const DbcSignal* DbcMessage::findSignal(std::string_view signalName) const noexcept {
+const DbcSignal* DbcMessage::findSignal(std::string_view signal_name) const noexcept {
     for (const auto& s : signals) {
-        if (s.name == signalName) {
+        if (s.name == signal_name) {
             return &s;
         }
     }
@@ -54,14 +54,14 @@ Result<CanFrame> DbcMessage::encode(const std::map<std::string, double, std::les
         frame.flags |= kCanFd;
     }
     const std::span<std::uint8_t> data(frame.data.data(), size);
-    std::optional<std::uint64_t> muxSelected;
+    std::optional<std::uint64_t> mux_selected;
     if (multiplexor >= 0) {
         const DbcSignal& mux = signals[static_cast<std::size_t>(multiplexor)];
         if (const auto it = values.find(mux.name); it != values.end()) {
             if (auto st = mux.encode(data, it->second); !st) {
                 return Error{"message " + name + ": " + st.message()};
             }
-            muxSelected = mux.extractBits(data);
+            mux_selected = mux.extractBits(data);
         }
     }
     for (const auto& [signalName, value] : values) {
@@ -72,7 +72,7 @@ Result<CanFrame> DbcMessage::encode(const std::map<std::string, double, std::les
         if (s->mux_role == MuxRole::Multiplexor) {
             continue;
         }
-        if (s->mux_role == MuxRole::Multiplexed && (!muxSelected || *muxSelected != s->mux_value)) {
+        if (s->mux_role == MuxRole::Multiplexed && (!mux_selected || *mux_selected != s->mux_value)) {
             return Error{"message " + name + ": signal " + signalName + " needs multiplexor value " +
                          std::to_string(s->mux_value)};
         }

@@ -24,13 +24,13 @@ unsigned DbcSignal::bytesNeeded() const noexcept {
     }
     // Motorola: the MSB is at start_bit; the signal runs towards lower bit numbers inside a byte and
     // continues at bit 7 of the next byte ("sawtooth" numbering).
-    const unsigned msbBit = start_bit % 8U;
-    const unsigned firstByte = start_bit / 8U;
-    if (length <= msbBit + 1U) {
-        return firstByte + 1U;
+    const unsigned msb_bit = start_bit % 8U;
+    const unsigned first_byte = start_bit / 8U;
+    if (length <= msb_bit + 1U) {
+        return first_byte + 1U;
     }
-    const unsigned rest = length - (msbBit + 1U);
-    return firstByte + 1U + (rest + 7U) / 8U;
+    const unsigned rest = length - (msb_bit + 1U);
+    return first_byte + 1U + (rest + 7U) / 8U;
 }
 
 bool DbcSignal::inRange(double physical) const noexcept {
@@ -101,9 +101,9 @@ void DbcSignal::insertBits(std::span<std::uint8_t> data, std::uint64_t bits) con
         const unsigned bit = pos % 8U;
         const unsigned n = std::min(bit + 1U, remaining);
         const unsigned lsb = bit + 1U - n;
-        const std::uint64_t chunkBits = (bits >> (remaining - n)) & lowMask(n);
+        const std::uint64_t chunk_bits = (bits >> (remaining - n)) & lowMask(n);
         const auto mask = static_cast<std::uint8_t>(lowMask(n) << lsb);
-        data[byte] = static_cast<std::uint8_t>((data[byte] & ~mask) | static_cast<std::uint8_t>(chunkBits << lsb));
+        data[byte] = static_cast<std::uint8_t>((data[byte] & ~mask) | static_cast<std::uint8_t>(chunk_bits << lsb));
         remaining -= n;
         pos = (byte + 1U) * 8U + 7U;
     }
@@ -158,8 +158,8 @@ Status DbcSignal::encode(std::span<std::uint8_t> data, double physical) const {
     const double rounded = std::nearbyint(raw);
     // Exclusive upper bound so that 2^63 / 2^64 (not representable in the integer) are rejected.
     const double lo = is_signed ? -std::ldexp(1.0, length - 1) : 0.0;
-    const double hiExclusive = is_signed ? std::ldexp(1.0, length - 1) : std::ldexp(1.0, length);
-    if (rounded < lo || rounded >= hiExclusive) {
+    const double hi_exclusive = is_signed ? std::ldexp(1.0, length - 1) : std::ldexp(1.0, length);
+    if (rounded < lo || rounded >= hi_exclusive) {
         return Error{"signal " + name + ": value " + std::to_string(physical) + " does not fit " +
                      std::to_string(length) + (is_signed ? " signed" : " unsigned") + " bits"};
     }

@@ -49,8 +49,8 @@ Replayer::Replayer(std::unique_ptr<ReplaySource> source, ReplayOptions options)
 
 Replayer::~Replayer() { stop(); }
 
-void Replayer::reset(CanTime startTime) {
-    m_start = startTime;
+void Replayer::reset(CanTime start_time) {
+    m_start = start_time;
     if (m_fresh && !m_finished) {
         // Nothing played since the source was (re)wound: keep the frame read ahead, so the source
         // does not read (and count) its first chunk twice. Its time is rescheduled.
@@ -75,19 +75,19 @@ void Replayer::reset(CanTime startTime) {
     m_fresh = fetch();
 }
 
-bool Replayer::schedule(std::int64_t logNs, CanTime& due) const {
+bool Replayer::schedule(std::int64_t log_ns, CanTime& due) const {
     if (playsAsFastAsPossible(m_options.speed)) {
         due = m_start;
         return true;
     }
     // Below 2^63 the conversion back to int64 is defined.
-    const double wallNs = static_cast<double>(logNs) / m_options.speed;
-    std::int64_t dueNs = 0;
-    if (!(wallNs >= 0.0 && wallNs < 0x1p63) ||
-        !addNs(m_start.time_since_epoch().count(), static_cast<std::int64_t>(wallNs), dueNs)) {
+    const double wall_ns = static_cast<double>(log_ns) / m_options.speed;
+    std::int64_t due_ns = 0;
+    if (!(wall_ns >= 0.0 && wall_ns < 0x1p63) ||
+        !addNs(m_start.time_since_epoch().count(), static_cast<std::int64_t>(wall_ns), due_ns)) {
         return false;
     }
-    due = CanTime(std::chrono::nanoseconds(dueNs));
+    due = CanTime(std::chrono::nanoseconds(due_ns));
     return true;
 }
 
@@ -116,16 +116,16 @@ bool Replayer::fetch() {
                 continue;
             }
             offset = std::max(offset, m_prev_offset_ns);
-            std::int64_t logNs = 0;
+            std::int64_t log_ns = 0;
             CanTime due{};
-            if (!addNs(m_loop_base_ns, offset, logNs) || !schedule(logNs, due)) {
+            if (!addNs(m_loop_base_ns, offset, log_ns) || !schedule(log_ns, due)) {
                 ++m_time_errors;
                 continue;
             }
             m_prev_offset_ns = offset;
             ++m_pass_frames;
             m_pending = f;
-            m_pending_log_ns = logNs;
+            m_pending_log_ns = log_ns;
             m_pending_due = due;
             return true;
         }
@@ -167,9 +167,9 @@ CanTime Replayer::nextDue() const noexcept {
 
 bool Replayer::finished() const noexcept { return m_finished.load(); }
 
-std::size_t Replayer::advanceTo(CanTime now, const FrameSink& sink, std::size_t maxBurst) {
+std::size_t Replayer::advanceTo(CanTime now, const FrameSink& sink, std::size_t max_burst) {
     std::size_t count = 0;
-    while (!m_finished && count < maxBurst) {
+    while (!m_finished && count < max_burst) {
         if (m_pending_due > now) {
             break;
         }

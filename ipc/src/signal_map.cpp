@@ -75,13 +75,13 @@ constexpr UnitEntry kUnits[] = {
 
 }  // namespace
 
-std::optional<double> unitConversion(std::string_view dbcUnit, VssSignal target) {
+std::optional<double> unitConversion(std::string_view dbc_unit, VssSignal target) {
     const Dim want = dimensionOf(target);
     if (want == Dim::None) {
         return 1.0;  // counters and codes: the unit does not matter
     }
     std::string lower;
-    for (const char c : dbcUnit) {
+    for (const char c : dbc_unit) {
         if (c != ' ') {
             lower.push_back(static_cast<char>(std::tolower(static_cast<unsigned char>(c))));
         }
@@ -97,8 +97,8 @@ std::optional<double> unitConversion(std::string_view dbcUnit, VssSignal target)
     return std::nullopt;
 }
 
-Result<SignalMap> SignalMap::fromToml(std::string_view text, std::string_view sourceName, std::string_view arrayKey) {
-    const std::string src(sourceName);
+Result<SignalMap> SignalMap::fromToml(std::string_view text, std::string_view source_name, std::string_view array_key) {
+    const std::string src(source_name);
     toml::table root;
     try {
         root = toml::parse(text, src);
@@ -108,14 +108,14 @@ Result<SignalMap> SignalMap::fromToml(std::string_view text, std::string_view so
                      std::string(e.description())};
     }
     SignalMap map;
-    const toml::node_view<toml::node> node = root.at_path(arrayKey);
+    const toml::node_view<toml::node> node = root.at_path(array_key);
     if (!node) {
-        return Error{src + ": no [[" + std::string(arrayKey) + "]] entries"};
+        return Error{src + ": no [[" + std::string(array_key) + "]] entries"};
     }
     const toml::array* arr = node.as_array();
     if (arr == nullptr) {
-        return Error{src + ": '" + std::string(arrayKey) + "' must be an array of tables ([[" + std::string(arrayKey) +
-                     "]])"};
+        return Error{src + ": '" + std::string(array_key) + "' must be an array of tables ([[" +
+                     std::string(array_key) + "]])"};
     }
     std::size_t index = 0;
     for (const toml::node& entry : *arr) {
@@ -123,7 +123,7 @@ Result<SignalMap> SignalMap::fromToml(std::string_view text, std::string_view so
         const toml::table* t = entry.as_table();
         const auto where = [&](const toml::node& n) {
             const auto line = n.source().begin.line;
-            return src + ":" + std::to_string(line) + ": " + std::string(arrayKey) + " #" + std::to_string(index);
+            return src + ":" + std::to_string(line) + ": " + std::string(array_key) + " #" + std::to_string(index);
         };
         if (t == nullptr) {
             return Error{where(entry) + ": entry is not a table"};
@@ -171,14 +171,14 @@ Result<SignalMap> SignalMap::fromToml(std::string_view text, std::string_view so
     return map;
 }
 
-Result<SignalMap> SignalMap::loadToml(const std::filesystem::path& path, std::string_view arrayKey) {
+Result<SignalMap> SignalMap::loadToml(const std::filesystem::path& path, std::string_view array_key) {
     std::ifstream in(path, std::ios::binary);
     if (!in) {
         return Error{"open(" + path.string() + "): cannot read signal map"};
     }
     std::ostringstream ss;
     ss << in.rdbuf();
-    return fromToml(ss.str(), path.string(), arrayKey);
+    return fromToml(ss.str(), path.string(), array_key);
 }
 
 SignalMap SignalMap::navmapDefaults() {

@@ -48,10 +48,10 @@ bool peerAllowed(const PeerAllowList& allow, const PeerCredentials& peer) {
     if (allow.allow_root && peer.uid == 0) {
         return true;
     }
-    const bool uidOk = allow.uids.empty()
-                           ? peer.uid == ::geteuid()
-                           : std::find(allow.uids.begin(), allow.uids.end(), peer.uid) != allow.uids.end();
-    if (uidOk) {
+    const bool uid_ok = allow.uids.empty()
+                            ? peer.uid == ::geteuid()
+                            : std::find(allow.uids.begin(), allow.uids.end(), peer.uid) != allow.uids.end();
+    if (uid_ok) {
         return true;
     }
     const auto listed = [&](gid_t g) { return std::find(allow.gids.begin(), allow.gids.end(), g) != allow.gids.end(); };

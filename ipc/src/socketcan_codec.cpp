@@ -8,14 +8,14 @@
 
 namespace navmap::ipc {
 
-std::optional<CanFrame> frameFromKernel(const void* buffer, std::size_t bytes, CanTime receiveTime) noexcept {
+std::optional<CanFrame> frameFromKernel(const void* buffer, std::size_t bytes, CanTime receive_time) noexcept {
     if (buffer == nullptr || (bytes != CAN_MTU && bytes != CANFD_MTU)) {
         return std::nullopt;
     }
     canfd_frame k{};
     std::memcpy(&k, buffer, bytes);
     CanFrame f;
-    f.timestamp = receiveTime;
+    f.timestamp = receive_time;
     const bool fd = bytes == CANFD_MTU;
     if (fd) {
         if (!isValidFdLength(k.len)) {

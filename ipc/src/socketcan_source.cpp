@@ -118,14 +118,14 @@ bool SocketCanSource::open() {
     return true;
 }
 
-std::size_t SocketCanSource::poll(const FrameSink& sink, std::size_t maxFrames) {
+std::size_t SocketCanSource::poll(const FrameSink& sink, std::size_t max_frames) {
     if (!m_fd.valid()) {
         if (!m_backoff.due(Backoff::Clock::now()) || !open()) {
             return 0;
         }
     }
     std::size_t delivered = 0;
-    for (std::size_t i = 0; i < maxFrames; ++i) {
+    for (std::size_t i = 0; i < max_frames; ++i) {
         canfd_frame kframe{};
         iovec iov{&kframe, sizeof kframe};
         alignas(cmsghdr) char control[CMSG_SPACE(sizeof(timespec)) + CMSG_SPACE(sizeof(std::uint32_t))];
@@ -148,7 +148,7 @@ std::size_t SocketCanSource::poll(const FrameSink& sink, std::size_t maxFrames) 
             break;
         }
         CanTime stamp{};
-        bool haveStamp = false;
+        bool have_stamp = false;
         for (cmsghdr* c = CMSG_FIRSTHDR(&msg); c != nullptr; c = CMSG_NXTHDR(&msg, c)) {
             if (c->cmsg_level != SOL_SOCKET) {
                 continue;
@@ -157,7 +157,7 @@ std::size_t SocketCanSource::poll(const FrameSink& sink, std::size_t maxFrames) 
                 timespec ts{};
                 std::memcpy(&ts, CMSG_DATA(c), sizeof ts);
                 stamp = CanTime(std::chrono::seconds(ts.tv_sec) + std::chrono::nanoseconds(ts.tv_nsec));
-                haveStamp = true;
+                have_stamp = true;
             } else if (c->cmsg_type == SO_RXQ_OVFL) {
                 std::uint32_t drops = 0;
                 std::memcpy(&drops, CMSG_DATA(c), sizeof drops);
@@ -165,7 +165,7 @@ std::size_t SocketCanSource::poll(const FrameSink& sink, std::size_t maxFrames) 
                 m_status.kernel_drops = m_drops_before + drops;
             }
         }
-        if (!haveStamp) {
+        if (!have_stamp) {
             stamp = CanTime(std::chrono::duration_cast<std::chrono::nanoseconds>(CanClock::now().time_since_epoch()));
         }
         const auto frame = frameFromKernel(&kframe, static_cast<std::size_t>(n), stamp);
@@ -204,8 +204,8 @@ void SocketCanSource::waitReadable(std::chrono::milliseconds timeout) {
     if (!m_fd.valid()) {
         const auto now = Backoff::Clock::now();
         // Round up: waking a little early would find the retry not yet due.
-        const auto untilRetry = std::chrono::ceil<std::chrono::milliseconds>(m_backoff.nextAttempt() - now);
-        const auto wait = std::max(std::chrono::milliseconds(0), std::min(timeout, untilRetry));
+        const auto until_retry = std::chrono::ceil<std::chrono::milliseconds>(m_backoff.nextAttempt() - now);
+        const auto wait = std::max(std::chrono::milliseconds(0), std::min(timeout, until_retry));
         ::poll(nullptr, 0, static_cast<int>(wait.count()));
         return;
     }

@@ -120,7 +120,7 @@ bool VehicleDecoder::decode(const CanFrame& frame, VehicleSample& update) {
     ++m_counters.matched_frames;
     const std::span<const std::uint8_t> data(frame.data.data(), std::min<std::size_t>(frame.len, kCanMaxFdLen));
     bool any = false;
-    bool shortCounted = false;
+    bool short_counted = false;
     for (const Plan& plan : it->second) {
         const DbcSignal& sig = *plan.signal;
         if (!plan.message->isPresent(sig, data)) {
@@ -128,9 +128,9 @@ bool VehicleDecoder::decode(const CanFrame& frame, VehicleSample& update) {
         }
         const auto physical = sig.decode(data);
         if (!physical) {
-            if (!shortCounted) {
+            if (!short_counted) {
                 ++m_counters.short_frames;
-                shortCounted = true;
+                short_counted = true;
             }
             reject(plan, "frame has " + std::to_string(frame.len) + " bytes, " + sig.name + " needs " +
                              std::to_string(sig.bytesNeeded()));

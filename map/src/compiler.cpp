@@ -209,7 +209,7 @@ RoadGraph buildGraph(const std::vector<RawGraphWay>& ways, const Projection& pro
     junctions.erase(std::unique(junctions.begin(), junctions.end()), junctions.end());
     ids.clear();
     ids.shrink_to_fit();
-    auto nodeIndex = [&](std::int64_t id) -> std::int64_t {
+    auto node_index = [&](std::int64_t id) -> std::int64_t {
         const auto it = std::lower_bound(junctions.begin(), junctions.end(), id);
         return (it != junctions.end() && *it == id) ? it - junctions.begin() : -1;
     };
@@ -225,17 +225,17 @@ RoadGraph buildGraph(const std::vector<RawGraphWay>& ways, const Projection& pro
             return p;
         };
         const PlanarPoint first = push(0);
-        const auto n0 = nodeIndex(w.nodes[0]);
+        const auto n0 = node_index(w.nodes[0]);
         g.nodes[static_cast<std::size_t>(n0)] = {first.x, first.y, w.nodes[0]};
         for (std::size_t i = 1; i < w.nodes.size(); ++i) {
             double s12 = 0;
             geod.Inverse(w.points[i - 1].lat, w.points[i - 1].lon, w.points[i].lat, w.points[i].lon, s12);
             length += s12;
             const PlanarPoint p = push(i);
-            const auto ni = nodeIndex(w.nodes[i]);
+            const auto ni = node_index(w.nodes[i]);
             if (ni < 0) continue;
             g.nodes[static_cast<std::size_t>(ni)] = {p.x, p.y, w.nodes[i]};
-            const auto from = static_cast<std::uint32_t>(nodeIndex(w.nodes[start]));
+            const auto from = static_cast<std::uint32_t>(node_index(w.nodes[start]));
             const auto to = static_cast<std::uint32_t>(ni);
             const auto shape_end = static_cast<std::uint32_t>(g.shape.size());
             GraphEdge e{from,      to,  static_cast<float>(length), w.speed_kmh, w.cls, w.flags, shape_begin,
@@ -243,7 +243,7 @@ RoadGraph buildGraph(const std::vector<RawGraphWay>& ways, const Projection& pro
             g.edges.push_back(e);
             if (!w.oneway) {
                 std::swap(e.from, e.to);
-                e.flags |= EdgeFlags::Reversed;
+                e.flags |= edge_flags::kReversed;
                 g.edges.push_back(e);
             }
             // The next edge starts at this junction and shares its shape point.
@@ -496,7 +496,7 @@ CompileStats compileStore(const CompileOptions& opt) {
     for (const auto& r : proads) {
         const std::string& name = r.raw->name.empty() ? r.raw->ref : r.raw->name;
         // Tunnels are not drawn on the surface (docs/rendering.md "Tunnels"), so not labelled there.
-        if (name.empty() || (r.raw->flags & RoadFlags::Tunnel)) continue;
+        if (name.empty() || (r.raw->flags & road_flags::kTunnel)) continue;
         // seed 4.4.2: polyline center for horizontal labels, longest straight segment for rotated ones.
         const Segment s = longestStraightSegment(r.pts);
         plabels.push_back({LabelKind::Road, static_cast<std::uint8_t>(r.raw->cls), &name, polylineCenter(r.pts), s.a,
@@ -535,7 +535,7 @@ CompileStats compileStore(const CompileOptions& opt) {
         std::map<std::uint64_t, Tile> tiles;  // ordered: stable file layout
         // The sea's rings clipped to each tile: its DEM samples there are at sea level.
         std::unordered_map<std::uint64_t, std::vector<std::vector<PlanarPoint>>> sea_rings;
-        auto tileFor = [&](TileId id) -> Tile& {
+        auto tile_for = [&](TileId id) -> Tile& {
             auto [it, inserted] = tiles.try_emplace(id.key());
             if (inserted) {
                 const Box b = scheme.bounds(id);
@@ -549,7 +549,7 @@ CompileStats compileStore(const CompileOptions& opt) {
         // Every tile over the data gets a DEM grid, so terrain is continuous at each level.
         const TileRange all = scheme.range(level, data_bounds);
         for (std::uint32_t y = all.y0; !all.empty && y <= all.y1; ++y) {
-            for (std::uint32_t x = all.x0; x <= all.x1; ++x) tileFor({static_cast<std::uint8_t>(level), x, y});
+            for (std::uint32_t x = all.x0; x <= all.x1; ++x) tile_for({static_cast<std::uint8_t>(level), x, y});
         }
 
         for (const auto& r : proads) {
@@ -559,7 +559,7 @@ CompileStats compileStore(const CompileOptions& opt) {
             for (std::uint32_t y = range.y0; !range.empty && y <= range.y1; ++y) {
                 for (std::uint32_t x = range.x0; x <= range.x1; ++x) {
                     const TileId id{static_cast<std::uint8_t>(level), x, y};
-                    Tile& t = tileFor(id);
+                    Tile& t = tile_for(id);
                     auto emit = [&](const std::vector<PlanarPoint>& piece) {
                         Road road;
                         road.points.reserve(piece.size());
@@ -586,7 +586,7 @@ CompileStats compileStore(const CompileOptions& opt) {
             if (!is_leaf && !(level == leaf - 1 && b.poly.area >= kBuildingKeepArea)) continue;
             const auto id = scheme.tileAt(level, b.poly.barycenter);
             if (!id) continue;
-            Tile& t = tileFor(*id);
+            Tile& t = tile_for(*id);
             Building out;
             out.footprint.vertices.reserve(b.tri.vertices.size());
             for (const auto& v : b.tri.vertices) out.footprint.vertices.push_back(toLocal(v, t));
@@ -617,7 +617,7 @@ CompileStats compileStore(const CompileOptions& opt) {
                         clipped.push_back(inside ? r : clipRing(r, box));
                     }
                     Area out;
-                    Tile& t = tileFor(id);
+                    Tile& t = tile_for(id);
                     if (!makePolygon(clipped, t, out.polygon)) continue;
                     if (a.cls == AreaClass::Sea) sea_rings[id.key()] = clipped;
                     out.cls = a.cls;
@@ -634,7 +634,7 @@ CompileStats compileStore(const CompileOptions& opt) {
             if (!show) continue;
             const auto id = scheme.tileAt(level, l.anchor);
             if (!id) continue;
-            Tile& t = tileFor(*id);
+            Tile& t = tile_for(*id);
             Label out;
             out.kind = l.kind;
             out.subclass = l.subclass;

@@ -2,6 +2,7 @@
 #include "osm_handlers.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 
 namespace navmap::map::detail {
@@ -61,15 +62,15 @@ void RoadHandler::way(const osmium::Way& way) {
     road.cls = mapping->cls;
     const auto get = lookup(tags);
     const int dir = onewayDirection(get);
-    if (dir != 0) road.flags |= RoadFlags::Oneway;
+    if (dir != 0) road.flags |= road_flags::kOneway;
     if (dir < 0) std::reverse(road.points.begin(), road.points.end());
-    if (mapping->link) road.flags |= RoadFlags::Link;
-    if (tags["bridge"] && !tags.has_tag("bridge", "no")) road.flags |= RoadFlags::Bridge;
-    if (tags["tunnel"] && !tags.has_tag("tunnel", "no")) road.flags |= RoadFlags::Tunnel;
-    if (tags.has_tag("junction", "roundabout")) road.flags |= RoadFlags::Roundabout;
+    if (mapping->link) road.flags |= road_flags::kLink;
+    if (tags["bridge"] && !tags.has_tag("bridge", "no")) road.flags |= road_flags::kBridge;
+    if (tags["tunnel"] && !tags.has_tag("tunnel", "no")) road.flags |= road_flags::kTunnel;
+    if (tags.has_tag("junction", "roundabout")) road.flags |= road_flags::kRoundabout;
     if (const char* layer = tags["layer"]) road.layer = static_cast<std::int8_t>(std::clamp(std::atoi(layer), -5, 5));
     if (const char* ms = tags["maxspeed"]) {
-        if (auto v = parseMaxspeedKmh(ms)) road.maxspeed = static_cast<std::uint16_t>(*v + 0.5f);
+        if (auto v = parseMaxspeedKmh(ms)) road.maxspeed = static_cast<std::uint16_t>(std::lround(*v));
     }
     road.name = tagOr(tags, "name");
     road.ref = tagOr(tags, "ref");
@@ -124,13 +125,13 @@ void GraphHandler::way(const osmium::Way& way) {
         std::reverse(g.points.begin(), g.points.end());
     }
     g.oneway = dir != 0;
-    if (g.oneway) g.flags |= RoadFlags::Oneway;
-    if (mapping->link) g.flags |= RoadFlags::Link;
-    if (tags["bridge"] && !tags.has_tag("bridge", "no")) g.flags |= RoadFlags::Bridge;
-    if (tags["tunnel"] && !tags.has_tag("tunnel", "no")) g.flags |= RoadFlags::Tunnel;
+    if (g.oneway) g.flags |= road_flags::kOneway;
+    if (mapping->link) g.flags |= road_flags::kLink;
+    if (tags["bridge"] && !tags.has_tag("bridge", "no")) g.flags |= road_flags::kBridge;
+    if (tags["tunnel"] && !tags.has_tag("tunnel", "no")) g.flags |= road_flags::kTunnel;
     // Guidance announces a roundabout as one manoeuvre with its exit number (docs/guidance.md).
     if (tags.has_tag("junction", "roundabout") || tags.has_tag("junction", "circular"))
-        g.flags |= RoadFlags::Roundabout;
+        g.flags |= road_flags::kRoundabout;
     g.speed_kmh = defaultSpeedKmh(g.cls);
     if (const char* ms = tags["maxspeed"]) {
         if (auto v = parseMaxspeedKmh(ms)) g.speed_kmh = *v;

@@ -115,7 +115,7 @@ std::vector<RoutePoint> routePolyline(const RoadGraph& graph, const GraphRoute& 
         for (std::uint32_t s = e.shape_begin; s < e.shape_end && s < graph.shape.size(); ++s) {
             pts.push_back({graph.shape[s].x, graph.shape[s].y});
         }
-        if (e.flags & EdgeFlags::Reversed) std::reverse(pts.begin(), pts.end());
+        if (e.flags & edge_flags::kReversed) std::reverse(pts.begin(), pts.end());
         if (pts.empty()) {
             pts = {{graph.nodes[e.from].x, graph.nodes[e.from].y}, {graph.nodes[e.to].x, graph.nodes[e.to].y}};
         }

@@ -2,6 +2,7 @@
 #include "navmap/map/tile_cache.h"
 
 #include <algorithm>
+#include <cmath>
 #include <iostream>
 
 namespace navmap::map {
@@ -141,7 +142,7 @@ TileCacheMetrics TileCache::metrics() const {
     if (!m_load_ms.empty()) {
         std::vector<double> v = m_load_ms;
         auto pct = [&](double q) {
-            const auto k = static_cast<std::size_t>(q * static_cast<double>(v.size() - 1) + 0.5);
+            const auto k = static_cast<std::size_t>(std::lround(q * static_cast<double>(v.size() - 1)));
             std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
             return v[k];
         };

@@ -47,16 +47,16 @@ std::array<float, 3> Baselines::byLatitude(double lat) const {
 
 TrainingSet buildTrainingSet(const GlobalInputs& in, const RgbGrid& bm, const TrainingSetOptions& options,
                              const std::function<void(const std::string&)>& log) {
-    const int W = bm.width, H = bm.height;
+    const int cols = bm.width, rows = bm.height;
     const std::vector<HeldOutRegion> regions = heldOutRegions();
     GeoWindow fine;
-    fine.width = W * kSuper;
-    fine.height = H * kSuper;
+    fine.width = cols * kSuper;
+    fine.height = rows * kSuper;
     log("rasterizing Natural Earth at " + std::to_string(fine.width) + "x" + std::to_string(fine.height));
     const std::vector<std::uint8_t> ne = in.cover.rasterize(fine);
 
     // Pass 1: class shares per pixel, baselines, probability map.
-    const std::size_t count = static_cast<std::size_t>(W) * H;
+    const std::size_t count = static_cast<std::size_t>(cols) * rows;
     std::vector<ClassShares> shares(count);
     std::vector<int> region(count, -1);  // held-out region, -2: buffer
     std::array<std::size_t, kGlobalCoverCount> frequency{};
@@ -67,12 +67,12 @@ TrainingSet buildTrainingSet(const GlobalInputs& in, const RgbGrid& bm, const Tr
         std::array<std::size_t, 180> lat_n{};
     } land_sums, all_sums;
     TrainingSet set;
-    for (int y = 0; y < H; ++y) {
-        const double lat = 90.0 - (y + 0.5) * 180.0 / H;
+    for (int y = 0; y < rows; ++y) {
+        const double lat = 90.0 - (y + 0.5) * 180.0 / rows;
         const auto band = static_cast<std::size_t>(std::clamp(static_cast<int>(std::floor(90.0 - lat)), 0, 179));
-        for (int x = 0; x < W; ++x) {
-            const double lon = -180.0 + (x + 0.5) * 360.0 / W;
-            const std::size_t i = static_cast<std::size_t>(y) * W + x;
+        for (int x = 0; x < cols; ++x) {
+            const double lon = -180.0 + (x + 0.5) * 360.0 / cols;
+            const std::size_t i = static_cast<std::size_t>(y) * cols + x;
             std::array<int, kGlobalCoverCount> n{};
             for (int sy = 0; sy < kSuper; ++sy) {
                 const std::uint8_t* row =
@@ -142,8 +142,8 @@ TrainingSet buildTrainingSet(const GlobalInputs& in, const RgbGrid& bm, const Tr
     keys.reserve(set.training_pixels);
     for (std::size_t i = 0; i < count; ++i) {
         if (region[i] != -1) continue;
-        const int y = static_cast<int>(i / static_cast<std::size_t>(W));
-        const double lat = 90.0 - (y + 0.5) * 180.0 / H;
+        const int y = static_cast<int>(i / static_cast<std::size_t>(cols));
+        const double lat = 90.0 - (y + 0.5) * 180.0 / rows;
         const auto c = shares[i].first;
         double w = 1.0 / std::sqrt(double(std::max<std::size_t>(frequency[c], 1)));
         if (c == std::uint8_t(GlobalCover::Ocean) && shares[i].first_share >= 1.0f) w *= 0.1;
@@ -157,14 +157,14 @@ TrainingSet buildTrainingSet(const GlobalInputs& in, const RgbGrid& bm, const Tr
     std::sort(keys.begin(), keys.end(), [](const auto& a, const auto& b) { return a.second < b.second; });
 
     // Pass 2: inputs of the chosen and the held-out pixels.
-    auto pixelAt = [&](std::size_t i) {
-        const int y = static_cast<int>(i / static_cast<std::size_t>(W)),
-                  x = static_cast<int>(i % static_cast<std::size_t>(W));
-        const double lat = 90.0 - (y + 0.5) * 180.0 / H, lon = -180.0 + (x + 0.5) * 360.0 / W;
+    auto pixel_at = [&](std::size_t i) {
+        const int y = static_cast<int>(i / static_cast<std::size_t>(cols)),
+                  x = static_cast<int>(i % static_cast<std::size_t>(cols));
+        const double lat = 90.0 - (y + 0.5) * 180.0 / rows, lon = -180.0 + (x + 0.5) * 360.0 / cols;
         OrthoPixel p;
         p.cover = shares[i];
         p.climate = in.climate.shares(lat, lon);
-        const double dlat = 90.0 / H, dlon = 180.0 / W;
+        const double dlat = 90.0 / rows, dlon = 180.0 / cols;
         p.elevation_m = in.elevation.boxMean(lat - dlat, lon - dlon, lat + dlat, lon + dlon);
         p.temp_dec_c = in.temp_dec.bilinear(lat, lon);
         p.temp_jul_c = in.temp_jul.bilinear(lat, lon);
@@ -183,11 +183,11 @@ TrainingSet buildTrainingSet(const GlobalInputs& in, const RgbGrid& bm, const Tr
     const auto validation_every =
         options.validation_share > 0 ? static_cast<std::size_t>(std::lround(1.0 / options.validation_share)) : 0;
     for (std::size_t k = 0; k < keys.size(); ++k) {
-        const GlobePixel g = pixelAt(keys[k].second);
+        const GlobePixel g = pixel_at(keys[k].second);
         (validation_every && k % validation_every == 0 ? set.validation : set.train).push_back(g.sample);
     }
     for (std::size_t i = 0; i < count; ++i) {
-        if (region[i] >= 0) set.held_out.push_back(pixelAt(i));
+        if (region[i] >= 0) set.held_out.push_back(pixel_at(i));
     }
     log("training set: " + std::to_string(set.train.size()) + " samples, validation " +
         std::to_string(set.validation.size()) + ", held out " + std::to_string(set.held_out.size()) + " pixels in " +

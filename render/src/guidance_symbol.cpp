@@ -132,15 +132,15 @@ GuidanceSymbolGeometry guidanceSymbol(ManeuverSymbol symbol, int roundabout_exit
         case S::Roundabout: {
             // Counter-clockwise from the entry at the bottom of the ring to the exit's arm.
             const glm::vec2 c(0.0f, 0.05f);
-            constexpr float r = 0.36f;
-            b.stroke(g.secondary, arc(c, r, 0.0f, 360.0f), 0.07f);
+            constexpr float kR = 0.36f;
+            b.stroke(g.secondary, arc(c, kR, 0.0f, 360.0f), 0.07f);
             const int k = std::max(roundabout_exit, 0);
             const float exit_deg = k == 0 ? 450.0f : k >= 4 ? 610.0f : 270.0f + 90.0f * float(k);
             const glm::vec2 out_dir(std::cos(glm::radians(exit_deg)), std::sin(glm::radians(exit_deg)));
-            b.arrow(g.primary, std::vector<glm::vec2>{{0.0f, -0.9f}} + arc(c, r, 270.0f, exit_deg) +
-                                   std::vector<glm::vec2>{c + (r + 0.15f) * out_dir});
+            b.arrow(g.primary, std::vector<glm::vec2>{{0.0f, -0.9f}} + arc(c, kR, 270.0f, exit_deg) +
+                                   std::vector<glm::vec2>{c + (kR + 0.15f) * out_dir});
             g.exit_label_at = b.px(c);
-            g.exit_label_px = (r - kStroke) * size_px;  // the ring's hole, across
+            g.exit_label_px = (kR - kStroke) * size_px;  // the ring's hole, across
             break;
         }
     }

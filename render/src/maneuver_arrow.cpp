@@ -66,7 +66,7 @@ std::vector<std::vector<glm::dvec3>> junctionRoads(std::span<const std::shared_p
         const glm::dvec2 nearest = glm::clamp(junction, origin, origin + tile->size_m);
         if (glm::length(nearest - junction) > radius_m) continue;
         for (const map::Road& road : tile->roads) {
-            if (road.flags & map::RoadFlags::Tunnel) continue;
+            if (road.flags & map::road_flags::kTunnel) continue;
             std::vector<glm::dvec3> piece;
             for (std::size_t i = 0; i + 1 < road.points.size(); ++i) {
                 const glm::dvec2 a = origin + glm::dvec2(road.points[i].x, road.points[i].y);

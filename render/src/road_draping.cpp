@@ -107,17 +107,17 @@ std::vector<glm::dvec3> drapePolyline(const HeightGrid& grid, std::span<const gl
     std::vector<glm::dvec3> out;
     if (polyline.empty() || grid.size < 2) return out;
     const double ext = grid.extent();
-    auto clampPoint = [&](glm::dvec2 p) { return glm::dvec2{std::clamp(p.x, 0.0, ext), std::clamp(p.y, 0.0, ext)}; };
+    auto clamp_point = [&](glm::dvec2 p) { return glm::dvec2{std::clamp(p.x, 0.0, ext), std::clamp(p.y, 0.0, ext)}; };
     const double eps = grid.spacing * 1e-9;
     auto emit = [&](glm::dvec2 p, double h) {
         if (!out.empty() && std::abs(out.back().x - p.x) <= eps && std::abs(out.back().y - p.y) <= eps) return;
         out.emplace_back(p.x, p.y, h);
     };
 
-    glm::dvec2 p = clampPoint(polyline[0]);
+    glm::dvec2 p = clamp_point(polyline[0]);
     emit(p, grid.heightAt(p.x, p.y));
     for (std::size_t i = 1; i < polyline.size(); ++i) {
-        const glm::dvec2 target = clampPoint(polyline[i]);
+        const glm::dvec2 target = clamp_point(polyline[i]);
         const double length = glm::length(target - p);
         if (length <= eps) continue;
         const glm::dvec2 v = (target - p) / length;
@@ -165,7 +165,7 @@ std::vector<glm::dvec3> mergeDrapedPieces(std::span<const glm::dvec3> draped, do
     out.push_back(draped.front());
     std::size_t anchor = 0;
     // Can the chord anchor -> end replace every vertex strictly between them?
-    auto chordHolds = [&](std::size_t end) {
+    auto chord_holds = [&](std::size_t end) {
         const glm::dvec3 a = draped[anchor], b = draped[end];
         const glm::dvec2 d = glm::dvec2(b) - glm::dvec2(a);
         const double len2 = glm::dot(d, d);
@@ -181,7 +181,7 @@ std::vector<glm::dvec3> mergeDrapedPieces(std::span<const glm::dvec3> draped, do
         return true;
     };
     for (std::size_t i = 2; i < draped.size(); ++i) {
-        if (!chordHolds(i)) {
+        if (!chord_holds(i)) {
             out.push_back(draped[i - 1]);
             anchor = i - 1;
         }

@@ -217,7 +217,7 @@ TileMesh buildTileMesh(const map::Tile& tile, const TileMeshOptions& options,
     // Skirts: a curtain hanging from every border vertex, so a coarser neighbour never shows a
     // crack through to the sky.
     std::vector<std::uint32_t> skirt_of(mesh.terrain.size(), 0);  // border vertex -> its skirt vertex
-    auto addSkirt = [&](int r, int c) {
+    auto add_skirt = [&](int r, int c) {
         const auto v = static_cast<std::size_t>(r) * n + c;
         if (skirt_of[v]) return;
         TerrainVertex s = mesh.terrain[v];
@@ -227,15 +227,15 @@ TileMesh buildTileMesh(const map::Tile& tile, const TileMeshOptions& options,
         mesh.terrain.push_back(s);
     };
     for (int i = 0; i < n; ++i) {
-        addSkirt(0, i);
-        addSkirt(n - 1, i);
-        addSkirt(i, 0);
-        addSkirt(i, n - 1);
+        add_skirt(0, i);
+        add_skirt(n - 1, i);
+        add_skirt(i, 0);
+        add_skirt(i, n - 1);
     }
     auto vertex = [&](int r, int c) { return static_cast<std::uint32_t>(r * n + c); };
     // Border segment a -> b runs counter-clockwise round the tile (seen from above), so the
     // curtain faces outwards.
-    auto skirtSegment = [&](std::uint32_t a, std::uint32_t b) {
+    auto skirt_segment = [&](std::uint32_t a, std::uint32_t b) {
         mesh.terrain_indices.insert(mesh.terrain_indices.end(), {a, skirt_of[a], skirt_of[b], a, skirt_of[b], b});
     };
     // The grid in kTerrainBlocks^2 square blocks, each with its part of the skirts, so a block
@@ -257,10 +257,10 @@ TileMesh buildTileMesh(const map::Tile& tile, const TileMeshOptions& options,
                     mesh.terrain_indices.insert(mesh.terrain_indices.end(), {sw, se, ne, sw, ne, nw});
                 }
             }
-            for (int c = c0; by == 0 && c < c1; ++c) skirtSegment(vertex(0, c), vertex(0, c + 1));
-            for (int r = r0; bx == blocks - 1 && r < r1; ++r) skirtSegment(vertex(r, n - 1), vertex(r + 1, n - 1));
-            for (int c = c0; by == blocks - 1 && c < c1; ++c) skirtSegment(vertex(n - 1, c + 1), vertex(n - 1, c));
-            for (int r = r0; bx == 0 && r < r1; ++r) skirtSegment(vertex(r + 1, 0), vertex(r, 0));
+            for (int c = c0; by == 0 && c < c1; ++c) skirt_segment(vertex(0, c), vertex(0, c + 1));
+            for (int r = r0; bx == blocks - 1 && r < r1; ++r) skirt_segment(vertex(r, n - 1), vertex(r + 1, n - 1));
+            for (int c = c0; by == blocks - 1 && c < c1; ++c) skirt_segment(vertex(n - 1, c + 1), vertex(n - 1, c));
+            for (int r = r0; bx == 0 && r < r1; ++r) skirt_segment(vertex(r + 1, 0), vertex(r, 0));
             block.count = static_cast<std::uint32_t>(mesh.terrain_indices.size()) - block.first;
             block.min_z = std::numeric_limits<float>::max();
             block.max_z = std::numeric_limits<float>::lowest();
@@ -288,7 +288,7 @@ TileMesh buildTileMesh(const map::Tile& tile, const TileMeshOptions& options,
     std::vector<Piece> pieces;
     // The block (as terrain_blocks, row-major) holding a tile-local point.
     const float block_size = mesh.size_m / static_cast<float>(blocks);
-    auto blockOf = [&](glm::vec2 p) {
+    auto block_of = [&](glm::vec2 p) {
         const int bx = std::clamp(static_cast<int>(std::floor(p.x / block_size)), 0, blocks - 1);
         const int by = std::clamp(static_cast<int>(std::floor(p.y / block_size)), 0, blocks - 1);
         return static_cast<std::uint32_t>(by * blocks + bx);
@@ -297,11 +297,11 @@ TileMesh buildTileMesh(const map::Tile& tile, const TileMeshOptions& options,
     for (const auto& road : tile.roads) {
         if (road.points.size() < 2) continue;
         mesh.source_road_vertices += road.points.size();
-        if (road.flags & map::RoadFlags::Tunnel) continue;  // tunnels are hidden in the map view
+        if (road.flags & map::road_flags::kTunnel) continue;  // tunnels are hidden in the map view
         line.clear();
         for (const auto& p : road.points) line.emplace_back(p.x, p.y);
         std::vector<glm::dvec3> draped;
-        const bool bridge = (road.flags & map::RoadFlags::Bridge) != 0;
+        const bool bridge = (road.flags & map::road_flags::kBridge) != 0;
         if (bridge || !options.drape_roads) {
             // A bridge spans straight between its ends (drawn above what it crosses).
             draped.reserve(line.size());
@@ -348,7 +348,7 @@ TileMesh buildTileMesh(const map::Tile& tile, const TileMeshOptions& options,
         const std::size_t first = pieces.size();
         for (std::size_t i = 0; i + 1 < draped.size(); ++i) {
             piece(draped[i], draped[i + 1],
-                  blockOf(0.5f * (glm::vec2(glm::dvec2(draped[i])) + glm::vec2(glm::dvec2(draped[i + 1])))), 1u);
+                  block_of(0.5f * (glm::vec2(glm::dvec2(draped[i])) + glm::vec2(glm::dvec2(draped[i + 1])))), 1u);
         }
         // The coarser levels, per span of the road in one block: draped vertices a .. b.
         const std::size_t last = pieces.size();
@@ -438,7 +438,7 @@ TileMesh buildTileMesh(const map::Tile& tile, const TileMeshOptions& options,
         const float bottom = base + b.min_height_m;
         const float top = base + std::max(b.height_m, b.min_height_m + 1.0f);
         const glm::vec3 color = buildingColor(b.height_m);
-        const std::uint32_t block = blockOf(0.5f * (lo2 + hi2));
+        const std::uint32_t block = block_of(0.5f * (lo2 + hi2));
         extend(mesh.building_blocks[block], glm::vec3(lo2, bottom), glm::vec3(hi2, top));
         std::vector<std::uint32_t>& indices = block_indices[block];
         // Roof.
@@ -513,13 +513,13 @@ std::vector<RoutePiece> drapeRoute(const RouteGeometry& route, const glm::dvec3&
         // seed 3.6.1: a vertex wherever the segment crosses a triangle edge of this tile's grid.
         const std::vector<glm::dvec3> draped = drapePolyline(grid, seg);
         const double m0 = route.measure_m[i], m1 = route.measure_m[i + 1];
-        auto measureAt = [&](const glm::dvec3& v) {
+        auto measure_at = [&](const glm::dvec3& v) {
             return static_cast<float>(m0 + (m1 - m0) * std::clamp(glm::length(glm::dvec2(v) - a) / len, 0.0, 1.0));
         };
         for (std::size_t k = 0; k + 1 < draped.size(); ++k) {
             const glm::dvec3& q0 = draped[k];
             const glm::dvec3& q1 = draped[k + 1];
-            RoutePiece piece{glm::vec3(q0), glm::vec3(q1), {}, {}, measureAt(q0), measureAt(q1)};
+            RoutePiece piece{glm::vec3(q0), glm::vec3(q1), {}, {}, measure_at(q0), measure_at(q1)};
             for (std::size_t j = 0; j < ancestors.size(); ++j) {
                 if (!ancestors[j].heights) continue;
                 piece.ancestor_z0[j] = static_cast<float>(ancestors[j].heightAt(q0.x, q0.y));

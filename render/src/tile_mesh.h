@@ -32,7 +32,7 @@ struct RoadInstance {
     glm::vec3 p0;  ///< tile-local, on the terrain surface
     glm::vec3 p1;
     float road_class;       ///< map::RoadClass value
-    float flags = 0.0f;     ///< map::RoadFlags bits
+    float flags = 0.0f;     ///< map::road_flags bits
     float measure0 = 0.0f;  ///< route only: distance along the route at p0, metres
     float measure1 = 0.0f;  ///< route only: distance along the route at p1
     /// How far the quad reaches beyond p0 and beyond p1, in half widths: 1 holds the whole

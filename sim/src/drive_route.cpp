@@ -32,7 +32,7 @@ DriveRoute driveRouteFromGraph(const map::RoadGraph& graph, const map::GraphRout
         // the edge of its end point.
         const map::GraphEdge& e = graph.edges[r.line[i + 1].edge];
         double v = std::max(5.0, static_cast<double>(e.speed_kmh));
-        if ((e.flags & map::RoadFlags::Link) != 0) v = std::min(v, kLinkCapKmh);
+        if ((e.flags & map::road_flags::kLink) != 0) v = std::min(v, kLinkCapKmh);
         r.segment_speed_kmh.push_back(static_cast<float>(v));
         r.segment_class.push_back(e.cls);
     }

@@ -263,7 +263,7 @@ std::optional<double> FrameGenerator::nextTime() const {
 bool FrameGenerator::next(ipc::CanFrame& frame, FrameKind* kind_out) {
     for (;;) {
         // Ties: position, then motion of the same epoch, then info, then a bad frame.
-        enum { None, Pos, Mot, Inf, Bad } which = None;
+        enum { kNone, kPos, kMot, kInf, kBad } which = kNone;
         std::int64_t best = INT64_MAX;
         auto consider = [&](std::int64_t t, bool on, auto tag) {
             if (on && t <= m_total_us && t < best) {
@@ -271,31 +271,31 @@ bool FrameGenerator::next(ipc::CanFrame& frame, FrameKind* kind_out) {
                 which = tag;
             }
         };
-        consider(m_next_position_us, true, Pos);
-        consider(m_next_motion_us, true, Mot);
-        consider(m_next_info_us, m_info_period_us > 0, Inf);
-        consider(m_next_bad_us, m_next_burst < m_bursts.size(), Bad);
-        if (which == None) return false;
+        consider(m_next_position_us, true, kPos);
+        consider(m_next_motion_us, true, kMot);
+        consider(m_next_info_us, m_info_period_us > 0, kInf);
+        consider(m_next_bad_us, m_next_burst < m_bursts.size(), kBad);
+        if (which == kNone) return false;
         const double t = static_cast<double>(best) * 1e-6;
         FrameKind kind = FrameKind::Position;
         switch (which) {
-            case Pos:
+            case kPos:
                 m_next_position_us += m_position_period_us;
                 if (inDropout(t)) continue;  // GNSS outage: no fix, no position frame
                 frame = positionFrame(t);
                 kind = FrameKind::Position;
                 break;
-            case Mot:
+            case kMot:
                 m_next_motion_us += m_motion_period_us;
                 frame = motionFrame(t);
                 kind = FrameKind::Motion;
                 break;
-            case Inf:
+            case kInf:
                 m_next_info_us += m_info_period_us;
                 frame = infoFrame(t);
                 kind = FrameKind::Info;
                 break;
-            case Bad:
+            case kBad:
                 frame = badFrame(t, kind);
                 if (++m_burst_done >= m_options.burst_frames) {
                     m_burst_done = 0;
@@ -307,7 +307,7 @@ bool FrameGenerator::next(ipc::CanFrame& frame, FrameKind* kind_out) {
                     m_next_bad_us += 1000;  // 1 ms apart inside a burst
                 }
                 break;
-            case None: return false;
+            case kNone: return false;
         }
         frame.timestamp = stamp(best);
         ++m_stats.frames;

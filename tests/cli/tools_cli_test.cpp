@@ -40,7 +40,7 @@ struct Tool {
 };
 
 const std::vector<Tool>& tools() {
-    static const std::vector<Tool> t = {
+    static const std::vector<Tool> kT = {
         {"navmapd", NAVMAPD_PATH, "", "--config /nonexistent/navmapd.toml", "/nonexistent/navmapd.toml"},
         {"navmap-view", NAVMAP_VIEW_PATH, "--unix s", "--unix /nonexistent/frames.sock --frames 1",
          "connect(/nonexistent/frames.sock): No such file or directory"},
@@ -55,7 +55,7 @@ const std::vector<Tool>& tools() {
         {"navmap-label-quality", NAVMAP_LABEL_QUALITY_PATH, "", "--store /nonexistent/x.navmap --frames 1 --settle 0",
          "/nonexistent/x.navmap"},
     };
-    return t;
+    return kT;
 }
 
 }  // namespace

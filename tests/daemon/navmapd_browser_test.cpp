@@ -104,19 +104,19 @@ TEST(NavmapdBrowser, TheLivePageShowsTheFirstProfileItsButtonsAndTheAttribution)
     navmap::render::Image img;
     std::string err;
     ASSERT_TRUE(navmap::render::readImage(shot, &img, &err)) << err;
-    long streamPixels = 0;
+    long stream_pixels = 0;
     for (int y = 0; y < img.height; ++y) {
         for (int x = 0; x < img.width; ++x) {
             const std::uint8_t* p = img.pixel(x, y);
-            streamPixels +=
+            stream_pixels +=
                 std::abs(p[0] - sky[0]) < 12 && std::abs(p[1] - sky[1]) < 12 && std::abs(p[2] - sky[2]) < 12 ? 1 : 0;
         }
     }
-    std::printf("screenshot %dx%d: %ld pixels of the stream's colour %d,%d,%d\n", img.width, img.height, streamPixels,
+    std::printf("screenshot %dx%d: %ld pixels of the stream's colour %d,%d,%d\n", img.width, img.height, stream_pixels,
                 sky[0], sky[1], sky[2]);
     // The 640x360 image (230400 pixels) is on the page.
-    EXPECT_GT(streamPixels, 150000) << "the stream is not on the page";
-    if (streamPixels <= 150000) {
+    EXPECT_GT(stream_pixels, 150000) << "the stream is not on the page";
+    if (stream_pixels <= 150000) {
         const fs::path kept = fs::path(NAVMAP_BINARY_DIR) / "golden-failures" / "navmapd_browser_page.png";
         fs::create_directories(kept.parent_path());
         fs::copy_file(shot, kept, fs::copy_options::overwrite_existing);

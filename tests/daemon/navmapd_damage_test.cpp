@@ -38,7 +38,7 @@ struct Scratch {
 /// A copy of the default store with one bit of its road graph flipped.
 fs::path storeWithDamagedGraph(const fs::path& dir) {
     const fs::path src = navmap::test::binaryDir() / "andorra.navmap";
-    const fs::path out = dir / "damaged-graph.navmap";
+    fs::path out = dir / "damaged-graph.navmap";
     fs::copy_file(src, out);
     const auto info = navmap::map::TileStore::open(src)->info();
     std::fstream f(out, std::ios::in | std::ios::out | std::ios::binary);

@@ -142,11 +142,11 @@ TEST_F(NavmapdObservability, ProfilesOfOneViewAndSizeAreTwoStreamsAndTheAttribut
     ASSERT_TRUE(plain.ok()) << plain.error().message;
     ASSERT_TRUE(credited.ok()) << credited.error().message;
     navmap::ipc::ReceivedFrame f;
-    int plainFrames = 0;
-    int creditedFrames = 0;
+    int plain_frames = 0;
+    int credited_frames = 0;
     Corner credit;
     const auto until = std::chrono::steady_clock::now() + 20s;
-    while ((plainFrames < 15 || creditedFrames < 15) && std::chrono::steady_clock::now() < until) {
+    while ((plain_frames < 15 || credited_frames < 15) && std::chrono::steady_clock::now() < until) {
         for (auto* c : {plain.value().get(), credited.value().get()}) {
             auto r = c->next(f, 200ms);
             ASSERT_TRUE(r.ok()) << r.error().message << "\n" << m_daemon->output();
@@ -156,17 +156,17 @@ TEST_F(NavmapdObservability, ProfilesOfOneViewAndSizeAreTwoStreamsAndTheAttribut
                 // Never a frame of the other profile: its corner is the sky, untouched.
                 ASSERT_EQ(k.changed, 0) << "the plain profile got a frame with the attribution (sequence "
                                         << f.header.sequence << ")";
-                ++plainFrames;
+                ++plain_frames;
             } else {
                 ASSERT_GT(k.changed, 1000) << "the credited profile's frame " << f.header.sequence << " has no box";
                 ASSERT_GT(k.light, 40) << "no text in the box";
                 credit = k;
-                ++creditedFrames;
+                ++credited_frames;
             }
         }
     }
-    EXPECT_GE(plainFrames, 15) << m_daemon->output();
-    EXPECT_GE(creditedFrames, 15) << m_daemon->output();
+    EXPECT_GE(plain_frames, 15) << m_daemon->output();
+    EXPECT_GE(credited_frames, 15) << m_daemon->output();
     std::printf("attribution corner: %d pixels changed, %d light (text)\n", credit.changed, credit.light);
     // The rest of the credited frame is the sky.
     EXPECT_EQ(f.pixels[(10 * f.header.width + 10) * 4], f.pixels[0]);

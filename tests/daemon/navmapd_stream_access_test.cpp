@@ -116,12 +116,12 @@ TEST(NavmapdStreamAccess, HostileLocalClientsNeitherLockOutTheClusterNorGrowMemo
         return report;
     });
     const std::string report = nobody.result();
-    const int notRendered =
+    const int not_rendered =
         countLines(report, "is not rendered here; rendered: cluster (snail 1280x480), hud (hud 800x240)");
-    const int uidFull = countLines(report, "too many connections from uid 65534 (limit 4)");
+    const int uid_full = countLines(report, "too many connections from uid 65534 (limit 4)");
     EXPECT_EQ(countLines(report, "accepted"), 0) << report;
-    EXPECT_GE(notRendered, 1) << report;
-    EXPECT_EQ(notRendered + uidFull, 64) << report;
+    EXPECT_GE(not_rendered, 1) << report;
+    EXPECT_EQ(not_rendered + uid_full, 64) << report;
 
     // The cluster still gets frames (as root, and as nobody within its own four).
     const auto [cluster, clusterText] =
@@ -143,15 +143,15 @@ TEST(NavmapdStreamAccess, HostileLocalClientsNeitherLockOutTheClusterNorGrowMemo
     std::this_thread::sleep_for(1200ms);  // the status snapshot is refreshed every second
     const auto after = daemonStatus(control);
     ASSERT_TRUE(after.is_object()) << d.output();
-    const double rssBefore = before["memory"]["rss_bytes"].get<double>() / 1e6;
-    const double rssAfter = after["memory"]["rss_bytes"].get<double>() / 1e6;
-    std::printf("navmapd RSS %.0f MB before the 72 refused streams, %.0f MB after; ring bytes %llu\n", rssBefore,
-                rssAfter, static_cast<unsigned long long>(after["stream"]["ring_bytes"].get<std::uint64_t>()));
-    EXPECT_LT(rssAfter - rssBefore, 32.0) << "refused streams cost memory";
+    const double rss_before = before["memory"]["rss_bytes"].get<double>() / 1e6;
+    const double rss_after = after["memory"]["rss_bytes"].get<double>() / 1e6;
+    std::printf("navmapd RSS %.0f MB before the 72 refused streams, %.0f MB after; ring bytes %llu\n", rss_before,
+                rss_after, static_cast<unsigned long long>(after["stream"]["ring_bytes"].get<std::uint64_t>()));
+    EXPECT_LT(rss_after - rss_before, 32.0) << "refused streams cost memory";
     EXPECT_EQ(after["stream"]["ring_bytes"].get<std::uint64_t>(), 0U) << after.dump();
     EXPECT_GE(after["stream"]["refusals"]["not_rendered"].get<std::uint64_t>(),
-              static_cast<std::uint64_t>(notRendered + 8));
-    EXPECT_EQ(after["stream"]["refusals"]["uid_full"].get<std::uint64_t>(), static_cast<std::uint64_t>(uidFull));
+              static_cast<std::uint64_t>(not_rendered + 8));
+    EXPECT_EQ(after["stream"]["refusals"]["uid_full"].get<std::uint64_t>(), static_cast<std::uint64_t>(uid_full));
     nobody.release();
     EXPECT_EQ(d.stop(), 0) << d.output();
     fs::remove_all(dir);

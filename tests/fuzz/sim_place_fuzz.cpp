@@ -11,10 +11,10 @@
 
 int navmapFuzzSimPlace(const std::uint8_t* data, std::size_t size) {
     const std::string_view text(reinterpret_cast<const char*>(data), size);
-    static const navmap::sim::PlaceResolver resolver;  // built-in table only: no store needed
+    static const navmap::sim::PlaceResolver kResolver;  // built-in table only: no store needed
     (void)navmap::sim::PlaceResolver::normalize(text);
     (void)navmap::sim::PlaceResolver::parseLatLon(text);
-    auto r = resolver.resolve(text);
+    auto r = kResolver.resolve(text);
     if (r.ok() && (r.value().lat < -90.0 || r.value().lat > 90.0 || r.value().lon < -180.0 || r.value().lon > 180.0)) {
         __builtin_trap();  // resolve() must never return an out-of-range point
     }

@@ -109,9 +109,9 @@ TEST(DbcDatabase, MultiplexedDecodeAndEncode) {
     EXPECT_DOUBLE_EQ(seen["B"], -5.0);
     EXPECT_EQ(seen.count("A"), 0U);
 
-    auto wrongPage = ext->encode({{"Mode", 1}, {"A", 1}});
-    ASSERT_FALSE(wrongPage.ok());
-    EXPECT_NE(wrongPage.error().message.find("needs multiplexor value 0"), std::string::npos);
+    auto wrong_page = ext->encode({{"Mode", 1}, {"A", 1}});
+    ASSERT_FALSE(wrong_page.ok());
+    EXPECT_NE(wrong_page.error().message.find("needs multiplexor value 0"), std::string::npos);
     auto unknown = ext->encode({{"Nope", 1}});
     ASSERT_FALSE(unknown.ok());
     EXPECT_NE(unknown.error().message.find("no signal named 'Nope'"), std::string::npos);

@@ -54,6 +54,7 @@ TEST(FuzzCorpus, DbcParserSurvivesBrokenInputs) {
         "BO_ 4294967295 A: 64 X\n SG_ S : 511|64@0- (1e308,-1e308) [1|-1] \"\" X\n",
         "BO_ 1 A: 64 X\n SG_ S : 0|64@1- (nan,inf) [nan|inf] \"\" X\n",
         "BO_ 1 A: 8 X\n SG_ S m99999999999 : 0|8@1+ (1,0) [0|0] \"\" X\n",
+        // NOLINTNEXTLINE(bugprone-suspicious-missing-comma): one input, split over two lines
         "BO_ 1 A: 8 X\n SG_ S M : 0|64@1+ (1,0) [0|0] \"\" X\n SG_ T m18446744073709551615 : 0|8@1+ (1,0) [0|0] \"\" "
         "X\n",
         "CM_ \"\\\"\n\n\n",

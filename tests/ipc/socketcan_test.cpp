@@ -108,8 +108,8 @@ TEST(SocketCanCodec, FiltersMatchExactIds) {
     EXPECT_TRUE(matches(0x400 | CAN_EFF_FLAG));
     EXPECT_FALSE(matches(0x400));
     EXPECT_TRUE(navmap::ipc::buildRawFilters({}).empty());
-    const std::vector<std::uint32_t> tooMany(CAN_RAW_FILTER_MAX + 1, 1);
-    EXPECT_TRUE(navmap::ipc::buildRawFilters(tooMany).empty());
+    const std::vector<std::uint32_t> too_many(CAN_RAW_FILTER_MAX + 1, 1);
+    EXPECT_TRUE(navmap::ipc::buildRawFilters(too_many).empty());
 }
 
 TEST(SocketCanCodec, ErrorFrameClassification) {
@@ -153,7 +153,7 @@ TEST(Backoff, DoublesUpToTheCapAndResets) {
 // Where the kernel has no AF_CAN (this host) or the interface does not exist, the source reports
 // the failing call, backs off and never blocks; poll() returns at once.
 TEST(SocketCanSource, MissingInterfaceOrFamilyBacksOffWithoutBlocking) {
-    const int fdsBefore = navmap::test::countOpenFds();
+    const int fds_before = navmap::test::countOpenFds();
     {
         navmap::ipc::SocketCanOptions o;
         o.interface_name = "navmapnone0";
@@ -164,9 +164,9 @@ TEST(SocketCanSource, MissingInterfaceOrFamilyBacksOffWithoutBlocking) {
         EXPECT_EQ(src.poll([&](const CanFrame&) { ++frames; }), 0U);
         EXPECT_EQ(src.status().state, navmap::ipc::SocketCanStatus::State::Retrying);
         const std::string& err = src.status().last_error;
-        const bool noFamily = err.rfind("socket(PF_CAN)(navmapnone0): ", 0) == 0;
-        const bool noDevice = err.rfind("if_nametoindex(navmapnone0): No such device", 0) == 0;
-        EXPECT_TRUE(noFamily || noDevice) << err;
+        const bool no_family = err.rfind("socket(PF_CAN)(navmapnone0): ", 0) == 0;
+        const bool no_device = err.rfind("if_nametoindex(navmapnone0): No such device", 0) == 0;
+        EXPECT_TRUE(no_family || no_device) << err;
         EXPECT_EQ(src.status().open_failures, 1U);
         EXPECT_EQ(src.fd(), -1);
         // Within the backoff window no new attempt is made.
@@ -185,5 +185,5 @@ TEST(SocketCanSource, MissingInterfaceOrFamilyBacksOffWithoutBlocking) {
     navmap::ipc::SocketCanSource src(bad);
     EXPECT_EQ(src.poll([](const CanFrame&) {}), 0U);
     EXPECT_NE(src.status().last_error.find("must have 1..15 characters"), std::string::npos);
-    EXPECT_EQ(navmap::test::countOpenFds(), fdsBefore);  // no socket leaked by the failed opens
+    EXPECT_EQ(navmap::test::countOpenFds(), fds_before);  // no socket leaked by the failed opens
 }

@@ -22,6 +22,7 @@ PlanarPoint polar(double heading_deg, double r, PlanarPoint c = {0, 0}) {
 
 std::vector<std::string> typesOf(const std::vector<Maneuver>& ms) {
     std::vector<std::string> out;
+    out.reserve(ms.size());
     for (const auto& m : ms) out.emplace_back(maneuverTypeName(m.type));
     return out;
 }
@@ -114,7 +115,7 @@ TEST(GuidanceManeuvers, NoChoiceNoManeuverHoweverTheRoadBends) {
     const auto s = t.node(0, -100), c = t.node(0, 0), e = t.node(100, 0), w = t.node(-100, 0);
     t.way(1, {s, c});
     t.way(2, {c, e});
-    t.way(3, {w, c}, RoadClass::Residential, RoadFlags::Oneway);
+    t.way(3, {w, c}, RoadClass::Residential, road_flags::kOneway);
     const RoadGraph g = t.build();
     EXPECT_EQ(typesOf(deriveManeuvers(g, test::routeLine(g, s, e))), (std::vector<std::string>{"depart", "arrive"}));
 }
@@ -159,8 +160,8 @@ TEST(GuidanceManeuvers, ForksAreKeepLeftAndKeepRight) {
     const auto s = t.node(0, -300), c = t.node(0, 0), n = t.node(0, 300);
     const PlanarPoint p = polar(25, 200.0);
     const auto ramp = t.node(p.x, p.y);
-    t.way(1, {s, c, n}, RoadClass::Motorway, RoadFlags::Oneway);
-    t.way(2, {c, ramp}, RoadClass::Motorway, RoadFlags::Oneway | RoadFlags::Link);
+    t.way(1, {s, c, n}, RoadClass::Motorway, road_flags::kOneway);
+    t.way(2, {c, ramp}, RoadClass::Motorway, road_flags::kOneway | road_flags::kLink);
     const RoadGraph g = t.build();
     EXPECT_EQ(typesOf(deriveManeuvers(g, test::routeLine(g, s, n))), (std::vector<std::string>{"depart", "arrive"}));
     EXPECT_EQ(typesOf(deriveManeuvers(g, test::routeLine(g, s, ramp))),
@@ -203,6 +204,7 @@ Roundabout roundabout(const std::vector<double>& exits, const std::vector<double
         int kind;  // 0 two-way, 1 entry only, 2 footway
     };
     std::vector<Arm> arms;
+    arms.reserve(exits.size() + entry_only.size() + footways.size());
     for (double h : exits) arms.push_back({h, 0});
     for (double h : entry_only) arms.push_back({h, 1});
     for (double h : footways) arms.push_back({h, 2});
@@ -223,14 +225,14 @@ Roundabout roundabout(const std::vector<double>& exits, const std::vector<double
         std::vector<PlanarPoint> arc;
         for (double h = h0 - 10.0; h > h1 + 1.0; h -= 10.0) arc.push_back(polar(h, 30.0));
         t.way(id++, {ring[k], ring[(k + 1) % arms.size()]}, RoadClass::Secondary,
-              RoadFlags::Oneway | RoadFlags::Roundabout, {arc});
+              road_flags::kOneway | road_flags::kRoundabout, {arc});
         const PlanarPoint o = polar(arms[k].heading, 130.0);
         const auto outer = t.node(o.x, o.y);
         if (arms[k].kind == 0) {
             t.way(id++, {ring[k], outer});
             r.arm_end.push_back(outer);
         } else if (arms[k].kind == 1) {
-            t.way(id++, {outer, ring[k]}, RoadClass::Residential, RoadFlags::Oneway);
+            t.way(id++, {outer, ring[k]}, RoadClass::Residential, road_flags::kOneway);
         } else {
             t.way(id++, {ring[k], outer}, RoadClass::Path);
         }
@@ -272,12 +274,12 @@ TEST(GuidanceManeuvers, RoundaboutEntriesAndFootwaysAreNotExits) {
     // A one-way entry at 135 and a footway at 45 lie between the entry and the east exit.
     const Roundabout r = roundabout({180, 90, 0}, {135}, {45});
     const std::uint32_t south = r.arm_end[0], east = r.arm_end[1], north = r.arm_end[2];
-    auto exitTo = [&](std::uint32_t to) {
+    auto exit_to = [&](std::uint32_t to) {
         const auto ms = deriveManeuvers(r.graph, test::routeLine(r.graph, south, to));
         return ms.size() == 3 && ms[1].type == ManeuverType::Roundabout ? ms[1].exit : -1;
     };
-    EXPECT_EQ(exitTo(east), 1);
-    EXPECT_EQ(exitTo(north), 2);
+    EXPECT_EQ(exit_to(east), 1);
+    EXPECT_EQ(exit_to(north), 2);
 }
 
 TEST(GuidanceManeuvers, ShortOrBrokenInputGivesNoJunctionManeuvers) {

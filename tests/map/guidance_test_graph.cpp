@@ -13,7 +13,7 @@ std::uint32_t TestGraph::node(double x, double y) {
 
 void TestGraph::way(std::int64_t id, const std::vector<std::uint32_t>& nodes, RoadClass cls, std::uint8_t flags,
                     const std::vector<std::vector<PlanarPoint>>& shape) {
-    const bool oneway = (flags & RoadFlags::Oneway) != 0;
+    const bool oneway = (flags & road_flags::kOneway) != 0;
     for (std::size_t k = 0; k + 1 < nodes.size(); ++k) {
         const GraphNode& a = m_g.nodes[nodes[k]];
         const GraphNode& b = m_g.nodes[nodes[k + 1]];
@@ -32,7 +32,7 @@ void TestGraph::way(std::int64_t id, const std::vector<std::uint32_t>& nodes, Ro
         m_g.edges.push_back(e);
         if (!oneway) {
             std::swap(e.from, e.to);
-            e.flags |= EdgeFlags::Reversed;
+            e.flags |= edge_flags::kReversed;
             m_g.edges.push_back(e);
         }
     }

@@ -2,7 +2,7 @@
 #pragma once
 // A road graph built by hand for the guidance tests, the way navmap-compile builds one: ways
 // of junction nodes with shape points, two edges per two-way segment sharing one shape (the
-// reverse one flagged EdgeFlags::Reversed), CSR order.
+// reverse one flagged edge_flags::kReversed), CSR order.
 
 #include <cstdint>
 #include <vector>

@@ -161,12 +161,12 @@ TEST_F(AndorraStore, ABitFlippedInEachSectionDegradesOrFailsAsDocumented) {
     std::ifstream in(src, std::ios::binary);
     const std::vector<char> bytes{std::istreambuf_iterator<char>(in), {}};
     const auto path = s_dir->path() / "damaged.navmap";
-    auto withFlip = [&](std::uint64_t at) {
+    auto with_flip = [&](std::uint64_t at) {
         auto d = bytes;
         d.at(at) = static_cast<char>(d.at(at) ^ 0x10);
         std::ofstream(path, std::ios::binary | std::ios::trunc).write(d.data(), static_cast<std::streamsize>(d.size()));
     };
-    auto openError = [&] {
+    auto open_error = [&] {
         try {
             TileStore::open(path);
         } catch (const StoreError& e) {
@@ -182,19 +182,19 @@ TEST_F(AndorraStore, ABitFlippedInEachSectionDegradesOrFailsAsDocumented) {
         return bad;
     };
     const StoreInfo& info = s_store->info();
-    withFlip(0);
-    EXPECT_EQ(openError(), path.string() + ": not a navmap tile store (bad magic)");
-    withFlip(70);
-    EXPECT_EQ(openError(), path.string() + ": header checksum mismatch");
-    withFlip(info.index_offset + 100);
-    EXPECT_EQ(openError(), path.string() + ": tile index checksum mismatch");
+    with_flip(0);
+    EXPECT_EQ(open_error(), path.string() + ": not a navmap tile store (bad magic)");
+    with_flip(70);
+    EXPECT_EQ(open_error(), path.string() + ": header checksum mismatch");
+    with_flip(info.index_offset + 100);
+    EXPECT_EQ(open_error(), path.string() + ": tile index checksum mismatch");
 
     for (int level = 0; level < s_store->scheme().levelCount(); ++level) {
         TileId victim{};
         for (const auto& id : s_store->tileIds()) {
             if (id.level == level) victim = id;
         }
-        withFlip(s_store->blobOffset(victim) + s_store->storedSize(victim) / 2);
+        with_flip(s_store->blobOffset(victim) + s_store->storedSize(victim) / 2);
         const auto store = TileStore::open(path);
         EXPECT_EQ(failing(*store), std::vector<std::string>{victim.toString()});
         EXPECT_EQ(store->load(victim).error,
@@ -202,7 +202,7 @@ TEST_F(AndorraStore, ABitFlippedInEachSectionDegradesOrFailsAsDocumented) {
         EXPECT_TRUE(store->tryLoadGraph().ok());
     }
 
-    withFlip(info.graph_offset + info.graph_stored_size / 3);
+    with_flip(info.graph_offset + info.graph_stored_size / 3);
     const auto store = TileStore::open(path);
     EXPECT_TRUE(failing(*store).empty());
     const auto graph = store->tryLoadGraph();

@@ -98,7 +98,7 @@ TEST(TileCodec, RoundTripKeepsValuesAtCentimetrePrecision) {
     EXPECT_EQ(r.name, "Carrer de la Unió");
     EXPECT_EQ(r.ref, "CG-3");
     EXPECT_EQ(r.cls, RoadClass::Primary);
-    EXPECT_EQ(r.flags, RoadFlags::Oneway | RoadFlags::Bridge);
+    EXPECT_EQ(r.flags, road_flags::kOneway | road_flags::kBridge);
     EXPECT_EQ(r.layer, -2);
     EXPECT_EQ(r.maxspeed_kmh, 50);
     EXPECT_EQ(r.osm_id, 123456789);
@@ -167,7 +167,7 @@ TEST(TileStore, RoundTripAllTilesAndGraph) {
     g.nodes = {{0, 0, 1}, {100, 0, 2}};
     g.shape = {{0, 0}, {50, 1}, {100, 0}};
     g.edges = {{0, 1, 100.5f, 50, RoadClass::Primary, 0, 0, 3, 77},
-               {1, 0, 100.5f, 50, RoadClass::Primary, EdgeFlags::Reversed, 0, 3, 77}};
+               {1, 0, 100.5f, 50, RoadClass::Primary, edge_flags::kReversed, 0, 3, 77}};
     writeSmallStore(dir / "s.navmap", &g);
     const auto store = TileStore::open(dir / "s.navmap");
     EXPECT_EQ(store->info().tile_count, 21u);
@@ -186,7 +186,7 @@ TEST(TileStore, RoundTripAllTilesAndGraph) {
     ASSERT_EQ(back.edges.size(), 2u);
     EXPECT_EQ(back.outEdges(0).size(), 1u);
     EXPECT_EQ(back.outEdges(1)[0].to, 0u);
-    EXPECT_EQ(back.outEdges(1)[0].flags, EdgeFlags::Reversed);
+    EXPECT_EQ(back.outEdges(1)[0].flags, edge_flags::kReversed);
     EXPECT_FLOAT_EQ(back.edges[0].length_m, 100.5f);
     EXPECT_EQ(back.shape.size(), 3u);
 }
@@ -506,7 +506,7 @@ RoadGraph smallGraph() {
     g.nodes = {{0, 0, 1}, {100, 0, 2}};
     g.shape = {{0, 0}, {50, 1}, {100, 0}};
     g.edges = {{0, 1, 100.5f, 50, RoadClass::Primary, 0, 0, 3, 77},
-               {1, 0, 100.5f, 50, RoadClass::Primary, EdgeFlags::Reversed, 0, 3, 77}};
+               {1, 0, 100.5f, 50, RoadClass::Primary, edge_flags::kReversed, 0, 3, 77}};
     return g;
 }
 

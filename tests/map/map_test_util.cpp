@@ -28,7 +28,7 @@ Tile sampleTile(TileId id, double origin_x, double origin_y, double size_m) {
     r.ref = "CG-3";
     r.osm_id = 123456789;
     r.cls = RoadClass::Primary;
-    r.flags = RoadFlags::Oneway | RoadFlags::Bridge;
+    r.flags = road_flags::kOneway | road_flags::kBridge;
     r.layer = -2;
     r.maxspeed_kmh = 50;
     t.roads.push_back(r);

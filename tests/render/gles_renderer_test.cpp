@@ -25,8 +25,8 @@ RendererOptions smallOptions() {
 }
 
 const navmap::render::TerrainScene& andorra() {
-    static const auto scene = navmap::render::loadTerrainScene(navmap::test::dataDir() / "N42E001.hgt");
-    return scene;
+    static const auto kScene = navmap::render::loadTerrainScene(navmap::test::dataDir() / "N42E001.hgt");
+    return kScene;
 }
 
 TEST(GlesRenderer, CreatesAHeadlessEs3ContextWithMsaa) {

@@ -64,10 +64,10 @@ std::optional<Turn> firstLeftTurn(const RouteGeometry& r) {
 }
 
 const Turn& leftTurn() {
-    static const std::optional<Turn> turn = firstLeftTurn(navmap::test::andorraDrive().drive.geometry);
-    if (!turn) ADD_FAILURE() << "the Andorra drive has no left turn";
-    static const Turn none{};
-    return turn ? *turn : none;
+    static const std::optional<Turn> kTurn = firstLeftTurn(navmap::test::andorraDrive().drive.geometry);
+    if (!kTurn) ADD_FAILURE() << "the Andorra drive has no left turn";
+    static const Turn kNone{};
+    return kTurn ? *kTurn : kNone;
 }
 
 // The car this far before the junction, per view: the junction then lies in the view's middle.

@@ -307,7 +307,7 @@ TEST(LabelPass, TheAuraMakesLabelsBehindBuildingsReadable) {
 // Layout steps, fades and placements keep wall-clock time at 5 fps: a still view rendered at
 // 5 fps for 2 s shows the same labels as at 30 fps.
 TEST(LabelPass, FiveFramesPerSecondShowTheSameLabelsAsThirty) {
-    auto visibleAfter = [](double dt, int frames) {
+    auto visible_after = [](double dt, int frames) {
         auto r = makeRenderer();
         MapFrame frame = settledFrame(ViewMode::Bird);
         frame.frame_dt_s = dt;
@@ -319,8 +319,8 @@ TEST(LabelPass, FiveFramesPerSecondShowTheSameLabelsAsThirty) {
         }
         return shown;
     };
-    const auto slow = visibleAfter(0.2, 10);
-    const auto fast = visibleAfter(1.0 / 30.0, 60);
+    const auto slow = visible_after(0.2, 10);
+    const auto fast = visible_after(1.0 / 30.0, 60);
     EXPECT_GE(slow.size(), 10U);
     ASSERT_EQ(slow.size(), fast.size());
     for (const auto& [id, c] : slow) {

@@ -99,7 +99,7 @@ TEST(JunctionRoads, ClipsRoadsToTheDiscAndLeavesOutTunnels) {
     tile->roads.push_back(navmap::test::road(map::RoadClass::Residential, {{0.0f, 500.0f}, {1000.0f, 500.0f}}));
     tile->roads.push_back(navmap::test::road(map::RoadClass::Residential, {{500.0f, 0.0f}, {500.0f, 1000.0f}}));
     map::Road tunnel = navmap::test::road(map::RoadClass::Primary, {{400.0f, 400.0f}, {600.0f, 600.0f}});
-    tunnel.flags = map::RoadFlags::Tunnel;
+    tunnel.flags = map::road_flags::kTunnel;
     tile->roads.push_back(tunnel);
     tile->roads.push_back(navmap::test::road(map::RoadClass::Residential, {{0.0f, 0.0f}, {100.0f, 0.0f}}));  // far away
     const glm::dvec2 junction(tile->origin_x + 500.0, tile->origin_y + 500.0);

@@ -201,7 +201,7 @@ TEST(MapDataRender, ATunnelUnderAHillIsNotDrawnOrLabelledOnTheSurface) {
     no_labels.outlines = false;
     const Shot s = shoot(c.leaves, cam, no_labels);
     const glm::ivec3 fill = to8(MapStyle::day().roads.classes[static_cast<int>(map::RoadClass::Primary)].fill);
-    auto roadPixels = [&](double lat, double lon) {
+    auto road_pixels = [&](double lat, double lon) {
         const glm::ivec2 p = s.pixel(planar(*c.store, lat, lon, hill(lat, lon)));
         int n = 0;
         for (int y = p.y - 4; y <= p.y + 4; ++y) {
@@ -213,8 +213,8 @@ TEST(MapDataRender, ATunnelUnderAHillIsNotDrawnOrLabelledOnTheSurface) {
         return n;
     };
     for (double lon : {7.014, 7.017, 7.020, 7.023, 7.026}) {
-        EXPECT_EQ(roadPixels(43.020, lon), 0) << "tunnel drawn on the hillside at lon " << lon;
-        EXPECT_GT(roadPixels(43.0255, lon), 0) << "the open road is missing at lon " << lon;
+        EXPECT_EQ(road_pixels(43.020, lon), 0) << "tunnel drawn on the hillside at lon " << lon;
+        EXPECT_GT(road_pixels(43.0255, lon), 0) << "the open road is missing at lon " << lon;
     }
     MapLayers labels;
     labels.labels = true;

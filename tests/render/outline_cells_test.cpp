@@ -260,8 +260,9 @@ TEST(OutlineCells, BrokenInputMarksNothing) {
 // a byte above 127 counting as road. markEdges then marks exactly the cells that hold an edge pixel.
 TEST(OutlineEdges, AreTheNonRoadPixelsNextToARoadPixel) {
     std::mt19937 rng(11);
-    for (const auto& [w, h] : {std::pair{1, 1}, std::pair{1, 9}, std::pair{13, 5}, std::pair{64, 40},
-                               std::pair{131, 17}, std::pair{800, 24}}) {
+    for (const auto& size : {std::pair{1, 1}, std::pair{1, 9}, std::pair{13, 5}, std::pair{64, 40}, std::pair{131, 17},
+                             std::pair{800, 24}}) {
+        const int w = size.first, h = size.second;
         // Sparse road pixels in the lower left quarter only, so that many cells hold no edge.
         std::vector<std::uint8_t> mask(static_cast<std::size_t>(w * h), 0);
         for (int y = 0; y < (h + 1) / 2; ++y)

@@ -17,8 +17,8 @@ TEST(RoadCaps, PointsAgainstTheAnalyticCircle) {
     // Segment of length d = 30 between caps of radius w/2 = 5: the quad spans 40 along the road,
     // x in [-(L + 1), L + 1] half widths with L = 3.
     const float d = 30.0f, w = 10.0f;
-    const float L = capHalfLength(d, w);
-    EXPECT_FLOAT_EQ(L, 3.0f);
+    const float l = capHalfLength(d, w);
+    EXPECT_FLOAT_EQ(l, 3.0f);
     // The seed's quad-local x_q in [-1, 1] maps to road coordinates s = x_q * (d + w) / 2; the cap
     // circle is centred on the end point s = d / 2 with radius w / 2. Check a dense set of points,
     // and that the seed's own form x_cap = (|x_q| - 1) / h + 1 agrees (h = w / (d + w)).
@@ -39,16 +39,16 @@ TEST(RoadCaps, PointsAgainstTheAnalyticCircle) {
         }
         // Skip points within float noise of the circle or the cap's start.
         if (s > d / 2.0f && std::abs(std::hypot(s - d / 2.0f, t) - w / 2.0f) < 1e-3f) continue;
-        const float x = xq * (L + 1.0f);
-        EXPECT_EQ(capCovers(x, y, L), expected) << "x_q=" << xq << " y=" << y;
-        EXPECT_NEAR(std::abs(x) - L, (std::abs(xq) - 1.0f) / h + 1.0f, 1e-5f) << "x_q=" << xq;
+        const float x = xq * (l + 1.0f);
+        EXPECT_EQ(capCovers(x, y, l), expected) << "x_q=" << xq << " y=" << y;
+        EXPECT_NEAR(std::abs(x) - l, (std::abs(xq) - 1.0f) / h + 1.0f, 1e-5f) << "x_q=" << xq;
     }
     EXPECT_GT(in_cap_region, 1000);
     // The quad's corners are outside the caps; the tip on the axis is inside.
-    EXPECT_FALSE(capCovers(L + 1.0f, 1.0f, L));
-    EXPECT_FALSE(capCovers(-0.99f * (L + 1.0f), -0.99f, L));
-    EXPECT_TRUE(capCovers(0.999f * (L + 1.0f), 0.0f, L));
-    EXPECT_TRUE(capCovers(0.0f, 0.999f, L));
+    EXPECT_FALSE(capCovers(l + 1.0f, 1.0f, l));
+    EXPECT_FALSE(capCovers(-0.99f * (l + 1.0f), -0.99f, l));
+    EXPECT_TRUE(capCovers(0.999f * (l + 1.0f), 0.0f, l));
+    EXPECT_TRUE(capCovers(0.0f, 0.999f, l));
 }
 
 TEST(RoadWidth, ScalesOnlyBeyondTheThreshold) {

@@ -130,7 +130,7 @@ TEST(SvRoads, InstancesRunLeastImportantFirstAndBoundTheTerrain) {
     tile->roads.push_back(road(map::RoadClass::Motorway, {{100, 100}, {300, 120}}));
     tile->roads.push_back(road(map::RoadClass::Residential, {{400, 400}, {450, 500}, {520, 560}}));
     map::Road tunnel = road(map::RoadClass::Primary, {{10, 10}, {900, 900}});
-    tunnel.flags = map::RoadFlags::Tunnel;
+    tunnel.flags = map::road_flags::kTunnel;
     tile->roads.push_back(tunnel);
     const auto sv = gl::buildSvTileRoads(*tile, RoadStyle::day());
     // Segments of 201, 112 and 92 m in pieces of at most 40 m (no draping pre-process); tunnels hidden.
@@ -407,7 +407,7 @@ HighRes* highRes() {
 // A long straight segment of an important road well inside the tile.
 bool knownRoad(const map::Tile& tile, glm::dvec2& a, glm::dvec2& b, map::RoadClass& cls) {
     for (const auto& r : tile.roads) {
-        if (r.flags & (map::RoadFlags::Tunnel | map::RoadFlags::Bridge)) continue;
+        if (r.flags & (map::road_flags::kTunnel | map::road_flags::kBridge)) continue;
         for (std::size_t i = 0; i + 1 < r.points.size(); ++i) {
             const glm::dvec2 p(r.points[i].x, r.points[i].y), q(r.points[i + 1].x, r.points[i + 1].y);
             auto inside = [&](glm::dvec2 v) {
@@ -474,7 +474,7 @@ TEST(SvRoadsHighRes, GeometricDrapingOnTheShippedGridLeavesTheSurfaceShadowVolum
 
     // Road pixels on the terrain surface along the road; none floating beside it. Points next to
     // another road of the tile are left out of the "beside" set.
-    auto nearOtherRoad = [&](glm::dvec2 p) {
+    auto near_other_road = [&](glm::dvec2 p) {
         for (const auto& r : h->coarse->roads) {
             for (std::size_t i = 0; i + 1 < r.points.size(); ++i) {
                 const glm::dvec2 s0(r.points[i].x, r.points[i].y), s1(r.points[i + 1].x, r.points[i + 1].y);
@@ -497,7 +497,7 @@ TEST(SvRoadsHighRes, GeometricDrapingOnTheShippedGridLeavesTheSurfaceShadowVolum
         }
         for (double off : {-1.5 * width, 1.5 * width}) {
             const glm::dvec2 p = a + s * dir + off * side;
-            if (nearOtherRoad(p)) continue;
+            if (near_other_road(p)) continue;
             glm::ivec2 px;
             if (!v.project({p, fine.heightAt(p.x, p.y)}, px)) continue;
             ++beside_total;
@@ -557,12 +557,12 @@ class SvGolden : public ::testing::TestWithParam<std::tuple<ViewMode, bool>> {};
 
 TEST_P(SvGolden, MatchesGolden) {
     const auto [mode, full] = GetParam();
-    constexpr int w = 640, h = 240;
+    constexpr int kW = 640, kH = 240;
     RendererOptions o;
-    o.width = w;
-    o.height = h;
+    o.width = kW;
+    o.height = kH;
     auto renderer = Renderer::create(o);
-    MapFrame frame = navmap::test::settledAndorraFrame(mode, w, h);
+    MapFrame frame = navmap::test::settledAndorraFrame(mode, kW, kH);
     frame.layers.buildings = frame.layers.route = frame.layers.marker = full;
     frame.layers.road_technique = RoadTechnique::ShadowVolume;
     renderer->renderMap(frame);

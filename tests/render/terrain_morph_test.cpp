@@ -261,7 +261,7 @@ TEST(TerrainMorphRoads, RoadsStayVisibleOnMorphedTerrain) {
     o.height = kH;
     auto renderer = Renderer::create(o);
     const RoadStyle roads = RoadStyle::day();
-    auto roadPixels = [&](const Image& im) {
+    auto road_pixels = [&](const Image& im) {
         std::size_t n = 0;
         for (std::size_t i = 0; i < im.rgba.size(); i += 4) {
             for (const auto& c : roads.classes) {
@@ -287,10 +287,10 @@ TEST(TerrainMorphRoads, RoadsStayVisibleOnMorphedTerrain) {
         frame.layers.outlines = frame.layers.buildings = frame.layers.route = frame.layers.marker = false;
         d.view->select(frame, aspect, kH);
         renderer->renderMap(frame);
-        const std::size_t with = roadPixels(renderer->readSync());
+        const std::size_t with = road_pixels(renderer->readSync());
         frame.tile_morph.clear();
         renderer->renderMap(frame);
-        const std::size_t without = roadPixels(renderer->readSync());
+        const std::size_t without = road_pixels(renderer->readSync());
         std::printf("[ measure  ] %s: road pixels with morph %zu, without %zu\n",
                     mode == ViewMode::Bird ? "bird" : "snail", with, without);
         ASSERT_GT(without, 1000u);

@@ -110,7 +110,7 @@ TEST(TileMesh, TileWithoutDemIsFlat) {
 TEST(TileMesh, RoadsAreDrapedOrderedAndTunnelsHidden) {
     map::Tile t = bumpyTile();
     t.roads = {road(map::RoadClass::Motorway, {{10, 400}, {790, 400}}),
-               road(map::RoadClass::Primary, {{400, 10}, {400, 790}}, map::RoadFlags::Tunnel),
+               road(map::RoadClass::Primary, {{400, 10}, {400, 790}}, map::road_flags::kTunnel),
                road(map::RoadClass::Residential, {{10, 10}, {790, 700}})};  // store order: most important first
     render::TileMeshOptions every_piece;
     every_piece.road_merge_tolerance_m = 0.0;
@@ -196,7 +196,7 @@ TEST(TileMesh, RoadLevelsStayWithinTheirToleranceAndKeepTheBlockEnds) {
         std::uint32_t block;
         auto operator<=>(const Key&) const = default;
     };
-    auto piecesAt = [&](int level) {
+    auto pieces_at = [&](int level) {
         std::map<Key, std::vector<render::RoadInstance>> out;
         for (const render::BlockRun& run : m.road_runs) {
             if (!(run.lods & (1u << level))) continue;
@@ -221,13 +221,13 @@ TEST(TileMesh, RoadLevelsStayWithinTheirToleranceAndKeepTheBlockEnds) {
         const float s = len2 > 0.0f ? std::clamp(glm::dot(p - r.p0, d) / len2, 0.0f, 1.0f) : 0.0f;
         return glm::length(p - (r.p0 + s * d));
     };
-    const auto draped = piecesAt(0);
+    const auto draped = pieces_at(0);
     ASSERT_GT(draped.size(), 6u) << "both roads cross several blocks";
     std::size_t draped_count = 0;
     for (const auto& [key, pieces] : draped) draped_count += pieces.size();
     std::size_t previous = draped_count;
     for (int level = 1; level < render::kRoadLods; ++level) {
-        const auto simplified = piecesAt(level);
+        const auto simplified = pieces_at(level);
         const float tolerance = render::kRoadLodTolerance[static_cast<std::size_t>(level)];
         std::size_t count = 0;
         ASSERT_EQ(simplified.size(), draped.size()) << "level " << level << ": the same blocks";
@@ -364,7 +364,7 @@ TEST(TileMesh, BridgesSpanStraightBetweenTheirEnds) {
     map::Tile t = bumpyTile();
     map::Road bridge;
     bridge.cls = map::RoadClass::Primary;
-    bridge.flags = map::RoadFlags::Bridge;
+    bridge.flags = map::road_flags::kBridge;
     bridge.points = {{100, 100}, {300, 100}, {500, 100}};
     t.roads = {bridge};
     const render::TileMesh m = render::buildTileMesh(t);

@@ -40,6 +40,7 @@ TEST(CandumpWriter, FormatsExactlyLikeCandump) {
 TEST(CandumpWriter, WritesALogTheReaderAcceptsWithoutErrors) {
     const auto path = tempPath("rt.candump");
     std::vector<ipc::CanFrame> frames;
+    frames.reserve(100);
     for (int i = 0; i < 100; ++i) {
         frames.push_back(frame(0x6A0 + static_cast<std::uint32_t>(i % 3),
                                {static_cast<std::uint8_t>(i), 0, 0xFF, 1, 2, 3, 4, static_cast<std::uint8_t>(255 - i)},

@@ -186,7 +186,7 @@ TEST(FrameGenerator, DropoutsRemovePositionFramesAndReportNoFix) {
             EXPECT_GT(g.dropouts[i].begin_s, g.dropouts[i - 1].end_s);
         }
     }
-    auto inDropout = [&](double t) {
+    auto in_dropout = [&](double t) {
         for (const auto& d : g.dropouts) {
             if (t >= d.begin_s && t < d.end_s) return true;
         }
@@ -199,11 +199,11 @@ TEST(FrameGenerator, DropoutsRemovePositionFramesAndReportNoFix) {
         ipc::VehicleSample s;
         dec.decode(g.frames[i], s);
         if (g.kinds[i] == FrameKind::Position) {
-            EXPECT_FALSE(inDropout(t)) << t;
+            EXPECT_FALSE(in_dropout(t)) << t;
         }
         if (g.kinds[i] == FrameKind::Motion) {
-            EXPECT_EQ(*s.get(ipc::VssSignal::FixType), inDropout(t) ? 0.0 : 5.0) << t;
-            nofix += inDropout(t) ? 1 : 0;
+            EXPECT_EQ(*s.get(ipc::VssSignal::FixType), in_dropout(t) ? 0.0 : 5.0) << t;
+            nofix += in_dropout(t) ? 1 : 0;
         }
     }
     EXPECT_NEAR(static_cast<double>(nofix), 3 * 4.0 * 50, 3.0);

@@ -90,7 +90,7 @@ TEST_F(SimGuidance, DefaultDriveManeuversCarryStreetNamesAndReachTheDaemonParser
 TEST_F(SimGuidance, RealRoundaboutExitsAreNumberedInRingOrder) {
     const auto store = map::TileStore::open(storePath());
     const map::RoadGraph g = store->loadGraph();
-    auto ring = [&](const map::GraphEdge& e) { return (e.flags & map::RoadFlags::Roundabout) != 0; };
+    auto ring = [&](const map::GraphEdge& e) { return (e.flags & map::road_flags::kRoundabout) != 0; };
     auto drivable = [](const map::GraphEdge& e) { return e.cls < map::RoadClass::Pedestrian; };
     std::size_t rings_checked = 0, exits_checked = 0;
     std::vector<char> done(g.nodes.size(), 0);

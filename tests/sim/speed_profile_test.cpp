@@ -76,18 +76,18 @@ TEST(SpeedProfile, SlowsForACornerAndBrakesBeforeIt) {
     EXPECT_NEAR(p.limitAt(400.0), curve_v, 1e-6);
     EXPECT_LT(curve_v, 50.0 / 3.6 * 0.5);
     EXPECT_NEAR(p.limitAt(300.0), 50.0 / 3.6, 1e-9);  // straight: the target speed
-    auto timeAt = [&](double measure) {
+    auto time_at = [&](double measure) {
         for (double t = 0; t < p.duration(); t += kDt) {
             if (p.stateAt(t).measure_m >= measure) return t;
         }
         return p.duration();
     };
     // Slowest at the corner: the curve speed; cruising at 300 m; braking hard at 380 m.
-    EXPECT_LE(p.stateAt(timeAt(400.0)).speed_mps, curve_v + 1e-6);
-    const VehicleState cruise = p.stateAt(timeAt(300.0));
+    EXPECT_LE(p.stateAt(time_at(400.0)).speed_mps, curve_v + 1e-6);
+    const VehicleState cruise = p.stateAt(time_at(300.0));
     EXPECT_NEAR(cruise.speed_mps, 50.0 / 3.6, 1e-6);
     EXPECT_EQ(cruise.accel_mps2, 0.0);
-    const VehicleState braking = p.stateAt(timeAt(380.0));
+    const VehicleState braking = p.stateAt(time_at(380.0));
     EXPECT_NEAR(braking.accel_mps2, -q.brake_mps2, 1e-9);
     EXPECT_LT(braking.speed_mps, 50.0 / 3.6 - 1.0);
     EXPECT_GT(braking.speed_mps, curve_v);

@@ -41,7 +41,7 @@ std::string cannotSwitchUser() {
     return {};
 }
 
-ForeignProcess::ForeignProcess(const ForeignUser& user, std::function<std::string()> work) {
+ForeignProcess::ForeignProcess(const ForeignUser& user, const std::function<std::string()>& work) {
     int report[2];
     int hold[2];
     if (::pipe2(report, O_CLOEXEC) != 0) {

@@ -29,7 +29,7 @@ class ForeignProcess {
 public:
     /// Forks; the child closes every inherited descriptor but stderr and its two pipes, becomes
     /// `user`, runs `work` and sends back its result. A failed switch reports "setresuid: ...".
-    ForeignProcess(const ForeignUser& user, std::function<std::string()> work);
+    ForeignProcess(const ForeignUser& user, const std::function<std::string()>& work);
     /// Releases the child and waits for it (SIGKILL after 5 s).
     ~ForeignProcess();
     ForeignProcess(const ForeignProcess&) = delete;

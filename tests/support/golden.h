@@ -39,4 +39,5 @@ GoldenComparison compareImages(const render::Image& expected, const render::Imag
 }  // namespace navmap::test
 
 /// EXPECT_GOLDEN(image, "render/golden/andorra_heightfield.png", tolerance)
-#define EXPECT_GOLDEN(image, path, ...) EXPECT_TRUE(::navmap::test::matchesGolden((image), (path), ##__VA_ARGS__))
+#define EXPECT_GOLDEN(image, path, ...) \
+    EXPECT_TRUE(::navmap::test::matchesGolden((image), (path)__VA_OPT__(, ) __VA_ARGS__))

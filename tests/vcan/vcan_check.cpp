@@ -59,26 +59,26 @@ int main(int argc, char** argv) {
         return 2;
     }
     const std::string iface = argv[1];
-    const std::string logPath = argv[2];
+    const std::string log_path = argv[2];
     const std::string canplayer = argv[3];
-    const std::string dbcDir = argv[4];
+    const std::string dbc_dir = argv[4];
 
     auto map = ipc::SignalMap::loadToml(argv[5]).value();
     for (const auto& m : ipc::SignalMap::navmapDefaults().mappings()) {
         map.add(m);
     }
-    auto decoder =
-        ipc::VehicleDecoder::create(
-            {load(dbcDir + "/ford_lincoln_base_pt.dbc"), load(dbcDir + "/ford_fusion_2018_pt.dbc"), load(argv[6])}, map)
-            .value();
+    auto decoder = ipc::VehicleDecoder::create({load(dbc_dir + "/ford_lincoln_base_pt.dbc"),
+                                                load(dbc_dir + "/ford_fusion_2018_pt.dbc"), load(argv[6])},
+                                               map)
+                       .value();
     const auto keys = decoder.frameKeys();
-    const std::set<std::uint32_t> keySet(keys.begin(), keys.end());
+    const std::set<std::uint32_t> key_set(keys.begin(), keys.end());
 
     // Expected: the log's frames whose id is mapped.
-    const auto log = ipc::loadCandumpFile(logPath).value();
-    std::size_t expectedFrames = 0;
+    const auto log = ipc::loadCandumpFile(log_path).value();
+    std::size_t expected_frames = 0;
     for (const auto& r : log.records) {
-        expectedFrames += keySet.count(r.frame.key());
+        expected_frames += key_set.count(r.frame.key());
     }
 
     ipc::SocketCanOptions opt;
@@ -92,24 +92,24 @@ int main(int argc, char** argv) {
     double vmax = -1e9;
     std::size_t frames = 0;
     std::size_t unmapped = 0;
-    ipc::CanTime firstStamp{};
-    ipc::CanTime lastStamp{};
+    ipc::CanTime first_stamp{};
+    ipc::CanTime last_stamp{};
     bool monotonic = true;
     std::size_t fd_frames = 0;
     ipc::VehicleSample u;
     const auto sink = [&](const ipc::CanFrame& f) {
         ++frames;
-        if (keySet.count(f.key()) == 0) {
+        if (key_set.count(f.key()) == 0) {
             ++unmapped;
         }
         if (f.fd()) {
             ++fd_frames;
         }
-        if (firstStamp == ipc::CanTime{}) {
-            firstStamp = f.timestamp;
+        if (first_stamp == ipc::CanTime{}) {
+            first_stamp = f.timestamp;
         }
-        monotonic = monotonic && f.timestamp >= lastStamp;
-        lastStamp = f.timestamp;
+        monotonic = monotonic && f.timestamp >= last_stamp;
+        last_stamp = f.timestamp;
         if (decoder.decode(f, u)) {
             if (const auto v = u.get(ipc::VssSignal::Speed)) {
                 vmin = std::min(vmin, *v);
@@ -126,7 +126,7 @@ int main(int argc, char** argv) {
     pid_t pid = 0;
     std::string arg0 = canplayer;
     std::string arg1 = "-I";
-    std::string arg2 = logPath;
+    std::string arg2 = log_path;
     char* args[] = {arg0.data(), arg1.data(), arg2.data(), nullptr};
     const auto sent = ipc::CanClock::now();
     if (posix_spawn(&pid, canplayer.c_str(), nullptr, nullptr, args, environ) != 0) {
@@ -135,27 +135,27 @@ int main(int argc, char** argv) {
     }
     int status = 0;
     bool exited = false;
-    auto idleSince = std::chrono::steady_clock::now();
+    auto idle_since = std::chrono::steady_clock::now();
     while (true) {
         rx.waitReadable(20ms);
         if (rx.poll(sink, 1024) > 0) {
-            idleSince = std::chrono::steady_clock::now();
+            idle_since = std::chrono::steady_clock::now();
         }
         if (!exited && waitpid(pid, &status, WNOHANG) == pid) {
             exited = true;
         }
-        if (exited && std::chrono::steady_clock::now() - idleSince > 300ms) {
+        if (exited && std::chrono::steady_clock::now() - idle_since > 300ms) {
             break;
         }
     }
     check("canplayer", WIFEXITED(status) && WEXITSTATUS(status) == 0, "exit status " + std::to_string(status));
-    check("filter", frames == expectedFrames && unmapped == 0,
-          "received " + std::to_string(frames) + " of " + std::to_string(expectedFrames) + " mapped frames (log has " +
+    check("filter", frames == expected_frames && unmapped == 0,
+          "received " + std::to_string(frames) + " of " + std::to_string(expected_frames) + " mapped frames (log has " +
               std::to_string(log.records.size()) + "), unmapped " + std::to_string(unmapped));
-    const double spanS = std::chrono::duration<double>(lastStamp - firstStamp).count();
-    const double skewS = std::chrono::duration<double>(firstStamp - sent).count();
-    check("timestamps", monotonic && spanS > 1.0 && spanS < 3.0 && skewS > -1.0 && skewS < 5.0,
-          "kernel timestamps span " + std::to_string(spanS) + " s, first " + std::to_string(skewS) +
+    const double span_s = std::chrono::duration<double>(last_stamp - first_stamp).count();
+    const double skew_s = std::chrono::duration<double>(first_stamp - sent).count();
+    check("timestamps", monotonic && span_s > 1.0 && span_s < 3.0 && skew_s > -1.0 && skew_s < 5.0,
+          "kernel timestamps span " + std::to_string(span_s) + " s, first " + std::to_string(skew_s) +
               " s after spawning canplayer");
     check(
         "speed", vmin > 102.6 && vmax < 103.8 && vmax > 102.6,
@@ -163,16 +163,16 @@ int main(int argc, char** argv) {
     check("kernel_drops_none", rx.status().kernel_drops == 0, std::to_string(rx.status().kernel_drops));
 
     // 2. Error frame (bus-off) and a CAN FD frame through a second socket.
-    ipc::SocketCanOptions txOpt;
-    txOpt.interface_name = iface;
-    ipc::SocketCanSource tx(txOpt);
+    ipc::SocketCanOptions tx_opt;
+    tx_opt.interface_name = iface;
+    ipc::SocketCanSource tx(tx_opt);
     tx.poll([](const ipc::CanFrame&) {});
     ipc::CanFrame err;
     err.flags = ipc::kCanError;
     err.id = CAN_ERR_BUSOFF | CAN_ERR_CRTL;
     err.len = 8;
     err.data[1] = CAN_ERR_CRTL_RX_PASSIVE;
-    const auto errSent = tx.send(err);
+    const auto err_sent = tx.send(err);
     ipc::CanFrame fd;
     fd.id = 0x6A0;
     fd.flags = ipc::kCanFd | ipc::kCanBrs;
@@ -182,44 +182,44 @@ int main(int argc, char** argv) {
                          ->encode({{"NAV_Latitude", 42.623636}, {"NAV_Longitude", 1.532909}})
                          .value();
     std::copy(pos.data.begin(), pos.data.begin() + 8, fd.data.begin());
-    const auto fdSent = tx.send(fd);
+    const auto fd_sent = tx.send(fd);
     for (int i = 0; i < 20; ++i) {
         rx.waitReadable(20ms);
         rx.poll(sink);
     }
-    check("error_frame", errSent.ok() && rx.status().bus_off == 1 && rx.status().controller_problems == 1,
-          (errSent.ok() ? std::string() : errSent.message() + " ") + "busOff=" + std::to_string(rx.status().bus_off) +
+    check("error_frame", err_sent.ok() && rx.status().bus_off == 1 && rx.status().controller_problems == 1,
+          (err_sent.ok() ? std::string() : err_sent.message() + " ") + "busOff=" + std::to_string(rx.status().bus_off) +
               " last='" + rx.status().last_error_frame + "'");
     const auto lat = decoder.latest().get(ipc::VssSignal::Latitude);
-    check("can_fd", fdSent.ok() && fd_frames == 1 && lat && std::abs(*lat - 42.623636) < 1e-6,
-          (fdSent.ok() ? std::string() : fdSent.message() + " ") + "fd frames " + std::to_string(fd_frames));
+    check("can_fd", fd_sent.ok() && fd_frames == 1 && lat && std::abs(*lat - 42.623636) < 1e-6,
+          (fd_sent.ok() ? std::string() : fd_sent.message() + " ") + "fd frames " + std::to_string(fd_frames));
 
     // 3. Kernel drop counting: a receiver with a tiny buffer that does not read while 2000 frames
     //    are sent.
-    ipc::SocketCanOptions smallOpt;
-    smallOpt.interface_name = iface;
-    smallOpt.receive_buffer_bytes = 1;  // the kernel rounds up to its minimum
-    ipc::SocketCanSource small(smallOpt);
+    ipc::SocketCanOptions small_opt;
+    small_opt.interface_name = iface;
+    small_opt.receive_buffer_bytes = 1;  // the kernel rounds up to its minimum
+    ipc::SocketCanSource small(small_opt);
     small.poll([](const ipc::CanFrame&) {});
     ipc::CanFrame burst;
     burst.id = 0x415;
     burst.len = 8;
-    int sentOk = 0;
+    int sent_ok = 0;
     for (int i = 0; i < 2000; ++i) {
         burst.data[0] = static_cast<std::uint8_t>(i);
-        sentOk += tx.send(burst).ok() ? 1 : 0;
+        sent_ok += tx.send(burst).ok() ? 1 : 0;
     }
-    std::size_t smallFrames = 0;
-    small.poll([&](const ipc::CanFrame&) { ++smallFrames; }, 5000);
+    std::size_t small_frames = 0;
+    small.poll([&](const ipc::CanFrame&) { ++small_frames; }, 5000);
     // The kernel attaches the drop count (SO_RXQ_OVFL) to frames queued after the drops, so one
     // more frame brings the news.
-    sentOk += tx.send(burst).ok() ? 1 : 0;
+    sent_ok += tx.send(burst).ok() ? 1 : 0;
     small.waitReadable(100ms);
-    small.poll([&](const ipc::CanFrame&) { ++smallFrames; }, 5000);
+    small.poll([&](const ipc::CanFrame&) { ++small_frames; }, 5000);
     check("kernel_drops",
           small.status().kernel_drops > 0 &&
-              smallFrames + small.status().kernel_drops == static_cast<std::size_t>(sentOk),
-          "sent " + std::to_string(sentOk) + ", read " + std::to_string(smallFrames) + ", SO_RXQ_OVFL drops " +
+              small_frames + small.status().kernel_drops == static_cast<std::size_t>(sent_ok),
+          "sent " + std::to_string(sent_ok) + ", read " + std::to_string(small_frames) + ", SO_RXQ_OVFL drops " +
               std::to_string(small.status().kernel_drops));
     rx.poll([](const ipc::CanFrame&) {}, 100000);  // drain
 
@@ -229,14 +229,14 @@ int main(int argc, char** argv) {
         rx.poll(sink);
         std::this_thread::sleep_for(10ms);
     }
-    const auto downState = rx.status().state;
-    const std::string downError = rx.status().last_error;
+    const auto down_state = rx.status().state;
+    const std::string down_error = rx.status().last_error;
     run("ip link set " + iface + " up");
     for (int i = 0; i < 100 && rx.status().state != ipc::SocketCanStatus::State::Open; ++i) {
         rx.waitReadable(20ms);
         rx.poll(sink);
     }
-    ipc::SocketCanSource tx2(txOpt);
+    ipc::SocketCanSource tx2(tx_opt);
     tx2.poll([](const ipc::CanFrame&) {});
     const std::size_t before = frames;
     ipc::CanFrame after = pos;
@@ -247,8 +247,8 @@ int main(int argc, char** argv) {
         rx.poll(sink);
     }
     check("reopen",
-          downState == ipc::SocketCanStatus::State::Retrying && rx.status().opens >= 2 && frames == before + 1,
-          "after down: " + std::string(ipc::SocketCanStatus::stateName(downState)) + " '" + downError + "'; opens=" +
+          down_state == ipc::SocketCanStatus::State::Retrying && rx.status().opens >= 2 && frames == before + 1,
+          "after down: " + std::string(ipc::SocketCanStatus::stateName(down_state)) + " '" + down_error + "'; opens=" +
               std::to_string(rx.status().opens) + " openFailures=" + std::to_string(rx.status().open_failures) +
               " frame after up: " + (frames == before + 1 ? "yes" : "no"));
 

@@ -27,9 +27,10 @@ RouteLine::RouteLine(std::string id, const std::vector<map::PlanarPoint>& points
 }
 
 std::optional<RouteMatch> RouteLine::match(map::PlanarPoint p, std::optional<double> heading_deg,
-                                           std::optional<double> previousMeasure, const VehicleStateConfig& cfg) const {
+                                           std::optional<double> previous_measure,
+                                           const VehicleStateConfig& cfg) const {
     std::optional<RouteMatch> best;
-    double bestScore = 0.0;
+    double best_score = 0.0;
     for (std::size_t i = 0; i + 1 < m_points.size(); ++i) {
         const auto& a = m_points[i];
         const auto& b = m_points[i + 1];
@@ -51,13 +52,13 @@ std::optional<RouteMatch> RouteLine::match(map::PlanarPoint p, std::optional<dou
         const double zd = d / cfg.match_sigma_m;
         const double zh = dh / cfg.match_sigma_heading_deg;
         double score = zd * zd + (heading_deg ? zh * zh : 0.0);
-        if (previousMeasure) {
+        if (previous_measure) {
             // Far along the route from the previous match: unlikely (100 m ~ one sigma).
-            const double jump = (measure - *previousMeasure) / 100.0;
+            const double jump = (measure - *previous_measure) / 100.0;
             score += jump * jump;
         }
-        if (!best || score < bestScore) {
-            bestScore = score;
+        if (!best || score < best_score) {
+            best_score = score;
             best = RouteMatch{q, h, measure, d, matchConfidence(d, dh, heading_deg.has_value(), cfg)};
         }
     }

@@ -32,15 +32,15 @@ double wrapDeg360(double d) {
 
 // Motion at time `tau`: linear between samples, held for holdS after the last, fallback before
 // the first. `hint` speeds up the sequential lookups of one integration.
-void motionAt(const std::vector<MotionSample>& m, ipc::CanTime tau, double holdS, double fallbackSpeed,
+void motionAt(const std::vector<MotionSample>& m, ipc::CanTime tau, double hold_s, double fallback_speed,
               std::size_t& hint, double& v, double& w) {
     if (m.empty() || tau < m.front().time) {
-        v = fallbackSpeed;
+        v = fallback_speed;
         w = 0.0;
         return;
     }
     if (tau >= m.back().time) {
-        const bool held = seconds(m.back().time, tau) <= holdS;
+        const bool held = seconds(m.back().time, tau) <= hold_s;
         v = held ? m.back().speed_mps : 0.0;
         w = held ? m.back().heading_rate_rad_s : 0.0;
         return;
@@ -64,13 +64,13 @@ ipc::CanTime newestMotionAtOrBefore(const std::vector<MotionSample>& m, ipc::Can
 
 }  // namespace
 
-void deadReckon(const std::vector<MotionSample>& motion, ipc::CanTime from, ipc::CanTime to, double holdS,
-                double fallbackSpeed, double& x, double& y, double& heading_rad, double& speed_mps) {
+void deadReckon(const std::vector<MotionSample>& motion, ipc::CanTime from, ipc::CanTime to, double hold_s,
+                double fallback_speed, double& x, double& y, double& heading_rad, double& speed_mps) {
     const double total = seconds(from, to);
     std::size_t hint = 0;
     double v = 0.0, w = 0.0;
     if (total <= 0.0) {
-        motionAt(motion, from, holdS, fallbackSpeed, hint, v, w);
+        motionAt(motion, from, hold_s, fallback_speed, hint, v, w);
         speed_mps = v;
         return;
     }
@@ -80,13 +80,13 @@ void deadReckon(const std::vector<MotionSample>& motion, ipc::CanTime from, ipc:
         // Midpoint rule: motion and heading at the middle of the step.
         const auto mid =
             from + std::chrono::duration_cast<ipc::CanTime::duration>(std::chrono::duration<double>((i + 0.5) * dt));
-        motionAt(motion, mid, holdS, fallbackSpeed, hint, v, w);
-        const double hMid = heading_rad + 0.5 * w * dt;
-        x += v * dt * std::sin(hMid);
-        y += v * dt * std::cos(hMid);
+        motionAt(motion, mid, hold_s, fallback_speed, hint, v, w);
+        const double h_mid = heading_rad + 0.5 * w * dt;
+        x += v * dt * std::sin(h_mid);
+        y += v * dt * std::cos(h_mid);
         heading_rad += w * dt;
     }
-    motionAt(motion, to, holdS, fallbackSpeed, hint, v, w);
+    motionAt(motion, to, hold_s, fallback_speed, hint, v, w);
     speed_mps = v;
 }
 
@@ -100,24 +100,24 @@ EstimatedPose VehicleState::compute(const Parts& p, ipc::CanTime t) {
     }
     const PoseAnchor& last = p.anchors.back();
     double x = 0, y = 0, h = 0, v = 0;
-    ipc::CanTime anchorTime = last.time;
+    ipc::CanTime anchor_time = last.time;
     if (t >= last.time || p.anchors.size() == 1) {
         // Present: dead reckoning from the newest anchor, the correction faded in.
         const auto limit = last.time + std::chrono::duration_cast<ipc::CanTime::duration>(
                                            std::chrono::duration<double>(cfg.max_dead_reckoning_s));
-        const auto tEff = std::clamp(t, last.time, limit);
+        const auto t_eff = std::clamp(t, last.time, limit);
         x = last.x;
         y = last.y;
         h = last.heading_rad;
-        deadReckon(p.motion, last.time, tEff, cfg.motion_timeout_s, last.speed_mps, x, y, h, v);
-        const double fade = cfg.blend_s > 0 ? std::max(0.0, 1.0 - seconds(last.time, tEff) / cfg.blend_s) : 0.0;
+        deadReckon(p.motion, last.time, t_eff, cfg.motion_timeout_s, last.speed_mps, x, y, h, v);
+        const double fade = cfg.blend_s > 0 ? std::max(0.0, 1.0 - seconds(last.time, t_eff) / cfg.blend_s) : 0.0;
         x += last.jump_x * fade;
         y += last.jump_y * fade;
         h += last.jump_heading_rad * fade;
     } else if (t <= p.anchors.front().time) {
         const auto& a = p.anchors.front();
         x = a.x, y = a.y, h = a.heading_rad, v = a.speed_mps;
-        anchorTime = a.time;
+        anchor_time = a.time;
     } else {
         // Past: dead reckoning from the anchor before t, the closure error to the next anchor
         // distributed linearly, so the track passes through both anchors.
@@ -125,7 +125,7 @@ EstimatedPose VehicleState::compute(const Parts& p, ipc::CanTime t) {
                                          [](ipc::CanTime tt, const PoseAnchor& a) { return tt < a.time; });
         const PoseAnchor& a = *std::prev(it);
         const PoseAnchor& b = *it;
-        anchorTime = a.time;
+        anchor_time = a.time;
         x = a.x, y = a.y, h = a.heading_rad;
         deadReckon(p.motion, a.time, t, cfg.motion_timeout_s, a.speed_mps, x, y, h, v);
         double qx = a.x, qy = a.y, qh = a.heading_rad, qv = 0;
@@ -144,7 +144,7 @@ EstimatedPose VehicleState::compute(const Parts& p, ipc::CanTime t) {
     pose.speed_mps = v;
     pose.since_fix_s = std::max(0.0, seconds(last.time, t));
     pose.stale = pose.since_fix_s > cfg.gnss_timeout_s;
-    pose.source_time = std::max(std::min(anchorTime, t), newestMotionAtOrBefore(p.motion, t));
+    pose.source_time = std::max(std::min(anchor_time, t), newestMotionAtOrBefore(p.motion, t));
 
     // Map matching: the route first, the road graph otherwise (not from the seed; docs/vehicle-state.md "Map
     // matching").
@@ -161,15 +161,15 @@ EstimatedPose VehicleState::compute(const Parts& p, ipc::CanTime t) {
         road = p.matcher->match(raw, heading, p.matched_edge, cfg);
     }
     map::PlanarPoint target{};
-    double targetHeading = 0.0;
+    double target_heading = 0.0;
     double conf = 0.0;
     if (rm && (!road || rm->confidence * std::exp(0.5 * cfg.route_bonus) >= road->confidence)) {
         target = rm->point;
-        targetHeading = rm->heading_deg;
+        target_heading = rm->heading_deg;
         conf = rm->confidence;
     } else if (road) {
         target = road->point;
-        targetHeading = road->heading_deg;
+        target_heading = road->heading_deg;
         conf = road->confidence;
     }
     if (road) {
@@ -182,16 +182,16 @@ EstimatedPose VehicleState::compute(const Parts& p, ipc::CanTime t) {
     }
     pose.match_confidence = conf;
     const double span = cfg.snap_full_confidence - cfg.snap_min_confidence;
-    const double wSnap =
+    const double w_snap =
         span > 0 ? std::clamp((conf - cfg.snap_min_confidence) / span, 0.0, 1.0) : (conf > 0 ? 1.0 : 0.0);
-    pose.snap_weight = wSnap;
-    if (wSnap > 0) {
-        pose.x = x + wSnap * (target.x - x);
-        pose.y = y + wSnap * (target.y - y);
+    pose.snap_weight = w_snap;
+    if (w_snap > 0) {
+        pose.x = x + w_snap * (target.x - x);
+        pose.y = y + w_snap * (target.y - y);
         // The heading stays the fused one: road polylines turn in steps at their vertices,
         // the gyro-driven heading does not.
     }
-    pose.road_heading_deg = conf > 0 ? std::optional<double>(targetHeading) : std::nullopt;
+    pose.road_heading_deg = conf > 0 ? std::optional<double>(target_heading) : std::nullopt;
     return pose;
 }
 

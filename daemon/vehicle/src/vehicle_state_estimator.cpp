@@ -41,7 +41,7 @@ constexpr double kEpochS = 0.5;
 
 VehicleStateEstimator::VehicleStateEstimator(map::Projection projection, std::shared_ptr<const MapMatcher> matcher,
                                              VehicleStateConfig config)
-    : m_projection(std::move(projection)) {
+    : m_projection(projection) {
     m_state.config = config;
     m_state.matcher = std::move(matcher);
 }
@@ -83,13 +83,13 @@ void VehicleStateEstimator::addSample(const ipc::VehicleSample& u) {
     }
     if (m_lat && m_lon && std::abs(seconds(m_lat->second, m_lon->second)) <= kPairS) {
         const auto t = std::max(m_lat->second, m_lon->second);
-        std::optional<double> heading, fixType;
+        std::optional<double> heading, fix_type;
         if (m_heading && std::abs(seconds(m_heading->second, t)) <= kEpochS) heading = m_heading->first;
-        if (m_fix_type && std::abs(seconds(m_fix_type->second, t)) <= kEpochS) fixType = m_fix_type->first;
+        if (m_fix_type && std::abs(seconds(m_fix_type->second, t)) <= kEpochS) fix_type = m_fix_type->first;
         const double lat = m_lat->first, lon = m_lon->first;
         m_lat.reset();
         m_lon.reset();
-        addFix(t, lat, lon, heading, fixType);
+        addFix(t, lat, lon, heading, fix_type);
     }
 }
 
@@ -163,7 +163,7 @@ void VehicleStateEstimator::relocate(ipc::CanTime t, map::PlanarPoint p, std::op
 }
 
 void VehicleStateEstimator::addFix(ipc::CanTime t, double lat, double lon, std::optional<double> heading_deg,
-                                   std::optional<double> fixType) {
+                                   std::optional<double> fix_type) {
     const auto& cfg = m_state.config;
     if (!std::isfinite(lat) || !std::isfinite(lon)) {
         reject(m_counters.rejected_nan, "GNSS fix: latitude/longitude not finite");
@@ -173,7 +173,7 @@ void VehicleStateEstimator::addFix(ipc::CanTime t, double lat, double lon, std::
         reject(m_counters.rejected_range, fmt("GNSS fix: latitude %g / longitude %g out of range", lat, lon));
         return;
     }
-    if (fixType && *fixType < 0.5) {
+    if (fix_type && *fix_type < 0.5) {
         reject(m_counters.rejected_no_fix, "GNSS fix: fix type NONE");
         return;
     }
@@ -181,10 +181,10 @@ void VehicleStateEstimator::addFix(ipc::CanTime t, double lat, double lon, std::
         heading_deg.reset();  // position still usable; the course is not
     }
     const map::PlanarPoint p = m_projection.forward(lat, lon);
-    const double fromOrigin = std::hypot(p.x, p.y);
-    if (!std::isfinite(fromOrigin) || fromOrigin > cfg.max_distance_from_origin_m) {
+    const double from_origin = std::hypot(p.x, p.y);
+    if (!std::isfinite(from_origin) || from_origin > cfg.max_distance_from_origin_m) {
         reject(m_counters.rejected_range, fmt("GNSS fix: %.0f km from the map origin (limit %.0f km)",
-                                              fromOrigin / 1000.0, cfg.max_distance_from_origin_m / 1000.0));
+                                              from_origin / 1000.0, cfg.max_distance_from_origin_m / 1000.0));
         return;
     }
     auto& anchors = m_state.anchors;
@@ -208,13 +208,13 @@ void VehicleStateEstimator::addFix(ipc::CanTime t, double lat, double lon, std::
     const PoseAnchor& last = anchors.back();
     double px = last.x, py = last.y, ph = last.heading_rad, pv = 0;
     deadReckon(m_state.motion, last.time, t, cfg.motion_timeout_s, last.speed_mps, px, py, ph, pv);
-    const double dtFix = seconds(last.time, t);
+    const double dt_fix = seconds(last.time, t);
     const double innovation = std::hypot(p.x - px, p.y - py);
-    if (innovation > cfg.jump_gate_m + cfg.jump_gate_growth_mps * dtFix) {
+    if (innovation > cfg.jump_gate_m + cfg.jump_gate_growth_mps * dt_fix) {
         if (++m_consecutive_jumps < cfg.jumps_to_relocate) {
             --m_counters.fixes;
             reject(m_counters.rejected_jump, fmt("GNSS fix: jump of %.1f m from the prediction (gate %.1f m)",
-                                                 innovation, cfg.jump_gate_m + cfg.jump_gate_growth_mps * dtFix));
+                                                 innovation, cfg.jump_gate_m + cfg.jump_gate_growth_mps * dt_fix));
             return;
         }
         relocate(t, p, heading_deg);  // the prediction was wrong, not the receiver
@@ -225,14 +225,14 @@ void VehicleStateEstimator::addFix(ipc::CanTime t, double lat, double lon, std::
     }
     m_consecutive_jumps = 0;
     // The displayed pose just before this fix, to fade the correction in (VehicleState::compute).
-    const double fade = cfg.blend_s > 0 ? std::max(0.0, 1.0 - dtFix / cfg.blend_s) : 0.0;
-    const double shownX = px + last.jump_x * fade;
-    const double shownY = py + last.jump_y * fade;
-    const double shownH = ph + last.jump_heading_rad * fade;
+    const double fade = cfg.blend_s > 0 ? std::max(0.0, 1.0 - dt_fix / cfg.blend_s) : 0.0;
+    const double shown_x = px + last.jump_x * fade;
+    const double shown_y = py + last.jump_y * fade;
+    const double shown_h = ph + last.jump_heading_rad * fade;
 
-    const bool haveMotion = !m_state.motion.empty() && seconds(m_state.motion.back().time, t) <= cfg.motion_timeout_s;
-    const bool haveYaw = m_last_yaw_time && std::abs(seconds(*m_last_yaw_time, t)) <= cfg.motion_timeout_s;
-    const double k = haveMotion ? cfg.position_gain : 1.0;
+    const bool have_motion = !m_state.motion.empty() && seconds(m_state.motion.back().time, t) <= cfg.motion_timeout_s;
+    const bool have_yaw = m_last_yaw_time && std::abs(seconds(*m_last_yaw_time, t)) <= cfg.motion_timeout_s;
+    const double k = have_motion ? cfg.position_gain : 1.0;
     PoseAnchor a;
     a.time = t;
     a.x = px + k * (p.x - px);
@@ -240,10 +240,10 @@ void VehicleStateEstimator::addFix(ipc::CanTime t, double lat, double lon, std::
     a.speed_mps = pv;
     a.heading_rad = ph;
     if (heading_deg && std::abs(pv) >= cfg.course_min_speed_mps) {
-        const double kh = haveYaw ? cfg.heading_gain : 1.0;
+        const double kh = have_yaw ? cfg.heading_gain : 1.0;
         a.heading_rad = ph + kh * wrapPi(*heading_deg * kDegToRad - ph);
         m_state.heading_known = true;
-    } else if (!haveYaw) {
+    } else if (!have_yaw) {
         // No gyro and no usable course: the direction between fixes.
         const double dx = p.x - last.x, dy = p.y - last.y;
         if (std::hypot(dx, dy) > 2.0) {
@@ -254,9 +254,9 @@ void VehicleStateEstimator::addFix(ipc::CanTime t, double lat, double lon, std::
         m_state.heading_known = true;
     }
     a.heading_rad = wrapPi(a.heading_rad);
-    a.jump_x = shownX - a.x;
-    a.jump_y = shownY - a.y;
-    a.jump_heading_rad = wrapPi(shownH - a.heading_rad);
+    a.jump_x = shown_x - a.x;
+    a.jump_y = shown_y - a.y;
+    a.jump_heading_rad = wrapPi(shown_h - a.heading_rad);
     anchors.push_back(a);
     prune();
     updateMatch(t);

@@ -40,7 +40,7 @@ constexpr std::array<std::pair<ManeuverType, const char*>, 15> kManeuverNames{{
 }};
 
 // Replies and events keep the member order of docs/ipc.md ("ok"/"event" first).
-using ojson = nlohmann::ordered_json;
+using Ojson = nlohmann::ordered_json;
 
 template <typename J>
 std::string dumpJson(const J& j) {
@@ -561,21 +561,21 @@ ControlParse parseControlLine(std::string_view line, const ControlLimits& limits
     command.cmd = r.cmd;
     Checker c{obj, {}};
     std::optional<std::string> request_id;
-    const auto needId = [&]() { return c.string("id", request_id, limits.max_string_bytes, false); };
+    const auto need_id = [&]() { return c.string("id", request_id, limits.max_string_bytes, false); };
     if (name == "set_route") {
         SetRouteCommand route;
         r.error = parseRoute(obj, limits, route);
         command.request_id = route.route_id.empty() ? std::nullopt : std::optional<std::string>(route.route_id);
         command.body = std::move(route);
     } else if (name == "clear_route" || name == "get_status") {
-        if (!c.allowOnly({"cmd", "id"}) || !needId()) {
+        if (!c.allowOnly({"cmd", "id"}) || !need_id()) {
             r.error = c.error;
         }
         command.body = name == "clear_route" ? ControlCommandBody(ClearRouteCommand{}) : GetStatusCommand{};
     } else if (name == "set_view") {
         SetViewCommand view;
         std::optional<std::string> display;
-        if (!c.allowOnly({"cmd", "id", "display", "mode", "orientation", "camera"}) || !needId() ||
+        if (!c.allowOnly({"cmd", "id", "display", "mode", "orientation", "camera"}) || !need_id() ||
             !c.string("display", display, limits.max_string_bytes, true)) {
             r.error = c.error;
         } else {
@@ -596,7 +596,7 @@ ControlParse parseControlLine(std::string_view line, const ControlLimits& limits
     } else if (name == "set_style") {
         SetStyleCommand style;
         std::optional<MapStyle> s;
-        if (!c.allowOnly({"cmd", "id", "style"}) || !needId()) {
+        if (!c.allowOnly({"cmd", "id", "style"}) || !need_id()) {
             r.error = c.error;
         } else if (!obj.contains("style")) {
             r.error = "missing \"style\" (" + choices(kStyleNames) + ")";
@@ -607,7 +607,7 @@ ControlParse parseControlLine(std::string_view line, const ControlLimits& limits
         command.body = style;
     } else if (name == "subscribe") {
         SubscribeCommand sub;
-        if (!c.allowOnly({"cmd", "id", "events"}) || !needId()) {
+        if (!c.allowOnly({"cmd", "id", "events"}) || !need_id()) {
             r.error = c.error;
         } else if (const auto ev = obj.find("events"); ev != obj.end()) {
             if (!ev->is_array() || ev->empty()) {
@@ -641,7 +641,7 @@ ControlParse parseControlLine(std::string_view line, const ControlLimits& limits
 }
 
 std::string controlOkReply(std::string_view cmd, const std::optional<std::string>& id, const nlohmann::json& extra) {
-    ojson j = ojson::object();
+    Ojson j = Ojson::object();
     j["ok"] = true;
     j["cmd"] = std::string(cmd);
     if (id) {
@@ -649,14 +649,14 @@ std::string controlOkReply(std::string_view cmd, const std::optional<std::string
     }
     if (extra.is_object()) {
         for (const auto& [key, value] : extra.items()) {
-            j[key] = ojson(value);
+            j[key] = Ojson(value);
         }
     }
     return dumpJson(j);
 }
 
 std::string controlErrorReply(std::string_view cmd, const std::optional<std::string>& id, std::string_view error) {
-    ojson j = ojson::object();
+    Ojson j = Ojson::object();
     j["ok"] = false;
     if (!cmd.empty()) {
         j["cmd"] = std::string(cmd);
@@ -669,7 +669,7 @@ std::string controlErrorReply(std::string_view cmd, const std::optional<std::str
 }
 
 std::string controlEventLine(const ControlEvent& event) {
-    ojson j = ojson::object();
+    Ojson j = Ojson::object();
     j["event"] = controlEventName(event.kind);
     switch (event.kind) {
         case ControlEventKind::RouteProgress:

@@ -453,7 +453,7 @@ void ControlServer::handleLine(Client& c, std::string_view line) {
     queue(c, controlOkReply(cmd.cmd, cmd.request_id, extra));
 }
 
-void ControlServer::queue(Client& c, std::string line) {
+void ControlServer::queue(Client& c, const std::string& line) {
     if (c.dead) {
         return;
     }

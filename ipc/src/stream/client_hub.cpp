@@ -27,9 +27,9 @@ StreamTransport& ClientHub::transport(const StreamConn& c) const {
 }
 
 std::optional<Refusal> ClientHub::checkCaps(Via via, std::optional<uid_t> uid) const {
-    const auto sameVia = static_cast<std::size_t>(
+    const auto same_via = static_cast<std::size_t>(
         std::count_if(m_conns.begin(), m_conns.end(), [&](const auto& c) { return c->via == via; }));
-    if (sameVia >= m_options.max_clients_per_transport) {
+    if (same_via >= m_options.max_clients_per_transport) {
         return Refusal{&FrameServerStats::refused_transport_full,
                        std::string("too many ") + viaName(via) + " clients (limit " +
                            std::to_string(m_options.max_clients_per_transport) + ")"};
@@ -37,9 +37,9 @@ std::optional<Refusal> ClientHub::checkCaps(Via via, std::optional<uid_t> uid) c
     if (!uid) {
         return std::nullopt;
     }
-    const auto sameUid = static_cast<std::size_t>(
+    const auto same_uid = static_cast<std::size_t>(
         std::count_if(m_conns.begin(), m_conns.end(), [&](const auto& c) { return c->uid == uid; }));
-    if (sameUid >= m_options.max_clients_per_uid) {
+    if (same_uid >= m_options.max_clients_per_uid) {
         return Refusal{&FrameServerStats::refused_uid_full, "too many connections from uid " + std::to_string(*uid) +
                                                                 " (limit " +
                                                                 std::to_string(m_options.max_clients_per_uid) + ")"};

@@ -54,7 +54,7 @@ FrameRingLayout FrameRingLayout::make(std::uint32_t slots, std::uint32_t width, 
     return l;
 }
 
-Status FrameRingLayout::validate(std::size_t fileBytes) const {
+Status FrameRingLayout::validate(std::size_t file_bytes) const {
     if (slots < 1 || slots > 64 || width == 0 || height == 0 || width > kMaxFrameDimension ||
         height > kMaxFrameDimension || !isKnownPixelFormat(static_cast<std::uint32_t>(format))) {
         return Error{"ring layout: bad geometry"};
@@ -63,8 +63,8 @@ Status FrameRingLayout::validate(std::size_t fileBytes) const {
     if (stride != expect.stride || slot_bytes != expect.slot_bytes || total_bytes != expect.total_bytes) {
         return Error{"ring layout: sizes do not match the geometry"};
     }
-    if (fileBytes < total_bytes) {
-        return Error{"ring layout: shared memory has " + std::to_string(fileBytes) + " bytes, layout needs " +
+    if (file_bytes < total_bytes) {
+        return Error{"ring layout: shared memory has " + std::to_string(file_bytes) + " bytes, layout needs " +
                      std::to_string(total_bytes)};
     }
     return {};
@@ -180,15 +180,15 @@ std::uint64_t FrameRing::write(const FrameView& frame) noexcept {
     const auto bytes = encodeFrameHeader(h);
     std::memcpy(s + kSlotHeaderOffset, bytes.data(), bytes.size());
 
-    const std::size_t srcStride = frame.stride > 0 ? static_cast<std::size_t>(frame.stride)
-                                                   : static_cast<std::size_t>(frame.width) *
-                                                         static_cast<std::size_t>(bytesPerPixel(frame.format));
+    const std::size_t src_stride = frame.stride > 0 ? static_cast<std::size_t>(frame.stride)
+                                                    : static_cast<std::size_t>(frame.width) *
+                                                          static_cast<std::size_t>(bytesPerPixel(frame.format));
     std::uint8_t* dst = s + kSlotPixelOffset;
-    if (frame.format == m_layout.format && srcStride == m_layout.stride) {
+    if (frame.format == m_layout.format && src_stride == m_layout.stride) {
         std::memcpy(dst, frame.pixels, m_layout.pixelBytes());
     } else {
         for (std::uint32_t y = 0; y < m_layout.height; ++y) {
-            const std::uint8_t* src = frame.pixels + srcStride * y;
+            const std::uint8_t* src = frame.pixels + src_stride * y;
             if (frame.format == m_layout.format) {
                 std::memcpy(dst + static_cast<std::size_t>(m_layout.stride) * y, src, m_layout.stride);
             } else {

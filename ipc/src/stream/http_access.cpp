@@ -80,9 +80,9 @@ std::string HttpAccess::checkHost(int fd, int port, const std::string& value, in
     splitHost(value, &name, &given);
     std::string lower = name;
     std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char ch) { return std::tolower(ch); });
-    const bool nameOk = !name.empty() && (name == address || (lower == "localhost" && isLoopback(address)));
-    const bool portOk = given.empty() ? port == 80 : given == std::to_string(port);
-    if (nameOk && portOk) {
+    const bool name_ok = !name.empty() && (name == address || (lower == "localhost" && isLoopback(address)));
+    const bool port_ok = given.empty() ? port == 80 : given == std::to_string(port);
+    if (name_ok && port_ok) {
         return {};
     }
     m_stats.count(&FrameServerStats::refused_host);

@@ -20,7 +20,7 @@ namespace {
 nlohmann::json mjpegRequest(const StreamHttpRequest& req, const FrameServerOptions& options) {
     nlohmann::json j;
     j["version"] = 1;
-    bool hasProfile = false;
+    bool has_profile = false;
     for (const auto& [k, v] : req.query) {
         if (k == "token") {
             continue;  // checked by HttpAccess
@@ -32,9 +32,9 @@ nlohmann::json mjpegRequest(const StreamHttpRequest& req, const FrameServerOptio
         } else {
             j[k] = v;
         }
-        hasProfile = hasProfile || k == "profile" || k == "width";
+        has_profile = has_profile || k == "profile" || k == "width";
     }
-    if (!hasProfile) {
+    if (!has_profile) {
         j["profile"] = options.mjpeg_profile;
     }
     // A rendered profile by its name (?profile=rear) stands for its view and size.
@@ -58,11 +58,11 @@ bool hasHighBytes(const std::string& s) {
 
 }  // namespace
 
-HttpTransport::HttpTransport(ClientHub& hub, std::function<void(MetricsRegistry&)> ownMetrics,
+HttpTransport::HttpTransport(ClientHub& hub, std::function<void(MetricsRegistry&)> own_metrics,
                              std::function<std::string()> status_json)
     : StreamTransport(Via::Http, hub),
       m_access(hub.options(), hub.stats()),
-      m_own_metrics(std::move(ownMetrics)),
+      m_own_metrics(std::move(own_metrics)),
       m_status_json(std::move(status_json)) {}
 
 Result<int> HttpTransport::openListener() {
@@ -98,10 +98,10 @@ void HttpTransport::onInput(StreamConn& c) {
         return;
     }
     auto end = c.in.find("\r\n\r\n");
-    std::size_t endLen = 4;
+    std::size_t end_len = 4;
     if (end == std::string::npos) {
         end = c.in.find("\n\n");
-        endLen = 2;
+        end_len = 2;
     }
     if ((end == std::string::npos ? c.in.size() : end) > kMaxHttpRequestBytes) {
         reply(c, 431, "Request Header Fields Too Large", "text/plain", "request head too large\n");
@@ -115,7 +115,7 @@ void HttpTransport::onInput(StreamConn& c) {
         }
         return;
     }
-    const std::string head = c.in.substr(0, end + endLen);
+    const std::string head = c.in.substr(0, end + end_len);
     c.in.clear();
     onRequest(c, head);
 }
@@ -227,23 +227,23 @@ void HttpTransport::sendFrame(StreamConn& c) {
     os << "--navmapframe\r\nContent-Type: image/jpeg\r\nContent-Length: " << encoded->bytes.size()
        << "\r\nX-Navmap-Sequence: " << seq << "\r\nX-Navmap-Source-Time-Ns: " << encoded->header.source_time_ns
        << "\r\nX-Navmap-Dropped: " << c.dropped << "\r\n\r\n";
-    const std::string partHead = os.str();
-    c.queue(partHead.data(), partHead.size());
+    const std::string part_head = os.str();
+    c.queue(part_head.data(), part_head.size());
     c.queue(encoded->bytes.data(), encoded->bytes.size());
     c.queue("\r\n", 2);
     m_hub.frameSent(c, seq);
 }
 
-void HttpTransport::reply(StreamConn& c, int code, const char* reason, const char* contentType, const std::string& body,
-                          const char* extraHeaders) {
+void HttpTransport::reply(StreamConn& c, int code, const char* reason, const char* content_type,
+                          const std::string& body, const char* extra_headers) {
     if (code >= 400) {
         m_hub.stats().countError(&FrameServerStats::http_errors,
                                  c.peer + ": HTTP " + std::to_string(code) + " " + body);
     }
     std::ostringstream os;
-    os << "HTTP/1.0 " << code << ' ' << reason << "\r\nContent-Type: " << contentType
+    os << "HTTP/1.0 " << code << ' ' << reason << "\r\nContent-Type: " << content_type
        << "\r\nContent-Length: " << body.size() << "\r\nCache-Control: no-store\r\nConnection: close\r\n"
-       << extraHeaders << "\r\n"
+       << extra_headers << "\r\n"
        << body;
     m_hub.finishWith(c, os.str());
 }

@@ -18,7 +18,7 @@ namespace navmap::ipc::stream_detail {
 class HttpTransport : public StreamTransport {
 public:
     /// `ownMetrics` adds the server's navmap_stream_* families; `status_json` is the /status body.
-    HttpTransport(ClientHub& hub, std::function<void(MetricsRegistry&)> ownMetrics,
+    HttpTransport(ClientHub& hub, std::function<void(MetricsRegistry&)> own_metrics,
                   std::function<std::string()> status_json);
 
     int port() const noexcept { return m_port; }
@@ -38,8 +38,8 @@ private:
     void servePage(StreamConn& c);
     void serveMetrics(StreamConn& c);
     void startMjpeg(StreamConn& c, const StreamHttpRequest& req);
-    void reply(StreamConn& c, int code, const char* reason, const char* contentType, const std::string& body,
-               const char* extraHeaders = "");
+    void reply(StreamConn& c, int code, const char* reason, const char* content_type, const std::string& body,
+               const char* extra_headers = "");
 
     HttpAccess m_access;
     std::function<void(MetricsRegistry&)> m_own_metrics;

@@ -25,6 +25,8 @@ std::chrono::milliseconds orDefault(int ms, int fallback) { return std::chrono::
 }  // namespace
 
 extern "C" {
+// The C API keeps its C names (navmap_client.h).
+// NOLINTBEGIN(readability-identifier-naming)
 
 const char* navmap_client_version(void) { return NAVMAP_VERSION; }
 
@@ -174,5 +176,6 @@ void navmap_client_get_stats(const navmap_client* client, navmap_client_stats* s
 }
 
 void navmap_client_destroy(navmap_client* client) { delete client; }
+// NOLINTEND(readability-identifier-naming)
 
 }  // extern "C"

@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <ctime>
@@ -47,8 +48,8 @@ std::optional<int> parseArgs(int argc, char** argv, Options* o) {
     std::string profile = "cluster", view, format, payload, tcp;
     std::optional<int> width, height, fps;
     auto* unix = app.add_option("--unix", o->unix_path, "navmapd's frame socket (payload shm by default)");
-    auto* tcpOpt = app.add_option("--tcp", tcp, "HOST:PORT of navmapd's TCP frame server (payload raw by default)");
-    unix->excludes(tcpOpt);
+    auto* tcp_opt = app.add_option("--tcp", tcp, "HOST:PORT of navmapd's TCP frame server (payload raw by default)");
+    unix->excludes(tcp_opt);
     app.add_option("--profile", profile, "cluster | hud | center | a profile the daemon renders")
         ->capture_default_str();
     app.add_option("--width", width, "frame width (default: the profile's)")->check(integerIn(16, 4096));
@@ -121,7 +122,7 @@ double percentile(std::vector<double> v, double q) {
         return 0;
     }
     std::sort(v.begin(), v.end());
-    const auto idx = static_cast<std::size_t>(q * static_cast<double>(v.size() - 1) + 0.5);
+    const auto idx = static_cast<std::size_t>(std::lround(q * static_cast<double>(v.size() - 1)));
     return v[std::min(idx, v.size() - 1)];
 }
 
@@ -133,11 +134,11 @@ int main(int argc, char** argv) {
         return *exit_status;
     }
     // SIGINT/SIGTERM are blocked and polled between frames (no handler, no global flag).
-    sigset_t stopSignals;
-    sigemptyset(&stopSignals);
-    sigaddset(&stopSignals, SIGINT);
-    sigaddset(&stopSignals, SIGTERM);
-    sigprocmask(SIG_BLOCK, &stopSignals, nullptr);
+    sigset_t stop_signals;
+    sigemptyset(&stop_signals);
+    sigaddset(&stop_signals, SIGINT);
+    sigaddset(&stop_signals, SIGTERM);
+    sigprocmask(SIG_BLOCK, &stop_signals, nullptr);
 
     const auto timeout = std::chrono::seconds(5);
     auto connected = o.unix_path.empty() ? navmap::ipc::StreamClient::connectTcp(o.tcp_host, o.tcp_port, o.request,
@@ -165,27 +166,27 @@ int main(int argc, char** argv) {
     }
     // Statuses arrive while the server holds frames back (docs/frame-protocol.md); with --json,
     // stdout stays one JSON object and they go to stderr.
-    std::FILE* statusOut = o.json ? stderr : stdout;
-    client.setStatusHandler([statusOut](const std::string& text) {
-        std::fprintf(statusOut, "status: %s\n", text.c_str());
-        std::fflush(statusOut);
+    std::FILE* status_out = o.json ? stderr : stdout;
+    client.setStatusHandler([status_out](const std::string& text) {
+        std::fprintf(status_out, "status: %s\n", text.c_str());
+        std::fflush(status_out);
     });
     navmap::ipc::ReceivedFrame frame;
     navmap::ipc::HeldFrame held;
-    std::vector<double> sourceLatencyMs;
-    std::vector<double> renderLatencyMs;
+    std::vector<double> source_latency_ms;
+    std::vector<double> render_latency_ms;
     long received = 0;
     long saved = 0;
     std::uint64_t dropped = 0;
-    std::string endReason = "done";
+    std::string end_reason = "done";
     int rc = 0;
     const auto start = std::chrono::steady_clock::now();
-    auto firstFrame = start;
-    auto lastFrame = start;
+    auto first_frame = start;
+    auto last_frame = start;
     for (;;) {
         const timespec zero{0, 0};
-        if (sigtimedwait(&stopSignals, nullptr, &zero) > 0) {
-            endReason = "interrupted";
+        if (sigtimedwait(&stop_signals, nullptr, &zero) > 0) {
+            end_reason = "interrupted";
             break;
         }
         const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -196,7 +197,7 @@ int main(int argc, char** argv) {
                              : client.next(frame, std::chrono::milliseconds(200));
         if (!r) {
             std::fprintf(stderr, "navmap-view: %s\n", r.error().message.c_str());
-            endReason = "error";
+            end_reason = "error";
             rc = 1;
             break;
         }
@@ -207,33 +208,33 @@ int main(int argc, char** argv) {
         const navmap::ipc::FrameHeader& header = o.zero_copy ? held.header : frame.header;
         const std::uint8_t* pixels = o.zero_copy ? held.pixels : frame.pixels.data();
         const std::int64_t receive_time_ns = o.zero_copy ? held.receive_time_ns : frame.receive_time_ns;
-        lastFrame = std::chrono::steady_clock::now();
+        last_frame = std::chrono::steady_clock::now();
         if (received == 0) {
-            firstFrame = lastFrame;
+            first_frame = last_frame;
         }
         ++received;
         dropped = header.dropped;
         if (header.source_time_ns != 0) {
-            sourceLatencyMs.push_back(static_cast<double>(receive_time_ns - header.source_time_ns) / 1e6);
+            source_latency_ms.push_back(static_cast<double>(receive_time_ns - header.source_time_ns) / 1e6);
         }
-        renderLatencyMs.push_back(static_cast<double>(receive_time_ns - header.render_time_ns) / 1e6);
+        render_latency_ms.push_back(static_cast<double>(receive_time_ns - header.render_time_ns) / 1e6);
         if (!o.save_dir.empty() && (o.save_count < 0 || saved < o.save_count)) {
             char name[64];
             std::snprintf(name, sizeof(name), "frame_%06llu.png", static_cast<unsigned long long>(header.sequence));
             const std::string path = (std::filesystem::path(o.save_dir) / name).string();
             if (auto s = navmap::ipc::writeFramePng(path, header, pixels); !s) {
                 std::fprintf(stderr, "navmap-view: %s\n", s.message().c_str());
-                endReason = "error";
+                end_reason = "error";
                 rc = 1;
                 break;
             }
             ++saved;
         }
     }
-    const double span = std::chrono::duration<double>(lastFrame - firstFrame).count();
+    const double span = std::chrono::duration<double>(last_frame - first_frame).count();
     const double fps = received > 1 && span > 0 ? static_cast<double>(received - 1) / span : 0;
-    const double sP50 = percentile(sourceLatencyMs, 0.5), sP99 = percentile(sourceLatencyMs, 0.99);
-    const double rP50 = percentile(renderLatencyMs, 0.5), rP99 = percentile(renderLatencyMs, 0.99);
+    const double s_p50 = percentile(source_latency_ms, 0.5), s_p99 = percentile(source_latency_ms, 0.99);
+    const double r_p50 = percentile(render_latency_ms, 0.5), r_p99 = percentile(render_latency_ms, 0.99);
     if (o.json) {
         std::printf(
             "{\"frames\":%ld,\"fps\":%.2f,\"dropped\":%llu,\"lost_locally\":%llu,\"saved\":%ld,\"statuses\":%llu,"
@@ -241,18 +242,18 @@ int main(int argc, char** argv) {
             "\"render_latency_ms\":{\"p50\":%.3f,\"p99\":%.3f},\"held_overwritten\":%llu,\"end\":\"%s\"}\n",
             received, fps, static_cast<unsigned long long>(dropped),
             static_cast<unsigned long long>(client.stats().lost_locally), saved,
-            static_cast<unsigned long long>(client.stats().statuses), sourceLatencyMs.size(), sP50, sP99, rP50, rP99,
-            static_cast<unsigned long long>(client.stats().held_overwritten), endReason.c_str());
+            static_cast<unsigned long long>(client.stats().statuses), source_latency_ms.size(), s_p50, s_p99, r_p50,
+            r_p99, static_cast<unsigned long long>(client.stats().held_overwritten), end_reason.c_str());
     } else {
         std::printf("frames %ld  fps %.2f  dropped %llu  saved %ld\n", received, fps,
                     static_cast<unsigned long long>(dropped), saved);
-        if (sourceLatencyMs.empty()) {
+        if (source_latency_ms.empty()) {
             std::printf("latency source->receipt: no source timestamps in the stream\n");
         } else {
-            std::printf("latency source->receipt ms: p50 %.3f  p99 %.3f  (%zu frames)\n", sP50, sP99,
-                        sourceLatencyMs.size());
+            std::printf("latency source->receipt ms: p50 %.3f  p99 %.3f  (%zu frames)\n", s_p50, s_p99,
+                        source_latency_ms.size());
         }
-        std::printf("latency render->receipt ms: p50 %.3f  p99 %.3f\n", rP50, rP99);
+        std::printf("latency render->receipt ms: p50 %.3f  p99 %.3f\n", r_p50, r_p99);
     }
     return rc;
 }

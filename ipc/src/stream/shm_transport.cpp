@@ -57,7 +57,7 @@ bool ShmTransport::sendWithRing(StreamConn& c, const std::string& text) {
         handshakeError(c, ro.error().message);
         return false;
     }
-    const net::UniqueFd roFd(ro.value());
+    const net::UniqueFd ro_fd(ro.value());
     iovec iov{const_cast<char*>(text.data()), text.size()};
     alignas(cmsghdr) char control[CMSG_SPACE(sizeof(int))] = {};
     msghdr msg{};
@@ -69,7 +69,7 @@ bool ShmTransport::sendWithRing(StreamConn& c, const std::string& text) {
     cm->cmsg_level = SOL_SOCKET;
     cm->cmsg_type = SCM_RIGHTS;
     cm->cmsg_len = CMSG_LEN(sizeof(int));
-    const int f = roFd.get();
+    const int f = ro_fd.get();
     std::memcpy(CMSG_DATA(cm), &f, sizeof(int));
     const ssize_t n = ::sendmsg(c.fd.get(), &msg, MSG_NOSIGNAL | MSG_DONTWAIT);
     if (n < 0) {

@@ -75,10 +75,11 @@ Result<std::unique_ptr<StreamClient>> StreamClient::connectTcp(const std::string
     return handshake(fd.value(), peer, request, timeout, std::move(inflate));
 }
 
-Result<std::unique_ptr<StreamClient>> StreamClient::handshake(int rawFd, std::string peer, const StreamRequest& request,
+Result<std::unique_ptr<StreamClient>> StreamClient::handshake(int raw_fd, const std::string& peer,
+                                                              const StreamRequest& request,
                                                               std::chrono::milliseconds timeout,
                                                               FrameInflater inflate) {
-    UniqueFd fd(rawFd);
+    UniqueFd fd(raw_fd);
     const auto deadline = Clock::now() + timeout;
     const std::string line = formatStreamRequest(request);
     // A server that refuses this peer (not allowed, too many clients) answers and closes at once,
@@ -218,8 +219,8 @@ StreamClient::~StreamClient() {
     const UniqueFd owned(m_fd);
 }
 
-Status StreamClient::readExact(std::uint8_t* dst, std::size_t n, Clock::time_point deadline, bool* timedOut) {
-    *timedOut = false;
+Status StreamClient::readExact(std::uint8_t* dst, std::size_t n, Clock::time_point deadline, bool* timed_out) {
+    *timed_out = false;
     const std::size_t buffered = std::min(n, m_in.size() - m_in_pos);
     if (buffered > 0) {
         std::memcpy(dst, m_in.data() + m_in_pos, buffered);
@@ -235,7 +236,7 @@ Status StreamClient::readExact(std::uint8_t* dst, std::size_t n, Clock::time_poi
         pollfd p{m_fd, POLLIN, 0};
         const int r = ::poll(&p, 1, msLeft(deadline));
         if (r == 0) {
-            *timedOut = true;
+            *timed_out = true;
             return Error{"timeout"};
         }
         if (r < 0) {
@@ -354,12 +355,12 @@ Result<bool> StreamClient::receive(ReceivedFrame* copy, HeldFrame* held, std::ch
             return false;
         }
         // Payloads are read to the end even past the deadline: the stream must stay in step.
-        const auto payloadDeadline = std::max(deadline, Clock::now() + std::chrono::seconds(5));
-        bool timedOut = false;
+        const auto payload_deadline = std::max(deadline, Clock::now() + std::chrono::seconds(5));
+        bool timed_out = false;
         if (h.kind == FrameKind::Error) {
             std::string message(h.payload_bytes, '\0');
-            if (auto s = readExact(reinterpret_cast<std::uint8_t*>(message.data()), message.size(), payloadDeadline,
-                                   &timedOut);
+            if (auto s = readExact(reinterpret_cast<std::uint8_t*>(message.data()), message.size(), payload_deadline,
+                                   &timed_out);
                 !s) {
                 message = "(message lost: " + s.message() + ")";
             }
@@ -369,7 +370,7 @@ Result<bool> StreamClient::receive(ReceivedFrame* copy, HeldFrame* held, std::ch
             // Before the first frame: what the server is doing about it. Not a frame; keep waiting.
             std::string text(h.payload_bytes, '\0');
             if (auto s =
-                    readExact(reinterpret_cast<std::uint8_t*>(text.data()), text.size(), payloadDeadline, &timedOut);
+                    readExact(reinterpret_cast<std::uint8_t*>(text.data()), text.size(), payload_deadline, &timed_out);
                 !s) {
                 return Error{s.message()};
             }
@@ -388,36 +389,36 @@ Result<bool> StreamClient::receive(ReceivedFrame* copy, HeldFrame* held, std::ch
             }
             continue;
         }
-        const bool wantShm = m_payload == StreamPayload::Shm;
-        if ((h.encoding == FrameEncoding::Shm) != wantShm || h.width != static_cast<std::uint32_t>(m_profile.width) ||
+        const bool want_shm = m_payload == StreamPayload::Shm;
+        if ((h.encoding == FrameEncoding::Shm) != want_shm || h.width != static_cast<std::uint32_t>(m_profile.width) ||
             h.height != static_cast<std::uint32_t>(m_profile.height) || h.format != m_profile.format) {
             return Error{m_peer + ": frame header does not match the negotiated profile"};
         }
-        const std::int64_t receivedNs = stream_detail::realtimeNowNs();
-        const std::uint8_t* heldPixels = nullptr;
+        const std::int64_t received_ns = stream_detail::realtimeNowNs();
+        const std::uint8_t* held_pixels = nullptr;
         if (h.encoding == FrameEncoding::Shm) {
             const FrameRingLayout l = FrameRingLayout::make(m_slots, h.width, h.height, h.format);
-            FrameHeader slotHeader;
+            FrameHeader slot_header;
             bool ok = false;
             if (held != nullptr) {
                 // In place: the server pinned the frame's slot for us until our ack.
                 std::uint64_t lock = 0;
                 const int slot = FrameRing::findSlot(m_map, l, h.sequence, &lock);
-                ok = slot >= 0 && FrameRing::readMapped(m_map, l, h.sequence, &slotHeader, nullptr);
+                ok = slot >= 0 && FrameRing::readMapped(m_map, l, h.sequence, &slot_header, nullptr);
                 if (ok) {
                     m_held = slot;
                     m_held_lock = lock;
-                    heldPixels = m_map + l.slotOffset(static_cast<std::uint32_t>(slot)) + kSlotPixelOffset;
+                    held_pixels = m_map + l.slotOffset(static_cast<std::uint32_t>(slot)) + kSlotPixelOffset;
                 }
             } else {
                 copy->pixels.resize(h.pixelBytes());
-                ok = FrameRing::readMapped(m_map, l, h.sequence, &slotHeader, copy->pixels.data());
+                ok = FrameRing::readMapped(m_map, l, h.sequence, &slot_header, copy->pixels.data());
                 if (!ok) {
                     // Overwritten while the notification waited in the socket: the newest frame is
                     // in the ring too, and the newest frame is what we want anyway.
                     const std::uint64_t latest = FrameRing::latestMapped(m_map);
                     if (latest > h.sequence &&
-                        FrameRing::readMapped(m_map, l, latest, &slotHeader, copy->pixels.data())) {
+                        FrameRing::readMapped(m_map, l, latest, &slot_header, copy->pixels.data())) {
                         h.sequence = latest;
                         ok = true;
                     }
@@ -449,18 +450,18 @@ Result<bool> StreamClient::receive(ReceivedFrame* copy, HeldFrame* held, std::ch
                 }
                 continue;
             }
-            h.render_time_ns = slotHeader.render_time_ns;
-            h.source_time_ns = slotHeader.source_time_ns;
-            h.slot = slotHeader.slot;
+            h.render_time_ns = slot_header.render_time_ns;
+            h.source_time_ns = slot_header.source_time_ns;
+            h.slot = slot_header.slot;
         } else if (h.encoding == FrameEncoding::Raw) {
             copy->pixels.resize(h.pixelBytes());
-            if (auto s = readExact(copy->pixels.data(), copy->pixels.size(), payloadDeadline, &timedOut); !s) {
+            if (auto s = readExact(copy->pixels.data(), copy->pixels.size(), payload_deadline, &timed_out); !s) {
                 return Error{s.message()};
             }
         } else {
             copy->pixels.resize(h.pixelBytes());
             m_compressed.resize(h.payload_bytes);
-            if (auto s = readExact(m_compressed.data(), m_compressed.size(), payloadDeadline, &timedOut); !s) {
+            if (auto s = readExact(m_compressed.data(), m_compressed.size(), payload_deadline, &timed_out); !s) {
                 return Error{s.message()};
             }
             if (!m_inflate ||
@@ -476,8 +477,8 @@ Result<bool> StreamClient::receive(ReceivedFrame* copy, HeldFrame* held, std::ch
         h.dropped += m_stats.lost_locally;
         if (held != nullptr) {
             held->header = h;
-            held->pixels = heldPixels;
-            held->receive_time_ns = receivedNs;
+            held->pixels = held_pixels;
+            held->receive_time_ns = received_ns;
         } else {
             copy->header = h;
             copy->receive_time_ns = stream_detail::realtimeNowNs();

@@ -26,7 +26,7 @@ Status readInt(const nlohmann::json& j, const char* key, int lo, int hi, int* ou
     return {};
 }
 
-Result<std::string> readString(const nlohmann::json& j, const char* key, std::size_t maxLen) {
+Result<std::string> readString(const nlohmann::json& j, const char* key, std::size_t max_len) {
     const auto it = j.find(key);
     if (it == j.end()) {
         return std::string();
@@ -35,8 +35,8 @@ Result<std::string> readString(const nlohmann::json& j, const char* key, std::si
         return Error{std::string("handshake: \"") + key + "\" must be a string"};
     }
     std::string s = it->get<std::string>();
-    if (s.empty() || s.size() > maxLen) {
-        return Error{std::string("handshake: \"") + key + "\" must have 1.." + std::to_string(maxLen) + " characters"};
+    if (s.empty() || s.size() > max_len) {
+        return Error{std::string("handshake: \"") + key + "\" must have 1.." + std::to_string(max_len) + " characters"};
     }
     return s;
 }

@@ -103,7 +103,7 @@ void collectStreamMetrics(MetricsRegistry& r, const FrameServerStats& s, const E
 }
 
 std::string streamStatusJson(const FrameServerStats& s, const std::vector<ActiveProfile>& active,
-                             const std::function<std::string()>& daemonJson) {
+                             const std::function<std::string()>& daemon_json) {
     nlohmann::json j;
     j["stream"] = streamCounters(s);
     nlohmann::json profiles = nlohmann::json::array();
@@ -113,8 +113,8 @@ std::string streamStatusJson(const FrameServerStats& s, const std::vector<Active
     }
     j["stream"]["profiles"] = profiles;
     j["daemon"] = nullptr;
-    if (daemonJson) {
-        const std::string text = daemonJson();
+    if (daemon_json) {
+        const std::string text = daemon_json();
         auto parsed = nlohmann::json::parse(text, nullptr, false);
         j["daemon"] = parsed.is_discarded() ? nlohmann::json(text) : parsed;
     }

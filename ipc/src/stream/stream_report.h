@@ -21,6 +21,6 @@ void collectStreamMetrics(MetricsRegistry& r, const FrameServerStats& s, const E
 
 /// /status: {"stream": counters and profiles, "daemon": what `daemonJson` returns (or null)}.
 std::string streamStatusJson(const FrameServerStats& s, const std::vector<ActiveProfile>& active,
-                             const std::function<std::string()>& daemonJson);
+                             const std::function<std::string()>& daemon_json);
 
 }  // namespace navmap::ipc::stream_detail

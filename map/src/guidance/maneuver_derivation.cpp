@@ -12,7 +12,7 @@ namespace {
 // Cars may use motorway .. service (map::fastestRoute's rule); pedestrian ways, tracks and
 // paths are no choice for a driver.
 bool drivable(const GraphEdge& e) { return e.cls < RoadClass::Pedestrian; }
-bool roundabout(const GraphEdge& e) { return (e.flags & RoadFlags::Roundabout) != 0; }
+bool roundabout(const GraphEdge& e) { return (e.flags & road_flags::kRoundabout) != 0; }
 
 double headingOf(PlanarPoint a, PlanarPoint b) {
     return std::atan2(b.x - a.x, b.y - a.y) * 180.0 / std::numbers::pi;  // clockwise from north
@@ -23,7 +23,7 @@ double headingOf(PlanarPoint a, PlanarPoint b) {
 PlanarPoint edgeProbe(const RoadGraph& g, const GraphEdge& e, double probe_m) {
     const PlanarPoint end{g.nodes[e.to].x, g.nodes[e.to].y};
     if (e.shape_end <= e.shape_begin + 1 || e.shape_end > g.shape.size()) return end;
-    const bool reversed = (e.flags & EdgeFlags::Reversed) != 0;
+    const bool reversed = (e.flags & edge_flags::kReversed) != 0;
     const std::uint32_t count = e.shape_end - e.shape_begin;
     auto at = [&](std::uint32_t k) {
         const LocalPoint& p = g.shape[reversed ? e.shape_end - 1 - k : e.shape_begin + k];
@@ -65,9 +65,9 @@ public:
             const std::uint32_t out_i = m_line[i + 1].edge;
             if (in_i == out_i || in_i >= m_g.edges.size() || out_i >= m_g.edges.size()) continue;
             const GraphEdge& in = m_g.edges[in_i];
-            const GraphEdge& outE = m_g.edges[out_i];
+            const GraphEdge& out_e = m_g.edges[out_i];
             if (roundabout(in)) continue;  // circulating or leaving: part of the roundabout manoeuvre
-            if (roundabout(outE)) {
+            if (roundabout(out_e)) {
                 if (auto m = roundaboutAt(i)) out.push_back(std::move(*m));
                 continue;
             }
@@ -116,16 +116,16 @@ private:
     }
 
     std::optional<Maneuver> junctionAt(std::size_t i, const GraphEdge& in, std::uint32_t out_i) const {
-        const GraphEdge& outE = m_g.edges[out_i];
+        const GraphEdge& out_e = m_g.edges[out_i];
         const double arrival = arrivalHeading(i);
-        const double a = leaveAngle(arrival, outE);
+        const double a = leaveAngle(arrival, out_e);
         std::vector<Candidate> others;
-        for (const Candidate& c : candidates(outE.from, &in, arrival)) {
+        for (const Candidate& c : candidates(out_e.from, &in, arrival)) {
             if (c.edge != out_i) others.push_back(c);
         }
         // No choice: the driver follows the road however it bends.
         if (others.empty()) return std::nullopt;
-        const bool same_road = sameRoad(in, outE);
+        const bool same_road = sameRoad(in, out_e);
         const bool most_straight = std::all_of(others.begin(), others.end(),
                                                [&](const Candidate& c) { return std::abs(c.angle) > std::abs(a); });
         // Following the road that goes on most straight: nothing to say.

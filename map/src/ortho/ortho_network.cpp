@@ -159,16 +159,16 @@ OrthoNetwork decodeNetwork(const std::vector<std::uint8_t>& bytes, const std::st
     OrthoNetwork net = OrthoNetwork::zeros(inputs, hidden);
     net.info = info;
     detail::ByteReader p(std::span<const std::uint8_t>(bytes).subspan(kHeaderSize));
-    auto readAll = [&](auto& dst) {
+    auto read_all = [&](auto& dst) {
         for (auto& v : dst) {
             v = p.f32();
             if (!std::isfinite(v)) throw fail("weight is not finite");
         }
     };
-    readAll(net.w0);
-    readAll(net.b0);
-    readAll(net.w1);
-    readAll(net.b1);
+    read_all(net.w0);
+    read_all(net.b0);
+    read_all(net.w1);
+    read_all(net.b1);
     return net;
 }
 

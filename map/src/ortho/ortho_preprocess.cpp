@@ -103,7 +103,7 @@ OrthoLayers sampleOrthoLayers(const Tile& tile, const GlobalInputs& in, const Pr
     o.elevation.resize(n2);
     const TileDem& dem = tile.dem;
     const double spacing = tile.size_m / (ng - 1);
-    auto demAt = [&](double x, double y, float& h) {
+    auto dem_at = [&](double x, double y, float& h) {
         if (dem.size < 2) return false;
         const double ds = tile.size_m / (dem.size - 1);
         const int last = dem.size - 1;
@@ -130,7 +130,7 @@ OrthoLayers sampleOrthoLayers(const Tile& tile, const GlobalInputs& in, const Pr
             o.lights[i] =
                 static_cast<std::uint8_t>(std::clamp(std::lround(in.lights.bilinear(la, lo) * 255.0f), 0L, 255L));
             float h = 0;
-            if (!demAt(c * spacing, r * spacing, h)) h = in.elevation.empty() ? 0.0f : in.elevation.bilinear(la, lo);
+            if (!dem_at(c * spacing, r * spacing, h)) h = in.elevation.empty() ? 0.0f : in.elevation.bilinear(la, lo);
             o.elevation[i] = static_cast<std::int16_t>(std::clamp(std::lround(h), -32768L, 32767L));
         }
     }

@@ -12,7 +12,13 @@ namespace {
 
 constexpr double kUnitDeg = 1.0 / 120.0;  // half an arc minute
 
-enum Kind : std::uint8_t { LineString = 0, LinearRing = 1, OuterBoundary = 2, InnerBoundary = 3, MultiGeometry = 4 };
+enum Kind : std::uint8_t {
+    kLineString = 0,
+    kLinearRing = 1,
+    kOuterBoundary = 2,
+    kInnerBoundary = 3,
+    kMultiGeometry = 4
+};
 
 class Reader {
 public:
@@ -72,7 +78,7 @@ std::vector<GeoPoint> readNodes(Reader& r, std::uint32_t nodes) {
         if (children < 0) r.fail("negative child count");
         pts.push_back(point(r, lat, lon));
         for (int c = 0; c < children; ++c) {
-            const int dlat = r.i8("child latitude"), dlon = r.i8("child longitude");
+            const int dlat = static_cast<int>(r.i8("child latitude")), dlon = static_cast<int>(r.i8("child longitude"));
             pts.push_back(point(r, lat + dlat, lon + dlon));
         }
     }
@@ -94,11 +100,11 @@ Pn2File parsePn2(const std::vector<std::uint8_t>& bytes, const std::string& name
     while (read < records) {
         const std::uint8_t kind = r.u8("record kind");
         const std::uint32_t id = r.u32("record id");
-        if (kind > MultiGeometry) r.fail("unknown record kind " + std::to_string(kind));
+        if (kind > kMultiGeometry) r.fail("unknown record kind " + std::to_string(kind));
         // The colour index belongs to a whole feature: a multi-geometry has it, its parts and
         // inner boundaries do not.
-        if (colours && kind != InnerBoundary && parts_left == 0) (void)r.u8("colour index");
-        if (kind == MultiGeometry) {
+        if (colours && kind != kInnerBoundary && parts_left == 0) (void)r.u8("colour index");
+        if (kind == kMultiGeometry) {
             parts_left = r.u8("part count");  // the parts follow as records of their own
             continue;
         }
@@ -106,16 +112,16 @@ Pn2File parsePn2(const std::vector<std::uint8_t>& bytes, const std::string& name
         std::vector<GeoPoint> pts = readNodes(r, r.u32("node count"));
         ++read;
         switch (kind) {
-            case LineString:
+            case kLineString:
                 out.lines.push_back(std::move(pts));
                 open = nullptr;
                 break;
-            case LinearRing:
-            case OuterBoundary:
+            case kLinearRing:
+            case kOuterBoundary:
                 out.polygons.push_back({id, std::move(pts), {}});
                 open = &out.polygons.back();
                 break;
-            case InnerBoundary:
+            case kInnerBoundary:
                 if (!open) r.fail("inner boundary without an outer boundary before it");
                 open->holes.push_back(std::move(pts));
                 break;

@@ -60,16 +60,16 @@ EglContext::EglContext(Platform requested) {
             "EGL: the EGL library offers no EGL_EXT_platform_base, so no headless platform can be "
             "chosen (is libegl-mesa0 or the NVIDIA EGL driver installed?)");
     }
-    auto getPlatformDisplay =
+    auto get_platform_display =
         reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(eglGetProcAddress("eglGetPlatformDisplayEXT"));
-    auto queryDevices = reinterpret_cast<PFNEGLQUERYDEVICESEXTPROC>(eglGetProcAddress("eglQueryDevicesEXT"));
-    auto queryDeviceString =
+    auto query_devices = reinterpret_cast<PFNEGLQUERYDEVICESEXTPROC>(eglGetProcAddress("eglQueryDevicesEXT"));
+    auto query_device_string =
         reinterpret_cast<PFNEGLQUERYDEVICESTRINGEXTPROC>(eglGetProcAddress("eglQueryDeviceStringEXT"));
 
     std::vector<std::string> failures;
     const bool has_surfaceless = hasExtension(client, "EGL_MESA_platform_surfaceless");
     const bool has_device = hasExtension(client, "EGL_EXT_platform_device") &&
-                            hasExtension(client, "EGL_EXT_device_enumeration") && queryDevices;
+                            hasExtension(client, "EGL_EXT_device_enumeration") && query_devices;
 
     auto try_devices = [&](bool hardware_only) {
         if (!has_device) {
@@ -77,15 +77,15 @@ EglContext::EglContext(Platform requested) {
             return false;
         }
         EGLint count = 0;
-        queryDevices(0, nullptr, &count);
+        query_devices(0, nullptr, &count);
         std::vector<EGLDeviceEXT> devices(static_cast<std::size_t>(count));
-        if (count > 0) queryDevices(count, devices.data(), &count);
+        if (count > 0) query_devices(count, devices.data(), &count);
         if (count == 0) failures.push_back("device platform: no EGL devices");
         for (EGLint i = 0; i < count; ++i) {
-            const char* dev_ext = queryDeviceString ? queryDeviceString(devices[i], EGL_EXTENSIONS) : nullptr;
+            const char* dev_ext = query_device_string ? query_device_string(devices[i], EGL_EXTENSIONS) : nullptr;
             const bool software = hasExtension(dev_ext, "EGL_MESA_device_software");
             if (hardware_only && software) continue;
-            EGLDisplay d = getPlatformDisplay(EGL_PLATFORM_DEVICE_EXT, devices[i], nullptr);
+            EGLDisplay d = get_platform_display(EGL_PLATFORM_DEVICE_EXT, devices[i], nullptr);
             std::string why;
             const std::string name = std::string("device#") + std::to_string(i) + (software ? " (software)" : "");
             if (tryDisplay(d, name, why)) return true;
@@ -98,7 +98,7 @@ EglContext::EglContext(Platform requested) {
             failures.push_back("surfaceless platform: EGL_MESA_platform_surfaceless not offered");
             return false;
         }
-        EGLDisplay d = getPlatformDisplay(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
+        EGLDisplay d = get_platform_display(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
         std::string why;
         if (tryDisplay(d, "surfaceless", why)) return true;
         failures.push_back("surfaceless: " + why);

@@ -108,7 +108,7 @@ void uploadRoads(GpuTile& g, TileMesh& mesh, GLuint index_buffer) {
     g.bridge_first = road_count;
     for (GLsizei i = road_count; i-- > 0;) {
         const RoadInstance& r = mesh.roads[static_cast<std::size_t>(i)];
-        if (static_cast<int>(r.flags) & map::RoadFlags::Bridge) {
+        if (static_cast<int>(r.flags) & map::road_flags::kBridge) {
             g.bridge_first = i;
             continue;
         }

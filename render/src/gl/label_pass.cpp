@@ -209,7 +209,7 @@ LabelPass::WorldFit LabelPass::worldCandidate(const MapFrame& frame, std::span<c
     const float focal_px = m_projection[1][1] * 0.5f * viewport.y;
     const auto reference_m = t.world_reach * static_cast<float>(glm::length(frame.camera.target - frame.camera.eye));
     const float lift = static_cast<float>(m_params.world_lift_m);
-    auto capPx = [&](float em, float& cap) {
+    auto measure_cap = [&](float em, float& cap) {
         const float mpp = em / t.size_px;
         const glm::vec2 hm = 0.5f * t.size * mpp;
         const glm::vec3 mid = a + up * (lift + hm.y);
@@ -224,11 +224,11 @@ LabelPass::WorldFit LabelPass::worldCandidate(const MapFrame& frame, std::span<c
     };
     float em_m = t.size_px * reference_m / focal_px;
     float cap_px = 0.0f;
-    if (!capPx(em_m, cap_px)) return WorldFit::Screen;
+    if (!measure_cap(em_m, cap_px)) return WorldFit::Screen;
     const float max_cap = std::max(m_params.world_min_cap_px, m_params.world_max_cap_ratio * t.cap_height);
     if (cap_px > max_cap) {
         em_m *= max_cap / cap_px;
-        if (!capPx(em_m, cap_px)) return WorldFit::Screen;
+        if (!measure_cap(em_m, cap_px)) return WorldFit::Screen;
     }
     const float metres_per_px = em_m / t.size_px;
     const glm::vec2 half_m = 0.5f * t.size * metres_per_px;
@@ -344,16 +344,16 @@ void LabelPass::collect(const MapFrame& frame, std::span<const TileLabels> tiles
             if (world) {
                 // Road names stand on the middle of their longest straight piece, along it.
                 // On the finest drawn terrain: the tile that carried the label may be a coarser one.
-                auto onGround = [&](glm::dvec3 p) {
+                auto on_ground = [&](glm::dvec3 p) {
                     const double z = groundHeight(tiles, p.x, p.y);
                     if (!std::isnan(z)) p.z = z;
                     return p;
                 };
-                const glm::dvec3 a = onGround(t.origin + glm::dvec3(t.points[3 * i + 1]));
-                const glm::dvec3 b = onGround(t.origin + glm::dvec3(t.points[3 * i + 2]));
+                const glm::dvec3 a = on_ground(t.origin + glm::dvec3(t.points[3 * i + 1]));
+                const glm::dvec3 b = on_ground(t.origin + glm::dvec3(t.points[3 * i + 2]));
                 const glm::dvec3 at = c.kind == nl::LabelKind::Line && glm::length(b - a) >= 1.0
-                                          ? onGround(0.5 * (a + b))
-                                          : onGround(anchor);
+                                          ? on_ground(0.5 * (a + b))
+                                          : on_ground(anchor);
                 const WorldFit fit = worldCandidate(frame, tiles, m_view_projection, vp, at, a, b, size, f, c);
                 if (fit == WorldFit::Hidden || fit == WorldFit::TooSmall) {
                     // Not a candidate: the layout fades it out, in the world where it was shown.
@@ -437,7 +437,7 @@ void LabelPass::keepOut(const MapFrame& frame, std::span<const TileLabels> tiles
         }
         m_keep_out.push_back({0.5f * (lo + hi), 0.5f * (hi - lo) + margin, {1.0f, 0.0f}});
     }
-    auto groundAt = [&](double x, double y) {
+    auto ground_at = [&](double x, double y) {
         const double z = groundHeight(tiles, x, y);
         return std::isnan(z) ? frame.camera.target.z : z;
     };
@@ -469,7 +469,7 @@ void LabelPass::keepOut(const MapFrame& frame, std::span<const TileLabels> tiles
             const double m0 = measure_m[k - 1], m1 = measure_m[k];
             const double u = m1 > m0 ? std::clamp((m - m0) / (m1 - m0), 0.0, 1.0) : 0.0;
             const glm::dvec3 p = glm::mix(points[k - 1], points[k], u);
-            out.emplace_back(p.x, p.y, groundAt(p.x, p.y));
+            out.emplace_back(p.x, p.y, ground_at(p.x, p.y));
             at.push_back(m);
             if (m >= to) break;
         }
@@ -491,8 +491,9 @@ void LabelPass::keepOut(const MapFrame& frame, std::span<const TileLabels> tiles
         const ArrowShape shape = arrowShape(arrow, style, grow);
         const RouteGeometry& line = shape.line;
         if (line.points.size() < 2 || line.measure_m.size() != line.points.size()) continue;
-        const auto [points, at] =
-            sample(line.points, line.measure_m, line.measure_m.front(), line.measure_m.back(), 5.0);
+        const auto sampled = sample(line.points, line.measure_m, line.measure_m.front(), line.measure_m.back(), 5.0);
+        const auto& points = sampled.first;
+        const auto& at = sampled.second;
         strip(points, [&](std::size_t i) {
             return std::max(arrowHalfWidth(shape, at[i - 1], true, true), arrowHalfWidth(shape, at[i], true, false));
         });

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "outline_pass.h"
 
+#include <cmath>
 #include <cstddef>
 
 #include <glm/gtc/type_ptr.hpp>
@@ -167,7 +168,7 @@ void OutlinePass::markCells(const FrameContext& ctx, std::span<const std::uint32
         m_cells.setView(g->view, ctx.projection);
         for (GLsizei k = g->visible_first; k < g->visible_first + g->visible_count; ++k) {
             const RoadInstance& r = g->road_pieces[road_indices[6 * static_cast<std::size_t>(k)] / 4];
-            const RoadClassStyle& c = rs.of(static_cast<int>(r.road_class + 0.5f));
+            const RoadClassStyle& c = rs.of(static_cast<int>(std::lround(r.road_class)));
             shape.width_m = c.outerWidth();
             shape.fill_width_m = c.width_m;
             m_cells.markQuad(r.p0, r.p1, shape, ctx.whole_caps ? glm::vec2(1.0f) : r.cap_reach);

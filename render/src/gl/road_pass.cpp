@@ -110,8 +110,8 @@ void RoadPass::cull(const FrameContext& ctx, bool hidden) {
         gone_m2[c] = ctx.selection[c].goneFromM() * ctx.selection[c].goneFromM();
     auto shows = [&](const RoadInstance& r, glm::vec3 eye, const PieceFrustum& frustum) {
         const glm::vec3 d = 0.5f * (r.p0 + r.p1) - eye;
-        const auto c =
-            static_cast<std::size_t>(std::clamp(static_cast<int>(r.road_class + 0.5f), 0, kStyledRoadClasses - 1));
+        const auto c = static_cast<std::size_t>(
+            std::clamp(static_cast<int>(std::lround(r.road_class)), 0, kStyledRoadClasses - 1));
         return glm::dot(d, d) < gone_m2[c] && frustum.holds(r, eye, half_width, rs);
     };
     m_indices.clear();

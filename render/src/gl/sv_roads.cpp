@@ -211,8 +211,8 @@ SvTileRoads buildSvTileRoads(const map::Tile& tile, const RoadStyle& style,
     std::vector<Piece> pieces;
     for (const auto& road : tile.roads) {
         if (road.points.size() < 2) continue;
-        if (road.flags & map::RoadFlags::Tunnel) continue;  // hidden in the map view, as for GEO
-        const bool bridge = (road.flags & map::RoadFlags::Bridge) != 0;
+        if (road.flags & map::road_flags::kTunnel) continue;  // hidden in the map view, as for GEO
+        const bool bridge = (road.flags & map::road_flags::kBridge) != 0;
         const int order = (bridge ? 1000 : 0) + (map::kRoadClassCount - static_cast<int>(road.cls));
         const float reach = 0.5f * style.of(static_cast<int>(road.cls)).outerWidth() + 1.0f;
         for (std::size_t i = 0; i + 1 < road.points.size(); ++i) {
@@ -239,7 +239,7 @@ SvTileRoads buildSvTileRoads(const map::Tile& tile, const RoadStyle& style,
     out.bridge_first = out.instances.size();
     for (std::size_t i = out.instances.size(); i-- > 0;) {
         const SvRoadInstance& r = out.instances[i];
-        if (static_cast<int>(r.flags) & map::RoadFlags::Bridge) {
+        if (static_cast<int>(r.flags) & map::road_flags::kBridge) {
             out.bridge_first = i;
             continue;
         }

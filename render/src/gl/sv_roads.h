@@ -32,7 +32,7 @@ struct SvRoadInstance {
     glm::vec4 segment{0.0f};  ///< p0.xy, p1.xy, tile-local metres
     glm::vec2 z_range{0.0f};  ///< min, max terrain height above the plane near the segment, metres
     float road_class = 0.0f;  ///< map::RoadClass value
-    float flags = 0.0f;       ///< map::RoadFlags bits
+    float flags = 0.0f;       ///< map::road_flags bits
     float reach = 0.0f;       ///< metres around the piece that z_range covers
     glm::vec3 plane{0.0f};    ///< height at p0, gradient (dz/dx, dz/dy): z = h0 + g . (xy - p0)
 

@@ -100,7 +100,7 @@ void TerrainPass::draw(const FrameContext& ctx) {
         // Blocks outside the view are skipped; consecutive ones that need the same land-cover
         // levels are one draw.
         auto visible = [&](const TerrainBlock& k) { return boxInView(g->view_projection, k); };
-        auto levelsOf = [&](const TerrainBlock& k) {
+        auto levels_of = [&](const TerrainBlock& k) {
             return morph_cover ? coverLevels(g->morph, eye, k.min, k.max) : CoverLevels{};
         };
         // Nearest blocks first, like the tiles (a tile's hills hide its farther blocks before
@@ -118,12 +118,12 @@ void TerrainPass::draw(const FrameContext& ctx) {
             const std::size_t first_index = m_block_order[b++];
             const TerrainBlock& first = g->terrain_blocks[first_index];
             if (!visible(first)) continue;
-            const CoverLevels levels = levelsOf(first);
+            const CoverLevels levels = levels_of(first);
             std::uint32_t count = first.count;
             for (std::size_t last = first_index; b < m_block_order.size() && m_block_order[b] == last + 1;
                  ++b, ++last) {
                 const TerrainBlock& next = g->terrain_blocks[m_block_order[b]];
-                if (!visible(next) || !(levelsOf(next) == levels)) break;
+                if (!visible(next) || !(levels_of(next) == levels)) break;
                 count += next.count;
             }
             ctx.stats.terrain_triangles += count / 3;

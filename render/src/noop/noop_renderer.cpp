@@ -2,6 +2,7 @@
 #include "noop_renderer.h"
 
 #include <algorithm>
+#include <cmath>
 #include <string>
 
 namespace navmap::render::noop {
@@ -60,7 +61,7 @@ void NoopRenderer::renderMap(TargetHandle target, const MapFrame& frame) {
 
 Image NoopRenderer::blank(const View& v) const {
     Image image(v.width, v.height);
-    const auto to8 = [](float c) { return static_cast<std::uint8_t>(std::clamp(c, 0.0f, 1.0f) * 255.0f + 0.5f); };
+    const auto to8 = [](float c) { return static_cast<std::uint8_t>(std::lround(std::clamp(c, 0.0f, 1.0f) * 255.0f)); };
     for (std::size_t i = 0; i < image.rgba.size(); i += 4) {
         image.rgba[i] = to8(m_style.sky_color.r);
         image.rgba[i + 1] = to8(m_style.sky_color.g);

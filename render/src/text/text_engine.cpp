@@ -3,7 +3,7 @@
 
 namespace navmap::render::text {
 
-TextEngine::TextEngine(TextEngineOptions options)
+TextEngine::TextEngine(const TextEngineOptions& options)
     : m_fonts(std::make_unique<FontCollection>(options.fonts)),
       m_shaper(*m_fonts),
       m_atlas(*m_fonts, options.atlas),

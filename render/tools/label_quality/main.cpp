@@ -49,7 +49,7 @@ int main(int argc, char** argv) {
     app.add_flag("--glow", o.glow_roads, "draw glowing roads (seed 5.5.2)");
     if (const auto code = cli::parse(app, argc, argv)) return *code;
 
-    const auto usageError = [](const std::string& message) {
+    const auto usage_error = [](const std::string& message) {
         std::fprintf(stderr, "navmap-label-quality: %s\nRun with --help for more information.\n", message.c_str());
         return cli::kExitUsage;
     };
@@ -61,18 +61,18 @@ int main(int argc, char** argv) {
         char x = 0, rest = 0;
         if (std::sscanf(size.c_str(), "%d%c%d%c", &o.width, &x, &o.height, &rest) != 3 || x != 'x' || o.width < 16 ||
             o.width > 8192 || o.height < 16 || o.height > 8192) {
-            return usageError("--size: '" + size + "' is not WxH with W and H integers in [16, 8192]");
+            return usage_error("--size: '" + size + "' is not WxH with W and H integers in [16, 8192]");
         }
     }
     std::vector<navmap::render::MapLibreFollow> cameras;
     for (const auto& spec : camera_specs) {
         std::string error;
         const auto camera = nt::parseCameraSpec(spec, &error);
-        if (!camera) return usageError("--camera: " + error);
+        if (!camera) return usage_error("--camera: " + error);
         cameras.push_back(*camera);
     }
     if (!o.trajectory.empty() && cameras.empty())
-        return usageError("--trajectory needs at least one --camera zoom=Z,pitch=P");
+        return usage_error("--trajectory needs at least one --camera zoom=Z,pitch=P");
     try {
         std::vector<nt::LabelQualityOptions> runs;
         if (!cameras.empty()) {

@@ -31,7 +31,7 @@ CanTime at(double s) {
 }
 
 ipc::VehicleSample fix(const map::Projection& proj, double x, double y, double t, std::optional<double> heading = {},
-                       double fixType = 5) {
+                       double fix_type = 5) {
     double lat = 0, lon = 0;
     proj.reverse({x, y}, lat, lon);
     ipc::VehicleSample u;
@@ -40,14 +40,14 @@ ipc::VehicleSample fix(const map::Projection& proj, double x, double y, double t
     if (heading) {
         u.set(VssSignal::Heading, *heading, at(t));
     }
-    u.set(VssSignal::FixType, fixType, at(t));
+    u.set(VssSignal::FixType, fix_type, at(t));
     return u;
 }
 
-ipc::VehicleSample motion(double speed_mps, double yawDegS, double t) {
+ipc::VehicleSample motion(double speed_mps, double yaw_deg_s, double t) {
     ipc::VehicleSample u;
     u.set(VssSignal::Speed, speed_mps * 3.6, at(t));
-    u.set(VssSignal::YawRate, yawDegS, at(t));
+    u.set(VssSignal::YawRate, yaw_deg_s, at(t));
     return u;
 }
 
@@ -58,7 +58,7 @@ struct Store {
 };
 
 const Store* andorra() {
-    static const Store s = [] {
+    static const Store kS = [] {
         Store r;
         const auto path = test::binaryDir() / "andorra.navmap";
         if (!std::filesystem::exists(path)) {
@@ -69,7 +69,7 @@ const Store* andorra() {
         r.matcher = std::make_shared<const MapMatcher>(r.graph);
         return r;
     }();
-    return s.store ? &s : nullptr;
+    return kS.store ? &kS : nullptr;
 }
 
 #define REQUIRE_STORE()                                                                   \
@@ -109,7 +109,7 @@ struct DriveResult {
     double length = 0;
 };
 
-DriveResult drive(const Store& st, double seconds, bool withRoute, std::uint32_t seed = 1) {
+DriveResult drive(const Store& st, double seconds, bool with_route, std::uint32_t seed = 1) {
     const auto proj = st.store->projection();
     const auto from = map::nearestDrivableNode(*st.graph, proj.forward(42.5075, 1.5218));
     const auto to = map::nearestDrivableNode(*st.graph, proj.forward(42.5347, 1.5801));
@@ -117,7 +117,7 @@ DriveResult drive(const Store& st, double seconds, bool withRoute, std::uint32_t
     Truth truth{map::routePolyline(*st.graph, *route), 0};
     truth.length = truth.line.back().measure_m;
     VehicleStateEstimator est(proj, st.matcher);
-    if (withRoute) {
+    if (with_route) {
         std::vector<map::PlanarPoint> pts;
         for (const auto& p : truth.line) pts.push_back(p.position);
         est.setRoute(std::make_shared<RouteLine>("r1", pts));
@@ -129,7 +129,7 @@ DriveResult drive(const Store& st, double seconds, bool withRoute, std::uint32_t
     out.road = truth.line;
     double s = 30.0;
     const double dt = 0.02;
-    const double yawBias = 0.2;
+    const double yaw_bias = 0.2;
     for (int i = 0; i * dt < seconds && s < truth.length - 30; ++i) {
         const double t = i * dt;
         const double v = speedAt(t);
@@ -137,8 +137,8 @@ DriveResult drive(const Store& st, double seconds, bool withRoute, std::uint32_t
         const double h0 = truth.heading(s - v * 0.01), h1 = truth.heading(s + v * 0.01);
         double dh = h1 - h0;
         dh = std::remainder(dh, 2 * kPi);
-        const double yawDegS = -(dh / 0.02) * 180.0 / kPi;
-        est.addSample(motion(v + 0.1 * n01(rng), yawDegS + yawBias + 0.3 * n01(rng), t));
+        const double yaw_deg_s = -(dh / 0.02) * 180.0 / kPi;
+        est.addSample(motion(v + 0.1 * n01(rng), yaw_deg_s + yaw_bias + 0.3 * n01(rng), t));
         if (i % 10 == 0) {  // 5 Hz GNSS, sigma 2.5 m, course sigma 2 deg
             const auto p = truth.pos(s);
             double hdeg = truth.heading(s) * 180.0 / kPi + 2.0 * n01(rng);
@@ -147,9 +147,9 @@ DriveResult drive(const Store& st, double seconds, bool withRoute, std::uint32_t
         }
         // Frames at ~60 Hz: 3 per input step, 10-25 ms ahead of the newest input.
         for (const double ahead : {0.004, 0.011, 0.018}) {
-            const double sAhead = s + v * ahead;
+            const double s_ahead = s + v * ahead;
             out.poses.push_back(est.poseAt(at(t + ahead)));
-            out.truth.push_back(truth.pos(sAhead));
+            out.truth.push_back(truth.pos(s_ahead));
         }
         s += v * dt;
     }
@@ -163,54 +163,54 @@ TEST(VehicleState, SyntheticDriveStaysOnTheRoad) {
     REQUIRE_STORE();
     const auto r = drive(*st, 150.0, false);
     ASSERT_GT(r.poses.size(), 10000U);
-    double sumRaw2 = 0, maxRaw = 0, sumSnap2 = 0, maxSnap = 0, conf = 0, maxStep = 0;
-    std::vector<double> snapErrors;
+    double sum_raw2 = 0, max_raw = 0, sum_snap2 = 0, max_snap = 0, conf = 0, max_step = 0;
+    std::vector<double> snap_errors;
     std::size_t n = 0;
     for (std::size_t i = 0; i < r.poses.size(); ++i) {
         const auto& p = r.poses[i];
         ASSERT_TRUE(p.valid);
         EXPECT_FALSE(p.stale);
         if (i < 150) continue;  // settling after the first fix
-        const double eRaw = std::hypot(p.raw_x - r.truth[i].x, p.raw_y - r.truth[i].y);
-        const double eSnap = std::hypot(p.x - r.truth[i].x, p.y - r.truth[i].y);
-        sumRaw2 += eRaw * eRaw;
-        sumSnap2 += eSnap * eSnap;
-        maxRaw = std::max(maxRaw, eRaw);
-        maxSnap = std::max(maxSnap, eSnap);
+        const double e_raw = std::hypot(p.raw_x - r.truth[i].x, p.raw_y - r.truth[i].y);
+        const double e_snap = std::hypot(p.x - r.truth[i].x, p.y - r.truth[i].y);
+        sum_raw2 += e_raw * e_raw;
+        sum_snap2 += e_snap * e_snap;
+        max_raw = std::max(max_raw, e_raw);
+        max_snap = std::max(max_snap, e_snap);
         // Distance of the snapped pose from the road actually driven (the route centreline).
-        double offRoad = 1e9;
+        double off_road = 1e9;
         for (std::size_t k = 0; k + 1 < r.road.size(); ++k) {
             const auto a = r.road[k].position, b = r.road[k + 1].position;
             const double dx = b.x - a.x, dy = b.y - a.y, l2 = dx * dx + dy * dy;
             const double t = l2 > 0 ? std::clamp(((p.x - a.x) * dx + (p.y - a.y) * dy) / l2, 0.0, 1.0) : 0.0;
-            offRoad = std::min(offRoad, std::hypot(p.x - a.x - t * dx, p.y - a.y - t * dy));
+            off_road = std::min(off_road, std::hypot(p.x - a.x - t * dx, p.y - a.y - t * dy));
         }
-        snapErrors.push_back(offRoad);
+        snap_errors.push_back(off_road);
         conf += p.match_confidence;
         if (i > 0) {
             // Smoothness: between consecutive frames the marker moves at most speed * dt + 0.5 m.
-            maxStep = std::max(maxStep, std::hypot(p.raw_x - r.poses[i - 1].raw_x, p.raw_y - r.poses[i - 1].raw_y));
+            max_step = std::max(max_step, std::hypot(p.raw_x - r.poses[i - 1].raw_x, p.raw_y - r.poses[i - 1].raw_y));
         }
         ++n;
     }
-    const double rmsRaw = std::sqrt(sumRaw2 / n), rmsSnap = std::sqrt(sumSnap2 / n);
-    std::sort(snapErrors.begin(), snapErrors.end());
-    const double p99Off = snapErrors[snapErrors.size() * 99 / 100];
-    const double p95Off = snapErrors[snapErrors.size() * 95 / 100];
+    const double rms_raw = std::sqrt(sum_raw2 / n), rms_snap = std::sqrt(sum_snap2 / n);
+    std::sort(snap_errors.begin(), snap_errors.end());
+    const double p99_off = snap_errors[snap_errors.size() * 99 / 100];
+    const double p95_off = snap_errors[snap_errors.size() * 95 / 100];
     std::printf(
         "[ measured ] %zu poses over %.0f m: fused rms %.2f m max %.2f m; snapped rms %.2f m max %.2f m, off the "
         "driven road p95 %.2f m p99 %.2f m; "
         "mean confidence %.2f; max frame step %.2f m; fixes %llu jumps %llu\n",
-        n, r.length, rmsRaw, maxRaw, rmsSnap, maxSnap, p95Off, p99Off, conf / n, maxStep,
+        n, r.length, rms_raw, max_raw, rms_snap, max_snap, p95_off, p99_off, conf / n, max_step,
         static_cast<unsigned long long>(r.counters.fixes), static_cast<unsigned long long>(r.counters.rejected_jump));
-    EXPECT_LT(rmsRaw, 2.0);
-    EXPECT_LT(maxRaw, 6.0);
-    EXPECT_LT(rmsSnap, 2.0);
-    EXPECT_LT(p95Off, 0.5);  // snapped onto the road that is driven
-    EXPECT_LT(p99Off, 3.0);
-    EXPECT_LT(maxSnap, 12.0);  // the smoothed truth cuts hairpin corners; snapping does not
+    EXPECT_LT(rms_raw, 2.0);
+    EXPECT_LT(max_raw, 6.0);
+    EXPECT_LT(rms_snap, 2.0);
+    EXPECT_LT(p95_off, 0.5);  // snapped onto the road that is driven
+    EXPECT_LT(p99_off, 3.0);
+    EXPECT_LT(max_snap, 12.0);  // the smoothed truth cuts hairpin corners; snapping does not
     EXPECT_GT(conf / n, 0.6);
-    EXPECT_LT(maxStep, 15.0 * 0.007 + 0.5);
+    EXPECT_LT(max_step, 15.0 * 0.007 + 0.5);
     EXPECT_EQ(r.counters.rejected_jump, 0U);
 }
 
@@ -364,7 +364,7 @@ TEST(VehicleState, SnapsOntoTheNearestRoadWithConfidence) {
     std::optional<std::uint32_t> chosen;
     for (std::uint32_t e = 0; e < g.edges.size() && !chosen; ++e) {
         const auto& ed = g.edges[e];
-        if (ed.cls != map::RoadClass::Primary || (ed.flags & map::EdgeFlags::Reversed) ||
+        if (ed.cls != map::RoadClass::Primary || (ed.flags & map::edge_flags::kReversed) ||
             ed.shape_end - ed.shape_begin < 2)
             continue;
         const auto a = g.shape[ed.shape_begin], b = g.shape[ed.shape_begin + 1];
@@ -402,14 +402,14 @@ TEST(VehicleState, SnapsOntoTheNearestRoadWithConfidence) {
         EXPECT_EQ(p.y, p.raw_y);
     }
     // A point exactly on the road matches with confidence 1 (heading unknown at standstill).
-    const auto onRoad = st->matcher->match({mx, my}, heading, std::nullopt, VehicleStateConfig{});
-    ASSERT_TRUE(onRoad);
-    EXPECT_NEAR(onRoad->confidence, 1.0, 1e-6);
+    const auto on_road = st->matcher->match({mx, my}, heading, std::nullopt, VehicleStateConfig{});
+    ASSERT_TRUE(on_road);
+    EXPECT_NEAR(on_road->confidence, 1.0, 1e-6);
     // The reversed heading picks the twin edge (two-way road) or loses confidence (one-way).
     const auto back =
         st->matcher->match({mx, my}, std::fmod(heading + 180.0, 360.0), std::nullopt, VehicleStateConfig{});
     ASSERT_TRUE(back);
-    if ((ed.flags & map::RoadFlags::Oneway) == 0) {
+    if ((ed.flags & map::road_flags::kOneway) == 0) {
         EXPECT_NE(back->edge, *chosen);
         EXPECT_NEAR(back->confidence, 1.0, 1e-6);
     } else {

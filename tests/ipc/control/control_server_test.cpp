@@ -478,6 +478,7 @@ TEST(ControlServer, ManyClientsConcurrently) {
         ASSERT_TRUE(f.server);
         std::atomic<int> ok{0};
         std::vector<std::thread> threads;
+        threads.reserve(6);
         for (int t = 0; t < 6; ++t) {
             threads.emplace_back([&, t] {
                 auto c = ControlClient::connect(f.server->path());
@@ -532,7 +533,7 @@ TEST(ControlServer, MembersOfTheSocketGroupMayConnectOthersNot) {
     ASSERT_TRUE(f.server);
     ASSERT_EQ(::chmod(std::filesystem::path(f.server->path()).parent_path().c_str(), 0755), 0);
     const std::string path = f.server->path();
-    const auto clearRoute = [path] {
+    const auto clear_route = [path] {
         auto c = ControlClient::connect(path);
         if (!c.ok()) {
             return c.error().message;
@@ -541,13 +542,13 @@ TEST(ControlServer, MembersOfTheSocketGroupMayConnectOthersNot) {
         return r.ok() ? r.value() : r.error().message;
     };
     // A member through a supplementary group (SO_PEERGROUPS), not through its primary gid.
-    navmap::test::ForeignProcess member({64001, 64001, {kHmi}}, clearRoute);
+    navmap::test::ForeignProcess member({64001, 64001, {kHmi}}, clear_route);
     EXPECT_EQ(member.result(), R"({"ok":true,"cmd":"clear_route"})");
     // Anyone else: the file mode keeps them out; were it wider, SO_PEERCRED would.
-    navmap::test::ForeignProcess stranger({64002, 64002, {}}, clearRoute);
+    navmap::test::ForeignProcess stranger({64002, 64002, {}}, clear_route);
     EXPECT_EQ(stranger.result(), "connect(" + path + "): Permission denied");
     ASSERT_EQ(::chmod(path.c_str(), 0666), 0);
-    navmap::test::ForeignProcess stranger2({64002, 64002, {}}, clearRoute);
+    navmap::test::ForeignProcess stranger2({64002, 64002, {}}, clear_route);
     const std::string refused = stranger2.result();
     EXPECT_EQ(refused.rfind(R"({"ok":false,"error":"peer uid 64002 (pid )", 0), 0U) << refused;
     EXPECT_NE(refused.find(") is not allowed on " + path), std::string::npos) << refused;

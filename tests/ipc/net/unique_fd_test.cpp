@@ -57,7 +57,7 @@ TEST(UniqueFdTest, ClosesExactlyOnce) {
     EXPECT_FALSE(isOpen(raw));
     const int reused = newFd();
     ASSERT_EQ(reused, raw) << "the kernel gives the lowest free number";
-    first.reset();
+    first.reset();  // NOLINT(bugprone-use-after-move): a moved-from UniqueFd is empty and resettable
     second.reset();
     { const UniqueFd gone(std::move(first)); }
     EXPECT_TRUE(isOpen(reused));
@@ -77,17 +77,17 @@ TEST(UniqueFdTest, MoveConstructionTransfersOwnership) {
 }
 
 TEST(UniqueFdTest, MoveAssignmentClosesTheOldDescriptorAndTakesTheNew) {
-    const int oldRaw = newFd();
-    const int newRaw = newFd();
-    UniqueFd target(oldRaw);
-    UniqueFd source(newRaw);
+    const int old_raw = newFd();
+    const int new_raw = newFd();
+    UniqueFd target(old_raw);
+    UniqueFd source(new_raw);
     target = std::move(source);
-    EXPECT_FALSE(isOpen(oldRaw));
-    EXPECT_TRUE(isOpen(newRaw));
-    EXPECT_EQ(target.get(), newRaw);
+    EXPECT_FALSE(isOpen(old_raw));
+    EXPECT_TRUE(isOpen(new_raw));
+    EXPECT_EQ(target.get(), new_raw);
     EXPECT_FALSE(source.valid());  // NOLINT(bugprone-use-after-move)
     target.reset();
-    EXPECT_FALSE(isOpen(newRaw));
+    EXPECT_FALSE(isOpen(new_raw));
 }
 
 TEST(UniqueFdTest, SelfMoveAssignmentKeepsTheDescriptor) {
@@ -132,7 +132,7 @@ TEST(UniqueFdTest, LeavesNoDescriptorBehind) {
         UniqueFd a(newFd());
         UniqueFd b(std::move(a));
         a = std::move(b);
-        b.reset(newFd());
+        b.reset(newFd());  // NOLINT(bugprone-use-after-move): moved-from is empty, reset reuses it
     }
     EXPECT_EQ(navmap::test::countOpenFds(), before);
 }

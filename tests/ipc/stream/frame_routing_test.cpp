@@ -92,8 +92,8 @@ TEST_F(FrameServerFixture, TwoProfilesOfOneViewAndSizeGetTheirOwnFrames) {
     EXPECT_EQ(active[1].profile, "plain");
     const auto red = solid(64, 32, 250, 10, 10);
     const auto blue = solid(64, 32, 10, 10, 250);
-    int glowFrames = 0;
-    int plainFrames = 0;
+    int glow_frames = 0;
+    int plain_frames = 0;
     ReceivedFrame f;
     for (int round = 0; round < 20; ++round) {
         // The render loop publishes both profiles each tick, as navmapd does.
@@ -103,16 +103,16 @@ TEST_F(FrameServerFixture, TwoProfilesOfOneViewAndSizeGetTheirOwnFrames) {
             auto r = c->next(f, 1s);
             ASSERT_TRUE(r.ok()) << r.error().message;
             if (!r.value()) continue;
-            const bool isGlow = c == glow.value().get();
+            const bool is_glow = c == glow.value().get();
             // Every pixel is the client's own profile's colour: never the other profile's frame.
-            const auto& want = isGlow ? red : blue;
-            ASSERT_EQ(f.pixels, want) << (isGlow ? "glow" : "plain") << " client got frame " << f.header.sequence
+            const auto& want = is_glow ? red : blue;
+            ASSERT_EQ(f.pixels, want) << (is_glow ? "glow" : "plain") << " client got frame " << f.header.sequence
                                       << " with pixel 0 = " << int(f.pixels[0]) << "," << int(f.pixels[2]);
-            (isGlow ? glowFrames : plainFrames)++;
+            (is_glow ? glow_frames : plain_frames)++;
         }
     }
-    EXPECT_GE(glowFrames, 10);
-    EXPECT_GE(plainFrames, 10);
+    EXPECT_GE(glow_frames, 10);
+    EXPECT_GE(plain_frames, 10);
 }
 
 TEST_F(FrameServerFixture, ARequestResolvesByNameThenByViewAndSize) {
@@ -196,13 +196,13 @@ TEST_F(FrameServerFixture, WhenEverySlotIsHeldTheStreamGoesOnAndTheHolderIsTold)
     // Both slots are held: the writer must still write (a client may never stop the stream).
     ASSERT_TRUE(publish(*m_server, "bird", sequencePattern(64, 32, 3)));
     ReceivedFrame f;
-    bool sawThree = false;
-    for (int i = 0; i < 5 && !sawThree; ++i) {
+    bool saw_three = false;
+    for (int i = 0; i < 5 && !saw_three; ++i) {
         auto w = watcher.value()->next(f, 1s);
         ASSERT_TRUE(w.ok()) << w.error().message;
-        sawThree = w.value() && f.header.sequence == 3;
+        saw_three = w.value() && f.header.sequence == 3;
     }
-    EXPECT_TRUE(sawThree);
+    EXPECT_TRUE(saw_three);
     EXPECT_EQ(f.pixels, sequencePattern(64, 32, 3));
     // The oldest held frame (1, slot of the oldest write) was overwritten; its holder learns it.
     auto ra = a.value()->release();
@@ -231,9 +231,9 @@ TEST_F(FrameServerFixture, TheReconnectingClientWaitsForTheServerAndComesBackAft
     EXPECT_FALSE(client.next(f, 300ms));
     EXPECT_FALSE(client.connected());
     EXPECT_EQ(client.lastError(), "connect(" + m_path + "): No such file or directory");
-    const auto failedBefore = client.reconnectStats().failed_attempts;
-    EXPECT_GE(failedBefore, 2U);
-    EXPECT_LE(failedBefore, 8U);  // 20, 40, 80, 100 ms ... not a busy loop
+    const auto failed_before = client.reconnectStats().failed_attempts;
+    EXPECT_GE(failed_before, 2U);
+    EXPECT_LE(failed_before, 8U);  // 20, 40, 80, 100 ms ... not a busy loop
     for (int generation = 1; generation <= 2; ++generation) {
         start(FrameServerOptions{});
         std::atomic<bool> run{true};

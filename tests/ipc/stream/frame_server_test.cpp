@@ -212,22 +212,22 @@ TEST_F(StreamServerTest, ClientsThatNeverReadDoNotSlowTheOthers) {
 
     // A shm client that never acks, a TCP client and an MJPEG viewer that never read, and a
     // connection that never completes its handshake.
-    const int stuckShm = connectUnixRaw(m_server->options().unix_path);
-    ASSERT_TRUE(sendAllRaw(stuckShm, formatStreamRequest(small(StreamPayload::Shm))));
-    const int stuckTcp = connectTcpRaw(m_server->tcpPort());
+    const int stuck_shm = connectUnixRaw(m_server->options().unix_path);
+    ASSERT_TRUE(sendAllRaw(stuck_shm, formatStreamRequest(small(StreamPayload::Shm))));
+    const int stuck_tcp = connectTcpRaw(m_server->tcpPort());
     int tiny = 4096;
-    setsockopt(stuckTcp, SOL_SOCKET, SO_RCVBUF, &tiny, sizeof(tiny));
-    ASSERT_TRUE(sendAllRaw(stuckTcp, formatStreamRequest(small(StreamPayload::Raw))));
-    const int stuckHttp = connectTcpRaw(m_server->httpPort());
-    setsockopt(stuckHttp, SOL_SOCKET, SO_RCVBUF, &tiny, sizeof(tiny));
-    ASSERT_TRUE(sendAllRaw(stuckHttp,
+    setsockopt(stuck_tcp, SOL_SOCKET, SO_RCVBUF, &tiny, sizeof(tiny));
+    ASSERT_TRUE(sendAllRaw(stuck_tcp, formatStreamRequest(small(StreamPayload::Raw))));
+    const int stuck_http = connectTcpRaw(m_server->httpPort());
+    setsockopt(stuck_http, SOL_SOCKET, SO_RCVBUF, &tiny, sizeof(tiny));
+    ASSERT_TRUE(sendAllRaw(stuck_http,
                            "GET /stream.mjpg?profile=test&width=64&height=32&view=bird HTTP/1.1\r\nHost: 127.0.0.1:" +
                                std::to_string(m_server->httpPort()) + "\r\n\r\n"));
     const int silent = connectUnixRaw(m_server->options().unix_path);
 
-    const int withStuck = framesReceived(*fast, 600ms);
-    std::printf("fast client: %d frames alone, %d with four stuck clients\n", alone, withStuck);
-    EXPECT_GE(withStuck, alone * 9 / 10);
+    const int with_stuck = framesReceived(*fast, 600ms);
+    std::printf("fast client: %d frames alone, %d with four stuck clients\n", alone, with_stuck);
+    EXPECT_GE(with_stuck, alone * 9 / 10);
     // The stalled ones are gone after the stall timeout (300 ms), the silent one after the
     // handshake timeout (2 s); the fast one, still reading, stays.
     const auto until = std::chrono::steady_clock::now() + 6s;
@@ -241,7 +241,7 @@ TEST_F(StreamServerTest, ClientsThatNeverReadDoNotSlowTheOthers) {
     EXPECT_EQ(m_server->stats().clients, 1U);
     EXPECT_GT(framesReceived(*fast, 200ms), 5);
     pub.stop();
-    for (int fd : {stuckShm, stuckTcp, stuckHttp, silent}) {
+    for (int fd : {stuck_shm, stuck_tcp, stuck_http, silent}) {
         close(fd);
     }
 }
@@ -278,7 +278,7 @@ TEST_F(StreamServerTest, MalformedHandshakesGetErrorsAndChangeNothing) {
         "{\"version\":1,\"profile\":\"hud\",\"width\":-5}\n",
         "{\"version\":7,\"profile\":\"hud\"}\n",
         "{\"version\":1,\"profile\":\"cluster\",\"payload\":\"carrier-pigeon\"}\n",
-        std::string("\x00\x01\x02\xff\xfe garbage", 14),
+        std::string("\x00\x01\x02\xff\xfe garbage", 13),
         std::string(5000, 'x'),
         "{\"version\":1,\"profile\":\"hud\"}{\"more\":1}\n",
     };
@@ -474,12 +474,12 @@ TEST_F(StreamServerTest, NoFdOrMemoryGrowthOver100ConnectDisconnectCycles) {
         cycle(i);
     }
     ASSERT_TRUE(waitFor([&] { return m_server->stats().connections == 0 && m_server->stats().rings == 0; }));
-    const int fdsAfter = countOpenFds();
-    const long rssAfter = rssKb();
+    const int fds_after = countOpenFds();
+    const long rss_after = rssKb();
     pub.stop();
-    EXPECT_EQ(fdsAfter, fds);
-    std::printf("100 cycles: fds %d -> %d, RSS %ld -> %ld kB\n", fds, fdsAfter, rss, rssAfter);
-    EXPECT_LT(rssAfter - rss, 4096) << "RSS grew by " << (rssAfter - rss) << " kB";
+    EXPECT_EQ(fds_after, fds);
+    std::printf("100 cycles: fds %d -> %d, RSS %ld -> %ld kB\n", fds, fds_after, rss, rss_after);
+    EXPECT_LT(rss_after - rss, 4096) << "RSS grew by " << (rss_after - rss) << " kB";
 }
 
 TEST_F(StreamServerTest, ActiveProfilesTellTheDaemonWhatToRender) {
@@ -599,53 +599,53 @@ TEST_F(StreamServerTest, ShmClientsKeepTheirRateWhileZlibAndMjpegClientsAreServe
             std::this_thread::sleep_until(next);
         }
     });
-    StreamRequest shmReq = small(StreamPayload::Shm, 0);
-    shmReq.profile.width = kW;
-    shmReq.profile.height = kH;
-    auto shm = connect(shmReq);
+    StreamRequest shm_req = small(StreamPayload::Shm, 0);
+    shm_req.profile.width = kW;
+    shm_req.profile.height = kH;
+    auto shm = connect(shm_req);
     ASSERT_TRUE(shm);
     ASSERT_GT(framesReceived(*shm, 300ms), 0);
     const int alone = framesReceived(*shm, 1500ms);
 
-    StreamRequest zReq = shmReq;
-    zReq.payload = StreamPayload::Zlib;
-    auto zlib = connect(zReq);
+    StreamRequest z_req = shm_req;
+    z_req.payload = StreamPayload::Zlib;
+    auto zlib = connect(z_req);
     ASSERT_TRUE(zlib);
     std::atomic<bool> reading{true};
-    std::atomic<int> zlibFrames{0}, jpegFrames{0};
-    std::thread zlibReader([&] {
+    std::atomic<int> zlib_frames{0}, jpeg_frames{0};
+    std::thread zlib_reader([&] {
         ReceivedFrame f;
         while (reading) {
             auto r = zlib->next(f, 50ms);
             if (!r.ok()) return;
-            zlibFrames += r.value() ? 1 : 0;
+            zlib_frames += r.value() ? 1 : 0;
         }
     });
-    std::thread jpegReader([&] {
+    std::thread jpeg_reader([&] {
         MjpegReader mjpeg(m_server->httpPort(), "/stream.mjpg?profile=test&width=1280&height=720&view=bird&fps=0");
         while (reading) {
-            if (!mjpeg.next(200ms).empty()) ++jpegFrames;
+            if (!mjpeg.next(200ms).empty()) ++jpeg_frames;
         }
     });
     // Both compressed clients get going (the shm client keeps reading meanwhile).
-    for (int i = 0; i < 100 && (zlibFrames == 0 || jpegFrames == 0); ++i) {
+    for (int i = 0; i < 100 && (zlib_frames == 0 || jpeg_frames == 0); ++i) {
         framesReceived(*shm, 50ms);
     }
-    const int zlibBefore = zlibFrames, jpegBefore = jpegFrames;
-    const int withEncoders = framesReceived(*shm, 1500ms);
-    const int zlibDuring = zlibFrames - zlibBefore, jpegDuring = jpegFrames - jpegBefore;
+    const int zlib_before = zlib_frames, jpeg_before = jpeg_frames;
+    const int with_encoders = framesReceived(*shm, 1500ms);
+    const int zlib_during = zlib_frames - zlib_before, jpeg_during = jpeg_frames - jpeg_before;
     reading = false;
-    zlibReader.join();
-    jpegReader.join();
+    zlib_reader.join();
+    jpeg_reader.join();
     publishing = false;
     publisher.join();
     const std::string metrics = m_server->metricsText();
     std::printf("shm client: %d frames alone, %d with a zlib and an MJPEG client (%d zlib, %d JPEG frames meanwhile)\n",
-                alone, withEncoders, zlibDuring, jpegDuring);
+                alone, with_encoders, zlib_during, jpeg_during);
     EXPECT_GE(alone, kFps * 3 / 2 * 8 / 10) << "the shm client keeps up with the publisher";
-    EXPECT_GE(withEncoders, alone * 9 / 10);
-    EXPECT_GT(zlibDuring, 3) << m_server->stats().last_error;
-    EXPECT_GT(jpegDuring, 3) << m_server->stats().last_error;
+    EXPECT_GE(with_encoders, alone * 9 / 10);
+    EXPECT_GT(zlib_during, 3) << m_server->stats().last_error;
+    EXPECT_GT(jpeg_during, 3) << m_server->stats().last_error;
     EXPECT_EQ(metrics.find("navmap_stream_encodes_total 0\n"), std::string::npos) << metrics;
     EXPECT_NE(metrics.find("navmap_stream_encode_seconds{format=\"zlib\",stat=\"max\"}"), std::string::npos) << metrics;
 }

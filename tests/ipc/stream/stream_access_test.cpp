@@ -257,6 +257,7 @@ TEST_F(StreamAccessTest, EachTransportHasItsOwnCap) {
     Publisher pub(*m_server, "bird", 64, 32, 60);
     // Three TCP connections that say nothing fill the TCP transport.
     std::vector<int> tcp;
+    tcp.reserve(3);
     for (int i = 0; i < 3; ++i) {
         tcp.push_back(connectTcpRaw(m_server->tcpPort()));
     }
@@ -297,12 +298,12 @@ TEST_F(StreamAccessTest, UnrenderedViewsAndSizesAreRefusedNamingWhatIsRendered) 
     ASSERT_FALSE(big.ok());
     EXPECT_EQ(big.error().message,
               "handshake refused by " + path() + ": handshake: bird 4096x4096 is not rendered here; " + rendered);
-    auto wrongView =
+    auto wrong_view =
         StreamClient::connectTcp("127.0.0.1", m_server->tcpPort(), request("bird", 1280, 480, StreamPayload::Raw));
-    ASSERT_FALSE(wrongView.ok());
-    EXPECT_NE(wrongView.error().message.find("handshake: bird 1280x480 is not rendered here; " + rendered),
+    ASSERT_FALSE(wrong_view.ok());
+    EXPECT_NE(wrong_view.error().message.find("handshake: bird 1280x480 is not rendered here; " + rendered),
               std::string::npos)
-        << wrongView.error().message;
+        << wrong_view.error().message;
     // MJPEG: 400 with the same words.
     const std::string mjpeg = httpGet(m_server->httpPort(), "/stream.mjpg?width=4096&height=4096&view=bird");
     EXPECT_EQ(mjpeg.rfind("HTTP/1.0 400 Bad Request\r\n", 0), 0U) << mjpeg;
@@ -319,9 +320,9 @@ TEST_F(StreamAccessTest, UnrenderedViewsAndSizesAreRefusedNamingWhatIsRendered) 
     hud.profile.format = PixelFormat::Rgb565;
     auto ok = StreamClient::connectUnix(path(), hud);
     ASSERT_TRUE(ok.ok()) << ok.error().message;
-    MjpegReader byName(m_server->httpPort(), "/stream.mjpg?profile=hud");
-    ASSERT_TRUE(byName.ok()) << byName.responseHead();
-    EXPECT_FALSE(byName.next(3s).empty());
+    MjpegReader by_name(m_server->httpPort(), "/stream.mjpg?profile=hud");
+    ASSERT_TRUE(by_name.ok()) << by_name.responseHead();
+    EXPECT_FALSE(by_name.next(3s).empty());
     pub.stop();
 }
 
@@ -332,10 +333,10 @@ TEST_F(StreamAccessTest, SilentConnectionsAndClientsWithoutAFrameAreClosed) {
     o.handshake_timeout = 300ms;
     start(o);
     const auto t0 = std::chrono::steady_clock::now();
-    const int silentUnix = connectUnixRaw(path());
-    const int silentTcp = connectTcpRaw(m_server->tcpPort());
-    const int halfHttp = connectTcpRaw(m_server->httpPort());
-    ASSERT_TRUE(sendAllRaw(halfHttp, "GET /status HTTP/1.1\r\n"));
+    const int silent_unix = connectUnixRaw(path());
+    const int silent_tcp = connectTcpRaw(m_server->tcpPort());
+    const int half_http = connectTcpRaw(m_server->httpPort());
+    ASSERT_TRUE(sendAllRaw(half_http, "GET /status HTTP/1.1\r\n"));
     // A client of a view nobody publishes: handshake fine, then no frame.
     auto starved = StreamClient::connectUnix(path(), request("bird", 64, 32));
     ASSERT_TRUE(starved.ok()) << starved.error().message;
@@ -344,13 +345,13 @@ TEST_F(StreamAccessTest, SilentConnectionsAndClientsWithoutAFrameAreClosed) {
     auto fed = StreamClient::connectUnix(path(), request("hud", 64, 32));
     ASSERT_TRUE(fed.ok()) << fed.error().message;
 
-    EXPECT_EQ(readUntilClose(silentUnix, 3s), "{\"ok\":false,\"error\":\"no complete handshake within 300 ms\"}\n");
-    EXPECT_EQ(readUntilClose(silentTcp, 3s), "{\"ok\":false,\"error\":\"no complete handshake within 300 ms\"}\n");
-    const std::string http = readUntilClose(halfHttp, 3s);
+    EXPECT_EQ(readUntilClose(silent_unix, 3s), "{\"ok\":false,\"error\":\"no complete handshake within 300 ms\"}\n");
+    EXPECT_EQ(readUntilClose(silent_tcp, 3s), "{\"ok\":false,\"error\":\"no complete handshake within 300 ms\"}\n");
+    const std::string http = readUntilClose(half_http, 3s);
     EXPECT_EQ(http.rfind("HTTP/1.0 408 Request Timeout\r\n", 0), 0U) << http;
     EXPECT_NE(http.find("no complete request head within 300 ms"), std::string::npos) << http;
-    const auto closedAfter = std::chrono::steady_clock::now() - t0;
-    EXPECT_LT(closedAfter, 2s) << "closed by the handshake timeout, not the stall timeout";
+    const auto closed_after = std::chrono::steady_clock::now() - t0;
+    EXPECT_LT(closed_after, 2s) << "closed by the handshake timeout, not the stall timeout";
     ReceivedFrame f;
     auto r = starved.value()->next(f, 3s);
     ASSERT_FALSE(r.ok());
@@ -368,7 +369,7 @@ TEST_F(StreamAccessTest, SilentConnectionsAndClientsWithoutAFrameAreClosed) {
     const std::string metrics = m_server->metricsText();
     EXPECT_NE(metrics.find("navmap_stream_timeouts_total{kind=\"handshake\"} 3\n"), std::string::npos) << metrics;
     EXPECT_NE(metrics.find("navmap_stream_timeouts_total{kind=\"first_frame\"} 1\n"), std::string::npos) << metrics;
-    for (int fd : {silentUnix, silentTcp, halfHttp}) {
+    for (int fd : {silent_unix, silent_tcp, half_http}) {
         close(fd);
     }
     pub.stop();
@@ -433,9 +434,9 @@ TEST_F(StreamAccessTest, NoClientCanMakeTheRingWritable) {
     errno = 0;
     EXPECT_EQ(::mmap(nullptr, bytes, PROT_READ | PROT_WRITE, MAP_SHARED, rw, 0), MAP_FAILED);
     EXPECT_EQ(errno, EPERM);
-    void* rwRead = ::mmap(nullptr, bytes, PROT_READ, MAP_SHARED, rw, 0);
-    ASSERT_NE(rwRead, MAP_FAILED);
-    EXPECT_EQ(::mprotect(rwRead, bytes, PROT_READ | PROT_WRITE), -1);
+    void* rw_read = ::mmap(nullptr, bytes, PROT_READ, MAP_SHARED, rw, 0);
+    ASSERT_NE(rw_read, MAP_FAILED);
+    EXPECT_EQ(::mprotect(rw_read, bytes, PROT_READ | PROT_WRITE), -1);
     const char junk[16] = "drawn by client";
     EXPECT_EQ(::pwrite(rw, junk, sizeof(junk), 4096 + 256), -1);
     EXPECT_EQ(errno, EPERM);
@@ -462,7 +463,7 @@ TEST_F(StreamAccessTest, NoClientCanMakeTheRingWritable) {
     ASSERT_TRUE(FrameRing::readMapped(static_cast<const std::uint8_t*>(ro), layout, 1, &h, mine.data()));
     EXPECT_EQ(mine, px);
     ::munmap(priv, bytes);
-    ::munmap(rwRead, bytes);
+    ::munmap(rw_read, bytes);
     ::munmap(ro, bytes);
     ::close(rw);
 }

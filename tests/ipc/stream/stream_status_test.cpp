@@ -163,13 +163,13 @@ TEST_F(StreamStatusTest, StatusesReachWaitingClientsAsSentAndKeepThemPastTheFirs
     auto s = m_server->stats();
     EXPECT_EQ(s.first_frame_timeouts, 1U);
     EXPECT_EQ(s.clients, 2U);
-    const std::string otherGot = readUntilClose(other, 3s);
+    const std::string other_got = readUntilClose(other, 3s);
     close(other);
-    ASSERT_GE(otherGot.size(), kFrameHeaderBytes);
-    auto oh = decodeFrameHeader(reinterpret_cast<const std::uint8_t*>(otherGot.data()), otherGot.size());
+    ASSERT_GE(other_got.size(), kFrameHeaderBytes);
+    auto oh = decodeFrameHeader(reinterpret_cast<const std::uint8_t*>(other_got.data()), other_got.size());
     ASSERT_TRUE(oh.ok()) << oh.error().message;
     EXPECT_EQ(oh.value().kind, FrameKind::Error);
-    EXPECT_EQ(otherGot.substr(kFrameHeaderBytes),
+    EXPECT_EQ(other_got.substr(kFrameHeaderBytes),
               "disconnected, no frame within 300 ms of the handshake (nothing published for hud 64x32)");
 
     // Then the frame, on both transports.
@@ -333,9 +333,9 @@ std::string statusBytes(const std::string& text, std::uint32_t declared) {
 
 TEST(StreamClientStatus, ABrokenStatusIsAProtocolErrorNamingTheProblem) {
     const int fds = countOpenFds();
-    const std::string badUtf8 = "{\"state\":\"\xc3(\"}";
+    const std::string bad_utf8 = "{\"state\":\"\xc3(\"}";
     const std::pair<std::string, std::string> cases[] = {
-        {statusBytes(badUtf8, static_cast<std::uint32_t>(badUtf8.size())),
+        {statusBytes(bad_utf8, static_cast<std::uint32_t>(bad_utf8.size())),
          ": status: not UTF-8 (byte 0xc3 at offset 10)"},
         {statusBytes("{}", kMaxStatusPayloadBytes + 1), ": frame header: status of 65537 bytes (limit 65536)"},
     };

@@ -112,8 +112,8 @@ TEST(FrameHeader, StatusKindCarriesAUtf8PayloadOfAtMost64KiB) {
     }
     // Exactly 64 KiB passes; one byte more is refused by the header already and by the payload check.
     h.payload_bytes = kMaxStatusPayloadBytes;
-    auto atLimit = encodeFrameHeader(h);
-    EXPECT_TRUE(decodeFrameHeader(atLimit.data(), atLimit.size()).ok());
+    auto at_limit = encodeFrameHeader(h);
+    EXPECT_TRUE(decodeFrameHeader(at_limit.data(), at_limit.size()).ok());
     const std::string big(kMaxStatusPayloadBytes + 1, 'x');
     EXPECT_TRUE(
         validateTextPayload(FrameKind::Status, reinterpret_cast<const std::uint8_t*>(big.data()), big.size() - 1).ok());

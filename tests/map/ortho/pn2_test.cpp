@@ -32,7 +32,7 @@ struct Bytes {
         return *this;
     }
     /// A node at (lat, lon) in 1/120 degree with child offsets.
-    Bytes& node(int lat, int lon, std::vector<std::pair<int, int>> children = {}) {
+    Bytes& node(int lat, int lon, const std::vector<std::pair<int, int>>& children = {}) {
         i16(lat).i16(lon).i16(static_cast<int>(children.size()));
         for (auto [a, o] : children) u8(a & 0xff).u8(o & 0xff);
         return *this;

@@ -57,6 +57,8 @@ bool sameOutput(std::span<const nl::PlacedLabel> a, std::span<const nl::PlacedLa
     for (std::size_t i = 0; i < a.size(); ++i) {
         const auto& x = a[i];
         const auto& y = b[i];
+        // Bitwise: the layout is deterministic to the bit, not only within a tolerance.
+        // NOLINTNEXTLINE(bugprone-suspicious-memory-comparison)
         if (x.id != y.id || x.state != y.state || x.candidate != y.candidate ||
             std::memcmp(&x.box, &y.box, sizeof x.box) != 0 || std::memcmp(&x.alpha, &y.alpha, sizeof x.alpha) != 0 ||
             std::memcmp(&x.scale, &y.scale, sizeof x.scale) != 0) {
@@ -147,6 +149,7 @@ TEST(LabelLayout, PriorityOrderAndPlacementBudget) {
     p.max_placements_per_step = 2;
     nl::LabelLayout layout(p);
     std::vector<nl::LabelCandidate> c;
+    c.reserve(10);
     for (int i = 0; i < 10; ++i) {
         c.push_back(point(static_cast<std::uint64_t>(i + 1),
                           {100.0F + 130.0F * static_cast<float>(i % 5), 100.0F + 200.0F * static_cast<float>(i / 5)},
@@ -528,7 +531,7 @@ TEST(LabelLayout, FixedStepIsIndependentOfFrameRate) {
 TEST(LabelLayout, SurvivesGarbageInput) {
     std::mt19937 rng(99);
     std::uniform_int_distribution<std::uint32_t> bits;
-    auto anyFloat = [&] {
+    auto any_float = [&] {
         const std::uint32_t b = bits(rng);
         float f;
         std::memcpy(&f, &b, sizeof f);
@@ -539,16 +542,16 @@ TEST(LabelLayout, SurvivesGarbageInput) {
         std::vector<nl::LabelCandidate> c(50);
         for (auto& l : c) {
             l.id = bits(rng) % 64U;
-            l.priority = anyFloat();
+            l.priority = any_float();
             l.kind = static_cast<nl::LabelKind>(bits(rng) % 5U);
-            l.anchor = {anyFloat(), anyFloat()};
-            l.depth = anyFloat();
-            l.size = {anyFloat(), anyFloat()};
-            l.line_p0 = {anyFloat(), anyFloat()};
-            l.line_p1 = {anyFloat(), anyFloat()};
-            l.circle_radius = anyFloat();
+            l.anchor = {any_float(), any_float()};
+            l.depth = any_float();
+            l.size = {any_float(), any_float()};
+            l.line_p0 = {any_float(), any_float()};
+            l.line_p1 = {any_float(), any_float()};
+            l.circle_radius = any_float();
         }
-        nl::CameraState cam{anyFloat(), {anyFloat(), anyFloat()}};
+        nl::CameraState cam{any_float(), {any_float(), any_float()}};
         layout.setFrame(c, cam);
         layout.advance(kFrame);
         for (const auto& l : layout.output()) {

@@ -114,18 +114,18 @@ TEST_F(TextLayerTest, FillOutlineAndHaloBands) {
 
     // Walk left along the row through the anchor from inside the stem.
     const int y = 80;
-    auto isFill = [&](int x) {
+    auto is_fill = [&](int x) {
         const glm::ivec3 c = px(img, x, y);
         return c.r > 230 && c.g > 195 && c.b < 40;
     };
     int start = 128;
-    while (start > 0 && !isFill(start)) --start;  // the stem's ink may sit off the anchor
-    ASSERT_TRUE(isFill(start)) << "no fill colour on row " << y;
+    while (start > 0 && !is_fill(start)) --start;  // the stem's ink may sit off the anchor
+    ASSERT_TRUE(is_fill(start)) << "no fill colour on row " << y;
     int edge = start;
-    while (edge > 0 && isFill(edge - 1)) --edge;  // first fill pixel from the left
+    while (edge > 0 && is_fill(edge - 1)) --edge;  // first fill pixel from the left
     const int stem_w = [&] {
         int x = edge;
-        while (isFill(x)) ++x;
+        while (is_fill(x)) ++x;
         return x - edge;
     }();
     EXPECT_GE(stem_w, 7) << "DejaVu I at 96 px: stem about 9.4 px, antialiased edges excluded";

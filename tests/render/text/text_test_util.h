@@ -23,8 +23,11 @@ inline std::unique_ptr<render::text::FontCollection> loadDebianFonts(std::string
 
 }  // namespace navmap::test
 
-/// Skips the test (saying why) when the Debian fonts are not installed.
+/// Skips the test (saying why) when the Debian fonts are not installed. `fonts_var` names the
+/// variables it declares, so it cannot be parenthesized.
+// NOLINTBEGIN(bugprone-macro-parentheses)
 #define NAVMAP_REQUIRE_FONTS(fonts_var)                                 \
     std::string fonts_var##_why;                                        \
     auto fonts_var = ::navmap::test::loadDebianFonts(&fonts_var##_why); \
     if (!fonts_var) GTEST_SKIP() << fonts_var##_why
+// NOLINTEND(bugprone-macro-parentheses)

@@ -49,7 +49,7 @@ struct CandumpCounters {
 /// Line-by-line parser with per-line errors and counters. Not thread-safe; one per log.
 class CandumpReader {
 public:
-    explicit CandumpReader(std::string sourceName = "<candump>");
+    explicit CandumpReader(std::string source_name = "<candump>");
 
     /// The pure parser: one line (without newline) -> frame + interface name, or the reason it is
     /// malformed (no line number). The returned view points into `line`.

@@ -90,7 +90,7 @@ private:
     void acceptClients();
     void readClient(Client& c);
     void handleLine(Client& c, std::string_view line);
-    void queue(Client& c, std::string line);
+    void queue(Client& c, const std::string& line);
     void flush(Client& c);
     void deliverEvents();
     void closeIdle(std::chrono::steady_clock::time_point now);

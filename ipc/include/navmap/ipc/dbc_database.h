@@ -45,7 +45,7 @@ public:
     };
 
     /// Parses DBC text. `sourceName` is used in messages (a file name).
-    static Result<DbcDatabase> parse(std::string_view text, std::string_view sourceName, Mode mode = Mode::Lenient);
+    static Result<DbcDatabase> parse(std::string_view text, std::string_view source_name, Mode mode = Mode::Lenient);
     /// Reads and parses a file; fails when it cannot be read.
     static Result<DbcDatabase> load(const std::filesystem::path& path, Mode mode = Mode::Lenient);
     /// Setup helper: load() that throws DbcError (with the message) on failure.

@@ -30,7 +30,7 @@ struct DbcMessage {
     /// Lookup key matching CanFrame::key(): id with bit 31 set for extended frames.
     std::uint32_t key() const noexcept { return extended ? (id | 0x80000000U) : id; }
 
-    const DbcSignal* findSignal(std::string_view signalName) const noexcept;
+    const DbcSignal* findSignal(std::string_view signal_name) const noexcept;
 
     /// True when `signal` is present in this payload (always, unless it is multiplexed and the
     /// multiplexor selects another value or the payload is too short to read the multiplexor).

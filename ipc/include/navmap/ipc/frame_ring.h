@@ -44,7 +44,7 @@ struct FrameRingLayout {
     /// Computes slot_bytes/total_bytes for the given geometry.
     static FrameRingLayout make(std::uint32_t slots, std::uint32_t width, std::uint32_t height, PixelFormat format);
     /// Checks a layout received from a peer against the size of the mapped file.
-    Status validate(std::size_t fileBytes) const;
+    Status validate(std::size_t file_bytes) const;
 };
 
 /// Offsets inside a slot: lock word, then the FrameHeader, then the pixels.

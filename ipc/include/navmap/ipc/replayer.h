@@ -51,10 +51,10 @@ public:
     Replayer& operator=(const Replayer&) = delete;
 
     /// Sets the wall-clock time at which the first frame is due (and rewinds the source).
-    void reset(CanTime startTime);
+    void reset(CanTime start_time);
     /// Emits every frame due at or before `now` to `sink`; returns how many were emitted.
     /// With speed <= 0 emits at most `maxBurst` frames per call.
-    std::size_t advanceTo(CanTime now, const FrameSink& sink, std::size_t maxBurst = 1024);
+    std::size_t advanceTo(CanTime now, const FrameSink& sink, std::size_t max_burst = 1024);
     /// Time at which the next frame is due, or nullopt-like CanTime::max() when finished.
     CanTime nextDue() const noexcept;
     bool finished() const noexcept;
@@ -80,7 +80,7 @@ private:
     bool fetch();
     void finish(std::string error);
     /// Wall time of a log time (since the first pass's first frame); false when it does not fit.
-    bool schedule(std::int64_t logNs, CanTime& due) const;
+    bool schedule(std::int64_t log_ns, CanTime& due) const;
 
     std::unique_ptr<ReplaySource> m_source;
     ReplayOptions m_options;

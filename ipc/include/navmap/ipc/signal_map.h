@@ -38,9 +38,9 @@ struct SignalMapping {
 class SignalMap {
 public:
     /// Parses TOML text; `arrayKey` is a dotted path to the array of tables ("signal", "can.signal").
-    static Result<SignalMap> fromToml(std::string_view text, std::string_view sourceName,
-                                      std::string_view arrayKey = "signal");
-    static Result<SignalMap> loadToml(const std::filesystem::path& path, std::string_view arrayKey = "signal");
+    static Result<SignalMap> fromToml(std::string_view text, std::string_view source_name,
+                                      std::string_view array_key = "signal");
+    static Result<SignalMap> loadToml(const std::filesystem::path& path, std::string_view array_key = "signal");
     /// The mapping for the project's own data/navmap.dbc (GNSS node).
     static SignalMap navmapDefaults();
 
@@ -56,6 +56,6 @@ private:
 /// Multiplier from a DBC unit string to the canonical unit of `target` (e.g. "rad/s" -> degrees/s
 /// = 57.29...). Case-insensitive; knows SI-style spellings and the Vector "Unit_..." names.
 /// nullopt when the unit is unknown or of the wrong dimension.
-std::optional<double> unitConversion(std::string_view dbcUnit, VssSignal target);
+std::optional<double> unitConversion(std::string_view dbc_unit, VssSignal target);
 
 }  // namespace navmap::ipc

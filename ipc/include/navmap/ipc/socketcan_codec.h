@@ -18,7 +18,7 @@ namespace navmap::ipc {
 
 /// Kernel frame bytes (CAN_MTU = classic, CANFD_MTU = FD) -> CanFrame; nullopt for any other size
 /// or an invalid length. `receiveTime` becomes the frame's timestamp.
-std::optional<CanFrame> frameFromKernel(const void* buffer, std::size_t bytes, CanTime receiveTime) noexcept;
+std::optional<CanFrame> frameFromKernel(const void* buffer, std::size_t bytes, CanTime receive_time) noexcept;
 
 /// CanFrame -> kernel frame; returns the number of bytes to write (CAN_MTU or CANFD_MTU).
 std::size_t frameToKernel(const CanFrame& frame, canfd_frame& out) noexcept;

@@ -66,7 +66,7 @@ public:
     /// Opens the socket if it is closed and the backoff allows, then reads up to `maxFrames`
     /// pending frames without blocking and passes data frames to `sink` (error frames are counted,
     /// not passed). Returns the number of frames passed.
-    std::size_t poll(const FrameSink& sink, std::size_t maxFrames = 256);
+    std::size_t poll(const FrameSink& sink, std::size_t max_frames = 256);
 
     /// Sleeps until the socket is readable, `timeout` passes, or (while closed) the next re-open is
     /// due, whichever is first. For the input thread only.

@@ -53,7 +53,7 @@ struct StreamClientStats {
 /// one (navmap's own programs use navmap::ipc::zlibInflater() from frame_png.h's library; any
 /// client can wrap zlib's uncompress() in these few lines).
 using FrameInflater =
-    std::function<bool(const std::uint8_t* in, std::size_t inBytes, std::uint8_t* out, std::size_t outBytes)>;
+    std::function<bool(const std::uint8_t* in, std::size_t in_bytes, std::uint8_t* out, std::size_t out_bytes)>;
 
 class NAVMAP_CLIENT_API StreamClient {
 public:
@@ -103,9 +103,10 @@ public:
 
 private:
     StreamClient() = default;
-    static Result<std::unique_ptr<StreamClient>> handshake(int fd, std::string peer, const StreamRequest& request,
+    static Result<std::unique_ptr<StreamClient>> handshake(int fd, const std::string& peer,
+                                                           const StreamRequest& request,
                                                            std::chrono::milliseconds timeout, FrameInflater inflate);
-    Status readExact(std::uint8_t* dst, std::size_t n, std::chrono::steady_clock::time_point deadline, bool* timedOut);
+    Status readExact(std::uint8_t* dst, std::size_t n, std::chrono::steady_clock::time_point deadline, bool* timed_out);
     /// Reads the next header (kept across timeouts); false on timeout.
     Result<bool> readHeader(FrameHeader& out, std::chrono::steady_clock::time_point deadline);
     Result<bool> receive(ReceivedFrame* copy, HeldFrame* held, std::chrono::milliseconds timeout);

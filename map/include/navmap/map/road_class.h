@@ -10,7 +10,7 @@ namespace navmap::map {
 
 /// Functional road class, most important first (seed 3.6: "each polyline has a functional
 /// road class defining a distinct width and color"; tiles store roads sorted by it).
-/// Link roads (motorway_link, ...) take their parent's class and set RoadFlags::Link.
+/// Link roads (motorway_link, ...) take their parent's class and set road_flags::kLink.
 enum class RoadClass : std::uint8_t {
     Motorway = 0,
     Trunk,
@@ -27,13 +27,13 @@ enum class RoadClass : std::uint8_t {
 inline constexpr int kRoadClassCount = 11;
 
 /// Flags on a road polyline or graph edge.
-namespace RoadFlags {
-inline constexpr std::uint8_t Oneway = 1;  ///< traffic only in the direction of the points
-inline constexpr std::uint8_t Bridge = 2;
-inline constexpr std::uint8_t Tunnel = 4;
-inline constexpr std::uint8_t Link = 8;  ///< *_link ramp
-inline constexpr std::uint8_t Roundabout = 16;
-}  // namespace RoadFlags
+namespace road_flags {
+inline constexpr std::uint8_t kOneway = 1;  ///< traffic only in the direction of the points
+inline constexpr std::uint8_t kBridge = 2;
+inline constexpr std::uint8_t kTunnel = 4;
+inline constexpr std::uint8_t kLink = 8;  ///< *_link ramp
+inline constexpr std::uint8_t kRoundabout = 16;
+}  // namespace road_flags
 
 struct HighwayMapping {
     RoadClass cls;

@@ -20,10 +20,10 @@ struct GraphNode {
     std::int64_t osm_id = 0;
 };
 
-namespace EdgeFlags {
+namespace edge_flags {
 /// The edge runs against the order of its shape points (the reverse twin of a two-way road).
-inline constexpr std::uint8_t Reversed = 128;
-}  // namespace EdgeFlags
+inline constexpr std::uint8_t kReversed = 128;
+}  // namespace edge_flags
 
 struct GraphEdge {
     std::uint32_t from = 0;
@@ -31,7 +31,7 @@ struct GraphEdge {
     float length_m = 0;   ///< geodesic length on WGS84 (GeographicLib), metres
     float speed_kmh = 0;  ///< maxspeed, else the class default
     RoadClass cls = RoadClass::Path;
-    std::uint8_t flags = 0;         ///< RoadFlags bits, plus EdgeFlags::Reversed
+    std::uint8_t flags = 0;         ///< road_flags bits, plus edge_flags::kReversed
     std::uint32_t shape_begin = 0;  ///< range in RoadGraph::shape (from the way's point of view)
     std::uint32_t shape_end = 0;
     std::int64_t way_id = 0;

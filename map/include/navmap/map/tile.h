@@ -57,7 +57,7 @@ struct Road {
     std::string ref;                 ///< e.g. "CG-3"
     std::int64_t osm_id = 0;         ///< way id
     RoadClass cls = RoadClass::Path;
-    std::uint8_t flags = 0;          ///< RoadFlags bits
+    std::uint8_t flags = 0;          ///< road_flags bits
     std::int8_t layer = 0;           ///< OSM layer (-5..5), bridges/tunnels stack by it
     std::uint16_t maxspeed_kmh = 0;  ///< 0 when not tagged
 };

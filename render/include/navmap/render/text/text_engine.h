@@ -32,7 +32,7 @@ struct TextEngineOptions {
 class TextEngine {
 public:
     /// Loads the fonts; throws TextError when they are unusable.
-    explicit TextEngine(TextEngineOptions options = {});
+    explicit TextEngine(const TextEngineOptions& options = {});
 
     /// Shapes `utf8` once per (text, style) and returns its run.
     RunId run(std::string_view utf8, FontStyle style = FontStyle::Regular);

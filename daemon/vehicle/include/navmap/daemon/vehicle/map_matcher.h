@@ -27,16 +27,16 @@ struct RoadMatch {
 
 /// exp(-d^2/2s_d^2) * exp(-dh^2/2s_h^2): the confidence of a candidate (heading term only when
 /// `useHeading`).
-double matchConfidence(double distance_m, double headingDiffDeg, bool useHeading, const VehicleStateConfig& cfg);
+double matchConfidence(double distance_m, double heading_diff_deg, bool use_heading, const VehicleStateConfig& cfg);
 
 class MapMatcher {
 public:
-    explicit MapMatcher(std::shared_ptr<const map::RoadGraph> graph, double cellM = 50.0);
+    explicit MapMatcher(std::shared_ptr<const map::RoadGraph> graph, double cell_m = 50.0);
 
     /// Best candidate within cfg.match_radius_m, or nullopt. `heading_deg` counts when set;
     /// `previousEdge` gets cfg.hysteresis_bonus, edges continuing from it cfg.connected_bonus.
     [[nodiscard]] std::optional<RoadMatch> match(map::PlanarPoint p, std::optional<double> heading_deg,
-                                                 std::optional<std::uint32_t> previousEdge,
+                                                 std::optional<std::uint32_t> previous_edge,
                                                  const VehicleStateConfig& cfg) const;
 
     [[nodiscard]] const map::RoadGraph& graph() const { return *m_graph; }

@@ -35,7 +35,7 @@ public:
     /// Best match within cfg.match_radius_m, or nullopt. `previousMeasure` (if any) penalises
     /// jumps along the route.
     [[nodiscard]] std::optional<RouteMatch> match(map::PlanarPoint p, std::optional<double> heading_deg,
-                                                  std::optional<double> previousMeasure,
+                                                  std::optional<double> previous_measure,
                                                   const VehicleStateConfig& cfg) const;
 
 private:

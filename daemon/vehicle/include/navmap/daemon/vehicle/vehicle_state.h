@@ -86,7 +86,7 @@ private:
 /// Integrates speed and heading rate from `from` to `to` (to >= from) starting at (x, y, h),
 /// using the samples (trapezoid between samples, the last one held for at most holdS after it;
 /// before the first sample, `fallbackSpeed` without turning). Steps of at most 50 ms.
-void deadReckon(const std::vector<MotionSample>& motion, ipc::CanTime from, ipc::CanTime to, double holdS,
-                double fallbackSpeed, double& x, double& y, double& heading_rad, double& speed_mps);
+void deadReckon(const std::vector<MotionSample>& motion, ipc::CanTime from, ipc::CanTime to, double hold_s,
+                double fallback_speed, double& x, double& y, double& heading_rad, double& speed_mps);
 
 }  // namespace navmap::daemon

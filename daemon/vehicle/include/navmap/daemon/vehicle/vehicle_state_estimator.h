@@ -55,7 +55,7 @@ public:
 
 private:
     void addMotion(const ipc::VehicleSample& update);
-    void addFix(ipc::CanTime t, double lat, double lon, std::optional<double> heading, std::optional<double> fixType);
+    void addFix(ipc::CanTime t, double lat, double lon, std::optional<double> heading, std::optional<double> fix_type);
     void reject(std::uint64_t& counter, std::string why);
     void prune();
     void updateMatch(ipc::CanTime t);
