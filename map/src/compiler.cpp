@@ -21,10 +21,14 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
+#include <iomanip>
 #include <map>
 #include <numbers>
 #include <sstream>
 #include <unordered_map>
+
+#include <zlib.h>
 
 #include "navmap/map/coastline.h"
 #include "navmap/map/dem.h"
@@ -190,6 +194,37 @@ std::string fmtSeconds(double s) {
     return buf;
 }
 
+// ---- sharded compile: what every shard of one compile has in common ----
+
+// Name, size and CRC32 of an input file.
+std::string fileFingerprint(const std::filesystem::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw CompileError(path.string() + ": cannot read");
+    uLong crc = ::crc32(0L, Z_NULL, 0);
+    std::uint64_t size = 0;
+    std::vector<char> buffer(std::size_t{1} << 20);
+    while (in) {
+        in.read(buffer.data(), static_cast<std::streamsize>(buffer.size()));
+        const auto n = static_cast<std::size_t>(in.gcount());
+        crc = ::crc32(crc, reinterpret_cast<const Bytef*>(buffer.data()), static_cast<uInt>(n));
+        size += n;
+    }
+    std::ostringstream out;
+    out << path.filename().string() << " " << size << " B crc32 " << std::hex << std::setw(8) << std::setfill('0')
+        << crc;
+    return out.str();
+}
+
+// The inputs and the options that shape tiles (ShardManifest::fingerprint).
+std::string compileFingerprint(const CompileOptions& opt) {
+    std::ostringstream out;
+    out << std::setprecision(17) << "osm " << fileFingerprint(opt.osm);
+    for (const auto& dem : opt.dems) out << "; dem " << fileFingerprint(dem);
+    out << "; leaf " << opt.leaf_tile_m << " m; dem samples " << opt.dem_samples << "; building "
+        << opt.default_building_height_m << " m; ortho " << (opt.ortho_inputs ? "yes" : "no");
+    return out.str();
+}
+
 // ---- road graph ----
 
 RoadGraph buildGraph(const std::vector<RawGraphWay>& ways, const Projection& proj) {
@@ -281,11 +316,18 @@ CompileStats compileStore(const CompileOptions& opt) {
             "invalid options: leaf tile size must be in [10, 1000000] m, DEM samples 0 or 2..1025, "
             "default building height in [0, 1000] m");
     }
+    if (opt.shard.count < 1 || opt.shard.count > kMaxShards || opt.shard.index < 0 ||
+        opt.shard.index >= opt.shard.count) {
+        throw CompileError("invalid options: shard " + std::to_string(opt.shard.index) + " of " +
+                           std::to_string(opt.shard.count) + " (N in [1, " + std::to_string(kMaxShards) +
+                           "], K in [0, N))");
+    }
     if (!opt.out.has_filename())
         throw CompileError("invalid options: output path \"" + opt.out.string() + "\" names no file");
     // The one writer of opt.out from here on: a second compile to the same store fails now, not
     // after reading its input (StoreError "<out> is being written by another process (pid N)").
     StoreLock lock(opt.out);
+    const std::string fingerprint = opt.shard.sharded() ? compileFingerprint(opt) : std::string{};
 
     // ---- DEM ----
     DemMosaic dems;
@@ -505,7 +547,9 @@ CompileStats compileStore(const CompileOptions& opt) {
     }
 
     // ---- road graph ----
-    const RoadGraph graph = buildGraph(graph_ways.ways, proj);
+    // The road graph is the whole network's: shard 0 builds it, the other shards none.
+    const bool with_graph = opt.shard.index == 0;
+    const RoadGraph graph = with_graph ? buildGraph(graph_ways.ways, proj) : RoadGraph{};
     stats.graph_nodes = graph.nodes.size();
     stats.graph_edges = graph.edges.size();
     graph_ways.ways.clear();
@@ -533,6 +577,9 @@ CompileStats compileStore(const CompileOptions& opt) {
         const bool is_leaf = level == leaf;
         const double tol = is_leaf ? 0.0 : size / 1024.0;
         std::map<std::uint64_t, Tile> tiles;  // ordered: stable file layout
+        // The tile columns this job builds (all of them unless it is one shard of several).
+        const auto [own_x0, own_x1] = shardColumns(level, opt.shard);
+        const auto owned = [&](std::uint32_t x) { return x >= own_x0 && x <= own_x1; };
         // The sea's rings clipped to each tile: its DEM samples there are at sea level.
         std::unordered_map<std::uint64_t, std::vector<std::vector<PlanarPoint>>> sea_rings;
         auto tile_for = [&](TileId id) -> Tile& {
@@ -549,7 +596,9 @@ CompileStats compileStore(const CompileOptions& opt) {
         // Every tile over the data gets a DEM grid, so terrain is continuous at each level.
         const TileRange all = scheme.range(level, data_bounds);
         for (std::uint32_t y = all.y0; !all.empty && y <= all.y1; ++y) {
-            for (std::uint32_t x = all.x0; x <= all.x1; ++x) tile_for({static_cast<std::uint8_t>(level), x, y});
+            for (std::uint32_t x = all.x0; x <= all.x1; ++x) {
+                if (owned(x)) tile_for({static_cast<std::uint8_t>(level), x, y});
+            }
         }
 
         for (const auto& r : proads) {
@@ -558,6 +607,7 @@ CompileStats compileStore(const CompileOptions& opt) {
             const TileRange range = scheme.range(level, r.bounds);
             for (std::uint32_t y = range.y0; !range.empty && y <= range.y1; ++y) {
                 for (std::uint32_t x = range.x0; x <= range.x1; ++x) {
+                    if (!owned(x)) continue;
                     const TileId id{static_cast<std::uint8_t>(level), x, y};
                     Tile& t = tile_for(id);
                     auto emit = [&](const std::vector<PlanarPoint>& piece) {
@@ -585,7 +635,7 @@ CompileStats compileStore(const CompileOptions& opt) {
         for (const auto& b : pbuildings) {
             if (!is_leaf && !(level == leaf - 1 && b.poly.area >= kBuildingKeepArea)) continue;
             const auto id = scheme.tileAt(level, b.poly.barycenter);
-            if (!id) continue;
+            if (!id || !owned(id->x)) continue;
             Tile& t = tile_for(*id);
             Building out;
             out.footprint.vertices.reserve(b.tri.vertices.size());
@@ -607,6 +657,7 @@ CompileStats compileStore(const CompileOptions& opt) {
             const TileRange range = scheme.range(level, a.poly.bounds);
             for (std::uint32_t y = range.y0; !range.empty && y <= range.y1; ++y) {
                 for (std::uint32_t x = range.x0; x <= range.x1; ++x) {
+                    if (!owned(x)) continue;
                     const TileId id{static_cast<std::uint8_t>(level), x, y};
                     const Box box = scheme.bounds(id);
                     std::vector<std::vector<PlanarPoint>> clipped;
@@ -633,7 +684,7 @@ CompileStats compileStore(const CompileOptions& opt) {
                               (l.kind == LabelKind::Area && l.min_area >= (size / 16.0) * (size / 16.0));
             if (!show) continue;
             const auto id = scheme.tileAt(level, l.anchor);
-            if (!id) continue;
+            if (!id || !owned(id->x)) continue;
             Tile& t = tile_for(*id);
             Label out;
             out.kind = l.kind;
@@ -731,8 +782,17 @@ CompileStats compileStore(const CompileOptions& opt) {
         warn(std::to_string(leaf_tiles_without_dem) + " of " + std::to_string(stats.tiles_per_level.back()) +
              " leaf tiles lie partly outside the DEM; missing areas are flat (0 m)");
     }
-    writer.setGraph(graph);
+    if (with_graph) writer.setGraph(graph);
     stats.store_bytes = writer.finish();
+    if (opt.shard.sharded()) {
+        ShardManifest manifest;
+        manifest.shard = opt.shard;
+        manifest.tiles = stats.tiles;
+        manifest.graph = with_graph;
+        manifest.fingerprint = fingerprint;
+        writeShardManifest(shardManifestPath(opt.out), manifest);
+        log("wrote " + shardManifestPath(opt.out).string());
+    }
     stats.total_seconds = elapsed();
     log("wrote " + opt.out.string());
     return stats;

@@ -1,9 +1,13 @@
 // SPDX-License-Identifier: Apache-2.0
 // navmap-compile: OpenStreetMap PBF + SRTM DEM tiles -> navmap tile store.
 //   navmap-compile --osm data/andorra-2021-04-14.osm.pbf --dem data/N42E001.hgt --out build/andorra.navmap
+// A sharded compile (docs/sharded-compile.md): N jobs with --shard K/N, then one --merge.
+//   navmap-compile --osm ... --dem ... --shard 1/4 --out part-1.navmap
+//   navmap-compile --merge part-0.navmap part-1.navmap part-2.navmap part-3.navmap --out andorra.navmap
 // Exit status: 0 ok, 1 bad input (one line naming the file and the problem), 2 usage.
 
 #include <cstdlib>
+#include <filesystem>
 #include <iostream>
 
 #include "navmap/cli/cli.h"
@@ -41,9 +45,10 @@ int main(int argc, char** argv) {
     navmap::cli::setUp(app, "navmap-compile");
     navmap::map::CompileOptions opt;
     std::vector<std::string> dems;
-    std::string osm, out, ortho_data;
+    std::string osm, out, ortho_data, shard;
+    std::vector<std::string> merge;
     bool quiet = false;
-    app.add_option("--osm", osm, "OpenStreetMap extract (.osm.pbf)")->required();
+    auto* osm_option = app.add_option("--osm", osm, "OpenStreetMap extract (.osm.pbf); required unless --merge");
     app.add_option("--dem", dems, "SRTM .hgt tile(s) (repeatable, 1201x1201 or 3601x3601)");
     app.add_option("--out", out, "tile store file to write (its folder must exist)")->required();
     app.add_option("--leaf-size", opt.leaf_tile_m, "edge of the finest tiles in metres")
@@ -60,8 +65,28 @@ int main(int argc, char** argv) {
                    "marble-qt-data folder (/usr/share/marble/data): sample the global inputs of the synthetic "
                    "orthoimages onto every tile (seed 6.5, docs/orthoimage.md)");
 #endif
+    auto* shard_option =
+        app.add_option("--shard", shard,
+                       "K/N: compile only shard K of N (the K-th of N column bands of tiles) and write "
+                       "<out>.shard.json beside the store; --merge joins the N stores");
+    auto* merge_option =
+        app.add_option("--merge", merge, "shard stores of one compile (every K of N once): merge them into --out");
+    merge_option->excludes(osm_option)->excludes(shard_option);
     app.add_flag("-q,--quiet", quiet, "no progress output (summary and errors only)");
     if (const auto exit_status = navmap::cli::parse(app, argc, argv)) return *exit_status;
+    if (osm.empty() && merge.empty()) {
+        std::cerr << "navmap-compile: --osm is required (or --merge with the stores of a sharded compile)\n"
+                  << "Run with --help for more information.\n";
+        return 2;
+    }
+    if (!shard.empty()) {
+        try {
+            opt.shard = navmap::map::parseShardSpec(shard);
+        } catch (const navmap::map::CompileError& e) {
+            std::cerr << "navmap-compile: " << e.what() << "\nRun with --help for more information.\n";
+            return 2;
+        }
+    }
 
     opt.osm = osm;
     opt.out = out;
@@ -78,6 +103,13 @@ int main(int argc, char** argv) {
     }
 #endif
     try {
+        if (!merge.empty()) {
+            std::vector<std::filesystem::path> stores(merge.begin(), merge.end());
+            const auto stats = navmap::map::mergeShards(stores, out, opt.log);
+            std::cout << "merged " << stats.shards << " shards: " << stats.tiles << " tiles, " << stats.store_bytes
+                      << " bytes in " << stats.seconds << " s\n";
+            return 0;
+        }
         const auto stats = navmap::map::compileStore(opt);
         std::cout << navmap::map::formatSummary(stats);
         for (const auto& w : stats.warnings) std::cout << "warning: " << w << '\n';

@@ -15,7 +15,9 @@
 #include "map_test_util.h"
 #include "navmap/map/compiler.h"
 #include "navmap/map/dem.h"
+#include "navmap/map/shard.h"
 #include "navmap/map/store_lock.h"
+#include "navmap/map/tile_codec.h"
 #include "navmap/map/tile_store.h"
 
 extern char** environ;
@@ -477,4 +479,167 @@ TEST(CompileCoast, AnIslandIsLandInASeaAtZeroMetresAndTunnelsGetNoLabel) {
         ASSERT_TRUE(res.tile) << res.error;
         for (const Label& l : res.tile->labels) EXPECT_NE(l.name, "Tunnel Road") << id.toString();
     }
+}
+
+// ---- sharded compile (shard.h, docs/sharded-compile.md) ----
+
+TEST(Shards, EveryTileHasExactlyOneShardAndEachShardIsOneBandOfColumns) {
+    for (const int n : {1, 2, 3, 7, 64}) {
+        for (int level = 0; level <= 12; ++level) {
+            const std::uint32_t columns = 1u << level;
+            int previous = 0;
+            std::vector<std::size_t> owned(static_cast<std::size_t>(n), 0);
+            for (std::uint32_t x = 0; x < columns; ++x) {
+                const int k = tileShard({static_cast<std::uint8_t>(level), x, 0}, n);
+                ASSERT_GE(k, 0);
+                ASSERT_LT(k, n);
+                EXPECT_GE(k, previous) << "bands run west to east";
+                previous = k;
+                // Its shard's columns hold it, and no other shard's do.
+                for (int j = 0; j < n; ++j) {
+                    const auto [x0, x1] = shardColumns(level, {j, n});
+                    EXPECT_EQ(x >= x0 && x <= x1, j == k) << "N " << n << " level " << level << " x " << x;
+                }
+                ++owned[static_cast<std::size_t>(k)];
+            }
+            // Equal bands: where there are at least N columns, no shard has more than one column
+            // over its share.
+            if (columns >= static_cast<std::uint32_t>(n)) {
+                for (const std::size_t c : owned) EXPECT_LE(c, columns / static_cast<std::uint32_t>(n) + 1);
+            }
+        }
+    }
+    EXPECT_EQ(parseShardSpec("0/1").count, 1);
+    EXPECT_EQ(parseShardSpec("3/4").index, 3);
+    for (const std::string bad : {"4/4", "1", "/4", "1/", "-1/4", "1/0", "a/b", "1/4097", "1/4/5", "01x/4"}) {
+        try {
+            (void)parseShardSpec(bad);
+            ADD_FAILURE() << bad << " parsed";
+        } catch (const CompileError& e) {
+            EXPECT_EQ(std::string(e.what()), "--shard: '" + bad + "' is not K/N with 1 <= N <= 4096 and 0 <= K < N");
+        }
+    }
+}
+
+namespace {
+
+// Andorra compiled whole and in three shards, once for the suite.
+class ShardedAndorra : public ::testing::Test {
+protected:
+    static void SetUpTestSuite() {
+        s_dir = new ScratchDir("shards");
+        std::vector<CompileProcess> jobs;
+        jobs.emplace_back(andorraArgs(*s_dir / "single.navmap"), *s_dir / "single.log");
+        for (int k = 0; k < 3; ++k) {
+            jobs.emplace_back(andorraArgs(part(k)) + " --shard " + std::to_string(k) + "/3",
+                              *s_dir / ("part-" + std::to_string(k) + ".log"));
+        }
+        for (auto& j : jobs) EXPECT_EQ(j.wait(), 0) << j.output();
+    }
+    static void TearDownTestSuite() { delete s_dir; }
+    static fs::path part(int k) { return *s_dir / ("part-" + std::to_string(k) + ".navmap"); }
+    static std::string parts(std::initializer_list<int> ks) {
+        std::string s;
+        for (const int k : ks) s += " " + part(k).string();
+        return s;
+    }
+    static std::string bytes(const fs::path& p) {
+        std::ifstream in(p, std::ios::binary);
+        return {std::istreambuf_iterator<char>(in), {}};
+    }
+    static inline ScratchDir* s_dir = nullptr;
+};
+
+}  // namespace
+
+TEST_F(ShardedAndorra, TheMergedShardsEqualTheSingleCompileByteForByte) {
+    const auto single = TileStore::open(*s_dir / "single.navmap");
+    std::size_t tiles = 0;
+    for (int k = 0; k < 3; ++k) {
+        // Each shard holds its band's tiles only, and only shard 0 the road graph.
+        const auto store = TileStore::open(part(k));
+        const auto manifest = readShardManifest(shardManifestPath(part(k)));
+        EXPECT_EQ(manifest.shard.index, k);
+        EXPECT_EQ(manifest.shard.count, 3);
+        EXPECT_EQ(manifest.graph, k == 0);
+        EXPECT_EQ(manifest.tiles, store->tileIds().size());
+        for (const TileId id : store->tileIds()) EXPECT_EQ(tileShard(id, 3), k);
+        EXPECT_EQ(store->tryLoadGraph().ok(), k == 0) << store->tryLoadGraph().problem;
+        EXPECT_GT(store->tileIds().size(), 0u);
+        tiles += store->tileIds().size();
+    }
+    EXPECT_EQ(tiles, single->tileIds().size());
+    // Shards in any order on the command line.
+    CompileProcess merge("--merge" + parts({2, 0, 1}) + " --out " + (*s_dir / "merged.navmap").string(),
+                         *s_dir / "merge.log");
+    ASSERT_EQ(merge.wait(), 0) << merge.output();
+    EXPECT_NE(merge.output().find("merged 3 shards: " + std::to_string(tiles) + " tiles"), std::string::npos)
+        << merge.output();
+    const std::string merged = bytes(*s_dir / "merged.navmap");
+    ASSERT_FALSE(merged.empty());
+    EXPECT_TRUE(merged == bytes(*s_dir / "single.navmap")) << "merged and single stores differ";
+    // Tile for tile as well (what a byte difference would be traced to).
+    const auto m = TileStore::open(*s_dir / "merged.navmap");
+    for (const TileId id : single->tileIds()) {
+        const auto a = single->load(id), b = m->load(id);
+        ASSERT_TRUE(a.tile && b.tile) << a.error << b.error;
+        EXPECT_EQ(encodeTile(*a.tile), encodeTile(*b.tile)) << int(id.level) << "/" << id.x << "/" << id.y;
+    }
+}
+
+TEST_F(ShardedAndorra, AMergeRefusesAnythingButOneWholeCompileNamingTheProblem) {
+    const fs::path out = *s_dir / "refused.navmap";
+    auto refused = [&](const std::string& args) {
+        CompileProcess p("--merge" + args + " --out " + out.string(), *s_dir / "refused.log");
+        EXPECT_EQ(p.wait(), 1) << args;
+        EXPECT_FALSE(fs::exists(out)) << args;
+        return p.output();
+    };
+    EXPECT_EQ(refused(parts({0, 2})), "navmap-compile: merge: shard(s) 1 of 3 missing\n");
+    EXPECT_EQ(refused(parts({0, 1, 2, 1})),
+              "navmap-compile: merge: shard 1/3 given twice (" + part(1).string() + ", " + part(1).string() + ")\n");
+    // A shard of another compile: other options, hence another fingerprint.
+    const fs::path other = *s_dir / "other.navmap";
+    CompileProcess o(andorraArgs(other) + " --leaf-size 1000 --shard 1/3", *s_dir / "other.log");
+    ASSERT_EQ(o.wait(), 0) << o.output();
+    const std::string mixed = refused(" " + part(0).string() + " " + other.string() + " " + part(2).string());
+    EXPECT_EQ(mixed.rfind("navmap-compile: " + other.string() + ": compiled from other input or options than " +
+                              part(0).string() + " (",
+                          0),
+              0u)
+        << mixed;
+    EXPECT_NE(mixed.find("leaf 1000 m"), std::string::npos) << mixed;
+    // A store without its manifest, and a manifest that is not one.
+    const fs::path lone = *s_dir / "lone.navmap";
+    fs::copy_file(part(1), lone);
+    EXPECT_EQ(refused(" " + part(0).string() + " " + lone.string() + " " + part(2).string()),
+              "navmap-compile: " + lone.string() +
+                  ".shard.json: no such file (each shard store has its manifest beside it)\n");
+    std::ofstream(shardManifestPath(lone)) << "{\"format\": \"navmap-shard-1\", \"shard\": -1}";
+    EXPECT_EQ(refused(" " + part(0).string() + " " + lone.string() + " " + part(2).string()),
+              "navmap-compile: " + lone.string() + ".shard.json: not a shard manifest: \"shard\" is not a count\n");
+    // A manifest that lies about its shard: the tiles are in the wrong band.
+    ShardManifest lie = readShardManifest(shardManifestPath(part(2)));
+    lie.shard.index = 1;
+    writeShardManifest(shardManifestPath(lone), lie);
+    fs::copy_file(part(2), lone, fs::copy_options::overwrite_existing);
+    const std::string wrong = refused(" " + part(0).string() + " " + lone.string() + " " + part(2).string());
+    EXPECT_EQ(wrong.rfind("navmap-compile: ", 0), 0u) << wrong;
+    EXPECT_NE(wrong.find("belongs to shard 2, not 1/3"), std::string::npos) << wrong;
+}
+
+TEST(CompileCli, ShardAndMergeUsageErrorsExitTwo) {
+    ScratchDir dir("compile-shard-usage");
+    const fs::path out = dir / "x.navmap";
+    for (const std::string bad : {"3/3", "x", "1/0"}) {
+        CompileProcess p(andorraArgs(out) + " --shard " + bad, dir / "p.log");
+        EXPECT_EQ(p.wait(), 2) << bad;
+        EXPECT_NE(p.output().find("--shard: '" + bad + "' is not K/N with 1 <= N <= 4096 and 0 <= K < N"),
+                  std::string::npos)
+            << p.output();
+    }
+    CompileProcess both(andorraArgs(out) + " --merge " + out.string(), dir / "p.log");
+    EXPECT_EQ(both.wait(), 2);
+    EXPECT_NE(both.output().find("excludes"), std::string::npos) << both.output();
+    EXPECT_FALSE(fs::exists(out));
 }

@@ -14,6 +14,8 @@
 #include <string>
 #include <vector>
 
+#include "navmap/map/shard.h"
+
 namespace navmap::map {
 
 namespace ortho {
@@ -45,6 +47,9 @@ struct CompileOptions {
     /// (docs/tile-store.md). Null: none. An exception it throws becomes a CompileError with its
     /// message.
     std::function<std::shared_ptr<const ortho::GlobalInputs>(const std::array<double, 4>& bounds)> ortho_inputs;
+    /// Shard k of N (shard.h, docs/sharded-compile.md): only the tiles of that column band, the
+    /// road graph only in shard 0, and `<out>.shard.json` beside the store. Default: the whole store.
+    ShardSpec shard;
 };
 
 struct CompileStats {
