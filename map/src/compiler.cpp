@@ -578,8 +578,8 @@ CompileStats compileStore(const CompileOptions& opt) {
         const double tol = is_leaf ? 0.0 : size / 1024.0;
         std::map<std::uint64_t, Tile> tiles;  // ordered: stable file layout
         // The tile columns this job builds (all of them unless it is one shard of several).
-        const auto [own_x0, own_x1] = shardColumns(level, opt.shard);
-        const auto owned = [&](std::uint32_t x) { return x >= own_x0 && x <= own_x1; };
+        const auto own = shardColumns(level, opt.shard);
+        const auto owned = [&](std::uint32_t x) { return x >= own.first && x <= own.second; };
         // The sea's rings clipped to each tile: its DEM samples there are at sea level.
         std::unordered_map<std::uint64_t, std::vector<std::vector<PlanarPoint>>> sea_rings;
         auto tile_for = [&](TileId id) -> Tile& {
