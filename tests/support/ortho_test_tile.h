@@ -15,19 +15,14 @@
 
 namespace navmap::test {
 
-/// A tile of `size_m` (tile 6/33/17 at (4000, -2000) unless the caller moves it) whose land cover
-/// is cover(x, y) (tile-local metres) on 256 x 256 texels and whose elevation is height(x, y) on
-/// 33 x 33 samples; climate Cfb, December 2 C, July 18 C, 80 mm of rain each month, no lights.
-inline std::shared_ptr<map::Tile> orthoTile(const std::function<map::ortho::SuperLandCover(double, double)>& cover,
-                                            const std::function<float(double, double)>& height,
-                                            double size_m = 2000.0) {
+/// Orthoimage layers over a tile square of `size_m`: land cover cover(x, y) (tile-local metres) on
+/// 256 x 256 texels, elevation height(x, y) on 33 x 33 samples; climate Cfb, December 2 C, July
+/// 18 C, 80 mm of rain each month, no lights.
+inline map::ortho::OrthoLayers orthoLayers(double size_m,
+                                           const std::function<map::ortho::SuperLandCover(double, double)>& cover,
+                                           const std::function<float(double, double)>& height) {
     namespace mo = map::ortho;
-    auto t = std::make_shared<map::Tile>();
-    t->id = {6, 33, 17};
-    t->origin_x = 4000;
-    t->origin_y = -2000;
-    t->size_m = size_m;
-    mo::OrthoLayers& o = t->ortho;
+    mo::OrthoLayers o;
     constexpr int kCover = 256, kGrid = 33;
     o.cover_size = kCover;
     o.grid_size = kGrid;
@@ -54,6 +49,19 @@ inline std::shared_ptr<map::Tile> orthoTile(const std::function<map::ortho::Supe
             o.elevation[static_cast<std::size_t>(r * kGrid + c)] =
                 static_cast<std::int16_t>(height(c * spacing, r * spacing));
     }
+    return o;
+}
+
+/// Tile 6/33/17 at (4000, -2000), `size_m` across, with orthoLayers() and no DEM of its own.
+inline std::shared_ptr<map::Tile> orthoTile(const std::function<map::ortho::SuperLandCover(double, double)>& cover,
+                                            const std::function<float(double, double)>& height,
+                                            double size_m = 2000.0) {
+    auto t = std::make_shared<map::Tile>();
+    t->id = {6, 33, 17};
+    t->origin_x = 4000;
+    t->origin_y = -2000;
+    t->size_m = size_m;
+    t->ortho = orthoLayers(size_m, cover, height);
     return t;
 }
 

@@ -247,6 +247,7 @@ void OrthoGenerator::finishJob(Job& job) {
     glDisable(GL_STENCIL_TEST);
     glDisable(GL_CULL_FACE);
     glDisable(GL_BLEND);
+    glDisable(GL_DITHER);  // RGB565 by rounding alone: the same image on every driver
     glActiveTexture(GL_TEXTURE0);
     glBindTexture(GL_TEXTURE_2D, m_basic);
     glUseProgram(m_copy.id());
@@ -254,6 +255,7 @@ void OrthoGenerator::finishJob(Job& job) {
     glBindVertexArray(m_empty_vao);
     glDrawArrays(GL_TRIANGLES, 0, 3);
     // The procedural detail (seed 6.7) will be drawn here, over the basic layer.
+    glEnable(GL_DITHER);  // GL's default, which the other passes keep
     glBindVertexArray(0);
     glBindTexture(GL_TEXTURE_2D, job.texture);
     glGenerateMipmap(GL_TEXTURE_2D);
