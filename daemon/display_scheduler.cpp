@@ -34,10 +34,11 @@ render::RendererOptions rendererOptions(const DaemonConfig& config, const Displa
     // pixel-pack buffers per target.
     ro.readback_ring = 0;
     // Synthetic orthoimages (seed 6.6.2): made at tile upload in bands of rows, at most this many
-    // pixels of network work per map frame, so that no frame waits for a whole image (a 512 x 512
-    // leaf-tile image then takes 8 frames; docs/orthoimage.md).
+    // pixels of network work per map frame, so that no frame waits for a whole image: a 512 x 512
+    // leaf-tile image takes 16 frames, about 14 ms of each on llvmpipe (docs/orthoimage.md,
+    // docs/benchmarks/2026-11-26-ortho-gpu.md).
     ro.ortho_weights = ortho_weights.string();
-    ro.ortho_pixels_per_frame = 32768;
+    ro.ortho_pixels_per_frame = 16384;
     return ro;
 }
 
