@@ -18,9 +18,11 @@ set(NAVMAP_INSTALL_CMAKEDIR ${CMAKE_INSTALL_LIBDIR}/cmake/navmap)
 if(NAVMAP_WITH_DAEMON)
 install(TARGETS navmapd navmap-view navmap-ctl navmap-compile navmap-sim navmap-soak
         RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR} COMPONENT daemon)
-# The compiled default store, the project's DBC and the data's attribution. Shaders are compiled
-# into navmapd (shaders/, cmake/EmbedShaders.cmake): none is read at run time.
-install(FILES ${NAVMAP_DEFAULT_STORE} ${NAVMAP_DATA_DIR}/navmap.dbc ${NAVMAP_DATA_DIR}/ATTRIBUTION.md
+# The compiled default store, the project's DBC, the orthoimage network's weights
+# (docs/orthoimage.md) and the data's attribution. Shaders are compiled into navmapd (shaders/,
+# cmake/EmbedShaders.cmake): none is read at run time.
+install(FILES ${NAVMAP_DEFAULT_STORE} ${NAVMAP_DATA_DIR}/navmap.dbc ${NAVMAP_DATA_DIR}/ortho/ortho-mlp.nnw
+              ${NAVMAP_DATA_DIR}/ATTRIBUTION.md
         DESTINATION ${NAVMAP_INSTALL_DATADIR} COMPONENT daemon)
 install(FILES ${PROJECT_SOURCE_DIR}/daemon/navmap.sysusers DESTINATION lib/sysusers.d RENAME navmap.conf COMPONENT daemon)
 install(FILES README.md CHANGELOG.md LICENSE ${NAVMAP_DATA_DIR}/ATTRIBUTION.md

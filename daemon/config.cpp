@@ -191,10 +191,11 @@ std::optional<DaemonConfig> parseConfig(const std::string& text, const std::stri
     }
     {
         auto r = section("render");
-        std::string style = "day";
+        std::string style = "day", ground = "landcover";
         if (!r.get("egl_platform", c.egl_platform) || !r.get("msaa", c.msaa) || !r.range("msaa", c.msaa, -1, 16) ||
-            !r.get("style", style) || !r.get("labels", c.labels) || !r.get("gpu_tile_cache", c.gpu_tile_cache) ||
-            !r.range("gpu_tile_cache", c.gpu_tile_cache, 0, 100000) || !r.noUnknownKeys())
+            !r.get("style", style) || !r.get("ground", ground) || !r.get("labels", c.labels) ||
+            !r.get("gpu_tile_cache", c.gpu_tile_cache) || !r.range("gpu_tile_cache", c.gpu_tile_cache, 0, 100000) ||
+            !r.noUnknownKeys())
             return std::nullopt;
         if (c.egl_platform != "auto" && c.egl_platform != "surfaceless" && c.egl_platform != "device") {
             err->message = source_name + ": render.egl_platform = \"" + c.egl_platform +
@@ -206,6 +207,11 @@ std::optional<DaemonConfig> parseConfig(const std::string& text, const std::stri
             return std::nullopt;
         }
         c.night = style == "night";
+        if (ground != "landcover" && ground != "orthoimage") {
+            err->message = source_name + ": render.ground = \"" + ground + "\": expected landcover or orthoimage";
+            return std::nullopt;
+        }
+        c.orthoimage_ground = ground == "orthoimage";
     }
     if (const toml::node* n = root.get("profile")) {
         const toml::array* arr = n->as_array();
@@ -405,8 +411,8 @@ std::string describeConfig(const DaemonConfig& c) {
                                            : "socketcan " + c.can_interface)
       << ", position stale after " << c.stale_after_s << " s\n";
     s << "render: egl " << c.egl_platform << ", msaa " << c.msaa << ", style " << (c.night ? "night" : "day")
-      << ", labels " << (c.labels ? "on" : "off") << ", gpu tile cache "
-      << (c.gpu_tile_cache > 0 ? std::to_string(c.gpu_tile_cache) : std::string("auto")) << "\n";
+      << ", ground " << (c.orthoimage_ground ? "orthoimage" : "landcover") << ", labels " << (c.labels ? "on" : "off")
+      << ", gpu tile cache " << (c.gpu_tile_cache > 0 ? std::to_string(c.gpu_tile_cache) : std::string("auto")) << "\n";
     for (const auto& p : c.profiles) {
         s << "profile " << p.name << ": " << p.width << "x" << p.height << " @ " << p.fps << " fps, "
           << (p.view == render::ViewMode::Bird ? "bird" : "snail") << ", "

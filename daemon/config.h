@@ -47,6 +47,9 @@ struct DaemonConfig {
     std::string egl_platform = "auto";
     int msaa = -1;
     bool night = false;
+    /// The terrain's ground: false the OpenStreetMap land cover, true the synthetic orthoimage
+    /// (seed ch. 6; tiles with ortho layers, weights <datadir>/ortho-mlp.nnw; docs/orthoimage.md).
+    bool orthoimage_ground = false;
     bool labels = true;  ///< place, POI, road and area names
     /// GPU tiles kept (one renderer serves all profiles; a tile any profile drew in its latest
     /// frame is always kept, the cap bounds the others); 0 = automatic (16 + 8 per profile, at least 32).

@@ -46,11 +46,10 @@ std::shared_ptr<ipc::ControlState> makeControlState(const DaemonConfig& config) 
     std::set<std::string, std::less<>> display_names;
     for (const auto& p : config.profiles) display_names.insert(p.name);
     auto control = std::make_shared<ipc::ControlState>(display_names);
-    if (config.night) {
-        ipc::SetStyleCommand night;
-        night.style = ipc::MapStyle::Night;
-        (void)control->setStyle(night);
-    }
+    ipc::SetStyleCommand style;
+    style.style = config.night ? ipc::MapStyle::Night : ipc::MapStyle::Day;
+    style.ground = config.orthoimage_ground ? ipc::Ground::Orthoimage : ipc::Ground::LandCover;
+    (void)control->setStyle(style);
     return control;
 }
 
@@ -103,6 +102,8 @@ FrameContext frameContext(const ipc::ViewState* view, const RouteState& route, c
     FrameContext c;
     c.view_state = view;
     c.style = view && view->style == ipc::MapStyle::Night ? render::MapStyle::night() : render::MapStyle::day();
+    c.style.ground =
+        view && view->ground == ipc::Ground::Orthoimage ? render::Ground::Orthoimage : render::Ground::LandCover;
     c.route = route.geometry();  // each renderer drapes it onto the tiles it draws: no per-tick heights
     c.route_progress_m = route.drivenM();
     c.guidance = &guidance.snapshot();
@@ -131,8 +132,11 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
                            options.data_dir, options.simulator);
         const auto control_server = createControlServer(config, *control_state);
         const auto frames = startFrameServer(config, metrics, status);
-        DisplayScheduler displays(config, {options.noop_renderer, options.render_all_profiles}, scene.cache,
-                                  scene.projection(), *frames, t_start, log);
+        DisplayScheduler displays(
+            config,
+            {options.noop_renderer, options.render_all_profiles,
+             options.data_dir.empty() ? std::filesystem::path() : options.data_dir / "ortho-mlp.nnw"},
+            scene.cache, scene.projection(), *frames, t_start, log);
         input.start();
         if (auto st = control_server->start(); !st) throw std::runtime_error(st.message());
         announceReady(log, systemd, config, *frames, input, displays.displays().size(), t_start);

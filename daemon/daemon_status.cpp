@@ -19,7 +19,8 @@ void DaemonStatus::publish(const StatusSample& m) {
                     {"reloads", m.reloads},
                     {"reload_errors", m.reload_errors},
                     {"last_reload_error", m.last_reload_error},
-                    {"style", m.night ? "night" : "day"}};
+                    {"style", m.night ? "night" : "day"},
+                    {"orthoimage_error", m.ortho_problem}};
     st["input"] = {
         {"source", in.source},
         {"frames", in.frames},

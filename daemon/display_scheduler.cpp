@@ -9,7 +9,8 @@ namespace navmap::daemon {
 
 namespace {
 
-render::RendererOptions rendererOptions(const DaemonConfig& config, const DisplayProfile& first) {
+render::RendererOptions rendererOptions(const DaemonConfig& config, const DisplayProfile& first,
+                                        const std::filesystem::path& ortho_weights) {
     render::RendererOptions ro;
     ro.platform = render::parsePlatform(config.egl_platform).value_or(render::Platform::Auto);
     ro.width = first.width;
@@ -32,6 +33,12 @@ render::RendererOptions rendererOptions(const DaemonConfig& config, const Displa
     // width x height x 4 bytes each: 6.9 MB for the three default profiles); on a GPU two
     // pixel-pack buffers per target.
     ro.readback_ring = 0;
+    // Synthetic orthoimages (seed 6.6.2): made at tile upload in bands of rows, at most this many
+    // pixels of network work per map frame, so that no frame waits for a whole image: a 512 x 512
+    // leaf-tile image takes 16 frames, about 14 ms of each on llvmpipe (docs/orthoimage.md,
+    // docs/benchmarks/2026-11-26-ortho-gpu.md).
+    ro.ortho_weights = ortho_weights.string();
+    ro.ortho_pixels_per_frame = 16384;
     return ro;
 }
 
@@ -46,7 +53,7 @@ DisplayScheduler::DisplayScheduler(const DaemonConfig& config, Options options,
     for (const auto& p : config.profiles) {
         render::TargetHandle target;
         if (!m_renderer) {
-            const render::RendererOptions ro = rendererOptions(config, p);
+            const render::RendererOptions ro = rendererOptions(config, p, m_options.ortho_weights);
             m_renderer = m_options.noop_renderer ? render::Renderer::createNoop(ro) : render::Renderer::create(ro);
             target = m_renderer->primaryTarget();
         } else {
@@ -110,6 +117,11 @@ DisplayScheduler::Clock::time_point DisplayScheduler::tick(Clock::time_point now
 }
 
 void DisplayScheduler::warnFlatTiles() {
+    // Said once by the renderer, when the orthoimage ground is first wanted and cannot be made.
+    if (const std::string& problem = m_renderer->mapStats().ortho_problem; !problem.empty()) {
+        m_log(Log::kErr, "%s", problem.c_str());
+        m_ortho_problem = problem;
+    }
     for (const auto& flat : m_renderer->mapStats().new_flat_tiles) {
         if (m_warned_flat.insert(flat.id.key()).second) {
             m_log(Log::kWarning, "tile %s: %.0f%% of its area has no elevation data and renders flat",

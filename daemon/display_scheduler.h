@@ -8,8 +8,10 @@
 
 #include <chrono>
 #include <cstdint>
+#include <filesystem>
 #include <memory>
 #include <set>
+#include <string>
 #include <vector>
 
 #include "config.h"
@@ -30,6 +32,8 @@ public:
     struct Options {
         bool noop_renderer = false;  ///< no GL (tests of the loop itself)
         bool render_all = false;     ///< render profiles without clients too
+        /// The orthoimage network's weights (RendererOptions::ortho_weights); empty: none.
+        std::filesystem::path ortho_weights;
     };
 
     /// Creates the renderer and one display per configured profile (logged); throws
@@ -49,6 +53,9 @@ public:
     /// Healthy for the watchdog: frames keep completing within `max_frame_s`, or nobody needs any.
     [[nodiscard]] bool framesFlowing(double max_frame_s) const;
     [[nodiscard]] const std::vector<std::unique_ptr<Display>>& displays() const { return m_displays; }
+    /// Why the orthoimage ground cannot be drawn (weights missing or unusable), as logged; empty
+    /// while none was found (docs/orthoimage.md "In the map").
+    [[nodiscard]] const std::string& orthoProblem() const { return m_ortho_problem; }
     /// The exit summary: peak memory, then a line per display.
     void logSummary() const;
 
@@ -70,6 +77,7 @@ private:
     std::vector<std::unique_ptr<Display>> m_displays;
     std::vector<Pacing> m_pacing;           // parallel to m_displays
     std::set<std::uint64_t> m_warned_flat;  // tiles reported as lacking elevation data
+    std::string m_ortho_problem;            // orthoProblem()
     bool m_rendering_wanted = true;
     Clock::time_point m_last_frame_done;
 };

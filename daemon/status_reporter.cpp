@@ -10,6 +10,7 @@ void StatusReporter::update(Clock::time_point now, const EstimatedPose& pose) {
     s.uptime_s = std::chrono::duration<double>(now - m_started).count();
     s.config_path = m_parts.reloader.path();
     s.night = m_parts.config.night;
+    s.ortho_problem = m_parts.displays.orthoProblem();
     s.reloads = m_parts.reloader.reloads();
     s.reload_errors = m_parts.reloader.errors();
     s.last_reload_error = m_parts.reloader.lastError();

@@ -23,6 +23,7 @@ struct StatusSample {
     double uptime_s = 0.0;
     std::string config_path;  ///< empty: no file
     bool night = false;
+    std::string ortho_problem;                     ///< DisplayScheduler::orthoProblem()
     std::uint64_t reloads = 0, reload_errors = 0;  ///< SIGHUP: applied / refused
     std::string last_reload_error;
     VehicleInputStats input;

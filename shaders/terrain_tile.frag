@@ -2,7 +2,8 @@
 // Terrain shading: hypsometric tint, replaced by the tile's land-cover raster where it has
 // coverage, times relief shading; aerial perspective towards the horizon. Tint, shading and fog
 // come per vertex (they vary smoothly, and on llvmpipe every per-pixel instruction is CPU time).
-// The land-cover texture is the pluggable input (synthetic orthoimages later replace it).
+// The land-cover texture is the pluggable input: TerrainPass binds the tile's synthetic orthoimage
+// in its place (MapStyle::ground; opaque, so the tint does not show through).
 #ifndef NAVMAP_COVER_LEVELS
 #define NAVMAP_COVER_LEVELS 1  // land-cover levels blended (terrain_tile.frag)
 #endif

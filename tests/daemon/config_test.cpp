@@ -28,7 +28,8 @@ TEST(DaemonConfig, EmptyFileGivesTheDocumentedDefaults) {
     EXPECT_EQ(c->profiles[0].width, 1280);
     EXPECT_EQ(c->profiles[0].height, 480);
     EXPECT_EQ(c->profiles[2].view, navmap::render::ViewMode::Bird);
-    EXPECT_EQ(c->http_port, 0);  // HTTP is off unless configured
+    EXPECT_FALSE(c->orthoimage_ground);  // the land cover
+    EXPECT_EQ(c->http_port, 0);          // HTTP is off unless configured
     EXPECT_TRUE(c->http_token.empty());
     EXPECT_TRUE(c->stream_group.empty());
     EXPECT_TRUE(c->stream_uids.empty());
@@ -55,6 +56,7 @@ message = "BrakeSysFeatures"
 signal = "Veh_V_ActlBrk"
 [render]
 style = "night"
+ground = "orthoimage"
 msaa = 0
 [[profile]]
 name = "cluster"
@@ -99,6 +101,7 @@ level = "debug"
     ASSERT_EQ(c->dbc_files.size(), 2u);
     EXPECT_NE(c->signal_map_toml.find("Veh_V_ActlBrk"), std::string::npos);
     EXPECT_TRUE(c->night);
+    EXPECT_TRUE(c->orthoimage_ground);
     EXPECT_EQ(c->msaa, 0);
     ASSERT_EQ(c->profiles.size(), 2u);
     EXPECT_EQ(c->profiles[1].fps, 20.0);
@@ -137,6 +140,10 @@ TEST(DaemonConfig, ErrorsNameFileLineAndProblem) {
     EXPECT_EQ(m, "navmapd.toml:2:12: store.cache_mb = 2 out of range [8, 65536]");
     EXPECT_FALSE(parse("[render]\nmsaa = 4\nsytle = \"night\"\n", &m));
     EXPECT_EQ(m, "navmapd.toml:3:9: unknown key render.sytle");
+    EXPECT_FALSE(parse("[render]\nground = \"satellite\"\n", &m));
+    EXPECT_EQ(m, "navmapd.toml: render.ground = \"satellite\": expected landcover or orthoimage");
+    EXPECT_FALSE(parse("[render]\nground = true\n", &m));
+    EXPECT_EQ(m.rfind("navmapd.toml:2:10: render.ground must be", 0), 0u) << m;
     EXPECT_FALSE(parse("[rendr]\n", &m));
     EXPECT_NE(m.find("unknown section or key 'rendr'"), std::string::npos) << m;
     EXPECT_FALSE(parse("[input]\nsource = \"usb\"\n", &m));

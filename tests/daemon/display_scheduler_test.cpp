@@ -57,8 +57,8 @@ Heights renderInOrder(const std::vector<DisplayProfile>& profiles) {
     config.frame_socket = dir / "frames.sock";
     ipc::FrameServer frames(frameServerOptions(config));
     EXPECT_TRUE(frames.start());
-    DisplayScheduler scheduler(config, {.noop_renderer = true, .render_all = true}, scene.cache, scene.projection(),
-                               frames, std::chrono::steady_clock::now(), Log(Log::kErr));
+    DisplayScheduler scheduler(config, {.noop_renderer = true, .render_all = true, .ortho_weights = {}}, scene.cache,
+                               scene.projection(), frames, std::chrono::steady_clock::now(), Log(Log::kErr));
     FrameContext context;
     context.style = render::MapStyle::day();
     bool settled = false;

@@ -31,7 +31,7 @@ done
 echo "installed into $prefix (libdir $libdir):"
 expected=(
     bin/navmapd bin/navmap-view bin/navmap-ctl bin/navmap-compile bin/navmap-sim bin/navmap-soak
-    share/navmap/andorra.navmap share/navmap/navmap.dbc share/navmap/ATTRIBUTION.md
+    share/navmap/andorra.navmap share/navmap/navmap.dbc share/navmap/ortho-mlp.nnw share/navmap/ATTRIBUTION.md
     etc/navmap/navmapd.toml lib/systemd/system/navmapd.service lib/sysusers.d/navmap.conf
     share/doc/navmap/navmapd.md share/doc/navmap/frame-protocol.md share/doc/navmap/LICENSE
     share/doc/navmap/CHANGELOG.md share/doc/navmap/ATTRIBUTION.md

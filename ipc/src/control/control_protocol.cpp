@@ -237,6 +237,8 @@ constexpr std::array<std::pair<ViewOrientation, const char*>, 2> kOrientationNam
     {{ViewOrientation::HeadingUp, "heading-up"}, {ViewOrientation::NorthUp, "north-up"}}};
 constexpr std::array<std::pair<MapStyle, const char*>, 2> kStyleNames{
     {{MapStyle::Day, "day"}, {MapStyle::Night, "night"}}};
+constexpr std::array<std::pair<Ground, const char*>, 2> kGroundNames{
+    {{Ground::LandCover, "landcover"}, {Ground::Orthoimage, "orthoimage"}}};
 constexpr std::array<std::pair<ControlEventKind, const char*>, 5> kEventNames{
     {{ControlEventKind::RouteProgress, "route_progress"},
      {ControlEventKind::PositionLost, "position_lost"},
@@ -493,6 +495,7 @@ const char* viewOrientationName(ViewOrientation o) noexcept {
     return kOrientationNames[static_cast<std::size_t>(o)].second;
 }
 const char* mapStyleName(MapStyle s) noexcept { return kStyleNames[static_cast<std::size_t>(s)].second; }
+const char* groundName(Ground g) noexcept { return kGroundNames[static_cast<std::size_t>(g)].second; }
 const char* controlEventName(ControlEventKind k) noexcept {
     for (const auto& [value, name] : kEventNames) {
         if (value == k) {
@@ -595,14 +598,14 @@ ControlParse parseControlLine(std::string_view line, const ControlLimits& limits
         command.body = std::move(view);
     } else if (name == "set_style") {
         SetStyleCommand style;
-        std::optional<MapStyle> s;
-        if (!c.allowOnly({"cmd", "id", "style"}) || !need_id()) {
+        if (!c.allowOnly({"cmd", "id", "style", "ground"}) || !need_id()) {
             r.error = c.error;
-        } else if (!obj.contains("style")) {
-            r.error = "missing \"style\" (" + choices(kStyleNames) + ")";
+        } else if (!obj.contains("style") && !obj.contains("ground")) {
+            r.error = "set_style needs \"style\" (" + choices(kStyleNames) + ") or \"ground\" (" +
+                      choices(kGroundNames) + ")";
         } else {
-            r.error = readEnum(obj, "style", kStyleNames, s);
-            style.style = s.value_or(MapStyle::Day);
+            r.error = readEnum(obj, "style", kStyleNames, style.style);
+            if (r.error.empty()) r.error = readEnum(obj, "ground", kGroundNames, style.ground);
         }
         command.body = style;
     } else if (name == "subscribe") {

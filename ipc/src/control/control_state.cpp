@@ -60,7 +60,8 @@ Status ControlState::setView(const SetViewCommand& command) {
 
 Status ControlState::setStyle(const SetStyleCommand& command) {
     auto next = std::make_shared<ViewState>(*m_view.load());
-    next->style = command.style;
+    if (command.style) next->style = *command.style;
+    if (command.ground) next->ground = *command.ground;
     ++next->version;
     m_view.store(std::move(next));
     return {};
@@ -79,6 +80,7 @@ nlohmann::json ControlState::status() {
     }
     const auto view = m_view.load();
     j["style"] = mapStyleName(view->style);
+    j["ground"] = groundName(view->ground);
     nlohmann::json displays = nlohmann::json::object();
     for (const auto& [name, d] : view->displays) {
         displays[name] = {{"mode", viewModeName(d.mode)}, {"orientation", viewOrientationName(d.orientation)}};

@@ -59,8 +59,10 @@ int main(int argc, char** argv) {
 
     app.add_subcommand("get_status", "the daemon's status (input, position, profiles, stream, memory, version)");
     app.add_subcommand("clear_route", "drop the route");
-    std::string style;
-    app.add_subcommand("set_style", "day or night map style")->add_option("STYLE", style, "day | night")->required();
+    std::vector<std::string> style_words;
+    app.add_subcommand("set_style", "day or night map style, land cover or orthoimage ground")
+        ->add_option("STYLE", style_words, "day | night and/or landcover | orthoimage")
+        ->required();
     auto* set_view = app.add_subcommand("set_view", "view mode and orientation of one display");
     std::string display;
     std::vector<std::string> view_words;
@@ -90,7 +92,13 @@ int main(int argc, char** argv) {
     nlohmann::ordered_json req;
     req["cmd"] = cmd;
     if (cmd == "set_style") {
-        req["style"] = style;  // the daemon checks the value and answers with the allowed ones
+        if (style_words.size() > 2) {
+            return usage("set_style takes a style and/or a ground");
+        }
+        // The daemon checks the values and answers with the allowed ones.
+        for (const auto& w : style_words) {
+            req[w == "landcover" || w == "orthoimage" ? "ground" : "style"] = w;
+        }
     } else if (cmd == "set_view") {
         if (view_words.empty() || view_words.size() > 2) {
             return usage("set_view needs DISPLAY and a mode and/or orientation");

@@ -23,6 +23,7 @@
 #include "navmap/render/map_frame.h"
 #include "navmap/render/road_style.h"
 #include "navmap/render/terrain_lod.h"
+#include "ortho_generator.h"
 #include "road_draping.h"
 #include "terrain_horizon.h"
 #include "tile_mesh.h"
@@ -41,6 +42,12 @@ struct GpuTile {
     // The parent's and grandparent's land cover over this tile, for morphing it like the surface
     // (terrain_tile.frag); 0: that ancestor was not resident or has no land cover here.
     std::array<GLuint, 2> ancestor_cover{};
+    // The synthetic orthoimage (seed ch. 6), drawn instead of the land cover once ortho_ready
+    // (MapStyle::ground); 0: none (not wanted yet, or the tile has no ortho layers).
+    GLuint ortho = 0;
+    bool ortho_ready = false;
+    bool ortho_started = false;                 // asked for once; not again after a refusal
+    OrthoGenerator* ortho_generator = nullptr;  // forgets the pending image with the tile
     GLuint roads_vao = 0, roads_vbo = 0;
     // First instance of each class among non-bridge roads (instances run least important
     // first, bridges last), so the casing pass can skip the classes drawn without casing.
@@ -119,6 +126,10 @@ struct GpuTile {
         glDeleteBuffers(6, bufs);
         if (land_cover) glDeleteTextures(1, &land_cover);
         glDeleteTextures(2, ancestor_cover.data());
+        if (ortho) {
+            if (ortho_generator) ortho_generator->cancel(ortho);
+            glDeleteTextures(1, &ortho);
+        }
     }
 };
 

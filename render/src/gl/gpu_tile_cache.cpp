@@ -6,12 +6,16 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <exception>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include <glm/gtc/type_ptr.hpp>
 
+#include "frame_context.h"
 #include "label_pass.h"
+#include "navmap/map/ortho/ortho_network.h"
 #include "vertex_layout.h"
 
 namespace navmap::render::gl {
@@ -23,6 +27,14 @@ namespace {
 // channel hold; half the memory of RGBA8 (about 0.17 MiB per tile with mipmaps).
 int landCoverTextureSize(float) { return 256; }
 constexpr int kLandCoverSamples = 4;
+
+// Orthoimage pixels per side (docs/orthoimage.md "In the map"): 512 (4 m per pixel) on tiles of
+// the leaf size of the default stores (2 km; up to 2.5 km), which the snail's view sees from a few
+// metres, twice the land-cover raster's density; 256 on the coarser levels, which the level of
+// detail shows only farther off at about the same size on screen, the density of their land-cover
+// raster and of their cover layer.
+constexpr double kCloseRangeTileM = 2500.0;
+int orthoImageSize(double tile_m) { return tile_m <= kCloseRangeTileM ? 512 : 256; }
 
 // The terrain vertex as uploaded: normals as x, y in normalized shorts (z >= 0 follows; the
 // shader unpacks them), 48 bytes instead of TerrainVertex's 72. Heights stay float: the route
@@ -155,7 +167,10 @@ GpuTileCache::~GpuTileCache() {
     glDeleteBuffers(1, &m_road_index_buffer);
 }
 
-std::span<GpuTile* const> GpuTileCache::acquire(const MapFrame& frame, int target_id, MapFrameStats& stats) {
+std::span<GpuTile* const> GpuTileCache::acquire(const MapFrame& frame, int target_id, MapFrameStats& stats,
+                                                Ground ground) {
+    const bool want_ortho = ground == Ground::Orthoimage && frame.layers.land_cover && frame.layers.terrain;
+    std::vector<std::pair<GpuTile*, std::shared_ptr<const map::Tile>>> ortho_wanted;
     ++m_frame;
     m_target_frame[target_id] = m_frame;  // this target's latest frame (evict())
     // Uploads (bounded per frame so a burst of new tiles does not stall one frame).
@@ -191,6 +206,7 @@ std::span<GpuTile* const> GpuTileCache::acquire(const MapFrame& frame, int targe
         gpu->morph.ancestors = {};  // identities kept in morph_ancestors; do not extend the tiles' life
         gpu->last_used = m_frame;
         tiles.push_back(gpu);
+        if (want_ortho && !gpu->ortho_started && !tile->ortho.empty()) ortho_wanted.emplace_back(gpu, tile);
     }
     m_ancestor_cover_triangles.clear();  // only for the uploads above, while `frame` holds the tiles
     stats.tiles_uploaded = static_cast<std::size_t>(uploads);
@@ -209,8 +225,55 @@ std::span<GpuTile* const> GpuTileCache::acquire(const MapFrame& frame, int targe
         };
         std::stable_sort(tiles.begin(), tiles.end(),
                          [&](const GpuTile* a, const GpuTile* b) { return distance2(a) < distance2(b); });
+        std::stable_sort(ortho_wanted.begin(), ortho_wanted.end(),
+                         [&](const auto& a, const auto& b) { return distance2(a.first) < distance2(b.first); });
     }
+    if (want_ortho) updateOrthoimages(ortho_wanted, stats);
     return tiles;
+}
+
+OrthoGenerator* GpuTileCache::orthoGenerator() {
+    if (m_ortho_tried) return m_ortho.get();
+    m_ortho_tried = true;
+    const std::string fallback = " (the ground shows the land cover)";
+    if (m_options.ortho_weights.empty()) {
+        m_ortho_problem = "orthoimages off: no weights file configured" + fallback;
+        return nullptr;
+    }
+    try {
+        m_ortho = std::make_unique<OrthoGenerator>(map::ortho::loadNetwork(m_options.ortho_weights));
+    } catch (const std::exception& e) {  // OrthoNetworkError (the file), RenderError (the driver)
+        m_ortho_problem = std::string("orthoimages off: ") + e.what() + fallback;
+    }
+    return m_ortho.get();
+}
+
+void GpuTileCache::updateOrthoimages(std::span<const std::pair<GpuTile*, std::shared_ptr<const map::Tile>>> wanted,
+                                     MapFrameStats& stats) {
+    const auto t0 = Clock::now();
+    OrthoGenerator* gen = orthoGenerator();
+    if (!m_ortho_problem.empty()) stats.ortho_problem = std::exchange(m_ortho_problem, {});
+    if (!gen) return;
+    for (const auto& [gpu, tile] : wanted) {
+        gpu->ortho_started = true;
+        gpu->ortho_generator = gen;
+        OrthoGenerator::Request r;
+        r.tile = tile;
+        r.extent = static_cast<float>(tile->size_m);
+        r.size = orthoImageSize(tile->size_m);
+        std::string problem;
+        gpu->ortho = gen->start(r, problem);
+        // A tile whose layers cannot be sampled keeps its land cover; said once per tile.
+        if (!gpu->ortho) stats.ortho_problem += (stats.ortho_problem.empty() ? "" : "; ") + problem;
+    }
+    const std::size_t images = gen->timings().images;
+    if (gen->pending() > 0) gen->step(m_options.ortho_pixels_per_frame);
+    for (GpuTile* g : m_drawn) {
+        if (g->ortho && !g->ortho_ready) g->ortho_ready = gen->ready(g->ortho);
+    }
+    stats.ortho_generated = gen->timings().images - images;
+    stats.ortho_pending = gen->pending();
+    stats.ortho_ms = msSince(t0);
 }
 
 void GpuTileCache::evict() {
@@ -276,6 +339,14 @@ GpuTile* GpuTileCache::upload(const std::shared_ptr<const map::Tile>& tile, cons
             triangles, landCoverTextureSize(static_cast<float>(a->size_m)) >> (j + 1), offset, mesh.size_m);
     }
 
+    // A re-upload for new geomorph targets keeps the tile's orthoimage (finished or pending).
+    if (const auto old = m_tiles.find(tile->id.key()); old != m_tiles.end() && old->second->source == tile.get()) {
+        GpuTile& o = *old->second;
+        gpu->ortho = std::exchange(o.ortho, 0);
+        gpu->ortho_ready = o.ortho_ready;
+        gpu->ortho_started = o.ortho_started;
+        gpu->ortho_generator = o.ortho_generator;
+    }
     GpuTile* raw = gpu.get();
     m_tiles[tile->id.key()] = std::move(gpu);
     return raw;

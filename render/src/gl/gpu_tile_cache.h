@@ -2,7 +2,9 @@
 #pragma once
 // The tiles' GPU resources (GpuTile), shared by every display target: uploads a frame's tiles
 // within the per-frame budget (terrain, land-cover rasters of the tile and its geomorph targets,
-// road quads, buildings) and evicts the ones no target drew lately. The passes read the tiles it
+// road quads, buildings), starts the synthetic orthoimages of tiles with ortho layers while the
+// style's ground asks for them and works on them within a per-frame pixel budget
+// (OrthoGenerator), and evicts the tiles no target drew lately. The passes read the tiles it
 // hands out for a frame. Private to render/.
 
 #include <GLES3/gl3.h>
@@ -10,6 +12,7 @@
 #include <cstdint>
 #include <memory>
 #include <span>
+#include <string>
 #include <unordered_map>
 #include <unordered_set>
 #include <vector>
@@ -34,8 +37,10 @@ public:
     /// The frame's tiles on the GPU, nearest first, for display `target_id`: resident ones and
     /// those uploaded now (bounded per frame so a burst of new tiles does not stall one frame),
     /// each with this frame's geomorph. Fills the upload counts of `stats` (tiles_uploaded,
-    /// tiles_pending, tiles_drawn, the tiles lacking DEM). Valid until the next call.
-    std::span<GpuTile* const> acquire(const MapFrame& frame, int target_id, MapFrameStats& stats);
+    /// tiles_pending, tiles_drawn, the tiles lacking DEM). With `ground` Orthoimage, starts the
+    /// orthoimages of the frame's tiles that have none yet, nearest first, and steps the generator
+    /// within RendererOptions::ortho_pixels_per_frame (ortho_* of `stats`). Valid until the next call.
+    std::span<GpuTile* const> acquire(const MapFrame& frame, int target_id, MapFrameStats& stats, Ground ground);
     /// Frees the least recently used tiles beyond the cache size that no target drew in its
     /// latest frame.
     void evict();
@@ -51,8 +56,17 @@ private:
     /// A new RGBA4 texture (size^2, mipmapped) with the land-cover triangles (tile-local metres)
     /// of the square [offset, offset + extent] of their tile.
     GLuint rasterizeLandCover(std::span<const LandCoverVertex> triangles, int size, glm::vec2 offset, float extent);
+    /// The generator, made on first use from options.ortho_weights; null (and m_ortho_problem set)
+    /// when the weights or the driver do not allow it.
+    OrthoGenerator* orthoGenerator();
+    /// Starts the orthoimages of `wanted` (tiles without one, nearest first) and steps the generator.
+    void updateOrthoimages(std::span<const std::pair<GpuTile*, std::shared_ptr<const map::Tile>>> wanted,
+                           MapFrameStats& stats);
 
     RendererOptions m_options;
+    std::unique_ptr<OrthoGenerator> m_ortho;  // before m_tiles: their textures cancel with it
+    bool m_ortho_tried = false;               // m_ortho made or refused
+    std::string m_ortho_problem;              // to report in the next frame's stats, once
     ShaderProgram m_land_cover;
     GLuint m_raster_fbo = 0;     // the land-cover texture being resolved into
     GLuint m_raster_ms_fbo = 0;  // multisampled land-cover raster, m_raster_ms_size

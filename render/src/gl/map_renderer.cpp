@@ -50,7 +50,7 @@ MapRenderer::MapRenderer(const RendererOptions& options, bool software)
 MapRenderer::~MapRenderer() = default;
 
 FrameContext MapRenderer::beginFrame(const MapFrame& frame, const RenderTarget& target, int target_id) {
-    const std::span<GpuTile* const> tiles = m_cache.acquire(frame, target_id, m_stats);
+    const std::span<GpuTile* const> tiles = m_cache.acquire(frame, target_id, m_stats, m_style.ground);
     const double aspect = static_cast<double>(target.width()) / target.height();
     const glm::mat4 projection = frame.camera.projection(aspect);
     const FrameContext ctx{

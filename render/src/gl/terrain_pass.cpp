@@ -88,8 +88,15 @@ void TerrainPass::draw(const FrameContext& ctx) {
         // an ancestor with no land cover here shows none, one not resident is stood in for by
         // the next finer level.
         std::array<GLuint, 3> cover{m_empty_texture, m_empty_texture, m_empty_texture};
-        const bool morph_cover = frame.layers.land_cover && g->morph_ancestors[0];
-        if (frame.layers.land_cover) {
+        // The orthoimage (seed ch. 6) takes the land cover's place once it is ready: opaque, so
+        // the hypsometric tint does not show through (terrain_tile.frag). One level: the tile's
+        // own image, also where the surface morphs towards its ancestors (their images are made
+        // when they are drawn themselves).
+        const bool ortho = frame.layers.land_cover && style.ground == Ground::Orthoimage && g->ortho_ready;
+        const bool morph_cover = frame.layers.land_cover && g->morph_ancestors[0] && !ortho;
+        if (ortho) {
+            cover.fill(g->ortho);
+        } else if (frame.layers.land_cover) {
             if (g->land_cover) cover[0] = g->land_cover;
             if (g->ancestor_cover[0]) cover[1] = g->ancestor_cover[0];
             cover[2] =

@@ -87,6 +87,15 @@ TEST(ControlProtocol, ParsesTheOtherCommands) {
     ASSERT_TRUE(r.command) << r.error;
     EXPECT_EQ(std::get<SetStyleCommand>(r.command->body).style, MapStyle::Night);
     EXPECT_EQ(r.command->request_id, "q7");
+    EXPECT_FALSE(std::get<SetStyleCommand>(r.command->body).ground);  // unchanged
+    r = parseControlLine(R"({"cmd":"set_style","ground":"orthoimage"})");
+    ASSERT_TRUE(r.command) << r.error;
+    EXPECT_EQ(std::get<SetStyleCommand>(r.command->body).ground, Ground::Orthoimage);
+    EXPECT_FALSE(std::get<SetStyleCommand>(r.command->body).style);
+    r = parseControlLine(R"({"cmd":"set_style","style":"day","ground":"landcover"})");
+    ASSERT_TRUE(r.command) << r.error;
+    EXPECT_EQ(std::get<SetStyleCommand>(r.command->body).style, MapStyle::Day);
+    EXPECT_EQ(std::get<SetStyleCommand>(r.command->body).ground, Ground::LandCover);
 
     r = parseControlLine(R"({"cmd":"subscribe","events":["position_lost","position_regained"]})");
     ASSERT_TRUE(r.command) << r.error;
@@ -204,7 +213,10 @@ TEST(ControlProtocol, EveryMalformedRequestGetsAnErrorNamingTheProblem) {
          "\"camera\" must be an object {zoom, pitch[, bearing]} or null, not array"},
         {R"({"cmd":"set_view","mode":"bird"})", "missing \"display\""},
         {R"({"cmd":"set_style","style":"dusk"})", "\"style\": \"dusk\" is not one of day | night"},
-        {R"({"cmd":"set_style"})", "missing \"style\" (day | night)"},
+        {R"({"cmd":"set_style"})", "set_style needs \"style\" (day | night) or \"ground\" (landcover | orthoimage)"},
+        {R"({"cmd":"set_style","ground":"satellite"})",
+         "\"ground\": \"satellite\" is not one of landcover | orthoimage"},
+        {R"({"cmd":"set_style","style":"day","ground":1})", "\"ground\": must be one of landcover | orthoimage"},
         {R"({"cmd":"subscribe","events":["everything"]})",
          "events[0]: not one of route_progress | position_lost | position_regained | off_route | back_on_route"},
         {R"({"cmd":"subscribe","events":[]})",

@@ -87,8 +87,11 @@ TEST(ControlServer, CommandsReachTheSnapshotsAndRepliesAreExact) {
                   R"({"ok":true,"cmd":"set_view"})");
         EXPECT_EQ(req(c, R"({"cmd":"set_style","style":"night","id":"q2"})"),
                   R"({"ok":true,"cmd":"set_style","id":"q2"})");
+        EXPECT_EQ(f.state.view()->ground, Ground::LandCover);
+        EXPECT_EQ(req(c, R"({"cmd":"set_style","ground":"orthoimage"})"), R"({"ok":true,"cmd":"set_style"})");
         const auto view = f.state.view();
-        EXPECT_EQ(view->style, MapStyle::Night);
+        EXPECT_EQ(view->style, MapStyle::Night);  // kept: only the ground was given
+        EXPECT_EQ(view->ground, Ground::Orthoimage);
         EXPECT_EQ(view->displays.at("hud").mode, ViewMode::Snail);
         EXPECT_EQ(view->displays.at("hud").orientation, ViewOrientation::NorthUp);
         EXPECT_EQ(view->displays.at("cluster").mode, ViewMode::Auto);
@@ -103,6 +106,7 @@ TEST(ControlServer, CommandsReachTheSnapshotsAndRepliesAreExact) {
         EXPECT_EQ(status["ok"], true);
         EXPECT_EQ(status["status"]["route"]["id"], "r1");
         EXPECT_EQ(status["status"]["style"], "night");
+        EXPECT_EQ(status["status"]["ground"], "orthoimage");
         EXPECT_EQ(status["status"]["displays"]["hud"]["mode"], "snail");
         EXPECT_TRUE(status["status"]["displays"]["hud"]["camera"].is_null());
         EXPECT_EQ(status["status"]["control"]["clients"], 1);
@@ -110,7 +114,7 @@ TEST(ControlServer, CommandsReachTheSnapshotsAndRepliesAreExact) {
         EXPECT_EQ(req(c, R"({"cmd":"clear_route"})"), R"({"ok":true,"cmd":"clear_route"})");
         EXPECT_EQ(f.state.route(), nullptr);
         const auto st = f.server->stats();
-        EXPECT_EQ(st.commands, 5U);
+        EXPECT_EQ(st.commands, 6U);
         EXPECT_EQ(st.errors, 1U);
     }
     EXPECT_EQ(countOpenFds(), fds);

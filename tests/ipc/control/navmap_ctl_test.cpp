@@ -65,6 +65,15 @@ TEST(NavmapCtl, SendsCommandsAndPrintsReplies) {
     EXPECT_EQ(state.view()->displays.at("cluster").mode, ViewMode::Bird);
     EXPECT_EQ(state.view()->displays.at("cluster").orientation, ViewOrientation::NorthUp);
 
+    r = runCtl(s + "set_style night orthoimage");
+    EXPECT_EQ(r.status, 0) << r.out;
+    EXPECT_EQ(state.view()->style, MapStyle::Night);
+    EXPECT_EQ(state.view()->ground, Ground::Orthoimage);
+    r = runCtl(s + "set_style landcover");
+    EXPECT_EQ(r.status, 0) << r.out;
+    EXPECT_EQ(state.view()->style, MapStyle::Night);
+    EXPECT_EQ(state.view()->ground, Ground::LandCover);
+
     r = runCtl(s + "set_style dusk");
     EXPECT_EQ(r.status, 1);
     EXPECT_EQ(

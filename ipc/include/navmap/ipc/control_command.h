@@ -62,9 +62,13 @@ inline constexpr std::uint32_t kMaxRoundaboutExit = 32;
 enum class ViewMode : std::uint8_t { Bird, Snail, Auto };
 enum class ViewOrientation : std::uint8_t { HeadingUp, NorthUp };
 enum class MapStyle : std::uint8_t { Day, Night };
+/// What the terrain is coloured with: OpenStreetMap land cover or the synthetic orthoimage
+/// (seed ch. 6, docs/orthoimage.md).
+enum class Ground : std::uint8_t { LandCover, Orthoimage };
 const char* viewModeName(ViewMode m) noexcept;                ///< "bird" | "snail" | "auto"
 const char* viewOrientationName(ViewOrientation o) noexcept;  ///< "heading-up" | "north-up"
 const char* mapStyleName(MapStyle s) noexcept;                ///< "day" | "night"
+const char* groundName(Ground g) noexcept;                    ///< "landcover" | "orthoimage"
 
 /// Event kinds a client can subscribe to (bit mask values).
 /// Events a subscriber hears. off_route/back_on_route: the vehicle left the active route (more
@@ -106,8 +110,10 @@ struct SetViewCommand {
     std::optional<ViewCamera> camera;  ///< "camera": {...}
     bool clear_camera = false;         ///< "camera": null
 };
+/// At least one of style and ground is given; what is absent stays as it is.
 struct SetStyleCommand {
-    MapStyle style = MapStyle::Day;
+    std::optional<MapStyle> style;
+    std::optional<Ground> ground;
 };
 struct GetStatusCommand {};
 struct SubscribeCommand {

@@ -40,6 +40,7 @@ struct DisplayView {
 struct ViewState {
     std::map<std::string, DisplayView, std::less<>> displays;
     MapStyle style = MapStyle::Day;
+    Ground ground = Ground::LandCover;
     std::uint64_t version = 0;
 };
 

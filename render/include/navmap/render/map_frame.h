@@ -176,8 +176,15 @@ struct GuidanceOverlay {
     std::string remaining_time;      ///< e.g. "18 min"
 };
 
+/// What the terrain is coloured with: the flat colours of the OpenStreetMap land cover over a
+/// hypsometric tint, or the synthetic orthoimage (seed ch. 6; tiles with ortho layers and
+/// RendererOptions::ortho_weights; a tile whose image is not ready shows its land cover). Relief
+/// shading, fog and the style's brightness apply to both (docs/orthoimage.md "In the map").
+enum class Ground : std::uint8_t { LandCover, Orthoimage };
+
 struct MapStyle {
     glm::vec3 light_dir{-0.5f, 0.6f, 0.62f};
+    Ground ground = Ground::LandCover;
     glm::vec3 sky_color{0.62f, 0.75f, 0.90f};
     float brightness = 1.0f;
     /// The ground beyond the store's data (docs/rendering.md "Beyond the data"): a neutral
@@ -261,7 +268,13 @@ struct MapFrameStats {
     bool sv_roads = false;            ///< this frame's roads were drawn as shadow volumes
     std::size_t tiles_drawn = 0;
     std::size_t tiles_uploaded = 0;
-    std::size_t tiles_pending = 0;  ///< tiles not drawn yet because the upload budget was spent
+    std::size_t tiles_pending = 0;    ///< tiles not drawn yet because the upload budget was spent
+    std::size_t ortho_pending = 0;    ///< orthoimages started and not finished (their tiles show land cover)
+    std::size_t ortho_generated = 0;  ///< orthoimages finished in this frame
+    double ortho_ms = 0;              ///< render-thread CPU time on orthoimages this frame (input vectors, GL calls)
+    /// Why the orthoimage ground cannot be drawn (weights missing or unusable, driver limits, a
+    /// tile's broken layers), said once in the frame that met it; empty otherwise.
+    std::string ortho_problem;
     std::size_t road_segments = 0;
     std::size_t road_blocks_hidden =
         0;  ///< road blocks in view left out as hidden by the terrain (MapLayers::cull_hidden_roads)

@@ -56,6 +56,14 @@ struct RendererOptions {
     int tile_resource_cache = 160;
     /// Measure each pass (adds a glFinish per pass; benchmarks only).
     bool profile_passes = false;
+    /// Weights of the synthetic orthoimage network (docs/orthoimage.md, data/ortho/ortho-mlp.nnw),
+    /// read when MapStyle::ground first asks for the orthoimage. Empty or unusable: the ground
+    /// stays land cover and MapFrameStats::ortho_problem says why, once; never thrown.
+    std::string ortho_weights;
+    /// Pixels of orthoimage network work per map frame at most (seed 6.6.2: an image is made in
+    /// bands of rows over several frames, its tile showing the land cover meanwhile); 0: each
+    /// image is finished in the frame that starts it.
+    std::size_t ortho_pixels_per_frame = 0;
 };
 
 /// What the backend runs on, for logs and status.

@@ -1,0 +1,267 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "ortho_generator.h"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+
+#include "frame_context.h"
+#include "navmap/map/ortho/tile_sampler.h"
+#include "navmap/render/renderer.h"
+
+namespace navmap::render::gl {
+
+namespace {
+
+namespace mo = map::ortho;
+using mo::OrthoInput;
+
+constexpr int kTexels = (mo::kOrthoActive + 1) / 2;  // texels of two (node, value) pairs per pixel
+constexpr int kBandRows = 16;                        // rows per band at least
+
+std::string defines(int hidden4) {
+    return "#define NAVMAP_ORTHO_INPUTS " + std::to_string(mo::kOrthoInputs) + "\n#define NAVMAP_ORTHO_HIDDEN4 " +
+           std::to_string(hidden4) + "\n#define NAVMAP_ORTHO_TEXELS " + std::to_string(kTexels) + "\n";
+}
+
+int hidden4(const mo::OrthoNetwork& net) { return (net.hidden + 3) / 4; }
+
+}  // namespace
+
+OrthoGenerator::OrthoGenerator(const mo::OrthoNetwork& net)
+    : m_network(ShaderProgram::fromEmbedded("ortho_screen.vert", "ortho_mlp.frag", defines(hidden4(net)))),
+      m_copy(ShaderProgram::fromEmbedded("ortho_screen.vert", "ortho_copy.frag")) {
+    if (net.inputs != mo::kOrthoInputs || net.hidden < 1 || net.w0.size() != std::size_t(net.inputs) * net.hidden ||
+        net.b0.size() != std::size_t(net.hidden) || net.w1.size() != std::size_t(net.hidden) * 3) {
+        throw RenderError("orthoimage network of " + std::to_string(net.inputs) + " inputs and " +
+                          std::to_string(net.hidden) + " hidden neurons does not fit this build's " +
+                          std::to_string(mo::kOrthoInputs) + " inputs");
+    }
+    // The weights as std140 vec4 arrays: w0 rows (hidden padded to a multiple of 4 with zero
+    // weights, whose sigmoid(0) then meets zero output weights), b0, w1 per output channel, b1.
+    const int h4 = hidden4(net), h = net.hidden, n = net.inputs;
+    std::vector<float> block(static_cast<std::size_t>((n * h4 + h4 + 3 * h4 + 1) * 4), 0.0f);
+    auto at = [](int i) { return static_cast<std::size_t>(i); };
+    for (int i = 0; i < n; ++i) {
+        for (int j = 0; j < h; ++j) block[at(i * h4 * 4 + j)] = net.w0[at(i * h + j)];
+    }
+    const std::size_t b0 = at(n * h4 * 4), w1 = b0 + at(h4 * 4), b1 = w1 + at(3 * h4 * 4);
+    for (int j = 0; j < h; ++j) {
+        block[b0 + at(j)] = net.b0[at(j)];
+        for (int c = 0; c < 3; ++c) block[w1 + at(c * h4 * 4 + j)] = net.w1[at(j * 3 + c)];
+    }
+    for (int c = 0; c < 3; ++c) block[b1 + at(c)] = net.b1[at(c)];
+    GLint max_block = 0;
+    glGetIntegerv(GL_MAX_UNIFORM_BLOCK_SIZE, &max_block);
+    const auto bytes = static_cast<GLsizeiptr>(block.size() * sizeof(float));
+    if (bytes > max_block) {
+        throw RenderError("orthoimage network of " + std::to_string(n) + " inputs and " + std::to_string(h) +
+                          " hidden neurons needs " + std::to_string(bytes) + " bytes of uniforms, the driver allows " +
+                          std::to_string(max_block));
+    }
+    glGenBuffers(1, &m_weights);
+    glBindBuffer(GL_UNIFORM_BUFFER, m_weights);
+    glBufferData(GL_UNIFORM_BUFFER, bytes, block.data(), GL_STATIC_DRAW);
+    glBindBuffer(GL_UNIFORM_BUFFER, 0);
+    const GLuint index = glGetUniformBlockIndex(m_network.id(), "OrthoWeights");
+    if (index == GL_INVALID_INDEX) throw RenderError("ortho_mlp.frag: uniform block OrthoWeights not found");
+    glUniformBlockBinding(m_network.id(), index, 0);
+    glGenFramebuffers(1, &m_fbo);
+    glGenVertexArrays(1, &m_empty_vao);
+}
+
+OrthoGenerator::~OrthoGenerator() {
+    const GLuint textures[] = {m_inputs, m_basic};
+    glDeleteTextures(2, textures);
+    glDeleteFramebuffers(1, &m_fbo);
+    glDeleteBuffers(1, &m_weights);
+    glDeleteVertexArrays(1, &m_empty_vao);
+}
+
+void OrthoGenerator::ensureScratch(int size) {
+    if (size <= m_scratch_size) return;
+    const GLuint old[] = {m_inputs, m_basic};
+    glDeleteTextures(2, old);
+    glGenTextures(1, &m_inputs);
+    glBindTexture(GL_TEXTURE_2D, m_inputs);
+    glTexStorage2D(GL_TEXTURE_2D, 1, GL_RGBA8UI, size, size * kTexels);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glGenTextures(1, &m_basic);
+    glBindTexture(GL_TEXTURE_2D, m_basic);
+    glTexStorage2D(GL_TEXTURE_2D, 1, GL_RGBA8, size, size);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glBindTexture(GL_TEXTURE_2D, 0);
+    m_scratch_size = size;
+}
+
+GLuint OrthoGenerator::start(const Request& r, std::string& problem) {
+    if (!r.tile) {
+        problem = "orthoimage requested without a tile";
+        return 0;
+    }
+    problem = mo::orthoLayersProblem(*r.tile);
+    if (problem.empty() && (r.size < 1 || r.size > 4096 || !std::has_single_bit(static_cast<unsigned>(r.size)))) {
+        problem = "tile " + r.tile->id.toString() + ": orthoimage size " + std::to_string(r.size) +
+                  " is not a power of two in 1..4096";
+    }
+    if (!problem.empty()) return 0;
+    GLuint texture = 0;
+    glGenTextures(1, &texture);
+    glBindTexture(GL_TEXTURE_2D, texture);
+    glTexStorage2D(GL_TEXTURE_2D, static_cast<GLsizei>(std::bit_width(static_cast<unsigned>(r.size))), GL_RGB565,
+                   r.size, r.size);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    glBindTexture(GL_TEXTURE_2D, 0);
+    m_jobs.push_back({r, texture, 0});
+    return texture;
+}
+
+bool OrthoGenerator::ready(GLuint texture) const {
+    return texture != 0 &&
+           std::none_of(m_jobs.begin(), m_jobs.end(), [&](const Job& j) { return j.texture == texture; });
+}
+
+void OrthoGenerator::cancel(GLuint texture) {
+    // A job in progress may go too: its rows live in the scratch textures, which the next job
+    // overwrites from its first row.
+    const auto it = std::find_if(m_jobs.begin(), m_jobs.end(), [&](const Job& j) { return j.texture == texture; });
+    if (it != m_jobs.end()) m_jobs.erase(it);
+}
+
+void OrthoGenerator::uploadInputs(std::span<const OrthoInput> inputs, int size, int row0, int row1) {
+    // Plane k holds pairs 2k and 2k + 1 of every pixel.
+    const auto pixels = static_cast<std::size_t>(size) * static_cast<std::size_t>(row1 - row0);
+    m_texels.resize(pixels * 4);
+    glBindTexture(GL_TEXTURE_2D, m_inputs);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    for (int k = 0; k < kTexels; ++k) {
+        for (std::size_t p = 0; p < pixels; ++p) {
+            const OrthoInput& in = inputs[p];
+            for (std::size_t b = 0; b < 4; ++b) {
+                const std::size_t pair_byte = 4 * static_cast<std::size_t>(k) + b;
+                m_texels[p * 4 + b] = pair_byte < in.pairs.size() ? in.pairs[pair_byte] : 0;
+            }
+        }
+        glTexSubImage2D(GL_TEXTURE_2D, 0, 0, k * size + row0, size, row1 - row0, GL_RGBA_INTEGER, GL_UNSIGNED_BYTE,
+                        m_texels.data());
+    }
+    glBindTexture(GL_TEXTURE_2D, 0);
+}
+
+void OrthoGenerator::drawNetwork(int size, int row0, int row1) {
+    glBindFramebuffer(GL_FRAMEBUFFER, m_fbo);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, m_basic, 0);
+    const GLenum c0 = GL_COLOR_ATTACHMENT0;
+    glDrawBuffers(1, &c0);
+    glViewport(0, 0, size, size);
+    glEnable(GL_SCISSOR_TEST);
+    glScissor(0, row0, size, row1 - row0);
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_STENCIL_TEST);
+    glDisable(GL_CULL_FACE);
+    glDisable(GL_BLEND);
+    glUseProgram(m_network.id());
+    glBindBufferBase(GL_UNIFORM_BUFFER, 0, m_weights);
+    glActiveTexture(GL_TEXTURE0);
+    glBindTexture(GL_TEXTURE_2D, m_inputs);
+    glUniform1i(m_network.uniform("u_inputs"), 0);
+    glUniform1i(m_network.uniform("u_size"), size);
+    glBindVertexArray(m_empty_vao);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glDisable(GL_SCISSOR_TEST);
+    glBindVertexArray(0);
+    glBindTexture(GL_TEXTURE_2D, 0);
+}
+
+void OrthoGenerator::runBand(Job& job, int row0, int row1) {
+    const Request& r = job.request;
+    const auto t0 = Clock::now();
+    m_band.resize(static_cast<std::size_t>(r.size) * static_cast<std::size_t>(row1 - row0));
+    const mo::OrthoTileSampler sampler(*r.tile);  // layers checked in start()
+    sampler.encodeRows(r.offset.x, r.offset.y, r.extent, r.size, row0, row1, m_band.data());
+    m_timings.encode_ms += msSince(t0);
+    const auto t1 = Clock::now();
+    uploadInputs(m_band, r.size, row0, row1);
+    drawNetwork(r.size, row0, row1);
+    m_timings.network_ms += msSince(t1);
+    m_timings.pixels += m_band.size();
+}
+
+std::vector<std::uint8_t> OrthoGenerator::runNetwork(std::span<const OrthoInput> inputs, int size) {
+    ensureScratch(size);
+    uploadInputs(inputs, size, 0, size);
+    drawNetwork(size, 0, size);
+    std::vector<std::uint8_t> out(static_cast<std::size_t>(size) * static_cast<std::size_t>(size) * 4);
+    glPixelStorei(GL_PACK_ALIGNMENT, 4);
+    glReadPixels(0, 0, size, size, GL_RGBA, GL_UNSIGNED_BYTE, out.data());
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    return out;
+}
+
+std::vector<std::uint8_t> OrthoGenerator::read(GLuint texture, int size) {
+    glBindFramebuffer(GL_FRAMEBUFFER, m_fbo);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, texture, 0);
+    std::vector<std::uint8_t> out(static_cast<std::size_t>(size) * static_cast<std::size_t>(size) * 4);
+    glPixelStorei(GL_PACK_ALIGNMENT, 4);
+    glReadPixels(0, 0, size, size, GL_RGBA, GL_UNSIGNED_BYTE, out.data());
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    return out;
+}
+
+void OrthoGenerator::step(std::size_t budget) {
+    std::size_t spent = 0;
+    while (!m_jobs.empty() && (budget == 0 || spent < budget)) {
+        Job& job = m_jobs.front();
+        const int size = job.request.size;
+        ensureScratch(size);
+        if (job.next_row < size) {
+            int rows = size - job.next_row;
+            if (budget > 0) {
+                const auto affordable = static_cast<int>((budget - spent) / static_cast<std::size_t>(size));
+                rows = std::min(rows, std::max(affordable, kBandRows));
+            }
+            runBand(job, job.next_row, job.next_row + rows);
+            job.next_row += rows;
+            spent += static_cast<std::size_t>(rows) * static_cast<std::size_t>(size);
+            if (job.next_row < size) continue;
+        }
+        finishJob(job);
+        m_jobs.pop_front();
+    }
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+}
+
+void OrthoGenerator::finishJob(Job& job) {
+    const int size = job.request.size;
+    glBindFramebuffer(GL_FRAMEBUFFER, m_fbo);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, job.texture, 0);
+    const GLenum c0 = GL_COLOR_ATTACHMENT0;
+    glDrawBuffers(1, &c0);
+    glViewport(0, 0, size, size);
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_STENCIL_TEST);
+    glDisable(GL_CULL_FACE);
+    glDisable(GL_BLEND);
+    glDisable(GL_DITHER);  // RGB565 by rounding alone: the same image on every driver
+    glActiveTexture(GL_TEXTURE0);
+    glBindTexture(GL_TEXTURE_2D, m_basic);
+    glUseProgram(m_copy.id());
+    glUniform1i(m_copy.uniform("u_basic"), 0);
+    glBindVertexArray(m_empty_vao);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    // The procedural detail (seed 6.7) will be drawn here, over the basic layer.
+    glEnable(GL_DITHER);  // GL's default, which the other passes keep
+    glBindVertexArray(0);
+    glBindTexture(GL_TEXTURE_2D, job.texture);
+    glGenerateMipmap(GL_TEXTURE_2D);
+    glBindTexture(GL_TEXTURE_2D, 0);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    ++m_timings.images;
+}
+
+}  // namespace navmap::render::gl

@@ -1,0 +1,96 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+// Synthetic orthoimages of tiles on the GPU (seed 6.6.2): the compressed input vectors are made on
+// the CPU from the tile's layers (map::ortho::OrthoTileSampler), the network runs in a fragment
+// shader over them (ortho_mlp.frag) into the basic orthoimage, which is then copied into the
+// tile's mipmapped texture. An image is started when its tile is uploaded and worked on in bands
+// of rows within a per-frame pixel budget, so no frame waits for a whole image; the tile shows its
+// land cover until its image is ready. The procedural detail of seed 6.7 (fields, vegetation,
+// roofs) is not drawn yet; it belongs in finishJob, over the copied basic layer. Private to render/.
+
+#include <GLES3/gl3.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <deque>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include <glm/vec2.hpp>
+
+#include "navmap/map/ortho/ortho_network.h"
+#include "navmap/map/tile.h"
+#include "shader_program.h"
+
+namespace navmap::render::gl {
+
+class OrthoGenerator {
+public:
+    /// Uploads the network's weights. Throws RenderError when they do not fit the driver's uniform
+    /// blocks or the network's inputs are not this build's encoding.
+    explicit OrthoGenerator(const map::ortho::OrthoNetwork& network);
+    ~OrthoGenerator();
+    OrthoGenerator(const OrthoGenerator&) = delete;
+    OrthoGenerator& operator=(const OrthoGenerator&) = delete;
+
+    struct Request {
+        std::shared_ptr<const map::Tile> tile;  ///< kept while the image is pending; needs ortho layers
+        glm::vec2 offset{0.0f};                 ///< the square [offset, offset + extent] of the tile (m)
+        float extent = 0.0f;
+        int size = 256;  ///< pixels per side (a power of two)
+    };
+    /// A new RGB565 texture (size^2, mipmapped) whose image step() generates; sample it only once
+    /// ready() says so. Returns 0 and sets `problem` when the tile's layers cannot be sampled
+    /// (map::ortho::orthoLayersProblem) or the size is not a power of two in 1..4096.
+    GLuint start(const Request& request, std::string& problem);
+    /// Works on the pending images, oldest first, for at most `pixel_budget` pixels of the network
+    /// pass (0: until none is left; at least a band of 16 rows per call). Leaves the framebuffer
+    /// binding at 0.
+    void step(std::size_t pixel_budget);
+    [[nodiscard]] bool ready(GLuint texture) const;
+    /// Forgets a pending image (its tile was evicted); the caller deletes the texture.
+    void cancel(GLuint texture);
+    [[nodiscard]] std::size_t pending() const { return m_jobs.size(); }
+
+    /// The network pass alone over `inputs` (size^2, row 0 first), read back as RGBA8 (tests: GPU
+    /// against the CPU reference; the benchmark). Blocks.
+    std::vector<std::uint8_t> runNetwork(std::span<const map::ortho::OrthoInput> inputs, int size);
+    /// A finished image read back as RGBA8, row 0 south (tests, the benchmark). Blocks.
+    std::vector<std::uint8_t> read(GLuint texture, int size);
+
+    struct Timings {
+        double encode_ms = 0;   ///< input vectors on the CPU
+        double network_ms = 0;  ///< upload and network pass (GL calls; the GPU work completes later)
+        std::size_t images = 0, pixels = 0;
+    };
+    /// Accumulated since construction.
+    [[nodiscard]] const Timings& timings() const { return m_timings; }
+
+private:
+    struct Job {
+        Request request;
+        GLuint texture = 0;
+        int next_row = 0;
+    };
+    void ensureScratch(int size);
+    void runBand(Job& job, int row0, int row1);
+    void uploadInputs(std::span<const map::ortho::OrthoInput> inputs, int size, int row0, int row1);
+    void drawNetwork(int size, int row0, int row1);
+    void finishJob(Job& job);
+
+    ShaderProgram m_network, m_copy;
+    GLuint m_weights = 0;  // uniform buffer (OrthoWeights)
+    GLuint m_inputs = 0;   // RGBA8UI, size x (size * texels per pixel)
+    GLuint m_basic = 0;    // RGBA8, the network's output
+    GLuint m_fbo = 0;
+    GLuint m_empty_vao = 0;
+    int m_scratch_size = 0;
+    std::vector<map::ortho::OrthoInput> m_band;
+    std::vector<std::uint8_t> m_texels;
+    std::deque<Job> m_jobs;
+    Timings m_timings;
+};
+
+}  // namespace navmap::render::gl

@@ -1,0 +1,176 @@
+// SPDX-License-Identifier: Apache-2.0
+// The orthoimage network on the GPU (seed 6.6.2): the shader's forward pass against the CPU
+// reference (OrthoNetwork::color) for the shipped weights and for a network of another hidden
+// width, and a tile's image generated in bands within a pixel budget.
+
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <string>
+
+#include "gl/egl_context.h"
+#include "gl/ortho_generator.h"
+#include "navmap/map/ortho/ortho_network.h"
+#include "navmap/map/ortho/rng.h"
+#include "navmap/map/ortho/tile_sampler.h"
+#include "ortho_test_tile.h"
+#include "test_paths.h"
+
+namespace {
+
+using namespace navmap;
+using namespace navmap::render;
+namespace mo = navmap::map::ortho;
+
+std::filesystem::path shippedWeights() { return test::sourceDir() / "data" / "ortho" / "ortho-mlp.nnw"; }
+
+class OrthoGpu : public ::testing::Test {
+protected:
+    static void SetUpTestSuite() { s_context = std::make_unique<gl::EglContext>(Platform::Auto); }
+    static void TearDownTestSuite() { s_context.reset(); }
+    void SetUp() override { s_context->makeCurrent(); }
+    static std::unique_ptr<gl::EglContext> s_context;
+};
+std::unique_ptr<gl::EglContext> OrthoGpu::s_context;
+
+mo::OrthoInput randomInput(mo::Rng& r) {
+    mo::OrthoInput in;
+    for (std::size_t k = 0; k < std::size_t{mo::kOrthoActive}; ++k) {
+        in.pairs[2 * k] = static_cast<std::uint8_t>(r.below(mo::kOrthoInputs));
+        in.pairs[2 * k + 1] = static_cast<std::uint8_t>(r.below(256));
+    }
+    return in;
+}
+
+// A fixed set of 64 x 64 input vectors: random ones (any node, any value) and encoded pixels of
+// every land-cover and climate class over a range of elevations and climates.
+std::vector<mo::OrthoInput> fixedInputs() {
+    mo::Rng r(2024);
+    std::vector<mo::OrthoInput> v;
+    for (int i = 0; i < 64 * 48; ++i) v.push_back(randomInput(r));
+    for (int i = 0; i < 64 * 16; ++i) {
+        mo::OrthoPixel p;
+        p.cover = {static_cast<std::uint8_t>(i % mo::kGlobalCoverCount), 1, 0.8f, 0.2f};
+        p.climate = {static_cast<std::uint8_t>(i % mo::kClimateClassCount), 14, 0.7f, 0.3f};
+        p.elevation_m = static_cast<float>(i % 3000);
+        p.temp_dec_c = -10.0f + static_cast<float>(i % 25);
+        p.temp_jul_c = 10.0f + static_cast<float>(i % 20);
+        p.precip_dec_mm = static_cast<float>(i % 200);
+        p.precip_jul_mm = static_cast<float>(i % 150);
+        p.lights = static_cast<float>(i % 7) / 7.0f;
+        v.push_back(mo::encodeInput(p));
+    }
+    return v;
+}
+
+void expectGpuEqualsCpu(const mo::OrthoNetwork& net, const std::string& what) {
+    gl::OrthoGenerator gen(net);
+    const auto inputs = fixedInputs();
+    const auto gpu = gen.runNetwork(inputs, 64);
+    ASSERT_EQ(gpu.size(), inputs.size() * 4);
+    int worst = 0, off = 0, distinct = 0;
+    for (std::size_t i = 0; i < inputs.size(); ++i) {
+        const auto cpu = net.color(inputs[i]);
+        for (std::size_t c = 0; c < 3; ++c) {
+            const int d = std::abs(int(gpu[i * 4 + c]) - int(cpu[c]));
+            worst = std::max(worst, d);
+            off += d > 1;
+        }
+        distinct += i > 0 && std::memcmp(&gpu[i * 4], &gpu[(i - 1) * 4], 3) != 0;
+    }
+    EXPECT_LE(worst, 1) << what << ": " << off << " channels differ by more than 1/255";
+    EXPECT_GT(distinct, static_cast<int>(inputs.size()) / 2) << what << ": the outputs hardly vary";
+}
+
+TEST_F(OrthoGpu, TheShaderComputesTheCpuReferenceWithinOneStep) {
+    ASSERT_TRUE(std::filesystem::exists(shippedWeights())) << shippedWeights();
+    const mo::OrthoNetwork shipped = mo::loadNetwork(shippedWeights());
+    ASSERT_EQ(shipped.hidden % 4, 3);  // 43: the last group of four is padded
+    expectGpuEqualsCpu(shipped, "shipped weights");
+    // A network of another width (13 hidden units, padded to 16 on the GPU) with large weights.
+    mo::OrthoNetwork net = mo::OrthoNetwork::zeros(mo::kOrthoInputs, 13);
+    mo::Rng r(77);
+    for (auto* v : {&net.w0, &net.b0, &net.w1}) {
+        for (float& w : *v) w = static_cast<float>(r.uniform(-2, 2));
+    }
+    net.b1 = {0.3f, 0.4f, 0.2f};
+    expectGpuEqualsCpu(net, "random 43-13-3 network");
+}
+
+// RGB565 as the tile's texture stores a colour, read back as 8 bits.
+int quantized(int v, int bits) {
+    const int max = (1 << bits) - 1;
+    const int q = (v * max + 127) / 255;
+    return (q * 255 + max / 2) / max;
+}
+
+TEST_F(OrthoGpu, ATilesImageIsMadeInBandsWithinThePixelBudget) {
+    const mo::OrthoNetwork net = mo::loadNetwork(shippedWeights());
+    gl::OrthoGenerator gen(net);
+    const auto tile = test::orthoTile(
+        [](double x, double y) {
+            return x < 700 ? mo::SuperLandCover::Forest
+                           : (y < 1000 ? mo::SuperLandCover::Residential : mo::SuperLandCover::Lake);
+        },
+        [](double x, double y) { return static_cast<float>(300.0 + 0.4 * x + 0.2 * y); });
+    gl::OrthoGenerator::Request req;
+    req.tile = tile;
+    req.extent = 2000.0f;
+    req.size = 128;
+    std::string problem;
+    const GLuint tex = gen.start(req, problem);
+    ASSERT_NE(tex, 0u) << problem;
+    EXPECT_FALSE(gen.ready(tex));
+    // 32 rows per frame: four frames, the image ready after the last.
+    int frames = 0;
+    while (!gen.ready(tex) && frames < 10) {
+        const std::size_t before = gen.timings().pixels;
+        gen.step(128 * 32);
+        EXPECT_LE(gen.timings().pixels - before, 128u * 32u);
+        ++frames;
+    }
+    EXPECT_EQ(frames, 4);
+    EXPECT_EQ(gen.pending(), 0u);
+    EXPECT_EQ(gen.timings().images, 1u);
+    const auto px = gen.read(tex, 128);
+    glDeleteTextures(1, &tex);
+    // Every pixel is the CPU reference of the sampler's input at its centre, as RGB565 holds it.
+    const mo::OrthoTileSampler sampler(*tile);
+    std::vector<mo::OrthoInput> inputs(128 * 128);
+    sampler.encodeRows(0, 0, 2000, 128, 0, 128, inputs.data());
+    int worst = 0;
+    for (std::size_t i = 0; i < inputs.size(); ++i) {
+        const auto cpu = net.color(inputs[i]);
+        for (std::size_t c = 0; c < 3; ++c) {
+            const int expected = quantized(cpu[c], c == 1 ? 6 : 5);
+            worst = std::max(worst, std::abs(int(px[i * 4 + c]) - expected));
+        }
+    }
+    EXPECT_LE(worst, 9) << "one 5-bit step and the shader's 1/255";
+    // Forest, town and lake differ (row 0 is south: pixel (row 20, column 20) is forest).
+    auto at = [&](int row, int col) { return &px[static_cast<std::size_t>(row * 128 + col) * 4]; };
+    EXPECT_NE(std::memcmp(at(20, 20), at(20, 100), 3), 0);
+    EXPECT_NE(std::memcmp(at(20, 100), at(110, 100), 3), 0);
+}
+
+TEST_F(OrthoGpu, ATileWithoutUsableLayersIsRefusedByName) {
+    gl::OrthoGenerator gen(mo::loadNetwork(shippedWeights()));
+    auto tile =
+        test::orthoTile([](double, double) { return mo::SuperLandCover::Grass; }, [](double, double) { return 0.0f; });
+    tile->ortho.lights.resize(7);
+    gl::OrthoGenerator::Request req;
+    req.tile = tile;
+    req.extent = 2000.0f;
+    std::string problem;
+    EXPECT_EQ(gen.start(req, problem), 0u);
+    EXPECT_EQ(problem, "tile 6/33/17: ortho layer lights has 7 samples, expected 1089 (33x33)");
+    tile->ortho.lights.resize(33 * 33);
+    req.size = 300;
+    EXPECT_EQ(gen.start(req, problem), 0u);
+    EXPECT_EQ(problem, "tile 6/33/17: orthoimage size 300 is not a power of two in 1..4096");
+    EXPECT_EQ(gen.pending(), 0u);
+}
+
+}  // namespace
