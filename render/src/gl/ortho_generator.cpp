@@ -247,13 +247,28 @@ void OrthoGenerator::finishJob(Job& job) {
     glDisable(GL_STENCIL_TEST);
     glDisable(GL_CULL_FACE);
     glDisable(GL_BLEND);
-    glActiveTexture(GL_TEXTURE0);
-    glBindTexture(GL_TEXTURE_2D, m_basic);
-    glUseProgram(m_copy.id());
-    glUniform1i(m_copy.uniform("u_basic"), 0);
-    glBindVertexArray(m_empty_vao);
-    glDrawArrays(GL_TRIANGLES, 0, 3);
-    // The procedural detail (seed 6.7) will be drawn here, over the basic layer.
+    if (m_field_mask_only) {
+        glClearColor(0.0f, 0.0f, 0.0f, 1.0f);
+        glClear(GL_COLOR_BUFFER_BIT);
+    } else {
+        glActiveTexture(GL_TEXTURE0);
+        glBindTexture(GL_TEXTURE_2D, m_basic);
+        glUseProgram(m_copy.id());
+        glUniform1i(m_copy.uniform("u_basic"), 0);
+        glBindVertexArray(m_empty_vao);
+        glDrawArrays(GL_TRIANGLES, 0, 3);
+    }
+    // The procedural detail (seed 6.7) over the basic layer, reading its colour from it.
+    const Request& r = job.request;
+    OrthoDetail::Target target;
+    target.tile = r.tile.get();
+    target.offset = r.offset;
+    target.extent = r.extent;
+    target.size = size;
+    target.basic = m_basic;
+    target.fields_and_roofs = r.details;
+    target.vegetation = r.vegetation;
+    m_detail.draw(target);
     glBindVertexArray(0);
     glBindTexture(GL_TEXTURE_2D, job.texture);
     glGenerateMipmap(GL_TEXTURE_2D);

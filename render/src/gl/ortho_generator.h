@@ -5,8 +5,9 @@
 // shader over them (ortho_mlp.frag) into the basic orthoimage, which is then copied into the
 // tile's mipmapped texture. An image is started when its tile is uploaded and worked on in bands
 // of rows within a per-frame pixel budget, so no frame waits for a whole image; the tile shows its
-// land cover until its image is ready. The procedural detail of seed 6.7 (fields, vegetation,
-// roofs) is not drawn yet; it belongs in finishJob, over the copied basic layer. Private to render/.
+// land cover until its image is ready. When the last band is done, the procedural detail of seed 6.7
+// (fields, roofs, and plants where asked for: OrthoDetail) is drawn over the copied basic layer,
+// taking its colour from it. Private to render/.
 
 #include <GLES3/gl3.h>
 
@@ -22,6 +23,7 @@
 
 #include "navmap/map/ortho/ortho_network.h"
 #include "navmap/map/tile.h"
+#include "ortho_detail.h"
 #include "shader_program.h"
 
 namespace navmap::render::gl {
@@ -39,7 +41,9 @@ public:
         std::shared_ptr<const map::Tile> tile;  ///< kept while the image is pending; needs ortho layers
         glm::vec2 offset{0.0f};                 ///< the square [offset, offset + extent] of the tile (m)
         float extent = 0.0f;
-        int size = 256;  ///< pixels per side (a power of two)
+        int size = 256;           ///< pixels per side (a power of two)
+        bool details = true;      ///< fields and roofs (seed 6.7.2, 6.7.3)
+        bool vegetation = false;  ///< plants (seed 6.7.1): leaf tiles, which are seen at close range
     };
     /// A new RGB565 texture (size^2, mipmapped) whose image step() generates; sample it only once
     /// ready() says so. Returns 0 and sets `problem` when the tile's layers cannot be sampled
@@ -67,6 +71,14 @@ public:
     };
     /// Accumulated since construction.
     [[nodiscard]] const Timings& timings() const { return m_timings; }
+    /// The procedural detail's share (CPU grid and simulation, draw calls), accumulated.
+    [[nodiscard]] const OrthoDetail::Timings& detailTimings() const { return m_detail.timings(); }
+
+    /// Tests: images show the field parcels alone, white on black (their drawn area).
+    void setFieldMaskOnly(bool on) {
+        m_field_mask_only = on;
+        m_detail.setFieldMaskOnly(on);
+    }
 
 private:
     struct Job {
@@ -81,6 +93,8 @@ private:
     void finishJob(Job& job);
 
     ShaderProgram m_network, m_copy;
+    OrthoDetail m_detail;
+    bool m_field_mask_only = false;
     GLuint m_weights = 0;  // uniform buffer (OrthoWeights)
     GLuint m_inputs = 0;   // RGBA8UI, size x (size * texels per pixel)
     GLuint m_basic = 0;    // RGBA8, the network's output

@@ -1,17 +1,24 @@
 // SPDX-License-Identifier: Apache-2.0
 // The orthoimage network on the GPU (seed 6.6.2): the shader's forward pass against the CPU
 // reference (OrthoNetwork::color) for the shipped weights and for a network of another hidden
-// width, and a tile's image generated in bands within a pixel budget.
+// width, a tile's image generated in bands within a pixel budget, and the procedural detail (seed
+// 6.7): fields drawn over the whole farmland and nowhere else, the detail keeping the mean colour.
 
 #include <gtest/gtest.h>
 
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <string>
+#include <utility>
 
 #include "gl/egl_context.h"
 #include "gl/ortho_generator.h"
+#include "navmap/map/ortho/color_difference.h"
 #include "navmap/map/ortho/ortho_network.h"
 #include "navmap/map/ortho/rng.h"
 #include "navmap/map/ortho/tile_sampler.h"
@@ -171,6 +178,144 @@ TEST_F(OrthoGpu, ATileWithoutUsableLayersIsRefusedByName) {
     EXPECT_EQ(gen.start(req, problem), 0u);
     EXPECT_EQ(problem, "tile 6/33/17: orthoimage size 300 is not a power of two in 1..4096");
     EXPECT_EQ(gen.pending(), 0u);
+}
+
+std::shared_ptr<map::Tile> farmTile() {
+    return test::orthoTile(
+        [](double x, double y) {
+            const double dx = x - 900, dy = y - 1000;
+            return dx * dx + 2.0 * dy * dy < 600.0 * 600.0 || (y > 1500 && x < 400) ? mo::SuperLandCover::Farmland
+                                                                                    : mo::SuperLandCover::Grass;
+        },
+        [](double, double) { return 300.0f; });
+}
+
+TEST_F(OrthoGpu, FieldsAreDrawnOverTheWholeFarmlandAndNowhereElse) {
+    gl::OrthoGenerator gen(mo::loadNetwork(shippedWeights()));
+    gen.setFieldMaskOnly(true);
+    const auto tile = farmTile();
+    for (const float angle_deg : {0.0f, 30.0f}) {
+        // The second time along a primary road at 30 degrees: the grid turns with it.
+        if (angle_deg > 0.0f) {
+            map::Road road;
+            road.cls = map::RoadClass::Primary;
+            const float a = angle_deg * 3.14159265f / 180.0f;
+            road.points = {{100, 100}, {100 + 1500 * std::cos(a), 100 + 1500 * std::sin(a)}};
+            tile->roads.push_back(road);
+        }
+        gl::OrthoGenerator::Request req;
+        req.tile = tile;
+        req.extent = 2000.0f;
+        req.size = 512;
+        std::string problem;
+        const GLuint tex = gen.start(req, problem);
+        ASSERT_NE(tex, 0u) << problem;
+        gen.step(0);
+        ASSERT_TRUE(gen.ready(tex));
+        const auto px = gen.read(tex, 512);
+        glDeleteTextures(1, &tex);
+        int outside = 0, missed = 0, farm = 0;
+        for (int r = 0; r < 512; ++r) {
+            for (int c = 0; c < 512; ++c) {
+                const bool field = px[static_cast<std::size_t>(r * 512 + c) * 4] > 127;
+                const bool farmland = tile->ortho.cover[static_cast<std::size_t>((r / 2) * 256 + c / 2)] ==
+                                      static_cast<std::uint8_t>(mo::SuperLandCover::Farmland);
+                farm += farmland;
+                outside += field && !farmland;
+                missed += farmland && !field;
+            }
+        }
+        EXPECT_GT(farm, 50000);
+        EXPECT_EQ(outside, 0) << "field pixels outside the farmland, grid at " << angle_deg << " degrees";
+        EXPECT_EQ(missed, 0) << "farmland pixels without a field, grid at " << angle_deg << " degrees";
+    }
+    EXPECT_GT(gen.detailTimings().parcels, 40u);
+}
+
+// Mean colour of the pixels of one land-cover class in a 512 x 512 image of a 256-texel cover.
+std::array<float, 3> meanOf(const std::vector<std::uint8_t>& px, const map::Tile& t, mo::SuperLandCover cls) {
+    std::array<double, 3> sum{};
+    int n = 0;
+    for (int r = 0; r < 512; ++r) {
+        for (int c = 0; c < 512; ++c) {
+            if (t.ortho.cover[static_cast<std::size_t>((r / 2) * 256 + c / 2)] != static_cast<std::uint8_t>(cls)) {
+                continue;
+            }
+            for (std::size_t k = 0; k < 3; ++k) sum[k] += px[static_cast<std::size_t>(r * 512 + c) * 4 + k] / 255.0;
+            ++n;
+        }
+    }
+    return {float(sum[0] / n), float(sum[1] / n), float(sum[2] / n)};
+}
+
+TEST_F(OrthoGpu, TheDetailKeepsTheNetworksMeanColour) {
+    // seed 6.7.5: fields, plants and roofs take their colour from the basic layer and vary it in
+    // pairs. Farmland in the west, forest in the east, a village of 40 houses in the forest.
+    gl::OrthoGenerator gen(mo::loadNetwork(shippedWeights()));
+    auto tile = test::orthoTile(
+        [](double x, double) { return x < 1000 ? mo::SuperLandCover::Farmland : mo::SuperLandCover::Forest; },
+        [](double, double y) { return static_cast<float>(200 + 0.5 * y); });
+    for (int i = 0; i < 40; ++i) {
+        map::Building b;
+        const float x = 1300.0f + 40.0f * static_cast<float>(i % 8), y = 300.0f + 40.0f * static_cast<float>(i / 8);
+        const float w = 12.0f + static_cast<float>(i % 5) * 3.0f;
+        b.footprint.vertices = {{x, y}, {x + w, y}, {x + w, y + 12}, {x, y + 12}};
+        b.footprint.ring_ends = {4};
+        b.footprint.indices = {0, 1, 2, 0, 2, 3};
+        b.height_m = 8.0f + static_cast<float>(i % 3) * 4.0f;
+        tile->buildings.push_back(b);
+    }
+    gl::OrthoGenerator::Request req;
+    req.tile = tile;
+    req.extent = 2000.0f;
+    req.size = 512;
+    req.details = false;
+    std::string problem;
+    using Clock = std::chrono::steady_clock;
+    auto generate = [&](bool detail) {
+        req.details = req.vegetation = detail;
+        const GLuint tex = gen.start(req, problem);
+        EXPECT_NE(tex, 0u) << problem;
+        const auto t0 = Clock::now();
+        gen.step(0);
+        glFinish();
+        const double ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+        auto px = gen.read(tex, 512);
+        glDeleteTextures(1, &tex);
+        return std::pair{px, ms};
+    };
+    const auto [plain, plain_ms] = generate(false);
+    const auto [detailed, detailed_ms] = generate(true);
+    const auto& t = gen.detailTimings();
+    // The cost of the detail on this tile (docs/benchmarks): printed, not asserted.
+    std::printf(
+        "512x512 image: %.1f ms plain, %.1f ms with detail (CPU: %.1f ms grid + simulation; GL calls "
+        "%.1f ms); %zu parcels, %zu plants, %zu roofs\n",
+        plain_ms, detailed_ms, t.cpu_ms, t.draw_ms, t.parcels, t.plants, t.roofs);
+    EXPECT_GT(t.plants, 1000u);
+    EXPECT_GT(t.parcels, 20u);
+    EXPECT_EQ(t.roofs, 40u);
+    int changed = 0;
+    for (std::size_t i = 0; i < plain.size(); i += 4) changed += std::memcmp(&plain[i], &detailed[i], 3) != 0;
+    EXPECT_GT(changed, 512 * 512 / 3);
+    // Both images as the tile's RGB565 texture holds them. The elevation varies over the tile so
+    // that the basic colours, too, spread over several 5- and 6-bit steps: a region of one colour
+    // would be rounded all one way, the detail's varied colours either way.
+    for (auto cls : {mo::SuperLandCover::Farmland, mo::SuperLandCover::Forest}) {
+        const double de = mo::deltaE76(meanOf(plain, *tile, cls), meanOf(detailed, *tile, cls));
+        EXPECT_LT(de, 1.0) << mo::superLandCoverName(cls) << ": the detail moved the mean colour by delta E " << de;
+        std::printf("%s: mean colour moved by delta E %.2f\n", mo::superLandCoverName(cls), de);
+    }
+    // The roofs and their shadows change the houses' pixels; a roof keeps about its ground colour.
+    const auto at = [&](const std::vector<std::uint8_t>& px, float x, float y) {
+        const auto i =
+            static_cast<std::size_t>(static_cast<int>(y / 2000.0f * 512) * 512 + static_cast<int>(x / 2000.0f * 512)) *
+            4;
+        return std::array<int, 3>{px[i], px[i + 1], px[i + 2]};
+    };
+    const auto shadow = at(detailed, 1310.0f, 298.5f), ground = at(plain, 1310.0f, 298.5f);
+    EXPECT_LT(shadow[0] + shadow[1] + shadow[2], ground[0] + ground[1] + ground[2])
+        << "no shadow south-east of the house";
 }
 
 }  // namespace
