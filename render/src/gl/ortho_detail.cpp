@@ -21,17 +21,6 @@ namespace {
 
 namespace mo = map::ortho;
 
-struct DetailVertex {
-    glm::vec2 position;
-    glm::vec4 params;  // fields: pattern, variation, hue, angle; roofs: variation, hue, height
-};
-
-struct PlantVertex {
-    glm::vec2 centre;
-    glm::vec2 corner;
-    glm::vec2 plant;  // radius, variation
-};
-
 constexpr std::uint32_t kQuad[] = {0, 1, 2, 0, 2, 3};
 constexpr float kMaxShadowHeightM = 40.0f;
 // Light from the north-west: shadows fall to the south-east, 0.35 m per metre of height.
@@ -46,6 +35,9 @@ void upload(GLuint vbo, GLuint ibo, const std::vector<V>& vertices, const std::v
     glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(indices.size() * sizeof(std::uint32_t)),
                  indices.data(), GL_STREAM_DRAW);
 }
+
+using DetailVertex = OrthoDetail::DetailVertex;
+using PlantVertex = OrthoDetail::PlantVertex;
 
 void detailAttributes() {
     glEnableVertexAttribArray(0);
@@ -88,16 +80,18 @@ OrthoDetail::~OrthoDetail() {
     glDeleteVertexArrays(1, &m_vao);
 }
 
-void OrthoDetail::draw(const Target& t) {
-    if (t.tile == nullptr || t.tile->ortho.empty() || t.extent <= 0.0f) return;
-    const map::Tile& tile = *t.tile;
+OrthoDetail::Geometry OrthoDetail::build(const map::Tile& tile, const Options& options) {
+    Geometry g;
+    if (tile.ortho.empty()) return g;
     const auto t0 = Clock::now();
-    // CPU: the field grid (seed 6.7.2), the roofs (6.7.3), the vegetation simulation (6.7.1).
-    std::vector<DetailVertex> fields, roofs;
-    std::vector<std::uint32_t> field_index, roof_index;
-    if (t.fields_and_roofs) {
+    auto& fields = g.fields;
+    auto& roofs = g.roofs;
+    auto& field_index = g.field_index;
+    auto& roof_index = g.roof_index;
+    // The field grid (seed 6.7.2), the roofs (6.7.3), the vegetation simulation (6.7.1).
+    if (options.fields_and_roofs) {
         const ortho::FieldGrid grid = ortho::buildFieldGrid(tile);
-        m_timings.parcels += grid.parcels.size();
+        g.parcels = grid.parcels.size();
         for (const auto& p : grid.parcels) {
             const auto base = static_cast<std::uint32_t>(fields.size());
             for (const glm::vec2& c : p.corners) {
@@ -106,7 +100,7 @@ void OrthoDetail::draw(const Target& t) {
             for (std::uint32_t i : kQuad) field_index.push_back(base + i);
         }
         // Roofs: slight brightness and hue changes in pairs, weighted by footprint area (seed 6.7.5).
-        if (!m_field_mask_only) {
+        if (!options.field_mask_only) {
             mo::Rng rng(mo::mixSeed(0x726f6f66ULL, tile.id.key()));
             std::vector<float> areas(tile.buildings.size(), 0.0f);
             for (std::size_t b = 0; b < tile.buildings.size(); ++b) {
@@ -140,14 +134,14 @@ void OrthoDetail::draw(const Target& t) {
                 }
                 for (std::uint32_t i : building.footprint.indices) roof_index.push_back(base + i);
             }
-            m_timings.roofs += tile.buildings.size();
+            g.roofs_drawn = tile.buildings.size();
         }
     }
-    std::vector<PlantVertex> plants;
-    std::vector<std::uint32_t> plant_index;
-    if (t.vegetation && !m_field_mask_only) {
+    auto& plants = g.plants;
+    auto& plant_index = g.plant_index;
+    if (options.vegetation && !options.field_mask_only) {
         const ortho::VegetationResult veg = ortho::simulateVegetation(tile);
-        m_timings.plants += veg.plants.size();
+        g.plant_count = veg.plants.size();
         for (const auto& p : veg.plants) {
             const auto base = static_cast<std::uint32_t>(plants.size());
             for (const glm::vec2 corner : {glm::vec2(-1, -1), glm::vec2(1, -1), glm::vec2(1, 1), glm::vec2(-1, 1)}) {
@@ -156,9 +150,21 @@ void OrthoDetail::draw(const Target& t) {
             for (std::uint32_t i : kQuad) plant_index.push_back(base + i);
         }
     }
-    m_timings.cpu_ms += msSince(t0);
+    g.cpu_ms = msSince(t0);
+    return g;
+}
 
-    // GPU: over the copied basic layer, each element reading the basic layer at its pixel.
+void OrthoDetail::draw(const Target& t, const Geometry& g) {
+    if (t.tile == nullptr || t.tile->ortho.empty() || t.extent <= 0.0f) return;
+    const map::Tile& tile = *t.tile;
+    m_timings.cpu_ms += g.cpu_ms;
+    m_timings.parcels += g.parcels;
+    m_timings.plants += g.plant_count;
+    m_timings.roofs += g.roofs_drawn;
+    const auto &fields = g.fields, &roofs = g.roofs;
+    const auto &field_index = g.field_index, &roof_index = g.roof_index;
+    const auto& plants = g.plants;
+    const auto& plant_index = g.plant_index;
     const auto t1 = Clock::now();
     glDisable(GL_BLEND);
     glActiveTexture(GL_TEXTURE0);
@@ -185,7 +191,7 @@ void OrthoDetail::draw(const Target& t) {
         glUniform1i(m_fields.uniform("u_cover"), 1);
         glUniform1f(m_fields.uniform("u_tile_size"), static_cast<float>(tile.size_m));
         glUniform1ui(m_fields.uniform("u_farmland"), static_cast<GLuint>(mo::SuperLandCover::Farmland));
-        glUniform1f(m_fields.uniform("u_mask_only"), m_field_mask_only ? 1.0f : 0.0f);
+        glUniform1f(m_fields.uniform("u_mask_only"), t.field_mask_only ? 1.0f : 0.0f);
         glUniform1f(m_fields.uniform("u_pixel_m"), t.extent / static_cast<float>(std::max(t.size, 1)));
         upload(m_vbo, m_ibo, fields, field_index);
         detailAttributes();
