@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <chrono>
 #include <cmath>
@@ -13,15 +14,19 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <map>
 #include <string>
 #include <utility>
 
 #include "gl/egl_context.h"
+#include "gl/ortho_detail.h"
 #include "gl/ortho_generator.h"
 #include "navmap/map/ortho/color_difference.h"
 #include "navmap/map/ortho/ortho_network.h"
 #include "navmap/map/ortho/rng.h"
 #include "navmap/map/ortho/tile_sampler.h"
+#include "ortho/field_grid.h"
+#include "ortho/vegetation.h"
 #include "ortho_test_tile.h"
 #include "test_paths.h"
 
@@ -248,10 +253,9 @@ std::array<float, 3> meanOf(const std::vector<std::uint8_t>& px, const map::Tile
     return {float(sum[0] / n), float(sum[1] / n), float(sum[2] / n)};
 }
 
-TEST_F(OrthoGpu, TheDetailKeepsTheNetworksMeanColour) {
-    // seed 6.7.5: fields, plants and roofs take their colour from the basic layer and vary it in
-    // pairs. Farmland in the west, forest in the east, a village of 40 houses in the forest.
-    gl::OrthoGenerator gen(mo::loadNetwork(shippedWeights()));
+// Farmland in the west, forest in the east with a village of 40 houses; the elevation rises by
+// 1000 m from south to north.
+std::shared_ptr<map::Tile> villageTile() {
     auto tile = test::orthoTile(
         [](double x, double) { return x < 1000 ? mo::SuperLandCover::Farmland : mo::SuperLandCover::Forest; },
         [](double, double y) { return static_cast<float>(200 + 0.5 * y); });
@@ -265,6 +269,14 @@ TEST_F(OrthoGpu, TheDetailKeepsTheNetworksMeanColour) {
         b.height_m = 8.0f + static_cast<float>(i % 3) * 4.0f;
         tile->buildings.push_back(b);
     }
+    return tile;
+}
+
+TEST_F(OrthoGpu, TheDetailKeepsTheNetworksMeanColour) {
+    // seed 6.7.5: fields, plants and roofs take their colour from the basic layer and vary it in
+    // pairs.
+    gl::OrthoGenerator gen(mo::loadNetwork(shippedWeights()));
+    const auto tile = villageTile();
     gl::OrthoGenerator::Request req;
     req.tile = tile;
     req.extent = 2000.0f;
@@ -316,6 +328,100 @@ TEST_F(OrthoGpu, TheDetailKeepsTheNetworksMeanColour) {
     const auto shadow = at(detailed, 1310.0f, 298.5f), ground = at(plain, 1310.0f, 298.5f);
     EXPECT_LT(shadow[0] + shadow[1] + shadow[2], ground[0] + ground[1] + ground[2])
         << "no shadow south-east of the house";
+}
+
+TEST_F(OrthoGpu, ACancelledImageLeavesItsDetailBehind) {
+    gl::OrthoGenerator gen(mo::loadNetwork(shippedWeights()));
+    const auto forest = test::orthoTile([](double, double) { return mo::SuperLandCover::Forest; },
+                                        [](double, double) { return 500.0f; });
+    gl::OrthoGenerator::Request req;
+    req.tile = forest;
+    req.extent = 2000.0f;
+    req.size = 64;
+    req.vegetation = true;
+    std::string problem;
+    const GLuint gone = gen.start(req, problem), kept = gen.start(req, problem);
+    ASSERT_NE(gone, 0u);
+    ASSERT_NE(kept, 0u);
+    gen.cancel(gone);
+    glDeleteTextures(1, &gone);
+    EXPECT_EQ(gen.pending(), 1u);
+    gen.step(0);
+    EXPECT_TRUE(gen.ready(kept));
+    EXPECT_EQ(gen.timings().images, 1u);
+    EXPECT_EQ(gen.timings().detail_failures, 0u);
+    EXPECT_GT(gen.detailTimings().plants, 1000u);
+    glDeleteTextures(1, &kept);
+    // A third image left pending when the generator goes: its worker job is dropped, nothing hangs.
+    EXPECT_NE(gen.start(req, problem), 0u);
+}
+
+// The detail's cost per 512 x 512 image (docs/benchmarks): the CPU grid and simulation, and the draw
+// calls until the GPU has finished them, over a farmland, a forest and a mixed tile. Printed; what is
+// asserted is that the detail drew.
+TEST_F(OrthoGpu, TheDetailsCostPerImage) {
+    using Clock = std::chrono::steady_clock;
+    auto ms = [](Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); };
+    const std::map<std::string, std::shared_ptr<map::Tile>> tiles{
+        {"farmland", test::orthoTile([](double, double) { return mo::SuperLandCover::Farmland; },
+                                     [](double, double) { return 300.0f; })},
+        {"forest", test::orthoTile([](double, double) { return mo::SuperLandCover::Forest; },
+                                   [](double, double) { return 500.0f; })},
+        {"village", villageTile()}};
+    constexpr int kSize = 512;
+    GLuint tex[2] = {0, 0}, fbo = 0;
+    glGenTextures(2, tex);
+    glBindTexture(GL_TEXTURE_2D, tex[0]);  // the basic layer
+    glTexStorage2D(GL_TEXTURE_2D, 1, GL_RGBA8, kSize, kSize);
+    glBindTexture(GL_TEXTURE_2D, tex[1]);  // the tile's image
+    glTexStorage2D(GL_TEXTURE_2D, 1, GL_RGB565, kSize, kSize);
+    glBindTexture(GL_TEXTURE_2D, 0);
+    glGenFramebuffers(1, &fbo);
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, tex[0], 0);
+    glClearColor(0.35f, 0.4f, 0.2f, 1.0f);
+    glClear(GL_COLOR_BUFFER_BIT);
+    gl::OrthoDetail detail;
+    for (const auto& [name, tile] : tiles) {
+        auto t0 = Clock::now();
+        const auto grid = render::ortho::buildFieldGrid(*tile);
+        const double grid_ms = ms(t0);
+        t0 = Clock::now();
+        const auto veg = render::ortho::simulateVegetation(*tile);
+        const double veg_ms = ms(t0);
+        const auto geometry = gl::OrthoDetail::build(*tile, {true, true, false});
+        gl::OrthoDetail::Target target;
+        target.tile = tile.get();
+        target.extent = 2000.0f;
+        target.size = kSize;
+        target.basic = tex[0];
+        glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, tex[1], 0);
+        glViewport(0, 0, kSize, kSize);
+        std::vector<double> draws;
+        for (int i = 0; i < 4; ++i) {
+            glClear(GL_COLOR_BUFFER_BIT);
+            glFinish();
+            t0 = Clock::now();
+            detail.draw(target, geometry);
+            glFinish();
+            draws.push_back(ms(t0));
+        }
+        std::sort(draws.begin(), draws.end());
+        std::vector<std::uint8_t> px(std::size_t{kSize} * kSize * 4);
+        glReadPixels(0, 0, kSize, kSize, GL_RGBA, GL_UNSIGNED_BYTE, px.data());
+        int changed = 0;
+        for (std::size_t i = 0; i < px.size(); i += 4) changed += px[i] != px[0] || px[i + 1] != px[1];
+        std::printf(
+            "%s: field grid %.1f ms (%zu parcels), vegetation %.1f ms (%zu plants), detail build %.1f ms, "
+            "draw until finished %.1f ms (median of 4)\n",
+            name.c_str(), grid_ms, grid.parcels.size(), veg_ms, veg.plants.size(), geometry.cpu_ms,
+            draws[draws.size() / 2]);
+        EXPECT_GT(changed, kSize * kSize / 10) << name << ": the detail drew little";
+        glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, tex[0], 0);
+    }
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    glDeleteFramebuffers(1, &fbo);
+    glDeleteTextures(2, tex);
 }
 
 }  // namespace
