@@ -14,6 +14,7 @@
 #include "navmap/map/ortho/super_land_cover.h"
 #include "ortho/field_grid.h"
 #include "ortho/vegetation.h"
+#include "vertex_layout.h"
 
 namespace navmap::render::gl {
 
@@ -40,21 +41,15 @@ using DetailVertex = OrthoDetail::DetailVertex;
 using PlantVertex = OrthoDetail::PlantVertex;
 
 void detailAttributes() {
-    glEnableVertexAttribArray(0);
-    glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, sizeof(DetailVertex),
-                          reinterpret_cast<const void*>(offsetof(DetailVertex, position)));
-    glEnableVertexAttribArray(1);
-    glVertexAttribPointer(1, 4, GL_FLOAT, GL_FALSE, sizeof(DetailVertex),
-                          reinterpret_cast<const void*>(offsetof(DetailVertex, params)));
+    setVertexAttributes(sizeof(DetailVertex), {{0, 2, GL_FLOAT, offsetof(DetailVertex, position)},
+                                               {1, 4, GL_FLOAT, offsetof(DetailVertex, params)}});
     glDisableVertexAttribArray(2);
 }
 
 void plantAttributes() {
-    for (GLuint a = 0; a < 3; ++a) {
-        glEnableVertexAttribArray(a);
-        glVertexAttribPointer(a, 2, GL_FLOAT, GL_FALSE, sizeof(PlantVertex),
-                              reinterpret_cast<const void*>(a * sizeof(glm::vec2)));
-    }
+    setVertexAttributes(sizeof(PlantVertex), {{0, 2, GL_FLOAT, offsetof(PlantVertex, centre)},
+                                              {1, 2, GL_FLOAT, offsetof(PlantVertex, corner)},
+                                              {2, 2, GL_FLOAT, offsetof(PlantVertex, plant)}});
 }
 
 }  // namespace

@@ -148,11 +148,11 @@ FieldGrid buildFieldGrid(const map::Tile& tile, const FieldOptions& opt) {
     // The grid's frame, aligned with the major roads (seed 6.7.2 "Road network").
     grid.angle = roadGridAngle(tile);
     const glm::vec2 ax(std::cos(grid.angle), std::sin(grid.angle)), ay(-ax.y, ax.x);
-    auto toGrid = [&](glm::vec2 p) { return glm::vec2(glm::dot(p, ax), glm::dot(p, ay)); };
-    auto fromGrid = [&](glm::vec2 g) { return g.x * ax + g.y * ay; };
+    auto to_grid = [&](glm::vec2 p) { return glm::vec2(glm::dot(p, ax), glm::dot(p, ay)); };
+    auto from_grid = [&](glm::vec2 g) { return g.x * ax + g.y * ay; };
     glm::vec2 lo(1e30f), hi(-1e30f);
     for (glm::vec2 p : farm_points) {
-        const glm::vec2 g = toGrid(p);
+        const glm::vec2 g = to_grid(p);
         lo = glm::min(lo, g);
         hi = glm::max(hi, g);
     }
@@ -162,10 +162,12 @@ FieldGrid buildFieldGrid(const map::Tile& tile, const FieldOptions& opt) {
     hi += glm::vec2(cell);
     const int nx = std::max(1, static_cast<int>(std::ceil((hi.x - lo.x) / cell)));
     const int ny = std::max(1, static_cast<int>(std::ceil((hi.y - lo.y) / cell)));
-    auto vi = [&](int i, int j) { return static_cast<std::size_t>(j * (nx + 1) + i); };
+    auto vi = [&](int i, int j) {
+        return static_cast<std::size_t>(j) * static_cast<std::size_t>(nx + 1) + static_cast<std::size_t>(i);
+    };
     std::vector<glm::vec2> base(static_cast<std::size_t>((nx + 1) * (ny + 1)));
     for (int j = 0; j <= ny; ++j) {
-        for (int i = 0; i <= nx; ++i) base[vi(i, j)] = fromGrid(lo + glm::vec2(i, j) * cell);
+        for (int i = 0; i <= nx; ++i) base[vi(i, j)] = from_grid(lo + glm::vec2(i, j) * cell);
     }
     std::vector<glm::vec2> vert = base;
 
@@ -175,9 +177,10 @@ FieldGrid buildFieldGrid(const map::Tile& tile, const FieldOptions& opt) {
     const float reach = 0.5f * cell, limit = opt.max_shift * cell;
     std::vector<std::vector<std::uint32_t>> buckets(static_cast<std::size_t>(nx * ny));
     for (std::size_t s = 0; s < silhouette.size(); ++s) {
-        const glm::vec2 g = (toGrid(silhouette[s]) - lo) / cell;
+        const glm::vec2 g = (to_grid(silhouette[s]) - lo) / cell;
         const int i = std::clamp(static_cast<int>(g.x), 0, nx - 1), j = std::clamp(static_cast<int>(g.y), 0, ny - 1);
-        buckets[static_cast<std::size_t>(j * nx + i)].push_back(static_cast<std::uint32_t>(s));
+        buckets[static_cast<std::size_t>(j) * static_cast<std::size_t>(nx) + static_cast<std::size_t>(i)].push_back(
+            static_cast<std::uint32_t>(s));
     }
     for (int it = 0; it < opt.adapt_iterations; ++it) {
         for (int j = 1; j < ny; ++j) {
@@ -188,7 +191,8 @@ FieldGrid buildFieldGrid(const map::Tile& tile, const FieldOptions& opt) {
                 bool found = false;
                 for (int bj = j - 1; bj <= j; ++bj) {
                     for (int bi = i - 1; bi <= i; ++bi) {
-                        for (std::uint32_t s : buckets[static_cast<std::size_t>(bj * nx + bi)]) {
+                        for (std::uint32_t s : buckets[static_cast<std::size_t>(bj) * static_cast<std::size_t>(nx) +
+                                                       static_cast<std::size_t>(bi)]) {
                             const glm::vec2 d = silhouette[s] - v;
                             const float d2 = glm::dot(d, d);
                             if (d2 < best) {
@@ -234,7 +238,7 @@ FieldGrid buildFieldGrid(const map::Tile& tile, const FieldOptions& opt) {
     // is reached"); only the pieces meeting farmland are kept, so their union covers every farmland
     // texel whole.
     Rng rng(map::ortho::mixSeed(0x6669656c64ULL, tile.id.key()));
-    auto farmOf = [&](const Quad& q, int* centres) {
+    auto farm_of = [&](const Quad& q, int* centres) {
         glm::vec2 qlo = q[0], qhi = q[0];
         for (const glm::vec2& p : q) {
             qlo = glm::min(qlo, p);
@@ -266,7 +270,7 @@ FieldGrid buildFieldGrid(const map::Tile& tile, const FieldOptions& opt) {
     for (int j = 0; j < ny; ++j) {
         for (int i = 0; i < nx; ++i) {
             const Quad q{vert[vi(i, j)], vert[vi(i + 1, j)], vert[vi(i + 1, j + 1)], vert[vi(i, j + 1)]};
-            if (!farmOf(q, nullptr)) continue;
+            if (!farm_of(q, nullptr)) continue;
             const auto threshold = static_cast<float>(rng.uniform(opt.min_parcel_m2, opt.max_parcel_m2));
             stack.push_back(q);
             while (!stack.empty()) {
@@ -292,7 +296,7 @@ FieldGrid buildFieldGrid(const map::Tile& tile, const FieldOptions& opt) {
                     b = {m0, m1, p[2], p[3]};
                 }
                 for (const Quad& child : {b, a}) {
-                    if (farmOf(child, nullptr)) stack.push_back(child);
+                    if (farm_of(child, nullptr)) stack.push_back(child);
                 }
             }
         }
@@ -313,7 +317,7 @@ FieldGrid buildFieldGrid(const map::Tile& tile, const FieldOptions& opt) {
             std::min(offset + static_cast<int>(rng.below(static_cast<std::uint64_t>(window))), kCropPatterns - 1);
         const glm::vec2 e = leaf[1] - leaf[0];
         p.angle = std::atan2(e.y, e.x) + (rng.below(2) != 0 ? 0.0f : std::numbers::pi_v<float> / 2.0f);
-        farmOf(leaf, &p.farm_texels);
+        farm_of(leaf, &p.farm_texels);
         grid.parcels.push_back(p);
     }
     // Pair-wise colour changes (seed 6.7.5): parcel 2k brighter and warmer by as much as parcel 2k + 1

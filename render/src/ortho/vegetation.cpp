@@ -63,7 +63,7 @@ VegetationResult simulateVegetation(const map::Tile& tile, const VegetationOptio
     for (std::size_t i = 0; i < mask.size(); ++i) {
         mask[i] = map::ortho::isVegetation(static_cast<SuperLandCover>(o.cover[i])) ? 1 : 0;
     }
-    auto clearDisc = [&](glm::vec2 p, float radius) {
+    auto clear_disc = [&](glm::vec2 p, float radius) {
         const int c0 = std::max(0, static_cast<int>((p.x - radius) / texel));
         const int c1 = std::min(n - 1, static_cast<int>((p.x + radius) / texel));
         const int r0 = std::max(0, static_cast<int>((p.y - radius) / texel));
@@ -80,7 +80,7 @@ VegetationResult simulateVegetation(const map::Tile& tile, const VegetationOptio
         for (std::size_t k = 1; k < road.points.size(); ++k) {
             const glm::vec2 a(road.points[k - 1].x, road.points[k - 1].y), b(road.points[k].x, road.points[k].y);
             const int steps = std::max(1, static_cast<int>(glm::length(b - a) / (0.5f * texel)));
-            for (int s = 0; s <= steps; ++s) clearDisc(glm::mix(a, b, float(s) / float(steps)), half);
+            for (int s = 0; s <= steps; ++s) clear_disc(glm::mix(a, b, float(s) / float(steps)), half);
         }
     }
     for (const auto& b : tile.buildings) {
@@ -181,7 +181,7 @@ VegetationResult simulateVegetation(const map::Tile& tile, const VegetationOptio
     for (const auto& s : opt.species) max_radius = std::max(max_radius, s.max_radius_m);
     const float cell = 2.0f * max_radius;  // plants that can touch lie in the same or neighbouring cells
     const int cells = std::max(1, static_cast<int>(std::ceil(size / cell)));
-    auto cellOf = [&](glm::vec2 p) {
+    auto cell_of = [&](glm::vec2 p) {
         return std::clamp(static_cast<int>(p.y / cell), 0, cells - 1) * cells +
                std::clamp(static_cast<int>(p.x / cell), 0, cells - 1);
     };
@@ -220,24 +220,25 @@ VegetationResult simulateVegetation(const map::Tile& tile, const VegetationOptio
         // 3. Competition: of two intersecting plants the weaker dies.
         std::fill(start.begin(), start.end(), 0u);
         for (const Live& l : plants) {
-            if (l.alive) ++start[static_cast<std::size_t>(cellOf(l.plant.position)) + 1];
+            if (l.alive) ++start[static_cast<std::size_t>(cell_of(l.plant.position)) + 1];
         }
         for (std::size_t c = 1; c < start.size(); ++c) start[c] += start[c - 1];
         sorted.resize(start.back());
         {
             std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
             for (const Live& l : plants) {
-                if (l.alive) sorted[fill[static_cast<std::size_t>(cellOf(l.plant.position))]++] = l;
+                if (l.alive) sorted[fill[static_cast<std::size_t>(cell_of(l.plant.position))]++] = l;
             }
         }
         plants.swap(sorted);
         for (std::size_t i = 0; i < plants.size(); ++i) {
             Live& a = plants[i];
             if (!a.alive) continue;
-            const int c = cellOf(a.plant.position), cx = c % cells, cy = c / cells;
+            const int c = cell_of(a.plant.position), cx = c % cells, cy = c / cells;
             for (int rr = std::max(cy - 1, 0); rr <= std::min(cy + 1, cells - 1) && a.alive; ++rr) {
                 for (int cc = std::max(cx - 1, 0); cc <= std::min(cx + 1, cells - 1) && a.alive; ++cc) {
-                    const auto k = static_cast<std::size_t>(rr * cells + cc);
+                    const auto k =
+                        static_cast<std::size_t>(rr) * static_cast<std::size_t>(cells) + static_cast<std::size_t>(cc);
                     for (std::size_t j = std::max<std::size_t>(start[k], i + 1); j < start[k + 1]; ++j) {
                         Live& b = plants[j];
                         if (!b.alive) continue;

@@ -49,7 +49,7 @@ TEST(FieldGrid, CoversItsFarmlandWholeAndReachesNoFurtherThanTheTexelsBeside) {
     for (int r = 0; r < kTexels; ++r) {
         for (int c = 0; c < kTexels; ++c) {
             const glm::vec2 centre((c + 0.5f) * kTexel, (r + 0.5f) * kTexel);
-            if (mask[static_cast<std::size_t>(r * kTexels + c)] != 0) {
+            if (mask[static_cast<std::size_t>(r) * kTexels + static_cast<std::size_t>(c)] != 0) {
                 ++farm;
                 for (const glm::vec2 d : {glm::vec2(0), glm::vec2(-0.45f), glm::vec2(0.45f), glm::vec2(-0.45f, 0.45f),
                                           glm::vec2(0.45f, -0.45f)}) {
@@ -129,7 +129,7 @@ TEST(FieldGrid, IsAlignedToTheMajorRoads) {
     const std::vector<std::uint8_t> mask = farmlandMask(*tile);
     for (int r = 0; r < kTexels; ++r) {
         for (int c = 0; c < kTexels; ++c) {
-            if (mask[static_cast<std::size_t>(r * kTexels + c)] == 0) continue;
+            if (mask[static_cast<std::size_t>(r) * kTexels + static_cast<std::size_t>(c)] == 0) continue;
             ASSERT_TRUE(covered(grid, {(c + 0.5f) * kTexel, (r + 0.5f) * kTexel})) << r << ", " << c;
         }
     }

@@ -228,8 +228,9 @@ TEST_F(OrthoGpu, FieldsAreDrawnOverTheWholeFarmlandAndNowhereElse) {
         for (int r = 0; r < 512; ++r) {
             for (int c = 0; c < 512; ++c) {
                 const bool field = px[static_cast<std::size_t>(r * 512 + c) * 4] > 127;
-                const bool farmland = tile->ortho.cover[static_cast<std::size_t>((r / 2) * 256 + c / 2)] ==
-                                      static_cast<std::uint8_t>(mo::SuperLandCover::Farmland);
+                const bool farmland =
+                    tile->ortho.cover[static_cast<std::size_t>(r / 2) * 256 + static_cast<std::size_t>(c / 2)] ==
+                    static_cast<std::uint8_t>(mo::SuperLandCover::Farmland);
                 farm += farmland;
                 outside += field && !farmland;
                 missed += farmland && !field;
@@ -248,7 +249,8 @@ std::array<float, 3> meanOf(const std::vector<std::uint8_t>& px, const map::Tile
     int n = 0;
     for (int r = 0; r < 512; ++r) {
         for (int c = 0; c < 512; ++c) {
-            if (t.ortho.cover[static_cast<std::size_t>((r / 2) * 256 + c / 2)] != static_cast<std::uint8_t>(cls)) {
+            if (t.ortho.cover[static_cast<std::size_t>(r / 2) * 256 + static_cast<std::size_t>(c / 2)] !=
+                static_cast<std::uint8_t>(cls)) {
                 continue;
             }
             for (std::size_t k = 0; k < 3; ++k) sum[k] += px[static_cast<std::size_t>(r * 512 + c) * 4 + k] / 255.0;
@@ -266,7 +268,8 @@ std::shared_ptr<map::Tile> villageTile() {
         [](double, double y) { return static_cast<float>(200 + 0.5 * y); });
     for (int i = 0; i < 40; ++i) {
         map::Building b;
-        const float x = 1300.0f + 40.0f * static_cast<float>(i % 8), y = 300.0f + 40.0f * static_cast<float>(i / 8);
+        const int column = i % 8, row = i / 8;  // rows of 8 houses
+        const float x = 1300.0f + 40.0f * static_cast<float>(column), y = 300.0f + 40.0f * static_cast<float>(row);
         const float w = 12.0f + static_cast<float>(i % 5) * 3.0f;
         b.footprint.vertices = {{x, y}, {x + w, y}, {x + w, y + 12}, {x, y + 12}};
         b.footprint.ring_ends = {4};
