@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // Copies the finished basic orthoimage (the network's output) into the tile's texture. The
-// procedural detail of seed 6.7 will be drawn over it after this copy, taking its colour from the
-// basic layer, which is why the network does not draw into the tile's texture directly.
+// procedural detail of seed 6.7 is drawn over it after this copy, taking its colour from the basic
+// layer, which is why the network does not draw into the tile's texture directly.
 uniform sampler2D u_basic;
 
 out vec4 o_color;

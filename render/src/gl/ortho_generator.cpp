@@ -3,7 +3,9 @@
 
 #include <algorithm>
 #include <bit>
+#include <chrono>
 #include <cmath>
+#include <exception>
 
 #include "frame_context.h"
 #include "navmap/map/ortho/tile_sampler.h"
@@ -71,6 +73,15 @@ OrthoGenerator::OrthoGenerator(const mo::OrthoNetwork& net)
 }
 
 OrthoGenerator::~OrthoGenerator() {
+    if (m_worker.joinable()) {
+        {
+            std::lock_guard lock(m_mutex);
+            m_stop = true;
+            m_queue.clear();  // their jobs go with the generator
+        }
+        m_wake.notify_all();
+        m_worker.join();
+    }
     const GLuint textures[] = {m_inputs, m_basic};
     glDeleteTextures(2, textures);
     glDeleteFramebuffers(1, &m_fbo);
@@ -117,8 +128,35 @@ GLuint OrthoGenerator::start(const Request& r, std::string& problem) {
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
     glBindTexture(GL_TEXTURE_2D, 0);
-    m_jobs.push_back({r, texture, 0});
+    Job job{r, texture, 0, m_field_mask_only, {}, std::make_shared<std::atomic<bool>>(false)};
+    const OrthoDetail::Options options{r.details, r.vegetation, m_field_mask_only};
+    std::packaged_task<OrthoDetail::Geometry()> task(
+        [tile = r.tile, options, cancelled = job.cancelled]() -> OrthoDetail::Geometry {
+            if (cancelled->load()) return {};
+            return OrthoDetail::build(*tile, options);
+        });
+    job.detail = task.get_future();
+    {
+        std::lock_guard lock(m_mutex);
+        m_queue.push_back(std::move(task));
+    }
+    if (!m_worker.joinable()) m_worker = std::thread([this] { workerLoop(); });
+    m_wake.notify_one();
+    m_jobs.push_back(std::move(job));
     return texture;
+}
+
+void OrthoGenerator::workerLoop() {
+    std::unique_lock lock(m_mutex);
+    for (;;) {
+        m_wake.wait(lock, [this] { return m_stop || !m_queue.empty(); });
+        if (m_stop) return;
+        auto task = std::move(m_queue.front());
+        m_queue.pop_front();
+        lock.unlock();
+        task();  // an exception goes into the job's future
+        lock.lock();
+    }
 }
 
 bool OrthoGenerator::ready(GLuint texture) const {
@@ -129,8 +167,11 @@ bool OrthoGenerator::ready(GLuint texture) const {
 void OrthoGenerator::cancel(GLuint texture) {
     // A job in progress may go too: its rows live in the scratch textures, which the next job
     // overwrites from its first row.
+    // Its detail, if the worker has not started it yet, is skipped.
     const auto it = std::find_if(m_jobs.begin(), m_jobs.end(), [&](const Job& j) { return j.texture == texture; });
-    if (it != m_jobs.end()) m_jobs.erase(it);
+    if (it == m_jobs.end()) return;
+    it->cancelled->store(true);
+    m_jobs.erase(it);
 }
 
 void OrthoGenerator::uploadInputs(std::span<const OrthoInput> inputs, int size, int row0, int row1) {
@@ -230,6 +271,7 @@ void OrthoGenerator::step(std::size_t budget) {
             spent += static_cast<std::size_t>(rows) * static_cast<std::size_t>(size);
             if (job.next_row < size) continue;
         }
+        if (budget > 0 && job.detail.wait_for(std::chrono::seconds(0)) != std::future_status::ready) break;
         finishJob(job);
         m_jobs.pop_front();
     }
@@ -248,13 +290,34 @@ void OrthoGenerator::finishJob(Job& job) {
     glDisable(GL_CULL_FACE);
     glDisable(GL_BLEND);
     glDisable(GL_DITHER);  // RGB565 by rounding alone: the same image on every driver
-    glActiveTexture(GL_TEXTURE0);
-    glBindTexture(GL_TEXTURE_2D, m_basic);
-    glUseProgram(m_copy.id());
-    glUniform1i(m_copy.uniform("u_basic"), 0);
-    glBindVertexArray(m_empty_vao);
-    glDrawArrays(GL_TRIANGLES, 0, 3);
-    // The procedural detail (seed 6.7) will be drawn here, over the basic layer.
+    if (job.field_mask_only) {
+        glClearColor(0.0f, 0.0f, 0.0f, 1.0f);
+        glClear(GL_COLOR_BUFFER_BIT);
+    } else {
+        glActiveTexture(GL_TEXTURE0);
+        glBindTexture(GL_TEXTURE_2D, m_basic);
+        glUseProgram(m_copy.id());
+        glUniform1i(m_copy.uniform("u_basic"), 0);
+        glBindVertexArray(m_empty_vao);
+        glDrawArrays(GL_TRIANGLES, 0, 3);
+    }
+    // The procedural detail (seed 6.7) over the basic layer, reading its colour from it. Without it
+    // (the worker failed: out of memory) the image keeps the basic layer.
+    OrthoDetail::Geometry geometry;
+    try {
+        geometry = job.detail.get();
+    } catch (const std::exception&) {
+        ++m_timings.detail_failures;
+    }
+    const Request& r = job.request;
+    OrthoDetail::Target target;
+    target.tile = r.tile.get();
+    target.offset = r.offset;
+    target.extent = r.extent;
+    target.size = size;
+    target.basic = m_basic;
+    target.field_mask_only = job.field_mask_only;
+    m_detail.draw(target, geometry);
     glEnable(GL_DITHER);  // GL's default, which the other passes keep
     glBindVertexArray(0);
     glBindTexture(GL_TEXTURE_2D, job.texture);

@@ -5,23 +5,30 @@
 // shader over them (ortho_mlp.frag) into the basic orthoimage, which is then copied into the
 // tile's mipmapped texture. An image is started when its tile is uploaded and worked on in bands
 // of rows within a per-frame pixel budget, so no frame waits for a whole image; the tile shows its
-// land cover until its image is ready. The procedural detail of seed 6.7 (fields, vegetation,
-// roofs) is not drawn yet; it belongs in finishJob, over the copied basic layer. Private to render/.
+// land cover until its image is ready. The procedural detail of seed 6.7 (fields, roofs, and plants
+// where asked for: OrthoDetail) is made on a worker thread while the bands run and drawn over the
+// copied basic layer after the last band, taking its colour from it. Private to render/.
 
 #include <GLES3/gl3.h>
 
+#include <atomic>
+#include <condition_variable>
 #include <cstddef>
 #include <cstdint>
 #include <deque>
+#include <future>
 #include <memory>
+#include <mutex>
 #include <span>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <glm/vec2.hpp>
 
 #include "navmap/map/ortho/ortho_network.h"
 #include "navmap/map/tile.h"
+#include "ortho_detail.h"
 #include "shader_program.h"
 
 namespace navmap::render::gl {
@@ -39,15 +46,18 @@ public:
         std::shared_ptr<const map::Tile> tile;  ///< kept while the image is pending; needs ortho layers
         glm::vec2 offset{0.0f};                 ///< the square [offset, offset + extent] of the tile (m)
         float extent = 0.0f;
-        int size = 256;  ///< pixels per side (a power of two)
+        int size = 256;           ///< pixels per side (a power of two)
+        bool details = true;      ///< fields and roofs (seed 6.7.2, 6.7.3)
+        bool vegetation = false;  ///< plants (seed 6.7.1): leaf tiles, which are seen at close range
     };
     /// A new RGB565 texture (size^2, mipmapped) whose image step() generates; sample it only once
     /// ready() says so. Returns 0 and sets `problem` when the tile's layers cannot be sampled
     /// (map::ortho::orthoLayersProblem) or the size is not a power of two in 1..4096.
     GLuint start(const Request& request, std::string& problem);
     /// Works on the pending images, oldest first, for at most `pixel_budget` pixels of the network
-    /// pass (0: until none is left; at least a band of 16 rows per call). Leaves the framebuffer
-    /// binding at 0.
+    /// pass (0: until none is left; at least a band of 16 rows per call). With a budget, an image
+    /// whose detail the worker has not finished waits for a later call instead of blocking this one.
+    /// Leaves the framebuffer binding at 0.
     void step(std::size_t pixel_budget);
     [[nodiscard]] bool ready(GLuint texture) const;
     /// Forgets a pending image (its tile was evicted); the caller deletes the texture.
@@ -64,23 +74,36 @@ public:
         double encode_ms = 0;   ///< input vectors on the CPU
         double network_ms = 0;  ///< upload and network pass (GL calls; the GPU work completes later)
         std::size_t images = 0, pixels = 0;
+        std::size_t detail_failures = 0;  ///< images left without detail: its worker threw
     };
     /// Accumulated since construction.
     [[nodiscard]] const Timings& timings() const { return m_timings; }
+    /// The procedural detail's share (CPU grid and simulation, draw calls), accumulated.
+    [[nodiscard]] const OrthoDetail::Timings& detailTimings() const { return m_detail.timings(); }
+
+    /// Tests: images started from now on show the field parcels alone, white on black (their drawn
+    /// area).
+    void setFieldMaskOnly(bool on) { m_field_mask_only = on; }
 
 private:
     struct Job {
         Request request;
         GLuint texture = 0;
         int next_row = 0;
+        bool field_mask_only = false;
+        std::future<OrthoDetail::Geometry> detail;     // made by the worker
+        std::shared_ptr<std::atomic<bool>> cancelled;  // tells the worker to skip it
     };
     void ensureScratch(int size);
     void runBand(Job& job, int row0, int row1);
     void uploadInputs(std::span<const map::ortho::OrthoInput> inputs, int size, int row0, int row1);
     void drawNetwork(int size, int row0, int row1);
     void finishJob(Job& job);
+    void workerLoop();
 
     ShaderProgram m_network, m_copy;
+    OrthoDetail m_detail;
+    bool m_field_mask_only = false;
     GLuint m_weights = 0;  // uniform buffer (OrthoWeights)
     GLuint m_inputs = 0;   // RGBA8UI, size x (size * texels per pixel)
     GLuint m_basic = 0;    // RGBA8, the network's output
@@ -91,6 +114,12 @@ private:
     std::vector<std::uint8_t> m_texels;
     std::deque<Job> m_jobs;
     Timings m_timings;
+    // The detail's CPU work (OrthoDetail::build) beside the render thread, in start() order.
+    std::mutex m_mutex;
+    std::condition_variable m_wake;
+    std::deque<std::packaged_task<OrthoDetail::Geometry()>> m_queue;
+    bool m_stop = false;
+    std::thread m_worker;  // started with the first image
 };
 
 }  // namespace navmap::render::gl
