@@ -261,6 +261,8 @@ void GpuTileCache::updateOrthoimages(std::span<const std::pair<GpuTile*, std::sh
         r.tile = tile;
         r.extent = static_cast<float>(tile->size_m);
         r.size = orthoImageSize(tile->size_m);
+        // Plants (seed 6.7.1) only where they are seen from close by: the close-range tiles.
+        r.vegetation = tile->size_m <= kCloseRangeTileM;
         std::string problem;
         gpu->ortho = gen->start(r, problem);
         // A tile whose layers cannot be sampled keeps its land cover; said once per tile.
