@@ -52,6 +52,18 @@ Image renderSettled(Renderer& r, const MapFrame& frame, int frames, MapFrameStat
     return r.readSync();
 }
 
+// The snail's view `at` metres into the drive, labels on, settled for 45 frames: its stats, and
+// the frame it rendered.
+MapFrameStats settledSnailView(double at, MapFrame& frame) {
+    auto r = makeRenderer();
+    frame = navmap::test::settledAndorraFrame(ViewMode::Snail, kW, kH, at);
+    frame.layers.labels = true;
+    frame.frame_dt_s = 1.0 / 30.0;
+    MapFrameStats stats;
+    renderSettled(*r, frame, 45, &stats);
+    return stats;
+}
+
 TEST(LabelPass, LabelsAreOffByDefault) {
     EXPECT_FALSE(MapLayers{}.labels);
     auto r = makeRenderer();
@@ -141,12 +153,8 @@ TEST(LabelPass, WorldSpaceRoadNamesLieAlongTheRoad) {
     const auto terrain = [&](double x, double y) { return d.view->terrainHeight(x, y); };
     std::size_t checked = 0;
     for (const double at : {1500.0, 1800.0, 2400.0, 3000.0}) {
-        auto r = makeRenderer();
-        MapFrame frame = navmap::test::settledAndorraFrame(ViewMode::Snail, kW, kH, at);
-        frame.layers.labels = true;
-        frame.frame_dt_s = 1.0 / 30.0;
-        MapFrameStats stats;
-        renderSettled(*r, frame, 45, &stats);
+        MapFrame frame;
+        const MapFrameStats stats = settledSnailView(at, frame);
         const glm::mat4 projection = frame.camera.projection(double(kW) / kH);
         for (const auto& l : stats.drawn_labels) {
             if (!l.world_space || l.kind != navmap::render::labels::LabelKind::Line || l.opacity < 0.5F) continue;
@@ -215,12 +223,8 @@ TEST(LabelPass, FarWorldSpaceTextFadesOutInsteadOfBeingDrawnUnreadable) {
     std::size_t too_small = 0, checked = 0;
     float smallest = 1e9F, largest = 0.0F;
     for (const double at : {1500.0, 1800.0, 2400.0, 3000.0}) {
-        auto r = makeRenderer();
-        MapFrame frame = navmap::test::settledAndorraFrame(ViewMode::Snail, kW, kH, at);
-        frame.layers.labels = true;
-        frame.frame_dt_s = 1.0 / 30.0;
-        MapFrameStats stats;
-        renderSettled(*r, frame, 45, &stats);
+        MapFrame frame;
+        const MapFrameStats stats = settledSnailView(at, frame);
         too_small += stats.labels_too_small;
         for (const auto& l : stats.drawn_labels) {
             if (!l.world_space || l.opacity < 0.5F) continue;
