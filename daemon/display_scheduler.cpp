@@ -2,6 +2,7 @@
 #include "display_scheduler.h"
 
 #include <algorithm>
+#include <utility>
 
 #include "process_memory.h"
 
@@ -47,7 +48,11 @@ render::RendererOptions rendererOptions(const DaemonConfig& config, const Displa
 DisplayScheduler::DisplayScheduler(const DaemonConfig& config, Options options,
                                    const std::shared_ptr<map::TileCache>& cache, map::Projection projection,
                                    ipc::FrameServer& frames, Clock::time_point started, Log log)
-    : m_options(options), m_projection(projection), m_frames(frames), m_log(log), m_last_frame_done(Clock::now()) {
+    : m_options(std::move(options)),
+      m_projection(projection),
+      m_frames(frames),
+      m_log(log),
+      m_last_frame_done(Clock::now()) {
     // One renderer for every display: separate contexts cost a copy of every tile per display and
     // their own llvmpipe JIT code: 270-330 MB peak RSS with three profiles (docs/navmapd.md).
     for (const auto& p : config.profiles) {

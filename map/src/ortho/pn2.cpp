@@ -78,7 +78,7 @@ std::vector<GeoPoint> readNodes(Reader& r, std::uint32_t nodes) {
         if (children < 0) r.fail("negative child count");
         pts.push_back(point(r, lat, lon));
         for (int c = 0; c < children; ++c) {
-            const int dlat = static_cast<int>(r.i8("child latitude")), dlon = static_cast<int>(r.i8("child longitude"));
+            const int dlat = r.i8("child latitude"), dlon = r.i8("child longitude");
             pts.push_back(point(r, lat + dlat, lon + dlon));
         }
     }

@@ -58,12 +58,13 @@ bool sameOutput(std::span<const nl::PlacedLabel> a, std::span<const nl::PlacedLa
         const auto& x = a[i];
         const auto& y = b[i];
         // Bitwise: the layout is deterministic to the bit, not only within a tolerance.
-        // NOLINTNEXTLINE(bugprone-suspicious-memory-comparison)
+        // NOLINTBEGIN(bugprone-suspicious-memory-comparison)
         if (x.id != y.id || x.state != y.state || x.candidate != y.candidate ||
             std::memcmp(&x.box, &y.box, sizeof x.box) != 0 || std::memcmp(&x.alpha, &y.alpha, sizeof x.alpha) != 0 ||
             std::memcmp(&x.scale, &y.scale, sizeof x.scale) != 0) {
             return false;
         }
+        // NOLINTEND(bugprone-suspicious-memory-comparison)
     }
     return true;
 }

@@ -62,6 +62,7 @@ mo::OrthoInput randomInput(mo::Rng& r) {
 std::vector<mo::OrthoInput> fixedInputs() {
     mo::Rng r(2024);
     std::vector<mo::OrthoInput> v;
+    v.reserve(64 * 64);
     for (int i = 0; i < 64 * 48; ++i) v.push_back(randomInput(r));
     for (int i = 0; i < 64 * 16; ++i) {
         mo::OrthoPixel p;
