@@ -15,6 +15,11 @@
 //                 cache of one tile, so each camera uploads its own), per tile, with the land cover
 //                 and with the orthoimage (no pixel budget: each image made in its tile's upload
 //                 frame); RendererOptions::profile_passes, so uploads_ms includes a glFinish
+//   generationFrames/<profile>  four cameras along the drive, each held until its images are
+//                 made with navmapd's pixel budget (16384 per frame): frame time (renderMap +
+//                 finish) while images are made and once they are, the render thread's own time
+//                 on them (MapFrameStats::ortho_ms: its GL calls wait for queued GPU work where
+//                 the driver syncs) and the frames an image takes
 // The inputs of the first three are those of the leaf tile under Andorra la Vella, its layers
 // sampled from marble-qt-data (sampleOrthoLayers) as navmap-compile-ortho samples them; without
 // the package the program says so and exits 1. The last two read a store compiled with the layers,
@@ -259,12 +264,66 @@ void tileUpload(benchmark::State& state) {
     state.SetLabel(std::string(p.name) + (p.mode == ViewMode::Bird ? " bird" : " snail"));
 }
 
+void generationFrames(benchmark::State& state) {
+    if (!haveOrthoStore(state)) return;
+    const Profile& p = kProfiles[state.range(0)];
+    const auto views = shots(p, 4);
+    std::vector<double> ortho_ms, making_ms, made_ms;
+    std::size_t frames = 0, images = 0;
+    auto timed = [](Renderer& r, const MapFrame& f) {
+        const auto t0 = Clock::now();
+        r.renderMap(f);
+        r.finish();
+        return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+    };
+    for (auto _ : state) {
+        RendererOptions o;
+        o.width = p.width;
+        o.height = p.height;
+        o.ortho_weights = NAVMAP_ORTHO_WEIGHTS;
+        o.ortho_pixels_per_frame = 16384;  // navmapd's budget
+        auto r = Renderer::create(o);
+        r->setMapStyle(styleWith(Ground::Orthoimage));
+        r->renderMap(frameOf(p, views[0]));  // the generator's creation: weights and shaders
+        r->finish();
+        for (const auto& s : views) {
+            // The camera holds still until every image of its view is made, as after a jump.
+            const MapFrame f = frameOf(p, s);
+            for (int i = 0; i < 2000; ++i) {
+                const double ms = timed(*r, f);
+                const MapFrameStats& st = r->mapStats();
+                images += st.ortho_generated;
+                if (st.ortho_pending == 0 && st.ortho_generated == 0) break;
+                making_ms.push_back(ms);
+                ortho_ms.push_back(st.ortho_ms);
+                ++frames;
+            }
+            for (int i = 0; i < 8; ++i) made_ms.push_back(timed(*r, f));
+        }
+    }
+    auto pct = [](std::vector<double> v, double q) {
+        if (v.empty()) return 0.0;
+        std::sort(v.begin(), v.end());
+        return v[std::min(v.size() - 1, static_cast<std::size_t>(q * double(v.size())))];
+    };
+    state.counters["frame_ms_p50_making"] = pct(making_ms, 0.5);
+    state.counters["frame_ms_p95_making"] = pct(making_ms, 0.95);
+    state.counters["frame_ms_max_making"] = pct(making_ms, 1.0);
+    state.counters["frame_ms_p50_made"] = pct(made_ms, 0.5);
+    state.counters["render_thread_ms_p50"] = pct(ortho_ms, 0.5);
+    state.counters["render_thread_ms_p95"] = pct(ortho_ms, 0.95);
+    state.counters["frames_per_image"] = images ? double(frames) / double(images) : 0.0;
+    state.counters["images"] = double(images);
+    state.SetLabel(std::string(p.name) + (p.mode == ViewMode::Bird ? " bird" : " snail"));
+}
+
 BENCHMARK(mlpGpu)->Unit(benchmark::kMillisecond)->MinTime(2.0);
 BENCHMARK(mlpCpu)->Unit(benchmark::kMillisecond)->MinTime(2.0);
 BENCHMARK(encodeInputs)->Unit(benchmark::kMillisecond)->MinTime(2.0);
 // Cluster (snail's view) and center (bird's-eye).
 BENCHMARK(groundFrame)->Arg(0)->Arg(2)->Unit(benchmark::kMillisecond)->Iterations(24);
 BENCHMARK(tileUpload)->Arg(0)->Arg(2)->Unit(benchmark::kMillisecond)->Iterations(1);
+BENCHMARK(generationFrames)->Arg(0)->Arg(2)->Unit(benchmark::kMillisecond)->Iterations(1);
 
 }  // namespace
 

@@ -149,78 +149,104 @@ OrthoDetail::Geometry OrthoDetail::build(const map::Tile& tile, const Options& o
     return g;
 }
 
-void OrthoDetail::draw(const Target& t, const Geometry& g) {
-    if (t.tile == nullptr || t.tile->ortho.empty() || t.extent <= 0.0f) return;
-    const map::Tile& tile = *t.tile;
+void OrthoDetail::account(const Geometry& g) {
     m_timings.cpu_ms += g.cpu_ms;
     m_timings.parcels += g.parcels;
     m_timings.plants += g.plant_count;
     m_timings.roofs += g.roofs_drawn;
-    const auto &fields = g.fields, &roofs = g.roofs;
-    const auto &field_index = g.field_index, &roof_index = g.roof_index;
-    const auto& plants = g.plants;
-    const auto& plant_index = g.plant_index;
-    const auto t1 = Clock::now();
+}
+
+bool OrthoDetail::begin(const Target& t, ShaderProgram& p) {
+    if (t.tile == nullptr || t.tile->ortho.empty() || t.extent <= 0.0f) return false;
     glDisable(GL_BLEND);
     glActiveTexture(GL_TEXTURE0);
     glBindTexture(GL_TEXTURE_2D, t.basic);
     glBindVertexArray(m_vao);
-    auto common = [&](ShaderProgram& p) {
-        glUseProgram(p.id());
-        glUniform2f(p.uniform("u_offset"), t.offset.x, t.offset.y);
-        glUniform1f(p.uniform("u_extent"), t.extent);
-        glUniform1i(p.uniform("u_basic"), 0);
-    };
-    if (!field_index.empty()) {
-        // The farmland mask (seed: "we create a stencil mask"): the fragment shader looks up the
-        // tile's cover texel and draws only on farmland.
-        glActiveTexture(GL_TEXTURE1);
-        glBindTexture(GL_TEXTURE_2D, m_cover);
-        glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-        glTexImage2D(GL_TEXTURE_2D, 0, GL_R8UI, tile.ortho.cover_size, tile.ortho.cover_size, 0, GL_RED_INTEGER,
-                     GL_UNSIGNED_BYTE, tile.ortho.cover.data());
-        glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-        glActiveTexture(GL_TEXTURE0);
-        common(m_fields);
-        glUniform2f(m_fields.uniform("u_shift"), 0.0f, 0.0f);
-        glUniform1i(m_fields.uniform("u_cover"), 1);
-        glUniform1f(m_fields.uniform("u_tile_size"), static_cast<float>(tile.size_m));
-        glUniform1ui(m_fields.uniform("u_farmland"), static_cast<GLuint>(mo::SuperLandCover::Farmland));
-        glUniform1f(m_fields.uniform("u_mask_only"), t.field_mask_only ? 1.0f : 0.0f);
-        glUniform1f(m_fields.uniform("u_pixel_m"), t.extent / static_cast<float>(std::max(t.size, 1)));
-        upload(m_vbo, m_ibo, fields, field_index);
-        detailAttributes();
-        glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(field_index.size()), GL_UNSIGNED_INT, nullptr);
-        glActiveTexture(GL_TEXTURE1);
-        glBindTexture(GL_TEXTURE_2D, 0);
-        glActiveTexture(GL_TEXTURE0);
-    }
-    if (!plant_index.empty()) {
-        common(m_plants);
-        upload(m_vbo, m_ibo, plants, plant_index);
-        plantAttributes();
-        glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(plant_index.size()), GL_UNSIGNED_INT, nullptr);
-    }
-    if (!roof_index.empty()) {
-        // Shadows first (seed 6.7.3: "a preliminary pass where all buildings are slightly offset and
-        // rendered in black", here blended), then the roofs over them.
-        common(m_roofs);
-        upload(m_vbo, m_ibo, roofs, roof_index);
-        detailAttributes();
-        glEnable(GL_BLEND);
-        glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
-        glUniform1f(m_roofs.uniform("u_shadow"), 1.0f);
-        glUniform2f(m_roofs.uniform("u_shift"), kShadowPerMetre.x, kShadowPerMetre.y);
-        glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(roof_index.size()), GL_UNSIGNED_INT, nullptr);
-        glDisable(GL_BLEND);
-        glUniform1f(m_roofs.uniform("u_shadow"), 0.0f);
-        glUniform2f(m_roofs.uniform("u_shift"), 0.0f, 0.0f);
-        glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(roof_index.size()), GL_UNSIGNED_INT, nullptr);
-    }
+    glUseProgram(p.id());
+    glUniform2f(p.uniform("u_offset"), t.offset.x, t.offset.y);
+    glUniform1f(p.uniform("u_extent"), t.extent);
+    glUniform1i(p.uniform("u_basic"), 0);
+    return true;
+}
+
+void OrthoDetail::end(Clock::time_point t0) {
     glBindVertexArray(0);
     glBindBuffer(GL_ARRAY_BUFFER, 0);
     glBindTexture(GL_TEXTURE_2D, 0);
-    m_timings.draw_ms += msSince(t1);
+    m_timings.draw_ms += msSince(t0);
+}
+
+void OrthoDetail::draw(const Target& t, const Geometry& g) {
+    account(g);
+    drawFields(t, g);
+    drawPlants(t, g, 0, g.plant_count);
+    drawRoofs(t, g);
+}
+
+void OrthoDetail::drawFields(const Target& t, const Geometry& g) {
+    if (g.field_index.empty()) return;
+    const auto t0 = Clock::now();
+    if (!begin(t, m_fields)) return;
+    const map::Tile& tile = *t.tile;
+    // The farmland mask (seed: "we create a stencil mask"): the fragment shader looks up the tile's
+    // cover texel and draws only on farmland.
+    glActiveTexture(GL_TEXTURE1);
+    glBindTexture(GL_TEXTURE_2D, m_cover);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_R8UI, tile.ortho.cover_size, tile.ortho.cover_size, 0, GL_RED_INTEGER,
+                 GL_UNSIGNED_BYTE, tile.ortho.cover.data());
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    glActiveTexture(GL_TEXTURE0);
+    glUniform2f(m_fields.uniform("u_shift"), 0.0f, 0.0f);
+    glUniform1i(m_fields.uniform("u_cover"), 1);
+    glUniform1f(m_fields.uniform("u_tile_size"), static_cast<float>(tile.size_m));
+    glUniform1ui(m_fields.uniform("u_farmland"), static_cast<GLuint>(mo::SuperLandCover::Farmland));
+    glUniform1f(m_fields.uniform("u_mask_only"), t.field_mask_only ? 1.0f : 0.0f);
+    glUniform1f(m_fields.uniform("u_pixel_m"), t.extent / static_cast<float>(std::max(t.size, 1)));
+    upload(m_vbo, m_ibo, g.fields, g.field_index);
+    detailAttributes();
+    glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(g.field_index.size()), GL_UNSIGNED_INT, nullptr);
+    glActiveTexture(GL_TEXTURE1);
+    glBindTexture(GL_TEXTURE_2D, 0);
+    glActiveTexture(GL_TEXTURE0);
+    end(t0);
+}
+
+void OrthoDetail::drawPlants(const Target& t, const Geometry& g, std::size_t first, std::size_t count) {
+    const std::size_t plants = g.plant_index.size() / 6;  // one quad each
+    if (first >= plants || count == 0) return;
+    count = std::min(count, plants - first);
+    const auto t0 = Clock::now();
+    if (!begin(t, m_plants)) return;
+    // The buffers are filled by the first slice and drawn from by the later ones (the generator
+    // draws nothing else with them in between).
+    if (first == 0) upload(m_vbo, m_ibo, g.plants, g.plant_index);
+    glBindBuffer(GL_ARRAY_BUFFER, m_vbo);
+    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, m_ibo);
+    plantAttributes();
+    glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(count * 6), GL_UNSIGNED_INT,
+                   reinterpret_cast<const void*>(first * 6 * sizeof(std::uint32_t)));  // NOLINT: a buffer offset
+    end(t0);
+}
+
+void OrthoDetail::drawRoofs(const Target& t, const Geometry& g) {
+    if (g.roof_index.empty()) return;
+    const auto t0 = Clock::now();
+    if (!begin(t, m_roofs)) return;
+    // Shadows first (seed 6.7.3: "a preliminary pass where all buildings are slightly offset and
+    // rendered in black", here blended), then the roofs over them.
+    upload(m_vbo, m_ibo, g.roofs, g.roof_index);
+    detailAttributes();
+    glEnable(GL_BLEND);
+    glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+    glUniform1f(m_roofs.uniform("u_shadow"), 1.0f);
+    glUniform2f(m_roofs.uniform("u_shift"), kShadowPerMetre.x, kShadowPerMetre.y);
+    glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(g.roof_index.size()), GL_UNSIGNED_INT, nullptr);
+    glDisable(GL_BLEND);
+    glUniform1f(m_roofs.uniform("u_shadow"), 0.0f);
+    glUniform2f(m_roofs.uniform("u_shift"), 0.0f, 0.0f);
+    glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(g.roof_index.size()), GL_UNSIGNED_INT, nullptr);
+    end(t0);
 }
 
 }  // namespace navmap::render::gl

@@ -10,6 +10,7 @@
 
 #include <GLES3/gl3.h>
 
+#include <chrono>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -68,7 +69,18 @@ public:
     };
     /// Draws the geometry into the bound framebuffer (its viewport size^2 set, the basic layer
     /// already copied). Leaves blending off, texture unit 0 active and the vertex array binding at 0.
+    /// The same as account() and the three parts below in their order.
     void draw(const Target& target, const Geometry& geometry);
+
+    /// The parts of draw(), for a caller that spreads one image's detail over frames: the fields,
+    /// then the plants in slices [first, first + count) of geometry.plant_count (the slice from 0
+    /// uploads them; the detail's buffers must not be redrawn with other geometry before the last
+    /// slice), then the roofs. Each leaves the state as draw() does.
+    void drawFields(const Target& target, const Geometry& geometry);
+    void drawPlants(const Target& target, const Geometry& geometry, std::size_t first, std::size_t count);
+    void drawRoofs(const Target& target, const Geometry& geometry);
+    /// Adds the geometry's counts and CPU time to timings() (once per image).
+    void account(const Geometry& geometry);
 
     struct Timings {
         double cpu_ms = 0;   ///< field grid, vegetation simulation, vertices (beside the render thread)
@@ -79,6 +91,9 @@ public:
     [[nodiscard]] const Timings& timings() const { return m_timings; }
 
 private:
+    bool begin(const Target& target, ShaderProgram& program);
+    void end(std::chrono::steady_clock::time_point t0);
+
     ShaderProgram m_fields, m_roofs, m_plants;
     GLuint m_vao = 0, m_vbo = 0, m_ibo = 0;
     GLuint m_cover = 0;  // R8UI, the tile's super land cover

@@ -6,6 +6,8 @@
 #include <chrono>
 #include <cmath>
 #include <exception>
+#include <future>
+#include <span>
 
 #include "frame_context.h"
 #include "navmap/map/ortho/tile_sampler.h"
@@ -20,6 +22,26 @@ using mo::OrthoInput;
 
 constexpr int kTexels = (mo::kOrthoActive + 1) / 2;  // texels of two (node, value) pairs per pixel
 constexpr int kBandRows = 16;                        // rows per band at least
+constexpr int kEncodeRows = 64;                      // rows the worker encodes at a time
+constexpr std::size_t kInputsAhead = 2;              // images whose input vectors are made ahead
+
+std::size_t planeBytes(int size) { return static_cast<std::size_t>(size) * static_cast<std::size_t>(size) * 4; }
+
+// Rows [row0, row1) of input vectors into the planes of the inputs texture: plane k holds pairs 2k
+// and 2k + 1 of every pixel, its rows at k * size.
+void packPlanes(std::span<const OrthoInput> rows, int size, int row0, std::uint8_t* planes) {
+    for (int k = 0; k < kTexels; ++k) {
+        std::uint8_t* dst = planes + static_cast<std::size_t>(k) * planeBytes(size) +
+                            static_cast<std::size_t>(row0) * static_cast<std::size_t>(size) * 4;
+        for (std::size_t p = 0; p < rows.size(); ++p) {
+            const OrthoInput& in = rows[p];
+            for (std::size_t b = 0; b < 4; ++b) {
+                const std::size_t pair_byte = 4 * static_cast<std::size_t>(k) + b;
+                dst[p * 4 + b] = pair_byte < in.pairs.size() ? in.pairs[pair_byte] : 0;
+            }
+        }
+    }
+}
 
 std::string defines(int hidden4) {
     return "#define NAVMAP_ORTHO_INPUTS " + std::to_string(mo::kOrthoInputs) + "\n#define NAVMAP_ORTHO_HIDDEN4 " +
@@ -128,22 +150,69 @@ GLuint OrthoGenerator::start(const Request& r, std::string& problem) {
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
     glBindTexture(GL_TEXTURE_2D, 0);
-    Job job{r, texture, 0, m_field_mask_only, {}, std::make_shared<std::atomic<bool>>(false)};
+    Job job;
+    job.request = r;
+    job.texture = texture;
+    job.field_mask_only = m_field_mask_only;
+    job.cancelled = std::make_shared<std::atomic<bool>>(false);
     const OrthoDetail::Options options{r.details, r.vegetation, m_field_mask_only};
-    std::packaged_task<OrthoDetail::Geometry()> task(
-        [tile = r.tile, options, cancelled = job.cancelled]() -> OrthoDetail::Geometry {
-            if (cancelled->load()) return {};
-            return OrthoDetail::build(*tile, options);
-        });
-    job.detail = task.get_future();
+    auto made = std::make_shared<std::promise<OrthoDetail::Geometry>>();
+    job.detail = made->get_future();
+    enqueue(
+        [tile = r.tile, options, cancelled = job.cancelled, made] {
+            try {
+                made->set_value(cancelled->load() ? OrthoDetail::Geometry{} : OrthoDetail::build(*tile, options));
+            } catch (...) {
+                made->set_exception(std::current_exception());
+            }
+        },
+        false);
+    m_jobs.push_back(std::move(job));
+    return texture;
+}
+
+void OrthoGenerator::queueInputs(Job& job) {
+    job.inputs_queued = true;
+    auto made = std::make_shared<std::promise<Inputs>>();
+    job.inputs_made = made->get_future();
+    // Ahead of the queued detail: the network's bands wait for these.
+    enqueue(
+        [r = job.request, cancelled = job.cancelled, made] {
+            try {
+                Inputs in;
+                if (!cancelled->load()) {
+                    const auto t0 = Clock::now();
+                    in.planes.resize(planeBytes(r.size) * kTexels);
+                    const mo::OrthoTileSampler sampler(*r.tile);  // layers checked in start()
+                    std::vector<OrthoInput> rows(static_cast<std::size_t>(r.size) * kEncodeRows);
+                    for (int row0 = 0; row0 < r.size; row0 += kEncodeRows) {
+                        const int row1 = std::min(r.size, row0 + kEncodeRows);
+                        const std::span<OrthoInput> band(
+                            rows.data(), static_cast<std::size_t>(r.size) * static_cast<std::size_t>(row1 - row0));
+                        sampler.encodeRows(r.offset.x, r.offset.y, r.extent, r.size, row0, row1, band.data());
+                        packPlanes(band, r.size, row0, in.planes.data());
+                    }
+                    in.encode_ms = msSince(t0);
+                }
+                made->set_value(std::move(in));
+            } catch (...) {
+                made->set_exception(std::current_exception());
+            }
+        },
+        true);
+}
+
+void OrthoGenerator::enqueue(std::function<void()> task, bool first) {
     {
         std::lock_guard lock(m_mutex);
-        m_queue.push_back(std::move(task));
+        if (first) {
+            m_queue.push_front(std::move(task));
+        } else {
+            m_queue.push_back(std::move(task));
+        }
     }
     if (!m_worker.joinable()) m_worker = std::thread([this] { workerLoop(); });
     m_wake.notify_one();
-    m_jobs.push_back(std::move(job));
-    return texture;
 }
 
 void OrthoGenerator::workerLoop() {
@@ -154,42 +223,36 @@ void OrthoGenerator::workerLoop() {
         auto task = std::move(m_queue.front());
         m_queue.pop_front();
         lock.unlock();
-        task();  // an exception goes into the job's future
+        task();  // each task hands its result or exception to its job's future
         lock.lock();
     }
 }
 
 bool OrthoGenerator::ready(GLuint texture) const {
     return texture != 0 &&
-           std::none_of(m_jobs.begin(), m_jobs.end(), [&](const Job& j) { return j.texture == texture; });
+           std::none_of(m_jobs.begin(), m_jobs.end(), [&](const Job& j) { return j.texture == texture; }) &&
+           std::find(m_failed.begin(), m_failed.end(), texture) == m_failed.end();
 }
 
 void OrthoGenerator::cancel(GLuint texture) {
+    std::erase(m_failed, texture);
     // A job in progress may go too: its rows live in the scratch textures, which the next job
     // overwrites from its first row.
-    // Its detail, if the worker has not started it yet, is skipped.
+    // Its inputs and detail, if the worker has not started them yet, are skipped.
     const auto it = std::find_if(m_jobs.begin(), m_jobs.end(), [&](const Job& j) { return j.texture == texture; });
     if (it == m_jobs.end()) return;
     it->cancelled->store(true);
     m_jobs.erase(it);
 }
 
-void OrthoGenerator::uploadInputs(std::span<const OrthoInput> inputs, int size, int row0, int row1) {
-    // Plane k holds pairs 2k and 2k + 1 of every pixel.
-    const auto pixels = static_cast<std::size_t>(size) * static_cast<std::size_t>(row1 - row0);
-    m_texels.resize(pixels * 4);
+void OrthoGenerator::uploadPlanes(const std::uint8_t* planes, int size, int row0, int row1) {
     glBindTexture(GL_TEXTURE_2D, m_inputs);
     glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
     for (int k = 0; k < kTexels; ++k) {
-        for (std::size_t p = 0; p < pixels; ++p) {
-            const OrthoInput& in = inputs[p];
-            for (std::size_t b = 0; b < 4; ++b) {
-                const std::size_t pair_byte = 4 * static_cast<std::size_t>(k) + b;
-                m_texels[p * 4 + b] = pair_byte < in.pairs.size() ? in.pairs[pair_byte] : 0;
-            }
-        }
+        const std::uint8_t* rows = planes + static_cast<std::size_t>(k) * planeBytes(size) +
+                                   static_cast<std::size_t>(row0) * static_cast<std::size_t>(size) * 4;
         glTexSubImage2D(GL_TEXTURE_2D, 0, 0, k * size + row0, size, row1 - row0, GL_RGBA_INTEGER, GL_UNSIGNED_BYTE,
-                        m_texels.data());
+                        rows);
     }
     glBindTexture(GL_TEXTURE_2D, 0);
 }
@@ -219,23 +282,12 @@ void OrthoGenerator::drawNetwork(int size, int row0, int row1) {
     glBindTexture(GL_TEXTURE_2D, 0);
 }
 
-void OrthoGenerator::runBand(Job& job, int row0, int row1) {
-    const Request& r = job.request;
-    const auto t0 = Clock::now();
-    m_band.resize(static_cast<std::size_t>(r.size) * static_cast<std::size_t>(row1 - row0));
-    const mo::OrthoTileSampler sampler(*r.tile);  // layers checked in start()
-    sampler.encodeRows(r.offset.x, r.offset.y, r.extent, r.size, row0, row1, m_band.data());
-    m_timings.encode_ms += msSince(t0);
-    const auto t1 = Clock::now();
-    uploadInputs(m_band, r.size, row0, row1);
-    drawNetwork(r.size, row0, row1);
-    m_timings.network_ms += msSince(t1);
-    m_timings.pixels += m_band.size();
-}
-
 std::vector<std::uint8_t> OrthoGenerator::runNetwork(std::span<const OrthoInput> inputs, int size) {
     ensureScratch(size);
-    uploadInputs(inputs, size, 0, size);
+    std::vector<std::uint8_t> planes(planeBytes(size) * kTexels);
+    packPlanes(inputs.first(std::min(inputs.size(), static_cast<std::size_t>(size) * static_cast<std::size_t>(size))),
+               size, 0, planes.data());
+    uploadPlanes(planes.data(), size, 0, size);
     drawNetwork(size, 0, size);
     std::vector<std::uint8_t> out(static_cast<std::size_t>(size) * static_cast<std::size_t>(size) * 4);
     glPixelStorei(GL_PACK_ALIGNMENT, 4);
@@ -255,30 +307,68 @@ std::vector<std::uint8_t> OrthoGenerator::read(GLuint texture, int size) {
 }
 
 void OrthoGenerator::step(std::size_t budget) {
+    const bool all = budget == 0;
     std::size_t spent = 0;
-    while (!m_jobs.empty() && (budget == 0 || spent < budget)) {
+    while (!m_jobs.empty() && (all || spent < budget)) {
+        for (std::size_t i = 0; i < std::min(kInputsAhead, m_jobs.size()); ++i) {
+            if (!m_jobs[i].inputs_queued) queueInputs(m_jobs[i]);
+        }
         Job& job = m_jobs.front();
         const int size = job.request.size;
+        const auto side = static_cast<std::size_t>(size);
         ensureScratch(size);
-        if (job.next_row < size) {
+        if (job.stage == Stage::Bands) {
+            if (!job.inputs) {
+                if (!all && job.inputs_made.wait_for(std::chrono::seconds(0)) != std::future_status::ready) break;
+                try {
+                    job.inputs = std::make_shared<const Inputs>(job.inputs_made.get());
+                } catch (const std::exception&) {  // out of memory on the worker: the tile keeps its land cover
+                    ++m_timings.input_failures;
+                    m_failed.push_back(job.texture);
+                    m_jobs.pop_front();
+                    continue;
+                }
+                m_timings.encode_ms += job.inputs->encode_ms;
+            }
             int rows = size - job.next_row;
-            if (budget > 0) {
-                const auto affordable = static_cast<int>((budget - spent) / static_cast<std::size_t>(size));
+            if (!all) {
+                const auto affordable = static_cast<int>((budget - spent) / side);
                 rows = std::min(rows, std::max(affordable, kBandRows));
             }
-            runBand(job, job.next_row, job.next_row + rows);
+            const auto t0 = Clock::now();
+            uploadPlanes(job.inputs->planes.data(), size, job.next_row, job.next_row + rows);
+            drawNetwork(size, job.next_row, job.next_row + rows);
+            m_timings.network_ms += msSince(t0);
+            m_timings.pixels += static_cast<std::size_t>(rows) * side;
             job.next_row += rows;
-            spent += static_cast<std::size_t>(rows) * static_cast<std::size_t>(size);
+            spent += static_cast<std::size_t>(rows) * side;
             if (job.next_row < size) continue;
+            job.inputs.reset();
+            job.stage = Stage::CopyAndFields;
+            if (!all) break;  // the finish starts in the next call
         }
-        if (budget > 0 && job.detail.wait_for(std::chrono::seconds(0)) != std::future_status::ready) break;
-        finishJob(job);
-        m_jobs.pop_front();
+        if (!all && spent > 0) break;
+        if (!job.geometry) {
+            if (!all && job.detail.wait_for(std::chrono::seconds(0)) != std::future_status::ready) break;
+            // Without the detail (the worker failed: out of memory) the image keeps the basic layer.
+            try {
+                job.geometry = std::make_shared<const OrthoDetail::Geometry>(job.detail.get());
+            } catch (const std::exception&) {
+                ++m_timings.detail_failures;
+                job.geometry = std::make_shared<const OrthoDetail::Geometry>();
+            }
+            m_detail.account(*job.geometry);
+        }
+        const auto t0 = Clock::now();
+        const bool done = finishStep(job, all);
+        m_timings.finish_ms += msSince(t0);
+        if (done) m_jobs.pop_front();
+        if (!all) break;  // one step of a finish per call
     }
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }
 
-void OrthoGenerator::finishJob(Job& job) {
+void OrthoGenerator::bindImage(const Job& job) {
     const int size = job.request.size;
     glBindFramebuffer(GL_FRAMEBUFFER, m_fbo);
     glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, job.texture, 0);
@@ -289,27 +379,13 @@ void OrthoGenerator::finishJob(Job& job) {
     glDisable(GL_STENCIL_TEST);
     glDisable(GL_CULL_FACE);
     glDisable(GL_BLEND);
-    glDisable(GL_DITHER);  // RGB565 by rounding alone: the same image on every driver
-    if (job.field_mask_only) {
-        glClearColor(0.0f, 0.0f, 0.0f, 1.0f);
-        glClear(GL_COLOR_BUFFER_BIT);
-    } else {
-        glActiveTexture(GL_TEXTURE0);
-        glBindTexture(GL_TEXTURE_2D, m_basic);
-        glUseProgram(m_copy.id());
-        glUniform1i(m_copy.uniform("u_basic"), 0);
-        glBindVertexArray(m_empty_vao);
-        glDrawArrays(GL_TRIANGLES, 0, 3);
-    }
-    // The procedural detail (seed 6.7) over the basic layer, reading its colour from it. Without it
-    // (the worker failed: out of memory) the image keeps the basic layer.
-    OrthoDetail::Geometry geometry;
-    try {
-        geometry = job.detail.get();
-    } catch (const std::exception&) {
-        ++m_timings.detail_failures;
-    }
+}
+
+bool OrthoGenerator::finishStep(Job& job, bool all) {
     const Request& r = job.request;
+    const int size = r.size;
+    bindImage(job);
+    glDisable(GL_DITHER);  // RGB565 by rounding alone: the same image on every driver
     OrthoDetail::Target target;
     target.tile = r.tile.get();
     target.offset = r.offset;
@@ -317,14 +393,48 @@ void OrthoGenerator::finishJob(Job& job) {
     target.size = size;
     target.basic = m_basic;
     target.field_mask_only = job.field_mask_only;
-    m_detail.draw(target, geometry);
+    // The procedural detail (seed 6.7) over the basic layer, reading its colour from it.
+    const OrthoDetail::Geometry& geometry = *job.geometry;
+    bool done = false;
+    do {
+        switch (job.stage) {
+            case Stage::Bands:  // not reached: step() finishes after the last band
+            case Stage::CopyAndFields:
+                if (job.field_mask_only) {
+                    glClearColor(0.0f, 0.0f, 0.0f, 1.0f);
+                    glClear(GL_COLOR_BUFFER_BIT);
+                } else {
+                    glActiveTexture(GL_TEXTURE0);
+                    glBindTexture(GL_TEXTURE_2D, m_basic);
+                    glUseProgram(m_copy.id());
+                    glUniform1i(m_copy.uniform("u_basic"), 0);
+                    glBindVertexArray(m_empty_vao);
+                    glDrawArrays(GL_TRIANGLES, 0, 3);
+                }
+                m_detail.drawFields(target, geometry);
+                job.stage = geometry.plant_count > 0 ? Stage::Plants : Stage::Roofs;
+                break;
+            case Stage::Plants: {
+                const std::size_t count = all ? geometry.plant_count : kPlantsPerStep;
+                m_detail.drawPlants(target, geometry, job.plants_drawn, count);
+                job.plants_drawn = std::min(geometry.plant_count, job.plants_drawn + count);
+                if (job.plants_drawn >= geometry.plant_count) job.stage = Stage::Roofs;
+                break;
+            }
+            case Stage::Roofs:
+                m_detail.drawRoofs(target, geometry);
+                glBindTexture(GL_TEXTURE_2D, job.texture);
+                glGenerateMipmap(GL_TEXTURE_2D);
+                glBindTexture(GL_TEXTURE_2D, 0);
+                ++m_timings.images;
+                done = true;
+                break;
+        }
+    } while (all && !done);
     glEnable(GL_DITHER);  // GL's default, which the other passes keep
     glBindVertexArray(0);
-    glBindTexture(GL_TEXTURE_2D, job.texture);
-    glGenerateMipmap(GL_TEXTURE_2D);
-    glBindTexture(GL_TEXTURE_2D, 0);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
-    ++m_timings.images;
+    return done;
 }
 
 }  // namespace navmap::render::gl

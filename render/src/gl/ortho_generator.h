@@ -1,13 +1,15 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Synthetic orthoimages of tiles on the GPU (seed 6.6.2): the compressed input vectors are made on
-// the CPU from the tile's layers (map::ortho::OrthoTileSampler), the network runs in a fragment
-// shader over them (ortho_mlp.frag) into the basic orthoimage, which is then copied into the
-// tile's mipmapped texture. An image is started when its tile is uploaded and worked on in bands
-// of rows within a per-frame pixel budget, so no frame waits for a whole image; the tile shows its
-// land cover until its image is ready. The procedural detail of seed 6.7 (fields, roofs, and plants
-// where asked for: OrthoDetail) is made on a worker thread while the bands run and drawn over the
-// copied basic layer after the last band, taking its colour from it. Private to render/.
+// a worker thread from the tile's layers (map::ortho::OrthoTileSampler), the network runs in a
+// fragment shader over them (ortho_mlp.frag) into the basic orthoimage, which is then copied into
+// the tile's mipmapped texture. An image is started when its tile is uploaded and worked on in
+// bands of rows within a per-frame pixel budget, so no frame waits for a whole image; the tile
+// shows its land cover until its image is ready. The procedural detail of seed 6.7 (fields, roofs,
+// and plants where asked for: OrthoDetail) is made on the same worker and drawn over the copied
+// basic layer after the last band, taking its colour from it: with a budget in steps of its own
+// (copy and fields, plant slices, roofs and mipmaps), one per frame. The render thread only
+// uploads and draws. Private to render/.
 
 #include <GLES3/gl3.h>
 
@@ -16,6 +18,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <deque>
+#include <functional>
 #include <future>
 #include <memory>
 #include <mutex>
@@ -54,13 +57,18 @@ public:
     /// ready() says so. Returns 0 and sets `problem` when the tile's layers cannot be sampled
     /// (map::ortho::orthoLayersProblem) or the size is not a power of two in 1..4096.
     GLuint start(const Request& request, std::string& problem);
-    /// Works on the pending images, oldest first, for at most `pixel_budget` pixels of the network
-    /// pass (0: until none is left; at least a band of 16 rows per call). With a budget, an image
-    /// whose detail the worker has not finished waits for a later call instead of blocking this one.
-    /// Leaves the framebuffer binding at 0.
+    /// Works on the pending images, oldest first (0: until none is left, waiting for the worker).
+    /// With a budget, a call either runs bands of the network pass for at most `pixel_budget`
+    /// pixels (at least a band of 16 rows) or does one step of an image's finish (the copy and the
+    /// fields, a slice of kPlantsPerStep plants, the roofs and the mipmaps); an image whose input
+    /// vectors or detail the worker has not made yet waits for a later call instead of blocking
+    /// this one. Leaves the framebuffer binding at 0.
     void step(std::size_t pixel_budget);
+    static constexpr std::size_t kPlantsPerStep = 8192;
+    /// False for an image still pending and for one whose input vectors could not be made (the
+    /// worker threw: out of memory), which then never becomes ready (its tile keeps the land cover).
     [[nodiscard]] bool ready(GLuint texture) const;
-    /// Forgets a pending image (its tile was evicted); the caller deletes the texture.
+    /// Forgets a pending or failed image (its tile was evicted); the caller deletes the texture.
     void cancel(GLuint texture);
     [[nodiscard]] std::size_t pending() const { return m_jobs.size(); }
 
@@ -71,10 +79,12 @@ public:
     std::vector<std::uint8_t> read(GLuint texture, int size);
 
     struct Timings {
-        double encode_ms = 0;   ///< input vectors on the CPU
+        double encode_ms = 0;   ///< input vectors on the CPU (on the worker thread)
         double network_ms = 0;  ///< upload and network pass (GL calls; the GPU work completes later)
+        double finish_ms = 0;   ///< copy, detail and mipmaps (GL calls)
         std::size_t images = 0, pixels = 0;
         std::size_t detail_failures = 0;  ///< images left without detail: its worker threw
+        std::size_t input_failures = 0;   ///< images never made: the worker threw on their inputs
     };
     /// Accumulated since construction.
     [[nodiscard]] const Timings& timings() const { return m_timings; }
@@ -86,19 +96,34 @@ public:
     void setFieldMaskOnly(bool on) { m_field_mask_only = on; }
 
 private:
+    /// An image's input vectors as the planes of the inputs texture (plane k: pairs 2k and 2k + 1
+    /// of every pixel, RGBA8UI), made by the worker.
+    struct Inputs {
+        std::vector<std::uint8_t> planes;
+        double encode_ms = 0;
+    };
+    enum class Stage { Bands, CopyAndFields, Plants, Roofs };
     struct Job {
         Request request;
         GLuint texture = 0;
         int next_row = 0;
         bool field_mask_only = false;
-        std::future<OrthoDetail::Geometry> detail;     // made by the worker
-        std::shared_ptr<std::atomic<bool>> cancelled;  // tells the worker to skip it
+        Stage stage = Stage::Bands;
+        std::size_t plants_drawn = 0;
+        bool inputs_queued = false;
+        std::future<Inputs> inputs_made;                        // by the worker, queued when the job is near
+        std::shared_ptr<const Inputs> inputs;                   // taken from it; dropped after the last band
+        std::future<OrthoDetail::Geometry> detail;              // by the worker, queued at start()
+        std::shared_ptr<const OrthoDetail::Geometry> geometry;  // taken from it
+        std::shared_ptr<std::atomic<bool>> cancelled;           // tells the worker to skip it
     };
     void ensureScratch(int size);
-    void runBand(Job& job, int row0, int row1);
-    void uploadInputs(std::span<const map::ortho::OrthoInput> inputs, int size, int row0, int row1);
+    void queueInputs(Job& job);
+    void enqueue(std::function<void()> task, bool first);
+    void uploadPlanes(const std::uint8_t* planes, int size, int row0, int row1);
     void drawNetwork(int size, int row0, int row1);
-    void finishJob(Job& job);
+    void bindImage(const Job& job);
+    bool finishStep(Job& job, bool all);
     void workerLoop();
 
     ShaderProgram m_network, m_copy;
@@ -110,14 +135,14 @@ private:
     GLuint m_fbo = 0;
     GLuint m_empty_vao = 0;
     int m_scratch_size = 0;
-    std::vector<map::ortho::OrthoInput> m_band;
-    std::vector<std::uint8_t> m_texels;
     std::deque<Job> m_jobs;
+    std::vector<GLuint> m_failed;  // textures whose inputs could not be made
     Timings m_timings;
-    // The detail's CPU work (OrthoDetail::build) beside the render thread, in start() order.
+    // The CPU work beside the render thread: the detail (OrthoDetail::build) in start() order, the
+    // input vectors of the next images ahead of it.
     std::mutex m_mutex;
     std::condition_variable m_wake;
-    std::deque<std::packaged_task<OrthoDetail::Geometry()>> m_queue;
+    std::deque<std::function<void()>> m_queue;
     bool m_stop = false;
     std::thread m_worker;  // started with the first image
 };

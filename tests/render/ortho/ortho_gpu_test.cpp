@@ -365,6 +365,56 @@ TEST_F(OrthoGpu, ACancelledImageLeavesItsDetailBehind) {
     EXPECT_NE(gen.start(req, problem), 0u);
 }
 
+// With a pixel budget the finish of an image (the copy and the fields, the plants in slices, the
+// roofs and the mipmaps) is spread over calls, one step each, and the input vectors come from the
+// worker; the image is the one made in a single call without a budget, pixel for pixel.
+TEST_F(OrthoGpu, AnImageMadeOverFramesEqualsOneMadeAtOnce) {
+    gl::OrthoGenerator gen(mo::loadNetwork(shippedWeights()));
+    const auto tile = test::orthoTile(
+        [](double x, double) { return x < 1200 ? mo::SuperLandCover::Forest : mo::SuperLandCover::Farmland; },
+        [](double, double y) { return static_cast<float>(400.0 + 0.1 * y); });
+    gl::OrthoGenerator::Request req;
+    req.tile = tile;
+    req.extent = 2000.0f;
+    req.size = 256;
+    req.vegetation = true;
+    std::string problem;
+    const GLuint at_once = gen.start(req, problem);
+    ASSERT_NE(at_once, 0u) << problem;
+    gen.step(0);
+    ASSERT_TRUE(gen.ready(at_once));
+    const std::size_t plants = gen.detailTimings().plants;
+    ASSERT_GT(plants, gl::OrthoGenerator::kPlantsPerStep) << "the forest needs more than one slice";
+
+    const GLuint over_frames = gen.start(req, problem);
+    ASSERT_NE(over_frames, 0u) << problem;
+    int calls = 0, band_calls = 0;
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+    while (!gen.ready(over_frames) && std::chrono::steady_clock::now() < deadline) {
+        const std::size_t before = gen.timings().pixels;
+        const std::size_t images = gen.timings().images;
+        gen.step(256 * 64);
+        ++calls;
+        band_calls += gen.timings().pixels > before;
+        EXPECT_LE(gen.timings().pixels - before, 256u * 64u);
+        // The call that finishes the image ran no band.
+        if (gen.timings().images > images) {
+            EXPECT_EQ(gen.timings().pixels, before);
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+    ASSERT_TRUE(gen.ready(over_frames));
+    EXPECT_EQ(band_calls, 4);
+    const auto slices =
+        static_cast<int>((plants + gl::OrthoGenerator::kPlantsPerStep - 1) / gl::OrthoGenerator::kPlantsPerStep);
+    EXPECT_GE(calls, band_calls + 1 + slices + 1) << "bands, copy and fields, " << slices << " plant slices, roofs";
+    EXPECT_EQ(gen.timings().input_failures, 0u);
+    EXPECT_GT(gen.timings().encode_ms, 0.0);
+    EXPECT_EQ(gen.read(over_frames, 256), gen.read(at_once, 256));
+    const GLuint textures[] = {at_once, over_frames};
+    glDeleteTextures(2, textures);
+}
+
 // The detail's cost per 512 x 512 image (docs/benchmarks): the CPU grid and simulation, and the draw
 // calls until the GPU has finished them, over a farmland, a forest and a mixed tile. Printed; what is
 // asserted is that the detail drew.
