@@ -1,9 +1,11 @@
 # SPDX-License-Identifier: Apache-2.0
-# What `cmake --install` puts where (GNUInstallDirs; docs/packaging.md). Three components, one
+# What `cmake --install` puts where (GNUInstallDirs; docs/packaging.md). Four components, one
 # Debian package each (cmake/NavmapPackaging.cmake):
 #   daemon      navmapd and the tools, the default store and navmap.dbc (<datadir>/navmap), the
 #               systemd unit and sysusers.d entry, the configuration (<sysconfdir>/navmap), man
 #               pages, docs
+#   viewer      navmap-view and its man page (apart: its PNG files need OpenImageIO, which the
+#               daemon's package does not pull in)
 #   client      libnavmap-client.so.<major>
 #   client-dev  its headers, the .so link, the CMake package (find_package(navmap COMPONENTS
 #               client)) and navmap-client.pc
@@ -16,8 +18,9 @@ set(NAVMAP_INSTALL_CMAKEDIR ${CMAKE_INSTALL_LIBDIR}/cmake/navmap)
 
 # --- daemon: programs, data, configuration, service ---
 if(NAVMAP_WITH_DAEMON)
-install(TARGETS navmapd navmap-view navmap-ctl navmap-compile navmap-sim navmap-soak
+install(TARGETS navmapd navmap-ctl navmap-compile navmap-sim navmap-soak
         RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR} COMPONENT daemon)
+install(TARGETS navmap-view RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR} COMPONENT viewer)
 # The compiled default store, the project's DBC, the orthoimage network's weights
 # (docs/orthoimage.md) and the data's attribution. Shaders are compiled into navmapd (shaders/,
 # cmake/EmbedShaders.cmake): none is read at run time.
@@ -66,7 +69,10 @@ if(NAVMAP_HELP2MAN AND NOT CMAKE_CROSSCOMPILING)
     list(APPEND navmap_man_pages ${page})
   endforeach()
   add_custom_target(navmap_man_pages ALL DEPENDS ${navmap_man_pages})
-  install(FILES ${navmap_man_pages} DESTINATION ${CMAKE_INSTALL_MANDIR}/man1 COMPONENT daemon)
+  set(navmap_daemon_man_pages ${navmap_man_pages})
+  list(FILTER navmap_daemon_man_pages EXCLUDE REGEX "/navmap-view\\.1$")
+  install(FILES ${navmap_daemon_man_pages} DESTINATION ${CMAKE_INSTALL_MANDIR}/man1 COMPONENT daemon)
+  install(FILES ${PROJECT_BINARY_DIR}/man/navmap-view.1 DESTINATION ${CMAKE_INSTALL_MANDIR}/man1 COMPONENT viewer)
 else()
   message(STATUS "help2man not found (or cross-compiling): no man pages (apt-get install help2man)")
 endif()

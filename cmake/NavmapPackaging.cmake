@@ -1,9 +1,10 @@
 # SPDX-License-Identifier: Apache-2.0
 # Debian packages with `cpack -G DEB` in the build tree (docs/packaging.md):
 #   navmapd               the daemon, the tools, the default data, the unit, the configuration
+#   navmap-view           the display client that records frames (PNG files through OpenImageIO)
 #   libnavmap-client0     libnavmap-client.so.0 (what a display process needs at run time)
 #   libnavmap-client-dev  headers, CMake package, pkg-config file
-# Dependencies on Debian libraries come from dpkg-shlibdeps; between the three, from here.
+# Dependencies on Debian libraries come from dpkg-shlibdeps; between the four, from here.
 set(CPACK_PACKAGE_NAME navmap)
 set(CPACK_PACKAGE_VENDOR "navmap")
 set(CPACK_PACKAGE_VERSION ${PROJECT_VERSION})
@@ -15,7 +16,7 @@ set(CPACK_SET_DESTDIR ON)
 set(CPACK_INSTALL_PREFIX /usr)
 set(CPACK_STRIP_FILES ON)
 if(NAVMAP_WITH_DAEMON)
-  set(CPACK_COMPONENTS_ALL daemon client client-dev)
+  set(CPACK_COMPONENTS_ALL daemon viewer client client-dev)
 else()
   set(CPACK_COMPONENTS_ALL client client-dev)
 endif()
@@ -41,10 +42,17 @@ set(CPACK_DEBIAN_DAEMON_PACKAGE_SUGGESTS "systemd, can-utils")
 set(CPACK_DEBIAN_DAEMON_DESCRIPTION "headless 3D navigation-map renderer daemon for cars
 navmapd renders bird's-eye and snail's-view map frames offscreen (EGL, OpenGL ES 3) from the
 vehicle position on SocketCAN and a route over local IPC, and streams them to cluster and
-head-up-display clients. With the tools navmap-view, navmap-ctl, navmap-compile, navmap-sim and
-navmap-soak, and the Andorra map data (OpenStreetMap, ODbL; SRTM).")
+head-up-display clients. With the tools navmap-ctl, navmap-compile, navmap-sim and navmap-soak,
+and the Andorra map data (OpenStreetMap, ODbL; SRTM). The display client navmap-view is in the
+package navmap-view.")
 set(CPACK_DEBIAN_DAEMON_PACKAGE_CONTROL_EXTRA
     "${PROJECT_SOURCE_DIR}/daemon/debian/conffiles;${PROJECT_SOURCE_DIR}/daemon/debian/postinst;${PROJECT_SOURCE_DIR}/daemon/debian/postrm")
+
+set(CPACK_DEBIAN_VIEWER_PACKAGE_NAME navmap-view)
+set(CPACK_DEBIAN_VIEWER_PACKAGE_SECTION misc)
+set(CPACK_DEBIAN_VIEWER_DESCRIPTION "display client of navmapd's frame stream
+navmap-view receives navmapd's frames as a cluster or head-up display would (shared memory, TCP),
+prints frames per second, latency and drops, and records the frames as PNG files.")
 
 set(CPACK_DEBIAN_CLIENT_PACKAGE_NAME libnavmap-client${PROJECT_VERSION_MAJOR})
 set(CPACK_DEBIAN_CLIENT_PACKAGE_SECTION libs)
@@ -63,6 +71,7 @@ client)) and the pkg-config file navmap-client.pc.")
 include(CPack)
 if(NAVMAP_WITH_DAEMON)
   cpack_add_component(daemon DISPLAY_NAME "navmapd" REQUIRED)
+  cpack_add_component(viewer DISPLAY_NAME "navmap-view")
 endif()
 cpack_add_component(client DISPLAY_NAME "libnavmap-client")
 cpack_add_component(client-dev DISPLAY_NAME "libnavmap-client-dev" DEPENDS client)

@@ -22,12 +22,14 @@ BUILD=(
   libfreetype-dev libharfbuzz-dev fonts-dejavu-core fonts-droid-fallback
   # config, JSON, command line, streaming, systemd
   libtomlplusplus-dev nlohmann-json3-dev libcli11-dev libturbojpeg0-dev libsystemd-dev
+  # image files (OpenImageIO): navmap-view's recorded frames, golden tests, the orthoimage tools
+  libopenimageio-dev
   # man pages from the tools' --help (skipped when absent)
   help2man
 )
 TEST=(
-  # images in golden tests and tools (OpenImageIO), fuzzers (clang), format and lint checks
-  libopenimageio-dev clang libclang-rt-14-dev clang-format clang-tidy
+  # fuzzers (clang), format and lint checks
+  clang libclang-rt-14-dev clang-format clang-tidy
   # global rasters and Natural Earth polygons of the synthetic orthoimages: navmap-ortho-train's
   # training data and the tests that measure the shipped network (docs/orthoimage.md)
   marble-qt-data

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: Apache-2.0
 # The Debian packages (CTest `deb_packages`, label install): `cpack -G DEB` in the build tree makes
-# navmapd, libnavmap-client0 and libnavmap-client-dev; their control fields and file lists are
+# navmapd, navmap-view, libnavmap-client0 and libnavmap-client-dev; their control fields and file lists are
 # checked, and they are installed into a throwaway root with dpkg (dpkg --root, maintainer
 # scripts chroot-less with DPKG_ROOT: the postinst creates the navmap user there through
 # sysusers.d). Without root (dpkg needs it) the packages are unpacked with dpkg -x instead; the
@@ -20,11 +20,12 @@ arch="$(dpkg --print-architecture)"
 daemon_deb="$work/packages/navmapd_${version}_${arch}.deb"
 lib_deb="$work/packages/libnavmap-client0_${version}_${arch}.deb"
 dev_deb="$work/packages/libnavmap-client-dev_${version}_${arch}.deb"
-for deb in "$daemon_deb" "$lib_deb" "$dev_deb"; do
+view_deb="$work/packages/navmap-view_${version}_${arch}.deb"
+for deb in "$daemon_deb" "$view_deb" "$lib_deb" "$dev_deb"; do
     [ -f "$deb" ] || { ls -l "$work/packages"; fail "missing $(basename "$deb")"; }
 done
 field() { dpkg-deb -f "$1" "$2"; }
-for deb in "$daemon_deb" "$lib_deb" "$dev_deb"; do
+for deb in "$daemon_deb" "$view_deb" "$lib_deb" "$dev_deb"; do
     echo "== $(basename "$deb") ($(stat -c %s "$deb") bytes)"
     dpkg-deb -I "$deb" | sed -n '/^ Package:/,$p'
     dpkg-deb -c "$deb" | awk '{print "   " $6 ($6 ~ /\/$/ ? "" : "  " $3)}' | grep -v '/$'
@@ -33,7 +34,8 @@ done
 [ "$(field "$daemon_deb" Package)" = navmapd ] || fail "daemon package name"
 [ "$(field "$lib_deb" Package)" = libnavmap-client0 ] || fail "library package name"
 [ "$(field "$dev_deb" Package)" = libnavmap-client-dev ] || fail "-dev package name"
-for deb in "$daemon_deb" "$lib_deb" "$dev_deb"; do
+[ "$(field "$view_deb" Package)" = navmap-view ] || fail "viewer package name"
+for deb in "$daemon_deb" "$view_deb" "$lib_deb" "$dev_deb"; do
     [ "$(field "$deb" Version)" = "$version" ] || fail "$(basename "$deb"): version $(field "$deb" Version)"
     [ "$(field "$deb" Architecture)" = "$arch" ] || fail "$(basename "$deb"): architecture"
 done
@@ -45,6 +47,10 @@ for need in libegl1 libgles2 libsystemd0 libturbojpeg0 libfreetype6 libharfbuzz0
     echo "$daemon_depends" | grep -q "$need" || fail "navmapd does not depend on $need"
 done
 echo "$daemon_depends" | grep -q openimageio && fail "navmapd depends on OpenImageIO (only image files need it)"
+echo "navmap-view Depends: $(field "$view_deb" Depends)"
+field "$view_deb" Depends | grep -q openimageio || fail "navmap-view does not depend on OpenImageIO (its PNG files)"
+dpkg-deb -c "$view_deb" | awk '{print $6}' | grep -qx ./usr/bin/navmap-view || fail "navmap-view lacks its program"
+dpkg-deb -c "$daemon_deb" | awk '{print $6}' | grep -q '/navmap-view' && fail "navmapd carries navmap-view"
 # The client library needs the C and C++ runtime, nothing of the server.
 for d in $(echo "$lib_depends" | tr ',' '\n' | sed 's/(.*//; s/ //g'); do
     case "$d" in libc6|libgcc-s1|libstdc++6) ;; *) fail "libnavmap-client0 depends on $d" ;; esac
@@ -67,9 +73,10 @@ if [ "$(id -u)" -eq 0 ]; then
     echo "== dpkg --root $root (maintainer scripts chroot-less, DPKG_ROOT set)"
     mkdir -p "$root/var/lib/dpkg/info" "$root/var/lib/dpkg/updates" "$root/etc"
     touch "$root/var/lib/dpkg/status" "$root/var/lib/dpkg/available"
-    dpkg --root="$root" --force-depends --force-script-chrootless --log=/dev/null -i "$lib_deb" "$dev_deb" "$daemon_deb" \
+    dpkg --root="$root" --force-depends --force-script-chrootless --log=/dev/null -i "$lib_deb" "$dev_deb" "$daemon_deb" "$view_deb" \
         > "$work/dpkg.log" 2>&1 || { cat "$work/dpkg.log"; fail "dpkg --root -i"; }
-    dpkg --root="$root" -l | grep -E '^ii +(navmapd|libnavmap-client0|libnavmap-client-dev) ' || fail "not installed"
+    [ "$(dpkg --root="$root" -l | grep -cE '^ii +(navmapd|navmap-view|libnavmap-client0|libnavmap-client-dev) ')" -eq 4 ] \
+        || fail "not installed: $(dpkg --root="$root" -l | grep navmap)"
     if command -v systemd-sysusers >/dev/null; then
         grep -q '^navmap:' "$root/etc/passwd" || fail "the postinst did not create the navmap user"
         echo "postinst: $(grep '^navmap:' "$root/etc/passwd")"
@@ -79,9 +86,10 @@ if [ "$(id -u)" -eq 0 ]; then
     dpkg --root="$root" --force-depends -i "$dev_deb" > /dev/null 2>&1
 else
     echo "== not root: dpkg -x into $root (dpkg --root needs root)"
-    for deb in "$lib_deb" "$dev_deb" "$daemon_deb"; do dpkg -x "$deb" "$root"; done
+    for deb in "$lib_deb" "$dev_deb" "$daemon_deb" "$view_deb"; do dpkg -x "$deb" "$root"; done
 fi
 "$root/usr/bin/navmapd" --version | grep -qx "navmapd $version" || fail "navmapd --version"
+"$root/usr/bin/navmap-view" --version | grep -q "$version" || fail "navmap-view --version: $("$root/usr/bin/navmap-view" --version 2>&1)"
 "$root/usr/bin/navmapd" --check-config | grep -qx "store: $root/usr/share/navmap/andorra.navmap (cache 128 MiB)" \
     || fail "the packaged navmapd does not find its store"
 grep -qx "ExecStart=/usr/bin/navmapd --config /etc/navmap/navmapd.toml" "$root/usr/lib/systemd/system/navmapd.service" \

@@ -264,7 +264,7 @@ TEST(FramePng, WritesAPngThatReadsBackExactly) {
     std::filesystem::remove(path);
     auto bad = writeFramePng("/nonexistent-dir/x.png", h, px.data());
     ASSERT_FALSE(bad.ok());
-    EXPECT_EQ(bad.message(), "fopen(/nonexistent-dir/x.png): No such file or directory");
+    EXPECT_EQ(bad.message(), "/nonexistent-dir/x.png: cannot write: No such file or directory");
 }
 
 // The sequence lock: a reader racing a writer that laps it on a 2-slot ring must never accept a
