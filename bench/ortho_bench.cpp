@@ -10,7 +10,8 @@
 //                 OrthoTileSampler)
 //   groundFrame/<profile>  map frames along the Andorra la Vella -> Encamp drive with the land cover
 //                 and with the orthoimage as the ground, interleaved per camera (every image made
-//                 before timing): p50 frame time (renderMap + finish) of each and their ratio
+//                 before timing): p50 frame time (renderMap + finish) of each and their ratio; with
+//                 NAVMAP_BENCH_PICTURES=DIR it also writes each camera's two frames there as PNG
 //   tileUpload/<profile>   the frames that upload the tiles of cameras along the drive (a GPU tile
 //                 cache of one tile, so each camera uploads its own), per tile, with the land cover
 //                 and with the orthoimage (no pixel budget: each image made in its tile's upload
@@ -23,7 +24,8 @@
 // The inputs of the first three are those of the leaf tile under Andorra la Vella, its layers
 // sampled from marble-qt-data (sampleOrthoLayers) as navmap-compile-ortho samples them; without
 // the package the program says so and exits 1. The last two read a store compiled with the layers,
-// NAVMAP_BENCH_ORTHO_STORE (default <build>/andorra-ortho.navmap), made by
+// NAVMAP_BENCH_ORTHO_STORE (default <build>/andorra-ortho.navmap, which the build makes: target
+// navmap_ortho_store), that is
 //   build/map/navmap-compile-ortho --osm data/andorra-2021-04-14.osm.pbf --dem data/N42E001.hgt
 //       --ortho-data /usr/share/marble/data --out build/andorra-ortho.navmap
 
@@ -50,6 +52,7 @@
 #include "navmap/map/ortho/tile_sampler.h"
 #include "navmap/map/projection.h"
 #include "navmap/map/tile_store.h"
+#include "navmap/render/image.h"
 #include "navmap/render/renderer.h"
 
 namespace {
@@ -191,6 +194,25 @@ bool haveOrthoStore(benchmark::State& state) {
     return false;
 }
 
+// The frames of every view with either ground, as DIR/<profile>-<view>-{landcover,orthoimage}.png
+// (the README's picture pair is one of them).
+void writePictures(Renderer& r, const Profile& p, const std::vector<DriveScene::Shot>& views, const std::string& dir) {
+    std::filesystem::create_directories(dir);
+    for (std::size_t i = 0; i < views.size(); ++i) {
+        for (Ground g : {Ground::LandCover, Ground::Orthoimage}) {
+            r.setMapStyle(styleWith(g));
+            r.renderMap(frameOf(p, views[i]));
+            r.finish();
+            const Image image = r.readSync(r.primaryTarget());
+            const std::filesystem::path path =
+                std::filesystem::path(dir) / (std::string(p.name) + "-" + std::to_string(i) + "-" +
+                                              (g == Ground::LandCover ? "landcover" : "orthoimage") + ".png");
+            std::string error;
+            if (!writePng(path, image, &error)) std::cerr << "navmap_ortho_bench: " << error << "\n";
+        }
+    }
+}
+
 void groundFrame(benchmark::State& state) {
     if (!haveOrthoStore(state)) return;
     const Profile& p = kProfiles[state.range(0)];
@@ -209,6 +231,7 @@ void groundFrame(benchmark::State& state) {
         }
     }
     r->finish();
+    if (const char* dir = std::getenv("NAVMAP_BENCH_PICTURES")) writePictures(*r, p, views, dir);
     std::vector<double> cover_ms, ortho_ms;
     std::size_t i = 0;
     for (auto _ : state) {
