@@ -178,6 +178,7 @@ std::span<GpuTile* const> GpuTileCache::acquire(const MapFrame& frame, int targe
     tiles.clear();
     tiles.reserve(frame.tiles.size());
     int uploads = 0;
+    std::size_t without_layers = 0;  // drawn tiles that cannot have an orthoimage
     for (std::size_t ti = 0; ti < frame.tiles.size(); ++ti) {
         const auto& tile = frame.tiles[ti];
         if (!tile) continue;
@@ -207,6 +208,14 @@ std::span<GpuTile* const> GpuTileCache::acquire(const MapFrame& frame, int targe
         gpu->last_used = m_frame;
         tiles.push_back(gpu);
         if (want_ortho && !gpu->ortho_started && !tile->ortho.empty()) ortho_wanted.emplace_back(gpu, tile);
+        if (want_ortho && tile->ortho.empty()) ++without_layers;
+    }
+    if (without_layers > 0 && !m_no_layers_reported) {
+        // Said once: a store compiled without the layers keeps the land cover everywhere.
+        m_no_layers_reported = true;
+        stats.ortho_problem = std::to_string(without_layers) + " of " + std::to_string(tiles.size()) +
+                              " drawn tiles have no orthoimage layers (the store was compiled without "
+                              "navmap-compile-ortho --ortho-data): they show the land cover";
     }
     m_ancestor_cover_triangles.clear();  // only for the uploads above, while `frame` holds the tiles
     stats.tiles_uploaded = static_cast<std::size_t>(uploads);
@@ -252,7 +261,9 @@ void GpuTileCache::updateOrthoimages(std::span<const std::pair<GpuTile*, std::sh
                                      MapFrameStats& stats) {
     const auto t0 = Clock::now();
     OrthoGenerator* gen = orthoGenerator();
-    if (!m_ortho_problem.empty()) stats.ortho_problem = std::exchange(m_ortho_problem, {});
+    if (!m_ortho_problem.empty()) {
+        stats.ortho_problem += (stats.ortho_problem.empty() ? "" : "; ") + std::exchange(m_ortho_problem, {});
+    }
     if (!gen) return;
     for (const auto& [gpu, tile] : wanted) {
         gpu->ortho_started = true;

@@ -67,6 +67,7 @@ private:
     std::unique_ptr<OrthoGenerator> m_ortho;  // before m_tiles: their textures cancel with it
     bool m_ortho_tried = false;               // m_ortho made or refused
     std::string m_ortho_problem;              // to report in the next frame's stats, once
+    bool m_no_layers_reported = false;        // tiles without orthoimage layers were reported
     ShaderProgram m_land_cover;
     GLuint m_raster_fbo = 0;     // the land-cover texture being resolved into
     GLuint m_raster_ms_fbo = 0;  // multisampled land-cover raster, m_raster_ms_size

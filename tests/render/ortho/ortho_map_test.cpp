@@ -166,8 +166,14 @@ TEST(OrthoMap, ATileWhoseImageIsNotReadyKeepsTheLandCover) {
     EXPECT_NE(image.rgba, cover.rgba);
     // A tile without ortho layers keeps its land cover.
     Shot plain = shot(groundTile(false), shippedWeights().string());
-    EXPECT_EQ(renderWith(plain, Ground::Orthoimage).rgba, renderWith(plain, Ground::LandCover).rgba);
+    const Image plain_ortho = renderWith(plain, Ground::Orthoimage);
+    EXPECT_EQ(plain.renderer->mapStats().ortho_problem,
+              "1 of 1 drawn tiles have no orthoimage layers (the store was compiled without navmap-compile-ortho "
+              "--ortho-data): they show the land cover");
+    EXPECT_EQ(plain_ortho.rgba, renderWith(plain, Ground::LandCover).rgba);
     EXPECT_EQ(plain.renderer->mapStats().ortho_pending, 0u);
+    EXPECT_EQ(renderWith(plain, Ground::Orthoimage).rgba, plain_ortho.rgba);
+    EXPECT_EQ(plain.renderer->mapStats().ortho_problem, "") << "said once";
 }
 
 TEST(OrthoMap, UnusableWeightsLeaveTheLandCoverAndSaySoOnce) {
