@@ -15,6 +15,7 @@
 #include <cstring>
 #include <filesystem>
 #include <map>
+#include <memory>
 #include <string>
 #include <thread>
 #include <utility>
@@ -36,6 +37,16 @@ namespace {
 using namespace navmap;
 using namespace navmap::render;
 namespace mo = navmap::map::ortho;
+
+// A request for the whole 2 km test tile at `size` pixels.
+gl::OrthoGenerator::Request request(std::shared_ptr<const map::Tile> tile, int size, bool vegetation = false) {
+    gl::OrthoGenerator::Request req;
+    req.tile = std::move(tile);
+    req.extent = 2000.0f;
+    req.size = size;
+    req.vegetation = vegetation;
+    return req;
+}
 
 std::filesystem::path shippedWeights() { return test::sourceDir() / "data" / "ortho" / "ortho-mlp.nnw"; }
 
@@ -129,10 +140,7 @@ TEST_F(OrthoGpu, ATilesImageIsMadeInBandsWithinThePixelBudget) {
                            : (y < 1000 ? mo::SuperLandCover::Residential : mo::SuperLandCover::Lake);
         },
         [](double x, double y) { return static_cast<float>(300.0 + 0.4 * x + 0.2 * y); });
-    gl::OrthoGenerator::Request req;
-    req.tile = tile;
-    req.extent = 2000.0f;
-    req.size = 128;
+    const gl::OrthoGenerator::Request req = request(tile, 128);
     std::string problem;
     const GLuint tex = gen.start(req, problem);
     ASSERT_NE(tex, 0u) << problem;
@@ -178,9 +186,7 @@ TEST_F(OrthoGpu, ATileWithoutUsableLayersIsRefusedByName) {
     auto tile =
         test::orthoTile([](double, double) { return mo::SuperLandCover::Grass; }, [](double, double) { return 0.0f; });
     tile->ortho.lights.resize(7);
-    gl::OrthoGenerator::Request req;
-    req.tile = tile;
-    req.extent = 2000.0f;
+    gl::OrthoGenerator::Request req = request(tile, 256);
     std::string problem;
     EXPECT_EQ(gen.start(req, problem), 0u);
     EXPECT_EQ(problem, "tile 6/33/17: ortho layer lights has 7 samples, expected 1089 (33x33)");
@@ -214,10 +220,7 @@ TEST_F(OrthoGpu, FieldsAreDrawnOverTheWholeFarmlandAndNowhereElse) {
             road.points = {{100, 100}, {100 + 1500 * std::cos(a), 100 + 1500 * std::sin(a)}};
             tile->roads.push_back(road);
         }
-        gl::OrthoGenerator::Request req;
-        req.tile = tile;
-        req.extent = 2000.0f;
-        req.size = 512;
+        const gl::OrthoGenerator::Request req = request(tile, 512);
         std::string problem;
         const GLuint tex = gen.start(req, problem);
         ASSERT_NE(tex, 0u) << problem;
@@ -286,10 +289,7 @@ TEST_F(OrthoGpu, TheDetailKeepsTheNetworksMeanColour) {
     // pairs.
     gl::OrthoGenerator gen(mo::loadNetwork(shippedWeights()));
     const auto tile = villageTile();
-    gl::OrthoGenerator::Request req;
-    req.tile = tile;
-    req.extent = 2000.0f;
-    req.size = 512;
+    gl::OrthoGenerator::Request req = request(tile, 512);
     req.details = false;
     std::string problem;
     using Clock = std::chrono::steady_clock;
@@ -343,11 +343,7 @@ TEST_F(OrthoGpu, ACancelledImageLeavesItsDetailBehind) {
     gl::OrthoGenerator gen(mo::loadNetwork(shippedWeights()));
     const auto forest = test::orthoTile([](double, double) { return mo::SuperLandCover::Forest; },
                                         [](double, double) { return 500.0f; });
-    gl::OrthoGenerator::Request req;
-    req.tile = forest;
-    req.extent = 2000.0f;
-    req.size = 64;
-    req.vegetation = true;
+    const gl::OrthoGenerator::Request req = request(forest, 64, true);
     std::string problem;
     const GLuint gone = gen.start(req, problem), kept = gen.start(req, problem);
     ASSERT_NE(gone, 0u);
@@ -373,11 +369,7 @@ TEST_F(OrthoGpu, AnImageMadeOverFramesEqualsOneMadeAtOnce) {
     const auto tile = test::orthoTile(
         [](double x, double) { return x < 1200 ? mo::SuperLandCover::Forest : mo::SuperLandCover::Farmland; },
         [](double, double y) { return static_cast<float>(400.0 + 0.1 * y); });
-    gl::OrthoGenerator::Request req;
-    req.tile = tile;
-    req.extent = 2000.0f;
-    req.size = 256;
-    req.vegetation = true;
+    const gl::OrthoGenerator::Request req = request(tile, 256, true);
     std::string problem;
     const GLuint at_once = gen.start(req, problem);
     ASSERT_NE(at_once, 0u) << problem;
