@@ -20,6 +20,7 @@
 
 #include "display_profiles.h"
 #include "drive_scene.h"
+#include "navmap/common/percentile.h"
 #include "navmap/render/renderer.h"
 #include "tile_mesh.h"
 
@@ -104,11 +105,7 @@ double processCpuSeconds() {
     return double(u.ru_utime.tv_sec + u.ru_stime.tv_sec) + 1e-6 * double(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
 }
 
-double percentile(std::vector<double> v, double q) {
-    if (v.empty()) return 0.0;
-    std::sort(v.begin(), v.end());
-    return v[std::min(v.size() - 1, static_cast<std::size_t>(std::lround(q * static_cast<double>(v.size() - 1))))];
-}
+using navmap::percentile;
 
 void mapFrame(benchmark::State& state) {
     const Profile& p = kProfiles[state.range(0)];

@@ -46,6 +46,7 @@
 #include "display_profiles.h"
 #include "drive_scene.h"
 #include "gl/ortho_generator.h"
+#include "navmap/common/percentile.h"
 #include "navmap/map/ortho/marble_inputs.h"
 #include "navmap/map/ortho/ortho_network.h"
 #include "navmap/map/ortho/ortho_preprocess.h"
@@ -60,6 +61,7 @@ namespace {
 using namespace navmap;
 using namespace navmap::render;
 namespace mo = navmap::map::ortho;
+using navmap::percentile;
 constexpr int kSize = 512;
 
 const mo::OrthoNetwork& network() {
@@ -180,12 +182,6 @@ MapStyle styleWith(Ground g) {
     return s;
 }
 
-double median(std::vector<double> v) {
-    if (v.empty()) return 0.0;
-    std::sort(v.begin(), v.end());
-    return v[v.size() / 2];
-}
-
 bool haveOrthoStore(benchmark::State& state) {
     if (std::filesystem::exists(orthoStorePath())) return true;
     state.SkipWithError((orthoStorePath() + " is absent: compile it with navmap-compile-ortho (see the head of "
@@ -245,9 +241,10 @@ void groundFrame(benchmark::State& state) {
                 .push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
         }
     }
-    state.counters["landcover_p50_ms"] = median(cover_ms);
-    state.counters["orthoimage_p50_ms"] = median(ortho_ms);
-    state.counters["orthoimage_ratio"] = median(cover_ms) > 0 ? median(ortho_ms) / median(cover_ms) : 0.0;
+    state.counters["landcover_p50_ms"] = percentile(cover_ms, 0.5);
+    state.counters["orthoimage_p50_ms"] = percentile(ortho_ms, 0.5);
+    state.counters["orthoimage_ratio"] =
+        percentile(cover_ms, 0.5) > 0 ? percentile(ortho_ms, 0.5) / percentile(cover_ms, 0.5) : 0.0;
     state.counters["images"] = double(images);
     state.SetLabel(std::string(p.name) + (p.mode == ViewMode::Bird ? " bird" : " snail"));
 }
@@ -324,17 +321,12 @@ void generationFrames(benchmark::State& state) {
             for (int i = 0; i < 8; ++i) made_ms.push_back(timed(*r, f));
         }
     }
-    auto pct = [](std::vector<double> v, double q) {
-        if (v.empty()) return 0.0;
-        std::sort(v.begin(), v.end());
-        return v[std::min(v.size() - 1, static_cast<std::size_t>(q * double(v.size())))];
-    };
-    state.counters["frame_ms_p50_making"] = pct(making_ms, 0.5);
-    state.counters["frame_ms_p95_making"] = pct(making_ms, 0.95);
-    state.counters["frame_ms_max_making"] = pct(making_ms, 1.0);
-    state.counters["frame_ms_p50_made"] = pct(made_ms, 0.5);
-    state.counters["render_thread_ms_p50"] = pct(ortho_ms, 0.5);
-    state.counters["render_thread_ms_p95"] = pct(ortho_ms, 0.95);
+    state.counters["frame_ms_p50_making"] = percentile(making_ms, 0.5);
+    state.counters["frame_ms_p95_making"] = percentile(making_ms, 0.95);
+    state.counters["frame_ms_max_making"] = percentile(making_ms, 1.0);
+    state.counters["frame_ms_p50_made"] = percentile(made_ms, 0.5);
+    state.counters["render_thread_ms_p50"] = percentile(ortho_ms, 0.5);
+    state.counters["render_thread_ms_p95"] = percentile(ortho_ms, 0.95);
     state.counters["frames_per_image"] = images ? double(frames) / double(images) : 0.0;
     state.counters["images"] = double(images);
     state.SetLabel(std::string(p.name) + (p.mode == ViewMode::Bird ? " bird" : " snail"));

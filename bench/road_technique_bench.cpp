@@ -29,6 +29,7 @@
 #include "dem_refine.h"
 #include "display_profiles.h"
 #include "drive_scene.h"
+#include "navmap/common/percentile.h"
 #include "navmap/render/renderer.h"
 
 namespace {
@@ -91,11 +92,7 @@ MapFrame frameFor(const Shot& s, bool roads, RoadTechnique technique) {
     return frame;
 }
 
-double percentile(std::vector<double> v, double q) {
-    if (v.empty()) return 0.0;
-    std::sort(v.begin(), v.end());
-    return v[std::min(v.size() - 1, static_cast<std::size_t>(std::lround(q * static_cast<double>(v.size() - 1))))];
-}
+using navmap::percentile;
 
 void roadTechniques(benchmark::State& state) {
     const Profile& p = kProfiles[state.range(0)];

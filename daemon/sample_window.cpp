@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "sample_window.h"
 
+#include "navmap/common/percentile.h"
+
 #include <algorithm>
 #include <cmath>
 #include <vector>
@@ -13,10 +15,7 @@ void SampleWindow::add(double value) {
 }
 
 double SampleWindow::quantile(double q) const {
-    if (m_values.empty()) return 0.0;
-    std::vector<double> v(m_values.begin(), m_values.end());
-    std::sort(v.begin(), v.end());
-    return v[std::min(v.size() - 1, static_cast<std::size_t>(std::lround(q * static_cast<double>(v.size() - 1))))];
+    return percentile(std::vector<double>(m_values.begin(), m_values.end()), q);
 }
 
 }  // namespace navmap::daemon

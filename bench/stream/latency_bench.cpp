@@ -33,6 +33,7 @@
 #include <thread>
 #include <vector>
 
+#include "navmap/common/percentile.h"
 #include "navmap/ipc/control_client.h"
 #include "navmap/ipc/stream_client.h"
 
@@ -58,11 +59,7 @@ struct RunResult {
     std::map<std::string, ProfileResult> profiles;
 };
 
-double percentile(std::vector<double> v, double q) {
-    if (v.empty()) return 0.0;
-    std::sort(v.begin(), v.end());
-    return v[std::min(v.size() - 1, static_cast<std::size_t>(std::lround(q * static_cast<double>(v.size() - 1))))];
-}
+using navmap::percentile;
 
 std::int64_t nowNs() {
     return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch())

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "navmap/map/tile_cache.h"
 
+#include "navmap/common/percentile.h"
+
 #include <algorithm>
 #include <cmath>
 #include <iostream>
@@ -140,14 +142,8 @@ TileCacheMetrics TileCache::metrics() const {
     m.resident_tiles = m_resident.size();
     m.pending = m_pending.size() + (m_in_flight != kNone ? 1 : 0);
     if (!m_load_ms.empty()) {
-        std::vector<double> v = m_load_ms;
-        auto pct = [&](double q) {
-            const auto k = static_cast<std::size_t>(std::lround(q * static_cast<double>(v.size() - 1)));
-            std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
-            return v[k];
-        };
-        m.load_p50_ms = pct(0.50);
-        m.load_p99_ms = pct(0.99);
+        m.load_p50_ms = percentile(m_load_ms, 0.50);
+        m.load_p99_ms = percentile(m_load_ms, 0.99);
     }
     return m;
 }

@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "navmap/cli/cli.h"
+#include "navmap/common/percentile.h"
 #include "navmap/ipc/frame_png.h"
 #include "navmap/ipc/stream_client.h"
 #include "navmap/ipc/zlib_inflater.h"
@@ -117,14 +118,7 @@ std::optional<int> parseArgs(int argc, char** argv, Options* o) {
     return std::nullopt;
 }
 
-double percentile(std::vector<double> v, double q) {
-    if (v.empty()) {
-        return 0;
-    }
-    std::sort(v.begin(), v.end());
-    const auto idx = static_cast<std::size_t>(std::lround(q * static_cast<double>(v.size() - 1)));
-    return v[std::min(idx, v.size() - 1)];
-}
+using navmap::percentile;
 
 }  // namespace
 
