@@ -123,6 +123,14 @@ void ancestorSurface(const map::Tile& tile, int n, std::span<const float> height
     }
 }
 
+int roadDrawOrder(const map::Road& road) {
+    const bool bridge = (road.flags & map::road_flags::kBridge) != 0;
+    const int layer = std::clamp(static_cast<int>(road.layer), -5, 5) + 5;
+    return layer * 2000 + (bridge ? 1000 : 0) + (map::kRoadClassCount - static_cast<int>(road.cls));
+}
+
+double bridgeDeckHeightM(int layer) { return 2.0 + 4.0 * std::max(0, layer - 1); }
+
 glm::vec4 landCoverColor(map::AreaClass cls) {
     using A = map::AreaClass;
     switch (cls) {
@@ -311,8 +319,9 @@ TileMesh buildTileMesh(const map::Tile& tile, const TileMeshOptions& options,
             for (std::size_t i = 1; i < line.size(); ++i) total += glm::length(line[i] - line[i - 1]);
             for (std::size_t i = 0; i < line.size(); ++i) {
                 if (i > 0) run += glm::length(line[i] - line[i - 1]);
-                const double z = bridge ? z0 + (z1 - z0) * (total > 0 ? run / total : 0.0) + 2.0
-                                        : grid.heightAt(line[i].x, line[i].y);
+                const double z = bridge
+                                     ? z0 + (z1 - z0) * (total > 0 ? run / total : 0.0) + bridgeDeckHeightM(road.layer)
+                                     : grid.heightAt(line[i].x, line[i].y);
                 draped.emplace_back(line[i].x, line[i].y, z);
             }
         } else {
@@ -320,9 +329,7 @@ TileMesh buildTileMesh(const map::Tile& tile, const TileMeshOptions& options,
             if (options.road_merge_tolerance_m > 0.0)
                 draped = mergeDrapedPieces(draped, options.road_merge_tolerance_m);
         }
-        // Least important first so more important classes overwrite them at junctions
-        // (seed 3.6.3 "Intersections"); bridges after everything.
-        const int order = (bridge ? 1000 : 0) + (map::kRoadClassCount - static_cast<int>(road.cls));
+        const int order = roadDrawOrder(road);
         auto piece = [&](const glm::dvec3& a, const glm::dvec3& b, std::uint32_t block, std::uint32_t lods) {
             RoadInstance inst{glm::vec3(a), glm::vec3(b), static_cast<float>(road.cls), static_cast<float>(road.flags)};
             inst.cap_reach = glm::vec2(0.0f);  // set per level below, from the piece's neighbours

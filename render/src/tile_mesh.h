@@ -160,6 +160,15 @@ struct TileMeshOptions {
     double road_merge_tolerance_m = 0.5;
 };
 
+/// Where a road is drawn among the others (docs/rendering.md "Tunnels and layers"), lowest
+/// first: by OSM layer (-5..5), within a layer bridges after the roads on the ground, then the
+/// less important classes before the more important ones, which overwrite them at junctions
+/// (seed 3.6.3 "Intersections").
+int roadDrawOrder(const map::Road& road);
+/// A bridge deck's height above the straight line between its ends' terrain: 2 m, and 4 m more
+/// for each layer above 1, so stacked bridges keep their order in depth too.
+double bridgeDeckHeightM(int layer);
+
 /// Land-cover colour of an area class (day palette; alpha = coverage strength).
 glm::vec4 landCoverColor(map::AreaClass cls);
 

@@ -253,3 +253,52 @@ TEST(MapDataRender, BeyondTheStoresEdgeTheGroundContinuesBelowTheHorizon) {
     const Shot bare = shoot({tile}, cam, without);
     EXPECT_TRUE(near(bare.at(o + glm::dvec3(2500.0, 500.0, 500.0)), to8(MapStyle::day().sky_color), 3));
 }
+
+// OSM layers stack the roads where they cross (docs/rendering.md "Tunnels and layers"): a
+// residential road at layer=1 over a primary one at layer 0, though the primary is the more
+// important class, which wins a crossing within one layer; and a secondary bridge at layer=2 over
+// a primary bridge at layer=1.
+TEST(MapDataRender, RoadsAndBridgesCrossInTheOrderOfTheirLayers) {
+    const Scratch dir("layer-render");
+    const Compiled c = compile(dir, R"(
+ <node id="1" version="1" lat="43.010" lon="7.000"/>
+ <node id="2" version="1" lat="43.010" lon="7.020"/>
+ <node id="3" version="1" lat="43.004" lon="7.006"/>
+ <node id="4" version="1" lat="43.016" lon="7.006"/>
+ <node id="5" version="1" lat="43.025" lon="7.000"/>
+ <node id="6" version="1" lat="43.025" lon="7.020"/>
+ <node id="7" version="1" lat="43.019" lon="7.006"/>
+ <node id="8" version="1" lat="43.031" lon="7.006"/>
+ <way id="100" version="1"><nd ref="1"/><nd ref="2"/><tag k="highway" v="primary"/></way>
+ <way id="200" version="1"><nd ref="3"/><nd ref="4"/><tag k="highway" v="residential"/><tag k="layer" v="1"/></way>
+ <way id="300" version="1"><nd ref="5"/><nd ref="6"/><tag k="highway" v="primary"/><tag k="bridge" v="yes"/>
+  <tag k="layer" v="1"/></way>
+ <way id="400" version="1"><nd ref="7"/><nd ref="8"/><tag k="highway" v="secondary"/><tag k="bridge" v="yes"/>
+  <tag k="layer" v="2"/></way>
+)",
+                               [](double, double) { return 200.0; });
+    ASSERT_FALSE(c.leaves.empty());
+    // Both crossings lie 170 m and more from the borders of the 1 km leaf tiles, whose order on
+    // screen is nearest first, not by layer.
+    const glm::dvec3 ground_crossing = planar(*c.store, 43.010, 7.006, 200.0);
+    const glm::dvec3 bridge_crossing = planar(*c.store, 43.025, 7.006, 200.0);
+    MapLayers layers;
+    layers.outlines = false;
+    const RoadStyle& roads = MapStyle::day().roads;
+    auto fill = [&](map::RoadClass cls) { return to8(roads.classes[static_cast<int>(cls)].fill); };
+    ASSERT_FALSE(near(fill(map::RoadClass::Residential), fill(map::RoadClass::Primary), 12));
+    ASSERT_FALSE(near(fill(map::RoadClass::Secondary), fill(map::RoadClass::Primary), 12));
+    for (const glm::dvec3& crossing : {ground_crossing, bridge_crossing}) {
+        Camera cam;
+        cam.target = crossing;
+        cam.eye = crossing + glm::dvec3(0.0, -1.0, 600.0);
+        cam.far_m = 20000.0;
+        const Shot s = shoot(c.leaves, cam, layers);
+        const glm::ivec3 top =
+            crossing == ground_crossing ? fill(map::RoadClass::Residential) : fill(map::RoadClass::Secondary);
+        const glm::ivec3 px = s.at(crossing);
+        EXPECT_TRUE(near(px, top, 12)) << (crossing == ground_crossing ? "ground" : "bridge") << " crossing: " << px.x
+                                       << "," << px.y << "," << px.z << ", expected " << top.x << "," << top.y << ","
+                                       << top.z;
+    }
+}

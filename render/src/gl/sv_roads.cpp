@@ -15,6 +15,7 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include "road_draping.h"
+#include "tile_mesh.h"
 
 namespace navmap::render::gl {
 
@@ -212,8 +213,7 @@ SvTileRoads buildSvTileRoads(const map::Tile& tile, const RoadStyle& style,
     for (const auto& road : tile.roads) {
         if (road.points.size() < 2) continue;
         if (road.flags & map::road_flags::kTunnel) continue;  // hidden in the map view, as for GEO
-        const bool bridge = (road.flags & map::road_flags::kBridge) != 0;
-        const int order = (bridge ? 1000 : 0) + (map::kRoadClassCount - static_cast<int>(road.cls));
+        const int order = roadDrawOrder(road);
         const float reach = 0.5f * style.of(static_cast<int>(road.cls)).outerWidth() + 1.0f;
         for (std::size_t i = 0; i + 1 < road.points.size(); ++i) {
             const glm::dvec2 a(road.points[i].x, road.points[i].y), b(road.points[i + 1].x, road.points[i + 1].y);
