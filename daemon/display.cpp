@@ -9,14 +9,6 @@
 
 namespace navmap::daemon {
 
-// The HUD symbol is the manoeuvre's type: both enums list the control protocol's types in order.
-static_assert(static_cast<int>(render::ManeuverSymbol::Depart) ==
-                  static_cast<int>(map::guidance::ManeuverType::Depart) &&
-              static_cast<int>(render::ManeuverSymbol::UTurn) == static_cast<int>(map::guidance::ManeuverType::UTurn) &&
-              static_cast<int>(render::ManeuverSymbol::Roundabout) ==
-                  static_cast<int>(map::guidance::ManeuverType::Roundabout) &&
-              static_cast<int>(render::ManeuverSymbol::Merge) == static_cast<int>(map::guidance::ManeuverType::Merge));
-
 namespace {
 
 // How long start-up frames wait for the tiles under the camera before they are published anyway
@@ -111,7 +103,7 @@ void Display::addGuidance(render::MapFrame& frame, const GuidanceSnapshot& guida
         overlay.symbol = render::ManeuverSymbol::UTurn;
         overlay.distance = "off route";
     } else if (guidance.next) {
-        overlay.symbol = static_cast<render::ManeuverSymbol>(guidance.next->type);
+        overlay.symbol = guidance.next->type;
         overlay.roundabout_exit = guidance.next->exit;
         overlay.distance = guidance.distance_text;
         overlay.street = guidance.street;

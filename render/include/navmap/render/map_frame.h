@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "navmap/map/guidance/maneuver.h"
 #include "navmap/map/tile.h"
 #include "navmap/render/camera.h"
 #include "navmap/render/labels/drawn_label.h"
@@ -143,25 +144,9 @@ struct ManeuverArrow {
     float emphasis = 1.0f;
 };
 
-/// The manoeuvre symbol of the guidance overlay, one per manoeuvre type of the control protocol
-/// (set_route maneuvers[].type, in the order of ipc::ManeuverType).
-enum class ManeuverSymbol : std::uint8_t {
-    Depart,
-    Arrive,
-    Straight,
-    TurnLeft,
-    TurnRight,
-    SlightLeft,
-    SlightRight,
-    SharpLeft,
-    SharpRight,
-    UTurn,
-    KeepLeft,
-    KeepRight,
-    Roundabout,
-    Exit,
-    Merge,
-};
+/// The manoeuvre symbol of the guidance overlay: one per manoeuvre type of the guidance
+/// (map::guidance::ManeuverType, the control protocol's set_route maneuvers[].type).
+using ManeuverSymbol = map::guidance::ManeuverType;
 
 /// What the guidance overlay shows (screen space, over the map; laid out for the HUD's 800 x 240
 /// and scaled with the target's height): the next manoeuvre as a large symbol, the distance to
