@@ -11,8 +11,9 @@ namespace navmap::map::detail {
 
 SpillDir::SpillDir(const std::filesystem::path& parent, std::function<void(const std::string&)> log)
     : m_log(std::move(log)) {
-    std::string name = (parent.empty() ? std::filesystem::path(".") : parent) / "navmap-spill-XXXXXX";
-    if (::mkdtemp(name.data()) == nullptr) throw SpillError("mkdtemp(" + name + "): " + std::strerror(errno));
+    const std::string pattern = (parent.empty() ? std::filesystem::path(".") : parent) / "navmap-spill-XXXXXX";
+    std::string name = pattern;  // mkdtemp() fills the Xs in, even when it fails
+    if (::mkdtemp(name.data()) == nullptr) throw SpillError("mkdtemp(" + pattern + "): " + std::strerror(errno));
     m_path = name;
 }
 
