@@ -52,7 +52,6 @@ std::pair<tools::SynthRegion, std::size_t> largeInput(int grid) {
     opt.out_dir = scratch() / ("large-" + std::to_string(grid));
     opt.copies = grid * grid;
     opt.highways_only = true;
-    fs::create_directories(opt.out_dir);
     const auto region = tools::synthesizeRegion(opt);
     return {region, region.way_nodes};
 }

@@ -77,7 +77,7 @@ int main(int argc, char** argv) {
     app.add_option("--memory-limit", opt.memory_limit_mib,
                    "MiB: spill the node index and the features to disk and build the tiles in as many column "
                    "bands as keep one band's features within this; 0: everything in memory")
-        ->check(CLI::Range(std::uint64_t{0}, std::uint64_t{1} << 30))
+        ->check(navmap::cli::integerIn(0, 1LL << 30))
         ->capture_default_str();
     app.add_option("--spill-dir", spill_dir,
                    "folder for the scratch files of --memory-limit (removed at the end); default: the folder of --out");

@@ -5,7 +5,6 @@
 // writes /tmp/r100/region.osm.pbf and the .hgt tiles that cover it, and prints the
 // navmap-compile arguments for them. Exit status: 0 ok, 1 bad input, 2 usage.
 
-#include <filesystem>
 #include <iostream>
 
 #include "navmap/cli/cli.h"
@@ -19,7 +18,7 @@ int main(int argc, char** argv) {
     app.add_option("--osm", osm, "source extract (.osm.pbf)")->required();
     app.add_option("--dem", dem, "its SRTM tile (.hgt); the region gets tiles made from it");
     app.add_option("--copies", opt.copies, "copies of the extract, ceil(sqrt(N)) per row")
-        ->check(CLI::Range(1, 10000))
+        ->check(navmap::cli::integerIn(1, 10000))
         ->capture_default_str();
     app.add_option("--gap", opt.gap_deg, "degrees between neighbouring copies")
         ->check(navmap::cli::finiteIn(0.0, 10.0))
@@ -34,7 +33,6 @@ int main(int argc, char** argv) {
     opt.out_dir = out_dir;
     if (!quiet) opt.log = [](const std::string& line) { std::cerr << line << '\n'; };
     try {
-        std::filesystem::create_directories(opt.out_dir);
         const auto region = navmap::map::tools::synthesizeRegion(opt);
         std::cout << "--osm " << region.osm.string();
         for (const auto& d : region.dems) std::cout << " --dem " << d.string();

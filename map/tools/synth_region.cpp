@@ -138,11 +138,25 @@ SynthRegion synthesizeRegion(const SynthRegionOptions& opt) {
     auto log = [&](const std::string& s) {
         if (opt.log) opt.log(s);
     };
-    Collector src(opt.highways_only);
     {
+        std::error_code ec;
+        if (!std::filesystem::is_regular_file(opt.osm, ec))
+            throw std::runtime_error(opt.osm.string() + ": no such file");
+        if (!opt.dem.empty() && !std::filesystem::is_regular_file(opt.dem, ec))
+            throw std::runtime_error(opt.dem.string() + ": no such file");
+    }
+    Collector src(opt.highways_only);
+    try {
         osmium::io::Reader reader(opt.osm.string());
         osmium::apply(reader, src);
         reader.close();
+    } catch (const std::exception& e) {
+        throw std::runtime_error(opt.osm.string() + ": cannot read OSM data: " + e.what());
+    }
+    {
+        std::error_code ec;
+        std::filesystem::create_directories(opt.out_dir, ec);
+        if (ec) throw std::runtime_error(opt.out_dir.string() + ": cannot create: " + ec.message());
     }
     if (opt.highways_only) {
         // Only the nodes the kept ways use.

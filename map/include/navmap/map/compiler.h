@@ -4,6 +4,8 @@
 // Reads the OSM file in one libosmium pass of small handlers (roads, buildings, areas,
 // labels, graph; multipolygon relations are collected in a first relations-only pass),
 // projects to the store frame, builds the quadtree pyramid level by level and writes it.
+// With a memory limit the features spill to disk and the pyramid is built one band of tile
+// columns at a time (docs/tile-store.md "Bounded memory"); the store is the same.
 
 #include <array>
 #include <cstdint>
