@@ -31,6 +31,9 @@
 #include <unordered_map>
 
 #include <zlib.h>
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
 
 #include "feature_spill.h"
 #include "file_node_index.h"
@@ -1108,8 +1111,16 @@ CompileStats compileStore(const CompileOptions& opt) {
             log("band " + std::to_string(k + 1) + "/" + std::to_string(n_bands) + ": " +
                 std::to_string(featureCount(band)) + " features (" + mib(band_bytes) + "), " +
                 std::to_string(band_tiles) + " tiles");
+            band = RawFeatures{};
+#ifdef __GLIBC__
+            // The band's many small blocks are free now: hand them back, so that the next band
+            // does not stack its memory on what the allocator keeps.
+            ::malloc_trim(0);
+#endif
         }
 
+        // The DEM grids are done with: their memory goes before the road graph's comes.
+        dems = DemMosaic{};
         RoadGraph graph;
         if (with_graph) {
             graph = buildGraph(
@@ -1154,7 +1165,7 @@ CompileStats compileStore(const CompileOptions& opt) {
         store_bytes = writer.finish();
     }
 
-    if (stats.tiles_without_dem > 0 && !dems.empty()) {
+    if (stats.tiles_without_dem > 0 && stats.dem_files > 0) {
         warn(std::to_string(stats.tiles_without_dem) + " of " + std::to_string(stats.tiles_per_level.back()) +
              " leaf tiles lie partly outside the DEM; missing areas are flat (0 m)");
     }
