@@ -75,4 +75,5 @@ for n in "$@"; do
   rm -f "$dir"/*.hgt "$dir/memory.navmap"
   if [ "${NAVMAP_SCALE_CLEAN:-0}" = 1 ]; then rm -rf "$dir"; fi
 done
+if [ "${NAVMAP_SCALE_CLEAN:-0}" = 1 ]; then rmdir "$work" 2>/dev/null || true; fi
 exit $status
