@@ -3,18 +3,13 @@
 //   BM_CompileAndorra   navmap-compile on the embedded extract + DEM: seconds, store bytes
 //   BM_TileLoad         TileStore::load of every Andorra tile: per-tile load time
 //   BM_CompileLarge     Andorra's road network copied over a 3x3 and a 7x7 grid of offsets (>= 5 M road
-//                       vertices, the seed's Bavaria size), written as a temporary .osm.pbf and
-//                       compiled: vertices/s, peak RSS, store bytes
+//                       vertices, the seed's Bavaria size) by navmap-synth-region's generator
+//                       (map/tools/synth_region.h), with its DEM tiles, and compiled: vertices/s,
+//                       peak RSS, store bytes
 //   BM_CacheFlight      a camera flying across the large store with a 3 MiB cache: hits,
 //                       misses, resident bytes vs budget, load p50/p99, request() p99
 #include <benchmark/benchmark.h>
 #include <sys/resource.h>
-
-#include <osmium/builder/attr.hpp>
-#include <osmium/handler.hpp>
-#include <osmium/io/any_input.hpp>
-#include <osmium/io/any_output.hpp>
-#include <osmium/visitor.hpp>
 
 #include <unistd.h>
 #include <algorithm>
@@ -22,15 +17,16 @@
 #include <cmath>
 #include <filesystem>
 #include <thread>
-#include <unordered_map>
 
 #include "navmap/map/compiler.h"
 #include "navmap/map/tile_cache.h"
 #include "navmap/map/tile_selection.h"
 #include "navmap/map/tile_store.h"
+#include "synth_region.h"
 
 namespace fs = std::filesystem;
 using namespace navmap::map;
+namespace tools = navmap::map::tools;
 
 namespace {
 
@@ -47,73 +43,17 @@ double peakRssMb() {
     return static_cast<double>(ru.ru_maxrss) / 1024.0;
 }
 
-struct WayCopy {
-    osmium::object_id_type id;
-    std::vector<osmium::object_id_type> nodes;
-    std::vector<std::pair<std::string, std::string>> tags;
-};
-
-/// Collects Andorra's highway ways and their node locations.
-class HighwayCollector : public osmium::handler::Handler {
-public:
-    std::vector<WayCopy> ways;
-    std::unordered_map<osmium::object_id_type, osmium::Location> locations;
-    void node(const osmium::Node& n) { locations.emplace(n.id(), n.location()); }
-    void way(const osmium::Way& w) {
-        if (!w.tags()["highway"]) return;
-        WayCopy c{w.id(), {}, {}};
-        for (const auto& n : w.nodes()) c.nodes.push_back(n.ref());
-        for (const auto& t : w.tags()) c.tags.emplace_back(t.key(), t.value());
-        ways.push_back(std::move(c));
-    }
-};
-
-constexpr double kDLon = 0.45, kDLat = 0.3;  // offsets between copies (~37 km x 33 km)
-
-/// Writes the synthetic large input once; returns its path and the road vertex count.
-std::pair<fs::path, std::size_t> largeInput(int grid) {
-    std::pair<fs::path, std::size_t> cached;
-    HighwayCollector src;
-    {
-        osmium::io::Reader reader(kData / "andorra-2021-04-14.osm.pbf",
-                                  osmium::osm_entity_bits::node | osmium::osm_entity_bits::way);
-        osmium::apply(reader, src);
-        reader.close();
-    }
-    std::vector<osmium::object_id_type> used;
-    for (const auto& w : src.ways) used.insert(used.end(), w.nodes.begin(), w.nodes.end());
-    std::sort(used.begin(), used.end());
-    used.erase(std::unique(used.begin(), used.end()), used.end());
-    const osmium::object_id_type stride = 20'000'000'000;
-    const fs::path path = scratch() / ("large-" + std::to_string(grid) + ".osm.pbf");
-    osmium::io::Header header;
-    header.set("generator", "navmap map_bench");
-    osmium::io::Writer writer(path.string(), header, osmium::io::overwrite::allow);
-    using namespace osmium::builder::attr;  // NOLINT
-    std::size_t vertices = 0;
-    for (int copy = 0; copy < grid * grid; ++copy) {
-        const double dlon = (copy % grid) * kDLon, dlat = (copy / grid) * kDLat;
-        osmium::memory::Buffer buffer(1 << 20, osmium::memory::Buffer::auto_grow::yes);
-        for (auto id : used) {
-            const auto loc = src.locations.at(id);
-            osmium::builder::add_node(buffer, _id(id + copy * stride),
-                                      _location(osmium::Location(loc.lon() + dlon, loc.lat() + dlat)));
-        }
-        writer(std::move(buffer));
-    }
-    for (int copy = 0; copy < grid * grid; ++copy) {
-        osmium::memory::Buffer buffer(1 << 20, osmium::memory::Buffer::auto_grow::yes);
-        for (const auto& w : src.ways) {
-            std::vector<osmium::object_id_type> nodes;
-            for (auto n : w.nodes) nodes.push_back(n + copy * stride);
-            osmium::builder::add_way(buffer, _id(w.id + copy * stride), _nodes(nodes), _tags(w.tags));
-            vertices += nodes.size();
-        }
-        writer(std::move(buffer));
-    }
-    writer.close();
-    cached = {path, vertices};
-    return cached;
+/// Writes the synthetic large input once (navmap-synth-region's generator, highways only); returns
+/// its files and the road vertex count.
+std::pair<tools::SynthRegion, std::size_t> largeInput(int grid) {
+    tools::SynthRegionOptions opt;
+    opt.osm = kData / "andorra-2021-04-14.osm.pbf";
+    opt.dem = kData / "N42E001.hgt";
+    opt.out_dir = scratch() / ("large-" + std::to_string(grid));
+    opt.copies = grid * grid;
+    opt.highways_only = true;
+    const auto region = tools::synthesizeRegion(opt);
+    return {region, region.way_nodes};
 }
 
 fs::path andorraStore() {
@@ -167,13 +107,14 @@ BENCHMARK(BM_TileLoad)->Unit(benchmark::kMicrosecond);
 
 void BM_CompileLarge(benchmark::State& state) {
     const int grid = static_cast<int>(state.range(0));
-    const auto [input, vertices] = largeInput(grid);
+    const auto [region, vertices] = largeInput(grid);
+    const fs::path input = region.osm;
     CompileStats stats;
     const double rss_before = peakRssMb();
     for (auto _ : state) {
         CompileOptions opt;
         opt.osm = input;
-        opt.dems = {kData / "N42E001.hgt"};
+        opt.dems = region.dems;
         opt.out = scratch() / "large.navmap";
         stats = compileStore(opt);
         g_large_store = opt.out;
@@ -189,7 +130,7 @@ void BM_CompileLarge(benchmark::State& state) {
     state.counters["tiles"] = static_cast<double>(stats.tiles);
     state.counters["graph_edges"] = static_cast<double>(stats.graph_edges);
     state.counters["copies"] = grid * grid;
-    fs::remove(input);
+    fs::remove_all(input.parent_path());
 }
 // 3x3 copies (~1 M vertices) then 7x7 (>= 5 M): compile time should grow linearly.
 BENCHMARK(BM_CompileLarge)->Arg(3)->Arg(7)->Unit(benchmark::kSecond)->Iterations(1);

@@ -25,11 +25,18 @@
 #include <iomanip>
 #include <map>
 #include <numbers>
+#include <optional>
+#include <span>
 #include <sstream>
 #include <unordered_map>
 
 #include <zlib.h>
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
 
+#include "feature_spill.h"
+#include "file_node_index.h"
 #include "navmap/map/coastline.h"
 #include "navmap/map/dem.h"
 #include "navmap/map/dem_mosaic.h"
@@ -37,10 +44,13 @@
 #include "navmap/map/ortho/ortho_preprocess.h"
 #include "navmap/map/projection.h"
 #include "navmap/map/road_graph.h"
+#include "navmap/map/spill_file.h"
 #include "navmap/map/store_writer.h"
+#include "navmap/map/tile_codec.h"
 #include "navmap/map/tile_scheme.h"
 #include "navmap/map/triangulator.h"
 #include "osm_handlers.h"
+#include "spill_dir.h"
 
 namespace navmap::map {
 
@@ -227,18 +237,21 @@ std::string compileFingerprint(const CompileOptions& opt) {
 
 // ---- road graph ----
 
-RoadGraph buildGraph(const std::vector<RawGraphWay>& ways, const Projection& proj) {
+/// Calls its argument with every graph way, in input order (from memory or from a spill file).
+using GraphWaySource = std::function<void(const std::function<void(const RawGraphWay&)>&)>;
+
+RoadGraph buildGraph(const GraphWaySource& for_each_way, const Projection& proj) {
     RoadGraph g;
     std::vector<std::int64_t> ids;
-    for (const auto& w : ways) ids.insert(ids.end(), w.nodes.begin(), w.nodes.end());
-    std::sort(ids.begin(), ids.end());
     std::vector<std::int64_t> junctions;
-    for (std::size_t i = 0; i + 1 < ids.size(); ++i) {
-        if (ids[i] == ids[i + 1] && (junctions.empty() || junctions.back() != ids[i])) junctions.push_back(ids[i]);
-    }
-    for (const auto& w : ways) {
+    for_each_way([&](const RawGraphWay& w) {
+        ids.insert(ids.end(), w.nodes.begin(), w.nodes.end());
         junctions.push_back(w.nodes.front());
         junctions.push_back(w.nodes.back());
+    });
+    std::sort(ids.begin(), ids.end());
+    for (std::size_t i = 0; i + 1 < ids.size(); ++i) {
+        if (ids[i] == ids[i + 1] && (junctions.empty() || junctions.back() != ids[i])) junctions.push_back(ids[i]);
     }
     std::sort(junctions.begin(), junctions.end());
     junctions.erase(std::unique(junctions.begin(), junctions.end()), junctions.end());
@@ -250,7 +263,7 @@ RoadGraph buildGraph(const std::vector<RawGraphWay>& ways, const Projection& pro
     };
     g.nodes.resize(junctions.size());
     const GeographicLib::Geodesic& geod = GeographicLib::Geodesic::WGS84();
-    for (const auto& w : ways) {
+    for_each_way([&](const RawGraphWay& w) {
         std::size_t start = 0;
         std::uint32_t shape_begin = static_cast<std::uint32_t>(g.shape.size());
         double length = 0;
@@ -286,13 +299,443 @@ RoadGraph buildGraph(const std::vector<RawGraphWay>& ways, const Projection& pro
             length = 0;
             shape_begin = shape_end - 1;
         }
-    }
+    });
     std::stable_sort(g.edges.begin(), g.edges.end(),
                      [](const GraphEdge& a, const GraphEdge& b) { return a.from < b.from; });
     g.first_edge.assign(g.nodes.size() + 1, 0);
     for (const auto& e : g.edges) ++g.first_edge[e.from + 1];
     for (std::size_t i = 1; i < g.first_edge.size(); ++i) g.first_edge[i] += g.first_edge[i - 1];
     return g;
+}
+
+// ---- tiling: the features of the whole input, or of one band of tile columns ----
+
+/// What every band of one compile shares.
+struct TilingContext {
+    const Projection& proj;
+    const TileScheme& scheme;
+    Box data_bounds;
+    const DemMosaic& dems;
+    double dem_spacing_m;
+    int dem_samples;
+    const ortho::GlobalInputs* ortho_inputs;  // null: no ortho layers
+    const PArea* sea;                         // null: no coastline in the input
+    ShardSpec shard;                          // the job's columns (--shard)
+    ShardSpec band;                           // of those, this pass's band ({0, 1}: all)
+    std::function<void(const Tile&)> emit;    // each finished tile: level by level, by key
+    std::function<void(int level, double size, std::size_t tiles)> level_done;  // may be null
+};
+
+bool counted(const std::vector<char>& flags, std::size_t i) { return flags.empty() || flags[i] != 0; }
+
+/// Projects `raw`, derives its labels and builds the tiles of the context's columns, level by
+/// level; adds the features it counts and the tiles it built to `stats`.
+void tileFeatures(const RawFeatures& raw, const TilingContext& ctx, CompileStats& stats) {
+    using ClockT = std::chrono::steady_clock;
+    const Projection& proj = ctx.proj;
+    const TileScheme& scheme = ctx.scheme;
+    // ---- project features ----
+    struct Counted {
+        PRoad road;
+        bool counted;
+    };
+    std::vector<Counted> croads;
+    croads.reserve(raw.roads.size());
+    for (std::size_t i = 0; i < raw.roads.size(); ++i) {
+        const auto& r = raw.roads[i];
+        PRoad p{&r, project(proj, r.points), {}};
+        p.bounds = boundsOf(p.pts);
+        const bool count = counted(raw.roads_counted, i);
+        if (count) {
+            stats.road_vertices += r.points.size();
+            ++stats.roads;
+        }
+        croads.push_back({std::move(p), count});
+    }
+    std::stable_sort(croads.begin(), croads.end(),
+                     [](const Counted& a, const Counted& b) { return a.road.raw->cls < b.road.raw->cls; });
+
+    std::vector<PBuilding> pbuildings;
+    for (std::size_t i = 0; i < raw.buildings.size(); ++i) {
+        const auto& b = raw.buildings[i];
+        PBuilding pb;
+        pb.poly = projectPolygon(proj, b.polygon);
+        if (pb.poly.outers.empty()) continue;
+        std::vector<std::vector<PlanarPoint>> rings = pb.poly.outers;
+        rings.insert(rings.end(), pb.poly.inners.begin(), pb.poly.inners.end());
+        pb.tri = triangulate(rings);
+        if (!pb.tri.ok || pb.tri.indices.empty()) continue;
+        std::uint32_t end = 0;
+        for (const auto& r : rings) pb.ring_ends.push_back(end += static_cast<std::uint32_t>(r.size()));
+        pb.height = b.height_m;
+        pb.min_height = b.min_height_m;
+        pbuildings.push_back(std::move(pb));
+        if (counted(raw.buildings_counted, i)) ++stats.buildings;
+    }
+
+    std::vector<PArea> pareas;
+    std::vector<PLabel> plabels;
+    for (std::size_t i = 0; i < raw.areas.size(); ++i) {
+        const auto& a = raw.areas[i];
+        PArea pa{projectPolygon(proj, a.polygon), a.cls, &a.name};
+        if (pa.poly.outers.empty() || pa.poly.area <= 0) continue;
+        const bool count = counted(raw.areas_counted, i);
+        if (!a.name.empty()) {
+            const PlanarPoint ctr = pa.poly.barycenter;  // seed 4.4.2: area labels at the barycenter
+            plabels.push_back({LabelKind::Area, static_cast<std::uint8_t>(a.cls), &a.name, ctr, ctr, ctr,
+                               static_cast<float>(std::clamp(0.2 + 0.05 * std::log10(pa.poly.area + 1.0), 0.2, 0.5)),
+                               a.polygon.id, 0, pa.poly.area});
+            if (count) ++stats.area_labels;
+        }
+        pareas.push_back(std::move(pa));
+        if (count) ++stats.areas;
+    }
+    // The sea (coastline.h) after the land areas, as one area of its own.
+    std::vector<const PArea*> area_list;
+    area_list.reserve(pareas.size() + 1);
+    for (const auto& a : pareas) area_list.push_back(&a);
+    if (ctx.sea) area_list.push_back(ctx.sea);
+
+    for (std::size_t i = 0; i < raw.points.size(); ++i) {
+        const auto& l = raw.points[i];
+        const PlanarPoint p = proj.forward(l.pos.lat, l.pos.lon);
+        const double max_tile = l.kind == LabelKind::Place
+                                    ? placeMaxTile(static_cast<PlaceClass>(l.subclass))
+                                    : (static_cast<PoiClass>(l.subclass) == PoiClass::Peak ? 16000.0 : 0.0);
+        plabels.push_back({l.kind, l.subclass, &l.name, p, p, p, l.importance, l.id, max_tile, 0});
+        if (counted(raw.points_counted, i)) (l.kind == LabelKind::Place ? stats.place_labels : stats.poi_labels)++;
+    }
+    for (std::size_t i = 0; i < raw.places.size(); ++i) {
+        const auto& l = raw.places[i];
+        const PPoly poly = projectPolygon(proj, l.polygon);
+        if (poly.outers.empty()) continue;
+        const PlanarPoint ctr = poly.barycenter;
+        plabels.push_back({LabelKind::Place, l.subclass, &l.name, ctr, ctr, ctr, l.importance, l.polygon.id,
+                           placeMaxTile(static_cast<PlaceClass>(l.subclass)), 0});
+        if (counted(raw.places_counted, i)) ++stats.place_labels;
+    }
+    std::vector<PRoad> proads;
+    proads.reserve(croads.size());
+    for (auto& cr : croads) {
+        const PRoad& r = cr.road;
+        const std::string& name = r.raw->name.empty() ? r.raw->ref : r.raw->name;
+        // Tunnels are not drawn on the surface (docs/rendering.md "Tunnels"), so not labelled there.
+        if (!name.empty() && !(r.raw->flags & road_flags::kTunnel)) {
+            // seed 4.4.2: polyline center for horizontal labels, longest straight segment for rotated ones.
+            const Segment s = longestStraightSegment(r.pts);
+            plabels.push_back({LabelKind::Road, static_cast<std::uint8_t>(r.raw->cls), &name, polylineCenter(r.pts),
+                               s.a, s.b, 0.7f - 0.05f * static_cast<float>(r.raw->cls), r.raw->id,
+                               roadMaxTile(r.raw->cls), 0});
+            if (cr.counted) ++stats.road_labels;
+        }
+        proads.push_back(std::move(cr.road));
+    }
+    croads.clear();
+    croads.shrink_to_fit();
+
+    // ---- the pyramid level by level ----
+    const int leaf = scheme.leafLevel();
+    for (int level = 0; level <= leaf; ++level) {
+        const double size = scheme.tileSize(level);
+        const bool is_leaf = level == leaf;
+        const double tol = is_leaf ? 0.0 : size / 1024.0;
+        std::map<std::uint64_t, Tile> tiles;  // ordered: stable file layout
+        // The tile columns this pass builds: the job's (all of them unless it is one shard of
+        // several), and of those the band's.
+        const auto job = shardColumns(level, ctx.shard);
+        const auto band = shardColumns(level, ctx.band);
+        const std::pair<std::uint32_t, std::uint32_t> own{std::max(job.first, band.first),
+                                                          std::min(job.second, band.second)};
+        const auto owned = [&](std::uint32_t x) { return x >= own.first && x <= own.second; };
+        // The sea's rings clipped to each tile: its DEM samples there are at sea level.
+        std::unordered_map<std::uint64_t, std::vector<std::vector<PlanarPoint>>> sea_rings;
+        auto tile_for = [&](TileId id) -> Tile& {
+            auto [it, inserted] = tiles.try_emplace(id.key());
+            if (inserted) {
+                const Box b = scheme.bounds(id);
+                it->second.id = id;
+                it->second.origin_x = b.min_x;
+                it->second.origin_y = b.min_y;
+                it->second.size_m = size;
+            }
+            return it->second;
+        };
+        // Every tile over the data gets a DEM grid, so terrain is continuous at each level.
+        const TileRange all = scheme.range(level, ctx.data_bounds);
+        for (std::uint32_t y = all.y0; !all.empty && y <= all.y1; ++y) {
+            for (std::uint32_t x = all.x0; x <= all.x1; ++x) {
+                if (owned(x)) tile_for({static_cast<std::uint8_t>(level), x, y});
+            }
+        }
+        for (const auto& r : proads) {
+            if (!is_leaf && size > roadMaxTile(r.raw->cls)) continue;
+            const std::vector<PlanarPoint> pts = is_leaf ? r.pts : simplifyPolyline(r.pts, tol);
+            const TileRange range = scheme.range(level, r.bounds);
+            for (std::uint32_t y = range.y0; !range.empty && y <= range.y1; ++y) {
+                for (std::uint32_t x = range.x0; x <= range.x1; ++x) {
+                    if (!owned(x)) continue;
+                    const TileId id{static_cast<std::uint8_t>(level), x, y};
+                    Tile& t = tile_for(id);
+                    auto emit = [&](const std::vector<PlanarPoint>& piece) {
+                        Road road;
+                        road.points.reserve(piece.size());
+                        for (const auto& p : piece) road.points.push_back(toLocal(p, t));
+                        road.name = r.raw->name;
+                        road.ref = r.raw->ref;
+                        road.osm_id = r.raw->id;
+                        road.cls = r.raw->cls;
+                        road.flags = r.raw->flags;
+                        road.layer = r.raw->layer;
+                        road.maxspeed_kmh = r.raw->maxspeed;
+                        t.roads.push_back(std::move(road));
+                    };
+                    if (range.x0 == range.x1 && range.y0 == range.y1) {
+                        emit(pts);
+                    } else {
+                        for (const auto& piece : clipPolyline(pts, scheme.bounds(id))) emit(piece);
+                    }
+                }
+            }
+        }
+
+        for (const auto& b : pbuildings) {
+            if (!is_leaf && !(level == leaf - 1 && b.poly.area >= kBuildingKeepArea)) continue;
+            const auto id = scheme.tileAt(level, b.poly.barycenter);
+            if (!id || !owned(id->x)) continue;
+            Tile& t = tile_for(*id);
+            Building out;
+            out.footprint.vertices.reserve(b.tri.vertices.size());
+            for (const auto& v : b.tri.vertices) out.footprint.vertices.push_back(toLocal(v, t));
+            out.footprint.ring_ends = b.ring_ends;
+            out.footprint.indices = b.tri.indices;
+            out.height_m = b.height;
+            out.min_height_m = b.min_height;
+            out.osm_id = b.poly.id;
+            t.buildings.push_back(std::move(out));
+        }
+
+        for (const PArea* area : area_list) {
+            const PArea& a = *area;
+            const double min_area = (size / 64.0) * (size / 64.0);
+            if (!is_leaf && a.poly.area < min_area) continue;
+            std::vector<std::vector<PlanarPoint>> rings;
+            for (const auto& r : a.poly.outers) rings.push_back(is_leaf ? r : simplifyRing(r, tol));
+            for (const auto& r : a.poly.inners) rings.push_back(is_leaf ? r : simplifyRing(r, tol));
+            const TileRange range = scheme.range(level, a.poly.bounds);
+            for (std::uint32_t y = range.y0; !range.empty && y <= range.y1; ++y) {
+                for (std::uint32_t x = range.x0; x <= range.x1; ++x) {
+                    if (!owned(x)) continue;
+                    const TileId id{static_cast<std::uint8_t>(level), x, y};
+                    const Box box = scheme.bounds(id);
+                    std::vector<std::vector<PlanarPoint>> clipped;
+                    const bool inside = box.contains({a.poly.bounds.min_x, a.poly.bounds.min_y}) &&
+                                        box.contains({a.poly.bounds.max_x, a.poly.bounds.max_y});
+                    for (const auto& r : rings) {
+                        if (r.size() < 3) continue;
+                        clipped.push_back(inside ? r : clipRing(r, box));
+                    }
+                    Area out;
+                    Tile& t = tile_for(id);
+                    if (!makePolygon(clipped, t, out.polygon)) continue;
+                    if (a.cls == AreaClass::Sea) sea_rings[id.key()] = clipped;
+                    out.cls = a.cls;
+                    out.name = *a.name;
+                    out.osm_id = a.poly.id;
+                    t.areas.push_back(std::move(out));
+                }
+            }
+        }
+
+        for (const auto& l : plabels) {
+            const bool show = is_leaf || size <= l.max_tile ||
+                              (l.kind == LabelKind::Area && l.min_area >= (size / 16.0) * (size / 16.0));
+            if (!show) continue;
+            const auto id = scheme.tileAt(level, l.anchor);
+            if (!id || !owned(id->x)) continue;
+            Tile& t = tile_for(*id);
+            Label out;
+            out.kind = l.kind;
+            out.subclass = l.subclass;
+            out.name = *l.name;
+            out.anchor = toLocal(l.anchor, t);
+            out.segment_start = toLocal(l.s0, t);
+            out.segment_end = toLocal(l.s1, t);
+            out.importance = l.importance;
+            out.osm_id = l.id;
+            t.labels.push_back(std::move(out));
+        }
+
+        // DEM grid, low-pass filtered to the level's spacing (a DEM pyramid, seed 6.5). Sample
+        // positions come from the tile corners, so shared borders get identical values.
+        const int n = ctx.dem_samples;
+        const double spacing = n > 1 ? size / (n - 1) : 0;
+        const int k = std::clamp(static_cast<int>(std::lround(spacing / ctx.dem_spacing_m)), 1, 4);
+        const double dlat = spacing / 111320.0 / k;
+        const double dlon = dlat / std::max(0.1, std::cos(proj.originLat() * std::numbers::pi / 180.0));
+        for (auto& [key, t] : tiles) {
+            if (n < 2) break;
+            const Box b = scheme.bounds(t.id);
+            double lat[4], lon[4];  // SW, SE, NW, NE
+            proj.reverse({b.min_x, b.min_y}, lat[0], lon[0]);
+            proj.reverse({b.max_x, b.min_y}, lat[1], lon[1]);
+            proj.reverse({b.min_x, b.max_y}, lat[2], lon[2]);
+            proj.reverse({b.max_x, b.max_y}, lat[3], lon[3]);
+            t.dem.size = static_cast<std::uint16_t>(n);
+            t.dem.spacing_m = static_cast<float>(spacing);
+            t.dem.heights.assign(static_cast<std::size_t>(n) * n, 0.0f);
+            std::size_t covered = 0;
+            // SRTM is 0 or void over the sea (and void filling slopes it out from the shore): the
+            // sea lies at 0 m, and counts as covered.
+            std::vector<char> wet;
+            if (const auto sea = sea_rings.find(key); sea != sea_rings.end())
+                wet = samplesInside(sea->second, b.min_x, b.min_y, spacing, n);
+            for (int r = 0; r < n; ++r) {
+                const double v = static_cast<double>(r) / (n - 1);
+                for (int c = 0; c < n; ++c) {
+                    const double u = static_cast<double>(c) / (n - 1);
+                    if (!wet.empty() && wet[static_cast<std::size_t>(r) * n + c]) {
+                        ++covered;  // heights[] is 0 already
+                        continue;
+                    }
+                    const double la =
+                        (1 - u) * (1 - v) * lat[0] + u * (1 - v) * lat[1] + (1 - u) * v * lat[2] + u * v * lat[3];
+                    const double lo =
+                        (1 - u) * (1 - v) * lon[0] + u * (1 - v) * lon[1] + (1 - u) * v * lon[2] + u * v * lon[3];
+                    double sum = 0;
+                    int got = 0;
+                    for (int i = 0; i < k; ++i) {
+                        for (int j = 0; j < k; ++j) {
+                            const auto h =
+                                ctx.dems.sample(la + (i - 0.5 * (k - 1)) * dlat, lo + (j - 0.5 * (k - 1)) * dlon);
+                            if (h) {
+                                sum += *h;
+                                ++got;
+                            }
+                        }
+                    }
+                    if (got > 0) {
+                        t.dem.heights[static_cast<std::size_t>(r) * n + c] = static_cast<float>(sum / got);
+                        ++covered;
+                    }
+                }
+            }
+            t.dem.coverage = static_cast<float>(covered) / static_cast<float>(n * n);
+            if (is_leaf && covered < static_cast<std::size_t>(n) * n) ++stats.tiles_without_dem;
+        }
+
+        if (ctx.ortho_inputs) {
+            // seed 6.5: the global inputs and the tile's own areas and DEM onto its layers.
+            const auto t_ortho = ClockT::now();
+            for (auto& [key, t] : tiles) {
+                t.ortho = ortho::sampleOrthoLayers(t, *ctx.ortho_inputs, proj);
+                ++stats.tiles_with_ortho;
+            }
+            stats.ortho_seconds += std::chrono::duration<double>(ClockT::now() - t_ortho).count();
+        }
+        for (auto& [key, t] : tiles) {
+            std::stable_sort(t.roads.begin(), t.roads.end(),
+                             [](const Road& a, const Road& b) { return a.cls < b.cls; });
+            std::stable_sort(t.labels.begin(), t.labels.end(),
+                             [](const Label& a, const Label& b) { return a.importance > b.importance; });
+            ctx.emit(t);
+        }
+        stats.tiles_per_level[static_cast<std::size_t>(level)] += tiles.size();
+        stats.tiles += tiles.size();
+        if (ctx.level_done) ctx.level_done(level, size, tiles.size());
+    }
+}
+
+// ---- bounded memory: spilling and bands ----
+
+/// Bytes of memory a band needs per byte of its spilled features: the raw features, their
+/// projection, triangulations, simplified copies and the level's tiles (measured on Andorra:
+/// about 3; rounded up).
+constexpr double kMemoryPerSpilledByte = 4.0;
+/// At most this many bands (one open spill file each while the features are distributed).
+constexpr int kMaxBands = 256;
+
+/// The bands of tile columns that build a tile holding the feature `one` holds: at each level
+/// where it appears (tileFeatures' level-of-detail rules), the bands of the columns its bounds
+/// overlap (its label anchors lie inside them). Bounds grow by a metre for rounding.
+std::pair<int, int> featureBands(const RawFeatures& one, const Projection& proj, const TileScheme& scheme, int bands) {
+    const int leaf = scheme.leafLevel();
+    std::vector<PlanarPoint> pts;
+    auto add = [&](const std::vector<LatLon>& ll) {
+        for (const auto& p : ll) pts.push_back(proj.forward(p.lat, p.lon));
+    };
+    std::function<bool(int level, double size)> shown;
+    if (!one.roads.empty()) {
+        const auto& r = one.roads.front();
+        add(r.points);
+        shown = [cls = r.cls](int, double size) { return size <= roadMaxTile(cls); };
+    } else if (!one.buildings.empty()) {
+        for (const auto& r : one.buildings.front().polygon.outers) add(r);
+        shown = [leaf](int level, double) { return level == leaf - 1; };
+    } else if (!one.areas.empty()) {
+        const PPoly poly = projectPolygon(proj, one.areas.front().polygon);
+        if (poly.outers.empty()) return {bands, -1};
+        pts = {{poly.bounds.min_x, poly.bounds.min_y}, {poly.bounds.max_x, poly.bounds.max_y}};
+        shown = [area = poly.area](int, double size) { return area >= (size / 64.0) * (size / 64.0); };
+    } else if (!one.places.empty()) {
+        const auto& l = one.places.front();
+        for (const auto& r : l.polygon.outers) add(r);
+        shown = [max = placeMaxTile(static_cast<PlaceClass>(l.subclass))](int, double size) { return size <= max; };
+    } else if (!one.points.empty()) {
+        const auto& l = one.points.front();
+        add({l.pos});
+        const double max_tile = l.kind == LabelKind::Place
+                                    ? placeMaxTile(static_cast<PlaceClass>(l.subclass))
+                                    : (static_cast<PoiClass>(l.subclass) == PoiClass::Peak ? 16000.0 : 0.0);
+        shown = [max_tile](int, double size) { return size <= max_tile; };
+    }
+    if (pts.empty()) return {bands, -1};
+    Box box = boundsOf(pts);
+    box.min_x -= 1.0;
+    box.min_y -= 1.0;
+    box.max_x += 1.0;
+    box.max_y += 1.0;
+    int lo = bands, hi = -1;
+    for (int level = 0; level <= leaf; ++level) {
+        if (level != leaf && !shown(level, scheme.tileSize(level))) continue;
+        const TileRange r = scheme.range(level, box);
+        if (r.empty) continue;
+        const auto l = static_cast<std::uint8_t>(level);
+        lo = std::min(lo, tileShard({l, r.x0, 0}, bands));
+        hi = std::max(hi, tileShard({l, r.x1, 0}, bands));
+    }
+    return {lo, hi};
+}
+
+void clearFeatures(RawFeatures& f) {
+    f.roads.clear();
+    f.buildings.clear();
+    f.areas.clear();
+    f.points.clear();
+    f.places.clear();
+    f.graph_ways.clear();
+    f.roads_counted.clear();
+    f.buildings_counted.clear();
+    f.areas_counted.clear();
+    f.points_counted.clear();
+    f.places_counted.clear();
+}
+
+std::size_t featureCount(const RawFeatures& f) {
+    return f.roads.size() + f.buildings.size() + f.areas.size() + f.points.size() + f.places.size();
+}
+
+/// Decodes a spill record of `reader` into `out`; throws SpillError naming the file.
+void decodeRecord(const SpillReader& reader, std::span<const std::uint8_t> record, RawFeatures& out) {
+    std::string error;
+    if (!decodeFeature(record, out, error)) {
+        throw SpillError(reader.path().string() + ": damaged feature record: " + error);
+    }
+}
+
+std::string mib(std::uint64_t bytes) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.1f MiB", static_cast<double>(bytes) / 1048576.0);
+    return buf;
 }
 
 }  // namespace
@@ -349,12 +792,74 @@ CompileStats compileStore(const CompileOptions& opt) {
         std::error_code ec;
         if (!std::filesystem::is_regular_file(opt.osm, ec)) throw CompileError(osm_name + ": no such file");
     }
+    // Bounded memory (docs/tile-store.md "Bounded memory"): the node index in a file and the
+    // features in spill files, compiled band by band. Otherwise everything stays in memory.
+    const bool bounded = opt.memory_limit_mib > 0;
+    std::optional<SpillDir> spill;
+    std::optional<SpillWriter> features_out, graph_out;
+    if (bounded) {
+        const std::filesystem::path parent =
+            opt.spill_dir.empty() ? std::filesystem::absolute(opt.out).parent_path() : opt.spill_dir;
+        spill.emplace(parent, opt.log);
+        features_out.emplace(*spill / "features.spill", std::size_t{1} << 20);
+        graph_out.emplace(*spill / "graph.spill", std::size_t{1} << 20);
+        log("memory limit " + std::to_string(opt.memory_limit_mib) + " MiB: spilling to " + spill->path().string());
+    }
+    // The road graph is the whole network's: shard 0 builds it, the other shards none.
+    const bool with_graph = opt.shard.index == 0;
     RoadHandler roads;
     GraphHandler graph_ways;
     BuildingHandler buildings(opt.default_building_height_m);
     AreaHandler areas;
     LabelHandler labels;
     CoastlineHandler coast;
+    RawFeatures all;  // in memory; empty when bounded
+    std::size_t n_roads = 0, n_buildings = 0, n_areas = 0, n_points = 0, n_places = 0;
+    double south = 90, north = -90, west = 180, east = -180;
+    auto grow = [&](const LatLon& p) {
+        south = std::min(south, p.lat);
+        north = std::max(north, p.lat);
+        west = std::min(west, p.lon);
+        east = std::max(east, p.lon);
+    };
+    // What the handlers collected from the last buffer: into the bounds, then into memory or
+    // the spill file, in input order per kind.
+    auto take = [&](auto& from, auto& to, std::size_t& n, auto&& bounds) {
+        for (auto& f : from) {
+            bounds(f);
+            if (bounded) {
+                features_out->append(encodeFeature(f));
+            } else {
+                to.push_back(std::move(f));
+            }
+        }
+        n += from.size();
+        from.clear();
+    };
+    auto drain = [&] {
+        take(roads.roads, all.roads, n_roads, [&](const RawRoad& r) {
+            for (const auto& p : r.points) grow(p);
+        });
+        take(buildings.buildings, all.buildings, n_buildings, [&](const RawBuilding& b) {
+            for (const auto& r : b.polygon.outers)
+                for (const auto& p : r) grow(p);
+        });
+        take(areas.areas, all.areas, n_areas, [&](const RawArea& a) {
+            for (const auto& r : a.polygon.outers)
+                for (const auto& p : r) grow(p);
+        });
+        take(labels.points, all.points, n_points, [&](const RawPointLabel& l) { grow(l.pos); });
+        take(labels.places, all.places, n_places, [](const RawAreaLabel&) {});
+        if (!with_graph) {
+            graph_ways.ways.clear();
+        } else if (bounded) {
+            for (const auto& w : graph_ways.ways) graph_out->append(encodeFeature(w));
+            graph_ways.ways.clear();
+        } else {
+            for (auto& w : graph_ways.ways) all.graph_ways.push_back(std::move(w));
+            graph_ways.ways.clear();
+        }
+    };
     try {
         const osmium::io::File file(osm_name);
         osmium::TagsFilter filter{false};
@@ -366,9 +871,13 @@ CompileStats compileStore(const CompileOptions& opt) {
         log("reading relations of " + opt.osm.filename().string());
         osmium::relations::read_relations(file, mp);
 
-        using Index = osmium::index::map::FlexMem<osmium::unsigned_object_id_type, osmium::Location>;
-        Index index;
-        osmium::handler::NodeLocationsForWays<Index> locations{index};
+        std::unique_ptr<NodeIndex> index;
+        if (bounded) {
+            index = std::make_unique<FileNodeIndex>(*spill / "nodes.index");
+        } else {
+            index = std::make_unique<osmium::index::map::FlexMem<osmium::unsigned_object_id_type, osmium::Location>>();
+        }
+        osmium::handler::NodeLocationsForWays<NodeIndex> locations{*index};
         locations.ignore_errors();  // ways crossing the extract border keep their inside parts
         auto mp_handler =
             mp.handler([&](osmium::memory::Buffer&& buffer) { osmium::apply(buffer, buildings, areas, labels); });
@@ -377,46 +886,35 @@ CompileStats compileStore(const CompileOptions& opt) {
         double last_log = elapsed();
         while (osmium::memory::Buffer buffer = reader.read()) {
             osmium::apply(buffer, locations, roads, graph_ways, labels, coast, mp_handler);
+            drain();
             if (elapsed() - last_log >= 1.0) {  // progress once a second on long runs
                 last_log = elapsed();
                 const double pct = 100.0 * static_cast<double>(reader.offset()) / static_cast<double>(total);
                 log("reading " + std::to_string(static_cast<int>(std::min(pct, 100.0))) + "% of the file read ahead; " +
-                    std::to_string(roads.roads.size()) + " roads, " + std::to_string(buildings.buildings.size()) +
-                    " buildings so far");
+                    std::to_string(n_roads) + " roads, " + std::to_string(n_buildings) + " buildings so far");
             }
         }
-        log("read " + std::to_string(roads.roads.size()) + " roads, " + std::to_string(buildings.buildings.size()) +
-            " buildings, " + std::to_string(areas.areas.size()) + " areas, " + std::to_string(labels.points.size()) +
-            " point labels");
+        drain();
+        log("read " + std::to_string(n_roads) + " roads, " + std::to_string(n_buildings) + " buildings, " +
+            std::to_string(n_areas) + " areas, " + std::to_string(n_points) + " point labels");
         reader.close();
     } catch (const CompileError&) {
         throw;
     } catch (const std::exception& e) {
         throw CompileError(osm_name + ": cannot read OSM data: " + e.what());
     }
+    if (bounded) {
+        features_out->close();
+        graph_out->close();
+        std::error_code ec;
+        std::filesystem::remove(*spill / "nodes.index", ec);  // no longer needed: free the disk
+    }
     stats.read_seconds = elapsed();
-    if (roads.roads.empty() && buildings.buildings.empty() && areas.areas.empty() && labels.points.empty() &&
-        coast.ways.empty()) {
+    if (n_roads == 0 && n_buildings == 0 && n_areas == 0 && n_points == 0 && coast.ways.empty()) {
         throw CompileError(osm_name + ": no map features (roads, buildings, areas, places, coastlines) found");
     }
 
     // ---- bounds and projection ----
-    double south = 90, north = -90, west = 180, east = -180;
-    auto grow = [&](const LatLon& p) {
-        south = std::min(south, p.lat);
-        north = std::max(north, p.lat);
-        west = std::min(west, p.lon);
-        east = std::max(east, p.lon);
-    };
-    for (const auto& r : roads.roads)
-        for (const auto& p : r.points) grow(p);
-    for (const auto& b : buildings.buildings)
-        for (const auto& r : b.polygon.outers)
-            for (const auto& p : r) grow(p);
-    for (const auto& a : areas.areas)
-        for (const auto& r : a.polygon.outers)
-            for (const auto& p : r) grow(p);
-    for (const auto& l : labels.points) grow(l.pos);
     for (const auto& w : coast.ways)
         for (const auto& p : w.points) grow(p);
     const Projection proj(0.5 * (south + north), 0.5 * (west + east));
@@ -442,122 +940,41 @@ CompileStats compileStore(const CompileOptions& opt) {
         std::to_string(scheme.levelCount()) + " levels, root " +
         std::to_string(static_cast<long>(scheme.rootSize() / 1000)) + " km");
 
-    // ---- project features ----
-    std::vector<PRoad> proads;
-    proads.reserve(roads.roads.size());
-    for (const auto& r : roads.roads) {
-        PRoad p{&r, project(proj, r.points), {}};
-        p.bounds = boundsOf(p.pts);
-        proads.push_back(std::move(p));
-        stats.road_vertices += r.points.size();
-    }
-    std::stable_sort(proads.begin(), proads.end(),
-                     [](const PRoad& a, const PRoad& b) { return a.raw->cls < b.raw->cls; });
-    stats.roads = proads.size();
-
-    std::vector<PBuilding> pbuildings;
-    for (const auto& b : buildings.buildings) {
-        PBuilding pb;
-        pb.poly = projectPolygon(proj, b.polygon);
-        if (pb.poly.outers.empty()) continue;
-        std::vector<std::vector<PlanarPoint>> rings = pb.poly.outers;
-        rings.insert(rings.end(), pb.poly.inners.begin(), pb.poly.inners.end());
-        pb.tri = triangulate(rings);
-        if (!pb.tri.ok || pb.tri.indices.empty()) continue;
-        std::uint32_t end = 0;
-        for (const auto& r : rings) pb.ring_ends.push_back(end += static_cast<std::uint32_t>(r.size()));
-        pb.height = b.height_m;
-        pb.min_height = b.min_height_m;
-        pbuildings.push_back(std::move(pb));
-    }
-    stats.buildings = pbuildings.size();
-
-    std::vector<PArea> pareas;
-    std::vector<PLabel> plabels;
-    for (const auto& a : areas.areas) {
-        PArea pa{projectPolygon(proj, a.polygon), a.cls, &a.name};
-        if (pa.poly.outers.empty() || pa.poly.area <= 0) continue;
-        if (!a.name.empty()) {
-            const PlanarPoint c = pa.poly.barycenter;  // seed 4.4.2: area labels at the barycenter
-            plabels.push_back({LabelKind::Area, static_cast<std::uint8_t>(a.cls), &a.name, c, c, c,
-                               static_cast<float>(std::clamp(0.2 + 0.05 * std::log10(pa.poly.area + 1.0), 0.2, 0.5)),
-                               a.polygon.id, 0, pa.poly.area});
-            ++stats.area_labels;
-        }
-        pareas.push_back(std::move(pa));
-    }
-
     // The sea, from the coastlines (coastline.h): one area of its own, odd winding with its islands.
     static const std::string kNoName;
+    std::optional<PArea> sea;
     stats.coast_ways = coast.ways.size();
     if (!coast.ways.empty()) {
         std::vector<CoastWay> coast_ways;
         coast_ways.reserve(coast.ways.size());
         for (const auto& w : coast.ways)
             coast_ways.push_back({w.id, w.first_node, w.last_node, project(proj, w.points)});
-        Coast sea = assembleCoast(std::move(coast_ways), data_bounds, kCoastCloseM);
-        for (const auto& w : sea.warnings) warn(w);
-        stats.sea_rings = sea.sea.size();
-        stats.islands = sea.islands.size();
-        stats.coast_gaps_closed = sea.gaps_closed;
-        stats.coast_ways_left_out = sea.ways_left_out;
-        if (!sea.empty()) {
+        coast.ways.clear();
+        coast.ways.shrink_to_fit();
+        Coast assembled = assembleCoast(std::move(coast_ways), data_bounds, kCoastCloseM);
+        for (const auto& w : assembled.warnings) warn(w);
+        stats.sea_rings = assembled.sea.size();
+        stats.islands = assembled.islands.size();
+        stats.coast_gaps_closed = assembled.gaps_closed;
+        stats.coast_ways_left_out = assembled.ways_left_out;
+        if (!assembled.empty()) {
             PArea pa{{}, AreaClass::Sea, &kNoName};
-            for (auto& r : sea.sea) pa.poly.area += std::abs(ringSignedArea(r));
-            for (auto& r : sea.islands) pa.poly.area -= std::abs(ringSignedArea(r));
-            pa.poly.outers = std::move(sea.sea);
-            pa.poly.inners = std::move(sea.islands);
-            std::vector<PlanarPoint> all;
-            for (const auto& r : pa.poly.outers) all.insert(all.end(), r.begin(), r.end());
-            pa.poly.bounds = boundsOf(all);
+            for (auto& r : assembled.sea) pa.poly.area += std::abs(ringSignedArea(r));
+            for (auto& r : assembled.islands) pa.poly.area -= std::abs(ringSignedArea(r));
+            pa.poly.outers = std::move(assembled.sea);
+            pa.poly.inners = std::move(assembled.islands);
+            std::vector<PlanarPoint> pts;
+            for (const auto& r : pa.poly.outers) pts.insert(pts.end(), r.begin(), r.end());
+            pa.poly.bounds = boundsOf(pts);
             pa.poly.barycenter = {0.5 * (pa.poly.bounds.min_x + pa.poly.bounds.max_x),
                                   0.5 * (pa.poly.bounds.min_y + pa.poly.bounds.max_y)};
-            pareas.push_back(std::move(pa));
+            sea = std::move(pa);
+            ++stats.areas;
         }
         log("coast: " + std::to_string(stats.coast_ways) + " coastline ways, " + std::to_string(stats.sea_rings) +
             " sea rings, " + std::to_string(stats.islands) + " islands");
     }
-    stats.areas = pareas.size();
 
-    for (const auto& l : labels.points) {
-        const PlanarPoint p = proj.forward(l.pos.lat, l.pos.lon);
-        const double max_tile = l.kind == LabelKind::Place
-                                    ? placeMaxTile(static_cast<PlaceClass>(l.subclass))
-                                    : (static_cast<PoiClass>(l.subclass) == PoiClass::Peak ? 16000.0 : 0.0);
-        plabels.push_back({l.kind, l.subclass, &l.name, p, p, p, l.importance, l.id, max_tile, 0});
-        (l.kind == LabelKind::Place ? stats.place_labels : stats.poi_labels)++;
-    }
-    for (const auto& l : labels.places) {
-        const PPoly poly = projectPolygon(proj, l.polygon);
-        if (poly.outers.empty()) continue;
-        const PlanarPoint c = poly.barycenter;
-        plabels.push_back({LabelKind::Place, l.subclass, &l.name, c, c, c, l.importance, l.polygon.id,
-                           placeMaxTile(static_cast<PlaceClass>(l.subclass)), 0});
-        ++stats.place_labels;
-    }
-    for (const auto& r : proads) {
-        const std::string& name = r.raw->name.empty() ? r.raw->ref : r.raw->name;
-        // Tunnels are not drawn on the surface (docs/rendering.md "Tunnels"), so not labelled there.
-        if (name.empty() || (r.raw->flags & road_flags::kTunnel)) continue;
-        // seed 4.4.2: polyline center for horizontal labels, longest straight segment for rotated ones.
-        const Segment s = longestStraightSegment(r.pts);
-        plabels.push_back({LabelKind::Road, static_cast<std::uint8_t>(r.raw->cls), &name, polylineCenter(r.pts), s.a,
-                           s.b, 0.7f - 0.05f * static_cast<float>(r.raw->cls), r.raw->id, roadMaxTile(r.raw->cls), 0});
-        ++stats.road_labels;
-    }
-
-    // ---- road graph ----
-    // The road graph is the whole network's: shard 0 builds it, the other shards none.
-    const bool with_graph = opt.shard.index == 0;
-    const RoadGraph graph = with_graph ? buildGraph(graph_ways.ways, proj) : RoadGraph{};
-    stats.graph_nodes = graph.nodes.size();
-    stats.graph_edges = graph.edges.size();
-    graph_ways.ways.clear();
-    graph_ways.ways.shrink_to_fit();
-    log("projected " + std::to_string(stats.road_vertices) + " road vertices; graph " +
-        std::to_string(stats.graph_nodes) + " nodes, " + std::to_string(stats.graph_edges) + " edges");
-
-    // ---- write the pyramid level by level ----
     StoreInfo info;
     info.origin_lat = proj.originLat();
     info.origin_lon = proj.originLon();
@@ -567,223 +984,192 @@ CompileStats compileStore(const CompileOptions& opt) {
     info.west = west;
     info.north = north;
     info.east = east;
-    StoreWriter writer(std::move(lock), info);
     stats.tiles_per_level.assign(static_cast<std::size_t>(scheme.levelCount()), 0);
-    const int leaf = scheme.leafLevel();
-    std::size_t leaf_tiles_without_dem = 0;
+    TilingContext ctx{proj,
+                      scheme,
+                      data_bounds,
+                      dems,
+                      dem_spacing_m,
+                      opt.dem_samples,
+                      ortho_inputs.get(),
+                      sea ? &*sea : nullptr,
+                      opt.shard,
+                      ShardSpec{},
+                      {},
+                      {}};
+    auto log_graph = [&](const RoadGraph& graph) {
+        stats.graph_nodes = graph.nodes.size();
+        stats.graph_edges = graph.edges.size();
+        log("road graph: " + std::to_string(stats.graph_nodes) + " nodes, " + std::to_string(stats.graph_edges) +
+            " edges");
+    };
+    std::uint64_t store_bytes = 0;
 
-    for (int level = 0; level <= leaf; ++level) {
-        const double size = scheme.tileSize(level);
-        const bool is_leaf = level == leaf;
-        const double tol = is_leaf ? 0.0 : size / 1024.0;
-        std::map<std::uint64_t, Tile> tiles;  // ordered: stable file layout
-        // The tile columns this job builds (all of them unless it is one shard of several).
-        const auto own = shardColumns(level, opt.shard);
-        const auto owned = [&](std::uint32_t x) { return x >= own.first && x <= own.second; };
-        // The sea's rings clipped to each tile: its DEM samples there are at sea level.
-        std::unordered_map<std::uint64_t, std::vector<std::vector<PlanarPoint>>> sea_rings;
-        auto tile_for = [&](TileId id) -> Tile& {
-            auto [it, inserted] = tiles.try_emplace(id.key());
-            if (inserted) {
-                const Box b = scheme.bounds(id);
-                it->second.id = id;
-                it->second.origin_x = b.min_x;
-                it->second.origin_y = b.min_y;
-                it->second.size_m = size;
-            }
-            return it->second;
+    if (!bounded) {
+        // ---- everything in memory: the pyramid level by level, straight into the store ----
+        const RoadGraph graph = with_graph ? buildGraph(
+                                                 [&](const std::function<void(const RawGraphWay&)>& f) {
+                                                     for (const auto& w : all.graph_ways) f(w);
+                                                 },
+                                                 proj)
+                                           : RoadGraph{};
+        log_graph(graph);
+        all.graph_ways.clear();
+        all.graph_ways.shrink_to_fit();
+        StoreWriter writer(std::move(lock), info);
+        ctx.emit = [&](const Tile& t) { writer.addTile(t); };
+        ctx.level_done = [&](int level, double size, std::size_t tiles) {
+            log("level " + std::to_string(level) + " (" + std::to_string(static_cast<long>(size)) + " m tiles): " +
+                std::to_string(tiles) + " tiles, store " + std::to_string(writer.tileBytes() / 1024) + " KiB");
         };
-        // Every tile over the data gets a DEM grid, so terrain is continuous at each level.
-        const TileRange all = scheme.range(level, data_bounds);
-        for (std::uint32_t y = all.y0; !all.empty && y <= all.y1; ++y) {
-            for (std::uint32_t x = all.x0; x <= all.x1; ++x) {
-                if (owned(x)) tile_for({static_cast<std::uint8_t>(level), x, y});
+        tileFeatures(all, ctx, stats);
+        if (with_graph) writer.setGraph(graph);
+        store_bytes = writer.finish();
+    } else {
+        // ---- bounded: features into band files, bands compiled one at a time, tiles merged ----
+        const std::uint64_t limit = opt.memory_limit_mib * std::uint64_t{1048576};
+        const double need = kMemoryPerSpilledByte * static_cast<double>(features_out->bytes());
+        // Bands are equal columns of the root square, which the data may fill to half its width.
+        const int n_bands =
+            std::clamp(static_cast<int>(std::ceil(2.0 * need / static_cast<double>(limit))), 1, kMaxBands);
+        log("spilled " + std::to_string(features_out->records()) + " features (" + mib(features_out->bytes()) + "); " +
+            std::to_string(n_bands) + " band(s)");
+        // Bands that hold none of this job's columns get no features.
+        std::vector<char> band_used(static_cast<std::size_t>(n_bands), 0);
+        for (int k = 0; k < n_bands; ++k) {
+            for (int level = 0; level <= scheme.leafLevel(); ++level) {
+                const auto job = shardColumns(level, opt.shard);
+                const auto band = shardColumns(level, {k, n_bands});
+                if (std::max(job.first, band.first) <= std::min(job.second, band.second)) band_used[k] = 1;
             }
         }
-
-        for (const auto& r : proads) {
-            if (!is_leaf && size > roadMaxTile(r.raw->cls)) continue;
-            const std::vector<PlanarPoint> pts = is_leaf ? r.pts : simplifyPolyline(r.pts, tol);
-            const TileRange range = scheme.range(level, r.bounds);
-            for (std::uint32_t y = range.y0; !range.empty && y <= range.y1; ++y) {
-                for (std::uint32_t x = range.x0; x <= range.x1; ++x) {
-                    if (!owned(x)) continue;
-                    const TileId id{static_cast<std::uint8_t>(level), x, y};
-                    Tile& t = tile_for(id);
-                    auto emit = [&](const std::vector<PlanarPoint>& piece) {
-                        Road road;
-                        road.points.reserve(piece.size());
-                        for (const auto& p : piece) road.points.push_back(toLocal(p, t));
-                        road.name = r.raw->name;
-                        road.ref = r.raw->ref;
-                        road.osm_id = r.raw->id;
-                        road.cls = r.raw->cls;
-                        road.flags = r.raw->flags;
-                        road.layer = r.raw->layer;
-                        road.maxspeed_kmh = r.raw->maxspeed;
-                        t.roads.push_back(std::move(road));
-                    };
-                    if (range.x0 == range.x1 && range.y0 == range.y1) {
-                        emit(pts);
-                    } else {
-                        for (const auto& piece : clipPolyline(pts, scheme.bounds(id))) emit(piece);
-                    }
+        auto band_path = [&](int k) { return *spill / ("band-" + std::to_string(k) + ".spill"); };
+        {
+            std::vector<std::unique_ptr<SpillWriter>> band_out(static_cast<std::size_t>(n_bands));
+            for (int k = 0; k < n_bands; ++k) {
+                if (band_used[k]) band_out[k] = std::make_unique<SpillWriter>(band_path(k));
+            }
+            SpillReader in(*spill / "features.spill");
+            std::vector<std::uint8_t> record;
+            RawFeatures one;
+            while (in.next(record)) {
+                clearFeatures(one);
+                decodeRecord(in, record, one);
+                const auto [lo, hi] = featureBands(one, proj, scheme, n_bands);
+                bool first = true;
+                for (int k = lo; k <= hi; ++k) {
+                    if (!band_out[k]) continue;
+                    // Counted in its first band only.
+                    record[0] =
+                        static_cast<std::uint8_t>(first ? (record[0] & ~kRepeatFlag) : (record[0] | kRepeatFlag));
+                    band_out[k]->append(record);
+                    first = false;
                 }
             }
-        }
-
-        for (const auto& b : pbuildings) {
-            if (!is_leaf && !(level == leaf - 1 && b.poly.area >= kBuildingKeepArea)) continue;
-            const auto id = scheme.tileAt(level, b.poly.barycenter);
-            if (!id || !owned(id->x)) continue;
-            Tile& t = tile_for(*id);
-            Building out;
-            out.footprint.vertices.reserve(b.tri.vertices.size());
-            for (const auto& v : b.tri.vertices) out.footprint.vertices.push_back(toLocal(v, t));
-            out.footprint.ring_ends = b.ring_ends;
-            out.footprint.indices = b.tri.indices;
-            out.height_m = b.height;
-            out.min_height_m = b.min_height;
-            out.osm_id = b.poly.id;
-            t.buildings.push_back(std::move(out));
-        }
-
-        for (const auto& a : pareas) {
-            const double min_area = (size / 64.0) * (size / 64.0);
-            if (!is_leaf && a.poly.area < min_area) continue;
-            std::vector<std::vector<PlanarPoint>> rings;
-            for (const auto& r : a.poly.outers) rings.push_back(is_leaf ? r : simplifyRing(r, tol));
-            for (const auto& r : a.poly.inners) rings.push_back(is_leaf ? r : simplifyRing(r, tol));
-            const TileRange range = scheme.range(level, a.poly.bounds);
-            for (std::uint32_t y = range.y0; !range.empty && y <= range.y1; ++y) {
-                for (std::uint32_t x = range.x0; x <= range.x1; ++x) {
-                    if (!owned(x)) continue;
-                    const TileId id{static_cast<std::uint8_t>(level), x, y};
-                    const Box box = scheme.bounds(id);
-                    std::vector<std::vector<PlanarPoint>> clipped;
-                    const bool inside = box.contains({a.poly.bounds.min_x, a.poly.bounds.min_y}) &&
-                                        box.contains({a.poly.bounds.max_x, a.poly.bounds.max_y});
-                    for (const auto& r : rings) {
-                        if (r.size() < 3) continue;
-                        clipped.push_back(inside ? r : clipRing(r, box));
-                    }
-                    Area out;
-                    Tile& t = tile_for(id);
-                    if (!makePolygon(clipped, t, out.polygon)) continue;
-                    if (a.cls == AreaClass::Sea) sea_rings[id.key()] = clipped;
-                    out.cls = a.cls;
-                    out.name = *a.name;
-                    out.osm_id = a.poly.id;
-                    t.areas.push_back(std::move(out));
-                }
+            for (auto& b : band_out) {
+                if (b) b->close();
             }
         }
+        features_out.reset();
+        std::filesystem::remove(*spill / "features.spill");
 
-        for (const auto& l : plabels) {
-            const bool show = is_leaf || size <= l.max_tile ||
-                              (l.kind == LabelKind::Area && l.min_area >= (size / 16.0) * (size / 16.0));
-            if (!show) continue;
-            const auto id = scheme.tileAt(level, l.anchor);
-            if (!id || !owned(id->x)) continue;
-            Tile& t = tile_for(*id);
-            Label out;
-            out.kind = l.kind;
-            out.subclass = l.subclass;
-            out.name = *l.name;
-            out.anchor = toLocal(l.anchor, t);
-            out.segment_start = toLocal(l.s0, t);
-            out.segment_end = toLocal(l.s1, t);
-            out.importance = l.importance;
-            out.osm_id = l.id;
-            t.labels.push_back(std::move(out));
-        }
-
-        // DEM grid, low-pass filtered to the level's spacing (a DEM pyramid, seed 6.5). Sample
-        // positions come from the tile corners, so shared borders get identical values.
-        const int n = opt.dem_samples;
-        const double spacing = n > 1 ? size / (n - 1) : 0;
-        const int k = std::clamp(static_cast<int>(std::lround(spacing / dem_spacing_m)), 1, 4);
-        const double dlat = spacing / 111320.0 / k;
-        const double dlon = dlat / std::max(0.1, std::cos(proj.originLat() * std::numbers::pi / 180.0));
-        for (auto& [key, t] : tiles) {
-            if (n < 2) break;
-            const Box b = scheme.bounds(t.id);
-            double lat[4], lon[4];  // SW, SE, NW, NE
-            proj.reverse({b.min_x, b.min_y}, lat[0], lon[0]);
-            proj.reverse({b.max_x, b.min_y}, lat[1], lon[1]);
-            proj.reverse({b.min_x, b.max_y}, lat[2], lon[2]);
-            proj.reverse({b.max_x, b.max_y}, lat[3], lon[3]);
-            t.dem.size = static_cast<std::uint16_t>(n);
-            t.dem.spacing_m = static_cast<float>(spacing);
-            t.dem.heights.assign(static_cast<std::size_t>(n) * n, 0.0f);
-            std::size_t covered = 0;
-            // SRTM is 0 or void over the sea (and void filling slopes it out from the shore): the
-            // sea lies at 0 m, and counts as covered.
-            std::vector<char> wet;
-            if (const auto sea = sea_rings.find(key); sea != sea_rings.end())
-                wet = samplesInside(sea->second, b.min_x, b.min_y, spacing, n);
-            for (int r = 0; r < n; ++r) {
-                const double v = static_cast<double>(r) / (n - 1);
-                for (int c = 0; c < n; ++c) {
-                    const double u = static_cast<double>(c) / (n - 1);
-                    if (!wet.empty() && wet[static_cast<std::size_t>(r) * n + c]) {
-                        ++covered;  // heights[] is 0 already
-                        continue;
-                    }
-                    const double la =
-                        (1 - u) * (1 - v) * lat[0] + u * (1 - v) * lat[1] + (1 - u) * v * lat[2] + u * v * lat[3];
-                    const double lo =
-                        (1 - u) * (1 - v) * lon[0] + u * (1 - v) * lon[1] + (1 - u) * v * lon[2] + u * v * lon[3];
-                    double sum = 0;
-                    int got = 0;
-                    for (int i = 0; i < k; ++i) {
-                        for (int j = 0; j < k; ++j) {
-                            const auto h =
-                                dems.sample(la + (i - 0.5 * (k - 1)) * dlat, lo + (j - 0.5 * (k - 1)) * dlon);
-                            if (h) {
-                                sum += *h;
-                                ++got;
-                            }
-                        }
-                    }
-                    if (got > 0) {
-                        t.dem.heights[static_cast<std::size_t>(r) * n + c] = static_cast<float>(sum / got);
-                        ++covered;
-                    }
-                }
+        // Each band's tiles, encoded, in a file of its own; where each tile is.
+        struct TileRef {
+            std::uint64_t key;
+            int band;
+            std::uint64_t offset;
+        };
+        std::vector<TileRef> refs;
+        std::vector<std::unique_ptr<SpillReader>> tile_in(static_cast<std::size_t>(n_bands));
+        auto tiles_path = [&](int k) { return *spill / ("tiles-" + std::to_string(k) + ".spill"); };
+        for (int k = 0; k < n_bands; ++k) {
+            if (!band_used[k]) continue;
+            RawFeatures band;
+            std::uint64_t band_bytes = 0;
+            {
+                SpillReader in(band_path(k));
+                band_bytes = in.size();
+                std::vector<std::uint8_t> record;
+                while (in.next(record)) decodeRecord(in, record, band);
             }
-            t.dem.coverage = static_cast<float>(covered) / static_cast<float>(n * n);
-            if (is_leaf && covered < static_cast<std::size_t>(n) * n) ++leaf_tiles_without_dem;
+            std::filesystem::remove(band_path(k));
+            SpillWriter tiles_out(tiles_path(k), std::size_t{1} << 20);
+            ctx.band = {k, n_bands};
+            std::vector<std::uint8_t> payload;
+            std::size_t band_tiles = 0;
+            ctx.emit = [&](const Tile& t) {
+                payload.clear();
+                for (int i = 0; i < 8; ++i) payload.push_back(static_cast<std::uint8_t>(t.id.key() >> (8 * i)));
+                const auto encoded = encodeTile(t, info.format_version);
+                payload.insert(payload.end(), encoded.begin(), encoded.end());
+                refs.push_back({t.id.key(), k, tiles_out.append(payload)});
+                ++band_tiles;
+            };
+            tileFeatures(band, ctx, stats);
+            tiles_out.close();
+            tile_in[k] = std::make_unique<SpillReader>(tiles_path(k));
+            log("band " + std::to_string(k + 1) + "/" + std::to_string(n_bands) + ": " +
+                std::to_string(featureCount(band)) + " features (" + mib(band_bytes) + "), " +
+                std::to_string(band_tiles) + " tiles");
+            band = RawFeatures{};
+#ifdef __GLIBC__
+            // The band's many small blocks are free now: hand them back, so that the next band
+            // does not stack its memory on what the allocator keeps.
+            ::malloc_trim(0);
+#endif
         }
 
-        if (ortho_inputs) {
-            // seed 6.5: the global inputs and the tile's own areas and DEM onto its layers.
-            const double t_ortho = elapsed();
-            for (auto& [key, t] : tiles) {
-                t.ortho = ortho::sampleOrthoLayers(t, *ortho_inputs, proj);
-                ++stats.tiles_with_ortho;
+        // The DEM grids are done with: their memory goes before the road graph's comes.
+        dems = DemMosaic{};
+        RoadGraph graph;
+        if (with_graph) {
+            graph = buildGraph(
+                [&](const std::function<void(const RawGraphWay&)>& f) {
+                    SpillReader in(*spill / "graph.spill");
+                    std::vector<std::uint8_t> record;
+                    RawFeatures one;
+                    while (in.next(record)) {
+                        one.graph_ways.clear();
+                        decodeRecord(in, record, one);
+                        for (const auto& w : one.graph_ways) f(w);
+                    }
+                },
+                proj);
+        }
+        log_graph(graph);
+
+        // The single compile's order: level by level, by key within a level (TileId::key() sorts so).
+        std::sort(refs.begin(), refs.end(), [](const TileRef& a, const TileRef& b) { return a.key < b.key; });
+        StoreWriter writer(std::move(lock), info);
+        std::vector<std::uint8_t> payload, tile_bytes;
+        std::size_t level_tiles = 0;
+        for (std::size_t i = 0; i < refs.size(); ++i) {
+            const TileRef& r = refs[i];
+            const TileId id{static_cast<std::uint8_t>(r.key >> 56),
+                            static_cast<std::uint32_t>((r.key >> 28) & 0xFFFFFFF),
+                            static_cast<std::uint32_t>(r.key & 0xFFFFFFF)};
+            tile_in[r.band]->readAt(r.offset, payload);
+            if (payload.size() < 8) throw SpillError(tile_in[r.band]->path().string() + ": damaged tile record");
+            tile_bytes.assign(payload.begin() + 8, payload.end());
+            writer.addRawTile(id, tile_bytes);
+            ++level_tiles;
+            if (i + 1 == refs.size() || (refs[i + 1].key >> 56) != (r.key >> 56)) {
+                log("level " + std::to_string(id.level) + " (" +
+                    std::to_string(static_cast<long>(scheme.tileSize(id.level))) +
+                    " m tiles): " + std::to_string(level_tiles) + " tiles, store " +
+                    std::to_string(writer.tileBytes() / 1024) + " KiB");
+                level_tiles = 0;
             }
-            stats.ortho_seconds += elapsed() - t_ortho;
         }
-        for (auto& [key, t] : tiles) {
-            std::stable_sort(t.roads.begin(), t.roads.end(),
-                             [](const Road& a, const Road& b) { return a.cls < b.cls; });
-            std::stable_sort(t.labels.begin(), t.labels.end(),
-                             [](const Label& a, const Label& b) { return a.importance > b.importance; });
-            writer.addTile(t);
-        }
-        stats.tiles_per_level[static_cast<std::size_t>(level)] = tiles.size();
-        stats.tiles += tiles.size();
-        log("level " + std::to_string(level) + " (" + std::to_string(static_cast<long>(size)) + " m tiles): " +
-            std::to_string(tiles.size()) + " tiles, store " + std::to_string(writer.tileBytes() / 1024) + " KiB");
+        if (with_graph) writer.setGraph(graph);
+        store_bytes = writer.finish();
     }
-    stats.tiles_without_dem = leaf_tiles_without_dem;
-    if (leaf_tiles_without_dem > 0 && !dems.empty()) {
-        warn(std::to_string(leaf_tiles_without_dem) + " of " + std::to_string(stats.tiles_per_level.back()) +
+
+    if (stats.tiles_without_dem > 0 && stats.dem_files > 0) {
+        warn(std::to_string(stats.tiles_without_dem) + " of " + std::to_string(stats.tiles_per_level.back()) +
              " leaf tiles lie partly outside the DEM; missing areas are flat (0 m)");
     }
-    if (with_graph) writer.setGraph(graph);
-    stats.store_bytes = writer.finish();
+    stats.store_bytes = store_bytes;
     if (opt.shard.sharded()) {
         ShardManifest manifest;
         manifest.shard = opt.shard;

@@ -4,6 +4,8 @@
 // A sharded compile (docs/sharded-compile.md): N jobs with --shard K/N, then one --merge.
 //   navmap-compile --osm ... --dem ... --shard 1/4 --out part-1.navmap
 //   navmap-compile --merge part-0.navmap part-1.navmap part-2.navmap part-3.navmap --out andorra.navmap
+// In bounded memory (docs/tile-store.md "Bounded memory"): the features spill to disk, band by band.
+//   navmap-compile --osm region.osm.pbf --dem ... --memory-limit 2048 --spill-dir /var/tmp --out region.navmap
 // Exit status: 0 ok, 1 bad input (one line naming the file and the problem), 2 usage.
 
 #include <cstdlib>
@@ -45,7 +47,7 @@ int main(int argc, char** argv) {
     navmap::cli::setUp(app, "navmap-compile");
     navmap::map::CompileOptions opt;
     std::vector<std::string> dems;
-    std::string osm, out, ortho_data, shard;
+    std::string osm, out, ortho_data, shard, spill_dir;
     std::vector<std::string> merge;
     bool quiet = false;
     auto* osm_option = app.add_option("--osm", osm, "OpenStreetMap extract (.osm.pbf); required unless --merge");
@@ -72,6 +74,13 @@ int main(int argc, char** argv) {
     auto* merge_option =
         app.add_option("--merge", merge, "shard stores of one compile (every K of N once): merge them into --out");
     merge_option->excludes(osm_option)->excludes(shard_option);
+    app.add_option("--memory-limit", opt.memory_limit_mib,
+                   "MiB: spill the node index and the features to disk and build the tiles in as many column "
+                   "bands as keep one band's features within this; 0: everything in memory")
+        ->check(navmap::cli::integerIn(0, 1LL << 30))
+        ->capture_default_str();
+    app.add_option("--spill-dir", spill_dir,
+                   "folder for the scratch files of --memory-limit (removed at the end); default: the folder of --out");
     app.add_flag("-q,--quiet", quiet, "no progress output (summary and errors only)");
     if (const auto exit_status = navmap::cli::parse(app, argc, argv)) return *exit_status;
     if (osm.empty() && merge.empty()) {
@@ -90,6 +99,7 @@ int main(int argc, char** argv) {
 
     opt.osm = osm;
     opt.out = out;
+    opt.spill_dir = spill_dir;
     for (const auto& d : dems) opt.dems.emplace_back(d);
     if (!quiet) opt.log = [](const std::string& line) { std::cerr << line << '\n'; };
 #ifdef NAVMAP_WITH_ORTHO_IO

@@ -54,6 +54,8 @@ const std::vector<Tool>& tools() {
          "--navmapd /nonexistent/navmapd --drive /nonexistent/drive.candump", "/nonexistent/navmapd"},
         {"navmap-label-quality", NAVMAP_LABEL_QUALITY_PATH, "", "--store /nonexistent/x.navmap --frames 1 --settle 0",
          "/nonexistent/x.navmap"},
+        {"navmap-synth-region", NAVMAP_SYNTH_REGION_PATH, "--osm a --out-dir b",
+         "--osm /nonexistent/x.osm.pbf --out-dir /nonexistent/region", "/nonexistent/x.osm.pbf: no such file"},
     };
     return kT;
 }

@@ -264,13 +264,15 @@ namespace {
 
 namespace fs = std::filesystem;
 
-/// navmap-compile as a child process, stdout and stderr into `log`.
+/// navmap-compile as a child process, stdout and stderr into `log`; `shell` runs before it
+/// (limits, traps).
 struct CompileProcess {
     pid_t pid = -1;
     fs::path log;
-    CompileProcess(const std::string& args, fs::path log_path) : log(std::move(log_path)) {
+    CompileProcess(const std::string& args, fs::path log_path, const std::string& shell = "")
+        : log(std::move(log_path)) {
         const std::string cmd =
-            std::string("exec ") + NAVMAP_COMPILE_PATH + " " + args + " > " + log.string() + " 2>&1";
+            shell + std::string("exec ") + NAVMAP_COMPILE_PATH + " " + args + " > " + log.string() + " 2>&1";
         const char* argv[] = {"/bin/sh", "-c", cmd.c_str(), nullptr};
         if (posix_spawn(&pid, "/bin/sh", nullptr, nullptr, const_cast<char**>(argv), environ) != 0) pid = -1;
     }
@@ -534,9 +536,20 @@ protected:
             jobs.emplace_back(andorraArgs(part(k)) + " --shard " + std::to_string(k) + "/3",
                               *s_dir / ("part-" + std::to_string(k) + ".log"));
         }
+        // In bounded memory: 1 MiB forces many bands (Andorra spills 3.4 MiB of features).
+        s_spill = new ScratchDir("shards-spill");
+        // Not quiet: the test reads the progress lines.
+        jobs.emplace_back(andorraArgs(*s_dir / "bounded.navmap").substr(3) + " --memory-limit 1 --spill-dir " +
+                              s_spill->path().string(),
+                          *s_dir / "bounded.log");
+        jobs.emplace_back(andorraArgs(*s_dir / "bounded-part-1.navmap") + " --memory-limit 1 --shard 1/3",
+                          *s_dir / "bounded-part-1.log");
         for (auto& j : jobs) EXPECT_EQ(j.wait(), 0) << j.output();
     }
-    static void TearDownTestSuite() { delete s_dir; }
+    static void TearDownTestSuite() {
+        delete s_spill;
+        delete s_dir;
+    }
     static fs::path part(int k) { return *s_dir / ("part-" + std::to_string(k) + ".navmap"); }
     static std::string parts(std::initializer_list<int> ks) {
         std::string s;
@@ -548,6 +561,7 @@ protected:
         return {std::istreambuf_iterator<char>(in), {}};
     }
     static inline ScratchDir* s_dir = nullptr;
+    static inline ScratchDir* s_spill = nullptr;
 };
 
 }  // namespace
@@ -585,6 +599,68 @@ TEST_F(ShardedAndorra, TheMergedShardsEqualTheSingleCompileByteForByte) {
         ASSERT_TRUE(a.tile && b.tile) << a.error << b.error;
         EXPECT_EQ(encodeTile(*a.tile), encodeTile(*b.tile)) << int(id.level) << "/" << id.x << "/" << id.y;
     }
+}
+
+TEST_F(ShardedAndorra, TheBoundedCompileEqualsTheInMemoryOneByteForByte) {
+    // With a 1 MiB limit the features went through spill files in many bands ...
+    std::ifstream log(*s_dir / "bounded.log");
+    const std::string out{std::istreambuf_iterator<char>(log), {}};
+    const auto spilled = out.find("features (3.4 MiB); ");
+    ASSERT_NE(spilled, std::string::npos) << out;
+    const int bands = std::stoi(out.substr(spilled + 20));
+    EXPECT_GE(bands, 8) << out;
+    EXPECT_NE(out.find("band " + std::to_string(bands) + "/" + std::to_string(bands) + ": "), std::string::npos) << out;
+    // ... the same progress lines as the in-memory compile for the levels, and the same summary ...
+    EXPECT_NE(out.find("level 6 (2000 m tiles): 936 tiles, store "), std::string::npos) << out;
+    EXPECT_NE(out.find("tiles:      1305 (per level: 1 4 8 24 80 252 936)"), std::string::npos) << out;
+    EXPECT_NE(out.find("buildings:  4906\n"), std::string::npos) << out;
+    // ... the scratch folder is gone ...
+    EXPECT_TRUE(fs::is_empty(s_spill->path()));
+    // ... and the store is the in-memory compile's, byte for byte and tile for tile.
+    EXPECT_TRUE(bytes(*s_dir / "bounded.navmap") == bytes(*s_dir / "single.navmap")) << "bounded and single differ";
+    const auto single = TileStore::open(*s_dir / "single.navmap");
+    const auto bounded = TileStore::open(*s_dir / "bounded.navmap");
+    ASSERT_EQ(bounded->tileIds().size(), single->tileIds().size());
+    for (const TileId id : single->tileIds()) {
+        const auto a = single->load(id), b = bounded->load(id);
+        ASSERT_TRUE(a.tile && b.tile) << a.error << b.error;
+        EXPECT_EQ(encodeTile(*a.tile), encodeTile(*b.tile)) << int(id.level) << "/" << id.x << "/" << id.y;
+    }
+    EXPECT_EQ(bounded->loadGraph().edges.size(), single->loadGraph().edges.size());
+    // A shard compiled in bounded memory is the same shard (its manifest too).
+    EXPECT_TRUE(bytes(*s_dir / "bounded-part-1.navmap") == bytes(part(1))) << "bounded shard 1/3 differs";
+    EXPECT_EQ(bytes(shardManifestPath(*s_dir / "bounded-part-1.navmap")), bytes(shardManifestPath(part(1))));
+    // Its scratch folder went next to its store, and is gone too.
+    for (const auto& name : namesIn(s_dir->path())) EXPECT_EQ(name.find("navmap-spill-"), std::string::npos) << name;
+}
+
+TEST(CompileCli, BoundedCompileErrorsNameTheSpillPathAndLeaveNothingBehind) {
+    ScratchDir dir("compile-spill-errors");
+    const fs::path out = dir / "x.navmap";
+    // A spill folder that cannot be made.
+    CompileProcess missing(andorraArgs(out) + " --memory-limit 1 --spill-dir " + (dir / "absent").string(),
+                           dir / "missing.log");
+    EXPECT_EQ(missing.wait(), 1);
+    EXPECT_EQ(missing.output(), "navmap-compile: mkdtemp(" + (dir / "absent" / "navmap-spill-XXXXXX").string() +
+                                    "): No such file or directory\n");
+    // A disk that fills up (a file size limit stands in for it): the failed call and the file.
+    const fs::path spill = dir / "spill";
+    fs::create_directory(spill);
+    CompileProcess full(andorraArgs(out) + " --memory-limit 1 --spill-dir " + spill.string(), dir / "full.log",
+                        "trap '' XFSZ; ulimit -f 2048; ");
+    EXPECT_EQ(full.wait(), 1);
+    const std::string error = full.output();
+    EXPECT_EQ(error.rfind("navmap-compile: ", 0), 0u) << error;
+    EXPECT_NE(error.find(spill.string() + "/navmap-spill-"), std::string::npos) << error;
+    EXPECT_NE(error.find(": File too large\n"), std::string::npos) << error;
+    EXPECT_TRUE(fs::is_empty(spill));
+    EXPECT_FALSE(fs::exists(out));
+    EXPECT_EQ(namesIn(dir.path()), (std::vector<std::string>{"full.log", "missing.log", "spill"}));
+    // Usage: a limit that is not a number of MiB.
+    CompileProcess usage(andorraArgs(out) + " --memory-limit -5", dir / "usage.log");
+    EXPECT_EQ(usage.wait(), 2);
+    EXPECT_NE(usage.output().find("--memory-limit: '-5' is not an integer in [0, 1073741824]"), std::string::npos)
+        << usage.output();
 }
 
 TEST_F(ShardedAndorra, AMergeRefusesAnythingButOneWholeCompileNamingTheProblem) {

@@ -4,6 +4,8 @@
 // Reads the OSM file in one libosmium pass of small handlers (roads, buildings, areas,
 // labels, graph; multipolygon relations are collected in a first relations-only pass),
 // projects to the store frame, builds the quadtree pyramid level by level and writes it.
+// With a memory limit the features spill to disk and the pyramid is built one band of tile
+// columns at a time (docs/tile-store.md "Bounded memory"); the store is the same.
 
 #include <array>
 #include <cstdint>
@@ -50,6 +52,13 @@ struct CompileOptions {
     /// Shard k of N (shard.h, docs/sharded-compile.md): only the tiles of that column band, the
     /// road graph only in shard 0, and `<out>.shard.json` beside the store. Default: the whole store.
     ShardSpec shard;
+    /// 0: everything in memory. Otherwise the bounded-memory compile (docs/tile-store.md "Bounded
+    /// memory"): the node-location index in a file, the features in spill files, and the tiles
+    /// built in as many column bands as keep one band's features within this many MiB.
+    std::uint64_t memory_limit_mib = 0;
+    /// Where the bounded compile makes its scratch folder (removed at the end); empty: the
+    /// folder of `out`.
+    std::filesystem::path spill_dir;
 };
 
 struct CompileStats {
