@@ -135,6 +135,7 @@ FrameReport LabelLayout::setFrame(std::span<const LabelCandidate> candidates, co
             if (placed(l.state)) {
                 l.state = LabelState::FadingOut;  // seed 4.4.3: removed labels fade out
                 l.reason = RemovalReason::Gone;
+                l.held_by = RemovalReason::Gone;
                 ++m_stats.removed_gone;
                 l.velocity = glm::vec2(0.0F);
             } else if (l.state != LabelState::FadingOut) {
@@ -280,6 +281,7 @@ float LabelLayout::retryDelay(std::uint64_t id) const {
 void LabelLayout::remove(Label& l, RemovalReason why) {
     l.state = LabelState::FadingOut;
     l.reason = why;
+    l.held_by = why;
     l.velocity = glm::vec2(0.0F);
     l.timer = retryDelay(l.in.id);  // seed 4.5.3: re-inserted after a given time if there is room
     l.overlap_time = 0.0F;
@@ -289,6 +291,10 @@ void LabelLayout::remove(Label& l, RemovalReason why) {
         case RemovalReason::Constricted: ++m_stats.removed_constricted; break;
         case RemovalReason::Overlap: ++m_stats.removed_overlap; break;
         case RemovalReason::OffScreen: ++m_stats.removed_off_screen; break;
+        case RemovalReason::KeepOut:
+            ++m_stats.removed_overlap;
+            ++m_stats.removed_keep_out;
+            break;
         case RemovalReason::None:
         case RemovalReason::Gone: break;
     }
@@ -523,6 +529,9 @@ void LabelLayout::place() {
             l.state = LabelState::Waiting;
             l.timer = retryDelay(l.in.id);
             ++m_stats.placement_failures;
+            l.held_by = !in_view   ? RemovalReason::OffScreen
+                        : kept_out ? RemovalReason::KeepOut
+                                   : RemovalReason::Overlap;
             ++(!in_view ? m_stats.failures_off_screen : kept_out ? m_stats.failures_keep_out : m_stats.failures_labels);
             continue;
         }
@@ -600,13 +609,14 @@ void LabelLayout::resolveOverlaps() {
     for (const std::uint32_t i : m_rank) {
         Label& l = m_labels[i];
         const OrientedBox box = textBox(l);
-        bool clash = false;
+        bool kept_out = false;
         for (const OrientedBox& k : m_keep_out) {
             if (box.overlapDepth(k) > m_params.hard_overlap_px) {
-                clash = true;
+                kept_out = true;
                 break;
             }
         }
+        bool clash = kept_out;
         for (std::size_t k = 0; k < m_kept.size() && !clash; ++k) {
             clash = box.overlapDepth(m_kept[k]) > m_params.hard_overlap_px;
         }
@@ -614,7 +624,7 @@ void LabelLayout::resolveOverlaps() {
             m_kept.push_back(box);
             continue;
         }
-        if (placed(l.state)) remove(l, RemovalReason::Overlap);
+        if (placed(l.state)) remove(l, kept_out ? RemovalReason::KeepOut : RemovalReason::Overlap);
         l.alpha = std::min(l.alpha, below);
     }
 }
@@ -634,6 +644,8 @@ void LabelLayout::updateOutput() {
         p.alpha = l.alpha;
         p.scale = l.scale;
         p.candidate = l.candidate;
+        p.reason = l.state == LabelState::FadingOut ? l.reason : RemovalReason::None;
+        p.held_by = l.state == LabelState::FadingOut ? RemovalReason::None : l.held_by;
         m_output.push_back(p);
     }
 }

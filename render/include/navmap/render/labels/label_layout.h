@@ -40,6 +40,7 @@ struct LayoutStats {
     std::uint64_t removed_speed = 0;
     std::uint64_t removed_constricted = 0;
     std::uint64_t removed_overlap = 0;
+    std::uint64_t removed_keep_out = 0;  ///< of removed_overlap: over a keep-out area in a drawn frame
     std::uint64_t removed_off_screen = 0;
     std::uint64_t removed_gone = 0;     ///< placed labels whose candidate stopped coming (left the view, culled)
     std::uint64_t rejected_inputs = 0;  ///< candidates refused by setFrame() (bad values, duplicate ids)
@@ -108,6 +109,7 @@ private:
         LabelCandidate in;
         LabelState state = LabelState::Pending;
         RemovalReason reason = RemovalReason::None;
+        RemovalReason held_by = RemovalReason::None;  ///< PlacedLabel::held_by
         bool present = true;
         bool rotated = false;
         bool dead = false;
