@@ -152,6 +152,7 @@ FrameReport LabelLayout::setFrame(std::span<const LabelCandidate> candidates, co
             l.in = m_sorted[j++];
             if (!l.present) {
                 l.anchor_prev = l.in.anchor;
+                l.anchor_velocity = glm::vec2(0.0F);
             }
             l.present = true;
             if (l.state == LabelState::FadingOut && l.reason == RemovalReason::Gone) {
@@ -176,7 +177,9 @@ int LabelLayout::advance(double dt_s) {
         const float k = std::min(1.0F, dt / kAnchorSpeedTau);
         for (Label& l : m_labels) {
             if (!l.present) continue;
-            const float inst = glm::length(l.in.anchor - l.anchor_prev) / dt;
+            const glm::vec2 v = (l.in.anchor - l.anchor_prev) / dt;
+            l.anchor_velocity += (v - l.anchor_velocity) * k;
+            const float inst = glm::length(v);
             l.anchor_speed += (inst - l.anchor_speed) * k;
             l.anchor_prev = l.in.anchor;
         }
@@ -278,6 +281,18 @@ float LabelLayout::retryDelay(std::uint64_t id) const {
     return m_params.retry_delay_s * (1.0F + 0.25F * u);
 }
 
+bool LabelLayout::established(const Label& l) const {
+    return m_params.established_s >= 0.0F && l.state == LabelState::Visible &&
+           timeS() - l.placed_at_s >= static_cast<double>(m_params.established_s);
+}
+
+bool LabelLayout::yields(const Label& a, const Label& b) const {
+    const bool ea = established(a), eb = established(b);
+    if (ea != eb) return eb;
+    if (a.in.priority != b.in.priority) return a.in.priority < b.in.priority;
+    return a.in.id > b.in.id;
+}
+
 void LabelLayout::remove(Label& l, RemovalReason why) {
     l.state = LabelState::FadingOut;
     l.reason = why;
@@ -368,9 +383,7 @@ void LabelLayout::integrate(float dt) {
         if (depth > pressing_depth) {
             const Label& la = m_labels[m_active[a]];
             const Label& lb = m_labels[m_active[b]];
-            const bool a_weaker =
-                la.in.priority < lb.in.priority || (la.in.priority == lb.in.priority && la.in.id > lb.in.id);
-            m_overlapped[a_weaker ? a : b] = 1U;
+            m_overlapped[yields(la, lb) ? a : b] = 1U;
         }
     });
     m_stats.last_pairs = pairs;
@@ -489,6 +502,7 @@ void LabelLayout::place() {
         int chosen = -1;
         bool in_view = false;
         bool kept_out = false;
+        bool leaves_view = false;  // a candidate in the view now would leave it straight away
         for (int c = 0; c < cs.count && chosen < 0; ++c) {
             const OrientedBox text{l.in.anchor + cs.offset[c], l.half, axis};
             if (bounded) {
@@ -520,6 +534,35 @@ void LabelLayout::place() {
                 if (!free) break;
                 free = zone.overlapDepth(other) < 0.0F;
             }
+            if (free && m_params.placement_lookahead_s > 0.0F) {
+                // Where the anchors' motion carries it and the placed labels a moment from now.
+                for (int n = 1; n <= 3 && free; ++n) {
+                    const float t = m_params.placement_lookahead_s * static_cast<float>(n) / 3.0F;
+                    const OrientedBox later{text.center + l.anchor_velocity * t, text.half_extents, text.axis};
+                    if (bounded) {
+                        const glm::vec2 h = later.aabbHalfExtents();
+                        if (later.center.x - h.x < 0.0F || later.center.y - h.y < 0.0F ||
+                            later.center.x + h.x > m_camera.viewport.x || later.center.y + h.y > m_camera.viewport.y) {
+                            free = false;
+                            leaves_view = true;
+                            break;
+                        }
+                    }
+                    const OrientedBox later_zone = later.inflated(m_params.buffer_px);
+                    for (std::size_t a = 0; a < m_active.size() && free; ++a) {
+                        const Label& o = m_labels[m_active[a]];
+                        if (!placed(o.state)) continue;
+                        const OrientedBox ob{m_boxes[a].center + o.anchor_velocity * t, m_boxes[a].half_extents,
+                                             m_boxes[a].axis};
+                        free = later_zone.overlapDepth(ob) < 0.0F;
+                    }
+                    for (const OrientedBox& other : m_keep_out) {
+                        if (!free) break;
+                        free = later_zone.overlapDepth(other) < 0.0F;
+                        kept_out |= !free;
+                    }
+                }
+            }
             if (free) {
                 chosen = c;  // the first free one has the best visual association [Yoe72]
             }
@@ -529,14 +572,18 @@ void LabelLayout::place() {
             l.state = LabelState::Waiting;
             l.timer = retryDelay(l.in.id);
             ++m_stats.placement_failures;
-            l.held_by = !in_view   ? RemovalReason::OffScreen
+            const bool off_screen = !in_view || (leaves_view && !kept_out);
+            l.held_by = off_screen ? RemovalReason::OffScreen
                         : kept_out ? RemovalReason::KeepOut
                                    : RemovalReason::Overlap;
-            ++(!in_view ? m_stats.failures_off_screen : kept_out ? m_stats.failures_keep_out : m_stats.failures_labels);
+            ++(off_screen ? m_stats.failures_off_screen
+               : kept_out ? m_stats.failures_keep_out
+                          : m_stats.failures_labels);
             continue;
         }
         l.state = LabelState::FadingIn;
         l.reason = RemovalReason::None;
+        l.placed_at_s = timeS();
         l.candidate = static_cast<std::uint8_t>(chosen);
         l.offset = cs.offset[chosen];
         l.velocity = glm::vec2(0.0F);
@@ -601,8 +648,7 @@ void LabelLayout::resolveOverlaps() {
         const Label& y = m_labels[b];
         const bool px = placed(x.state), py = placed(y.state);
         if (px != py) return px;
-        if (x.in.priority != y.in.priority) return x.in.priority > y.in.priority;
-        return x.in.id < y.in.id;
+        return yields(y, x);
     });
     m_kept.clear();
     const float below = std::nextafter(m_params.visible_alpha, 0.0F);

@@ -124,9 +124,11 @@ private:
         glm::vec2 velocity{0.0F};
         glm::vec2 anchor_prev{0.0F};
         float anchor_speed = 0.0F;
+        glm::vec2 anchor_velocity{0.0F};  ///< screen motion of the anchor, px/s, low-passed
         float alpha = 0.0F;
         float timer = 0.0F;
         float overlap_time = 0.0F;
+        double placed_at_s = 0.0;  ///< timeS() of its last placement
         float constricted_time = 0.0F;
     };
 
@@ -138,6 +140,10 @@ private:
     void fade(float dt);
     void resolveOverlaps();
     [[nodiscard]] float retryDelay(std::uint64_t id) const;
+    /// Shown for LayoutParams::established_s (it wins over a newcomer whatever its priority).
+    [[nodiscard]] bool established(const Label& l) const;
+    /// Which of two placed labels gives way to the other (the newcomer, else the less important one).
+    [[nodiscard]] bool yields(const Label& a, const Label& b) const;
 
     LayoutParams m_params;
     CameraState m_camera;
