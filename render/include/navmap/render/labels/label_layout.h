@@ -34,7 +34,7 @@ struct LayoutStats {
     std::size_t fading_out = 0;
     std::uint64_t placed = 0;               ///< successful initial placements
     std::uint64_t placement_failures = 0;   ///< attempts without a free candidate, of which:
-    std::uint64_t failures_off_screen = 0;  ///<   no candidate inside the viewport
+    std::uint64_t failures_off_screen = 0;  ///<   no candidate in the view now and for placement_lookahead_s
     std::uint64_t failures_keep_out = 0;    ///<   a keep-out area (marker, route) blocked one
     std::uint64_t failures_labels = 0;      ///<   only other labels' zones blocked them
     std::uint64_t removed_speed = 0;

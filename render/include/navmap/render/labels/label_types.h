@@ -92,7 +92,7 @@ struct PlacedLabel {
     RemovalReason reason = RemovalReason::None;  ///< FadingOut: why it was taken out
     /// FadingIn and Visible: what kept it out of the layout before this placement (what its
     /// appearance ends): the reason of its last removal, or of its last failed placement attempt
-    /// (OffScreen: no candidate inside the viewport, KeepOut, Overlap: other labels' zones); None
+    /// (OffScreen: none in the viewport or staying in it, KeepOut, Overlap: other labels' zones); None
     /// when placed at its first attempt.
     RemovalReason held_by = RemovalReason::None;
 };
