@@ -549,12 +549,15 @@ void LabelLayout::place() {
                         }
                     }
                     const OrientedBox later_zone = later.inflated(m_params.buffer_px);
+                    const glm::vec2 later_h = later_zone.aabbHalfExtents();
                     for (std::size_t a = 0; a < m_active.size() && free; ++a) {
                         const Label& o = m_labels[m_active[a]];
                         if (!placed(o.state)) continue;
-                        const OrientedBox ob{m_boxes[a].center + o.anchor_velocity * t, m_boxes[a].half_extents,
-                                             m_boxes[a].axis};
-                        free = later_zone.overlapDepth(ob) < 0.0F;
+                        const glm::vec2 oc = m_boxes[a].center + o.anchor_velocity * t;
+                        const glm::vec2 gap = glm::abs(oc - later_zone.center) - m_aabb[a] - later_h;
+                        if (gap.x > 0.0F || gap.y > 0.0F) continue;  // bounding boxes apart: no SAT
+                        free =
+                            later_zone.overlapDepth(OrientedBox{oc, m_boxes[a].half_extents, m_boxes[a].axis}) < 0.0F;
                     }
                     for (const OrientedBox& other : m_keep_out) {
                         if (!free) break;
