@@ -16,6 +16,7 @@
 #include "drive_trajectory.h"
 #include "label_quality.h"
 #include "labels/drawn_label_metrics.h"
+#include "labels/pop_causes.h"
 #include "navmap/render/maplibre_camera.h"
 #include "test_paths.h"
 
@@ -97,6 +98,19 @@ TEST_P(TrajectoryQuality, ReportIsCompleteAndCountsAForcedPop) {
     EXPECT_LE(r.frame_ms.p50, r.frame_ms.p95);
     EXPECT_GT(r.labels_ms.mean, 0.0);
 
+    // Every drawn pop has one cause (docs/labels.md "Pops by cause"), and the floor is below them.
+    const nl::PopCauseFigures& pc = r.pop_causes;
+    std::uint64_t by_cause = 0, interior_by_cause = 0;
+    for (std::size_t c = 0; c < nl::kPopCauses; ++c) {
+        by_cause += pc.pops[c];
+        interior_by_cause += pc.interior_point_pops[c];
+    }
+    EXPECT_EQ(by_cause, q.pops);
+    EXPECT_EQ(interior_by_cause, q.interior_point_pops);
+    EXPECT_EQ(pc.enters + pc.leaves, q.pops);
+    EXPECT_LE(pc.floor, q.pops);
+    EXPECT_GE(pc.visible_runs, q.distinct_visible_labels);
+
     // The report is the metrics of exactly the frames that were drawn.
     const nl::DrawnLabelQuality again = measure(frames, o.dt_s);
     EXPECT_EQ(again.pops, q.pops);
@@ -174,6 +188,21 @@ TEST_P(TrajectoryQuality, ReportIsCompleteAndCountsAForcedPop) {
                             "interior_point_pops_per_s",
                             "text_pops",
                             "text_pops_per_s",
+                            "pop_enters",
+                            "pop_leaves",
+                            "pops_edge",
+                            "pops_too_small",
+                            "pops_overlap",
+                            "pops_gone",
+                            "pops_keep_out",
+                            "pops_other",
+                            "interior_point_pops_edge",
+                            "interior_point_pops_overlap",
+                            "interior_point_pops_other",
+                            "pop_floor",
+                            "pop_floor_per_s",
+                            "visible_runs",
+                            "layout_removed_keep_out",
                             "frames_with_pop",
                             "pop_frame_share",
                             "jitter_mean_px",

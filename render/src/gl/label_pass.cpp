@@ -360,6 +360,8 @@ void LabelPass::collect(const MapFrame& frame, std::span<const TileLabels> tiles
                     f.world = f.shown_world;
                     f.too_small = fit == WorldFit::TooSmall;
                     m_too_small += f.too_small;
+                    f.out_frame = m_frame;
+                    f.out_cause = f.too_small ? nl::InputCause::TooSmall : nl::InputCause::Hidden;
                     continue;
                 }
                 f.too_small = false;
@@ -368,7 +370,11 @@ void LabelPass::collect(const MapFrame& frame, std::span<const TileLabels> tiles
                     // bird's-eye view, unless a hill stands in front of its anchor (with hysteresis:
                     // it comes in when a point 1 m above the anchor is in sight, stays while 4 m is).
                     const float lift = f.shown_screen ? 4.0f : 1.0f;
-                    if (behindTerrain(tiles, glm::vec3(anchor - m_eye) + glm::vec3(0.0f, 0.0f, lift), -0.5f)) continue;
+                    if (behindTerrain(tiles, glm::vec3(anchor - m_eye) + glm::vec3(0.0f, 0.0f, lift), -0.5f)) {
+                        f.out_frame = m_frame;
+                        f.out_cause = nl::InputCause::Hidden;
+                        continue;
+                    }
                 }
             }
             if (!f.world && c.kind == nl::LabelKind::Line) {
@@ -414,6 +420,8 @@ void LabelPass::dropRepeatedStreets() {
         });
         if (near_one) {
             drop[i] = 1;
+            m_features.at(m_candidates[i].id).out_frame = m_frame;
+            m_features.at(m_candidates[i].id).out_cause = nl::InputCause::StreetRepeat;
         } else {
             anchors.push_back(f.anchor);
         }
@@ -423,6 +431,54 @@ void LabelPass::dropRepeatedStreets() {
         if (!drop[i]) m_candidates[out++] = m_candidates[i];
     }
     m_candidates.resize(out);
+}
+
+void LabelPass::inputChanges(const MapFrame& frame, glm::vec2 viewport, MapFrameStats& stats) {
+    stats.label_input_changes.clear();
+    m_input_ids.clear();
+    for (const nl::LabelCandidate& c : m_candidates) m_input_ids.push_back(c.id);
+    std::ranges::sort(m_input_ids);
+    // Whether a store-frame point is in the view of a frame (eye-relative view-projection).
+    const auto in_view = [](const glm::mat4& vp_eye, const glm::dvec3& eye, glm::vec2 size, float near,
+                            const glm::dvec3& p) {
+        const glm::vec4 clip = vp_eye * glm::vec4(glm::vec3(p - eye), 1.0f);
+        if (clip.w < near) return false;
+        const glm::vec2 px = toScreen(clip, size);
+        return px.x >= 0.0f && px.y >= 0.0f && px.x <= size.x && px.y <= size.y;
+    };
+    const auto near = static_cast<float>(frame.camera.near_m);
+    // Arrivals: why was it no candidate in the last frame?
+    for (const std::uint64_t id : m_input_ids) {
+        if (std::ranges::binary_search(m_prev_input_ids, id)) continue;
+        const Feature& f = m_features.at(id);
+        nl::InputCause cause = nl::InputCause::Tiles;
+        if (f.out_frame + 1 == m_frame) {
+            cause = f.out_cause;
+        } else if (m_prev_viewport.x <= 0.0f ||
+                   !in_view(m_prev_view_projection, m_prev_eye, m_prev_viewport, m_prev_near, f.anchor)) {
+            cause = nl::InputCause::View;
+        }
+        stats.label_input_changes.push_back({id, true, cause});
+    }
+    // Departures of the labels the layout showed: why is it no candidate now?
+    for (const std::uint64_t id : m_prev_input_ids) {
+        if (std::ranges::binary_search(m_input_ids, id) || !std::ranges::binary_search(m_shown, id)) continue;
+        const auto it = m_features.find(id);
+        if (it == m_features.end()) continue;
+        const Feature& f = it->second;
+        nl::InputCause cause = nl::InputCause::Tiles;
+        if (f.out_frame == m_frame) {
+            cause = f.out_cause;
+        } else if (!in_view(m_view_projection, m_eye, viewport, near, f.anchor)) {
+            cause = nl::InputCause::View;
+        }
+        stats.label_input_changes.push_back({id, false, cause});
+    }
+    m_prev_input_ids.swap(m_input_ids);
+    m_prev_view_projection = m_view_projection;
+    m_prev_eye = m_eye;
+    m_prev_viewport = viewport;
+    m_prev_near = near;
 }
 
 void LabelPass::keepOut(const MapFrame& frame, std::span<const TileLabels> tiles, glm::vec2 viewport,
@@ -522,6 +578,7 @@ void LabelPass::layout(const MapFrame& frame, std::span<const TileLabels> tiles,
     const glm::vec2 vp(viewport);
     collect(frame, tiles, viewport, world_layout);
     dropRepeatedStreets();
+    inputChanges(frame, vp, stats);
     keepOut(frame, tiles, vp, marker, style);
     m_layout.setKeepOut(m_keep_out);
     m_layout.setFrame(

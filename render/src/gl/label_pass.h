@@ -153,6 +153,9 @@ private:
         bool shown_world = false;   ///< in last frame's output, in world space
         bool shown_screen = false;  ///< in last frame's output, in screen space within a world layout
         bool too_small = false;     ///< left out last time as too small to read in the world (fading out)
+        /// In a drawn tile and the view but left out of the input in frame `out_frame`, and why.
+        std::uint64_t out_frame = 0;
+        labels::InputCause out_cause = labels::InputCause::Tiles;
         WorldPlane plane;
     };
     /// The text of a label at scale 1: measured size, cap height, and the margin its outline and
@@ -187,6 +190,8 @@ private:
     void keepOut(const MapFrame& frame, std::span<const TileLabels> tiles, glm::vec2 viewport,
                  std::span<const glm::vec2> marker, const MapStyle& style);
     const TextSize& textSize(std::uint64_t id, const map::Label& label);
+    /// The input's changes since the previous frame with their causes (MapFrameStats::label_input_changes).
+    void inputChanges(const MapFrame& frame, glm::vec2 viewport, MapFrameStats& stats);
 
     std::vector<std::size_t> m_tile_order;  ///< collect(): tiles finest first
     std::shared_ptr<LabelText> m_shared;
@@ -198,8 +203,13 @@ private:
     std::vector<labels::LabelCandidate> m_candidates;
     std::size_t m_too_small = 0;  ///< world-space labels of this frame left out as too small to read
     std::vector<labels::OrientedBox> m_keep_out;
-    std::vector<std::uint64_t> m_shown;  ///< ids in the layout output of the last frame, sorted
-    glm::mat4 m_view{1.0f};              ///< camera at the origin (eye-relative store frame)
+    std::vector<std::uint64_t> m_shown;                        ///< ids in the layout output of the last frame, sorted
+    std::vector<std::uint64_t> m_input_ids, m_prev_input_ids;  ///< candidate ids of this and the last frame, sorted
+    glm::mat4 m_prev_view_projection{1.0f};                    ///< of the last frame, eye-relative
+    glm::dvec3 m_prev_eye{0.0};
+    glm::vec2 m_prev_viewport{0.0f};
+    float m_prev_near = 0.0f;
+    glm::mat4 m_view{1.0f};  ///< camera at the origin (eye-relative store frame)
     glm::mat4 m_view_projection{1.0f};
     glm::dvec3 m_eye{0.0};
     std::unordered_map<std::uint64_t, Feature> m_features;  ///< by label id

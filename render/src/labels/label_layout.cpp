@@ -135,6 +135,7 @@ FrameReport LabelLayout::setFrame(std::span<const LabelCandidate> candidates, co
             if (placed(l.state)) {
                 l.state = LabelState::FadingOut;  // seed 4.4.3: removed labels fade out
                 l.reason = RemovalReason::Gone;
+                l.held_by = RemovalReason::Gone;
                 ++m_stats.removed_gone;
                 l.velocity = glm::vec2(0.0F);
             } else if (l.state != LabelState::FadingOut) {
@@ -151,6 +152,7 @@ FrameReport LabelLayout::setFrame(std::span<const LabelCandidate> candidates, co
             l.in = m_sorted[j++];
             if (!l.present) {
                 l.anchor_prev = l.in.anchor;
+                l.anchor_velocity = glm::vec2(0.0F);
             }
             l.present = true;
             if (l.state == LabelState::FadingOut && l.reason == RemovalReason::Gone) {
@@ -175,7 +177,9 @@ int LabelLayout::advance(double dt_s) {
         const float k = std::min(1.0F, dt / kAnchorSpeedTau);
         for (Label& l : m_labels) {
             if (!l.present) continue;
-            const float inst = glm::length(l.in.anchor - l.anchor_prev) / dt;
+            const glm::vec2 v = (l.in.anchor - l.anchor_prev) / dt;
+            l.anchor_velocity += (v - l.anchor_velocity) * k;
+            const float inst = glm::length(v);
             l.anchor_speed += (inst - l.anchor_speed) * k;
             l.anchor_prev = l.in.anchor;
         }
@@ -277,9 +281,22 @@ float LabelLayout::retryDelay(std::uint64_t id) const {
     return m_params.retry_delay_s * (1.0F + 0.25F * u);
 }
 
+bool LabelLayout::established(const Label& l) const {
+    return m_params.established_s >= 0.0F && l.state == LabelState::Visible &&
+           timeS() - l.placed_at_s >= static_cast<double>(m_params.established_s);
+}
+
+bool LabelLayout::yields(const Label& a, const Label& b) const {
+    const bool ea = established(a), eb = established(b);
+    if (ea != eb) return eb;
+    if (a.in.priority != b.in.priority) return a.in.priority < b.in.priority;
+    return a.in.id > b.in.id;
+}
+
 void LabelLayout::remove(Label& l, RemovalReason why) {
     l.state = LabelState::FadingOut;
     l.reason = why;
+    l.held_by = why;
     l.velocity = glm::vec2(0.0F);
     l.timer = retryDelay(l.in.id);  // seed 4.5.3: re-inserted after a given time if there is room
     l.overlap_time = 0.0F;
@@ -289,6 +306,10 @@ void LabelLayout::remove(Label& l, RemovalReason why) {
         case RemovalReason::Constricted: ++m_stats.removed_constricted; break;
         case RemovalReason::Overlap: ++m_stats.removed_overlap; break;
         case RemovalReason::OffScreen: ++m_stats.removed_off_screen; break;
+        case RemovalReason::KeepOut:
+            ++m_stats.removed_overlap;
+            ++m_stats.removed_keep_out;
+            break;
         case RemovalReason::None:
         case RemovalReason::Gone: break;
     }
@@ -362,9 +383,7 @@ void LabelLayout::integrate(float dt) {
         if (depth > pressing_depth) {
             const Label& la = m_labels[m_active[a]];
             const Label& lb = m_labels[m_active[b]];
-            const bool a_weaker =
-                la.in.priority < lb.in.priority || (la.in.priority == lb.in.priority && la.in.id > lb.in.id);
-            m_overlapped[a_weaker ? a : b] = 1U;
+            m_overlapped[yields(la, lb) ? a : b] = 1U;
         }
     });
     m_stats.last_pairs = pairs;
@@ -483,6 +502,7 @@ void LabelLayout::place() {
         int chosen = -1;
         bool in_view = false;
         bool kept_out = false;
+        bool leaves_view = false;  // a candidate in the view now would leave it straight away
         for (int c = 0; c < cs.count && chosen < 0; ++c) {
             const OrientedBox text{l.in.anchor + cs.offset[c], l.half, axis};
             if (bounded) {
@@ -514,6 +534,38 @@ void LabelLayout::place() {
                 if (!free) break;
                 free = zone.overlapDepth(other) < 0.0F;
             }
+            if (free && m_params.placement_lookahead_s > 0.0F) {
+                // Where the anchors' motion carries it and the placed labels a moment from now.
+                for (int n = 1; n <= 3 && free; ++n) {
+                    const float t = m_params.placement_lookahead_s * static_cast<float>(n) / 3.0F;
+                    const OrientedBox later{text.center + l.anchor_velocity * t, text.half_extents, text.axis};
+                    if (bounded) {
+                        const glm::vec2 h = later.aabbHalfExtents();
+                        if (later.center.x - h.x < 0.0F || later.center.y - h.y < 0.0F ||
+                            later.center.x + h.x > m_camera.viewport.x || later.center.y + h.y > m_camera.viewport.y) {
+                            free = false;
+                            leaves_view = true;
+                            break;
+                        }
+                    }
+                    const OrientedBox later_zone = later.inflated(m_params.buffer_px);
+                    const glm::vec2 later_h = later_zone.aabbHalfExtents();
+                    for (std::size_t a = 0; a < m_active.size() && free; ++a) {
+                        const Label& o = m_labels[m_active[a]];
+                        if (!placed(o.state)) continue;
+                        const glm::vec2 oc = m_boxes[a].center + o.anchor_velocity * t;
+                        const glm::vec2 gap = glm::abs(oc - later_zone.center) - m_aabb[a] - later_h;
+                        if (gap.x > 0.0F || gap.y > 0.0F) continue;  // bounding boxes apart: no SAT
+                        free =
+                            later_zone.overlapDepth(OrientedBox{oc, m_boxes[a].half_extents, m_boxes[a].axis}) < 0.0F;
+                    }
+                    for (const OrientedBox& other : m_keep_out) {
+                        if (!free) break;
+                        free = later_zone.overlapDepth(other) < 0.0F;
+                        kept_out |= !free;
+                    }
+                }
+            }
             if (free) {
                 chosen = c;  // the first free one has the best visual association [Yoe72]
             }
@@ -523,11 +575,18 @@ void LabelLayout::place() {
             l.state = LabelState::Waiting;
             l.timer = retryDelay(l.in.id);
             ++m_stats.placement_failures;
-            ++(!in_view ? m_stats.failures_off_screen : kept_out ? m_stats.failures_keep_out : m_stats.failures_labels);
+            const bool off_screen = !in_view || (leaves_view && !kept_out);
+            l.held_by = off_screen ? RemovalReason::OffScreen
+                        : kept_out ? RemovalReason::KeepOut
+                                   : RemovalReason::Overlap;
+            ++(off_screen ? m_stats.failures_off_screen
+               : kept_out ? m_stats.failures_keep_out
+                          : m_stats.failures_labels);
             continue;
         }
         l.state = LabelState::FadingIn;
         l.reason = RemovalReason::None;
+        l.placed_at_s = timeS();
         l.candidate = static_cast<std::uint8_t>(chosen);
         l.offset = cs.offset[chosen];
         l.velocity = glm::vec2(0.0F);
@@ -592,21 +651,21 @@ void LabelLayout::resolveOverlaps() {
         const Label& y = m_labels[b];
         const bool px = placed(x.state), py = placed(y.state);
         if (px != py) return px;
-        if (x.in.priority != y.in.priority) return x.in.priority > y.in.priority;
-        return x.in.id < y.in.id;
+        return yields(y, x);
     });
     m_kept.clear();
     const float below = std::nextafter(m_params.visible_alpha, 0.0F);
     for (const std::uint32_t i : m_rank) {
         Label& l = m_labels[i];
         const OrientedBox box = textBox(l);
-        bool clash = false;
+        bool kept_out = false;
         for (const OrientedBox& k : m_keep_out) {
             if (box.overlapDepth(k) > m_params.hard_overlap_px) {
-                clash = true;
+                kept_out = true;
                 break;
             }
         }
+        bool clash = kept_out;
         for (std::size_t k = 0; k < m_kept.size() && !clash; ++k) {
             clash = box.overlapDepth(m_kept[k]) > m_params.hard_overlap_px;
         }
@@ -614,7 +673,7 @@ void LabelLayout::resolveOverlaps() {
             m_kept.push_back(box);
             continue;
         }
-        if (placed(l.state)) remove(l, RemovalReason::Overlap);
+        if (placed(l.state)) remove(l, kept_out ? RemovalReason::KeepOut : RemovalReason::Overlap);
         l.alpha = std::min(l.alpha, below);
     }
 }
@@ -634,6 +693,8 @@ void LabelLayout::updateOutput() {
         p.alpha = l.alpha;
         p.scale = l.scale;
         p.candidate = l.candidate;
+        p.reason = l.state == LabelState::FadingOut ? l.reason : RemovalReason::None;
+        p.held_by = l.state == LabelState::FadingOut ? RemovalReason::None : l.held_by;
         m_output.push_back(p);
     }
 }

@@ -31,6 +31,10 @@ std::string LayoutParams::validate() const {
     if (!nonNegative(candidate_gap_px)) return bad("candidate_gap_px", candidate_gap_px, ">= 0");
     if (!nonNegative(line_gap_px)) return bad("line_gap_px", line_gap_px, ">= 0");
     if (!nonNegative(retry_delay_s)) return bad("retry_delay_s", retry_delay_s, ">= 0");
+    if (!std::isfinite(established_s)) return bad("established_s", established_s, "finite (negative: off)");
+    if (!nonNegative(placement_lookahead_s) || placement_lookahead_s > 10.0F) {
+        return bad("placement_lookahead_s", placement_lookahead_s, "within [0, 10]");
+    }
     if (!nonNegative(fade_in_s)) return bad("fade_in_s", fade_in_s, ">= 0");
     if (!nonNegative(fade_out_s)) return bad("fade_out_s", fade_out_s, ">= 0");
     if (!nonNegative(buffer_px)) return bad("buffer_px", buffer_px, ">= 0");

@@ -60,6 +60,7 @@ double renderTimed(Renderer& renderer, const MapFrame& frame) {
 struct Accumulator {
     labels::DrawnLabelMetrics drawn;
     labels::LayoutMetrics layout;
+    labels::PopCauses causes;
     std::vector<double> labels_ms, frame_ms;
     double occlusion_ms = 0.0, candidates = 0.0;
     std::optional<labels::LayoutStats> first_layout;
@@ -75,6 +76,7 @@ struct Accumulator {
                            b.removed_overlap - a.removed_overlap,
                            b.removed_off_screen - a.removed_off_screen,
                            b.removed_gone - a.removed_gone,
+                           b.removed_keep_out - a.removed_keep_out,
                            b.failures_off_screen - a.failures_off_screen,
                            b.failures_keep_out - a.failures_keep_out,
                            b.failures_labels - a.failures_labels};
@@ -91,6 +93,8 @@ struct Accumulator {
     void frame(int i, Renderer& renderer, const MapFrame& frame, glm::vec2 viewport, const LabelQualityOptions& o,
                LabelQualityReport& r) {
         const double ms = renderTimed(renderer, frame);
+        const MapFrameStats& st = renderer.mapStats();
+        causes.addFrame(st.drawn_labels, st.placed_labels, st.label_input_changes, viewport, i >= 0);
         if (i < 0) return;
         if (i == 0) r.camera_distance_m = glm::length(frame.camera.target - frame.camera.eye);
         const MapFrameStats& s = renderer.mapStats();
@@ -100,6 +104,7 @@ struct Accumulator {
 
     void finish(LabelQualityReport& r) const {
         r.drawn = drawn.summary();
+        r.pop_causes = causes.summary();
         r.quality = layout.summary();
         const auto n = static_cast<double>(std::max<std::size_t>(frame_ms.size(), 1));
         r.mean_candidates = candidates / n;
@@ -333,6 +338,20 @@ std::string toJson(const LabelQualityReport& r) {
     j["interior_point_pops_per_s"] = rounded(q.interior_point_pops_per_s, 3);
     j["text_pops"] = q.text_pops;
     j["text_pops_per_s"] = rounded(q.text_pops_per_s, 3);
+    // The pops by cause (docs/labels.md "Pops by cause") and the floor no layout avoids.
+    const labels::PopCauseFigures& pc = r.pop_causes;
+    j["pop_enters"] = pc.enters;
+    j["pop_leaves"] = pc.leaves;
+    for (std::size_t c = 0; c < labels::kPopCauses; ++c) {
+        j[std::string("pops_") + labels::popCauseName(static_cast<labels::PopCause>(c))] = pc.pops[c];
+    }
+    for (std::size_t c = 0; c < labels::kPopCauses; ++c) {
+        j[std::string("interior_point_pops_") + labels::popCauseName(static_cast<labels::PopCause>(c))] =
+            pc.interior_point_pops[c];
+    }
+    j["pop_floor"] = pc.floor;
+    j["pop_floor_per_s"] = rounded(q.seconds > 0.0 ? static_cast<double>(pc.floor) / q.seconds : 0.0, 3);
+    j["visible_runs"] = pc.visible_runs;
     j["frames_with_pop"] = q.frames_with_pop;
     j["pop_frame_share"] = rounded(q.pop_frame_share, 4);
     j["jitter_mean_px"] = rounded(q.jitter_mean_px, 4);
@@ -366,6 +385,7 @@ std::string toJson(const LabelQualityReport& r) {
     j["layout_removed_overlap"] = r.layout_events.removed_overlap;
     j["layout_removed_off_screen"] = r.layout_events.removed_off_screen;
     j["layout_removed_gone"] = r.layout_events.removed_gone;
+    j["layout_removed_keep_out"] = r.layout_events.removed_keep_out;
     j["layout_unplaced_off_screen"] = r.layout_events.failures_off_screen;
     j["layout_unplaced_keep_out"] = r.layout_events.failures_keep_out;
     j["layout_unplaced_labels"] = r.layout_events.failures_labels;

@@ -17,6 +17,7 @@
 #include "drive_scene.h"
 #include "labels/drawn_label_metrics.h"
 #include "labels/layout_metrics.h"
+#include "labels/pop_causes.h"
 #include "navmap/render/camera_rig.h"
 #include "navmap/render/map_frame.h"
 
@@ -61,8 +62,9 @@ struct LabelQualityReport {
     int settle_frames = 0;
     double dt_s = 0;
     std::optional<MapLibreFollow> camera;
-    double camera_distance_m = 0;     ///< eye to look-at point in the first measured frame
-    labels::DrawnLabelQuality drawn;  ///< over the measured frames, on the drawn labels
+    double camera_distance_m = 0;        ///< eye to look-at point in the first measured frame
+    labels::DrawnLabelQuality drawn;     ///< over the measured frames, on the drawn labels
+    labels::PopCauseFigures pop_causes;  ///< the drawn pops by cause, and their floor
     /// The layout output's figures (LayoutMetrics on the layout boxes, not what is drawn),
     /// reported as layout_*.
     labels::LayoutQuality quality;
@@ -78,6 +80,7 @@ struct LabelQualityReport {
     struct LayoutEvents {
         std::uint64_t placed = 0, removed_speed = 0, removed_constricted = 0, removed_overlap = 0,
                       removed_off_screen = 0, removed_gone = 0;
+        std::uint64_t removed_keep_out = 0;  ///< of removed_overlap: over a keep-out area
         /// Placement attempts that found no free candidate: all outside the viewport, one blocked
         /// by a keep-out area (marker, route), only blocked by other labels.
         std::uint64_t failures_off_screen = 0, failures_keep_out = 0, failures_labels = 0;

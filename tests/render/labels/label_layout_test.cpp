@@ -83,6 +83,12 @@ TEST(LabelLayout, InvalidParamsThrowNamingTheField) {
     p = {};
     p.step_s = 0.0;
     EXPECT_THROW(nl::LabelLayout{p}, nl::LabelLayoutError);
+    p = {};
+    p.placement_lookahead_s = -1.0F;
+    EXPECT_THROW(nl::LabelLayout{p}, nl::LabelLayoutError);
+    p = {};
+    p.established_s = std::nanf("");
+    EXPECT_THROW(nl::LabelLayout{p}, nl::LabelLayoutError);
 }
 
 TEST(LabelLayout, BadCandidatesAreRejectedWithAMessage) {
@@ -561,4 +567,65 @@ TEST(LabelLayout, SurvivesGarbageInput) {
         }
     }
     EXPECT_GT(layout.stats().rejected_inputs, 0U);
+}
+
+// Placement looks ahead (LayoutParams::placement_lookahead_s): a label whose anchor carries its
+// text out of the view within that time is not placed for a moment only; one moving inwards is.
+TEST(LabelLayout, LabelAboutToLeaveTheViewIsNotPlaced) {
+    for (const float direction : {1.0F, -1.0F}) {
+        for (const float lookahead : {1.5F, 0.0F}) {
+            nl::LayoutParams p;
+            p.placement_lookahead_s = lookahead;
+            nl::LabelLayout layout(p);
+            // A keep-out area holds the label back at first; then it waits for its retry timer
+            // while its anchor runs at 300 px/s towards the right edge (direction 1) or away
+            // from it.
+            float x = direction > 0.0F ? 700.0F : 1100.0F;
+            const auto frame = [&] {
+                layout.setFrame(std::vector{point(1, {x, 300})}, camera());
+                layout.advance(kFrame);
+                x += direction * 300.0F * static_cast<float>(kFrame);
+            };
+            const nl::OrientedBox block{{850, 300}, {400, 100}, {1, 0}};
+            layout.setKeepOut(std::span(&block, 1));
+            for (int f = 0; f < 12; ++f) frame();
+            ASSERT_EQ(find(layout, 1), nullptr) << "held back by the keep-out area";
+            layout.setKeepOut({});
+            bool shown = false;
+            for (int f = 0; f < 90; ++f) {  // 1.5 s: the retry timer (1 to 1.25 s) runs out
+                frame();
+                shown |= find(layout, 1) != nullptr && find(layout, 1)->state != nl::LabelState::FadingOut;
+            }
+            // Moving right, its text would reach the edge at 1280 within 1.5 s of the retry.
+            const bool expect_shown = direction < 0.0F || lookahead == 0.0F;
+            EXPECT_EQ(shown, expect_shown) << "direction " << direction << " lookahead " << lookahead;
+            if (!expect_shown) {
+                EXPECT_GT(layout.stats().failures_off_screen, 0U);
+            }
+        }
+    }
+}
+
+// Hysteresis (LayoutParams::established_s): when a label placed later runs into one shown for
+// longer, the newcomer gives way even where it is more important.
+TEST(LabelLayout, EstablishedLabelKeepsItsPlaceAgainstANewcomer) {
+    for (const float established : {2.0F, -1.0F}) {
+        nl::LayoutParams p;
+        p.established_s = established;
+        nl::LabelLayout layout(p);
+        run(layout, {point(1, {400, 300}, 0.3F)}, 3.0);
+        run(layout, {point(1, {400, 300}, 0.3F), point(2, {400, 500}, 0.8F)}, 0.6);
+        ASSERT_NE(find(layout, 2), nullptr);
+        ASSERT_EQ(find(layout, 2)->state, nl::LabelState::Visible);
+        // The camera jumps: the two text boxes land on each other.
+        run(layout, {point(1, {400, 300}, 0.3F), point(2, {400, 302}, 0.8F)}, kFrame);
+        const std::uint64_t kept = established >= 0.0F ? 1 : 2;
+        const std::uint64_t gone = 3 - kept;
+        ASSERT_NE(find(layout, kept), nullptr);
+        EXPECT_EQ(find(layout, kept)->state, nl::LabelState::Visible) << "established_s " << established;
+        ASSERT_NE(find(layout, gone), nullptr);
+        EXPECT_EQ(find(layout, gone)->state, nl::LabelState::FadingOut) << "established_s " << established;
+        EXPECT_EQ(find(layout, gone)->reason, nl::RemovalReason::Overlap);
+        EXPECT_LT(find(layout, gone)->alpha, layout.params().visible_alpha);
+    }
 }

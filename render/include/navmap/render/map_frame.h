@@ -288,6 +288,10 @@ struct MapFrameStats {
     /// Every label drawn in this frame as it appears on screen (glyph extents after projection,
     /// drawn opacity): what the label quality metrics measure.
     std::vector<labels::DrawnLabel> drawn_labels;
+    /// Candidates that arrived since the previous frame, and labels of the previous frame's
+    /// layout output that are no candidates any more, with the cause (what the pop causes of
+    /// navmap-label-quality attribute the pops to).
+    std::vector<labels::LabelInputChange> label_input_changes;
     /// Wall time of the label occlusion measurement (MapLayers::measure_label_occlusion: its id
     /// renders and readbacks, after a glFinish so the frame's own drawing is not in it), ms; 0 when
     /// off. Tools subtract it from the frame time.

@@ -40,6 +40,26 @@ struct DrawnLabel {
     float occluded_fraction = -1.0F;
 };
 
+/// Why a label's candidate came into or went out of the layout's input between two frames (the
+/// renderer's label pass reports it for the labels the pop causes need: docs/labels.md "Pops by
+/// cause").
+enum class InputCause : std::uint8_t {
+    View,          ///< its anchor crossed the viewport's edge or the near plane (camera motion)
+    Tiles,         ///< no drawn tile carried it before / any more (tile loaded, dropped, other level)
+    TooSmall,      ///< world-space text too small to read (left out / back in)
+    Hidden,        ///< behind the terrain
+    StreetRepeat,  ///< another piece of the same street nearby carries the name
+};
+
+/// One change of the layout's input: `arrived` true for a candidate that was none in the
+/// previous frame, false for a label of the previous frame's layout output that is no candidate
+/// any more.
+struct LabelInputChange {
+    std::uint64_t id = 0;
+    bool arrived = false;
+    InputCause cause = InputCause::Tiles;
+};
+
 /// The vehicle marker as drawn: its screen outline (convex), or an empty vector when no marker.
 struct DrawnMarker {
     std::vector<glm::vec2> outline;

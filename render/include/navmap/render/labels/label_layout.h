@@ -34,12 +34,13 @@ struct LayoutStats {
     std::size_t fading_out = 0;
     std::uint64_t placed = 0;               ///< successful initial placements
     std::uint64_t placement_failures = 0;   ///< attempts without a free candidate, of which:
-    std::uint64_t failures_off_screen = 0;  ///<   no candidate inside the viewport
+    std::uint64_t failures_off_screen = 0;  ///<   no candidate in the view now and for placement_lookahead_s
     std::uint64_t failures_keep_out = 0;    ///<   a keep-out area (marker, route) blocked one
     std::uint64_t failures_labels = 0;      ///<   only other labels' zones blocked them
     std::uint64_t removed_speed = 0;
     std::uint64_t removed_constricted = 0;
     std::uint64_t removed_overlap = 0;
+    std::uint64_t removed_keep_out = 0;  ///< of removed_overlap: over a keep-out area in a drawn frame
     std::uint64_t removed_off_screen = 0;
     std::uint64_t removed_gone = 0;     ///< placed labels whose candidate stopped coming (left the view, culled)
     std::uint64_t rejected_inputs = 0;  ///< candidates refused by setFrame() (bad values, duplicate ids)
@@ -108,6 +109,7 @@ private:
         LabelCandidate in;
         LabelState state = LabelState::Pending;
         RemovalReason reason = RemovalReason::None;
+        RemovalReason held_by = RemovalReason::None;  ///< PlacedLabel::held_by
         bool present = true;
         bool rotated = false;
         bool dead = false;
@@ -122,9 +124,11 @@ private:
         glm::vec2 velocity{0.0F};
         glm::vec2 anchor_prev{0.0F};
         float anchor_speed = 0.0F;
+        glm::vec2 anchor_velocity{0.0F};  ///< screen motion of the anchor, px/s, low-passed
         float alpha = 0.0F;
         float timer = 0.0F;
         float overlap_time = 0.0F;
+        double placed_at_s = 0.0;  ///< timeS() of its last placement
         float constricted_time = 0.0F;
     };
 
@@ -136,6 +140,10 @@ private:
     void fade(float dt);
     void resolveOverlaps();
     [[nodiscard]] float retryDelay(std::uint64_t id) const;
+    /// Shown for LayoutParams::established_s (it wins over a newcomer whatever its priority).
+    [[nodiscard]] bool established(const Label& l) const;
+    /// Which of two placed labels gives way to the other (the newcomer, else the less important one).
+    [[nodiscard]] bool yields(const Label& a, const Label& b) const;
 
     LayoutParams m_params;
     CameraState m_camera;

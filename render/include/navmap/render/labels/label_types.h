@@ -36,6 +36,9 @@ enum class RemovalReason : std::uint8_t {
     Constricted,  ///< seed 4.5.3: the forces on it cancel out
     Overlap,      ///< its box kept overlapping a more important label
     OffScreen,    ///< its text box left the viewport (the camera turned): it would be cut
+    /// Over a keep-out area (marker, route, arrow) in a drawn frame; also counted in
+    /// LayoutStats::removed_overlap. As PlacedLabel::held_by: a keep-out area blocked its placement.
+    KeepOut,
 };
 
 /// One label candidate for the current frame, already projected by the renderer.
@@ -81,11 +84,17 @@ struct PlacedLabel {
     std::uint64_t id = 0;
     LabelKind kind = LabelKind::Point;
     LabelState state = LabelState::Visible;
-    OrientedBox box;             ///< the text box (scaled, without buffer zone), screen pixels
-    glm::vec2 anchor{0.0F};      ///< the projected anchor it belongs to
-    float alpha = 0.0F;          ///< fade in [0, 1]
-    float scale = 1.0F;          ///< depth scale applied to the text (seed 4.3.3)
-    std::uint8_t candidate = 0;  ///< chosen candidate position (0 = best association)
+    OrientedBox box;                             ///< the text box (scaled, without buffer zone), screen pixels
+    glm::vec2 anchor{0.0F};                      ///< the projected anchor it belongs to
+    float alpha = 0.0F;                          ///< fade in [0, 1]
+    float scale = 1.0F;                          ///< depth scale applied to the text (seed 4.3.3)
+    std::uint8_t candidate = 0;                  ///< chosen candidate position (0 = best association)
+    RemovalReason reason = RemovalReason::None;  ///< FadingOut: why it was taken out
+    /// FadingIn and Visible: what kept it out of the layout before this placement (what its
+    /// appearance ends): the reason of its last removal, or of its last failed placement attempt
+    /// (OffScreen: none in the viewport or staying in it, KeepOut, Overlap: other labels' zones); None
+    /// when placed at its first attempt.
+    RemovalReason held_by = RemovalReason::None;
 };
 
 }  // namespace navmap::render::labels

@@ -30,6 +30,17 @@ struct LayoutParams {
     float candidate_gap_px = 4.0F;     ///< gap between a point anchor and its label box
     float line_gap_px = 2.0F;          ///< gap between a line and its side candidates
     float retry_delay_s = 1.0F;        ///< timer before a label without free candidate retries
+    /// Temporal coherence of placement: a new label must also fit where the anchors' screen
+    /// motion (low-passed over 0.1 s) carries it and the placed labels within this time, checked
+    /// at 1/3, 2/3 and all of it: in the viewport, clear of the placed labels and of the keep-out
+    /// areas. A label that would be cut by the viewport's edge or run into another label
+    /// straight away is not shown for a moment only (two pops). 0 = off.
+    float placement_lookahead_s = 1.5F;
+    /// Hysteresis of the layout (temporal coherence): a label shown for this long is established;
+    /// when it and a label placed later run into each other, the later one gives way, whatever
+    /// their priorities (priority decides between two established labels or two newcomers).
+    /// Negative = off (priority alone).
+    float established_s = 2.0F;
     float fade_in_s = 0.4F;
     float fade_out_s = 0.4F;
 
