@@ -300,11 +300,7 @@ RoadGraph buildGraph(const GraphWaySource& for_each_way, const Projection& proj)
             shape_begin = shape_end - 1;
         }
     });
-    std::stable_sort(g.edges.begin(), g.edges.end(),
-                     [](const GraphEdge& a, const GraphEdge& b) { return a.from < b.from; });
-    g.first_edge.assign(g.nodes.size() + 1, 0);
-    for (const auto& e : g.edges) ++g.first_edge[e.from + 1];
-    for (std::size_t i = 1; i < g.first_edge.size(); ++i) g.first_edge[i] += g.first_edge[i - 1];
+    indexEdges(g);
     return g;
 }
 

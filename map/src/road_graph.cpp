@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "navmap/map/road_graph.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "byte_io.h"
@@ -12,6 +13,14 @@ using detail::ByteWriter;
 
 namespace {
 constexpr std::uint32_t kGraphMagic = 0x31475247;  // "GRG1"
+}
+
+void indexEdges(RoadGraph& g) {
+    std::stable_sort(g.edges.begin(), g.edges.end(),
+                     [](const GraphEdge& a, const GraphEdge& b) { return a.from < b.from; });
+    g.first_edge.assign(g.nodes.size() + 1, 0);
+    for (const auto& e : g.edges) ++g.first_edge[e.from + 1];
+    for (std::size_t i = 1; i < g.first_edge.size(); ++i) g.first_edge[i] += g.first_edge[i - 1];
 }
 
 std::vector<std::uint8_t> encodeRoadGraph(const RoadGraph& g) {

@@ -40,11 +40,7 @@ void TestGraph::way(std::int64_t id, const std::vector<std::uint32_t>& nodes, Ro
 
 RoadGraph TestGraph::build() const {
     RoadGraph g = m_g;
-    std::stable_sort(g.edges.begin(), g.edges.end(),
-                     [](const GraphEdge& a, const GraphEdge& b) { return a.from < b.from; });
-    g.first_edge.assign(g.nodes.size() + 1, 0);
-    for (const auto& e : g.edges) ++g.first_edge[e.from + 1];
-    for (std::size_t i = 1; i < g.first_edge.size(); ++i) g.first_edge[i] += g.first_edge[i - 1];
+    indexEdges(g);
     return g;
 }
 

@@ -50,6 +50,10 @@ struct RoadGraph {
     }
 };
 
+/// Sorts the edges by their start node (stably: each node's edges keep their order) and fills
+/// first_edge, the CSR offsets outEdges() reads.
+void indexEdges(RoadGraph& graph);
+
 std::vector<std::uint8_t> encodeRoadGraph(const RoadGraph& graph);
 /// Decodes and validates (node indices, shape ranges, CSR offsets); false + error on bad input.
 bool decodeRoadGraph(std::span<const std::uint8_t> bytes, RoadGraph& out, std::string& error);
