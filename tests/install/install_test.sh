@@ -50,7 +50,7 @@ for f in "${expected[@]}"; do
 done
 (cd "$prefix" && find . -type f -o -type l | sort | sed 's/^\.\//  /')
 # Nothing in the tree is a shader read at run time: they are compiled into navmapd.
-if find "$prefix" -name '*.vert' -o -name '*.frag' -o -name '*.glsl' | grep -q .; then fail "shader files installed"; fi
+if [ -n "$(find "$prefix" -name '*.vert' -o -name '*.frag' -o -name '*.glsl')" ]; then fail "shader files installed"; fi
 grep -qx "ExecStart=$prefix/bin/navmapd --config $prefix/etc/navmap/navmapd.toml" "$prefix/lib/systemd/system/navmapd.service" \
     || fail "the unit does not name this prefix: $(grep ExecStart "$prefix/lib/systemd/system/navmapd.service")"
 grep -q '^u navmap ' "$prefix/lib/sysusers.d/navmap.conf" || fail "sysusers.d entry has no navmap user"
@@ -66,13 +66,15 @@ done
 echo "no installed binary contains $src, $build or $(dirname "$src")/"
 
 # 3. The installed daemon finds its data under the prefix, also after the tree is moved.
-"$prefix/bin/navmapd" --version | grep -qx "navmapd $(sed -n 's/^#define NAVMAP_VERSION "\(.*\)"/\1/p' "$prefix/include/navmap/version.h")" \
-    || fail "navmapd --version"
-"$prefix/bin/navmapd" --check-config | grep -qx "store: $prefix/share/navmap/andorra.navmap (cache 128 MiB)" \
+# (Outputs are taken whole before grep: `program | grep -q` under pipefail fails when grep stops
+# reading early and the program dies of SIGPIPE.)
+grep -qx "navmapd $(sed -n 's/^#define NAVMAP_VERSION "\(.*\)"/\1/p' "$prefix/include/navmap/version.h")" \
+    <<< "$("$prefix/bin/navmapd" --version)" || fail "navmapd --version"
+grep -qx "store: $prefix/share/navmap/andorra.navmap (cache 128 MiB)" <<< "$("$prefix/bin/navmapd" --check-config)" \
     || fail "the default store is not the installed one: $("$prefix/bin/navmapd" --check-config | grep store)"
 mv "$prefix" "$work/moved"
-"$work/moved/bin/navmapd" --check-config | grep -qx "store: $work/moved/share/navmap/andorra.navmap (cache 128 MiB)" \
-    || fail "a moved tree still looks for its data in the old place"
+grep -qx "store: $work/moved/share/navmap/andorra.navmap (cache 128 MiB)" \
+    <<< "$("$work/moved/bin/navmapd" --check-config)" || fail "a moved tree still looks for its data in the old place"
 mv "$work/moved" "$prefix"
 sock="$work/frames.sock"
 "$prefix/bin/navmapd" --noop --input sim --run-for 60 --control-socket "$work/control.sock" --frame-socket "$sock" \

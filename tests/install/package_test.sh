@@ -44,28 +44,32 @@ lib_depends="$(field "$lib_deb" Depends)"
 echo "navmapd Depends: $daemon_depends"
 echo "libnavmap-client0 Depends: $lib_depends"
 for need in libegl1 libgles2 libsystemd0 libturbojpeg0 libfreetype6 libharfbuzz0b; do
-    echo "$daemon_depends" | grep -q "$need" || fail "navmapd does not depend on $need"
+    grep -q "$need" <<< "$daemon_depends" || fail "navmapd does not depend on $need"
 done
-echo "$daemon_depends" | grep -q openimageio && fail "navmapd depends on OpenImageIO (only image files need it)"
+grep -q openimageio <<< "$daemon_depends" && fail "navmapd depends on OpenImageIO (only image files need it)"
 echo "navmap-view Depends: $(field "$view_deb" Depends)"
-field "$view_deb" Depends | grep -q openimageio || fail "navmap-view does not depend on OpenImageIO (its PNG files)"
-dpkg-deb -c "$view_deb" | awk '{print $6}' | grep -qx ./usr/bin/navmap-view || fail "navmap-view lacks its program"
-dpkg-deb -c "$daemon_deb" | awk '{print $6}' | grep -q '/navmap-view' && fail "navmapd carries navmap-view"
+# Each output is taken whole before it is searched: `producer | grep -q` under pipefail fails
+# when grep stops reading early and the producer dies of SIGPIPE.
+files() { dpkg-deb -c "$1" | awk '{print $6}'; }
+daemon_files="$(files "$daemon_deb")" view_files="$(files "$view_deb")" dev_files="$(files "$dev_deb")"
+grep -q openimageio <<< "$(field "$view_deb" Depends)" || fail "navmap-view does not depend on OpenImageIO (its PNG files)"
+grep -qx ./usr/bin/navmap-view <<< "$view_files" || fail "navmap-view lacks its program"
+grep -q '/navmap-view' <<< "$daemon_files" && fail "navmapd carries navmap-view"
 # The client library needs the C and C++ runtime, nothing of the server.
 for d in $(echo "$lib_depends" | tr ',' '\n' | sed 's/(.*//; s/ //g'); do
     case "$d" in libc6|libgcc-s1|libstdc++6) ;; *) fail "libnavmap-client0 depends on $d" ;; esac
 done
-field "$dev_deb" Depends | grep -qx "libnavmap-client0 (= $version)" || fail "-dev Depends: $(field "$dev_deb" Depends)"
-dpkg-deb -f "$lib_deb" Section | grep -qx libs || fail "library section"
-dpkg-deb --ctrl-tarfile "$daemon_deb" | tar -t | grep -q '^./conffiles$' || fail "no conffiles"
-dpkg-deb --ctrl-tarfile "$daemon_deb" | tar -xO ./conffiles | grep -qx /etc/navmap/navmapd.toml || fail "conffiles"
-dpkg-deb --ctrl-tarfile "$lib_deb" | tar -xO ./shlibs | grep -q "^libnavmap-client 0 libnavmap-client0" || fail "shlibs"
+[ "$(field "$dev_deb" Depends)" = "libnavmap-client0 (= $version)" ] || fail "-dev Depends: $(field "$dev_deb" Depends)"
+[ "$(dpkg-deb -f "$lib_deb" Section)" = libs ] || fail "library section"
+grep -q '^./conffiles$' <<< "$(dpkg-deb --ctrl-tarfile "$daemon_deb" | tar -t)" || fail "no conffiles"
+grep -qx /etc/navmap/navmapd.toml <<< "$(dpkg-deb --ctrl-tarfile "$daemon_deb" | tar -xO ./conffiles)" || fail "conffiles"
+grep -q "^libnavmap-client 0 libnavmap-client0" <<< "$(dpkg-deb --ctrl-tarfile "$lib_deb" | tar -xO ./shlibs)" || fail "shlibs"
 for f in ./usr/bin/navmapd ./usr/share/navmap/andorra.navmap ./etc/navmap/navmapd.toml \
          ./usr/lib/systemd/system/navmapd.service ./usr/lib/sysusers.d/navmap.conf; do
-    dpkg-deb -c "$daemon_deb" | awk '{print $6}' | grep -qx "$f" || fail "navmapd lacks $f"
+    grep -qx "$f" <<< "$daemon_files" || fail "navmapd lacks $f"
 done
-dpkg-deb -c "$dev_deb" | awk '{print $6}' | grep -q 'cmake/navmap/navmapConfig.cmake$' || fail "-dev lacks the CMake package"
-dpkg-deb -c "$dev_deb" | awk '{print $6}' | grep -q '/include/navmap_client.h$' || fail "-dev lacks navmap_client.h"
+grep -q 'cmake/navmap/navmapConfig.cmake$' <<< "$dev_files" || fail "-dev lacks the CMake package"
+grep -q '/include/navmap_client.h$' <<< "$dev_files" || fail "-dev lacks navmap_client.h"
 
 # Into a throwaway root.
 root="$work/root"
@@ -88,9 +92,10 @@ else
     echo "== not root: dpkg -x into $root (dpkg --root needs root)"
     for deb in "$lib_deb" "$dev_deb" "$daemon_deb" "$view_deb"; do dpkg -x "$deb" "$root"; done
 fi
-"$root/usr/bin/navmapd" --version | grep -qx "navmapd $version" || fail "navmapd --version"
-"$root/usr/bin/navmap-view" --version | grep -q "$version" || fail "navmap-view --version: $("$root/usr/bin/navmap-view" --version 2>&1)"
-"$root/usr/bin/navmapd" --check-config | grep -qx "store: $root/usr/share/navmap/andorra.navmap (cache 128 MiB)" \
+grep -qx "navmapd $version" <<< "$("$root/usr/bin/navmapd" --version)" || fail "navmapd --version"
+grep -q "$version" <<< "$("$root/usr/bin/navmap-view" --version)" \
+    || fail "navmap-view --version: $("$root/usr/bin/navmap-view" --version 2>&1)"
+grep -qx "store: $root/usr/share/navmap/andorra.navmap (cache 128 MiB)" <<< "$("$root/usr/bin/navmapd" --check-config)" \
     || fail "the packaged navmapd does not find its store"
 grep -qx "ExecStart=/usr/bin/navmapd --config /etc/navmap/navmapd.toml" "$root/usr/lib/systemd/system/navmapd.service" \
     || fail "the packaged unit: $(grep ExecStart "$root/usr/lib/systemd/system/navmapd.service")"
