@@ -47,6 +47,12 @@ struct Frame {
     std::vector<nl::LabelInputChange> changes;
 };
 
+// One frame into the cause attribution and into the drawn-label metrics it must agree with.
+void feed(nl::PopCauses& causes, nl::DrawnLabelMetrics& metrics, const Frame& f) {
+    causes.addFrame(f.drawn, f.placed, f.changes, kViewport, true);
+    metrics.addFrame(f.drawn, {}, kViewport, 1.0 / 30.0);
+}
+
 std::uint64_t pops(const nl::PopCauseFigures& f, nl::PopCause c) { return f.pops[static_cast<std::size_t>(c)]; }
 
 }  // namespace
@@ -71,10 +77,7 @@ TEST(PopCauses, LeavesTakeTheLayoutsReasonOrTheInputChange) {
         frames[1].placed.push_back(placed(id, S::FadingOut, reasons[id - 1]));
     }
     frames[1].changes = {{4, false, nl::InputCause::Tiles}, {5, false, nl::InputCause::View}};
-    for (const Frame& f : frames) {
-        causes.addFrame(f.drawn, f.placed, f.changes, kViewport, true);
-        metrics.addFrame(f.drawn, {}, kViewport, 1.0 / 30.0);
-    }
+    for (const Frame& f : frames) feed(causes, metrics, f);
     const nl::PopCauseFigures f = causes.summary();
     EXPECT_EQ(f.leaves, 5U);
     EXPECT_EQ(f.enters, 0U);
@@ -115,10 +118,7 @@ TEST(PopCauses, EntersTakeWhatHeldTheLabelBack) {
     frames[2].changes.clear();
     frames[2].drawn.pop_back();  // 9 leaves, its layout entry gone too: an unexplained leave
     frames[2].placed.pop_back();
-    for (std::size_t i = 0; i < frames.size(); ++i) {
-        causes.addFrame(frames[i].drawn, frames[i].placed, frames[i].changes, kViewport, true);
-        metrics.addFrame(frames[i].drawn, {}, kViewport, 1.0 / 30.0);
-    }
+    for (const Frame& f : frames) feed(causes, metrics, f);
     const nl::PopCauseFigures f = causes.summary();
     EXPECT_EQ(f.enters, 6U);
     EXPECT_EQ(f.leaves, 1U);
