@@ -13,7 +13,8 @@ namespace {
 constexpr float kNoFloor = -std::numeric_limits<float>::infinity();
 
 // Drawn tiles by position: a grid of cells of the smallest tile's size, each pointing at the
-// tile that covers it (tiles of one level are aligned to multiples of their size).
+// tile that covers it (tiles of one level lie on multiples of their size from the quadtree's
+// corner, so the grid is laid from the corner of a smallest tile).
 class FloorIndex {
 public:
     explicit FloorIndex(std::span<const TerrainFloor* const> floors) {
@@ -23,12 +24,16 @@ public:
         }
         if (!(m_cell > 0.0)) return;
         glm::dvec2 lo(std::numeric_limits<double>::max()), hi(std::numeric_limits<double>::lowest());
+        glm::dvec2 ref(0.0);  // the corner of a smallest tile: the index cells are aligned to it
         for (const TerrainFloor* f : floors) {
             if (!f || f->cells <= 0) continue;
             lo = glm::min(lo, f->origin);
             hi = glm::max(hi, f->origin + f->cell_m * f->cells);
+            if (f->cell_m * f->cells == m_cell) ref = f->origin;
         }
-        m_origin = glm::floor(lo / m_cell) * m_cell;
+        // Tile corners lie on multiples of the tile size from the quadtree's corner, which need
+        // not be a multiple of the size from the frame's origin.
+        m_origin = ref + glm::floor((lo - ref) / m_cell + 1e-9) * m_cell;
         m_nx = static_cast<int>(std::ceil((hi.x - m_origin.x) / m_cell));
         m_ny = static_cast<int>(std::ceil((hi.y - m_origin.y) / m_cell));
         m_at.assign(static_cast<std::size_t>(m_nx) * static_cast<std::size_t>(m_ny), nullptr);

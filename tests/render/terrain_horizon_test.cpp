@@ -75,6 +75,19 @@ TEST(TerrainHorizon, ANotchInTheWallLetsTheBoxShow) {
     EXPECT_TRUE(horizonOver({&f}).hides({1400.0, 1500.0, 0.0}, {1500.0, 1600.0, 5.0}, kKeep));
 }
 
+// A store's quadtree is laid from its world root's corner: tile corners lie on multiples of the
+// tile size from there, not from the frame's origin. A notch in the wall just east of the border
+// between two tiles is looked up in the tile that has it, and the box behind it shows.
+TEST(TerrainHorizon, TilesOffTheFramesMultiplesOfTheirSizeAreLookedUpWhereTheyAre) {
+    const glm::dvec2 corner{-433.7, -217.3};  // the west tiles end at x = 1566.3
+    const auto notched = wall([](double x) { return x > 1570.0 && x < 1860.0; });
+    const TerrainFloor a = tile(corner, notched), b = tile(corner + glm::dvec2(0.0, kSize), notched);
+    const TerrainFloor c = tile(corner + glm::dvec2(kSize, 0.0), notched);
+    const TerrainHorizon h = horizonOver({&a, &b, &c});
+    EXPECT_FALSE(h.hides({2640.0, 1500.0, 0.0}, {2740.0, 1600.0, 5.0}, kKeep));
+    EXPECT_TRUE(h.hides(kBehindLo, kBehindHi, kKeep));  // behind the wall west of the notch
+}
+
 TEST(TerrainHorizon, AnEyeNotAboveTheGroundUnderItHidesNothing) {
     const TerrainFloor f = tile({0.0, 0.0}, wall());
     const TerrainHorizon h = horizonOver({&f}, 60.0);
