@@ -19,6 +19,7 @@
 #include <thread>
 
 #include "navmap/map/compiler.h"
+#include "navmap/map/store_set.h"
 #include "navmap/map/tile_cache.h"
 #include "navmap/map/tile_selection.h"
 #include "navmap/map/tile_store.h"
@@ -87,14 +88,19 @@ void BM_CompileAndorra(benchmark::State& state) {
 }
 BENCHMARK(BM_CompileAndorra)->Unit(benchmark::kMillisecond)->Iterations(3);
 
+// Arg 0: from the store; 1: through a StoreSet in a frame 800 km north, which re-expresses every
+// tile (a scale and a translation, docs/tile-store.md "Several stores").
 void BM_TileLoad(benchmark::State& state) {
     const auto store = TileStore::open(andorraStore());
     const auto ids = store->tileIds();
+    const bool mounted = state.range(0) == 1;
+    const auto set = StoreSet::mount({store}, Projection(store->info().origin_lat + 7.2, store->info().origin_lon));
     std::vector<double> ms;
     std::size_t i = 0;
     for (auto _ : state) {
+        const TileId id = ids[i++ % ids.size()];
         const auto t0 = std::chrono::steady_clock::now();
-        auto res = store->load(ids[i++ % ids.size()]);
+        auto res = mounted ? set->load(*set->scheme().fromWorld(store->scheme().worldTile(id))) : store->load(id);
         ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
         benchmark::DoNotOptimize(res.tile);
     }
@@ -103,7 +109,7 @@ void BM_TileLoad(benchmark::State& state) {
     state.counters["load_p99_ms"] = ms[std::min(ms.size() - 1, ms.size() * 99 / 100)];
     state.counters["tiles_in_store"] = static_cast<double>(ids.size());
 }
-BENCHMARK(BM_TileLoad)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_TileLoad)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
 
 void BM_CompileLarge(benchmark::State& state) {
     const int grid = static_cast<int>(state.range(0));

@@ -311,6 +311,7 @@ struct TilingContext {
     const Projection& proj;
     const TileScheme& scheme;
     Box data_bounds;
+    ShardGrid grid;  // the data's leaf columns, which shards and bands divide
     const DemMosaic& dems;
     double dem_spacing_m;
     int dem_samples;
@@ -438,8 +439,8 @@ void tileFeatures(const RawFeatures& raw, const TilingContext& ctx, CompileStats
         std::map<std::uint64_t, Tile> tiles;  // ordered: stable file layout
         // The tile columns this pass builds: the job's (all of them unless it is one shard of
         // several), and of those the band's.
-        const auto job = shardColumns(level, ctx.shard);
-        const auto band = shardColumns(level, ctx.band);
+        const auto job = shardColumns(level, ctx.shard, ctx.grid);
+        const auto band = shardColumns(level, ctx.band, ctx.grid);
         const std::pair<std::uint32_t, std::uint32_t> own{std::max(job.first, band.first),
                                                           std::min(job.second, band.second)};
         const auto owned = [&](std::uint32_t x) { return x >= own.first && x <= own.second; };
@@ -653,7 +654,8 @@ constexpr int kMaxBands = 256;
 /// The bands of tile columns that build a tile holding the feature `one` holds: at each level
 /// where it appears (tileFeatures' level-of-detail rules), the bands of the columns its bounds
 /// overlap (its label anchors lie inside them). Bounds grow by a metre for rounding.
-std::pair<int, int> featureBands(const RawFeatures& one, const Projection& proj, const TileScheme& scheme, int bands) {
+std::pair<int, int> featureBands(const RawFeatures& one, const Projection& proj, const TileScheme& scheme,
+                                 const ShardGrid& grid, int bands) {
     const int leaf = scheme.leafLevel();
     std::vector<PlanarPoint> pts;
     auto add = [&](const std::vector<LatLon>& ll) {
@@ -696,8 +698,8 @@ std::pair<int, int> featureBands(const RawFeatures& one, const Projection& proj,
         const TileRange r = scheme.range(level, box);
         if (r.empty) continue;
         const auto l = static_cast<std::uint8_t>(level);
-        lo = std::min(lo, tileShard({l, r.x0, 0}, bands));
-        hi = std::max(hi, tileShard({l, r.x1, 0}, bands));
+        lo = std::min(lo, tileShard({l, r.x0, 0}, bands, grid));
+        hi = std::max(hi, tileShard({l, r.x1, 0}, bands, grid));
     }
     return {lo, hi};
 }
@@ -914,13 +916,9 @@ CompileStats compileStore(const CompileOptions& opt) {
     for (const auto& w : coast.ways)
         for (const auto& p : w.points) grow(p);
     const Projection proj(0.5 * (south + north), 0.5 * (west + east));
-    Box data_bounds;
-    {
-        const PlanarPoint corners[4] = {proj.forward(south, west), proj.forward(south, east), proj.forward(north, west),
-                                        proj.forward(north, east)};
-        data_bounds = boundsOf(corners);
-    }
-    const TileScheme scheme = TileScheme::covering(data_bounds, opt.leaf_tile_m);
+    const Box data_bounds = dataBox(proj, south, west, north, east);
+    const TileScheme scheme = TileScheme::forData(proj, south, west, north, east, opt.leaf_tile_m);
+    const ShardGrid grid = shardGridOf(scheme, data_bounds);
     std::shared_ptr<const ortho::GlobalInputs> ortho_inputs;
     if (opt.ortho_inputs) {
         const double t_ortho = elapsed();
@@ -932,9 +930,10 @@ CompileStats compileStore(const CompileOptions& opt) {
         stats.ortho_seconds += elapsed() - t_ortho;
         log("read the global orthoimage inputs");
     }
-    log("projection origin " + std::to_string(proj.originLat()) + ", " + std::to_string(proj.originLon()) + "; " +
-        std::to_string(scheme.levelCount()) + " levels, root " +
-        std::to_string(static_cast<long>(scheme.rootSize() / 1000)) + " km");
+    log("frame origin " + std::to_string(proj.originLat()) + ", " + std::to_string(proj.originLon()) + "; " +
+        std::to_string(scheme.levelCount()) + " levels under world tile " + scheme.worldRoot().toString() + ", root " +
+        std::to_string(static_cast<long>(scheme.rootSize() / 1000)) + " km, leaves " +
+        std::to_string(static_cast<long>(std::lround(scheme.tileSize(scheme.leafLevel())))) + " m");
 
     // The sea, from the coastlines (coastline.h): one area of its own, odd winding with its islands.
     static const std::string kNoName;
@@ -984,6 +983,7 @@ CompileStats compileStore(const CompileOptions& opt) {
     TilingContext ctx{proj,
                       scheme,
                       data_bounds,
+                      grid,
                       dems,
                       dem_spacing_m,
                       opt.dem_samples,
@@ -1034,8 +1034,8 @@ CompileStats compileStore(const CompileOptions& opt) {
         std::vector<char> band_used(static_cast<std::size_t>(n_bands), 0);
         for (int k = 0; k < n_bands; ++k) {
             for (int level = 0; level <= scheme.leafLevel(); ++level) {
-                const auto job = shardColumns(level, opt.shard);
-                const auto band = shardColumns(level, {k, n_bands});
+                const auto job = shardColumns(level, opt.shard, grid);
+                const auto band = shardColumns(level, {k, n_bands}, grid);
                 if (std::max(job.first, band.first) <= std::min(job.second, band.second)) band_used[k] = 1;
             }
         }
@@ -1051,7 +1051,7 @@ CompileStats compileStore(const CompileOptions& opt) {
             while (in.next(record)) {
                 clearFeatures(one);
                 decodeRecord(in, record, one);
-                const auto [lo, hi] = featureBands(one, proj, scheme, n_bands);
+                const auto [lo, hi] = featureBands(one, proj, scheme, grid, n_bands);
                 bool first = true;
                 for (int k = lo; k <= hi; ++k) {
                     if (!band_out[k]) continue;
@@ -1096,7 +1096,7 @@ CompileStats compileStore(const CompileOptions& opt) {
             ctx.emit = [&](const Tile& t) {
                 payload.clear();
                 for (int i = 0; i < 8; ++i) payload.push_back(static_cast<std::uint8_t>(t.id.key() >> (8 * i)));
-                const auto encoded = encodeTile(t, info.format_version);
+                const auto encoded = encodeTile(t);
                 payload.insert(payload.end(), encoded.begin(), encoded.end());
                 refs.push_back({t.id.key(), k, tiles_out.append(payload)});
                 ++band_tiles;

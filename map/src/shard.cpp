@@ -24,26 +24,54 @@ std::string describe(ShardSpec s) { return std::to_string(s.index) + "/" + std::
 
 }  // namespace
 
-int tileShard(TileId id, int shard_count) {
-    if (shard_count <= 1) return 0;
-    // Column of the tile's centre in N equal bands: floor((x + 1/2) / 2^level * N).
-    const std::uint64_t twice = 2 * std::uint64_t{id.x} + 1;
-    const std::uint64_t band = (twice * static_cast<std::uint64_t>(shard_count)) >> (id.level + 1);
-    return static_cast<int>(std::min<std::uint64_t>(band, static_cast<std::uint64_t>(shard_count - 1)));
+Box dataBox(const Projection& frame, double south, double west, double north, double east) {
+    const PlanarPoint corners[4] = {frame.forward(south, west), frame.forward(south, east), frame.forward(north, west),
+                                    frame.forward(north, east)};
+    return boundsOf(corners);
 }
 
-std::pair<std::uint32_t, std::uint32_t> shardColumns(int level, ShardSpec spec) {
+ShardGrid shardGridOf(const TileScheme& scheme, const Box& data_box) {
+    const TileRange r = scheme.range(scheme.leafLevel(), data_box);
+    if (r.empty) return {scheme.leafLevel(), 0, (std::uint32_t{1} << scheme.leafLevel()) - 1};
+    return {scheme.leafLevel(), r.x0, r.x1};
+}
+
+ShardGrid shardGridOf(const StoreInfo& info) {
+    return shardGridOf(info.scheme, dataBox(Projection(info.origin_lat, info.origin_lon), info.south, info.west,
+                                            info.north, info.east));
+}
+
+int tileShard(TileId id, int shard_count, const ShardGrid& grid) {
+    if (shard_count <= 1) return 0;
+    // The column's centre in doubled leaf columns, against the grid's doubled range: exact in
+    // integers, so every job and the merge agree on every tile.
+    const int up = std::max(0, grid.leaf_level - static_cast<int>(id.level));
+    const std::int64_t centre = (2 * std::int64_t{id.x} + 1) << up;
+    const std::int64_t from = 2 * std::int64_t{grid.first};
+    const std::int64_t width = 2 * (std::int64_t{grid.last} + 1 - std::int64_t{grid.first});
+    if (centre <= from) return 0;
+    const std::int64_t band = (centre - from) * shard_count / width;
+    return static_cast<int>(std::min<std::int64_t>(band, shard_count - 1));
+}
+
+std::pair<std::uint32_t, std::uint32_t> shardColumns(int level, ShardSpec spec, const ShardGrid& grid) {
     const std::uint64_t columns = std::uint64_t{1} << level;
     if (!spec.sharded()) return {0, static_cast<std::uint32_t>(columns - 1)};
-    // The first column whose centre lies in band k: the smallest x with (2x + 1) N >= k 2^(L+1).
-    auto first = [&](std::uint64_t k) {
-        const std::uint64_t target = k << (level + 1);
-        const std::uint64_t n = static_cast<std::uint64_t>(spec.count);
-        const std::uint64_t twice = (target + n - 1) / n;  // ceil: smallest 2x + 1 >= target / N
-        return twice == 0 ? std::uint64_t{0} : twice / 2;  // 2x + 1 >= twice  <=>  x >= twice / 2
+    // Bands grow west to east: the first column of band >= k, by bisection.
+    auto first = [&](int k) {
+        std::uint64_t lo = 0, hi = columns;
+        while (lo < hi) {
+            const std::uint64_t mid = (lo + hi) / 2;
+            if (tileShard({static_cast<std::uint8_t>(level), static_cast<std::uint32_t>(mid), 0}, spec.count, grid) >=
+                k)
+                hi = mid;
+            else
+                lo = mid + 1;
+        }
+        return lo;
     };
-    const std::uint64_t lo = first(static_cast<std::uint64_t>(spec.index));
-    const std::uint64_t hi = std::min(columns, first(static_cast<std::uint64_t>(spec.index) + 1));
+    const std::uint64_t lo = first(spec.index);
+    const std::uint64_t hi = first(spec.index + 1);
     if (lo >= hi) return {1, 0};
     return {static_cast<std::uint32_t>(lo), static_cast<std::uint32_t>(hi - 1)};
 }
@@ -174,9 +202,7 @@ MergeStats mergeShards(const std::vector<std::filesystem::path>& stores, const s
     for (const Shard& s : shards) {
         const StoreInfo& i = s.store->info();
         const bool same = i.format_version == info.format_version && i.origin_lat == info.origin_lat &&
-                          i.origin_lon == info.origin_lon && i.scheme.rootMinX() == info.scheme.rootMinX() &&
-                          i.scheme.rootMinY() == info.scheme.rootMinY() &&
-                          i.scheme.rootSize() == info.scheme.rootSize() &&
+                          i.origin_lon == info.origin_lon && i.scheme.worldRoot() == info.scheme.worldRoot() &&
                           i.scheme.levelCount() == info.scheme.levelCount() && i.dem_samples == info.dem_samples &&
                           i.south == info.south && i.west == info.west && i.north == info.north && i.east == info.east;
         if (!same) {
@@ -188,11 +214,12 @@ MergeStats mergeShards(const std::vector<std::filesystem::path>& stores, const s
             throw CompileError(s.path.string() + ": holds " + std::to_string(ids.size()) +
                                " tiles, its manifest says " + std::to_string(s.manifest.tiles));
         }
+        const ShardGrid grid = shardGridOf(info);
         for (const TileId id : ids) {
-            if (tileShard(id, count) != s.manifest.shard.index) {
+            if (tileShard(id, count, grid) != s.manifest.shard.index) {
                 throw CompileError(s.path.string() + ": tile " + std::to_string(id.level) + "/" + std::to_string(id.x) +
                                    "/" + std::to_string(id.y) + " belongs to shard " +
-                                   std::to_string(tileShard(id, count)) + ", not " + describe(s.manifest.shard));
+                                   std::to_string(tileShard(id, count, grid)) + ", not " + describe(s.manifest.shard));
             }
             tiles.emplace_back(id.key(), &s);
         }

@@ -4,6 +4,7 @@
 
 #include <zlib.h>
 
+#include <cmath>
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
@@ -38,9 +39,11 @@ inline std::vector<std::uint8_t> encodeHeader(const StoreInfo& info) {
     w.u32(static_cast<std::uint32_t>(kHeaderSize));
     w.f64(info.origin_lat);
     w.f64(info.origin_lon);
-    w.f64(info.scheme.rootMinX());
-    w.f64(info.scheme.rootMinY());
-    w.f64(info.scheme.rootSize());
+    const WorldTileId root = info.scheme.worldRoot();
+    w.u32(static_cast<std::uint32_t>(root.z));
+    w.u32(root.x);
+    w.u32(root.y);
+    for (int i = 0; i < 3; ++i) w.u32(0);  // reserved
     w.u32(static_cast<std::uint32_t>(info.scheme.levelCount()));
     w.u32(info.dem_samples);
     w.f64(info.south);
@@ -67,10 +70,12 @@ inline bool decodeHeader(std::span<const std::uint8_t> bytes, StoreInfo& info, s
     }
     ByteReader r(bytes.subspan(8));
     info.format_version = r.u32();
-    if (info.format_version < kOldestStoreFormatVersion || info.format_version > kStoreFormatVersion) {
-        error = "tile store format version " + std::to_string(info.format_version) + ", this build reads versions " +
-                std::to_string(kOldestStoreFormatVersion) + " to " + std::to_string(kStoreFormatVersion) +
-                " (recompile the store with this navmap-compile)";
+    if (info.format_version != kStoreFormatVersion) {
+        error = "tile store format version " + std::to_string(info.format_version) + ", this build reads version " +
+                std::to_string(kStoreFormatVersion) +
+                (info.format_version < kStoreFormatVersion
+                     ? " (versions before 3 have no world tile addresses; recompile the store with this navmap-compile)"
+                     : " (recompile the store with this navmap-compile)");
         return false;
     }
     const std::uint32_t size = r.u32();
@@ -86,9 +91,12 @@ inline bool decodeHeader(std::span<const std::uint8_t> bytes, StoreInfo& info, s
     }
     info.origin_lat = r.f64();
     info.origin_lon = r.f64();
-    const double mx = r.f64(), my = r.f64(), size_m = r.f64();
+    WorldTileId root;
+    root.z = static_cast<int>(r.u32());
+    root.x = r.u32();
+    root.y = r.u32();
+    for (int i = 0; i < 3; ++i) r.u32();  // reserved
     const std::uint32_t levels = r.u32();
-    info.scheme = TileScheme(mx, my, size_m, static_cast<int>(levels));
     info.dem_samples = r.u32();
     info.south = r.f64();
     info.west = r.f64();
@@ -101,11 +109,14 @@ inline bool decodeHeader(std::span<const std::uint8_t> bytes, StoreInfo& info, s
     info.graph_stored_size = r.u64();
     info.graph_raw_size = r.u64();
     info.graph_crc = r.u32();
-    if (levels == 0 || levels > 28 || !(size_m > 0)) {
+    if (r.failed()) return false;
+    if (!root.valid() || levels == 0 || levels > 28 || root.z + static_cast<int>(levels) - 1 > kMaxWorldZoom ||
+        !std::isfinite(info.origin_lat) || !std::isfinite(info.origin_lon) || std::abs(info.origin_lat) > 85.0) {
         error = "implausible tile scheme in header";
         return false;
     }
-    return !r.failed();
+    info.scheme = TileScheme(Projection(info.origin_lat, info.origin_lon), root, static_cast<int>(levels));
+    return true;
 }
 
 }  // namespace navmap::map::detail

@@ -113,7 +113,7 @@ void StoreWriter::write(const std::vector<std::uint8_t>& bytes) {
     m_offset += bytes.size();
 }
 
-void StoreWriter::addTile(const Tile& tile) { addRawTile(tile.id, encodeTile(tile, m_info.format_version)); }
+void StoreWriter::addTile(const Tile& tile) { addRawTile(tile.id, encodeTile(tile)); }
 
 void StoreWriter::addRawTile(TileId id, const std::vector<std::uint8_t>& payload) {
     NAVMAP_CHECK(id.level <= 28 && (id.x >> id.level) == 0 && (id.y >> id.level) == 0, "tile x/y outside [0, 2^level)");

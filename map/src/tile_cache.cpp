@@ -14,8 +14,8 @@ constexpr std::uint64_t kNone = ~std::uint64_t{0};
 constexpr std::size_t kLoadWindow = 4096;
 }  // namespace
 
-TileCache::TileCache(std::shared_ptr<const TileStore> store, TileCacheOptions options)
-    : m_store(std::move(store)), m_options(options) {
+TileCache::TileCache(std::shared_ptr<const TileSource> source, TileCacheOptions options)
+    : m_source(std::move(source)), m_options(options) {
     m_metrics.budget_bytes = options.budget_bytes;
     m_thread = std::thread([this] { loaderLoop(); });
 }
@@ -50,7 +50,7 @@ std::vector<std::shared_ptr<const Tile>> TileCache::request(std::span<const Tile
                 out[i] = it->second.tile;
                 continue;
             }
-            if (m_bad.count(key) || m_dropped.count(key) || !m_store->contains(wanted[i].id)) continue;
+            if (m_bad.count(key) || m_dropped.count(key) || !m_source->contains(wanted[i].id)) continue;
             if (key != m_in_flight) {
                 if (!queued_before.count(key)) ++m_metrics.misses;
                 pending.push_back(wanted[i]);
@@ -90,7 +90,7 @@ void TileCache::loaderLoop() {
         lock.unlock();
 
         const auto start = std::chrono::steady_clock::now();
-        TileStore::LoadResult loaded = m_store->load(next.id);
+        TileLoadResult loaded = m_source->load(next.id);
         const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 
         lock.lock();

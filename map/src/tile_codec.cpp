@@ -236,14 +236,9 @@ void readOrtho(ByteReader& r, ortho::OrthoLayers& o) {
 
 }  // namespace
 
-std::vector<std::uint8_t> encodeTile(const Tile& t, std::uint32_t version) {
-    if (version < kOldestStoreFormatVersion || version > kStoreFormatVersion) {
-        throw std::invalid_argument("encodeTile: no store format version " + std::to_string(version));
-    }
-    if (version == 1 && !t.ortho.empty())
-        throw std::invalid_argument("encodeTile: store format version 1 has no ortho layers");
+std::vector<std::uint8_t> encodeTile(const Tile& t) {
     ByteWriter w;
-    w.u32(version == 1 ? kTilePayloadMagic : kTilePayloadMagicV2);
+    w.u32(kTilePayloadMagic);
     w.u8(t.id.level);
     w.u32(t.id.x);
     w.u32(t.id.y);
@@ -298,16 +293,14 @@ std::vector<std::uint8_t> encodeTile(const Tile& t, std::uint32_t version) {
             prev = q;
         }
     }
-    if (version >= 2) writeOrtho(w, t.ortho);
+    writeOrtho(w, t.ortho);
     return std::move(w.bytes());
 }
 
 bool decodeTile(std::span<const std::uint8_t> bytes, Tile& t, std::string& error) {
     ByteReader r(bytes);
     t = Tile{};
-    // "NTL1" payloads (store format version 1) end before the ortho layers.
-    const std::uint32_t magic = r.u32();
-    if (magic != kTilePayloadMagic && magic != kTilePayloadMagicV2) {
+    if (r.u32() != kTilePayloadMagic) {
         error = "not a tile payload (bad magic)";
         return false;
     }
@@ -383,7 +376,7 @@ bool decodeTile(std::span<const std::uint8_t> bytes, Tile& t, std::string& error
             }
         }
     }
-    if (magic == kTilePayloadMagicV2 && !r.failed()) readOrtho(r, t.ortho);
+    if (!r.failed()) readOrtho(r, t.ortho);
     if (!r.failed() && r.remaining() != 0) r.fail(std::to_string(r.remaining()) + " trailing bytes");
     if (r.failed()) {
         error = r.error();

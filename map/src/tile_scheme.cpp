@@ -9,16 +9,30 @@ namespace navmap::map {
 TileScheme::TileScheme(double root_min_x, double root_min_y, double root_size_m, int level_count)
     : m_min_x(root_min_x), m_min_y(root_min_y), m_size(root_size_m), m_levels(std::clamp(level_count, 1, 28)) {}
 
-TileScheme TileScheme::covering(const Box& b, double leaf_size_m) {
-    const double extent = std::max({b.max_x - b.min_x, b.max_y - b.min_y, 1.0});
-    int levels = 1;
-    double size = leaf_size_m;
-    while (size < extent && levels < 28) {
-        size *= 2;
-        ++levels;
-    }
-    const double cx = 0.5 * (b.min_x + b.max_x), cy = 0.5 * (b.min_y + b.max_y);
-    return TileScheme(cx - size / 2, cy - size / 2, size, levels);
+TileScheme::TileScheme(const Projection& frame, WorldTileId root, int level_count)
+    : m_levels(std::clamp(level_count, 1, std::min(28, kMaxWorldZoom + 1 - root.z))), m_root(root) {
+    const PlanarPoint sw = frame.fromMercator(root.southWest());
+    m_min_x = sw.x;
+    m_min_y = sw.y;
+    m_size = root.size() / frame.scale();
+}
+
+TileScheme TileScheme::forData(const Projection& frame, double south, double west, double north, double east,
+                               double leaf_size_m) {
+    const int leaf_z = worldZoomForGroundSize(leaf_size_m, frame.originLat());
+    const WorldTileId root = worldTileCovering(south, west, north, east, leaf_z);
+    return TileScheme(frame, root, leaf_z - root.z + 1);
+}
+
+WorldTileId TileScheme::worldTile(TileId id) const {
+    return {m_root.z + id.level, (m_root.x << id.level) + id.x, (m_root.y << id.level) + id.y};
+}
+
+std::optional<TileId> TileScheme::fromWorld(WorldTileId id) const {
+    const int level = id.z - m_root.z;
+    if (level < 0 || level >= m_levels || !m_root.contains(id)) return std::nullopt;
+    const std::uint32_t mask = (std::uint32_t{1} << level) - 1;
+    return TileId{static_cast<std::uint8_t>(level), id.x & mask, id.y & mask};
 }
 
 double TileScheme::tileSize(int level) const { return std::ldexp(m_size, -level); }

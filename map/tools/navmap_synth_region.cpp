@@ -24,6 +24,12 @@ int main(int argc, char** argv) {
         ->check(navmap::cli::finiteIn(0.0, 10.0))
         ->capture_default_str();
     app.add_flag("--highways-only", opt.highways_only, "copy only highway=* ways and their nodes");
+    app.add_option("--shift-lat", opt.shift_lat_deg, "degrees north the whole region is moved")
+        ->check(navmap::cli::finiteIn(-80.0, 80.0))
+        ->capture_default_str();
+    app.add_option("--shift-lon", opt.shift_lon_deg, "degrees east the whole region is moved")
+        ->check(navmap::cli::finiteIn(-170.0, 170.0))
+        ->capture_default_str();
     app.add_option("--out-dir", out_dir, "folder for region.osm.pbf and the .hgt tiles (created)")->required();
     bool quiet = false;
     app.add_flag("-q,--quiet", quiet, "no progress output");

@@ -177,7 +177,8 @@ SynthRegion synthesizeRegion(const SynthRegionOptions& opt) {
     region.step_lon = (src.east - src.west) + opt.gap_deg;
     region.step_lat = (src.north - src.south) + opt.gap_deg;
     auto offset = [&](int copy) {
-        return std::pair<double, double>{(copy / cols) * region.step_lat, (copy % cols) * region.step_lon};
+        return std::pair<double, double>{opt.shift_lat_deg + (copy / cols) * region.step_lat,
+                                         opt.shift_lon_deg + (copy % cols) * region.step_lon};
     };
     region.osm = opt.out_dir / "region.osm.pbf";
     log("source: " + std::to_string(src.nodes.ids.size()) + " node ids, " + std::to_string(src.ways.ids.size()) +
@@ -244,7 +245,8 @@ SynthRegion synthesizeRegion(const SynthRegionOptions& opt) {
         // keeps the source's own height (void outside the source tile). A tile that would be
         // (almost) all void is not written.
         const Hgt hgt = readHgt(opt.dem);
-        const double south = src.south, west = src.west;
+        const double south = src.south + opt.shift_lat_deg, west = src.west + opt.shift_lon_deg;
+        const bool shifted = opt.shift_lat_deg != 0.0 || opt.shift_lon_deg != 0.0;
         const double north = south + rows * region.step_lat, east = west + cols * region.step_lon;
         std::vector<char> bytes(static_cast<std::size_t>(hgt.size) * hgt.size * 2);
         for (int lat = static_cast<int>(std::floor(south)); lat < static_cast<int>(std::ceil(north)); ++lat) {
@@ -257,9 +259,11 @@ SynthRegion synthesizeRegion(const SynthRegionOptions& opt) {
                         const double lo = lon + static_cast<double>(c) / (hgt.size - 1);
                         const int col = static_cast<int>(std::floor((lo - west) / region.step_lon));
                         const bool copy = row >= 0 && col >= 0 && row < rows && col < cols &&
-                                          row * cols + col < opt.copies && row * cols + col > 0;
-                        const std::int16_t h =
-                            copy ? hgt.at(la - row * region.step_lat, lo - col * region.step_lon) : hgt.at(la, lo);
+                                          row * cols + col < opt.copies && (shifted || row * cols + col > 0);
+                        const std::int16_t h = copy      ? hgt.at(la - opt.shift_lat_deg - row * region.step_lat,
+                                                                  lo - opt.shift_lon_deg - col * region.step_lon)
+                                               : shifted ? std::int16_t{-32768}
+                                                         : hgt.at(la, lo);
                         valid += h != -32768 ? 1 : 0;
                         const std::size_t i = (static_cast<std::size_t>(r) * hgt.size + c) * 2;
                         bytes[i] = static_cast<char>(static_cast<std::uint16_t>(h) >> 8);

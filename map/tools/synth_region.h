@@ -20,6 +20,8 @@ struct SynthRegionOptions {
     int copies = 1;                               ///< laid out row by row, ceil(sqrt(copies)) per row
     double gap_deg = 0.02;                        ///< between the copies' bounding boxes
     bool highways_only = false;                   ///< copy only highway=* ways and their nodes
+    double shift_lat_deg = 0.0;                   ///< the whole region moved north by this much
+    double shift_lon_deg = 0.0;                   ///< and east by this much
     std::function<void(const std::string&)> log;  ///< progress lines; may be null
 };
 

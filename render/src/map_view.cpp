@@ -8,16 +8,15 @@
 namespace navmap::render {
 
 MapView::MapView(std::shared_ptr<map::TileCache> cache, LodOptions lod) : m_cache(std::move(cache)), m_lod(lod) {
-    if (m_cache->store().info().dem_samples >= 2)
-        m_lod.dem_samples = static_cast<int>(m_cache->store().info().dem_samples);
+    if (m_cache->source().demSamples() >= 2) m_lod.dem_samples = static_cast<int>(m_cache->source().demSamples());
 }
 
 std::vector<std::shared_ptr<const map::Tile>> MapView::tilesFor(const Camera& camera, double aspect,
                                                                 int viewport_height) {
-    const map::TileStore& store = m_cache->store();
+    const map::TileSource& source = m_cache->source();
     m_last = selectLod(
-        store.scheme(), camera, aspect, viewport_height, [&](map::TileId id) { return store.contains(id); },
-        [&](map::TileId id) { return m_cache->find(id); }, m_lod);
+        source.scheme(), camera, aspect, viewport_height, [&](map::TileId id) { return source.contains(id); },
+        [&](map::TileId id) { return m_cache->find(id); }, m_lod, source.roots());
     // Keep what is drawn fresh in the LRU and queue what is missing, drawn tiles first.
     std::vector<map::TileRequest> requests;
     requests.reserve(m_last.draw.size() + m_last.wanted.size());
@@ -43,7 +42,7 @@ bool MapView::warmUp(const Camera& camera, double aspect, int viewport_height, s
 }
 
 double MapView::terrainHeight(double x, double y) const {
-    const map::TileScheme& scheme = m_cache->store().scheme();
+    const map::TileScheme& scheme = m_cache->source().scheme();
     for (int level = scheme.leafLevel(); level >= 0; --level) {
         const auto id = scheme.tileAt(level, {x, y});
         if (!id) return 0.0;

@@ -102,14 +102,14 @@ float morphedHeight(float distance_m, const TileMorph& morph, float own,
 LodSelection selectLod(const map::TileScheme& scheme, const Camera& camera, double aspect, int viewport_height,
                        const std::function<bool(map::TileId)>& exists,
                        const std::function<std::shared_ptr<const map::Tile>(map::TileId)>& resident,
-                       const LodOptions& options) {
+                       const LodOptions& options, const std::vector<map::TileId>& roots) {
     LodSelection out;
     // Frustum in a frame centred on the camera (double), so far-away stores stay precise.
     const glm::dmat4 view = glm::lookAt(glm::dvec3(0.0), camera.target - camera.eye, camera.up);
     const glm::dmat4 proj = glm::dmat4(camera.projection(aspect));
     const Frustum frustum = frustumOf(proj * view);
 
-    std::vector<map::TileId> stack{map::TileId{0, 0, 0}};
+    std::vector<map::TileId> stack = roots;
     while (!stack.empty()) {
         const map::TileId id = stack.back();
         stack.pop_back();
@@ -137,7 +137,12 @@ LodSelection selectLod(const map::TileScheme& scheme, const Camera& camera, doub
             int present = 0;
             for (int i = 0; i < 4; ++i) {
                 children[i] = {static_cast<std::uint8_t>(id.level + 1), id.x * 2 + (i & 1), id.y * 2 + (i >> 1)};
-                if (!exists(children[i])) continue;
+                // A mounted store's root inside another's subtree is drawn from its own traversal.
+                if (!exists(children[i]) ||
+                    (roots.size() > 1 && std::find(roots.begin(), roots.end(), children[i]) != roots.end())) {
+                    children[i].level = 0xff;  // skipped
+                    continue;
+                }
                 ++present;
                 if (!resident(children[i])) {
                     all_ready = false;
@@ -147,7 +152,8 @@ LodSelection selectLod(const map::TileScheme& scheme, const Camera& camera, doub
             // Refine only when every existing child can be drawn (no holes). The compiler writes
             // no tile where there is no data, so a missing child is a quarter outside the data.
             if (all_ready && present > 0) {
-                for (const auto& c : children) stack.push_back(c);
+                for (const auto& c : children)
+                    if (c.level != 0xff) stack.push_back(c);
                 continue;
             }
         }

@@ -17,6 +17,7 @@
 #include "navmap/map/dem.h"
 #include "navmap/map/shard.h"
 #include "navmap/map/store_lock.h"
+#include "navmap/map/store_set.h"
 #include "navmap/map/tile_codec.h"
 #include "navmap/map/tile_store.h"
 
@@ -486,28 +487,36 @@ TEST(CompileCoast, AnIslandIsLandInASeaAtZeroMetresAndTunnelsGetNoLabel) {
 // ---- sharded compile (shard.h, docs/sharded-compile.md) ----
 
 TEST(Shards, EveryTileHasExactlyOneShardAndEachShardIsOneBandOfColumns) {
+    // The data covers leaf columns 1000..1630 of a 12-level scheme (the root square is wider).
+    const ShardGrid grid{11, 1000, 1630};
     for (const int n : {1, 2, 3, 7, 64}) {
         for (int level = 0; level <= 12; ++level) {
             const std::uint32_t columns = 1u << level;
             int previous = 0;
-            std::vector<std::size_t> owned(static_cast<std::size_t>(n), 0);
             for (std::uint32_t x = 0; x < columns; ++x) {
-                const int k = tileShard({static_cast<std::uint8_t>(level), x, 0}, n);
+                const int k = tileShard({static_cast<std::uint8_t>(level), x, 0}, n, grid);
                 ASSERT_GE(k, 0);
                 ASSERT_LT(k, n);
                 EXPECT_GE(k, previous) << "bands run west to east";
                 previous = k;
                 // Its shard's columns hold it, and no other shard's do.
                 for (int j = 0; j < n; ++j) {
-                    const auto [x0, x1] = shardColumns(level, {j, n});
+                    const auto [x0, x1] = shardColumns(level, {j, n}, grid);
                     EXPECT_EQ(x >= x0 && x <= x1, j == k) << "N " << n << " level " << level << " x " << x;
                 }
-                ++owned[static_cast<std::size_t>(k)];
             }
-            // Equal bands: where there are at least N columns, no shard has more than one column
-            // over its share.
-            if (columns >= static_cast<std::uint32_t>(n)) {
-                for (const std::size_t c : owned) EXPECT_LE(c, columns / static_cast<std::uint32_t>(n) + 1);
+            // Equal bands of the data's columns: at the leaf level no shard has more than one
+            // column of the data over its share.
+            if (level == grid.leaf_level) {
+                const std::uint32_t data = grid.last + 1 - grid.first;
+                for (int j = 0; j < n; ++j) {
+                    const auto [x0, x1] = shardColumns(level, {j, n}, grid);
+                    const std::uint32_t inside = std::min(x1, grid.last) >= std::max(x0, grid.first)
+                                                     ? std::min(x1, grid.last) - std::max(x0, grid.first) + 1
+                                                     : 0;
+                    EXPECT_LE(inside, data / static_cast<std::uint32_t>(n) + 1) << "N " << n << " shard " << j;
+                    EXPECT_GE(inside + 1, data / static_cast<std::uint32_t>(n)) << "N " << n << " shard " << j;
+                }
             }
         }
     }
@@ -577,7 +586,7 @@ TEST_F(ShardedAndorra, TheMergedShardsEqualTheSingleCompileByteForByte) {
         EXPECT_EQ(manifest.shard.count, 3);
         EXPECT_EQ(manifest.graph, k == 0);
         EXPECT_EQ(manifest.tiles, store->tileIds().size());
-        for (const TileId id : store->tileIds()) EXPECT_EQ(tileShard(id, 3), k);
+        for (const TileId id : store->tileIds()) EXPECT_EQ(tileShard(id, 3, shardGridOf(store->info())), k);
         EXPECT_EQ(store->tryLoadGraph().ok(), k == 0) << store->tryLoadGraph().problem;
         EXPECT_GT(store->tileIds().size(), 0u);
         tiles += store->tileIds().size();
@@ -601,6 +610,26 @@ TEST_F(ShardedAndorra, TheMergedShardsEqualTheSingleCompileByteForByte) {
     }
 }
 
+TEST_F(ShardedAndorra, TheShardsMountedTogetherAreTheSingleStoreTileForTile) {
+    // Region packages: the shards' stores mounted side by side draw what the single store draws,
+    // across the borders of their bands, without a merge.
+    const auto single = TileStore::open(*s_dir / "single.navmap");
+    std::vector<std::shared_ptr<const TileStore>> shards;
+    for (const int k : {2, 0, 1}) shards.push_back(TileStore::open(part(k)));
+    const auto set = StoreSet::mount(shards, single->projection());
+    EXPECT_EQ(set->scheme().worldRoot(), single->scheme().worldRoot());
+    EXPECT_EQ(set->scheme().levelCount(), single->scheme().levelCount());
+    EXPECT_EQ(set->roots(), std::vector<TileId>{TileId{}});
+    for (const TileId id : single->tileIds()) {
+        ASSERT_TRUE(set->contains(id));
+        const std::size_t k = *set->storeOf(id);
+        EXPECT_EQ(tileShard(id, 3, shardGridOf(single->info())), k == 0 ? 2 : k == 1 ? 0 : 1);
+        const auto a = single->load(id), b = set->load(id);
+        ASSERT_TRUE(a.tile && b.tile) << a.error << b.error;
+        EXPECT_EQ(encodeTile(*a.tile), encodeTile(*b.tile)) << id.toString();
+    }
+}
+
 TEST_F(ShardedAndorra, TheBoundedCompileEqualsTheInMemoryOneByteForByte) {
     // With a 1 MiB limit the features went through spill files in many bands ...
     std::ifstream log(*s_dir / "bounded.log");
@@ -611,8 +640,25 @@ TEST_F(ShardedAndorra, TheBoundedCompileEqualsTheInMemoryOneByteForByte) {
     EXPECT_GE(bands, 8) << out;
     EXPECT_NE(out.find("band " + std::to_string(bands) + "/" + std::to_string(bands) + ": "), std::string::npos) << out;
     // ... the same progress lines as the in-memory compile for the levels, and the same summary ...
-    EXPECT_NE(out.find("level 6 (2000 m tiles): 936 tiles, store "), std::string::npos) << out;
-    EXPECT_NE(out.find("tiles:      1305 (per level: 1 4 8 24 80 252 936)"), std::string::npos) << out;
+    {
+        const auto single = TileStore::open(*s_dir / "single.navmap");
+        const TileScheme& scheme = single->scheme();
+        std::vector<std::size_t> per_level(static_cast<std::size_t>(scheme.levelCount()), 0);
+        for (const TileId id : single->tileIds()) ++per_level[id.level];
+        std::string levels;
+        for (const std::size_t n : per_level) levels += " " + std::to_string(n);
+        const int leaf = scheme.leafLevel();
+        EXPECT_NE(
+            out.find("level " + std::to_string(leaf) + " (" + std::to_string(static_cast<long>(scheme.tileSize(leaf))) +
+                     " m tiles): " + std::to_string(per_level.back()) + " tiles, store "),
+            std::string::npos)
+            << out;
+        EXPECT_NE(out.find("tiles:      " + std::to_string(single->tileIds().size()) + " (per level:" + levels + ")"),
+                  std::string::npos)
+            << out;
+        // The bands divide the data's columns: every band has features (the data fills the grid).
+        EXPECT_EQ(out.find(": 0 features"), std::string::npos) << out;
+    }
     EXPECT_NE(out.find("buildings:  4906\n"), std::string::npos) << out;
     // ... the scratch folder is gone ...
     EXPECT_TRUE(fs::is_empty(s_spill->path()));

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "navmap/map/geometry.h"
+#include "navmap/map/projection.h"
 #include "navmap/map/tile_scheme.h"
 #include "navmap/map/triangulator.h"
 
@@ -220,18 +221,20 @@ TEST(Geometry, ClipPolylineAndRingToTile) {
     EXPECT_TRUE(clipRing(square(20, 20, 5), box).empty());
 }
 
-TEST(TileScheme, CoversBoundsWithPowerOfTwoLevels) {
-    const TileScheme s = TileScheme::covering({-30000, -10000, 40000, 10000}, 2000);
-    EXPECT_EQ(s.levelCount(), 7);  // 2 km * 2^6 = 128 km >= 70 km
-    EXPECT_DOUBLE_EQ(s.tileSize(s.leafLevel()), 2000.0);
-    const auto id = s.tileAt(6, {0, 0});
+TEST(TileScheme, FindsTilesAndRangesInTheStoreFrame) {
+    const Projection frame(42.55, 1.55);
+    const TileScheme s = TileScheme::forData(frame, 42.3, 1.2, 42.8, 1.9, 2000);
+    const int leaf = s.leafLevel();
+    const auto id = s.tileAt(leaf, {0, 0});
     ASSERT_TRUE(id);
     EXPECT_TRUE(s.bounds(*id).contains({0, 0}));
-    EXPECT_EQ(id->parent().level, 5);
-    EXPECT_FALSE(s.tileAt(6, {1e7, 0}));
-    const TileRange r = s.range(6, {-1, -1, 1, 1});
+    EXPECT_EQ(id->parent().level, leaf - 1);
+    EXPECT_FALSE(s.tileAt(leaf, {1e7, 0}));
+    const double t = s.tileSize(leaf);
+    const Box b = s.bounds(*id);
+    const TileRange r = s.range(leaf, {b.min_x + 1, b.min_y + 1, b.max_x + 1, b.min_y + 2});
     EXPECT_FALSE(r.empty);
-    EXPECT_EQ(r.x1, r.x0);       // x = 0 is inside column 29 (root starts at -59 km)
-    EXPECT_EQ(r.y1 - r.y0, 1u);  // y = 0 is the border between rows 31 and 32
-    EXPECT_EQ(s.levelForTileSize(9000), 4);
+    EXPECT_EQ(r.x1 - r.x0, 1u);  // the box reaches 1 m into the next column
+    EXPECT_EQ(r.y1, r.y0);
+    EXPECT_EQ(s.levelForTileSize(8.5 * t), leaf - 3);
 }

@@ -404,8 +404,13 @@ HighRes* highRes() {
     return h.get();
 }
 
-// A long straight segment of an important road well inside the tile.
-bool knownRoad(const map::Tile& tile, glm::dvec2& a, glm::dvec2& b, map::RoadClass& cls) {
+// Long straight road segments (not tunnels or bridges) well inside the tile.
+struct Segment {
+    glm::dvec2 a, b;
+    map::RoadClass cls{};
+};
+std::vector<Segment> straightSegments(const map::Tile& tile) {
+    std::vector<Segment> out;
     for (const auto& r : tile.roads) {
         if (r.flags & (map::road_flags::kTunnel | map::road_flags::kBridge)) continue;
         for (std::size_t i = 0; i + 1 < r.points.size(); ++i) {
@@ -413,25 +418,45 @@ bool knownRoad(const map::Tile& tile, glm::dvec2& a, glm::dvec2& b, map::RoadCla
             auto inside = [&](glm::dvec2 v) {
                 return v.x > 250 && v.y > 250 && v.x < tile.size_m - 250 && v.y < tile.size_m - 250;
             };
-            if (glm::length(q - p) > 80.0 && inside(p) && inside(q)) {
-                a = p;
-                b = q;
-                cls = r.cls;
-                return true;
-            }
+            if (glm::length(q - p) > 80.0 && inside(p) && inside(q)) out.push_back({p, q, r.cls});
         }
     }
-    return false;
+    return out;
+}
+
+/// Where a flat quad across the road (half width `half_w`, at its centreline's height on the
+/// `fine` surface) floats over ground that falls away on its left: seen from its right at
+/// `pitch`, the quad then covers ground `beyond` metres past its edge. Counts such places along
+/// the segment every 2 m (the flat pieces of the geometric draping leave the surface, seed 3.7).
+int overhangs(const HeightGrid& fine, const Segment& s, double half_w, double beyond, double pitch) {
+    const glm::dvec2 d = glm::normalize(s.b - s.a), side(-d.y, d.x);
+    const double len = glm::length(s.b - s.a);
+    int n = 0;
+    for (double t = 0.1 * len; t <= 0.9 * len; t += 2.0) {
+        const glm::dvec2 c = s.a + t * d, e = c + (half_w + beyond) * side;
+        n += fine.heightAt(c.x, c.y) - fine.heightAt(e.x, e.y) > beyond * std::tan(pitch);
+    }
+    return n;
 }
 
 TEST(SvRoadsHighRes, GeometricDrapingOnTheShippedGridLeavesTheSurfaceShadowVolumesDoNot) {
     HighRes* h = highRes();
     if (!h) GTEST_SKIP() << "build/andorra.navmap missing (target navmap_default_store)";
-    ASSERT_EQ(h->fine->dem.size, 201) << "2 km tile at 10 m";
-    glm::dvec2 a, b;
-    map::RoadClass cls{};
-    ASSERT_TRUE(knownRoad(*h->coarse, a, b, cls));
+    ASSERT_EQ(h->fine->dem.size, std::lround(h->coarse->size_m / 10.0) + 1) << "a leaf tile at 10 m";
     const HeightGrid coarse = gridOf(*h->coarse), fine = gridOf(*h->fine);
+    // The segment, in the direction, whose flat pieces overhang the refined slope most where the
+    // camera below looks (a road along a hillside, the valley on its left).
+    std::vector<Segment> segments = straightSegments(*h->coarse);
+    ASSERT_FALSE(segments.empty());
+    for (std::size_t i = 0, n = segments.size(); i < n; ++i)
+        segments.push_back({segments[i].b, segments[i].a, segments[i].cls});
+    const Segment& seg = *std::max_element(segments.begin(), segments.end(), [&](const Segment& x, const Segment& y) {
+        return overhangs(fine, x, 7.0, 2.8, glm::radians(50.0)) < overhangs(fine, y, 7.0, 2.8, glm::radians(50.0));
+    });
+    const glm::dvec2 a = seg.a, b = seg.b;
+    const map::RoadClass cls = seg.cls;
+    std::printf("[ high-res ] %zu straight segments; the chosen one overhangs its slope at %d places\n",
+                segments.size() / 2, overhangs(fine, seg, 7.0, 2.8, glm::radians(50.0)));
 
     // GEO as shipped: the centreline draped on the store's 62.5 m grid (seed 3.6.1) is off the
     // 10 m surface by metres: roads sink into bumps and float over hollows.
@@ -473,11 +498,13 @@ TEST(SvRoadsHighRes, GeometricDrapingOnTheShippedGridLeavesTheSurfaceShadowVolum
     EXPECT_TRUE(stats.sv_roads) << "Auto picks SV on the 10 m DEM";
 
     // Road pixels on the terrain surface along the road; none floating beside it. Points next to
-    // another road of the tile are left out of the "beside" set.
+    // another road of the tile (a parallel carriageway, a side street) are left out of the
+    // "beside" and "outside" sets.
     auto near_other_road = [&](glm::dvec2 p) {
         for (const auto& r : h->coarse->roads) {
             for (std::size_t i = 0; i + 1 < r.points.size(); ++i) {
                 const glm::dvec2 s0(r.points[i].x, r.points[i].y), s1(r.points[i + 1].x, r.points[i + 1].y);
+                if ((s0 == a && s1 == b) || (s0 == b && s1 == a)) continue;  // the road looked at
                 const glm::dvec2 d = s1 - s0;
                 const double t = std::clamp(glm::dot(p - s0, d) / std::max(glm::dot(d, d), 1e-9), 0.0, 1.0);
                 if (glm::length(p - (s0 + t * d)) < width) return true;
@@ -533,6 +560,7 @@ TEST(SvRoadsHighRes, GeometricDrapingOnTheShippedGridLeavesTheSurfaceShadowVolum
     for (double s = 0.1 * len; s <= 0.9 * len; s += 1.0) {
         for (double sign : {-1.0, 1.0}) {
             const glm::dvec2 p = a + s * dir + sign * 0.7 * width * side;  // 2.8 m beyond the edge
+            if (near_other_road(p)) continue;
             glm::ivec2 px;
             if (!v.project({p, fine.heightAt(p.x, p.y)}, px)) continue;
             ++outside_total;

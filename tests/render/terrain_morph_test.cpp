@@ -241,8 +241,8 @@ TEST_P(TerrainMorphGpu, LandCoverSwitchesDoNotPopWithMorphing) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Paths, TerrainMorphGpu,
-                         ::testing::Values(CameraPath{"bird", 1800.0, false},
-                                           CameraPath{"oblique", 1800.0, true, 1200.0, 700.0, 2500.0},
+                         ::testing::Values(CameraPath{"bird", 1200.0, false},
+                                           CameraPath{"oblique", 1200.0, true, 1200.0, 700.0, 2500.0},
                                            CameraPath{"oblique", 4500.0, true, 1200.0, 700.0, 2500.0}),
                          [](const ::testing::TestParamInfo<CameraPath>& p) {
                              return std::string(p.param.name) + "_at_" + std::to_string(int(p.param.measure_m)) + "m";

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <fstream>
 
 #include "map_test_util.h"
 #include "navmap/map/compiler.h"
@@ -79,18 +80,6 @@ TEST(OrthoStore, LayersRoundTripInTheTilePayload) {
     EXPECT_EQ(out.ortho.aspect, in.ortho.aspect);
     EXPECT_EQ(out.roads.size(), in.roads.size());
     EXPECT_GE(out.byteSize(), in.ortho.cover.size() + 2 * in.ortho.elevation.size());
-
-    // Version 1 payloads ("NTL1") carry no layers and still decode; they cannot hold layers.
-    const Tile plain = sampleTile({2, 1, 3}, 10, 20, 500);
-    const auto v1 = encodeTile(plain, 1);
-    EXPECT_EQ(v1[0], 'N');
-    EXPECT_EQ(v1[3], '1');
-    ASSERT_TRUE(decodeTile(v1, out, error)) << error;
-    EXPECT_TRUE(out.ortho.empty());
-    EXPECT_EQ(out.dem.heights.size(), plain.dem.heights.size());
-    EXPECT_EQ(encodeTile(plain).size(), v1.size() + 1);  // the layer count 0
-    EXPECT_THROW((void)encodeTile(in, 1), std::invalid_argument);
-    EXPECT_THROW((void)encodeTile(in, 3), std::invalid_argument);
 }
 
 TEST(OrthoStore, ALayerOfTheWrongSizeIsAClearError) {
@@ -120,25 +109,38 @@ TEST(OrthoStore, ALayerOfTheWrongSizeIsAClearError) {
     EXPECT_FALSE(decodeError(cut).empty());
 }
 
-TEST(OrthoStore, VersionOneStoresStillRead) {
-    ScratchDir dir("ortho-v1");
+TEST(OrthoStore, StoresBeforeTheWorldTileSchemeAreRefusedNamingTheirVersion) {
+    ScratchDir dir("ortho-v2");
     StoreInfo info;
-    info.format_version = 1;
     info.origin_lat = 42.5;
     info.origin_lon = 1.5;
-    info.scheme = TileScheme(-1000, -1000, 2000, 1);
+    info.scheme = TileScheme(Projection(42.5, 1.5), worldTileAt(14, 42.5, 1.5), 1);
     info.dem_samples = 5;
+    const fs::path path = dir / "v2.navmap";
     {
-        StoreWriter w(dir / "v1.navmap", info);
-        w.addTile(sampleTile({0, 0, 0}, -1000, -1000, 2000));
+        StoreWriter w(path, info);
+        const Box b = info.scheme.bounds({0, 0, 0});
+        w.addTile(sampleTile({0, 0, 0}, b.min_x, b.min_y, info.scheme.tileSize(0)));
         w.finish();
     }
-    const auto store = TileStore::open(dir / "v1.navmap");
-    EXPECT_EQ(store->info().format_version, 1u);
-    const auto r = store->load({0, 0, 0});
-    ASSERT_TRUE(r.tile) << r.error;
-    EXPECT_TRUE(r.tile->ortho.empty());
-    EXPECT_FALSE(r.tile->roads.empty());
+    EXPECT_EQ(TileStore::open(path)->info().format_version, 3u);
+    for (const std::uint8_t version : {1, 2, 4}) {
+        std::fstream f(path, std::ios::in | std::ios::out | std::ios::binary);
+        f.seekp(8);
+        const char bytes[4] = {static_cast<char>(version), 0, 0, 0};
+        f.write(bytes, 4);
+        f.close();
+        try {
+            (void)TileStore::open(path);
+            ADD_FAILURE() << "version " << int(version) << " was read";
+        } catch (const StoreError& e) {
+            const std::string expected = path.string() + ": tile store format version " + std::to_string(version) +
+                                         ", this build reads version 3 (" +
+                                         (version < 3 ? "versions before 3 have no world tile addresses; " : "") +
+                                         "recompile the store with this navmap-compile)";
+            EXPECT_EQ(std::string(e.what()), expected);
+        }
+    }
 }
 
 TEST(OrthoStore, AndorraCompiledWithTheGlobalInputs) {

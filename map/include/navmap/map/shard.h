@@ -4,10 +4,11 @@
 // range, and the merge of their stores into the one store a single compile writes.
 //
 // Shard k of N owns, at every level, the tiles whose centre lies in the k-th of N equal
-// columns (west to east) of the root square. Every job reads the whole input, so that all
-// agree on the projection, the bounds and the tile scheme, and builds only its own tiles (the
-// DEM grids, clipping and encoding, the bulk of the work); shard 0 also builds the road graph.
-// Each job writes a store with its tiles and, beside it, a manifest
+// columns (west to east) of the data: of the leaf columns the data's bounding box covers
+// (ShardGrid), since the root square, a world tile, may be much wider than the data. Every job reads the whole input,
+// so that all agree on the projection, the bounds and the tile scheme, and builds only its own tiles (the DEM grids,
+// clipping and encoding, the bulk of the work); shard 0 also builds the road graph. Each job writes a store with its
+// tiles and, beside it, a manifest
 // (`<store>.shard.json`) naming its place (k of N), its tile count and a fingerprint of its
 // input and options. mergeShards() checks that the manifests form one complete set of one
 // compile and writes the tiles in the single compile's order: the merged store equals the
@@ -20,6 +21,9 @@
 #include <utility>
 #include <vector>
 
+#include "navmap/map/geometry.h"
+#include "navmap/map/projection.h"
+#include "navmap/map/store_info.h"
 #include "navmap/map/tile.h"
 
 namespace navmap::map {
@@ -32,10 +36,24 @@ struct ShardSpec {
     [[nodiscard]] bool sharded() const { return count > 1; }
 };
 
-/// The shard owning a tile: the column band of its centre, in [0, shard_count).
-int tileShard(TileId id, int shard_count);
+/// The columns the bands divide: the leaf columns first..last (inclusive) of the data.
+struct ShardGrid {
+    int leaf_level = 0;
+    std::uint32_t first = 0, last = 0;
+};
+/// The data's box in a store frame: the four corners of its lat/lon bounds projected (the box the
+/// compiler tiles; Mercator maps a lat/lon box to an axis-aligned one).
+Box dataBox(const Projection& frame, double south, double west, double north, double east);
+/// The grid of a scheme over a data box.
+ShardGrid shardGridOf(const TileScheme& scheme, const Box& data_box);
+/// The grid of a store, from its header.
+ShardGrid shardGridOf(const StoreInfo& info);
+
+/// The shard owning a tile: the band of its centre among N equal bands of the grid's columns,
+/// in [0, shard_count) (columns west of the data go to the first band, east of it to the last).
+int tileShard(TileId id, int shard_count, const ShardGrid& grid);
 /// The tile columns of `level` that shard `spec` owns, inclusive; first > second when none.
-std::pair<std::uint32_t, std::uint32_t> shardColumns(int level, ShardSpec spec);
+std::pair<std::uint32_t, std::uint32_t> shardColumns(int level, ShardSpec spec, const ShardGrid& grid);
 /// Parses "K/N" (navmap-compile --shard); throws CompileError naming the text otherwise.
 ShardSpec parseShardSpec(const std::string& text);
 

@@ -11,10 +11,9 @@ namespace navmap::map {
 
 inline constexpr char kStoreMagic[8] = {'N', 'A', 'V', 'M', 'A', 'P', 'T', 'S'};
 /// Bumped on every incompatible change. Version 2 added the orthoimage input layers of the tiles
-/// (seed 6.5); readers accept kOldestStoreFormatVersion..kStoreFormatVersion (a version 1 store
-/// reads without layers), writers write the newest.
-inline constexpr std::uint32_t kStoreFormatVersion = 2;
-inline constexpr std::uint32_t kOldestStoreFormatVersion = 1;
+/// (seed 6.5); version 3 the world tile scheme (world_tiles.h: the frame is World Mercator, the
+/// root a world tile). Readers read version 3 only and refuse the others naming the version.
+inline constexpr std::uint32_t kStoreFormatVersion = 3;
 
 /// Raised at setup when a store cannot be used; the message names the file and the problem.
 class StoreError : public std::runtime_error {
@@ -24,7 +23,7 @@ public:
 
 struct StoreInfo {
     std::uint32_t format_version = kStoreFormatVersion;
-    double origin_lat = 0;  ///< projection origin (Projection(origin_lat, origin_lon))
+    double origin_lat = 0;  ///< the store frame's origin (Projection(origin_lat, origin_lon))
     double origin_lon = 0;
     TileScheme scheme;
     std::uint32_t dem_samples = 0;                    ///< DEM samples per tile side (0: no DEM)

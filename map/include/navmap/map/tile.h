@@ -5,8 +5,8 @@
 // std::shared_ptr<const Tile> between the loader thread and the render thread).
 //
 // Frames and units (see docs/tile-store.md):
-// - The store has one planar frame: transverse Mercator metres (x east, y north) around the
-//   store origin (navmap::map::Projection). Doubles.
+// - The store has one planar frame: World Mercator metres (x east, y north) around the store
+//   origin (navmap::map::Projection, world_tiles.h). Doubles.
 // - A tile's geometry is float metres relative to the tile's own origin (origin_x, origin_y),
 //   its south-west corner in the store frame, so values stay within [0, size_m] and keep
 //   centimetre precision anywhere in the store. Renderers add (origin - camera origin) in

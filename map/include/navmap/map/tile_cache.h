@@ -20,7 +20,7 @@
 #include <vector>
 
 #include "navmap/map/tile.h"
-#include "navmap/map/tile_store.h"
+#include "navmap/map/tile_source.h"
 
 namespace navmap::map {
 
@@ -53,7 +53,7 @@ struct TileCacheMetrics {
 
 class TileCache {
 public:
-    TileCache(std::shared_ptr<const TileStore> store, TileCacheOptions options = {});
+    TileCache(std::shared_ptr<const TileSource> source, TileCacheOptions options = {});
     ~TileCache();
     TileCache(const TileCache&) = delete;
     TileCache& operator=(const TileCache&) = delete;
@@ -69,7 +69,7 @@ public:
     [[nodiscard]] std::vector<TileId> corruptTiles() const;
     /// Waits until the queue is empty and nothing is loading (tests, benchmarks, warm-up).
     bool waitIdle(std::chrono::milliseconds timeout) const;
-    [[nodiscard]] const TileStore& store() const { return *m_store; }
+    [[nodiscard]] const TileSource& source() const { return *m_source; }
 
 private:
     struct Resident {
@@ -81,7 +81,7 @@ private:
     void loaderLoop();
     void touch(Resident& r);
 
-    std::shared_ptr<const TileStore> m_store;
+    std::shared_ptr<const TileSource> m_source;
     TileCacheOptions m_options;
     mutable std::mutex m_mutex;
     std::condition_variable m_wake;

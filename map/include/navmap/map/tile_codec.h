@@ -14,14 +14,12 @@
 
 namespace navmap::map {
 
-inline constexpr std::uint32_t kTilePayloadMagic = 0x314C544E;    // "NTL1": store format version 1, no ortho layers
-inline constexpr std::uint32_t kTilePayloadMagicV2 = 0x324C544E;  // "NTL2": + ortho layers (written)
-inline constexpr double kCoordQuantum = 0.01;                     // metres
-inline constexpr double kHeightQuantum = 0.1;                     // metres
+inline constexpr std::uint32_t kTilePayloadMagic = 0x324C544E;  // "NTL2" (with the ortho layers)
+inline constexpr double kCoordQuantum = 0.01;                   // metres
+inline constexpr double kHeightQuantum = 0.1;                   // metres
 
-/// Encodes for store format `version` (1: "NTL1", without the ortho layers, which must then be
-/// empty; 2: "NTL2" with them). Throws std::invalid_argument otherwise.
-std::vector<std::uint8_t> encodeTile(const Tile& tile, std::uint32_t version = kStoreFormatVersion);
+/// Encodes a tile's payload ("NTL2").
+std::vector<std::uint8_t> encodeTile(const Tile& tile);
 
 /// Decodes a payload; on malformed input returns false with a description in `error` (never
 /// throws, never reads out of bounds: this runs on untrusted bytes and is fuzzed).

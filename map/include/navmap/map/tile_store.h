@@ -16,37 +16,35 @@
 #include "navmap/map/road_graph.h"
 #include "navmap/map/store_info.h"
 #include "navmap/map/tile.h"
+#include "navmap/map/tile_source.h"
 
 namespace navmap::map {
 
-class TileStore {
+class TileStore : public TileSource {
 public:
     /// Opens and validates magic, format version, header and index checksums, and that every
     /// tile blob lies inside the file. Throws StoreError ("<file>: <problem>") otherwise. The road
     /// graph is not checked here (tryLoadGraph()).
     static std::shared_ptr<TileStore> open(const std::filesystem::path& path);
-    ~TileStore();
+    ~TileStore() override;
     TileStore(const TileStore&) = delete;
     TileStore& operator=(const TileStore&) = delete;
 
     [[nodiscard]] const StoreInfo& info() const { return m_info; }
-    [[nodiscard]] const TileScheme& scheme() const { return m_info.scheme; }
+    [[nodiscard]] const TileScheme& scheme() const override { return m_info.scheme; }
     [[nodiscard]] Projection projection() const { return Projection(m_info.origin_lat, m_info.origin_lon); }
     [[nodiscard]] const std::filesystem::path& path() const { return m_path; }
-    [[nodiscard]] bool contains(TileId id) const { return m_index.count(id.key()) != 0; }
+    [[nodiscard]] bool contains(TileId id) const override { return m_index.count(id.key()) != 0; }
+    [[nodiscard]] std::uint32_t demSamples() const override { return m_info.dem_samples; }
     [[nodiscard]] std::vector<TileId> tileIds() const;
     /// Stored (compressed) size of a tile blob, 0 if absent.
     [[nodiscard]] std::uint32_t storedSize(TileId id) const;
     /// File offset of a tile blob, 0 if absent (diagnostics and tests).
     [[nodiscard]] std::uint64_t blobOffset(TileId id) const;
 
-    struct LoadResult {
-        std::shared_ptr<const Tile> tile;  ///< null on error
-        std::string error;                 ///< "<file>: tile L/X/Y: <problem>"
-        bool missing = false;              ///< the store has no such tile (not an error)
-    };
+    using LoadResult = TileLoadResult;
     /// Reads, checks (CRC32, size), decompresses and decodes one tile. Never throws.
-    [[nodiscard]] LoadResult load(TileId id) const;
+    [[nodiscard]] LoadResult load(TileId id) const override;
 
     struct GraphResult {
         RoadGraph graph;      ///< empty unless ok()

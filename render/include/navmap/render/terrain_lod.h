@@ -60,11 +60,12 @@ struct LodSelection {
     std::size_t culled = 0;
 };
 
-/// `exists(id)`: the store has this tile. `resident(id)`: the loaded tile or null.
+/// `exists(id)`: the source has this tile. `resident(id)`: the loaded tile or null. `roots`: the
+/// tiles the traversal starts from (TileSource::roots(): the root, or each mounted store's root).
 LodSelection selectLod(const map::TileScheme& scheme, const Camera& camera, double aspect, int viewport_height,
                        const std::function<bool(map::TileId)>& exists,
                        const std::function<std::shared_ptr<const map::Tile>(map::TileId)>& resident,
-                       const LodOptions& options = {});
+                       const LodOptions& options = {}, const std::vector<map::TileId>& roots = {map::TileId{}});
 
 /// Projected size in pixels of a geometric error of error_m seen at distance_m.
 double screenSpaceError(double error_m, double distance_m, double fov_y_deg, int viewport_height);

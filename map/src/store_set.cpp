@@ -1,0 +1,91 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "navmap/map/store_set.h"
+
+#include <algorithm>
+
+#include "navmap/map/store_info.h"
+
+namespace navmap::map {
+namespace {
+
+void scalePoints(std::vector<LocalPoint>& points, float s) {
+    for (auto& p : points) p = {p.x * s, p.y * s};
+}
+
+}  // namespace
+
+std::shared_ptr<StoreSet> StoreSet::mount(std::vector<std::shared_ptr<const TileStore>> stores, Projection frame) {
+    if (stores.empty()) throw StoreError("no store to mount");
+    std::shared_ptr<StoreSet> set(new StoreSet());
+    set->m_frame = frame;
+    set->m_dem_samples = stores.front()->info().dem_samples;
+    WorldTileId common = stores.front()->scheme().worldRoot();
+    int deepest = 0;
+    for (const auto& s : stores) {
+        if (s->info().dem_samples != set->m_dem_samples) {
+            throw StoreError(s->path().string() + ": " + std::to_string(s->info().dem_samples) +
+                             " DEM samples per tile side, " + stores.front()->path().string() + " has " +
+                             std::to_string(set->m_dem_samples) + " (stores mounted together need the same grid)");
+        }
+        const WorldTileId root = s->scheme().worldRoot();
+        while (!common.contains(root)) common = common.parent();
+        deepest = std::max(deepest, root.z + s->scheme().levelCount() - 1);
+        set->m_stores.push_back(
+            {s, frame.transformFrom(s->projection()), std::make_shared<std::atomic<std::uint64_t>>(0)});
+    }
+    if (deepest - common.z + 1 > 28) {
+        throw StoreError("the mounted stores span " + std::to_string(deepest - common.z + 1) +
+                         " levels of the world tile scheme under " + common.toString() + " (at most 28)");
+    }
+    set->m_scheme = TileScheme(frame, common, deepest - common.z + 1);
+    for (const auto& m : set->m_stores) {
+        const auto root = set->m_scheme.fromWorld(m.store->scheme().worldRoot());
+        if (root && std::find(set->m_roots.begin(), set->m_roots.end(), *root) == set->m_roots.end())
+            set->m_roots.push_back(*root);
+    }
+    return set;
+}
+
+std::optional<std::size_t> StoreSet::storeOf(TileId id) const {
+    if (!m_scheme.valid(id)) return std::nullopt;
+    const WorldTileId w = m_scheme.worldTile(id);
+    for (std::size_t i = 0; i < m_stores.size(); ++i) {
+        const auto local = m_stores[i].store->scheme().fromWorld(w);
+        if (local && m_stores[i].store->contains(*local)) return i;
+    }
+    return std::nullopt;
+}
+
+TileLoadResult StoreSet::load(TileId id) const {
+    const auto which = storeOf(id);
+    if (!which) return {nullptr, {}, true};
+    const Mounted& m = m_stores[*which];
+    TileLoadResult r = m.store->load(*m.store->scheme().fromWorld(m_scheme.worldTile(id)));
+    if (!r.tile) return r;
+    m.loads->fetch_add(1);
+    auto tile = std::make_shared<Tile>(*r.tile);
+    const Box square = m_scheme.bounds(id);
+    reexpressTile(*tile, m.to_frame, id, {square.min_x, square.min_y}, m_scheme.tileSize(id.level));
+    r.tile = std::move(tile);
+    return r;
+}
+
+void reexpressTile(Tile& tile, const FrameTransform& t, TileId id, PlanarPoint origin, double size_m) {
+    tile.id = id;
+    tile.origin_x = origin.x;
+    tile.origin_y = origin.y;
+    tile.size_m = size_m;
+    if (t.scale == 1.0) return;
+    const auto s = static_cast<float>(t.scale);
+    for (auto& road : tile.roads) scalePoints(road.points, s);
+    for (auto& b : tile.buildings) scalePoints(b.footprint.vertices, s);
+    for (auto& a : tile.areas) scalePoints(a.polygon.vertices, s);
+    for (auto& l : tile.labels) {
+        l.anchor = {l.anchor.x * s, l.anchor.y * s};
+        l.segment_start = {l.segment_start.x * s, l.segment_start.y * s};
+        l.segment_end = {l.segment_end.x * s, l.segment_end.y * s};
+    }
+    tile.dem.spacing_m *= s;
+}
+
+}  // namespace navmap::map

@@ -1,0 +1,139 @@
+// SPDX-License-Identifier: Apache-2.0
+// Several stores mounted together (StoreSet): two stores 800 km apart drawn in one frame with
+// their true positions, neighbouring tiles meeting edge to edge, and the refusals.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "map_test_util.h"
+#include "navmap/map/compiler.h"
+#include "navmap/map/store_set.h"
+#include "navmap/map/tile_store.h"
+#include "synth_region.h"
+
+using namespace navmap::map;
+using navmap::map::test::repoData;
+using navmap::map::test::ScratchDir;
+
+namespace {
+
+class TwoRegions : public ::testing::Test {
+protected:
+    static void SetUpTestSuite() {
+        s_dir = new ScratchDir("store-set");
+        CompileOptions a;
+        a.osm = repoData("andorra-2021-04-14.osm.pbf");
+        a.dems = {repoData("N42E001.hgt")};
+        a.out = *s_dir / "andorra.navmap";
+        (void)compileStore(a);
+        // The same extract 7.2 degrees (800 km) north, in northern France, with its DEM moved along.
+        std::filesystem::create_directories(*s_dir / "north");
+        tools::SynthRegionOptions r;
+        r.osm = a.osm;
+        r.dem = repoData("N42E001.hgt");
+        r.out_dir = *s_dir / "north";
+        r.shift_lat_deg = 7.2;
+        const tools::SynthRegion region = tools::synthesizeRegion(r);
+        CompileOptions n;
+        n.osm = region.osm;
+        n.dems = region.dems;
+        n.out = *s_dir / "north.navmap";
+        (void)compileStore(n);
+        a.out = *s_dir / "andorra-17.navmap";
+        a.dem_samples = 17;
+        (void)compileStore(a);
+    }
+    static void TearDownTestSuite() { delete s_dir; }
+    static inline ScratchDir* s_dir = nullptr;
+};
+
+}  // namespace
+
+TEST_F(TwoRegions, StoresFarApartAreDrawnInOneFrameAtTheirTruePositions) {
+    const auto andorra = TileStore::open(*s_dir / "andorra.navmap");
+    const auto north = TileStore::open(*s_dir / "north.navmap");
+    const Projection frame = andorra->projection();
+    const auto set = StoreSet::mount({andorra, north}, frame);
+    EXPECT_GT(north->info().south - andorra->info().south, 7.1);
+    // One scheme over both: the common ancestor of the two roots, a traversal root per store.
+    EXPECT_TRUE(set->scheme().worldRoot().contains(andorra->scheme().worldRoot()));
+    EXPECT_TRUE(set->scheme().worldRoot().contains(north->scheme().worldRoot()));
+    ASSERT_EQ(set->roots().size(), 2u);
+    EXPECT_EQ(set->scheme().worldTile(set->roots()[1]), north->scheme().worldRoot());
+
+    // Every leaf tile of the north store, loaded through the set: its square is the set's, and
+    // every road point lies where its own store puts it on the Earth, within a centimetre.
+    const Projection north_frame = north->projection();
+    const int leaf = north->scheme().leafLevel();
+    std::size_t tiles = 0, points = 0, neighbours = 0;
+    double worst = 0;
+    for (const TileId nid : north->tileIds()) {
+        if (nid.level != leaf) continue;
+        const auto own = north->load(nid);
+        ASSERT_TRUE(own.tile) << own.error;
+        const auto id = set->scheme().fromWorld(north->scheme().worldTile(nid));
+        ASSERT_TRUE(id);
+        EXPECT_EQ(set->storeOf(*id), 1u);
+        const auto r = set->load(*id);
+        ASSERT_TRUE(r.tile) << r.error;
+        const Box square = set->scheme().bounds(*id);
+        EXPECT_EQ(r.tile->id, *id);
+        EXPECT_DOUBLE_EQ(r.tile->origin_x, square.min_x);
+        EXPECT_DOUBLE_EQ(r.tile->size_m, set->scheme().tileSize(id->level));
+        if (r.tile->dem.size > 1) {
+            EXPECT_NEAR(r.tile->dem.spacing_m * (r.tile->dem.size - 1), r.tile->size_m, 1e-3);
+        }
+        ASSERT_EQ(r.tile->roads.size(), own.tile->roads.size());
+        for (std::size_t i = 0; i < own.tile->roads.size(); ++i) {
+            const auto& mine = own.tile->roads[i].points;
+            const auto& drawn = r.tile->roads[i].points;
+            for (std::size_t j = 0; j < mine.size(); ++j) {
+                double lat = 0, lon = 0;
+                north_frame.reverse({own.tile->origin_x + mine[j].x, own.tile->origin_y + mine[j].y}, lat, lon);
+                const PlanarPoint truth = frame.forward(lat, lon);
+                worst = std::max(worst, std::hypot(r.tile->origin_x + drawn[j].x - truth.x,
+                                                   r.tile->origin_y + drawn[j].y - truth.y));
+                ++points;
+            }
+        }
+        // Its east neighbour, where the store has one, starts where it ends: no crack, no overlap.
+        const TileId east{nid.level, nid.x + 1, nid.y};
+        if (north->contains(east)) {
+            const auto e = set->load(*set->scheme().fromWorld(north->scheme().worldTile(east)));
+            ASSERT_TRUE(e.tile);
+            EXPECT_NEAR(e.tile->origin_x, r.tile->origin_x + r.tile->size_m, 1e-6);
+            ++neighbours;
+        }
+        ++tiles;
+    }
+    EXPECT_GT(tiles, 50u);
+    EXPECT_GT(points, 10000u);
+    EXPECT_LT(worst, 0.01) << "metres";
+    // Andorra's own tiles come through unchanged apart from their address.
+    const TileId a_leaf = andorra->tileIds().back();
+    const auto a = set->load(*set->scheme().fromWorld(andorra->scheme().worldTile(a_leaf)));
+    ASSERT_TRUE(a.tile);
+    EXPECT_EQ(a.tile->roads.size(), andorra->load(a_leaf).tile->roads.size());
+    EXPECT_EQ(set->loads(0), 1u);
+    EXPECT_EQ(set->loads(1), tiles + neighbours);
+    // Between the two regions no store has a tile.
+    const auto between = set->scheme().tileAt(set->scheme().leafLevel(), frame.forward(46.0, 1.5));
+    ASSERT_TRUE(between);
+    EXPECT_FALSE(set->contains(*between));
+    EXPECT_TRUE(set->load(*between).missing);
+}
+
+TEST_F(TwoRegions, StoresWithDifferentDemGridsAreRefusedNamingBoth) {
+    const auto andorra = TileStore::open(*s_dir / "andorra.navmap");
+    const auto coarse = TileStore::open(*s_dir / "andorra-17.navmap");
+    try {
+        (void)StoreSet::mount({andorra, coarse}, andorra->projection());
+        ADD_FAILURE() << "mounted";
+    } catch (const StoreError& e) {
+        EXPECT_EQ(std::string(e.what()), (*s_dir / "andorra-17.navmap").string() + ": 17 DEM samples per tile side, " +
+                                             (*s_dir / "andorra.navmap").string() +
+                                             " has 33 (stores mounted together need the same grid)");
+    }
+    EXPECT_THROW((void)StoreSet::mount({}, andorra->projection()), StoreError);
+}
