@@ -123,10 +123,23 @@ std::optional<DaemonConfig> parseConfig(const std::string& text, const std::stri
     {
         auto r = section("store");
         std::int64_t cache_mb = static_cast<std::int64_t>(c.cache_mb);
+        const toml::array* mount = nullptr;
+        if (const auto* t = table("store")) mount = t->get_as<toml::array>("mount");
+        r.known("mount");
         if (!r.get("path", c.store_path) || !r.get("cache_mb", cache_mb) ||
             !r.range("cache_mb", double(cache_mb), 8, 65536) || !r.noUnknownKeys())
             return std::nullopt;
         c.cache_mb = static_cast<std::size_t>(cache_mb);
+        if (mount) {
+            for (const auto& e : *mount) {
+                if (auto s = e.value<std::string>())
+                    c.mount_paths.emplace_back(*s);
+                else {
+                    err->message = where(source_name, e.source()) + ": store.mount entries must be file names";
+                    return std::nullopt;
+                }
+            }
+        }
     }
     {
         auto r = section("input");
@@ -405,6 +418,7 @@ bool validateConfig(const DaemonConfig& c, ConfigError* error) {
 std::string describeConfig(const DaemonConfig& c) {
     std::ostringstream s;
     s << "store: " << c.store_path.string() << " (cache " << c.cache_mb << " MiB)\n";
+    for (const auto& m : c.mount_paths) s << "mounted: " << m.string() << "\n";
     s << "input: "
       << (c.input == InputSource::Sim      ? "sim " + c.sim_from + " -> " + c.sim_to
           : c.input == InputSource::Replay ? "replay " + c.replay_log.string()

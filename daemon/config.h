@@ -27,8 +27,10 @@ struct GuidanceConfig {
 
 struct DaemonConfig {
     // [store]
-    std::filesystem::path store_path;  ///< compiled tile store
-    std::size_t cache_mb = 128;        ///< tile cache budget
+    std::filesystem::path store_path;  ///< compiled tile store: the map's frame and road graph
+    /// More stores drawn with it (region packages; map::StoreSet, docs/tile-store.md "Several stores").
+    std::vector<std::filesystem::path> mount_paths;
+    std::size_t cache_mb = 128;  ///< tile cache budget
     // [input]
     InputSource input = InputSource::Sim;
     std::filesystem::path replay_log;  ///< candump log (input = "replay")

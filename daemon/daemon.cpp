@@ -30,9 +30,18 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 map::MapScene openScene(const DaemonConfig& config, const Log& log) {
-    map::MapScene scene = map::MapScene::open(config.store_path, config.cache_mb << 20);
+    std::vector<std::filesystem::path> paths{config.store_path};
+    paths.insert(paths.end(), config.mount_paths.begin(), config.mount_paths.end());
+    map::MapScene scene = map::MapScene::open(paths, config.cache_mb << 20);
     log(Log::kInfo, "store %s: %u tiles, cache %zu MiB", config.store_path.c_str(), scene.store->info().tile_count,
         config.cache_mb);
+    if (scene.set) {
+        for (std::size_t i = 1; i < scene.set->storeCount(); ++i) {
+            const map::TileStore& s = scene.set->store(i);
+            log(Log::kInfo, "mounted store %s: %u tiles under world tile %s", s.path().c_str(), s.info().tile_count,
+                s.scheme().worldRoot().toString().c_str());
+        }
+    }
     // A damaged road graph degrades like a damaged tile: the map renders, what needs the graph
     // says it is missing (docs/tile-store.md "Damage").
     if (!scene.graph_problem.empty()) {
@@ -129,7 +138,7 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
         // The map matcher is the road graph's only user here: it takes the scene's copy (1.6 MB).
         VehicleInput input(config, scene.projection(), scene.store->path(), scene.graph_problem,
                            std::make_shared<const map::RoadGraph>(std::move(scene.graph)), control_state,
-                           options.data_dir, options.simulator);
+                           options.data_dir, options.simulator, scene.reachM());
         const auto control_server = createControlServer(config, *control_state);
         const auto frames = startFrameServer(config, metrics, status);
         DisplayScheduler displays(
@@ -151,8 +160,8 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
             [&server = *control_server](const ipc::ControlEvent& e) { server.publish(e); }, log);
         ConfigReloader reloader(config, options.config_path, log);
         StatusReporter reporter(
-            {config, reloader, input, road_graph, route, displays, *frames, *control_server, *scene.cache}, status,
-            metrics, systemd, t_start);
+            {config, reloader, input, road_graph, route, displays, *frames, *control_server, *scene.cache, scene},
+            status, metrics, systemd, t_start);
         for (bool stop = false; !stop;) {
             const auto now = Clock::now();
             if (options.run_for_s && std::chrono::duration<double>(now - t_start).count() >= *options.run_for_s) break;

@@ -39,6 +39,8 @@ void DaemonStatus::publish(const StatusSample& m) {
     st["position"] = {{"valid", pose.valid},
                       {"stale", pose.stale},
                       {"speed_kmh", pose.speed_mps * 3.6},
+                      {"x_m", pose.x},
+                      {"y_m", pose.y},
                       {"heading_deg", pose.heading_deg},
                       {"match_confidence", pose.match_confidence}};
     if (!m.route_id.empty()) st["route"] = {{"id", m.route_id}, {"driven_m", m.route_driven_m}};
@@ -82,6 +84,10 @@ void DaemonStatus::publish(const StatusSample& m) {
                         {"misses", m.cache.misses},
                         {"load_p99_ms", m.cache.load_p99_ms},
                         {"corrupt", m.cache.corrupt}};
+    nlohmann::json stores = nlohmann::json::array();
+    for (const auto& store : m.stores)
+        stores.push_back({{"path", store.path}, {"tiles", store.tiles}, {"tiles_loaded", store.loads}});
+    st["stores"] = std::move(stores);
     m_json.store(std::make_shared<const nlohmann::json>(std::move(st)));
 }
 

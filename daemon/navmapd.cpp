@@ -29,6 +29,8 @@ int main(int argc, char** argv) {
     app.add_flag("--check-config", check, "validate the configuration, print it and exit");
     app.add_option("--store", store,
                    "compiled tile store (navmap-compile); default: " + navmap::install::defaultStore().string());
+    std::vector<std::string> mounts;
+    app.add_option("--mount", mounts, "another store drawn with it (repeat for more; added to store.mount)");
     app.add_option("--input", input, "vehicle input: sim | replay | socketcan")
         ->check(CLI::IsMember({"sim", "replay", "socketcan"}));
     app.add_option("--replay", replay, "candump log to replay (implies --input replay)");
@@ -64,6 +66,7 @@ int main(int argc, char** argv) {
     DaemonConfig& c = *config;
     if (c.store_path.empty()) c.store_path = navmap::install::defaultStore();
     if (!store.empty()) c.store_path = store;
+    for (const auto& m : mounts) c.mount_paths.emplace_back(m);
     if (!input.empty())
         c.input = input == "sim" ? InputSource::Sim : input == "replay" ? InputSource::Replay : InputSource::SocketCan;
     if (!replay.empty()) c.replay_log = replay, c.input = InputSource::Replay;

@@ -23,6 +23,13 @@ void StatusReporter::update(Clock::time_point now, const EstimatedPose& pose) {
     s.stream = m_parts.frames.stats();
     s.control = m_parts.control.stats();
     s.cache = m_parts.cache.metrics();
+    if (const auto& set = m_parts.scene.set) {
+        for (std::size_t i = 0; i < set->storeCount(); ++i)
+            s.stores.push_back({set->store(i).path().string(), set->store(i).info().tile_count, set->loads(i)});
+    } else {
+        s.stores.push_back(
+            {m_parts.scene.store->path().string(), m_parts.scene.store->info().tile_count, s.cache.loads});
+    }
     s.memory = processMemory();
     m_status.publish(s);
     m_metrics.update(s);

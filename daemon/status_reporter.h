@@ -14,6 +14,7 @@
 #include "lifecycle.h"
 #include "navmap/ipc/control_server.h"
 #include "navmap/ipc/frame_server.h"
+#include "navmap/map/map_scene.h"
 #include "navmap/map/tile_cache.h"
 #include "route_state.h"
 #include "vehicle_input.h"
@@ -35,6 +36,7 @@ public:
         const ipc::FrameServer& frames;
         const ipc::ControlServer& control;
         const map::TileCache& cache;
+        const map::MapScene& scene;  ///< the mounted stores
     };
 
     StatusReporter(Parts parts, DaemonStatus& status, DaemonMetrics& metrics, SystemdNotifier& systemd,

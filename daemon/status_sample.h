@@ -19,6 +19,13 @@
 
 namespace navmap::daemon {
 
+/// One mounted store: its file, its tiles, the tiles loaded from it so far.
+struct StoreStatus {
+    std::string path;
+    std::uint32_t tiles = 0;
+    std::uint64_t loads = 0;
+};
+
 struct StatusSample {
     double uptime_s = 0.0;
     std::string config_path;  ///< empty: no file
@@ -35,6 +42,7 @@ struct StatusSample {
     ipc::FrameServerStats stream;
     ipc::ControlServerStats control;
     map::TileCacheMetrics cache;
+    std::vector<StoreStatus> stores;  ///< the first is the map's frame and road graph
     ProcessMemory memory;
 };
 

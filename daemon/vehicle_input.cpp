@@ -14,7 +14,7 @@ VehicleInput::VehicleInput(const DaemonConfig& config, const map::Projection& pr
                            const std::filesystem::path& store_path, const std::string& graph_problem,
                            std::shared_ptr<const map::RoadGraph> graph,
                            const std::shared_ptr<ipc::ControlState>& control, const std::filesystem::path& data_dir,
-                           const SimulatorFactory& simulator) {
+                           const SimulatorFactory& simulator, double map_reach_m) {
     // DBC databases: the configured ones, else the shipped GNSS node.
     std::vector<std::filesystem::path> dbc_files = config.dbc_files;
     if (dbc_files.empty()) dbc_files.push_back(data_dir / "navmap.dbc");
@@ -36,6 +36,7 @@ VehicleInput::VehicleInput(const DaemonConfig& config, const map::Projection& pr
 
     VehicleStateConfig vcfg;
     vcfg.gnss_timeout_s = config.stale_after_s;
+    vcfg.max_distance_from_origin_m += map_reach_m;
     m_estimator =
         std::make_unique<VehicleStateEstimator>(projection, std::make_shared<const MapMatcher>(std::move(graph)), vcfg);
     m_state.store(m_estimator->snapshot());

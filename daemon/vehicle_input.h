@@ -48,11 +48,13 @@ public:
     /// road graph (`graph_problem` says why, map::MapScene::graph_problem) or without a
     /// `simulator` (can_sources.h) the input runs without a source and says so (stats().error).
     /// `graph`: the road graph the map matcher snaps to (the scene's, moved out of it: one copy;
-    /// empty: no map matching, the pose is the raw fix).
+    /// empty: no map matching, the pose is the raw fix). `map_reach_m`: how far from the map
+    /// frame's origin the mounted stores reach (map::MapScene::reachM); fixes are accepted up to
+    /// that plus the estimator's default range.
     VehicleInput(const DaemonConfig& config, const map::Projection& projection, const std::filesystem::path& store_path,
                  const std::string& graph_problem, std::shared_ptr<const map::RoadGraph> graph,
                  const std::shared_ptr<ipc::ControlState>& control, const std::filesystem::path& data_dir,
-                 const SimulatorFactory& simulator = {});
+                 const SimulatorFactory& simulator = {}, double map_reach_m = 0.0);
     ~VehicleInput();
     VehicleInput(const VehicleInput&) = delete;
     VehicleInput& operator=(const VehicleInput&) = delete;

@@ -15,37 +15,47 @@
 #include <iterator>
 #include <string>
 #include <thread>
+#include <utility>
+#include <vector>
 
 extern char** environ;
 
 namespace navmap::test {
 
-/// A vehicle standing at a fixed point in Andorra la Vella: NAV_Position at 10 Hz and NAV_Motion at
-/// 50 Hz (data/navmap.dbc, Intel byte order) for 20 s; the daemon loops it.
-inline void writeStandingLog(const std::filesystem::path& path) {
+/// A vehicle standing at each of `stops` (lat, lon) in turn, `ms_per_stop` at each: NAV_Position
+/// at 10 Hz and NAV_Motion at 50 Hz (data/navmap.dbc, Intel byte order). The daemon loops it.
+inline void writeStandingLog(const std::filesystem::path& path, const std::vector<std::pair<double, double>>& stops,
+                             int ms_per_stop) {
     std::ofstream out(path);
-    const std::int32_t lat = static_cast<std::int32_t>(std::lround(42.50770 * 1e7));
-    const std::int32_t lon = static_cast<std::int32_t>(std::lround(1.52190 * 1e7));
     char line[128];
     int counter = 0;
-    for (int ms = 0; ms < 20000; ms += 20) {
-        const double t = 1618394400.0 + ms / 1000.0;
-        if (ms % 100 == 0) {
-            std::uint8_t b[8];
-            for (int i = 0; i < 4; ++i)
-                b[i] = static_cast<std::uint8_t>((static_cast<std::uint32_t>(lat) >> (8 * i)) & 0xff);
-            for (int i = 0; i < 4; ++i)
-                b[4 + i] = static_cast<std::uint8_t>((static_cast<std::uint32_t>(lon) >> (8 * i)) & 0xff);
-            std::snprintf(line, sizeof line, "(%.6f) vcan0 6A0#%02X%02X%02X%02X%02X%02X%02X%02X\n", t, b[0], b[1], b[2],
-                          b[3], b[4], b[5], b[6], b[7]);
+    for (std::size_t stop = 0; stop < stops.size(); ++stop) {
+        const std::int32_t lat = static_cast<std::int32_t>(std::lround(stops[stop].first * 1e7));
+        const std::int32_t lon = static_cast<std::int32_t>(std::lround(stops[stop].second * 1e7));
+        for (int ms = 0; ms < ms_per_stop; ms += 20) {
+            const double t = 1618394400.0 + (static_cast<double>(stop) * ms_per_stop + ms) / 1000.0;
+            if (ms % 100 == 0) {
+                std::uint8_t b[8];
+                for (int i = 0; i < 4; ++i)
+                    b[i] = static_cast<std::uint8_t>((static_cast<std::uint32_t>(lat) >> (8 * i)) & 0xff);
+                for (int i = 0; i < 4; ++i)
+                    b[4 + i] = static_cast<std::uint8_t>((static_cast<std::uint32_t>(lon) >> (8 * i)) & 0xff);
+                std::snprintf(line, sizeof line, "(%.6f) vcan0 6A0#%02X%02X%02X%02X%02X%02X%02X%02X\n", t, b[0], b[1],
+                              b[2], b[3], b[4], b[5], b[6], b[7]);
+                out << line;
+            }
+            const std::uint16_t heading = 4500;  // 45.00 deg
+            const std::uint8_t fix_counter = static_cast<std::uint8_t>(3 | ((counter++ & 15) << 4));
+            std::snprintf(line, sizeof line, "(%.6f) vcan0 6A1#%02X%02X%02X%02X%02X%02X%02X%02X\n", t + 0.001,
+                          heading & 0xff, heading >> 8, 0, 0, 0, 0, fix_counter, 9);
             out << line;
         }
-        const std::uint16_t heading = 4500;  // 45.00 deg
-        const std::uint8_t fix_counter = static_cast<std::uint8_t>(3 | ((counter++ & 15) << 4));
-        std::snprintf(line, sizeof line, "(%.6f) vcan0 6A1#%02X%02X%02X%02X%02X%02X%02X%02X\n", t + 0.001,
-                      heading & 0xff, heading >> 8, 0, 0, 0, 0, fix_counter, 9);
-        out << line;
     }
+}
+
+/// A vehicle standing at a fixed point in Andorra la Vella for 20 s.
+inline void writeStandingLog(const std::filesystem::path& path) {
+    writeStandingLog(path, {{42.50770, 1.52190}}, 20000);
 }
 
 /// navmapd as a child process (exec'd, so signals reach it), stderr and stdout in `log`.
