@@ -120,32 +120,35 @@ std::optional<DaemonConfig> parseConfig(const std::string& text, const std::stri
         return TableReader(t ? *t : kEmpty, source_name, std::string(name) + ".", err);
     };
 
+    // An array of file names (store.mount, input.dbc); anything else in it is an error.
+    auto file_names = [&](const char* name, const char* key, std::vector<std::filesystem::path>& out) {
+        const auto* t = table(name);
+        const toml::array* array = t ? t->get_as<toml::array>(key) : nullptr;
+        if (!array) return true;
+        for (const auto& e : *array) {
+            if (auto s = e.value<std::string>()) {
+                out.emplace_back(*s);
+            } else {
+                err->message = where(source_name, e.source()) + ": " + name + "." + key + " entries must be file names";
+                return false;
+            }
+        }
+        return true;
+    };
+
     {
         auto r = section("store");
         std::int64_t cache_mb = static_cast<std::int64_t>(c.cache_mb);
-        const toml::array* mount = nullptr;
-        if (const auto* t = table("store")) mount = t->get_as<toml::array>("mount");
         r.known("mount");
         if (!r.get("path", c.store_path) || !r.get("cache_mb", cache_mb) ||
             !r.range("cache_mb", double(cache_mb), 8, 65536) || !r.noUnknownKeys())
             return std::nullopt;
         c.cache_mb = static_cast<std::size_t>(cache_mb);
-        if (mount) {
-            for (const auto& e : *mount) {
-                if (auto s = e.value<std::string>())
-                    c.mount_paths.emplace_back(*s);
-                else {
-                    err->message = where(source_name, e.source()) + ": store.mount entries must be file names";
-                    return std::nullopt;
-                }
-            }
-        }
+        if (!file_names("store", "mount", c.mount_paths)) return std::nullopt;
     }
     {
         auto r = section("input");
         std::string source = "sim";
-        toml::array* dbc = nullptr;
-        if (const auto* t = table("input")) dbc = const_cast<toml::table*>(t)->get_as<toml::array>("dbc");
         r.known("dbc");
         if (!r.get("source", source) || !r.get("replay_log", c.replay_log) || !r.get("replay_speed", c.replay_speed) ||
             !r.range("replay_speed", c.replay_speed, 0.01, 1000.0) || !r.get("replay_loop", c.replay_loop) ||
@@ -162,16 +165,7 @@ std::optional<DaemonConfig> parseConfig(const std::string& text, const std::stri
             err->message = source_name + ": input.source = \"" + source + "\": expected sim, replay or socketcan";
             return std::nullopt;
         }
-        if (dbc) {
-            for (const auto& e : *dbc) {
-                if (auto s = e.value<std::string>())
-                    c.dbc_files.emplace_back(*s);
-                else {
-                    err->message = where(source_name, e.source()) + ": input.dbc entries must be file names";
-                    return std::nullopt;
-                }
-            }
-        }
+        if (!file_names("input", "dbc", c.dbc_files)) return std::nullopt;
     }
     if (const auto* can = table("can")) {
         // [[can.signal]] tables: handed to ipc::SignalMap as TOML text.

@@ -45,6 +45,7 @@ TEST(DaemonConfig, EverySectionIsRead) {
 [store]
 path = "/var/lib/navmap/andorra.navmap"
 cache_mb = 64
+mount = ["/var/lib/navmap/north.navmap", "south.navmap"]
 [input]
 source = "replay"
 replay_log = "drive.candump"
@@ -98,6 +99,9 @@ level = "debug"
     EXPECT_EQ(c->cache_mb, 64u);
     EXPECT_EQ(c->input, InputSource::Replay);
     EXPECT_EQ(c->replay_speed, 2.0);
+    ASSERT_EQ(c->mount_paths.size(), 2u);
+    EXPECT_EQ(c->mount_paths[0], "/var/lib/navmap/north.navmap");
+    EXPECT_EQ(c->mount_paths[1], "south.navmap");
     ASSERT_EQ(c->dbc_files.size(), 2u);
     EXPECT_NE(c->signal_map_toml.find("Veh_V_ActlBrk"), std::string::npos);
     EXPECT_TRUE(c->night);
@@ -138,6 +142,8 @@ TEST(DaemonConfig, ErrorsNameFileLineAndProblem) {
     EXPECT_EQ(m, "navmapd.toml:2:12: store.cache_mb must be an integer");
     EXPECT_FALSE(parse("[store]\ncache_mb = 2\n", &m));
     EXPECT_EQ(m, "navmapd.toml:2:12: store.cache_mb = 2 out of range [8, 65536]");
+    EXPECT_FALSE(parse("[store]\nmount = [\"a.navmap\", 3]\n", &m));
+    EXPECT_EQ(m, "navmapd.toml:2:22: store.mount entries must be file names");
     EXPECT_FALSE(parse("[render]\nmsaa = 4\nsytle = \"night\"\n", &m));
     EXPECT_EQ(m, "navmapd.toml:3:9: unknown key render.sytle");
     EXPECT_FALSE(parse("[render]\nground = \"satellite\"\n", &m));
