@@ -26,12 +26,12 @@ double wrapLon(double lon) { return lon - 360.0 * std::floor((lon + 180.0) / 360
 double worldHalfSize() { return kHalf; }
 
 double worldLatitudeLimit() {
-    static const double limit = [] {
+    static const double kLimit = [] {
         double lat = 0, lon = 0;
         fromWorldMercator({0.0, kHalf}, lat, lon);
         return lat;
     }();
-    return limit;
+    return kLimit;
 }
 
 MercatorPoint toWorldMercator(double lat_deg, double lon_deg) {
