@@ -60,9 +60,11 @@ TileLoadResult StoreSet::load(TileId id) const {
     const auto which = storeOf(id);
     if (!which) return {nullptr, {}, true};
     const Mounted& m = m_stores[*which];
-    TileLoadResult r = m.store->load(*m.store->scheme().fromWorld(m_scheme.worldTile(id)));
+    const TileId own = *m.store->scheme().fromWorld(m_scheme.worldTile(id));
+    TileLoadResult r = m.store->load(own);
     if (!r.tile) return r;
     m.loads->fetch_add(1);
+    if (own == id && m.to_frame.identity()) return r;  // the set's scheme is this store's (shards)
     auto tile = std::make_shared<Tile>(*r.tile);
     const Box square = m_scheme.bounds(id);
     reexpressTile(*tile, m.to_frame, id, {square.min_x, square.min_y}, m_scheme.tileSize(id.level));

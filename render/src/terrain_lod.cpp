@@ -133,27 +133,23 @@ LodSelection selectLod(const map::TileScheme& scheme, const Camera& camera, doub
                                                                               viewport_height) > options.max_error_px;
         if (refine) {
             std::array<map::TileId, 4> children;
+            int present = 0;  // the existing children, first in `children`
             bool all_ready = true;
-            int present = 0;
             for (int i = 0; i < 4; ++i) {
-                children[i] = {static_cast<std::uint8_t>(id.level + 1), id.x * 2 + (i & 1), id.y * 2 + (i >> 1)};
+                const map::TileId c{static_cast<std::uint8_t>(id.level + 1), id.x * 2 + (i & 1), id.y * 2 + (i >> 1)};
                 // A mounted store's root inside another's subtree is drawn from its own traversal.
-                if (!exists(children[i]) ||
-                    (roots.size() > 1 && std::find(roots.begin(), roots.end(), children[i]) != roots.end())) {
-                    children[i].level = 0xff;  // skipped
-                    continue;
-                }
-                ++present;
-                if (!resident(children[i])) {
+                const bool other_root = roots.size() > 1 && std::find(roots.begin(), roots.end(), c) != roots.end();
+                if (!exists(c) || other_root) continue;
+                children[static_cast<std::size_t>(present++)] = c;
+                if (!resident(c)) {
                     all_ready = false;
-                    out.wanted.push_back({children[i], static_cast<float>(priority + 100.0)});
+                    out.wanted.push_back({c, static_cast<float>(priority + 100.0)});
                 }
             }
             // Refine only when every existing child can be drawn (no holes). The compiler writes
             // no tile where there is no data, so a missing child is a quarter outside the data.
             if (all_ready && present > 0) {
-                for (const auto& c : children)
-                    if (c.level != 0xff) stack.push_back(c);
+                stack.insert(stack.end(), children.begin(), children.begin() + present);
                 continue;
             }
         }

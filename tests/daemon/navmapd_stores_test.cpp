@@ -9,7 +9,6 @@
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <string>
 #include <thread>
 #include <vector>
@@ -17,6 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include "navmap/ipc/control_client.h"
+#include "navmap/ipc/frame_png.h"
 #include "navmap/ipc/stream_client.h"
 #include "navmap/map/compiler.h"
 #include "navmapd_process.h"
@@ -33,17 +33,13 @@ constexpr double kShift = 7.2;                     // degrees north: 800 km
 
 /// Pixels that differ from their right neighbour by more than 24 in a channel: roads, buildings,
 /// area borders and relief give many, a plain ground few.
-/// NAVMAP_STORES_DUMP=<dir>: the frames the test compares, as PPM files.
+/// NAVMAP_STORES_DUMP=<dir>: the frames the test compares, as PNG files.
 void dump(const navmap::ipc::ReceivedFrame& f, const std::string& name) {
     const char* dir = std::getenv("NAVMAP_STORES_DUMP");
     if (!dir) return;
-    std::ofstream out(fs::path(dir) / (name + ".ppm"), std::ios::binary);
-    out << "P6\n" << f.header.width << " " << f.header.height << "\n255\n";
-    for (std::uint32_t y = 0; y < f.header.height; ++y) {
-        for (std::uint32_t x = 0; x < f.header.width; ++x)
-            out.write(reinterpret_cast<const char*>(&f.pixels[static_cast<std::size_t>(y) * f.header.stride + 4 * x]),
-                      3);
-    }
+    const auto written =
+        navmap::ipc::writeFramePng((fs::path(dir) / (name + ".png")).string(), f.header, f.pixels.data());
+    if (!written) ADD_FAILURE() << written.message();
 }
 
 double edgeShare(const navmap::ipc::ReceivedFrame& f) {
