@@ -14,10 +14,13 @@ namespace {
 
 using GeographicLib::Math;
 
-const double kA = GeographicLib::Constants::WGS84_a();
-const double kF = GeographicLib::Constants::WGS84_f();
-const double kE = std::sqrt(kF * (2.0 - kF));  // first eccentricity
-const double kHalf = std::numbers::pi * kA;
+// WGS84 (GeographicLib::Constants::WGS84_a and _f) as constant expressions: frames made before
+// main() (a Projection held in a namespace-scope constant) must not see these uninitialised.
+constexpr double kA = 6378137.0;
+constexpr double kF = 1.0 / 298.257223563;
+constexpr double kE = 0.081819190842621494;  // first eccentricity, sqrt(f (2 - f))
+constexpr double kHalf = std::numbers::pi * kA;
+static_assert(kE * kE > kF * (2.0 - kF) * (1.0 - 1e-15) && kE * kE < kF * (2.0 - kF) * (1.0 + 1e-15));
 
 double wrapLon(double lon) { return lon - 360.0 * std::floor((lon + 180.0) / 360.0); }
 
