@@ -31,12 +31,13 @@ MapScene MapScene::open(const std::vector<std::filesystem::path>& store_paths, s
     return s;
 }
 
-double MapScene::reachM() const {
-    if (!set) return 0.0;
+double MapScene::reachM() const { return set ? reachM(projection()) : 0.0; }
+
+double MapScene::reachM(const Projection& frame) const {
     double reach = 0.0;
-    const Projection frame = projection();
-    for (std::size_t i = 0; i < set->storeCount(); ++i) {
-        const StoreInfo& info = set->store(i).info();
+    const std::size_t stores = set ? set->storeCount() : 1;
+    for (std::size_t i = 0; i < stores; ++i) {
+        const StoreInfo& info = set ? set->store(i).info() : store->info();
         for (const double lat : {info.south, info.north}) {
             for (const double lon : {info.west, info.east}) {
                 const PlanarPoint p = frame.forward(lat, lon);

@@ -23,6 +23,34 @@ void indexEdges(RoadGraph& g) {
     for (std::size_t i = 1; i < g.first_edge.size(); ++i) g.first_edge[i] += g.first_edge[i - 1];
 }
 
+void transformRoadGraph(RoadGraph& g, const FrameTransform& t) {
+    if (t.identity()) return;
+    for (GraphNode& n : g.nodes) {
+        n.x = t.scale * n.x + t.offset_x;
+        n.y = t.scale * n.y + t.offset_y;
+    }
+    for (LocalPoint& p : g.shape) {
+        p = {static_cast<float>(t.scale * p.x + t.offset_x), static_cast<float>(t.scale * p.y + t.offset_y)};
+    }
+}
+
+void appendRoadGraph(RoadGraph& g, const RoadGraph& other, const FrameTransform& t) {
+    const auto node_base = static_cast<std::uint32_t>(g.nodes.size());
+    const auto shape_base = static_cast<std::uint32_t>(g.shape.size());
+    RoadGraph moved = other;
+    transformRoadGraph(moved, t);
+    g.nodes.insert(g.nodes.end(), moved.nodes.begin(), moved.nodes.end());
+    g.shape.insert(g.shape.end(), moved.shape.begin(), moved.shape.end());
+    for (GraphEdge e : moved.edges) {
+        e.from += node_base;
+        e.to += node_base;
+        e.shape_begin += shape_base;
+        e.shape_end += shape_base;
+        g.edges.push_back(e);
+    }
+    indexEdges(g);  // stable: the appended nodes come last, so the first graph's edges keep their indices
+}
+
 std::vector<std::uint8_t> encodeRoadGraph(const RoadGraph& g) {
     ByteWriter w;
     w.u32(kGraphMagic);

@@ -46,6 +46,14 @@ std::shared_ptr<StoreSet> StoreSet::mount(std::vector<std::shared_ptr<const Tile
     return set;
 }
 
+std::shared_ptr<StoreSet> StoreSet::inFrame(const Projection& frame) const {
+    std::shared_ptr<StoreSet> set(new StoreSet(*this));
+    set->m_frame = frame;
+    set->m_scheme = TileScheme(frame, m_scheme.worldRoot(), m_scheme.levelCount());
+    for (Mounted& m : set->m_stores) m.to_frame = frame.transformFrom(m.store->projection());
+    return set;
+}
+
 std::optional<std::size_t> StoreSet::storeOf(TileId id) const {
     if (!m_scheme.valid(id)) return std::nullopt;
     const WorldTileId w = m_scheme.worldTile(id);

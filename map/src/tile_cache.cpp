@@ -87,14 +87,20 @@ void TileCache::loaderLoop() {
         const std::uint64_t key = next.id.key();
         if (m_resident.count(key)) continue;
         m_in_flight = key;
+        const std::shared_ptr<const TileSource> source = m_source;
+        const std::uint64_t epoch = m_source_epoch;
         lock.unlock();
 
         const auto start = std::chrono::steady_clock::now();
-        TileLoadResult loaded = m_source->load(next.id);
+        TileLoadResult loaded = source->load(next.id);
         const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 
         lock.lock();
         m_in_flight = kNone;
+        if (epoch != m_source_epoch) {  // replaceSource() came meanwhile: this tile is in the old frame
+            if (m_pending.empty()) m_idle.notify_all();
+            continue;
+        }
         ++m_metrics.loads;
         if (m_load_ms.size() < kLoadWindow)
             m_load_ms.push_back(ms);
@@ -134,6 +140,39 @@ void TileCache::loaderLoop() {
         }
         if (m_pending.empty()) m_idle.notify_all();
     }
+}
+
+std::size_t TileCache::replaceSource(std::shared_ptr<const TileSource> source) {
+    // Tiles wanted by the latest requests (one per display and frame) are reloaded at once.
+    constexpr std::uint64_t kRecentRequests = 16;
+    std::vector<TileId> wanted;
+    {
+        std::lock_guard lock(m_mutex);
+        for (const auto& [key, r] : m_resident)
+            if (r.generation + kRecentRequests > m_generation) wanted.push_back(r.tile->id);
+        m_source = source;
+        ++m_source_epoch;
+        m_resident.clear();
+        m_lru.clear();
+        m_pending.clear();
+        m_dropped.clear();
+        m_metrics.resident_bytes = 0;
+    }
+    std::size_t loaded_count = 0;
+    for (const TileId id : wanted) {
+        TileLoadResult loaded = source->load(id);
+        if (!loaded.tile) continue;
+        std::lock_guard lock(m_mutex);
+        const std::size_t bytes = loaded.tile->byteSize();
+        if (m_resident.count(id.key()) || m_metrics.resident_bytes + bytes > m_options.budget_bytes) continue;
+        ++m_metrics.loads;
+        m_lru.push_front(id.key());
+        m_resident.emplace(id.key(), Resident{std::move(loaded.tile), m_lru.begin(), bytes, m_generation});
+        m_metrics.resident_bytes += bytes;
+        m_metrics.peak_resident_bytes = std::max(m_metrics.peak_resident_bytes, m_metrics.resident_bytes);
+        ++loaded_count;
+    }
+    return loaded_count;
 }
 
 TileCacheMetrics TileCache::metrics() const {

@@ -4,11 +4,14 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
 
 #include "map_test_util.h"
 #include "navmap/map/compiler.h"
+#include "navmap/map/road_graph.h"
 #include "navmap/map/store_set.h"
+#include "navmap/map/tile_cache.h"
 #include "navmap/map/tile_store.h"
 #include "synth_region.h"
 
@@ -136,4 +139,107 @@ TEST_F(TwoRegions, StoresWithDifferentDemGridsAreRefusedNamingBoth) {
                                              " has 33 (stores mounted together need the same grid)");
     }
     EXPECT_THROW((void)StoreSet::mount({}, andorra->projection()), StoreError);
+}
+
+TEST_F(TwoRegions, ARecentredSetAndItsCacheGiveTheSameTilesInTheNewFrame) {
+    const auto andorra = TileStore::open(*s_dir / "andorra.navmap");
+    const auto north = TileStore::open(*s_dir / "north.navmap");
+    const auto set = StoreSet::mount({andorra, north}, andorra->projection());
+    // A frame around a vehicle in the north store, as the daemon re-centres it.
+    const Projection around(49.7, 1.52);
+    const auto moved = set->inFrame(around);
+    const auto fresh = StoreSet::mount({andorra, north}, around);
+    EXPECT_EQ(moved->scheme().worldRoot(), set->scheme().worldRoot());
+    EXPECT_EQ(moved->roots(), set->roots()) << "the same tile ids";
+    EXPECT_EQ(moved->frame().originLat(), 49.7);
+
+    // Tiles of both stores come out as a set mounted in that frame gives them, and the load
+    // counters go on counting.
+    const int leaf = north->scheme().leafLevel();
+    std::vector<TileId> ids;
+    for (const TileId nid : north->tileIds())
+        if (nid.level == leaf && ids.size() < 12)
+            ids.push_back(*set->scheme().fromWorld(north->scheme().worldTile(nid)));
+    ids.push_back(*set->scheme().fromWorld(andorra->scheme().worldTile(andorra->tileIds().back())));
+    for (const TileId id : ids) {
+        const auto a = moved->load(id), b = fresh->load(id);
+        ASSERT_TRUE(a.tile && b.tile);
+        EXPECT_EQ(a.tile->origin_x, b.tile->origin_x);
+        EXPECT_EQ(a.tile->origin_y, b.tile->origin_y);
+        ASSERT_EQ(a.tile->roads.size(), b.tile->roads.size());
+        for (std::size_t i = 0; i < a.tile->roads.size(); ++i) {
+            ASSERT_EQ(a.tile->roads[i].points.size(), b.tile->roads[i].points.size());
+            for (std::size_t j = 0; j < a.tile->roads[i].points.size(); ++j) {
+                EXPECT_EQ(a.tile->roads[i].points[j].x, b.tile->roads[i].points[j].x);
+                EXPECT_EQ(a.tile->roads[i].points[j].y, b.tile->roads[i].points[j].y);
+            }
+        }
+    }
+    EXPECT_EQ(set->loads(1), ids.size() - 1) << "counted through the set it was re-centred from";
+    EXPECT_EQ(set->loads(0), 1u);
+
+    // The cache switches to the new frame: the tiles it was drawing are there again at once, in
+    // the new frame; the ones nobody asked for lately are not reloaded.
+    TileCache cache(set);
+    std::vector<TileRequest> wanted;
+    for (const TileId id : ids) wanted.push_back({id, 1.0f});
+    (void)cache.request(wanted);
+    ASSERT_TRUE(cache.waitIdle(std::chrono::seconds(10)));
+    const auto old_tile = cache.find(ids.front());
+    ASSERT_TRUE(old_tile);
+    EXPECT_EQ(cache.replaceSource(moved), ids.size());
+    EXPECT_EQ(&cache.source(), moved.get());
+    for (const TileId id : ids) {
+        const auto t = cache.find(id);
+        ASSERT_TRUE(t) << id.level << "/" << id.x << "/" << id.y;
+        EXPECT_EQ(t->origin_x, moved->scheme().bounds(id).min_x);
+        EXPECT_EQ(t->origin_y, moved->scheme().bounds(id).min_y);
+    }
+    EXPECT_NE(cache.find(ids.front())->origin_y, old_tile->origin_y);
+    const auto loaded = cache.request(wanted);
+    for (const auto& t : loaded) EXPECT_TRUE(t) << "all resident: nothing to wait for";
+    EXPECT_EQ(cache.metrics().misses, ids.size()) << "only the first request missed";
+}
+
+TEST_F(TwoRegions, RoadGraphsOfTwoStoresAreMatchedInOneFrame) {
+    const auto andorra = TileStore::open(*s_dir / "andorra.navmap");
+    const auto north = TileStore::open(*s_dir / "north.navmap");
+    RoadGraph both = andorra->loadGraph();
+    const RoadGraph first = both;
+    const RoadGraph second = north->loadGraph();
+    ASSERT_GT(second.edges.size(), 1000u);
+    const FrameTransform t = andorra->projection().transformFrom(north->projection());
+    appendRoadGraph(both, second, t);
+    ASSERT_EQ(both.nodes.size(), first.nodes.size() + second.nodes.size());
+    ASSERT_EQ(both.edges.size(), first.edges.size() + second.edges.size());
+    // The first graph's edges keep their indices; the second's nodes lie where their store puts them.
+    for (std::size_t e = 0; e < first.edges.size(); e += 97) {
+        EXPECT_EQ(both.edges[e].from, first.edges[e].from);
+        EXPECT_EQ(both.edges[e].shape_begin, first.edges[e].shape_begin);
+    }
+    const Projection nf = north->projection();
+    const Projection af = andorra->projection();
+    for (std::size_t n = 0; n < second.nodes.size(); n += 101) {
+        double lat = 0, lon = 0;
+        nf.reverse({second.nodes[n].x, second.nodes[n].y}, lat, lon);
+        const PlanarPoint p = af.forward(lat, lon);
+        const GraphNode& m = both.nodes[first.nodes.size() + n];
+        EXPECT_NEAR(m.x, p.x, 0.01);
+        EXPECT_NEAR(m.y, p.y, 0.01);
+        EXPECT_EQ(m.osm_id, second.nodes[n].osm_id);
+    }
+    // Each edge of the second graph leads out of its own node and along its own shape.
+    for (std::uint32_t n = 0; n < second.nodes.size(); n += 53) {
+        const auto mine = second.outEdges(n);
+        const auto merged = both.outEdges(static_cast<std::uint32_t>(first.nodes.size()) + n);
+        ASSERT_EQ(mine.size(), merged.size());
+        for (std::size_t k = 0; k < mine.size(); ++k) {
+            EXPECT_EQ(merged[k].to, mine[k].to + first.nodes.size());
+            EXPECT_EQ(merged[k].shape_end - merged[k].shape_begin, mine[k].shape_end - mine[k].shape_begin);
+            const LocalPoint a = both.shape[merged[k].shape_begin];
+            const LocalPoint b = second.shape[mine[k].shape_begin];
+            EXPECT_NEAR(a.x, t.scale * b.x + t.offset_x, 0.1);
+            EXPECT_NEAR(a.y, t.scale * b.y + t.offset_y, 0.1);
+        }
+    }
 }

@@ -44,6 +44,9 @@ struct MapScene {
     /// How far the mounted stores reach from the frame's origin: the farthest corner of any
     /// store's data box, in frame metres (0 with one store: its own data is near its origin).
     [[nodiscard]] double reachM() const;
+    /// How far the mounted stores reach from `frame`'s origin (any frame: the daemon re-centres
+    /// its frame on the vehicle): the farthest corner of any store's data box, in metres.
+    [[nodiscard]] double reachM(const Projection& frame) const;
     [[nodiscard]] PlanarPoint toPlanar(double lat, double lon) const { return projection().forward(lat, lon); }
 };
 

@@ -11,6 +11,7 @@
 
 #include "navmap/map/road_class.h"
 #include "navmap/map/tile.h"
+#include "navmap/map/world_tiles.h"
 
 namespace navmap::map {
 
@@ -53,6 +54,12 @@ struct RoadGraph {
 /// Sorts the edges by their start node (stably: each node's edges keep their order) and fills
 /// first_edge, the CSR offsets outEdges() reads.
 void indexEdges(RoadGraph& graph);
+
+/// Re-expresses the graph's positions (nodes and shape) in another frame: p' = t.scale * p + offset.
+void transformRoadGraph(RoadGraph& graph, const FrameTransform& t);
+/// Appends `other` (another store's graph) re-expressed with `t` into `graph`'s frame. The two are
+/// not connected; the edge indices of `graph` stay as they were.
+void appendRoadGraph(RoadGraph& graph, const RoadGraph& other, const FrameTransform& t);
 
 std::vector<std::uint8_t> encodeRoadGraph(const RoadGraph& graph);
 /// Decodes and validates (node indices, shape ranges, CSR offsets); false + error on bad input.

@@ -25,6 +25,10 @@ public:
     /// Throws StoreError naming the stores when they cannot be drawn together: different DEM
     /// grids per tile, or a common subtree deeper than 28 levels.
     static std::shared_ptr<StoreSet> mount(std::vector<std::shared_ptr<const TileStore>> stores, Projection frame);
+    /// The same stores mounted in another frame (the daemon re-centres its frame as the vehicle
+    /// moves): the same scheme and tile ids, every tile re-expressed into `frame`; the load
+    /// counters are shared with this set, so they keep counting.
+    [[nodiscard]] std::shared_ptr<StoreSet> inFrame(const Projection& frame) const;
 
     [[nodiscard]] const Projection& frame() const { return m_frame; }
     [[nodiscard]] const TileScheme& scheme() const override { return m_scheme; }

@@ -69,7 +69,14 @@ public:
     [[nodiscard]] std::vector<TileId> corruptTiles() const;
     /// Waits until the queue is empty and nothing is loading (tests, benchmarks, warm-up).
     bool waitIdle(std::chrono::milliseconds timeout) const;
+    /// The source the tiles come from. Valid until replaceSource(); call both on one thread.
     [[nodiscard]] const TileSource& source() const { return *m_source; }
+    /// Switches to another source with the same scheme and tile ids (the same stores in another
+    /// frame: StoreSet::inFrame). Every resident tile is dropped; the ones the latest requests
+    /// wanted are loaded from the new source on the calling thread before it returns, so the next
+    /// frame finds them; a load in flight from the old source is discarded. Returns how many tiles
+    /// were loaded.
+    std::size_t replaceSource(std::shared_ptr<const TileSource> source);
 
 private:
     struct Resident {
@@ -93,7 +100,8 @@ private:
     std::unordered_set<std::uint64_t> m_dropped;  ///< dropped over budget until something is evicted
     std::uint64_t m_in_flight = ~std::uint64_t{0};
     std::uint64_t m_generation = 0;
-    std::vector<double> m_load_ms;  ///< ring of recent load times
+    std::uint64_t m_source_epoch = 0;  ///< counts replaceSource(): loads from an older source are dropped
+    std::vector<double> m_load_ms;     ///< ring of recent load times
     std::size_t m_load_next = 0;
     std::vector<TileId> m_corrupt_ids;
     TileCacheMetrics m_metrics;
