@@ -13,6 +13,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <span>
 #include <utility>
 #include <vector>
@@ -31,8 +32,17 @@
 
 namespace navmap::render::gl {
 
+/// Whether resources made from the tile object `made_from` (kept as a pointer and a weak
+/// reference) belong to `tile`: the same object, still alive. Another object allocated where a
+/// freed one was (a reload, or the tile re-expressed into a re-centred frame) is not the same.
+inline bool sameTileObject(const map::Tile* made_from, const std::weak_ptr<const map::Tile>& made_from_ref,
+                           const map::Tile* tile) {
+    return made_from == tile && !made_from_ref.expired();
+}
+
 struct GpuTile {
     const map::Tile* source = nullptr;  // identity of the uploaded tile object
+    std::weak_ptr<const map::Tile> source_ref;
     glm::dvec3 origin{0.0};
     float size_m = 0.0f;
     GLuint terrain_vao = 0, terrain_vbo = 0, terrain_ibo = 0;

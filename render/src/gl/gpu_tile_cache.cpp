@@ -184,7 +184,9 @@ std::span<GpuTile* const> GpuTileCache::acquire(const MapFrame& frame, int targe
         if (!tile) continue;
         const TileMorph* morph = ti < frame.tile_morph.size() ? &frame.tile_morph[ti] : nullptr;
         auto it = m_tiles.find(tile->id.key());
-        GpuTile* gpu = (it != m_tiles.end() && it->second->source == tile.get()) ? it->second.get() : nullptr;
+        GpuTile* gpu = (it != m_tiles.end() && sameTileObject(it->second->source, it->second->source_ref, tile.get()))
+                           ? it->second.get()
+                           : nullptr;
         // Re-upload when a geomorph target (an ancestor tile) is new to this tile; until the
         // upload budget allows, the tile is drawn with the targets it has.
         bool new_targets = false;
@@ -321,6 +323,7 @@ GpuTile* GpuTileCache::upload(const std::shared_ptr<const map::Tile>& tile, cons
     TileMesh mesh = buildTileMesh(*tile, {}, ancestors);
     auto gpu = std::make_unique<GpuTile>();
     gpu->source = tile.get();
+    gpu->source_ref = tile;
     gpu->morph_ancestors = ancestors;
     gpu->grid_size = mesh.grid_size;
     gpu->heights = mesh.heights;
@@ -353,7 +356,8 @@ GpuTile* GpuTileCache::upload(const std::shared_ptr<const map::Tile>& tile, cons
     }
 
     // A re-upload for new geomorph targets keeps the tile's orthoimage (finished or pending).
-    if (const auto old = m_tiles.find(tile->id.key()); old != m_tiles.end() && old->second->source == tile.get()) {
+    if (const auto old = m_tiles.find(tile->id.key());
+        old != m_tiles.end() && sameTileObject(old->second->source, old->second->source_ref, tile.get())) {
         GpuTile& o = *old->second;
         gpu->ortho = std::exchange(o.ortho, 0);
         gpu->ortho_ready = o.ortho_ready;

@@ -9,11 +9,13 @@
 #include <cstdio>
 #include <cstring>
 #include <limits>
+#include <memory>
 #include <span>
 #include <vector>
 
 #include <glm/gtc/type_ptr.hpp>
 
+#include "gpu_tile.h"
 #include "road_draping.h"
 #include "tile_mesh.h"
 
@@ -262,7 +264,8 @@ RoadTechnique resolveRoadTechnique(const MapFrame& frame) {
 }
 
 struct SvRoads::GpuTileRoads {
-    const map::Tile* source = nullptr;        // identity of the tile object the buffers were made from
+    const map::Tile* source = nullptr;  // identity of the tile object the buffers were made from
+    std::weak_ptr<const map::Tile> source_ref;
     std::vector<const map::Tile*> ancestors;  // geomorph targets whose surfaces the z ranges include
     GLuint vao = 0, vbo = 0;
     GLsizei count = 0;
@@ -399,10 +402,13 @@ SvRoads::GpuTileRoads* SvRoads::tileRoads(const std::shared_ptr<const map::Tile>
         }
         return true;
     };
-    if (it != m_tiles.end() && it->second->source == tile.get() && covered(*it->second)) return it->second.get();
+    if (it != m_tiles.end() && sameTileObject(it->second->source, it->second->source_ref, tile.get()) &&
+        covered(*it->second))
+        return it->second.get();
     const SvTileRoads cpu = buildSvTileRoads(*tile, style, ancestors);
     auto gpu = std::make_unique<GpuTileRoads>();
     gpu->source = tile.get();
+    gpu->source_ref = tile;
     gpu->ancestors = ancestors;
     gpu->count = static_cast<GLsizei>(cpu.instances.size());
     for (std::size_t c = 0; c < cpu.class_first.size(); ++c)
