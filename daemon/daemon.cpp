@@ -8,12 +8,14 @@
 #include "daemon_metrics.h"
 #include "daemon_status.h"
 #include "display_scheduler.h"
+#include "frame_recentring.h"
 #include "lifecycle.h"
 #include "log.h"
 #include "navmap/ipc/control_server.h"
 #include "navmap/ipc/control_state.h"
 #include "navmap/ipc/frame_server.h"
 #include "navmap/map/map_scene.h"
+#include "navmap/map/store_set.h"
 #include "navmap/version.h"
 #include "pose_events.h"
 #include "pose_source.h"
@@ -41,6 +43,17 @@ map::MapScene openScene(const DaemonConfig& config, const Log& log) {
             log(Log::kInfo, "mounted store %s: %u tiles under world tile %s", s.path().c_str(), s.info().tile_count,
                 s.scheme().worldRoot().toString().c_str());
         }
+    }
+    // Map matching snaps onto the roads of every store: the mounted stores' graphs follow the
+    // first one's in its frame (the simulator plans on the first store only).
+    for (std::size_t i = 1; scene.set && i < scene.set->storeCount(); ++i) {
+        const map::TileStore& s = scene.set->store(i);
+        auto graph = s.tryLoadGraph();
+        if (!graph.problem.empty()) {
+            log(Log::kWarning, "%s; map matching is off on this store's roads", graph.error.c_str());
+            continue;
+        }
+        map::appendRoadGraph(scene.graph, graph.graph, scene.projection().transformFrom(s.projection()));
     }
     // A damaged road graph degrades like a damaged tile: the map renders, what needs the graph
     // says it is missing (docs/tile-store.md "Damage").
@@ -106,6 +119,45 @@ void followRoute(RouteState& route, RouteGuidance& guidance, const ipc::ControlS
             route.lengthM() / 1000.0, guidance.route() ? guidance.route()->maneuvers().size() : std::size_t{0});
 }
 
+// What keeps positions in the map frame, for re-centring it.
+struct FrameParts {
+    map::MapScene& scene;
+    std::shared_ptr<const map::RoadGraph> graph;  // every store's roads, in graph_frame
+    map::Projection graph_frame;
+    VehicleInput& input;
+    RouteState& route;
+    RouteGuidance& guidance;
+    DisplayScheduler& displays;
+    PoseSource& poses;
+};
+
+// Re-centres the map frame on `next` (FrameRecentring::due): the tiles come again from the stores
+// re-expressed into it (those drawn last are loaded before this returns), and the estimator, the
+// route, the guidance and the displays move into it.
+void recentre(FrameRecentring& frames, const map::Projection& next, double scale_error, FrameParts& p, const Log& log) {
+    const auto start = Clock::now();
+    const map::FrameTransform to_next = frames.adopt(next);
+    p.scene.set = p.scene.set ? p.scene.set->inFrame(next) : map::StoreSet::mount({p.scene.store}, next);
+    const std::size_t tiles = p.scene.cache->replaceSource(p.scene.set);
+    map::RoadGraph graph = *p.graph;
+    map::transformRoadGraph(graph, next.transformFrom(p.graph_frame));
+    FrameRebase rebase;
+    rebase.epoch = frames.epoch();
+    rebase.frame = next;
+    rebase.to_frame = to_next;
+    rebase.matcher = std::make_shared<const MapMatcher>(std::make_shared<const map::RoadGraph>(std::move(graph)));
+    rebase.max_distance_from_origin_m = VehicleStateConfig{}.max_distance_from_origin_m + p.scene.reachM(next);
+    p.route.rebase(next);
+    p.guidance.rebase(next);
+    p.input.rebase(rebase, p.route.line());
+    p.displays.rebase(next);
+    p.poses.rebase(to_next);
+    log(Log::kNotice,
+        "map frame re-centred on %.5f, %.5f (scale error there was %+.2f %%): %zu tiles reloaded in %.0f ms",
+        next.originLat(), next.originLon(), scale_error * 100.0, tiles,
+        std::chrono::duration<double, std::milli>(Clock::now() - start).count());
+}
+
 FrameContext frameContext(const ipc::ViewState* view, const RouteState& route, const RouteGuidance& guidance,
                           bool labels) {
     FrameContext c;
@@ -135,9 +187,10 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
         DaemonStatus status;
         DaemonMetrics metrics;
         control_state->setStatusProvider([&status] { return status.json(); });
-        // The map matcher is the road graph's only user here: it takes the scene's copy (1.6 MB).
-        VehicleInput input(config, scene.projection(), scene.store->path(), scene.graph_problem,
-                           std::make_shared<const map::RoadGraph>(std::move(scene.graph)), control_state,
+        // The map matcher is the road graph's only user here: it takes the scene's copy (1.6 MB per
+        // store), kept in the first store's frame for re-centring.
+        const auto graph = std::make_shared<const map::RoadGraph>(std::move(scene.graph));
+        VehicleInput input(config, scene.projection(), scene.store->path(), scene.graph_problem, graph, control_state,
                            options.data_dir, options.simulator, scene.reachM());
         const auto control_server = createControlServer(config, *control_state);
         const auto frames = startFrameServer(config, metrics, status);
@@ -151,21 +204,28 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
         announceReady(log, systemd, config, *frames, input, displays.displays().size(), t_start);
 
         const auto& info = scene.store->info();
-        const PoseSource poses([&input] { return input.state(); }, scene.cache,
-                               scene.toPlanar((info.south + info.north) / 2, (info.west + info.east) / 2));
+        PoseSource poses([&input](ipc::CanTime t) { return input.poseAt(t); }, scene.cache,
+                         scene.toPlanar((info.south + info.north) / 2, (info.west + info.east) / 2));
         RouteState route(scene.projection());
         PoseEvents events(*control_server, log);
         RouteGuidance guidance(
             scene.projection(), config.guidance,
             [&server = *control_server](const ipc::ControlEvent& e) { server.publish(e); }, log);
         ConfigReloader reloader(config, options.config_path, log);
-        StatusReporter reporter(
-            {config, reloader, input, road_graph, route, displays, *frames, *control_server, *scene.cache, scene},
-            status, metrics, systemd, t_start);
+        FrameRecentring frame(scene.projection());
+        FrameParts frame_parts{scene, graph, scene.projection(), input, route, guidance, displays, poses};
+        StatusReporter reporter({config, reloader, input, road_graph, route, displays, *frames, *control_server,
+                                 *scene.cache, scene, frame},
+                                status, metrics, systemd, t_start);
         for (bool stop = false; !stop;) {
             const auto now = Clock::now();
             if (options.run_for_s && std::chrono::duration<double>(now - t_start).count() >= *options.run_for_s) break;
-            const EstimatedPose pose = input.state()->poseAt(ipc::CanClock::now());
+            EstimatedPose pose = input.poseAt(ipc::CanClock::now());
+            if (const auto next =
+                    pose.valid && !pose.stale && !input.rebasePending() ? frame.due(pose.x, pose.y) : std::nullopt) {
+                recentre(frame, *next, FrameRecentring::scaleError(frame.frame(), pose.x, pose.y), frame_parts, log);
+                pose = input.poseAt(pose.time);
+            }
             const auto view_state = control_state->view();
             followRoute(route, guidance, *control_state, input, log);
             route.track(pose);

@@ -43,6 +43,10 @@ void DaemonStatus::publish(const StatusSample& m) {
                       {"y_m", pose.y},
                       {"heading_deg", pose.heading_deg},
                       {"match_confidence", pose.match_confidence}};
+    if (pose.valid) {
+        st["position"]["lat"] = m.frame.vehicle_lat;
+        st["position"]["lon"] = m.frame.vehicle_lon;
+    }
     if (!m.route_id.empty()) st["route"] = {{"id", m.route_id}, {"driven_m", m.route_driven_m}};
     nlohmann::json profiles = nlohmann::json::array();
     for (const auto& d : *m.displays) {
@@ -88,6 +92,10 @@ void DaemonStatus::publish(const StatusSample& m) {
     for (const auto& store : m.stores)
         stores.push_back({{"path", store.path}, {"tiles", store.tiles}, {"tiles_loaded", store.loads}});
     st["stores"] = std::move(stores);
+    st["frame"] = {{"origin_lat", m.frame.origin_lat},
+                   {"origin_lon", m.frame.origin_lon},
+                   {"recentred", m.frame.recentred},
+                   {"scale_error_pct", m.frame.scale_error * 100.0}};
     m_json.store(std::make_shared<const nlohmann::json>(std::move(st)));
 }
 

@@ -132,6 +132,12 @@ const std::vector<std::vector<glm::dvec3>>& Display::junctionRoads(const render:
     return m_roads;
 }
 
+void Display::rebase() {
+    m_roads.clear();
+    m_roads_tiles.clear();
+    m_roads_junction = glm::dvec2(std::numeric_limits<double>::quiet_NaN());
+}
+
 void Display::draw(render::Renderer& renderer, const PoseSource& poses, const FrameContext& context,
                    const map::Projection& projection) {
     m_frame_start = Clock::now();

@@ -77,6 +77,9 @@ public:
     void reconfigure(const DisplayProfile& p, std::unique_ptr<AttributionOverlay> attribution);
     void skipIdle() { ++m_stats.skipped_idle; }
 
+    /// The daemon re-centred its map frame: forgets what it keeps in the old one (the HUD's
+    /// junction roads).
+    void rebase();
     /// Renders one frame into this display's target with the pose of this moment.
     void draw(render::Renderer& renderer, const PoseSource& poses, const FrameContext& context,
               const map::Projection& projection);

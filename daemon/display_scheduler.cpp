@@ -80,6 +80,11 @@ std::unique_ptr<AttributionOverlay> DisplayScheduler::makeAttribution(const Disp
                                                 p.height);
 }
 
+void DisplayScheduler::rebase(const map::Projection& frame) {
+    m_projection = frame;
+    for (const auto& d : m_displays) d->rebase();
+}
+
 DisplayScheduler::Clock::time_point DisplayScheduler::tick(Clock::time_point now, const PoseSource& poses,
                                                            const FrameContext& context) {
     const auto active = m_frames.activeProfiles();

@@ -46,6 +46,10 @@ public:
     /// readbacks in flight are collected. Returns when the loop should wake up next.
     Clock::time_point tick(Clock::time_point now, const PoseSource& poses, const FrameContext& context);
 
+    /// The daemon re-centred its map frame on the vehicle: cameras use `frame` from now on and the
+    /// displays forget what they kept in the old one.
+    void rebase(const map::Projection& frame);
+
     /// Reload: each display takes the new settings of its profile in `profiles` (a profile whose
     /// size changed keeps running as it is, with a warning); new rates apply from the next tick.
     void reconfigure(const std::vector<DisplayProfile>& profiles);

@@ -4,7 +4,7 @@
 namespace navmap::daemon {
 
 FramePose PoseSource::at(ipc::CanTime t) const {
-    const EstimatedPose pose = m_state()->poseAt(t);
+    const EstimatedPose pose = m_pose(t);
     FramePose frame;
     frame.source_time = pose.source_time;
     if (pose.valid) {

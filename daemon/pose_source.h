@@ -26,19 +26,21 @@ struct FramePose {
 
 class PoseSource {
 public:
-    using StateProvider = std::function<std::shared_ptr<const VehicleState>()>;
-
-    /// `state`: the newest estimator snapshot (never null); `map_middle`: where the camera looks
-    /// before the first fix.
-    PoseSource(StateProvider state, std::shared_ptr<map::TileCache> cache, map::PlanarPoint map_middle)
-        : m_state(std::move(state)), m_ground(std::move(cache)), m_middle(map_middle) {}
-
+    /// The estimated pose at a CAN time, in the daemon's current map frame (VehicleInput::poseAt).
+    using PoseProvider = std::function<EstimatedPose(ipc::CanTime)>;
+    /// `pose`: the estimator's pose; `map_middle`: where the camera looks before the first fix.
+    PoseSource(PoseProvider pose, std::shared_ptr<map::TileCache> cache, map::PlanarPoint map_middle)
+        : m_pose(std::move(pose)), m_ground(std::move(cache)), m_middle(map_middle) {}
+    /// Re-expresses what it keeps in the frame (the map's middle) after the daemon re-centred it.
+    void rebase(const map::FrameTransform& to_frame) {
+        m_middle = {to_frame.scale * m_middle.x + to_frame.offset_x, to_frame.scale * m_middle.y + to_frame.offset_y};
+    }
     /// The pose at CAN time `t`.
     [[nodiscard]] FramePose at(ipc::CanTime t) const;
     [[nodiscard]] const GroundHeight& ground() const { return m_ground; }
 
 private:
-    StateProvider m_state;
+    PoseProvider m_pose;
     GroundHeight m_ground;
     map::PlanarPoint m_middle;
 };

@@ -66,8 +66,20 @@ void RouteGuidance::setRoute(const std::shared_ptr<const ipc::RouteState>& route
     m_matched = false;
     m_snapshot = {};
     m_route_id.clear();
+    m_control = nullptr;
     if (!route || route->points.size() < 2) return;
     m_route_id = route->id;
+    m_control = route;
+    build(true);
+}
+
+void RouteGuidance::rebase(const map::Projection& frame) {
+    m_projection = frame;
+    if (m_control) build(false);
+}
+
+void RouteGuidance::build(bool log_problems) {
+    const auto& route = m_control;
     // The control points as they are (RouteState's line drops repeated points, which adds no
     // length): maneuver indices stay valid and the measures are the ones the renderers drape.
     std::vector<map::PlanarPoint> points;
@@ -87,8 +99,10 @@ void RouteGuidance::setRoute(const std::shared_ptr<const ipc::RouteState>& route
         maneuvers.push_back(std::move(m));
     }
     auto guidance = std::make_shared<mg::GuidanceRoute>(std::move(points), std::move(maneuvers));
-    for (const std::string& p : guidance->problems())
-        m_log(Log::kWarning, "route %s: %s", m_route_id.c_str(), p.c_str());
+    if (log_problems) {
+        for (const std::string& p : guidance->problems())
+            m_log(Log::kWarning, "route %s: %s", m_route_id.c_str(), p.c_str());
+    }
     m_route = guidance;
     m_tracker = std::make_unique<mg::RouteProgressTracker>(m_route);
 }

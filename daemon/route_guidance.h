@@ -53,6 +53,9 @@ public:
 
     /// A new control route (or none: cleared): progress and off-route state start over.
     void setRoute(const std::shared_ptr<const ipc::RouteState>& route);
+    /// Converts the route again into `frame` (the daemon re-centred its map frame); progress is
+    /// found again at the next update(), the off-route state is kept.
+    void rebase(const map::Projection& frame);
     /// Follows the pose (store frame, map-matched) at `time_s` (any monotonic clock, seconds).
     void update(const EstimatedPose& pose, double time_s);
     void setConfig(const GuidanceConfig& config);
@@ -63,12 +66,15 @@ public:
 
 private:
     void fill();
+    // m_control in m_projection: the route and a tracker starting over.
+    void build(bool log_problems);
 
     map::Projection m_projection;
     GuidanceConfig m_config;
     Publish m_publish;
     Log m_log;
     std::string m_route_id;
+    std::shared_ptr<const ipc::RouteState> m_control;  // the route given to setRoute()
     std::shared_ptr<const map::guidance::GuidanceRoute> m_route;
     std::unique_ptr<map::guidance::RouteProgressTracker> m_tracker;
     map::guidance::OffRouteDetector m_off_route;

@@ -16,6 +16,7 @@ bool RouteState::update(const std::shared_ptr<const ipc::RouteState>& route) {
         m_control_points = 0;
         m_driven_m = 0.0;
         m_line = nullptr;
+        m_control = nullptr;
         const std::uint64_t geometry_version = m_geometry.version + 1;
         m_geometry = {};
         m_geometry.version = geometry_version;
@@ -27,9 +28,20 @@ bool RouteState::update(const std::shared_ptr<const ipc::RouteState>& route) {
     m_id = route->id;
     m_control_points = route->points.size();
     m_driven_m = 0.0;
+    m_control = route;
+    convert();
+    return true;
+}
+
+void RouteState::rebase(const map::Projection& frame) {
+    m_projection = frame;
+    if (m_line) convert();
+}
+
+void RouteState::convert() {
     std::vector<map::PlanarPoint> points;
-    points.reserve(route->points.size());
-    for (const auto& p : route->points) points.push_back(m_projection.forward(p.lat, p.lon));
+    points.reserve(m_control->points.size());
+    for (const auto& p : m_control->points) points.push_back(m_projection.forward(p.lat, p.lon));
     m_line = points.size() >= 2 ? std::make_shared<const RouteLine>(m_id, points) : nullptr;
     // The renderers re-drape the route when the geometry's version changes.
     const std::uint64_t geometry_version = m_geometry.version + 1;
@@ -39,7 +51,6 @@ bool RouteState::update(const std::shared_ptr<const ipc::RouteState>& route) {
         for (const auto& p : m_line->points()) m_geometry.points.emplace_back(p.x, p.y, 0.0);
         m_geometry.measure_m = m_line->measures();
     }
-    return true;
 }
 
 void RouteState::track(const EstimatedPose& pose) {

@@ -27,6 +27,9 @@ public:
     /// returns true then (the caller hands line() to the estimator). A null snapshot (cleared)
     /// drops the current route and returns true once.
     bool update(const std::shared_ptr<const ipc::RouteState>& route);
+    /// Converts the route again into `frame` (the daemon re-centred its map frame) under the same
+    /// id and progress; hand line() to the estimator with the rebase.
+    void rebase(const map::Projection& frame);
     /// Progress: the furthest distance driven along the route of a pose matched onto it.
     void track(const EstimatedPose& pose);
 
@@ -49,8 +52,11 @@ public:
     [[nodiscard]] std::uint64_t conversions() const { return m_conversions; }
 
 private:
+    void convert();  // m_control into m_line and m_geometry, in m_projection
+
     map::Projection m_projection;
-    std::uint64_t m_version = ~std::uint64_t{0};  // control snapshot version converted last
+    std::shared_ptr<const ipc::RouteState> m_control;  // the control route converted last
+    std::uint64_t m_version = ~std::uint64_t{0};       // control snapshot version converted last
     std::string m_id;
     std::size_t m_control_points = 0;
     std::shared_ptr<const RouteLine> m_line;

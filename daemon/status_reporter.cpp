@@ -23,7 +23,11 @@ void StatusReporter::update(Clock::time_point now, const EstimatedPose& pose) {
     s.stream = m_parts.frames.stats();
     s.control = m_parts.control.stats();
     s.cache = m_parts.cache.metrics();
-    if (const auto& set = m_parts.scene.set) {
+    const map::Projection& frame = m_parts.frame.frame();
+    s.frame = {frame.originLat(), frame.originLon(), m_parts.frame.epoch(),
+               pose.valid ? FrameRecentring::scaleError(frame, pose.x, pose.y) : 0.0};
+    if (pose.valid) frame.reverse({pose.x, pose.y}, s.frame.vehicle_lat, s.frame.vehicle_lon);
+    if (const auto& set = m_parts.scene.set; set && set->storeCount() > 1) {
         for (std::size_t i = 0; i < set->storeCount(); ++i)
             s.stores.push_back({set->store(i).path().string(), set->store(i).info().tile_count, set->loads(i)});
     } else {

@@ -11,6 +11,7 @@
 #include "daemon_metrics.h"
 #include "daemon_status.h"
 #include "display_scheduler.h"
+#include "frame_recentring.h"
 #include "lifecycle.h"
 #include "navmap/ipc/control_server.h"
 #include "navmap/ipc/frame_server.h"
@@ -36,7 +37,8 @@ public:
         const ipc::FrameServer& frames;
         const ipc::ControlServer& control;
         const map::TileCache& cache;
-        const map::MapScene& scene;  ///< the mounted stores
+        const map::MapScene& scene;    ///< the mounted stores
+        const FrameRecentring& frame;  ///< the map frame
     };
 
     StatusReporter(Parts parts, DaemonStatus& status, DaemonMetrics& metrics, SystemdNotifier& systemd,

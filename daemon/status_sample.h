@@ -26,6 +26,16 @@ struct StoreStatus {
     std::uint64_t loads = 0;
 };
 
+/// The map frame (FrameRecentring): its origin, how often it moved, its scale error at the vehicle.
+struct FrameStatus {
+    double origin_lat = 0.0;
+    double origin_lon = 0.0;
+    std::uint32_t recentred = 0;
+    double scale_error = 0.0;  ///< frame metres per ground metre at the vehicle, minus one
+    double vehicle_lat = 0.0;  ///< the pose's position, degrees (when the pose is valid)
+    double vehicle_lon = 0.0;
+};
+
 struct StatusSample {
     double uptime_s = 0.0;
     std::string config_path;  ///< empty: no file
@@ -42,7 +52,8 @@ struct StatusSample {
     ipc::FrameServerStats stream;
     ipc::ControlServerStats control;
     map::TileCacheMetrics cache;
-    std::vector<StoreStatus> stores;  ///< the first is the map's frame and road graph
+    std::vector<StoreStatus> stores;  ///< the first is the one the map frame starts in
+    FrameStatus frame;
     ProcessMemory memory;
 };
 

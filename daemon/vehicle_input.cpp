@@ -71,12 +71,36 @@ void VehicleInput::consume(const ipc::CanFrame& frame) {
 }
 
 void VehicleInput::setRoute(std::shared_ptr<const RouteLine> route) {
-    m_route_update.store(std::make_shared<const RouteUpdate>(RouteUpdate{std::move(route)}));
+    m_route_update.store(std::make_shared<const RouteUpdate>(RouteUpdate{std::move(route), m_rebase}));
+}
+
+void VehicleInput::rebase(const FrameRebase& rebase, std::shared_ptr<const RouteLine> route) {
+    m_rebase = std::make_shared<const FrameRebase>(rebase);
+    m_epoch = rebase.epoch;
+    m_route_update.store(std::make_shared<const RouteUpdate>(RouteUpdate{std::move(route), m_rebase}));
+}
+
+EstimatedPose VehicleInput::poseAt(ipc::CanTime t) const {
+    EstimatedPose pose = m_state.load()->poseAt(t);
+    if (m_rebase && pose.frame_epoch + 1 == m_epoch) {  // the input thread has not taken the rebase yet
+        const map::FrameTransform& f = m_rebase->to_frame;
+        pose.x = f.scale * pose.x + f.offset_x;
+        pose.y = f.scale * pose.y + f.offset_y;
+        pose.raw_x = f.scale * pose.raw_x + f.offset_x;
+        pose.raw_y = f.scale * pose.raw_y + f.offset_y;
+        pose.frame_epoch = m_epoch;
+    }
+    return pose;
 }
 
 void VehicleInput::applyRoute() {
     auto update = m_route_update.load();
     if (!update || update == m_applied_route) return;
+    if (update->rebase && update->rebase != m_applied_rebase) {
+        const FrameRebase& r = *update->rebase;
+        m_estimator->rebase(r.frame, r.to_frame, r.matcher, r.max_distance_from_origin_m, r.epoch);
+        m_applied_rebase = update->rebase;
+    }
     m_estimator->setRoute(update->line);
     m_applied_route = std::move(update);
 }

@@ -7,6 +7,7 @@
 // once) and is applied on this thread, the estimator's only owner.
 
 #include <atomic>
+#include <cstdint>
 #include <filesystem>
 #include <memory>
 #include <mutex>
@@ -40,6 +41,15 @@ struct VehicleInputStats {
     std::string error;
 };
 
+/// A new map frame for the input thread (VehicleInput::rebase; FrameRecentring says when).
+struct FrameRebase {
+    std::uint32_t epoch = 0;  ///< EstimatedPose::frame_epoch in the new frame
+    map::Projection frame{0.0, 0.0};
+    map::FrameTransform to_frame;  ///< the new frame's points from the previous frame's
+    std::shared_ptr<const MapMatcher> matcher;
+    double max_distance_from_origin_m = 0.0;  ///< fixes farther from the new origin are rejected
+};
+
 class VehicleInput {
 public:
     /// Opens the DBC files, the signal map and the source; throws std::runtime_error naming the
@@ -66,7 +76,17 @@ public:
     /// input thread within a few milliseconds.
     void setRoute(std::shared_ptr<const RouteLine> route);
 
-    /// The newest estimator snapshot (never null).
+    /// Moves the estimator into another frame, with `route` (the active route in that frame);
+    /// applied by the input thread within a few milliseconds. Call from one thread, the one that
+    /// calls poseAt().
+    void rebase(const FrameRebase& rebase, std::shared_ptr<const RouteLine> route);
+    /// Whether the input thread has yet to take the latest rebase().
+    [[nodiscard]] bool rebasePending() const { return m_state.load()->parts().frame_epoch != m_epoch; }
+    /// The pose at `t` in the newest frame given to rebase(): a snapshot from before the input
+    /// thread took it is re-expressed.
+    [[nodiscard]] EstimatedPose poseAt(ipc::CanTime t) const;
+
+    /// The newest estimator snapshot (never null), in the frame of its parts().frame_epoch.
     [[nodiscard]] std::shared_ptr<const VehicleState> state() const { return m_state.load(); }
     [[nodiscard]] VehicleInputStats stats() const;
 
@@ -75,9 +95,11 @@ private:
     void consume(const ipc::CanFrame& frame);
     void applyRoute();
 
-    // A route handed over by setRoute(): a new object per call, so that "no route" is a change too.
+    // A route handed over by setRoute() or rebase(): a new object per call, so that "no route" is
+    // a change too. Each carries the latest rebase, so that a later route cannot hide it.
     struct RouteUpdate {
         std::shared_ptr<const RouteLine> line;
+        std::shared_ptr<const FrameRebase> rebase;
     };
 
     std::unique_ptr<ipc::VehicleDecoder> m_decoder;
@@ -87,6 +109,9 @@ private:
     std::atomic<std::shared_ptr<const VehicleState>> m_state;
     std::atomic<std::shared_ptr<const RouteUpdate>> m_route_update;
     std::shared_ptr<const RouteUpdate> m_applied_route;
+    std::shared_ptr<const FrameRebase> m_applied_rebase;  // input thread
+    std::shared_ptr<const FrameRebase> m_rebase;          // the caller's thread: the latest rebase()
+    std::uint32_t m_epoch = 0;                            // the caller's thread
     std::atomic<bool> m_running{false};
     std::thread m_thread;
     mutable std::mutex m_stats_mutex;

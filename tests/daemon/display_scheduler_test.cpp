@@ -48,8 +48,8 @@ struct Heights {
 Heights renderInOrder(const std::vector<DisplayProfile>& profiles) {
     map::MapScene scene = map::MapScene::open(storePath());
     const auto vehicle = standingVehicle(scene.projection());
-    const PoseSource poses([vehicle] { return vehicle; },  // NOLINT(performance-no-automatic-move): a copy per call
-                           scene.cache, scene.toPlanar(42.5, 1.5));
+    const PoseSource poses([vehicle](ipc::CanTime t) { return vehicle->poseAt(t); }, scene.cache,
+                           scene.toPlanar(42.5, 1.5));
     DaemonConfig config;
     config.profiles = profiles;
     const auto dir = std::filesystem::temp_directory_path() / ("navmap-scheduler-" + std::to_string(::getpid()));

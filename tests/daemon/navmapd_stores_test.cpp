@@ -5,8 +5,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <chrono>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <string>
@@ -84,6 +86,8 @@ protected:
         std::array<std::vector<navmap::ipc::ReceivedFrame>, 3> runs;
         std::array<std::size_t, 3> frames{};
         double longest_gap_s = 0;
+        std::array<double, 3> max_scale_error_pct{};  ///< |status frame.scale_error_pct| per place
+        std::array<double, 3> max_match{};            ///< best position.match_confidence per place
         nlohmann::json last_status;
         std::string log;
     };
@@ -109,14 +113,22 @@ protected:
             out.log = d.output();
             return out;
         }
-        double y = 0;
+        double lat = kLat;
         auto poll = [&] {
             auto st = control.value().request(R"({"cmd":"get_status"})");
             if (!st) return;
             const auto j = nlohmann::json::parse(st.value(), nullptr, false);
             if (j.is_object() && j.contains("status")) {
                 out.last_status = j["status"];
-                if (out.last_status["position"]["valid"] == true) y = out.last_status["position"]["y_m"].get<double>();
+                const auto pos = out.last_status.value("position", nlohmann::json::object());
+                if (pos.value("valid", false) && out.last_status.contains("frame")) {
+                    lat = pos["lat"].get<double>();
+                    const int at = lat > kLat + 0.9 * kShift ? 1 : lat > kLat + 0.1 * kShift ? 2 : 0;
+                    out.max_scale_error_pct[at] =
+                        std::max(out.max_scale_error_pct[at],
+                                 std::abs(out.last_status["frame"]["scale_error_pct"].get<double>()));
+                    out.max_match[at] = std::max(out.max_match[at], pos["match_confidence"].get<double>());
+                }
             }
         };
         navmap::ipc::ReceivedFrame f;
@@ -137,7 +149,7 @@ protected:
                 out.longest_gap_s =
                     std::max(out.longest_gap_s, std::chrono::duration<double>(now - last_frame).count());
             last_frame = now;
-            const int place = y > 700000.0 ? 1 : y > 200000.0 ? 2 : 0;
+            const int place = lat > kLat + 0.9 * kShift ? 1 : lat > kLat + 0.1 * kShift ? 2 : 0;
             ++out.frames[place];
             if (place != last_place) run.clear();
             last_place = place;
@@ -183,4 +195,38 @@ TEST_F(NavmapdStores, ADriveJumpingBetweenTwoStoresIsDrawnInBothWithoutAStall) {
                 bare, both.longest_gap_s);
     EXPECT_GT(north, 0.5 * south);
     EXPECT_LT(bare, 0.25 * north);
+
+    // The map frame followed the vehicle: re-centred at each jump, true to scale within 0.5 %
+    // wherever it stood (in Andorra's frame the north is drawn 14 % too large).
+    EXPECT_GE(st["frame"]["recentred"].get<int>(), 2) << st.dump();
+    for (int place = 0; place < 3; ++place) EXPECT_LE(both.max_scale_error_pct[place], 0.5) << place;
+    EXPECT_NE(both.log.find("map frame re-centred on"), std::string::npos) << both.log;
+    // Map matching has the roads of both stores: the stop's street is a candidate in the north as
+    // in Andorra (with the first store's graph alone, no road there: confidence 0).
+    EXPECT_GT(both.max_match[0], 0.0);
+    EXPECT_GT(both.max_match[1], 0.5 * both.max_match[0]);
+
+    // Drawn in a frame around the vehicle, the north looks as it does with its store alone, in
+    // that store's own frame: the same ground at the same scale.
+    // The vehicle arrives as in the drive above (the fixes jump there: it takes the fixes' course).
+    const Run alone = run("north-alone", std::string("--store ") + (s_dir / "north.navmap").string(),
+                          {{kLat + kShift / 2, kLon}, {kLat + kShift, kLon}}, 20);
+    ASSERT_GT(alone.runs[1].size(), 10u) << alone.log;
+    const auto& own = alone.runs[1][alone.runs[1].size() * 3 / 4];
+    const auto& mounted = both.runs[1][both.runs[1].size() * 3 / 4];
+    dump(own, "north-alone");
+    ASSERT_EQ(own.header.width, mounted.header.width);
+    ASSERT_EQ(own.header.height, mounted.header.height);
+    double diff = 0;
+    for (std::uint32_t y = 0; y < own.header.height; ++y) {
+        for (std::uint32_t x = 0; x < own.header.width; ++x) {
+            for (int c = 0; c < 3; ++c) {
+                const std::size_t i = static_cast<std::size_t>(y) * own.header.stride + 4 * x + c;
+                diff += std::abs(int(own.pixels[i]) - int(mounted.pixels[i]));
+            }
+        }
+    }
+    diff /= 3.0 * own.header.width * own.header.height;
+    std::printf("north: mean difference to the north store alone %.2f (of 255)\n", diff);
+    EXPECT_LT(diff, 3.0);
 }

@@ -93,6 +93,7 @@ void deadReckon(const std::vector<MotionSample>& motion, ipc::CanTime from, ipc:
 EstimatedPose VehicleState::compute(const Parts& p, ipc::CanTime t) {
     EstimatedPose pose;
     pose.time = t;
+    pose.frame_epoch = p.frame_epoch;
     const auto& cfg = p.config;
     if (p.anchors.empty()) {
         pose.stale = true;

@@ -57,6 +57,22 @@ void VehicleStateEstimator::setRoute(std::shared_ptr<const RouteLine> route) {
     changed();
 }
 
+void VehicleStateEstimator::rebase(const map::Projection& frame, const map::FrameTransform& to_frame,
+                                   std::shared_ptr<const MapMatcher> matcher, double max_distance_from_origin_m,
+                                   std::uint32_t epoch) {
+    m_projection = frame;
+    for (PoseAnchor& a : m_state.anchors) {
+        a.x = to_frame.scale * a.x + to_frame.offset_x;
+        a.y = to_frame.scale * a.y + to_frame.offset_y;
+        a.jump_x *= to_frame.scale;
+        a.jump_y *= to_frame.scale;
+    }
+    m_state.matcher = std::move(matcher);
+    m_state.config.max_distance_from_origin_m = max_distance_from_origin_m;
+    m_state.frame_epoch = epoch;
+    setRoute(nullptr);
+}
+
 std::shared_ptr<const VehicleState> VehicleStateEstimator::snapshot() const {
     if (!m_snapshot) {
         m_snapshot = std::make_shared<const VehicleState>(m_state);

@@ -39,6 +39,9 @@ struct EstimatedPose {
     bool on_route = false;
     double route_driven_m = 0.0;  ///< along the route (when on_route)
     double route_remaining_m = 0.0;
+    /// The map frame x, y are in: 0 for the first, one more each time the daemon re-centred it
+    /// (VehicleStateEstimator::rebase).
+    std::uint32_t frame_epoch = 0;
 };
 
 /// A fused state at a GNSS fix (store frame).
@@ -69,6 +72,7 @@ public:
         std::shared_ptr<const RouteLine> route;
         std::optional<std::uint32_t> matched_edge;  ///< hysteresis state at the newest input
         std::optional<double> route_measure;        ///< previous route match
+        std::uint32_t frame_epoch = 0;              ///< EstimatedPose::frame_epoch
     };
     explicit VehicleState(Parts parts) : m_p(std::move(parts)) {}
 

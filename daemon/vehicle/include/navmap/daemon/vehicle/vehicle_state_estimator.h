@@ -45,6 +45,13 @@ public:
     /// Sets the active route (store frame) for matching and progress; null clears it.
     void setRoute(std::shared_ptr<const RouteLine> route);
 
+    /// Moves the estimator into another frame (the daemon re-centres its map frame on the
+    /// vehicle): every position is re-expressed with `to_frame` (`frame`'s points from the
+    /// current one's), `matcher` snaps in the new frame, fixes are accepted up to
+    /// `max_distance_from_origin_m` from its origin, and snapshots carry `epoch` from now on. The
+    /// route is cleared: set the route in the new frame after this.
+    void rebase(const map::Projection& frame, const map::FrameTransform& to_frame,
+                std::shared_ptr<const MapMatcher> matcher, double max_distance_from_origin_m, std::uint32_t epoch);
     /// The latest immutable snapshot (rebuilt lazily after input). Never null.
     [[nodiscard]] std::shared_ptr<const VehicleState> snapshot() const;
     /// Shorthand for snapshot()->poseAt(t).
