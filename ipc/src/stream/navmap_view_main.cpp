@@ -177,6 +177,7 @@ int main(int argc, char** argv) {
     const auto start = std::chrono::steady_clock::now();
     auto first_frame = start;
     auto last_frame = start;
+    double longest_gap_ms = 0;  // the longest wait between two frames: a stall shows here
     for (;;) {
         const timespec zero{0, 0};
         if (sigtimedwait(&stop_signals, nullptr, &zero) > 0) {
@@ -202,7 +203,12 @@ int main(int argc, char** argv) {
         const navmap::ipc::FrameHeader& header = o.zero_copy ? held.header : frame.header;
         const std::uint8_t* pixels = o.zero_copy ? held.pixels : frame.pixels.data();
         const std::int64_t receive_time_ns = o.zero_copy ? held.receive_time_ns : frame.receive_time_ns;
-        last_frame = std::chrono::steady_clock::now();
+        const auto now = std::chrono::steady_clock::now();
+        if (received > 0) {
+            longest_gap_ms =
+                std::max(longest_gap_ms, std::chrono::duration<double, std::milli>(now - last_frame).count());
+        }
+        last_frame = now;
         if (received == 0) {
             first_frame = last_frame;
         }
@@ -233,14 +239,16 @@ int main(int argc, char** argv) {
         std::printf(
             "{\"frames\":%ld,\"fps\":%.2f,\"dropped\":%llu,\"lost_locally\":%llu,\"saved\":%ld,\"statuses\":%llu,"
             "\"source_latency_ms\":{\"samples\":%zu,\"p50\":%.3f,\"p99\":%.3f},"
-            "\"render_latency_ms\":{\"p50\":%.3f,\"p99\":%.3f},\"held_overwritten\":%llu,\"end\":\"%s\"}\n",
+            "\"render_latency_ms\":{\"p50\":%.3f,\"p99\":%.3f},\"longest_gap_ms\":%.1f,\"held_overwritten\":%llu,"
+            "\"end\":\"%s\"}\n",
             received, fps, static_cast<unsigned long long>(dropped),
             static_cast<unsigned long long>(client.stats().lost_locally), saved,
             static_cast<unsigned long long>(client.stats().statuses), source_latency_ms.size(), s_p50, s_p99, r_p50,
-            r_p99, static_cast<unsigned long long>(client.stats().held_overwritten), end_reason.c_str());
+            r_p99, longest_gap_ms, static_cast<unsigned long long>(client.stats().held_overwritten),
+            end_reason.c_str());
     } else {
-        std::printf("frames %ld  fps %.2f  dropped %llu  saved %ld\n", received, fps,
-                    static_cast<unsigned long long>(dropped), saved);
+        std::printf("frames %ld  fps %.2f  dropped %llu  saved %ld  longest gap %.1f ms\n", received, fps,
+                    static_cast<unsigned long long>(dropped), saved, longest_gap_ms);
         if (source_latency_ms.empty()) {
             std::printf("latency source->receipt: no source timestamps in the stream\n");
         } else {
