@@ -771,9 +771,19 @@ CompileStats compileStore(const CompileOptions& opt) {
     const std::string fingerprint = opt.shard.sharded() ? compileFingerprint(opt) : std::string{};
 
     // ---- DEM ----
+    // In memory every grid is loaded now; bounded, each is read when first sampled and dropped
+    // again while a third of the limit is full (a band samples only the DEM under its columns).
     DemMosaic dems;
     double dem_spacing_m = 90.0;
     for (const auto& path : opt.dems) {
+        if (opt.memory_limit_mib > 0) {
+            const HgtShape shape = probeHgt(path);  // DemError names the file
+            log("DEM " + path.filename().string() + ": " + std::to_string(shape.side) + "x" +
+                std::to_string(shape.side) + ", read when first needed");
+            dem_spacing_m = shape.spacing * 111320.0;
+            dems.addFile(path);
+            continue;
+        }
         Dem dem = loadHgt(path);  // DemError names the file
         log("DEM " + path.filename().string() + ": " + std::to_string(dem.rows) + "x" + std::to_string(dem.cols) +
             ", " + std::to_string(dem.void_count) + " void samples");
@@ -781,6 +791,7 @@ CompileStats compileStore(const CompileOptions& opt) {
         dem_spacing_m = dem.spacing * 111320.0;
         dems.add(std::move(dem));
     }
+    if (opt.memory_limit_mib > 0) dems.setBudget((opt.memory_limit_mib << 20) / 3);
     stats.dem_files = dems.size();
     if (dems.empty()) warn("no DEM given: terrain is flat (0 m)");
 
@@ -1116,6 +1127,9 @@ CompileStats compileStore(const CompileOptions& opt) {
         }
 
         // The DEM grids are done with: their memory goes before the road graph's comes.
+        stats.dem_voids_filled += dems.voidsFilled();
+        log("DEM: " + std::to_string(dems.fileLoads()) + " reads of " + std::to_string(dems.size()) +
+            " files, at most " + mib(dems.peakFileBytes()) + " held");
         dems = DemMosaic{};
         RoadGraph graph;
         if (with_graph) {

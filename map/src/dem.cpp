@@ -8,6 +8,7 @@
 #include <limits>
 #include <regex>
 #include <string>
+#include <system_error>
 
 namespace navmap::map {
 
@@ -48,13 +49,11 @@ float Dem::sample(double lat, double lon) const {
     return static_cast<float>(top * (1 - tr) + bottom * tr);
 }
 
-Dem loadHgt(const std::filesystem::path& path) {
+HgtShape probeHgt(const std::filesystem::path& path) {
     const TileCorner corner = parseHgtName(path);
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw DemError(path.string() + ": cannot open");
-    in.seekg(0, std::ios::end);
-    const auto bytes = static_cast<std::size_t>(in.tellg());
-    in.seekg(0);
+    std::error_code ec;
+    const std::uintmax_t bytes = std::filesystem::file_size(path, ec);
+    if (ec) throw DemError(path.string() + ": cannot open");
     int side = 0;
     if (bytes == 1201u * 1201u * 2u)
         side = 1201;
@@ -64,15 +63,24 @@ Dem loadHgt(const std::filesystem::path& path) {
         throw DemError(path.string() + ": " + std::to_string(bytes) +
                        " bytes is not an SRTM tile (expected 1201x1201 or 3601x3601 int16 samples)");
     }
+    return {side, corner.lat + 1.0, static_cast<double>(corner.lon), 1.0 / (side - 1)};
+}
+
+Dem loadHgt(const std::filesystem::path& path) {
+    const HgtShape shape = probeHgt(path);
+    const int side = shape.side;
+    const std::size_t bytes = static_cast<std::size_t>(side) * side * 2u;
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw DemError(path.string() + ": cannot open");
     std::vector<unsigned char> raw(bytes);
     if (!in.read(reinterpret_cast<char*>(raw.data()), static_cast<std::streamsize>(bytes))) {
         throw DemError(path.string() + ": read failed");
     }
     Dem dem;
     dem.rows = dem.cols = side;
-    dem.spacing = 1.0 / (side - 1);
-    dem.north = corner.lat + 1.0;
-    dem.west = corner.lon;
+    dem.spacing = shape.spacing;
+    dem.north = shape.north;
+    dem.west = shape.west;
     dem.heights.resize(static_cast<std::size_t>(side) * side);
     for (std::size_t i = 0; i < dem.heights.size(); ++i) {
         const auto v = static_cast<std::int16_t>((raw[2 * i] << 8) | raw[2 * i + 1]);

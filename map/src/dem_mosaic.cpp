@@ -1,22 +1,77 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "navmap/map/dem_mosaic.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace navmap::map {
 
-void DemMosaic::add(Dem dem) { m_dems.push_back(std::move(dem)); }
+namespace {
+
+std::size_t gridBytes(const Dem& d) { return d.heights.size() * sizeof(float); }
+
+}  // namespace
+
+void DemMosaic::add(Dem dem) {
+    Grid g;
+    g.north = dem.north;
+    g.south = dem.south();
+    g.west = dem.west;
+    g.east = dem.east();
+    g.spacing = dem.spacing;
+    g.dem = std::move(dem);
+    m_grids.push_back(std::move(g));
+}
+
+void DemMosaic::addFile(const std::filesystem::path& hgt) {
+    const HgtShape shape = probeHgt(hgt);
+    Grid g;
+    g.file = hgt;
+    g.north = shape.north;
+    g.south = shape.north - shape.spacing * (shape.side - 1);
+    g.west = shape.west;
+    g.east = shape.west + shape.spacing * (shape.side - 1);
+    g.spacing = shape.spacing;
+    m_grids.push_back(std::move(g));
+}
+
+const Dem& DemMosaic::loaded(const Grid& g) const {
+    g.used = ++m_clock;
+    if (g.dem) return *g.dem;
+    Dem dem = loadHgt(g.file);
+    const std::size_t filled = fillVoids(dem);
+    if (!g.counted) m_voids_filled += filled;
+    g.counted = true;
+    ++m_loads;
+    m_bytes += gridBytes(dem);
+    g.dem = std::move(dem);
+    m_peak_bytes = std::max(m_peak_bytes, m_bytes);
+    // Over the budget: drop the least recently used files' grids, never the one in use.
+    while (m_budget > 0 && m_bytes > m_budget) {
+        const Grid* oldest = nullptr;
+        std::size_t held = 0;
+        for (const Grid& o : m_grids) held += !o.file.empty() && o.dem;
+        if (held <= m_min_grids) break;
+        for (const Grid& o : m_grids) {
+            if (!o.file.empty() && o.dem && &o != &g && (!oldest || o.used < oldest->used)) oldest = &o;
+        }
+        if (!oldest) break;
+        m_bytes -= gridBytes(*oldest->dem);
+        oldest->dem.reset();
+    }
+    return *g.dem;
+}
 
 std::optional<float> DemMosaic::sample(double lat, double lon) const {
-    auto covers = [&](const Dem& d) {
+    auto covers = [&](const Grid& d) {
         const double eps = d.spacing * 1e-6;
-        return lat <= d.north + eps && lat >= d.south() - eps && lon >= d.west - eps && lon <= d.east() + eps;
+        return lat <= d.north + eps && lat >= d.south - eps && lon >= d.west - eps && lon <= d.east + eps;
     };
-    for (std::size_t k = 0; k < m_dems.size(); ++k) {
-        const std::size_t i = (m_last + k) % m_dems.size();
-        if (covers(m_dems[i])) {
+    for (std::size_t k = 0; k < m_grids.size(); ++k) {
+        const std::size_t i = (m_last + k) % m_grids.size();
+        if (covers(m_grids[i])) {
             m_last = i;
-            const float h = m_dems[i].sample(lat, lon);
+            const float h = loaded(m_grids[i]).sample(lat, lon);
             if (std::isnan(h)) return std::nullopt;
             return h;
         }

@@ -146,11 +146,13 @@ std::size_t TileCache::replaceSource(std::shared_ptr<const TileSource> source) {
     // Tiles wanted by the latest requests (one per display and frame) are reloaded at once.
     constexpr std::uint64_t kRecentRequests = 16;
     std::vector<TileId> wanted;
+    std::shared_ptr<const TileSource> current;
     {
         std::lock_guard lock(m_mutex);
         for (const auto& [key, r] : m_resident)
             if (r.generation + kRecentRequests > m_generation) wanted.push_back(r.tile->id);
-        m_source = source;
+        m_source = std::move(source);
+        current = m_source;
         ++m_source_epoch;
         m_resident.clear();
         m_lru.clear();
@@ -160,7 +162,7 @@ std::size_t TileCache::replaceSource(std::shared_ptr<const TileSource> source) {
     }
     std::size_t loaded_count = 0;
     for (const TileId id : wanted) {
-        TileLoadResult loaded = source->load(id);
+        TileLoadResult loaded = current->load(id);
         if (!loaded.tile) continue;
         std::lock_guard lock(m_mutex);
         const std::size_t bytes = loaded.tile->byteSize();

@@ -182,6 +182,7 @@ TEST_F(TwoRegions, ARecentredSetAndItsCacheGiveTheSameTilesInTheNewFrame) {
     // the new frame; the ones nobody asked for lately are not reloaded.
     TileCache cache(set);
     std::vector<TileRequest> wanted;
+    wanted.reserve(ids.size());
     for (const TileId id : ids) wanted.push_back({id, 1.0f});
     (void)cache.request(wanted);
     ASSERT_TRUE(cache.waitIdle(std::chrono::seconds(10)));

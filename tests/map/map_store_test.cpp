@@ -390,6 +390,46 @@ TEST(Dem, VoidsAreFilledAndWrongSizeIsAnError) {
     }
 }
 
+TEST(Dem, FilesReadOnFirstUseAreDroppedOverTheBudgetAndSampleTheSame) {
+    ScratchDir dir("dem-files");
+    // Three SRTM3 tiles side by side, each a plane of its own height with a void.
+    for (int k = 0; k < 3; ++k) {
+        std::vector<std::uint8_t> bytes(1201u * 1201u * 2u);
+        for (std::size_t i = 0; i < 1201u * 1201u; ++i) {
+            const auto v =
+                static_cast<std::int16_t>(i == 600u * 1201u + 600u ? -32768 : 100 * (k + 1) + int(i % 1201) / 10);
+            bytes[2 * i] = static_cast<std::uint8_t>(static_cast<std::uint16_t>(v) >> 8);
+            bytes[2 * i + 1] = static_cast<std::uint8_t>(v & 0xff);
+        }
+        writeAll(dir / ("N42E00" + std::to_string(k + 1) + ".hgt"), bytes);
+    }
+    DemMosaic eager, lazy;
+    for (int k = 0; k < 3; ++k) {
+        const auto file = dir / ("N42E00" + std::to_string(k + 1) + ".hgt");
+        Dem dem = loadHgt(file);
+        fillVoids(dem);
+        eager.add(std::move(dem));
+        lazy.addFile(file);
+    }
+    const std::size_t grid = 1201u * 1201u * sizeof(float);
+    lazy.setBudget(grid, 1);  // one grid at a time
+    EXPECT_EQ(lazy.fileLoads(), 0u) << "nothing read before a sample needs it";
+    // West to east and back, as the bands of a bounded compile go, then across a border.
+    std::size_t samples = 0;
+    for (const double lon : {1.2, 1.7, 2.2, 2.9, 3.3, 3.8, 2.5, 1.5, 2.0, 2.00001}) {
+        for (const double lat : {42.1, 42.5, 42.9, 42.5005}) {
+            ASSERT_EQ(lazy.sample(lat, lon), eager.sample(lat, lon)) << lat << " " << lon;
+            ++samples;
+        }
+    }
+    EXPECT_EQ(samples, 40u);
+    EXPECT_EQ(lazy.fileLoads(), 6u) << "E001, E002, E003, E002, E001 (the border at 2.0 from it), E002";
+    EXPECT_LE(lazy.peakFileBytes(), 2 * grid) << "the one in use and the one being replaced";
+    EXPECT_EQ(lazy.voidsFilled(), 3u) << "each file's void counted once";
+    EXPECT_FALSE(lazy.sample(41.5, 1.5));
+    EXPECT_THROW(lazy.addFile(dir / "N42E009.hgt"), DemError);
+}
+
 namespace {
 
 std::vector<std::string> listDir(const std::filesystem::path& d) {

@@ -33,6 +33,16 @@ struct Dem {
     [[nodiscard]] float sample(double lat, double lon) const;
 };
 
+/// An SRTM .hgt file's grid as its name and size give it, checked as loadHgt checks them (DemError
+/// naming the file), without reading its samples.
+struct HgtShape {
+    int side = 0;  ///< samples per side: 1201 or 3601
+    double north = 0.0;
+    double west = 0.0;
+    double spacing = 0.0;
+};
+HgtShape probeHgt(const std::filesystem::path& path);
+
 /// Reads an SRTM .hgt tile (1201x1201 SRTM3 or 3601x3601 SRTM1, big-endian int16). The tile's
 /// south-west corner comes from the file name (e.g. N42E001.hgt). Voids (-32768) become NaN and
 /// are counted. Throws DemError naming the file on a bad size or name.
