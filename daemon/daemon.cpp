@@ -139,13 +139,12 @@ void recentre(FrameRecentring& frames, const map::Projection& next, double scale
     const map::FrameTransform to_next = frames.adopt(next);
     p.scene.set = p.scene.set ? p.scene.set->inFrame(next) : map::StoreSet::mount({p.scene.store}, next);
     const std::size_t tiles = p.scene.cache->replaceSource(p.scene.set);
-    map::RoadGraph graph = *p.graph;
-    map::transformRoadGraph(graph, next.transformFrom(p.graph_frame));
     FrameRebase rebase;
     rebase.epoch = frames.epoch();
     rebase.frame = next;
     rebase.to_frame = to_next;
-    rebase.matcher = std::make_shared<const MapMatcher>(std::make_shared<const map::RoadGraph>(std::move(graph)));
+    rebase.graph = p.graph;
+    rebase.graph_to_frame = next.transformFrom(p.graph_frame);
     rebase.max_distance_from_origin_m = VehicleStateConfig{}.max_distance_from_origin_m + p.scene.reachM(next);
     p.route.rebase(next);
     p.guidance.rebase(next);

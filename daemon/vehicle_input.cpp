@@ -98,7 +98,10 @@ void VehicleInput::applyRoute() {
     if (!update || update == m_applied_route) return;
     if (update->rebase && update->rebase != m_applied_rebase) {
         const FrameRebase& r = *update->rebase;
-        m_estimator->rebase(r.frame, r.to_frame, r.matcher, r.max_distance_from_origin_m, r.epoch);
+        auto graph = std::make_shared<map::RoadGraph>(r.graph ? *r.graph : map::RoadGraph{});
+        map::transformRoadGraph(*graph, r.graph_to_frame);
+        m_estimator->rebase(r.frame, r.to_frame, std::make_shared<const MapMatcher>(std::move(graph)),
+                            r.max_distance_from_origin_m, r.epoch);
         m_applied_rebase = update->rebase;
     }
     m_estimator->setRoute(update->line);

@@ -46,7 +46,10 @@ struct FrameRebase {
     std::uint32_t epoch = 0;  ///< EstimatedPose::frame_epoch in the new frame
     map::Projection frame{0.0, 0.0};
     map::FrameTransform to_frame;  ///< the new frame's points from the previous frame's
-    std::shared_ptr<const MapMatcher> matcher;
+    /// The road graph to match onto and the transform into the new frame: the input thread builds
+    /// its matcher (copy and spatial index, off the render thread).
+    std::shared_ptr<const map::RoadGraph> graph;
+    map::FrameTransform graph_to_frame;
     double max_distance_from_origin_m = 0.0;  ///< fixes farther from the new origin are rejected
 };
 

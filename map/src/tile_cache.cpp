@@ -131,15 +131,18 @@ void TileCache::loaderLoop() {
                 ++m_metrics.dropped_over_budget;
                 m_dropped.insert(key);
             } else {
-                m_lru.push_front(key);
-                Resident r{std::move(loaded.tile), m_lru.begin(), bytes, m_generation};
-                m_resident.emplace(key, std::move(r));
-                m_metrics.resident_bytes += bytes;
-                m_metrics.peak_resident_bytes = std::max(m_metrics.peak_resident_bytes, m_metrics.resident_bytes);
+                admit(key, std::move(loaded.tile), bytes);
             }
         }
         if (m_pending.empty()) m_idle.notify_all();
     }
+}
+
+void TileCache::admit(std::uint64_t key, std::shared_ptr<const Tile> tile, std::size_t bytes) {
+    m_lru.push_front(key);
+    m_resident.emplace(key, Resident{std::move(tile), m_lru.begin(), bytes, m_generation});
+    m_metrics.resident_bytes += bytes;
+    m_metrics.peak_resident_bytes = std::max(m_metrics.peak_resident_bytes, m_metrics.resident_bytes);
 }
 
 std::size_t TileCache::replaceSource(std::shared_ptr<const TileSource> source) {
@@ -168,10 +171,7 @@ std::size_t TileCache::replaceSource(std::shared_ptr<const TileSource> source) {
         const std::size_t bytes = loaded.tile->byteSize();
         if (m_resident.count(id.key()) || m_metrics.resident_bytes + bytes > m_options.budget_bytes) continue;
         ++m_metrics.loads;
-        m_lru.push_front(id.key());
-        m_resident.emplace(id.key(), Resident{std::move(loaded.tile), m_lru.begin(), bytes, m_generation});
-        m_metrics.resident_bytes += bytes;
-        m_metrics.peak_resident_bytes = std::max(m_metrics.peak_resident_bytes, m_metrics.resident_bytes);
+        admit(id.key(), std::move(loaded.tile), bytes);
         ++loaded_count;
     }
     return loaded_count;

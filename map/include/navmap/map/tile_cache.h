@@ -86,6 +86,8 @@ private:
         std::uint64_t generation = 0;  ///< last request() generation that wanted it
     };
     void loaderLoop();
+    // Makes a loaded tile resident (m_mutex held; the caller made room for it).
+    void admit(std::uint64_t key, std::shared_ptr<const Tile> tile, std::size_t bytes);
     void touch(Resident& r);
 
     std::shared_ptr<const TileSource> m_source;
