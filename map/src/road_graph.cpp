@@ -3,8 +3,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "byte_io.h"
+#include "graph_encoder.h"
 
 namespace navmap::map {
 
@@ -51,33 +53,74 @@ void appendRoadGraph(RoadGraph& g, const RoadGraph& other, const FrameTransform&
     indexEdges(g);  // stable: the appended nodes come last, so the first graph's edges keep their indices
 }
 
+namespace detail {
+
+RoadGraphEncoder::RoadGraphEncoder(ByteSink sink, std::size_t piece_bytes)
+    : m_sink(std::move(sink)), m_piece_bytes(piece_bytes) {
+    m_w.u32(kGraphMagic);
+}
+
+void RoadGraphEncoder::maybeFlush() {
+    if (m_w.size() < m_piece_bytes) return;
+    m_sink(m_w.bytes());
+    m_w.bytes().clear();
+}
+
+void RoadGraphEncoder::nodes(std::size_t count) { m_w.varint(count); }
+
+void RoadGraphEncoder::node(const GraphNode& n) {
+    m_w.f64(n.x);
+    m_w.f64(n.y);
+    m_w.svarint(n.osm_id);
+    maybeFlush();
+}
+
+void RoadGraphEncoder::edges(std::size_t count) { m_w.varint(count); }
+
+void RoadGraphEncoder::edge(const GraphEdge& e) {
+    m_w.varint(e.from);
+    m_w.varint(e.to);
+    m_w.f32(e.length_m);
+    m_w.f32(e.speed_kmh);
+    m_w.u8(static_cast<std::uint8_t>(e.cls));
+    m_w.u8(e.flags);
+    m_w.varint(e.shape_begin);
+    m_w.varint(e.shape_end - e.shape_begin);
+    m_w.svarint(e.way_id);
+    maybeFlush();
+}
+
+void RoadGraphEncoder::shape(std::size_t count) { m_w.varint(count); }
+
+void RoadGraphEncoder::point(LocalPoint p) {
+    m_w.f32(p.x);
+    m_w.f32(p.y);
+    maybeFlush();
+}
+
+void RoadGraphEncoder::finish() {
+    if (m_w.size() > 0) m_sink(m_w.bytes());
+    m_w.bytes().clear();
+}
+
+void encodeRoadGraph(const RoadGraph& g, const ByteSink& sink) {
+    RoadGraphEncoder enc(sink);
+    enc.nodes(g.nodes.size());
+    for (const auto& n : g.nodes) enc.node(n);
+    enc.edges(g.edges.size());
+    for (const auto& e : g.edges) enc.edge(e);
+    enc.shape(g.shape.size());
+    for (const auto& p : g.shape) enc.point(p);
+    enc.finish();
+}
+
+}  // namespace detail
+
 std::vector<std::uint8_t> encodeRoadGraph(const RoadGraph& g) {
-    ByteWriter w;
-    w.u32(kGraphMagic);
-    w.varint(g.nodes.size());
-    for (const auto& n : g.nodes) {
-        w.f64(n.x);
-        w.f64(n.y);
-        w.svarint(n.osm_id);
-    }
-    w.varint(g.edges.size());
-    for (const auto& e : g.edges) {
-        w.varint(e.from);
-        w.varint(e.to);
-        w.f32(e.length_m);
-        w.f32(e.speed_kmh);
-        w.u8(static_cast<std::uint8_t>(e.cls));
-        w.u8(e.flags);
-        w.varint(e.shape_begin);
-        w.varint(e.shape_end - e.shape_begin);
-        w.svarint(e.way_id);
-    }
-    w.varint(g.shape.size());
-    for (const auto& p : g.shape) {
-        w.f32(p.x);
-        w.f32(p.y);
-    }
-    return std::move(w.bytes());
+    std::vector<std::uint8_t> out;
+    detail::encodeRoadGraph(
+        g, [&](std::span<const std::uint8_t> piece) { out.insert(out.end(), piece.begin(), piece.end()); });
+    return out;
 }
 
 bool decodeRoadGraph(std::span<const std::uint8_t> bytes, RoadGraph& g, std::string& error) {

@@ -6,12 +6,14 @@
 #include <unistd.h>
 #include <zlib.h>
 
+#include <algorithm>
 #include <cctype>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
 #include <random>
 
+#include "graph_encoder.h"
 #include "navmap/common/check.h"
 #include "navmap/map/tile_codec.h"
 #include "store_header.h"
@@ -100,7 +102,7 @@ StoreWriter::~StoreWriter() {
     if (!m_finished && !m_tmp.empty()) ::unlink(m_tmp.c_str());
 }
 
-void StoreWriter::write(const std::vector<std::uint8_t>& bytes) {
+void StoreWriter::write(std::span<const std::uint8_t> bytes) {
     std::size_t done = 0;
     while (done < bytes.size()) {
         const ssize_t n = ::write(m_fd, bytes.data() + done, bytes.size() - done);
@@ -125,13 +127,54 @@ void StoreWriter::addRawTile(TileId id, const std::vector<std::uint8_t>& payload
 }
 
 void StoreWriter::setGraph(const RoadGraph& graph) {
-    const auto raw = encodeRoadGraph(graph);
-    const auto stored = compress(raw, m_tmp);
-    m_info.graph_offset = m_offset;
-    m_info.graph_stored_size = stored.size();
-    m_info.graph_raw_size = raw.size();
-    m_info.graph_crc = detail::crc32Of(stored);
-    write(stored);
+    writeGraph([&](const ByteSink& sink) { detail::encodeRoadGraph(graph, sink); });
+}
+
+void StoreWriter::writeGraph(const std::function<void(const ByteSink&)>& encode) {
+    // zlib's stream interface with compress2()'s settings (level 6, zlib wrapper): the same
+    // bytes as compressing the whole encoding at once, whatever the pieces.
+    z_stream z{};
+    if (deflateInit(&z, 6) != Z_OK) throw StoreError(m_tmp.string() + ": zlib compression failed");
+    const std::uint64_t offset = m_offset;
+    std::uint64_t raw_size = 0;
+    uLong crc = ::crc32(0L, Z_NULL, 0);
+    std::vector<std::uint8_t> out(std::size_t{1} << 18);
+    auto pump = [&](const std::uint8_t* data, std::size_t n, int flush) {
+        z.next_in = const_cast<Bytef*>(data);  // zlib's API is not const-correct; it only reads
+        z.avail_in = static_cast<uInt>(n);
+        for (;;) {
+            z.next_out = out.data();
+            z.avail_out = static_cast<uInt>(out.size());
+            const int rc = deflate(&z, flush);
+            if (rc == Z_STREAM_ERROR) throw StoreError(m_tmp.string() + ": zlib compression failed");
+            const std::size_t produced = out.size() - z.avail_out;
+            if (produced > 0) {
+                crc = ::crc32(crc, out.data(), static_cast<uInt>(produced));
+                write(std::span<const std::uint8_t>(out.data(), produced));
+            }
+            if (flush == Z_FINISH ? rc == Z_STREAM_END : (z.avail_in == 0 && z.avail_out != 0)) break;
+        }
+    };
+    try {
+        encode([&](std::span<const std::uint8_t> piece) {
+            raw_size += piece.size();
+            // Pieces over zlib's uInt range go in parts.
+            for (std::size_t pos = 0; pos < piece.size();) {
+                const std::size_t n = std::min<std::size_t>(piece.size() - pos, std::size_t{1} << 30);
+                pump(piece.data() + pos, n, Z_NO_FLUSH);
+                pos += n;
+            }
+        });
+        pump(nullptr, 0, Z_FINISH);
+    } catch (...) {
+        deflateEnd(&z);
+        throw;
+    }
+    deflateEnd(&z);
+    m_info.graph_offset = offset;
+    m_info.graph_stored_size = m_offset - offset;
+    m_info.graph_raw_size = raw_size;
+    m_info.graph_crc = static_cast<std::uint32_t>(crc);
 }
 
 std::uint64_t StoreWriter::finish() {

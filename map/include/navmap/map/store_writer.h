@@ -8,6 +8,8 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
+#include <span>
 #include <vector>
 
 #include "navmap/map/road_graph.h"
@@ -34,6 +36,11 @@ public:
     /// Appends an already encoded payload (used by tests to plant bad tiles).
     void addRawTile(TileId id, const std::vector<std::uint8_t>& payload);
     void setGraph(const RoadGraph& graph);
+    /// The same for a graph held elsewhere (on disk, by the bounded compile): `encode` hands
+    /// the graph's encoding (encodeRoadGraph's bytes) to its argument in pieces, which are
+    /// compressed and written as they come; the encoding is never held whole.
+    using ByteSink = std::function<void(std::span<const std::uint8_t>)>;
+    void writeGraph(const std::function<void(const ByteSink&)>& encode);
     /// Writes index and header, fsyncs, renames into place, fsyncs the folder; returns the
     /// final file size.
     std::uint64_t finish();
@@ -49,7 +56,7 @@ private:
         std::uint64_t offset;
         std::uint32_t stored_size, raw_size, crc;
     };
-    void write(const std::vector<std::uint8_t>& bytes);
+    void write(std::span<const std::uint8_t> bytes);
     void createTemporary();
 
     StoreLock m_lock;  // first member: released after the temporary file is gone

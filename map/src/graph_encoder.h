@@ -1,0 +1,45 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+// The road graph's encoding (encodeRoadGraph's bytes, docs/tile-store.md) written in pieces as
+// it is produced, so that a graph held on disk by the bounded compile is never encoded whole in
+// memory. Private to navmap_map.
+
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <span>
+
+#include "byte_io.h"
+#include "navmap/map/road_graph.h"
+
+namespace navmap::map::detail {
+
+/// Takes the encoded bytes in pieces, in order.
+using ByteSink = std::function<void(std::span<const std::uint8_t>)>;
+
+/// Call in this order: nodes(n) and n node(), edges(m) and m edge(), shape(k) and k point(),
+/// then finish(). Hands `sink` a piece whenever about `piece_bytes` are buffered, and the rest
+/// in finish().
+class RoadGraphEncoder {
+public:
+    explicit RoadGraphEncoder(ByteSink sink, std::size_t piece_bytes = std::size_t{1} << 20);
+
+    void nodes(std::size_t count);
+    void node(const GraphNode& n);
+    void edges(std::size_t count);
+    void edge(const GraphEdge& e);
+    void shape(std::size_t count);
+    void point(LocalPoint p);
+    void finish();
+
+private:
+    void maybeFlush();
+    ByteSink m_sink;
+    std::size_t m_piece_bytes;
+    ByteWriter m_w;
+};
+
+/// The whole of `graph` through an encoder.
+void encodeRoadGraph(const RoadGraph& graph, const ByteSink& sink);
+
+}  // namespace navmap::map::detail
