@@ -59,7 +59,7 @@ for n in "$@"; do
     read -r secs rss_kb < "$dir/$mode.time"
     store_mb=$(awk "BEGIN { printf \"%.1f\", $(stat -c %s "$dir/$mode.navmap") / 1e6 }")
     tiles=$(sed -n 's/^tiles: *\([0-9]*\).*/\1/p' "$dir/$mode.log")
-    bands=$(sed -n 's/.*features (.*); \([0-9]*\) band(s)$/\1/p' "$dir/$mode.log")
+    bands=$(sed -n 's/.*; \([0-9]*\) band(s)$/\1/p' "$dir/$mode.log")
     label="in memory"
     [ "$mode" = bounded ] && label="--memory-limit $limit"
     echo "| $n | $input_mb | $label | $secs | $((rss_kb / 1024)) | $((anon_kb / 1024)) / $((file_kb / 1024)) | $store_mb | $tiles | ${bands:--} |"

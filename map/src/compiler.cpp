@@ -37,6 +37,7 @@
 
 #include "feature_spill.h"
 #include "file_node_index.h"
+#include "graph_build.h"
 #include "navmap/map/coastline.h"
 #include "navmap/map/dem.h"
 #include "navmap/map/dem_mosaic.h"
@@ -235,76 +236,12 @@ std::string compileFingerprint(const CompileOptions& opt) {
     return out.str();
 }
 
-// ---- road graph ----
-
-/// Calls its argument with every graph way, in input order (from memory or from a spill file).
-using GraphWaySource = std::function<void(const std::function<void(const RawGraphWay&)>&)>;
-
-RoadGraph buildGraph(const GraphWaySource& for_each_way, const Projection& proj) {
-    RoadGraph g;
-    std::vector<std::int64_t> ids;
-    std::vector<std::int64_t> junctions;
-    for_each_way([&](const RawGraphWay& w) {
-        ids.insert(ids.end(), w.nodes.begin(), w.nodes.end());
-        junctions.push_back(w.nodes.front());
-        junctions.push_back(w.nodes.back());
-    });
-    std::sort(ids.begin(), ids.end());
-    for (std::size_t i = 0; i + 1 < ids.size(); ++i) {
-        if (ids[i] == ids[i + 1] && (junctions.empty() || junctions.back() != ids[i])) junctions.push_back(ids[i]);
-    }
-    std::sort(junctions.begin(), junctions.end());
-    junctions.erase(std::unique(junctions.begin(), junctions.end()), junctions.end());
-    ids.clear();
-    ids.shrink_to_fit();
-    auto node_index = [&](std::int64_t id) -> std::int64_t {
-        const auto it = std::lower_bound(junctions.begin(), junctions.end(), id);
-        return (it != junctions.end() && *it == id) ? it - junctions.begin() : -1;
-    };
-    g.nodes.resize(junctions.size());
-    const GeographicLib::Geodesic& geod = GeographicLib::Geodesic::WGS84();
-    for_each_way([&](const RawGraphWay& w) {
-        std::size_t start = 0;
-        std::uint32_t shape_begin = static_cast<std::uint32_t>(g.shape.size());
-        double length = 0;
-        auto push = [&](std::size_t i) {
-            const PlanarPoint p = proj.forward(w.points[i].lat, w.points[i].lon);
-            g.shape.push_back({static_cast<float>(p.x), static_cast<float>(p.y)});
-            return p;
-        };
-        const PlanarPoint first = push(0);
-        const auto n0 = node_index(w.nodes[0]);
-        g.nodes[static_cast<std::size_t>(n0)] = {first.x, first.y, w.nodes[0]};
-        for (std::size_t i = 1; i < w.nodes.size(); ++i) {
-            double s12 = 0;
-            geod.Inverse(w.points[i - 1].lat, w.points[i - 1].lon, w.points[i].lat, w.points[i].lon, s12);
-            length += s12;
-            const PlanarPoint p = push(i);
-            const auto ni = node_index(w.nodes[i]);
-            if (ni < 0) continue;
-            g.nodes[static_cast<std::size_t>(ni)] = {p.x, p.y, w.nodes[i]};
-            const auto from = static_cast<std::uint32_t>(node_index(w.nodes[start]));
-            const auto to = static_cast<std::uint32_t>(ni);
-            const auto shape_end = static_cast<std::uint32_t>(g.shape.size());
-            GraphEdge e{from,      to,  static_cast<float>(length), w.speed_kmh, w.cls, w.flags, shape_begin,
-                        shape_end, w.id};
-            g.edges.push_back(e);
-            if (!w.oneway) {
-                std::swap(e.from, e.to);
-                e.flags |= edge_flags::kReversed;
-                g.edges.push_back(e);
-            }
-            // The next edge starts at this junction and shares its shape point.
-            start = i;
-            length = 0;
-            shape_begin = shape_end - 1;
-        }
-    });
-    indexEdges(g);
-    return g;
-}
-
 // ---- tiling: the features of the whole input, or of one band of tile columns ----
+
+/// Bands first..last of `count` equal bands of the data's columns, together ({0, 0, 1}: all).
+struct BandRange {
+    int first = 0, last = 0, count = 1;
+};
 
 /// What every band of one compile shares.
 struct TilingContext {
@@ -318,7 +255,7 @@ struct TilingContext {
     const ortho::GlobalInputs* ortho_inputs;  // null: no ortho layers
     const PArea* sea;                         // null: no coastline in the input
     ShardSpec shard;                          // the job's columns (--shard)
-    ShardSpec band;                           // of those, this pass's band ({0, 1}: all)
+    BandRange band;                           // of those, this pass's band (all by default)
     std::function<void(const Tile&)> emit;    // each finished tile: level by level, by key
     std::function<void(int level, double size, std::size_t tiles)> level_done;  // may be null
 };
@@ -440,7 +377,7 @@ void tileFeatures(const RawFeatures& raw, const TilingContext& ctx, CompileStats
         // The tile columns this pass builds: the job's (all of them unless it is one shard of
         // several), and of those the band's.
         const auto job = shardColumns(level, ctx.shard, ctx.grid);
-        const auto band = shardColumns(level, ctx.band, ctx.grid);
+        const auto band = bandColumns(level, ctx.band.first, ctx.band.last, ctx.band.count, ctx.grid);
         const std::pair<std::uint32_t, std::uint32_t> own{std::max(job.first, band.first),
                                                           std::min(job.second, band.second)};
         const auto owned = [&](std::uint32_t x) { return x >= own.first && x <= own.second; };
@@ -645,11 +582,36 @@ void tileFeatures(const RawFeatures& raw, const TilingContext& ctx, CompileStats
 // ---- bounded memory: spilling and bands ----
 
 /// Bytes of memory a band needs per byte of its spilled features: the raw features, their
-/// projection, triangulations, simplified copies and the level's tiles (measured on Andorra:
-/// about 3; rounded up).
-constexpr double kMemoryPerSpilledByte = 4.0;
-/// At most this many bands (one open spill file each while the features are distributed).
+/// projection, triangulations, simplified copies and the level's tiles (measured on 100 copies
+/// of Andorra: about 5).
+constexpr double kMemoryPerSpilledByte = 5.0;
+/// The fine bands the bands are made of (at most one open spill file each while the features
+/// are distributed).
 constexpr int kMaxBands = 256;
+
+/// Runs of the fine bands 0..N-1 (N = from.size()) whose features take at most `budget` spilled
+/// bytes, from west to east, each as long as it fits (a fine band over the budget on its own
+/// is a band of its own). from[k] / to[k]: bytes of the features whose range of fine bands
+/// starts / ends at k. The features touching fine bands a..b are those starting at or before b
+/// less those ending before a.
+std::vector<BandRange> bandsWithin(const std::vector<std::uint64_t>& from, const std::vector<std::uint64_t>& to,
+                                   std::uint64_t budget) {
+    const int n = static_cast<int>(from.size());
+    std::vector<std::uint64_t> starting(from.size() + 1, 0), ended(from.size() + 1, 0);  // prefix sums
+    for (std::size_t k = 0; k < from.size(); ++k) {
+        starting[k + 1] = starting[k] + from[k];
+        ended[k + 1] = ended[k] + to[k];
+    }
+    std::vector<BandRange> bands;
+    for (int a = 0; a < n;) {
+        int b = a;
+        while (b + 1 < n && starting[static_cast<std::size_t>(b) + 2] - ended[static_cast<std::size_t>(a)] <= budget)
+            ++b;
+        bands.push_back({a, b, n});
+        a = b + 1;
+    }
+    return bands;
+}
 
 /// The bands of tile columns that build a tile holding the feature `one` holds: at each level
 /// where it appears (tileFeatures' level-of-detail rules), the bands of the columns its bounds
@@ -1001,7 +963,7 @@ CompileStats compileStore(const CompileOptions& opt) {
                       ortho_inputs.get(),
                       sea ? &*sea : nullptr,
                       opt.shard,
-                      ShardSpec{},
+                      BandRange{},
                       {},
                       {}};
     auto log_graph = [&](const RoadGraph& graph) {
@@ -1035,19 +997,38 @@ CompileStats compileStore(const CompileOptions& opt) {
     } else {
         // ---- bounded: features into band files, bands compiled one at a time, tiles merged ----
         const std::uint64_t limit = opt.memory_limit_mib * std::uint64_t{1048576};
-        const double need = kMemoryPerSpilledByte * static_cast<double>(features_out->bytes());
-        // Bands are equal columns of the root square, which the data may fill to half its width.
-        const int n_bands =
-            std::clamp(static_cast<int>(std::ceil(2.0 * need / static_cast<double>(limit))), 1, kMaxBands);
-        log("spilled " + std::to_string(features_out->records()) + " features (" + mib(features_out->bytes()) + "); " +
-            std::to_string(n_bands) + " band(s)");
+        // Bands are runs of kMaxBands equal column bands ("fine bands") whose features fit a
+        // band's budget, half the limit (a third is the DEM's): measured first, from each
+        // feature's range of fine bands.
+        const auto band_budget = static_cast<std::uint64_t>(static_cast<double>(limit) / 2.0 / kMemoryPerSpilledByte);
+        const std::vector<BandRange> bands = [&] {
+            std::vector<std::uint64_t> from(kMaxBands, 0), to(kMaxBands, 0);  // bytes by first / last fine band
+            SpillReader in(*spill / "features.spill");
+            std::vector<std::uint8_t> record;
+            RawFeatures one;
+            while (in.next(record)) {
+                clearFeatures(one);
+                decodeRecord(in, record, one);
+                const auto [lo, hi] = featureBands(one, proj, scheme, grid, kMaxBands);
+                if (lo > hi) continue;
+                from[static_cast<std::size_t>(lo)] += record.size();
+                to[static_cast<std::size_t>(hi)] += record.size();
+            }
+            return bandsWithin(from, to, band_budget);
+        }();
+        const int n_bands = static_cast<int>(bands.size());
+        log("spilled " + std::to_string(features_out->records()) + " features (" + mib(features_out->bytes()) +
+            "), at most " + mib(band_budget) + " per band; " + std::to_string(n_bands) + " band(s)");
         // Bands that hold none of this job's columns get no features.
         std::vector<char> band_used(static_cast<std::size_t>(n_bands), 0);
+        std::vector<int> band_of(kMaxBands, 0);  // fine band -> band
         for (int k = 0; k < n_bands; ++k) {
+            const BandRange& b = bands[static_cast<std::size_t>(k)];
+            for (int f = b.first; f <= b.last; ++f) band_of[static_cast<std::size_t>(f)] = k;
             for (int level = 0; level <= scheme.leafLevel(); ++level) {
                 const auto job = shardColumns(level, opt.shard, grid);
-                const auto band = shardColumns(level, {k, n_bands}, grid);
-                if (std::max(job.first, band.first) <= std::min(job.second, band.second)) band_used[k] = 1;
+                const auto cols = bandColumns(level, b.first, b.last, b.count, grid);
+                if (std::max(job.first, cols.first) <= std::min(job.second, cols.second)) band_used[k] = 1;
             }
         }
         auto band_path = [&](int k) { return *spill / ("band-" + std::to_string(k) + ".spill"); };
@@ -1062,9 +1043,10 @@ CompileStats compileStore(const CompileOptions& opt) {
             while (in.next(record)) {
                 clearFeatures(one);
                 decodeRecord(in, record, one);
-                const auto [lo, hi] = featureBands(one, proj, scheme, grid, n_bands);
+                const auto [lo, hi] = featureBands(one, proj, scheme, grid, kMaxBands);
+                if (lo > hi) continue;
                 bool first = true;
-                for (int k = lo; k <= hi; ++k) {
+                for (int k = band_of[static_cast<std::size_t>(lo)]; k <= band_of[static_cast<std::size_t>(hi)]; ++k) {
                     if (!band_out[k]) continue;
                     // Counted in its first band only.
                     record[0] =
@@ -1101,7 +1083,7 @@ CompileStats compileStore(const CompileOptions& opt) {
             }
             std::filesystem::remove(band_path(k));
             SpillWriter tiles_out(tiles_path(k), std::size_t{1} << 20);
-            ctx.band = {k, n_bands};
+            ctx.band = bands[static_cast<std::size_t>(k)];
             std::vector<std::uint8_t> payload;
             std::size_t band_tiles = 0;
             ctx.emit = [&](const Tile& t) {
@@ -1131,9 +1113,11 @@ CompileStats compileStore(const CompileOptions& opt) {
         log("DEM: " + std::to_string(dems.fileLoads()) + " reads of " + std::to_string(dems.size()) +
             " files, at most " + mib(dems.peakFileBytes()) + " held");
         dems = DemMosaic{};
-        RoadGraph graph;
+        // The road graph on disk (graph_build.h): node ids sorted in runs of a quarter of the
+        // limit, nodes, edges and shape in scratch files, encoded into the store at the end.
+        std::optional<DiskGraph> graph;
         if (with_graph) {
-            graph = buildGraph(
+            graph.emplace(
                 [&](const std::function<void(const RawGraphWay&)>& f) {
                     SpillReader in(*spill / "graph.spill");
                     std::vector<std::uint8_t> record;
@@ -1144,9 +1128,15 @@ CompileStats compileStore(const CompileOptions& opt) {
                         for (const auto& w : one.graph_ways) f(w);
                     }
                 },
-                proj);
+                proj, spill->path(), limit / 4);
+            stats.graph_nodes = graph->nodes();
+            stats.graph_edges = graph->edges();
+            log("road graph: " + std::to_string(stats.graph_nodes) + " nodes, " + std::to_string(stats.graph_edges) +
+                " edges (node ids sorted in " + std::to_string(graph->idRuns()) + " run(s), on disk until written)");
+        } else {
+            log_graph(RoadGraph{});
         }
-        log_graph(graph);
+        std::filesystem::remove(*spill / "graph.spill");
 
         // The single compile's order: level by level, by key within a level (TileId::key() sorts so).
         std::sort(refs.begin(), refs.end(), [](const TileRef& a, const TileRef& b) { return a.key < b.key; });
@@ -1171,7 +1161,7 @@ CompileStats compileStore(const CompileOptions& opt) {
                 level_tiles = 0;
             }
         }
-        if (with_graph) writer.setGraph(graph);
+        if (graph) writer.writeGraph([&](const StoreWriter::ByteSink& sink) { graph->encode(sink); });
         store_bytes = writer.finish();
     }
 

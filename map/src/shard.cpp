@@ -55,23 +55,27 @@ int tileShard(TileId id, int shard_count, const ShardGrid& grid) {
 }
 
 std::pair<std::uint32_t, std::uint32_t> shardColumns(int level, ShardSpec spec, const ShardGrid& grid) {
+    return bandColumns(level, spec.index, spec.index, spec.count, grid);
+}
+
+std::pair<std::uint32_t, std::uint32_t> bandColumns(int level, int first_band, int last_band, int count,
+                                                    const ShardGrid& grid) {
     const std::uint64_t columns = std::uint64_t{1} << level;
-    if (!spec.sharded()) return {0, static_cast<std::uint32_t>(columns - 1)};
+    if (count <= 1) return {0, static_cast<std::uint32_t>(columns - 1)};
     // Bands grow west to east: the first column of band >= k, by bisection.
     auto first = [&](int k) {
         std::uint64_t lo = 0, hi = columns;
         while (lo < hi) {
             const std::uint64_t mid = (lo + hi) / 2;
-            if (tileShard({static_cast<std::uint8_t>(level), static_cast<std::uint32_t>(mid), 0}, spec.count, grid) >=
-                k)
+            if (tileShard({static_cast<std::uint8_t>(level), static_cast<std::uint32_t>(mid), 0}, count, grid) >= k)
                 hi = mid;
             else
                 lo = mid + 1;
         }
         return lo;
     };
-    const std::uint64_t lo = first(spec.index);
-    const std::uint64_t hi = first(spec.index + 1);
+    const std::uint64_t lo = first(first_band);
+    const std::uint64_t hi = first(last_band + 1);
     if (lo >= hi) return {1, 0};
     return {static_cast<std::uint32_t>(lo), static_cast<std::uint32_t>(hi - 1)};
 }

@@ -54,6 +54,8 @@ ShardGrid shardGridOf(const StoreInfo& info);
 int tileShard(TileId id, int shard_count, const ShardGrid& grid);
 /// The tile columns of `level` that shard `spec` owns, inclusive; first > second when none.
 std::pair<std::uint32_t, std::uint32_t> shardColumns(int level, ShardSpec spec, const ShardGrid& grid);
+/// The columns of bands first..last (inclusive) of `count`, together; first > second when none.
+std::pair<std::uint32_t, std::uint32_t> bandColumns(int level, int first, int last, int count, const ShardGrid& grid);
 /// Parses "K/N" (navmap-compile --shard); throws CompileError naming the text otherwise.
 ShardSpec parseShardSpec(const std::string& text);
 
