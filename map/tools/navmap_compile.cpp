@@ -97,6 +97,16 @@ int main(int argc, char** argv) {
         }
     }
 
+    if (opt.memory_limit_mib > 0) {
+        // libosmium reads ahead up to 20 compressed blocks and 20 decoded buffers (a decoded
+        // block of ways is several MiB); its queue sizes are set through the environment only.
+        // Two of each keep both cores busy (docs/tile-store.md "Bounded memory"). Set here,
+        // before any thread starts; a value the user set is kept.
+        for (const char* queue :
+             {"OSMIUM_MAX_INPUT_QUEUE_SIZE", "OSMIUM_MAX_OSMDATA_QUEUE_SIZE", "OSMIUM_MAX_WORK_QUEUE_SIZE"}) {
+            ::setenv(queue, "2", 0);
+        }
+    }
     opt.osm = osm;
     opt.out = out;
     opt.spill_dir = spill_dir;
