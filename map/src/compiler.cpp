@@ -38,6 +38,7 @@
 #include "feature_spill.h"
 #include "file_node_index.h"
 #include "graph_build.h"
+#include "multipolygon_spill.h"
 #include "navmap/map/coastline.h"
 #include "navmap/map/dem.h"
 #include "navmap/map/dem_mosaic.h"
@@ -838,10 +839,6 @@ CompileStats compileStore(const CompileOptions& opt) {
             filter.add_rule(true, osmium::TagMatcher{key});
         }
         osmium::area::Assembler::config_type cfg;
-        osmium::area::MultipolygonManager<osmium::area::Assembler> mp{cfg, filter};
-        log("reading relations of " + opt.osm.filename().string());
-        osmium::relations::read_relations(file, mp);
-
         std::unique_ptr<NodeIndex> index;
         if (bounded) {
             index = std::make_unique<FileNodeIndex>(*spill / "nodes.index");
@@ -850,25 +847,42 @@ CompileStats compileStore(const CompileOptions& opt) {
         }
         osmium::handler::NodeLocationsForWays<NodeIndex> locations{*index};
         locations.ignore_errors();  // ways crossing the extract border keep their inside parts
-        auto mp_handler =
-            mp.handler([&](osmium::memory::Buffer&& buffer) { osmium::apply(buffer, buildings, areas, labels); });
-        osmium::io::Reader reader{file, osmium::io::read_meta::no};
-        const std::size_t total = std::max<std::size_t>(reader.file_size(), 1);
-        double last_log = elapsed();
-        while (osmium::memory::Buffer buffer = reader.read()) {
-            osmium::apply(buffer, locations, roads, graph_ways, labels, coast, mp_handler);
-            drain();
-            if (elapsed() - last_log >= 1.0) {  // progress once a second on long runs
-                last_log = elapsed();
-                const double pct = 100.0 * static_cast<double>(reader.offset()) / static_cast<double>(total);
-                log("reading " + std::to_string(static_cast<int>(std::min(pct, 100.0))) + "% of the file read ahead; " +
-                    std::to_string(n_roads) + " roads, " + std::to_string(n_buildings) + " buildings so far");
+        auto areas_out = [&](osmium::memory::Buffer&& buffer) { osmium::apply(buffer, buildings, areas, labels); };
+        // The second pass, with the multipolygon manager's handler last.
+        auto read_all = [&](auto& mp_handler) {
+            osmium::io::Reader reader{file, osmium::io::read_meta::no};
+            const std::size_t total = std::max<std::size_t>(reader.file_size(), 1);
+            double last_log = elapsed();
+            while (osmium::memory::Buffer buffer = reader.read()) {
+                osmium::apply(buffer, locations, roads, graph_ways, labels, coast, mp_handler);
+                drain();
+                if (elapsed() - last_log >= 1.0) {  // progress once a second on long runs
+                    last_log = elapsed();
+                    const double pct = 100.0 * static_cast<double>(reader.offset()) / static_cast<double>(total);
+                    log("reading " + std::to_string(static_cast<int>(std::min(pct, 100.0))) +
+                        "% of the file read ahead; " + std::to_string(n_roads) + " roads, " +
+                        std::to_string(n_buildings) + " buildings so far");
+                }
             }
+            drain();
+            log("read " + std::to_string(n_roads) + " roads, " + std::to_string(n_buildings) + " buildings, " +
+                std::to_string(n_areas) + " areas, " + std::to_string(n_points) + " point labels");
+            reader.close();
+        };
+        log("reading relations of " + opt.osm.filename().string());
+        if (bounded) {
+            // Member ways of multipolygon relations wait in a spill file, not in memory, until
+            // their relation is complete (multipolygon_spill.h); the same areas in the same order.
+            DiskMultipolygonManager mp{cfg, filter, *spill / "multipolygon-ways.spill"};
+            osmium::relations::read_relations(file, mp);
+            read_all(mp.handler(areas_out));
+            log("multipolygons: " + std::to_string(mp.completeRelations()) + " relations complete, " +
+                std::to_string(mp.memberWays()) + " member ways spilled");
+        } else {
+            osmium::area::MultipolygonManager<osmium::area::Assembler> mp{cfg, filter};
+            osmium::relations::read_relations(file, mp);
+            read_all(mp.handler(areas_out));
         }
-        drain();
-        log("read " + std::to_string(n_roads) + " roads, " + std::to_string(n_buildings) + " buildings, " +
-            std::to_string(n_areas) + " areas, " + std::to_string(n_points) + " point labels");
-        reader.close();
     } catch (const CompileError&) {
         throw;
     } catch (const std::exception& e) {
@@ -879,6 +893,7 @@ CompileStats compileStore(const CompileOptions& opt) {
         graph_out->close();
         std::error_code ec;
         std::filesystem::remove(*spill / "nodes.index", ec);  // no longer needed: free the disk
+        std::filesystem::remove(*spill / "multipolygon-ways.spill", ec);
     }
     stats.read_seconds = elapsed();
     if (n_roads == 0 && n_buildings == 0 && n_areas == 0 && n_points == 0 && coast.ways.empty()) {

@@ -151,6 +151,12 @@ bool SpillReader::next(std::vector<std::uint8_t>& payload) {
     return true;
 }
 
+void SpillReader::refresh() {
+    struct stat st {};
+    if (::fstat(m_fd, &st) != 0) throw SpillError(sysError("fstat", m_path, errno));
+    m_size = static_cast<std::uint64_t>(st.st_size);
+}
+
 void SpillReader::readAt(std::uint64_t offset, std::vector<std::uint8_t>& payload) const {
     if (offset < sizeof(kSpillMagic))
         throw SpillError(m_path.string() + ": no record at byte " + std::to_string(offset));

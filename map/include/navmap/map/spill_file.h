@@ -40,13 +40,15 @@ public:
     std::uint64_t append(std::span<const std::uint8_t> payload);
     /// Writes what is buffered and closes; afterwards the file is complete.
     void close();
+    /// Writes what is buffered: a reader of the file sees every record appended so far after
+    /// its refresh().
+    void flush();
 
     [[nodiscard]] const std::filesystem::path& path() const { return m_path; }
     [[nodiscard]] std::uint64_t bytes() const { return m_offset + m_buffer.size(); }
     [[nodiscard]] std::uint64_t records() const { return m_records; }
 
 private:
-    void flush();
     std::filesystem::path m_path;
     int m_fd = -1;
     std::vector<std::uint8_t> m_buffer;
@@ -69,6 +71,9 @@ public:
     bool next(std::vector<std::uint8_t>& payload);
     /// The record at `offset` (as SpillWriter::append() returned it).
     void readAt(std::uint64_t offset, std::vector<std::uint8_t>& payload) const;
+    /// Takes the file's size again: of a file still being written, records its writer
+    /// flushed since are read from here on.
+    void refresh();
 
     [[nodiscard]] const std::filesystem::path& path() const { return m_path; }
     [[nodiscard]] std::uint64_t size() const { return m_size; }
