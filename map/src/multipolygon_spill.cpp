@@ -20,7 +20,7 @@ namespace navmap::map::detail {
 
 DiskMultipolygonManager::DiskMultipolygonManager(osmium::area::Assembler::config_type config, osmium::TagsFilter filter,
                                                  std::filesystem::path ways_file)
-    : m_config(std::move(config)), m_filter(std::move(filter)), m_ways_out(std::move(ways_file)) {}
+    : m_config(config), m_filter(std::move(filter)), m_ways_out(std::move(ways_file)) {}
 
 DiskMultipolygonManager::~DiskMultipolygonManager() = default;
 
