@@ -616,9 +616,12 @@ std::vector<BandRange> bandsWithin(const std::vector<std::uint64_t>& from, const
 
 /// The bands of tile columns that build a tile holding the feature `one` holds: at each level
 /// where it appears (tileFeatures' level-of-detail rules), the bands of the columns its bounds
-/// overlap (its label anchors lie inside them). Bounds grow by a metre for rounding.
-std::pair<int, int> featureBands(const RawFeatures& one, const Projection& proj, const TileScheme& scheme,
-                                 const ShardGrid& grid, int bands) {
+/// overlap (its label anchors lie inside them). Bounds grow by a metre for rounding. As ranges
+/// of bands, one per level, sorted and merged where they overlap or touch: a feature in the
+/// west shown on a coarse tile of the middle goes to the bands of the coarse tiles that hold it,
+/// not to every band in between.
+std::vector<std::pair<int, int>> featureBands(const RawFeatures& one, const Projection& proj, const TileScheme& scheme,
+                                              const ShardGrid& grid, int bands) {
     const int leaf = scheme.leafLevel();
     std::vector<PlanarPoint> pts;
     auto add = [&](const std::vector<LatLon>& ll) {
@@ -634,7 +637,7 @@ std::pair<int, int> featureBands(const RawFeatures& one, const Projection& proj,
         shown = [leaf](int level, double) { return level == leaf - 1; };
     } else if (!one.areas.empty()) {
         const PPoly poly = projectPolygon(proj, one.areas.front().polygon);
-        if (poly.outers.empty()) return {bands, -1};
+        if (poly.outers.empty()) return {};
         pts = {{poly.bounds.min_x, poly.bounds.min_y}, {poly.bounds.max_x, poly.bounds.max_y}};
         shown = [area = poly.area](int, double size) { return area >= (size / 64.0) * (size / 64.0); };
     } else if (!one.places.empty()) {
@@ -649,22 +652,30 @@ std::pair<int, int> featureBands(const RawFeatures& one, const Projection& proj,
                                     : (static_cast<PoiClass>(l.subclass) == PoiClass::Peak ? 16000.0 : 0.0);
         shown = [max_tile](int, double size) { return size <= max_tile; };
     }
-    if (pts.empty()) return {bands, -1};
+    if (pts.empty()) return {};
     Box box = boundsOf(pts);
     box.min_x -= 1.0;
     box.min_y -= 1.0;
     box.max_x += 1.0;
     box.max_y += 1.0;
-    int lo = bands, hi = -1;
+    std::vector<std::pair<int, int>> ranges;
     for (int level = 0; level <= leaf; ++level) {
         if (level != leaf && !shown(level, scheme.tileSize(level))) continue;
         const TileRange r = scheme.range(level, box);
         if (r.empty) continue;
         const auto l = static_cast<std::uint8_t>(level);
-        lo = std::min(lo, tileShard({l, r.x0, 0}, bands, grid));
-        hi = std::max(hi, tileShard({l, r.x1, 0}, bands, grid));
+        ranges.emplace_back(tileShard({l, r.x0, 0}, bands, grid), tileShard({l, r.x1, 0}, bands, grid));
     }
-    return {lo, hi};
+    std::sort(ranges.begin(), ranges.end());
+    std::vector<std::pair<int, int>> merged;
+    for (const auto& r : ranges) {
+        if (!merged.empty() && r.first <= merged.back().second + 1) {
+            merged.back().second = std::max(merged.back().second, r.second);
+        } else {
+            merged.push_back(r);
+        }
+    }
+    return merged;
 }
 
 void clearFeatures(RawFeatures& f) {
@@ -1024,10 +1035,11 @@ CompileStats compileStore(const CompileOptions& opt) {
             while (in.next(record)) {
                 clearFeatures(one);
                 decodeRecord(in, record, one);
-                const auto [lo, hi] = featureBands(one, proj, scheme, grid, kMaxBands);
-                if (lo > hi) continue;
-                from[static_cast<std::size_t>(lo)] += record.size();
-                to[static_cast<std::size_t>(hi)] += record.size();
+                // A feature in two ranges of one band counts twice there: on the safe side.
+                for (const auto& [lo, hi] : featureBands(one, proj, scheme, grid, kMaxBands)) {
+                    from[static_cast<std::size_t>(lo)] += record.size();
+                    to[static_cast<std::size_t>(hi)] += record.size();
+                }
             }
             return bandsWithin(from, to, band_budget);
         }();
@@ -1055,13 +1067,19 @@ CompileStats compileStore(const CompileOptions& opt) {
             SpillReader in(*spill / "features.spill");
             std::vector<std::uint8_t> record;
             RawFeatures one;
+            std::vector<int> targets;  // the bands of one feature
             while (in.next(record)) {
                 clearFeatures(one);
                 decodeRecord(in, record, one);
-                const auto [lo, hi] = featureBands(one, proj, scheme, grid, kMaxBands);
-                if (lo > hi) continue;
+                targets.clear();
+                for (const auto& [lo, hi] : featureBands(one, proj, scheme, grid, kMaxBands)) {
+                    for (int k = band_of[static_cast<std::size_t>(lo)]; k <= band_of[static_cast<std::size_t>(hi)]; ++k)
+                        targets.push_back(k);
+                }
+                std::sort(targets.begin(), targets.end());
+                targets.erase(std::unique(targets.begin(), targets.end()), targets.end());
                 bool first = true;
-                for (int k = band_of[static_cast<std::size_t>(lo)]; k <= band_of[static_cast<std::size_t>(hi)]; ++k) {
+                for (const int k : targets) {
                     if (!band_out[k]) continue;
                     // Counted in its first band only.
                     record[0] =
