@@ -787,6 +787,7 @@ CompileStats compileStore(const CompileOptions& opt) {
         features_out.emplace(*spill / "features.spill", std::size_t{1} << 20);
         graph_out.emplace(*spill / "graph.spill", std::size_t{1} << 20);
         log("memory limit " + std::to_string(opt.memory_limit_mib) + " MiB: spilling to " + spill->path().string());
+        dems.setScratchDir(spill->path());  // filled DEM grids dropped and needed again come back from there
     }
     // The road graph is the whole network's: shard 0 builds it, the other shards none.
     const bool with_graph = opt.shard.index == 0;
@@ -1143,8 +1144,9 @@ CompileStats compileStore(const CompileOptions& opt) {
 
         // The DEM grids are done with: their memory goes before the road graph's comes.
         stats.dem_voids_filled += dems.voidsFilled();
-        log("DEM: " + std::to_string(dems.fileLoads()) + " reads of " + std::to_string(dems.size()) +
-            " files, at most " + mib(dems.peakFileBytes()) + " held");
+        log("DEM: " + std::to_string(dems.fileLoads()) + " reads of " + std::to_string(dems.size()) + " files, " +
+            std::to_string(dems.scratchReads()) + " grids read back filled, at most " + mib(dems.peakFileBytes()) +
+            " held");
         dems = DemMosaic{};
         // The road graph on disk (graph_build.h): node ids sorted in runs of a quarter of the
         // limit, nodes, edges and shape in scratch files, encoded into the store at the end.

@@ -3,6 +3,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <span>
+#include <string>
+
+#include "navmap/map/spill_file.h"
 
 namespace navmap::map {
 
@@ -32,17 +37,53 @@ void DemMosaic::addFile(const std::filesystem::path& hgt) {
     g.west = shape.west;
     g.east = shape.west + shape.spacing * (shape.side - 1);
     g.spacing = shape.spacing;
+    g.side = shape.side;
     m_grids.push_back(std::move(g));
+}
+
+Dem DemMosaic::readFile(const Grid& g) const {
+    Dem dem;
+    if (!g.scratch.empty()) {
+        // The filled copy: the same samples as loading and filling the file again.
+        SpillReader in(g.scratch);
+        std::vector<std::uint8_t> bytes;
+        const std::size_t n = static_cast<std::size_t>(g.side) * static_cast<std::size_t>(g.side);
+        if (!in.next(bytes) || bytes.size() != n * sizeof(float)) {
+            throw SpillError(g.scratch.string() + ": damaged: not the " + std::to_string(n) + " samples of " +
+                             g.file.filename().string());
+        }
+        dem.rows = dem.cols = g.side;
+        dem.north = g.north;
+        dem.west = g.west;
+        dem.spacing = g.spacing;
+        dem.void_count = g.void_count;
+        dem.heights.resize(n);
+        std::memcpy(dem.heights.data(), bytes.data(), bytes.size());
+        ++m_scratch_reads;
+        return dem;
+    }
+    dem = loadHgt(g.file);
+    const std::size_t filled = fillVoids(dem);
+    if (!g.counted) m_voids_filled += filled;
+    g.counted = true;
+    g.void_count = dem.void_count;
+    ++m_loads;
+    if (!m_scratch.empty()) {
+        const std::size_t index = static_cast<std::size_t>(&g - m_grids.data());
+        const std::filesystem::path copy = m_scratch / ("dem-" + std::to_string(index) + ".grid");
+        SpillWriter out(copy, 0);
+        out.append(std::span<const std::uint8_t>(reinterpret_cast<const std::uint8_t*>(dem.heights.data()),  // NOLINT
+                                                 dem.heights.size() * sizeof(float)));
+        out.close();
+        g.scratch = copy;
+    }
+    return dem;
 }
 
 const Dem& DemMosaic::loaded(const Grid& g) const {
     g.used = ++m_clock;
     if (g.dem) return *g.dem;
-    Dem dem = loadHgt(g.file);
-    const std::size_t filled = fillVoids(dem);
-    if (!g.counted) m_voids_filled += filled;
-    g.counted = true;
-    ++m_loads;
+    Dem dem = readFile(g);
     m_bytes += gridBytes(dem);
     g.dem = std::move(dem);
     m_peak_bytes = std::max(m_peak_bytes, m_bytes);

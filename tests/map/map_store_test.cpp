@@ -18,6 +18,7 @@
 #include "map_test_util.h"
 #include "navmap/map/dem.h"
 #include "navmap/map/dem_mosaic.h"
+#include "navmap/map/spill_file.h"
 #include "navmap/map/store_writer.h"
 #include "navmap/map/tile_cache.h"
 #include "navmap/map/tile_codec.h"
@@ -390,6 +391,17 @@ TEST(Dem, VoidsAreFilledAndWrongSizeIsAnError) {
     }
 }
 
+namespace {
+
+std::vector<std::string> listDir(const std::filesystem::path& d) {
+    std::vector<std::string> names;
+    for (const auto& e : std::filesystem::directory_iterator(d)) names.push_back(e.path().filename().string());
+    std::sort(names.begin(), names.end());
+    return names;
+}
+
+}  // namespace
+
 TEST(Dem, FilesReadOnFirstUseAreDroppedOverTheBudgetAndSampleTheSame) {
     ScratchDir dir("dem-files");
     // Three SRTM3 tiles side by side, each a plane of its own height with a void.
@@ -428,16 +440,42 @@ TEST(Dem, FilesReadOnFirstUseAreDroppedOverTheBudgetAndSampleTheSame) {
     EXPECT_EQ(lazy.voidsFilled(), 3u) << "each file's void counted once";
     EXPECT_FALSE(lazy.sample(41.5, 1.5));
     EXPECT_THROW(lazy.addFile(dir / "N42E009.hgt"), DemError);
+
+    // With a scratch folder, a grid dropped and needed again comes back from its filled copy
+    // there: each file is read once, and the samples are the same.
+    ScratchDir scratch("dem-scratch");
+    DemMosaic copied;
+    for (int k = 0; k < 3; ++k) copied.addFile(dir / ("N42E00" + std::to_string(k + 1) + ".hgt"));
+    copied.setBudget(grid, 1);
+    copied.setScratchDir(scratch.path());
+    for (const double lon : {1.2, 1.7, 2.2, 2.9, 3.3, 3.8, 2.5, 1.5, 2.0, 2.00001}) {
+        for (const double lat : {42.1, 42.5, 42.9, 42.5005}) {
+            ASSERT_EQ(copied.sample(lat, lon), eager.sample(lat, lon)) << lat << " " << lon;
+        }
+    }
+    EXPECT_EQ(copied.fileLoads(), 3u);
+    EXPECT_EQ(copied.scratchReads(), 3u) << "E002, E001, E002 came back from their copies";
+    EXPECT_EQ(copied.voidsFilled(), 3u);
+    EXPECT_EQ(listDir(scratch.path()), (std::vector<std::string>{"dem-0.grid", "dem-1.grid", "dem-2.grid"}));
+    // A damaged copy is an error naming it, not wrong heights.
+    {
+        std::fstream f(scratch / "dem-0.grid", std::ios::in | std::ios::out | std::ios::binary);
+        f.seekg(100);
+        const char c = static_cast<char>(f.get());
+        f.seekp(100);
+        f.put(static_cast<char>(~c));
+    }
+    EXPECT_TRUE(copied.sample(42.5, 3.5));  // E003 in use, E001 dropped
+    try {
+        (void)copied.sample(42.5, 1.5);
+        ADD_FAILURE() << "a damaged copy was read";
+    } catch (const SpillError& e) {
+        EXPECT_EQ(std::string(e.what()),
+                  (scratch / "dem-0.grid").string() + ": damaged: checksum mismatch in the record at byte 8");
+    }
 }
 
 namespace {
-
-std::vector<std::string> listDir(const std::filesystem::path& d) {
-    std::vector<std::string> names;
-    for (const auto& e : std::filesystem::directory_iterator(d)) names.push_back(e.path().filename().string());
-    std::sort(names.begin(), names.end());
-    return names;
-}
 
 std::string writerError(const std::filesystem::path& p) {
     try {
