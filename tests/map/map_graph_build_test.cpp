@@ -4,11 +4,9 @@
 // block is the same whether the encoding comes whole or in pieces; scratch files are removed and
 // a full disk names the file.
 #include <gtest/gtest.h>
-#include <sys/resource.h>
 #include <zlib.h>
 
 #include <algorithm>
-#include <csignal>
 #include <fstream>
 #include <iterator>
 #include <random>
@@ -22,10 +20,9 @@
 using namespace navmap::map;
 using namespace navmap::map::detail;
 using navmap::map::test::ScratchDir;
+using navmap::map::test::withFileSizeLimit;
 
 namespace {
-
-namespace fs = std::filesystem;
 
 /// A street grid of `n` x `n` crossings 100 m apart, each row and column cut into ways of 3 to
 /// 6 blocks with a node every 25 m, every third way one-way, plus dead ends; ids shuffled so
@@ -81,7 +78,7 @@ std::vector<std::uint8_t> encoded(const DiskGraph& graph) {
     return out;
 }
 
-std::vector<std::uint8_t> fileBytes(const fs::path& path) {
+std::vector<std::uint8_t> fileBytes(const std::filesystem::path& path) {
     std::ifstream in(path, std::ios::binary);
     return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
@@ -118,7 +115,7 @@ TEST(GraphBuild, OnDiskInSeveralRunsItIsTheInMemoryGraphByteForByte) {
         EXPECT_EQ(encoded(graph), on_disk);
     }
     // Every scratch file is gone with the graph.
-    EXPECT_TRUE(fs::is_empty(dir.path())) << fs::directory_iterator(dir.path())->path();
+    EXPECT_TRUE(std::filesystem::is_empty(dir.path())) << std::filesystem::directory_iterator(dir.path())->path();
     // And it decodes into a graph routing can use: edges sorted by start node, stably.
     RoadGraph decoded;
     std::string error;
@@ -174,25 +171,16 @@ TEST(GraphBuild, TheStoredGraphIsTheSameWhetherItsEncodingComesWholeOrInPieces) 
 }
 
 TEST(GraphBuild, AFullDiskIsAnErrorNamingTheScratchFile) {
-    // RLIMIT_FSIZE stands in for a full disk, as in SpillFile.AFullDiskIsAnErrorNamingTheFile.
+    // RLIMIT_FSIZE stands in for a full disk (withFileSizeLimit).
     ScratchDir dir("graph-full");
-    struct sigaction ignore {
-    }, old{};
-    ignore.sa_handler = SIG_IGN;
-    ASSERT_EQ(::sigaction(SIGXFSZ, &ignore, &old), 0);
-    rlimit saved{};
-    ASSERT_EQ(::getrlimit(RLIMIT_FSIZE, &saved), 0);
-    rlimit small = saved;
-    small.rlim_cur = 4096;
-    ASSERT_EQ(::setrlimit(RLIMIT_FSIZE, &small), 0);
     std::string error;
-    try {
-        MappedFile file(dir / "graph-nodes.bin", 1 << 20);
-    } catch (const SpillError& e) {
-        error = e.what();
-    }
-    ::setrlimit(RLIMIT_FSIZE, &saved);
-    ::sigaction(SIGXFSZ, &old, nullptr);
+    ASSERT_TRUE(withFileSizeLimit(4096, [&] {
+        try {
+            MappedFile file(dir / "graph-nodes.bin", 1 << 20);
+        } catch (const SpillError& e) {
+            error = e.what();
+        }
+    }));
     EXPECT_EQ(error, "fallocate(" + (dir / "graph-nodes.bin").string() + ", 1048576 bytes): File too large");
-    EXPECT_FALSE(fs::exists(dir / "graph-nodes.bin"));
+    EXPECT_FALSE(std::filesystem::exists(dir / "graph-nodes.bin"));
 }

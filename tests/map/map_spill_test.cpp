@@ -3,9 +3,6 @@
 // truncated, damaged or foreign file is an error naming the file and the byte.
 #include <gtest/gtest.h>
 
-#include <sys/resource.h>
-
-#include <csignal>
 #include <fstream>
 
 #include "feature_spill.h"
@@ -15,6 +12,7 @@
 using namespace navmap::map;
 using namespace navmap::map::detail;
 using navmap::map::test::ScratchDir;
+using navmap::map::test::withFileSizeLimit;
 
 namespace {
 
@@ -131,26 +129,17 @@ TEST(SpillFile, UnwritablePlacesAndExistingFilesAreErrorsNamingThePath) {
 }
 
 TEST(SpillFile, AFullDiskIsAnErrorNamingTheFile) {
-    // RLIMIT_FSIZE stands in for a full disk: write() fails (EFBIG) past the limit, as it fails
-    // with ENOSPC on a full one; SIGXFSZ ignored, as navmap-compile's caller may.
+    // RLIMIT_FSIZE stands in for a full disk (withFileSizeLimit).
     ScratchDir dir("spill-full");
-    struct sigaction ignore {
-    }, old{};
-    ignore.sa_handler = SIG_IGN;
-    ASSERT_EQ(::sigaction(SIGXFSZ, &ignore, &old), 0);
-    rlimit saved{};
-    ASSERT_EQ(::getrlimit(RLIMIT_FSIZE, &saved), 0);
-    rlimit small = saved;
-    small.rlim_cur = 4096;
-    ASSERT_EQ(::setrlimit(RLIMIT_FSIZE, &small), 0);
     const fs::path path = dir / "big.spill";
-    const std::string error = spillError([&] {
-        SpillWriter w(path, 1024);
-        for (int i = 0; i < 100; ++i) w.append(std::vector<std::uint8_t>(1000, 7));
-        w.close();
-    });
-    ::setrlimit(RLIMIT_FSIZE, &saved);
-    ::sigaction(SIGXFSZ, &old, nullptr);
+    std::string error;
+    ASSERT_TRUE(withFileSizeLimit(4096, [&] {
+        error = spillError([&] {
+            SpillWriter w(path, 1024);
+            for (int i = 0; i < 100; ++i) w.append(std::vector<std::uint8_t>(1000, 7));
+            w.close();
+        });
+    }));
     EXPECT_EQ(error, "write(" + path.string() + "): File too large");
 }
 

@@ -1,7 +1,10 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "map_test_util.h"
 
+#include <sys/resource.h>
 #include <unistd.h>
+
+#include <csignal>
 
 namespace navmap::map::test {
 
@@ -65,6 +68,28 @@ Tile sampleTile(TileId id, double origin_x, double origin_y, double size_m) {
 
 std::filesystem::path repoData(const std::string& file) {
     return std::filesystem::path(NAVMAP_SOURCE_DIR) / "data" / file;
+}
+
+bool withFileSizeLimit(std::uint64_t bytes, const std::function<void()>& f) {
+    struct sigaction ignore {
+    }, old{};
+    ignore.sa_handler = SIG_IGN;
+    if (::sigaction(SIGXFSZ, &ignore, &old) != 0) return false;
+    rlimit saved{};
+    if (::getrlimit(RLIMIT_FSIZE, &saved) != 0) {
+        ::sigaction(SIGXFSZ, &old, nullptr);
+        return false;
+    }
+    rlimit small = saved;
+    small.rlim_cur = bytes;
+    if (::setrlimit(RLIMIT_FSIZE, &small) != 0) {
+        ::sigaction(SIGXFSZ, &old, nullptr);
+        return false;
+    }
+    f();
+    ::setrlimit(RLIMIT_FSIZE, &saved);
+    ::sigaction(SIGXFSZ, &old, nullptr);
+    return true;
 }
 
 }  // namespace navmap::map::test

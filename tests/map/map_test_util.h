@@ -2,7 +2,9 @@
 #pragma once
 // Helpers shared by the map tests: scratch directories and a small hand-made tile.
 
+#include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <string>
 
 #include "navmap/map/tile.h"
@@ -25,5 +27,10 @@ private:
 Tile sampleTile(TileId id, double origin_x, double origin_y, double size_m);
 
 std::filesystem::path repoData(const std::string& file);
+
+/// Runs `f` with RLIMIT_FSIZE at `bytes` and SIGXFSZ ignored (as navmap-compile's caller may),
+/// restoring both after: write() and fallocate() past the limit fail with EFBIG, as they fail
+/// with ENOSPC on a full disk. False, and `f` not run, when they cannot be set.
+bool withFileSizeLimit(std::uint64_t bytes, const std::function<void()>& f);
 
 }  // namespace navmap::map::test
