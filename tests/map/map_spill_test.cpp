@@ -55,7 +55,7 @@ void overwriteByte(const fs::path& path, std::uint64_t at, char value) {
 
 TEST(SpillFile, RecordsComeBackInOrderAndByOffset) {
     ScratchDir dir("spill");
-    const std::vector<std::string> records = {"first", "", std::string(100000, 'x'), "last\0byte"};
+    const std::vector<std::string> records = {"first", "", std::string(100000, 'x'), std::string("last\0byte", 9)};
     std::vector<std::uint64_t> offsets;
     {
         SpillWriter w(dir / "a.spill", 64);
