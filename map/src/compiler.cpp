@@ -592,9 +592,9 @@ constexpr int kMaxBands = 256;
 
 /// Runs of the fine bands 0..N-1 (N = from.size()) whose features take at most `budget` spilled
 /// bytes, from west to east, each as long as it fits (a fine band over the budget on its own
-/// is a band of its own). from[k] / to[k]: bytes of the features whose range of fine bands
-/// starts / ends at k. The features touching fine bands a..b are those starting at or before b
-/// less those ending before a.
+/// is a band of its own). from[k] / to[k]: bytes of the features whose ranges of fine bands
+/// start / end at k (featureBands(); a feature with two ranges counts in each). The ranges
+/// touching fine bands a..b are those starting at or before b less those ending before a.
 std::vector<BandRange> bandsWithin(const std::vector<std::uint64_t>& from, const std::vector<std::uint64_t>& to,
                                    std::uint64_t budget) {
     const int n = static_cast<int>(from.size());
