@@ -1026,22 +1026,30 @@ CompileStats compileStore(const CompileOptions& opt) {
         const std::uint64_t limit = opt.memory_limit_mib * std::uint64_t{1048576};
         // Bands are runs of kMaxBands equal column bands ("fine bands") whose features fit a
         // band's budget, half the limit (a third is the DEM's): measured first, from each
-        // feature's range of fine bands.
+        // feature's ranges of fine bands. The ranges are kept, a record per feature in
+        // feature-bands.spill, so that distributing the features needs no second decoding.
         const auto band_budget = static_cast<std::uint64_t>(static_cast<double>(limit) / 2.0 / kMemoryPerSpilledByte);
+        static_assert(kMaxBands <= 256, "a fine band is one byte in feature-bands.spill");
         const std::vector<BandRange> bands = [&] {
             std::vector<std::uint64_t> from(kMaxBands, 0), to(kMaxBands, 0);  // bytes by first / last fine band
             SpillReader in(*spill / "features.spill");
-            std::vector<std::uint8_t> record;
+            SpillWriter ranges_out(*spill / "feature-bands.spill", std::size_t{1} << 20);
+            std::vector<std::uint8_t> record, ranges;
             RawFeatures one;
             while (in.next(record)) {
                 clearFeatures(one);
                 decodeRecord(in, record, one);
+                ranges.clear();
                 // A feature in two ranges of one band counts twice there: on the safe side.
                 for (const auto& [lo, hi] : featureBands(one, proj, scheme, grid, kMaxBands)) {
                     from[static_cast<std::size_t>(lo)] += record.size();
                     to[static_cast<std::size_t>(hi)] += record.size();
+                    ranges.push_back(static_cast<std::uint8_t>(lo));
+                    ranges.push_back(static_cast<std::uint8_t>(hi));
                 }
+                ranges_out.append(ranges);
             }
+            ranges_out.close();
             return bandsWithin(from, to, band_budget);
         }();
         const int n_bands = static_cast<int>(bands.size());
@@ -1066,16 +1074,17 @@ CompileStats compileStore(const CompileOptions& opt) {
                 if (band_used[k]) band_out[k] = std::make_unique<SpillWriter>(band_path(k));
             }
             SpillReader in(*spill / "features.spill");
-            std::vector<std::uint8_t> record;
-            RawFeatures one;
+            SpillReader ranges_in(*spill / "feature-bands.spill");
+            std::vector<std::uint8_t> record, ranges;
             std::vector<int> targets;  // the bands of one feature
             while (in.next(record)) {
-                clearFeatures(one);
-                decodeRecord(in, record, one);
+                if (!ranges_in.next(ranges) || ranges.size() % 2 != 0) {
+                    throw SpillError(ranges_in.path().string() +
+                                     ": damaged: not one record of band ranges per feature of " + in.path().string());
+                }
                 targets.clear();
-                for (const auto& [lo, hi] : featureBands(one, proj, scheme, grid, kMaxBands)) {
-                    for (int k = band_of[static_cast<std::size_t>(lo)]; k <= band_of[static_cast<std::size_t>(hi)]; ++k)
-                        targets.push_back(k);
+                for (std::size_t i = 0; i < ranges.size(); i += 2) {
+                    for (int k = band_of[ranges[i]]; k <= band_of[ranges[i + 1]]; ++k) targets.push_back(k);
                 }
                 std::sort(targets.begin(), targets.end());
                 targets.erase(std::unique(targets.begin(), targets.end()), targets.end());
@@ -1095,6 +1104,7 @@ CompileStats compileStore(const CompileOptions& opt) {
         }
         features_out.reset();
         std::filesystem::remove(*spill / "features.spill");
+        std::filesystem::remove(*spill / "feature-bands.spill");
 
         // Each band's tiles, encoded, in a file of its own; where each tile is.
         struct TileRef {
