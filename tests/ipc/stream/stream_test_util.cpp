@@ -43,6 +43,14 @@ std::vector<std::uint8_t> sequencePattern(int width, int height, std::uint64_t s
     return px;
 }
 
+bool wholePublisherFrame(const std::vector<std::uint8_t>& pixels, std::size_t bytes) {
+    if (pixels.size() != bytes || pixels.size() < 4) return false;
+    for (std::size_t i = 4; i < pixels.size(); i += 4) {
+        if (std::memcmp(pixels.data(), pixels.data() + i, 4) != 0) return false;
+    }
+    return true;
+}
+
 Publisher::Publisher(ipc::FrameServer& server, std::string view, int width, int height, int fps) {
     m_thread = std::thread([this, &server, view = std::move(view), width, height, fps] {
         auto next = std::chrono::steady_clock::now();

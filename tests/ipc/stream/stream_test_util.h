@@ -25,6 +25,9 @@ std::string uniqueSocketPath(const std::string& tag);
 
 /// RGBA frame whose every pixel encodes `seq` (R,G,B = seq bytes 0..2, A = 255).
 std::vector<std::uint8_t> sequencePattern(int width, int height, std::uint64_t seq);
+/// Whether `pixels` are one whole frame of a Publisher's: `bytes` long, every pixel the same
+/// (a torn frame mixes two).
+bool wholePublisherFrame(const std::vector<std::uint8_t>& pixels, std::size_t bytes);
 
 /// Publishes frames of `view` at `fps` (0 = as fast as possible) on its own thread, like a render loop.
 class Publisher {
