@@ -46,7 +46,7 @@ count="$(wc -l <<<"$list")"
 key="$(sha256sum <<<"$list" | cut -c1-16)"
 sysroot="$cache/arm64-sysroot-$key"
 if [ -f "$sysroot/.navmap-sysroot-complete" ]; then
-    echo "arm64-sysroot: reusing $sysroot ($count packages, $(du -sh "$sysroot" | cut -f1))" >&2
+    echo "arm64-sysroot: reusing $sysroot ($count packages)" >&2
     echo "NAVMAP_SYSROOT=$sysroot"
     exit 0
 fi
