@@ -82,6 +82,17 @@ while IFS= read -r -d '' link; do
         /*) ln -sfn "$(realpath -m --relative-to="$(dirname "$link")" "$sysroot$target")" "$link" ;;
     esac
 done < <(find "$sysroot" -type l -print0)
+# Links that maintainer scripts would make (dpkg -x runs none): update-alternatives' choice of the
+# reference BLAS and LAPACK (libblas.so.3 -> blas/libblas.so.3), which OpenCV, Armadillo and ARPACK
+# (OpenImageIO's dependencies) link to.
+multiarch="$sysroot/usr/lib/aarch64-linux-gnu"
+for alt in blas lapack; do
+    for f in "$multiarch/$alt"/lib*.so*; do
+        if [ -e "$f" ] && [ ! -e "$multiarch/$(basename "$f")" ]; then
+            ln -s "$alt/$(basename "$f")" "$multiarch/$(basename "$f")"
+        fi
+    done
+done
 # CMake package files naming absolute library paths of the target (libjpeg-turbo's
 # IMPORTED_LOCATION "/usr/lib/aarch64-linux-gnu/libturbojpeg.so...") are given the sysroot's (the
 # linker reads such paths as the build machine's). Not the "/usr move" check of
