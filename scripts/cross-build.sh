@@ -32,8 +32,10 @@ if [ "$daemon" = ON ]; then
     [ -f "$NAVMAP_SYSROOT/lib/ld-linux-aarch64.so.1" ] || [ -L "$NAVMAP_SYSROOT/lib/ld-linux-aarch64.so.1" ] ||
         { echo "cross-build: NAVMAP_SYSROOT='$NAVMAP_SYSROOT' is not an arm64 sysroot" >&2; exit 1; }
     echo "NAVMAP_SYSROOT=$NAVMAP_SYSROOT"
+    # Installing (cpack) takes what was built: NAVMAP_CROSS_TARGETS may leave out the tests.
     args+=(-DNAVMAP_SYSROOT="$NAVMAP_SYSROOT" -DNAVMAP_WITH_TESTS=ON -DNAVMAP_WITH_BENCH=ON
-           -DNAVMAP_HOST_TOOLS="${NAVMAP_HOST_TOOLS:-$root/build/NavmapHostTools.cmake}")
+           -DNAVMAP_HOST_TOOLS="${NAVMAP_HOST_TOOLS:-$root/build/NavmapHostTools.cmake}"
+           -DCMAKE_SKIP_INSTALL_ALL_DEPENDENCY=ON)
 else
     args+=(-DNAVMAP_WITH_TESTS=OFF -DNAVMAP_WITH_BENCH=OFF)
 fi
