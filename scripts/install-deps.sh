@@ -6,7 +6,9 @@
 #   install-deps.sh          build, run and test (what scripts/test.sh and .ci/run need)
 #   install-deps.sh --demo   build and run only (scripts/demo.sh): no test tools, no browser,
 #                            no kernel image, no qemu
-#   install-deps.sh --cross  the aarch64 cross compiler (scripts/cross-build.sh)
+#   install-deps.sh --cross  the aarch64 cross compiler and qemu-user (scripts/cross-build.sh)
+#   install-deps.sh --list-arm64   prints (installs nothing) the arm64 packages of the sysroot
+#                            that scripts/arm64-sysroot.sh unpacks for cross-build.sh --daemon
 set -euo pipefail
 
 BUILD=(
@@ -40,13 +42,27 @@ TEST=(
   # CAN tools (candump/canplayer) and a Debian kernel under qemu for the real SocketCAN (vcan) test
   can-utils qemu-system-x86 linux-image-amd64 busybox-static cpio
 )
-CROSS=(g++-aarch64-linux-gnu binutils-aarch64-linux-gnu)
+# qemu-user-static runs the aarch64 programs (qemu-aarch64-static -L <sysroot>, no binfmt).
+CROSS=(g++-aarch64-linux-gnu binutils-aarch64-linux-gnu qemu-user-static)
+# The arm64 sysroot: BUILD's libraries (not its toolchain, tools or fonts), the C and C++ runtime's
+# development files for the cross compiler, the test and benchmark libraries.
+ARM64_SYSROOT=(
+  libc6-dev libstdc++-12-dev
+  libegl-dev libgles-dev libegl-mesa0 libgl1-mesa-dri
+  libglm-dev libgeographiclib-dev
+  libosmium2-dev libprotozero-dev zlib1g-dev libbz2-dev libexpat1-dev liblz4-dev libcgal-dev libzstd-dev
+  libfreetype-dev libharfbuzz-dev
+  libtomlplusplus-dev nlohmann-json3-dev libcli11-dev libturbojpeg0-dev libsystemd-dev
+  libopenimageio-dev
+  libgtest-dev libgmock-dev libbenchmark-dev
+)
 
 case "${1:-}" in
   "") PACKAGES=("${BUILD[@]}" "${TEST[@]}") ;;
   --demo) PACKAGES=("${BUILD[@]}") ;;
-  --cross) PACKAGES=(cmake ninja-build pkg-config nlohmann-json3-dev "${CROSS[@]}") ;;
-  *) echo "usage: install-deps.sh [--demo | --cross]" >&2; exit 2 ;;
+  --cross) PACKAGES=(cmake ninja-build pkg-config nlohmann-json3-dev dpkg-dev "${CROSS[@]}") ;;
+  --list-arm64) printf '%s\n' "${ARM64_SYSROOT[@]}"; exit 0 ;;
+  *) echo "usage: install-deps.sh [--demo | --cross | --list-arm64]" >&2; exit 2 ;;
 esac
 
 missing=()

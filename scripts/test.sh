@@ -2,9 +2,10 @@
 # SPDX-License-Identifier: Apache-2.0
 # The test command: installs what is missing, builds everything with warnings as errors, and
 # runs the CTest suite. Exits non-zero on any failure. Long soak runs, the cross build and lint are opt-in:
-#   scripts/test.sh            everything except the labels 'soak', 'cross' and 'lint'
+#   scripts/test.sh            everything except the labels 'soak', 'cross', 'arm64' and 'lint'
 #   NAVMAP_TEST_ARGS="-L soak" scripts/test.sh     only the soak tests
 #   NAVMAP_TEST_ARGS="-L cross" scripts/test.sh    the aarch64 cross build of the client library
+#   NAVMAP_TEST_ARGS="-L arm64" scripts/test.sh    everything built for aarch64 and run under qemu
 #   NAVMAP_TEST_ARGS="-L lint" scripts/test.sh     clang-tidy over the tree (scripts/lint.sh, ~1 h)
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
@@ -15,8 +16,8 @@ NAVMAP_BUILD_DIR="$build" scripts/build.sh -DNAVMAP_WITH_WERROR=ON -DNAVMAP_WITH
 cd "$build"
 if [ -z "${NAVMAP_TEST_ARGS:-}" ]; then
   echo "test.sh: leaving out the labels soak (runs of hours), cross (the aarch64 cross build," \
-       "scripts/cross-build.sh) and lint (clang-tidy over the tree, about an hour on two cores);" \
+       "scripts/cross-build.sh), arm64 (all of it for aarch64, run under qemu) and lint (clang-tidy over the tree, about an hour on two cores);" \
        "run them with NAVMAP_TEST_ARGS=\"-L <label>\""
 fi
 # shellcheck disable=SC2086
-ctest --output-on-failure --timeout 900 -j 2 ${NAVMAP_TEST_ARGS:--LE soak|cross|lint}
+ctest --output-on-failure --timeout 900 -j 2 ${NAVMAP_TEST_ARGS:--LE soak|cross|arm64|lint}
