@@ -68,6 +68,8 @@ private:
         Clock::time_point next_due{};
     };
     std::unique_ptr<AttributionOverlay> makeAttribution(const DisplayProfile& p);
+    /// Logs the renderer's GL context: version, renderer, the features turned off on it.
+    void logContext(const render::DeviceInfo& dev) const;
     void warnFlatTiles();
 
     Options m_options;

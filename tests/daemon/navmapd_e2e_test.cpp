@@ -208,8 +208,9 @@ TEST(NavmapdEndToEnd, ClusterAndHudClientsGetFramesControlWorksAndStopIsGraceful
     EXPECT_NE(out.find("<5>navmapd: stopping"), std::string::npos) << out;
 }
 
-std::pair<int, std::string> runNavmapd(const std::string& args) {
-    const std::string cmd = std::string(NAVMAPD_PATH) + " " + args + " 2>&1";
+// `env`: assignments put before the command ("NAME=value ...").
+std::pair<int, std::string> runNavmapd(const std::string& args, const std::string& env = "") {
+    const std::string cmd = env + " " + std::string(NAVMAPD_PATH) + " " + args + " 2>&1";
     FILE* p = ::popen(cmd.c_str(), "r");
     std::string out;
     char buf[512];
@@ -233,6 +234,56 @@ TEST(NavmapdEndToEnd, BadInputIsOneClearErrorLine) {
     std::tie(status, out) = runNavmapd("--speed 0");
     EXPECT_NE(status, 0);
     EXPECT_NE(out.find("--speed"), std::string::npos) << out;
+}
+
+// The line of `out` that holds `what`, or "".
+std::string lineWith(const std::string& out, const std::string& what) {
+    const std::size_t at = out.find(what);
+    if (at == std::string::npos) return "";
+    const std::size_t begin = out.rfind('\n', at);
+    const std::size_t end = out.find('\n', at);
+    return out.substr(
+        begin == std::string::npos ? 0 : begin + 1,
+        end == std::string::npos ? std::string::npos : end - (begin == std::string::npos ? 0 : begin + 1));
+}
+
+// At start-up navmapd logs the GL context's version and the features it turned off on it
+// (docs/gles-profile.md): as this machine's driver makes it, and with Mesa held to an embedded
+// ES 3.0 profile without GL_EXT_color_buffer_float.
+TEST(NavmapdEndToEnd, LogsTheGlContextAndTheFeaturesItTurnedOff) {
+    const fs::path dir = fs::temp_directory_path() / ("navmapd-gl-" + std::to_string(::getpid()));
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    writeStandingLog(dir / "standing.candump");
+    const std::string args = "--replay " + (dir / "standing.candump").string() + " --control-socket " +
+                             (dir / "control.sock").string() + " --frame-socket " + (dir / "frames.sock").string() +
+                             " --http-port 0 --profiles hud --no-labels --log-level info --run-for 1";
+    auto [status, out] = runNavmapd(args);
+    EXPECT_EQ(status, 0) << out;
+    std::string line = lineWith(out, "navmapd: GL context: OpenGL ES 3.");
+    ASSERT_FALSE(line.empty()) << out;
+    EXPECT_NE(line.find("; features off: "), std::string::npos) << line;
+    std::printf("[ info     ] %s\n", line.c_str());
+    if (line.find("Mesa") == std::string::npos) {
+        GTEST_SKIP() << "not a Mesa driver, so it cannot be held to ES 3.0 by MESA_GLES_VERSION_OVERRIDE: " << line;
+    }
+    if (line.find("OpenGL ES 3.2") != std::string::npos) {
+        EXPECT_EQ(line.find("shadow-volume roads"), std::string::npos)
+            << "float colour buffers are ES 3.2 core: " << line;
+    }
+
+    std::tie(status, out) =
+        runNavmapd(args, "MESA_GLES_VERSION_OVERRIDE=3.0 MESA_EXTENSION_OVERRIDE=-GL_EXT_color_buffer_float");
+    EXPECT_EQ(status, 0) << out;
+    line = lineWith(out, "navmapd: GL context: ");
+    std::printf("[ info     ] %s\n", line.c_str());
+    EXPECT_NE(line.find("<6>navmapd: GL context: OpenGL ES 3.0 (OpenGL ES 3.0 Mesa "), std::string::npos) << out;
+    EXPECT_NE(line.find("; features off: shadow-volume roads (no GL_EXT_color_buffer_float before ES 3.2): "
+                        "geometric roads"),
+              std::string::npos)
+        << line;
+    EXPECT_NE(out.find("<5>navmapd: ready in"), std::string::npos) << out;
+    fs::remove_all(dir);
 }
 
 TEST(NavmapdEndToEnd, CheckConfigPrintsTheEffectiveConfiguration) {

@@ -1,8 +1,12 @@
 // SPDX-License-Identifier: Apache-2.0
 // GPU tests: need an EGL context (Mesa llvmpipe through the surfaceless platform in CI).
+#include <GLES3/gl3.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdlib>
+#include <cstring>
+#include <string>
 
 #include "gl/shader_program.h"
 #include "golden.h"
@@ -40,6 +44,42 @@ TEST(GlesRenderer, CreatesAHeadlessEs3ContextWithMsaa) {
     EXPECT_NE(dev.version.find("OpenGL ES 3"), std::string::npos) << dev.version;
     EXPECT_GE(dev.msaa_samples, 2) << "Mesa llvmpipe and every ES 3.0 driver offer at least 4x MSAA";
     std::printf("[ info     ] %s platform, %s, %s\n", dev.platform.c_str(), dev.renderer.c_str(), dev.version.c_str());
+}
+
+// The features turned off on a context follow from its version and extensions (docs/gles-profile.md).
+// In the ES 3.0 run (render_gpu_tests_goldens_es30: Mesa held to ES 3.0, GL_EXT_color_buffer_float
+// hidden) the context is ES 3.0 and the shadow-volume roads are off.
+TEST(GlesRenderer, ListsTheFeaturesItTurnsOffOnThisContext) {
+    RendererOptions o = smallOptions();
+    o.msaa_samples = 4;
+    auto r = Renderer::create(o);
+    const auto& dev = r->device();
+    const std::string version = "OpenGL ES " + std::to_string(dev.gles_major) + "." + std::to_string(dev.gles_minor);
+    EXPECT_EQ(dev.version.rfind(version, 0), 0u) << dev.version << ": not the context made, " << version;
+    GLint count = 0;
+    glGetIntegerv(GL_NUM_EXTENSIONS, &count);
+    bool float_buffers = false;
+    for (GLint i = 0; i < count; ++i) {
+        const auto* ext = reinterpret_cast<const char*>(glGetStringi(GL_EXTENSIONS, static_cast<GLuint>(i)));
+        float_buffers = float_buffers || (ext && std::strcmp(ext, "GL_EXT_color_buffer_float") == 0);
+    }
+    float_buffers = float_buffers || dev.gles_minor >= 2;
+    const auto& off = dev.features_off;
+    const bool sv_off = std::any_of(off.begin(), off.end(),
+                                    [](const std::string& f) { return f.rfind("shadow-volume roads (", 0) == 0; });
+    EXPECT_EQ(sv_off, !float_buffers) << version << ", " << count << " extensions";
+    // MSAA is ES 3.0 core: 4x asked for is never turned off.
+    EXPECT_TRUE(std::none_of(off.begin(), off.end(), [](const std::string& f) { return f.rfind("MSAA", 0) == 0; }));
+    const char* forced = std::getenv("MESA_GLES_VERSION_OVERRIDE");
+    const char* hidden = std::getenv("MESA_EXTENSION_OVERRIDE");
+    if (forced && std::string(forced) == "3.0" && dev.version.find("Mesa") != std::string::npos) {
+        EXPECT_EQ(version, "OpenGL ES 3.0");
+        EXPECT_EQ(sv_off, hidden && std::strstr(hidden, "-GL_EXT_color_buffer_float") != nullptr) << hidden;
+    }
+    std::string list;
+    for (const auto& f : off) list += "\n  " + f;
+    std::printf("[ info     ] %s, %d extensions; features off:%s\n", dev.version.c_str(), count,
+                list.empty() ? " none" : list.c_str());
 }
 
 TEST(GlesRenderer, AutoMsaaIsOffOnlyOnSoftwareRasterizers) {

@@ -28,13 +28,15 @@ GlRenderer::GlRenderer(const RendererOptions& options) : m_options(options), m_e
     m_device.software = m_device.renderer.find("llvmpipe") != std::string::npos ||
                         m_device.renderer.find("softpipe") != std::string::npos ||
                         m_device.renderer.find("swrast") != std::string::npos;
+    m_features = GlFeatures::current(m_device.gles_major, m_device.gles_minor);
+    m_device.features_off = m_features.featuresOff(options.msaa_samples, m_device.software);
     if (m_options.msaa_samples < 0) m_options.msaa_samples = m_device.software ? 0 : 4;
     // readback_ring 0 = auto: llvmpipe copies a frame into a pixel-pack buffer on the CPU once
     // its rasterization is done, so a buffer ring buys no overlap there and costs width x height
     // x 4 bytes per slot: one slot (direct read, ReadbackRing). GPUs copy asynchronously: two.
     if (m_options.readback_ring <= 0) m_options.readback_ring = m_device.software ? 1 : 2;
     m_terrain = std::make_unique<TerrainLayer>();
-    m_map = std::make_unique<MapRenderer>(m_options, m_device.software);
+    m_map = std::make_unique<MapRenderer>(m_options, m_device.software, m_features);
     addTarget(options.width, options.height);  // the primary target, id 0
 }
 

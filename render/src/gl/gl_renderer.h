@@ -6,6 +6,7 @@
 #include <memory>
 
 #include "egl_context.h"
+#include "gl_features.h"
 #include "map_renderer.h"
 #include "readback.h"
 #include "render_target.h"
@@ -65,6 +66,7 @@ private:
     RendererOptions m_options;
     EglContext m_egl;  // first member with GL state: constructed first, destroyed last
     DeviceInfo m_device;
+    GlFeatures m_features;  // what the context offers beyond ES 3.0 core (docs/gles-profile.md)
     std::map<int, View> m_targets;
     GLuint m_depth_stencil = 0;  // shared by the targets: the largest width x largest height
     ScratchSize m_depth_size;

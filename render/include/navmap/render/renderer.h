@@ -77,6 +77,9 @@ struct DeviceInfo {
     int gles_minor = 0;
     int msaa_samples = 0;   ///< samples of the offscreen target actually used
     bool software = false;  ///< a software rasterizer (llvmpipe, softpipe, swrast)
+    /// Optional features turned off on this context, each "what (why): what is done instead"
+    /// (docs/gles-profile.md); empty when nothing is missing.
+    std::vector<std::string> features_off;
 };
 
 /// Terrain shading parameters (kept separate so the shading is pluggable, docs/architecture.md "Rendering").
