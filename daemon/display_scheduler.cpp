@@ -124,6 +124,7 @@ DisplayScheduler::Clock::time_point DisplayScheduler::tick(Clock::time_point now
             continue;
         }
         d.draw(*m_renderer, poses, context, m_projection);
+        noticeContextResets(now);
         warnFlatTiles();
         d.finishFrame(*m_renderer, m_frames, now);
         m_last_frame_done = Clock::now();
@@ -138,6 +139,15 @@ DisplayScheduler::Clock::time_point DisplayScheduler::tick(Clock::time_point now
         if (d->inFlight()) next_wake = std::min(next_wake, Clock::now() + std::chrono::milliseconds(3));
     }
     return next_wake;
+}
+
+void DisplayScheduler::noticeContextResets(Clock::time_point now) {
+    const int resets = m_renderer->device().context_resets;
+    if (resets == m_context_resets) return;
+    m_context_resets = resets;
+    m_log(Log::kWarning, "GL context lost or reset (%d so far): made anew; the displays wait for their tiles again",
+          resets);
+    for (auto& d : m_displays) d->contextLost(m_frames, resets, now);
 }
 
 void DisplayScheduler::warnFlatTiles() {
