@@ -216,6 +216,7 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
         StatusReporter reporter({config, reloader, input, road_graph, route, displays, *frames, *control_server,
                                  *scene.cache, scene, frame},
                                 status, metrics, systemd, t_start);
+        int gpu_resets_told = 0;
         for (bool stop = false; !stop;) {
             const auto now = Clock::now();
             if (options.run_for_s && std::chrono::duration<double>(now - t_start).count() >= *options.run_for_s) break;
@@ -232,6 +233,14 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
             events.update(pose, route, now);
             const auto next_wake =
                 displays.tick(now, poses, frameContext(view_state.get(), route, guidance, config.labels));
+            // A lost GL context made anew (docs/gles-profile.md "Lost contexts"): subscribers hear it.
+            if (displays.contextResets() != gpu_resets_told) {
+                gpu_resets_told = displays.contextResets();
+                ipc::ControlEvent e;
+                e.kind = ipc::ControlEventKind::GpuReset;
+                e.resets = gpu_resets_told;
+                control_server->publish(e);
+            }
             // Health: WATCHDOG=1 only while frames keep completing (or nobody needs any).
             if (displays.framesFlowing(config.watchdog_max_frame_s)) systemd.watchdog();
             reporter.update(now, pose);

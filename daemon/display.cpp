@@ -252,7 +252,7 @@ void Display::publish(std::vector<render::Frame>& finished, ipc::FrameServer& fr
 // that timeout; the first frame ends them.
 void Display::sendLoadingStatus(const std::vector<ipc::ActiveProfile>& active, ipc::FrameServer& frames,
                                 Clock::time_point now) {
-    if (m_stats.published > 0) return;
+    if (m_stats.published > 0 && m_first_complete != kNone) return;  // after contextLost() again
     std::size_t clients = 0;
     for (const auto& a : active) {
         if (a.view == m_profile.stream_view && a.width == m_profile.width && a.height == m_profile.height)
@@ -274,6 +274,18 @@ void Display::sendLoadingStatus(const std::vector<ipc::ActiveProfile>& active, i
     if (auto st = frames.publishStatus(m_profile.name, m_profile.width, m_profile.height,
                                        status.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace));
         !st) {
+        m_log(Log::kWarning, "profile %s: %s", m_profile.name.c_str(), st.message().c_str());
+    }
+}
+
+void Display::contextLost(ipc::FrameServer& frames, int resets, Clock::time_point now) {
+    m_source_times.clear();
+    m_first_complete = kNone;
+    m_started = now;  // the wait for the tiles (kStartupTileWait) starts again
+    m_last_status_sent = now;
+    const nlohmann::ordered_json status = {
+        {"state", "gpu_reset"}, {"profile", m_profile.name}, {"view", m_profile.stream_view}, {"resets", resets}};
+    if (auto st = frames.publishStatus(m_profile.name, m_profile.width, m_profile.height, status.dump()); !st) {
         m_log(Log::kWarning, "profile %s: %s", m_profile.name.c_str(), st.message().c_str());
     }
 }

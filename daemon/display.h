@@ -92,6 +92,10 @@ public:
     /// once for a new client, then about once a second.
     void sendLoadingStatus(const std::vector<ipc::ActiveProfile>& active, ipc::FrameServer& frames,
                            Clock::time_point now);
+    /// The renderer made a new GL context (`resets` so far): readbacks in flight are gone, the
+    /// clients get a "gpu_reset" status at once, and frames wait again, as at start-up, for the
+    /// tiles under the camera, with loading statuses meanwhile.
+    void contextLost(ipc::FrameServer& frames, int resets, Clock::time_point now);
 
 private:
     /// The guidance's arrows (every view) and, in the HUD, its next-turn panel and corridor.

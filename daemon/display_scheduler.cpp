@@ -61,6 +61,7 @@ DisplayScheduler::DisplayScheduler(const DaemonConfig& config, Options options,
             const render::RendererOptions ro = rendererOptions(config, p, m_options.ortho_weights);
             m_renderer = m_options.noop_renderer ? render::Renderer::createNoop(ro) : render::Renderer::create(ro);
             target = m_renderer->primaryTarget();
+            logContext(m_renderer->device());
         } else {
             target = m_renderer->addTarget(p.width, p.height);
         }
@@ -71,6 +72,19 @@ DisplayScheduler::DisplayScheduler(const DaemonConfig& config, Options options,
               p.width, p.height, p.fps, p.stream_view.c_str(), target.id(), dev.backend.c_str(), dev.platform.c_str(),
               dev.renderer.c_str(), dev.msaa_samples);
     }
+}
+
+void DisplayScheduler::logContext(const render::DeviceInfo& dev) const {
+    // The context's version and what it cannot do (docs/gles-profile.md): an ECU's ES 3.0 driver
+    // says here which features navmapd drew without.
+    if (dev.backend != "gles") {
+        m_log(Log::kInfo, "GL context: none (%s renderer)", dev.backend.c_str());
+        return;
+    }
+    std::string off;
+    for (const auto& f : dev.features_off) off += (off.empty() ? "" : "; ") + f;
+    m_log(Log::kInfo, "GL context: OpenGL ES %d.%d (%s), %s; features off: %s", dev.gles_major, dev.gles_minor,
+          dev.version.c_str(), dev.renderer.c_str(), off.empty() ? "none" : off.c_str());
 }
 
 std::unique_ptr<AttributionOverlay> DisplayScheduler::makeAttribution(const DisplayProfile& p) {
@@ -110,6 +124,7 @@ DisplayScheduler::Clock::time_point DisplayScheduler::tick(Clock::time_point now
             continue;
         }
         d.draw(*m_renderer, poses, context, m_projection);
+        noticeContextResets(now);
         warnFlatTiles();
         d.finishFrame(*m_renderer, m_frames, now);
         m_last_frame_done = Clock::now();
@@ -124,6 +139,15 @@ DisplayScheduler::Clock::time_point DisplayScheduler::tick(Clock::time_point now
         if (d->inFlight()) next_wake = std::min(next_wake, Clock::now() + std::chrono::milliseconds(3));
     }
     return next_wake;
+}
+
+void DisplayScheduler::noticeContextResets(Clock::time_point now) {
+    const int resets = m_renderer->device().context_resets;
+    if (resets == m_context_resets) return;
+    m_context_resets = resets;
+    m_log(Log::kWarning, "GL context lost or reset (%d so far): made anew; the displays wait for their tiles again",
+          resets);
+    for (auto& d : m_displays) d->contextLost(m_frames, resets, now);
 }
 
 void DisplayScheduler::warnFlatTiles() {

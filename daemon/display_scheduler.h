@@ -60,6 +60,8 @@ public:
     /// Why the orthoimage ground cannot be drawn (weights missing or unusable), as logged; empty
     /// while none was found (docs/orthoimage.md "In the map").
     [[nodiscard]] const std::string& orthoProblem() const { return m_ortho_problem; }
+    /// GL contexts lost and made anew so far (render::DeviceInfo::context_resets, as told to the displays).
+    [[nodiscard]] int contextResets() const { return m_context_resets; }
     /// The exit summary: peak memory, then a line per display.
     void logSummary() const;
 
@@ -68,7 +70,11 @@ private:
         Clock::time_point next_due{};
     };
     std::unique_ptr<AttributionOverlay> makeAttribution(const DisplayProfile& p);
+    /// Logs the renderer's GL context: version, renderer, the features turned off on it.
+    void logContext(const render::DeviceInfo& dev) const;
     void warnFlatTiles();
+    /// After a draw: when the renderer made a new GL context, says so and tells every display.
+    void noticeContextResets(Clock::time_point now);
 
     Options m_options;
     map::Projection m_projection;
@@ -83,6 +89,7 @@ private:
     std::set<std::uint64_t> m_warned_flat;  // tiles reported as lacking elevation data
     std::string m_ortho_problem;            // orthoProblem()
     bool m_rendering_wanted = true;
+    int m_context_resets = 0;  // DeviceInfo::context_resets already told
     Clock::time_point m_last_frame_done;
 };
 

@@ -42,15 +42,16 @@ using navmap::test::writeStandingLog;
 struct Daemon {
     pid_t pid = -1;
     fs::path dir, log;
-    Daemon() {
+    // `env`: NAME=value assignments for navmapd's environment (empty: none).
+    explicit Daemon(const std::string& env = "") {
         dir = fs::temp_directory_path() / ("navmapd-e2e-" + std::to_string(::getpid()));
         fs::remove_all(dir);
         fs::create_directories(dir);
         log = dir / "navmapd.log";
         writeStandingLog(dir / "standing.candump");
-        const std::string cmd = std::string(NAVMAPD_PATH) + " --replay " + (dir / "standing.candump").string() +
-                                " --control-socket " + (dir / "control.sock").string() + " --frame-socket " +
-                                (dir / "frames.sock").string() +
+        const std::string cmd = (env.empty() ? "" : "env " + env + " ") + std::string(NAVMAPD_PATH) + " --replay " +
+                                (dir / "standing.candump").string() + " --control-socket " +
+                                (dir / "control.sock").string() + " --frame-socket " + (dir / "frames.sock").string() +
                                 " --http-port 0 --profiles cluster,hud --log-level info" +
                                 // Labels fade in with wall-clock time: off, so the golden frame is deterministic
                                 // (their rendering has its own tests in tests/render).
@@ -208,8 +209,51 @@ TEST(NavmapdEndToEnd, ClusterAndHudClientsGetFramesControlWorksAndStopIsGraceful
     EXPECT_NE(out.find("<5>navmapd: stopping"), std::string::npos) << out;
 }
 
-std::pair<int, std::string> runNavmapd(const std::string& args) {
-    const std::string cmd = std::string(NAVMAPD_PATH) + " " + args + " 2>&1";
+// `env`: assignments put before the command ("NAME=value ...").
+// A lost GL context is not the end (docs/gles-profile.md "Lost contexts"): the renderer's test hook
+// drops navmapd's context after 40 frames, as a GPU reset would. A control subscriber gets a
+// gpu_reset event, the log says so, and the cluster's frames come back with the standing golden's
+// pixels.
+TEST(NavmapdEndToEnd, ALostGlContextIsMadeAnewAndFramesResume) {
+    Daemon d("NAVMAP_TEST_LOSE_CONTEXT_AFTER_FRAMES=40");
+    ASSERT_TRUE(fs::exists(d.dir / "frames.sock")) << d.output();
+    auto control = navmap::ipc::ControlClient::connect((d.dir / "control.sock").string());
+    ASSERT_TRUE(control) << control.error().message;
+    auto subscribed = control.value().request(R"({"cmd":"subscribe","events":["gpu_reset"]})");
+    ASSERT_TRUE(subscribed) << subscribed.error().message;
+    EXPECT_EQ(subscribed.value(), R"({"ok":true,"cmd":"subscribe","events":["gpu_reset"]})");
+    auto cluster = navmap::ipc::StreamClient::connectUnix((d.dir / "frames.sock").string(), request("cluster"));
+    ASSERT_TRUE(cluster) << cluster.error().message;
+    // Frames until the reset, then five more (the first ones wait for the tiles again).
+    navmap::ipc::ReceivedFrame f;
+    int before = 0, after = 0;
+    const auto until = std::chrono::steady_clock::now() + 30s;
+    while (after < 5 && std::chrono::steady_clock::now() < until) {
+        auto got = cluster.value()->next(f, 100ms);
+        ASSERT_TRUE(got) << got.error().message << "\n" << d.output();
+        const bool reset = d.output().find("navmapd: GL context lost or reset (1 so far)") != std::string::npos;
+        if (got.value()) ++(reset ? after : before);
+    }
+    EXPECT_GT(before, 0) << "frames before the reset";
+    ASSERT_EQ(after, 5) << "frames after the reset\n" << d.output();
+    auto event = control.value().nextEvent(2s);
+    ASSERT_TRUE(event) << event.error().message;
+    EXPECT_EQ(event.value(), R"({"event":"gpu_reset","resets":1})");
+    navmap::render::Image image(static_cast<int>(f.header.width), static_cast<int>(f.header.height));
+    for (std::uint32_t y = 0; y < f.header.height; ++y) {
+        std::memcpy(&image.rgba[static_cast<std::size_t>(y) * f.header.width * 4],
+                    &f.pixels[static_cast<std::size_t>(y) * f.header.stride], f.header.width * 4);
+    }
+    EXPECT_GOLDEN(image, "daemon/golden/navmapd_cluster_standing.png", (navmap::test::GoldenTolerance{12, 0.02}));
+    EXPECT_EQ(d.stop(), 0) << d.output();
+    const std::string out = d.output();
+    EXPECT_NE(out.find("<4>navmap: GL context lost (reset status 0x8255); making a new one"), std::string::npos) << out;
+    EXPECT_NE(out.find("<4>navmapd: GL context lost or reset (1 so far): made anew"), std::string::npos) << out;
+    EXPECT_EQ(out.find("(2 so far)"), std::string::npos) << "the hook fires once\n" << out;
+}
+
+std::pair<int, std::string> runNavmapd(const std::string& args, const std::string& env = "") {
+    const std::string cmd = env + " " + std::string(NAVMAPD_PATH) + " " + args + " 2>&1";
     FILE* p = ::popen(cmd.c_str(), "r");
     std::string out;
     char buf[512];
@@ -233,6 +277,56 @@ TEST(NavmapdEndToEnd, BadInputIsOneClearErrorLine) {
     std::tie(status, out) = runNavmapd("--speed 0");
     EXPECT_NE(status, 0);
     EXPECT_NE(out.find("--speed"), std::string::npos) << out;
+}
+
+// The line of `out` that holds `what`, or "".
+std::string lineWith(const std::string& out, const std::string& what) {
+    const std::size_t at = out.find(what);
+    if (at == std::string::npos) return "";
+    const std::size_t begin = out.rfind('\n', at);
+    const std::size_t end = out.find('\n', at);
+    return out.substr(
+        begin == std::string::npos ? 0 : begin + 1,
+        end == std::string::npos ? std::string::npos : end - (begin == std::string::npos ? 0 : begin + 1));
+}
+
+// At start-up navmapd logs the GL context's version and the features it turned off on it
+// (docs/gles-profile.md): as this machine's driver makes it, and with Mesa held to an embedded
+// ES 3.0 profile without GL_EXT_color_buffer_float.
+TEST(NavmapdEndToEnd, LogsTheGlContextAndTheFeaturesItTurnedOff) {
+    const fs::path dir = fs::temp_directory_path() / ("navmapd-gl-" + std::to_string(::getpid()));
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    writeStandingLog(dir / "standing.candump");
+    const std::string args = "--replay " + (dir / "standing.candump").string() + " --control-socket " +
+                             (dir / "control.sock").string() + " --frame-socket " + (dir / "frames.sock").string() +
+                             " --http-port 0 --profiles hud --no-labels --log-level info --run-for 1";
+    auto [status, out] = runNavmapd(args);
+    EXPECT_EQ(status, 0) << out;
+    std::string line = lineWith(out, "navmapd: GL context: OpenGL ES 3.");
+    ASSERT_FALSE(line.empty()) << out;
+    EXPECT_NE(line.find("; features off: "), std::string::npos) << line;
+    std::printf("[ info     ] %s\n", line.c_str());
+    if (line.find("Mesa") == std::string::npos) {
+        GTEST_SKIP() << "not a Mesa driver, so it cannot be held to ES 3.0 by MESA_GLES_VERSION_OVERRIDE: " << line;
+    }
+    if (line.find("OpenGL ES 3.2") != std::string::npos) {
+        EXPECT_EQ(line.find("shadow-volume roads"), std::string::npos)
+            << "float colour buffers are ES 3.2 core: " << line;
+    }
+
+    std::tie(status, out) =
+        runNavmapd(args, "MESA_GLES_VERSION_OVERRIDE=3.0 MESA_EXTENSION_OVERRIDE=-GL_EXT_color_buffer_float");
+    EXPECT_EQ(status, 0) << out;
+    line = lineWith(out, "navmapd: GL context: ");
+    std::printf("[ info     ] %s\n", line.c_str());
+    EXPECT_NE(line.find("<6>navmapd: GL context: OpenGL ES 3.0 (OpenGL ES 3.0 Mesa "), std::string::npos) << out;
+    EXPECT_NE(line.find("; features off: shadow-volume roads (no GL_EXT_color_buffer_float before ES 3.2): "
+                        "geometric roads"),
+              std::string::npos)
+        << line;
+    EXPECT_NE(out.find("<5>navmapd: ready in"), std::string::npos) << out;
+    fs::remove_all(dir);
 }
 
 TEST(NavmapdEndToEnd, CheckConfigPrintsTheEffectiveConfiguration) {

@@ -5,6 +5,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <utility>
 
@@ -335,6 +336,40 @@ TEST(AndorraMap, TargetsOfDifferentSizesMatchRenderersOfTheirOwnAndKeepTheirTile
             }
         }
     }
+}
+
+// A lost GL context is made anew (docs/gles-profile.md "Lost contexts"): the renderer's test hook
+// drops the context at the start of the second frame, as a GPU reset would lose it. That frame
+// renders on a new context, every target keeps its handle and size, tiles and programs are made
+// again, and the pixels are the golden's.
+TEST(AndorraMap, ALostContextIsMadeAnewAndTheMapRendersAgain) {
+    ::setenv("NAVMAP_TEST_LOSE_CONTEXT_AFTER_FRAMES", "1", 1);
+    auto renderer = rendererOfSize(kW, kH);
+    ::unsetenv("NAVMAP_TEST_LOSE_CONTEXT_AFTER_FRAMES");
+    const TargetHandle second = renderer->addTarget(320, 120);
+    std::printf("[ info     ] robust context: %s\n", renderer->device().robust_context ? "yes" : "no");
+    MapFrame frame = navmap::test::settledAndorraFrame(ViewMode::Bird, kW, kH);
+    frame.layers = layersFor(3);
+    renderer->renderMap(frame);
+    EXPECT_GOLDEN(renderer->readSync(), "render/golden/andorra_bird_full.png",
+                  (navmap::test::GoldenTolerance{10, 0.01}));
+    EXPECT_EQ(renderer->device().context_resets, 0);
+
+    renderer->renderMap(frame);  // the hook drops the context first
+    EXPECT_EQ(renderer->device().context_resets, 1);
+    EXPECT_GT(renderer->mapStats().tiles_uploaded, 3u) << "the tiles were uploaded again";
+    EXPECT_GOLDEN(renderer->readSync(), "render/golden/andorra_bird_full.png",
+                  (navmap::test::GoldenTolerance{10, 0.01}));
+    EXPECT_EQ(renderer->width(second), 320);
+    EXPECT_EQ(renderer->height(second), 120);
+    MapFrame small = navmap::test::settledAndorraFrame(ViewMode::Bird, 320, 120);
+    small.layers = layersFor(3);
+    renderer->renderMap(second, small);
+    EXPECT_GT(renderer->mapStats().tiles_drawn, 3u);
+    auto alone = rendererOfSize(320, 120);
+    alone->renderMap(small);
+    EXPECT_EQ(renderer->readSync(second).rgba, alone->readSync().rgba) << "the second target after the new context";
+    EXPECT_EQ(renderer->device().context_resets, 1) << "once: the hook fires once";
 }
 
 // The terrain is drawn in blocks (TileMesh::terrain_blocks); those outside the view frustum are

@@ -2,8 +2,12 @@
 // GPU tests: need an EGL context (Mesa llvmpipe through the surfaceless platform in CI).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdlib>
+#include <cstring>
+#include <string>
 
+#include "gl/gl_features.h"
 #include "gl/shader_program.h"
 #include "golden.h"
 #include "navmap/render/renderer.h"
@@ -40,6 +44,37 @@ TEST(GlesRenderer, CreatesAHeadlessEs3ContextWithMsaa) {
     EXPECT_NE(dev.version.find("OpenGL ES 3"), std::string::npos) << dev.version;
     EXPECT_GE(dev.msaa_samples, 2) << "Mesa llvmpipe and every ES 3.0 driver offer at least 4x MSAA";
     std::printf("[ info     ] %s platform, %s, %s\n", dev.platform.c_str(), dev.renderer.c_str(), dev.version.c_str());
+}
+
+// The features turned off on a context follow from its version and extensions (docs/gles-profile.md).
+// In the ES 3.0 run (render_gpu_tests_goldens_es30: Mesa held to ES 3.0, GL_EXT_color_buffer_float
+// hidden) the context is ES 3.0 and the shadow-volume roads are off.
+TEST(GlesRenderer, ListsTheFeaturesItTurnsOffOnThisContext) {
+    RendererOptions o = smallOptions();
+    o.msaa_samples = 4;
+    auto r = Renderer::create(o);
+    const auto& dev = r->device();
+    const std::string version = "OpenGL ES " + std::to_string(dev.gles_major) + "." + std::to_string(dev.gles_minor);
+    EXPECT_EQ(dev.version.rfind(version, 0), 0u) << dev.version << ": not the context made, " << version;
+    // The context's own extension list (the renderer's context is current after create()).
+    const auto gl = navmap::render::gl::GlFeatures::current(dev.gles_major, dev.gles_minor);
+    const bool float_buffers = gl.hasExtension("GL_EXT_color_buffer_float") || dev.gles_minor >= 2;
+    const auto& off = dev.features_off;
+    const bool sv_off = std::any_of(off.begin(), off.end(),
+                                    [](const std::string& f) { return f.rfind("shadow-volume roads (", 0) == 0; });
+    EXPECT_EQ(sv_off, !float_buffers) << version;
+    // MSAA is ES 3.0 core: 4x asked for is never turned off.
+    EXPECT_TRUE(std::none_of(off.begin(), off.end(), [](const std::string& f) { return f.rfind("MSAA", 0) == 0; }));
+    const char* forced = std::getenv("MESA_GLES_VERSION_OVERRIDE");
+    const char* hidden = std::getenv("MESA_EXTENSION_OVERRIDE");
+    if (forced && std::string(forced) == "3.0" && dev.version.find("Mesa") != std::string::npos) {
+        EXPECT_EQ(version, "OpenGL ES 3.0");
+        EXPECT_EQ(sv_off, hidden && std::strstr(hidden, "-GL_EXT_color_buffer_float") != nullptr)
+            << (hidden ? hidden : "(unset)");
+    }
+    std::string list;
+    for (const auto& f : off) list += "\n  " + f;
+    std::printf("[ info     ] %s; features off:%s\n", dev.version.c_str(), list.empty() ? " none" : list.c_str());
 }
 
 TEST(GlesRenderer, AutoMsaaIsOffOnlyOnSoftwareRasterizers) {

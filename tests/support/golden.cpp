@@ -87,6 +87,9 @@ GoldenComparison compareImages(const render::Image& expected, const render::Imag
     std::filesystem::remove(actual_path);
     std::filesystem::remove(diff_path);
     std::filesystem::remove(target_path);
+    // How close a passing image came, for the record (e.g. the ES 3.0 runs, docs/gles-profile.md).
+    std::printf("[ golden   ] %s: max channel difference %d, %zu pixels beyond %d\n", golden_relative_path.c_str(),
+                cmp.max_channel_difference, cmp.differing_pixels, tolerance.channel);
     return ::testing::AssertionSuccess();
 }
 

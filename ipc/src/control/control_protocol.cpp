@@ -239,12 +239,13 @@ constexpr std::array<std::pair<MapStyle, const char*>, 2> kStyleNames{
     {{MapStyle::Day, "day"}, {MapStyle::Night, "night"}}};
 constexpr std::array<std::pair<Ground, const char*>, 2> kGroundNames{
     {{Ground::LandCover, "landcover"}, {Ground::Orthoimage, "orthoimage"}}};
-constexpr std::array<std::pair<ControlEventKind, const char*>, 5> kEventNames{
+constexpr std::array<std::pair<ControlEventKind, const char*>, 6> kEventNames{
     {{ControlEventKind::RouteProgress, "route_progress"},
      {ControlEventKind::PositionLost, "position_lost"},
      {ControlEventKind::PositionRegained, "position_regained"},
      {ControlEventKind::OffRoute, "off_route"},
-     {ControlEventKind::BackOnRoute, "back_on_route"}}};
+     {ControlEventKind::BackOnRoute, "back_on_route"},
+     {ControlEventKind::GpuReset, "gpu_reset"}}};
 
 template <typename T, std::size_t N>
 std::string choices(const std::array<std::pair<T, const char*>, N>& names) {
@@ -687,6 +688,7 @@ std::string controlEventLine(const ControlEvent& event) {
             j["offset_m"] = std::round(event.offset_m * 10.0) / 10.0;
             break;
         case ControlEventKind::BackOnRoute: j["id"] = event.route_id; break;
+        case ControlEventKind::GpuReset: j["resets"] = event.resets; break;
     }
     return dumpJson(j);
 }

@@ -433,9 +433,9 @@ void ControlServer::handleLine(Client& c, std::string_view line) {
             } else if constexpr (std::is_same_v<T, SubscribeCommand>) {
                 c.events = body.events;
                 nlohmann::json names = nlohmann::json::array();
-                for (const auto k :
-                     {ControlEventKind::RouteProgress, ControlEventKind::PositionLost,
-                      ControlEventKind::PositionRegained, ControlEventKind::OffRoute, ControlEventKind::BackOnRoute}) {
+                for (const auto k : {ControlEventKind::RouteProgress, ControlEventKind::PositionLost,
+                                     ControlEventKind::PositionRegained, ControlEventKind::OffRoute,
+                                     ControlEventKind::BackOnRoute, ControlEventKind::GpuReset}) {
                     if (body.events & static_cast<std::uint8_t>(k)) {
                         names.push_back(controlEventName(k));
                     }

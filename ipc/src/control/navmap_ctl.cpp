@@ -74,7 +74,8 @@ int main(int argc, char** argv) {
     set_route->add_option("ID", route_id, "route id")->required();
     set_route->add_option("POINTS", points, "LAT,LON, at least two");
     auto* subscribe = app.add_subcommand(
-        "subscribe", "print events (route_progress, position_lost, position_regained, off_route, back_on_route)");
+        "subscribe",
+        "print events (route_progress, position_lost, position_regained, off_route, back_on_route, gpu_reset)");
     std::optional<long long> count;
     std::vector<std::string> events;
     subscribe->add_option("--count", count, "stop after N events")->check(navmap::cli::integerIn(1, 1000000000));

@@ -2,6 +2,7 @@
 #include "egl_context.h"
 
 #include <EGL/eglext.h>
+#include <GLES3/gl3.h>
 
 #include <cstdio>
 #include <cstdlib>
@@ -18,6 +19,27 @@ bool hasExtension(const char* list, const char* name) {
     const std::size_t n = std::strlen(name);
     for (const char* p = list; (p = std::strstr(p, name)) != nullptr; p += n) {
         if ((p == list || p[-1] == ' ') && (p[n] == ' ' || p[n] == '\0')) return true;
+    }
+    return false;
+}
+
+// EGL_EXT_create_context_robustness with the reset notification only: a reset is reported
+// (LOSE_CONTEXT_ON_RESET) without asking for robust buffer access, which costs checks per draw.
+std::vector<EGLint> contextAttributes(int minor, bool robust) {
+    std::vector<EGLint> a = {EGL_CONTEXT_MAJOR_VERSION, 3, EGL_CONTEXT_MINOR_VERSION, minor};
+    if (robust) {
+        a.insert(a.end(), {EGL_CONTEXT_OPENGL_RESET_NOTIFICATION_STRATEGY_EXT, EGL_LOSE_CONTEXT_ON_RESET_EXT});
+    }
+    a.push_back(EGL_NONE);
+    return a;
+}
+
+bool glHasExtension(const char* name) {
+    GLint count = 0;
+    glGetIntegerv(GL_NUM_EXTENSIONS, &count);
+    for (GLint i = 0; i < count; ++i) {
+        const auto* ext = reinterpret_cast<const char*>(glGetStringi(GL_EXTENSIONS, static_cast<GLuint>(i)));
+        if (ext && std::strcmp(ext, name) == 0) return true;
     }
     return false;
 }
@@ -156,26 +178,79 @@ bool EglContext::tryDisplay(EGLDisplay display, const std::string& name, std::st
         why = "no EGL config with OpenGL ES 3 support";
         return false;
     }
-    // Prefer ES 3.2, fall back to 3.1 and 3.0 (the minimum, docs/architecture.md "Rendering").
+    // Prefer ES 3.2, fall back to 3.1 and 3.0 (the minimum, docs/architecture.md "Rendering"); each
+    // robust where EGL offers it (docs/gles-profile.md "Lost contexts"), else plain.
+    const bool can_be_robust = hasExtension(ext, "EGL_EXT_create_context_robustness");
     for (int want_minor : {2, 1, 0}) {
-        const EGLint ctx_attribs[] = {EGL_CONTEXT_MAJOR_VERSION, 3, EGL_CONTEXT_MINOR_VERSION, want_minor, EGL_NONE};
-        EGLContext ctx =
-            eglCreateContext(display, have_config ? config : EGL_NO_CONFIG_KHR, EGL_NO_CONTEXT, ctx_attribs);
-        if (ctx == EGL_NO_CONTEXT) continue;
-        if (!eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, ctx)) {
-            why = "eglMakeCurrent (surfaceless) failed: " + eglErrorName(eglGetError());
-            eglDestroyContext(display, ctx);
-            return false;
+        for (bool robust : {true, false}) {
+            if (robust && !can_be_robust) continue;
+            const std::vector<EGLint> ctx_attribs = contextAttributes(want_minor, robust);
+            EGLContext ctx =
+                eglCreateContext(display, have_config ? config : EGL_NO_CONFIG_KHR, EGL_NO_CONTEXT, ctx_attribs.data());
+            if (ctx == EGL_NO_CONTEXT) continue;
+            if (!eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, ctx)) {
+                why = "eglMakeCurrent (surfaceless) failed: " + eglErrorName(eglGetError());
+                eglDestroyContext(display, ctx);
+                return false;
+            }
+            m_display = display;
+            m_context = ctx;
+            m_config = have_config ? config : nullptr;
+            m_platform = name;
+            m_major = 3;
+            m_minor = want_minor;
+            m_robust = robust;
+            findResetQuery();
+            return true;
         }
-        m_display = display;
-        m_context = ctx;
-        m_platform = name;
-        m_major = 3;
-        m_minor = want_minor;
-        return true;
     }
     why = "eglCreateContext failed for OpenGL ES 3.2, 3.1 and 3.0: " + eglErrorName(eglGetError());
     return false;
+}
+
+void EglContext::findResetQuery() {
+    using Query = unsigned (*)();
+    m_reset_query = nullptr;
+    const char* name = m_minor >= 2                          ? "glGetGraphicsResetStatus"
+                       : glHasExtension("GL_EXT_robustness") ? "glGetGraphicsResetStatusEXT"
+                       : glHasExtension("GL_KHR_robustness") ? "glGetGraphicsResetStatusKHR"
+                                                             : nullptr;
+    if (name) m_reset_query = reinterpret_cast<Query>(eglGetProcAddress(name));
+}
+
+unsigned EglContext::resetStatus() const {
+    constexpr unsigned kUnknownContextReset = 0x8255;  // GL_UNKNOWN_CONTEXT_RESET (ES 3.2, EXT_robustness)
+    if (m_lost_for_test) return kUnknownContextReset;
+    return m_reset_query ? m_reset_query() : GL_NO_ERROR;
+}
+
+void EglContext::loseForTest() {
+    eglMakeCurrent(m_display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+    if (m_context != EGL_NO_CONTEXT) eglDestroyContext(m_display, m_context);
+    m_context = EGL_NO_CONTEXT;
+    m_lost_for_test = true;
+}
+
+void EglContext::recreate() {
+    eglMakeCurrent(m_display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+    if (m_context != EGL_NO_CONTEXT) eglDestroyContext(m_display, m_context);
+    m_context = EGL_NO_CONTEXT;
+    eglBindAPI(EGL_OPENGL_ES_API);
+    const std::vector<EGLint> attribs = contextAttributes(m_minor, m_robust);
+    EGLContext ctx =
+        eglCreateContext(m_display, m_config ? m_config : EGL_NO_CONFIG_KHR, EGL_NO_CONTEXT, attribs.data());
+    if (ctx == EGL_NO_CONTEXT) {
+        throw RenderError("EGL: a lost context could not be made anew: eglCreateContext failed: " +
+                          eglErrorName(eglGetError()));
+    }
+    if (!eglMakeCurrent(m_display, EGL_NO_SURFACE, EGL_NO_SURFACE, ctx)) {
+        const std::string why = eglErrorName(eglGetError());
+        eglDestroyContext(m_display, ctx);
+        throw RenderError("EGL: a lost context could not be made anew: eglMakeCurrent failed: " + why);
+    }
+    m_context = ctx;
+    m_lost_for_test = false;
+    findResetQuery();
 }
 
 void EglContext::makeCurrent() const {

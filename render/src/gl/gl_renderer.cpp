@@ -3,7 +3,11 @@
 
 #include <GLES3/gl3.h>
 
+#include <cstdio>
+#include <cstdlib>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace navmap::render::gl {
 
@@ -28,14 +32,25 @@ GlRenderer::GlRenderer(const RendererOptions& options) : m_options(options), m_e
     m_device.software = m_device.renderer.find("llvmpipe") != std::string::npos ||
                         m_device.renderer.find("softpipe") != std::string::npos ||
                         m_device.renderer.find("swrast") != std::string::npos;
+    m_device.robust_context = m_egl.robust();
+    m_features = GlFeatures::current(m_device.gles_major, m_device.gles_minor);
+    m_device.features_off = m_features.featuresOff(options.msaa_samples, m_device.software);
+    if (!m_egl.detectsResets()) {
+        m_device.features_off.emplace_back(
+            "GPU reset detection (no EGL_EXT_create_context_robustness, or no glGetGraphicsResetStatus): a lost "
+            "context is not made anew");
+    }
     if (m_options.msaa_samples < 0) m_options.msaa_samples = m_device.software ? 0 : 4;
     // readback_ring 0 = auto: llvmpipe copies a frame into a pixel-pack buffer on the CPU once
     // its rasterization is done, so a buffer ring buys no overlap there and costs width x height
     // x 4 bytes per slot: one slot (direct read, ReadbackRing). GPUs copy asynchronously: two.
     if (m_options.readback_ring <= 0) m_options.readback_ring = m_device.software ? 1 : 2;
     m_terrain = std::make_unique<TerrainLayer>();
-    m_map = std::make_unique<MapRenderer>(m_options, m_device.software);
+    m_map = std::make_unique<MapRenderer>(m_options, m_device.software, m_features);
     addTarget(options.width, options.height);  // the primary target, id 0
+    // Test hook (docs/gles-profile.md "Lost contexts"): the context is dropped as a GPU reset
+    // would lose it, once, at the start of frame N + 1.
+    if (const char* lose = std::getenv("NAVMAP_TEST_LOSE_CONTEXT_AFTER_FRAMES")) m_lose_after_frames = std::atoi(lose);
 }
 
 GlRenderer::~GlRenderer() {
@@ -114,11 +129,54 @@ void GlRenderer::resize(TargetHandle target, int width, int height) {
 void GlRenderer::setTerrain(const HeightfieldMesh& mesh) {
     m_egl.makeCurrent();
     m_terrain->upload(mesh);
+    m_terrain_mesh = std::make_shared<const HeightfieldMesh>(mesh);
+}
+
+void GlRenderer::checkContext() {
+    if (m_lose_after_frames > 0 && m_frames == m_lose_after_frames) {
+        m_lose_after_frames = 0;
+        m_egl.loseForTest();
+    }
+    const unsigned status = m_egl.resetStatus();
+    if (status == GL_NO_ERROR) return;
+    std::fprintf(stderr, "<4>navmap: GL context lost (reset status 0x%04x); making a new one\n", status);
+    recreateContext();
+}
+
+void GlRenderer::recreateContext() {
+    // The objects go first (their GL calls are ignored on a lost context, or with none current),
+    // then the new context gets them again.
+    std::vector<std::pair<int, std::pair<int, int>>> sizes;
+    for (auto& [id, v] : m_targets) {
+        sizes.push_back({id, {v.target->width(), v.target->height()}});
+        v.ring.reset();
+        v.target.reset();
+    }
+    m_map.reset();
+    m_terrain.reset();
+    m_depth_stencil = 0;  // went with the context
+    m_depth_size = {};
+    m_egl.recreate();
+    m_features = GlFeatures::current(m_device.gles_major, m_device.gles_minor);
+    m_terrain = std::make_unique<TerrainLayer>();
+    if (m_terrain_mesh) m_terrain->upload(*m_terrain_mesh);
+    m_map = std::make_unique<MapRenderer>(m_options, m_device.software, m_features);
+    if (m_map_style) m_map->setStyle(*m_map_style);
+    for (const auto& [id, size] : sizes) {
+        View& v = m_targets.at(id);
+        v.target = std::make_unique<RenderTarget>(size.first, size.second, m_options.msaa_samples,
+                                                  sharedDepthStencil(size.first, size.second));
+        v.ring = std::make_unique<ReadbackRing>(size.first, size.second, m_options.readback_ring);
+    }
+    ++m_device.context_resets;
 }
 
 void GlRenderer::render(TargetHandle handle, const Camera& camera) {
-    const RenderTarget& target = *view(handle).target;
+    (void)view(handle);  // throws for a handle that names no target
     m_egl.makeCurrent();
+    checkContext();
+    ++m_frames;
+    const RenderTarget& target = *view(handle).target;
     target.clear(m_style.sky_color.r, m_style.sky_color.g, m_style.sky_color.b);
     target.bindForDrawing(false);
     glEnable(GL_DEPTH_TEST);
@@ -131,13 +189,19 @@ void GlRenderer::render(TargetHandle handle, const Camera& camera) {
 }
 
 void GlRenderer::renderMap(TargetHandle target, const MapFrame& frame) {
-    const View& v = view(target);
+    (void)view(target);  // throws for a handle that names no target
     m_egl.makeCurrent();
+    checkContext();
+    ++m_frames;
+    const View& v = view(target);
     // Each target is a view of its own: its label layout continues from its own last frame.
     m_map->render(frame, *v.target, target.id());
 }
 
-void GlRenderer::setMapStyle(const MapStyle& style) { m_map->setStyle(style); }
+void GlRenderer::setMapStyle(const MapStyle& style) {
+    m_map_style = style;
+    m_map->setStyle(style);
+}
 
 void GlRenderer::finish() {
     m_egl.makeCurrent();

@@ -4,8 +4,10 @@
 
 #include <map>
 #include <memory>
+#include <optional>
 
 #include "egl_context.h"
+#include "gl_features.h"
 #include "map_renderer.h"
 #include "readback.h"
 #include "render_target.h"
@@ -61,16 +63,28 @@ private:
     /// The depth/stencil buffer every target shares, grown to cover width x height (the targets
     /// get the new one attached when it grows).
     GLuint sharedDepthStencil(int width, int height);
+    /// At the start of each frame: when the context was lost or reset (or the test hook
+    /// NAVMAP_TEST_LOSE_CONTEXT_AFTER_FRAMES drops it), recreateContext().
+    void checkContext();
+    /// A new context with everything the old one held: targets of the same sizes and handles,
+    /// programs, terrain, the map style; tiles and atlases re-upload as frames ask for them.
+    /// Frames in flight on the old context are gone.
+    void recreateContext();
 
     RendererOptions m_options;
     EglContext m_egl;  // first member with GL state: constructed first, destroyed last
     DeviceInfo m_device;
+    GlFeatures m_features;  // what the context offers beyond ES 3.0 core (docs/gles-profile.md)
     std::map<int, View> m_targets;
     GLuint m_depth_stencil = 0;  // shared by the targets: the largest width x largest height
     ScratchSize m_depth_size;
     int m_next_id = 0;
     std::unique_ptr<TerrainLayer> m_terrain;
     std::unique_ptr<MapRenderer> m_map;
+    std::shared_ptr<const HeightfieldMesh> m_terrain_mesh;  // setTerrain's, uploaded again on a new context
+    std::optional<MapStyle> m_map_style;                    // setMapStyle's, set again on a new context
+    int m_frames = 0;                                       // render() and renderMap() calls
+    int m_lose_after_frames = 0;                            // test hook: drop the context after this many (0: never)
     TerrainStyle m_style;
 };
 

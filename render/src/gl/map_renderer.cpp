@@ -40,8 +40,9 @@ private:
     Clock::time_point m_t = Clock::now();
 };
 
-MapRenderer::MapRenderer(const RendererOptions& options, bool software)
+MapRenderer::MapRenderer(const RendererOptions& options, bool software, const GlFeatures& features)
     : m_options(options),
+      m_features(features),
       m_style(MapStyle::day()),
       m_cache(options),
       m_roads(m_cache.roadIndexBuffer()),
@@ -90,7 +91,8 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target, int 
     const FrameContext ctx = beginFrame(frame, target, target_id);
     clock.lap(m_stats.uploads_ms);
 
-    SvRoads* sv = SvRoads::forFrame(m_sv_roads, frame, target);  // shadow-volume roads (seed 3.5), else null
+    SvRoads* sv =
+        SvRoads::forFrame(m_sv_roads, frame, target, m_features);  // shadow-volume roads (seed 3.5), else null
     m_outlines.begin(ctx, sv != nullptr);
     // The road pieces in view are picked on another thread while this one sets up the buildings
     // and the terrain: llvmpipe rasterizes only after the whole scene is set up, so a core is

@@ -11,6 +11,7 @@
 #include "building_pass.h"
 #include "far_ground_pass.h"
 #include "frame_context.h"
+#include "gl_features.h"
 #include "gpu_tile_cache.h"
 #include "guidance_overlay_pass.h"
 #include "maneuver_arrow_pass.h"
@@ -33,8 +34,9 @@ class PassClock;
 
 class MapRenderer {
 public:
-    /// `software`: the context renders on a software rasterizer (DeviceInfo::software).
-    MapRenderer(const RendererOptions& options, bool software);
+    /// `software`: the context renders on a software rasterizer (DeviceInfo::software);
+    /// `features`: what the context offers beyond ES 3.0 core.
+    MapRenderer(const RendererOptions& options, bool software, const GlFeatures& features);
     ~MapRenderer();
     MapRenderer(const MapRenderer&) = delete;
     MapRenderer& operator=(const MapRenderer&) = delete;
@@ -62,6 +64,7 @@ private:
     void drawArrows(const FrameContext& ctx);
 
     RendererOptions m_options;
+    GlFeatures m_features;
     MapStyle m_style;
     MapFrameStats m_stats;
     GpuTileCache m_cache;

@@ -23,16 +23,6 @@ namespace navmap::render::gl {
 
 namespace {
 
-bool hasExtension(const char* name) {
-    GLint count = 0;
-    glGetIntegerv(GL_NUM_EXTENSIONS, &count);
-    for (GLint i = 0; i < count; ++i) {
-        const auto* ext = reinterpret_cast<const char*>(glGetStringi(GL_EXTENSIONS, static_cast<GLuint>(i)));
-        if (ext && std::strcmp(ext, name) == 0) return true;
-    }
-    return false;
-}
-
 // SvRoadInstance, repeated per box corner.
 void setupBoxAttributes() {
     setVertexAttributes(sizeof(SvRoadInstance), {{0, 4, GL_FLOAT, offsetof(SvRoadInstance, segment)},
@@ -280,18 +270,19 @@ struct SvRoads::GpuTileRoads {
     }
 };
 
-SvRoads* SvRoads::forFrame(std::unique_ptr<SvRoads>& slot, const MapFrame& frame, const RenderTarget& target) {
+SvRoads* SvRoads::forFrame(std::unique_ptr<SvRoads>& slot, const MapFrame& frame, const RenderTarget& target,
+                           const GlFeatures& features) {
     if (!frame.layers.roads || !frame.layers.terrain) return nullptr;  // SV drapes onto the terrain
     if (resolveRoadTechnique(frame) != RoadTechnique::ShadowVolume) return nullptr;
-    if (!slot) slot = std::make_unique<SvRoads>();
+    if (!slot) slot = std::make_unique<SvRoads>(features.colorBufferFloat());
     if (!slot->m_supported) return nullptr;
     return slot->setupTarget(target) ? slot.get() : nullptr;
 }
 
-SvRoads::SvRoads() : m_box_indices(kBoxIndices, 8) {
+SvRoads::SvRoads(bool color_buffer_float) : m_box_indices(kBoxIndices, 8) {
     // The terrain depth is an R32F colour target: core in ES 3.2, EXT_color_buffer_float before.
-    // Without it the roads stay geometric (said once per renderer).
-    m_supported = hasExtension("GL_EXT_color_buffer_float");
+    // Without it the roads stay geometric (said once per renderer, and in DeviceInfo::features_off).
+    m_supported = color_buffer_float;
     if (!m_supported) {
         std::fprintf(stderr, "navmap: shadow-volume roads need GL_EXT_color_buffer_float; drawing geometric roads\n");
         return;

@@ -16,6 +16,7 @@
 
 #include <glm/glm.hpp>
 
+#include "gl_features.h"
 #include "navmap/map/tile.h"
 #include "navmap/render/map_frame.h"
 #include "navmap/render/road_style.h"
@@ -68,13 +69,16 @@ public:
 
     /// The SV pass for this frame, or null when roads are geometric (technique, roads or terrain
     /// layer off, or a GL that cannot render the terrain depth for `target`: float colour buffers
-    /// missing, multisampled R32F unsupported; reported on stderr). Creates `slot` and the depth
-    /// target on first use, so the geometric path allocates nothing.
-    static SvRoads* forFrame(std::unique_ptr<SvRoads>& slot, const MapFrame& frame, const RenderTarget& target);
+    /// missing (GlFeatures::colorBufferFloat, DeviceInfo::features_off), multisampled R32F
+    /// unsupported; reported on stderr). Creates `slot` and the depth target on first use, so the
+    /// geometric path allocates nothing.
+    static SvRoads* forFrame(std::unique_ptr<SvRoads>& slot, const MapFrame& frame, const RenderTarget& target,
+                             const GlFeatures& features);
 
     /// Compiles the program (throws RenderError) when the GL can render the terrain depth
-    /// (GL_EXT_color_buffer_float); otherwise forFrame() keeps returning null.
-    SvRoads();
+    /// (`color_buffer_float`: ES 3.2, or GL_EXT_color_buffer_float); otherwise forFrame() keeps
+    /// returning null.
+    explicit SvRoads(bool color_buffer_float);
     ~SvRoads();
     SvRoads(const SvRoads&) = delete;
     SvRoads& operator=(const SvRoads&) = delete;

@@ -135,6 +135,10 @@ TEST(ControlProtocol, RepliesAndEventsHaveTheDocumentedShape) {
     EXPECT_EQ(controlEventLine(e), R"({"event":"off_route","id":"r7","offset_m":57.3})");
     e.kind = ControlEventKind::BackOnRoute;
     EXPECT_EQ(controlEventLine(e), R"({"event":"back_on_route","id":"r7"})");
+    e = {};
+    e.kind = ControlEventKind::GpuReset;
+    e.resets = 2;
+    EXPECT_EQ(controlEventLine(e), R"({"event":"gpu_reset","resets":2})");
 }
 
 struct BadCase {
@@ -218,10 +222,11 @@ TEST(ControlProtocol, EveryMalformedRequestGetsAnErrorNamingTheProblem) {
          "\"ground\": \"satellite\" is not one of landcover | orthoimage"},
         {R"({"cmd":"set_style","style":"day","ground":1})", "\"ground\": must be one of landcover | orthoimage"},
         {R"({"cmd":"subscribe","events":["everything"]})",
-         "events[0]: not one of route_progress | position_lost | position_regained | off_route | back_on_route"},
+         "events[0]: not one of route_progress | position_lost | position_regained | off_route | back_on_route | "
+         "gpu_reset"},
         {R"({"cmd":"subscribe","events":[]})",
          "\"events\" must be a non-empty array of route_progress | position_lost | position_regained | off_route | "
-         "back_on_route"},
+         "back_on_route | gpu_reset"},
         {R"({"cmd":"get_status","verbose":true})", "unknown field \"verbose\""},
         {R"({"cmd":"reboot"})",
          "unknown cmd \"reboot\" (expected set_route | clear_route | set_view | set_style | get_status | subscribe)"},

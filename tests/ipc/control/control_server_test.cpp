@@ -200,7 +200,7 @@ TEST(ControlServer, SubscribersReceiveTheirEvents) {
         auto none = f.connect();
         EXPECT_EQ(
             req(all, R"({"cmd":"subscribe"})"),
-            R"({"ok":true,"cmd":"subscribe","events":["route_progress","position_lost","position_regained","off_route","back_on_route"]})");
+            R"({"ok":true,"cmd":"subscribe","events":["route_progress","position_lost","position_regained","off_route","back_on_route","gpu_reset"]})");
         EXPECT_EQ(req(lost_only, R"({"cmd":"subscribe","events":["position_lost"]})"),
                   R"({"ok":true,"cmd":"subscribe","events":["position_lost"]})");
         std::thread publisher([&] {

@@ -73,14 +73,16 @@ const char* groundName(Ground g) noexcept;                    ///< "landcover" |
 /// Event kinds a client can subscribe to (bit mask values).
 /// Events a subscriber hears. off_route/back_on_route: the vehicle left the active route (more
 /// than the configured distance off it for the configured time) or came back to it (docs/ipc.md).
+/// gpu_reset: the GL context was lost and made anew; frames wait for the map again.
 enum class ControlEventKind : std::uint8_t {
     RouteProgress = 1,
     PositionLost = 2,
     PositionRegained = 4,
     OffRoute = 8,
     BackOnRoute = 16,
+    GpuReset = 32,
 };
-inline constexpr std::uint8_t kAllControlEvents = 31;
+inline constexpr std::uint8_t kAllControlEvents = 63;
 const char* controlEventName(ControlEventKind k) noexcept;  ///< "route_progress" etc.
 
 struct SetRouteCommand {
@@ -139,6 +141,7 @@ struct ControlEvent {
     double remaining_m = 0.0;  ///< route_progress: metres left
     double since_s = 0.0;      ///< position_lost: seconds since the last valid position
     double offset_m = 0.0;     ///< off_route: metres between the vehicle and the route
+    int resets = 0;            ///< gpu_reset: GL contexts lost and made anew since the start
 };
 
 }  // namespace navmap::ipc

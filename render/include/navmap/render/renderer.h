@@ -77,6 +77,16 @@ struct DeviceInfo {
     int gles_minor = 0;
     int msaa_samples = 0;   ///< samples of the offscreen target actually used
     bool software = false;  ///< a software rasterizer (llvmpipe, softpipe, swrast)
+    /// Optional features turned off on this context, each "what (why): what is done instead"
+    /// (docs/gles-profile.md); empty when nothing is missing.
+    std::vector<std::string> features_off;
+    /// The context was made robust (EGL_EXT_create_context_robustness, lose context on reset), so
+    /// a GPU reset is reported instead of going unnoticed.
+    bool robust_context = false;
+    /// Times the context was found lost or reset (glGetGraphicsResetStatus, checked at the start
+    /// of each frame) and made anew: targets, programs and tiles re-created and re-uploaded, the
+    /// frame rendered on the new one (docs/gles-profile.md "Lost contexts").
+    int context_resets = 0;
 };
 
 /// Terrain shading parameters (kept separate so the shading is pluggable, docs/architecture.md "Rendering").
