@@ -308,7 +308,7 @@ std::optional<DaemonConfig> parseConfig(const std::string& text, const std::stri
             auto v = e.value<std::int64_t>();
             if (!v || *v < 0 || *v > 0xFFFFFFFELL) {
                 err->message = where(source_name, e.source()) + ": " + section_name + "." + key + " entries must be " +
-                               (std::string(key) == "allowed_uids" ? "uids" : "gids");
+                               (std::string(key).ends_with("uids") ? "uids" : "gids");
                 return false;
             }
             out.push_back(static_cast<std::uint32_t>(*v));
@@ -320,6 +320,12 @@ std::optional<DaemonConfig> parseConfig(const std::string& text, const std::stri
         std::int64_t mode = c.control_mode;
         if (!r.get("idle_timeout_s", c.control_idle_timeout_s) ||
             !r.range("idle_timeout_s", c.control_idle_timeout_s, 0.0, 86400.0))
+            return std::nullopt;
+        if (!r.get("max_clients_per_uid", c.control_max_clients_per_uid) ||
+            !r.range("max_clients_per_uid", c.control_max_clients_per_uid, 1, 16) ||
+            !r.get("max_subscribers_per_uid", c.control_max_subscribers_per_uid) ||
+            !r.range("max_subscribers_per_uid", c.control_max_subscribers_per_uid, 1, 16) ||
+            !read_ids("control", r, "privileged_uids", c.control_privileged_uids))
             return std::nullopt;
         if (!read_ids("control", r, "allowed_uids", c.control_uids) ||
             !read_ids("control", r, "allowed_gids", c.control_gids) || !r.get("socket", c.control_socket) ||
@@ -336,8 +342,10 @@ std::optional<DaemonConfig> parseConfig(const std::string& text, const std::stri
             !r.get("group", c.stream_group) || !r.get("max_clients_per_transport", c.max_clients_per_transport) ||
             !r.range("max_clients_per_transport", c.max_clients_per_transport, 1, 1024) ||
             !r.get("max_clients_per_uid", c.max_clients_per_uid) ||
-            !r.range("max_clients_per_uid", c.max_clients_per_uid, 1, 1024) || !r.get("ring_memory_mb", ring_mb) ||
-            !r.range("ring_memory_mb", double(ring_mb), 1, 65536) ||
+            !r.range("max_clients_per_uid", c.max_clients_per_uid, 1, 1024) ||
+            !r.get("max_clients_per_address", c.max_clients_per_address) ||
+            !r.range("max_clients_per_address", c.max_clients_per_address, 1, 1024) ||
+            !r.get("ring_memory_mb", ring_mb) || !r.range("ring_memory_mb", double(ring_mb), 1, 65536) ||
             !r.get("handshake_timeout_s", c.handshake_timeout_s) ||
             !r.range("handshake_timeout_s", c.handshake_timeout_s, 0.1, 600.0) || !r.get("tcp_port", c.tcp_port) ||
             !r.range("tcp_port", c.tcp_port, 0, 65535) || !r.get("http_port", c.http_port) ||
@@ -442,6 +450,9 @@ std::string describeConfig(const DaemonConfig& c) {
       << (c.control_group.empty() ? "" : ", group " + c.control_group) << ", uids "
       << (c.control_uids.empty() ? "own" : ids(c.control_uids))
       << (c.control_gids.empty() ? "" : ", gids " + ids(c.control_gids)) << ")\n";
+    s << "control limits: " << c.control_max_clients_per_uid << " clients and " << c.control_max_subscribers_per_uid
+      << " subscribers per unprivileged uid; privileged: root, own"
+      << (c.control_privileged_uids.empty() ? "" : "," + ids(c.control_privileged_uids)) << "\n";
     s << "stream: " << c.frame_socket.string() << " (mode 660"
       << (c.stream_group.empty() ? "" : ", group " + c.stream_group) << ", uids "
       << (c.stream_uids.empty() ? "own" : ids(c.stream_uids))
@@ -451,8 +462,8 @@ std::string describeConfig(const DaemonConfig& c) {
               : std::string("off"))
       << "\n";
     s << "stream limits: " << c.max_clients_per_transport << " clients per transport, " << c.max_clients_per_uid
-      << " per uid, ring memory " << c.ring_memory_mb << " MiB, handshake and first frame within "
-      << c.handshake_timeout_s << " s\n";
+      << " per uid, " << c.max_clients_per_address << " per TCP/HTTP address, ring memory " << c.ring_memory_mb
+      << " MiB, handshake and first frame within " << c.handshake_timeout_s << " s\n";
     return s.str();
 }
 

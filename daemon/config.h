@@ -64,6 +64,10 @@ struct DaemonConfig {
     std::vector<std::uint32_t> control_gids;  ///< allowed_gids: members (primary or supplementary) may connect
     std::string control_group;                ///< socket file group (name or gid), its members allowed; empty: none
     double control_idle_timeout_s = 30.0;     ///< connections without traffic are closed after this; 0: never
+    int control_max_clients_per_uid = 8;      ///< connections per unprivileged peer uid
+    int control_max_subscribers_per_uid = 4;  ///< subscribed connections per unprivileged peer uid
+    /// privileged_uids: with root and the daemon's own uid, they take an unprivileged slot when all are taken
+    std::vector<std::uint32_t> control_privileged_uids;
     // [stream]
     std::filesystem::path frame_socket = "/run/navmap/frames.sock";
     std::string stream_group;                ///< socket file group (name or gid), its members allowed; empty: none
@@ -71,6 +75,7 @@ struct DaemonConfig {
     std::vector<std::uint32_t> stream_gids;  ///< allowed_gids
     int max_clients_per_transport = 32;      ///< Unix, TCP and HTTP connections, each
     int max_clients_per_uid = 8;             ///< Unix connections per peer uid
+    int max_clients_per_address = 8;         ///< TCP connections, and HTTP connections, per peer address
     std::size_t ring_memory_mb = 64;         ///< all shared-memory rings together
     double handshake_timeout_s = 5.0;        ///< handshake, then first frame, each within this
     int tcp_port = 0;                        ///< 0: no TCP frame server

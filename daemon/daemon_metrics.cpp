@@ -55,6 +55,16 @@ void DaemonMetrics::update(const StatusSample& m) {
         .sample(std::vector<ipc::MetricsRegistry::Label>{}, d(m.cache.loads), "_count");
     reg->counter("navmap_control_errors_total", "Control-socket requests answered with an error.")
         .sample(d(m.control.errors));
+    reg->counter("navmap_control_refusals_total", "Control-socket connections and subscriptions refused, by reason.")
+        .sample({{"reason", "peer"}}, d(m.control.refused_peer))
+        .sample({{"reason", "full"}}, d(m.control.refused_full))
+        .sample({{"reason", "uid_full"}}, d(m.control.refused_uid_full))
+        .sample({{"reason", "subscribers"}}, d(m.control.refused_subscribers));
+    reg->counter("navmap_control_evictions_total",
+                 "Unprivileged control connections closed to seat a privileged peer (all slots taken).")
+        .sample(d(m.control.evictions));
+    reg->counter("navmap_control_idle_disconnects_total", "Control connections closed as idle or stalled.")
+        .sample(d(m.control.idle_disconnects));
     reg->gauge("navmap_process_resident_bytes", "Resident set size (VmRSS).").sample(d(m.memory.rss));
     reg->gauge("navmap_process_peak_resident_bytes", "Peak resident set size (VmHWM).").sample(d(m.memory.peak));
     reg->counter("navmap_config_reloads_total", "Configuration reloads applied (SIGHUP).").sample(d(m.reloads));

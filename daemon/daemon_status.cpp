@@ -77,6 +77,7 @@ void DaemonStatus::publish(const StatusSample& m) {
                      {{"peer", fs.refused_peer},
                       {"transport_full", fs.refused_transport_full},
                       {"uid_full", fs.refused_uid_full},
+                      {"address_full", fs.refused_address_full},
                       {"not_rendered", fs.refused_not_rendered},
                       {"ring_memory", fs.refused_ring_memory},
                       {"http_host", fs.refused_host},

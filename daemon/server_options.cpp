@@ -21,6 +21,9 @@ ipc::ControlServerConfig controlServerConfig(const DaemonConfig& config) {
         ccfg.socket_group = gid.value();
     }
     ccfg.idle_timeout = std::chrono::milliseconds(std::llround(config.control_idle_timeout_s * 1000.0));
+    ccfg.max_clients_per_uid = static_cast<std::size_t>(config.control_max_clients_per_uid);
+    ccfg.max_subscribers_per_uid = static_cast<std::size_t>(config.control_max_subscribers_per_uid);
+    for (auto uid : config.control_privileged_uids) ccfg.privileged_uids.push_back(static_cast<uid_t>(uid));
     return ccfg;
 }
 
@@ -36,6 +39,7 @@ ipc::FrameServerOptions frameServerOptions(const DaemonConfig& config) {
     for (auto gid : config.stream_gids) fopt.allowed_peers.gids.push_back(static_cast<gid_t>(gid));
     fopt.max_clients_per_transport = static_cast<std::size_t>(config.max_clients_per_transport);
     fopt.max_clients_per_uid = static_cast<std::size_t>(config.max_clients_per_uid);
+    fopt.max_clients_per_address = static_cast<std::size_t>(config.max_clients_per_address);
     fopt.ring_memory_bytes = config.ring_memory_mb << 20;
     // Only what the daemon renders is served: its profiles' views and sizes.
     double slowest_fps = 1000.0;

@@ -233,6 +233,32 @@ TEST(DaemonConfig, ControlIdleTimeout) {
     EXPECT_EQ(m, "navmapd.toml:2:18: control.idle_timeout_s = nan out of range [0, 86400]");
 }
 
+TEST(DaemonConfig, ControlAndStreamSlotsPerPeer) {
+    const auto d = parse("");
+    ASSERT_TRUE(d);
+    EXPECT_EQ(d->control_max_clients_per_uid, 8);
+    EXPECT_EQ(d->control_max_subscribers_per_uid, 4);
+    EXPECT_TRUE(d->control_privileged_uids.empty());
+    EXPECT_EQ(d->max_clients_per_address, 8);
+    const auto c = parse(
+        "[control]\nmax_clients_per_uid = 3\nmax_subscribers_per_uid = 2\nprivileged_uids = [1000, 1001]\n"
+        "[stream]\nmax_clients_per_address = 4\n");
+    ASSERT_TRUE(c);
+    EXPECT_EQ(c->control_max_clients_per_uid, 3);
+    EXPECT_EQ(c->control_max_subscribers_per_uid, 2);
+    EXPECT_EQ(c->control_privileged_uids, (std::vector<std::uint32_t>{1000, 1001}));
+    EXPECT_EQ(c->max_clients_per_address, 4);
+    std::string m;
+    EXPECT_FALSE(parse("[control]\nmax_clients_per_uid = 17\n", &m));
+    EXPECT_EQ(m, "navmapd.toml:2:23: control.max_clients_per_uid = 17 out of range [1, 16]");
+    EXPECT_FALSE(parse("[control]\nmax_subscribers_per_uid = 0\n", &m));
+    EXPECT_EQ(m, "navmapd.toml:2:27: control.max_subscribers_per_uid = 0 out of range [1, 16]");
+    EXPECT_FALSE(parse("[control]\nprivileged_uids = [\"hmi\"]\n", &m));
+    EXPECT_EQ(m, "navmapd.toml:2:20: control.privileged_uids entries must be uids");
+    EXPECT_FALSE(parse("[stream]\nmax_clients_per_address = 0\n", &m));
+    EXPECT_EQ(m, "navmapd.toml:2:27: stream.max_clients_per_address = 0 out of range [1, 1024]");
+}
+
 TEST(DaemonConfig, AttributionFollowsTheViewUnlessSet) {
     // The built-in profiles: the center display (bird's-eye) carries it, cluster and HUD do not.
     const auto d = parse("");

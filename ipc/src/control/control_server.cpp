@@ -2,12 +2,16 @@
 // Control socket server: a small poll() loop in the manner of Redis ae.c/anet.c. Each client has
 // an input buffer split into lines and an output buffer drained when the socket is writable, so
 // neither a slow nor a malicious client can block the daemon; a connection without traffic for
-// the idle timeout is closed, so silent clients cannot hold every slot.
+// the idle timeout, or one that leaves what it was sent unread that long, is closed, so silent
+// clients cannot hold every slot. Slots are capped per uid and privileged peers (the HMI) take
+// the slot of the longest-silent unprivileged one when all are taken.
 
 #include "navmap/ipc/control_server.h"
 
+#include <linux/sockios.h>
 #include <poll.h>
 #include <sys/eventfd.h>
+#include <sys/ioctl.h>
 #include <sys/socket.h>
 #include <sys/stat.h>
 #include <sys/un.h>
@@ -42,12 +46,23 @@ std::string seconds(std::chrono::milliseconds d) {
     return buf;
 }
 
+/// Bytes (kernel accounting, not exact) the peer has not read yet of what was sent on `fd`; for
+/// a Unix stream socket SIOCOUTQ stays above zero until the peer has read every byte.
+int unreadBytes(int fd) {
+    int n = 0;
+    if (::ioctl(fd, SIOCOUTQ, &n) != 0) {
+        return 0;  // cannot tell: the idle rule for silent clients still applies
+    }
+    return n;
+}
+
 }  // namespace
 
 struct ControlServer::Client {
     UniqueFd fd;
     uid_t uid = 0;
     pid_t pid = 0;
+    bool privileged = false;
     std::string in;
     std::size_t scanned = 0;  // bytes of `in` known to hold no newline
     std::string out;
@@ -55,6 +70,10 @@ struct ControlServer::Client {
     bool close_after_flush = false;
     bool dead = false;
     SteadyClock::time_point last_activity{};  // last byte received from it or taken by its socket
+    SteadyClock::time_point last_received{};  // last byte received from it (or the accept)
+    // Since when bytes sent to it have been waiting unread (set at a send while it had read
+    // everything before, cleared when its socket is seen empty); unset: it has read everything.
+    std::optional<SteadyClock::time_point> unread_since;
 };
 
 ControlServer::ControlServer(ControlServerConfig config, ControlHandler& handler)
@@ -180,6 +199,9 @@ ControlServerStats ControlServer::stats() const {
     s.connections = m_counters.connections;
     s.refused_peer = m_counters.refused_peer;
     s.refused_full = m_counters.refused_full;
+    s.refused_uid_full = m_counters.refused_uid_full;
+    s.refused_subscribers = m_counters.refused_subscribers;
+    s.evictions = m_counters.evictions;
     s.lines = m_counters.lines;
     s.commands = m_counters.commands;
     s.errors = m_counters.errors;
@@ -208,9 +230,9 @@ Status ControlServer::pollOnce(std::chrono::milliseconds timeout) {
     if (m_config.idle_timeout.count() > 0) {
         const auto now = SteadyClock::now();
         for (const auto& c : m_clients) {
-            if (idle(*c, now + m_config.idle_timeout)) {  // could turn idle: no subscriber at rest
-                const auto left =
-                    std::chrono::ceil<std::chrono::milliseconds>(c->last_activity + m_config.idle_timeout - now);
+            const auto deadline = idleDeadline(*c);
+            if (deadline != SteadyClock::time_point::max()) {
+                const auto left = std::chrono::ceil<std::chrono::milliseconds>(deadline - now);
                 wait = std::clamp(left, std::chrono::milliseconds(0), wait);
             }
         }
@@ -261,12 +283,38 @@ void ControlServer::removeDead() {
     }
 }
 
-bool ControlServer::idle(const Client& c, SteadyClock::time_point now) const {
-    if (m_config.idle_timeout.count() <= 0 || c.dead || now - c.last_activity < m_config.idle_timeout) {
+SteadyClock::time_point ControlServer::idleDeadline(const Client& c) const {
+    auto deadline = SteadyClock::time_point::max();
+    if (m_config.idle_timeout.count() <= 0 || c.dead) {
+        return deadline;
+    }
+    // A subscriber at rest waits for events by design (position_lost may come hours later): only
+    // bytes it leaves unread can make it idle.
+    if (c.events == 0 || !c.out.empty() || c.close_after_flush) {
+        deadline = c.last_activity + m_config.idle_timeout;
+    }
+    if (c.unread_since) {
+        deadline = std::min(deadline, *c.unread_since + m_config.idle_timeout);
+    }
+    return deadline;
+}
+
+bool ControlServer::idle(Client& c, SteadyClock::time_point now) const {
+    if (m_config.idle_timeout.count() <= 0 || c.dead) {
         return false;
     }
-    // A subscriber with nothing queued waits for events by design (position_lost may come hours
-    // later); one whose events pile up unread is as idle as a silent client.
+    // Stalled: what it was sent has waited unread for the timeout, whatever it sends meanwhile
+    // (a subscriber that never reads would otherwise hold its slot for ever while no event
+    // comes). One that has read everything by now is not stalled.
+    if (c.unread_since && now - *c.unread_since >= m_config.idle_timeout) {
+        if (!c.out.empty() || unreadBytes(c.fd.get()) > 0) {
+            return true;
+        }
+        c.unread_since.reset();
+    }
+    if (now - c.last_activity < m_config.idle_timeout) {
+        return false;
+    }
     return c.events == 0 || !c.out.empty() || c.close_after_flush;
 }
 
@@ -278,9 +326,12 @@ void ControlServer::closeIdle(SteadyClock::time_point now) {
         ++m_counters.idle;
         if (c->out.empty() && !c->close_after_flush) {
             // Best effort: the reason goes out if the socket takes it now; the slot is freed anyway.
-            queue(*c, controlErrorReply(
-                          "", std::nullopt,
-                          "idle for " + seconds(m_config.idle_timeout) + " without a request; disconnecting"));
+            const bool stalled = c->unread_since.has_value();
+            queue(*c, controlErrorReply("", std::nullopt,
+                                        stalled ? "left its replies and events unread for " +
+                                                      seconds(m_config.idle_timeout) + "; disconnecting"
+                                                : "idle for " + seconds(m_config.idle_timeout) +
+                                                      " without a request; disconnecting"));
             flush(*c);
         }
         c->dead = true;
@@ -294,7 +345,7 @@ void ControlServer::acceptClients() {
             return;  // EAGAIN, or a transient error (EMFILE, ECONNABORTED): try again next poll
         }
         auto c = std::make_unique<Client>();
-        c->last_activity = SteadyClock::now();
+        c->last_activity = c->last_received = SteadyClock::now();
         std::string refusal;
         auto cred = peerCredentials(fd.get(), m_config.socket_path);
         if (!cred) {
@@ -311,9 +362,8 @@ void ControlServer::acceptClients() {
                 ++m_counters.refused_peer;
             }
         }
-        if (refusal.empty() && m_clients.size() >= m_config.max_clients) {
-            refusal = "too many clients (limit " + std::to_string(m_config.max_clients) + ")";
-            ++m_counters.refused_full;
+        if (refusal.empty()) {
+            refusal = admit(*c);
         }
         if (!refusal.empty()) {
             const std::string line = controlErrorReply("", std::nullopt, refusal) + "\n";
@@ -327,13 +377,66 @@ void ControlServer::acceptClients() {
     }
 }
 
+bool ControlServer::privileged(uid_t uid) const {
+    return uid == 0 || uid == ::geteuid() ||
+           std::find(m_config.privileged_uids.begin(), m_config.privileged_uids.end(), uid) !=
+               m_config.privileged_uids.end();
+}
+
+std::size_t ControlServer::countUid(uid_t uid, bool subscribers_only) const {
+    return static_cast<std::size_t>(std::count_if(m_clients.begin(), m_clients.end(), [&](const auto& o) {
+        return !o->dead && o->uid == uid && (!subscribers_only || o->events != 0);
+    }));
+}
+
+std::string ControlServer::admit(Client& c) {
+    c.privileged = privileged(c.uid);
+    // Unprivileged uids are capped each, so one of them cannot take every slot; privileged peers
+    // are bounded by max_clients alone (they are who the slots are kept for).
+    if (!c.privileged && countUid(c.uid, false) >= m_config.max_clients_per_uid) {
+        ++m_counters.refused_uid_full;
+        return "too many connections from uid " + std::to_string(c.uid) + " (limit " +
+               std::to_string(m_config.max_clients_per_uid) + ")";
+    }
+    const auto live = static_cast<std::size_t>(
+        std::count_if(m_clients.begin(), m_clients.end(), [](const auto& o) { return !o->dead; }));
+    if (live < m_config.max_clients) {
+        return {};
+    }
+    // Full. A privileged peer takes the slot of the unprivileged connection that has been silent
+    // longest; an unprivileged one, or a privileged one when privileged peers hold every slot, is
+    // refused.
+    Client* victim = nullptr;
+    if (c.privileged) {
+        for (const auto& o : m_clients) {
+            if (!o->dead && !o->privileged && (victim == nullptr || o->last_received < victim->last_received)) {
+                victim = o.get();
+            }
+        }
+    }
+    if (victim == nullptr) {
+        ++m_counters.refused_full;
+        return "too many clients (limit " + std::to_string(m_config.max_clients) + ")";
+    }
+    ++m_counters.evictions;
+    if (!victim->close_after_flush && victim->out.empty()) {
+        // Best effort, like the idle reason: the slot is freed whether or not the socket takes it.
+        queue(*victim, controlErrorReply("", std::nullopt,
+                                         "slot taken by privileged uid " + std::to_string(c.uid) + " (all " +
+                                             std::to_string(m_config.max_clients) + " in use); disconnecting"));
+        flush(*victim);
+    }
+    victim->dead = true;
+    return {};
+}
+
 void ControlServer::readClient(Client& c) {
     char buf[kReadChunk];
     bool eof = false;
     for (std::size_t k = 0; k < kMaxReadsPerPoll; ++k) {
         const ssize_t n = ::recv(c.fd.get(), buf, sizeof buf, MSG_DONTWAIT);
         if (n > 0) {
-            c.last_activity = SteadyClock::now();
+            c.last_activity = c.last_received = SteadyClock::now();
             c.in.append(buf, static_cast<std::size_t>(n));
             // Lines complete so far are handled before reading more, so a client cannot make
             // the buffer grow past one maximum line plus one chunk.
@@ -424,6 +527,10 @@ void ControlServer::handleLine(Client& c, std::string_view line) {
                                              {"lines", m_counters.lines.load()},
                                              {"errors", m_counters.errors.load()},
                                              {"refused_peer", m_counters.refused_peer.load()},
+                                             {"refused_full", m_counters.refused_full.load()},
+                                             {"refused_uid_full", m_counters.refused_uid_full.load()},
+                                             {"refused_subscribers", m_counters.refused_subscribers.load()},
+                                             {"evictions", m_counters.evictions.load()},
                                              {"idle_disconnects", m_counters.idle.load()}};
                     if (!status.contains("control")) {
                         status["control"] = std::move(server);
@@ -431,6 +538,13 @@ void ControlServer::handleLine(Client& c, std::string_view line) {
                     extra = {{"status", std::move(status)}};
                 }
             } else if constexpr (std::is_same_v<T, SubscribeCommand>) {
+                if (c.events == 0 && body.events != 0 && !c.privileged &&
+                    countUid(c.uid, true) >= m_config.max_subscribers_per_uid) {
+                    ++m_counters.refused_subscribers;
+                    st = Error{"too many subscribers from uid " + std::to_string(c.uid) + " (limit " +
+                               std::to_string(m_config.max_subscribers_per_uid) + ")"};
+                    return;
+                }
                 c.events = body.events;
                 nlohmann::json names = nlohmann::json::array();
                 for (const auto k : {ControlEventKind::RouteProgress, ControlEventKind::PositionLost,
@@ -466,11 +580,17 @@ void ControlServer::queue(Client& c, const std::string& line) {
 }
 
 void ControlServer::flush(Client& c) {
+    if (c.unread_since && !c.out.empty() && unreadBytes(c.fd.get()) == 0) {
+        c.unread_since.reset();  // it has read everything sent before: what goes now starts a new wait
+    }
     while (!c.out.empty()) {
         const ssize_t n = ::send(c.fd.get(), c.out.data(), c.out.size(), MSG_NOSIGNAL | MSG_DONTWAIT);
         if (n > 0) {
             c.out.erase(0, static_cast<std::size_t>(n));
             c.last_activity = SteadyClock::now();
+            if (!c.unread_since) {
+                c.unread_since = c.last_activity;
+            }
             continue;
         }
         if (n < 0 && errno == EINTR) {

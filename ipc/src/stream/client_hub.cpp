@@ -26,13 +26,22 @@ StreamTransport& ClientHub::transport(const StreamConn& c) const {
     return *m_transports[static_cast<std::size_t>(c.via)];
 }
 
-std::optional<Refusal> ClientHub::checkCaps(Via via, std::optional<uid_t> uid) const {
+std::optional<Refusal> ClientHub::checkCaps(Via via, std::optional<uid_t> uid, const std::string& address) const {
     const auto same_via = static_cast<std::size_t>(
         std::count_if(m_conns.begin(), m_conns.end(), [&](const auto& c) { return c->via == via; }));
     if (same_via >= m_options.max_clients_per_transport) {
         return Refusal{&FrameServerStats::refused_transport_full,
                        std::string("too many ") + viaName(via) + " clients (limit " +
                            std::to_string(m_options.max_clients_per_transport) + ")"};
+    }
+    if (!address.empty()) {
+        const auto same_address = static_cast<std::size_t>(std::count_if(
+            m_conns.begin(), m_conns.end(), [&](const auto& c) { return c->via == via && c->address == address; }));
+        if (same_address >= m_options.max_clients_per_address) {
+            return Refusal{&FrameServerStats::refused_address_full,
+                           std::string("too many ") + viaName(via) + " connections from " + address + " (limit " +
+                               std::to_string(m_options.max_clients_per_address) + ")"};
+        }
     }
     if (!uid) {
         return std::nullopt;

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 // ClientHub: the bookkeeping every transport shares. It owns the connections (registered with the
-// poll loop as they are accepted), admits them against the per-transport and per-uid caps,
+// poll loop as they are accepted), admits them against the per-transport, per-uid and per-address caps,
 // queues and flushes their bytes, offers each streaming client the newest frame within its frame
 // rate (a busy client skips frames, counted as dropped), hands statuses to clients still waiting
 // for a first frame, closes the dead and keeps the rings, the publish set and the counters in
@@ -55,8 +55,9 @@ public:
     RingSet& rings() { return m_rings; }
     const FrameEncoder& encoder() const { return m_encoder; }
 
-    /// The transport and uid caps: a refusal when `via` (or `uid`) has no free slot.
-    std::optional<Refusal> checkCaps(Via via, std::optional<uid_t> uid) const;
+    /// The transport, uid and address caps: a refusal when `via` (or `uid`, or `address` on
+    /// this transport) has no free slot. An empty `address` is not counted.
+    std::optional<Refusal> checkCaps(Via via, std::optional<uid_t> uid, const std::string& address) const;
     /// Takes an admitted connection and polls it from the next round on.
     void add(std::unique_ptr<StreamConn> conn);
 

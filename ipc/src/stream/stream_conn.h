@@ -35,6 +35,7 @@ struct StreamConn {
     Phase phase = Phase::Handshake;
     std::string peer;
     std::optional<uid_t> uid;  // Unix peers (SO_PEERCRED)
+    std::string address;       // TCP and HTTP peers: the address they are counted by ("127.0.0.1", "2001:db8::/64")
     std::string in;
     std::vector<std::uint8_t> out;
     std::size_t out_pos = 0;

@@ -43,6 +43,7 @@ void collectRejections(MetricsRegistry& r, const FrameServerStats& s) {
         .sample({{"reason", "peer"}}, d(s.refused_peer))
         .sample({{"reason", "transport_full"}}, d(s.refused_transport_full))
         .sample({{"reason", "uid_full"}}, d(s.refused_uid_full))
+        .sample({{"reason", "address_full"}}, d(s.refused_address_full))
         .sample({{"reason", "not_rendered"}}, d(s.refused_not_rendered))
         .sample({{"reason", "ring_memory"}}, d(s.refused_ring_memory))
         .sample({{"reason", "http_host"}}, d(s.refused_host))
@@ -85,6 +86,7 @@ nlohmann::json streamCounters(const FrameServerStats& s) {
              {{"peer", s.refused_peer},
               {"transport_full", s.refused_transport_full},
               {"uid_full", s.refused_uid_full},
+              {"address_full", s.refused_address_full},
               {"not_rendered", s.refused_not_rendered},
               {"ring_memory", s.refused_ring_memory},
               {"http_host", s.refused_host},

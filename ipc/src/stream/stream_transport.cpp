@@ -1,12 +1,14 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "stream_transport.h"
 
+#include <arpa/inet.h>
 #include <netinet/in.h>
 #include <netinet/tcp.h>
 #include <sys/socket.h>
 
 #include <algorithm>
 #include <cerrno>
+#include <cstring>
 #include <nlohmann/json.hpp>
 #include <utility>
 
@@ -25,6 +27,28 @@ bool hasControlBytes(const std::string& s) {
         const auto b = static_cast<unsigned char>(ch);
         return (b < 0x20 && b != '\t' && b != '\r' && b != '\n') || b == 0x7F;
     });
+}
+
+std::string peerAddressKey(const sockaddr_storage& ss) {
+    char text[INET6_ADDRSTRLEN] = {};
+    if (ss.ss_family == AF_INET) {
+        sockaddr_in in4{};
+        std::memcpy(&in4, &ss, sizeof(in4));
+        return ::inet_ntop(AF_INET, &in4.sin_addr, text, sizeof(text)) ? text : "";
+    }
+    if (ss.ss_family != AF_INET6) {
+        return {};
+    }
+    sockaddr_in6 in6{};
+    std::memcpy(&in6, &ss, sizeof(in6));
+    if (IN6_IS_ADDR_V4MAPPED(&in6.sin6_addr)) {
+        in_addr v4{};
+        std::memcpy(&v4, in6.sin6_addr.s6_addr + 12, sizeof(v4));
+        return ::inet_ntop(AF_INET, &v4, text, sizeof(text)) ? text : "";
+    }
+    in6_addr prefix = in6.sin6_addr;
+    std::memset(prefix.s6_addr + 8, 0, 8);
+    return ::inet_ntop(AF_INET6, &prefix, text, sizeof(text)) ? std::string(text) + "/64" : "";
 }
 
 StreamTransport::StreamTransport(Via via, ClientHub& hub) : m_hub(hub), m_via(via) {}
@@ -62,36 +86,42 @@ std::string StreamTransport::refusalReply(const std::string& message) const { re
 
 void StreamTransport::acceptAll() {
     for (;;) {
-        net::UniqueFd fd(::accept4(m_listen_fd.get(), nullptr, nullptr, SOCK_NONBLOCK | SOCK_CLOEXEC));
+        sockaddr_storage ss{};
+        socklen_t len = sizeof(ss);
+        net::UniqueFd fd(
+            ::accept4(m_listen_fd.get(), reinterpret_cast<sockaddr*>(&ss), &len, SOCK_NONBLOCK | SOCK_CLOEXEC));
         if (!fd.valid()) {
             if (errno != EAGAIN && errno != EWOULDBLOCK && errno != EINTR) {
                 m_hub.stats().setLastError(net::sysError("accept", acceptObject()));
             }
             return;
         }
-        admit(std::move(fd));
+        admit(std::move(fd), peerAddressKey(ss));
     }
 }
 
-void StreamTransport::admit(net::UniqueFd fd) {
-    const std::string peer = std::string(viaName(m_via)) + "#" + std::to_string(fd.get());
+void StreamTransport::admit(net::UniqueFd fd, const std::string& address) {
+    std::string peer = std::string(viaName(m_via)) + "#" + std::to_string(fd.get());
+    if (!address.empty()) {
+        peer += " (" + address + ")";
+    }
     m_hub.stats().count(&FrameServerStats::accepted);
     // Who may connect, and how many: refusals are answered and closed at once, so they never
     // hold a slot (a refused peer that keeps reconnecting costs one accept each time).
     std::optional<uid_t> uid;
     auto refusal = checkPeer(fd.get(), &uid);
     if (!refusal) {
-        refusal = m_hub.checkCaps(m_via, uid);
+        refusal = m_hub.checkCaps(m_via, uid, address);
     }
     if (refusal) {
         refuse(fd, peer, *refusal);
         return;
     }
-    m_hub.add(makeConn(std::move(fd), peer, uid));
+    m_hub.add(makeConn(std::move(fd), peer, uid, address));
 }
 
 std::unique_ptr<StreamConn> StreamTransport::makeConn(net::UniqueFd fd, const std::string& peer,
-                                                      std::optional<uid_t> uid) const {
+                                                      std::optional<uid_t> uid, const std::string& address) const {
     if (m_via != Via::Unix) {
         // A small kernel queue keeps frames fresh (a slow reader gets the newest frame, not a
         // backlog) and lets a reader that stopped show up as a stall within a few frames.
@@ -104,6 +134,7 @@ std::unique_ptr<StreamConn> StreamTransport::makeConn(net::UniqueFd fd, const st
     c->fd = std::move(fd);
     c->via = m_via;
     c->uid = uid;
+    c->address = address;
     c->phase = firstPhase();
     c->since = c->last_progress = Clock::now();
     c->peer = uid ? peer + " (uid " + std::to_string(*uid) + ")" : peer;

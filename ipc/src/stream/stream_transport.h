@@ -7,6 +7,7 @@
 // and socket payloads), TcpTransport (frame stream over TCP), HttpTransport (viewer, status,
 // metrics, MJPEG). Server thread. Private to ipc/src/stream.
 
+#include <sys/socket.h>
 #include <sys/types.h>
 
 #include <optional>
@@ -61,9 +62,10 @@ protected:
 
 private:
     void acceptAll();
-    void admit(net::UniqueFd fd);
+    void admit(net::UniqueFd fd, const std::string& address);
     void refuse(net::UniqueFd& fd, const std::string& peer, const Refusal& refusal);
-    std::unique_ptr<StreamConn> makeConn(net::UniqueFd fd, const std::string& peer, std::optional<uid_t> uid) const;
+    std::unique_ptr<StreamConn> makeConn(net::UniqueFd fd, const std::string& peer, std::optional<uid_t> uid,
+                                         const std::string& address) const;
 
     Via m_via;
     net::UniqueFd m_listen_fd;
@@ -73,5 +75,8 @@ private:
 std::string jsonErrorLine(const std::string& message);
 /// Control bytes other than tab, CR and LF: no JSON line or HTTP head contains them.
 bool hasControlBytes(const std::string& s);
+/// What a TCP or HTTP peer is counted by: its IPv4 address ("127.0.0.2", also for an IPv4 peer
+/// on an IPv6 socket), or its IPv6 /64 prefix ("2001:db8:1:2::/64"); "" for other families.
+std::string peerAddressKey(const sockaddr_storage& ss);
 
 }  // namespace navmap::ipc::stream_detail

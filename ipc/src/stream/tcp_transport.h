@@ -2,7 +2,7 @@
 #pragma once
 // TcpTransport: the frame stream over TCP (bind_address:tcp_port): the same handshake and headers
 // as the Unix socket, pixels raw or zlib-compressed on the socket; "shm" is refused. Peers have no
-// uid: the transport's cap is their only bound. Server thread. Private to ipc/src/stream.
+// uid: they are bounded by the transport's cap and the cap per peer address. Server thread. Private to ipc/src/stream.
 
 #include "frame_stream_transport.h"
 

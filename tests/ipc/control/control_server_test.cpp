@@ -25,6 +25,7 @@
 #include "navmap/ipc/control_protocol.h"
 #include "navmap/ipc/control_server.h"
 #include "navmap/ipc/control_state.h"
+#include "wait_for.h"
 
 using namespace navmap::ipc;
 using namespace std::chrono_literals;
@@ -589,4 +590,189 @@ TEST(ControlState, SetViewCameraWinsOverTheModeUntilAModeOrNullClearsIt) {
     apply(R"({"cmd":"set_view","display":"cluster","camera":null})");
     EXPECT_FALSE(state.view()->displays.at("cluster").camera);
     EXPECT_EQ(state.view()->displays.at("cluster").mode, ViewMode::Bird);
+}
+
+namespace {
+
+constexpr uid_t kNobody = 65534;
+
+// Opens `count` connections to `path`, sends `line` on each and reads its first line; returns
+// those lines (or the error), one per line. The connections stay open until the process ends:
+// for a ForeignProcess standing in for another user's clients. With `wait_first`, then waits
+// that long for a second line on the first connection and appends it after "first then: ".
+std::string holdControlConnections(const std::string& path, const std::string& line, int count,
+                                   std::chrono::milliseconds wait_first = 0ms) {
+    static std::vector<ControlClient> held;  // the child's: kept until it exits
+    std::string report;
+    for (int i = 0; i < count; ++i) {
+        auto c = ControlClient::connect(path);
+        if (!c.ok()) {
+            report += c.error().message + "\n";
+            continue;
+        }
+        auto r = c.value().request(line, 3s);
+        report += (r.ok() ? r.value() : r.error().message) + "\n";
+        held.push_back(std::move(c.value()));
+    }
+    if (wait_first.count() > 0 && !held.empty()) {
+        auto l = held.front().readLine(wait_first);
+        report += "first then: " + (l.ok() ? l.value() : l.error().message) + "\n";
+    }
+    return report;
+}
+
+int countLines(const std::string& report, const std::string& line) {
+    int n = 0;
+    std::size_t at = 0;
+    while ((at = report.find(line + "\n", at)) != std::string::npos) {
+        n += at == 0 || report[at - 1] == '\n' ? 1 : 0;
+        at += line.size() + 1;
+    }
+    return n;
+}
+
+}  // namespace
+
+TEST(ControlServer, SubscribersThatLeaveTheirRepliesUnreadDoNotHoldTheSlots) {
+    const int fds = countOpenFds();
+    {
+        ControlServerConfig cfg;  // 16 slots, as the daemon has
+        cfg.idle_timeout = 400ms;
+        Fixture f(cfg);
+        ASSERT_TRUE(f.server);
+        // A subscriber that reads its reply and its events, and sends nothing else.
+        auto reader = f.connect();
+        EXPECT_EQ(req(reader, R"({"cmd":"subscribe","events":["position_lost"]})"),
+                  R"({"ok":true,"cmd":"subscribe","events":["position_lost"]})");
+        // Fifteen that send one subscribe line and then neither send nor read anything.
+        std::vector<ControlClient> stalled;
+        for (int i = 0; i < 15; ++i) {
+            stalled.push_back(f.connect());
+            ASSERT_TRUE(stalled.back().send(R"({"cmd":"subscribe","events":["position_lost"]})").ok());
+        }
+        ASSERT_TRUE(navmap::test::waitFor([&] { return f.server->stats().commands == 16; }));
+        {
+            auto refused = f.connect();
+            EXPECT_EQ(req(refused, R"({"cmd":"get_status"})"),
+                      R"j({"ok":false,"error":"too many clients (limit 16)"})j");
+        }
+        // Events keep coming for 1.2 s (three timeouts); the reader reads each one.
+        for (int i = 0; i < 12; ++i) {
+            f.server->publish({ControlEventKind::PositionLost, {}, 0, 0, static_cast<double>(i)});
+            auto ev = reader.nextEvent(2s);
+            ASSERT_TRUE(ev.ok()) << ev.error().message;
+            std::this_thread::sleep_for(100ms);
+        }
+        // Each stalled one finds its reply, the events it never read, the reason, and the end.
+        for (auto& s : stalled) {
+            std::vector<std::string> lines;
+            for (;;) {
+                auto l = s.readLine(2s);
+                if (!l.ok()) {
+                    EXPECT_NE(l.error().message.find("connection closed by the server"), std::string::npos)
+                        << l.error().message;
+                    break;
+                }
+                lines.push_back(l.value());
+            }
+            ASSERT_GE(lines.size(), 2U);
+            EXPECT_EQ(lines.front(), R"({"ok":true,"cmd":"subscribe","events":["position_lost"]})");
+            EXPECT_EQ(lines.back(),
+                      R"({"ok":false,"error":"left its replies and events unread for 0.4 s; disconnecting"})");
+        }
+        EXPECT_EQ(f.server->stats().idle_disconnects, 15U);
+        // The HMI's get_status is answered; the reading subscriber stayed and gets the next event.
+        auto hmi = f.connect();
+        EXPECT_EQ(req(hmi, R"({"cmd":"get_status","id":"hmi"})").substr(0, 40),
+                  R"({"ok":true,"cmd":"get_status","id":"hmi")");
+        f.server->publish({ControlEventKind::PositionLost, {}, 0, 0, 99.0});
+        auto ev = reader.nextEvent(2s);
+        ASSERT_TRUE(ev.ok()) << ev.error().message;
+        EXPECT_EQ(ev.value(), R"({"event":"position_lost","since_s":99.0})");
+    }
+    EXPECT_EQ(countOpenFds(), fds);
+}
+
+TEST(ControlServer, AnotherUidIsCappedInConnectionsAndSubscribersAndNeverLocksOutTheHmi) {
+    if (const auto why = navmap::test::cannotSwitchUser(); !why.empty()) {
+        GTEST_SKIP() << why;
+    }
+    ControlServerConfig cfg;  // the daemon's limits: 16 slots, 8 per uid, 4 subscribers per uid
+    cfg.socket_mode = 0666;
+    cfg.allowed_uids = {kNobody};
+    Fixture f(cfg);
+    ASSERT_TRUE(f.server);
+    ASSERT_EQ(::chmod(std::filesystem::path(f.server->path()).parent_path().c_str(), 0755), 0);
+    const std::string path = f.server->path();
+    // nobody opens 16 connections that each subscribe and read their reply, then hold them.
+    navmap::test::ForeignProcess nobody({kNobody, kNobody, {}}, [path] {
+        return holdControlConnections(path, R"({"cmd":"subscribe","events":["position_lost"]})", 16);
+    });
+    const std::string report = nobody.result();
+    EXPECT_EQ(countLines(report, R"({"ok":true,"cmd":"subscribe","events":["position_lost"]})"), 4) << report;
+    EXPECT_EQ(countLines(report,
+                         R"j({"ok":false,"cmd":"subscribe","error":"too many subscribers from uid 65534 (limit 4)"})j"),
+              4)
+        << report;
+    EXPECT_EQ(countLines(report, R"j({"ok":false,"error":"too many connections from uid 65534 (limit 8)"})j"), 8)
+        << report;
+    // The HMI (root here: privileged) is answered, with connections to spare.
+    std::vector<ControlClient> hmi;
+    for (int i = 0; i < 8; ++i) {
+        hmi.push_back(f.connect());
+        EXPECT_EQ(req(hmi.back(), R"({"cmd":"get_status","id":"hmi"})").substr(0, 40),
+                  R"({"ok":true,"cmd":"get_status","id":"hmi")");
+    }
+    const auto s = f.server->stats();
+    EXPECT_EQ(s.refused_uid_full, 8U);
+    EXPECT_EQ(s.refused_subscribers, 4U);
+    EXPECT_EQ(s.refused_full, 0U);
+    EXPECT_EQ(s.evictions, 0U);
+    EXPECT_EQ(s.clients, 16U);
+    nobody.release();
+}
+
+TEST(ControlServer, APrivilegedPeerTakesTheSlotOfTheLongestSilentUnprivilegedOne) {
+    if (const auto why = navmap::test::cannotSwitchUser(); !why.empty()) {
+        GTEST_SKIP() << why;
+    }
+    ControlServerConfig cfg;
+    cfg.socket_mode = 0666;
+    cfg.allowed_uids = {64001, 64002, 64003};
+    cfg.max_subscribers_per_uid = 8;
+    Fixture f(cfg);
+    ASSERT_TRUE(f.server);
+    ASSERT_EQ(::chmod(std::filesystem::path(f.server->path()).parent_path().c_str(), 0755), 0);
+    const std::string path = f.server->path();
+    const std::string subscribe = R"({"cmd":"subscribe","events":["position_lost"]})";
+    const std::string ok = R"({"ok":true,"cmd":"subscribe","events":["position_lost"]})";
+    // Two other users take all 16 slots with subscribers that read what they get (not idle).
+    // The first of 64001's connections is the one silent longest; it waits for what comes next.
+    navmap::test::ForeignProcess first({64001, 64001, {}},
+                                       [&] { return holdControlConnections(path, subscribe, 8, 10s); });
+    ASSERT_TRUE(navmap::test::waitFor([&] { return f.server->stats().commands == 8; }, 10s));
+    navmap::test::ForeignProcess second({64002, 64002, {}}, [&] { return holdControlConnections(path, subscribe, 8); });
+    EXPECT_EQ(countLines(second.result(), ok), 8) << second.result();
+    // A third unprivileged user finds no slot.
+    navmap::test::ForeignProcess third({64003, 64003, {}}, [&] { return holdControlConnections(path, subscribe, 1); });
+    EXPECT_EQ(third.result(), "{\"ok\":false,\"error\":\"too many clients (limit 16)\"}\n");
+    // The HMI (root) gets a slot: 64001's first connection is told why and closed.
+    auto hmi = f.connect();
+    EXPECT_EQ(req(hmi, R"({"cmd":"get_status","id":"hmi"})").substr(0, 40),
+              R"({"ok":true,"cmd":"get_status","id":"hmi")");
+    const std::string report = first.result();
+    EXPECT_EQ(countLines(report, ok), 8) << report;
+    EXPECT_EQ(
+        countLines(
+            report,
+            R"(first then: {"ok":false,"error":"slot taken by privileged uid 0 (all 16 in use); disconnecting"})"),
+        1)
+        << report;
+    const auto s = f.server->stats();
+    EXPECT_EQ(s.evictions, 1U);
+    EXPECT_EQ(s.refused_full, 1U);
+    EXPECT_EQ(s.clients, 16U);
+    first.release();
+    second.release();
+    third.release();
 }

@@ -11,7 +11,8 @@
 // server's own thread (poll()). Each client gets the newest frame; a busy client skips frames (counted as dropped), a
 // client that makes no progress for `stall_timeout` is disconnected. Clients are untrusted: the Unix socket file is
 // 0660
-// (+ a group) and peers are checked by SO_PEERCRED; connections are capped per transport and per uid; only rendered
+// (+ a group) and peers are checked by SO_PEERCRED; connections are capped per transport, per uid (Unix) and per peer
+// address (TCP, HTTP); only rendered
 // profiles are served; a connection without a handshake or a first frame within `handshake_timeout` is closed (a status
 // from publishStatus() restarts that wait); rings share a memory ceiling and are sealed so that no client can write
 // them.
@@ -67,8 +68,13 @@ struct FrameServerOptions {
     /// more is refused with an error and closed at once.
     std::size_t max_clients_per_transport = 32;
     /// Unix-socket connections per peer uid, so one uid cannot take every slot. TCP and HTTP
-    /// peers have no uid: their transport's cap is their only bound.
+    /// peers have no uid: max_clients_per_address bounds them.
     std::size_t max_clients_per_uid = 8;
+    /// TCP connections per peer address, and HTTP connections per peer address (each transport
+    /// counts its own), so one host cannot take every slot of a transport. IPv6 peers count per
+    /// /64 prefix (one host usually has a whole /64); an IPv4 peer on an IPv6 socket by its IPv4
+    /// address.
+    std::size_t max_clients_per_address = 8;
     /// Shared memory of all rings together (memfd sizes); a request that needs a new ring beyond
     /// it is refused with an error and counted. 0 = no ceiling.
     std::size_t ring_memory_bytes = std::size_t{256} << 20;
@@ -119,6 +125,7 @@ struct FrameServerStats {
     std::uint64_t refused_peer = 0;            ///< Unix peers not on the allow list
     std::uint64_t refused_transport_full = 0;  ///< max_clients_per_transport reached
     std::uint64_t refused_uid_full = 0;        ///< max_clients_per_uid reached
+    std::uint64_t refused_address_full = 0;    ///< max_clients_per_address reached (TCP, HTTP)
     std::uint64_t refused_not_rendered = 0;    ///< a view/size the daemon does not render
     std::uint64_t refused_ring_memory = 0;     ///< a new ring would pass ring_memory_bytes
     std::uint64_t refused_host = 0;            ///< HTTP Host header missing or not this server
