@@ -1,4 +1,10 @@
 // SPDX-License-Identifier: Apache-2.0
+// GCC 12 reports a false -Wstringop-overread inside libosmium's builder once it is inlined here,
+// as in compiler.cpp (osmium/builder/osm_object_builder.hpp reads a NUL-terminated user name).
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic ignored "-Wstringop-overread"
+#endif
+
 #include "osm_limits.h"
 
 #include <osmium/builder/osm_object_builder.hpp>
