@@ -334,7 +334,8 @@ TEST(NavmapdEndToEnd, CheckConfigRefusesDeepAndHugeFilesWithOneLine) {
         return out;
     };
     const std::string deep = repeat("a.", 199999) + "a";
-    const std::string nested = "nested more than 32 levels deep";
+    const std::string nested =
+        "nested more than 32 levels deep (tables, dotted keys, arrays and inline tables together)";
     std::string profiles;
     for (std::size_t i = 0; i < 65; ++i) profiles += "[[profile]]\nname = \"p" + std::to_string(i) + "\"\n";
     const std::pair<std::string, std::string> cases[] = {
