@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "navmap/render/maplibre_camera.h"
+#include "toml_limits.h"
 
 namespace navmap::daemon {
 
@@ -94,6 +95,11 @@ private:
 std::optional<DaemonConfig> parseConfig(const std::string& text, const std::string& source_name, ConfigError* error) {
     ConfigError local;
     ConfigError* err = error ? error : &local;
+    // Before toml++ sees it: depth and size within bounds (toml_limits.h).
+    if (std::string limit = checkTomlLimits(text, source_name); !limit.empty()) {
+        err->message = std::move(limit);
+        return std::nullopt;
+    }
     toml::table root;
     try {
         root = toml::parse(text, source_name);
@@ -123,8 +129,14 @@ std::optional<DaemonConfig> parseConfig(const std::string& text, const std::stri
     // An array of file names (store.mount, input.dbc); anything else in it is an error.
     auto file_names = [&](const char* name, const char* key, std::vector<std::filesystem::path>& out) {
         const auto* t = table(name);
-        const toml::array* array = t ? t->get_as<toml::array>(key) : nullptr;
-        if (!array) return true;
+        const toml::node* n = t ? t->get(key) : nullptr;
+        if (!n) return true;
+        const toml::array* array = n->as_array();
+        if (!array) {  // dbc = "x.dbc" was ignored without a word
+            err->message =
+                where(source_name, n->source()) + ": " + name + "." + key + " must be an array of file names";
+            return false;
+        }
         for (const auto& e : *array) {
             if (auto s = e.value<std::string>()) {
                 out.emplace_back(*s);
@@ -224,6 +236,11 @@ std::optional<DaemonConfig> parseConfig(const std::string& text, const std::stri
         const toml::array* arr = n->as_array();
         if (!arr || !arr->is_array_of_tables()) {
             err->message = where(source_name, n->source()) + ": profile must be an array of tables ([[profile]])";
+            return std::nullopt;
+        }
+        if (arr->size() > kMaxProfiles) {
+            err->message = where(source_name, (*arr)[kMaxProfiles].source()) + ": " + std::to_string(arr->size()) +
+                           " profiles, more than " + std::to_string(kMaxProfiles);
             return std::nullopt;
         }
         for (const auto& e : *arr) {

@@ -88,12 +88,16 @@ struct DaemonConfig {
     double watchdog_max_frame_s = 2.0;  ///< WATCHDOG=1 only while a frame finished this recently
 };
 
+/// At most this many [[profile]] tables: each is a renderer's display with its own frames.
+inline constexpr std::size_t kMaxProfiles = 64;
+
 /// What went wrong in a config file: "<file>:<line>:<column>: <problem>".
 struct ConfigError {
     std::string message;
 };
 
-/// Parses TOML text; unknown keys are errors (typos must not pass silently).
+/// Parses TOML text; unknown keys are errors (typos must not pass silently). Text nested deeper or
+/// holding more values than TomlLimits' defaults is refused before toml++ parses it (toml_limits.h).
 std::optional<DaemonConfig> parseConfig(const std::string& text, const std::string& source_name, ConfigError* error);
 std::optional<DaemonConfig> loadConfig(const std::filesystem::path& path, ConfigError* error);
 

@@ -191,6 +191,7 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
         const auto graph = std::make_shared<const map::RoadGraph>(std::move(scene.graph));
         VehicleInput input(config, scene.projection(), scene.store->path(), scene.graph_problem, graph, control_state,
                            options.data_dir, options.simulator, scene.reachM());
+        for (const auto& w : input.setupWarnings()) log(Log::kWarning, "%s", w.c_str());
         const auto control_server = createControlServer(config, *control_state);
         const auto frames = startFrameServer(config, metrics, status);
         DisplayScheduler displays(

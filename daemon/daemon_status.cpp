@@ -34,6 +34,7 @@ void DaemonStatus::publish(const StatusSample& m) {
         {"can_state", in.can_state},
         {"replay_malformed_lines", in.replay_malformed_lines},
         {"replay_time_errors", in.replay_time_errors},
+        {"dbc_skipped_entries", in.dbc_skipped_entries},
         {"error", in.error}};
     st["road_graph"] = m.road_graph;
     st["position"] = {{"valid", pose.valid},

@@ -14,6 +14,7 @@
 #include "navmap/cli/cli.h"
 #include "navmap/install_layout.h"
 #include "navmap/sim/simulated_can_source.h"
+#include "vehicle_input.h"
 
 int main(int argc, char** argv) {
     using namespace navmap::daemon;
@@ -103,6 +104,16 @@ int main(int argc, char** argv) {
         return 1;
     }
     if (check) {
+        // The DBC files and the signal map, as the start opens them: their errors are
+        // configuration errors too (exit 1), not something to find out at the start.
+        DecoderSetup setup;
+        try {
+            (void)VehicleInput::openDecoder(c, navmap::install::dataDir(), &setup);
+        } catch (const std::exception& e) {
+            std::fprintf(stderr, "<3>navmapd: %s\n", e.what());
+            return 1;
+        }
+        for (const auto& w : setup.warnings) std::fprintf(stderr, "<4>navmapd: %s\n", w.c_str());
         std::cout << "configuration OK\n" << describeConfig(c);
         return 0;
     }

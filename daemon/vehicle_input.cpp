@@ -10,11 +10,28 @@
 
 namespace navmap::daemon {
 
-VehicleInput::VehicleInput(const DaemonConfig& config, const map::Projection& projection,
-                           const std::filesystem::path& store_path, const std::string& graph_problem,
-                           std::shared_ptr<const map::RoadGraph> graph,
-                           const std::shared_ptr<ipc::ControlState>& control, const std::filesystem::path& data_dir,
-                           const SimulatorFactory& simulator, double map_reach_m) {
+namespace {
+
+// A configured DBC without a single message is not a vehicle database (a wrong file, a truncated
+// one): an error naming it. Broken entries of a usable one are skipped (DbcDatabase::Mode::Lenient),
+// counted and named, one line per file.
+void checkDbc(const ipc::DbcDatabase& db, const std::filesystem::path& path, DecoderSetup* setup) {
+    const auto first = [&db] {
+        return db.diagnostics().empty() ? std::string() : " (first: " + db.diagnostics().front().message + ")";
+    };
+    if (db.messages().empty()) {
+        throw std::runtime_error(path.string() + ": no message (BO_) in it, not a DBC file" + first());
+    }
+    if (db.diagnosticCount() == 0 || !setup) return;
+    setup->dbc_skipped_entries += db.diagnosticCount();
+    setup->warnings.push_back(path.string() + ": " + std::to_string(db.diagnosticCount()) +
+                              " broken DBC entries skipped" + first());
+}
+
+}  // namespace
+
+ipc::VehicleDecoder VehicleInput::openDecoder(const DaemonConfig& config, const std::filesystem::path& data_dir,
+                                              DecoderSetup* setup) {
     // DBC databases: the configured ones, else the shipped GNSS node.
     std::vector<std::filesystem::path> dbc_files = config.dbc_files;
     if (dbc_files.empty()) dbc_files.push_back(data_dir / "navmap.dbc");
@@ -22,6 +39,7 @@ VehicleInput::VehicleInput(const DaemonConfig& config, const map::Projection& pr
     for (const auto& f : dbc_files) {
         auto db = ipc::DbcDatabase::load(f);
         if (!db) throw std::runtime_error(db.error().message);
+        checkDbc(db.value(), f, setup);
         databases.push_back(std::make_shared<const ipc::DbcDatabase>(std::move(db).value()));
     }
     ipc::SignalMap signals = ipc::SignalMap::navmapDefaults();
@@ -32,7 +50,18 @@ VehicleInput::VehicleInput(const DaemonConfig& config, const map::Projection& pr
     }
     auto decoder = ipc::VehicleDecoder::create(databases, signals);
     if (!decoder) throw std::runtime_error(decoder.error().message);
-    m_decoder = std::make_unique<ipc::VehicleDecoder>(std::move(decoder).value());
+    return std::move(decoder).value();
+}
+
+VehicleInput::VehicleInput(const DaemonConfig& config, const map::Projection& projection,
+                           const std::filesystem::path& store_path, const std::string& graph_problem,
+                           std::shared_ptr<const map::RoadGraph> graph,
+                           const std::shared_ptr<ipc::ControlState>& control, const std::filesystem::path& data_dir,
+                           const SimulatorFactory& simulator, double map_reach_m) {
+    DecoderSetup setup;
+    m_decoder = std::make_unique<ipc::VehicleDecoder>(openDecoder(config, data_dir, &setup));
+    m_stats.dbc_skipped_entries = setup.dbc_skipped_entries;
+    m_setup_warnings = std::move(setup.warnings);
 
     VehicleStateConfig vcfg;
     vcfg.gnss_timeout_s = config.stale_after_s;

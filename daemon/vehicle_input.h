@@ -13,6 +13,7 @@
 #include <mutex>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "config.h"
 #include "navmap/daemon/vehicle/can_source.h"
@@ -36,9 +37,18 @@ struct VehicleInputStats {
     std::uint64_t replay_loops = 0;
     std::uint64_t replay_malformed_lines = 0;  ///< skipped lines of the replayed log (all passes)
     std::uint64_t replay_time_errors = 0;      ///< frames whose time did not fit the clock
+    std::uint64_t dbc_skipped_entries = 0;     ///< broken entries of the DBC files, skipped at start
     /// Why this input gives no (more) positions: "replay stopped: ...", "the simulator cannot
     /// plan a route: road graph unavailable: ..."; empty while it works.
     std::string error;
+};
+
+/// What opening the decoder skipped (VehicleInput::openDecoder).
+struct DecoderSetup {
+    /// One line per DBC file with broken entries: "<file>: 3 broken DBC entries skipped (first:
+    /// <file>:<line>: <problem>)".
+    std::vector<std::string> warnings;
+    std::uint64_t dbc_skipped_entries = 0;
 };
 
 /// A new map frame for the input thread (VehicleInput::rebase; FrameRecentring says when).
@@ -55,8 +65,8 @@ struct FrameRebase {
 
 class VehicleInput {
 public:
-    /// Opens the DBC files, the signal map and the source; throws std::runtime_error naming the
-    /// file or interface on failure. `projection` and `store_path`: the map's store (the
+    /// Opens the DBC files, the signal map (openDecoder) and the source; throws
+    /// std::runtime_error naming the file or interface on failure. `projection` and `store_path`: the map's store (the
     /// simulator plans on it). In sim mode the simulated route is set on `control`; without a
     /// road graph (`graph_problem` says why, map::MapScene::graph_problem) or without a
     /// `simulator` (can_sources.h) the input runs without a source and says so (stats().error).
@@ -92,6 +102,16 @@ public:
     /// The newest estimator snapshot (never null), in the frame of its parts().frame_epoch.
     [[nodiscard]] std::shared_ptr<const VehicleState> state() const { return m_state.load(); }
     [[nodiscard]] VehicleInputStats stats() const;
+    /// What the setup skipped (DecoderSetup::warnings), for the log.
+    [[nodiscard]] const std::vector<std::string>& setupWarnings() const { return m_setup_warnings; }
+
+    /// The decoder of `config`: its DBC files (none: `data_dir`/navmap.dbc) and its signal map
+    /// ([[can.signal]], else navmap.dbc's). Throws std::runtime_error naming the file or the
+    /// mapping: a file that cannot be read, a DBC file without any message, a mapping to a signal
+    /// none of them has. Broken entries of a usable DBC file are skipped and reported in `setup`.
+    /// navmapd --check-config runs it too.
+    static ipc::VehicleDecoder openDecoder(const DaemonConfig& config, const std::filesystem::path& data_dir,
+                                           DecoderSetup* setup);
 
 private:
     void run();
@@ -119,6 +139,7 @@ private:
     std::thread m_thread;
     mutable std::mutex m_stats_mutex;
     VehicleInputStats m_stats;
+    std::vector<std::string> m_setup_warnings;
     ipc::VehicleSample m_update;
 };
 

@@ -52,6 +52,7 @@
 #include "navmap/map/tile_scheme.h"
 #include "navmap/map/triangulator.h"
 #include "osm_handlers.h"
+#include "osm_limits.h"
 #include "spill_dir.h"
 
 namespace navmap::map {
@@ -710,6 +711,18 @@ std::string mib(std::uint64_t bytes) {
     return buf;
 }
 
+/// osmium::relations::read_relations() with OsmLimits in front of the manager: a relation beyond
+/// the member cap stops the compile, and the manager sees each member of a relation once.
+template <typename Manager>
+void readRelations(const osmium::io::File& file, Manager& manager, OsmLimits& limits) {
+    osmium::io::Reader reader{file, osmium::osm_entity_bits::relation};
+    while (osmium::memory::Buffer buffer = reader.read()) {
+        for (const auto& relation : buffer.select<osmium::Relation>()) manager.relation(limits.uniqueMembers(relation));
+    }
+    reader.close();
+    manager.prepare_for_lookup();
+}
+
 }  // namespace
 
 CompileStats compileStore(const CompileOptions& opt) {
@@ -858,7 +871,8 @@ CompileStats compileStore(const CompileOptions& opt) {
             index = std::make_unique<osmium::index::map::FlexMem<osmium::unsigned_object_id_type, osmium::Location>>();
         }
         osmium::handler::NodeLocationsForWays<NodeIndex> locations{*index};
-        locations.ignore_errors();  // ways crossing the extract border keep their inside parts
+        OsmLimits limits{osm_name};  // first in each pass: nothing copies an object beyond the caps
+        locations.ignore_errors();   // ways crossing the extract border keep their inside parts
         auto areas_out = [&](osmium::memory::Buffer&& buffer) { osmium::apply(buffer, buildings, areas, labels); };
         // The second pass, with the multipolygon manager's handler last.
         auto read_all = [&](auto& mp_handler) {
@@ -866,7 +880,7 @@ CompileStats compileStore(const CompileOptions& opt) {
             const std::size_t total = std::max<std::size_t>(reader.file_size(), 1);
             double last_log = elapsed();
             while (osmium::memory::Buffer buffer = reader.read()) {
-                osmium::apply(buffer, locations, roads, graph_ways, labels, coast, mp_handler);
+                osmium::apply(buffer, limits, locations, roads, graph_ways, labels, coast, mp_handler);
                 drain();
                 if (elapsed() - last_log >= 1.0) {  // progress once a second on long runs
                     last_log = elapsed();
@@ -886,14 +900,21 @@ CompileStats compileStore(const CompileOptions& opt) {
             // Member ways of multipolygon relations wait in a spill file, not in memory, until
             // their relation is complete (multipolygon_spill.h); the same areas in the same order.
             DiskMultipolygonManager mp{cfg, filter, *spill / "multipolygon-ways.spill"};
-            osmium::relations::read_relations(file, mp);
+            readRelations(file, mp, limits);
             read_all(mp.handler(areas_out));
             log("multipolygons: " + std::to_string(mp.completeRelations()) + " relations complete, " +
                 std::to_string(mp.memberWays()) + " member ways spilled");
         } else {
             osmium::area::MultipolygonManager<osmium::area::Assembler> mp{cfg, filter};
-            osmium::relations::read_relations(file, mp);
+            readRelations(file, mp, limits);
             read_all(mp.handler(areas_out));
+        }
+        stats.repeated_members = limits.repeatedMembers();
+        if (limits.relationsWithRepeats() > 0) {
+            warn(std::to_string(limits.relationsWithRepeats()) +
+                 " relation(s) listed members more than once (relation " +
+                 std::to_string(limits.firstRelationWithRepeats()) +
+                 " first): " + std::to_string(limits.repeatedMembers()) + " repeats left out");
         }
     } catch (const CompileError&) {
         throw;

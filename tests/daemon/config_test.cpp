@@ -144,6 +144,11 @@ TEST(DaemonConfig, ErrorsNameFileLineAndProblem) {
     EXPECT_EQ(m, "navmapd.toml:2:12: store.cache_mb = 2 out of range [8, 65536]");
     EXPECT_FALSE(parse("[store]\nmount = [\"a.navmap\", 3]\n", &m));
     EXPECT_EQ(m, "navmapd.toml:2:22: store.mount entries must be file names");
+    // One file name where a list is wanted was ignored without a word.
+    EXPECT_FALSE(parse("[input]\ndbc = \"vehicle.dbc\"\n", &m));
+    EXPECT_EQ(m, "navmapd.toml:2:7: input.dbc must be an array of file names");
+    EXPECT_FALSE(parse("[store]\nmount = \"north.navmap\"\n", &m));
+    EXPECT_EQ(m, "navmapd.toml:2:9: store.mount must be an array of file names");
     EXPECT_FALSE(parse("[render]\nmsaa = 4\nsytle = \"night\"\n", &m));
     EXPECT_EQ(m, "navmapd.toml:3:9: unknown key render.sytle");
     EXPECT_FALSE(parse("[render]\nground = \"satellite\"\n", &m));

@@ -24,6 +24,7 @@
 #include "navmap/ipc/control_client.h"
 #include "navmap/ipc/stream_client.h"
 #include "navmapd_process.h"
+#include "wait_for.h"
 
 extern char** environ;
 
@@ -347,6 +348,105 @@ TEST(NavmapdEndToEnd, CheckConfigPrintsTheEffectiveConfiguration) {
     while (std::fgets(buf, sizeof buf, p)) out += buf;
     EXPECT_NE(::pclose(p), 0);
     EXPECT_NE(out.find("render.style = \"dusk\": expected day or night"), std::string::npos) << out;
+    fs::remove(cfg);
+}
+
+// input.dbc: a file without a single message (a wrong file) beside the good navmap.dbc stops the
+// start with one line naming it, exit 1 (bad input, docs/tools.md); a usable file's broken entries
+// are skipped, logged once and counted in get_status, and the good file beside it decodes.
+TEST(NavmapdEndToEnd, DbcFilesWithoutMessagesStopTheStartAndBrokenEntriesAreCounted) {
+    const fs::path dir = fs::temp_directory_path() / ("navmapd-dbc-" + std::to_string(::getpid()));
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    writeStandingLog(dir / "standing.candump");
+    std::ofstream(dir / "garbage.dbc") << "not a DBC file\n\x89PNG\r\n";
+    std::ofstream(dir / "extra.dbc") << "VERSION \"\"\n\nBO_ 1536 EXTRA: 8 X\n SG_ A : 0|8@1+ (1,0) [0|0] \"\" X\n"
+                                     << "BO_ x: 8 X\n";
+    const auto write_config = [&](const fs::path& second) {
+        std::ofstream(dir / "navmapd.toml", std::ios::trunc)
+            << "[input]\nsource = \"replay\"\nreplay_log = \"" << (dir / "standing.candump").string() << "\"\ndbc = [\""
+            << NAVMAP_IPC_DEFAULT_DBC << "\", \"" << second.string() << "\"]\n"
+            << "[render]\nlabels = false\n[[profile]]\nname = \"small\"\nwidth = 320\nheight = 240\nfps = 5\n"
+            << "[control]\nsocket = \"" << (dir / "control.sock").string() << "\"\n[stream]\nsocket = \""
+            << (dir / "frames.sock").string() << "\"\nhttp_port = 0\n";
+    };
+    const std::string config = "--config " + (dir / "navmapd.toml").string();
+    write_config(dir / "garbage.dbc");
+    const std::string garbage = (dir / "garbage.dbc").string();
+    const std::string refused = "<3>navmapd: " + garbage +
+                                ": no message (BO_) in it, not a DBC file (first: " + garbage +
+                                ":2: unexpected text '?PNG')\n";
+    auto [status, out] = runNavmapd(config + " --noop --run-for 20");
+    EXPECT_EQ(status, 1) << out;
+    EXPECT_NE(out.find(refused), std::string::npos) << out;
+    // --check-config opens them as the start does: the same line, exit 1 (it said "configuration OK").
+    std::tie(status, out) = runNavmapd(config + " --check-config");
+    EXPECT_EQ(status, 1) << out;
+    EXPECT_EQ(out, refused);
+    // So is a signal mapped to a message that none of the DBC files has.
+    write_config(dir / "extra.dbc");
+    std::ofstream(dir / "navmapd.toml", std::ios::app)
+        << "[[can.signal]]\nvss = \"Vehicle.Speed\"\nmessage = \"ABS\"\nsignal = \"SPEED\"\n";
+    std::tie(status, out) = runNavmapd(config + " --check-config");
+    EXPECT_EQ(status, 1) << out;
+    EXPECT_NE(out.find("<3>navmapd: signal map Vehicle.Speed <- ABS.SPEED: message 'ABS' is in none of the DBC files"),
+              std::string::npos)
+        << out;
+
+    write_config(dir / "extra.dbc");
+    const std::string extra = (dir / "extra.dbc").string();
+    const std::string skipped = "<4>navmapd: " + extra + ": 1 broken DBC entries skipped (first: " + extra +
+                                ":5: BO_: expected a numeric message id)\n";
+    std::tie(status, out) = runNavmapd(config + " --check-config");
+    EXPECT_EQ(status, 0) << out;
+    EXPECT_EQ(out.rfind(skipped + "configuration OK\n", 0), 0u) << out;
+    navmap::test::NavmapdProcess d(NAVMAPD_PATH, "--config " + (dir / "navmapd.toml").string() + " --noop",
+                                   dir / "navmapd.log", dir / "frames.sock");
+    ASSERT_TRUE(fs::exists(dir / "frames.sock")) << d.output();
+    EXPECT_NE(d.output().find(skipped), std::string::npos) << d.output();
+    std::string st;
+    const auto decoded = [&] {
+        auto control = navmap::ipc::ControlClient::connect((dir / "control.sock").string());
+        if (!control) return false;
+        auto reply = control.value().request(R"({"cmd":"get_status"})");
+        st = reply ? reply.value() : reply.error().message;
+        return st.find("\"valid\":true") != std::string::npos;
+    };
+    EXPECT_TRUE(navmap::test::waitFor(decoded, 10s)) << "navmap.dbc's fixes decode: " << st;
+    EXPECT_NE(st.find("\"dbc_skipped_entries\":1"), std::string::npos) << st;
+    EXPECT_EQ(d.stop(), 0) << d.output();
+    fs::remove_all(dir);
+}
+
+// Files that took toml++ down (a 200,000-level header or dotted key: SIGSEGV, exit 139) or that
+// it parsed at any size (a million profiles, 1.2 GB): one error line naming the place, exit 1.
+TEST(NavmapdEndToEnd, CheckConfigRefusesDeepAndHugeFilesWithOneLine) {
+    const fs::path cfg = fs::temp_directory_path() / ("navmapd-deep-" + std::to_string(::getpid()) + ".toml");
+    const auto repeat = [](const std::string& s, std::size_t n) {
+        std::string out;
+        for (std::size_t i = 0; i < n; ++i) out += s;
+        return out;
+    };
+    const std::string deep = repeat("a.", 199999) + "a";
+    const std::string nested =
+        "nested more than 32 levels deep (tables, dotted keys, arrays and inline tables together)";
+    std::string profiles;
+    for (std::size_t i = 0; i < 65; ++i) profiles += "[[profile]]\nname = \"p" + std::to_string(i) + "\"\n";
+    const std::pair<std::string, std::string> cases[] = {
+        {"[" + deep + "]\n", ":1:2: table header " + nested},
+        {"[render]\n" + deep + " = 1\n", ":2:1: key " + nested},
+        {"[render]\nx = " + repeat("{a = ", 100000) + "1" + repeat("}", 100000) + "\n",
+         ":2:80: inline table " + nested},
+        {"[render]\nx = " + repeat("[", 200000) + repeat("]", 200000) + "\n", ":2:35: array " + nested},
+        {repeat("[[profile]]\n", 30000), ":20001:3: more than 20000 keys, tables and array elements"},
+        {profiles, ":129:1: 65 profiles, more than 64"},
+    };
+    for (const auto& [text, error] : cases) {
+        std::ofstream(cfg, std::ios::trunc) << text;
+        const auto [status, out] = runNavmapd("--check-config --config " + cfg.string());
+        EXPECT_EQ(status, 1) << error << "\n" << out.substr(0, 500);
+        EXPECT_EQ(out, "<3>navmapd: " + cfg.string() + error + "\n");
+    }
     fs::remove(cfg);
 }
 

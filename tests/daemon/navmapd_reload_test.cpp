@@ -13,6 +13,7 @@
 #include "navmap/ipc/control_client.h"
 #include "navmap/ipc/stream_client.h"
 #include "navmapd_process.h"
+#include "wait_for.h"
 
 namespace {
 
@@ -134,6 +135,64 @@ TEST(NavmapdReload, SighupAppliesStyleAndFpsWithoutDroppingClientsAndRefusesABro
     EXPECT_NE(st2.find("\"reload_errors\":1"), std::string::npos) << st2;
 
     EXPECT_EQ(d.stop(), 0) << d.output();
+    fs::remove_all(dir);
+}
+
+// A 1,000,000-level table header took navmapd down on SIGHUP (toml++ recursed off the stack);
+// such files, a dotted key as deep and more profiles than allowed are refused with one line each,
+// counted, and the running configuration keeps rendering (daemon/toml_limits.h).
+TEST(NavmapdReload, SighupWithADeepOrHugeFileKeepsTheRunningConfiguration) {
+    const fs::path dir = fs::temp_directory_path() / ("navmapd-reload-deep-" + std::to_string(::getpid()));
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    navmap::test::writeStandingLog(dir / "standing.candump");
+    writeConfig(dir, "day", 4);
+    navmap::test::NavmapdProcess d(NAVMAPD_PATH, "--config " + (dir / "navmapd.toml").string() + " --log-level info",
+                                   dir / "navmapd.log", dir / "frames.sock");
+    ASSERT_TRUE(fs::exists(dir / "frames.sock")) << d.output();
+    const std::string config = (dir / "navmapd.toml").string();
+    const auto repeat = [](const std::string& s, std::size_t n) {
+        std::string out;
+        for (std::size_t i = 0; i < n; ++i) out += s;
+        return out;
+    };
+    const std::string nested =
+        "nested more than 32 levels deep (tables, dotted keys, arrays and inline tables together)";
+    std::string profiles;
+    for (int i = 0; i < 65; ++i) profiles += "[[profile]]\nname = \"p" + std::to_string(i) + "\"\n";
+    const std::pair<std::string, std::string> cases[] = {
+        {"[" + repeat("a.", 999999) + "a]\n", ":1:2: table header " + nested},
+        {"[render]\n" + repeat("a.", 999999) + "a = 1\n", ":2:1: key " + nested},
+        {repeat("[[profile]]\nname = \"p\"\n", 20000), ":20001:3: more than 20000 keys, tables and array elements"},
+        {profiles, ":129:1: 65 profiles, more than 64"},
+    };
+    std::size_t refused = 0;
+    for (const auto& [text, error] : cases) {
+        std::ofstream(dir / "navmapd.toml", std::ios::trunc) << text;
+        ASSERT_TRUE(d.signal(SIGHUP));
+        ++refused;
+        const std::string line = "<3>navmapd: reload: " + config + error + " (keeping the running configuration)\n";
+        const auto seen = [&] {
+            const std::string out = d.output();
+            std::size_t n = 0;
+            for (auto at = out.find("<3>navmapd: reload: "); at != std::string::npos;
+                 at = out.find("<3>navmapd: reload: ", at + 1))
+                ++n;
+            return n == refused && out.find(line) != std::string::npos;
+        };
+        EXPECT_TRUE(navmap::test::waitFor(seen, 10s)) << line << d.output().substr(0, 2000);
+    }
+    const std::string st = daemonStatus(dir / "control.sock");
+    EXPECT_NE(st.find("\"reload_errors\":4"), std::string::npos) << st;
+    EXPECT_NE(st.find("\"style\":\"day\""), std::string::npos) << st;
+
+    // Still rendering the running profile for a client that asks for it.
+    navmap::ipc::StreamRequest request;
+    request.profile = {"small", 800, 240, 30, "snail"};
+    auto client = navmap::ipc::StreamClient::connectUnix((dir / "frames.sock").string(), request);
+    ASSERT_TRUE(client) << client.error().message;
+    EXPECT_GT(receive(*client.value(), 6000ms, 0, d).frames, 0) << d.output().substr(0, 2000);
+    EXPECT_EQ(d.stop(), 0) << d.output().substr(0, 2000);
     fs::remove_all(dir);
 }
 

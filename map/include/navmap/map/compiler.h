@@ -70,6 +70,9 @@ struct CompileStats {
     /// natural=coastline ways read; sea rings and islands assembled; gaps closed; ways of broken
     /// coastlines left out (coastline.h).
     std::size_t coast_ways = 0, sea_rings = 0, islands = 0, coast_gaps_closed = 0, coast_ways_left_out = 0;
+    /// Relation members left out as repeats of an earlier member of the same relation (each
+    /// reaches the multipolygon assembly once; docs/tile-store.md "Limits").
+    std::size_t repeated_members = 0;
     std::size_t tiles = 0;
     std::size_t tiles_with_ortho = 0;  ///< tiles with ortho layers (CompileOptions::ortho_inputs)
     double ortho_seconds = 0;          ///< reading the global inputs and sampling the layers
@@ -79,7 +82,8 @@ struct CompileStats {
     std::vector<std::string> warnings;
 };
 
-/// Compiles; throws CompileError (bad options, bad OSM input, bad DEM, nothing to compile) or
+/// Compiles; throws CompileError (bad options, bad OSM input, a way or relation beyond the caps of
+/// docs/tile-store.md "Limits", bad DEM, nothing to compile) or
 /// StoreError (cannot write: the folder of `out` missing, another process writing it, ...). Holds
 /// the store's StoreLock from the start. A DEM that does not cover part of the data is a warning:
 /// flat terrain.
