@@ -33,6 +33,9 @@ GlRenderer::GlRenderer(const RendererOptions& options) : m_options(options), m_e
     // its rasterization is done, so a buffer ring buys no overlap there and costs width x height
     // x 4 bytes per slot: one slot (direct read, ReadbackRing). GPUs copy asynchronously: two.
     if (m_options.readback_ring <= 0) m_options.readback_ring = m_device.software ? 1 : 2;
+    if (!m_options.program_cache_dir.empty())
+        m_programs = std::make_unique<ProgramBinaryCache>(m_options.program_cache_dir);
+    const ProgramBinaryCache::Use programs(m_programs.get());  // the passes compile theirs below
     m_terrain = std::make_unique<TerrainLayer>();
     m_map = std::make_unique<MapRenderer>(m_options, m_device.software);
     addTarget(options.width, options.height);  // the primary target, id 0
@@ -113,6 +116,7 @@ void GlRenderer::resize(TargetHandle target, int width, int height) {
 
 void GlRenderer::setTerrain(const HeightfieldMesh& mesh) {
     m_egl.makeCurrent();
+    const ProgramBinaryCache::Use programs(m_programs.get());
     m_terrain->upload(mesh);
 }
 
@@ -133,6 +137,7 @@ void GlRenderer::render(TargetHandle handle, const Camera& camera) {
 void GlRenderer::renderMap(TargetHandle target, const MapFrame& frame) {
     const View& v = view(target);
     m_egl.makeCurrent();
+    const ProgramBinaryCache::Use programs(m_programs.get());  // passes made on first use compile theirs here
     // Each target is a view of its own: its label layout continues from its own last frame.
     m_map->render(frame, *v.target, target.id());
 }
