@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <iostream>
 
 #include "config.h"
@@ -119,7 +120,12 @@ int main(int argc, char** argv) {
             c.shader_cache = first;
         }
     }
-    if (!c.shader_cache.empty()) ::setenv("MESA_SHADER_CACHE_DIR", (c.shader_cache / "mesa").c_str(), 0);
+    if (!c.shader_cache.empty()) {
+        // Mesa makes only the last directory of the path: the rest must exist.
+        std::error_code ec;
+        std::filesystem::create_directories(c.shader_cache / "mesa", ec);
+        ::setenv("MESA_SHADER_CACHE_DIR", (c.shader_cache / "mesa").c_str(), 0);
+    }
     RunOptions options;
     options.run_for_s = run_for;
     if (!config_path.empty()) options.config_path = config_path;
