@@ -214,7 +214,7 @@ std::optional<DaemonConfig> parseConfig(const std::string& text, const std::stri
         if (!r.get("egl_platform", c.egl_platform) || !r.get("msaa", c.msaa) || !r.range("msaa", c.msaa, -1, 16) ||
             !r.get("style", style) || !r.get("ground", ground) || !r.get("labels", c.labels) ||
             !r.get("gpu_tile_cache", c.gpu_tile_cache) || !r.range("gpu_tile_cache", c.gpu_tile_cache, 0, 100000) ||
-            !r.noUnknownKeys())
+            !r.get("shader_cache", c.shader_cache) || !r.noUnknownKeys())
             return std::nullopt;
         if (c.egl_platform != "auto" && c.egl_platform != "surfaceless" && c.egl_platform != "device") {
             err->message = source_name + ": render.egl_platform = \"" + c.egl_platform +
@@ -445,7 +445,9 @@ std::string describeConfig(const DaemonConfig& c) {
       << ", position stale after " << c.stale_after_s << " s\n";
     s << "render: egl " << c.egl_platform << ", msaa " << c.msaa << ", style " << (c.night ? "night" : "day")
       << ", ground " << (c.orthoimage_ground ? "orthoimage" : "landcover") << ", labels " << (c.labels ? "on" : "off")
-      << ", gpu tile cache " << (c.gpu_tile_cache > 0 ? std::to_string(c.gpu_tile_cache) : std::string("auto")) << "\n";
+      << ", gpu tile cache " << (c.gpu_tile_cache > 0 ? std::to_string(c.gpu_tile_cache) : std::string("auto"))
+      << ", shader cache "
+      << (c.shader_cache.empty() ? std::string("$CACHE_DIRECTORY or none") : c.shader_cache.string()) << "\n";
     for (const auto& p : c.profiles) {
         s << "profile " << p.name << ": " << p.width << "x" << p.height << " @ " << p.fps << " fps, "
           << (p.view == render::ViewMode::Bird ? "bird" : "snail") << ", "

@@ -56,6 +56,10 @@ struct DaemonConfig {
     /// GPU tiles kept (one renderer serves all profiles; a tile any profile drew in its latest
     /// frame is always kept, the cap bounds the others); 0 = automatic (16 + 8 per profile, at least 32).
     int gpu_tile_cache = 0;
+    /// Shader caches (docs/navmapd.md "Start-up"): linked programs as driver binaries in
+    /// <dir>/programs, and Mesa's own cache in <dir>/mesa unless MESA_SHADER_CACHE_DIR is set.
+    /// Empty: $CACHE_DIRECTORY (systemd's CacheDirectory=) when set, else none.
+    std::filesystem::path shader_cache;
     std::vector<DisplayProfile> profiles;  ///< [[profile]]; defaults: cluster, hud, center
     // [control]
     std::filesystem::path control_socket = "/run/navmap/control.sock";

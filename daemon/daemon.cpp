@@ -19,6 +19,7 @@
 #include "navmap/version.h"
 #include "pose_events.h"
 #include "pose_source.h"
+#include "process_clock.h"
 #include "route_guidance.h"
 #include "route_state.h"
 #include "server_options.h"
@@ -176,11 +177,19 @@ FrameContext frameContext(const ipc::ViewState* view, const RouteState& route, c
 int runDaemon(DaemonConfig config, const RunOptions& options) {
     const Log log{config.log_level};
     const auto t_start = Clock::now();
+    const auto t_exec = processStartTime(t_start);
+    // Start-up stages, timed from the exec (docs/navmapd.md "Start-up").
+    const auto stage = [&log, t_exec](const char* what) {
+        log(Log::kInfo, "start-up: %s at %.0f ms", what,
+            std::chrono::duration<double, std::milli>(Clock::now() - t_exec).count());
+    };
+    stage("main");
     SystemdNotifier systemd;
     try {
         Signals signals;
         if (ConfigError err; !validateConfig(config, &err)) throw std::runtime_error("config: " + err.message);
         map::MapScene scene = openScene(config, log);
+        stage("store open");
         const std::string road_graph = scene.graph_problem.empty() ? "ok" : "unavailable: " + scene.graph_problem;
         const auto control_state = makeControlState(config);
         DaemonStatus status;
@@ -192,14 +201,17 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
         VehicleInput input(config, scene.projection(), scene.store->path(), scene.graph_problem, graph, control_state,
                            options.data_dir, options.simulator, scene.reachM());
         for (const auto& w : input.setupWarnings()) log(Log::kWarning, "%s", w.c_str());
+        // Positions flow while the renderer is created: the first frames have a pose to aim at.
+        input.start();
+        stage("vehicle input");
         const auto control_server = createControlServer(config, *control_state);
         const auto frames = startFrameServer(config, metrics, status);
         DisplayScheduler displays(
             config,
             {options.noop_renderer, options.render_all_profiles,
-             options.data_dir.empty() ? std::filesystem::path() : options.data_dir / "ortho-mlp.nnw"},
+             options.data_dir.empty() ? std::filesystem::path() : options.data_dir / "ortho-mlp.nnw", t_exec},
             scene.cache, scene.projection(), *frames, t_start, log);
-        input.start();
+        stage("renderer and targets");
         if (auto st = control_server->start(); !st) throw std::runtime_error(st.message());
         announceReady(log, systemd, config, *frames, input, displays.displays().size(), t_start);
 

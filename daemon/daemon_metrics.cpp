@@ -22,6 +22,8 @@ void DaemonMetrics::update(const StatusSample& m) {
     auto& rendered = reg->counter("navmap_frames_rendered_total", "Frames rendered, per profile.");
     auto& published = reg->counter("navmap_frames_published_total", "Frames handed to the frame server, per profile.");
     auto& uploads = reg->counter("navmap_gpu_tile_uploads_total", "Tiles uploaded to the GPU for a profile's frames.");
+    auto& first_frame = reg->gauge("navmap_first_frame_seconds",
+                                   "Process exec to the profile's first published frame (none before it).");
     for (const auto& display : *m.displays) {
         const std::string& n = display->profile().name;
         const DisplayStats& v = display->stats();
@@ -36,6 +38,7 @@ void DaemonMetrics::update(const StatusSample& m) {
         rendered.sample({{"profile", n}}, d(v.rendered));
         published.sample({{"profile", n}}, d(v.published));
         uploads.sample({{"profile", n}}, d(v.tiles_uploaded));
+        if (v.first_frame_s >= 0) first_frame.sample({{"profile", n}}, v.first_frame_s);
     }
     reg->counter("navmap_can_frames_total", "CAN frames received.").sample(d(m.input.frames));
     reg->counter("navmap_can_rejected_values_total", "Decoded values rejected (out of range, stale counter).")

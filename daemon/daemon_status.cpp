@@ -65,7 +65,8 @@ void DaemonStatus::publish(const StatusSample& m) {
                             {"held_back", s.held_back},
                             {"tiles_wanted", s.tiles_wanted},
                             {"tiles_uploaded", s.tiles_uploaded},
-                            {"attribution", d->hasAttribution()}});
+                            {"attribution", d->hasAttribution()},
+                            {"first_frame_s", s.first_frame_s >= 0 ? nlohmann::json(s.first_frame_s) : nullptr}});
     }
     st["profiles"] = profiles;
     st["stream"] = {{"clients", fs.clients},

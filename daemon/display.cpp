@@ -58,10 +58,12 @@ std::optional<render::MapLibreFollow> cameraFor(const DisplayProfile& p, const i
 }  // namespace
 
 Display::Display(DisplayProfile profile, render::TargetHandle target, std::shared_ptr<map::TileCache> cache,
-                 std::unique_ptr<AttributionOverlay> attribution, Clock::time_point started, Log log)
+                 std::unique_ptr<AttributionOverlay> attribution, Clock::time_point started, Clock::time_point exec,
+                 Log log)
     : m_profile(std::move(profile)),
       m_target(target),
       m_started(started),
+      m_exec(exec),
       m_log(log),
       m_map_view(std::move(cache)),
       m_attribution(std::move(attribution)) {
@@ -138,7 +140,7 @@ void Display::rebase() {
     m_roads_junction = glm::dvec2(std::numeric_limits<double>::quiet_NaN());
 }
 
-void Display::draw(render::Renderer& renderer, const PoseSource& poses, const FrameContext& context,
+bool Display::draw(render::Renderer& renderer, const PoseSource& poses, const FrameContext& context,
                    const map::Projection& projection) {
     m_frame_start = Clock::now();
     const double dt =
@@ -162,6 +164,18 @@ void Display::draw(render::Renderer& renderer, const PoseSource& poses, const Fr
     frame.camera =
         m_rig.update(pose.vehicle, std::min(dt, 0.5), [&ground](double x, double y) { return ground(x, y); });
     m_map_view.select(frame, double(m_profile.width) / m_profile.height, m_profile.height);  // tiles + geomorph
+    if (!mapReady()) {
+        // Start-up: a frame that still lacks tiles under the camera would be held back. Rendering
+        // it costs a whole frame of rasterization (on llvmpipe the CPU the tile loader and the
+        // other profiles need); the request above is all it is good for. Once every tile is
+        // resident, that frame uploads them all at once and is published.
+        m_stats.tiles_wanted = m_map_view.lastSelection().wanted.size();
+        if (m_stats.tiles_wanted > 0 && m_frame_start - m_started <= kStartupTileWait) {
+            ++m_stats.held_back;
+            return false;
+        }
+        frame.upload_all = true;
+    }
     frame.route = context.route;
     frame.route_progress_m = context.route_progress_m;
     frame.layers = layersFor(m_profile, context.labels);
@@ -171,10 +185,19 @@ void Display::draw(render::Renderer& renderer, const PoseSource& poses, const Fr
     if (context.guidance) addGuidance(frame, *context.guidance, context.route, hud);
     renderer.setMapStyle(hud ? render::MapStyle::hud() : context.style);
     renderer.renderMap(m_target, frame);
+    if (m_stats.rendered < 3) {
+        const auto now = Clock::now();
+        m_log(Log::kInfo, "start-up: profile %s frame %llu at %.0f ms (%.0f ms): %zu tiles drawn, %zu pending",
+              m_profile.name.c_str(), static_cast<unsigned long long>(m_stats.rendered),
+              std::chrono::duration<double, std::milli>(now - m_exec).count(),
+              std::chrono::duration<double, std::milli>(now - m_frame_start).count(), renderer.mapStats().tiles_drawn,
+              renderer.mapStats().tiles_pending);
+    }
     m_stats.tiles_drawn = renderer.mapStats().tiles_drawn;
     m_stats.tiles_pending = renderer.mapStats().tiles_pending;
     m_stats.tiles_wanted = m_map_view.lastSelection().wanted.size();
     m_stats.tiles_uploaded += renderer.mapStats().tiles_uploaded;
+    return true;
 }
 
 void Display::finishFrame(render::Renderer& renderer, ipc::FrameServer& frames, Clock::time_point tick) {
@@ -235,7 +258,11 @@ void Display::publish(std::vector<render::Frame>& finished, ipc::FrameServer& fr
         const ipc::CanTime source = it != m_source_times.end() ? it->second : ipc::CanTime{};
         fv.source_time_ns = realtimeNs(source);
         frames.publish(m_profile.name, fv);  // routed by profile: same view and size, other style
-        ++m_stats.published;
+        if (m_stats.published++ == 0) {
+            m_stats.first_frame_s = std::chrono::duration<double>(Clock::now() - m_exec).count();
+            m_log(Log::kInfo, "profile %s: first frame published %.0f ms after exec", m_profile.name.c_str(),
+                  m_stats.first_frame_s * 1000.0);
+        }
         if (source != ipc::CanTime{}) {
             const double latency_ms = std::chrono::duration<double, std::milli>(ipc::CanClock::now() - source).count();
             m_stats.latency_ms.add(latency_ms);

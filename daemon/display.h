@@ -40,6 +40,9 @@ struct DisplayStats {
     std::size_t tiles_wanted = 0;                    ///< last frame: tiles the view still waits for
     std::uint64_t tiles_uploaded = 0;                ///< GPU tile uploads of this display's frames
     std::uint64_t held_back = 0;                     ///< frames not published while the map loaded
+    /// Seconds from the process's exec to its first published frame; negative until then
+    /// (navmap_first_frame_seconds, `first_frame_s` in get_status).
+    double first_frame_s = -1.0;
 };
 
 /// What all displays' frames of one tick share.
@@ -57,9 +60,11 @@ public:
     using Clock = std::chrono::steady_clock;
 
     /// `target`: this display's offscreen target in the shared renderer; `started`: the daemon's
-    /// start (the start-up wait counts from there).
+    /// start (the start-up wait counts from there); `exec`: the process's start (the first
+    /// frame's time counts from there).
     Display(DisplayProfile profile, render::TargetHandle target, std::shared_ptr<map::TileCache> cache,
-            std::unique_ptr<AttributionOverlay> attribution, Clock::time_point started, Log log);
+            std::unique_ptr<AttributionOverlay> attribution, Clock::time_point started, Clock::time_point exec,
+            Log log);
 
     [[nodiscard]] const DisplayProfile& profile() const { return m_profile; }
     [[nodiscard]] render::TargetHandle target() const { return m_target; }
@@ -76,12 +81,18 @@ public:
     /// profile's attribution setting changed.
     void reconfigure(const DisplayProfile& p, std::unique_ptr<AttributionOverlay> attribution);
     void skipIdle() { ++m_stats.skipped_idle; }
+    /// The tile loader's queue for this display's tiles: lower loads first (the scheduler gives
+    /// the profiles their configured order, the cluster first).
+    void setLoadPriority(int queue) { m_map_view.setLoadQueue(queue); }
 
     /// The daemon re-centred its map frame: forgets what it keeps in the old one (the HUD's
     /// junction roads).
     void rebase();
-    /// Renders one frame into this display's target with the pose of this moment.
-    void draw(render::Renderer& renderer, const PoseSource& poses, const FrameContext& context,
+    /// Renders one frame into this display's target with the pose of this moment. At start-up,
+    /// while the tiles under the camera are still loading, it only selects and requests them and
+    /// renders nothing (the frame would be held back): returns false then, and finishFrame() is
+    /// not called for it.
+    bool draw(render::Renderer& renderer, const PoseSource& poses, const FrameContext& context,
               const map::Projection& projection);
     /// After draw(): numbers the frame, publishes the readbacks that have finished, times the
     /// frame. `tick`: when the loop's tick began (the start-up wait is measured to it).
@@ -116,6 +127,7 @@ private:
     std::vector<const map::Tile*> m_roads_tiles;
     render::TargetHandle m_target;
     Clock::time_point m_started;
+    Clock::time_point m_exec;
     Log m_log;
     render::MapView m_map_view;
     render::CameraRig m_rig;

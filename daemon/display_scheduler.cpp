@@ -40,6 +40,7 @@ render::RendererOptions rendererOptions(const DaemonConfig& config, const Displa
     // docs/benchmarks/2026-11-26-ortho-gpu.md).
     ro.ortho_weights = ortho_weights.string();
     ro.ortho_pixels_per_frame = 16384;
+    if (!config.shader_cache.empty()) ro.program_cache_dir = (config.shader_cache / "programs").string();
     return ro;
 }
 
@@ -59,13 +60,27 @@ DisplayScheduler::DisplayScheduler(const DaemonConfig& config, Options options,
         render::TargetHandle target;
         if (!m_renderer) {
             const render::RendererOptions ro = rendererOptions(config, p, m_options.ortho_weights);
+            const auto t = Clock::now();
             m_renderer = m_options.noop_renderer ? render::Renderer::createNoop(ro) : render::Renderer::create(ro);
+            const render::ProgramCacheStats programs = m_renderer->programCache();
+            m_log(Log::kInfo, "start-up: renderer created in %.0f ms",
+                  std::chrono::duration<double, std::milli>(Clock::now() - t).count());
+            if (!programs.dir.empty() && !programs.problem.empty())
+                m_log(Log::kWarning, "shader cache %s: off (%s)", programs.dir.c_str(), programs.problem.c_str());
+            else if (!programs.dir.empty())
+                m_log(Log::kInfo, "shader cache %s: %llu programs loaded, %llu compiled, %llu rejected",
+                      programs.dir.c_str(), static_cast<unsigned long long>(programs.loaded),
+                      static_cast<unsigned long long>(programs.compiled),
+                      static_cast<unsigned long long>(programs.rejected));
             target = m_renderer->primaryTarget();
             logContext(m_renderer->device());
         } else {
             target = m_renderer->addTarget(p.width, p.height);
         }
-        m_displays.push_back(std::make_unique<Display>(p, target, cache, makeAttribution(p), started, m_log));
+        m_displays.push_back(std::make_unique<Display>(p, target, cache, makeAttribution(p), started,
+                                                       m_options.exec == Clock::time_point{} ? started : m_options.exec,
+                                                       m_log));
+        m_displays.back()->setLoadPriority(static_cast<int>(m_displays.size()) - 1);
         m_pacing.emplace_back();
         const auto& dev = m_renderer->device();
         m_log(Log::kInfo, "profile %s %dx%d @ %.0f fps (%s): target %d, %s on %s, %s, MSAA %dx", p.name.c_str(),
@@ -123,11 +138,12 @@ DisplayScheduler::Clock::time_point DisplayScheduler::tick(Clock::time_point now
             d.skipIdle();  // nobody watches this display: render nothing
             continue;
         }
-        d.draw(*m_renderer, poses, context, m_projection);
+        if (d.draw(*m_renderer, poses, context, m_projection)) {
+            warnFlatTiles();
+            d.finishFrame(*m_renderer, m_frames, now);
+        }
         noticeContextResets(now);
-        warnFlatTiles();
-        d.finishFrame(*m_renderer, m_frames, now);
-        m_last_frame_done = Clock::now();
+        m_last_frame_done = Clock::now();  // a start-up tick that only requested tiles is progress too
     }
     // Readbacks still in flight: the rasterizer finishes them on its own threads while the loop
     // renders the next displays or sleeps. Send each as soon as it is done (polled every few

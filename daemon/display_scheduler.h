@@ -34,6 +34,9 @@ public:
         bool render_all = false;     ///< render profiles without clients too
         /// The orthoimage network's weights (RendererOptions::ortho_weights); empty: none.
         std::filesystem::path ortho_weights;
+        /// The process's start (processStartTime()): first-frame times count from it. Default:
+        /// `started`.
+        Clock::time_point exec{};
     };
 
     /// Creates the renderer and one display per configured profile (logged); throws

@@ -7,6 +7,9 @@
 // (navmap_daemon_core) neither includes nor links sim/.
 
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
 #include <iostream>
 
 #include "config.h"
@@ -21,7 +24,7 @@ int main(int argc, char** argv) {
     CLI::App app{"navmapd - headless 3D navigation-map renderer daemon"};
     navmap::cli::setUp(app, "navmapd");
     std::string config_path, store, input, replay, can_iface, from, to, control_socket, frame_socket, style, egl,
-        log_level;
+        log_level, shader_cache;
     std::vector<std::string> profile_names;
     std::optional<double> speed, run_for;
     std::optional<int> http_port, tcp_port, msaa;
@@ -54,6 +57,7 @@ int main(int argc, char** argv) {
     app.add_option("--run-for", run_for, "stop after this many seconds")->check(navmap::cli::finiteIn(0.1, 1e7));
     app.add_flag("--render-all", render_all, "render every profile even without clients");
     app.add_flag("--no-labels", no_labels, "draw no labels");
+    app.add_option("--shader-cache", shader_cache, "shader cache directory (render.shader_cache)");
     app.add_flag("--noop", noop, "no GL: the no-op renderer (testing the loop)");
     if (const auto exit_status = navmap::cli::parse(app, argc, argv)) return *exit_status;
 
@@ -83,6 +87,7 @@ int main(int argc, char** argv) {
     if (!egl.empty()) c.egl_platform = egl;
     if (msaa) c.msaa = *msaa;
     if (no_labels) c.labels = false;
+    if (!shader_cache.empty()) c.shader_cache = shader_cache;
     if (!log_level.empty()) {
         const std::string& l = log_level;
         c.log_level = l == "error" ? 3 : l == "warning" ? 4 : l == "notice" ? 5 : l == "info" ? 6 : 7;
@@ -116,6 +121,21 @@ int main(int argc, char** argv) {
         for (const auto& w : setup.warnings) std::fprintf(stderr, "<4>navmapd: %s\n", w.c_str());
         std::cout << "configuration OK\n" << describeConfig(c);
         return 0;
+    }
+    // The shader caches (docs/navmapd.md "Start-up"), set before any thread or EGL display
+    // exists: Mesa reads MESA_SHADER_CACHE_DIR when the display is initialised. An explicit
+    // MESA_SHADER_CACHE_DIR in the environment stays.
+    if (c.shader_cache.empty()) {
+        if (const char* dirs = std::getenv("CACHE_DIRECTORY"); dirs && *dirs) {
+            const std::string first(dirs, std::strcspn(dirs, ":"));  // systemd lists several with ':'
+            c.shader_cache = first;
+        }
+    }
+    if (!c.shader_cache.empty()) {
+        // Mesa makes only the last directory of the path: the rest must exist.
+        std::error_code ec;
+        std::filesystem::create_directories(c.shader_cache / "mesa", ec);
+        ::setenv("MESA_SHADER_CACHE_DIR", (c.shader_cache / "mesa").c_str(), 0);
     }
     RunOptions options;
     options.run_for_s = run_for;

@@ -34,14 +34,29 @@ void TileCache::touch(Resident& r) {
     r.generation = m_generation;
 }
 
-std::vector<std::shared_ptr<const Tile>> TileCache::request(std::span<const TileRequest> wanted) {
+std::vector<TileRequest>* TileCache::nextQueue() {
+    for (auto& [queue, pending] : m_pending) {
+        if (!pending.empty()) return &pending;
+    }
+    return nullptr;
+}
+
+std::size_t TileCache::pendingCount() const {
+    std::size_t n = 0;
+    for (const auto& [queue, pending] : m_pending) n += pending.size();
+    return n;
+}
+
+std::vector<std::shared_ptr<const Tile>> TileCache::request(std::span<const TileRequest> wanted, int queue) {
     std::vector<std::shared_ptr<const Tile>> out(wanted.size());
     {
         std::lock_guard lock(m_mutex);
         ++m_generation;
         std::vector<TileRequest> pending;
         std::unordered_set<std::uint64_t> queued_before;
-        for (const auto& p : m_pending) queued_before.insert(p.id.key());
+        for (const auto& [q, queued] : m_pending) {
+            for (const auto& p : queued) queued_before.insert(p.id.key());
+        }
         for (std::size_t i = 0; i < wanted.size(); ++i) {
             const std::uint64_t key = wanted[i].id.key();
             if (auto it = m_resident.find(key); it != m_resident.end()) {
@@ -65,7 +80,7 @@ std::vector<std::shared_ptr<const Tile>> TileCache::request(std::span<const Tile
                       pending.end());
         std::stable_sort(pending.begin(), pending.end(),
                          [](const TileRequest& a, const TileRequest& b) { return a.priority < b.priority; });
-        m_pending = std::move(pending);
+        m_pending[queue] = std::move(pending);
     }
     m_wake.notify_one();
     return out;
@@ -80,10 +95,11 @@ std::shared_ptr<const Tile> TileCache::find(TileId id) const {
 void TileCache::loaderLoop() {
     std::unique_lock lock(m_mutex);
     for (;;) {
-        m_wake.wait(lock, [&] { return m_stop || !m_pending.empty(); });
+        m_wake.wait(lock, [&] { return m_stop || nextQueue() != nullptr; });
         if (m_stop) return;
-        const TileRequest next = m_pending.back();
-        m_pending.pop_back();
+        std::vector<TileRequest>& queue = *nextQueue();
+        const TileRequest next = queue.back();
+        queue.pop_back();
         const std::uint64_t key = next.id.key();
         if (m_resident.count(key)) continue;
         m_in_flight = key;
@@ -98,7 +114,7 @@ void TileCache::loaderLoop() {
         lock.lock();
         m_in_flight = kNone;
         if (epoch != m_source_epoch) {  // replaceSource() came meanwhile: this tile is in the old frame
-            if (m_pending.empty()) m_idle.notify_all();
+            if (!nextQueue()) m_idle.notify_all();
             continue;
         }
         ++m_metrics.loads;
@@ -134,7 +150,7 @@ void TileCache::loaderLoop() {
                 admit(key, std::move(loaded.tile), bytes);
             }
         }
-        if (m_pending.empty()) m_idle.notify_all();
+        if (!nextQueue()) m_idle.notify_all();
     }
 }
 
@@ -181,7 +197,7 @@ TileCacheMetrics TileCache::metrics() const {
     std::lock_guard lock(m_mutex);
     TileCacheMetrics m = m_metrics;
     m.resident_tiles = m_resident.size();
-    m.pending = m_pending.size() + (m_in_flight != kNone ? 1 : 0);
+    m.pending = pendingCount() + (m_in_flight != kNone ? 1 : 0);
     if (!m_load_ms.empty()) {
         m.load_p50_ms = percentile(m_load_ms, 0.50);
         m.load_p99_ms = percentile(m_load_ms, 0.99);
@@ -196,7 +212,7 @@ std::vector<TileId> TileCache::corruptTiles() const {
 
 bool TileCache::waitIdle(std::chrono::milliseconds timeout) const {
     std::unique_lock lock(m_mutex);
-    return m_idle.wait_for(lock, timeout, [&] { return m_pending.empty() && m_in_flight == kNone; });
+    return m_idle.wait_for(lock, timeout, [&] { return pendingCount() == 0 && m_in_flight == kNone; });
 }
 
 }  // namespace navmap::map

@@ -22,7 +22,7 @@ std::vector<std::shared_ptr<const map::Tile>> MapView::tilesFor(const Camera& ca
     requests.reserve(m_last.draw.size() + m_last.wanted.size());
     for (const auto& t : m_last.draw) requests.push_back({t->id, 1e6f});
     requests.insert(requests.end(), m_last.wanted.begin(), m_last.wanted.end());
-    (void)m_cache->request(requests);
+    (void)m_cache->request(requests, m_queue);
     return m_last.draw;
 }
 

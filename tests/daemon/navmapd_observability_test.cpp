@@ -198,6 +198,45 @@ TEST_F(NavmapdObservability, MetricsParseAsPrometheusTextEachFamilyOnceInBaseUni
     EXPECT_NE(text.find("navmap_frames_published_total{profile=\"plain\"} "), std::string::npos) << text;
 }
 
+// A presence and format check, not a timing assertion: the time from the exec to a profile's
+// first published frame is in /metrics and get_status once it has one, and absent (null) for a
+// profile nobody watched, which has published none.
+TEST_F(NavmapdObservability, TheFirstFrameTimeOfEachProfileIsInMetricsAndGetStatus) {
+    auto plain = navmap::ipc::StreamClient::connectUnix((m_dir / "frames.sock").string(), request("plain"));
+    ASSERT_TRUE(plain.ok()) << plain.error().message;
+    navmap::ipc::ReceivedFrame f;
+    bool got = false;
+    for (int i = 0; i < 50 && !got; ++i) {
+        auto r = plain.value()->next(f, 200ms);
+        ASSERT_TRUE(r.ok()) << r.error().message;
+        got = r.value();
+    }
+    ASSERT_TRUE(got) << m_daemon->output();
+    std::this_thread::sleep_for(1200ms);  // the daemon's families are refreshed every second
+    const std::string text = body(httpGet(m_port, "/metrics"));
+    EXPECT_NE(text.find("# TYPE navmap_first_frame_seconds gauge\n"), std::string::npos) << text;
+    const std::string key = "navmap_first_frame_seconds{profile=\"plain\"} ";
+    const auto at = text.find(key);
+    ASSERT_NE(at, std::string::npos) << text;
+    const double seconds = std::stod(text.substr(at + key.size()));
+    EXPECT_GT(seconds, 0.0);
+    EXPECT_LT(seconds, 60.0);  // generous: a plausibility bound, not a speed target
+    EXPECT_EQ(text.find("navmap_first_frame_seconds{profile=\"credited\"}"), std::string::npos) << text;
+
+    auto control = navmap::ipc::ControlClient::connect((m_dir / "control.sock").string());
+    ASSERT_TRUE(control.ok()) << control.error().message;
+    auto reply = control.value().request(R"({"cmd":"get_status"})", 5s);
+    ASSERT_TRUE(reply.ok()) << reply.error().message;
+    const auto j = nlohmann::json::parse(reply.value(), nullptr, false);
+    ASSERT_TRUE(j.is_object()) << reply.value();
+    const auto& profiles = j["status"]["profiles"];
+    ASSERT_EQ(profiles.size(), 2U) << reply.value();
+    EXPECT_EQ(profiles[0]["name"], "plain");
+    ASSERT_TRUE(profiles[0]["first_frame_s"].is_number()) << reply.value();
+    EXPECT_NEAR(profiles[0]["first_frame_s"].get<double>(), seconds, 1e-3);
+    EXPECT_TRUE(profiles[1]["first_frame_s"].is_null()) << reply.value();
+}
+
 TEST_F(NavmapdObservability, TheVersionIsInGetStatusAndStatus) {
     std::this_thread::sleep_for(1200ms);
     auto control = navmap::ipc::ControlClient::connect((m_dir / "control.sock").string());

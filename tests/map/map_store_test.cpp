@@ -9,8 +9,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <condition_variable>
 #include <cstdint>
 #include <fstream>
+#include <mutex>
 #include <random>
 #include <thread>
 
@@ -325,6 +327,67 @@ TEST(TileCache, WantedSetLargerThanBudgetStaysBounded) {
     EXPECT_TRUE(got[0] && got[1] && got[2]);
     EXPECT_GT(m.dropped_over_budget, 0u);
     EXPECT_LT(m.loads, 20u);  // no load-evict thrash across frames
+}
+
+// A store whose first load waits for the test: the requests made meanwhile are all queued.
+class GatedSource : public TileSource {
+public:
+    explicit GatedSource(std::shared_ptr<const TileStore> store) : m_store(std::move(store)) {}
+    [[nodiscard]] const TileScheme& scheme() const override { return m_store->scheme(); }
+    [[nodiscard]] bool contains(TileId id) const override { return m_store->contains(id); }
+    [[nodiscard]] std::uint32_t demSamples() const override { return m_store->demSamples(); }
+    [[nodiscard]] TileLoadResult load(TileId id) const override {
+        std::unique_lock lock(m_mutex);
+        m_order.push_back(id);
+        m_loading.notify_all();
+        m_gate.wait(lock, [&] { return m_open; });
+        lock.unlock();
+        return m_store->load(id);
+    }
+    void waitForFirstLoad() const {
+        std::unique_lock lock(m_mutex);
+        m_loading.wait(lock, [&] { return !m_order.empty(); });
+    }
+    void open() {
+        std::lock_guard lock(m_mutex);
+        m_open = true;
+        m_gate.notify_all();
+    }
+    std::vector<TileId> order() const {
+        std::lock_guard lock(m_mutex);
+        return m_order;
+    }
+
+private:
+    std::shared_ptr<const TileStore> m_store;
+    mutable std::mutex m_mutex;
+    mutable std::condition_variable m_gate, m_loading;
+    mutable std::vector<TileId> m_order;
+    bool m_open = false;
+};
+
+// Displays sharing one cache request into queues of their own: a later request of one display
+// does not drop what another asked for, and the lower queue (the cluster) loads first.
+TEST(TileCache, EachQueueKeepsItsRequestsAndTheLowestQueueLoadsFirst) {
+    ScratchDir dir("store-queues");
+    writeSmallStore(dir / "s.navmap");
+    const auto source = std::make_shared<GatedSource>(TileStore::open(dir / "s.navmap"));
+    TileCache cache(source, {std::size_t{64} << 20, false});
+    const TileId first{2, 0, 0};
+    cache.request(std::vector<TileRequest>{{first, 1.0f}}, 2);
+    source->waitForFirstLoad();  // the loader holds `first` until open()
+    const std::vector<TileRequest> center{{{2, 1, 0}, 3.0f}, {{2, 2, 0}, 2.0f}, {{2, 3, 0}, 1.0f}};
+    const std::vector<TileRequest> hud{{{2, 0, 3}, 1.0f}};
+    const std::vector<TileRequest> cluster{{{2, 0, 1}, 1.0f}, {{2, 1, 1}, 2.0f}};
+    cache.request(center, 2);
+    cache.request(hud, 1);
+    cache.request(cluster, 0);
+    source->open();
+    ASSERT_TRUE(cache.waitIdle(std::chrono::seconds(10)));
+    const std::vector<TileId> want{first, {2, 1, 1}, {2, 0, 1}, {2, 0, 3}, {2, 1, 0}, {2, 2, 0}, {2, 3, 0}};
+    EXPECT_EQ(source->order(), want);
+    for (const auto& id : want) EXPECT_TRUE(cache.find(id)) << id.toString();
+    EXPECT_EQ(cache.metrics().pending, 0u);
 }
 
 TEST(TileSelection, FootprintAndPrefetchAhead) {

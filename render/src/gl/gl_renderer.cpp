@@ -45,6 +45,9 @@ GlRenderer::GlRenderer(const RendererOptions& options) : m_options(options), m_e
     // its rasterization is done, so a buffer ring buys no overlap there and costs width x height
     // x 4 bytes per slot: one slot (direct read, ReadbackRing). GPUs copy asynchronously: two.
     if (m_options.readback_ring <= 0) m_options.readback_ring = m_device.software ? 1 : 2;
+    if (!m_options.program_cache_dir.empty())
+        m_programs = std::make_unique<ProgramBinaryCache>(m_options.program_cache_dir);
+    const ProgramBinaryCache::Use programs(m_programs.get());  // the passes compile theirs below
     m_terrain = std::make_unique<TerrainLayer>();
     m_map = std::make_unique<MapRenderer>(m_options, m_device.software, m_features);
     addTarget(options.width, options.height);  // the primary target, id 0
@@ -128,6 +131,7 @@ void GlRenderer::resize(TargetHandle target, int width, int height) {
 
 void GlRenderer::setTerrain(const HeightfieldMesh& mesh) {
     m_egl.makeCurrent();
+    const ProgramBinaryCache::Use programs(m_programs.get());
     m_terrain->upload(mesh);
     m_terrain_mesh = std::make_shared<const HeightfieldMesh>(mesh);
 }
@@ -157,6 +161,7 @@ void GlRenderer::recreateContext() {
     m_depth_stencil = 0;  // went with the context
     m_depth_size = {};
     m_egl.recreate();
+    const ProgramBinaryCache::Use programs(m_programs.get());  // the new context's programs
     m_features = GlFeatures::current(m_device.gles_major, m_device.gles_minor);
     m_terrain = std::make_unique<TerrainLayer>();
     if (m_terrain_mesh) m_terrain->upload(*m_terrain_mesh);
@@ -194,6 +199,7 @@ void GlRenderer::renderMap(TargetHandle target, const MapFrame& frame) {
     checkContext();
     ++m_frames;
     const View& v = view(target);
+    const ProgramBinaryCache::Use programs(m_programs.get());  // passes made on first use compile theirs here
     // Each target is a view of its own: its label layout continues from its own last frame.
     m_map->render(frame, *v.target, target.id());
 }

@@ -9,6 +9,7 @@
 #include "egl_context.h"
 #include "gl_features.h"
 #include "map_renderer.h"
+#include "program_binary_cache.h"
 #include "readback.h"
 #include "render_target.h"
 #include "terrain_layer.h"
@@ -35,6 +36,9 @@ public:
     void setMapStyle(const MapStyle& style) override;
     void renderMap(TargetHandle target, const MapFrame& frame) override;
     [[nodiscard]] const MapFrameStats& mapStats() const override { return m_map->stats(); }
+    [[nodiscard]] ProgramCacheStats programCache() const override {
+        return m_programs ? m_programs->stats() : ProgramCacheStats{};
+    }
     void finish() override;
     Image readSync(TargetHandle target) override;
     std::optional<Frame> readAsync(TargetHandle target, std::uint64_t sequence) override;
@@ -75,6 +79,7 @@ private:
     EglContext m_egl;  // first member with GL state: constructed first, destroyed last
     DeviceInfo m_device;
     GlFeatures m_features;  // what the context offers beyond ES 3.0 core (docs/gles-profile.md)
+    std::unique_ptr<ProgramBinaryCache> m_programs;  // RendererOptions::program_cache_dir; null: none
     std::map<int, View> m_targets;
     GLuint m_depth_stencil = 0;  // shared by the targets: the largest width x largest height
     ScratchSize m_depth_size;

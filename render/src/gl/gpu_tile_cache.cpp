@@ -195,7 +195,8 @@ std::span<GpuTile* const> GpuTileCache::acquire(const MapFrame& frame, int targe
             if (a && a != gpu->morph_ancestors[j]) new_targets = true;
         }
         if (!gpu || new_targets) {
-            if (m_options.max_tile_uploads_per_frame > 0 && uploads >= m_options.max_tile_uploads_per_frame) {
+            if (!frame.upload_all && m_options.max_tile_uploads_per_frame > 0 &&
+                uploads >= m_options.max_tile_uploads_per_frame) {
                 if (!gpu) {
                     ++stats.tiles_pending;
                     continue;

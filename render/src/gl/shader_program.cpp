@@ -7,6 +7,7 @@
 
 #include "navmap/render/renderer.h"
 #include "navmap_shaders.h"
+#include "program_binary_cache.h"
 
 namespace navmap::render::gl {
 
@@ -38,10 +39,13 @@ std::string infoLog(GLuint object, GetIv get_iv, GetLog get_log) {
     return log.c_str();
 }
 
-GLuint compile(GLenum stage, std::string_view file, std::string_view text, std::string_view defines) {
+// A stage's whole source: the preamble, the variant's defines, then the file.
+std::string stageSource(std::string_view text, std::string_view defines) {
+    return std::string(kPreamble) + std::string(defines) + std::string(kLineReset) + std::string(text);
+}
+
+GLuint compile(GLenum stage, std::string_view file, const std::string& source) {
     const GLuint shader = glCreateShader(stage);
-    const std::string source =
-        std::string(kPreamble) + std::string(defines) + std::string(kLineReset) + std::string(text);
     const char* ptr = source.c_str();
     glShaderSource(shader, 1, &ptr, nullptr);
     glCompileShader(shader);
@@ -78,15 +82,27 @@ ShaderProgram ShaderProgram::fromEmbedded(std::string_view vertex_file, std::str
 ShaderProgram ShaderProgram::fromSources(std::string_view vertex_file, std::string_view vertex_text,
                                          std::string_view fragment_file, std::string_view fragment_text,
                                          std::string_view defines) {
-    const GLuint vs = compile(GL_VERTEX_SHADER, vertex_file, vertex_text, defines);
+    const std::string vertex_source = stageSource(vertex_text, defines);
+    const std::string fragment_source = stageSource(fragment_text, defines);
+    // A cached binary of exactly these sources on this driver skips compiling and linking.
+    ProgramBinaryCache* cache = ProgramBinaryCache::current();
+    if (cache && !cache->usable()) cache = nullptr;
+    std::string key;
+    if (cache) {
+        key = vertex_source + '\0' + fragment_source;
+        if (const GLuint cached = cache->load(key)) return ShaderProgram(cached);
+        cache->countCompiled();
+    }
+    const GLuint vs = compile(GL_VERTEX_SHADER, vertex_file, vertex_source);
     GLuint fs = 0;
     try {
-        fs = compile(GL_FRAGMENT_SHADER, fragment_file, fragment_text, defines);
+        fs = compile(GL_FRAGMENT_SHADER, fragment_file, fragment_source);
     } catch (...) {
         glDeleteShader(vs);
         throw;
     }
     const GLuint program = glCreateProgram();
+    if (cache) glProgramParameteri(program, GL_PROGRAM_BINARY_RETRIEVABLE_HINT, GL_TRUE);
     glAttachShader(program, vs);
     glAttachShader(program, fs);
     glLinkProgram(program);
@@ -100,6 +116,7 @@ ShaderProgram ShaderProgram::fromSources(std::string_view vertex_file, std::stri
         throw RenderError("shader link failed (" + std::string(vertex_file) + " + " + std::string(fragment_file) +
                           "):\n" + log);
     }
+    if (cache) cache->store(key, program);
     return ShaderProgram(program);
 }
 

@@ -10,6 +10,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <list>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <span>
@@ -59,9 +60,12 @@ public:
     TileCache& operator=(const TileCache&) = delete;
 
     /// Render thread: returns, for each wanted id in order, the resident tile or null, and
-    /// replaces the loader queue with the wanted tiles that are not resident (older requests
-    /// are superseded). Never does I/O; holds a mutex only for bookkeeping.
-    std::vector<std::shared_ptr<const Tile>> request(std::span<const TileRequest> wanted);
+    /// replaces loader queue `queue` with the wanted tiles that are not resident (older requests
+    /// to that queue are superseded). Several views of one cache (navmapd's displays) each use a
+    /// queue of their own, so that one view's request does not drop another's; the loader
+    /// serves the lowest-numbered queue with work first (the cluster before the other
+    /// profiles). Never does I/O; holds a mutex only for bookkeeping.
+    std::vector<std::shared_ptr<const Tile>> request(std::span<const TileRequest> wanted, int queue = 0);
 
     /// The resident tile or null; no bookkeeping.
     [[nodiscard]] std::shared_ptr<const Tile> find(TileId id) const;
@@ -89,6 +93,9 @@ private:
     // Makes a loaded tile resident (m_mutex held; the caller made room for it).
     void admit(std::uint64_t key, std::shared_ptr<const Tile> tile, std::size_t bytes);
     void touch(Resident& r);
+    // The queue the loader serves next, or null when every queue is empty (m_mutex held).
+    std::vector<TileRequest>* nextQueue();
+    [[nodiscard]] std::size_t pendingCount() const;  // m_mutex held
 
     std::shared_ptr<const TileSource> m_source;
     TileCacheOptions m_options;
@@ -96,8 +103,9 @@ private:
     std::condition_variable m_wake;
     mutable std::condition_variable m_idle;
     std::unordered_map<std::uint64_t, Resident> m_resident;
-    std::list<std::uint64_t> m_lru;               ///< front = most recently used
-    std::vector<TileRequest> m_pending;           ///< sorted, highest priority last (popped from back)
+    std::list<std::uint64_t> m_lru;  ///< front = most recently used
+    /// Per queue (request()): sorted, highest priority last (popped from back); lowest queue first.
+    std::map<int, std::vector<TileRequest>> m_pending;
     std::unordered_set<std::uint64_t> m_bad;      ///< corrupt or absent: never retried
     std::unordered_set<std::uint64_t> m_dropped;  ///< dropped over budget until something is evicted
     std::uint64_t m_in_flight = ~std::uint64_t{0};

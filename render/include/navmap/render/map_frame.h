@@ -235,6 +235,10 @@ struct MapFrame {
     /// Time since the previous frame of this renderer, seconds: the label layout advances by it
     /// (fixed simulation steps, so the result does not depend on the frame rate).
     double frame_dt_s = 1.0 / 30.0;
+    /// Every tile of the frame is uploaded in it, whatever RendererOptions::max_tile_uploads_per_frame
+    /// says (start-up: a frame that nobody sees until it is complete gains nothing by spreading
+    /// the uploads over frames).
+    bool upload_all = false;
 };
 
 /// A tile drawn partly flat because the store had no elevation data for part of it.

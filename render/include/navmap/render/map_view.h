@@ -35,9 +35,13 @@ public:
 
     [[nodiscard]] const LodSelection& lastSelection() const { return m_last; }
     [[nodiscard]] map::TileCache& cache() { return *m_cache; }
+    /// The cache's loader queue this view requests into (TileCache::request): views sharing a
+    /// cache each take their own; lower numbers load first. Default 0.
+    void setLoadQueue(int queue) { m_queue = queue; }
 
 private:
     std::shared_ptr<map::TileCache> m_cache;
+    int m_queue = 0;
     LodOptions m_lod;
     LodSelection m_last;
 };

@@ -64,6 +64,22 @@ struct RendererOptions {
     /// bands of rows over several frames, its tile showing the land cover meanwhile); 0: each
     /// image is finished in the frame that starts it.
     std::size_t ortho_pixels_per_frame = 0;
+    /// A directory for linked shader programs as the driver's binaries (glProgramBinary): a
+    /// later renderer on the same driver loads them instead of compiling the GLSL; a binary the
+    /// driver rejects is compiled again and replaced. Empty: no cache. The driver must offer a
+    /// binary format (Mesa does only while its own shader cache is on).
+    std::string program_cache_dir;
+};
+
+/// The renderer's program binary cache (RendererOptions::program_cache_dir), since its creation.
+struct ProgramCacheStats {
+    std::string dir;                 ///< empty: no cache
+    std::string problem;             ///< why the configured cache is off; empty: in use
+    std::uint64_t loaded = 0;        ///< programs loaded from binaries
+    std::uint64_t compiled = 0;      ///< programs compiled from GLSL (then stored)
+    std::uint64_t rejected = 0;      ///< binaries the driver (or the file check) refused: compiled instead
+    std::uint64_t stored = 0;        ///< binaries written
+    std::uint64_t write_errors = 0;  ///< binaries that could not be written
 };
 
 /// What the backend runs on, for logs and status.
@@ -171,6 +187,8 @@ public:
     /// The target's label layout continues from its own previous frame.
     virtual void renderMap(TargetHandle target, const MapFrame& frame) = 0;
     [[nodiscard]] virtual const MapFrameStats& mapStats() const = 0;
+    /// The program binary cache's counters (empty `dir` when there is none, as with the no-op renderer).
+    [[nodiscard]] virtual ProgramCacheStats programCache() const { return {}; }
     /// Blocks until the GPU has finished all submitted work (for timing).
     virtual void finish() = 0;
 
