@@ -33,6 +33,8 @@ public:
     void setMapStyle(const MapStyle& style) override;
     void renderMap(TargetHandle target, const MapFrame& frame) override;
     [[nodiscard]] const MapFrameStats& mapStats() const override { return m_map->stats(); }
+    /// The route's work in the last map frame (tests and benchmarks, beside mapStats()).
+    [[nodiscard]] const RouteWork& routeWork() const { return m_map->routeWork(); }
     void finish() override;
     Image readSync(TargetHandle target) override;
     std::optional<Frame> readAsync(TargetHandle target, std::uint64_t sequence) override;
