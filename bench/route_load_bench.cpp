@@ -16,6 +16,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <memory>
 #include <string>
 #include <vector>
@@ -141,7 +142,13 @@ void registerLoads(benchmark::internal::Benchmark* b) {
         for (int load = 0; load < static_cast<int>(std::size(kLoadNames)); ++load) b->Args({profile, load});
 }
 
-BENCHMARK(routeLoad)->Apply(registerLoads)->Iterations(12)->UseManualTime()->Unit(benchmark::kMillisecond);
+// NAVMAP_BENCH_ROUTE_FRAMES: frames per load (default 12).
+int framesPerLoad() {
+    const char* env = std::getenv("NAVMAP_BENCH_ROUTE_FRAMES");
+    return env && std::atoi(env) > 0 ? std::atoi(env) : 12;
+}
+
+BENCHMARK(routeLoad)->Apply(registerLoads)->Iterations(framesPerLoad())->UseManualTime()->Unit(benchmark::kMillisecond);
 
 }  // namespace
 
