@@ -79,7 +79,7 @@ MapStyle style() {
 }
 
 Shot renderTiles(const std::vector<std::shared_ptr<const map::Tile>>& tiles, const RouteGeometry& r, double progress,
-                 const std::vector<TileMorph>& morph = {}, gl::RouteWork* work = nullptr) {
+                 const std::vector<TileMorph>& morph = {}, std::vector<gl::RouteWork>* work = nullptr, int frames = 1) {
     RendererOptions o;
     o.width = kW;
     o.height = kH;
@@ -99,13 +99,14 @@ Shot renderTiles(const std::vector<std::shared_ptr<const map::Tile>>& tiles, con
     frame.route = &r;
     frame.route_progress_m = progress;
     frame.layers.marker = false;
-    renderer->renderMap(frame);
-    s.image = renderer->readSync();
-    if (work) {
-        const auto* gl = dynamic_cast<const gl::GlRenderer*>(renderer.get());
-        EXPECT_NE(gl, nullptr) << "not the OpenGL ES renderer";
-        if (gl) *work = gl->routeWork();
+    // `frames` frames of the same view: the route's work per frame into `work`.
+    const auto* gl = dynamic_cast<const gl::GlRenderer*>(renderer.get());
+    EXPECT_NE(gl, nullptr) << "not the OpenGL ES renderer";
+    for (int i = 0; i < frames; ++i) {
+        renderer->renderMap(frame);
+        if (work && gl) work->push_back(gl->routeWork());
     }
+    s.image = renderer->readSync();
     return s;
 }
 
@@ -232,14 +233,17 @@ TEST(RouteDrapeGpu, TheSameRouteGivenWithManyMorePointsDrawsTheSamePixels) {
     const RouteGeometry dense = densified(r, 0.1);  // about 9,500 points
     ASSERT_GT(dense.points.size(), 9000u);
     const double progress = 0.4 * r.measure_m.back();
-    gl::RouteWork sparse_stats, dense_stats;
-    const Shot sparse = renderTiles(t.fine, r, progress, {}, &sparse_stats);
-    const Shot many = renderTiles(t.fine, dense, progress, {}, &dense_stats);
+    std::vector<gl::RouteWork> sparse_work, dense_work;
+    const Shot sparse = renderTiles(t.fine, r, progress, {}, &sparse_work);
+    const Shot many = renderTiles(t.fine, dense, progress, {}, &dense_work);
     const int differing = differingPixels(sparse.image, many.image, 8);
     if (differing > 0) (void)writePng("route_drape_dense.png", many.image, nullptr);
     EXPECT_EQ(differing, 0) << "the simplified dense route draws other pixels";
-    EXPECT_EQ(dense_stats.pieces, sparse_stats.pieces) << "simplified to the same segments";
-    EXPECT_EQ(dense_stats.segments_draped, sparse_stats.segments_draped);
+    ASSERT_EQ(dense_work.size(), 1u);
+    ASSERT_EQ(sparse_work.size(), 1u);
+    EXPECT_EQ(dense_work[0].tiles_draped, 4u) << "a normal route is draped whole in one frame";
+    EXPECT_EQ(dense_work[0].pieces, sparse_work[0].pieces) << "simplified to the same segments";
+    EXPECT_EQ(dense_work[0].segments_draped, sparse_work[0].segments_draped);
     const Coverage c = routeCoverage(many, r, progress, [&](double x, double y) { return t.fineHeight(x, y); });
     EXPECT_EQ(c.visible, c.samples);
 }
@@ -273,16 +277,35 @@ int routePixels(const Image& image) {
 
 TEST(RouteDrapeGpu, AZigZagRouteOfTwentyThousandPointsCostsWhatOneOfTwoThousandDoes) {
     const Tiles t;
-    gl::RouteWork s2k, s20k;
+    std::vector<gl::RouteWork> w2k, w20k;
     const RouteGeometry z2k = zigZag(2000), z20k = zigZag(20000);
-    const Shot a = renderTiles(t.fine, z2k, 0.0, {}, &s2k);
-    const Shot b = renderTiles(t.fine, z20k, 0.0, {}, &s20k);
+    const Shot a = renderTiles(t.fine, z2k, 0.0, {}, &w2k, 3);
+    const Shot b = renderTiles(t.fine, z20k, 0.0, {}, &w20k, 3);
+    // Summed over the frames (the tiles are draped once), the pieces of the last frame.
+    auto total = [](const std::vector<gl::RouteWork>& w) {
+        gl::RouteWork sum = w.back();
+        sum.tiles_draped = sum.segments_draped = sum.segments_left_out = sum.segments_clipped = 0;
+        for (const gl::RouteWork& f : w) {
+            sum.tiles_draped += f.tiles_draped;
+            sum.segments_clipped += f.segments_clipped;
+            sum.segments_draped += f.segments_draped;
+            sum.segments_left_out += f.segments_left_out;
+        }
+        return sum;
+    };
+    const gl::RouteWork s2k = total(w2k), s20k = total(w20k);
     // Unbounded, every segment is draped on each tile it crosses (about 50 pieces per tile):
     // 200,000 and 2,000,000 pieces, all uploaded. Bounded by the tiles instead.
+    EXPECT_EQ(w2k[0].tiles_draped, 4u);
     EXPECT_EQ(s2k.tiles_draped, 4u);
+    EXPECT_EQ(s20k.tiles_draped, 4u) << "each tile draped once";
+    // The first frame drapes no more than kRouteSegmentsPerFrame (and the nearest tile).
+    EXPECT_GE(w20k[0].tiles_deferred, 1u);
+    EXPECT_LE(w20k[0].segments_clipped, gl::kRouteSegmentsPerFrame + 20000u);
+    EXPECT_EQ(w20k.back().tiles_deferred, 0u);
     EXPECT_LE(s2k.pieces, 4 * kRoutePiecesPerTile);
     EXPECT_LE(s20k.pieces, 4 * kRoutePiecesPerTile);
-    EXPECT_LE(s20k.pieces_uploaded, 4 * kRoutePiecesPerTile);
+    for (const gl::RouteWork& f : w20k) EXPECT_LE(f.pieces_uploaded, 4 * kRoutePiecesPerTile);
     EXPECT_LT(s20k.pieces, s2k.pieces * 3 / 2) << s2k.pieces << " " << s20k.pieces;
     EXPECT_LT(s20k.segments_draped, s2k.segments_draped * 3 / 2);
     // Each segment crosses two of the tiles: 40,000 clipped, nearly all of them left out.

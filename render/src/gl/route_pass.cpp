@@ -68,6 +68,49 @@ void RoutePass::release(GpuTile& g) {
     g.route_stale = true;
 }
 
+void RoutePass::drape(GpuTile& g, const RouteGeometry& route, double tolerance_m) {
+    g.route_source = &route;
+    g.route_version = route.version;
+    g.route_points = route.points.size();
+    g.route_last_measure = route.measure_m.empty() ? 0.0 : route.measure_m.back();
+    g.route_tolerance_m = tolerance_m;
+    g.route_pieces.clear();
+    if (g.grid_size >= 2) {
+        const double spacing = g.size_m / double(g.grid_size - 1);
+        std::array<HeightGrid, kMorphLevels> ancestors;
+        for (std::size_t j = 0; j < ancestors.size(); ++j)
+            ancestors[j] = HeightGrid{g.grid_size, spacing, g.ancestor_heights[j].data()};
+        RouteDrapeOptions options;
+        options.tolerance_m = tolerance_m;
+        RouteDrapeCounts counts;
+        g.route_pieces = drapeRoute(route, g.origin, HeightGrid{g.grid_size, spacing, g.heights.data()}, ancestors,
+                                    options, &counts);
+        ++m_work.tiles_draped;
+        m_work.segments_clipped += counts.segments_clipped;
+        m_work.segments_draped += counts.segments_draped;
+        m_work.segments_left_out += counts.segments_covered + counts.segments_over_limit;
+    }
+    // Its extent at every level it can morph to, for culling.
+    g.route_extent = {glm::vec3(std::numeric_limits<float>::max()), glm::vec3(std::numeric_limits<float>::lowest())};
+    for (const RoutePiece& r : g.route_pieces) {
+        for (const auto& [p, ancestor_z] : {std::pair{r.p0, r.ancestor_z0}, std::pair{r.p1, r.ancestor_z1}}) {
+            const auto [lowest, highest] = std::minmax_element(ancestor_z.begin(), ancestor_z.end());
+            g.route_extent.min = glm::min(g.route_extent.min, glm::vec3(glm::vec2(p), std::min(p.z, *lowest)));
+            g.route_extent.max = glm::max(g.route_extent.max, glm::vec3(glm::vec2(p), std::max(p.z, *highest)));
+        }
+    }
+    g.route_count = 0;
+    g.route_instances.clear();
+    g.route_stale = true;
+    if (g.route_pieces.empty() || g.route_vao) return;
+    glGenVertexArrays(1, &g.route_vao);
+    glGenBuffers(1, &g.route_vbo);
+    glBindVertexArray(g.route_vao);
+    glBindBuffer(GL_ARRAY_BUFFER, g.route_vbo);
+    setupRoadAttributes();
+    glBindVertexArray(0);
+}
+
 void RoutePass::updateTile(GpuTile& g, const FrameContext& ctx) {
     const MapFrame& frame = ctx.frame;
     // Draped per tile against the grid it is drawn with (seed 3.6.1), so the route lies on the
@@ -76,49 +119,25 @@ void RoutePass::updateTile(GpuTile& g, const FrameContext& ctx) {
     const RouteGeometry& route = *frame.route;
     const double last = route.measure_m.empty() ? 0.0 : route.measure_m.back();
     const double tolerance = routeTolerance(g, ctx);
-    if (g.route_source != &route || g.route_version != route.version || g.route_points != route.points.size() ||
-        g.route_last_measure != last || tolerance < g.route_tolerance_m) {
-        g.route_source = &route;
-        g.route_version = route.version;
-        g.route_points = route.points.size();
-        g.route_last_measure = last;
-        g.route_tolerance_m = tolerance;
-        g.route_pieces.clear();
-        if (g.grid_size >= 2) {
-            const double spacing = g.size_m / double(g.grid_size - 1);
-            std::array<HeightGrid, kMorphLevels> ancestors;
-            for (std::size_t j = 0; j < ancestors.size(); ++j)
-                ancestors[j] = HeightGrid{g.grid_size, spacing, g.ancestor_heights[j].data()};
-            RouteDrapeOptions options;
-            options.tolerance_m = tolerance;
-            RouteDrapeCounts counts;
-            g.route_pieces = drapeRoute(route, g.origin, HeightGrid{g.grid_size, spacing, g.heights.data()}, ancestors,
-                                        options, &counts);
-            ++m_work.tiles_draped;
-            m_work.segments_draped += counts.segments_draped;
-            m_work.segments_left_out += counts.segments_covered + counts.segments_over_limit;
-        }
-        // Its extent at every level it can morph to, for culling.
-        g.route_extent = {glm::vec3(std::numeric_limits<float>::max()),
-                          glm::vec3(std::numeric_limits<float>::lowest())};
-        for (const RoutePiece& r : g.route_pieces) {
-            for (const auto& [p, ancestor_z] : {std::pair{r.p0, r.ancestor_z0}, std::pair{r.p1, r.ancestor_z1}}) {
-                const auto [lowest, highest] = std::minmax_element(ancestor_z.begin(), ancestor_z.end());
-                g.route_extent.min = glm::min(g.route_extent.min, glm::vec3(glm::vec2(p), std::min(p.z, *lowest)));
-                g.route_extent.max = glm::max(g.route_extent.max, glm::vec3(glm::vec2(p), std::max(p.z, *highest)));
+    const bool same_route = g.route_source == &route && g.route_version == route.version &&
+                            g.route_points == route.points.size() && g.route_last_measure == last;
+    if (!same_route || tolerance < g.route_tolerance_m) {
+        if (m_work.segments_clipped < kRouteSegmentsPerFrame) {
+            drape(g, route, tolerance);
+            if (g.route_pieces.empty()) return;
+        } else {
+            // This frame's draping is spent (a route that crosses the drawn tiles again and
+            // again): the tile is draped in a later frame, the nearest tiles first. Until then it
+            // keeps a coarser draping of the same route, or draws none.
+            ++m_work.tiles_deferred;
+            if (!same_route) {
+                g.route_source = nullptr;
+                g.route_pieces.clear();
+                g.route_instances.clear();
+                g.route_count = 0;
+                g.route_in_view = false;
+                return;
             }
-        }
-        g.route_count = 0;
-        g.route_instances.clear();
-        g.route_stale = true;
-        if (g.route_pieces.empty()) return;
-        if (!g.route_vao) {
-            glGenVertexArrays(1, &g.route_vao);
-            glGenBuffers(1, &g.route_vbo);
-            glBindVertexArray(g.route_vao);
-            glBindBuffer(GL_ARRAY_BUFFER, g.route_vbo);
-            setupRoadAttributes();
-            glBindVertexArray(0);
         }
     }
     m_work.pieces += g.route_pieces.size();

@@ -21,12 +21,20 @@ namespace navmap::render::gl {
 /// (kRoutePiecesPerTile): what the tests and benchmarks count.
 struct RouteWork {
     std::size_t tiles_draped = 0;       ///< tiles whose route was (re)draped
+    std::size_t tiles_deferred = 0;     ///< tiles left to a later frame (kRouteSegmentsPerFrame)
+    std::size_t segments_clipped = 0;   ///< route segments overlapping the tiles draped
     std::size_t segments_draped = 0;    ///< route segments draped, after clipping and simplifying
     std::size_t segments_left_out = 0;  ///< of those clipped: covered already, or over the bound
     std::size_t pieces = 0;             ///< draped pieces the frame's tiles hold
     std::size_t pieces_uploaded = 0;    ///< route quads uploaded (4 vertices each)
     std::size_t bytes_released = 0;     ///< CPU memory the tiles let go of (another route, or none)
 };
+
+/// Route segments (overlapping a tile, RouteDrapeCounts::segments_clipped) a frame drapes at
+/// most before it leaves the remaining tiles to later frames (the nearest tile is always draped):
+/// a route that crosses the drawn area again and again takes a few frames to appear instead of
+/// stalling one. A normal route is draped whole in one frame.
+inline constexpr std::size_t kRouteSegmentsPerFrame = 20000;
 
 class RoutePass {
 public:
@@ -61,6 +69,8 @@ public:
 
 private:
     void updateTile(GpuTile& tile, const FrameContext& ctx);
+    /// Drapes `route` onto `tile` at `tolerance_m` (RouteDrapeOptions) and readies its buffer.
+    void drape(GpuTile& tile, const RouteGeometry& route, double tolerance_m);
 
     ShaderProgram m_program;  // roads_geo with NAVMAP_ROUTE_PROGRESS
     // The route the tiles' route state was made from (routeChanged()).
