@@ -49,9 +49,9 @@ ManeuverArrow cutManeuverArrow(const RouteGeometry& route, double junction_measu
     const double to = std::min(ms.back(), junction_measure_m + std::max(after_m, 0.0));
     if (to - from < 1.0) return arrow;
     arrow.points.push_back(pointAt(pts, ms, from));
-    for (std::size_t i = 0; i < pts.size(); ++i) {
-        if (ms[i] > from && ms[i] < to) arrow.points.push_back(pts[i]);
-    }
+    // The measures grow along the route: only the points between from and to are visited.
+    for (auto m = std::upper_bound(ms.begin(), ms.end(), from); m != ms.end() && *m < to; ++m)
+        arrow.points.push_back(pts[static_cast<std::size_t>(m - ms.begin())]);
     arrow.points.push_back(pointAt(pts, ms, to));
     return arrow;
 }

@@ -484,12 +484,21 @@ TileMesh buildTileMesh(const map::Tile& tile, const TileMeshOptions& options,
     return mesh;
 }
 
-std::vector<RoutePiece> drapeRoute(const RouteGeometry& route, const glm::dvec3& origin, const HeightGrid& grid,
-                                   const std::array<HeightGrid, kMorphLevels>& ancestors) {
-    std::vector<RoutePiece> out;
-    if (grid.size < 2 || route.points.size() < 2 || route.measure_m.size() != route.points.size()) return out;
-    const double e = grid.extent();
-    std::vector<glm::dvec2> seg(2);
+namespace {
+
+// A point of the route in tile-local metres with its distance along the route.
+struct RoutePoint {
+    glm::dvec2 p;
+    double measure_m = 0.0;
+};
+
+// The route's runs over the square [0, e]^2 (tile-local): each a polyline of two points or more,
+// split where the route leaves the square. `clipped` counts the segments overlapping it.
+std::vector<std::vector<RoutePoint>> routeRunsInSquare(const RouteGeometry& route, const glm::dvec3& origin, double e,
+                                                       std::size_t& clipped) {
+    std::vector<std::vector<RoutePoint>> runs;
+    bool open_end = false;  // the last run ends where its segment ends (not cut by the square)
+    std::size_t last_segment = 0;
     for (std::size_t i = 0; i + 1 < route.points.size(); ++i) {
         const glm::dvec2 a(route.points[i].x - origin.x, route.points[i].y - origin.y);
         const glm::dvec2 b(route.points[i + 1].x - origin.x, route.points[i + 1].y - origin.y);
@@ -513,15 +522,80 @@ std::vector<RoutePiece> drapeRoute(const RouteGeometry& route, const glm::dvec3&
             }
         }
         if (!inside || t1 - t0 <= 1e-12) continue;
-        const double len = glm::length(d);
-        if (len * (t1 - t0) < 1e-6) continue;
-        seg[0] = a + t0 * d;
-        seg[1] = a + t1 * d;
-        // seed 3.6.1: a vertex wherever the segment crosses a triangle edge of this tile's grid.
-        const std::vector<glm::dvec3> draped = drapePolyline(grid, seg);
+        if (glm::length(d) * (t1 - t0) < 1e-6) continue;
+        ++clipped;
         const double m0 = route.measure_m[i], m1 = route.measure_m[i + 1];
+        const RoutePoint q0{a + t0 * d, m0 + (m1 - m0) * t0};
+        const RoutePoint q1{a + t1 * d, m0 + (m1 - m0) * t1};
+        if (runs.empty() || !open_end || last_segment + 1 != i || t0 > 0.0) runs.push_back({q0});
+        runs.back().push_back(q1);
+        open_end = t1 >= 1.0;
+        last_segment = i;
+    }
+    return runs;
+}
+
+double chordDistance(const glm::dvec2& p, const glm::dvec2& a, const glm::dvec2& b) {
+    const glm::dvec2 ab = b - a;
+    const double len2 = glm::dot(ab, ab);
+    const double t = len2 > 0.0 ? std::clamp(glm::dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
+    return glm::length(p - (a + t * ab));
+}
+
+// Which cells of an n x n raster over [0, e]^2 a segment's centreline passes (sampled every half
+// cell), into `cells` (cleared first).
+void coverageCells(const RoutePoint& a, const RoutePoint& b, double e, int n, std::vector<std::uint32_t>& cells) {
+    cells.clear();
+    const double cell = e / n;
+    const double len = glm::length(b.p - a.p);
+    const auto steps = static_cast<std::size_t>(std::ceil(len / (0.5 * cell))) + 1;
+    for (std::size_t k = 0; k <= steps; ++k) {
+        const glm::dvec2 p = glm::mix(a.p, b.p, double(k) / double(steps));
+        const int c = std::clamp(static_cast<int>(p.x / cell), 0, n - 1);
+        const int r = std::clamp(static_cast<int>(p.y / cell), 0, n - 1);
+        const auto at = static_cast<std::uint32_t>(r * n + c);
+        if (cells.empty() || cells.back() != at) cells.push_back(at);
+    }
+}
+
+}  // namespace
+
+std::vector<RoutePiece> drapeRoute(const RouteGeometry& route, const glm::dvec3& origin, const HeightGrid& grid,
+                                   const std::array<HeightGrid, kMorphLevels>& ancestors,
+                                   const RouteDrapeOptions& options, RouteDrapeCounts* counts) {
+    RouteDrapeCounts local;
+    RouteDrapeCounts& n = counts ? *counts : local;
+    n = {};
+    std::vector<RoutePiece> out;
+    if (grid.size < 2 || route.points.size() < 2 || route.measure_m.size() != route.points.size()) return out;
+    const double e = grid.extent();
+    // Clipped to the tile, then each run inside it simplified to the view's tolerance: what is
+    // draped depends on the tile and the tolerance, not on how densely the route is given.
+    std::vector<std::pair<RoutePoint, RoutePoint>> segments;
+    for (const std::vector<RoutePoint>& run : routeRunsInSquare(route, origin, e, n.segments_clipped)) {
+        const std::vector<char> keep = map::douglasPeucker(
+            run.size(), options.tolerance_m,
+            [&](std::size_t k, std::size_t i, std::size_t j) { return chordDistance(run[k].p, run[i].p, run[j].p); });
+        std::size_t from = 0;
+        for (std::size_t j = 1; j < run.size(); ++j) {
+            if (!keep[j]) continue;
+            segments.emplace_back(run[from], run[j]);
+            from = j;
+        }
+    }
+    // seed 3.6.1: a vertex wherever a segment crosses a triangle edge of this tile's grid. False
+    // when the segment would take the pieces over `limit` (nothing of it is added then).
+    std::vector<glm::dvec2> seg(2);
+    auto drape = [&](const RoutePoint& a, const RoutePoint& b, std::size_t limit) {
+        seg[0] = a.p;
+        seg[1] = b.p;
+        const std::vector<glm::dvec3> draped = drapePolyline(grid, seg);
+        if (draped.size() < 2) return true;
+        if (out.size() + draped.size() - 1 > limit) return false;
+        const double len = glm::length(b.p - a.p);
         auto measure_at = [&](const glm::dvec3& v) {
-            return static_cast<float>(m0 + (m1 - m0) * std::clamp(glm::length(glm::dvec2(v) - a) / len, 0.0, 1.0));
+            return static_cast<float>(a.measure_m + (b.measure_m - a.measure_m) *
+                                                        std::clamp(glm::length(glm::dvec2(v) - a.p) / len, 0.0, 1.0));
         };
         for (std::size_t k = 0; k + 1 < draped.size(); ++k) {
             const glm::dvec3& q0 = draped[k];
@@ -534,6 +608,56 @@ std::vector<RoutePiece> drapeRoute(const RouteGeometry& route, const glm::dvec3&
             }
             out.push_back(piece);
         }
+        return true;
+    };
+    bool fits = true;
+    for (const auto& [a, b] : segments) {
+        if (!(fits = drape(a, b, options.max_pieces))) break;
+    }
+    if (fits) {
+        n.segments_draped = segments.size();
+        return out;
+    }
+    // Over the bound (a route that crosses the tile again and again): only the segments that
+    // draw somewhere the route is not drawn yet, at the coverage raster's resolution, coarser
+    // until they fit; at the coarsest, none beyond the bound.
+    n.coverage_used = true;
+    std::vector<char> covered;
+    std::vector<std::uint32_t> cells;
+    for (int cells_per_side = kRouteCoverageCells;; cells_per_side /= 2) {
+        const bool last_try = cells_per_side <= kRouteCoverageCellsCoarsest;
+        out.clear();
+        n.segments_draped = n.segments_covered = n.segments_over_limit = 0;
+        covered.assign(static_cast<std::size_t>(cells_per_side) * static_cast<std::size_t>(cells_per_side), 0);
+        std::size_t covered_count = 0;
+        bool full = false;
+        for (const auto& [a, b] : segments) {
+            if (full) {
+                ++n.segments_over_limit;
+                continue;
+            }
+            if (covered_count == covered.size()) {
+                ++n.segments_covered;
+                continue;
+            }
+            coverageCells(a, b, e, cells_per_side, cells);
+            if (std::all_of(cells.begin(), cells.end(), [&](std::uint32_t c) { return covered[c] != 0; })) {
+                ++n.segments_covered;
+                continue;
+            }
+            if (!drape(a, b, options.max_pieces)) {
+                full = true;
+                ++n.segments_over_limit;
+                if (!last_try) break;  // coarser cells
+                continue;
+            }
+            ++n.segments_draped;
+            for (const std::uint32_t c : cells) {
+                covered_count += covered[c] == 0 ? 1 : 0;
+                covered[c] = 1;
+            }
+        }
+        if (!full || last_try) break;
     }
     return out;
 }

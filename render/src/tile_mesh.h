@@ -5,6 +5,7 @@
 // and extruded buildings. GL-free, so it can run off the render thread and be unit-tested.
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -196,12 +197,41 @@ struct RoutePiece {
     float measure0 = 0.0f, measure1 = 0.0f;                        ///< distance along the route, metres
 };
 
+/// The most route pieces one tile drapes, whatever the route: what the tile draws, morphs and
+/// uploads of it per frame stays bounded by the tile, not by the route's point count.
+inline constexpr std::size_t kRoutePiecesPerTile = 4096;
+/// Cells per side of the coverage raster that leaves out, once a tile's route would exceed
+/// RouteDrapeOptions::max_pieces, the segments that lie only where the route is drawn already;
+/// halved while what is left still exceeds it, down to kRouteCoverageCellsCoarsest.
+inline constexpr int kRouteCoverageCells = 128;
+inline constexpr int kRouteCoverageCellsCoarsest = 16;
+
+struct RouteDrapeOptions {
+    /// Douglas-Peucker tolerance (metres) of the route's runs inside the tile, before draping: a
+    /// view's pixel tolerance at the tile. 0 keeps every point.
+    double tolerance_m = 0.0;
+    /// At most this many pieces (kRoutePiecesPerTile): over it, segments whose coverage cells are
+    /// all drawn already are left out (kRouteCoverageCells), then what still exceeds it.
+    std::size_t max_pieces = kRoutePiecesPerTile;
+};
+
+/// What one drapeRoute() call did, counted (the route work of a tile; MapFrameStats route_*).
+struct RouteDrapeCounts {
+    std::size_t segments_clipped = 0;     ///< route segments overlapping the tile square
+    std::size_t segments_draped = 0;      ///< of them, left after simplifying and coverage
+    std::size_t segments_covered = 0;     ///< left out: drawn already by the tile's other segments
+    std::size_t segments_over_limit = 0;  ///< left out: draping them would exceed max_pieces
+    bool coverage_used = false;           ///< the route exceeded max_pieces before coverage
+};
+
 /// Clips the route (store frame; z is ignored) to the square of a tile (south-west corner
-/// `origin`, edge grid.extent()) and drapes it onto `grid` with barycentric tracing; `ancestors`
-/// (same layout as grid, TileMesh::ancestorGrids) give ancestor_z. Measures are interpolated
-/// per draped vertex.
+/// `origin`, edge grid.extent()), simplifies each run inside it to options.tolerance_m and drapes
+/// it onto `grid` with barycentric tracing; `ancestors` (same layout as grid,
+/// TileMesh::ancestorGrids) give ancestor_z. Measures are interpolated per draped vertex. Never
+/// more than options.max_pieces pieces (RouteDrapeOptions); `counts` (may be null) says what was done.
 std::vector<RoutePiece> drapeRoute(const RouteGeometry& route, const glm::dvec3& origin, const HeightGrid& grid,
-                                   const std::array<HeightGrid, kMorphLevels>& ancestors);
+                                   const std::array<HeightGrid, kMorphLevels>& ancestors,
+                                   const RouteDrapeOptions& options = {}, RouteDrapeCounts* counts = nullptr);
 
 /// Route instances of a tile with heights morphed like the terrain (terrain_lod.h morphedHeight);
 /// eye_local: the camera's x, y relative to the tile origin.

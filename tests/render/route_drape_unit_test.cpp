@@ -1,10 +1,13 @@
 // SPDX-License-Identifier: Apache-2.0
 // The route draped per tile (seed 3.6.1; tile_mesh.h drapeRoute/morphRoute): every piece lies on
 // one triangle of the tile's grid, the route is clipped to the tile square, measures follow the
-// draped vertices, and the pieces follow the terrain's geomorph.
+// draped vertices, and the pieces follow the terrain's geomorph. The work per tile is bounded by
+// the tile and the view's tolerance, not by the route's points (RouteDrapeOptions).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "navmap/render/terrain_lod.h"
 #include "tile_mesh.h"
@@ -171,6 +174,117 @@ TEST(RouteDrape, PiecesFollowTheTerrainMorph) {
         if (f > 0.0f && f < 1.0f) ++between;
     }
     EXPECT_GT(between, 10);
+}
+
+// `points` points zig-zagging east-west across the hill tile, from 200 m beyond its west edge to
+// 200 m beyond its east one, from its south edge to its north one: every segment crosses it.
+RouteGeometry zigZagRoute(int points) {
+    RouteGeometry r;
+    double m = 0.0;
+    for (int i = 0; i < points; ++i) {
+        const glm::dvec2 p(20000.0 + (i % 2 == 0 ? -200.0 : 1200.0), -15000.0 + 1000.0 * i / (points - 1));
+        if (i > 0) m += glm::length(p - glm::dvec2(r.points.back()));
+        r.points.emplace_back(p.x, p.y, 0.0);
+        r.measure_m.push_back(m);
+    }
+    r.version = 1;
+    return r;
+}
+
+// The widest north-south gap (metres) between the pieces over the tile's 1000 m, its edges included.
+double widestGap(const std::vector<RoutePiece>& pieces) {
+    std::vector<double> y{0.0, 1000.0};
+    for (const RoutePiece& p : pieces) y.insert(y.end(), {p.p0.y, p.p1.y});
+    std::sort(y.begin(), y.end());
+    double gap = 0.0;
+    for (std::size_t i = 1; i < y.size(); ++i) gap = std::max(gap, y[i] - y[i - 1]);
+    return gap;
+}
+
+TEST(RouteDrape, AZigZagRouteCostsTheTileNotItsPointCount) {
+    const auto tile = hillTile();
+    const TileMesh mesh = buildTileMesh(*tile);
+    RouteDrapeCounts c2k, c20k;
+    const auto p2k = drapeRoute(zigZagRoute(2000), mesh.origin, mesh.grid(), mesh.ancestorGrids(), {}, &c2k);
+    const auto p20k = drapeRoute(zigZagRoute(20000), mesh.origin, mesh.grid(), mesh.ancestorGrids(), {}, &c20k);
+    EXPECT_EQ(c2k.segments_clipped, 1999u) << "every segment crosses the tile";
+    EXPECT_EQ(c20k.segments_clipped, 19999u);
+    // Drawn unbounded, each segment would be draped at every triangle edge it crosses (about 100
+    // pieces over 1000 m of 32 cells): 200,000 and 2,000,000 pieces. Bounded by the tile instead.
+    EXPECT_TRUE(c2k.coverage_used);
+    EXPECT_TRUE(c20k.coverage_used);
+    EXPECT_LE(p2k.size(), kRoutePiecesPerTile);
+    EXPECT_LE(p20k.size(), kRoutePiecesPerTile);
+    EXPECT_LT(p20k.size(), p2k.size() * 3 / 2) << "ten times the points, about the same work";
+    EXPECT_LT(c20k.segments_draped, c2k.segments_draped * 3 / 2) << c2k.segments_draped << " " << c20k.segments_draped;
+    EXPECT_EQ(c20k.segments_draped + c20k.segments_covered + c20k.segments_over_limit, c20k.segments_clipped);
+    EXPECT_GT(c20k.segments_covered, 19000u) << "most segments lie where the route is drawn already";
+    // What is drawn still fills the tile as the zig-zag does, from its south edge to its north
+    // one, in stripes no further apart than the coarsest coverage cells.
+    EXPECT_EQ(c20k.segments_over_limit, 0u);
+    EXPECT_LE(widestGap(p2k), 1000.0 / kRouteCoverageCellsCoarsest + 1.0);
+    EXPECT_LE(widestGap(p20k), 1000.0 / kRouteCoverageCellsCoarsest + 1.0);
+    // Still pieces of the route: on the tile's triangles, measures from the route.
+    for (const RoutePiece& p : p20k) {
+        ASSERT_NEAR(p.p0.z, mesh.grid().heightAt(p.p0.x, p.p0.y), 2e-3);
+        ASSERT_GE(p.measure1, p.measure0);
+    }
+}
+
+TEST(RouteDrape, ADenseRouteIsSimplifiedToTheTolerance) {
+    const auto tile = hillTile();
+    const TileMesh mesh = buildTileMesh(*tile);
+    // The sparse route given again with a point every 5 cm on it (about 33,000 points): within
+    // any tolerance of the sparse one.
+    const RouteGeometry sparse = sparseRoute();
+    RouteGeometry dense;
+    for (std::size_t i = 0; i + 1 < sparse.points.size(); ++i) {
+        const glm::dvec3 a = sparse.points[i], b = sparse.points[i + 1];
+        const auto steps = static_cast<int>(glm::length(b - a) / 0.05);
+        for (int k = 0; k < steps; ++k) {
+            const double t = double(k) / steps;
+            dense.points.push_back(glm::mix(a, b, t));
+            dense.measure_m.push_back(sparse.measure_m[i] + t * (sparse.measure_m[i + 1] - sparse.measure_m[i]));
+        }
+    }
+    dense.points.push_back(sparse.points.back());
+    dense.measure_m.push_back(sparse.measure_m.back());
+    dense.version = 1;
+    ASSERT_GT(dense.points.size(), 30000u);
+    const auto expected = drapeRoute(sparse, mesh.origin, mesh.grid(), mesh.ancestorGrids());
+    RouteDrapeOptions options;
+    options.tolerance_m = 1.0 / 32.0;
+    RouteDrapeCounts counts;
+    const auto pieces = drapeRoute(dense, mesh.origin, mesh.grid(), mesh.ancestorGrids(), options, &counts);
+    EXPECT_GT(counts.segments_clipped, 20000u);
+    EXPECT_EQ(counts.segments_draped, 2u) << "the two segments of the sparse route inside the tile";
+    EXPECT_FALSE(counts.coverage_used);
+    ASSERT_EQ(pieces.size(), expected.size());
+    for (std::size_t i = 0; i < pieces.size(); ++i) {
+        EXPECT_NEAR(glm::length(pieces[i].p0 - expected[i].p0), 0.0f, 2e-3f) << i;
+        EXPECT_NEAR(glm::length(pieces[i].p1 - expected[i].p1), 0.0f, 2e-3f) << i;
+        EXPECT_NEAR(pieces[i].measure0, expected[i].measure0, 0.05f) << i;
+    }
+    // Without simplifying, every 5 cm segment is a piece: the bound keeps it to the tile's.
+    RouteDrapeCounts unsimplified;
+    const auto bounded = drapeRoute(dense, mesh.origin, mesh.grid(), mesh.ancestorGrids(), {}, &unsimplified);
+    EXPECT_TRUE(unsimplified.coverage_used);
+    EXPECT_LE(bounded.size(), kRoutePiecesPerTile);
+}
+
+TEST(RouteDrape, ANormalRouteIsDrapedWhole) {
+    // A route far under the bound is draped as it is, however it is simplified: no segment left out.
+    const auto tile = hillTile();
+    const TileMesh mesh = buildTileMesh(*tile);
+    RouteDrapeCounts counts;
+    RouteDrapeOptions options;
+    options.tolerance_m = 1.0 / 32.0;
+    const auto pieces = drapeRoute(sparseRoute(), mesh.origin, mesh.grid(), mesh.ancestorGrids(), options, &counts);
+    EXPECT_EQ(pieces.size(), drapeRoute(sparseRoute(), mesh.origin, mesh.grid(), mesh.ancestorGrids()).size());
+    EXPECT_EQ(counts.segments_clipped, 2u);
+    EXPECT_EQ(counts.segments_draped, 2u);
+    EXPECT_EQ(counts.segments_covered + counts.segments_over_limit, 0u);
+    EXPECT_FALSE(counts.coverage_used);
 }
 
 }  // namespace

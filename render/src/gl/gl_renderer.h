@@ -39,6 +39,8 @@ public:
     [[nodiscard]] ProgramCacheStats programCache() const override {
         return m_programs ? m_programs->stats() : ProgramCacheStats{};
     }
+    /// The route's work in the last map frame (tests and benchmarks, beside mapStats()).
+    [[nodiscard]] const RouteWork& routeWork() const { return m_map->routeWork(); }
     void finish() override;
     Image readSync(TargetHandle target) override;
     std::optional<Frame> readAsync(TargetHandle target, std::uint64_t sequence) override;

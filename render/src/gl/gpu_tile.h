@@ -109,7 +109,8 @@ struct GpuTile {
     // Geomorphing (terrain_lod.h): the ancestors the morph targets came from, this frame's ranges.
     std::array<const map::Tile*, kMorphLevels> morph_ancestors{};
     TileMorph morph;
-    // The route draped onto this tile's grid (seed 3.6.1), per route object and version.
+    // The route draped onto this tile's grid (seed 3.6.1), per route object and version; at most
+    // kRoutePiecesPerTile pieces (RoutePass).
     int grid_size = 0;
     std::vector<float> heights;                                     // grid_size^2, for draping
     std::array<std::vector<float>, kMorphLevels> ancestor_heights;  // the same for the morph targets
@@ -117,6 +118,7 @@ struct GpuTile {
     std::uint64_t route_version = 0;
     std::size_t route_points = 0;
     double route_last_measure = 0.0;
+    double route_tolerance_m = 0.0;  // the simplification route_pieces were draped with
     std::vector<RoutePiece> route_pieces;
     std::vector<RoadInstance> route_instances;  // route_pieces with this frame's morph
     GLuint route_vao = 0, route_vbo = 0;

@@ -44,6 +44,11 @@ public:
     /// Frees the least recently used tiles beyond the cache size that no target drew in its
     /// latest frame.
     void evict();
+    /// Calls `f` with every tile held (drawn in this frame or not).
+    template <typename F>
+    void forEachTile(F&& f) {
+        for (auto& entry : m_tiles) f(*entry.second);
+    }
     /// Forgets display `target_id` (its latest frame no longer holds tiles).
     void dropTarget(int target_id) { m_target_frame.erase(target_id); }
     /// The element buffer bound to every tile's road vertex array: RoadPass fills it each frame

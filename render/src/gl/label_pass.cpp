@@ -519,7 +519,10 @@ void LabelPass::keepOut(const MapFrame& frame, std::span<const TileLabels> tiles
                       double to, double step_m) {
         std::vector<glm::dvec3> out;
         std::vector<double> at;
-        std::size_t k = 1;
+        // From the first point at or beyond `from` (the measures grow along the line).
+        std::size_t k = std::max<std::size_t>(
+            1,
+            static_cast<std::size_t>(std::lower_bound(measure_m.begin(), measure_m.end(), from) - measure_m.begin()));
         for (double m = from;; m = std::min(m + step_m, to)) {
             while (k + 1 < measure_m.size() && measure_m[k] < m) ++k;
             const double m0 = measure_m[k - 1], m1 = measure_m[k];

@@ -2,6 +2,9 @@
 #include "map_renderer.h"
 
 #include <GLES3/gl3.h>
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
 
 #include <optional>
 #include <span>
@@ -77,6 +80,16 @@ FrameContext MapRenderer::beginFrame(const MapFrame& frame, const RenderTarget& 
         g->view = frame.camera.viewRelativeTo(g->origin);
         g->view_projection = projection * g->view;
         g->road_cull = grow * g->view_projection;
+    }
+    m_route.beginFrame();
+    if (m_route.routeChanged(frame.route)) {
+        // Another route, or none (clear_route): what the tiles kept of the old one goes now, on
+        // every tile held, not when each is drawn again or evicted; and the allocator hands the
+        // freed pages back.
+        m_cache.forEachTile([&](GpuTile& g) { m_route.release(g); });
+#ifdef __GLIBC__
+        if (m_route.work().bytes_released > 0) ::malloc_trim(0);
+#endif
     }
     if (ctx.routeShown()) m_route.update(ctx);
     return ctx;

@@ -47,6 +47,8 @@ public:
     /// tiles of its latest frame stay on the GPU.
     void render(const MapFrame& frame, const RenderTarget& target, int target_id);
     [[nodiscard]] const MapFrameStats& stats() const { return m_stats; }
+    /// The route's work in the last frame (RoutePass).
+    [[nodiscard]] const RouteWork& routeWork() const { return m_route.work(); }
     /// Forgets display `target_id`: its label state, and its latest frame no longer holds tiles.
     void dropTarget(int target_id) {
         m_labels.dropTarget(target_id);

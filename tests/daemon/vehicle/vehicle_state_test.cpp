@@ -416,3 +416,37 @@ TEST(VehicleState, SnapsOntoTheNearestRoadWithConfidence) {
         EXPECT_LT(back->confidence, 0.01);
     }
 }
+
+// Matching onto a route of 20,000 points (set_route's maximum) searches the segments near the
+// previous match first (RouteLine::match): it finds what a search of the whole route finds, also
+// where the previous match lies far away along the route.
+TEST(RouteLine, MatchingNearThePreviousMatchFindsWhatTheWholeRouteGives) {
+    // 100 km north with a point every 5 m, weaving 2 m east and west.
+    std::vector<map::PlanarPoint> pts;
+    for (int i = 0; i < 20000; ++i) pts.push_back({i % 2 == 0 ? -1.0 : 1.0, 5.0 * i});
+    const RouteLine line("r1", pts);
+    const VehicleStateConfig cfg;
+    const map::PlanarPoint at{0.5, 50003.0};
+    const auto whole = line.match(at, 0.0, std::nullopt, cfg);
+    ASSERT_TRUE(whole);
+    EXPECT_NEAR(whole->point.y, 50003.0, 2.5);
+    const auto near = line.match(at, 0.0, whole->measure_m - 3.0, cfg);
+    ASSERT_TRUE(near);
+    EXPECT_NEAR(near->measure_m, whole->measure_m, 1.0);
+    EXPECT_NEAR(near->point.x, whole->point.x, 1.0);
+    EXPECT_NEAR(near->point.y, whole->point.y, 1.0);
+    // A previous match far away along the route: nothing near it fits, the rest is searched
+    // (the jump penalty then prefers the earliest candidate within the radius).
+    const auto jumped = line.match(at, 0.0, 10000.0, cfg);
+    ASSERT_TRUE(jumped);
+    EXPECT_LE(jumped->distance_m, cfg.match_radius_m);
+    EXPECT_NEAR(jumped->point.y, 50003.0, cfg.match_radius_m + 3.0);
+    // A route passing the same place twice: the pass near the previous match wins, as before.
+    std::vector<map::PlanarPoint> loop{{0, 0}, {0, 3000}, {10, 3000}, {10, 0}};
+    const RouteLine back("r2", loop);
+    const auto out = back.match({5.0, 1500.0}, std::nullopt, 1400.0, cfg);
+    const auto in = back.match({5.0, 1500.0}, std::nullopt, 4600.0, cfg);
+    ASSERT_TRUE(out && in);
+    EXPECT_NEAR(out->measure_m, 1500.0, 1e-6);
+    EXPECT_NEAR(in->measure_m, 3010.0 + 1500.0, 1e-6);
+}
