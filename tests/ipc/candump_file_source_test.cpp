@@ -4,6 +4,7 @@
 // looping rewinds the file.
 #include <gtest/gtest.h>
 
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -177,5 +178,22 @@ TEST(CandumpFileSource, TextThatIsNoLogIsRefusedQuickly) {
     EXPECT_EQ(empty->error(), "");
     auto missing = CandumpFileSource::open("/nonexistent/drive.candump");
     ASSERT_FALSE(missing.ok());
-    EXPECT_EQ(missing.error().message, "open(/nonexistent/drive.candump): No such file or directory");
+    EXPECT_EQ(missing.error().message, "open(/nonexistent/drive.candump): No such file or directory (candump log)");
+}
+
+// A log that is no regular file is refused at once: a FIFO used to block navmapd's start-up (and
+// SIGTERM) until a writer came, /dev/zero to be replayed as binary data.
+TEST(CandumpFileSource, AFifoOrADeviceIsRefusedWithoutWaiting) {
+    const auto dir = std::filesystem::temp_directory_path() / ("navmap-candump-fifo-" + std::to_string(::getpid()));
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    const auto fifo = dir / "drive.candump";
+    ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+    auto r = CandumpFileSource::open(fifo);
+    ASSERT_FALSE(r.ok());
+    EXPECT_EQ(r.error().message, fifo.string() + ": is a FIFO, not a regular file (candump log)");
+    r = CandumpFileSource::open("/dev/zero");
+    ASSERT_FALSE(r.ok());
+    EXPECT_EQ(r.error().message, "/dev/zero: is a character device, not a regular file (candump log)");
+    std::filesystem::remove_all(dir);
 }
