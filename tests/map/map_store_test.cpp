@@ -877,7 +877,9 @@ TEST(StoreSizes, AGraphDeclaringMoreThanZlibCanMakeOfItIsRefusedBeforeAllocating
         const long growth = peakGrowthMib([&] { r = TileStore::open(path)->tryLoadGraph(); });
         EXPECT_EQ(r.error, path.string() + ": road graph: declares " + std::to_string(claim) + " bytes from " +
                                std::to_string(stored) + " compressed, more than zlib's 1032:1 allows");
-        if (growth >= 0) EXPECT_LT(growth, 32) << "claim " << claim;
+        if (growth >= 0) {
+            EXPECT_LT(growth, 32) << "claim " << claim;
+        }
     }
     // Past the format's limit, whatever the stored size.
     editHeader(path, [&](StoreInfo& i) { i.graph_raw_size = detail::kMaxGraphRawBytes + 1; });
@@ -918,7 +920,9 @@ TEST(StoreSizes, AZlibBombGraphIsCaughtOnItsFirstPieceNotAfterInflatingIt) {
     TileStore::GraphResult r;
     const long growth = peakGrowthMib([&] { r = TileStore::open(path)->tryLoadGraph(); });
     EXPECT_EQ(r.error, path.string() + ": road graph: not a road graph (bad magic)");
-    if (growth >= 0) EXPECT_LT(growth, 32);
+    if (growth >= 0) {
+        EXPECT_LT(growth, 32);
+    }
     // The tiles are untouched.
     EXPECT_TRUE(unloadable(*TileStore::open(path)).empty());
 }
@@ -934,7 +938,9 @@ TEST(StoreSizes, IndexEntriesDeclaringMoreThanTheirTileCanHoldAreFatalAtOpen) {
     EXPECT_NE(e.find(path.string() + ": index entry 0 (tile 0/0/0) declares 268435456 bytes from "), std::string::npos)
         << e;
     EXPECT_NE(e.find(" compressed, more than zlib's 1032:1 allows"), std::string::npos) << e;
-    if (growth >= 0) EXPECT_LT(growth, 32);
+    if (growth >= 0) {
+        EXPECT_LT(growth, 32);
+    }
 
     writeSmallStore(path);
     editIndexRawSizes(path, [](std::uint32_t stored) { return stored * 1032 + 1; });
@@ -973,7 +979,9 @@ TEST(StoreSizes, MoreTilesThanAStoreMayHoldIsFatalBeforeTheIndexIsRead) {
     std::string e;
     const long growth = peakGrowthMib([&] { e = openError(path); });
     EXPECT_EQ(e, path.string() + ": the header declares 4194305 tiles, more than the 4194304 a store may hold");
-    if (growth >= 0) EXPECT_LT(growth, 32);
+    if (growth >= 0) {
+        EXPECT_LT(growth, 32);
+    }
 }
 
 TEST(StoreSizes, AStoreThatIsNoRegularFileIsRefusedWithoutBlocking) {
