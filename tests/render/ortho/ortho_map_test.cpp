@@ -232,7 +232,7 @@ TEST(OrthoMap, WeightsAreReadWhenTheRendererIsMadeAndOnlyFromARegularFile) {
     EXPECT_EQ(renderWith(b, Ground::Orthoimage).rgba, cover.rgba);
     EXPECT_EQ(b.renderer->mapStats().ortho_problem,
               "orthoimages off: " + big.string() +
-                  ": 2147483648 bytes, over the limit of 188492 bytes (orthoimage weights) (the ground shows the "
+                  ": 2147483648 bytes, over the limit of 192588 bytes (orthoimage weights) (the ground shows the "
                   "land cover)");
 
     // Read at creation: the file may go before the first orthoimage frame.
