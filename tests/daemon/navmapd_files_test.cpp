@@ -38,7 +38,7 @@ struct Scratch {
     ~Scratch() { fs::remove_all(dir); }
 };
 
-struct Run {
+struct DaemonRun {
     int exit_code = -1;  ///< -1: killed at the deadline (it hung) or did not exit normally
     std::string output;
     long peak_mib = -1;  ///< the process's peak resident memory
@@ -46,8 +46,8 @@ struct Run {
 
 /// navmapd with `args`, output into `log`; killed if still running after `deadline` (a guard
 /// against a hang, not a measurement).
-Run runNavmapd(const std::string& args, const fs::path& log, std::chrono::seconds deadline) {
-    Run r;
+DaemonRun runNavmapd(const std::string& args, const fs::path& log, std::chrono::seconds deadline) {
+    DaemonRun r;
     const std::string cmd = std::string("exec ") + NAVMAPD_PATH + " " + args + " > " + log.string() + " 2>&1";
     const char* argv[] = {"/bin/sh", "-c", cmd.c_str(), nullptr};
     pid_t pid = -1;
@@ -112,7 +112,8 @@ TEST(NavmapdFiles, AStoreIndexClaimingMoreThanItsTilesCanHoldIsRefusedAtOnce) {
             for (std::uint32_t k = 0; k < i.tile_count; ++k)
                 put(b, i.index_offset + k * 29u + 21, std::uint32_t{256} << 20);
         });
-    const Run r = runNavmapd("--store " + store.string() + " --run-for 5 " + commonArgs(s.dir), s.dir / "log", 120s);
+    const DaemonRun r =
+        runNavmapd("--store " + store.string() + " --run-for 5 " + commonArgs(s.dir), s.dir / "log", 120s);
     EXPECT_EQ(r.exit_code, 1) << r.output;
     EXPECT_NE(
         r.output.find("<3>navmapd: " + store.string() + ": index entry 0 (tile 0/0/0) declares 268435456 bytes from "),
@@ -132,7 +133,8 @@ TEST(NavmapdFiles, AGraphClaimingFourGibibytesIsRefusedWithoutAllocatingThem) {
             stored = i.graph_stored_size;
             put(b, 128, std::uint64_t{4} << 30);
         });
-    const Run r = runNavmapd("--store " + store.string() + " --run-for 2 " + commonArgs(s.dir), s.dir / "log", 120s);
+    const DaemonRun r =
+        runNavmapd("--store " + store.string() + " --run-for 2 " + commonArgs(s.dir), s.dir / "log", 120s);
     EXPECT_EQ(r.exit_code, 0) << r.output;
     EXPECT_NE(
         r.output.find("<4>navmapd: " + store.string() + ": road graph: declares 4294967296 bytes from " +
@@ -148,7 +150,8 @@ TEST(NavmapdFiles, FilesThatAreNoRegularFilesAreOneClearErrorAtStart) {
     Scratch s("navmapd-not-regular");
     const fs::path fifo = s.dir / "drive.candump";
     ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
-    Run r = runNavmapd("--replay " + fifo.string() + " --run-for 5 " + commonArgs(s.dir), s.dir / "replay.log", 60s);
+    DaemonRun r =
+        runNavmapd("--replay " + fifo.string() + " --run-for 5 " + commonArgs(s.dir), s.dir / "replay.log", 60s);
     EXPECT_EQ(r.exit_code, 1) << r.output;
     EXPECT_NE(r.output.find("<3>navmapd: " + fifo.string() + ": is a FIFO, not a regular file (candump log)"),
               std::string::npos)
@@ -179,5 +182,3 @@ TEST(NavmapdFiles, FilesThatAreNoRegularFilesAreOneClearErrorAtStart) {
         << r.output;
     EXPECT_LT(r.peak_mib, 256) << r.output;
 }
-
-}  // namespace
