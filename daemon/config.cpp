@@ -8,12 +8,16 @@
 #include <set>
 #include <sstream>
 
+#include "navmap/common/untrusted_file.h"
 #include "navmap/render/maplibre_camera.h"
 #include "toml_limits.h"
 
 namespace navmap::daemon {
 
 namespace {
+
+// A config is a few KiB; 4 MiB leaves room for any real one and bounds what a wrong file costs.
+constexpr FileKind kConfigFile{"config file", std::uint64_t{4} << 20};
 
 std::string where(const std::string& source, const toml::source_region& r) {
     return source + ":" + std::to_string(r.begin.line) + ":" + std::to_string(r.begin.column);
@@ -406,14 +410,15 @@ std::optional<DaemonConfig> parseConfig(const std::string& text, const std::stri
 }
 
 std::optional<DaemonConfig> loadConfig(const std::filesystem::path& path, ConfigError* error) {
-    std::ifstream in(path);
-    if (!in) {
-        if (error) error->message = "open(" + path.string() + "): cannot read config file";
+    // Regular files only, opened without blocking, at most kConfigFile.max_bytes read
+    // (docs/architecture.md "Untrusted files"): a FIFO or /dev/zero is refused, never waited on.
+    std::string problem;
+    const std::optional<std::string> text = UntrustedFile::readText(path, kConfigFile, problem);
+    if (!text) {
+        if (error) error->message = problem;
         return std::nullopt;
     }
-    std::ostringstream text;
-    text << in.rdbuf();
-    return parseConfig(text.str(), path.string(), error);
+    return parseConfig(*text, path.string(), error);
 }
 
 bool validateConfig(const DaemonConfig& c, ConfigError* error) {

@@ -103,6 +103,8 @@ struct ConfigError {
 /// Parses TOML text; unknown keys are errors (typos must not pass silently). Text nested deeper or
 /// holding more values than TomlLimits' defaults is refused before toml++ parses it (toml_limits.h).
 std::optional<DaemonConfig> parseConfig(const std::string& text, const std::string& source_name, ConfigError* error);
+/// Reads the file (a regular file of at most 4 MiB, opened without blocking: a FIFO or a device
+/// is an error naming what it is; docs/architecture.md "Untrusted files") and parses it.
 std::optional<DaemonConfig> loadConfig(const std::filesystem::path& path, ConfigError* error);
 
 /// Checks cross-field rules (profiles unique and sane, a replay log for input = replay, ...).

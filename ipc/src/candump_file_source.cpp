@@ -1,22 +1,30 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "navmap/ipc/candump_file_source.h"
 
-#include <fcntl.h>
 #include <unistd.h>
 
 #include <cerrno>
 #include <cstring>
 
+#include "navmap/common/untrusted_file.h"
 #include "navmap/ipc/net/sys_error.h"
 
 namespace navmap::ipc {
 
+namespace {
+
+constexpr FileKind kCandumpLog{"candump log", 0};
+
+}  // namespace
+
 Result<std::unique_ptr<CandumpFileSource>> CandumpFileSource::open(const std::filesystem::path& path) {
-    net::UniqueFd fd(::open(path.c_str(), O_RDONLY | O_CLOEXEC));
-    if (!fd.valid()) {
-        return Error{net::sysError("open", path.string())};
+    // Regular files only, opened without blocking: a FIFO named as the log is refused at once,
+    // never waited on at start-up. No size cap: the log is read in chunks of kChunkBytes.
+    UntrustedFile file = UntrustedFile::open(path, kCandumpLog);
+    if (!file.ok()) {
+        return Error{file.error()};
     }
-    return std::unique_ptr<CandumpFileSource>(new CandumpFileSource(fd.release(), path));
+    return std::unique_ptr<CandumpFileSource>(new CandumpFileSource(file.release(), path));
 }
 
 CandumpFileSource::CandumpFileSource(int fd, std::filesystem::path path)

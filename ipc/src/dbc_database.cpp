@@ -7,8 +7,13 @@
 #include <optional>
 #include <sstream>
 
+#include "navmap/common/untrusted_file.h"
+
 namespace navmap::ipc {
 namespace {
+
+// Real DBC files reach a few MiB (a whole vehicle's buses); 32 MiB bounds what a wrong file costs.
+constexpr FileKind kDbcFile{"DBC file", std::uint64_t{32} << 20};
 
 /// Cursor over one DBC statement (one line, or several when a quoted string spans lines).
 class Lexer {
@@ -525,16 +530,14 @@ Result<DbcDatabase> DbcDatabase::parse(std::string_view text, std::string_view s
 }
 
 Result<DbcDatabase> DbcDatabase::load(const std::filesystem::path& path, Mode mode) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) {
-        return Error{"open(" + path.string() + "): cannot read DBC file"};
+    // Regular files only, opened without blocking, at most kDbcFile.max_bytes read
+    // (docs/architecture.md "Untrusted files"): a FIFO or /dev/zero is refused, never waited on.
+    std::string problem;
+    const std::optional<std::string> text = UntrustedFile::readText(path, kDbcFile, problem);
+    if (!text) {
+        return Error{problem};
     }
-    std::ostringstream ss;
-    ss << in.rdbuf();
-    if (in.bad()) {
-        return Error{"read(" + path.string() + "): I/O error"};
-    }
-    return parse(ss.str(), path.string(), mode);
+    return parse(*text, path.string(), mode);
 }
 
 DbcDatabase DbcDatabase::loadOrThrow(const std::filesystem::path& path, Mode mode) {

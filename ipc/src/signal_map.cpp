@@ -5,12 +5,18 @@
 #include <cctype>
 #include <fstream>
 #include <numbers>
+#include <optional>
 #include <sstream>
 
 #include <toml++/toml.h>
 
+#include "navmap/common/untrusted_file.h"
+
 namespace navmap::ipc {
 namespace {
+
+// A signal map is a few KiB of TOML; bounded like the daemon's config.
+constexpr FileKind kSignalMapFile{"signal map", std::uint64_t{4} << 20};
 
 enum class Dim { None, Speed, Angle, AngularRate, Length, Accel };
 
@@ -172,13 +178,13 @@ Result<SignalMap> SignalMap::fromToml(std::string_view text, std::string_view so
 }
 
 Result<SignalMap> SignalMap::loadToml(const std::filesystem::path& path, std::string_view array_key) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) {
-        return Error{"open(" + path.string() + "): cannot read signal map"};
+    // Regular files only, opened without blocking, at most kSignalMapFile.max_bytes read.
+    std::string problem;
+    const std::optional<std::string> text = UntrustedFile::readText(path, kSignalMapFile, problem);
+    if (!text) {
+        return Error{problem};
     }
-    std::ostringstream ss;
-    ss << in.rdbuf();
-    return fromToml(ss.str(), path.string(), array_key);
+    return fromToml(*text, path.string(), array_key);
 }
 
 SignalMap SignalMap::navmapDefaults() {

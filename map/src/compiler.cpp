@@ -18,9 +18,11 @@
 #include <osmium/visitor.hpp>
 
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <iomanip>
 #include <map>
@@ -30,6 +32,7 @@
 #include <sstream>
 #include <unordered_map>
 
+#include <unistd.h>
 #include <zlib.h>
 #ifdef __GLIBC__
 #include <malloc.h>
@@ -39,6 +42,7 @@
 #include "file_node_index.h"
 #include "graph_build.h"
 #include "multipolygon_spill.h"
+#include "navmap/common/untrusted_file.h"
 #include "navmap/map/coastline.h"
 #include "navmap/map/dem.h"
 #include "navmap/map/dem_mosaic.h"
@@ -63,6 +67,10 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 constexpr double kAlways = 1e300;
+
+// The OSM input: libosmium streams it (no size cap), but only from a regular file
+// (docs/architecture.md "Untrusted files").
+constexpr FileKind kOsmInput{"OSM input", 0};
 
 // ---- level-of-detail rules (docs/tile-store.md "Tile scheme": lower levels carry simplified geometry) ----
 
@@ -210,15 +218,20 @@ std::string fmtSeconds(double s) {
 // ---- sharded compile: what every shard of one compile has in common ----
 
 // Name, size and CRC32 of an input file.
-std::string fileFingerprint(const std::filesystem::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw CompileError(path.string() + ": cannot read");
+std::string fileFingerprint(const std::filesystem::path& path, const FileKind& kind) {
+    // Regular files only, opened without blocking: a FIFO never holds the compile (checked again
+    // by what reads the file).
+    UntrustedFile file = UntrustedFile::open(path, kind);
+    if (!file.ok()) throw CompileError(file.error());
     uLong crc = ::crc32(0L, Z_NULL, 0);
     std::uint64_t size = 0;
     std::vector<char> buffer(std::size_t{1} << 20);
-    while (in) {
-        in.read(buffer.data(), static_cast<std::streamsize>(buffer.size()));
-        const auto n = static_cast<std::size_t>(in.gcount());
+    for (;;) {
+        const ssize_t got = ::read(file.fd(), buffer.data(), buffer.size());
+        if (got < 0 && errno == EINTR) continue;
+        if (got < 0) throw CompileError("read(" + path.string() + "): " + std::strerror(errno));
+        if (got == 0) break;
+        const auto n = static_cast<std::size_t>(got);
         crc = ::crc32(crc, reinterpret_cast<const Bytef*>(buffer.data()), static_cast<uInt>(n));
         size += n;
     }
@@ -231,8 +244,8 @@ std::string fileFingerprint(const std::filesystem::path& path) {
 // The inputs and the options that shape tiles (ShardManifest::fingerprint).
 std::string compileFingerprint(const CompileOptions& opt) {
     std::ostringstream out;
-    out << std::setprecision(17) << "osm " << fileFingerprint(opt.osm);
-    for (const auto& dem : opt.dems) out << "; dem " << fileFingerprint(dem);
+    out << std::setprecision(17) << "osm " << fileFingerprint(opt.osm, kOsmInput);
+    for (const auto& dem : opt.dems) out << "; dem " << fileFingerprint(dem, FileKind{"DEM file", 0});
     out << "; leaf " << opt.leaf_tile_m << " m; dem samples " << opt.dem_samples << "; building "
         << opt.default_building_height_m << " m; ortho " << (opt.ortho_inputs ? "yes" : "no");
     return out.str();
@@ -762,6 +775,13 @@ CompileStats compileStore(const CompileOptions& opt) {
     // again while a third of the limit is full (a band samples only the DEM under its columns).
     DemMosaic dems;
     double dem_spacing_m = 90.0;
+    // DEM files whose every sample is a void: said as such, not as tiles outside the DEM.
+    std::vector<std::filesystem::path> all_void_dems;
+    auto all_void = [&](const std::filesystem::path& path, std::size_t samples) {
+        all_void_dems.push_back(path);
+        warn("DEM " + path.filename().string() + ": all " + std::to_string(samples) +
+             " samples are voids: it gives no heights, its area is flat (0 m)");
+    };
     for (const auto& path : opt.dems) {
         if (opt.memory_limit_mib > 0) {
             const HgtShape shape = probeHgt(path);  // DemError names the file
@@ -774,6 +794,7 @@ CompileStats compileStore(const CompileOptions& opt) {
         Dem dem = loadHgt(path);  // DemError names the file
         log("DEM " + path.filename().string() + ": " + std::to_string(dem.rows) + "x" + std::to_string(dem.cols) +
             ", " + std::to_string(dem.void_count) + " void samples");
+        if (dem.void_count == dem.heights.size()) all_void(path, dem.void_count);
         stats.dem_voids_filled += fillVoids(dem);
         dem_spacing_m = dem.spacing * 111320.0;
         dems.add(std::move(dem));
@@ -785,8 +806,9 @@ CompileStats compileStore(const CompileOptions& opt) {
     // ---- OSM: one relations pass for multipolygons, then one pass of small handlers ----
     const std::string osm_name = opt.osm.string();
     {
-        std::error_code ec;
-        if (!std::filesystem::is_regular_file(opt.osm, ec)) throw CompileError(osm_name + ": no such file");
+        // A regular file, opened without blocking: /dev/zero or a FIFO is named as what it is.
+        const UntrustedFile osm = UntrustedFile::open(opt.osm, kOsmInput);
+        if (!osm.ok()) throw CompileError(osm.error());
     }
     // Bounded memory (docs/tile-store.md "Bounded memory"): the node index in a file and the
     // features in spill files, compiled band by band. Otherwise everything stays in memory.
@@ -1175,6 +1197,10 @@ CompileStats compileStore(const CompileOptions& opt) {
 
         // The DEM grids are done with: their memory goes before the road graph's comes.
         stats.dem_voids_filled += dems.voidsFilled();
+        for (const auto& path : dems.allVoidFiles()) {
+            const HgtShape shape = probeHgt(path);
+            all_void(path, static_cast<std::size_t>(shape.side) * static_cast<std::size_t>(shape.side));
+        }
         log("DEM: " + std::to_string(dems.fileLoads()) + " reads of " + std::to_string(dems.size()) + " files, " +
             std::to_string(dems.scratchReads()) + " grids read back filled, at most " + mib(dems.peakFileBytes()) +
             " held");
@@ -1232,8 +1258,18 @@ CompileStats compileStore(const CompileOptions& opt) {
     }
 
     if (stats.tiles_without_dem > 0 && stats.dem_files > 0) {
-        warn(std::to_string(stats.tiles_without_dem) + " of " + std::to_string(stats.tiles_per_level.back()) +
-             " leaf tiles lie partly outside the DEM; missing areas are flat (0 m)");
+        const std::string tiles =
+            std::to_string(stats.tiles_without_dem) + " of " + std::to_string(stats.tiles_per_level.back());
+        std::string names;
+        for (const auto& path : all_void_dems) names += (names.empty() ? "" : ", ") + path.filename().string();
+        if (all_void_dems.size() == stats.dem_files) {
+            warn(tiles + " leaf tiles have no heights: the DEM is all voids (" + names + "); terrain is flat (0 m)");
+        } else if (!all_void_dems.empty()) {
+            warn(tiles + " leaf tiles lie partly outside the DEM or on DEM files that are all voids (" + names +
+                 "); missing areas are flat (0 m)");
+        } else {
+            warn(tiles + " leaf tiles lie partly outside the DEM; missing areas are flat (0 m)");
+        }
     }
     stats.store_bytes = store_bytes;
     if (opt.shard.sharded()) {

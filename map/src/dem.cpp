@@ -10,6 +10,8 @@
 #include <string>
 #include <system_error>
 
+#include "navmap/common/untrusted_file.h"
+
 namespace navmap::map {
 
 namespace {
@@ -35,6 +37,33 @@ TileCorner parseHgtName(const std::filesystem::path& path) {
     return {lat, lon};
 }
 
+// An SRTM3 or SRTM1 tile: at most 3601 x 3601 big-endian int16 samples (25.9 MB).
+constexpr FileKind kHgtFile{"DEM file", std::uint64_t{3601} * 3601 * 2};
+
+// Regular files only, opened without blocking (a FIFO or a device is refused, named), no longer
+// than an SRTM1 tile, read no further than that (docs/architecture.md "Untrusted files").
+UntrustedFile openHgt(const std::filesystem::path& path) {
+    (void)parseHgtName(path);  // the name first: a wrong one says so, whatever the file is
+    UntrustedFile file = UntrustedFile::open(path, kHgtFile);
+    if (!file.ok()) throw DemError(file.error());
+    return file;
+}
+
+// The grid the name and the size give; any other size than SRTM3's or SRTM1's is an error.
+HgtShape hgtShape(const std::filesystem::path& path, std::uint64_t bytes) {
+    const TileCorner corner = parseHgtName(path);
+    int side = 0;
+    if (bytes == 1201u * 1201u * 2u)
+        side = 1201;
+    else if (bytes == kHgtFile.max_bytes)
+        side = 3601;
+    else {
+        throw DemError(path.string() + ": " + std::to_string(bytes) +
+                       " bytes is not an SRTM tile (expected 1201x1201 or 3601x3601 int16 samples)");
+    }
+    return {side, corner.lat + 1.0, static_cast<double>(corner.lon), 1.0 / (side - 1)};
+}
+
 }  // namespace
 
 float Dem::sample(double lat, double lon) const {
@@ -50,31 +79,20 @@ float Dem::sample(double lat, double lon) const {
 }
 
 HgtShape probeHgt(const std::filesystem::path& path) {
-    const TileCorner corner = parseHgtName(path);
-    std::error_code ec;
-    const std::uintmax_t bytes = std::filesystem::file_size(path, ec);
-    if (ec) throw DemError(path.string() + ": cannot open");
-    int side = 0;
-    if (bytes == 1201u * 1201u * 2u)
-        side = 1201;
-    else if (bytes == 3601u * 3601u * 2u)
-        side = 3601;
-    else {
-        throw DemError(path.string() + ": " + std::to_string(bytes) +
-                       " bytes is not an SRTM tile (expected 1201x1201 or 3601x3601 int16 samples)");
-    }
-    return {side, corner.lat + 1.0, static_cast<double>(corner.lon), 1.0 / (side - 1)};
+    const UntrustedFile file = openHgt(path);
+    return hgtShape(path, file.size());
 }
 
 Dem loadHgt(const std::filesystem::path& path) {
-    const HgtShape shape = probeHgt(path);
+    UntrustedFile file = openHgt(path);
+    const HgtShape shape = hgtShape(path, file.size());
     const int side = shape.side;
     const std::size_t bytes = static_cast<std::size_t>(side) * side * 2u;
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw DemError(path.string() + ": cannot open");
-    std::vector<unsigned char> raw(bytes);
-    if (!in.read(reinterpret_cast<char*>(raw.data()), static_cast<std::streamsize>(bytes))) {
-        throw DemError(path.string() + ": read failed");
+    std::vector<unsigned char> raw;
+    if (!file.readAll(raw)) throw DemError(file.error());
+    if (raw.size() != bytes) {
+        throw DemError(path.string() + ": " + std::to_string(raw.size()) + " bytes read of " + std::to_string(bytes) +
+                       " (the file changed while being read)");
     }
     Dem dem;
     dem.rows = dem.cols = side;

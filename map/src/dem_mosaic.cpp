@@ -80,6 +80,15 @@ Dem DemMosaic::readFile(const Grid& g) const {
     return dem;
 }
 
+std::vector<std::filesystem::path> DemMosaic::allVoidFiles() const {
+    std::vector<std::filesystem::path> files;
+    for (const Grid& g : m_grids) {
+        if (!g.file.empty() && g.counted && g.void_count == static_cast<std::size_t>(g.side) * g.side)
+            files.push_back(g.file);
+    }
+    return files;
+}
+
 const Dem& DemMosaic::loaded(const Grid& g) const {
     g.used = ++m_clock;
     if (g.dem) return *g.dem;

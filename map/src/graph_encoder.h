@@ -14,6 +14,10 @@
 
 namespace navmap::map::detail {
 
+/// The first four bytes of an encoded road graph ("GRG1"); the store checks them on the first
+/// piece it inflates (docs/tile-store.md "Sizes").
+inline constexpr std::uint32_t kGraphMagic = 0x31475247;
+
 /// Takes the encoded bytes in pieces, in order.
 using ByteSink = std::function<void(std::span<const std::uint8_t>)>;
 

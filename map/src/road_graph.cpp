@@ -12,10 +12,7 @@ namespace navmap::map {
 
 using detail::ByteReader;
 using detail::ByteWriter;
-
-namespace {
-constexpr std::uint32_t kGraphMagic = 0x31475247;  // "GRG1"
-}
+using detail::kGraphMagic;
 
 void indexEdges(RoadGraph& g) {
     std::stable_sort(g.edges.begin(), g.edges.end(),

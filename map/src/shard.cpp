@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "navmap/common/untrusted_file.h"
 #include "navmap/map/compiler.h"
 #include "navmap/map/store_writer.h"
 #include "navmap/map/tile_store.h"
@@ -127,11 +128,16 @@ void writeShardManifest(const std::filesystem::path& path, const ShardManifest& 
 }
 
 ShardManifest readShardManifest(const std::filesystem::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw CompileError(path.string() + ": no such file (each shard store has its manifest beside it)");
-    std::stringstream text;
-    text << in.rdbuf();
-    const auto j = nlohmann::json::parse(text.str(), nullptr, false);
+    // A regular file of at most 1 MiB (a manifest is a few hundred bytes), opened without blocking.
+    std::string problem;
+    const auto text = UntrustedFile::readText(path, FileKind{"shard manifest", std::uint64_t{1} << 20}, problem);
+    if (!text) {
+        std::error_code ec;
+        if (!std::filesystem::exists(path, ec))
+            throw CompileError(path.string() + ": no such file (each shard store has its manifest beside it)");
+        throw CompileError(problem);
+    }
+    const auto j = nlohmann::json::parse(*text, nullptr, false);
     const auto bad = [&](const std::string& why) {
         return CompileError(path.string() + ": not a shard manifest: " + why);
     };

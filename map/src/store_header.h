@@ -20,6 +20,14 @@ namespace navmap::map::detail {
 inline constexpr std::size_t kHeaderSize = 144;
 inline constexpr std::size_t kIndexEntrySize = 29;
 
+/// Format limits, checked before anything is allocated (docs/tile-store.md "Sizes"): the tiles a
+/// store may hold (its index is read whole at open: 29 bytes a tile, so at most 116 MiB; 32 times
+/// the 129,332 tiles of the largest store measured), the raw (inflated) size of one tile, and of
+/// the road graph.
+inline constexpr std::uint32_t kMaxStoreTiles = std::uint32_t{1} << 22;
+inline constexpr std::uint32_t kMaxTileRawBytes = std::uint32_t{256} << 20;
+inline constexpr std::uint64_t kMaxGraphRawBytes = std::uint64_t{4} << 30;
+
 inline std::uint32_t crc32Of(std::span<const std::uint8_t> bytes) {
     uLong crc = ::crc32(0L, Z_NULL, 0);
     // zlib takes uInt lengths; feed in chunks.

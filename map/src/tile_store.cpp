@@ -1,14 +1,14 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "navmap/map/tile_store.h"
 
-#include <fcntl.h>
-#include <sys/stat.h>
 #include <unistd.h>
-#include <zlib.h>
 
 #include <cerrno>
 #include <cstring>
 
+#include "bounded_inflate.h"
+#include "graph_encoder.h"
+#include "navmap/common/untrusted_file.h"
 #include "navmap/map/tile_codec.h"
 #include "store_header.h"
 
@@ -28,11 +28,18 @@ bool preadAll(int fd, std::uint8_t* dst, std::size_t n, std::uint64_t offset) {
     return true;
 }
 
-bool inflate(std::span<const std::uint8_t> stored, std::vector<std::uint8_t>& raw, std::size_t raw_size) {
-    raw.resize(raw_size);
-    uLongf len = static_cast<uLongf>(raw_size);
-    const int rc = uncompress(raw.data(), &len, stored.data(), static_cast<uLong>(stored.size()));
-    return rc == Z_OK && len == raw_size;
+// A tile store is not read whole: the header and the index at open, tiles and the graph when
+// asked for, each checked against the file's size and its format's limits before it is read.
+constexpr FileKind kStoreFile{"tile store", 0};
+
+// The magic at the start of a payload, checked on the first piece a stream inflates to.
+detail::PrefixCheck magicCheck(std::uint32_t magic, const char* what) {
+    return [magic, what](std::span<const std::uint8_t> head, std::string& problem) {
+        detail::ByteReader r(head);
+        if (r.u32() == magic && !r.failed()) return true;
+        problem = std::string("not ") + what + " (bad magic)";
+        return false;
+    };
 }
 
 }  // namespace
@@ -41,11 +48,11 @@ std::shared_ptr<TileStore> TileStore::open(const std::filesystem::path& path) {
     std::shared_ptr<TileStore> store(new TileStore());
     store->m_path = path;
     const std::string name = path.string();
-    store->m_fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-    if (store->m_fd < 0) throw StoreError("open(" + name + "): " + std::strerror(errno));
-    struct stat st {};
-    if (::fstat(store->m_fd, &st) != 0) throw StoreError("fstat(" + name + "): " + std::strerror(errno));
-    store->m_file_size = static_cast<std::uint64_t>(st.st_size);
+    // Without blocking, regular files only: a FIFO or a device named as a store is refused here.
+    UntrustedFile file = UntrustedFile::open(path, kStoreFile);
+    if (!file.ok()) throw StoreError(file.error());
+    store->m_file_size = file.size();
+    store->m_fd = file.release();
 
     std::vector<std::uint8_t> header(detail::kHeaderSize);
     const std::size_t head = std::min<std::uint64_t>(store->m_file_size, detail::kHeaderSize);
@@ -59,6 +66,10 @@ std::shared_ptr<TileStore> TileStore::open(const std::filesystem::path& path) {
     if (info.index_offset < detail::kHeaderSize || info.index_offset > store->m_file_size ||
         index_size > store->m_file_size - info.index_offset) {
         throw StoreError(name + ": truncated (tile index lies beyond the end of the file)");
+    }
+    if (info.tile_count > detail::kMaxStoreTiles) {
+        throw StoreError(name + ": the header declares " + std::to_string(info.tile_count) + " tiles, more than the " +
+                         std::to_string(detail::kMaxStoreTiles) + " a store may hold");
     }
     std::vector<std::uint8_t> index(index_size);
     if (!preadAll(store->m_fd, index.data(), index.size(), info.index_offset)) {
@@ -79,6 +90,22 @@ std::shared_ptr<TileStore> TileStore::open(const std::filesystem::path& path) {
             e.stored_size > info.index_offset - e.offset) {
             throw StoreError(name + ": index entry " + std::to_string(i) + " (tile " + e.id.toString() +
                              ") is invalid");
+        }
+        // Sizes by plausibility, before any tile is read: more than zlib can make of the stored
+        // bytes, or more than a tile may be, is a lie of the index (a damaged or hostile store),
+        // refused now rather than allocated when the tile is drawn.
+        if (e.raw_size > detail::maxInflatedBytes(e.stored_size) || e.raw_size > detail::kMaxTileRawBytes) {
+            throw StoreError(name + ": index entry " + std::to_string(i) + " (tile " + e.id.toString() + ") declares " +
+                             std::to_string(e.raw_size) + " bytes from " + std::to_string(e.stored_size) +
+                             " compressed, more than " +
+                             (e.raw_size > detail::kMaxTileRawBytes
+                                  ? "a tile may have (" + std::to_string(detail::kMaxTileRawBytes) + ")"
+                                  : std::string("zlib's 1032:1 allows")));
+        }
+        if (e.stored_size > detail::maxDeflatedBytes(e.raw_size)) {
+            throw StoreError(name + ": index entry " + std::to_string(i) + " (tile " + e.id.toString() + ") declares " +
+                             std::to_string(e.stored_size) + " compressed bytes for " + std::to_string(e.raw_size) +
+                             ", more than zlib makes of them");
         }
         store->m_index.emplace(e.id.key(), e);
     }
@@ -124,9 +151,10 @@ TileStore::LoadResult TileStore::load(TileId id) const {
     if (!preadAll(m_fd, stored.data(), stored.size(), e.offset))
         return fail(std::string("read failed: ") + std::strerror(errno));
     if (detail::crc32Of(stored) != e.crc) return fail("checksum mismatch (corrupt tile)");
-    if (e.raw_size > (256u << 20)) return fail("implausible size");
     std::vector<std::uint8_t> raw;
-    if (!inflate(stored, raw, e.raw_size)) return fail("decompression failed");
+    std::string problem;
+    if (!detail::inflateBounded(stored, e.raw_size, raw, problem, 4, magicCheck(kTilePayloadMagic, "a tile payload")))
+        return fail(problem);
     auto tile = std::make_shared<Tile>();
     std::string error;
     if (!decodeTile(raw, *tile, error)) return fail("malformed payload: " + error);
@@ -148,14 +176,29 @@ TileStore::GraphResult TileStore::tryLoadGraph() const {
         m_info.graph_stored_size > m_file_size - m_info.graph_offset) {
         return fail("lies beyond the end of the file (truncated)");
     }
-    if (m_info.graph_raw_size > (std::uint64_t{4} << 30)) return fail("implausible size");
+    // Sizes by plausibility before anything is allocated: the format's limit and zlib's ratio.
+    if (m_info.graph_raw_size > detail::kMaxGraphRawBytes) {
+        return fail("declares " + std::to_string(m_info.graph_raw_size) + " bytes, more than a road graph may have (" +
+                    std::to_string(detail::kMaxGraphRawBytes) + ")");
+    }
+    if (m_info.graph_raw_size > detail::maxInflatedBytes(m_info.graph_stored_size)) {
+        return fail("declares " + std::to_string(m_info.graph_raw_size) + " bytes from " +
+                    std::to_string(m_info.graph_stored_size) + " compressed, more than zlib's 1032:1 allows");
+    }
+    if (m_info.graph_stored_size > detail::maxDeflatedBytes(m_info.graph_raw_size)) {
+        return fail("declares " + std::to_string(m_info.graph_stored_size) + " compressed bytes for " +
+                    std::to_string(m_info.graph_raw_size) + ", more than zlib makes of them");
+    }
     std::vector<std::uint8_t> stored(m_info.graph_stored_size);
     if (!preadAll(m_fd, stored.data(), stored.size(), m_info.graph_offset)) {
         return fail(std::string("read failed: ") + std::strerror(errno));
     }
     if (detail::crc32Of(stored) != m_info.graph_crc) return fail("checksum mismatch");
     std::vector<std::uint8_t> raw;
-    if (!inflate(stored, raw, m_info.graph_raw_size)) return fail("decompression failed");
+    std::string problem;
+    if (!detail::inflateBounded(stored, m_info.graph_raw_size, raw, problem, 4,
+                                magicCheck(detail::kGraphMagic, "a road graph")))
+        return fail(problem);
     std::string error;
     if (!decodeRoadGraph(raw, result.graph, error)) return fail(error);
     return result;

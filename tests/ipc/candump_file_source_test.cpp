@@ -4,6 +4,7 @@
 // looping rewinds the file.
 #include <gtest/gtest.h>
 
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -58,16 +59,21 @@ const CanTime kT0 = CanTime(std::chrono::seconds(5000));
 
 }  // namespace
 
-TEST(CandumpFileSource, DevZeroIsRefusedAtOnceInBoundedMemory) {
-    // readAll() into memory reached 3.3 GB in 6 s on /dev/zero (one endless "line").
+TEST(CandumpFileSource, BinaryZerosAreRefusedAtOnceInBoundedMemory) {
+    // readAll() into memory reached 3.3 GB in 6 s on /dev/zero (one endless "line"). /dev/zero
+    // itself is refused at open now (no regular file, below); 64 MiB of zeros in a regular
+    // (sparse) file are refused on their first chunk.
+    TempFile zeros("navmap-zeros-candump");
+    std::ofstream(zeros.path).close();
+    ASSERT_EQ(::truncate(zeros.path.c_str(), off_t{64} << 20), 0);
     const std::size_t rss0 = rssBytes();
     const auto t0 = std::chrono::steady_clock::now();
     const CandumpFileSource* source = nullptr;
-    auto r = replay("/dev/zero", ReplayOptions{}, &source);
+    auto r = replay(zeros.path, ReplayOptions{}, &source);
     ASSERT_TRUE(r);
     const auto elapsed = std::chrono::steady_clock::now() - t0;
     EXPECT_TRUE(r->finished());
-    EXPECT_EQ(r->error(), "/dev/zero: byte 0x00 at offset 0 (line 1): binary data, not a candump log");
+    EXPECT_EQ(r->error(), zeros.path.string() + ": byte 0x00 at offset 0 (line 1): binary data, not a candump log");
     EXPECT_EQ(r->emitted(), 0U);
     EXPECT_LE(source->bytesRead(), CandumpFileSource::kChunkBytes);
     EXPECT_LT(elapsed, 1s);
@@ -177,5 +183,22 @@ TEST(CandumpFileSource, TextThatIsNoLogIsRefusedQuickly) {
     EXPECT_EQ(empty->error(), "");
     auto missing = CandumpFileSource::open("/nonexistent/drive.candump");
     ASSERT_FALSE(missing.ok());
-    EXPECT_EQ(missing.error().message, "open(/nonexistent/drive.candump): No such file or directory");
+    EXPECT_EQ(missing.error().message, "open(/nonexistent/drive.candump): No such file or directory (candump log)");
+}
+
+// A log that is no regular file is refused at once: a FIFO used to block navmapd's start-up (and
+// SIGTERM) until a writer came, /dev/zero to be replayed as binary data.
+TEST(CandumpFileSource, AFifoOrADeviceIsRefusedWithoutWaiting) {
+    const auto dir = std::filesystem::temp_directory_path() / ("navmap-candump-fifo-" + std::to_string(::getpid()));
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    const auto fifo = dir / "drive.candump";
+    ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+    auto r = CandumpFileSource::open(fifo);
+    ASSERT_FALSE(r.ok());
+    EXPECT_EQ(r.error().message, fifo.string() + ": is a FIFO, not a regular file (candump log)");
+    r = CandumpFileSource::open("/dev/zero");
+    ASSERT_FALSE(r.ok());
+    EXPECT_EQ(r.error().message, "/dev/zero: is a character device, not a regular file (candump log)");
+    std::filesystem::remove_all(dir);
 }

@@ -1,5 +1,10 @@
 // SPDX-License-Identifier: Apache-2.0
 #include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
 
 #include "navmap/ipc/dbc_database.h"
 #include "test_paths.h"
@@ -210,8 +215,44 @@ TEST(DbcDatabase, StrayQuoteEarlyInALargeFileIsOneLongString) {
 TEST(DbcDatabase, MissingFileIsAnError) {
     auto r = DbcDatabase::load("/nonexistent/file.dbc");
     ASSERT_FALSE(r.ok());
-    EXPECT_EQ(r.error().message, "open(/nonexistent/file.dbc): cannot read DBC file");
+    EXPECT_EQ(r.error().message, "open(/nonexistent/file.dbc): No such file or directory (DBC file)");
     EXPECT_THROW(DbcDatabase::loadOrThrow("/nonexistent/file.dbc"), navmap::ipc::DbcError);
+}
+
+// docs/architecture.md "Untrusted files": a DBC is a regular file of at most 32 MiB, opened without
+// blocking. /dev/zero used to be read until the daemon held 2 GB, and a FIFO blocked start-up.
+TEST(DbcDatabase, AFileThatIsNoRegularFileOrTooLargeIsRefusedUnread) {
+    const auto dir = std::filesystem::temp_directory_path() / ("navmap-dbc-files-" + std::to_string(::getpid()));
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    const auto fifo = dir / "fifo.dbc";
+    ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+    auto r = DbcDatabase::load(fifo);
+    ASSERT_FALSE(r.ok());
+    EXPECT_EQ(r.error().message, fifo.string() + ": is a FIFO, not a regular file (DBC file)");
+    r = DbcDatabase::load("/dev/zero");
+    ASSERT_FALSE(r.ok());
+    EXPECT_EQ(r.error().message, "/dev/zero: is a character device, not a regular file (DBC file)");
+    // Sparse: 2 GiB that cost no disk, refused on their size before a byte is read.
+    const auto big = dir / "big.dbc";
+    std::ofstream(big).close();
+    for (const std::uint64_t size : {(std::uint64_t{32} << 20) + 1, std::uint64_t{2} << 30}) {
+        ASSERT_EQ(::truncate(big.c_str(), static_cast<off_t>(size)), 0);
+        r = DbcDatabase::load(big);
+        ASSERT_FALSE(r.ok());
+        EXPECT_EQ(r.error().message,
+                  big.string() + ": " + std::to_string(size) + " bytes, over the limit of 32 MiB (DBC file)");
+    }
+    // At the limit: read and parsed (32 MiB of blank lines is an empty database).
+    ASSERT_EQ(::truncate(big.c_str(), 0), 0);
+    {
+        std::ofstream out(big, std::ios::binary);
+        const std::string lines(1 << 20, '\n');
+        for (int i = 0; i < 32; ++i) out << lines;
+    }
+    r = DbcDatabase::load(big);
+    ASSERT_TRUE(r.ok()) << r.error().message;
+    std::filesystem::remove_all(dir);
 }
 
 TEST(DbcDatabase, ProjectNavmapDbcParsesStrictly) {

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <spawn.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -228,7 +229,7 @@ TEST(CompileBadInput, TruncatedRandomAndMissingPbf) {
     }
     for (const auto& [path, what] :
          {std::pair{trunc, std::string("cannot read OSM data")}, std::pair{junk, std::string("cannot read OSM data")},
-          std::pair{dir / "absent.osm.pbf", std::string("no such file")}}) {
+          std::pair{dir / "absent.osm.pbf", std::string("No such file or directory (OSM input)")}}) {
         CompileOptions opt;
         opt.osm = path;
         opt.out = dir / "out.navmap";
@@ -241,6 +242,82 @@ TEST(CompileBadInput, TruncatedRandomAndMissingPbf) {
             EXPECT_NE(msg.find(what), std::string::npos) << msg;
         }
         EXPECT_FALSE(std::filesystem::exists(dir / "out.navmap"));
+    }
+}
+
+// docs/architecture.md "Untrusted files": an input that is no regular file is named for what it
+// is, at once (a FIFO is opened without blocking). --osm /dev/zero used to say "no such file".
+TEST(CompileBadInput, InputsThatAreNoRegularFilesSayWhatTheyAre) {
+    ScratchDir dir("compile-not-regular");
+    const auto fifo = dir / "fifo.osm.pbf";
+    ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+    const auto compileError = [&](const CompileOptions& opt) {
+        try {
+            compileStore(opt);
+        } catch (const std::exception& e) {  // CompileError, DemError
+            return std::string(e.what());
+        }
+        return std::string("no error");
+    };
+    CompileOptions opt;
+    opt.out = dir / "out.navmap";
+    for (const auto& [osm, what] :
+         {std::pair{std::filesystem::path("/dev/zero"), std::string("a character device")},
+          std::pair{fifo, std::string("a FIFO")}, std::pair{dir.path(), std::string("a directory")}}) {
+        opt.osm = osm;
+        EXPECT_EQ(compileError(opt), osm.string() + ": is " + what + ", not a regular file (OSM input)");
+        // Sharded: the inputs' fingerprint reads them first; it says the same.
+        opt.shard = {0, 2};
+        EXPECT_EQ(compileError(opt), osm.string() + ": is " + what + ", not a regular file (OSM input)");
+        opt.shard = {};
+    }
+    EXPECT_FALSE(std::filesystem::exists(opt.out));
+    // A DEM, in memory or read when first needed.
+    const auto dem_fifo = dir / "N42E001.hgt";
+    ASSERT_EQ(::mkfifo(dem_fifo.c_str(), 0600), 0);
+    opt.osm = repoData("andorra-2021-04-14.osm.pbf");
+    opt.dems = {dem_fifo};
+    for (const std::uint64_t limit : {std::uint64_t{0}, std::uint64_t{64}}) {
+        opt.memory_limit_mib = limit;
+        EXPECT_EQ(compileError(opt), dem_fifo.string() + ": is a FIFO, not a regular file (DEM file)");
+    }
+}
+
+// A DEM whose every sample is a void says so; it used to be reported as tiles outside the DEM.
+TEST(CompileBadInput, AnAllVoidDemIsSaidToBeAllVoids) {
+    ScratchDir dir("compile-void-dem");
+    {
+        std::ofstream osm(dir / "road.osm");
+        osm << R"(<?xml version="1.0" encoding="UTF-8"?>
+<osm version="0.6" generator="test">
+ <node id="1" version="1" lat="43.020" lon="7.020"/>
+ <node id="2" version="1" lat="43.030" lon="7.040"/>
+ <way id="100" version="1"><nd ref="1"/><nd ref="2"/><tag k="highway" v="primary"/></way>
+</osm>
+)";
+        std::ofstream hgt(dir / "N43E007.hgt", std::ios::binary);
+        const char void_sample[2] = {static_cast<char>(0x80), 0};  // -32768, big-endian
+        for (int i = 0; i < 1201 * 1201; ++i) hgt.write(void_sample, 2);
+    }
+    for (const std::uint64_t limit : {std::uint64_t{0}, std::uint64_t{64}}) {
+        CompileOptions opt;
+        opt.osm = dir / "road.osm";
+        opt.dems = {dir / "N43E007.hgt"};
+        opt.out = dir / "road.navmap";
+        opt.leaf_tile_m = 1000;
+        opt.memory_limit_mib = limit;
+        const CompileStats stats = compileStore(opt);
+        ASSERT_GE(stats.warnings.size(), 2u) << "limit " << limit;
+        EXPECT_NE(
+            std::find(stats.warnings.begin(), stats.warnings.end(),
+                      "DEM N43E007.hgt: all 1442401 samples are voids: it gives no heights, its area is flat (0 m)"),
+            stats.warnings.end())
+            << "limit " << limit;
+        EXPECT_EQ(stats.warnings.back(),
+                  std::to_string(stats.tiles_without_dem) + " of " + std::to_string(stats.tiles_per_level.back()) +
+                      " leaf tiles have no heights: the DEM is all voids (N43E007.hgt); terrain is flat (0 m)")
+            << "limit " << limit;
+        EXPECT_EQ(stats.tiles_without_dem, stats.tiles_per_level.back());
     }
 }
 

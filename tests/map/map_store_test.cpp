@@ -5,17 +5,22 @@
 #include <gtest/gtest.h>
 
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
+#include <zlib.h>
 
 #include <algorithm>
 #include <cmath>
 #include <condition_variable>
 #include <cstdint>
+#include <cstring>
 #include <fstream>
+#include <functional>
 #include <mutex>
 #include <random>
 #include <thread>
 
+#include "bounded_inflate.h"
 #include "fuzz_corpus.h"
 #include "map_test_util.h"
 #include "navmap/map/dem.h"
@@ -26,6 +31,7 @@
 #include "navmap/map/tile_codec.h"
 #include "navmap/map/tile_selection.h"
 #include "navmap/map/tile_store.h"
+#include "store_header.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size);
 
@@ -832,4 +838,265 @@ TEST(StoreDamage, EveryKindOfTilePayloadDamageIsAnErrorForThatTileOnly) {
         }
     }
     EXPECT_GT(errors, 0u);
+}
+
+// docs/tile-store.md "Sizes": every size a store declares is checked against the file, the stored
+// (compressed) size and the format's limits before anything is allocated, and streams inflate in
+// pieces. A store that lies is refused, or its graph or tile reported, for what it is, never for
+// what it claims: the peak resident memory of each case stays far below the claim.
+namespace {
+
+namespace fs = std::filesystem;
+
+/// Growth of the peak resident memory (VmHWM, reset first through /proc/self/clear_refs) over the
+/// resident memory before `f`, in MiB; -1 when the peak cannot be reset.
+long peakGrowthMib(const std::function<void()>& f) {
+    const auto status = [](const char* key) -> long {
+        std::ifstream in("/proc/self/status");
+        std::string line;
+        while (std::getline(in, line)) {
+            if (line.rfind(key, 0) == 0) return std::stol(line.substr(std::strlen(key))) / 1024;
+        }
+        return -1;
+    };
+    {
+        std::ofstream clear("/proc/self/clear_refs");
+        if (!(clear << "5" << std::flush)) return -1;
+    }
+    const long before = status("VmRSS:");
+    f();
+    return status("VmHWM:") - before;
+}
+
+/// Rewrites the header of the store at `path` with `edit` applied to its fields (checksum kept valid).
+void editHeader(const fs::path& path, const std::function<void(StoreInfo&)>& edit) {
+    auto bytes = readAll(path);
+    StoreInfo info;
+    std::string error;
+    ASSERT_TRUE(detail::decodeHeader(bytes, info, error)) << error;
+    edit(info);
+    const auto header = detail::encodeHeader(info);
+    std::copy(header.begin(), header.end(), bytes.begin());
+    writeAll(path, bytes);
+}
+
+/// Sets every index entry's raw size with `raw(stored_size)`; both checksums kept valid.
+void editIndexRawSizes(const fs::path& path, const std::function<std::uint32_t(std::uint32_t)>& raw) {
+    auto bytes = readAll(path);
+    StoreInfo info;
+    std::string error;
+    ASSERT_TRUE(detail::decodeHeader(bytes, info, error)) << error;
+    for (std::uint32_t i = 0; i < info.tile_count; ++i) {
+        const std::size_t at = info.index_offset + std::size_t{i} * detail::kIndexEntrySize;
+        std::uint32_t stored = 0;
+        std::memcpy(&stored, &bytes[at + 17], 4);  // level u8, x u32, y u32, offset u64, stored u32, raw u32
+        const std::uint32_t value = raw(stored);
+        std::memcpy(&bytes[at + 21], &value, 4);
+    }
+    info.index_crc = detail::crc32Of(std::span<const std::uint8_t>(bytes).subspan(
+        info.index_offset, std::size_t{info.tile_count} * detail::kIndexEntrySize));
+    const auto header = detail::encodeHeader(info);
+    std::copy(header.begin(), header.end(), bytes.begin());
+    writeAll(path, bytes);
+}
+
+/// zlib data (level 9) of `raw_bytes` zero bytes, deflated piece by piece: a "zlib bomb".
+std::vector<std::uint8_t> zeroBomb(std::uint64_t raw_bytes) {
+    z_stream z{};
+    EXPECT_EQ(deflateInit(&z, 9), Z_OK);
+    std::vector<std::uint8_t> zeros(std::size_t{1} << 20), out, piece(std::size_t{1} << 16);
+    std::uint64_t left = raw_bytes;
+    int rc = Z_OK;
+    do {
+        const auto n = static_cast<uInt>(std::min<std::uint64_t>(left, zeros.size()));
+        z.next_in = zeros.data();
+        z.avail_in = n;
+        left -= n;
+        const int flush = left == 0 ? Z_FINISH : Z_NO_FLUSH;
+        do {
+            z.next_out = piece.data();
+            z.avail_out = static_cast<uInt>(piece.size());
+            rc = deflate(&z, flush);
+            out.insert(out.end(), piece.data(), piece.data() + (piece.size() - z.avail_out));
+        } while (z.avail_out == 0);
+    } while (left > 0);
+    EXPECT_EQ(rc, Z_STREAM_END);
+    deflateEnd(&z);
+    return out;
+}
+
+}  // namespace
+
+TEST(StoreSizes, AGraphDeclaringMoreThanZlibCanMakeOfItIsRefusedBeforeAllocating) {
+    ScratchDir dir("sizes-graph");
+    const RoadGraph g = smallGraph();
+    const auto path = dir / "s.navmap";
+    writeSmallStore(path, &g);
+    const std::uint64_t stored = TileStore::open(path)->info().graph_stored_size;
+    // 4 GiB (the format's limit), 1 GiB, and one byte over what the stored bytes can inflate to.
+    for (const std::uint64_t claim : {detail::kMaxGraphRawBytes, std::uint64_t{1} << 30, stored * 1032 + 1}) {
+        editHeader(path, [&](StoreInfo& i) { i.graph_raw_size = claim; });
+        TileStore::GraphResult r;
+        const long growth = peakGrowthMib([&] { r = TileStore::open(path)->tryLoadGraph(); });
+        EXPECT_EQ(r.error, path.string() + ": road graph: declares " + std::to_string(claim) + " bytes from " +
+                               std::to_string(stored) + " compressed, more than zlib's 1032:1 allows");
+        if (growth >= 0) {
+            EXPECT_LT(growth, 32) << "claim " << claim;
+        }
+    }
+    // Past the format's limit, whatever the stored size.
+    editHeader(path, [&](StoreInfo& i) { i.graph_raw_size = detail::kMaxGraphRawBytes + 1; });
+    EXPECT_EQ(TileStore::open(path)->tryLoadGraph().error,
+              path.string() + ": road graph: declares 4294967297 bytes, more than a road graph may have (4294967296)");
+    // Fewer raw bytes than zlib could have stored them in.
+    editHeader(path, [&](StoreInfo& i) { i.graph_raw_size = 1; });
+    EXPECT_EQ(TileStore::open(path)->tryLoadGraph().error, path.string() + ": road graph: declares " +
+                                                               std::to_string(stored) +
+                                                               " compressed bytes for 1, more than zlib makes of them");
+    // A plausible claim that is not the truth: the stream ends short, said so, nothing kept.
+    editHeader(path, [&](StoreInfo& i) { i.graph_raw_size = stored * 1032; });
+    const auto r = TileStore::open(path)->tryLoadGraph();
+    EXPECT_EQ(r.problem.rfind("decompression failed (inflates to ", 0), 0u) << r.problem;
+    EXPECT_TRUE(r.graph.edges.empty());
+}
+
+TEST(StoreSizes, AZlibBombGraphIsCaughtOnItsFirstPieceNotAfterInflatingIt) {
+    ScratchDir dir("sizes-bomb");
+    const RoadGraph g = smallGraph();
+    const auto path = dir / "s.navmap";
+    writeSmallStore(path, &g);
+    // 256 MiB of zeros in about 250 KB, appended to the store, the header pointing at it: a ratio
+    // zlib can make, so only inflating tells, and the zeros are no road graph.
+    const std::uint64_t raw = std::uint64_t{256} << 20;
+    const auto bomb = zeroBomb(raw);
+    ASSERT_LT(bomb.size(), raw / 1000);
+    auto bytes = readAll(path);
+    const std::uint64_t at = bytes.size();
+    bytes.insert(bytes.end(), bomb.begin(), bomb.end());
+    writeAll(path, bytes);
+    editHeader(path, [&](StoreInfo& i) {
+        i.graph_offset = at;
+        i.graph_stored_size = bomb.size();
+        i.graph_raw_size = raw;
+        i.graph_crc = detail::crc32Of(bomb);
+    });
+    TileStore::GraphResult r;
+    const long growth = peakGrowthMib([&] { r = TileStore::open(path)->tryLoadGraph(); });
+    EXPECT_EQ(r.error, path.string() + ": road graph: not a road graph (bad magic)");
+    if (growth >= 0) {
+        EXPECT_LT(growth, 32);
+    }
+    // The tiles are untouched.
+    EXPECT_TRUE(unloadable(*TileStore::open(path)).empty());
+}
+
+TEST(StoreSizes, IndexEntriesDeclaringMoreThanTheirTileCanHoldAreFatalAtOpen) {
+    ScratchDir dir("sizes-index");
+    const auto path = dir / "s.navmap";
+    writeSmallStore(path);
+    // 256 MiB each (the size navmapd used to zero-fill per tile), and one byte past zlib's ratio.
+    editIndexRawSizes(path, [](std::uint32_t) { return detail::kMaxTileRawBytes; });
+    std::string e;
+    const long growth = peakGrowthMib([&] { e = openError(path); });
+    EXPECT_NE(e.find(path.string() + ": index entry 0 (tile 0/0/0) declares 268435456 bytes from "), std::string::npos)
+        << e;
+    EXPECT_NE(e.find(" compressed, more than zlib's 1032:1 allows"), std::string::npos) << e;
+    if (growth >= 0) {
+        EXPECT_LT(growth, 32);
+    }
+
+    writeSmallStore(path);
+    editIndexRawSizes(path, [](std::uint32_t stored) { return stored * 1032 + 1; });
+    e = openError(path);
+    EXPECT_NE(e.find(": index entry 0 (tile 0/0/0) declares "), std::string::npos) << e;
+    EXPECT_NE(e.find("more than zlib's 1032:1 allows"), std::string::npos) << e;
+
+    // Fewer raw bytes than zlib could have stored them in: as impossible.
+    writeSmallStore(path);
+    editIndexRawSizes(path, [](std::uint32_t) { return 1u; });
+    e = openError(path);
+    EXPECT_NE(e.find(": index entry 0 (tile 0/0/0) declares "), std::string::npos) << e;
+    EXPECT_NE(e.find(" compressed bytes for 1, more than zlib makes of them"), std::string::npos) << e;
+
+    // Plausible but false: the store opens, each tile says how short it fell, and holds no memory.
+    writeSmallStore(path);
+    editIndexRawSizes(path, [](std::uint32_t stored) { return stored * 1032; });
+    const auto store = TileStore::open(path);
+    const auto res = store->load(TileId{0, 0, 0});
+    EXPECT_FALSE(res.tile);
+    EXPECT_NE(res.error.find(": tile 0/0/0: decompression failed (inflates to "), std::string::npos) << res.error;
+    EXPECT_EQ(unloadable(*store).size(), 21u);
+}
+
+TEST(StoreSizes, MoreTilesThanAStoreMayHoldIsFatalBeforeTheIndexIsRead) {
+    ScratchDir dir("sizes-count");
+    const auto path = dir / "s.navmap";
+    writeSmallStore(path);
+    // A sparse file long enough for the index the header claims: 116 MiB that cost no disk.
+    StoreInfo info;
+    editHeader(path, [&](StoreInfo& i) {
+        i.tile_count = detail::kMaxStoreTiles + 1;
+        info = i;
+    });
+    ASSERT_EQ(::truncate(path.c_str(), static_cast<off_t>(info.index_offset + std::uint64_t{info.tile_count} * 29)), 0);
+    std::string e;
+    const long growth = peakGrowthMib([&] { e = openError(path); });
+    EXPECT_EQ(e, path.string() + ": the header declares 4194305 tiles, more than the 4194304 a store may hold");
+    if (growth >= 0) {
+        EXPECT_LT(growth, 32);
+    }
+}
+
+TEST(StoreSizes, AStoreThatIsNoRegularFileIsRefusedWithoutBlocking) {
+    ScratchDir dir("sizes-fifo");
+    const auto fifo = dir / "fifo.navmap";
+    ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+    EXPECT_EQ(openError(fifo), fifo.string() + ": is a FIFO, not a regular file (tile store)");
+    EXPECT_EQ(openError("/dev/zero"), "/dev/zero: is a character device, not a regular file (tile store)");
+    EXPECT_EQ(openError(dir.path()), dir.path().string() + ": is a directory, not a regular file (tile store)");
+}
+
+TEST(StoreSizes, BoundedInflateStopsAtEveryKindOfLie) {
+    std::vector<std::uint8_t> raw(100000);
+    for (std::size_t i = 0; i < raw.size(); ++i) raw[i] = static_cast<std::uint8_t>(i * 7 / 3);
+    uLongf len = compressBound(static_cast<uLong>(raw.size()));
+    std::vector<std::uint8_t> z(len);
+    ASSERT_EQ(compress2(z.data(), &len, raw.data(), static_cast<uLong>(raw.size()), 6), Z_OK);
+    z.resize(len);
+    std::vector<std::uint8_t> out;
+    std::string problem;
+    // The truth, in pieces (more than the first 64 KiB).
+    ASSERT_TRUE(detail::inflateBounded(z, raw.size(), out, problem)) << problem;
+    EXPECT_EQ(out, raw);
+    // Longer than declared: stopped at the declared size.
+    EXPECT_FALSE(detail::inflateBounded(z, raw.size() - 1, out, problem));
+    EXPECT_EQ(problem, "decompression failed (inflates to more than the declared 99999 bytes)");
+    EXPECT_TRUE(out.empty());
+    // Shorter than declared.
+    EXPECT_FALSE(detail::inflateBounded(z, raw.size() + 1, out, problem));
+    EXPECT_EQ(problem, "decompression failed (inflates to 100000 of the declared 100001 bytes)");
+    // Cut off.
+    EXPECT_FALSE(detail::inflateBounded(std::span(z).first(z.size() / 2), raw.size(), out, problem));
+    EXPECT_EQ(problem, "decompression failed (the stream ends without its end mark)");
+    // Garbled.
+    auto bad = z;
+    bad[2] ^= 0xFF;
+    bad[3] ^= 0xFF;
+    EXPECT_FALSE(detail::inflateBounded(bad, raw.size(), out, problem));
+    EXPECT_EQ(problem.rfind("decompression failed", 0), 0u) << problem;
+    // More than zlib's ratio allows: refused before inflating.
+    EXPECT_FALSE(detail::inflateBounded(z, z.size() * 1032 + 1, out, problem));
+    EXPECT_EQ(problem, "declares " + std::to_string(z.size() * 1032 + 1) + " bytes from " + std::to_string(z.size()) +
+                           " compressed, more than zlib's 1032:1 allows");
+    // The check on the first bytes.
+    std::size_t seen = 0;
+    const detail::PrefixCheck never = [&](std::span<const std::uint8_t> head, std::string& why) {
+        seen = head.size();
+        why = "refused";
+        return false;
+    };
+    EXPECT_FALSE(detail::inflateBounded(z, raw.size(), out, problem, 4, never));
+    EXPECT_EQ(problem, "refused");
+    EXPECT_GE(seen, 4u);
+    EXPECT_LE(seen, std::size_t{64} << 10);  // the first piece, not the whole output
 }

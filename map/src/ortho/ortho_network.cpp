@@ -12,6 +12,7 @@
 #include <iterator>
 
 #include "../byte_io.h"
+#include "navmap/common/untrusted_file.h"
 
 namespace navmap::map::ortho {
 
@@ -25,9 +26,15 @@ std::uint32_t crc(const std::uint8_t* data, std::size_t n) {
     return static_cast<std::uint32_t>(::crc32(::crc32(0L, Z_NULL, 0), data, static_cast<uInt>(n)));
 }
 
-std::size_t payloadFloats(int inputs, int hidden) {
+constexpr std::size_t payloadFloats(int inputs, int hidden) {
     return static_cast<std::size_t>(inputs) * hidden + hidden + 3 * static_cast<std::size_t>(hidden) + 3;
 }
+
+constexpr int kMaxHidden = 1024;
+// The largest file the format allows (this build's inputs, kMaxHidden hidden neurons): 192,588
+// bytes. A longer file is refused on its size, before it is read (docs/architecture.md
+// "Untrusted files").
+constexpr FileKind kWeightsFile{"orthoimage weights", kHeaderSize + 4 * payloadFloats(kOrthoInputs, kMaxHidden)};
 
 }  // namespace
 
@@ -140,7 +147,7 @@ OrthoNetwork decodeNetwork(const std::vector<std::uint8_t>& bytes, const std::st
         throw fail("trained for input encoding version " + std::to_string(encoding) + ", this build encodes version " +
                    std::to_string(kOrthoEncodingVersion) + " (retrain with navmap-ortho-train)");
     }
-    if (inputs != kOrthoInputs || outputs != 3 || hidden < 1 || hidden > 1024) {
+    if (inputs != kOrthoInputs || outputs != 3 || hidden < 1 || hidden > kMaxHidden) {
         throw fail("network shape " + std::to_string(inputs) + "-" + std::to_string(hidden) + "-" +
                    std::to_string(outputs) + " does not fit this build's " + std::to_string(kOrthoInputs) +
                    " inputs and 3 outputs");
@@ -173,11 +180,10 @@ OrthoNetwork decodeNetwork(const std::vector<std::uint8_t>& bytes, const std::st
 }
 
 OrthoNetwork loadNetwork(const std::filesystem::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw OrthoNetworkError("open(" + path.string() + "): " + std::strerror(errno));
-    std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    if (in.bad()) throw OrthoNetworkError("read(" + path.string() + "): " + std::strerror(errno));
-    return decodeNetwork(bytes, path.string());
+    std::string problem;
+    const auto bytes = UntrustedFile::readBytes(path, kWeightsFile, problem);
+    if (!bytes) throw OrthoNetworkError(problem);
+    return decodeNetwork(*bytes, path.string());
 }
 
 void saveNetwork(const OrthoNetwork& net, const std::filesystem::path& path) {

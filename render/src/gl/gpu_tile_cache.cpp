@@ -157,6 +157,16 @@ GpuTileCache::GpuTileCache(const RendererOptions& options)
     : m_options(options), m_land_cover(ShaderProgram::fromEmbedded("landcover_raster.vert", "landcover_raster.frag")) {
     glGenFramebuffers(1, &m_raster_fbo);
     glGenBuffers(1, &m_road_index_buffer);
+    // The weights are read now, as the renderer is made at start-up, never in a frame: the read is
+    // bounded (a regular file of the format's size at most, opened without blocking; a FIFO or
+    // /dev/zero is refused at once), and whatever the disk does, no frame waits for it.
+    if (!m_options.ortho_weights.empty()) {
+        try {
+            m_ortho_network = map::ortho::loadNetwork(m_options.ortho_weights);
+        } catch (const map::ortho::OrthoNetworkError& e) {
+            m_ortho_file_problem = e.what();
+        }
+    }
 }
 
 GpuTileCache::~GpuTileCache() {
@@ -252,11 +262,16 @@ OrthoGenerator* GpuTileCache::orthoGenerator() {
         m_ortho_problem = "orthoimages off: no weights file configured" + fallback;
         return nullptr;
     }
+    if (!m_ortho_network) {
+        m_ortho_problem = "orthoimages off: " + m_ortho_file_problem + fallback;
+        return nullptr;
+    }
     try {
-        m_ortho = std::make_unique<OrthoGenerator>(map::ortho::loadNetwork(m_options.ortho_weights));
-    } catch (const std::exception& e) {  // OrthoNetworkError (the file), RenderError (the driver)
+        m_ortho = std::make_unique<OrthoGenerator>(*m_ortho_network);
+    } catch (const std::exception& e) {  // RenderError (the driver)
         m_ortho_problem = std::string("orthoimages off: ") + e.what() + fallback;
     }
+    m_ortho_network.reset();  // uploaded (or refused): the copy is not needed again
     return m_ortho.get();
 }
 

@@ -11,6 +11,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <unordered_map>
@@ -18,6 +19,7 @@
 #include <vector>
 
 #include "gpu_tile.h"
+#include "navmap/map/ortho/ortho_network.h"
 #include "navmap/render/map_frame.h"
 #include "navmap/render/renderer.h"
 #include "render_target.h"
@@ -61,18 +63,20 @@ private:
     /// A new RGBA4 texture (size^2, mipmapped) with the land-cover triangles (tile-local metres)
     /// of the square [offset, offset + extent] of their tile.
     GLuint rasterizeLandCover(std::span<const LandCoverVertex> triangles, int size, glm::vec2 offset, float extent);
-    /// The generator, made on first use from options.ortho_weights; null (and m_ortho_problem set)
-    /// when the weights or the driver do not allow it.
+    /// The generator, made on first use from the weights read at construction; null (and
+    /// m_ortho_problem set) when the weights or the driver do not allow it.
     OrthoGenerator* orthoGenerator();
     /// Starts the orthoimages of `wanted` (tiles without one, nearest first) and steps the generator.
     void updateOrthoimages(std::span<const std::pair<GpuTile*, std::shared_ptr<const map::Tile>>> wanted,
                            MapFrameStats& stats);
 
     RendererOptions m_options;
-    std::unique_ptr<OrthoGenerator> m_ortho;  // before m_tiles: their textures cancel with it
-    bool m_ortho_tried = false;               // m_ortho made or refused
-    std::string m_ortho_problem;              // to report in the next frame's stats, once
-    bool m_no_layers_reported = false;        // tiles without orthoimage layers were reported
+    std::optional<map::ortho::OrthoNetwork> m_ortho_network;  // read at construction, until uploaded
+    std::string m_ortho_file_problem;                         // why the weights could not be read
+    std::unique_ptr<OrthoGenerator> m_ortho;                  // before m_tiles: their textures cancel with it
+    bool m_ortho_tried = false;                               // m_ortho made or refused
+    std::string m_ortho_problem;                              // to report in the next frame's stats, once
+    bool m_no_layers_reported = false;                        // tiles without orthoimage layers were reported
     ShaderProgram m_land_cover;
     GLuint m_raster_fbo = 0;     // the land-cover texture being resolved into
     GLuint m_raster_ms_fbo = 0;  // multisampled land-cover raster, m_raster_ms_size

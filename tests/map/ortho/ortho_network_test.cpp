@@ -4,6 +4,8 @@
 // mapping.
 
 #include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -126,8 +128,41 @@ TEST(OrthoNetwork, WeightsFileRoundTripAndDamage) {
         (void)loadNetwork(path);
         FAIL() << "no error";
     } catch (const OrthoNetworkError& e) {
-        EXPECT_EQ(std::string(e.what()), "open(" + path.string() + "): No such file or directory");
+        EXPECT_EQ(std::string(e.what()), "open(" + path.string() + "): No such file or directory (orthoimage weights)");
     }
+}
+
+// docs/architecture.md "Untrusted files": the weights are a regular file no longer than the format
+// allows, checked before a byte is read. A 2 GiB file used to be read whole (2.1 GiB RSS), /dev/zero
+// for ever, and a FIFO blocked the reader until a writer came.
+TEST(OrthoNetwork, WeightsThatAreNoRegularFileOrTooLongAreRefusedUnread) {
+    const fs::path dir = fs::temp_directory_path() / ("navmap-w-files-" + std::to_string(::getpid()));
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    auto error = [](const fs::path& p) {
+        try {
+            (void)loadNetwork(p);
+        } catch (const OrthoNetworkError& e) {
+            return std::string(e.what());
+        }
+        return std::string("no error");
+    };
+    const fs::path fifo = dir / "fifo.nnw";
+    ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+    EXPECT_EQ(error(fifo), fifo.string() + ": is a FIFO, not a regular file (orthoimage weights)");
+    EXPECT_EQ(error("/dev/zero"), "/dev/zero: is a character device, not a regular file (orthoimage weights)");
+    // The largest shape the format allows (1024 hidden neurons) is the limit exactly.
+    const fs::path largest = dir / "largest.nnw";
+    saveNetwork(OrthoNetwork::zeros(kOrthoInputs, 1024), largest);
+    EXPECT_EQ(fs::file_size(largest), 192588u);
+    EXPECT_EQ(loadNetwork(largest).hidden, 1024);
+    // One byte more, or 2 GiB (sparse: no disk), is refused on the size.
+    for (const std::uintmax_t size : {std::uintmax_t{192589}, std::uintmax_t{2} << 30}) {
+        fs::resize_file(largest, size);
+        EXPECT_EQ(error(largest), largest.string() + ": " + std::to_string(size) +
+                                      " bytes, over the limit of 192588 bytes (orthoimage weights)");
+    }
+    fs::remove_all(dir);
 }
 
 TEST(OrthoTraining, RecoversAKnownMappingFromATinySyntheticSet) {

@@ -6,7 +6,9 @@
 
 #include <gtest/gtest.h>
 
+#include <sys/stat.h>
 #include <unistd.h>
+
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -196,8 +198,52 @@ TEST(OrthoMap, UnusableWeightsLeaveTheLandCoverAndSaySoOnce) {
     Shot missing = shot(groundTile(), "/nonexistent/ortho-mlp.nnw");
     EXPECT_EQ(renderWith(missing, Ground::Orthoimage).rgba, cover.rgba);
     EXPECT_EQ(missing.renderer->mapStats().ortho_problem,
-              "orthoimages off: open(/nonexistent/ortho-mlp.nnw): No such file or directory (the ground shows the "
-              "land cover)");
+              "orthoimages off: open(/nonexistent/ortho-mlp.nnw): No such file or directory (orthoimage weights) "
+              "(the ground shows the land cover)");
+}
+
+// docs/architecture.md "Untrusted files": the weights are read as the renderer is made, never in a
+// frame, and only a regular file of the format's size. A FIFO used to block the render thread for
+// ever at the first orthoimage frame (and SIGTERM with it), /dev/zero to grow without bound, and a
+// 2 GiB file to take 2.1 GiB and every frame after it.
+TEST(OrthoMap, WeightsAreReadWhenTheRendererIsMadeAndOnlyFromARegularFile) {
+    const auto dir = std::filesystem::temp_directory_path() / ("navmap-ortho-files-" + std::to_string(::getpid()));
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    Shot plain = shot(groundTile(), "");
+    const Image cover = renderWith(plain, Ground::LandCover);
+
+    const auto fifo = dir / "fifo.nnw";
+    ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+    Shot f = shot(groundTile(), fifo.string());
+    EXPECT_EQ(renderWith(f, Ground::Orthoimage).rgba, cover.rgba);
+    EXPECT_EQ(f.renderer->mapStats().ortho_problem,
+              "orthoimages off: " + fifo.string() +
+                  ": is a FIFO, not a regular file (orthoimage weights) (the ground shows the land cover)");
+    Shot z = shot(groundTile(), "/dev/zero");
+    EXPECT_EQ(renderWith(z, Ground::Orthoimage).rgba, cover.rgba);
+    EXPECT_EQ(z.renderer->mapStats().ortho_problem,
+              "orthoimages off: /dev/zero: is a character device, not a regular file (orthoimage weights) (the "
+              "ground shows the land cover)");
+    const auto big = dir / "big.nnw";
+    std::filesystem::copy_file(shippedWeights(), big);
+    std::filesystem::resize_file(big, std::uintmax_t{2} << 30);  // sparse: no disk
+    Shot b = shot(groundTile(), big.string());
+    EXPECT_EQ(renderWith(b, Ground::Orthoimage).rgba, cover.rgba);
+    EXPECT_EQ(b.renderer->mapStats().ortho_problem,
+              "orthoimages off: " + big.string() +
+                  ": 2147483648 bytes, over the limit of 192588 bytes (orthoimage weights) (the ground shows the "
+                  "land cover)");
+
+    // Read at creation: the file may go before the first orthoimage frame.
+    const auto good = dir / "good.nnw";
+    std::filesystem::copy_file(shippedWeights(), good);
+    Shot g = shot(groundTile(), good.string());
+    std::filesystem::remove(good);
+    (void)renderWith(g, Ground::Orthoimage);
+    EXPECT_EQ(g.renderer->mapStats().ortho_problem, "");
+    EXPECT_GT(g.renderer->mapStats().ortho_generated + g.renderer->mapStats().ortho_pending, 0u);
+    std::filesystem::remove_all(dir);
 }
 
 }  // namespace

@@ -22,7 +22,9 @@ namespace navmap::ipc {
 
 class CandumpFileSource final : public ReplaySource {
 public:
-    /// Opens the file for reading: `open(PATH): No such file or directory`.
+    /// Opens the file for reading, without blocking and only a regular file (docs/architecture.md
+    /// "Untrusted files"): `open(PATH): No such file or directory (candump log)`,
+    /// `PATH: is a FIFO, not a regular file (candump log)`.
     static Result<std::unique_ptr<CandumpFileSource>> open(const std::filesystem::path& path);
     ~CandumpFileSource() override;
     CandumpFileSource(const CandumpFileSource&) = delete;

@@ -46,7 +46,8 @@ public:
 
     /// Parses DBC text. `sourceName` is used in messages (a file name).
     static Result<DbcDatabase> parse(std::string_view text, std::string_view source_name, Mode mode = Mode::Lenient);
-    /// Reads and parses a file; fails when it cannot be read.
+    /// Reads and parses a file; fails when it cannot be read, is no regular file (a FIFO, a device:
+    /// refused without waiting) or is over 32 MiB (docs/architecture.md "Untrusted files").
     static Result<DbcDatabase> load(const std::filesystem::path& path, Mode mode = Mode::Lenient);
     /// Setup helper: load() that throws DbcError (with the message) on failure.
     static DbcDatabase loadOrThrow(const std::filesystem::path& path, Mode mode = Mode::Lenient);

@@ -40,6 +40,7 @@ public:
     /// Parses TOML text; `arrayKey` is a dotted path to the array of tables ("signal", "can.signal").
     static Result<SignalMap> fromToml(std::string_view text, std::string_view source_name,
                                       std::string_view array_key = "signal");
+    /// Reads a regular file of at most 4 MiB (opened without blocking) and parses it.
     static Result<SignalMap> loadToml(const std::filesystem::path& path, std::string_view array_key = "signal");
     /// The mapping for the project's own data/navmap.dbc (GNSS node).
     static SignalMap navmapDefaults();

@@ -48,6 +48,8 @@ public:
     [[nodiscard]] std::size_t scratchReads() const { return m_scratch_reads; }
     /// Void samples filled in the files read, each file counted once.
     [[nodiscard]] std::size_t voidsFilled() const { return m_voids_filled; }
+    /// Files read so far whose every sample is a void (-32768): they give no height at all.
+    [[nodiscard]] std::vector<std::filesystem::path> allVoidFiles() const;
     /// The most bytes of grids from files held at once.
     [[nodiscard]] std::size_t peakFileBytes() const { return m_peak_bytes; }
 

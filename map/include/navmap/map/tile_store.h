@@ -22,9 +22,11 @@ namespace navmap::map {
 
 class TileStore : public TileSource {
 public:
-    /// Opens and validates magic, format version, header and index checksums, and that every
-    /// tile blob lies inside the file. Throws StoreError ("<file>: <problem>") otherwise. The road
-    /// graph is not checked here (tryLoadGraph()).
+    /// Opens (a regular file only, without blocking) and validates magic, format version, header
+    /// and index checksums, that every tile blob lies inside the file, and every declared size
+    /// against the stored size, zlib's ratio and the format's limits (docs/tile-store.md "Sizes").
+    /// Throws StoreError ("<file>: <problem>") otherwise. The road graph is not checked here
+    /// (tryLoadGraph()).
     static std::shared_ptr<TileStore> open(const std::filesystem::path& path);
     ~TileStore() override;
     TileStore(const TileStore&) = delete;
@@ -52,7 +54,8 @@ public:
         std::string error;    ///< "<file>: road graph: <problem>"
         [[nodiscard]] bool ok() const { return problem.empty(); }
     };
-    /// Reads, checks (bounds, CRC32, size), decompresses and decodes the road graph. Never throws.
+    /// Reads, checks (bounds, CRC32, declared sizes), decompresses in pieces and decodes the road
+    /// graph. Never throws.
     [[nodiscard]] GraphResult tryLoadGraph() const;
     /// The same for callers that cannot work without a graph: throws StoreError on damage; a
     /// store without a graph gives an empty one.

@@ -57,8 +57,11 @@ struct RendererOptions {
     /// Measure each pass (adds a glFinish per pass; benchmarks only).
     bool profile_passes = false;
     /// Weights of the synthetic orthoimage network (docs/orthoimage.md, data/ortho/ortho-mlp.nnw),
-    /// read when MapStyle::ground first asks for the orthoimage. Empty or unusable: the ground
-    /// stays land cover and MapFrameStats::ortho_problem says why, once; never thrown.
+    /// read when the renderer is made (start-up, never in a frame; a regular file of at most the
+    /// format's size, opened without blocking) and uploaded when MapStyle::ground first asks for
+    /// the orthoimage. Empty or unusable: the ground stays land cover and
+    /// MapFrameStats::ortho_problem says why, once, when the orthoimage is first asked for; never
+    /// thrown.
     std::string ortho_weights;
     /// Pixels of orthoimage network work per map frame at most (seed 6.6.2: an image is made in
     /// bands of rows over several frames, its tile showing the land cover meanwhile); 0: each

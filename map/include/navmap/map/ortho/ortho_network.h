@@ -70,6 +70,8 @@ std::vector<std::uint8_t> encodeNetwork(const OrthoNetwork& net);
 /// Parses a weights file; `name` names it in errors. Checks magic, versions, sizes, both
 /// checksums, that the shape matches this build's input encoding, and that every weight is finite.
 OrthoNetwork decodeNetwork(const std::vector<std::uint8_t>& bytes, const std::string& name);
+/// Reads and decodes a weights file: a regular file (opened without blocking: a FIFO or a device
+/// is refused, named) no longer than the format allows (192,588 bytes), checked before it is read.
 OrthoNetwork loadNetwork(const std::filesystem::path& path);
 /// Writes atomically (temporary file, rename); throws OrthoNetworkError.
 void saveNetwork(const OrthoNetwork& net, const std::filesystem::path& path);
