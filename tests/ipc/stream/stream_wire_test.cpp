@@ -259,23 +259,24 @@ TEST(Handshake, RepliesAreReadAgainstTheRequest) {
     ASSERT_TRUE(r.ok()) << r.error().message;
     EXPECT_EQ(r.value().ring_slots, 0U);
     // A refusal keeps the server's words.
-    r = parseStreamReply(R"({"ok":false,"error":"too many unix clients (limit 32)"
-})", asked);
+    r = parseStreamReply(R"x({"ok":false,"error":"too many unix clients (limit 32)"})x", asked);
     ASSERT_TRUE(r.ok());
-EXPECT_FALSE(r.value().accepted);
-EXPECT_EQ(r.value().refusal, "too many unix clients (limit 32)");
-const std::pair<std::string, std::string> bad[] = {
-    {R"({"ok":true,"hold":false,)" + ring + "}", R"(reply: "hold" must be true as asked)"},
-    {R"({"ok":true,"profile":{"width":800.0},)" + ring + "}", R"(reply: "profile.width" must be an integer)"},
-    {R"({"ok":true,"profile":{"name":"a"},)" + ring + "}", R"(reply: "profile.name" must be printable ASCII)"},
-    {R"({"ok":true,"profile":{"height":4097},)" + ring + "}", R"(reply: "profile.height" = 4097 outside [16, 4096])"},
-    {std::string(5000, ' '), "reply: longer than 4096 bytes"},
-};
-for (const auto& [line, why] : bad) {
-    r = parseStreamReply(line, asked);
-    ASSERT_FALSE(r.ok()) << line;
-    EXPECT_EQ(r.error().message, why) << line;
-}
+    EXPECT_FALSE(r.value().accepted);
+    EXPECT_EQ(r.value().refusal, "too many unix clients (limit 32)");
+    const std::pair<std::string, std::string> bad[] = {
+        {R"({"ok":true,"hold":false,)" + ring + "}", R"(reply: "hold" must be true as asked)"},
+        {R"({"ok":true,"profile":{"width":800.0},)" + ring + "}", R"(reply: "profile.width" must be an integer)"},
+        {R"({"ok":true,"profile":{"name":"a\u0001"},)" + ring + "}",
+         R"(reply: "profile.name" must be printable ASCII)"},
+        {R"({"ok":true,"profile":{"height":4097},)" + ring + "}",
+         R"(reply: "profile.height" = 4097 outside [16, 4096])"},
+        {std::string(5000, ' '), "reply: longer than 4096 bytes"},
+    };
+    for (const auto& [line, why] : bad) {
+        r = parseStreamReply(line, asked);
+        ASSERT_FALSE(r.ok()) << line;
+        EXPECT_EQ(r.error().message, why) << line;
+    }
 }
 
 TEST(HttpRequest, ParsesGetWithQueryAndRejectsJunk) {
