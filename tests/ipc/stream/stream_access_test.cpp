@@ -417,6 +417,7 @@ TEST_F(StreamAccessTest, RingMemoryHasACeiling) {
                                          "in use (1 idle ring kept for reuse); try again later");
     auto again = StreamClient::connectUnix(path(), request("bird", 64, 32));
     ASSERT_TRUE(again.ok()) << again.error().message;
+    ASSERT_TRUE(waitFor([&] { return m_server->stats().rings == 1; }));  // counted after the reply
     s = m_server->stats();
     EXPECT_EQ(s.rings, 1U);
     EXPECT_EQ(s.rings_idle, 0U);
@@ -535,6 +536,7 @@ TEST_F(StreamAccessTest, AReusedRingStartsWithTheNextFrameAndSocketOnlyRingsAreF
     {
         auto c = StreamClient::connectUnix(path(), request("bird", 64, 32));
         ASSERT_TRUE(c.ok()) << c.error().message;
+        ASSERT_TRUE(waitFor([&] { return m_server->stats().rings == 1; }));  // in the publish set after the reply
         ASSERT_EQ(m_server->publish("bird", FrameView{px1.data(), 64, 32, 0, PixelFormat::Rgba8, 0, 0}), 1U);
         ReceivedFrame f;
         auto r = c.value()->next(f, 3s);
@@ -550,6 +552,7 @@ TEST_F(StreamAccessTest, AReusedRingStartsWithTheNextFrameAndSocketOnlyRingsAreF
                      ? StreamClient::connectUnix(path(), request("bird", 64, 32, payload))
                      : StreamClient::connectTcp("127.0.0.1", m_server->tcpPort(), request("bird", 64, 32, payload));
         ASSERT_TRUE(c.ok()) << c.error().message;
+        ASSERT_TRUE(waitFor([&] { return m_server->stats().rings == 1; }));
         ReceivedFrame f;
         auto r = c.value()->next(f, 300ms);
         ASSERT_TRUE(r.ok()) << r.error().message;
