@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 // libFuzzer target: everything a stream client can send or a server can answer before pixels:
-// the JSON handshake line, the HTTP request head, and the 80-byte frame header with the error or
-// status text after it.
+// the JSON handshake line, the server's JSON reply (read by the client against a shm and a raw
+// request), the HTTP request head, and the 80-byte frame header with the error or status text
+// after it.
 // Built with -DNAVMAP_WITH_FUZZ=ON (clang); stream_unit_tests compiles it too (NAVMAP_FUZZ_NO_MAIN)
 // and runs navmapFuzzStreamHandshake() on a corpus of broken inputs.
 
@@ -11,6 +12,7 @@
 #include <string_view>
 
 #include "navmap/ipc/frame_header.h"
+#include "navmap/ipc/frame_ring.h"
 #include "navmap/ipc/stream_http_request.h"
 #include "navmap/ipc/stream_profile.h"
 
@@ -25,6 +27,28 @@ int navmapFuzzStreamHandshake(const std::uint8_t* data, std::size_t size) {
             again.value().profile.fps != a.fps || again.value().profile.view != a.view ||
             again.value().profile.format != a.format || again.value().profile.name != a.name ||
             again.value().payload != req.value().payload) {
+            __builtin_trap();
+        }
+    }
+    // The same bytes as a server's reply: whatever the client accepts is what it asked for, and a
+    // shm ring's size is the layout of that profile (the client maps that many bytes).
+    for (const auto payload : {navmap::ipc::StreamPayload::Shm, navmap::ipc::StreamPayload::Raw}) {
+        navmap::ipc::StreamRequest asked;
+        asked.profile = *navmap::ipc::defaultStreamProfile("hud");
+        asked.payload = payload;
+        auto reply = navmap::ipc::parseStreamReply(text, asked);
+        if (!reply.ok() || !reply.value().accepted) {
+            continue;
+        }
+        const auto& r = reply.value();
+        if (r.profile.width != asked.profile.width || r.profile.height != asked.profile.height ||
+            r.profile.format != asked.profile.format) {
+            __builtin_trap();
+        }
+        if (payload == navmap::ipc::StreamPayload::Shm &&
+            (r.ring_slots < 1 || r.ring_slots > navmap::ipc::kMaxRingSlots ||
+             r.ring_total_bytes !=
+                 navmap::ipc::FrameRingLayout::make(r.ring_slots, 800, 240, r.profile.format).total_bytes)) {
             __builtin_trap();
         }
     }

@@ -152,13 +152,15 @@ void ClientHub::offer(StreamConn& c, Clock::time_point now) {
 
 std::uint64_t ClientHub::available(const StreamConn& c) const {
     const RingEntry& e = *c.ring;
+    std::uint64_t seq = 0;
     if (c.phase == Phase::Mjpeg) {
-        return e.jpeg ? e.jpeg->sequence : 0;
+        seq = e.jpeg ? e.jpeg->sequence : 0;
+    } else if (c.payload == StreamPayload::Zlib) {
+        seq = e.zlib ? e.zlib->sequence : 0;
+    } else {
+        seq = e.ring->latestSequence();
     }
-    if (c.payload == StreamPayload::Zlib) {
-        return e.zlib ? e.zlib->sequence : 0;
-    }
-    return e.ring->latestSequence();
+    return seq < e.first_seq ? 0 : seq;  // rendered before the ring was idle: not for these clients
 }
 
 void ClientHub::offerIfNew(StreamConn& c, Clock::time_point now) {
@@ -349,10 +351,12 @@ void ClientHub::countClients(FrameServerStats& s) const {
 void ClientHub::refreshRings() {
     m_rings.updatePublishSet();
     m_stats.setActive(m_rings.activeProfiles());
-    const std::size_t rings = m_rings.entries().size();
+    const std::size_t rings = m_rings.activeCount();
+    const std::size_t rings_idle = m_rings.idleCount();
     const std::size_t ring_bytes = m_rings.totalBytes();
     m_stats.update([&](FrameServerStats& s) {
         s.rings = rings;
+        s.rings_idle = rings_idle;
         s.ring_bytes = ring_bytes;
         countClients(s);
     });

@@ -55,7 +55,7 @@ FrameRingLayout FrameRingLayout::make(std::uint32_t slots, std::uint32_t width, 
 }
 
 Status FrameRingLayout::validate(std::size_t file_bytes) const {
-    if (slots < 1 || slots > 64 || width == 0 || height == 0 || width > kMaxFrameDimension ||
+    if (slots < 1 || slots > kMaxRingSlots || width == 0 || height == 0 || width > kMaxFrameDimension ||
         height > kMaxFrameDimension || !isKnownPixelFormat(static_cast<std::uint32_t>(format))) {
         return Error{"ring layout: bad geometry"};
     }
@@ -72,7 +72,7 @@ Status FrameRingLayout::validate(std::size_t file_bytes) const {
 
 Result<std::unique_ptr<FrameRing>> FrameRing::create(const std::string& name, std::uint32_t slots, std::uint32_t width,
                                                      std::uint32_t height, PixelFormat format) {
-    if (slots < 2 || slots > 64 || width == 0 || height == 0 || width > kMaxFrameDimension ||
+    if (slots < 2 || slots > kMaxRingSlots || width == 0 || height == 0 || width > kMaxFrameDimension ||
         height > kMaxFrameDimension || bytesPerPixel(format) == 0) {
         return Error{"FrameRing(" + name + "): bad geometry"};
     }

@@ -158,7 +158,7 @@ FrameStreamTransport::ReadOutcome FrameStreamTransport::readNewest(StreamConn& c
     // The newest frame; if the render thread overwrites it meanwhile, take the one after.
     for (int attempt = 0; attempt < 4; ++attempt) {
         *seq = c.ring->ring->latestSequence();
-        if (*seq == 0 || *seq <= c.last_sent) {
+        if (*seq == 0 || *seq <= c.last_sent || *seq < c.ring->first_seq) {
             return ReadOutcome::Nothing;
         }
         if (readFrame(c, *seq, h)) {

@@ -58,6 +58,8 @@ bool ShmTransport::sendWithRing(StreamConn& c, const std::string& text) {
         return false;
     }
     const net::UniqueFd ro_fd(ro.value());
+    // From here on a mapping of the ring may live out of the server's sight: it stays counted.
+    c.ring->handed_out = true;
     iovec iov{const_cast<char*>(text.data()), text.size()};
     alignas(cmsghdr) char control[CMSG_SPACE(sizeof(int))] = {};
     msghdr msg{};

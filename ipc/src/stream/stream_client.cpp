@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "navmap/ipc/stream_client.h"
 
+#include <fcntl.h>
 #include <poll.h>
 #include <sys/mman.h>
 #include <sys/socket.h>
@@ -8,8 +9,8 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <cstdio>
 #include <cstring>
-#include <nlohmann/json.hpp>
 
 #include "navmap/ipc/frame_ring.h"
 #include "stream_socket.h"
@@ -19,6 +20,11 @@ namespace navmap::ipc {
 using net::sysError;
 using net::UniqueFd;
 using Clock = std::chrono::steady_clock;
+
+// glibc < 2.29 lacks the name; the value is the kernel's (include/uapi/linux/fcntl.h, Linux 5.1).
+#ifndef F_SEAL_FUTURE_WRITE
+#define F_SEAL_FUTURE_WRITE 0x0010
+#endif
 
 namespace {
 
@@ -38,6 +44,50 @@ Status sendAll(int fd, const char* data, std::size_t n, const std::string& peer)
         }
         data += w;
         n -= static_cast<std::size_t>(w);
+    }
+    return {};
+}
+
+// At most `max` bytes of a server's text for an error message, control bytes and non-ASCII as '?'.
+std::string printable(const std::string& text, std::size_t max) {
+    std::string out = text.substr(0, max);
+    for (char& c : out) {
+        if (static_cast<unsigned char>(c) < 0x20 || static_cast<unsigned char>(c) >= 0x7F) {
+            c = '?';
+        }
+    }
+    return out;
+}
+
+// The ring descriptor comes from a server the client does not trust: before it is mapped, it must
+// be a memfd whose size nobody can change and whose pages nobody can write any more. A file or
+// memfd that can shrink turns every later read of the mapping into a possible SIGBUS; one that
+// can be written lets the server change a frame the client holds. F_GET_SEALS fails (EINVAL) on
+// anything but a memfd (or another shmem file, whose seals are then just F_SEAL_SEAL).
+Status checkRingDescriptor(int fd, const FrameRingLayout& layout, const std::string& peer) {
+    const std::string what = "handshake with " + peer + ": ring descriptor ";
+    struct stat st {};
+    if (::fstat(fd, &st) != 0) {
+        return Error{sysError("fstat", peer + " ring")};
+    }
+    if (!S_ISREG(st.st_mode)) {
+        return Error{what + "is not a memfd (not even a regular file)"};
+    }
+    const int seals = ::fcntl(fd, F_GET_SEALS);
+    if (seals < 0) {
+        return Error{what + "is not a memfd (" + sysError("fcntl", "F_GET_SEALS") + ")"};
+    }
+    const bool sized = (seals & F_SEAL_SHRINK) != 0 && (seals & F_SEAL_GROW) != 0;
+    const bool read_only = (seals & (F_SEAL_WRITE | F_SEAL_FUTURE_WRITE)) != 0;
+    if (!sized || !read_only) {
+        char have[16];
+        std::snprintf(have, sizeof(have), "0x%x", static_cast<unsigned>(seals));
+        return Error{what + "is not sealed: seals " + have +
+                     ", need F_SEAL_SHRINK, F_SEAL_GROW and F_SEAL_WRITE or F_SEAL_FUTURE_WRITE"};
+    }
+    // Sealed against shrinking: the size checked now is the size for as long as it is mapped.
+    if (auto s = layout.validate(static_cast<std::size_t>(st.st_size)); !s) {
+        return Error{"handshake with " + peer + ": " + s.message()};
     }
     return {};
 }
@@ -135,7 +185,7 @@ Result<std::unique_ptr<StreamClient>> StreamClient::handshake(int raw_fd, const 
                 return Error{sent.message()};
             }
             return Error{"handshake with " + peer + ": connection closed" +
-                         (reply.empty() ? "" : " after '" + reply + "'")};
+                         (reply.empty() ? "" : " after '" + printable(reply, 200) + "'")};
         }
         reply.append(buf, static_cast<std::size_t>(r));
         const auto nl = reply.find('\n');
@@ -149,13 +199,13 @@ Result<std::unique_ptr<StreamClient>> StreamClient::handshake(int raw_fd, const 
                          " bytes"};
         }
     }
-    const auto j = nlohmann::json::parse(reply, nullptr, false);
-    if (j.is_discarded() || !j.is_object() || !j.contains("ok") || !j["ok"].is_boolean()) {
-        return Error{"handshake with " + peer + ": bad reply '" + reply.substr(0, 200) + "'"};
+    auto parsed = parseStreamReply(reply, request);
+    if (!parsed) {
+        return Error{"handshake with " + peer + ": " + parsed.error().message + " in '" + printable(reply, 200) + "'"};
     }
-    if (!j["ok"].get<bool>()) {
-        const std::string why = j.contains("error") && j["error"].is_string() ? j["error"].get<std::string>() : "?";
-        return Error{"handshake refused by " + peer + ": " + why};
+    const StreamReply& answer = parsed.value();
+    if (!answer.accepted) {
+        return Error{"handshake refused by " + peer + ": " + printable(answer.refusal, 1024)};
     }
     if (!sent.ok()) {
         return Error{sent.message()};
@@ -163,38 +213,19 @@ Result<std::unique_ptr<StreamClient>> StreamClient::handshake(int raw_fd, const 
     auto client = std::unique_ptr<StreamClient>(new StreamClient());
     client->m_peer = peer;
     client->m_payload = request.payload;
-    client->m_profile = request.profile;
+    client->m_profile = answer.profile;
     client->m_in = std::move(rest);
     client->m_inflate = std::move(inflate);
     client->m_hold = request.hold;
-    const auto& prof = j.value("profile", nlohmann::json::object());
-    if (prof.is_object()) {
-        client->m_profile.name = prof.value("name", request.profile.name);
-        client->m_profile.width = prof.value("width", request.profile.width);
-        client->m_profile.height = prof.value("height", request.profile.height);
-        client->m_profile.fps = prof.value("fps", request.profile.fps);
-        client->m_profile.view = prof.value("view", request.profile.view);
-        if (auto f = parsePixelFormat(prof.value("format", std::string("rgba8")))) {
-            client->m_profile.format = *f;
-        }
-    }
     if (request.payload == StreamPayload::Shm) {
         if (!memfd.valid()) {
             return Error{"handshake with " + peer + ": no shared-memory descriptor in the reply"};
         }
-        const auto& ring = j.value("ring", nlohmann::json::object());
-        FrameRingLayout l =
-            FrameRingLayout::make(ring.value("slots", 0U), static_cast<std::uint32_t>(client->m_profile.width),
-                                  static_cast<std::uint32_t>(client->m_profile.height), client->m_profile.format);
-        struct stat st {};
-        if (::fstat(memfd.get(), &st) != 0) {
-            return Error{sysError("fstat", peer + " ring")};
-        }
-        if (ring.value("total_bytes", std::size_t{0}) != l.total_bytes) {
-            return Error{"handshake with " + peer + ": ring size does not match the profile"};
-        }
-        if (auto s = l.validate(static_cast<std::size_t>(st.st_size)); !s) {
-            return Error{"handshake with " + peer + ": " + s.message()};
+        const FrameRingLayout l =
+            FrameRingLayout::make(answer.ring_slots, static_cast<std::uint32_t>(answer.profile.width),
+                                  static_cast<std::uint32_t>(answer.profile.height), answer.profile.format);
+        if (auto s = checkRingDescriptor(memfd.get(), l, peer); !s) {
+            return Error{s.message()};
         }
         void* p = ::mmap(nullptr, l.total_bytes, PROT_READ, MAP_SHARED, memfd.get(), 0);
         if (p == MAP_FAILED) {
@@ -390,8 +421,10 @@ Result<bool> StreamClient::receive(ReceivedFrame* copy, HeldFrame* held, std::ch
             continue;
         }
         const bool want_shm = m_payload == StreamPayload::Shm;
+        // The stride too: a display reads stride x height bytes at the pixels it is handed.
         if ((h.encoding == FrameEncoding::Shm) != want_shm || h.width != static_cast<std::uint32_t>(m_profile.width) ||
-            h.height != static_cast<std::uint32_t>(m_profile.height) || h.format != m_profile.format) {
+            h.height != static_cast<std::uint32_t>(m_profile.height) || h.format != m_profile.format ||
+            h.stride != h.width * static_cast<std::uint32_t>(bytesPerPixel(h.format))) {
             return Error{m_peer + ": frame header does not match the negotiated profile"};
         }
         const std::int64_t received_ns = stream_detail::realtimeNowNs();

@@ -14,8 +14,13 @@ void collectTraffic(MetricsRegistry& r, const FrameServerStats& s) {
         .sample({{"transport", "shm"}}, d(s.shm_clients))
         .sample({{"transport", "tcp"}}, d(s.tcp_clients))
         .sample({{"transport", "mjpeg"}}, d(s.mjpeg_clients));
-    r.gauge("navmap_stream_rings", "Shared-memory rings (one per profile and pixel format with clients).")
-        .sample(d(s.rings));
+    r.gauge("navmap_stream_rings",
+            "Shared-memory rings: with clients (one per profile and pixel format), and idle ones kept for reuse "
+            "because a client may still map them.")
+        .sample({{"state", "active"}}, d(s.rings))
+        .sample({{"state", "idle"}}, d(s.rings_idle));
+    r.counter("navmap_stream_rings_reused_total", "Idle rings that got a client again instead of a new ring.")
+        .sample(d(s.rings_reused));
     r.counter("navmap_stream_frames_published_total", "Frames published by the render loop.").sample(d(s.published));
     r.counter("navmap_stream_frames_sent_total", "Frames handed to clients.").sample(d(s.frames_sent));
     r.counter("navmap_stream_statuses_sent_total", "Status headers handed to clients waiting for their first frame.")
@@ -76,6 +81,8 @@ nlohmann::json streamCounters(const FrameServerStats& s) {
             {"tcp_clients", s.tcp_clients},
             {"mjpeg_clients", s.mjpeg_clients},
             {"rings", s.rings},
+            {"rings_idle", s.rings_idle},
+            {"rings_reused", s.rings_reused},
             {"published", s.published},
             {"sent", s.frames_sent},
             {"statuses_sent", s.statuses_sent},

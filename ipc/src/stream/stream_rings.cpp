@@ -99,14 +99,29 @@ Status RingSet::checkMemory(const StreamProfile& profile) {
         return {};
     }
     m_stats.count(&FrameServerStats::refused_ring_memory);
-    return Error{"ring memory: " + profile.view + " " + std::to_string(profile.width) + "x" +
-                 std::to_string(profile.height) + " " + pixelFormatName(profile.format) + " needs " +
-                 sizeText(want.total_bytes) + ", " + sizeText(used) + " of " + sizeText(m_options.ring_memory_bytes) +
-                 " are in use; try again later"};
+    const std::size_t idle = idleCount();
+    return Error{
+        "ring memory: " + profile.view + " " + std::to_string(profile.width) + "x" + std::to_string(profile.height) +
+        " " + pixelFormatName(profile.format) + " needs " + sizeText(want.total_bytes) + ", " + sizeText(used) +
+        " of " + sizeText(m_options.ring_memory_bytes) + " are in use" +
+        (idle == 0 ? std::string()
+                   : " (" + std::to_string(idle) + (idle == 1 ? " idle ring" : " idle rings") + " kept for reuse)") +
+        "; try again later"};
 }
 
 Result<std::shared_ptr<RingEntry>> RingSet::attach(const std::string& key, const StreamProfile& profile) {
     if (auto e = find(key, profile)) {
+        if (e->clients == 0) {
+            // An idle ring comes back: what it holds was rendered before, for clients now gone.
+            // New clients get frames rendered from now on, as from a new ring.
+            const std::uint64_t latest = e->ring->latestSequence();
+            e->first_seq = latest + 1;
+            e->zlib_asked = e->jpeg_asked = latest;
+            e->zlib.reset();
+            e->jpeg.reset();
+            e->max_fps = 0;
+            m_stats.count(&FrameServerStats::rings_reused);
+        }
         ++e->clients;
         e->max_fps = std::max(e->max_fps, effectiveFps(profile.fps));
         return e;
@@ -133,13 +148,31 @@ Result<std::shared_ptr<RingEntry>> RingSet::attach(const std::string& key, const
 }
 
 void RingSet::retireUnused() {
+    // A ring a client was given stays: the client may have mapped it, and a mapping lives on
+    // after its descriptor is closed and its connection is gone, in that process or any it
+    // passed the descriptor to or forked, out of the server's sight. Freeing such a ring and
+    // making a new one for the next client would leave the old memory in use but no longer
+    // counted: a client that connects, maps, closes and disconnects in a loop would grow shared
+    // memory by one ring per cycle past ring_memory_bytes. Keeping it bounds the memory rings
+    // can ever take to the distinct (profile, size, format) that fit under the ceiling, all of
+    // them counted; it is reused by the next client of the same profile, size and format.
+    // (Counting a freed ring until its last mapping is gone cannot be done: the server cannot
+    // see other processes' mappings. A rate limit on creations would only slow the growth.)
+    const auto freed = [](const auto& e) { return e->clients == 0 && !e->handed_out; };
     for (const auto& e : m_rings) {
-        if (e->clients == 0) {
+        if (freed(e)) {
             m_retired_pinned_overwrites += e->ring->pinnedOverwrites();
         }
     }
-    std::erase_if(m_rings, [](const auto& e) { return e->clients == 0; });
+    std::erase_if(m_rings, freed);
 }
+
+std::size_t RingSet::activeCount() const {
+    return static_cast<std::size_t>(
+        std::count_if(m_rings.begin(), m_rings.end(), [](const auto& e) { return e->clients > 0; }));
+}
+
+std::size_t RingSet::idleCount() const { return m_rings.size() - activeCount(); }
 
 std::uint64_t RingSet::pinnedOverwrites() const {
     std::uint64_t total = m_retired_pinned_overwrites;
@@ -162,7 +195,8 @@ void RingSet::takeEncodes(std::vector<FrameEncoder::Result> results) {
         for (const auto& e : m_rings) {
             if (e->ring.get() == r.ring) {
                 auto& slot = r.kind == EncodeKind::Zlib ? e->zlib : e->jpeg;
-                if (!slot || r.frame->sequence > slot->sequence) {
+                // An encode asked for before the ring was idle is of no use to its new clients.
+                if (r.frame->sequence >= e->first_seq && (!slot || r.frame->sequence > slot->sequence)) {
                     slot = std::move(r.frame);
                 }
                 break;
@@ -174,6 +208,9 @@ void RingSet::takeEncodes(std::vector<FrameEncoder::Result> results) {
 std::vector<ActiveProfile> RingSet::activeProfiles() const {
     std::vector<ActiveProfile> active;
     for (const auto& e : m_rings) {
+        if (e->clients == 0) {
+            continue;  // idle: nothing to render for it
+        }
         const FrameRingLayout& l = e->ring->layout();
         bool merged = false;
         for (auto& a : active) {
@@ -194,7 +231,9 @@ std::vector<ActiveProfile> RingSet::activeProfiles() const {
 void RingSet::updatePublishSet() {
     auto set = std::make_shared<PublishSet>();
     for (const auto& e : m_rings) {
-        set->push_back({e->key, e->ring});
+        if (e->clients > 0) {
+            set->push_back({e->key, e->ring});
+        }
     }
     std::lock_guard lock(m_publish_mutex);
     m_publish_set = std::move(set);

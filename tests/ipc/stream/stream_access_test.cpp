@@ -14,6 +14,8 @@
 
 #include <algorithm>
 #include <cstring>
+#include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -403,12 +405,178 @@ TEST_F(StreamAccessTest, RingMemoryHasACeiling) {
     const std::string metrics = m_server->metricsText();
     EXPECT_NE(metrics.find("navmap_stream_refusals_total{reason=\"ring_memory\"} 2\n"), std::string::npos) << metrics;
     EXPECT_NE(metrics.find("navmap_stream_ring_bytes{stat=\"limit\"} 65536\n"), std::string::npos) << metrics;
-    // When the ring's clients leave, its memory is free for another.
+    // When the ring's clients leave, they may still map it: it stays, counted, and is reused.
     first.value().reset();
     same.value().reset();
-    ASSERT_TRUE(waitFor([&] { return m_server->stats().rings == 0; }));
+    ASSERT_TRUE(waitFor([&] { return m_server->stats().rings == 0 && m_server->stats().rings_idle == 1; }));
+    EXPECT_EQ(m_server->stats().ring_bytes, 40960U);
     auto later = StreamClient::connectUnix(path(), request("bird", 64, 32, StreamPayload::Shm, PixelFormat::Rgb565));
-    EXPECT_TRUE(later.ok()) << later.error().message;
+    ASSERT_FALSE(later.ok());
+    EXPECT_EQ(later.error().message, "handshake refused by " + path() +
+                                         ": ring memory: bird 64x32 rgb565 needs 28.0 KiB, 40.0 KiB of 64.0 KiB are "
+                                         "in use (1 idle ring kept for reuse); try again later");
+    auto again = StreamClient::connectUnix(path(), request("bird", 64, 32));
+    ASSERT_TRUE(again.ok()) << again.error().message;
+    ASSERT_TRUE(waitFor([&] { return m_server->stats().rings == 1; }));  // counted after the reply
+    s = m_server->stats();
+    EXPECT_EQ(s.rings, 1U);
+    EXPECT_EQ(s.rings_idle, 0U);
+    EXPECT_EQ(s.rings_reused, 1U);
+    EXPECT_EQ(s.ring_bytes, 40960U);
+}
+
+namespace {
+
+// Shared memory of the frame server's rings that this process really has: every mapping of a
+// "navmap-ring-" memfd in /proc/self/maps, each memfd (inode) once, at its largest mapping.
+// The server maps every ring it keeps whole; a client's mapping keeps a freed ring alive.
+struct RingMappings {
+    std::size_t bytes = 0;
+    std::size_t memfds = 0;
+};
+
+RingMappings ringMappings() {
+    std::ifstream maps("/proc/self/maps");
+    std::map<std::string, std::size_t> by_inode;
+    for (std::string line; std::getline(maps, line);) {
+        if (line.find("/memfd:navmap-ring-") == std::string::npos) {
+            continue;
+        }
+        std::istringstream in(line);
+        std::string range, perms, offset, dev, inode;
+        in >> range >> perms >> offset >> dev >> inode;
+        const auto dash = range.find('-');
+        const std::size_t size =
+            std::stoull(range.substr(dash + 1), nullptr, 16) - std::stoull(range.substr(0, dash), nullptr, 16);
+        by_inode[dev + ":" + inode] = std::max(by_inode[dev + ":" + inode], size);
+    }
+    RingMappings r;
+    for (const auto& [inode, size] : by_inode) {
+        r.bytes += size;
+        ++r.memfds;
+    }
+    return r;
+}
+
+}  // namespace
+
+// A client connects, maps the ring, closes the descriptor and disconnects, again and again, over
+// profiles of several sizes and both formats: every mapping stays. Freed and made anew each
+// cycle, the rings would grow shared memory by one ring per cycle while ring_bytes said 0; kept
+// and reused, the rings this process really maps stay under the ceiling and are all counted.
+TEST_F(StreamAccessTest, RingMemoryCeilingHoldsAgainstMapCloseDisconnectCycles) {
+    FrameServerOptions o = options();
+    o.ring_slots = 3;
+    o.ring_memory_bytes = 256 * 1024;
+    start(o);
+    const RingMappings before = ringMappings();
+    ASSERT_EQ(before.memfds, 0U);
+    struct Mapping {
+        void* base;
+        std::size_t bytes;
+    };
+    std::vector<Mapping> kept;  // the client's mappings, alive after their descriptors and connections
+    int accepted = 0;
+    int refused = 0;
+    for (int i = 0; i < 150; ++i) {
+        // 8 widths x 2 formats: 16 rings of 28..76 KiB, more than 256 KiB together.
+        const int width = 64 + 16 * (i % 8);
+        const PixelFormat format = (i / 8) % 2 == 0 ? PixelFormat::Rgba8 : PixelFormat::Rgb565;
+        const auto layout = FrameRingLayout::make(3, static_cast<std::uint32_t>(width), 32, format);
+        {
+            auto raw =
+                rawShmHandshake(path(), formatStreamRequest(request("bird", width, 32, StreamPayload::Shm, format)));
+            if (raw->reply.find("\"ok\":true") != std::string::npos) {
+                ASSERT_GE(raw->ring_fd, 0) << raw->reply;
+                void* p = ::mmap(nullptr, layout.total_bytes, PROT_READ, MAP_SHARED, raw->ring_fd, 0);
+                ASSERT_NE(p, MAP_FAILED) << std::strerror(errno);
+                kept.push_back({p, layout.total_bytes});
+                ++accepted;
+            } else {
+                ASSERT_NE(raw->reply.find("ring memory: bird " + std::to_string(width) + "x32"), std::string::npos)
+                    << raw->reply;
+                ++refused;
+            }
+        }  // the descriptor and the connection close here; the mapping stays
+        ASSERT_TRUE(waitFor([&] { return m_server->stats().connections == 0; })) << "cycle " << i;
+    }
+    const auto s = m_server->stats();
+    const RingMappings after = ringMappings();
+    std::printf("150 cycles: %d accepted, %d refused; rings mapped %zu (%zu bytes), ring_bytes %zu, ceiling %zu\n",
+                accepted, refused, after.memfds, after.bytes, s.ring_bytes, o.ring_memory_bytes);
+    EXPECT_LE(after.bytes, o.ring_memory_bytes);
+    EXPECT_EQ(after.bytes, s.ring_bytes) << "shared memory the server does not count";
+    EXPECT_EQ(after.memfds, s.rings_idle);
+    EXPECT_EQ(s.rings, 0U);
+    EXPECT_GT(refused, 0);
+    EXPECT_EQ(s.refused_ring_memory, static_cast<std::uint64_t>(refused));
+    EXPECT_EQ(s.rings_reused, static_cast<std::uint64_t>(accepted) - s.rings_idle);
+    const std::string metrics = m_server->metricsText();
+    EXPECT_NE(metrics.find("navmap_stream_refusals_total{reason=\"ring_memory\"} " + std::to_string(refused) + "\n"),
+              std::string::npos)
+        << metrics;
+    EXPECT_NE(metrics.find("navmap_stream_rings{state=\"idle\"} " + std::to_string(s.rings_idle) + "\n"),
+              std::string::npos)
+        << metrics;
+    EXPECT_NE(metrics.find("navmap_stream_ring_bytes{stat=\"used\"} " + std::to_string(s.ring_bytes) + "\n"),
+              std::string::npos)
+        << metrics;
+    for (const auto& m : kept) {
+        ::munmap(m.base, m.bytes);
+    }
+}
+
+// A ring that comes back from idle gives its new client frames rendered from then on, not the
+// frame its last client saw; rings only socket clients used (never handed out) are freed.
+TEST_F(StreamAccessTest, AReusedRingStartsWithTheNextFrameAndSocketOnlyRingsAreFreed) {
+    FrameServerOptions o = options();
+    o.tcp_port = 0;
+    start(o);
+    const auto px1 = sequencePattern(64, 32, 1);
+    {
+        auto c = StreamClient::connectUnix(path(), request("bird", 64, 32));
+        ASSERT_TRUE(c.ok()) << c.error().message;
+        ASSERT_TRUE(waitFor([&] { return m_server->stats().rings == 1; }));  // in the publish set after the reply
+        ASSERT_EQ(m_server->publish("bird", FrameView{px1.data(), 64, 32, 0, PixelFormat::Rgba8, 0, 0}), 1U);
+        ReceivedFrame f;
+        auto r = c.value()->next(f, 3s);
+        ASSERT_TRUE(r.ok() && r.value());
+        EXPECT_EQ(f.header.sequence, 1U);
+    }
+    ASSERT_TRUE(waitFor([&] { return m_server->stats().rings_idle == 1; }));
+    // Nothing is rendered for an idle ring.
+    EXPECT_TRUE(m_server->activeProfiles().empty());
+    EXPECT_EQ(m_server->publish("bird", FrameView{px1.data(), 64, 32, 0, PixelFormat::Rgba8, 0, 0}), 0U);
+    for (const auto payload : {StreamPayload::Shm, StreamPayload::Raw}) {
+        auto c = payload == StreamPayload::Shm
+                     ? StreamClient::connectUnix(path(), request("bird", 64, 32, payload))
+                     : StreamClient::connectTcp("127.0.0.1", m_server->tcpPort(), request("bird", 64, 32, payload));
+        ASSERT_TRUE(c.ok()) << c.error().message;
+        ASSERT_TRUE(waitFor([&] { return m_server->stats().rings == 1; }));
+        ReceivedFrame f;
+        auto r = c.value()->next(f, 300ms);
+        ASSERT_TRUE(r.ok()) << r.error().message;
+        EXPECT_FALSE(r.value()) << "got frame " << f.header.sequence << " rendered before the ring was idle";
+        const std::uint64_t seq = m_server->stats().published + 7;
+        const auto px = sequencePattern(64, 32, seq);
+        ASSERT_EQ(m_server->publish("bird", FrameView{px.data(), 64, 32, 0, PixelFormat::Rgba8, 0, 0}), 1U);
+        r = c.value()->next(f, 3s);
+        ASSERT_TRUE(r.ok() && r.value());
+        EXPECT_EQ(f.pixels, px);
+    }
+    ASSERT_TRUE(waitFor([&] { return m_server->stats().rings == 0 && m_server->stats().connections == 0; }));
+    EXPECT_EQ(m_server->stats().rings_reused, 2U);
+    EXPECT_EQ(m_server->stats().rings_idle, 1U);
+    // TCP alone at another size: its ring goes with its client.
+    {
+        auto c =
+            StreamClient::connectTcp("127.0.0.1", m_server->tcpPort(), request("bird", 96, 32, StreamPayload::Raw));
+        ASSERT_TRUE(c.ok()) << c.error().message;
+        ASSERT_TRUE(waitFor([&] { return m_server->stats().rings == 1; }));
+    }
+    ASSERT_TRUE(waitFor([&] { return m_server->stats().rings == 0 && m_server->stats().connections == 0; }));
+    EXPECT_EQ(m_server->stats().rings_idle, 1U);
+    EXPECT_EQ(m_server->stats().ring_bytes, FrameRingLayout::make(3, 64, 32, PixelFormat::Rgba8).total_bytes);
 }
 
 TEST_F(StreamAccessTest, NoClientCanMakeTheRingWritable) {

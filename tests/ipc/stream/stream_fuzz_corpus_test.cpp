@@ -9,6 +9,7 @@
 
 #include "fuzz_corpus.h"
 #include "navmap/ipc/frame_header.h"
+#include "navmap/ipc/frame_ring.h"
 #include "navmap/ipc/stream_profile.h"
 
 int navmapFuzzStreamHandshake(const std::uint8_t* data, std::size_t size);
@@ -22,8 +23,18 @@ TEST(StreamFuzzCorpus, HandshakeHttpAndHeaderParsersSurviveBrokenInputs) {
     const auto hb = navmap::ipc::encodeFrameHeader(h);
     navmap::ipc::StreamRequest req;
     req.profile = *navmap::ipc::defaultStreamProfile("cluster");
+    // A server's reply to a hud shm request (what the fuzz entry asks for), as navmapd words it.
+    const auto hud = navmap::ipc::FrameRingLayout::make(3, 800, 240, navmap::ipc::PixelFormat::Rgba8);
+    const std::string reply =
+        R"({"header_bytes":80,"ok":true,"payload":"shm","profile":{"format":"rgba8","fps":30,"height":240,)"
+        R"("name":"hud","view":"hud","width":800},"ring":{"header_offset":64,"pixel_offset":256,"slot_bytes":)" +
+        std::to_string(hud.slot_bytes) + R"(,"slots":3,"total_bytes":)" + std::to_string(hud.total_bytes) +
+        R"(},"stride":3200,"version":1})"
+        "\n";
     const std::vector<std::string> seeds = {
         navmap::ipc::formatStreamRequest(req),
+        reply,
+        "{\"ok\":false,\"error\":\"ring memory: try again later\"}\n",
         "{\"version\":1,\"profile\":\"x\",\"width\":320,\"height\":200,\"view\":\"bird\",\"format\":\"rgb565\"}\n",
         "GET /stream.mjpg?profile=hud&fps=5 HTTP/1.1\r\nHost: localhost\r\nAccept: */*\r\n\r\n",
         std::string(hb.begin(), hb.end()),
@@ -40,6 +51,12 @@ TEST(StreamFuzzCorpus, HandshakeHttpAndHeaderParsersSurviveBrokenInputs) {
         "GET / HTTP/1.1\r\n:\r\n\r\n",
         std::string(80, '\xff'),
         std::string(80, '\0'),
+        R"({"ok":true,"profile":{"width":"x"},"ring":{"slots":3,"total_bytes":1}})",
+        R"({"ok":true,"profile":{"width":800,"height":240},"ring":"x"})",
+        R"({"ok":true,"ring":{"slots":18446744073709551615,"total_bytes":-1}})",
+        R"({"ok":true,"ring":{"slots":3,"total_bytes":1e300}})",
+        R"({"ok":"yes"})",
+        R"({"ok":false,"error":7})",
     };
     const std::size_t runs = navmap::test::runFuzzCorpus(navmapFuzzStreamHandshake, seeds, extra, 500);
     EXPECT_GT(runs, 2000U);

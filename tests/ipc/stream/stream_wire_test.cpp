@@ -221,6 +221,64 @@ TEST(Handshake, BadLinesNameTheProblem) {
     EXPECT_FALSE(parseStreamRequest(std::string(5000, ' ')).ok());
 }
 
+// The client's side: the server's reply line, read against the request it answers. (Every wrong
+// type and range, end to end through the clients: evil_server_test.cpp.)
+TEST(Handshake, RepliesAreReadAgainstTheRequest) {
+    StreamRequest asked;
+    asked.profile = *defaultStreamProfile("hud");
+    asked.profile.fps = 10;
+    asked.hold = true;
+    const auto l = FrameRingLayout::make(2, 800, 240, PixelFormat::Rgba8);
+    const std::string ring = R"("ring":{"slots":2,"slot_bytes":)" + std::to_string(l.slot_bytes) +
+                             R"(,"total_bytes":)" + std::to_string(l.total_bytes) +
+                             R"(,"header_offset":64,"pixel_offset":256})";
+    auto r = parseStreamReply(R"({"ok":true,"version":1,"profile":{"name":"hud2","width":800,"height":240,"fps":5,)"
+                              R"("view":"hud","format":"rgba8"},"payload":"shm","hold":true,"stride":3200,)"
+                              R"("header_bytes":80,)" +
+                                  ring + "}",
+                              asked);
+    ASSERT_TRUE(r.ok()) << r.error().message;
+    EXPECT_TRUE(r.value().accepted);
+    EXPECT_EQ(r.value().profile.name, "hud2");
+    EXPECT_EQ(r.value().profile.fps, 5);
+    EXPECT_EQ(r.value().ring_slots, 2U);
+    EXPECT_EQ(r.value().ring_total_bytes, l.total_bytes);
+    // Absent optional fields keep the request's; the ring's size is required for shm.
+    r = parseStreamReply(R"({"ok":true,"ring":{"slots":2,"total_bytes":)" + std::to_string(l.total_bytes) + "}}",
+                         asked);
+    ASSERT_TRUE(r.ok()) << r.error().message;
+    EXPECT_EQ(r.value().profile.name, "hud");
+    EXPECT_EQ(r.value().profile.fps, 10);
+    r = parseStreamReply(R"({"ok":true})", asked);
+    ASSERT_FALSE(r.ok());
+    EXPECT_EQ(r.error().message, R"(reply: payload shm without "ring")");
+    StreamRequest raw = asked;
+    raw.payload = StreamPayload::Raw;
+    raw.hold = false;
+    r = parseStreamReply(R"({"ok":true,"payload":"raw"})", raw);
+    ASSERT_TRUE(r.ok()) << r.error().message;
+    EXPECT_EQ(r.value().ring_slots, 0U);
+    // A refusal keeps the server's words.
+    r = parseStreamReply(R"x({"ok":false,"error":"too many unix clients (limit 32)"})x", asked);
+    ASSERT_TRUE(r.ok());
+    EXPECT_FALSE(r.value().accepted);
+    EXPECT_EQ(r.value().refusal, "too many unix clients (limit 32)");
+    const std::pair<std::string, std::string> bad[] = {
+        {R"({"ok":true,"hold":false,)" + ring + "}", R"(reply: "hold" must be true as asked)"},
+        {R"({"ok":true,"profile":{"width":800.0},)" + ring + "}", R"(reply: "profile.width" must be an integer)"},
+        {R"({"ok":true,"profile":{"name":"a\u0001"},)" + ring + "}",
+         R"(reply: "profile.name" must be printable ASCII)"},
+        {R"({"ok":true,"profile":{"height":4097},)" + ring + "}",
+         R"(reply: "profile.height" = 4097 outside [16, 4096])"},
+        {std::string(5000, ' '), "reply: longer than 4096 bytes"},
+    };
+    for (const auto& [line, why] : bad) {
+        r = parseStreamReply(line, asked);
+        ASSERT_FALSE(r.ok()) << line;
+        EXPECT_EQ(r.error().message, why) << line;
+    }
+}
+
 TEST(HttpRequest, ParsesGetWithQueryAndRejectsJunk) {
     auto r = parseStreamHttpRequest("GET /stream.mjpg?profile=hud&fps=5 HTTP/1.1\r\nHost: x\r\n\r\n");
     ASSERT_TRUE(r.ok()) << r.error().message;

@@ -54,6 +54,8 @@ inline constexpr std::size_t kSlotPixelOffset = 256;
 /// Ring header version: 2 since slots are chosen by the writer (a frame's slot is in its header
 /// and found by its sequence), 1 had frame `seq` in slot (seq - 1) % slots.
 inline constexpr std::uint32_t kRingVersion = 2;
+/// Most slots a ring may have (FrameServerOptions::ring_slots, and what a client accepts).
+inline constexpr std::uint32_t kMaxRingSlots = 64;
 
 class FrameRing {
 public:

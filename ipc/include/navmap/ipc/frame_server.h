@@ -76,7 +76,9 @@ struct FrameServerOptions {
     /// address.
     std::size_t max_clients_per_address = 8;
     /// Shared memory of all rings together (memfd sizes); a request that needs a new ring beyond
-    /// it is refused with an error and counted. 0 = no ceiling.
+    /// it is refused with an error and counted. 0 = no ceiling. A ring a Unix client was given
+    /// stays counted after its clients leave (idle, reused by the next client of its profile,
+    /// size and format), because a client's mapping may outlive its connection.
     std::size_t ring_memory_bytes = std::size_t{256} << 20;
     /// What the daemon renders; a request for another profile, view or size is refused naming
     /// these, and rings are keyed by these names. Empty: any view and size is accepted and rings
@@ -109,7 +111,11 @@ struct FrameServerStats {
     std::size_t shm_clients = 0;
     std::size_t tcp_clients = 0;
     std::size_t mjpeg_clients = 0;
-    std::size_t rings = 0;
+    std::size_t rings = 0;  ///< rings with clients
+    /// Rings without clients kept for reuse: a client was given their memfd, and its mapping may
+    /// outlive its connection (counted in ring_bytes; docs/frame-protocol.md "Ring memory").
+    std::size_t rings_idle = 0;
+    std::uint64_t rings_reused = 0;   ///< idle rings that got a client again instead of a new ring
     std::uint64_t published = 0;      ///< publish() calls that reached at least one ring
     std::uint64_t frames_sent = 0;    ///< frames handed to clients
     std::uint64_t statuses_sent = 0;  ///< status headers handed to clients (publishStatus)
@@ -130,7 +136,7 @@ struct FrameServerStats {
     std::uint64_t refused_ring_memory = 0;     ///< a new ring would pass ring_memory_bytes
     std::uint64_t refused_host = 0;            ///< HTTP Host header missing or not this server
     std::uint64_t refused_token = 0;           ///< HTTP token missing or wrong
-    std::size_t ring_bytes = 0;                ///< shared memory of all rings now
+    std::size_t ring_bytes = 0;                ///< shared memory of all rings now, idle ones included
     std::uint64_t disconnects = 0;             ///< all closed connections
     std::uint64_t pinned_overwrites = 0;       ///< frames written over a held slot (every slot of a ring held)
     double publish_ms_last = 0;                ///< render-thread cost of the last publish()

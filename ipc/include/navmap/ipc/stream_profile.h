@@ -3,6 +3,8 @@
 // StreamProfile and the client handshake: one JSON line the client sends first on the Unix or
 // TCP socket (docs/frame-protocol.md). Parsing never throws; every problem is an Error.
 
+#include <cstddef>
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -58,5 +60,24 @@ NAVMAP_CLIENT_API Result<StreamRequest> parseStreamRequest(std::string_view line
 
 /// The handshake line for `request`, ending in '\n'. parseStreamRequest() reads it back equal.
 NAVMAP_CLIENT_API std::string formatStreamRequest(const StreamRequest& request);
+
+/// The server's answer to a StreamRequest, as the client reads it.
+struct StreamReply {
+    bool accepted = false;
+    std::string refusal;               ///< !accepted: the server's "error" text ("?" when it gave none)
+    StreamProfile profile;             ///< accepted: the granted profile (its size and format are the request's)
+    std::uint32_t ring_slots = 0;      ///< payload shm: slots of the ring
+    std::size_t ring_total_bytes = 0;  ///< payload shm: the ring memfd's size, as the layout gives it
+};
+
+/// Parses the server's reply line to `request` (docs/frame-protocol.md "Handshake"):
+///   {"ok":true,"version":1,"profile":{"name":..,"width":..,"height":..,"fps":..,"view":..,"format":..},
+///    "payload":"shm","stride":..,"header_bytes":80,"ring":{"slots":..,"slot_bytes":..,"total_bytes":..,
+///    "header_offset":64,"pixel_offset":256}}   or   {"ok":false,"error":"why"}
+/// The server is not trusted: every field present must have its type and range (the ones a
+/// request may have), the granted size and format must be the requested ones, payload shm needs
+/// "ring" with sizes that match the profile's layout. Absent optional fields keep the request's
+/// values. Never throws; an Error names the field ("reply: \"profile.width\" must be an integer").
+NAVMAP_CLIENT_API Result<StreamReply> parseStreamReply(std::string_view line, const StreamRequest& request);
 
 }  // namespace navmap::ipc
