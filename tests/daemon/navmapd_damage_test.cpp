@@ -25,16 +25,6 @@ namespace {
 namespace fs = std::filesystem;
 using namespace std::chrono_literals;
 
-struct Scratch {
-    fs::path dir;
-    explicit Scratch(const std::string& name)
-        : dir(fs::temp_directory_path() / (name + "-" + std::to_string(::getpid()))) {
-        fs::remove_all(dir);
-        fs::create_directories(dir);
-    }
-    ~Scratch() { fs::remove_all(dir); }
-};
-
 /// A copy of the default store with one bit of its road graph flipped.
 fs::path storeWithDamagedGraph(const fs::path& dir) {
     const fs::path src = navmap::test::binaryDir() / "andorra.navmap";
@@ -88,7 +78,7 @@ int framesWithin(const fs::path& frame_socket, std::chrono::milliseconds window)
 }
 
 TEST(NavmapdDamage, ADamagedRoadGraphLeavesTheSimulatedDriveOutAndTheMapRendering) {
-    Scratch s("navmapd-graph-sim");
+    navmap::test::ScratchDir s("navmapd-graph-sim");
     const fs::path store = storeWithDamagedGraph(s.dir);
     navmap::test::NavmapdProcess d(NAVMAPD_PATH, daemonArgs(s.dir, store), s.dir / "navmapd.log",
                                    s.dir / "frames.sock");
@@ -112,7 +102,7 @@ TEST(NavmapdDamage, ADamagedRoadGraphLeavesTheSimulatedDriveOutAndTheMapRenderin
 }
 
 TEST(NavmapdDamage, ADamagedRoadGraphTurnsMapMatchingOffForAReplay) {
-    Scratch s("navmapd-graph-replay");
+    navmap::test::ScratchDir s("navmapd-graph-replay");
     const fs::path store = storeWithDamagedGraph(s.dir);
     navmap::test::writeStandingLog(s.dir / "standing.candump");
     navmap::test::NavmapdProcess d(NAVMAPD_PATH,
@@ -135,7 +125,7 @@ TEST(NavmapdDamage, ADamagedRoadGraphTurnsMapMatchingOffForAReplay) {
 }
 
 TEST(NavmapdDamage, ReplayingDevZeroIsOneClearErrorAtStart) {
-    Scratch s("navmapd-devzero");
+    navmap::test::ScratchDir s("navmapd-devzero");
     const auto t0 = std::chrono::steady_clock::now();
     const std::string cmd =
         std::string(NAVMAPD_PATH) + " --replay /dev/zero --noop --run-for 5 --http-port 0 --control-socket " +

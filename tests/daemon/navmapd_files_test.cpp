@@ -28,16 +28,6 @@ namespace {
 namespace fs = std::filesystem;
 using namespace std::chrono_literals;
 
-struct Scratch {
-    fs::path dir;
-    explicit Scratch(const std::string& name)
-        : dir(fs::temp_directory_path() / (name + "-" + std::to_string(::getpid()))) {
-        fs::remove_all(dir);
-        fs::create_directories(dir);
-    }
-    ~Scratch() { fs::remove_all(dir); }
-};
-
 struct DaemonRun {
     int exit_code = -1;  ///< -1: killed at the deadline (it hung) or did not exit normally
     std::string output;
@@ -106,7 +96,7 @@ fs::path editedStore(const fs::path& dir, const std::string& name,
 // Every index entry claims 256 MiB: start-up used to zero-fill 256 MiB per tile (135 s, SIGINT
 // ignored, nothing logged). Now the index is refused as it is read.
 TEST(NavmapdFiles, AStoreIndexClaimingMoreThanItsTilesCanHoldIsRefusedAtOnce) {
-    Scratch s("navmapd-lying-index");
+    navmap::test::ScratchDir s("navmapd-lying-index");
     const fs::path store =
         editedStore(s.dir, "index.navmap", [](std::vector<char>& b, const navmap::map::StoreInfo& i) {
             for (std::uint32_t k = 0; k < i.tile_count; ++k)
@@ -126,7 +116,7 @@ TEST(NavmapdFiles, AStoreIndexClaimingMoreThanItsTilesCanHoldIsRefusedAtOnce) {
 // The header claims a 4 GiB road graph: navmapd used to allocate it (4.1 GiB peak). Now the graph
 // is refused on its sizes, said once, and the map renders without map matching.
 TEST(NavmapdFiles, AGraphClaimingFourGibibytesIsRefusedWithoutAllocatingThem) {
-    Scratch s("navmapd-lying-graph");
+    navmap::test::ScratchDir s("navmapd-lying-graph");
     std::uint64_t stored = 0;
     const fs::path store =
         editedStore(s.dir, "graph.navmap", [&](std::vector<char>& b, const navmap::map::StoreInfo& i) {
@@ -147,7 +137,7 @@ TEST(NavmapdFiles, AGraphClaimingFourGibibytesIsRefusedWithoutAllocatingThem) {
 // A FIFO as the replay log used to block start-up until a writer came (SIGTERM ignored meanwhile);
 // /dev/zero as the config hung --check-config; /dev/zero as a DBC was read to 2 GB.
 TEST(NavmapdFiles, FilesThatAreNoRegularFilesAreOneClearErrorAtStart) {
-    Scratch s("navmapd-not-regular");
+    navmap::test::ScratchDir s("navmapd-not-regular");
     const fs::path fifo = s.dir / "drive.candump";
     ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
     DaemonRun r =

@@ -22,6 +22,19 @@ extern char** environ;
 
 namespace navmap::test {
 
+/// A scratch folder `<tmp>/<name>-<pid>`, empty at the start and removed at the end.
+struct ScratchDir {
+    std::filesystem::path dir;
+    explicit ScratchDir(const std::string& name)
+        : dir(std::filesystem::temp_directory_path() / (name + "-" + std::to_string(::getpid()))) {
+        std::filesystem::remove_all(dir);
+        std::filesystem::create_directories(dir);
+    }
+    ~ScratchDir() { std::filesystem::remove_all(dir); }
+    ScratchDir(const ScratchDir&) = delete;
+    ScratchDir& operator=(const ScratchDir&) = delete;
+};
+
 /// A vehicle standing at each of `stops` (lat, lon) in turn, `ms_per_stop` at each: NAV_Position
 /// at 10 Hz and NAV_Motion at 50 Hz (data/navmap.dbc, Intel byte order). The daemon loops it.
 inline void writeStandingLog(const std::filesystem::path& path, const std::vector<std::pair<double, double>>& stops,
