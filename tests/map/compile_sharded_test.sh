@@ -18,5 +18,5 @@ NAVMAP_COMPILE="$compile" "$src/scripts/compile-sharded.sh" 2 "$tmp/bad.navmap" 
   >"$tmp/bad.log" 2>&1 || status=$?
 [ "$status" = 1 ] || { cat "$tmp/bad.log"; echo "FAIL: a failing shard should exit 1, not $status"; exit 1; }
 [ ! -e "$tmp/bad.navmap" ] || { echo "FAIL: a store was written after a failed shard"; exit 1; }
-grep -q "missing.pbf: cannot read" "$tmp/bad.log" || { cat "$tmp/bad.log"; echo "FAIL: the job's error is not shown"; exit 1; }
+grep -q "missing.pbf): No such file or directory (OSM input)" "$tmp/bad.log" || { cat "$tmp/bad.log"; echo "FAIL: the job's error is not shown"; exit 1; }
 echo "compile-sharded: 2 shards merged = $store, byte for byte; a failed shard stops the merge"

@@ -332,7 +332,15 @@ TEST(AndorraMap, TargetsOfDifferentSizesMatchRenderersOfTheirOwnAndKeepTheirTile
                 alone_options.height = views[k].h;
                 auto alone = Renderer::create(alone_options);
                 alone->renderMap(frame);
-                EXPECT_EQ(image.rgba, alone->readSync().rgba) << "target " << k;
+                // Pixel for pixel, but for the route: a tile keeps the route draped at the finest
+                // tolerance a view has needed of it (half a pixel, docs/rendering.md "Route:
+                // bounded by what is drawn"), so a target that shares its tiles with a nearer view
+                // may draw a route simplified less than a renderer of its own would.
+                const navmap::test::GoldenComparison cmp = navmap::test::compareImages(alone->readSync(), image, 0);
+                ASSERT_TRUE(cmp.sizes_match) << "target " << k;
+                std::printf("target %d: %zu pixels differ (%.4f%%), largest channel difference %d\n", k,
+                            cmp.differing_pixels, cmp.differing_fraction * 100.0, cmp.max_channel_difference);
+                EXPECT_LE(cmp.differing_fraction, 0.0005) << "target " << k;
             }
         }
     }
