@@ -16,13 +16,19 @@ namespace {
 
 constexpr double kFrame = 1.0 / 60.0;
 
-void setCounters(benchmark::State& state, const nl::LabelLayout& layout, std::size_t n) {
+void setCounters(benchmark::State& state, const nl::LabelLayout& layout, std::size_t n, bool frame_work = true) {
     const nl::LayoutStats s = layout.stats();
     state.counters["labels"] = static_cast<double>(n);
     state.counters["placed"] = static_cast<double>(s.visible + s.fading_in);
     state.counters["waiting"] = static_cast<double>(s.waiting + s.pending);
     state.counters["pairs"] = static_cast<double>(s.last_pairs);
     state.counters["collisions"] = static_cast<double>(s.last_collisions);
+    // The last frame's work, the same on every machine (tests/render/labels/
+    // label_layout_work_test.cpp asserts its growth). step() alone does not count it.
+    if (!frame_work) return;
+    state.counters["pair_tests"] = static_cast<double>(s.last_pair_tests);
+    state.counters["sat_tests"] = static_cast<double>(s.last_sat_tests);
+    state.counters["grid_cells"] = static_cast<double>(s.last_grid_cells);
 }
 
 // Dense scene (label area 1.5 x the screen): most labels wait for room, the placed ones
@@ -40,7 +46,7 @@ void BM_StepDense(benchmark::State& state) {
     for (auto _ : state) {
         layout.step();
     }
-    setCounters(state, layout, n);
+    setCounters(state, layout, n, false);
 }
 
 // Every label placed and moving: sparse enough that nearly all fit, anchors wobbling each

@@ -2,6 +2,7 @@
 #include "navmap/render/labels/label_layout.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <numbers>
 #include <sstream>
@@ -26,7 +27,23 @@ constexpr float kMaxCoord = 1e6F;
 constexpr float kMinSize = 0.5F;
 constexpr float kMaxSize = 1e5F;
 
+// Boxes whose bounding boxes are further apart than this skip the separating-axis test; the
+// margin stays above the test's own rounding, so the outcome equals testing every pair.
+constexpr float kTouchSlack = 0.05F;
+
+bool apart(glm::vec2 ca, glm::vec2 ha, glm::vec2 cb, glm::vec2 hb) {
+    const glm::vec2 gap = glm::abs(ca - cb) - ha - hb;
+    return gap.x > kTouchSlack || gap.y > kTouchSlack;
+}
+
 bool finite(glm::vec2 v) { return std::isfinite(v.x) && std::isfinite(v.y); }
+
+// A finite float as an unsigned key that sorts in the float's descending order (-0 = +0).
+std::uint64_t descendingBits(float f) {
+    const std::uint32_t u = std::bit_cast<std::uint32_t>(f + 0.0F);
+    const std::uint32_t ascending = (u & 0x80000000U) != 0U ? ~u : (u | 0x80000000U);
+    return ~ascending;
+}
 bool inRange(glm::vec2 v, float limit) { return std::abs(v.x) <= limit && std::abs(v.y) <= limit; }  // false for NaN
 
 bool placed(LabelState s) { return s == LabelState::FadingIn || s == LabelState::Visible; }
@@ -171,6 +188,12 @@ int LabelLayout::advance(double dt_s) {
     if (!std::isfinite(dt_s) || dt_s < 0.0) {
         return 0;
     }
+    m_pair_tests = 0;
+    m_sat_tests = 0;
+    m_placed_cells = 0;
+    m_grid.resetWork();
+    m_fading_grid.resetWork();
+    m_rank_grid.resetWork();
     if (dt_s > 0.0) {
         // Anchor speed on screen between frames (optional speed-based removal, seed 4.5.3).
         const float dt = static_cast<float>(dt_s);
@@ -198,6 +221,10 @@ int LabelLayout::advance(double dt_s) {
     m_steps_done = due;  // too far behind: drop the rest instead of spiralling
     resolveOverlaps();
     updateOutput();
+    m_stats.last_pair_tests = m_pair_tests;
+    m_stats.last_sat_tests = m_sat_tests;
+    m_stats.last_grid_cells =
+        m_grid.cellsVisited() + m_fading_grid.cellsVisited() + m_rank_grid.cellsVisited() + m_placed_cells;
     return steps;
 }
 
@@ -388,10 +415,14 @@ void LabelLayout::integrate(float dt) {
     });
     m_stats.last_pairs = pairs;
     m_stats.last_collisions = collisions;
+    m_pair_tests += pairs;
+    m_sat_tests += pairs;
     // Keep-out areas (the vehicle marker, the route ahead) push like a label that never moves.
     for (const OrientedBox& k : m_keep_out) {
         const OrientedBox zone = k.inflated(m_params.buffer_px);
         m_grid.query(zone.center, zone.aabbHalfExtents(), [&](std::uint32_t a) {
+            ++m_pair_tests;
+            ++m_sat_tests;
             const Collision hit = collide(m_boxes[a], zone, -1.0F);
             if (!hit.hit) return;
             m_force[a] += hit.force;
@@ -486,13 +517,29 @@ void LabelLayout::place() {
     const bool bounded = m_camera.viewport.x > 0.0F && m_camera.viewport.y > 0.0F;
     // Labels still fading out are drawn: a new one must not appear on top of them either.
     m_fading_boxes.clear();
+    m_fading_centers.clear();
+    m_fading_aabb.clear();
     for (const Label& f : m_labels) {
-        if (f.state == LabelState::FadingOut && f.alpha > 0.0F)
-            m_fading_boxes.push_back(textBox(f).inflated(m_params.buffer_px));
+        if (f.state == LabelState::FadingOut && f.alpha > 0.0F) {
+            const OrientedBox box = textBox(f).inflated(m_params.buffer_px);
+            m_fading_boxes.push_back(box);
+            m_fading_centers.push_back(box.center);
+            m_fading_aabb.push_back(box.aabbHalfExtents());
+        }
+    }
+    m_fading_grid.build(m_fading_centers, m_fading_aabb, m_grid.cellSize());
+    // The look-ahead asks the grid of placed labels (built at their current places) for those
+    // that come within reach: each moves by at most max |anchor velocity| * t per axis.
+    glm::vec2 max_speed{0.0F};
+    if (m_params.placement_lookahead_s > 0.0F) {
+        for (const std::uint32_t i : m_active) {
+            if (placed(m_labels[i].state)) max_speed = glm::max(max_speed, glm::abs(m_labels[i].anchor_velocity));
+        }
     }
     // seed 4.5.3: new labels keep a larger zone around placed ones than the force buffer.
     const float zone_extra = m_params.placement_zone_px - m_params.buffer_px;
     m_placed_now.clear();
+    m_placed_grid.reset(m_grid.cellSize());
     for (std::size_t q = 0; q < k; ++q) {
         Label& l = m_labels[m_queue[q]];
         updateShape(l, true);
@@ -515,24 +562,30 @@ void LabelLayout::place() {
             }
             in_view = true;
             const OrientedBox zone = text.inflated(zone_extra);
+            const glm::vec2 zone_h = zone.aabbHalfExtents();
             bool free = true;
-            m_grid.query(zone.center, zone.aabbHalfExtents(), [&](std::uint32_t a) {
-                if (free && placed(m_labels[m_active[a]].state) && zone.overlapDepth(m_boxes[a]) >= 0.0F) {
-                    free = false;
-                }
+            m_grid.query(zone.center, zone_h + kTouchSlack, [&](std::uint32_t a) {
+                if (!free || !placed(m_labels[m_active[a]].state)) return;
+                ++m_pair_tests;
+                free = satDepth(zone, m_boxes[a]) < 0.0F;
             });
-            for (const OrientedBox& other : m_placed_now) {
-                if (!free) break;
-                free = zone.overlapDepth(other) < 0.0F;
+            if (free) {
+                m_placed_grid.query(zone.center, zone_h + kTouchSlack, [&](std::uint32_t o) {
+                    if (!free) return;
+                    ++m_pair_tests;
+                    free = satDepth(zone, m_placed_now[o]) < 0.0F;
+                });
             }
-            for (const OrientedBox& other : m_keep_out) {
-                if (!free) break;
-                free = zone.overlapDepth(other) < 0.0F;
-                kept_out |= !free;
+            if (free && touchesAny(zone, m_keep_out, m_keep_out_aabb)) {
+                free = false;
+                kept_out = true;
             }
-            for (const OrientedBox& other : m_fading_boxes) {
-                if (!free) break;
-                free = zone.overlapDepth(other) < 0.0F;
+            if (free) {
+                m_fading_grid.query(zone.center, zone_h + kTouchSlack, [&](std::uint32_t f) {
+                    if (!free) return;
+                    ++m_pair_tests;
+                    free = satDepth(zone, m_fading_boxes[f]) < 0.0F;
+                });
             }
             if (free && m_params.placement_lookahead_s > 0.0F) {
                 // Where the anchors' motion carries it and the placed labels a moment from now.
@@ -550,19 +603,18 @@ void LabelLayout::place() {
                     }
                     const OrientedBox later_zone = later.inflated(m_params.buffer_px);
                     const glm::vec2 later_h = later_zone.aabbHalfExtents();
-                    for (std::size_t a = 0; a < m_active.size() && free; ++a) {
+                    m_grid.query(later_zone.center, later_h + max_speed * t + kTouchSlack, [&](std::uint32_t a) {
                         const Label& o = m_labels[m_active[a]];
-                        if (!placed(o.state)) continue;
+                        if (!free || !placed(o.state)) return;
+                        ++m_pair_tests;
                         const glm::vec2 oc = m_boxes[a].center + o.anchor_velocity * t;
                         const glm::vec2 gap = glm::abs(oc - later_zone.center) - m_aabb[a] - later_h;
-                        if (gap.x > 0.0F || gap.y > 0.0F) continue;  // bounding boxes apart: no SAT
-                        free =
-                            later_zone.overlapDepth(OrientedBox{oc, m_boxes[a].half_extents, m_boxes[a].axis}) < 0.0F;
-                    }
-                    for (const OrientedBox& other : m_keep_out) {
-                        if (!free) break;
-                        free = later_zone.overlapDepth(other) < 0.0F;
-                        kept_out |= !free;
+                        if (gap.x > 0.0F || gap.y > 0.0F) return;  // bounding boxes apart: no SAT
+                        free = satDepth(later_zone, OrientedBox{oc, m_boxes[a].half_extents, m_boxes[a].axis}) < 0.0F;
+                    });
+                    if (free && touchesAny(later_zone, m_keep_out, m_keep_out_aabb)) {
+                        free = false;
+                        kept_out = true;
                     }
                 }
             }
@@ -594,7 +646,9 @@ void LabelLayout::place() {
         l.constricted_time = 0.0F;
         ++m_stats.placed;
         m_placed_now.push_back(textBox(l).inflated(m_params.buffer_px));
+        m_placed_grid.insert(m_placed_now.back().center, m_placed_now.back().aabbHalfExtents());
     }
+    m_placed_cells += m_placed_grid.cellsVisited();
 }
 
 void LabelLayout::fade(float dt) {
@@ -626,11 +680,13 @@ void LabelLayout::fade(float dt) {
 
 void LabelLayout::setKeepOut(std::span<const OrientedBox> areas) {
     m_keep_out.clear();
+    m_keep_out_aabb.clear();
     for (const OrientedBox& b : areas) {
         if (inRange(b.center, kMaxCoord) && finite(b.half_extents) && b.half_extents.x >= 0.0F &&
             b.half_extents.y >= 0.0F && b.half_extents.x <= kMaxSize && b.half_extents.y <= kMaxSize &&
             finite(b.axis) && std::abs(glm::length(b.axis) - 1.0F) <= 1e-3F) {
             m_keep_out.push_back(b);
+            m_keep_out_aabb.push_back(b.aabbHalfExtents());
         } else {
             ++m_stats.rejected_inputs;
         }
@@ -642,40 +698,102 @@ void LabelLayout::resolveOverlaps() {
     // order (placed labels by priority, then those fading out), a label whose text box overlaps
     // one kept before it, or a keep-out area, goes below the visible opacity at once. A placed
     // one is removed and fades out from there (re-inserted later, seed 4.5.3).
-    m_rank.clear();
+    //
+    // Only labels that overlap something take part: a grid finds them, and the rank order is
+    // needed among them alone. A label that overlaps nothing is kept whatever the order.
+    m_rank_labels.clear();
     for (std::uint32_t i = 0; i < m_labels.size(); ++i) {
-        if (m_labels[i].alpha >= m_params.visible_alpha) m_rank.push_back(i);
+        if (m_labels[i].alpha >= m_params.visible_alpha) m_rank_labels.push_back(i);
     }
-    std::sort(m_rank.begin(), m_rank.end(), [this](std::uint32_t a, std::uint32_t b) {
-        const Label& x = m_labels[a];
-        const Label& y = m_labels[b];
-        const bool px = placed(x.state), py = placed(y.state);
-        if (px != py) return px;
-        return yields(y, x);
+    const std::size_t r = m_rank_labels.size();
+    m_rank_boxes.resize(r);
+    m_rank_centers.resize(r);
+    m_rank_aabb.resize(r);
+    m_rank_state.assign(r, 0U);
+    glm::vec2 extent_sum{0.0F};
+    for (std::size_t j = 0; j < r; ++j) {
+        m_rank_boxes[j] = textBox(m_labels[m_rank_labels[j]]);
+        m_rank_centers[j] = m_rank_boxes[j].center;
+        m_rank_aabb[j] = m_rank_boxes[j].aabbHalfExtents();
+        extent_sum += m_rank_aabb[j];
+    }
+    const glm::vec2 cell =
+        r > 0 ? glm::max(extent_sum * (2.0F / static_cast<float>(r)), glm::vec2(8.0F)) : glm::vec2(64.0F);
+    m_rank_grid.build(m_rank_centers, m_rank_aabb, cell);
+    constexpr std::uint8_t kInvolved = 1U;
+    constexpr std::uint8_t kKept = 2U;
+    const float hard = m_params.hard_overlap_px;
+    for (std::size_t k = 0; k < m_keep_out.size(); ++k) {
+        m_rank_grid.query(m_keep_out[k].center, m_keep_out_aabb[k] + kTouchSlack, [&](std::uint32_t j) {
+            ++m_pair_tests;
+            if (satDepth(m_rank_boxes[j], m_keep_out[k]) > hard) m_rank_state[j] = kInvolved;
+        });
+    }
+    // The separating-axis test takes the first box's axes for near-parallel boxes: both
+    // orders are asked, so the set is never smaller than the ranked test below needs.
+    m_rank_grid.forEachPair([&](std::uint32_t a, std::uint32_t b) {
+        ++m_pair_tests;
+        if (satDepth(m_rank_boxes[a], m_rank_boxes[b]) > hard || satDepth(m_rank_boxes[b], m_rank_boxes[a]) > hard) {
+            m_rank_state[a] = kInvolved;
+            m_rank_state[b] = kInvolved;
+        }
     });
-    m_kept.clear();
+    // The rank as one integer key per label: placed before fading out, established before new,
+    // then priority (descending) and id (m_labels is sorted by id): the order of yields().
+    m_rank_keys.clear();
+    for (std::uint32_t j = 0; j < r; ++j) {
+        if (m_rank_state[j] == 0U) continue;
+        const Label& l = m_labels[m_rank_labels[j]];
+        const std::uint64_t group = !placed(l.state) ? 2U : established(l) ? 0U : 1U;
+        m_rank_keys.push_back({(group << 32U) | descendingBits(l.in.priority), j});
+    }
+    std::sort(m_rank_keys.begin(), m_rank_keys.end(), [this](const auto& x, const auto& y) {
+        return x.first != y.first ? x.first < y.first : m_rank_labels[x.second] < m_rank_labels[y.second];
+    });
+    m_rank_pos.resize(r);
+    for (std::uint32_t p = 0; p < m_rank_keys.size(); ++p) m_rank_pos[m_rank_keys[p].second] = p;
     const float below = std::nextafter(m_params.visible_alpha, 0.0F);
-    for (const std::uint32_t i : m_rank) {
-        Label& l = m_labels[i];
-        const OrientedBox box = textBox(l);
+    for (const auto& [key, j] : m_rank_keys) {
+        Label& l = m_labels[m_rank_labels[j]];
+        const OrientedBox& box = m_rank_boxes[j];
         bool kept_out = false;
-        for (const OrientedBox& k : m_keep_out) {
-            if (box.overlapDepth(k) > m_params.hard_overlap_px) {
-                kept_out = true;
-                break;
-            }
+        for (std::size_t k = 0; k < m_keep_out.size() && !kept_out; ++k) {
+            ++m_pair_tests;
+            if (apart(box.center, m_rank_aabb[j], m_keep_out[k].center, m_keep_out_aabb[k])) continue;
+            kept_out = satDepth(box, m_keep_out[k]) > hard;
         }
         bool clash = kept_out;
-        for (std::size_t k = 0; k < m_kept.size() && !clash; ++k) {
-            clash = box.overlapDepth(m_kept[k]) > m_params.hard_overlap_px;
+        if (!clash) {
+            const std::uint32_t pos = m_rank_pos[j];
+            m_rank_grid.query(box.center, m_rank_aabb[j] + kTouchSlack, [&](std::uint32_t o) {
+                if (clash || m_rank_state[o] != kKept || m_rank_pos[o] >= pos) return;
+                ++m_pair_tests;
+                clash = satDepth(box, m_rank_boxes[o]) > hard;
+            });
         }
         if (!clash) {
-            m_kept.push_back(box);
+            m_rank_state[j] = kKept;
             continue;
         }
         if (placed(l.state)) remove(l, kept_out ? RemovalReason::KeepOut : RemovalReason::Overlap);
         l.alpha = std::min(l.alpha, below);
     }
+}
+
+float LabelLayout::satDepth(const OrientedBox& a, const OrientedBox& b) {
+    ++m_sat_tests;
+    return a.overlapDepth(b);
+}
+
+bool LabelLayout::touchesAny(const OrientedBox& box, std::span<const OrientedBox> boxes,
+                             std::span<const glm::vec2> aabbs) {
+    const glm::vec2 h = box.aabbHalfExtents();
+    for (std::size_t i = 0; i < boxes.size(); ++i) {
+        ++m_pair_tests;
+        if (apart(box.center, h, boxes[i].center, aabbs[i])) continue;
+        if (satDepth(box, boxes[i]) >= 0.0F) return true;
+    }
+    return false;
 }
 
 void LabelLayout::updateOutput() {

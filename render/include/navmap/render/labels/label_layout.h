@@ -7,10 +7,12 @@
 #include <span>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <glm/vec2.hpp>
 
+#include "navmap/render/labels/growing_grid.h"
 #include "navmap/render/labels/label_types.h"
 #include "navmap/render/labels/layout_params.h"
 #include "navmap/render/labels/oriented_box.h"
@@ -46,6 +48,11 @@ struct LayoutStats {
     std::uint64_t rejected_inputs = 0;  ///< candidates refused by setFrame() (bad values, duplicate ids)
     std::size_t last_pairs = 0;         ///< broad-phase pairs in the last step
     std::size_t last_collisions = 0;    ///< of those, colliding buffered boxes (eq. 4.2)
+    // Work of the last advance() (its steps and the drawn-frame overlap rule), counted the same
+    // on every machine: tests assert how it grows with the label count, benchmarks print it.
+    std::uint64_t last_pair_tests = 0;  ///< box pairs the broad phases handed on (bounding-box or SAT test)
+    std::uint64_t last_sat_tests = 0;   ///< separating-axis tests (seed 4.4.4) run
+    std::uint64_t last_grid_cells = 0;  ///< uniform-grid cells visited
 };
 
 /// Result of setFrame(): what was refused and why (first problem only).
@@ -144,6 +151,12 @@ private:
     [[nodiscard]] bool established(const Label& l) const;
     /// Which of two placed labels gives way to the other (the newcomer, else the less important one).
     [[nodiscard]] bool yields(const Label& a, const Label& b) const;
+    /// OrientedBox::overlapDepth, counted in LayoutStats::last_sat_tests.
+    [[nodiscard]] float satDepth(const OrientedBox& a, const OrientedBox& b);
+    /// Whether a box overlaps or touches one of `boxes` (a new label's placement zone against
+    /// those placed this step, the keep-out areas, labels fading out): bounding boxes first.
+    [[nodiscard]] bool touchesAny(const OrientedBox& box, std::span<const OrientedBox> boxes,
+                                  std::span<const glm::vec2> aabbs);
 
     LayoutParams m_params;
     CameraState m_camera;
@@ -166,10 +179,24 @@ private:
     std::vector<std::uint8_t> m_overlapped;
     std::vector<std::uint32_t> m_queue;
     std::vector<OrientedBox> m_placed_now;
+    GrowingGrid m_placed_grid;  ///< over m_placed_now
     std::vector<OrientedBox> m_keep_out;
+    std::vector<glm::vec2> m_keep_out_aabb;
     std::vector<OrientedBox> m_fading_boxes;
-    std::vector<std::uint32_t> m_rank;
-    std::vector<OrientedBox> m_kept;
+    std::vector<glm::vec2> m_fading_centers;
+    std::vector<glm::vec2> m_fading_aabb;
+    SpatialGrid m_fading_grid;
+    std::vector<std::pair<std::uint64_t, std::uint32_t>> m_rank_keys;
+    std::vector<std::uint32_t> m_rank_labels;  ///< resolveOverlaps: visible labels (m_labels indices)
+    std::vector<OrientedBox> m_rank_boxes;     ///< their text boxes
+    std::vector<glm::vec2> m_rank_centers;
+    std::vector<glm::vec2> m_rank_aabb;
+    std::vector<std::uint8_t> m_rank_state;  ///< involved in an overlap, kept
+    std::vector<std::uint32_t> m_rank_pos;   ///< rank among the involved ones
+    SpatialGrid m_rank_grid;
+    std::uint64_t m_pair_tests = 0;  ///< work of the current advance()
+    std::uint64_t m_sat_tests = 0;
+    std::uint64_t m_placed_cells = 0;
 };
 
 }  // namespace navmap::render::labels

@@ -38,6 +38,10 @@ public:
     [[nodiscard]] int columns() const { return m_cols; }
     [[nodiscard]] int rows() const { return m_rows; }
     [[nodiscard]] glm::vec2 cellSize() const { return m_cell; }
+    /// Cells visited by forEachPair() and query() since the last resetWork(): a deterministic
+    /// measure of the broad phase's work (tests assert how it grows with the box count).
+    [[nodiscard]] std::uint64_t cellsVisited() const { return m_cells_visited; }
+    void resetWork() const { m_cells_visited = 0; }
 
 private:
     [[nodiscard]] int cellX(float x) const;
@@ -57,10 +61,12 @@ private:
     std::vector<std::uint32_t> m_cell_start;
     std::vector<std::uint32_t> m_cell_items;
     std::vector<std::uint32_t> m_fill;  ///< scratch for build()
+    mutable std::uint64_t m_cells_visited = 0;
 };
 
 template <class F>
 void SpatialGrid::forEachPair(F&& f) const {
+    m_cells_visited += static_cast<std::uint64_t>(m_rows) * static_cast<std::uint64_t>(m_cols);
     for (int cy = 0; cy < m_rows; ++cy) {
         for (int cx = 0; cx < m_cols; ++cx) {
             const std::size_t c =
@@ -98,6 +104,7 @@ void SpatialGrid::query(glm::vec2 center, glm::vec2 half, F&& f) const {
     const int y0 = cellY(lo.y);
     const int x1 = cellX(hi.x);
     const int y1 = cellY(hi.y);
+    m_cells_visited += static_cast<std::uint64_t>(y1 - y0 + 1) * static_cast<std::uint64_t>(x1 - x0 + 1);
     for (int cy = y0; cy <= y1; ++cy) {
         for (int cx = x0; cx <= x1; ++cx) {
             const std::size_t c =
