@@ -19,8 +19,9 @@ void GrowingGrid::reset(glm::vec2 cell) {
     if (m_buckets.size() > kMaxBuckets) {
         m_buckets.clear();  // keys of cells long left behind: start over
     } else {
-        for (auto& [k, bucket] : m_buckets) bucket.clear();
+        for (const std::uint64_t k : m_used) m_buckets[k].clear();
     }
+    m_used.clear();
     m_lo.clear();
     m_hi.clear();
     m_large.clear();
@@ -48,7 +49,11 @@ void GrowingGrid::insert(glm::vec2 center, glm::vec2 half) {
         return;
     }
     for (std::int64_t y = y0; y <= y1; ++y) {
-        for (std::int64_t x = x0; x <= x1; ++x) m_buckets[key(x, y)].push_back(index);
+        for (std::int64_t x = x0; x <= x1; ++x) {
+            std::vector<std::uint32_t>& bucket = m_buckets[key(x, y)];
+            if (bucket.empty()) m_used.push_back(key(x, y));
+            bucket.push_back(index);
+        }
     }
 }
 

@@ -530,12 +530,7 @@ void LabelLayout::place() {
     m_fading_grid.build(m_fading_centers, m_fading_aabb, m_grid.cellSize());
     // The look-ahead asks the grid of placed labels (built at their current places) for those
     // that come within reach: each moves by at most max |anchor velocity| * t per axis.
-    glm::vec2 max_speed{0.0F};
-    if (m_params.placement_lookahead_s > 0.0F) {
-        for (const std::uint32_t i : m_active) {
-            if (placed(m_labels[i].state)) max_speed = glm::max(max_speed, glm::abs(m_labels[i].anchor_velocity));
-        }
-    }
+    glm::vec2 max_speed{-1.0F};  // found when the first candidate gets that far
     // seed 4.5.3: new labels keep a larger zone around placed ones than the force buffer.
     const float zone_extra = m_params.placement_zone_px - m_params.buffer_px;
     m_placed_now.clear();
@@ -599,6 +594,14 @@ void LabelLayout::place() {
                             free = false;
                             leaves_view = true;
                             break;
+                        }
+                    }
+                    if (max_speed.x < 0.0F) {
+                        max_speed = glm::vec2(0.0F);
+                        for (const std::uint32_t i : m_active) {
+                            if (placed(m_labels[i].state)) {
+                                max_speed = glm::max(max_speed, glm::abs(m_labels[i].anchor_velocity));
+                            }
                         }
                     }
                     const OrientedBox later_zone = later.inflated(m_params.buffer_px);

@@ -40,6 +40,7 @@ private:
 
     glm::vec2 m_inv_cell{1.0F};
     std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> m_buckets;
+    std::vector<std::uint64_t> m_used;  ///< keys of the buckets filled since the last reset
     std::vector<glm::vec2> m_lo;
     std::vector<glm::vec2> m_hi;
     std::vector<std::uint32_t> m_large;  ///< boxes over kMaxCellsPerBox cells: every query tests them
