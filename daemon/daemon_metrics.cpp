@@ -24,9 +24,17 @@ void DaemonMetrics::update(const StatusSample& m) {
     auto& uploads = reg->counter("navmap_gpu_tile_uploads_total", "Tiles uploaded to the GPU for a profile's frames.");
     auto& first_frame = reg->gauge("navmap_first_frame_seconds",
                                    "Process exec to the profile's first published frame (none before it).");
+    auto& pass = reg->gauge("navmap_pass_seconds",
+                            "Where a profile's frame time goes: select, render and publish of every frame, and the "
+                            "renderer's passes of one frame in 30 (timed with a glFinish after each); quantiles over "
+                            "the last 600 samples (p50 and p99).");
     for (const auto& display : *m.displays) {
         const std::string& n = display->profile().name;
         const DisplayStats& v = display->stats();
+        for (const auto& [name, window] : v.pass_ms) {
+            pass.sample({{"profile", n}, {"pass", name}, {"quantile", "0.5"}}, window.quantile(0.5) / 1000.0)
+                .sample({{"profile", n}, {"pass", name}, {"quantile", "0.99"}}, window.quantile(0.99) / 1000.0);
+        }
         for (const double q : {0.5, 0.99}) {
             const std::string qs = q == 0.5 ? "0.5" : "0.99";
             frame.sample({{"profile", n}, {"quantile", qs}}, v.frame_ms.quantile(q) / 1000.0);

@@ -52,6 +52,11 @@ void DaemonStatus::publish(const StatusSample& m) {
     nlohmann::json profiles = nlohmann::json::array();
     for (const auto& d : *m.displays) {
         const DisplayStats& s = d->stats();
+        nlohmann::json passes = nlohmann::json::object();
+        for (const auto& [pass, window] : s.pass_ms) {
+            passes[pass] = {
+                {"p50_ms", window.quantile(0.5)}, {"p99_ms", window.quantile(0.99)}, {"samples", window.size()}};
+        }
         profiles.push_back({{"name", d->profile().name},
                             {"rendered", s.rendered},
                             {"published", s.published},
@@ -66,7 +71,9 @@ void DaemonStatus::publish(const StatusSample& m) {
                             {"tiles_wanted", s.tiles_wanted},
                             {"tiles_uploaded", s.tiles_uploaded},
                             {"attribution", d->hasAttribution()},
-                            {"first_frame_s", s.first_frame_s >= 0 ? nlohmann::json(s.first_frame_s) : nullptr}});
+                            {"first_frame_s", s.first_frame_s >= 0 ? nlohmann::json(s.first_frame_s) : nullptr},
+                            {"passes", passes},
+                            {"passes_sampled", s.passes_sampled}});
     }
     st["profiles"] = profiles;
     st["stream"] = {{"clients", fs.clients},

@@ -184,7 +184,12 @@ bool Display::draw(render::Renderer& renderer, const PoseSource& poses, const Fr
     const bool hud = isGuidanceView(m_profile);
     if (context.guidance) addGuidance(frame, *context.guidance, context.route, hud);
     renderer.setMapStyle(hud ? render::MapStyle::hud() : context.style);
+    frame.profile_passes = m_stats.rendered % kPassSampleEvery == kPassSampleEvery - 1;
+    const auto t_render = Clock::now();
+    m_stats.pass_ms["select"].add(std::chrono::duration<double, std::milli>(t_render - m_frame_start).count());
     renderer.renderMap(m_target, frame);
+    m_stats.pass_ms["render"].add(std::chrono::duration<double, std::milli>(Clock::now() - t_render).count());
+    if (frame.profile_passes) samplePasses(renderer.mapStats());
     if (m_stats.rendered < 3) {
         const auto now = Clock::now();
         m_log(Log::kInfo, "start-up: profile %s frame %llu at %.0f ms (%.0f ms): %zu tiles drawn, %zu pending",
@@ -226,11 +231,29 @@ void Display::finishFrame(render::Renderer& renderer, ipc::FrameServer& frames, 
     std::vector<render::Frame> finished;
     if (auto oldest = renderer.readAsync(m_target, seq)) finished.push_back(std::move(*oldest));
     for (auto& f : renderer.collectReadbacks(m_target)) finished.push_back(std::move(f));
+    const auto t_publish = Clock::now();
     publish(finished, frames);
+    m_stats.pass_ms["publish"].add(std::chrono::duration<double, std::milli>(Clock::now() - t_publish).count());
     ++m_stats.rendered;
     const double frame_ms = std::chrono::duration<double, std::milli>(Clock::now() - m_frame_start).count();
     m_stats.frame_ms.add(frame_ms);
     m_stats.frame_s_sum += frame_ms / 1000.0;
+}
+
+void Display::samplePasses(const render::MapFrameStats& s) {
+    ++m_stats.passes_sampled;
+    const std::pair<const char*, double> passes[] = {
+        {"uploads", s.uploads_ms},   {"terrain", s.terrain_ms},    {"buildings", s.buildings_ms},
+        {"outlines", s.outlines_ms}, {"roads", s.roads_ms},        {"sv_roads", s.sv_roads_ms},
+        {"route", s.route_ms},       {"labels", s.label_block_ms}, {"aura", s.aura_ms},
+        {"glow", s.glow_ms},         {"marker", s.marker_ms}};
+    double sum = 0.0;
+    for (const auto& [name, ms] : passes) {
+        m_stats.pass_ms[name].add(ms);
+        sum += ms;
+    }
+    // The rest of the renderer's call: guidance overlay, binding, eviction.
+    m_stats.pass_ms["other"].add(std::max(0.0, s.total_ms - sum));
 }
 
 void Display::collect(render::Renderer& renderer, ipc::FrameServer& frames) {

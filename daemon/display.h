@@ -40,6 +40,13 @@ struct DisplayStats {
     std::size_t tiles_wanted = 0;                    ///< last frame: tiles the view still waits for
     std::uint64_t tiles_uploaded = 0;                ///< GPU tile uploads of this display's frames
     std::uint64_t held_back = 0;                     ///< frames not published while the map loaded
+    /// Where the frame time goes (get_status "passes", navmap_pass_seconds), ms per pass name:
+    /// every frame's `select` (camera, tiles), `render` (the renderer's call) and `publish`
+    /// (readbacks to the frame server); and, of one frame in kPassSampleEvery, the renderer's
+    /// passes timed with a glFinish after each (uploads, terrain, buildings, outlines, roads,
+    /// sv_roads, route, labels, aura, glow, marker, other).
+    std::map<std::string, SampleWindow> pass_ms;
+    std::uint64_t passes_sampled = 0;  ///< frames whose renderer passes were timed
     /// Seconds from the process's exec to its first published frame; negative until then
     /// (navmap_first_frame_seconds, `first_frame_s` in get_status).
     double first_frame_s = -1.0;
@@ -58,6 +65,9 @@ struct FrameContext {
 class Display {
 public:
     using Clock = std::chrono::steady_clock;
+    /// One frame in this many has its renderer passes timed (DisplayStats::pass_ms): about once
+    /// a second at 30 fps, so the glFinish after each pass costs little.
+    static constexpr std::uint64_t kPassSampleEvery = 30;
 
     /// `target`: this display's offscreen target in the shared renderer; `started`: the daemon's
     /// start (the start-up wait counts from there); `exec`: the process's start (the first
@@ -120,6 +130,8 @@ private:
 
     static constexpr std::uint64_t kNone = ~std::uint64_t{0};
     void publish(std::vector<render::Frame>& finished, ipc::FrameServer& frames);
+    /// Adds a profiled frame's pass times to DisplayStats::pass_ms.
+    void samplePasses(const render::MapFrameStats& s);
 
     DisplayProfile m_profile;
     std::vector<std::vector<glm::dvec3>> m_roads;  // junctionRoads(): the HUD's corridor at the junction

@@ -174,6 +174,24 @@ TEST(NavmapdEndToEnd, ClusterAndHudClientsGetFramesControlWorksAndStopIsGraceful
     ASSERT_NE(uploads_at, std::string::npos) << status.value();
     EXPECT_GT(std::strtoull(status.value().c_str() + uploads_at + std::strlen("\"tiles_uploaded\":"), nullptr, 10), 0u)
         << status.value();
+    // Where the cluster's frame time goes: the renderer's passes of one frame in 30, timed.
+    nlohmann::json passes;
+    for (int i = 0; i < 40; ++i) {
+        auto st = control.value().request(R"({"cmd":"get_status"})");
+        ASSERT_TRUE(st) << st.error().message;
+        const auto j = nlohmann::json::parse(st.value(), nullptr, false);
+        ASSERT_TRUE(j.is_object()) << st.value();
+        const auto& first = j["status"]["profiles"][0];
+        ASSERT_EQ(first["name"], "cluster");
+        passes = first["passes"];
+        if (first["passes_sampled"].get<int>() >= 1) break;
+        std::this_thread::sleep_for(250ms);
+    }
+    ASSERT_TRUE(passes.contains("terrain")) << "no cluster frame had its passes timed: " << passes.dump();
+    EXPECT_GT(passes["terrain"]["p50_ms"].get<double>(), 0.0) << passes.dump();
+    EXPECT_GT(passes["roads"]["p50_ms"].get<double>(), 0.0) << passes.dump();
+    EXPECT_GT(passes["render"]["p50_ms"].get<double>(), 0.0) << passes.dump();
+    std::printf("cluster passes: %s\n", passes.dump().c_str());
     auto bad = control.value().request(R"({"cmd":"set_view","display":"cluster","mode":"sideways"})");
     ASSERT_TRUE(bad);
     EXPECT_NE(bad.value().find("\"ok\":false"), std::string::npos) << bad.value();

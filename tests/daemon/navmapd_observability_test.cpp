@@ -237,6 +237,51 @@ TEST_F(NavmapdObservability, TheFirstFrameTimeOfEachProfileIsInMetricsAndGetStat
     EXPECT_TRUE(profiles[1]["first_frame_s"].is_null()) << reply.value();
 }
 
+// Where a profile's frame time goes: every frame's select/render/publish, and the renderer's
+// passes of the sampled frames (one in 30), in get_status and as navmap_pass_seconds.
+TEST_F(NavmapdObservability, PerPassTimesOfEachProfileAreInGetStatusAndMetrics) {
+    auto plain = navmap::ipc::StreamClient::connectUnix((m_dir / "frames.sock").string(), request("plain"));
+    ASSERT_TRUE(plain.ok()) << plain.error().message;
+    navmap::ipc::ReceivedFrame f;
+    // Enough frames that at least two had their passes timed.
+    for (int i = 0; i < 300 && plain.value()->stats().frames < 70; ++i) {
+        ASSERT_TRUE(plain.value()->next(f, 200ms).ok());
+    }
+    ASSERT_GE(plain.value()->stats().frames, 70U) << m_daemon->output();
+    std::this_thread::sleep_for(1200ms);  // the daemon's families are refreshed every second
+    auto control = navmap::ipc::ControlClient::connect((m_dir / "control.sock").string());
+    ASSERT_TRUE(control.ok()) << control.error().message;
+    auto reply = control.value().request(R"({"cmd":"get_status"})", 5s);
+    ASSERT_TRUE(reply.ok()) << reply.error().message;
+    const auto j = nlohmann::json::parse(reply.value(), nullptr, false);
+    ASSERT_TRUE(j.is_object()) << reply.value();
+    const auto& p = j["status"]["profiles"][0];
+    ASSERT_EQ(p["name"], "plain");
+    EXPECT_GE(p["passes_sampled"].get<int>(), 2) << reply.value();
+    const auto& passes = p["passes"];
+    for (const char* name : {"select", "render", "publish", "uploads", "terrain", "roads", "route", "labels",
+                             "marker", "other"}) {
+        ASSERT_TRUE(passes.contains(name)) << name << ": " << passes.dump();
+        EXPECT_GE(passes[name]["p50_ms"].get<double>(), 0.0) << name;
+        EXPECT_LE(passes[name]["p50_ms"].get<double>(), passes[name]["p99_ms"].get<double>()) << name;
+    }
+    // This daemon's renderer is the no-op one: its passes take no time, the daemon's own steps
+    // do (navmapd_e2e_test checks the GL renderer's passes).
+    EXPECT_GE(passes["render"]["samples"].get<int>(), 70) << passes.dump();
+    EXPECT_GT(passes["select"]["p99_ms"].get<double>(), 0.0) << passes.dump();
+    EXPECT_GT(passes["publish"]["p99_ms"].get<double>(), 0.0) << passes.dump();
+    EXPECT_EQ(passes["terrain"]["samples"].get<int>(), p["passes_sampled"].get<int>()) << passes.dump();
+
+    const std::string text = body(httpGet(m_port, "/metrics"));
+    EXPECT_NE(text.find("# TYPE navmap_pass_seconds gauge\n"), std::string::npos) << text;
+    const std::string key = "navmap_pass_seconds{pass=\"select\",profile=\"plain\",quantile=\"0.99\"} ";
+    const auto at = text.find(key);
+    ASSERT_NE(at, std::string::npos) << text;
+    EXPECT_GT(std::stod(text.substr(at + key.size())), 0.0);
+    EXPECT_NE(text.find("navmap_pass_seconds{pass=\"terrain\",profile=\"plain\",quantile=\"0.5\"} "),
+              std::string::npos);
+}
+
 TEST_F(NavmapdObservability, TheVersionIsInGetStatusAndStatus) {
     std::this_thread::sleep_for(1200ms);
     auto control = navmap::ipc::ControlClient::connect((m_dir / "control.sock").string());

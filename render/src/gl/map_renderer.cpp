@@ -27,15 +27,20 @@ bool wantsAura(const MapLayers& l) { return l.label_aura && l.labels && l.buildi
 }  // namespace
 
 // Times the passes one after another (RendererOptions::profile_passes): each lap waits for the GPU
-// and charges the time since the previous lap to a slot of MapFrameStats. Free when off.
+// and adds the time since the previous lap to a slot of MapFrameStats (a pass drawn in two
+// places adds up). Free when off.
 class PassClock {
 public:
     explicit PassClock(bool on) : m_on(on) {}
     void lap(double& slot) {
         if (!m_on) return;
         glFinish();
-        slot = msSince(m_t);
+        slot += msSince(m_t);
         m_t = Clock::now();
+    }
+    /// Charges nothing for the time since the last lap (a part with a clock of its own).
+    void skip() {
+        if (m_on) m_t = Clock::now();
     }
 
 private:
@@ -98,7 +103,7 @@ FrameContext MapRenderer::beginFrame(const MapFrame& frame, const RenderTarget& 
 void MapRenderer::render(const MapFrame& frame, const RenderTarget& target, int target_id) {
     m_stats = {};
     const auto t_frame = Clock::now();
-    PassClock clock(m_options.profile_passes);
+    PassClock clock(m_options.profile_passes || frame.profile_passes);
     const MapLayers& layers = frame.layers;
 
     const FrameContext ctx = beginFrame(frame, target, target_id);
@@ -162,6 +167,7 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target, int 
     }
     if (!layers.labels) {
         runOcclusionEffects(ctx);
+        clock.skip();
         drawArrows(ctx);
     }
     // Labels (seed ch. 4, 5.5): after the outlines so they lie above the roads, before the marker,
@@ -169,11 +175,12 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target, int 
     const std::optional<MarkerPass::OnScreen> marker = m_marker.place(ctx);
     if (layers.labels) {
         m_labels.layout(ctx, marker ? std::span<const glm::vec2>(marker->outline) : std::span<const glm::vec2>());
-        runOcclusionEffects(ctx);  // seed 5.5.2: composited before the labels
+        clock.lap(m_stats.label_block_ms);  // labels_ms is the pass's own CPU time; keep it out of marker_ms
+        runOcclusionEffects(ctx);           // seed 5.5.2: composited before the labels (aura_ms, glow_ms)
+        clock.skip();
         drawArrows(ctx);
         m_labels.draw(ctx);
-        double label_gpu_ms = 0;  // labels_ms is the pass's own CPU time; keep it out of marker_ms
-        clock.lap(label_gpu_ms);
+        clock.lap(m_stats.label_block_ms);
     }
     if (marker) m_marker.draw(ctx, *marker);
     clock.lap(m_stats.marker_ms);
@@ -225,8 +232,9 @@ void MapRenderer::runOcclusionEffects(const FrameContext& ctx) {
     const MapLayers& layers = ctx.layers();
     const bool glow = wantsGlow(layers), aura = wantsAura(layers);
     if (!m_effects || (!glow && !aura)) return;
-    if (m_options.profile_passes) glFinish();
-    PassClock clock(m_options.profile_passes);
+    const bool profile = m_options.profile_passes || ctx.frame.profile_passes;
+    if (profile) glFinish();
+    PassClock clock(profile);
     if (aura) {
         // seed 5.5.1 step 2: the buildings (with the aura's program) and then the roads and the
         // route over them, as the scene draws them, into the layer behind the labels.

@@ -239,6 +239,9 @@ struct MapFrame {
     /// says (start-up: a frame that nobody sees until it is complete gains nothing by spreading
     /// the uploads over frames).
     bool upload_all = false;
+    /// Times this frame's passes into MapFrameStats (a glFinish after each), as
+    /// RendererOptions::profile_passes does for every frame: a caller samples some frames.
+    bool profile_passes = false;
 };
 
 /// A tile drawn partly flat because the store had no elevation data for part of it.
@@ -253,8 +256,9 @@ struct MapFrameStats {
     double terrain_ms = 0, roads_ms = 0, outlines_ms = 0, buildings_ms = 0, route_ms = 0, marker_ms = 0, uploads_ms = 0,
            total_ms = 0;
     double glow_ms = 0, aura_ms = 0;  ///< glowing roads and label aura passes (seed 5.5), profiled like the others
-    double sv_roads_ms = 0;           ///< shadow-volume road passes (seed 3.5; roads_ms stays the geometric pass)
-    bool sv_roads = false;            ///< this frame's roads were drawn as shadow volumes
+    double label_block_ms = 0;  ///< profiled: labels with the aura and glow composited before them, and the arrows
+    double sv_roads_ms = 0;     ///< shadow-volume road passes (seed 3.5; roads_ms stays the geometric pass)
+    bool sv_roads = false;      ///< this frame's roads were drawn as shadow volumes
     std::size_t tiles_drawn = 0;
     std::size_t tiles_uploaded = 0;
     std::size_t tiles_pending = 0;    ///< tiles not drawn yet because the upload budget was spent
