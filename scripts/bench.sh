@@ -74,6 +74,7 @@ done
 
 build_tree() {  # build_tree SRC BUILD: configure (benchmarks on) and build the selected programs
     local src="$1" dir="$2"
+    mkdir -p "$dir"
     local generator=()
     if command -v ninja >/dev/null 2>&1 && [ ! -f "$dir/Makefile" ]; then generator=(-G Ninja); fi
     local launcher=()
@@ -81,9 +82,9 @@ build_tree() {  # build_tree SRC BUILD: configure (benchmarks on) and build the 
         launcher=(-DCMAKE_C_COMPILER_LAUNCHER=ccache -DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
     fi
     cmake -S "$src" -B "$dir" "${generator[@]}" "${launcher[@]}" -DNAVMAP_WITH_TESTS=ON -DNAVMAP_WITH_BENCH=ON \
-        >"$dir.configure.log" 2>&1 || { cat "$dir.configure.log" >&2; return 1; }
-    cmake --build "$dir" -j "$(nproc)" --target "${targets[@]}" >"$dir.build.log" 2>&1 ||
-        { tail -40 "$dir.build.log" >&2; return 1; }
+        >"$dir/bench-configure.log" 2>&1 || { cat "$dir/bench-configure.log" >&2; return 1; }
+    cmake --build "$dir" -j "$(nproc)" --target "${targets[@]}" >"$dir/bench-build.log" 2>&1 ||
+        { tail -40 "$dir/bench-build.log" >&2; return 1; }
 }
 
 run_one() {  # run_one BUILD SPEC OUTFILE: one program, its JSON into OUTFILE, its log beside it
