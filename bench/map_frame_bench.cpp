@@ -161,6 +161,10 @@ void mapPasses(benchmark::State& state) {
         sum.outline_cells_ms += s.outline_cells_ms;
         sum.road_blocks_hidden += s.road_blocks_hidden;
         sum.horizon_ms += s.horizon_ms;
+        sum.terrain_work += s.terrain_work;
+        sum.roads_work += s.roads_work;
+        sum.buildings_work += s.buildings_work;
+        sum.frame_work += s.frame_work;
         ++n;
     }
     const double k = n ? 1.0 / n : 0.0;
@@ -177,6 +181,14 @@ void mapPasses(benchmark::State& state) {
     state.counters["road_blocks_hidden"] = double(sum.road_blocks_hidden) * k;  // behind the terrain (TerrainHorizon)
     state.counters["horizon_ms"] = sum.horizon_ms * k;  // CPU beside the render thread, not in the passes
     state.counters["terrain_triangles"] = double(sum.terrain_triangles) * k;
+    // GL work per frame (gl_work.h): the same on every machine.
+    state.counters["draw_calls"] = double(sum.frame_work.draw_calls) * k;
+    state.counters["vertices"] = double(sum.frame_work.vertices) * k;
+    state.counters["bytes_uploaded"] = double(sum.frame_work.bytes_uploaded) * k;
+    state.counters["terrain_draw_calls"] = double(sum.terrain_work.draw_calls) * k;
+    state.counters["roads_draw_calls"] = double(sum.roads_work.draw_calls) * k;
+    state.counters["roads_vertices"] = double(sum.roads_work.vertices) * k;
+    state.counters["buildings_draw_calls"] = double(sum.buildings_work.draw_calls) * k;
     state.SetLabel(p.name);
 }
 

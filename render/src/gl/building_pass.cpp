@@ -5,6 +5,7 @@
 
 #include <glm/gtc/type_ptr.hpp>
 
+#include "gl/gl_work.h"
 #include "map_culling.h"
 
 namespace navmap::render::gl {
@@ -46,8 +47,8 @@ std::size_t BuildingPass::drawTile(ShaderProgram& program, const FrameContext& c
         const std::uint32_t first = g.building_runs[r - 1].first;
         std::uint32_t count = g.building_runs[r - 1].count;
         for (; r < g.building_runs.size() && visible(g.building_runs[r]); ++r) count += g.building_runs[r].count;
-        glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(count), GL_UNSIGNED_INT,
-                       reinterpret_cast<const void*>(std::size_t{first} * sizeof(std::uint32_t)));
+        countedDrawElements(GL_TRIANGLES, static_cast<GLsizei>(count), GL_UNSIGNED_INT,
+                            reinterpret_cast<const void*>(std::size_t{first} * sizeof(std::uint32_t)));
         drawn += count / 3;
     }
     return drawn;

@@ -8,6 +8,7 @@
 
 #include <glm/gtc/type_ptr.hpp>
 
+#include "gl/gl_work.h"
 #include "gpu_tile.h"
 
 namespace navmap::render::gl {
@@ -94,7 +95,7 @@ void FarGroundPass::draw(const FrameContext& ctx) {
     glDepthMask(GL_FALSE);
     glDepthFunc(GL_LEQUAL);
     glBindVertexArray(m_vao);
-    glDrawArrays(GL_TRIANGLE_FAN, 0, n);
+    countedDrawArrays(GL_TRIANGLE_FAN, 0, n);
     glBindVertexArray(0);
 }
 

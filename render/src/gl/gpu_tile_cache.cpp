@@ -14,6 +14,7 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include "frame_context.h"
+#include "gl/gl_work.h"
 #include "label_pass.h"
 #include "navmap/map/ortho/ortho_network.h"
 #include "vertex_layout.h"
@@ -69,12 +70,12 @@ std::vector<PackedTerrainVertex> packTerrain(std::span<const TerrainVertex> vert
 GLenum uploadIndices(std::span<const std::uint32_t> indices, std::size_t vertex_count) {
     if (vertex_count <= 0xFFFF) {
         std::vector<std::uint16_t> narrow(indices.begin(), indices.end());
-        glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(narrow.size() * sizeof(std::uint16_t)),
-                     narrow.data(), GL_STATIC_DRAW);
+        countedBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(narrow.size() * sizeof(std::uint16_t)),
+                          narrow.data(), GL_STATIC_DRAW);
         return GL_UNSIGNED_SHORT;
     }
-    glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(indices.size() * sizeof(std::uint32_t)),
-                 indices.data(), GL_STATIC_DRAW);
+    countedBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(indices.size() * sizeof(std::uint32_t)),
+                      indices.data(), GL_STATIC_DRAW);
     return GL_UNSIGNED_INT;
 }
 
@@ -86,8 +87,8 @@ void uploadTerrain(GpuTile& g, const TileMesh& mesh) {
     glBindVertexArray(g.terrain_vao);
     glBindBuffer(GL_ARRAY_BUFFER, g.terrain_vbo);
     const std::vector<PackedTerrainVertex> packed = packTerrain(mesh.terrain);
-    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(packed.size() * sizeof(PackedTerrainVertex)), packed.data(),
-                 GL_STATIC_DRAW);
+    countedBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(packed.size() * sizeof(PackedTerrainVertex)),
+                      packed.data(), GL_STATIC_DRAW);
     // Geomorph targets (terrain_tile.vert): 4 ancestor heights, then 4 normals' x, y as two vec4.
     static_assert(kMorphLevels == 4, "terrain_tile.vert takes 4 ancestor levels");
     using V = PackedTerrainVertex;
@@ -109,8 +110,8 @@ void uploadRoads(GpuTile& g, TileMesh& mesh, GLuint index_buffer) {
     glBindVertexArray(g.roads_vao);
     glBindBuffer(GL_ARRAY_BUFFER, g.roads_vbo);
     const auto quads = quadVertices(mesh.roads);
-    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(quads.size() * sizeof(RoadInstance)), quads.data(),
-                 GL_STATIC_DRAW);
+    countedBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(quads.size() * sizeof(RoadInstance)), quads.data(),
+                      GL_STATIC_DRAW);
     setupRoadAttributes();
     glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, index_buffer);  // this frame's pieces in view
     const auto road_count = static_cast<GLsizei>(mesh.roads.size());
@@ -137,15 +138,16 @@ void uploadBuildings(GpuTile& g, TileMesh& mesh) {
     glGenBuffers(1, &g.buildings_ibo);
     glBindVertexArray(g.buildings_vao);
     glBindBuffer(GL_ARRAY_BUFFER, g.buildings_vbo);
-    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(mesh.buildings.size() * sizeof(BuildingVertex)),
-                 mesh.buildings.data(), GL_STATIC_DRAW);
+    countedBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(mesh.buildings.size() * sizeof(BuildingVertex)),
+                      mesh.buildings.data(), GL_STATIC_DRAW);
     setVertexAttributes(sizeof(BuildingVertex), {{0, 3, GL_FLOAT, offsetof(BuildingVertex, position)},
                                                  {1, 3, GL_FLOAT, offsetof(BuildingVertex, normal)},
                                                  {2, 3, GL_FLOAT, offsetof(BuildingVertex, color)},
                                                  {3, 1, GL_FLOAT, offsetof(BuildingVertex, footprint_m)}});
     glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, g.buildings_ibo);
-    glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(mesh.building_indices.size() * sizeof(std::uint32_t)),
-                 mesh.building_indices.data(), GL_STATIC_DRAW);
+    countedBufferData(GL_ELEMENT_ARRAY_BUFFER,
+                      static_cast<GLsizeiptr>(mesh.building_indices.size() * sizeof(std::uint32_t)),
+                      mesh.building_indices.data(), GL_STATIC_DRAW);
     g.building_index_count = static_cast<GLsizei>(mesh.building_indices.size());
     g.building_runs = std::move(mesh.building_runs);
     g.building_blocks = std::move(mesh.building_blocks);
@@ -423,14 +425,14 @@ GLuint GpuTileCache::rasterizeLandCover(std::span<const LandCoverVertex> triangl
     glGenBuffers(1, &vbo);
     glBindVertexArray(vao);
     glBindBuffer(GL_ARRAY_BUFFER, vbo);
-    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(triangles.size() * sizeof(LandCoverVertex)), triangles.data(),
-                 GL_STREAM_DRAW);
+    countedBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(triangles.size() * sizeof(LandCoverVertex)),
+                      triangles.data(), GL_STREAM_DRAW);
     setVertexAttributes(sizeof(LandCoverVertex), {{0, 2, GL_FLOAT, offsetof(LandCoverVertex, position)},
                                                   {1, 4, GL_FLOAT, offsetof(LandCoverVertex, color)}});
     glUseProgram(m_land_cover.id());
     glUniform2fv(m_land_cover.uniform("u_offset"), 1, glm::value_ptr(offset));
     glUniform1f(m_land_cover.uniform("u_extent"), extent);
-    glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(triangles.size()));
+    countedDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(triangles.size()));
     glBindVertexArray(0);
     glDeleteBuffers(1, &vbo);
     glDeleteVertexArrays(1, &vao);

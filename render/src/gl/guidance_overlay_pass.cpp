@@ -7,6 +7,7 @@
 
 #include <glm/gtc/type_ptr.hpp>
 
+#include "gl/gl_work.h"
 #include "navmap/render/guidance_symbol.h"
 
 namespace navmap::render::gl {
@@ -53,9 +54,9 @@ void GuidanceOverlayPass::drawTriangles(const std::vector<glm::vec2>& vertices, 
     glUniform4fv(m_program.uniform("u_color"), 1, glm::value_ptr(color));
     glBindVertexArray(m_vao);
     glBindBuffer(GL_ARRAY_BUFFER, m_vbo);
-    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(vertices.size() * sizeof(glm::vec2)), vertices.data(),
-                 GL_STREAM_DRAW);
-    glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(vertices.size()));
+    countedBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(vertices.size() * sizeof(glm::vec2)), vertices.data(),
+                      GL_STREAM_DRAW);
+    countedDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(vertices.size()));
     glBindBuffer(GL_ARRAY_BUFFER, 0);
     glBindVertexArray(0);
 }

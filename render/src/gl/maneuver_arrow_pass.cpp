@@ -10,6 +10,7 @@
 
 #include <glm/gtc/type_ptr.hpp>
 
+#include "gl/gl_work.h"
 #include "navmap/render/maneuver_arrow.h"
 
 namespace navmap::render::gl {
@@ -121,8 +122,8 @@ void ManeuverArrowPass::draw(const MapFrame& frame, const MapStyle& style, const
     glBindVertexArray(m_vao);
     m_quad_indices.bind(m_vertices.size() / 4);
     glBindBuffer(GL_ARRAY_BUFFER, m_vbo);
-    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(m_vertices.size() * sizeof(RoadInstance)), m_vertices.data(),
-                 GL_STREAM_DRAW);
+    countedBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(m_vertices.size() * sizeof(RoadInstance)),
+                      m_vertices.data(), GL_STREAM_DRAW);
     glBindBuffer(GL_ARRAY_BUFFER, 0);
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LEQUAL);

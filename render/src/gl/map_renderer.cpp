@@ -11,6 +11,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "gl/gl_work.h"
 #include "gpu_tile.h"
 #include "map_culling.h"
 #include "sv_roads.h"
@@ -28,23 +29,31 @@ bool wantsAura(const MapLayers& l) { return l.label_aura && l.labels && l.buildi
 
 // Times the passes one after another (RendererOptions::profile_passes): each lap waits for the GPU
 // and adds the time since the previous lap to a slot of MapFrameStats (a pass drawn in two
-// places adds up). Free when off.
+// places adds up). The GL work since the previous lap (gl_work.h) is added on every frame; the
+// times are free when off.
 class PassClock {
 public:
-    explicit PassClock(bool on) : m_on(on) {}
-    void lap(double& slot) {
+    explicit PassClock(bool on) : m_on(on), m_work(glWork()) {}
+    void lap(double& slot, PassWork& work) {
+        const PassWork now = glWork();
+        work.draw_calls += now.draw_calls - m_work.draw_calls;
+        work.vertices += now.vertices - m_work.vertices;
+        work.bytes_uploaded += now.bytes_uploaded - m_work.bytes_uploaded;
+        m_work = now;
         if (!m_on) return;
         glFinish();
         slot += msSince(m_t);
         m_t = Clock::now();
     }
-    /// Charges nothing for the time since the last lap (a part with a clock of its own).
+    /// Charges nothing for the time and work since the last lap (a part with a clock of its own).
     void skip() {
+        m_work = glWork();
         if (m_on) m_t = Clock::now();
     }
 
 private:
     bool m_on = false;
+    PassWork m_work;
     Clock::time_point m_t = Clock::now();
 };
 
@@ -103,11 +112,12 @@ FrameContext MapRenderer::beginFrame(const MapFrame& frame, const RenderTarget& 
 void MapRenderer::render(const MapFrame& frame, const RenderTarget& target, int target_id) {
     m_stats = {};
     const auto t_frame = Clock::now();
+    const PassWork work_start = glWork();
     PassClock clock(m_options.profile_passes || frame.profile_passes);
     const MapLayers& layers = frame.layers;
 
     const FrameContext ctx = beginFrame(frame, target, target_id);
-    clock.lap(m_stats.uploads_ms);
+    clock.lap(m_stats.uploads_ms, m_stats.uploads_work);
 
     SvRoads* sv =
         SvRoads::forFrame(m_sv_roads, frame, target, m_features);  // shadow-volume roads (seed 3.5), else null
@@ -136,7 +146,7 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target, int 
     const bool terrain_alone = sv || wantsGlow(layers) || wantsAura(layers);
     if (layers.buildings && !terrain_alone) {
         m_buildings.draw(ctx);
-        clock.lap(m_stats.buildings_ms);
+        clock.lap(m_stats.buildings_ms, m_stats.buildings_work);
     }
     if (layers.terrain) {
         if (sv) sv->beginTerrain(target);  // + the terrain depth target (seed 3.5.2)
@@ -145,7 +155,7 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target, int 
         glCullFace(GL_BACK);
         m_terrain.draw(ctx);
         if (sv) sv->endTerrain(target);
-        clock.lap(m_stats.terrain_ms);
+        clock.lap(m_stats.terrain_ms, m_stats.terrain_work);
     }
     if (wantsGlow(layers) || wantsAura(layers)) {
         if (!m_effects) m_effects = std::make_unique<OcclusionEffects>();
@@ -153,17 +163,17 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target, int 
     }
     if (layers.buildings && terrain_alone) {  // after the terrain (see above)
         m_buildings.draw(ctx);
-        clock.lap(m_stats.buildings_ms);
+        clock.lap(m_stats.buildings_ms, m_stats.buildings_work);
     }
     if (layers.terrain && layers.far_ground) {  // what is still clear below the horizon: beyond the data
         m_far_ground.draw(ctx);
-        clock.lap(m_stats.terrain_ms);
+        clock.lap(m_stats.terrain_ms, m_stats.terrain_work);
     }
     drawRoadsAndRoute(ctx, sv, clock);
     // Screen-space dark outlines around roads and route (seed 3.6.3).
     if (m_outlines.enabled()) {
         m_outlines.draw(ctx, m_side);
-        clock.lap(m_stats.outlines_ms);
+        clock.lap(m_stats.outlines_ms, m_stats.outlines_work);
     }
     if (!layers.labels) {
         runOcclusionEffects(ctx);
@@ -175,15 +185,16 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target, int 
     const std::optional<MarkerPass::OnScreen> marker = m_marker.place(ctx);
     if (layers.labels) {
         m_labels.layout(ctx, marker ? std::span<const glm::vec2>(marker->outline) : std::span<const glm::vec2>());
-        clock.lap(m_stats.label_block_ms);  // labels_ms is the pass's own CPU time; keep it out of marker_ms
-        runOcclusionEffects(ctx);           // seed 5.5.2: composited before the labels (aura_ms, glow_ms)
+        clock.lap(m_stats.label_block_ms,
+                  m_stats.labels_work);  // labels_ms is the pass's own CPU time; keep it out of marker_ms
+        runOcclusionEffects(ctx);        // seed 5.5.2: composited before the labels (aura_ms, glow_ms)
         clock.skip();
         drawArrows(ctx);
         m_labels.draw(ctx);
-        clock.lap(m_stats.label_block_ms);
+        clock.lap(m_stats.label_block_ms, m_stats.labels_work);
     }
     if (marker) m_marker.draw(ctx, *marker);
-    clock.lap(m_stats.marker_ms);
+    clock.lap(m_stats.marker_ms, m_stats.marker_work);
     if (frame.guidance) {
         if (!m_guidance) m_guidance = std::make_unique<GuidanceOverlayPass>();
         m_guidance->draw(*frame.guidance, m_style, target);
@@ -193,6 +204,9 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target, int 
     glBindTexture(GL_TEXTURE_2D, 0);
     m_cache.evict();
     m_stats.total_ms = msSince(t_frame);
+    const PassWork work_end = glWork();
+    m_stats.frame_work = {work_end.draw_calls - work_start.draw_calls, work_end.vertices - work_start.vertices,
+                          work_end.bytes_uploaded - work_start.bytes_uploaded};
 }
 
 void MapRenderer::drawRoadsAndRoute(const FrameContext& ctx, SvRoads* sv, PassClock& clock) {
@@ -214,15 +228,15 @@ void MapRenderer::drawRoadsAndRoute(const FrameContext& ctx, SvRoads* sv, PassCl
     if (sv) {
         m_stats.road_segments += sv->draw(ctx.frame, ctx.projection, ctx.target, m_style.roads);
         m_stats.sv_roads = true;
-        clock.lap(m_stats.sv_roads_ms);
+        clock.lap(m_stats.sv_roads_ms, m_stats.sv_roads_work);
     }
     if (ctx.layers().roads && !sv) {
         m_stats.road_segments += m_roads.draw(ctx);
-        clock.lap(m_stats.roads_ms);
+        clock.lap(m_stats.roads_ms, m_stats.roads_work);
     }
     if (ctx.routeShown()) {
         m_route.draw(ctx);
-        clock.lap(m_stats.route_ms);
+        clock.lap(m_stats.route_ms, m_stats.route_work);
     }
     m_outlines.endRoadMarking();
     glDepthMask(GL_TRUE);
@@ -246,7 +260,7 @@ void MapRenderer::runOcclusionEffects(const FrameContext& ctx) {
             for (int pass = 0; pass < 2 && ctx.routeShown(); ++pass) m_route.drawWith(m_route.program(), pass, ctx);
         };
         m_effects->aura(ctx.target, m_labels.occluders(ctx), ctx.projection, m_style, buildings, roads);
-        clock.lap(m_stats.aura_ms);
+        clock.lap(m_stats.aura_ms, m_stats.aura_work);
     }
     if (glow) {
         // seed 5.5.2: the fill of the roads and the route again, for the hidden parts.
@@ -255,7 +269,7 @@ void MapRenderer::runOcclusionEffects(const FrameContext& ctx) {
             if (ctx.routeShown()) m_route.drawWith(p, 1, ctx);
         };
         m_effects->glow(ctx.target, layers, m_style, roads);
-        clock.lap(m_stats.glow_ms);
+        clock.lap(m_stats.glow_ms, m_stats.glow_work);
     }
     ctx.target.bindForDrawing(false);
 }

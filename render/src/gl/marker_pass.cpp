@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "marker_pass.h"
+#include "gl/gl_work.h"
 
 #include <cmath>
 
@@ -14,7 +15,7 @@ MarkerPass::MarkerPass() : m_program(ShaderProgram::fromEmbedded("marker.vert", 
     glGenBuffers(1, &m_vbo);
     glBindVertexArray(m_vao);
     glBindBuffer(GL_ARRAY_BUFFER, m_vbo);
-    glBufferData(GL_ARRAY_BUFFER, sizeof arrow, arrow, GL_STATIC_DRAW);
+    countedBufferData(GL_ARRAY_BUFFER, sizeof arrow, arrow, GL_STATIC_DRAW);
     glEnableVertexAttribArray(0);
     glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, 0, nullptr);
     glBindVertexArray(0);
@@ -75,11 +76,11 @@ void MarkerPass::draw(const FrameContext& ctx, const OnScreen& marker) {
     const glm::vec4 dark(0.1f, 0.1f, 0.1f, 1.0f);
     glUniform1f(m_program.uniform("u_size_px"), style.marker_size_px + 3.0f);
     glUniform4fv(m_program.uniform("u_color"), 1, glm::value_ptr(dark));
-    glDrawArrays(GL_TRIANGLES, 0, 6);
+    countedDrawArrays(GL_TRIANGLES, 0, 6);
     glUniform1f(m_program.uniform("u_size_px"), style.marker_size_px);
     const glm::vec4 color = m.stale ? style.marker_stale_color : style.marker_color;
     glUniform4fv(m_program.uniform("u_color"), 1, glm::value_ptr(color));
-    glDrawArrays(GL_TRIANGLES, 0, 6);
+    countedDrawArrays(GL_TRIANGLES, 0, 6);
     glEnable(GL_DEPTH_TEST);
 }
 

@@ -11,6 +11,7 @@
 
 #include <glm/gtc/type_ptr.hpp>
 
+#include "gl/gl_work.h"
 #include "navmap/render/renderer.h"
 
 namespace navmap::render::gl {
@@ -91,7 +92,7 @@ struct Layer {
 
 void bindFullscreen(GLuint vao) {
     glBindVertexArray(vao);
-    glDrawArrays(GL_TRIANGLES, 0, 3);
+    countedDrawArrays(GL_TRIANGLES, 0, 3);
 }
 
 // Blits the depth of the target's drawing framebuffer into `fbo` (same size).
@@ -284,11 +285,11 @@ void OcclusionEffects::aura(const RenderTarget& target, std::span<const LabelOcc
     glBindBuffer(GL_ARRAY_BUFFER, m_mask_vbo);
     if (instances.size() > m_mask_capacity) {
         m_mask_capacity = std::max(instances.size(), std::size_t{64});
-        glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(m_mask_capacity * sizeof(MaskInstance)), nullptr,
-                     GL_DYNAMIC_DRAW);
+        countedBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(m_mask_capacity * sizeof(MaskInstance)), nullptr,
+                          GL_DYNAMIC_DRAW);
     }
-    glBufferSubData(GL_ARRAY_BUFFER, 0, static_cast<GLsizeiptr>(instances.size() * sizeof(MaskInstance)),
-                    instances.data());
+    countedBufferSubData(GL_ARRAY_BUFFER, 0, static_cast<GLsizeiptr>(instances.size() * sizeof(MaskInstance)),
+                         instances.data());
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LEQUAL);
     glDepthMask(GL_TRUE);
@@ -298,7 +299,7 @@ void OcclusionEffects::aura(const RenderTarget& target, std::span<const LabelOcc
     glUseProgram(m_aura_mask.id());
     glUniform2f(m_aura_mask.uniform("u_viewport"), static_cast<float>(b.width), static_cast<float>(b.height));
     glBindVertexArray(m_mask_vao);
-    glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, static_cast<GLsizei>(instances.size()));
+    countedDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, static_cast<GLsizei>(instances.size()));
     glDisable(GL_BLEND);
     glBlendEquation(GL_FUNC_ADD);
 
@@ -316,7 +317,8 @@ void OcclusionEffects::aura(const RenderTarget& target, std::span<const LabelOcc
     glEnable(GL_STENCIL_TEST);
     glStencilFunc(GL_ALWAYS, 1, 0xFF);
     glStencilOp(GL_KEEP, GL_KEEP, GL_REPLACE);
-    glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, static_cast<GLsizei>(instances.size()));  // program, VAO still bound
+    countedDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4,
+                               static_cast<GLsizei>(instances.size()));  // program, VAO still bound
     glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     glStencilFunc(GL_EQUAL, 1, 0xFF);
     glStencilOp(GL_KEEP, GL_KEEP, GL_KEEP);
@@ -369,7 +371,7 @@ void OcclusionEffects::aura(const RenderTarget& target, std::span<const LabelOcc
     glUniform1f(m_aura_composite.uniform("u_min_alpha"), std::clamp(style.aura_min_alpha, 0.0f, 1.0f));
     glUniform2f(m_aura_composite.uniform("u_viewport"), static_cast<float>(b.width), static_cast<float>(b.height));
     glBindVertexArray(m_mask_vao);
-    glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, static_cast<GLsizei>(instances.size()));
+    countedDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, static_cast<GLsizei>(instances.size()));
     for (GLenum unit : {GL_TEXTURE4, GL_TEXTURE3, GL_TEXTURE2, GL_TEXTURE1, GL_TEXTURE0}) {
         glActiveTexture(unit);
         glBindTexture(GL_TEXTURE_2D, 0);

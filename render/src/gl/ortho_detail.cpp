@@ -10,6 +10,7 @@
 #include <glm/vec4.hpp>
 
 #include "frame_context.h"
+#include "gl/gl_work.h"
 #include "navmap/map/ortho/rng.h"
 #include "navmap/map/ortho/super_land_cover.h"
 #include "ortho/field_grid.h"
@@ -30,11 +31,11 @@ const glm::vec2 kShadowPerMetre = 0.35f * glm::normalize(glm::vec2(1.0f, -1.0f))
 template <typename V>
 void upload(GLuint vbo, GLuint ibo, const std::vector<V>& vertices, const std::vector<std::uint32_t>& indices) {
     glBindBuffer(GL_ARRAY_BUFFER, vbo);
-    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(vertices.size() * sizeof(V)), vertices.data(),
-                 GL_STREAM_DRAW);
+    countedBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(vertices.size() * sizeof(V)), vertices.data(),
+                      GL_STREAM_DRAW);
     glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, ibo);
-    glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(indices.size() * sizeof(std::uint32_t)),
-                 indices.data(), GL_STREAM_DRAW);
+    countedBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(indices.size() * sizeof(std::uint32_t)),
+                      indices.data(), GL_STREAM_DRAW);
 }
 
 using DetailVertex = OrthoDetail::DetailVertex;
@@ -193,8 +194,8 @@ void OrthoDetail::drawFields(const Target& t, const Geometry& g) {
     glActiveTexture(GL_TEXTURE1);
     glBindTexture(GL_TEXTURE_2D, m_cover);
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-    glTexImage2D(GL_TEXTURE_2D, 0, GL_R8UI, tile.ortho.cover_size, tile.ortho.cover_size, 0, GL_RED_INTEGER,
-                 GL_UNSIGNED_BYTE, tile.ortho.cover.data());
+    countedTexImage2D(GL_TEXTURE_2D, 0, GL_R8UI, tile.ortho.cover_size, tile.ortho.cover_size, 0, GL_RED_INTEGER,
+                      GL_UNSIGNED_BYTE, tile.ortho.cover.data());
     glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
     glActiveTexture(GL_TEXTURE0);
     glUniform2f(m_fields.uniform("u_shift"), 0.0f, 0.0f);
@@ -205,7 +206,7 @@ void OrthoDetail::drawFields(const Target& t, const Geometry& g) {
     glUniform1f(m_fields.uniform("u_pixel_m"), t.extent / static_cast<float>(std::max(t.size, 1)));
     upload(m_vbo, m_ibo, g.fields, g.field_index);
     detailAttributes();
-    glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(g.field_index.size()), GL_UNSIGNED_INT, nullptr);
+    countedDrawElements(GL_TRIANGLES, static_cast<GLsizei>(g.field_index.size()), GL_UNSIGNED_INT, nullptr);
     glActiveTexture(GL_TEXTURE1);
     glBindTexture(GL_TEXTURE_2D, 0);
     glActiveTexture(GL_TEXTURE0);
@@ -224,8 +225,8 @@ void OrthoDetail::drawPlants(const Target& t, const Geometry& g, std::size_t fir
     glBindBuffer(GL_ARRAY_BUFFER, m_vbo);
     glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, m_ibo);
     plantAttributes();
-    glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(count * 6), GL_UNSIGNED_INT,
-                   reinterpret_cast<const void*>(first * 6 * sizeof(std::uint32_t)));  // NOLINT: a buffer offset
+    countedDrawElements(GL_TRIANGLES, static_cast<GLsizei>(count * 6), GL_UNSIGNED_INT,
+                        reinterpret_cast<const void*>(first * 6 * sizeof(std::uint32_t)));  // NOLINT: a buffer offset
     end(t0);
 }
 
@@ -241,11 +242,11 @@ void OrthoDetail::drawRoofs(const Target& t, const Geometry& g) {
     glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
     glUniform1f(m_roofs.uniform("u_shadow"), 1.0f);
     glUniform2f(m_roofs.uniform("u_shift"), kShadowPerMetre.x, kShadowPerMetre.y);
-    glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(g.roof_index.size()), GL_UNSIGNED_INT, nullptr);
+    countedDrawElements(GL_TRIANGLES, static_cast<GLsizei>(g.roof_index.size()), GL_UNSIGNED_INT, nullptr);
     glDisable(GL_BLEND);
     glUniform1f(m_roofs.uniform("u_shadow"), 0.0f);
     glUniform2f(m_roofs.uniform("u_shift"), 0.0f, 0.0f);
-    glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(g.roof_index.size()), GL_UNSIGNED_INT, nullptr);
+    countedDrawElements(GL_TRIANGLES, static_cast<GLsizei>(g.roof_index.size()), GL_UNSIGNED_INT, nullptr);
     end(t0);
 }
 

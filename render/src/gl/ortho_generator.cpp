@@ -10,6 +10,7 @@
 #include <span>
 
 #include "frame_context.h"
+#include "gl/gl_work.h"
 #include "navmap/map/ortho/tile_sampler.h"
 #include "navmap/render/renderer.h"
 
@@ -85,7 +86,7 @@ OrthoGenerator::OrthoGenerator(const mo::OrthoNetwork& net)
     }
     glGenBuffers(1, &m_weights);
     glBindBuffer(GL_UNIFORM_BUFFER, m_weights);
-    glBufferData(GL_UNIFORM_BUFFER, bytes, block.data(), GL_STATIC_DRAW);
+    countedBufferData(GL_UNIFORM_BUFFER, bytes, block.data(), GL_STATIC_DRAW);
     glBindBuffer(GL_UNIFORM_BUFFER, 0);
     const GLuint index = glGetUniformBlockIndex(m_network.id(), "OrthoWeights");
     if (index == GL_INVALID_INDEX) throw RenderError("ortho_mlp.frag: uniform block OrthoWeights not found");
@@ -251,8 +252,8 @@ void OrthoGenerator::uploadPlanes(const std::uint8_t* planes, int size, int row0
     for (int k = 0; k < kTexels; ++k) {
         const std::uint8_t* rows = planes + static_cast<std::size_t>(k) * planeBytes(size) +
                                    static_cast<std::size_t>(row0) * static_cast<std::size_t>(size) * 4;
-        glTexSubImage2D(GL_TEXTURE_2D, 0, 0, k * size + row0, size, row1 - row0, GL_RGBA_INTEGER, GL_UNSIGNED_BYTE,
-                        rows);
+        countedTexSubImage2D(GL_TEXTURE_2D, 0, 0, k * size + row0, size, row1 - row0, GL_RGBA_INTEGER, GL_UNSIGNED_BYTE,
+                             rows);
     }
     glBindTexture(GL_TEXTURE_2D, 0);
 }
@@ -276,7 +277,7 @@ void OrthoGenerator::drawNetwork(int size, int row0, int row1) {
     glUniform1i(m_network.uniform("u_inputs"), 0);
     glUniform1i(m_network.uniform("u_size"), size);
     glBindVertexArray(m_empty_vao);
-    glDrawArrays(GL_TRIANGLES, 0, 3);
+    countedDrawArrays(GL_TRIANGLES, 0, 3);
     glDisable(GL_SCISSOR_TEST);
     glBindVertexArray(0);
     glBindTexture(GL_TEXTURE_2D, 0);
@@ -409,7 +410,7 @@ bool OrthoGenerator::finishStep(Job& job, bool all) {
                     glUseProgram(m_copy.id());
                     glUniform1i(m_copy.uniform("u_basic"), 0);
                     glBindVertexArray(m_empty_vao);
-                    glDrawArrays(GL_TRIANGLES, 0, 3);
+                    countedDrawArrays(GL_TRIANGLES, 0, 3);
                 }
                 m_detail.drawFields(target, geometry);
                 job.stage = geometry.plant_count > 0 ? Stage::Plants : Stage::Roofs;

@@ -6,6 +6,7 @@
 
 #include <glm/gtc/type_ptr.hpp>
 
+#include "gl/gl_work.h"
 #include "gpu_tile.h"
 #include "map_culling.h"
 
@@ -102,8 +103,8 @@ void OutlinePass::draw(const FrameContext& ctx, SideTask& side) {
         ctx.stats.outline_cells_ms = m_cell_ms;
         glBindVertexArray(m_cell_vao);
         glBindBuffer(GL_ARRAY_BUFFER, m_cell_vbo);
-        glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(m_cell_vertices.size() * sizeof(glm::vec2)),
-                     m_cell_vertices.data(), GL_STREAM_DRAW);
+        countedBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(m_cell_vertices.size() * sizeof(glm::vec2)),
+                          m_cell_vertices.data(), GL_STREAM_DRAW);
         glBindBuffer(GL_ARRAY_BUFFER, 0);
     } else {
         ctx.stats.outline_pixels = static_cast<std::size_t>(target.width()) * static_cast<std::size_t>(target.height());
@@ -111,7 +112,7 @@ void OutlinePass::draw(const FrameContext& ctx, SideTask& side) {
     }
     // Vertices [first, end) of m_cell_vertices: the filter's cells, then the packing pass's.
     auto draw_cells = [](std::size_t first, std::size_t end) {
-        if (end > first) glDrawArrays(GL_TRIANGLES, static_cast<GLint>(first), static_cast<GLsizei>(end - first));
+        if (end > first) countedDrawArrays(GL_TRIANGLES, static_cast<GLint>(first), static_cast<GLsizei>(end - first));
     };
     glActiveTexture(GL_TEXTURE0);
     GLuint mask = m_edges_on_cpu ? edges : target.maskTexture();
@@ -149,7 +150,7 @@ void OutlinePass::draw(const FrameContext& ctx, SideTask& side) {
     if (m_cells_on) {
         draw_cells(0, m_pack_first);
     } else {
-        glDrawArrays(GL_TRIANGLES, 0, 3);  // full screen
+        countedDrawArrays(GL_TRIANGLES, 0, 3);  // full screen
     }
     glBindTexture(GL_TEXTURE_2D, 0);
     glDisable(GL_BLEND);

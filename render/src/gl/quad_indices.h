@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <span>
 #include <vector>
+#include "gl/gl_work.h"
 
 namespace navmap::render::gl {
 
@@ -35,15 +36,15 @@ public:
         for (std::uint32_t s = 0; s < m_capacity; ++s) {
             for (const std::uint32_t i : m_pattern) indices.push_back(s * m_vertices + i);
         }
-        glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(indices.size() * sizeof(std::uint32_t)),
-                     indices.data(), GL_STATIC_DRAW);
+        countedBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(indices.size() * sizeof(std::uint32_t)),
+                          indices.data(), GL_STATIC_DRAW);
     }
 
     /// Draws shapes [first, first + count) of the bound vertex array.
     void draw(GLsizei first, GLsizei count) const {
         const auto per_shape = static_cast<GLsizei>(m_pattern.size());
         const auto offset = static_cast<std::size_t>(first) * m_pattern.size() * sizeof(std::uint32_t);
-        glDrawElements(GL_TRIANGLES, count * per_shape, GL_UNSIGNED_INT, reinterpret_cast<const void*>(offset));
+        countedDrawElements(GL_TRIANGLES, count * per_shape, GL_UNSIGNED_INT, reinterpret_cast<const void*>(offset));
     }
 
 private:

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cstring>
 
+#include "gl/gl_work.h"
 #include "navmap/common/check.h"
 
 namespace navmap::render::gl {
@@ -52,7 +53,7 @@ ReadbackRing::ReadbackRing(int width, int height, int slots) : m_width(width), m
     for (auto& slot : m_slots) {
         glGenBuffers(1, &slot.pbo);
         glBindBuffer(GL_PIXEL_PACK_BUFFER, slot.pbo);
-        glBufferData(GL_PIXEL_PACK_BUFFER, bytes, nullptr, GL_STREAM_READ);
+        countedBufferData(GL_PIXEL_PACK_BUFFER, bytes, nullptr, GL_STREAM_READ);
     }
     glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
 }

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <string>
 
+#include "gl/gl_work.h"
 #include "navmap/render/renderer.h"
 
 namespace navmap::render::gl {
@@ -133,7 +134,8 @@ GLuint RenderTarget::uploadPackedMask(const std::uint16_t* texels) const {
     GLint alignment = 4;
     glGetIntegerv(GL_UNPACK_ALIGNMENT, &alignment);
     glPixelStorei(GL_UNPACK_ALIGNMENT, 2);
-    glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, packedMaskWidth(), m_height, GL_RED_INTEGER, GL_UNSIGNED_SHORT, texels);
+    countedTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, packedMaskWidth(), m_height, GL_RED_INTEGER, GL_UNSIGNED_SHORT,
+                         texels);
     glPixelStorei(GL_UNPACK_ALIGNMENT, alignment);
     glBindTexture(GL_TEXTURE_2D, 0);
     return m_packed_texture;

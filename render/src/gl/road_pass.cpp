@@ -13,6 +13,7 @@
 
 #include <glm/gtc/type_ptr.hpp>
 
+#include "gl/gl_work.h"
 #include "gpu_tile.h"
 #include "map_culling.h"
 #include "road_uniforms.h"
@@ -168,8 +169,8 @@ void RoadPass::uploadIndices() {
     // Every road vertex array has this buffer bound (GpuTileCache); new storage each frame.
     glBindVertexArray(0);
     glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, m_index_buffer);
-    glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(m_indices.size() * sizeof(std::uint32_t)),
-                 m_indices.data(), GL_STREAM_DRAW);
+    countedBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(m_indices.size() * sizeof(std::uint32_t)),
+                      m_indices.data(), GL_STREAM_DRAW);
 }
 
 std::size_t RoadPass::draw(const FrameContext& ctx) {
@@ -188,8 +189,8 @@ std::size_t RoadPass::drawWith(ShaderProgram& program, int pass, const FrameCont
         glUniformMatrix4fv(program.uniform("u_view"), 1, GL_FALSE, glm::value_ptr(g->view));
         glUniformMatrix4fv(program.uniform("u_view_projection"), 1, GL_FALSE, glm::value_ptr(g->view_projection));
         glBindVertexArray(g->roads_vao);
-        glDrawElements(GL_TRIANGLES, 6 * count, GL_UNSIGNED_INT,
-                       reinterpret_cast<const void*>(static_cast<std::size_t>(first) * 6 * sizeof(std::uint32_t)));
+        countedDrawElements(GL_TRIANGLES, 6 * count, GL_UNSIGNED_INT,
+                            reinterpret_cast<const void*>(static_cast<std::size_t>(first) * 6 * sizeof(std::uint32_t)));
         drawn += static_cast<std::size_t>(count);
     }
     return drawn;

@@ -9,6 +9,7 @@
 
 #include <glm/gtc/type_ptr.hpp>
 
+#include "gl/gl_work.h"
 #include "map_culling.h"
 #include "road_uniforms.h"
 
@@ -160,8 +161,8 @@ void RoutePass::updateTile(GpuTile& g, const FrameContext& ctx) {
     glBindVertexArray(g.route_vao);
     m_quad_indices.bind(g.route_instances.size());
     glBindBuffer(GL_ARRAY_BUFFER, g.route_vbo);
-    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(quads.size() * sizeof(RoadInstance)), quads.data(),
-                 GL_STREAM_DRAW);
+    countedBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(quads.size() * sizeof(RoadInstance)), quads.data(),
+                      GL_STREAM_DRAW);
     glBindVertexArray(0);
     glBindBuffer(GL_ARRAY_BUFFER, 0);
     g.route_count = static_cast<GLsizei>(g.route_instances.size());

@@ -15,6 +15,7 @@
 
 #include <glm/gtc/type_ptr.hpp>
 
+#include "gl/gl_work.h"
 #include "gpu_tile.h"
 #include "road_draping.h"
 #include "tile_mesh.h"
@@ -416,8 +417,8 @@ SvRoads::GpuTileRoads* SvRoads::tileRoads(const std::shared_ptr<const map::Tile>
         std::vector<SvRoadInstance> corners;
         corners.reserve(cpu.instances.size() * 8);
         for (const auto& b : cpu.instances) corners.insert(corners.end(), 8, b);
-        glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(corners.size() * sizeof(SvRoadInstance)), corners.data(),
-                     GL_STATIC_DRAW);
+        countedBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(corners.size() * sizeof(SvRoadInstance)),
+                          corners.data(), GL_STATIC_DRAW);
         setupBoxAttributes();
         m_box_indices.bind(cpu.instances.size());
         glBindVertexArray(0);

@@ -7,6 +7,7 @@
 
 #include <glm/gtc/type_ptr.hpp>
 
+#include "gl/gl_work.h"
 #include "navmap/common/check.h"
 
 namespace navmap::render::gl {
@@ -30,13 +31,13 @@ void TerrainLayer::upload(const HeightfieldMesh& mesh) {
                  "terrain index past its vertices");
     glBindVertexArray(m_vao);
     glBindBuffer(GL_ARRAY_BUFFER, m_vbo);
-    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(mesh.vertices.size() * sizeof(Vertex)), mesh.vertices.data(),
-                 GL_STATIC_DRAW);
+    countedBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(mesh.vertices.size() * sizeof(Vertex)),
+                      mesh.vertices.data(), GL_STATIC_DRAW);
     setVertexAttributes(sizeof(Vertex),
                         {{0, 3, GL_FLOAT, offsetof(Vertex, position)}, {1, 3, GL_FLOAT, offsetof(Vertex, normal)}});
     glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, m_ibo);
-    glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(mesh.indices.size() * sizeof(std::uint32_t)),
-                 mesh.indices.data(), GL_STATIC_DRAW);
+    countedBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(mesh.indices.size() * sizeof(std::uint32_t)),
+                      mesh.indices.data(), GL_STATIC_DRAW);
     glBindVertexArray(0);
     m_index_count = static_cast<GLsizei>(mesh.indices.size());
     m_origin = mesh.origin;
@@ -54,7 +55,7 @@ void TerrainLayer::draw(const Camera& camera, double aspect, const TerrainStyle&
     glUniform3fv(m_program.uniform("u_sky_color"), 1, glm::value_ptr(style.sky_color));
     glUniform2f(m_program.uniform("u_fog_range"), style.fog_start_m, style.fog_end_m);
     glBindVertexArray(m_vao);
-    glDrawElements(GL_TRIANGLES, m_index_count, GL_UNSIGNED_INT, nullptr);
+    countedDrawElements(GL_TRIANGLES, m_index_count, GL_UNSIGNED_INT, nullptr);
     glBindVertexArray(0);
 }
 

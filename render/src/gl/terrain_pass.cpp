@@ -10,6 +10,7 @@
 
 #include <glm/gtc/type_ptr.hpp>
 
+#include "gl/gl_work.h"
 #include "gpu_tile.h"
 #include "map_culling.h"
 
@@ -57,7 +58,7 @@ TerrainPass::TerrainPass()
     const std::uint8_t transparent[4] = {0, 0, 0, 0};
     glGenTextures(1, &m_empty_texture);
     glBindTexture(GL_TEXTURE_2D, m_empty_texture);
-    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, 1, 1, 0, GL_RGBA, GL_UNSIGNED_BYTE, transparent);
+    countedTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, 1, 1, 0, GL_RGBA, GL_UNSIGNED_BYTE, transparent);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
     glBindTexture(GL_TEXTURE_2D, 0);
@@ -156,8 +157,9 @@ void TerrainPass::draw(const FrameContext& ctx) {
                 glActiveTexture(static_cast<GLenum>(GL_TEXTURE0 + k));
                 glBindTexture(GL_TEXTURE_2D, cover[static_cast<std::size_t>(levels.finest + k)]);
             }
-            glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(count), g->terrain_index_type,
-                           reinterpret_cast<const void*>(std::size_t{first.first} * indexBytes(g->terrain_index_type)));
+            countedDrawElements(
+                GL_TRIANGLES, static_cast<GLsizei>(count), g->terrain_index_type,
+                reinterpret_cast<const void*>(std::size_t{first.first} * indexBytes(g->terrain_index_type)));
         }
     }
 }

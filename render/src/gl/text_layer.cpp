@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "text_layer.h"
 
+#include "gl/gl_work.h"
 #include "render_target.h"
 
 #include <algorithm>
@@ -42,7 +43,7 @@ void TextLayer::syncAtlas() {
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
     if (h != m_texture_height) {
         // New or grown atlas: reallocate and upload everything.
-        glTexImage2D(GL_TEXTURE_2D, 0, GL_R8, w, h, 0, GL_RED, GL_UNSIGNED_BYTE, m_atlas.pixels().data());
+        countedTexImage2D(GL_TEXTURE_2D, 0, GL_R8, w, h, 0, GL_RED, GL_UNSIGNED_BYTE, m_atlas.pixels().data());
         glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
         glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
         glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
@@ -53,8 +54,8 @@ void TextLayer::syncAtlas() {
         // Only the rows that changed (new glyphs land on one or two shelves per frame).
         const int first = std::clamp(m_atlas.dirtyFirstRow(), 0, h);
         const int end = std::clamp(m_atlas.dirtyEndRow(), first, h);
-        glTexSubImage2D(GL_TEXTURE_2D, 0, 0, first, w, end - first, GL_RED, GL_UNSIGNED_BYTE,
-                        m_atlas.pixels().data() + static_cast<std::size_t>(first) * w);
+        countedTexSubImage2D(GL_TEXTURE_2D, 0, 0, first, w, end - first, GL_RED, GL_UNSIGNED_BYTE,
+                             m_atlas.pixels().data() + static_cast<std::size_t>(first) * w);
         ++m_stats.atlas_uploads;
     }
     m_uploaded_version = m_atlas.version();
@@ -128,10 +129,10 @@ void TextLayer::drawInstances(ShaderProgram& program, bool world, const glm::mat
     const auto bytes = static_cast<GLsizeiptr>(m_instances.size() * sizeof(Instance));
     if (m_instances.size() > m_vbo_capacity) {
         m_vbo_capacity = std::max(m_instances.size(), m_vbo_capacity * 2);
-        glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(m_vbo_capacity * sizeof(Instance)), nullptr,
-                     GL_STREAM_DRAW);
+        countedBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(m_vbo_capacity * sizeof(Instance)), nullptr,
+                          GL_STREAM_DRAW);
     }
-    glBufferSubData(GL_ARRAY_BUFFER, 0, bytes, m_instances.data());
+    countedBufferSubData(GL_ARRAY_BUFFER, 0, bytes, m_instances.data());
 
     glUseProgram(program.id());
     glUniform2f(program.uniform("u_viewport"), static_cast<float>(viewport.x), static_cast<float>(viewport.y));
@@ -149,7 +150,7 @@ void TextLayer::drawInstances(ShaderProgram& program, bool world, const glm::mat
     glDisable(GL_CULL_FACE);
     glDepthMask(GL_FALSE);
     glBindVertexArray(m_vao);
-    glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, static_cast<GLsizei>(m_instances.size()));
+    countedDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, static_cast<GLsizei>(m_instances.size()));
     glBindVertexArray(0);
     glBindBuffer(GL_ARRAY_BUFFER, 0);
 }

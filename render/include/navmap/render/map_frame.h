@@ -252,13 +252,32 @@ struct FlatTile {
 
 /// Milliseconds per pass of the last map frame (measured with glFinish between passes when
 /// RendererOptions::profile_passes is set, else zero) and what was drawn.
+/// GL work of one pass of one frame: counted on every frame, the same on every driver and
+/// machine (tests assert how it grows with the scene; benchmarks print it).
+struct PassWork {
+    std::uint64_t draw_calls = 0;
+    std::uint64_t vertices = 0;        ///< vertices the draw calls process (count x instances)
+    std::uint64_t bytes_uploaded = 0;  ///< to buffers and textures (allocations without data: 0)
+
+    PassWork& operator+=(const PassWork& o) {
+        draw_calls += o.draw_calls;
+        vertices += o.vertices;
+        bytes_uploaded += o.bytes_uploaded;
+        return *this;
+    }
+};
+
 struct MapFrameStats {
     double terrain_ms = 0, roads_ms = 0, outlines_ms = 0, buildings_ms = 0, route_ms = 0, marker_ms = 0, uploads_ms = 0,
            total_ms = 0;
     double glow_ms = 0, aura_ms = 0;  ///< glowing roads and label aura passes (seed 5.5), profiled like the others
-    double label_block_ms = 0;  ///< profiled: labels with the aura and glow composited before them, and the arrows
-    double sv_roads_ms = 0;     ///< shadow-volume road passes (seed 3.5; roads_ms stays the geometric pass)
-    bool sv_roads = false;      ///< this frame's roads were drawn as shadow volumes
+    double label_block_ms = 0;        ///< profiled: the label pass (layout, text) and the manoeuvre arrows
+    /// GL work of the passes timed above (the same slots; labels_work goes with label_block_ms),
+    /// and of the whole frame (frame_work: every pass, the guidance panel and the uploads).
+    PassWork uploads_work, terrain_work, buildings_work, outlines_work, roads_work, sv_roads_work, route_work,
+        labels_work, aura_work, glow_work, marker_work, frame_work;
+    double sv_roads_ms = 0;  ///< shadow-volume road passes (seed 3.5; roads_ms stays the geometric pass)
+    bool sv_roads = false;   ///< this frame's roads were drawn as shadow volumes
     std::size_t tiles_drawn = 0;
     std::size_t tiles_uploaded = 0;
     std::size_t tiles_pending = 0;    ///< tiles not drawn yet because the upload budget was spent
