@@ -2,7 +2,7 @@
 # SPDX-License-Identifier: Apache-2.0
 # One benchmark command (docs/benchmarks/README.md). Runs every benchmark program of a build
 # (Google Benchmark JSON), the label quality replay of the reference drive and navmapd's own
-# frame breakdown (the latency benchmark's per-profile pass times), and writes one JSON with the
+# frame breakdown (the latency benchmark with get_status "passes" per profile), and writes one JSON with the
 # machine, the commit, the date and the load average before and after each program.
 #   scripts/bench.sh                       all of it, into bench-<commit>.json (or --out FILE)
 #   scripts/bench.sh --only 'labels|route' programs whose name matches (grep -E)

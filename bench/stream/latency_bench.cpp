@@ -50,6 +50,7 @@ struct ProfileResult {
     std::vector<double> latency_ms;
     std::uint64_t frames = 0, dropped = 0;
     double frame_p50_ms = 0, frame_p99_ms = 0, fps = 30;
+    std::map<std::string, double> pass_p50_ms;  ///< get_status "passes": where the daemon's frame time goes
 };
 
 struct RunResult {
@@ -130,6 +131,11 @@ const RunResult& run() {
                         auto& pr = r.profiles[p.value("name", "")];
                         pr.frame_p50_ms = p.value("frame_p50_ms", 0.0);
                         pr.frame_p99_ms = p.value("frame_p99_ms", 0.0);
+                        if (p.contains("passes") && p["passes"].is_object()) {
+                            for (const auto& [pass, v] : p["passes"].items()) {
+                                pr.pass_p50_ms[pass] = v.value("p50_ms", 0.0);
+                            }
+                        }
                     }
                 }
             } else {
@@ -169,6 +175,7 @@ void BM_CanToFrame(benchmark::State& state, const std::string& profile) {
     state.counters["latency_max_ms"] = percentile(p.latency_ms, 1.0);
     state.counters["frame_p50_ms"] = p.frame_p50_ms;
     state.counters["frame_p99_ms"] = p.frame_p99_ms;
+    for (const auto& [pass, ms] : p.pass_p50_ms) state.counters["pass_" + pass + "_p50_ms"] = ms;
     state.counters["frame_interval_ms"] = interval;
     state.counters["target_ms"] = interval + p.frame_p99_ms;
     state.counters["meets_target"] = p99 <= interval + p.frame_p99_ms ? 1 : 0;
