@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <string>
 #include <thread>
 #include <vector>
@@ -48,9 +49,13 @@ TEST(Arm64Stream, Arm64NavmapdServesTheAmd64ViewerAndTheClusterFrameMatchesItsGo
     // Standing in Andorra la Vella for as long as the emulated start-up may take.
     navmap::test::writeStandingLog(dir / "standing.candump", {{42.50770, 1.52190}}, 600000);
     const fs::path socket = dir / "frames.sock";
+    // Under emulation the first map frame (shaders compiled by LLVM inside qemu, tiles loaded) comes
+    // well after the 5 s a client waits for it by default.
+    std::ofstream(dir / "navmapd.toml") << "[stream]\nhandshake_timeout_s = 240\n";
     // As the amd64 end-to-end test runs it (its golden), labels off (they fade in with wall-clock time).
     navmap::test::NavmapdProcess daemon(emulator.string() + " " + navmapd.string(),
-                                        "--replay " + (dir / "standing.candump").string() + " --control-socket " +
+                                        "--config " + (dir / "navmapd.toml").string() + " --replay " +
+                                            (dir / "standing.candump").string() + " --control-socket " +
                                             (dir / "control.sock").string() + " --frame-socket " + socket.string() +
                                             " --http-port 0 --profiles cluster --no-labels --log-level info",
                                         dir / "navmapd.log", socket);
@@ -59,8 +64,9 @@ TEST(Arm64Stream, Arm64NavmapdServesTheAmd64ViewerAndTheClusterFrameMatchesItsGo
     ASSERT_TRUE(fs::exists(socket)) << daemon.output();
 
     // navmap-view (amd64) records 60 s of cluster frames (the daemon sends them once the map is there).
-    const auto [rc, view_out] = run(std::string(NAVMAP_VIEW_PATH) + " --unix " + socket.string() +
-                                    " --profile cluster --duration 60 --save " + (dir / "frames").string() + " --json");
+    const auto [rc, view_out] =
+        run(std::string(NAVMAP_VIEW_PATH) + " --unix " + socket.string() + " --profile cluster --duration 120 --save " +
+            (dir / "frames").string() + " --json");
     std::printf("navmap-view: %s\n", view_out.c_str());
     EXPECT_EQ(rc, 0) << view_out << "\n" << daemon.output();
     EXPECT_NE(view_out.find("\"frames\":"), std::string::npos) << view_out;
