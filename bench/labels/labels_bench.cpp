@@ -59,24 +59,14 @@ void BM_FrameAllActive(benchmark::State& state) {
     p.placement_zone_px = p.buffer_px;  // let labels start close, so the buffers collide
     nl::LabelLayout layout(p);
     std::uint64_t frame = 0;
-    const auto wobble = [&](nt::SyntheticScene& s) {
-        const float t = static_cast<float>(frame++) * 0.05F;
-        for (std::size_t i = 0; i < s.candidates.size(); ++i) {
-            const float phase = static_cast<float>(i % 97);
-            const glm::vec2 d{0.6F * std::sin(t + phase), 0.6F * std::cos(1.3F * t + phase)};
-            s.candidates[i].anchor += d;
-            s.candidates[i].line_p0 += d;
-            s.candidates[i].line_p1 += d;
-        }
-    };
     for (int f = 0; f < 120; ++f) {
-        wobble(scene);
+        nt::wobbleScene(scene, frame++);
         layout.setFrame(scene.candidates, scene.camera);
         layout.advance(kFrame);
     }
     for (auto _ : state) {
         state.PauseTiming();
-        wobble(scene);
+        nt::wobbleScene(scene, frame++);
         state.ResumeTiming();
         layout.setFrame(scene.candidates, scene.camera);
         layout.advance(kFrame);

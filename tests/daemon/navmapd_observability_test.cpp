@@ -110,6 +110,24 @@ protected:
         r.profile.view = "bird";
         return r;
     }
+    // get_status over the control socket, parsed; a discarded value (and a failed test) when the
+    // request or the reply is broken.
+    nlohmann::json getStatus() {
+        auto control = navmap::ipc::ControlClient::connect((m_dir / "control.sock").string());
+        if (!control.ok()) {
+            ADD_FAILURE() << control.error().message;
+            return nlohmann::json::value_t::discarded;
+        }
+        auto reply = control.value().request(R"({"cmd":"get_status"})", 5s);
+        if (!reply.ok()) {
+            ADD_FAILURE() << reply.error().message;
+            return nlohmann::json::value_t::discarded;
+        }
+        auto j = nlohmann::json::parse(reply.value(), nullptr, false);
+        if (!j.is_object()) ADD_FAILURE() << "get_status: " << reply.value();
+        return j;
+    }
+
     fs::path m_dir;
     int m_port = 0;
     std::unique_ptr<navmap::test::NavmapdProcess> m_daemon;
@@ -223,18 +241,14 @@ TEST_F(NavmapdObservability, TheFirstFrameTimeOfEachProfileIsInMetricsAndGetStat
     EXPECT_LT(seconds, 60.0);  // generous: a plausibility bound, not a speed target
     EXPECT_EQ(text.find("navmap_first_frame_seconds{profile=\"credited\"}"), std::string::npos) << text;
 
-    auto control = navmap::ipc::ControlClient::connect((m_dir / "control.sock").string());
-    ASSERT_TRUE(control.ok()) << control.error().message;
-    auto reply = control.value().request(R"({"cmd":"get_status"})", 5s);
-    ASSERT_TRUE(reply.ok()) << reply.error().message;
-    const auto j = nlohmann::json::parse(reply.value(), nullptr, false);
-    ASSERT_TRUE(j.is_object()) << reply.value();
+    const nlohmann::json j = getStatus();
+    ASSERT_TRUE(j.is_object());
     const auto& profiles = j["status"]["profiles"];
-    ASSERT_EQ(profiles.size(), 2U) << reply.value();
+    ASSERT_EQ(profiles.size(), 2U) << j.dump();
     EXPECT_EQ(profiles[0]["name"], "plain");
-    ASSERT_TRUE(profiles[0]["first_frame_s"].is_number()) << reply.value();
+    ASSERT_TRUE(profiles[0]["first_frame_s"].is_number()) << j.dump();
     EXPECT_NEAR(profiles[0]["first_frame_s"].get<double>(), seconds, 1e-3);
-    EXPECT_TRUE(profiles[1]["first_frame_s"].is_null()) << reply.value();
+    EXPECT_TRUE(profiles[1]["first_frame_s"].is_null()) << j.dump();
 }
 
 // Where a profile's frame time goes: every frame's select/render/publish, and the renderer's
@@ -249,18 +263,14 @@ TEST_F(NavmapdObservability, PerPassTimesOfEachProfileAreInGetStatusAndMetrics) 
     }
     ASSERT_GE(plain.value()->stats().frames, 70U) << m_daemon->output();
     std::this_thread::sleep_for(1200ms);  // the daemon's families are refreshed every second
-    auto control = navmap::ipc::ControlClient::connect((m_dir / "control.sock").string());
-    ASSERT_TRUE(control.ok()) << control.error().message;
-    auto reply = control.value().request(R"({"cmd":"get_status"})", 5s);
-    ASSERT_TRUE(reply.ok()) << reply.error().message;
-    const auto j = nlohmann::json::parse(reply.value(), nullptr, false);
-    ASSERT_TRUE(j.is_object()) << reply.value();
+    const nlohmann::json j = getStatus();
+    ASSERT_TRUE(j.is_object());
     const auto& p = j["status"]["profiles"][0];
     ASSERT_EQ(p["name"], "plain");
-    EXPECT_GE(p["passes_sampled"].get<int>(), 2) << reply.value();
+    EXPECT_GE(p["passes_sampled"].get<int>(), 2) << j.dump();
     const auto& passes = p["passes"];
-    for (const char* name : {"select", "render", "publish", "uploads", "terrain", "roads", "route", "labels",
-                             "marker", "other"}) {
+    for (const char* name :
+         {"select", "render", "publish", "uploads", "terrain", "roads", "route", "labels", "marker", "other"}) {
         ASSERT_TRUE(passes.contains(name)) << name << ": " << passes.dump();
         EXPECT_GE(passes[name]["p50_ms"].get<double>(), 0.0) << name;
         EXPECT_LE(passes[name]["p50_ms"].get<double>(), passes[name]["p99_ms"].get<double>()) << name;
@@ -284,13 +294,9 @@ TEST_F(NavmapdObservability, PerPassTimesOfEachProfileAreInGetStatusAndMetrics) 
 
 TEST_F(NavmapdObservability, TheVersionIsInGetStatusAndStatus) {
     std::this_thread::sleep_for(1200ms);
-    auto control = navmap::ipc::ControlClient::connect((m_dir / "control.sock").string());
-    ASSERT_TRUE(control.ok()) << control.error().message;
-    auto reply = control.value().request(R"({"cmd":"get_status"})", 5s);
-    ASSERT_TRUE(reply.ok()) << reply.error().message;
-    const auto j = nlohmann::json::parse(reply.value(), nullptr, false);
-    ASSERT_TRUE(j.is_object()) << reply.value();
-    EXPECT_EQ(j["status"]["version"], NAVMAP_VERSION) << reply.value();
+    const nlohmann::json j = getStatus();
+    ASSERT_TRUE(j.is_object());
+    EXPECT_EQ(j["status"]["version"], NAVMAP_VERSION) << j.dump();
     const auto status = nlohmann::json::parse(body(httpGet(m_port, "/status")), nullptr, false);
     ASSERT_TRUE(status.is_object());
     EXPECT_EQ(status["daemon"]["version"], NAVMAP_VERSION);

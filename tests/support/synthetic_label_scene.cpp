@@ -67,6 +67,17 @@ SyntheticScene makeSyntheticScene(std::size_t count, std::uint64_t seed, float c
     return scene;
 }
 
+void wobbleScene(SyntheticScene& scene, std::uint64_t frame) {
+    const float t = static_cast<float>(frame) * 0.05F;
+    for (std::size_t i = 0; i < scene.candidates.size(); ++i) {
+        const float phase = static_cast<float>(i % 97);
+        const glm::vec2 d{0.6F * std::sin(t + phase), 0.6F * std::cos(1.3F * t + phase)};
+        scene.candidates[i].anchor += d;
+        scene.candidates[i].line_p0 += d;
+        scene.candidates[i].line_p1 += d;
+    }
+}
+
 void panScene(SyntheticScene& scene, glm::vec2 delta) {
     for (LabelCandidate& c : scene.candidates) {
         c.anchor += delta;

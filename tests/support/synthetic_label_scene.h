@@ -23,6 +23,10 @@ struct SyntheticScene {
 
 [[nodiscard]] SyntheticScene makeSyntheticScene(std::size_t count, std::uint64_t seed, float coverage = 1.5F);
 
+/// Frame `frame` of a wobble: every anchor (and line segment) moves by up to 0.6 px on a
+/// Lissajous path of its own phase, so labels collide and forces never rest.
+void wobbleScene(SyntheticScene& scene, std::uint64_t frame);
+
 /// Moves every anchor (and line segment) by `delta` pixels: a camera pan.
 void panScene(SyntheticScene& scene, glm::vec2 delta);
 

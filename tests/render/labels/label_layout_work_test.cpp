@@ -49,17 +49,7 @@ Work run(std::size_t n, Motion motion) {
     std::vector<nl::LabelCandidate> present;
     for (int f = 0; f < 180; ++f) {
         switch (motion) {
-            case Motion::Wobble: {
-                const float t = static_cast<float>(f) * 0.05F;
-                for (std::size_t i = 0; i < scene.candidates.size(); ++i) {
-                    const float phase = static_cast<float>(i % 97);
-                    const glm::vec2 d{0.6F * std::sin(t + phase), 0.6F * std::cos(1.3F * t + phase)};
-                    scene.candidates[i].anchor += d;
-                    scene.candidates[i].line_p0 += d;
-                    scene.candidates[i].line_p1 += d;
-                }
-                break;
-            }
+            case Motion::Wobble: nt::wobbleScene(scene, static_cast<std::uint64_t>(f)); break;
             case Motion::Churn: nt::panScene(scene, {0.5F, -0.5F}); break;
             case Motion::Pan: nt::panScene(scene, {1.0F, 0.5F}); break;  // pixels: the same speed at both sizes
         }
