@@ -1181,6 +1181,7 @@ CompileStats compileStore(const CompileOptions& opt) {
                 refs.push_back({t.id.key(), k, tiles_out.append(payload)});
                 ++band_tiles;
             };
+            stats.features_per_band.push_back(featureCount(band));
             tileFeatures(band, ctx, stats);
             tiles_out.close();
             tile_in[k] = std::make_unique<SpillReader>(tiles_path(k));

@@ -74,6 +74,10 @@ struct CompileStats {
     /// reaches the multipolygon assembly once; docs/tile-store.md "Limits").
     std::size_t repeated_members = 0;
     std::size_t tiles = 0;
+    /// Bounded compile (CompileOptions::memory_limit_mib): the features each band of tile columns
+    /// tiled, west to east (a feature over several bands counts in each: the work, not the
+    /// input); empty when unbounded. Tests assert it grows with the input, not faster.
+    std::vector<std::size_t> features_per_band;
     std::size_t tiles_with_ortho = 0;  ///< tiles with ortho layers (CompileOptions::ortho_inputs)
     double ortho_seconds = 0;          ///< reading the global inputs and sampling the layers
     std::vector<std::size_t> tiles_per_level;
