@@ -67,16 +67,15 @@ double ratio(std::uint64_t a, std::uint64_t b) { return static_cast<double>(b) /
 TEST(RenderWork, TwiceTheRoadsCostAtMostTwiceTheWork) {
     const Work small = renderRoads(150);
     const Work large = renderRoads(300);
-    std::printf("roads pass: %llu -> %llu vertices in %llu -> %llu draw calls; frame: %llu -> %llu draw calls; "
-                "first frame uploads %llu -> %llu bytes\n",
-                static_cast<unsigned long long>(small.roads.vertices),
-                static_cast<unsigned long long>(large.roads.vertices),
-                static_cast<unsigned long long>(small.roads.draw_calls),
-                static_cast<unsigned long long>(large.roads.draw_calls),
-                static_cast<unsigned long long>(small.next.draw_calls),
-                static_cast<unsigned long long>(large.next.draw_calls),
-                static_cast<unsigned long long>(small.first.bytes_uploaded),
-                static_cast<unsigned long long>(large.first.bytes_uploaded));
+    std::printf(
+        "roads pass: %llu -> %llu vertices in %llu -> %llu draw calls; frame: %llu -> %llu draw calls; "
+        "first frame uploads %llu -> %llu bytes\n",
+        static_cast<unsigned long long>(small.roads.vertices), static_cast<unsigned long long>(large.roads.vertices),
+        static_cast<unsigned long long>(small.roads.draw_calls),
+        static_cast<unsigned long long>(large.roads.draw_calls), static_cast<unsigned long long>(small.next.draw_calls),
+        static_cast<unsigned long long>(large.next.draw_calls),
+        static_cast<unsigned long long>(small.first.bytes_uploaded),
+        static_cast<unsigned long long>(large.first.bytes_uploaded));
     // The counts are real: the roads are drawn, the tile is uploaded once.
     ASSERT_GT(small.roads.draw_calls, 0U);
     ASSERT_GT(small.roads.vertices, 0U);
