@@ -110,6 +110,12 @@ LodSelection selectLod(const map::TileScheme& scheme, const Camera& camera, doub
     const Frustum frustum = frustumOf(proj * view);
 
     std::vector<map::TileId> stack = roots;
+    // Below a tile that is not resident (or a parent whose children are not all resident) the
+    // traversal stops drawing, but the camera's needs go on: `ahead` walks on through those
+    // subtrees with the same culling and refinement tests (which use the scheme's boxes, not the
+    // tiles' data) and requests what it meets, so that a view loads every level it will draw in
+    // one round instead of one level per frame (start-up, a jump of the camera).
+    std::vector<map::TileId> ahead;
     while (!stack.empty()) {
         const map::TileId id = stack.back();
         stack.pop_back();
@@ -126,7 +132,10 @@ LodSelection selectLod(const map::TileScheme& scheme, const Camera& camera, doub
         auto self = resident(id);
         if (!self) {
             // Not loaded: ask for it; the caller's previous selection (parent) covers the gap.
-            if (exists(id)) out.wanted.push_back({id, static_cast<float>(priority)});
+            if (exists(id)) {
+                out.wanted.push_back({id, static_cast<float>(priority)});
+                ahead.push_back(id);
+            }
             continue;
         }
         const bool refine = id.level < scheme.leafLevel() && screenSpaceError(error_m, distance, camera.fov_y_deg,
@@ -152,9 +161,34 @@ LodSelection selectLod(const map::TileScheme& scheme, const Camera& camera, doub
                 stack.insert(stack.end(), children.begin(), children.begin() + present);
                 continue;
             }
+            ahead.insert(ahead.end(), children.begin(), children.begin() + present);
         }
         out.draw.push_back(std::move(self));
         out.finest_level = std::max(out.finest_level, static_cast<int>(id.level));
+    }
+    while (!ahead.empty()) {
+        const map::TileId id = ahead.back();
+        ahead.pop_back();
+        if (id.level >= scheme.leafLevel()) continue;
+        const map::Box b = scheme.bounds(id);
+        const glm::dvec3 lo = glm::dvec3(b.min_x, b.min_y, options.min_height_m) - camera.eye;
+        const glm::dvec3 hi = glm::dvec3(b.max_x, b.max_y, options.max_height_m) - camera.eye;
+        if (boxOutside(frustum, lo, hi)) continue;
+        const double distance = distanceToBox(glm::dvec3(0.0), lo, hi);
+        if (screenSpaceError(levelError(scheme, id.level, options), distance, camera.fov_y_deg, viewport_height) <=
+            options.max_error_px)
+            continue;
+        for (int i = 0; i < 4; ++i) {
+            const map::TileId c{static_cast<std::uint8_t>(id.level + 1), id.x * 2 + (i & 1), id.y * 2 + (i >> 1)};
+            const bool other_root = roots.size() > 1 && std::find(roots.begin(), roots.end(), c) != roots.end();
+            if (!exists(c) || other_root) continue;
+            // After every tile the drawn traversal asks for, coarse before fine: each level is
+            // drawn only once the one above it is resident.
+            if (!resident(c))
+                out.wanted.push_back(
+                    {c, static_cast<float>(-1e5 - 100.0 * c.level - distance / scheme.tileSize(c.level))});
+            ahead.push_back(c);
+        }
     }
     // Deterministic draw order: by level then address.
     std::sort(out.draw.begin(), out.draw.end(), [](const auto& a, const auto& b) { return a->id.key() < b->id.key(); });

@@ -89,7 +89,47 @@ TEST(TerrainLod, MissingChildrenAreRequestedAndTheParentIsDrawn) {
     ASSERT_EQ(sel.draw.size(), 1u);
     EXPECT_EQ(sel.draw[0]->id.level, 0);
     ASSERT_FALSE(sel.wanted.empty());
-    for (const auto& w : sel.wanted) EXPECT_EQ(w.id.level, 1);
+    // The missing children first, then the levels below them, coarse before fine.
+    std::map<int, std::pair<float, float>> priority;  // level -> lowest, highest
+    for (const auto& w : sel.wanted) {
+        auto [it, fresh] = priority.try_emplace(w.id.level, w.priority, w.priority);
+        it->second = {std::min(it->second.first, w.priority), std::max(it->second.second, w.priority)};
+    }
+    ASSERT_EQ(priority.begin()->first, 1);
+    EXPECT_EQ(priority.rbegin()->first, 5) << "the leaves under the camera are asked for too";
+    for (auto it = std::next(priority.begin()); it != priority.end(); ++it)
+        EXPECT_LT(it->second.second, std::prev(it)->second.first) << "level " << it->first;
+}
+
+TEST(TerrainLod, OneRoundOfLoadingCompletesTheViewOfAnUnmovedCamera) {
+    // Start-up and camera jumps: everything the first selection asks for, once loaded, is the
+    // whole view; the selection does not discover one more level per round. Cameras at several
+    // heights, headings and places, each from a store holding only the root.
+    int cameras = 0;
+    for (double height : {60.0, 300.0, 1500.0, 6000.0})
+        for (double heading = 0.0; heading < 360.0; heading += 45.0)
+            for (double x : {1000.0, 8000.0, 15800.0}) {
+                FakeStore partial, full;
+                full.loadAll();
+                render::Camera c;
+                const double a = glm::radians(heading);
+                c.eye = {x, 8000.0, height};
+                c.target = c.eye + glm::dvec3(std::sin(a) * 1000.0, std::cos(a) * 1000.0, -height * 0.8);
+                c.far_m = 30000.0;
+                partial.loaded[map::TileId{}.key()] = partial.make({});
+                const auto first = partial.select(c);
+                for (const auto& w : first.wanted) partial.loaded[w.id.key()] = partial.make(w.id);
+                const auto second = partial.select(c);
+                const auto reference = full.select(c);
+                EXPECT_TRUE(second.wanted.empty()) << "height " << height << " heading " << heading << " x " << x
+                                                   << ": " << second.wanted.size() << " more tiles wanted";
+                std::set<std::uint64_t> drawn, expected;
+                for (const auto& t : second.draw) drawn.insert(t->id.key());
+                for (const auto& t : reference.draw) expected.insert(t->id.key());
+                EXPECT_EQ(drawn, expected) << "height " << height << " heading " << heading << " x " << x;
+                ++cameras;
+            }
+    EXPECT_EQ(cameras, 96);
 }
 
 TEST(TerrainLod, ScreenSpaceErrorHalvesWithDistance) {

@@ -54,8 +54,11 @@ struct LodOptions {
 
 struct LodSelection {
     std::vector<std::shared_ptr<const map::Tile>> draw;  ///< non-overlapping, coarse where needed
-    std::vector<map::TileRequest> wanted;                ///< tiles to load (visible first)
-    std::vector<TileMorph> morph;                        ///< parallel to draw (empty when options.morph is off)
+    /// Tiles to load: those the drawn traversal met missing (visible first), then, at lower
+    /// priority, the levels below them that this camera will draw (coarse first): loading all of
+    /// `wanted` once makes the next selection complete for an unmoved camera.
+    std::vector<map::TileRequest> wanted;
+    std::vector<TileMorph> morph;  ///< parallel to draw (empty when options.morph is off)
     int finest_level = 0;
     std::size_t culled = 0;
 };
