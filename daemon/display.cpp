@@ -170,6 +170,8 @@ bool Display::draw(render::Renderer& renderer, const PoseSource& poses, const Fr
         // other profiles need); the request above is all it is good for. Once every tile is
         // resident, that frame uploads them all at once and is published.
         m_stats.tiles_wanted = m_map_view.lastSelection().wanted.size();
+        m_log(Log::kDebug, "start-up: profile %s tick at %.0f ms: %zu tiles wanted", m_profile.name.c_str(),
+              std::chrono::duration<double, std::milli>(m_frame_start - m_exec).count(), m_stats.tiles_wanted);
         if (m_stats.tiles_wanted > 0 && m_frame_start - m_started <= kStartupTileWait) {
             ++m_stats.held_back;
             return false;
@@ -184,7 +186,8 @@ bool Display::draw(render::Renderer& renderer, const PoseSource& poses, const Fr
     const bool hud = isGuidanceView(m_profile);
     if (context.guidance) addGuidance(frame, *context.guidance, context.route, hud);
     renderer.setMapStyle(hud ? render::MapStyle::hud() : context.style);
-    frame.profile_passes = m_stats.rendered % kPassSampleEvery == kPassSampleEvery - 1;
+    // The start-up frames are timed per pass too: their log line says where the first frame's time goes.
+    frame.profile_passes = m_stats.rendered % kPassSampleEvery == kPassSampleEvery - 1 || m_stats.rendered < 3;
     const auto t_render = Clock::now();
     m_stats.pass_ms["select"].add(std::chrono::duration<double, std::milli>(t_render - m_frame_start).count());
     renderer.renderMap(m_target, frame);
@@ -192,11 +195,15 @@ bool Display::draw(render::Renderer& renderer, const PoseSource& poses, const Fr
     if (frame.profile_passes) samplePasses(renderer.mapStats());
     if (m_stats.rendered < 3) {
         const auto now = Clock::now();
-        m_log(Log::kInfo, "start-up: profile %s frame %llu at %.0f ms (%.0f ms): %zu tiles drawn, %zu pending",
+        const render::MapFrameStats& s = renderer.mapStats();
+        m_log(Log::kInfo,
+              "start-up: profile %s frame %llu at %.0f ms (%.0f ms): %zu tiles drawn, %zu pending; uploads %.0f, "
+              "terrain %.0f, buildings %.0f, roads %.0f, route %.0f, labels %.0f, aura %.0f, glow %.0f ms",
               m_profile.name.c_str(), static_cast<unsigned long long>(m_stats.rendered),
               std::chrono::duration<double, std::milli>(now - m_exec).count(),
-              std::chrono::duration<double, std::milli>(now - m_frame_start).count(), renderer.mapStats().tiles_drawn,
-              renderer.mapStats().tiles_pending);
+              std::chrono::duration<double, std::milli>(now - m_frame_start).count(), s.tiles_drawn, s.tiles_pending,
+              s.uploads_ms, s.terrain_ms, s.buildings_ms, s.roads_ms + s.sv_roads_ms + s.outlines_ms, s.route_ms,
+              s.label_block_ms, s.aura_ms, s.glow_ms);
     }
     m_stats.tiles_drawn = renderer.mapStats().tiles_drawn;
     m_stats.tiles_pending = renderer.mapStats().tiles_pending;

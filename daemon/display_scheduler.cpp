@@ -41,6 +41,7 @@ render::RendererOptions rendererOptions(const DaemonConfig& config, const Displa
     ro.ortho_weights = ortho_weights.string();
     ro.ortho_pixels_per_frame = 16384;
     if (!config.shader_cache.empty()) ro.program_cache_dir = (config.shader_cache / "programs").string();
+    ro.warm_up = true;  // made while the vehicle input starts on another thread (daemon.cpp)
     return ro;
 }
 

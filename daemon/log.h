@@ -11,7 +11,7 @@ namespace navmap::daemon {
 
 class Log {
 public:
-    static constexpr int kErr = 3, kWarning = 4, kNotice = 5, kInfo = 6;
+    static constexpr int kErr = 3, kWarning = 4, kNotice = 5, kInfo = 6, kDebug = 7;
 
     /// `level`: the highest priority number written (3 err .. 7 debug, [log] level).
     explicit Log(int level = kInfo) : m_level(level) {}

@@ -22,7 +22,8 @@
 // Environment: NAVMAP_BOOT_NAVMAPD="label=path,label=path" compares daemons (default this=<the
 // build's navmapd>); NAVMAP_BOOT_SPEED (default 4, the demo's), NAVMAP_BOOT_SECONDS,
 // NAVMAP_BOOT_COLD=fadvise (evict only navmap's files, not the whole page cache),
-// NAVMAP_BOOT_ARGS (more navmapd arguments, split at spaces).
+// NAVMAP_BOOT_ARGS (more navmapd arguments, split at spaces), NAVMAP_BOOT_KEEP_LOG=1 (keep the
+// last boot's folder, with navmapd.log, in the temporary directory).
 
 #include <benchmark/benchmark.h>
 
@@ -145,12 +146,16 @@ Boot boot(Daemon& d, double run_s) {
     const std::string sock = (dir / "frames.sock").string(), control = (dir / "control.sock").string(),
                       log = (dir / "navmapd.log").string(), speed = std::to_string(envNumber("NAVMAP_BOOT_SPEED", 4));
     std::vector<std::string> args = {d.path.string(), "--input",        "sim", "--speed",     speed, "--control-socket",
-                                     control,         "--frame-socket", sock,  "--http-port", "0",   "--log-level",
-                                     "info"};
+                                     control,         "--frame-socket", sock,  "--http-port", "0"};
+    bool log_level = false;
     if (const char* extra = std::getenv("NAVMAP_BOOT_ARGS")) {  // e.g. "--shader-cache /var/tmp/x"
         std::stringstream words(extra);
-        for (std::string w; words >> w;) args.push_back(w);
+        for (std::string w; words >> w;) {
+            log_level = log_level || w == "--log-level";
+            args.push_back(w);
+        }
     }
+    if (!log_level) args.insert(args.end(), {"--log-level", "info"});
     std::vector<char*> argv;
     for (auto& a : args) argv.push_back(a.data());
     argv.push_back(nullptr);
@@ -230,7 +235,7 @@ Boot boot(Daemon& d, double run_s) {
                       " (log " + log + ")";
     }
     r.first_frame_s = first;
-    if (r.error.empty()) fs::remove_all(dir);
+    if (r.error.empty() && !std::getenv("NAVMAP_BOOT_KEEP_LOG")) fs::remove_all(dir);
     return r;
 }
 

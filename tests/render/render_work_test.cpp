@@ -87,3 +87,54 @@ TEST(RenderWork, TwiceTheRoadsCostAtMostTwiceTheWork) {
     EXPECT_LE(ratio(small.first.bytes_uploaded, large.first.bytes_uploaded), 2.3);
     EXPECT_LE(ratio(small.first.vertices, large.first.vertices), 2.3);
 }
+
+// RendererOptions::warm_up rasterizes a throwaway land-cover triangle at creation (the daemon's
+// start-up pays the driver's first code there): it must leave nothing behind that changes a frame.
+// A tile with water and forest areas, drawn by a renderer with and one without the warm-up.
+TEST(RenderWarmUp, DrawsTheSameFramesAsWithout) {
+    auto tile = navmap::test::makeTile([](float x, float y) { return 400.0F + 0.05F * x + 0.02F * y; });
+    map::Area water, forest;
+    water.cls = map::AreaClass::Water;
+    forest.cls = map::AreaClass::Forest;
+    water.polygon.vertices = {{100, 100}, {600, 150}, {350, 700}};
+    forest.polygon.vertices = {{500, 500}, {950, 520}, {900, 950}, {480, 900}};
+    water.polygon.ring_ends = {3};
+    water.polygon.indices = {0, 1, 2};
+    forest.polygon.ring_ends = {4};
+    forest.polygon.indices = {0, 1, 2, 0, 2, 3};
+    tile->areas = {water, forest};
+    tile->roads.push_back(navmap::test::road(map::RoadClass::Primary, {{50.0F, 500.0F}, {950.0F, 560.0F}}));
+    const glm::dvec3 origin(tile->origin_x, tile->origin_y, 0.0);
+    MapFrame frame;
+    frame.camera.eye = origin + glm::dvec3(500.0, -300.0, 1200.0);
+    frame.camera.target = origin + glm::dvec3(500.0, 500.0, 400.0);
+    frame.camera.up = glm::dvec3(0.0, 0.0, 1.0);
+    frame.camera.near_m = 10.0;
+    frame.camera.far_m = 5000.0;
+    frame.tiles = {tile};
+    frame.upload_all = true;
+    std::vector<Image> images[2];
+    for (bool warm : {false, true}) {
+        RendererOptions o;
+        o.width = 320;
+        o.height = 240;
+        o.warm_up = warm;
+        auto renderer = Renderer::create(o);
+        for (int i = 0; i < 2; ++i) {
+            renderer->renderMap(frame);
+            images[warm].push_back(renderer->readSync());
+        }
+    }
+    for (std::size_t i = 0; i < 2; ++i) {
+        ASSERT_EQ(images[0][i].rgba.size(), images[1][i].rgba.size());
+        std::size_t differing = 0;
+        for (std::size_t b = 0; b < images[0][i].rgba.size(); ++b)
+            differing += images[0][i].rgba[b] != images[1][i].rgba[b];
+        EXPECT_EQ(differing, 0U) << "frame " << i;
+    }
+    // The areas are drawn: water blue dominates somewhere, so the raster path ran in both.
+    std::size_t blue = 0;
+    const Image& im = images[1][0];
+    for (std::size_t p = 0; p + 3 < im.rgba.size(); p += 4) blue += im.rgba[p + 2] > im.rgba[p] + 40;
+    EXPECT_GT(blue, 500U);
+}

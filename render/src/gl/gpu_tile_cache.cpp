@@ -159,6 +159,15 @@ GpuTileCache::GpuTileCache(const RendererOptions& options)
     : m_options(options), m_land_cover(ShaderProgram::fromEmbedded("landcover_raster.vert", "landcover_raster.frag")) {
     glGenFramebuffers(1, &m_raster_fbo);
     glGenBuffers(1, &m_road_index_buffer);
+    if (options.warm_up) {
+        // The first land-cover raster pays for the driver's code of the multisample resolve and
+        // of the mipmap chain: on llvmpipe about 270 ms of shader JIT, which the first map frame
+        // would wait for. One triangle on an 8 x 8 raster pays it here (docs/navmapd.md "Start-up").
+        const LandCoverVertex triangle[3] = {
+            {{0.0f, 0.0f}, glm::vec4(1.0f)}, {{1.0f, 0.0f}, glm::vec4(1.0f)}, {{0.0f, 1.0f}, glm::vec4(1.0f)}};
+        const GLuint scratch = rasterizeLandCover(triangle, 8, glm::vec2(0.0f), 1.0f);
+        glDeleteTextures(1, &scratch);
+    }
     // The weights are read now, as the renderer is made at start-up, never in a frame: the read is
     // bounded (a regular file of the format's size at most, opened without blocking; a FIFO or
     // /dev/zero is refused at once), and whatever the disk does, no frame waits for it.

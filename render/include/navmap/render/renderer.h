@@ -72,6 +72,11 @@ struct RendererOptions {
     /// driver rejects is compiled again and replaced. Empty: no cache. The driver must offer a
     /// binary format (Mesa does only while its own shader cache is on).
     std::string program_cache_dir;
+    /// Pay at creation for the driver code that the first map frame would otherwise wait for
+    /// (the land-cover raster's multisample resolve and mipmaps: about 300 ms of shader JIT on
+    /// llvmpipe). For a daemon's start-up, where creation overlaps other work; tests and tools that
+    /// make many renderers leave it off.
+    bool warm_up = false;
 };
 
 /// The renderer's program binary cache (RendererOptions::program_cache_dir), since its creation.
