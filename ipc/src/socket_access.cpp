@@ -4,6 +4,7 @@
 #include <grp.h>
 #include <sys/socket.h>
 #include <sys/stat.h>
+#include <sys/un.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -75,6 +76,36 @@ Status applySocketFileAccess(const std::string& path, mode_t mode, std::optional
     }
     if (group && ::lchown(path.c_str(), static_cast<uid_t>(-1), *group) != 0) {
         return Error{sysError("chown", path + ", group " + std::to_string(*group))};
+    }
+    return {};
+}
+
+Status bindAndListenUnix(int fd, const std::string& path, mode_t mode, std::optional<gid_t> group, int backlog) {
+    sockaddr_un addr{};
+    addr.sun_family = AF_UNIX;
+    std::string bound = path + ".bind";
+    if (bound.size() >= sizeof(addr.sun_path)) bound = path;
+    if (bound.size() >= sizeof(addr.sun_path)) {
+        return Error{"bind(" + path + "): path too long for a Unix socket"};
+    }
+    std::memcpy(addr.sun_path, bound.c_str(), bound.size() + 1);
+    if (bound != path) ::unlink(bound.c_str());  // a staging file left by a killed server
+    if (::bind(fd, reinterpret_cast<const sockaddr*>(&addr), sizeof addr) != 0) {
+        return Error{sysError("bind", path)};
+    }
+    if (auto access = applySocketFileAccess(bound, mode, group); !access) {
+        ::unlink(bound.c_str());
+        return access;
+    }
+    if (::listen(fd, backlog) != 0) {
+        const std::string err = sysError("listen", path);
+        ::unlink(bound.c_str());
+        return Error{err};
+    }
+    if (bound != path && ::rename(bound.c_str(), path.c_str()) != 0) {
+        const std::string err = sysError("rename", bound + " -> " + path);
+        ::unlink(bound.c_str());
+        return Error{err};
     }
     return {};
 }

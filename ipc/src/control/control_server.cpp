@@ -113,24 +113,18 @@ Result<std::unique_ptr<ControlServer>> ControlServer::create(ControlServerConfig
         }
     }
     // The file bind() creates is never wider than the mode; the exact mode and the group are set
-    // before listen(), and nobody can connect before listen(): no moment with wider access.
+    // before listen(), and nobody can connect before listen(): no moment with wider access. The
+    // file appears at `path` only once the socket listens.
     if (auto access = restrictSocketBeforeBind(s->m_listen_fd.get(), s->m_config.socket_mode, path); !access) {
         return Error{access.message()};
     }
-    if (::bind(s->m_listen_fd.get(), reinterpret_cast<const sockaddr*>(&addr), sizeof addr) != 0) {
-        return Error{sysError("bind", path)};
-    }
-    if (auto access = applySocketFileAccess(path, s->m_config.socket_mode, s->m_config.socket_group); !access) {
-        ::unlink(path.c_str());
-        return Error{access.message()};
+    if (auto bound =
+            bindAndListenUnix(s->m_listen_fd.get(), path, s->m_config.socket_mode, s->m_config.socket_group, 16);
+        !bound) {
+        return Error{bound.message()};
     }
     if (::lstat(path.c_str(), &st) == 0) {
         s->m_socket_inode = st.st_ino;
-    }
-    if (::listen(s->m_listen_fd.get(), 16) != 0) {
-        const std::string err = sysError("listen", path);
-        ::unlink(path.c_str());
-        return Error{err};
     }
     s->m_wake_fd.reset(::eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC));
     if (!s->m_wake_fd.valid()) {

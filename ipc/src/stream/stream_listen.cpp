@@ -38,21 +38,13 @@ Result<int> listenUnix(const std::string& path, mode_t mode, std::optional<gid_t
         return Error{sysError("socket", path)};
     }
     // The file bind() creates is never wider than `mode`; its exact mode and group are set before
-    // listen(), and no peer can connect before listen(): there is no moment with wider access.
+    // listen(), and no peer can connect before listen(): there is no moment with wider access. The
+    // file appears at `path` only once the socket listens.
     if (auto access = restrictSocketBeforeBind(fd.get(), mode, path); !access) {
         return Error{access.message()};
     }
-    if (bind(fd.get(), reinterpret_cast<const sockaddr*>(&addr.value()), sizeof(sockaddr_un)) != 0) {
-        return Error{sysError("bind", path)};
-    }
-    if (auto access = applySocketFileAccess(path, mode, group); !access) {
-        unlink(path.c_str());
-        return Error{access.message()};
-    }
-    if (listen(fd.get(), 64) != 0) {
-        const std::string err = sysError("listen", path);
-        unlink(path.c_str());
-        return Error{err};
+    if (auto bound = bindAndListenUnix(fd.get(), path, mode, group, 64); !bound) {
+        return Error{bound.message()};
     }
     return fd.release();
 }

@@ -4,11 +4,16 @@
 
 #include <gtest/gtest.h>
 #include <sys/socket.h>
+#include <sys/un.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
+#include <cerrno>
 #include <cstring>
+#include <filesystem>
 #include <nlohmann/json.hpp>
+#include <thread>
 
 #include "navmap/ipc/frame_header.h"
 #include "navmap/ipc/frame_server.h"
@@ -498,6 +503,46 @@ TEST_F(StreamServerTest, ActiveProfilesTellTheDaemonWhatToRender) {
     EXPECT_EQ(active[1].width, 800);
     EXPECT_EQ(active[1].height, 240);
     EXPECT_EQ(m_server->stats().rings, 3U);
+}
+
+// Display processes wait for the socket file and connect the moment it is there: the file
+// appears only once the socket listens (bound under a staging name, then renamed into place), so
+// such a connect never meets a refusal. A thread polls for the path and connects as soon as it
+// exists, across 300 starts of a server.
+TEST(FrameServerSetup, TheSocketFileAppearsOnlyOnceItListens) {
+    const std::string path = "/tmp/navmap-listen-" + std::to_string(::getpid()) + ".sock";
+    std::atomic<int> refused{0}, connected{0};
+    for (int i = 0; i < 300; ++i) {
+        ::unlink(path.c_str());
+        std::atomic<bool> stop{false};
+        std::thread poller([&] {
+            while (!stop) {
+                if (::access(path.c_str(), F_OK) != 0) continue;
+                const int fd = ::socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
+                sockaddr_un addr{};
+                addr.sun_family = AF_UNIX;
+                std::memcpy(addr.sun_path, path.c_str(), path.size() + 1);
+                if (::connect(fd, reinterpret_cast<const sockaddr*>(&addr), sizeof addr) == 0)
+                    ++connected;
+                else if (errno == ECONNREFUSED)
+                    ++refused;
+                ::close(fd);
+                return;
+            }
+        });
+        FrameServerOptions o;
+        o.unix_path = path;
+        FrameServer s(o);
+        const auto st = s.start();
+        EXPECT_TRUE(st.ok()) << st.message();
+        EXPECT_TRUE(navmap::test::waitFor([&] { return connected + refused > i; }, 2s));
+        stop = true;
+        poller.join();
+        EXPECT_FALSE(std::filesystem::exists(path + ".bind")) << "the staging name is gone";
+    }
+    ::unlink(path.c_str());
+    EXPECT_EQ(refused, 0);
+    EXPECT_EQ(connected, 300);
 }
 
 TEST(FrameServerSetup, BindErrorsNameTheCallAndTheObject) {

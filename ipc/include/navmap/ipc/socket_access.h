@@ -50,6 +50,14 @@ Status restrictSocketBeforeBind(int fd, mode_t mode, const std::string& path);
 /// call, the path and the group: "chown(/run/navmap/frames.sock, group 107): Operation not permitted".
 Status applySocketFileAccess(const std::string& path, mode_t mode, std::optional<gid_t> group);
 
+/// bind(), applySocketFileAccess() and listen(`backlog`) for the Unix socket `fd` (after
+/// restrictSocketBeforeBind), so that the file at `path` appears only once it listens: bound under
+/// a staging name beside it (`path` + ".bind") and renamed into place. A client that waits for the
+/// file to appear (a display process at start-up) never meets one that refuses connections. Where
+/// the staging name would not fit a socket address, binds at `path` itself. The caller has removed
+/// a stale file at `path`; nothing is left behind on an error.
+Status bindAndListenUnix(int fd, const std::string& path, mode_t mode, std::optional<gid_t> group, int backlog);
+
 /// A group by name or number ("navmap", "107"): its gid, or an Error naming `what` and the group.
 Result<gid_t> resolveGroup(const std::string& group, const std::string& what);
 
