@@ -170,9 +170,11 @@ bool Display::draw(render::Renderer& renderer, const PoseSource& poses, const Fr
         // other profiles need); the request above is all it is good for. Once every tile is
         // resident, that frame uploads them all at once and is published.
         m_stats.tiles_wanted = m_map_view.lastSelection().wanted.size();
-        m_log(Log::kDebug, "start-up: profile %s tick at %.0f ms: %zu tiles wanted", m_profile.name.c_str(),
-              std::chrono::duration<double, std::milli>(m_frame_start - m_exec).count(), m_stats.tiles_wanted);
-        if (m_stats.tiles_wanted > 0 && m_frame_start - m_started <= kStartupTileWait) {
+        m_log(Log::kDebug, "start-up: profile %s tick at %.0f ms: %zu tiles wanted%s", m_profile.name.c_str(),
+              std::chrono::duration<double, std::milli>(m_frame_start - m_exec).count(), m_stats.tiles_wanted,
+              m_hold_first ? ", waiting for the profiles listed before it" : "");
+        const bool waiting = m_frame_start - m_started <= kStartupTileWait;
+        if ((m_stats.tiles_wanted > 0 || m_hold_first) && waiting) {
             ++m_stats.held_back;
             return false;
         }

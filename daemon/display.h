@@ -82,6 +82,8 @@ public:
     [[nodiscard]] bool hasAttribution() const { return m_attribution != nullptr; }
     /// False until a frame showed the map under the camera (or the start-up wait ran out).
     [[nodiscard]] bool mapReady() const { return m_first_complete != kNone; }
+    /// True once a frame was rendered (for the start-up order: Display::holdFirstFrame).
+    [[nodiscard]] bool started() const { return m_stats.rendered > 0; }
     /// Frames rendered whose readback has not been published yet.
     [[nodiscard]] bool inFlight() const { return !m_source_times.empty(); }
     /// The pose of the last rendered frame (tests: every display stands the vehicle on the same ground).
@@ -94,6 +96,11 @@ public:
     /// The tile loader's queue for this display's tiles: lower loads first (the scheduler gives
     /// the profiles their configured order, the cluster first).
     void setLoadPriority(int queue) { m_map_view.setLoadQueue(queue); }
+    /// Start-up, cluster first: while set, a display whose map is not ready yet renders no first
+    /// frame even when its tiles are resident (its uploads, shader JIT and rasterization would
+    /// take the CPU that a display listed before it needs for its own first frame). Bounded by
+    /// the same start-up wait as the tiles. The scheduler sets it before every draw().
+    void holdFirstFrame(bool hold) { m_hold_first = hold; }
 
     /// The daemon re-centred its map frame: forgets what it keeps in the old one (the HUD's
     /// junction roads).
@@ -156,6 +163,7 @@ private:
     Clock::time_point m_last_status_sent{};
     std::size_t m_status_clients = 0;
     DisplayStats m_stats;
+    bool m_hold_first = false;  // holdFirstFrame()
 };
 
 }  // namespace navmap::daemon

@@ -121,9 +121,19 @@ DisplayScheduler::Clock::time_point DisplayScheduler::tick(Clock::time_point now
     m_rendering_wanted = m_options.render_all || !active.empty();
     Clock::time_point next_wake = now + std::chrono::milliseconds(50);
     for (auto& d : m_displays) d->sendLoadingStatus(active, m_frames, now);
+    // Start-up, cluster first: a watched display listed earlier that has rendered nothing yet
+    // holds back the first frames of those after it (Display::holdFirstFrame).
+    bool earlier_starting = false, previous_wanted = false;
     for (std::size_t i = 0; i < m_displays.size(); ++i) {
         Display& d = *m_displays[i];
         Pacing& pacing = m_pacing[i];
+        // After the previous display's draw of this tick: its first frame frees the next one now.
+        if (i > 0) earlier_starting = earlier_starting || (previous_wanted && !m_displays[i - 1]->started());
+        const bool wanted = m_options.render_all ||
+                            std::any_of(active.begin(), active.end(),
+                                        [&](const ipc::ActiveProfile& a) { return a.profile == d.profile().name; });
+        previous_wanted = wanted;
+        const bool hold = earlier_starting;
         if (now < pacing.next_due) {
             next_wake = std::min(next_wake, pacing.next_due);
             continue;
@@ -132,13 +142,11 @@ DisplayScheduler::Clock::time_point DisplayScheduler::tick(Clock::time_point now
                                                          std::chrono::duration<double>(1.0 / d.profile().fps)),
                                    now);
         next_wake = std::min(next_wake, pacing.next_due);
-        const bool wanted = m_options.render_all ||
-                            std::any_of(active.begin(), active.end(),
-                                        [&](const ipc::ActiveProfile& a) { return a.profile == d.profile().name; });
         if (!wanted) {
             d.skipIdle();  // nobody watches this display: render nothing
             continue;
         }
+        d.holdFirstFrame(hold);
         if (d.draw(*m_renderer, poses, context, m_projection)) {
             warnFlatTiles();
             d.finishFrame(*m_renderer, m_frames, now);

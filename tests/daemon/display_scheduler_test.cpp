@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cstdio>
 #include <map>
 #include <thread>
 
@@ -97,5 +99,58 @@ TEST(DisplayScheduler, ThePoseHeightDoesNotDependOnTheOrderOfTheDisplays) {
     for (const auto& [name, z] : forward.by_display) {
         EXPECT_EQ(z, forward.ground) << name << " (cluster listed first)";
         EXPECT_EQ(reversed.by_display.at(name), forward.ground) << name << " (center listed first)";
+    }
+}
+
+// Start-up, cluster first: no display renders its first frame before every display listed
+// before it has rendered its own (the first frame uploads every tile and compiles the driver's
+// shader code: the CPU the cluster needs). Checked after every tick of a start, with the HUD's
+// fewer tiles resident before the cluster's; in both listing orders.
+TEST(DisplayScheduler, NoDisplayStartsBeforeTheDisplaysListedBeforeIt) {
+    if (!std::filesystem::exists(storePath())) {
+        GTEST_SKIP() << "no compiled store at " << storePath() << " (build the navmap_default_store target)";
+    }
+    std::vector<DisplayProfile> profiles = defaultProfiles();  // cluster, hud, center
+    for (int order = 0; order < 2; ++order) {
+        if (order == 1) std::reverse(profiles.begin(), profiles.end());
+        map::MapScene scene = map::MapScene::open(storePath());
+        const auto vehicle = standingVehicle(scene.projection());
+        const PoseSource poses([vehicle](ipc::CanTime t) { return vehicle->poseAt(t); }, scene.cache,
+                               scene.toPlanar(42.5, 1.5));
+        DaemonConfig config;
+        config.profiles = profiles;
+        const auto dir =
+            std::filesystem::temp_directory_path() / ("navmap-scheduler-order-" + std::to_string(::getpid()));
+        std::filesystem::create_directories(dir);
+        config.frame_socket = dir / "frames.sock";
+        ipc::FrameServer frames(frameServerOptions(config));
+        ASSERT_TRUE(frames.start());
+        DisplayScheduler scheduler(config, {.noop_renderer = true, .render_all = true, .ortho_weights = {}},
+                                   scene.cache, scene.projection(), frames, std::chrono::steady_clock::now(),
+                                   Log(Log::kErr));
+        FrameContext context;
+        context.style = render::MapStyle::day();
+        const auto& displays = scheduler.displays();
+        std::vector<int> first_tick(displays.size(), -1);
+        for (int tick = 0; tick < 200 && std::count(first_tick.begin(), first_tick.end(), -1) > 0; ++tick) {
+            (void)scheduler.tick(std::chrono::steady_clock::now() + std::chrono::seconds(tick), poses, context);
+            for (std::size_t i = 0; i < displays.size(); ++i)
+                if (first_tick[i] < 0 && displays[i]->started()) first_tick[i] = tick;
+            for (std::size_t i = 1; i < displays.size(); ++i)
+                if (displays[i]->started()) {
+                    EXPECT_TRUE(displays[i - 1]->started())
+                        << displays[i]->profile().name << " started at tick " << tick << " before "
+                        << displays[i - 1]->profile().name;
+                }
+            std::this_thread::sleep_for(5ms);  // the loader's pace, not the test's
+        }
+        for (std::size_t i = 0; i < displays.size(); ++i) {
+            EXPECT_GE(first_tick[i], 0) << displays[i]->profile().name << " never rendered";
+            std::printf("order %d: %s first rendered at tick %d, %llu frames held back\n", order,
+                        displays[i]->profile().name.c_str(), first_tick[i],
+                        static_cast<unsigned long long>(displays[i]->stats().held_back));
+        }
+        frames.stop();
+        std::filesystem::remove_all(dir);
     }
 }
