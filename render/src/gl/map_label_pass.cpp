@@ -9,6 +9,11 @@
 
 namespace navmap::render::gl {
 
+void MapLabelPass::warmUp() {
+    if (!m_text) m_text = std::make_shared<LabelText>();
+    m_text->engine.prefetchGlyphs(text::TextEngine::latinCodepoints());
+}
+
 void MapLabelPass::layout(const FrameContext& ctx, std::span<const glm::vec2> keep_out) {
     if (!m_text) m_text = std::make_shared<LabelText>();
     std::unique_ptr<LabelPass>& pass = m_passes[ctx.target_id];

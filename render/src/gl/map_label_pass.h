@@ -27,6 +27,9 @@ public:
     /// marker's screen outline, pixels, y down). Creates the target's label state on its first
     /// frame with labels.
     void layout(const FrameContext& ctx, std::span<const glm::vec2> keep_out);
+    /// Start-up (RendererOptions::warm_up): loads the fonts and compiles the text shaders now, and
+    /// starts making the Latin glyphs on a background thread, instead of in the first frame.
+    void warmUp();
     /// The labels laid out by layout(), as the label aura sees them (seed 5.5.1); empty without
     /// labels this frame.
     [[nodiscard]] std::span<const LabelOccluder> occluders(const FrameContext& ctx) const;

@@ -63,7 +63,9 @@ MapRenderer::MapRenderer(const RendererOptions& options, bool software, const Gl
       m_style(MapStyle::day()),
       m_cache(options),
       m_roads(m_cache.roadIndexBuffer()),
-      m_outlines(software) {}
+      m_outlines(software) {
+    if (options.warm_up) m_labels.warmUp();
+}
 
 MapRenderer::~MapRenderer() = default;
 

@@ -1,8 +1,15 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "navmap/render/text/glyph_atlas.h"
 
+#include <sys/resource.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <atomic>
 #include <cstring>
+#include <exception>
+#include <mutex>
+#include <thread>
 
 #include "font_backend.h"
 
@@ -17,6 +24,15 @@ constexpr float kEvictFill = 0.9f;
 
 }  // namespace
 
+// The background rasterizer of prefetch(): its own FreeType faces (a face is not shared between
+// threads), results handed over under the mutex.
+struct GlyphAtlas::Prefetch {
+    std::mutex mutex;
+    std::unordered_map<std::uint64_t, Entry> ready;
+    std::atomic<bool> stop{false};
+    std::thread worker;
+};
+
 GlyphAtlas::GlyphAtlas(const FontCollection& fonts, const AtlasParams& params)
     : m_fonts(fonts),
       m_params(params),
@@ -28,6 +44,49 @@ GlyphAtlas::GlyphAtlas(const FontCollection& fonts, const AtlasParams& params)
     m_params.spread_px = std::max(m_params.spread_px, 1);
     m_params.base_em_px = std::max(m_params.base_em_px, 4);
     markDirty(0, m_height);
+}
+
+GlyphAtlas::~GlyphAtlas() {
+    if (m_prefetch) {
+        m_prefetch->stop = true;
+        if (m_prefetch->worker.joinable()) m_prefetch->worker.join();
+    }
+}
+
+void GlyphAtlas::waitForPrefetch() {
+    if (m_prefetch && m_prefetch->worker.joinable()) m_prefetch->worker.join();
+}
+
+void GlyphAtlas::prefetch(const FontFiles& files, std::u32string codepoints) {
+    if (m_prefetch) return;
+    m_prefetch = std::make_unique<Prefetch>();
+    m_prefetch->worker = std::thread([this, files, codepoints = std::move(codepoints), p = m_prefetch.get()] {
+        // Below the render thread: it uses only what the render thread and its rasterizer leave.
+        ::setpriority(PRIO_PROCESS, static_cast<id_t>(::gettid()), 10);
+        try {
+            const FontCollection fonts(files);
+            for (const FontStyle style : {FontStyle::Regular, FontStyle::Bold}) {
+                for (const char32_t c : codepoints) {
+                    if (p->stop) return;
+                    for (const FontId font : fonts.chain(style)) {
+                        if (!fonts.hasCodepoint(font, c)) continue;
+                        const FT_UInt index = FT_Get_Char_Index(fonts.impl().fonts.at(font).face, c);
+                        const std::uint64_t k = key(font, index);
+                        {
+                            const std::lock_guard lock(p->mutex);
+                            if (p->ready.count(k)) break;
+                        }
+                        Entry e = rasterize(fonts, font, index);
+                        const std::lock_guard lock(p->mutex);
+                        p->ready.emplace(k, std::move(e));
+                        break;
+                    }
+                }
+            }
+        } catch (const std::exception&) {
+            // Fonts that cannot be loaded again: glyph() rasterizes everything itself.
+        }
+    });
 }
 
 float GlyphAtlas::fill() const {
@@ -85,11 +144,17 @@ void GlyphAtlas::beginFrame(std::uint32_t keep_frames) {
 }
 
 GlyphAtlas::Entry GlyphAtlas::rasterize(FontId font, std::uint32_t glyph_index) {
+    Entry e = rasterize(m_fonts, font, glyph_index);
+    if (!e.glyph.empty) ++m_stats.rasterized;
+    return e;
+}
+
+GlyphAtlas::Entry GlyphAtlas::rasterize(const FontCollection& fonts, FontId font, std::uint32_t glyph_index) const {
     Entry e;
     const int ss = m_params.supersample;
     const int spread = m_params.spread_px;
     const float base = static_cast<float>(m_params.base_em_px);
-    FT_Face face = m_fonts.impl().fonts.at(font).face;
+    FT_Face face = fonts.impl().fonts.at(font).face;
     if (FT_Set_Pixel_Sizes(face, 0, static_cast<FT_UInt>(m_params.base_em_px * ss))) return e;
     // Unhinted outlines: the field is scaled freely, hinting for one size would distort others.
     if (FT_Load_Glyph(face, glyph_index, FT_LOAD_NO_HINTING | FT_LOAD_NO_BITMAP)) return e;
@@ -123,7 +188,6 @@ GlyphAtlas::Entry GlyphAtlas::rasterize(FontId font, std::uint32_t glyph_index) 
     e.glyph.top = static_cast<float>(top) / base;
     e.glyph.width = static_cast<float>(w) / base;
     e.glyph.height = static_cast<float>(h) / base;
-    ++m_stats.rasterized;
     return e;
 }
 
@@ -161,7 +225,18 @@ const AtlasGlyph* GlyphAtlas::glyph(FontId font, std::uint32_t glyph_index) {
         return &it->second.glyph;
     }
     if (font >= m_fonts.size()) return nullptr;
-    Entry e = rasterize(font, glyph_index);
+    Entry e;
+    bool made = false;
+    if (m_prefetch) {
+        const std::lock_guard lock(m_prefetch->mutex);
+        if (auto p = m_prefetch->ready.find(k); p != m_prefetch->ready.end()) {
+            e = std::move(p->second);
+            m_prefetch->ready.erase(p);
+            made = true;
+            ++m_stats.prefetched;
+        }
+    }
+    if (!made) e = rasterize(font, glyph_index);
     if (!e.glyph.empty && !place(e)) {
         ++m_stats.overflows;
         m_overflow_frame = m_frame;

@@ -4,10 +4,24 @@
 namespace navmap::render::text {
 
 TextEngine::TextEngine(const TextEngineOptions& options)
-    : m_fonts(std::make_unique<FontCollection>(options.fonts)),
+    : m_font_files(options.fonts),
+      m_fonts(std::make_unique<FontCollection>(options.fonts)),
       m_shaper(*m_fonts),
       m_atlas(*m_fonts, options.atlas),
       m_max_runs(options.max_runs) {}
+
+std::u32string TextEngine::latinCodepoints() {
+    // The most frequent first: the first frames take whatever is ready.
+    std::u32string out;
+    for (char32_t c = U'a'; c <= U'z'; ++c) out.push_back(c);
+    for (char32_t c = U'A'; c <= U'Z'; ++c) out.push_back(c);
+    for (char32_t c = 0xC0; c <= 0xFF; ++c)
+        if (c != 0xD7 && c != 0xF7) out.push_back(c);  // letters, not the multiplication and division signs
+    for (char32_t c = U'0'; c <= U'9'; ++c) out.push_back(c);
+    for (char32_t c = 0x21; c <= 0x7E; ++c)
+        if (out.find(c) == std::u32string::npos) out.push_back(c);
+    return out;
+}
 
 RunId TextEngine::run(std::string_view utf8, FontStyle style) {
     std::string key;

@@ -237,6 +237,52 @@ TEST(LabelTextStyle, PlacesShrinkWithClass) {
     EXPECT_LT(road.style.outline.r, 0.2f);
 }
 
+// Glyphs made ahead on the prefetch thread (start-up) give the atlas exactly the pixels and
+// quads of glyphs rasterized when asked for, and are taken instead of rasterized again; names
+// with letters outside the prefetched set are rasterized as before.
+TEST(TextEngine, PrefetchedGlyphsLayOutAsTheOnesRasterizedOnDemand) {
+    NAVMAP_REQUIRE_FONTS(fonts);
+    TextEngine plain, prefetched;
+    prefetched.prefetchGlyphs(TextEngine::latinCodepoints());
+    prefetched.atlas().waitForPrefetch();
+    const char* names[] = {"Andorra la Vella",  "Sant Julià de Lòria", "Escaldes-Engordany", "Encamp 1200 m",
+                           "Ordino (Església)", "Pas de la Casa",      "Ζ Ω Ж 東京"};
+    for (const char* name : names) {
+        for (const FontStyle style : {FontStyle::Regular, FontStyle::Bold}) {
+            plain.beginFrame();
+            prefetched.beginFrame();
+            const LaidOutText a = plain.layout(plain.run(name, style), 18.0f);
+            const LaidOutText b = prefetched.layout(prefetched.run(name, style), 18.0f);
+            ASSERT_EQ(a.quads.size(), b.quads.size()) << name;
+            for (std::size_t i = 0; i < a.quads.size(); ++i) {
+                EXPECT_EQ(a.quads[i].p0, b.quads[i].p0) << name << " glyph " << i;
+                EXPECT_EQ(a.quads[i].p1, b.quads[i].p1) << name << " glyph " << i;
+                EXPECT_EQ(a.quads[i].t0, b.quads[i].t0) << name << " glyph " << i;
+                EXPECT_EQ(a.quads[i].t1, b.quads[i].t1) << name << " glyph " << i;
+            }
+        }
+    }
+    EXPECT_EQ(plain.atlas().pixels(), prefetched.atlas().pixels());
+    EXPECT_EQ(plain.atlas().stats().prefetched, 0U);
+    EXPECT_GT(prefetched.atlas().stats().prefetched, 40U);
+    // Only what no prefetched glyph covered was rasterized when asked for: the Greek, Cyrillic and
+    // CJK letters of the last name (two styles).
+    EXPECT_GT(prefetched.atlas().stats().rasterized, 0U);
+    EXPECT_LE(prefetched.atlas().stats().rasterized, 12U);
+    EXPECT_EQ(prefetched.atlas().stats().rasterized + prefetched.atlas().stats().prefetched,
+              plain.atlas().stats().rasterized);
+}
+
+TEST(TextEngine, AnEngineDestroyedWhilePrefetchingStopsItsThread) {
+    NAVMAP_REQUIRE_FONTS(fonts);
+    for (int i = 0; i < 5; ++i) {
+        TextEngine engine;
+        engine.prefetchGlyphs(TextEngine::latinCodepoints());
+        engine.beginFrame();
+        EXPECT_FALSE(engine.layout(engine.run("Canillo"), 16.0f).quads.empty());
+    }  // destroyed at once: the thread stops between glyphs and is joined
+}
+
 TEST(TextEngine, CachesRunsAndLaysOut) {
     std::string why;
     if (navmap::render::text::debianFontFiles().regular.size() < 2)

@@ -5,6 +5,8 @@
 // used recently. GL-free: the renderer uploads image() when version() changes.
 
 #include <cstdint>
+#include <memory>
+#include <string>
 #include <unordered_map>
 #include <vector>
 
@@ -43,12 +45,25 @@ struct AtlasStats {
     std::size_t evicted = 0;     ///< glyphs evicted since creation
     std::size_t overflows = 0;   ///< requests refused because the atlas was full this frame
     std::size_t repacks = 0;
+    std::size_t prefetched = 0;  ///< glyphs taken from prefetch() instead of rasterized when asked for
 };
 
 /// Not thread-safe; owned by the render thread. The FontCollection must outlive it.
 class GlyphAtlas {
 public:
     GlyphAtlas(const FontCollection& fonts, const AtlasParams& params = {});
+    ~GlyphAtlas();
+    GlyphAtlas(const GlyphAtlas&) = delete;
+    GlyphAtlas& operator=(const GlyphAtlas&) = delete;
+
+    /// Rasterizes the glyphs of `codepoints` in both styles' first fonts that have them on a
+    /// background thread (low priority, with fonts of its own loaded from `files`, the files
+    /// `fonts` was made from), so that the first frames with text find their distance fields made
+    /// (a glyph costs about 1 ms: start-up). glyph() takes a prefetched glyph when it is ready and
+    /// rasterizes it itself otherwise; the atlas is the same either way. Once per atlas.
+    void prefetch(const FontFiles& files, std::u32string codepoints);
+    /// Blocks until prefetch()'s thread has made every glyph (tests, benchmarks).
+    void waitForPrefetch();
 
     /// Starts a frame: glyphs requested from now on count as used in it. When the atlas is
     /// nearly full at its maximum height, glyphs not used in the last `keep_frames` frames
@@ -84,10 +99,13 @@ private:
     };
     static std::uint64_t key(FontId font, std::uint32_t glyph) { return (std::uint64_t{font} << 32) | glyph; }
     Entry rasterize(FontId font, std::uint32_t glyph_index);
+    Entry rasterize(const FontCollection& fonts, FontId font, std::uint32_t glyph_index) const;
     bool place(Entry& e);
     void blit(const Entry& e);
     void markDirty(int first, int end);
 
+    struct Prefetch;
+    std::unique_ptr<Prefetch> m_prefetch;
     const FontCollection& m_fonts;
     AtlasParams m_params;
     int m_height;

@@ -48,11 +48,18 @@ public:
     /// Increments when the run cache was emptied (all RunIds invalid).
     [[nodiscard]] std::uint64_t runsGeneration() const { return m_runs_generation; }
 
+    /// Makes the glyphs of `codepoints` on a background thread ahead of their first use
+    /// (GlyphAtlas::prefetch). Once per engine.
+    void prefetchGlyphs(std::u32string codepoints) { m_atlas.prefetch(m_font_files, std::move(codepoints)); }
+    /// Printable ASCII and the Latin-1 letters: the map labels of western European regions.
+    static std::u32string latinCodepoints();
+
     [[nodiscard]] const FontCollection& fonts() const { return *m_fonts; }
     [[nodiscard]] GlyphAtlas& atlas() { return m_atlas; }
     [[nodiscard]] const GlyphAtlas& atlas() const { return m_atlas; }
 
 private:
+    FontFiles m_font_files;
     std::unique_ptr<FontCollection> m_fonts;
     TextShaper m_shaper;
     GlyphAtlas m_atlas;
