@@ -138,9 +138,8 @@ TEST(DisplayScheduler, NoDisplayStartsBeforeTheDisplaysListedBeforeIt) {
                 if (first_tick[i] < 0 && displays[i]->started()) first_tick[i] = tick;
             for (std::size_t i = 1; i < displays.size(); ++i)
                 if (displays[i]->started()) {
-                    EXPECT_TRUE(displays[i - 1]->started())
-                        << displays[i]->profile().name << " started at tick " << tick << " before "
-                        << displays[i - 1]->profile().name;
+                    EXPECT_TRUE(displays[i - 1]->started()) << displays[i]->profile().name << " started at tick "
+                                                            << tick << " before " << displays[i - 1]->profile().name;
                 }
             std::this_thread::sleep_for(5ms);  // the loader's pace, not the test's
         }
