@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <map>
+#include <memory>
 #include <thread>
 
 #include "display_scheduler.h"
@@ -46,23 +47,52 @@ struct Heights {
     double ground = 0.0;                       // the pose source's terrain query there
 };
 
+// The profiles of a start, with the no-op renderer, around the standing vehicle, every display
+// rendered whether watched or not.
+struct StandingStart {
+    explicit StandingStart(const std::vector<DisplayProfile>& profiles)
+        : scene(map::MapScene::open(storePath())),
+          vehicle(standingVehicle(scene.projection())),
+          poses([v = vehicle](ipc::CanTime t) { return v->poseAt(t); }, scene.cache, scene.toPlanar(42.5, 1.5)),
+          dir(std::filesystem::temp_directory_path() / ("navmap-scheduler-" + std::to_string(::getpid()))),
+          config(configFor(profiles, dir)),
+          frames(frameServerOptions(config)) {
+        EXPECT_TRUE(frames.start());
+        scheduler = std::make_unique<DisplayScheduler>(
+            config, DisplayScheduler::Options{.noop_renderer = true, .render_all = true, .ortho_weights = {}},
+            scene.cache, scene.projection(), frames, std::chrono::steady_clock::now(), Log(Log::kErr));
+        context.style = render::MapStyle::day();
+    }
+    ~StandingStart() {
+        scheduler.reset();
+        frames.stop();
+        std::filesystem::remove_all(dir);
+    }
+    static DaemonConfig configFor(const std::vector<DisplayProfile>& profiles, const std::filesystem::path& dir) {
+        std::filesystem::create_directories(dir);
+        DaemonConfig c;
+        c.profiles = profiles;
+        c.frame_socket = dir / "frames.sock";
+        return c;
+    }
+
+    map::MapScene scene;
+    std::shared_ptr<const VehicleState> vehicle;
+    PoseSource poses;
+    std::filesystem::path dir;
+    DaemonConfig config;
+    ipc::FrameServer frames;
+    std::unique_ptr<DisplayScheduler> scheduler;
+    FrameContext context;
+};
+
 // Renders the profiles in the given order until every display has the tiles its camera wants.
 Heights renderInOrder(const std::vector<DisplayProfile>& profiles) {
-    map::MapScene scene = map::MapScene::open(storePath());
-    const auto vehicle = standingVehicle(scene.projection());
-    const PoseSource poses([vehicle](ipc::CanTime t) { return vehicle->poseAt(t); }, scene.cache,
-                           scene.toPlanar(42.5, 1.5));
-    DaemonConfig config;
-    config.profiles = profiles;
-    const auto dir = std::filesystem::temp_directory_path() / ("navmap-scheduler-" + std::to_string(::getpid()));
-    std::filesystem::create_directories(dir);
-    config.frame_socket = dir / "frames.sock";
-    ipc::FrameServer frames(frameServerOptions(config));
-    EXPECT_TRUE(frames.start());
-    DisplayScheduler scheduler(config, {.noop_renderer = true, .render_all = true, .ortho_weights = {}}, scene.cache,
-                               scene.projection(), frames, std::chrono::steady_clock::now(), Log(Log::kErr));
-    FrameContext context;
-    context.style = render::MapStyle::day();
+    StandingStart start(profiles);
+    map::MapScene& scene = start.scene;
+    const PoseSource& poses = start.poses;
+    DisplayScheduler& scheduler = *start.scheduler;
+    const FrameContext& context = start.context;
     bool settled = false;
     for (int i = 0; i < 100 && !settled; ++i) {
         (void)scheduler.tick(std::chrono::steady_clock::now() + std::chrono::seconds(i), poses, context);
@@ -76,8 +106,6 @@ Heights renderInOrder(const std::vector<DisplayProfile>& profiles) {
     for (const auto& d : scheduler.displays()) h.by_display[d->profile().name] = d->lastPose().position.z;
     const auto& p = scheduler.displays().front()->lastPose().position;
     h.ground = poses.ground()(p.x, p.y);
-    frames.stop();
-    std::filesystem::remove_all(dir);
     return h;
 }
 
@@ -113,27 +141,13 @@ TEST(DisplayScheduler, NoDisplayStartsBeforeTheDisplaysListedBeforeIt) {
     std::vector<DisplayProfile> profiles = defaultProfiles();  // cluster, hud, center
     for (int order = 0; order < 2; ++order) {
         if (order == 1) std::reverse(profiles.begin(), profiles.end());
-        map::MapScene scene = map::MapScene::open(storePath());
-        const auto vehicle = standingVehicle(scene.projection());
-        const PoseSource poses([vehicle](ipc::CanTime t) { return vehicle->poseAt(t); }, scene.cache,
-                               scene.toPlanar(42.5, 1.5));
-        DaemonConfig config;
-        config.profiles = profiles;
-        const auto dir =
-            std::filesystem::temp_directory_path() / ("navmap-scheduler-order-" + std::to_string(::getpid()));
-        std::filesystem::create_directories(dir);
-        config.frame_socket = dir / "frames.sock";
-        ipc::FrameServer frames(frameServerOptions(config));
-        ASSERT_TRUE(frames.start());
-        DisplayScheduler scheduler(config, {.noop_renderer = true, .render_all = true, .ortho_weights = {}},
-                                   scene.cache, scene.projection(), frames, std::chrono::steady_clock::now(),
-                                   Log(Log::kErr));
-        FrameContext context;
-        context.style = render::MapStyle::day();
+        StandingStart start(profiles);
+        DisplayScheduler& scheduler = *start.scheduler;
         const auto& displays = scheduler.displays();
         std::vector<int> first_tick(displays.size(), -1);
         for (int tick = 0; tick < 200 && std::count(first_tick.begin(), first_tick.end(), -1) > 0; ++tick) {
-            (void)scheduler.tick(std::chrono::steady_clock::now() + std::chrono::seconds(tick), poses, context);
+            (void)scheduler.tick(std::chrono::steady_clock::now() + std::chrono::seconds(tick), start.poses,
+                                 start.context);
             for (std::size_t i = 0; i < displays.size(); ++i)
                 if (first_tick[i] < 0 && displays[i]->started()) first_tick[i] = tick;
             for (std::size_t i = 1; i < displays.size(); ++i)
@@ -149,7 +163,5 @@ TEST(DisplayScheduler, NoDisplayStartsBeforeTheDisplaysListedBeforeIt) {
                         displays[i]->profile().name.c_str(), first_tick[i],
                         static_cast<unsigned long long>(displays[i]->stats().held_back));
         }
-        frames.stop();
-        std::filesystem::remove_all(dir);
     }
 }

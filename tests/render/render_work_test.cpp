@@ -26,6 +26,20 @@ struct Work {
     PassWork uploads;
 };
 
+// A frame of `tile` alone, uploaded at once, seen from `eye` towards `target` (tile-local metres).
+MapFrame tileFrame(const std::shared_ptr<map::Tile>& tile, glm::dvec3 eye, glm::dvec3 target, glm::dvec3 up) {
+    const glm::dvec3 origin(tile->origin_x, tile->origin_y, 0.0);
+    MapFrame frame;
+    frame.camera.eye = origin + eye;
+    frame.camera.target = origin + target;
+    frame.camera.up = up;
+    frame.camera.near_m = 10.0;
+    frame.camera.far_m = 5000.0;
+    frame.tiles = {tile};
+    frame.upload_all = true;
+    return frame;
+}
+
 // `n` straight residential roads at random places on a flat 1 km tile, seen from above.
 Work renderRoads(int n) {
     auto tile = navmap::test::makeTile([](float, float) { return 500.0F; });
@@ -41,15 +55,8 @@ Work renderRoads(int n) {
     o.width = 320;
     o.height = 240;
     auto renderer = Renderer::create(o);
-    const glm::dvec3 origin(tile->origin_x, tile->origin_y, 0.0);
-    MapFrame frame;
-    frame.camera.eye = origin + glm::dvec3(500.0, 500.0, 1800.0);
-    frame.camera.target = origin + glm::dvec3(500.0, 500.0, 500.0);
-    frame.camera.up = glm::dvec3(0.0, 1.0, 0.0);
-    frame.camera.near_m = 10.0;
-    frame.camera.far_m = 5000.0;
-    frame.tiles = {tile};
-    frame.upload_all = true;
+    const MapFrame frame =
+        tileFrame(tile, glm::dvec3(500.0, 500.0, 1800.0), glm::dvec3(500.0, 500.0, 500.0), glm::dvec3(0.0, 1.0, 0.0));
     Work w;
     renderer->renderMap(frame);
     w.first = renderer->mapStats().frame_work;
@@ -104,15 +111,8 @@ TEST(RenderWarmUp, DrawsTheSameFramesAsWithout) {
     forest.polygon.indices = {0, 1, 2, 0, 2, 3};
     tile->areas = {water, forest};
     tile->roads.push_back(navmap::test::road(map::RoadClass::Primary, {{50.0F, 500.0F}, {950.0F, 560.0F}}));
-    const glm::dvec3 origin(tile->origin_x, tile->origin_y, 0.0);
-    MapFrame frame;
-    frame.camera.eye = origin + glm::dvec3(500.0, -300.0, 1200.0);
-    frame.camera.target = origin + glm::dvec3(500.0, 500.0, 400.0);
-    frame.camera.up = glm::dvec3(0.0, 0.0, 1.0);
-    frame.camera.near_m = 10.0;
-    frame.camera.far_m = 5000.0;
-    frame.tiles = {tile};
-    frame.upload_all = true;
+    const MapFrame frame =
+        tileFrame(tile, glm::dvec3(500.0, -300.0, 1200.0), glm::dvec3(500.0, 500.0, 400.0), glm::dvec3(0.0, 0.0, 1.0));
     std::vector<Image> images[2];
     for (bool warm : {false, true}) {
         RendererOptions o;
