@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <optional>
 
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -109,26 +110,49 @@ LodSelection selectLod(const map::TileScheme& scheme, const Camera& camera, doub
     const glm::dmat4 proj = glm::dmat4(camera.projection(aspect));
     const Frustum frustum = frustumOf(proj * view);
 
-    std::vector<map::TileId> stack = roots;
-    // Below a tile that is not resident (or a parent whose children are not all resident) the
-    // traversal stops drawing, but the camera's needs go on: `ahead` walks on through those
-    // subtrees with the same culling and refinement tests (which use the scheme's boxes, not the
-    // tiles' data) and requests what it meets, so that a view loads every level it will draw in
-    // one round instead of one level per frame (start-up, a jump of the camera).
-    std::vector<map::TileId> ahead;
-    while (!stack.empty()) {
-        const map::TileId id = stack.back();
-        stack.pop_back();
+    // Where a tile lies: its distance from the eye, or none when the frustum culls it. From the
+    // scheme's box and the assumed height range, not the tile's data: the same for tiles not
+    // loaded yet.
+    const auto inView = [&](map::TileId id) -> std::optional<double> {
         const map::Box b = scheme.bounds(id);
         const glm::dvec3 lo = glm::dvec3(b.min_x, b.min_y, options.min_height_m) - camera.eye;
         const glm::dvec3 hi = glm::dvec3(b.max_x, b.max_y, options.max_height_m) - camera.eye;
-        if (boxOutside(frustum, lo, hi)) {
+        if (boxOutside(frustum, lo, hi)) return std::nullopt;
+        return distanceToBox(glm::dvec3(0.0), lo, hi);
+    };
+    const auto refines = [&](map::TileId id, double distance) {
+        return id.level < scheme.leafLevel() &&
+               screenSpaceError(levelError(scheme, id.level, options), distance, camera.fov_y_deg, viewport_height) >
+                   options.max_error_px;
+    };
+    // The existing children of `id`, first in the array; how many.
+    const auto childrenOf = [&](map::TileId id, std::array<map::TileId, 4>& children) {
+        int present = 0;
+        for (int i = 0; i < 4; ++i) {
+            const map::TileId c{static_cast<std::uint8_t>(id.level + 1), id.x * 2 + (i & 1), id.y * 2 + (i >> 1)};
+            // A mounted store's root inside another's subtree is drawn from its own traversal.
+            const bool other_root = roots.size() > 1 && std::find(roots.begin(), roots.end(), c) != roots.end();
+            if (exists(c) && !other_root) children[static_cast<std::size_t>(present++)] = c;
+        }
+        return present;
+    };
+
+    std::vector<map::TileId> stack = roots;
+    // Below a tile that is not resident (or a parent whose children are not all resident) the
+    // traversal stops drawing, but the camera's needs go on: `ahead` walks on through those
+    // subtrees with the same tests and requests what it meets, so that a view loads every level
+    // it will draw in one round instead of one level per frame (start-up, a jump of the camera).
+    std::vector<map::TileId> ahead;
+    std::array<map::TileId, 4> children;
+    while (!stack.empty()) {
+        const map::TileId id = stack.back();
+        stack.pop_back();
+        const std::optional<double> distance = inView(id);
+        if (!distance) {
             ++out.culled;
             continue;
         }
-        const double distance = distanceToBox(glm::dvec3(0.0), lo, hi);
-        const double error_m = levelError(scheme, id.level, options);
-        const double priority = 1000.0 + 100.0 * id.level - distance / scheme.tileSize(id.level);
+        const double priority = 1000.0 + 100.0 * id.level - *distance / scheme.tileSize(id.level);
         auto self = resident(id);
         if (!self) {
             // Not loaded: ask for it; the caller's previous selection (parent) covers the gap.
@@ -138,22 +162,13 @@ LodSelection selectLod(const map::TileScheme& scheme, const Camera& camera, doub
             }
             continue;
         }
-        const bool refine = id.level < scheme.leafLevel() && screenSpaceError(error_m, distance, camera.fov_y_deg,
-                                                                              viewport_height) > options.max_error_px;
-        if (refine) {
-            std::array<map::TileId, 4> children;
-            int present = 0;  // the existing children, first in `children`
+        if (refines(id, *distance)) {
+            const int present = childrenOf(id, children);
             bool all_ready = true;
-            for (int i = 0; i < 4; ++i) {
-                const map::TileId c{static_cast<std::uint8_t>(id.level + 1), id.x * 2 + (i & 1), id.y * 2 + (i >> 1)};
-                // A mounted store's root inside another's subtree is drawn from its own traversal.
-                const bool other_root = roots.size() > 1 && std::find(roots.begin(), roots.end(), c) != roots.end();
-                if (!exists(c) || other_root) continue;
-                children[static_cast<std::size_t>(present++)] = c;
-                if (!resident(c)) {
-                    all_ready = false;
-                    out.wanted.push_back({c, static_cast<float>(priority + 100.0)});
-                }
+            for (int i = 0; i < present; ++i) {
+                if (resident(children[static_cast<std::size_t>(i)])) continue;
+                all_ready = false;
+                out.wanted.push_back({children[static_cast<std::size_t>(i)], static_cast<float>(priority + 100.0)});
             }
             // Refine only when every existing child can be drawn (no holes). The compiler writes
             // no tile where there is no data, so a missing child is a quarter outside the data.
@@ -169,24 +184,16 @@ LodSelection selectLod(const map::TileScheme& scheme, const Camera& camera, doub
     while (!ahead.empty()) {
         const map::TileId id = ahead.back();
         ahead.pop_back();
-        if (id.level >= scheme.leafLevel()) continue;
-        const map::Box b = scheme.bounds(id);
-        const glm::dvec3 lo = glm::dvec3(b.min_x, b.min_y, options.min_height_m) - camera.eye;
-        const glm::dvec3 hi = glm::dvec3(b.max_x, b.max_y, options.max_height_m) - camera.eye;
-        if (boxOutside(frustum, lo, hi)) continue;
-        const double distance = distanceToBox(glm::dvec3(0.0), lo, hi);
-        if (screenSpaceError(levelError(scheme, id.level, options), distance, camera.fov_y_deg, viewport_height) <=
-            options.max_error_px)
-            continue;
-        for (int i = 0; i < 4; ++i) {
-            const map::TileId c{static_cast<std::uint8_t>(id.level + 1), id.x * 2 + (i & 1), id.y * 2 + (i >> 1)};
-            const bool other_root = roots.size() > 1 && std::find(roots.begin(), roots.end(), c) != roots.end();
-            if (!exists(c) || other_root) continue;
+        const std::optional<double> distance = inView(id);
+        if (!distance || !refines(id, *distance)) continue;
+        const int present = childrenOf(id, children);
+        for (int i = 0; i < present; ++i) {
+            const map::TileId c = children[static_cast<std::size_t>(i)];
             // After every tile the drawn traversal asks for, coarse before fine: each level is
             // drawn only once the one above it is resident.
             if (!resident(c))
                 out.wanted.push_back(
-                    {c, static_cast<float>(-1e5 - 100.0 * c.level - distance / scheme.tileSize(c.level))});
+                    {c, static_cast<float>(-1e5 - 100.0 * c.level - *distance / scheme.tileSize(c.level))});
             ahead.push_back(c);
         }
     }
