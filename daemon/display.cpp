@@ -188,8 +188,10 @@ bool Display::draw(render::Renderer& renderer, const PoseSource& poses, const Fr
     const bool hud = isGuidanceView(m_profile);
     if (context.guidance) addGuidance(frame, *context.guidance, context.route, hud);
     renderer.setMapStyle(hud ? render::MapStyle::hud() : context.style);
-    // The start-up frames are timed per pass too: their log line says where the first frame's time goes.
-    frame.profile_passes = m_stats.rendered % kPassSampleEvery == kPassSampleEvery - 1 || m_stats.rendered < 3;
+    // At debug level the start-up frames are timed per pass too (their log line says where the
+    // first frame's time goes); not otherwise: the timing waits for the GPU after every pass.
+    const bool startup_passes = m_stats.rendered < 3 && m_log.enabled(Log::kDebug);
+    frame.profile_passes = m_stats.rendered % kPassSampleEvery == kPassSampleEvery - 1 || startup_passes;
     const auto t_render = Clock::now();
     m_stats.pass_ms["select"].add(std::chrono::duration<double, std::milli>(t_render - m_frame_start).count());
     renderer.renderMap(m_target, frame);
@@ -198,14 +200,17 @@ bool Display::draw(render::Renderer& renderer, const PoseSource& poses, const Fr
     if (m_stats.rendered < 3) {
         const auto now = Clock::now();
         const render::MapFrameStats& s = renderer.mapStats();
-        m_log(Log::kInfo,
-              "start-up: profile %s frame %llu at %.0f ms (%.0f ms): %zu tiles drawn, %zu pending; uploads %.0f, "
-              "terrain %.0f, buildings %.0f, roads %.0f, route %.0f, labels %.0f, aura %.0f, glow %.0f ms",
+        m_log(Log::kInfo, "start-up: profile %s frame %llu at %.0f ms (%.0f ms): %zu tiles drawn, %zu pending",
               m_profile.name.c_str(), static_cast<unsigned long long>(m_stats.rendered),
               std::chrono::duration<double, std::milli>(now - m_exec).count(),
-              std::chrono::duration<double, std::milli>(now - m_frame_start).count(), s.tiles_drawn, s.tiles_pending,
-              s.uploads_ms, s.terrain_ms, s.buildings_ms, s.roads_ms + s.sv_roads_ms + s.outlines_ms, s.route_ms,
-              s.label_block_ms, s.aura_ms, s.glow_ms);
+              std::chrono::duration<double, std::milli>(now - m_frame_start).count(), s.tiles_drawn, s.tiles_pending);
+        if (startup_passes)
+            m_log(Log::kDebug,
+                  "start-up: profile %s frame %llu passes: uploads %.0f, terrain %.0f, buildings %.0f, roads %.0f, "
+                  "route %.0f, labels %.0f, aura %.0f, glow %.0f ms",
+                  m_profile.name.c_str(), static_cast<unsigned long long>(m_stats.rendered), s.uploads_ms, s.terrain_ms,
+                  s.buildings_ms, s.roads_ms + s.sv_roads_ms + s.outlines_ms, s.route_ms, s.label_block_ms, s.aura_ms,
+                  s.glow_ms);
     }
     m_stats.tiles_drawn = renderer.mapStats().tiles_drawn;
     m_stats.tiles_pending = renderer.mapStats().tiles_pending;

@@ -16,6 +16,9 @@ public:
     /// `level`: the highest priority number written (3 err .. 7 debug, [log] level).
     explicit Log(int level = kInfo) : m_level(level) {}
 
+    /// True when lines of `priority` are written.
+    [[nodiscard]] bool enabled(int priority) const { return priority <= m_level; }
+
     void operator()(int priority, const char* fmt, ...) const __attribute__((format(printf, 3, 4))) {
         if (priority > m_level) return;
         std::fprintf(stderr, "<%d>navmapd: ", priority);
