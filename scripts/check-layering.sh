@@ -17,6 +17,10 @@ rule() {
     fi
 }
 rule map '#include "navmap/(render|ipc|daemon|sim)/' "map/ depends on no other module"
+rule map '#include "navmap/map/compile/' "map/'s run-time code does not use the offline map/compile" map/compile
+for m in common ipc render sim daemon; do
+    rule "$m" '#include "navmap/map/compile/' "navmapd's modules do not use the offline map/compile"
+done
 rule ipc '#include "navmap/(render|map|daemon|sim)/' "ipc/ does not know render/, map/, daemon/ or sim/"
 rule render '#include "navmap/(ipc|daemon|sim)/' "render/ uses map/ only"
 rule sim '#include "navmap/render/' "sim/ does not render"

@@ -4,7 +4,7 @@
 //   BM_TileLoad         TileStore::load of every Andorra tile: per-tile load time
 //   BM_CompileLarge     Andorra's road network copied over a 3x3 and a 7x7 grid of offsets (>= 5 M road
 //                       vertices, the seed's Bavaria size) by navmap-synth-region's generator
-//                       (map/tools/synth_region.h), with its DEM tiles, and compiled: vertices/s,
+//                       (map/compile/tools/synth_region.h), with its DEM tiles, and compiled: vertices/s,
 //                       peak RSS, store bytes
 //   BM_CacheFlight      a camera flying across the large store with a 3 MiB cache: hits,
 //                       misses, resident bytes vs budget, load p50/p99, request() p99
@@ -18,7 +18,7 @@
 #include <filesystem>
 #include <thread>
 
-#include "navmap/map/compiler.h"
+#include "navmap/map/compile/compiler.h"
 #include "navmap/map/store_set.h"
 #include "navmap/map/tile_cache.h"
 #include "navmap/map/tile_selection.h"

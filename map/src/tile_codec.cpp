@@ -7,8 +7,6 @@
 
 #include "byte_io.h"
 #include "navmap/common/check.h"
-#include "navmap/map/ortho/climate.h"
-#include "navmap/map/ortho/super_land_cover.h"
 #include "navmap/map/store_info.h"
 
 namespace navmap::map {
@@ -222,9 +220,7 @@ void readOrtho(ByteReader& r, ortho::OrthoLayers& o) {
         if (r.failed()) return;
         std::vector<std::uint8_t>& dst = *byteLayer(o, kind);
         dst.assign(bytes.begin(), bytes.end());
-        const int limit = kind == kCover     ? ortho::kSuperLandCoverCount
-                          : kind == kClimate ? ortho::kClimateClassCount
-                                             : 256;
+        const int limit = kind == kCover ? ortho::kCoverCodeCount : kind == kClimate ? ortho::kClimateCodeCount : 256;
         for (std::uint8_t b : dst) {
             if (b >= limit) {
                 r.fail(std::string("bad ") + kLayerNames[kind] + " class " + std::to_string(b));

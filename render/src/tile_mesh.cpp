@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "tile_mesh.h"
-#include "navmap/map/area_draw_order.h"
+#include "navmap/map/feature_classes.h"
 
 #include <algorithm>
 #include <array>

@@ -20,7 +20,7 @@
 #include "navmap/ipc/control_client.h"
 #include "navmap/ipc/frame_png.h"
 #include "navmap/ipc/stream_client.h"
-#include "navmap/map/compiler.h"
+#include "navmap/map/compile/compiler.h"
 #include "navmapd_process.h"
 #include "synth_region.h"
 

@@ -5,7 +5,7 @@
 
 #include <cmath>
 
-#include "navmap/map/coastline.h"
+#include "navmap/map/compile/coastline.h"
 
 using namespace navmap::map;
 

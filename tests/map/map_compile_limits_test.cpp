@@ -27,7 +27,7 @@
 #include <vector>
 
 #include "map_test_util.h"
-#include "navmap/map/compiler.h"
+#include "navmap/map/compile/compiler.h"
 #include "osm_limits.h"
 #include "spill_dir.h"
 

@@ -14,9 +14,9 @@
 #include <random>
 
 #include "map_test_util.h"
-#include "navmap/map/compiler.h"
+#include "navmap/map/compile/compiler.h"
+#include "navmap/map/compile/shard.h"
 #include "navmap/map/dem.h"
-#include "navmap/map/shard.h"
 #include "navmap/map/store_lock.h"
 #include "navmap/map/store_set.h"
 #include "navmap/map/tile_codec.h"

@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "map_test_util.h"
-#include "navmap/map/compiler.h"
+#include "navmap/map/compile/compiler.h"
 #include "synth_region.h"
 
 using namespace navmap::map;

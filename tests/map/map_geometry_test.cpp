@@ -7,10 +7,10 @@
 #include <cmath>
 #include <vector>
 
+#include "navmap/map/compile/triangulator.h"
 #include "navmap/map/geometry.h"
 #include "navmap/map/projection.h"
 #include "navmap/map/tile_scheme.h"
-#include "navmap/map/triangulator.h"
 
 using namespace navmap::map;
 

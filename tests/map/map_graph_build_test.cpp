@@ -13,8 +13,8 @@
 
 #include "graph_build.h"
 #include "map_test_util.h"
-#include "navmap/map/spill_file.h"
-#include "navmap/map/store_writer.h"
+#include "navmap/map/compile/spill_file.h"
+#include "navmap/map/compile/store_writer.h"
 #include "navmap/map/tile_store.h"
 
 using namespace navmap::map;

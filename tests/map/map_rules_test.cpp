@@ -5,8 +5,8 @@
 #include <map>
 #include <string>
 
+#include "navmap/map/compile/tag_rules.h"
 #include "navmap/map/road_class.h"
-#include "navmap/map/tag_rules.h"
 
 using namespace navmap::map;
 

@@ -7,7 +7,7 @@
 
 #include "feature_spill.h"
 #include "map_test_util.h"
-#include "navmap/map/spill_file.h"
+#include "navmap/map/compile/spill_file.h"
 
 using namespace navmap::map;
 using namespace navmap::map::detail;

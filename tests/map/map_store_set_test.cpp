@@ -8,7 +8,7 @@
 #include <cmath>
 
 #include "map_test_util.h"
-#include "navmap/map/compiler.h"
+#include "navmap/map/compile/compiler.h"
 #include "navmap/map/road_graph.h"
 #include "navmap/map/store_set.h"
 #include "navmap/map/tile_cache.h"

@@ -15,7 +15,7 @@
 
 #include <unistd.h>
 
-#include "navmap/map/compiler.h"
+#include "navmap/map/compile/compiler.h"
 #include "navmap/map/tile_store.h"
 #include "navmap/render/renderer.h"
 #include "synthetic_tile.h"

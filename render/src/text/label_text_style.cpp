@@ -4,7 +4,7 @@
 #include <algorithm>
 #include <array>
 
-#include "navmap/map/tag_rules.h"
+#include "navmap/map/feature_classes.h"
 
 namespace navmap::render::text {
 

@@ -8,9 +8,9 @@
 
 #include <filesystem>
 
+#include "navmap/map/compile/ortho/marble_inputs.h"
 #include "navmap/map/ortho/climate.h"
 #include "navmap/map/ortho/geo_grid.h"
-#include "navmap/map/ortho/marble_inputs.h"
 
 namespace {
 

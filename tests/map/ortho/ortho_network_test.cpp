@@ -10,9 +10,9 @@
 #include <filesystem>
 #include <fstream>
 
+#include "navmap/map/compile/ortho/ortho_training.h"
 #include "navmap/map/ortho/color_difference.h"
 #include "navmap/map/ortho/ortho_network.h"
-#include "navmap/map/ortho/ortho_training.h"
 #include "navmap/map/ortho/rng.h"
 
 namespace {

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-// Pre-processing onto tiles (seed 6.5, map/include/navmap/map/ortho/ortho_preprocess.h): OSM
+// Pre-processing onto tiles (seed 6.5, map/compile/include/navmap/map/compile/ortho/ortho_preprocess.h): OSM
 // areas rasterized into the super land cover in their painting order, the layer encodings, and
 // the layers of an Andorra tile from the compiled store and marble-qt-data's global inputs.
 
@@ -7,9 +7,9 @@
 
 #include <filesystem>
 
-#include "navmap/map/area_draw_order.h"
-#include "navmap/map/ortho/marble_inputs.h"
-#include "navmap/map/ortho/ortho_preprocess.h"
+#include "navmap/map/compile/ortho/marble_inputs.h"
+#include "navmap/map/compile/ortho/ortho_preprocess.h"
+#include "navmap/map/feature_classes.h"
 #include "navmap/map/ortho/super_land_cover.h"
 #include "navmap/map/tile_store.h"
 #include "test_paths.h"

@@ -9,13 +9,13 @@
 #include <fstream>
 
 #include "map_test_util.h"
-#include "navmap/map/compiler.h"
+#include "navmap/map/compile/compiler.h"
+#include "navmap/map/compile/ortho/marble_inputs.h"
+#include "navmap/map/compile/ortho/ortho_preprocess.h"
+#include "navmap/map/compile/store_writer.h"
 #include "navmap/map/ortho/climate.h"
-#include "navmap/map/ortho/marble_inputs.h"
-#include "navmap/map/ortho/ortho_preprocess.h"
 #include "navmap/map/ortho/super_land_cover.h"
 #include "navmap/map/projection.h"
-#include "navmap/map/store_writer.h"
 #include "navmap/map/tile_codec.h"
 #include "navmap/map/tile_store.h"
 

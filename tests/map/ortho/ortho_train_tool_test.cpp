@@ -14,7 +14,7 @@
 #include <sstream>
 #include <string>
 
-#include "navmap/map/ortho/marble_inputs.h"
+#include "navmap/map/compile/ortho/marble_inputs.h"
 #include "navmap/map/ortho/ortho_network.h"
 #include "test_paths.h"
 

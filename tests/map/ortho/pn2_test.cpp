@@ -8,7 +8,7 @@
 #include <fstream>
 #include <iterator>
 
-#include "navmap/map/ortho/marble_inputs.h"
+#include "navmap/map/compile/ortho/marble_inputs.h"
 #include "navmap/map/ortho/natural_earth.h"
 #include "navmap/map/ortho/pn2.h"
 

@@ -18,9 +18,9 @@
 #include <string>
 #include <vector>
 
+#include "navmap/map/feature_classes.h"
 #include "navmap/map/ortho/ortho_layers.h"
 #include "navmap/map/road_class.h"
-#include "navmap/map/tag_rules.h"
 
 namespace navmap::map {
 

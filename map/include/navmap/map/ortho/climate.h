@@ -12,6 +12,7 @@
 
 #include "navmap/map/ortho/geo_grid.h"
 #include "navmap/map/ortho/natural_earth.h"
+#include "navmap/map/ortho/ortho_layers.h"
 
 namespace navmap::map::ortho {
 
@@ -48,6 +49,7 @@ enum class ClimateClass : std::uint8_t {
     EF,
 };
 inline constexpr int kClimateClassCount = 30;
+static_assert(kClimateClassCount == kClimateCodeCount, "the stored layer codes (ortho_layers.h)");
 const char* climateName(ClimateClass c);
 
 /// Koeppen-Geiger class (Peel et al. 2007 rules) from the mean temperatures (C) and

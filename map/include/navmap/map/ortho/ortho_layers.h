@@ -2,8 +2,8 @@
 #pragma once
 // The raster layers of one tile from which its synthetic orthoimage is generated (seed 6.5:
 // "rasterized georeferenced tiles, each containing disjoint, congruent data layers"), made by
-// sampleOrthoLayers (ortho_preprocess.h). Not yet part of the tile store. Encodings in
-// docs/orthoimage.md "Tile layers".
+// sampleOrthoLayers (map/compile: compile/ortho/ortho_preprocess.h) and kept in the tile store as
+// plain bytes (tile_codec.h). Encodings in docs/orthoimage.md "Tile layers".
 
 #include <algorithm>
 #include <cmath>
@@ -11,6 +11,12 @@
 #include <vector>
 
 namespace navmap::map::ortho {
+
+/// How many codes the class layers have; a stored tile with a larger code is refused. The
+/// codes are SuperLandCover (super_land_cover.h) and ClimateClass (climate.h), which assert
+/// these counts; the layers themselves are plain bytes.
+inline constexpr int kCoverCodeCount = 21;
+inline constexpr int kClimateCodeCount = 30;
 
 struct OrthoLayers {
     /// Super land cover (SuperLandCover) on cover_size^2 texels spanning the tile square,

@@ -10,8 +10,9 @@
 
 #include <cstdint>
 
+#include "navmap/map/feature_classes.h"
 #include "navmap/map/ortho/natural_earth.h"
-#include "navmap/map/tag_rules.h"
+#include "navmap/map/ortho/ortho_layers.h"
 
 namespace navmap::map::ortho {
 
@@ -41,6 +42,7 @@ enum class SuperLandCover : std::uint8_t {
     OtherArea,
 };
 inline constexpr int kSuperLandCoverCount = 21;
+static_assert(kSuperLandCoverCount == kCoverCodeCount, "the stored layer codes (ortho_layers.h)");
 
 const char* superLandCoverName(SuperLandCover c);
 SuperLandCover fromGlobal(GlobalCover c);
