@@ -3,13 +3,13 @@
 
 #include <sstream>
 
+#include "navmap/ipc/frame_server_stats_json.h"
 #include "navmap/version.h"
 
 namespace navmap::daemon {
 
 void DaemonStatus::publish(const StatusSample& m) {
     const auto& in = m.input;
-    const auto& fs = m.stream;
     const auto& pose = m.pose;
     nlohmann::json st;
     st["version"] = NAVMAP_VERSION;
@@ -76,23 +76,7 @@ void DaemonStatus::publish(const StatusSample& m) {
                             {"passes_sampled", s.passes_sampled}});
     }
     st["profiles"] = profiles;
-    st["stream"] = {{"clients", fs.clients},
-                    {"frames_sent", fs.frames_sent},
-                    {"frames_dropped", fs.frames_dropped},
-                    {"stall_disconnects", fs.stall_disconnects},
-                    {"handshake_errors", fs.handshake_errors},
-                    {"timeouts", {{"handshake", fs.handshake_timeouts}, {"first_frame", fs.first_frame_timeouts}}},
-                    {"refusals",
-                     {{"peer", fs.refused_peer},
-                      {"transport_full", fs.refused_transport_full},
-                      {"uid_full", fs.refused_uid_full},
-                      {"address_full", fs.refused_address_full},
-                      {"not_rendered", fs.refused_not_rendered},
-                      {"ring_memory", fs.refused_ring_memory},
-                      {"http_host", fs.refused_host},
-                      {"http_token", fs.refused_token}}},
-                    {"ring_bytes", fs.ring_bytes},
-                    {"last_error", fs.last_error}};
+    st["stream"] = ipc::frameServerStatsJson(m.stream);  // the same object as GET /status "stream"
     st["tile_cache"] = {{"resident_bytes", m.cache.resident_bytes},
                         {"hits", m.cache.hits},
                         {"misses", m.cache.misses},

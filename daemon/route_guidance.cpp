@@ -88,10 +88,8 @@ void RouteGuidance::build(bool log_problems) {
     std::vector<mg::Maneuver> maneuvers;
     maneuvers.reserve(route->maneuvers.size());
     for (const ipc::Maneuver& in : route->maneuvers) {
-        const auto type = mg::maneuverTypeFromName(ipc::maneuverTypeName(in.type));
-        if (!type) continue;  // the two enums list the same names (GuidanceProtocol test)
         mg::Maneuver m;
-        m.type = *type;
+        m.type = in.type;  // one enum (navmap/common/maneuver_type.h)
         m.point = in.index;
         m.end_point = in.end_index.value_or(in.index);
         m.exit = static_cast<int>(in.exit_number.value_or(0));

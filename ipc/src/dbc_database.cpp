@@ -15,6 +15,19 @@ namespace {
 // Real DBC files reach a few MiB (a whole vehicle's buses); 32 MiB bounds what a wrong file costs.
 constexpr FileKind kDbcFile{"DBC file", std::uint64_t{32} << 20};
 
+/// The one DBC number reader (std::from_chars): the T that `text` starts with and how many
+/// characters it took; nothing when `text` does not start with one or it does not fit T.
+template <class T>
+std::optional<std::pair<T, std::size_t>> parseNumberPrefix(std::string_view text) {
+    T v{};
+    const char* first = text.data();
+    const auto [ptr, ec] = std::from_chars(first, first + text.size(), v);
+    if (ec != std::errc{} || ptr == first) {
+        return std::nullopt;
+    }
+    return std::pair<T, std::size_t>(v, static_cast<std::size_t>(ptr - first));
+}
+
 /// Cursor over one DBC statement (one line, or several when a quoted string spans lines).
 class Lexer {
 public:
@@ -57,42 +70,18 @@ public:
     }
     std::optional<std::uint64_t> unsignedInt() {
         skipWs();
-        std::uint64_t v = 0;
-        const char* first = m_text.data() + m_pos;
-        const char* last = m_text.data() + m_text.size();
-        const auto [ptr, ec] = std::from_chars(first, last, v);
-        if (ec != std::errc{} || ptr == first) {
-            return std::nullopt;
-        }
-        m_pos += static_cast<std::size_t>(ptr - first);
-        return v;
+        return numberOf<std::uint64_t>();
     }
     std::optional<std::int64_t> signedInt() {
         skipWs();
-        std::int64_t v = 0;
-        const char* first = m_text.data() + m_pos;
-        const char* last = m_text.data() + m_text.size();
-        const auto [ptr, ec] = std::from_chars(first, last, v);
-        if (ec != std::errc{} || ptr == first) {
-            return std::nullopt;
-        }
-        m_pos += static_cast<std::size_t>(ptr - first);
-        return v;
+        return numberOf<std::int64_t>();
     }
     std::optional<double> number() {
         skipWs();
         if (m_pos < m_text.size() && m_text[m_pos] == '+') {
             ++m_pos;  // from_chars does not take a leading '+'
         }
-        double v = 0.0;
-        const char* first = m_text.data() + m_pos;
-        const char* last = m_text.data() + m_text.size();
-        const auto [ptr, ec] = std::from_chars(first, last, v);
-        if (ec != std::errc{} || ptr == first) {
-            return std::nullopt;
-        }
-        m_pos += static_cast<std::size_t>(ptr - first);
-        return v;
+        return numberOf<double>();
     }
     std::optional<std::string> quoted() {
         if (!accept('"')) {
@@ -118,6 +107,16 @@ public:
     }
 
 private:
+    /// The number of type T right at the cursor; the cursor moves past it.
+    template <class T>
+    std::optional<T> numberOf() {
+        const auto v = parseNumberPrefix<T>(m_text.substr(m_pos));
+        if (v) {
+            m_pos += v->second;
+        }
+        return v ? std::optional<T>(v->first) : std::nullopt;
+    }
+
     std::string_view m_text;
     std::size_t m_pos = 0;
 };
@@ -306,13 +305,12 @@ private:
                     s.also_multiplexor = true;
                     digits.remove_suffix(1);
                 }
-                std::uint32_t v = 0;
-                const auto [ptr, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), v);
-                if (ec != std::errc{} || ptr != digits.data() + digits.size() || digits.empty()) {
+                const auto v = parseNumberPrefix<std::uint32_t>(digits);
+                if (!v || v->second != digits.size()) {
                     return fail(line, sg + ": bad multiplexer indicator '" + std::string(*mux) + "'");
                 }
                 s.mux_role = MuxRole::Multiplexed;
-                s.mux_value = v;
+                s.mux_value = v->first;
             } else {
                 return fail(line, sg + ": bad multiplexer indicator '" + std::string(*mux) + "'");
             }

@@ -144,6 +144,14 @@ TEST(DbcDatabase, BrokenEntriesGiveLineNumberedErrors) {
         {"BO_ 100 M: 8 X\n SG_ S q : 0|8@1+ (1,0) [0|1] \"\" X\n", 2, "bad multiplexer indicator 'q'"},
         {"BO_ 100 M: 8 X\n SG_ S m : 0|8@1+ (1,0) [0|1] \"\" X\n", 2, "bad multiplexer indicator 'm'"},
         {"BO_ 100 M: 8 X\n SG_ S m3 : 0|8@1+ (1,0) [0|1] \"\" X\n", 2, "has no multiplexor"},
+        // Numbers: a multiplexer value that is not all digits or does not fit 32 bits, a sign
+        // without its number, an id past 64 bits.
+        {"BO_ 100 M: 8 X\n SG_ S m1x : 0|8@1+ (1,0) [0|1] \"\" X\n", 2, "bad multiplexer indicator 'm1x'"},
+        {"BO_ 100 M: 8 X\n SG_ S m4294967296 : 0|8@1+ (1,0) [0|1] \"\" X\n", 2,
+         "bad multiplexer indicator 'm4294967296'"},
+        {"BO_ 100 M: 8 X\n SG_ S : 0|8@1+ (+ 1,0) [0|1] \"\" X\n", 2, "bad factor"},
+        {"BO_ 100 M: 8 X\n SG_ S : 0|8@1+ (1,0) [-|1] \"\" X\n", 2, "bad minimum"},
+        {"BO_ 18446744073709551616 M: 8 X\n", 1, "expected a numeric message id"},
         {"BO_ 100 M: 8 X\n SG_ A M : 0|8@1+ (1,0) [0|1] \"\" X\n SG_ B M : 8|8@1+ (1,0) [0|1] \"\" X\n", 3,
          "second multiplexor"},
         {"BO_ 100 M: 8 X\n SG_ S : 0|8@1+ (1,0) [0|1] \"\" X\n SG_ S : 8|8@1+ (1,0) [0|1] \"\" X\n", 3,

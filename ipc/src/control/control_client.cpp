@@ -11,6 +11,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "navmap/ipc/net/recv_before.h"
 #include "navmap/ipc/net/sys_error.h"
 
 namespace navmap::ipc {
@@ -85,29 +86,15 @@ Result<std::string> ControlClient::readLine(std::chrono::milliseconds timeout) {
             m_buffer.erase(0, nl + 1);
             return line;
         }
-        pollfd p{m_fd.get(), POLLIN, 0};
-        const int n = ::poll(&p, 1, remainingMs(deadline));
-        if (n < 0 && errno == EINTR) {
-            continue;
-        }
-        if (n == 0) {
+        char buf[65536];
+        const auto got = net::recvBefore(m_fd.get(), buf, sizeof buf, deadline, m_path);
+        if (got.kind == net::Received::Kind::TimedOut) {
             return Error{"recv(" + m_path + "): timed out"};
         }
-        if (n < 0) {
-            return Error{sysError("poll", m_path)};
+        if (got.kind == net::Received::Kind::Failed) {
+            return Error{got.error};
         }
-        char buf[65536];
-        const ssize_t r = ::recv(m_fd.get(), buf, sizeof buf, MSG_DONTWAIT);
-        if (r == 0) {
-            return Error{"recv(" + m_path + "): connection closed by the server"};
-        }
-        if (r < 0) {
-            if (errno == EINTR || errno == EAGAIN) {
-                continue;
-            }
-            return Error{sysError("recv", m_path)};
-        }
-        m_buffer.append(buf, static_cast<std::size_t>(r));
+        m_buffer.append(buf, got.bytes);
     }
 }
 

@@ -21,24 +21,6 @@ using nlohmann::json;
 
 constexpr std::size_t kMaxDepth = 32;
 
-constexpr std::array<std::pair<ManeuverType, const char*>, 15> kManeuverNames{{
-    {ManeuverType::Depart, "depart"},
-    {ManeuverType::Arrive, "arrive"},
-    {ManeuverType::Straight, "straight"},
-    {ManeuverType::TurnLeft, "turn_left"},
-    {ManeuverType::TurnRight, "turn_right"},
-    {ManeuverType::SlightLeft, "slight_left"},
-    {ManeuverType::SlightRight, "slight_right"},
-    {ManeuverType::SharpLeft, "sharp_left"},
-    {ManeuverType::SharpRight, "sharp_right"},
-    {ManeuverType::UTurn, "u_turn"},
-    {ManeuverType::KeepLeft, "keep_left"},
-    {ManeuverType::KeepRight, "keep_right"},
-    {ManeuverType::Roundabout, "roundabout"},
-    {ManeuverType::Exit, "exit"},
-    {ManeuverType::Merge, "merge"},
-}};
-
 // Replies and events keep the member order of docs/ipc.md ("ok"/"event" first).
 using Ojson = nlohmann::ordered_json;
 
@@ -345,12 +327,12 @@ std::string parseRoute(const json& obj, const ControlLimits& limits, SetRouteCom
         if (type == m.end()) {
             return where + ": missing \"type\"";
         }
-        const auto t = enumFrom(*type, kManeuverNames);
+        const auto t = enumFrom(*type, kManeuverTypeNames);
         if (!t) {
             return where + ".type: " +
                    (type->is_string() ? "unknown maneuver " + quote(type->get_ref<const std::string&>())
                                       : "must be a string") +
-                   " (expected one of " + choices(kManeuverNames) + ")";
+                   " (expected one of " + choices(kManeuverTypeNames) + ")";
         }
         mv.type = *t;
         const auto text = m.find("text");
@@ -472,24 +454,6 @@ std::string readViewCamera(const json& obj, SetViewCommand& out) {
 }
 
 }  // namespace
-
-const char* maneuverTypeName(ManeuverType t) noexcept {
-    for (const auto& [value, name] : kManeuverNames) {
-        if (value == t) {
-            return name;
-        }
-    }
-    return "straight";
-}
-
-std::optional<ManeuverType> maneuverTypeFromName(std::string_view name) noexcept {
-    for (const auto& [value, n] : kManeuverNames) {
-        if (name == n) {
-            return value;
-        }
-    }
-    return std::nullopt;
-}
 
 const char* viewModeName(ViewMode m) noexcept { return kModeNames[static_cast<std::size_t>(m)].second; }
 const char* viewOrientationName(ViewOrientation o) noexcept {

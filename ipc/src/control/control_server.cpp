@@ -1,16 +1,16 @@
 // SPDX-License-Identifier: Apache-2.0
-// Control socket server: a small poll() loop in the manner of Redis ae.c/anet.c. Each client has
-// an input buffer split into lines and an output buffer drained when the socket is writable, so
-// neither a slow nor a malicious client can block the daemon; a connection without traffic for
-// the idle timeout, or one that leaves what it was sent unread that long, is closed, so silent
-// clients cannot hold every slot. Slots are capped per uid and privileged peers (the HMI) take
-// the slot of the longest-silent unprivileged one when all are taken.
+// Control socket server on net::PollLoop (the poll() loop of the frame server too, in the
+// manner of Redis ae.c/anet.c). Each client has an input buffer split into lines and an output
+// buffer drained when the socket is writable, so neither a slow nor a malicious client can block
+// the daemon; a connection without traffic for the idle timeout, or one that leaves what it was
+// sent unread that long, is closed, so silent clients cannot hold every slot. Slots are capped per
+// uid and privileged peers (the HMI) take the slot of the longest-silent unprivileged one when all
+// are taken.
 
 #include "navmap/ipc/control_server.h"
 
 #include <linux/sockios.h>
 #include <poll.h>
-#include <sys/eventfd.h>
 #include <sys/ioctl.h>
 #include <sys/socket.h>
 #include <sys/stat.h>
@@ -77,7 +77,7 @@ struct ControlServer::Client {
 };
 
 ControlServer::ControlServer(ControlServerConfig config, ControlHandler& handler)
-    : m_config(std::move(config)), m_handler(handler) {}
+    : m_config(std::move(config)), m_handler(handler), m_loop(m_config.socket_path) {}
 
 Result<std::unique_ptr<ControlServer>> ControlServer::create(ControlServerConfig config, ControlHandler& handler) {
     const std::string path = config.socket_path;
@@ -126,15 +126,21 @@ Result<std::unique_ptr<ControlServer>> ControlServer::create(ControlServerConfig
     if (::lstat(path.c_str(), &st) == 0) {
         s->m_socket_inode = st.st_ino;
     }
-    s->m_wake_fd.reset(::eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC));
-    if (!s->m_wake_fd.valid()) {
-        return Error{sysError("eventfd", path)};
+    if (auto opened = s->m_loop.open(); !opened) {
+        return Error{opened.message()};
     }
+    // Only noted here: new connections are accepted after the clients' input and the idle
+    // closes of the round (pollOnce()).
+    ControlServer* self = s.get();
+    s->m_loop.add(
+        s->m_listen_fd.get(), [] { return static_cast<short>(POLLIN); },
+        [self](short revents) { self->m_accept_ready = self->m_accept_ready || (revents & POLLIN) != 0; });
     return s;
 }
 
 ControlServer::~ControlServer() {
     stop();
+    m_loop.close();
     m_clients.clear();  // closes their sockets
     if (m_listen_fd.valid()) {
         m_listen_fd.reset();
@@ -144,7 +150,6 @@ ControlServer::~ControlServer() {
             ::unlink(m_config.socket_path.c_str());
         }
     }
-    m_wake_fd.reset();
 }
 
 Status ControlServer::start() {
@@ -170,12 +175,7 @@ void ControlServer::stop() noexcept {
     }
 }
 
-void ControlServer::wake() noexcept {
-    if (m_wake_fd.valid()) {
-        const std::uint64_t one = 1;
-        [[maybe_unused]] const auto n = ::write(m_wake_fd.get(), &one, sizeof one);
-    }
-}
+void ControlServer::wake() noexcept { m_loop.wake(); }
 
 void ControlServer::publish(const ControlEvent& event) {
     {
@@ -208,17 +208,6 @@ ControlServerStats ControlServer::stats() const {
 }
 
 Status ControlServer::pollOnce(std::chrono::milliseconds timeout) {
-    std::vector<pollfd> fds;
-    fds.reserve(m_clients.size() + 2);
-    fds.push_back({m_listen_fd.get(), POLLIN, 0});
-    fds.push_back({m_wake_fd.get(), POLLIN, 0});
-    for (const auto& c : m_clients) {
-        short ev = c->close_after_flush ? 0 : POLLIN;
-        if (!c->out.empty()) {
-            ev = static_cast<short>(ev | POLLOUT);
-        }
-        fds.push_back({c->fd.get(), ev, 0});
-    }
     // Wake up in time to close the first connection that turns idle.
     auto wait = std::max(std::chrono::milliseconds(0), timeout);
     if (m_config.idle_timeout.count() > 0) {
@@ -231,37 +220,23 @@ Status ControlServer::pollOnce(std::chrono::milliseconds timeout) {
             }
         }
     }
-    const int n = ::poll(fds.data(), fds.size(), static_cast<int>(std::min<std::int64_t>(wait.count(), 1 << 30)));
-    if (n < 0) {
-        if (errno == EINTR) {
-            return {};
-        }
-        return Error{sysError("poll", m_config.socket_path)};
+    m_accept_ready = false;
+    // Clients with input are read in the loop's callbacks (watch()), the listening socket only noted.
+    if (auto st = m_loop.runOnce(std::min(wait, std::chrono::milliseconds(1 << 30))); !st) {
+        return st;
     }
-    if (fds[1].revents & POLLIN) {
-        std::uint64_t v = 0;
-        [[maybe_unused]] const auto r = ::read(m_wake_fd.get(), &v, sizeof v);
-    }
-    // Clients first (indices stay valid), then new connections, then events.
-    for (std::size_t i = 0; i < m_clients.size(); ++i) {
-        Client& c = *m_clients[i];
-        const short re = fds[i + 2].revents;
-        if (re & (POLLIN | POLLHUP | POLLERR)) {
-            if (re & POLLIN || !(re & POLLOUT)) {
-                readClient(c);
-            }
+    for (auto& c : m_clients) {
+        if (!c->dead && !c->out.empty()) {
+            flush(*c);
         }
-        if (!c.dead && !c.out.empty()) {
-            flush(c);
-        }
-        if (!c.dead && c.close_after_flush && c.out.empty()) {
-            c.dead = true;
+        if (!c->dead && c->close_after_flush && c->out.empty()) {
+            c->dead = true;
         }
     }
     // Idle connections go before new ones are accepted, so a waiting client gets a free slot.
     closeIdle(SteadyClock::now());
     removeDead();
-    if (fds[0].revents & POLLIN) {
+    if (m_accept_ready) {
         acceptClients();
     }
     deliverEvents();
@@ -269,8 +244,34 @@ Status ControlServer::pollOnce(std::chrono::milliseconds timeout) {
     return {};
 }
 
+void ControlServer::watch(Client& c) {
+    Client* client = &c;
+    m_loop.add(
+        c.fd.get(),
+        [client] {
+            short ev = client->close_after_flush ? 0 : POLLIN;
+            if (!client->out.empty()) {
+                ev = static_cast<short>(ev | POLLOUT);
+            }
+            return ev;
+        },
+        [this, client](short revents) {
+            // A hang-up or an error without POLLIN is read too, to see the end of the stream;
+            // POLLOUT alone is for flush() after the round.
+            if ((revents & (POLLIN | POLLHUP | POLLERR)) != 0 &&
+                ((revents & POLLIN) != 0 || (revents & POLLOUT) == 0)) {
+                readClient(*client);
+            }
+        });
+}
+
 void ControlServer::removeDead() {
     const auto before = m_clients.size();
+    for (const auto& c : m_clients) {
+        if (c->dead) {
+            m_loop.remove(c->fd.get());  // before its socket closes and the number is reused
+        }
+    }
     std::erase_if(m_clients, [](const std::unique_ptr<Client>& c) { return c->dead; });  // closes their sockets
     if (before != m_clients.size()) {
         m_counters.clients = m_clients.size();
@@ -366,6 +367,7 @@ void ControlServer::acceptClients() {
         }
         c->fd = std::move(fd);
         ++m_counters.connections;
+        watch(*c);
         m_clients.push_back(std::move(c));
         m_counters.clients = m_clients.size();
     }

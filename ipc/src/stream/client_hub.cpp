@@ -8,7 +8,7 @@
 #include <cerrno>
 #include <utility>
 
-#include "poll_loop.h"
+#include "navmap/ipc/net/poll_loop.h"
 #include "stream_rings.h"
 #include "stream_transport.h"
 

@@ -24,9 +24,13 @@
 #include "stream_stats.h"
 #include "stream_timeouts.h"
 
+namespace navmap::ipc::net {
+class PollLoop;
+}  // namespace navmap::ipc::net
+
 namespace navmap::ipc::stream_detail {
 
-class PollLoop;
+using net::PollLoop;
 class RingSet;
 class StreamTransport;
 

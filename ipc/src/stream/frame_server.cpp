@@ -17,7 +17,7 @@
 #include "frame_encoder.h"
 #include "http_transport.h"
 #include "navmap/ipc/frame_header.h"
-#include "poll_loop.h"
+#include "navmap/ipc/net/poll_loop.h"
 #include "shm_transport.h"
 #include "stream_report.h"
 #include "stream_rings.h"
@@ -54,7 +54,7 @@ private:
     std::vector<PendingStatus> takeStatuses();
 
     stream_detail::StreamStats m_stats;
-    stream_detail::PollLoop m_loop{"frame server"};
+    net::PollLoop m_loop{"frame server"};
     stream_detail::FrameEncoder m_encoder;  // zlib/JPEG off the I/O thread
     stream_detail::RingSet m_rings;
     stream_detail::ClientHub m_hub;

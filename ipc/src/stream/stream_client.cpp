@@ -13,6 +13,7 @@
 #include <cstring>
 
 #include "navmap/ipc/frame_ring.h"
+#include "navmap/ipc/net/recv_before.h"
 #include "stream_socket.h"
 
 namespace navmap::ipc {
@@ -264,30 +265,16 @@ Status StreamClient::readExact(std::uint8_t* dst, std::size_t n, Clock::time_poi
         }
     }
     while (n > 0) {
-        pollfd p{m_fd, POLLIN, 0};
-        const int r = ::poll(&p, 1, msLeft(deadline));
-        if (r == 0) {
+        const auto got = net::recvBefore(m_fd, dst, n, deadline, m_peer);
+        if (got.kind == net::Received::Kind::TimedOut) {
             *timed_out = true;
             return Error{"timeout"};
         }
-        if (r < 0) {
-            if (errno == EINTR) {
-                continue;
-            }
-            return Error{sysError("poll", m_peer)};
+        if (got.kind == net::Received::Kind::Failed) {
+            return Error{got.error};
         }
-        const ssize_t got = ::recv(m_fd, dst, n, 0);
-        if (got == 0) {
-            return Error{"recv(" + m_peer + "): connection closed by the server"};
-        }
-        if (got < 0) {
-            if (errno == EINTR || errno == EAGAIN) {
-                continue;
-            }
-            return Error{sysError("recv", m_peer)};
-        }
-        dst += got;
-        n -= static_cast<std::size_t>(got);
+        dst += got.bytes;
+        n -= got.bytes;
     }
     return {};
 }
@@ -306,28 +293,15 @@ Result<bool> StreamClient::readHeader(FrameHeader& out, Clock::time_point deadli
             m_in_pos = 0;
         }
         while (m_header_have < kFrameHeaderBytes) {
-            pollfd p{m_fd, POLLIN, 0};
-            const int r = ::poll(&p, 1, msLeft(deadline));
-            if (r == 0) {
+            const auto got = net::recvBefore(m_fd, m_header_buf + m_header_have, kFrameHeaderBytes - m_header_have,
+                                             deadline, m_peer);
+            if (got.kind == net::Received::Kind::TimedOut) {
                 return false;
             }
-            if (r < 0) {
-                if (errno == EINTR) {
-                    continue;
-                }
-                return Error{sysError("poll", m_peer)};
+            if (got.kind == net::Received::Kind::Failed) {
+                return Error{got.error};
             }
-            const ssize_t got = ::recv(m_fd, m_header_buf + m_header_have, kFrameHeaderBytes - m_header_have, 0);
-            if (got == 0) {
-                return Error{"recv(" + m_peer + "): connection closed by the server"};
-            }
-            if (got < 0) {
-                if (errno == EINTR || errno == EAGAIN) {
-                    continue;
-                }
-                return Error{sysError("recv", m_peer)};
-            }
-            m_header_have += static_cast<std::size_t>(got);
+            m_header_have += got.bytes;
         }
     }
     auto decoded = decodeFrameHeader(m_header_buf, kFrameHeaderBytes);

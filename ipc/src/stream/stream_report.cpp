@@ -3,6 +3,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "navmap/ipc/frame_server_stats_json.h"
+
 namespace navmap::ipc::stream_detail {
 
 namespace {
@@ -75,33 +77,6 @@ void collectCosts(MetricsRegistry& r, const FrameServerStats& s, const EncoderSt
         .sample({{"format", "jpeg"}, {"stat", "max"}}, es.jpeg_ms_max / 1000.0);
 }
 
-nlohmann::json streamCounters(const FrameServerStats& s) {
-    return {{"clients", s.clients},
-            {"shm_clients", s.shm_clients},
-            {"tcp_clients", s.tcp_clients},
-            {"mjpeg_clients", s.mjpeg_clients},
-            {"rings", s.rings},
-            {"rings_idle", s.rings_idle},
-            {"rings_reused", s.rings_reused},
-            {"published", s.published},
-            {"sent", s.frames_sent},
-            {"statuses_sent", s.statuses_sent},
-            {"dropped", s.frames_dropped},
-            {"stall_disconnects", s.stall_disconnects},
-            {"timeouts", {{"handshake", s.handshake_timeouts}, {"first_frame", s.first_frame_timeouts}}},
-            {"refusals",
-             {{"peer", s.refused_peer},
-              {"transport_full", s.refused_transport_full},
-              {"uid_full", s.refused_uid_full},
-              {"address_full", s.refused_address_full},
-              {"not_rendered", s.refused_not_rendered},
-              {"ring_memory", s.refused_ring_memory},
-              {"http_host", s.refused_host},
-              {"http_token", s.refused_token}}},
-            {"ring_bytes", s.ring_bytes},
-            {"publish_ms_last", s.publish_ms_last}};
-}
-
 }  // namespace
 
 void collectStreamMetrics(MetricsRegistry& r, const FrameServerStats& s, const EncoderStats& es,
@@ -114,7 +89,7 @@ void collectStreamMetrics(MetricsRegistry& r, const FrameServerStats& s, const E
 std::string streamStatusJson(const FrameServerStats& s, const std::vector<ActiveProfile>& active,
                              const std::function<std::string()>& daemon_json) {
     nlohmann::json j;
-    j["stream"] = streamCounters(s);
+    j["stream"] = frameServerStatsJson(s);
     nlohmann::json profiles = nlohmann::json::array();
     for (const auto& a : active) {
         profiles.push_back(

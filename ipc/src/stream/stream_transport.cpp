@@ -12,8 +12,8 @@
 #include <nlohmann/json.hpp>
 #include <utility>
 
+#include "navmap/ipc/net/poll_loop.h"
 #include "navmap/ipc/net/sys_error.h"
-#include "poll_loop.h"
 
 namespace navmap::ipc::stream_detail {
 

@@ -18,9 +18,13 @@
 #include "navmap/ipc/result.h"
 #include "stream_conn.h"
 
+namespace navmap::ipc::net {
+class PollLoop;
+}  // namespace navmap::ipc::net
+
 namespace navmap::ipc::stream_detail {
 
-class PollLoop;
+using net::PollLoop;
 
 class StreamTransport {
 public:

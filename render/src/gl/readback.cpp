@@ -45,8 +45,9 @@ Image readPixelsSync(int width, int height) {
     return image;
 }
 
-ReadbackRing::ReadbackRing(int width, int height, int slots) : m_width(width), m_height(height) {
-    m_slots.resize(static_cast<std::size_t>(std::max(slots, 1)));
+ReadbackRing::ReadbackRing(int width, int height, int slots)
+    : m_width(width), m_height(height), m_pending(static_cast<std::size_t>(std::max(slots, 1))) {
+    m_slots.resize(m_pending.slots());
     m_direct = m_slots.size() == 1;
     if (m_direct) return;  // submit() reads straight into the frame's image
     const auto bytes = static_cast<GLsizeiptr>(width) * height * 4;
@@ -73,12 +74,14 @@ std::optional<Frame> ReadbackRing::submit(std::uint64_t sequence) {
         m_read.push_back(std::move(frame));
         return std::nullopt;
     }
-    std::optional<Frame> oldest;
-    if (m_pending.size() == m_slots.size()) {
-        oldest = complete(m_slots[m_pending.front()]);
-        m_pending.pop_front();
-    }
-    Slot& slot = m_slots[m_next];
+    // A full ring completes its oldest copy first: that slot is the one m_next names.
+    return m_pending.submit([this](std::size_t i) { return complete(m_slots[i]); },
+                            [this, sequence] { return startCopy(sequence); });
+}
+
+std::size_t ReadbackRing::startCopy(std::uint64_t sequence) {
+    const std::size_t i = m_next;
+    Slot& slot = m_slots[i];
     glBindBuffer(GL_PIXEL_PACK_BUFFER, slot.pbo);
     glPixelStorei(GL_PACK_ALIGNMENT, 1);
     glReadPixels(0, 0, m_width, m_height, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
@@ -86,17 +89,15 @@ std::optional<Frame> ReadbackRing::submit(std::uint64_t sequence) {
     slot.fence = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
     slot.sequence = sequence;
     glFlush();  // start the copy now rather than at the next submit
-    m_pending.push_back(m_next);
     m_next = (m_next + 1) % m_slots.size();
-    return oldest;
+    return i;
 }
 
 std::vector<Frame> ReadbackRing::drain() {
     std::vector<Frame> frames(std::make_move_iterator(m_read.begin()), std::make_move_iterator(m_read.end()));
     m_read.clear();
-    while (!m_pending.empty()) {
-        frames.push_back(complete(m_slots[m_pending.front()]));
-        m_pending.pop_front();
+    for (auto& frame : m_pending.drain([this](std::size_t i) { return complete(m_slots[i]); })) {
+        frames.push_back(std::move(frame));
     }
     return frames;
 }
@@ -104,14 +105,14 @@ std::vector<Frame> ReadbackRing::drain() {
 std::vector<Frame> ReadbackRing::collectReady() {
     std::vector<Frame> frames(std::make_move_iterator(m_read.begin()), std::make_move_iterator(m_read.end()));
     m_read.clear();
-    while (!m_pending.empty()) {
-        Slot& slot = m_slots[m_pending.front()];
-        if (slot.fence) {
-            const GLenum r = glClientWaitSync(slot.fence, GL_SYNC_FLUSH_COMMANDS_BIT, 0);
-            if (r != GL_ALREADY_SIGNALED && r != GL_CONDITION_SATISFIED) break;
-        }
-        frames.push_back(complete(slot));
-        m_pending.pop_front();
+    const auto copied = [this](std::size_t i) {
+        const Slot& slot = m_slots[i];
+        if (!slot.fence) return true;
+        const GLenum r = glClientWaitSync(slot.fence, GL_SYNC_FLUSH_COMMANDS_BIT, 0);
+        return r == GL_ALREADY_SIGNALED || r == GL_CONDITION_SATISFIED;
+    };
+    for (auto& frame : m_pending.collect(copied, [this](std::size_t i) { return complete(m_slots[i]); })) {
+        frames.push_back(std::move(frame));
     }
     return frames;
 }

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "navmap/render/renderer.h"
+#include "readback_queue.h"
 
 namespace navmap::render::gl {
 
@@ -45,13 +46,15 @@ private:
         GLsync fence = nullptr;
         std::uint64_t sequence = 0;
     };
+    /// Queues the copy of the bound read framebuffer into the next slot; returns its index.
+    std::size_t startCopy(std::uint64_t sequence);
     Frame complete(Slot& slot);
 
     int m_width;
     int m_height;
     bool m_direct = false;  // one slot: no pixel-pack buffer, submit() reads the frame
     std::vector<Slot> m_slots;
-    std::deque<std::size_t> m_pending;  // indices into m_slots, oldest first
+    ReadbackQueue<std::size_t> m_pending;  // indices into m_slots
     std::size_t m_next = 0;
     std::deque<Frame> m_read;  // one slot: read by submit(), not handed out yet
 };

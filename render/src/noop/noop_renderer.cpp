@@ -19,7 +19,7 @@ TargetHandle NoopRenderer::addTarget(int width, int height) {
         throw RenderError("renderer: invalid size " + std::to_string(width) + "x" + std::to_string(height));
     }
     const int id = m_next_id++;
-    m_targets.emplace(id, View{width, height, {}});
+    m_targets.emplace(id, View{width, height, ReadbackQueue<std::uint64_t>(static_cast<std::size_t>(m_ring))});
     return handle(id);
 }
 
@@ -75,21 +75,12 @@ Image NoopRenderer::readSync(TargetHandle target) { return blank(view(target)); 
 
 std::optional<Frame> NoopRenderer::readAsync(TargetHandle target, std::uint64_t sequence) {
     View& v = view(target);
-    std::optional<Frame> oldest;
-    if (v.pending.size() == static_cast<std::size_t>(m_ring)) {
-        oldest = Frame{v.pending.front(), blank(v)};
-        v.pending.pop_front();
-    }
-    v.pending.push_back(sequence);
-    return oldest;
+    return v.pending.submit([&](std::uint64_t seq) { return Frame{seq, blank(v)}; }, [sequence] { return sequence; });
 }
 
 std::vector<Frame> NoopRenderer::drainReadbacks(TargetHandle target) {
-    std::vector<Frame> frames;
     View& v = view(target);
-    for (auto seq : v.pending) frames.push_back(Frame{seq, blank(v)});
-    v.pending.clear();
-    return frames;
+    return v.pending.drain([&](std::uint64_t seq) { return Frame{seq, blank(v)}; });
 }
 
 }  // namespace navmap::render::noop

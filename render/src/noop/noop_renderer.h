@@ -2,10 +2,10 @@
 #pragma once
 // The no-op backend: the Renderer API without any GL, for tests of code outside render/.
 
-#include <deque>
 #include <map>
 
 #include "navmap/render/renderer.h"
+#include "readback_queue.h"
 
 namespace navmap::render::noop {
 
@@ -47,7 +47,7 @@ private:
     struct View {
         int width = 0;
         int height = 0;
-        std::deque<std::uint64_t> pending;
+        ReadbackQueue<std::uint64_t> pending;  // sequences of the readbacks in flight
     };
     /// `target`'s state; throws RenderError for a handle that names no target.
     View& view(TargetHandle target);

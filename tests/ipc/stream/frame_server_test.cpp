@@ -17,6 +17,7 @@
 
 #include "navmap/ipc/frame_header.h"
 #include "navmap/ipc/frame_server.h"
+#include "navmap/ipc/frame_server_stats_json.h"
 #include "navmap/ipc/stream_client.h"
 #include "navmap/ipc/zlib_inflater.h"
 #include "stream_test_util.h"
@@ -364,6 +365,9 @@ TEST_F(StreamServerTest, HttpPagesStatusAndMetrics) {
     ASSERT_TRUE(j.is_object()) << status;
     EXPECT_EQ(j["daemon"]["vehicle"]["speed"], 13.5);
     EXPECT_EQ(j["stream"]["clients"], 0);
+    j["stream"].erase("profiles");  // the rest is frameServerStatsJson's object, as in get_status
+    EXPECT_EQ(j["stream"].size(), frameServerStatsJson({}).size()) << j["stream"].dump();
+    EXPECT_TRUE(j["stream"]["frames_sent"].is_number() && j["stream"]["statuses_sent"].is_number());
 
     const std::string metrics = httpGet(m_server->httpPort(), "/metrics");
     EXPECT_NE(metrics.find("text/plain; version=0.0.4"), std::string::npos);

@@ -10,6 +10,8 @@
 #include <variant>
 #include <vector>
 
+#include "navmap/common/maneuver_type.h"
+
 namespace navmap::ipc {
 
 /// Limits applied while parsing and serving (defaults as documented in docs/ipc.md).
@@ -26,26 +28,11 @@ struct GeoCoordinate {
     double lon = 0.0;
 };
 
-enum class ManeuverType : std::uint8_t {
-    Depart,
-    Arrive,
-    Straight,
-    TurnLeft,
-    TurnRight,
-    SlightLeft,
-    SlightRight,
-    SharpLeft,
-    SharpRight,
-    UTurn,
-    KeepLeft,
-    KeepRight,
-    Roundabout,
-    Exit,
-    Merge,
-};
-/// "turn_left" etc. (the protocol spelling).
-const char* maneuverTypeName(ManeuverType t) noexcept;
-std::optional<ManeuverType> maneuverTypeFromName(std::string_view name) noexcept;
+/// The manoeuvre types and their protocol names (navmap/common/maneuver_type.h), the same enum
+/// route guidance uses (map::guidance::ManeuverType).
+using ManeuverType = navmap::ManeuverType;
+using navmap::maneuverTypeFromName;
+using navmap::maneuverTypeName;
 
 struct Maneuver {
     std::size_t index = 0;  ///< index into the route points where the maneuver happens

@@ -1,13 +1,13 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 // ControlServer: the daemon's control socket (Unix stream socket, JSON lines, docs/ipc.md).
-// Non-blocking and poll()-driven: step it from the daemon loop with pollOnce(), or let it run
-// its own thread with start(). Valid commands go to a ControlHandler on that thread; malformed
-// lines get an error reply and change nothing; an over-long line or an idle connection is
-// disconnected with a reason. Who may connect: the socket file mode and SO_PEERCRED (allowed
-// uids/gids). How many: a cap in all, per peer uid and on subscribers per uid; privileged peers
-// (root, the daemon's own uid, `privileged_uids`: the HMI) take the slot of an unprivileged one
-// when all are taken, so no other user can lock the HMI out (docs/ipc.md "Slots and priority").
+// Non-blocking, on a net::PollLoop (the frame server's loop too): step it from the daemon loop
+// with pollOnce(), or let it run its own thread with start(). Valid commands go to a ControlHandler on that thread;
+// malformed lines get an error reply and change nothing; an over-long line or an idle connection is disconnected with a
+// reason. Who may connect: the socket file mode and SO_PEERCRED (allowed uids/gids). How many: a cap in all, per peer
+// uid and on subscribers per uid; privileged peers (root, the daemon's own uid, `privileged_uids`: the HMI) take the
+// slot of an unprivileged one when all are taken, so no other user can lock the HMI out (docs/ipc.md "Slots and
+// priority").
 
 #include <sys/types.h>
 
@@ -24,6 +24,7 @@
 
 #include "navmap/ipc/control_command.h"
 #include "navmap/ipc/control_handler.h"
+#include "navmap/ipc/net/poll_loop.h"
 #include "navmap/ipc/net/unique_fd.h"
 #include "navmap/ipc/result.h"
 
@@ -105,6 +106,7 @@ private:
     struct Client;
     ControlServer(ControlServerConfig config, ControlHandler& handler);
     void acceptClients();
+    void watch(Client& c);
     void readClient(Client& c);
     void handleLine(Client& c, std::string_view line);
     void queue(Client& c, const std::string& line);
@@ -122,7 +124,8 @@ private:
     ControlServerConfig m_config;
     ControlHandler& m_handler;
     net::UniqueFd m_listen_fd;
-    net::UniqueFd m_wake_fd;  // eventfd: publish() and stop()
+    net::PollLoop m_loop;         // its eventfd wakes it for publish() and stop()
+    bool m_accept_ready = false;  // the listening socket was readable in this round
     ino_t m_socket_inode = 0;
     std::vector<std::unique_ptr<Client>> m_clients;
 

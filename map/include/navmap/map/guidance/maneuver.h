@@ -1,40 +1,23 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// Route guidance manoeuvres (docs/guidance.md): the manoeuvre types, spelled as the control
-// protocol spells them (docs/ipc.md set_route), and the turn class of a heading change at a
-// junction. Plain values, no I/O, thread-safe.
+// Route guidance manoeuvres (docs/guidance.md): the manoeuvre types (the control protocol's
+// enum, navmap/common/maneuver_type.h) and the turn class of a heading change at a junction.
+// Plain values, no I/O, thread-safe.
 
 #include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <string>
-#include <string_view>
+
+#include "navmap/common/maneuver_type.h"
 
 namespace navmap::map::guidance {
 
-/// The manoeuvre types of the control protocol (the same set and spelling as ipc::ManeuverType).
-enum class ManeuverType : std::uint8_t {
-    Depart,
-    Arrive,
-    Straight,
-    TurnLeft,
-    TurnRight,
-    SlightLeft,
-    SlightRight,
-    SharpLeft,
-    SharpRight,
-    UTurn,
-    KeepLeft,
-    KeepRight,
-    Roundabout,
-    Exit,
-    Merge,
-};
-inline constexpr std::size_t kManeuverTypeCount = 15;
-
-/// "turn_left" etc., the control protocol's name.
-std::string_view maneuverTypeName(ManeuverType t) noexcept;
-std::optional<ManeuverType> maneuverTypeFromName(std::string_view name) noexcept;
+/// The manoeuvre types, the control protocol's own (navmap/common/maneuver_type.h): one enum.
+using ManeuverType = navmap::ManeuverType;
+using navmap::kManeuverTypeCount;
+using navmap::maneuverTypeFromName;
+using navmap::maneuverTypeName;
 
 /// Turn-class boundaries on the absolute heading change at a junction, degrees. A change below
 /// `straight_deg` is straight on, below `slight_deg` slight, below `turn_deg` an ordinary turn,

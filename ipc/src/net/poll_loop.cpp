@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "poll_loop.h"
+#include "navmap/ipc/net/poll_loop.h"
 
 #include <poll.h>
 #include <sys/eventfd.h>
@@ -12,7 +12,7 @@
 
 #include "navmap/ipc/net/sys_error.h"
 
-namespace navmap::ipc::stream_detail {
+namespace navmap::ipc::net {
 
 PollLoop::PollLoop(std::string name) : m_name(std::move(name)) {}
 
@@ -21,7 +21,7 @@ PollLoop::~PollLoop() = default;
 Status PollLoop::open() {
     m_wake_fd.reset(::eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC));
     if (!m_wake_fd.valid()) {
-        return Error{net::sysError("eventfd", m_name + " wake-up")};
+        return Error{sysError("eventfd", m_name + " wake-up")};
     }
     return {};
 }
@@ -78,7 +78,7 @@ Status PollLoop::runOnce(std::chrono::milliseconds timeout) {
     const std::size_t polled = m_entries.size();
     const int n = ::poll(m_pfds.data(), m_pfds.size(), static_cast<int>(timeout.count()));
     if (n < 0) {
-        return errno == EINTR ? Status{} : Status{Error{net::sysError("poll", m_name)}};
+        return errno == EINTR ? Status{} : Status{Error{sysError("poll", m_name)}};
     }
     if (n > 0) {
         dispatch(polled);
@@ -86,4 +86,4 @@ Status PollLoop::runOnce(std::chrono::milliseconds timeout) {
     return {};
 }
 
-}  // namespace navmap::ipc::stream_detail
+}  // namespace navmap::ipc::net

@@ -1,10 +1,11 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// PollLoop: the frame server's one poll() loop, in the manner of Redis ae.c. Descriptors are
-// registered with a callback that says which events they wait for (asked before every poll) and
-// a callback for what arrived; an eventfd lets other threads (render, encoder, stop) wake it.
-// Callbacks run on the loop's thread in registration order; a descriptor added by a callback is
-// polled from the next round on. Private to ipc/src/stream.
+// PollLoop: the one poll() loop of navmap's socket servers (the frame server, the control
+// socket), in the manner of Redis ae.c. Descriptors are registered with a callback that says
+// which events they wait for (asked before every poll) and a callback for what arrived; an
+// eventfd lets other threads (render, encoder, publish, stop) wake it. Callbacks run on the
+// loop's thread in registration order; a descriptor added by a callback is polled from the next
+// round on.
 
 #include <poll.h>
 
@@ -17,7 +18,7 @@
 #include "navmap/ipc/net/unique_fd.h"
 #include "navmap/ipc/result.h"
 
-namespace navmap::ipc::stream_detail {
+namespace navmap::ipc::net {
 
 class PollLoop {
 public:
@@ -62,4 +63,4 @@ private:
     std::vector<pollfd> m_pfds;
 };
 
-}  // namespace navmap::ipc::stream_detail
+}  // namespace navmap::ipc::net
