@@ -33,6 +33,16 @@ std::string driveCase(const std::string& extra = {}) {
            (extra.empty() ? std::string() : ", " + extra) + "}";
 }
 
+TEST(RenderCaseLoad, EveryShippedCaseLoads) {
+    const auto dirs = navmap::test::listRenderCases(navmap::test::sourceDir() / "tests" / "render" / "cases");
+    EXPECT_GE(dirs.size(), 23u);
+    for (const auto& dir : dirs) {
+        std::string error;
+        EXPECT_TRUE(loadRenderCase(dir, &error)) << error;
+        EXPECT_TRUE(std::filesystem::exists(dir / "expected.png")) << dir;
+    }
+}
+
 TEST(RenderCaseLoad, KeysDescribeTheFrame) {
     std::string error;
     const auto c = loadRenderCase(caseDir("hud", driveCase(R"("style": "hud", "frames": 3, "msaa": 4,
