@@ -20,7 +20,7 @@ const std::filesystem::path kScratch = navmap::test::binaryDir() / "render_case_
 
 // Writes `json` as <scratch>/<name>/case.json and returns the directory.
 std::filesystem::path caseDir(const std::string& name, const std::string& json) {
-    const auto dir = kScratch / name;
+    auto dir = kScratch / name;
     std::filesystem::create_directories(dir);
     std::ofstream(dir / "case.json") << json;
     return dir;
