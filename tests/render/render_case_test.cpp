@@ -32,16 +32,19 @@ const std::vector<std::filesystem::path>& caseDirs() {
 
 // Test names: the directory names, made unique where two differ only in characters a test
 // name cannot hold (RenderCases.DirectoryNamesAreTestNames fails for those).
-std::vector<std::string> caseNames() {
-    std::vector<std::string> names;
-    std::set<std::string> taken;
-    for (std::size_t i = 0; i < caseDirs().size(); ++i) {
-        std::string name = navmap::test::caseTestName(caseDirs()[i].filename().string());
-        if (name.empty() || taken.count(name)) name += "_" + std::to_string(i);
-        taken.insert(name);
-        names.push_back(name);
-    }
-    return names;
+const std::vector<std::string>& caseNames() {
+    static const std::vector<std::string> kNames = [] {
+        std::vector<std::string> names;
+        std::set<std::string> taken;
+        for (std::size_t i = 0; i < caseDirs().size(); ++i) {
+            std::string name = navmap::test::caseTestName(caseDirs()[i].filename().string());
+            if (name.empty() || taken.count(name)) name += "_" + std::to_string(i);
+            taken.insert(name);
+            names.push_back(name);
+        }
+        return names;
+    }();
+    return kNames;
 }
 
 // The golden's path for matchesGolden: relative to tests/ of the source tree when it lies there
