@@ -16,15 +16,15 @@
 # every target again under ASan would take most of the rest. So by default it builds and runs a named
 # subset (NAVMAP_SAN_TARGETS): the unit tests of common, map (rules, geometry with the CGAL
 # triangulator, routing, store, guidance), ipc (codecs, DBC, candump, control protocol, net),
-# the vehicle state, labels, text and render, and the gpu tests of render_gpu_tests and
-# render_ortho_gpu_tests matched by NAVMAP_SAN_GPU_TESTS: the GLES renderer and its readback, the
-# map passes and the Andorra views with their goldens, the orthoimage generator and its worker
-# thread. Left out: the stream, daemon and sim test programs (timing-based rates and
+# the vehicle state, labels, text and render, and the gpu tests of render_gpu_tests,
+# render_case_tests and render_ortho_gpu_tests matched by NAVMAP_SAN_GPU_TESTS: the GLES renderer
+# and its readback, the map passes, the render cases (the golden views), the orthoimage generator
+# and its worker thread. Left out: the stream, daemon and sim test programs (timing-based rates and
 # whole processes) and the suites that replay drives frame by frame. docs/packaging.md "CI".
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 build="${NAVMAP_SAN_BUILD_DIR:-$root/build-san}"
-gpu_tests="${NAVMAP_SAN_GPU_TESTS:-^(GlesRenderer|MapRender(/GrazingRoads)?|AndorraMap|Views/(AndorraGolden|GlowRoadsView|LabelGolden|SvGolden)|Effects/OcclusionGolden|LabelAura|GlowRoads|SvRoads|SvRoadsHighRes|TextLayerTest|RouteDrapeGpu|TerrainMorphRoads|DemRefine|TrajectoryQualityErrors|OrthoGpu|OrthoMap)\\.}"
+gpu_tests="${NAVMAP_SAN_GPU_TESTS:-^(GlesRenderer|MapRender(/GrazingRoads)?|AndorraMap|Views/GlowRoadsView|Cases/RenderCaseTest|LabelAura|GlowRoads|SvRoads|SvRoadsHighRes|TextLayerTest|RouteDrapeGpu|TerrainMorphRoads|DemRefine|TrajectoryQualityErrors|OrthoGpu|OrthoMap)\\.}"
 # A build type of its own (no -O2 -g from RelWithDebInfo); NDEBUG as in the release build. Warnings
 # are the normal build's business (-Werror there): GCC warns differently with the sanitizers on.
 # -O1 -g1: what the sanitizers' documentation recommends, and quicker to build on CI's two cores
@@ -44,7 +44,7 @@ cmake -S "$root" -B "$build" "${generator[@]}" -DCMAKE_BUILD_TYPE=Sanitize \
   "-DCMAKE_SHARED_LINKER_FLAGS=-fsanitize=address,undefined" \
   "-DCMAKE_MODULE_LINKER_FLAGS=-fsanitize=address,undefined" "$@"
 # The test programs of the named subset (NAVMAP_SAN_TARGETS; "all": every target), and what they link.
-targets="${NAVMAP_SAN_TARGETS:-common_check_test map_rules_test map_geometry_test map_routing_test map_store_test map_spill_test map_guidance_test ipc_unit_tests ipc_net_tests ipc_control_tests vehicle_state_tests navmap_labels_test navmap_text_test render_unit_tests render_lod_unit_tests render_gpu_tests render_ortho_gpu_tests}"
+targets="${NAVMAP_SAN_TARGETS:-common_check_test map_rules_test map_geometry_test map_routing_test map_store_test map_spill_test map_guidance_test ipc_unit_tests ipc_net_tests ipc_control_tests vehicle_state_tests navmap_labels_test navmap_text_test render_unit_tests render_lod_unit_tests render_gpu_tests render_ortho_gpu_tests render_case_unit_tests render_case_tests}"
 if [ "$targets" = all ]; then
   cmake --build "$build" -j "$(nproc)"
 else

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
-// Golden images of the real Andorra store at fixed poses, per view and layer set (issue: map
-// rendering). The store is compiled at build time (build/andorra.navmap).
+// The real Andorra store at fixed poses: layers, outlines, lost contexts and culling (issue: map
+// rendering; its golden views are render cases, tests/render/cases/andorra_{bird,snail}_*). The
+// store is compiled at build time (build/andorra.navmap).
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -73,8 +74,6 @@ MapLayers layersFor(int step) {
     return l;
 }
 
-constexpr const char* kStepNames[] = {"terrain", "roads", "buildings", "full"};
-
 TEST(AndorraMap, DriveIsPlannedOnTheRoadGraph) {
     const auto& d = navmap::test::andorraDrive().drive;
     ASSERT_GT(d.line.size(), 20u);
@@ -82,32 +81,6 @@ TEST(AndorraMap, DriveIsPlannedOnTheRoadGraph) {
     EXPECT_GT(d.line.back().measure_m, 6000.0);
     EXPECT_LT(d.line.back().measure_m, 12000.0);
 }
-
-class AndorraGolden : public ::testing::TestWithParam<std::tuple<ViewMode, int>> {};
-
-TEST_P(AndorraGolden, MatchesGolden) {
-    const auto [mode, step] = GetParam();
-    MapFrameStats stats;
-    const Image image = renderView(mode, layersFor(step), &stats);
-    EXPECT_GT(stats.tiles_drawn, 3u);
-    if (step >= 1) {
-        EXPECT_GT(stats.road_segments, 100u);
-    }
-    if (step >= 2) {
-        EXPECT_GT(stats.building_triangles, 100u);
-    }
-    const std::string name = std::string("render/golden/andorra_") + (mode == ViewMode::Bird ? "bird_" : "snail_") +
-                             kStepNames[step] + ".png";
-    EXPECT_GOLDEN(image, name, (navmap::test::GoldenTolerance{10, 0.01}));
-}
-
-INSTANTIATE_TEST_SUITE_P(Views, AndorraGolden,
-                         ::testing::Combine(::testing::Values(ViewMode::Bird, ViewMode::Snail),
-                                            ::testing::Values(0, 1, 2, 3)),
-                         [](const ::testing::TestParamInfo<AndorraGolden::ParamType>& p) {
-                             return std::string(std::get<0>(p.param) == ViewMode::Bird ? "bird_" : "snail_") +
-                                    kStepNames[std::get<1>(p.param)];
-                         });
 
 TEST(AndorraMap, RoadsChangeTheImageOnlyWhereRoadsAre) {
     const Image terrain = renderView(ViewMode::Bird, layersFor(0));
@@ -359,14 +332,14 @@ TEST(AndorraMap, ALostContextIsMadeAnewAndTheMapRendersAgain) {
     MapFrame frame = navmap::test::settledAndorraFrame(ViewMode::Bird, kW, kH);
     frame.layers = layersFor(3);
     renderer->renderMap(frame);
-    EXPECT_GOLDEN(renderer->readSync(), "render/golden/andorra_bird_full.png",
+    EXPECT_GOLDEN(renderer->readSync(), "render/cases/andorra_bird_full/expected.png",
                   (navmap::test::GoldenTolerance{10, 0.01}));
     EXPECT_EQ(renderer->device().context_resets, 0);
 
     renderer->renderMap(frame);  // the hook drops the context first
     EXPECT_EQ(renderer->device().context_resets, 1);
     EXPECT_GT(renderer->mapStats().tiles_uploaded, 3u) << "the tiles were uploaded again";
-    EXPECT_GOLDEN(renderer->readSync(), "render/golden/andorra_bird_full.png",
+    EXPECT_GOLDEN(renderer->readSync(), "render/cases/andorra_bird_full/expected.png",
                   (navmap::test::GoldenTolerance{10, 0.01}));
     EXPECT_EQ(renderer->width(second), 320);
     EXPECT_EQ(renderer->height(second), 120);
@@ -381,7 +354,7 @@ TEST(AndorraMap, ALostContextIsMadeAnewAndTheMapRendersAgain) {
 }
 
 // The terrain is drawn in blocks (TileMesh::terrain_blocks); those outside the view frustum are
-// skipped (the goldens above show that nothing visible goes missing).
+// skipped (the render cases andorra_{bird,snail}_* show that nothing visible goes missing).
 TEST(AndorraMap, TerrainBlocksOutsideTheViewAreNotDrawn) {
     for (ViewMode mode : {ViewMode::Bird, ViewMode::Snail}) {
         MapFrameStats stats;

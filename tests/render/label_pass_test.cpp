@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 // Labels in rendered map frames (issue 4, integration): screen-space labels in bird's-eye,
-// world-space labels in snail's view with the seed 5.5 switch and cross-fade, goldens of
-// labelled views, and the measured layout quality of a replayed Andorra drive.
+// world-space labels in snail's view with the seed 5.5 switch and cross-fade, and the measured
+// layout quality of a replayed Andorra drive (the labelled golden views are render cases,
+// tests/render/cases/andorra_labels_*).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -16,7 +17,6 @@
 
 #include "andorra_drive.h"
 #include "drive_scene.h"
-#include "golden.h"
 #include "label_quality.h"
 #include "navmap/render/renderer.h"
 #include "road_draping.h"
@@ -353,24 +353,6 @@ TEST(LabelPass, FiveFramesPerSecondShowTheSameLabelsAsThirty) {
         EXPECT_LT(glm::length(c - fast.at(id)), 0.5F) << id;
     }
 }
-
-class LabelGolden : public ::testing::TestWithParam<ViewMode> {};
-
-TEST_P(LabelGolden, MatchesGolden) {
-    const ViewMode mode = GetParam();
-    auto r = makeRenderer();
-    MapFrameStats stats;
-    const Image image = renderSettled(*r, settledFrame(mode), 60, &stats);
-    EXPECT_GE(stats.labels_visible, 3u);
-    const std::string name =
-        std::string("render/golden/andorra_labels_") + (mode == ViewMode::Bird ? "bird" : "snail") + ".png";
-    EXPECT_GOLDEN(image, name, (navmap::test::GoldenTolerance{10, 0.01}));
-}
-
-INSTANTIATE_TEST_SUITE_P(Views, LabelGolden, ::testing::Values(ViewMode::Bird, ViewMode::Snail),
-                         [](const ::testing::TestParamInfo<ViewMode>& p) {
-                             return std::string(p.param == ViewMode::Bird ? "bird" : "snail");
-                         });
 
 // Measured quality of a replayed drive (4 s per view after 2 s of settling, 30 Hz). Bounds:
 // no overlapping visible labels in any measured frame, at most 1 pop/s, mean jitter below

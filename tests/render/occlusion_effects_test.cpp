@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 // Glowing roads (seed 5.3.5, 5.5.2) and the transparency label aura (seed 5.3.3, 5.5.1) in
 // rendered map frames of the Andorra store: which pixels glow, that a world-space label behind
-// a building becomes readable with its road visible around it, and goldens of both techniques
-// in both views.
+// a building becomes readable with its road visible around it (the golden views of both
+// techniques are render cases, tests/render/cases/andorra_{glow_single,glow_road,aura}_*).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -15,7 +15,6 @@
 
 #include "andorra_drive.h"
 #include "drive_scene.h"
-#include "golden.h"
 #include "navmap/render/renderer.h"
 #include "test_paths.h"
 
@@ -361,43 +360,6 @@ TEST(LabelAura, BuildingsAwayFromLabelsStayOpaque) {
     }
     EXPECT_EQ(differ, 0u);
 }
-
-// ---------------------------------------------------------------------------------------------
-// Goldens: glow single colour, glow road colour (blurred), aura; bird's-eye and snail's view.
-
-struct GoldenCase {
-    const char* name;
-    ViewMode mode;
-};
-
-class OcclusionGolden : public ::testing::TestWithParam<GoldenCase> {};
-
-TEST_P(OcclusionGolden, MatchesGolden) {
-    const GoldenCase g = GetParam();
-    const std::string name = g.name;
-    MapFrame f = glowFrame(g.mode);  // close to buildings in both views (snail's: also the aura pose)
-    f.layers.labels = true;
-    if (name.find("glow") != std::string::npos) {
-        f.layers.glow_roads = true;
-        if (name.find("road") != std::string::npos) {
-            f.layers.glow_mode = GlowMode::RoadColor;
-            f.layers.glow_blur = true;
-        }
-    } else {
-        f.layers.label_aura = true;
-    }
-    const Image image = render(f, kSettleFrames);
-    EXPECT_GOLDEN(image, "render/golden/andorra_" + name + "_" + viewName(g.mode) + ".png",
-                  (navmap::test::GoldenTolerance{10, 0.01}));
-}
-
-INSTANTIATE_TEST_SUITE_P(Effects, OcclusionGolden,
-                         ::testing::Values(GoldenCase{"glow_single", ViewMode::Bird},
-                                           GoldenCase{"glow_single", ViewMode::Snail},
-                                           GoldenCase{"glow_road", ViewMode::Bird},
-                                           GoldenCase{"glow_road", ViewMode::Snail}, GoldenCase{"aura", ViewMode::Bird},
-                                           GoldenCase{"aura", ViewMode::Snail}),
-                         [](const auto& p) { return std::string(p.param.name) + "_" + viewName(p.param.mode); });
 
 // Pose search tools (NAVMAP_OCCLUSION_SEARCH=1), for when the data change: for measures along
 // the drive, how much of the most hidden world-space label the buildings hide in snail's view.

@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 // Shadow-volume roads (seed 3.5, issue #8): instances and technique selection, caps and draping
 // on synthetic tiles, the high-resolution terrain case (the store's SRTM tile refined to 10 m)
-// where roads draped on the shipped grid leave the surface and SV roads stay on it, and goldens
-// of both views. Mesa llvmpipe through EGL.
+// where roads draped on the shipped grid leave the surface and SV roads stay on it (the golden
+// views are render cases, tests/render/cases/andorra_sv_*). Mesa llvmpipe through EGL.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -577,48 +577,5 @@ TEST(SvRoadsHighRes, GeometricDrapingOnTheShippedGridLeavesTheSurfaceShadowVolum
     std::printf("[ high-res ] GEO vs SV: %zu pixels differ (%.2f%%)\n", cmp.differing_pixels,
                 100.0 * cmp.differing_fraction);
 }
-
-// ---------------------------------------------------------------------------------------------
-// Goldens: SV roads over the real store in both views (same poses as andorra_map_test).
-
-class SvGolden : public ::testing::TestWithParam<std::tuple<ViewMode, bool>> {};
-
-TEST_P(SvGolden, MatchesGolden) {
-    const auto [mode, full] = GetParam();
-    constexpr int kW = 640, kH = 240;
-    RendererOptions o;
-    o.width = kW;
-    o.height = kH;
-    auto renderer = Renderer::create(o);
-    MapFrame frame = navmap::test::settledAndorraFrame(mode, kW, kH);
-    frame.layers.buildings = frame.layers.route = frame.layers.marker = full;
-    frame.layers.road_technique = RoadTechnique::ShadowVolume;
-    renderer->renderMap(frame);
-    const auto& stats = renderer->mapStats();
-    EXPECT_GT(stats.road_segments, 100u);
-    const std::string view = std::string(mode == ViewMode::Bird ? "bird_" : "snail_") + (full ? "full" : "roads");
-    const auto& off = renderer->device().features_off;
-    if (std::any_of(off.begin(), off.end(),
-                    [](const std::string& f) { return f.starts_with("shadow-volume roads"); })) {
-        // The documented fallback of a context without float colour buffers (ES 3.0 without
-        // GL_EXT_color_buffer_float, docs/gles-profile.md): geometric roads, the same frame as
-        // AndorraGolden's of this view and layers (andorra_map_test.cpp).
-        EXPECT_FALSE(stats.sv_roads);
-        std::printf("[ fallback ] %s: geometric roads, compared with andorra_%s.png\n", view.c_str(), view.c_str());
-        EXPECT_GOLDEN(renderer->readSync(), "render/golden/andorra_" + view + ".png",
-                      (navmap::test::GoldenTolerance{10, 0.01}));
-        return;
-    }
-    EXPECT_TRUE(stats.sv_roads);
-    EXPECT_GOLDEN(renderer->readSync(), "render/golden/andorra_sv_" + view + ".png",
-                  (navmap::test::GoldenTolerance{10, 0.01}));
-}
-
-INSTANTIATE_TEST_SUITE_P(Views, SvGolden,
-                         ::testing::Combine(::testing::Values(ViewMode::Bird, ViewMode::Snail), ::testing::Bool()),
-                         [](const ::testing::TestParamInfo<SvGolden::ParamType>& p) {
-                             return std::string(std::get<0>(p.param) == ViewMode::Bird ? "bird_" : "snail_") +
-                                    (std::get<1>(p.param) ? "full" : "roads");
-                         });
 
 }  // namespace

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Golden-image comparison (Filament backend tests / MapLibre render-test style). Goldens live
-// beside their tests (tests/<module>/golden/<name>.png). On a mismatch the actual image and a
+// beside their tests (tests/<module>/golden/<name>.png), the render goldens as data in
+// tests/render/cases/<name>/expected.png (docs/architecture.md "Render cases"). On a mismatch the actual image and a
 // diff image are written to <build>/golden-failures/ and named in the failure message;
 // scripts/approve-goldens.sh copies the actual images over the goldens.
 
@@ -38,6 +39,6 @@ GoldenComparison compareImages(const render::Image& expected, const render::Imag
 
 }  // namespace navmap::test
 
-/// EXPECT_GOLDEN(image, "render/golden/andorra_heightfield.png", tolerance)
+/// EXPECT_GOLDEN(image, "render/cases/andorra_heightfield/expected.png", tolerance)
 #define EXPECT_GOLDEN(image, path, ...) \
     EXPECT_TRUE(::navmap::test::matchesGolden((image), (path)__VA_OPT__(, ) __VA_ARGS__))
