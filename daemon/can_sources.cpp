@@ -6,15 +6,15 @@
 #include <variant>
 
 #include "navmap/ipc/control_protocol.h"
-#include "replay_input.h"
-#include "socketcan_input.h"
+#include "navmap/ipc/replay_input.h"
+#include "navmap/ipc/socketcan_input.h"
 
 namespace navmap::daemon {
 
 namespace {
 
 OpenedCanSource openSimulator(const DaemonConfig& config, const CanSourceSite& site, ipc::ControlState& control,
-                              const SimulatorFactory& simulator) {
+                              const ipc::SimulatorFactory& simulator) {
     OpenedCanSource opened;
     opened.name = "sim " + config.sim_from + " -> " + config.sim_to;
     // The map still renders without a source; the simulated car has no road to drive on.
@@ -26,13 +26,13 @@ OpenedCanSource openSimulator(const DaemonConfig& config, const CanSourceSite& s
         std::fprintf(stderr, "<4>navmapd: %s: %s\n", opened.name.c_str(), opened.error.c_str());
         return opened;
     }
-    SimulatedDriveSpec spec;
+    ipc::SimulatedDriveSpec spec;
     spec.store = site.store_path;
     spec.dbc = site.data_dir / "navmap.dbc";
     spec.from = config.sim_from;
     spec.to = config.sim_to;
     spec.speed_factor = config.sim_speed_factor;
-    SimulatedSource sim = simulator(spec);
+    ipc::SimulatedSource sim = simulator(spec);
     // The simulated HMI sets the route it drives with its manoeuvres: the set_route line it would
     // send over the control socket, through the same parser (docs/simulator.md).
     const ipc::ControlParse parsed = ipc::parseControlLine(sim.set_route_line);
@@ -46,15 +46,16 @@ OpenedCanSource openSimulator(const DaemonConfig& config, const CanSourceSite& s
 }  // namespace
 
 OpenedCanSource openCanSource(const DaemonConfig& config, const CanSourceSite& site, ipc::ControlState& control,
-                              const SimulatorFactory& simulator) {
+                              const ipc::SimulatorFactory& simulator) {
     OpenedCanSource opened;
     switch (config.input) {
         case InputSource::Replay:
-            opened.source = std::make_unique<ReplayInput>(config.replay_log, config.replay_speed, config.replay_loop);
+            opened.source =
+                std::make_unique<ipc::ReplayInput>(config.replay_log, config.replay_speed, config.replay_loop);
             break;
         case InputSource::Sim: return openSimulator(config, site, control, simulator);
         case InputSource::SocketCan:
-            opened.source = std::make_unique<SocketCanInput>(config.can_interface, site.frame_keys);
+            opened.source = std::make_unique<ipc::SocketCanInput>(config.can_interface, site.frame_keys);
             break;
     }
     opened.name = opened.source->name();

@@ -2,7 +2,7 @@
 #pragma once
 // The input's CAN source as [input] source says: SocketCAN, a candump replay or the in-process
 // simulator (which also sets the route it drives on the control state, as an HMI would). The
-// simulator comes in as a SimulatorFactory (navmap/daemon/vehicle/can_source.h): the navmapd
+// simulator comes in as a SimulatorFactory (navmap/ipc/can_source.h): the navmapd
 // program passes sim::openSimulatedDrive, the daemon's code does not include the simulator.
 
 #include <filesystem>
@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "config.h"
-#include "navmap/daemon/vehicle/can_source.h"
+#include "navmap/ipc/can_source.h"
 #include "navmap/ipc/control_state.h"
 
 namespace navmap::daemon {
@@ -25,8 +25,8 @@ struct CanSourceSite {
 };
 
 struct OpenedCanSource {
-    std::unique_ptr<CanSource> source;  ///< null when the input has no source (error says why)
-    std::string name;                   ///< "replay <file>", "sim <from> -> <to>", "socketcan can0"
+    std::unique_ptr<ipc::CanSource> source;  ///< null when the input has no source (error says why)
+    std::string name;                        ///< "replay <file>", "sim <from> -> <to>", "socketcan can0"
     std::string error;
 };
 
@@ -34,6 +34,6 @@ struct OpenedCanSource {
 /// Sim mode without a road graph, or without a `simulator` (a program built without it), gives
 /// no source, an error, and a warning on stderr.
 OpenedCanSource openCanSource(const DaemonConfig& config, const CanSourceSite& site, ipc::ControlState& control,
-                              const SimulatorFactory& simulator);
+                              const ipc::SimulatorFactory& simulator);
 
 }  // namespace navmap::daemon

@@ -12,7 +12,7 @@
 #include <string>
 
 #include "config.h"
-#include "navmap/daemon/vehicle/can_source.h"
+#include "navmap/ipc/can_source.h"
 
 namespace navmap::daemon {
 
@@ -24,7 +24,7 @@ struct RunOptions {
     bool render_all_profiles = false;                  ///< render profiles without clients too
     /// The drive simulator for [input] source = "sim" (navmapd passes sim::openSimulatedDrive);
     /// empty: sim mode runs without a source and says so.
-    SimulatorFactory simulator;
+    ipc::SimulatorFactory simulator;
 };
 
 /// Runs the daemon until SIGTERM/SIGINT (or run_for_s). Returns the process exit status.

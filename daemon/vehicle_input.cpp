@@ -57,7 +57,7 @@ VehicleInput::VehicleInput(const DaemonConfig& config, const map::Projection& pr
                            const std::filesystem::path& store_path, const std::string& graph_problem,
                            std::shared_ptr<const map::RoadGraph> graph,
                            const std::shared_ptr<ipc::ControlState>& control, const std::filesystem::path& data_dir,
-                           const SimulatorFactory& simulator, double map_reach_m) {
+                           const ipc::SimulatorFactory& simulator, double map_reach_m) {
     DecoderSetup setup;
     m_decoder = std::make_unique<ipc::VehicleDecoder>(openDecoder(config, data_dir, &setup));
     m_stats.dbc_skipped_entries = setup.dbc_skipped_entries;

@@ -16,10 +16,10 @@
 #include <vector>
 
 #include "config.h"
-#include "navmap/daemon/vehicle/can_source.h"
 #include "navmap/daemon/vehicle/route_line.h"
 #include "navmap/daemon/vehicle/vehicle_state.h"
 #include "navmap/daemon/vehicle/vehicle_state_estimator.h"
+#include "navmap/ipc/can_source.h"
 #include "navmap/ipc/control_state.h"
 #include "navmap/ipc/vehicle_decoder.h"
 #include "navmap/map/projection.h"
@@ -77,7 +77,7 @@ public:
     VehicleInput(const DaemonConfig& config, const map::Projection& projection, const std::filesystem::path& store_path,
                  const std::string& graph_problem, std::shared_ptr<const map::RoadGraph> graph,
                  const std::shared_ptr<ipc::ControlState>& control, const std::filesystem::path& data_dir,
-                 const SimulatorFactory& simulator = {}, double map_reach_m = 0.0);
+                 const ipc::SimulatorFactory& simulator = {}, double map_reach_m = 0.0);
     ~VehicleInput();
     VehicleInput(const VehicleInput&) = delete;
     VehicleInput& operator=(const VehicleInput&) = delete;
@@ -127,8 +127,8 @@ private:
 
     std::unique_ptr<ipc::VehicleDecoder> m_decoder;
     std::unique_ptr<VehicleStateEstimator> m_estimator;
-    std::unique_ptr<CanSource> m_source;  // null: no source (m_stats.error says why)
-    CanSourceStatus m_source_status;
+    std::unique_ptr<ipc::CanSource> m_source;  // null: no source (m_stats.error says why)
+    ipc::CanSourceStatus m_source_status;
     std::atomic<std::shared_ptr<const VehicleState>> m_state;
     std::atomic<std::shared_ptr<const RouteUpdate>> m_route_update;
     std::shared_ptr<const RouteUpdate> m_applied_route;

@@ -24,7 +24,7 @@ done
 rule ipc '#include "navmap/(render|map|daemon|sim)/' "ipc/ does not know render/, map/, daemon/ or sim/"
 rule render '#include "navmap/(ipc|daemon|sim)/' "render/ uses map/ only"
 rule sim '#include "navmap/render/' "sim/ does not render"
-rule sim '#include "navmap/daemon/(?!vehicle/)' "sim/ knows only daemon/vehicle (CanSource)"
+rule sim '#include "navmap/daemon/' "sim/ does not know the daemon (its CanSource is ipc's)"
 rule daemon '#include "navmap/sim/' "the daemon gets the simulator as a SimulatorFactory" daemon/navmapd.cpp
 rule . '#include <(GLES[23]|EGL)/' "GL and EGL stay in render/src/gl" "render/src/gl"
 if [ "$bad" -gt 0 ]; then

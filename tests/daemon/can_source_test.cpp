@@ -10,13 +10,13 @@
 
 #include "can_sources.h"
 #include "navmap/ipc/dbc_database.h"
+#include "navmap/ipc/replay_input.h"
 #include "navmap/ipc/signal_map.h"
 #include "navmap/ipc/socketcan_codec.h"
+#include "navmap/ipc/socketcan_input.h"
 #include "navmap/ipc/vehicle_decoder.h"
 #include "navmap/sim/drive_simulator.h"
 #include "navmap/sim/simulated_can_source.h"
-#include "replay_input.h"
-#include "socketcan_input.h"
 #include "test_paths.h"
 
 using namespace navmap;
@@ -44,7 +44,7 @@ ipc::VehicleDecoder daemonDecoder() {
     return std::move(decoder).value();
 }
 
-std::vector<ipc::CanFrame> pollAll(daemon::CanSource& source, ipc::CanTime now) {
+std::vector<ipc::CanFrame> pollAll(ipc::CanSource& source, ipc::CanTime now) {
     std::vector<ipc::CanFrame> frames;
     source.poll(now, [&](const ipc::CanFrame& f) { frames.push_back(f); });
     return frames;
@@ -60,7 +60,7 @@ TEST(SimulatedCanSource, ItsFramesDecodeThroughTheDaemonsDecoderToTheSimulatedSp
     request.from = "andorra-la-vella";
     request.to = "encamp";
     sim::SimulatedCanSource simulator(request);
-    daemon::CanSource& source = simulator;
+    ipc::CanSource& source = simulator;
     EXPECT_EQ(source.name(), "sim andorra-la-vella -> encamp");
 
     // The ground truth: the same drive, planned again.
@@ -108,7 +108,7 @@ TEST(SimulatedCanSource, ItsFramesDecodeThroughTheDaemonsDecoderToTheSimulatedSp
     EXPECT_GT(fastest_kmh, 20.0) << "the simulated car drives";
     EXPECT_EQ(decoder.counters().rejected, 0u);
 
-    daemon::CanSourceStatus status;
+    ipc::CanSourceStatus status;
     source.report(status);
     EXPECT_EQ(status.replay_time_errors, 0u);
     EXPECT_TRUE(status.error.empty()) << status.error;
@@ -176,7 +176,7 @@ TEST(ReplayInput, PlaysTheLogWithItsTimingAndCountsMalformedLines) {
             << "this is no candump line\n"
             << "(100.500000) vcan0 123#DEADBEEF\n";
     }
-    daemon::ReplayInput replay(path, 1.0, false);
+    ipc::ReplayInput replay(path, 1.0, false);
     EXPECT_EQ(replay.name(), "replay " + path.string());
     replay.start(kStart);
     const auto first = pollAll(replay, kStart + 100ms);
@@ -187,7 +187,7 @@ TEST(ReplayInput, PlaysTheLogWithItsTimingAndCountsMalformedLines) {
     ASSERT_EQ(second.size(), 1u);
     EXPECT_EQ(second[0].id, 0x123u);
     EXPECT_EQ(second[0].timestamp, kStart + 500ms);
-    daemon::CanSourceStatus status;
+    ipc::CanSourceStatus status;
     replay.report(status);
     EXPECT_EQ(status.replay_malformed_lines, 1u);
     EXPECT_TRUE(status.error.empty()) << status.error;
@@ -197,7 +197,7 @@ TEST(ReplayInput, PlaysTheLogWithItsTimingAndCountsMalformedLines) {
 TEST(ReplayInput, AMissingLogIsAnErrorNamingIt) {
     const std::filesystem::path path = "/nonexistent/navmap/drive.candump";
     try {
-        daemon::ReplayInput replay(path, 1.0, true);
+        ipc::ReplayInput replay(path, 1.0, true);
         FAIL() << "opened a missing file";
     } catch (const std::runtime_error& e) {
         EXPECT_NE(std::string(e.what()).find(path.string()), std::string::npos) << e.what();
@@ -205,11 +205,11 @@ TEST(ReplayInput, AMissingLogIsAnErrorNamingIt) {
 }
 
 TEST(SocketCanInput, AMissingInterfaceIsRetriedAndTheStatusSaysWhy) {
-    daemon::SocketCanInput can("navmapnx0", {0x6A0, 0x6A1});
+    ipc::SocketCanInput can("navmapnx0", {0x6A0, 0x6A1});
     EXPECT_EQ(can.name(), "socketcan navmapnx0");
     can.start(kStart);
     EXPECT_TRUE(pollAll(can, kStart).empty());
-    daemon::CanSourceStatus status;
+    ipc::CanSourceStatus status;
     can.report(status);
     EXPECT_EQ(status.can_state.rfind("retrying: ", 0), 0u) << status.can_state;
     EXPECT_NE(status.can_state.find("navmapnx0"), std::string::npos) << status.can_state;

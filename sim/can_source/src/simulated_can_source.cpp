@@ -39,12 +39,12 @@ void SimulatedCanSource::poll(ipc::CanTime now, const ipc::FrameSink& sink) { m_
 
 void SimulatedCanSource::wait(std::chrono::milliseconds timeout) { std::this_thread::sleep_for(timeout); }
 
-void SimulatedCanSource::report(daemon::CanSourceStatus& status) {
+void SimulatedCanSource::report(ipc::CanSourceStatus& status) {
     status.replay_loops = m_replayer->loops();
     status.replay_time_errors = m_replayer->timeErrors();
 }
 
-daemon::SimulatedSource openSimulatedDrive(const daemon::SimulatedDriveSpec& spec) {
+ipc::SimulatedSource openSimulatedDrive(const ipc::SimulatedDriveSpec& spec) {
     auto source = std::make_unique<SimulatedCanSource>(spec);
     std::string line = source->setRouteLine();
     return {std::move(source), std::move(line)};

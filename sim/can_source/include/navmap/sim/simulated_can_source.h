@@ -12,7 +12,7 @@
 #include <utility>
 #include <vector>
 
-#include "navmap/daemon/vehicle/can_source.h"
+#include "navmap/ipc/can_source.h"
 
 namespace navmap::ipc {
 class Replayer;
@@ -20,9 +20,9 @@ class Replayer;
 
 namespace navmap::sim {
 
-using SimulatedDriveRequest = daemon::SimulatedDriveSpec;
+using SimulatedDriveRequest = ipc::SimulatedDriveSpec;
 
-class SimulatedCanSource final : public daemon::CanSource {
+class SimulatedCanSource final : public ipc::CanSource {
 public:
     /// Plans the drive and generates its frames. Throws SimError naming the problem (store, DBC,
     /// unknown place, no route).
@@ -39,7 +39,7 @@ public:
     void start(ipc::CanTime now) override;
     void poll(ipc::CanTime now, const ipc::FrameSink& sink) override;
     void wait(std::chrono::milliseconds timeout) override;
-    void report(daemon::CanSourceStatus& status) override;
+    void report(ipc::CanSourceStatus& status) override;
 
 private:
     std::string m_name;
@@ -49,6 +49,6 @@ private:
 };
 
 /// The simulator as navmapd's daemon::SimulatorFactory: a SimulatedCanSource with its set_route line.
-daemon::SimulatedSource openSimulatedDrive(const daemon::SimulatedDriveSpec& spec);
+ipc::SimulatedSource openSimulatedDrive(const ipc::SimulatedDriveSpec& spec);
 
 }  // namespace navmap::sim

@@ -1,19 +1,16 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// SocketCanInput: the vehicle's CAN bus as a CanSource, through ipc::SocketCanSource (kernel
+// SocketCanInput: the vehicle's CAN bus as a CanSource, through SocketCanSource (kernel
 // filters for the decoder's frames, re-opened with backoff while the interface is down).
 
 #include <memory>
 #include <string>
 #include <vector>
 
-#include "navmap/daemon/vehicle/can_source.h"
+#include "navmap/ipc/can_source.h"
 
 namespace navmap::ipc {
 class SocketCanSource;
-}
-
-namespace navmap::daemon {
 
 class SocketCanInput final : public CanSource {
 public:
@@ -22,15 +19,15 @@ public:
     ~SocketCanInput() override;
 
     [[nodiscard]] std::string name() const override { return "socketcan " + m_interface; }
-    void start(ipc::CanTime) override {}
-    void poll(ipc::CanTime now, const ipc::FrameSink& sink) override;
+    void start(CanTime) override {}
+    void poll(CanTime now, const FrameSink& sink) override;
     /// Wakes as soon as frames arrive.
     void wait(std::chrono::milliseconds timeout) override;
     void report(CanSourceStatus& status) override;
 
 private:
     std::string m_interface;
-    std::unique_ptr<ipc::SocketCanSource> m_can;
+    std::unique_ptr<SocketCanSource> m_can;
 };
 
-}  // namespace navmap::daemon
+}  // namespace navmap::ipc

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "replay_input.h"
+#include "navmap/ipc/replay_input.h"
 
 #include <cstdio>
 #include <stdexcept>
@@ -8,26 +8,26 @@
 #include "navmap/ipc/candump_file_source.h"
 #include "navmap/ipc/replayer.h"
 
-namespace navmap::daemon {
+namespace navmap::ipc {
 
 ReplayInput::ReplayInput(const std::filesystem::path& log, double speed, bool loop) : m_path(log) {
-    auto source = ipc::CandumpFileSource::open(log);
+    auto source = CandumpFileSource::open(log);
     if (!source) throw std::runtime_error(source.error().message);
     m_file = source.value().get();
-    ipc::ReplayOptions replay;
+    ReplayOptions replay;
     replay.speed = speed;
     replay.loop = loop;
     replay.restamp = true;
-    m_replayer = std::make_unique<ipc::Replayer>(std::move(source).value(), replay);
+    m_replayer = std::make_unique<Replayer>(std::move(source).value(), replay);
     if (const std::string error = m_replayer->error(); !error.empty()) throw std::runtime_error(error);
     if (m_replayer->finished()) std::fprintf(stderr, "<4>navmapd: %s: no CAN frames to replay\n", log.c_str());
 }
 
 ReplayInput::~ReplayInput() = default;
 
-void ReplayInput::start(ipc::CanTime now) { m_replayer->reset(now); }
+void ReplayInput::start(CanTime now) { m_replayer->reset(now); }
 
-void ReplayInput::poll(ipc::CanTime now, const ipc::FrameSink& sink) { m_replayer->advanceTo(now, sink); }
+void ReplayInput::poll(CanTime now, const FrameSink& sink) { m_replayer->advanceTo(now, sink); }
 
 void ReplayInput::wait(std::chrono::milliseconds timeout) { std::this_thread::sleep_for(timeout); }
 
@@ -50,4 +50,4 @@ void ReplayInput::report(CanSourceStatus& status) {
     }
 }
 
-}  // namespace navmap::daemon
+}  // namespace navmap::ipc

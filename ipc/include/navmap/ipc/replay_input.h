@@ -7,14 +7,11 @@
 #include <memory>
 #include <string>
 
-#include "navmap/daemon/vehicle/can_source.h"
+#include "navmap/ipc/can_source.h"
 
 namespace navmap::ipc {
 class CandumpFileSource;
 class Replayer;
-}  // namespace navmap::ipc
-
-namespace navmap::daemon {
 
 class ReplayInput final : public CanSource {
 public:
@@ -24,8 +21,8 @@ public:
     ~ReplayInput() override;
 
     [[nodiscard]] std::string name() const override { return "replay " + m_path.string(); }
-    void start(ipc::CanTime now) override;
-    void poll(ipc::CanTime now, const ipc::FrameSink& sink) override;
+    void start(CanTime now) override;
+    void poll(CanTime now, const FrameSink& sink) override;
     void wait(std::chrono::milliseconds timeout) override;
     /// Malformed lines (the first is logged, all are counted) and a replay that stopped early
     /// (logged once; the position then turns stale and shows as lost).
@@ -33,9 +30,9 @@ public:
 
 private:
     std::filesystem::path m_path;
-    std::unique_ptr<ipc::Replayer> m_replayer;
-    const ipc::CandumpFileSource* m_file = nullptr;  // owned by m_replayer
+    std::unique_ptr<Replayer> m_replayer;
+    const CandumpFileSource* m_file = nullptr;  // owned by m_replayer
     bool m_logged_malformed = false;
 };
 
-}  // namespace navmap::daemon
+}  // namespace navmap::ipc

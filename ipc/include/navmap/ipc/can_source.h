@@ -2,8 +2,10 @@
 #pragma once
 // CanSource: where navmapd's input thread takes its CAN frames from: SocketCAN, a candump replay
 // or the drive simulator (sim/can_source). Each hands over plain CAN frames, which the one DBC
-// decoder (ipc::VehicleDecoder) turns into vehicle samples for the estimator, so the input thread
-// treats them all alike. A source is owned and called by the input thread only.
+// decoder (VehicleDecoder) turns into vehicle samples for the estimator, so the input thread
+// treats them all alike. A source is owned and called by the input thread only. The interface
+// lives with the CAN input it abstracts: SocketCanInput and ReplayInput here, the simulator in
+// sim/ (without including the daemon), and navmapd's composition root picks one.
 
 #include <chrono>
 #include <cstdint>
@@ -15,7 +17,7 @@
 #include "navmap/ipc/can_frame.h"
 #include "navmap/ipc/replayer.h"  // FrameSink
 
-namespace navmap::daemon {
+namespace navmap::ipc {
 
 /// What a source reports for status and /metrics; fields a source has no part in stay zero.
 struct CanSourceStatus {
@@ -34,9 +36,9 @@ public:
     /// What status calls it: "replay <file>", "sim <from> -> <to>", "socketcan can0".
     [[nodiscard]] virtual std::string name() const = 0;
     /// The input thread starts: a replay's first frame is due at `now`.
-    virtual void start(ipc::CanTime now) = 0;
+    virtual void start(CanTime now) = 0;
     /// Passes the frames that are due at `now` (or have arrived) to `sink`, oldest first; never blocks.
-    virtual void poll(ipc::CanTime now, const ipc::FrameSink& sink) = 0;
+    virtual void poll(CanTime now, const FrameSink& sink) = 0;
     /// Sleeps until frames may be ready, at most `timeout`.
     virtual void wait(std::chrono::milliseconds timeout) = 0;
     /// Updates `status` with the source's counters; a problem is logged the first time it shows.
@@ -64,4 +66,4 @@ struct SimulatedSource {
 /// links the simulator.
 using SimulatorFactory = std::function<SimulatedSource(const SimulatedDriveSpec&)>;
 
-}  // namespace navmap::daemon
+}  // namespace navmap::ipc
