@@ -6,7 +6,7 @@
 #   cmake -S . -B build-aarch64 -DCMAKE_TOOLCHAIN_FILE=cmake/toolchains/aarch64-linux-gnu.cmake \
 #         -DNAVMAP_HOST_TOOLS=build/NavmapHostTools.cmake
 # The build runs navmap-compile to make the default store; cross-compiled, that is the native
-# build's (NAVMAP_HOST_TOOLS, exported by every native build), see map/CMakeLists.txt.
+# build's (NAVMAP_HOST_TOOLS, exported by every native build), see map/compile/CMakeLists.txt.
 set(CMAKE_SYSTEM_NAME Linux)
 set(CMAKE_SYSTEM_PROCESSOR aarch64)
 set(CMAKE_C_COMPILER aarch64-linux-gnu-gcc)

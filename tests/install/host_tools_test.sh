@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: Apache-2.0
 # The default store made by an imported host navmap-compile (CTest `host_tools_store`, label
-# install), the path a cross build takes (map/CMakeLists.txt): a second build tree configured
+# install), the path a cross build takes (map/compile/CMakeLists.txt): a second build tree configured
 # with NAVMAP_HOST_TOOLS=<this build>/NavmapHostTools.cmake builds the store target without
 # compiling a navmap-compile of its own, and the store it makes is byte for byte the one this
 # build made.
