@@ -25,16 +25,6 @@ std::unique_ptr<Renderer> rendererFor(const RenderCase& c) {
     return Renderer::create(o);
 }
 
-// The point `m` along the route (a vertex's own point at its measure).
-glm::dvec3 routeAt(const RouteGeometry& r, double m) {
-    const auto it = std::upper_bound(r.measure_m.begin(), r.measure_m.end(), m);
-    const auto i = static_cast<std::size_t>(
-        std::clamp<std::ptrdiff_t>(it - r.measure_m.begin(), 1, std::ptrdiff_t(r.points.size()) - 1));
-    const double t =
-        std::clamp((m - r.measure_m[i - 1]) / std::max(r.measure_m[i] - r.measure_m[i - 1], 1e-9), 0.0, 1.0);
-    return r.points[i - 1] + t * (r.points[i] - r.points[i - 1]);
-}
-
 void addGuidance(const CaseGuidance& g, MapFrame& f) {
     if (g.arrow && f.route) f.arrows = {cutManeuverArrow(*f.route, g.junction_m, g.arrow_before_m, g.arrow_after_m)};
     if (g.junction_roads_radius_m && f.route && f.route->points.size() >= 2) {

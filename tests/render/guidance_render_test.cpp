@@ -25,6 +25,7 @@
 namespace {
 
 using namespace navmap::render;
+using navmap::test::routeAt;
 
 constexpr int kW = 640, kH = 240;
 // The bird's-eye view at the center display's size: at 240 px high an arrow is a few pixels.
@@ -36,15 +37,6 @@ const glm::vec3 kMagenta{1.0f, 0.0f, 1.0f};  // nowhere else in the map
 void dump(const Image& image, const std::string& name) {
     if (const char* dir = std::getenv("NAVMAP_GUIDANCE_DUMP"))
         (void)writePng(std::string(dir) + "/" + name + ".png", image, nullptr);
-}
-
-glm::dvec3 routeAt(const RouteGeometry& r, double m) {
-    const auto it = std::upper_bound(r.measure_m.begin(), r.measure_m.end(), m);
-    const auto i = static_cast<std::size_t>(
-        std::clamp<std::ptrdiff_t>(it - r.measure_m.begin(), 1, std::ptrdiff_t(r.points.size()) - 1));
-    const double t =
-        std::clamp((m - r.measure_m[i - 1]) / std::max(r.measure_m[i] - r.measure_m[i - 1], 1e-9), 0.0, 1.0);
-    return r.points[i - 1] + t * (r.points[i] - r.points[i - 1]);
 }
 
 // A left turn of the drive: the first route vertex past 300 m where the direction 25 m before

@@ -367,4 +367,13 @@ std::optional<bool> flagStat(const render::MapFrameStats& stats, const std::stri
     return std::nullopt;
 }
 
+glm::dvec3 routeAt(const render::RouteGeometry& r, double m) {
+    const auto it = std::upper_bound(r.measure_m.begin(), r.measure_m.end(), m);
+    const auto i = static_cast<std::size_t>(
+        std::clamp<std::ptrdiff_t>(it - r.measure_m.begin(), 1, std::ptrdiff_t(r.points.size()) - 1));
+    const double t =
+        std::clamp((m - r.measure_m[i - 1]) / std::max(r.measure_m[i] - r.measure_m[i - 1], 1e-9), 0.0, 1.0);
+    return r.points[i - 1] + t * (r.points[i] - r.points[i - 1]);
+}
+
 }  // namespace navmap::test

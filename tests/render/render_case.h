@@ -97,4 +97,8 @@ std::optional<bool> flagStat(const render::MapFrameStats& stats, const std::stri
 /// become '_'.
 std::string caseTestName(const std::string& dir_name);
 
+/// The point `m` metres along the route, between its vertices (a vertex's own point at its
+/// measure): where the cases' junctions and the arrow tests' turns are.
+glm::dvec3 routeAt(const render::RouteGeometry& r, double m);
+
 }  // namespace navmap::test
