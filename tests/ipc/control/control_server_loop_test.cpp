@@ -28,27 +28,8 @@ using navmap::test::countOpenFds;
 namespace {
 
 // A ControlServer that nobody steps but the test (no own thread).
-struct SteppedServer {
-    navmap::test::TempDir dir;
-    ControlState state{{"cluster"}};
-    std::unique_ptr<ControlServer> server;
-
-    explicit SteppedServer(ControlServerConfig cfg = {}) {
-        cfg.socket_path = dir.file("control.sock");
-        auto r = ControlServer::create(cfg, state);
-        if (!r.ok()) {
-            ADD_FAILURE() << r.error().message;
-            return;
-        }
-        server = std::move(r.value());
-    }
-    // Steps the server until `done` or 100 rounds of 20 ms.
-    template <class Done>
-    void stepUntil(Done done) {
-        for (int i = 0; i < 100 && !done(); ++i) {
-            ASSERT_TRUE(server->pollOnce(20ms).ok());
-        }
-    }
+struct SteppedServer : navmap::test::ControlServerFixture {
+    explicit SteppedServer(ControlServerConfig cfg = {}) : ControlServerFixture(cfg, false) {}
 };
 
 // A raw, blocking connection (ControlClient never half-closes).

@@ -33,30 +33,7 @@ using navmap::test::countOpenFds;
 
 namespace {
 
-// Runs a ControlServer on its own thread for the test's lifetime.
-struct Fixture {
-    navmap::test::TempDir dir;
-    ControlState state{{"cluster", "hud", "center"}};
-    std::unique_ptr<ControlServer> server;
-
-    explicit Fixture(ControlServerConfig cfg = {}, bool threaded = true) {
-        cfg.socket_path = dir.file("control.sock");
-        auto r = ControlServer::create(cfg, state);
-        if (!r.ok()) {
-            ADD_FAILURE() << r.error().message;
-            return;
-        }
-        server = std::move(r.value());
-        if (threaded) {
-            EXPECT_TRUE(server->start().ok());
-        }
-    }
-    ControlClient connect() {
-        auto c = ControlClient::connect(server->path());
-        EXPECT_TRUE(c.ok()) << (c.ok() ? "" : c.error().message);
-        return std::move(c.value());
-    }
-};
+using Fixture = navmap::test::ControlServerFixture;
 
 std::string req(ControlClient& c, const std::string& line) {
     auto r = c.request(line, 3s);
