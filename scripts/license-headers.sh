@@ -5,7 +5,7 @@
 #   scripts/license-headers.sh --check   lists the files without it, exits 1 when there are any
 #   scripts/license-headers.sh --add     adds it as the first line (after a #! line), idempotent
 # Files: C/C++ sources and headers (.c .cpp .h .h.in), GLSL (.glsl .vert .frag), shell and Python
-# scripts (.sh .py), CMake files (CMakeLists.txt, .cmake, .cmake.in). Run --add after merging a
+# scripts (.sh .py), Slurm job scripts (.sbatch), CMake files (CMakeLists.txt, .cmake, .cmake.in). Run --add after merging a
 # branch that brings new files.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
@@ -22,7 +22,7 @@ list() {
         git ls-files --cached --others --exclude-standard
     else
         find . -path ./build -prune -o -type f -print | sed 's|^\./||'
-    fi | grep -E '(\.(c|cpp|h|glsl|vert|frag|sh|py|cmake)|\.h\.in|\.cmake\.in|(^|/)CMakeLists\.txt)$' \
+    fi | grep -E '(\.(c|cpp|h|glsl|vert|frag|sh|py|sbatch|cmake)|\.h\.in|\.cmake\.in|(^|/)CMakeLists\.txt)$' \
        | grep -v -E '^(build[^/]*|out)/' | sort
 }
 missing=0
