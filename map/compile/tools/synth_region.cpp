@@ -131,6 +131,50 @@ std::string hgtName(int lat, int lon) {
     return buf;
 }
 
+/// The region's DEM tiles beside its OSM file. Heights repeat with the copies: a point of copy
+/// k's cell of the grid takes the source tile's height at the same place in the first copy's
+/// cell; a point of no other copy's cell keeps the source's own height (void outside the source
+/// tile). A tile that would be (almost) all void is not written.
+void writeDems(const SynthRegionOptions& opt, const Collector& src, int rows, int cols, SynthRegion& region) {
+    const Hgt hgt = readHgt(opt.dem);
+    const double south = src.south + opt.shift_lat_deg, west = src.west + opt.shift_lon_deg;
+    const bool shifted = opt.shift_lat_deg != 0.0 || opt.shift_lon_deg != 0.0;
+    const double north = south + rows * region.step_lat, east = west + cols * region.step_lon;
+    std::vector<char> bytes(static_cast<std::size_t>(hgt.size) * hgt.size * 2);
+    for (int lat = static_cast<int>(std::floor(south)); lat < static_cast<int>(std::ceil(north)); ++lat) {
+        for (int lon = static_cast<int>(std::floor(west)); lon < static_cast<int>(std::ceil(east)); ++lon) {
+            std::size_t valid = 0;
+            for (int r = 0; r < hgt.size; ++r) {
+                const double la = lat + 1 - static_cast<double>(r) / (hgt.size - 1);
+                const int row = static_cast<int>(std::floor((la - south) / region.step_lat));
+                for (int c = 0; c < hgt.size; ++c) {
+                    const double lo = lon + static_cast<double>(c) / (hgt.size - 1);
+                    const int col = static_cast<int>(std::floor((lo - west) / region.step_lon));
+                    const bool copy = row >= 0 && col >= 0 && row < rows && col < cols &&
+                                      row * cols + col < opt.copies && (shifted || row * cols + col > 0);
+                    const std::int16_t h = copy      ? hgt.at(la - opt.shift_lat_deg - row * region.step_lat,
+                                                              lo - opt.shift_lon_deg - col * region.step_lon)
+                                           : shifted ? std::int16_t{-32768}
+                                                     : hgt.at(la, lo);
+                    valid += h != -32768 ? 1 : 0;
+                    const std::size_t i = (static_cast<std::size_t>(r) * hgt.size + c) * 2;
+                    bytes[i] = static_cast<char>(static_cast<std::uint16_t>(h) >> 8);
+                    bytes[i + 1] = static_cast<char>(static_cast<std::uint16_t>(h) & 0xff);
+                }
+            }
+            // A tile the source only touches along its edge (shared border samples) is left out too.
+            if (valid <= 2 * static_cast<std::size_t>(hgt.size)) continue;
+            const std::filesystem::path path = opt.out_dir / hgtName(lat, lon);
+            std::ofstream out(path, std::ios::binary | std::ios::trunc);
+            out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+            out.close();
+            if (!out) throw std::runtime_error(path.string() + ": cannot write");
+            region.dems.push_back(path);
+        }
+    }
+    if (opt.log) opt.log("wrote " + std::to_string(region.dems.size()) + " DEM tiles");
+}
+
 }  // namespace
 
 SynthRegion synthesizeRegion(const SynthRegionOptions& opt) {
@@ -239,49 +283,7 @@ SynthRegion synthesizeRegion(const SynthRegionOptions& opt) {
     log("wrote " + region.osm.string() + ": " + std::to_string(region.nodes) + " nodes, " +
         std::to_string(region.ways) + " ways, " + std::to_string(region.relations) + " relations");
 
-    if (!opt.dem.empty()) {
-        // Heights repeat with the copies: a point of copy k's cell of the grid takes the source
-        // tile's height at the same place in the first copy's cell; a point of no other copy's cell
-        // keeps the source's own height (void outside the source tile). A tile that would be
-        // (almost) all void is not written.
-        const Hgt hgt = readHgt(opt.dem);
-        const double south = src.south + opt.shift_lat_deg, west = src.west + opt.shift_lon_deg;
-        const bool shifted = opt.shift_lat_deg != 0.0 || opt.shift_lon_deg != 0.0;
-        const double north = south + rows * region.step_lat, east = west + cols * region.step_lon;
-        std::vector<char> bytes(static_cast<std::size_t>(hgt.size) * hgt.size * 2);
-        for (int lat = static_cast<int>(std::floor(south)); lat < static_cast<int>(std::ceil(north)); ++lat) {
-            for (int lon = static_cast<int>(std::floor(west)); lon < static_cast<int>(std::ceil(east)); ++lon) {
-                std::size_t valid = 0;
-                for (int r = 0; r < hgt.size; ++r) {
-                    const double la = lat + 1 - static_cast<double>(r) / (hgt.size - 1);
-                    const int row = static_cast<int>(std::floor((la - south) / region.step_lat));
-                    for (int c = 0; c < hgt.size; ++c) {
-                        const double lo = lon + static_cast<double>(c) / (hgt.size - 1);
-                        const int col = static_cast<int>(std::floor((lo - west) / region.step_lon));
-                        const bool copy = row >= 0 && col >= 0 && row < rows && col < cols &&
-                                          row * cols + col < opt.copies && (shifted || row * cols + col > 0);
-                        const std::int16_t h = copy      ? hgt.at(la - opt.shift_lat_deg - row * region.step_lat,
-                                                                  lo - opt.shift_lon_deg - col * region.step_lon)
-                                               : shifted ? std::int16_t{-32768}
-                                                         : hgt.at(la, lo);
-                        valid += h != -32768 ? 1 : 0;
-                        const std::size_t i = (static_cast<std::size_t>(r) * hgt.size + c) * 2;
-                        bytes[i] = static_cast<char>(static_cast<std::uint16_t>(h) >> 8);
-                        bytes[i + 1] = static_cast<char>(static_cast<std::uint16_t>(h) & 0xff);
-                    }
-                }
-                // A tile the source only touches along its edge (shared border samples) is left out too.
-                if (valid <= 2 * static_cast<std::size_t>(hgt.size)) continue;
-                const std::filesystem::path path = opt.out_dir / hgtName(lat, lon);
-                std::ofstream out(path, std::ios::binary | std::ios::trunc);
-                out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-                out.close();
-                if (!out) throw std::runtime_error(path.string() + ": cannot write");
-                region.dems.push_back(path);
-            }
-        }
-        log("wrote " + std::to_string(region.dems.size()) + " DEM tiles");
-    }
+    if (!opt.dem.empty()) writeDems(opt, src, rows, cols, region);
     return region;
 }
 
