@@ -175,6 +175,64 @@ void writeDems(const SynthRegionOptions& opt, const Collector& src, int rows, in
     if (opt.log) opt.log("wrote " + std::to_string(region.dems.size()) + " DEM tiles");
 }
 
+/// The copies of the source into region.osm: nodes of every copy, then ways, then relations (the
+/// order libosmium readers expect), with their counts and bounds in `region`.
+void writeCopies(const SynthRegionOptions& opt, const Collector& src, int cols, SynthRegion& region) {
+    auto offset = [&](int copy) {
+        return std::pair<double, double>{opt.shift_lat_deg + (copy / cols) * region.step_lat,
+                                         opt.shift_lon_deg + (copy % cols) * region.step_lon};
+    };
+    osmium::io::Header header;
+    header.set("generator", "navmap-synth-region");
+    osmium::io::Writer writer(region.osm.string(), header, osmium::io::overwrite::allow);
+    using namespace osmium::builder::attr;  // NOLINT(google-build-using-namespace): the builder's attribute DSL
+    std::vector<Id> node_refs;
+    for (const auto kind : {osmium::item_type::node, osmium::item_type::way, osmium::item_type::relation}) {
+        for (int copy = 0; copy < opt.copies; ++copy) {
+            const auto [dlat, dlon] = offset(copy);
+            osmium::memory::Buffer out(std::size_t{1} << 22, osmium::memory::Buffer::auto_grow::yes);
+            for (const auto& item : src.buffer) {
+                if (item.type() != kind) continue;
+                if (kind == osmium::item_type::node) {
+                    const auto& n = static_cast<const osmium::Node&>(item);
+                    if (opt.highways_only && !std::binary_search(src.nodes.ids.begin(), src.nodes.ids.end(), n.id()))
+                        continue;
+                    const osmium::Location loc(n.location().lon() + dlon, n.location().lat() + dlat);
+                    osmium::builder::add_node(out, _id(src.nodes.map(n.id(), copy)), _version(1), _location(loc),
+                                              _tags(tagsOf(n.tags())));
+                    ++region.nodes;
+                    region.south = std::min(region.south, loc.lat());
+                    region.north = std::max(region.north, loc.lat());
+                    region.west = std::min(region.west, loc.lon());
+                    region.east = std::max(region.east, loc.lon());
+                } else if (kind == osmium::item_type::way) {
+                    const auto& w = static_cast<const osmium::Way&>(item);
+                    node_refs.clear();
+                    for (const auto& n : w.nodes()) node_refs.push_back(src.nodes.map(n.ref(), copy));
+                    osmium::builder::add_way(out, _id(src.ways.map(w.id(), copy)), _version(1), _nodes(node_refs),
+                                             _tags(tagsOf(w.tags())));
+                    ++region.ways;
+                    region.way_nodes += node_refs.size();
+                } else {
+                    const auto& r = static_cast<const osmium::Relation&>(item);
+                    std::vector<member_type> members;  // roles point into src.buffer
+                    for (const auto& m : r.members()) {
+                        const IdSpace& space = m.type() == osmium::item_type::node  ? src.nodes
+                                               : m.type() == osmium::item_type::way ? src.ways
+                                                                                    : src.relations;
+                        members.emplace_back(m.type(), space.map(m.ref(), copy), m.role());
+                    }
+                    osmium::builder::add_relation(out, _id(src.relations.map(r.id(), copy)), _version(1),
+                                                  _members(members), _tags(tagsOf(r.tags())));
+                    ++region.relations;
+                }
+            }
+            writer(std::move(out));
+        }
+    }
+    writer.close();
+}
+
 }  // namespace
 
 SynthRegion synthesizeRegion(const SynthRegionOptions& opt) {
@@ -220,66 +278,13 @@ SynthRegion synthesizeRegion(const SynthRegionOptions& opt) {
     const int rows = (opt.copies + cols - 1) / cols;
     region.step_lon = (src.east - src.west) + opt.gap_deg;
     region.step_lat = (src.north - src.south) + opt.gap_deg;
-    auto offset = [&](int copy) {
-        return std::pair<double, double>{opt.shift_lat_deg + (copy / cols) * region.step_lat,
-                                         opt.shift_lon_deg + (copy % cols) * region.step_lon};
-    };
     region.osm = opt.out_dir / "region.osm.pbf";
     log("source: " + std::to_string(src.nodes.ids.size()) + " node ids, " + std::to_string(src.ways.ids.size()) +
         " way ids, " + std::to_string(src.relations.ids.size()) + " relation ids; " + std::to_string(opt.copies) +
         " copies, " + std::to_string(cols) + " per row, steps " + std::to_string(region.step_lat) + " deg x " +
         std::to_string(region.step_lon) + " deg");
 
-    osmium::io::Header header;
-    header.set("generator", "navmap-synth-region");
-    osmium::io::Writer writer(region.osm.string(), header, osmium::io::overwrite::allow);
-    using namespace osmium::builder::attr;  // NOLINT(google-build-using-namespace): the builder's attribute DSL
-    std::vector<Id> node_refs;
-    // Nodes of every copy, then ways, then relations: the order libosmium readers expect.
-    for (const auto kind : {osmium::item_type::node, osmium::item_type::way, osmium::item_type::relation}) {
-        for (int copy = 0; copy < opt.copies; ++copy) {
-            const auto [dlat, dlon] = offset(copy);
-            osmium::memory::Buffer out(std::size_t{1} << 22, osmium::memory::Buffer::auto_grow::yes);
-            for (const auto& item : src.buffer) {
-                if (item.type() != kind) continue;
-                if (kind == osmium::item_type::node) {
-                    const auto& n = static_cast<const osmium::Node&>(item);
-                    if (opt.highways_only && !std::binary_search(src.nodes.ids.begin(), src.nodes.ids.end(), n.id()))
-                        continue;
-                    const osmium::Location loc(n.location().lon() + dlon, n.location().lat() + dlat);
-                    osmium::builder::add_node(out, _id(src.nodes.map(n.id(), copy)), _version(1), _location(loc),
-                                              _tags(tagsOf(n.tags())));
-                    ++region.nodes;
-                    region.south = std::min(region.south, loc.lat());
-                    region.north = std::max(region.north, loc.lat());
-                    region.west = std::min(region.west, loc.lon());
-                    region.east = std::max(region.east, loc.lon());
-                } else if (kind == osmium::item_type::way) {
-                    const auto& w = static_cast<const osmium::Way&>(item);
-                    node_refs.clear();
-                    for (const auto& n : w.nodes()) node_refs.push_back(src.nodes.map(n.ref(), copy));
-                    osmium::builder::add_way(out, _id(src.ways.map(w.id(), copy)), _version(1), _nodes(node_refs),
-                                             _tags(tagsOf(w.tags())));
-                    ++region.ways;
-                    region.way_nodes += node_refs.size();
-                } else {
-                    const auto& r = static_cast<const osmium::Relation&>(item);
-                    std::vector<member_type> members;  // roles point into src.buffer
-                    for (const auto& m : r.members()) {
-                        const IdSpace& space = m.type() == osmium::item_type::node  ? src.nodes
-                                               : m.type() == osmium::item_type::way ? src.ways
-                                                                                    : src.relations;
-                        members.emplace_back(m.type(), space.map(m.ref(), copy), m.role());
-                    }
-                    osmium::builder::add_relation(out, _id(src.relations.map(r.id(), copy)), _version(1),
-                                                  _members(members), _tags(tagsOf(r.tags())));
-                    ++region.relations;
-                }
-            }
-            writer(std::move(out));
-        }
-    }
-    writer.close();
+    writeCopies(opt, src, cols, region);
     log("wrote " + region.osm.string() + ": " + std::to_string(region.nodes) + " nodes, " +
         std::to_string(region.ways) + " ways, " + std::to_string(region.relations) + " relations");
 
