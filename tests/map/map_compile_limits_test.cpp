@@ -12,7 +12,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-// GCC 12 reports a false -Wstringop-overread inside libosmium's builders (as in compiler.cpp).
+// GCC 12 reports a false -Wstringop-overread inside libosmium's builders (as in compile_read.cpp).
 #if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC diagnostic ignored "-Wstringop-overread"
 #endif

@@ -5,7 +5,7 @@
 // closed way that is an area of its own.
 #include <gtest/gtest.h>
 
-// GCC 12 reports a false -Wstringop-overread inside libosmium's area builder (as in compiler.cpp).
+// GCC 12 reports a false -Wstringop-overread inside libosmium's area builder (as in compile_read.cpp).
 #if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC diagnostic ignored "-Wstringop-overread"
 #endif
@@ -26,7 +26,7 @@ namespace {
 
 osmium::NodeRef at(osmium::object_id_type id, double lon, double lat) { return {id, osmium::Location{lon, lat}}; }
 
-osmium::TagsFilter areaFilter() {  // as compiler.cpp
+osmium::TagsFilter areaFilter() {  // as compile_read.cpp
     osmium::TagsFilter filter{false};
     for (const char* key : {"building", "landuse", "natural", "leisure", "waterway", "amenity", "place"}) {
         filter.add_rule(true, osmium::TagMatcher{key});

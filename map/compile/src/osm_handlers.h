@@ -2,7 +2,7 @@
 #pragma once
 // The small single-purpose libosmium handlers of navmap-compile (one class each, as in
 // libosmium's own examples). They only collect raw features in WGS84; projection and tiling
-// happen afterwards in compiler.cpp. Private to navmap_map.
+// happen afterwards (compile_stages.h). Private to navmap_map_compile.
 
 #include <osmium/handler.hpp>
 #include <osmium/osm/area.hpp>

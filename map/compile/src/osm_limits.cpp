@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 // GCC 12 reports a false -Wstringop-overread inside libosmium's builder once it is inlined here,
-// as in compiler.cpp (osmium/builder/osm_object_builder.hpp reads a NUL-terminated user name).
+// as in compile_read.cpp (osmium/builder/osm_object_builder.hpp reads a NUL-terminated user name).
 #if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC diagnostic ignored "-Wstringop-overread"
 #endif

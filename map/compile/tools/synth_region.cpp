@@ -131,6 +131,108 @@ std::string hgtName(int lat, int lon) {
     return buf;
 }
 
+/// The region's DEM tiles beside its OSM file. Heights repeat with the copies: a point of copy
+/// k's cell of the grid takes the source tile's height at the same place in the first copy's
+/// cell; a point of no other copy's cell keeps the source's own height (void outside the source
+/// tile). A tile that would be (almost) all void is not written.
+void writeDems(const SynthRegionOptions& opt, const Collector& src, int rows, int cols, SynthRegion& region) {
+    const Hgt hgt = readHgt(opt.dem);
+    const double south = src.south + opt.shift_lat_deg, west = src.west + opt.shift_lon_deg;
+    const bool shifted = opt.shift_lat_deg != 0.0 || opt.shift_lon_deg != 0.0;
+    const double north = south + rows * region.step_lat, east = west + cols * region.step_lon;
+    std::vector<char> bytes(static_cast<std::size_t>(hgt.size) * hgt.size * 2);
+    for (int lat = static_cast<int>(std::floor(south)); lat < static_cast<int>(std::ceil(north)); ++lat) {
+        for (int lon = static_cast<int>(std::floor(west)); lon < static_cast<int>(std::ceil(east)); ++lon) {
+            std::size_t valid = 0;
+            for (int r = 0; r < hgt.size; ++r) {
+                const double la = lat + 1 - static_cast<double>(r) / (hgt.size - 1);
+                const int row = static_cast<int>(std::floor((la - south) / region.step_lat));
+                for (int c = 0; c < hgt.size; ++c) {
+                    const double lo = lon + static_cast<double>(c) / (hgt.size - 1);
+                    const int col = static_cast<int>(std::floor((lo - west) / region.step_lon));
+                    const bool copy = row >= 0 && col >= 0 && row < rows && col < cols &&
+                                      row * cols + col < opt.copies && (shifted || row * cols + col > 0);
+                    const std::int16_t h = copy      ? hgt.at(la - opt.shift_lat_deg - row * region.step_lat,
+                                                              lo - opt.shift_lon_deg - col * region.step_lon)
+                                           : shifted ? std::int16_t{-32768}
+                                                     : hgt.at(la, lo);
+                    valid += h != -32768 ? 1 : 0;
+                    const std::size_t i = (static_cast<std::size_t>(r) * hgt.size + c) * 2;
+                    bytes[i] = static_cast<char>(static_cast<std::uint16_t>(h) >> 8);
+                    bytes[i + 1] = static_cast<char>(static_cast<std::uint16_t>(h) & 0xff);
+                }
+            }
+            // A tile the source only touches along its edge (shared border samples) is left out too.
+            if (valid <= 2 * static_cast<std::size_t>(hgt.size)) continue;
+            const std::filesystem::path path = opt.out_dir / hgtName(lat, lon);
+            std::ofstream out(path, std::ios::binary | std::ios::trunc);
+            out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+            out.close();
+            if (!out) throw std::runtime_error(path.string() + ": cannot write");
+            region.dems.push_back(path);
+        }
+    }
+    if (opt.log) opt.log("wrote " + std::to_string(region.dems.size()) + " DEM tiles");
+}
+
+/// The copies of the source into region.osm: nodes of every copy, then ways, then relations (the
+/// order libosmium readers expect), with their counts and bounds in `region`.
+void writeCopies(const SynthRegionOptions& opt, const Collector& src, int cols, SynthRegion& region) {
+    auto offset = [&](int copy) {
+        return std::pair<double, double>{opt.shift_lat_deg + (copy / cols) * region.step_lat,
+                                         opt.shift_lon_deg + (copy % cols) * region.step_lon};
+    };
+    osmium::io::Header header;
+    header.set("generator", "navmap-synth-region");
+    osmium::io::Writer writer(region.osm.string(), header, osmium::io::overwrite::allow);
+    using namespace osmium::builder::attr;  // NOLINT(google-build-using-namespace): the builder's attribute DSL
+    std::vector<Id> node_refs;
+    for (const auto kind : {osmium::item_type::node, osmium::item_type::way, osmium::item_type::relation}) {
+        for (int copy = 0; copy < opt.copies; ++copy) {
+            const auto [dlat, dlon] = offset(copy);
+            osmium::memory::Buffer out(std::size_t{1} << 22, osmium::memory::Buffer::auto_grow::yes);
+            for (const auto& item : src.buffer) {
+                if (item.type() != kind) continue;
+                if (kind == osmium::item_type::node) {
+                    const auto& n = static_cast<const osmium::Node&>(item);
+                    if (opt.highways_only && !std::binary_search(src.nodes.ids.begin(), src.nodes.ids.end(), n.id()))
+                        continue;
+                    const osmium::Location loc(n.location().lon() + dlon, n.location().lat() + dlat);
+                    osmium::builder::add_node(out, _id(src.nodes.map(n.id(), copy)), _version(1), _location(loc),
+                                              _tags(tagsOf(n.tags())));
+                    ++region.nodes;
+                    region.south = std::min(region.south, loc.lat());
+                    region.north = std::max(region.north, loc.lat());
+                    region.west = std::min(region.west, loc.lon());
+                    region.east = std::max(region.east, loc.lon());
+                } else if (kind == osmium::item_type::way) {
+                    const auto& w = static_cast<const osmium::Way&>(item);
+                    node_refs.clear();
+                    for (const auto& n : w.nodes()) node_refs.push_back(src.nodes.map(n.ref(), copy));
+                    osmium::builder::add_way(out, _id(src.ways.map(w.id(), copy)), _version(1), _nodes(node_refs),
+                                             _tags(tagsOf(w.tags())));
+                    ++region.ways;
+                    region.way_nodes += node_refs.size();
+                } else {
+                    const auto& r = static_cast<const osmium::Relation&>(item);
+                    std::vector<member_type> members;  // roles point into src.buffer
+                    for (const auto& m : r.members()) {
+                        const IdSpace& space = m.type() == osmium::item_type::node  ? src.nodes
+                                               : m.type() == osmium::item_type::way ? src.ways
+                                                                                    : src.relations;
+                        members.emplace_back(m.type(), space.map(m.ref(), copy), m.role());
+                    }
+                    osmium::builder::add_relation(out, _id(src.relations.map(r.id(), copy)), _version(1),
+                                                  _members(members), _tags(tagsOf(r.tags())));
+                    ++region.relations;
+                }
+            }
+            writer(std::move(out));
+        }
+    }
+    writer.close();
+}
+
 }  // namespace
 
 SynthRegion synthesizeRegion(const SynthRegionOptions& opt) {
@@ -176,112 +278,17 @@ SynthRegion synthesizeRegion(const SynthRegionOptions& opt) {
     const int rows = (opt.copies + cols - 1) / cols;
     region.step_lon = (src.east - src.west) + opt.gap_deg;
     region.step_lat = (src.north - src.south) + opt.gap_deg;
-    auto offset = [&](int copy) {
-        return std::pair<double, double>{opt.shift_lat_deg + (copy / cols) * region.step_lat,
-                                         opt.shift_lon_deg + (copy % cols) * region.step_lon};
-    };
     region.osm = opt.out_dir / "region.osm.pbf";
     log("source: " + std::to_string(src.nodes.ids.size()) + " node ids, " + std::to_string(src.ways.ids.size()) +
         " way ids, " + std::to_string(src.relations.ids.size()) + " relation ids; " + std::to_string(opt.copies) +
         " copies, " + std::to_string(cols) + " per row, steps " + std::to_string(region.step_lat) + " deg x " +
         std::to_string(region.step_lon) + " deg");
 
-    osmium::io::Header header;
-    header.set("generator", "navmap-synth-region");
-    osmium::io::Writer writer(region.osm.string(), header, osmium::io::overwrite::allow);
-    using namespace osmium::builder::attr;  // NOLINT(google-build-using-namespace): the builder's attribute DSL
-    std::vector<Id> node_refs;
-    // Nodes of every copy, then ways, then relations: the order libosmium readers expect.
-    for (const auto kind : {osmium::item_type::node, osmium::item_type::way, osmium::item_type::relation}) {
-        for (int copy = 0; copy < opt.copies; ++copy) {
-            const auto [dlat, dlon] = offset(copy);
-            osmium::memory::Buffer out(std::size_t{1} << 22, osmium::memory::Buffer::auto_grow::yes);
-            for (const auto& item : src.buffer) {
-                if (item.type() != kind) continue;
-                if (kind == osmium::item_type::node) {
-                    const auto& n = static_cast<const osmium::Node&>(item);
-                    if (opt.highways_only && !std::binary_search(src.nodes.ids.begin(), src.nodes.ids.end(), n.id()))
-                        continue;
-                    const osmium::Location loc(n.location().lon() + dlon, n.location().lat() + dlat);
-                    osmium::builder::add_node(out, _id(src.nodes.map(n.id(), copy)), _version(1), _location(loc),
-                                              _tags(tagsOf(n.tags())));
-                    ++region.nodes;
-                    region.south = std::min(region.south, loc.lat());
-                    region.north = std::max(region.north, loc.lat());
-                    region.west = std::min(region.west, loc.lon());
-                    region.east = std::max(region.east, loc.lon());
-                } else if (kind == osmium::item_type::way) {
-                    const auto& w = static_cast<const osmium::Way&>(item);
-                    node_refs.clear();
-                    for (const auto& n : w.nodes()) node_refs.push_back(src.nodes.map(n.ref(), copy));
-                    osmium::builder::add_way(out, _id(src.ways.map(w.id(), copy)), _version(1), _nodes(node_refs),
-                                             _tags(tagsOf(w.tags())));
-                    ++region.ways;
-                    region.way_nodes += node_refs.size();
-                } else {
-                    const auto& r = static_cast<const osmium::Relation&>(item);
-                    std::vector<member_type> members;  // roles point into src.buffer
-                    for (const auto& m : r.members()) {
-                        const IdSpace& space = m.type() == osmium::item_type::node  ? src.nodes
-                                               : m.type() == osmium::item_type::way ? src.ways
-                                                                                    : src.relations;
-                        members.emplace_back(m.type(), space.map(m.ref(), copy), m.role());
-                    }
-                    osmium::builder::add_relation(out, _id(src.relations.map(r.id(), copy)), _version(1),
-                                                  _members(members), _tags(tagsOf(r.tags())));
-                    ++region.relations;
-                }
-            }
-            writer(std::move(out));
-        }
-    }
-    writer.close();
+    writeCopies(opt, src, cols, region);
     log("wrote " + region.osm.string() + ": " + std::to_string(region.nodes) + " nodes, " +
         std::to_string(region.ways) + " ways, " + std::to_string(region.relations) + " relations");
 
-    if (!opt.dem.empty()) {
-        // Heights repeat with the copies: a point of copy k's cell of the grid takes the source
-        // tile's height at the same place in the first copy's cell; a point of no other copy's cell
-        // keeps the source's own height (void outside the source tile). A tile that would be
-        // (almost) all void is not written.
-        const Hgt hgt = readHgt(opt.dem);
-        const double south = src.south + opt.shift_lat_deg, west = src.west + opt.shift_lon_deg;
-        const bool shifted = opt.shift_lat_deg != 0.0 || opt.shift_lon_deg != 0.0;
-        const double north = south + rows * region.step_lat, east = west + cols * region.step_lon;
-        std::vector<char> bytes(static_cast<std::size_t>(hgt.size) * hgt.size * 2);
-        for (int lat = static_cast<int>(std::floor(south)); lat < static_cast<int>(std::ceil(north)); ++lat) {
-            for (int lon = static_cast<int>(std::floor(west)); lon < static_cast<int>(std::ceil(east)); ++lon) {
-                std::size_t valid = 0;
-                for (int r = 0; r < hgt.size; ++r) {
-                    const double la = lat + 1 - static_cast<double>(r) / (hgt.size - 1);
-                    const int row = static_cast<int>(std::floor((la - south) / region.step_lat));
-                    for (int c = 0; c < hgt.size; ++c) {
-                        const double lo = lon + static_cast<double>(c) / (hgt.size - 1);
-                        const int col = static_cast<int>(std::floor((lo - west) / region.step_lon));
-                        const bool copy = row >= 0 && col >= 0 && row < rows && col < cols &&
-                                          row * cols + col < opt.copies && (shifted || row * cols + col > 0);
-                        const std::int16_t h = copy      ? hgt.at(la - opt.shift_lat_deg - row * region.step_lat,
-                                                                  lo - opt.shift_lon_deg - col * region.step_lon)
-                                               : shifted ? std::int16_t{-32768}
-                                                         : hgt.at(la, lo);
-                        valid += h != -32768 ? 1 : 0;
-                        const std::size_t i = (static_cast<std::size_t>(r) * hgt.size + c) * 2;
-                        bytes[i] = static_cast<char>(static_cast<std::uint16_t>(h) >> 8);
-                        bytes[i + 1] = static_cast<char>(static_cast<std::uint16_t>(h) & 0xff);
-                    }
-                }
-                // A tile the source only touches along its edge (shared border samples) is left out too.
-                if (valid <= 2 * static_cast<std::size_t>(hgt.size)) continue;
-                const std::filesystem::path path = opt.out_dir / hgtName(lat, lon);
-                std::ofstream out(path, std::ios::binary | std::ios::trunc);
-                out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-                out.close();
-                if (!out) throw std::runtime_error(path.string() + ": cannot write");
-                region.dems.push_back(path);
-            }
-        }
-        log("wrote " + std::to_string(region.dems.size()) + " DEM tiles");
-    }
+    if (!opt.dem.empty()) writeDems(opt, src, rows, cols, region);
     return region;
 }
 

@@ -2,7 +2,7 @@
 #pragma once
 // Spill files of the bounded-memory compile (docs/tile-store.md "Bounded memory"): a sequence of
 // length-prefixed, CRC32-checked records on disk that navmap-compile writes while it reads its
-// input and reads back band by band. Records are opaque bytes here; compiler.cpp gives them
+// input and reads back band by band. Records are opaque bytes here; the compiler stages give them
 // meaning. Layout, little-endian: "NMSPILL1", then per record u32 length, u32 CRC32 of the
 // payload, payload. A reader reports truncation and damage naming the file and the byte offset.
 
