@@ -175,10 +175,23 @@ private:
         Hidden,    ///< behind the terrain: not at all
         TooSmall,  ///< its text would be drawn under world_min_cap_px: not at all (it fades out)
     };
-    /// The candidate of a label drawn in the world: plane, projected box, legibility.
+    /// The candidate of a label drawn in the world: plane, projected box, legibility
+    /// (label_pass_world.cpp, in the steps below).
     WorldFit worldCandidate(const MapFrame& frame, std::span<const TileLabels> tiles, const glm::mat4& view_projection,
                             glm::vec2 viewport, const glm::dvec3& anchor, const glm::dvec3& seg_a,
                             const glm::dvec3& seg_b, const TextSize& t, Feature& f, labels::LabelCandidate& c) const;
+    struct WorldShape;
+    /// The plane facing the camera: along the road or across the view; false where none can be read.
+    static bool facePlane(WorldShape& w, const glm::dvec3& seg_a, const glm::dvec3& seg_b);
+    /// The text's em height in the world and its smallest cap height on screen.
+    bool sizeInWorld(const MapFrame& frame, const TextSize& t, WorldShape& w) const;
+    /// Smallest cap height on screen of the text at em height `em` (metres); false where it is
+    /// not in front of the camera.
+    static bool measureCap(const TextSize& t, const WorldShape& w, float em, float& cap);
+    /// The text box's corners on screen; false where a road name is too steep or foreshortened.
+    bool boxOnScreen(const TextSize& t, const Feature& f, WorldShape& w) const;
+    /// Whether lines of sight to points over the text pass below the terrain.
+    bool hiddenByTerrain(std::span<const TileLabels> tiles, const Feature& f, const WorldShape& w) const;
     /// Whether the terrain hides an eye-relative point: lines of sight over the drawn tiles.
     /// `clearance_m`: how far above the grid the line must pass (negative: how far below it may).
     bool behindTerrain(std::span<const TileLabels> tiles, const glm::vec3& target, float clearance_m) const;
@@ -192,6 +205,31 @@ private:
     const TextSize& textSize(std::uint64_t id, const map::Label& label);
     /// The input's changes since the previous frame with their causes (MapFrameStats::label_input_changes).
     void inputChanges(const MapFrame& frame, glm::vec2 viewport, MapFrameStats& stats);
+
+    /// What layout() draws the placed labels with this frame.
+    struct FrameDraw {
+        const MapFrame& frame;
+        glm::vec2 viewport{0.0f};
+        float world = 0.0f;      ///< LabelSpaceSwitch::worldWeight()
+        float spread_em = 0.0f;  ///< the glyph atlas's SDF spread, em
+        float focal_px = 0.0f;
+        glm::mat4 inverse_view{1.0f};
+    };
+    /// The frame's camera: projection, eye, view (eye-relative).
+    void beginFrame(const MapFrame& frame, glm::ivec2 viewport);
+    /// The text of the layout's output for draw(), its occluders and drawn labels; returns how
+    /// many labels are fading in or visible.
+    std::size_t prepareDraws(const MapFrame& frame, glm::vec2 viewport, float world, MapFrameStats& stats);
+    void prepareLabel(const FrameDraw& d, const labels::PlacedLabel& p, const Feature& f, MapFrameStats& stats);
+    /// A label's text in its world plane (seed 5.2.1), where the layout box's center is seen;
+    /// false where that is not in front of the camera. `occluder_depth`: the plane's depth there.
+    bool drawInWorld(const FrameDraw& d, const labels::PlacedLabel& p, const WorldPlane& pl, const text::LaidOutText& t,
+                     const text::TextStyle& style, bool screen_drawn, labels::DrawnLabel& drawn, float& occluder_depth);
+    /// The drawn glyph boxes and cap height on screen of world-space text centered at `center`.
+    void worldGlyphBoxes(const FrameDraw& d, const glm::vec3& center, float depth, const WorldPlane& pl,
+                         const text::LaidOutText& t, const text::TextStyle& style, labels::DrawnLabel& drawn) const;
+    /// Forgets features neither in this frame's input nor in the output any more.
+    void forgetFeatures();
 
     std::vector<std::size_t> m_tile_order;  ///< collect(): tiles finest first
     std::shared_ptr<LabelText> m_shared;

@@ -142,9 +142,28 @@ private:
     void updateShape(Label& l, bool placing) const;
     [[nodiscard]] OrientedBox textBox(const Label& l) const;
     void remove(Label& l, RemovalReason why);
+    /// The forces and motion of one step (label_forces.cpp).
     void integrate(float dt);
+    void collectActive();    ///< m_active: the placed labels, shapes updated
+    void buildForceGrid();   ///< their buffered boxes, on m_grid
+    void collisionForces();  ///< eq. 4.2-4.6 over the grid's pairs; marks labels pressed by a more important one
+    void keepOutForces();    ///< keep-out areas push like labels that never move
+    [[nodiscard]] glm::vec2 behaviorForce(const Label& l) const;  ///< eq. 4.7-4.17 towards its candidate
+    void moveLabel(std::size_t a, float dt);  ///< Euler step of m_active[a], then the removal rules of 4.5.3
+    /// The initial placement of one step (label_placement.cpp).
+    struct Placement;
     void place();
+    [[nodiscard]] std::size_t queuePlacements();  ///< m_queue in placement order; how many to place now
+    void collectFading();                         ///< m_fading_grid: labels fading out, still drawn
+    void placeLabel(Label& l, Placement& p);      ///< at its first free candidate, or waits
+    /// Whether a candidate's text box is in the view and its placement zone free (now and ahead).
+    [[nodiscard]] bool candidateFree(const Label& l, const OrientedBox& text, Placement& p);
+    /// Whether the candidate stays in the view and free of the placed labels for placement_lookahead_s.
+    [[nodiscard]] bool freeAhead(const Label& l, const OrientedBox& text, Placement& p);
+    [[nodiscard]] glm::vec2 maxPlacedAnchorSpeed() const;  ///< per axis, over the placed labels
     void fade(float dt);
+    /// The hard rule of a drawn frame (label_overlaps.cpp): a label over one ranked before it, or
+    /// over a keep-out area, drops below the visible opacity.
     void resolveOverlaps();
     [[nodiscard]] float retryDelay(std::uint64_t id) const;
     /// Shown for LayoutParams::established_s (it wins over a newcomer whatever its priority).
