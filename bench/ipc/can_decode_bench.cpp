@@ -15,7 +15,7 @@
 
 #include "navmap/ipc/candump_reader.h"
 #include "navmap/ipc/dbc_database.h"
-#include "navmap/ipc/frame_queue.h"
+#include "frame_queue.h"
 #include "navmap/ipc/replayer.h"
 #include "navmap/ipc/signal_map.h"
 #include "navmap/ipc/vehicle_decoder.h"

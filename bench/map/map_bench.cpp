@@ -21,7 +21,7 @@
 #include "navmap/map/compile/compiler.h"
 #include "navmap/map/store_set.h"
 #include "navmap/map/tile_cache.h"
-#include "navmap/map/tile_selection.h"
+#include "tile_selection.h"
 #include "navmap/map/tile_store.h"
 #include "synth_region.h"
 

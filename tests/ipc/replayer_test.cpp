@@ -5,7 +5,7 @@
 #include <thread>
 
 #include "navmap/ipc/candump_reader.h"
-#include "navmap/ipc/frame_queue.h"
+#include "frame_queue.h"
 #include "navmap/ipc/replayer.h"
 #include "test_paths.h"
 

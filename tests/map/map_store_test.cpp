@@ -29,7 +29,7 @@
 #include "navmap/map/dem.h"
 #include "navmap/map/tile_cache.h"
 #include "navmap/map/tile_codec.h"
-#include "navmap/map/tile_selection.h"
+#include "tile_selection.h"
 #include "navmap/map/tile_store.h"
 #include "store_header.h"
 

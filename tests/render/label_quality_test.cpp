@@ -15,8 +15,8 @@
 
 #include "drive_trajectory.h"
 #include "label_quality.h"
-#include "labels/drawn_label_metrics.h"
-#include "labels/pop_causes.h"
+#include "drawn_label_metrics.h"
+#include "pop_causes.h"
 #include "navmap/render/maplibre_camera.h"
 #include "test_paths.h"
 

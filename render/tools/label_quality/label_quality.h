@@ -15,9 +15,9 @@
 #include <string>
 
 #include "drive_scene.h"
-#include "labels/drawn_label_metrics.h"
-#include "labels/layout_metrics.h"
-#include "labels/pop_causes.h"
+#include "drawn_label_metrics.h"
+#include "layout_metrics.h"
+#include "pop_causes.h"
 #include "navmap/render/camera_rig.h"
 #include "navmap/render/map_frame.h"
 

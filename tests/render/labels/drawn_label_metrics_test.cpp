@@ -6,7 +6,7 @@
 
 #include <gtest/gtest.h>
 
-#include "labels/drawn_label_metrics.h"
+#include "drawn_label_metrics.h"
 
 namespace nl = navmap::render::labels;
 

@@ -8,7 +8,7 @@
 #include <gtest/gtest.h>
 #include <glm/geometric.hpp>
 
-#include "labels/layout_metrics.h"
+#include "layout_metrics.h"
 #include "navmap/render/labels/label_layout.h"
 #include "synthetic_label_scene.h"
 

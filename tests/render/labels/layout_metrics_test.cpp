@@ -3,7 +3,7 @@
 
 #include <gtest/gtest.h>
 
-#include "labels/layout_metrics.h"
+#include "layout_metrics.h"
 
 namespace nl = navmap::render::labels;
 

@@ -7,8 +7,8 @@
 
 #include <gtest/gtest.h>
 
-#include "labels/drawn_label_metrics.h"
-#include "labels/pop_causes.h"
+#include "drawn_label_metrics.h"
+#include "pop_causes.h"
 
 namespace nl = navmap::render::labels;
 

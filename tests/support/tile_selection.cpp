@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "navmap/map/tile_selection.h"
+#include "tile_selection.h"
 
 #include <algorithm>
 #include <cmath>

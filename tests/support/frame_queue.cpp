@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "navmap/ipc/frame_queue.h"
+#include "frame_queue.h"
 
 #include <algorithm>
 
