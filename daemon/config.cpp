@@ -94,6 +94,348 @@ private:
     std::set<std::string> m_known;
 };
 
+// The sections of one config text, each read into a DaemonConfig by its own step; the first
+// problem found goes to `err` and ends the parse.
+class ConfigParser {
+public:
+    ConfigParser(const toml::table& root, const std::string& source_name, ConfigError* err)
+        : m_root(root), m_source(source_name), m_err(err) {}
+
+    bool knownSections() {
+        const std::set<std::string> sections{"store",   "input",  "sim", "render", "profile",
+                                             "control", "stream", "log", "can",    "guidance"};
+        for (const auto& [k, v] : m_root) {
+            if (!sections.count(std::string(k.str()))) {
+                m_err->message =
+                    where(m_source, v.source()) + ": unknown section or key '" + std::string(k.str()) + "'";
+                return false;
+            }
+        }
+        return true;
+    }
+    bool readStore(DaemonConfig& c);
+    bool readInput(DaemonConfig& c);
+    void readCan(DaemonConfig& c);
+    bool readSim(DaemonConfig& c);
+    bool readGuidance(DaemonConfig& c);
+    bool readRender(DaemonConfig& c);
+    bool readProfiles(DaemonConfig& c);
+    bool readControl(DaemonConfig& c);
+    bool readStream(DaemonConfig& c);
+    bool readLog(DaemonConfig& c);
+
+private:
+    const toml::table* table(const char* name) const {
+        const toml::node* n = m_root.get(name);
+        return n ? n->as_table() : nullptr;
+    }
+    TableReader section(const char* name) {
+        static const toml::table kEmpty;
+        const auto* t = table(name);
+        return TableReader(t ? *t : kEmpty, m_source, std::string(name) + ".", m_err);
+    }
+    bool fileNames(const char* name, const char* key, std::vector<std::filesystem::path>& out);
+    bool readIds(const char* section_name, TableReader& r, const char* key, std::vector<std::uint32_t>& out);
+    bool readProfile(const toml::node& e, DisplayProfile& p);
+
+    const toml::table& m_root;
+    const std::string& m_source;
+    ConfigError* m_err;
+};
+
+// An array of file names (store.mount, input.dbc); anything else in it is an error.
+bool ConfigParser::fileNames(const char* name, const char* key, std::vector<std::filesystem::path>& out) {
+    const auto* t = table(name);
+    const toml::node* n = t ? t->get(key) : nullptr;
+    if (!n) return true;
+    const toml::array* array = n->as_array();
+    if (!array) {  // dbc = "x.dbc" was ignored without a word
+        m_err->message = where(m_source, n->source()) + ": " + name + "." + key + " must be an array of file names";
+        return false;
+    }
+    for (const auto& e : *array) {
+        if (auto s = e.value<std::string>()) {
+            out.emplace_back(*s);
+        } else {
+            m_err->message = where(m_source, e.source()) + ": " + name + "." + key + " entries must be file names";
+            return false;
+        }
+    }
+    return true;
+}
+
+// allowed_uids / allowed_gids: arrays of non-negative integers.
+bool ConfigParser::readIds(const char* section_name, TableReader& r, const char* key, std::vector<std::uint32_t>& out) {
+    r.known(key);
+    const auto* t = table(section_name);
+    const toml::node* n = t ? t->get(key) : nullptr;
+    if (!n) return true;
+    const toml::array* arr = n->as_array();
+    if (!arr) {
+        m_err->message = where(m_source, n->source()) + ": " + section_name + "." + key + " must be an array of ids";
+        return false;
+    }
+    for (const auto& e : *arr) {
+        auto v = e.value<std::int64_t>();
+        if (!v || *v < 0 || *v > 0xFFFFFFFELL) {
+            m_err->message = where(m_source, e.source()) + ": " + section_name + "." + key + " entries must be " +
+                             (std::string(key).ends_with("uids") ? "uids" : "gids");
+            return false;
+        }
+        out.push_back(static_cast<std::uint32_t>(*v));
+    }
+    return true;
+}
+
+bool ConfigParser::readStore(DaemonConfig& c) {
+    auto r = section("store");
+    std::int64_t cache_mb = static_cast<std::int64_t>(c.cache_mb);
+    r.known("mount");
+    if (!r.get("path", c.store_path) || !r.get("cache_mb", cache_mb) ||
+        !r.range("cache_mb", double(cache_mb), 8, 65536) || !r.noUnknownKeys())
+        return false;
+    c.cache_mb = static_cast<std::size_t>(cache_mb);
+    return fileNames("store", "mount", c.mount_paths);
+}
+
+bool ConfigParser::readInput(DaemonConfig& c) {
+    auto r = section("input");
+    std::string source = "sim";
+    r.known("dbc");
+    if (!r.get("source", source) || !r.get("replay_log", c.replay_log) || !r.get("replay_speed", c.replay_speed) ||
+        !r.range("replay_speed", c.replay_speed, 0.01, 1000.0) || !r.get("replay_loop", c.replay_loop) ||
+        !r.get("can_interface", c.can_interface) || !r.get("stale_after_s", c.stale_after_s) ||
+        !r.range("stale_after_s", c.stale_after_s, 0.05, 600.0) || !r.noUnknownKeys())
+        return false;
+    if (source == "sim")
+        c.input = InputSource::Sim;
+    else if (source == "replay")
+        c.input = InputSource::Replay;
+    else if (source == "socketcan")
+        c.input = InputSource::SocketCan;
+    else {
+        m_err->message = m_source + ": input.source = \"" + source + "\": expected sim, replay or socketcan";
+        return false;
+    }
+    return fileNames("input", "dbc", c.dbc_files);
+}
+
+void ConfigParser::readCan(DaemonConfig& c) {
+    if (const auto* can = table("can")) {
+        // [[can.signal]] tables: handed to ipc::SignalMap as TOML text.
+        std::ostringstream s;
+        toml::table only;
+        only.insert("can", *can);
+        s << only;
+        c.signal_map_toml = s.str();
+    }
+}
+
+bool ConfigParser::readSim(DaemonConfig& c) {
+    auto r = section("sim");
+    return r.get("from", c.sim_from) && r.get("to", c.sim_to) && r.get("speed_factor", c.sim_speed_factor) &&
+           r.range("speed_factor", c.sim_speed_factor, 0.01, 1000.0) && r.noUnknownKeys();
+}
+
+bool ConfigParser::readGuidance(DaemonConfig& c) {
+    auto r = section("guidance");
+    GuidanceConfig& g = c.guidance;
+    return r.get("off_route_distance_m", g.off_route_distance_m) &&
+           r.range("off_route_distance_m", g.off_route_distance_m, 5.0, 1000.0) &&
+           r.get("off_route_time_s", g.off_route_time_s) &&
+           r.range("off_route_time_s", g.off_route_time_s, 0.0, 600.0) &&
+           r.get("on_route_distance_m", g.on_route_distance_m) &&
+           r.range("on_route_distance_m", g.on_route_distance_m, 1.0, g.off_route_distance_m - 1.0) &&
+           r.get("on_route_time_s", g.on_route_time_s) && r.range("on_route_time_s", g.on_route_time_s, 0.0, 600.0) &&
+           r.get("second_arrow_within_m", g.second_arrow_within_m) &&
+           r.range("second_arrow_within_m", g.second_arrow_within_m, 0.0, 5000.0) && r.noUnknownKeys();
+}
+
+bool ConfigParser::readRender(DaemonConfig& c) {
+    auto r = section("render");
+    std::string style = "day", ground = "landcover";
+    if (!r.get("egl_platform", c.egl_platform) || !r.get("msaa", c.msaa) || !r.range("msaa", c.msaa, -1, 16) ||
+        !r.get("style", style) || !r.get("ground", ground) || !r.get("labels", c.labels) ||
+        !r.get("gpu_tile_cache", c.gpu_tile_cache) || !r.range("gpu_tile_cache", c.gpu_tile_cache, 0, 100000) ||
+        !r.get("shader_cache", c.shader_cache) || !r.noUnknownKeys())
+        return false;
+    if (c.egl_platform != "auto" && c.egl_platform != "surfaceless" && c.egl_platform != "device") {
+        m_err->message =
+            m_source + ": render.egl_platform = \"" + c.egl_platform + "\": expected auto, surfaceless or device";
+        return false;
+    }
+    if (style != "day" && style != "night") {
+        m_err->message = m_source + ": render.style = \"" + style + "\": expected day or night";
+        return false;
+    }
+    c.night = style == "night";
+    if (ground != "landcover" && ground != "orthoimage") {
+        m_err->message = m_source + ": render.ground = \"" + ground + "\": expected landcover or orthoimage";
+        return false;
+    }
+    c.orthoimage_ground = ground == "orthoimage";
+    return true;
+}
+
+// [[profile]]: the display profiles; none given, the defaults.
+bool ConfigParser::readProfiles(DaemonConfig& c) {
+    const toml::node* n = m_root.get("profile");
+    if (!n) {
+        c.profiles = defaultProfiles();
+        return true;
+    }
+    const toml::array* arr = n->as_array();
+    if (!arr || !arr->is_array_of_tables()) {
+        m_err->message = where(m_source, n->source()) + ": profile must be an array of tables ([[profile]])";
+        return false;
+    }
+    if (arr->size() > kMaxProfiles) {
+        m_err->message = where(m_source, (*arr)[kMaxProfiles].source()) + ": " + std::to_string(arr->size()) +
+                         " profiles, more than " + std::to_string(kMaxProfiles);
+        return false;
+    }
+    for (const auto& e : *arr) {
+        DisplayProfile p;
+        if (!readProfile(e, p)) return false;
+        c.profiles.push_back(p);
+    }
+    return true;
+}
+
+// One [[profile]] table.
+bool ConfigParser::readProfile(const toml::node& e, DisplayProfile& p) {
+    TableReader r(*e.as_table(), m_source, "profile.", m_err);
+    std::string view = "snail", orientation = "heading-up", roads = "auto";
+    double zoom = 0.0, pitch = 0.0;
+    if (!r.get("name", p.name) || !r.get("width", p.width) || !r.range("width", p.width, 16, 8192) ||
+        !r.get("height", p.height) || !r.range("height", p.height, 16, 8192) || !r.get("fps", p.fps) ||
+        !r.range("fps", p.fps, 0.1, 240.0) || !r.get("view", view) || !r.get("orientation", orientation) ||
+        !r.get("roads", roads) || !r.get("glow_roads", p.glow_roads) || !r.get("label_aura", p.label_aura) ||
+        !r.get("road_selection", p.road_selection) || !r.get("attribution", p.attribution) || !r.get("zoom", zoom) ||
+        !r.range("zoom", zoom, render::kMapLibreMinZoom, render::kMapLibreMaxZoom) || !r.get("pitch", pitch) ||
+        !r.range("pitch", pitch, render::kMapLibreMinPitchDeg, render::kMapLibreMaxPitchDeg) || !r.noUnknownKeys())
+        return false;
+    // A MapLibre GL JS camera needs both; either alone is a mistake, not a default.
+    const bool has_zoom = e.as_table()->contains("zoom"), has_pitch = e.as_table()->contains("pitch");
+    if (has_zoom != has_pitch) {
+        m_err->message = where(m_source, e.source()) + ": profile." + (has_zoom ? "zoom" : "pitch") +
+                         " needs profile." + (has_zoom ? "pitch" : "zoom") +
+                         " (a MapLibre-convention camera gives both)";
+        return false;
+    }
+    if (has_zoom) p.camera = render::MapLibreFollow{zoom, pitch, std::nullopt};
+    if (roads == "geometric")
+        p.roads = render::RoadTechnique::Geometric;
+    else if (roads == "shadow-volume")
+        p.roads = render::RoadTechnique::ShadowVolume;
+    else if (roads != "auto") {
+        m_err->message = where(m_source, e.source()) + ": profile.roads = \"" + roads +
+                         "\": expected geometric, shadow-volume or auto";
+        return false;
+    }
+    if (p.name.empty()) {
+        m_err->message = where(m_source, e.source()) + ": profile.name is required";
+        return false;
+    }
+    // Without label_aura the aura follows the view: on where labels lie in the world.
+    if (!e.as_table()->contains("label_aura")) p.label_aura = view != "bird";
+    // Without attribution it follows the view too: on in bird's-eye (the map display).
+    if (!e.as_table()->contains("attribution")) p.attribution = view == "bird";
+    if (view == "bird")
+        p.view = render::ViewMode::Bird;
+    else if (view == "snail")
+        p.view = render::ViewMode::Snail;
+    else if (view == "hud")
+        p.view = render::ViewMode::Snail;  // route-and-manoeuvre style, from behind
+    else {
+        m_err->message = where(m_source, e.source()) + ": profile.view = \"" + view + "\": expected bird, snail or hud";
+        return false;
+    }
+    if (orientation == "north-up")
+        p.orientation = render::Orientation::NorthUp;
+    else if (orientation != "heading-up") {
+        m_err->message = where(m_source, e.source()) + ": profile.orientation = \"" + orientation +
+                         "\": expected heading-up or north-up";
+        return false;
+    }
+    p.stream_view = view;
+    return true;
+}
+
+bool ConfigParser::readControl(DaemonConfig& c) {
+    auto r = section("control");
+    std::int64_t mode = c.control_mode;
+    if (!r.get("idle_timeout_s", c.control_idle_timeout_s) ||
+        !r.range("idle_timeout_s", c.control_idle_timeout_s, 0.0, 86400.0))
+        return false;
+    if (!r.get("max_clients_per_uid", c.control_max_clients_per_uid) ||
+        !r.range("max_clients_per_uid", c.control_max_clients_per_uid, 1, 16) ||
+        !r.get("max_subscribers_per_uid", c.control_max_subscribers_per_uid) ||
+        !r.range("max_subscribers_per_uid", c.control_max_subscribers_per_uid, 1, 16) ||
+        !readIds("control", r, "privileged_uids", c.control_privileged_uids))
+        return false;
+    if (!readIds("control", r, "allowed_uids", c.control_uids) ||
+        !readIds("control", r, "allowed_gids", c.control_gids) || !r.get("socket", c.control_socket) ||
+        !r.get("mode", mode) || !r.range("mode", double(mode), 0, 0777) || !r.get("group", c.control_group) ||
+        !r.noUnknownKeys())
+        return false;
+    c.control_mode = static_cast<std::uint32_t>(mode);
+    return true;
+}
+
+bool ConfigParser::readStream(DaemonConfig& c) {
+    auto r = section("stream");
+    std::int64_t ring_mb = static_cast<std::int64_t>(c.ring_memory_mb);
+    if (!readIds("stream", r, "allowed_uids", c.stream_uids) || !readIds("stream", r, "allowed_gids", c.stream_gids) ||
+        !r.get("socket", c.frame_socket) || !r.get("group", c.stream_group) ||
+        !r.get("max_clients_per_transport", c.max_clients_per_transport) ||
+        !r.range("max_clients_per_transport", c.max_clients_per_transport, 1, 1024) ||
+        !r.get("max_clients_per_uid", c.max_clients_per_uid) ||
+        !r.range("max_clients_per_uid", c.max_clients_per_uid, 1, 1024) ||
+        !r.get("max_clients_per_address", c.max_clients_per_address) ||
+        !r.range("max_clients_per_address", c.max_clients_per_address, 1, 1024) || !r.get("ring_memory_mb", ring_mb) ||
+        !r.range("ring_memory_mb", double(ring_mb), 1, 65536) || !r.get("handshake_timeout_s", c.handshake_timeout_s) ||
+        !r.range("handshake_timeout_s", c.handshake_timeout_s, 0.1, 600.0) || !r.get("tcp_port", c.tcp_port) ||
+        !r.range("tcp_port", c.tcp_port, 0, 65535) || !r.get("http_port", c.http_port) ||
+        !r.range("http_port", c.http_port, 0, 65535) || !r.get("http_address", c.http_address) ||
+        !r.get("http_token", c.http_token) || !r.get("client_timeout_s", c.client_timeout_s) ||
+        !r.range("client_timeout_s", c.client_timeout_s, 0.1, 3600.0) || !r.noUnknownKeys())
+        return false;
+    c.ring_memory_mb = static_cast<std::size_t>(ring_mb);
+    // The token travels in URLs (?token=): URL-safe characters only, long enough not to guess.
+    const bool token_chars = std::all_of(c.http_token.begin(), c.http_token.end(), [](char ch) {
+        return (ch >= 'a' && ch <= 'z') || (ch >= 'A' && ch <= 'Z') || (ch >= '0' && ch <= '9') || ch == '-' ||
+               ch == '_' || ch == '.' || ch == '~';
+    });
+    if (!c.http_token.empty() && (c.http_token.size() < 16 || c.http_token.size() > 256 || !token_chars)) {
+        m_err->message = m_source + ": stream.http_token must be 16..256 characters of A-Z a-z 0-9 - _ . ~";
+        return false;
+    }
+    return true;
+}
+
+bool ConfigParser::readLog(DaemonConfig& c) {
+    auto r = section("log");
+    std::string level = "info";
+    if (!r.get("level", level) || !r.get("watchdog_max_frame_s", c.watchdog_max_frame_s) ||
+        !r.range("watchdog_max_frame_s", c.watchdog_max_frame_s, 0.1, 600.0) || !r.noUnknownKeys())
+        return false;
+    static const std::pair<const char*, int> kLevels[] = {
+        {"error", 3}, {"warning", 4}, {"notice", 5}, {"info", 6}, {"debug", 7}};
+    bool ok = false;
+    for (const auto& [name, prio] : kLevels) {
+        if (level == name) {
+            c.log_level = prio;
+            ok = true;
+        }
+    }
+    if (!ok) {
+        m_err->message = m_source + ": log.level = \"" + level + "\": expected error, warning, notice, info or debug";
+        return false;
+    }
+    return true;
+}
+
 }  // namespace
 
 std::optional<DaemonConfig> parseConfig(const std::string& text, const std::string& source_name, ConfigError* error) {
@@ -112,300 +454,12 @@ std::optional<DaemonConfig> parseConfig(const std::string& text, const std::stri
         return std::nullopt;
     }
     DaemonConfig c;
-    const std::set<std::string> sections{"store",   "input",  "sim", "render", "profile",
-                                         "control", "stream", "log", "can",    "guidance"};
-    for (const auto& [k, v] : root) {
-        if (!sections.count(std::string(k.str()))) {
-            err->message = where(source_name, v.source()) + ": unknown section or key '" + std::string(k.str()) + "'";
-            return std::nullopt;
-        }
-    }
-    auto table = [&](const char* name) -> const toml::table* {
-        const toml::node* n = root.get(name);
-        return n ? n->as_table() : nullptr;
-    };
-    static const toml::table kEmpty;
-    auto section = [&](const char* name) {
-        const auto* t = table(name);
-        return TableReader(t ? *t : kEmpty, source_name, std::string(name) + ".", err);
-    };
-
-    // An array of file names (store.mount, input.dbc); anything else in it is an error.
-    auto file_names = [&](const char* name, const char* key, std::vector<std::filesystem::path>& out) {
-        const auto* t = table(name);
-        const toml::node* n = t ? t->get(key) : nullptr;
-        if (!n) return true;
-        const toml::array* array = n->as_array();
-        if (!array) {  // dbc = "x.dbc" was ignored without a word
-            err->message =
-                where(source_name, n->source()) + ": " + name + "." + key + " must be an array of file names";
-            return false;
-        }
-        for (const auto& e : *array) {
-            if (auto s = e.value<std::string>()) {
-                out.emplace_back(*s);
-            } else {
-                err->message = where(source_name, e.source()) + ": " + name + "." + key + " entries must be file names";
-                return false;
-            }
-        }
-        return true;
-    };
-
-    {
-        auto r = section("store");
-        std::int64_t cache_mb = static_cast<std::int64_t>(c.cache_mb);
-        r.known("mount");
-        if (!r.get("path", c.store_path) || !r.get("cache_mb", cache_mb) ||
-            !r.range("cache_mb", double(cache_mb), 8, 65536) || !r.noUnknownKeys())
-            return std::nullopt;
-        c.cache_mb = static_cast<std::size_t>(cache_mb);
-        if (!file_names("store", "mount", c.mount_paths)) return std::nullopt;
-    }
-    {
-        auto r = section("input");
-        std::string source = "sim";
-        r.known("dbc");
-        if (!r.get("source", source) || !r.get("replay_log", c.replay_log) || !r.get("replay_speed", c.replay_speed) ||
-            !r.range("replay_speed", c.replay_speed, 0.01, 1000.0) || !r.get("replay_loop", c.replay_loop) ||
-            !r.get("can_interface", c.can_interface) || !r.get("stale_after_s", c.stale_after_s) ||
-            !r.range("stale_after_s", c.stale_after_s, 0.05, 600.0) || !r.noUnknownKeys())
-            return std::nullopt;
-        if (source == "sim")
-            c.input = InputSource::Sim;
-        else if (source == "replay")
-            c.input = InputSource::Replay;
-        else if (source == "socketcan")
-            c.input = InputSource::SocketCan;
-        else {
-            err->message = source_name + ": input.source = \"" + source + "\": expected sim, replay or socketcan";
-            return std::nullopt;
-        }
-        if (!file_names("input", "dbc", c.dbc_files)) return std::nullopt;
-    }
-    if (const auto* can = table("can")) {
-        // [[can.signal]] tables: handed to ipc::SignalMap as TOML text.
-        std::ostringstream s;
-        toml::table only;
-        only.insert("can", *can);
-        s << only;
-        c.signal_map_toml = s.str();
-    }
-    {
-        auto r = section("sim");
-        if (!r.get("from", c.sim_from) || !r.get("to", c.sim_to) || !r.get("speed_factor", c.sim_speed_factor) ||
-            !r.range("speed_factor", c.sim_speed_factor, 0.01, 1000.0) || !r.noUnknownKeys())
-            return std::nullopt;
-    }
-    {
-        auto r = section("guidance");
-        GuidanceConfig& g = c.guidance;
-        if (!r.get("off_route_distance_m", g.off_route_distance_m) ||
-            !r.range("off_route_distance_m", g.off_route_distance_m, 5.0, 1000.0) ||
-            !r.get("off_route_time_s", g.off_route_time_s) ||
-            !r.range("off_route_time_s", g.off_route_time_s, 0.0, 600.0) ||
-            !r.get("on_route_distance_m", g.on_route_distance_m) ||
-            !r.range("on_route_distance_m", g.on_route_distance_m, 1.0, g.off_route_distance_m - 1.0) ||
-            !r.get("on_route_time_s", g.on_route_time_s) ||
-            !r.range("on_route_time_s", g.on_route_time_s, 0.0, 600.0) ||
-            !r.get("second_arrow_within_m", g.second_arrow_within_m) ||
-            !r.range("second_arrow_within_m", g.second_arrow_within_m, 0.0, 5000.0) || !r.noUnknownKeys())
-            return std::nullopt;
-    }
-    {
-        auto r = section("render");
-        std::string style = "day", ground = "landcover";
-        if (!r.get("egl_platform", c.egl_platform) || !r.get("msaa", c.msaa) || !r.range("msaa", c.msaa, -1, 16) ||
-            !r.get("style", style) || !r.get("ground", ground) || !r.get("labels", c.labels) ||
-            !r.get("gpu_tile_cache", c.gpu_tile_cache) || !r.range("gpu_tile_cache", c.gpu_tile_cache, 0, 100000) ||
-            !r.get("shader_cache", c.shader_cache) || !r.noUnknownKeys())
-            return std::nullopt;
-        if (c.egl_platform != "auto" && c.egl_platform != "surfaceless" && c.egl_platform != "device") {
-            err->message = source_name + ": render.egl_platform = \"" + c.egl_platform +
-                           "\": expected auto, surfaceless or device";
-            return std::nullopt;
-        }
-        if (style != "day" && style != "night") {
-            err->message = source_name + ": render.style = \"" + style + "\": expected day or night";
-            return std::nullopt;
-        }
-        c.night = style == "night";
-        if (ground != "landcover" && ground != "orthoimage") {
-            err->message = source_name + ": render.ground = \"" + ground + "\": expected landcover or orthoimage";
-            return std::nullopt;
-        }
-        c.orthoimage_ground = ground == "orthoimage";
-    }
-    if (const toml::node* n = root.get("profile")) {
-        const toml::array* arr = n->as_array();
-        if (!arr || !arr->is_array_of_tables()) {
-            err->message = where(source_name, n->source()) + ": profile must be an array of tables ([[profile]])";
-            return std::nullopt;
-        }
-        if (arr->size() > kMaxProfiles) {
-            err->message = where(source_name, (*arr)[kMaxProfiles].source()) + ": " + std::to_string(arr->size()) +
-                           " profiles, more than " + std::to_string(kMaxProfiles);
-            return std::nullopt;
-        }
-        for (const auto& e : *arr) {
-            TableReader r(*e.as_table(), source_name, "profile.", err);
-            DisplayProfile p;
-            std::string view = "snail", orientation = "heading-up", roads = "auto";
-            double zoom = 0.0, pitch = 0.0;
-            if (!r.get("name", p.name) || !r.get("width", p.width) || !r.range("width", p.width, 16, 8192) ||
-                !r.get("height", p.height) || !r.range("height", p.height, 16, 8192) || !r.get("fps", p.fps) ||
-                !r.range("fps", p.fps, 0.1, 240.0) || !r.get("view", view) || !r.get("orientation", orientation) ||
-                !r.get("roads", roads) || !r.get("glow_roads", p.glow_roads) || !r.get("label_aura", p.label_aura) ||
-                !r.get("road_selection", p.road_selection) || !r.get("attribution", p.attribution) ||
-                !r.get("zoom", zoom) || !r.range("zoom", zoom, render::kMapLibreMinZoom, render::kMapLibreMaxZoom) ||
-                !r.get("pitch", pitch) ||
-                !r.range("pitch", pitch, render::kMapLibreMinPitchDeg, render::kMapLibreMaxPitchDeg) ||
-                !r.noUnknownKeys())
-                return std::nullopt;
-            // A MapLibre GL JS camera needs both; either alone is a mistake, not a default.
-            const bool has_zoom = e.as_table()->contains("zoom"), has_pitch = e.as_table()->contains("pitch");
-            if (has_zoom != has_pitch) {
-                err->message = where(source_name, e.source()) + ": profile." + (has_zoom ? "zoom" : "pitch") +
-                               " needs profile." + (has_zoom ? "pitch" : "zoom") +
-                               " (a MapLibre-convention camera gives both)";
-                return std::nullopt;
-            }
-            if (has_zoom) p.camera = render::MapLibreFollow{zoom, pitch, std::nullopt};
-            if (roads == "geometric")
-                p.roads = render::RoadTechnique::Geometric;
-            else if (roads == "shadow-volume")
-                p.roads = render::RoadTechnique::ShadowVolume;
-            else if (roads != "auto") {
-                err->message = where(source_name, e.source()) + ": profile.roads = \"" + roads +
-                               "\": expected geometric, shadow-volume or auto";
-                return std::nullopt;
-            }
-            if (p.name.empty()) {
-                err->message = where(source_name, e.source()) + ": profile.name is required";
-                return std::nullopt;
-            }
-            // Without label_aura the aura follows the view: on where labels lie in the world.
-            if (!e.as_table()->contains("label_aura")) p.label_aura = view != "bird";
-            // Without attribution it follows the view too: on in bird's-eye (the map display).
-            if (!e.as_table()->contains("attribution")) p.attribution = view == "bird";
-            if (view == "bird")
-                p.view = render::ViewMode::Bird;
-            else if (view == "snail")
-                p.view = render::ViewMode::Snail;
-            else if (view == "hud")
-                p.view = render::ViewMode::Snail;  // route-and-manoeuvre style, from behind
-            else {
-                err->message =
-                    where(source_name, e.source()) + ": profile.view = \"" + view + "\": expected bird, snail or hud";
-                return std::nullopt;
-            }
-            if (orientation == "north-up")
-                p.orientation = render::Orientation::NorthUp;
-            else if (orientation != "heading-up") {
-                err->message = where(source_name, e.source()) + ": profile.orientation = \"" + orientation +
-                               "\": expected heading-up or north-up";
-                return std::nullopt;
-            }
-            p.stream_view = view;
-            c.profiles.push_back(p);
-        }
-    } else {
-        c.profiles = defaultProfiles();
-    }
-    // allowed_uids / allowed_gids: arrays of non-negative integers.
-    const auto read_ids = [&](const char* section_name, TableReader& r, const char* key,
-                              std::vector<std::uint32_t>& out) {
-        r.known(key);
-        const auto* t = table(section_name);
-        const toml::node* n = t ? t->get(key) : nullptr;
-        if (!n) return true;
-        const toml::array* arr = n->as_array();
-        if (!arr) {
-            err->message =
-                where(source_name, n->source()) + ": " + section_name + "." + key + " must be an array of ids";
-            return false;
-        }
-        for (const auto& e : *arr) {
-            auto v = e.value<std::int64_t>();
-            if (!v || *v < 0 || *v > 0xFFFFFFFELL) {
-                err->message = where(source_name, e.source()) + ": " + section_name + "." + key + " entries must be " +
-                               (std::string(key).ends_with("uids") ? "uids" : "gids");
-                return false;
-            }
-            out.push_back(static_cast<std::uint32_t>(*v));
-        }
-        return true;
-    };
-    {
-        auto r = section("control");
-        std::int64_t mode = c.control_mode;
-        if (!r.get("idle_timeout_s", c.control_idle_timeout_s) ||
-            !r.range("idle_timeout_s", c.control_idle_timeout_s, 0.0, 86400.0))
-            return std::nullopt;
-        if (!r.get("max_clients_per_uid", c.control_max_clients_per_uid) ||
-            !r.range("max_clients_per_uid", c.control_max_clients_per_uid, 1, 16) ||
-            !r.get("max_subscribers_per_uid", c.control_max_subscribers_per_uid) ||
-            !r.range("max_subscribers_per_uid", c.control_max_subscribers_per_uid, 1, 16) ||
-            !read_ids("control", r, "privileged_uids", c.control_privileged_uids))
-            return std::nullopt;
-        if (!read_ids("control", r, "allowed_uids", c.control_uids) ||
-            !read_ids("control", r, "allowed_gids", c.control_gids) || !r.get("socket", c.control_socket) ||
-            !r.get("mode", mode) || !r.range("mode", double(mode), 0, 0777) || !r.get("group", c.control_group) ||
-            !r.noUnknownKeys())
-            return std::nullopt;
-        c.control_mode = static_cast<std::uint32_t>(mode);
-    }
-    {
-        auto r = section("stream");
-        std::int64_t ring_mb = static_cast<std::int64_t>(c.ring_memory_mb);
-        if (!read_ids("stream", r, "allowed_uids", c.stream_uids) ||
-            !read_ids("stream", r, "allowed_gids", c.stream_gids) || !r.get("socket", c.frame_socket) ||
-            !r.get("group", c.stream_group) || !r.get("max_clients_per_transport", c.max_clients_per_transport) ||
-            !r.range("max_clients_per_transport", c.max_clients_per_transport, 1, 1024) ||
-            !r.get("max_clients_per_uid", c.max_clients_per_uid) ||
-            !r.range("max_clients_per_uid", c.max_clients_per_uid, 1, 1024) ||
-            !r.get("max_clients_per_address", c.max_clients_per_address) ||
-            !r.range("max_clients_per_address", c.max_clients_per_address, 1, 1024) ||
-            !r.get("ring_memory_mb", ring_mb) || !r.range("ring_memory_mb", double(ring_mb), 1, 65536) ||
-            !r.get("handshake_timeout_s", c.handshake_timeout_s) ||
-            !r.range("handshake_timeout_s", c.handshake_timeout_s, 0.1, 600.0) || !r.get("tcp_port", c.tcp_port) ||
-            !r.range("tcp_port", c.tcp_port, 0, 65535) || !r.get("http_port", c.http_port) ||
-            !r.range("http_port", c.http_port, 0, 65535) || !r.get("http_address", c.http_address) ||
-            !r.get("http_token", c.http_token) || !r.get("client_timeout_s", c.client_timeout_s) ||
-            !r.range("client_timeout_s", c.client_timeout_s, 0.1, 3600.0) || !r.noUnknownKeys())
-            return std::nullopt;
-        c.ring_memory_mb = static_cast<std::size_t>(ring_mb);
-        // The token travels in URLs (?token=): URL-safe characters only, long enough not to guess.
-        const bool token_chars = std::all_of(c.http_token.begin(), c.http_token.end(), [](char ch) {
-            return (ch >= 'a' && ch <= 'z') || (ch >= 'A' && ch <= 'Z') || (ch >= '0' && ch <= '9') || ch == '-' ||
-                   ch == '_' || ch == '.' || ch == '~';
-        });
-        if (!c.http_token.empty() && (c.http_token.size() < 16 || c.http_token.size() > 256 || !token_chars)) {
-            err->message = source_name + ": stream.http_token must be 16..256 characters of A-Z a-z 0-9 - _ . ~";
-            return std::nullopt;
-        }
-    }
-    {
-        auto r = section("log");
-        std::string level = "info";
-        if (!r.get("level", level) || !r.get("watchdog_max_frame_s", c.watchdog_max_frame_s) ||
-            !r.range("watchdog_max_frame_s", c.watchdog_max_frame_s, 0.1, 600.0) || !r.noUnknownKeys())
-            return std::nullopt;
-        static const std::pair<const char*, int> kLevels[] = {
-            {"error", 3}, {"warning", 4}, {"notice", 5}, {"info", 6}, {"debug", 7}};
-        bool ok = false;
-        for (const auto& [name, prio] : kLevels) {
-            if (level == name) {
-                c.log_level = prio;
-                ok = true;
-            }
-        }
-        if (!ok) {
-            err->message =
-                source_name + ": log.level = \"" + level + "\": expected error, warning, notice, info or debug";
-            return std::nullopt;
-        }
-    }
+    ConfigParser parser(root, source_name, err);
+    if (!parser.knownSections() || !parser.readStore(c) || !parser.readInput(c)) return std::nullopt;
+    parser.readCan(c);
+    if (!parser.readSim(c) || !parser.readGuidance(c) || !parser.readRender(c) || !parser.readProfiles(c) ||
+        !parser.readControl(c) || !parser.readStream(c) || !parser.readLog(c))
+        return std::nullopt;
     return c;
 }
 

@@ -66,7 +66,7 @@ private:
     navmap::ipc::net::UniqueFd m_fd;
 };
 
-struct Cli {
+struct SimOptions {
     std::string store = navmap::install::defaultStore().string();
     std::string dbc = navmap::install::defaultDbc().string();
     std::string from, to;
@@ -79,17 +79,13 @@ struct Cli {
     std::string route_id = "r1";
     bool quiet = false;
     double start_time = 1618394400.0;
+    navmap::sim::DriveRequest req;  ///< the frame and drive options; store, places and start time from the above
 };
 
-}  // namespace
-
-int main(int argc, char** argv) {
-    Cli cli;
-    navmap::sim::DriveRequest req;
-    CLI::App app{"navmap-sim: simulated drive on the road graph -> navmap.dbc GNSS frames (candump log, SocketCAN)"};
-    navmap::cli::setUp(app, "navmap-sim");
+void addSimOptions(CLI::App& app, SimOptions& cli) {
     using navmap::cli::finiteIn;
     using navmap::cli::integerIn;
+    navmap::sim::DriveRequest& req = cli.req;
     app.add_option("--store", cli.store, "compiled tile store")->capture_default_str();
     app.add_option("--dbc", cli.dbc, "navmap.dbc")->capture_default_str();
     app.add_option("--from", cli.from, "start: \"lat,lon\" or a place name")->required();
@@ -153,8 +149,150 @@ int main(int argc, char** argv) {
     app.add_option("--control", cli.control, "send set_route to the daemon's control socket");
     app.add_option("--route-id", cli.route_id, "route id in set_route")->capture_default_str();
     app.add_flag("-q,--quiet", cli.quiet, "no progress output");
-    if (const auto exit_status = navmap::cli::parse(app, argc, argv)) return *exit_status;
+}
 
+// The route over the control IPC / to a file.
+bool publishRoute(const SimOptions& cli, const std::string& msg) {
+    if (!cli.route_out.empty()) {
+        std::ofstream f(cli.route_out, std::ios::trunc);
+        f << msg << '\n';
+        if (!f.flush()) {
+            std::fprintf(stderr, "navmap-sim: write(%s): failed\n", cli.route_out.c_str());
+            return false;
+        }
+    }
+    if (!cli.control.empty()) {
+        auto client = navmap::ipc::ControlClient::connect(cli.control);
+        if (!client) {
+            std::fprintf(stderr, "navmap-sim: set_route: %s\n", client.error().message.c_str());
+            return false;
+        }
+        auto reply = client.value().request(msg);
+        if (!reply) {
+            std::fprintf(stderr, "navmap-sim: set_route: %s\n", reply.error().message.c_str());
+            return false;
+        }
+        if (!navmap::sim::replyIsOk(reply.value())) {
+            std::fprintf(stderr, "navmap-sim: set_route refused: %s\n", reply.value().c_str());
+            return false;
+        }
+        if (!cli.quiet) std::fprintf(stderr, "navmap-sim: set_route accepted: %s\n", reply.value().c_str());
+    }
+    return true;
+}
+
+// Where the frames go: the candump log (-o) and SocketCAN (--socketcan), each when asked for.
+bool openOutputs(const SimOptions& cli, std::optional<navmap::sim::CandumpWriter>& log,
+                 std::optional<navmap::ipc::SocketCanSource>& can) {
+    if (!cli.out.empty()) {
+        auto w = navmap::sim::CandumpWriter::open(cli.out, cli.iface);
+        if (!w) {
+            std::fprintf(stderr, "navmap-sim: %s\n", w.error().message.c_str());
+            return false;
+        }
+        log.emplace(std::move(w).value());
+    }
+    if (cli.socketcan) {
+        navmap::ipc::SocketCanOptions o;
+        o.interface_name = cli.iface;
+        o.frame_keys = {0x7FF};  // we only send; keep the receive queue quiet
+        o.receive_error_frames = false;
+        can.emplace(o);
+        can->poll([](const navmap::ipc::CanFrame&) {});
+        if (can->fd() < 0) {
+            std::fprintf(stderr, "navmap-sim: %s\n", can->status().last_error.c_str());
+            return false;
+        }
+    }
+    return true;
+}
+
+// What sending the frames did.
+struct SendOutcome {
+    bool write_failed = false;  ///< the log could not be written (reported)
+    bool interrupted = false;   ///< SIGINT or SIGTERM
+    std::uint64_t send_errors = 0;
+    std::string last_send_error;
+};
+
+// Sends every frame of the drive to the outputs, paced in real time x --speed-factor on SocketCAN.
+SendOutcome sendFrames(const SimOptions& cli, navmap::ipc::CanTime start_time, navmap::sim::FrameGenerator& gen,
+                       std::optional<navmap::sim::CandumpWriter>& log, std::optional<navmap::ipc::SocketCanSource>& can,
+                       StopSignals& stop) {
+    SendOutcome outcome;
+    const auto wall0 = std::chrono::steady_clock::now();
+    navmap::ipc::CanFrame frame;
+    double next_progress = 0.0;
+    while (gen.next(frame)) {
+        const double t = std::chrono::duration<double>(frame.timestamp - start_time).count();
+        if (can && cli.speed_factor > 0.0) {
+            const auto due = wall0 + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                         std::chrono::duration<double>(t / cli.speed_factor));
+            for (;;) {
+                const auto left =
+                    std::chrono::duration_cast<std::chrono::milliseconds>(due - std::chrono::steady_clock::now());
+                if (stop.waitStop(static_cast<int>(std::max<std::int64_t>(0, left.count())))) {
+                    outcome.interrupted = true;
+                    break;
+                }
+                if (left.count() <= 0) break;
+            }
+        } else if (stop.waitStop(0)) {
+            outcome.interrupted = true;
+        }
+        if (outcome.interrupted) break;
+        if (log) {
+            if (auto st = log->write(frame); !st) {
+                std::fprintf(stderr, "navmap-sim: %s\n", st.message().c_str());
+                outcome.write_failed = true;
+                return outcome;
+            }
+        }
+        if (can) {
+            can->poll([](const navmap::ipc::CanFrame&) {});  // drain other senders' frames
+            if (auto st = can->send(frame); !st) {
+                ++outcome.send_errors;
+                outcome.last_send_error = st.message();
+            }
+        }
+        if (!cli.quiet && t >= next_progress) {
+            const auto st = gen.truthAt(t);
+            std::fprintf(stderr, "navmap-sim: t=%6.1f s  %6.0f m  %5.1f km/h\n", t, st.measure_m, st.speed_mps * 3.6);
+            next_progress += (can && cli.speed_factor > 0.0) ? 5.0 : 60.0;
+        }
+    }
+    return outcome;
+}
+
+void printSummary(const SimOptions& cli, const navmap::sim::DriveRequest& req, const navmap::sim::DriveSimulator& sim,
+                  const navmap::sim::FrameGenerator& gen, const std::optional<navmap::sim::CandumpWriter>& log,
+                  bool can, const SendOutcome& outcome) {
+    const auto& route = sim.route();
+    const auto& s = gen.stats();
+    std::printf("route: %.0f m, %zu points, %zu maneuvers, graph estimate %.0f s\n", route.length(), route.line.size(),
+                route.maneuvers.size(), route.graph_duration_s);
+    std::printf("drive: %.1f s (%.1f s moving), mean %.1f km/h\n", s.duration_s, sim.profile().duration(),
+                sim.profile().duration() > 0 ? route.length() / sim.profile().duration() * 3.6 : 0.0);
+    std::printf("frames: %llu", static_cast<unsigned long long>(s.frames));
+    for (std::size_t k = 0; k < navmap::sim::kFrameKindCount; ++k) {
+        std::printf("%s %s %llu", k == 0 ? " (" : ",", navmap::sim::frameKindName(static_cast<FrameKind>(k)),
+                    static_cast<unsigned long long>(s.by_kind[k]));
+    }
+    std::printf(")\n");
+    std::printf("faults: %zu dropouts of %.1f s, %zu bursts of %d bad frames, noise %.1f m, seed %llu\n",
+                gen.dropouts().size(), req.frames.dropout_s, gen.burstTimes().size(), req.frames.burst_frames,
+                req.frames.noise_m, static_cast<unsigned long long>(req.frames.seed));
+    if (log) std::printf("log: %s (%zu lines)\n", cli.out.c_str(), log->lines());
+    if (can) {
+        std::printf("socketcan: %s, %llu send errors%s%s\n", cli.iface.c_str(),
+                    static_cast<unsigned long long>(outcome.send_errors), outcome.send_errors ? ", last: " : "",
+                    outcome.last_send_error.c_str());
+    }
+    if (outcome.interrupted) std::printf("interrupted at %.1f s\n", s.duration_s);
+}
+
+int runSim(const SimOptions& cli) {
+    navmap::sim::DriveRequest req = cli.req;
     req.store = cli.store;
     req.dbc = cli.dbc;
     req.from = cli.from;
@@ -175,105 +313,19 @@ int main(int argc, char** argv) {
                      cli.from.c_str(), sim->fromPoint().lat, sim->fromPoint().lon, cli.to.c_str(), sim->toPoint().lat,
                      sim->toPoint().lon, route.length(), route.line.size(), route.maneuvers.size());
     }
-
-    // The route over the control IPC / to a file.
     const std::string msg = navmap::sim::setRouteMessage(route, sim->projection(), cli.route_id);
-    if (!cli.route_out.empty()) {
-        std::ofstream f(cli.route_out, std::ios::trunc);
-        f << msg << '\n';
-        if (!f.flush()) {
-            std::fprintf(stderr, "navmap-sim: write(%s): failed\n", cli.route_out.c_str());
-            return 1;
-        }
-    }
-    if (!cli.control.empty()) {
-        auto client = navmap::ipc::ControlClient::connect(cli.control);
-        if (!client) {
-            std::fprintf(stderr, "navmap-sim: set_route: %s\n", client.error().message.c_str());
-            return 1;
-        }
-        auto reply = client.value().request(msg);
-        if (!reply) {
-            std::fprintf(stderr, "navmap-sim: set_route: %s\n", reply.error().message.c_str());
-            return 1;
-        }
-        if (!navmap::sim::replyIsOk(reply.value())) {
-            std::fprintf(stderr, "navmap-sim: set_route refused: %s\n", reply.value().c_str());
-            return 1;
-        }
-        if (!cli.quiet) std::fprintf(stderr, "navmap-sim: set_route accepted: %s\n", reply.value().c_str());
-    }
+    if (!publishRoute(cli, msg)) return 1;
 
     std::optional<navmap::sim::CandumpWriter> log;
-    if (!cli.out.empty()) {
-        auto w = navmap::sim::CandumpWriter::open(cli.out, cli.iface);
-        if (!w) {
-            std::fprintf(stderr, "navmap-sim: %s\n", w.error().message.c_str());
-            return 1;
-        }
-        log.emplace(std::move(w).value());
-    }
     std::optional<navmap::ipc::SocketCanSource> can;
-    if (cli.socketcan) {
-        navmap::ipc::SocketCanOptions o;
-        o.interface_name = cli.iface;
-        o.frame_keys = {0x7FF};  // we only send; keep the receive queue quiet
-        o.receive_error_frames = false;
-        can.emplace(o);
-        can->poll([](const navmap::ipc::CanFrame&) {});
-        if (can->fd() < 0) {
-            std::fprintf(stderr, "navmap-sim: %s\n", can->status().last_error.c_str());
-            return 1;
-        }
-    }
+    if (!openOutputs(cli, log, can)) return 1;
 
     StopSignals stop;
     navmap::sim::FrameGenerator gen = sim->generator();
-    const auto wall0 = std::chrono::steady_clock::now();
-    navmap::ipc::CanFrame frame;
-    std::uint64_t send_errors = 0;
-    std::string last_send_error;
-    double next_progress = 0.0;
-    bool interrupted = false;
-    while (gen.next(frame)) {
-        const double t = std::chrono::duration<double>(frame.timestamp - req.frames.start_time).count();
-        if (can && cli.speed_factor > 0.0) {
-            const auto due = wall0 + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                                         std::chrono::duration<double>(t / cli.speed_factor));
-            for (;;) {
-                const auto left =
-                    std::chrono::duration_cast<std::chrono::milliseconds>(due - std::chrono::steady_clock::now());
-                if (stop.waitStop(static_cast<int>(std::max<std::int64_t>(0, left.count())))) {
-                    interrupted = true;
-                    break;
-                }
-                if (left.count() <= 0) break;
-            }
-        } else if (stop.waitStop(0)) {
-            interrupted = true;
-        }
-        if (interrupted) break;
-        if (log) {
-            if (auto st = log->write(frame); !st) {
-                std::fprintf(stderr, "navmap-sim: %s\n", st.message().c_str());
-                return 1;
-            }
-        }
-        if (can) {
-            can->poll([](const navmap::ipc::CanFrame&) {});  // drain other senders' frames
-            if (auto st = can->send(frame); !st) {
-                ++send_errors;
-                last_send_error = st.message();
-            }
-        }
-        if (!cli.quiet && t >= next_progress) {
-            const auto st = gen.truthAt(t);
-            std::fprintf(stderr, "navmap-sim: t=%6.1f s  %6.0f m  %5.1f km/h\n", t, st.measure_m, st.speed_mps * 3.6);
-            next_progress += (can && cli.speed_factor > 0.0) ? 5.0 : 60.0;
-        }
-    }
+    const SendOutcome outcome = sendFrames(cli, req.frames.start_time, gen, log, can, stop);
+    if (outcome.write_failed) return 1;
     if (log) {
-        if (interrupted) {
+        if (outcome.interrupted) {
             std::fprintf(stderr, "navmap-sim: interrupted; %s not written\n", cli.out.c_str());
             return 1;
         }
@@ -282,27 +334,17 @@ int main(int argc, char** argv) {
             return 1;
         }
     }
+    printSummary(cli, req, *sim, gen, log, can.has_value(), outcome);
+    return outcome.interrupted ? 1 : 0;
+}
 
-    const auto& s = gen.stats();
-    std::printf("route: %.0f m, %zu points, %zu maneuvers, graph estimate %.0f s\n", route.length(), route.line.size(),
-                route.maneuvers.size(), route.graph_duration_s);
-    std::printf("drive: %.1f s (%.1f s moving), mean %.1f km/h\n", s.duration_s, sim->profile().duration(),
-                sim->profile().duration() > 0 ? route.length() / sim->profile().duration() * 3.6 : 0.0);
-    std::printf("frames: %llu", static_cast<unsigned long long>(s.frames));
-    for (std::size_t k = 0; k < navmap::sim::kFrameKindCount; ++k) {
-        std::printf("%s %s %llu", k == 0 ? " (" : ",", navmap::sim::frameKindName(static_cast<FrameKind>(k)),
-                    static_cast<unsigned long long>(s.by_kind[k]));
-    }
-    std::printf(")\n");
-    std::printf("faults: %zu dropouts of %.1f s, %zu bursts of %d bad frames, noise %.1f m, seed %llu\n",
-                gen.dropouts().size(), req.frames.dropout_s, gen.burstTimes().size(), req.frames.burst_frames,
-                req.frames.noise_m, static_cast<unsigned long long>(req.frames.seed));
-    if (log) std::printf("log: %s (%zu lines)\n", cli.out.c_str(), log->lines());
-    if (can) {
-        std::printf("socketcan: %s, %llu send errors%s%s\n", cli.iface.c_str(),
-                    static_cast<unsigned long long>(send_errors), send_errors ? ", last: " : "",
-                    last_send_error.c_str());
-    }
-    if (interrupted) std::printf("interrupted at %.1f s\n", s.duration_s);
-    return interrupted ? 1 : 0;
+}  // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app{"navmap-sim: simulated drive on the road graph -> navmap.dbc GNSS frames (candump log, SocketCAN)"};
+    navmap::cli::setUp(app, "navmap-sim");
+    SimOptions options;
+    addSimOptions(app, options);
+    if (const auto exit_status = navmap::cli::parse(app, argc, argv)) return *exit_status;
+    return runSim(options);
 }
