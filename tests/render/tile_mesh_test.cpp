@@ -532,4 +532,30 @@ TEST(TileMesh, BorderNormalsWithoutANeighbourAreOneSided) {
     for (std::size_t i = 0; i < m.terrain.size(); ++i) EXPECT_EQ(m.terrain[i].normal, plain.terrain[i].normal) << i;
 }
 
+// A fine tile next to a coarse one (a level-of-detail border): fully morphed, the fine tile has
+// at the border the normals the coarse tile has there, so the shading does not step where the
+// levels meet (the fine tile's parent across the edge is the coarse tile's neighbour).
+TEST(TileMesh, MorphedBorderNormalsAreThoseOfTheCoarserTileAcrossTheEdge) {
+    const map::Tile coarse = slopeTile({2, 0, 0}, 0.0, 0.0, 1600.0, 17);
+    const map::Tile parent = slopeTile({2, 1, 0}, 1600.0, 0.0, 1600.0, 17);
+    const map::Tile fine = slopeTile({3, 2, 0}, 1600.0, 0.0, 800.0, 17);
+    const map::Tile* fine_ancestors[] = {&parent};
+    // Across the fine tile's west edge no tile of its level is resident: the coarse tile is the
+    // finest there, for the fine tile and for its parent.
+    const std::array<render::EdgeNeighbours, 2> fine_across{
+        {{&coarse, nullptr, nullptr, nullptr}, {&coarse, nullptr, nullptr, nullptr}}};
+    const std::array<render::EdgeNeighbours, 1> coarse_across{{{nullptr, &parent, nullptr, nullptr}}};
+    render::TileMesh f = render::buildTileMesh(fine, {}, fine_ancestors);
+    render::TileMesh c = render::buildTileMesh(coarse);
+    render::seamlessBorderNormals(f, fine, fine_ancestors, fine_across);
+    render::seamlessBorderNormals(c, coarse, {}, coarse_across);
+    const int n = 17;
+    for (int r = 0; r < n; r += 2) {  // the fine rows on a coarse sample
+        const glm::vec2 morphed = f.terrain[static_cast<std::size_t>(r) * n].ancestor_normals[0];
+        const glm::vec3 coarse_normal = c.terrain[static_cast<std::size_t>(r / 2) * n + n - 1].normal;
+        EXPECT_NEAR(morphed.x, coarse_normal.x, 1e-6f) << "row " << r;
+        EXPECT_NEAR(morphed.y, coarse_normal.y, 1e-6f) << "row " << r;
+    }
+}
+
 }  // namespace
