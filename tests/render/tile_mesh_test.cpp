@@ -446,4 +446,116 @@ TEST(TileMesh, LandCoverKeepsWaterOnTop) {
     EXPECT_EQ(m.land_cover.back().color, render::landCoverColor(map::AreaClass::Water));
 }
 
+// A steep, curved slope (store-frame metres): 0.5 to 1.1 rising eastwards, curving both ways.
+float steepSlope(double x, double y) {
+    return static_cast<float>(1000.0 + 0.8 * x + 300.0 * std::sin(x / 400.0) + 200.0 * std::cos(y / 300.0));
+}
+
+map::Tile slopeTile(map::TileId id, double origin_x, double origin_y, double size, int n) {
+    map::Tile t;
+    t.id = id;
+    t.origin_x = origin_x;
+    t.origin_y = origin_y;
+    t.size_m = size;
+    t.dem.size = static_cast<std::uint16_t>(n);
+    t.dem.spacing_m = static_cast<float>(size / (n - 1));
+    t.dem.coverage = 1.0f;
+    for (int r = 0; r < n; ++r)
+        for (int c = 0; c < n; ++c)
+            t.dem.heights.push_back(steepSlope(origin_x + c * size / (n - 1), origin_y + r * size / (n - 1)));
+    return t;
+}
+
+// The normal of the central differences of steepSlope's samples spaced `s` apart at (x, y).
+glm::vec3 centralNormal(double x, double y, double s) {
+    const double dzdx = (double(steepSlope(x + s, y)) - steepSlope(x - s, y)) / (2 * s);
+    const double dzdy = (double(steepSlope(x, y + s)) - steepSlope(x, y - s)) / (2 * s);
+    return glm::normalize(glm::vec3(float(-dzdx), float(-dzdy), 1.0f));
+}
+
+// Two tiles west and east of a border that is also their parents' border: each computes at the
+// vertices it shares with the other the same normal, for its own surface and for its parent's
+// (the geomorph target), namely the central difference across the border that a tile spanning
+// the border would compute. The tile's own one-sided differences did not (rectangular shading
+// seams at tile borders on hillsides); the skirts take the border's normals.
+TEST(TileMesh, BorderNormalsAreTheCentralDifferencesAcrossTheBorder) {
+    const map::Tile west = slopeTile({3, 1, 0}, 800.0, 0.0, 800.0, 17);
+    const map::Tile east = slopeTile({3, 2, 0}, 1600.0, 0.0, 800.0, 17);
+    const map::Tile west_parent = slopeTile({2, 0, 0}, 0.0, 0.0, 1600.0, 17);
+    const map::Tile east_parent = slopeTile({2, 1, 0}, 1600.0, 0.0, 1600.0, 17);
+    const map::Tile* west_ancestors[] = {&west_parent};
+    const map::Tile* east_ancestors[] = {&east_parent};
+    const std::array<render::EdgeNeighbours, 2> west_across{
+        {{nullptr, &east, nullptr, nullptr}, {nullptr, &east_parent, nullptr, nullptr}}};
+    const std::array<render::EdgeNeighbours, 2> east_across{
+        {{&west, nullptr, nullptr, nullptr}, {&west_parent, nullptr, nullptr, nullptr}}};
+    render::TileMesh w = render::buildTileMesh(west, {}, west_ancestors);
+    render::TileMesh e = render::buildTileMesh(east, {}, east_ancestors);
+    render::seamlessBorderNormals(w, west, west_ancestors, west_across);
+    render::seamlessBorderNormals(e, east, east_ancestors, east_across);
+    const int n = 17;
+    for (int r = 0; r < n; ++r) {
+        const render::TerrainVertex& a = w.terrain[static_cast<std::size_t>(r) * n + n - 1];
+        const render::TerrainVertex& b = e.terrain[static_cast<std::size_t>(r) * n];
+        EXPECT_EQ(a.normal, b.normal) << "row " << r;
+        EXPECT_EQ(a.ancestor_normals[0], b.ancestor_normals[0]) << "row " << r;
+        if (r == 0 || r == n - 1) continue;  // no tile south or north: one-sided there
+        const glm::vec3 own = centralNormal(1600.0, r * 50.0, 50.0);
+        EXPECT_NEAR(a.normal.x, own.x, 1e-4f) << "row " << r;
+        EXPECT_NEAR(a.normal.y, own.y, 1e-4f) << "row " << r;
+        if (r % 2 == 0) {  // on a parent sample: the parent's central difference (100 m spacing)
+            const glm::vec3 parent = centralNormal(1600.0, r * 50.0, 100.0);
+            EXPECT_NEAR(a.ancestor_normals[0].x, parent.x, 1e-4f) << "row " << r;
+            EXPECT_NEAR(a.ancestor_normals[0].y, parent.y, 1e-4f) << "row " << r;
+        }
+    }
+    // The skirts hang from the border vertices with their normals.
+    int skirts = 0;
+    for (std::size_t i = static_cast<std::size_t>(n) * n; i < w.terrain.size(); ++i) {
+        const render::TerrainVertex& s = w.terrain[i];
+        if (s.position.x < 799.0f || s.position.y < 1.0f || s.position.y > 799.0f) continue;
+        const auto r = static_cast<std::size_t>(std::lround(s.position.y / 50.0f));
+        EXPECT_EQ(s.normal, w.terrain[r * n + n - 1].normal);
+        EXPECT_EQ(s.ancestor_normals[0], w.terrain[r * n + n - 1].ancestor_normals[0]);
+        ++skirts;
+    }
+    EXPECT_EQ(skirts, n - 2);
+}
+
+// Without a tile across an edge the normals there stay the tile's own one-sided differences.
+TEST(TileMesh, BorderNormalsWithoutANeighbourAreOneSided) {
+    const map::Tile t = slopeTile({3, 1, 0}, 800.0, 0.0, 800.0, 17);
+    const render::TileMesh plain = render::buildTileMesh(t);
+    render::TileMesh m = render::buildTileMesh(t);
+    const std::array<render::EdgeNeighbours, 1> none{};
+    render::seamlessBorderNormals(m, t, {}, none);
+    for (std::size_t i = 0; i < m.terrain.size(); ++i) EXPECT_EQ(m.terrain[i].normal, plain.terrain[i].normal) << i;
+}
+
+// A fine tile next to a coarse one (a level-of-detail border): fully morphed, the fine tile has
+// at the border the normals the coarse tile has there, so the shading does not step where the
+// levels meet (the fine tile's parent across the edge is the coarse tile's neighbour).
+TEST(TileMesh, MorphedBorderNormalsAreThoseOfTheCoarserTileAcrossTheEdge) {
+    const map::Tile coarse = slopeTile({2, 0, 0}, 0.0, 0.0, 1600.0, 17);
+    const map::Tile parent = slopeTile({2, 1, 0}, 1600.0, 0.0, 1600.0, 17);
+    const map::Tile fine = slopeTile({3, 2, 0}, 1600.0, 0.0, 800.0, 17);
+    const map::Tile* fine_ancestors[] = {&parent};
+    // Across the fine tile's west edge no tile of its level is resident: the coarse tile is the
+    // finest there, for the fine tile and for its parent.
+    const std::array<render::EdgeNeighbours, 2> fine_across{
+        {{&coarse, nullptr, nullptr, nullptr}, {&coarse, nullptr, nullptr, nullptr}}};
+    const std::array<render::EdgeNeighbours, 1> coarse_across{{{nullptr, &parent, nullptr, nullptr}}};
+    render::TileMesh f = render::buildTileMesh(fine, {}, fine_ancestors);
+    render::TileMesh c = render::buildTileMesh(coarse);
+    render::seamlessBorderNormals(f, fine, fine_ancestors, fine_across);
+    render::seamlessBorderNormals(c, coarse, {}, coarse_across);
+    const int n = 17;
+    for (int r = 0; r < n; r += 2) {  // the fine rows on a coarse sample
+        const glm::vec2 morphed = f.terrain[static_cast<std::size_t>(r) * n].ancestor_normals[0];
+        const glm::vec3 coarse_normal = c.terrain[static_cast<std::size_t>(r / 2) * n + n - 1].normal;
+        EXPECT_NEAR(morphed.x, coarse_normal.x, 1e-6f) << "row " << r;
+        EXPECT_NEAR(morphed.y, coarse_normal.y, 1e-6f) << "row " << r;
+    }
+}
+
 }  // namespace
