@@ -13,9 +13,9 @@
 #include <sstream>
 #include <thread>
 
+#include "frame_queue.h"
 #include "navmap/ipc/candump_reader.h"
 #include "navmap/ipc/dbc_database.h"
-#include "frame_queue.h"
 #include "navmap/ipc/replayer.h"
 #include "navmap/ipc/signal_map.h"
 #include "navmap/ipc/vehicle_decoder.h"

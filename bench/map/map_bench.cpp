@@ -21,9 +21,9 @@
 #include "navmap/map/compile/compiler.h"
 #include "navmap/map/store_set.h"
 #include "navmap/map/tile_cache.h"
-#include "tile_selection.h"
 #include "navmap/map/tile_store.h"
 #include "synth_region.h"
+#include "tile_selection.h"
 
 namespace fs = std::filesystem;
 using namespace navmap::map;

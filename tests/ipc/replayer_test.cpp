@@ -4,8 +4,8 @@
 #include <limits>
 #include <thread>
 
-#include "navmap/ipc/candump_reader.h"
 #include "frame_queue.h"
+#include "navmap/ipc/candump_reader.h"
 #include "navmap/ipc/replayer.h"
 #include "test_paths.h"
 

@@ -29,9 +29,9 @@
 #include "navmap/map/dem.h"
 #include "navmap/map/tile_cache.h"
 #include "navmap/map/tile_codec.h"
-#include "tile_selection.h"
 #include "navmap/map/tile_store.h"
 #include "store_header.h"
+#include "tile_selection.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size);
 

@@ -13,11 +13,11 @@
 
 #include <nlohmann/json.hpp>
 
+#include "drawn_label_metrics.h"
 #include "drive_trajectory.h"
 #include "label_quality.h"
-#include "drawn_label_metrics.h"
-#include "pop_causes.h"
 #include "navmap/render/maplibre_camera.h"
+#include "pop_causes.h"
 #include "test_paths.h"
 
 namespace {

@@ -14,12 +14,12 @@
 #include <optional>
 #include <string>
 
-#include "drive_scene.h"
 #include "drawn_label_metrics.h"
+#include "drive_scene.h"
 #include "layout_metrics.h"
-#include "pop_causes.h"
 #include "navmap/render/camera_rig.h"
 #include "navmap/render/map_frame.h"
+#include "pop_causes.h"
 
 namespace navmap::render::tools {
 
