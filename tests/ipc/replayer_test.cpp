@@ -4,9 +4,9 @@
 #include <limits>
 #include <thread>
 
-#include "navmap/ipc/candump_reader.h"
-#include "navmap/ipc/frame_queue.h"
-#include "navmap/ipc/replayer.h"
+#include "navmap/ipc/can/candump_reader.h"
+#include "navmap/ipc/can/frame_queue.h"
+#include "navmap/ipc/can/replayer.h"
 #include "test_paths.h"
 
 using namespace std::chrono_literals;
