@@ -81,12 +81,19 @@ endif()  # NAVMAP_WITH_DAEMON
 # --- client and client-dev: libnavmap-client and how to use it ---
 install(TARGETS navmap_client EXPORT navmapClientTargets
         LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR} COMPONENT client NAMELINK_COMPONENT client-dev)
-install(FILES ${PROJECT_SOURCE_DIR}/ipc/include/navmap_client.h DESTINATION ${CMAKE_INSTALL_INCLUDEDIR} COMPONENT client-dev)
+install(FILES ${PROJECT_SOURCE_DIR}/ipc/client/include/navmap_client.h DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}
+        COMPONENT client-dev)
 install(FILES ${PROJECT_BINARY_DIR}/include/navmap/version.h DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/navmap
         COMPONENT client-dev)
-foreach(header backoff client_api frame_format frame_header reconnecting_client result stream_client stream_profile)
-  install(FILES ${PROJECT_SOURCE_DIR}/ipc/include/navmap/ipc/${header}.h DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/navmap/ipc
-          COMPONENT client-dev)
+# The C++ API (stream_client.h, reconnecting_client.h) and what it includes, at the paths of the
+# source tree: navmap/ipc/client/ and, of ipc/net (compiled into the library), navmap/ipc/net/.
+foreach(header frame_format frame_header reconnecting_client stream_client stream_profile)
+  install(FILES ${PROJECT_SOURCE_DIR}/ipc/client/include/navmap/ipc/client/${header}.h
+          DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/navmap/ipc/client COMPONENT client-dev)
+endforeach()
+foreach(header backoff client_api result)
+  install(FILES ${PROJECT_SOURCE_DIR}/ipc/net/include/navmap/ipc/net/${header}.h
+          DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/navmap/ipc/net COMPONENT client-dev)
 endforeach()
 install(EXPORT navmapClientTargets NAMESPACE navmap:: DESTINATION ${NAVMAP_INSTALL_CMAKEDIR} COMPONENT client-dev)
 configure_package_config_file(cmake/templates/navmapConfig.cmake.in ${PROJECT_BINARY_DIR}/cmake/navmapConfig.cmake

@@ -65,8 +65,8 @@ set(CPACK_DEBIAN_CLIENT-DEV_PACKAGE_NAME libnavmap-client-dev)
 set(CPACK_DEBIAN_CLIENT-DEV_PACKAGE_SECTION libdevel)
 set(CPACK_DEBIAN_CLIENT-DEV_PACKAGE_DEPENDS "libnavmap-client${PROJECT_VERSION_MAJOR} (= ${PROJECT_VERSION})")
 set(CPACK_DEBIAN_CLIENT-DEV_DESCRIPTION "navmap display-client library: development files
-Headers (navmap_client.h, navmap/ipc/*.h), the CMake package (find_package(navmap COMPONENTS
-client)) and the pkg-config file navmap-client.pc.")
+Headers (navmap_client.h, navmap/ipc/client/*.h, navmap/ipc/net/*.h), the CMake package
+(find_package(navmap COMPONENTS client)) and the pkg-config file navmap-client.pc.")
 
 include(CPack)
 if(NAVMAP_WITH_DAEMON)

@@ -5,9 +5,9 @@
 #include <stdexcept>
 #include <variant>
 
-#include "navmap/ipc/control_protocol.h"
-#include "navmap/ipc/replay_input.h"
-#include "navmap/ipc/socketcan_input.h"
+#include "navmap/ipc/can/replay_input.h"
+#include "navmap/ipc/can/socketcan_input.h"
+#include "navmap/ipc/control/control_protocol.h"
 
 namespace navmap::daemon {
 

@@ -2,7 +2,7 @@
 #pragma once
 // The input's CAN source as [input] source says: SocketCAN, a candump replay or the in-process
 // simulator (which also sets the route it drives on the control state, as an HMI would). The
-// simulator comes in as a SimulatorFactory (navmap/ipc/can_source.h): the navmapd
+// simulator comes in as a SimulatorFactory (navmap/ipc/can/can_source.h): the navmapd
 // program passes sim::openSimulatedDrive, the daemon's code does not include the simulator.
 
 #include <filesystem>
@@ -11,8 +11,8 @@
 #include <vector>
 
 #include "config.h"
-#include "navmap/ipc/can_source.h"
-#include "navmap/ipc/control_state.h"
+#include "navmap/ipc/can/can_source.h"
+#include "navmap/ipc/control/control_state.h"
 
 namespace navmap::daemon {
 

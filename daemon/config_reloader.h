@@ -14,7 +14,7 @@
 #include "config.h"
 #include "display_scheduler.h"
 #include "log.h"
-#include "navmap/ipc/control_state.h"
+#include "navmap/ipc/control/control_state.h"
 
 namespace navmap::daemon {
 

@@ -12,7 +12,7 @@
 #include <string>
 
 #include "config.h"
-#include "navmap/ipc/can_source.h"
+#include "navmap/ipc/can/can_source.h"
 
 namespace navmap::daemon {
 

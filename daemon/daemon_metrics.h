@@ -9,7 +9,7 @@
 #include <atomic>
 #include <memory>
 
-#include "navmap/ipc/metrics_registry.h"
+#include "navmap/ipc/stream/metrics_registry.h"
 #include "status_sample.h"
 
 namespace navmap::daemon {

@@ -3,7 +3,7 @@
 
 #include <sstream>
 
-#include "navmap/ipc/frame_server_stats_json.h"
+#include "navmap/ipc/stream/frame_server_stats_json.h"
 #include "navmap/version.h"
 
 namespace navmap::daemon {

@@ -17,8 +17,8 @@
 
 #include "attribution_overlay.h"
 #include "log.h"
-#include "navmap/ipc/control_state.h"
-#include "navmap/ipc/frame_server.h"
+#include "navmap/ipc/control/control_state.h"
+#include "navmap/ipc/stream/frame_server.h"
 #include "navmap/render/camera_rig.h"
 #include "navmap/render/map_view.h"
 #include "navmap/render/renderer.h"

@@ -17,7 +17,7 @@
 #include "config.h"
 #include "display.h"
 #include "log.h"
-#include "navmap/ipc/frame_server.h"
+#include "navmap/ipc/stream/frame_server.h"
 #include "navmap/map/tile_cache.h"
 #include "navmap/render/renderer.h"
 #include "navmap/render/text/text_engine.h"

@@ -8,7 +8,7 @@
 
 #include "log.h"
 #include "navmap/daemon/vehicle/vehicle_state.h"
-#include "navmap/ipc/control_server.h"
+#include "navmap/ipc/control/control_server.h"
 #include "route_state.h"
 
 namespace navmap::daemon {

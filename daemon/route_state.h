@@ -13,7 +13,7 @@
 
 #include "navmap/daemon/vehicle/route_line.h"
 #include "navmap/daemon/vehicle/vehicle_state.h"
-#include "navmap/ipc/control_state.h"
+#include "navmap/ipc/control/control_state.h"
 #include "navmap/map/projection.h"
 #include "navmap/render/map_frame.h"
 

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "navmap/ipc/socket_access.h"
+#include "navmap/ipc/net/socket_access.h"
 
 namespace navmap::daemon {
 

@@ -4,8 +4,8 @@
 // [stream], the profiles it renders).
 
 #include "config.h"
-#include "navmap/ipc/control_server.h"
-#include "navmap/ipc/frame_server.h"
+#include "navmap/ipc/control/control_server.h"
+#include "navmap/ipc/stream/frame_server.h"
 
 namespace navmap::daemon {
 

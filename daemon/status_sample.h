@@ -11,8 +11,8 @@
 
 #include "display.h"
 #include "navmap/daemon/vehicle/vehicle_state.h"
-#include "navmap/ipc/control_server.h"
-#include "navmap/ipc/frame_server.h"
+#include "navmap/ipc/control/control_server.h"
+#include "navmap/ipc/stream/frame_server.h"
 #include "navmap/map/tile_cache.h"
 #include "process_memory.h"
 #include "vehicle_input.h"

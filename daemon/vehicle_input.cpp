@@ -5,8 +5,8 @@
 #include <stdexcept>
 
 #include "can_sources.h"
-#include "navmap/ipc/dbc_database.h"
-#include "navmap/ipc/signal_map.h"
+#include "navmap/ipc/can/dbc_database.h"
+#include "navmap/ipc/can/signal_map.h"
 
 namespace navmap::daemon {
 

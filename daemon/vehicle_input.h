@@ -19,9 +19,9 @@
 #include "navmap/daemon/vehicle/route_line.h"
 #include "navmap/daemon/vehicle/vehicle_state.h"
 #include "navmap/daemon/vehicle/vehicle_state_estimator.h"
-#include "navmap/ipc/can_source.h"
-#include "navmap/ipc/control_state.h"
-#include "navmap/ipc/vehicle_decoder.h"
+#include "navmap/ipc/can/can_source.h"
+#include "navmap/ipc/can/vehicle_decoder.h"
+#include "navmap/ipc/control/control_state.h"
 #include "navmap/map/projection.h"
 #include "navmap/map/road_graph.h"
 

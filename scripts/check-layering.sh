@@ -22,6 +22,15 @@ for m in common ipc render sim daemon; do
     rule "$m" '#include "navmap/map/compile/' "navmapd's modules do not use the offline map/compile"
 done
 rule ipc '#include "navmap/(render|map|daemon|sim)/' "ipc/ does not know render/, map/, daemon/ or sim/"
+# Inside ipc/: net at the bottom; client (libnavmap-client) on net alone; can and control on net;
+# stream (the frame server) on client's wire format and net. ipc/CMakeLists.txt links the same way.
+rule ipc/net '#include "navmap/ipc/(can|control|stream|client)/' "ipc/net uses no other part of ipc/"
+rule ipc/client '#include "navmap/ipc/(can|control|stream)/' "ipc/client (libnavmap-client) uses ipc/net only"
+rule ipc/can '#include "navmap/ipc/(control|stream|client)/' "ipc/can uses ipc/net only"
+rule ipc/control '#include "navmap/ipc/(can|stream|client)/' "ipc/control uses ipc/net only"
+rule ipc/stream '#include "navmap/ipc/(can|control)/' "ipc/stream uses ipc/client and ipc/net only"
+rule . '#include "navmap/ipc/[a-z_]+\.h"' "ipc/'s headers are navmap/ipc/<part>/<file>.h"
+rule ipc '#include "navmap_client.h"' "only libnavmap-client's C API includes navmap_client.h" ipc/client
 rule render '#include "navmap/(ipc|daemon|sim)/' "render/ uses map/ only"
 rule sim '#include "navmap/render/' "sim/ does not render"
 rule sim '#include "navmap/daemon/' "sim/ does not know the daemon (its CanSource is ipc's)"

@@ -60,11 +60,11 @@ check() {
     echo "cross-build: $1: $machine; needs: $(readelf -d "$f" | sed -n 's/.*(NEEDED).*\[\(.*\)\]/\1/p' | tr '\n' ' ')"
     [ "$machine" = "AArch64" ] || { echo "cross-build: $1 is not AArch64" >&2; status=1; }
 }
-check ipc/src/stream/libnavmap-client.so.0
+check ipc/client/libnavmap-client.so.0
 check examples/c_client/navmap-client-example
 if [ "$daemon" = ON ]; then
     check daemon/navmapd
-    check ipc/src/stream/navmap-view
+    check ipc/client/navmap-view
     check map/navmap-compile
     check tests/common/common_check_test
     [ -f "$build/andorra.navmap" ] && echo "cross-build: default store made by the host navmap-compile: $(stat -c %s "$build/andorra.navmap") bytes"

@@ -27,17 +27,17 @@ echo "demo: navmapd is running (pid $daemon) for $seconds s"
 echo "demo: live view in a browser: http://127.0.0.1:$port/   (status: /status, metrics: /metrics)"
 
 # Two recording clients, as the instrument cluster and the center display would connect.
-build/ipc/src/stream/navmap-view --unix "$run/frames.sock" --profile cluster --frames 120 \
+build/ipc/client/navmap-view --unix "$run/frames.sock" --profile cluster --frames 120 \
   --save out/frames/cluster --save-count 120 &
 cluster=$!
-build/ipc/src/stream/navmap-view --unix "$run/frames.sock" --profile hud --frames 60 \
+build/ipc/client/navmap-view --unix "$run/frames.sock" --profile hud --frames 60 \
   --save out/frames/hud --save-count 60 &
 hud=$!
-build/ipc/src/stream/navmap-view --unix "$run/frames.sock" --profile center --frames 60 \
+build/ipc/client/navmap-view --unix "$run/frames.sock" --profile center --frames 60 \
   --save out/frames/center --save-count 60
 wait "$cluster" || true
 wait "$hud" || true
-build/ipc/src/control/navmap-ctl --socket "$run/control.sock" get_status > "$run/status.json" || true
+build/ipc/control/navmap-ctl --socket "$run/control.sock" get_status > "$run/status.json" || true
 kill -TERM "$daemon" 2>/dev/null || true
 wait "$daemon" || true
 

@@ -49,7 +49,7 @@
 #include <thread>
 #include <vector>
 
-#include "navmap/ipc/stream_client.h"
+#include "navmap/ipc/client/stream_client.h"
 
 extern char** environ;
 

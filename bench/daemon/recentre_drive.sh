@@ -46,7 +46,7 @@ run() {
   local pid=$!
   for _ in $(seq 100); do [ -S "$dir/f.sock" ] && break; sleep 0.1; done
   local view
-  view=$("$build/ipc/src/stream/navmap-view" --unix "$dir/f.sock" --profile cluster --frames 0 --duration "$seconds" --json 2> /dev/null)
+  view=$("$build/ipc/client/navmap-view" --unix "$dir/f.sock" --profile cluster --frames 0 --duration "$seconds" --json 2> /dev/null)
   wait "$pid" || true
   local recentred reload
   recentred=$(grep -c "map frame re-centred" "$dir/navmapd.log" || true)

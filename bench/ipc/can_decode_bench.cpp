@@ -14,11 +14,11 @@
 #include <thread>
 
 #include "frame_queue.h"
-#include "navmap/ipc/candump_reader.h"
-#include "navmap/ipc/dbc_database.h"
-#include "navmap/ipc/replayer.h"
-#include "navmap/ipc/signal_map.h"
-#include "navmap/ipc/vehicle_decoder.h"
+#include "navmap/ipc/can/candump_reader.h"
+#include "navmap/ipc/can/dbc_database.h"
+#include "navmap/ipc/can/replayer.h"
+#include "navmap/ipc/can/signal_map.h"
+#include "navmap/ipc/can/vehicle_decoder.h"
 
 namespace ipc = navmap::ipc;
 

@@ -15,10 +15,10 @@
 #include <random>
 #include <vector>
 
-#include "navmap/ipc/frame_format.h"
-#include "navmap/ipc/frame_server.h"
-#include "navmap/ipc/stream_client.h"
-#include "navmap/ipc/zlib_inflater.h"
+#include "navmap/ipc/client/frame_format.h"
+#include "navmap/ipc/client/stream_client.h"
+#include "navmap/ipc/client/zlib_inflater.h"
+#include "navmap/ipc/stream/frame_server.h"
 #include "stream_test_util.h"
 
 using namespace navmap::ipc;

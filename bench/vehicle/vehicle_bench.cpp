@@ -12,9 +12,9 @@
 #include <vector>
 
 #include "navmap/daemon/vehicle/vehicle_state_estimator.h"
-#include "navmap/ipc/dbc_database.h"
-#include "navmap/ipc/signal_map.h"
-#include "navmap/ipc/vehicle_decoder.h"
+#include "navmap/ipc/can/dbc_database.h"
+#include "navmap/ipc/can/signal_map.h"
+#include "navmap/ipc/can/vehicle_decoder.h"
 #include "navmap/map/tile_store.h"
 #include "navmap/sim/drive_simulator.h"
 

@@ -27,8 +27,8 @@
 #include <vector>
 
 #include "navmap/cli/cli.h"
-#include "navmap/ipc/control_client.h"
-#include "navmap/ipc/stream_client.h"
+#include "navmap/ipc/client/stream_client.h"
+#include "navmap/ipc/control/control_client.h"
 
 extern char** environ;
 

@@ -19,9 +19,9 @@
 
 #include "navmap/cli/cli.h"
 #include "navmap/install_layout.h"
-#include "navmap/ipc/control_client.h"
+#include "navmap/ipc/can/socketcan_source.h"
+#include "navmap/ipc/control/control_client.h"
 #include "navmap/ipc/net/unique_fd.h"
-#include "navmap/ipc/socketcan_source.h"
 #include "navmap/sim/candump_writer.h"
 #include "navmap/sim/drive_simulator.h"
 #include "navmap/sim/route_message.h"

@@ -9,12 +9,12 @@
 #include <fstream>
 
 #include "can_sources.h"
-#include "navmap/ipc/dbc_database.h"
-#include "navmap/ipc/replay_input.h"
-#include "navmap/ipc/signal_map.h"
-#include "navmap/ipc/socketcan_codec.h"
-#include "navmap/ipc/socketcan_input.h"
-#include "navmap/ipc/vehicle_decoder.h"
+#include "navmap/ipc/can/dbc_database.h"
+#include "navmap/ipc/can/replay_input.h"
+#include "navmap/ipc/can/signal_map.h"
+#include "navmap/ipc/can/socketcan_codec.h"
+#include "navmap/ipc/can/socketcan_input.h"
+#include "navmap/ipc/can/vehicle_decoder.h"
 #include "navmap/sim/drive_simulator.h"
 #include "navmap/sim/simulated_can_source.h"
 #include "test_paths.h"

@@ -11,7 +11,7 @@
 #include <fstream>
 #include <string>
 
-#include "navmap/ipc/stream_client.h"
+#include "navmap/ipc/client/stream_client.h"
 #include "navmap/render/image.h"
 #include "navmapd_process.h"
 #include "stream_test_util.h"

@@ -14,8 +14,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "navmap/ipc/control_client.h"
-#include "navmap/ipc/stream_client.h"
+#include "navmap/ipc/client/stream_client.h"
+#include "navmap/ipc/control/control_client.h"
 #include "navmap/map/tile_store.h"
 #include "navmapd_process.h"
 #include "test_paths.h"

@@ -15,7 +15,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "navmap/ipc/control_client.h"
+#include "navmap/ipc/control/control_client.h"
 #include "navmapd_process.h"
 #include "test_paths.h"
 

@@ -20,8 +20,8 @@
 #include <string>
 #include <thread>
 
-#include "navmap/ipc/control_client.h"
-#include "navmap/ipc/stream_client.h"
+#include "navmap/ipc/client/stream_client.h"
+#include "navmap/ipc/control/control_client.h"
 #include "navmap/version.h"
 #include "navmapd_process.h"
 #include "stream_test_util.h"

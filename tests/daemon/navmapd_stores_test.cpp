@@ -17,9 +17,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include "navmap/ipc/control_client.h"
-#include "navmap/ipc/frame_png.h"
-#include "navmap/ipc/stream_client.h"
+#include "navmap/ipc/client/frame_png.h"
+#include "navmap/ipc/client/stream_client.h"
+#include "navmap/ipc/control/control_client.h"
 #include "navmap/map/compile/compiler.h"
 #include "navmapd_process.h"
 #include "synth_region.h"

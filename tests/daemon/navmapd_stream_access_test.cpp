@@ -20,9 +20,9 @@
 #include <vector>
 
 #include "foreign_user.h"
-#include "navmap/ipc/control_client.h"
-#include "navmap/ipc/frame_ring.h"
-#include "navmap/ipc/stream_client.h"
+#include "navmap/ipc/client/frame_ring.h"
+#include "navmap/ipc/client/stream_client.h"
+#include "navmap/ipc/control/control_client.h"
 #include "navmapd_process.h"
 
 namespace {

@@ -8,7 +8,7 @@
 #include <sstream>
 #include <string>
 
-#include "navmap/ipc/candump_reader.h"
+#include "navmap/ipc/can/candump_reader.h"
 
 int navmapFuzzCandump(const std::uint8_t* data, std::size_t size) {
     std::istringstream in(std::string(reinterpret_cast<const char*>(data), size));

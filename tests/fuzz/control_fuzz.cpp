@@ -9,7 +9,7 @@
 #include <cstdlib>
 #include <string_view>
 
-#include "navmap/ipc/control_protocol.h"
+#include "navmap/ipc/control/control_protocol.h"
 
 int navmapFuzzControl(const std::uint8_t* data, std::size_t size) {
     const std::string_view line(reinterpret_cast<const char*>(data), size);

@@ -8,7 +8,7 @@
 #include <cstdint>
 #include <string_view>
 
-#include "navmap/ipc/dbc_database.h"
+#include "navmap/ipc/can/dbc_database.h"
 
 int navmapFuzzDbc(const std::uint8_t* data, std::size_t size) {
     const std::string_view text(reinterpret_cast<const char*>(data), size);

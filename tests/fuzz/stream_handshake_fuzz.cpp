@@ -11,10 +11,10 @@
 #include <string>
 #include <string_view>
 
-#include "navmap/ipc/frame_header.h"
-#include "navmap/ipc/frame_ring.h"
-#include "navmap/ipc/stream_http_request.h"
-#include "navmap/ipc/stream_profile.h"
+#include "navmap/ipc/client/frame_header.h"
+#include "navmap/ipc/client/frame_ring.h"
+#include "navmap/ipc/client/stream_profile.h"
+#include "navmap/ipc/stream/stream_http_request.h"
 
 int navmapFuzzStreamHandshake(const std::uint8_t* data, std::size_t size) {
     const std::string_view text(reinterpret_cast<const char*>(data), size);

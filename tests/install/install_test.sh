@@ -35,8 +35,8 @@ expected=(
     etc/navmap/navmapd.toml lib/systemd/system/navmapd.service lib/sysusers.d/navmap.conf
     share/doc/navmap/navmapd.md share/doc/navmap/frame-protocol.md share/doc/navmap/LICENSE
     share/doc/navmap/CHANGELOG.md share/doc/navmap/ATTRIBUTION.md
-    include/navmap_client.h include/navmap/version.h include/navmap/ipc/stream_client.h
-    include/navmap/ipc/reconnecting_client.h
+    include/navmap_client.h include/navmap/version.h include/navmap/ipc/client/stream_client.h
+    include/navmap/ipc/client/reconnecting_client.h include/navmap/ipc/net/result.h
     "$libdir/libnavmap-client.so" "$libdir/libnavmap-client.so.0" "$libdir/cmake/navmap/navmapConfig.cmake"
     "$libdir/cmake/navmap/navmapConfigVersion.cmake" "$libdir/cmake/navmap/navmapClientTargets.cmake"
     "$libdir/pkgconfig/navmap-client.pc"
@@ -103,7 +103,7 @@ rpath="-Wl,-rpath,$prefix/$libdir"
 cc -std=c11 -Wall -Werror -o "$work/example-pc" "$work/example/navmap_client_example.c" $(pkg-config --cflags --libs navmap-client) "$rpath"
 "$work/example-pc" "$sock" cluster 3 30 > "$work/example-pc.log" 2>&1 || { cat "$work/example-pc.log"; fail "the pkg-config build"; }
 cat > "$work/client.cpp" <<'CPP'
-#include <navmap/ipc/reconnecting_client.h>
+#include <navmap/ipc/client/reconnecting_client.h>
 #include <cstdio>
 int main(int argc, char** argv) {
     navmap::ipc::ReconnectOptions o;

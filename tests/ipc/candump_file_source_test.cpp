@@ -12,8 +12,8 @@
 #include <filesystem>
 #include <fstream>
 
-#include "navmap/ipc/candump_file_source.h"
-#include "navmap/ipc/replayer.h"
+#include "navmap/ipc/can/candump_file_source.h"
+#include "navmap/ipc/can/replayer.h"
 
 using namespace std::chrono_literals;
 using navmap::ipc::CandumpFileSource;

@@ -4,7 +4,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "navmap/ipc/candump_reader.h"
+#include "navmap/ipc/can/candump_reader.h"
 #include "test_paths.h"
 
 using navmap::ipc::CandumpReader;

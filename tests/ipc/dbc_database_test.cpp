@@ -6,7 +6,7 @@
 #include <filesystem>
 #include <fstream>
 
-#include "navmap/ipc/dbc_database.h"
+#include "navmap/ipc/can/dbc_database.h"
 #include "test_paths.h"
 
 using navmap::ipc::ByteOrder;

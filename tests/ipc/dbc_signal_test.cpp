@@ -5,7 +5,7 @@
 #include <cmath>
 #include <random>
 
-#include "navmap/ipc/dbc_signal.h"
+#include "navmap/ipc/can/dbc_signal.h"
 
 using navmap::ipc::ByteOrder;
 using navmap::ipc::DbcSignal;

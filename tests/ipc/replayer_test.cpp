@@ -5,8 +5,8 @@
 #include <thread>
 
 #include "frame_queue.h"
-#include "navmap/ipc/candump_reader.h"
-#include "navmap/ipc/replayer.h"
+#include "navmap/ipc/can/candump_reader.h"
+#include "navmap/ipc/can/replayer.h"
 #include "test_paths.h"
 
 using namespace std::chrono_literals;

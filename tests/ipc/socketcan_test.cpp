@@ -5,9 +5,9 @@
 #include <linux/can/error.h>
 #include <linux/can/raw.h>
 
-#include "navmap/ipc/backoff.h"
-#include "navmap/ipc/socketcan_codec.h"
-#include "navmap/ipc/socketcan_source.h"
+#include "navmap/ipc/can/socketcan_codec.h"
+#include "navmap/ipc/can/socketcan_source.h"
+#include "navmap/ipc/net/backoff.h"
 #include "open_fds.h"
 
 using namespace std::chrono_literals;

@@ -5,10 +5,10 @@
 #include <cmath>
 #include <numbers>
 
-#include "navmap/ipc/candump_reader.h"
-#include "navmap/ipc/dbc_database.h"
-#include "navmap/ipc/signal_map.h"
-#include "navmap/ipc/vehicle_decoder.h"
+#include "navmap/ipc/can/candump_reader.h"
+#include "navmap/ipc/can/dbc_database.h"
+#include "navmap/ipc/can/signal_map.h"
+#include "navmap/ipc/can/vehicle_decoder.h"
 #include "test_paths.h"
 
 using navmap::ipc::CanFrame;

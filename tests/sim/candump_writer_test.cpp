@@ -7,7 +7,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "navmap/ipc/candump_reader.h"
+#include "navmap/ipc/can/candump_reader.h"
 #include "navmap/sim/candump_writer.h"
 
 namespace navmap::sim {

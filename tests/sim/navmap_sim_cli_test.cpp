@@ -11,7 +11,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "navmap/ipc/control_protocol.h"
+#include "navmap/ipc/control/control_protocol.h"
 #include "navmap/sim/candump_writer.h"
 #include "navmap/sim/drive_simulator.h"
 #include "test_paths.h"

@@ -8,7 +8,7 @@
 #include <filesystem>
 #include <memory>
 
-#include "navmap/ipc/control_protocol.h"
+#include "navmap/ipc/control/control_protocol.h"
 #include "navmap/map/guidance/guidance_route.h"
 #include "navmap/map/guidance/maneuver_derivation.h"
 #include "navmap/map/guidance/route_progress_tracker.h"

@@ -7,8 +7,8 @@
 #include <cmath>
 #include <filesystem>
 
-#include "navmap/ipc/candump_reader.h"
-#include "navmap/ipc/control_protocol.h"
+#include "navmap/ipc/can/candump_reader.h"
+#include "navmap/ipc/control/control_protocol.h"
 #include "navmap/sim/drive_simulator.h"
 #include "navmap/sim/route_message.h"
 #include "navmap/sim/sim_error.h"

@@ -7,8 +7,8 @@
 #include <numbers>
 #include <vector>
 
-#include "navmap/ipc/dbc_database.h"
-#include "navmap/ipc/vehicle_decoder.h"
+#include "navmap/ipc/can/dbc_database.h"
+#include "navmap/ipc/can/vehicle_decoder.h"
 #include "navmap/map/projection.h"
 #include "navmap/sim/drive_route.h"
 

@@ -10,7 +10,7 @@
 #include <mutex>
 #include <vector>
 
-#include "navmap/ipc/can_frame.h"
+#include "navmap/ipc/can/can_frame.h"
 
 namespace navmap::ipc {
 

@@ -19,11 +19,11 @@
 #include <string>
 #include <thread>
 
-#include "navmap/ipc/candump_reader.h"
-#include "navmap/ipc/dbc_database.h"
-#include "navmap/ipc/signal_map.h"
-#include "navmap/ipc/socketcan_source.h"
-#include "navmap/ipc/vehicle_decoder.h"
+#include "navmap/ipc/can/candump_reader.h"
+#include "navmap/ipc/can/dbc_database.h"
+#include "navmap/ipc/can/signal_map.h"
+#include "navmap/ipc/can/socketcan_source.h"
+#include "navmap/ipc/can/vehicle_decoder.h"
 
 extern char** environ;
 

@@ -6,7 +6,7 @@
 
 #include <string>
 
-#include "navmap/ipc/control_protocol.h"
+#include "navmap/ipc/control/control_protocol.h"
 
 using namespace navmap::ipc;
 

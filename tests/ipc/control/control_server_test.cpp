@@ -21,10 +21,10 @@
 
 #include "control_test_util.h"
 #include "foreign_user.h"
-#include "navmap/ipc/control_client.h"
-#include "navmap/ipc/control_protocol.h"
-#include "navmap/ipc/control_server.h"
-#include "navmap/ipc/control_state.h"
+#include "navmap/ipc/control/control_client.h"
+#include "navmap/ipc/control/control_protocol.h"
+#include "navmap/ipc/control/control_server.h"
+#include "navmap/ipc/control/control_state.h"
 #include "wait_for.h"
 
 using namespace navmap::ipc;

@@ -13,9 +13,9 @@
 #include <memory>
 #include <string>
 
-#include "navmap/ipc/control_client.h"
-#include "navmap/ipc/control_server.h"
-#include "navmap/ipc/control_state.h"
+#include "navmap/ipc/control/control_client.h"
+#include "navmap/ipc/control/control_server.h"
+#include "navmap/ipc/control/control_state.h"
 #include "open_fds.h"
 
 namespace navmap::test {

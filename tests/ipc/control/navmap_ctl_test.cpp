@@ -12,8 +12,8 @@
 #include <thread>
 
 #include "control_test_util.h"
-#include "navmap/ipc/control_server.h"
-#include "navmap/ipc/control_state.h"
+#include "navmap/ipc/control/control_server.h"
+#include "navmap/ipc/control/control_state.h"
 
 using namespace navmap::ipc;
 using namespace std::chrono_literals;

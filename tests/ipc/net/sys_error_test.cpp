@@ -11,10 +11,10 @@
 #include <cstring>
 #include <string>
 
-#include "navmap/ipc/control_client.h"
-#include "navmap/ipc/control_server.h"
-#include "navmap/ipc/control_state.h"
-#include "navmap/ipc/frame_server.h"
+#include "navmap/ipc/control/control_client.h"
+#include "navmap/ipc/control/control_server.h"
+#include "navmap/ipc/control/control_state.h"
+#include "navmap/ipc/stream/frame_server.h"
 #include "open_fds.h"
 
 namespace {

@@ -15,7 +15,7 @@
 #include <sstream>
 #include <thread>
 
-#include "navmap/ipc/frame_server.h"
+#include "navmap/ipc/stream/frame_server.h"
 #include "stream_test_util.h"
 
 using namespace navmap::ipc;

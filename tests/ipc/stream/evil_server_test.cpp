@@ -14,8 +14,8 @@
 #include <vector>
 
 #include "evil_stream_server.h"
-#include "navmap/ipc/frame_ring.h"
-#include "navmap/ipc/stream_client.h"
+#include "navmap/ipc/client/frame_ring.h"
+#include "navmap/ipc/client/stream_client.h"
 #include "navmap_client.h"
 
 using namespace navmap::ipc;

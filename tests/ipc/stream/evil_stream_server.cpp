@@ -19,10 +19,10 @@
 #include <nlohmann/json.hpp>
 #include <vector>
 
-#include "navmap/ipc/frame_header.h"
-#include "navmap/ipc/frame_ring.h"
+#include "navmap/ipc/client/frame_header.h"
+#include "navmap/ipc/client/frame_ring.h"
+#include "navmap/ipc/client/stream_profile.h"
 #include "navmap/ipc/net/unique_fd.h"
-#include "navmap/ipc/stream_profile.h"
 #include "stream_test_util.h"
 
 namespace navmap::stream_test {

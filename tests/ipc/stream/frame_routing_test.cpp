@@ -9,10 +9,10 @@
 #include <cstring>
 #include <thread>
 
-#include "navmap/ipc/frame_ring.h"
-#include "navmap/ipc/frame_server.h"
-#include "navmap/ipc/reconnecting_client.h"
-#include "navmap/ipc/stream_client.h"
+#include "navmap/ipc/client/frame_ring.h"
+#include "navmap/ipc/client/reconnecting_client.h"
+#include "navmap/ipc/client/stream_client.h"
+#include "navmap/ipc/stream/frame_server.h"
 #include "stream_test_util.h"
 #include "wait_for.h"
 

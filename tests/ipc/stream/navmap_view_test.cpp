@@ -12,7 +12,7 @@
 #include <nlohmann/json.hpp>
 #include <thread>
 
-#include "navmap/ipc/frame_server.h"
+#include "navmap/ipc/stream/frame_server.h"
 #include "navmap/render/image.h"
 #include "stream_test_util.h"
 

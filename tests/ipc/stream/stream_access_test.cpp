@@ -19,10 +19,10 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "navmap/ipc/frame_header.h"
-#include "navmap/ipc/frame_ring.h"
-#include "navmap/ipc/frame_server.h"
-#include "navmap/ipc/stream_client.h"
+#include "navmap/ipc/client/frame_header.h"
+#include "navmap/ipc/client/frame_ring.h"
+#include "navmap/ipc/client/stream_client.h"
+#include "navmap/ipc/stream/frame_server.h"
 #include "stream_test_util.h"
 #include "wait_for.h"
 

@@ -11,7 +11,7 @@
 #include <filesystem>
 #include <thread>
 
-#include "navmap/ipc/frame_server.h"
+#include "navmap/ipc/stream/frame_server.h"
 #include "navmap/render/image.h"
 
 using namespace navmap::ipc;

@@ -8,9 +8,9 @@
 #include <vector>
 
 #include "fuzz_corpus.h"
-#include "navmap/ipc/frame_header.h"
-#include "navmap/ipc/frame_ring.h"
-#include "navmap/ipc/stream_profile.h"
+#include "navmap/ipc/client/frame_header.h"
+#include "navmap/ipc/client/frame_ring.h"
+#include "navmap/ipc/client/stream_profile.h"
 
 int navmapFuzzStreamHandshake(const std::uint8_t* data, std::size_t size);
 

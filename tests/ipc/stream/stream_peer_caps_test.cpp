@@ -15,9 +15,9 @@
 #include <string>
 #include <vector>
 
-#include "navmap/ipc/frame_header.h"
-#include "navmap/ipc/frame_server.h"
-#include "navmap/ipc/stream_profile.h"
+#include "navmap/ipc/client/frame_header.h"
+#include "navmap/ipc/client/stream_profile.h"
+#include "navmap/ipc/stream/frame_server.h"
 #include "stream_test_util.h"
 
 using namespace navmap::ipc;

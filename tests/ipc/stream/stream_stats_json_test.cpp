@@ -2,7 +2,7 @@
 // frameServerStatsJson, the one "stream" object of get_status and GET /status: every key with the
 // field it comes from (each field a different value, so a swapped field shows).
 
-#include "navmap/ipc/frame_server_stats_json.h"
+#include "navmap/ipc/stream/frame_server_stats_json.h"
 
 #include <gtest/gtest.h>
 

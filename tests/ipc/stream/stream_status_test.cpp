@@ -16,10 +16,10 @@
 #include <thread>
 #include <vector>
 
-#include "navmap/ipc/frame_header.h"
-#include "navmap/ipc/frame_server.h"
-#include "navmap/ipc/stream_client.h"
-#include "navmap/ipc/zlib_inflater.h"
+#include "navmap/ipc/client/frame_header.h"
+#include "navmap/ipc/client/stream_client.h"
+#include "navmap/ipc/client/zlib_inflater.h"
+#include "navmap/ipc/stream/frame_server.h"
 #include "stream_test_util.h"
 #include "wait_for.h"
 

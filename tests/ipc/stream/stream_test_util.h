@@ -11,7 +11,7 @@
 #include <thread>
 #include <vector>
 
-#include "navmap/ipc/frame_server.h"
+#include "navmap/ipc/stream/frame_server.h"
 
 #include "foreign_user.h"
 #include "open_fds.h"

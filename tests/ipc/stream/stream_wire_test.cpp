@@ -10,11 +10,11 @@
 #include <thread>
 #include <vector>
 
-#include "navmap/ipc/frame_header.h"
-#include "navmap/ipc/frame_png.h"
-#include "navmap/ipc/frame_ring.h"
-#include "navmap/ipc/stream_http_request.h"
-#include "navmap/ipc/stream_profile.h"
+#include "navmap/ipc/client/frame_header.h"
+#include "navmap/ipc/client/frame_png.h"
+#include "navmap/ipc/client/frame_ring.h"
+#include "navmap/ipc/client/stream_profile.h"
+#include "navmap/ipc/stream/stream_http_request.h"
 #include "navmap/render/image.h"
 #include "stream_test_util.h"
 

@@ -10,8 +10,8 @@
 #include <string>
 #include <string_view>
 
-#include "navmap/ipc/can_frame.h"
-#include "navmap/ipc/result.h"
+#include "navmap/ipc/can/can_frame.h"
+#include "navmap/ipc/net/result.h"
 
 namespace navmap::sim {
 

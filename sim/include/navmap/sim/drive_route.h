@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "navmap/ipc/result.h"
+#include "navmap/ipc/net/result.h"
 #include "navmap/map/guidance/way_names.h"
 #include "navmap/map/road_graph.h"
 #include "navmap/map/routing.h"

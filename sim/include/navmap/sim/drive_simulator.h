@@ -9,9 +9,9 @@
 #include <string>
 #include <vector>
 
-#include "navmap/ipc/can_frame.h"
-#include "navmap/ipc/dbc_database.h"
-#include "navmap/ipc/replayer.h"
+#include "navmap/ipc/can/can_frame.h"
+#include "navmap/ipc/can/dbc_database.h"
+#include "navmap/ipc/can/replayer.h"
 #include "navmap/map/tile_store.h"
 #include "navmap/sim/drive_route.h"
 #include "navmap/sim/frame_generator.h"

@@ -16,9 +16,9 @@
 #include <random>
 #include <vector>
 
-#include "navmap/ipc/can_frame.h"
-#include "navmap/ipc/dbc_database.h"
-#include "navmap/ipc/result.h"
+#include "navmap/ipc/can/can_frame.h"
+#include "navmap/ipc/can/dbc_database.h"
+#include "navmap/ipc/net/result.h"
 #include "navmap/map/projection.h"
 #include "navmap/sim/speed_profile.h"
 

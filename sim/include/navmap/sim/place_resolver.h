@@ -10,7 +10,7 @@
 #include <string_view>
 #include <vector>
 
-#include "navmap/ipc/result.h"
+#include "navmap/ipc/net/result.h"
 #include "navmap/map/tile_store.h"
 
 namespace navmap::sim {

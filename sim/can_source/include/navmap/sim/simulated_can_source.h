@@ -12,7 +12,7 @@
 #include <utility>
 #include <vector>
 
-#include "navmap/ipc/can_source.h"
+#include "navmap/ipc/can/can_source.h"
 
 namespace navmap::ipc {
 class Replayer;

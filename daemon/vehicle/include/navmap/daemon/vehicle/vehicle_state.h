@@ -15,7 +15,7 @@
 #include "navmap/daemon/vehicle/map_matcher.h"
 #include "navmap/daemon/vehicle/route_line.h"
 #include "navmap/daemon/vehicle/vehicle_state_config.h"
-#include "navmap/ipc/can_frame.h"
+#include "navmap/ipc/can/can_frame.h"
 
 namespace navmap::daemon {
 

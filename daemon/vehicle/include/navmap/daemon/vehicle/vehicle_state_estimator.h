@@ -16,7 +16,7 @@
 #include "navmap/daemon/vehicle/route_line.h"
 #include "navmap/daemon/vehicle/vehicle_state.h"
 #include "navmap/daemon/vehicle/vehicle_state_config.h"
-#include "navmap/ipc/vehicle_sample.h"
+#include "navmap/ipc/can/vehicle_sample.h"
 #include "navmap/map/projection.h"
 
 namespace navmap::daemon {

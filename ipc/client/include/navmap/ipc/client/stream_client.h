@@ -1,0 +1,136 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+// StreamClient: the display-client side of docs/frame-protocol.md. Connects over the Unix socket
+// (shared-memory ring) or TCP (raw/zlib), then next() returns the newest frames as a copy, or
+// nextHeld() hands out a frame in place in the mapped ring (no copy) until release(); statuses the
+// server sends before the first frame are kept (lastStatus) and passed to a handler, and the wait
+// goes on. Part of libnavmap-client, which links nothing but the C and C++ runtime. Not
+// thread-safe: one thread owns a client. ReconnectingClient (reconnecting_client.h) adds
+// reconnection with backoff.
+
+#include <chrono>
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "navmap/ipc/client/frame_header.h"
+#include "navmap/ipc/client/stream_profile.h"
+#include "navmap/ipc/net/client_api.h"
+#include "navmap/ipc/net/result.h"
+
+namespace navmap::ipc {
+
+struct ReceivedFrame {
+    FrameHeader header;                ///< dropped = server-side drops + frames lost locally
+    std::vector<std::uint8_t> pixels;  ///< header.stride * header.height bytes, header.format
+    std::int64_t receive_time_ns = 0;  ///< CLOCK_REALTIME ns when the pixels were complete
+};
+
+/// A frame left where the server wrote it (payload shm): `pixels` points into the client's
+/// read-only mapping of the ring, header.stride * header.height bytes in header.format, and stays
+/// valid until StreamClient::release(). The server does not overwrite a held slot while its ring
+/// has a slot nobody holds (docs/frame-protocol.md "Holding a frame").
+struct HeldFrame {
+    FrameHeader header;
+    const std::uint8_t* pixels = nullptr;
+    std::int64_t receive_time_ns = 0;  ///< CLOCK_REALTIME ns when the notification was read
+};
+
+struct StreamClientStats {
+    std::uint64_t frames = 0;
+    std::uint64_t server_dropped = 0;    ///< the newest header's dropped count
+    std::uint64_t lost_locally = 0;      ///< shm slots overwritten before we copied them
+    std::uint64_t held_overwritten = 0;  ///< held frames the server had to overwrite before release()
+    std::uint64_t bytes = 0;             ///< payload bytes received (compressed size for zlib)
+    std::uint64_t statuses = 0;          ///< status headers received
+};
+
+/// Inflates a zlib payload of `inBytes` into exactly `outBytes` at `out`; false when it does not.
+/// The client library links no compression library: a client that asks for payload zlib passes
+/// one (navmap's own programs use navmap::ipc::zlibInflater() from frame_png.h's library; any
+/// client can wrap zlib's uncompress() in these few lines).
+using FrameInflater =
+    std::function<bool(const std::uint8_t* in, std::size_t in_bytes, std::uint8_t* out, std::size_t out_bytes)>;
+
+class NAVMAP_CLIENT_API StreamClient {
+public:
+    /// Connects to the server's Unix socket and sends `request` (payload shm, raw or zlib).
+    static Result<std::unique_ptr<StreamClient>> connectUnix(
+        const std::string& path, const StreamRequest& request,
+        std::chrono::milliseconds timeout = std::chrono::seconds(5), FrameInflater inflate = {});
+    /// Connects to host:port (numeric IPv4/IPv6 or a name) and sends `request` (raw or zlib).
+    static Result<std::unique_ptr<StreamClient>> connectTcp(const std::string& host, int port,
+                                                            const StreamRequest& request,
+                                                            std::chrono::milliseconds timeout = std::chrono::seconds(5),
+                                                            FrameInflater inflate = {});
+    ~StreamClient();
+    StreamClient(const StreamClient&) = delete;
+    StreamClient& operator=(const StreamClient&) = delete;
+
+    /// Waits up to `timeout` for the next frame. true: `out` holds it; false: timeout; Error: the
+    /// server closed the connection or broke the protocol (the message says which, including the
+    /// server's error text). A held frame is released first.
+    /// A status (header kind 2, before the first frame) is not a frame: it is checked (UTF-8, at
+    /// most 64 KiB), kept as lastStatus(), handed to the status handler, and the wait goes on.
+    Result<bool> next(ReceivedFrame& out, std::chrono::milliseconds timeout);
+
+    /// For a stream opened with request.hold (payload shm): like next(), but the frame stays in
+    /// the ring (no copy) and the server gets no ack until release(); no new frame arrives
+    /// meanwhile. A held frame is released
+    /// first. Hold a frame for less than the server's stall timeout (FrameServerOptions::
+    /// stall_timeout; navmapd's client_timeout_s, 5 s), or the server disconnects the client.
+    Result<bool> nextHeld(HeldFrame& out, std::chrono::milliseconds timeout);
+    /// Gives a held frame back (sends the ack). true: the frame was unchanged all the time it was
+    /// held; false: every slot of the ring was held at once and the server overwrote this one
+    /// (counted in stats().held_overwritten); Error: the connection is gone. true without a held frame.
+    Result<bool> release();
+    bool holding() const noexcept { return m_held >= 0; }
+
+    /// Called inside next() with each status's text (a JSON object from the server, e.g.
+    /// {"state":"loading",...}) as it arrives; the caller's thread. Empty: statuses are only kept.
+    void setStatusHandler(std::function<void(const std::string&)> handler) { m_on_status = std::move(handler); }
+    /// The newest status text; empty when none came.
+    const std::string& lastStatus() const noexcept { return m_last_status; }
+
+    /// The profile the server granted (after defaults were applied).
+    const StreamProfile& profile() const noexcept { return m_profile; }
+    StreamPayload payload() const noexcept { return m_payload; }
+    const StreamClientStats& stats() const noexcept { return m_stats; }
+    int fd() const noexcept { return m_fd; }
+
+private:
+    StreamClient() = default;
+    static Result<std::unique_ptr<StreamClient>> handshake(int fd, const std::string& peer,
+                                                           const StreamRequest& request,
+                                                           std::chrono::milliseconds timeout, FrameInflater inflate);
+    Status readExact(std::uint8_t* dst, std::size_t n, std::chrono::steady_clock::time_point deadline, bool* timed_out);
+    /// Reads the next header (kept across timeouts); false on timeout.
+    Result<bool> readHeader(FrameHeader& out, std::chrono::steady_clock::time_point deadline);
+    Result<bool> receive(ReceivedFrame* copy, HeldFrame* held, std::chrono::milliseconds timeout);
+
+    int m_fd = -1;
+    std::string m_peer;
+    StreamProfile m_profile;
+    StreamPayload m_payload = StreamPayload::Shm;
+    std::uint64_t m_last_sequence = 0;  ///< newest frame handed out (never hand one out twice)
+    const std::uint8_t* m_map = nullptr;
+    std::size_t m_map_bytes = 0;
+    std::uint32_t m_slots = 0;
+    std::vector<std::uint8_t> m_in;  // bytes received beyond what was consumed
+    std::size_t m_in_pos = 0;
+    std::vector<std::uint8_t> m_compressed;
+    StreamClientStats m_stats;
+    std::uint8_t m_header_buf[kFrameHeaderBytes] = {};
+    std::size_t m_header_have = 0;  // partial header kept across timeouts
+    FrameInflater m_inflate;
+    bool m_hold = false;            // opened with request.hold: frames may be held
+    int m_held = -1;                // slot of the held frame, -1: none
+    std::uint64_t m_held_lock = 0;  // its lock word when it was handed out
+    std::string m_last_status;
+    std::function<void(const std::string&)> m_on_status;
+};
+
+}  // namespace navmap::ipc
