@@ -882,10 +882,9 @@ CompileStats compileStore(const CompileOptions& opt) {
     try {
         const osmium::io::File file(osm_name);
         osmium::TagsFilter filter{false};
-        for (const char* key : {"building", "landuse", "natural", "leisure", "waterway", "amenity", "place"}) {
-            filter.add_rule(true, osmium::TagMatcher{key});
-        }
+        for (const char* key : kAreaTagKeys) filter.add_rule(true, osmium::TagMatcher{key});
         osmium::area::Assembler::config_type cfg;
+        cfg.keep_type_tag = true;  // areaClassFromTags: a type=boundary relation is never an area
         std::unique_ptr<NodeIndex> index;
         if (bounded) {
             index = std::make_unique<FileNodeIndex>(*spill / "nodes.index");
