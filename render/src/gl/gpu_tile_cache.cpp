@@ -441,8 +441,8 @@ GLuint GpuTileCache::rasterizeLandCover(std::span<const LandCoverVertex> triangl
     glUseProgram(m_land_cover.id());
     glUniform2fv(m_land_cover.uniform("u_offset"), 1, glm::value_ptr(offset));
     glUniform1f(m_land_cover.uniform("u_extent"), extent);
-    // Runs of plain cover replace what is under them; runs of tints blend over it (colour by
-    // the tint's alpha, coverage kept as at least what was there).
+    // Runs of plain cover replace what is under them; runs of tints blend over it ("over" on
+    // the premultiplied colours the raster shader writes).
     if (triangles.empty()) countedDrawArrays(GL_TRIANGLES, 0, 0);
     for (std::size_t first = 0; first < triangles.size();) {
         const bool tint = triangles[first].tint;
@@ -450,7 +450,7 @@ GLuint GpuTileCache::rasterizeLandCover(std::span<const LandCoverVertex> triangl
         while (end < triangles.size() && triangles[end].tint == tint) ++end;
         if (tint) {
             glEnable(GL_BLEND);
-            glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+            glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
         } else {
             glDisable(GL_BLEND);
         }
