@@ -32,14 +32,19 @@ int areaDrawOrder(AreaClass cls) {
         case A::Other: return 2;
         case A::Wetland: return 3;
         case A::Water: return 4;
+        case A::Harbour: return 5;
+        case A::Pier: return 6;
     }
     return 2;
 }
 
+bool areaIsTint(AreaClass cls) { return cls == AreaClass::Harbour; }
+
 std::string_view areaClassName(AreaClass cls) {
     static constexpr std::array<std::string_view, kAreaClassCount> kNames{
-        "water",      "wetland",    "glacier", "forest", "scrub",    "grass",    "farmland", "rock", "residential",
-        "commercial", "industrial", "park",    "sport",  "cemetery", "military", "other",    "sea"};
+        "water",    "wetland",     "glacier",    "forest",     "scrub",  "grass", "farmland",
+        "rock",     "residential", "commercial", "industrial", "park",   "sport", "cemetery",
+        "military", "other",       "sea",        "pier",       "harbour"};
     return kNames[static_cast<std::size_t>(cls)];
 }
 

@@ -77,6 +77,10 @@ glm::vec4 landCoverColor(map::AreaClass cls) {
         // Opaque: the terrain's hypsometric tint at 0 m (green) must not show through. A little
         // deeper than inland water, so coast and lakes read apart. Night: MapStyle::brightness.
         case A::Sea: return rgba(0x7fa9d6, 1.0f);
+        // Over the water (drawn after it): piers and breakwaters opaque in a pale stone colour;
+        // a marina or harbour a faint deep-blue tint blended over whatever lies under it.
+        case A::Pier: return rgba(0xe4e0d8, 1.0f);
+        case A::Harbour: return rgba(0x3f6f9f, 0.25f);
     }
     return rgba(0xc8c8b0, 0.3f);
 }
@@ -90,10 +94,11 @@ std::vector<LandCoverVertex> landCoverTriangles(const map::Tile& tile) {
     std::vector<LandCoverVertex> out;
     for (const map::Area* a : areas) {
         const glm::vec4 color = landCoverColor(a->cls);
+        const bool tint = map::areaIsTint(a->cls);
         for (std::uint32_t i : a->polygon.indices) {
             if (i >= a->polygon.vertices.size()) continue;
             const auto& p = a->polygon.vertices[i];
-            out.push_back({glm::vec2(p.x, p.y), color});
+            out.push_back({glm::vec2(p.x, p.y), color, tint});
         }
     }
     return out;

@@ -57,6 +57,9 @@ float jointCapReach(glm::vec2 from, glm::vec2 to);
 struct LandCoverVertex {
     glm::vec2 position;  ///< tile-local metres
     glm::vec4 color;     ///< land-cover colour; alpha = how strongly it replaces the relief tint
+    /// A tint (map::areaIsTint: a harbour): blended over the cover drawn before it instead of
+    /// replacing it, so the water of a harbour basin stays water under it.
+    bool tint = false;
 };
 
 struct BuildingVertex {

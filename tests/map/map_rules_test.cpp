@@ -84,7 +84,16 @@ TEST(TagRules, AreaPlaceAndPoiClasses) {
     EXPECT_EQ(areaClassFromTags(tags({{"landuse", "residential"}})), AreaClass::Residential);
     EXPECT_EQ(areaClassFromTags(tags({{"leisure", "park"}})), AreaClass::Park);
     EXPECT_EQ(areaClassFromTags(tags({{"waterway", "riverbank"}})), AreaClass::Water);
-    EXPECT_EQ(areaClassFromTags(tags({{"landuse", "something_new"}})), AreaClass::Other);
+    // The schema draws no area for a value it does not classify, nor for boundaries and places.
+    EXPECT_FALSE(areaClassFromTags(tags({{"landuse", "something_new"}})));
+    EXPECT_FALSE(areaClassFromTags(tags({{"type", "boundary"}, {"natural", "mountain_range"}})));
+    EXPECT_FALSE(areaClassFromTags(tags({{"type", "boundary"}, {"natural", "wood"}})));
+    EXPECT_FALSE(areaClassFromTags(tags({{"natural", "bay"}})));
+    EXPECT_EQ(areaClassFromTags(tags({{"leisure", "marina"}, {"seamark:type", "harbour"}})), AreaClass::Harbour);
+    EXPECT_EQ(areaClassFromTags(tags({{"man_made", "breakwater"}})), AreaClass::Pier);
+    EXPECT_EQ(areaLabelClassFromTags(tags({{"natural", "strait"}})), PlaceClass::Locality);
+    EXPECT_EQ(areaLabelClassFromTags(tags({{"place", "region"}})), PlaceClass::State);
+    EXPECT_FALSE(areaLabelClassFromTags(tags({{"natural", "wood"}})));
     EXPECT_FALSE(areaClassFromTags(tags({{"highway", "primary"}})));
     EXPECT_EQ(placeClassFromTag("town"), PlaceClass::Town);
     EXPECT_EQ(placeClassFromTag("hamlet"), PlaceClass::Hamlet);

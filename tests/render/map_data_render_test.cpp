@@ -172,6 +172,61 @@ TEST(MapDataRender, ASeaPointRendersInTheSeaColour) {
     EXPECT_LT(n.at(sea).z, s.at(sea).z);
 }
 
+// A lake with a marina multipolygon (leisure=marina, seamark:type=harbour) over its north-east
+// part and a pier inside the marina (docs/tile-store.md "Area classes"). The marina is a tint over
+// the water, never a park-green fill: its pixels are the water's colour a little deeper; the pier is
+// drawn over both in its own colour.
+TEST(MapDataRender, AMarinaTintsItsWaterAndAPierIsDrawnOverIt) {
+    const Scratch dir("marina-render");
+    const Compiled c = compile(dir, R"(
+ <node id="1" version="1" lat="43.010" lon="7.010"/>
+ <node id="2" version="1" lat="43.010" lon="7.036"/>
+ <node id="3" version="1" lat="43.030" lon="7.036"/>
+ <node id="4" version="1" lat="43.030" lon="7.010"/>
+ <node id="11" version="1" lat="43.018" lon="7.018"/>
+ <node id="12" version="1" lat="43.018" lon="7.034"/>
+ <node id="13" version="1" lat="43.028" lon="7.034"/>
+ <node id="14" version="1" lat="43.028" lon="7.018"/>
+ <node id="21" version="1" lat="43.0233" lon="7.020"/>
+ <node id="22" version="1" lat="43.0233" lon="7.032"/>
+ <node id="23" version="1" lat="43.0247" lon="7.032"/>
+ <node id="24" version="1" lat="43.0247" lon="7.020"/>
+ <way id="100" version="1"><nd ref="1"/><nd ref="2"/><nd ref="3"/><nd ref="4"/><nd ref="1"/>
+  <tag k="natural" v="water"/><tag k="water" v="harbour"/></way>
+ <way id="110" version="1"><nd ref="11"/><nd ref="12"/><nd ref="13"/><nd ref="14"/><nd ref="11"/></way>
+ <way id="120" version="1"><nd ref="21"/><nd ref="22"/><nd ref="23"/><nd ref="24"/><nd ref="21"/>
+  <tag k="man_made" v="pier"/></way>
+ <relation id="1000" version="1"><member type="way" ref="110" role="outer"/>
+  <tag k="type" v="multipolygon"/><tag k="leisure" v="marina"/><tag k="seamark:type" v="harbour"/></relation>
+)",
+                               [](double, double) { return 100.0; });
+    ASSERT_FALSE(c.leaves.empty());
+    const glm::dvec3 water = planar(*c.store, 43.013, 7.014, 100.0), marina = planar(*c.store, 43.020, 7.030, 100.0),
+                     pier = planar(*c.store, 43.024, 7.027, 100.0);
+    Camera cam;
+    cam.target = planar(*c.store, 43.020, 7.023, 100.0);
+    cam.eye = cam.target + glm::dvec3(0.0, -1.0, 3500.0);
+    cam.far_m = 20000.0;
+    MapLayers no_labels;
+    no_labels.outlines = false;
+    const Shot s = shoot(c.leaves, cam, no_labels);
+    // The land-cover raster holds 4 bits a channel (GpuTileCache).
+    auto raster = [](map::AreaClass cls) { return glm::round(glm::vec3(landCoverColor(cls)) * 15.0f) / 15.0f; };
+    const glm::vec4 tint = landCoverColor(map::AreaClass::Harbour);
+    const glm::vec3 tinted = glm::mix(raster(map::AreaClass::Water), glm::vec3(tint), tint.a);
+    const glm::ivec3 w = s.at(water), m = s.at(marina), p = s.at(pier);
+    auto str = [](glm::ivec3 v) { return std::to_string(v.x) + "," + std::to_string(v.y) + "," + std::to_string(v.z); };
+    EXPECT_TRUE(shadeOf(w, raster(map::AreaClass::Water))) << "open water " << str(w);
+    EXPECT_TRUE(shadeOf(m, tinted, 0.06)) << "marina " << str(m) << ", open water " << str(w);
+    EXPECT_FALSE(shadeOf(m, raster(map::AreaClass::Park))) << "marina " << str(m);
+    EXPECT_GT(m.z, m.x + 40) << "marina " << str(m);  // blue, as the water: not a green or grey fill
+    EXPECT_GT(m.z, m.y + 20) << "marina " << str(m);
+    EXPECT_LT(m.x, w.x - 8) << "marina " << str(m) << ", open water " << str(w);  // tinted, deeper
+    EXPECT_LT(m.y, w.y - 8) << "marina " << str(m) << ", open water " << str(w);
+    EXPECT_TRUE(shadeOf(p, raster(map::AreaClass::Pier), 0.05)) << "pier " << str(p);
+    EXPECT_GT(p.x, w.x + 40) << "pier " << str(p) << ", open water " << str(w);  // over the water, not under it
+}
+
 // A named primary road in a tunnel (tunnel=yes, layer=-1) through a 400 m hill, and a named road
 // in the open beside it. The tunnel is neither drawn on the hillside nor labelled.
 TEST(MapDataRender, ATunnelUnderAHillIsNotDrawnOrLabelledOnTheSurface) {

@@ -23,6 +23,7 @@
 
 #include "file_node_index.h"
 #include "multipolygon_spill.h"
+#include "navmap/map/compile/tag_rules.h"
 #include "navmap/map/dem.h"
 #include "osm_limits.h"
 
@@ -136,10 +137,9 @@ void readPasses(const std::string& osm_name, const OsmReadOptions& options, OsmC
                 CompileLog& log) {
     const osmium::io::File file(osm_name);
     osmium::TagsFilter filter{false};
-    for (const char* key : {"building", "landuse", "natural", "leisure", "waterway", "amenity", "place"}) {
-        filter.add_rule(true, osmium::TagMatcher{key});
-    }
+    for (const char* key : kAreaTagKeys) filter.add_rule(true, osmium::TagMatcher{key});
     osmium::area::Assembler::config_type cfg;
+    cfg.keep_type_tag = true;  // areaClassFromTags: a type=boundary relation is never an area
     std::unique_ptr<NodeIndex> index;
     if (options.spill) {
         index = std::make_unique<FileNodeIndex>(options.spill->dir / "nodes.index");

@@ -189,13 +189,12 @@ void LabelHandler::node(const osmium::Node& node) {
 
 void LabelHandler::area(const osmium::Area& area) {
     const auto& tags = area.tags();
-    const char* place = tags["place"];
     const char* name = tags["name"];
-    if (place == nullptr || name == nullptr) return;
+    if (name == nullptr) return;
+    const auto cls = areaLabelClassFromTags(lookup(tags));
+    if (!cls) return;
     RawAreaLabel l;
     if (!polygonOf(area, l.polygon)) return;
-    const auto cls = placeClassFromTag(place);
-    if (!cls) return;
     l.subclass = static_cast<std::uint8_t>(*cls);
     l.importance = placeImportance(*cls);
     l.name = name;

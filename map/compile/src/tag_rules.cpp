@@ -121,83 +121,109 @@ int onewayDirection(const TagLookup& tags) {
     return 0;
 }
 
+namespace {
+
+template <std::size_t N>
+std::optional<AreaClass> lookupKind(const std::array<std::pair<std::string_view, AreaClass>, N>& table,
+                                    const char* value) {
+    if (value == nullptr) return std::nullopt;
+    for (const auto& [k, c] : table) {
+        if (k == value) return c;
+    }
+    return std::nullopt;
+}
+
+}  // namespace
+
+// The Shortbread 1.0 schema's area layers, in the order a feature is tested against them
+// (docs/tile-store.md, "Area classes", has the table and the reasons). A tag combination no
+// layer classifies is no area: nothing is drawn for it as land cover.
 std::optional<AreaClass> areaClassFromTags(const TagLookup& tags) {
     using A = AreaClass;
+    // Boundaries (administrative, protected areas, a mountain range or a region drawn as a
+    // boundary relation) and place polygons (regions, islands, archipelagos) are lines and
+    // labels, never areas, whatever else they are tagged with.
+    if (eq(tags("type"), "boundary") || tags("boundary") != nullptr || tags("place") != nullptr) return std::nullopt;
+    // pier_polygons: drawn over the water they stand in.
+    static constexpr std::array<std::pair<std::string_view, A>, 3> kPiers{
+        {{"pier", A::Pier}, {"breakwater", A::Pier}, {"groyne", A::Pier}}};
+    if (const auto c = lookupKind(kPiers, tags("man_made"))) return c;
     // Coastlines are lines with the water on their right, not areas: the compiler assembles
     // land and sea from them (coastline.h), also where a closed one (an island) is tagged so.
-    if (eq(tags("natural"), "coastline") && tags("landuse") == nullptr && tags("leisure") == nullptr)
-        return std::nullopt;
-    if (const char* n = tags("natural")) {
-        static constexpr std::array<std::pair<std::string_view, A>, 14> kNatural{{{"water", A::Water},
-                                                                                  {"bay", A::Water},
-                                                                                  {"wetland", A::Wetland},
-                                                                                  {"glacier", A::Glacier},
-                                                                                  {"wood", A::Forest},
-                                                                                  {"scrub", A::Scrub},
-                                                                                  {"heath", A::Scrub},
-                                                                                  {"grassland", A::Grass},
-                                                                                  {"fell", A::Grass},
-                                                                                  {"bare_rock", A::Rock},
-                                                                                  {"scree", A::Rock},
-                                                                                  {"shingle", A::Rock},
-                                                                                  {"sand", A::Rock},
-                                                                                  {"beach", A::Rock}}};
-        for (const auto& [k, c] : kNatural) {
-            if (k == n) return c;
-        }
-    }
+    const char* natural = eq(tags("natural"), "coastline") ? nullptr : tags("natural");
+    // water_polygons: natural=water whatever its water=* (lake, river, reservoir, basin, lock,
+    // harbour, ...), riverbanks and docks, reservoirs and basins; glaciers.
+    if (eq(natural, "water")) return A::Water;
+    if (eq(natural, "glacier")) return A::Glacier;
     if (eq(tags("waterway"), "riverbank") || eq(tags("waterway"), "dock")) return A::Water;
-    if (const char* l = tags("landuse")) {
-        static constexpr std::array<std::pair<std::string_view, A>, 27> kLanduse{{{"reservoir", A::Water},
-                                                                                  {"basin", A::Water},
-                                                                                  {"salt_pond", A::Water},
-                                                                                  {"forest", A::Forest},
-                                                                                  {"grass", A::Grass},
-                                                                                  {"meadow", A::Grass},
-                                                                                  {"village_green", A::Grass},
-                                                                                  {"greenfield", A::Grass},
-                                                                                  {"farmland", A::Farmland},
-                                                                                  {"farmyard", A::Farmland},
-                                                                                  {"orchard", A::Farmland},
-                                                                                  {"vineyard", A::Farmland},
-                                                                                  {"allotments", A::Farmland},
-                                                                                  {"residential", A::Residential},
-                                                                                  {"commercial", A::Commercial},
-                                                                                  {"retail", A::Commercial},
-                                                                                  {"industrial", A::Industrial},
-                                                                                  {"railway", A::Industrial},
-                                                                                  {"quarry", A::Industrial},
-                                                                                  {"landfill", A::Industrial},
-                                                                                  {"construction", A::Industrial},
-                                                                                  {"brownfield", A::Industrial},
-                                                                                  {"recreation_ground", A::Park},
-                                                                                  {"winter_sports", A::Sport},
-                                                                                  {"cemetery", A::Cemetery},
-                                                                                  {"military", A::Military},
-                                                                                  {"religious", A::Other}}};
-        for (const auto& [k, c] : kLanduse) {
-            if (k == l) return c;
-        }
-        return A::Other;
-    }
-    if (const char* s = tags("leisure")) {
-        static constexpr std::array<std::pair<std::string_view, A>, 10> kLeisure{{{"park", A::Park},
-                                                                                  {"garden", A::Park},
-                                                                                  {"nature_reserve", A::Park},
-                                                                                  {"pitch", A::Sport},
-                                                                                  {"sports_centre", A::Sport},
-                                                                                  {"stadium", A::Sport},
-                                                                                  {"golf_course", A::Sport},
-                                                                                  {"track", A::Sport},
-                                                                                  {"playground", A::Sport},
-                                                                                  {"swimming_pool", A::Water}}};
-        for (const auto& [k, c] : kLeisure) {
-            if (k == s) return c;
-        }
-        return A::Other;
-    }
+    if (eq(tags("landuse"), "reservoir") || eq(tags("landuse"), "basin")) return A::Water;
+    // Marinas and harbours (navmap's addition; Shortbread has them as POIs only): a tint over the
+    // basin and the quays, never an opaque fill.
+    if (eq(tags("leisure"), "marina") || eq(tags("landuse"), "harbour") || eq(tags("landuse"), "port"))
+        return A::Harbour;
+    // land, by natural=*, then landuse=*, then leisure=*, then amenity=grave_yard.
+    static constexpr std::array<std::pair<std::string_view, A>, 10> kNatural{{{"wood", A::Forest},
+                                                                              {"scrub", A::Scrub},
+                                                                              {"heath", A::Scrub},
+                                                                              {"grassland", A::Grass},
+                                                                              {"wetland", A::Wetland},
+                                                                              {"bare_rock", A::Rock},
+                                                                              {"scree", A::Rock},
+                                                                              {"shingle", A::Rock},
+                                                                              {"sand", A::Rock},
+                                                                              {"beach", A::Rock}}};
+    if (const auto c = lookupKind(kNatural, natural)) return c;
+    // land kinds, and the sites kinds navmap draws (military, construction).
+    static constexpr std::array<std::pair<std::string_view, A>, 24> kLanduse{{{"forest", A::Forest},
+                                                                              {"grass", A::Grass},
+                                                                              {"meadow", A::Grass},
+                                                                              {"village_green", A::Grass},
+                                                                              {"greenfield", A::Grass},
+                                                                              {"farmland", A::Farmland},
+                                                                              {"farmyard", A::Farmland},
+                                                                              {"orchard", A::Farmland},
+                                                                              {"vineyard", A::Farmland},
+                                                                              {"allotments", A::Farmland},
+                                                                              {"plant_nursery", A::Farmland},
+                                                                              {"residential", A::Residential},
+                                                                              {"commercial", A::Commercial},
+                                                                              {"retail", A::Commercial},
+                                                                              {"industrial", A::Industrial},
+                                                                              {"railway", A::Industrial},
+                                                                              {"quarry", A::Industrial},
+                                                                              {"landfill", A::Industrial},
+                                                                              {"brownfield", A::Industrial},
+                                                                              {"garages", A::Industrial},
+                                                                              {"construction", A::Industrial},
+                                                                              {"recreation_ground", A::Park},
+                                                                              {"cemetery", A::Cemetery},
+                                                                              {"military", A::Military}}};
+    if (const auto c = lookupKind(kLanduse, tags("landuse"))) return c;
+    static constexpr std::array<std::pair<std::string_view, A>, 9> kLeisure{{{"park", A::Park},
+                                                                             {"garden", A::Park},
+                                                                             {"dog_park", A::Park},
+                                                                             {"golf_course", A::Sport},
+                                                                             {"playground", A::Sport},
+                                                                             {"pitch", A::Sport},
+                                                                             {"sports_centre", A::Sport},
+                                                                             {"stadium", A::Sport},
+                                                                             {"track", A::Sport}}};
+    if (const auto c = lookupKind(kLeisure, tags("leisure"))) return c;
     if (eq(tags("amenity"), "grave_yard")) return A::Cemetery;
-    if (tags("natural") != nullptr) return A::Other;
+    return std::nullopt;
+}
+
+std::optional<PlaceClass> areaLabelClassFromTags(const TagLookup& tags) {
+    if (const char* p = tags("place")) return placeClassFromTag(p);
+    // Named natural features that are no areas (Shortbread has no layer for them): a label at
+    // the polygon's barycenter, as a locality.
+    static constexpr std::array<std::string_view, 6> kNamedNatural{"bay",  "strait",         "peninsula",
+                                                                   "cape", "mountain_range", "valley"};
+    if (const char* n = tags("natural")) {
+        for (const auto k : kNamedNatural) {
+            if (k == n) return PlaceClass::Locality;
+        }
+    }
     return std::nullopt;
 }
 

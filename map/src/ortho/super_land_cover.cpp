@@ -54,6 +54,8 @@ SuperLandCover fromArea(AreaClass c) {
         case A::Cemetery: return S::Cemetery;
         case A::Military: return S::Military;
         case A::Other: return S::OtherArea;
+        case A::Pier: return S::Industrial;    // concrete and stone over the water
+        case A::Harbour: return S::OtherArea;  // a tint: rasterizeAreas leaves it out
     }
     return S::OtherArea;
 }

@@ -455,7 +455,23 @@ GLuint GpuTileCache::rasterizeLandCover(std::span<const LandCoverVertex> triangl
     glUseProgram(m_land_cover.id());
     glUniform2fv(m_land_cover.uniform("u_offset"), 1, glm::value_ptr(offset));
     glUniform1f(m_land_cover.uniform("u_extent"), extent);
-    countedDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(triangles.size()));
+    // Runs of plain cover replace what is under them; runs of tints blend over it ("over" on
+    // the premultiplied colours the raster shader writes).
+    if (triangles.empty()) countedDrawArrays(GL_TRIANGLES, 0, 0);
+    for (std::size_t first = 0; first < triangles.size();) {
+        const bool tint = triangles[first].tint;
+        std::size_t end = first;
+        while (end < triangles.size() && triangles[end].tint == tint) ++end;
+        if (tint) {
+            glEnable(GL_BLEND);
+            glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+        } else {
+            glDisable(GL_BLEND);
+        }
+        countedDrawArrays(GL_TRIANGLES, static_cast<GLint>(first), static_cast<GLsizei>(end - first));
+        first = end;
+    }
+    glDisable(GL_BLEND);
     glBindVertexArray(0);
     glDeleteBuffers(1, &vbo);
     glDeleteVertexArrays(1, &vao);

@@ -19,6 +19,7 @@ void rasterizeAreas(const Tile& tile, int n, std::vector<std::uint8_t>& cover) {
                      [](const Area* a, const Area* b) { return areaDrawOrder(a->cls) < areaDrawOrder(b->cls); });
     const double texel = tile.size_m / n;
     for (const Area* a : areas) {
+        if (areaIsTint(a->cls)) continue;  // a tint over what lies under it, no cover of its own
         const auto value = static_cast<std::uint8_t>(static_cast<int>(fromArea(a->cls)) + 1);
         const auto& v = a->polygon.vertices;
         const auto& idx = a->polygon.indices;

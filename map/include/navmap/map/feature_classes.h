@@ -8,27 +8,36 @@
 
 namespace navmap::map {
 
-/// Land-cover / area classes (seed 2.1.2 thematic layers).
+/// Area classes: the Shortbread 1.0 vector-tile schema's area layers (ocean, water_polygons,
+/// land, sites, pier_polygons) mapped onto the classes navmap draws. docs/tile-store.md ("Area
+/// classes") has the whole table, OSM tags -> layer and kind -> class; tag_rules.cpp implements it.
+/// Stored as u8: values are only ever appended, so a store keeps its meaning in later builds.
 enum class AreaClass : std::uint8_t {
-    Water = 0,  ///< natural=water, waterway=riverbank, landuse=reservoir/basin
-    Wetland,
-    Glacier,
-    Forest,    ///< landuse=forest, natural=wood
-    Scrub,     ///< natural=scrub/heath
-    Grass,     ///< landuse=grass/meadow/village_green, natural=grassland
-    Farmland,  ///< landuse=farmland/farmyard/orchard/vineyard/allotments
-    Rock,      ///< natural=bare_rock/scree/shingle/sand/beach
+    Water = 0,  ///< water_polygons: water, river, reservoir, basin, dock, lock, harbour
+    Wetland,    ///< land: wetland (swamp, bog, marsh, wet_meadow, ...)
+    Glacier,    ///< water_polygons: glacier
+    Forest,     ///< land: forest (landuse=forest, natural=wood)
+    Scrub,      ///< land: scrub, heath
+    Grass,      ///< land: grass, meadow, grassland, village_green, greenfield
+    Farmland,   ///< land: farmland, farmyard, orchard, vineyard, allotments, plant_nursery
+    Rock,       ///< land: bare_rock, scree, shingle, sand, beach
     Residential,
-    Commercial,  ///< landuse=commercial/retail
-    Industrial,  ///< landuse=industrial/railway/quarry/landfill/construction/brownfield
-    Park,        ///< leisure=park/garden/nature_reserve, landuse=recreation_ground
-    Sport,       ///< leisure=pitch/sports_centre/stadium/golf_course/track/playground, landuse=winter_sports
-    Cemetery,
-    Military,
-    Other,  ///< any other landuse/natural/leisure value
-    Sea,    ///< the sea, assembled from natural=coastline ways (coastline.h); never from tags
+    Commercial,  ///< land: commercial, retail
+    Industrial,  ///< land: industrial, railway, quarry, landfill, brownfield, garages; sites: construction
+    Park,        ///< land: park, garden, dog_park, recreation_ground
+    Sport,       ///< land: golf_course, playground; pitch, sports_centre, stadium, track (navmap)
+    Cemetery,    ///< land: cemetery, grave_yard
+    Military,    ///< sites: military
+    Other,       ///< no longer written (stores compiled before the schema: any other landuse/natural)
+    Sea,         ///< ocean: assembled from natural=coastline ways (coastline.h); never from tags
+    Pier,        ///< pier_polygons: pier, breakwater, groyne; drawn over the water
+    Harbour,     ///< leisure=marina, landuse=harbour/port (navmap): a translucent tint over water and land
 };
-inline constexpr int kAreaClassCount = 17;
+inline constexpr int kAreaClassCount = 19;
+
+/// Whether the class is a translucent tint that must not hide what lies under it (a harbour
+/// over its basin): the orthoimage's land-cover raster leaves it out.
+bool areaIsTint(AreaClass cls);
 
 /// place=* classes, largest first.
 enum class PlaceClass : std::uint8_t {
@@ -55,10 +64,10 @@ float placeImportance(PlaceClass cls);
 std::string_view areaClassName(AreaClass cls);
 std::string_view placeClassName(PlaceClass cls);
 
-/// Lowest first: the sea under everything mapped on land (harbours, piers, beaches), then large
-/// natural classes, built-up, parks and sports, wetland, and water last so rivers stay visible.
-/// The terrain's land-cover texture and the orthoimage's super land cover both paint in this
-/// order.
+/// Lowest first (the schema's order): the sea under everything mapped on land, then large
+/// natural classes, built-up, parks and sports, wetland, water over all land cover, the harbour
+/// tint over the water, and piers and breakwaters last, over the water and the tint. The
+/// terrain's land-cover texture and the orthoimage's super land cover both paint in this order.
 int areaDrawOrder(AreaClass cls);
 
 }  // namespace navmap::map

@@ -5,6 +5,7 @@
 // they are testable without libosmium objects. Offline only: navmapd reads the classes from
 // the store and never interprets tags.
 
+#include <array>
 #include <functional>
 #include <optional>
 #include <string_view>
@@ -31,8 +32,19 @@ std::optional<float> parseMaxspeedKmh(std::string_view text);
 /// -1/reverse; motorways and roundabouts are one-way unless oneway=no.
 int onewayDirection(const TagLookup& tags);
 
-/// The area class of a closed way or multipolygon, or nullopt when it is not a land-cover area.
+/// The keys an area (closed way or multipolygon relation) needs one of to be assembled at all:
+/// buildings, place polygons and everything areaClassFromTags may classify.
+inline constexpr std::array<const char*, 8> kAreaTagKeys{"building", "landuse", "natural",  "leisure",
+                                                         "waterway", "amenity", "man_made", "place"};
+
+/// The area class of a closed way or multipolygon by the Shortbread 1.0 schema's area layers
+/// (docs/tile-store.md, "Area classes"), or nullopt when the schema draws it as no area:
+/// boundaries (type=boundary, boundary=*), place polygons, bays, straits, mountain ranges and any
+/// tag the schema does not classify. Multipolygons keep their relation's type tag for this.
 std::optional<AreaClass> areaClassFromTags(const TagLookup& tags);
+/// The place class under which a named polygon is labelled: its place=*, or a locality for a
+/// named natural=bay, strait, peninsula, cape, mountain_range or valley; nullopt otherwise.
+std::optional<PlaceClass> areaLabelClassFromTags(const TagLookup& tags);
 std::optional<PlaceClass> placeClassFromTag(std::string_view place);
 /// POI class for named point features, or nullopt.
 std::optional<PoiClass> poiClassFromTags(const TagLookup& tags);
