@@ -150,10 +150,10 @@ struct PLabel {
     double min_area;  // areas: polygon area, compared against the tile size
 };
 
-std::vector<PlanarPoint> project(const Projection& proj, const std::vector<LatLon>& pts) {
+std::vector<PlanarPoint> project(const Projection& proj, const std::vector<GeoCoordinate>& pts) {
     std::vector<PlanarPoint> out;
     out.reserve(pts.size());
-    for (const auto& p : pts) out.push_back(proj.forward(p.lat, p.lon));
+    for (const auto& p : pts) out.push_back(proj.forward(p.lat_deg, p.lon_deg));
     return out;
 }
 
@@ -347,7 +347,7 @@ void tileFeatures(const RawFeatures& raw, const TilingContext& ctx, CompileStats
 
     for (std::size_t i = 0; i < raw.points.size(); ++i) {
         const auto& l = raw.points[i];
-        const PlanarPoint p = proj.forward(l.pos.lat, l.pos.lon);
+        const PlanarPoint p = proj.forward(l.pos.lat_deg, l.pos.lon_deg);
         const double max_tile = l.kind == LabelKind::Place
                                     ? placeMaxTile(static_cast<PlaceClass>(l.subclass))
                                     : (static_cast<PoiClass>(l.subclass) == PoiClass::Peak ? 16000.0 : 0.0);
@@ -638,8 +638,8 @@ std::vector<std::pair<int, int>> featureBands(const RawFeatures& one, const Proj
                                               const ShardGrid& grid, int bands) {
     const int leaf = scheme.leafLevel();
     std::vector<PlanarPoint> pts;
-    auto add = [&](const std::vector<LatLon>& ll) {
-        for (const auto& p : ll) pts.push_back(proj.forward(p.lat, p.lon));
+    auto add = [&](const std::vector<GeoCoordinate>& ll) {
+        for (const auto& p : ll) pts.push_back(proj.forward(p.lat_deg, p.lon_deg));
     };
     std::function<bool(int level, double size)> shown;
     if (!one.roads.empty()) {
@@ -835,11 +835,11 @@ CompileStats compileStore(const CompileOptions& opt) {
     RawFeatures all;  // in memory; empty when bounded
     std::size_t n_roads = 0, n_buildings = 0, n_areas = 0, n_points = 0, n_places = 0;
     double south = 90, north = -90, west = 180, east = -180;
-    auto grow = [&](const LatLon& p) {
-        south = std::min(south, p.lat);
-        north = std::max(north, p.lat);
-        west = std::min(west, p.lon);
-        east = std::max(east, p.lon);
+    auto grow = [&](const GeoCoordinate& p) {
+        south = std::min(south, p.lat_deg);
+        north = std::max(north, p.lat_deg);
+        west = std::min(west, p.lon_deg);
+        east = std::max(east, p.lon_deg);
     };
     // What the handlers collected from the last buffer: into the bounds, then into memory or
     // the spill file, in input order per kind.

@@ -19,8 +19,8 @@ TEST(ControlProtocol, ParsesTheDocumentedSetRoute) {
     const auto& route = std::get<SetRouteCommand>(r.command->body);
     EXPECT_EQ(route.route_id, "r1");
     ASSERT_EQ(route.points.size(), 2U);
-    EXPECT_DOUBLE_EQ(route.points[0].lat, 42.5075);
-    EXPECT_DOUBLE_EQ(route.points[1].lon, 1.53);
+    EXPECT_DOUBLE_EQ(route.points[0].lat_deg, 42.5075);
+    EXPECT_DOUBLE_EQ(route.points[1].lon_deg, 1.53);
     ASSERT_EQ(route.maneuvers.size(), 1U);
     EXPECT_EQ(route.maneuvers[0].index, 1U);
     EXPECT_EQ(route.maneuvers[0].type, ManeuverType::TurnLeft);

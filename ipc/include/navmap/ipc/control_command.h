@@ -10,6 +10,7 @@
 #include <variant>
 #include <vector>
 
+#include "navmap/common/geo_coordinate.h"
 #include "navmap/common/maneuver_type.h"
 
 namespace navmap::ipc {
@@ -20,12 +21,6 @@ struct ControlLimits {
     std::size_t max_route_points = 20000;
     std::size_t max_maneuvers = 2000;
     std::size_t max_string_bytes = 256;  ///< ids, display names, maneuver text
-};
-
-/// A geographic point, WGS84 degrees.
-struct GeoCoordinate {
-    double lat = 0.0;
-    double lon = 0.0;
 };
 
 /// The manoeuvre types and their protocol names (navmap/common/maneuver_type.h), the same enum
@@ -74,7 +69,7 @@ const char* controlEventName(ControlEventKind k) noexcept;  ///< "route_progress
 
 struct SetRouteCommand {
     std::string route_id;
-    std::vector<GeoCoordinate> points;  ///< 2..max_route_points, validated ranges
+    std::vector<GeoCoordinate> points;  ///< 2..max_route_points, validated ranges (navmap/common/geo_coordinate.h)
     std::vector<Maneuver> maneuvers;    ///< indices valid and non-decreasing
 };
 struct ClearRouteCommand {};
