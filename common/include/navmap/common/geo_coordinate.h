@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 // GeoCoordinate: the one geographic point of every module (control protocol route points, the
-// simulator's places, the map compiler's OSM features, Natural Earth polygons, test drives), so a
-// position goes from one module to the next as a value and its units are in its field names.
+// simulator's places, the map compiler's OSM features, Natural Earth polygons, MapLibre cameras,
+// recorded drives), so a position goes from one module to the next as a value and its units are
+// in its field names.
 // Plain values, no I/O; no checks of the ranges (the parsers that build one check them).
 
 namespace navmap {
