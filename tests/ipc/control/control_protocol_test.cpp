@@ -69,8 +69,8 @@ TEST(ControlProtocol, ParsesTheOtherCommands) {
         const auto& cv = std::get<SetViewCommand>(r.command->body);
         ASSERT_TRUE(cv.camera);
         EXPECT_DOUBLE_EQ(cv.camera->zoom, 16.5);
-        EXPECT_DOUBLE_EQ(cv.camera->pitch, 60.0);
-        EXPECT_FALSE(cv.camera->bearing);
+        EXPECT_DOUBLE_EQ(cv.camera->pitch_deg, 60.0);
+        EXPECT_FALSE(cv.camera->bearing_deg);
         EXPECT_FALSE(cv.mode);
         EXPECT_FALSE(cv.clear_camera);
     }

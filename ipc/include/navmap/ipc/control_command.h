@@ -75,17 +75,18 @@ struct SetRouteCommand {
 struct ClearRouteCommand {};
 /// A map camera in MapLibre GL JS's convention, centred on the vehicle (docs/ipc.md set_view):
 /// zoom on 512-px tiles, pitch in degrees from straight down, and an optional fixed bearing
-/// (degrees clockwise from north; absent: the display's orientation decides).
+/// (degrees clockwise from north; absent: the display's orientation decides). The protocol's
+/// "pitch" and "bearing" are pitch_deg and bearing_deg here.
 struct ViewCamera {
-    double zoom = 0.0;              ///< 0..24
-    double pitch = 0.0;             ///< 0..85
-    std::optional<double> bearing;  ///< -360..360
+    double zoom = 0.0;                  ///< 0..24
+    double pitch_deg = 0.0;             ///< 0..85
+    std::optional<double> bearing_deg;  ///< -360..360
     bool operator==(const ViewCamera&) const = default;
 };
 /// Ranges a ViewCamera is checked against.
 inline constexpr double kViewCameraMaxZoom = 24.0;
-inline constexpr double kViewCameraMaxPitch = 85.0;
-inline constexpr double kViewCameraMaxBearing = 360.0;
+inline constexpr double kViewCameraMaxPitchDeg = 85.0;
+inline constexpr double kViewCameraMaxBearingDeg = 360.0;
 
 struct SetViewCommand {
     std::string display;           ///< "cluster", "hud", "center", ...
