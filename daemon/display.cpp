@@ -48,7 +48,7 @@ std::optional<render::MapLibreFollow> cameraFor(const DisplayProfile& p, const i
     if (state) {
         const auto it = state->displays.find(p.name);
         if (it != state->displays.end()) {
-            if (const auto& c = it->second.camera) return render::MapLibreFollow{c->zoom, c->pitch, c->bearing};
+            if (const auto& c = it->second.camera) return render::MapLibreFollow{c->zoom, c->pitch_deg, c->bearing_deg};
             if (it->second.mode != ipc::ViewMode::Auto) return std::nullopt;
         }
     }

@@ -84,7 +84,7 @@ void RouteGuidance::build(bool log_problems) {
     // length): maneuver indices stay valid and the measures are the ones the renderers drape.
     std::vector<map::PlanarPoint> points;
     points.reserve(route->points.size());
-    for (const auto& p : route->points) points.push_back(m_projection.forward(p.lat, p.lon));
+    for (const auto& p : route->points) points.push_back(m_projection.forward(p.lat_deg, p.lon_deg));
     std::vector<mg::Maneuver> maneuvers;
     maneuvers.reserve(route->maneuvers.size());
     for (const ipc::Maneuver& in : route->maneuvers) {

@@ -41,7 +41,7 @@ void RouteState::rebase(const map::Projection& frame) {
 void RouteState::convert() {
     std::vector<map::PlanarPoint> points;
     points.reserve(m_control->points.size());
-    for (const auto& p : m_control->points) points.push_back(m_projection.forward(p.lat, p.lon));
+    for (const auto& p : m_control->points) points.push_back(m_projection.forward(p.lat_deg, p.lon_deg));
     m_line = points.size() >= 2 ? std::make_shared<const RouteLine>(m_id, points) : nullptr;
     // The renderers re-drape the route when the geometry's version changes.
     const std::uint64_t geometry_version = m_geometry.version + 1;

@@ -51,11 +51,12 @@ double gridBearingDeg(const map::Projection& projection, double lat_deg, double 
 
 Camera cameraFromMapLibre(const MapLibreCamera& camera, const map::Projection& projection, int viewport_height_px,
                           const std::function<double(double x, double y)>& terrain) {
-    const map::PlanarPoint c = projection.forward(camera.lat_deg, camera.lon_deg);
+    const map::PlanarPoint c = projection.forward(camera.center.lat_deg, camera.center.lon_deg);
     const double z = terrain ? terrain(c.x, c.y) : 0.0;
-    return mapLibreCameraAt({c.x, c.y, z}, camera.lat_deg, camera.zoom, camera.pitch_deg,
-                            gridBearingDeg(projection, camera.lat_deg, camera.lon_deg, camera.bearing_deg),
-                            viewport_height_px);
+    return mapLibreCameraAt(
+        {c.x, c.y, z}, camera.center.lat_deg, camera.zoom, camera.pitch_deg,
+        gridBearingDeg(projection, camera.center.lat_deg, camera.center.lon_deg, camera.bearing_deg),
+        viewport_height_px);
 }
 
 }  // namespace navmap::render

@@ -33,8 +33,8 @@ DriveSimulator DriveSimulator::create(const DriveRequest& request) {
         throw SimError(e.what());
     }
     const map::Projection proj = s.m_store->projection();
-    const map::RoutePlan plan =
-        map::planRoute(graph, proj.forward(s.m_from.lat, s.m_from.lon), proj.forward(s.m_to.lat, s.m_to.lon));
+    const map::RoutePlan plan = map::planRoute(graph, proj.forward(s.m_from.lat_deg, s.m_from.lon_deg),
+                                               proj.forward(s.m_to.lat_deg, s.m_to.lon_deg));
     if (!plan.ok()) throw SimError(request.from + " -> " + request.to + ": " + plan.problem);
     s.m_route = driveRouteFromGraph(graph, *plan.route);
     if (s.m_route.line.size() < 2) throw SimError(request.from + " -> " + request.to + ": the route has no length");

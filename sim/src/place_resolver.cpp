@@ -15,17 +15,17 @@ namespace {
 // place label (another store, or a name OSM spells differently).
 struct BuiltinPlace {
     const char* name;
-    double lat, lon;
+    GeoCoordinate point;
 };
 constexpr BuiltinPlace kBuiltin[] = {
-    {"Andorra la Vella", 42.5075, 1.5218},
-    {"Escaldes-Engordany", 42.5097, 1.5390},
-    {"les Escaldes", 42.5097, 1.5390},
-    {"Encamp", 42.5347, 1.5801},
-    {"Sant Julià de Lòria", 42.4637, 1.4913},
-    {"La Massana", 42.5450, 1.5148},
-    {"Ordino", 42.5562, 1.5331},
-    {"Canillo", 42.5676, 1.5976},
+    {"Andorra la Vella", {42.5075, 1.5218}},
+    {"Escaldes-Engordany", {42.5097, 1.5390}},
+    {"les Escaldes", {42.5097, 1.5390}},
+    {"Encamp", {42.5347, 1.5801}},
+    {"Sant Julià de Lòria", {42.4637, 1.4913}},
+    {"La Massana", {42.5450, 1.5148}},
+    {"Ordino", {42.5562, 1.5331}},
+    {"Canillo", {42.5676, 1.5976}},
 };
 
 // ASCII folding of U+00C0..U+00FF (UTF-8 C3 80..C3 BF).
@@ -87,23 +87,23 @@ std::string PlaceResolver::normalize(std::string_view name) {
     return out;
 }
 
-std::optional<ipc::Result<GeoPoint>> PlaceResolver::parseLatLon(std::string_view text) {
+std::optional<ipc::Result<GeoCoordinate>> PlaceResolver::parseLatLon(std::string_view text) {
     const auto comma = text.find(',');
     if (comma == std::string_view::npos || text.find(',', comma + 1) != std::string_view::npos) return std::nullopt;
     const auto lat = parseDouble(text.substr(0, comma));
     const auto lon = parseDouble(text.substr(comma + 1));
     if (!lat || !lon) return std::nullopt;
     if (std::abs(*lat) > 90.0) {
-        return ipc::Result<GeoPoint>(ipc::Error{"latitude " + std::to_string(*lat) + " is outside [-90, 90]"});
+        return ipc::Result<GeoCoordinate>(ipc::Error{"latitude " + std::to_string(*lat) + " is outside [-90, 90]"});
     }
     if (std::abs(*lon) > 180.0) {
-        return ipc::Result<GeoPoint>(ipc::Error{"longitude " + std::to_string(*lon) + " is outside [-180, 180]"});
+        return ipc::Result<GeoCoordinate>(ipc::Error{"longitude " + std::to_string(*lon) + " is outside [-180, 180]"});
     }
-    return ipc::Result<GeoPoint>(GeoPoint{*lat, *lon});
+    return ipc::Result<GeoCoordinate>(GeoCoordinate{*lat, *lon});
 }
 
 PlaceResolver::PlaceResolver() {
-    for (const BuiltinPlace& b : kBuiltin) m_places.push_back({b.name, {b.lat, b.lon}, 0.0f, true});
+    for (const BuiltinPlace& b : kBuiltin) m_places.push_back({b.name, b.point, 0.0f, true});
 }
 
 PlaceResolver PlaceResolver::fromStore(const map::TileStore& store) {
@@ -122,8 +122,8 @@ PlaceResolver PlaceResolver::fromStore(const map::TileStore& store) {
             NamedPlace p;
             p.name = l.name;
             p.importance = l.importance;
-            proj.reverse({loaded.tile->origin_x + l.anchor.x, loaded.tile->origin_y + l.anchor.y}, p.point.lat,
-                         p.point.lon);
+            proj.reverse({loaded.tile->origin_x + l.anchor.x, loaded.tile->origin_y + l.anchor.y}, p.point.lat_deg,
+                         p.point.lon_deg);
             found.push_back(std::move(p));
         }
     }
@@ -134,7 +134,7 @@ PlaceResolver PlaceResolver::fromStore(const map::TileStore& store) {
     return r;
 }
 
-ipc::Result<GeoPoint> PlaceResolver::resolve(std::string_view text) const {
+ipc::Result<GeoCoordinate> PlaceResolver::resolve(std::string_view text) const {
     if (auto ll = parseLatLon(text)) return *ll;
     const std::string key = normalize(text);
     if (key.empty()) return ipc::Error{"empty place name '" + std::string(text) + "'"};

@@ -310,8 +310,9 @@ int runSim(const SimOptions& cli) {
     const auto& route = sim->route();
     if (!cli.quiet) {
         std::fprintf(stderr, "navmap-sim: route %s (%.5f,%.5f) -> %s (%.5f,%.5f): %.0f m, %zu points, %zu maneuvers\n",
-                     cli.from.c_str(), sim->fromPoint().lat, sim->fromPoint().lon, cli.to.c_str(), sim->toPoint().lat,
-                     sim->toPoint().lon, route.length(), route.line.size(), route.maneuvers.size());
+                     cli.from.c_str(), sim->fromPoint().lat_deg, sim->fromPoint().lon_deg, cli.to.c_str(),
+                     sim->toPoint().lat_deg, sim->toPoint().lon_deg, route.length(), route.line.size(),
+                     route.maneuvers.size());
     }
     const std::string msg = navmap::sim::setRouteMessage(route, sim->projection(), cli.route_id);
     if (!publishRoute(cli, msg)) return 1;

@@ -113,12 +113,12 @@ TEST(SimulatedCanSource, ItsFramesDecodeThroughTheDaemonsDecoderToTheSimulatedSp
     EXPECT_EQ(status.replay_time_errors, 0u);
     EXPECT_TRUE(status.error.empty()) << status.error;
 
-    // The route it drives, in degrees for set_route, is the planned line.
+    // The route it drives, in degrees, is the planned line.
     const auto& line = truth.route().line;
-    ASSERT_EQ(simulator.routeLatLon().size(), line.size());
+    ASSERT_EQ(simulator.routePoints().size(), line.size());
     const map::Projection projection = truth.projection();
     for (std::size_t i = 0; i < line.size(); i += 25) {
-        const auto p = projection.forward(simulator.routeLatLon()[i].first, simulator.routeLatLon()[i].second);
+        const auto p = projection.forward(simulator.routePoints()[i].lat_deg, simulator.routePoints()[i].lon_deg);
         EXPECT_NEAR(p.x, line[i].position.x, 1e-6);
         EXPECT_NEAR(p.y, line[i].position.y, 1e-6);
     }

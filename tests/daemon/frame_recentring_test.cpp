@@ -105,7 +105,7 @@ TEST(FrameRecentring, TheEstimatorAndTheRouteMoveIntoTheNewFrameWithoutMovingOnT
     // The route is the same line on the Earth: its points are the control points in the new frame,
     // and the vehicle is on it, about as far along.
     ASSERT_NE(route.line(), nullptr);
-    const map::PlanarPoint end = next->forward(control->points.back().lat, control->points.back().lon);
+    const map::PlanarPoint end = next->forward(control->points.back().lat_deg, control->points.back().lon_deg);
     EXPECT_NEAR(route.line()->points().back().x, end.x, 1e-6);
     EXPECT_NEAR(route.line()->points().back().y, end.y, 1e-6);
     EXPECT_NEAR(end.y, (40'000.0 - before.y) * t.scale, 0.01);

@@ -15,7 +15,8 @@ int navmapFuzzSimPlace(const std::uint8_t* data, std::size_t size) {
     (void)navmap::sim::PlaceResolver::normalize(text);
     (void)navmap::sim::PlaceResolver::parseLatLon(text);
     auto r = kResolver.resolve(text);
-    if (r.ok() && (r.value().lat < -90.0 || r.value().lat > 90.0 || r.value().lon < -180.0 || r.value().lon > 180.0)) {
+    if (r.ok() && (r.value().lat_deg < -90.0 || r.value().lat_deg > 90.0 || r.value().lon_deg < -180.0 ||
+                   r.value().lon_deg > 180.0)) {
         __builtin_trap();  // resolve() must never return an out-of-range point
     }
     return 0;

@@ -138,8 +138,8 @@ TEST(CompileStages, ReadClassifiesTheOsmObjectsIntoRawFeatures) {
     EXPECT_EQ(in.features.roads[0].cls, RoadClass::Primary);
     EXPECT_EQ(in.features.roads[0].name, "Carrer Major");
     ASSERT_EQ(in.features.roads[0].points.size(), 3u);
-    EXPECT_DOUBLE_EQ(in.features.roads[0].points[1].lat, 42.502);
-    EXPECT_DOUBLE_EQ(in.features.roads[0].points[1].lon, 1.503);
+    EXPECT_DOUBLE_EQ(in.features.roads[0].points[1].lat_deg, 42.502);
+    EXPECT_DOUBLE_EQ(in.features.roads[0].points[1].lon_deg, 1.503);
     EXPECT_EQ(in.features.roads[1].cls, RoadClass::Residential);
     ASSERT_EQ(in.features.buildings.size(), 1u);
     EXPECT_FLOAT_EQ(in.features.buildings[0].height_m, 12.0f);

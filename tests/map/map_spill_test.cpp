@@ -205,15 +205,15 @@ TEST(FeatureSpill, EveryKindOfFeatureRoundTripsExactly) {
     EXPECT_EQ(r.ref, road.ref);
     ASSERT_EQ(r.points.size(), road.points.size());
     for (std::size_t i = 0; i < r.points.size(); ++i) {
-        EXPECT_EQ(r.points[i].lat, road.points[i].lat);  // bit for bit, not near
-        EXPECT_EQ(r.points[i].lon, road.points[i].lon);
+        EXPECT_EQ(r.points[i].lat_deg, road.points[i].lat_deg);  // bit for bit, not near
+        EXPECT_EQ(r.points[i].lon_deg, road.points[i].lon_deg);
     }
     ASSERT_EQ(out.buildings.size(), 1u);
     EXPECT_EQ(out.buildings[0].polygon.id, -77);
     ASSERT_EQ(out.buildings[0].polygon.outers.size(), 2u);
-    EXPECT_EQ(out.buildings[0].polygon.outers[1][2].lon, 12.0);
+    EXPECT_EQ(out.buildings[0].polygon.outers[1][2].lon_deg, 12.0);
     ASSERT_EQ(out.buildings[0].polygon.inners.size(), 1u);
-    EXPECT_EQ(out.buildings[0].polygon.inners[0][1].lat, 3.5);
+    EXPECT_EQ(out.buildings[0].polygon.inners[0][1].lat_deg, 3.5);
     EXPECT_EQ(out.buildings[0].height_m, 12.5f);
     EXPECT_EQ(out.buildings[0].min_height_m, 3.0f);
     ASSERT_EQ(out.areas.size(), 1u);
@@ -224,7 +224,7 @@ TEST(FeatureSpill, EveryKindOfFeatureRoundTripsExactly) {
     EXPECT_EQ(out.points[0].kind, LabelKind::Poi);
     EXPECT_EQ(out.points[0].subclass, point.subclass);
     EXPECT_EQ(out.points[0].name, "Coma Pedrosa");
-    EXPECT_EQ(out.points[0].pos.lat, 42.5917);
+    EXPECT_EQ(out.points[0].pos.lat_deg, 42.5917);
     EXPECT_EQ(out.points[0].importance, 0.625f);
     EXPECT_EQ(out.points[0].id, 26864263);
     ASSERT_EQ(out.places.size(), 1u);

@@ -32,8 +32,8 @@ TEST(DriveTrajectory, LoadsTheVendoredUrbanDrive) {
     const auto d = nt::loadTrajectory(navmap::test::dataDir() / "drives" / "andorra-urban-trajectory.json");
     ASSERT_EQ(d.frames.size(), 1800U);
     EXPECT_DOUBLE_EQ(d.fps, 30.0);
-    EXPECT_DOUBLE_EQ(d.frames[0].lon_deg, 1.5188885);
-    EXPECT_DOUBLE_EQ(d.frames[0].lat_deg, 42.5036297);
+    EXPECT_DOUBLE_EQ(d.frames[0].position.lon_deg, 1.5188885);
+    EXPECT_DOUBLE_EQ(d.frames[0].position.lat_deg, 42.5036297);
     EXPECT_DOUBLE_EQ(d.frames[0].bearing_deg, 96.6818);
     EXPECT_DOUBLE_EQ(d.frames[1].t_s, 0.033333);
     EXPECT_DOUBLE_EQ(d.frames[1799].s_m, 832.87);

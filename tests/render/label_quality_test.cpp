@@ -76,7 +76,8 @@ TEST_P(TrajectoryQuality, ReportIsCompleteAndCountsAForcedPop) {
 
     // The camera: MapLibre's distance for the first pose's latitude.
     const auto trajectory = nt::loadTrajectory(o.trajectory);
-    EXPECT_NEAR(r.camera_distance_m, mapLibreCameraDistance(trajectory.frames[0].lat_deg, GetParam().zoom, kH), 0.1);
+    EXPECT_NEAR(r.camera_distance_m, mapLibreCameraDistance(trajectory.frames[0].position.lat_deg, GetParam().zoom, kH),
+                0.1);
 
     // Labels were drawn and counted consistently.
     EXPECT_GT(q.visible_median, 0.0);

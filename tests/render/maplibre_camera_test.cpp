@@ -93,8 +93,7 @@ TEST(MapLibreCamera, BearingNinetyLooksEast) {
 TEST(MapLibreCamera, FromLonLatStandsOnTheTerrainAndBearsFromTrueNorth) {
     const navmap::map::Projection projection(42.55, 1.55);
     MapLibreCamera ml;
-    ml.lon_deg = kLon;
-    ml.lat_deg = kLat;
+    ml.center = {kLat, kLon};
     ml.zoom = 16.5;
     ml.pitch_deg = 0.0;
     ml.bearing_deg = 0.0;

@@ -394,7 +394,7 @@ HighRes* highRes() {
     auto out = std::make_unique<HighRes>();
     out->store = map::TileStore::open(path);
     const auto& scheme = out->store->scheme();
-    const auto p = out->store->projection().forward(kAndorraLaVella.lat, kAndorraLaVella.lon);
+    const auto p = out->store->projection().forward(kAndorraLaVella.lat_deg, kAndorraLaVella.lon_deg);
     const auto id = scheme.tileAt(scheme.leafLevel(), p);
     if (!id) return nullptr;
     out->coarse = out->store->load(*id).tile;

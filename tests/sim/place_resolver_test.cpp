@@ -10,12 +10,12 @@ namespace {
 TEST(PlaceResolver, ParsesLatLon) {
     auto p = PlaceResolver::parseLatLon("42.5075,1.5218");
     ASSERT_TRUE(p && p->ok());
-    EXPECT_DOUBLE_EQ(p->value().lat, 42.5075);
-    EXPECT_DOUBLE_EQ(p->value().lon, 1.5218);
+    EXPECT_DOUBLE_EQ(p->value().lat_deg, 42.5075);
+    EXPECT_DOUBLE_EQ(p->value().lon_deg, 1.5218);
     p = PlaceResolver::parseLatLon(" -33.9 , +151.2 ");
     ASSERT_TRUE(p && p->ok());
-    EXPECT_DOUBLE_EQ(p->value().lat, -33.9);
-    EXPECT_DOUBLE_EQ(p->value().lon, 151.2);
+    EXPECT_DOUBLE_EQ(p->value().lat_deg, -33.9);
+    EXPECT_DOUBLE_EQ(p->value().lon_deg, 151.2);
     for (const char* text : {"Encamp", "42.5", "42.5,", ",1.5", "1,2,3", "a,b", "42.5,1.5x", "nan,1", "inf,1", ""}) {
         EXPECT_FALSE(PlaceResolver::parseLatLon(text).has_value()) << text;
     }
@@ -46,12 +46,12 @@ TEST(PlaceResolver, BuiltInTableKnowsTheParishTowns) {
                              "sant julià de lòria", "La Massana", "Massana", "Ordino", "canillo"}) {
         auto p = r.resolve(name);
         ASSERT_TRUE(p.ok()) << name;
-        EXPECT_NEAR(p.value().lat, 42.5, 0.1) << name;
-        EXPECT_NEAR(p.value().lon, 1.55, 0.06) << name;
+        EXPECT_NEAR(p.value().lat_deg, 42.5, 0.1) << name;
+        EXPECT_NEAR(p.value().lon_deg, 1.55, 0.06) << name;
     }
     auto coords = r.resolve("42.1,1.2");
     ASSERT_TRUE(coords.ok());
-    EXPECT_DOUBLE_EQ(coords.value().lat, 42.1);
+    EXPECT_DOUBLE_EQ(coords.value().lat_deg, 42.1);
     auto unknown = r.resolve("Atlantis");
     ASSERT_FALSE(unknown.ok());
     EXPECT_EQ(unknown.error().message.rfind(

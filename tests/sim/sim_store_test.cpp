@@ -52,13 +52,13 @@ TEST_F(SimStore, ParishTownsComeFromTheStoresPlaceLabels) {
         // The store's label is used (it is listed first), close to the table's town centre.
         bool found = false;
         for (const auto& p : r.places()) {
-            if (!p.builtin && p.point.lat == got.value().lat && p.point.lon == got.value().lon) found = true;
+            if (!p.builtin && p.point == got.value()) found = true;
         }
         EXPECT_TRUE(found) << name << " resolved from the built-in table, not the store";
         const auto table = builtin.resolve(name).value();
         const map::Projection proj = store->projection();
-        const auto a = proj.forward(got.value().lat, got.value().lon);
-        const auto b = proj.forward(table.lat, table.lon);
+        const auto a = proj.forward(got.value().lat_deg, got.value().lon_deg);
+        const auto b = proj.forward(table.lat_deg, table.lon_deg);
         EXPECT_LT(std::hypot(a.x - b.x, a.y - b.y), 1500.0) << name;
     }
 }
@@ -128,8 +128,8 @@ TEST_F(SimStore, SetRouteMessageIsAcceptedByTheControlProtocol) {
     ASSERT_EQ(set->points.size(), sim.route().line.size());
     double lat = 0, lon = 0;
     sim.projection().reverse(sim.route().line.back().position, lat, lon);
-    EXPECT_NEAR(set->points.back().lat, lat, 1e-7);
-    EXPECT_NEAR(set->points.back().lon, lon, 1e-7);
+    EXPECT_NEAR(set->points.back().lat_deg, lat, 1e-7);
+    EXPECT_NEAR(set->points.back().lon_deg, lon, 1e-7);
     ASSERT_EQ(set->maneuvers.size(), sim.route().maneuvers.size());
     EXPECT_EQ(set->maneuvers.front().type, ipc::ManeuverType::Depart);
     EXPECT_EQ(set->maneuvers.back().type, ipc::ManeuverType::Arrive);

@@ -5,10 +5,10 @@ namespace navmap::test {
 
 namespace {
 
-PlannedDrive planDrive(const map::MapScene& scene, GeoPoint from, GeoPoint to) {
+PlannedDrive planDrive(const map::MapScene& scene, GeoCoordinate from, GeoCoordinate to) {
     PlannedDrive drive;
     const map::RoutePlan plan =
-        map::planRoute(scene.graph, scene.toPlanar(from.lat, from.lon), scene.toPlanar(to.lat, to.lon));
+        map::planRoute(scene.graph, scene.toPlanar(from.lat_deg, from.lon_deg), scene.toPlanar(to.lat_deg, to.lon_deg));
     if (!plan.ok()) return drive;
     drive.line = map::routePolyline(scene.graph, *plan.route);
     for (const auto& p : drive.line) {
@@ -30,7 +30,7 @@ render::VehiclePose poseAlong(const PlannedDrive& drive, double measure_m, doubl
     return pose;
 }
 
-DriveScene DriveScene::open(const std::filesystem::path& store_path, GeoPoint from, GeoPoint to,
+DriveScene DriveScene::open(const std::filesystem::path& store_path, GeoCoordinate from, GeoCoordinate to,
                             std::size_t budget_bytes) {
     DriveScene d{map::MapScene::open(store_path, budget_bytes), nullptr, {}};
     if (!d.scene.graph_problem.empty()) throw map::StoreError(d.scene.graph_error);

@@ -10,6 +10,7 @@
 #include <memory>
 #include <vector>
 
+#include "navmap/common/geo_coordinate.h"
 #include "navmap/map/map_scene.h"
 #include "navmap/map/routing.h"
 #include "navmap/render/camera_rig.h"
@@ -27,11 +28,6 @@ struct PlannedDrive {
 /// Vehicle pose at `measure_m` along a drive.
 render::VehiclePose poseAlong(const PlannedDrive& drive, double measure_m, double speed_mps,
                               const render::CameraRig::TerrainHeight& terrain = {});
-
-/// Named places of the embedded default data (degrees): used for drives and fixed views.
-struct GeoPoint {
-    double lat, lon;
-};
 
 /// A store, one MapView over its cache and a planned drive: what the benchmarks, the label
 /// quality tool and the tests fly along.
@@ -60,11 +56,12 @@ struct DriveScene {
 
     /// Throws map::StoreError naming the store when it cannot be opened or has no usable road
     /// graph (a drive needs one).
-    static DriveScene open(const std::filesystem::path& store_path, GeoPoint from, GeoPoint to,
+    static DriveScene open(const std::filesystem::path& store_path, GeoCoordinate from, GeoCoordinate to,
                            std::size_t budget_bytes = std::size_t{128} << 20);
 };
-inline constexpr GeoPoint kAndorraLaVella{42.5075, 1.5218};
-inline constexpr GeoPoint kEncamp{42.5347, 1.5801};
-inline constexpr GeoPoint kSantJulia{42.4637, 1.4913};
+/// Named places of the embedded default data: used for drives and fixed views.
+inline constexpr GeoCoordinate kAndorraLaVella{42.5075, 1.5218};
+inline constexpr GeoCoordinate kEncamp{42.5347, 1.5801};
+inline constexpr GeoCoordinate kSantJulia{42.4637, 1.4913};
 
 }  // namespace navmap::test

@@ -436,19 +436,19 @@ std::string readViewCamera(const json& obj, SetViewCommand& out) {
         value = v;
         return {};
     };
-    std::optional<double> zoom, pitch;
+    std::optional<double> zoom, pitch_deg;
     std::string error = member("zoom", 0.0, kViewCameraMaxZoom, true, zoom);
     if (error.empty()) {
-        error = member("pitch", 0.0, kViewCameraMaxPitch, true, pitch);
+        error = member("pitch", 0.0, kViewCameraMaxPitchDeg, true, pitch_deg);
     }
     if (error.empty()) {
-        error = member("bearing", -kViewCameraMaxBearing, kViewCameraMaxBearing, false, camera.bearing);
+        error = member("bearing", -kViewCameraMaxBearingDeg, kViewCameraMaxBearingDeg, false, camera.bearing_deg);
     }
     if (!error.empty()) {
         return error;
     }
     camera.zoom = *zoom;
-    camera.pitch = *pitch;
+    camera.pitch_deg = *pitch_deg;
     out.camera = camera;
     return {};
 }

@@ -85,9 +85,9 @@ nlohmann::json ControlState::status() {
     for (const auto& [name, d] : view->displays) {
         displays[name] = {{"mode", viewModeName(d.mode)}, {"orientation", viewOrientationName(d.orientation)}};
         if (d.camera) {
-            nlohmann::json camera = {{"zoom", d.camera->zoom}, {"pitch", d.camera->pitch}};
-            if (d.camera->bearing) {
-                camera["bearing"] = *d.camera->bearing;
+            nlohmann::json camera = {{"zoom", d.camera->zoom}, {"pitch", d.camera->pitch_deg}};
+            if (d.camera->bearing_deg) {
+                camera["bearing"] = *d.camera->bearing_deg;
             }
             displays[name]["camera"] = std::move(camera);
         } else {

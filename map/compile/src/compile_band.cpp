@@ -34,8 +34,8 @@ void clearFeatures(RawFeatures& f) {
 std::vector<PlanarPoint> featureExtent(const RawFeatures& one, const Projection& proj, int leaf,
                                        std::function<bool(int level, double size)>& shown) {
     std::vector<PlanarPoint> pts;
-    auto add = [&](const std::vector<LatLon>& ll) {
-        for (const auto& p : ll) pts.push_back(proj.forward(p.lat, p.lon));
+    auto add = [&](const std::vector<GeoCoordinate>& ll) {
+        for (const auto& p : ll) pts.push_back(proj.forward(p.lat_deg, p.lon_deg));
     };
     if (!one.roads.empty()) {
         const auto& r = one.roads.front();

@@ -88,7 +88,7 @@ void projectPointLabels(const RawFeatures& raw, const Projection& proj, std::vec
                         CompileStats& stats) {
     for (std::size_t i = 0; i < raw.points.size(); ++i) {
         const auto& l = raw.points[i];
-        const PlanarPoint p = proj.forward(l.pos.lat, l.pos.lon);
+        const PlanarPoint p = proj.forward(l.pos.lat_deg, l.pos.lon_deg);
         labels.push_back({l.kind, l.subclass, &l.name, p, p, p, l.importance, l.id, pointLabelMaxTile(l), 0});
         if (counted(raw.points_counted, i)) (l.kind == LabelKind::Place ? stats.place_labels : stats.poi_labels)++;
     }
@@ -159,10 +159,10 @@ double pointLabelMaxTile(const RawPointLabel& l) {
                                       : (static_cast<PoiClass>(l.subclass) == PoiClass::Peak ? 16000.0 : 0.0);
 }
 
-std::vector<PlanarPoint> project(const Projection& proj, const std::vector<LatLon>& pts) {
+std::vector<PlanarPoint> project(const Projection& proj, const std::vector<GeoCoordinate>& pts) {
     std::vector<PlanarPoint> out;
     out.reserve(pts.size());
-    for (const auto& p : pts) out.push_back(proj.forward(p.lat, p.lon));
+    for (const auto& p : pts) out.push_back(proj.forward(p.lat_deg, p.lon_deg));
     return out;
 }
 

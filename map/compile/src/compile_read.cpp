@@ -235,11 +235,11 @@ Spill::Spill(const std::filesystem::path& parent, const std::function<void(const
     graph.emplace(dir / "graph.spill", std::size_t{1} << 20);
 }
 
-void LatLonBounds::grow(const LatLon& p) {
-    south = std::min(south, p.lat);
-    north = std::max(north, p.lat);
-    west = std::min(west, p.lon);
-    east = std::max(east, p.lon);
+void LatLonBounds::grow(const GeoCoordinate& p) {
+    south = std::min(south, p.lat_deg);
+    north = std::max(north, p.lat_deg);
+    west = std::min(west, p.lon_deg);
+    east = std::max(east, p.lon_deg);
 }
 
 void checkOsmFile(const std::filesystem::path& osm) {

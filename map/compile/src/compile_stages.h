@@ -111,7 +111,7 @@ struct Spill {
 /// Lat/lon bounds, grown point by point (empty: south > north).
 struct LatLonBounds {
     double south = 90, north = -90, west = 180, east = -180;
-    void grow(const LatLon& p);
+    void grow(const GeoCoordinate& p);
 };
 
 struct OsmReadOptions {
@@ -194,7 +194,7 @@ struct PLabel {
     double min_area;  // areas: polygon area, compared against the tile size
 };
 
-std::vector<PlanarPoint> project(const Projection& proj, const std::vector<LatLon>& pts);
+std::vector<PlanarPoint> project(const Projection& proj, const std::vector<GeoCoordinate>& pts);
 PPoly projectPolygon(const Projection& proj, const RawPolygon& raw);
 
 // ---- assemble ----

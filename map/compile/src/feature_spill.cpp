@@ -17,15 +17,15 @@ ByteWriter start(FeatureTag tag) {
     return w;
 }
 
-void putPoints(ByteWriter& w, const std::vector<LatLon>& pts) {
+void putPoints(ByteWriter& w, const std::vector<GeoCoordinate>& pts) {
     w.varint(pts.size());
     for (const auto& p : pts) {
-        w.f64(p.lat);
-        w.f64(p.lon);
+        w.f64(p.lat_deg);
+        w.f64(p.lon_deg);
     }
 }
 
-void putRings(ByteWriter& w, const std::vector<std::vector<LatLon>>& rings) {
+void putRings(ByteWriter& w, const std::vector<std::vector<GeoCoordinate>>& rings) {
     w.varint(rings.size());
     for (const auto& r : rings) putPoints(w, r);
 }
@@ -45,17 +45,17 @@ std::size_t count(ByteReader& r, std::size_t bytes_each) {
     return static_cast<std::size_t>(n);
 }
 
-std::vector<LatLon> getPoints(ByteReader& r) {
-    std::vector<LatLon> pts(count(r, 16));
+std::vector<GeoCoordinate> getPoints(ByteReader& r) {
+    std::vector<GeoCoordinate> pts(count(r, 16));
     for (auto& p : pts) {
-        p.lat = r.f64();
-        p.lon = r.f64();
+        p.lat_deg = r.f64();
+        p.lon_deg = r.f64();
     }
     return pts;
 }
 
-std::vector<std::vector<LatLon>> getRings(ByteReader& r) {
-    std::vector<std::vector<LatLon>> rings(count(r, 1));
+std::vector<std::vector<GeoCoordinate>> getRings(ByteReader& r) {
+    std::vector<std::vector<GeoCoordinate>> rings(count(r, 1));
     for (auto& ring : rings) ring = getPoints(r);
     return rings;
 }
@@ -111,8 +111,8 @@ std::vector<std::uint8_t> encodeFeature(const RawPointLabel& f) {
     w.u8(static_cast<std::uint8_t>(f.kind));
     w.u8(f.subclass);
     w.str(f.name);
-    w.f64(f.pos.lat);
-    w.f64(f.pos.lon);
+    w.f64(f.pos.lat_deg);
+    w.f64(f.pos.lon_deg);
     w.f32(f.importance);
     w.i64(f.id);
     return std::move(w.bytes());
@@ -195,8 +195,8 @@ bool decodeFeature(std::span<const std::uint8_t> record, RawFeatures& out, std::
             f.kind = static_cast<LabelKind>(r.u8());
             f.subclass = r.u8();
             f.name = getString(r);
-            f.pos.lat = r.f64();
-            f.pos.lon = r.f64();
+            f.pos.lat_deg = r.f64();
+            f.pos.lon_deg = r.f64();
             f.importance = r.f32();
             f.id = r.i64();
             if (r.failed() || r.remaining() != 0) break;

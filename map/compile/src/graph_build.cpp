@@ -57,7 +57,7 @@ void walkWay(const RawGraphWay& w, const Projection& proj, IndexOf&& index_of, s
     std::uint32_t shape_begin = shape_points;
     double length = 0;
     auto push = [&](std::size_t i) {
-        const PlanarPoint p = proj.forward(w.points[i].lat, w.points[i].lon);
+        const PlanarPoint p = proj.forward(w.points[i].lat_deg, w.points[i].lon_deg);
         point(LocalPoint{static_cast<float>(p.x), static_cast<float>(p.y)});
         ++shape_points;
         return p;
@@ -66,7 +66,7 @@ void walkWay(const RawGraphWay& w, const Projection& proj, IndexOf&& index_of, s
     node(static_cast<std::uint32_t>(index_of(w.nodes[0])), GraphNode{first.x, first.y, w.nodes[0]});
     for (std::size_t i = 1; i < w.nodes.size(); ++i) {
         double s12 = 0;
-        geod.Inverse(w.points[i - 1].lat, w.points[i - 1].lon, w.points[i].lat, w.points[i].lon, s12);
+        geod.Inverse(w.points[i - 1].lat_deg, w.points[i - 1].lon_deg, w.points[i].lat_deg, w.points[i].lon_deg, s12);
         length += s12;
         const PlanarPoint p = push(i);
         const auto ni = index_of(w.nodes[i]);

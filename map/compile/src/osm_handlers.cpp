@@ -19,14 +19,14 @@ std::string tagOr(const osmium::TagList& tags, const char* key) {
 }
 
 /// Locations of a node list; false when a location is missing (node outside the extract).
-bool locations(const osmium::NodeRefList& nodes, std::vector<LatLon>& out) {
+bool locations(const osmium::NodeRefList& nodes, std::vector<GeoCoordinate>& out) {
     out.clear();
     out.reserve(nodes.size());
     for (const auto& n : nodes) {
         const osmium::Location l = n.location();
         if (!l.valid()) return false;
-        const LatLon p{l.lat(), l.lon()};
-        if (!out.empty() && out.back().lat == p.lat && out.back().lon == p.lon) continue;
+        const GeoCoordinate p{l.lat(), l.lon()};
+        if (!out.empty() && out.back() == p) continue;
         out.push_back(p);
     }
     return true;
@@ -34,7 +34,7 @@ bool locations(const osmium::NodeRefList& nodes, std::vector<LatLon>& out) {
 
 bool polygonOf(const osmium::Area& area, RawPolygon& poly) {
     poly.id = area.orig_id();
-    std::vector<LatLon> ring;
+    std::vector<GeoCoordinate> ring;
     for (const auto& outer : area.outer_rings()) {
         if (!locations(outer, ring) || ring.size() < 4) continue;
         ring.pop_back();  // closed ring: drop the repeated first point
@@ -96,9 +96,8 @@ void CoastlineHandler::way(const osmium::Way& way) {
             run.first_node = n.ref();
         }
         run.last_node = n.ref();
-        const LatLon p{l.lat(), l.lon()};
-        if (run.points.empty() || run.points.back().lat != p.lat || run.points.back().lon != p.lon)
-            run.points.push_back(p);
+        const GeoCoordinate p{l.lat(), l.lon()};
+        if (run.points.empty() || run.points.back() != p) run.points.push_back(p);
     }
     flush();
 }

@@ -13,15 +13,12 @@
 #include <string>
 #include <vector>
 
+#include "navmap/common/geo_coordinate.h"
 #include "navmap/map/compile/tag_rules.h"
 #include "navmap/map/road_class.h"
 #include "navmap/map/tile.h"
 
 namespace navmap::map::detail {
-
-struct LatLon {
-    double lat = 0, lon = 0;
-};
 
 struct RawRoad {
     std::int64_t id = 0;
@@ -30,7 +27,7 @@ struct RawRoad {
     std::int8_t layer = 0;
     std::uint16_t maxspeed = 0;
     std::string name, ref;
-    std::vector<LatLon> points;  ///< in travel direction for one-way roads
+    std::vector<GeoCoordinate> points;  ///< in travel direction for one-way roads
 };
 
 struct RawGraphWay {
@@ -40,19 +37,19 @@ struct RawGraphWay {
     float speed_kmh = 0;
     bool oneway = false;
     std::vector<std::int64_t> nodes;
-    std::vector<LatLon> points;
+    std::vector<GeoCoordinate> points;
 };
 
 struct RawPolygon {
     std::int64_t id = 0;
-    std::vector<std::vector<LatLon>> outers, inners;
+    std::vector<std::vector<GeoCoordinate>> outers, inners;
 };
 
 /// A natural=coastline way, or one run of it where a cut extract lacks some node locations.
 struct RawCoastWay {
     std::int64_t id = 0;
     std::int64_t first_node = 0, last_node = 0;
-    std::vector<LatLon> points;
+    std::vector<GeoCoordinate> points;
 };
 
 struct RawBuilding {
@@ -70,7 +67,7 @@ struct RawPointLabel {
     LabelKind kind = LabelKind::Place;
     std::uint8_t subclass = 0;
     std::string name;
-    LatLon pos;
+    GeoCoordinate pos;
     float importance = 0;
     std::int64_t id = 0;
 };

@@ -22,13 +22,13 @@ const char* globalCoverName(GlobalCover c) {
 PolygonLayer::PolygonLayer(const std::vector<Pn2Polygon>& polygons) {
     const auto bands = static_cast<std::size_t>(std::lround(180.0 / kBandDeg));
     m_bands.resize(bands);
-    auto ring = [&](const std::vector<GeoPoint>& pts) {
+    auto ring = [&](const std::vector<GeoCoordinate>& pts) {
         for (std::size_t i = 0; i < pts.size(); ++i) {
-            const GeoPoint a = pts[i], b = pts[(i + 1) % pts.size()];
-            if (a.lat == b.lat) continue;  // never crosses a scanline under the half-open rule
+            const GeoCoordinate a = pts[i], b = pts[(i + 1) % pts.size()];
+            if (a.lat_deg == b.lat_deg) continue;  // never crosses a scanline under the half-open rule
             const auto index = static_cast<std::uint32_t>(m_edges.size());
-            m_edges.push_back({a.lat, a.lon, b.lat, b.lon});
-            const double lo = std::min(a.lat, b.lat), hi = std::max(a.lat, b.lat);
+            m_edges.push_back({a.lat_deg, a.lon_deg, b.lat_deg, b.lon_deg});
+            const double lo = std::min(a.lat_deg, b.lat_deg), hi = std::max(a.lat_deg, b.lat_deg);
             const auto b0 = static_cast<std::size_t>(std::clamp((lo + 90.0) / kBandDeg, 0.0, double(bands - 1)));
             const auto b1 = static_cast<std::size_t>(std::clamp((hi + 90.0) / kBandDeg, 0.0, double(bands - 1)));
             for (std::size_t k = b0; k <= b1; ++k) m_bands[k].push_back(index);

@@ -58,7 +58,7 @@ private:
     std::size_t m_pos = 0;
 };
 
-GeoPoint point(Reader& r, int lat, int lon) {
+GeoCoordinate point(Reader& r, int lat, int lon) {
     if (lat < -90 * 120 || lat > 90 * 120 || lon < -180 * 120 || lon > 180 * 120) {
         r.fail("coordinate out of range (lat " + std::to_string(lat * kUnitDeg) + ", lon " +
                std::to_string(lon * kUnitDeg) + ")");
@@ -66,11 +66,11 @@ GeoPoint point(Reader& r, int lat, int lon) {
     return {lat * kUnitDeg, lon * kUnitDeg};
 }
 
-std::vector<GeoPoint> readNodes(Reader& r, std::uint32_t nodes) {
+std::vector<GeoCoordinate> readNodes(Reader& r, std::uint32_t nodes) {
     // Each node takes at least 6 bytes: a count beyond what is left is a damaged file, not a
     // reason to reserve gigabytes.
     if (nodes > r.remaining() / 6) r.fail("node count " + std::to_string(nodes) + " exceeds the file");
-    std::vector<GeoPoint> pts;
+    std::vector<GeoCoordinate> pts;
     pts.reserve(nodes);
     for (std::uint32_t n = 0; n < nodes; ++n) {
         const int lat = r.i16("node latitude"), lon = r.i16("node longitude");
@@ -109,7 +109,7 @@ Pn2File parsePn2(const std::vector<std::uint8_t>& bytes, const std::string& name
             continue;
         }
         if (parts_left > 0) --parts_left;
-        std::vector<GeoPoint> pts = readNodes(r, r.u32("node count"));
+        std::vector<GeoCoordinate> pts = readNodes(r, r.u32("node count"));
         ++read;
         switch (kind) {
             case kLineString:

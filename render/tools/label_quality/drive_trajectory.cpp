@@ -81,11 +81,11 @@ DriveTrajectory parseTrajectory(std::string_view text, const std::string& source
         TrajectoryPose p;
         p.t_s = member(f, "t", where, source);
         p.s_m = member(f, "s", where, source);
-        p.lon_deg = member(f, "lon", where, source);
-        p.lat_deg = member(f, "lat", where, source);
+        p.position.lon_deg = member(f, "lon", where, source);
+        p.position.lat_deg = member(f, "lat", where, source);
         const double bearing = member(f, "bearing", where, source);
-        inRange(p.lat_deg, -90.0, 90.0, "lat", where, source);
-        inRange(p.lon_deg, -180.0, 180.0, "lon", where, source);
+        inRange(p.position.lat_deg, -90.0, 90.0, "lat", where, source);
+        inRange(p.position.lon_deg, -180.0, 180.0, "lon", where, source);
         inRange(bearing, -360.0, 360.0, "bearing", where, source);
         p.bearing_deg = std::fmod(bearing + 360.0, 360.0);
         if (!d.frames.empty()) {

@@ -11,14 +11,15 @@
 #include <string_view>
 #include <vector>
 
+#include "navmap/common/geo_coordinate.h"
+
 namespace navmap::render::tools {
 
 /// One frame's pose.
 struct TrajectoryPose {
-    double t_s = 0.0;      ///< time since the first frame
-    double s_m = 0.0;      ///< distance driven along the route
-    double lon_deg = 0.0;  ///< WGS84
-    double lat_deg = 0.0;
+    double t_s = 0.0;          ///< time since the first frame
+    double s_m = 0.0;          ///< distance driven along the route
+    GeoCoordinate position;    ///< WGS84 degrees
     double bearing_deg = 0.0;  ///< heading, clockwise from true north, in [0, 360)
 };
 

@@ -146,8 +146,7 @@ LabelQualityReport replayTrajectory(const LabelQualityOptions& o, LabelQualityRe
     for (int i = -o.settle_frames; i < frames; ++i) {
         const TrajectoryPose& pose = trajectory.frames[static_cast<std::size_t>(std::max(i, 0))];
         MapLibreCamera ml;
-        ml.lon_deg = pose.lon_deg;
-        ml.lat_deg = pose.lat_deg;
+        ml.center = pose.position;
         ml.zoom = o.camera->zoom;
         ml.pitch_deg = o.camera->pitch_deg;
         ml.bearing_deg = o.camera->bearing_deg.value_or(pose.bearing_deg);
@@ -160,8 +159,9 @@ LabelQualityReport replayTrajectory(const LabelQualityOptions& o, LabelQualityRe
         MapFrame frame;
         frame.camera = cam;
         view.select(frame, aspect, o.height);  // tiles and their geomorph, as navmapd draws them
-        frame.marker =
-            MarkerState{cam.target, gridBearingDeg(projection, pose.lat_deg, pose.lon_deg, pose.bearing_deg), false};
+        frame.marker = MarkerState{
+            cam.target, gridBearingDeg(projection, pose.position.lat_deg, pose.position.lon_deg, pose.bearing_deg),
+            false};
         applyLayers(frame, o);
         acc.frame(i, *renderer, frame, viewport, o, r);
     }

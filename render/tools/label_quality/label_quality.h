@@ -30,8 +30,8 @@ struct LabelQualityOptions {
     /// MapLibre-convention camera centred on the vehicle (bearing: the pose's unless fixed). For a
     /// route drive it puts the rig in its MapLibre follow mode instead of `view`.
     std::optional<MapLibreFollow> camera;
-    navmap::test::GeoPoint from = navmap::test::kAndorraLaVella;
-    navmap::test::GeoPoint to = navmap::test::kEncamp;
+    navmap::GeoCoordinate from = navmap::test::kAndorraLaVella;
+    navmap::GeoCoordinate to = navmap::test::kEncamp;
     ViewMode view = ViewMode::Bird;
     int width = 1280;
     int height = 480;

@@ -24,9 +24,9 @@ SimulatedCanSource::SimulatedCanSource(const SimulatedDriveRequest& request)
     const map::Projection projection = simulator.projection();
     m_route.reserve(simulator.route().line.size());
     for (const auto& p : simulator.route().line) {
-        double lat = 0, lon = 0;
-        projection.reverse(p.position, lat, lon);
-        m_route.emplace_back(lat, lon);
+        GeoCoordinate point;
+        projection.reverse(p.position, point.lat_deg, point.lon_deg);
+        m_route.push_back(point);
     }
     m_set_route = setRouteMessage(simulator.route(), projection, "sim");
 }

@@ -19,8 +19,8 @@ TEST(ControlProtocol, ParsesTheDocumentedSetRoute) {
     const auto& route = std::get<SetRouteCommand>(r.command->body);
     EXPECT_EQ(route.route_id, "r1");
     ASSERT_EQ(route.points.size(), 2U);
-    EXPECT_DOUBLE_EQ(route.points[0].lat, 42.5075);
-    EXPECT_DOUBLE_EQ(route.points[1].lon, 1.53);
+    EXPECT_DOUBLE_EQ(route.points[0].lat_deg, 42.5075);
+    EXPECT_DOUBLE_EQ(route.points[1].lon_deg, 1.53);
     ASSERT_EQ(route.maneuvers.size(), 1U);
     EXPECT_EQ(route.maneuvers[0].index, 1U);
     EXPECT_EQ(route.maneuvers[0].type, ManeuverType::TurnLeft);
@@ -69,8 +69,8 @@ TEST(ControlProtocol, ParsesTheOtherCommands) {
         const auto& cv = std::get<SetViewCommand>(r.command->body);
         ASSERT_TRUE(cv.camera);
         EXPECT_DOUBLE_EQ(cv.camera->zoom, 16.5);
-        EXPECT_DOUBLE_EQ(cv.camera->pitch, 60.0);
-        EXPECT_FALSE(cv.camera->bearing);
+        EXPECT_DOUBLE_EQ(cv.camera->pitch_deg, 60.0);
+        EXPECT_FALSE(cv.camera->bearing_deg);
         EXPECT_FALSE(cv.mode);
         EXPECT_FALSE(cv.clear_camera);
     }

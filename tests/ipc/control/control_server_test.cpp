@@ -58,7 +58,7 @@ TEST(ControlServer, CommandsReachTheSnapshotsAndRepliesAreExact) {
         ASSERT_NE(route, nullptr);
         EXPECT_EQ(route->id, "r1");
         ASSERT_EQ(route->points.size(), 2U);
-        EXPECT_DOUBLE_EQ(route->points[1].lat, 42.51);
+        EXPECT_DOUBLE_EQ(route->points[1].lat_deg, 42.51);
         EXPECT_EQ(route->maneuvers.at(0).text, "CG-2");
 
         EXPECT_EQ(req(c, R"({"cmd":"set_view","display":"hud","mode":"snail","orientation":"north-up"})"),

@@ -62,16 +62,16 @@ TEST(Pn2, ReadsEveryRecordKind) {
     EXPECT_EQ(p.records, 5u);
     ASSERT_EQ(p.polygons.size(), 3u);
     ASSERT_EQ(p.polygons[0].outer.size(), 4u);
-    EXPECT_DOUBLE_EQ(p.polygons[0].outer[0].lat, 1.0);
-    EXPECT_DOUBLE_EQ(p.polygons[0].outer[0].lon, 2.0);
-    EXPECT_DOUBLE_EQ(p.polygons[0].outer[2].lat, 1.1);  // 120 + 12
-    EXPECT_DOUBLE_EQ(p.polygons[0].outer[2].lon, 2.1);
+    EXPECT_DOUBLE_EQ(p.polygons[0].outer[0].lat_deg, 1.0);
+    EXPECT_DOUBLE_EQ(p.polygons[0].outer[0].lon_deg, 2.0);
+    EXPECT_DOUBLE_EQ(p.polygons[0].outer[2].lat_deg, 1.1);  // 120 + 12
+    EXPECT_DOUBLE_EQ(p.polygons[0].outer[2].lon_deg, 2.1);
     ASSERT_EQ(p.polygons[0].holes.size(), 1u);
     EXPECT_EQ(p.polygons[0].holes[0].size(), 4u);
     EXPECT_EQ(p.polygons[1].id, 7u);
-    EXPECT_DOUBLE_EQ(p.polygons[2].outer[0].lat, -2.0);
+    EXPECT_DOUBLE_EQ(p.polygons[2].outer[0].lat_deg, -2.0);
     ASSERT_EQ(p.lines.size(), 1u);
-    EXPECT_DOUBLE_EQ(p.lines[0][1].lon, 0.5);
+    EXPECT_DOUBLE_EQ(p.lines[0][1].lon_deg, 0.5);
 }
 
 TEST(Pn2, ColourIndexFollowsTheIdExceptForHoles) {
@@ -99,7 +99,7 @@ TEST(Pn2, PartsOfAMultiGeometryHaveNoColourIndex) {
     EXPECT_EQ(p.polygons[0].id, 3u);
     EXPECT_EQ(p.polygons[0].holes.size(), 1u);
     EXPECT_EQ(p.polygons[1].id, 4u);
-    EXPECT_DOUBLE_EQ(p.polygons[1].outer[0].lat, 1.0);
+    EXPECT_DOUBLE_EQ(p.polygons[1].outer[0].lat_deg, 1.0);
 }
 
 TEST(Pn2, DamagedFilesAreClearErrors) {

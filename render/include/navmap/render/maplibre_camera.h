@@ -8,6 +8,7 @@
 
 #include <functional>
 
+#include "navmap/common/geo_coordinate.h"
 #include "navmap/map/projection.h"
 #include "navmap/render/camera.h"
 
@@ -25,8 +26,7 @@ inline constexpr double kMapLibreMinPitchDeg = 0.0, kMapLibreMaxPitchDeg = 85.0;
 
 /// A MapLibre GL JS camera: jumpTo({center, zoom, pitch, bearing}).
 struct MapLibreCamera {
-    double lon_deg = 0.0;
-    double lat_deg = 0.0;
+    GeoCoordinate center;  ///< WGS84 degrees
     double zoom = 16.0;
     double pitch_deg = 0.0;    ///< 0 = looking straight down; 85 at most
     double bearing_deg = 0.0;  ///< the direction at the top of the screen, clockwise from north

@@ -38,8 +38,8 @@ public:
     [[nodiscard]] const DriveRoute& route() const { return m_route; }
     [[nodiscard]] const SpeedProfile& profile() const { return *m_profile; }
     [[nodiscard]] map::Projection projection() const { return m_store->projection(); }
-    [[nodiscard]] GeoPoint fromPoint() const { return m_from; }
-    [[nodiscard]] GeoPoint toPoint() const { return m_to; }
+    [[nodiscard]] GeoCoordinate fromPoint() const { return m_from; }
+    [[nodiscard]] GeoCoordinate toPoint() const { return m_to; }
     [[nodiscard]] const std::shared_ptr<const map::TileStore>& store() const { return m_store; }
     [[nodiscard]] const std::shared_ptr<const ipc::DbcDatabase>& dbc() const { return m_dbc; }
 
@@ -55,7 +55,7 @@ private:
     DriveSimulator() = default;
     std::shared_ptr<const map::TileStore> m_store;
     std::shared_ptr<const ipc::DbcDatabase> m_dbc;
-    GeoPoint m_from, m_to;
+    GeoCoordinate m_from, m_to;
     DriveRoute m_route;
     std::shared_ptr<const SpeedProfile> m_profile;
     FrameOptions m_frames;

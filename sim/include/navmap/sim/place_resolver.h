@@ -10,19 +10,15 @@
 #include <string_view>
 #include <vector>
 
+#include "navmap/common/geo_coordinate.h"
 #include "navmap/ipc/net/result.h"
 #include "navmap/map/tile_store.h"
 
 namespace navmap::sim {
 
-struct GeoPoint {
-    double lat = 0.0;
-    double lon = 0.0;
-};
-
 struct NamedPlace {
     std::string name;  ///< UTF-8 as in OSM (or the built-in table)
-    GeoPoint point;
+    GeoCoordinate point;
     float importance = 0.0f;
     bool builtin = false;
 };
@@ -36,11 +32,11 @@ public:
 
     /// "42.5075,1.5218" (spaces allowed) or a place name. Errors: "unknown place 'X' (known: ...)",
     /// "latitude 95 out of range".
-    [[nodiscard]] ipc::Result<GeoPoint> resolve(std::string_view text) const;
+    [[nodiscard]] ipc::Result<GeoCoordinate> resolve(std::string_view text) const;
     [[nodiscard]] const std::vector<NamedPlace>& places() const { return m_places; }
 
     /// Parses "lat,lon"; nullopt if the text is not two numbers; an error if out of range.
-    static std::optional<ipc::Result<GeoPoint>> parseLatLon(std::string_view text);
+    static std::optional<ipc::Result<GeoCoordinate>> parseLatLon(std::string_view text);
     /// Lower-case ASCII key of a name: accents folded, punctuation to spaces, leading article
     /// (el, la, les, l', the) dropped, spaces collapsed.
     static std::string normalize(std::string_view name);

@@ -29,6 +29,8 @@
 #include <string>
 #include <vector>
 
+#include "navmap/common/geo_coordinate.h"
+
 namespace navmap::map::ortho {
 
 /// Raised when a .pn2 file cannot be read; the message names the file, the byte offset and the
@@ -38,22 +40,17 @@ public:
     using std::runtime_error::runtime_error;
 };
 
-struct GeoPoint {
-    double lat = 0;  ///< degrees
-    double lon = 0;
-};
-
-/// One polygon: outer ring and holes (rings open: the last point is not repeated).
+/// One polygon: outer ring and holes (rings open: the last point is not repeated), WGS84 degrees.
 struct Pn2Polygon {
     std::uint32_t id = 0;
-    std::vector<GeoPoint> outer;
-    std::vector<std::vector<GeoPoint>> holes;
+    std::vector<GeoCoordinate> outer;
+    std::vector<std::vector<GeoCoordinate>> holes;
 };
 
 struct Pn2File {
-    std::vector<Pn2Polygon> polygons;          ///< kinds 2 (+3) and 1
-    std::vector<std::vector<GeoPoint>> lines;  ///< kind 0
-    std::size_t records = 0;                   ///< records read (the header's count)
+    std::vector<Pn2Polygon> polygons;               ///< kinds 2 (+3) and 1
+    std::vector<std::vector<GeoCoordinate>> lines;  ///< kind 0
+    std::size_t records = 0;                        ///< records read (the header's count)
 };
 
 /// Reads a whole file; throws Pn2Error.

@@ -9,9 +9,9 @@
 #include <filesystem>
 #include <memory>
 #include <string>
-#include <utility>
 #include <vector>
 
+#include "navmap/common/geo_coordinate.h"
 #include "navmap/ipc/can/can_source.h"
 
 namespace navmap::ipc {
@@ -29,8 +29,8 @@ public:
     explicit SimulatedCanSource(const SimulatedDriveRequest& request);
     ~SimulatedCanSource() override;
 
-    /// The drive's route in degrees (latitude, longitude), for the control socket's set_route.
-    [[nodiscard]] const std::vector<std::pair<double, double>>& routeLatLon() const { return m_route; }
+    /// The drive's route points, WGS84 degrees.
+    [[nodiscard]] const std::vector<GeoCoordinate>& routePoints() const { return m_route; }
     /// The set_route line a simulated HMI sends for this drive: the route with its manoeuvres
     /// (map/guidance: turn classes, roundabout exits, street names), docs/simulator.md.
     [[nodiscard]] const std::string& setRouteLine() const { return m_set_route; }
@@ -43,7 +43,7 @@ public:
 
 private:
     std::string m_name;
-    std::vector<std::pair<double, double>> m_route;
+    std::vector<GeoCoordinate> m_route;
     std::string m_set_route;
     std::unique_ptr<ipc::Replayer> m_replayer;
 };

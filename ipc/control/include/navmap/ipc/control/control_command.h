@@ -10,6 +10,7 @@
 #include <variant>
 #include <vector>
 
+#include "navmap/common/geo_coordinate.h"
 #include "navmap/common/maneuver_type.h"
 
 namespace navmap::ipc {
@@ -20,12 +21,6 @@ struct ControlLimits {
     std::size_t max_route_points = 20000;
     std::size_t max_maneuvers = 2000;
     std::size_t max_string_bytes = 256;  ///< ids, display names, maneuver text
-};
-
-/// A geographic point, WGS84 degrees.
-struct GeoCoordinate {
-    double lat = 0.0;
-    double lon = 0.0;
 };
 
 /// The manoeuvre types and their protocol names (navmap/common/maneuver_type.h), the same enum
@@ -74,23 +69,24 @@ const char* controlEventName(ControlEventKind k) noexcept;  ///< "route_progress
 
 struct SetRouteCommand {
     std::string route_id;
-    std::vector<GeoCoordinate> points;  ///< 2..max_route_points, validated ranges
+    std::vector<GeoCoordinate> points;  ///< 2..max_route_points, validated ranges (navmap/common/geo_coordinate.h)
     std::vector<Maneuver> maneuvers;    ///< indices valid and non-decreasing
 };
 struct ClearRouteCommand {};
 /// A map camera in MapLibre GL JS's convention, centred on the vehicle (docs/ipc.md set_view):
 /// zoom on 512-px tiles, pitch in degrees from straight down, and an optional fixed bearing
-/// (degrees clockwise from north; absent: the display's orientation decides).
+/// (degrees clockwise from north; absent: the display's orientation decides). The protocol's
+/// "pitch" and "bearing" are pitch_deg and bearing_deg here.
 struct ViewCamera {
-    double zoom = 0.0;              ///< 0..24
-    double pitch = 0.0;             ///< 0..85
-    std::optional<double> bearing;  ///< -360..360
+    double zoom = 0.0;                  ///< 0..24
+    double pitch_deg = 0.0;             ///< 0..85
+    std::optional<double> bearing_deg;  ///< -360..360
     bool operator==(const ViewCamera&) const = default;
 };
 /// Ranges a ViewCamera is checked against.
 inline constexpr double kViewCameraMaxZoom = 24.0;
-inline constexpr double kViewCameraMaxPitch = 85.0;
-inline constexpr double kViewCameraMaxBearing = 360.0;
+inline constexpr double kViewCameraMaxPitchDeg = 85.0;
+inline constexpr double kViewCameraMaxBearingDeg = 360.0;
 
 struct SetViewCommand {
     std::string display;           ///< "cluster", "hud", "center", ...
