@@ -97,7 +97,7 @@ LatLonBounds boundsOf4(double south, double west, double north, double east) {
     return b;
 }
 
-RawRoad rawRoad(std::int64_t id, RoadClass cls, std::string name, std::vector<LatLon> points) {
+RawRoad rawRoad(std::int64_t id, RoadClass cls, std::string name, std::vector<navmap::GeoCoordinate> points) {
     RawRoad r;
     r.id = id;
     r.cls = cls;

@@ -86,7 +86,7 @@ TEST(TerrainSeamGpu, ShadingIsContinuousAcrossATileBorderOnASteepSlope) {
         GTEST_SKIP() << "no compiled store in " << navmap::test::binaryDir() << " (target navmap_default_store)";
     navmap::test::DriveScene& d = navmap::test::andorraDrive();
     const navmap::map::TileSource& source = d.scene.tiles();
-    const auto vella = d.scene.toPlanar(navmap::test::kAndorraLaVella.lat, navmap::test::kAndorraLaVella.lon);
+    const auto vella = d.scene.toPlanar(navmap::test::kAndorraLaVella.lat_deg, navmap::test::kAndorraLaVella.lon_deg);
     const Border border = steepestSeam(source, vella, 3);
     ASSERT_GT(border.slope, 0.35) << "no steep leaf tile border near Andorra la Vella";
     std::printf("[ measure  ] border x %.0f m, y %.0f..%.0f m: slope %.2f, one-sided mismatch %.3f\n", border.x_m,
