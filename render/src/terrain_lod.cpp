@@ -100,31 +100,6 @@ float morphedHeight(float distance_m, const TileMorph& morph, float own,
     return s;
 }
 
-namespace {
-
-// The finest resident tile of id's level or coarser across each edge of id (west, east, south,
-// north): the tile of that level just beyond the edge's middle, or its nearest resident ancestor.
-std::array<std::shared_ptr<const map::Tile>, 4> edgeNeighbours(
-    const map::TileScheme& scheme, map::TileId id,
-    const std::function<std::shared_ptr<const map::Tile>(map::TileId)>& resident) {
-    std::array<std::shared_ptr<const map::Tile>, 4> out;
-    const map::Box b = scheme.bounds(id);
-    const double e = 0.25 * scheme.tileSize(id.level);
-    const double mx = 0.5 * (b.min_x + b.max_x), my = 0.5 * (b.min_y + b.max_y);
-    const std::array<map::PlanarPoint, 4> beyond{
-        {{b.min_x - e, my}, {b.max_x + e, my}, {mx, b.min_y - e}, {mx, b.max_y + e}}};
-    for (std::size_t k = 0; k < beyond.size(); ++k) {
-        std::optional<map::TileId> n = scheme.tileAt(id.level, beyond[k]);
-        if (!n || *n == id) continue;  // the edge of the root square
-        for (map::TileId at = *n;; at = at.parent()) {
-            if ((out[k] = resident(at)) || at.level == 0) break;
-        }
-    }
-    return out;
-}
-
-}  // namespace
-
 LodSelection selectLod(const map::TileScheme& scheme, const Camera& camera, double aspect, int viewport_height,
                        const std::function<bool(map::TileId)>& exists,
                        const std::function<std::shared_ptr<const map::Tile>(map::TileId)>& resident,
@@ -235,12 +210,6 @@ LodSelection selectLod(const map::TileScheme& scheme, const Camera& camera, doub
             for (int j = 0; j < kMorphLevels && up.level > 0; ++j) {
                 up = up.parent();
                 m.ancestors[static_cast<std::size_t>(j)] = resident(up);
-            }
-            up = t->id;
-            for (std::size_t k = 0; k < m.neighbours.size(); ++k) {
-                if (k > 0 && (up.level == 0 || !m.ancestors[k - 1])) break;
-                if (k > 0) up = up.parent();
-                m.neighbours[k] = edgeNeighbours(scheme, up, resident);
             }
             m.eye_dz_m = eye_dz;
             out.morph.push_back(std::move(m));

@@ -185,31 +185,11 @@ std::vector<LandCoverVertex> landCoverTriangles(const map::Tile& tile);
 TileMesh buildTileMesh(const map::Tile& tile, const TileMeshOptions& options = {},
                        std::span<const map::Tile* const> ancestors = {});
 
-/// The tiles across the four edges of a tile's grid (west, east, south, north; null: none), of its
-/// level or coarser (TileMorph::neighbours).
-using EdgeNeighbours = std::array<const map::Tile*, 4>;
-
 /// The surface of the ancestor `levels_up` levels above a tile (heights, normals) at the vertices
 /// of the tile's grid, triangulated as that ancestor's mesh renders it (HeightGrid's split).
 /// `heights`: the tile's grid_size^2 samples; `ancestor` may be null (see buildTileMesh).
-/// `ancestor_neighbours`: the tiles across the ancestor's edges, for its border normals
-/// (borderNormal); null: one-sided differences there.
 void ancestorSurface(const map::Tile& tile, int grid_size, std::span<const float> heights, const map::Tile* ancestor,
-                     int levels_up, std::vector<float>& out_heights, std::vector<glm::vec3>& out_normals,
-                     const EdgeNeighbours* ancestor_neighbours = nullptr);
-
-/// Normal of sample (r, c) of `grid`, whose south-west corner lies at store-frame `origin`:
-/// central differences, at the grid's border with the sample beyond the edge taken from the
-/// surface of the tile across it (exact where that tile has the same grid), so that two tiles
-/// of one level compute the same normal at the vertices they share. One-sided where `across`
-/// has no tile for the edge.
-glm::vec3 borderNormal(const HeightGrid& grid, glm::dvec2 origin, int r, int c, const EdgeNeighbours& across);
-
-/// Replaces the normals at the mesh's border (grid, skirts) and those of its geomorph targets
-/// with borderNormal's, from `neighbours` (TileMorph::neighbours: [0] the tile's level, [j + 1]
-/// ancestor j's). `ancestors` as for buildTileMesh.
-void seamlessBorderNormals(TileMesh& mesh, const map::Tile& tile, std::span<const map::Tile* const> ancestors,
-                           std::span<const EdgeNeighbours> neighbours);
+                     int levels_up, std::vector<float>& out_heights, std::vector<glm::vec3>& out_normals);
 
 /// One piece of the route draped onto one tile (seed 3.6.1): both ends lie on one triangle of the
 /// tile's grid, so the straight piece lies on the surface; with the coarser levels' heights at its

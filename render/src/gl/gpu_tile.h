@@ -108,8 +108,6 @@ struct GpuTile {
     glm::mat4 road_cull{1.0f};
     // Geomorphing (terrain_lod.h): the ancestors the morph targets came from, this frame's ranges.
     std::array<const map::Tile*, kMorphLevels> morph_ancestors{};
-    // The tiles the border normals sampled beyond each edge (TileMorph::neighbours).
-    std::array<std::array<const map::Tile*, 4>, kMorphLevels + 1> morph_neighbours{};
     TileMorph morph;
     // The route draped onto this tile's grid (seed 3.6.1), per route object and version; at most
     // kRoutePiecesPerTile pieces (RoutePass).

@@ -208,19 +208,12 @@ std::span<GpuTile* const> GpuTileCache::acquire(const MapFrame& frame, int targe
         GpuTile* gpu = (it != m_tiles.end() && sameTileObject(it->second->source, it->second->source_ref, tile.get()))
                            ? it->second.get()
                            : nullptr;
-        // Re-upload when a geomorph target (an ancestor tile) or a tile beyond an edge (the
-        // border normals) is new to this tile; until the upload budget allows, the tile is drawn
-        // with the targets it has.
+        // Re-upload when a geomorph target (an ancestor tile) is new to this tile; until the
+        // upload budget allows, the tile is drawn with the targets it has.
         bool new_targets = false;
         for (std::size_t j = 0; gpu && morph && j < kMorphLevels; ++j) {
             const map::Tile* a = morph->ancestors[j].get();
             if (a && a != gpu->morph_ancestors[j]) new_targets = true;
-        }
-        for (std::size_t k = 0; gpu && morph && k < morph->neighbours.size(); ++k) {
-            for (std::size_t e = 0; e < 4; ++e) {
-                const map::Tile* t = morph->neighbours[k][e].get();
-                if (t && t != gpu->morph_neighbours[k][e]) new_targets = true;
-            }
         }
         if (!gpu || new_targets) {
             if (!frame.upload_all && m_options.max_tile_uploads_per_frame > 0 &&
@@ -236,7 +229,6 @@ std::span<GpuTile* const> GpuTileCache::acquire(const MapFrame& frame, int targe
         }
         gpu->morph = morph ? *morph : TileMorph{};
         gpu->morph.ancestors = {};  // identities kept in morph_ancestors; do not extend the tiles' life
-        gpu->morph.neighbours = {};
         gpu->last_used = m_frame;
         tiles.push_back(gpu);
         if (want_ortho && !gpu->ortho_started && !tile->ortho.empty()) ortho_wanted.emplace_back(gpu, tile);
@@ -355,17 +347,11 @@ GpuTile* GpuTileCache::upload(const std::shared_ptr<const map::Tile>& tile, cons
     }
     std::array<const map::Tile*, kMorphLevels> ancestors{};
     for (std::size_t j = 0; morph && j < ancestors.size(); ++j) ancestors[j] = morph->ancestors[j].get();
-    std::array<EdgeNeighbours, kMorphLevels + 1> neighbours{};
-    for (std::size_t k = 0; morph && k < neighbours.size(); ++k) {
-        for (std::size_t e = 0; e < 4; ++e) neighbours[k][e] = morph->neighbours[k][e].get();
-    }
     TileMesh mesh = buildTileMesh(*tile, {}, ancestors);
-    if (morph) seamlessBorderNormals(mesh, *tile, ancestors, neighbours);
     auto gpu = std::make_unique<GpuTile>();
     gpu->source = tile.get();
     gpu->source_ref = tile;
     gpu->morph_ancestors = ancestors;
-    gpu->morph_neighbours = neighbours;
     gpu->grid_size = mesh.grid_size;
     gpu->heights = mesh.heights;
     gpu->ancestor_heights = mesh.ancestor_heights;

@@ -58,8 +58,7 @@ public:
     [[nodiscard]] GLuint roadIndexBuffer() const { return m_road_index_buffer; }
 
 private:
-    /// `morph` (may be null): the geomorph targets (TileMorph::ancestors) and the tiles across the
-    /// edges for the border normals (TileMorph::neighbours).
+    /// `morph` (may be null): the geomorph targets (TileMorph::ancestors).
     GpuTile* upload(const std::shared_ptr<const map::Tile>& tile, const TileMorph* morph);
     /// A new RGBA4 texture (size^2, mipmapped) with the land-cover triangles (tile-local metres)
     /// of the square [offset, offset + extent] of their tile.

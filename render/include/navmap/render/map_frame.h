@@ -118,11 +118,6 @@ inline constexpr int kMorphLevels = 4;
 struct TileMorph {
     /// ancestors[j]: the tile j + 1 levels up, parent first (null: none resident, or above the root).
     std::array<std::shared_ptr<const map::Tile>, kMorphLevels> ancestors;
-    /// neighbours[k][e]: for the tile (k = 0) and its ancestors (k = j + 1), the finest resident
-    /// tile of that level or coarser across edge e (west, east, south, north); null: none. The
-    /// terrain's normals at a border take their samples beyond it from there, so that they equal
-    /// the neighbour's (docs/rendering.md "Terrain normals").
-    std::array<std::array<std::shared_ptr<const map::Tile>, 4>, kMorphLevels + 1> neighbours;
     /// Slot j morphs level L - j to L - j - 1 between these camera distances; end 0: no morph.
     std::array<float, kMorphLevels> start_m{}, end_m{};
     float eye_dz_m = 0.0f;  ///< vertical distance of the camera from the LOD height band
