@@ -44,7 +44,7 @@ cmake -S "$root" -B "$build" "${generator[@]}" -DCMAKE_BUILD_TYPE=Sanitize \
   "-DCMAKE_SHARED_LINKER_FLAGS=-fsanitize=address,undefined" \
   "-DCMAKE_MODULE_LINKER_FLAGS=-fsanitize=address,undefined" "$@"
 # The test programs of the named subset (NAVMAP_SAN_TARGETS; "all": every target), and what they link.
-targets="${NAVMAP_SAN_TARGETS:-common_check_test map_rules_test map_geometry_test map_routing_test map_store_test map_spill_test map_guidance_test ipc_unit_tests ipc_net_tests ipc_control_tests vehicle_state_tests navmap_labels_test navmap_text_test render_unit_tests render_lod_unit_tests render_gpu_tests render_ortho_gpu_tests render_case_unit_tests render_case_tests}"
+targets="${NAVMAP_SAN_TARGETS:-common_check_test map_rules_test map_geometry_test map_routing_test map_store_test map_spill_test map_compile_stages_test map_guidance_test ipc_unit_tests ipc_net_tests ipc_control_tests vehicle_state_tests navmap_labels_test navmap_text_test render_unit_tests render_lod_unit_tests render_gpu_tests render_ortho_gpu_tests render_case_unit_tests render_case_tests}"
 if [ "$targets" = all ]; then
   cmake --build "$build" -j "$(nproc)"
 else
