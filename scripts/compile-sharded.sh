@@ -8,26 +8,10 @@
 # status is 1. navmap-compile: $NAVMAP_COMPILE, else build/map/navmap-compile, else the one on PATH.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
-usage() {
-  echo "usage: $0 N OUT --osm FILE [--dem FILE ...] [navmap-compile options]" >&2
-  exit 2
-}
-[ $# -ge 3 ] || usage
-n="$1"
-out="$2"
+# shellcheck source=scripts/shard-args.sh
+. "$root/scripts/shard-args.sh"
+shard_args "$0" "$@"
 shift 2
-[[ "$n" =~ ^[0-9]+$ ]] && [ "$n" -ge 1 ] && [ "$n" -le 4096 ] || {
-  echo "$0: N must be a number of shards in [1, 4096], not '$n'" >&2
-  exit 2
-}
-compile="${NAVMAP_COMPILE:-}"
-if [ -z "$compile" ]; then
-  if [ -x "$root/build/map/navmap-compile" ]; then compile="$root/build/map/navmap-compile"; else compile="navmap-compile"; fi
-fi
-command -v "$compile" >/dev/null 2>&1 || {
-  echo "$0: $compile not found (build first, or set NAVMAP_COMPILE)" >&2
-  exit 2
-}
 jobs="${NAVMAP_JOBS:-$(nproc)}"
 parts="$out.shards"
 rm -rf "$parts"

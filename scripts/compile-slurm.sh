@@ -18,29 +18,13 @@
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 me="compile-slurm"
-usage() {
-  echo "usage: $0 N OUT --osm FILE [--dem FILE ...] [navmap-compile options]" >&2
-  exit 2
-}
-[ $# -ge 3 ] || usage
-n="$1"
-out="$2"
+# shellcheck source=scripts/shard-args.sh
+. "$root/scripts/shard-args.sh"
+shard_args "$0" "$@"
 shift 2
-[[ "$n" =~ ^[0-9]+$ ]] && [ "$n" -ge 1 ] && [ "$n" -le 4096 ] || {
-  echo "$0: N must be a number of shards in [1, 4096], not '$n'" >&2
-  exit 2
-}
 for tool in sbatch scontrol scancel; do
   command -v "$tool" >/dev/null 2>&1 || { echo "$me: $tool not found (Slurm's client commands, Debian package slurm-client)" >&2; exit 2; }
 done
-compile="${NAVMAP_COMPILE:-}"
-if [ -z "$compile" ]; then
-  if [ -x "$root/build/map/navmap-compile" ]; then compile="$root/build/map/navmap-compile"; else compile="navmap-compile"; fi
-fi
-command -v "$compile" >/dev/null 2>&1 || {
-  echo "$me: $compile not found (build first, or set NAVMAP_COMPILE)" >&2
-  exit 2
-}
 if [[ "$compile" == */* ]]; then compile="$(cd "$(dirname "$compile")" && pwd)/$(basename "$compile")"; fi
 export NAVMAP_COMPILE="$compile"
 timeout_s="${NAVMAP_SLURM_TIMEOUT:-86400}"
