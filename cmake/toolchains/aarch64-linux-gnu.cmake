@@ -20,6 +20,9 @@ set(CMAKE_FIND_ROOT_PATH_MODE_PROGRAM NEVER)
 if(DEFINED ENV{NAVMAP_SYSROOT} AND NOT NAVMAP_SYSROOT)
   set(NAVMAP_SYSROOT "$ENV{NAVMAP_SYSROOT}")
 endif()
+# try_compile projects read this file again, in the same process: without the sysroot passed on,
+# they would take the multiarch branch below and point pkg-config's environment away from it.
+list(APPEND CMAKE_TRY_COMPILE_PLATFORM_VARIABLES NAVMAP_SYSROOT)
 if(NAVMAP_SYSROOT)
   set(CMAKE_SYSROOT "${NAVMAP_SYSROOT}")
   set(CMAKE_FIND_ROOT_PATH "${NAVMAP_SYSROOT}")
