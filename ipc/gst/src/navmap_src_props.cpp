@@ -24,13 +24,13 @@ constexpr auto kFlags = static_cast<GParamFlags>(G_PARAM_READWRITE | G_PARAM_STA
 GType transportType() {
     static GType type = 0;
     if (g_once_init_enter(&type)) {
-        static const GEnumValue values[] = {
+        static const GEnumValue kValues[] = {
             {static_cast<gint>(StreamPayload::Shm), "Shared-memory ring (Unix socket only)", "shm"},
             {static_cast<gint>(StreamPayload::Raw), "Uncompressed pixels on the socket", "raw"},
             {static_cast<gint>(StreamPayload::Zlib), "zlib-compressed pixels on the socket", "zlib"},
             {0, nullptr, nullptr},
         };
-        const GType t = g_enum_register_static("GstNavmapTransport", values);
+        const GType t = g_enum_register_static("GstNavmapTransport", kValues);
         gst_type_mark_as_plugin_api(t, static_cast<GstPluginAPIFlags>(0));
         g_once_init_leave(&type, t);
     }
@@ -110,16 +110,16 @@ void setNavmapSrcProperty(NavmapSrcState& state, guint id, const GValue* value, 
 void getNavmapSrcProperty(NavmapSrcState& state, guint id, GValue* value, GParamSpec* pspec, GObject* object) {
     std::lock_guard lock(state.lock);
     const auto& p = state.props;
-    const auto orNull = [](const std::string& s) { return s.empty() ? nullptr : s.c_str(); };
+    const auto or_null = [](const std::string& s) { return s.empty() ? nullptr : s.c_str(); };
     switch (id) {
         case kPropSocket: g_value_set_string(value, p.socket_path.c_str()); break;
-        case kPropHost: g_value_set_string(value, orNull(p.host)); break;
+        case kPropHost: g_value_set_string(value, or_null(p.host)); break;
         case kPropPort: g_value_set_int(value, p.port); break;
         case kPropProfile: g_value_set_string(value, p.profile.c_str()); break;
         case kPropWidth: g_value_set_int(value, p.width); break;
         case kPropHeight: g_value_set_int(value, p.height); break;
         case kPropFps: g_value_set_int(value, p.fps); break;
-        case kPropView: g_value_set_string(value, orNull(p.view)); break;
+        case kPropView: g_value_set_string(value, or_null(p.view)); break;
         case kPropTransport: g_value_set_enum(value, static_cast<gint>(p.transport)); break;
         case kPropReconnect: g_value_set_boolean(value, p.reconnect ? TRUE : FALSE); break;
         default: G_OBJECT_WARN_INVALID_PROPERTY_ID(object, id, pspec); break;
