@@ -137,13 +137,14 @@ gboolean unlockStop(GstBaseSrc* base) {
     return TRUE;
 }
 
-/// New caps when a frame's size is not the negotiated one (a reconnect to another server).
+/// New caps when a frame's size is not the negotiated one (the library checks frames against the
+/// granted profile, so this is a safeguard rather than a path taken).
 bool followFrameSize(GstBaseSrc* base, NavmapSrcState& st, const FrameHeader& h) {
     if (static_cast<int>(h.width) == st.caps_width && static_cast<int>(h.height) == st.caps_height) {
         return true;
     }
-    GST_INFO_OBJECT(base, "frames are now %ux%u (were %dx%d): renegotiating", h.width, h.height, st.caps_width,
-                    st.caps_height);
+    GST_INFO_OBJECT(base, "frames are now %ux%u (were %dx%d): renegotiating", h.width, h.height, st.caps_width.load(),
+                    st.caps_height.load());
     st.caps_width = static_cast<int>(h.width);
     st.caps_height = static_cast<int>(h.height);
     GstCaps* caps = capsFor(st.caps_width, st.caps_height, st.caps_fps);

@@ -38,10 +38,11 @@ struct NavmapSrcState {
     NavmapSrcProps props;
     std::unique_ptr<FrameSource> source;  // from start() to stop(); the streaming thread's
     std::atomic<bool> flushing{false};
-    // Caps now set (width, height, fps of the granted profile or the newest frame).
-    int caps_width = 0;
-    int caps_height = 0;
-    int caps_fps = 0;
+    // Caps now set (width, height, fps of the granted profile or the newest frame): written by
+    // start() and the streaming thread, read by caps and latency queries from any thread.
+    std::atomic<int> caps_width{0};
+    std::atomic<int> caps_height{0};
+    std::atomic<int> caps_fps{0};
     // Timestamps: the first frame of each connection anchors its render time to the running time
     // it arrived at (docs/gstreamer.md "Timestamps").
     std::uint64_t anchored_connects = 0;
