@@ -135,6 +135,7 @@ protected:
     std::unique_ptr<FrameServer> startServer(std::vector<RenderedProfile> rendered = {}) {
         FrameServerOptions o;
         o.unix_path = m_socket;
+        o.tcp_port = 0;  // any free port: tcpPort()
         o.rendered_profiles = std::move(rendered);
         auto server = std::make_unique<FrameServer>(o);
         EXPECT_TRUE(server->start().ok());
@@ -212,13 +213,17 @@ TEST_F(NavmapSrcTest, InspectIsClean) {
 }
 
 TEST_F(NavmapSrcTest, PngsArePublishedFramesByteForByteThenEosWhenTheServerStops) {
-    for (const char* transport : {"shm", "raw", "zlib"}) {
+    // The Unix socket with each transport, and TCP (host and port) with zlib.
+    for (const std::string transport : {"shm", "raw", "zlib", "tcp zlib"}) {
         SCOPED_TRACE(transport);
         fs::remove_all(m_dir / "frames");
         fs::create_directories(m_dir / "frames");
         auto server = startServer();
-        auto launched = std::async(std::launch::async, runCommand,
-                                   "gst-launch-1.0 " + source(std::string("transport=") + transport) + pngSink());
+        const std::string where =
+            transport.starts_with("tcp ")
+                ? "host=127.0.0.1 port=" + std::to_string(server->tcpPort()) + " transport=" + transport.substr(4)
+                : "transport=" + transport;
+        auto launched = std::async(std::launch::async, runCommand, "gst-launch-1.0 " + source(where) + pngSink());
         ASSERT_TRUE(publishFrames(*server, 1, 5, 1'000'000'000));
         EXPECT_TRUE(navmap::test::waitFor([&] { return countFiles(m_dir / "frames") == 5; }, 10s));
         server.reset();  // navmapd stops: the stream ends, the pipeline gets EOS
@@ -303,6 +308,11 @@ TEST_F(NavmapSrcTest, ErrorsSayWhatIsWrong) {
         << no_size.out;
 
     auto server = startServer({{"center", "bird", 1280, 720}});
+    const auto shm_over_tcp = runCommand(
+        "gst-launch-1.0 " + source("host=127.0.0.1 port=" + std::to_string(server->tcpPort())) + " ! fakesink");
+    EXPECT_NE(shm_over_tcp.exit_code, 0);
+    EXPECT_NE(shm_over_tcp.out.find("payload shm needs the Unix socket"), std::string::npos) << shm_over_tcp.out;
+
     const auto refused = runCommand("gst-launch-1.0 " + source() + " ! fakesink");
     EXPECT_NE(refused.exit_code, 0);
     EXPECT_NE(refused.out.find("handshake refused by " + m_socket + ": handshake: bird 96x48 is not rendered here"),
