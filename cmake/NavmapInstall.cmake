@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: Apache-2.0
-# What `cmake --install` puts where (GNUInstallDirs; docs/packaging.md). Four components, one
+# What `cmake --install` puts where (GNUInstallDirs; docs/packaging.md). Five components, one
 # Debian package each (cmake/NavmapPackaging.cmake):
 #   daemon      navmapd and the tools, the default store and navmap.dbc (<datadir>/navmap), the
 #               systemd unit and sysusers.d entry, the configuration (<sysconfdir>/navmap), man
@@ -9,6 +9,8 @@
 #   client      libnavmap-client.so.<major>
 #   client-dev  its headers, the .so link, the CMake package (find_package(navmap COMPONENTS
 #               client)) and navmap-client.pc
+#   gstreamer   libgstnavmap.so (navmapsrc) in GStreamer's plugin directory (NAVMAP_WITH_GSTREAMER);
+#               apart from client, whose library links only the C and C++ runtime
 # Installed programs find their data relative to their own directory (navmap/install_layout.h),
 # so the tree works under any prefix; nothing of the build machine is compiled in.
 include(CMakePackageConfigHelpers)
@@ -107,3 +109,19 @@ file(RELATIVE_PATH NAVMAP_PC_PREFIX_FROM_PCDIR ${CMAKE_INSTALL_FULL_LIBDIR}/pkgc
 string(REGEX REPLACE "/$" "" NAVMAP_PC_PREFIX_FROM_PCDIR "${NAVMAP_PC_PREFIX_FROM_PCDIR}")
 configure_file(cmake/templates/navmap-client.pc.in ${PROJECT_BINARY_DIR}/navmap-client.pc @ONLY)
 install(FILES ${PROJECT_BINARY_DIR}/navmap-client.pc DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig COMPONENT client-dev)
+
+# --- gstreamer: the navmapsrc plugin ---
+# GStreamer's plugin directory relative to its prefix (Debian: lib/<multiarch>/gstreamer-1.0), under
+# the prefix installed to: the packages' /usr puts it where GStreamer looks. The plugin finds
+# libnavmap-client relative to itself, so a tree under another prefix works with GST_PLUGIN_PATH.
+if(TARGET gstnavmap)
+  pkg_get_variable(navmap_gst_prefix gstreamer-1.0 prefix)
+  pkg_get_variable(navmap_gst_pluginsdir gstreamer-1.0 pluginsdir)
+  file(RELATIVE_PATH navmap_gst_plugindir_default ${navmap_gst_prefix} ${navmap_gst_pluginsdir})
+  set(NAVMAP_GST_PLUGIN_INSTALL_DIR ${navmap_gst_plugindir_default} CACHE STRING
+      "Where libgstnavmap.so is installed, relative to the prefix")
+  file(RELATIVE_PATH navmap_gst_to_libdir ${CMAKE_INSTALL_PREFIX}/${NAVMAP_GST_PLUGIN_INSTALL_DIR}
+       ${CMAKE_INSTALL_PREFIX}/${CMAKE_INSTALL_LIBDIR})
+  set_target_properties(gstnavmap PROPERTIES INSTALL_RPATH "$ORIGIN/${navmap_gst_to_libdir}")
+  install(TARGETS gstnavmap LIBRARY DESTINATION ${NAVMAP_GST_PLUGIN_INSTALL_DIR} COMPONENT gstreamer)
+endif()

@@ -4,7 +4,8 @@
 #   navmap-view           the display client that records frames (PNG files through OpenImageIO)
 #   libnavmap-client0     libnavmap-client.so.0 (what a display process needs at run time)
 #   libnavmap-client-dev  headers, CMake package, pkg-config file
-# Dependencies on Debian libraries come from dpkg-shlibdeps; between the four, from here.
+#   gstreamer1.0-navmap   libgstnavmap.so, the GStreamer source element navmapsrc (NAVMAP_WITH_GSTREAMER)
+# Dependencies on Debian libraries come from dpkg-shlibdeps; between the packages, from here.
 set(CPACK_PACKAGE_NAME navmap)
 set(CPACK_PACKAGE_VENDOR "navmap")
 set(CPACK_PACKAGE_VERSION ${PROJECT_VERSION})
@@ -19,6 +20,9 @@ if(NAVMAP_WITH_DAEMON)
   set(CPACK_COMPONENTS_ALL daemon viewer client client-dev)
 else()
   set(CPACK_COMPONENTS_ALL client client-dev)
+endif()
+if(TARGET gstnavmap)
+  list(APPEND CPACK_COMPONENTS_ALL gstreamer)
 endif()
 set(CPACK_DEB_COMPONENT_INSTALL ON)
 set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
@@ -68,6 +72,18 @@ set(CPACK_DEBIAN_CLIENT-DEV_DESCRIPTION "navmap display-client library: developm
 Headers (navmap_client.h, navmap/ipc/client/*.h, navmap/ipc/net/*.h), the CMake package
 (find_package(navmap COMPONENTS client)) and the pkg-config file navmap-client.pc.")
 
+set(CPACK_DEBIAN_GSTREAMER_PACKAGE_NAME gstreamer1.0-navmap)
+set(CPACK_DEBIAN_GSTREAMER_PACKAGE_SECTION video)
+# dpkg-shlibdeps cannot resolve libnavmap-client.so.0, which no installed package provides while
+# the packages are made: the dependencies are named here (GStreamer's of Debian 12, 1.22).
+set(CPACK_DEBIAN_GSTREAMER_PACKAGE_SHLIBDEPS OFF)
+set(CPACK_DEBIAN_GSTREAMER_PACKAGE_DEPENDS
+    "libnavmap-client${PROJECT_VERSION_MAJOR} (= ${PROJECT_VERSION}), libgstreamer1.0-0 (>= 1.20), libglib2.0-0, zlib1g, libc6, libgcc-s1, libstdc++6")
+set(CPACK_DEBIAN_GSTREAMER_DESCRIPTION "GStreamer source element of navmapd's frame stream
+navmapsrc receives navmapd's rendered map frames through libnavmap-client (shared memory, raw or
+zlib) and produces video/x-raw RGBA with timestamps from the frames' render times, EOS when
+navmapd stops, or reconnects.")
+
 include(CPack)
 if(NAVMAP_WITH_DAEMON)
   cpack_add_component(daemon DISPLAY_NAME "navmapd" REQUIRED)
@@ -75,3 +91,6 @@ if(NAVMAP_WITH_DAEMON)
 endif()
 cpack_add_component(client DISPLAY_NAME "libnavmap-client")
 cpack_add_component(client-dev DISPLAY_NAME "libnavmap-client-dev" DEPENDS client)
+if(TARGET gstnavmap)
+  cpack_add_component(gstreamer DISPLAY_NAME "gstreamer1.0-navmap" DEPENDS client)
+endif()

@@ -23,12 +23,15 @@ for m in common ipc render sim daemon; do
 done
 rule ipc '#include "navmap/(render|map|daemon|sim)/' "ipc/ does not know render/, map/, daemon/ or sim/"
 # Inside ipc/: net at the bottom; client (libnavmap-client) on net alone; can and control on net;
-# stream (the frame server) on client's wire format and net. ipc/CMakeLists.txt links the same way.
+# stream (the frame server) on client's wire format and net; gst (the GStreamer plugin) on client
+# alone. ipc/CMakeLists.txt links the same way.
 rule ipc/net '#include "navmap/ipc/(can|control|stream|client)/' "ipc/net uses no other part of ipc/"
 rule ipc/client '#include "navmap/ipc/(can|control|stream)/' "ipc/client (libnavmap-client) uses ipc/net only"
 rule ipc/can '#include "navmap/ipc/(control|stream|client)/' "ipc/can uses ipc/net only"
 rule ipc/control '#include "navmap/ipc/(can|stream|client)/' "ipc/control uses ipc/net only"
 rule ipc/stream '#include "navmap/ipc/(can|control)/' "ipc/stream uses ipc/client and ipc/net only"
+rule ipc/gst '#include "navmap/ipc/(can|control|stream)/' "ipc/gst (navmapsrc) uses libnavmap-client only"
+rule . '#include <(gst|glib|glib-object)[/.]' "GStreamer and GLib stay in ipc/gst" "ipc/gst"
 rule . '#include "navmap/ipc/[a-z_]+\.h"' "ipc/'s headers are navmap/ipc/<part>/<file>.h"
 rule ipc '#include "navmap_client.h"' "only libnavmap-client's C API includes navmap_client.h" ipc/client
 rule render '#include "navmap/(ipc|daemon|sim)/' "render/ uses map/ only"

@@ -28,6 +28,9 @@ BUILD=(
   libopenimageio-dev
   # man pages from the tools' --help (skipped when absent)
   help2man
+  # the GStreamer source element navmapsrc (ipc/gst) and the tools and elements its tests run
+  libgstreamer1.0-dev libgstreamer-plugins-base1.0-dev gstreamer1.0-tools gstreamer1.0-plugins-base
+  gstreamer1.0-plugins-good
 )
 TEST=(
   # fuzzers (clang), format and lint checks
@@ -39,6 +42,8 @@ TEST=(
   libgtest-dev libgmock-dev libbenchmark-dev chromium
   # /metrics through the Prometheus client library's parser; Debian packages (cpack, dpkg-shlibdeps)
   python3-prometheus-client dpkg-dev
+  # gst-discoverer-1.0: the navmapsrc tests check their WebM file with it
+  gstreamer1.0-plugins-base-apps
   # CAN tools (candump/canplayer) and a Debian kernel under qemu for the real SocketCAN (vcan) test
   can-utils qemu-system-x86 linux-image-amd64 busybox-static cpio
 )

@@ -55,8 +55,22 @@ grep -qx "ExecStart=$prefix/bin/navmapd --config $prefix/etc/navmap/navmapd.toml
     || fail "the unit does not name this prefix: $(grep ExecStart "$prefix/lib/systemd/system/navmapd.service")"
 grep -q '^u navmap ' "$prefix/lib/sysusers.d/navmap.conf" || fail "sysusers.d entry has no navmap user"
 
+# The GStreamer plugin (NAVMAP_WITH_GSTREAMER) in GStreamer's directory under the prefix; it finds
+# the installed libnavmap-client relative to itself.
+plugin=()
+if [ -f "$build/gstreamer-1.0/libgstnavmap.so" ]; then
+    plugin=("$prefix"/lib/*/gstreamer-1.0/libgstnavmap.so "$prefix"/lib/gstreamer-1.0/libgstnavmap.so)
+    plugin=("$(ls "${plugin[@]}" 2>/dev/null | head -n 1)")
+    [ -n "${plugin[0]}" ] || fail "missing lib/<multiarch>/gstreamer-1.0/libgstnavmap.so"
+    if command -v gst-inspect-1.0 > /dev/null; then
+        GST_REGISTRY="$work/gst-registry.bin" GST_PLUGIN_PATH="$(dirname "${plugin[0]}")" \
+            gst-inspect-1.0 navmapsrc > "$work/gst-inspect.log" 2>&1 || { cat "$work/gst-inspect.log"; fail "gst-inspect-1.0 navmapsrc"; }
+        grep -q "Filename *${plugin[0]}" "$work/gst-inspect.log" || fail "navmapsrc was not loaded from the prefix"
+    fi
+fi
+
 # 2. No path of the build machine in anything installed that runs.
-for f in "$prefix"/bin/* "$prefix/$libdir"/libnavmap-client.so.*; do
+for f in "$prefix"/bin/* "$prefix/$libdir"/libnavmap-client.so.* "${plugin[@]}"; do
     for path in "$src" "$build" "$(dirname "$src")/"; do
         if grep -a -q -F "$path" "$f"; then
             fail "$f contains '$path': $(strings -a "$f" | grep -F "$path" | head -n 3 | tr '\n' ' ')"

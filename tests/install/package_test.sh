@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: Apache-2.0
 # The Debian packages (CTest `deb_packages`, label install): `cpack -G DEB` in the build tree makes
-# navmapd, navmap-view, libnavmap-client0 and libnavmap-client-dev; their control fields and file lists are
+# navmapd, navmap-view, libnavmap-client0 and libnavmap-client-dev (and gstreamer1.0-navmap when the
+# build has the GStreamer plugin); their control fields and file lists are
 # checked, and they are installed into a throwaway root with dpkg (dpkg --root, maintainer
 # scripts chroot-less with DPKG_ROOT: the postinst creates the navmap user there through
 # sysusers.d). Without root (dpkg needs it) the packages are unpacked with dpkg -x instead; the
@@ -70,6 +71,25 @@ for f in ./usr/bin/navmapd ./usr/share/navmap/andorra.navmap ./etc/navmap/navmap
 done
 grep -q 'cmake/navmap/navmapConfig.cmake$' <<< "$dev_files" || fail "-dev lacks the CMake package"
 grep -q '/include/navmap_client.h$' <<< "$dev_files" || fail "-dev lacks navmap_client.h"
+
+# The GStreamer plugin (NAVMAP_WITH_GSTREAMER): in GStreamer's directory, and it loads from the
+# unpacked packages, finding the packaged libnavmap-client relative to itself.
+if [ -f "$build/gstreamer-1.0/libgstnavmap.so" ]; then
+    gst_deb="$work/packages/gstreamer1.0-navmap_${version}_${arch}.deb"
+    [ -f "$gst_deb" ] || { ls -l "$work/packages"; fail "missing $(basename "$gst_deb")"; }
+    echo "== $(basename "$gst_deb") ($(stat -c %s "$gst_deb") bytes)"
+    dpkg-deb -I "$gst_deb" | sed -n '/^ Package:/,$p'
+    grep -q "^libnavmap-client0 (= $version), libgstreamer1.0-0" <<< "$(field "$gst_deb" Depends)" \
+        || fail "gstreamer1.0-navmap Depends: $(field "$gst_deb" Depends)"
+    plugin_dir="usr/lib/$(dpkg-architecture -qDEB_HOST_MULTIARCH)/gstreamer-1.0"
+    grep -qx "./$plugin_dir/libgstnavmap.so" <<< "$(files "$gst_deb")" || fail "gstreamer1.0-navmap: $(files "$gst_deb")"
+    if command -v gst-inspect-1.0 > /dev/null; then
+        dpkg -x "$gst_deb" "$work/gst-root" && dpkg -x "$lib_deb" "$work/gst-root"
+        GST_REGISTRY="$work/gst-registry.bin" GST_PLUGIN_PATH="$work/gst-root/$plugin_dir" \
+            gst-inspect-1.0 navmapsrc > "$work/gst-inspect.log" 2>&1 || { cat "$work/gst-inspect.log"; fail "gst-inspect-1.0 navmapsrc"; }
+        grep -q "Filename *$work/gst-root/$plugin_dir/libgstnavmap.so" "$work/gst-inspect.log" || fail "navmapsrc from elsewhere"
+    fi
+fi
 
 # Into a throwaway root.
 root="$work/root"
