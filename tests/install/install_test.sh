@@ -59,9 +59,10 @@ grep -q '^u navmap ' "$prefix/lib/sysusers.d/navmap.conf" || fail "sysusers.d en
 # the installed libnavmap-client relative to itself.
 plugin=()
 if [ -f "$build/gstreamer-1.0/libgstnavmap.so" ]; then
-    plugin=("$prefix"/lib/*/gstreamer-1.0/libgstnavmap.so "$prefix"/lib/gstreamer-1.0/libgstnavmap.so)
-    plugin=("$(ls "${plugin[@]}" 2>/dev/null | head -n 1)")
-    [ -n "${plugin[0]}" ] || fail "missing lib/<multiarch>/gstreamer-1.0/libgstnavmap.so"
+    for f in "$prefix"/lib/*/gstreamer-1.0/libgstnavmap.so "$prefix"/lib/gstreamer-1.0/libgstnavmap.so; do
+        if [ -f "$f" ]; then plugin=("$f"); break; fi
+    done
+    [ "${#plugin[@]}" -eq 1 ] || fail "missing lib/<multiarch>/gstreamer-1.0/libgstnavmap.so"
     if command -v gst-inspect-1.0 > /dev/null; then
         GST_REGISTRY="$work/gst-registry.bin" GST_PLUGIN_PATH="$(dirname "${plugin[0]}")" \
             gst-inspect-1.0 navmapsrc > "$work/gst-inspect.log" 2>&1 || { cat "$work/gst-inspect.log"; fail "gst-inspect-1.0 navmapsrc"; }
