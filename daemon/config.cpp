@@ -102,8 +102,8 @@ public:
         : m_root(root), m_source(source_name), m_err(err) {}
 
     bool knownSections() {
-        const std::set<std::string> sections{"store",   "input",  "sim", "render", "profile",
-                                             "control", "stream", "log", "can",    "guidance"};
+        const std::set<std::string> sections{"store",  "input", "sim", "render",   "profile", "control",
+                                             "stream", "log",   "can", "guidance", "style"};
         for (const auto& [k, v] : m_root) {
             if (!sections.count(std::string(k.str()))) {
                 m_err->message =
@@ -119,6 +119,7 @@ public:
     bool readSim(DaemonConfig& c);
     bool readGuidance(DaemonConfig& c);
     bool readRender(DaemonConfig& c);
+    bool readStyle(DaemonConfig& c);
     bool readProfiles(DaemonConfig& c);
     bool readControl(DaemonConfig& c);
     bool readStream(DaemonConfig& c);
@@ -274,6 +275,43 @@ bool ConfigParser::readRender(DaemonConfig& c) {
         return false;
     }
     c.orthoimage_ground = ground == "orthoimage";
+    return true;
+}
+
+// [style]: the mode (render.style's older spelling of a fixed one is read by readRender), where
+// auto takes its light from and the thresholds.
+bool ConfigParser::readStyle(DaemonConfig& c) {
+    auto r = section("style");
+    StyleConfig& s = c.style;
+    std::string mode, source = "can";
+    if (!r.get("mode", mode) || !r.get("source", source) || !r.get("twilight_deg", s.twilight_deg) ||
+        !r.range("twilight_deg", s.twilight_deg, -18.0, 10.0) || !r.get("hysteresis_deg", s.hysteresis_deg) ||
+        !r.range("hysteresis_deg", s.hysteresis_deg, 0.0, 10.0) ||
+        !r.get("light_night_below_pct", s.light_night_below_pct) ||
+        !r.range("light_night_below_pct", s.light_night_below_pct, 0.0, 100.0) ||
+        !r.get("light_day_above_pct", s.light_day_above_pct) ||
+        !r.range("light_day_above_pct", s.light_day_above_pct, s.light_night_below_pct, 100.0) ||
+        !r.get("can_timeout_s", s.can_timeout_s) || !r.range("can_timeout_s", s.can_timeout_s, 0.1, 3600.0) ||
+        !r.get("fade_s", s.fade_s) || !r.range("fade_s", s.fade_s, 0.0, 60.0) || !r.noUnknownKeys())
+        return false;
+    if (!mode.empty()) {
+        const auto* render = table("render");
+        if (render && render->contains("style")) {
+            m_err->message = m_source + ": style.mode and render.style both given: keep style.mode";
+            return false;
+        }
+        if (mode != "day" && mode != "night" && mode != "auto") {
+            m_err->message = m_source + ": style.mode = \"" + mode + "\": expected day, night or auto";
+            return false;
+        }
+        s.automatic = mode == "auto";
+        c.night = mode == "night";
+    }
+    if (source != "can" && source != "sun") {
+        m_err->message = m_source + ": style.source = \"" + source + "\": expected can or sun";
+        return false;
+    }
+    s.prefer_can = source == "can";
     return true;
 }
 
@@ -457,8 +495,8 @@ std::optional<DaemonConfig> parseConfig(const std::string& text, const std::stri
     ConfigParser parser(root, source_name, err);
     if (!parser.knownSections() || !parser.readStore(c) || !parser.readInput(c)) return std::nullopt;
     parser.readCan(c);
-    if (!parser.readSim(c) || !parser.readGuidance(c) || !parser.readRender(c) || !parser.readProfiles(c) ||
-        !parser.readControl(c) || !parser.readStream(c) || !parser.readLog(c))
+    if (!parser.readSim(c) || !parser.readGuidance(c) || !parser.readRender(c) || !parser.readStyle(c) ||
+        !parser.readProfiles(c) || !parser.readControl(c) || !parser.readStream(c) || !parser.readLog(c))
         return std::nullopt;
     return c;
 }
@@ -502,7 +540,10 @@ std::string describeConfig(const DaemonConfig& c) {
           : c.input == InputSource::Replay ? "replay " + c.replay_log.string()
                                            : "socketcan " + c.can_interface)
       << ", position stale after " << c.stale_after_s << " s\n";
-    s << "render: egl " << c.egl_platform << ", msaa " << c.msaa << ", style " << (c.night ? "night" : "day")
+    s << "render: egl " << c.egl_platform << ", msaa " << c.msaa << ", style "
+      << (c.style.automatic ? (c.style.prefer_can ? "auto (CAN light signal, else the sun)" : "auto (the sun)")
+          : c.night         ? "night"
+                            : "day")
       << ", ground " << (c.orthoimage_ground ? "orthoimage" : "landcover") << ", labels " << (c.labels ? "on" : "off")
       << ", gpu tile cache " << (c.gpu_tile_cache > 0 ? std::to_string(c.gpu_tile_cache) : std::string("auto"))
       << ", shader cache "

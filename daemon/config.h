@@ -25,6 +25,22 @@ struct GuidanceConfig {
     double second_arrow_within_m = 250.0;
 };
 
+/// [style]: how the map chooses between its day and night style (docs/navmapd.md "Day and night").
+struct StyleConfig {
+    /// mode = "auto": the sun or the vehicle's lights choose (DayNight); "day" / "night": fixed,
+    /// DaemonConfig::night. set_style overrides either until set_style "auto".
+    bool automatic = false;
+    /// source = "can": a light signal the DBC maps (docs/can-input.md) while one is heard, else the
+    /// sun; "sun": the sun only.
+    bool prefer_can = true;
+    double twilight_deg = -6.0;           ///< night while the sun is below this (civil twilight) ...
+    double hysteresis_deg = 1.0;          ///< ... crossed by half of this either way before the style changes
+    double light_night_below_pct = 10.0;  ///< Vehicle.Exterior.LightIntensity: night below this ...
+    double light_day_above_pct = 20.0;    ///< ... day above this, the last style between
+    double can_timeout_s = 10.0;          ///< a light signal older than this counts as none (the sun decides)
+    double fade_s = 2.0;                  ///< the cross-fade between the styles
+};
+
 struct DaemonConfig {
     // [store]
     std::filesystem::path store_path;  ///< compiled tile store: the map's frame and road graph
@@ -48,7 +64,8 @@ struct DaemonConfig {
     // [render]
     std::string egl_platform = "auto";
     int msaa = -1;
-    bool night = false;
+    bool night = false;  ///< the style while StyleConfig::automatic is off ([style] mode, or render.style)
+    StyleConfig style;
     /// The terrain's ground: false the OpenStreetMap land cover, true the synthetic orthoimage
     /// (seed ch. 6; tiles with ortho layers, weights <datadir>/ortho-mlp.nnw; docs/orthoimage.md).
     bool orthoimage_ground = false;

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "config_reloader.h"
 
+#include "day_night.h"
+
 namespace navmap::daemon {
 
 void ConfigReloader::reload(ipc::ControlState& control, DisplayScheduler& displays) {
@@ -13,6 +15,7 @@ void ConfigReloader::reload(ipc::ControlState& control, DisplayScheduler& displa
         // will run.
         DaemonConfig merged = m_running;
         merged.night = fresh->night;
+        merged.style.automatic = fresh->style.automatic;
         merged.orthoimage_ground = fresh->orthoimage_ground;
         merged.profiles = fresh->profiles;
         fresh = std::move(merged);
@@ -25,14 +28,15 @@ void ConfigReloader::reload(ipc::ControlState& control, DisplayScheduler& displa
     }
     // Style and per-profile view settings change in place; clients stay connected.
     ipc::SetStyleCommand style;
-    style.style = fresh->night ? ipc::MapStyle::Night : ipc::MapStyle::Day;
+    style.style = configuredStyle(*fresh);
     style.ground = fresh->orthoimage_ground ? ipc::Ground::Orthoimage : ipc::Ground::LandCover;
     (void)control.setStyle(style);
     m_running.night = fresh->night;
+    m_running.style.automatic = fresh->style.automatic;
     m_running.orthoimage_ground = fresh->orthoimage_ground;
     displays.reconfigure(fresh->profiles);
     ++m_reloads;
-    m_log(Log::kNotice, "reloaded %s: style %s, ground %s", m_path->c_str(), fresh->night ? "night" : "day",
+    m_log(Log::kNotice, "reloaded %s: style %s, ground %s", m_path->c_str(), ipc::mapStyleName(configuredStyle(*fresh)),
           fresh->orthoimage_ground ? "orthoimage" : "landcover");
 }
 

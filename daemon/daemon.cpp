@@ -9,6 +9,7 @@
 #include "config_reloader.h"
 #include "daemon_metrics.h"
 #include "daemon_status.h"
+#include "day_night.h"
 #include "display_scheduler.h"
 #include "frame_recentring.h"
 #include "lifecycle.h"
@@ -72,7 +73,7 @@ std::shared_ptr<ipc::ControlState> makeControlState(const DaemonConfig& config) 
     for (const auto& p : config.profiles) display_names.insert(p.name);
     auto control = std::make_shared<ipc::ControlState>(display_names);
     ipc::SetStyleCommand style;
-    style.style = config.night ? ipc::MapStyle::Night : ipc::MapStyle::Day;
+    style.style = configuredStyle(config);
     style.ground = config.orthoimage_ground ? ipc::Ground::Orthoimage : ipc::Ground::LandCover;
     (void)control->setStyle(style);
     return control;
@@ -160,11 +161,32 @@ void recentre(FrameRecentring& frames, const map::Projection& next, double scale
         std::chrono::duration<double, std::milli>(Clock::now() - start).count());
 }
 
-FrameContext frameContext(const ipc::ViewState* view, const RouteState& route, const RouteGuidance& guidance,
-                          bool labels) {
+// What DayNight decides this tick's style from: the vehicle's place (the map's centre before the
+// first fix), the time of day there, the light signals.
+DayNightInput dayNightInput(const ipc::ViewState& view, const EstimatedPose& pose, const FrameRecentring& frame,
+                            const map::MapScene& scene, const VehicleInput& input, const RunOptions& options,
+                            double now_s) {
+    DayNightInput in;
+    in.requested = view.style;
+    if (pose.valid) {
+        frame.frame().reverse({pose.x, pose.y}, in.lat_deg, in.lon_deg);
+    } else {
+        const auto& info = scene.store->info();
+        in.lat_deg = (info.south + info.north) / 2;
+        in.lon_deg = (info.west + info.east) / 2;
+    }
+    in.wall_time = options.wall_clock ? options.wall_clock() : std::chrono::system_clock::now();
+    in.light = *input.ambientLight();
+    in.can_now = ipc::CanClock::now();
+    in.now_s = now_s;
+    return in;
+}
+
+FrameContext frameContext(const ipc::ViewState* view, const render::MapStyle& style, const RouteState& route,
+                          const RouteGuidance& guidance, bool labels) {
     FrameContext c;
     c.view_state = view;
-    c.style = view && view->style == ipc::MapStyle::Night ? render::MapStyle::night() : render::MapStyle::day();
+    c.style = style;
     c.style.ground =
         view && view->ground == ipc::Ground::Orthoimage ? render::Ground::Orthoimage : render::Ground::LandCover;
     c.route = route.geometry();  // each renderer drapes it onto the tiles it draws: no per-tick heights
@@ -237,8 +259,9 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
         ConfigReloader reloader(config, options.config_path, log);
         FrameRecentring frame(scene.projection());
         FrameParts frame_parts{scene, graph, scene.projection(), input, route, guidance, displays, poses};
+        DayNight day_night(config.style);
         StatusReporter reporter({config, reloader, input, road_graph, route, displays, *frames, *control_server,
-                                 *scene.cache, scene, frame},
+                                 *scene.cache, scene, frame, day_night},
                                 status, metrics, systemd, t_start);
         int gpu_resets_told = 0;
         for (bool stop = false; !stop;) {
@@ -255,8 +278,10 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
             route.track(pose);
             guidance.update(pose, std::chrono::duration<double>(now - t_start).count());
             events.update(pose, route, now);
+            const render::MapStyle style = day_night.update(dayNightInput(
+                *view_state, pose, frame, scene, input, options, std::chrono::duration<double>(now - t_start).count()));
             const auto next_wake =
-                displays.tick(now, poses, frameContext(view_state.get(), route, guidance, config.labels));
+                displays.tick(now, poses, frameContext(view_state.get(), style, route, guidance, config.labels));
             // A lost GL context made anew (docs/gles-profile.md "Lost contexts"): subscribers hear it.
             if (displays.contextResets() != gpu_resets_told) {
                 gpu_resets_told = displays.contextResets();

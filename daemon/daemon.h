@@ -7,6 +7,7 @@
 
 #include <chrono>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -25,6 +26,9 @@ struct RunOptions {
     /// The drive simulator for [input] source = "sim" (navmapd passes sim::openSimulatedDrive);
     /// empty: sim mode runs without a source and says so.
     ipc::SimulatorFactory simulator;
+    /// The time of day the sun is worked out for in [style] mode = "auto" (tests simulate one);
+    /// empty: the system clock.
+    std::function<std::chrono::system_clock::time_point()> wall_clock;
 };
 
 /// Runs the daemon until SIGTERM/SIGINT (or run_for_s). Returns the process exit status.

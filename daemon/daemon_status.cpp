@@ -19,7 +19,7 @@ void DaemonStatus::publish(const StatusSample& m) {
                     {"reloads", m.reloads},
                     {"reload_errors", m.reload_errors},
                     {"last_reload_error", m.last_reload_error},
-                    {"style", m.night ? "night" : "day"},
+                    {"style", m.config_style},
                     {"orthoimage_error", m.ortho_problem}};
     st["input"] = {
         {"source", in.source},
@@ -36,6 +36,11 @@ void DaemonStatus::publish(const StatusSample& m) {
         {"replay_time_errors", in.replay_time_errors},
         {"dbc_skipped_entries", in.dbc_skipped_entries},
         {"error", in.error}};
+    st["style"] = {{"mode", m.style.mode},
+                   {"shown", m.style.night ? "night" : "day"},
+                   {"reason", m.style.reason},
+                   {"night_weight", m.style.night_weight}};
+    if (m.style.sun_elevation_deg) st["style"]["sun_elevation_deg"] = *m.style.sun_elevation_deg;
     st["road_graph"] = m.road_graph;
     st["position"] = {{"valid", pose.valid},
                       {"stale", pose.stale},

@@ -6,11 +6,14 @@
 // It hands the drive simulator to the daemon (RunOptions::simulator): the daemon's library
 // (navmap_daemon_core) neither includes nor links sim/.
 
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <iostream>
+#include <optional>
+#include <string>
 
 #include "config.h"
 #include "daemon.h"
@@ -19,12 +22,30 @@
 #include "navmap/sim/simulated_can_source.h"
 #include "vehicle_input.h"
 
+namespace {
+
+// "2024-12-21T09:20:00Z" -> that instant; none when it is no such time.
+std::optional<std::chrono::system_clock::time_point> parseUtcTime(const std::string& text) {
+    int y = 0, mo = 0, d = 0, h = 0, mi = 0, s = 0;
+    char z = 0;
+    int used = 0;
+    if (std::sscanf(text.c_str(), "%4d-%2d-%2dT%2d:%2d:%2d%c%n", &y, &mo, &d, &h, &mi, &s, &z, &used) != 7 ||
+        z != 'Z' || used != static_cast<int>(text.size()) || h > 23 || mi > 59 || s > 59)
+        return std::nullopt;
+    const std::chrono::year_month_day day{std::chrono::year(y), std::chrono::month(unsigned(mo)),
+                                          std::chrono::day(unsigned(d))};
+    if (!day.ok()) return std::nullopt;
+    return std::chrono::sys_days(day) + std::chrono::hours(h) + std::chrono::minutes(mi) + std::chrono::seconds(s);
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
     using namespace navmap::daemon;
     CLI::App app{"navmapd - headless 3D navigation-map renderer daemon"};
     navmap::cli::setUp(app, "navmapd");
     std::string config_path, store, input, replay, can_iface, from, to, control_socket, frame_socket, style, egl,
-        log_level, shader_cache;
+        log_level, shader_cache, sun_time;
     std::vector<std::string> profile_names;
     std::optional<double> speed, run_for;
     std::optional<int> http_port, tcp_port, msaa;
@@ -48,7 +69,9 @@ int main(int argc, char** argv) {
     app.add_option("--http-port", http_port, "HTTP port (MJPEG, status page, /metrics); 0 = off")
         ->check(navmap::cli::integerIn(0, 65535));
     app.add_option("--tcp-port", tcp_port, "TCP frame-stream port; 0 = off")->check(navmap::cli::integerIn(0, 65535));
-    app.add_option("--style", style, "day | night")->check(CLI::IsMember({"day", "night"}));
+    app.add_option("--style", style, "day | night | auto (style.mode)")->check(CLI::IsMember({"day", "night", "auto"}));
+    app.add_option("--sun-time", sun_time,
+                   "auto style: the sun as at this UTC time at start (YYYY-MM-DDTHH:MM:SSZ), running on from there");
     app.add_option("--egl-platform", egl, "auto | surfaceless | device")
         ->check(CLI::IsMember({"auto", "surfaceless", "device"}));
     app.add_option("--msaa", msaa, "MSAA samples (0 off, -1 auto)")->check(navmap::cli::integerIn(-1, 16));
@@ -83,7 +106,18 @@ int main(int argc, char** argv) {
     if (!frame_socket.empty()) c.frame_socket = frame_socket;
     if (http_port) c.http_port = *http_port;
     if (tcp_port) c.tcp_port = *tcp_port;
-    if (!style.empty()) c.night = style == "night";
+    if (!style.empty()) {
+        c.style.automatic = style == "auto";
+        c.night = style == "night";
+    }
+    std::optional<std::chrono::system_clock::time_point> sun_start;
+    if (!sun_time.empty()) {
+        sun_start = parseUtcTime(sun_time);
+        if (!sun_start) {
+            std::fprintf(stderr, "<3>navmapd: --sun-time %s: expected YYYY-MM-DDTHH:MM:SSZ\n", sun_time.c_str());
+            return 2;
+        }
+    }
     if (!egl.empty()) c.egl_platform = egl;
     if (msaa) c.msaa = *msaa;
     if (no_labels) c.labels = false;
@@ -143,6 +177,13 @@ int main(int argc, char** argv) {
     options.data_dir = navmap::install::dataDir();
     options.noop_renderer = noop;
     options.render_all_profiles = render_all;
+    if (sun_start) {
+        const auto started = std::chrono::steady_clock::now();
+        options.wall_clock = [started, at = *sun_start] {
+            return at + std::chrono::duration_cast<std::chrono::system_clock::duration>(
+                            std::chrono::steady_clock::now() - started);
+        };
+    }
     // The composition root: the only place in daemon/ that names the simulator.
     options.simulator = navmap::sim::openSimulatedDrive;
     return runDaemon(std::move(c), options);

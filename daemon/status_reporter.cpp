@@ -9,7 +9,10 @@ void StatusReporter::update(Clock::time_point now, const EstimatedPose& pose) {
     StatusSample s;
     s.uptime_s = std::chrono::duration<double>(now - m_started).count();
     s.config_path = m_parts.reloader.path();
-    s.night = m_parts.config.night;
+    s.config_style = ipc::mapStyleName(configuredStyle(m_parts.config));
+    const DayNight& dn = m_parts.day_night;
+    s.style = {ipc::mapStyleName(dn.requested()), dn.night(), styleReasonName(dn.reason()), dn.weight(),
+               dn.sunElevationDeg()};
     s.ortho_problem = m_parts.displays.orthoProblem();
     s.reloads = m_parts.reloader.reloads();
     s.reload_errors = m_parts.reloader.errors();

@@ -10,6 +10,7 @@
 #include "config_reloader.h"
 #include "daemon_metrics.h"
 #include "daemon_status.h"
+#include "day_night.h"
 #include "display_scheduler.h"
 #include "frame_recentring.h"
 #include "lifecycle.h"
@@ -39,6 +40,7 @@ public:
         const map::TileCache& cache;
         const map::MapScene& scene;    ///< the mounted stores
         const FrameRecentring& frame;  ///< the map frame
+        const DayNight& day_night;     ///< the style drawn
     };
 
     StatusReporter(Parts parts, DaemonStatus& status, DaemonMetrics& metrics, SystemdNotifier& systemd,

@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -36,10 +37,20 @@ struct FrameStatus {
     double vehicle_lon = 0.0;
 };
 
+/// The style drawn (DayNight): day or night, why, and where a fade stands.
+struct StyleStatus {
+    std::string mode = "day";  ///< the control state's: day, night or auto
+    bool night = false;        ///< the style decided (a fade's target)
+    std::string reason = "fixed";
+    float night_weight = 0.0f;  ///< 0 day .. 1 night in the latest frame
+    std::optional<double> sun_elevation_deg;
+};
+
 struct StatusSample {
     double uptime_s = 0.0;
-    std::string config_path;  ///< empty: no file
-    bool night = false;
+    std::string config_path;           ///< empty: no file
+    std::string config_style = "day";  ///< the configuration's mode: day, night or auto
+    StyleStatus style;
     std::string ortho_problem;                     ///< DisplayScheduler::orthoProblem()
     std::uint64_t reloads = 0, reload_errors = 0;  ///< SIGHUP: applied / refused
     std::string last_reload_error;

@@ -96,7 +96,22 @@ void VehicleInput::stop() {
 
 void VehicleInput::consume(const ipc::CanFrame& frame) {
     ++m_stats.frames;
-    if (m_decoder->decode(frame, m_update)) m_estimator->addSample(m_update);
+    if (!m_decoder->decode(frame, m_update)) return;
+    m_estimator->addSample(m_update);
+    const auto low_beam = m_update.get(ipc::VssSignal::LowBeam);
+    const auto intensity = m_update.get(ipc::VssSignal::LightIntensity);
+    if (!low_beam && !intensity) return;
+    // A new snapshot only for the frames that carry a light signal (a few per second at most).
+    auto light = std::make_shared<AmbientLight>(*m_light.load());
+    if (low_beam) {
+        light->low_beam = *low_beam >= 0.5;
+        light->low_beam_time = m_update.timeOf(ipc::VssSignal::LowBeam);
+    }
+    if (intensity) {
+        light->intensity_pct = *intensity;
+        light->intensity_time = m_update.timeOf(ipc::VssSignal::LightIntensity);
+    }
+    m_light.store(std::move(light));
 }
 
 void VehicleInput::setRoute(std::shared_ptr<const RouteLine> route) {

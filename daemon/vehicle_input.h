@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -41,6 +42,16 @@ struct VehicleInputStats {
     /// Why this input gives no (more) positions: "replay stopped: ...", "the simulator cannot
     /// plan a route: road graph unavailable: ..."; empty while it works.
     std::string error;
+};
+
+/// The light around the vehicle as the CAN bus last reported it (the DBC signals mapped to
+/// Vehicle.Body.Lights.Beam.Low.IsOn and Vehicle.Exterior.LightIntensity; docs/can-input.md),
+/// each with its receive time. Empty while nothing of it was decoded.
+struct AmbientLight {
+    std::optional<bool> low_beam;
+    ipc::CanTime low_beam_time{};
+    std::optional<double> intensity_pct;
+    ipc::CanTime intensity_time{};
 };
 
 /// What opening the decoder skipped (VehicleInput::openDecoder).
@@ -102,6 +113,9 @@ public:
     /// The newest estimator snapshot (never null), in the frame of its parts().frame_epoch.
     [[nodiscard]] std::shared_ptr<const VehicleState> state() const { return m_state.load(); }
     [[nodiscard]] VehicleInputStats stats() const;
+    /// The newest light signals (never null; empty when none is mapped or none came yet).
+    /// Thread-safe, lock-free for the reader.
+    [[nodiscard]] std::shared_ptr<const AmbientLight> ambientLight() const { return m_light.load(); }
     /// What the setup skipped (DecoderSetup::warnings), for the log.
     [[nodiscard]] const std::vector<std::string>& setupWarnings() const { return m_setup_warnings; }
 
@@ -130,6 +144,7 @@ private:
     std::unique_ptr<ipc::CanSource> m_source;  // null: no source (m_stats.error says why)
     ipc::CanSourceStatus m_source_status;
     std::atomic<std::shared_ptr<const VehicleState>> m_state;
+    std::atomic<std::shared_ptr<const AmbientLight>> m_light{std::make_shared<const AmbientLight>()};
     std::atomic<std::shared_ptr<const RouteUpdate>> m_route_update;
     std::shared_ptr<const RouteUpdate> m_applied_route;
     std::shared_ptr<const FrameRebase> m_applied_rebase;  // input thread

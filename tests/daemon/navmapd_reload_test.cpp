@@ -21,11 +21,14 @@ namespace fs = std::filesystem;
 using namespace std::chrono_literals;
 
 // One small snail's-view profile: day and night change the map's colours (the HUD's guidance view
-// is black in both).
+// is black in both). Style "auto": [style] mode = "auto" by the sun.
 void writeConfig(const fs::path& dir, const char* style, int fps) {
+    const std::string s = style;
     std::ofstream(dir / "navmapd.toml") << "[input]\nsource = \"replay\"\nreplay_log = \""
-                                        << (dir / "standing.candump").string() << "\"\n[render]\nstyle = \"" << style
-                                        << "\"\nlabels = false\n"
+                                        << (dir / "standing.candump").string() << "\"\n"
+                                        << (s == "auto" ? "[style]\nmode = \"auto\"\nsource = \"sun\"\n" : "")
+                                        << "[render]\n"
+                                        << (s == "auto" ? "" : "style = \"" + s + "\"\n") << "labels = false\n"
                                         << "[[profile]]\nname = \"small\"\nwidth = 800\nheight = 240\nfps = " << fps
                                         << "\nview = \"snail\"\n"
                                         << "[control]\nsocket = \"" << (dir / "control.sock").string() << "\"\n"
@@ -192,6 +195,56 @@ TEST(NavmapdReload, SighupWithADeepOrHugeFileKeepsTheRunningConfiguration) {
     auto client = navmap::ipc::StreamClient::connectUnix((dir / "frames.sock").string(), request);
     ASSERT_TRUE(client) << client.error().message;
     EXPECT_GT(receive(*client.value(), 6000ms, 0, d).frames, 0) << d.output().substr(0, 2000);
+    EXPECT_EQ(d.stop(), 0) << d.output().substr(0, 2000);
+    fs::remove_all(dir);
+}
+
+// [style] mode = "auto" by the sun, the sun's clock set with --sun-time: the vehicle stands in
+// Andorra la Vella (42.508 N, 1.522 E), where 2024-12-21 20:00 UT is night (the sun at -39
+// degrees). set_style day wins and fades the map up; set_style auto gives the night back.
+TEST(NavmapdDayNight, TheSunAtTheSimulatedTimeChoosesAndSetStyleWins) {
+    const fs::path dir = fs::temp_directory_path() / ("navmapd-daynight-" + std::to_string(::getpid()));
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    navmap::test::writeStandingLog(dir / "standing.candump");
+    writeConfig(dir, "auto", 8);
+    navmap::test::NavmapdProcess d(
+        NAVMAPD_PATH,
+        "--config " + (dir / "navmapd.toml").string() + " --sun-time 2024-12-21T20:00:00Z --log-level info",
+        dir / "navmapd.log", dir / "frames.sock");
+    ASSERT_TRUE(fs::exists(dir / "frames.sock")) << d.output();
+    navmap::ipc::StreamRequest request;
+    request.profile = {"small", 800, 240, 30, "snail"};
+    auto client = navmap::ipc::StreamClient::connectUnix((dir / "frames.sock").string(), request);
+    ASSERT_TRUE(client) << client.error().message;
+    auto& c = *client.value();
+    const Window night = receive(c, 3000ms, 0, d);
+    ASSERT_GT(night.frames, 3) << d.output();
+    const auto status = [&] { return daemonStatus(dir / "control.sock"); };
+    ASSERT_TRUE(navmap::test::waitFor([&] { return status().find("\"reason\":\"sun\"") != std::string::npos; }, 5s))
+        << status();
+    std::string st = status();
+    EXPECT_NE(st.find("\"mode\":\"auto\""), std::string::npos) << st;
+    EXPECT_NE(st.find("\"shown\":\"night\""), std::string::npos) << st;
+    EXPECT_NE(st.find("\"sun_elevation_deg\":-3"), std::string::npos) << st;  // about -39 degrees
+
+    auto control = navmap::ipc::ControlClient::connect((dir / "control.sock").string());
+    ASSERT_TRUE(control) << control.error().message;
+    ASSERT_TRUE(control.value().request(R"({"cmd":"set_style","style":"day"})"));
+    (void)receive(c, 2500ms, night.last_seq, d);  // the 2 s fade
+    const Window day = receive(c, 1500ms, night.last_seq, d);
+    ASSERT_GT(day.frames, 3) << d.output();
+    EXPECT_GT(day.brightness, night.brightness * 1.3) << "night " << night.brightness << ", day " << day.brightness;
+    st = status();
+    EXPECT_NE(st.find("\"mode\":\"day\""), std::string::npos) << st;
+    EXPECT_NE(st.find("\"reason\":\"fixed\""), std::string::npos) << st;
+
+    ASSERT_TRUE(control.value().request(R"({"cmd":"set_style","style":"auto"})"));
+    (void)receive(c, 2500ms, day.last_seq, d);
+    const Window again = receive(c, 1500ms, day.last_seq, d);
+    ASSERT_GT(again.frames, 3) << d.output();
+    EXPECT_NEAR(again.brightness, night.brightness, 0.05 * night.brightness);
+    EXPECT_NE(status().find("\"shown\":\"night\""), std::string::npos) << status();
     EXPECT_EQ(d.stop(), 0) << d.output().substr(0, 2000);
     fs::remove_all(dir);
 }

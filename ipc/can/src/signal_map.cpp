@@ -32,7 +32,9 @@ Dim dimensionOf(VssSignal s) {
         case VssSignal::AccelLongitudinal:
         case VssSignal::AccelLateral: return Dim::Accel;
         case VssSignal::FixType:
-        case VssSignal::GnssCounter: return Dim::None;
+        case VssSignal::GnssCounter:
+        case VssSignal::LowBeam:
+        case VssSignal::LightIntensity: return Dim::None;
     }
     return Dim::None;
 }

@@ -25,6 +25,8 @@ constexpr std::array<VssInfo, kVssSignalCount> kInfo{{
     {"Vehicle.Acceleration.Longitudinal", "m/s^2", -100.0, 100.0},
     {"Vehicle.Acceleration.Lateral", "m/s^2", -100.0, 100.0},
     {"NavMap.GnssMessageCounter", "", 0.0, 4294967295.0},
+    {"Vehicle.Body.Lights.Beam.Low.IsOn", "", 0.0, 1.0},
+    {"Vehicle.Exterior.LightIntensity", "percent", 0.0, 100.0},
 }};
 
 }  // namespace

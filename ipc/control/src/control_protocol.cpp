@@ -217,8 +217,8 @@ constexpr std::array<std::pair<ViewMode, const char*>, 3> kModeNames{
     {{ViewMode::Bird, "bird"}, {ViewMode::Snail, "snail"}, {ViewMode::Auto, "auto"}}};
 constexpr std::array<std::pair<ViewOrientation, const char*>, 2> kOrientationNames{
     {{ViewOrientation::HeadingUp, "heading-up"}, {ViewOrientation::NorthUp, "north-up"}}};
-constexpr std::array<std::pair<MapStyle, const char*>, 2> kStyleNames{
-    {{MapStyle::Day, "day"}, {MapStyle::Night, "night"}}};
+constexpr std::array<std::pair<MapStyle, const char*>, 3> kStyleNames{
+    {{MapStyle::Day, "day"}, {MapStyle::Night, "night"}, {MapStyle::Auto, "auto"}}};
 constexpr std::array<std::pair<Ground, const char*>, 2> kGroundNames{
     {{Ground::LandCover, "landcover"}, {Ground::Orthoimage, "orthoimage"}}};
 constexpr std::array<std::pair<ControlEventKind, const char*>, 6> kEventNames{

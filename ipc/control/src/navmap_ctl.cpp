@@ -60,8 +60,8 @@ int main(int argc, char** argv) {
     app.add_subcommand("get_status", "the daemon's status (input, position, profiles, stream, memory, version)");
     app.add_subcommand("clear_route", "drop the route");
     std::vector<std::string> style_words;
-    app.add_subcommand("set_style", "day or night map style, land cover or orthoimage ground")
-        ->add_option("STYLE", style_words, "day | night and/or landcover | orthoimage")
+    app.add_subcommand("set_style", "day, night or auto map style, land cover or orthoimage ground")
+        ->add_option("STYLE", style_words, "day | night | auto and/or landcover | orthoimage")
         ->required();
     auto* set_view = app.add_subcommand("set_view", "view mode and orientation of one display");
     std::string display;

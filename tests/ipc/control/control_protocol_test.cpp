@@ -96,6 +96,10 @@ TEST(ControlProtocol, ParsesTheOtherCommands) {
     ASSERT_TRUE(r.command) << r.error;
     EXPECT_EQ(std::get<SetStyleCommand>(r.command->body).style, MapStyle::Day);
     EXPECT_EQ(std::get<SetStyleCommand>(r.command->body).ground, Ground::LandCover);
+    r = parseControlLine(R"({"cmd":"set_style","style":"auto"})");  // back to the sun or the lights
+    ASSERT_TRUE(r.command) << r.error;
+    EXPECT_EQ(std::get<SetStyleCommand>(r.command->body).style, MapStyle::Auto);
+    EXPECT_STREQ(mapStyleName(MapStyle::Auto), "auto");
 
     r = parseControlLine(R"({"cmd":"subscribe","events":["position_lost","position_regained"]})");
     ASSERT_TRUE(r.command) << r.error;
@@ -216,8 +220,9 @@ TEST(ControlProtocol, EveryMalformedRequestGetsAnErrorNamingTheProblem) {
         {R"({"cmd":"set_view","display":"cluster","mode":"bird","camera":[16,60]})",
          "\"camera\" must be an object {zoom, pitch[, bearing]} or null, not array"},
         {R"({"cmd":"set_view","mode":"bird"})", "missing \"display\""},
-        {R"({"cmd":"set_style","style":"dusk"})", "\"style\": \"dusk\" is not one of day | night"},
-        {R"({"cmd":"set_style"})", "set_style needs \"style\" (day | night) or \"ground\" (landcover | orthoimage)"},
+        {R"({"cmd":"set_style","style":"dusk"})", "\"style\": \"dusk\" is not one of day | night | auto"},
+        {R"({"cmd":"set_style"})",
+         "set_style needs \"style\" (day | night | auto) or \"ground\" (landcover | orthoimage)"},
         {R"({"cmd":"set_style","ground":"satellite"})",
          "\"ground\": \"satellite\" is not one of landcover | orthoimage"},
         {R"({"cmd":"set_style","style":"day","ground":1})", "\"ground\": must be one of landcover | orthoimage"},

@@ -104,7 +104,7 @@ TEST(ControlServerLoop, AHalfClosedPeerGetsEveryReplyThenTheClose) {
         EXPECT_EQ(got,
                   "{\"ok\":true,\"cmd\":\"clear_route\"}\n"
                   "{\"ok\":false,\"cmd\":\"set_style\",\"error\":\"\\\"style\\\": \\\"dusk\\\" is not one of day | "
-                  "night\"}\n"
+                  "night | auto\"}\n"
                   "{\"ok\":true,\"cmd\":\"set_style\"}\n");
         EXPECT_EQ(s.state.view()->style, MapStyle::Night);
     }

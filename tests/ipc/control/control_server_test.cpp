@@ -127,7 +127,7 @@ TEST(ControlServer, GarbageGetsAnErrorPerLineAndChangesNothing) {
             R"({"ok":false,"cmd":"set_route","id":"bad","error":"points[3]: latitude 95 out of range [-90, 90]"})");
         EXPECT_EQ(l3.value().rfind(R"({"ok":false,"error":"invalid JSON)", 0), 0U) << l3.value();
         EXPECT_EQ(l4.value(),
-                  R"({"ok":false,"cmd":"set_style","error":"\"style\": \"dusk\" is not one of day | night"})");
+                  R"({"ok":false,"cmd":"set_style","error":"\"style\": \"dusk\" is not one of day | night | auto"})");
         // Still connected, state untouched.
         EXPECT_EQ(req(c, R"({"cmd":"get_status","id":"after"})").substr(0, 42),
                   R"({"ok":true,"cmd":"get_status","id":"after")");

@@ -76,9 +76,9 @@ TEST(NavmapCtl, SendsCommandsAndPrintsReplies) {
 
     r = runCtl(s + "set_style dusk");
     EXPECT_EQ(r.status, 1);
-    EXPECT_EQ(
-        r.out,
-        "{\"ok\":false,\"cmd\":\"set_style\",\"error\":\"\\\"style\\\": \\\"dusk\\\" is not one of day | night\"}\n");
+    EXPECT_EQ(r.out,
+              "{\"ok\":false,\"cmd\":\"set_style\",\"error\":\"\\\"style\\\": \\\"dusk\\\" is not one of day | night | "
+              "auto\"}\n");
 
     r = runCtl(s + "send '{\"cmd\":\"get_status\",\"id\":\"s1\"}'");
     EXPECT_EQ(r.status, 0);

@@ -27,12 +27,14 @@ enum class VssSignal : std::uint8_t {
     AccelLongitudinal,   ///< Vehicle.Acceleration.Longitudinal, m/s^2
     AccelLateral,        ///< Vehicle.Acceleration.Lateral, m/s^2
     GnssCounter,         ///< NavMap.GnssMessageCounter (project extension, not VSS): rolling counter
+    LowBeam,             ///< Vehicle.Body.Lights.Beam.Low.IsOn: 1 on, 0 off (day and night, docs/can-input.md)
+    LightIntensity,      ///< Vehicle.Exterior.LightIntensity, percent: 0 dark .. 100 full daylight
 };
-inline constexpr std::size_t kVssSignalCount = 11;
+inline constexpr std::size_t kVssSignalCount = 13;
 
 /// "Vehicle.Speed" etc.
 std::string_view vssName(VssSignal s) noexcept;
-/// "km/h", "degrees", "degrees/s", "m", "m/s^2" or "" (dimensionless).
+/// "km/h", "degrees", "degrees/s", "m", "m/s^2", "percent" or "" (dimensionless).
 std::string_view vssUnit(VssSignal s) noexcept;
 /// Plausible range of each quantity; values outside are rejected.
 double vssMinimum(VssSignal s) noexcept;

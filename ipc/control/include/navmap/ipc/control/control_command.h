@@ -43,13 +43,15 @@ inline constexpr std::uint32_t kMaxRoundaboutExit = 32;
 
 enum class ViewMode : std::uint8_t { Bird, Snail, Auto };
 enum class ViewOrientation : std::uint8_t { HeadingUp, NorthUp };
-enum class MapStyle : std::uint8_t { Day, Night };
+/// The map style: day or night, fixed; or Auto, the daemon choosing by the sun or the vehicle's
+/// lights (docs/navmapd.md "Day and night").
+enum class MapStyle : std::uint8_t { Day, Night, Auto };
 /// What the terrain is coloured with: OpenStreetMap land cover or the synthetic orthoimage
 /// (seed ch. 6, docs/orthoimage.md).
 enum class Ground : std::uint8_t { LandCover, Orthoimage };
 const char* viewModeName(ViewMode m) noexcept;                ///< "bird" | "snail" | "auto"
 const char* viewOrientationName(ViewOrientation o) noexcept;  ///< "heading-up" | "north-up"
-const char* mapStyleName(MapStyle s) noexcept;                ///< "day" | "night"
+const char* mapStyleName(MapStyle s) noexcept;                ///< "day" | "night" | "auto"
 const char* groundName(Ground g) noexcept;                    ///< "landcover" | "orthoimage"
 
 /// Event kinds a client can subscribe to (bit mask values).
