@@ -161,7 +161,7 @@ void recentre(FrameRecentring& frames, const map::Projection& next, double scale
 }
 
 FrameContext frameContext(const ipc::ViewState* view, const RouteState& route, const RouteGuidance& guidance,
-                          bool labels) {
+                          bool labels, FrameHealth health) {
     FrameContext c;
     c.view_state = view;
     c.style = view && view->style == ipc::MapStyle::Night ? render::MapStyle::night() : render::MapStyle::day();
@@ -171,6 +171,7 @@ FrameContext frameContext(const ipc::ViewState* view, const RouteState& route, c
     c.route_progress_m = route.drivenM();
     c.guidance = &guidance.snapshot();
     c.labels = labels;
+    c.health = health;
     return c;
 }
 
@@ -255,8 +256,15 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
             route.track(pose);
             guidance.update(pose, std::chrono::duration<double>(now - t_start).count());
             events.update(pose, route, now);
+            // What each frame says about itself (docs/frame-protocol.md "Frame validity").
+            FrameHealth health;
+            health.stale_pose_ms = config.stale_pose_ms;
+            health.road_graph_off = !scene.graph_problem.empty();
+            health.orthoimage_off =
+                view_state && view_state->ground == ipc::Ground::Orthoimage && !displays.orthoProblem().empty();
+            health.graph = health.road_graph_off ? nullptr : graph.get();
             const auto next_wake =
-                displays.tick(now, poses, frameContext(view_state.get(), route, guidance, config.labels));
+                displays.tick(now, poses, frameContext(view_state.get(), route, guidance, config.labels, health));
             // A lost GL context made anew (docs/gles-profile.md "Lost contexts"): subscribers hear it.
             if (displays.contextResets() != gpu_resets_told) {
                 gpu_resets_told = displays.contextResets();
