@@ -24,7 +24,9 @@ ipc::FrameValidity frameValidity(const EstimatedPose& pose, const FrameHealth& h
     v.pose_age_ms = age_ms < 0.0 || !std::isfinite(age_ms)
                         ? ipc::kPoseAgeNone
                         : static_cast<std::uint32_t>(std::min(age_ms, double(ipc::kPoseAgeNone - 1)));
-    if (!pose.valid || age_ms > health.stale_pose_ms) v.flags |= ipc::kValidityStalePose;
+    // On the whole milliseconds sent, so that a frame is stale exactly when its age says so.
+    if (v.pose_age_ms == ipc::kPoseAgeNone || v.pose_age_ms > static_cast<std::uint32_t>(health.stale_pose_ms))
+        v.flags |= ipc::kValidityStalePose;
     if (tiles_missing > 0) v.degraded |= ipc::kDegradedTilesMissing;
     if (tiles_failed > 0) v.degraded |= ipc::kDegradedTilesFailed;
     if (health.road_graph_off) v.degraded |= ipc::kDegradedRoadGraphOff;
@@ -76,19 +78,24 @@ FrameAnnotation FrameAnnotator::annotate(const EstimatedPose& pose, const FrameH
 }
 
 const std::string& FrameAnnotator::streetOf(std::int64_t way, const render::MapFrame& frame) {
-    if (way == m_way) return m_street;
+    // Looked up again only when the way or the drawn tiles change (a road not found is not
+    // searched for again every frame).
+    const map::Tile* newest = frame.tiles.empty() ? nullptr : frame.tiles.back().get();
+    if (way == m_way && frame.tiles.size() == m_tiles && newest == m_newest_tile) return m_street;
+    m_way = way;
+    m_tiles = frame.tiles.size();
+    m_newest_tile = newest;
+    m_street.clear();
     // Every road of a leaf tile keeps its name; coarser tiles may have dropped a small road: then
     // the street stays unknown until a tile that has it is drawn.
-    for (auto it = frame.tiles.rbegin(); it != frame.tiles.rend(); ++it) {
+    for (auto it = frame.tiles.rbegin(); it != frame.tiles.rend() && m_street.empty(); ++it) {
         for (const auto& road : (*it)->roads) {
             if (road.osm_id != way || (road.name.empty() && road.ref.empty())) continue;
-            m_way = way;
             m_street = road.name.empty() ? road.ref : road.name;
-            return m_street;
+            break;
         }
     }
-    static const std::string kUnknown;
-    return kUnknown;
+    return m_street;
 }
 
 }  // namespace navmap::daemon

@@ -47,10 +47,13 @@ public:
                              const render::LodSelection& selection, const map::TileCache& cache);
 
 private:
-    /// The name (else ref) of OSM way `way` from the drawn tiles; cached while the way stays.
+    /// The name (else ref) of OSM way `way` from the drawn tiles ("" when none has it); cached
+    /// while the way and the drawn tiles stay.
     const std::string& streetOf(std::int64_t way, const render::MapFrame& frame);
 
     std::int64_t m_way = 0;
+    std::size_t m_tiles = 0;
+    const map::Tile* m_newest_tile = nullptr;
     std::string m_street;
 };
 
