@@ -437,7 +437,8 @@ bool ConfigParser::readStream(DaemonConfig& c) {
         !r.range("tcp_port", c.tcp_port, 0, 65535) || !r.get("http_port", c.http_port) ||
         !r.range("http_port", c.http_port, 0, 65535) || !r.get("http_address", c.http_address) ||
         !r.get("http_token", c.http_token) || !r.get("client_timeout_s", c.client_timeout_s) ||
-        !r.range("client_timeout_s", c.client_timeout_s, 0.1, 3600.0) || !r.noUnknownKeys())
+        !r.range("client_timeout_s", c.client_timeout_s, 0.1, 3600.0) || !r.get("stale_pose_ms", c.stale_pose_ms) ||
+        !r.range("stale_pose_ms", c.stale_pose_ms, 1, 600000) || !r.noUnknownKeys())
         return false;
     c.ring_memory_mb = static_cast<std::size_t>(ring_mb);
     // The token travels in URLs (?token=): URL-safe characters only, long enough not to guess.
@@ -582,7 +583,8 @@ std::string describeConfig(const DaemonConfig& c) {
       << "\n";
     s << "stream limits: " << c.max_clients_per_transport << " clients per transport, " << c.max_clients_per_uid
       << " per uid, " << c.max_clients_per_address << " per TCP/HTTP address, ring memory " << c.ring_memory_mb
-      << " MiB, handshake and first frame within " << c.handshake_timeout_s << " s\n";
+      << " MiB, handshake and first frame within " << c.handshake_timeout_s << " s, frames stale_pose after "
+      << c.stale_pose_ms << " ms without a fix\n";
     return s.str();
 }
 

@@ -104,6 +104,8 @@ struct DaemonConfig {
     std::string http_address = "127.0.0.1";
     std::string http_token;         ///< empty: no token; else Bearer token or ?token=
     double client_timeout_s = 5.0;  ///< stalled clients are disconnected after this
+    /// A frame is stale_pose when its pose's newest fix is older than this (docs/frame-protocol.md).
+    int stale_pose_ms = 1000;
     // [log]
     int log_level = 6;                  ///< syslog priority: 3 err .. 7 debug
     double watchdog_max_frame_s = 2.0;  ///< WATCHDOG=1 only while a frame finished this recently

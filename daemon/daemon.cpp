@@ -183,7 +183,7 @@ DayNightInput dayNightInput(const ipc::ViewState& view, const EstimatedPose& pos
 }
 
 FrameContext frameContext(const ipc::ViewState* view, const render::MapStyle& style, const RouteState& route,
-                          const RouteGuidance& guidance, bool labels) {
+                          const RouteGuidance& guidance, bool labels, FrameHealth health) {
     FrameContext c;
     c.view_state = view;
     c.style = style;
@@ -193,6 +193,7 @@ FrameContext frameContext(const ipc::ViewState* view, const render::MapStyle& st
     c.route_progress_m = route.drivenM();
     c.guidance = &guidance.snapshot();
     c.labels = labels;
+    c.health = health;
     return c;
 }
 
@@ -280,8 +281,15 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
             events.update(pose, route, now);
             const render::MapStyle style = day_night.update(dayNightInput(
                 *view_state, pose, frame, scene, input, options, std::chrono::duration<double>(now - t_start).count()));
-            const auto next_wake =
-                displays.tick(now, poses, frameContext(view_state.get(), style, route, guidance, config.labels));
+            // What each frame says about itself (docs/frame-protocol.md "Frame validity").
+            FrameHealth health;
+            health.stale_pose_ms = config.stale_pose_ms;
+            health.road_graph_off = !scene.graph_problem.empty();
+            health.orthoimage_off =
+                view_state && view_state->ground == ipc::Ground::Orthoimage && !displays.orthoProblem().empty();
+            health.graph = health.road_graph_off ? nullptr : graph.get();
+            const auto next_wake = displays.tick(
+                now, poses, frameContext(view_state.get(), style, route, guidance, config.labels, health));
             // A lost GL context made anew (docs/gles-profile.md "Lost contexts"): subscribers hear it.
             if (displays.contextResets() != gpu_resets_told) {
                 gpu_resets_told = displays.contextResets();

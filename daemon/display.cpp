@@ -180,6 +180,8 @@ bool Display::draw(render::Renderer& renderer, const PoseSource& poses, const Fr
         }
         frame.upload_all = true;
     }
+    m_frame_annotation = m_annotator.annotate(pose.estimate, context.health, context.guidance, projection, frame,
+                                              m_map_view.lastSelection(), m_map_view.cache());
     frame.route = context.route;
     frame.route_progress_m = context.route_progress_m;
     frame.layers = layersFor(m_profile, context.labels);
@@ -221,7 +223,7 @@ bool Display::draw(render::Renderer& renderer, const PoseSource& poses, const Fr
 
 void Display::finishFrame(render::Renderer& renderer, ipc::FrameServer& frames, Clock::time_point tick) {
     const std::uint64_t seq = m_sequence++;
-    m_source_times[seq] = m_frame_source;
+    m_source_times[seq] = {m_frame_source, std::move(m_frame_annotation)};
     if (m_first_complete == kNone) {
         const bool complete = m_stats.tiles_drawn > 0 && m_stats.tiles_pending == 0 && m_stats.tiles_wanted == 0;
         const bool overdue = tick - m_started > kStartupTileWait;
@@ -292,8 +294,12 @@ void Display::publish(std::vector<render::Frame>& finished, ipc::FrameServer& fr
         fv.height = done.image.height;
         fv.format = ipc::PixelFormat::Rgba8;
         const auto it = m_source_times.find(done.sequence);
-        const ipc::CanTime source = it != m_source_times.end() ? it->second : ipc::CanTime{};
+        const ipc::CanTime source = it != m_source_times.end() ? it->second.source : ipc::CanTime{};
         fv.source_time_ns = realtimeNs(source);
+        if (it != m_source_times.end()) {
+            fv.validity = it->second.annotation.validity;
+            fv.meta = it->second.annotation.meta;
+        }
         frames.publish(m_profile.name, fv);  // routed by profile: same view and size, other style
         if (m_stats.published++ == 0) {
             m_stats.first_frame_s = std::chrono::duration<double>(Clock::now() - m_exec).count();

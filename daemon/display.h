@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "attribution_overlay.h"
+#include "frame_annotator.h"
 #include "log.h"
 #include "navmap/ipc/control/control_state.h"
 #include "navmap/ipc/stream/frame_server.h"
@@ -60,6 +61,7 @@ struct FrameContext {
     double route_progress_m = 0.0;
     const GuidanceSnapshot* guidance = nullptr;  ///< arrows and the next-turn panel; null: none
     bool labels = true;
+    FrameHealth health;  ///< for each frame's validity and metadata (FrameAnnotator)
 };
 
 class Display {
@@ -154,9 +156,16 @@ private:
     // The frame being drawn (draw -> finishFrame).
     Clock::time_point m_frame_start{}, m_last_frame{};
     ipc::CanTime m_frame_source{};
+    FrameAnnotation m_frame_annotation;  // validity and metadata of the frame being drawn
+    FrameAnnotator m_annotator;
     render::VehiclePose m_last_pose;
     std::uint64_t m_sequence = 0;
-    std::map<std::uint64_t, ipc::CanTime> m_source_times;  // sequence -> CAN time behind the pose
+    /// A frame rendered and not yet published: the CAN time behind its pose, its annotation.
+    struct InFlight {
+        ipc::CanTime source{};
+        FrameAnnotation annotation;
+    };
+    std::map<std::uint64_t, InFlight> m_source_times;  // sequence -> what goes with the frame
     // Start-up: no frame leaves before one shows the camera's tiles at their level of detail,
     // uploaded (not sky, not a coarse parent). Frames before it are dropped.
     std::uint64_t m_first_complete = kNone;

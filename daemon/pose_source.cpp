@@ -7,6 +7,7 @@ FramePose PoseSource::at(ipc::CanTime t) const {
     const EstimatedPose pose = m_pose(t);
     FramePose frame;
     frame.source_time = pose.source_time;
+    frame.estimate = pose;
     if (pose.valid) {
         frame.vehicle.position = {pose.x, pose.y, m_ground(pose.x, pose.y)};
         frame.vehicle.heading_deg = pose.heading_deg;

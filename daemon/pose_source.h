@@ -22,6 +22,7 @@ struct FramePose {
     render::VehiclePose vehicle;                ///< position z = ground height
     std::optional<render::MarkerState> marker;  ///< drawn when the position is known
     ipc::CanTime source_time{};                 ///< CAN time of the newest sample behind it
+    EstimatedPose estimate;                     ///< the estimator's pose it was made from
 };
 
 class PoseSource {

@@ -142,6 +142,7 @@ void RouteGuidance::fill() {
         s.next = next;
         s.next_junction = m_route->points()[next.point];
         s.street = next.street;
+        s.next_distance_m = std::max(0.0, p.to_next_m);
         s.distance_text = mg::formatCountdown(p.to_next_m);
         if (!s.off_route) {
             // The next manoeuvre's arrow, and the one after it, fainter, when it follows closely.

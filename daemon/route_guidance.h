@@ -38,6 +38,7 @@ struct GuidanceSnapshot {
     std::vector<GuidanceArrow> arrows;            ///< none while off the route
     std::optional<map::guidance::Maneuver> next;  ///< the next manoeuvre (never depart)
     map::PlanarPoint next_junction;               ///< where it happens, store frame
+    double next_distance_m = 0.0;                 ///< along the route to its junction (0 inside it)
     std::string distance_text;                    ///< countdown to it: "300 m", "now"
     std::string street;                           ///< the street it turns into; may be empty
     double remaining_m = 0.0;

@@ -102,7 +102,7 @@ void BM_Deliver(benchmark::State& state) {
     std::int64_t i = 0;
     for (auto _ : state) {
         const auto& px = frames[static_cast<std::size_t>(i++ % 2)];
-        server.publish("bird", FrameView{px.data(), w, h, 0, PixelFormat::Rgba8, 0, 0});
+        server.publish("bird", FrameView{px.data(), w, h, 0, PixelFormat::Rgba8, 0, 0, {}, {}});
         if (mjpeg) {
             const auto jpeg = mjpeg->next(5s);
             if (jpeg.empty()) {
@@ -161,7 +161,7 @@ void BM_Publish(benchmark::State& state) {
     }
     const auto px = mapLikeFrame(w, h, 3);
     for (auto _ : state) {
-        server.publish("bird", FrameView{px.data(), w, h, 0, PixelFormat::Rgba8, 0, 0});
+        server.publish("bird", FrameView{px.data(), w, h, 0, PixelFormat::Rgba8, 0, 0, {}, {}});
         // A render loop does not publish back to back; give the server thread its turn as a
         // 60 fps loop would (not timed).
         state.PauseTiming();

@@ -37,6 +37,7 @@ TEST(DaemonConfig, EmptyFileGivesTheDocumentedDefaults) {
     EXPECT_EQ(c->max_clients_per_uid, 8);
     EXPECT_EQ(c->ring_memory_mb, 64u);
     EXPECT_EQ(c->handshake_timeout_s, 5.0);
+    EXPECT_EQ(c->stale_pose_ms, 1000);
     EXPECT_EQ(c->log_level, 6);
 }
 
@@ -91,6 +92,7 @@ max_clients_per_transport = 16
 max_clients_per_uid = 2
 ring_memory_mb = 32
 handshake_timeout_s = 1.5
+stale_pose_ms = 250
 [log]
 level = "debug"
 )");
@@ -131,6 +133,7 @@ level = "debug"
     EXPECT_EQ(c->max_clients_per_uid, 2);
     EXPECT_EQ(c->ring_memory_mb, 32u);
     EXPECT_EQ(c->handshake_timeout_s, 1.5);
+    EXPECT_EQ(c->stale_pose_ms, 250);
     EXPECT_EQ(c->log_level, 7);
     ConfigError err;
     EXPECT_TRUE(validateConfig(*c, &err)) << err.message;
@@ -169,6 +172,8 @@ TEST(DaemonConfig, ErrorsNameFileLineAndProblem) {
     EXPECT_EQ(m, "navmapd.toml:2:16: control.allowed_gids must be an array of ids");
     EXPECT_FALSE(parse("[stream]\nmax_clients_per_uid = 0\n", &m));
     EXPECT_EQ(m, "navmapd.toml:2:23: stream.max_clients_per_uid = 0 out of range [1, 1024]");
+    EXPECT_FALSE(parse("[stream]\nstale_pose_ms = 0\n", &m));
+    EXPECT_EQ(m, "navmapd.toml:2:17: stream.stale_pose_ms = 0 out of range [1, 600000]");
     EXPECT_FALSE(parse("[stream]\nhttp_token = \"short\"\n", &m));
     EXPECT_EQ(m, "navmapd.toml: stream.http_token must be 16..256 characters of A-Z a-z 0-9 - _ . ~");
     EXPECT_FALSE(parse("[stream]\nhttp_token = \"0123456789abcdef&x\"\n", &m));

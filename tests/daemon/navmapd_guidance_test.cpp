@@ -4,17 +4,24 @@
 // the log; a control client sets a route that follows the drive through its first two
 // manoeuvres and then turns away from it. Route progress passes both manoeuvres, then the
 // vehicle, still on the simulated road, leaves the route: off_route arrives once, with the route
-// id and the distance from the route (docs/guidance.md, docs/ipc.md).
+// id and the distance from the route (docs/guidance.md, docs/ipc.md). A display client watching
+// the cluster stream meanwhile gets the guidance in each frame's metadata (the next manoeuvre,
+// what is left of the route, the map-matched street) and, once the vehicle is off the route,
+// frames marked off_route (docs/frame-protocol.md "Frame validity").
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <mutex>
 #include <string>
+#include <thread>
 
 #include <nlohmann/json.hpp>
 
+#include "navmap/ipc/client/stream_client.h"
 #include "navmap/ipc/control/control_client.h"
 #include "navmapd_process.h"
 #include "test_paths.h"
@@ -31,6 +38,51 @@ double metres(const json& a, const json& b) {
     const double dy = (b[0].get<double>() - a[0].get<double>()) * M_PI / 180.0 * 6371008.8;
     const double dx = (b[1].get<double>() - a[1].get<double>()) * M_PI / 180.0 * 6371008.8 * std::cos(lat0);
     return std::hypot(dx, dy);
+}
+
+// What a display client saw of the guidance in the frames' validity and metadata.
+struct FrameGuidance {
+    std::mutex mutex;
+    int frames = 0;
+    int with_next = 0;         // a next manoeuvre with a known type and a distance
+    int with_remaining = 0;    // remaining distance and time
+    int named_street = 0;      // the map-matched road's name
+    int off_route = 0;         // frames flagged off_route
+    int first_off_route = -1;  // frames received before the first flagged one
+    std::string last_next_street;
+};
+
+void watchFrames(const fs::path& socket, const std::atomic<bool>& run, FrameGuidance* g) {
+    navmap::ipc::StreamRequest request;
+    request.profile = *navmap::ipc::defaultStreamProfile("cluster");
+    request.meta = true;
+    std::unique_ptr<navmap::ipc::StreamClient> client;
+    navmap::ipc::ReceivedFrame f;
+    while (run) {
+        if (!client) {
+            auto c = navmap::ipc::StreamClient::connectUnix(socket.string(), request, 2s);
+            if (!c) {
+                std::this_thread::sleep_for(100ms);
+                continue;
+            }
+            client = std::move(c.value());
+        }
+        auto got = client->next(f, 200ms);
+        if (!got) return;
+        if (!got.value() || !f.meta) continue;
+        std::lock_guard lock(g->mutex);
+        ++g->frames;
+        const auto& m = *f.meta;
+        if (m.has_next && navmap::ipc::metaManeuverName(m.next_type) != nullptr && m.next_distance_m >= 0.0) {
+            ++g->with_next;
+            g->last_next_street = m.next_street;
+        }
+        g->with_remaining += m.has_remaining && m.remaining_m > 0.0 && m.remaining_s > 0.0 ? 1 : 0;
+        g->named_street += m.current_street.empty() ? 0 : 1;
+        if ((f.header.validity.flags & navmap::ipc::kValidityOffRoute) != 0) {
+            if (g->off_route++ == 0) g->first_off_route = g->frames - 1;
+        }
+    }
 }
 
 TEST(NavmapdGuidance, ProgressPassesTwoManoeuvresThenLeavingTheRouteIsReported) {
@@ -88,6 +140,9 @@ TEST(NavmapdGuidance, ProgressPassesTwoManoeuvresThenLeavingTheRouteIsReported) 
     ASSERT_NE(reply.value().find("\"ok\":true"), std::string::npos) << reply.value();
     const auto sub = control.value().request(R"({"cmd":"subscribe"})");
     ASSERT_TRUE(sub) << sub.error().message;
+    FrameGuidance seen;
+    std::atomic<bool> watching{true};
+    std::thread watcher(watchFrames, dir / "frames.sock", std::cref(watching), &seen);
 
     double driven_max = 0.0;
     int off_route = 0;
@@ -105,11 +160,24 @@ TEST(NavmapdGuidance, ProgressPassesTwoManoeuvresThenLeavingTheRouteIsReported) 
             off_event = e;
         }
     }
+    // The frames rendered after the event carry the flag (4 s of replay at 4x: still off the route).
+    std::this_thread::sleep_for(2s);
+    watching = false;
+    watcher.join();
     ASSERT_EQ(off_route, 1) << "driven " << driven_max << " m\n" << daemon.output();
     EXPECT_EQ(off_event["id"], "e2e-guidance");
     EXPECT_GT(off_event["offset_m"].get<double>(), 40.0) << off_event.dump();
     EXPECT_GT(driven_max, second_m) << "progress passed both manoeuvres before the vehicle left the route";
     EXPECT_NE(daemon.output().find("off the route"), std::string::npos) << daemon.output();
+    // The same guidance, frame by frame, as a display reads it.
+    EXPECT_GT(seen.frames, 20);
+    EXPECT_GT(seen.with_next, 0) << "the next manoeuvre while on the route";
+    EXPECT_FALSE(seen.last_next_street.empty()) << "the street it turns into";
+    EXPECT_GT(seen.with_remaining, seen.frames / 2);
+    EXPECT_GT(seen.named_street, 0) << "the map-matched road's name";
+    EXPECT_GT(seen.off_route, 0) << "frames after leaving the route are flagged off_route";
+    // The frames on the route before are not: the flag follows the guidance's state.
+    EXPECT_GT(seen.first_off_route, 10);
     fs::remove_all(dir);
 }
 

@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 // libFuzzer target: everything a stream client can send or a server can answer before pixels:
 // the JSON handshake line, the server's JSON reply (read by the client against a shm and a raw
-// request), the HTTP request head, and the 80-byte frame header with the error or status text
-// after it.
+// request), the HTTP request head, the 80-byte frame header with the error or status text
+// after it, and the same bytes as a frame's metadata block (docs/frame-protocol.md "Metadata block").
 // Built with -DNAVMAP_WITH_FUZZ=ON (clang); stream_unit_tests compiles it too (NAVMAP_FUZZ_NO_MAIN)
 // and runs navmapFuzzStreamHandshake() on a corpus of broken inputs.
 
@@ -12,6 +12,7 @@
 #include <string_view>
 
 #include "navmap/ipc/client/frame_header.h"
+#include "navmap/ipc/client/frame_meta.h"
 #include "navmap/ipc/client/frame_ring.h"
 #include "navmap/ipc/client/stream_profile.h"
 #include "navmap/ipc/stream/stream_http_request.h"
@@ -66,6 +67,26 @@ int navmapFuzzStreamHandshake(const std::uint8_t* data, std::size_t size) {
             const std::size_t have = size - navmap::ipc::kFrameHeaderBytes;
             const std::size_t n = have < header.value().payload_bytes ? have : header.value().payload_bytes;
             (void)navmap::ipc::validateTextPayload(kind, data + navmap::ipc::kFrameHeaderBytes, n);
+        }
+    }
+    // The same bytes as a metadata block: whatever the client accepts, the server's encoder
+    // writes back to a block of the same size that decodes to the same values.
+    auto meta = navmap::ipc::decodeFrameMeta(data, size);
+    if (meta.ok()) {
+        const auto& m = meta.value();
+        const auto bytes = navmap::ipc::encodeFrameMeta(m);
+        auto again = navmap::ipc::decodeFrameMeta(bytes.data(), bytes.size());
+        if (bytes.size() != size || !again.ok()) {
+            __builtin_trap();
+        }
+        const auto& a = again.value();
+        if (a.has_pose != m.has_pose || a.lat_deg != m.lat_deg || a.lon_deg != m.lon_deg ||
+            a.heading_deg != m.heading_deg || a.pose_time_ns != m.pose_time_ns || a.has_next != m.has_next ||
+            a.next_type != m.next_type || a.next_exit != m.next_exit || a.next_distance_m != m.next_distance_m ||
+            a.next_street != m.next_street || a.lanes != m.lanes || a.has_remaining != m.has_remaining ||
+            a.remaining_m != m.remaining_m || a.remaining_s != m.remaining_s || a.current_street != m.current_street ||
+            a.speed_limit_kmh != m.speed_limit_kmh) {
+            __builtin_trap();
         }
     }
     return 0;

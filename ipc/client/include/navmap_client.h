@@ -75,6 +75,50 @@ typedef struct navmap_frame {
     uint64_t dropped;        /* frames this connection missed so far */
 } navmap_frame;
 
+/* Frame validity (docs/frame-protocol.md "Frame validity"): every frame says whether it can be
+ * trusted. Flags (none set: fresh): */
+enum {
+    NAVMAP_VALID_STALE_POSE = 1, /* no pose for more than navmapd's stale_pose_ms (or none yet) */
+    NAVMAP_VALID_DEGRADED = 2,   /* something under the camera is missing: see `degraded` */
+    NAVMAP_VALID_OFF_ROUTE = 4   /* guidance says the vehicle left its route */
+};
+/* Why a frame is degraded. */
+enum {
+    NAVMAP_DEGRADED_TILES_MISSING = 1,  /* tiles wanted under the camera are not loaded yet */
+    NAVMAP_DEGRADED_TILES_FAILED = 2,   /* tiles under the camera failed to load (damaged) */
+    NAVMAP_DEGRADED_ROAD_GRAPH_OFF = 4, /* no road graph: no map matching */
+    NAVMAP_DEGRADED_ORTHOIMAGE_OFF = 8  /* the orthoimage ground is asked for and not drawn */
+};
+#define NAVMAP_POSE_AGE_NONE 0xFFFFFFFFu /* pose_age_ms when there has been no pose */
+
+typedef struct navmap_frame_validity {
+    int known;            /* 0: the server reports no validity (a navmapd before it); the rest is 0 */
+    unsigned flags;       /* NAVMAP_VALID_*; 0 = fresh */
+    unsigned degraded;    /* NAVMAP_DEGRADED_*, non-zero exactly with NAVMAP_VALID_DEGRADED */
+    uint32_t pose_age_ms; /* ms from the newest pose fix to the render; NAVMAP_POSE_AGE_NONE: none yet */
+} navmap_frame_validity;
+
+/* A frame's guidance metadata (docs/frame-protocol.md "Metadata block"), for a client that asked
+ * for it with navmap_client_request_meta(). Strings are UTF-8 (at most 255 bytes), "" when
+ * unknown, and like the pixels valid until the frame is released. */
+typedef struct navmap_frame_meta {
+    int has_pose; /* 0: no fix yet (the pose fields are 0) */
+    double lat_deg, lon_deg;
+    double heading_deg;     /* clockwise from north, [0, 360) */
+    int64_t pose_time_ns;   /* CLOCK_REALTIME ns of the CAN data behind the pose */
+    int has_next;           /* 0: no next manoeuvre (no route, arrived) */
+    const char* next_type;  /* "turn_left", "roundabout", ... (docs/ipc.md); "" without one */
+    int next_exit;          /* roundabout exit, 1..; 0 none */
+    double next_distance_m; /* along the route to its junction */
+    const char* next_street;
+    int lane_count;    /* -1: unknown (no lane data); else lanes[0..lane_count) left to right */
+    uint8_t lanes[16]; /* bits 0..5: left, slight left, straight, slight right, right, u-turn; bit 7: take it */
+    int has_remaining; /* 0: no route followed */
+    double remaining_m, remaining_s;
+    const char* current_street; /* the map-matched road's name */
+    int speed_limit_kmh;        /* 0: unknown */
+} navmap_frame_meta;
+
 typedef struct navmap_client_stats {
     uint64_t frames;           /* frames handed out */
     uint64_t connects;         /* successful connections (the first included) */
@@ -105,6 +149,23 @@ NAVMAP_CLIENT_EXPORT int navmap_client_next_frame(navmap_client* client, int tim
  * unchanged all the time; NAVMAP_CLIENT_OVERWRITTEN: every slot of the ring was held at once and
  * the server overwrote it; NAVMAP_CLIENT_ERROR: `frame` is not the frame held. */
 NAVMAP_CLIENT_EXPORT int navmap_client_release_frame(navmap_client* client, const navmap_frame* frame);
+
+/* Asks navmapd for each frame's metadata block from the next connection on: call it after
+ * navmap_client_create(), before the first navmap_client_next_frame(). 0, or NAVMAP_CLIENT_ERROR
+ * when the client is null or already connected. */
+NAVMAP_CLIENT_EXPORT int navmap_client_request_meta(navmap_client* client, int on);
+
+/* The validity of the frame held (header bytes every navmapd frame carries, no request needed).
+ * NAVMAP_CLIENT_FRAME with *validity filled, NAVMAP_CLIENT_ERROR when `frame` is not the frame held. */
+NAVMAP_CLIENT_EXPORT int navmap_client_frame_validity(const navmap_client* client, const navmap_frame* frame,
+                                                      navmap_frame_validity* validity);
+
+/* The metadata of the frame held: NAVMAP_CLIENT_FRAME with *meta filled; NAVMAP_CLIENT_TIMEOUT (0)
+ * when the frame came without a block (not asked for, or the server had none for it);
+ * NAVMAP_CLIENT_ERROR when `frame` is not the frame held. The library checked the block
+ * (docs/frame-protocol.md): a malformed one ends the connection instead. */
+NAVMAP_CLIENT_EXPORT int navmap_client_frame_meta(const navmap_client* client, const navmap_frame* frame,
+                                                  navmap_frame_meta* meta);
 
 /* 1 while connected, else 0. */
 NAVMAP_CLIENT_EXPORT int navmap_client_connected(const navmap_client* client);

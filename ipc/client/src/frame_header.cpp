@@ -28,7 +28,8 @@ T get(const std::uint8_t* in, std::size_t off) noexcept {
 // Layout (little-endian), docs/frame-protocol.md:
 //  0 magic u32 | 4 version u16 | 6 header bytes u16 | 8 kind u16 | 10 encoding u16 | 12 format u32
 // 16 sequence u64 | 24 render ns i64 | 32 source ns i64 | 40 width u32 | 44 height u32
-// 48 stride u32 | 52 payload bytes u32 | 56 dropped u64 | 64 slot u32 | 68..80 reserved (0)
+// 48 stride u32 | 52 payload bytes u32 | 56 dropped u64 | 64 slot u32 | 68 validity version u8
+// 69 validity flags u8 | 70 degraded reasons u16 | 72 pose age ms u32 | 76 meta bytes u16 | 78 reserved u16 (0)
 std::array<std::uint8_t, kFrameHeaderBytes> encodeFrameHeader(const FrameHeader& h) noexcept {
     std::array<std::uint8_t, kFrameHeaderBytes> out{};
     std::uint8_t* o = out.data();
@@ -47,6 +48,11 @@ std::array<std::uint8_t, kFrameHeaderBytes> encodeFrameHeader(const FrameHeader&
     put<std::uint32_t>(o, 52, h.payload_bytes);
     put<std::uint64_t>(o, 56, h.dropped);
     put<std::uint32_t>(o, 64, h.slot);
+    put<std::uint8_t>(o, 68, h.validity.version);
+    put<std::uint8_t>(o, 69, h.validity.flags);
+    put<std::uint16_t>(o, 70, h.validity.degraded);
+    put<std::uint32_t>(o, 72, h.validity.pose_age_ms);
+    put<std::uint16_t>(o, 76, h.meta_bytes);
     return out;
 }
 
@@ -81,6 +87,22 @@ Result<FrameHeader> decodeFrameHeader(const std::uint8_t* d, std::size_t size) {
     h.payload_bytes = get<std::uint32_t>(d, 52);
     h.dropped = get<std::uint64_t>(d, 56);
     h.slot = get<std::uint32_t>(d, 64);
+    h.validity.version = get<std::uint8_t>(d, 68);
+    h.validity.flags = get<std::uint8_t>(d, 69);
+    h.validity.degraded = get<std::uint16_t>(d, 70);
+    h.validity.pose_age_ms = get<std::uint32_t>(d, 72);
+    h.meta_bytes = get<std::uint16_t>(d, 76);
+    if (get<std::uint16_t>(d, 78) != 0) {
+        return Error{"frame header: reserved bytes 78..79 are not 0"};
+    }
+    if (auto s = validateFrameValidity(h.validity); !s) {
+        return Error{s.message()};
+    }
+    if (h.meta_bytes != 0 &&
+        (h.kind != FrameKind::Frame || h.meta_bytes < kFrameMetaFixedBytes || h.meta_bytes > kMaxFrameMetaBytes)) {
+        return Error{"frame header: metadata of " + std::to_string(h.meta_bytes) + " bytes" +
+                     (h.kind != FrameKind::Frame ? " on an error or status" : "")};
+    }
     if (h.kind == FrameKind::Error) {
         if (h.payload_bytes > kMaxErrorPayloadBytes) {
             return Error{"frame header: error message of " + std::to_string(h.payload_bytes) + " bytes"};

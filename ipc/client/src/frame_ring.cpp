@@ -177,6 +177,7 @@ std::uint64_t FrameRing::write(const FrameView& frame) noexcept {
     h.height = m_layout.height;
     h.stride = m_layout.stride;
     h.slot = slot;
+    h.validity = frame.validity;
     const auto bytes = encodeFrameHeader(h);
     std::memcpy(s + kSlotHeaderOffset, bytes.data(), bytes.size());
 

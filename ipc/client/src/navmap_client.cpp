@@ -22,6 +22,12 @@ namespace {
 
 std::chrono::milliseconds orDefault(int ms, int fallback) { return std::chrono::milliseconds(ms > 0 ? ms : fallback); }
 
+// `frame` is the one navmap_client_next_frame() handed out and not released yet.
+bool heldFrame(const navmap_client* client, const navmap_frame* frame) {
+    return frame != nullptr && client->holding && frame->sequence == client->held.header.sequence &&
+           frame->pixels == client->held.pixels;
+}
+
 }  // namespace
 
 extern "C" {
@@ -147,6 +153,59 @@ int navmap_client_release_frame(navmap_client* client, const navmap_frame* frame
     }
     client->holding = false;
     return client->client->release() ? NAVMAP_CLIENT_FRAME : NAVMAP_CLIENT_OVERWRITTEN;
+}
+
+int navmap_client_request_meta(navmap_client* client, int on) {
+    if (client == nullptr || client->client->connected()) {
+        return NAVMAP_CLIENT_ERROR;
+    }
+    client->client->requestMeta(on != 0);
+    return 0;
+}
+
+int navmap_client_frame_validity(const navmap_client* client, const navmap_frame* frame,
+                                 navmap_frame_validity* validity) {
+    if (client == nullptr || validity == nullptr || !heldFrame(client, frame)) {
+        return NAVMAP_CLIENT_ERROR;
+    }
+    const auto& v = client->held.header.validity;
+    validity->known = v.known() ? 1 : 0;
+    validity->flags = v.flags;
+    validity->degraded = v.degraded;
+    validity->pose_age_ms = v.pose_age_ms;
+    return NAVMAP_CLIENT_FRAME;
+}
+
+int navmap_client_frame_meta(const navmap_client* client, const navmap_frame* frame, navmap_frame_meta* meta) {
+    if (client == nullptr || meta == nullptr || !heldFrame(client, frame)) {
+        return NAVMAP_CLIENT_ERROR;
+    }
+    *meta = navmap_frame_meta{};
+    if (!client->held.meta) {
+        return NAVMAP_CLIENT_TIMEOUT;
+    }
+    const auto& m = *client->held.meta;
+    meta->has_pose = m.has_pose ? 1 : 0;
+    meta->lat_deg = m.lat_deg;
+    meta->lon_deg = m.lon_deg;
+    meta->heading_deg = m.heading_deg;
+    meta->pose_time_ns = m.pose_time_ns;
+    meta->has_next = m.has_next ? 1 : 0;
+    const char* type = m.has_next ? navmap::ipc::metaManeuverName(m.next_type) : nullptr;
+    meta->next_type = type != nullptr ? type : "";
+    meta->next_exit = m.next_exit;
+    meta->next_distance_m = m.next_distance_m;
+    meta->next_street = m.next_street.c_str();
+    meta->lane_count = m.lanes_known ? static_cast<int>(m.lanes.size()) : -1;
+    for (std::size_t i = 0; i < m.lanes.size() && i < sizeof(meta->lanes); ++i) {
+        meta->lanes[i] = m.lanes[i];
+    }
+    meta->has_remaining = m.has_remaining ? 1 : 0;
+    meta->remaining_m = m.remaining_m;
+    meta->remaining_s = m.remaining_s;
+    meta->current_street = m.current_street.c_str();
+    meta->speed_limit_kmh = m.speed_limit_kmh;
+    return NAVMAP_CLIENT_FRAME;
 }
 
 int navmap_client_connected(const navmap_client* client) {

@@ -3,6 +3,8 @@
 // Connects with a profile, receives frames, optionally saves them as PNG, and prints frames/s,
 // latency p50/p99 (source timestamp -> receipt, and render -> receipt) and drops. Each status the
 // server sends before the first frame (the map still loading) is printed as `status: {...}`.
+// Each frame's validity is counted for the summary; with --meta each frame's metadata block (pose,
+// next manoeuvre, remaining route, street, speed limit) is printed as `meta: {...}`.
 // Exit status: 0 ok, 1 the stream failed (refused, closed, a PNG not written), 2 usage
 // (docs/tools.md).
 
@@ -15,6 +17,7 @@
 #include <cstdlib>
 #include <ctime>
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
@@ -38,7 +41,66 @@ struct Options {
     long save_count = -1;
     bool json = false;
     bool zero_copy = false;
+    bool meta = false;
 };
+
+// Frames by validity (a frame both stale and off route counts in both).
+struct ValidityCounts {
+    long fresh = 0, stale_pose = 0, degraded = 0, off_route = 0, unknown = 0;
+    void add(const navmap::ipc::FrameValidity& v) {
+        fresh += v.fresh() ? 1 : 0;
+        unknown += v.known() ? 0 : 1;
+        stale_pose += (v.flags & navmap::ipc::kValidityStalePose) != 0 ? 1 : 0;
+        degraded += (v.flags & navmap::ipc::kValidityDegraded) != 0 ? 1 : 0;
+        off_route += (v.flags & navmap::ipc::kValidityOffRoute) != 0 ? 1 : 0;
+    }
+};
+
+std::string lanesText(const navmap::ipc::FrameMeta& m) {
+    if (!m.lanes_known) {
+        return "unknown";
+    }
+    std::string out;
+    for (const std::uint8_t lane : m.lanes) {
+        char b[8];
+        std::snprintf(b, sizeof(b), "%s%02x", out.empty() ? "" : ",", lane);
+        out += b;
+    }
+    return out;
+}
+
+// One frame's validity and metadata block as a JSON object (docs/frame-protocol.md names).
+std::string metaJson(const navmap::ipc::FrameHeader& h, const std::optional<navmap::ipc::FrameMeta>& meta) {
+    nlohmann::json j;
+    j["seq"] = h.sequence;
+    j["validity"] = navmap::ipc::validityText(h.validity);
+    if (h.validity.known()) {
+        j["pose_age_ms"] = h.validity.pose_age_ms == navmap::ipc::kPoseAgeNone ? nlohmann::json(nullptr)
+                                                                               : nlohmann::json(h.validity.pose_age_ms);
+        j["degraded"] = navmap::ipc::degradedText(h.validity.degraded);
+    }
+    if (!meta) {
+        j["meta"] = nullptr;  // the server sent no block with this frame
+        return j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+    }
+    const auto& m = *meta;
+    j["pose"] = m.has_pose ? nlohmann::json{{"lat", m.lat_deg},
+                                            {"lon", m.lon_deg},
+                                            {"heading", m.heading_deg},
+                                            {"time_ns", m.pose_time_ns}}
+                           : nlohmann::json(nullptr);
+    j["next"] = m.has_next ? nlohmann::json{{"type", navmap::ipc::metaManeuverName(m.next_type)},
+                                            {"exit", m.next_exit},
+                                            {"distance_m", m.next_distance_m},
+                                            {"street", m.next_street},
+                                            {"lanes", lanesText(m)}}
+                           : nlohmann::json(nullptr);
+    j["remaining"] =
+        m.has_remaining ? nlohmann::json{{"m", m.remaining_m}, {"s", m.remaining_s}} : nlohmann::json(nullptr);
+    j["street"] = m.current_street;
+    j["speed_limit_kmh"] = m.speed_limit_kmh == 0 ? nlohmann::json("unknown") : nlohmann::json(m.speed_limit_kmh);
+    return j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+}
 
 // Parses the command line into `o`; nullopt to go on, else the exit status.
 std::optional<int> parseArgs(int argc, char** argv, Options* o) {
@@ -71,6 +133,8 @@ std::optional<int> parseArgs(int argc, char** argv, Options* o) {
         ->check(integerIn(0, 1LL << 40));
     app.add_flag("--zero-copy", o->zero_copy,
                  "payload shm: use each frame in place in the ring until the next (no copy)");
+    app.add_flag("--meta", o->meta,
+                 "ask for each frame's metadata block and print it as one `meta: {...}` line per frame");
     app.add_flag("--json", o->json, "print the summary as one JSON object (status lines go to stderr)");
     if (const auto exit_status = navmap::cli::parse(app, argc, argv)) {
         return exit_status;
@@ -115,6 +179,7 @@ std::optional<int> parseArgs(int argc, char** argv, Options* o) {
         return usage("--zero-copy needs payload shm (--unix)");
     }
     o->request.hold = o->zero_copy;
+    o->request.meta = o->meta;
     return std::nullopt;
 }
 
@@ -178,6 +243,7 @@ int main(int argc, char** argv) {
     auto first_frame = start;
     auto last_frame = start;
     double longest_gap_ms = 0;  // the longest wait between two frames: a stall shows here
+    ValidityCounts validity;
     for (;;) {
         const timespec zero{0, 0};
         if (sigtimedwait(&stop_signals, nullptr, &zero) > 0) {
@@ -203,6 +269,10 @@ int main(int argc, char** argv) {
         const navmap::ipc::FrameHeader& header = o.zero_copy ? held.header : frame.header;
         const std::uint8_t* pixels = o.zero_copy ? held.pixels : frame.pixels.data();
         const std::int64_t receive_time_ns = o.zero_copy ? held.receive_time_ns : frame.receive_time_ns;
+        validity.add(header.validity);
+        if (o.meta) {
+            std::fprintf(status_out, "meta: %s\n", metaJson(header, o.zero_copy ? held.meta : frame.meta).c_str());
+        }
         const auto now = std::chrono::steady_clock::now();
         if (received > 0) {
             longest_gap_ms =
@@ -240,12 +310,13 @@ int main(int argc, char** argv) {
             "{\"frames\":%ld,\"fps\":%.2f,\"dropped\":%llu,\"lost_locally\":%llu,\"saved\":%ld,\"statuses\":%llu,"
             "\"source_latency_ms\":{\"samples\":%zu,\"p50\":%.3f,\"p99\":%.3f},"
             "\"render_latency_ms\":{\"p50\":%.3f,\"p99\":%.3f},\"longest_gap_ms\":%.1f,\"held_overwritten\":%llu,"
+            "\"validity\":{\"fresh\":%ld,\"stale_pose\":%ld,\"degraded\":%ld,\"off_route\":%ld,\"unknown\":%ld},"
             "\"end\":\"%s\"}\n",
             received, fps, static_cast<unsigned long long>(dropped),
             static_cast<unsigned long long>(client.stats().lost_locally), saved,
             static_cast<unsigned long long>(client.stats().statuses), source_latency_ms.size(), s_p50, s_p99, r_p50,
-            r_p99, longest_gap_ms, static_cast<unsigned long long>(client.stats().held_overwritten),
-            end_reason.c_str());
+            r_p99, longest_gap_ms, static_cast<unsigned long long>(client.stats().held_overwritten), validity.fresh,
+            validity.stale_pose, validity.degraded, validity.off_route, validity.unknown, end_reason.c_str());
     } else {
         std::printf("frames %ld  fps %.2f  dropped %llu  saved %ld  longest gap %.1f ms\n", received, fps,
                     static_cast<unsigned long long>(dropped), saved, longest_gap_ms);
@@ -256,6 +327,8 @@ int main(int argc, char** argv) {
                         source_latency_ms.size());
         }
         std::printf("latency render->receipt ms: p50 %.3f  p99 %.3f\n", r_p50, r_p99);
+        std::printf("validity: fresh %ld  stale_pose %ld  degraded %ld  off_route %ld  unknown %ld\n", validity.fresh,
+                    validity.stale_pose, validity.degraded, validity.off_route, validity.unknown);
     }
     return rc;
 }

@@ -8,9 +8,11 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <array>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <optional>
 
 #include "navmap/ipc/client/frame_ring.h"
 #include "navmap/ipc/client/stream_socket.h"
@@ -218,6 +220,7 @@ Result<std::unique_ptr<StreamClient>> StreamClient::handshake(int raw_fd, const 
     client->m_in = std::move(rest);
     client->m_inflate = std::move(inflate);
     client->m_hold = request.hold;
+    client->m_meta = request.meta;
     if (request.payload == StreamPayload::Shm) {
         if (!memfd.valid()) {
             return Error{"handshake with " + peer + ": no shared-memory descriptor in the reply"};
@@ -313,6 +316,27 @@ Result<bool> StreamClient::readHeader(FrameHeader& out, Clock::time_point deadli
     return true;
 }
 
+Status StreamClient::readMeta(const FrameHeader& h, Clock::time_point deadline, std::optional<FrameMeta>* out) {
+    out->reset();
+    if (h.meta_bytes == 0) {
+        return {};
+    }
+    if (!m_meta) {
+        return Error{m_peer + ": frame " + std::to_string(h.sequence) + ": metadata block without asking for it"};
+    }
+    std::array<std::uint8_t, kMaxFrameMetaBytes> block{};
+    bool timed_out = false;
+    if (auto s = readExact(block.data(), h.meta_bytes, deadline, &timed_out); !s) {
+        return s;
+    }
+    auto decoded = decodeFrameMeta(block.data(), h.meta_bytes);
+    if (!decoded) {
+        return Error{m_peer + ": frame " + std::to_string(h.sequence) + ": " + decoded.error().message};
+    }
+    *out = std::move(decoded.value());
+    return {};
+}
+
 Result<bool> StreamClient::next(ReceivedFrame& out, std::chrono::milliseconds timeout) {
     return receive(&out, nullptr, timeout);
 }
@@ -345,6 +369,26 @@ Result<bool> StreamClient::release() {
     return intact;
 }
 
+Status StreamClient::takeStatus(const FrameHeader& h, Clock::time_point deadline) {
+    // Before the first frame: what the server is doing about it. Not a frame; the caller waits on.
+    std::string text(h.payload_bytes, '\0');
+    bool timed_out = false;
+    if (auto s = readExact(reinterpret_cast<std::uint8_t*>(text.data()), text.size(), deadline, &timed_out); !s) {
+        return s;
+    }
+    if (auto s =
+            validateTextPayload(FrameKind::Status, reinterpret_cast<const std::uint8_t*>(text.data()), text.size());
+        !s) {
+        return Error{m_peer + ": " + s.message()};
+    }
+    ++m_stats.statuses;
+    m_last_status = std::move(text);
+    if (m_on_status) {
+        m_on_status(m_last_status);
+    }
+    return {};
+}
+
 Result<bool> StreamClient::receive(ReceivedFrame* copy, HeldFrame* held, std::chrono::milliseconds timeout) {
     if (auto r = release(); !r) {
         return Error{r.error().message};
@@ -372,22 +416,8 @@ Result<bool> StreamClient::receive(ReceivedFrame* copy, HeldFrame* held, std::ch
             return Error{"server " + m_peer + " closed the stream: " + message};
         }
         if (h.kind == FrameKind::Status) {
-            // Before the first frame: what the server is doing about it. Not a frame; keep waiting.
-            std::string text(h.payload_bytes, '\0');
-            if (auto s =
-                    readExact(reinterpret_cast<std::uint8_t*>(text.data()), text.size(), payload_deadline, &timed_out);
-                !s) {
+            if (auto s = takeStatus(h, payload_deadline); !s) {
                 return Error{s.message()};
-            }
-            if (auto s = validateTextPayload(FrameKind::Status, reinterpret_cast<const std::uint8_t*>(text.data()),
-                                             text.size());
-                !s) {
-                return Error{m_peer + ": " + s.message()};
-            }
-            ++m_stats.statuses;
-            m_last_status = std::move(text);
-            if (m_on_status) {
-                m_on_status(m_last_status);
             }
             if (Clock::now() >= deadline) {
                 return false;
@@ -400,6 +430,10 @@ Result<bool> StreamClient::receive(ReceivedFrame* copy, HeldFrame* held, std::ch
             h.height != static_cast<std::uint32_t>(m_profile.height) || h.format != m_profile.format ||
             h.stride != h.width * static_cast<std::uint32_t>(bytesPerPixel(h.format))) {
             return Error{m_peer + ": frame header does not match the negotiated profile"};
+        }
+        std::optional<FrameMeta> meta;
+        if (auto s = readMeta(h, payload_deadline, &meta); !s) {
+            return Error{s.message()};
         }
         const std::int64_t received_ns = stream_detail::realtimeNowNs();
         const std::uint8_t* held_pixels = nullptr;
@@ -427,6 +461,7 @@ Result<bool> StreamClient::receive(ReceivedFrame* copy, HeldFrame* held, std::ch
                     if (latest > h.sequence &&
                         FrameRing::readMapped(m_map, l, latest, &slot_header, copy->pixels.data())) {
                         h.sequence = latest;
+                        meta.reset();  // the block was the notified frame's, not this one's
                         ok = true;
                     }
                 }
@@ -460,6 +495,7 @@ Result<bool> StreamClient::receive(ReceivedFrame* copy, HeldFrame* held, std::ch
             h.render_time_ns = slot_header.render_time_ns;
             h.source_time_ns = slot_header.source_time_ns;
             h.slot = slot_header.slot;
+            h.validity = slot_header.validity;
         } else if (h.encoding == FrameEncoding::Raw) {
             copy->pixels.resize(h.pixelBytes());
             if (auto s = readExact(copy->pixels.data(), copy->pixels.size(), payload_deadline, &timed_out); !s) {
@@ -486,7 +522,9 @@ Result<bool> StreamClient::receive(ReceivedFrame* copy, HeldFrame* held, std::ch
             held->header = h;
             held->pixels = held_pixels;
             held->receive_time_ns = received_ns;
+            held->meta = std::move(meta);
         } else {
+            copy->meta = std::move(meta);
             copy->header = h;
             copy->receive_time_ns = stream_detail::realtimeNowNs();
         }

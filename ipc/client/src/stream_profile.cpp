@@ -221,7 +221,7 @@ Result<StreamRequest> parseStreamRequest(std::string_view line) {
         return Error{"handshake: expected a JSON object"};
     }
     static const char* const kKeys[] = {"version", "profile", "width",   "height", "fps",
-                                        "view",    "format",  "payload", "hold"};
+                                        "view",    "format",  "payload", "hold",   "meta"};
     for (const auto& item : j.items()) {
         bool known = false;
         for (const char* k : kKeys) {
@@ -322,6 +322,12 @@ Result<StreamRequest> parseStreamRequest(std::string_view line) {
             return Error{"handshake: \"hold\" needs payload shm (frames are held in the shared-memory ring)"};
         }
     }
+    if (const auto it = j.find("meta"); it != j.end()) {
+        if (!it->is_boolean()) {
+            return Error{"handshake: \"meta\" must be true or false"};
+        }
+        req.meta = it->get<bool>();
+    }
     return req;
 }
 
@@ -337,6 +343,9 @@ std::string formatStreamRequest(const StreamRequest& request) {
     j["payload"] = streamPayloadName(request.payload);
     if (request.hold) {
         j["hold"] = true;
+    }
+    if (request.meta) {
+        j["meta"] = true;
     }
     return j.dump(-1, ' ', true, nlohmann::json::error_handler_t::replace) + "\n";
 }
@@ -383,6 +392,15 @@ Result<StreamReply> parseStreamReply(std::string_view line, const StreamRequest&
     if (const auto hold = j.find("hold");
         hold != j.end() && (!hold->is_boolean() || hold->get<bool>() != request.hold)) {
         return Error{"reply: \"hold\" must be " + std::string(request.hold ? "true" : "false") + " as asked"};
+    }
+    // Asked for metadata: the server names the block version it sends; not asked: no key.
+    if (const auto meta = j.find("meta"); request.meta) {
+        if (meta == j.end() || !meta->is_number_integer() || meta->get<std::int64_t>() != kFrameMetaVersion) {
+            return Error{"reply: \"meta\" must be " + std::to_string(kFrameMetaVersion) +
+                         " (the metadata block version this client reads)"};
+        }
+    } else if (meta != j.end()) {
+        return Error{"reply: \"meta\" without asking for metadata"};
     }
     const auto stride = static_cast<std::int64_t>(reply.profile.width) * bytesPerPixel(reply.profile.format);
     std::int64_t v = stride;

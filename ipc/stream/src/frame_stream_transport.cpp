@@ -69,6 +69,7 @@ void FrameStreamTransport::onHandshake(StreamConn& c, const std::string& line) {
     c.ring = ring.value();
     c.payload = r.payload;
     c.hold = r.hold;
+    c.meta = r.meta;
     c.fps = r.profile.fps;
     c.ring->max_fps = std::max(c.ring->max_fps, effectiveFps(c.fps));
     if (!sendReply(c, handshakeReply(c, r))) {
@@ -91,6 +92,9 @@ std::string FrameStreamTransport::handshakeReply(const StreamConn& c, const Stre
     reply["payload"] = streamPayloadName(r.payload);
     if (r.hold) {
         reply["hold"] = true;
+    }
+    if (r.meta) {
+        reply["meta"] = kFrameMetaVersion;  // the block version every frame header's block has
     }
     reply["stride"] = l.stride;
     reply["header_bytes"] = kFrameHeaderBytes;
@@ -195,9 +199,20 @@ void FrameStreamTransport::queueFrame(StreamConn& c, FrameHeader h, const Encode
     h.encoding = zlib ? FrameEncoding::Zlib : FrameEncoding::Raw;
     const auto& payload = zlib ? encoded->bytes : c.ring->raw;
     h.payload_bytes = static_cast<std::uint32_t>(payload.size());
+    queueHeader(c, h);
+    c.queue(payload.data(), payload.size());
+}
+
+void FrameStreamTransport::queueHeader(StreamConn& c, FrameHeader h) {
+    // The frame's metadata block follows its header, for the clients that asked for it; a frame
+    // published without one (or one too old to be kept) goes without.
+    const auto block = c.meta ? c.ring->meta->get(h.sequence) : FrameMetaHistory::Block{};
+    h.meta_bytes = block ? static_cast<std::uint16_t>(block->size()) : 0;
     const auto hb = encodeFrameHeader(h);
     c.queue(hb.data(), hb.size());
-    c.queue(payload.data(), payload.size());
+    if (block) {
+        c.queue(block->data(), block->size());
+    }
 }
 
 }  // namespace navmap::ipc::stream_detail

@@ -39,6 +39,8 @@ protected:
     virtual bool readFrame(StreamConn& c, std::uint64_t seq, FrameHeader* h);
     /// Queues the header (and payload) of a frame for `c`.
     virtual void queueFrame(StreamConn& c, FrameHeader h, const EncodedFrame* encoded);
+    /// Queues the header of a frame, with its metadata block after it when the client asked.
+    void queueHeader(StreamConn& c, FrameHeader h);
 
     void handshakeError(StreamConn& c, const std::string& message);
     void protocolError(StreamConn& c, const std::string& message);

@@ -126,8 +126,7 @@ void ShmTransport::queueFrame(StreamConn& c, FrameHeader h, const EncodedFrame* 
     }
     h.encoding = FrameEncoding::Shm;
     h.payload_bytes = 0;
-    const auto hb = encodeFrameHeader(h);
-    c.queue(hb.data(), hb.size());
+    queueHeader(c, h);
     c.awaiting_ack = true;
     c.ack_since = Clock::now();
 }

@@ -44,6 +44,7 @@ struct StreamConn {
     std::shared_ptr<RingEntry> ring;
     StreamPayload payload = StreamPayload::Shm;
     bool hold = false;  // shm: holds frames in place until its ack (pinned slots)
+    bool meta = false;  // asked for the metadata block after each frame header
     int fps = 0;
     bool awaiting_ack = false;
     int pinned_slot = -1;  // shm: the slot of the notified frame, pinned until the ack

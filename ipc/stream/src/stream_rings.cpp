@@ -29,6 +29,22 @@ std::string sizeText(std::size_t b) {
 
 }  // namespace
 
+void FrameMetaHistory::put(std::uint64_t sequence, Block block) {
+    Block old;  // freed outside the lock
+    {
+        std::lock_guard lock(m_mutex);
+        auto& slot = m_blocks[sequence % kFrames];
+        old = std::move(slot.second);
+        slot = {sequence, std::move(block)};
+    }
+}
+
+FrameMetaHistory::Block FrameMetaHistory::get(std::uint64_t sequence) const {
+    std::lock_guard lock(m_mutex);
+    const auto& slot = m_blocks[sequence % kFrames];
+    return slot.first == sequence ? slot.second : Block{};
+}
+
 int effectiveFps(int fps) { return fps == 0 ? kMaxStreamFps : fps; }
 
 bool RingEntry::fillRaw(std::uint64_t seq) {
@@ -232,7 +248,7 @@ void RingSet::updatePublishSet() {
     auto set = std::make_shared<PublishSet>();
     for (const auto& e : m_rings) {
         if (e->clients > 0) {
-            set->push_back({e->key, e->ring});
+            set->push_back({e->key, e->ring, e->meta});
         }
     }
     std::lock_guard lock(m_publish_mutex);
@@ -247,7 +263,12 @@ std::size_t RingSet::publish(const std::string& profile, const FrameView& frame)
     }
     std::size_t written = 0;
     for (const auto& t : *set) {
-        if (t.key == profile && t.ring->write(frame) != 0) {
+        if (t.key != profile) {
+            continue;
+        }
+        // The block first: the server thread may send the frame as soon as write() returns.
+        t.meta->put(t.ring->nextSequence(), frame.meta);
+        if (t.ring->write(frame) != 0) {
             ++written;
         }
     }

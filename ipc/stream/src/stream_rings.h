@@ -12,11 +12,13 @@
 // thread (FrameEncoder), never from the I/O thread. Server thread, but for publish() (render
 // thread). Private to ipc/stream.
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <mutex>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "frame_encoder.h"
@@ -30,10 +32,27 @@ namespace navmap::ipc::stream_detail {
 
 class StreamStats;
 
+/// The metadata blocks of a ring's newest frames by sequence, so that the server thread sends a
+/// frame's own block after its header, whenever (a zlib encode finishes later). The render thread
+/// puts a block before it writes its frame; the mutex guards a pointer swap, never I/O.
+class FrameMetaHistory {
+public:
+    using Block = std::shared_ptr<const std::vector<std::uint8_t>>;
+    void put(std::uint64_t sequence, Block block);
+    /// The block of frame `sequence`; null when it had none or is older than kFrames frames.
+    Block get(std::uint64_t sequence) const;
+
+private:
+    static constexpr std::size_t kFrames = 16;
+    mutable std::mutex m_mutex;
+    std::array<std::pair<std::uint64_t, Block>, kFrames> m_blocks{};
+};
+
 struct RingEntry {
     std::string key;  // what publish() names
     std::string view;
     std::shared_ptr<FrameRing> ring;
+    std::shared_ptr<FrameMetaHistory> meta = std::make_shared<FrameMetaHistory>();
     std::size_t clients = 0;
     /// Its memfd went to a client (SCM_RIGHTS): a mapping of it may live on after every
     /// connection is gone, so the ring stays (idle) and counted until the server ends.
@@ -91,6 +110,7 @@ private:
     struct PublishTarget {
         std::string key;
         std::shared_ptr<FrameRing> ring;
+        std::shared_ptr<FrameMetaHistory> meta;
     };
     using PublishSet = std::vector<PublishTarget>;
 

@@ -54,8 +54,9 @@ public:
             while (m_run) {
                 const auto px = sequencePattern(800, 240, seq + 1);
                 // Ring sequences restart with a new ring; the pattern follows them.
-                seq = server.publish("hud", FrameView{px.data(), 800, 240, 0, PixelFormat::Rgba8, 0, 0}) > 0 ? seq + 1
-                                                                                                             : 0;
+                seq = server.publish("hud", FrameView{px.data(), 800, 240, 0, PixelFormat::Rgba8, 0, 0, {}, {}}) > 0
+                          ? seq + 1
+                          : 0;
                 std::this_thread::sleep_for(15ms);
             }
         });
@@ -169,6 +170,10 @@ TEST(ClientLibrary, LinksOnlyTheCAndCxxRuntime) {
     ASSERT_EQ(nm.status, 0) << nm.out;
     EXPECT_NE(nm.out.find("navmap_client_next_frame"), std::string::npos);
     EXPECT_NE(nm.out.find("navmap::ipc::StreamClient::nextHeld"), std::string::npos);
+    for (const char* symbol : {"navmap_client_request_meta", "navmap_client_frame_validity", "navmap_client_frame_meta",
+                               "navmap::ipc::decodeFrameMeta", "navmap::ipc::encodeFrameMeta"}) {
+        EXPECT_NE(nm.out.find(symbol), std::string::npos) << symbol;
+    }
     EXPECT_EQ(nm.out.find("FrameServer"), std::string::npos);
     EXPECT_EQ(nm.out.find("stream_detail"), std::string::npos);
 }

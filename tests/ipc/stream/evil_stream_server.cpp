@@ -47,6 +47,9 @@ nlohmann::json honestReply(const ipc::StreamRequest& r, const ipc::FrameRingLayo
     if (r.hold) {
         reply["hold"] = true;
     }
+    if (r.meta) {
+        reply["meta"] = ipc::kFrameMetaVersion;
+    }
     reply["stride"] = l.stride;
     reply["header_bytes"] = ipc::kFrameHeaderBytes;
     if (r.payload == ipc::StreamPayload::Shm) {
@@ -229,7 +232,8 @@ void EvilStreamServer::serveOne(int fd) {
         return;
     }
     const auto pixels = sequencePattern(prof.width, prof.height, 1);
-    ring.value()->write(ipc::FrameView{pixels.data(), prof.width, prof.height, 0, ipc::PixelFormat::Rgba8, 0, 0});
+    ring.value()->write(ipc::FrameView{
+        pixels.data(), prof.width, prof.height, 0, ipc::PixelFormat::Rgba8, 0, 0, m_behaviour.validity, {}});
     const ipc::FrameRingLayout& l = ring.value()->layout();
     std::vector<std::uint8_t> bytes(l.total_bytes);
     if (::pread(ring.value()->fd(), bytes.data(), bytes.size(), 0) != static_cast<ssize_t>(bytes.size())) {
@@ -280,8 +284,17 @@ void EvilStreamServer::serveOne(int fd) {
     h.height = l.height;
     h.stride = l.stride;
     h.payload_bytes = h.encoding == ipc::FrameEncoding::Shm ? 0 : static_cast<std::uint32_t>(l.pixelBytes());
-    const auto hb = encodeFrameHeader(h);
+    h.validity = m_behaviour.validity;
+    const auto& meta = m_behaviour.meta;
+    h.meta_bytes = static_cast<std::uint16_t>(m_behaviour.meta_bytes >= 0 ? m_behaviour.meta_bytes : meta.size());
+    auto hb = encodeFrameHeader(h);
+    if (m_behaviour.edit_header) {
+        m_behaviour.edit_header(hb.data());
+    }
     if (::send(fd, hb.data(), hb.size(), MSG_NOSIGNAL) != static_cast<ssize_t>(hb.size())) {
+        return;
+    }
+    if (!meta.empty() && ::send(fd, meta.data(), meta.size(), MSG_NOSIGNAL) != static_cast<ssize_t>(meta.size())) {
         return;
     }
     if (h.encoding == ipc::FrameEncoding::Raw) {

@@ -14,6 +14,9 @@
 #include <functional>
 #include <string>
 #include <thread>
+#include <vector>
+
+#include "navmap/ipc/client/frame_meta.h"
 
 namespace navmap::stream_test {
 
@@ -34,6 +37,14 @@ struct EvilBehaviour {
     std::string patch;
     /// When not empty: sent as the reply line instead (a '\n' is added).
     std::string line;
+    /// Frame 1's metadata block, sent after its header when not empty; the header gives its size,
+    /// or `meta_bytes` when that is not negative.
+    std::vector<std::uint8_t> meta = {};
+    int meta_bytes = -1;
+    /// Frame 1's validity, in the ring's slot and in its notification.
+    ipc::FrameValidity validity = {};
+    /// Edits frame 1's 80 encoded header bytes before they are sent (validity lies).
+    std::function<void(std::uint8_t*)> edit_header = {};
 };
 
 class EvilStreamServer {

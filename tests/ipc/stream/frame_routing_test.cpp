@@ -50,7 +50,7 @@ std::vector<std::uint8_t> solid(int w, int h, std::uint8_t r, std::uint8_t g, st
 
 bool publish(FrameServer& server, const std::string& profile, const std::vector<std::uint8_t>& px, int w = 64,
              int h = 32) {
-    return server.publish(profile, FrameView{px.data(), w, h, 0, PixelFormat::Rgba8, 0, 0}) > 0;
+    return server.publish(profile, FrameView{px.data(), w, h, 0, PixelFormat::Rgba8, 0, 0, {}, {}}) > 0;
 }
 
 class FrameServerFixture : public ::testing::Test {

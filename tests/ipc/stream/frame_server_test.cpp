@@ -420,7 +420,7 @@ TEST_F(StreamServerTest, MjpegOverHttpDecodesToThePublishedImage) {
         }
     }
     for (int i = 0; i < 2; ++i) {
-        m_server->publish("bird", FrameView{px.data(), 96, 48, 0, PixelFormat::Rgba8, 0, 0});
+        m_server->publish("bird", FrameView{px.data(), 96, 48, 0, PixelFormat::Rgba8, 0, 0, {}, {}});
         std::uint64_t seq = 0;
         const auto jpeg = reader.next(3s, &seq);
         ASSERT_FALSE(jpeg.empty()) << "no JPEG part " << i;

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // navmap-view end to end: the test process serves frames, the real navmap-view binary connects
 // over the Unix socket (shm) and TCP (zlib), saves PNGs and prints its statistics as JSON, and
-// prints the statuses it gets before the first frame.
+// prints the statuses it gets before the first frame, and each frame's validity and metadata.
 
 #include <gtest/gtest.h>
 
@@ -9,9 +9,11 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <thread>
 
+#include "navmap/ipc/client/frame_meta.h"
 #include "navmap/ipc/stream/frame_server.h"
 #include "navmap/render/image.h"
 #include "stream_test_util.h"
@@ -140,4 +142,87 @@ TEST(NavmapView, PrintsEachStatusBeforeTheFrames) {
     ASSERT_NE(first, std::string::npos) << out;
     EXPECT_NE(out.find(line, first + line.size()), std::string::npos) << "two statuses: " << out;
     EXPECT_GT(out.find("frames 2 "), first) << out;
+}
+
+TEST(NavmapView, PrintsEachFramesMetadataAndCountsValidity) {
+    FrameServerOptions o;
+    o.unix_path = navmap::stream_test::uniqueSocketPath("view-meta-test");
+    o.tcp_port = 0;
+    FrameServer server(o);
+    ASSERT_TRUE(server.start().ok());
+    // The "daemon": frames alternately fresh and stale+off route, each with its block.
+    FrameMeta m;
+    m.has_pose = true;
+    m.lat_deg = 42.5;
+    m.lon_deg = 1.5;
+    m.heading_deg = 90.0;
+    m.pose_time_ns = 1764691200000000000LL;
+    m.has_next = true;
+    m.next_type = 3;  // turn_left
+    m.next_distance_m = 120.0;
+    m.next_street = "Carrer Major";
+    m.has_remaining = true;
+    m.remaining_m = 2500.0;
+    m.remaining_s = 300.0;
+    m.current_street = "Avinguda Meritxell";
+    const auto block = std::make_shared<const std::vector<std::uint8_t>>(encodeFrameMeta(m));
+    std::atomic<bool> run{true};
+    std::thread daemon([&] {
+        const auto px = navmap::stream_test::sequencePattern(800, 240, 1);
+        for (std::uint64_t seq = 1; run; ++seq) {
+            FrameView f;
+            f.pixels = px.data();
+            f.width = 800;
+            f.height = 240;
+            f.validity.version = kFrameValidityVersion;
+            f.validity.pose_age_ms = seq % 2 == 0 ? 40 : 1800;
+            f.validity.flags = seq % 2 == 0 ? 0 : kValidityStalePose | kValidityOffRoute;
+            f.meta = block;
+            server.publish("hud", f);
+            std::this_thread::sleep_for(10ms);
+        }
+    });
+    for (const bool tcp : {false, true}) {
+        const std::string target =
+            tcp ? "--tcp 127.0.0.1:" + std::to_string(server.tcpPort()) : "--unix " + o.unix_path;
+        int status = 0;
+        const std::string out = runCommand(
+            std::string(NAVMAP_VIEW_EXE) + " " + target + " --profile hud --fps 0 --frames 6 --meta --json 2>&1",
+            &status);
+        ASSERT_EQ(status, 0) << out;
+        int lines = 0;
+        long fresh = 0, stale = 0;
+        for (std::size_t at = out.find("meta: "); at != std::string::npos; at = out.find("meta: ", at + 1)) {
+            auto j = nlohmann::json::parse(out.substr(at + 6, out.find('\n', at) - at - 6), nullptr, false);
+            ASSERT_TRUE(j.is_object()) << out;
+            ++lines;
+            const bool is_fresh = j["validity"] == "fresh";
+            (is_fresh ? fresh : stale)++;
+            EXPECT_EQ(j["pose_age_ms"], is_fresh ? 40 : 1800) << j.dump();
+            EXPECT_EQ(j["validity"], is_fresh ? "fresh" : "stale_pose+off_route");
+            EXPECT_EQ(j["pose"]["lat"], 42.5);
+            EXPECT_EQ(j["pose"]["lon"], 1.5);
+            EXPECT_EQ(j["pose"]["heading"], 90.0);
+            EXPECT_EQ(j["pose"]["time_ns"], 1764691200000000000LL);
+            EXPECT_EQ(j["next"]["type"], "turn_left");
+            EXPECT_EQ(j["next"]["distance_m"], 120.0);
+            EXPECT_EQ(j["next"]["street"], "Carrer Major");
+            EXPECT_EQ(j["next"]["lanes"], "unknown");
+            EXPECT_EQ(j["remaining"]["m"], 2500.0);
+            EXPECT_EQ(j["remaining"]["s"], 300.0);
+            EXPECT_EQ(j["street"], "Avinguda Meritxell");
+            EXPECT_EQ(j["speed_limit_kmh"], "unknown");
+        }
+        EXPECT_EQ(lines, 6) << out;
+        // The summary counts the same frames by validity.
+        auto summary = nlohmann::json::parse(out.substr(out.rfind("\n{") + 1), nullptr, false);
+        ASSERT_TRUE(summary.is_object()) << out;
+        EXPECT_EQ(summary["validity"]["fresh"], fresh);
+        EXPECT_EQ(summary["validity"]["stale_pose"], stale);
+        EXPECT_EQ(summary["validity"]["off_route"], stale);
+        EXPECT_EQ(summary["validity"]["degraded"], 0);
+        EXPECT_EQ(summary["validity"]["unknown"], 0);
+    }
+    run = false;
+    daemon.join();
 }

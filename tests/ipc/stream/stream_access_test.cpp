@@ -537,7 +537,7 @@ TEST_F(StreamAccessTest, AReusedRingStartsWithTheNextFrameAndSocketOnlyRingsAreF
         auto c = StreamClient::connectUnix(path(), request("bird", 64, 32));
         ASSERT_TRUE(c.ok()) << c.error().message;
         ASSERT_TRUE(waitFor([&] { return m_server->stats().rings == 1; }));  // in the publish set after the reply
-        ASSERT_EQ(m_server->publish("bird", FrameView{px1.data(), 64, 32, 0, PixelFormat::Rgba8, 0, 0}), 1U);
+        ASSERT_EQ(m_server->publish("bird", FrameView{px1.data(), 64, 32, 0, PixelFormat::Rgba8, 0, 0, {}, {}}), 1U);
         ReceivedFrame f;
         auto r = c.value()->next(f, 3s);
         ASSERT_TRUE(r.ok() && r.value());
@@ -546,7 +546,7 @@ TEST_F(StreamAccessTest, AReusedRingStartsWithTheNextFrameAndSocketOnlyRingsAreF
     ASSERT_TRUE(waitFor([&] { return m_server->stats().rings_idle == 1; }));
     // Nothing is rendered for an idle ring.
     EXPECT_TRUE(m_server->activeProfiles().empty());
-    EXPECT_EQ(m_server->publish("bird", FrameView{px1.data(), 64, 32, 0, PixelFormat::Rgba8, 0, 0}), 0U);
+    EXPECT_EQ(m_server->publish("bird", FrameView{px1.data(), 64, 32, 0, PixelFormat::Rgba8, 0, 0, {}, {}}), 0U);
     for (const auto payload : {StreamPayload::Shm, StreamPayload::Raw}) {
         auto c = payload == StreamPayload::Shm
                      ? StreamClient::connectUnix(path(), request("bird", 64, 32, payload))
@@ -559,7 +559,7 @@ TEST_F(StreamAccessTest, AReusedRingStartsWithTheNextFrameAndSocketOnlyRingsAreF
         EXPECT_FALSE(r.value()) << "got frame " << f.header.sequence << " rendered before the ring was idle";
         const std::uint64_t seq = m_server->stats().published + 7;
         const auto px = sequencePattern(64, 32, seq);
-        ASSERT_EQ(m_server->publish("bird", FrameView{px.data(), 64, 32, 0, PixelFormat::Rgba8, 0, 0}), 1U);
+        ASSERT_EQ(m_server->publish("bird", FrameView{px.data(), 64, 32, 0, PixelFormat::Rgba8, 0, 0, {}, {}}), 1U);
         r = c.value()->next(f, 3s);
         ASSERT_TRUE(r.ok() && r.value());
         EXPECT_EQ(f.pixels, px);
@@ -622,7 +622,7 @@ TEST_F(StreamAccessTest, NoClientCanMakeTheRingWritable) {
     auto other = StreamClient::connectUnix(path(), request("bird", 64, 32));
     ASSERT_TRUE(other.ok()) << other.error().message;
     const auto px = sequencePattern(64, 32, 1);
-    ASSERT_EQ(m_server->publish("bird", FrameView{px.data(), 64, 32, 0, PixelFormat::Rgba8, 0, 0}), 1U);
+    ASSERT_EQ(m_server->publish("bird", FrameView{px.data(), 64, 32, 0, PixelFormat::Rgba8, 0, 0, {}, {}}), 1U);
     ReceivedFrame f;
     auto r = other.value()->next(f, 3s);
     ASSERT_TRUE(r.ok() && r.value()) << (r.ok() ? "timeout" : r.error().message);

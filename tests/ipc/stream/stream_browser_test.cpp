@@ -66,7 +66,7 @@ TEST(StreamBrowser, HeadlessChromiumShowsTheLiveStreamAndStatus) {
             px[i + 3] = 255;
         }
         while (go) {
-            server.publish("bird", FrameView{px.data(), 1280, 720, 0, PixelFormat::Rgba8, 0, 0});
+            server.publish("bird", FrameView{px.data(), 1280, 720, 0, PixelFormat::Rgba8, 0, 0, {}, {}});
             std::this_thread::sleep_for(33ms);
         }
     });

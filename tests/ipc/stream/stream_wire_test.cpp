@@ -338,7 +338,7 @@ TEST(FrameRing, ReaderNeverAcceptsATornFrame) {
         while (run) {
             ++i;
             const auto px = navmap::stream_test::sequencePattern(kW, kH, i);
-            FrameView f{px.data(), kW, kH, 0, PixelFormat::Rgba8, 0, 0};
+            FrameView f{px.data(), kW, kH, 0, PixelFormat::Rgba8, 0, 0, {}, {}};
             r.write(f);
         }
     });

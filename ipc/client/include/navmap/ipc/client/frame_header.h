@@ -8,6 +8,7 @@
 #include <cstdint>
 
 #include "navmap/ipc/client/frame_format.h"
+#include "navmap/ipc/client/frame_meta.h"
 #include "navmap/ipc/net/client_api.h"
 #include "navmap/ipc/net/result.h"
 
@@ -47,6 +48,11 @@ struct FrameHeader {
     std::uint32_t payload_bytes = 0;  ///< bytes following the header on the socket
     std::uint64_t dropped = 0;        ///< frames this client has missed so far (server side)
     std::uint32_t slot = 0;           ///< ring slot (encoding Shm)
+    /// Whether the frame can be trusted (bytes 68..75; version 0 from servers before it existed).
+    FrameValidity validity;
+    /// Bytes of the metadata block that follows this header on the socket, before any payload
+    /// (bytes 76..77): only for clients that asked for it, 0 in ring slots and for other kinds.
+    std::uint16_t meta_bytes = 0;
 
     std::size_t pixelBytes() const noexcept { return static_cast<std::size_t>(stride) * height; }
 };
@@ -56,6 +62,8 @@ NAVMAP_CLIENT_API std::array<std::uint8_t, kFrameHeaderBytes> encodeFrameHeader(
 
 /// Parses and validates a wire header: magic, version, size, known enums, dimensions within
 /// kMaxFrameDimension, stride >= width * bytesPerPixel, payload size consistent with the encoding.
+/// The validity bytes must follow validateFrameValidity(), meta_bytes be at most
+/// kMaxFrameMetaBytes (0 for Error and Status), bytes 78..79 be 0.
 /// For kinds Error and Status only the payload size is checked (at most 64 KiB); the payload
 /// itself is checked with validateTextPayload once it has been read.
 NAVMAP_CLIENT_API Result<FrameHeader> decodeFrameHeader(const std::uint8_t* data, std::size_t size);

@@ -75,6 +75,8 @@ public:
     /// frame does not fit this ring.
     std::uint64_t write(const FrameView& frame) noexcept;
 
+    /// Render thread: the sequence the next write() will give its frame.
+    std::uint64_t nextSequence() const noexcept { return m_next_sequence; }
     /// Server thread: pins the slot that holds frame `sequence` so that write() leaves it alone
     /// while another slot is free. Returns the slot, or -1 when that frame is gone (overwritten
     /// or being written). Every successful pin() needs one unpin(slot).

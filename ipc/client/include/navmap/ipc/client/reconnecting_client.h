@@ -53,6 +53,8 @@ public:
     bool release();
 
     bool connected() const noexcept { return m_client != nullptr; }
+    /// Asks for the metadata block (StreamRequest::meta) from the next connection on.
+    void requestMeta(bool on) noexcept { m_options.request.meta = on; }
     /// Why the last attempt failed or the last stream ended; empty when none did.
     const std::string& lastError() const noexcept { return m_last_error; }
     const ReconnectStats& reconnectStats() const noexcept { return m_stats; }

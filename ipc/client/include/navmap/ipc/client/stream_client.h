@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -27,6 +28,9 @@ struct ReceivedFrame {
     FrameHeader header;                ///< dropped = server-side drops + frames lost locally
     std::vector<std::uint8_t> pixels;  ///< header.stride * header.height bytes, header.format
     std::int64_t receive_time_ns = 0;  ///< CLOCK_REALTIME ns when the pixels were complete
+    /// The frame's metadata block (request.meta), validated; none when not asked for, when the
+    /// server sent none, or when the notified shm frame was overwritten and a newer one taken.
+    std::optional<FrameMeta> meta;
 };
 
 /// A frame left where the server wrote it (payload shm): `pixels` points into the client's
@@ -37,6 +41,7 @@ struct HeldFrame {
     FrameHeader header;
     const std::uint8_t* pixels = nullptr;
     std::int64_t receive_time_ns = 0;  ///< CLOCK_REALTIME ns when the notification was read
+    std::optional<FrameMeta> meta;     ///< as ReceivedFrame::meta
 };
 
 struct StreamClientStats {
@@ -109,6 +114,11 @@ private:
     Status readExact(std::uint8_t* dst, std::size_t n, std::chrono::steady_clock::time_point deadline, bool* timed_out);
     /// Reads the next header (kept across timeouts); false on timeout.
     Result<bool> readHeader(FrameHeader& out, std::chrono::steady_clock::time_point deadline);
+    /// Reads a status header's text, checks it and hands it to the handler.
+    Status takeStatus(const FrameHeader& h, std::chrono::steady_clock::time_point deadline);
+    /// Reads and checks the metadata block after `h` (none when h.meta_bytes is 0).
+    Status readMeta(const FrameHeader& h, std::chrono::steady_clock::time_point deadline,
+                    std::optional<FrameMeta>* out);
     Result<bool> receive(ReceivedFrame* copy, HeldFrame* held, std::chrono::milliseconds timeout);
 
     int m_fd = -1;
@@ -127,6 +137,7 @@ private:
     std::size_t m_header_have = 0;  // partial header kept across timeouts
     FrameInflater m_inflate;
     bool m_hold = false;            // opened with request.hold: frames may be held
+    bool m_meta = false;            // opened with request.meta: frames may carry a metadata block
     int m_held = -1;                // slot of the held frame, -1: none
     std::uint64_t m_held_lock = 0;  // its lock word when it was handed out
     std::string m_last_status;

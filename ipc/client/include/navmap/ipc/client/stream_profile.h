@@ -43,6 +43,9 @@ struct StreamRequest {
     /// Payload shm: the client holds frames in place until its ack (StreamClient::nextHeld), so
     /// the server keeps the notified slot from the writer while another slot is free.
     bool hold = false;
+    /// The metadata block (frame_meta.h) after every frame header: "meta":true in the handshake.
+    /// Off by default, so a client that does not know the block never gets one.
+    bool meta = false;
 };
 
 inline constexpr std::size_t kMaxHandshakeBytes = 4096;
@@ -52,7 +55,7 @@ inline constexpr int kMaxStreamFps = 1000;  ///< displays need <= 240; recorders
 
 /// Parses one handshake line (without or with the trailing '\n'):
 ///   {"version":1,"profile":"cluster","width":1280,"height":480,"fps":30,"view":"snail",
-///    "format":"rgba8","payload":"shm","hold":true}
+///    "format":"rgba8","payload":"shm","hold":true,"meta":true}
 /// "version" and either "profile" (a default name) or all of width/height/view are required;
 /// given fields override the named profile's. Unknown keys, wrong types and out-of-range values
 /// are errors naming the key.
