@@ -65,19 +65,37 @@ std::optional<std::size_t> StoreSet::storeOf(TileId id) const {
 }
 
 TileLoadResult StoreSet::load(TileId id) const {
-    const auto which = storeOf(id);
-    if (!which) return {nullptr, {}, true};
-    const Mounted& m = m_stores[*which];
-    const TileId own = *m.store->scheme().fromWorld(m_scheme.worldTile(id));
-    TileLoadResult r = m.store->load(own);
-    if (!r.tile) return r;
-    m.loads->fetch_add(1);
-    if (own == id && m.to_frame.identity()) return r;  // the set's scheme is this store's (shards)
-    auto tile = std::make_shared<Tile>(*r.tile);
-    const Box square = m_scheme.bounds(id);
-    reexpressTile(*tile, m.to_frame, id, {square.min_x, square.min_y}, m_scheme.tileSize(id.level));
+    TileLoadResult r;
+    std::shared_ptr<Tile> tile = loadAlone(id, r);
+    if (!tile) return r;
+    m_stores[*storeOf(id)].loads->fetch_add(1);
+    // The heights beyond each edge from the tile of the set there, whichever store holds it, read
+    // from that store (heights are the same in every frame: nothing to re-express).
+    attachDemBorders(*tile, [this](TileId across) -> std::shared_ptr<const Tile> {
+        const auto holder = storeOf(across);
+        if (!holder) return nullptr;
+        const TileStore& store = *m_stores[*holder].store;
+        TileLoadResult ignored;
+        return store.loadAlone(*store.scheme().fromWorld(m_scheme.worldTile(across)), ignored);
+    });
     r.tile = std::move(tile);
     return r;
+}
+
+std::shared_ptr<Tile> StoreSet::loadAlone(TileId id, TileLoadResult& r) const {
+    const auto which = storeOf(id);
+    if (!which) {
+        r.missing = true;
+        return nullptr;
+    }
+    const Mounted& m = m_stores[*which];
+    const TileId own = *m.store->scheme().fromWorld(m_scheme.worldTile(id));
+    std::shared_ptr<Tile> tile = m.store->loadAlone(own, r);
+    if (!tile) return nullptr;
+    if (own == id && m.to_frame.identity()) return tile;  // the set's scheme is this store's (shards)
+    const Box square = m_scheme.bounds(id);
+    reexpressTile(*tile, m.to_frame, id, {square.min_x, square.min_y}, m_scheme.tileSize(id.level));
+    return tile;
 }
 
 void reexpressTile(Tile& tile, const FrameTransform& t, TileId id, PlanarPoint origin, double size_m) {

@@ -30,8 +30,31 @@ std::size_t Tile::byteSize() const {
     bytes += labels.capacity() * sizeof(Label);
     for (const auto& l : labels) bytes += stringBytes(l.name);
     bytes += dem.heights.capacity() * sizeof(float);
+    for (const auto& edge : dem.beyond) bytes += edge.capacity() * sizeof(float);
     bytes += ortho.byteSize();
     return bytes;
+}
+
+void attachDemBorders(Tile& tile, const std::function<std::shared_ptr<const Tile>(TileId)>& neighbour) {
+    TileDem& dem = tile.dem;
+    for (auto& edge : dem.beyond) edge.clear();
+    const int n = dem.size;
+    if (n < 3 || dem.heights.size() != static_cast<std::size_t>(n) * n) return;
+    const TileId id = tile.id;
+    auto take = [&](DemEdge edge, TileId across, int row, int col, int row_step, int col_step) {
+        const std::shared_ptr<const Tile> other = neighbour(across);
+        if (!other || other->dem.size != dem.size || other->dem.heights.size() != dem.heights.size()) return;
+        std::vector<float>& out = dem.beyond[edge];
+        out.resize(static_cast<std::size_t>(n));
+        for (int i = 0; i < n; ++i)
+            out[static_cast<std::size_t>(i)] = other->dem.at(row + i * row_step, col + i * col_step);
+    };
+    // The level's last index: a tile on the scheme's edge has no tile across it.
+    const std::uint32_t last = id.level >= 32 ? ~std::uint32_t{0} : (std::uint32_t{1} << id.level) - 1;
+    if (id.x > 0) take(kDemWest, {id.level, id.x - 1, id.y}, 0, n - 2, 1, 0);
+    if (id.x < last) take(kDemEast, {id.level, id.x + 1, id.y}, 0, 1, 1, 0);
+    if (id.y > 0) take(kDemSouth, {id.level, id.x, id.y - 1}, n - 2, 0, 0, 1);
+    if (id.y < last) take(kDemNorth, {id.level, id.x, id.y + 1}, 1, 0, 0, 1);
 }
 
 }  // namespace navmap::map

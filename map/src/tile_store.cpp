@@ -137,15 +137,28 @@ std::uint64_t TileStore::blobOffset(TileId id) const {
 
 TileStore::LoadResult TileStore::load(TileId id) const {
     LoadResult result;
+    std::shared_ptr<Tile> tile = loadAlone(id, result);
+    if (!tile) return result;
+    // The heights beyond each edge, from the store (never from what a cache holds): a damaged or
+    // missing tile across an edge leaves that edge one-sided.
+    attachDemBorders(*tile, [this](TileId across) -> std::shared_ptr<const Tile> {
+        LoadResult ignored;
+        return contains(across) ? loadAlone(across, ignored) : nullptr;
+    });
+    result.tile = std::move(tile);
+    return result;
+}
+
+std::shared_ptr<Tile> TileStore::loadAlone(TileId id, LoadResult& result) const {
     const auto it = m_index.find(id.key());
     if (it == m_index.end()) {
         result.missing = true;
-        return result;
+        return nullptr;
     }
     const Entry& e = it->second;
     auto fail = [&](const std::string& what) {
         result.error = m_path.string() + ": tile " + id.toString() + ": " + what;
-        return result;
+        return nullptr;
     };
     std::vector<std::uint8_t> stored(e.stored_size);
     if (!preadAll(m_fd, stored.data(), stored.size(), e.offset))
@@ -159,8 +172,7 @@ TileStore::LoadResult TileStore::load(TileId id) const {
     std::string error;
     if (!decodeTile(raw, *tile, error)) return fail("malformed payload: " + error);
     if (!(tile->id == id)) return fail("payload is for tile " + tile->id.toString());
-    result.tile = std::move(tile);
-    return result;
+    return tile;
 }
 
 TileStore::GraphResult TileStore::tryLoadGraph() const {

@@ -107,9 +107,10 @@ std::vector<LandCoverVertex> landCoverTriangles(const map::Tile& tile) {
 namespace {
 
 // The terrain grid (flat at 0 m where the tile has no DEM: the store warned at compile time) with
-// its vertices' central-difference normals.
+// its vertices' central-difference normals, across the border with the heights beyond it.
 void buildTerrainGrid(const map::Tile& tile, TileMesh& mesh) {
-    if (tile.dem.size >= 2 && tile.dem.heights.size() == std::size_t{tile.dem.size} * tile.dem.size) {
+    const bool has_dem = tile.dem.size >= 2 && tile.dem.heights.size() == std::size_t{tile.dem.size} * tile.dem.size;
+    if (has_dem) {
         mesh.grid_size = tile.dem.size;
         mesh.heights = tile.dem.heights;
     } else {
@@ -122,18 +123,14 @@ void buildTerrainGrid(const map::Tile& tile, TileMesh& mesh) {
     mesh.min_height = *lo;
     mesh.max_height = *hi;
     mesh.terrain.resize(static_cast<std::size_t>(n) * n);
-    auto h = [&](int r, int c) {
-        return mesh.heights[static_cast<std::size_t>(std::clamp(r, 0, n - 1)) * n + std::clamp(c, 0, n - 1)];
-    };
+    const HeightGrid grid{n, spacing, mesh.heights.data()};
     for (int r = 0; r < n; ++r) {
         for (int c = 0; c < n; ++c) {
-            // Central differences (one-sided at the border).
-            const int c0 = std::max(c - 1, 0), c1 = std::min(c + 1, n - 1);
-            const int r0 = std::max(r - 1, 0), r1 = std::min(r + 1, n - 1);
-            const float dzdx = (h(r, c1) - h(r, c0)) / static_cast<float>((c1 - c0) * spacing);
-            const float dzdy = (h(r1, c) - h(r0, c)) / static_cast<float>((r1 - r0) * spacing);
+            const NormalStencil s = normalStencil(grid, r, c, has_dem ? &tile.dem : nullptr);
+            const float dzdx = (s.east - s.west) / static_cast<float>(s.dx_cells * spacing);
+            const float dzdy = (s.north - s.south) / static_cast<float>(s.dy_cells * spacing);
             mesh.terrain[static_cast<std::size_t>(r) * n + c] = {
-                glm::vec3(static_cast<float>(c * spacing), static_cast<float>(r * spacing), h(r, c)),
+                glm::vec3(static_cast<float>(c * spacing), static_cast<float>(r * spacing), grid.at(r, c)),
                 glm::normalize(glm::vec3(-dzdx, -dzdy, 1.0f))};
         }
     }

@@ -185,6 +185,17 @@ std::vector<LandCoverVertex> landCoverTriangles(const map::Tile& tile);
 TileMesh buildTileMesh(const map::Tile& tile, const TileMeshOptions& options = {},
                        std::span<const map::Tile* const> ancestors = {});
 
+/// The samples around grid sample (r, c) that its central-difference normal takes, and the cells
+/// between west and east and between south and north: 2 inside the grid, 1 at a border where the
+/// difference is one-sided. At the border the sample beyond the edge comes from `dem`'s
+/// `beyond` (map::TileDem::beyond, the tile across the edge; `dem` the grid's own, or null:
+/// one-sided at every border).
+struct NormalStencil {
+    float west = 0.0f, east = 0.0f, south = 0.0f, north = 0.0f;
+    int dx_cells = 0, dy_cells = 0;
+};
+NormalStencil normalStencil(const HeightGrid& grid, int r, int c, const map::TileDem* dem);
+
 /// The surface of the ancestor `levels_up` levels above a tile (heights, normals) at the vertices
 /// of the tile's grid, triangulated as that ancestor's mesh renders it (HeightGrid's split).
 /// `heights`: the tile's grid_size^2 samples; `ancestor` may be null (see buildTileMesh).

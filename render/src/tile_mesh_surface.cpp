@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // The terrain surface of the geomorph ancestors (tile_mesh.h): the coarser levels' heights and
-// normals at a tile's grid vertices.
+// normals at a tile's grid vertices; the normals' samples around a grid vertex, across the
+// tile's border with the heights beyond it.
 #include "tile_mesh.h"
 
 #include <algorithm>
@@ -13,13 +14,12 @@ namespace navmap::render {
 
 namespace {
 
-// Central-difference normal of a grid sample (one-sided at the border), as the terrain mesh uses.
-glm::vec3 gridNormal(const HeightGrid& g, int r, int c) {
-    const int n = g.size;
-    const int c0 = std::max(c - 1, 0), c1 = std::min(c + 1, n - 1);
-    const int r0 = std::max(r - 1, 0), r1 = std::min(r + 1, n - 1);
-    const auto dzdx = static_cast<float>((g.at(r, c1) - g.at(r, c0)) / ((c1 - c0) * g.spacing));
-    const auto dzdy = static_cast<float>((g.at(r1, c) - g.at(r0, c)) / ((r1 - r0) * g.spacing));
+// Central-difference normal of a grid sample, across the border with the samples beyond it
+// where `dem` has them (normalStencil), as the terrain mesh uses.
+glm::vec3 gridNormal(const HeightGrid& g, int r, int c, const map::TileDem* dem) {
+    const NormalStencil s = normalStencil(g, r, c, dem);
+    const auto dzdx = static_cast<float>((s.east - s.west) / (s.dx_cells * g.spacing));
+    const auto dzdy = static_cast<float>((s.north - s.south) / (s.dy_cells * g.spacing));
     return glm::normalize(glm::vec3(-dzdx, -dzdy, 1.0f));
 }
 
@@ -42,6 +42,26 @@ GridWeights gridWeights(const HeightGrid& g, double x, double y) {
 }
 
 }  // namespace
+
+NormalStencil normalStencil(const HeightGrid& g, int r, int c, const map::TileDem* dem) {
+    const int n = g.size;
+    const int c0 = std::max(c - 1, 0), c1 = std::min(c + 1, n - 1);
+    const int r0 = std::max(r - 1, 0), r1 = std::min(r + 1, n - 1);
+    NormalStencil s{g.at(r, c0), g.at(r, c1), g.at(r0, c), g.at(r1, c), c1 - c0, r1 - r0};
+    // The sample beyond an edge, i along it, where `dem` has one: the difference spans a cell more.
+    const auto beyond = [&](map::DemEdge edge, int i, float& sample, int& cells) {
+        if (!dem) return;
+        const std::vector<float>& along = dem->beyond[edge];
+        if (along.size() != static_cast<std::size_t>(n)) return;
+        sample = along[static_cast<std::size_t>(i)];
+        ++cells;
+    };
+    if (c == 0) beyond(map::kDemWest, r, s.west, s.dx_cells);
+    if (c == n - 1) beyond(map::kDemEast, r, s.east, s.dx_cells);
+    if (r == 0) beyond(map::kDemSouth, c, s.south, s.dy_cells);
+    if (r == n - 1) beyond(map::kDemNorth, c, s.north, s.dy_cells);
+    return s;
+}
 
 void ancestorSurface(const map::Tile& tile, int n, std::span<const float> heights, const map::Tile* ancestor,
                      int levels_up, std::vector<float>& out_heights, std::vector<glm::vec3>& out_normals) {
@@ -74,7 +94,9 @@ void ancestorSurface(const map::Tile& tile, int n, std::span<const float> height
     }
     std::vector<glm::vec3> an(static_cast<std::size_t>(ag.size) * ag.size);
     for (int r = 0; r < ag.size; ++r)
-        for (int c = 0; c < ag.size; ++c) an[static_cast<std::size_t>(r) * ag.size + c] = gridNormal(ag, r, c);
+        for (int c = 0; c < ag.size; ++c)
+            an[static_cast<std::size_t>(r) * ag.size + c] =
+                gridNormal(ag, r, c, has_ancestor ? &ancestor->dem : nullptr);
     for (int r = 0; r < n; ++r) {
         for (int c = 0; c < n; ++c) {
             const GridWeights w = gridWeights(ag, offset.x + c * spacing, offset.y + r * spacing);

@@ -115,15 +115,15 @@ PlaceResolver PlaceResolver::fromStore(const map::TileStore& store) {
     const int last = store.scheme().levelForTileSize(8000.0);
     for (const map::TileId id : store.tileIds()) {
         if (id.level > last) continue;
-        const auto loaded = store.load(id);
-        if (!loaded.tile) continue;
-        for (const map::Label& l : loaded.tile->labels) {
+        map::TileStore::LoadResult status;
+        const auto tile = store.loadAlone(id, status);  // labels only: not the heights beyond its edges
+        if (!tile) continue;
+        for (const map::Label& l : tile->labels) {
             if (l.kind != map::LabelKind::Place || l.name.empty() || !seen.insert(l.osm_id).second) continue;
             NamedPlace p;
             p.name = l.name;
             p.importance = l.importance;
-            proj.reverse({loaded.tile->origin_x + l.anchor.x, loaded.tile->origin_y + l.anchor.y}, p.point.lat_deg,
-                         p.point.lon_deg);
+            proj.reverse({tile->origin_x + l.anchor.x, tile->origin_y + l.anchor.y}, p.point.lat_deg, p.point.lon_deg);
             found.push_back(std::move(p));
         }
     }

@@ -141,6 +141,50 @@ TEST_F(TwoRegions, StoresWithDifferentDemGridsAreRefusedNamingBoth) {
     EXPECT_THROW((void)StoreSet::mount({}, andorra->projection()), StoreError);
 }
 
+// A loaded tile carries the samples of the tiles of its level next to each shared border
+// (TileDem::beyond), read from the store, so that the terrain's normals at the border are the same
+// in both tiles; mounted in a set in another frame it carries the same heights.
+TEST_F(TwoRegions, ATileCarriesItsNeighboursSamplesNextToItsBorders) {
+    const auto andorra = TileStore::open(*s_dir / "andorra.navmap");
+    const auto north = TileStore::open(*s_dir / "north.navmap");
+    const auto set = StoreSet::mount({north, andorra}, north->projection());
+    const int n = static_cast<int>(andorra->demSamples());
+    int checked = 0;
+    for (const TileId id : andorra->tileIds()) {
+        if (id.level != andorra->scheme().leafLevel() || id.x == 0 || id.y == 0 || checked >= 8) continue;
+        const TileId west{id.level, id.x - 1, id.y}, east{id.level, id.x + 1, id.y};
+        const TileId south{id.level, id.x, id.y - 1}, northern{id.level, id.x, id.y + 1};
+        if (!andorra->contains(west) || !andorra->contains(east) || !andorra->contains(south) ||
+            !andorra->contains(northern))
+            continue;
+        const auto t = andorra->load(id).tile;
+        ASSERT_TRUE(t);
+        TileStore::LoadResult status;
+        const auto alone = andorra->loadAlone(id, status);
+        ASSERT_TRUE(alone);
+        for (const auto& edge : alone->dem.beyond) EXPECT_TRUE(edge.empty());
+        const auto w = andorra->load(west).tile, e = andorra->load(east).tile;
+        const auto s = andorra->load(south).tile, no = andorra->load(northern).tile;
+        for (const auto& edge : t->dem.beyond) ASSERT_EQ(edge.size(), static_cast<std::size_t>(n));
+        for (int i = 0; i < n; ++i) {
+            const auto k = static_cast<std::size_t>(i);
+            EXPECT_EQ(t->dem.beyond[kDemWest][k], w->dem.at(i, n - 2));
+            EXPECT_EQ(t->dem.beyond[kDemEast][k], e->dem.at(i, 1));
+            EXPECT_EQ(t->dem.beyond[kDemSouth][k], s->dem.at(n - 2, i));
+            EXPECT_EQ(t->dem.beyond[kDemNorth][k], no->dem.at(1, i));
+        }
+        // The tile across the east edge has this tile's samples next to the border beyond its west.
+        for (int i = 0; i < n; ++i)
+            EXPECT_EQ(e->dem.beyond[kDemWest][static_cast<std::size_t>(i)], t->dem.at(i, n - 2));
+        const auto in_set = set->load(*set->scheme().fromWorld(andorra->scheme().worldTile(id))).tile;
+        ASSERT_TRUE(in_set);
+        EXPECT_NE(in_set->dem.spacing_m, t->dem.spacing_m) << "re-expressed into the north store's frame";
+        for (std::size_t k = 0; k < 4; ++k) EXPECT_EQ(in_set->dem.beyond[k], t->dem.beyond[k]) << "edge " << k;
+        ++checked;
+    }
+    EXPECT_EQ(checked, 8);
+}
+
 TEST_F(TwoRegions, ARecentredSetAndItsCacheGiveTheSameTilesInTheNewFrame) {
     const auto andorra = TileStore::open(*s_dir / "andorra.navmap");
     const auto north = TileStore::open(*s_dir / "north.navmap");

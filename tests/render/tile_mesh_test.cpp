@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <map>
+#include <memory>
 #include <set>
 #include <tuple>
 #include <utility>
@@ -444,6 +445,152 @@ TEST(TileMesh, LandCoverKeepsWaterOnTop) {
     ASSERT_EQ(m.land_cover.size(), 6u);
     EXPECT_EQ(m.land_cover.front().color, render::landCoverColor(map::AreaClass::Forest));
     EXPECT_EQ(m.land_cover.back().color, render::landCoverColor(map::AreaClass::Water));
+}
+
+// A steep, curved slope (store-frame metres): 0.5 to 1.1 rising eastwards, curving both ways.
+float steepSlope(double x, double y) {
+    return static_cast<float>(1000.0 + 0.8 * x + 300.0 * std::sin(x / 400.0) + 200.0 * std::cos(y / 300.0));
+}
+
+map::Tile slopeTile(map::TileId id, double size, int n) {
+    map::Tile t;
+    t.id = id;
+    t.origin_x = id.x * size;
+    t.origin_y = id.y * size;
+    t.size_m = size;
+    t.dem.size = static_cast<std::uint16_t>(n);
+    t.dem.spacing_m = static_cast<float>(size / (n - 1));
+    t.dem.coverage = 1.0f;
+    for (int r = 0; r < n; ++r)
+        for (int c = 0; c < n; ++c)
+            t.dem.heights.push_back(steepSlope(t.origin_x + c * size / (n - 1), t.origin_y + r * size / (n - 1)));
+    return t;
+}
+
+// The tiles of a source, as attachDemBorders asks for them.
+struct SlopeSource {
+    std::vector<std::shared_ptr<map::Tile>> tiles;
+    std::shared_ptr<const map::Tile> operator()(map::TileId id) const {
+        for (const auto& t : tiles)
+            if (t->id == id) return t;
+        return nullptr;
+    }
+    const map::Tile& add(map::TileId id, double size, int n = 17) {
+        tiles.push_back(std::make_shared<map::Tile>(slopeTile(id, size, n)));
+        return *tiles.back();
+    }
+    // Every tile with the heights beyond its edges, as a tile source loads it.
+    void attachBorders() {
+        for (const auto& t : tiles) map::attachDemBorders(*t, *this);
+    }
+};
+
+// The normal of the central differences of steepSlope's samples spaced `s` apart at (x, y).
+glm::vec3 centralNormal(double x, double y, double s) {
+    const double dzdx = (double(steepSlope(x + s, y)) - steepSlope(x - s, y)) / (2 * s);
+    const double dzdy = (double(steepSlope(x, y + s)) - steepSlope(x, y - s)) / (2 * s);
+    return glm::normalize(glm::vec3(float(-dzdx), float(-dzdy), 1.0f));
+}
+
+// attachDemBorders takes from each tile of the same level across an edge the samples next to the
+// shared border, and leaves an edge without a tile (or with another grid) empty.
+TEST(TileMesh, DemBordersAreTheNeighboursSamplesNextToTheBorder) {
+    SlopeSource source;
+    source.add({3, 1, 1}, 800.0);
+    const map::Tile& west = source.add({3, 0, 1}, 800.0);
+    const map::Tile& east = source.add({3, 2, 1}, 800.0);
+    const map::Tile& north = source.add({3, 1, 2}, 800.0);
+    source.add({3, 1, 0}, 800.0, 9);  // south: another grid
+    source.attachBorders();
+    const map::TileDem& dem = source.tiles.front()->dem;
+    ASSERT_EQ(dem.beyond[map::kDemWest].size(), 17u);
+    ASSERT_EQ(dem.beyond[map::kDemEast].size(), 17u);
+    ASSERT_EQ(dem.beyond[map::kDemNorth].size(), 17u);
+    EXPECT_TRUE(dem.beyond[map::kDemSouth].empty());
+    for (int i = 0; i < 17; ++i) {
+        const auto k = static_cast<std::size_t>(i);
+        EXPECT_EQ(dem.beyond[map::kDemWest][k], west.dem.at(i, 15));
+        EXPECT_EQ(dem.beyond[map::kDemEast][k], east.dem.at(i, 1));
+        EXPECT_EQ(dem.beyond[map::kDemNorth][k], north.dem.at(1, i));
+    }
+    // The scheme's west edge: tile x 0 has nothing across it.
+    EXPECT_TRUE(west.dem.beyond[map::kDemWest].empty());
+}
+
+// Two tiles west and east of a border that is also their parents' border: each computes at the
+// vertices it shares with the other the same normal, for its own surface and for its parent's
+// (the geomorph target), namely the central difference across the border that a tile spanning
+// the border would compute. One-sided differences at the border did not (rectangular shading
+// seams at tile borders on hillsides); the skirts take the border's normals.
+TEST(TileMesh, BorderNormalsAreTheCentralDifferencesAcrossTheBorder) {
+    SlopeSource source;
+    const map::Tile& west = source.add({3, 1, 0}, 800.0);
+    const map::Tile& east = source.add({3, 2, 0}, 800.0);
+    const map::Tile& west_parent = source.add({2, 0, 0}, 1600.0);
+    const map::Tile& east_parent = source.add({2, 1, 0}, 1600.0);
+    const render::TileMesh one_sided = render::buildTileMesh(west);
+    source.attachBorders();
+    const map::Tile* west_ancestors[] = {&west_parent};
+    const map::Tile* east_ancestors[] = {&east_parent};
+    const render::TileMesh w = render::buildTileMesh(west, {}, west_ancestors);
+    const render::TileMesh e = render::buildTileMesh(east, {}, east_ancestors);
+    const int n = 17;
+    int differs = 0;
+    for (int r = 0; r < n; ++r) {
+        const render::TerrainVertex& a = w.terrain[static_cast<std::size_t>(r) * n + n - 1];
+        const render::TerrainVertex& b = e.terrain[static_cast<std::size_t>(r) * n];
+        EXPECT_EQ(a.normal, b.normal) << "row " << r;
+        EXPECT_EQ(a.ancestor_normals[0], b.ancestor_normals[0]) << "row " << r;
+        if (a.normal != one_sided.terrain[static_cast<std::size_t>(r) * n + n - 1].normal) ++differs;
+        if (r == 0 || r == n - 1) continue;  // no tile south or north: one-sided there
+        const glm::vec3 own = centralNormal(1600.0, r * 50.0, 50.0);
+        EXPECT_NEAR(a.normal.x, own.x, 1e-4f) << "row " << r;
+        EXPECT_NEAR(a.normal.y, own.y, 1e-4f) << "row " << r;
+        if (r % 2 == 0) {  // on a parent sample: the parent's central difference (100 m spacing)
+            const glm::vec3 parent = centralNormal(1600.0, r * 50.0, 100.0);
+            EXPECT_NEAR(a.ancestor_normals[0].x, parent.x, 1e-4f) << "row " << r;
+            EXPECT_NEAR(a.ancestor_normals[0].y, parent.y, 1e-4f) << "row " << r;
+        }
+    }
+    EXPECT_EQ(differs, n);  // every border vertex had a one-sided normal before
+    // Inside the tile the normals are those without the borders.
+    for (int r = 1; r < n - 1; ++r)
+        for (int c = 1; c < n - 2; ++c)
+            EXPECT_EQ(w.terrain[static_cast<std::size_t>(r) * n + c].normal,
+                      one_sided.terrain[static_cast<std::size_t>(r) * n + c].normal);
+    // The skirts hang from the border vertices with their normals.
+    int skirts = 0;
+    for (std::size_t i = static_cast<std::size_t>(n) * n; i < w.terrain.size(); ++i) {
+        const render::TerrainVertex& s = w.terrain[i];
+        if (s.position.x < 799.0f || s.position.y < 1.0f || s.position.y > 799.0f) continue;
+        const auto r = static_cast<std::size_t>(std::lround(s.position.y / 50.0f));
+        EXPECT_EQ(s.normal, w.terrain[r * n + n - 1].normal);
+        EXPECT_EQ(s.ancestor_normals[0], w.terrain[r * n + n - 1].ancestor_normals[0]);
+        ++skirts;
+    }
+    EXPECT_EQ(skirts, n - 2);
+}
+
+// A fine tile next to a coarse one (a level-of-detail border): fully morphed, the fine tile has
+// at the border the normals the coarse tile has there, so the shading does not step where the
+// levels meet (the fine tile's parent and the coarse tile are neighbours of one level, and each
+// has the other's samples beyond their shared edge).
+TEST(TileMesh, MorphedBorderNormalsAreThoseOfTheCoarserTileAcrossTheEdge) {
+    SlopeSource source;
+    const map::Tile& coarse = source.add({2, 0, 0}, 1600.0);
+    const map::Tile& parent = source.add({2, 1, 0}, 1600.0);
+    const map::Tile& fine = source.add({3, 2, 0}, 800.0);
+    source.attachBorders();
+    const map::Tile* fine_ancestors[] = {&parent};
+    const render::TileMesh f = render::buildTileMesh(fine, {}, fine_ancestors);
+    const render::TileMesh c = render::buildTileMesh(coarse);
+    const int n = 17;
+    for (int r = 0; r < n; r += 2) {  // the fine rows on a coarse sample
+        const glm::vec2 morphed = f.terrain[static_cast<std::size_t>(r) * n].ancestor_normals[0];
+        const glm::vec3 coarse_normal = c.terrain[static_cast<std::size_t>(r / 2) * n + n - 1].normal;
+        EXPECT_NEAR(morphed.x, coarse_normal.x, 1e-6f) << "row " << r;
+        EXPECT_NEAR(morphed.y, coarse_normal.y, 1e-6f) << "row " << r;
+    }
 }
 
 }  // namespace

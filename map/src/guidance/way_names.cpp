@@ -16,15 +16,16 @@ WayNames WayNames::alongRoute(const TileStore& store, std::span<const PlanarPoin
     for (const PlanarPoint& p : route) {
         const auto id = scheme.tileAt(leaf, p);
         if (!id || !seen.insert(*id).second || !store.contains(*id)) continue;
-        const TileStore::LoadResult r = store.load(*id);
-        if (!r.tile) {
+        TileStore::LoadResult r;
+        const auto tile = store.loadAlone(*id, r);  // roads only: not the heights beyond its edges
+        if (!tile) {
             if (!r.missing) {
                 ++names.m_load_errors;
                 names.m_last_error = r.error;
             }
             continue;
         }
-        for (const Road& road : r.tile->roads) names.add(road.osm_id, road.name, road.ref);
+        for (const Road& road : tile->roads) names.add(road.osm_id, road.name, road.ref);
     }
     return names;
 }

@@ -51,6 +51,8 @@ private:
         std::shared_ptr<std::atomic<std::uint64_t>> loads;
     };
     StoreSet() = default;
+    /// A tile of the set re-expressed into its frame, without the heights beyond its edges.
+    std::shared_ptr<Tile> loadAlone(TileId id, TileLoadResult& r) const;
     Projection m_frame{0.0, 0.0};
     TileScheme m_scheme;
     std::vector<TileId> m_roots;

@@ -12,9 +12,11 @@
 //   centimetre precision anywhere in the store. Renderers add (origin - camera origin) in
 //   double and go to float only after that (camera-relative rendering).
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -116,8 +118,18 @@ struct TileDem {
     float spacing_m = 0;
     std::vector<float> heights;  ///< size * size metres above sea level; 0 where no DEM
     float coverage = 0;          ///< fraction of samples that had DEM data (missing = flat 0 m)
+    /// The samples one spacing beyond each edge (west, east, south, north: DemEdge), `size` each,
+    /// along the edge from south to north or west to east: those of the tile of the same level
+    /// across it (its column size - 2, column 1, row size - 2, row 1). Empty where the source has
+    /// no such tile or it has no grid of this size. Not stored: the tile source fills them when it
+    /// loads the tile (attachDemBorders), so that the normals at the border are central
+    /// differences, the same in both tiles (docs/rendering.md "Terrain normals").
+    std::array<std::vector<float>, 4> beyond;
     [[nodiscard]] float at(int row, int col) const { return heights[static_cast<std::size_t>(row) * size + col]; }
 };
+
+/// The edges of a tile's DEM grid, in the order of TileDem::beyond.
+enum DemEdge : std::uint8_t { kDemWest = 0, kDemEast = 1, kDemSouth = 2, kDemNorth = 3 };
 
 struct Tile {
     TileId id;
@@ -134,5 +146,10 @@ struct Tile {
     /// Approximate heap + object bytes, used by the cache budget.
     [[nodiscard]] std::size_t byteSize() const;
 };
+
+/// Fills tile.dem.beyond from the tiles of the same level across its four edges, as `neighbour`
+/// returns them (as stored, their own `beyond` unused; null: no tile there). What a tile source
+/// does on load: the result depends on the source's data alone, never on what a cache holds.
+void attachDemBorders(Tile& tile, const std::function<std::shared_ptr<const Tile>(TileId)>& neighbour);
 
 }  // namespace navmap::map

@@ -45,8 +45,13 @@ public:
     [[nodiscard]] std::uint64_t blobOffset(TileId id) const;
 
     using LoadResult = TileLoadResult;
-    /// Reads, checks (CRC32, size), decompresses and decodes one tile. Never throws.
+    /// Reads, checks (CRC32, size), decompresses and decodes one tile, and fills the heights
+    /// beyond its edges (TileDem::beyond) from the tiles of its level across them, read the same
+    /// way. Never throws.
     [[nodiscard]] LoadResult load(TileId id) const override;
+    /// The tile alone, as stored (TileDem::beyond empty), the caller's own to complete; null with
+    /// `result.error` or `result.missing` set when it cannot be read (`result.tile` stays null).
+    [[nodiscard]] std::shared_ptr<Tile> loadAlone(TileId id, LoadResult& result) const;
 
     struct GraphResult {
         RoadGraph graph;      ///< empty unless ok()
