@@ -28,6 +28,8 @@ BUILD=(
   libopenimageio-dev
   # man pages from the tools' --help (skipped when absent)
   help2man
+  # navmap-wayland: libwayland-client, xdg-shell's XML (wayland-protocols), wayland-scanner
+  libwayland-dev wayland-protocols libwayland-bin
 )
 TEST=(
   # fuzzers (clang), format and lint checks
@@ -41,6 +43,9 @@ TEST=(
   python3-prometheus-client dpkg-dev
   # CAN tools (candump/canplayer) and a Debian kernel under qemu for the real SocketCAN (vcan) test
   can-utils qemu-system-x86 linux-image-amd64 busybox-static cpio
+  # navmap-wayland on Weston 10's headless backend (desktop shell, ivi-shell with hmi-controller,
+  # weston-screenshooter); libweston-10-dev builds the tests' screenshooter module for ivi-shell
+  weston libweston-10-dev
 )
 # qemu-user-static runs the aarch64 programs (qemu-aarch64-static -L <sysroot>, no binfmt).
 CROSS=(g++-aarch64-linux-gnu binutils-aarch64-linux-gnu qemu-user-static)
@@ -54,6 +59,7 @@ ARM64_SYSROOT=(
   libfreetype-dev libharfbuzz-dev
   libtomlplusplus-dev nlohmann-json3-dev libcli11-dev libturbojpeg0-dev libsystemd-dev
   libopenimageio-dev
+  libwayland-dev wayland-protocols
   libgtest-dev libgmock-dev libbenchmark-dev
 )
 
