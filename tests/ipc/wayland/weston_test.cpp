@@ -243,6 +243,36 @@ TEST(NavmapWaylandWeston, DesktopShellShowsTheFramesAndKeepsTheLastWhileNavmapdI
     EXPECT_NE(log.find("closed the connection"), std::string::npos) << log;
 }
 
+// RGB565 frames (converted by the server on publish) land in an RGB565 wl_shm buffer row for row;
+// the screen shows the pattern at 5-6-5 bits, widened as the compositor does (bit replication).
+TEST(NavmapWaylandWeston, DesktopShellShowsRgb565FramesAsTheyCome) {
+    Weston weston("weston-desktop.ini", false);
+    ASSERT_TRUE(weston.up()) << readFile(weston.log());
+    const std::string sock = socketPath("desktop565");
+    PatternServer server(sock, 2);
+    ASSERT_TRUE(server.started()) << server.error();
+    Child client(clientArgs(sock, {"--format", "rgb565"}), weston.env(), weston.path("client.log"));
+    const Expected quantised = [](int x, int y, std::uint8_t rgb[3]) {
+        patternPixel(x, y, 2, rgb);
+        const unsigned r = rgb[0] >> 3, g = rgb[1] >> 2, b = rgb[2] >> 3;
+        rgb[0] = static_cast<std::uint8_t>((r << 3) | (r >> 2));
+        rgb[1] = static_cast<std::uint8_t>((g << 2) | (g >> 4));
+        rgb[2] = static_cast<std::uint8_t>((b << 3) | (b >> 2));
+    };
+    Screen s;
+    int x0 = -1, y0 = -1;
+    ASSERT_TRUE(weston.screenUntil(
+        20s, [&](const Screen& sc) { return locate(sc, 320, 200, quantised, &x0, &y0); }, &s))
+        << "the RGB565 frame is not on the screen\n"
+        << readFile(weston.path("client.log"));
+    const int diff = maxDifference(s, x0, y0, 320, 200, quantised);
+    std::printf("desktop-shell, rgb565: frame at (%d, %d), max channel difference %d\n", x0, y0, diff);
+    EXPECT_LE(diff, 1);
+    EXPECT_NE(readFile(weston.path("client.log")).find("rgb565 frames as RGB565"), std::string::npos)
+        << readFile(weston.path("client.log"));
+    EXPECT_EQ(client.stop(), 0);
+}
+
 // ivi-shell: hmi-controller gives the surface 160x205; navmap-wayland asks navmapd for that size
 // and shows the frames 1:1 at the controller's position (0, 0).
 TEST(NavmapWaylandWeston, IviShellTakesTheControllersSizeFromNavmapd) {
