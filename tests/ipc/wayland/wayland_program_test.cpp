@@ -22,7 +22,7 @@ std::string runWithout(const std::map<std::string, std::string>& env, int* statu
     std::filesystem::remove(log);
     Child c({NAVMAP_WAYLAND_EXE, "--unix", "/nonexistent/navmap.sock"}, env, log);
     *status = c.wait(std::chrono::seconds(20));
-    const std::string out = readFile(log);
+    std::string out = readFile(log);
     std::filesystem::remove(log);
     return out;
 }

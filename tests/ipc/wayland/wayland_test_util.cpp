@@ -34,12 +34,15 @@ Child::Child(const std::vector<std::string>& argv, const std::map<std::string, s
         }
     }
     std::vector<std::string> env_strings;
+    env_strings.reserve(vars.size());
     for (const auto& [k, v] : vars) env_strings.push_back(k + "=" + v);
     std::vector<char*> envp;
+    envp.reserve(env_strings.size() + 1);
     for (auto& e : env_strings) envp.push_back(e.data());
     envp.push_back(nullptr);
     std::vector<std::string> arg_strings = argv;
     std::vector<char*> args;
+    args.reserve(arg_strings.size() + 1);
     for (auto& a : arg_strings) args.push_back(a.data());
     args.push_back(nullptr);
     const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
@@ -104,7 +107,7 @@ std::string findOnPath(const std::string& name) {
     std::stringstream dirs(path != nullptr ? path : "/usr/bin:/bin");
     std::string dir;
     while (std::getline(dirs, dir, ':')) {
-        const std::string p = dir + "/" + name;
+        std::string p = dir + "/" + name;
         if (::access(p.c_str(), X_OK) == 0) return p;
     }
     return "";
