@@ -30,7 +30,7 @@ done
 [ -n "$libdir" ] || fail "no libnavmap-client.so.0 under $prefix/lib"
 echo "installed into $prefix (libdir $libdir):"
 expected=(
-    bin/navmapd bin/navmap-view bin/navmap-wayland bin/navmap-ctl bin/navmap-compile bin/navmap-sim bin/navmap-soak
+    bin/navmapd bin/navmap-view bin/navmap-ctl bin/navmap-compile bin/navmap-sim bin/navmap-soak
     share/navmap/andorra.navmap share/navmap/navmap.dbc share/navmap/ortho-mlp.nnw share/navmap/ATTRIBUTION.md
     etc/navmap/navmapd.toml lib/systemd/system/navmapd.service lib/sysusers.d/navmap.conf
     share/doc/navmap/navmapd.md share/doc/navmap/frame-protocol.md share/doc/navmap/LICENSE
@@ -43,8 +43,12 @@ expected=(
 )
 if [ "$man" = ON ]; then
     expected+=(share/man/man1/navmapd.1 share/man/man1/navmap-view.1 share/man/man1/navmap-ctl.1
-               share/man/man1/navmap-compile.1 share/man/man1/navmap-sim.1 share/man/man1/navmap-soak.1
-               share/man/man1/navmap-wayland.1)
+               share/man/man1/navmap-compile.1 share/man/man1/navmap-sim.1 share/man/man1/navmap-soak.1)
+fi
+# navmap-wayland unless the build left it out (-DNAVMAP_WITH_WAYLAND=OFF).
+if ! grep -q '^NAVMAP_WITH_WAYLAND:BOOL=OFF$' "$build/CMakeCache.txt"; then
+    expected+=(bin/navmap-wayland)
+    if [ "$man" = ON ]; then expected+=(share/man/man1/navmap-wayland.1); fi
 fi
 for f in "${expected[@]}"; do
     [ -e "$prefix/$f" ] || fail "missing $f"
