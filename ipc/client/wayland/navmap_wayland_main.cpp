@@ -72,6 +72,7 @@ std::optional<int> parseArgs(int argc, char** argv, Options* o) {
         ->capture_default_str()
         ->check(integerIn(0, 4294967295LL));
     app.add_option("--title", o->window.title, "the window title under xdg-shell")->capture_default_str();
+    app.add_flag("--fullscreen", o->window.fullscreen, "xdg-shell: ask the compositor for the whole output");
     app.add_flag("--fixed-size", fixed_size,
                  "never ask navmapd for the window's size: scale the profile's frames to fit");
     app.add_option("--duration", o->duration_s, "stop after S seconds, 0 = no limit")->check(finiteIn(0.0, 1e7));

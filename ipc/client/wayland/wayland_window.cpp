@@ -155,6 +155,7 @@ Status WaylandWindow::createRole(const WindowOptions& options) {
         xdg_toplevel_add_listener(m_xdg_toplevel, &Listeners::kToplevel, this);
         xdg_toplevel_set_title(m_xdg_toplevel, options.title.c_str());
         xdg_toplevel_set_app_id(m_xdg_toplevel, options.app_id.c_str());
+        if (options.fullscreen) xdg_toplevel_set_fullscreen(m_xdg_toplevel, nullptr);
         wl_surface_commit(m_surface);  // no buffer: asks for the first configure
     }
     // A role error (ivi_id taken) arrives here rather than in the loop.

@@ -37,6 +37,7 @@ struct WindowOptions {
     std::string app_id = "navmap-wayland";
     int width = 1280;  ///< the size until the compositor configures another
     int height = 480;
+    bool fullscreen = false;  ///< xdg-shell: ask for the whole output (ivi-shell: the controller decides)
 };
 
 class WaylandWindow {

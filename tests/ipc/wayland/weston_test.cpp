@@ -273,6 +273,30 @@ TEST(NavmapWaylandWeston, DesktopShellShowsRgb565FramesAsTheyCome) {
     EXPECT_EQ(client.stop(), 0);
 }
 
+// xdg-shell, full screen: desktop-shell configures the output's 640x480; navmap-wayland asks the
+// server for it and the frames cover the screen 1:1.
+TEST(NavmapWaylandWeston, DesktopShellFullscreenTakesTheOutputsSizeFromNavmapd) {
+    Weston weston("weston-desktop.ini", false);
+    ASSERT_TRUE(weston.up()) << readFile(weston.log());
+    const std::string sock = socketPath("desktop-full");
+    PatternServer server(sock, 3);
+    ASSERT_TRUE(server.started()) << server.error();
+    Child client(clientArgs(sock, {"--fullscreen"}), weston.env(), weston.path("client.log"));
+    Screen s;
+    ASSERT_TRUE(weston.screenUntil(
+        20s, [&](const Screen& sc) { return maxDifference(sc, 0, 0, kScreenWidth, kScreenHeight, pattern(3)) <= 1; },
+        &s))
+        << "the 640x480 frame does not cover the screen: max channel difference "
+        << maxDifference(s, 0, 0, kScreenWidth, kScreenHeight, pattern(3)) << "\n"
+        << readFile(weston.path("client.log"));
+    std::printf("desktop-shell, full screen: 640x480 frame at (0, 0), max channel difference %d\n",
+                maxDifference(s, 0, 0, kScreenWidth, kScreenHeight, pattern(3)));
+    const std::string log = readFile(weston.path("client.log"));
+    EXPECT_NE(log.find("sized the surface 640x480"), std::string::npos) << log;
+    EXPECT_NE(log.find("streaming wl 640x480 bird"), std::string::npos) << log;
+    EXPECT_EQ(client.stop(), 0);
+}
+
 // ivi-shell: hmi-controller gives the surface 160x205; navmap-wayland asks navmapd for that size
 // and shows the frames 1:1 at the controller's position (0, 0).
 TEST(NavmapWaylandWeston, IviShellTakesTheControllersSizeFromNavmapd) {
