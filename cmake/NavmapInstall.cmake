@@ -6,6 +6,8 @@
 #               pages, docs
 #   viewer      navmap-view and its man page (apart: its PNG files need OpenImageIO, which the
 #               daemon's package does not pull in)
+#   wayland     navmap-wayland and its man page (apart: it needs libwayland-client, which neither
+#               the daemon nor the client library does; NAVMAP_WITH_WAYLAND)
 #   client      libnavmap-client.so.<major>
 #   client-dev  its headers, the .so link, the CMake package (find_package(navmap COMPONENTS
 #               client)) and navmap-client.pc
@@ -23,6 +25,9 @@ if(NAVMAP_WITH_DAEMON)
 install(TARGETS navmapd navmap-ctl navmap-compile navmap-sim navmap-soak
         RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR} COMPONENT daemon)
 install(TARGETS navmap-view RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR} COMPONENT viewer)
+if(TARGET navmap-wayland)
+  install(TARGETS navmap-wayland RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR} COMPONENT wayland)
+endif()
 # The compiled default store, the project's DBC, the orthoimage network's weights
 # (docs/orthoimage.md) and the data's attribution. Shaders are compiled into navmapd (shaders/,
 # cmake/EmbedShaders.cmake): none is read at run time.
@@ -53,11 +58,16 @@ if(NAVMAP_HELP2MAN AND NOT CMAKE_CROSSCOMPILING)
   set(navmap_man_pages)
   set(navmap_man_name_navmapd "headless 3D navigation-map renderer daemon")
   set(navmap_man_name_navmap-view "display client of navmapd's frame stream")
+  set(navmap_man_name_navmap-wayland "show navmapd's frames on a Wayland surface (ivi-shell, xdg-shell)")
   set(navmap_man_name_navmap-ctl "send one command to navmapd's control socket")
   set(navmap_man_name_navmap-compile "compile OpenStreetMap and SRTM data into a navmap tile store")
   set(navmap_man_name_navmap-sim "simulated drives as GNSS CAN frames, candump logs and routes")
   set(navmap_man_name_navmap-soak "long-running stability test of navmapd")
-  foreach(tool navmapd navmap-view navmap-ctl navmap-compile navmap-sim navmap-soak)
+  set(navmap_man_tools navmapd navmap-view navmap-ctl navmap-compile navmap-sim navmap-soak)
+  if(TARGET navmap-wayland)
+    list(APPEND navmap_man_tools navmap-wayland)
+  endif()
+  foreach(tool ${navmap_man_tools})
     set(page ${PROJECT_BINARY_DIR}/man/${tool}.1)
     add_custom_command(OUTPUT ${page}
         COMMAND ${CMAKE_COMMAND} -E make_directory ${PROJECT_BINARY_DIR}/man
@@ -72,9 +82,13 @@ if(NAVMAP_HELP2MAN AND NOT CMAKE_CROSSCOMPILING)
   endforeach()
   add_custom_target(navmap_man_pages ALL DEPENDS ${navmap_man_pages})
   set(navmap_daemon_man_pages ${navmap_man_pages})
-  list(FILTER navmap_daemon_man_pages EXCLUDE REGEX "/navmap-view\\.1$")
+  list(FILTER navmap_daemon_man_pages EXCLUDE REGEX "/navmap-(view|wayland)\\.1$")
   install(FILES ${navmap_daemon_man_pages} DESTINATION ${CMAKE_INSTALL_MANDIR}/man1 COMPONENT daemon)
   install(FILES ${PROJECT_BINARY_DIR}/man/navmap-view.1 DESTINATION ${CMAKE_INSTALL_MANDIR}/man1 COMPONENT viewer)
+  if(TARGET navmap-wayland)
+    install(FILES ${PROJECT_BINARY_DIR}/man/navmap-wayland.1 DESTINATION ${CMAKE_INSTALL_MANDIR}/man1
+            COMPONENT wayland)
+  endif()
 else()
   message(STATUS "help2man not found (or cross-compiling): no man pages (apt-get install help2man)")
 endif()

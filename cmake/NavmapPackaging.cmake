@@ -2,6 +2,7 @@
 # Debian packages with `cpack -G DEB` in the build tree (docs/packaging.md):
 #   navmapd               the daemon, the tools, the default data, the unit, the configuration
 #   navmap-view           the display client that records frames (PNG files through OpenImageIO)
+#   navmap-wayland        the display client that shows frames on a Wayland surface (libwayland-client)
 #   libnavmap-client0     libnavmap-client.so.0 (what a display process needs at run time)
 #   libnavmap-client-dev  headers, CMake package, pkg-config file
 #   gstreamer1.0-navmap   libgstnavmap.so, the GStreamer source element navmapsrc (NAVMAP_WITH_GSTREAMER)
@@ -18,6 +19,9 @@ set(CPACK_INSTALL_PREFIX /usr)
 set(CPACK_STRIP_FILES ON)
 if(NAVMAP_WITH_DAEMON)
   set(CPACK_COMPONENTS_ALL daemon viewer client client-dev)
+  if(TARGET navmap-wayland)
+    list(APPEND CPACK_COMPONENTS_ALL wayland)
+  endif()
 else()
   set(CPACK_COMPONENTS_ALL client client-dev)
 endif()
@@ -58,6 +62,13 @@ set(CPACK_DEBIAN_VIEWER_DESCRIPTION "display client of navmapd's frame stream
 navmap-view receives navmapd's frames as a cluster or head-up display would (shared memory, TCP),
 prints frames per second, latency and drops, and records the frames as PNG files.")
 
+set(CPACK_DEBIAN_WAYLAND_PACKAGE_NAME navmap-wayland)
+set(CPACK_DEBIAN_WAYLAND_PACKAGE_SECTION misc)
+set(CPACK_DEBIAN_WAYLAND_DESCRIPTION "Wayland display client of navmapd's frame stream
+navmap-wayland shows one profile of navmapd's frames on a Wayland surface: an ivi_surface under
+Weston's ivi-shell (with a configurable ivi_id), an xdg_toplevel elsewhere. It follows the
+compositor's size, asks navmapd for it, and reconnects by itself, keeping the last frame.")
+
 set(CPACK_DEBIAN_CLIENT_PACKAGE_NAME libnavmap-client${PROJECT_VERSION_MAJOR})
 set(CPACK_DEBIAN_CLIENT_PACKAGE_SECTION libs)
 set(CPACK_DEBIAN_CLIENT_DESCRIPTION "navmap display-client library
@@ -88,6 +99,9 @@ include(CPack)
 if(NAVMAP_WITH_DAEMON)
   cpack_add_component(daemon DISPLAY_NAME "navmapd" REQUIRED)
   cpack_add_component(viewer DISPLAY_NAME "navmap-view")
+  if(TARGET navmap-wayland)
+    cpack_add_component(wayland DISPLAY_NAME "navmap-wayland")
+  endif()
 endif()
 cpack_add_component(client DISPLAY_NAME "libnavmap-client")
 cpack_add_component(client-dev DISPLAY_NAME "libnavmap-client-dev" DEPENDS client)

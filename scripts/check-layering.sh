@@ -39,6 +39,9 @@ rule sim '#include "navmap/render/' "sim/ does not render"
 rule sim '#include "navmap/daemon/' "sim/ does not know the daemon (its CanSource is ipc's)"
 rule daemon '#include "navmap/sim/' "the daemon gets the simulator as a SimulatorFactory" daemon/navmapd.cpp
 rule . '#include <(GLES[23]|EGL)/' "GL and EGL stay in render/src/gl" "render/src/gl"
+# libwayland-client is navmap-wayland's alone: not the client library, not the daemon.
+rule . '#include (<wayland-|"[a-z-]+-client-protocol\.h")' "Wayland stays in ipc/client/wayland" "ipc/client/wayland"
+rule ipc/client/wayland '#include "navmap/ipc/(can|control|stream)/' "navmap-wayland is a client: ipc/client and ipc/net only"
 if [ "$bad" -gt 0 ]; then
     echo "check-layering: $bad rule(s) broken (docs/architecture.md \"Who uses whom\")"
     exit 1

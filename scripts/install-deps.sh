@@ -31,6 +31,8 @@ BUILD=(
   # the GStreamer source element navmapsrc (ipc/gst) and the tools and elements its tests run
   libgstreamer1.0-dev libgstreamer-plugins-base1.0-dev gstreamer1.0-tools gstreamer1.0-plugins-base
   gstreamer1.0-plugins-good
+  # navmap-wayland: libwayland-client, xdg-shell's XML (wayland-protocols), wayland-scanner
+  libwayland-dev wayland-protocols libwayland-bin
 )
 TEST=(
   # fuzzers (clang), format and lint checks
@@ -46,6 +48,9 @@ TEST=(
   gstreamer1.0-plugins-base-apps
   # CAN tools (candump/canplayer) and a Debian kernel under qemu for the real SocketCAN (vcan) test
   can-utils qemu-system-x86 linux-image-amd64 busybox-static cpio
+  # navmap-wayland on Weston 10's headless backend (desktop shell, ivi-shell with hmi-controller,
+  # weston-screenshooter); libweston-10-dev builds the tests' screenshooter module for ivi-shell
+  weston libweston-10-dev
 )
 # qemu-user-static runs the aarch64 programs (qemu-aarch64-static -L <sysroot>, no binfmt).
 CROSS=(g++-aarch64-linux-gnu binutils-aarch64-linux-gnu qemu-user-static)
@@ -59,6 +64,7 @@ ARM64_SYSROOT=(
   libfreetype-dev libharfbuzz-dev
   libtomlplusplus-dev nlohmann-json3-dev libcli11-dev libturbojpeg0-dev libsystemd-dev
   libopenimageio-dev
+  libwayland-dev wayland-protocols
   libgtest-dev libgmock-dev libbenchmark-dev
 )
 

@@ -44,6 +44,11 @@ const std::vector<Tool>& tools() {
         {"navmapd", NAVMAPD_PATH, "", "--config /nonexistent/navmapd.toml", "/nonexistent/navmapd.toml"},
         {"navmap-view", NAVMAP_VIEW_PATH, "--unix s", "--unix /nonexistent/frames.sock --frames 1",
          "connect(/nonexistent/frames.sock): No such file or directory"},
+#ifdef NAVMAP_WAYLAND_PATH
+        // No compositor (its environment cleared): the Wayland failure, exit 1 (docs/wayland.md).
+        {"navmap-wayland", "env -u WAYLAND_DISPLAY -u XDG_RUNTIME_DIR " NAVMAP_WAYLAND_PATH, "--unix s",
+         "--unix /nonexistent/frames.sock", "no Wayland compositor: WAYLAND_DISPLAY and XDG_RUNTIME_DIR are not set"},
+#endif
         {"navmap-ctl", NAVMAP_CTL_PATH, "get_status", "--socket /nonexistent/control.sock get_status",
          "connect(/nonexistent/control.sock): No such file or directory"},
         {"navmap-compile", NAVMAP_COMPILE_PATH, "--osm a --out b",
@@ -108,6 +113,11 @@ TEST(ToolsCli, NumbersMustBeFiniteAndInRange) {
         {NAVMAP_VIEW_PATH, "--unix s --width 8", "--width: '8' is not an integer in [16, 4096]"},
         {NAVMAP_VIEW_PATH, "--unix s --fps 1e3", "--fps: '1e3' is not an integer in [0, 1000]"},
         {NAVMAP_VIEW_PATH, "--tcp host:99999", "--tcp: 'host:99999' is not HOST:PORT with a port in [1, 65535]"},
+#ifdef NAVMAP_WAYLAND_PATH
+        {NAVMAP_WAYLAND_PATH, "--unix s --width 8", "--width: '8' is not an integer in [16, 4096]"},
+        {NAVMAP_WAYLAND_PATH, "--unix s --ivi-id -1", "--ivi-id: '-1' is not an integer in [0, 4294967295]"},
+        {NAVMAP_WAYLAND_PATH, "--unix s --duration inf", "--duration: 'inf' is not a finite number in [0, 1e+07]"},
+#endif
         {NAVMAP_CTL_PATH, "--timeout inf get_status", "--timeout: 'inf' is not a finite number in [0.1, 3600]"},
         {NAVMAP_CTL_PATH, "subscribe --count 0", "--count: '0' is not an integer in [1, 1000000000]"},
         {"", compile + " --leaf-size nan", "--leaf-size: 'nan' is not a finite number in"},

@@ -45,6 +45,11 @@ if [ "$man" = ON ]; then
     expected+=(share/man/man1/navmapd.1 share/man/man1/navmap-view.1 share/man/man1/navmap-ctl.1
                share/man/man1/navmap-compile.1 share/man/man1/navmap-sim.1 share/man/man1/navmap-soak.1)
 fi
+# navmap-wayland unless the build left it out (-DNAVMAP_WITH_WAYLAND=OFF).
+if ! grep -q '^NAVMAP_WITH_WAYLAND:BOOL=OFF$' "$build/CMakeCache.txt"; then
+    expected+=(bin/navmap-wayland)
+    if [ "$man" = ON ]; then expected+=(share/man/man1/navmap-wayland.1); fi
+fi
 for f in "${expected[@]}"; do
     [ -e "$prefix/$f" ] || fail "missing $f"
 done

@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: Apache-2.0
 # The Debian packages (CTest `deb_packages`, label install): `cpack -G DEB` in the build tree makes
-# navmapd, navmap-view, libnavmap-client0 and libnavmap-client-dev (and gstreamer1.0-navmap when the
-# build has the GStreamer plugin); their control fields and file lists are
+# navmapd, navmap-view, navmap-wayland, libnavmap-client0 and libnavmap-client-dev (and
+# gstreamer1.0-navmap when the build has the GStreamer plugin); their control fields and file lists are
 # checked, and they are installed into a throwaway root with dpkg (dpkg --root, maintainer
 # scripts chroot-less with DPKG_ROOT: the postinst creates the navmap user there through
 # sysusers.d). Without root (dpkg needs it) the packages are unpacked with dpkg -x instead; the
@@ -22,11 +22,18 @@ daemon_deb="$work/packages/navmapd_${version}_${arch}.deb"
 lib_deb="$work/packages/libnavmap-client0_${version}_${arch}.deb"
 dev_deb="$work/packages/libnavmap-client-dev_${version}_${arch}.deb"
 view_deb="$work/packages/navmap-view_${version}_${arch}.deb"
-for deb in "$daemon_deb" "$view_deb" "$lib_deb" "$dev_deb"; do
+# navmap-wayland unless the build left it out (-DNAVMAP_WITH_WAYLAND=OFF): then its checks are skipped.
+wayland_deb="$work/packages/navmap-wayland_${version}_${arch}.deb"
+debs=("$daemon_deb" "$view_deb" "$lib_deb" "$dev_deb" "$wayland_deb")
+if grep -q '^NAVMAP_WITH_WAYLAND:BOOL=OFF$' "$build/CMakeCache.txt"; then
+    wayland_deb=""
+    debs=("$daemon_deb" "$view_deb" "$lib_deb" "$dev_deb")
+fi
+for deb in "${debs[@]}"; do
     [ -f "$deb" ] || { ls -l "$work/packages"; fail "missing $(basename "$deb")"; }
 done
 field() { dpkg-deb -f "$1" "$2"; }
-for deb in "$daemon_deb" "$view_deb" "$lib_deb" "$dev_deb"; do
+for deb in "${debs[@]}"; do
     echo "== $(basename "$deb") ($(stat -c %s "$deb") bytes)"
     dpkg-deb -I "$deb" | sed -n '/^ Package:/,$p'
     dpkg-deb -c "$deb" | awk '{print "   " $6 ($6 ~ /\/$/ ? "" : "  " $3)}' | grep -v '/$'
@@ -36,7 +43,8 @@ done
 [ "$(field "$lib_deb" Package)" = libnavmap-client0 ] || fail "library package name"
 [ "$(field "$dev_deb" Package)" = libnavmap-client-dev ] || fail "-dev package name"
 [ "$(field "$view_deb" Package)" = navmap-view ] || fail "viewer package name"
-for deb in "$daemon_deb" "$view_deb" "$lib_deb" "$dev_deb"; do
+[ -z "$wayland_deb" ] || [ "$(field "$wayland_deb" Package)" = navmap-wayland ] || fail "Wayland client package name"
+for deb in "${debs[@]}"; do
     [ "$(field "$deb" Version)" = "$version" ] || fail "$(basename "$deb"): version $(field "$deb" Version)"
     [ "$(field "$deb" Architecture)" = "$arch" ] || fail "$(basename "$deb"): architecture"
 done
@@ -56,6 +64,14 @@ daemon_files="$(files "$daemon_deb")" view_files="$(files "$view_deb")" dev_file
 grep -q openimageio <<< "$(field "$view_deb" Depends)" || fail "navmap-view does not depend on OpenImageIO (its PNG files)"
 grep -qx ./usr/bin/navmap-view <<< "$view_files" || fail "navmap-view lacks its program"
 grep -q '/navmap-view' <<< "$daemon_files" && fail "navmapd carries navmap-view"
+# navmap-wayland: its own package, the only one that needs libwayland-client.
+if [ -n "$wayland_deb" ]; then
+    echo "navmap-wayland Depends: $(field "$wayland_deb" Depends)"
+    grep -q libwayland-client0 <<< "$(field "$wayland_deb" Depends)" || fail "navmap-wayland does not depend on libwayland-client0"
+    grep -qx ./usr/bin/navmap-wayland <<< "$(files "$wayland_deb")" || fail "navmap-wayland lacks its program"
+fi
+grep -q '/navmap-wayland' <<< "$daemon_files" && fail "navmapd carries navmap-wayland"
+grep -q wayland <<< "$daemon_depends" && fail "navmapd depends on Wayland"
 # The client library needs the C and C++ runtime, nothing of the server.
 for d in $(echo "$lib_depends" | tr ',' '\n' | sed 's/(.*//; s/ //g'); do
     case "$d" in libc6|libgcc-s1|libstdc++6) ;; *) fail "libnavmap-client0 depends on $d" ;; esac
@@ -97,9 +113,9 @@ if [ "$(id -u)" -eq 0 ]; then
     echo "== dpkg --root $root (maintainer scripts chroot-less, DPKG_ROOT set)"
     mkdir -p "$root/var/lib/dpkg/info" "$root/var/lib/dpkg/updates" "$root/etc"
     touch "$root/var/lib/dpkg/status" "$root/var/lib/dpkg/available"
-    dpkg --root="$root" --force-depends --force-script-chrootless --log=/dev/null -i "$lib_deb" "$dev_deb" "$daemon_deb" "$view_deb" \
+    dpkg --root="$root" --force-depends --force-script-chrootless --log=/dev/null -i "${debs[@]}" \
         > "$work/dpkg.log" 2>&1 || { cat "$work/dpkg.log"; fail "dpkg --root -i"; }
-    [ "$(dpkg --root="$root" -l | grep -cE '^ii +(navmapd|navmap-view|libnavmap-client0|libnavmap-client-dev) ')" -eq 4 ] \
+    [ "$(dpkg --root="$root" -l | grep -cE '^ii +(navmapd|navmap-view|navmap-wayland|libnavmap-client0|libnavmap-client-dev) ')" -eq "${#debs[@]}" ] \
         || fail "not installed: $(dpkg --root="$root" -l | grep navmap)"
     if command -v systemd-sysusers >/dev/null; then
         grep -q '^navmap:' "$root/etc/passwd" || fail "the postinst did not create the navmap user"
@@ -110,11 +126,13 @@ if [ "$(id -u)" -eq 0 ]; then
     dpkg --root="$root" --force-depends -i "$dev_deb" > /dev/null 2>&1
 else
     echo "== not root: dpkg -x into $root (dpkg --root needs root)"
-    for deb in "$lib_deb" "$dev_deb" "$daemon_deb" "$view_deb"; do dpkg -x "$deb" "$root"; done
+    for deb in "${debs[@]}"; do dpkg -x "$deb" "$root"; done
 fi
 grep -qx "navmapd $version" <<< "$("$root/usr/bin/navmapd" --version)" || fail "navmapd --version"
 grep -q "$version" <<< "$("$root/usr/bin/navmap-view" --version)" \
     || fail "navmap-view --version: $("$root/usr/bin/navmap-view" --version 2>&1)"
+[ -z "$wayland_deb" ] || grep -q "$version" <<< "$("$root/usr/bin/navmap-wayland" --version)" \
+    || fail "navmap-wayland --version: $("$root/usr/bin/navmap-wayland" --version 2>&1)"
 grep -qx "store: $root/usr/share/navmap/andorra.navmap (cache 128 MiB)" <<< "$("$root/usr/bin/navmapd" --check-config)" \
     || fail "the packaged navmapd does not find its store"
 grep -qx "ExecStart=/usr/bin/navmapd --config /etc/navmap/navmapd.toml" "$root/usr/lib/systemd/system/navmapd.service" \

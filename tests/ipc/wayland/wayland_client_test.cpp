@@ -1,0 +1,76 @@
+// SPDX-License-Identifier: Apache-2.0
+// navmap-wayland's frame copy into display buffers: formats, scaling, centring.
+
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <vector>
+
+#include "frame_blit.h"
+#include "wayland_test_util.h"
+
+using namespace navmap::ipc;
+using namespace navmap::ipc::wayland;
+using namespace navmap::wayland_test;
+
+TEST(FrameBlit, RgbaIntoXbgrIsTheSameBytesAndIntoXrgbSwapsRedAndBlue) {
+    const auto src = patternFrame(33, 7, 1);
+    const SourcePixels in{src.data(), 33, 7, 33 * 4, PixelFormat::Rgba8};
+    std::vector<std::uint8_t> out(40 * 4 * 7, 0xAA);  // a stride wider than the row
+    const Placement p = blitFrame(in, {out.data(), 33, 7, 40 * 4, ShmFormat::Xbgr8888});
+    EXPECT_FALSE(p.scaled);
+    for (int y = 0; y < 7; ++y) {
+        EXPECT_EQ(std::memcmp(&out[y * 160], &src[y * 132], 132), 0) << "row " << y;
+        EXPECT_EQ(out[y * 160 + 132], 0xAA) << "wrote past the row";
+    }
+    blitFrame(in, {out.data(), 33, 7, 40 * 4, ShmFormat::Xrgb8888});
+    const std::uint8_t* px = &out[3 * 160 + 20 * 4];  // pixel (20, 3)
+    std::uint8_t rgb[3];
+    patternPixel(20, 3, 1, rgb);
+    EXPECT_EQ(px[0], rgb[2]);
+    EXPECT_EQ(px[1], rgb[1]);
+    EXPECT_EQ(px[2], rgb[0]);
+    EXPECT_EQ(px[3], 0xFF);
+}
+
+TEST(FrameBlit, Rgb565FramesAreCopiedOrWidened) {
+    std::vector<std::uint8_t> src(16 * 2 * 2);
+    for (int i = 0; i < 32; ++i) {
+        const std::uint16_t v = i == 5 ? 0xF800 : static_cast<std::uint16_t>(i * 2047);
+        std::memcpy(&src[i * 2], &v, 2);
+    }
+    const SourcePixels in{src.data(), 16, 2, 32, PixelFormat::Rgb565};
+    std::vector<std::uint8_t> out565(64);
+    blitFrame(in, {out565.data(), 16, 2, 32, ShmFormat::Rgb565});
+    EXPECT_EQ(out565, src);
+    std::vector<std::uint8_t> out32(16 * 2 * 4);
+    blitFrame(in, {out32.data(), 16, 2, 64, ShmFormat::Xrgb8888});
+    EXPECT_EQ(out32[5 * 4 + 2], 255);  // pure red: R 0x1F -> 255
+    EXPECT_EQ(out32[5 * 4 + 1], 0);
+    EXPECT_EQ(out32[5 * 4 + 0], 0);
+}
+
+TEST(FrameBlit, AnotherSizeIsScaledToFitAndCentredOnBlack) {
+    EXPECT_EQ(fitCentred(320, 200, 160, 205).y, 52);
+    EXPECT_EQ(fitCentred(320, 200, 160, 205).height, 100);
+    const Placement wide = fitCentred(100, 100, 300, 100);
+    EXPECT_EQ(wide.x, 100);
+    EXPECT_EQ(wide.width, 100);
+    EXPECT_TRUE(wide.scaled);
+
+    const auto src = patternFrame(320, 200, 2);
+    std::vector<std::uint8_t> out(160 * 205 * 4, 0x77);
+    const Placement p =
+        blitFrame({src.data(), 320, 200, 1280, PixelFormat::Rgba8}, {out.data(), 160, 205, 640, ShmFormat::Xbgr8888});
+    EXPECT_TRUE(p.scaled);
+    EXPECT_EQ(p.x, 0);
+    EXPECT_EQ(p.y, 52);
+    for (int y = 0; y < 205; ++y) {
+        for (int x = 0; x < 160; ++x) {
+            const std::uint8_t* o = &out[(y * 160 + x) * 4];
+            std::uint8_t e[3] = {0, 0, 0};
+            if (y >= 52 && y < 152) patternPixel(2 * x + 1, 2 * (y - 52) + 1, 2, e);
+            ASSERT_TRUE(o[0] == e[0] && o[1] == e[1] && o[2] == e[2]) << "pixel " << x << "," << y;
+        }
+    }
+}
