@@ -428,4 +428,52 @@ TEST(SpeedLimitSign, ClusterCornerShowsThreeDigits) {
     EXPECT_EQ(signPixels(without, l).ring_red, 0) << "the map itself has no red there";
 }
 
+// Labels keep out of the sign's corner: in the center display's bird's-eye view with labels, the
+// corner where labels lie most without the sign has none of their glyphs under the sign with it.
+TEST(SpeedLimitSign, NoLabelIsDrawnUnderTheSign) {
+    const glm::ivec2 size = viewSize(ViewMode::Bird);
+    RendererOptions o;
+    o.width = size.x;
+    o.height = size.y;
+    auto drawnLabels = [&](const std::optional<SpeedLimitSign>& sign) {
+        MapFrame f = turnFrame(ViewMode::Bird, size);
+        f.layers.labels = true;
+        f.frame_dt_s = 1.0 / 30.0;
+        f.speed_limit = sign;
+        auto r = Renderer::create(o);
+        for (int i = 0; i < 60; ++i) r->renderMap(f);
+        return r->mapStats().drawn_labels;
+    };
+    auto glyphsUnder = [&](const std::vector<labels::DrawnLabel>& drawn, SignCorner corner) {
+        const auto l = navmap::render::gl::speedLimitSignLayout(size.x, size.y, corner, 2);
+        std::size_t n = 0;
+        for (const labels::DrawnLabel& label : drawn) {
+            if (label.opacity < 0.5f) continue;
+            for (const labels::ScreenQuad& q : label.glyph_boxes) {
+                glm::vec2 lo(1e9f), hi(-1e9f);
+                for (const glm::vec2 c : q) {
+                    lo = glm::min(lo, c);
+                    hi = glm::max(hi, c);
+                }
+                n += hi.x > l.centre.x - l.radius && lo.x < l.centre.x + l.radius && hi.y > l.centre.y - l.radius &&
+                     lo.y < l.centre.y + l.radius;
+            }
+        }
+        return n;
+    };
+    const auto without = drawnLabels(std::nullopt);
+    SignCorner busiest = SignCorner::TopLeft;
+    std::size_t most = 0;
+    for (const SignCorner c :
+         {SignCorner::TopLeft, SignCorner::TopRight, SignCorner::BottomLeft, SignCorner::BottomRight}) {
+        if (const std::size_t n = glyphsUnder(without, c); n > most) {
+            most = n;
+            busiest = c;
+        }
+    }
+    ASSERT_GT(most, 0u) << "no corner has labels: the test shows nothing";
+    EXPECT_EQ(glyphsUnder(drawnLabels(SpeedLimitSign{50, busiest}), busiest), 0u)
+        << most << " glyphs lie there without the sign (corner " << int(busiest) << ")";
+}
+
 }  // namespace
