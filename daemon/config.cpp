@@ -7,6 +7,7 @@
 #include <fstream>
 #include <set>
 #include <sstream>
+#include <utility>
 
 #include "navmap/common/untrusted_file.h"
 #include "navmap/render/maplibre_camera.h"
@@ -138,6 +139,7 @@ private:
     bool fileNames(const char* name, const char* key, std::vector<std::filesystem::path>& out);
     bool readIds(const char* section_name, TableReader& r, const char* key, std::vector<std::uint32_t>& out);
     bool readProfile(const toml::node& e, DisplayProfile& p);
+    bool readSignCorner(const toml::node& e, const std::string& sign, const std::string& view, DisplayProfile& p);
 
     const toml::table& m_root;
     const std::string& m_source;
@@ -340,10 +342,38 @@ bool ConfigParser::readProfiles(DaemonConfig& c) {
     return true;
 }
 
+// profile.speed_limit_sign: a corner or "off"; without it the view decides (none in bird's-eye).
+bool ConfigParser::readSignCorner(const toml::node& e, const std::string& sign, const std::string& view,
+                                  DisplayProfile& p) {
+    static constexpr std::pair<const char*, render::SignCorner> kCorners[] = {
+        {"top-left", render::SignCorner::TopLeft},
+        {"top-right", render::SignCorner::TopRight},
+        {"bottom-left", render::SignCorner::BottomLeft},
+        {"bottom-right", render::SignCorner::BottomRight},
+    };
+    if (!e.as_table()->contains("speed_limit_sign")) {
+        p.speed_limit_sign = view == "bird" ? std::nullopt : std::optional(render::SignCorner::TopRight);
+        return true;
+    }
+    if (sign == "off") {
+        p.speed_limit_sign.reset();
+        return true;
+    }
+    for (const auto& [name, corner] : kCorners) {
+        if (sign == name) {
+            p.speed_limit_sign = corner;
+            return true;
+        }
+    }
+    m_err->message = where(m_source, e.source()) + ": profile.speed_limit_sign = \"" + sign +
+                     "\": expected top-left, top-right, bottom-left, bottom-right or off";
+    return false;
+}
+
 // One [[profile]] table.
 bool ConfigParser::readProfile(const toml::node& e, DisplayProfile& p) {
     TableReader r(*e.as_table(), m_source, "profile.", m_err);
-    std::string view = "snail", orientation = "heading-up", roads = "auto";
+    std::string view = "snail", orientation = "heading-up", roads = "auto", sign;
     double zoom = 0.0, pitch = 0.0;
     if (!r.get("name", p.name) || !r.get("width", p.width) || !r.range("width", p.width, 16, 8192) ||
         !r.get("height", p.height) || !r.range("height", p.height, 16, 8192) || !r.get("fps", p.fps) ||
@@ -351,7 +381,8 @@ bool ConfigParser::readProfile(const toml::node& e, DisplayProfile& p) {
         !r.get("roads", roads) || !r.get("glow_roads", p.glow_roads) || !r.get("label_aura", p.label_aura) ||
         !r.get("road_selection", p.road_selection) || !r.get("attribution", p.attribution) || !r.get("zoom", zoom) ||
         !r.range("zoom", zoom, render::kMapLibreMinZoom, render::kMapLibreMaxZoom) || !r.get("pitch", pitch) ||
-        !r.range("pitch", pitch, render::kMapLibreMinPitchDeg, render::kMapLibreMaxPitchDeg) || !r.noUnknownKeys())
+        !r.range("pitch", pitch, render::kMapLibreMinPitchDeg, render::kMapLibreMaxPitchDeg) ||
+        !r.get("speed_limit_sign", sign) || !r.noUnknownKeys())
         return false;
     // A MapLibre GL JS camera needs both; either alone is a mistake, not a default.
     const bool has_zoom = e.as_table()->contains("zoom"), has_pitch = e.as_table()->contains("pitch");
@@ -379,6 +410,7 @@ bool ConfigParser::readProfile(const toml::node& e, DisplayProfile& p) {
     if (!e.as_table()->contains("label_aura")) p.label_aura = view != "bird";
     // Without attribution it follows the view too: on in bird's-eye (the map display).
     if (!e.as_table()->contains("attribution")) p.attribution = view == "bird";
+    if (!readSignCorner(e, sign, view, p)) return false;
     if (view == "bird")
         p.view = render::ViewMode::Bird;
     else if (view == "snail")

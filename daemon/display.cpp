@@ -79,6 +79,7 @@ void Display::reconfigure(const DisplayProfile& p, std::unique_ptr<AttributionOv
     m_profile.glow_roads = p.glow_roads;
     m_profile.label_aura = p.label_aura;
     m_profile.road_selection = p.road_selection;
+    m_profile.speed_limit_sign = p.speed_limit_sign;
     if (p.attribution != m_profile.attribution) {
         m_profile.attribution = p.attribution;
         m_attribution = std::move(attribution);
@@ -189,6 +190,9 @@ bool Display::draw(render::Renderer& renderer, const PoseSource& poses, const Fr
     frame.marker = pose.marker;
     const bool hud = isGuidanceView(m_profile);
     if (context.guidance) addGuidance(frame, *context.guidance, context.route, hud);
+    // The limit of the road driven, where it is known and the match certain (docs/rendering.md).
+    if (m_profile.speed_limit_sign && pose.speed_limit_kmh > 0)
+        frame.speed_limit = render::SpeedLimitSign{pose.speed_limit_kmh, *m_profile.speed_limit_sign};
     renderer.setMapStyle(hud ? render::MapStyle::hud() : context.style);
     // At debug level the start-up frames are timed per pass too (their log line says where the
     // first frame's time goes); not otherwise: the timing waits for the GPU after every pass.

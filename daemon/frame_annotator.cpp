@@ -59,6 +59,8 @@ FrameAnnotation FrameAnnotator::annotate(const EstimatedPose& pose, const FrameH
         m.pose_time_ns = realtimeNsOf(pose.time);  // the moment the pose was estimated for
         if (health.graph != nullptr && pose.edge && *pose.edge < health.graph->edges.size())
             m.current_street = streetOf(health.graph->edges[*pose.edge].way_id, frame);
+        // The matched road's limit in the driving direction; 0 (unknown) when the match is uncertain.
+        m.speed_limit_kmh = static_cast<std::uint16_t>(std::clamp(pose.speed_limit_kmh, 0, 0xFFFF));
     }
     if (guidance != nullptr && guidance->active) {
         m.has_remaining = true;
@@ -72,7 +74,7 @@ FrameAnnotation FrameAnnotator::annotate(const EstimatedPose& pose, const FrameH
             m.next_street = guidance->street;
         }
     }
-    // Lanes and speed limits are not in the store yet: "unknown" (lanes_known false, 0 km/h).
+    // Lanes are not in the store yet: "unknown" (lanes_known false).
     a.meta = std::make_shared<const std::vector<std::uint8_t>>(ipc::encodeFrameMeta(m));
     return a;
 }

@@ -13,6 +13,7 @@ FramePose PoseSource::at(ipc::CanTime t) const {
         frame.vehicle.heading_deg = pose.heading_deg;
         frame.vehicle.speed_mps = pose.speed_mps;
         frame.marker = render::MarkerState{frame.vehicle.position, frame.vehicle.heading_deg, pose.stale};
+        frame.speed_limit_kmh = pose.speed_limit_kmh;
     } else {
         // No fix yet: look at the middle of the map.
         frame.vehicle.position = {m_middle.x, m_middle.y, m_ground(m_middle.x, m_middle.y)};

@@ -23,6 +23,9 @@ struct FramePose {
     std::optional<render::MarkerState> marker;  ///< drawn when the position is known
     ipc::CanTime source_time{};                 ///< CAN time of the newest sample behind it
     EstimatedPose estimate;                     ///< the estimator's pose it was made from
+    /// The speed limit on the matched road in the driving direction, km/h; 0: unknown or the
+    /// match uncertain (EstimatedPose::speed_limit_kmh). The frame's speed limit sign shows it.
+    int speed_limit_kmh = 0;
 };
 
 class PoseSource {

@@ -10,7 +10,8 @@ std::vector<DisplayProfile> defaultProfiles() {
         {"center", 1280, 720, 30.0, render::ViewMode::Bird, render::Orientation::HeadingUp, "bird",
          render::RoadTechnique::Auto, true, false},
     };
-    p[2].attribution = true;  // the map display; cluster and HUD leave it to the HMI's about screen
+    p[2].attribution = true;        // the map display; cluster and HUD leave it to the HMI's about screen
+    p[2].speed_limit_sign.reset();  // the driver glances at the cluster and the HUD for it
     return p;
 }
 

@@ -40,6 +40,10 @@ struct DisplayProfile {
     /// and the HUD, glance displays where any text competes with the road ahead: the HMI shows
     /// the attribution in its own about screen there (docs/navmapd.md).
     bool attribution = false;
+    /// The corner of the speed limit sign (the limit of the matched road in the driving
+    /// direction, when known); none: no sign. `speed_limit_sign` in the config; by default
+    /// top right in snail's and HUD views (the cluster, the HUD), none in bird's-eye views.
+    std::optional<render::SignCorner> speed_limit_sign = render::SignCorner::TopRight;
 };
 
 /// The defaults: cluster 1280x480 snail's view, HUD 800x240 snail's view (route and

@@ -14,9 +14,11 @@
 
 namespace navmap::map::detail {
 
-/// The first four bytes of an encoded road graph ("GRG1"); the store checks them on the first
-/// piece it inflates (docs/tile-store.md "Sizes").
-inline constexpr std::uint32_t kGraphMagic = 0x31475247;
+/// The first four bytes of an encoded road graph ("GRG2": edges with their speed limit); the
+/// store checks them on the first piece it inflates (docs/tile-store.md "Sizes").
+inline constexpr std::uint32_t kGraphMagic = 0x32475247;
+/// The graphs of earlier compiles ("GRG1": no speed limits), still read (limits 0).
+inline constexpr std::uint32_t kGraphMagicV1 = 0x31475247;
 
 /// Takes the encoded bytes in pieces, in order.
 using ByteSink = std::function<void(std::span<const std::uint8_t>)>;

@@ -84,6 +84,7 @@ void RoadGraphEncoder::edge(const GraphEdge& e) {
     m_w.varint(e.shape_begin);
     m_w.varint(e.shape_end - e.shape_begin);
     m_w.svarint(e.way_id);
+    m_w.varint(e.speed_limit_kmh);
     maybeFlush();
 }
 
@@ -123,10 +124,12 @@ std::vector<std::uint8_t> encodeRoadGraph(const RoadGraph& g) {
 bool decodeRoadGraph(std::span<const std::uint8_t> bytes, RoadGraph& g, std::string& error) {
     ByteReader r(bytes);
     g = RoadGraph{};
-    if (r.u32() != kGraphMagic) {
+    const std::uint32_t magic = r.u32();
+    if (magic != kGraphMagic && magic != detail::kGraphMagicV1) {
         error = "not a road graph (bad magic)";
         return false;
     }
+    const bool has_limits = magic == kGraphMagic;  // "GRG1" graphs have no speed limits
     g.nodes.resize(r.count(17, "node"));
     for (auto& n : g.nodes) {
         n.x = r.f64();
@@ -146,6 +149,11 @@ bool decodeRoadGraph(std::span<const std::uint8_t> bytes, RoadGraph& g, std::str
         e.shape_begin = static_cast<std::uint32_t>(r.varint());
         e.shape_end = e.shape_begin + static_cast<std::uint32_t>(r.varint());
         e.way_id = r.svarint();
+        if (has_limits) {
+            const std::uint64_t limit = r.varint();
+            if (limit > 0xFFFF) r.fail("bad speed limit");
+            e.speed_limit_kmh = static_cast<std::uint16_t>(limit);
+        }
         if (r.failed()) break;
     }
     g.shape.resize(r.count(8, "shape point"));

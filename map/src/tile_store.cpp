@@ -33,10 +33,11 @@ bool preadAll(int fd, std::uint8_t* dst, std::size_t n, std::uint64_t offset) {
 constexpr FileKind kStoreFile{"tile store", 0};
 
 // The magic at the start of a payload, checked on the first piece a stream inflates to.
-detail::PrefixCheck magicCheck(std::uint32_t magic, const char* what) {
-    return [magic, what](std::span<const std::uint8_t> head, std::string& problem) {
+detail::PrefixCheck magicCheck(std::uint32_t magic, const char* what, std::uint32_t older_magic = 0) {
+    return [magic, what, older_magic](std::span<const std::uint8_t> head, std::string& problem) {
         detail::ByteReader r(head);
-        if (r.u32() == magic && !r.failed()) return true;
+        const std::uint32_t found = r.u32();
+        if ((found == magic || (older_magic != 0 && found == older_magic)) && !r.failed()) return true;
         problem = std::string("not ") + what + " (bad magic)";
         return false;
     };
@@ -209,7 +210,7 @@ TileStore::GraphResult TileStore::tryLoadGraph() const {
     std::vector<std::uint8_t> raw;
     std::string problem;
     if (!detail::inflateBounded(stored, m_info.graph_raw_size, raw, problem, 4,
-                                magicCheck(detail::kGraphMagic, "a road graph")))
+                                magicCheck(detail::kGraphMagic, "a road graph", detail::kGraphMagicV1)))
         return fail(problem);
     std::string error;
     if (!decodeRoadGraph(raw, result.graph, error)) return fail(error);

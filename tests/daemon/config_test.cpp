@@ -269,6 +269,39 @@ TEST(DaemonConfig, ControlAndStreamSlotsPerPeer) {
     EXPECT_EQ(m, "navmapd.toml:2:27: stream.max_clients_per_address = 0 out of range [1, 1024]");
 }
 
+TEST(DaemonConfig, SpeedLimitSignCornerPerProfile) {
+    using navmap::render::SignCorner;
+    // The built-in profiles: the cluster and the HUD show it top right, the center display not.
+    const auto d = parse("");
+    ASSERT_TRUE(d);
+    EXPECT_EQ(d->profiles[0].speed_limit_sign, SignCorner::TopRight);
+    EXPECT_EQ(d->profiles[1].speed_limit_sign, SignCorner::TopRight);
+    EXPECT_FALSE(d->profiles[2].speed_limit_sign);
+    const auto c = parse(
+        "[[profile]]\nname = \"a\"\nview = \"bird\"\n[[profile]]\nname = \"b\"\nview = \"snail\"\n"
+        "[[profile]]\nname = \"c\"\nspeed_limit_sign = \"bottom-left\"\n"
+        "[[profile]]\nname = \"d\"\nview = \"hud\"\nspeed_limit_sign = \"off\"\n"
+        "[[profile]]\nname = \"e\"\nview = \"bird\"\nspeed_limit_sign = \"top-left\"\n");
+    ASSERT_TRUE(c);
+    EXPECT_FALSE(c->profiles[0].speed_limit_sign);
+    EXPECT_EQ(c->profiles[1].speed_limit_sign, SignCorner::TopRight);
+    EXPECT_EQ(c->profiles[2].speed_limit_sign, SignCorner::BottomLeft);
+    EXPECT_FALSE(c->profiles[3].speed_limit_sign);
+    EXPECT_EQ(c->profiles[4].speed_limit_sign, SignCorner::TopLeft);
+    std::string m;
+    EXPECT_FALSE(parse("[[profile]]\nname = \"x\"\nspeed_limit_sign = \"middle\"\n", &m));
+    EXPECT_EQ(m,
+              "navmapd.toml:1:1: profile.speed_limit_sign = \"middle\": expected top-left, top-right, bottom-left, "
+              "bottom-right or off");
+    // The shipped configuration file says the same as the built-in defaults.
+    std::ifstream shipped(std::string(NAVMAP_SOURCE_DIR) + "/daemon/navmapd.toml");
+    const std::string text((std::istreambuf_iterator<char>(shipped)), std::istreambuf_iterator<char>());
+    const auto f = parse(text, &m);
+    ASSERT_TRUE(f) << m;
+    for (std::size_t i = 0; i < 3; ++i)
+        EXPECT_EQ(f->profiles[i].speed_limit_sign, d->profiles[i].speed_limit_sign) << i;
+}
+
 TEST(DaemonConfig, AttributionFollowsTheViewUnlessSet) {
     // The built-in profiles: the center display (bird's-eye) carries it, cluster and HUD do not.
     const auto d = parse("");

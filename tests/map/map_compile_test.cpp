@@ -12,6 +12,7 @@
 #include <fstream>
 #include <optional>
 #include <random>
+#include <set>
 
 #include "map_test_util.h"
 #include "navmap/map/compile/compiler.h"
@@ -86,6 +87,25 @@ TEST_F(AndorraStore, SummaryCountsMatchTheExtract) {
     ASSERT_FALSE(s.warnings.empty());
     EXPECT_NE(s.warnings.back().find("flat"), std::string::npos) << s.warnings.back();
     EXPECT_NE(formatSummary(s).find("buildings:  "), std::string::npos);
+}
+
+// The extract tags maxspeed on 653 ways; 651 of the graph's ways get a limit on their edges
+// (docs/tile-store.md "Speed limits").
+TEST_F(AndorraStore, SpeedLimitsReachTheRoadGraph) {
+    const RoadGraph g = s_store->loadGraph();
+    std::set<std::int64_t> with_limit, ways;
+    std::size_t edges_with_limit = 0;
+    for (const GraphEdge& e : g.edges) {
+        ways.insert(e.way_id);
+        if (e.speed_limit_kmh == 0) continue;
+        ++edges_with_limit;
+        with_limit.insert(e.way_id);
+        EXPECT_LE(e.speed_limit_kmh, 130) << "way " << e.way_id;
+    }
+    std::printf("speed limits: %zu of %zu graph ways, %zu of %zu edges\n", with_limit.size(), ways.size(),
+                edges_with_limit, g.edges.size());
+    EXPECT_EQ(with_limit.size(), 651u);
+    EXPECT_EQ(edges_with_limit, 1852u);
 }
 
 TEST_F(AndorraStore, LeafTilesKeepNamesRoadsBuildingsAndTerrain) {

@@ -42,6 +42,8 @@ std::vector<RawGraphWay> streetGrid(int n) {
             w.id = next_way++;
             w.cls = row ? RoadClass::Secondary : RoadClass::Residential;
             w.speed_kmh = row ? 70.0f : 30.0f;
+            w.limit_forward_kmh = row ? 70 : 0;  // the limits travel through both builders too
+            w.limit_backward_kmh = static_cast<std::uint16_t>(w.id % 2 == 0 ? 50 : 0);
             w.oneway = w.id % 3 == 0;
             for (int b = k; b <= k + blocks; ++b) {
                 const int i = row ? line : b, j = row ? b : line;

@@ -338,4 +338,142 @@ TEST(HudGuidance, BlackBackground) {
     EXPECT_GT(black, std::size_t(kHudW * kHudH) * 6 / 10) << "the HUD is not mostly black";
 }
 
+// The speed limit sign (MapFrame::speed_limit): a red ring, a white disc and black digits where
+// speedLimitSignLayout puts it; nothing of it without a limit.
+bool isSignRed(const Image& im, glm::vec2 at) {
+    const auto* p = im.pixel(int(at.x), int(at.y));
+    return p[0] >= 170 && p[1] <= 60 && p[2] <= 60;
+}
+
+struct SignPixels {
+    int ring_red = 0, outside_red = 0, disc_white = 0, digits_dark = 0;
+};
+
+SignPixels signPixels(const Image& im, const navmap::render::gl::SpeedLimitSignLayout& l) {
+    SignPixels n;
+    constexpr int kAngles = 48;
+    for (int k = 0; k < kAngles; ++k) {
+        const float a = 6.2831853f * float(k) / kAngles;
+        const glm::vec2 dir(std::cos(a), std::sin(a));
+        n.ring_red += isSignRed(im, l.centre + 0.5f * (l.radius + l.inner_radius) * dir);
+        n.outside_red += isSignRed(im, l.centre + (l.radius + 4.0f) * dir);
+        // Between the digits and the ring (above and below the number): white.
+        const auto* w = im.pixel(int(l.centre.x + 0.88f * l.inner_radius * dir.x),
+                                 int(l.centre.y + 0.88f * l.inner_radius * dir.y));
+        n.disc_white += w[0] >= 235 && w[1] >= 235 && w[2] >= 235;
+    }
+    const int half = int(0.55f * l.inner_radius);
+    for (int y = int(l.centre.y) - half; y <= int(l.centre.y) + half; ++y)
+        for (int x = int(l.centre.x) - half; x <= int(l.centre.x) + half; ++x) {
+            const auto* p = im.pixel(x, y);
+            n.digits_dark += p[0] <= 60 && p[1] <= 60 && p[2] <= 60;
+        }
+    return n;
+}
+
+TEST(SpeedLimitSign, HudPanelShowsTheLimitAsARedRingWithBlackDigits) {
+    MapFrame f = hudFrame("300 m");
+    f.speed_limit = SpeedLimitSign{50, SignCorner::TopRight};
+    const Image with = render(f, MapStyle::hud(), kHudW, kHudH);
+    f.speed_limit.reset();
+    const Image without = render(f, MapStyle::hud(), kHudW, kHudH);
+    dump(with, "hud_speed_limit");
+    const auto l = navmap::render::gl::speedLimitSignLayout(kHudW, kHudH, SignCorner::TopRight, 2);
+    EXPECT_GT(l.centre.x, 0.8f * kHudW) << "top right";
+    EXPECT_LT(l.centre.y, 0.4f * kHudH);
+    const SignPixels s = signPixels(with, l);
+    EXPECT_EQ(s.ring_red, 48) << "the ring is red all round";
+    EXPECT_EQ(s.outside_red, 0) << "nothing red outside the ring";
+    EXPECT_GE(s.disc_white, 40) << "a white disc inside the ring";
+    EXPECT_GE(s.digits_dark, 80) << "black digits in the middle";
+    const SignPixels none = signPixels(without, l);
+    EXPECT_EQ(none.ring_red, 0) << "no sign without a limit";
+    EXPECT_EQ(none.disc_white, 0);
+    // The sign changes nothing outside its square.
+    std::size_t outside = 0;
+    for (int y = 0; y < kHudH; ++y)
+        for (int x = 0; x < kHudW; ++x) {
+            if (std::abs(x - l.centre.x) <= l.radius + 2 && std::abs(y - l.centre.y) <= l.radius + 2) continue;
+            const auto* a = with.pixel(x, y);
+            const auto* b = without.pixel(x, y);
+            outside += a[0] != b[0] || a[1] != b[1] || a[2] != b[2];
+        }
+    EXPECT_EQ(outside, 0u);
+}
+
+TEST(SpeedLimitSign, UnknownLimitDrawsNoSign) {
+    MapFrame f = hudFrame("300 m");
+    const Image without = render(f, MapStyle::hud(), kHudW, kHudH);
+    f.speed_limit = SpeedLimitSign{0, SignCorner::TopRight};  // unknown: what the daemon never sends
+    const Image unknown = render(f, MapStyle::hud(), kHudW, kHudH);
+    EXPECT_EQ(unknown.rgba, without.rgba);
+    const auto l = navmap::render::gl::speedLimitSignLayout(kHudW, kHudH, SignCorner::TopRight, 2);
+    EXPECT_EQ(signPixels(unknown, l).ring_red, 0);
+}
+
+TEST(SpeedLimitSign, ClusterCornerShowsThreeDigits) {
+    MapFrame f = turnFrame(ViewMode::Snail);
+    f.speed_limit = SpeedLimitSign{110, SignCorner::TopLeft};
+    const Image with = render(f, MapStyle::day(), kW, kH);
+    f.speed_limit.reset();
+    const Image without = render(f, MapStyle::day(), kW, kH);
+    dump(with, "cluster_speed_limit");
+    const auto l = navmap::render::gl::speedLimitSignLayout(kW, kH, SignCorner::TopLeft, 3);
+    EXPECT_LT(l.centre.x, 0.2f * kW);
+    EXPECT_LT(l.centre.y, 0.4f * kH);
+    const SignPixels s = signPixels(with, l);
+    EXPECT_EQ(s.ring_red, 48);
+    EXPECT_GE(s.disc_white, 40);
+    EXPECT_GE(s.digits_dark, 40);
+    EXPECT_EQ(signPixels(without, l).ring_red, 0) << "the map itself has no red there";
+}
+
+// Labels keep out of the sign's corner: in the center display's bird's-eye view with labels, the
+// corner where labels lie most without the sign has none of their glyphs under the sign with it.
+TEST(SpeedLimitSign, NoLabelIsDrawnUnderTheSign) {
+    const glm::ivec2 size = viewSize(ViewMode::Bird);
+    RendererOptions o;
+    o.width = size.x;
+    o.height = size.y;
+    auto drawnLabels = [&](const std::optional<SpeedLimitSign>& sign) {
+        MapFrame f = turnFrame(ViewMode::Bird, size);
+        f.layers.labels = true;
+        f.frame_dt_s = 1.0 / 30.0;
+        f.speed_limit = sign;
+        auto r = Renderer::create(o);
+        for (int i = 0; i < 60; ++i) r->renderMap(f);
+        return r->mapStats().drawn_labels;
+    };
+    auto glyphsUnder = [&](const std::vector<labels::DrawnLabel>& drawn, SignCorner corner) {
+        const auto l = navmap::render::gl::speedLimitSignLayout(size.x, size.y, corner, 2);
+        std::size_t n = 0;
+        for (const labels::DrawnLabel& label : drawn) {
+            if (label.opacity < 0.5f) continue;
+            for (const labels::ScreenQuad& q : label.glyph_boxes) {
+                glm::vec2 lo(1e9f), hi(-1e9f);
+                for (const glm::vec2 c : q) {
+                    lo = glm::min(lo, c);
+                    hi = glm::max(hi, c);
+                }
+                n += hi.x > l.centre.x - l.radius && lo.x < l.centre.x + l.radius && hi.y > l.centre.y - l.radius &&
+                     lo.y < l.centre.y + l.radius;
+            }
+        }
+        return n;
+    };
+    const auto without = drawnLabels(std::nullopt);
+    SignCorner busiest = SignCorner::TopLeft;
+    std::size_t most = 0;
+    for (const SignCorner c :
+         {SignCorner::TopLeft, SignCorner::TopRight, SignCorner::BottomLeft, SignCorner::BottomRight}) {
+        if (const std::size_t n = glyphsUnder(without, c); n > most) {
+            most = n;
+            busiest = c;
+        }
+    }
+    ASSERT_GT(most, 0u) << "no corner has labels: the test shows nothing";
+    EXPECT_EQ(glyphsUnder(drawnLabels(SpeedLimitSign{50, busiest}), busiest), 0u)
+        << most << " glyphs lie there without the sign (corner " << int(busiest) << ")";
+}
+
 }  // namespace

@@ -62,6 +62,19 @@ ipc::CanTime newestMotionAtOrBefore(const std::vector<MotionSample>& m, ipc::Can
     return it == m.begin() ? ipc::CanTime{} : std::prev(it)->time;
 }
 
+/// Whether the speed limit of `edge` holds whichever way the vehicle faces on its road: a one-way
+/// road, or a two-way road whose twin edge (the same way and shape, the other way round) has the
+/// same limit. Without a heading the matcher cannot tell the twins apart.
+bool limitHoldsBothWays(const map::RoadGraph& g, std::uint32_t edge) {
+    const map::GraphEdge& e = g.edges[edge];
+    for (const map::GraphEdge& t : g.outEdges(e.to)) {
+        if (t.to == e.from && t.way_id == e.way_id && t.shape_begin == e.shape_begin && t.shape_end == e.shape_end &&
+            (t.flags & map::edge_flags::kReversed) != (e.flags & map::edge_flags::kReversed))
+            return t.speed_limit_kmh == e.speed_limit_kmh;
+    }
+    return true;  // no twin: one-way
+}
+
 }  // namespace
 
 void deadReckon(const std::vector<MotionSample>& motion, ipc::CanTime from, ipc::CanTime to, double hold_s,
@@ -175,6 +188,11 @@ EstimatedPose VehicleState::compute(const Parts& p, ipc::CanTime t) {
     }
     if (road) {
         pose.edge = road->edge;
+        // The limit is shown only where the road and its direction are certain: a wrong sign is
+        // worse than none.
+        const bool direction_known = heading.has_value() || limitHoldsBothWays(p.matcher->graph(), road->edge);
+        if (!pose.stale && road->confidence >= cfg.snap_full_confidence && direction_known)
+            pose.speed_limit_kmh = p.matcher->graph().edges[road->edge].speed_limit_kmh;
     }
     if (rm && rm->confidence >= cfg.snap_min_confidence) {
         pose.on_route = true;

@@ -133,6 +133,8 @@ std::vector<std::uint8_t> encodeFeature(const RawGraphWay& f) {
     w.u8(static_cast<std::uint8_t>(f.cls));
     w.u8(f.flags);
     w.f32(f.speed_kmh);
+    w.u16(f.limit_forward_kmh);
+    w.u16(f.limit_backward_kmh);
     w.u8(f.oneway ? 1 : 0);
     w.varint(f.nodes.size());
     std::int64_t prev = 0;
@@ -221,6 +223,8 @@ bool decodeFeature(std::span<const std::uint8_t> record, RawFeatures& out, std::
             f.cls = static_cast<RoadClass>(r.u8());
             f.flags = r.u8();
             f.speed_kmh = r.f32();
+            f.limit_forward_kmh = r.u16();
+            f.limit_backward_kmh = r.u16();
             f.oneway = r.u8() != 0;
             f.nodes.resize(count(r, 1));
             std::int64_t prev = 0;

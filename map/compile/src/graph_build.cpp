@@ -80,11 +80,13 @@ void walkWay(const RawGraphWay& w, const Projection& proj, IndexOf&& index_of, s
                     w.flags,
                     shape_begin,
                     shape_points,
-                    w.id};
+                    w.id,
+                    w.limit_forward_kmh};
         edge(e);
         if (!w.oneway) {
             std::swap(e.from, e.to);
             e.flags |= edge_flags::kReversed;
+            e.speed_limit_kmh = w.limit_backward_kmh;
             edge(e);
         }
         // The next edge starts at this junction and shares its shape point.
@@ -120,7 +122,7 @@ T getField(const std::uint8_t*& p) {
 }
 
 // An edge's fields without the struct's padding (nothing uninitialised reaches the disk).
-constexpr std::size_t kEdgeBytes = 4 + 4 + 4 + 4 + 1 + 1 + 4 + 4 + 8;
+constexpr std::size_t kEdgeBytes = 4 + 4 + 4 + 4 + 1 + 1 + 4 + 4 + 8 + 2;
 
 void putEdge(std::vector<std::uint8_t>& out, const GraphEdge& e) {
     putField(out, e.from);
@@ -132,6 +134,7 @@ void putEdge(std::vector<std::uint8_t>& out, const GraphEdge& e) {
     putField(out, e.shape_begin);
     putField(out, e.shape_end);
     putField(out, e.way_id);
+    putField(out, e.speed_limit_kmh);
 }
 
 GraphEdge getEdge(const std::uint8_t*& p) {
@@ -145,6 +148,7 @@ GraphEdge getEdge(const std::uint8_t*& p) {
     e.shape_begin = getField<std::uint32_t>(p);
     e.shape_end = getField<std::uint32_t>(p);
     e.way_id = getField<std::int64_t>(p);
+    e.speed_limit_kmh = getField<std::uint16_t>(p);
     return e;
 }
 

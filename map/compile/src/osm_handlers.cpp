@@ -119,9 +119,13 @@ void GraphHandler::way(const osmium::Way& way) {
     }
     if (g.nodes.size() < 2) return;
     const int dir = onewayDirection(lookup(tags));
+    const DirectionalSpeedLimits limits = speedLimitsFromTags(lookup(tags));
+    g.limit_forward_kmh = limits.forward_kmh;
+    g.limit_backward_kmh = limits.backward_kmh;
     if (dir < 0) {
         std::reverse(g.nodes.begin(), g.nodes.end());
         std::reverse(g.points.begin(), g.points.end());
+        std::swap(g.limit_forward_kmh, g.limit_backward_kmh);  // "forward" follows the nodes as kept
     }
     g.oneway = dir != 0;
     if (g.oneway) g.flags |= road_flags::kOneway;

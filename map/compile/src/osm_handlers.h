@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "navmap/common/geo_coordinate.h"
+#include "navmap/map/compile/speed_limit_tags.h"
 #include "navmap/map/compile/tag_rules.h"
 #include "navmap/map/road_class.h"
 #include "navmap/map/tile.h"
@@ -35,6 +36,10 @@ struct RawGraphWay {
     RoadClass cls = RoadClass::Path;
     std::uint8_t flags = 0;
     float speed_kmh = 0;
+    /// The legal limit along and against `nodes` (their order after a oneway=-1 reversal),
+    /// km/h, 0 unknown (speed_limit_tags.h).
+    std::uint16_t limit_forward_kmh = 0;
+    std::uint16_t limit_backward_kmh = 0;
     bool oneway = false;
     std::vector<std::int64_t> nodes;
     std::vector<GeoCoordinate> points;

@@ -3,6 +3,7 @@
 #include "text_layer.h"
 
 #include <algorithm>
+#include <cmath>
 #include <string>
 
 #include <glm/gtc/type_ptr.hpp>
@@ -28,6 +29,36 @@ GuidanceLayout guidanceLayout(int width, int height) {
     l.remaining_right = {float(width) - 18.0f * unit, float(height) - 16.0f * unit};
     return l;
 }
+
+SpeedLimitSignLayout speedLimitSignLayout(int width, int height, SignCorner corner, int digits) {
+    const float unit = guidanceLayout(width, height).unit;
+    SpeedLimitSignLayout l;
+    l.radius = 36.0f * unit;
+    // The ring is a sixth of the diameter, as on the signs of the Vienna Convention (C14).
+    l.inner_radius = l.radius * (2.0f / 3.0f);
+    const float margin = 14.0f * unit + l.radius;
+    const bool left = corner == SignCorner::TopLeft || corner == SignCorner::BottomLeft;
+    const bool top = corner == SignCorner::TopLeft || corner == SignCorner::TopRight;
+    l.centre = {left ? margin : float(width) - margin, top ? margin : float(height) - margin};
+    l.text_px = (digits >= 3 ? 0.82f : 1.05f) * l.inner_radius;
+    return l;
+}
+
+namespace {
+
+/// A disc as a triangle list (screen pixels).
+void appendDisc(std::vector<glm::vec2>& out, glm::vec2 centre, float radius) {
+    constexpr int kSegments = 64;
+    constexpr float kTwoPi = 6.28318530718f;
+    for (int i = 0; i < kSegments; ++i) {
+        const float a0 = kTwoPi * float(i) / kSegments, a1 = kTwoPi * float(i + 1) / kSegments;
+        out.push_back(centre);
+        out.push_back(centre + radius * glm::vec2(std::cos(a0), std::sin(a0)));
+        out.push_back(centre + radius * glm::vec2(std::cos(a1), std::sin(a1)));
+    }
+}
+
+}  // namespace
 
 GuidanceOverlayPass::GuidanceOverlayPass()
     : m_text(std::make_unique<TextLayer>(m_engine.atlas())),
@@ -120,6 +151,41 @@ void GuidanceOverlayPass::draw(const GuidanceOverlay& overlay, const MapStyle& s
     if (!draws.empty()) m_text->drawScreen(draws, size);
     glDisable(GL_BLEND);
     glDisable(GL_DEPTH_TEST);
+    target.bindForDrawing(false);
+}
+
+void GuidanceOverlayPass::drawSpeedLimit(const SpeedLimitSign& sign, const RenderTarget& target) {
+    if (sign.kmh <= 0) return;
+    const glm::ivec2 size(target.width(), target.height());
+    const glm::vec2 viewport(size);
+    const std::string number = std::to_string(sign.kmh);
+    const SpeedLimitSignLayout l = speedLimitSignLayout(size.x, size.y, sign.corner, static_cast<int>(number.size()));
+    target.bindForDrawing(false);
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_CULL_FACE);
+    glEnable(GL_BLEND);
+    glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE);  // the frame stays opaque
+
+    // Red disc, white disc over it: the ring is what stays red.
+    std::vector<glm::vec2> disc;
+    appendDisc(disc, l.centre, l.radius);
+    drawTriangles(disc, glm::vec4(0.80f, 0.05f, 0.05f, 1.0f), viewport);
+    disc.clear();
+    appendDisc(disc, l.centre, l.inner_radius);
+    drawTriangles(disc, glm::vec4(1.0f), viewport);
+
+    m_engine.beginFrame();
+    text::TextStyle ts;
+    ts.fill = {0.0f, 0.0f, 0.0f, 1.0f};
+    ts.outline = {0.0f, 0.0f, 0.0f, 0.0f};
+    ts.outline_px = 0.0f;
+    ts.halo = {1.0f, 1.0f, 1.0f, 0.0f};
+    ts.halo_px = 0.0f;
+    const text::LaidOutText laid =
+        m_engine.layout(m_engine.run(number, text::FontStyle::Bold), l.text_px, text::TextAnchor::Center);
+    const text::TextDraw draw{laid.quads, laid.size_px, l.centre, 0.0f, 1.0f, 1.0f, ts};
+    m_text->drawScreen(std::span<const text::TextDraw>(&draw, 1), size);
+    glDisable(GL_BLEND);
     target.bindForDrawing(false);
 }
 

@@ -5,7 +5,8 @@
 // large text, the street to turn into, and the remaining distance and time, with the SDF text of
 // navmap_text. Laid out for the head-up display's 800 x 240 and scaled with the target. Owns its
 // own text engine and atlas, so that it works without the label pass (the HUD has no labels).
-// Private to render/.
+// Also the speed limit sign (MapFrame::speed_limit): a white disc in a red ring with the limit
+// in black, in a corner, on the same layout scale. Private to render/.
 
 #include <GLES3/gl3.h>
 
@@ -39,6 +40,18 @@ struct GuidanceLayout {
 /// The layout for a width x height target.
 GuidanceLayout guidanceLayout(int width, int height);
 
+/// Where the speed limit sign stands (screen pixels, origin top left, y down).
+struct SpeedLimitSignLayout {
+    glm::vec2 centre{0.0f};
+    float radius = 0.0f;        ///< outer edge of the red ring
+    float inner_radius = 0.0f;  ///< inner edge of the ring: the white disc
+    float text_px = 0.0f;       ///< em size of the number
+};
+
+/// The sign's place in `corner` of a width x height target: 72 px across in the 800 x 240
+/// layout (guidanceLayout's unit), 14 px from both edges; the number's size by its digits.
+SpeedLimitSignLayout speedLimitSignLayout(int width, int height, SignCorner corner, int digits);
+
 /// Needs a current GLES 3 context (create, use, destroy on its thread).
 class GuidanceOverlayPass {
 public:
@@ -50,6 +63,9 @@ public:
 
     /// Draws `overlay` over `target` (no depth test). Leaves `target` bound for drawing.
     void draw(const GuidanceOverlay& overlay, const MapStyle& style, const RenderTarget& target);
+    /// Draws the speed limit sign over `target` (nothing when sign.kmh <= 0). Leaves `target`
+    /// bound for drawing.
+    void drawSpeedLimit(const SpeedLimitSign& sign, const RenderTarget& target);
 
 private:
     void drawTriangles(const std::vector<glm::vec2>& vertices, glm::vec4 color, glm::vec2 viewport);

@@ -1,15 +1,17 @@
 // SPDX-License-Identifier: Apache-2.0
-// The label pass's keep-out areas: the vehicle marker, the route just ahead of the car and the
-// manoeuvre arrows, as screen boxes no label may cover.
+// The label pass's keep-out areas: the vehicle marker, the speed limit sign, the route just ahead
+// of the car and the manoeuvre arrows, as screen boxes no label may cover.
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <string>
 #include <utility>
 #include <vector>
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
+#include "guidance_overlay_pass.h"
 #include "label_pass.h"
 #include "label_pass_screen.h"
 #include "navmap/render/maneuver_arrow.h"
@@ -27,6 +29,13 @@ void LabelPass::keepOut(const MapFrame& frame, std::span<const TileLabels> tiles
             hi = glm::max(hi, p);
         }
         m_keep_out.push_back({0.5f * (lo + hi), 0.5f * (hi - lo) + margin, {1.0f, 0.0f}});
+    }
+    // The speed limit sign, drawn over everything in its corner.
+    if (frame.speed_limit && frame.speed_limit->kmh > 0) {
+        const int digits = static_cast<int>(std::to_string(frame.speed_limit->kmh).size());
+        const SpeedLimitSignLayout sign = speedLimitSignLayout(
+            static_cast<int>(viewport.x), static_cast<int>(viewport.y), frame.speed_limit->corner, digits);
+        m_keep_out.push_back({sign.centre, glm::vec2(sign.radius + margin), {1.0f, 0.0f}});
     }
     auto ground_at = [&](double x, double y) {
         const double z = groundHeight(tiles, x, y);

@@ -201,6 +201,10 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target, int 
         if (!m_guidance) m_guidance = std::make_unique<GuidanceOverlayPass>();
         m_guidance->draw(*frame.guidance, m_style, target);
     }
+    if (frame.speed_limit && frame.speed_limit->kmh > 0) {
+        if (!m_guidance) m_guidance = std::make_unique<GuidanceOverlayPass>();
+        m_guidance->drawSpeedLimit(*frame.speed_limit, target);
+    }
 
     glBindVertexArray(0);
     glBindTexture(GL_TEXTURE_2D, 0);

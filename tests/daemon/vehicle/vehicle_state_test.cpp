@@ -450,3 +450,89 @@ TEST(RouteLine, MatchingNearThePreviousMatchFindsWhatTheWholeRouteGives) {
     EXPECT_NEAR(out->measure_m, 1500.0, 1e-6);
     EXPECT_NEAR(in->measure_m, 3010.0 + 1500.0, 1e-6);
 }
+
+// The speed limit of the matched road in the driving direction (EstimatedPose::speed_limit_kmh):
+// a two-way road with 50 km/h northbound and 30 km/h southbound (maxspeed:forward/backward) and
+// a one-way road of 70 km/h beside it; none where the match or its direction is uncertain.
+namespace {
+
+std::shared_ptr<const map::RoadGraph> speedLimitGraph() {
+    auto g = std::make_shared<map::RoadGraph>();
+    // Two-way: node 0 (0, 0) -> node 1 (0, 400); one-way 300 m east, northbound: 2 -> 3.
+    g->nodes = {{0, 0, 1}, {0, 400, 2}, {300, 0, 3}, {300, 400, 4}};
+    g->shape = {{0, 0}, {0, 400}, {300, 0}, {300, 400}};
+    map::GraphEdge fwd{0, 1, 400, 50, map::RoadClass::Secondary, 0, 0, 2, 10, 50};
+    map::GraphEdge back = fwd;
+    std::swap(back.from, back.to);
+    back.flags |= map::edge_flags::kReversed;
+    back.speed_limit_kmh = 30;
+    map::GraphEdge oneway{2, 3, 400, 70, map::RoadClass::Secondary, map::road_flags::kOneway, 2, 4, 11, 70};
+    g->edges = {fwd, back, oneway};
+    map::indexEdges(*g);
+    return g;
+}
+
+/// Drives `seconds` at 12 m/s from (x, y0) with `heading` (0 north, 180 south), fixes at 5 Hz.
+EstimatedPose driveAlong(VehicleStateEstimator& est, const map::Projection& proj, double x, double y0, double heading,
+                         double seconds) {
+    const double dir = heading < 90.0 ? 1.0 : -1.0;
+    for (int i = 0; i <= int(seconds * 5); ++i) {
+        const double t = i * 0.2;
+        est.addSample(motion(12.0, 0.0, t));
+        est.addSample(fix(proj, x, y0 + dir * 12.0 * t, t, heading));
+    }
+    return est.poseAt(at(seconds));
+}
+
+}  // namespace
+
+TEST(VehicleState, SpeedLimitOfTheMatchedRoadInTheDrivingDirection) {
+    const map::Projection proj(42.5, 1.5);
+    const auto matcher = std::make_shared<const MapMatcher>(speedLimitGraph());
+    {
+        VehicleStateEstimator est(proj, matcher);
+        const EstimatedPose p = driveAlong(est, proj, 1.0, 50.0, 0.0, 5.0);
+        ASSERT_TRUE(p.edge);
+        EXPECT_EQ(matcher->graph().edges[*p.edge].way_id, 10);
+        EXPECT_EQ(p.speed_limit_kmh, 50) << "northbound: the way's forward limit";
+    }
+    {
+        VehicleStateEstimator est(proj, matcher);
+        const EstimatedPose p = driveAlong(est, proj, -1.0, 350.0, 180.0, 5.0);
+        ASSERT_TRUE(p.edge);
+        EXPECT_TRUE(matcher->graph().edges[*p.edge].flags & map::edge_flags::kReversed);
+        EXPECT_EQ(p.speed_limit_kmh, 30) << "southbound: the way's backward limit";
+    }
+    {
+        VehicleStateEstimator est(proj, matcher);
+        EXPECT_EQ(driveAlong(est, proj, 301.0, 50.0, 0.0, 5.0).speed_limit_kmh, 70) << "the one-way road";
+    }
+    {
+        // Parked: no heading, so the direction is not known, and the two directions differ: no
+        // limit, also after more fixes (the edge held is no better than the first guess).
+        VehicleStateEstimator est(proj, matcher);
+        for (int i = 0; i < 5; ++i) est.addSample(fix(proj, 0.5, 200.0, i * 0.2));
+        const EstimatedPose p = est.poseAt(at(0.8));
+        EXPECT_TRUE(p.edge);
+        EXPECT_EQ(p.speed_limit_kmh, 0);
+    }
+    {
+        // Parked on the one-way road: its only direction.
+        VehicleStateEstimator est(proj, matcher);
+        est.addSample(fix(proj, 300.5, 200.0, 0.0));
+        EXPECT_EQ(est.poseAt(at(0.0)).speed_limit_kmh, 70);
+    }
+    {
+        // 20 m beside the road: matched, but with a confidence below snap_full_confidence.
+        VehicleStateEstimator est(proj, matcher);
+        const EstimatedPose p = driveAlong(est, proj, 20.0, 50.0, 0.0, 3.0);
+        EXPECT_LT(p.match_confidence, 0.5);
+        EXPECT_EQ(p.speed_limit_kmh, 0);
+    }
+    {
+        // Stale: no fix for longer than gnss_timeout_s.
+        VehicleStateEstimator est(proj, matcher);
+        driveAlong(est, proj, 1.0, 50.0, 0.0, 3.0);
+        EXPECT_EQ(est.poseAt(at(3.0 + 10.0)).speed_limit_kmh, 0);
+    }
+}

@@ -36,6 +36,9 @@ struct GraphEdge {
     std::uint32_t shape_begin = 0;  ///< range in RoadGraph::shape (from the way's point of view)
     std::uint32_t shape_end = 0;
     std::int64_t way_id = 0;
+    /// The legal speed limit in this edge's direction of travel (a reversed twin has the way's
+    /// backward limit), km/h; 0 unknown (docs/tile-store.md "Speed limits").
+    std::uint16_t speed_limit_kmh = 0;
 };
 
 /// Compressed sparse row graph: edges sorted by `from`; the out-edges of node n are

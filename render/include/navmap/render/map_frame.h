@@ -161,6 +161,17 @@ struct GuidanceOverlay {
     std::string remaining_time;      ///< e.g. "18 min"
 };
 
+/// The corner of the frame a speed limit sign stands in.
+enum class SignCorner : std::uint8_t { TopLeft, TopRight, BottomLeft, BottomRight };
+
+/// A European speed limit sign (white disc, red ring, black number) drawn over the frame in
+/// screen space, sized and placed like the guidance overlay (laid out for 800 x 240 and scaled
+/// with the target; docs/rendering.md "Speed limit sign").
+struct SpeedLimitSign {
+    int kmh = 0;  ///< the number on the sign; 0 or less: no sign
+    SignCorner corner = SignCorner::TopRight;
+};
+
 /// What the terrain is coloured with: the flat colours of the OpenStreetMap land cover over a
 /// hypsometric tint, or the synthetic orthoimage (seed ch. 6; tiles with ortho layers and
 /// RendererOptions::ortho_weights; a tile whose image is not ready shows its land cover). Relief
@@ -232,6 +243,8 @@ struct MapFrame {
     std::vector<std::vector<glm::dvec3>> guidance_roads;
     /// The guidance overlay, drawn last over the frame; none: nothing drawn.
     std::optional<GuidanceOverlay> guidance;
+    /// The speed limit sign, drawn last (after the guidance overlay); none: nothing drawn.
+    std::optional<SpeedLimitSign> speed_limit;
     /// Time since the previous frame of this renderer, seconds: the label layout advances by it
     /// (fixed simulation steps, so the result does not depend on the frame rate).
     double frame_dt_s = 1.0 / 30.0;

@@ -36,6 +36,11 @@ struct EstimatedPose {
     double snap_weight = 0.0;                ///< 0 raw .. 1 fully on the road
     std::optional<std::uint32_t> edge;       ///< matched graph edge
     std::optional<double> road_heading_deg;  ///< direction of the matched route/road segment
+    /// The legal speed limit of the matched road in the driving direction, km/h (the matched
+    /// edge's map::GraphEdge::speed_limit_kmh); 0 when unknown or when the match is uncertain:
+    /// stale, the road match below snap_full_confidence, or no heading on a two-way road whose
+    /// directions have different limits. docs/vehicle-state.md "Speed limit".
+    int speed_limit_kmh = 0;
     bool on_route = false;
     double route_driven_m = 0.0;  ///< along the route (when on_route)
     double route_remaining_m = 0.0;
