@@ -14,8 +14,28 @@ flat in float v_alpha;
 
 out vec4 o_color;
 
+// The atlas sampled bilinearly in float arithmetic here rather than by the texture unit: drivers
+// filter 8-bit textures with weights of their own precision (llvmpipe's differ between x86-64 and
+// AArch64), and the distance is scaled up by v_dist_scale, so a last-bit difference in the filter
+// moved every glyph edge. Same footprint as GL_LINEAR with CLAMP_TO_EDGE on a level-0 texture.
+float atlasDistance(vec2 uv) {
+    ivec2 size = textureSize(u_atlas, 0);
+    vec2 p = uv * vec2(size) - 0.5;
+    vec2 f = p - floor(p);
+    ivec2 i0 = ivec2(floor(p));
+    ivec2 lo = ivec2(0);
+    ivec2 hi = size - 1;
+    ivec2 a = clamp(i0, lo, hi);
+    ivec2 b = clamp(i0 + 1, lo, hi);
+    float t00 = texelFetch(u_atlas, ivec2(a.x, a.y), 0).r;
+    float t10 = texelFetch(u_atlas, ivec2(b.x, a.y), 0).r;
+    float t01 = texelFetch(u_atlas, ivec2(a.x, b.y), 0).r;
+    float t11 = texelFetch(u_atlas, ivec2(b.x, b.y), 0).r;
+    return mix(mix(t00, t10, f.x), mix(t01, t11, f.x), f.y);
+}
+
 void main() {
-    float d = (texture(u_atlas, v_uv).r - 0.5) * v_dist_scale;  // px, positive inside the glyph
+    float d = (atlasDistance(v_uv) - 0.5) * v_dist_scale;  // px, positive inside the glyph
     float w = 0.5 * clamp(fwidth(d), 0.5, 2.0);                  // about one pixel of antialiasing
     float o = v_widths.x;
     float h = v_widths.y;
