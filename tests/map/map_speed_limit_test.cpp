@@ -48,22 +48,33 @@ TEST(SpeedLimitTags, RealMaxspeedValues) {
         {"FR:urban", 50},
         {"FR:rural", 80},
         {"FR:motorway", 130},
-        {"FR:zone30", 30},
+        {"FR:zone30", 0},  // a zone sign's value, not in the wiki's table
         {"DE:urban", 50},
         {"DE:rural", 100},
         {"DE:motorway", 0},  // no general limit
         {"DE:living_street", 0},
         {"DE:bicycle_road", 30},
-        {"ES:urban", 50},
+        {"ES:urban", 30},  // 50 only with two or more lanes each way
         {"ES:rural", 90},
         {"ES:motorway", 120},
         {"IT:urban", 50},
         {"IT:rural", 90},
         {"IT:motorway", 130},
         {"AD:urban", 50},
-        {"AD:rural", 90},
+        {"AD:rural", 60},
+        {"AD:motorway", 120},
+        {"BE-BRU:urban", 30},
+        {"BE-VLG:urban", 50},
+        {"BE-WAL:rural", 90},
+        {"BE:urban", 0},  // Brussels 30, Flanders and Wallonia 50: no single value
         {"AT:motorway", 130},
         {"CH:rural", 80},
+        {"FI:rural", 100},
+        {"RS:motorway", 120},
+        {"NL:motorway", 130},
+        {"SE:motorway", 110},
+        {"MT:rural", 80},
+        {"AL:urban", 40},
         {"GB:nsl_single", 97},
         {"GB:nsl_dual", 113},
         {"GB:motorway", 113},
@@ -88,6 +99,8 @@ TEST(SpeedLimitTags, RealMaxspeedValues) {
     for (const auto& [text, kmh] : cases) EXPECT_EQ(parseSpeedLimitKmh(text), kmh) << '"' << text << '"';
     EXPECT_TRUE(implicitSpeedLimitKmh("DE:motorway")) << "a listed code without a fixed limit";
     EXPECT_FALSE(implicitSpeedLimitKmh("XX:urban"));
+    EXPECT_FALSE(implicitSpeedLimitKmh("BE:urban")) << "no single Belgian urban limit";
+    EXPECT_FALSE(implicitSpeedLimitKmh("CY:rural")) << "not in the table the values come from";
 }
 
 TEST(SpeedLimitTags, ConditionalLimits) {
