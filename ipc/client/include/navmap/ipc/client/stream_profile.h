@@ -81,10 +81,6 @@ struct StreamReply {
     std::size_t ring_total_bytes = 0;  ///< payload shm: the ring memfd's size, as the layout gives it
 };
 
-/// The dma-buf frame layout version a server that exports dma-bufs names in its reply
-/// ("dmabuf":1) and this library would read (docs/frame-protocol.md "dma-buf frames").
-inline constexpr int kDmabufFrameVersion = 1;
-
 /// Parses the server's reply line to `request` (docs/frame-protocol.md "Handshake"):
 ///   {"ok":true,"version":1,"profile":{"name":..,"width":..,"height":..,"fps":..,"view":..,"format":..},
 ///    "payload":"shm","stride":..,"header_bytes":80,"ring":{"slots":..,"slot_bytes":..,"total_bytes":..,
