@@ -3,6 +3,7 @@
 
 #include <future>
 #include <memory>
+#include <mutex>
 #include <set>
 #include <stdexcept>
 
@@ -85,12 +86,31 @@ std::unique_ptr<ipc::ControlServer> createControlServer(const DaemonConfig& conf
     return std::move(control).value();
 }
 
+// Why dma-buf frames are refused, for the frame server's thread: the renderer's probe once it is up
+// (the server listens before the renderer exists).
+class DmabufRefusal {
+public:
+    void set(std::string why) {
+        const std::lock_guard lock(m_mutex);
+        m_why = std::move(why);
+    }
+    std::string text() const {
+        const std::lock_guard lock(m_mutex);
+        return m_why;
+    }
+
+private:
+    mutable std::mutex m_mutex;
+    std::string m_why = "the renderer is still starting";
+};
+
 // Listening from here on; /metrics and /status show the daemon's latest snapshots.
 std::unique_ptr<ipc::FrameServer> startFrameServer(const DaemonConfig& config, const DaemonMetrics& metrics,
-                                                   const DaemonStatus& status) {
+                                                   const DaemonStatus& status, const DmabufRefusal& dmabuf) {
     ipc::FrameServerOptions fopt = frameServerOptions(config);
     fopt.metrics = [&metrics](ipc::MetricsRegistry& registry) { metrics.registerInto(registry); };
     fopt.status_json = [&status] { return status.text(); };
+    fopt.dmabuf_unavailable_reason = [&dmabuf] { return dmabuf.text(); };
     auto frames = std::make_unique<ipc::FrameServer>(fopt);
     if (auto st = frames->start(); !st) throw std::runtime_error(st.message());
     return frames;
@@ -219,6 +239,7 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
         const auto control_state = makeControlState(config);
         DaemonStatus status;
         DaemonMetrics metrics;
+        DmabufRefusal dmabuf_refusal;  // outlives the frame server that asks it
         control_state->setStatusProvider([&status] { return status.json(); });
         // The map matcher is the road graph's only user here: it takes the scene's copy (1.6 MB per
         // store), kept in the first store's frame for re-centring.
@@ -235,12 +256,13 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
             return made;
         });
         const auto control_server = createControlServer(config, *control_state);
-        const auto frames = startFrameServer(config, metrics, status);
+        const auto frames = startFrameServer(config, metrics, status, dmabuf_refusal);
         DisplayScheduler displays(
             config,
             {options.noop_renderer, options.render_all_profiles,
              options.data_dir.empty() ? std::filesystem::path() : options.data_dir / "ortho-mlp.nnw", t_exec},
             scene.cache, scene.projection(), *frames, t_start, log);
+        dmabuf_refusal.set(DisplayScheduler::dmabufRefusal(displays.dmabuf()));
         stage("renderer and targets");
         const std::unique_ptr<VehicleInput> input_owner = input_made.get();
         VehicleInput& input = *input_owner;

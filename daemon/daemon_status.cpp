@@ -82,6 +82,11 @@ void DaemonStatus::publish(const StatusSample& m) {
     }
     st["profiles"] = profiles;
     st["stream"] = ipc::frameServerStatsJson(m.stream);  // the same object as GET /status "stream"
+    // docs/frame-protocol.md "dma-buf frames": the renderer's probe; frames go through shm either way.
+    st["dmabuf"] = {{"available", m.dmabuf.available},
+                    {"native_fence_sync", m.dmabuf.native_fence_sync},
+                    {"reason", m.dmabuf.reason}};
+    if (!m.dmabuf.render_node.empty()) st["dmabuf"]["render_node"] = m.dmabuf.render_node;
     st["tile_cache"] = {{"resident_bytes", m.cache.resident_bytes},
                         {"hits", m.cache.hits},
                         {"misses", m.cache.misses},

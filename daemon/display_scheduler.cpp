@@ -101,6 +101,18 @@ void DisplayScheduler::logContext(const render::DeviceInfo& dev) const {
     for (const auto& f : dev.features_off) off += (off.empty() ? "" : "; ") + f;
     m_log(Log::kInfo, "GL context: OpenGL ES %d.%d (%s), %s; features off: %s", dev.gles_major, dev.gles_minor,
           dev.version.c_str(), dev.renderer.c_str(), off.empty() ? "none" : off.c_str());
+    const render::DmabufCapability& d = dev.dmabuf;
+    if (d.available)
+        m_log(Log::kInfo, "dma-buf export: possible on %s (sync: %s), not used yet: frames go through shared memory",
+              d.render_node.c_str(), d.native_fence_sync ? "native fences" : "glFinish");
+    else
+        m_log(Log::kInfo, "dma-buf export: off (%s): frames go through shared memory", d.reason.c_str());
+}
+
+std::string DisplayScheduler::dmabufRefusal(const render::DmabufCapability& capability) {
+    if (!capability.available) return capability.reason;
+    return "the GPU could export them through " + capability.render_node +
+           ", but navmapd does not render into exported buffers yet";
 }
 
 std::unique_ptr<AttributionOverlay> DisplayScheduler::makeAttribution(const DisplayProfile& p) {

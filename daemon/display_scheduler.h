@@ -63,6 +63,11 @@ public:
     /// Why the orthoimage ground cannot be drawn (weights missing or unusable), as logged; empty
     /// while none was found (docs/orthoimage.md "In the map").
     [[nodiscard]] const std::string& orthoProblem() const { return m_ortho_problem; }
+    /// Whether the renderer could export frames as dma-bufs, and why not (probed at start-up;
+    /// navmapd serves shm frames either way: docs/frame-protocol.md "dma-buf frames").
+    [[nodiscard]] const render::DmabufCapability& dmabuf() const { return m_renderer->device().dmabuf; }
+    /// The reason in navmapd's refusal of a dma-buf frame request.
+    [[nodiscard]] static std::string dmabufRefusal(const render::DmabufCapability& capability);
     /// GL contexts lost and made anew so far (render::DeviceInfo::context_resets, as told to the displays).
     [[nodiscard]] int contextResets() const { return m_context_resets; }
     /// The exit summary: peak memory, then a line per display.

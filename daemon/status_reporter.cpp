@@ -14,6 +14,7 @@ void StatusReporter::update(Clock::time_point now, const EstimatedPose& pose) {
     s.style = {ipc::mapStyleName(dn.requested()), dn.night(), styleReasonName(dn.reason()), dn.weight(),
                dn.sunElevationDeg()};
     s.ortho_problem = m_parts.displays.orthoProblem();
+    s.dmabuf = m_parts.displays.dmabuf();
     s.reloads = m_parts.reloader.reloads();
     s.reload_errors = m_parts.reloader.errors();
     s.last_reload_error = m_parts.reloader.lastError();

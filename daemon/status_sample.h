@@ -15,6 +15,7 @@
 #include "navmap/ipc/control/control_server.h"
 #include "navmap/ipc/stream/frame_server.h"
 #include "navmap/map/tile_cache.h"
+#include "navmap/render/dmabuf_probe.h"
 #include "process_memory.h"
 #include "vehicle_input.h"
 
@@ -66,6 +67,7 @@ struct StatusSample {
     std::vector<StoreStatus> stores;  ///< the first is the one the map frame starts in
     FrameStatus frame;
     ProcessMemory memory;
+    render::DmabufCapability dmabuf;  ///< DisplayScheduler::dmabuf()
 };
 
 }  // namespace navmap::daemon

@@ -326,6 +326,16 @@ TEST(NavmapdEndToEnd, LogsTheGlContextAndTheFeaturesItTurnedOff) {
     ASSERT_FALSE(line.empty()) << out;
     EXPECT_NE(line.find("; features off: "), std::string::npos) << line;
     std::printf("[ info     ] %s\n", line.c_str());
+    // The dma-buf export probe (docs/gles-profile.md "dma-buf export"): on llvmpipe, off and why.
+    const std::string dmabuf = lineWith(out, "navmapd: dma-buf export: ");
+    ASSERT_FALSE(dmabuf.empty()) << out;
+    std::printf("[ info     ] %s\n", dmabuf.c_str());
+    if (line.find("llvmpipe") != std::string::npos) {
+        EXPECT_NE(dmabuf.find("<6>navmapd: dma-buf export: off (llvmpipe on the surfaceless platform: "),
+                  std::string::npos)
+            << dmabuf;
+        EXPECT_NE(dmabuf.find("): frames go through shared memory"), std::string::npos) << dmabuf;
+    }
     if (line.find("Mesa") == std::string::npos) {
         GTEST_SKIP() << "not a Mesa driver, so it cannot be held to ES 3.0 by MESA_GLES_VERSION_OVERRIDE: " << line;
     }

@@ -327,3 +327,34 @@ TEST_F(NavmapdObservability, TheDefaultMjpegStreamIsTheFirstProfile) {
     const std::string refused = httpGet(m_port, "/stream.mjpg?profile=bird");
     EXPECT_EQ(refused.rfind("HTTP/1.0 4", 0), 0U) << refused.substr(0, 400);
 }
+
+// docs/frame-protocol.md "dma-buf frames": navmapd reports its renderer's dma-buf probe in
+// get_status, refuses a request for dma-buf frames naming it, and a client that allows the
+// fallback gets the profile's frames through shared memory.
+TEST_F(NavmapdObservability, DmabufFramesAreRefusedWithTheProbesReasonAndShmServesThem) {
+    std::this_thread::sleep_for(1200ms);
+    const nlohmann::json j = getStatus();
+    ASSERT_TRUE(j.is_object());
+    const nlohmann::json want = {
+        {"available", false}, {"native_fence_sync", false}, {"reason", "the no-op renderer draws into no GPU buffers"}};
+    EXPECT_EQ(j["status"]["dmabuf"], want) << j.dump();
+    const std::string sock = (m_dir / "frames.sock").string();
+    navmap::ipc::StreamRequest r = request("plain");
+    r.payload = navmap::ipc::StreamPayload::Dmabuf;
+    auto refused = navmap::ipc::StreamClient::connectUnix(sock, r, 5s);
+    ASSERT_FALSE(refused.ok());
+    EXPECT_EQ(refused.error().message, "handshake refused by " + sock +
+                                           ": handshake: dmabuf frames are not available here (the no-op renderer "
+                                           "draws into no GPU buffers); ask for shm");
+    r.dmabuf_fallback_shm = true;
+    auto c = navmap::ipc::StreamClient::connectUnix(sock, r, 5s);
+    ASSERT_TRUE(c.ok()) << c.error().message;
+    EXPECT_EQ(c.value()->payload(), navmap::ipc::StreamPayload::Shm);
+    EXPECT_EQ(c.value()->fallbackReason(), refused.error().message);
+    navmap::ipc::ReceivedFrame f;
+    auto got = c.value()->next(f, 10s);
+    ASSERT_TRUE(got.ok()) << got.error().message;
+    ASSERT_TRUE(got.value()) << "no frame within 10 s";
+    EXPECT_EQ(f.header.width, 320U);
+    EXPECT_EQ(f.pixels.size(), 320U * 180U * 4U);
+}

@@ -53,6 +53,13 @@ int navmapFuzzStreamHandshake(const std::uint8_t* data, std::size_t size) {
             __builtin_trap();
         }
     }
+    // This library imports no dma-bufs yet: no reply may accept a request for them.
+    navmap::ipc::StreamRequest dmabuf;
+    dmabuf.profile = *navmap::ipc::defaultStreamProfile("hud");
+    dmabuf.payload = navmap::ipc::StreamPayload::Dmabuf;
+    if (auto reply = navmap::ipc::parseStreamReply(text, dmabuf); reply.ok() && reply.value().accepted) {
+        __builtin_trap();
+    }
     (void)navmap::ipc::parseStreamHttpRequest(text);
     auto header = navmap::ipc::decodeFrameHeader(data, size);
     if (header.ok()) {

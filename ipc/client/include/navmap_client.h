@@ -155,6 +155,19 @@ NAVMAP_CLIENT_EXPORT int navmap_client_release_frame(navmap_client* client, cons
  * when the client is null or already connected. */
 NAVMAP_CLIENT_EXPORT int navmap_client_request_meta(navmap_client* client, int on);
 
+/* Asks navmapd for dma-buf frames from the next connection on (docs/frame-protocol.md "dma-buf
+ * frames"), falling back to the shared-memory ring when it refuses them, as every navmapd does
+ * today: frames then come as always. Call it after navmap_client_create(), before the first
+ * navmap_client_next_frame(). 0, or NAVMAP_CLIENT_ERROR when the client is null or connected. */
+NAVMAP_CLIENT_EXPORT int navmap_client_request_dmabuf(navmap_client* client);
+
+/* The payload of the current connection, "shm" or "dmabuf"; "" while not connected. */
+NAVMAP_CLIENT_EXPORT const char* navmap_client_payload(const navmap_client* client);
+
+/* Why a dma-buf request fell back to shm on the current connection (navmapd's refusal); "" when
+ * it did not or while not connected. Valid until the next call on this client. */
+NAVMAP_CLIENT_EXPORT const char* navmap_client_payload_fallback(const navmap_client* client);
+
 /* The validity of the frame held (header bytes every navmapd frame carries, no request needed).
  * NAVMAP_CLIENT_FRAME with *validity filled, NAVMAP_CLIENT_ERROR when `frame` is not the frame held. */
 NAVMAP_CLIENT_EXPORT int navmap_client_frame_validity(const navmap_client* client, const navmap_frame* frame,

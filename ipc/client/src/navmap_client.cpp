@@ -15,7 +15,8 @@ struct navmap_client {
     navmap::ipc::HeldFrame held;
     bool holding = false;
     std::uint64_t frames = 0;
-    mutable std::string error;  // navmap_client_last_error()'s storage
+    mutable std::string error;     // navmap_client_last_error()'s storage
+    mutable std::string fallback;  // navmap_client_payload_fallback()'s storage
 };
 
 namespace {
@@ -161,6 +162,29 @@ int navmap_client_request_meta(navmap_client* client, int on) {
     }
     client->client->requestMeta(on != 0);
     return 0;
+}
+
+int navmap_client_request_dmabuf(navmap_client* client) {
+    if (client == nullptr || client->client->connected()) {
+        return NAVMAP_CLIENT_ERROR;
+    }
+    client->client->requestDmabuf(true);  // navmap_frame has pixels only: always fall back to shm
+    return 0;
+}
+
+const char* navmap_client_payload(const navmap_client* client) {
+    if (client == nullptr || client->client->client() == nullptr) {
+        return "";
+    }
+    return navmap::ipc::streamPayloadName(client->client->client()->payload());
+}
+
+const char* navmap_client_payload_fallback(const navmap_client* client) {
+    if (client == nullptr || client->client->client() == nullptr) {
+        return "";
+    }
+    client->fallback = client->client->client()->fallbackReason();
+    return client->fallback.c_str();
 }
 
 int navmap_client_frame_validity(const navmap_client* client, const navmap_frame* frame,

@@ -107,7 +107,20 @@ Result<std::unique_ptr<StreamClient>> StreamClient::connectUnix(const std::strin
     if (!fd) {
         return fd.error();
     }
-    return handshake(fd.value(), path, request, timeout, std::move(inflate));
+    if (request.payload != StreamPayload::Dmabuf || !request.dmabuf_fallback_shm) {
+        return handshake(fd.value(), path, request, timeout, std::move(inflate));
+    }
+    auto dmabuf = handshake(fd.value(), path, request, timeout, inflate);
+    if (dmabuf) {
+        return dmabuf;
+    }
+    StreamRequest shm = request;
+    shm.payload = StreamPayload::Shm;
+    auto again = connectUnix(path, shm, timeout, std::move(inflate));
+    if (again) {
+        again.value()->m_fallback_reason = dmabuf.error().message;
+    }
+    return again;
 }
 
 Result<std::unique_ptr<StreamClient>> StreamClient::connectTcp(const std::string& host, int port,
@@ -115,8 +128,8 @@ Result<std::unique_ptr<StreamClient>> StreamClient::connectTcp(const std::string
                                                                std::chrono::milliseconds timeout,
                                                                FrameInflater inflate) {
     const std::string peer = host + ":" + std::to_string(port);
-    if (request.payload == StreamPayload::Shm) {
-        return Error{"connect(" + peer + "): payload shm needs the Unix socket"};
+    if (request.payload == StreamPayload::Shm || request.payload == StreamPayload::Dmabuf) {
+        return Error{"connect(" + peer + "): payload " + streamPayloadName(request.payload) + " needs the Unix socket"};
     }
     if (request.payload == StreamPayload::Zlib && !inflate) {
         return Error{"connect(" + peer + "): payload zlib needs a FrameInflater (the client library links no zlib)"};

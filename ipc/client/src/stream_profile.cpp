@@ -199,6 +199,7 @@ const char* streamPayloadName(StreamPayload payload) noexcept {
         case StreamPayload::Shm: return "shm";
         case StreamPayload::Raw: return "raw";
         case StreamPayload::Zlib: return "zlib";
+        case StreamPayload::Dmabuf: return "dmabuf";
     }
     return "unknown";
 }
@@ -310,15 +311,17 @@ Result<StreamRequest> parseStreamRequest(std::string_view line) {
         req.payload = StreamPayload::Raw;
     } else if (payload.value() == "zlib") {
         req.payload = StreamPayload::Zlib;
+    } else if (payload.value() == "dmabuf") {
+        req.payload = StreamPayload::Dmabuf;
     } else {
-        return Error{"handshake: unknown payload (shm, raw, zlib)"};
+        return Error{"handshake: unknown payload (shm, raw, zlib, dmabuf)"};
     }
     if (const auto it = j.find("hold"); it != j.end()) {
         if (!it->is_boolean()) {
             return Error{"handshake: \"hold\" must be true or false"};
         }
         req.hold = it->get<bool>();
-        if (req.hold && req.payload != StreamPayload::Shm) {
+        if (req.hold && req.payload != StreamPayload::Shm && req.payload != StreamPayload::Dmabuf) {
             return Error{"handshake: \"hold\" needs payload shm (frames are held in the shared-memory ring)"};
         }
     }
@@ -417,6 +420,12 @@ Result<StreamReply> parseStreamReply(std::string_view line, const StreamRequest&
     if (v != static_cast<std::int64_t>(kFrameHeaderBytes)) {
         return Error{"reply: \"header_bytes\" = " + std::to_string(v) + ", expected " +
                      std::to_string(kFrameHeaderBytes)};
+    }
+    if (request.payload == StreamPayload::Dmabuf) {
+        // The layout of docs/frame-protocol.md "dma-buf frames" is specified, but no server sends
+        // it yet and this library cannot import dma-bufs: an accepting reply is an error (a client
+        // with dmabuf_fallback_shm then asks for shm).
+        return Error{"reply: payload dmabuf accepted, but this client library cannot import dma-buf frames yet"};
     }
     if (request.payload == StreamPayload::Shm) {
         if (auto s = readRing(j, reply.profile, &reply); !s) {

@@ -13,7 +13,9 @@ bool isRefusal(const std::string& error) { return error.rfind("handshake refused
 FrameFeed::FrameFeed(ReconnectOptions options, bool negotiate, std::FILE* log)
     : m_base(std::move(options)), m_negotiate(negotiate), m_log(log) {
     // In place in the ring where the pixels are in shared memory: the window's copy is the only one.
-    m_base.request.hold = m_base.request.payload == StreamPayload::Shm;
+    // Payload dmabuf falls back to shm (held the same way) until navmapd exports dma-bufs.
+    m_base.request.hold =
+        m_base.request.payload == StreamPayload::Shm || m_base.request.payload == StreamPayload::Dmabuf;
     m_client = std::make_unique<ReconnectingClient>(m_base);
 }
 
@@ -54,6 +56,11 @@ void FrameFeed::noteConnection() {
             p.view.c_str(), pixelFormatName(p.format), streamPayloadName(m_client->client()->payload()),
             o.unix_path.empty() ? (o.tcp_host + ":" + std::to_string(o.tcp_port)).c_str() : o.unix_path.c_str());
         m_logged_error.clear();
+        const std::string& why = m_client->client()->fallbackReason();
+        if (!why.empty() && !m_dmabuf_fallback_logged) {
+            std::fprintf(m_log, "navmap-wayland: no dma-buf frames (%s); using wl_shm buffers\n", why.c_str());
+            m_dmabuf_fallback_logged = true;  // once: every reconnect asks again and gets the same answer
+        }
     }
     if (!now && !m_client->lastError().empty() && m_client->lastError() != m_logged_error) {
         m_logged_error = m_client->lastError();

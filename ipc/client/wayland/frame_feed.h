@@ -7,7 +7,8 @@
 // one size only), the feed goes back to the profile's own size, says so once in the log, and
 // remembers the refusal (the window then scales the frames to fit). Frames of payload shm are
 // held in place in the ring until release(): the window copies them once, into its buffer.
-// Connection changes and navmapd's errors are logged once each, not per attempt.
+// Connection changes and navmapd's errors are logged once each, not per attempt. A request for
+// payload dmabuf (--dmabuf) falls back to shm; the refusal is logged once.
 
 #include <chrono>
 #include <cstdio>
@@ -62,6 +63,7 @@ private:
     std::string m_logged_error;  ///< the last navmapd error logged (each new one is logged once)
     ReceivedFrame m_copy;        ///< payloads raw/zlib: the frame as read from the socket
     bool m_holding = false;
+    bool m_dmabuf_fallback_logged = false;  ///< the dma-buf refusal is logged once
 };
 
 }  // namespace navmap::ipc::wayland

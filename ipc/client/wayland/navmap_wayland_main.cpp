@@ -65,6 +65,10 @@ std::optional<int> parseArgs(int argc, char** argv, Options* o) {
     app.add_option("--format", format, "rgba8 | rgb565 (default rgba8)")->check(CLI::IsMember({"rgba8", "rgb565"}));
     app.add_option("--payload", payload, "shm | raw | zlib (default: shm over --unix, raw over --tcp)")
         ->check(CLI::IsMember({"shm", "raw", "zlib"}));
+    bool dmabuf = false;
+    app.add_flag("--dmabuf", dmabuf,
+                 "ask navmapd for dma-buf frames first, falling back to shm (wl_shm) with one log line "
+                 "naming why (needs --unix)");
     app.add_option("--shell", shell, "auto (ivi-shell where offered, else xdg-shell) | ivi | xdg")
         ->capture_default_str()
         ->check(CLI::IsMember({"auto", "ivi", "xdg"}));
@@ -115,6 +119,13 @@ std::optional<int> parseArgs(int argc, char** argv, Options* o) {
     }
     if (o->stream.request.payload == StreamPayload::Shm && o->stream.unix_path.empty()) {
         return usage("--payload shm needs --unix (shared memory is local)");
+    }
+    if (dmabuf) {
+        if (o->stream.unix_path.empty() || (!payload.empty() && payload != "shm")) {
+            return usage("--dmabuf needs --unix and payload shm to fall back to (dma-bufs are local)");
+        }
+        o->stream.request.payload = StreamPayload::Dmabuf;
+        o->stream.request.dmabuf_fallback_shm = true;
     }
     o->stream.inflate = navmap::ipc::zlibInflater();
     o->window.shell = shell == "ivi" ? ShellKind::Ivi : shell == "xdg" ? ShellKind::Xdg : ShellKind::Auto;

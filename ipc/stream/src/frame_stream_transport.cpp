@@ -56,6 +56,17 @@ void FrameStreamTransport::onHandshake(StreamConn& c, const std::string& line) {
         handshakeError(c, "handshake: payload \"shm\" needs the Unix socket; use \"raw\" or \"zlib\" over TCP");
         return;
     }
+    if (r.payload == StreamPayload::Dmabuf) {
+        if (!carriesShm()) {
+            handshakeError(c, "handshake: payload \"dmabuf\" needs the Unix socket; use \"raw\" or \"zlib\" over TCP");
+        } else {
+            const auto& why = m_hub.options().dmabuf_unavailable_reason;
+            handshakeError(c, "handshake: dmabuf frames are not available here (" +
+                                  (why ? why() : std::string("this server exports no dma-buf frames")) +
+                                  "); ask for shm");
+        }
+        return;
+    }
     auto key = m_hub.rings().resolve(r.profile);
     if (!key) {
         handshakeError(c, "handshake: " + key.error().message);

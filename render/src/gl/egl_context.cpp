@@ -141,6 +141,11 @@ EglContext::EglContext(Platform requested) {
     }
 }
 
+std::string EglContext::displayExtensions() const {
+    const char* ext = eglQueryString(m_display, EGL_EXTENSIONS);
+    return ext != nullptr ? ext : "";
+}
+
 bool EglContext::tryDisplay(EGLDisplay display, const std::string& name, std::string& why) {
     if (display == EGL_NO_DISPLAY) {
         why = "eglGetPlatformDisplay failed: " + eglErrorName(eglGetError());

@@ -30,6 +30,8 @@ public:
     [[nodiscard]] bool robust() const { return m_robust; }
     /// A robust context whose GL offers the reset status query: resets are noticed.
     [[nodiscard]] bool detectsResets() const { return m_robust && m_reset_query != nullptr; }
+    /// The display's EGL extensions (eglQueryString), for the dma-buf probe.
+    [[nodiscard]] std::string displayExtensions() const;
 
     /// Whether the context was lost or reset: glGetGraphicsResetStatus (ES 3.2 core,
     /// GL_EXT_robustness or GL_KHR_robustness before; GL_NO_ERROR where neither is offered), or

@@ -33,6 +33,8 @@ GlRenderer::GlRenderer(const RendererOptions& options) : m_options(options), m_e
                         m_device.renderer.find("softpipe") != std::string::npos ||
                         m_device.renderer.find("swrast") != std::string::npos;
     m_device.robust_context = m_egl.robust();
+    m_device.dmabuf =
+        decideDmabuf({m_egl.displayExtensions(), m_device.platform, m_device.renderer, findRenderNodes()});
     m_features = GlFeatures::current(m_device.gles_major, m_device.gles_minor);
     m_device.features_off = m_features.featuresOff(options.msaa_samples, m_device.software);
     if (!m_egl.detectsResets()) {

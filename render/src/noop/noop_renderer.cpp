@@ -11,6 +11,7 @@ NoopRenderer::NoopRenderer(const RendererOptions& options) : m_ring(std::max(1, 
     m_device.backend = "noop";
     m_device.platform = "none";
     m_device.renderer = "no-op";
+    m_device.dmabuf.reason = "the no-op renderer draws into no GPU buffers";
     addTarget(options.width, options.height);  // the primary target, id 0
 }
 

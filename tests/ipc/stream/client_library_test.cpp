@@ -170,8 +170,10 @@ TEST(ClientLibrary, LinksOnlyTheCAndCxxRuntime) {
     ASSERT_EQ(nm.status, 0) << nm.out;
     EXPECT_NE(nm.out.find("navmap_client_next_frame"), std::string::npos);
     EXPECT_NE(nm.out.find("navmap::ipc::StreamClient::nextHeld"), std::string::npos);
-    for (const char* symbol : {"navmap_client_request_meta", "navmap_client_frame_validity", "navmap_client_frame_meta",
-                               "navmap::ipc::decodeFrameMeta", "navmap::ipc::encodeFrameMeta"}) {
+    for (const char* symbol :
+         {"navmap_client_request_meta", "navmap_client_frame_validity", "navmap_client_frame_meta",
+          "navmap_client_request_dmabuf", "navmap_client_payload", "navmap_client_payload_fallback",
+          "navmap::ipc::decodeFrameMeta", "navmap::ipc::encodeFrameMeta"}) {
         EXPECT_NE(nm.out.find(symbol), std::string::npos) << symbol;
     }
     EXPECT_EQ(nm.out.find("FrameServer"), std::string::npos);

@@ -1,12 +1,18 @@
 // SPDX-License-Identifier: Apache-2.0
-// navmap-wayland's frame copy into display buffers: formats, scaling, centring.
+// navmap-wayland's frame copy into display buffers: formats, scaling, centring; its feed's
+// fallback from dma-buf frames to shm.
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
+#include <cstdio>
 #include <cstring>
+#include <string>
 #include <vector>
 
 #include "frame_blit.h"
+#include "frame_feed.h"
 #include "wayland_test_util.h"
 
 using namespace navmap::ipc;
@@ -73,4 +79,48 @@ TEST(FrameBlit, AnotherSizeIsScaledToFitAndCentredOnBlack) {
             ASSERT_TRUE(o[0] == e[0] && o[1] == e[1] && o[2] == e[2]) << "pixel " << x << "," << y;
         }
     }
+}
+
+// --dmabuf: navmapd (here a FrameServer that exports nothing, as on llvmpipe) refuses dma-buf
+// frames; the feed streams shm instead and says why in one log line, whatever the reconnects.
+TEST(FrameFeed, DmabufFallsBackToShmWithOneLogLine) {
+    const std::string sock = "/tmp/navmap-wl-dmabuf-" + std::to_string(::getpid()) + ".sock";
+    PatternServer server(sock, 7);
+    ASSERT_TRUE(server.started()) << server.error();
+    char* text = nullptr;
+    std::size_t text_bytes = 0;
+    std::FILE* log = open_memstream(&text, &text_bytes);
+    ASSERT_NE(log, nullptr);
+    {
+        ReconnectOptions o;
+        o.unix_path = sock;
+        o.request.profile = *defaultStreamProfile("hud");
+        o.request.payload = StreamPayload::Dmabuf;
+        o.request.dmabuf_fallback_shm = true;
+        FrameFeed feed(o, false, log);
+        FeedFrame f;
+        bool got = false;
+        for (int i = 0; i < 100 && !got; ++i) got = feed.next(f, std::chrono::milliseconds(50));
+        ASSERT_TRUE(got);
+        EXPECT_EQ(f.header.width, 800U);
+        std::uint8_t rgb[3];
+        patternPixel(5, 3, 7, rgb);
+        const std::uint8_t* px = f.pixels + 3 * f.header.stride + 5 * 4;
+        EXPECT_EQ(px[0], rgb[0]);
+        EXPECT_EQ(px[1], rgb[1]);
+        EXPECT_EQ(px[2], rgb[2]);
+        EXPECT_EQ(feed.client().client()->payload(), StreamPayload::Shm);
+        feed.release();
+    }
+    std::fclose(log);
+    const std::string lines(text, text_bytes);
+    std::free(text);
+    const std::string fallback =
+        "navmap-wayland: no dma-buf frames (handshake refused by " + sock +
+        ": handshake: dmabuf frames are not available here (this server exports no dma-buf frames); ask for shm); "
+        "using wl_shm buffers\n";
+    EXPECT_NE(lines.find(fallback), std::string::npos) << lines;
+    EXPECT_EQ(lines.find("navmap-wayland: no dma-buf"), lines.rfind("navmap-wayland: no dma-buf"))
+        << "logged once: " << lines;
+    EXPECT_NE(lines.find("(payload shm)"), std::string::npos) << lines;
 }

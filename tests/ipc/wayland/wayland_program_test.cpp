@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <map>
 #include <string>
+#include <vector>
 
 #include "wayland_test_util.h"
 
@@ -57,4 +58,17 @@ TEST(NavmapWaylandErrors, UsageErrorsExit2) {
     ASSERT_TRUE(WIFEXITED(st));
     EXPECT_EQ(WEXITSTATUS(st), 2);
     EXPECT_NE(readFile(log).find("--payload shm needs --unix"), std::string::npos) << readFile(log);
+    // dma-bufs are local and fall back to shm: --tcp or another payload is a usage error.
+    for (const std::vector<std::string>& args :
+         {std::vector<std::string>{"--tcp", "host:1", "--dmabuf"},
+          std::vector<std::string>{"--unix", "/nonexistent.sock", "--dmabuf", "--payload", "raw"}}) {
+        std::vector<std::string> argv = {NAVMAP_WAYLAND_EXE};
+        argv.insert(argv.end(), args.begin(), args.end());
+        std::filesystem::remove(log);
+        Child d(argv, {}, log);
+        st = d.wait(std::chrono::seconds(20));
+        ASSERT_TRUE(WIFEXITED(st));
+        EXPECT_EQ(WEXITSTATUS(st), 2);
+        EXPECT_NE(readFile(log).find("--dmabuf needs --unix and payload shm"), std::string::npos) << readFile(log);
+    }
 }

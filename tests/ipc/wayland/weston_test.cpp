@@ -243,6 +243,31 @@ TEST(NavmapWaylandWeston, DesktopShellShowsTheFramesAndKeepsTheLastWhileNavmapdI
     EXPECT_NE(log.find("closed the connection"), std::string::npos) << log;
 }
 
+// --dmabuf: navmapd (a server that exports nothing, as on llvmpipe) refuses dma-buf frames; the
+// window shows the same frames through wl_shm and the log names the refusal once.
+TEST(NavmapWaylandWeston, DmabufFallsBackToWlShmAndSaysWhyOnce) {
+    Weston weston("weston-desktop.ini", false);
+    ASSERT_TRUE(weston.up()) << readFile(weston.log());
+    const std::string sock = socketPath("dmabuf");
+    PatternServer server(sock, 3);
+    ASSERT_TRUE(server.started()) << server.error();
+    Child client(clientArgs(sock, {"--dmabuf"}), weston.env(), weston.path("client.log"));
+    Screen s;
+    int x0 = -1, y0 = -1;
+    ASSERT_TRUE(weston.screenUntil(
+        20s, [&](const Screen& sc) { return locate(sc, 320, 200, pattern(3), &x0, &y0); }, &s))
+        << "the frame is not on the screen\n"
+        << readFile(weston.path("client.log"));
+    EXPECT_LE(maxDifference(s, x0, y0, 320, 200, pattern(3)), 1);
+    const std::string log = readFile(weston.path("client.log"));
+    const std::string line = "navmap-wayland: no dma-buf frames (handshake refused by " + sock +
+                             ": handshake: dmabuf frames are not available here (this server exports no dma-buf "
+                             "frames); ask for shm); using wl_shm buffers\n";
+    EXPECT_NE(log.find(line), std::string::npos) << log;
+    EXPECT_EQ(log.find("navmap-wayland: no dma-buf"), log.rfind("navmap-wayland: no dma-buf")) << log;
+    EXPECT_NE(log.find("(payload shm)"), std::string::npos) << log;
+}
+
 // RGB565 frames (converted by the server on publish) land in an RGB565 wl_shm buffer row for row;
 // the screen shows the pattern at 5-6-5 bits, widened as the compositor does (bit replication).
 TEST(NavmapWaylandWeston, DesktopShellShowsRgb565FramesAsTheyCome) {

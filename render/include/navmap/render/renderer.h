@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "navmap/render/camera.h"
+#include "navmap/render/dmabuf_probe.h"
 #include "navmap/render/heightfield.h"
 #include "navmap/render/image.h"
 #include "navmap/render/map_frame.h"
@@ -111,6 +112,9 @@ struct DeviceInfo {
     /// of each frame) and made anew: targets, programs and tiles re-created and re-uploaded, the
     /// frame rendered on the new one (docs/gles-profile.md "Lost contexts").
     int context_resets = 0;
+    /// Whether the display could export frames as dma-bufs, and why not (dmabuf_probe.h);
+    /// probed once when the context is made. The no-op backend: unavailable.
+    DmabufCapability dmabuf;
 };
 
 /// Terrain shading parameters (kept separate so the shading is pluggable, docs/architecture.md "Rendering").

@@ -55,6 +55,12 @@ public:
     bool connected() const noexcept { return m_client != nullptr; }
     /// Asks for the metadata block (StreamRequest::meta) from the next connection on.
     void requestMeta(bool on) noexcept { m_options.request.meta = on; }
+    /// Asks for payload dmabuf from the next connection on, falling back to shm when the server
+    /// refuses it (StreamRequest::dmabuf_fallback_shm); client()->payload() says which one was granted.
+    void requestDmabuf(bool fallback_shm) noexcept {
+        m_options.request.payload = StreamPayload::Dmabuf;
+        m_options.request.dmabuf_fallback_shm = fallback_shm;
+    }
     /// Why the last attempt failed or the last stream ended; empty when none did.
     const std::string& lastError() const noexcept { return m_last_error; }
     const ReconnectStats& reconnectStats() const noexcept { return m_stats; }

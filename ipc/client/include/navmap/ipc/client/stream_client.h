@@ -62,7 +62,10 @@ using FrameInflater =
 
 class NAVMAP_CLIENT_API StreamClient {
 public:
-    /// Connects to the server's Unix socket and sends `request` (payload shm, raw or zlib).
+    /// Connects to the server's Unix socket and sends `request` (payload shm, raw, zlib or
+    /// dmabuf). Payload dmabuf with request.dmabuf_fallback_shm: when that handshake fails (the
+    /// server refuses it, as every server does today, or this library cannot import what it
+    /// offers), connects again asking for shm; payload() then says Shm and fallbackReason() why.
     static Result<std::unique_ptr<StreamClient>> connectUnix(
         const std::string& path, const StreamRequest& request,
         std::chrono::milliseconds timeout = std::chrono::seconds(5), FrameInflater inflate = {});
@@ -102,7 +105,10 @@ public:
 
     /// The profile the server granted (after defaults were applied).
     const StreamProfile& profile() const noexcept { return m_profile; }
+    /// The payload granted: after a dmabuf request that fell back, Shm.
     StreamPayload payload() const noexcept { return m_payload; }
+    /// Why a dmabuf request fell back to shm (the refusal or reply error); empty when it did not.
+    const std::string& fallbackReason() const noexcept { return m_fallback_reason; }
     const StreamClientStats& stats() const noexcept { return m_stats; }
     int fd() const noexcept { return m_fd; }
 
@@ -125,6 +131,7 @@ private:
     std::string m_peer;
     StreamProfile m_profile;
     StreamPayload m_payload = StreamPayload::Shm;
+    std::string m_fallback_reason;
     std::uint64_t m_last_sequence = 0;  ///< newest frame handed out (never hand one out twice)
     const std::uint8_t* m_map = nullptr;
     std::size_t m_map_bytes = 0;

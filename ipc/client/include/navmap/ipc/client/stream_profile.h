@@ -34,6 +34,10 @@ enum class StreamPayload {
     Shm,   ///< shared-memory ring (Unix socket only)
     Raw,   ///< on the socket, uncompressed
     Zlib,  ///< on the socket, zlib-compressed
+    /// dma-bufs the GPU rendered into (Unix socket only; docs/frame-protocol.md "dma-buf
+    /// frames"). No server exports them yet: navmapd refuses the request naming why, and a
+    /// client with StreamRequest::dmabuf_fallback_shm asks for shm instead.
+    Dmabuf,
 };
 NAVMAP_CLIENT_API const char* streamPayloadName(StreamPayload payload) noexcept;
 
@@ -46,6 +50,10 @@ struct StreamRequest {
     /// The metadata block (frame_meta.h) after every frame header: "meta":true in the handshake.
     /// Off by default, so a client that does not know the block never gets one.
     bool meta = false;
+    /// Client side only, never sent: a request for payload dmabuf that the server refuses (or
+    /// accepts in a form this library cannot import) is made again as payload shm on a new
+    /// connection (StreamClient::connectUnix; StreamClient::fallbackReason() says why).
+    bool dmabuf_fallback_shm = false;
 };
 
 inline constexpr std::size_t kMaxHandshakeBytes = 4096;

@@ -86,6 +86,12 @@ struct FrameServerOptions {
     std::vector<RenderedProfile> rendered_profiles;
     int jpeg_quality = 80;
     std::string mjpeg_profile = "center";  ///< profile of /stream.mjpg without ?profile=
+    /// Why a handshake asking for payload dmabuf is refused (docs/frame-protocol.md "dma-buf
+    /// frames"): the server renders into no exported buffers yet, so every such request gets
+    /// `handshake: dmabuf frames are not available here (<reason>); ask for shm`. navmapd returns
+    /// its renderer's probe (render/dmabuf_probe.h), known only once the renderer is up. Server
+    /// thread; must be thread-safe. Empty: "this server exports no dma-buf frames".
+    std::function<std::string()> dmabuf_unavailable_reason;
     /// Adds the daemon's families to /metrics, after the server's own navmap_stream_* ones (one
     /// registry per scrape, so no family appears twice). Called on the server thread; must be
     /// thread-safe with respect to the daemon.
