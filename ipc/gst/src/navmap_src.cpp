@@ -5,6 +5,7 @@
 #include <chrono>
 
 #include "frame_buffer.h"
+#include "navmap_frame_meta.h"
 
 GST_DEBUG_CATEGORY_STATIC(navmap_src_debug);
 #define GST_CAT_DEFAULT navmap_src_debug
@@ -72,6 +73,8 @@ gboolean start(GstBaseSrc* base) {
             return FALSE;
         }
         settings.request = request.value();
+        settings.request.meta = p.meta;
+        st.post_messages = p.post_messages;
         settings.socket_path = p.socket_path;
         settings.host = p.host;
         settings.port = p.port;
@@ -186,6 +189,19 @@ void stampBuffer(GstBaseSrc* base, NavmapSrcState& st, GstBuffer* buffer, const 
     ++st.frames;
 }
 
+/// post-messages=true: the buffer's GstNavmapFrameMeta as the element message "navmap-frame".
+void postFrameMessage(GstBaseSrc* base, const NavmapSrcState& st, GstBuffer* buffer) {
+    if (!st.post_messages) {
+        return;
+    }
+    const auto* meta = reinterpret_cast<const GstNavmapFrameMeta*>(gst_buffer_get_meta(buffer, navmapFrameMetaApiType()));
+    if (meta != nullptr) {
+        gst_element_post_message(GST_ELEMENT(base),
+                                 gst_message_new_element(GST_OBJECT(base),
+                                                         navmapFrameStructure(*meta, GST_BUFFER_PTS(buffer))));
+    }
+}
+
 /// Reconnect on: each new reason the stream is gone (or cannot be had) becomes a warning.
 void reportLostConnection(GstBaseSrc* base, NavmapSrcState& st) {
     std::string why = st.source->lastError();
@@ -224,6 +240,7 @@ GstFlowReturn create(GstPushSrc* push, GstBuffer** out) {
             return GST_FLOW_NOT_NEGOTIATED;
         }
         stampBuffer(base, st, buffer, h);
+        postFrameMessage(base, st, buffer);
         *out = buffer;
         return GST_FLOW_OK;
     }
