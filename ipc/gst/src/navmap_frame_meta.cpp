@@ -138,23 +138,27 @@ GstNavmapFrameMeta* addNavmapFrameMeta(GstBuffer* buffer, const FrameHeader& hea
     return m;
 }
 
-GstStructure* navmapFrameStructure(const GstNavmapFrameMeta& m, GstClockTime pts) {
+GstStructure* navmapFrameStructure(const GstNavmapFrameMeta* meta, std::uint64_t sequence, GstClockTime pts) {
+    GstNavmapFrameMeta none{};
+    none.next_type = none.next_street = none.current_street = const_cast<gchar*>("");
+    none.lane_count = -1;
+    const GstNavmapFrameMeta& m = meta != nullptr ? *meta : none;
     FrameValidity v;
     v.version = m.validity_known ? kFrameValidityVersion : 0;
     v.flags = static_cast<std::uint8_t>(m.flags);
     v.degraded = static_cast<std::uint16_t>(m.degraded);
     v.pose_age_ms = m.pose_age_ms;
-    GstStructure* s = gst_structure_new("navmap-frame", "sequence", G_TYPE_UINT64, m.sequence, "pts", G_TYPE_UINT64,
-                                        static_cast<guint64>(pts), "validity", G_TYPE_STRING,
-                                        validityText(v).c_str(), "degraded", G_TYPE_STRING,
-                                        degradedText(v.degraded).c_str(), "pose-age-ms", G_TYPE_UINT, m.pose_age_ms,
-                                        "meta", G_TYPE_BOOLEAN, m.has_block, nullptr);
+    GstStructure* s =
+        gst_structure_new("navmap-frame", "sequence", G_TYPE_UINT64, static_cast<guint64>(sequence), "pts",
+                          G_TYPE_UINT64, static_cast<guint64>(pts), "validity", G_TYPE_STRING, validityText(v).c_str(),
+                          "degraded", G_TYPE_STRING, degradedText(v.degraded).c_str(), "pose-age-ms", G_TYPE_UINT,
+                          m.pose_age_ms, "meta", G_TYPE_BOOLEAN, m.has_block, nullptr);
     if (m.has_block == FALSE) {
         return s;
     }
     if (m.has_pose != FALSE) {
-        gst_structure_set(s, "lat", G_TYPE_DOUBLE, m.lat_deg, "lon", G_TYPE_DOUBLE, m.lon_deg, "heading",
-                          G_TYPE_DOUBLE, m.heading_deg, "pose-time-ns", G_TYPE_INT64, m.pose_time_ns, nullptr);
+        gst_structure_set(s, "lat", G_TYPE_DOUBLE, m.lat_deg, "lon", G_TYPE_DOUBLE, m.lon_deg, "heading", G_TYPE_DOUBLE,
+                          m.heading_deg, "pose-time-ns", G_TYPE_INT64, m.pose_time_ns, nullptr);
     }
     if (m.has_next != FALSE) {
         gst_structure_set(s, "next-type", G_TYPE_STRING, m.next_type, "next-exit", G_TYPE_INT, m.next_exit,

@@ -23,8 +23,9 @@ const GstMetaInfo* navmapFrameMetaInfo();
 /// (a server from before both). Returns the meta or nullptr.
 GstNavmapFrameMeta* addNavmapFrameMeta(GstBuffer* buffer, const FrameHeader& header, const FrameMeta* block);
 
-/// "navmap-frame": the meta's fields (docs/gstreamer.md lists them) and `pts`, for an element
-/// message. The caller owns it.
-GstStructure* navmapFrameStructure(const GstNavmapFrameMeta& meta, GstClockTime pts);
+/// "navmap-frame": frame `sequence`'s meta fields (docs/gstreamer.md lists them) and `pts`, for an
+/// element message; `meta` nullptr (a frame without either): validity "unknown", no block. The
+/// caller owns it.
+GstStructure* navmapFrameStructure(const GstNavmapFrameMeta* meta, std::uint64_t sequence, GstClockTime pts);
 
 }  // namespace navmap::ipc::gst

@@ -189,17 +189,16 @@ void stampBuffer(GstBaseSrc* base, NavmapSrcState& st, GstBuffer* buffer, const 
     ++st.frames;
 }
 
-/// post-messages=true: the buffer's GstNavmapFrameMeta as the element message "navmap-frame".
-void postFrameMessage(GstBaseSrc* base, const NavmapSrcState& st, GstBuffer* buffer) {
+/// post-messages=true: the buffer's GstNavmapFrameMeta as the element message "navmap-frame", one
+/// per frame (validity "unknown" for a frame without the meta).
+void postFrameMessage(GstBaseSrc* base, const NavmapSrcState& st, GstBuffer* buffer, const FrameHeader& h) {
     if (!st.post_messages) {
         return;
     }
-    const auto* meta = reinterpret_cast<const GstNavmapFrameMeta*>(gst_buffer_get_meta(buffer, navmapFrameMetaApiType()));
-    if (meta != nullptr) {
-        gst_element_post_message(GST_ELEMENT(base),
-                                 gst_message_new_element(GST_OBJECT(base),
-                                                         navmapFrameStructure(*meta, GST_BUFFER_PTS(buffer))));
-    }
+    const auto* meta =
+        reinterpret_cast<const GstNavmapFrameMeta*>(gst_buffer_get_meta(buffer, navmapFrameMetaApiType()));
+    GstStructure* s = navmapFrameStructure(meta, h.sequence, GST_BUFFER_PTS(buffer));
+    gst_element_post_message(GST_ELEMENT(base), gst_message_new_element(GST_OBJECT(base), s));
 }
 
 /// Reconnect on: each new reason the stream is gone (or cannot be had) becomes a warning.
@@ -240,7 +239,7 @@ GstFlowReturn create(GstPushSrc* push, GstBuffer** out) {
             return GST_FLOW_NOT_NEGOTIATED;
         }
         stampBuffer(base, st, buffer, h);
-        postFrameMessage(base, st, buffer);
+        postFrameMessage(base, st, buffer, h);
         *out = buffer;
         return GST_FLOW_OK;
     }

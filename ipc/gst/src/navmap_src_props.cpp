@@ -92,15 +92,16 @@ void installNavmapSrcProperties(GObjectClass* klass) {
                              FALSE, kFlags));
     g_object_class_install_property(
         klass, kPropMeta,
-        g_param_spec_boolean("meta", "Metadata",
-                             "Ask navmapd for each frame's guidance metadata (pose, next manoeuvre, streets) and put it "
-                             "into the buffer's GstNavmapFrameMeta beside the validity",
-                             TRUE, kFlags));
+        g_param_spec_boolean(
+            "meta", "Metadata",
+            "Ask navmapd for each frame's guidance metadata (pose, next manoeuvre, streets) and put it "
+            "into the buffer's GstNavmapFrameMeta beside the validity",
+            TRUE, kFlags));
     g_object_class_install_property(
         klass, kPropPostMessages,
         g_param_spec_boolean("post-messages", "Post messages",
-                             "Post each frame's validity and metadata as an element message navmap-frame",
-                             FALSE, kFlags));
+                             "Post each frame's validity and metadata as an element message navmap-frame", FALSE,
+                             kFlags));
 }
 
 void setNavmapSrcProperty(NavmapSrcState& state, guint id, const GValue* value, GParamSpec* pspec, GObject* object) {

@@ -51,11 +51,11 @@ typedef struct _GstNavmapFrameMeta {
     gboolean has_pose; /* FALSE: no fix yet (the pose fields are 0) */
     gdouble lat_deg;
     gdouble lon_deg;
-    gdouble heading_deg;  /* clockwise from north, [0, 360) */
-    gint64 pose_time_ns;  /* CLOCK_REALTIME ns of the CAN data behind the pose */
-    gboolean has_next;    /* FALSE: no next manoeuvre (no route, arrived, off the route) */
-    gchar* next_type;     /* "turn_left", "roundabout", ... (docs/ipc.md); "" without one */
-    gint next_exit;       /* roundabout exit, 1..; 0 none */
+    gdouble heading_deg;     /* clockwise from north, [0, 360) */
+    gint64 pose_time_ns;     /* CLOCK_REALTIME ns of the CAN data behind the pose */
+    gboolean has_next;       /* FALSE: no next manoeuvre (no route, arrived, off the route) */
+    gchar* next_type;        /* "turn_left", "roundabout", ... (docs/ipc.md); "" without one */
+    gint next_exit;          /* roundabout exit, 1..; 0 none */
     gdouble next_distance_m; /* along the route to its junction */
     gchar* next_street;      /* the street the next manoeuvre turns into; "" unknown */
     gint lane_count;         /* -1: lanes unknown; else lanes[0..lane_count) left to right */
