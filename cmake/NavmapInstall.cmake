@@ -11,7 +11,8 @@
 #   client      libnavmap-client.so.<major>
 #   client-dev  its headers, the .so link, the CMake package (find_package(navmap COMPONENTS
 #               client)) and navmap-client.pc
-#   gstreamer   libgstnavmap.so (navmapsrc) in GStreamer's plugin directory (NAVMAP_WITH_GSTREAMER);
+#   gstreamer   libgstnavmap.so (navmapsrc) in GStreamer's plugin directory (NAVMAP_WITH_GSTREAMER)
+#               and its meta header navmap/gst/navmap_frame_meta.h;
 #               apart from client, whose library links only the C and C++ runtime
 # Installed programs find their data relative to their own directory (navmap/install_layout.h),
 # so the tree works under any prefix; nothing of the build machine is compiled in.
@@ -138,4 +139,7 @@ if(TARGET gstnavmap)
        ${CMAKE_INSTALL_PREFIX}/${CMAKE_INSTALL_LIBDIR})
   set_target_properties(gstnavmap PROPERTIES INSTALL_RPATH "$ORIGIN/${navmap_gst_to_libdir}")
   install(TARGETS gstnavmap LIBRARY DESTINATION ${NAVMAP_GST_PLUGIN_INSTALL_DIR} COMPONENT gstreamer)
+  # GstNavmapFrameMeta for applications that read navmapsrc's buffers (header only).
+  install(FILES ${PROJECT_SOURCE_DIR}/ipc/gst/include/navmap/gst/navmap_frame_meta.h
+          DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/navmap/gst COMPONENT gstreamer)
 endif()

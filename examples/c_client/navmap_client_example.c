@@ -6,9 +6,13 @@
  *
  *   navmap-client-example SOCKET [PROFILE [FRAMES [SECONDS]]]
  *
- * Prints one line per frame ("frame SEQ WxH stride S pixel R,G,B,A" of the top-left pixel; RGBA8),
- * then "frames N connects C failed_attempts F disconnects D held_overwritten H". Exit status 0
- * when FRAMES frames arrived within SECONDS (default 10 frames, 30 s), 1 when not, 2 on usage. */
+ * Prints three lines per frame: "frame SEQ WxH stride S pixel R,G,B,A" (the top-left pixel; RGBA8),
+ * its validity ("validity SEQ fresh pose_age_ms 40 degraded -") and its guidance metadata, asked for
+ * with navmap_client_request_meta() ("meta SEQ pose LAT,LON heading H next TYPE exit E in D m onto
+ * "STREET" lanes L remaining M m S s street "STREET" speed_limit K", absent parts "none" or
+ * "unknown"; "meta SEQ none" for a frame without a block); at the end "frames N connects C
+ * failed_attempts F disconnects D held_overwritten H". Exit status 0 when FRAMES frames arrived
+ * within SECONDS (default 10 frames, 30 s), 1 when not, 2 on usage. */
 #define _POSIX_C_SOURCE 200809L /* clock_gettime */ /* NOLINT(bugprone-reserved-identifier): POSIX asks for it */
 
 #include <stdio.h>
@@ -16,6 +20,74 @@
 #include <time.h>
 
 #include "navmap_client.h"
+
+/* "fresh", or the flags joined with '+' ("stale_pose+off_route"); "unknown" from a server without
+ * validity. */
+static void print_validity(unsigned long long seq, const navmap_frame_validity* v) {
+    static const char* const flag_names[] = {"stale_pose", "degraded", "off_route"};
+    static const char* const reason_names[] = {"tiles_missing", "tiles_failed", "road_graph_off", "orthoimage_off"};
+    printf("validity %llu ", seq);
+    if (!v->known) {
+        printf("unknown\n");
+        return;
+    }
+    if (v->flags == 0) {
+        printf("fresh");
+    }
+    for (unsigned i = 0, n = 0; i < 3; ++i) {
+        if (v->flags & (1u << i)) {
+            printf("%s%s", n++ ? "+" : "", flag_names[i]);
+        }
+    }
+    if (v->pose_age_ms == NAVMAP_POSE_AGE_NONE) {
+        printf(" pose_age_ms none degraded ");
+    } else {
+        printf(" pose_age_ms %u degraded ", (unsigned)v->pose_age_ms);
+    }
+    if (v->degraded == 0) {
+        printf("-");
+    }
+    for (unsigned i = 0, n = 0; i < 4; ++i) {
+        if (v->degraded & (1u << i)) {
+            printf("%s%s", n++ ? "+" : "", reason_names[i]);
+        }
+    }
+    printf("\n");
+}
+
+static void print_meta(unsigned long long seq, const navmap_frame_meta* m) {
+    printf("meta %llu pose ", seq);
+    if (m->has_pose) {
+        printf("%.6f,%.6f heading %.2f", m->lat_deg, m->lon_deg, m->heading_deg);
+    } else {
+        printf("none");
+    }
+    if (m->has_next) {
+        printf(" next %s exit %d in %.1f m onto \"%s\"", m->next_type, m->next_exit, m->next_distance_m,
+               m->next_street);
+    } else {
+        printf(" next none");
+    }
+    if (m->lane_count < 0) {
+        printf(" lanes unknown");
+    } else {
+        printf(" lanes");
+        for (int i = 0; i < m->lane_count; ++i) {
+            printf("%c%02x", i ? ',' : ' ', m->lanes[i]);
+        }
+    }
+    if (m->has_remaining) {
+        printf(" remaining %.1f m %.1f s", m->remaining_m, m->remaining_s);
+    } else {
+        printf(" remaining none");
+    }
+    printf(" street \"%s\" speed_limit ", m->current_street);
+    if (m->speed_limit_kmh > 0) {
+        printf("%d\n", m->speed_limit_kmh);
+    } else {
+        printf("unknown\n");
+    }
+}
 
 static double now_s(void) {
     struct timespec ts;
@@ -46,6 +118,7 @@ int main(int argc, char** argv) {
         fprintf(stderr, "navmap-client-example: %s\n", error);
         return 2;
     }
+    navmap_client_request_meta(client, 1); /* each frame's guidance metadata block */
     printf("libnavmap-client %s (headers %s)\n", navmap_client_version(), NAVMAP_VERSION);
     long got = 0;
     int waiting = 0; /* 1 after "waiting" was printed, until a frame arrives */
@@ -57,6 +130,16 @@ int main(int argc, char** argv) {
             const uint8_t* p = frame.pixels; /* top-left pixel, read in place in the ring */
             printf("frame %llu %ux%u stride %u pixel %u,%u,%u,%u\n", (unsigned long long)frame.sequence, frame.width,
                    frame.height, frame.stride, p[0], p[1], p[2], p[3]);
+            navmap_frame_validity validity;
+            if (navmap_client_frame_validity(client, &frame, &validity) == NAVMAP_CLIENT_FRAME) {
+                print_validity((unsigned long long)frame.sequence, &validity);
+            }
+            navmap_frame_meta meta;
+            if (navmap_client_frame_meta(client, &frame, &meta) == NAVMAP_CLIENT_FRAME) {
+                print_meta((unsigned long long)frame.sequence, &meta);
+            } else {
+                printf("meta %llu none\n", (unsigned long long)frame.sequence);
+            }
             if (navmap_client_release_frame(client, &frame) == NAVMAP_CLIENT_OVERWRITTEN) {
                 printf("frame %llu was overwritten while held\n", (unsigned long long)frame.sequence);
             }

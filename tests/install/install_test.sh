@@ -68,6 +68,7 @@ if [ -f "$build/gstreamer-1.0/libgstnavmap.so" ]; then
         if [ -f "$f" ]; then plugin=("$f"); break; fi
     done
     [ "${#plugin[@]}" -eq 1 ] || fail "missing lib/<multiarch>/gstreamer-1.0/libgstnavmap.so"
+    [ -f "$prefix/include/navmap/gst/navmap_frame_meta.h" ] || fail "missing include/navmap/gst/navmap_frame_meta.h"
     if command -v gst-inspect-1.0 > /dev/null; then
         GST_REGISTRY="$work/gst-registry.bin" GST_PLUGIN_PATH="$(dirname "${plugin[0]}")" \
             gst-inspect-1.0 navmapsrc > "$work/gst-inspect.log" 2>&1 || { cat "$work/gst-inspect.log"; fail "gst-inspect-1.0 navmapsrc"; }

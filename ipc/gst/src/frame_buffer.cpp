@@ -3,9 +3,11 @@
 
 #include <cstring>
 
+#include "navmap_frame_meta.h"
+
 namespace navmap::ipc::gst {
 
-GstBuffer* makeFrameBuffer(const FrameHeader& header, const std::uint8_t* pixels) {
+GstBuffer* makeFrameBuffer(const FrameHeader& header, const std::uint8_t* pixels, const FrameMeta* block) {
     if (header.format != PixelFormat::Rgba8) {
         return nullptr;
     }
@@ -26,7 +28,7 @@ GstBuffer* makeFrameBuffer(const FrameHeader& header, const std::uint8_t* pixels
         }
     }
     gst_buffer_unmap(buffer, &map);
-    // Per-frame metadata of the frame header (when the protocol has any) is attached here.
+    addNavmapFrameMeta(buffer, header, block);
     return buffer;
 }
 

@@ -129,7 +129,8 @@ Result<NextFrame> FrameSource::nextOnce(std::chrono::milliseconds timeout, GstBu
         return NextFrame::Timeout;
     }
     *header = hold ? held.header : m_copy.header;
-    *buffer = makeFrameBuffer(*header, hold ? held.pixels : m_copy.pixels.data());
+    const auto& meta = hold ? held.meta : m_copy.meta;
+    *buffer = makeFrameBuffer(*header, hold ? held.pixels : m_copy.pixels.data(), meta ? &*meta : nullptr);
     if (hold) {
         auto released = m_client->release();
         if (!released) {
@@ -157,7 +158,8 @@ Result<NextFrame> FrameSource::nextReconnecting(std::chrono::milliseconds timeou
         return NextFrame::Timeout;
     }
     *header = hold ? held.header : m_copy.header;
-    *buffer = makeFrameBuffer(*header, hold ? held.pixels : m_copy.pixels.data());
+    const auto& meta = hold ? held.meta : m_copy.meta;
+    *buffer = makeFrameBuffer(*header, hold ? held.pixels : m_copy.pixels.data(), meta ? &*meta : nullptr);
     // A held frame comes back false when the server overwrote it (drop the copy) or when the
     // connection ended meanwhile (nobody wrote it: keep it).
     if (hold && !m_reconnecting->release() && m_reconnecting->connected() && *buffer != nullptr) {

@@ -5,6 +5,7 @@
 #include <chrono>
 
 #include "frame_buffer.h"
+#include "navmap_frame_meta.h"
 
 GST_DEBUG_CATEGORY_STATIC(navmap_src_debug);
 #define GST_CAT_DEFAULT navmap_src_debug
@@ -72,6 +73,8 @@ gboolean start(GstBaseSrc* base) {
             return FALSE;
         }
         settings.request = request.value();
+        settings.request.meta = p.meta;
+        st.post_messages = p.post_messages;
         settings.socket_path = p.socket_path;
         settings.host = p.host;
         settings.port = p.port;
@@ -186,6 +189,18 @@ void stampBuffer(GstBaseSrc* base, NavmapSrcState& st, GstBuffer* buffer, const 
     ++st.frames;
 }
 
+/// post-messages=true: the buffer's GstNavmapFrameMeta as the element message "navmap-frame", one
+/// per frame (validity "unknown" for a frame without the meta).
+void postFrameMessage(GstBaseSrc* base, const NavmapSrcState& st, GstBuffer* buffer, const FrameHeader& h) {
+    if (!st.post_messages) {
+        return;
+    }
+    const auto* meta =
+        reinterpret_cast<const GstNavmapFrameMeta*>(gst_buffer_get_meta(buffer, navmapFrameMetaApiType()));
+    GstStructure* s = navmapFrameStructure(meta, h.sequence, GST_BUFFER_PTS(buffer));
+    gst_element_post_message(GST_ELEMENT(base), gst_message_new_element(GST_OBJECT(base), s));
+}
+
 /// Reconnect on: each new reason the stream is gone (or cannot be had) becomes a warning.
 void reportLostConnection(GstBaseSrc* base, NavmapSrcState& st) {
     std::string why = st.source->lastError();
@@ -224,6 +239,7 @@ GstFlowReturn create(GstPushSrc* push, GstBuffer** out) {
             return GST_FLOW_NOT_NEGOTIATED;
         }
         stampBuffer(base, st, buffer, h);
+        postFrameMessage(base, st, buffer, h);
         *out = buffer;
         return GST_FLOW_OK;
     }

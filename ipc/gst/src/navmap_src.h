@@ -30,6 +30,8 @@ struct NavmapSrcProps {
     std::string view;
     StreamPayload transport = StreamPayload::Shm;
     bool reconnect = false;
+    bool meta = true;            ///< ask for the metadata block ("meta":true)
+    bool post_messages = false;  ///< post each frame's GstNavmapFrameMeta as an element message
 };
 
 /// The element's C++ state (the GObject instance holds a pointer to it).
@@ -38,6 +40,7 @@ struct NavmapSrcState {
     NavmapSrcProps props;
     std::unique_ptr<FrameSource> source;  // from start() to stop(); the streaming thread's
     std::atomic<bool> flushing{false};
+    bool post_messages = false;  // props.post_messages at start(); the streaming thread's
     // Caps now set (width, height, fps of the granted profile or the newest frame): written by
     // start() and the streaming thread, read by caps and latency queries from any thread.
     std::atomic<int> caps_width{0};

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
-// navmapsrc's properties: where navmapd is, which profile, how the pixels travel, reconnect.
+// navmapsrc's properties: where navmapd is, which profile, how the pixels travel, reconnect, the
+// metadata block and its messages.
 #include "navmap_src.h"
 
 namespace navmap::ipc::gst {
@@ -17,6 +18,8 @@ enum Property : guint {
     kPropView,
     kPropTransport,
     kPropReconnect,
+    kPropMeta,
+    kPropPostMessages,
 };
 
 constexpr auto kFlags = static_cast<GParamFlags>(G_PARAM_READWRITE | G_PARAM_STATIC_STRINGS | GST_PARAM_MUTABLE_READY);
@@ -87,6 +90,18 @@ void installNavmapSrcProperties(GObjectClass* klass) {
                              "Connect again with backoff (100 ms doubling to 5 s) when navmapd is not there or goes "
                              "away, instead of an error or EOS",
                              FALSE, kFlags));
+    g_object_class_install_property(
+        klass, kPropMeta,
+        g_param_spec_boolean(
+            "meta", "Metadata",
+            "Ask navmapd for each frame's guidance metadata (pose, next manoeuvre, streets) and put it "
+            "into the buffer's GstNavmapFrameMeta beside the validity",
+            TRUE, kFlags));
+    g_object_class_install_property(
+        klass, kPropPostMessages,
+        g_param_spec_boolean("post-messages", "Post messages",
+                             "Post each frame's validity and metadata as an element message navmap-frame", FALSE,
+                             kFlags));
 }
 
 void setNavmapSrcProperty(NavmapSrcState& state, guint id, const GValue* value, GParamSpec* pspec, GObject* object) {
@@ -103,6 +118,8 @@ void setNavmapSrcProperty(NavmapSrcState& state, guint id, const GValue* value, 
         case kPropView: p.view = stringOf(value); break;
         case kPropTransport: p.transport = static_cast<StreamPayload>(g_value_get_enum(value)); break;
         case kPropReconnect: p.reconnect = g_value_get_boolean(value) != FALSE; break;
+        case kPropMeta: p.meta = g_value_get_boolean(value) != FALSE; break;
+        case kPropPostMessages: p.post_messages = g_value_get_boolean(value) != FALSE; break;
         default: G_OBJECT_WARN_INVALID_PROPERTY_ID(object, id, pspec); break;
     }
 }
@@ -122,6 +139,8 @@ void getNavmapSrcProperty(NavmapSrcState& state, guint id, GValue* value, GParam
         case kPropView: g_value_set_string(value, or_null(p.view)); break;
         case kPropTransport: g_value_set_enum(value, static_cast<gint>(p.transport)); break;
         case kPropReconnect: g_value_set_boolean(value, p.reconnect ? TRUE : FALSE); break;
+        case kPropMeta: g_value_set_boolean(value, p.meta ? TRUE : FALSE); break;
+        case kPropPostMessages: g_value_set_boolean(value, p.post_messages ? TRUE : FALSE); break;
         default: G_OBJECT_WARN_INVALID_PROPERTY_ID(object, id, pspec); break;
     }
 }

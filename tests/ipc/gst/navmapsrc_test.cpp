@@ -4,9 +4,13 @@
 // runs the element from the build tree (GST_PLUGIN_PATH) with a registry in a temporary folder.
 // Checked: the PNGs of multifilesink byte for byte against the published pixels, a VP8/WebM file
 // by gst-discoverer-1.0, gst-inspect-1.0 without a warning, EOS when the server stops, the error
-// messages, and reconnect=true across a server restart.
+// messages, and reconnect=true across a server restart. Pipelines in the test process (appsink)
+// check every field of each buffer's GstNavmapFrameMeta against the validity and metadata block
+// published with its frame; gst-launch-1.0 -m the element messages of post-messages=true.
 
 #include <OpenImageIO/imageio.h>
+#include <gst/app/gstappsink.h>
+#include <gst/gst.h>
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -18,11 +22,14 @@
 #include <fstream>
 #include <functional>
 #include <future>
+#include <optional>
 #include <regex>
 #include <string>
 #include <thread>
 #include <vector>
 
+#include "navmap/gst/navmap_frame_meta.h"
+#include "navmap/ipc/client/frame_meta.h"
 #include "navmap/ipc/stream/frame_server.h"
 #include "stream_test_util.h"
 #include "wait_for.h"
@@ -111,6 +118,117 @@ std::size_t countFiles(const fs::path& dir) {
     return n;
 }
 
+/// Frame `seq`'s validity: 1 fresh, 2 stale_pose without any pose yet, 3 degraded (two reasons) and
+/// off_route, 4 stale_pose with an age, 5 none (a server from before validity).
+FrameValidity testValidity(std::uint64_t seq) {
+    FrameValidity v;
+    v.version = kFrameValidityVersion;
+    v.pose_age_ms = static_cast<std::uint32_t>(20 + seq);
+    switch (seq) {
+        case 2:
+            v.flags = kValidityStalePose;
+            v.pose_age_ms = kPoseAgeNone;
+            break;
+        case 3:
+            v.flags = kValidityDegraded | kValidityOffRoute;
+            v.degraded = kDegradedTilesMissing | kDegradedRoadGraphOff;
+            break;
+        case 4:
+            v.flags = kValidityStalePose;
+            v.pose_age_ms = 1500;
+            break;
+        case 5: v = {}; break;
+        default: break;
+    }
+    return v;
+}
+
+/// Frame `seq`'s metadata block: every field known on 1 and 3 (other values), nothing known on 2,
+/// none on 4 and 5.
+std::optional<FrameMeta> testBlock(std::uint64_t seq) {
+    FrameMeta m;
+    if (seq == 2) {
+        return m;
+    }
+    if (seq != 1 && seq != 3) {
+        return std::nullopt;
+    }
+    const double k = static_cast<double>(seq);
+    m.has_pose = true;
+    m.lat_deg = 42.5 + k * 0.25;  // binary fractions: printed as written
+    m.lon_deg = 1.5 - k * 0.125;
+    m.heading_deg = 90.25 * k;
+    m.pose_time_ns = 1764691200123456789LL + static_cast<std::int64_t>(seq);
+    m.has_next = true;
+    m.next_type = seq == 1 ? 12 : 3;  // roundabout, turn_left
+    m.next_exit = seq == 1 ? 3 : 0;
+    m.next_distance_m = 187.5 * k;
+    m.next_street = seq == 1 ? "Avinguda de Tarragona" : "Carrer Major";
+    m.lanes_known = true;
+    m.lanes =
+        seq == 1 ? std::vector<std::uint8_t>{kLaneLeft, kLaneStraight | kLaneRecommended, kLaneRight | kLaneSlightRight}
+                 : std::vector<std::uint8_t>{kLaneLeft | kLaneRecommended};
+    m.has_remaining = true;
+    m.remaining_m = 4213.25 * k;
+    m.remaining_s = 431.5 * k;
+    m.current_street = seq == 1 ? "Carrer Prat de la Creu" : "CG-1";
+    m.speed_limit_kmh = static_cast<std::uint16_t>(40 + 10 * seq);
+    return m;
+}
+
+/// `m` must hold frame `seq`'s validity and, when `with_block`, its metadata block; no meta at all
+/// for a frame with neither.
+void expectFrameMeta(const GstNavmapFrameMeta* m, std::uint64_t seq, bool with_block) {
+    SCOPED_TRACE("frame " + std::to_string(seq));
+    const auto v = testValidity(seq);
+    const auto block = with_block ? testBlock(seq) : std::nullopt;
+    if (!v.known() && !block) {
+        EXPECT_EQ(m, nullptr) << "a frame without validity or block carries no meta";
+        return;
+    }
+    ASSERT_NE(m, nullptr);
+    EXPECT_EQ(m->sequence, seq);
+    EXPECT_EQ(m->validity_known, v.known() ? TRUE : FALSE);
+    EXPECT_EQ(m->flags, v.flags);
+    EXPECT_EQ(m->degraded, v.degraded);
+    EXPECT_EQ(m->pose_age_ms, v.pose_age_ms);
+    ASSERT_NE(m->next_type, nullptr);
+    ASSERT_NE(m->next_street, nullptr);
+    ASSERT_NE(m->current_street, nullptr);
+    EXPECT_EQ(m->has_block, block ? TRUE : FALSE);
+    const FrameMeta b = block.value_or(FrameMeta{});
+    EXPECT_EQ(m->has_pose, b.has_pose ? TRUE : FALSE);
+    EXPECT_EQ(m->lat_deg, b.lat_deg);
+    EXPECT_EQ(m->lon_deg, b.lon_deg);
+    EXPECT_EQ(m->heading_deg, b.heading_deg);
+    EXPECT_EQ(m->pose_time_ns, b.pose_time_ns);
+    EXPECT_EQ(m->has_next, b.has_next ? TRUE : FALSE);
+    EXPECT_STREQ(m->next_type, b.has_next ? metaManeuverName(b.next_type) : "");
+    EXPECT_EQ(m->next_exit, b.next_exit);
+    EXPECT_EQ(m->next_distance_m, b.next_distance_m);
+    EXPECT_STREQ(m->next_street, b.next_street.c_str());
+    EXPECT_EQ(m->lane_count, b.lanes_known ? static_cast<int>(b.lanes.size()) : -1);
+    for (std::size_t i = 0; i < b.lanes.size(); ++i) {
+        EXPECT_EQ(m->lanes[i], b.lanes[i]) << "lane " << i;
+    }
+    EXPECT_EQ(m->has_remaining, b.has_remaining ? TRUE : FALSE);
+    EXPECT_EQ(m->remaining_m, b.remaining_m);
+    EXPECT_EQ(m->remaining_s, b.remaining_s);
+    EXPECT_STREQ(m->current_street, b.current_street.c_str());
+    EXPECT_EQ(m->speed_limit_kmh, b.speed_limit_kmh);
+}
+
+/// The buffer's bytes, mapped for reading.
+std::vector<std::uint8_t> bufferBytes(GstBuffer* buffer) {
+    GstMapInfo map;
+    if (!gst_buffer_map(buffer, &map, GST_MAP_READ)) {
+        return {};
+    }
+    std::vector<std::uint8_t> bytes(map.data, map.data + map.size);
+    gst_buffer_unmap(buffer, &map);
+    return bytes;
+}
+
 class NavmapSrcTest : public ::testing::Test {
 protected:
     void SetUp() override {
@@ -150,9 +268,11 @@ protected:
 
     /// Waits for a client, then publishes frames first..last (render time seq periods after
     /// `t0_ns`, or render_time(seq)), each once the previous one has been handed out. False when a
-    /// client or a hand-out does not come within 10 s.
+    /// client or a hand-out does not come within 10 s. `annotate`: each frame with testValidity()
+    /// and testBlock() of its sequence.
     static bool publishFrames(FrameServer& server, std::uint64_t first, std::uint64_t last, std::int64_t t0_ns,
-                              const std::function<std::int64_t(std::uint64_t)>& render_time = {}) {
+                              const std::function<std::int64_t(std::uint64_t)>& render_time = {},
+                              bool annotate = false) {
         if (!navmap::test::waitFor([&] { return !server.activeProfiles().empty(); }, 10s)) {
             return false;
         }
@@ -164,6 +284,12 @@ protected:
             v.width = kWidth;
             v.height = kHeight;
             v.render_time_ns = render_time ? render_time(seq) : t0_ns + static_cast<std::int64_t>(seq) * kFramePeriodNs;
+            if (annotate) {
+                v.validity = testValidity(seq);
+                if (auto block = testBlock(seq)) {
+                    v.meta = std::make_shared<const std::vector<std::uint8_t>>(encodeFrameMeta(*block));
+                }
+            }
             if (server.publish("bird", v) == 0 ||
                 !navmap::test::waitFor([&] { return server.stats().frames_sent > sent; }, 10s)) {
                 return false;
@@ -187,6 +313,40 @@ protected:
         }
     }
 
+    /// Runs `launch` (an appsink named sink at its end) in this process while frames 1..count are
+    /// published with testValidity() and testBlock(); the buffers the appsink got (the caller
+    /// unrefs them).
+    std::vector<GstBuffer*> pullAnnotatedFrames(const std::string& launch, std::uint64_t count) {
+        gst_init(nullptr, nullptr);  // GST_PLUGIN_PATH and GST_REGISTRY are set: the plugin of the build tree
+        std::vector<GstBuffer*> buffers;
+        GError* error = nullptr;
+        GstElement* pipeline = gst_parse_launch(launch.c_str(), &error);
+        if (pipeline == nullptr || error != nullptr) {
+            ADD_FAILURE() << launch << ": " << (error != nullptr ? error->message : "no pipeline");
+            g_clear_error(&error);
+            if (pipeline != nullptr) gst_object_unref(pipeline);
+            return buffers;
+        }
+        GstElement* sink = gst_bin_get_by_name(GST_BIN(pipeline), "sink");
+        auto server = startServer();
+        auto published = std::async(std::launch::async, [&] { return publishFrames(*server, 1, count, 0, {}, true); });
+        EXPECT_NE(gst_element_set_state(pipeline, GST_STATE_PLAYING), GST_STATE_CHANGE_FAILURE);
+        for (std::uint64_t i = 0; i < count; ++i) {
+            GstSample* sample = gst_app_sink_try_pull_sample(GST_APP_SINK(sink), 10 * GST_SECOND);
+            if (sample == nullptr) {
+                ADD_FAILURE() << "no buffer " << i + 1 << " of " << count;
+                break;
+            }
+            buffers.push_back(gst_buffer_ref(gst_sample_get_buffer(sample)));
+            gst_sample_unref(sample);
+        }
+        EXPECT_TRUE(published.get());
+        gst_element_set_state(pipeline, GST_STATE_NULL);
+        gst_object_unref(sink);
+        gst_object_unref(pipeline);
+        return buffers;
+    }
+
     std::string pngSink() const {
         return " ! videoconvert ! pngenc ! multifilesink location=" + (m_dir / "frames").string() + "/frame-%05d.png";
     }
@@ -207,7 +367,7 @@ TEST_F(NavmapSrcTest, InspectIsClean) {
     const std::string stderr_text((std::istreambuf_iterator<char>(err)), std::istreambuf_iterator<char>());
     EXPECT_EQ(stderr_text, "");
     for (const char* expected : {"navmap frame source", "format: RGBA", "socket", "profile", "transport", "(0): shm",
-                                 "(1): raw", "(2): zlib", "reconnect", "num-buffers"}) {
+                                 "(1): raw", "(2): zlib", "reconnect", "meta", "post-messages", "num-buffers"}) {
         EXPECT_NE(r.out.find(expected), std::string::npos) << expected << " missing in\n" << r.out;
     }
 }
@@ -335,6 +495,95 @@ TEST_F(NavmapSrcTest, ReconnectCarriesOnAcrossAServerRestart) {
     ASSERT_EQ(r.exit_code, 0) << r.out;
     EXPECT_NE(r.out.find("No frames from navmapd, reconnecting"), std::string::npos) << r.out;
     expectSavedFrames(1, 6);
+}
+
+TEST_F(NavmapSrcTest, EachBufferCarriesItsFramesValidityAndMetadataBlock) {
+    constexpr std::uint64_t kFrames = 5;
+    // Straight into the appsink (pixels checked too), through videoconvert in passthrough, and
+    // through a real conversion (the meta is copied onto the new buffer).
+    const std::vector<std::pair<std::string, std::string>> cases = {
+        {"transport=shm", " ! appsink name=sink sync=false"},
+        {"transport=raw", " ! videoconvert ! appsink name=sink sync=false"},
+        {"transport=zlib", " ! videoconvert ! video/x-raw,format=BGRx ! appsink name=sink sync=false"},
+    };
+    for (const auto& [transport, tail] : cases) {
+        SCOPED_TRACE(transport + tail);
+        auto buffers = pullAnnotatedFrames(source(transport) + tail, kFrames);
+        ASSERT_EQ(buffers.size(), kFrames);
+        for (std::uint64_t seq = 1; seq <= kFrames; ++seq) {
+            GstBuffer* b = buffers[seq - 1];
+            expectFrameMeta(gst_buffer_get_navmap_frame_meta(b), seq, true);
+            if (tail.find("BGRx") == std::string::npos) {
+                EXPECT_TRUE(bufferBytes(b) == testFrame(seq)) << "frame " << seq << ": pixels changed";
+            }
+        }
+        // A copy (what an element that writes into a buffer it does not own makes) has its own
+        // meta with the same fields; the original's strings are not shared.
+        GstBuffer* copy = gst_buffer_copy(buffers[0]);
+        const auto* original = gst_buffer_get_navmap_frame_meta(buffers[0]);
+        const auto* copied = gst_buffer_get_navmap_frame_meta(copy);
+        expectFrameMeta(copied, 1, true);
+        ASSERT_NE(copied, nullptr);
+        EXPECT_NE(copied, original);
+        EXPECT_NE(copied->next_street, original->next_street);
+        for (GstBuffer* b : buffers) gst_buffer_unref(b);
+        gst_buffer_unref(copy);  // freeing both: no string freed twice
+    }
+}
+
+TEST_F(NavmapSrcTest, WithoutTheBlockTheMetaHoldsTheValidityOnly) {
+    // meta=false: the server has blocks, the element does not ask for them.
+    auto buffers = pullAnnotatedFrames(source("meta=false") + " ! appsink name=sink sync=false", 5);
+    ASSERT_EQ(buffers.size(), 5U);
+    for (std::uint64_t seq = 1; seq <= 5; ++seq) {
+        const auto* m = gst_buffer_get_navmap_frame_meta(buffers[seq - 1]);
+        expectFrameMeta(m, seq, false);
+        if (seq == 2 || seq == 4) {
+            ASSERT_NE(m, nullptr);
+            EXPECT_EQ(m->flags, GST_NAVMAP_VALID_STALE_POSE) << "frame " << seq;
+        }
+    }
+    for (GstBuffer* b : buffers) gst_buffer_unref(b);
+}
+
+TEST_F(NavmapSrcTest, PostMessagesShowTheFieldsInGstLaunch) {
+    auto server = startServer();
+    auto launched = std::async(std::launch::async, runCommand,
+                               "gst-launch-1.0 -m " + source("post-messages=true num-buffers=5") + " ! fakesink");
+    ASSERT_TRUE(publishFrames(*server, 1, 5, 0, {}, true));
+    const auto r = launched.get();
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    std::vector<std::string> messages;
+    const std::regex message(R"(Got message #\d+ from element "navmapsrc0" \(element\): (navmap-frame, [^\n]*))");
+    for (auto it = std::sregex_iterator(r.out.begin(), r.out.end(), message); it != std::sregex_iterator(); ++it) {
+        messages.push_back((*it)[1]);
+    }
+    ASSERT_EQ(messages.size(), 5U) << r.out;
+    const std::vector<std::vector<std::string>> expected = {
+        {"sequence=(guint64)1,", "validity=(string)fresh,", "pose-age-ms=(uint)21,", "meta=(boolean)true,",
+         "lat=(double)42.75,", "lon=(double)1.375,", "heading=(double)90.25,",
+         "pose-time-ns=(gint64)1764691200123456790,", "next-type=(string)roundabout,", "next-exit=(int)3,",
+         "next-distance-m=(double)187.5,", R"x(next-street=(string)"Avinguda\ de\ Tarragona")x",
+         "lanes=(string)\"01\\,84\\,18\"", "remaining-m=(double)4213.25,", "remaining-s=(double)431.5,",
+         R"x(street=(string)"Carrer\ Prat\ de\ la\ Creu")x", "speed-limit-kmh=(uint)50;"},
+        {"sequence=(guint64)2,", "validity=(string)stale_pose,", "pose-age-ms=(uint)4294967295,", "meta=(boolean)true,",
+         "lanes=(string)unknown,", "street=(string)\"\"", "speed-limit-kmh=(uint)0;"},
+        {"sequence=(guint64)3,", "validity=(string)degraded+off_route,",
+         "degraded=(string)tiles_missing+road_graph_off,", "next-type=(string)turn_left,", "lanes=(string)81,",
+         "street=(string)CG-1,", "speed-limit-kmh=(uint)70;"},
+        {"sequence=(guint64)4,", "validity=(string)stale_pose,", "pose-age-ms=(uint)1500,", "meta=(boolean)false;"},
+    };
+    for (std::size_t i = 0; i < expected.size(); ++i) {
+        for (const auto& field : expected[i]) {
+            EXPECT_NE(messages[i].find(field), std::string::npos) << field << " missing in\n" << messages[i];
+        }
+    }
+    EXPECT_EQ(messages[1].find("lat="), std::string::npos) << "no pose: no pose fields\n" << messages[1];
+    EXPECT_EQ(messages[1].find("next-type="), std::string::npos) << messages[1];
+    EXPECT_EQ(messages[3].find("street="), std::string::npos) << "no block: no block fields\n" << messages[3];
+    // Frame 5 has neither validity nor a block: no meta, so the message says it knows nothing.
+    EXPECT_NE(messages[4].find("sequence=(guint64)5,"), std::string::npos) << messages[4];
+    EXPECT_NE(messages[4].find("validity=(string)unknown,"), std::string::npos) << messages[4];
 }
 
 }  // namespace

@@ -10,11 +10,13 @@
 #include <atomic>
 #include <cstdio>
 #include <future>
+#include <memory>
 #include <regex>
 #include <set>
 #include <sstream>
 #include <thread>
 
+#include "navmap/ipc/client/frame_meta.h"
 #include "navmap/ipc/stream/frame_server.h"
 #include "stream_test_util.h"
 
@@ -45,7 +47,45 @@ ProgramRun run(const std::string& cmd) {
     return r;
 }
 
-// Publishes the hud profile (800x240, view hud) with every pixel carrying its sequence number.
+/// Frame `seq`'s validity: odd frames stale_pose+degraded (tiles missing), even ones fresh; the
+/// pose age is the sequence.
+FrameValidity renderValidity(std::uint64_t seq) {
+    FrameValidity v;
+    v.version = kFrameValidityVersion;
+    v.pose_age_ms = static_cast<std::uint32_t>(seq);
+    if (seq % 2 == 1) {
+        v.flags = kValidityStalePose | kValidityDegraded;
+        v.degraded = kDegradedTilesMissing;
+    }
+    return v;
+}
+
+/// Odd frames carry this metadata block (the speed limit their sequence mod 100), even ones none.
+std::shared_ptr<const std::vector<std::uint8_t>> renderBlock(std::uint64_t seq) {
+    if (seq % 2 == 0) {
+        return nullptr;
+    }
+    FrameMeta m;
+    m.has_pose = true;
+    m.lat_deg = 42.5;
+    m.lon_deg = 1.375;
+    m.heading_deg = 271.25;
+    m.has_next = true;
+    m.next_type = 3;  // turn_left
+    m.next_distance_m = 120.5;
+    m.next_street = "Carrer Major";
+    m.lanes_known = true;
+    m.lanes = {kLaneLeft | kLaneRecommended, kLaneStraight};
+    m.has_remaining = true;
+    m.remaining_m = 900.5;
+    m.remaining_s = 60.5;
+    m.current_street = "Avinguda Meritxell";
+    m.speed_limit_kmh = static_cast<std::uint16_t>(seq % 100 + 1);
+    return std::make_shared<const std::vector<std::uint8_t>>(encodeFrameMeta(m));
+}
+
+// Publishes the hud profile (800x240, view hud) with every pixel carrying its sequence number,
+// and the validity and metadata block above.
 class Render {
 public:
     explicit Render(FrameServer& server) {
@@ -54,9 +94,9 @@ public:
             while (m_run) {
                 const auto px = sequencePattern(800, 240, seq + 1);
                 // Ring sequences restart with a new ring; the pattern follows them.
-                seq = server.publish("hud", FrameView{px.data(), 800, 240, 0, PixelFormat::Rgba8, 0, 0, {}, {}}) > 0
-                          ? seq + 1
-                          : 0;
+                const FrameView view{
+                    px.data(), 800, 240, 0, PixelFormat::Rgba8, 0, 0, renderValidity(seq + 1), renderBlock(seq + 1)};
+                seq = server.publish("hud", view) > 0 ? seq + 1 : 0;
                 std::this_thread::sleep_for(15ms);
             }
         });
@@ -101,9 +141,11 @@ TEST(ClientLibrary, TheCExampleReadsFramesInPlaceAndReconnects) {
     const ProgramRun r = client.get();
     EXPECT_EQ(r.status, 0) << r.out;
     EXPECT_NE(r.out.find("waiting: connect(" + path + "): No such file or directory"), std::string::npos) << r.out;
-    // Each frame's top-left pixel, read in place in the ring, carries its own sequence number.
+    // Each frame's top-left pixel, read in place in the ring, carries its own sequence number; the
+    // two lines after it are that frame's validity and metadata block.
     const std::regex line(R"(frame (\d+) 800x240 stride 3200 pixel (\d+),(\d+),(\d+),255)");
     int frames = 0;
+    int blocks = 0;
     std::istringstream in(r.out);
     for (std::string l; std::getline(in, l);) {
         std::smatch m;
@@ -113,9 +155,30 @@ TEST(ClientLibrary, TheCExampleReadsFramesInPlaceAndReconnects) {
             EXPECT_EQ(std::stoul(m[3]), (seq >> 8) & 0xff) << l;
             EXPECT_EQ(std::stoul(m[4]), (seq >> 16) & 0xff) << l;
             ++frames;
+            const std::string s = std::to_string(seq);
+            std::string validity;
+            std::string meta;
+            std::getline(in, validity);
+            std::getline(in, meta);
+            EXPECT_EQ(validity, seq % 2 == 1 ? "validity " + s + " stale_pose+degraded pose_age_ms " + s +
+                                                   " degraded tiles_missing"
+                                             : "validity " + s + " fresh pose_age_ms " + s + " degraded -");
+            const std::string block = "meta " + s +
+                                      " pose 42.500000,1.375000 heading 271.25 next turn_left exit 0 in 120.5 m "
+                                      "onto \"Carrer Major\" lanes 81,04 remaining 900.5 m 60.5 s street \"Avinguda "
+                                      "Meritxell\" speed_limit " +
+                                      std::to_string(seq % 100 + 1);
+            // A notified frame overwritten before it was read is replaced by the newest, without
+            // its block (docs/frame-protocol.md "Metadata block"): "none" is allowed, counted.
+            if (seq % 2 == 1 && meta == block) {
+                ++blocks;
+            } else {
+                EXPECT_EQ(meta, "meta " + s + " none") << (seq % 2 == 1 ? "or " + block : "");
+            }
         }
     }
     EXPECT_EQ(frames, 40) << r.out;
+    EXPECT_GE(blocks, 15) << "odd frames with their block\n" << r.out;
     std::smatch m;
     ASSERT_TRUE(std::regex_search(
         r.out, m, std::regex(R"(frames 40 connects (\d+) failed_attempts (\d+) disconnects (\d+) held_overwritten 0)")))
