@@ -299,7 +299,10 @@ MapFrame hudFrame(const std::string& distance) {
 }
 
 // The distance text is drawn where the layout puts it: the overlay with "300 m" differs from the
-// one without a distance only in the distance text's box, by bright text pixels.
+// one without a distance only in the distance text's box, by bright text pixels. Elsewhere a
+// channel may move by a level or two: the distance's glyphs take atlas space, the other glyphs
+// are packed elsewhere, and the text shader's float filter (shaders/text_sdf.frag) sees their
+// texel fractions rounded a little differently.
 TEST(HudGuidance, ShowsTheDistanceText) {
     const Image with = render(hudFrame("300 m"), MapStyle::hud(), kHudW, kHudH);
     const Image without = render(hudFrame(""), MapStyle::hud(), kHudW, kHudH);
@@ -311,7 +314,8 @@ TEST(HudGuidance, ShowsTheDistanceText) {
         for (int x = 0; x < kHudW; ++x) {
             const auto* a = with.pixel(x, y);
             const auto* b = without.pixel(x, y);
-            if (a[0] == b[0] && a[1] == b[1] && a[2] == b[2]) continue;
+            const int step = std::max({std::abs(a[0] - b[0]), std::abs(a[1] - b[1]), std::abs(a[2] - b[2])});
+            if (step <= 2) continue;
             const bool in_box = x >= l.distance_at.x - 8 && x <= l.distance_at.x + 4.0f * em &&
                                 y >= l.distance_at.y - 1.1f * em && y <= l.distance_at.y + 0.4f * em;
             (in_box ? inside : outside) += 1;
