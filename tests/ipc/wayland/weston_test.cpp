@@ -192,6 +192,17 @@ std::string socketPath(const std::string& tag) {
     return "/tmp/navmap-wayland-" + tag + "-" + std::to_string(getpid()) + ".sock";
 }
 
+// hmi-controller lays out applications once its UI client is ready: its background is drawn.
+bool hmiControllerReady(Weston& weston, Screen* s) {
+    return weston.screenUntil(
+        20s,
+        [](const Screen& sc) {
+            const auto* p = sc.at(320, 240);
+            return p[0] + p[1] + p[2] > 0;
+        },
+        s);
+}
+
 }  // namespace
 
 // xdg-shell: the window shows the published frame exactly, keeps it while navmapd is gone,
@@ -328,15 +339,7 @@ TEST(NavmapWaylandWeston, IviShellTakesTheControllersSizeFromNavmapd) {
     Weston weston("weston-ivi.ini", true);
     ASSERT_TRUE(weston.up()) << readFile(weston.log());
     Screen s;
-    // hmi-controller lays out applications once its UI client is ready: its background is drawn.
-    ASSERT_TRUE(weston.screenUntil(
-        20s,
-        [](const Screen& sc) {
-            const auto* p = sc.at(320, 240);
-            return p[0] + p[1] + p[2] > 0;
-        },
-        &s))
-        << readFile(weston.log());
+    ASSERT_TRUE(hmiControllerReady(weston, &s)) << readFile(weston.log());
     const std::string sock = socketPath("ivi");
     PatternServer server(sock, 3);
     ASSERT_TRUE(server.started()) << server.error();
@@ -361,14 +364,7 @@ TEST(NavmapWaylandWeston, IviShellScalesTheFramesWhenNavmapdRefusesTheSize) {
     Weston weston("weston-ivi.ini", true);
     ASSERT_TRUE(weston.up()) << readFile(weston.log());
     Screen s;
-    ASSERT_TRUE(weston.screenUntil(
-        20s,
-        [](const Screen& sc) {
-            const auto* p = sc.at(320, 240);
-            return p[0] + p[1] + p[2] > 0;
-        },
-        &s))
-        << readFile(weston.log());
+    ASSERT_TRUE(hmiControllerReady(weston, &s)) << readFile(weston.log());
     const std::string sock = socketPath("ivi-fixed");
     PatternServer server(sock, 1, {{"wl", "bird", 320, 200}});
     ASSERT_TRUE(server.started()) << server.error();
