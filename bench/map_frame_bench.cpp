@@ -14,6 +14,7 @@
 #include <cstdlib>
 #include <memory>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <sys/resource.h>
@@ -33,7 +34,9 @@ using navmap::test::kEncamp;
 using Clock = std::chrono::steady_clock;
 
 using Profile = navmap::bench::DisplayProfile;
-constexpr Profile kProfiles[] = {navmap::bench::kCluster, navmap::bench::kHud, navmap::bench::kCenter};
+using navmap::bench::kCenter;
+using navmap::bench::kHud;
+constexpr Profile kProfiles[] = {navmap::bench::kCluster, kHud, kCenter};
 
 using Flight = DriveScene;
 
@@ -323,7 +326,73 @@ void farGround(benchmark::State& state) {
     state.SetLabel(p.name);
 }
 
+// navmapd's shipped frame (docs/navmapd.md "Where the frame time goes"): one renderer with a
+// target per shipped profile, rendered one after another as navmapd's display scheduler does,
+// each with the layers and style navmapd gives it (daemon/profiles.cpp layersFor: cluster and
+// center with labels, the transparency label aura and glowing roads; the HUD's guidance view,
+// MapLayers::hud() in MapStyle::hud(), here without its guidance panel) and read back as navmapd publishes it. Per
+// profile: the wall time of render plus readback (p50, p95) and its CPU time (mean); per round of the three: wall and
+// CPU time (all threads: the render thread and llvmpipe's rasterizer threads). cores_at_shipped_rates is the CPU the
+// three profiles need at their shipped 30 fps each, in cores: above the machine's core count no scheduling can keep
+// every profile at 30 fps.
+MapLayers shippedLayers(std::size_t profile) {
+    if (profile == 1) return MapLayers::hud();
+    MapLayers l = layersFor(3);
+    l.labels = l.glow_roads = l.label_aura = true;
+    return l;
+}
+
+void shippedRound(benchmark::State& state) {
+    constexpr std::size_t kViews = 24;
+    RendererOptions o = optionsFor(kProfiles[0]);
+    auto r = Renderer::create(o);
+    std::array<TargetHandle, 3> targets{r->primaryTarget(), r->addTarget(kHud.width, kHud.height),
+                                        r->addTarget(kCenter.width, kCenter.height)};
+    std::array<std::vector<Shot>, 3> views;
+    for (std::size_t k = 0; k < 3; ++k) views[k] = shots(kProfiles[k], kViews);
+    const auto draw = [&](std::size_t k, std::size_t i) {
+        r->setMapStyle(k == 1 ? MapStyle::hud() : MapStyle::day());
+        const MapFrame frame = frameFor(kProfiles[k], views[k][i % kViews], shippedLayers(k));
+        r->renderMap(targets[k], frame);
+        (void)r->readSync(targets[k]);
+    };
+    for (std::size_t i = 0; i < kViews; ++i)
+        for (std::size_t k = 0; k < 3; ++k) draw(k, i);  // uploads, buffers, settled labels
+    std::array<std::vector<double>, 3> ms;
+    std::array<double, 3> cpu_s{};
+    std::vector<double> round_ms;
+    std::size_t i = 0;
+    const double cpu0 = processCpuSeconds();
+    for (auto _ : state) {
+        const auto t_round = Clock::now();
+        for (std::size_t k = 0; k < 3; ++k) {
+            const auto t0 = Clock::now();
+            const double c0 = processCpuSeconds();
+            draw(k, i);
+            cpu_s[k] += processCpuSeconds() - c0;
+            ms[k].push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+        }
+        ++i;
+        const double dt = std::chrono::duration<double>(Clock::now() - t_round).count();
+        state.SetIterationTime(dt);
+        round_ms.push_back(dt * 1000.0);
+    }
+    const double cpu_ms = round_ms.empty() ? 0.0 : (processCpuSeconds() - cpu0) * 1000.0 / double(round_ms.size());
+    for (std::size_t k = 0; k < 3; ++k) {
+        state.counters[std::string(kProfiles[k].name) + "_p50_ms"] = percentile(ms[k], 0.5);
+        state.counters[std::string(kProfiles[k].name) + "_p95_ms"] = percentile(ms[k], 0.95);
+        if (!ms[k].empty())
+            state.counters[std::string(kProfiles[k].name) + "_cpu_ms"] = cpu_s[k] * 1000.0 / double(ms[k].size());
+    }
+    state.counters["round_p50_ms"] = percentile(round_ms, 0.5);
+    state.counters["round_cpu_ms"] = cpu_ms;
+    state.counters["cores_at_shipped_rates"] = cpu_ms * 30.0 / 1000.0;
+    state.counters["machine_cores"] = double(std::thread::hardware_concurrency());
+    state.SetLabel("cluster+hud+center, shipped layers");
+}
+
 BENCHMARK(mapFrame)->Apply(profilesAndSteps);
+BENCHMARK(shippedRound)->UseManualTime()->Unit(benchmark::kMillisecond)->Iterations(48);
 BENCHMARK(mapPasses)->Apply(profilesOnly);
 BENCHMARK(roadsVsTerrain)->Apply(profilesOnly);
 BENCHMARK(farGround)->Apply(profilesOnly);
