@@ -205,6 +205,10 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target, int 
         if (!m_guidance) m_guidance = std::make_unique<GuidanceOverlayPass>();
         m_guidance->drawSpeedLimit(*frame.speed_limit, target);
     }
+    if (frame.street_bar && (!frame.street_bar->name.empty() || !frame.street_bar->ref.empty())) {
+        if (!m_guidance) m_guidance = std::make_unique<GuidanceOverlayPass>();
+        m_guidance->drawStreetBar(*frame.street_bar, m_style, target);
+    }
 
     glBindVertexArray(0);
     glBindTexture(GL_TEXTURE_2D, 0);
