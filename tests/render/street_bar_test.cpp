@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <memory>
 #include <optional>
@@ -207,6 +208,38 @@ TEST(StreetBar, NightStyleDimsTheText) {
     EXPECT_EQ(n.panel, n.panel_all);
     EXPECT_GE(n.text, 1500u);
     EXPECT_NEAR(n.text_max, 255.0f * MapStyle::night().street_bar_text.b, 3.0f);
+}
+
+// The bar lies under the vehicle marker: where the car comes low in the frame, over the bar, it
+// stays visible there. The marker is moved back towards the camera until it stands in the bar.
+TEST(StreetBar, TheVehicleMarkerStaysVisibleOverTheBar) {
+    MapFrame f = clusterFrame();
+    ASSERT_TRUE(f.marker);
+    const StreetBarLayout l = layoutOf(kMeritxell, kW, kH);
+    const glm::dvec2 back = glm::normalize(glm::dvec2(f.camera.eye - f.camera.target));
+    std::optional<glm::dvec3> in_bar;
+    for (double d = 0.0; d < 60.0 && !in_bar; d += 0.25) {
+        glm::dvec3 p = f.marker->position + glm::dvec3(d * back, 0.0);
+        p.z = navmap::test::andorraDrive().view->terrainHeight(p.x, p.y);
+        const glm::vec4 c = f.camera.projection(double(kW) / kH) * f.camera.viewRelativeTo(p) * glm::vec4(0, 0, 0, 1);
+        if (c.w <= 0.0f) break;
+        const float y = (0.5f - 0.5f * c.y / c.w) * float(kH);
+        if (y >= 0.5f * (l.lo.y + l.hi.y)) in_bar = p;
+    }
+    ASSERT_TRUE(in_bar) << "no point behind the car comes down into the bar";
+    f.marker->position = *in_bar;
+    f.street_bar = kMeritxell;
+    const Image with = render(f, MapStyle::day(), kW, kH);
+    dump(with, "street_bar_marker");
+    const glm::vec4 red = MapStyle::day().marker_color;
+    std::size_t marker_px = 0;
+    for (int y = int(l.lo.y); y < int(l.hi.y); ++y)
+        for (int x = int(l.lo.x); x < int(l.hi.x); ++x) {
+            const auto* p = with.pixel(x, y);
+            marker_px += std::abs(p[0] - 255.0f * red.r) <= 12 && std::abs(p[1] - 255.0f * red.g) <= 12 &&
+                         std::abs(p[2] - 255.0f * red.b) <= 12;
+        }
+    EXPECT_GE(marker_px, 100u) << "the marker's own colour in the bar";
 }
 
 // Labels keep out of the bar (docs/labels.md "Keep-out"): in the center display's bird's-eye view,

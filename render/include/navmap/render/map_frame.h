@@ -258,7 +258,8 @@ struct MapFrame {
     std::optional<GuidanceOverlay> guidance;
     /// The speed limit sign, drawn last (after the guidance overlay); none: nothing drawn.
     std::optional<SpeedLimitSign> speed_limit;
-    /// The current street's bar, drawn last (after the sign), a keep-out area of the labels;
+    /// The current street's bar, drawn over the map and the labels and under the vehicle marker
+    /// (which stays visible where it comes low in the frame), a keep-out area of the labels;
     /// none, or both texts empty: nothing drawn.
     std::optional<StreetBar> street_bar;
     /// Time since the previous frame of this renderer, seconds: the label layout advances by it
