@@ -8,6 +8,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <optional>
@@ -16,6 +18,7 @@
 #include "navmap/ipc/client/stream_client.h"
 #include "navmap/map/road_graph.h"
 #include "navmap/map/tile_store.h"
+#include "navmap/render/renderer.h"
 #include "navmapd_process.h"
 
 namespace {
@@ -70,8 +73,9 @@ std::optional<StreetPoint> namedRoad(const map::TileStore& store) {
 struct BarFrames {
     int frames = 0, with_bar = 0;
     int first_bar_frame = -1;
-    int text_bright = 0;  ///< white text pixels in the bar of the last frame with it
-    int map_bright = 0;   ///< most pixels above the panel's darkness in its rows, in a frame without it
+    int text_bright = 0;                 ///< white text pixels in the bar of the last frame with it
+    int map_bright = 0;                  ///< most pixels above the panel's darkness in its rows, in a frame without it
+    std::string street = "no metadata";  ///< the current street of the last frame with the bar and metadata
     std::string output;
 };
 
@@ -92,12 +96,14 @@ BarFrames clusterFrames(const fs::path& dir, const fs::path& store, const std::s
         dir / "navmapd.log", dir / "frames.sock");
     navmap::ipc::StreamRequest request;
     request.profile = *navmap::ipc::defaultStreamProfile("cluster");
+    request.meta = true;
     auto cluster = navmap::ipc::StreamClient::connectUnix((dir / "frames.sock").string(), request);
     if (!cluster) {
         out.output = cluster.error().message + "\n" + daemon.output();
         return out;
     }
     navmap::ipc::ReceivedFrame f;
+    navmap::render::Image last(1280, 480);
     auto px = [&](int x, int y) { return &f.pixels[std::size_t(y) * f.header.stride + std::size_t(x) * 4]; };
     const auto until = std::chrono::steady_clock::now() + 20s;
     while (std::chrono::steady_clock::now() < until && out.frames < frames && out.with_bar < 30) {
@@ -123,6 +129,14 @@ BarFrames clusterFrames(const fs::path& dir, const fs::path& store, const std::s
         ++out.with_bar;
         if (out.first_bar_frame < 0) out.first_bar_frame = out.frames;
         out.text_bright = text_bright;
+        // A frame taken from the ring after the notified one was overwritten has no metadata.
+        if (f.meta) out.street = f.meta->current_street;
+        for (int y = 0; y < 480; ++y) std::memcpy(&last.rgba[std::size_t(y) * 1280 * 4], px(0, y), 1280 * 4);
+    }
+    // NAVMAP_STREET_BAR_DUMP=<file.png> writes the last frame with the bar.
+    if (const char* dump = std::getenv("NAVMAP_STREET_BAR_DUMP"); dump && out.with_bar > 0) {
+        std::string error;
+        if (!navmap::render::writePng(dump, last, &error)) ADD_FAILURE() << dump << ": " << error;
     }
     out.output = daemon.output();
     EXPECT_EQ(daemon.stop(), 0) << out.output;
@@ -142,6 +156,7 @@ TEST(NavmapdStreetBar, TheClusterNamesTheStreetTheVehicleStandsOn) {
     EXPECT_EQ(shown.with_bar, 30) << shown.frames << " frames, the first with the bar: " << shown.first_bar_frame
                                   << "; " << where << shown.output;
     EXPECT_GE(shown.text_bright, 100) << "white text in the bar; " << where;
+    EXPECT_EQ(shown.street, street->name) << "the frames name the road the vehicle stands on";
     // The profile can switch it off: then the bottom of the frame is the map's.
     std::ofstream(dir.dir / "navmapd.toml") << "[[profile]]\nname = \"cluster\"\nstreet_bar = false\n";
     const BarFrames off = clusterFrames(dir.dir, store_path, " --config " + (dir.dir / "navmapd.toml").string(), 120);
