@@ -382,7 +382,7 @@ bool ConfigParser::readProfile(const toml::node& e, DisplayProfile& p) {
         !r.get("road_selection", p.road_selection) || !r.get("attribution", p.attribution) || !r.get("zoom", zoom) ||
         !r.range("zoom", zoom, render::kMapLibreMinZoom, render::kMapLibreMaxZoom) || !r.get("pitch", pitch) ||
         !r.range("pitch", pitch, render::kMapLibreMinPitchDeg, render::kMapLibreMaxPitchDeg) ||
-        !r.get("speed_limit_sign", sign) || !r.noUnknownKeys())
+        !r.get("speed_limit_sign", sign) || !r.get("street_bar", p.street_bar) || !r.noUnknownKeys())
         return false;
     // A MapLibre GL JS camera needs both; either alone is a mistake, not a default.
     const bool has_zoom = e.as_table()->contains("zoom"), has_pitch = e.as_table()->contains("pitch");
@@ -411,6 +411,8 @@ bool ConfigParser::readProfile(const toml::node& e, DisplayProfile& p) {
     // Without attribution it follows the view too: on in bird's-eye (the map display).
     if (!e.as_table()->contains("attribution")) p.attribution = view == "bird";
     if (!readSignCorner(e, sign, view, p)) return false;
+    // Without street_bar the view decides: on in snail's views (the cluster) only.
+    if (!e.as_table()->contains("street_bar")) p.street_bar = view == "snail";
     if (view == "bird")
         p.view = render::ViewMode::Bird;
     else if (view == "snail")

@@ -80,6 +80,7 @@ void Display::reconfigure(const DisplayProfile& p, std::unique_ptr<AttributionOv
     m_profile.label_aura = p.label_aura;
     m_profile.road_selection = p.road_selection;
     m_profile.speed_limit_sign = p.speed_limit_sign;
+    m_profile.street_bar = p.street_bar;
     if (p.attribution != m_profile.attribution) {
         m_profile.attribution = p.attribution;
         m_attribution = std::move(attribution);
@@ -193,6 +194,14 @@ bool Display::draw(render::Renderer& renderer, const PoseSource& poses, const Fr
     // The limit of the road driven, where it is known and the match certain (docs/rendering.md).
     if (m_profile.speed_limit_sign && pose.speed_limit_kmh > 0)
         frame.speed_limit = render::SpeedLimitSign{pose.speed_limit_kmh, *m_profile.speed_limit_sign};
+    // The road driven, once the certain match has held its street for 2 s of pose time
+    // (StreetBarHold). The hold runs every frame, so that a bar switched on by a reload shows
+    // the street at once.
+    std::optional<render::StreetBar> matched;
+    if (pose.estimate.valid && pose.estimate.road_match_certain) matched = m_annotator.street();
+    const double pose_s = std::chrono::duration<double>(pose.estimate.time.time_since_epoch()).count();
+    if (const auto& street = m_street_hold.update(pose_s, matched); street && m_profile.street_bar)
+        frame.street_bar = *street;
     renderer.setMapStyle(hud ? render::MapStyle::hud() : context.style);
     // At debug level the start-up frames are timed per pass too (their log line says where the
     // first frame's time goes); not otherwise: the timing waits for the GPU after every pass.

@@ -27,6 +27,7 @@
 #include "profiles.h"
 #include "route_guidance.h"
 #include "sample_window.h"
+#include "street_bar_hold.h"
 
 namespace navmap::daemon {
 
@@ -158,6 +159,7 @@ private:
     ipc::CanTime m_frame_source{};
     FrameAnnotation m_frame_annotation;  // validity and metadata of the frame being drawn
     FrameAnnotator m_annotator;
+    StreetBarHold m_street_hold;  // the street the bar shows
     render::VehiclePose m_last_pose;
     std::uint64_t m_sequence = 0;
     /// A frame rendered and not yet published: the CAN time behind its pose, its annotation.

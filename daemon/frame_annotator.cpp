@@ -52,13 +52,16 @@ FrameAnnotation FrameAnnotator::annotate(const EstimatedPose& pose, const FrameH
     a.validity = frameValidity(pose, health, off_route, selection.wanted.size() - failed, failed);
 
     ipc::FrameMeta m;
+    m_frame_street = {};
     if (pose.valid) {
         m.has_pose = true;
         projection.reverse({pose.x, pose.y}, m.lat_deg, m.lon_deg);
         m.heading_deg = pose.heading_deg;
         m.pose_time_ns = realtimeNsOf(pose.time);  // the moment the pose was estimated for
-        if (health.graph != nullptr && pose.edge && *pose.edge < health.graph->edges.size())
-            m.current_street = streetOf(health.graph->edges[*pose.edge].way_id, frame);
+        if (health.graph != nullptr && pose.edge && *pose.edge < health.graph->edges.size()) {
+            m_frame_street = streetOf(health.graph->edges[*pose.edge].way_id, frame);
+            m.current_street = m_frame_street.name.empty() ? m_frame_street.ref : m_frame_street.name;
+        }
         // The matched road's limit in the driving direction; 0 (unknown) when the match is uncertain.
         m.speed_limit_kmh = static_cast<std::uint16_t>(std::clamp(pose.speed_limit_kmh, 0, 0xFFFF));
     }
@@ -79,7 +82,7 @@ FrameAnnotation FrameAnnotator::annotate(const EstimatedPose& pose, const FrameH
     return a;
 }
 
-const std::string& FrameAnnotator::streetOf(std::int64_t way, const render::MapFrame& frame) {
+const render::StreetBar& FrameAnnotator::streetOf(std::int64_t way, const render::MapFrame& frame) {
     // Looked up again only when the way or the drawn tiles change (a road not found is not
     // searched for again every frame).
     const map::Tile* newest = frame.tiles.empty() ? nullptr : frame.tiles.back().get();
@@ -87,13 +90,15 @@ const std::string& FrameAnnotator::streetOf(std::int64_t way, const render::MapF
     m_way = way;
     m_tiles = frame.tiles.size();
     m_newest_tile = newest;
-    m_street.clear();
-    // Every road of a leaf tile keeps its name; coarser tiles may have dropped a small road: then
-    // the street stays unknown until a tile that has it is drawn.
-    for (auto it = frame.tiles.rbegin(); it != frame.tiles.rend() && m_street.empty(); ++it) {
+    m_street = {};
+    // Every road of a leaf tile keeps its name and ref; coarser tiles may have dropped a small
+    // road: then the street stays unknown until a tile that has it is drawn.
+    bool found = false;
+    for (auto it = frame.tiles.rbegin(); it != frame.tiles.rend() && !found; ++it) {
         for (const auto& road : (*it)->roads) {
             if (road.osm_id != way || (road.name.empty() && road.ref.empty())) continue;
-            m_street = road.name.empty() ? road.ref : road.name;
+            m_street = {road.name, road.ref};
+            found = true;
             break;
         }
     }

@@ -46,15 +46,20 @@ public:
                              const map::Projection& projection, const render::MapFrame& frame,
                              const render::LodSelection& selection, const map::TileCache& cache);
 
+    /// The name and ref of the map-matched road of the last annotate() (both empty when there is
+    /// none, or no drawn tile has it).
+    [[nodiscard]] const render::StreetBar& street() const { return m_frame_street; }
+
 private:
-    /// The name (else ref) of OSM way `way` from the drawn tiles ("" when none has it); cached
+    /// The name and ref of OSM way `way` from the drawn tiles (empty when none has it); cached
     /// while the way and the drawn tiles stay.
-    const std::string& streetOf(std::int64_t way, const render::MapFrame& frame);
+    const render::StreetBar& streetOf(std::int64_t way, const render::MapFrame& frame);
 
     std::int64_t m_way = 0;
     std::size_t m_tiles = 0;
     const map::Tile* m_newest_tile = nullptr;
-    std::string m_street;
+    render::StreetBar m_street;
+    render::StreetBar m_frame_street;
 };
 
 /// The validity alone (FrameAnnotator::annotate's first half), for tests.

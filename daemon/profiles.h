@@ -44,6 +44,11 @@ struct DisplayProfile {
     /// direction, when known); none: no sign. `speed_limit_sign` in the config; by default
     /// top right in snail's and HUD views (the cluster, the HUD), none in bird's-eye views.
     std::optional<render::SignCorner> speed_limit_sign = render::SignCorner::TopRight;
+    /// The current street's bar at the bottom centre (the name and ref of the road driven, once
+    /// the match has held it 2 s: StreetBarHold). `street_bar` in the config; by default on in
+    /// snail's views (the cluster), off in bird's-eye views and the HUD, whose guidance panel
+    /// names the next street and fills its bottom.
+    bool street_bar = false;
 };
 
 /// The defaults: cluster 1280x480 snail's view, HUD 800x240 snail's view (route and

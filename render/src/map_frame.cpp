@@ -13,6 +13,9 @@ MapStyle MapStyle::night() {
     s.route_color = {0.25f, 0.65f, 1.0f};
     s.route_casing = {0.05f, 0.15f, 0.35f};
     s.glow_color = {0.35f, 0.95f, 1.0f};
+    // The street bar: darker behind, the text a little dimmer, so that it does not glare.
+    s.street_bar_panel = {0.02f, 0.03f, 0.05f, 0.78f};
+    s.street_bar_text = {0.86f, 0.87f, 0.90f};
     return s;
 }
 

@@ -48,6 +48,8 @@ MapStyle mixStyles(const MapStyle& from, const MapStyle& to, float t) {
     s.guidance_symbol = mixValue(from.guidance_symbol, to.guidance_symbol, t);
     s.guidance_symbol_dim = mixValue(from.guidance_symbol_dim, to.guidance_symbol_dim, t);
     s.guidance_text = mixValue(from.guidance_text, to.guidance_text, t);
+    s.street_bar_panel = mixValue(from.street_bar_panel, to.street_bar_panel, t);
+    s.street_bar_text = mixValue(from.street_bar_text, to.street_bar_text, t);
     return s;
 }
 

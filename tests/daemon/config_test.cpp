@@ -302,6 +302,36 @@ TEST(DaemonConfig, SpeedLimitSignCornerPerProfile) {
         EXPECT_EQ(f->profiles[i].speed_limit_sign, d->profiles[i].speed_limit_sign) << i;
 }
 
+TEST(DaemonConfig, StreetBarPerProfile) {
+    // The built-in profiles: the cluster shows it, the HUD and the center display not.
+    const auto d = parse("");
+    ASSERT_TRUE(d);
+    EXPECT_TRUE(d->profiles[0].street_bar);
+    EXPECT_FALSE(d->profiles[1].street_bar);
+    EXPECT_FALSE(d->profiles[2].street_bar);
+    // Without the key the view decides: on in snail's views only.
+    const auto c = parse(
+        "[[profile]]\nname = \"a\"\nview = \"bird\"\n[[profile]]\nname = \"b\"\nview = \"snail\"\n"
+        "[[profile]]\nname = \"c\"\nview = \"hud\"\n"
+        "[[profile]]\nname = \"d\"\nstreet_bar = false\n"
+        "[[profile]]\nname = \"e\"\nview = \"bird\"\nstreet_bar = true\n");
+    ASSERT_TRUE(c);
+    EXPECT_FALSE(c->profiles[0].street_bar);
+    EXPECT_TRUE(c->profiles[1].street_bar);
+    EXPECT_FALSE(c->profiles[2].street_bar);
+    EXPECT_FALSE(c->profiles[3].street_bar);
+    EXPECT_TRUE(c->profiles[4].street_bar);
+    std::string m;
+    EXPECT_FALSE(parse("[[profile]]\nname = \"x\"\nstreet_bar = \"yes\"\n", &m));
+    EXPECT_EQ(m, "navmapd.toml:3:14: profile.street_bar must be true or false");
+    // The shipped configuration file says the same as the built-in defaults.
+    std::ifstream shipped(std::string(NAVMAP_SOURCE_DIR) + "/daemon/navmapd.toml");
+    const std::string text((std::istreambuf_iterator<char>(shipped)), std::istreambuf_iterator<char>());
+    const auto f = parse(text, &m);
+    ASSERT_TRUE(f) << m;
+    for (std::size_t i = 0; i < 3; ++i) EXPECT_EQ(f->profiles[i].street_bar, d->profiles[i].street_bar) << i;
+}
+
 TEST(DaemonConfig, AttributionFollowsTheViewUnlessSet) {
     // The built-in profiles: the center display (bird's-eye) carries it, cluster and HUD do not.
     const auto d = parse("");

@@ -1,9 +1,18 @@
 // SPDX-License-Identifier: Apache-2.0
 // A frame's validity from the daemon's state (daemon/frame_annotator.h, docs/frame-protocol.md
-// "Frame validity"): the pose's age against stale_pose_ms, each degraded reason, off route.
+// "Frame validity"): the pose's age against stale_pose_ms, each degraded reason, off route; and the
+// map-matched way's name and ref for the metadata and the street bar.
 #include <gtest/gtest.h>
 
+#include <memory>
+#include <optional>
+#include <string>
+#include <tuple>
+#include <utility>
+#include <vector>
+
 #include "frame_annotator.h"
+#include "navmap/map/tile_source.h"
 
 using namespace navmap;
 using namespace navmap::daemon;
@@ -53,4 +62,79 @@ TEST(FrameValidity, EachDegradedReasonAndOffRouteAreTheirOwnBits) {
     EXPECT_EQ(v.degraded, ipc::kDegradedRoadGraphOff | ipc::kDegradedOrthoimageOff);
     EXPECT_EQ(ipc::validityText(v), "degraded+off_route");
     EXPECT_EQ(ipc::degradedText(v.degraded), "road_graph_off+orthoimage_off");
+}
+
+namespace {
+
+// A source with no tiles: the annotator only asks the cache which wanted tiles are corrupt.
+class NoTiles : public map::TileSource {
+public:
+    [[nodiscard]] const map::TileScheme& scheme() const override { return m_scheme; }
+    [[nodiscard]] bool contains(map::TileId) const override { return false; }
+    [[nodiscard]] map::TileLoadResult load(map::TileId) const override { return {nullptr, "", true}; }
+    [[nodiscard]] std::uint32_t demSamples() const override { return 0; }
+
+private:
+    map::TileScheme m_scheme{0, 0, 16000, 4};
+};
+
+std::shared_ptr<const map::Tile> tileWith(std::vector<map::Road> roads) {
+    auto t = std::make_shared<map::Tile>();
+    t->roads = std::move(roads);
+    return t;
+}
+
+map::Road road(std::int64_t way, const char* name, const char* ref) {
+    map::Road r;
+    r.osm_id = way;
+    r.name = name;
+    r.ref = ref;
+    return r;
+}
+
+}  // namespace
+
+// The map-matched road's street (FrameAnnotator::street(), the street bar's): the way's name and
+// ref kept apart, from the drawn tiles, the finest first; the metadata's current street is the
+// name, else the ref; nothing without a valid pose or a matched edge.
+TEST(FrameAnnotator, TheMatchedWaysNameAndRefFromTheDrawnTiles) {
+    map::RoadGraph graph;
+    graph.edges.resize(3);
+    graph.edges[0].way_id = 11;
+    graph.edges[1].way_id = 22;
+    graph.edges[2].way_id = 33;
+    FrameHealth health;
+    health.graph = &graph;
+    const map::Projection projection(42.5, 1.5);
+    const map::TileCache cache(std::make_shared<NoTiles>());
+    const render::LodSelection selection;
+    render::MapFrame frame;
+    // A coarse tile without way 22's ref, then a finer one with it.
+    frame.tiles = {tileWith({road(22, "Avinguda Meritxell", "")}),
+                   tileWith({road(11, "", "CG-2"), road(22, "Avinguda Meritxell", "CG-1")})};
+    FrameAnnotator annotator;
+    EstimatedPose pose;
+    pose.valid = true;
+    auto streetOf = [&](std::optional<std::uint32_t> edge) {
+        pose.edge = edge;
+        const FrameAnnotation a = annotator.annotate(pose, health, nullptr, projection, frame, selection, cache);
+        const auto meta = ipc::decodeFrameMeta(a.meta->data(), a.meta->size());
+        EXPECT_TRUE(meta);
+        return std::pair(annotator.street(), meta ? meta.value().current_street : std::string("?"));
+    };
+    auto [street, meta] = streetOf(1);
+    EXPECT_EQ(street, (render::StreetBar{"Avinguda Meritxell", "CG-1"}));
+    EXPECT_EQ(meta, "Avinguda Meritxell");
+    std::tie(street, meta) = streetOf(0);
+    EXPECT_EQ(street, (render::StreetBar{"", "CG-2"}));
+    EXPECT_EQ(meta, "CG-2");
+    std::tie(street, meta) = streetOf(2);
+    EXPECT_EQ(street, render::StreetBar{}) << "a way no drawn tile has";
+    std::tie(street, meta) = streetOf(std::nullopt);
+    EXPECT_EQ(street, render::StreetBar{}) << "no matched edge";
+    std::tie(street, meta) = streetOf(7);
+    EXPECT_EQ(street, render::StreetBar{}) << "an edge the graph does not have";
+    pose.valid = false;
+    std::tie(street, meta) = streetOf(1);
+    EXPECT_EQ(street, render::StreetBar{}) << "no pose";
 }

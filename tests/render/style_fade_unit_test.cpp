@@ -17,7 +17,8 @@ bool sameColours(const MapStyle& a, const MapStyle& b) {
     }
     return a.sky_color == b.sky_color && a.brightness == b.brightness && a.far_ground_color == b.far_ground_color &&
            a.roads.outline == b.roads.outline && a.route_color == b.route_color && a.route_casing == b.route_casing &&
-           a.glow_color == b.glow_color && a.marker_color == b.marker_color;
+           a.glow_color == b.glow_color && a.marker_color == b.marker_color &&
+           a.street_bar_panel == b.street_bar_panel && a.street_bar_text == b.street_bar_text;
 }
 
 TEST(StyleFade, EndsAreTheStylesBitForBit) {
@@ -37,6 +38,9 @@ TEST(StyleFade, EveryColourMovesHalfwayAtOneHalf) {
     EXPECT_FLOAT_EQ(mid.route_color.r, 0.5f * (day.route_color.r + night.route_color.r));
     EXPECT_FLOAT_EQ(mid.glow_color.r, 0.5f * (day.glow_color.r + night.glow_color.r));
     EXPECT_FLOAT_EQ(mid.roads.outline.g, 0.5f * (day.roads.outline.g + night.roads.outline.g));
+    EXPECT_FLOAT_EQ(mid.street_bar_panel.a, 0.5f * (day.street_bar_panel.a + night.street_bar_panel.a));
+    EXPECT_FLOAT_EQ(mid.street_bar_text.r, 0.5f * (day.street_bar_text.r + night.street_bar_text.r));
+    EXPECT_NE(day.street_bar_text.r, night.street_bar_text.r) << "the bar's text dims at night";
     for (std::size_t i = 0; i < day.roads.classes.size(); ++i) {
         EXPECT_FLOAT_EQ(mid.roads.classes[i].fill.r,
                         0.5f * (day.roads.classes[i].fill.r + night.roads.classes[i].fill.r));

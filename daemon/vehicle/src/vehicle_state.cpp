@@ -191,7 +191,8 @@ EstimatedPose VehicleState::compute(const Parts& p, ipc::CanTime t) {
         // The limit is shown only where the road and its direction are certain: a wrong sign is
         // worse than none.
         const bool direction_known = heading.has_value() || limitHoldsBothWays(p.matcher->graph(), road->edge);
-        if (!pose.stale && road->confidence >= cfg.snap_full_confidence && direction_known)
+        pose.road_match_certain = !pose.stale && road->confidence >= cfg.snap_full_confidence;
+        if (pose.road_match_certain && direction_known)
             pose.speed_limit_kmh = p.matcher->graph().edges[road->edge].speed_limit_kmh;
     }
     if (rm && rm->confidence >= cfg.snap_min_confidence) {

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "guidance_overlay_pass.h"
+#include "street_bar_layout.h"
 #include "text_layer.h"
 
 #include <algorithm>
@@ -55,6 +56,31 @@ void appendDisc(std::vector<glm::vec2>& out, glm::vec2 centre, float radius) {
         out.push_back(centre);
         out.push_back(centre + radius * glm::vec2(std::cos(a0), std::sin(a0)));
         out.push_back(centre + radius * glm::vec2(std::cos(a1), std::sin(a1)));
+    }
+}
+
+/// A rectangle with rounded corners (convex) as a fan of triangles from its centre.
+void appendRoundedRect(std::vector<glm::vec2>& out, glm::vec2 lo, glm::vec2 hi, float radius) {
+    constexpr int kCornerSegments = 8;
+    constexpr float kHalfPi = 1.57079632679f;
+    radius = std::clamp(radius, 0.0f, 0.5f * std::min(hi.x - lo.x, hi.y - lo.y));
+    // Corner centres in order round the rectangle, each with the angle its arc starts at.
+    const glm::vec2 corners[4] = {{hi.x - radius, hi.y - radius},
+                                  {lo.x + radius, hi.y - radius},
+                                  {lo.x + radius, lo.y + radius},
+                                  {hi.x - radius, lo.y + radius}};
+    std::vector<glm::vec2> rim;
+    rim.reserve(4 * (kCornerSegments + 1));
+    for (int c = 0; c < 4; ++c)
+        for (int i = 0; i <= kCornerSegments; ++i) {
+            const float a = kHalfPi * (float(c) + float(i) / kCornerSegments);
+            rim.push_back(corners[c] + radius * glm::vec2(std::cos(a), std::sin(a)));
+        }
+    const glm::vec2 centre = 0.5f * (lo + hi);
+    for (std::size_t i = 0; i < rim.size(); ++i) {
+        out.push_back(centre);
+        out.push_back(rim[i]);
+        out.push_back(rim[(i + 1) % rim.size()]);
     }
 }
 
@@ -184,6 +210,36 @@ void GuidanceOverlayPass::drawSpeedLimit(const SpeedLimitSign& sign, const Rende
     const text::LaidOutText laid =
         m_engine.layout(m_engine.run(number, text::FontStyle::Bold), l.text_px, text::TextAnchor::Center);
     const text::TextDraw draw{laid.quads, laid.size_px, l.centre, 0.0f, 1.0f, 1.0f, ts};
+    m_text->drawScreen(std::span<const text::TextDraw>(&draw, 1), size);
+    glDisable(GL_BLEND);
+    target.bindForDrawing(false);
+}
+
+void GuidanceOverlayPass::drawStreetBar(const StreetBar& bar, const MapStyle& style, const RenderTarget& target) {
+    const glm::ivec2 size(target.width(), target.height());
+    m_engine.beginFrame();
+    const StreetBarLayout l = streetBarLayout(m_engine, bar, size.x, size.y);
+    if (l.text.empty()) return;
+    target.bindForDrawing(false);
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_CULL_FACE);
+    glEnable(GL_BLEND);
+    glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE);  // the frame stays opaque
+
+    std::vector<glm::vec2> panel;
+    appendRoundedRect(panel, l.lo, l.hi, l.corner_px);
+    drawTriangles(panel, style.street_bar_panel, glm::vec2(size));
+
+    // Plain text on the dark panel: no outline or halo to blur it.
+    text::TextStyle ts;
+    ts.fill = glm::vec4(style.street_bar_text, 1.0f);
+    ts.outline = {0.0f, 0.0f, 0.0f, 0.0f};
+    ts.outline_px = 0.0f;
+    ts.halo = {0.0f, 0.0f, 0.0f, 0.0f};
+    ts.halo_px = 0.0f;
+    const text::LaidOutText laid =
+        m_engine.layout(m_engine.run(l.text, kStreetBarFont), l.text_px, text::TextAnchor::Center);
+    const text::TextDraw draw{laid.quads, laid.size_px, l.text_centre, 0.0f, 1.0f, 1.0f, ts};
     m_text->drawScreen(std::span<const text::TextDraw>(&draw, 1), size);
     glDisable(GL_BLEND);
     target.bindForDrawing(false);

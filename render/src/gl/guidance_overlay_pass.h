@@ -6,7 +6,8 @@
 // navmap_text. Laid out for the head-up display's 800 x 240 and scaled with the target. Owns its
 // own text engine and atlas, so that it works without the label pass (the HUD has no labels).
 // Also the speed limit sign (MapFrame::speed_limit): a white disc in a red ring with the limit
-// in black, in a corner, on the same layout scale. Private to render/.
+// in black, in a corner, on the same layout scale; and the current street's bar
+// (MapFrame::street_bar, street_bar_layout.h). Private to render/.
 
 #include <GLES3/gl3.h>
 
@@ -66,6 +67,9 @@ public:
     /// Draws the speed limit sign over `target` (nothing when sign.kmh <= 0). Leaves `target`
     /// bound for drawing.
     void drawSpeedLimit(const SpeedLimitSign& sign, const RenderTarget& target);
+    /// Draws the current street's bar over `target` in `style`'s street bar colours (nothing when
+    /// its texts are empty). Leaves `target` bound for drawing.
+    void drawStreetBar(const StreetBar& bar, const MapStyle& style, const RenderTarget& target);
 
 private:
     void drawTriangles(const std::vector<glm::vec2>& vertices, glm::vec4 color, glm::vec2 viewport);

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
-// The label pass's keep-out areas: the vehicle marker, the speed limit sign, the route just ahead
-// of the car and the manoeuvre arrows, as screen boxes no label may cover.
+// The label pass's keep-out areas: the vehicle marker, the speed limit sign, the current street's
+// bar, the route just ahead of the car and the manoeuvre arrows, as screen boxes no label may cover.
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -15,6 +15,7 @@
 #include "label_pass.h"
 #include "label_pass_screen.h"
 #include "navmap/render/maneuver_arrow.h"
+#include "street_bar_layout.h"
 
 namespace navmap::render::gl {
 
@@ -36,6 +37,13 @@ void LabelPass::keepOut(const MapFrame& frame, std::span<const TileLabels> tiles
         const SpeedLimitSignLayout sign = speedLimitSignLayout(
             static_cast<int>(viewport.x), static_cast<int>(viewport.y), frame.speed_limit->corner, digits);
         m_keep_out.push_back({sign.centre, glm::vec2(sign.radius + margin), {1.0f, 0.0f}});
+    }
+    // The current street's bar, laid out with this pass's engine as the overlay lays it out.
+    if (frame.street_bar) {
+        const StreetBarLayout bar =
+            streetBarLayout(m_engine, *frame.street_bar, static_cast<int>(viewport.x), static_cast<int>(viewport.y));
+        if (!bar.text.empty())
+            m_keep_out.push_back({0.5f * (bar.lo + bar.hi), 0.5f * (bar.hi - bar.lo) + margin, {1.0f, 0.0f}});
     }
     auto ground_at = [&](double x, double y) {
         const double z = groundHeight(tiles, x, y);

@@ -195,6 +195,13 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target, int 
         m_labels.draw(ctx);
         clock.lap(m_stats.label_block_ms, m_stats.labels_work);
     }
+    // The street bar under the marker: where the view puts the car low in the frame (steep
+    // ground), the car stays visible over the bar.
+    if (frame.street_bar && (!frame.street_bar->name.empty() || !frame.street_bar->ref.empty())) {
+        if (!m_guidance) m_guidance = std::make_unique<GuidanceOverlayPass>();
+        m_guidance->drawStreetBar(*frame.street_bar, m_style, target);
+        clock.skip();  // not the marker's time (the overlays after it are in total_ms only)
+    }
     if (marker) m_marker.draw(ctx, *marker);
     clock.lap(m_stats.marker_ms, m_stats.marker_work);
     if (frame.guidance) {

@@ -81,7 +81,7 @@ private:
     MapLabelPass m_labels;
     MarkerPass m_marker;
     std::unique_ptr<ManeuverArrowPass> m_arrows;      // created on the first frame with arrows
-    std::unique_ptr<GuidanceOverlayPass> m_guidance;  // created on the first frame with an overlay or sign
+    std::unique_ptr<GuidanceOverlayPass> m_guidance;  // created on the first frame with an overlay, sign or bar
     SideTask m_side;  // runs RoadPass::cull, then OutlinePass::markCells, beside the render thread
 };
 

@@ -453,7 +453,8 @@ TEST(RouteLine, MatchingNearThePreviousMatchFindsWhatTheWholeRouteGives) {
 
 // The speed limit of the matched road in the driving direction (EstimatedPose::speed_limit_kmh):
 // a two-way road with 50 km/h northbound and 30 km/h southbound (maxspeed:forward/backward) and
-// a one-way road of 70 km/h beside it; none where the match or its direction is uncertain.
+// a one-way road of 70 km/h beside it; none where the match or its direction is uncertain. And
+// whether the matched road itself is certain (EstimatedPose::road_match_certain, the street bar's).
 namespace {
 
 std::shared_ptr<const map::RoadGraph> speedLimitGraph() {
@@ -495,6 +496,7 @@ TEST(VehicleState, SpeedLimitOfTheMatchedRoadInTheDrivingDirection) {
         ASSERT_TRUE(p.edge);
         EXPECT_EQ(matcher->graph().edges[*p.edge].way_id, 10);
         EXPECT_EQ(p.speed_limit_kmh, 50) << "northbound: the way's forward limit";
+        EXPECT_TRUE(p.road_match_certain);
     }
     {
         VehicleStateEstimator est(proj, matcher);
@@ -515,6 +517,7 @@ TEST(VehicleState, SpeedLimitOfTheMatchedRoadInTheDrivingDirection) {
         const EstimatedPose p = est.poseAt(at(0.8));
         EXPECT_TRUE(p.edge);
         EXPECT_EQ(p.speed_limit_kmh, 0);
+        EXPECT_TRUE(p.road_match_certain) << "the road is certain, only its direction is not";
     }
     {
         // Parked on the one-way road: its only direction.
@@ -528,11 +531,15 @@ TEST(VehicleState, SpeedLimitOfTheMatchedRoadInTheDrivingDirection) {
         const EstimatedPose p = driveAlong(est, proj, 20.0, 50.0, 0.0, 3.0);
         EXPECT_LT(p.match_confidence, 0.5);
         EXPECT_EQ(p.speed_limit_kmh, 0);
+        EXPECT_TRUE(p.edge);
+        EXPECT_FALSE(p.road_match_certain);
     }
     {
         // Stale: no fix for longer than gnss_timeout_s.
         VehicleStateEstimator est(proj, matcher);
         driveAlong(est, proj, 1.0, 50.0, 0.0, 3.0);
-        EXPECT_EQ(est.poseAt(at(3.0 + 10.0)).speed_limit_kmh, 0);
+        const EstimatedPose p = est.poseAt(at(3.0 + 10.0));
+        EXPECT_EQ(p.speed_limit_kmh, 0);
+        EXPECT_FALSE(p.road_match_certain);
     }
 }

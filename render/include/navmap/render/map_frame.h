@@ -172,6 +172,16 @@ struct SpeedLimitSign {
     SignCorner corner = SignCorner::TopRight;
 };
 
+/// The current street's bar: a translucent dark rounded panel across the bottom centre of the
+/// frame with the name and ref of the road driven in white, "name · ref", or the one there is;
+/// sized to its text, names too long cut with an ellipsis (docs/rendering.md "Street bar").
+/// Both empty: no bar. The caller decides when it changes (navmapd: daemon/street_bar_hold.h).
+struct StreetBar {
+    std::string name;  ///< e.g. "Avinguda Meritxell"
+    std::string ref;   ///< e.g. "CG-2"
+    bool operator==(const StreetBar&) const = default;
+};
+
 /// What the terrain is coloured with: the flat colours of the OpenStreetMap land cover over a
 /// hypsometric tint, or the synthetic orthoimage (seed ch. 6; tiles with ortho layers and
 /// RendererOptions::ortho_weights; a tile whose image is not ready shows its land cover). Relief
@@ -219,6 +229,9 @@ struct MapStyle {
     glm::vec3 guidance_symbol{1.0f, 1.0f, 1.0f};           ///< the manoeuvre's path
     glm::vec3 guidance_symbol_dim{0.45f, 0.48f, 0.52f};    ///< the roads not taken, the roundabout's ring
     glm::vec3 guidance_text{1.0f, 1.0f, 1.0f};
+    // The current street's bar (MapFrame::street_bar).
+    glm::vec4 street_bar_panel{0.06f, 0.07f, 0.10f, 0.72f};  ///< the rounded panel, over the map
+    glm::vec3 street_bar_text{1.0f, 1.0f, 1.0f};
 
     static MapStyle day();
     static MapStyle night();
@@ -245,6 +258,10 @@ struct MapFrame {
     std::optional<GuidanceOverlay> guidance;
     /// The speed limit sign, drawn last (after the guidance overlay); none: nothing drawn.
     std::optional<SpeedLimitSign> speed_limit;
+    /// The current street's bar, drawn over the map and the labels and under the vehicle marker
+    /// (which stays visible where it comes low in the frame), a keep-out area of the labels;
+    /// none, or both texts empty: nothing drawn.
+    std::optional<StreetBar> street_bar;
     /// Time since the previous frame of this renderer, seconds: the label layout advances by it
     /// (fixed simulation steps, so the result does not depend on the frame rate).
     double frame_dt_s = 1.0 / 30.0;

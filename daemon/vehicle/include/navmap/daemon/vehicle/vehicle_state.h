@@ -41,6 +41,10 @@ struct EstimatedPose {
     /// stale, the road match below snap_full_confidence, or no heading on a two-way road whose
     /// directions have different limits. docs/vehicle-state.md "Speed limit".
     int speed_limit_kmh = 0;
+    /// The matched road (`edge`) is certain: not stale and the road match's own confidence at
+    /// least snap_full_confidence (what the speed limit needs, less the direction). The
+    /// cluster's street bar names only such a road. docs/vehicle-state.md "Speed limit".
+    bool road_match_certain = false;
     bool on_route = false;
     double route_driven_m = 0.0;  ///< along the route (when on_route)
     double route_remaining_m = 0.0;
