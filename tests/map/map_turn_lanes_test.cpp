@@ -419,6 +419,17 @@ TEST_F(TurnLaneFixture, LanesChangeBeforeTheJunction) {
     LaneSearchOptions near;
     near.distance_m = 150.0;
     EXPECT_FALSE(lanesOf(route(701, 704), ManeuverType::TurnLeft, near).has_value());
+    // A manoeuvre between them (at node 709, where the tagged way ends): the lanes lead to that
+    // one, not to the left turn after it.
+    Route two = route(701, 704);
+    const Route first = routeWith(701, 704, 709, ManeuverType::KeepLeft);
+    two.maneuvers.insert(two.maneuvers.begin() + 1, first.maneuvers.front());
+    ASSERT_EQ(two.maneuvers.size(), 4u);
+    const auto found = LaneFinder(graph()).find(two.points, two.maneuvers);
+    ASSERT_TRUE(found[1].has_value());
+    EXPECT_EQ(found[1]->way_id, 7001);
+    EXPECT_EQ(two.maneuvers[2].type, ManeuverType::TurnLeft);
+    EXPECT_FALSE(found[2].has_value());
 }
 
 TEST_F(TurnLaneFixture, RouteOffTheGraphHasNoLanes) {

@@ -122,7 +122,7 @@ std::optional<std::uint32_t> LaneFinder::nodeNear(PlanarPoint p, double within_m
 
 std::optional<LaneGuidance> LaneFinder::lanesBefore(const std::vector<PlanarPoint>& points,
                                                     const std::vector<double>& measures, const Maneuver& m,
-                                                    const LaneSearchOptions& options) const {
+                                                    std::size_t previous_end, const LaneSearchOptions& options) const {
     auto node = nodeNear(points[m.point], options.match_m);
     if (!node) return std::nullopt;
     std::size_t at = m.point;  // the route point at `node`
@@ -157,7 +157,8 @@ std::optional<LaneGuidance> LaneFinder::lanesBefore(const std::vector<PlanarPoin
         for (std::uint32_t x = m_in_first[*node]; x < m_in_first[*node + 1]; ++x) {
             const GraphEdge& e = m_graph.edges[m_in[x]];
             std::size_t k = at;
-            if (e.from == e.to || !follows(e, k)) continue;
+            // An edge that starts before the previous manoeuvre is done leads to that one.
+            if (e.from == e.to || !follows(e, k) || k < previous_end) continue;
             taken = m_in[x];
             taken_at = k;
             break;
@@ -187,10 +188,12 @@ std::vector<std::optional<LaneGuidance>> LaneFinder::find(const std::vector<Plan
     std::vector<double> measures(points.size(), 0.0);
     for (std::size_t i = 1; i < points.size(); ++i)
         measures[i] = measures[i - 1] + std::hypot(points[i].x - points[i - 1].x, points[i].y - points[i - 1].y);
+    std::size_t previous_end = 0;
     for (std::size_t k = 0; k < maneuvers.size(); ++k) {
         const Maneuver& m = maneuvers[k];
-        if (m.type == ManeuverType::Depart || m.type == ManeuverType::Arrive || m.point >= points.size()) continue;
-        out[k] = lanesBefore(points, measures, m, options);
+        if (m.type != ManeuverType::Depart && m.type != ManeuverType::Arrive && m.point < points.size())
+            out[k] = lanesBefore(points, measures, m, previous_end, options);
+        previous_end = std::max(previous_end, m.end_point);
     }
     return out;
 }

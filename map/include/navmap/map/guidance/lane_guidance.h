@@ -48,8 +48,8 @@ public:
     explicit LaneFinder(const RoadGraph& graph);
 
     /// One entry per manoeuvre of a route through `points` (store frame): its lanes, or nullopt
-    /// where no edge with lanes lies within the distance before its junction (also for depart,
-    /// arrive, and where the route leaves the graph).
+    /// where no edge with lanes lies within the distance before its junction and after the
+    /// previous manoeuvre's end (also for depart, arrive, and where the route leaves the graph).
     [[nodiscard]] std::vector<std::optional<LaneGuidance>> find(const std::vector<PlanarPoint>& points,
                                                                 const std::vector<Maneuver>& maneuvers,
                                                                 const LaneSearchOptions& options = {}) const;
@@ -58,6 +58,7 @@ private:
     [[nodiscard]] std::optional<std::uint32_t> nodeNear(PlanarPoint p, double within_m) const;
     [[nodiscard]] std::optional<LaneGuidance> lanesBefore(const std::vector<PlanarPoint>& points,
                                                           const std::vector<double>& measures, const Maneuver& m,
+                                                          std::size_t previous_end,
                                                           const LaneSearchOptions& options) const;
 
     const RoadGraph& m_graph;
