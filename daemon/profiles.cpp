@@ -12,6 +12,7 @@ std::vector<DisplayProfile> defaultProfiles() {
     };
     p[2].attribution = true;        // the map display; cluster and HUD leave it to the HMI's about screen
     p[2].speed_limit_sign.reset();  // the driver glances at the cluster and the HUD for it
+    p[2].lane_guidance = false;     // as for the sign
     return p;
 }
 

@@ -44,6 +44,10 @@ struct DisplayProfile {
     /// direction, when known); none: no sign. `speed_limit_sign` in the config; by default
     /// top right in snail's and HUD views (the cluster, the HUD), none in bird's-eye views.
     std::optional<render::SignCorner> speed_limit_sign = render::SignCorner::TopRight;
+    /// The lanes before the next manoeuvre where the road has turn lanes (docs/guidance.md
+    /// "Lanes"): in the HUD's guidance panel, at the bottom centre of other views.
+    /// `lane_guidance` in the config; by default on except in bird's-eye views.
+    bool lane_guidance = true;
 };
 
 /// The defaults: cluster 1280x480 snail's view, HUD 800x240 snail's view (route and
