@@ -466,6 +466,15 @@ TEST(TurnLaneGraph, EncodingKeepsTheLanes) {
     };
     EXPECT_EQ(lanes(decoded.edges[0]), (Lanes{la::kLeft, la::kThrough | la::kRight}));
     EXPECT_EQ(lanes(decoded.edges[1]), (Lanes{0, la::kMergeToLeft}));
+    // Another store's graph appended after this one keeps its lanes (the ranges move with them).
+    RoadGraph both = decoded;
+    appendRoadGraph(both, decoded, FrameTransform{});
+    ASSERT_EQ(both.edges.size(), 4u);
+    for (std::size_t k = 0; k < 2; ++k) {
+        const auto a = both.lanesOf(both.edges[k]), b = both.lanesOf(both.edges[k + 2]);
+        EXPECT_EQ(Lanes(a.begin(), a.end()), Lanes(b.begin(), b.end())) << k;
+    }
+    EXPECT_EQ(both.edges[2].lanes_begin, 4u);
     // A lane range beyond the lanes, and an unknown arrow bit, are damage.
     RoadGraph bad = g;
     bad.edges[1].lanes_begin = 3;
