@@ -135,6 +135,9 @@ TEST_F(AndorraStore, TurnLanesReachTheRoadGraph) {
     EXPECT_EQ(with_lanes,
               (std::set<std::int64_t>{28833924, 181921084, 456350882, 456350884, 456350895, 456350896, 456350897}));
     EXPECT_EQ(edges_with_lanes, kAndorraLaneEdges);
+    EXPECT_EQ(s_stats->turn_lane_ways, 7u);
+    EXPECT_EQ(s_stats->turn_lane_values_ignored, 0u);
+    EXPECT_EQ(s_stats->turn_lane_tags_dropped, 0u);
 }
 
 // A real junction: the CG-2's climbing lane ends where way 456350884 meets the next way of the

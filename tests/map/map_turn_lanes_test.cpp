@@ -249,12 +249,13 @@ protected:
             opt.out = *s_dir / ("lanes-" + std::to_string(limit) + ".navmap");
             opt.leaf_tile_m = 1000;
             opt.memory_limit_mib = limit;
-            compileStore(opt);
+            s_stats[limit] = compileStore(opt);
             s_graphs[limit] = TileStore::open(opt.out)->loadGraph();
         }
     }
     static void TearDownTestSuite() {
         s_graphs.clear();
+        s_stats.clear();
         delete s_dir;
     }
     static const RoadGraph& graph() { return s_graphs.at(0); }
@@ -315,6 +316,7 @@ protected:
     }
     static inline ScratchDir* s_dir = nullptr;
     static inline std::map<std::uint64_t, RoadGraph> s_graphs;
+    static inline std::map<std::uint64_t, CompileStats> s_stats;
 };
 
 TEST_F(TurnLaneFixture, EachDirectionKeepsItsLanesInTheStore) {
@@ -346,6 +348,16 @@ TEST_F(TurnLaneFixture, EachDirectionKeepsItsLanesInTheStore) {
         EXPECT_EQ(edges(8005), (std::vector<DirectedLanes>{{810, 809, {la::kLeft, la::kThrough}}}))
             << "limit " << limit;
     }
+    // Counted: 11 ways with lanes, "slide_right" ignored, way 8002's plain turn:lanes (lanes = 3)
+    // and way 8004's 17 lanes not used.
+    for (const auto& [limit, st] : s_stats) {
+        EXPECT_EQ(st.turn_lane_ways, 11u) << "limit " << limit;
+        EXPECT_EQ(st.turn_lane_values_ignored, 1u) << "limit " << limit;
+        EXPECT_EQ(st.turn_lane_tags_dropped, 2u) << "limit " << limit;
+    }
+    EXPECT_NE(formatSummary(s_stats.at(0)).find("turn lanes on 11 ways (1 unknown values ignored, 2 tags not used)"),
+              std::string::npos)
+        << formatSummary(s_stats.at(0));
     // The bounded compile writes the same graph.
     EXPECT_EQ(s_graphs.at(0).lane_arrows.size(), s_graphs.at(64).lane_arrows.size());
 }

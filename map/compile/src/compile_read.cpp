@@ -171,6 +171,9 @@ void readPasses(const std::string& osm_name, const OsmReadOptions& options, OsmC
         readFeatures(file, limits, locations, c, mp.handler(areas_out), in, log);
     }
     in.repeated_members = limits.repeatedMembers();
+    in.turn_lane_ways = c.graph_ways.turn_lane_ways;
+    in.turn_lane_values_ignored = c.graph_ways.turn_lane_values_ignored;
+    in.turn_lane_tags_dropped = c.graph_ways.turn_lane_tags_dropped;
     if (limits.relationsWithRepeats() > 0) {
         log.warn(std::to_string(limits.relationsWithRepeats()) +
                  " relation(s) listed members more than once (relation " +
