@@ -444,6 +444,34 @@ TEST_F(TurnLaneFixture, LanesChangeBeforeTheJunction) {
     EXPECT_FALSE(found[2].has_value());
 }
 
+// A route of many points close together: the work bound ends the search (no lanes), it does not
+// take seconds. The same route with the bound unspent finds the lanes.
+TEST_F(TurnLaneFixture, TheSearchHasAWorkBound) {
+    Route r = route(101, 104);
+    Route dense;
+    for (std::size_t i = 0; i + 1 < r.points.size(); ++i) {
+        for (int k = 0; k < 2000; ++k) {
+            const double t = k / 2000.0;
+            dense.points.push_back({r.points[i].x + t * (r.points[i + 1].x - r.points[i].x),
+                                    r.points[i].y + t * (r.points[i + 1].y - r.points[i].y)});
+        }
+        for (Maneuver m : r.maneuvers) {
+            if (m.point != i) continue;
+            m.point = m.end_point = dense.points.size() - 2000;
+            dense.maneuvers.push_back(m);
+        }
+    }
+    dense.points.push_back(r.points.back());
+    Maneuver arrive = r.maneuvers.back();
+    arrive.point = arrive.end_point = dense.points.size() - 1;
+    dense.maneuvers.push_back(arrive);
+    ASSERT_EQ(dense.maneuvers.size(), 3u);
+    EXPECT_TRUE(lanesOf(dense, ManeuverType::TurnLeft).has_value());
+    LaneSearchOptions small;
+    small.max_tests = 1000;
+    EXPECT_FALSE(lanesOf(dense, ManeuverType::TurnLeft, small).has_value());
+}
+
 TEST_F(TurnLaneFixture, RouteOffTheGraphHasNoLanes) {
     Route r = route(101, 104);
     for (PlanarPoint& p : r.points) p.x += 300.0;  // beside every road

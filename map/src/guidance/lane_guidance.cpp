@@ -122,19 +122,26 @@ std::optional<std::uint32_t> LaneFinder::nodeNear(PlanarPoint p, double within_m
 
 std::optional<LaneGuidance> LaneFinder::lanesBefore(const std::vector<PlanarPoint>& points,
                                                     const std::vector<double>& measures, const Maneuver& m,
-                                                    std::size_t previous_end, const LaneSearchOptions& options) const {
+                                                    std::size_t previous_end, const LaneSearchOptions& options,
+                                                    std::size_t& tests_left) const {
     auto node = nodeNear(points[m.point], options.match_m);
     if (!node) return std::nullopt;
     std::size_t at = m.point;  // the route point at `node`
     double walked = 0.0;       // along the route from the junction back to `node`
     // The edge into `node` that the route came along: every shape point near the route before
     // `at`, its start node at route point `k` (the nearest segment end).
+    // A point-to-segment test while the work bound lasts.
+    const auto within = [&](PlanarPoint p, std::size_t j) {
+        if (tests_left == 0) return false;
+        --tests_left;
+        return distanceToSegment(p, points[j], points[j + 1]) <= options.match_m;
+    };
     const auto follows = [&](const GraphEdge& e, std::size_t& k) {
         const double reach = static_cast<double>(e.length_m) + 2.0 * options.match_m;
         const PlanarPoint from{m_graph.nodes[e.from].x, m_graph.nodes[e.from].y};
         bool found = false;
         for (std::size_t j = at; j > 0 && measures[at] - measures[j] <= reach; --j) {
-            if (distanceToSegment(from, points[j - 1], points[j]) > options.match_m) continue;
+            if (!within(from, j - 1)) continue;
             const bool nearer_end = std::hypot(from.x - points[j - 1].x, from.y - points[j - 1].y) <
                                     std::hypot(from.x - points[j].x, from.y - points[j].y);
             k = nearer_end ? j - 1 : j;
@@ -145,8 +152,7 @@ std::optional<LaneGuidance> LaneFinder::lanesBefore(const std::vector<PlanarPoin
         for (std::uint32_t s = e.shape_begin; s < e.shape_end; ++s) {
             const PlanarPoint q{m_graph.shape[s].x, m_graph.shape[s].y};
             bool near = false;
-            for (std::size_t j = k; j < at && !near; ++j)
-                near = distanceToSegment(q, points[j], points[j + 1]) <= options.match_m;
+            for (std::size_t j = k; j < at && !near; ++j) near = within(q, j);
             if (!near) return false;
         }
         return true;
@@ -189,10 +195,11 @@ std::vector<std::optional<LaneGuidance>> LaneFinder::find(const std::vector<Plan
     for (std::size_t i = 1; i < points.size(); ++i)
         measures[i] = measures[i - 1] + std::hypot(points[i].x - points[i - 1].x, points[i].y - points[i - 1].y);
     std::size_t previous_end = 0;
+    std::size_t tests_left = options.max_tests;
     for (std::size_t k = 0; k < maneuvers.size(); ++k) {
         const Maneuver& m = maneuvers[k];
         if (m.type != ManeuverType::Depart && m.type != ManeuverType::Arrive && m.point < points.size())
-            out[k] = lanesBefore(points, measures, m, previous_end, options);
+            out[k] = lanesBefore(points, measures, m, previous_end, options, tests_left);
         previous_end = std::max(previous_end, m.end_point);
     }
     return out;

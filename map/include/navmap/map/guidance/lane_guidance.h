@@ -5,6 +5,7 @@
 // within a distance), and which of those lanes lead to the manoeuvre's exit. LaneFinder indexes a
 // graph once and is then read-only (thread-safe to share); the functions are pure.
 
+#include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <span>
@@ -38,6 +39,10 @@ struct LaneSearchOptions {
     double distance_m = 500.0;
     /// A graph node or shape point within this distance of the route lies on it, metres.
     double match_m = 5.0;
+    /// Work bound for one find(): point-to-segment tests over all manoeuvres (a route of
+    /// thousands of points a few metres apart would take seconds otherwise); the manoeuvres left
+    /// when it is spent get no lanes.
+    std::size_t max_tests = 20'000'000;
 };
 
 /// Finds the route's edges on one road graph by their geometry, as routes come as points (the
@@ -58,8 +63,8 @@ private:
     [[nodiscard]] std::optional<std::uint32_t> nodeNear(PlanarPoint p, double within_m) const;
     [[nodiscard]] std::optional<LaneGuidance> lanesBefore(const std::vector<PlanarPoint>& points,
                                                           const std::vector<double>& measures, const Maneuver& m,
-                                                          std::size_t previous_end,
-                                                          const LaneSearchOptions& options) const;
+                                                          std::size_t previous_end, const LaneSearchOptions& options,
+                                                          std::size_t& tests_left) const;
 
     const RoadGraph& m_graph;
     std::vector<std::uint32_t> m_in_first;  // CSR by `to`: edges into node n are m_in[m_in_first[n]..)
