@@ -251,7 +251,9 @@ bool ConfigParser::readGuidance(DaemonConfig& c) {
            r.range("on_route_distance_m", g.on_route_distance_m, 1.0, g.off_route_distance_m - 1.0) &&
            r.get("on_route_time_s", g.on_route_time_s) && r.range("on_route_time_s", g.on_route_time_s, 0.0, 600.0) &&
            r.get("second_arrow_within_m", g.second_arrow_within_m) &&
-           r.range("second_arrow_within_m", g.second_arrow_within_m, 0.0, 5000.0) && r.noUnknownKeys();
+           r.range("second_arrow_within_m", g.second_arrow_within_m, 0.0, 5000.0) &&
+           r.get("lane_distance_m", g.lane_distance_m) && r.range("lane_distance_m", g.lane_distance_m, 0.0, 5000.0) &&
+           r.noUnknownKeys();
 }
 
 bool ConfigParser::readRender(DaemonConfig& c) {
@@ -382,7 +384,8 @@ bool ConfigParser::readProfile(const toml::node& e, DisplayProfile& p) {
         !r.get("road_selection", p.road_selection) || !r.get("attribution", p.attribution) || !r.get("zoom", zoom) ||
         !r.range("zoom", zoom, render::kMapLibreMinZoom, render::kMapLibreMaxZoom) || !r.get("pitch", pitch) ||
         !r.range("pitch", pitch, render::kMapLibreMinPitchDeg, render::kMapLibreMaxPitchDeg) ||
-        !r.get("speed_limit_sign", sign) || !r.get("street_bar", p.street_bar) || !r.noUnknownKeys())
+        !r.get("speed_limit_sign", sign) || !r.get("street_bar", p.street_bar) ||
+        !r.get("lane_guidance", p.lane_guidance) || !r.noUnknownKeys())
         return false;
     // A MapLibre GL JS camera needs both; either alone is a mistake, not a default.
     const bool has_zoom = e.as_table()->contains("zoom"), has_pitch = e.as_table()->contains("pitch");
@@ -413,6 +416,8 @@ bool ConfigParser::readProfile(const toml::node& e, DisplayProfile& p) {
     if (!readSignCorner(e, sign, view, p)) return false;
     // Without street_bar the view decides: on in snail's views (the cluster) only.
     if (!e.as_table()->contains("street_bar")) p.street_bar = view == "snail";
+    // Without lane_guidance the view decides too: the lanes where the driver glances ahead.
+    if (!e.as_table()->contains("lane_guidance")) p.lane_guidance = view != "bird";
     if (view == "bird")
         p.view = render::ViewMode::Bird;
     else if (view == "snail")

@@ -23,6 +23,9 @@ struct GuidanceConfig {
     double on_route_time_s = 2.0;        ///< ... for this long: back_on_route
     /// The manoeuvre after the next gets a fainter arrow when it follows within this distance.
     double second_arrow_within_m = 250.0;
+    /// Lane guidance: the lanes of the last way with turn lanes at most this far before the next
+    /// junction, shown from this distance on (docs/guidance.md "Lanes").
+    double lane_distance_m = 500.0;
 };
 
 /// [style]: how the map chooses between its day and night style (docs/navmapd.md "Day and night").

@@ -279,6 +279,7 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
         RouteGuidance guidance(
             scene.projection(), config.guidance,
             [&server = *control_server](const ipc::ControlEvent& e) { server.publish(e); }, log);
+        if (scene.graph_problem.empty()) guidance.setGraph(graph, scene.projection());  // lanes (docs/guidance.md)
         ConfigReloader reloader(config, options.config_path, log);
         FrameRecentring frame(scene.projection());
         FrameParts frame_parts{scene, graph, scene.projection(), input, route, guidance, displays, poses};

@@ -81,6 +81,7 @@ void Display::reconfigure(const DisplayProfile& p, std::unique_ptr<AttributionOv
     m_profile.road_selection = p.road_selection;
     m_profile.speed_limit_sign = p.speed_limit_sign;
     m_profile.street_bar = p.street_bar;
+    m_profile.lane_guidance = p.lane_guidance;
     if (p.attribution != m_profile.attribution) {
         m_profile.attribution = p.attribution;
         m_attribution = std::move(attribution);
@@ -101,7 +102,14 @@ void Display::addGuidance(render::MapFrame& frame, const GuidanceSnapshot& guida
             if (arrow.points.size() >= 2) frame.arrows.push_back(std::move(arrow));
         }
     }
-    if (!hud) return;
+    // The lanes before the next manoeuvre: in the HUD's panel, on their own panel elsewhere.
+    std::optional<render::LaneRow> lanes;
+    if (m_profile.lane_guidance && guidance.lanes && !guidance.off_route)
+        lanes = render::LaneRow{guidance.lanes->lanes, guidance.lanes->recommended};
+    if (!hud) {
+        frame.lanes = std::move(lanes);
+        return;
+    }
     render::GuidanceOverlay overlay;
     if (guidance.off_route) {
         overlay.symbol = render::ManeuverSymbol::UTurn;
@@ -111,6 +119,7 @@ void Display::addGuidance(render::MapFrame& frame, const GuidanceSnapshot& guida
         overlay.roundabout_exit = guidance.next->exit;
         overlay.distance = guidance.distance_text;
         overlay.street = guidance.street;
+        overlay.lanes = std::move(lanes);
         // The HUD's corridor: the roads that branch at the next junction, nothing else.
         frame.guidance_roads = junctionRoads(frame, glm::dvec2(guidance.next_junction.x, guidance.next_junction.y));
     } else if (guidance.arrived) {

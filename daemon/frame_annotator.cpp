@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "navmap/map/turn_lanes.h"
 #include "route_guidance.h"
 
 namespace navmap::daemon {
@@ -15,6 +16,21 @@ std::int64_t realtimeNsOf(ipc::CanTime t) {
 }
 
 }  // namespace
+
+std::uint8_t metaLaneBits(std::uint16_t arrows, bool recommended) {
+    namespace la = map::lane_arrow;
+    // Block version 1 has six directions: sharp turns are sent as turns, a lane merging away as
+    // the slight turn its traffic makes (docs/frame-protocol.md "Metadata block").
+    std::uint8_t bits = 0;
+    if (arrows & (la::kLeft | la::kSharpLeft)) bits |= ipc::kLaneLeft;
+    if (arrows & (la::kSlightLeft | la::kMergeToLeft)) bits |= ipc::kLaneSlightLeft;
+    if (arrows & la::kThrough) bits |= ipc::kLaneStraight;
+    if (arrows & (la::kSlightRight | la::kMergeToRight)) bits |= ipc::kLaneSlightRight;
+    if (arrows & (la::kRight | la::kSharpRight)) bits |= ipc::kLaneRight;
+    if (arrows & la::kReverse) bits |= ipc::kLaneUTurn;
+    if (recommended) bits |= ipc::kLaneRecommended;
+    return bits;
+}
 
 ipc::FrameValidity frameValidity(const EstimatedPose& pose, const FrameHealth& health, bool off_route,
                                  std::size_t tiles_missing, std::size_t tiles_failed) {
@@ -75,9 +91,15 @@ FrameAnnotation FrameAnnotator::annotate(const EstimatedPose& pose, const FrameH
             m.next_exit = static_cast<std::uint8_t>(std::clamp(guidance->next->exit, 0, 255));
             m.next_distance_m = guidance->next_distance_m;
             m.next_street = guidance->street;
+            // The lanes before it where the road has turn lanes; else "unknown" (lanes_known false).
+            if (guidance->lanes && !guidance->lanes->lanes.empty()) {
+                m.lanes_known = true;
+                const auto& lanes = guidance->lanes->lanes;
+                for (std::size_t i = 0; i < lanes.size() && i < ipc::kMaxLanes; ++i)
+                    m.lanes.push_back(metaLaneBits(lanes[i], (guidance->lanes->recommended >> i & 1U) != 0));
+            }
         }
     }
-    // Lanes are not in the store yet: "unknown" (lanes_known false).
     a.meta = std::make_shared<const std::vector<std::uint8_t>>(ipc::encodeFrameMeta(m));
     return a;
 }

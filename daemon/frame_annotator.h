@@ -4,8 +4,8 @@
 // "Frame validity" and "Metadata block"), from the daemon's own state when the frame is drawn:
 // the pose's age against [stream] stale_pose_ms, tiles the camera wants that are not resident or
 // failed to load, the road graph and the orthoimage ground being off, the guidance's off-route
-// state; and the metadata block: the pose used, the next manoeuvre, what is left of the route,
-// the map-matched road's name. One per display; render thread only, never waits.
+// state; and the metadata block: the pose used, the next manoeuvre and the lanes before it, what
+// is left of the route, the map-matched road's name. One per display; render thread only, never waits.
 
 #include <cstdint>
 #include <memory>
@@ -61,6 +61,9 @@ private:
     render::StreetBar m_street;
     render::StreetBar m_frame_street;
 };
+
+/// One lane of the metadata block (ipc::MetaLaneBit) from its arrows (map::lane_arrow bits).
+std::uint8_t metaLaneBits(std::uint16_t arrows, bool recommended);
 
 /// The validity alone (FrameAnnotator::annotate's first half), for tests.
 ipc::FrameValidity frameValidity(const EstimatedPose& pose, const FrameHealth& health, bool off_route,

@@ -13,6 +13,7 @@ std::vector<DisplayProfile> defaultProfiles() {
     p[2].attribution = true;        // the map display; cluster and HUD leave it to the HMI's about screen
     p[2].speed_limit_sign.reset();  // the driver glances at the cluster and the HUD for it
     p[0].street_bar = true;         // the road driven, under the map the driver glances at
+    p[2].lane_guidance = false;     // as for the sign
     return p;
 }
 

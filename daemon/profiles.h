@@ -49,6 +49,10 @@ struct DisplayProfile {
     /// snail's views (the cluster), off in bird's-eye views and the HUD, whose guidance panel
     /// names the next street and fills its bottom.
     bool street_bar = false;
+    /// The lanes before the next manoeuvre where the road has turn lanes (docs/guidance.md
+    /// "Lanes"): in the HUD's guidance panel, at the bottom centre of other views.
+    /// `lane_guidance` in the config; by default on except in bird's-eye views.
+    bool lane_guidance = true;
 };
 
 /// The defaults: cluster 1280x480 snail's view, HUD 800x240 snail's view (route and

@@ -55,8 +55,30 @@ RouteGuidance::RouteGuidance(map::Projection projection, GuidanceConfig config, 
       m_off_route(offRouteConfig(config)) {}
 
 void RouteGuidance::setConfig(const GuidanceConfig& config) {
+    const bool lanes_again = config.lane_distance_m != m_config.lane_distance_m;
     m_config = config;
     m_off_route = mg::OffRouteDetector(offRouteConfig(config));
+    if (lanes_again) findLanes();
+}
+
+void RouteGuidance::setGraph(std::shared_ptr<const map::RoadGraph> graph, const map::Projection& graph_frame) {
+    m_lane_finder.reset();
+    m_graph = std::move(graph);
+    m_graph_frame = graph_frame;
+    if (m_graph) m_lane_finder = std::make_unique<mg::LaneFinder>(*m_graph);
+}
+
+void RouteGuidance::findLanes() {
+    m_lanes.clear();
+    if (!m_route || !m_control || !m_lane_finder || !m_graph_frame) return;
+    // The control points in the graph's own frame (the map frame moves when re-centred; the
+    // graph does not): the lanes do not change with it.
+    std::vector<map::PlanarPoint> points;
+    points.reserve(m_control->points.size());
+    for (const auto& p : m_control->points) points.push_back(m_graph_frame->forward(p.lat_deg, p.lon_deg));
+    mg::LaneSearchOptions options;
+    options.distance_m = m_config.lane_distance_m;
+    m_lanes = m_lane_finder->find(points, m_route->maneuvers(), options);
 }
 
 void RouteGuidance::setRoute(const std::shared_ptr<const ipc::RouteState>& route) {
@@ -67,10 +89,12 @@ void RouteGuidance::setRoute(const std::shared_ptr<const ipc::RouteState>& route
     m_snapshot = {};
     m_route_id.clear();
     m_control = nullptr;
+    m_lanes.clear();
     if (!route || route->points.size() < 2) return;
     m_route_id = route->id;
     m_control = route;
     build(true);
+    findLanes();
 }
 
 void RouteGuidance::rebase(const map::Projection& frame) {
@@ -144,6 +168,9 @@ void RouteGuidance::fill() {
         s.street = next.street;
         s.next_distance_m = std::max(0.0, p.to_next_m);
         s.distance_text = mg::formatCountdown(p.to_next_m);
+        if (!s.off_route && *p.next < m_lanes.size() && m_lanes[*p.next] &&
+            s.next_distance_m <= m_config.lane_distance_m)
+            s.lanes = m_lanes[*p.next];
         if (!s.off_route) {
             // The next manoeuvre's arrow, and the one after it, fainter, when it follows closely.
             for (std::size_t k = *p.next; k < maneuvers.size() && k <= *p.next + 1; ++k) {

@@ -17,6 +17,7 @@
 #include "navmap/ipc/control/control_command.h"
 #include "navmap/ipc/control/control_state.h"
 #include "navmap/map/guidance/guidance_route.h"
+#include "navmap/map/guidance/lane_guidance.h"
 #include "navmap/map/guidance/off_route_detector.h"
 #include "navmap/map/guidance/route_progress_tracker.h"
 #include "navmap/map/projection.h"
@@ -41,6 +42,9 @@ struct GuidanceSnapshot {
     double next_distance_m = 0.0;                 ///< along the route to its junction (0 inside it)
     std::string distance_text;                    ///< countdown to it: "300 m", "now"
     std::string street;                           ///< the street it turns into; may be empty
+    /// The lanes before it, within [guidance] lane_distance_m of its junction (docs/guidance.md
+    /// "Lanes"); none: no lane data there, or off the route.
+    std::optional<map::guidance::LaneGuidance> lanes;
     double remaining_m = 0.0;
     double remaining_s = 0.0;
     std::string remaining_distance;  ///< "4.2 km"
@@ -60,6 +64,9 @@ public:
     /// Follows the pose (store frame, map-matched) at `time_s` (any monotonic clock, seconds).
     void update(const EstimatedPose& pose, double time_s);
     void setConfig(const GuidanceConfig& config);
+    /// The road graph (in `graph_frame`) the lanes come from; null: no lane guidance. Takes
+    /// effect with the next route.
+    void setGraph(std::shared_ptr<const map::RoadGraph> graph, const map::Projection& graph_frame);
 
     [[nodiscard]] const GuidanceSnapshot& snapshot() const { return m_snapshot; }
     /// The route being followed; null without one.
@@ -69,6 +76,8 @@ private:
     void fill();
     // m_control in m_projection: the route and a tracker starting over.
     void build(bool log_problems);
+    // The lanes before each of m_route's manoeuvres, from the graph (m_lanes).
+    void findLanes();
 
     map::Projection m_projection;
     GuidanceConfig m_config;
@@ -81,6 +90,10 @@ private:
     map::guidance::OffRouteDetector m_off_route;
     bool m_matched = false;
     GuidanceSnapshot m_snapshot;
+    std::shared_ptr<const map::RoadGraph> m_graph;
+    std::optional<map::Projection> m_graph_frame;                     // set with m_graph
+    std::unique_ptr<map::guidance::LaneFinder> m_lane_finder;         // over m_graph
+    std::vector<std::optional<map::guidance::LaneGuidance>> m_lanes;  // per m_route manoeuvre
 };
 
 /// The remaining distance as drivers read it: "850 m" (tens of metres) under 1 km, "4.2 km" above.

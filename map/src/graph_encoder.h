@@ -14,17 +14,19 @@
 
 namespace navmap::map::detail {
 
-/// The first four bytes of an encoded road graph ("GRG2": edges with their speed limit); the
-/// store checks them on the first piece it inflates (docs/tile-store.md "Sizes").
-inline constexpr std::uint32_t kGraphMagic = 0x32475247;
-/// The graphs of earlier compiles ("GRG1": no speed limits), still read (limits 0).
+/// The first four bytes of an encoded road graph ("GRG3": edges with their speed limit and turn
+/// lanes); the store checks them on the first piece it inflates (docs/tile-store.md "Sizes").
+inline constexpr std::uint32_t kGraphMagic = 0x33475247;
+/// The graphs of earlier compiles, still read: "GRG2" (speed limits, no turn lanes) and "GRG1"
+/// (neither: limits 0).
+inline constexpr std::uint32_t kGraphMagicV2 = 0x32475247;
 inline constexpr std::uint32_t kGraphMagicV1 = 0x31475247;
 
 /// Takes the encoded bytes in pieces, in order.
 using ByteSink = std::function<void(std::span<const std::uint8_t>)>;
 
 /// Call in this order: nodes(n) and n node(), edges(m) and m edge(), shape(k) and k point(),
-/// then finish(). Hands `sink` a piece whenever about `piece_bytes` are buffered, and the rest
+/// lanes(j) and j lane(), then finish(). Hands `sink` a piece whenever about `piece_bytes` are buffered, and the rest
 /// in finish().
 class RoadGraphEncoder {
 public:
@@ -36,6 +38,8 @@ public:
     void edge(const GraphEdge& e);
     void shape(std::size_t count);
     void point(LocalPoint p);
+    void lanes(std::size_t count);
+    void lane(std::uint16_t arrows);
     void finish();
 
 private:

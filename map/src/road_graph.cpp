@@ -36,15 +36,18 @@ void transformRoadGraph(RoadGraph& g, const FrameTransform& t) {
 void appendRoadGraph(RoadGraph& g, const RoadGraph& other, const FrameTransform& t) {
     const auto node_base = static_cast<std::uint32_t>(g.nodes.size());
     const auto shape_base = static_cast<std::uint32_t>(g.shape.size());
+    const auto lane_base = static_cast<std::uint32_t>(g.lane_arrows.size());
     RoadGraph moved = other;
     transformRoadGraph(moved, t);
     g.nodes.insert(g.nodes.end(), moved.nodes.begin(), moved.nodes.end());
     g.shape.insert(g.shape.end(), moved.shape.begin(), moved.shape.end());
+    g.lane_arrows.insert(g.lane_arrows.end(), moved.lane_arrows.begin(), moved.lane_arrows.end());
     for (GraphEdge e : moved.edges) {
         e.from += node_base;
         e.to += node_base;
         e.shape_begin += shape_base;
         e.shape_end += shape_base;
+        e.lanes_begin += lane_base;
         g.edges.push_back(e);
     }
     indexEdges(g);  // stable: the appended nodes come last, so the first graph's edges keep their indices
@@ -85,6 +88,8 @@ void RoadGraphEncoder::edge(const GraphEdge& e) {
     m_w.varint(e.shape_end - e.shape_begin);
     m_w.svarint(e.way_id);
     m_w.varint(e.speed_limit_kmh);
+    m_w.varint(e.lane_count);
+    if (e.lane_count > 0) m_w.varint(e.lanes_begin);
     maybeFlush();
 }
 
@@ -93,6 +98,13 @@ void RoadGraphEncoder::shape(std::size_t count) { m_w.varint(count); }
 void RoadGraphEncoder::point(LocalPoint p) {
     m_w.f32(p.x);
     m_w.f32(p.y);
+    maybeFlush();
+}
+
+void RoadGraphEncoder::lanes(std::size_t count) { m_w.varint(count); }
+
+void RoadGraphEncoder::lane(std::uint16_t arrows) {
+    m_w.varint(arrows);
     maybeFlush();
 }
 
@@ -109,6 +121,8 @@ void encodeRoadGraph(const RoadGraph& g, const ByteSink& sink) {
     for (const auto& e : g.edges) enc.edge(e);
     enc.shape(g.shape.size());
     for (const auto& p : g.shape) enc.point(p);
+    enc.lanes(g.lane_arrows.size());
+    for (const std::uint16_t a : g.lane_arrows) enc.lane(a);
     enc.finish();
 }
 
@@ -125,11 +139,12 @@ bool decodeRoadGraph(std::span<const std::uint8_t> bytes, RoadGraph& g, std::str
     ByteReader r(bytes);
     g = RoadGraph{};
     const std::uint32_t magic = r.u32();
-    if (magic != kGraphMagic && magic != detail::kGraphMagicV1) {
+    if (magic != kGraphMagic && magic != detail::kGraphMagicV2 && magic != detail::kGraphMagicV1) {
         error = "not a road graph (bad magic)";
         return false;
     }
-    const bool has_limits = magic == kGraphMagic;  // "GRG1" graphs have no speed limits
+    const bool has_limits = magic != detail::kGraphMagicV1;  // "GRG1" graphs have no speed limits
+    const bool has_lanes = magic == kGraphMagic;             // nor have "GRG2" graphs turn lanes
     g.nodes.resize(r.count(17, "node"));
     for (auto& n : g.nodes) {
         n.x = r.f64();
@@ -154,12 +169,31 @@ bool decodeRoadGraph(std::span<const std::uint8_t> bytes, RoadGraph& g, std::str
             if (limit > 0xFFFF) r.fail("bad speed limit");
             e.speed_limit_kmh = static_cast<std::uint16_t>(limit);
         }
+        if (has_lanes) {
+            const std::uint64_t lanes = r.varint();
+            if (lanes > kMaxTurnLanes) r.fail("bad lane count");
+            e.lane_count = static_cast<std::uint8_t>(lanes);
+            if (lanes > 0) {
+                const std::uint64_t begin = r.varint();
+                if (begin > 0xFFFFFFFFU) r.fail("bad lane index");
+                e.lanes_begin = static_cast<std::uint32_t>(begin);
+            }
+        }
         if (r.failed()) break;
     }
     g.shape.resize(r.count(8, "shape point"));
     for (auto& p : g.shape) {
         p.x = r.f32();
         p.y = r.f32();
+    }
+    if (has_lanes) {
+        g.lane_arrows.resize(r.count(1, "lane"));
+        for (auto& a : g.lane_arrows) {
+            const std::uint64_t v = r.varint();
+            if ((v & ~std::uint64_t{lane_arrow::kKnown}) != 0) r.fail("unknown lane arrows");
+            a = static_cast<std::uint16_t>(v & lane_arrow::kKnown);
+            if (r.failed()) break;
+        }
     }
     if (!r.failed() && r.remaining() != 0) r.fail("trailing bytes");
     if (r.failed()) {
@@ -190,7 +224,7 @@ bool decodeRoadGraph(std::span<const std::uint8_t> bytes, RoadGraph& g, std::str
     std::uint32_t prev_from = 0;
     for (const auto& e : g.edges) {
         if (e.from >= g.nodes.size() || e.to >= g.nodes.size() || e.from < prev_from || e.shape_end < e.shape_begin ||
-            e.shape_end > g.shape.size()) {
+            e.shape_end > g.shape.size() || std::size_t{e.lanes_begin} + e.lane_count > g.lane_arrows.size()) {
             error = "edge references out of range or unsorted";
             g = RoadGraph{};
             return false;

@@ -3,6 +3,7 @@
 
 #include <unistd.h>
 
+#include <array>
 #include <cerrno>
 #include <cstring>
 
@@ -33,11 +34,12 @@ bool preadAll(int fd, std::uint8_t* dst, std::size_t n, std::uint64_t offset) {
 constexpr FileKind kStoreFile{"tile store", 0};
 
 // The magic at the start of a payload, checked on the first piece a stream inflates to.
-detail::PrefixCheck magicCheck(std::uint32_t magic, const char* what, std::uint32_t older_magic = 0) {
-    return [magic, what, older_magic](std::span<const std::uint8_t> head, std::string& problem) {
+detail::PrefixCheck magicCheck(std::uint32_t magic, const char* what, std::array<std::uint32_t, 2> older = {}) {
+    return [magic, what, older](std::span<const std::uint8_t> head, std::string& problem) {
         detail::ByteReader r(head);
         const std::uint32_t found = r.u32();
-        if ((found == magic || (older_magic != 0 && found == older_magic)) && !r.failed()) return true;
+        const bool older_found = found != 0 && (found == older[0] || found == older[1]);
+        if ((found == magic || older_found) && !r.failed()) return true;
         problem = std::string("not ") + what + " (bad magic)";
         return false;
     };
@@ -209,8 +211,9 @@ TileStore::GraphResult TileStore::tryLoadGraph() const {
     if (detail::crc32Of(stored) != m_info.graph_crc) return fail("checksum mismatch");
     std::vector<std::uint8_t> raw;
     std::string problem;
-    if (!detail::inflateBounded(stored, m_info.graph_raw_size, raw, problem, 4,
-                                magicCheck(detail::kGraphMagic, "a road graph", detail::kGraphMagicV1)))
+    if (!detail::inflateBounded(
+            stored, m_info.graph_raw_size, raw, problem, 4,
+            magicCheck(detail::kGraphMagic, "a road graph", {detail::kGraphMagicV2, detail::kGraphMagicV1})))
         return fail(problem);
     std::string error;
     if (!decodeRoadGraph(raw, result.graph, error)) return fail(error);

@@ -7,6 +7,8 @@
 
 #include <glm/geometric.hpp>
 
+#include "navmap/map/turn_lanes.h"
+
 namespace navmap::render {
 
 namespace {
@@ -145,6 +147,36 @@ GuidanceSymbolGeometry guidanceSymbol(ManeuverSymbol symbol, int roundabout_exit
         }
     }
     return g;
+}
+
+std::vector<glm::vec2> laneArrowSymbol(std::uint16_t arrows, glm::vec2 centre, float size_px) {
+    namespace la = map::lane_arrow;
+    std::vector<glm::vec2> out;
+    if ((arrows & la::kKnown) == 0) return out;
+    const Builder b(centre, size_px);
+    const glm::vec2 base(0.0f, -0.9f), fork(0.0f, -0.15f);
+    const bool merges = (arrows & (la::kMergeToLeft | la::kMergeToRight)) != 0;
+    if ((arrows & ~(la::kMergeToLeft | la::kMergeToRight)) != 0) b.stroke(out, {base, fork});
+    // A branch from the fork at `deg` from straight up (positive: to the right).
+    const auto branch = [&](float deg, float length) {
+        const float a = glm::radians(deg);
+        b.arrow(out, {base, fork, fork + length * glm::vec2(std::sin(a), std::cos(a))});
+    };
+    if (arrows & la::kThrough) branch(0.0f, 0.6f);
+    if (arrows & la::kSlightLeft) branch(-45.0f, 0.5f);
+    if (arrows & la::kSlightRight) branch(45.0f, 0.5f);
+    if (arrows & la::kLeft) branch(-90.0f, 0.4f);
+    if (arrows & la::kRight) branch(90.0f, 0.4f);
+    if (arrows & la::kSharpLeft) branch(-135.0f, 0.4f);
+    if (arrows & la::kSharpRight) branch(135.0f, 0.4f);
+    if (arrows & la::kReverse)  // back down on the left (right-hand traffic)
+        b.arrow(out, std::vector<glm::vec2>{base, fork} + arc({-0.25f, fork.y}, 0.25f, 0.0f, 180.0f) +
+                         std::vector<glm::vec2>{{-0.5f, -0.45f}});
+    if (merges) {
+        if (arrows & la::kMergeToLeft) b.arrow(out, {{0.3f, -0.9f}, {0.3f, -0.45f}, {-0.3f, 0.25f}, {-0.3f, 0.45f}});
+        if (arrows & la::kMergeToRight) b.arrow(out, {{-0.3f, -0.9f}, {-0.3f, -0.45f}, {0.3f, 0.25f}, {0.3f, 0.45f}});
+    }
+    return out;
 }
 
 }  // namespace navmap::render

@@ -324,12 +324,40 @@ TEST(DaemonConfig, StreetBarPerProfile) {
     std::string m;
     EXPECT_FALSE(parse("[[profile]]\nname = \"x\"\nstreet_bar = \"yes\"\n", &m));
     EXPECT_EQ(m, "navmapd.toml:3:14: profile.street_bar must be true or false");
+}
+
+TEST(DaemonConfig, LaneGuidancePerProfileAndItsDistance) {
+    // The built-in profiles: the cluster and the HUD show the lanes, the center display not.
+    const auto d = parse("");
+    ASSERT_TRUE(d);
+    EXPECT_TRUE(d->profiles[0].lane_guidance);
+    EXPECT_TRUE(d->profiles[1].lane_guidance);
+    EXPECT_FALSE(d->profiles[2].lane_guidance);
+    EXPECT_DOUBLE_EQ(d->guidance.lane_distance_m, 500.0);
+    const auto c = parse(
+        "[guidance]\nlane_distance_m = 300.0\n"
+        "[[profile]]\nname = \"a\"\nview = \"bird\"\n[[profile]]\nname = \"b\"\nview = \"hud\"\n"
+        "[[profile]]\nname = \"c\"\nlane_guidance = false\n"
+        "[[profile]]\nname = \"d\"\nview = \"bird\"\nlane_guidance = true\n");
+    ASSERT_TRUE(c);
+    EXPECT_DOUBLE_EQ(c->guidance.lane_distance_m, 300.0);
+    EXPECT_FALSE(c->profiles[0].lane_guidance);
+    EXPECT_TRUE(c->profiles[1].lane_guidance);
+    EXPECT_FALSE(c->profiles[2].lane_guidance);
+    EXPECT_TRUE(c->profiles[3].lane_guidance);
+    std::string m;
+    EXPECT_FALSE(parse("[guidance]\nlane_distance_m = -5.0\n", &m));
+    EXPECT_NE(m.find("guidance.lane_distance_m = -5 out of range [0, 5000]"), std::string::npos) << m;
+    EXPECT_FALSE(parse("[[profile]]\nname = \"x\"\nlane_guidance = \"yes\"\n", &m));
+    EXPECT_NE(m.find("lane_guidance"), std::string::npos) << m;
     // The shipped configuration file says the same as the built-in defaults.
     std::ifstream shipped(std::string(NAVMAP_SOURCE_DIR) + "/daemon/navmapd.toml");
     const std::string text((std::istreambuf_iterator<char>(shipped)), std::istreambuf_iterator<char>());
     const auto f = parse(text, &m);
     ASSERT_TRUE(f) << m;
     for (std::size_t i = 0; i < 3; ++i) EXPECT_EQ(f->profiles[i].street_bar, d->profiles[i].street_bar) << i;
+    EXPECT_DOUBLE_EQ(f->guidance.lane_distance_m, 500.0);
+    for (std::size_t i = 0; i < 3; ++i) EXPECT_EQ(f->profiles[i].lane_guidance, d->profiles[i].lane_guidance) << i;
 }
 
 TEST(DaemonConfig, AttributionFollowsTheViewUnlessSet) {

@@ -13,6 +13,8 @@
 
 #include "frame_annotator.h"
 #include "navmap/map/tile_source.h"
+#include "navmap/map/turn_lanes.h"
+#include "route_guidance.h"
 
 using namespace navmap;
 using namespace navmap::daemon;
@@ -62,6 +64,29 @@ TEST(FrameValidity, EachDegradedReasonAndOffRouteAreTheirOwnBits) {
     EXPECT_EQ(v.degraded, ipc::kDegradedRoadGraphOff | ipc::kDegradedOrthoimageOff);
     EXPECT_EQ(ipc::validityText(v), "degraded+off_route");
     EXPECT_EQ(ipc::degradedText(v.degraded), "road_graph_off+orthoimage_off");
+}
+
+// The lanes in the metadata block (docs/frame-protocol.md "Metadata block"): block version 1's
+// six directions and the recommended bit; sharp turns as turns, merges as the slight turn their
+// traffic makes, a lane without arrows as no direction.
+TEST(FrameMetaLanes, ArrowsAsTheBlockSendsThem) {
+    namespace la = map::lane_arrow;
+    EXPECT_EQ(metaLaneBits(la::kLeft, false), ipc::kLaneLeft);
+    EXPECT_EQ(metaLaneBits(la::kSharpLeft, false), ipc::kLaneLeft);
+    EXPECT_EQ(metaLaneBits(la::kSlightLeft, true), ipc::kLaneSlightLeft | ipc::kLaneRecommended);
+    EXPECT_EQ(metaLaneBits(la::kThrough | la::kRight, true),
+              ipc::kLaneStraight | ipc::kLaneRight | ipc::kLaneRecommended);
+    EXPECT_EQ(metaLaneBits(la::kSharpRight | la::kSlightRight, false), ipc::kLaneRight | ipc::kLaneSlightRight);
+    EXPECT_EQ(metaLaneBits(la::kReverse, false), ipc::kLaneUTurn);
+    EXPECT_EQ(metaLaneBits(la::kMergeToLeft, false), ipc::kLaneSlightLeft);
+    EXPECT_EQ(metaLaneBits(la::kMergeToRight, false), ipc::kLaneSlightRight);
+    EXPECT_EQ(metaLaneBits(0, true), ipc::kLaneRecommended);
+    EXPECT_EQ(metaLaneBits(0, false), 0);
+    // Every combination stays within the bits a version 1 decoder knows.
+    for (unsigned a = 0; a <= la::kKnown; ++a) {
+        const std::uint8_t bits = metaLaneBits(static_cast<std::uint16_t>(a), (a & 1) != 0);
+        ASSERT_EQ(bits & ~ipc::kLaneBitsKnown, 0) << a;
+    }
 }
 
 namespace {
@@ -137,4 +162,42 @@ TEST(FrameAnnotator, TheMatchedWaysNameAndRefFromTheDrawnTiles) {
     pose.valid = false;
     std::tie(street, meta) = streetOf(1);
     EXPECT_EQ(street, render::StreetBar{}) << "no pose";
+}
+
+// The block of a frame drawn before a manoeuvre with lanes: the lanes left to right, the one to
+// take recommended; off the route, or without lane data, "unknown".
+TEST(FrameMetaLanes, TheNextManoeuvresLanesReachTheBlock) {
+    namespace la = map::lane_arrow;
+    const map::Projection projection(42.5, 1.5);
+    map::TileCache cache(std::make_shared<NoTiles>());
+    const render::MapFrame frame;
+    const render::LodSelection selection;
+    EstimatedPose pose = poseAged(0.1);
+    GuidanceSnapshot g;
+    g.active = true;
+    map::guidance::Maneuver m;
+    m.type = map::guidance::ManeuverType::TurnLeft;
+    g.next = m;
+    g.next_distance_m = 240.0;
+    g.lanes = map::guidance::LaneGuidance{{la::kLeft, la::kThrough, 0}, 0b001, 0.0, 7};
+    FrameAnnotator annotator;
+    const auto decode = [&](const GuidanceSnapshot& s) {
+        const auto a = annotator.annotate(pose, FrameHealth{}, &s, projection, frame, selection, cache);
+        auto d = ipc::decodeFrameMeta(a.meta->data(), a.meta->size());
+        EXPECT_TRUE(d) << d.error().message;
+        return d ? d.value() : ipc::FrameMeta{};
+    };
+    const ipc::FrameMeta with = decode(g);
+    ASSERT_TRUE(with.has_next);
+    EXPECT_TRUE(with.lanes_known);
+    EXPECT_EQ(with.lanes, (std::vector<std::uint8_t>{ipc::kLaneLeft | ipc::kLaneRecommended, ipc::kLaneStraight, 0}));
+    GuidanceSnapshot off = g;
+    off.off_route = true;
+    EXPECT_FALSE(decode(off).lanes_known);
+    GuidanceSnapshot none = g;
+    none.lanes.reset();
+    const ipc::FrameMeta unknown = decode(none);
+    EXPECT_TRUE(unknown.has_next);
+    EXPECT_FALSE(unknown.lanes_known);
+    EXPECT_TRUE(unknown.lanes.empty());
 }

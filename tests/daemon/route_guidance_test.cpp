@@ -149,3 +149,63 @@ TEST(RouteGuidance, RemainingDistanceAndTimeReadAsDriversExpect) {
     EXPECT_EQ(formatRemainingTime(420.0), "7 min");
     EXPECT_EQ(formatRemainingTime(4500.0), "1 h 15 min");
 }
+
+// The lanes before the next manoeuvre, from the road graph under the control route: the left
+// turn's road has "left|through", within [guidance] lane_distance_m of the junction; the right
+// turn after it has none of its own (the left turn's lanes lead to the left turn).
+namespace {
+
+map::RoadGraph twoTurnsGraph() {
+    namespace la = map::lane_arrow;
+    map::RoadGraph g;
+    const map::PlanarPoint pts[] = {{0, 0}, {300, 0}, {300, 400}, {600, 400}};
+    for (std::size_t i = 0; i < 4; ++i) {
+        g.nodes.push_back({pts[i].x, pts[i].y, static_cast<std::int64_t>(i + 1)});
+        g.shape.push_back({static_cast<float>(pts[i].x), static_cast<float>(pts[i].y)});
+    }
+    g.lane_arrows = {la::kLeft, la::kThrough};
+    for (std::uint32_t i = 0; i < 3; ++i) {
+        map::GraphEdge e{i, i + 1, i == 1 ? 400.0f : 300.0f, 50.0f, map::RoadClass::Secondary, 0, i, i + 2, 100 + i};
+        if (i == 0) e.lane_count = 2;
+        g.edges.push_back(e);
+    }
+    map::indexEdges(g);
+    return g;
+}
+
+}  // namespace
+
+TEST(RouteGuidance, TheLanesBeforeTheNextManoeuvre) {
+    namespace la = map::lane_arrow;
+    Fixture f;
+    f.guidance.setGraph(std::make_shared<const map::RoadGraph>(twoTurnsGraph()), kProjection);
+    f.guidance.setRoute(twoTurns());
+    f.guidance.update(poseAt(20, 0), 0.0);
+    ASSERT_TRUE(f.guidance.snapshot().next);
+    ASSERT_TRUE(f.guidance.snapshot().lanes) << "280 m before the left turn";
+    EXPECT_EQ(f.guidance.snapshot().lanes->lanes, (std::vector<std::uint16_t>{la::kLeft, la::kThrough}));
+    EXPECT_EQ(f.guidance.snapshot().lanes->recommended, 0b01u);
+    EXPECT_EQ(f.guidance.snapshot().lanes->way_id, 100);
+
+    GuidanceConfig near;
+    near.lane_distance_m = 200.0;
+    f.guidance.setConfig(near);
+    f.guidance.update(poseAt(40, 0), 1.0);
+    EXPECT_FALSE(f.guidance.snapshot().lanes) << "260 m out: not yet";
+    f.guidance.update(poseAt(150, 0), 2.0);
+    EXPECT_TRUE(f.guidance.snapshot().lanes) << "150 m out";
+
+    // Past the left turn: the right turn's road has no lanes, and the left turn's are not its.
+    f.guidance.setConfig(GuidanceConfig{});
+    f.guidance.update(poseAt(300, 100), 3.0);
+    ASSERT_TRUE(f.guidance.snapshot().next);
+    EXPECT_EQ(f.guidance.snapshot().next->type, map::guidance::ManeuverType::TurnRight);
+    EXPECT_FALSE(f.guidance.snapshot().lanes);
+
+    // Without a graph there are no lanes.
+    Fixture bare;
+    bare.guidance.setRoute(twoTurns());
+    bare.guidance.update(poseAt(20, 0), 0.0);
+    ASSERT_TRUE(bare.guidance.snapshot().next);
+    EXPECT_FALSE(bare.guidance.snapshot().lanes);
+}

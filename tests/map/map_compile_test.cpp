@@ -14,10 +14,12 @@
 #include <random>
 #include <set>
 
+#include "guidance_test_graph.h"
 #include "map_test_util.h"
 #include "navmap/map/compile/compiler.h"
 #include "navmap/map/compile/shard.h"
 #include "navmap/map/dem.h"
+#include "navmap/map/guidance/lane_guidance.h"
 #include "navmap/map/store_lock.h"
 #include "navmap/map/store_set.h"
 #include "navmap/map/tile_codec.h"
@@ -30,6 +32,9 @@ using navmap::map::test::repoData;
 using navmap::map::test::ScratchDir;
 
 namespace {
+
+// Edges of the Andorra graph with turn lanes (AndorraStore.TurnLanesReachTheRoadGraph).
+constexpr std::size_t kAndorraLaneEdges = 7;  // each tagged way is one edge of the graph
 
 class AndorraStore : public ::testing::Test {
 protected:
@@ -106,6 +111,83 @@ TEST_F(AndorraStore, SpeedLimitsReachTheRoadGraph) {
                 edges_with_limit, g.edges.size());
     EXPECT_EQ(with_limit.size(), 651u);
     EXPECT_EQ(edges_with_limit, 1852u);
+}
+
+// The extract tags turn lanes on 7 ways, all of the CG-2 (a climbing lane that ends: `|merge_to_left`
+// and `|merge_to_right`, `none|merge_to_left` on the Port d'Envalira); each reaches the graph on
+// the edges of its tagged direction (docs/tile-store.md "Turn lanes").
+TEST_F(AndorraStore, TurnLanesReachTheRoadGraph) {
+    const RoadGraph g = s_store->loadGraph();
+    std::set<std::int64_t> with_lanes;
+    std::size_t edges_with_lanes = 0;
+    for (const GraphEdge& e : g.edges) {
+        const auto lanes = g.lanesOf(e);
+        if (lanes.empty()) continue;
+        ++edges_with_lanes;
+        with_lanes.insert(e.way_id);
+        ASSERT_EQ(lanes.size(), 2u) << "way " << e.way_id;
+        EXPECT_EQ(lanes[0], 0) << "way " << e.way_id;  // the lane that goes on has no arrows
+        EXPECT_TRUE(lanes[1] == lane_arrow::kMergeToLeft || lanes[1] == lane_arrow::kMergeToRight)
+            << "way " << e.way_id;
+    }
+    std::printf("turn lanes: %zu graph ways, %zu of %zu edges, %zu lane values\n", with_lanes.size(), edges_with_lanes,
+                g.edges.size(), g.lane_arrows.size());
+    EXPECT_EQ(with_lanes,
+              (std::set<std::int64_t>{28833924, 181921084, 456350882, 456350884, 456350895, 456350896, 456350897}));
+    EXPECT_EQ(edges_with_lanes, kAndorraLaneEdges);
+    EXPECT_EQ(s_stats->turn_lane_ways, 7u);
+    EXPECT_EQ(s_stats->turn_lane_values_ignored, 0u);
+    EXPECT_EQ(s_stats->turn_lane_tags_dropped, 0u);
+}
+
+// A real junction: the CG-2's climbing lane ends where way 456350884 meets the next way of the
+// road (node 4525945527). A route on along the CG-2 gets the way's two lanes before the junction,
+// the lane that goes on highlighted, not the one merging away.
+TEST_F(AndorraStore, LanesBeforeARealJunction) {
+    const RoadGraph g = s_store->loadGraph();
+    const GraphEdge* tagged = nullptr;
+    for (const GraphEdge& e : g.edges) {
+        if (e.way_id == 456350884 && g.nodes[e.to].osm_id == 4525945527 && !g.lanesOf(e).empty()) tagged = &e;
+    }
+    ASSERT_NE(tagged, nullptr) << "way 456350884's edge into node 4525945527";
+    const std::uint32_t junction = tagged->to;
+    // On along the road: the way leaving the junction closest to straight ahead (not back).
+    const auto heading = [&](std::uint32_t a, std::uint32_t b) {
+        return std::atan2(g.nodes[b].x - g.nodes[a].x, g.nodes[b].y - g.nodes[a].y);
+    };
+    const double in = heading(tagged->from, junction);
+    const GraphEdge* out = nullptr;
+    double best = 10.0;
+    for (const GraphEdge& e : g.outEdges(junction)) {
+        if (e.to == tagged->from) continue;
+        const double d = std::abs(std::remainder(heading(junction, e.to) - in, 2.0 * M_PI));
+        if (d < best) {
+            best = d;
+            out = &e;
+        }
+    }
+    ASSERT_NE(out, nullptr);
+    const auto line = test::routeLine(g, tagged->from, out->to);
+    ASSERT_GE(line.size(), 3u);
+    std::vector<PlanarPoint> points;
+    std::size_t at = 0;
+    for (const RoutePoint& p : line) {
+        if (std::hypot(p.position.x - g.nodes[junction].x, p.position.y - g.nodes[junction].y) < 0.5)
+            at = points.size();
+        points.push_back(p.position);
+    }
+    ASSERT_GT(at, 0u) << "the route passes the junction";
+    guidance::Maneuver on;  // as a control route gives it: straight on at the junction
+    on.type = guidance::ManeuverType::Straight;
+    on.point = on.end_point = at;
+    const guidance::LaneFinder finder(g);
+    const auto found = finder.find(points, {on});
+    ASSERT_EQ(found.size(), 1u);
+    ASSERT_TRUE(found[0].has_value());
+    EXPECT_EQ(found[0]->way_id, 456350884);
+    EXPECT_EQ(found[0]->lanes, (std::vector<std::uint16_t>{0, lane_arrow::kMergeToRight}));
+    EXPECT_EQ(found[0]->recommended, 0b01u);
+    EXPECT_NEAR(found[0]->before_junction_m, 0.0, 0.01);
 }
 
 TEST_F(AndorraStore, LeafTilesKeepNamesRoadsBuildingsAndTerrain) {

@@ -44,6 +44,9 @@ std::vector<RawGraphWay> streetGrid(int n) {
             w.speed_kmh = row ? 70.0f : 30.0f;
             w.limit_forward_kmh = row ? 70 : 0;  // the limits travel through both builders too
             w.limit_backward_kmh = static_cast<std::uint16_t>(w.id % 2 == 0 ? 50 : 0);
+            // And the turn lanes: some ways with lanes one way, some both.
+            if (w.id % 4 == 1) w.lanes_forward = {lane_arrow::kLeft, lane_arrow::kThrough};
+            if (w.id % 5 == 2) w.lanes_backward = {0, lane_arrow::kMergeToLeft, lane_arrow::kRight};
             w.oneway = w.id % 3 == 0;
             for (int b = k; b <= k + blocks; ++b) {
                 const int i = row ? line : b, j = row ? b : line;
@@ -93,6 +96,7 @@ TEST(GraphBuild, OnDiskInSeveralRunsItIsTheInMemoryGraphByteForByte) {
     const RoadGraph in_memory = buildGraph(sourceOf(ways), proj);
     // Crossings are junctions and nothing else is (inner nodes appear once and are no way end).
     ASSERT_EQ(in_memory.nodes.size(), std::size_t{60 * 60});
+    EXPECT_GT(in_memory.lane_arrows.size(), 0u);
     for (const auto& node : in_memory.nodes) EXPECT_LT(node.osm_id, 5000000);
     ScratchDir dir("graph-build");
     std::vector<std::uint8_t> on_disk;

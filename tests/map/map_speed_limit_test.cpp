@@ -235,7 +235,7 @@ TEST(SpeedLimitGraph, EncodingKeepsTheLimitAndOlderGraphsReadAsUnknown) {
     indexEdges(g);
     const std::vector<std::uint8_t> bytes = encodeRoadGraph(g);
     ASSERT_GE(bytes.size(), 4u);
-    EXPECT_EQ(std::string(bytes.begin(), bytes.begin() + 4), "GRG2");
+    EXPECT_EQ(std::string(bytes.begin(), bytes.begin() + 4), "GRG3");  // GRG2 and the turn lanes
     RoadGraph decoded;
     std::string error;
     ASSERT_TRUE(decodeRoadGraph(bytes, decoded, error)) << error;
@@ -263,7 +263,7 @@ TEST(SpeedLimitGraph, EncodingKeepsTheLimitAndOlderGraphsReadAsUnknown) {
     ASSERT_EQ(decoded.edges.size(), 1u);
     EXPECT_EQ(decoded.edges[0].way_id, 7);
     EXPECT_EQ(decoded.edges[0].speed_limit_kmh, 0);
-    v1[3] = '3';
+    v1[3] = '4';  // no such version (GRG3 has the turn lanes)
     EXPECT_FALSE(decodeRoadGraph(v1, decoded, error));
     EXPECT_EQ(error, "not a road graph (bad magic)");
 }

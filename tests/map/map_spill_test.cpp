@@ -186,6 +186,8 @@ TEST(FeatureSpill, EveryKindOfFeatureRoundTripsExactly) {
     way.speed_kmh = 67.5f;
     way.limit_forward_kmh = 50;
     way.limit_backward_kmh = 300;
+    way.lanes_forward = {lane_arrow::kLeft, 0, lane_arrow::kThrough | lane_arrow::kRight};
+    way.lanes_backward = {lane_arrow::kMergeToRight};
     way.oneway = true;
     way.nodes = {9'000'000'000, 12, 9'000'000'001, -3};  // deltas of both signs
     way.points = {{42, 1}, {42.001, 1.001}, {42.002, 1.002}, {42.003, 1.003}};
@@ -239,6 +241,8 @@ TEST(FeatureSpill, EveryKindOfFeatureRoundTripsExactly) {
     EXPECT_EQ(out.graph_ways[0].speed_kmh, 67.5f);
     EXPECT_EQ(out.graph_ways[0].limit_forward_kmh, 50);
     EXPECT_EQ(out.graph_ways[0].limit_backward_kmh, 300);
+    EXPECT_EQ(out.graph_ways[0].lanes_forward, way.lanes_forward);
+    EXPECT_EQ(out.graph_ways[0].lanes_backward, way.lanes_backward);
     EXPECT_EQ(out.graph_ways[0].points.size(), 4u);
     // Counted where first given to a band, not where repeated.
     auto repeated = encodeFeature(road);

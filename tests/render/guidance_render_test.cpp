@@ -17,6 +17,7 @@
 #include "andorra_drive.h"
 #include "drive_scene.h"
 #include "gl/guidance_overlay_pass.h"
+#include "navmap/map/turn_lanes.h"
 #include "navmap/render/maneuver_arrow.h"
 #include "navmap/render/renderer.h"
 #include "render_case.h"
@@ -479,5 +480,163 @@ TEST(SpeedLimitSign, NoLabelIsDrawnUnderTheSign) {
     EXPECT_EQ(glyphsUnder(drawnLabels(SpeedLimitSign{50, busiest}), busiest), 0u)
         << most << " glyphs lie there without the sign (corner " << int(busiest) << ")";
 }
+
+// The lane row (GuidanceOverlay::lanes in the HUD's panel, MapFrame::lanes on its own in the
+// cluster): each lane's box in the bright colour where the route takes it, dark where not; its
+// arrows in the symbol's colour or dimmed; nothing of it without lanes.
+namespace lanes_test {
+
+namespace la = navmap::map::lane_arrow;
+using navmap::render::gl::LaneRowLayout;
+
+bool near(const std::uint8_t* p, glm::ivec3 c, int tolerance = 6) {
+    return std::abs(p[0] - c.r) <= tolerance && std::abs(p[1] - c.g) <= tolerance && std::abs(p[2] - c.b) <= tolerance;
+}
+const glm::ivec3 kBoxOn{56, 107, 191}, kBoxOff{41, 43, 51};  // guidance_overlay_pass.cpp's box colours
+
+struct LaneBox {
+    glm::vec2 lo{0.0f}, hi{0.0f};
+};
+LaneBox box(const LaneRowLayout& l, int i) {
+    const glm::vec2 lo = l.origin + glm::vec2(float(i) * (l.box.x + l.gap), 0.0f);
+    return {lo, lo + l.box};
+}
+
+struct BoxPixels {
+    bool fill_on = false, fill_off = false;  // the box's corner
+    int bright = 0, dim = 0;                 // arrow pixels in the symbol's colours
+};
+BoxPixels boxPixels(const Image& im, const LaneBox& b, const MapStyle& style) {
+    BoxPixels n;
+    const auto* corner = im.pixel(int(b.lo.x) + 2, int(b.lo.y) + 2);
+    n.fill_on = near(corner, kBoxOn);
+    n.fill_off = near(corner, kBoxOff);
+    const glm::ivec3 bright(glm::round(style.guidance_symbol * 255.0f));
+    const glm::ivec3 dim(glm::round(style.guidance_symbol_dim * 255.0f));
+    for (int y = int(b.lo.y) + 1; y < int(b.hi.y) - 1; ++y)
+        for (int x = int(b.lo.x) + 1; x < int(b.hi.x) - 1; ++x) {
+            n.bright += near(im.pixel(x, y), bright, 10);
+            n.dim += near(im.pixel(x, y), dim, 10);
+        }
+    return n;
+}
+
+// Pixels that differ between two images outside the box lo..hi (grown by `grow`).
+std::size_t changedOutside(const Image& a, const Image& b, glm::vec2 lo, glm::vec2 hi, float grow = 2.0f) {
+    std::size_t n = 0;
+    for (int y = 0; y < a.height; ++y)
+        for (int x = 0; x < a.width; ++x) {
+            if (x >= lo.x - grow && x <= hi.x + grow && y >= lo.y - grow && y <= hi.y + grow) continue;
+            const auto* p = a.pixel(x, y);
+            const auto* q = b.pixel(x, y);
+            n += p[0] != q[0] || p[1] != q[1] || p[2] != q[2];
+        }
+    return n;
+}
+
+TEST(LaneGuidanceRender, HudPanelShowsTheLanesToTakeBright) {
+    MapFrame f = hudFrame("300 m");
+    f.guidance->lanes = LaneRow{{la::kLeft, la::kThrough, la::kThrough | la::kRight}, 0b001};
+    const Image with = render(f, MapStyle::hud(), kHudW, kHudH);
+    f.guidance->lanes.reset();
+    const Image without = render(f, MapStyle::hud(), kHudW, kHudH);
+    dump(with, "hud_lanes");
+    const LaneRowLayout l = navmap::render::gl::laneRowInPanel(navmap::render::gl::guidanceLayout(kHudW, kHudH));
+    const MapStyle style = MapStyle::hud();
+    const BoxPixels left = boxPixels(with, box(l, 0), style);
+    EXPECT_TRUE(left.fill_on) << "the left-turn lane is the one to take";
+    EXPECT_GE(left.bright, 20) << "its arrow in the symbol's colour";
+    EXPECT_EQ(left.dim, 0);
+    for (const int i : {1, 2}) {
+        const BoxPixels other = boxPixels(with, box(l, i), style);
+        EXPECT_TRUE(other.fill_off) << "lane " << i << " is dark";
+        EXPECT_EQ(other.bright, 0) << "lane " << i;
+        EXPECT_GE(other.dim, 20) << "lane " << i << "'s arrows dimmed";
+    }
+    // Lane 2 has two arrows (through and right): more of it than of lane 1.
+    EXPECT_GT(boxPixels(with, box(l, 2), style).dim, boxPixels(with, box(l, 1), style).dim);
+    for (int i = 0; i < 3; ++i) {
+        const BoxPixels none = boxPixels(without, box(l, i), style);
+        EXPECT_FALSE(none.fill_on || none.fill_off) << "no box " << i << " without lanes";
+    }
+    // The row is all that changes: the street and distance keep the panel as wide as it was.
+    EXPECT_EQ(changedOutside(with, without, box(l, 0).lo, box(l, 2).hi), 0u);
+}
+
+TEST(LaneGuidanceRender, NoLanesDrawNothing) {
+    MapFrame f = hudFrame("300 m");
+    const Image without = render(f, MapStyle::hud(), kHudW, kHudH);
+    f.guidance->lanes = LaneRow{};  // known to have no lanes: what the daemon never sends
+    EXPECT_EQ(render(f, MapStyle::hud(), kHudW, kHudH).rgba, without.rgba);
+    MapFrame c = turnFrame(ViewMode::Snail);
+    const Image cluster = render(c, MapStyle::day(), kW, kH);
+    c.lanes = LaneRow{};
+    EXPECT_EQ(render(c, MapStyle::day(), kW, kH).rgba, cluster.rgba);
+}
+
+TEST(LaneGuidanceRender, ClusterRowAtTheTopCentre) {
+    MapFrame f = turnFrame(ViewMode::Snail);
+    // The CG-2's climbing lane ending (Andorra, way 456350884): go on in the first lane.
+    f.lanes = LaneRow{{0, la::kMergeToRight}, 0b01};
+    const Image with = render(f, MapStyle::day(), kW, kH);
+    f.lanes.reset();
+    const Image without = render(f, MapStyle::day(), kW, kH);
+    dump(with, "cluster_lanes");
+    const LaneRowLayout l = navmap::render::gl::laneRowAtTop(kW, kH, 2);
+    EXPECT_NEAR(0.5f * (box(l, 0).lo.x + box(l, 1).hi.x), 0.5f * kW, 1.0f) << "centred";
+    EXPECT_LT(box(l, 0).hi.y, 0.4f * kH) << "at the top";
+    const MapStyle style = MapStyle::day();
+    const BoxPixels on = boxPixels(with, box(l, 0), style);
+    EXPECT_TRUE(on.fill_on);
+    EXPECT_EQ(on.bright, 0) << "an unmarked lane has no arrow";
+    const BoxPixels merging = boxPixels(with, box(l, 1), style);
+    EXPECT_TRUE(merging.fill_off);
+    EXPECT_GE(merging.dim, 20) << "the merge arrow, dimmed";
+    EXPECT_FALSE(boxPixels(without, box(l, 0), style).fill_on) << "the map has no box colour there";
+    const auto [lo, hi] = navmap::render::gl::laneRowPanel(l, 2);
+    EXPECT_EQ(changedOutside(with, without, lo, hi), 0u);
+}
+
+// Labels keep out of the cluster's lane row: at the first place along the drive where labels lie
+// at the top centre without the row, none of their glyphs is under it with the row.
+TEST(LaneGuidanceRender, NoLabelIsDrawnUnderTheLaneRow) {
+    const glm::ivec2 size = viewSize(ViewMode::Bird);
+    RendererOptions o;
+    o.width = size.x;
+    o.height = size.y;
+    const LaneRow row{std::vector<std::uint16_t>(8, la::kThrough), 0b00011000};
+    const LaneRowLayout l = navmap::render::gl::laneRowAtTop(size.x, size.y, row.lanes.size());
+    const auto [lo, hi] = navmap::render::gl::laneRowPanel(l, row.lanes.size());
+    auto glyphsUnder = [&](double measure, const std::optional<LaneRow>& lanes) {
+        MapFrame f = navmap::test::settledAndorraFrame(ViewMode::Bird, size.x, size.y, measure, 0.0);
+        f.layers.labels = true;
+        f.frame_dt_s = 1.0 / 30.0;
+        f.lanes = lanes;
+        auto r = Renderer::create(o);
+        for (int i = 0; i < 60; ++i) r->renderMap(f);
+        std::size_t n = 0;
+        for (const labels::DrawnLabel& label : r->mapStats().drawn_labels) {
+            if (label.opacity < 0.5f) continue;
+            for (const labels::ScreenQuad& q : label.glyph_boxes) {
+                glm::vec2 qlo(1e9f), qhi(-1e9f);
+                for (const glm::vec2 c : q) {
+                    qlo = glm::min(qlo, c);
+                    qhi = glm::max(qhi, c);
+                }
+                n += qhi.x > lo.x && qlo.x < hi.x && qhi.y > lo.y && qlo.y < hi.y;
+            }
+        }
+        return n;
+    };
+    for (double measure = 300.0; measure < 6000.0; measure += 700.0) {
+        const std::size_t without = glyphsUnder(measure, std::nullopt);
+        if (without == 0) continue;
+        EXPECT_EQ(glyphsUnder(measure, row), 0u) << without << " glyphs lie there without the row, at " << measure;
+        return;
+    }
+    FAIL() << "no place of the drive has labels at the top centre: the test shows nothing";
+}
+
+}  // namespace lanes_test
 
 }  // namespace

@@ -129,6 +129,12 @@ void readFeatures(const osmium::io::File& file, OsmLimits& limits, Locations& lo
     c.drain();
     log.log("read " + std::to_string(in.roads) + " roads, " + std::to_string(in.buildings) + " buildings, " +
             std::to_string(in.areas) + " areas, " + std::to_string(in.points) + " point labels");
+    if (c.graph_ways.turn_lane_ways > 0 || c.graph_ways.turn_lane_values_ignored > 0 ||
+        c.graph_ways.turn_lane_tags_dropped > 0) {
+        log.log("turn lanes on " + std::to_string(c.graph_ways.turn_lane_ways) + " ways; " +
+                std::to_string(c.graph_ways.turn_lane_values_ignored) + " unknown values ignored, " +
+                std::to_string(c.graph_ways.turn_lane_tags_dropped) + " tags not used");
+    }
     reader.close();
 }
 
@@ -165,6 +171,9 @@ void readPasses(const std::string& osm_name, const OsmReadOptions& options, OsmC
         readFeatures(file, limits, locations, c, mp.handler(areas_out), in, log);
     }
     in.repeated_members = limits.repeatedMembers();
+    in.turn_lane_ways = c.graph_ways.turn_lane_ways;
+    in.turn_lane_values_ignored = c.graph_ways.turn_lane_values_ignored;
+    in.turn_lane_tags_dropped = c.graph_ways.turn_lane_tags_dropped;
     if (limits.relationsWithRepeats() > 0) {
         log.warn(std::to_string(limits.relationsWithRepeats()) +
                  " relation(s) listed members more than once (relation " +

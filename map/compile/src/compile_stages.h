@@ -127,6 +127,7 @@ struct OsmInput {
     std::size_t roads = 0, buildings = 0, areas = 0, points = 0, places = 0;  ///< read, kept or spilled
     LatLonBounds bounds;                                                      ///< of the features, not the coast
     std::size_t repeated_members = 0;
+    std::size_t turn_lane_ways = 0, turn_lane_values_ignored = 0, turn_lane_tags_dropped = 0;  ///< CompileStats'
 };
 
 /// The OSM input: libosmium streams it (no size cap), but only from a regular file

@@ -144,6 +144,9 @@ CompileStats compileStore(const CompileOptions& opt) {
     const std::unique_ptr<Spill> spill = bounded ? openSpill(opt, dem, log) : nullptr;
     OsmInput osm = readOsm(opt.osm, {opt.default_building_height_m, with_graph, spill.get()}, log);
     stats.repeated_members = osm.repeated_members;
+    stats.turn_lane_ways = osm.turn_lane_ways;
+    stats.turn_lane_values_ignored = osm.turn_lane_values_ignored;
+    stats.turn_lane_tags_dropped = osm.turn_lane_tags_dropped;
     stats.read_seconds = log.elapsed();
 
     // frame: projection and tile scheme of the data's bounds
@@ -189,7 +192,9 @@ std::string formatSummary(const CompileStats& s) {
       << " islands, " << s.coast_gaps_closed << " gaps closed, " << s.coast_ways_left_out << " ways left out\n"
       << "labels:     " << s.place_labels << " places, " << s.poi_labels << " POIs, " << s.road_labels << " roads, "
       << s.area_labels << " areas\n"
-      << "road graph: " << s.graph_nodes << " nodes, " << s.graph_edges << " directed edges\n"
+      << "road graph: " << s.graph_nodes << " nodes, " << s.graph_edges << " directed edges; turn lanes on "
+      << s.turn_lane_ways << " ways (" << s.turn_lane_values_ignored << " unknown values ignored, "
+      << s.turn_lane_tags_dropped << " tags not used)\n"
       << "DEM:        " << s.dem_files << " files, " << s.dem_voids_filled << " void samples filled, "
       << s.tiles_without_dem << " leaf tiles not fully covered\n"
       << (s.tiles_with_ortho > 0 ? "ortho:      " + std::to_string(s.tiles_with_ortho) +

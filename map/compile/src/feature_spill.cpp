@@ -135,6 +135,10 @@ std::vector<std::uint8_t> encodeFeature(const RawGraphWay& f) {
     w.f32(f.speed_kmh);
     w.u16(f.limit_forward_kmh);
     w.u16(f.limit_backward_kmh);
+    for (const auto* lanes : {&f.lanes_forward, &f.lanes_backward}) {
+        w.varint(lanes->size());
+        for (const std::uint16_t a : *lanes) w.u16(a);
+    }
     w.u8(f.oneway ? 1 : 0);
     w.varint(f.nodes.size());
     std::int64_t prev = 0;
@@ -225,6 +229,10 @@ bool decodeFeature(std::span<const std::uint8_t> record, RawFeatures& out, std::
             f.speed_kmh = r.f32();
             f.limit_forward_kmh = r.u16();
             f.limit_backward_kmh = r.u16();
+            for (auto* lanes : {&f.lanes_forward, &f.lanes_backward}) {
+                lanes->resize(count(r, 2));
+                for (std::uint16_t& a : *lanes) a = r.u16();
+            }
             f.oneway = r.u8() != 0;
             f.nodes.resize(count(r, 1));
             std::int64_t prev = 0;

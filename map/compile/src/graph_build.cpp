@@ -45,14 +45,37 @@ private:
     std::size_t m_count = 0;
 };
 
-/// One way's nodes, edges and shape points, as both builders produce them: `node(index, n)` for
-/// each junction it passes (its position is set again each time), `edge(e)` for each edge in
-/// way order (the reverse twin right after a two-way edge), `point(p)` for each shape point.
-/// `index_of(id)` is a junction's index or -1; `shape_points` counts the shape points so far.
-template <class IndexOf, class Node, class Edge, class Point>
-void walkWay(const RawGraphWay& w, const Projection& proj, IndexOf&& index_of, std::uint32_t& shape_points, Node&& node,
-             Edge&& edge, Point&& point) {
+/// The lane values written so far (lane_values), and where one direction's lanes begin.
+struct LaneRange {
+    std::uint32_t begin = 0;
+    std::uint8_t count = 0;
+};
+
+/// One way's nodes, edges, shape points and turn lanes, as both builders produce them:
+/// `node(index, n)` for each junction it passes (its position is set again each time), `edge(e)`
+/// for each edge in way order (the reverse twin right after a two-way edge), `point(p)` for each
+/// shape point, `lane(arrows)` for each lane of each direction (once per way: its edges share
+/// them). `index_of(id)` is a junction's index or -1; `counts` the shape points and lane values
+/// so far.
+struct WalkCounts {
+    std::uint32_t shape_points = 0;
+    std::uint32_t lane_values = 0;
+};
+template <class IndexOf, class Node, class Edge, class Point, class Lane>
+void walkWay(const RawGraphWay& w, const Projection& proj, IndexOf&& index_of, WalkCounts& counts, Node&& node,
+             Edge&& edge, Point&& point, Lane&& lane) {
     const GeographicLib::Geodesic& geod = GeographicLib::Geodesic::WGS84();
+    std::uint32_t& shape_points = counts.shape_points;
+    const auto lanes_of = [&](const std::vector<std::uint16_t>& lanes) {
+        LaneRange r{counts.lane_values, 0};
+        if (lanes.empty() || lanes.size() > kMaxTurnLanes) return r;
+        for (const std::uint16_t a : lanes) lane(static_cast<std::uint16_t>(a & lane_arrow::kKnown));
+        counts.lane_values += static_cast<std::uint32_t>(lanes.size());
+        r.count = static_cast<std::uint8_t>(lanes.size());
+        return r;
+    };
+    const LaneRange forward_lanes = lanes_of(w.lanes_forward);
+    const LaneRange backward_lanes = w.oneway ? LaneRange{} : lanes_of(w.lanes_backward);
     std::size_t start = 0;
     std::uint32_t shape_begin = shape_points;
     double length = 0;
@@ -82,11 +105,15 @@ void walkWay(const RawGraphWay& w, const Projection& proj, IndexOf&& index_of, s
                     shape_points,
                     w.id,
                     w.limit_forward_kmh};
+        e.lane_count = forward_lanes.count;
+        e.lanes_begin = forward_lanes.count > 0 ? forward_lanes.begin : 0;
         edge(e);
         if (!w.oneway) {
             std::swap(e.from, e.to);
             e.flags |= edge_flags::kReversed;
             e.speed_limit_kmh = w.limit_backward_kmh;
+            e.lane_count = backward_lanes.count;
+            e.lanes_begin = backward_lanes.count > 0 ? backward_lanes.begin : 0;
             edge(e);
         }
         // The next edge starts at this junction and shares its shape point.
@@ -122,7 +149,7 @@ T getField(const std::uint8_t*& p) {
 }
 
 // An edge's fields without the struct's padding (nothing uninitialised reaches the disk).
-constexpr std::size_t kEdgeBytes = 4 + 4 + 4 + 4 + 1 + 1 + 4 + 4 + 8 + 2;
+constexpr std::size_t kEdgeBytes = 4 + 4 + 4 + 4 + 1 + 1 + 4 + 4 + 8 + 2 + 1 + 4;
 
 void putEdge(std::vector<std::uint8_t>& out, const GraphEdge& e) {
     putField(out, e.from);
@@ -135,6 +162,8 @@ void putEdge(std::vector<std::uint8_t>& out, const GraphEdge& e) {
     putField(out, e.shape_end);
     putField(out, e.way_id);
     putField(out, e.speed_limit_kmh);
+    putField(out, e.lane_count);
+    putField(out, e.lanes_begin);
 }
 
 GraphEdge getEdge(const std::uint8_t*& p) {
@@ -149,6 +178,8 @@ GraphEdge getEdge(const std::uint8_t*& p) {
     e.shape_end = getField<std::uint32_t>(p);
     e.way_id = getField<std::int64_t>(p);
     e.speed_limit_kmh = getField<std::uint16_t>(p);
+    e.lane_count = getField<std::uint8_t>(p);
+    e.lanes_begin = getField<std::uint32_t>(p);
     return e;
 }
 
@@ -219,12 +250,13 @@ RoadGraph buildGraph(const GraphWaySource& ways, const Projection& proj) {
 
     RoadGraph g;
     g.nodes.resize(junctions.size());
-    std::uint32_t shape_points = 0;
+    WalkCounts counts;
     ways([&](const RawGraphWay& w) {
         walkWay(
-            w, proj, [&](std::int64_t id) { return indexIn(junctions, id); }, shape_points,
+            w, proj, [&](std::int64_t id) { return indexIn(junctions, id); }, counts,
             [&](std::uint32_t i, const GraphNode& n) { g.nodes[i] = n; },
-            [&](const GraphEdge& e) { g.edges.push_back(e); }, [&](LocalPoint p) { g.shape.push_back(p); });
+            [&](const GraphEdge& e) { g.edges.push_back(e); }, [&](LocalPoint p) { g.shape.push_back(p); },
+            [&](std::uint16_t a) { g.lane_arrows.push_back(a); });
     });
     indexEdges(g);
     return g;
@@ -329,10 +361,11 @@ DiskGraph::DiskGraph(const GraphWaySource& ways, const Projection& proj, const s
     {
         ValueWriter edges_out(dir / "graph-edges-in-way-order.spill");
         ValueWriter shape_out(dir / "graph-shape.spill");
-        std::uint32_t shape_points = 0;
+        ValueWriter lanes_out(dir / "graph-lanes.spill");
+        WalkCounts counts;
         ways([&](const RawGraphWay& w) {
             walkWay(
-                w, proj, [&](std::int64_t id) { return indexIn(junction_ids, id); }, shape_points,
+                w, proj, [&](std::int64_t id) { return indexIn(junction_ids, id); }, counts,
                 [&](std::uint32_t i, const GraphNode& n) { nodes[i] = n; },
                 [&](const GraphEdge& e) {
                     putEdge(edges_out.buffer(), e);
@@ -344,11 +377,17 @@ DiskGraph::DiskGraph(const GraphWaySource& ways, const Projection& proj, const s
                     putField(shape_out.buffer(), p.x);
                     putField(shape_out.buffer(), p.y);
                     shape_out.added();
+                },
+                [&](std::uint16_t a) {
+                    putField(lanes_out.buffer(), a);
+                    lanes_out.added();
                 });
         });
         edges_out.close();
         shape_out.close();
-        m_shape_points = shape_points;
+        lanes_out.close();
+        m_shape_points = counts.shape_points;
+        m_lane_values = counts.lane_values;
     }
 
     // 4. The edges sorted by start node, stably (indexEdges()'s order), by counting: each start
@@ -370,6 +409,7 @@ DiskGraph::DiskGraph(const GraphWaySource& ways, const Projection& proj, const s
 DiskGraph::~DiskGraph() {
     std::error_code ec;
     std::filesystem::remove(m_dir / "graph-shape.spill", ec);
+    std::filesystem::remove(m_dir / "graph-lanes.spill", ec);
 }
 
 void DiskGraph::encode(const ByteSink& sink) const {
@@ -385,6 +425,9 @@ void DiskGraph::encode(const ByteSink& sink) const {
         const auto y = getField<float>(p);
         enc.point(LocalPoint{x, y});
     }
+    enc.lanes(m_lane_values);
+    ValueReader lanes_in(m_dir / "graph-lanes.spill", sizeof(std::uint16_t));
+    while (const std::uint8_t* p = lanes_in.next()) enc.lane(getField<std::uint16_t>(p));
     enc.finish();
 }
 

@@ -77,7 +77,7 @@ public:
 
 private:
     std::filesystem::path m_dir;
-    std::size_t m_nodes = 0, m_edges = 0, m_shape_points = 0, m_id_runs = 0;
+    std::size_t m_nodes = 0, m_edges = 0, m_shape_points = 0, m_lane_values = 0, m_id_runs = 0;
     std::unique_ptr<MappedFile> m_node_file, m_edge_file;
 };
 

@@ -122,10 +122,18 @@ void GraphHandler::way(const osmium::Way& way) {
     const DirectionalSpeedLimits limits = speedLimitsFromTags(lookup(tags));
     g.limit_forward_kmh = limits.forward_kmh;
     g.limit_backward_kmh = limits.backward_kmh;
+    DirectionalTurnLanes lanes = turnLanesFromTags(lookup(tags), dir);
+    turn_lane_values_ignored += lanes.unknown_values;
+    turn_lane_tags_dropped += lanes.dropped;
+    if (!lanes.forward.empty() || !lanes.backward.empty()) ++turn_lane_ways;
+    g.lanes_forward = std::move(lanes.forward);
+    g.lanes_backward = std::move(lanes.backward);
     if (dir < 0) {
         std::reverse(g.nodes.begin(), g.nodes.end());
         std::reverse(g.points.begin(), g.points.end());
-        std::swap(g.limit_forward_kmh, g.limit_backward_kmh);  // "forward" follows the nodes as kept
+        // "forward" follows the nodes as kept
+        std::swap(g.limit_forward_kmh, g.limit_backward_kmh);
+        std::swap(g.lanes_forward, g.lanes_backward);
     }
     g.oneway = dir != 0;
     if (g.oneway) g.flags |= road_flags::kOneway;

@@ -16,6 +16,7 @@
 #include "navmap/common/geo_coordinate.h"
 #include "navmap/map/compile/speed_limit_tags.h"
 #include "navmap/map/compile/tag_rules.h"
+#include "navmap/map/compile/turn_lane_tags.h"
 #include "navmap/map/road_class.h"
 #include "navmap/map/tile.h"
 
@@ -40,6 +41,9 @@ struct RawGraphWay {
     /// km/h, 0 unknown (speed_limit_tags.h).
     std::uint16_t limit_forward_kmh = 0;
     std::uint16_t limit_backward_kmh = 0;
+    /// The turn lanes along and against `nodes` (as kept), lane_arrow bits left to right in the
+    /// direction of travel; empty: none (turn_lane_tags.h).
+    std::vector<std::uint16_t> lanes_forward, lanes_backward;
     bool oneway = false;
     std::vector<std::int64_t> nodes;
     std::vector<GeoCoordinate> points;
@@ -97,6 +101,8 @@ class GraphHandler : public osmium::handler::Handler {
 public:
     void way(const osmium::Way& way);
     std::vector<RawGraphWay> ways;
+    /// Turn lanes read (turn_lane_tags.h): ways with some, values ignored, tags not used.
+    std::size_t turn_lane_ways = 0, turn_lane_values_ignored = 0, turn_lane_tags_dropped = 0;
 };
 
 /// building=* areas (closed ways and multipolygons) -> footprints with heights.

@@ -10,6 +10,7 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include "gl/gl_work.h"
+#include "navmap/map/turn_lanes.h"
 #include "navmap/render/guidance_symbol.h"
 
 namespace navmap::render::gl {
@@ -45,7 +46,36 @@ SpeedLimitSignLayout speedLimitSignLayout(int width, int height, SignCorner corn
     return l;
 }
 
+LaneRowLayout laneRowInPanel(const GuidanceLayout& g) {
+    LaneRowLayout l;
+    l.box = glm::vec2(26.0f, 28.0f) * g.unit;
+    l.gap = 3.0f * g.unit;
+    l.origin = {g.distance_at.x, g.symbol_centre.y - 0.5f * g.symbol_px};
+    return l;
+}
+
+LaneRowLayout laneRowAtTop(int width, int height, std::size_t lanes) {
+    const float unit = guidanceLayout(width, height).unit;
+    LaneRowLayout l;
+    l.box = glm::vec2(34.0f, 40.0f) * unit;
+    l.gap = 4.0f * unit;
+    l.pad = 6.0f * unit;
+    l.origin = {0.5f * (float(width) - l.width(std::min(lanes, map::kMaxTurnLanes))), 14.0f * unit + l.pad};
+    return l;
+}
+
+std::pair<glm::vec2, glm::vec2> laneRowPanel(const LaneRowLayout& l, std::size_t lanes) {
+    const glm::vec2 lo = l.origin - glm::vec2(l.pad);
+    const glm::vec2 hi = l.origin + glm::vec2(l.width(std::min(lanes, map::kMaxTurnLanes)), l.box.y) + glm::vec2(l.pad);
+    return {lo, hi};
+}
+
 namespace {
+
+/// Two triangles covering the box lo..hi.
+std::vector<glm::vec2> rectangle(glm::vec2 lo, glm::vec2 hi) {
+    return {lo, {lo.x, hi.y}, {hi.x, lo.y}, {hi.x, lo.y}, {lo.x, hi.y}, hi};
+}
 
 /// A disc as a triangle list (screen pixels).
 void appendDisc(std::vector<glm::vec2>& out, glm::vec2 centre, float radius) {
@@ -140,6 +170,11 @@ void GuidanceOverlayPass::draw(const GuidanceOverlay& overlay, const MapStyle& s
     laid.reserve(5);
     std::vector<text::TextDraw> draws;
     float panel_right = l.symbol_centre.x + 0.5f * l.symbol_px;
+    const LaneRowLayout lane_row = laneRowInPanel(l);
+    if (overlay.lanes && !overlay.lanes->lanes.empty()) {
+        const std::size_t n = std::min(overlay.lanes->lanes.size(), map::kMaxTurnLanes);
+        panel_right = std::max(panel_right, lane_row.origin.x + lane_row.width(n));
+    }
     auto add = [&](const std::string& utf8, text::FontStyle font, float px, glm::vec2 at, text::TextAnchor anchor,
                    bool right_aligned) {
         if (utf8.empty()) return;
@@ -170,8 +205,9 @@ void GuidanceOverlayPass::draw(const GuidanceOverlay& overlay, const MapStyle& s
         const float pad = 10.0f * l.unit;
         const glm::vec2 lo(l.symbol_centre.x - 0.5f * l.symbol_px - pad, l.symbol_centre.y - 0.5f * l.symbol_px - pad);
         const glm::vec2 hi(panel_right + pad, l.symbol_centre.y + 0.5f * l.symbol_px + pad);
-        drawTriangles({lo, {lo.x, hi.y}, {hi.x, lo.y}, {hi.x, lo.y}, {lo.x, hi.y}, hi}, style.guidance_panel, viewport);
+        drawTriangles(rectangle(lo, hi), style.guidance_panel, viewport);
     }
+    if (overlay.lanes) drawLaneBoxes(*overlay.lanes, lane_row, style, viewport);
     drawTriangles(symbol.secondary, glm::vec4(style.guidance_symbol_dim, 1.0f), viewport);
     drawTriangles(symbol.primary, glm::vec4(style.guidance_symbol, 1.0f), viewport);
     if (!draws.empty()) m_text->drawScreen(draws, size);
@@ -211,6 +247,50 @@ void GuidanceOverlayPass::drawSpeedLimit(const SpeedLimitSign& sign, const Rende
         m_engine.layout(m_engine.run(number, text::FontStyle::Bold), l.text_px, text::TextAnchor::Center);
     const text::TextDraw draw{laid.quads, laid.size_px, l.centre, 0.0f, 1.0f, 1.0f, ts};
     m_text->drawScreen(std::span<const text::TextDraw>(&draw, 1), size);
+    glDisable(GL_BLEND);
+    target.bindForDrawing(false);
+}
+
+void GuidanceOverlayPass::drawLaneBoxes(const LaneRow& row, const LaneRowLayout& l, const MapStyle& style,
+                                        glm::vec2 viewport) {
+    const std::size_t n = std::min(row.lanes.size(), map::kMaxTurnLanes);
+    // A lane to take: a lighter box and the arrows in the symbol's colour; the others stay dark
+    // with their arrows dimmed, so that the lanes to take stand out also where they have no arrows.
+    const glm::vec4 box_on(0.22f, 0.42f, 0.75f, 1.0f), box_off(0.16f, 0.17f, 0.20f, 1.0f);
+    std::vector<glm::vec2> on_boxes, off_boxes, on_arrows, off_arrows;
+    for (std::size_t i = 0; i < n; ++i) {
+        const bool on = i < 32 && (row.recommended >> i & 1U) != 0;
+        const glm::vec2 lo = l.origin + glm::vec2(float(i) * (l.box.x + l.gap), 0.0f);
+        const glm::vec2 hi = lo + l.box;
+        auto& boxes = on ? on_boxes : off_boxes;
+        const auto r = rectangle(lo, hi);
+        boxes.insert(boxes.end(), r.begin(), r.end());
+        const float side = std::min(l.box.x, l.box.y) * 0.9f;
+        const auto glyph = laneArrowSymbol(row.lanes[i], 0.5f * (lo + hi), side);
+        auto& arrows = on ? on_arrows : off_arrows;
+        arrows.insert(arrows.end(), glyph.begin(), glyph.end());
+    }
+    drawTriangles(off_boxes, box_off, viewport);
+    drawTriangles(on_boxes, box_on, viewport);
+    drawTriangles(off_arrows, glm::vec4(style.guidance_symbol_dim, 1.0f), viewport);
+    drawTriangles(on_arrows, glm::vec4(style.guidance_symbol, 1.0f), viewport);
+}
+
+void GuidanceOverlayPass::drawLanes(const LaneRow& row, const MapStyle& style, const RenderTarget& target) {
+    if (row.lanes.empty()) return;
+    const glm::ivec2 size(target.width(), target.height());
+    const glm::vec2 viewport(size);
+    const LaneRowLayout l = laneRowAtTop(size.x, size.y, row.lanes.size());
+    target.bindForDrawing(false);
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_CULL_FACE);
+    glEnable(GL_BLEND);
+    glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE);  // the frame stays opaque
+    const auto [lo, hi] = laneRowPanel(l, row.lanes.size());
+    const glm::vec4 panel =
+        style.guidance_panel.a > 0.0f ? style.guidance_panel : glm::vec4(0.06f, 0.07f, 0.10f, 0.78f);
+    drawTriangles(rectangle(lo, hi), panel, viewport);
+    drawLaneBoxes(row, l, style, viewport);
     glDisable(GL_BLEND);
     target.bindForDrawing(false);
 }

@@ -11,7 +11,9 @@
 
 #include <GLES3/gl3.h>
 
+#include <cstddef>
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include <glm/vec2.hpp>
@@ -53,6 +55,25 @@ struct SpeedLimitSignLayout {
 /// layout (guidanceLayout's unit), 14 px from both edges; the number's size by its digits.
 SpeedLimitSignLayout speedLimitSignLayout(int width, int height, SignCorner corner, int digits);
 
+/// Where a lane row's boxes stand (screen pixels, origin top left, y down).
+struct LaneRowLayout {
+    glm::vec2 origin{0.0f};  ///< top left of the first box
+    glm::vec2 box{0.0f};     ///< one lane's box
+    float gap = 0.0f;        ///< between boxes
+    float pad = 0.0f;        ///< the panel around the row (top centre only)
+    [[nodiscard]] float width(std::size_t lanes) const {
+        return lanes == 0 ? 0.0f : float(lanes) * box.x + float(lanes - 1) * gap;
+    }
+};
+/// The row in the HUD's guidance panel: right of the symbol, from its top edge (26 x 28 px boxes
+/// in the 800 x 240 layout).
+LaneRowLayout laneRowInPanel(const GuidanceLayout& l);
+/// The row on its own at the top centre of a width x height target (34 x 40 px boxes in the
+/// 800 x 240 layout, its panel 14 px below the top edge): MapFrame::lanes.
+LaneRowLayout laneRowAtTop(int width, int height, std::size_t lanes);
+/// The panel behind a top-centre row (lo, hi corners) that labels keep out of.
+std::pair<glm::vec2, glm::vec2> laneRowPanel(const LaneRowLayout& l, std::size_t lanes);
+
 /// Needs a current GLES 3 context (create, use, destroy on its thread).
 class GuidanceOverlayPass {
 public:
@@ -70,8 +91,13 @@ public:
     /// Draws the current street's bar over `target` in `style`'s street bar colours (nothing when
     /// its texts are empty). Leaves `target` bound for drawing.
     void drawStreetBar(const StreetBar& bar, const MapStyle& style, const RenderTarget& target);
+    /// Draws MapFrame::lanes at the top centre on its panel (nothing without lanes). Leaves
+    /// `target` bound for drawing.
+    void drawLanes(const LaneRow& row, const MapStyle& style, const RenderTarget& target);
 
 private:
+    /// The boxes and arrows of `row` laid out by `l` (blending set up by the caller).
+    void drawLaneBoxes(const LaneRow& row, const LaneRowLayout& l, const MapStyle& style, glm::vec2 viewport);
     void drawTriangles(const std::vector<glm::vec2>& vertices, glm::vec4 color, glm::vec2 viewport);
 
     text::TextEngine m_engine;

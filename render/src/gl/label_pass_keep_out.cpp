@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // The label pass's keep-out areas: the vehicle marker, the speed limit sign, the current street's
-// bar, the route just ahead of the car and the manoeuvre arrows, as screen boxes no label may cover.
+// bar, the lane row, the route just ahead of the car and the manoeuvre arrows, as screen boxes no
+// label may cover.
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -44,6 +45,13 @@ void LabelPass::keepOut(const MapFrame& frame, std::span<const TileLabels> tiles
             streetBarLayout(m_engine, *frame.street_bar, static_cast<int>(viewport.x), static_cast<int>(viewport.y));
         if (!bar.text.empty())
             m_keep_out.push_back({0.5f * (bar.lo + bar.hi), 0.5f * (bar.hi - bar.lo) + margin, {1.0f, 0.0f}});
+    }
+    // The lane row's panel at the top centre, drawn over everything there.
+    if (frame.lanes && !frame.lanes->lanes.empty()) {
+        const LaneRowLayout row =
+            laneRowAtTop(static_cast<int>(viewport.x), static_cast<int>(viewport.y), frame.lanes->lanes.size());
+        const auto [lo, hi] = laneRowPanel(row, frame.lanes->lanes.size());
+        m_keep_out.push_back({0.5f * (lo + hi), 0.5f * (hi - lo) + glm::vec2(margin), {1.0f, 0.0f}});
     }
     auto ground_at = [&](double x, double y) {
         const double z = groundHeight(tiles, x, y);

@@ -212,6 +212,10 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target, int 
         if (!m_guidance) m_guidance = std::make_unique<GuidanceOverlayPass>();
         m_guidance->drawSpeedLimit(*frame.speed_limit, target);
     }
+    if (frame.lanes && !frame.lanes->lanes.empty()) {
+        if (!m_guidance) m_guidance = std::make_unique<GuidanceOverlayPass>();
+        m_guidance->drawLanes(*frame.lanes, m_style, target);
+    }
 
     glBindVertexArray(0);
     glBindTexture(GL_TEXTURE_2D, 0);

@@ -11,6 +11,7 @@
 
 #include "navmap/map/road_class.h"
 #include "navmap/map/tile.h"
+#include "navmap/map/turn_lanes.h"
 #include "navmap/map/world_tiles.h"
 
 namespace navmap::map {
@@ -39,6 +40,11 @@ struct GraphEdge {
     /// The legal speed limit in this edge's direction of travel (a reversed twin has the way's
     /// backward limit), km/h; 0 unknown (docs/tile-store.md "Speed limits").
     std::uint16_t speed_limit_kmh = 0;
+    /// The turn lanes in this edge's direction of travel, left to right: RoadGraph::lane_arrows
+    /// [lanes_begin, lanes_begin + lane_count), lane_arrow bits; 0 lanes: none tagged
+    /// (docs/tile-store.md "Turn lanes").
+    std::uint8_t lane_count = 0;
+    std::uint32_t lanes_begin = 0;
 };
 
 /// Compressed sparse row graph: edges sorted by `from`; the out-edges of node n are
@@ -46,8 +52,15 @@ struct GraphEdge {
 struct RoadGraph {
     std::vector<GraphNode> nodes;
     std::vector<GraphEdge> edges;
-    std::vector<std::uint32_t> first_edge;  ///< nodes.size() + 1 entries
-    std::vector<LocalPoint> shape;          ///< store-frame metres as float (way geometry)
+    std::vector<std::uint32_t> first_edge;   ///< nodes.size() + 1 entries
+    std::vector<LocalPoint> shape;           ///< store-frame metres as float (way geometry)
+    std::vector<std::uint16_t> lane_arrows;  ///< the edges' turn lanes (GraphEdge::lanes_begin)
+
+    /// The turn lanes of `e` (an edge of this graph), left to right; empty when none are tagged.
+    [[nodiscard]] std::span<const std::uint16_t> lanesOf(const GraphEdge& e) const {
+        if (e.lane_count == 0 || std::size_t{e.lanes_begin} + e.lane_count > lane_arrows.size()) return {};
+        return std::span<const std::uint16_t>(lane_arrows).subspan(e.lanes_begin, e.lane_count);
+    }
 
     [[nodiscard]] std::span<const GraphEdge> outEdges(std::uint32_t node) const {
         return std::span<const GraphEdge>(edges).subspan(first_edge[node], first_edge[node + 1] - first_edge[node]);

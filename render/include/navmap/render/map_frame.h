@@ -148,6 +148,14 @@ struct ManeuverArrow {
 /// (map::guidance::ManeuverType, the control protocol's set_route maneuvers[].type).
 using ManeuverSymbol = map::guidance::ManeuverType;
 
+/// The lanes before a manoeuvre (docs/rendering.md "Lane guidance"): one box per lane, left to
+/// right, with its painted arrows (map::lane_arrow bits, turn_lanes.h; 0: no arrows); the lanes
+/// that lead to the manoeuvre's exit bright, the others dimmed.
+struct LaneRow {
+    std::vector<std::uint16_t> lanes;  ///< at most 16 are drawn; none: nothing drawn
+    std::uint32_t recommended = 0;     ///< bit i: lane i bright
+};
+
 /// What the guidance overlay shows (screen space, over the map; laid out for the HUD's 800 x 240
 /// and scaled with the target's height): the next manoeuvre as a large symbol, the distance to
 /// it, the street to turn into, and what remains of the route. Texts are UTF-8, formatted by the
@@ -159,6 +167,8 @@ struct GuidanceOverlay {
     std::string street;              ///< name (or ref) of the road to turn into
     std::string remaining_distance;  ///< to the destination, e.g. "12.4 km"
     std::string remaining_time;      ///< e.g. "18 min"
+    /// The lanes before the manoeuvre, in the panel above the distance; none: not drawn.
+    std::optional<LaneRow> lanes;
 };
 
 /// The corner of the frame a speed limit sign stands in.
@@ -262,6 +272,10 @@ struct MapFrame {
     /// (which stays visible where it comes low in the frame), a keep-out area of the labels;
     /// none, or both texts empty: nothing drawn.
     std::optional<StreetBar> street_bar;
+    /// The lanes before the next manoeuvre on their own panel at the top centre, drawn last with
+    /// the sign, labels kept out of it (the cluster; the HUD has them in GuidanceOverlay::lanes).
+    /// None or no lanes: nothing drawn.
+    std::optional<LaneRow> lanes;
     /// Time since the previous frame of this renderer, seconds: the label layout advances by it
     /// (fixed simulation steps, so the result does not depend on the frame rate).
     double frame_dt_s = 1.0 / 30.0;

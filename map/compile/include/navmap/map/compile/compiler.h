@@ -73,6 +73,10 @@ struct CompileStats {
     /// Relation members left out as repeats of an earlier member of the same relation (each
     /// reaches the multipolygon assembly once; docs/tile-store.md "Limits").
     std::size_t repeated_members = 0;
+    /// Turn lanes (docs/tile-store.md "Turn lanes"): road-graph ways with some; values not
+    /// understood (ignored); tags not used (too many lanes, or a two-way road's plain turn:lanes
+    /// whose lane counts do not say its direction).
+    std::size_t turn_lane_ways = 0, turn_lane_values_ignored = 0, turn_lane_tags_dropped = 0;
     std::size_t tiles = 0;
     /// Bounded compile (CompileOptions::memory_limit_mib): the features each band of tile columns
     /// tiled, west to east (a feature over several bands counts in each: the work, not the
