@@ -299,6 +299,19 @@ void VehicleStateEstimator::prune() {
     const auto it = std::upper_bound(motion.begin(), motion.end(), cutoff,
                                      [](ipc::CanTime tt, const MotionSample& s) { return tt < s.time; });
     if (it != motion.begin() && std::prev(it) != motion.begin()) {
+        // The distance driven since the newest anchor over the samples that go (VehicleState::Parts::odometer_m).
+        if (!anchors.empty()) {
+            const ipc::CanTime anchor = anchors.back().time, kept = std::prev(it)->time;
+            if (m_state.odometer_time < anchor) {
+                m_state.odometer_m = 0.0;
+                m_state.odometer_time = anchor;
+            }
+            if (kept > m_state.odometer_time) {
+                m_state.odometer_m += distanceDriven(motion, m_state.odometer_time, kept,
+                                                     m_state.config.motion_timeout_s, anchors.back().speed_mps);
+                m_state.odometer_time = kept;
+            }
+        }
         motion.erase(motion.begin(), std::prev(it));
     }
 }
@@ -309,6 +322,10 @@ void VehicleStateEstimator::updateMatch(ipc::CanTime t) {
     }
     const EstimatedPose pose = VehicleState::compute(m_state, t);
     m_state.matched_edge = pose.match_confidence >= m_state.config.snap_min_confidence ? pose.edge : std::nullopt;
+    // At a fix: where dead reckoning along the road graph would start (docs/vehicle-state.md "Tunnels").
+    if (t == m_state.anchors.back().time)
+        m_state.anchors.back().edge =
+            pose.road_confidence >= m_state.config.snap_full_confidence ? pose.edge : std::nullopt;
     m_state.route_measure = pose.on_route ? std::optional<double>(pose.route_driven_m) : std::nullopt;
 }
 
