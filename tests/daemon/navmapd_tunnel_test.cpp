@@ -289,7 +289,8 @@ TEST(NavmapdTunnel, GnssLostInAnAndorraTunnelTheMarkerFollowsItInTheNightStyle) 
         }
     }
     const std::string log = daemon.output();
-    if (std::getenv("NAVMAP_TUNNEL_TEST_LOG")) std::printf("%s\n", log.c_str());
+    if (std::getenv("NAVMAP_TUNNEL_TEST_LOG"))
+        std::printf("%s\n", log.c_str());  // the daemon's log, to look into a run
     std::printf(
         "[ measured ] %d frames before the tunnel, %d in it: %.0f m of it followed, at most %.2f m off its "
         "shape; luminance %.1f before, %.1f in it; %d with the route\n",

@@ -159,8 +159,7 @@ std::optional<GraphWalk> walkGraph(const map::RoadGraph& g, std::uint32_t edge, 
             w.edge = edge;
             w.point = shape.at(shape.size() - 1);
             w.heading_rad = heading / kRadToDeg;
-            w.in_tunnel = tunnel;
-            w.dead_end = true;
+            w.in_tunnel = tunnel;  // a dead end: it stops at the node
             return w;
         }
         edge = *next;

@@ -22,7 +22,6 @@ struct GraphWalk {
     bool tunnel = false;           ///< some edge walked (the first included) is in a tunnel
     bool in_tunnel = false;        ///< the edge it ends on is
     double beyond_tunnel_m = 0.0;  ///< walked since the last tunnel edge ended (0 inside one)
-    bool dead_end = false;         ///< stopped at a node with no way on before the distance
 };
 
 /// Walks `distance_m` (>= 0) from the point of `edge` nearest `start`. `route` (may be null) and
