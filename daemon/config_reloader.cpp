@@ -29,6 +29,7 @@ void ConfigReloader::reload(ipc::ControlState& control, DisplayScheduler& displa
     // Style and per-profile view settings change in place; clients stay connected.
     ipc::SetStyleCommand style;
     style.style = configuredStyle(*fresh);
+    style.configured = true;
     style.ground = fresh->orthoimage_ground ? ipc::Ground::Orthoimage : ipc::Ground::LandCover;
     (void)control.setStyle(style);
     m_running.night = fresh->night;

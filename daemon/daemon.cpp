@@ -75,6 +75,7 @@ std::shared_ptr<ipc::ControlState> makeControlState(const DaemonConfig& config) 
     auto control = std::make_shared<ipc::ControlState>(display_names);
     ipc::SetStyleCommand style;
     style.style = configuredStyle(config);
+    style.configured = true;
     style.ground = config.orthoimage_ground ? ipc::Ground::Orthoimage : ipc::Ground::LandCover;
     (void)control->setStyle(style);
     return control;
@@ -188,6 +189,8 @@ DayNightInput dayNightInput(const ipc::ViewState& view, const EstimatedPose& pos
                             double now_s) {
     DayNightInput in;
     in.requested = view.style;
+    in.requested_by_hmi = view.style_from_hmi;
+    in.in_tunnel = pose.valid && pose.in_tunnel;
     if (pose.valid) {
         frame.frame().reverse({pose.x, pose.y}, in.lat_deg, in.lon_deg);
     } else {
@@ -274,7 +277,7 @@ int runDaemon(DaemonConfig config, const RunOptions& options) {
         const auto& info = scene.store->info();
         PoseSource poses([&input](ipc::CanTime t) { return input.poseAt(t); }, scene.cache,
                          scene.toPlanar((info.south + info.north) / 2, (info.west + info.east) / 2));
-        RouteState route(scene.projection());
+        RouteState route(scene.projection(), RouteState::TunnelGraph{graph, scene.projection()});
         PoseEvents events(*control_server, log);
         RouteGuidance guidance(
             scene.projection(), config.guidance,

@@ -10,6 +10,7 @@ const char* styleReasonName(StyleReason r) noexcept {
         case StyleReason::Fixed: return "fixed";
         case StyleReason::Sun: return "sun";
         case StyleReason::Can: return "can";
+        case StyleReason::Tunnel: return "tunnel";
     }
     return "fixed";
 }
@@ -54,6 +55,13 @@ render::MapStyle DayNight::update(const DayNightInput& in) {
         const std::optional<bool> by_light = m_config.prefer_can ? byLight(in) : std::nullopt;
         night = by_light ? *by_light : bySun(*m_sun_deg);
         m_reason = by_light ? StyleReason::Can : StyleReason::Sun;
+    }
+    // In a tunnel the view dims to night with the same fade, whatever the configuration or auto
+    // says; a day style the HMI fixed with set_style wins (docs/navmapd.md "Tunnels").
+    const bool hmi_day = in.requested_by_hmi && in.requested == ipc::MapStyle::Day;
+    if (in.in_tunnel && !night && !hmi_day) {
+        night = true;
+        m_reason = StyleReason::Tunnel;
     }
     if (!m_started) {
         m_fade.reset(night);

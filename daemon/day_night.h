@@ -22,6 +22,8 @@ namespace navmap::daemon {
 /// What DayNight decides from, for one frame.
 struct DayNightInput {
     ipc::MapStyle requested = ipc::MapStyle::Day;  ///< the control state's (set_style, the config's mode)
+    bool requested_by_hmi = false;                 ///< `requested` came from set_style (ipc::ViewState::style_from_hmi)
+    bool in_tunnel = false;                        ///< the vehicle is in a tunnel (EstimatedPose::in_tunnel)
     double lat_deg = 0.0;                          ///< where the vehicle is (or the map's centre)
     double lon_deg = 0.0;
     std::chrono::system_clock::time_point wall_time{};  ///< the time of day at it, for the sun
@@ -30,10 +32,10 @@ struct DayNightInput {
     double now_s = 0.0;                                 ///< any steady clock, seconds: the fade's
 };
 
-/// Why the style is what it is: fixed (set_style, the config's day or night), or auto by the sun
-/// or by a CAN light signal.
-enum class StyleReason { Fixed, Sun, Can };
-const char* styleReasonName(StyleReason r) noexcept;  ///< "fixed" | "sun" | "can"
+/// Why the style is what it is: fixed (set_style, the config's day or night), auto by the sun or
+/// by a CAN light signal, or night in a tunnel (any mode but a day style fixed by set_style).
+enum class StyleReason { Fixed, Sun, Can, Tunnel };
+const char* styleReasonName(StyleReason r) noexcept;  ///< "fixed" | "sun" | "can" | "tunnel"
 
 /// The control state's style at start and after a reload: the configuration's mode.
 ipc::MapStyle configuredStyle(const DaemonConfig& config);

@@ -196,6 +196,8 @@ bool Display::draw(render::Renderer& renderer, const PoseSource& poses, const Fr
     frame.route = context.route;
     frame.route_progress_m = context.route_progress_m;
     frame.layers = layersFor(m_profile, context.labels);
+    // In a tunnel the labels of the surface above are left out (docs/navmapd.md "Tunnels").
+    frame.hide_surface_labels = pose.estimate.valid && pose.estimate.in_tunnel;
     frame.frame_dt_s = std::min(dt, 0.5);
     frame.marker = pose.marker;
     const bool hud = isGuidanceView(m_profile);

@@ -40,8 +40,11 @@ ipc::FrameValidity frameValidity(const EstimatedPose& pose, const FrameHealth& h
     v.pose_age_ms = age_ms < 0.0 || !std::isfinite(age_ms)
                         ? ipc::kPoseAgeNone
                         : static_cast<std::uint32_t>(std::min(age_ms, double(ipc::kPoseAgeNone - 1)));
-    // On the whole milliseconds sent, so that a frame is stale exactly when its age says so.
-    if (v.pose_age_ms == ipc::kPoseAgeNone || v.pose_age_ms > static_cast<std::uint32_t>(health.stale_pose_ms))
+    // On the whole milliseconds sent, so that a frame is stale exactly when its age says so;
+    // following a tunnel's road without fixes the position is known (docs/vehicle-state.md "Tunnels").
+    const bool follows_tunnel = pose.valid && pose.follows_graph && !pose.stale;
+    if (v.pose_age_ms == ipc::kPoseAgeNone ||
+        (v.pose_age_ms > static_cast<std::uint32_t>(health.stale_pose_ms) && !follows_tunnel))
         v.flags |= ipc::kValidityStalePose;
     if (tiles_missing > 0) v.degraded |= ipc::kDegradedTilesMissing;
     if (tiles_failed > 0) v.degraded |= ipc::kDegradedTilesFailed;

@@ -4,13 +4,19 @@
 // route version into the store frame, as the one RouteLine that both of its users share: the
 // estimator matches the pose onto it (input thread, via VehicleInput::setRoute) and the renderers
 // drape its RouteGeometry, made from the same points and measures. So the route's length, the
-// distance driven along it and the distance remaining all come from one computation. Render
-// thread only; line() is immutable and may be handed to other threads.
+// distance driven along it and the distance remaining all come from one computation. The parts
+// of the route that run in a tunnel are found on the road graph (routeTunnels) for the
+// renderers to draw dashed. Render thread only; line() is immutable and may be handed to other
+// threads.
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
+#include <utility>
+#include <vector>
 
+#include "navmap/daemon/vehicle/map_matcher.h"
 #include "navmap/daemon/vehicle/route_line.h"
 #include "navmap/daemon/vehicle/vehicle_state.h"
 #include "navmap/ipc/control/control_state.h"
@@ -19,9 +25,27 @@
 
 namespace navmap::daemon {
 
+/// Where a route (`points` in the matcher's frame, `measures` its distances along the route,
+/// one per point) runs in a tunnel, as [from, to] distances along it (render::RouteGeometry::
+/// tunnels_m): the route is sampled every 5 m or less, each sample matched onto the road graph in
+/// the route's direction (MapMatcher, 10 m around, with the hysteresis towards the previous
+/// sample's edge); a sample whose edge has road_flags::kTunnel at a confidence of 0.5 or more is
+/// in a tunnel, and the runs of them, gaps of up to two samples closed, are the tunnels.
+std::vector<std::pair<double, double>> routeTunnels(const MapMatcher& matcher,
+                                                    const std::vector<map::PlanarPoint>& points,
+                                                    const std::vector<double>& measures);
+
 class RouteState {
 public:
-    explicit RouteState(map::Projection projection) : m_projection(projection) {}
+    /// The road graph that says where a route runs in a tunnel, with the frame it is in (the
+    /// daemon's first map frame: it is not re-expressed when the frame is re-centred).
+    struct TunnelGraph {
+        std::shared_ptr<const map::RoadGraph> graph;
+        map::Projection frame;
+    };
+    /// `tunnels`: none, no tunnels are marked on the route.
+    explicit RouteState(map::Projection projection, std::optional<TunnelGraph> tunnels = std::nullopt)
+        : m_projection(projection), m_tunnels(std::move(tunnels)) {}
 
     /// Takes the control socket's newest route snapshot; converts it when its version is new and
     /// returns true then (the caller hands line() to the estimator). A null snapshot (cleared)
@@ -55,8 +79,10 @@ private:
     void convert();  // m_control into m_line and m_geometry, in m_projection
 
     map::Projection m_projection;
-    std::shared_ptr<const ipc::RouteState> m_control;  // the control route converted last
-    std::uint64_t m_version = ~std::uint64_t{0};       // control snapshot version converted last
+    std::optional<TunnelGraph> m_tunnels;
+    std::shared_ptr<const MapMatcher> m_tunnel_matcher;  // over m_tunnels' graph, made with the first route
+    std::shared_ptr<const ipc::RouteState> m_control;    // the control route converted last
+    std::uint64_t m_version = ~std::uint64_t{0};         // control snapshot version converted last
     std::string m_id;
     std::size_t m_control_points = 0;
     std::shared_ptr<const RouteLine> m_line;

@@ -8,6 +8,7 @@ flat in float v_half_length;
 flat in vec3 v_color;  // this pass's colour of the road class or the route
 #ifdef NAVMAP_ROUTE_PROGRESS
 in float v_measure;
+flat in float v_dash_m;  // in a tunnel: the dash period (roads_geo.vert); 0: solid
 uniform float u_route_progress;  // metres driven; the part behind is dimmed
 #endif
 
@@ -20,6 +21,7 @@ void main() {
     if (x_cap > 0.0 && x_cap * x_cap + y_cap * y_cap > 1.0) discard;
     vec3 color = v_color;
 #ifdef NAVMAP_ROUTE_PROGRESS
+    if (v_dash_m > 0.0 && fract(v_measure / v_dash_m) >= 0.5) discard;  // the gaps of a tunnel's dashes
     if (v_measure < u_route_progress) color = mix(color, vec3(0.6), 0.65);  // already driven
 #endif
     o_color = vec4(color, 1.0);

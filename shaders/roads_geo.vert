@@ -37,6 +37,7 @@ flat out float v_half_length;   // L
 flat out vec3 v_color;          // of this pass, per quad (an indexed uniform per fragment costs more)
 #ifdef NAVMAP_ROUTE_PROGRESS
 out float v_measure;            // metres along the route
+flat out float v_dash_m;        // a piece in a tunnel: the dash period along the route, metres (0: solid)
 #endif
 
 // A least width on screen, beyond seed 3.6.3's distance scaling, which does not see the viewing
@@ -130,6 +131,13 @@ void main() {
     v_cap = vec2(sx * (v_half_length + reach), sy);
 #ifdef NAVMAP_ROUTE_PROGRESS
     v_measure = sx < 0.0 ? a_measure.x : a_measure.y;
+    // A route piece in a tunnel (a_class 1: RoutePiece::tunnel) is dashed: dash and gap two
+    // route widths each, the width's distance scale rounded down to a power of two so that the
+    // pattern keeps its phase between neighbouring pieces.
+    v_dash_m = u_route == 1 && a_class > 0.5 ? 4.0 * u_route_width * exp2(floor(log2(max(scale, 1.0)))) : 0.0;
+    // Dashed, the distance runs on over the caps, so that where two pieces' quads overlap both
+    // put a dash at the same place.
+    if (v_dash_m > 0.0) v_measure += sx * reach * 0.5 * width * (a_measure.y - a_measure.x) / max(len, 1e-6);
 #endif
     if (u_route == 1) v_color = u_pass == 0 ? u_route_casing : u_route_color;
     else v_color = u_pass == 0 ? u_casing_color[cls] : u_fill[cls];

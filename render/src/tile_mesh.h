@@ -209,6 +209,8 @@ struct RoutePiece {
     glm::vec3 p0, p1;                                              ///< tile-local metres, on the tile's own surface
     std::array<float, kMorphLevels> ancestor_z0{}, ancestor_z1{};  ///< coarser levels' surfaces at p0, p1
     float measure0 = 0.0f, measure1 = 0.0f;                        ///< distance along the route, metres
+    /// In one of RouteGeometry::tunnels_m (pieces are split where a tunnel begins or ends).
+    bool tunnel = false;
 };
 
 /// The most route pieces one tile drapes, whatever the route: what the tile draws, morphs and

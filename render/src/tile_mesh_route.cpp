@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
+#include <utility>
 
 #include "navmap/map/geometry.h"
 #include "navmap/render/terrain_lod.h"
@@ -86,6 +88,17 @@ void coverageCells(const RoutePoint& a, const RoutePoint& b, double e, int n, st
     }
 }
 
+// Whether distance `m` along the route lies in one of its tunnels, and where that changes next
+// (infinity: nowhere further on).
+std::pair<bool, double> tunnelAt(const RouteGeometry& route, double m) {
+    const auto& t = route.tunnels_m;
+    // The first tunnel that ends after m.
+    const auto it = std::upper_bound(t.begin(), t.end(), m, [](double v, const auto& r) { return v < r.second; });
+    if (it == t.end()) return {false, std::numeric_limits<double>::infinity()};
+    if (m >= it->first) return {true, it->second};
+    return {false, it->first};
+}
+
 }  // namespace
 
 std::vector<RoutePiece> drapeRoute(const RouteGeometry& route, const glm::dvec3& origin, const HeightGrid& grid,
@@ -114,28 +127,49 @@ std::vector<RoutePiece> drapeRoute(const RouteGeometry& route, const glm::dvec3&
     // seed 3.6.1: a vertex wherever a segment crosses a triangle edge of this tile's grid. False
     // when the segment would take the pieces over `limit` (nothing of it is added then).
     std::vector<glm::dvec2> seg(2);
+    std::vector<RoutePiece> pieces;  // of one segment
     auto drape = [&](const RoutePoint& a, const RoutePoint& b, std::size_t limit) {
         seg[0] = a.p;
         seg[1] = b.p;
         const std::vector<glm::dvec3> draped = drapePolyline(grid, seg);
         if (draped.size() < 2) return true;
-        if (out.size() + draped.size() - 1 > limit) return false;
         const double len = glm::length(b.p - a.p);
         auto measure_at = [&](const glm::dvec3& v) {
-            return static_cast<float>(a.measure_m + (b.measure_m - a.measure_m) *
-                                                        std::clamp(glm::length(glm::dvec2(v) - a.p) / len, 0.0, 1.0));
+            return a.measure_m +
+                   (b.measure_m - a.measure_m) * std::clamp(glm::length(glm::dvec2(v) - a.p) / len, 0.0, 1.0);
         };
+        pieces.clear();
         for (std::size_t k = 0; k + 1 < draped.size(); ++k) {
             const glm::dvec3& q0 = draped[k];
             const glm::dvec3& q1 = draped[k + 1];
-            RoutePiece piece{glm::vec3(q0), glm::vec3(q1), {}, {}, measure_at(q0), measure_at(q1)};
-            for (std::size_t j = 0; j < ancestors.size(); ++j) {
-                if (!ancestors[j].heights) continue;
-                piece.ancestor_z0[j] = static_cast<float>(ancestors[j].heightAt(q0.x, q0.y));
-                piece.ancestor_z1[j] = static_cast<float>(ancestors[j].heightAt(q1.x, q1.y));
+            const double m0 = measure_at(q0), m1 = measure_at(q1);
+            // Split where a tunnel begins or ends: the piece lies on one triangle, so the split
+            // point lies on the surface at every level.
+            double from = 0.0, m = m0;
+            for (;;) {
+                const auto [in_tunnel, next_m] = tunnelAt(route, m);
+                const double to = next_m < m1 && m1 > m0 ? (next_m - m0) / (m1 - m0) : 1.0;
+                const glm::dvec3 s0 = glm::mix(q0, q1, from), s1 = glm::mix(q0, q1, to);
+                RoutePiece piece{glm::vec3(s0),
+                                 glm::vec3(s1),
+                                 {},
+                                 {},
+                                 static_cast<float>(m),
+                                 static_cast<float>(m0 + (m1 - m0) * to),
+                                 in_tunnel};
+                for (std::size_t j = 0; j < ancestors.size(); ++j) {
+                    if (!ancestors[j].heights) continue;
+                    piece.ancestor_z0[j] = static_cast<float>(ancestors[j].heightAt(s0.x, s0.y));
+                    piece.ancestor_z1[j] = static_cast<float>(ancestors[j].heightAt(s1.x, s1.y));
+                }
+                pieces.push_back(piece);
+                if (to >= 1.0) break;
+                from = to;
+                m = next_m;
             }
-            out.push_back(piece);
         }
+        if (out.size() + pieces.size() > limit) return false;
+        out.insert(out.end(), pieces.begin(), pieces.end());
         return true;
     };
     bool fits = true;
@@ -200,7 +234,10 @@ void morphRoute(std::span<const RoutePiece> pieces, const TileMorph& morph, cons
         return p;
     };
     for (const RoutePiece& r : pieces) {
-        out.push_back({at(r.p0, r.ancestor_z0), at(r.p1, r.ancestor_z1), 0.0f, 0.0f, r.measure0, r.measure1});
+        // The route's pieces carry no road class: theirs says whether the piece is in a tunnel
+        // (roads_geo.vert draws it dashed).
+        out.push_back(
+            {at(r.p0, r.ancestor_z0), at(r.p1, r.ancestor_z1), r.tunnel ? 1.0f : 0.0f, 0.0f, r.measure0, r.measure1});
     }
 }
 

@@ -341,3 +341,73 @@ TEST(DayNight, ConfigStyleSection) {
     EXPECT_FALSE(parseConfig("[style]\nsource = \"moon\"\n", "t.toml", &error));
     EXPECT_FALSE(parseConfig("[style]\nlight_night_below_pct = 30.0\nlight_day_above_pct = 20.0\n", "t.toml", &error));
 }
+
+// In a tunnel the style fades to night over fade_s (reason "tunnel") in the configuration's day
+// mode and in auto by day, and back to day after it; a day style the HMI fixed with set_style
+// wins, and set_style auto gives the tunnel back.
+TEST(DayNight, ATunnelDimsToNightUnlessTheHmiFixedDay) {
+    StyleConfig config;
+    config.fade_s = 2.0;
+    ipc::ControlState control;
+    ipc::SetStyleCommand command;
+    command.style = ipc::MapStyle::Day;
+    command.configured = true;  // the configuration's mode, as navmapd applies it
+    ASSERT_TRUE(control.setStyle(command));
+    EXPECT_FALSE(control.view()->style_from_hmi);
+    DayNight dn(config);
+    auto in = autoAt(42.51, 1.52, utc(2024, 12, 21, 12, 0), 0.0);  // noon
+    in.requested = control.view()->style;
+    in.requested_by_hmi = control.view()->style_from_hmi;
+    (void)dn.update(in);
+    EXPECT_FALSE(dn.night());
+    in.in_tunnel = true;
+    in.now_s = 10.0;
+    (void)dn.update(in);
+    EXPECT_TRUE(dn.night());
+    EXPECT_EQ(dn.reason(), StyleReason::Tunnel);
+    EXPECT_STREQ(styleReasonName(dn.reason()), "tunnel");
+    EXPECT_FLOAT_EQ(dn.weight(), 0.0f) << "the fade starts";
+    in.now_s = 11.0;
+    const render::MapStyle half = dn.update(in);
+    EXPECT_NEAR(dn.weight(), 0.5f, 0.01f);
+    EXPECT_LT(half.brightness, render::MapStyle::day().brightness);
+    in.now_s = 12.0;
+    const render::MapStyle dimmed = dn.update(in);
+    EXPECT_FLOAT_EQ(dn.weight(), 1.0f);
+    EXPECT_FLOAT_EQ(dimmed.brightness, render::MapStyle::night().brightness);
+    in.in_tunnel = false;  // out: back to the mode's day
+    in.now_s = 20.0;
+    (void)dn.update(in);
+    EXPECT_FALSE(dn.night());
+    EXPECT_EQ(dn.reason(), StyleReason::Fixed);
+    in.now_s = 22.0;
+    (void)dn.update(in);
+    EXPECT_FLOAT_EQ(dn.weight(), 0.0f);
+    // Auto by day: the tunnel wins too.
+    in.requested = ipc::MapStyle::Auto;
+    in.in_tunnel = true;
+    in.now_s = 30.0;
+    (void)dn.update(in);
+    EXPECT_TRUE(dn.night());
+    EXPECT_EQ(dn.reason(), StyleReason::Tunnel);
+    // The HMI fixes day: day in the tunnel.
+    command.style = ipc::MapStyle::Day;
+    command.configured = false;
+    ASSERT_TRUE(control.setStyle(command));
+    EXPECT_TRUE(control.view()->style_from_hmi);
+    in.requested = control.view()->style;
+    in.requested_by_hmi = control.view()->style_from_hmi;
+    in.now_s = 40.0;
+    (void)dn.update(in);
+    EXPECT_FALSE(dn.night());
+    EXPECT_EQ(dn.reason(), StyleReason::Fixed);
+    // The HMI gives the choice back: night in the tunnel again.
+    command.style = ipc::MapStyle::Auto;
+    ASSERT_TRUE(control.setStyle(command));
+    in.requested = control.view()->style;
+    in.requested_by_hmi = control.view()->style_from_hmi;
+    in.now_s = 50.0;
+    (void)dn.update(in);
+    EXPECT_TRUE(dn.night());
+    EXPECT_EQ(dn.reason(), StyleReason::Tunnel);
+}

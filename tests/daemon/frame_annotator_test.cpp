@@ -48,6 +48,16 @@ TEST(FrameValidity, ThePoseAgeDecidesStalePoseAtTheConfiguredLimit) {
     v = frameValidity(EstimatedPose{}, health, false, 0, 0);
     EXPECT_EQ(v.flags, ipc::kValidityStalePose);
     EXPECT_EQ(v.pose_age_ms, ipc::kPoseAgeNone);
+    // Following a tunnel's road without fixes (docs/vehicle-state.md "Tunnels"): the age goes on,
+    // the flag stays off until the estimator itself calls the pose stale.
+    health.stale_pose_ms = 1000;
+    EstimatedPose tunnel = poseAged(30.0);
+    tunnel.follows_graph = true;
+    v = frameValidity(tunnel, health, false, 0, 0);
+    EXPECT_TRUE(v.fresh());
+    EXPECT_EQ(v.pose_age_ms, 30000U);
+    tunnel.stale = true;  // out of the tunnel, still without a fix
+    EXPECT_EQ(frameValidity(tunnel, health, false, 0, 0).flags, ipc::kValidityStalePose);
 }
 
 TEST(FrameValidity, EachDegradedReasonAndOffRouteAreTheirOwnBits) {

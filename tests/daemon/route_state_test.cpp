@@ -130,3 +130,33 @@ TEST(RouteState, ARouteOfOnePointHasNoLineAndNothingToDraw) {
     EXPECT_EQ(route.lengthM(), 0.0);
     EXPECT_EQ(route.remainingM(), 0.0);
 }
+
+// Where the route runs in a tunnel, found on the road graph: a road north, a 1063 m tunnel that
+// bends east, a road north out of it. The route along them has one tunnel, its ends within a
+// sample (5 m) of the portals; a route 30 m or more beside the roads has none, nor a RouteState without
+// a graph.
+TEST(RouteState, MarksWhereTheRouteRunsInATunnel) {
+    auto g = std::make_shared<map::RoadGraph>();
+    g->nodes = {{0, 0, 1}, {0, 300, 2}, {900, 700, 3}, {900, 1100, 4}};
+    g->shape = {{0, 0}, {0, 300}, {0, 300}, {100, 500}, {300, 600}, {600, 600}, {900, 700}, {900, 700}, {900, 1100}};
+    g->edges = {{0, 1, 300, 50, map::RoadClass::Primary, 0, 0, 2, 1, 50},
+                {1, 2, 1063, 50, map::RoadClass::Primary, map::road_flags::kTunnel, 2, 7, 2, 50},
+                {2, 3, 400, 50, map::RoadClass::Primary, 0, 7, 9, 3, 50}};
+    map::indexEdges(*g);
+    const std::vector<map::PlanarPoint> along = {{0, 0},     {0, 300},   {100, 500}, {300, 600},
+                                                 {600, 600}, {900, 700}, {900, 1100}};
+    RouteState route(kProjection, RouteState::TunnelGraph{g, kProjection});
+    ASSERT_TRUE(route.update(controlRoute(along, 1)));
+    ASSERT_NE(route.geometry(), nullptr);
+    const auto& tunnels = route.geometry()->tunnels_m;
+    ASSERT_EQ(tunnels.size(), 1u);
+    EXPECT_NEAR(tunnels[0].first, 300.0, 5.0);
+    EXPECT_NEAR(tunnels[0].second, 300.0 + 1063.4, 5.0);
+    std::vector<map::PlanarPoint> beside = along;
+    for (auto& p : beside) p = {p.x - 30.0, p.y + 30.0};
+    ASSERT_TRUE(route.update(controlRoute(beside, 2)));
+    EXPECT_TRUE(route.geometry()->tunnels_m.empty());
+    RouteState no_graph(kProjection);
+    ASSERT_TRUE(no_graph.update(controlRoute(along, 1)));
+    EXPECT_TRUE(no_graph.geometry()->tunnels_m.empty());
+}

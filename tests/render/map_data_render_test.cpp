@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -103,7 +104,8 @@ struct Shot {
 };
 
 Shot shoot(const std::vector<std::shared_ptr<const map::Tile>>& tiles, const Camera& camera, MapLayers layers = {},
-           const MapStyle& style = MapStyle::day(), int frames = 1) {
+           const MapStyle& style = MapStyle::day(), int frames = 1, const RouteGeometry* route = nullptr,
+           bool hide_surface_labels = false) {
     RendererOptions o;
     o.width = kW;
     o.height = kH;
@@ -114,6 +116,8 @@ Shot shoot(const std::vector<std::shared_ptr<const map::Tile>>& tiles, const Cam
     frame.tiles = tiles;
     frame.layers = layers;
     frame.frame_dt_s = 0.25;
+    frame.route = route;
+    frame.hide_surface_labels = hide_surface_labels;
     for (int i = 0; i < frames; ++i) renderer->renderMap(frame);
     return {renderer->readSync(), camera, renderer->mapStats()};
 }
@@ -228,7 +232,8 @@ TEST(MapDataRender, AMarinaTintsItsWaterAndAPierIsDrawnOverIt) {
 }
 
 // A named primary road in a tunnel (tunnel=yes, layer=-1) through a 400 m hill, and a named road
-// in the open beside it. The tunnel is neither drawn on the hillside nor labelled.
+// in the open beside it. The tunnel is neither drawn on the hillside nor labelled; seen from
+// inside the tunnel, the open road's label is left out too.
 TEST(MapDataRender, ATunnelUnderAHillIsNotDrawnOrLabelledOnTheSurface) {
     const Scratch dir("tunnel-render");
     auto hill = [](double lat, double lon) {
@@ -280,6 +285,98 @@ TEST(MapDataRender, ATunnelUnderAHillIsNotDrawnOrLabelledOnTheSurface) {
         open_road = open_road || d.text == "Open Road";
     }
     EXPECT_TRUE(open_road) << l.stats.drawn_labels.size() << " labels drawn, none of them the open road's";
+    // Inside the tunnel (MapFrame::hide_surface_labels) the surface's labels are left out: the
+    // frame is the one drawn with the labels off, to the pixel.
+    const Shot inside = shoot(c.leaves, cam, labels, MapStyle::day(), 8, nullptr, true);
+    EXPECT_TRUE(inside.stats.drawn_labels.empty()) << inside.stats.drawn_labels.size() << " labels drawn";
+    MapLayers labels_off = labels;
+    labels_off.labels = false;
+    const Shot off = shoot(c.leaves, cam, labels_off, MapStyle::day(), 8);
+    EXPECT_NE(l.image.rgba, off.image.rgba) << "the labels draw nothing here";
+    EXPECT_EQ(inside.image.rgba, off.image.rgba);
+}
+
+// A route through the tunnel under the hill: in the tunnel it is drawn dashed on the hillside
+// above (on and off runs along its centre line), before and after it solid. Without the tunnel
+// in its geometry the same stretch is solid.
+TEST(MapDataRender, ARouteThroughATunnelIsDrawnDashedOnTheHillAbove) {
+    const Scratch dir("tunnel-route");
+    auto hill = [](double lat, double lon) {
+        const double dy = (lat - 43.020) * 111320.0, dx = (lon - 7.020) * 81400.0;
+        return 100.0 + 400.0 * std::exp(-(dx * dx + dy * dy) / (2.0 * 500.0 * 500.0));
+    };
+    const Compiled c = compile(dir, R"(
+ <node id="1" version="1" lat="43.020" lon="7.008"/>
+ <node id="2" version="1" lat="43.020" lon="7.032"/>
+ <node id="3" version="1" lat="43.020" lon="7.002"/>
+ <node id="4" version="1" lat="43.020" lon="7.038"/>
+ <way id="100" version="1"><nd ref="1"/><nd ref="2"/><tag k="highway" v="primary"/><tag k="tunnel" v="yes"/>
+  <tag k="layer" v="-1"/></way>
+ <way id="101" version="1"><nd ref="3"/><nd ref="1"/><tag k="highway" v="primary"/></way>
+ <way id="102" version="1"><nd ref="2"/><nd ref="4"/><tag k="highway" v="primary"/></way>
+)",
+                               hill);
+    ASSERT_FALSE(c.leaves.empty());
+    // The route along the three ways, west to east, a point every 10 m.
+    RouteGeometry route;
+    const glm::dvec3 west = planar(*c.store, 43.020, 7.002, 0.0), east = planar(*c.store, 43.020, 7.038, 0.0);
+    const double length = glm::length(east - west);
+    for (double m = 0.0; m <= length; m += 10.0) {
+        route.points.push_back(west + (east - west) * (m / length));
+        route.measure_m.push_back(m);
+    }
+    route.version = 1;
+    const double portal_w = glm::length(planar(*c.store, 43.020, 7.008, 0.0) - west);
+    const double portal_e = glm::length(planar(*c.store, 43.020, 7.032, 0.0) - west);
+    Camera cam;
+    cam.target = planar(*c.store, 43.0205, 7.020, 100.0);
+    cam.eye = cam.target + glm::dvec3(0.0, -1.0, 2600.0);
+    cam.far_m = 20000.0;
+    MapLayers layers;
+    layers.outlines = false;
+    layers.roads = false;  // only the route is blue
+    const glm::ivec3 blue = to8(MapStyle::day().route_color);
+    // Along the route's centre line between two distances: pixels of the route's fill, and
+    // runs of them (a run ends at a pixel that is not).
+    struct Line {
+        int on = 0, off = 0, runs = 0;
+    };
+    auto along = [&](const Shot& s, double from_m, double to_m) {
+        Line l;
+        glm::ivec2 last(-1);
+        bool was_on = false;
+        for (double m = from_m; m <= to_m; m += 1.0) {
+            const glm::dvec3 p = west + (east - west) * (m / length);
+            double lat = 0.0, lon = 0.0;
+            c.store->projection().reverse({p.x, p.y}, lat, lon);
+            const glm::ivec2 q = s.pixel({p.x, p.y, hill(lat, lon)});
+            if (q == last) continue;
+            last = q;
+            const auto* px = s.image.pixel(q.x, q.y);
+            const bool on = near({px[0], px[1], px[2]}, blue, 16);
+            (on ? l.on : l.off) += 1;
+            l.runs += on && !was_on ? 1 : 0;
+            was_on = on;
+        }
+        return l;
+    };
+    const Shot solid = shoot(c.leaves, cam, layers, MapStyle::day(), 1, &route);
+    route.tunnels_m = {{portal_w, portal_e}};
+    route.version = 2;
+    const Shot dashed = shoot(c.leaves, cam, layers, MapStyle::day(), 1, &route);
+    const Line before = along(dashed, 40.0, portal_w - 40.0), after = along(dashed, portal_e + 40.0, length - 40.0);
+    const Line inside = along(dashed, portal_w + 40.0, portal_e - 40.0);
+    const Line inside_solid = along(solid, portal_w + 40.0, portal_e - 40.0);
+    std::printf("[ measured ] route centre line in the tunnel: %d on, %d off, %d runs (solid without: %d on, %d off)\n",
+                inside.on, inside.off, inside.runs, inside_solid.on, inside_solid.off);
+    EXPECT_EQ(before.off, 0) << before.on << " route pixels before the tunnel";
+    EXPECT_EQ(after.off, 0) << after.on << " route pixels after the tunnel";
+    EXPECT_GT(before.on, 20);
+    EXPECT_EQ(inside_solid.off, 0) << "without the tunnel: " << inside_solid.on << " route pixels";
+    // Dashes and gaps of two route widths each: half on (measured 221 of 432 pixels), and many
+    // runs (measured 52 over 1.9 km).
+    EXPECT_GE(inside.runs, 20) << inside.on << " on, " << inside.off << " off";
+    EXPECT_NEAR(inside.on, inside.off, (inside.on + inside.off) / 8) << "dashes and gaps of one length";
 }
 
 // A flat 1 km store seen from its east edge, looking outward: beyond the data the ground goes on

@@ -288,3 +288,36 @@ TEST(RouteDrape, ANormalRouteIsDrapedWhole) {
 }
 
 }  // namespace
+
+// A tunnel from 300 m to 700 m along the route: the pieces are split where it begins and ends,
+// those between are marked, the rest not, and none is lost (the measures still join up).
+TEST(RouteDrape, PiecesAreSplitAndMarkedWhereTheRouteRunsInATunnel) {
+    const auto tile = hillTile();
+    const TileMesh mesh = buildTileMesh(*tile);
+    RouteGeometry route = sparseRoute();
+    const auto plain = drapeRoute(route, mesh.origin, mesh.grid(), mesh.ancestorGrids());
+    route.tunnels_m = {{300.0, 700.0}, {2000.0, 2100.0}};  // the second one lies beyond the tile
+    const auto pieces = drapeRoute(route, mesh.origin, mesh.grid(), mesh.ancestorGrids());
+    ASSERT_FALSE(pieces.empty());
+    EXPECT_EQ(pieces.size(), plain.size() + 2) << "one split at each end of the tunnel";
+    std::size_t tunnel = 0;
+    bool begins = false, ends = false;
+    for (std::size_t i = 0; i < pieces.size(); ++i) {
+        const RoutePiece& p = pieces[i];
+        const float mid = 0.5f * (p.measure0 + p.measure1);
+        EXPECT_EQ(p.tunnel, mid > 300.0f && mid < 700.0f) << "piece " << i << " at " << mid << " m";
+        tunnel += p.tunnel ? 1 : 0;
+        begins = begins || std::abs(p.measure0 - 300.0f) < 1e-3f;
+        ends = ends || std::abs(p.measure1 - 700.0f) < 1e-3f;
+        if (i > 0 && pieces[i - 1].measure1 == p.measure0) {
+            EXPECT_EQ(pieces[i - 1].p1, p.p0) << "piece " << i;
+        }
+    }
+    EXPECT_TRUE(begins && ends) << "no piece boundary at the tunnel's ends";
+    EXPECT_GT(tunnel, 10u);
+    // Morphed, a tunnel piece's class says so (roads_geo.vert dashes it).
+    std::vector<RoadInstance> out;
+    morphRoute(pieces, TileMorph{}, glm::vec2(0.0f), out);
+    ASSERT_EQ(out.size(), pieces.size());
+    for (std::size_t i = 0; i < out.size(); ++i) EXPECT_EQ(out[i].road_class, pieces[i].tunnel ? 1.0f : 0.0f);
+}

@@ -8,6 +8,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "graph_walk.h"
+
 namespace navmap::daemon {
 
 namespace {
@@ -75,7 +77,58 @@ bool limitHoldsBothWays(const map::RoadGraph& g, std::uint32_t edge) {
     return true;  // no twin: one-way
 }
 
+ipc::CanTime after(ipc::CanTime t, double s) {
+    return t + std::chrono::duration_cast<ipc::CanTime::duration>(std::chrono::duration<double>(s));
+}
+
+// Dead reckoning along the road graph (docs/vehicle-state.md "Tunnels"): after
+// graph_follow_after_s without a fix, from the road edge matched at the newest anchor, the
+// distance driven since is walked along the graph; used when the walk passes a tunnel.
+std::optional<GraphWalk> tunnelWalk(const VehicleState::Parts& p, ipc::CanTime t) {
+    const auto& cfg = p.config;
+    if (p.anchors.empty() || !p.matcher) return std::nullopt;
+    const PoseAnchor& last = p.anchors.back();
+    if (!last.edge || seconds(last.time, t) <= cfg.graph_follow_after_s) return std::nullopt;
+    const ipc::CanTime to = std::min(t, after(last.time, cfg.tunnel_dead_reckoning_s));
+    ipc::CanTime from = last.time;
+    double driven = 0.0;
+    if (p.odometer_time > from && p.odometer_time <= to) {
+        driven = p.odometer_m;
+        from = p.odometer_time;
+    }
+    driven += distanceDriven(p.motion, from, to, cfg.motion_timeout_s, last.speed_mps);
+    auto walk =
+        walkGraph(p.matcher->graph(), *last.edge, {last.x, last.y}, driven, p.route.get(), p.route_measure, cfg);
+    if (!walk || !walk->tunnel) return std::nullopt;
+    return walk;
+}
+
 }  // namespace
+
+double distanceDriven(const std::vector<MotionSample>& motion, ipc::CanTime from, ipc::CanTime to, double hold_s,
+                      double fallback_speed) {
+    if (!(to > from)) return 0.0;
+    // The speed is linear between the breakpoints (the samples' times and the end of the hold):
+    // the midpoint rule is exact on each piece.
+    std::vector<ipc::CanTime> cuts{from};
+    const auto first = std::upper_bound(motion.begin(), motion.end(), from,
+                                        [](ipc::CanTime tt, const MotionSample& m) { return tt < m.time; });
+    for (auto it = first; it != motion.end() && it->time < to; ++it) cuts.push_back(it->time);
+    if (!motion.empty()) {
+        const ipc::CanTime hold_end = after(motion.back().time, hold_s);
+        if (hold_end > cuts.back() && hold_end < to) cuts.push_back(hold_end);
+    }
+    cuts.push_back(to);
+    std::size_t hint = 0;
+    double d = 0.0;
+    for (std::size_t i = 0; i + 1 < cuts.size(); ++i) {
+        const double span = seconds(cuts[i], cuts[i + 1]);
+        double v = 0.0, w = 0.0;
+        motionAt(motion, cuts[i] + (cuts[i + 1] - cuts[i]) / 2, hold_s, fallback_speed, hint, v, w);
+        d += v * span;
+    }
+    return d;
+}
 
 void deadReckon(const std::vector<MotionSample>& motion, ipc::CanTime from, ipc::CanTime to, double hold_s,
                 double fallback_speed, double& x, double& y, double& heading_rad, double& speed_mps) {
@@ -149,6 +202,16 @@ EstimatedPose VehicleState::compute(const Parts& p, ipc::CanTime t) {
         y += f * (b.y - qy);
         h += f * wrapPi(b.heading_rad - qh);
     }
+    const std::optional<GraphWalk> walk = t > last.time ? tunnelWalk(p, t) : std::nullopt;
+    if (walk) {
+        x = walk->point.x;
+        y = walk->point.y;
+        h = walk->heading_rad;
+        std::size_t hint = 0;
+        double w = 0.0;
+        motionAt(p.motion, t, cfg.motion_timeout_s, last.speed_mps, hint, v, w);
+        pose.follows_graph = true;
+    }
     pose.valid = true;
     pose.raw_x = x;
     pose.raw_y = y;
@@ -157,7 +220,11 @@ EstimatedPose VehicleState::compute(const Parts& p, ipc::CanTime t) {
     pose.heading_deg = wrapDeg360(h * kRadToDeg);
     pose.speed_mps = v;
     pose.since_fix_s = std::max(0.0, seconds(last.time, t));
-    pose.stale = pose.since_fix_s > cfg.gnss_timeout_s;
+    // Following a tunnel the position is known without fixes: inside and until gnss_timeout_s
+    // of driving beyond its end.
+    const bool tunnel_known =
+        walk && (walk->in_tunnel || walk->beyond_tunnel_m <= std::max(std::abs(v), 1.0) * cfg.gnss_timeout_s);
+    pose.stale = pose.since_fix_s > cfg.gnss_timeout_s && !tunnel_known;
     pose.source_time = std::max(std::min(anchor_time, t), newestMotionAtOrBefore(p.motion, t));
 
     // Map matching: the route first, the road graph otherwise (not from the seed; docs/vehicle-state.md "Map
@@ -171,7 +238,9 @@ EstimatedPose VehicleState::compute(const Parts& p, ipc::CanTime t) {
         rm = p.route->match(raw, heading, p.route_measure, cfg);
     }
     std::optional<RoadMatch> road;
-    if (p.matcher) {
+    if (walk) {
+        road = RoadMatch{walk->edge, raw, pose.heading_deg, 0.0, 1.0, 0.0};  // on the edge walked
+    } else if (p.matcher) {
         road = p.matcher->match(raw, heading, p.matched_edge, cfg);
     }
     map::PlanarPoint target{};
@@ -194,6 +263,9 @@ EstimatedPose VehicleState::compute(const Parts& p, ipc::CanTime t) {
         pose.road_match_certain = !pose.stale && road->confidence >= cfg.snap_full_confidence;
         if (pose.road_match_certain && direction_known)
             pose.speed_limit_kmh = p.matcher->graph().edges[road->edge].speed_limit_kmh;
+        pose.road_confidence = road->confidence;
+        pose.in_tunnel = !pose.stale && road->confidence >= cfg.snap_full_confidence &&
+                         (p.matcher->graph().edges[road->edge].flags & map::road_flags::kTunnel) != 0;
     }
     if (rm && rm->confidence >= cfg.snap_min_confidence) {
         pose.on_route = true;

@@ -299,6 +299,19 @@ void VehicleStateEstimator::prune() {
     const auto it = std::upper_bound(motion.begin(), motion.end(), cutoff,
                                      [](ipc::CanTime tt, const MotionSample& s) { return tt < s.time; });
     if (it != motion.begin() && std::prev(it) != motion.begin()) {
+        // The distance driven since the newest anchor over the samples that go (VehicleState::Parts::odometer_m).
+        if (!anchors.empty()) {
+            const ipc::CanTime anchor = anchors.back().time, kept = std::prev(it)->time;
+            if (m_state.odometer_time < anchor) {
+                m_state.odometer_m = 0.0;
+                m_state.odometer_time = anchor;
+            }
+            if (kept > m_state.odometer_time) {
+                m_state.odometer_m += distanceDriven(motion, m_state.odometer_time, kept,
+                                                     m_state.config.motion_timeout_s, anchors.back().speed_mps);
+                m_state.odometer_time = kept;
+            }
+        }
         motion.erase(motion.begin(), std::prev(it));
     }
 }
@@ -309,6 +322,19 @@ void VehicleStateEstimator::updateMatch(ipc::CanTime t) {
     }
     const EstimatedPose pose = VehicleState::compute(m_state, t);
     m_state.matched_edge = pose.match_confidence >= m_state.config.snap_min_confidence ? pose.edge : std::nullopt;
+    // At a fix: where dead reckoning along the road graph would start (docs/vehicle-state.md
+    // "Tunnels"). On the route, the road under the route's point in the route's direction: near
+    // junctions the road match may still hold a neighbouring road.
+    if (t == m_state.anchors.back().time) {
+        const auto& cfg = m_state.config;
+        std::optional<std::uint32_t> edge = pose.road_confidence >= cfg.snap_full_confidence ? pose.edge : std::nullopt;
+        if (pose.on_route && m_state.matcher) {
+            const auto on = m_state.route->match({pose.raw_x, pose.raw_y}, std::nullopt, m_state.route_measure, cfg);
+            const auto road = on ? m_state.matcher->match(on->point, on->heading_deg, edge, cfg) : std::nullopt;
+            if (road && road->confidence >= cfg.snap_full_confidence) edge = road->edge;
+        }
+        m_state.anchors.back().edge = edge;
+    }
     m_state.route_measure = pose.on_route ? std::optional<double>(pose.route_driven_m) : std::nullopt;
 }
 

@@ -60,7 +60,10 @@ Status ControlState::setView(const SetViewCommand& command) {
 
 Status ControlState::setStyle(const SetStyleCommand& command) {
     auto next = std::make_shared<ViewState>(*m_view.load());
-    if (command.style) next->style = *command.style;
+    if (command.style) {
+        next->style = *command.style;
+        next->style_from_hmi = !command.configured;
+    }
     if (command.ground) next->ground = *command.ground;
     ++next->version;
     m_view.store(std::move(next));

@@ -203,6 +203,12 @@ void GlRenderer::renderMap(TargetHandle target, const MapFrame& frame) {
     const View& v = view(target);
     const ProgramBinaryCache::Use programs(m_programs.get());  // passes made on first use compile theirs here
     // Each target is a view of its own: its label layout continues from its own last frame.
+    if (frame.hide_surface_labels && frame.layers.labels) {
+        MapFrame without = frame;  // in a tunnel: drawn as with the labels off
+        without.layers.labels = false;
+        m_map->render(without, *v.target, target.id());
+        return;
+    }
     m_map->render(frame, *v.target, target.id());
 }
 

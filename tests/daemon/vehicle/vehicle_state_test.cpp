@@ -543,3 +543,104 @@ TEST(VehicleState, SpeedLimitOfTheMatchedRoadInTheDrivingDirection) {
         EXPECT_FALSE(p.road_match_certain);
     }
 }
+
+// Dead reckoning along a tunnel (docs/vehicle-state.md "Tunnels"): a road north to a portal at
+// (0, 300), a 1063 m tunnel that bends east to (900, 700), and two exits there, east (straight
+// on) and north. GNSS stops 60 m before the portal; speed goes on at 15 m/s, the gyro says
+// straight on. The marker follows the tunnel's shape at the distance driven, beyond the 10 s of
+// plain dead reckoning and the 20 s of motion history, and leaves it by the route's exit.
+namespace {
+
+std::shared_ptr<const map::RoadGraph> tunnelGraph(bool tunnel) {
+    auto g = std::make_shared<map::RoadGraph>();
+    g->nodes = {{0, 0, 1}, {0, 300, 2}, {900, 700, 3}, {1300, 700, 4}, {900, 1100, 5}};
+    g->shape = {{0, 0},     {0, 300},   {0, 300},    {100, 500}, {300, 600}, {600, 600},
+                {900, 700}, {900, 700}, {1300, 700}, {900, 700}, {900, 1100}};
+    const std::uint8_t tf = tunnel ? map::road_flags::kTunnel : 0;
+    g->edges = {{0, 1, 300, 50, map::RoadClass::Primary, map::road_flags::kOneway, 0, 2, 1, 50},
+                {1, 2, 1063, 50, map::RoadClass::Primary, std::uint8_t(map::road_flags::kOneway | tf), 2, 7, 2, 50},
+                {2, 3, 400, 50, map::RoadClass::Primary, map::road_flags::kOneway, 7, 9, 3, 50},
+                {2, 4, 400, 50, map::RoadClass::Primary, map::road_flags::kOneway, 9, 11, 4, 50}};
+    map::indexEdges(*g);
+    return g;
+}
+
+// Distance of p from a polyline and how far along it p's nearest point lies.
+std::pair<double, double> onPolyline(const std::vector<map::PlanarPoint>& line, map::PlanarPoint p) {
+    double best = 1e18, along = 0.0, m = 0.0;
+    for (std::size_t i = 0; i + 1 < line.size(); ++i) {
+        const double dx = line[i + 1].x - line[i].x, dy = line[i + 1].y - line[i].y, len = std::hypot(dx, dy);
+        const double t = std::clamp(((p.x - line[i].x) * dx + (p.y - line[i].y) * dy) / (len * len), 0.0, 1.0);
+        const double d = std::hypot(p.x - line[i].x - t * dx, p.y - line[i].y - t * dy);
+        if (d < best) best = d, along = m + t * len;
+        m += len;
+    }
+    return {best, along};
+}
+
+}  // namespace
+
+TEST(VehicleState, DeadReckoningFollowsTheTunnelWhenGnssIsLost) {
+    const map::Projection proj(42.5, 1.5);
+    const std::vector<map::PlanarPoint> path = {{0, 0}, {0, 300}, {100, 500}, {300, 600}, {600, 600}, {900, 700}};
+    const double tunnel_from = 300.0, tunnel_to = 300.0 + 1063.4;
+    constexpr double kLoss = 16.0, kV = 15.0;  // the last fix at y = 240
+    for (const bool with_route : {false, true}) {
+        SCOPED_TRACE(with_route ? "with a route out north" : "no route");
+        const auto matcher = std::make_shared<const MapMatcher>(tunnelGraph(true));
+        VehicleStateEstimator est(proj, matcher);
+        if (with_route) {
+            std::vector<map::PlanarPoint> r = path;
+            r.push_back({900, 1100});
+            est.setRoute(std::make_shared<const RouteLine>("r", r));
+        }
+        double last_along = 0.0;
+        for (int i = 0; i <= int(110.0 * 50); ++i) {
+            const double t = i * 0.02;
+            est.addSample(motion(kV, 0.0, t));
+            if (i % 10 == 0 && t <= kLoss) est.addSample(fix(proj, 0.0, kV * t, t, 0.0));
+            if (i % 50 != 0 || t < kLoss + 5.0) continue;
+            const EstimatedPose p = est.poseAt(at(t));
+            const double driven = kV * t;
+            ASSERT_TRUE(p.valid);
+            if (driven < tunnel_to - 5.0) {
+                // In the tunnel: on its shape, at the distance driven, never going back.
+                const auto [off, along] = onPolyline(path, {p.x, p.y});
+                EXPECT_LT(off, 0.5) << "t " << t << ": " << p.x << ", " << p.y;
+                EXPECT_NEAR(along, driven, 1.0) << "t " << t;
+                EXPECT_GE(along, last_along) << "t " << t;
+                last_along = along;
+                EXPECT_TRUE(p.follows_graph) << "t " << t;
+                EXPECT_FALSE(p.stale) << "t " << t;
+                EXPECT_EQ(p.in_tunnel, driven > tunnel_from + 1.0) << "t " << t;
+                EXPECT_GT(p.since_fix_s, 4.0);
+            } else if (driven > tunnel_to + 100.0) {
+                // Out by the exit the route takes (else straight on), and stale: 2 s of driving
+                // beyond the portal without a fix.
+                EXPECT_TRUE(p.follows_graph) << "t " << t;
+                EXPECT_FALSE(p.in_tunnel) << "t " << t;
+                EXPECT_TRUE(p.stale) << "t " << t;
+                const double beyond = driven - tunnel_to;
+                if (with_route) {
+                    EXPECT_NEAR(p.x, 900.0, 0.5) << "t " << t;
+                    EXPECT_NEAR(p.y, 700.0 + beyond, 1.0) << "t " << t;
+                } else {
+                    EXPECT_NEAR(p.x, 900.0 + beyond, 1.0) << "t " << t;
+                    EXPECT_NEAR(p.y, 700.0, 0.5) << "t " << t;
+                }
+            }
+        }
+        EXPECT_GT(last_along, tunnel_to - 20.0) << "the tunnel was not followed to its end";
+    }
+    // The same road without the tunnel flag: plain dead reckoning, frozen after 10 s and stale.
+    VehicleStateEstimator est(proj, std::make_shared<const MapMatcher>(tunnelGraph(false)));
+    for (int i = 0; i <= int(40.0 * 50); ++i) {
+        const double t = i * 0.02;
+        est.addSample(motion(kV, 0.0, t));
+        if (i % 10 == 0 && t <= kLoss) est.addSample(fix(proj, 0.0, kV * t, t, 0.0));
+    }
+    const EstimatedPose p = est.poseAt(at(40.0));
+    EXPECT_FALSE(p.follows_graph);
+    EXPECT_TRUE(p.stale);
+    EXPECT_FALSE(p.in_tunnel);
+}

@@ -8,6 +8,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "navmap/map/guidance/maneuver.h"
@@ -107,6 +108,12 @@ struct RouteGeometry {
     /// Bumped by the owner whenever points or measures change: the renderer re-drapes the route
     /// onto its tiles when this (or the object) changes. Point z is not used for drawing.
     std::uint64_t version = 0;
+    /// The parts of the route that run in a tunnel, as [from, to] distances along the route
+    /// (metres, ascending, not overlapping): drawn dashed on the surface above the tunnel, since
+    /// the tunnel itself is under the terrain. navmapd finds them on the road graph
+    /// (docs/rendering.md "Tunnels and layers"). Part of the route's geometry: change `version`
+    /// with it.
+    std::vector<std::pair<double, double>> tunnels_m;
 };
 
 /// Ancestor levels a terrain tile can morph through (terrain_lod.h: a tile reaches several
@@ -257,6 +264,10 @@ struct MapFrame {
     const RouteGeometry* route = nullptr;
     double route_progress_m = 0.0;
     std::optional<MarkerState> marker;
+    /// The vehicle is in a tunnel: the map labels (of the surface above) are left out as if
+    /// MapLayers::labels were off; the guidance overlay, the speed limit sign, the route and the
+    /// manoeuvre arrows stay. navmapd sets it from the matched road (docs/navmapd.md "Tunnels").
+    bool hide_surface_labels = false;
     MapLayers layers;
     /// Manoeuvre arrows (any order; cutManeuverArrow() cuts them from the route). Empty: none.
     std::vector<ManeuverArrow> arrows;

@@ -33,6 +33,7 @@ struct EstimatedPose {
     bool stale = false;                      ///< no accepted fix for gnss_timeout_s: show "position lost"
     double since_fix_s = 0.0;                ///< seconds since the newest accepted fix
     double match_confidence = 0.0;           ///< 0..1 (0: no road/route candidate)
+    double road_confidence = 0.0;            ///< 0..1: the road match's own (0: no road candidate)
     double snap_weight = 0.0;                ///< 0 raw .. 1 fully on the road
     std::optional<std::uint32_t> edge;       ///< matched graph edge
     std::optional<double> road_heading_deg;  ///< direction of the matched route/road segment
@@ -45,6 +46,13 @@ struct EstimatedPose {
     /// least snap_full_confidence (what the speed limit needs, less the direction). The
     /// cluster's street bar names only such a road. docs/vehicle-state.md "Speed limit".
     bool road_match_certain = false;
+    /// On a road in a tunnel: the matched edge has road_flags::kTunnel, the road match is
+    /// confident (snap_full_confidence) and the pose is not stale. navmapd dims the view to the
+    /// night style and hides the surface's labels then (docs/vehicle-state.md "Tunnels").
+    bool in_tunnel = false;
+    /// The pose follows the road graph from the last fix (dead reckoning in a tunnel,
+    /// docs/vehicle-state.md "Tunnels") rather than integrating speed and yaw rate.
+    bool follows_graph = false;
     bool on_route = false;
     double route_driven_m = 0.0;  ///< along the route (when on_route)
     double route_remaining_m = 0.0;
@@ -61,6 +69,9 @@ struct PoseAnchor {
     double speed_mps = 0.0;
     double jump_x = 0.0, jump_y = 0.0;  ///< prediction minus anchor at `time`: faded out over blend_s
     double jump_heading_rad = 0.0;
+    /// The road edge matched at `time` with at least snap_full_confidence: where dead reckoning
+    /// along the road graph starts (docs/vehicle-state.md "Tunnels").
+    std::optional<std::uint32_t> edge;
 };
 
 /// Speed and yaw rate at one time (yaw rate converted to clockwise radians per second).
@@ -82,6 +93,11 @@ public:
         std::optional<std::uint32_t> matched_edge;  ///< hysteresis state at the newest input
         std::optional<double> route_measure;        ///< previous route match
         std::uint32_t frame_epoch = 0;              ///< EstimatedPose::frame_epoch
+        /// The distance driven from the newest anchor up to `odometer_time`, metres, kept when
+        /// the motion samples of that time are pruned: dead reckoning along a tunnel goes on
+        /// longer than the motion history (ignored when older than the newest anchor).
+        double odometer_m = 0.0;
+        ipc::CanTime odometer_time{};
     };
     explicit VehicleState(Parts parts) : m_p(std::move(parts)) {}
 
@@ -95,6 +111,12 @@ public:
 private:
     Parts m_p;
 };
+
+/// The distance driven from `from` to `to` (to >= from): the integral of the speed as deadReckon
+/// takes it (linear between samples, the last one held for hold_s, `fallback_speed` before the
+/// first), exact for that piecewise linear speed.
+double distanceDriven(const std::vector<MotionSample>& motion, ipc::CanTime from, ipc::CanTime to, double hold_s,
+                      double fallback_speed);
 
 /// Integrates speed and heading rate from `from` to `to` (to >= from) starting at (x, y, h),
 /// using the samples (trapezoid between samples, the last one held for at most holdS after it;

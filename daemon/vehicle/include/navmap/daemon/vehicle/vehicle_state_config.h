@@ -10,6 +10,9 @@ struct VehicleStateConfig {
     double gnss_timeout_s = 2.0;         ///< no accepted fix for this long: stale, "position lost"
     double motion_timeout_s = 0.5;       ///< speed/yaw rate held this long past their newest sample
     double max_dead_reckoning_s = 10.0;  ///< after the newest fix, the pose freezes after this long
+    // --- tunnels (docs/vehicle-state.md "Tunnels")
+    double graph_follow_after_s = 1.0;       ///< no fix for this long and a tunnel ahead: follow the road graph
+    double tunnel_dead_reckoning_s = 900.0;  ///< following the graph, the pose freezes after this long
 
     // --- fusion
     double position_gain = 0.3;          ///< share of the fix innovation taken when speed/yaw drive the track

@@ -101,6 +101,9 @@ struct SetViewCommand {
 struct SetStyleCommand {
     std::optional<MapStyle> style;
     std::optional<Ground> ground;
+    /// The configuration's style (navmapd at start and reload), not the HMI's set_style: a fixed
+    /// day style from the HMI wins over the night style in a tunnel, the configuration's does not.
+    bool configured = false;
 };
 struct GetStatusCommand {};
 struct SubscribeCommand {

@@ -40,6 +40,8 @@ struct DisplayView {
 struct ViewState {
     std::map<std::string, DisplayView, std::less<>> displays;
     MapStyle style = MapStyle::Day;
+    /// `style` came from a set_style of the HMI (SetStyleCommand::configured false).
+    bool style_from_hmi = false;
     Ground ground = Ground::LandCover;
     std::uint64_t version = 0;
 };
