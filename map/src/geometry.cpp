@@ -128,8 +128,6 @@ Segment longestStraightSegment(std::span<const PlanarPoint> line, double max_tur
     return best;
 }
 
-namespace {
-
 double segmentDistance(PlanarPoint p, PlanarPoint a, PlanarPoint b) {
     const double dx = b.x - a.x, dy = b.y - a.y;
     const double len2 = dx * dx + dy * dy;
@@ -138,7 +136,7 @@ double segmentDistance(PlanarPoint p, PlanarPoint a, PlanarPoint b) {
     return std::hypot(p.x - (a.x + t * dx), p.y - (a.y + t * dy));
 }
 
-}  // namespace
+namespace {}  // namespace
 
 std::vector<PlanarPoint> simplifyPolyline(std::span<const PlanarPoint> line, double tolerance) {
     const std::vector<char> keep = douglasPeucker(

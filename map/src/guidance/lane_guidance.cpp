@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "navmap/map/guidance/lane_guidance.h"
+#include "navmap/map/geometry.h"
 
 #include <algorithm>
 #include <cmath>
@@ -16,14 +17,6 @@ std::int64_t cellKey(double x, double y) {
     const auto cx = static_cast<std::int64_t>(std::floor(x / kCellM));
     const auto cy = static_cast<std::int64_t>(std::floor(y / kCellM));
     return cx * 0x100000000LL + (cy & 0xFFFFFFFFLL);
-}
-
-double distanceToSegment(PlanarPoint p, PlanarPoint a, PlanarPoint b) {
-    const double dx = b.x - a.x, dy = b.y - a.y;
-    const double len2 = dx * dx + dy * dy;
-    double t = len2 > 0.0 ? ((p.x - a.x) * dx + (p.y - a.y) * dy) / len2 : 0.0;
-    t = std::clamp(t, 0.0, 1.0);
-    return std::hypot(p.x - (a.x + t * dx), p.y - (a.y + t * dy));
 }
 
 /// The arrows that lead along a turn of `type`, and those next to them, for when no lane has the
@@ -134,7 +127,7 @@ std::optional<LaneGuidance> LaneFinder::lanesBefore(const std::vector<PlanarPoin
     const auto within = [&](PlanarPoint p, std::size_t j) {
         if (tests_left == 0) return false;
         --tests_left;
-        return distanceToSegment(p, points[j], points[j + 1]) <= options.match_m;
+        return segmentDistance(p, points[j], points[j + 1]) <= options.match_m;
     };
     const auto follows = [&](const GraphEdge& e, std::size_t& k) {
         const double reach = static_cast<double>(e.length_m) + 2.0 * options.match_m;

@@ -24,6 +24,8 @@ struct Box {
 };
 
 Box boundsOf(std::span<const PlanarPoint> points);
+/// Distance from p to the segment a-b (to a when a == b), metres.
+double segmentDistance(PlanarPoint p, PlanarPoint a, PlanarPoint b);
 
 /// Signed area of a ring (not closed: the last point is not a copy of the first); positive
 /// when counter-clockwise.
