@@ -103,6 +103,8 @@ void occlusionEffects(benchmark::State& state) {
     std::array<std::vector<double>, kVariants> ms;
     std::size_t i = 0;
     double labels = 0, buildings = 0, aura_pass = 0, glow_pass = 0, roads_pass = 0, buildings_pass = 0;
+    // Per variant, with NAVMAP_BENCH_PROFILE: terrain, buildings, label block (labels and arrows).
+    std::array<double, kVariants> terrain_pass{}, variant_buildings_pass{}, label_pass{};
     for (auto _ : state) {
         const Shot& shot = views[i++ % views.size()];
         double total = 0;
@@ -121,6 +123,9 @@ void occlusionEffects(benchmark::State& state) {
                 roads_pass += st.roads_ms + st.route_ms;
                 buildings_pass += st.buildings_ms;
             }
+            terrain_pass[static_cast<std::size_t>(v)] += st.terrain_ms;
+            variant_buildings_pass[static_cast<std::size_t>(v)] += st.buildings_ms;
+            label_pass[static_cast<std::size_t>(v)] += st.label_block_ms;
             aura_pass += st.aura_ms;
             glow_pass += v == kGlowSingle ? st.glow_ms : 0.0;
         }
@@ -146,6 +151,12 @@ void occlusionEffects(benchmark::State& state) {
         state.counters["glow_single_pass_ms"] = glow_pass / n;
         state.counters["baseline_roads_route_ms"] = roads_pass / n;
         state.counters["baseline_buildings_ms"] = buildings_pass / n;
+        for (int v = 0; v < kVariants; ++v) {
+            const std::string name = kNames[static_cast<std::size_t>(v)];
+            state.counters[name + "_terrain_pass_ms"] = terrain_pass[static_cast<std::size_t>(v)] / n;
+            state.counters[name + "_buildings_pass_ms"] = variant_buildings_pass[static_cast<std::size_t>(v)] / n;
+            state.counters[name + "_label_pass_ms"] = label_pass[static_cast<std::size_t>(v)] / n;
+        }
     }
     state.SetLabel(std::to_string(s.width) + "x" + std::to_string(s.height));
 }

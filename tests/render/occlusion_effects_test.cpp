@@ -346,6 +346,35 @@ TEST(LabelAura, WorldSpaceLabelBehindABuildingBecomesReadable) {
     EXPECT_GE(road_shown, 10u) << "the referenced road is partly visible around the label";
 }
 
+TEST(LabelAura, ChangesOnlyThePixelsWhereABuildingIsSeen) {
+    // Bird's-eye over the town: the aura fades the buildings around the labels and leaves the
+    // rest of the scene, the roads' outlines and the terrain between the buildings, as it was.
+    const AuraScene s = auraScene(frameAt(ViewMode::Bird, kAuraMeasure, 0.0, kAuraW, kAuraH));
+    MapFrame f = s.frame;
+    f.layers.labels = true;
+    f.layers.label_aura = true;
+    const Image aura = render(f, kSettleFrames, MapStyle::day(), nullptr, kAuraW, kAuraH);
+    dump(aura, "aura_town_bird");
+    // Where a building is seen: the frames with and without buildings differ there. Without the
+    // screen-space outlines, which lie over buildings beside the roads and are faded with them.
+    f = s.frame;
+    f.layers.outlines = false;
+    const Image built = render(f, 1, MapStyle::day(), nullptr, kAuraW, kAuraH);
+    f.layers.buildings = false;
+    const Image open = render(f, 1, MapStyle::day(), nullptr, kAuraW, kAuraH);
+    std::size_t changed = 0, outside_buildings = 0;
+    for (int y = 0; y < kAuraH; ++y) {
+        for (int x = 0; x < kAuraW; ++x) {
+            if (dist(at(aura, x, y), at(s.labels_built, x, y)) <= 8) continue;
+            ++changed;
+            outside_buildings += dist(at(built, x, y), at(open, x, y)) <= 4;
+        }
+    }
+    std::printf("aura: %zu pixels changed, %zu of them where no building is seen\n", changed, outside_buildings);
+    EXPECT_GT(changed, 500u) << "buildings around the labels fade";
+    EXPECT_LE(double(outside_buildings), 0.01 * double(changed));
+}
+
 TEST(LabelAura, BuildingsAwayFromLabelsStayOpaque) {
     // Without labels the aura has no region: the frame equals the plain one.
     MapFrame f = frameAt(ViewMode::Bird, kAuraMeasure);

@@ -164,7 +164,10 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target, int 
         m_effects->captureTerrainDepth(target, wantsGlow(layers), wantsAura(layers));
     }
     if (layers.buildings && terrain_alone) {  // after the terrain (see above)
+        // The label aura changes only the pixels where a building is seen (the stencil).
+        OcclusionEffects::markBuildings(wantsAura(layers));
         m_buildings.draw(ctx);
+        OcclusionEffects::markBuildings(false);
         clock.lap(m_stats.buildings_ms, m_stats.buildings_work);
     }
     if (layers.terrain && layers.far_ground) {  // what is still clear below the horizon: beyond the data

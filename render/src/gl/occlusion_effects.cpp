@@ -20,6 +20,10 @@ namespace {
 
 // Stencil bit of the frame that the direct glow uses so overlapping road segments blend once.
 constexpr GLuint kGlowStencilBit = 0x80;
+// Stencil bit of the frame that marks the pixels where a building is the visible surface: inside
+// the label auras the only pixels the aura changes. The composite clears it as it blends (each
+// pixel blends once).
+constexpr GLuint kAuraStencilBit = 0x20;
 
 // Buffers kept for this many target sizes (one renderer may serve several displays).
 constexpr std::size_t kMaxBufferSets = 3;
@@ -121,11 +125,12 @@ struct OcclusionEffects::Buffers {
     // half-resolution blur pair.
     Layer glow;
     Layer blur[2];
-    // Label aura: the terrain colour before the buildings, the layer behind the labels (step 2)
-    // with its depth, and the label OOBB depth + gradient mask (steps 2 and 3).
-    Layer terrain_color;
+    // Label aura: the layer behind the labels (step 2), drawn with the frame's depth/stencil
+    // attached, and the label OOBB depth + gradient mask (steps 2 and 3). The layer starts as the
+    // terrain colour before the buildings; multisampled it starts transparent, as ES 3.0 cannot
+    // blit into a multisampled buffer, and the terrain colour is kept beside it (terrain_color).
     Layer behind;
-    GLuint behind_depth = 0;
+    Layer terrain_color;
     GLuint label_mask = 0, label_depth = 0, label_fbo = 0;
 
     void makeTerrainDepth() {
@@ -153,12 +158,12 @@ struct OcclusionEffects::Buffers {
     void makeAura() {
         makeTerrainDepth();
         if (behind.fbo) return;
-        terrain_color.create(width, height, 0, GL_NEAREST);  // a resolve target only
-        checkFramebufferComplete("occlusion effects: aura terrain colour");
-        behind_depth = makeRenderbuffer(GL_DEPTH24_STENCIL8, samples, width, height);
         behind.create(width, height, samples, GL_NEAREST);
-        behind.attachDepth(behind_depth);
         checkFramebufferComplete("occlusion effects: aura scene behind labels");
+        if (samples > 0) {
+            terrain_color.create(width, height, 0, GL_NEAREST);  // a resolve target only
+            checkFramebufferComplete("occlusion effects: aura terrain colour");
+        }
         label_mask = makeTexture(GL_R8, width, height, GL_NEAREST);
         label_depth = makeTexture(GL_DEPTH_COMPONENT24, width, height, GL_NEAREST);
         glGenFramebuffers(1, &label_fbo);
@@ -171,11 +176,10 @@ struct OcclusionEffects::Buffers {
     ~Buffers() {
         glow.destroy();
         for (Layer& l : blur) l.destroy();
-        terrain_color.destroy();
         behind.destroy();
+        terrain_color.destroy();
         const GLuint textures[] = {terrain_depth, label_mask, label_depth};
         glDeleteTextures(3, textures);
-        glDeleteRenderbuffers(1, &behind_depth);
         const GLuint fbos[] = {terrain_fbo, label_fbo};
         glDeleteFramebuffers(2, fbos);
     }
@@ -187,6 +191,7 @@ OcclusionEffects::OcclusionEffects()
       m_glow_composite(ShaderProgram::fromEmbedded("screen_outline.vert", "glow_composite.frag")),
       m_aura_buildings(ShaderProgram::fromEmbedded("buildings.vert", "aura_buildings.frag")),
       m_aura_mask(ShaderProgram::fromEmbedded("aura_mask.vert", "aura_mask.frag")),
+      m_aura_depth(ShaderProgram::fromEmbedded("aura_mask.vert", "aura_depth.frag")),
       m_aura_composite(ShaderProgram::fromEmbedded("aura_mask.vert", "aura_composite.frag")) {
     glGenVertexArrays(1, &m_empty_vao);
     glGenVertexArrays(1, &m_mask_vao);
@@ -233,17 +238,28 @@ void OcclusionEffects::captureTerrainDepth(const RenderTarget& target, bool glow
     b.makeTerrainDepth();
     if (aura) b.makeAura();
     blitDepth(target, b.terrain_fbo);
-    if (aura) {
-        blitDepth(target, b.behind.fbo);
+    if (aura) {  // the layer behind the labels starts as the terrain
         glBindFramebuffer(GL_READ_FRAMEBUFFER, target.drawFramebuffer());
         glReadBuffer(GL_COLOR_ATTACHMENT0);
-        glBindFramebuffer(GL_DRAW_FRAMEBUFFER, b.terrain_color.fbo);
+        glBindFramebuffer(GL_DRAW_FRAMEBUFFER, b.samples > 0 ? b.terrain_color.fbo : b.behind.fbo);
         glBlitFramebuffer(0, 0, b.width, b.height, 0, 0, b.width, b.height, GL_COLOR_BUFFER_BIT, GL_NEAREST);
     }
     target.bindForDrawing(false);
 }
 
 GLuint OcclusionEffects::terrainDepth(const RenderTarget& target) { return buffersFor(target).terrain_depth; }
+
+void OcclusionEffects::markBuildings(bool on) {
+    if (!on) {
+        glDisable(GL_STENCIL_TEST);
+        glStencilMask(0xFF);
+        return;
+    }
+    glEnable(GL_STENCIL_TEST);
+    glStencilMask(kAuraStencilBit);
+    glStencilFunc(GL_ALWAYS, kAuraStencilBit, kAuraStencilBit);
+    glStencilOp(GL_KEEP, GL_KEEP, GL_REPLACE);
+}
 
 void OcclusionEffects::aura(const RenderTarget& target, std::span<const LabelOccluder> labels,
                             const glm::mat4& projection, const MapStyle& style, const DrawWith& draw_buildings,
@@ -303,32 +319,40 @@ void OcclusionEffects::aura(const RenderTarget& target, std::span<const LabelOcc
     glDisable(GL_BLEND);
     glBlendEquation(GL_FUNC_ADD);
 
-    // Step 2: the buildings again with the inverse depth test against the label OOBB depth (over
-    // the terrain depth, so hills still hide them), then the roads and the route over them: the
-    // scene as it looks without the buildings in front of the labels.
-    b.behind.begin();
-    // Only inside the auras: the enlarged OOBBs mark the stencil, the draws test it (most of
-    // the roads' fragments are then rejected before shading).
-    const GLint no_stencil = 0;
-    glStencilMask(0xFF);
-    glClearBufferiv(GL_STENCIL, 0, &no_stencil);
+    // Inside the auras the depth becomes the terrain's: the layer behind the labels is drawn over
+    // it on the pixels that markBuildings() marked, and the labels drawn next are not hidden by
+    // the buildings that the aura fades.
+    glBindFramebuffer(GL_FRAMEBUFFER, target.drawFramebuffer());
+    glDrawBuffers(1, &c0);
+    glViewport(0, 0, b.width, b.height);
     glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
-    glDisable(GL_DEPTH_TEST);
-    glEnable(GL_STENCIL_TEST);
-    glStencilFunc(GL_ALWAYS, 1, 0xFF);
-    glStencilOp(GL_KEEP, GL_KEEP, GL_REPLACE);
-    countedDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4,
-                               static_cast<GLsizei>(instances.size()));  // program, VAO still bound
+    glDepthFunc(GL_ALWAYS);
+    glDepthMask(GL_TRUE);
+    glUseProgram(m_aura_depth.id());
+    glUniform2f(m_aura_depth.uniform("u_viewport"), static_cast<float>(b.width), static_cast<float>(b.height));
+    glActiveTexture(GL_TEXTURE1);
+    glBindTexture(GL_TEXTURE_2D, b.terrain_depth);
+    glUniform1i(m_aura_depth.uniform("u_terrain_depth"), 1);
+    countedDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, static_cast<GLsizei>(instances.size()));  // mask VAO
+
+    // Step 2, on the marked pixels: the buildings again with the inverse depth test against the
+    // label OOBB depth (over the terrain depth, so hills still hide them), then the roads and the
+    // route over them, into the layer behind the labels, which holds the terrain colour: the
+    // scene as it looks without the buildings in front of the labels.
+    b.behind.attachDepth(target.depthStencilRenderbuffer());
+    glBindFramebuffer(GL_FRAMEBUFFER, b.behind.fbo);
+    glDrawBuffers(1, &c0);
     glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-    glStencilFunc(GL_EQUAL, 1, 0xFF);
+    if (b.samples > 0) glClearBufferfv(GL_COLOR, 0, zero);
+    glEnable(GL_STENCIL_TEST);
+    glStencilMask(0);
+    glStencilFunc(GL_EQUAL, kAuraStencilBit, kAuraStencilBit);
     glStencilOp(GL_KEEP, GL_KEEP, GL_KEEP);
-    glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
     glEnable(GL_CULL_FACE);
     glCullFace(GL_BACK);
     glUseProgram(m_aura_buildings.id());
-    glActiveTexture(GL_TEXTURE1);
-    glBindTexture(GL_TEXTURE_2D, b.label_depth);
+    glBindTexture(GL_TEXTURE_2D, b.label_depth);  // unit 1
     glUniform1i(m_aura_buildings.uniform("u_label_depth"), 1);
     glUniform1i(m_aura_buildings.uniform("u_inverse"), 1);
     glActiveTexture(GL_TEXTURE0);
@@ -340,13 +364,15 @@ void OcclusionEffects::aura(const RenderTarget& target, std::span<const LabelOcc
     glDepthMask(GL_FALSE);
     glDepthFunc(GL_LEQUAL);
     draw_roads();
-    glDisable(GL_STENCIL_TEST);
     glDepthMask(GL_TRUE);
     b.behind.resolve();
 
-    // Step 4: composite by the mask; inside the auras the depth becomes the terrain's. Drawn as
-    // the enlarged OOBBs, so only the auras are shaded; each pixel by the nearest box only.
+    // Step 4: composite by the mask on the marked pixels, each once (the stencil bit is cleared
+    // as it blends); the depth there becomes the terrain's again.
     target.bindForDrawing(false);
+    glStencilMask(kAuraStencilBit);
+    glStencilFunc(GL_EQUAL, kAuraStencilBit, kAuraStencilBit);
+    glStencilOp(GL_KEEP, GL_KEEP, GL_ZERO);
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_ALWAYS);
     glDepthMask(GL_TRUE);
@@ -356,23 +382,23 @@ void OcclusionEffects::aura(const RenderTarget& target, std::span<const LabelOcc
     glActiveTexture(GL_TEXTURE0);
     glBindTexture(GL_TEXTURE_2D, b.behind.texture);
     glActiveTexture(GL_TEXTURE1);
-    glBindTexture(GL_TEXTURE_2D, b.terrain_color.texture);
+    glBindTexture(GL_TEXTURE_2D, b.samples > 0 ? b.terrain_color.texture : b.behind.texture);
     glActiveTexture(GL_TEXTURE2);
     glBindTexture(GL_TEXTURE_2D, b.label_mask);
     glActiveTexture(GL_TEXTURE3);
     glBindTexture(GL_TEXTURE_2D, b.terrain_depth);
     glUniform1i(m_aura_composite.uniform("u_behind"), 0);
     glUniform1i(m_aura_composite.uniform("u_terrain"), 1);
+    glUniform1i(m_aura_composite.uniform("u_over_terrain"), b.samples > 0 ? 1 : 0);
     glUniform1i(m_aura_composite.uniform("u_mask"), 2);
     glUniform1i(m_aura_composite.uniform("u_terrain_depth"), 3);
-    glActiveTexture(GL_TEXTURE4);
-    glBindTexture(GL_TEXTURE_2D, b.label_depth);
-    glUniform1i(m_aura_composite.uniform("u_label_depth"), 4);
     glUniform1f(m_aura_composite.uniform("u_min_alpha"), std::clamp(style.aura_min_alpha, 0.0f, 1.0f));
     glUniform2f(m_aura_composite.uniform("u_viewport"), static_cast<float>(b.width), static_cast<float>(b.height));
     glBindVertexArray(m_mask_vao);
     countedDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, static_cast<GLsizei>(instances.size()));
-    for (GLenum unit : {GL_TEXTURE4, GL_TEXTURE3, GL_TEXTURE2, GL_TEXTURE1, GL_TEXTURE0}) {
+    glDisable(GL_STENCIL_TEST);
+    glStencilMask(0xFF);
+    for (GLenum unit : {GL_TEXTURE3, GL_TEXTURE2, GL_TEXTURE1, GL_TEXTURE0}) {
         glActiveTexture(unit);
         glBindTexture(GL_TEXTURE_2D, 0);
     }

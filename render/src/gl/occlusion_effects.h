@@ -58,6 +58,11 @@ public:
     /// uniforms of the fill pass.
     void glow(const RenderTarget& target, const MapLayers& layers, const MapStyle& style, const DrawWith& draw_roads);
 
+    /// Around the scene's buildings when the aura is on (they are drawn after the terrain then):
+    /// on = true marks, in the frame's stencil, the pixels where a building passes the depth
+    /// test, so the visible buildings; aura() changes only those pixels. on = false ends it.
+    static void markBuildings(bool on);
+
     /// The terrain-only depth texture that captureTerrainDepth() kept for `target`'s size (0: none
     /// yet), for passes after the glow that shine through buildings the same way (the manoeuvre
     /// arrows).
@@ -72,6 +77,7 @@ private:
     ShaderProgram m_glow_composite;
     ShaderProgram m_aura_buildings;
     ShaderProgram m_aura_mask;
+    ShaderProgram m_aura_depth;
     ShaderProgram m_aura_composite;
     GLuint m_empty_vao = 0;
     GLuint m_mask_vao = 0;
