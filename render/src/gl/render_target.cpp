@@ -201,6 +201,7 @@ void RenderTarget::clear(float r, float g, float b) const {
     const GLfloat zero[] = {0.0f, 0.0f, 0.0f, 0.0f};
     glClearBufferfv(GL_COLOR, 0, color);
     glClearBufferfv(GL_COLOR, 1, zero);
+    glStencilMask(0xFF);  // every bit: the passes' stencil marks start at 0 in each frame
     glClearBufferfi(GL_DEPTH_STENCIL, 0, 1.0f, 0);
 }
 
