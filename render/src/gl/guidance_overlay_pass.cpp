@@ -114,6 +114,27 @@ void appendRoundedRect(std::vector<glm::vec2>& out, glm::vec2 lo, glm::vec2 hi, 
     }
 }
 
+// Every overlay draws over the finished frame: no depth test, no culling, blended, and the
+// frame's alpha stays opaque.
+void beginOverlay(const RenderTarget& target) {
+    target.bindForDrawing(false);
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_CULL_FACE);
+    glEnable(GL_BLEND);
+    glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE);
+}
+
+// Text in one colour, without outline or halo (on a sign or a panel of its own).
+text::TextStyle plainText(const glm::vec4& fill) {
+    text::TextStyle ts;
+    ts.fill = fill;
+    ts.outline = {0.0f, 0.0f, 0.0f, 0.0f};
+    ts.outline_px = 0.0f;
+    ts.halo = {fill.r, fill.g, fill.b, 0.0f};
+    ts.halo_px = 0.0f;
+    return ts;
+}
+
 }  // namespace
 
 GuidanceOverlayPass::GuidanceOverlayPass()
@@ -152,11 +173,7 @@ void GuidanceOverlayPass::draw(const GuidanceOverlay& overlay, const MapStyle& s
     const glm::ivec2 size(target.width(), target.height());
     const glm::vec2 viewport(size);
     const GuidanceLayout l = guidanceLayout(size.x, size.y);
-    target.bindForDrawing(false);
-    glDisable(GL_DEPTH_TEST);
-    glDisable(GL_CULL_FACE);
-    glEnable(GL_BLEND);
-    glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE);  // the frame stays opaque
+    beginOverlay(target);
 
     // Texts first laid out, so that the panel can span them.
     m_engine.beginFrame();
@@ -222,11 +239,7 @@ void GuidanceOverlayPass::drawSpeedLimit(const SpeedLimitSign& sign, const Rende
     const glm::vec2 viewport(size);
     const std::string number = std::to_string(sign.kmh);
     const SpeedLimitSignLayout l = speedLimitSignLayout(size.x, size.y, sign.corner, static_cast<int>(number.size()));
-    target.bindForDrawing(false);
-    glDisable(GL_DEPTH_TEST);
-    glDisable(GL_CULL_FACE);
-    glEnable(GL_BLEND);
-    glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE);  // the frame stays opaque
+    beginOverlay(target);
 
     // Red disc, white disc over it: the ring is what stays red.
     std::vector<glm::vec2> disc;
@@ -237,12 +250,7 @@ void GuidanceOverlayPass::drawSpeedLimit(const SpeedLimitSign& sign, const Rende
     drawTriangles(disc, glm::vec4(1.0f), viewport);
 
     m_engine.beginFrame();
-    text::TextStyle ts;
-    ts.fill = {0.0f, 0.0f, 0.0f, 1.0f};
-    ts.outline = {0.0f, 0.0f, 0.0f, 0.0f};
-    ts.outline_px = 0.0f;
-    ts.halo = {1.0f, 1.0f, 1.0f, 0.0f};
-    ts.halo_px = 0.0f;
+    const text::TextStyle ts = plainText(glm::vec4(0.0f, 0.0f, 0.0f, 1.0f));
     const text::LaidOutText laid =
         m_engine.layout(m_engine.run(number, text::FontStyle::Bold), l.text_px, text::TextAnchor::Center);
     const text::TextDraw draw{laid.quads, laid.size_px, l.centre, 0.0f, 1.0f, 1.0f, ts};
@@ -281,11 +289,7 @@ void GuidanceOverlayPass::drawLanes(const LaneRow& row, const MapStyle& style, c
     const glm::ivec2 size(target.width(), target.height());
     const glm::vec2 viewport(size);
     const LaneRowLayout l = laneRowAtTop(size.x, size.y, row.lanes.size());
-    target.bindForDrawing(false);
-    glDisable(GL_DEPTH_TEST);
-    glDisable(GL_CULL_FACE);
-    glEnable(GL_BLEND);
-    glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE);  // the frame stays opaque
+    beginOverlay(target);
     const auto [lo, hi] = laneRowPanel(l, row.lanes.size());
     const glm::vec4 panel =
         style.guidance_panel.a > 0.0f ? style.guidance_panel : glm::vec4(0.06f, 0.07f, 0.10f, 0.78f);
@@ -300,23 +304,14 @@ void GuidanceOverlayPass::drawStreetBar(const StreetBar& bar, const MapStyle& st
     m_engine.beginFrame();
     const StreetBarLayout l = streetBarLayout(m_engine, bar, size.x, size.y);
     if (l.text.empty()) return;
-    target.bindForDrawing(false);
-    glDisable(GL_DEPTH_TEST);
-    glDisable(GL_CULL_FACE);
-    glEnable(GL_BLEND);
-    glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE);  // the frame stays opaque
+    beginOverlay(target);
 
     std::vector<glm::vec2> panel;
     appendRoundedRect(panel, l.lo, l.hi, l.corner_px);
     drawTriangles(panel, style.street_bar_panel, glm::vec2(size));
 
     // Plain text on the dark panel: no outline or halo to blur it.
-    text::TextStyle ts;
-    ts.fill = glm::vec4(style.street_bar_text, 1.0f);
-    ts.outline = {0.0f, 0.0f, 0.0f, 0.0f};
-    ts.outline_px = 0.0f;
-    ts.halo = {0.0f, 0.0f, 0.0f, 0.0f};
-    ts.halo_px = 0.0f;
+    const text::TextStyle ts = plainText(glm::vec4(style.street_bar_text, 1.0f));
     const text::LaidOutText laid =
         m_engine.layout(m_engine.run(l.text, kStreetBarFont), l.text_px, text::TextAnchor::Center);
     const text::TextDraw draw{laid.quads, laid.size_px, l.text_centre, 0.0f, 1.0f, 1.0f, ts};
