@@ -12,6 +12,14 @@ flat in float v_dash_m;  // in a tunnel: the dash period (roads_geo.vert); 0: so
 uniform float u_route_progress;  // metres driven; the part behind is dimmed
 #endif
 
+#ifdef NAVMAP_TERRAIN_CUT
+// Glowing roads from the stencil (seed 5.5.2, MapRenderer::drawRoadsAndRoute): the fill pass
+// discards the fragments behind the terrain-only depth, which fail the depth test anyway; the
+// stencil then marks only the fragments that something else, a building, hides. A variant of its
+// own: a uniform switch would cost llvmpipe the fetch on every road fragment.
+uniform highp sampler2D u_terrain_depth;
+#endif
+
 layout(location = 0) out vec4 o_color;
 layout(location = 1) out vec4 o_road;  // road intensity for the screen-space outlines (seed 3.6.3)
 
@@ -19,6 +27,9 @@ void main() {
     float x_cap = abs(v_cap.x) - v_half_length;
     float y_cap = abs(v_cap.y);
     if (x_cap > 0.0 && x_cap * x_cap + y_cap * y_cap > 1.0) discard;
+#ifdef NAVMAP_TERRAIN_CUT
+    if (gl_FragCoord.z > texelFetch(u_terrain_depth, ivec2(gl_FragCoord.xy), 0).r) discard;
+#endif
     vec3 color = v_color;
 #ifdef NAVMAP_ROUTE_PROGRESS
     if (v_dash_m > 0.0 && fract(v_measure / v_dash_m) >= 0.5) discard;  // the gaps of a tunnel's dashes

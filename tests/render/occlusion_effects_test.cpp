@@ -125,6 +125,7 @@ TEST_P(GlowRoadsView, HiddenRoadPixelsGetTheGlowColourOnlyWithGlowOn) {
         for (int x = 0; x < kW; ++x) order_differs += dist(at(off, x, y), at(without, x, y)) > 0;
     }
     EXPECT_LE(order_differs, std::size_t(kW * kH / 5000)) << "glow off and at zero strength draw the same";
+    dump(off, std::string("glow_off_") + viewName(GetParam()));
     dump(without, std::string("glow_base_") + viewName(GetParam()));
     dump(with, std::string("glow_on_") + viewName(GetParam()));
     dump(no_buildings, std::string("glow_open_") + viewName(GetParam()));
@@ -201,6 +202,22 @@ TEST_P(GlowRoadsView, BlurSoftensAndIsProfiled) {
         }
     }
     EXPECT_GT(changed_soft, changed_sharp * 5 / 4) << "the blurred halo reaches around the glowing roads";
+}
+
+// The glow draws no road again: one screen pass over the stencil marks, three vertices, whatever
+// the roads in view (their fill pass marked where a building hides it as they were drawn).
+TEST_P(GlowRoadsView, TheGlowIsOneScreenPassWithoutTheRoadsDrawnAgain) {
+    MapFrame glow = glowFrame(GetParam());
+    glow.layers.glow_roads = true;
+    for (const bool blur : {false, true}) {
+        glow.layers.glow_blur = blur;
+        MapFrameStats stats;
+        (void)render(glow, 1, MapStyle::day(), &stats);
+        EXPECT_GT(stats.road_segments, 100u);
+        // Without blur the screen pass; with it also the two blur passes and the composite.
+        EXPECT_EQ(stats.glow_work.draw_calls, blur ? 4u : 1u);
+        EXPECT_EQ(stats.glow_work.vertices, blur ? 12u : 3u);
+    }
 }
 
 INSTANTIATE_TEST_SUITE_P(Views, GlowRoadsView, ::testing::Values(ViewMode::Bird, ViewMode::Snail),

@@ -146,6 +146,12 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target, int 
     // aura (seed 5.5) keep the terrain's depth (the aura also its colour) before the buildings for
     // runOcclusionEffects(); the shadow-volume roads keep it in a target of their own (SvRoads).
     const bool terrain_alone = sv || wantsGlow(layers) || wantsAura(layers);
+    // Glowing roads from the stencil (seed 5.5.2): the roads' fill pass marks where it is hidden
+    // and not by the terrain, and the glow is one screen pass over those marks, with no road
+    // drawn again. The road colour mode, the shadow-volume roads and a filter that marks the
+    // road pixels in the stencil itself keep the glow that draws the road fill again.
+    m_glow_from_stencil = wantsGlow(layers) && !sv && layers.glow_mode == MapLayers::GlowMode::SingleColor &&
+                          m_outlines.roadMarkBits() == 0;
     if (layers.buildings && !terrain_alone) {
         m_buildings.draw(ctx);
         clock.lap(m_stats.buildings_ms, m_stats.buildings_work);
@@ -174,7 +180,7 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target, int 
         m_far_ground.draw(ctx);
         clock.lap(m_stats.terrain_ms, m_stats.terrain_work);
     }
-    drawRoadsAndRoute(ctx, sv, clock);
+    drawRoadsAndRoute(ctx, sv, clock, m_glow_from_stencil ? m_effects->terrainDepth(target) : 0);
     // Screen-space dark outlines around roads and route (seed 3.6.3).
     if (m_outlines.enabled()) {
         m_outlines.draw(ctx, m_side);
@@ -229,7 +235,8 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target, int 
                           work_end.bytes_uploaded - work_start.bytes_uploaded};
 }
 
-void MapRenderer::drawRoadsAndRoute(const FrameContext& ctx, SvRoads* sv, PassClock& clock) {
+void MapRenderer::drawRoadsAndRoute(const FrameContext& ctx, SvRoads* sv, PassClock& clock,
+                                    GLuint glow_terrain_depth) {
     if (ctx.layers().roads) {
         m_side.wait();  // RoadPass::cull
         m_roads.uploadIndices();
@@ -250,12 +257,47 @@ void MapRenderer::drawRoadsAndRoute(const FrameContext& ctx, SvRoads* sv, PassCl
         m_stats.sv_roads = true;
         clock.lap(m_stats.sv_roads_ms, m_stats.sv_roads_work);
     }
+    // With `glow_terrain_depth`, the fill pass (1) marks OcclusionEffects::kRoadFillStencilBit where
+    // its fragments fail the depth test, drawn with the program's NAVMAP_TERRAIN_CUT variant, which
+    // leaves out those behind the terrain alone (they fail the test anyway: no pixel changes). The
+    // stencil then holds the road pixels a building hides (seed 5.5.2).
+    const auto fill_pass = [&](std::unique_ptr<ShaderProgram>& cut, const char* defines, const auto& draw) {
+        if (!glow_terrain_depth) return draw(nullptr);
+        if (!cut) cut = std::make_unique<ShaderProgram>(ShaderProgram::fromEmbedded("roads_geo.vert", "roads_geo.frag", defines));
+        glUseProgram(cut->id());
+        glActiveTexture(GL_TEXTURE3);
+        glBindTexture(GL_TEXTURE_2D, glow_terrain_depth);
+        glActiveTexture(GL_TEXTURE0);
+        glUniform1i(cut->uniform("u_terrain_depth"), 3);
+        glEnable(GL_STENCIL_TEST);
+        glStencilMask(OcclusionEffects::kRoadFillStencilBit);
+        glStencilFunc(GL_ALWAYS, OcclusionEffects::kRoadFillStencilBit, OcclusionEffects::kRoadFillStencilBit);
+        glStencilOp(GL_KEEP, GL_REPLACE, GL_KEEP);
+        const auto drawn = draw(cut.get());
+        glDisable(GL_STENCIL_TEST);
+        glStencilMask(0xFF);
+        glActiveTexture(GL_TEXTURE3);
+        glBindTexture(GL_TEXTURE_2D, 0);
+        glActiveTexture(GL_TEXTURE0);
+        return drawn;
+    };
     if (ctx.layers().roads && !sv) {
-        m_stats.road_segments += m_roads.draw(ctx);
+        ShaderProgram& p = m_roads.program();
+        glUseProgram(p.id());
+        m_roads.drawWith(p, 0, ctx);
+        m_stats.road_segments += fill_pass(m_roads_cut, "#define NAVMAP_TERRAIN_CUT 1\n", [&](ShaderProgram* cut) {
+            return m_roads.drawWith(cut ? *cut : p, 1, ctx);
+        });
         clock.lap(m_stats.roads_ms, m_stats.roads_work);
     }
     if (ctx.routeShown()) {
-        m_route.draw(ctx);
+        ShaderProgram& p = m_route.program();
+        glUseProgram(p.id());
+        m_route.drawWith(p, 0, ctx);
+        fill_pass(m_route_cut, "#define NAVMAP_ROUTE_PROGRESS 1\n#define NAVMAP_TERRAIN_CUT 1\n", [&](ShaderProgram* cut) {
+            m_route.drawWith(cut ? *cut : p, 1, ctx);
+            return std::size_t{0};
+        });
         clock.lap(m_stats.route_ms, m_stats.route_work);
     }
     m_outlines.endRoadMarking();
@@ -282,7 +324,10 @@ void MapRenderer::runOcclusionEffects(const FrameContext& ctx) {
         m_effects->aura(ctx.target, m_labels.occluders(ctx), ctx.projection, m_style, buildings, roads);
         clock.lap(m_stats.aura_ms, m_stats.aura_work);
     }
-    if (glow) {
+    if (glow && m_glow_from_stencil) {
+        m_effects->glowFromStencil(ctx.target, layers, m_style);
+        clock.lap(m_stats.glow_ms, m_stats.glow_work);
+    } else if (glow) {
         // seed 5.5.2: the fill of the roads and the route again, for the hidden parts.
         auto roads = [&](ShaderProgram& p) {
             if (layers.roads) m_roads.drawWith(p, 1, ctx);

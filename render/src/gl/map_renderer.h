@@ -59,7 +59,9 @@ private:
     /// The frame's tiles on the GPU (uploads), the camera per tile and the route draped on them.
     FrameContext beginFrame(const MapFrame& frame, const RenderTarget& target, int target_id);
     /// Roads (geometric or shadow volumes, `sv`) and route, marking the road pixels for the outlines.
-    void drawRoadsAndRoute(const FrameContext& ctx, SvRoads* sv, PassClock& clock);
+    /// Roads and route; with `glow_terrain_depth` (the terrain-only depth) their fill pass also marks
+    /// the glow's stencil bit where a building hides it.
+    void drawRoadsAndRoute(const FrameContext& ctx, SvRoads* sv, PassClock& clock, GLuint glow_terrain_depth);
     /// Label aura and glowing roads (seed 5.5), between the label layout and the label text.
     void runOcclusionEffects(const FrameContext& ctx);
     /// Manoeuvre arrows and guidance roads (ManeuverArrowPass), after the route and its glow.
@@ -78,6 +80,10 @@ private:
     RoutePass m_route;
     OutlinePass m_outlines;
     std::unique_ptr<OcclusionEffects> m_effects;  // glowing roads, label aura: created when first used
+    // The roads' and the route's fill with the terrain cut (NAVMAP_TERRAIN_CUT), made when the glow
+    // from the stencil is first drawn.
+    std::unique_ptr<ShaderProgram> m_roads_cut, m_route_cut;
+    bool m_glow_from_stencil = false;  // this frame's glow: OcclusionEffects::glowFromStencil()
     MapLabelPass m_labels;
     MarkerPass m_marker;
     std::unique_ptr<ManeuverArrowPass> m_arrows;      // created on the first frame with arrows

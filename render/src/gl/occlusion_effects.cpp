@@ -189,6 +189,7 @@ OcclusionEffects::OcclusionEffects()
     : m_glow_roads(ShaderProgram::fromEmbedded("roads_geo.vert", "glow_roads.frag")),
       m_glow_blur(ShaderProgram::fromEmbedded("screen_outline.vert", "glow_blur.frag")),
       m_glow_composite(ShaderProgram::fromEmbedded("screen_outline.vert", "glow_composite.frag")),
+      m_glow_stencil(ShaderProgram::fromEmbedded("screen_outline.vert", "glow_stencil.frag")),
       m_aura_buildings(ShaderProgram::fromEmbedded("buildings.vert", "aura_buildings.frag")),
       m_aura_mask(ShaderProgram::fromEmbedded("aura_mask.vert", "aura_mask.frag")),
       m_aura_depth(ShaderProgram::fromEmbedded("aura_mask.vert", "aura_depth.frag")),
@@ -259,6 +260,46 @@ void OcclusionEffects::markBuildings(bool on) {
     glStencilMask(kAuraStencilBit);
     glStencilFunc(GL_ALWAYS, kAuraStencilBit, kAuraStencilBit);
     glStencilOp(GL_KEEP, GL_KEEP, GL_REPLACE);
+}
+
+void OcclusionEffects::glowFromStencil(const RenderTarget& target, const MapLayers& layers, const MapStyle& style) {
+    Buffers& b = buffersFor(target);
+    const bool blur = layers.glow_blur;
+    if (blur) b.makeGlowLayers();
+    const GlStateScope saved;
+    const float strength = std::clamp(style.glow_strength, 0.0f, 1.0f);
+    // seed 5.5.2: "if z_building < z_road the road is occluded". The road pixels a building hides
+    // are marked; where a road is seen there all the same (another road over the hidden one, road
+    // mask of seed 3.6.3, resolved when the outlines were drawn) nothing glows.
+    if (!(layers.outlines && (layers.roads || layers.route))) target.resolveMask();
+    if (blur) {
+        b.glow.attachDepth(target.depthStencilRenderbuffer());
+        b.glow.begin();
+        glDisable(GL_BLEND);
+    } else {
+        target.bindForDrawing(false);
+        glEnable(GL_BLEND);
+        glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE);  // the frame stays opaque
+    }
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_CULL_FACE);
+    glEnable(GL_STENCIL_TEST);
+    glStencilMask(0);
+    glStencilFunc(GL_EQUAL, kRoadFillStencilBit, kRoadFillStencilBit);
+    glStencilOp(GL_KEEP, GL_KEEP, GL_KEEP);
+    glUseProgram(m_glow_stencil.id());
+    glUniform3fv(m_glow_stencil.uniform("u_glow_color"), 1, glm::value_ptr(style.glow_color));
+    glUniform1f(m_glow_stencil.uniform("u_alpha"), blur ? 1.0f : strength);
+    glActiveTexture(GL_TEXTURE0);
+    glBindTexture(GL_TEXTURE_2D, target.maskTexture());
+    glUniform1i(m_glow_stencil.uniform("u_road_mask"), 0);
+    bindFullscreen(m_empty_vao);
+    glBindTexture(GL_TEXTURE_2D, 0);
+    glDisable(GL_STENCIL_TEST);
+    glStencilMask(0xFF);
+    if (blur) blurAndComposite(target, b, strength);
+    target.bindForDrawing(false);
+    glBindVertexArray(0);
 }
 
 void OcclusionEffects::aura(const RenderTarget& target, std::span<const LabelOccluder> labels,
@@ -370,7 +411,8 @@ void OcclusionEffects::aura(const RenderTarget& target, std::span<const LabelOcc
     // Step 4: composite by the mask on the marked pixels, each once (the stencil bit is cleared
     // as it blends); the depth there becomes the terrain's again.
     target.bindForDrawing(false);
-    glStencilMask(kAuraStencilBit);
+    // Also the glow's mark: inside the auras the road is shown, not glowing (glowFromStencil()).
+    glStencilMask(kAuraStencilBit | OcclusionEffects::kRoadFillStencilBit);
     glStencilFunc(GL_EQUAL, kAuraStencilBit, kAuraStencilBit);
     glStencilOp(GL_KEEP, GL_KEEP, GL_ZERO);
     glEnable(GL_DEPTH_TEST);
@@ -403,6 +445,47 @@ void OcclusionEffects::aura(const RenderTarget& target, std::span<const LabelOcc
         glBindTexture(GL_TEXTURE_2D, 0);
     }
     glBindVertexArray(0);
+}
+
+void OcclusionEffects::blurAndComposite(const RenderTarget& target, Buffers& b, float strength) {
+    b.glow.resolve();
+    glDisable(GL_DEPTH_TEST);
+
+    // seed 5.5.2 (optional): blur, horizontal while halving the resolution, then vertical.
+    {
+        glUseProgram(m_glow_blur.id());
+        glUniform1i(m_glow_blur.uniform("u_source"), 0);
+        glActiveTexture(GL_TEXTURE0);
+        b.blur[0].begin();
+        glBindTexture(GL_TEXTURE_2D, b.glow.texture);
+        glUniform2f(m_glow_blur.uniform("u_step"), 1.0f / static_cast<float>(b.blur[0].width), 0.0f);
+        bindFullscreen(m_empty_vao);
+        b.blur[1].begin();
+        glBindTexture(GL_TEXTURE_2D, b.blur[0].texture);
+        glUniform2f(m_glow_blur.uniform("u_step"), 0.0f, 1.0f / static_cast<float>(b.blur[1].height));
+        bindFullscreen(m_empty_vao);
+    }
+
+    // Composite over the scene, before the labels, except where a road is visible.
+    target.bindForDrawing(false);
+    glEnable(GL_BLEND);
+    glBlendFuncSeparate(GL_ONE, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE);  // the frame stays opaque
+    glUseProgram(m_glow_composite.id());
+    glActiveTexture(GL_TEXTURE0);
+    glBindTexture(GL_TEXTURE_2D, b.glow.texture);
+    glActiveTexture(GL_TEXTURE1);
+    glBindTexture(GL_TEXTURE_2D, b.blur[1].texture);
+    glUniform1i(m_glow_composite.uniform("u_glow"), 0);
+    glUniform1i(m_glow_composite.uniform("u_blurred"), 1);
+    glActiveTexture(GL_TEXTURE2);
+    glBindTexture(GL_TEXTURE_2D, target.maskTexture());
+    glUniform1i(m_glow_composite.uniform("u_road_mask"), 2);
+    glUniform1f(m_glow_composite.uniform("u_strength"), strength);
+    bindFullscreen(m_empty_vao);
+    for (GLenum unit : {GL_TEXTURE2, GL_TEXTURE1, GL_TEXTURE0}) {
+        glActiveTexture(unit);
+        glBindTexture(GL_TEXTURE_2D, 0);
+    }
 }
 
 void OcclusionEffects::glow(const RenderTarget& target, const MapLayers& layers, const MapStyle& style,
@@ -469,44 +552,7 @@ void OcclusionEffects::glow(const RenderTarget& target, const MapLayers& layers,
         glBindVertexArray(0);
         return;
     }
-    b.glow.resolve();
-    glDisable(GL_DEPTH_TEST);
-
-    // seed 5.5.2 (optional): blur, horizontal while halving the resolution, then vertical.
-    {
-        glUseProgram(m_glow_blur.id());
-        glUniform1i(m_glow_blur.uniform("u_source"), 0);
-        glActiveTexture(GL_TEXTURE0);
-        b.blur[0].begin();
-        glBindTexture(GL_TEXTURE_2D, b.glow.texture);
-        glUniform2f(m_glow_blur.uniform("u_step"), 1.0f / static_cast<float>(b.blur[0].width), 0.0f);
-        bindFullscreen(m_empty_vao);
-        b.blur[1].begin();
-        glBindTexture(GL_TEXTURE_2D, b.blur[0].texture);
-        glUniform2f(m_glow_blur.uniform("u_step"), 0.0f, 1.0f / static_cast<float>(b.blur[1].height));
-        bindFullscreen(m_empty_vao);
-    }
-
-    // Composite over the scene, before the labels, except where a road is visible.
-    target.bindForDrawing(false);
-    glEnable(GL_BLEND);
-    glBlendFuncSeparate(GL_ONE, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE);  // the frame stays opaque
-    glUseProgram(m_glow_composite.id());
-    glActiveTexture(GL_TEXTURE0);
-    glBindTexture(GL_TEXTURE_2D, b.glow.texture);
-    glActiveTexture(GL_TEXTURE1);
-    glBindTexture(GL_TEXTURE_2D, b.blur[1].texture);
-    glUniform1i(m_glow_composite.uniform("u_glow"), 0);
-    glUniform1i(m_glow_composite.uniform("u_blurred"), 1);
-    glActiveTexture(GL_TEXTURE2);
-    glBindTexture(GL_TEXTURE_2D, target.maskTexture());
-    glUniform1i(m_glow_composite.uniform("u_road_mask"), 2);
-    glUniform1f(m_glow_composite.uniform("u_strength"), strength);
-    bindFullscreen(m_empty_vao);
-    for (GLenum unit : {GL_TEXTURE2, GL_TEXTURE1, GL_TEXTURE0}) {
-        glActiveTexture(unit);
-        glBindTexture(GL_TEXTURE_2D, 0);
-    }
+    blurAndComposite(target, b, strength);
     glBindVertexArray(0);
 }
 

@@ -58,23 +58,37 @@ public:
     /// uniforms of the fill pass.
     void glow(const RenderTarget& target, const MapLayers& layers, const MapStyle& style, const DrawWith& draw_roads);
 
+    /// Stencil bit of the frame that the roads' fill pass sets where its fragments fail the depth
+    /// test in front of the terrain-only depth: road pixels a building hides (MapRenderer, with the
+    /// glow from the stencil). The aura clears it where it composites.
+    static constexpr GLuint kRoadFillStencilBit = 0x10;
+
     /// Around the scene's buildings when the aura is on (they are drawn after the terrain then):
     /// on = true marks, in the frame's stencil, the pixels where a building passes the depth
     /// test, so the visible buildings; aura() changes only those pixels. on = false ends it.
     static void markBuildings(bool on);
 
+    /// seed 5.5.2 without drawing the roads again: glows on the pixels of kRoadFillStencilBit where
+    /// no road is seen (the road mask), each once, in the glow colour, straight into `target` or
+    /// blurred like glow(). Leaves `target` bound for drawing.
+    void glowFromStencil(const RenderTarget& target, const MapLayers& layers, const MapStyle& style);
+
     /// The terrain-only depth texture that captureTerrainDepth() kept for `target`'s size (0: none
-    /// yet), for passes after the glow that shine through buildings the same way (the manoeuvre
-    /// arrows).
+    /// yet), for the roads' fill pass that marks the glow's stencil bit and for passes after the
+    /// glow that shine through buildings the same way (the manoeuvre arrows).
     GLuint terrainDepth(const RenderTarget& target);
 
 private:
     struct Buffers;
     Buffers& buffersFor(const RenderTarget& target);
+    /// The glow layer of `b` drawn: resolved, blurred at half resolution and composited over
+    /// `target` except where a road is visible.
+    void blurAndComposite(const RenderTarget& target, Buffers& b, float strength);
 
     ShaderProgram m_glow_roads;
     ShaderProgram m_glow_blur;
     ShaderProgram m_glow_composite;
+    ShaderProgram m_glow_stencil;
     ShaderProgram m_aura_buildings;
     ShaderProgram m_aura_mask;
     ShaderProgram m_aura_depth;

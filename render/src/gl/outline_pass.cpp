@@ -82,6 +82,8 @@ void OutlinePass::beginRoadMarking() const {
     glStencilOp(GL_KEEP, GL_KEEP, GL_REPLACE);
 }
 
+GLuint OutlinePass::roadMarkBits() const { return m_mark_roads ? kRoadStencilBit : 0; }
+
 void OutlinePass::endRoadMarking() const {
     if (!m_mark_roads) return;
     glDisable(GL_STENCIL_TEST);

@@ -45,6 +45,9 @@ public:
     /// Around the road and route passes: with the cells from the quads (not multisampled), their
     /// pixels also set the stencil bit that keeps the filter off the road pixels themselves.
     void beginRoadMarking() const;
+    /// The stencil bits the road and route pixels set between beginRoadMarking() and
+    /// endRoadMarking() (0: none), which a pass drawn over a road after it clears.
+    [[nodiscard]] GLuint roadMarkBits() const;
     void endRoadMarking() const;
     /// The filter over the frame (after the roads and route); waits on `side` for markCells().
     void draw(const FrameContext& ctx, SideTask& side);
