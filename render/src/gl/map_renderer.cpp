@@ -235,8 +235,7 @@ void MapRenderer::render(const MapFrame& frame, const RenderTarget& target, int 
                           work_end.bytes_uploaded - work_start.bytes_uploaded};
 }
 
-void MapRenderer::drawRoadsAndRoute(const FrameContext& ctx, SvRoads* sv, PassClock& clock,
-                                    GLuint glow_terrain_depth) {
+void MapRenderer::drawRoadsAndRoute(const FrameContext& ctx, SvRoads* sv, PassClock& clock, GLuint glow_terrain_depth) {
     if (ctx.layers().roads) {
         m_side.wait();  // RoadPass::cull
         m_roads.uploadIndices();
@@ -263,7 +262,9 @@ void MapRenderer::drawRoadsAndRoute(const FrameContext& ctx, SvRoads* sv, PassCl
     // stencil then holds the road pixels a building hides (seed 5.5.2).
     const auto fill_pass = [&](std::unique_ptr<ShaderProgram>& cut, const char* defines, const auto& draw) {
         if (!glow_terrain_depth) return draw(nullptr);
-        if (!cut) cut = std::make_unique<ShaderProgram>(ShaderProgram::fromEmbedded("roads_geo.vert", "roads_geo.frag", defines));
+        if (!cut)
+            cut = std::make_unique<ShaderProgram>(
+                ShaderProgram::fromEmbedded("roads_geo.vert", "roads_geo.frag", defines));
         glUseProgram(cut->id());
         glActiveTexture(GL_TEXTURE3);
         glBindTexture(GL_TEXTURE_2D, glow_terrain_depth);
@@ -294,10 +295,11 @@ void MapRenderer::drawRoadsAndRoute(const FrameContext& ctx, SvRoads* sv, PassCl
         ShaderProgram& p = m_route.program();
         glUseProgram(p.id());
         m_route.drawWith(p, 0, ctx);
-        fill_pass(m_route_cut, "#define NAVMAP_ROUTE_PROGRESS 1\n#define NAVMAP_TERRAIN_CUT 1\n", [&](ShaderProgram* cut) {
-            m_route.drawWith(cut ? *cut : p, 1, ctx);
-            return std::size_t{0};
-        });
+        fill_pass(m_route_cut, "#define NAVMAP_ROUTE_PROGRESS 1\n#define NAVMAP_TERRAIN_CUT 1\n",
+                  [&](ShaderProgram* cut) {
+                      m_route.drawWith(cut ? *cut : p, 1, ctx);
+                      return std::size_t{0};
+                  });
         clock.lap(m_stats.route_ms, m_stats.route_work);
     }
     m_outlines.endRoadMarking();
