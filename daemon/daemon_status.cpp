@@ -86,7 +86,7 @@ void DaemonStatus::publish(const StatusSample& m) {
     st["dmabuf"] = {{"available", m.dmabuf.available},
                     {"native_fence_sync", m.dmabuf.native_fence_sync},
                     {"reason", m.dmabuf.reason}};
-    if (!m.dmabuf.render_node.empty()) st["dmabuf"]["render_node"] = m.dmabuf.render_node;
+    if (!m.dmabuf.drm_node.empty()) st["dmabuf"]["drm_node"] = m.dmabuf.drm_node;
     st["tile_cache"] = {{"resident_bytes", m.cache.resident_bytes},
                         {"hits", m.cache.hits},
                         {"misses", m.cache.misses},

@@ -104,14 +104,14 @@ void DisplayScheduler::logContext(const render::DeviceInfo& dev) const {
     const render::DmabufCapability& d = dev.dmabuf;
     if (d.available)
         m_log(Log::kInfo, "dma-buf export: possible on %s (sync: %s), not used yet: frames go through shared memory",
-              d.render_node.c_str(), d.native_fence_sync ? "native fences" : "glFinish");
+              d.drm_node.c_str(), d.native_fence_sync ? "native fences" : "glFinish");
     else
         m_log(Log::kInfo, "dma-buf export: off (%s): frames go through shared memory", d.reason.c_str());
 }
 
 std::string DisplayScheduler::dmabufRefusal(const render::DmabufCapability& capability) {
     if (!capability.available) return capability.reason;
-    return "the GPU could export them through " + capability.render_node +
+    return "the GPU could export them through " + capability.drm_node +
            ", but navmapd does not render into exported buffers yet";
 }
 

@@ -16,6 +16,8 @@ BUILD=(
   build-essential cmake ninja-build pkg-config
   # EGL + OpenGL ES 3 (Mesa: llvmpipe via the surfaceless platform, any DRM GPU)
   libegl-dev libgles-dev libegl-mesa0 libgl1-mesa-dri
+  # dma-buf frames: buffers from GBM, their DRM fourcc and modifier names
+  libgbm-dev libdrm-dev
   # maths, geodesy
   libglm-dev libgeographiclib-dev
   # OpenStreetMap input (libosmium and its PBF/XML codecs), polygon triangulation (CGAL)
@@ -58,7 +60,7 @@ CROSS=(g++-aarch64-linux-gnu binutils-aarch64-linux-gnu qemu-user-static)
 # development files for the cross compiler, the test and benchmark libraries.
 ARM64_SYSROOT=(
   libc6-dev libstdc++-12-dev
-  libegl-dev libgles-dev libegl-mesa0 libgl1-mesa-dri
+  libegl-dev libgles-dev libegl-mesa0 libgl1-mesa-dri libgbm-dev libdrm-dev
   libglm-dev libgeographiclib-dev
   libosmium2-dev libprotozero-dev zlib1g-dev libbz2-dev libexpat1-dev liblz4-dev libcgal-dev libzstd-dev
   libfreetype-dev libharfbuzz-dev

@@ -261,23 +261,3 @@ TEST(GlesRenderer, TargetsShareOneContextAndKeepTheirOwnFramesAndRings) {
 }
 
 }  // namespace
-
-// docs/gles-profile.md "dma-buf export": llvmpipe on the surfaceless platform exports nothing, and
-// says why; the shared-memory path stays the one used.
-TEST(GlesRenderer, ProbesDmabufExportAndSaysWhyNotOnSoftware) {
-    auto r = Renderer::create(smallOptions());
-    const auto& dev = r->device();
-    const auto& d = dev.dmabuf;
-    if (!dev.software) {
-        GTEST_SKIP() << "a GPU (" << dev.renderer << "): dma-buf export "
-                     << (d.available ? "available on " + d.render_node : "off: " + d.reason);
-    }
-    std::printf("[ info     ] dma-buf export: %s\n", d.reason.c_str());
-    EXPECT_FALSE(d.available);
-    const std::string prefix =
-        dev.renderer.substr(0, dev.renderer.find(' ')) + " on the " + dev.platform + " platform: ";
-    EXPECT_EQ(d.reason.rfind(prefix, 0), 0U) << d.reason;
-    if (navmap::render::findRenderNodes().empty()) {
-        EXPECT_NE(d.reason.find("no render node (/dev/dri/renderD*)"), std::string::npos) << d.reason;
-    }
-}

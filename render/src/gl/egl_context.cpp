@@ -64,6 +64,15 @@ std::string eglErrorName(EGLint e) {
     }
 }
 
+}  // namespace
+
+bool isSoftwareRasterizer(const std::string& gl_renderer) {
+    return gl_renderer.find("llvmpipe") != std::string::npos || gl_renderer.find("softpipe") != std::string::npos ||
+           gl_renderer.find("swrast") != std::string::npos;
+}
+
+namespace {
+
 Platform platformFromEnvironment(Platform requested) {
     if (requested != Platform::Auto) return requested;
     const char* env = std::getenv("NAVMAP_EGL_PLATFORM");
@@ -110,8 +119,21 @@ EglContext::EglContext(Platform requested) {
             EGLDisplay d = get_platform_display(EGL_PLATFORM_DEVICE_EXT, devices[i], nullptr);
             std::string why;
             const std::string name = std::string("device#") + std::to_string(i) + (software ? " (software)" : "");
-            if (tryDisplay(d, name, why)) return true;
-            failures.push_back(name + ": " + why);
+            if (!tryDisplay(d, name, why)) {
+                failures.push_back(name + ": " + why);
+                continue;
+            }
+            // A DRM device without a GPU driver (vgem, a display-only KMS device) draws with a
+            // software rasterizer on that node, which cannot make the buffers it is given: not the
+            // hardware device asked for. The surfaceless platform uses the same rasterizer properly.
+            const char* gl_renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+            const std::string drawn_by = gl_renderer ? gl_renderer : "";
+            if (!hardware_only || !isSoftwareRasterizer(drawn_by)) return true;
+            failures.push_back(name + ": no GPU driver for it (" + drawn_by.substr(0, drawn_by.find(' ')) + ")");
+            eglMakeCurrent(m_display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+            eglDestroyContext(m_display, m_context);
+            m_display = EGL_NO_DISPLAY;
+            m_context = EGL_NO_CONTEXT;
         }
         return false;
     };

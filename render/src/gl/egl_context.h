@@ -10,9 +10,14 @@
 
 namespace navmap::render::gl {
 
+/// Whether GL_RENDERER `gl_renderer` is a software rasterizer (llvmpipe, softpipe, swrast).
+bool isSoftwareRasterizer(const std::string& gl_renderer);
+
 /// Owns an EGL display and a GLES 3.x context made current (surfaceless) on the creating thread.
 class EglContext {
 public:
+    /// Platform::Auto takes a hardware EGL device (one whose context is no software rasterizer),
+    /// else the surfaceless platform, else any device.
     /// Throws RenderError naming every platform tried and why it failed.
     explicit EglContext(Platform requested);
     ~EglContext();
@@ -32,6 +37,8 @@ public:
     [[nodiscard]] bool detectsResets() const { return m_robust && m_reset_query != nullptr; }
     /// The display's EGL extensions (eglQueryString), for the dma-buf probe.
     [[nodiscard]] std::string displayExtensions() const;
+    /// The EGL display (the dma-buf exporter imports its buffers into it).
+    [[nodiscard]] EGLDisplay display() const { return m_display; }
 
     /// Whether the context was lost or reset: glGetGraphicsResetStatus (ES 3.2 core,
     /// GL_EXT_robustness or GL_KHR_robustness before; GL_NO_ERROR where neither is offered), or

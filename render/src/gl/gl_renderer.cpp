@@ -18,6 +18,17 @@ std::string glString(GLenum name) {
     return s ? s : "";
 }
 
+std::string glExtensions() {
+    GLint n = 0;
+    glGetIntegerv(GL_NUM_EXTENSIONS, &n);
+    std::string all;
+    for (GLint i = 0; i < n; ++i) {
+        const auto* e = reinterpret_cast<const char*>(glGetStringi(GL_EXTENSIONS, static_cast<GLuint>(i)));
+        if (e) all += std::string(all.empty() ? "" : " ") + e;
+    }
+    return all;
+}
+
 }  // namespace
 
 GlRenderer::GlRenderer(const RendererOptions& options) : m_options(options), m_egl(options.platform) {
@@ -29,12 +40,9 @@ GlRenderer::GlRenderer(const RendererOptions& options) : m_options(options), m_e
     m_device.version = glString(GL_VERSION);
     m_device.gles_major = m_egl.glesMajor();
     m_device.gles_minor = m_egl.glesMinor();
-    m_device.software = m_device.renderer.find("llvmpipe") != std::string::npos ||
-                        m_device.renderer.find("softpipe") != std::string::npos ||
-                        m_device.renderer.find("swrast") != std::string::npos;
+    m_device.software = isSoftwareRasterizer(m_device.renderer);
     m_device.robust_context = m_egl.robust();
-    m_device.dmabuf =
-        decideDmabuf({m_egl.displayExtensions(), m_device.platform, m_device.renderer, findRenderNodes()});
+    probeDmabuf();
     m_features = GlFeatures::current(m_device.gles_major, m_device.gles_minor);
     m_device.features_off = m_features.featuresOff(options.msaa_samples, m_device.software);
     if (!m_egl.detectsResets()) {
@@ -58,10 +66,19 @@ GlRenderer::GlRenderer(const RendererOptions& options) : m_options(options), m_e
     if (const char* lose = std::getenv("NAVMAP_TEST_LOSE_CONTEXT_AFTER_FRAMES")) m_lose_after_frames = std::atoi(lose);
 }
 
+void GlRenderer::probeDmabuf() {
+    DmabufProbeInput in{m_egl.displayExtensions(), glExtensions(), m_device.platform, m_device.renderer,
+                        findDrmNodes()};
+    m_device.dmabuf = decideDmabuf(in);
+    m_dmabuf = std::make_unique<DmabufExporter>(m_egl.display(), in.drm_nodes, m_device.dmabuf, m_device.renderer,
+                                                m_device.platform);
+}
+
 GlRenderer::~GlRenderer() {
     m_egl.makeCurrent();
     // GL objects go before the context (m_egl is destroyed after the members declared below it).
     m_targets.clear();
+    m_dmabuf.reset();
     glDeleteRenderbuffers(1, &m_depth_stencil);
     m_terrain.reset();
     m_map.reset();
@@ -125,6 +142,7 @@ void GlRenderer::resize(TargetHandle target, int width, int height) {
     View& v = view(target);
     if (v.ring) v.ring->drain();
     v.ring.reset();
+    v.dmabuf.reset();  // buffers of the old size; the next export makes new ones
     v.target.reset();  // before the shared depth/stencil may grow: it re-attaches to every target
     v.target = std::make_unique<RenderTarget>(width, height, m_options.msaa_samples, sharedDepthStencil(width, height));
     v.ring = std::make_unique<ReadbackRing>(width, height, m_options.readback_ring);
@@ -156,6 +174,7 @@ void GlRenderer::recreateContext() {
     for (auto& [id, v] : m_targets) {
         sizes.push_back({id, {v.target->width(), v.target->height()}});
         v.ring.reset();
+        v.dmabuf.reset();
         v.target.reset();
     }
     m_map.reset();
@@ -240,6 +259,18 @@ std::vector<Frame> GlRenderer::collectReadbacks(TargetHandle target) {
     View& v = view(target);
     m_egl.makeCurrent();
     return v.ring->collectReady();
+}
+
+std::optional<DmabufFrame> GlRenderer::exportFrame(TargetHandle target, std::uint32_t busy,
+                                                   const FrameOverlay* overlay) {
+    View& v = view(target);
+    if (!m_dmabuf || !m_dmabuf->ready()) return std::nullopt;
+    m_egl.makeCurrent();
+    v.target->resolve();  // leaves the frame's colour bound for reading
+    if (!v.dmabuf) v.dmabuf = std::make_unique<DmabufExporter::Pool>();
+    auto frame = m_dmabuf->exportFrame(*v.dmabuf, v.target->width(), v.target->height(), busy, overlay);
+    v.target->bindForDrawing(false);
+    return frame;
 }
 
 std::vector<Frame> GlRenderer::drainReadbacks(TargetHandle target) {

@@ -6,6 +6,7 @@
 #include <memory>
 #include <optional>
 
+#include "dmabuf_export.h"
 #include "egl_context.h"
 #include "gl_features.h"
 #include "map_renderer.h"
@@ -46,6 +47,8 @@ public:
     std::optional<Frame> readAsync(TargetHandle target, std::uint64_t sequence) override;
     std::vector<Frame> drainReadbacks(TargetHandle target) override;
     std::vector<Frame> collectReadbacks(TargetHandle target) override;
+    std::optional<DmabufFrame> exportFrame(TargetHandle target, std::uint32_t busy,
+                                           const FrameOverlay* overlay = nullptr) override;
     using Renderer::collectReadbacks;
     using Renderer::drainReadbacks;
     using Renderer::height;
@@ -61,11 +64,14 @@ private:
     struct View {
         std::unique_ptr<RenderTarget> target;
         std::unique_ptr<ReadbackRing> ring;
+        std::unique_ptr<DmabufExporter::Pool> dmabuf;  // exportFrame()'s buffers, made on its first call
     };
     /// `target`'s state; throws RenderError for a handle that names no target.
     [[nodiscard]] View& view(TargetHandle target);
     [[nodiscard]] const View& view(TargetHandle target) const;
     static void checkSize(int width, int height);
+    /// device().dmabuf, and the exporter when the device can export (dmabuf_probe.h).
+    void probeDmabuf();
     /// The depth/stencil buffer every target shares, grown to cover width x height (the targets
     /// get the new one attached when it grows).
     GLuint sharedDepthStencil(int width, int height);
@@ -82,6 +88,9 @@ private:
     DeviceInfo m_device;
     GlFeatures m_features;  // what the context offers beyond ES 3.0 core (docs/gles-profile.md)
     std::unique_ptr<ProgramBinaryCache> m_programs;  // RendererOptions::program_cache_dir; null: none
+    /// The dma-buf export (null without GBM); declared before the targets, whose pools it
+    /// allocated, so that it outlives them.
+    std::unique_ptr<DmabufExporter> m_dmabuf;
     std::map<int, View> m_targets;
     GLuint m_depth_stencil = 0;  // shared by the targets: the largest width x largest height
     ScratchSize m_depth_size;

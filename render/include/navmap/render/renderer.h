@@ -125,6 +125,38 @@ struct TerrainStyle {
     float fog_end_m = 45000.0f;
 };
 
+/// A frame copied on the GPU into one of a target's exported buffers (Renderer::exportFrame;
+/// docs/frame-protocol.md "dma-buf frames"): rows top first, like a read-back Image.
+struct DmabufFrame {
+    int buffer = -1;  ///< the buffer's index in the target's pool, 0..kDmabufBuffers-1
+    /// Which allocation of that index: it changes when the buffer is made anew (a resize, a new
+    /// context), and a client needs the new fd then.
+    std::uint64_t generation = 0;
+    int fd = -1;                 ///< the buffer's dma-buf; the renderer owns it (dup it to keep or pass it on)
+    std::uint32_t fourcc = 0;    ///< DRM fourcc: DRM_FORMAT_ABGR8888 (RGBA8 bytes)
+    std::uint64_t modifier = 0;  ///< DRM format modifier (DRM_FORMAT_MOD_LINEAR = 0)
+    std::uint32_t stride = 0;    ///< bytes per row of plane 0
+    std::uint32_t offset = 0;    ///< plane 0's offset in the buffer
+    int width = 0;
+    int height = 0;
+    /// A sync fence fd that signals when the frame is in the buffer (EGL_ANDROID_native_fence_sync);
+    /// the caller owns it. -1: the frame was finished (glFinish) before exportFrame returned.
+    int fence_fd = -1;
+};
+
+/// Buffers per target that exportFrame() cycles through.
+inline constexpr int kDmabufBuffers = 4;
+
+/// Premultiplied RGBA8 pixels blended over an exported frame at (x, y) (rows top first), e.g. the
+/// map data attribution a read-back frame gets on the CPU. `id` names the pixels: the renderer
+/// uploads them again only when it changes.
+struct FrameOverlay {
+    const Image* image = nullptr;
+    int x = 0;
+    int y = 0;
+    std::uint64_t id = 0;
+};
+
 /// A frame read back from the GPU, tagged with the caller's sequence number.
 struct Frame {
     std::uint64_t sequence = 0;
@@ -215,6 +247,17 @@ public:
     virtual std::vector<Frame> collectReadbacks(TargetHandle target) = 0;
     /// Completes and returns every pending asynchronous readback of `target`, oldest first.
     virtual std::vector<Frame> drainReadbacks(TargetHandle target) = 0;
+
+    /// Copies the last frame rendered into `target` into a free buffer of the target's pool of
+    /// exported dma-bufs (made on the first call, kDmabufBuffers of them), on the GPU: no CPU copy.
+    /// Bit i of `busy` set: buffer i is still in use by a client and is not written. `overlay`
+    /// (optional) is blended over the copy. Nothing (nullopt) when the device cannot export
+    /// (device().dmabuf says why) or every buffer is busy.
+    virtual std::optional<DmabufFrame> exportFrame(TargetHandle target, std::uint32_t busy,
+                                                   const FrameOverlay* overlay = nullptr) {
+        (void)target, (void)busy, (void)overlay;
+        return std::nullopt;
+    }
 
     /// The same on the primary target.
     [[nodiscard]] int width() const { return width(primaryTarget()); }
