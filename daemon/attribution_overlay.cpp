@@ -81,6 +81,24 @@ AttributionOverlay::AttributionOverlay(render::text::TextEngine& engine, const s
     }
 }
 
+render::Image AttributionOverlay::premultiplied() const {
+    render::Image img;
+    img.width = m_w;
+    img.height = m_h;
+    img.rgba.resize(static_cast<std::size_t>(m_w) * m_h * 4);
+    for (std::size_t i = 0; i < m_coverage.size(); ++i) {
+        const int a = m_coverage[i];
+        // apply(): p' = (p (1 - box_a) + box box_a)(1 - a) + text a = src + p (1 - src_a).
+        const int keep = (255 - kBoxAlpha) * (255 - a);  // (1 - src_a), scaled by 255^2
+        for (int k = 0; k < 3; ++k) {
+            img.rgba[i * 4 + k] = static_cast<std::uint8_t>(
+                (kBox[k] * kBoxAlpha * (255 - a) + kText[k] * a * 255 + 255 * 255 / 2) / (255 * 255));
+        }
+        img.rgba[i * 4 + 3] = static_cast<std::uint8_t>(255 - (keep + 127) / 255);
+    }
+    return img;
+}
+
 void AttributionOverlay::apply(std::uint8_t* rgba, int stride) const {
     for (int y = 0; y < m_h; ++y) {
         std::uint8_t* row = rgba + static_cast<std::size_t>(m_y + y) * stride + static_cast<std::size_t>(m_x) * 4;

@@ -5,11 +5,14 @@
 // reasonable for the medium; a profile switches it with `attribution` (docs/navmapd.md). The
 // text is laid out once per frame size with the label text engine (FreeType + HarfBuzz, SDF
 // atlas) and kept as a coverage mask; each published frame gets it composited on the CPU (a few
-// thousand pixels, well under 0.1 ms), so it is the same on every renderer, the no-op one included.
+// thousand pixels, well under 0.1 ms), so it is the same on every renderer, the no-op one included;
+// a dma-buf frame gets the same blend on the GPU (premultiplied()).
 
 #include <cstdint>
 #include <string>
 #include <vector>
+
+#include "navmap/render/image.h"
 
 namespace navmap::render::text {
 class TextEngine;
@@ -29,6 +32,10 @@ public:
     /// Blends the box and the text into an RGBA8 frame of the size given at construction
     /// (`stride` bytes per row). Any thread.
     void apply(std::uint8_t* rgba, int stride) const;
+    /// The same blend as premultiplied RGBA pixels of the box (boxWidth() x boxHeight()), for
+    /// the GPU to blend over a frame that never comes to the CPU (a dma-buf frame): "over" with
+    /// these gives apply()'s result within rounding.
+    render::Image premultiplied() const;
 
     /// The box in frame pixels (for tests and logs).
     int x() const noexcept { return m_x; }

@@ -21,6 +21,12 @@ void DaemonMetrics::update(const StatusSample& m) {
         "CAN receive time of the pose to frame published, per profile; quantiles over the last 600 frames.");
     auto& rendered = reg->counter("navmap_frames_rendered_total", "Frames rendered, per profile.");
     auto& published = reg->counter("navmap_frames_published_total", "Frames handed to the frame server, per profile.");
+    auto& copies = reg->counter("navmap_frame_cpu_copies_total",
+                                "Pixel copies the CPU made for a profile's frames: a readback per frame read back and "
+                                "a copy per ring it went into; frames exported as dma-bufs cost none.");
+    auto& exported = reg->counter("navmap_frames_dmabuf_total",
+                                  "Frames handed to dma-buf clients in exported buffers (copied on the GPU), per "
+                                  "profile; `state` busy: not exported, every buffer still held by a client.");
     auto& uploads = reg->counter("navmap_gpu_tile_uploads_total", "Tiles uploaded to the GPU for a profile's frames.");
     auto& first_frame = reg->gauge("navmap_first_frame_seconds",
                                    "Process exec to the profile's first published frame (none before it).");
@@ -46,6 +52,9 @@ void DaemonMetrics::update(const StatusSample& m) {
         rendered.sample({{"profile", n}}, d(v.rendered));
         published.sample({{"profile", n}}, d(v.published));
         uploads.sample({{"profile", n}}, d(v.tiles_uploaded));
+        copies.sample({{"profile", n}}, d(v.cpu_copies));
+        exported.sample({{"profile", n}, {"state", "exported"}}, d(v.dmabuf_published))
+            .sample({{"profile", n}, {"state", "busy"}}, d(v.dmabuf_busy));
         if (v.first_frame_s >= 0) first_frame.sample({{"profile", n}}, v.first_frame_s);
     }
     reg->counter("navmap_can_frames_total", "CAN frames received.").sample(d(m.input.frames));

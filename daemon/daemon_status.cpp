@@ -75,6 +75,8 @@ void DaemonStatus::publish(const StatusSample& m) {
                             {"held_back", s.held_back},
                             {"tiles_wanted", s.tiles_wanted},
                             {"tiles_uploaded", s.tiles_uploaded},
+                            {"cpu_copies", s.cpu_copies},
+                            {"dmabuf", {{"exported", s.dmabuf_published}, {"busy", s.dmabuf_busy}}},
                             {"attribution", d->hasAttribution()},
                             {"first_frame_s", s.first_frame_s >= 0 ? nlohmann::json(s.first_frame_s) : nullptr},
                             {"passes", passes},

@@ -15,10 +15,6 @@ namespace {
 // (a store that lacks the area, a disk that stalls): the display then shows what there is.
 constexpr auto kStartupTileWait = std::chrono::seconds(15);
 
-std::int64_t realtimeNs(ipc::CanTime t) {
-    return std::chrono::duration_cast<std::chrono::nanoseconds>(t.time_since_epoch()).count();
-}
-
 render::ViewMode viewFor(const DisplayProfile& p, const ipc::ViewState* state) {
     if (state) {
         const auto it = state->displays.find(p.name);
@@ -85,6 +81,7 @@ void Display::reconfigure(const DisplayProfile& p, std::unique_ptr<AttributionOv
     if (p.attribution != m_profile.attribution) {
         m_profile.attribution = p.attribution;
         m_attribution = std::move(attribution);
+        m_attribution_pixels = {};  // made again for the exported frames
     }
     m_profile.camera = p.camera;
 }
@@ -245,7 +242,8 @@ bool Display::draw(render::Renderer& renderer, const PoseSource& poses, const Fr
     return true;
 }
 
-void Display::finishFrame(render::Renderer& renderer, ipc::FrameServer& frames, Clock::time_point tick) {
+void Display::finishFrame(render::Renderer& renderer, ipc::FrameServer& frames, Clock::time_point tick,
+                          const ipc::ActiveProfile* active) {
     const std::uint64_t seq = m_sequence++;
     m_source_times[seq] = {m_frame_source, std::move(m_frame_annotation)};
     if (m_first_complete == kNone) {
@@ -266,12 +264,26 @@ void Display::finishFrame(render::Renderer& renderer, ipc::FrameServer& frames, 
             }
         }
     }
+    // Clients of payload dmabuf get the frame in an exported buffer; only the others need it read
+    // back (render_all without clients reads back too: tests look at those frames).
+    const std::size_t dmabuf_clients = active ? active->dmabuf_clients : 0;
+    const bool read_back = !active || active->clients > dmabuf_clients;
+    const auto t_publish = Clock::now();
+    if (dmabuf_clients > 0) exportDmabuf(renderer, frames, seq, !read_back);
+    if (!read_back) {
+        m_source_times.erase(m_source_times.begin(), m_source_times.upper_bound(seq));
+        m_stats.pass_ms["publish"].add(std::chrono::duration<double, std::milli>(Clock::now() - t_publish).count());
+        ++m_stats.rendered;
+        const double frame_ms = std::chrono::duration<double, std::milli>(Clock::now() - m_frame_start).count();
+        m_stats.frame_ms.add(frame_ms);
+        m_stats.frame_s_sum += frame_ms / 1000.0;
+        return;
+    }
     // The ring hands back a frame only when full; collect what has finished now so frames leave
     // in the tick that rendered them.
     std::vector<render::Frame> finished;
     if (auto oldest = renderer.readAsync(m_target, seq)) finished.push_back(std::move(*oldest));
     for (auto& f : renderer.collectReadbacks(m_target)) finished.push_back(std::move(f));
-    const auto t_publish = Clock::now();
     publish(finished, frames);
     m_stats.pass_ms["publish"].add(std::chrono::duration<double, std::milli>(Clock::now() - t_publish).count());
     ++m_stats.rendered;
@@ -324,19 +336,24 @@ void Display::publish(std::vector<render::Frame>& finished, ipc::FrameServer& fr
             fv.validity = it->second.annotation.validity;
             fv.meta = it->second.annotation.meta;
         }
-        frames.publish(m_profile.name, fv);  // routed by profile: same view and size, other style
-        if (m_stats.published++ == 0) {
-            m_stats.first_frame_s = std::chrono::duration<double>(Clock::now() - m_exec).count();
-            m_log(Log::kInfo, "profile %s: first frame published %.0f ms after exec", m_profile.name.c_str(),
-                  m_stats.first_frame_s * 1000.0);
-        }
-        if (source != ipc::CanTime{}) {
-            const double latency_ms = std::chrono::duration<double, std::milli>(ipc::CanClock::now() - source).count();
-            m_stats.latency_ms.add(latency_ms);
-            m_stats.latency_s_sum += latency_ms / 1000.0;
-            ++m_stats.latency_count;
-        }
+        // routed by profile: same view and size, other style; one copy into each ring, after the readback's
+        m_stats.cpu_copies += 1 + frames.publish(m_profile.name, fv);
+        countPublished(source);
         m_source_times.erase(m_source_times.begin(), m_source_times.upper_bound(done.sequence));
+    }
+}
+
+void Display::countPublished(ipc::CanTime source) {
+    if (m_stats.published++ == 0) {
+        m_stats.first_frame_s = std::chrono::duration<double>(Clock::now() - m_exec).count();
+        m_log(Log::kInfo, "profile %s: first frame published %.0f ms after exec", m_profile.name.c_str(),
+              m_stats.first_frame_s * 1000.0);
+    }
+    if (source != ipc::CanTime{}) {
+        const double latency_ms = std::chrono::duration<double, std::milli>(ipc::CanClock::now() - source).count();
+        m_stats.latency_ms.add(latency_ms);
+        m_stats.latency_s_sum += latency_ms / 1000.0;
+        ++m_stats.latency_count;
     }
 }
 

@@ -42,6 +42,12 @@ struct DisplayStats {
     std::size_t tiles_wanted = 0;                    ///< last frame: tiles the view still waits for
     std::uint64_t tiles_uploaded = 0;                ///< GPU tile uploads of this display's frames
     std::uint64_t held_back = 0;                     ///< frames not published while the map loaded
+    /// Frames handed out as exported dma-bufs (docs/frame-protocol.md "dma-buf frames"), and
+    /// those not, because every buffer was still held by a client.
+    std::uint64_t dmabuf_published = 0, dmabuf_busy = 0;
+    /// Pixel copies the CPU made for this profile's frames: one readback per frame read back,
+    /// one per ring it was written into; a dma-buf frame costs none (navmap_frame_cpu_copies_total).
+    std::uint64_t cpu_copies = 0;
     /// Where the frame time goes (get_status "passes", navmap_pass_seconds), ms per pass name:
     /// every frame's `select` (camera, tiles), `render` (the renderer's call) and `publish`
     /// (readbacks to the frame server); and, of one frame in kPassSampleEvery, the renderer's
@@ -114,9 +120,13 @@ public:
     /// not called for it.
     bool draw(render::Renderer& renderer, const PoseSource& poses, const FrameContext& context,
               const map::Projection& projection);
-    /// After draw(): numbers the frame, publishes the readbacks that have finished, times the
-    /// frame. `tick`: when the loop's tick began (the start-up wait is measured to it).
-    void finishFrame(render::Renderer& renderer, ipc::FrameServer& frames, Clock::time_point tick);
+    /// After draw(): numbers the frame, hands it to the dma-buf clients (exported, no copy) and
+    /// starts its readback for the others, publishes the readbacks that have finished, times the
+    /// frame. `tick`: when the loop's tick began (the start-up wait is measured to it). `active`:
+    /// this profile's clients (null: none, e.g. rendering for tests with render_all): without
+    /// clients that need pixels no readback is made.
+    void finishFrame(render::Renderer& renderer, ipc::FrameServer& frames, Clock::time_point tick,
+                     const ipc::ActiveProfile* active);
     /// Publishes readbacks finished since (polled while frames are in flight).
     void collect(render::Renderer& renderer, ipc::FrameServer& frames);
     /// Until the first frame is published, the display's stream clients get a loading status: at
@@ -140,6 +150,15 @@ private:
 
     static constexpr std::uint64_t kNone = ~std::uint64_t{0};
     void publish(std::vector<render::Frame>& finished, ipc::FrameServer& frames);
+    /// The frame `seq` just drawn, copied on the GPU into a free exported buffer, to the dma-buf
+    /// clients (display_dmabuf.cpp). `counted`: this publication is the frame's (no readback).
+    void exportDmabuf(render::Renderer& renderer, ipc::FrameServer& frames, std::uint64_t seq, bool counted);
+    /// A frame header's source time: the CAN time behind its pose (CLOCK_REALTIME ns).
+    static std::int64_t realtimeNs(ipc::CanTime t) {
+        return std::chrono::duration_cast<std::chrono::nanoseconds>(t.time_since_epoch()).count();
+    }
+    /// A frame went out: published count, first-frame log, CAN-to-frame latency.
+    void countPublished(ipc::CanTime source);
     /// Adds a profiled frame's pass times to DisplayStats::pass_ms.
     void samplePasses(const render::MapFrameStats& s);
 
@@ -154,6 +173,8 @@ private:
     render::MapView m_map_view;
     render::CameraRig m_rig;
     std::unique_ptr<AttributionOverlay> m_attribution;
+    render::Image m_attribution_pixels;  // m_attribution premultiplied, for exported frames (made once)
+    std::uint64_t m_attribution_id = 0;  // changes with m_attribution (the renderer's upload key)
     // The frame being drawn (draw -> finishFrame).
     Clock::time_point m_frame_start{}, m_last_frame{};
     ipc::CanTime m_frame_source{};

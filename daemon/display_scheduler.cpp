@@ -103,16 +103,14 @@ void DisplayScheduler::logContext(const render::DeviceInfo& dev) const {
           dev.version.c_str(), dev.renderer.c_str(), off.empty() ? "none" : off.c_str());
     const render::DmabufCapability& d = dev.dmabuf;
     if (d.available)
-        m_log(Log::kInfo, "dma-buf export: possible on %s (sync: %s), not used yet: frames go through shared memory",
+        m_log(Log::kInfo, "dma-buf export: on, buffers from %s (sync: %s): clients may ask for payload dmabuf",
               d.drm_node.c_str(), d.native_fence_sync ? "native fences" : "glFinish");
     else
         m_log(Log::kInfo, "dma-buf export: off (%s): frames go through shared memory", d.reason.c_str());
 }
 
 std::string DisplayScheduler::dmabufRefusal(const render::DmabufCapability& capability) {
-    if (!capability.available) return capability.reason;
-    return "the GPU could export them through " + capability.drm_node +
-           ", but navmapd does not render into exported buffers yet";
+    return capability.available ? std::string() : capability.reason;
 }
 
 std::unique_ptr<AttributionOverlay> DisplayScheduler::makeAttribution(const DisplayProfile& p) {
@@ -161,7 +159,10 @@ DisplayScheduler::Clock::time_point DisplayScheduler::tick(Clock::time_point now
         d.holdFirstFrame(hold);
         if (d.draw(*m_renderer, poses, context, m_projection)) {
             warnFlatTiles();
-            d.finishFrame(*m_renderer, m_frames, now);
+            const auto mine = std::find_if(active.begin(), active.end(), [&](const ipc::ActiveProfile& a) {
+                return a.profile == d.profile().name && a.width == d.profile().width && a.height == d.profile().height;
+            });
+            d.finishFrame(*m_renderer, m_frames, now, mine != active.end() ? &*mine : nullptr);
         }
         noticeContextResets(now);
         m_last_frame_done = Clock::now();  // a start-up tick that only requested tiles is progress too

@@ -66,7 +66,7 @@ public:
     /// Whether the renderer could export frames as dma-bufs, and why not (probed at start-up;
     /// navmapd serves shm frames either way: docs/frame-protocol.md "dma-buf frames").
     [[nodiscard]] const render::DmabufCapability& dmabuf() const { return m_renderer->device().dmabuf; }
-    /// The reason in navmapd's refusal of a dma-buf frame request.
+    /// Why navmapd refuses dma-buf frame requests (the frame server's reason); empty: it accepts them.
     [[nodiscard]] static std::string dmabufRefusal(const render::DmabufCapability& capability);
     /// GL contexts lost and made anew so far (render::DeviceInfo::context_resets, as told to the displays).
     [[nodiscard]] int contextResets() const { return m_context_resets; }

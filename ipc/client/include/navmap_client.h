@@ -156,10 +156,28 @@ NAVMAP_CLIENT_EXPORT int navmap_client_release_frame(navmap_client* client, cons
 NAVMAP_CLIENT_EXPORT int navmap_client_request_meta(navmap_client* client, int on);
 
 /* Asks navmapd for dma-buf frames from the next connection on (docs/frame-protocol.md "dma-buf
- * frames"), falling back to the shared-memory ring when it refuses them, as every navmapd does
- * today: frames then come as always. Call it after navmap_client_create(), before the first
- * navmap_client_next_frame(). 0, or NAVMAP_CLIENT_ERROR when the client is null or connected. */
+ * frames"), falling back to the shared-memory ring when it refuses them (a renderer that cannot
+ * export). With dma-buf frames a navmap_frame's pixels are a read-only mapping of the exported
+ * buffer (stride: the buffer's), and navmap_client_frame_dmabuf() gives the buffer to import
+ * instead. Call it after navmap_client_create(), before the first navmap_client_next_frame(). 0,
+ * or NAVMAP_CLIENT_ERROR when the client is null or connected. */
 NAVMAP_CLIENT_EXPORT int navmap_client_request_dmabuf(navmap_client* client);
+
+/* The exported buffer of a dma-buf frame, for EGL_EXT_image_dma_buf_import or zwp_linux_dmabuf_v1. */
+typedef struct navmap_dmabuf {
+    int fd;            /* owned by the client: valid until the frame is released; dup() it to keep it */
+    uint32_t fourcc;   /* DRM fourcc: 'AB24' (DRM_FORMAT_ABGR8888, RGBA bytes) */
+    uint64_t modifier; /* DRM format modifier; 0: linear */
+    uint32_t offset;   /* of plane 0 */
+    uint32_t stride;   /* bytes per row of plane 0 */
+    uint32_t buffer;   /* the buffer's index (0..15); `new_buffer` 1: this index has a new fd */
+    int new_buffer;
+} navmap_dmabuf;
+
+/* The buffer of the frame held when it came as a dma-buf: NAVMAP_CLIENT_FRAME with *dmabuf filled;
+ * NAVMAP_CLIENT_ERROR when `frame` is not the frame held or came through shared memory. */
+NAVMAP_CLIENT_EXPORT int navmap_client_frame_dmabuf(const navmap_client* client, const navmap_frame* frame,
+                                                    navmap_dmabuf* dmabuf);
 
 /* The payload of the current connection, "shm" or "dmabuf"; "" while not connected. */
 NAVMAP_CLIENT_EXPORT const char* navmap_client_payload(const navmap_client* client);

@@ -116,7 +116,7 @@ Result<FrameHeader> decodeFrameHeader(const std::uint8_t* d, std::size_t size) {
         }
         return h;
     }
-    if (encoding > 2) {
+    if (encoding > 3) {
         return Error{"frame header: unknown encoding " + std::to_string(encoding)};
     }
     h.encoding = static_cast<FrameEncoding>(encoding);
@@ -142,6 +142,12 @@ Result<FrameHeader> decodeFrameHeader(const std::uint8_t* d, std::size_t size) {
             if (h.payload_bytes != h.pixelBytes()) {
                 return Error{"frame header: raw payload " + std::to_string(h.payload_bytes) + " bytes, expected " +
                              std::to_string(h.pixelBytes())};
+            }
+            break;
+        case FrameEncoding::Dmabuf:
+            if (h.payload_bytes != 48 || h.slot >= 16) {
+                return Error{"frame header: dma-buf frame with a payload of " + std::to_string(h.payload_bytes) +
+                             " bytes (expected 48) or buffer " + std::to_string(h.slot) + " (0..15)"};
             }
             break;
         case FrameEncoding::Zlib:

@@ -168,8 +168,23 @@ int navmap_client_request_dmabuf(navmap_client* client) {
     if (client == nullptr || client->client->connected()) {
         return NAVMAP_CLIENT_ERROR;
     }
-    client->client->requestDmabuf(true);  // navmap_frame has pixels only: always fall back to shm
+    client->client->requestDmabuf(true);  // a navmapd that cannot export: shm frames as always
     return 0;
+}
+
+int navmap_client_frame_dmabuf(const navmap_client* client, const navmap_frame* frame, navmap_dmabuf* dmabuf) {
+    if (client == nullptr || dmabuf == nullptr || !heldFrame(client, frame) || client->held.dmabuf_fd < 0) {
+        return NAVMAP_CLIENT_ERROR;
+    }
+    const auto& b = client->held.dmabuf;
+    dmabuf->fd = client->held.dmabuf_fd;
+    dmabuf->fourcc = b.fourcc;
+    dmabuf->modifier = b.modifier;
+    dmabuf->offset = b.offset;
+    dmabuf->stride = b.stride;
+    dmabuf->buffer = client->held.header.slot;
+    dmabuf->new_buffer = (b.flags & navmap::ipc::kDmabufBufferFd) != 0 ? 1 : 0;
+    return NAVMAP_CLIENT_FRAME;
 }
 
 const char* navmap_client_payload(const navmap_client* client) {

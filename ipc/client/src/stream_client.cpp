@@ -31,11 +31,6 @@ using Clock = std::chrono::steady_clock;
 
 namespace {
 
-int msLeft(Clock::time_point deadline) {
-    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now()).count();
-    return left < 0 ? 0 : static_cast<int>(left);
-}
-
 Status sendAll(int fd, const char* data, std::size_t n, const std::string& peer) {
     while (n > 0) {
         const ssize_t w = ::send(fd, data, n, MSG_NOSIGNAL);
@@ -153,11 +148,11 @@ Result<std::unique_ptr<StreamClient>> StreamClient::handshake(int raw_fd, const 
     const Status sent = sendAll(fd.get(), line.data(), line.size(), peer);
     // Read the reply line; the ring's memfd (shm) arrives with its first bytes (SCM_RIGHTS).
     std::string reply;
-    UniqueFd memfd;
+    std::vector<UniqueFd> fds;  // the ring's memfd (shm); a first dma-buf frame's fds may come early
     std::vector<std::uint8_t> rest;
     for (;;) {
         pollfd p{fd.get(), POLLIN, 0};
-        const int n = ::poll(&p, 1, msLeft(deadline));
+        const int n = ::poll(&p, 1, stream_detail::msLeft(deadline));
         if (n == 0) {
             return Error{"handshake with " + peer + ": no reply within " + std::to_string(timeout.count()) + " ms"};
         }
@@ -188,11 +183,7 @@ Result<std::unique_ptr<StreamClient>> StreamClient::handshake(int raw_fd, const 
                 for (std::size_t i = 0; i < count; ++i) {
                     int f = -1;
                     std::memcpy(&f, CMSG_DATA(cm) + i * sizeof(int), sizeof(int));
-                    if (i == 0 && !memfd.valid()) {
-                        memfd.reset(f);
-                    } else {
-                        ::close(f);  // unexpected extra descriptors: do not leak them
-                    }
+                    fds.emplace_back(f);
                 }
             }
         }
@@ -234,7 +225,13 @@ Result<std::unique_ptr<StreamClient>> StreamClient::handshake(int raw_fd, const 
     client->m_inflate = std::move(inflate);
     client->m_hold = request.hold;
     client->m_meta = request.meta;
+    if (request.payload == StreamPayload::Dmabuf) {
+        // Descriptors that came with the reply's read belong to the first frame's bytes in `rest`.
+        for (auto& f : fds) client->m_fds.push_back(f.release());
+    }
     if (request.payload == StreamPayload::Shm) {
+        // The memfd; any other descriptor is unexpected and closed with `fds`.
+        UniqueFd memfd = fds.empty() ? UniqueFd() : std::move(fds.front());
         if (!memfd.valid()) {
             return Error{"handshake with " + peer + ": no shared-memory descriptor in the reply"};
         }
@@ -263,6 +260,11 @@ StreamClient::~StreamClient() {
     if (m_map != nullptr) {
         ::munmap(const_cast<std::uint8_t*>(m_map), m_map_bytes);
     }
+    for (const int f : m_fds) ::close(f);
+    for (int i = 0; i < kDmabufMaxBuffers; ++i) unmapDmabuf(i);
+    for (const int f : m_dmabufs) {
+        if (f >= 0) ::close(f);
+    }
     // The installed header keeps a plain int (ipc/net is not part of the client's API).
     const UniqueFd owned(m_fd);
 }
@@ -281,7 +283,7 @@ Status StreamClient::readExact(std::uint8_t* dst, std::size_t n, Clock::time_poi
         }
     }
     while (n > 0) {
-        const auto got = net::recvBefore(m_fd, dst, n, deadline, m_peer);
+        const auto got = net::recvBefore(m_fd, dst, n, deadline, m_peer, fdSink());
         if (got.kind == net::Received::Kind::TimedOut) {
             *timed_out = true;
             return Error{"timeout"};
@@ -310,7 +312,7 @@ Result<bool> StreamClient::readHeader(FrameHeader& out, Clock::time_point deadli
         }
         while (m_header_have < kFrameHeaderBytes) {
             const auto got = net::recvBefore(m_fd, m_header_buf + m_header_have, kFrameHeaderBytes - m_header_have,
-                                             deadline, m_peer);
+                                             deadline, m_peer, fdSink());
             if (got.kind == net::Received::Kind::TimedOut) {
                 return false;
             }
@@ -351,18 +353,32 @@ Status StreamClient::readMeta(const FrameHeader& h, Clock::time_point deadline, 
 }
 
 Result<bool> StreamClient::next(ReceivedFrame& out, std::chrono::milliseconds timeout) {
-    return receive(&out, nullptr, timeout);
+    return receive({&out, nullptr, nullptr}, timeout);
 }
 
 Result<bool> StreamClient::nextHeld(HeldFrame& out, std::chrono::milliseconds timeout) {
-    if (!m_hold) {
-        return Error{m_peer + ": nextHeld() needs a stream opened with request.hold (payload shm)"};
+    if (!m_hold || (m_payload != StreamPayload::Shm && m_payload != StreamPayload::Dmabuf)) {
+        return Error{m_peer + ": nextHeld() needs a stream opened with request.hold (payload shm or dmabuf)"};
     }
-    return receive(nullptr, &out, timeout);
+    return receive({nullptr, &out, nullptr}, timeout);
+}
+
+Status StreamClient::sendAck() {
+    const char ack = 'A';
+    return sendAll(m_fd, &ack, 1, m_peer);
 }
 
 Result<bool> StreamClient::release() {
     if (m_held < 0) {
+        return true;
+    }
+    if (m_payload == StreamPayload::Dmabuf) {
+        if (m_dmabuf_maps[static_cast<std::size_t>(m_held)].at != nullptr)
+            stream_detail::dmaBufSync(m_dmabufs[m_held], false);
+        m_held = -1;  // the server keeps the buffer from the renderer until this ack
+        if (auto s = sendAck(); !s) {
+            return Error{s.message()};
+        }
         return true;
     }
     // The slot's lock word tells whether the server had to overwrite it while it was held.
@@ -402,7 +418,55 @@ Status StreamClient::takeStatus(const FrameHeader& h, Clock::time_point deadline
     return {};
 }
 
-Result<bool> StreamClient::receive(ReceivedFrame* copy, HeldFrame* held, std::chrono::milliseconds timeout) {
+Result<bool> StreamClient::takeShm(FrameHeader& h, Out out, std::optional<FrameMeta>& meta,
+                                   const std::uint8_t** held_pixels) {
+    const FrameRingLayout l = FrameRingLayout::make(m_slots, h.width, h.height, h.format);
+    FrameHeader slot_header;
+    bool ok = false;
+    if (out.held != nullptr) {
+        // In place: the server pinned the frame's slot for us until our ack.
+        std::uint64_t lock = 0;
+        const int slot = FrameRing::findSlot(m_map, l, h.sequence, &lock);
+        ok = slot >= 0 && FrameRing::readMapped(m_map, l, h.sequence, &slot_header, nullptr);
+        if (ok) {
+            m_held = slot;
+            m_held_lock = lock;
+            *held_pixels = m_map + l.slotOffset(static_cast<std::uint32_t>(slot)) + kSlotPixelOffset;
+        }
+    } else {
+        out.copy->pixels.resize(h.pixelBytes());
+        ok = FrameRing::readMapped(m_map, l, h.sequence, &slot_header, out.copy->pixels.data());
+        if (!ok) {
+            // Overwritten while the notification waited in the socket: the newest frame is
+            // in the ring too, and the newest frame is what we want anyway.
+            const std::uint64_t latest = FrameRing::latestMapped(m_map);
+            if (latest > h.sequence && FrameRing::readMapped(m_map, l, latest, &slot_header, out.copy->pixels.data())) {
+                h.sequence = latest;
+                meta.reset();  // the block was the notified frame's, not this one's
+                ok = true;
+            }
+        }
+        if (ok) ++m_stats.cpu_copies;
+    }
+    if (!ok || out.held == nullptr) {
+        // A copy is done (or there is nothing to hold): give the credit back right away,
+        // so the server may notify the next frame while we work.
+        if (auto s = sendAck(); !s) {
+            return Error{s.message()};
+        }
+    }
+    if (!ok) {
+        ++m_stats.lost_locally;  // overwritten before we looked at it; wait for the next one
+        return false;
+    }
+    h.render_time_ns = slot_header.render_time_ns;
+    h.source_time_ns = slot_header.source_time_ns;
+    h.slot = slot_header.slot;
+    h.validity = slot_header.validity;
+    return true;
+}
+
+Result<bool> StreamClient::receive(Out out, std::chrono::milliseconds timeout) {
     if (auto r = release(); !r) {
         return Error{r.error().message};
     }
@@ -437,9 +501,14 @@ Result<bool> StreamClient::receive(ReceivedFrame* copy, HeldFrame* held, std::ch
             }
             continue;
         }
-        const bool want_shm = m_payload == StreamPayload::Shm;
+        const FrameEncoding want = m_payload == StreamPayload::Shm      ? FrameEncoding::Shm
+                                   : m_payload == StreamPayload::Dmabuf ? FrameEncoding::Dmabuf
+                                                                        : h.encoding;
+        const bool socket_payload = want != FrameEncoding::Shm && want != FrameEncoding::Dmabuf;
         // The stride too: a display reads stride x height bytes at the pixels it is handed.
-        if ((h.encoding == FrameEncoding::Shm) != want_shm || h.width != static_cast<std::uint32_t>(m_profile.width) ||
+        if (h.encoding != want ||
+            (socket_payload && h.encoding != FrameEncoding::Raw && h.encoding != FrameEncoding::Zlib) ||
+            h.width != static_cast<std::uint32_t>(m_profile.width) ||
             h.height != static_cast<std::uint32_t>(m_profile.height) || h.format != m_profile.format ||
             h.stride != h.width * static_cast<std::uint32_t>(bytesPerPixel(h.format))) {
             return Error{m_peer + ": frame header does not match the negotiated profile"};
@@ -451,44 +520,11 @@ Result<bool> StreamClient::receive(ReceivedFrame* copy, HeldFrame* held, std::ch
         const std::int64_t received_ns = stream_detail::realtimeNowNs();
         const std::uint8_t* held_pixels = nullptr;
         if (h.encoding == FrameEncoding::Shm) {
-            const FrameRingLayout l = FrameRingLayout::make(m_slots, h.width, h.height, h.format);
-            FrameHeader slot_header;
-            bool ok = false;
-            if (held != nullptr) {
-                // In place: the server pinned the frame's slot for us until our ack.
-                std::uint64_t lock = 0;
-                const int slot = FrameRing::findSlot(m_map, l, h.sequence, &lock);
-                ok = slot >= 0 && FrameRing::readMapped(m_map, l, h.sequence, &slot_header, nullptr);
-                if (ok) {
-                    m_held = slot;
-                    m_held_lock = lock;
-                    held_pixels = m_map + l.slotOffset(static_cast<std::uint32_t>(slot)) + kSlotPixelOffset;
-                }
-            } else {
-                copy->pixels.resize(h.pixelBytes());
-                ok = FrameRing::readMapped(m_map, l, h.sequence, &slot_header, copy->pixels.data());
-                if (!ok) {
-                    // Overwritten while the notification waited in the socket: the newest frame is
-                    // in the ring too, and the newest frame is what we want anyway.
-                    const std::uint64_t latest = FrameRing::latestMapped(m_map);
-                    if (latest > h.sequence &&
-                        FrameRing::readMapped(m_map, l, latest, &slot_header, copy->pixels.data())) {
-                        h.sequence = latest;
-                        meta.reset();  // the block was the notified frame's, not this one's
-                        ok = true;
-                    }
-                }
+            auto taken = takeShm(h, out, meta, &held_pixels);
+            if (!taken) {
+                return Error{taken.error().message};
             }
-            if (!ok || held == nullptr) {
-                // A copy is done (or there is nothing to hold): give the credit back right away,
-                // so the server may notify the next frame while we work.
-                const char ack = 'A';
-                if (auto s = sendAll(m_fd, &ack, 1, m_peer); !s) {
-                    return Error{s.message()};
-                }
-            }
-            if (!ok) {
-                ++m_stats.lost_locally;  // overwritten before we looked at it; wait for the next one
+            if (!taken.value()) {
                 if (Clock::now() >= deadline) {
                     return false;
                 }
@@ -505,25 +541,26 @@ Result<bool> StreamClient::receive(ReceivedFrame* copy, HeldFrame* held, std::ch
                 }
                 continue;
             }
-            h.render_time_ns = slot_header.render_time_ns;
-            h.source_time_ns = slot_header.source_time_ns;
-            h.slot = slot_header.slot;
-            h.validity = slot_header.validity;
+        } else if (h.encoding == FrameEncoding::Dmabuf) {
+            if (auto s = takeDmabuf(h, out, payload_deadline); !s) {
+                return Error{s.message()};
+            }
         } else if (h.encoding == FrameEncoding::Raw) {
-            copy->pixels.resize(h.pixelBytes());
-            if (auto s = readExact(copy->pixels.data(), copy->pixels.size(), payload_deadline, &timed_out); !s) {
+            out.copy->pixels.resize(h.pixelBytes());
+            if (auto s = readExact(out.copy->pixels.data(), out.copy->pixels.size(), payload_deadline, &timed_out);
+                !s) {
                 return Error{s.message()};
             }
         } else {
-            copy->pixels.resize(h.pixelBytes());
+            out.copy->pixels.resize(h.pixelBytes());
             m_compressed.resize(h.payload_bytes);
             if (auto s = readExact(m_compressed.data(), m_compressed.size(), payload_deadline, &timed_out); !s) {
                 return Error{s.message()};
             }
-            if (!m_inflate ||
-                !m_inflate(m_compressed.data(), m_compressed.size(), copy->pixels.data(), copy->pixels.size())) {
+            if (!m_inflate || !m_inflate(m_compressed.data(), m_compressed.size(), out.copy->pixels.data(),
+                                         out.copy->pixels.size())) {
                 return Error{m_peer + ": frame " + std::to_string(h.sequence) + ": zlib payload does not inflate to " +
-                             std::to_string(copy->pixels.size()) + " bytes"};
+                             std::to_string(out.copy->pixels.size()) + " bytes"};
             }
         }
         m_last_sequence = h.sequence;
@@ -531,15 +568,25 @@ Result<bool> StreamClient::receive(ReceivedFrame* copy, HeldFrame* held, std::ch
         m_stats.server_dropped = h.dropped;
         ++m_stats.frames;
         h.dropped += m_stats.lost_locally;
-        if (held != nullptr) {
-            held->header = h;
-            held->pixels = held_pixels;
-            held->receive_time_ns = received_ns;
-            held->meta = std::move(meta);
+        if (out.held != nullptr) {
+            if (h.encoding == FrameEncoding::Dmabuf) {
+                h.stride = out.held->dmabuf.stride;  // the rows as they lie in the mapped buffer
+                held_pixels = out.held->pixels;
+            } else {
+                out.held->dmabuf_fd = -1;
+            }
+            out.held->header = h;
+            out.held->pixels = held_pixels;
+            out.held->receive_time_ns = received_ns;
+            out.held->meta = std::move(meta);
+        } else if (out.dmabuf != nullptr) {
+            out.dmabuf->header = h;
+            out.dmabuf->receive_time_ns = received_ns;
+            out.dmabuf->meta = std::move(meta);
         } else {
-            copy->meta = std::move(meta);
-            copy->header = h;
-            copy->receive_time_ns = stream_detail::realtimeNowNs();
+            out.copy->meta = std::move(meta);
+            out.copy->header = h;
+            out.copy->receive_time_ns = stream_detail::realtimeNowNs();
         }
         return true;
     }

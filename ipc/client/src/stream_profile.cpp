@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 #include <tuple>
 
+#include "navmap/ipc/client/dmabuf_block.h"
 #include "navmap/ipc/client/frame_header.h"
 #include "navmap/ipc/client/frame_ring.h"
 
@@ -421,11 +422,14 @@ Result<StreamReply> parseStreamReply(std::string_view line, const StreamRequest&
         return Error{"reply: \"header_bytes\" = " + std::to_string(v) + ", expected " +
                      std::to_string(kFrameHeaderBytes)};
     }
-    if (request.payload == StreamPayload::Dmabuf) {
-        // The layout of docs/frame-protocol.md "dma-buf frames" is specified, but no server sends
-        // it yet and this library cannot import dma-bufs: an accepting reply is an error (a client
-        // with dmabuf_fallback_shm then asks for shm).
-        return Error{"reply: payload dmabuf accepted, but this client library cannot import dma-buf frames yet"};
+    if (const auto layout = j.find("dmabuf"); request.payload == StreamPayload::Dmabuf) {
+        // The version of the 48-byte block every frame will carry: this client reads version 1.
+        if (layout == j.end() || !layout->is_number_integer() || layout->get<std::int64_t>() != kDmabufBlockVersion) {
+            return Error{"reply: \"dmabuf\" must be " + std::to_string(kDmabufBlockVersion) +
+                         " (the dma-buf block version this client reads)"};
+        }
+    } else if (layout != j.end()) {
+        return Error{"reply: \"dmabuf\" without asking for payload dmabuf"};
     }
     if (request.payload == StreamPayload::Shm) {
         if (auto s = readRing(j, reply.profile, &reply); !s) {

@@ -102,4 +102,10 @@ Result<int> connectTcpSocket(const std::string& host, int port, std::chrono::mil
     return Error{last_error};
 }
 
+int msLeft(std::chrono::steady_clock::time_point deadline) noexcept {
+    const auto left =
+        std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now()).count();
+    return left < 0 ? 0 : static_cast<int>(left);
+}
+
 }  // namespace navmap::ipc::stream_detail

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <climits>
+#include <cstring>
 
 #include "navmap/ipc/net/sys_error.h"
 
@@ -23,7 +24,7 @@ int msLeft(std::chrono::steady_clock::time_point deadline) {
 }  // namespace
 
 Received recvBefore(int fd, void* buf, std::size_t size, std::chrono::steady_clock::time_point deadline,
-                    std::string_view peer) {
+                    std::string_view peer, std::vector<int>* fds) {
     for (;;) {
         pollfd p{fd, POLLIN, 0};
         const int ready = ::poll(&p, 1, msLeft(deadline));
@@ -36,7 +37,24 @@ Received recvBefore(int fd, void* buf, std::size_t size, std::chrono::steady_clo
             }
             return {Received::Kind::Failed, 0, sysError("poll", peer)};
         }
-        const ssize_t got = ::recv(fd, buf, size, MSG_DONTWAIT);
+        iovec iov{buf, size};
+        alignas(cmsghdr) char control[CMSG_SPACE(sizeof(int) * 8)] = {};
+        msghdr msg{};
+        msg.msg_iov = &iov;
+        msg.msg_iovlen = 1;
+        if (fds) {
+            msg.msg_control = control;
+            msg.msg_controllen = sizeof(control);
+        }
+        const ssize_t got = ::recvmsg(fd, &msg, MSG_DONTWAIT | MSG_CMSG_CLOEXEC);
+        for (cmsghdr* cm = fds ? CMSG_FIRSTHDR(&msg) : nullptr; cm != nullptr; cm = CMSG_NXTHDR(&msg, cm)) {
+            if (cm->cmsg_level != SOL_SOCKET || cm->cmsg_type != SCM_RIGHTS) continue;
+            for (std::size_t i = 0; i < (cm->cmsg_len - CMSG_LEN(0)) / sizeof(int); ++i) {
+                int f = -1;
+                std::memcpy(&f, CMSG_DATA(cm) + i * sizeof(int), sizeof(int));
+                fds->push_back(f);
+            }
+        }
         if (got > 0) {
             return {Received::Kind::Data, static_cast<std::size_t>(got), {}};
         }
@@ -46,7 +64,7 @@ Received recvBefore(int fd, void* buf, std::size_t size, std::chrono::steady_clo
         if (errno == EINTR || errno == EAGAIN || errno == EWOULDBLOCK) {
             continue;
         }
-        return {Received::Kind::Failed, 0, sysError("recv", peer)};
+        return {Received::Kind::Failed, 0, sysError(fds ? "recvmsg" : "recv", peer)};
     }
 }
 

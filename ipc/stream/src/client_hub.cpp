@@ -157,6 +157,8 @@ std::uint64_t ClientHub::available(const StreamConn& c) const {
         seq = e.jpeg ? e.jpeg->sequence : 0;
     } else if (c.payload == StreamPayload::Zlib) {
         seq = e.zlib ? e.zlib->sequence : 0;
+    } else if (c.payload == StreamPayload::Dmabuf) {
+        return e.dmabuf->latestSequence();  // a sequence of its own: no ring frames
     } else {
         seq = e.ring->latestSequence();
     }
@@ -305,6 +307,9 @@ void ClientHub::reap() {
         (*it)->unpin();
         if ((*it)->ring) {
             --(*it)->ring->clients;
+            if ((*it)->payload == StreamPayload::Dmabuf) {
+                --(*it)->ring->dmabuf_clients;
+            }
         }
         m_loop.remove((*it)->fd.get());
         it = m_conns.erase(it);  // closes the socket
@@ -332,7 +337,7 @@ void ClientHub::recountFps() {
 
 void ClientHub::countClients(FrameServerStats& s) const {
     s.connections = m_conns.size();
-    s.clients = s.shm_clients = s.tcp_clients = s.mjpeg_clients = 0;
+    s.clients = s.shm_clients = s.tcp_clients = s.mjpeg_clients = s.dmabuf_clients = 0;
     for (const auto& c : m_conns) {
         if (c->dead || !c->ring) {
             continue;
@@ -342,6 +347,8 @@ void ClientHub::countClients(FrameServerStats& s) const {
             ++s.mjpeg_clients;
         } else if (c->payload == StreamPayload::Shm) {
             ++s.shm_clients;
+        } else if (c->payload == StreamPayload::Dmabuf) {
+            ++s.dmabuf_clients;
         } else {
             ++s.tcp_clients;
         }

@@ -37,6 +37,8 @@ public:
     Status start();
     void stop();
     std::size_t publish(const std::string& profile, const FrameView& frame);
+    std::size_t publishDmabuf(const std::string& profile, const FrameView& info, const DmabufBuffer& buffer);
+    std::uint32_t dmabufBusy(const std::string& profile) const { return m_rings.dmabufBusy(profile); }
     Status publishStatus(const std::string& key, int width, int height, std::string json);
     FrameServerStats stats() const { return m_stats.snapshot(); }
     std::vector<ActiveProfile> activeProfiles() const { return m_stats.active(); }
@@ -161,6 +163,16 @@ std::size_t FrameServer::Impl::publish(const std::string& profile, const FrameVi
     return written;
 }
 
+std::size_t FrameServer::Impl::publishDmabuf(const std::string& profile, const FrameView& info,
+                                             const DmabufBuffer& buffer) {
+    const std::size_t reached = m_rings.publishDmabuf(profile, info, buffer);
+    if (reached > 0) {
+        m_stats.countPublished();
+        m_loop.wake();
+    }
+    return reached;
+}
+
 Status FrameServer::Impl::publishStatus(const std::string& key, int width, int height, std::string json) {
     const auto* text = reinterpret_cast<const std::uint8_t*>(json.data());
     if (auto s = validateTextPayload(FrameKind::Status, text, json.size()); !s) {
@@ -224,6 +236,10 @@ std::size_t FrameServer::publish(const std::string& profile, const FrameView& fr
 Status FrameServer::publishStatus(const std::string& profile, int width, int height, std::string json) {
     return m_impl->publishStatus(profile, width, height, std::move(json));
 }
+std::size_t FrameServer::publishDmabuf(const std::string& profile, const FrameView& info, DmabufBuffer buffer) {
+    return m_impl->publishDmabuf(profile, info, buffer);
+}
+std::uint32_t FrameServer::dmabufBusy(const std::string& profile) const { return m_impl->dmabufBusy(profile); }
 std::vector<ActiveProfile> FrameServer::activeProfiles() const { return m_impl->activeProfiles(); }
 FrameServerStats FrameServer::stats() const { return m_impl->stats(); }
 void FrameServer::collectMetrics(MetricsRegistry& registry) const { m_impl->collectMetrics(registry); }

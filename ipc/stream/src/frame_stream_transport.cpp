@@ -59,13 +59,18 @@ void FrameStreamTransport::onHandshake(StreamConn& c, const std::string& line) {
     if (r.payload == StreamPayload::Dmabuf) {
         if (!carriesShm()) {
             handshakeError(c, "handshake: payload \"dmabuf\" needs the Unix socket; use \"raw\" or \"zlib\" over TCP");
-        } else {
-            const auto& why = m_hub.options().dmabuf_unavailable_reason;
-            handshakeError(c, "handshake: dmabuf frames are not available here (" +
-                                  (why ? why() : std::string("this server exports no dma-buf frames")) +
-                                  "); ask for shm");
+            return;
         }
-        return;
+        const auto& available = m_hub.options().dmabuf_unavailable_reason;
+        const std::string why = available ? available() : std::string("this server exports no dma-buf frames");
+        if (!why.empty()) {
+            handshakeError(c, "handshake: dmabuf frames are not available here (" + why + "); ask for shm");
+            return;
+        }
+        if (r.profile.format != PixelFormat::Rgba8) {
+            handshakeError(c, "handshake: dmabuf frames are rgba8 (DRM_FORMAT_ABGR8888); ask for format rgba8");
+            return;
+        }
     }
     auto key = m_hub.rings().resolve(r.profile);
     if (!key) {
@@ -78,6 +83,9 @@ void FrameStreamTransport::onHandshake(StreamConn& c, const std::string& line) {
         return;
     }
     c.ring = ring.value();
+    if (r.payload == StreamPayload::Dmabuf) {
+        ++c.ring->dmabuf_clients;
+    }
     c.payload = r.payload;
     c.hold = r.hold;
     c.meta = r.meta;
@@ -109,6 +117,9 @@ std::string FrameStreamTransport::handshakeReply(const StreamConn& c, const Stre
     }
     reply["stride"] = l.stride;
     reply["header_bytes"] = kFrameHeaderBytes;
+    if (r.payload == StreamPayload::Dmabuf) {
+        reply["dmabuf"] = kDmabufBlockVersion;  // the block layout every dma-buf frame has
+    }
     if (r.payload == StreamPayload::Shm) {
         reply["ring"] = {{"slots", l.slots},
                          {"slot_bytes", l.slot_bytes},

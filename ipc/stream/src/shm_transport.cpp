@@ -4,7 +4,11 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <cstring>
+#include <vector>
+
+#include "navmap/ipc/client/dmabuf_block.h"
 
 #include "navmap/ipc/net/sys_error.h"
 #include "stream_listen.h"
@@ -86,16 +90,90 @@ bool ShmTransport::sendWithRing(StreamConn& c, const std::string& text) {
 }
 
 bool ShmTransport::takeAck(StreamConn& c, unsigned char byte) {
-    if (c.payload != StreamPayload::Shm || byte != 'A' || !c.awaiting_ack) {
+    const bool acks = c.payload == StreamPayload::Shm || c.payload == StreamPayload::Dmabuf;
+    if (!acks || byte != 'A' || !c.awaiting_ack) {
         return false;
     }
     c.awaiting_ack = false;
-    c.unpin();  // the client is done with the frame: its slot may be written again
+    c.unpin();  // the client is done with the frame: its slot (or buffer) may be written again
     c.last_progress = Clock::now();
     if (c.pending && !c.busy()) {
         sendFrame(c);
     }
     return true;
+}
+
+void ShmTransport::sendFrame(StreamConn& c) {
+    if (c.payload == StreamPayload::Dmabuf) {
+        sendDmabufFrame(c);
+    } else {
+        FrameStreamTransport::sendFrame(c);
+    }
+}
+
+void ShmTransport::sendDmabufFrame(StreamConn& c) {
+    c.pending = false;
+    auto t = c.ring->dmabuf->take(c.last_sent, c.dmabuf_known);
+    if (!t) {
+        return;
+    }
+    // Header, the metadata block when asked for, the dma-buf block; the fds travel with the first
+    // byte (SCM_RIGHTS). Frames go only to a client whose queue is empty (not busy), so nothing
+    // queued before can separate the fds from their frame.
+    const auto meta = c.meta ? t->meta : nullptr;
+    t->header.dropped = c.dropped;
+    t->header.meta_bytes = meta ? static_cast<std::uint16_t>(meta->size()) : 0;
+    const auto hb = encodeFrameHeader(t->header);
+    const auto bb = encodeDmabufBlock(t->block);
+    std::vector<std::uint8_t> bytes(hb.begin(), hb.end());
+    if (meta) {
+        bytes.insert(bytes.end(), meta->begin(), meta->end());
+    }
+    bytes.insert(bytes.end(), bb.begin(), bb.end());
+    int fds[2];
+    std::size_t nfds = 0;
+    if (t->buffer_fd.valid()) fds[nfds++] = t->buffer_fd.get();
+    if (t->fence_fd.valid()) fds[nfds++] = t->fence_fd.get();
+    iovec iov{bytes.data(), bytes.size()};
+    alignas(cmsghdr) char control[CMSG_SPACE(sizeof(fds))] = {};
+    msghdr msg{};
+    msg.msg_iov = &iov;
+    msg.msg_iovlen = 1;
+    if (nfds > 0) {
+        msg.msg_control = control;
+        msg.msg_controllen = CMSG_SPACE(nfds * sizeof(int));
+        cmsghdr* cm = CMSG_FIRSTHDR(&msg);
+        cm->cmsg_level = SOL_SOCKET;
+        cm->cmsg_type = SCM_RIGHTS;
+        cm->cmsg_len = CMSG_LEN(nfds * sizeof(int));
+        std::memcpy(CMSG_DATA(cm), fds, nfds * sizeof(int));
+    }
+    const ssize_t n = ::sendmsg(c.fd.get(), &msg, MSG_NOSIGNAL | MSG_DONTWAIT);
+    if (n < 0) {
+        c.ring->dmabuf->release(t->buffer);
+        if (t->buffer_fd.valid()) {
+            c.dmabuf_known[static_cast<std::size_t>(t->buffer)] = 0;  // not received: send it again
+        }
+        if (errno == EAGAIN || errno == EWOULDBLOCK) {
+            ++c.dropped;  // the socket is full: this frame is lost to the client, the next one is not
+            m_hub.stats().count(&FrameServerStats::frames_dropped);
+            return;
+        }
+        m_hub.stats().setLastError(net::sysError("sendmsg", c.peer));
+        c.dead = true;
+        return;
+    }
+    if (static_cast<std::size_t>(n) < bytes.size()) {
+        c.queue(bytes.data() + n, bytes.size() - static_cast<std::size_t>(n));
+    }
+    c.dmabuf_held = t->buffer;
+    c.awaiting_ack = true;
+    c.ack_since = Clock::now();
+    m_hub.stats().count(&FrameServerStats::dmabuf_frames_sent);
+    if (t->buffer_fd.valid()) {
+        m_hub.stats().count(&FrameServerStats::dmabuf_fds_sent);
+    }
+    m_hub.frameSent(c, t->sequence);
 }
 
 bool ShmTransport::readFrame(StreamConn& c, std::uint64_t seq, FrameHeader* h) {

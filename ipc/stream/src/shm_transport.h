@@ -5,7 +5,9 @@
 // payloads (raw, zlib) it carries "shm": the handshake reply brings a read-only, sealed memfd of
 // the profile's ring (SCM_RIGHTS, like wl_shm), each frame is an 80-byte notification, and the
 // client sends one ack byte back per frame (credit of one frame). A client that holds frames has
-// its slot pinned from the notification until the ack. Server thread. Private to ipc/stream.
+// its slot pinned from the notification until the ack. And "dmabuf": each frame is its header and
+// the 48-byte dma-buf block, with the buffer's fd (the first time) and the fence's (SCM_RIGHTS);
+// the buffer is held until the ack. Server thread. Private to ipc/stream.
 
 #include "frame_stream_transport.h"
 #include "navmap/ipc/net/socket_access.h"
@@ -29,7 +31,13 @@ protected:
     bool readFrame(StreamConn& c, std::uint64_t seq, FrameHeader* h) override;
     void queueFrame(StreamConn& c, FrameHeader h, const EncodedFrame* encoded) override;
 
+public:
+    /// dmabuf clients: the newest dma-buf frame, its fds attached (docs/frame-protocol.md "dma-buf
+    /// frames"); the others: FrameStreamTransport's.
+    void sendFrame(StreamConn& c) override;
+
 private:
+    void sendDmabufFrame(StreamConn& c);
     bool sendWithRing(StreamConn& c, const std::string& text);
 
     PeerAllowList m_allowed;  // allowed_peers plus unix_group

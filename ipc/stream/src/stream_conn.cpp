@@ -59,6 +59,10 @@ void StreamConn::unpin() {
         ring->ring->unpin(static_cast<std::uint32_t>(pinned_slot));
     }
     pinned_slot = -1;
+    if (dmabuf_held >= 0 && ring) {
+        ring->dmabuf->release(dmabuf_held);
+    }
+    dmabuf_held = -1;
 }
 
 }  // namespace navmap::ipc::stream_detail

@@ -6,6 +6,7 @@
 
 #include <sys/types.h>
 
+#include <array>
 #include <chrono>
 #include <cstddef>
 #include <cstdint>
@@ -48,6 +49,9 @@ struct StreamConn {
     int fps = 0;
     bool awaiting_ack = false;
     int pinned_slot = -1;  // shm: the slot of the notified frame, pinned until the ack
+    int dmabuf_held = -1;  // dmabuf: the buffer of the notified frame, held until the ack
+    /// dmabuf: the allocation of each buffer whose fd this client has (0: none).
+    std::array<std::uint64_t, 16> dmabuf_known{};
     bool pending = false;
     std::uint64_t last_sent = 0;
     std::uint64_t seen = 0;  // newest frame (in this client's encoding) it has been offered
@@ -74,7 +78,8 @@ struct StreamConn {
     /// Drops the connection: one try to send `bytes` without waiting (when nothing else is
     /// queued), half-close, and `dead`, so it never holds its slot.
     void closeWith(const std::string& bytes);
-    /// shm: gives the pinned slot back to the ring (the client is done with it, or gone).
+    /// shm: gives the pinned slot back to the ring; dmabuf: the held buffer (the client is done
+    /// with it, or gone).
     void unpin();
 };
 

@@ -15,7 +15,8 @@ void collectTraffic(MetricsRegistry& r, const FrameServerStats& s) {
     r.gauge("navmap_stream_clients", "Frame-stream clients connected now, by transport.")
         .sample({{"transport", "shm"}}, d(s.shm_clients))
         .sample({{"transport", "tcp"}}, d(s.tcp_clients))
-        .sample({{"transport", "mjpeg"}}, d(s.mjpeg_clients));
+        .sample({{"transport", "mjpeg"}}, d(s.mjpeg_clients))
+        .sample({{"transport", "dmabuf"}}, d(s.dmabuf_clients));
     r.gauge("navmap_stream_rings",
             "Shared-memory rings: with clients (one per profile and pixel format), and idle ones kept for reuse "
             "because a client may still map them.")
@@ -25,6 +26,12 @@ void collectTraffic(MetricsRegistry& r, const FrameServerStats& s) {
         .sample(d(s.rings_reused));
     r.counter("navmap_stream_frames_published_total", "Frames published by the render loop.").sample(d(s.published));
     r.counter("navmap_stream_frames_sent_total", "Frames handed to clients.").sample(d(s.frames_sent));
+    r.counter("navmap_stream_dmabuf_frames_sent_total",
+              "Of the frames handed to clients, those sent as exported dma-bufs (no pixel copied).")
+        .sample(d(s.dmabuf_frames_sent));
+    r.counter("navmap_stream_dmabuf_fds_sent_total",
+              "Buffer fds passed to dma-buf clients (once per client and buffer allocation).")
+        .sample(d(s.dmabuf_fds_sent));
     r.counter("navmap_stream_statuses_sent_total", "Status headers handed to clients waiting for their first frame.")
         .sample(d(s.statuses_sent));
     r.counter("navmap_stream_frames_dropped_total", "Frames skipped because a client was busy.")

@@ -1,6 +1,9 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "stream_rings.h"
 
+#include <fcntl.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <iomanip>
 #include <sstream>
@@ -232,13 +235,14 @@ std::vector<ActiveProfile> RingSet::activeProfiles() const {
         for (auto& a : active) {
             if (a.profile == e->key && a.width == static_cast<int>(l.width) && a.height == static_cast<int>(l.height)) {
                 a.clients += e->clients;
+                a.dmabuf_clients += e->dmabuf_clients;
                 a.max_fps = std::max(a.max_fps, e->max_fps);
                 merged = true;
             }
         }
         if (!merged) {
-            active.push_back(
-                {e->key, e->view, static_cast<int>(l.width), static_cast<int>(l.height), e->max_fps, e->clients});
+            active.push_back({e->key, e->view, static_cast<int>(l.width), static_cast<int>(l.height), e->max_fps,
+                              e->clients, e->dmabuf_clients});
         }
     }
     return active;
@@ -248,7 +252,8 @@ void RingSet::updatePublishSet() {
     auto set = std::make_shared<PublishSet>();
     for (const auto& e : m_rings) {
         if (e->clients > 0) {
-            set->push_back({e->key, e->ring, e->meta});
+            const FrameRingLayout& l = e->ring->layout();
+            set->push_back({e->key, e->ring, e->meta, e->dmabuf_clients > 0 ? e->dmabuf : nullptr, l.width, l.height});
         }
     }
     std::lock_guard lock(m_publish_mutex);
@@ -273,6 +278,45 @@ std::size_t RingSet::publish(const std::string& profile, const FrameView& frame)
         }
     }
     return written;
+}
+
+std::size_t RingSet::publishDmabuf(const std::string& profile, const FrameView& info, const DmabufBuffer& buffer) {
+    std::shared_ptr<const PublishSet> set;
+    {
+        std::lock_guard lock(m_publish_mutex);
+        set = m_publish_set;
+    }
+    std::size_t reached = 0;
+    int fence = buffer.fence_fd;  // one publish() takes it; the others get their own duplicate
+    for (const auto& t : *set) {
+        if (t.key != profile || !t.dmabuf || t.width != buffer.layout.width || t.height != buffer.layout.height) {
+            continue;
+        }
+        DmabufBuffer b = buffer;
+        b.fence_fd = reached == 0 ? fence : (fence >= 0 ? ::fcntl(fence, F_DUPFD_CLOEXEC, 0) : -1);
+        if (t.dmabuf->publish(info, b)) {
+            ++reached;
+        } else if (reached == 0) {
+            fence = -1;  // publish() closed it
+        }
+    }
+    if (reached == 0 && fence >= 0) {
+        ::close(fence);
+    }
+    return reached;
+}
+
+std::uint32_t RingSet::dmabufBusy(const std::string& profile) const {
+    std::shared_ptr<const PublishSet> set;
+    {
+        std::lock_guard lock(m_publish_mutex);
+        set = m_publish_set;
+    }
+    std::uint32_t busy = 0;
+    for (const auto& t : *set) {
+        if (t.key == profile && t.dmabuf) busy |= t.dmabuf->busy();
+    }
+    return busy;
 }
 
 void RingSet::clear() {

@@ -21,6 +21,7 @@
 #include <utility>
 #include <vector>
 
+#include "dmabuf_frames.h"
 #include "frame_encoder.h"
 #include "navmap/ipc/client/frame_header.h"
 #include "navmap/ipc/client/frame_ring.h"
@@ -54,6 +55,9 @@ struct RingEntry {
     std::shared_ptr<FrameRing> ring;
     std::shared_ptr<FrameMetaHistory> meta = std::make_shared<FrameMetaHistory>();
     std::size_t clients = 0;
+    std::size_t dmabuf_clients = 0;  // of `clients`: they take dma-buf frames, not the ring's pixels
+    /// The dma-buf frames of this profile and size (docs/frame-protocol.md "dma-buf frames").
+    std::shared_ptr<DmabufFrames> dmabuf = std::make_shared<DmabufFrames>();
     /// Its memfd went to a client (SCM_RIGHTS): a mapping of it may live on after every
     /// connection is gone, so the ring stays (idle) and counted until the server ends.
     bool handed_out = false;
@@ -104,6 +108,11 @@ public:
     void updatePublishSet();
     /// Render thread: writes the frame into every ring of `profile`; the number written.
     std::size_t publish(const std::string& profile, const FrameView& frame);
+    /// Render thread: the dma-buf frame for the dma-buf clients of `profile` at its size; the
+    /// number of rings reached.
+    std::size_t publishDmabuf(const std::string& profile, const FrameView& info, const DmabufBuffer& buffer);
+    /// Render thread: DmabufFrames::busy() of every ring of `profile` with dma-buf clients.
+    std::uint32_t dmabufBusy(const std::string& profile) const;
     void clear();
 
 private:
@@ -111,6 +120,8 @@ private:
         std::string key;
         std::shared_ptr<FrameRing> ring;
         std::shared_ptr<FrameMetaHistory> meta;
+        std::shared_ptr<DmabufFrames> dmabuf;  // null: the ring has no dma-buf clients
+        std::uint32_t width = 0, height = 0;
     };
     using PublishSet = std::vector<PublishTarget>;
 

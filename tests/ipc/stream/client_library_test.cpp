@@ -236,7 +236,8 @@ TEST(ClientLibrary, LinksOnlyTheCAndCxxRuntime) {
     for (const char* symbol :
          {"navmap_client_request_meta", "navmap_client_frame_validity", "navmap_client_frame_meta",
           "navmap_client_request_dmabuf", "navmap_client_payload", "navmap_client_payload_fallback",
-          "navmap::ipc::decodeFrameMeta", "navmap::ipc::encodeFrameMeta"}) {
+          "navmap::ipc::decodeFrameMeta", "navmap::ipc::encodeFrameMeta", "navmap_client_frame_dmabuf",
+          "navmap::ipc::decodeDmabufBlock", "navmap::ipc::StreamClient::nextDmabuf"}) {
         EXPECT_NE(nm.out.find(symbol), std::string::npos) << symbol;
     }
     EXPECT_EQ(nm.out.find("FrameServer"), std::string::npos);

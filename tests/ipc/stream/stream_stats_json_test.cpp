@@ -39,10 +39,14 @@ TEST(FrameServerStatsJson, EveryKeyCarriesItsOwnCounter) {
     s.refused_host = 22;
     s.refused_token = 23;
     s.ring_bytes = 24;
+    s.dmabuf_clients = 25;
+    s.dmabuf_frames_sent = 26;
+    s.dmabuf_fds_sent = 27;
     s.publish_ms_last = 2.5;
     s.last_error = "tcp#7: handshake: unknown key \"x\"";
     EXPECT_EQ(frameServerStatsJson(s).dump(),
-              R"({"clients":1,"frames_dropped":11,"frames_sent":9,"handshake_errors":13,)"
+              R"({"clients":1,"dmabuf_clients":25,"dmabuf_fds_sent":27,"dmabuf_frames_sent":26,)"
+              R"("frames_dropped":11,"frames_sent":9,"handshake_errors":13,)"
               R"("last_error":"tcp#7: handshake: unknown key \"x\"","mjpeg_clients":4,"publish_ms_last":2.5,)"
               R"("published":8,"refusals":{"address_full":19,"http_host":22,"http_token":23,"not_rendered":20,)"
               R"("peer":16,"ring_memory":21,"transport_full":17,"uid_full":18},"ring_bytes":24,"rings":5,)"

@@ -33,6 +33,9 @@ enum class FrameEncoding : std::uint16_t {
     Shm = 0,   ///< in slot `slot` of the shared-memory ring (payload_bytes = 0)
     Raw = 1,   ///< payload_bytes = stride * height bytes follow the header
     Zlib = 2,  ///< payload_bytes of a zlib stream follow; it inflates to stride * height bytes
+    /// In exported buffer `slot`: the 48-byte dma-buf block follows (payload_bytes = 48;
+    /// dmabuf_block.h), the buffer's and fence's fds with it (SCM_RIGHTS) where its flags say so
+    Dmabuf = 3,
 };
 
 struct FrameHeader {
@@ -47,7 +50,7 @@ struct FrameHeader {
     std::uint32_t stride = 0;         ///< bytes per row
     std::uint32_t payload_bytes = 0;  ///< bytes following the header on the socket
     std::uint64_t dropped = 0;        ///< frames this client has missed so far (server side)
-    std::uint32_t slot = 0;           ///< ring slot (encoding Shm)
+    std::uint32_t slot = 0;           ///< ring slot (encoding Shm), buffer index (encoding Dmabuf)
     /// Whether the frame can be trusted (bytes 68..75; version 0 from servers before it existed).
     FrameValidity validity;
     /// Bytes of the metadata block that follows this header on the socket, before any payload

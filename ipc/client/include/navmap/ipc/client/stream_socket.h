@@ -26,4 +26,12 @@ Result<int> connectTcpSocket(const std::string& host, int port, std::chrono::mil
 
 std::int64_t realtimeNowNs() noexcept;
 
+/// Milliseconds from now to `deadline` for poll(), 0 once it has passed.
+int msLeft(std::chrono::steady_clock::time_point deadline) noexcept;
+
+/// DMA_BUF_IOCTL_SYNC around a CPU read of a mapped dma-buf (linux/dma-buf.h), so that caches see
+/// what the GPU wrote: `start` before the read, !`start` after. Best effort: a buffer without the
+/// ioctl is read as it is.
+void dmaBufSync(int fd, bool start) noexcept;
+
 }  // namespace navmap::ipc::stream_detail

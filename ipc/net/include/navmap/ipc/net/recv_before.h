@@ -8,6 +8,7 @@
 #include <cstddef>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace navmap::ipc::net {
 
@@ -23,8 +24,10 @@ struct Received {
 
 /// Waits until `deadline` for `fd` to turn readable, then receives up to `size` (> 0) bytes into
 /// `buf` without blocking. Retries when poll() or recv() is interrupted (EINTR) and when recv()
-/// finds nothing (EAGAIN); never waits past `deadline`.
+/// finds nothing (EAGAIN); never waits past `deadline`. With `fds` (a Unix socket), descriptors
+/// that arrive with the bytes (SCM_RIGHTS) are appended to it, close-on-exec, for the caller to
+/// own; without it the kernel closes any that come.
 Received recvBefore(int fd, void* buf, std::size_t size, std::chrono::steady_clock::time_point deadline,
-                    std::string_view peer);
+                    std::string_view peer, std::vector<int>* fds = nullptr);
 
 }  // namespace navmap::ipc::net

@@ -27,6 +27,7 @@
 #include <string>
 #include <vector>
 
+#include "navmap/ipc/client/dmabuf_block.h"
 #include "navmap/ipc/client/frame_view.h"
 #include "navmap/ipc/client/stream_profile.h"
 #include "navmap/ipc/net/result.h"
@@ -86,11 +87,12 @@ struct FrameServerOptions {
     std::vector<RenderedProfile> rendered_profiles;
     int jpeg_quality = 80;
     std::string mjpeg_profile = "center";  ///< profile of /stream.mjpg without ?profile=
-    /// Why a handshake asking for payload dmabuf is refused (docs/frame-protocol.md "dma-buf
-    /// frames"): the server renders into no exported buffers yet, so every such request gets
-    /// `handshake: dmabuf frames are not available here (<reason>); ask for shm`. navmapd returns
-    /// its renderer's probe (render/dmabuf_probe.h), known only once the renderer is up. Server
-    /// thread; must be thread-safe. Empty: "this server exports no dma-buf frames".
+    /// Whether a handshake asking for payload dmabuf is accepted (docs/frame-protocol.md "dma-buf
+    /// frames"): an empty string accepts it (the publisher then calls publishDmabuf() for those
+    /// clients); any other text refuses it with `handshake: dmabuf frames are not available here
+    /// (<text>); ask for shm`. navmapd returns its renderer's probe (render/dmabuf_probe.h), known
+    /// only once the renderer is up. Server thread; must be thread-safe. No function: refused,
+    /// "this server exports no dma-buf frames".
     std::function<std::string()> dmabuf_unavailable_reason;
     /// Adds the daemon's families to /metrics, after the server's own navmap_stream_* ones (one
     /// registry per scrape, so no family appears twice). Called on the server thread; must be
@@ -98,6 +100,16 @@ struct FrameServerOptions {
     std::function<void(MetricsRegistry&)> metrics;
     /// JSON object shown by the HTML page under "daemon" in /status. Server thread.
     std::function<std::string()> status_json;
+};
+
+/// A frame in a buffer the renderer exported (docs/frame-protocol.md "dma-buf frames"), for
+/// FrameServer::publishDmabuf().
+struct DmabufBuffer {
+    int index = -1;                ///< the buffer's index, 0..kDmabufMaxBuffers-1 (the header's slot)
+    std::uint64_t generation = 0;  ///< its allocation: a new one makes the server send the fd again
+    int fd = -1;                   ///< the buffer's dma-buf, borrowed: the server keeps a duplicate
+    DmabufBlock layout;            ///< fourcc, modifier, stride, offset, width, height (flags unused)
+    int fence_fd = -1;             ///< the frame's sync fence, given to the server; -1: finished
 };
 
 /// A profile that has at least one client: what the daemon should render.
@@ -108,6 +120,9 @@ struct ActiveProfile {
     int height = 0;
     int max_fps = 0;  ///< highest fps any of its clients asked for
     std::size_t clients = 0;
+    /// Of `clients`, those that take dma-buf frames (publishDmabuf); the others need pixels
+    /// (publish).
+    std::size_t dmabuf_clients = 0;
 };
 
 /// Counters (snapshot; any thread).
@@ -117,14 +132,17 @@ struct FrameServerStats {
     std::size_t shm_clients = 0;
     std::size_t tcp_clients = 0;
     std::size_t mjpeg_clients = 0;
-    std::size_t rings = 0;  ///< rings with clients
+    std::size_t dmabuf_clients = 0;  ///< Unix clients taking dma-buf frames
+    std::size_t rings = 0;           ///< rings with clients
     /// Rings without clients kept for reuse: a client was given their memfd, and its mapping may
     /// outlive its connection (counted in ring_bytes; docs/frame-protocol.md "Ring memory").
     std::size_t rings_idle = 0;
-    std::uint64_t rings_reused = 0;   ///< idle rings that got a client again instead of a new ring
-    std::uint64_t published = 0;      ///< publish() calls that reached at least one ring
-    std::uint64_t frames_sent = 0;    ///< frames handed to clients
-    std::uint64_t statuses_sent = 0;  ///< status headers handed to clients (publishStatus)
+    std::uint64_t rings_reused = 0;        ///< idle rings that got a client again instead of a new ring
+    std::uint64_t published = 0;           ///< publish() calls that reached at least one ring
+    std::uint64_t frames_sent = 0;         ///< frames handed to clients
+    std::uint64_t statuses_sent = 0;       ///< status headers handed to clients (publishStatus)
+    std::uint64_t dmabuf_frames_sent = 0;  ///< of frames_sent, dma-buf frames
+    std::uint64_t dmabuf_fds_sent = 0;     ///< buffer fds passed (a client's first frame of each allocation)
     /// Frames a client was entitled to (within its fps) but did not get because it was busy.
     std::uint64_t frames_dropped = 0;
     std::uint64_t accepted = 0;  ///< connections accepted
@@ -167,6 +185,16 @@ public:
     /// the pixel format, and wakes the server thread. Never blocks on a client. Returns the
     /// number of rings written.
     std::size_t publish(const std::string& profile, const FrameView& frame);
+
+    /// Render thread: the frame of `profile` is in exported buffer `buffer` (docs/frame-protocol.md
+    /// "dma-buf frames"); its dma-buf clients of that size get it, with the buffer's fd the first
+    /// time each gets that allocation and the fence fd (duplicated per client). `info` gives the
+    /// header's times, validity and metadata block (its pixels are not used). Never blocks on a
+    /// client. Returns the number of rings whose dma-buf clients it reached; 0 also closes the fence.
+    std::size_t publishDmabuf(const std::string& profile, const FrameView& info, DmabufBuffer buffer);
+    /// Render thread: the buffers of `profile` it must not write now (bit i: buffer i), because a
+    /// client holds one (until its ack) or it holds the newest frame (not yet sent to everyone).
+    std::uint32_t dmabufBusy(const std::string& profile) const;
 
     /// Render thread, before the first frame of `profile` (the name publish() gets) at width x
     /// height: sends `json` (a UTF-8 JSON object, at most 64 KiB) as a status header to each
