@@ -20,6 +20,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "dmabuf_import.h"
 #include "golden.h"
 #include "navmap/ipc/client/stream_client.h"
 #include "navmap/ipc/control/control_client.h"
@@ -273,7 +274,8 @@ TEST(NavmapdEndToEnd, ALostGlContextIsMadeAnewAndFramesResume) {
 
 // Clients of payload dmabuf (docs/frame-protocol.md "dma-buf frames") get the cluster's frame in
 // a buffer the renderer exported: the same picture as the standing golden, attribution included
-// (blended on the GPU), and no pixel copied by navmapd (get_status "cpu_copies" stays 0 while
+// (blended on the GPU), through a mapping and through an EGL import alike, and no pixel copied by
+// navmapd (get_status "cpu_copies" stays 0 while
 // they are its only clients). Where the renderer cannot export, the request is refused naming why
 // and the test stops there, saying so: render_dmabuf_guest runs it in a kernel with vgem, where
 // NAVMAP_EXPECT_DMABUF=1 makes a refusal a failure.
@@ -328,6 +330,16 @@ TEST(NavmapdEndToEnd, DmabufClientsGetTheFrameWithoutACopy) {
         std::memcpy(&image.rgba[static_cast<std::size_t>(y) * f.header.width * 4],
                     f.pixels + static_cast<std::size_t>(y) * f.header.stride, f.header.width * 4);
     }
+    // A GPU client imports the buffer into its own EGL display (this process is not navmapd's)
+    // and sees the same frame.
+    navmap::render::Image imported;
+    std::string why;
+    ASSERT_TRUE(
+        navmap::test::readThroughEgl({f.dmabuf_fd, f.dmabuf.fourcc, f.dmabuf.modifier, f.dmabuf.stride, f.dmabuf.offset,
+                                      static_cast<int>(f.header.width), static_cast<int>(f.header.height)},
+                                     &imported, &why))
+        << why;
+    EXPECT_EQ(imported.rgba, image.rgba) << "the EGL import differs from the mapped buffer";
     ASSERT_TRUE(c.value()->release());
     EXPECT_GOLDEN(image, "daemon/golden/navmapd_cluster_standing.png", (navmap::test::GoldenTolerance{12, 0.02}));
     EXPECT_EQ(c.value()->stats().cpu_copies, 0U);
