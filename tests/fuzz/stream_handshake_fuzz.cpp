@@ -2,15 +2,18 @@
 // libFuzzer target: everything a stream client can send or a server can answer before pixels:
 // the JSON handshake line, the server's JSON reply (read by the client against a shm and a raw
 // request), the HTTP request head, the 80-byte frame header with the error or status text
-// after it, and the same bytes as a frame's metadata block (docs/frame-protocol.md "Metadata block").
+// after it, and the same bytes as a frame's metadata block (docs/frame-protocol.md "Metadata block")
+// and as a dma-buf frame's 48-byte block ("dma-buf frames").
 // Built with -DNAVMAP_WITH_FUZZ=ON (clang); stream_unit_tests compiles it too (NAVMAP_FUZZ_NO_MAIN)
 // and runs navmapFuzzStreamHandshake() on a corpus of broken inputs.
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <string>
 #include <string_view>
 
+#include "navmap/ipc/client/dmabuf_block.h"
 #include "navmap/ipc/client/frame_header.h"
 #include "navmap/ipc/client/frame_meta.h"
 #include "navmap/ipc/client/frame_ring.h"
@@ -53,12 +56,24 @@ int navmapFuzzStreamHandshake(const std::uint8_t* data, std::size_t size) {
             __builtin_trap();
         }
     }
-    // This library imports no dma-bufs yet: no reply may accept a request for them.
+    // A reply accepting dma-bufs grants what was asked for, and no ring.
     navmap::ipc::StreamRequest dmabuf;
     dmabuf.profile = *navmap::ipc::defaultStreamProfile("hud");
     dmabuf.payload = navmap::ipc::StreamPayload::Dmabuf;
     if (auto reply = navmap::ipc::parseStreamReply(text, dmabuf); reply.ok() && reply.value().accepted) {
-        __builtin_trap();
+        if (reply.value().profile.width != 800 || reply.value().profile.height != 240 ||
+            reply.value().ring_slots != 0) {
+            __builtin_trap();
+        }
+    }
+    // The same bytes as a dma-buf block: what decodes encodes back to the same bytes, and its
+    // rows fit the stride the client maps.
+    if (auto block = navmap::ipc::decodeDmabufBlock(data, size); block.ok()) {
+        const auto& b = block.value();
+        const auto bytes = navmap::ipc::encodeDmabufBlock(b);
+        if (b.stride < b.width * 4U || b.planes != 1 || !std::equal(bytes.begin(), bytes.end(), data)) {
+            __builtin_trap();
+        }
     }
     (void)navmap::ipc::parseStreamHttpRequest(text);
     auto header = navmap::ipc::decodeFrameHeader(data, size);

@@ -1,10 +1,10 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 // BufferSource: where navmap-wayland gets the wl_buffer that shows a frame (docs/wayland.md).
-// ShmBufferSource (wl_shm, one copy from the ring into the buffer) is the one there is; a
-// zwp_linux_dmabuf source for frames that come as dma-bufs would be another implementation of
-// this interface, chosen in navmap_wayland_main.cpp. Called on the thread that owns the Wayland
-// connection; a source never commits the surface (the window does, after its configure).
+// ShmBufferSource (wl_shm, one copy from the ring, or from the mapped dma-buf, into the buffer) is
+// the one there is; a zwp_linux_dmabuf source handing dma-buf frames to the compositor would be
+// another implementation of this interface, chosen in navmap_wayland_main.cpp. Called on the thread that owns the
+// Wayland connection; a source never commits the surface (the window does, after its configure).
 
 #include <cstdint>
 #include <string>

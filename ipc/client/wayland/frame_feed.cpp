@@ -12,8 +12,8 @@ bool isRefusal(const std::string& error) { return error.rfind("handshake refused
 
 FrameFeed::FrameFeed(ReconnectOptions options, bool negotiate, std::FILE* log)
     : m_base(std::move(options)), m_negotiate(negotiate), m_log(log) {
-    // In place in the ring where the pixels are in shared memory: the window's copy is the only one.
-    // Payload dmabuf falls back to shm (held the same way) until navmapd exports dma-bufs.
+    // In place in the ring where the pixels are in shared memory, or in the read-only mapping of an
+    // exported buffer (payload dmabuf, or shm after its fallback): the window's copy is the only one.
     m_base.request.hold =
         m_base.request.payload == StreamPayload::Shm || m_base.request.payload == StreamPayload::Dmabuf;
     m_client = std::make_unique<ReconnectingClient>(m_base);
