@@ -10,7 +10,7 @@
 # exit:  COMMAND's status; 77 skipped (qemu, the kernel or busybox missing: the reason is printed);
 #        1 when the guest did not finish.
 # env:   NAVMAP_GUEST_KERNEL (default: newest /boot/vmlinuz-*), NAVMAP_GUEST_TIMEOUT (s, default
-#        300), NAVMAP_GUEST_MEMORY (MiB, default 2048)
+#        300), NAVMAP_GUEST_MEMORY (MiB, default 2048), NAVMAP_GUEST_ACCEL (qemu accelerator, default tcg)
 set -eu
 
 skip() { echo "SKIPPED: $*"; exit 77; }
@@ -94,7 +94,7 @@ chmod +x "$ROOT/init"
 
 OUT=$WORK/console.log
 echo "booting $KERNEL under qemu (TCG), modules: $(tr '\n' ' ' < "$ROOT/modules/list")"
-timeout "${NAVMAP_GUEST_TIMEOUT:-300}" "$QEMU" -machine q35,accel=tcg -cpu max -m "${NAVMAP_GUEST_MEMORY:-2048}" \
+timeout "${NAVMAP_GUEST_TIMEOUT:-300}" "$QEMU" -machine "q35,accel=${NAVMAP_GUEST_ACCEL:-tcg}" -cpu max -m "${NAVMAP_GUEST_MEMORY:-2048}" \
     -smp 2 -nographic -no-reboot -nic none -kernel "$KERNEL" -initrd "$WORK/initramfs.gz" \
     -append "console=ttyS0 quiet loglevel=3 panic=-1 rdinit=/init" \
     -virtfs local,path=/,mount_tag=hostroot,security_model=none,readonly=on,multidevs=remap \
