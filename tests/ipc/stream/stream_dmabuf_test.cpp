@@ -57,6 +57,19 @@ StreamRequest dmabufRequest(bool fallback) {
     return ::testing::AssertionSuccess();
 }
 
+// The C API's client of the test profile (64x32 bird) on `path`.
+navmap_client* cClient(const std::string& path) {
+    navmap_client_options o;
+    navmap_client_options_init(&o);
+    o.socket_path = path.c_str();
+    o.profile = "test";
+    o.width = 64;
+    o.height = 32;
+    o.view = "bird";
+    o.fps = 240;
+    return navmap_client_create(&o, nullptr);
+}
+
 class StreamDmabufTest : public ::testing::Test {
 protected:
     void SetUp() override {
@@ -206,15 +219,7 @@ TEST_F(StreamDmabufTest, ShmStaysQuietAndTcpRefusesDmabuf) {
 }
 
 TEST_F(StreamDmabufTest, TheCApiFallsBackAndReportsThePayload) {
-    navmap_client_options o;
-    navmap_client_options_init(&o);
-    o.socket_path = m_path.c_str();
-    o.profile = "test";
-    o.width = 64;
-    o.height = 32;
-    o.view = "bird";
-    o.fps = 240;
-    navmap_client* c = navmap_client_create(&o, nullptr);
+    navmap_client* c = cClient(m_path);
     ASSERT_NE(c, nullptr);
     EXPECT_STREQ(navmap_client_payload(c), "");  // not connected yet
     ASSERT_EQ(navmap_client_request_dmabuf(c), 0);
@@ -390,15 +395,7 @@ TEST_F(StreamDmabufFramesTest, NextCopiesOutOfTheBufferAndWaitsForTheFence) {
 }
 
 TEST_F(StreamDmabufFramesTest, TheCApiMapsTheBufferAndNamesIt) {
-    navmap_client_options o;
-    navmap_client_options_init(&o);
-    o.socket_path = m_path.c_str();
-    o.profile = "test";
-    o.width = 64;
-    o.height = 32;
-    o.view = "bird";
-    o.fps = 240;
-    navmap_client* c = navmap_client_create(&o, nullptr);
+    navmap_client* c = cClient(m_path);
     ASSERT_NE(c, nullptr);
     ASSERT_EQ(navmap_client_request_dmabuf(c), 0);
     const FakeBuffer a(64, 32, 320, 3);
