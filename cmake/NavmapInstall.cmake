@@ -104,7 +104,7 @@ install(FILES ${PROJECT_BINARY_DIR}/include/navmap/version.h DESTINATION ${CMAKE
         COMPONENT client-dev)
 # The C++ API (stream_client.h, reconnecting_client.h) and what it includes, at the paths of the
 # source tree: navmap/ipc/client/ and, of ipc/net (compiled into the library), navmap/ipc/net/.
-foreach(header frame_format frame_header frame_meta reconnecting_client stream_client stream_profile)
+foreach(header dmabuf_block frame_format frame_header frame_meta reconnecting_client stream_client stream_profile)
   install(FILES ${PROJECT_SOURCE_DIR}/ipc/client/include/navmap/ipc/client/${header}.h
           DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/navmap/ipc/client COMPONENT client-dev)
 endforeach()

@@ -39,7 +39,9 @@ rule render '#include "navmap/(ipc|daemon|sim)/' "render/ uses map/ only"
 rule sim '#include "navmap/render/' "sim/ does not render"
 rule sim '#include "navmap/daemon/' "sim/ does not know the daemon (its CanSource is ipc's)"
 rule daemon '#include "navmap/sim/' "the daemon gets the simulator as a SimulatorFactory" daemon/navmapd.cpp
-rule . '#include <(GLES[23]|EGL)/' "GL and EGL stay in render/src/gl" "render/src/gl"
+# tests/support/dmabuf_import.cpp plays a display process that imports navmapd's dma-buf frames
+# into its own EGL display: a GPU client, not the renderer.
+rule . '#include <(GLES[23]|EGL)/' "GL and EGL stay in render/src/gl" "render/src/gl tests/support/dmabuf_import.cpp"
 # libwayland-client is navmap-wayland's alone: not the client library, not the daemon.
 rule . '#include (<wayland-|"[a-z-]+-client-protocol\.h")' "Wayland stays in ipc/client/wayland" "ipc/client/wayland"
 rule ipc/client/wayland '#include "navmap/ipc/(can|control|stream)/' "navmap-wayland is a client: ipc/client and ipc/net only"
