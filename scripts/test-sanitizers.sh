@@ -19,8 +19,10 @@
 # the vehicle state, labels, text and render, and the gpu tests of render_gpu_tests,
 # render_case_tests and render_ortho_gpu_tests matched by NAVMAP_SAN_GPU_TESTS: the GLES renderer
 # and its readback, the map passes, the render cases (the golden views), the orthoimage generator
-# and its worker thread. Left out: the stream, daemon and sim test programs (timing-based rates and
-# whole processes) and the suites that replay drives frame by frame. docs/packaging.md "CI".
+# and its worker thread; then render_dmabuf_guest, the renderer's dma-buf export in the vgem guest
+# (run_in_guest.sh passes the sanitizers' settings in). Left out: the stream, daemon and sim test
+# programs (timing-based rates and whole processes) and the suites that replay drives frame by
+# frame. docs/packaging.md "CI".
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 build="${NAVMAP_SAN_BUILD_DIR:-$root/build-san}"
@@ -71,6 +73,9 @@ rss_bound='BoundedMemory|NoFdOrMemoryGrowth|RingMemoryHasACeiling|NeitherLockOut
 echo "test-sanitizers: leaving out the resident-memory bounds (${rss_bound}): ASan's quarantine and shadow memory grow RSS" | tee -a "$log"
 run -L unit -E "$rss_bound"
 if [ "$gpu_tests" = all ]; then run -L gpu; else run -L gpu -R "$gpu_tests"; fi
+# The dma-buf export on real kernel dma-bufs, in the vgem guest (docs/gles-profile.md "dma-buf
+# export"; skipped, with the reason, where qemu or the kernel is missing).
+run -R '^render_dmabuf_guest$'
 
 # A report that did not fail its test (a child process, a test that only logs) still fails.
 if grep -En 'ERROR: (AddressSanitizer|LeakSanitizer)|runtime error:|SUMMARY: (AddressSanitizer|UndefinedBehaviorSanitizer|LeakSanitizer)' \

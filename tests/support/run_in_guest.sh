@@ -69,8 +69,13 @@ while read -r path; do
     echo "$dst" >> "$ROOT/modules/list"
 done < "$ORDER"
 
-# The command, each argument quoted for the guest's shell, run in the current directory.
+# The command, each argument quoted for the guest's shell, run in the current directory, with the
+# sanitizers' settings of the caller (scripts/test-sanitizers.sh runs guest tests too).
 CMD="cd '$(pwd)' &&"
+for v in ASAN_OPTIONS LSAN_OPTIONS UBSAN_OPTIONS; do
+    eval "val=\${$v:-}"
+    [ -z "$val" ] || CMD="$CMD export $v='$val' &&"
+done
 for a in "$@"; do CMD="$CMD '$(printf '%s' "$a" | sed "s/'/'\\\\''/g")'"; done
 cat > "$ROOT/init" <<INIT
 #!/bin/busybox sh

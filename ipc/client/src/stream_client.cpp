@@ -303,7 +303,9 @@ Result<bool> StreamClient::readHeader(FrameHeader& out, Clock::time_point deadli
     if (m_header_have < kFrameHeaderBytes) {
         const std::size_t want = kFrameHeaderBytes - m_header_have;
         const std::size_t buffered = std::min(want, m_in.size() - m_in_pos);
-        std::memcpy(m_header_buf + m_header_have, m_in.data() + m_in_pos, buffered);
+        if (buffered > 0) {  // m_in may be empty: no memcpy from its null data()
+            std::memcpy(m_header_buf + m_header_have, m_in.data() + m_in_pos, buffered);
+        }
         m_in_pos += buffered;
         m_header_have += buffered;
         if (m_in_pos == m_in.size()) {
