@@ -7,7 +7,10 @@
 namespace navmap::daemon {
 
 void Display::exportDmabuf(render::Renderer& renderer, ipc::FrameServer& frames, std::uint64_t seq, bool counted) {
-    if (seq < m_first_complete) return;  // start-up: the map under the camera is not drawn yet
+    if (seq < m_first_complete) {  // start-up: the map under the camera is not drawn yet
+        if (counted) ++m_stats.held_back;
+        return;
+    }
     render::FrameOverlay overlay;
     if (m_attribution) {
         if (m_attribution_pixels.rgba.empty()) {

@@ -138,7 +138,7 @@ struct FrameServerStats {
     /// outlive its connection (counted in ring_bytes; docs/frame-protocol.md "Ring memory").
     std::size_t rings_idle = 0;
     std::uint64_t rings_reused = 0;        ///< idle rings that got a client again instead of a new ring
-    std::uint64_t published = 0;           ///< publish() calls that reached at least one ring
+    std::uint64_t published = 0;           ///< publish() and publishDmabuf() calls that reached a client
     std::uint64_t frames_sent = 0;         ///< frames handed to clients
     std::uint64_t statuses_sent = 0;       ///< status headers handed to clients (publishStatus)
     std::uint64_t dmabuf_frames_sent = 0;  ///< of frames_sent, dma-buf frames
