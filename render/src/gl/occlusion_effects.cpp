@@ -132,6 +132,10 @@ struct OcclusionEffects::Buffers {
     Layer behind;
     Layer terrain_color;
     GLuint label_mask = 0, label_depth = 0, label_fbo = 0;
+    // Single-sampled targets: the depth/stencil step 2 draws with, a copy of the frame's taken
+    // when the depth inside the auras has become the terrain's; the frame's own then keeps that
+    // depth, and the composite need not write it again (attached to `behind` for good).
+    GLuint step2_depth = 0;
 
     void makeTerrainDepth() {
         if (terrain_fbo) return;
@@ -164,6 +168,11 @@ struct OcclusionEffects::Buffers {
             terrain_color.create(width, height, 0, GL_NEAREST);  // a resolve target only
             checkFramebufferComplete("occlusion effects: aura terrain colour");
         }
+        if (samples == 0) {
+            step2_depth = makeRenderbuffer(GL_DEPTH24_STENCIL8, 0, width, height);
+            behind.attachDepth(step2_depth);
+            checkFramebufferComplete("occlusion effects: aura step 2 depth");
+        }
         label_mask = makeTexture(GL_R8, width, height, GL_NEAREST);
         label_depth = makeTexture(GL_DEPTH_COMPONENT24, width, height, GL_NEAREST);
         glGenFramebuffers(1, &label_fbo);
@@ -182,6 +191,7 @@ struct OcclusionEffects::Buffers {
         glDeleteTextures(3, textures);
         const GLuint fbos[] = {terrain_fbo, label_fbo};
         glDeleteFramebuffers(2, fbos);
+        glDeleteRenderbuffers(1, &step2_depth);
     }
 };
 
@@ -193,7 +203,9 @@ OcclusionEffects::OcclusionEffects()
       m_aura_buildings(ShaderProgram::fromEmbedded("buildings.vert", "aura_buildings.frag")),
       m_aura_mask(ShaderProgram::fromEmbedded("aura_mask.vert", "aura_mask.frag")),
       m_aura_depth(ShaderProgram::fromEmbedded("aura_mask.vert", "aura_depth.frag")),
-      m_aura_composite(ShaderProgram::fromEmbedded("aura_mask.vert", "aura_composite.frag")) {
+      m_aura_composite(ShaderProgram::fromEmbedded("aura_mask.vert", "aura_composite.frag")),
+      m_aura_composite_colour(
+          ShaderProgram::fromEmbedded("aura_mask.vert", "aura_composite.frag", "#define NAVMAP_DEPTH_KEPT 1\n")) {
     glGenVertexArrays(1, &m_empty_vao);
     glGenVertexArrays(1, &m_mask_vao);
     glGenBuffers(1, &m_mask_vbo);
@@ -379,8 +391,20 @@ void OcclusionEffects::aura(const RenderTarget& target, std::span<const LabelOcc
     // Step 2, on the marked pixels: the buildings again with the inverse depth test against the
     // label OOBB depth (over the terrain depth, so hills still hide them), then the roads and the
     // route over them, into the layer behind the labels, which holds the terrain colour: the
-    // scene as it looks without the buildings in front of the labels.
-    b.behind.attachDepth(target.depthStencilRenderbuffer());
+    // scene as it looks without the buildings in front of the labels. Single-sampled, with a copy
+    // of the frame's depth and stencil, so the frame keeps the terrain's depth inside the auras
+    // (a blit costs llvmpipe less than the composite writing the depth per fragment, which also
+    // makes it test the stencil after the shader); multisampled (ES 3.0 cannot blit into a
+    // multisampled buffer) with the frame's own, and the composite writes the depth again.
+    const bool depth_kept = b.step2_depth != 0;
+    if (depth_kept) {
+        glBindFramebuffer(GL_READ_FRAMEBUFFER, target.drawFramebuffer());
+        glBindFramebuffer(GL_DRAW_FRAMEBUFFER, b.behind.fbo);
+        glBlitFramebuffer(0, 0, b.width, b.height, 0, 0, b.width, b.height, GL_DEPTH_BUFFER_BIT | GL_STENCIL_BUFFER_BIT,
+                          GL_NEAREST);
+    } else {
+        b.behind.attachDepth(target.depthStencilRenderbuffer());
+    }
     glBindFramebuffer(GL_FRAMEBUFFER, b.behind.fbo);
     glDrawBuffers(1, &c0);
     glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
@@ -408,19 +432,30 @@ void OcclusionEffects::aura(const RenderTarget& target, std::span<const LabelOcc
     glDepthMask(GL_TRUE);
     b.behind.resolve();
 
+    compositeAura(target, b, style, static_cast<GLsizei>(instances.size()), depth_kept);
+}
+
+void OcclusionEffects::compositeAura(const RenderTarget& target, Buffers& b, const MapStyle& style, GLsizei instances,
+                                     bool depth_kept) {
     // Step 4: composite by the mask on the marked pixels, each once (the stencil bit is cleared
-    // as it blends); the depth there becomes the terrain's again.
+    // as it blends); where step 2 drew into the frame's depth, the depth there becomes the
+    // terrain's again.
     target.bindForDrawing(false);
     // Also the glow's mark: inside the auras the road is shown, not glowing (glowFromStencil()).
     glStencilMask(kAuraStencilBit | OcclusionEffects::kRoadFillStencilBit);
     glStencilFunc(GL_EQUAL, kAuraStencilBit, kAuraStencilBit);
     glStencilOp(GL_KEEP, GL_KEEP, GL_ZERO);
-    glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_ALWAYS);
-    glDepthMask(GL_TRUE);
+    if (depth_kept) {
+        glDisable(GL_DEPTH_TEST);
+    } else {
+        glEnable(GL_DEPTH_TEST);
+        glDepthFunc(GL_ALWAYS);
+        glDepthMask(GL_TRUE);
+    }
     glEnable(GL_BLEND);
     glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE);  // the frame stays opaque
-    glUseProgram(m_aura_composite.id());
+    ShaderProgram& composite = depth_kept ? m_aura_composite_colour : m_aura_composite;
+    glUseProgram(composite.id());
     glActiveTexture(GL_TEXTURE0);
     glBindTexture(GL_TEXTURE_2D, b.behind.texture);
     glActiveTexture(GL_TEXTURE1);
@@ -429,15 +464,15 @@ void OcclusionEffects::aura(const RenderTarget& target, std::span<const LabelOcc
     glBindTexture(GL_TEXTURE_2D, b.label_mask);
     glActiveTexture(GL_TEXTURE3);
     glBindTexture(GL_TEXTURE_2D, b.terrain_depth);
-    glUniform1i(m_aura_composite.uniform("u_behind"), 0);
-    glUniform1i(m_aura_composite.uniform("u_terrain"), 1);
-    glUniform1i(m_aura_composite.uniform("u_over_terrain"), b.samples > 0 ? 1 : 0);
-    glUniform1i(m_aura_composite.uniform("u_mask"), 2);
-    glUniform1i(m_aura_composite.uniform("u_terrain_depth"), 3);
-    glUniform1f(m_aura_composite.uniform("u_min_alpha"), std::clamp(style.aura_min_alpha, 0.0f, 1.0f));
-    glUniform2f(m_aura_composite.uniform("u_viewport"), static_cast<float>(b.width), static_cast<float>(b.height));
+    glUniform1i(composite.uniform("u_behind"), 0);
+    glUniform1i(composite.uniform("u_terrain"), 1);
+    glUniform1i(composite.uniform("u_over_terrain"), b.samples > 0 ? 1 : 0);
+    glUniform1i(composite.uniform("u_mask"), 2);
+    glUniform1i(composite.uniform("u_terrain_depth"), 3);
+    glUniform1f(composite.uniform("u_min_alpha"), std::clamp(style.aura_min_alpha, 0.0f, 1.0f));
+    glUniform2f(composite.uniform("u_viewport"), static_cast<float>(b.width), static_cast<float>(b.height));
     glBindVertexArray(m_mask_vao);
-    countedDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, static_cast<GLsizei>(instances.size()));
+    countedDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, instances);
     glDisable(GL_STENCIL_TEST);
     glStencilMask(0xFF);
     for (GLenum unit : {GL_TEXTURE3, GL_TEXTURE2, GL_TEXTURE1, GL_TEXTURE0}) {

@@ -81,6 +81,10 @@ public:
 private:
     struct Buffers;
     Buffers& buffersFor(const RenderTarget& target);
+    /// Step 4 of seed 5.5.1: the layer behind the labels blended over `target` by the mask, over the
+    /// `instances` auras in the mask buffer; with `depth_kept` false it writes the terrain's depth.
+    void compositeAura(const RenderTarget& target, Buffers& b, const MapStyle& style, GLsizei instances,
+                       bool depth_kept);
     /// The glow layer of `b` drawn: resolved, blurred at half resolution and composited over
     /// `target` except where a road is visible.
     void blurAndComposite(const RenderTarget& target, Buffers& b, float strength);
@@ -93,6 +97,7 @@ private:
     ShaderProgram m_aura_mask;
     ShaderProgram m_aura_depth;
     ShaderProgram m_aura_composite;
+    ShaderProgram m_aura_composite_colour;  // the frame's depth kept (NAVMAP_DEPTH_KEPT)
     GLuint m_empty_vao = 0;
     GLuint m_mask_vao = 0;
     GLuint m_mask_vbo = 0;
