@@ -10,7 +10,8 @@
 uniform sampler2D u_behind;              // step 2 layer: opaque, or premultiplied (u_over_terrain)
 uniform int u_over_terrain;              // 1: u_behind goes over u_terrain (multisampled targets)
 uniform sampler2D u_terrain;             // terrain colour before the buildings
-uniform sampler2D u_mask;                // step 3: aura gradient
+uniform sampler2D u_mask;                // step 3: aura gradient, half resolution, linear filtering
+uniform vec2 u_frame_size;               // pixels
 #ifndef NAVMAP_DEPTH_KEPT
 uniform highp sampler2D u_terrain_depth; // window depth of the terrain alone
 #endif
@@ -20,7 +21,7 @@ out vec4 o_color;
 
 void main() {
     ivec2 p = ivec2(gl_FragCoord.xy);
-    float m = texelFetch(u_mask, p, 0).r * (1.0 - u_min_alpha);
+    float m = texture(u_mask, gl_FragCoord.xy / u_frame_size).r * (1.0 - u_min_alpha);
     vec4 behind = texelFetch(u_behind, p, 0);
     vec3 scene = behind.rgb;
     if (u_over_terrain == 1) scene += (1.0 - behind.a) * texelFetch(u_terrain, p, 0).rgb;

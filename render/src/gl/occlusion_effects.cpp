@@ -132,6 +132,8 @@ struct OcclusionEffects::Buffers {
     Layer behind;
     Layer terrain_color;
     GLuint label_mask = 0, label_depth = 0, label_fbo = 0;
+    int maskWidth() const { return std::max((width + 1) / 2, 1); }
+    int maskHeight() const { return std::max((height + 1) / 2, 1); }
     // Single-sampled targets: the depth/stencil step 2 draws with, a copy of the frame's taken
     // when the depth inside the auras has become the terrain's; the frame's own then keeps that
     // depth, and the composite need not write it again (attached to `behind` for good).
@@ -173,8 +175,10 @@ struct OcclusionEffects::Buffers {
             behind.attachDepth(step2_depth);
             checkFramebufferComplete("occlusion effects: aura step 2 depth");
         }
-        label_mask = makeTexture(GL_R8, width, height, GL_NEAREST);
-        label_depth = makeTexture(GL_DEPTH_COMPONENT24, width, height, GL_NEAREST);
+        // Half resolution (seed 5.5.1 steps 2 and 3): the gradient is smooth and read with linear
+        // filtering; the label depth decides only where the gradient has faded in.
+        label_mask = makeTexture(GL_R8, maskWidth(), maskHeight(), GL_LINEAR);
+        label_depth = makeTexture(GL_DEPTH_COMPONENT24, maskWidth(), maskHeight(), GL_NEAREST);
         glGenFramebuffers(1, &label_fbo);
         glBindFramebuffer(GL_FRAMEBUFFER, label_fbo);
         glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, label_mask, 0);
@@ -346,7 +350,7 @@ void OcclusionEffects::aura(const RenderTarget& target, std::span<const LabelOcc
     glBindFramebuffer(GL_FRAMEBUFFER, b.label_fbo);
     const GLenum c0 = GL_COLOR_ATTACHMENT0;
     glDrawBuffers(1, &c0);
-    glViewport(0, 0, b.width, b.height);
+    glViewport(0, 0, b.maskWidth(), b.maskHeight());
     const GLfloat zero[] = {0, 0, 0, 0};
     glClearBufferfv(GL_COLOR, 0, zero);
     const GLfloat far_depth = 1.0f;
@@ -419,6 +423,7 @@ void OcclusionEffects::aura(const RenderTarget& target, std::span<const LabelOcc
     glUseProgram(m_aura_buildings.id());
     glBindTexture(GL_TEXTURE_2D, b.label_depth);  // unit 1
     glUniform1i(m_aura_buildings.uniform("u_label_depth"), 1);
+    glUniform2f(m_aura_buildings.uniform("u_frame_size"), static_cast<float>(b.width), static_cast<float>(b.height));
     glUniform1i(m_aura_buildings.uniform("u_inverse"), 1);
     glActiveTexture(GL_TEXTURE0);
     draw_buildings(m_aura_buildings);
@@ -470,6 +475,7 @@ void OcclusionEffects::compositeAura(const RenderTarget& target, Buffers& b, con
     glUniform1i(composite.uniform("u_mask"), 2);
     glUniform1i(composite.uniform("u_terrain_depth"), 3);
     glUniform1f(composite.uniform("u_min_alpha"), std::clamp(style.aura_min_alpha, 0.0f, 1.0f));
+    glUniform2f(composite.uniform("u_frame_size"), static_cast<float>(b.width), static_cast<float>(b.height));
     glUniform2f(composite.uniform("u_viewport"), static_cast<float>(b.width), static_cast<float>(b.height));
     glBindVertexArray(m_mask_vao);
     countedDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, instances);
