@@ -21,5 +21,10 @@ void main() {
     v_extent = a_extent;
     v_depth = a_depth * 0.5 + 0.5;
     vec2 px = a_box.xy + axis * v_local.x + axis_y * v_local.y;
-    gl_Position = vec4(px.x / u_viewport.x * 2.0 - 1.0, 1.0 - px.y / u_viewport.y * 2.0, a_depth, 1.0);
+#ifdef NAVMAP_FAR_DEPTH
+    float z = 1.0;  // the far plane (aura_depth.frag)
+#else
+    float z = a_depth;
+#endif
+    gl_Position = vec4(px.x / u_viewport.x * 2.0 - 1.0, 1.0 - px.y / u_viewport.y * 2.0, z, 1.0);
 }

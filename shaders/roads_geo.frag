@@ -13,10 +13,11 @@ uniform float u_route_progress;  // metres driven; the part behind is dimmed
 #endif
 
 #ifdef NAVMAP_TERRAIN_CUT
-// Glowing roads from the stencil (seed 5.5.2, MapRenderer::drawRoadsAndRoute): the fill pass
-// discards the fragments behind the terrain-only depth, which fail the depth test anyway; the
-// stencil then marks only the fragments that something else, a building, hides. A variant of its
-// own: a uniform switch would cost llvmpipe the fetch on every road fragment.
+// The fragments behind the terrain-only depth are discarded (MapRenderer::terrainCutProgram):
+// glowing roads from the stencil (seed 5.5.2), whose fill pass then marks only the fragments that
+// something else, a building, hides; the label aura's layer behind the labels (5.5.1), drawn over
+// the far plane. A variant of its own: a uniform switch would cost llvmpipe the fetch on every
+// road fragment.
 uniform highp sampler2D u_terrain_depth;
 #endif
 

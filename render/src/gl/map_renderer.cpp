@@ -260,21 +260,19 @@ void MapRenderer::drawRoadsAndRoute(const FrameContext& ctx, SvRoads* sv, PassCl
     // its fragments fail the depth test, drawn with the program's NAVMAP_TERRAIN_CUT variant, which
     // leaves out those behind the terrain alone (they fail the test anyway: no pixel changes). The
     // stencil then holds the road pixels a building hides (seed 5.5.2).
-    const auto fill_pass = [&](std::unique_ptr<ShaderProgram>& cut, const char* defines, const auto& draw) {
+    const auto fill_pass = [&](bool route, const auto& draw) {
         if (!glow_terrain_depth) return draw(nullptr);
-        if (!cut)
-            cut = std::make_unique<ShaderProgram>(
-                ShaderProgram::fromEmbedded("roads_geo.vert", "roads_geo.frag", defines));
-        glUseProgram(cut->id());
+        ShaderProgram& cut = terrainCutProgram(route);
+        glUseProgram(cut.id());
         glActiveTexture(GL_TEXTURE3);
         glBindTexture(GL_TEXTURE_2D, glow_terrain_depth);
         glActiveTexture(GL_TEXTURE0);
-        glUniform1i(cut->uniform("u_terrain_depth"), 3);
+        glUniform1i(cut.uniform("u_terrain_depth"), 3);
         glEnable(GL_STENCIL_TEST);
         glStencilMask(OcclusionEffects::kRoadFillStencilBit);
         glStencilFunc(GL_ALWAYS, OcclusionEffects::kRoadFillStencilBit, OcclusionEffects::kRoadFillStencilBit);
         glStencilOp(GL_KEEP, GL_REPLACE, GL_KEEP);
-        const auto drawn = draw(cut.get());
+        const auto drawn = draw(&cut);
         glDisable(GL_STENCIL_TEST);
         glStencilMask(0xFF);
         glActiveTexture(GL_TEXTURE3);
@@ -286,24 +284,32 @@ void MapRenderer::drawRoadsAndRoute(const FrameContext& ctx, SvRoads* sv, PassCl
         ShaderProgram& p = m_roads.program();
         glUseProgram(p.id());
         m_roads.drawWith(p, 0, ctx);
-        m_stats.road_segments += fill_pass(m_roads_cut, "#define NAVMAP_TERRAIN_CUT 1\n", [&](ShaderProgram* cut) {
-            return m_roads.drawWith(cut ? *cut : p, 1, ctx);
-        });
+        m_stats.road_segments +=
+            fill_pass(false, [&](ShaderProgram* cut) { return m_roads.drawWith(cut ? *cut : p, 1, ctx); });
         clock.lap(m_stats.roads_ms, m_stats.roads_work);
     }
     if (ctx.routeShown()) {
         ShaderProgram& p = m_route.program();
         glUseProgram(p.id());
         m_route.drawWith(p, 0, ctx);
-        fill_pass(m_route_cut, "#define NAVMAP_ROUTE_PROGRESS 1\n#define NAVMAP_TERRAIN_CUT 1\n",
-                  [&](ShaderProgram* cut) {
-                      m_route.drawWith(cut ? *cut : p, 1, ctx);
-                      return std::size_t{0};
-                  });
+        fill_pass(true, [&](ShaderProgram* cut) {
+            m_route.drawWith(cut ? *cut : p, 1, ctx);
+            return std::size_t{0};
+        });
         clock.lap(m_stats.route_ms, m_stats.route_work);
     }
     m_outlines.endRoadMarking();
     glDepthMask(GL_TRUE);
+}
+
+ShaderProgram& MapRenderer::terrainCutProgram(bool route) {
+    std::unique_ptr<ShaderProgram>& cut = route ? m_route_cut : m_roads_cut;
+    if (!cut) {
+        const char* defines = route ? "#define NAVMAP_ROUTE_PROGRESS 1\n#define NAVMAP_TERRAIN_CUT 1\n"
+                                    : "#define NAVMAP_TERRAIN_CUT 1\n";
+        cut = std::make_unique<ShaderProgram>(ShaderProgram::fromEmbedded("roads_geo.vert", "roads_geo.frag", defines));
+    }
+    return *cut;
 }
 
 void MapRenderer::runOcclusionEffects(const FrameContext& ctx) {
@@ -317,11 +323,20 @@ void MapRenderer::runOcclusionEffects(const FrameContext& ctx) {
         // seed 5.5.1 step 2: the buildings (with the aura's program) and then the roads and the
         // route over them, as the scene draws them, into the layer behind the labels.
         auto buildings = [&](ShaderProgram& p) { m_buildings.drawWith(p, ctx); };
+        // Over the far plane inside the auras: the terrain cut variants (terrain depth on unit 3).
         auto roads = [&] {
-            glUseProgram(m_roads.program().id());
-            for (int pass = 0; pass < 2 && layers.roads; ++pass) m_roads.drawWith(m_roads.program(), pass, ctx);
-            glUseProgram(m_route.program().id());
-            for (int pass = 0; pass < 2 && ctx.routeShown(); ++pass) m_route.drawWith(m_route.program(), pass, ctx);
+            for (const bool route : {false, true}) {
+                if (route ? !ctx.routeShown() : !layers.roads) continue;
+                ShaderProgram& p = terrainCutProgram(route);
+                glUseProgram(p.id());
+                glUniform1i(p.uniform("u_terrain_depth"), 3);
+                for (int pass = 0; pass < 2; ++pass) {
+                    if (route)
+                        m_route.drawWith(p, pass, ctx);
+                    else
+                        m_roads.drawWith(p, pass, ctx);
+                }
+            }
         };
         m_effects->aura(ctx.target, m_labels.occluders(ctx), ctx.projection, m_style, buildings, roads);
         clock.lap(m_stats.aura_ms, m_stats.aura_work);

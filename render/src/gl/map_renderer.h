@@ -62,6 +62,9 @@ private:
     /// Roads and route; with `glow_terrain_depth` (the terrain-only depth) their fill pass also marks
     /// the glow's stencil bit where a building hides it.
     void drawRoadsAndRoute(const FrameContext& ctx, SvRoads* sv, PassClock& clock, GLuint glow_terrain_depth);
+    /// The roads' or the route's program with the terrain cut (NAVMAP_TERRAIN_CUT: fragments behind
+    /// u_terrain_depth discarded), made when first used.
+    ShaderProgram& terrainCutProgram(bool route);
     /// Label aura and glowing roads (seed 5.5), between the label layout and the label text.
     void runOcclusionEffects(const FrameContext& ctx);
     /// Manoeuvre arrows and guidance roads (ManeuverArrowPass), after the route and its glow.
@@ -80,8 +83,7 @@ private:
     RoutePass m_route;
     OutlinePass m_outlines;
     std::unique_ptr<OcclusionEffects> m_effects;  // glowing roads, label aura: created when first used
-    // The roads' and the route's fill with the terrain cut (NAVMAP_TERRAIN_CUT), made when the glow
-    // from the stencil is first drawn.
+    // The roads' and the route's programs with the terrain cut (terrainCutProgram()).
     std::unique_ptr<ShaderProgram> m_roads_cut, m_route_cut;
     bool m_glow_from_stencil = false;  // this frame's glow: OcclusionEffects::glowFromStencil()
     MapLabelPass m_labels;

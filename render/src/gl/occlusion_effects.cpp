@@ -206,7 +206,7 @@ OcclusionEffects::OcclusionEffects()
       m_glow_stencil(ShaderProgram::fromEmbedded("screen_outline.vert", "glow_stencil.frag")),
       m_aura_buildings(ShaderProgram::fromEmbedded("buildings.vert", "aura_buildings.frag")),
       m_aura_mask(ShaderProgram::fromEmbedded("aura_mask.vert", "aura_mask.frag")),
-      m_aura_depth(ShaderProgram::fromEmbedded("aura_mask.vert", "aura_depth.frag")),
+      m_aura_depth(ShaderProgram::fromEmbedded("aura_mask.vert", "aura_depth.frag", "#define NAVMAP_FAR_DEPTH 1\n")),
       m_aura_composite(ShaderProgram::fromEmbedded("aura_mask.vert", "aura_composite.frag")),
       m_aura_composite_colour(
           ShaderProgram::fromEmbedded("aura_mask.vert", "aura_composite.frag", "#define NAVMAP_DEPTH_KEPT 1\n")) {
@@ -376,21 +376,27 @@ void OcclusionEffects::aura(const RenderTarget& target, std::span<const LabelOcc
     glDisable(GL_BLEND);
     glBlendEquation(GL_FUNC_ADD);
 
-    // Inside the auras the depth becomes the terrain's: the layer behind the labels is drawn over
-    // it on the pixels that markBuildings() marked, and the labels drawn next are not hidden by
-    // the buildings that the aura fades.
+    // Inside the auras, on the pixels that markBuildings() marked, the depth becomes the far
+    // plane's: the layer behind the labels is drawn there with the terrain as its only limit (the
+    // terrain-only depth, tested in its shaders), and the labels drawn next are not hidden by the
+    // buildings that the aura fades. (World-space labels stand where their lines of sight clear
+    // the terrain; the manoeuvre arrows lie on the road ahead.) The depth comes from the vertices
+    // and the pass writes no colour: llvmpipe tests the stencil first and shades the marked
+    // pixels only.
     glBindFramebuffer(GL_FRAMEBUFFER, target.drawFramebuffer());
     glDrawBuffers(1, &c0);
     glViewport(0, 0, b.width, b.height);
     glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
     glDepthFunc(GL_ALWAYS);
     glDepthMask(GL_TRUE);
+    glEnable(GL_STENCIL_TEST);
+    glStencilMask(0);
+    glStencilFunc(GL_EQUAL, kAuraStencilBit, kAuraStencilBit);
+    glStencilOp(GL_KEEP, GL_KEEP, GL_KEEP);
     glUseProgram(m_aura_depth.id());
     glUniform2f(m_aura_depth.uniform("u_viewport"), static_cast<float>(b.width), static_cast<float>(b.height));
-    glActiveTexture(GL_TEXTURE1);
-    glBindTexture(GL_TEXTURE_2D, b.terrain_depth);
-    glUniform1i(m_aura_depth.uniform("u_terrain_depth"), 1);
     countedDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, static_cast<GLsizei>(instances.size()));  // mask VAO
+    glActiveTexture(GL_TEXTURE1);
 
     // Step 2, on the marked pixels: the buildings again with the inverse depth test against the
     // label OOBB depth (over the terrain depth, so hills still hide them), then the roads and the
@@ -423,6 +429,9 @@ void OcclusionEffects::aura(const RenderTarget& target, std::span<const LabelOcc
     glUseProgram(m_aura_buildings.id());
     glBindTexture(GL_TEXTURE_2D, b.label_depth);  // unit 1
     glUniform1i(m_aura_buildings.uniform("u_label_depth"), 1);
+    glActiveTexture(GL_TEXTURE3);  // for the buildings and for draw_roads
+    glBindTexture(GL_TEXTURE_2D, b.terrain_depth);
+    glUniform1i(m_aura_buildings.uniform("u_terrain_depth"), 3);
     glUniform2f(m_aura_buildings.uniform("u_frame_size"), static_cast<float>(b.width), static_cast<float>(b.height));
     glUniform1i(m_aura_buildings.uniform("u_inverse"), 1);
     glActiveTexture(GL_TEXTURE0);
@@ -435,6 +444,9 @@ void OcclusionEffects::aura(const RenderTarget& target, std::span<const LabelOcc
     glDepthFunc(GL_LEQUAL);
     draw_roads();
     glDepthMask(GL_TRUE);
+    glActiveTexture(GL_TEXTURE3);
+    glBindTexture(GL_TEXTURE_2D, 0);
+    glActiveTexture(GL_TEXTURE0);
     b.behind.resolve();
 
     compositeAura(target, b, style, static_cast<GLsizei>(instances.size()), depth_kept);
