@@ -4,9 +4,10 @@
 // over the frame by the gradient mask (step 3). Drawn with aura_mask.vert over the enlarged
 // OOBBs, on the pixels where a building is seen (the stencil, which also makes every pixel blend
 // once). The labels drawn next must not be hidden by the faded buildings: the depth inside the
-// auras is the terrain's, set before step 2 and kept by the frame where step 2 drew with a copy
+// auras is the far plane's, set before step 2 and kept by the frame where step 2 drew with a copy
 // of its depth (NAVMAP_DEPTH_KEPT, single-sampled: no depth written here, so llvmpipe tests the
-// stencil before the shader), else written here again.
+// stencil before the shader); multisampled, step 2 drew into the frame's depth and the terrain's
+// is written here.
 uniform sampler2D u_behind;              // step 2 layer: opaque, or premultiplied (u_over_terrain)
 uniform int u_over_terrain;              // 1: u_behind goes over u_terrain (multisampled targets)
 uniform sampler2D u_terrain;             // terrain colour before the buildings

@@ -135,8 +135,8 @@ struct OcclusionEffects::Buffers {
     int maskWidth() const { return std::max((width + 1) / 2, 1); }
     int maskHeight() const { return std::max((height + 1) / 2, 1); }
     // Single-sampled targets: the depth/stencil step 2 draws with, a copy of the frame's taken
-    // when the depth inside the auras has become the terrain's; the frame's own then keeps that
-    // depth, and the composite need not write it again (attached to `behind` for good).
+    // when the depth inside the auras has become the far plane's; the frame's own then keeps that
+    // depth, and the composite need not write any (attached to `behind` for good).
     GLuint step2_depth = 0;
 
     void makeTerrainDepth() {
@@ -402,10 +402,10 @@ void OcclusionEffects::aura(const RenderTarget& target, std::span<const LabelOcc
     // label OOBB depth (over the terrain depth, so hills still hide them), then the roads and the
     // route over them, into the layer behind the labels, which holds the terrain colour: the
     // scene as it looks without the buildings in front of the labels. Single-sampled, with a copy
-    // of the frame's depth and stencil, so the frame keeps the terrain's depth inside the auras
+    // of the frame's depth and stencil, so the frame keeps the far depth inside the auras
     // (a blit costs llvmpipe less than the composite writing the depth per fragment, which also
     // makes it test the stencil after the shader); multisampled (ES 3.0 cannot blit into a
-    // multisampled buffer) with the frame's own, and the composite writes the depth again.
+    // multisampled buffer) with the frame's own, and the composite writes the terrain's depth.
     const bool depth_kept = b.step2_depth != 0;
     if (depth_kept) {
         glBindFramebuffer(GL_READ_FRAMEBUFFER, target.drawFramebuffer());
@@ -433,7 +433,6 @@ void OcclusionEffects::aura(const RenderTarget& target, std::span<const LabelOcc
     glBindTexture(GL_TEXTURE_2D, b.terrain_depth);
     glUniform1i(m_aura_buildings.uniform("u_terrain_depth"), 3);
     glUniform2f(m_aura_buildings.uniform("u_frame_size"), static_cast<float>(b.width), static_cast<float>(b.height));
-    glUniform1i(m_aura_buildings.uniform("u_inverse"), 1);
     glActiveTexture(GL_TEXTURE0);
     draw_buildings(m_aura_buildings);
     glActiveTexture(GL_TEXTURE1);
@@ -455,8 +454,8 @@ void OcclusionEffects::aura(const RenderTarget& target, std::span<const LabelOcc
 void OcclusionEffects::compositeAura(const RenderTarget& target, Buffers& b, const MapStyle& style, GLsizei instances,
                                      bool depth_kept) {
     // Step 4: composite by the mask on the marked pixels, each once (the stencil bit is cleared
-    // as it blends); where step 2 drew into the frame's depth, the depth there becomes the
-    // terrain's again.
+    // as it blends); where step 2 drew into the frame's depth (multisampled), the depth there
+    // becomes the terrain's.
     target.bindForDrawing(false);
     // Also the glow's mark: inside the auras the road is shown, not glowing (glowFromStencil()).
     glStencilMask(kAuraStencilBit | OcclusionEffects::kRoadFillStencilBit);

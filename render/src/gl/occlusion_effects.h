@@ -44,8 +44,9 @@ public:
 
     /// seed 5.5.1, after the scene's buildings, roads and outlines: the label OOBB depth and the
     /// gradient mask, the buildings again with the inverse depth test plus the roads over them
-    /// (the scene behind the labels), composited into `target` by the mask; inside the auras the
-    /// depth becomes the terrain's, so the labels drawn next are not hidden there. Leaves `target`
+    /// (the scene behind the labels), composited into `target` by the mask; inside the auras, where
+    /// a building is seen, the depth becomes the far plane's (multisampled: the terrain's), so the
+    /// labels drawn next are not hidden there. Leaves `target`
     /// bound. `draw_buildings` draws every building with the program given (uniforms its own);
     /// `draw_roads` draws roads and route as the scene does (depth state set by the caller).
     void aura(const RenderTarget& target, std::span<const LabelOccluder> labels, const glm::mat4& projection,
